@@ -1,0 +1,59 @@
+# Makefile - builds specnee, its tests and its benchmarks.
+# Plain POSIX make (GNU make and bmake both work): suffix rules and `!=` only.
+#
+#   make            build ./specnee (OpenMP when the compiler has it)
+#   make run        build and render the default scene into out/
+#   make test       the whole test suite (unit tests, three compilers, sanitizers)
+#   make bench      benchmarks (not part of make test)
+#   make CC=tcc     any C99 compiler
+#
+# No -ffast-math: results must be exact and independent of the thread count.
+# -ffp-contract=off (when the compiler knows it) forbids fused multiply-adds, so
+# gcc and clang round the same way.  tools/ccflags.sh probes the compiler.
+
+CC = cc
+OPT = -O2
+WARN = -std=c99 -pedantic -Wall -Wextra
+DETECTED != sh tools/ccflags.sh "$(CC)"
+CFLAGS = $(OPT) $(WARN) $(DETECTED)
+LDLIBS = -lm
+
+LIBOBJ = util.o bvh.o spectrum.o lights.o scene.o ply.o material.o render.o image.o \
+         svg.o
+TESTOBJ = tests/runner.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
+          tests/test_scene.o tests/test_image.o tests/test_material.o \
+          tests/test_render.o tests/test_lights.o
+
+all: specnee
+
+specnee: specnee.o $(LIBOBJ)
+	$(CC) $(CFLAGS) -o specnee specnee.o $(LIBOBJ) $(LDLIBS)
+
+tests/runner: $(TESTOBJ) $(LIBOBJ)
+	$(CC) $(CFLAGS) -o tests/runner $(TESTOBJ) $(LIBOBJ) $(LDLIBS)
+
+tools/bench: tools/bench.o $(LIBOBJ)
+	$(CC) $(CFLAGS) -o tools/bench tools/bench.o $(LIBOBJ) $(LDLIBS)
+
+.SUFFIXES: .c .o
+.c.o:
+	$(CC) $(CFLAGS) -I. -c -o $@ $<
+
+$(LIBOBJ) specnee.o $(TESTOBJ) tools/bench.o: specnee.h
+$(TESTOBJ): tests/test.h
+
+run: specnee
+	mkdir -p out
+	./specnee scenes/cornell.pbrt -o out/cornell.png
+
+test: specnee tests/runner
+	sh tests/run.sh
+
+bench: specnee tools/bench
+	sh tools/bench.sh
+
+clean:
+	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench
+	rm -rf build
+
+.PHONY: all run test bench clean

@@ -1,0 +1,461 @@
+/* specnee.h - the one header of specnee, a teaching spectral path tracer in C99.
+
+   ABOUT
+     specnee renders scenes written in a subset of the pbrt-v4 scene format with a
+     spectral path tracer: hero wavelength spectral sampling (HWSS, 4 wavelengths,
+     Wilkie et al. 2014) combined by continuous/spectral MIS (West et al. 2020),
+     next event estimation (NEE) with a choice of emitter-selection strategies, and
+     dispersive glass whose index follows Cauchy's law.  It reproduces the thesis
+     "Efficient Emitter Sampling for Spectral Path Tracing" (Deshmukh, van de Ruit,
+     Eisemann, TU Delft 2022): the emitter for NEE is chosen in proportion to the
+     emitters' spectral power at the hero wavelength, times a spatial estimate.
+
+     Read this header top to bottom: it walks from the tunables through the math
+     types, spectra, geometry, materials, emitters, the integrator and the images,
+     in the order the renderer uses them.  Each .c file opens with the equations it
+     implements.
+
+   BUILDING
+     make                     # gcc or clang, OpenMP when the compiler has it
+     make CC=tcc              # any C99 compiler works
+     cc -std=c99 -O2 *.c -lm -o specnee     # the one-line fallback (no OpenMP)
+
+   USAGE
+     specnee [options] scene.pbrt          render (see `specnee --help`)
+     specnee merge a.pfm b.pfm ... -o out.pfm
+     specnee diff test.pfm ref.pfm [--region x0,y0,x1,y1]
+     specnee spectrum NAME|FILE
+
+   OUTPUT
+     .pfm: linear sRGB (D65) float32, rows bottom to top (netpbm PFM), negative
+     values kept; a sidecar "<file>.txt" records spp, seed and the settings.
+     .ppm/.png: 8-bit with the sRGB transfer curve, after an optional exposure.
+
+   CONVENTIONS (docs/conventions.md has the details)
+     - pbrt-v4 meaning: left-handed camera frame (LookAt's right = up x dir), fov on
+       the shorter image axis, area-light spectra normalised so that Y = scale.
+     - Wavelengths in nanometres; Cauchy's B in square micrometres.
+     - No hidden globals: every function gets what it needs as arguments.
+*/
+#ifndef SPECNEE_H
+#define SPECNEE_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <math.h>
+
+/* ======================================================================
+   1. CONFIG: every tunable in one place (@@ marks what it trades off)
+   ====================================================================== */
+#define HERO_N 4            /* @@ wavelengths carried per path (HWSS cluster size) */
+#define SPEC_MIN 360        /* @@ first nm of the dense spectrum table (pbrt-v4's range) */
+#define SPEC_MAX 830        /* @@ last nm of the dense spectrum table */
+#define SPEC_N (SPEC_MAX - SPEC_MIN + 1) /* 471 samples, 1 nm apart */
+#define LAMBDA_LO 400.0f    /* @@ default sampled range: the thesis' 400-700 nm */
+#define LAMBDA_HI 700.0f
+#define SPD_BINS 60         /* thesis: 60 bins over 400-700 nm ... */
+#define SPD_BIN_NM 5.0f     /* ... i.e. 5 nm each */
+#define BVH_LEAF_MAX 4      /* @@ primitives per BVH leaf: deeper trees vs. more tests */
+#define BVH_BINS 16         /* @@ SAH bins per axis: build time vs. tree quality */
+#define SPATIAL_RES 64      /* @@ voxels on the longest axis of the spatial grid (pbrt-v3) */
+#define SPATIAL_SAMPLES 128 /* @@ receiver points per voxel (pbrt-v3) */
+#define RR_START_DEPTH 1    /* @@ Russian roulette from this depth on (pbrt-v4: after depth 1) */
+#define DEFAULT_SPP 16
+#define DEFAULT_MAXDEPTH 5  /* pbrt-v4's default for Integrator "path" */
+#define SPECNEE_PI 3.14159265358979323846
+#define PI_F 3.14159265358979323846f
+
+/* ======================================================================
+   2. Small math: vectors, rays, 4x4 transforms, a counter-based RNG
+   ====================================================================== */
+typedef struct { float x, y, z; } Vec3;
+
+static inline Vec3 v3(float x, float y, float z) { Vec3 r; r.x = x; r.y = y; r.z = z; return r; }
+static inline Vec3 v3_add(Vec3 a, Vec3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
+static inline Vec3 v3_sub(Vec3 a, Vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
+static inline Vec3 v3_mul(Vec3 a, float s) { return v3(a.x * s, a.y * s, a.z * s); }
+static inline Vec3 v3_neg(Vec3 a) { return v3(-a.x, -a.y, -a.z); }
+static inline float v3_dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline Vec3 v3_cross(Vec3 a, Vec3 b)
+{ return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x); }
+static inline float v3_len(Vec3 a) { return sqrtf(v3_dot(a, a)); }
+static inline Vec3 v3_norm(Vec3 a) { float l = v3_len(a); return l > 0 ? v3_mul(a, 1.0f / l) : a; }
+static inline Vec3 v3_min(Vec3 a, Vec3 b)
+{ return v3(a.x < b.x ? a.x : b.x, a.y < b.y ? a.y : b.y, a.z < b.z ? a.z : b.z); }
+static inline Vec3 v3_max(Vec3 a, Vec3 b)
+{ return v3(a.x > b.x ? a.x : b.x, a.y > b.y ? a.y : b.y, a.z > b.z ? a.z : b.z); }
+static inline float v3_get(Vec3 a, int axis) { return axis == 0 ? a.x : axis == 1 ? a.y : a.z; }
+
+/* An orthonormal frame (s, t, n) around a unit normal n (Duff et al. 2017). */
+typedef struct { Vec3 s, t, n; } Frame;
+Frame frame_from_normal(Vec3 n);
+static inline Vec3 frame_to_local(const Frame *f, Vec3 v)
+{ return v3(v3_dot(v, f->s), v3_dot(v, f->t), v3_dot(v, f->n)); }
+static inline Vec3 frame_to_world(const Frame *f, Vec3 v)
+{ return v3_add(v3_add(v3_mul(f->s, v.x), v3_mul(f->t, v.y)), v3_mul(f->n, v.z)); }
+
+typedef struct {
+    Vec3 o, d;      /* origin and direction (not necessarily unit length) */
+    float tmax;     /* the ray is the segment o + t d, 0 < t < tmax */
+} Ray;
+
+/* Row-major 4x4 matrix with its inverse: points p' = M p (p as a column vector). */
+typedef struct { double m[4][4], inv[4][4]; } Xform;
+Xform xf_identity(void);
+Xform xf_mul(const Xform *a, const Xform *b);          /* a * b: apply b first */
+Xform xf_translate(double x, double y, double z);
+Xform xf_scale(double x, double y, double z);
+Xform xf_rotate(double deg, double x, double y, double z);
+int   xf_lookat(double ex, double ey, double ez, double lx, double ly, double lz,
+                double ux, double uy, double uz, Xform *out);  /* 0 if degenerate */
+int   xf_from_matrix(const double m[4][4], Xform *out);        /* 0 if singular */
+Vec3  xf_point(const Xform *t, Vec3 p);
+Vec3  xf_vector(const Xform *t, Vec3 v);
+Vec3  xf_normal(const Xform *t, Vec3 n);              /* by the inverse transpose */
+int   xf_swaps_handedness(const Xform *t);            /* det of the 3x3 part < 0 */
+
+/* PCG32 (O'Neill 2014), keyed by work item: every (pixel, sample) owns its stream,
+   so the image does not depend on the thread count or schedule. */
+typedef struct { uint64_t state, inc; } Rng;
+uint64_t hash_u64(uint64_t a, uint64_t b);           /* 64-bit mix of two keys */
+void     rng_seed(Rng *r, uint64_t stream, uint64_t index);
+uint32_t rng_u32(Rng *r);
+float    rng_float(Rng *r);                          /* uniform in [0, 1) */
+
+/* Radical inverse of i in a prime base (Halton points, for deterministic tables). */
+double radical_inverse(int base, uint64_t i);
+
+/* ======================================================================
+   3. Errors: libraries return, only main exits
+   ====================================================================== */
+/* Every loader writes one line "file:line: problem" into an Error and returns 0. */
+typedef struct { char msg[512]; } Error;
+void error_set(Error *e, const char *file, int line, const char *fmt, ...);
+
+/* ======================================================================
+   4. Spectra (spectrum.c)
+   A spectrum is a dense table at 1 nm over SPEC_MIN..SPEC_MAX (pbrt-v4's range),
+   evaluated by linear interpolation; zero outside.  Every source of a spectrum
+   (inline pairs, named spectra, files, rgb) is resampled into this table once at
+   load time, so rendering never searches a list.
+   ====================================================================== */
+typedef struct { float v[SPEC_N]; } Spectrum;
+
+float spec_eval(const Spectrum *s, float lambda_nm);
+void  spec_const(Spectrum *s, float value);
+int   spec_is_constant(const Spectrum *s);
+/* From (lambda, value) pairs, piecewise linear, zero outside the listed range
+   (pbrt-v4).  Lambdas must increase strictly; returns 0 and fills err otherwise. */
+int   spec_from_pairs(Spectrum *s, const float *lambda, const float *value, int n, Error *err,
+                      const char *file, int line);
+/* Built-in named spectra: stdillum-D65, stdillum-F1..F12, the thesis' lamps
+   (lamp-CFL1, lamp-LED1, lamp-LED2), glass-* indices, ...  Returns 0 if unknown. */
+int   spec_named(Spectrum *s, const char *name);
+const char *const *spec_named_list(void);   /* NULL-terminated list of the names */
+/* A file of wavelength/value pairs: pbrt .spd text or CSV (optional header). */
+int   spec_from_file(Spectrum *s, const char *path, Error *err);
+/* RGB reflectance (0..1) or illuminant RGB upsampled to a smooth spectrum. */
+int   spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
+                    const char *file, int line);
+void  spec_blackbody(Spectrum *s, float kelvin);  /* normalised to a peak of 1 (pbrt-v4) */
+
+/* CIE 1931 2-degree colour matching functions at lambda (nm), linear in 1 nm data. */
+void  cie_xyz(float lambda_nm, float xyz[3]);
+double cie_y_integral(float lo_nm, float hi_nm); /* sum of ybar at 1 nm steps over [lo, hi] */
+void  spec_to_xyz(const Spectrum *s, float lo_nm, float hi_nm, double xyz[3]); /* 1-nm sums */
+void  xyz_to_linear_srgb(const double xyz[3], double rgb[3]);  /* pbrt-v4's matrix */
+/* CIE colorimetry of a spectrum: chromaticity, CCT (exact, Planckian locus), Duv. */
+void  spec_chromaticity(const Spectrum *s, double *x, double *y);
+double cct_from_xy(double x, double y, double *duv);
+/* Thesis Eq. 6: sum of the 60 bin averages over 400-700 nm. */
+double spec_bin_sum(const Spectrum *s);
+float spec_bin_average(const Spectrum *s, int bin);  /* mean over [400+5b, 405+5b] nm */
+
+/* Cauchy's law n(lambda) = A + B / lambda^2, lambda in micrometres. */
+static inline float cauchy_eta(float A, float B, float lambda_nm)
+{ float um = lambda_nm * 1e-3f; return A + B / (um * um); }
+/* Named glasses (bk7, f2/dense flint, teaching, ...) with cited coefficients. */
+int   cauchy_named(const char *name, float *A, float *B);
+
+/* ---- Wavelength sampling (HWSS + CMIS): lambda_j = P^-1(frac(u + j/4)) ---- */
+typedef struct {
+    float lo, hi;              /* sampled range in nm (400-700 default, 360-830 wide) */
+    int   n;                   /* number of table cells (1 nm each), 0 = uniform */
+    float *pdf;                /* per-nm pdf (n cells) for importance sampling */
+    float *cdf;                /* n + 1 entries, cdf[0] = 0, cdf[n] = 1 */
+} WavelengthPdf;
+typedef struct {
+    float lambda[HERO_N];      /* nm; lambda[0] is the hero */
+    float pdf[HERO_N];         /* marginal pdf p(lambda_j) of each (1/nm) */
+} Wavelengths;
+void  wl_pdf_uniform(WavelengthPdf *w, float lo, float hi);
+/* pdf proportional to (xbar + ybar + zbar) times the given emission spectrum. */
+int   wl_pdf_importance(WavelengthPdf *w, float lo, float hi, const Spectrum *emission);
+void  wl_pdf_free(WavelengthPdf *w);
+void  wl_sample(const WavelengthPdf *w, float u, Wavelengths *out);
+float wl_pdf_eval(const WavelengthPdf *w, float lambda_nm);
+
+/* ======================================================================
+   5. Geometry (scene.c builds it, bvh.c intersects it)
+   ====================================================================== */
+typedef enum { SHAPE_MESH, SHAPE_SPHERE } ShapeType;
+
+/* One Shape directive: a triangle mesh or a sphere, with its material and, when it
+   sits inside an AreaLightSource, the emitter it belongs to. */
+typedef struct {
+    ShapeType type;
+    int material;              /* index into Scene.materials */
+    int emitter;               /* index into Scene.emitters, -1 if not emissive */
+    int flip;                  /* ReverseOrientation XOR a handedness-swapping transform */
+    int has_normals;           /* mesh carries per-vertex shading normals */
+    int tri_begin, tri_count;  /* triangles [tri_begin, tri_begin + tri_count) */
+    Vec3 center; float radius; /* sphere, in world space */
+    double area;               /* world-space surface area */
+    const char *file; int line;/* where it was declared, for messages */
+} Shape;
+
+typedef struct { int32_t v[3]; int32_t shape; } Triangle;   /* indices into Scene.P / N */
+
+typedef struct {
+    float t;                   /* ray parameter of the hit */
+    int prim;                  /* triangle index, or n_tris + sphere index */
+    float b1, b2;              /* barycentrics of v[1], v[2] (triangles) */
+} HitRecord;
+
+/* Flattened BVH: a node's children are nodes[i + 1] and nodes[right]; leaves hold
+   prims[first .. first + count). */
+typedef struct {
+    float bmin[3], bmax[3];
+    int32_t first_or_right;    /* leaf: first primitive; inner: index of right child */
+    int16_t count;             /* leaf: primitive count (> 0); inner: 0 */
+    int16_t axis;              /* inner: split axis (traversal order) */
+} BvhNode;
+
+typedef struct {
+    BvhNode *nodes; int n_nodes;
+    int32_t *prims; int n_prims;     /* primitive ids: triangle i, or n_tris + sphere j */
+    float *tri_v;                    /* 9 floats per triangle in prims order (cache) */
+} Bvh;
+
+struct Scene;
+int  bvh_build(Bvh *b, const struct Scene *s);          /* 0 on out of memory */
+void bvh_free(Bvh *b);
+/* Closest hit along r (0 < t < r->tmax); returns 1 and fills h on a hit. */
+int  bvh_intersect(const Bvh *b, const struct Scene *s, const Ray *r, HitRecord *h);
+/* Any hit along r: the shadow-ray query. */
+int  bvh_occluded(const Bvh *b, const struct Scene *s, const Ray *r);
+/* The two primitive tests, exposed for tests and the brute-force reference. */
+int  intersect_triangle(Vec3 p0, Vec3 p1, Vec3 p2, const Ray *r, float *t, float *b1, float *b2);
+int  intersect_sphere(Vec3 c, float radius, const Ray *r, float *t);
+
+/* Everything the integrator needs at a hit point. */
+typedef struct {
+    Vec3 p;                    /* position */
+    Vec3 ng;                   /* geometric normal, oriented by the shape's orientation */
+    Vec3 ns;                   /* shading normal (= ng without vertex normals) */
+    int shape;                 /* index into Scene.shapes */
+    int prim;
+} SurfacePoint;
+void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
+
+/* ======================================================================
+   6. Materials (material.c): only what the scenes need
+   ====================================================================== */
+typedef enum { MAT_DIFFUSE, MAT_DIELECTRIC } MaterialType;
+typedef struct {
+    MaterialType type;
+    Spectrum reflectance;      /* diffuse albedo */
+    /* dielectric: eta(lambda) = Cauchy A + B/lambda^2, or a tabulated spectrum */
+    int eta_tabulated;         /* 1: use eta_table, else Cauchy */
+    float cauchy_a, cauchy_b;
+    Spectrum eta_table;
+    int dispersive;            /* eta varies with lambda: terminates secondaries */
+    float alpha;               /* GGX roughness alpha (0 = smooth) */
+} Material;
+
+float mat_eta(const Material *m, float lambda_nm);
+
+/* ======================================================================
+   7. Emitters and emitter selection (lights.c)
+   ====================================================================== */
+typedef struct {
+    int shape;                 /* the Shape that emits */
+    Spectrum Le;               /* emitted radiance, after normalisation and scale */
+    int twosided;
+    double area;               /* total area (sampling picks a triangle by area) */
+    float *tri_cdf;            /* tri_count + 1 entries for meshes */
+    float bin[SPD_BINS];       /* bin averages of Le over 400-700 nm */
+    double power;              /* radiant power over 400-700 nm (W, up to units) */
+} Emitter;
+
+/* A point sampled on an emitter, as seen from a reference point. */
+typedef struct {
+    Vec3 p, n;                 /* point on the emitter, its (oriented) normal */
+    Vec3 wi;                   /* unit direction from the reference point to p */
+    float dist;                /* distance to p */
+    float pdf_sa;              /* solid-angle pdf (given this emitter) */
+} EmitterSample;
+
+typedef enum {
+    SEL_UNIFORM, SEL_POWER, SEL_SPATIAL, SEL_SPD, SEL_PRODUCT, SEL_SPECTRAL_SPATIAL,
+    SEL_ALL, SEL_COUNT
+} SelStrategy;
+
+/* Context of one selection: the same context must be passed to light_select and
+   later to light_select_pmf for an emitter found by BSDF sampling (the
+   consistency contract, notes section 4). */
+typedef struct {
+    Vec3 p;                    /* shading point */
+    int voxel;                 /* spatial cell of p, computed once at the vertex */
+    float lambda[HERO_N];
+    unsigned alive;            /* bit j set: wavelength j still carried */
+    int hero_only;             /* 1 after a wavelength-dependent event */
+    float beta[HERO_N];        /* path throughput per wavelength (optional weighting) */
+} LightCtx;
+
+struct LightSampler;           /* opaque: tables built by light_sampler_build */
+typedef struct LightSampler LightSampler;
+
+/* ======================================================================
+   8. The scene (scene.c parses the pbrt-v4 subset)
+   ====================================================================== */
+typedef enum { FILTER_BOX, FILTER_GAUSSIAN } FilterType;
+
+typedef struct {
+    Xform camera_from_world;   /* CTM at the Camera directive */
+    float fov_deg;             /* pbrt: field of view of the shorter image axis */
+    int xres, yres;
+    char filename[256];
+    FilterType filter;
+    float filter_radius, filter_sigma;   /* gaussian: radius 1.5, sigma 0.5 */
+    int spp, seed, maxdepth;
+    int spp_set, seed_set, maxdepth_set; /* given in the file */
+    char lightsampler[32];     /* Integrator "string lightsampler", "" if unset */
+} SceneSettings;
+
+typedef struct Scene {
+    SceneSettings settings;
+    Vec3 *P; Vec3 *N; int n_verts;       /* N may be NULL; per-vertex normals */
+    Triangle *tris; int n_tris;
+    Shape *shapes; int n_shapes;
+    Material *materials; int n_materials;
+    Emitter *emitters; int n_emitters;
+    int n_spheres; int *sphere_shape;    /* sphere j is shapes[sphere_shape[j]] */
+    Vec3 bmin, bmax;                     /* world bounds of all geometry */
+    Bvh bvh;
+    char **strings; int n_strings;       /* owned file names referenced by shapes */
+    /* insets from structured comments "# inset A x0 y0 x1 y1" */
+    int n_insets; char inset_name[8][16]; int inset[8][4];
+} Scene;
+
+/* Parse a pbrt-v4 subset file (with Include/Import) and build the BVH.
+   Returns 0 and a "file:line: problem" message on any error. */
+int  scene_load(Scene *s, const char *path, Error *err);
+/* Same from a string in memory (tests); name is used in messages. */
+int  scene_load_string(Scene *s, const char *text, const char *name, Error *err);
+void scene_free(Scene *s);
+void scene_dump(const Scene *s, FILE *f);      /* --dump-scene */
+
+/* ======================================================================
+   9. PLY meshes (ply.c)
+   ====================================================================== */
+typedef struct {
+    float *P; float *N; int n_verts;     /* xyz per vertex, optional normals */
+    int32_t *idx; int n_tris;            /* quads are split into two triangles */
+} PlyMesh;
+int  ply_read(const char *path, PlyMesh *m, Error *err);
+void ply_free(PlyMesh *m);
+int  ply_write_binary(const char *path, const float *P, int n_verts, const int32_t *idx, int n_tris);
+
+/* ======================================================================
+   10. Images (image.c)
+   ====================================================================== */
+typedef struct { int w, h; float *rgb; } Image;   /* top row first, 3 floats a pixel */
+int  img_alloc(Image *im, int w, int h);
+void img_free(Image *im);
+int  img_write(const Image *im, const char *path, float exposure, Error *err); /* by extension */
+int  pfm_write(const Image *im, const char *path);
+int  pfm_read(Image *im, const char *path, Error *err);
+int  ppm_write(const Image *im, const char *path, float exposure);
+int  png_write(const Image *im, const char *path, float exposure);
+int  png_write_rgb8(const char *path, int w, int h, const unsigned char *rgb);
+float srgb_oetf(float linear);           /* IEC 61966-2-1 transfer curve */
+/* Sidecar "<path>.txt": spp count and settings for merge. */
+int  img_write_sidecar(const char *path, long spp, const char *settings);
+long img_read_sidecar_spp(const char *path);   /* -1 if missing */
+
+/* ======================================================================
+   11. Emitters and their selection: the API (lights.c)
+   ====================================================================== */
+/* Fill each emitter's area, triangle CDF, bin table and power (after loading). */
+int   emitters_prepare(Scene *s, Error *err);
+/* Radiance leaving emitter e at a point with oriented normal n towards w (unit):
+   zero from the back of a one-sided emitter. */
+float emitter_Le(const Scene *s, int e, Vec3 n, Vec3 w, float lambda_nm);
+/* Sample a point on emitter e by area (a triangle by area, then uniform on it). */
+int   emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2,
+                     EmitterSample *out);
+/* Solid-angle pdf of emitter_sample producing point p (normal n) from ref. */
+float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n);
+
+typedef struct {
+    SelStrategy strategy;
+    int power_metric;          /* spd tables: 1 = radiance x area, 0 = unit radiance */
+    int all_wavelengths;       /* beyond the thesis: select by all alive wavelengths */
+    int throughput_weighted;   /* ... weighted by the path throughput per wavelength */
+    int eager;                 /* build every spatial voxel up front (else lazily) */
+} SelOptions;
+
+LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *err);
+void  light_sampler_free(LightSampler *ls);
+int   light_voxel(const LightSampler *ls, Vec3 p);       /* -1 when not spatial */
+/* Choose one emitter for NEE; returns -1 for "none" and sets *pmf. */
+int   light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf);
+/* The probability light_select gives emitter e in context c (for MIS weights). */
+float light_select_pmf(LightSampler *ls, const LightCtx *c, int e);
+long  light_sampler_fallbacks(const LightSampler *ls);   /* product: all-zero bins met */
+size_t light_sampler_bytes(const LightSampler *ls);      /* memory held by its tables */
+SelStrategy sel_from_name(const char *name);             /* SEL_COUNT if unknown */
+const char *sel_name(SelStrategy s);
+
+/* ======================================================================
+   12. The integrator (render.c) and its options
+   ====================================================================== */
+typedef struct {
+    int spp, seed, threads, maxdepth;
+    SelOptions sel;
+    int wl_importance;         /* --wavelengths importance */
+    int wl_wide;               /* sample 360-830 nm instead of 400-700 */
+    int single_wavelength;     /* 1 wavelength per path instead of HWSS */
+    int rough_mis;             /* --rough-dispersion mis: secondaries survive rough glass */
+    int nee;                   /* 1: NEE + BSDF sampling by MIS; 0: BSDF sampling only */
+    int progress;              /* progress bar on stderr */
+    int debug_x, debug_y;      /* --debug-pixel: print that pixel's paths (-1: off) */
+} RenderOptions;
+
+typedef struct {
+    double wall_s, cpu_s, build_s;   /* render time, CPU time, table build time */
+    uint64_t rays, samples;
+    long nonfinite;                  /* samples rejected as NaN/inf (must stay 0) */
+    long fallbacks;
+} RenderStats;
+
+void render_options_default(RenderOptions *o);
+/* Render s into img (linear sRGB, w x h of the scene's film). */
+int  render(const Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error *err);
+
+/* ======================================================================
+   13. SVG charts (svg.c): line plots for spectra and convergence charts
+   ====================================================================== */
+/* (svg.c's declarations go here) */
+
+/* ======================================================================
+   14. Subcommands (each returns the process exit code: 0 ok, 1 bad input,
+       2 bad usage); argv[0] is the subcommand's name
+   ====================================================================== */
+int cmd_spectrum(int argc, char **argv);   /* spectrum.c */
+int cmd_merge(int argc, char **argv);      /* image.c */
+int cmd_diff(int argc, char **argv);       /* image.c */
+
+#endif /* SPECNEE_H */

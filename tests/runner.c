@@ -1,0 +1,74 @@
+/* tests/runner.c - runs every test table; `tests/runner [substring]` filters by name.
+   Ends with the line "unit: N passed, N failed" and exits non-zero on failure. */
+#define _POSIX_C_SOURCE 200809L
+#include "test.h"
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+void test_failf(T *t, const char *file, int line, const char *fmt, ...)
+{
+    va_list ap;
+    int n;
+    if (t->failed++) return;
+    n = snprintf(t->msg, sizeof t->msg, "%s:%d: ", file, line);
+    va_start(ap, fmt);
+    vsnprintf(t->msg + n, sizeof t->msg - (size_t)n, fmt, ap);
+    va_end(ap);
+}
+
+const char *test_path(T *t, const char *name)
+{
+    static char buf[8][1024];
+    static int slot;
+    char *p = buf[slot++ & 7];
+    snprintf(p, 1024, "%s/%s", t->tmpdir, name);
+    return p;
+}
+
+const char *test_write_file(T *t, const char *name, const char *text)
+{
+    const char *p = test_path(t, name);
+    FILE *f = fopen(p, "wb");
+    if (!f) return p;
+    fputs(text, f);
+    fclose(f);
+    return p;
+}
+
+static const TestCase *const tables[] = {
+    tests_util, tests_bvh, tests_spectrum, tests_scene, tests_image,
+    tests_material, tests_render, tests_lights, NULL
+};
+
+int main(int argc, char **argv)
+{
+    const char *filter = argc > 1 ? argv[1] : NULL;
+    const char *tmp = getenv("SPECNEE_TEST_TMP");
+    int passed = 0, failed = 0, i, j;
+    char cmd[512];
+    if (!tmp) tmp = "tests/tmp";
+    snprintf(cmd, sizeof cmd, "mkdir -p %s", tmp);
+    if (system(cmd) != 0) { fprintf(stderr, "cannot create %s\n", tmp); return 2; }
+    for (i = 0; tables[i]; i++) {
+        for (j = 0; tables[i][j].name; j++) {
+            T t;
+            clock_t c0 = clock();
+            if (filter && !strstr(tables[i][j].name, filter)) continue;
+            memset(&t, 0, sizeof t);
+            t.tmpdir = tmp;
+            tables[i][j].fn(&t);
+            if (t.failed) {
+                printf("FAIL %s: %s\n", tables[i][j].name, t.msg);
+                failed++;
+            } else {
+                printf("ok   %s (%.2fs)\n", tables[i][j].name,
+                       (double)(clock() - c0) / CLOCKS_PER_SEC);
+                passed++;
+            }
+            fflush(stdout);
+        }
+    }
+    printf("unit: %d passed, %d failed\n", passed, failed);
+    return failed ? 1 : 0;
+}

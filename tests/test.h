@@ -1,0 +1,37 @@
+/* tests/test.h - the tiny test framework of specnee.
+
+   A test is a function void test_xxx(T *t).  CHECK(t, cond, fmt, ...) records a
+   failure with file:line and a message and returns from the test.  Each test file
+   exports one NULL-terminated table, e.g. `const TestCase tests_bvh[]`, listed in
+   tests/runner.c.  The runner prints one line per test and ends with
+   "unit: N passed, N failed".
+
+   Statistical tests state their confidence bound in the message: a mean is
+   accepted when |mean - expected| < k * standard error with k given (usually 4,
+   a two-sided false-alarm rate of 6e-5 per check), so a correct renderer passes
+   and a biased one fails. */
+#ifndef SPECNEE_TEST_H
+#define SPECNEE_TEST_H
+#include "../specnee.h"
+#include <stdarg.h>
+
+typedef struct {
+    int failed;               /* set by CHECK */
+    char msg[1024];           /* first failure message */
+    const char *tmpdir;       /* a scratch directory for files the test writes */
+} T;
+
+typedef struct { const char *name; void (*fn)(T *t); } TestCase;
+
+void test_failf(T *t, const char *file, int line, const char *fmt, ...);
+/* Write text to tmpdir/name and return the path (static buffer per call slot). */
+const char *test_write_file(T *t, const char *name, const char *text);
+const char *test_path(T *t, const char *name);
+
+#define CHECK(t, cond, ...) do { if (!(cond)) { \
+        test_failf((t), __FILE__, __LINE__, __VA_ARGS__); return; } } while (0)
+
+extern const TestCase tests_util[], tests_bvh[], tests_spectrum[], tests_scene[],
+    tests_image[], tests_material[], tests_render[], tests_lights[];
+
+#endif
