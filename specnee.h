@@ -69,9 +69,20 @@
 /* ======================================================================
    2. Small math: vectors, rays, 4x4 transforms, a counter-based RNG
    ====================================================================== */
-typedef struct { float x, y, z; } Vec3;
+typedef struct {
+    float x, y, z;
+#ifdef __TINYC__
+    float tcc_pad;   /* tcc 0.9.27 on x86-64 writes 16 bytes when a function returns
+                        a 12-byte struct, clobbering the next local: pad it to 16 */
+#endif
+} Vec3;
 
-static inline Vec3 v3(float x, float y, float z) { Vec3 r; r.x = x; r.y = y; r.z = z; return r; }
+static inline Vec3 v3(float x, float y, float z)
+{ Vec3 r; r.x = x; r.y = y; r.z = z;
+#ifdef __TINYC__
+  r.tcc_pad = 0.0f;
+#endif
+  return r; }
 static inline Vec3 v3_add(Vec3 a, Vec3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
 static inline Vec3 v3_sub(Vec3 a, Vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
 static inline Vec3 v3_mul(Vec3 a, float s) { return v3(a.x * s, a.y * s, a.z * s); }
@@ -109,7 +120,7 @@ Xform xf_scale(double x, double y, double z);
 Xform xf_rotate(double deg, double x, double y, double z);
 int   xf_lookat(double ex, double ey, double ez, double lx, double ly, double lz,
                 double ux, double uy, double uz, Xform *out);  /* 0 if degenerate */
-int   xf_from_matrix(const double m[4][4], Xform *out);        /* 0 if singular */
+int   xf_from_matrix(double m[4][4], Xform *out);                /* 0 if singular */
 Vec3  xf_point(const Xform *t, Vec3 p);
 Vec3  xf_vector(const Xform *t, Vec3 v);
 Vec3  xf_normal(const Xform *t, Vec3 n);              /* by the inverse transpose */
@@ -160,10 +171,11 @@ int   spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
                     const char *file, int line);
 void  spec_blackbody(Spectrum *s, float kelvin);  /* normalised to a peak of 1 (pbrt-v4) */
 
-/* CIE 1931 2-degree colour matching functions at lambda (nm), linear in 1 nm data. */
+/* CIE 1931 2-degree colour matching functions at lambda (nm), linear in the 5 nm CIE table. */
 void  cie_xyz(float lambda_nm, float xyz[3]);
 double cie_y_integral(float lo_nm, float hi_nm); /* sum of ybar at 1 nm steps over [lo, hi] */
-void  spec_to_xyz(const Spectrum *s, float lo_nm, float hi_nm, double xyz[3]); /* 1-nm sums */
+void  spec_to_xyz(const Spectrum *s, float lo_nm, float hi_nm, double xyz[3]); /* 1-nm sums / sum ybar:
+                                               an equal-energy spectrum has Y = 1 */
 void  xyz_to_linear_srgb(const double xyz[3], double rgb[3]);  /* pbrt-v4's matrix */
 /* CIE colorimetry of a spectrum: chromaticity, CCT (exact, Planckian locus), Duv. */
 void  spec_chromaticity(const Spectrum *s, double *x, double *y);
@@ -175,7 +187,8 @@ float spec_bin_average(const Spectrum *s, int bin);  /* mean over [400+5b, 405+5
 /* Cauchy's law n(lambda) = A + B / lambda^2, lambda in micrometres. */
 static inline float cauchy_eta(float A, float B, float lambda_nm)
 { float um = lambda_nm * 1e-3f; return A + B / (um * um); }
-/* Named glasses (bk7, f2/dense flint, teaching, ...) with cited coefficients. */
+/* Named Cauchy glasses with cited coefficients: BK7, fused-silica, SF10, SF11, diamond,
+   teaching, teaching-strong (case-insensitive, optional "cauchy-" prefix). */
 int   cauchy_named(const char *name, float *A, float *B);
 
 /* ---- Wavelength sampling (HWSS + CMIS): lambda_j = P^-1(frac(u + j/4)) ---- */
@@ -258,6 +271,9 @@ typedef struct {
     int prim;
 } SurfacePoint;
 void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
+/* Origin for a ray leaving p towards w: p moved along ng to w's side by
+   1e-5 (1 + max|p_i|) (the self-intersection policy at the top of bvh.c). */
+Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w);
 
 /* ======================================================================
    6. Materials (material.c): only what the scenes need
@@ -266,27 +282,56 @@ typedef enum { MAT_DIFFUSE, MAT_DIELECTRIC } MaterialType;
 typedef struct {
     MaterialType type;
     Spectrum reflectance;      /* diffuse albedo */
-    /* dielectric: eta(lambda) = Cauchy A + B/lambda^2, or a tabulated spectrum */
-    int eta_tabulated;         /* 1: use eta_table, else Cauchy */
-    float cauchy_a, cauchy_b;
-    Spectrum eta_table;
-    int dispersive;            /* eta varies with lambda: terminates secondaries */
-    float alpha;               /* GGX roughness alpha (0 = smooth) */
+    Spectrum eta;              /* dielectric index of refraction n(lambda); a Cauchy glass
+                                  (A + B/lambda^2) is tabulated into it at load time */
+    float cauchy_a, cauchy_b;  /* the Cauchy coefficients when given (for --dump-scene) */
+    int dispersive;            /* eta varies with lambda: terminates the secondaries */
+    float alpha;               /* GGX roughness alpha (0 = smooth), after remaproughness */
 } Material;
 
 float mat_eta(const Material *m, float lambda_nm);
+/* Smooth dielectrics scatter into discrete (delta) directions: no NEE there. */
+int   mat_is_delta(const Material *m);
+
+/* A direction sampled from the BSDF with the hero wavelength lambda[0]. */
+typedef struct {
+    Vec3 wi;                   /* unit direction towards the next vertex */
+    float f[HERO_N];           /* BSDF value per wavelength (without the cosine) */
+    float pdf;                 /* solid-angle pdf of wi with the hero's index (delta:
+                                  the probability of the chosen lobe) */
+    float pdf_l[HERO_N];       /* the pdf the same wi has with each wavelength's own
+                                  index (rough spectral MIS); pdf_l[0] == pdf */
+    int delta;                 /* 1 for a specular (Dirac) sample */
+} BsdfSample;
+
+/* Sample wi given wo (unit, pointing away from the surface).  Wavelengths whose
+   bit is not in `alive` get f = 0.  Returns 0 when no direction was produced. */
+int  bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float *lambda,
+                 unsigned alive, float u0, float u1, float u2, BsdfSample *out);
+/* Evaluate f and the pdfs for a given pair (for NEE); delta materials give 0. */
+void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
+               const float *lambda, unsigned alive, float f[HERO_N], float pdf_l[HERO_N]);
+/* Fresnel reflectance of a dielectric interface, unpolarised (cos_i may be < 0:
+   then the ray is inside and eta is inverted). */
+float fresnel_dielectric(float cos_i, float eta);
+/* Refract w about n (unit, any side) with relative index eta; 0 on total internal
+   reflection.  *etap receives the index ratio along the path. */
+int   refract_dir(Vec3 w, Vec3 n, float eta, float *etap, Vec3 *wt);
 
 /* ======================================================================
    7. Emitters and emitter selection (lights.c)
    ====================================================================== */
 typedef struct {
     int shape;                 /* the Shape that emits */
-    Spectrum Le;               /* emitted radiance, after normalisation and scale */
+    Spectrum L;                /* the spectrum as given in the file (its shape matters) */
+    float scale;               /* "float scale" */
     int twosided;
+    /* filled by emitters_prepare: */
+    Spectrum Le;               /* emitted radiance = scale * L / sum_{lo..hi} ybar L (pbrt-v4) */
     double area;               /* total area (sampling picks a triangle by area) */
     float *tri_cdf;            /* tri_count + 1 entries for meshes */
     float bin[SPD_BINS];       /* bin averages of Le over 400-700 nm */
-    double power;              /* radiant power over 400-700 nm (W, up to units) */
+    double power;              /* radiant power over 400-700 nm */
 } Emitter;
 
 /* A point sampled on an emitter, as seen from a reference point. */
@@ -372,7 +417,9 @@ int  ply_write_binary(const char *path, const float *P, int n_verts, const int32
    10. Images (image.c)
    ====================================================================== */
 typedef struct { int w, h; float *rgb; } Image;   /* top row first, 3 floats a pixel */
-int  img_alloc(Image *im, int w, int h);
+#define IMG_MAX_PIXELS (1L << 28)  /* @@ largest w*h accepted (guards against absurd headers) */
+#define IMG_RELMSE_EPS 1e-2        /* relMSE = mean (a-b)^2/(b^2 + eps) (Rousselle et al. 2011) */
+int  img_alloc(Image *im, int w, int h);  /* zero-filled; 0 on bad size or no memory */
 void img_free(Image *im);
 int  img_write(const Image *im, const char *path, float exposure, Error *err); /* by extension */
 int  pfm_write(const Image *im, const char *path);
@@ -381,15 +428,30 @@ int  ppm_write(const Image *im, const char *path, float exposure);
 int  png_write(const Image *im, const char *path, float exposure);
 int  png_write_rgb8(const char *path, int w, int h, const unsigned char *rgb);
 float srgb_oetf(float linear);           /* IEC 61966-2-1 transfer curve */
-/* Sidecar "<path>.txt": spp count and settings for merge. */
+/* Sidecar "<path>.txt": lines "spp <n>" (left out when spp < 0: unknown) and
+   "settings <text>", for merge. */
 int  img_write_sidecar(const char *path, long spp, const char *settings);
-long img_read_sidecar_spp(const char *path);   /* -1 if missing */
+long img_read_sidecar_spp(const char *path);   /* -1 if missing or no valid spp line */
+/* Error of a against ref over the pixels [x0, x1) x [y0, y1) (top-left origin), means
+   over pixels and the 3 channels; 0 on a size mismatch or an empty/out-of-range rect. */
+typedef struct { double mse, relmse, mae; long n; } ImgErr;   /* n: pixels */
+int  img_error(const Image *a, const Image *ref, int x0, int y0, int x1, int y1, ImgErr *out);
+/* out = sum_i w_i in_i / sum_i w_i (weights NULL: equal); allocates out; 0 on a size
+   mismatch, a negative/NaN weight, a zero weight sum or no memory. */
+int  img_merge(const Image *in, const double *weights, int n, Image *out);
+/* False-colour PNG of the per-pixel relative squared error (log scale, viridis). */
+int  img_write_error_png(const Image *a, const Image *ref, const char *path);
+/* cmd_merge/cmd_diff writing to the given streams (for tests). */
+int  img_cmd_merge(int argc, char **argv, FILE *out, FILE *err);
+int  img_cmd_diff(int argc, char **argv, FILE *out, FILE *err);
 
 /* ======================================================================
    11. Emitters and their selection: the API (lights.c)
    ====================================================================== */
-/* Fill each emitter's area, triangle CDF, bin table and power (after loading). */
-int   emitters_prepare(Scene *s, Error *err);
+/* Normalise each emitter for the sampled range [lo, hi] nm (pbrt-v4: Le = scale * L /
+   sum_{1 nm} ybar L over the range the film integrates) and fill its area, triangle
+   CDF, bin table and power.  scene_load calls it with 400-700; render with others. */
+int   emitters_prepare(Scene *s, float lo_nm, float hi_nm, Error *err);
 /* Radiance leaving emitter e at a point with oriented normal n towards w (unit):
    zero from the back of a one-sided emitter. */
 float emitter_Le(const Scene *s, int e, Vec3 n, Vec3 w, float lambda_nm);
@@ -405,16 +467,19 @@ typedef struct {
     int all_wavelengths;       /* beyond the thesis: select by all alive wavelengths */
     int throughput_weighted;   /* ... weighted by the path throughput per wavelength */
     int eager;                 /* build every spatial voxel up front (else lazily) */
+    int grid_res;              /* voxels on the longest axis; 0 = SPATIAL_RES (tests use
+                                  small grids: a tiny render touches few points per voxel) */
 } SelOptions;
 
 LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *err);
 void  light_sampler_free(LightSampler *ls);
 int   light_voxel(const LightSampler *ls, Vec3 p);       /* -1 when not spatial */
-/* Choose one emitter for NEE; returns -1 for "none" and sets *pmf. */
-int   light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf);
+/* Choose one emitter for NEE; returns -1 for "none" and sets *pmf.  *fell_back
+   (may be NULL) is set to 1 when a spectral table had no emitter for the bin
+   and the spatial distribution was used instead. */
+int   light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int *fell_back);
 /* The probability light_select gives emitter e in context c (for MIS weights). */
 float light_select_pmf(LightSampler *ls, const LightCtx *c, int e);
-long  light_sampler_fallbacks(const LightSampler *ls);   /* product: all-zero bins met */
 size_t light_sampler_bytes(const LightSampler *ls);      /* memory held by its tables */
 SelStrategy sel_from_name(const char *name);             /* SEL_COUNT if unknown */
 const char *sel_name(SelStrategy s);
@@ -442,13 +507,32 @@ typedef struct {
 } RenderStats;
 
 void render_options_default(RenderOptions *o);
-/* Render s into img (linear sRGB, w x h of the scene's film). */
-int  render(const Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error *err);
+/* Render s into img (linear sRGB, w x h of the scene's film).  The emitters are
+   re-normalised for the sampled wavelength range first (hence the non-const s). */
+int  render(Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error *err);
 
 /* ======================================================================
    13. SVG charts (svg.c): line plots for spectra and convergence charts
    ====================================================================== */
-/* (svg.c's declarations go here) */
+/* One series of a line chart: points (x[i], y[i]), i < n, drawn as a line (NaN, inf
+   and, on log axes, values <= 0 break it), with an optional shaded band ylo..yhi
+   (e.g. the min..max over seeds; both NULL for none). */
+typedef struct {
+    const char *name;          /* legend text; NULL: not in the legend */
+    const char *color;         /* SVG colour ("#1f77b4"); NULL: the built-in palette */
+    int n;                     /* number of points */
+    const double *x, *y;       /* the points */
+    const double *ylo, *yhi;   /* band edges, or NULL */
+    int dashed;                /* 1: dashed line */
+} SvgSeries;
+typedef struct {
+    const char *title, *xlabel, *ylabel;   /* any may be NULL */
+    int logx, logy;            /* 1: log10 axis with ticks at powers of ten */
+    int width, height;         /* pixels; 0: 720 x 450 */
+    double xmin, xmax, ymin, ymax;         /* axis ranges; min >= max: from the data */
+} SvgChart;
+/* Write a standalone SVG chart to f; 1 on success, 0 on bad arguments or write error. */
+int svg_line_chart(FILE *f, const SvgChart *c, const SvgSeries *s, int n_series);
 
 /* ======================================================================
    14. Subcommands (each returns the process exit code: 0 ok, 1 bad input,
@@ -457,5 +541,9 @@ int  render(const Scene *s, const RenderOptions *o, Image *img, RenderStats *st,
 int cmd_spectrum(int argc, char **argv);   /* spectrum.c */
 int cmd_merge(int argc, char **argv);      /* image.c */
 int cmd_diff(int argc, char **argv);       /* image.c */
+int cmd_converge(int argc, char **argv);   /* eval.c: error against time, charts, tables */
+/* "strategy[:modifier]..." (modifiers: power all tput importance roughmis single wide
+   nonee) into render options; 0 if unknown.  Used by converge and its tests. */
+int eval_parse_variant(const char *spec, RenderOptions *o);
 
 #endif /* SPECNEE_H */

@@ -36,6 +36,19 @@ const char *test_write_file(T *t, const char *name, const char *text)
     return p;
 }
 
+double test_scale(void)
+{
+    const char *e = getenv("SPECNEE_TEST_SCALE");
+    double v = e ? atof(e) : 1.0;
+    return v > 0.0 ? v : 1.0;
+}
+
+int test_scaled(int n, int lo)
+{
+    int v = (int)(n * test_scale() + 0.5);
+    return v < lo ? lo : v;
+}
+
 static const TestCase *const tables[] = {
     tests_util, tests_bvh, tests_spectrum, tests_scene, tests_image,
     tests_material, tests_render, tests_lights, NULL

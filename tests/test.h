@@ -28,6 +28,13 @@ void test_failf(T *t, const char *file, int line, const char *fmt, ...);
 const char *test_write_file(T *t, const char *name, const char *text);
 const char *test_path(T *t, const char *name);
 
+/* Scale factor for sample counts of the statistical tests: SPECNEE_TEST_SCALE in
+   the environment (default 1).  The sanitizer and slow-compiler runs use less; the
+   confidence bounds are computed from the measured spread, so they stay valid. */
+double test_scale(void);
+/* n scaled by test_scale(), at least lo. */
+int test_scaled(int n, int lo);
+
 #define CHECK(t, cond, ...) do { if (!(cond)) { \
         test_failf((t), __FILE__, __LINE__, __VA_ARGS__); return; } } while (0)
 

@@ -1,0 +1,711 @@
+/* bvh.c - the bounding volume hierarchy: builds it, and answers ray queries with it.
+
+   WHAT IT IMPLEMENTS
+     bvh_build / bvh_free       binned-SAH BVH over every triangle and sphere of a Scene
+     bvh_intersect              closest hit along a ray segment 0 < t < tmax
+     bvh_occluded               any hit (shadow rays): stops at the first one found
+     intersect_triangle         watertight ray/triangle test (Woop, Benthin, Wald 2013)
+     intersect_sphere           numerically careful ray/sphere test (Haines et al. 2019)
+     scene_surface_point        position and normals at a hit (pbrt-v4 conventions)
+     offset_ray_origin          where a secondary ray starts (self-intersection policy)
+
+   PRIMITIVES
+     Primitive id k < n_tris is triangle k (vertices s->P[tris[k].v[0..2]]);
+     id n_tris + j is sphere j, i.e. shape s->shapes[s->sphere_shape[j]].
+
+   BUILD: binned surface area heuristic (Wald 2007, "On fast construction of SAH-based
+   bounding volume hierarchies"; pbrt-v4 section 7.3.2)
+     Splitting a node of area A holding N primitives into (L, R) is estimated to cost
+         C_split = C_trav + (A_L N_L + A_R N_R) / A          (C_trav = 2, see below)
+     against C_leaf = N for a leaf.  The primitive centroids are sorted into BVH_BINS
+     equal bins along each axis, and the BVH_BINS - 1 planes between bins are scored by
+     two sweeps (one from each side).  A node with more than BVH_LEAF_MAX primitives is
+     always split; a smaller one is split only when C_split < C_leaf.  When every
+     centroid coincides (nothing to bin) or the tree gets deeper than SAH_DEPTH_MAX,
+     the node is cut in the middle of its primitive list instead, which bounds the depth
+     (see BVH_STACK).  Nothing depends on threads or timing: the build is deterministic.
+     Nodes are stored depth first: the left child of node i is node i + 1 and the right
+     child's index is stored in the node, so the tree is one array of 32-byte nodes.
+     The triangles' vertices are copied in leaf order into tri_v (9 floats each), so a
+     leaf reads one contiguous run of memory; a sphere's slot holds (cx, cy, cz, r).
+
+   TRAVERSAL (after pbrt-v3 section 4.4.3 "BVH traversal")
+     Iterative, with a stack of node indices: at an inner node both children's boxes
+     are tested, the one the ray enters first is visited next and the other is pushed
+     with its entry distance, so that it is skipped when a closer hit has been found by
+     the time it is popped.  (Ordering by the sign of the direction on the node's split
+     axis, pbrt's choice, measured no faster; the axis stays in the node for tools.)
+     Nodes are culled by the slab test with the precomputed inverse direction; a
+     zero direction component gets +-FLT_MAX instead of inf so that (b - o) * inv_d
+     is never 0 * inf = NaN.  The far slab distance is enlarged by
+     1 + 2 gamma(3) (Ize 2013, "Robust BVH ray traversal"; pbrt-v3 section 3.9.2) so that
+     rounding never culls a box the ray really touches, for example the flat box of an
+     axis-aligned wall.  Every closest hit shrinks tmax, which culls farther boxes.
+
+   RAY/TRIANGLE (Woop, Benthin, Wald, "Watertight Ray/Triangle Intersection", JCGT 2013)
+     Translate the vertices to the ray origin, permute the axes so that the largest
+     direction component is z, and shear so the ray becomes the +z axis:
+         A' = (A_x - S_x A_z, A_y - S_y A_z, S_z A_z)   with S_x = d_x/d_z, S_y = d_y/d_z,
+                                                             S_z = 1/d_z   (same for B, C)
+     In that 2D frame the ray is the origin, and the scaled barycentrics are the edge
+     functions  U = C'_x B'_y - C'_y B'_x,  V = A'_x C'_y - A'_y C'_x,
+                W = B'_x A'_y - B'_y A'_x    (U is the weight of A, V of B, W of C).
+     The ray hits iff U, V, W all have the same sign (both faces are hit).  When one of
+     them is exactly 0 it is recomputed in double, where the products of two floats are
+     exact, so the sign is right: a ray through a shared edge or vertex is accepted by at
+     least one of the triangles around it - the mesh is watertight.  With
+     det = U + V + W and T = U A'_z + V B'_z + W C'_z the hit is at
+         t = T / det,  b1 = V / det,  b2 = W / det.
+     Finally t must exceed a bound on its own rounding error (pbrt-v3 section 3.9.6,
+     "Conservative ray-triangle intersection"): a ray starting on the triangle's plane
+     never hits that triangle at a t that is only rounding noise.
+
+   RAY/SPHERE (Haines, Guenther, Akenine-Moller, "Precision Improvements for Ray/Sphere
+   Intersection", Ray Tracing Gems ch. 7, 2019)
+     With f = o - c, solve |f + t d|^2 = r^2, i.e. a t^2 + 2 b t + c = 0 with a = d.d,
+     b = f.d, c = f.f - r^2.  The discriminant is formed as a (r^2 - |f - (b/a) d|^2),
+     which does not cancel catastrophically for a far sphere, and the roots as
+         q = -(b + sign(b) sqrt(disc)),   t0 = q / a,   t1 = c / q,
+     which avoids subtracting nearly equal numbers.  Everything is in double (spheres
+     are few).  The nearest root in (0, tmax) is returned.
+
+   SELF-INTERSECTION POLICY (how secondary rays avoid hitting their own surface)
+     1. scene_surface_point computes p from the barycentrics in double, so p lies within
+        half an ulp of the triangle's plane (for spheres: reprojected onto the sphere).
+     2. offset_ray_origin(p, ng, w) moves p along ng, to the side of w, by
+            eps = 1e-5 (1 + max_i |p_i|)      (about 80 float ulps of the largest coordinate)
+        so the new origin is certainly on w's side of the surface it left.
+     3. The triangle test rejects t below its error bound (above), so a ray leaving a
+        triangle cannot re-hit it, even when that triangle's vertices are far larger
+        than p; for spheres the double-precision roots do the same.
+     Shadow rays towards a point q on an emitter should run from offset_ray_origin(...)
+     to q with tmax = 1 - 1e-4 (d = q - o), so that the emitter itself does not occlude.
+
+   USE
+     scene_load calls bvh_build(&s->bvh, s) once; the integrator calls bvh_intersect,
+     then scene_surface_point, and bvh_occluded for next event estimation.
+*/
+#include "specnee.h"
+#include <float.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Traversal stack size.  The build switches from SAH to middle splits at depth
+   SAH_DEPTH_MAX; a middle split halves the count, so no path is longer than
+   SAH_DEPTH_MAX + 31 < BVH_STACK nodes even for 2^31 primitives, and a traversal
+   never pushes more than one node per level. */
+#define BVH_STACK 64
+#define SAH_DEPTH_MAX 32
+
+/* The hot path (ray_prepare, node_hit, tri_hit) must be inlined into the traversal
+   loop; gcc's size heuristics refuse without being told, costing about 30%. */
+#if defined(__GNUC__) || defined(__clang__)
+#define HOT_INLINE static inline __attribute__((always_inline))
+#else
+#define HOT_INLINE static inline
+#endif
+
+/* gamma(n) = n u / (1 - n u) with u = 2^-24, the unit roundoff of float: a bound on the
+   relative error of n chained roundings (Higham 2002; pbrt-v3 section 3.9.1). */
+static inline float gamma_n(int n)
+{
+    const float u = FLT_EPSILON * 0.5f;
+    return ((float)n * u) / (1.0f - (float)n * u);
+}
+
+/* ======================================================================
+   Per-ray precomputation shared by the triangle test and the slab test
+   ====================================================================== */
+typedef struct {
+    float o[3], d[3];
+    float inv_d[3];          /* 1/d, +-FLT_MAX where d is 0 (no 0 * inf) */
+    int kx, ky, kz;          /* permutation: kz = axis of the largest |d| */
+    float Sx, Sy, Sz;        /* shear constants of Woop et al. */
+    float far_scale;         /* 1 + 2 gamma(3): the robust slab test's far factor */
+} RayPre;
+
+/* Returns 0 for a ray that cannot hit anything (non-finite, or d = 0). */
+HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
+{
+    int a;
+    rp->o[0] = r->o.x; rp->o[1] = r->o.y; rp->o[2] = r->o.z;
+    rp->d[0] = r->d.x; rp->d[1] = r->d.y; rp->d[2] = r->d.z;
+    for (a = 0; a < 3; a++) {
+        if (!isfinite(rp->o[a]) || !isfinite(rp->d[a])) return 0;
+        rp->inv_d[a] = rp->d[a] != 0.0f ? 1.0f / rp->d[a]
+                                        : (signbit(rp->d[a]) ? -FLT_MAX : FLT_MAX);
+    }
+    /* kz: the dimension where |d| is largest, so the shear divides by the most */
+    rp->kz = 0;
+    if (fabsf(rp->d[1]) > fabsf(rp->d[rp->kz])) rp->kz = 1;
+    if (fabsf(rp->d[2]) > fabsf(rp->d[rp->kz])) rp->kz = 2;
+    if (rp->d[rp->kz] == 0.0f) return 0;                 /* d = (0, 0, 0) */
+    rp->kx = (rp->kz + 1) % 3;
+    rp->ky = (rp->kx + 1) % 3;
+    if (rp->d[rp->kz] < 0.0f) {        /* swap x and y to keep the triangles' winding */
+        int tmp = rp->kx; rp->kx = rp->ky; rp->ky = tmp;
+    }
+    rp->Sx = rp->d[rp->kx] / rp->d[rp->kz];
+    rp->Sy = rp->d[rp->ky] / rp->d[rp->kz];
+    rp->Sz = 1.0f / rp->d[rp->kz];
+    rp->far_scale = 1.0f + 2.0f * gamma_n(3);
+    return 1;
+}
+
+/* ======================================================================
+   Primitive tests on prepared rays
+   ====================================================================== */
+static inline float min_f(float a, float b) { return a < b ? a : b; }
+static inline float max_f(float a, float b) { return a > b ? a : b; }
+
+static inline float max3f(float a, float b, float c)
+{
+    float m = a > b ? a : b;
+    return m > c ? m : c;
+}
+
+/* The edge functions again in double, for a ray exactly on an edge in float: the
+   products of two floats are exact in double, so the signs are right. */
+static void edge_functions_double(float Ax, float Ay, float Bx, float By, float Cx, float Cy,
+                                  float *U, float *V, float *W)
+{
+    *U = (float)((double)Cx * (double)By - (double)Cy * (double)Bx);
+    *V = (float)((double)Ax * (double)Cy - (double)Ay * (double)Cx);
+    *W = (float)((double)Bx * (double)Ay - (double)By * (double)Ax);
+}
+
+/* A bound on the rounding error of t = T / det, from the sheared vertices and the
+   edge functions (pbrt-v3 section 3.9.6, "Conservative ray-triangle intersection"):
+   each delta is the error bound of the quantity it is named after. */
+static float t_error_bound(float Ax, float Ay, float Az, float Bx, float By, float Bz,
+                           float Cx, float Cy, float Cz, float U, float V, float W,
+                           float inv_det)
+{
+    const float max_zt = max3f(fabsf(Az), fabsf(Bz), fabsf(Cz));
+    const float max_xt = max3f(fabsf(Ax), fabsf(Bx), fabsf(Cx));
+    const float max_yt = max3f(fabsf(Ay), fabsf(By), fabsf(Cy));
+    const float max_e = max3f(fabsf(U), fabsf(V), fabsf(W));
+    const float delta_z = gamma_n(3) * max_zt;
+    const float delta_x = gamma_n(5) * (max_xt + max_zt);
+    const float delta_y = gamma_n(5) * (max_yt + max_zt);
+    const float delta_e = 2.0f * (gamma_n(2) * max_xt * max_yt + delta_y * max_xt +
+                                  delta_x * max_yt);
+    return 3.0f * (gamma_n(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) *
+           fabsf(inv_det);
+}
+
+/* Watertight test of the triangle v[0..8] = (p0, p1, p2); see the header comment. */
+HOT_INLINE int tri_hit(const RayPre *rp, const float *v, float tmax,
+                       float *t_out, float *b1_out, float *b2_out)
+{
+    const int kx = rp->kx, ky = rp->ky, kz = rp->kz;
+    const float ox = rp->o[kx], oy = rp->o[ky], oz = rp->o[kz];
+    float Ax, Ay, Bx, By, Cx, Cy, Az, Bz, Cz, U, V, W, det, T, inv_det, t;
+
+    /* 1. Vertices relative to the ray origin, in the permuted axes (x, y, z) */
+    const float A_x = v[kx] - ox, A_y = v[ky] - oy, A_z = v[kz] - oz;
+    const float B_x = v[3 + kx] - ox, B_y = v[3 + ky] - oy, B_z = v[3 + kz] - oz;
+    const float C_x = v[6 + kx] - ox, C_y = v[6 + ky] - oy, C_z = v[6 + kz] - oz;
+
+    /* 2. Shear: the ray becomes the +z axis */
+    Ax = A_x - rp->Sx * A_z;  Ay = A_y - rp->Sy * A_z;
+    Bx = B_x - rp->Sx * B_z;  By = B_y - rp->Sy * B_z;
+    Cx = C_x - rp->Sx * C_z;  Cy = C_y - rp->Sy * C_z;
+
+    /* 3. Scaled barycentrics = 2D edge functions of the origin */
+    U = Cx * By - Cy * Bx;
+    V = Ax * Cy - Ay * Cx;
+    W = Bx * Ay - By * Ax;
+    if (U == 0.0f || V == 0.0f || W == 0.0f)      /* on an edge in float: ask double */
+        edge_functions_double(Ax, Ay, Bx, By, Cx, Cy, &U, &V, &W);
+    if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f))
+        return 0;                                  /* mixed signs: outside */
+    det = U + V + W;
+    if (det == 0.0f) return 0;                     /* edge-on or degenerate triangle */
+
+    /* 4. Scaled distance T = det * t */
+    Az = rp->Sz * A_z;  Bz = rp->Sz * B_z;  Cz = rp->Sz * C_z;
+    T = U * Az + V * Bz + W * Cz;
+    if (det < 0.0f ? T >= 0.0f : T <= 0.0f) return 0;   /* behind the origin */
+    inv_det = 1.0f / det;
+    t = T * inv_det;
+    if (!(t > 0.0f && t < tmax)) return 0;
+
+    /* 5. Reject t within its rounding error of 0 (pbrt-v3 section 3.9.6) */
+    if (t <= t_error_bound(Ax, Ay, Az, Bx, By, Bz, Cx, Cy, Cz, U, V, W, inv_det)) return 0;
+
+    *t_out = t;
+    *b1_out = V * inv_det;
+    *b2_out = W * inv_det;
+    return 1;
+}
+
+/* Ray/sphere in double (see the header comment).  s[0..3] = (cx, cy, cz, radius). */
+static int sphere_hit(const RayPre *rp, const float *s, float tmax, float *t_out)
+{
+    double f[3], d[3], l[3], a = 0, b = 0, c = 0, ll = 0, r = s[3], disc, q, t0, t1, tmp;
+    float tf;
+    int k;
+    if (!(r > 0.0)) return 0;
+    for (k = 0; k < 3; k++) {
+        f[k] = (double)rp->o[k] - (double)s[k];
+        d[k] = rp->d[k];
+        a += d[k] * d[k];
+        b += f[k] * d[k];
+        c += f[k] * f[k];
+    }
+    c -= r * r;
+    for (k = 0; k < 3; k++) {          /* l = f - (b/a) d: closest approach to the centre */
+        l[k] = f[k] - (b / a) * d[k];
+        ll += l[k] * l[k];
+    }
+    disc = a * (r * r - ll);
+    if (disc < 0.0) return 0;
+    q = -(b + (b < 0.0 ? -sqrt(disc) : sqrt(disc)));
+    if (q == 0.0) return 0;                        /* tangent at the origin itself */
+    t0 = q / a;
+    t1 = c / q;
+    if (t0 > t1) { tmp = t0; t0 = t1; t1 = tmp; }
+    tf = (float)t0;
+    if (!(tf > 0.0f)) tf = (float)t1;              /* origin inside or past the first root */
+    if (!(tf > 0.0f && tf < tmax)) return 0;
+    *t_out = tf;
+    return 1;
+}
+
+int intersect_triangle(Vec3 p0, Vec3 p1, Vec3 p2, const Ray *r, float *t, float *b1, float *b2)
+{
+    RayPre rp;
+    float v[9];
+    v[0] = p0.x; v[1] = p0.y; v[2] = p0.z;
+    v[3] = p1.x; v[4] = p1.y; v[5] = p1.z;
+    v[6] = p2.x; v[7] = p2.y; v[8] = p2.z;
+    if (!ray_prepare(r, &rp)) return 0;
+    return tri_hit(&rp, v, r->tmax, t, b1, b2);
+}
+
+int intersect_sphere(Vec3 c, float radius, const Ray *r, float *t)
+{
+    RayPre rp;
+    float s[4];
+    s[0] = c.x; s[1] = c.y; s[2] = c.z; s[3] = radius;
+    if (!ray_prepare(r, &rp)) return 0;
+    return sphere_hit(&rp, s, r->tmax, t);
+}
+
+/* ======================================================================
+   Build
+   ====================================================================== */
+typedef struct { float lo[3], hi[3]; } Box;
+
+static void box_empty(Box *b)
+{
+    int a;
+    for (a = 0; a < 3; a++) { b->lo[a] = FLT_MAX; b->hi[a] = -FLT_MAX; }
+}
+static void box_grow(Box *b, const Box *c)
+{
+    int a;
+    for (a = 0; a < 3; a++) {
+        if (c->lo[a] < b->lo[a]) b->lo[a] = c->lo[a];
+        if (c->hi[a] > b->hi[a]) b->hi[a] = c->hi[a];
+    }
+}
+static void box_grow_point(Box *b, const float *p)
+{
+    int a;
+    for (a = 0; a < 3; a++) {
+        if (p[a] < b->lo[a]) b->lo[a] = p[a];
+        if (p[a] > b->hi[a]) b->hi[a] = p[a];
+    }
+}
+/* Half the surface area (the factor 2 cancels in the SAH); 0 for an empty box. */
+static float box_half_area(const Box *b)
+{
+    float dx = b->hi[0] - b->lo[0], dy = b->hi[1] - b->lo[1], dz = b->hi[2] - b->lo[2];
+    if (dx < 0.0f || dy < 0.0f || dz < 0.0f) return 0.0f;
+    return dx * dy + dy * dz + dz * dx;
+}
+
+/* Everything the build needs about one primitive. */
+typedef struct {
+    Box box;
+    float centroid[3];
+} PrimInfo;
+
+/* A node waiting to be built: primitives prims[begin, end), at this depth; parent is
+   the inner node whose right child it is (-1 for a left child or the root). */
+typedef struct { int begin, end, parent, depth; } BuildTask;
+
+/* The bin of centroid c along an axis whose centroid range starts at lo, with
+   k = BVH_BINS / extent.  The same float expression is used for binning and for
+   partitioning, so both agree on every primitive. */
+static int bin_of(float c, float lo, float k)
+{
+    float f = (c - lo) * k;                        /* in [0, BVH_BINS] up to rounding */
+    if (!(f > 0.0f)) return 0;                     /* clamp before converting to int */
+    if (f >= (float)(BVH_BINS - 1)) return BVH_BINS - 1;
+    return (int)f;
+}
+
+/* Fill the bounds and centroid of every primitive; 0 on invalid geometry. */
+static int prim_infos(const Scene *s, PrimInfo *info)
+{
+    int i, j, k, a;
+    for (i = 0; i < s->n_tris; i++) {
+        Box *b = &info[i].box;
+        box_empty(b);
+        for (k = 0; k < 3; k++) {
+            int vi = s->tris[i].v[k];
+            float p[3];
+            if (vi < 0 || vi >= s->n_verts) return 0;
+            p[0] = s->P[vi].x; p[1] = s->P[vi].y; p[2] = s->P[vi].z;
+            if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) return 0;
+            box_grow_point(b, p);
+        }
+    }
+    for (j = 0; j < s->n_spheres; j++) {
+        const Shape *sh;
+        Box *b = &info[s->n_tris + j].box;
+        if (s->sphere_shape[j] < 0 || s->sphere_shape[j] >= s->n_shapes) return 0;
+        sh = &s->shapes[s->sphere_shape[j]];
+        for (a = 0; a < 3; a++) {
+            float c = v3_get(sh->center, a);
+            b->lo[a] = c - sh->radius;
+            b->hi[a] = c + sh->radius;
+        }
+    }
+    for (i = 0; i < s->n_tris + s->n_spheres; i++) {
+        for (a = 0; a < 3; a++) {
+            const Box *b = &info[i].box;
+            if (!isfinite(b->lo[a]) || !isfinite(b->hi[a])) return 0;
+            info[i].centroid[a] = 0.5f * b->lo[a] + 0.5f * b->hi[a];
+        }
+    }
+    return 1;
+}
+
+/* Choose a split of prims[begin, end) by the binned SAH.  Returns 1 and sets
+   *axis_out and *mid_out (after partitioning prims) to split, 0 to make a leaf. */
+static int sah_split(const PrimInfo *info, int32_t *prims, int begin, int end,
+                     const Box *node_box, const Box *cbox, int *axis_out, int *mid_out)
+{
+    /* pbrt-v4 uses C_trav = 1/2; here a visit tests both children's boxes, and on
+       tools/bench C_trav = 2 (leaves of about 3 triangles) was fastest, ~15% over 1/2 */
+    const float C_trav = 2.0f;
+    const int n = end - begin;
+    float best_cost = FLT_MAX, k_best = 0.0f;
+    int best_axis = -1, best_split = 0, axis, i, lo, hi;
+
+    for (axis = 0; axis < 3; axis++) {
+        Box bin_box[BVH_BINS], acc;
+        int bin_n[BVH_BINS];
+        float right_area[BVH_BINS], extent = cbox->hi[axis] - cbox->lo[axis], k;
+        int right_n[BVH_BINS], left_n, b;
+        if (!(extent > 0.0f)) continue;
+        k = (float)BVH_BINS / extent;
+        if (!isfinite(k)) continue;                /* extent so small that k overflows */
+        for (b = 0; b < BVH_BINS; b++) { box_empty(&bin_box[b]); bin_n[b] = 0; }
+        for (i = begin; i < end; i++) {
+            const PrimInfo *p = &info[prims[i]];
+            b = bin_of(p->centroid[axis], cbox->lo[axis], k);
+            bin_n[b]++;
+            box_grow(&bin_box[b], &p->box);
+        }
+        /* sweep from the right: area and count of bins [b, BVH_BINS) */
+        box_empty(&acc);
+        right_n[0] = 0;
+        for (b = BVH_BINS - 1; b >= 1; b--) {
+            box_grow(&acc, &bin_box[b]);
+            right_area[b] = box_half_area(&acc);
+            right_n[b] = bin_n[b] + (b + 1 < BVH_BINS ? right_n[b + 1] : 0);
+        }
+        /* sweep from the left; plane b lies between bins b-1 and b.  The cost is kept
+           multiplied by the node's area A, so a flat node (A = 0) needs no division. */
+        box_empty(&acc);
+        left_n = 0;
+        for (b = 1; b < BVH_BINS; b++) {
+            float cost;
+            box_grow(&acc, &bin_box[b - 1]);
+            left_n += bin_n[b - 1];
+            if (left_n == 0 || right_n[b] == 0) continue;
+            cost = box_half_area(&acc) * (float)left_n + right_area[b] * (float)right_n[b];
+            if (cost < best_cost) {
+                best_cost = cost; best_axis = axis; best_split = b; k_best = k;
+            }
+        }
+    }
+    if (best_axis < 0) return 0;                   /* all centroids coincide */
+    /* leaf versus split, both times A:  A N  versus  A C_trav + sum A_i N_i */
+    if (n <= BVH_LEAF_MAX &&
+        box_half_area(node_box) * (float)n <= box_half_area(node_box) * C_trav + best_cost)
+        return 0;
+
+    /* partition: bins below best_split to the front (two-pointer swap, deterministic) */
+    lo = begin; hi = end - 1;
+    while (lo <= hi) {
+        if (bin_of(info[prims[lo]].centroid[best_axis], cbox->lo[best_axis], k_best) < best_split)
+            lo++;
+        else {
+            int32_t tmp = prims[lo]; prims[lo] = prims[hi]; prims[hi] = tmp;
+            hi--;
+        }
+    }
+    if (lo == begin || lo == end) return 0;        /* cannot happen; be safe */
+    *axis_out = best_axis;
+    *mid_out = lo;
+    return 1;
+}
+
+void bvh_free(Bvh *b)
+{
+    free(b->nodes);
+    free(b->prims);
+    free(b->tri_v);
+    memset(b, 0, sizeof *b);
+}
+
+int bvh_build(Bvh *b, const Scene *s)
+{
+    const int n = s->n_tris + s->n_spheres;
+    PrimInfo *info = NULL;
+    BuildTask *stack = NULL;
+    int sp = 0, i, a;
+
+    memset(b, 0, sizeof *b);
+    if (s->n_tris < 0 || s->n_spheres < 0 || n < 0) return 0;
+    if (n == 0) return 1;                          /* empty scene: no nodes, no hits */
+    if ((size_t)n > ((size_t)-1) / (2 * sizeof(BvhNode))) return 0;
+    info = (PrimInfo *)malloc((size_t)n * sizeof *info);
+    stack = (BuildTask *)malloc(((size_t)n + 1) * sizeof *stack);
+    b->nodes = (BvhNode *)malloc(2 * (size_t)n * sizeof *b->nodes);  /* <= 2n-1 nodes */
+    b->prims = (int32_t *)malloc((size_t)n * sizeof *b->prims);
+    b->tri_v = (float *)malloc(9 * (size_t)n * sizeof *b->tri_v);
+    if (!info || !stack || !b->nodes || !b->prims || !b->tri_v || !prim_infos(s, info)) {
+        free(info); free(stack); bvh_free(b);
+        return 0;
+    }
+    for (i = 0; i < n; i++) b->prims[i] = i;
+    b->n_prims = n;
+
+    /* Depth-first construction with an explicit stack (no recursion, so no C stack
+       overflow on a degenerate tree): pushing the right task before the left one
+       makes the left child the very next node. */
+    stack[sp].begin = 0; stack[sp].end = n; stack[sp].parent = -1; stack[sp].depth = 0;
+    sp++;
+    while (sp > 0) {
+        BuildTask task = stack[--sp];
+        int node = b->n_nodes++, count = task.end - task.begin, axis = 0, mid = 0, split;
+        BvhNode *nd = &b->nodes[node];
+        Box box, cbox;
+        if (task.parent >= 0) b->nodes[task.parent].first_or_right = node;
+
+        box_empty(&box); box_empty(&cbox);
+        for (i = task.begin; i < task.end; i++) {
+            box_grow(&box, &info[b->prims[i]].box);
+            box_grow_point(&cbox, info[b->prims[i]].centroid);
+        }
+        for (a = 0; a < 3; a++) { nd->bmin[a] = box.lo[a]; nd->bmax[a] = box.hi[a]; }
+
+        split = 0;
+        if (count > 1 && task.depth < SAH_DEPTH_MAX)
+            split = sah_split(info, b->prims, task.begin, task.end, &box, &cbox, &axis, &mid);
+        if (!split && count > BVH_LEAF_MAX) {
+            /* middle split: identical centroids, or too deep for the SAH */
+            float ext = -1.0f;
+            for (a = 0; a < 3; a++)
+                if (box.hi[a] - box.lo[a] > ext) { ext = box.hi[a] - box.lo[a]; axis = a; }
+            mid = task.begin + count / 2;
+            split = 1;
+        }
+        if (!split) {                              /* leaf */
+            nd->first_or_right = task.begin;
+            nd->count = (int16_t)count;            /* <= BVH_LEAF_MAX */
+            nd->axis = 0;
+            continue;
+        }
+        nd->count = 0;
+        nd->axis = (int16_t)axis;
+        nd->first_or_right = -1;                   /* set when the right child is made */
+        stack[sp].begin = mid; stack[sp].end = task.end;
+        stack[sp].parent = node; stack[sp].depth = task.depth + 1; sp++;
+        stack[sp].begin = task.begin; stack[sp].end = mid;
+        stack[sp].parent = -1; stack[sp].depth = task.depth + 1; sp++;
+    }
+
+    /* Copy the primitives' data into leaf order: 9 floats a triangle, 4 a sphere. */
+    for (i = 0; i < n; i++) {
+        float *v = &b->tri_v[9 * (size_t)i];
+        int p = b->prims[i], k;
+        if (p < s->n_tris) {
+            for (k = 0; k < 3; k++) {
+                Vec3 q = s->P[s->tris[p].v[k]];
+                v[3 * k] = q.x; v[3 * k + 1] = q.y; v[3 * k + 2] = q.z;
+            }
+        } else {
+            const Shape *sh = &s->shapes[s->sphere_shape[p - s->n_tris]];
+            v[0] = sh->center.x; v[1] = sh->center.y; v[2] = sh->center.z;
+            v[3] = sh->radius;
+            for (k = 4; k < 9; k++) v[k] = 0.0f;
+        }
+    }
+    free(info);
+    free(stack);
+    return 1;
+}
+
+/* ======================================================================
+   Traversal
+   ====================================================================== */
+/* Slab test: does the ray meet the node's box between 0 and tmax?  On a hit,
+   *t_enter is where it enters (see the header comment for the robustness). */
+HOT_INLINE int node_hit(const BvhNode *nd, const RayPre *rp, float tmax, float *t_enter)
+{
+    /* slab distances per axis; written out (no loop, no swap) so that the compiler
+       turns the ?: into branch-free min/max instructions */
+    const float tx0 = (nd->bmin[0] - rp->o[0]) * rp->inv_d[0];
+    const float tx1 = (nd->bmax[0] - rp->o[0]) * rp->inv_d[0];
+    const float ty0 = (nd->bmin[1] - rp->o[1]) * rp->inv_d[1];
+    const float ty1 = (nd->bmax[1] - rp->o[1]) * rp->inv_d[1];
+    const float tz0 = (nd->bmin[2] - rp->o[2]) * rp->inv_d[2];
+    const float tz1 = (nd->bmax[2] - rp->o[2]) * rp->inv_d[2];
+    float tnear = min_f(tx0, tx1), tfar = max_f(tx0, tx1);   /* enter, leave along x */
+    tnear = max_f(tnear, min_f(ty0, ty1));
+    tfar = min_f(tfar, max_f(ty0, ty1));
+    tnear = max_f(tnear, min_f(tz0, tz1));
+    tfar = min_f(tfar, max_f(tz0, tz1));
+    tnear = max_f(tnear, 0.0f);
+    tfar = min_f(tfar * rp->far_scale, tmax);               /* robust far distance */
+    *t_enter = tnear;
+    return tnear <= tfar;
+}
+
+/* Walk the tree; any_hit = 1 returns at the first hit (h may be NULL then).
+   A node is entered only after its box was hit; at an inner node both children's
+   boxes are tested, the one the ray enters first is visited next and the other is
+   pushed with its entry distance, which culls it on the way back if a closer hit
+   has been found meanwhile. */
+static inline int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h,
+                           int any_hit)
+{
+    RayPre rp;
+    int stack[BVH_STACK], sp = 0, node = 0, hit = 0, i;
+    float stack_t[BVH_STACK], tmax = r->tmax, t, b1, b2, t_l, t_r;
+    if (b->n_nodes == 0 || !ray_prepare(r, &rp) || !(tmax > 0.0f)) return 0;
+    if (!node_hit(&b->nodes[0], &rp, tmax, &t)) return 0;
+
+    for (;;) {
+        const BvhNode *nd = &b->nodes[node];
+        if (nd->count > 0) {
+            /* leaf: test its primitives */
+            const int end = nd->first_or_right + nd->count;
+            for (i = nd->first_or_right; i < end; i++) {
+                const float *v = &b->tri_v[9 * (size_t)i];
+                int p = b->prims[i], ok;
+                if (p < s->n_tris) ok = tri_hit(&rp, v, tmax, &t, &b1, &b2);
+                else { ok = sphere_hit(&rp, v, tmax, &t); b1 = b2 = 0.0f; }
+                if (!ok) continue;
+                if (any_hit) return 1;
+                tmax = t;                           /* closer hits only from now on */
+                h->t = t; h->prim = p; h->b1 = b1; h->b2 = b2;
+                hit = 1;
+            }
+        } else {
+            const int left = node + 1, right = nd->first_or_right;
+            const int hit_l = node_hit(&b->nodes[left], &rp, tmax, &t_l);
+            const int hit_r = node_hit(&b->nodes[right], &rp, tmax, &t_r);
+            if (hit_l && hit_r) {                   /* nearer first, push the other */
+                if (t_r < t_l) { node = right; stack[sp] = left; stack_t[sp] = t_l; }
+                else { node = left; stack[sp] = right; stack_t[sp] = t_r; }
+                sp++;
+                continue;
+            }
+            if (hit_l) { node = left; continue; }
+            if (hit_r) { node = right; continue; }
+        }
+        /* pop the next node the ray still reaches before tmax */
+        do {
+            if (sp == 0) return hit;
+            sp--;
+        } while (stack_t[sp] > tmax);
+        node = stack[sp];
+    }
+}
+
+int bvh_intersect(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h)
+{
+    return traverse(b, s, r, h, 0);
+}
+
+int bvh_occluded(const Bvh *b, const Scene *s, const Ray *r)
+{
+    return traverse(b, s, r, NULL, 1);
+}
+
+/* ======================================================================
+   Hit points
+   ====================================================================== */
+void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp)
+{
+    sp->prim = h->prim;
+    if (h->prim < s->n_tris) {
+        const Triangle *tri = &s->tris[h->prim];
+        const Shape *sh = &s->shapes[tri->shape];
+        Vec3 p0 = s->P[tri->v[0]], p1 = s->P[tri->v[1]], p2 = s->P[tri->v[2]];
+        double b1 = h->b1, b2 = h->b2, b0 = 1.0 - b1 - b2;
+        /* p = b0 p0 + b1 p1 + b2 p2 in double: p lies within half an ulp of the plane */
+        sp->p = v3((float)(b0 * p0.x + b1 * p1.x + b2 * p2.x),
+                   (float)(b0 * p0.y + b1 * p1.y + b2 * p2.y),
+                   (float)(b0 * p0.z + b1 * p1.z + b2 * p2.z));
+        /* pbrt-v4: n = normalize(cross(p0 - p2, p1 - p2)), the right-hand normal of the
+           counter-clockwise (p0, p1, p2) */
+        sp->ng = v3_norm(v3_cross(v3_sub(p0, p2), v3_sub(p1, p2)));
+        if (v3_dot(sp->ng, sp->ng) == 0.0f)        /* sliver too thin for float */
+            sp->ng = v3_norm(v3_neg(r->d));
+        if (sh->flip) sp->ng = v3_neg(sp->ng);
+        sp->ns = sp->ng;
+        if (sh->has_normals && s->N) {
+            Vec3 n0 = s->N[tri->v[0]], n1 = s->N[tri->v[1]], n2 = s->N[tri->v[2]];
+            Vec3 ns = v3((float)(b0 * n0.x + b1 * n1.x + b2 * n2.x),
+                         (float)(b0 * n0.y + b1 * n1.y + b2 * n2.y),
+                         (float)(b0 * n0.z + b1 * n1.z + b2 * n2.z));
+            if (v3_dot(ns, ns) > 0.0f) {
+                /* the shading normal is authoritative for orientation (pbrt-v4) */
+                sp->ns = v3_norm(ns);
+                if (v3_dot(sp->ng, sp->ns) < 0.0f) sp->ng = v3_neg(sp->ng);
+            }
+        }
+        sp->shape = tri->shape;
+    } else {
+        int shape = s->sphere_shape[h->prim - s->n_tris];
+        const Shape *sh = &s->shapes[shape];
+        double q[3], c[3], len = 0, scale;
+        int a;
+        c[0] = sh->center.x; c[1] = sh->center.y; c[2] = sh->center.z;
+        q[0] = (double)r->o.x + (double)h->t * r->d.x - c[0];
+        q[1] = (double)r->o.y + (double)h->t * r->d.y - c[1];
+        q[2] = (double)r->o.z + (double)h->t * r->d.z - c[2];
+        for (a = 0; a < 3; a++) len += q[a] * q[a];
+        len = sqrt(len);
+        /* reproject onto the sphere, so p is as exact as float allows */
+        scale = len > 0.0 ? 1.0 / len : 0.0;
+        sp->ng = v3((float)(q[0] * scale), (float)(q[1] * scale), (float)(q[2] * scale));
+        if (len == 0.0) sp->ng = v3_norm(v3_neg(r->d));
+        sp->p = v3((float)(c[0] + sh->radius * q[0] * scale),
+                   (float)(c[1] + sh->radius * q[1] * scale),
+                   (float)(c[2] + sh->radius * q[2] * scale));
+        if (sh->flip) sp->ng = v3_neg(sp->ng);
+        sp->ns = sp->ng;
+        sp->shape = shape;
+    }
+}
+
+Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w)
+{
+    float m = fabsf(p.x), eps;
+    if (fabsf(p.y) > m) m = fabsf(p.y);
+    if (fabsf(p.z) > m) m = fabsf(p.z);
+    eps = 1e-5f * (1.0f + m);                      /* the policy at the top of this file */
+    if (v3_dot(ng, w) < 0.0f) eps = -eps;          /* to w's side of the surface */
+    return v3_add(p, v3_mul(ng, eps));
+}

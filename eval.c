@@ -1,0 +1,344 @@
+/* eval.c - speed against accuracy: `specnee converge`, the evaluation driver.
+
+   Exported: cmd_converge, eval_parse_variant (specnee.h section 14).
+
+   For every variant (an emitter-selection strategy plus modifiers), every spp of
+   a ladder and K seeds, render the scene, time it (wall and CPU time; lazily
+   built tables are inside the wall time, eager ones reported apart) and measure
+   the error against a reference over the whole image and the scene's insets:
+       MSE    = mean over pixels and channels of (a - r)^2
+       relMSE = mean of (a - r)^2 / (r^2 + 1e-2)           (Rousselle et al. 2011)
+   Outputs, with PREFIX from --out:
+       PREFIX.csv              one row per (variant, spp, seed, region)
+       PREFIX_mse_spp.svg      MSE against spp, log-log, band = min..max over seeds
+       PREFIX_mse_time.svg     MSE against wall time, log-log
+       PREFIX_efficiency.svg   efficiency 1/(MSE x time) relative to the baseline
+       PREFIX.md               tables: MSE change against the baseline at the
+                               largest spp and at equal time, mean and 95% CI
+   Statistics.  For seed k the change of variant v is c_k = MSE_v,k / MSE_b,k - 1
+   (b = the baseline, the first variant unless --baseline), reported as the mean
+   over seeds with the 95% confidence interval mean +- t_{0.975, K-1} s / sqrt(K).
+   Equal time: per seed, the variant's (time, MSE) ladder is interpolated in
+   log-log at the baseline's time for the largest spp; beyond the ladder it is
+   extended with MSE proportional to 1/time (the Monte Carlo rate). */
+#define _POSIX_C_SOURCE 200809L
+#include "specnee.h"
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_VARIANTS 16
+#define MAX_SPP 16
+#define MAX_SEEDS 64
+#define MAX_REGIONS 9
+
+/* "name[:modifier]...": modifiers power, all, tput, importance, roughmis, single,
+   wide, nonee.  Returns 0 on an unknown name or modifier. */
+int eval_parse_variant(const char *spec, RenderOptions *o)
+{
+    char buf[128], *tok, *save = NULL;
+    snprintf(buf, sizeof buf, "%s", spec);
+    tok = strtok_r(buf, ":", &save);
+    if (!tok) return 0;
+    o->sel.strategy = sel_from_name(tok);
+    if (o->sel.strategy == SEL_COUNT) return 0;
+    while ((tok = strtok_r(NULL, ":", &save)) != NULL) {
+        if (!strcmp(tok, "power")) o->sel.power_metric = 1;
+        else if (!strcmp(tok, "all")) o->sel.all_wavelengths = 1;
+        else if (!strcmp(tok, "tput")) { o->sel.all_wavelengths = 1; o->sel.throughput_weighted = 1; }
+        else if (!strcmp(tok, "importance")) o->wl_importance = 1;
+        else if (!strcmp(tok, "roughmis")) o->rough_mis = 1;
+        else if (!strcmp(tok, "single")) o->single_wavelength = 1;
+        else if (!strcmp(tok, "wide")) o->wl_wide = 1;
+        else if (!strcmp(tok, "nonee")) o->nee = 0;
+        else return 0;
+    }
+    return 1;
+}
+
+/* 97.5% quantile of Student's t for dof 1..30 (standard tables); 1.96 beyond. */
+static double t975(int dof)
+{
+    static const double t[30] = {
+        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+        2.201, 2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
+        2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042 };
+    if (dof < 1) return 0.0;
+    return dof <= 30 ? t[dof - 1] : 1.96;
+}
+
+static void mean_ci(const double *x, int n, double *mean, double *half)
+{
+    double s = 0, s2 = 0;
+    int i;
+    for (i = 0; i < n; i++) s += x[i];
+    *mean = s / n;
+    for (i = 0; i < n; i++) s2 += (x[i] - *mean) * (x[i] - *mean);
+    *half = n > 1 ? t975(n - 1) * sqrt(s2 / (n - 1)) / sqrt((double)n) : 0.0;
+}
+
+/* Parse "a,b,c" into up to max items; returns the count (0 on error). */
+static int split_list(const char *s, char items[][64], int max)
+{
+    int n = 0;
+    const char *p = s;
+    while (*p) {
+        const char *c = strchr(p, ',');
+        size_t len = c ? (size_t)(c - p) : strlen(p);
+        if (n >= max || len == 0 || len >= 64) return 0;
+        memcpy(items[n], p, len);
+        items[n][len] = 0;
+        n++;
+        if (!c) break;
+        p = c + 1;
+    }
+    return n;
+}
+
+/* MSE at time T from a (time, mse) ladder, interpolated in log-log. */
+static double mse_at_time(const double *t, const double *m, int n, double T)
+{
+    int i;
+    if (n <= 0) return NAN;
+    if (T <= t[0]) return m[0] * t[0] / T;
+    for (i = 0; i + 1 < n; i++)
+        if (T <= t[i + 1] && t[i + 1] > t[i] && m[i] > 0 && m[i + 1] > 0) {
+            double a = (log(T) - log(t[i])) / (log(t[i + 1]) - log(t[i]));
+            return exp(log(m[i]) + a * (log(m[i + 1]) - log(m[i])));
+        }
+    return m[n - 1] * t[n - 1] / T;
+}
+
+static const char usage_converge[] =
+    "usage: specnee converge SCENE --ref REF.pfm [--lights v1,v2,...] [--spp 16,32,...]\n"
+    "         [--seeds K] [--out PREFIX] [--baseline NAME] [--threads N] [--maxdepth N]\n"
+    "  variants: a strategy (uniform power spatial spd product spectral-spatial all)\n"
+    "  with modifiers, e.g. spd:power, product:all, product:tput, spatial:importance,\n"
+    "  spatial:roughmis, spatial:single, spatial:nonee.  The first is the baseline.\n";
+
+int cmd_converge(int argc, char **argv)
+{
+    const char *scene_path = NULL, *ref_path = NULL, *prefix = "converge", *baseline = NULL;
+    char var_names[MAX_VARIANTS][64], spp_s[MAX_SPP][64], path[1024];
+    int n_var = 1, n_spp = 0, K = 4, threads = 0, maxdepth = -1, i, v, s, k, r, b = 0;
+    int spp[MAX_SPP];
+    Scene scene;
+    Image ref;
+    Error err;
+    int n_reg, reg[MAX_REGIONS][4];
+    char reg_name[MAX_REGIONS][16];
+    double *mse, *relmse, *mae, *wall, *cpu, *build;
+    FILE *csv;
+    strcpy(var_names[0], "spatial");
+    n_spp = split_list("16,32,64,128", spp_s, MAX_SPP);
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) { fputs(usage_converge, stdout); return 0; }
+        if (a[0] == '-' && !val) { fprintf(stderr, "converge: %s needs a value\n%s", a, usage_converge); return 2; }
+        if (!strcmp(a, "--ref")) ref_path = argv[++i];
+        else if (!strcmp(a, "--lights")) {
+            n_var = split_list(argv[++i], var_names, MAX_VARIANTS);
+            if (!n_var) { fprintf(stderr, "converge: bad --lights list\n"); return 2; }
+        } else if (!strcmp(a, "--spp")) {
+            n_spp = split_list(argv[++i], spp_s, MAX_SPP);
+            if (!n_spp) { fprintf(stderr, "converge: bad --spp list\n"); return 2; }
+        } else if (!strcmp(a, "--seeds")) {
+            K = atoi(argv[++i]);
+            if (K < 2 || K > MAX_SEEDS) { fprintf(stderr, "converge: --seeds must be 2..%d\n", MAX_SEEDS); return 2; }
+        } else if (!strcmp(a, "--out")) prefix = argv[++i];
+        else if (!strcmp(a, "--baseline")) baseline = argv[++i];
+        else if (!strcmp(a, "--threads")) threads = atoi(argv[++i]);
+        else if (!strcmp(a, "--maxdepth")) maxdepth = atoi(argv[++i]);
+        else if (a[0] == '-') { fprintf(stderr, "converge: unknown option '%s'\n%s", a, usage_converge); return 2; }
+        else if (!scene_path) scene_path = a;
+        else { fprintf(stderr, "converge: more than one scene\n"); return 2; }
+    }
+    if (!scene_path || !ref_path) { fputs(usage_converge, stderr); return 2; }
+    for (s = 0; s < n_spp; s++) {
+        spp[s] = atoi(spp_s[s]);
+        if (spp[s] <= 0) { fprintf(stderr, "converge: bad spp '%s'\n", spp_s[s]); return 2; }
+    }
+    for (v = 0; v < n_var; v++) {
+        RenderOptions o;
+        render_options_default(&o);
+        if (!eval_parse_variant(var_names[v], &o)) {
+            fprintf(stderr, "converge: unknown variant '%s'\n", var_names[v]);
+            return 2;
+        }
+        if (baseline && !strcmp(baseline, var_names[v])) b = v;
+    }
+    memset(&scene, 0, sizeof scene);
+    if (!scene_load(&scene, scene_path, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
+    if (!pfm_read(&ref, ref_path, &err)) { fprintf(stderr, "%s\n", err.msg); scene_free(&scene); return 1; }
+    if (ref.w != scene.settings.xres || ref.h != scene.settings.yres) {
+        fprintf(stderr, "%s: reference is %dx%d, the scene renders %dx%d\n", ref_path, ref.w, ref.h,
+                scene.settings.xres, scene.settings.yres);
+        img_free(&ref); scene_free(&scene);
+        return 1;
+    }
+    /* regions: the whole image, then the scene's insets */
+    n_reg = 1;
+    strcpy(reg_name[0], "image");
+    reg[0][0] = 0; reg[0][1] = 0; reg[0][2] = ref.w; reg[0][3] = ref.h;
+    for (i = 0; i < scene.n_insets && n_reg < MAX_REGIONS; i++, n_reg++) {
+        snprintf(reg_name[n_reg], sizeof reg_name[n_reg], "%s", scene.inset_name[i]);
+        memcpy(reg[n_reg], scene.inset[i], sizeof reg[n_reg]);
+    }
+#define IDX(v, s, k) (((size_t)(v) * MAX_SPP + (s)) * MAX_SEEDS + (k))
+#define RIDX(v, s, k, r) (IDX(v, s, k) * MAX_REGIONS + (r))
+    mse = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, sizeof(double));
+    relmse = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, sizeof(double));
+    mae = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, sizeof(double));
+    wall = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS, sizeof(double));
+    cpu = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS, sizeof(double));
+    build = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS, sizeof(double));
+    snprintf(path, sizeof path, "%s.csv", prefix);
+    csv = fopen(path, "w");
+    if (!mse || !relmse || !mae || !wall || !cpu || !build || !csv) {
+        fprintf(stderr, "%s: cannot write (or out of memory)\n", path);
+        if (csv) fclose(csv);
+        free(mse); free(relmse); free(mae); free(wall); free(cpu); free(build);
+        img_free(&ref); scene_free(&scene);
+        return 1;
+    }
+    fprintf(csv, "scene,variant,spp,seed,wall_s,cpu_s,build_s,region,mse,relmse,mae\n");
+
+    /* the renders: seeds outermost so an interrupted run has every variant */
+    for (k = 0; k < K; k++)
+        for (v = 0; v < n_var; v++)
+            for (s = 0; s < n_spp; s++) {
+                RenderOptions o;
+                RenderStats st;
+                Image img;
+                render_options_default(&o);
+                eval_parse_variant(var_names[v], &o);
+                o.spp = spp[s];
+                o.seed = 1000003 * (k + 1);
+                o.threads = threads;
+                o.maxdepth = maxdepth >= 0 ? maxdepth
+                             : scene.settings.maxdepth_set ? scene.settings.maxdepth : DEFAULT_MAXDEPTH;
+                if (!render(&scene, &o, &img, &st, &err)) {
+                    fprintf(stderr, "%s\n", err.msg);
+                    fclose(csv);
+                    img_free(&ref); scene_free(&scene);
+                    return 1;
+                }
+                wall[IDX(v, s, k)] = st.wall_s;
+                cpu[IDX(v, s, k)] = st.cpu_s;
+                build[IDX(v, s, k)] = st.build_s;
+                for (r = 0; r < n_reg; r++) {
+                    ImgErr e;
+                    if (!img_error(&img, &ref, reg[r][0], reg[r][1], reg[r][2], reg[r][3], &e)) {
+                        e.mse = e.relmse = e.mae = NAN;
+                    }
+                    mse[RIDX(v, s, k, r)] = e.mse;
+                    relmse[RIDX(v, s, k, r)] = e.relmse;
+                    mae[RIDX(v, s, k, r)] = e.mae;
+                    fprintf(csv, "%s,%s,%d,%d,%.6f,%.6f,%.6f,%s,%.9g,%.9g,%.9g\n", scene_path, var_names[v],
+                            spp[s], k, st.wall_s, st.cpu_s, st.build_s, reg_name[r], e.mse, e.relmse, e.mae);
+                }
+                fflush(csv);
+                fprintf(stderr, "converge: %s spp %d seed %d: %.3f s, MSE %.4g\n", var_names[v], spp[s], k,
+                        st.wall_s, mse[RIDX(v, s, k, 0)]);
+                img_free(&img);
+            }
+    fclose(csv);
+
+    /* ---- charts (whole image) */
+    {
+        static double x[MAX_VARIANTS][MAX_SPP], y[MAX_VARIANTS][MAX_SPP], lo[MAX_VARIANTS][MAX_SPP],
+            hi[MAX_VARIANTS][MAX_SPP], tx[MAX_VARIANTS][MAX_SPP], eff[MAX_VARIANTS][MAX_SPP];
+        SvgSeries ser[MAX_VARIANTS];
+        SvgChart ch;
+        int chart;
+        for (v = 0; v < n_var; v++)
+            for (s = 0; s < n_spp; s++) {
+                double sm = 0, st = 0, mn = INFINITY, mx = 0;
+                for (k = 0; k < K; k++) {
+                    double m = mse[RIDX(v, s, k, 0)];
+                    sm += m; st += wall[IDX(v, s, k)];
+                    if (m < mn) mn = m;
+                    if (m > mx) mx = m;
+                }
+                x[v][s] = spp[s];
+                y[v][s] = sm / K;
+                lo[v][s] = mn;
+                hi[v][s] = mx;
+                tx[v][s] = st / K;
+            }
+        for (v = 0; v < n_var; v++)
+            for (s = 0; s < n_spp; s++)
+                eff[v][s] = (y[b][s] * tx[b][s]) / (y[v][s] * tx[v][s]);
+        for (chart = 0; chart < 3; chart++) {
+            FILE *f;
+            const char *suffix[3] = { "mse_spp", "mse_time", "efficiency" };
+            memset(&ch, 0, sizeof ch);
+            for (v = 0; v < n_var; v++) {
+                memset(&ser[v], 0, sizeof ser[v]);
+                ser[v].name = var_names[v];
+                ser[v].n = n_spp;
+                ser[v].x = chart == 1 ? tx[v] : x[v];
+                ser[v].y = chart == 2 ? eff[v] : y[v];
+                ser[v].ylo = chart == 2 ? NULL : lo[v];
+                ser[v].yhi = chart == 2 ? NULL : hi[v];
+                ser[v].dashed = v == b;
+            }
+            ch.title = chart == 0 ? "MSE against samples per pixel (band: min..max over seeds)"
+                     : chart == 1 ? "MSE against render time (equal time: read across)"
+                                  : "efficiency 1/(MSE x time) relative to the baseline";
+            ch.xlabel = chart == 1 ? "wall time (s)" : "samples per pixel";
+            ch.ylabel = chart == 2 ? "relative efficiency" : "MSE (whole image)";
+            ch.logx = 1;
+            ch.logy = chart != 2;
+            snprintf(path, sizeof path, "%s_%s.svg", prefix, suffix[chart]);
+            f = fopen(path, "w");
+            if (!f || !svg_line_chart(f, &ch, ser, n_var)) fprintf(stderr, "%s: cannot write\n", path);
+            if (f) fclose(f);
+        }
+    }
+
+    /* ---- tables */
+    snprintf(path, sizeof path, "%s.md", prefix);
+    {
+        FILE *md = fopen(path, "w");
+        int last = n_spp - 1;
+        if (!md) { fprintf(stderr, "%s: cannot write\n", path); }
+        else {
+            fprintf(md, "Scene `%s`, reference `%s`, %d seeds, spp ladder", scene_path, ref_path, K);
+            for (s = 0; s < n_spp; s++) fprintf(md, " %d", spp[s]);
+            fprintf(md, "; baseline `%s`. Changes are MSE ratios minus 1 (negative = better), "
+                        "mean [95%% CI] over seeds.\n\n", var_names[b]);
+            for (r = 0; r < n_reg; r++) {
+                fprintf(md, "**%s** (%d,%d)-(%d,%d)\n\n", reg_name[r], reg[r][0], reg[r][1], reg[r][2], reg[r][3]);
+                fprintf(md, "| variant | MSE at %d spp | change at %d spp | change at equal time | wall time (s) |\n",
+                        spp[last], spp[last]);
+                fprintf(md, "|---|---|---|---|---|\n");
+                for (v = 0; v < n_var; v++) {
+                    double c_spp[MAX_SEEDS], c_time[MAX_SEEDS], mm[MAX_SEEDS], tt[MAX_SEEDS];
+                    double m1, h1, m2, h2, m0, h0, tm, th;
+                    for (k = 0; k < K; k++) {
+                        double tv[MAX_SPP], mv[MAX_SPP], T;
+                        mm[k] = mse[RIDX(v, last, k, r)];
+                        tt[k] = wall[IDX(v, last, k)];
+                        c_spp[k] = mse[RIDX(v, last, k, r)] / mse[RIDX(b, last, k, r)] - 1.0;
+                        for (s = 0; s < n_spp; s++) { tv[s] = wall[IDX(v, s, k)]; mv[s] = mse[RIDX(v, s, k, r)]; }
+                        T = wall[IDX(b, last, k)];
+                        c_time[k] = mse_at_time(tv, mv, n_spp, T) / mse[RIDX(b, last, k, r)] - 1.0;
+                    }
+                    mean_ci(mm, K, &m0, &h0);
+                    mean_ci(c_spp, K, &m1, &h1);
+                    mean_ci(c_time, K, &m2, &h2);
+                    mean_ci(tt, K, &tm, &th);
+                    fprintf(md, "| %s%s | %.4g | %+.1f%% [%+.1f, %+.1f] | %+.1f%% [%+.1f, %+.1f] | %.3f |\n",
+                            var_names[v], v == b ? " (baseline)" : "", m0, 100 * m1, 100 * (m1 - h1),
+                            100 * (m1 + h1), 100 * m2, 100 * (m2 - h2), 100 * (m2 + h2), tm);
+                }
+                fprintf(md, "\n");
+            }
+            fclose(md);
+        }
+    }
+    free(mse); free(relmse); free(mae); free(wall); free(cpu); free(build);
+    img_free(&ref);
+    scene_free(&scene);
+    return 0;
+}

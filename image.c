@@ -1,0 +1,1067 @@
+/* image.c - images in memory and on disk: PFM, PPM and PNG files, sidecars, and the
+   `specnee merge` and `specnee diff` subcommands.
+
+   WHAT IT IMPLEMENTS
+     Image           w x h pixels, 3 floats (linear sRGB) each, TOP row first in memory.
+     img_alloc/img_free
+     pfm_write/pfm_read   netpbm PFM (pfm(5)):  "PF\n<w> <h>\n<scale>\n" then float32
+                     RGB rows from the BOTTOM row to the top.  The sign of <scale> gives
+                     the byte order: negative = little-endian, positive = big-endian.
+                     We always write -1.0 and emit the bytes one by one, so the file is
+                     the same on any host.  The reader also takes "Pf" (grey, replicated
+                     to RGB) and big-endian data, and multiplies the samples by |scale|
+                     when it is not 1.
+     ppm_write       binary P6, 8 bits, TOP row first, after the tone mapping below.
+     png_write       our own PNG encoder (PNG spec, W3C 2003): IHDR, one IDAT, IEND; the
+                     IDAT holds a zlib stream (RFC 1950) of STORED deflate blocks
+                     (RFC 1951 section 3.2.4, at most 65535 bytes each), so no compressor is
+                     needed.  CRC-32 (PNG spec annex D) and Adler-32 (RFC 1950 section 9)
+                     are computed here.  Every row starts with filter type 0 (None).
+     tone mapping    v8 = round(255 * oetf(clamp(2^exposure * v, 0, 1))) with the sRGB
+                     transfer curve (IEC 61966-2-1):
+                         oetf(c) = 12.92 c                   c <= 0.0031308
+                                 = 1.055 c^(1/2.4) - 0.055   otherwise
+     img_write       chooses the format by the extension (.pfm .ppm .png, any case).
+     sidecar         "<image>.txt" with the lines "spp <n>" and "settings <text>".
+     img_merge       sample-count-weighted mean  I = sum_i w_i I_i / sum_i w_i, w_i = spp_i.
+     img_error       over a pixel rectangle R with N pixels, a = test, b = reference:
+                         MSE    = 1/(3N) sum_{p in R} sum_c (a - b)^2
+                         relMSE = 1/(3N) sum sum (a - b)^2 / (b^2 + eps),  eps = 1e-2
+                         MAE    = 1/(3N) sum sum |a - b|
+                     relMSE in the style of Rousselle, Knaus and Zwicker 2011 ("Adaptive
+                     sampling and reconstruction using greedy error minimization"), with
+                     the squared reference in the denominator; eps keeps dark pixels from
+                     dominating (IMG_RELMSE_EPS in specnee.h).
+     cmd_merge/cmd_diff   the subcommands (exit codes 0 ok, 1 bad input, 2 bad usage).
+
+   HOW IT IS USED
+     render() fills an Image; main writes it with img_write and img_write_sidecar.
+     `specnee merge a.pfm b.pfm -o ab.pfm` combines independent renders, and
+     `specnee diff test.pfm ref.pfm --region A:10,10,50,50` measures their error; the
+     evaluation tools call img_error and img_merge directly.
+
+   Errors: the readers and img_write fill an Error with one line "path: problem" and
+   return 0; the plain writers just return 0 on any I/O error. */
+#include "specnee.h"
+#include <errno.h>
+#include <float.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ======================================================================
+   Allocation
+   ====================================================================== */
+
+int img_alloc(Image *im, int w, int h)
+{
+    im->w = 0; im->h = 0; im->rgb = NULL;
+    if (w <= 0 || h <= 0 || (long long)w * h > IMG_MAX_PIXELS) return 0;
+    im->rgb = (float *)calloc((size_t)w * (size_t)h * 3, sizeof(float));
+    if (!im->rgb) return 0;
+    im->w = w; im->h = h;
+    return 1;
+}
+
+void img_free(Image *im)
+{
+    if (!im) return;
+    free(im->rgb);
+    im->rgb = NULL; im->w = 0; im->h = 0;
+}
+
+/* An image the writers can use: positive size within the cap, pixels present. */
+static int img_valid(const Image *im)
+{
+    return im && im->rgb && im->w > 0 && im->h > 0 &&
+           (long long)im->w * im->h <= IMG_MAX_PIXELS;
+}
+
+/* ======================================================================
+   PFM
+   ====================================================================== */
+
+/* A float's IEEE-754 bit pattern (C99 does not promise IEEE floats, but every
+   platform specnee targets has them; PFM itself assumes them). */
+static uint32_t float_bits(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+static float bits_float(uint32_t u)
+{
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+int pfm_write(const Image *im, const char *path)
+{
+    FILE *f;
+    unsigned char *row;
+    int x, y, c, ok;
+    if (!img_valid(im) || !path) return 0;
+    row = (unsigned char *)malloc((size_t)im->w * 12);
+    if (!row) return 0;
+    f = fopen(path, "wb");
+    if (!f) { free(row); return 0; }
+    /* -1.0: little-endian samples, scale 1 */
+    ok = fprintf(f, "PF\n%d %d\n-1.0\n", im->w, im->h) > 0;
+    /* PFM stores the bottom row first; memory holds the top row first. */
+    for (y = im->h - 1; ok && y >= 0; y--) {
+        const float *src = im->rgb + (size_t)y * (size_t)im->w * 3;
+        for (x = 0; x < im->w; x++)
+            for (c = 0; c < 3; c++) {
+                uint32_t u = float_bits(src[3 * x + c]);
+                unsigned char *b = row + 12 * x + 4 * c;
+                b[0] = (unsigned char)(u & 0xff);            /* least significant first */
+                b[1] = (unsigned char)((u >> 8) & 0xff);
+                b[2] = (unsigned char)((u >> 16) & 0xff);
+                b[3] = (unsigned char)((u >> 24) & 0xff);
+            }
+        ok = fwrite(row, 12, (size_t)im->w, f) == (size_t)im->w;
+    }
+    free(row);
+    if (fclose(f) != 0) ok = 0;
+    return ok;
+}
+
+static int is_space(int c)
+{
+    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
+}
+
+/* Read one whitespace-terminated header token into tok.  Leading whitespace is
+   skipped; the single whitespace character that ends the token is consumed (after
+   the scale that is exactly the one separator before the pixel data).  *budget
+   bounds the header's length so that a file of blanks cannot keep us reading.
+   Returns 1, or 0 at end of file / too long (why says which). */
+static int pfm_token(FILE *f, char *tok, size_t cap, long *budget, const char **why)
+{
+    size_t n = 0;
+    int c;
+    do {
+        c = getc(f);
+        if (--*budget < 0) { *why = "header longer than 1024 bytes"; return 0; }
+    } while (c != EOF && is_space(c));
+    while (c != EOF && !is_space(c)) {
+        if (n + 1 >= cap) { *why = "header field too long"; return 0; }
+        tok[n++] = (char)c;
+        c = getc(f);
+        if (--*budget < 0) { *why = "header longer than 1024 bytes"; return 0; }
+    }
+    tok[n] = '\0';
+    if (c == EOF) { *why = "truncated header"; return 0; }
+    return 1;
+}
+
+/* A width or height: decimal digits only, 1 .. IMG_MAX_PIXELS. */
+static int parse_dim(const char *s, int *out)
+{
+    long v = 0;
+    if (!*s) return 0;
+    for (; *s; s++) {
+        if (*s < '0' || *s > '9') return 0;
+        v = v * 10 + (*s - '0');
+        if (v > IMG_MAX_PIXELS) return 0;
+    }
+    if (v < 1) return 0;
+    *out = (int)v;
+    return 1;
+}
+
+int pfm_read(Image *im, const char *path, Error *err)
+{
+    FILE *f;
+    char tok[64];
+    const char *why = "";
+    long budget = 1024;                  /* header bytes we are willing to read */
+    int m0, m1, channels, w, h, x, y, c, big_endian;
+    long pos, end;
+    double scale;
+    char *endp;
+    unsigned char *row = NULL;
+    size_t row_bytes;
+
+    im->w = 0; im->h = 0; im->rgb = NULL;
+    f = fopen(path, "rb");
+    if (!f) { error_set(err, path, 0, "cannot open: %s", strerror(errno)); return 0; }
+
+    /* 1. Magic: "PF" (RGB) or "Pf" (grey). */
+    m0 = getc(f); m1 = getc(f);
+    if (m0 != 'P' || (m1 != 'F' && m1 != 'f')) {
+        error_set(err, path, 0, "not a PFM file (bad magic: expected 'PF' or 'Pf')");
+        goto fail;
+    }
+    channels = (m1 == 'F') ? 3 : 1;
+    budget -= 2;
+    c = getc(f);
+    if (c == EOF || !is_space(c)) {
+        error_set(err, path, 0, "not a PFM file (bad magic: expected 'PF' or 'Pf')");
+        goto fail;
+    }
+
+    /* 2. Width, height, scale: any whitespace between them; no comments (the format
+          has none, and a '#' could be the first byte of the data). */
+    if (!pfm_token(f, tok, sizeof tok, &budget, &why)) goto bad_header;
+    if (tok[0] == '#') { why = "comments are not allowed in a PFM header"; goto bad_header; }
+    if (!parse_dim(tok, &w)) {
+        error_set(err, path, 0, "bad width '%s' (expected 1 to %ld)", tok, (long)IMG_MAX_PIXELS);
+        goto fail;
+    }
+    if (!pfm_token(f, tok, sizeof tok, &budget, &why)) goto bad_header;
+    if (tok[0] == '#') { why = "comments are not allowed in a PFM header"; goto bad_header; }
+    if (!parse_dim(tok, &h)) {
+        error_set(err, path, 0, "bad height '%s' (expected 1 to %ld)", tok, (long)IMG_MAX_PIXELS);
+        goto fail;
+    }
+    if (!pfm_token(f, tok, sizeof tok, &budget, &why)) goto bad_header;
+    scale = strtod(tok, &endp);
+    if (endp == tok || *endp != '\0') {
+        error_set(err, path, 0, "bad scale '%s' (expected a number such as -1.0)", tok);
+        goto fail;
+    }
+    if (scale != scale) { error_set(err, path, 0, "scale is NaN"); goto fail; }
+    if (scale == 0.0 || scale > DBL_MAX || scale < -DBL_MAX) {
+        error_set(err, path, 0, "bad scale '%s' (must be finite and nonzero: its sign "
+                  "gives the byte order)", tok);
+        goto fail;
+    }
+    big_endian = scale > 0.0;
+    if (scale < 0.0) scale = -scale;
+
+    /* 3. Sizes: cap the pixel count, then compare with what the file holds before
+          allocating anything, so a lying header cannot make us allocate gigabytes. */
+    if ((long long)w * h > IMG_MAX_PIXELS) {
+        error_set(err, path, 0, "image size %dx%d is too large (limit %ld pixels)",
+                  w, h, (long)IMG_MAX_PIXELS);
+        goto fail;
+    }
+    row_bytes = (size_t)w * (size_t)channels * 4;
+    pos = ftell(f);
+    if (pos >= 0 && fseek(f, 0, SEEK_END) == 0 && (end = ftell(f)) >= 0) {
+        double need = (double)row_bytes * h;
+        if ((double)(end - pos) < need) {
+            error_set(err, path, 0, "truncated: %dx%d pixels need %.0f bytes of data, "
+                      "the file has %ld", w, h, need, end - pos);
+            goto fail;
+        }
+        if (fseek(f, pos, SEEK_SET) != 0) {
+            error_set(err, path, 0, "cannot seek: %s", strerror(errno));
+            goto fail;
+        }
+    } /* else: not seekable (a pipe); a short read below reports the truncation */
+
+    /* 4. Pixels, bottom row first in the file. */
+    row = (unsigned char *)malloc(row_bytes);
+    if (!row || !img_alloc(im, w, h)) {
+        error_set(err, path, 0, "out of memory for a %dx%d image", w, h);
+        goto fail;
+    }
+    for (y = h - 1; y >= 0; y--) {
+        float *dst = im->rgb + (size_t)y * (size_t)w * 3;
+        if (fread(row, 1, row_bytes, f) != row_bytes) {
+            error_set(err, path, 0, "truncated pixel data (row %d of %d from the bottom)",
+                      h - y, h);
+            goto fail;
+        }
+        for (x = 0; x < w; x++)
+            for (c = 0; c < channels; c++) {
+                const unsigned char *b = row + 4 * (x * channels + c);
+                uint32_t u = big_endian
+                    ? ((uint32_t)b[0] << 24) | ((uint32_t)b[1] << 16) | ((uint32_t)b[2] << 8) | b[3]
+                    : ((uint32_t)b[3] << 24) | ((uint32_t)b[2] << 16) | ((uint32_t)b[1] << 8) | b[0];
+                float v = bits_float(u);
+                if (scale != 1.0) v = (float)((double)v * scale);   /* |scale| is a unit factor */
+                if (channels == 3) dst[3 * x + c] = v;
+                else dst[3 * x] = dst[3 * x + 1] = dst[3 * x + 2] = v;   /* grey -> RGB */
+            }
+    }
+    free(row);
+    fclose(f);
+    return 1;
+
+bad_header:
+    error_set(err, path, 0, "bad PFM header: %s", why);
+fail:
+    free(row);
+    img_free(im);
+    fclose(f);
+    return 0;
+}
+
+/* ======================================================================
+   Tone mapping to 8 bits
+   ====================================================================== */
+
+float srgb_oetf(float linear)
+{
+    /* IEC 61966-2-1: a linear toe below 0.0031308, a 1/2.4 power above; the two
+       pieces meet (to 7 digits) at 0.0031308 -> 0.0404500. */
+    if (linear <= 0.0031308f) return 12.92f * linear;
+    return 1.055f * powf(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+/* One channel: scale by gain = 2^exposure, clamp to [0, 1] (negatives and NaN go
+   to 0), apply the sRGB curve and round to 0..255. */
+static unsigned char tonemap8(float linear, float gain)
+{
+    float v = linear * gain;
+    if (!(v > 0.0f)) v = 0.0f;
+    if (v > 1.0f) v = 1.0f;
+    return (unsigned char)(srgb_oetf(v) * 255.0f + 0.5f);
+}
+
+/* The whole image as 8-bit RGB, top row first; NULL when out of memory. */
+static unsigned char *img_to_rgb8(const Image *im, float exposure)
+{
+    size_t i, n = (size_t)im->w * (size_t)im->h * 3;
+    float gain = powf(2.0f, exposure);
+    unsigned char *out = (unsigned char *)malloc(n);
+    if (!out) return NULL;
+    for (i = 0; i < n; i++) out[i] = tonemap8(im->rgb[i], gain);
+    return out;
+}
+
+int ppm_write(const Image *im, const char *path, float exposure)
+{
+    FILE *f;
+    unsigned char *rgb;
+    size_t n;
+    int ok;
+    if (!img_valid(im) || !path) return 0;
+    rgb = img_to_rgb8(im, exposure);
+    if (!rgb) return 0;
+    f = fopen(path, "wb");
+    if (!f) { free(rgb); return 0; }
+    n = (size_t)im->w * (size_t)im->h * 3;
+    /* P6 rows run top to bottom, unlike PFM. */
+    ok = fprintf(f, "P6\n%d %d\n255\n", im->w, im->h) > 0 && fwrite(rgb, 1, n, f) == n;
+    if (fclose(f) != 0) ok = 0;
+    free(rgb);
+    return ok;
+}
+
+/* ======================================================================
+   PNG: chunks with CRC-32, a zlib stream of stored deflate blocks
+   ====================================================================== */
+
+typedef struct {
+    FILE *f;
+    int ok;                    /* 0 after any failed write */
+    uint32_t crc;              /* running CRC-32 register of the current chunk */
+    uint32_t crc_table[256];   /* CRC of each byte value (PNG spec annex D) */
+} PngFile;
+
+/* CRC-32 with the reflected polynomial 0xEDB88320 (ISO 3309 / ITU-T V.42). */
+static void crc_table_init(uint32_t table[256])
+{
+    uint32_t n, k, c;
+    for (n = 0; n < 256; n++) {
+        c = n;
+        for (k = 0; k < 8; k++) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+        table[n] = c;
+    }
+}
+
+/* Write bytes, folding them into the chunk's CRC. */
+static void png_put(PngFile *pf, const unsigned char *p, size_t n)
+{
+    size_t i;
+    uint32_t c = pf->crc;
+    for (i = 0; i < n; i++) c = pf->crc_table[(c ^ p[i]) & 0xff] ^ (c >> 8);
+    pf->crc = c;
+    if (pf->ok && fwrite(p, 1, n, pf->f) != n) pf->ok = 0;
+}
+
+static void put_be32(unsigned char *b, uint32_t v)
+{
+    b[0] = (unsigned char)(v >> 24); b[1] = (unsigned char)(v >> 16);
+    b[2] = (unsigned char)(v >> 8);  b[3] = (unsigned char)v;
+}
+
+/* A chunk is: length (4 bytes, big-endian, data only), type, data, CRC of type+data. */
+static void png_chunk_begin(PngFile *pf, const char *type, uint32_t length)
+{
+    unsigned char b[4];
+    put_be32(b, length);
+    if (pf->ok && fwrite(b, 1, 4, pf->f) != 4) pf->ok = 0;
+    pf->crc = 0xffffffffu;
+    png_put(pf, (const unsigned char *)type, 4);
+}
+
+static void png_chunk_end(PngFile *pf)
+{
+    unsigned char b[4];
+    put_be32(b, pf->crc ^ 0xffffffffu);
+    if (pf->ok && fwrite(b, 1, 4, pf->f) != 4) pf->ok = 0;
+}
+
+/* The deflate stream as stored blocks: each block is a 5-byte header
+   [BFINAL | BTYPE=00 << 1] [LEN lo] [LEN hi] [~LEN lo] [~LEN hi] and LEN raw bytes.
+   The whole raw length is known up front, so the block sizes are too. */
+typedef struct {
+    PngFile *pf;
+    uint64_t left;             /* raw bytes still to come in the whole stream */
+    uint32_t in_block;         /* raw bytes still to come in the current block */
+    uint32_t s1, s2;           /* Adler-32 sums: s1 = 1 + sum of bytes, s2 = sum of s1 */
+} StoredStream;
+
+#define STORED_MAX 65535u      /* LEN is 16 bits (RFC 1951 section 3.2.4) */
+#define ADLER_MOD 65521u       /* largest prime below 2^16 (RFC 1950 section 9) */
+
+static void stored_put(StoredStream *z, const unsigned char *p, size_t n)
+{
+    while (n > 0) {
+        size_t k, i;
+        if (z->in_block == 0) {              /* start the next block */
+            unsigned char hdr[5];
+            uint32_t len = z->left > STORED_MAX ? STORED_MAX : (uint32_t)z->left;
+            hdr[0] = (unsigned char)(len == z->left ? 1 : 0);   /* BFINAL on the last */
+            hdr[1] = (unsigned char)(len & 0xff);
+            hdr[2] = (unsigned char)(len >> 8);
+            hdr[3] = (unsigned char)(~len & 0xff);
+            hdr[4] = (unsigned char)((~len >> 8) & 0xff);
+            png_put(z->pf, hdr, 5);
+            z->in_block = len;
+        }
+        k = n < z->in_block ? n : z->in_block;
+        png_put(z->pf, p, k);
+        for (i = 0; i < k; i++) {
+            z->s1 = (z->s1 + p[i]) % ADLER_MOD;
+            z->s2 = (z->s2 + z->s1) % ADLER_MOD;
+        }
+        z->in_block -= (uint32_t)k;
+        z->left -= k;
+        p += k; n -= k;
+    }
+}
+
+int png_write_rgb8(const char *path, int w, int h, const unsigned char *rgb)
+{
+    static const unsigned char signature[8] = { 137, 80, 78, 71, 13, 10, 26, 10 };
+    PngFile pf;
+    StoredStream z;
+    unsigned char ihdr[13], b[4];
+    unsigned char filter_none = 0;
+    uint64_t raw, blocks, idat_len;
+    int y;
+
+    if (!path || !rgb || w <= 0 || h <= 0 || (long long)w * h > IMG_MAX_PIXELS) return 0;
+    raw = (uint64_t)h * (1 + 3 * (uint64_t)w);           /* filter byte + pixels per row */
+    blocks = (raw + STORED_MAX - 1) / STORED_MAX;
+    idat_len = 2 + 5 * blocks + raw + 4;                 /* zlib header, blocks, Adler */
+    if (idat_len > 0x7fffffffu) return 0;                /* PNG's chunk length limit */
+
+    pf.f = fopen(path, "wb");
+    if (!pf.f) return 0;
+    pf.ok = 1;
+    crc_table_init(pf.crc_table);
+    if (fwrite(signature, 1, 8, pf.f) != 8) pf.ok = 0;
+
+    /* IHDR: width, height, bit depth 8, colour type 2 (RGB), deflate, filter method 0,
+       no interlace. */
+    put_be32(ihdr, (uint32_t)w);
+    put_be32(ihdr + 4, (uint32_t)h);
+    ihdr[8] = 8; ihdr[9] = 2; ihdr[10] = 0; ihdr[11] = 0; ihdr[12] = 0;
+    png_chunk_begin(&pf, "IHDR", 13);
+    png_put(&pf, ihdr, 13);
+    png_chunk_end(&pf);
+
+    /* IDAT: zlib header 0x78 0x01 (deflate, 32K window, no dictionary; 0x7801 is a
+       multiple of 31 as RFC 1950 requires), the stored blocks, then Adler-32. */
+    png_chunk_begin(&pf, "IDAT", (uint32_t)idat_len);
+    b[0] = 0x78; b[1] = 0x01;
+    png_put(&pf, b, 2);
+    z.pf = &pf; z.left = raw; z.in_block = 0; z.s1 = 1; z.s2 = 0;
+    for (y = 0; y < h; y++) {
+        stored_put(&z, &filter_none, 1);
+        stored_put(&z, rgb + (size_t)y * (size_t)w * 3, (size_t)w * 3);
+    }
+    put_be32(b, (z.s2 << 16) | z.s1);
+    png_put(&pf, b, 4);
+    png_chunk_end(&pf);
+
+    png_chunk_begin(&pf, "IEND", 0);
+    png_chunk_end(&pf);
+
+    if (fclose(pf.f) != 0) pf.ok = 0;
+    return pf.ok;
+}
+
+int png_write(const Image *im, const char *path, float exposure)
+{
+    unsigned char *rgb;
+    int ok;
+    if (!img_valid(im) || !path) return 0;
+    rgb = img_to_rgb8(im, exposure);
+    if (!rgb) return 0;
+    ok = png_write_rgb8(path, im->w, im->h, rgb);
+    free(rgb);
+    return ok;
+}
+
+/* ======================================================================
+   Writing by extension, sidecars
+   ====================================================================== */
+
+/* The extension of path (from the last '.' after the last separator), or "". */
+static const char *path_ext(const char *path)
+{
+    const char *dot = NULL, *p;
+    for (p = path; *p; p++) {
+        if (*p == '/' || *p == '\\') dot = NULL;
+        else if (*p == '.') dot = p;
+    }
+    return dot ? dot : "";
+}
+
+/* Case-insensitive equality for ASCII extensions (strcasecmp is POSIX, not C99). */
+static int ext_is(const char *ext, const char *want)
+{
+    for (; *ext && *want; ext++, want++) {
+        int a = (*ext >= 'A' && *ext <= 'Z') ? *ext - 'A' + 'a' : *ext;
+        if (a != *want) return 0;
+    }
+    return *ext == '\0' && *want == '\0';
+}
+
+int img_write(const Image *im, const char *path, float exposure, Error *err)
+{
+    const char *ext = path_ext(path);
+    int ok;
+    if (!img_valid(im)) { error_set(err, path, 0, "no image to write"); return 0; }
+    errno = 0;                        /* so a failure below reports its own cause */
+    if (ext_is(ext, ".pfm")) ok = pfm_write(im, path);
+    else if (ext_is(ext, ".ppm")) ok = ppm_write(im, path, exposure);
+    else if (ext_is(ext, ".png")) ok = png_write(im, path, exposure);
+    else {
+        if (!*ext) error_set(err, path, 0, "no file extension (use .pfm, .ppm or .png)");
+        else error_set(err, path, 0, "unsupported output format '%s' (use .pfm, .ppm or .png)",
+                       ext);
+        return 0;
+    }
+    if (!ok) {
+        error_set(err, path, 0, "cannot write: %s", errno ? strerror(errno) : "I/O error");
+        return 0;
+    }
+    return 1;
+}
+
+/* "<path>.txt", malloc'ed. */
+static char *sidecar_path(const char *path)
+{
+    size_t n = strlen(path);
+    char *s = (char *)malloc(n + 5);
+    if (!s) return NULL;
+    memcpy(s, path, n);
+    memcpy(s + n, ".txt", 5);
+    return s;
+}
+
+/* Writes "spp <n>" (left out when spp < 0: unknown) and "settings <text>" with any
+   line breaks in the text turned into spaces, so each record stays one line. */
+int img_write_sidecar(const char *path, long spp, const char *settings)
+{
+    char *sp = sidecar_path(path);
+    FILE *f;
+    int ok = 1;
+    const char *s;
+    if (!sp) return 0;
+    f = fopen(sp, "w");
+    free(sp);
+    if (!f) return 0;
+    if (spp >= 0 && fprintf(f, "spp %ld\n", spp) < 0) ok = 0;
+    if (fputs("settings ", f) == EOF) ok = 0;
+    for (s = settings ? settings : ""; *s; s++)
+        if (fputc(*s == '\n' || *s == '\r' ? ' ' : *s, f) == EOF) ok = 0;
+    if (fputc('\n', f) == EOF) ok = 0;
+    if (fclose(f) != 0) ok = 0;
+    return ok;
+}
+
+/* The n of the first line "spp <n>" (n >= 0) of "<path>.txt"; -1 when the file is
+   missing or has no such line.  Reads at most 1 MiB. */
+long img_read_sidecar_spp(const char *path)
+{
+    char *sp = sidecar_path(path);
+    char line[256];
+    FILE *f;
+    long result = -1, total = 0;
+    int at_line_start = 1;
+    if (!sp) return -1;
+    f = fopen(sp, "r");
+    free(sp);
+    if (!f) return -1;
+    while (result < 0 && total < (1L << 20) && fgets(line, sizeof line, f)) {
+        size_t n = strlen(line);
+        int starts = at_line_start;     /* a long line arrives in pieces: skip the rest */
+        total += (long)n;
+        at_line_start = n > 0 && line[n - 1] == '\n';
+        if (starts && strncmp(line, "spp", 3) == 0 && is_space((unsigned char)line[3])) {
+            char *endp;
+            long v = strtol(line + 3, &endp, 10);
+            if (endp == line + 3) break;
+            while (is_space((unsigned char)*endp)) endp++;
+            if (*endp == '\0' && v >= 0) result = v;
+            break;
+        }
+    }
+    fclose(f);
+    return result;
+}
+
+/* ======================================================================
+   Merging and error metrics (library)
+   ====================================================================== */
+
+int img_merge(const Image *in, const double *weights, int n, Image *out)
+{
+    double wsum = 0.0;
+    size_t i, count;
+    int k;
+    if (!in || n < 1 || !out) return 0;
+    for (k = 0; k < n; k++) {
+        double wk = weights ? weights[k] : 1.0;
+        if (!img_valid(&in[k]) || in[k].w != in[0].w || in[k].h != in[0].h) return 0;
+        if (!(wk >= 0.0) || wk > DBL_MAX) return 0;   /* negative, NaN or infinite */
+        wsum += wk;
+    }
+    if (!(wsum > 0.0)) return 0;
+    if (!img_alloc(out, in[0].w, in[0].h)) return 0;
+    count = (size_t)out->w * (size_t)out->h * 3;
+    for (i = 0; i < count; i++) {
+        double acc = 0.0;                             /* sum_k w_k I_k in double */
+        for (k = 0; k < n; k++) acc += (weights ? weights[k] : 1.0) * (double)in[k].rgb[i];
+        out->rgb[i] = (float)(acc / wsum);
+    }
+    return 1;
+}
+
+int img_error(const Image *a, const Image *ref, int x0, int y0, int x1, int y1, ImgErr *out)
+{
+    double se = 0.0, rel = 0.0, ae = 0.0, m;
+    int x, y, c;
+    if (!img_valid(a) || !img_valid(ref) || !out) return 0;
+    if (a->w != ref->w || a->h != ref->h) return 0;
+    if (x0 < 0 || y0 < 0 || x1 > a->w || y1 > a->h || x0 >= x1 || y0 >= y1) return 0;
+    for (y = y0; y < y1; y++)
+        for (x = x0; x < x1; x++)
+            for (c = 0; c < 3; c++) {
+                size_t i = ((size_t)y * (size_t)a->w + (size_t)x) * 3 + (size_t)c;
+                double b = (double)ref->rgb[i], d = (double)a->rgb[i] - b;
+                se += d * d;
+                rel += d * d / (b * b + IMG_RELMSE_EPS);
+                ae += fabs(d);
+            }
+    out->n = (long)(x1 - x0) * (long)(y1 - y0);
+    m = 3.0 * (double)out->n;
+    out->mse = se / m;
+    out->relmse = rel / m;
+    out->mae = ae / m;
+    return 1;
+}
+
+/* The false-colour ramp of the error image: matplotlib's "viridis" (van der Walt and
+   Smith 2015, CC0), perceptually uniform and readable in grey and by colour-blind
+   viewers, sampled at its table entries 0, 32, ..., 224, 255 and interpolated
+   linearly in between. */
+static const double viridis_stops[9][3] = {
+    { 0.267004, 0.004874, 0.329415 }, { 0.278826, 0.175490, 0.483397 },
+    { 0.229739, 0.322361, 0.545706 }, { 0.172719, 0.448791, 0.557885 },
+    { 0.127568, 0.566949, 0.550556 }, { 0.157851, 0.683765, 0.501686 },
+    { 0.369214, 0.788888, 0.382914 }, { 0.678489, 0.863742, 0.189503 },
+    { 0.993248, 0.906157, 0.143936 }
+};
+static const double viridis_pos[9] = {
+    0.0, 32.0 / 255, 64.0 / 255, 96.0 / 255, 128.0 / 255, 160.0 / 255,
+    192.0 / 255, 224.0 / 255, 1.0
+};
+
+/* The log scale of the error image: e = 10^ERRIMG_LOG_LO (or less) is the ramp's dark
+   end, e = 10^ERRIMG_LOG_HI (or more) its bright end, one colour step per decade. */
+#define ERRIMG_LOG_LO (-5.0)
+#define ERRIMG_LOG_HI 1.0
+
+static void error_colour(double e, unsigned char rgb[3])
+{
+    double t;
+    int k, c;
+    if (e != e) { rgb[0] = 255; rgb[1] = 0; rgb[2] = 255; return; }   /* NaN: magenta */
+    t = e > 0.0 ? (log10(e) - ERRIMG_LOG_LO) / (ERRIMG_LOG_HI - ERRIMG_LOG_LO) : 0.0;
+    if (t < 0.0) t = 0.0;
+    if (t > 1.0) t = 1.0;
+    for (k = 0; k < 7 && t > viridis_pos[k + 1]; k++) {}
+    for (c = 0; c < 3; c++) {
+        double f = (t - viridis_pos[k]) / (viridis_pos[k + 1] - viridis_pos[k]);
+        double v = viridis_stops[k][c] + f * (viridis_stops[k + 1][c] - viridis_stops[k][c]);
+        rgb[c] = (unsigned char)(v * 255.0 + 0.5);
+    }
+}
+
+/* Per pixel e = 1/3 sum_c (a - b)^2 / (b^2 + eps), coloured by error_colour. */
+int img_write_error_png(const Image *a, const Image *ref, const char *path)
+{
+    unsigned char *rgb;
+    size_t i, n;
+    int ok;
+    if (!img_valid(a) || !img_valid(ref) || a->w != ref->w || a->h != ref->h) return 0;
+    n = (size_t)a->w * (size_t)a->h;
+    rgb = (unsigned char *)malloc(n * 3);
+    if (!rgb) return 0;
+    for (i = 0; i < n; i++) {
+        double e = 0.0;
+        int c;
+        for (c = 0; c < 3; c++) {
+            double b = (double)ref->rgb[3 * i + c], d = (double)a->rgb[3 * i + c] - b;
+            e += d * d / (b * b + IMG_RELMSE_EPS);
+        }
+        error_colour(e / 3.0, rgb + 3 * i);
+    }
+    ok = png_write_rgb8(path, a->w, a->h, rgb);
+    free(rgb);
+    return ok;
+}
+
+/* ======================================================================
+   specnee merge
+   ====================================================================== */
+
+static const char merge_usage[] =
+    "usage: specnee merge a.pfm b.pfm ... -o out.pfm [--equal-weights]\n";
+
+static const char merge_help[] =
+    "Averages independent renders of the same scene, weighted by their sample counts:\n"
+    "  out = sum_i spp_i * image_i / sum_i spp_i\n"
+    "Each input's spp comes from its sidecar \"<input>.txt\" (line \"spp N\").\n"
+    "  -o FILE            output image (.pfm, .ppm or .png); its sidecar gets the summed spp\n"
+    "  --equal-weights    plain mean, for inputs without sidecars\n"
+    "Exit status: 0 ok, 1 bad input, 2 bad usage.\n";
+
+int img_cmd_merge(int argc, char **argv, FILE *out, FILE *errf)
+{
+    const char *out_path = NULL;
+    int equal = 0, n = 0, i, k, status = 1;
+    const char **inputs;
+    Image *ims = NULL, merged = { 0, 0, NULL };
+    double *weights = NULL;
+    long spp_total = 0;
+    Error err;
+    char settings[1024];
+    size_t used;
+
+    inputs = (const char **)malloc(sizeof *inputs * (size_t)(argc > 0 ? argc : 1));
+    if (!inputs) { fprintf(errf, "merge: out of memory\n"); return 1; }
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+            fputs(merge_usage, out); fputs(merge_help, out);
+            free(inputs);
+            return 0;
+        } else if (strcmp(a, "-o") == 0) {
+            if (i + 1 >= argc || out_path) {
+                fprintf(errf, "merge: %s\n%s", out_path ? "-o given twice" : "-o needs a file name",
+                        merge_usage);
+                free(inputs);
+                return 2;
+            }
+            out_path = argv[++i];
+        } else if (strcmp(a, "--equal-weights") == 0) {
+            equal = 1;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            fprintf(errf, "merge: unknown option '%s'\n%s", a, merge_usage);
+            free(inputs);
+            return 2;
+        } else {
+            inputs[n++] = a;
+        }
+    }
+    if (n < 1 || !out_path) {
+        fprintf(errf, "merge: %s\n%s", n < 1 ? "no input images" : "no output (-o FILE)",
+                merge_usage);
+        free(inputs);
+        return 2;
+    }
+
+    ims = (Image *)calloc((size_t)n, sizeof *ims);
+    weights = (double *)calloc((size_t)n, sizeof *weights);
+    if (!ims || !weights) { fprintf(errf, "merge: out of memory\n"); goto done; }
+
+    /* 1. Read every input; all must have the first one's size. */
+    for (k = 0; k < n; k++) {
+        if (!pfm_read(&ims[k], inputs[k], &err)) { fprintf(errf, "%s\n", err.msg); goto done; }
+        if (ims[k].w != ims[0].w || ims[k].h != ims[0].h) {
+            fprintf(errf, "%s: size %dx%d differs from %s's %dx%d\n", inputs[k],
+                    ims[k].w, ims[k].h, inputs[0], ims[0].w, ims[0].h);
+            goto done;
+        }
+    }
+
+    /* 2. Weights: the sample counts from the sidecars (or 1 each). */
+    for (k = 0; k < n; k++) {
+        long spp = img_read_sidecar_spp(inputs[k]);
+        if (spp < 0 && !equal) {
+            fprintf(errf, "%s: no sidecar %s.txt with a line 'spp N' (needed for the "
+                    "sample-count weights; --equal-weights merges without)\n",
+                    inputs[k], inputs[k]);
+            goto done;
+        }
+        if (spp == 0 && !equal) {
+            fprintf(errf, "%s: sidecar says spp 0 (nothing to weight)\n", inputs[k]);
+            goto done;
+        }
+        weights[k] = equal ? 1.0 : (double)spp;
+        if (spp_total >= 0) spp_total = spp < 0 ? -1 : spp_total + spp;  /* -1: unknown */
+    }
+
+    /* 3. Merge and write the result with its sidecar. */
+    if (!img_merge(ims, weights, n, &merged)) {
+        fprintf(errf, "merge: cannot merge (out of memory)\n");
+        goto done;
+    }
+    if (!img_write(&merged, out_path, 0.0f, &err)) { fprintf(errf, "%s\n", err.msg); goto done; }
+    used = (size_t)snprintf(settings, sizeof settings, "merge%s of %d images:",
+                            equal ? " (equal weights)" : "", n);
+    for (k = 0; k < n && used < sizeof settings; k++)
+        used += (size_t)snprintf(settings + used, sizeof settings - used, " %s", inputs[k]);
+    if (!img_write_sidecar(out_path, spp_total, settings)) {
+        fprintf(errf, "%s.txt: cannot write the sidecar\n", out_path);
+        goto done;
+    }
+    if (spp_total >= 0)
+        fprintf(out, "merged %d images (%ld spp) into %s\n", n, spp_total, out_path);
+    else
+        fprintf(out, "merged %d images (equal weights, spp unknown) into %s\n", n, out_path);
+    status = 0;
+
+done:
+    if (ims) for (k = 0; k < n; k++) img_free(&ims[k]);
+    img_free(&merged);
+    free(ims);
+    free(weights);
+    free(inputs);
+    return status;
+}
+
+int cmd_merge(int argc, char **argv)
+{
+    return img_cmd_merge(argc, argv, stdout, stderr);
+}
+
+/* ======================================================================
+   specnee diff
+   ====================================================================== */
+
+static const char diff_usage[] =
+    "usage: specnee diff test.pfm ref.pfm [--region NAME:x0,y0,x1,y1 ...] "
+    "[--error-image err.png]\n"
+    "                    [--max-mse X] [--max-relmse Y] [--csv]\n";
+
+static const char diff_help[] =
+    "Compares a test image with a reference, over the whole image and each region:\n"
+    "  MSE    = mean over pixels and the 3 channels of (test - ref)^2\n"
+    "  relMSE = mean of (test - ref)^2 / (ref^2 + eps), eps = 1e-2\n"
+    "           (Rousselle, Knaus and Zwicker 2011 style)\n"
+    "  MAE    = mean of |test - ref|\n"
+    "  --region NAME:x0,y0,x1,y1   pixels from the top left, x1 and y1 exclusive,\n"
+    "                 clipped to the image (NAME: optional; repeatable)\n"
+    "  --error-image FILE.png      false colour of the per-pixel relative squared error\n"
+    "                 e = mean_c (test - ref)^2 / (ref^2 + eps) on a log scale with the\n"
+    "                 viridis ramp: e <= 1e-5 dark purple, 1e-2 teal, e >= 10 yellow;\n"
+    "                 NaN magenta\n"
+    "  --max-mse X, --max-relmse Y  exit 1 when the whole image's value exceeds them\n"
+    "  --csv          print region,x0,y0,x1,y1,pixels,mse,relmse,mae as CSV\n"
+    "Exit status: 0 ok, 1 bad input or a threshold exceeded, 2 bad usage.\n";
+
+typedef struct {
+    char name[32];
+    int x0, y0, x1, y1;
+} DiffRegion;
+
+/* "NAME:x0,y0,x1,y1" or "x0,y0,x1,y1" (then named "regionK"). */
+static int parse_region(const char *s, int index, DiffRegion *r)
+{
+    const char *colon = strchr(s, ':'), *p;
+    long v[4];
+    int k;
+    char *endp;
+    if (colon) {
+        size_t len = (size_t)(colon - s);
+        if (len == 0 || len >= sizeof r->name) return 0;
+        memcpy(r->name, s, len);
+        r->name[len] = '\0';
+        p = colon + 1;
+    } else {
+        snprintf(r->name, sizeof r->name, "region%d", index + 1);
+        p = s;
+    }
+    for (k = 0; k < 4; k++) {
+        if (!((*p >= '0' && *p <= '9') || *p == '-' || *p == '+')) return 0;
+        v[k] = strtol(p, &endp, 10);
+        if (endp == p || v[k] < -IMG_MAX_PIXELS || v[k] > IMG_MAX_PIXELS) return 0;
+        p = endp;
+        if (k < 3) { if (*p != ',') return 0; p++; }
+    }
+    if (*p != '\0') return 0;
+    r->x0 = (int)v[0]; r->y0 = (int)v[1]; r->x1 = (int)v[2]; r->y1 = (int)v[3];
+    return 1;
+}
+
+/* A threshold: a finite number >= 0. */
+static int parse_threshold(const char *s, double *out)
+{
+    char *endp;
+    double v = strtod(s, &endp);
+    if (endp == s || *endp != '\0' || !(v >= 0.0) || v > DBL_MAX) return 0;
+    *out = v;
+    return 1;
+}
+
+static void diff_print(FILE *out, int csv, const DiffRegion *r, const ImgErr *e)
+{
+    if (csv)
+        fprintf(out, "%s,%d,%d,%d,%d,%ld,%.9g,%.9g,%.9g\n", r->name, r->x0, r->y0, r->x1,
+                r->y1, e->n, e->mse, e->relmse, e->mae);
+    else
+        fprintf(out, "%-12s %5d %5d %5d %5d %9ld %13.6e %13.6e %13.6e\n", r->name, r->x0,
+                r->y0, r->x1, r->y1, e->n, e->mse, e->relmse, e->mae);
+}
+
+int img_cmd_diff(int argc, char **argv, FILE *out, FILE *errf)
+{
+    const char *paths[2] = { NULL, NULL }, *err_image = NULL;
+    int n_paths = 0, n_regions = 0, csv = 0, has_max_mse = 0, has_max_rel = 0;
+    int i, k, status = 1;
+    double max_mse = 0.0, max_rel = 0.0;
+    DiffRegion *regions, whole;
+    Image test = { 0, 0, NULL }, ref = { 0, 0, NULL };
+    ImgErr e;
+    Error err;
+
+    regions = (DiffRegion *)malloc(sizeof *regions * (size_t)(argc > 0 ? argc : 1));
+    if (!regions) { fprintf(errf, "diff: out of memory\n"); return 1; }
+
+    /* 1. Arguments. */
+    for (i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *val = i + 1 < argc ? argv[i + 1] : NULL;
+        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+            fputs(diff_usage, out); fputs(diff_help, out);
+            free(regions);
+            return 0;
+        } else if (strcmp(a, "--csv") == 0) {
+            csv = 1;
+        } else if (strcmp(a, "--region") == 0 || strcmp(a, "--error-image") == 0 ||
+                   strcmp(a, "--max-mse") == 0 || strcmp(a, "--max-relmse") == 0) {
+            int ok = val != NULL;
+            if (ok && strcmp(a, "--region") == 0) {
+                ok = parse_region(val, n_regions, &regions[n_regions]);
+                if (ok) n_regions++;
+            } else if (ok && strcmp(a, "--error-image") == 0) {
+                err_image = val;
+            } else if (ok && strcmp(a, "--max-mse") == 0) {
+                ok = parse_threshold(val, &max_mse);
+                has_max_mse = 1;
+            } else if (ok) {
+                ok = parse_threshold(val, &max_rel);
+                has_max_rel = 1;
+            }
+            if (!ok) {
+                if (!val) fprintf(errf, "diff: %s needs a value\n%s", a, diff_usage);
+                else fprintf(errf, "diff: bad %s '%s'%s\n%s", a, val,
+                             a[2] == 'r' ? " (expected NAME:x0,y0,x1,y1)"
+                                         : " (expected a number >= 0)", diff_usage);
+                free(regions);
+                return 2;
+            }
+            i++;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            fprintf(errf, "diff: unknown option '%s'\n%s", a, diff_usage);
+            free(regions);
+            return 2;
+        } else if (n_paths < 2) {
+            paths[n_paths++] = a;
+        } else {
+            fprintf(errf, "diff: more than two images given ('%s')\n%s", a, diff_usage);
+            free(regions);
+            return 2;
+        }
+    }
+    if (n_paths != 2) {
+        fprintf(errf, "diff: need a test image and a reference image\n%s", diff_usage);
+        free(regions);
+        return 2;
+    }
+
+    /* 2. Images of the same size. */
+    if (!pfm_read(&test, paths[0], &err) || !pfm_read(&ref, paths[1], &err)) {
+        fprintf(errf, "%s\n", err.msg);
+        goto done;
+    }
+    if (test.w != ref.w || test.h != ref.h) {
+        fprintf(errf, "%s: size %dx%d differs from the reference %s's %dx%d\n", paths[0],
+                test.w, test.h, paths[1], ref.w, ref.h);
+        goto done;
+    }
+
+    /* 3. Clip the regions to the image; an empty result is an error. */
+    for (k = 0; k < n_regions; k++) {
+        DiffRegion *r = &regions[k];
+        int x0 = r->x0 > 0 ? r->x0 : 0, y0 = r->y0 > 0 ? r->y0 : 0;
+        int x1 = r->x1 < test.w ? r->x1 : test.w, y1 = r->y1 < test.h ? r->y1 : test.h;
+        if (x0 >= x1 || y0 >= y1) {
+            fprintf(errf, "%s: region '%s' (%d,%d,%d,%d) is empty or outside the %dx%d image\n",
+                    paths[0], r->name, r->x0, r->y0, r->x1, r->y1, test.w, test.h);
+            goto done;
+        }
+        r->x0 = x0; r->y0 = y0; r->x1 = x1; r->y1 = y1;
+    }
+
+    /* 4. Metrics: the whole image, then each region. */
+    strcpy(whole.name, "image");
+    whole.x0 = 0; whole.y0 = 0; whole.x1 = test.w; whole.y1 = test.h;
+    if (csv) fprintf(out, "region,x0,y0,x1,y1,pixels,mse,relmse,mae\n");
+    else fprintf(out, "%-12s %5s %5s %5s %5s %9s %13s %13s %13s\n", "region", "x0", "y0",
+                 "x1", "y1", "pixels", "MSE", "relMSE", "MAE");
+    img_error(&test, &ref, 0, 0, test.w, test.h, &e);
+    diff_print(out, csv, &whole, &e);
+    for (k = 0; k < n_regions; k++) {
+        ImgErr er;
+        img_error(&test, &ref, regions[k].x0, regions[k].y0, regions[k].x1, regions[k].y1, &er);
+        diff_print(out, csv, &regions[k], &er);
+    }
+
+    errno = 0;
+    if (err_image && !img_write_error_png(&test, &ref, err_image)) {
+        fprintf(errf, "%s: cannot write the error image: %s\n", err_image,
+                errno ? strerror(errno) : "I/O error");
+        goto done;
+    }
+
+    /* 5. Thresholds on the whole image; NaN counts as exceeded. */
+    status = 0;
+    {
+        int over_mse = has_max_mse && !(e.mse <= max_mse);
+        int over_rel = has_max_rel && !(e.relmse <= max_rel);
+        if (over_mse || over_rel) {
+            fprintf(errf, "diff:");
+            if (over_mse) fprintf(errf, " MSE %.6g exceeds --max-mse %g", e.mse, max_mse);
+            if (over_mse && over_rel) fprintf(errf, ";");
+            if (over_rel) fprintf(errf, " relMSE %.6g exceeds --max-relmse %g", e.relmse, max_rel);
+            fprintf(errf, "\n");
+            status = 1;
+        }
+    }
+
+done:
+    img_free(&test);
+    img_free(&ref);
+    free(regions);
+    return status;
+}
+
+int cmd_diff(int argc, char **argv)
+{
+    return img_cmd_diff(argc, argv, stdout, stderr);
+}

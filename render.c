@@ -1,0 +1,523 @@
+/* render.c - the spectral path tracer: camera, wavelengths, the path loop, the film.
+
+   Exported: render_options_default, render (specnee.h section 12).
+
+   THE ESTIMATOR.  Each camera sample draws u and four wavelengths by rotation in
+   the CDF of the wavelength pdf p (HWSS, Wilkie et al. 2014; CMIS, West et al.
+   2020): lambda_j = P^-1(frac(u + j/4)), so every lambda_j has marginal density p.
+   The path X is sampled with the hero lambda_0 only.  For a path found by
+   technique t (NEE or BSDF sampling) the film receives, for each wavelength j,
+
+                      f(X, lambda_j)  p_t(X | lambda_0)
+        C_j = --------------------------------------------------        (1)
+               p(lambda_j) * sum_{t', m} p_t'(X | lambda_m)^2
+
+   the power heuristic over every (technique, hero) pair that could have made X
+   (notes/algorithms.md eq. (B) combined with section 4).  Writing
+   beta_j = f(prefix, lambda_j)/p(prefix | lambda_0) for the throughput and
+   r_m = p(prefix | lambda_m)/p(prefix | lambda_0) for the pdf ratio of the path
+   so far (r_0 = 1), a contribution at the last vertex with technique densities
+   q_nee (selection pmf x solid-angle pdf; the same for every m) and q_bsdf(m)
+   (the BSDF pdf of the last direction with wavelength m's index) is
+
+        C_j = beta_j f_j Le_j |cos| q_t(0) / (p(lambda_j) sum_m r_m^2 (q_nee^2 + q_bsdf(m)^2))
+
+   Special cases that make this readable:
+   - No wavelength-dependent event so far: r_m = 1 and q_bsdf(m) = q_bsdf(0), so
+     C_j is the usual power-heuristic NEE/BSDF weight times 1/(4 p(lambda_j)):
+     pbrt-v4's film average.
+   - Termination at a dispersive dielectric (thesis baseline, pbrt-v4
+     TerminateSecondary): r = (1, 0, 0, 0) and beta_1..3 = 0, so the hero gets
+     weight 1/p(lambda_0) - the "divide the hero pdf by 4" bookkeeping.
+   - Single-wavelength mode: r = (1, 0, 0, 0) from the start.
+   - Rough spectral MIS (beyond the baseline, --rough-dispersion mis): at a rough
+     dispersive interface the secondaries survive; every later direction pdf is
+     evaluated with each wavelength's own index and the ratios r_m carry them.
+     Smooth dispersive interfaces still terminate: their pdf for any other
+     wavelength is zero.
+   Emission reached at depth 0 or after a specular bounce has q_nee = 0: no NEE
+   could have produced it.
+
+   Russian roulette (from depth RR_START_DEPTH) survives with probability
+   min(1, 4 max_j beta_j / sum_m r_m).  beta_j / sum_m r_m = f_j / sum_m p(X|m)
+   does not depend on which wavelength was the hero, so the roulette is the same
+   for every technique and needs no place in (1).
+
+   NEE picks one emitter with light_select (lights.c) in a context that is stored
+   with the vertex, so that a BSDF-sampled hit on an emitter is weighted with the
+   same selection probability (the consistency contract, notes section 4).
+
+   The film averages C_j x (xbar, ybar, zbar)(lambda_j) per pixel: an estimate of
+   the integrals of xbar L, ybar L, zbar L over the sampled range, not divided by
+   the integral of ybar (emitters are normalised instead, as in pbrt-v4), then
+   converted to linear sRGB with pbrt-v4's matrix.  Every (pixel, sample) owns its
+   random stream, every pixel is written by one thread: the image is identical
+   for any number of threads. */
+#define _POSIX_C_SOURCE 200809L
+#include "specnee.h"
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+void render_options_default(RenderOptions *o)
+{
+    memset(o, 0, sizeof *o);
+    o->spp = DEFAULT_SPP;
+    o->seed = 0;
+    o->threads = 0;                  /* 0: all the cores OpenMP offers */
+    o->maxdepth = DEFAULT_MAXDEPTH;
+    o->sel.strategy = SEL_SPATIAL;   /* the thesis' baseline distribution */
+    o->nee = 1;
+    o->debug_x = o->debug_y = -1;
+}
+
+/* ------------------------------------------------------------------ camera */
+
+typedef struct {
+    Xform world_from_camera;
+    float tan_half;                  /* tan(fov/2) of the shorter axis */
+    float sx0, sx1, sy0, sy1;        /* screen window */
+    int w, h;
+} Camera;
+
+static void camera_init(Camera *c, const SceneSettings *st)
+{
+    float aspect = (float)st->xres / (float)st->yres;
+    c->world_from_camera.m[0][0] = 0;          /* set below */
+    {
+        Xform t = st->camera_from_world;
+        memcpy(c->world_from_camera.m, t.inv, sizeof t.inv);
+        memcpy(c->world_from_camera.inv, t.m, sizeof t.m);
+    }
+    c->tan_half = tanf(st->fov_deg * 0.5f * PI_F / 180.0f);
+    /* pbrt: the shorter image axis spans [-1, 1] of the screen window */
+    if (aspect > 1.0f) { c->sx0 = -aspect; c->sx1 = aspect; c->sy0 = -1; c->sy1 = 1; }
+    else { c->sx0 = -1; c->sx1 = 1; c->sy0 = -1.0f / aspect; c->sy1 = 1.0f / aspect; }
+    c->w = st->xres;
+    c->h = st->yres;
+}
+
+/* Raster (x, y), y down, to a world-space ray. */
+static Ray camera_ray(const Camera *c, float x, float y)
+{
+    Ray r;
+    float sx = c->sx0 + (x / (float)c->w) * (c->sx1 - c->sx0);
+    float sy = c->sy1 - (y / (float)c->h) * (c->sy1 - c->sy0);
+    Vec3 d = v3(sx * c->tan_half, sy * c->tan_half, 1.0f);
+    r.o = xf_point(&c->world_from_camera, v3(0, 0, 0));
+    r.d = v3_norm(xf_vector(&c->world_from_camera, d));
+    r.tmax = INFINITY;
+    return r;
+}
+
+/* One axis of pbrt-v4's Gaussian filter, g(x) - g(radius), by rejection. */
+static float gaussian_offset(Rng *rng, float radius, float sigma)
+{
+    float g_r = expf(-radius * radius / (2.0f * sigma * sigma));
+    int tries;
+    for (tries = 0; tries < 64; tries++) {
+        float x = (2.0f * rng_float(rng) - 1.0f) * radius;
+        float g = expf(-x * x / (2.0f * sigma * sigma)) - g_r;
+        if (rng_float(rng) * (1.0f - g_r) < g) return x;
+    }
+    return 0.0f;
+}
+
+/* ------------------------------------------------------------------ the path */
+
+typedef struct {
+    Scene *s;
+    const RenderOptions *o;
+    LightSampler *ls;
+    WavelengthPdf wl;
+    Camera cam;
+} Renderer;
+
+typedef struct {
+    uint64_t rays;
+    long nonfinite, fallbacks;
+} Counters;
+
+/* What the integrator remembers of the previous vertex for the MIS weight of an
+   emitter found by BSDF sampling. */
+typedef struct {
+    int can_nee;                     /* NEE was possible there (non-delta, NEE on) */
+    LightCtx ctx;                    /* the selection context used there */
+    Vec3 p;                          /* its position */
+    float q_bsdf[HERO_N];            /* pdf of the sampled direction per wavelength */
+    float r[HERO_N];                 /* pdf ratios of the prefix before that vertex */
+    unsigned alive;                  /* wavelengths alive at that vertex */
+} PrevVertex;
+
+/* sum_m r_m^2 (q_nee^2 + q_bsdf(m)^2) over the alive wavelengths */
+static double mis_denominator(const float *r, const float *q_bsdf, float q_nee, unsigned alive)
+{
+    double d = 0.0;
+    int m;
+    for (m = 0; m < HERO_N; m++)
+        if (alive & (1u << m))
+            d += (double)r[m] * r[m] * ((double)q_nee * q_nee + (double)q_bsdf[m] * q_bsdf[m]);
+    return d;
+}
+
+/* XYZ += sum_j cmf(lambda_j) value_j w / p(lambda_j) */
+static void film_add(double xyz[3], float cmf[HERO_N][3], const Wavelengths *wl,
+                     const double *value, double w, unsigned alive)
+{
+    int j;
+    for (j = 0; j < HERO_N; j++) {
+        double v;
+        if (!(alive & (1u << j)) || value[j] == 0.0) continue;
+        v = value[j] * w / wl->pdf[j];
+        xyz[0] += cmf[j][0] * v;
+        xyz[1] += cmf[j][1] * v;
+        xyz[2] += cmf[j][2] * v;
+    }
+}
+
+static void debug_vertex(FILE *dbg, int depth, const SurfacePoint *sp, const float *beta,
+                         unsigned alive, const float *r)
+{
+    fprintf(dbg, "  vertex %d: p=(%.4g %.4g %.4g) shape=%d alive=%c%c%c%c beta=(%.4g %.4g %.4g %.4g) r=(%.3g %.3g %.3g %.3g)\n",
+            depth, sp->p.x, sp->p.y, sp->p.z, sp->shape,
+            alive & 1 ? 'h' : '-', alive & 2 ? '1' : '-', alive & 4 ? '2' : '-', alive & 8 ? '3' : '-',
+            beta[0], beta[1], beta[2], beta[3], r[0], r[1], r[2], r[3]);
+}
+
+/* Trace one camera sample; adds its XYZ estimate to xyz. */
+static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *rng,
+                       double xyz[3], Counters *cnt, FILE *dbg)
+{
+    const Scene *s = R->s;
+    const RenderOptions *o = R->o;
+    int is_all = o->sel.strategy == SEL_ALL;
+    float cmf[HERO_N][3], beta[HERO_N], r[HERO_N];
+    unsigned alive = o->single_wavelength ? 1u : (1u << HERO_N) - 1u;
+    PrevVertex prev;
+    int depth, j;
+
+    for (j = 0; j < HERO_N; j++) {
+        cie_xyz(wl->lambda[j], cmf[j]);
+        beta[j] = (alive & (1u << j)) ? 1.0f : 0.0f;
+        r[j] = (alive & (1u << j)) ? 1.0f : 0.0f;
+    }
+    memset(&prev, 0, sizeof prev);
+    for (j = 0; j < HERO_N; j++) { prev.q_bsdf[j] = 1.0f; prev.r[j] = r[j]; }
+    prev.alive = alive;
+    if (dbg) fprintf(dbg, "sample: lambda=(%.1f %.1f %.1f %.1f) nm pdf=(%.4g %.4g %.4g %.4g)\n",
+                     wl->lambda[0], wl->lambda[1], wl->lambda[2], wl->lambda[3],
+                     wl->pdf[0], wl->pdf[1], wl->pdf[2], wl->pdf[3]);
+
+    for (depth = 0;; depth++) {
+        HitRecord hit;
+        SurfacePoint sp;
+        const Material *mat;
+        const Shape *shape;
+        Vec3 wo;
+        LightCtx ctx;
+        BsdfSample bs;
+        float u0, u1, u2;
+
+        /* 1. Intersection */
+        cnt->rays++;
+        if (!bvh_intersect(&s->bvh, s, &ray, &hit)) {
+            if (dbg) fprintf(dbg, "  escaped\n");
+            break;
+        }
+        scene_surface_point(s, &ray, &hit, &sp);
+        shape = &s->shapes[sp.shape];
+        mat = &s->materials[shape->material];
+        wo = v3_neg(v3_norm(ray.d));
+        if (dbg) debug_vertex(dbg, depth, &sp, beta, alive, r);
+
+        /* 2. Emission found by the path, weighted against NEE from prev */
+        if (shape->emitter >= 0) {
+            double value[HERO_N], w, den;
+            float q_nee = 0.0f;
+            int any = 0;
+            for (j = 0; j < HERO_N; j++) {
+                value[j] = 0.0;
+                if (!(alive & (1u << j))) continue;
+                value[j] = (double)beta[j] * emitter_Le(s, shape->emitter, sp.ng, wo, wl->lambda[j]);
+                if (value[j] != 0.0) any = 1;
+            }
+            if (any) {
+                if (prev.can_nee) {
+                    float P = is_all ? 1.0f : light_select_pmf(R->ls, &prev.ctx, shape->emitter);
+                    q_nee = P * emitter_pdf_sa(s, shape->emitter, prev.p, sp.p, sp.ng);
+                }
+                den = mis_denominator(prev.r, prev.q_bsdf, q_nee, prev.alive);
+                /* beta already holds 1/q_bsdf(0): weight = q_bsdf(0)^2 / den */
+                w = den > 0.0 ? (double)prev.q_bsdf[0] * prev.q_bsdf[0] / den : 0.0;
+                film_add(xyz, cmf, wl, value, w, alive);
+                if (dbg) fprintf(dbg, "  emission from emitter %d: mis weight %.4g (q_nee %.4g)\n",
+                                 shape->emitter, w, q_nee);
+            }
+        }
+        if (depth >= o->maxdepth) break;
+
+        /* 3. Termination of the secondary wavelengths at a dispersive dielectric,
+              before NEE at this vertex (pbrt-v4 TerminateSecondary, notes 2-3) */
+        if (mat->type == MAT_DIELECTRIC && mat->dispersive && alive != 1u &&
+            (mat->alpha == 0.0f || !o->rough_mis)) {
+            alive = 1u;
+            for (j = 1; j < HERO_N; j++) { beta[j] = 0.0f; r[j] = 0.0f; }
+            if (dbg) fprintf(dbg, "  dispersive: secondaries terminated, hero %.1f nm continues\n",
+                             wl->lambda[0]);
+        }
+
+        /* 4. Next event estimation: choose an emitter, sample a point on it */
+        ctx.p = sp.p;
+        ctx.voxel = light_voxel(R->ls, sp.p);
+        for (j = 0; j < HERO_N; j++) { ctx.lambda[j] = wl->lambda[j]; ctx.beta[j] = beta[j]; }
+        ctx.alive = alive;
+        ctx.hero_only = alive == 1u;
+        if (o->nee && !mat_is_delta(mat) && s->n_emitters > 0) {
+            int e, e_first = 0, e_end = 1;
+            if (is_all) { e_first = 0; e_end = s->n_emitters; }
+            u0 = rng_float(rng);
+            u1 = rng_float(rng);
+            u2 = rng_float(rng);
+            for (e = e_first; e < e_end; e++) {
+                float P = 1.0f, f[HERO_N], pdf_l[HERO_N], cos_i, q_nee;
+                int chosen = e, fb = 0, any = 0;
+                EmitterSample es;
+                double value[HERO_N], den;
+                if (!is_all) {
+                    chosen = light_select(R->ls, &ctx, rng_float(rng), &P, &fb);
+                    if (fb) cnt->fallbacks++;
+                    if (dbg) fprintf(dbg, "  NEE: chose emitter %d with P=%.4g%s\n", chosen, P,
+                                     fb ? " (fallback to spatial)" : "");
+                    if (chosen < 0) break;
+                }
+                if (!emitter_sample(s, chosen, sp.p, u0, u1, u2, &es)) continue;
+                for (j = 0; j < HERO_N; j++) {
+                    value[j] = 0.0;
+                    if (alive & (1u << j))
+                        value[j] = emitter_Le(s, chosen, es.n, v3_neg(es.wi), wl->lambda[j]);
+                    if (value[j] != 0.0) any = 1;
+                }
+                if (!any) continue;
+                bsdf_eval(mat, &sp, wo, es.wi, wl->lambda, alive, f, pdf_l);
+                cos_i = fabsf(v3_dot(es.wi, sp.ns));
+                any = 0;
+                for (j = 0; j < HERO_N; j++) {
+                    value[j] *= (double)beta[j] * f[j] * cos_i;
+                    if (value[j] != 0.0) any = 1;
+                }
+                if (!any) continue;
+                {
+                    Ray shadow;
+                    Vec3 target = offset_ray_origin(es.p, es.n, v3_neg(es.wi));
+                    shadow.o = offset_ray_origin(sp.p, sp.ng, es.wi);
+                    shadow.d = v3_sub(target, shadow.o);
+                    shadow.tmax = 1.0f;
+                    cnt->rays++;
+                    if (bvh_occluded(&s->bvh, s, &shadow)) {
+                        if (dbg) fprintf(dbg, "  NEE: occluded\n");
+                        continue;
+                    }
+                }
+                q_nee = P * es.pdf_sa;
+                den = mis_denominator(r, pdf_l, q_nee, alive);
+                if (den > 0.0) {
+                    film_add(xyz, cmf, wl, value, (double)q_nee / den, alive);
+                    if (dbg) fprintf(dbg, "  NEE: emitter %d visible, weight %.4g\n", chosen,
+                                     (double)q_nee * q_nee / den);
+                }
+            }
+        }
+
+        /* 5. BSDF sampling: the next direction, with the hero's index */
+        u0 = rng_float(rng);
+        u1 = rng_float(rng);
+        u2 = rng_float(rng);
+        if (!bsdf_sample(mat, &sp, wo, wl->lambda, alive, u0, u1, u2, &bs)) break;
+        prev.can_nee = o->nee && !bs.delta && s->n_emitters > 0;
+        prev.ctx = ctx;
+        prev.p = sp.p;
+        prev.alive = alive;
+        for (j = 0; j < HERO_N; j++) {
+            prev.r[j] = r[j];
+            prev.q_bsdf[j] = bs.pdf_l[j];
+        }
+        {
+            float cos_i = fabsf(v3_dot(bs.wi, sp.ns));
+            unsigned still = 0u;
+            for (j = 0; j < HERO_N; j++) {
+                if (!(alive & (1u << j))) continue;
+                beta[j] *= bs.f[j] * cos_i / bs.pdf;   /* delta lobes: f holds 1/|cos| */
+                if (j == 0) { still |= 1u; continue; }
+                r[j] *= bs.pdf_l[j] / bs.pdf;       /* ratio p(X|lambda_j) / p(X|lambda_0) */
+                if (r[j] > 0.0f && isfinite(r[j])) still |= 1u << j;
+                else { r[j] = 0.0f; beta[j] = 0.0f; }
+            }
+            alive = still;
+        }
+
+        /* 6. Russian roulette on a hero-independent throughput */
+        if (depth >= RR_START_DEPTH) {
+            float sum_r = 0.0f, bmax = 0.0f, q;
+            for (j = 0; j < HERO_N; j++)
+                if (alive & (1u << j)) {
+                    sum_r += r[j];
+                    if (beta[j] > bmax) bmax = beta[j];
+                }
+            q = sum_r > 0.0f ? (float)HERO_N * bmax / sum_r : 0.0f;
+            if (q < 1.0f) {
+                if (rng_float(rng) >= q) break;
+                for (j = 0; j < HERO_N; j++) beta[j] /= q;
+            }
+        }
+        if (!(beta[0] > 0.0f) && alive == 1u) break;
+
+        ray.o = offset_ray_origin(sp.p, sp.ng, bs.wi);
+        ray.d = bs.wi;
+        ray.tmax = INFINITY;
+    }
+}
+
+/* ------------------------------------------------------------------ driver */
+
+static double wall_seconds(void)
+{
+#ifdef _OPENMP
+    return omp_get_wtime();
+#else
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+#endif
+}
+
+int render(Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error *err)
+{
+    Renderer R;
+    const SceneSettings *set = &s->settings;
+    float lo = o->wl_wide ? (float)SPEC_MIN : LAMBDA_LO, hi = o->wl_wide ? (float)SPEC_MAX : LAMBDA_HI;
+    int w = set->xres, h = set->yres, y;
+    double t0 = wall_seconds(), t_build;
+    clock_t c0 = clock();
+    uint64_t *row_rays;
+    long *row_nonfinite, *row_fallbacks;
+    int rows_done = 0;
+
+    memset(st, 0, sizeof *st);
+    if (o->spp <= 0) { error_set(err, NULL, 0, "spp must be positive"); return 0; }
+    if (!emitters_prepare(s, lo, hi, err)) return 0;
+    R.s = s;
+    R.o = o;
+    camera_init(&R.cam, set);
+    if (o->wl_importance && s->n_emitters > 0) {
+        Spectrum sum;
+        int e, k;
+        spec_const(&sum, 0.0f);
+        for (e = 0; e < s->n_emitters; e++)
+            for (k = 0; k < SPEC_N; k++) sum.v[k] += s->emitters[e].Le.v[k];
+        if (!wl_pdf_importance(&R.wl, lo, hi, &sum)) {
+            error_set(err, NULL, 0, "cannot build the wavelength importance pdf");
+            return 0;
+        }
+    } else {
+        wl_pdf_uniform(&R.wl, lo, hi);
+    }
+    R.ls = light_sampler_build(s, &o->sel, err);
+    if (!R.ls) { wl_pdf_free(&R.wl); return 0; }
+    t_build = wall_seconds() - t0;
+    if (!img_alloc(img, w, h)) {
+        error_set(err, NULL, 0, "out of memory for a %dx%d image", w, h);
+        light_sampler_free(R.ls);
+        wl_pdf_free(&R.wl);
+        return 0;
+    }
+    row_rays = (uint64_t *)calloc((size_t)h, sizeof *row_rays);
+    row_nonfinite = (long *)calloc((size_t)h, sizeof *row_nonfinite);
+    row_fallbacks = (long *)calloc((size_t)h, sizeof *row_fallbacks);
+    if (!row_rays || !row_nonfinite || !row_fallbacks) {
+        free(row_rays); free(row_nonfinite); free(row_fallbacks);
+        img_free(img);
+        light_sampler_free(R.ls);
+        wl_pdf_free(&R.wl);
+        error_set(err, NULL, 0, "out of memory");
+        return 0;
+    }
+
+#ifdef _OPENMP
+    if (o->threads > 0) omp_set_num_threads(o->threads);
+#pragma omp parallel for schedule(dynamic, 1)
+#endif
+    for (y = 0; y < h; y++) {
+        int x;
+        Counters cnt;
+        memset(&cnt, 0, sizeof cnt);
+        for (x = 0; x < w; x++) {
+            double sum[3] = { 0.0, 0.0, 0.0 }, rgb[3];
+            uint64_t stream = hash_u64(hash_u64((uint64_t)x, (uint64_t)y), (uint64_t)(uint32_t)o->seed);
+            FILE *dbg = (x == o->debug_x && y == o->debug_y) ? stderr : NULL;
+            int k;
+            for (k = 0; k < o->spp; k++) {
+                Rng rng;
+                Wavelengths wl;
+                double xyz[3] = { 0.0, 0.0, 0.0 };
+                float fx, fy;
+                rng_seed(&rng, stream, (uint64_t)k);
+                if (set->filter == FILTER_GAUSSIAN) {
+                    fx = 0.5f + gaussian_offset(&rng, set->filter_radius, set->filter_sigma);
+                    fy = 0.5f + gaussian_offset(&rng, set->filter_radius, set->filter_sigma);
+                } else {
+                    fx = rng_float(&rng);
+                    fy = rng_float(&rng);
+                }
+                wl_sample(&R.wl, rng_float(&rng), &wl);
+                if (dbg) fprintf(dbg, "pixel (%d, %d) sample %d\n", x, y, k);
+                trace_path(&R, camera_ray(&R.cam, (float)x + fx, (float)y + fy), &wl, &rng,
+                           xyz, &cnt, dbg);
+                if (isfinite(xyz[0]) && isfinite(xyz[1]) && isfinite(xyz[2])) {
+                    sum[0] += xyz[0]; sum[1] += xyz[1]; sum[2] += xyz[2];
+                } else {
+                    cnt.nonfinite++;
+                }
+            }
+            sum[0] /= o->spp; sum[1] /= o->spp; sum[2] /= o->spp;
+            xyz_to_linear_srgb(sum, rgb);
+            img->rgb[3 * ((size_t)y * w + x) + 0] = (float)rgb[0];
+            img->rgb[3 * ((size_t)y * w + x) + 1] = (float)rgb[1];
+            img->rgb[3 * ((size_t)y * w + x) + 2] = (float)rgb[2];
+        }
+        row_rays[y] = cnt.rays;
+        row_nonfinite[y] = cnt.nonfinite;
+        row_fallbacks[y] = cnt.fallbacks;
+        if (o->progress) {
+#ifdef _OPENMP
+#pragma omp critical(specnee_progress)
+#endif
+            {
+                int bar, i;
+                rows_done++;
+                bar = (int)(40L * rows_done / h);
+                fprintf(stderr, "\r[");
+                for (i = 0; i < 40; i++) fputc(i < bar ? '#' : ' ', stderr);
+                fprintf(stderr, "] %3d%%", (int)(100L * rows_done / h));
+                if (rows_done == h) fputc('\n', stderr);
+                fflush(stderr);
+            }
+        }
+    }
+
+    for (y = 0; y < h; y++) {
+        st->rays += row_rays[y];
+        st->nonfinite += row_nonfinite[y];
+        st->fallbacks += row_fallbacks[y];
+    }
+    st->samples = (uint64_t)w * (uint64_t)h * (uint64_t)o->spp;
+    st->build_s = t_build;
+    st->wall_s = wall_seconds() - t0;
+    st->cpu_s = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    free(row_rays); free(row_nonfinite); free(row_fallbacks);
+    light_sampler_free(R.ls);
+    wl_pdf_free(&R.wl);
+    return 1;
+}

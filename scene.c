@@ -1,0 +1,2037 @@
+/* scene.c - the scene parser: a strict subset of the pbrt-v4 scene format.
+
+   Implements (specnee.h section 8): scene_load, scene_load_string, scene_free,
+   scene_dump.
+
+   WHAT IT READS
+     A pbrt-v4 file is a stream of whitespace-separated tokens: words, quoted
+     strings, '[' ']' and '#' comments.  A statement is
+         Directive "type" "ptype pname" value(s) "ptype pname" value(s) ...
+     where a value list is either one token or '[' tokens ']'.  The file has two
+     blocks: the options block (camera, film, sampler, integrator, transforms)
+     and, after WorldBegin, the world block (materials, lights, shapes).
+     Sources: pbrt-v4's file-format documentation and its parser (parser.cpp),
+     scene builder (scene.cpp) and parameter dictionary (paramdict.cpp).
+
+     The subset and its defaults are listed in docs/conventions.md.  Everything
+     a pbrt-v4 file may say that specnee does not support is an error that says
+     so ("... is valid pbrt-v4 but not in the specnee subset"), and, like
+     pbrt-v4, a parameter nobody reads is an error ("unused parameter"), so a
+     typo never silently changes the picture.
+
+   TRANSFORMS (pbrt-v4 semantics; points are column vectors, p' = M p)
+     The current transformation matrix (CTM) is post-multiplied by each
+     transform directive:   CTM <- CTM * T   (so the last directive acts first
+     on the object).  `Transform m0..m15` replaces the CTM and
+     `ConcatTransform m0..m15` post-multiplies it; pbrt-v4 reads the 16 numbers
+     as the transpose of a row-major matrix, i.e. column by column:
+         M[i][j] = m[4 j + i]      (the translation is m12 m13 m14).
+     LookAt builds pbrt's left-handed camera frame (right = up x dir, see
+     util.c).  At `Camera` the CTM becomes camera_from_world; `WorldBegin`
+     resets the CTM to the identity.
+
+   SHAPES AND ORIENTATION
+     Vertices go to world space by the CTM, normals by its inverse transpose.
+     A shape's orientation flag is
+         flip = ReverseOrientation XOR swaps_handedness(CTM)
+     (pbrt-v4 TriangleMesh/BilinearPatchMesh): the geometric normal
+     n = normalize((p1 - p0) x (p2 - p0)) of a world-space triangle is negated
+     when flip is set, which makes one-sided emitters face the side that the
+     object-space winding (mapped by the normal transform) gives them.  Vertex
+     normals N are negated by ReverseOrientation only, as in pbrt-v4.
+     Bilinear patches (p00 p10 p01 p11) become two triangles (p00,p10,p11) and
+     (p00,p11,p01): exact for planar patches, an approximation otherwise.
+
+   EMISSION (pbrt-v4 DiffuseAreaLight::Create)
+     Le(lambda) = scale * L(lambda) / sum_lambda ybar(lambda) L(lambda), so a
+     light seen directly has luminance Y = scale; lights.c's emitters_prepare
+     does the division, this file records L, scale and twosided.  For "rgb L"
+     pbrt-v4 divides by the colour space's illuminant (D65) instead of by L;
+     we emulate that by multiplying scale by  sum ybar L / sum ybar D65.
+
+   ERRORS
+     Every problem gives one line "file:line: problem" in the Error and a 0
+     return; scene_load frees everything it allocated.  Nothing exits, and
+     every loop advances through a finite buffer, so bad input cannot hang.
+
+   USE
+     Scene s; Error err;
+     if (!scene_load(&s, "scenes/cornell.pbrt", &err)) { puts(err.msg); ... }
+     ... render ...
+     scene_free(&s);                                                        */
+#include "specnee.h"
+#include <ctype.h>
+#include <float.h>
+#include <limits.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---------------------------------------------------------------------------
+   Limits that keep hostile input finite.
+   --------------------------------------------------------------------------- */
+#define MAX_INCLUDE_DEPTH 32        /* Include/Import nesting (catches cycles) */
+#define MAX_RESOLUTION 16384        /* pixels per film axis */
+#define MAX_SPP (1 << 24)           /* samples per pixel */
+#define MAX_MAXDEPTH 10000          /* path length */
+#define MAX_ELEMENTS (1 << 27)      /* vertices, indices, triangles of one scene */
+#define MAX_WORD 255                /* longest unquoted token */
+#define MAX_FILE_BYTES (1L << 30)   /* largest scene file read */
+
+/* ===========================================================================
+   1. Tokens
+   =========================================================================== */
+typedef enum { TK_EOF, TK_WORD, TK_STRING, TK_LBRACKET, TK_RBRACKET } TokKind;
+
+typedef struct {
+    TokKind kind;
+    const char *text;          /* word or (unescaped) string, NUL-terminated */
+    int line;
+} Token;
+
+/* One file being read.  Strings are unescaped in place inside `buf`, words are
+   copied into `word` (their terminator is the next token's first character). */
+typedef struct {
+    const char *file;          /* interned name used in messages */
+    char *buf; size_t len, pos;
+    int line;
+    char word[2][MAX_WORD + 1];/* two slots: a peeked word survives the next one */
+    int word_slot;
+    Token peeked; int has_peeked;
+    int dir_line;              /* line of the directive being read */
+} Lexer;
+
+/* ===========================================================================
+   2. Parameters:  "type name" value(s)
+   =========================================================================== */
+typedef enum {
+    PT_FLOAT, PT_INTEGER, PT_BOOL, PT_STRING, PT_POINT2, PT_VECTOR2, PT_POINT3,
+    PT_VECTOR3, PT_NORMAL, PT_SPECTRUM, PT_RGB, PT_BLACKBODY, PT_TEXTURE
+} ParamType;
+
+static const char *const param_type_names[] = {
+    "float", "integer", "bool", "string", "point2", "vector2", "point3",
+    "vector3", "normal", "spectrum", "rgb", "blackbody", "texture"
+};
+
+typedef enum { V_NONE, V_NUM, V_STR, V_BOOL } ValueKind;
+
+typedef struct {
+    ParamType type;
+    char name[64];
+    ValueKind kind;            /* what the values are (one kind per parameter) */
+    double *num; int n_num;    /* numbers, or bools as 0/1 */
+    const char **str; int n_str;  /* strings (point into the lexer's buffer) */
+    const char *file; int line;
+    int used;                  /* looked up by the directive (pbrt's lookedUp) */
+} Param;
+
+typedef struct { Param *p; int n, cap; } ParamList;
+
+/* ===========================================================================
+   3. The parser state: pbrt's graphics state and what the directives built
+   =========================================================================== */
+typedef struct {
+    Spectrum L;
+    float scale;
+    int twosided;
+} AreaLightDesc;
+
+typedef struct {
+    Xform ctm;                 /* current transformation matrix */
+    int material;              /* index into Scene.materials, -1: the default */
+    int reverse;               /* ReverseOrientation seen in this block */
+    int area_light;            /* index into Parser.lights, -1: none */
+    const char *file; int line;/* where the block was opened (for messages) */
+} GState;
+
+typedef struct { char name[64]; int material; } NamedMaterial;
+typedef struct { char name[64]; Xform xf; } NamedCoordSys;
+
+typedef struct {
+    Scene *s;
+    Error *err;
+    char main_dir[1024];       /* directory of the top-level file (pbrt's search dir) */
+    int in_world;              /* after WorldBegin */
+    int world_seen, include_depth;
+    GState gs;
+    GState *stack; int depth, stack_cap;
+    AreaLightDesc *lights; int n_lights, cap_lights;
+    NamedMaterial *named; int n_named, cap_named;
+    NamedCoordSys *coords; int n_coords, cap_coords;
+    int default_material;      /* -1 until a shape needs it */
+    /* capacities of the growing Scene arrays */
+    int cap_verts, cap_tris, cap_shapes, cap_mats, cap_emit, cap_spheres, cap_strings;
+    int any_normals;
+    int inset_line[8];         /* where each inset comment was (for messages) */
+    const char *inset_file[8];
+    int end_line;              /* line of the top-level file's last token */
+} Parser;
+
+/* ===========================================================================
+   4. Small helpers: errors, memory, strings, paths
+   =========================================================================== */
+static int fail(Parser *P, const char *file, int line, const char *fmt, ...)
+{
+    char buf[448];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    error_set(P->err, file, line, "%s", buf);
+    return 0;
+}
+
+/* Grow *arr so that it holds at least `need` elements of size elsz. */
+static int grow(void **arr, int *cap, int need, size_t elsz)
+{
+    void *p;
+    size_t ncap;
+    if (need <= *cap) return 1;
+    if (need > MAX_ELEMENTS) return 0;
+    ncap = *cap > 0 ? (size_t)*cap : 16;
+    while (ncap < (size_t)need) ncap *= 2;
+    p = realloc(*arr, ncap * elsz);
+    if (!p) return 0;
+    *arr = p;
+    *cap = (int)ncap;
+    return 1;
+}
+
+static char *str_dup(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *d = (char *)malloc(n);
+    if (d) memcpy(d, s, n);
+    return d;
+}
+
+/* Keep a copy of a file name in Scene.strings (Shape.file points there). */
+static const char *intern(Parser *P, const char *name)
+{
+    Scene *s = P->s;
+    int i;
+    char *d;
+    for (i = 0; i < s->n_strings; i++)
+        if (strcmp(s->strings[i], name) == 0) return s->strings[i];
+    if (!grow((void **)&s->strings, &P->cap_strings, s->n_strings + 1, sizeof(char *)))
+        return NULL;
+    d = str_dup(name);
+    if (!d) return NULL;
+    s->strings[s->n_strings++] = d;
+    return d;
+}
+
+/* The directory part of path, with its trailing '/', or "" (the current dir). */
+static void dir_of(const char *path, char *out, size_t cap)
+{
+    const char *slash = strrchr(path, '/');
+    size_t n = slash ? (size_t)(slash - path) + 1 : 0;
+    if (n >= cap) n = 0;
+    memcpy(out, path, n);
+    out[n] = '\0';
+}
+
+static int file_exists(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return 0;
+    fclose(f);
+    return 1;
+}
+
+/* Resolve a file name given in `from_file`.  specnee looks next to the file that
+   names it first; pbrt-v4 resolves every name against the directory of the
+   top-level scene file (util/file.cpp ResolveFilename), then the working
+   directory, so those two are tried next: a file pbrt-v4 accepts loads here too.
+   When nothing exists, out gets the first candidate (for the message). */
+static void resolve_path(const Parser *P, const char *from_file, const char *name,
+                         char *out, size_t cap)
+{
+    char dir[1024];
+    if (name[0] == '/') { snprintf(out, cap, "%s", name); return; }
+    dir_of(from_file, dir, sizeof dir);
+    snprintf(out, cap, "%s%s", dir, name);
+    if (file_exists(out)) return;
+    snprintf(out, cap, "%s%s", P->main_dir, name);
+    if (file_exists(out)) return;
+    snprintf(out, cap, "%s", name);
+    if (file_exists(out)) return;
+    snprintf(out, cap, "%s%s", dir, name);
+}
+
+/* Read a whole file into a NUL-terminated buffer. */
+static char *read_file(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    char *buf = NULL;
+    size_t n = 0, cap = 0;
+    if (!f) return NULL;
+    for (;;) {
+        size_t got;
+        if (n + 4096 + 1 > cap) {
+            char *nb;
+            cap = cap ? cap * 2 : 65536;
+            if (cap > (size_t)MAX_FILE_BYTES) { free(buf); fclose(f); return NULL; }
+            nb = (char *)realloc(buf, cap);
+            if (!nb) { free(buf); fclose(f); return NULL; }
+            buf = nb;
+        }
+        got = fread(buf + n, 1, cap - n - 1, f);
+        n += got;
+        if (got == 0) break;
+    }
+    fclose(f);
+    buf[n] = '\0';
+    *len = n;
+    return buf;
+}
+
+static int ends_with_ci(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix), i;
+    if (m > n) return 0;
+    for (i = 0; i < m; i++)
+        if (tolower((unsigned char)s[n - m + i]) != tolower((unsigned char)suffix[i])) return 0;
+    return 1;
+}
+
+/* ===========================================================================
+   5. The tokenizer (pbrt-v4 parser.cpp Tokenizer::Next, in our own words)
+   =========================================================================== */
+
+/* A structured comment "# inset NAME x0 y0 x1 y1" names a region of the image
+   (pixels from the top left, end exclusive) for crops and region metrics. */
+static int inset_comment(Parser *P, Lexer *L, const char *c, size_t n, int line)
+{
+    char text[256], name[64];
+    int x0, y0, x1, y1, used = 0;
+    Scene *s = P->s;
+    if (n >= sizeof text) n = sizeof text - 1;
+    memcpy(text, c, n);
+    text[n] = '\0';
+    if (sscanf(text, " inset %63s %d %d %d %d %n", name, &x0, &y0, &x1, &y1, &used) != 5
+        || text[used] != '\0')
+        return fail(P, L->file, line, "malformed structured comment, expected "
+                    "\"# inset NAME x0 y0 x1 y1\"");
+    if (strlen(name) > 15)
+        return fail(P, L->file, line, "inset name \"%s\" longer than 15 characters", name);
+    if (x0 < 0 || y0 < 0 || x1 <= x0 || y1 <= y0)
+        return fail(P, L->file, line, "inset %s: need 0 <= x0 < x1 and 0 <= y0 < y1", name);
+    if (s->n_insets >= 8)
+        return fail(P, L->file, line, "more than 8 insets");
+    snprintf(s->inset_name[s->n_insets], sizeof s->inset_name[0], "%s", name);
+    P->inset_line[s->n_insets] = line;
+    P->inset_file[s->n_insets] = L->file;
+    s->inset[s->n_insets][0] = x0; s->inset[s->n_insets][1] = y0;
+    s->inset[s->n_insets][2] = x1; s->inset[s->n_insets][3] = y1;
+    s->n_insets++;
+    return 1;
+}
+
+static int is_space(int c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
+
+/* Next token; comments are consumed here (structured ones are recorded). */
+static int lex_next(Parser *P, Lexer *L, Token *t)
+{
+    if (L->has_peeked) { *t = L->peeked; L->has_peeked = 0; return 1; }
+    for (;;) {
+        int c;
+        if (L->pos >= L->len) { t->kind = TK_EOF; t->text = ""; t->line = L->line; return 1; }
+        c = (unsigned char)L->buf[L->pos];
+        if (c == '\n') { L->line++; L->pos++; continue; }
+        if (is_space(c)) { L->pos++; continue; }
+        t->line = L->line;
+        if (c == '\0')
+            return fail(P, L->file, L->line, "unexpected NUL byte (not a text file?)");
+        if (c == '#') {                               /* comment to end of line */
+            size_t start = ++L->pos;
+            while (L->pos < L->len && L->buf[L->pos] != '\n' && L->buf[L->pos] != '\r')
+                L->pos++;
+            if (L->pos - start >= 6 && strncmp(L->buf + start, " inset", 6) == 0
+                && !inset_comment(P, L, L->buf + start, L->pos - start, t->line))
+                return 0;
+            continue;
+        }
+        if (c == '[' || c == ']') {
+            L->pos++;
+            t->kind = c == '[' ? TK_LBRACKET : TK_RBRACKET;
+            t->text = c == '[' ? "[" : "]";
+            return 1;
+        }
+        if (c == '"') {                               /* quoted string, escapes */
+            char *w = L->buf + L->pos + 1;            /* write cursor (in place) */
+            char *start = w;
+            L->pos++;
+            for (;;) {
+                int ch;
+                if (L->pos >= L->len)
+                    return fail(P, L->file, t->line, "unterminated string (end of file)");
+                ch = (unsigned char)L->buf[L->pos++];
+                if (ch == '"') break;
+                if (ch == '\n' || ch == '\r')
+                    return fail(P, L->file, t->line, "unterminated string (end of line)");
+                if (ch == '\\') {
+                    int e;
+                    if (L->pos >= L->len)
+                        return fail(P, L->file, t->line, "unterminated string (end of file)");
+                    e = (unsigned char)L->buf[L->pos++];
+                    switch (e) {
+                    case 'n': ch = '\n'; break;
+                    case 't': ch = '\t'; break;
+                    case 'r': ch = '\r'; break;
+                    case 'b': ch = '\b'; break;
+                    case 'f': ch = '\f'; break;
+                    case '\\': case '\'': case '"': ch = e; break;
+                    default:
+                        return fail(P, L->file, t->line, "unexpected escaped character \"\\%c\"", e);
+                    }
+                }
+                *w++ = (char)ch;
+            }
+            *w = '\0';                                /* w < closing quote + 1 */
+            t->kind = TK_STRING;
+            t->text = start;
+            return 1;
+        }
+        {                                             /* word: up to space, quote, bracket */
+            size_t start = L->pos, n;
+            char *word = L->word[L->word_slot];
+            L->word_slot ^= 1;
+            while (L->pos < L->len) {
+                c = (unsigned char)L->buf[L->pos];
+                if (is_space(c) || c == '"' || c == '[' || c == ']' || c == '#' || c == '\0') break;
+                L->pos++;
+            }
+            n = L->pos - start;
+            if (n > MAX_WORD)
+                return fail(P, L->file, t->line, "token longer than %d characters", MAX_WORD);
+            memcpy(word, L->buf + start, n);
+            word[n] = '\0';
+            t->kind = TK_WORD;
+            t->text = word;
+            return 1;
+        }
+    }
+}
+
+static void lex_unget(Lexer *L, const Token *t) { L->peeked = *t; L->has_peeked = 1; }
+
+static const char *tok_desc(const Token *t)
+{
+    switch (t->kind) {
+    case TK_EOF: return "end of file";
+    case TK_STRING: return "a quoted string";
+    case TK_LBRACKET: return "'['";
+    case TK_RBRACKET: return "']'";
+    default: return t->text;
+    }
+}
+
+/* A float literal: the whole token must be a finite number within float range. */
+static int parse_number(const char *s, double *out)
+{
+    char *end;
+    double v;
+    if (!*s) return 0;
+    v = strtod(s, &end);
+    if (end == s || *end != '\0') return 0;
+    if (!(v == v) || v > FLT_MAX || v < -FLT_MAX) return 0;     /* NaN, inf, overflow */
+    *out = v;
+    return 1;
+}
+
+/* An integer literal (pbrt-v4 parseInt): optional sign, decimal digits, 32 bits. */
+static int parse_integer(const char *s, double *out)
+{
+    long long v = 0;
+    int neg = 0;
+    if (*s == '+' || *s == '-') neg = *s++ == '-';
+    if (!*s) return 0;
+    for (; *s; s++) {
+        if (*s < '0' || *s > '9') return 0;
+        v = v * 10 + (*s - '0');
+        if (v > (long long)INT_MAX + 1) return 0;
+    }
+    if (neg) v = -v;
+    if (v > INT_MAX || v < INT_MIN) return 0;
+    *out = (double)v;
+    return 1;
+}
+
+/* A bare number where a directive expects one (LookAt, Translate, ...). */
+static int expect_number(Parser *P, Lexer *L, const char *directive, int count, double *out)
+{
+    int i;
+    for (i = 0; i < count; i++) {
+        Token t;
+        if (!lex_next(P, L, &t)) return 0;
+        if (t.kind == TK_EOF)                     /* a truncated file: blame the directive */
+            return fail(P, L->file, L->dir_line, "%s expects %d numbers, found end of file",
+                        directive, count);
+        if (t.kind != TK_WORD)
+            return fail(P, L->file, t.line, "%s expects %d numbers, found %s",
+                        directive, count, tok_desc(&t));
+        if (!parse_number(t.text, &out[i]))
+            return fail(P, L->file, t.line, "%s: \"%s\" is not a finite number",
+                        directive, t.text);
+    }
+    return 1;
+}
+
+/* '[' 16 numbers ']' for Transform / ConcatTransform (brackets required, as in pbrt-v4). */
+static int expect_matrix(Parser *P, Lexer *L, const char *directive, double m[16])
+{
+    Token t;
+    if (!lex_next(P, L, &t)) return 0;
+    if (t.kind != TK_LBRACKET)
+        return fail(P, L->file, t.line, "%s expects '[' and 16 numbers, found %s",
+                    directive, tok_desc(&t));
+    if (!expect_number(P, L, directive, 16, m)) return 0;
+    if (!lex_next(P, L, &t)) return 0;
+    if (t.kind != TK_RBRACKET)
+        return fail(P, L->file, t.line, "%s expects exactly 16 numbers and ']', found %s",
+                    directive, tok_desc(&t));
+    return 1;
+}
+
+static int expect_string(Parser *P, Lexer *L, const char *directive, const char *what,
+                         Token *t)
+{
+    if (!lex_next(P, L, t)) return 0;
+    if (t->kind != TK_STRING)
+        return fail(P, L->file, t->line, "%s expects a quoted %s, found %s",
+                    directive, what, tok_desc(t));
+    return 1;
+}
+
+/* ---------------------------------------------------------------------------
+   Parameter lists (pbrt-v4 parseParameters + checkParameterTypes)
+   --------------------------------------------------------------------------- */
+static void params_free(ParamList *pl)
+{
+    int i;
+    for (i = 0; i < pl->n; i++) { free(pl->p[i].num); free((void *)pl->p[i].str); }
+    free(pl->p);
+    pl->p = NULL; pl->n = pl->cap = 0;
+}
+
+static int param_add_value(Parser *P, Lexer *L, Param *p, const Token *v, int *cap_num,
+                           int *cap_str)
+{
+    ValueKind k;
+    double x = 0;
+    if (v->kind == TK_STRING) k = V_STR;
+    else if (strcmp(v->text, "true") == 0) { k = V_BOOL; x = 1; }
+    else if (strcmp(v->text, "false") == 0) { k = V_BOOL; x = 0; }
+    else {
+        k = V_NUM;
+        if (p->type == PT_INTEGER) {
+            if (!parse_integer(v->text, &x))
+                return fail(P, L->file, v->line, "\"integer %s\": \"%s\" is not an integer",
+                            p->name, v->text);
+        } else if (!parse_number(v->text, &x))
+            return fail(P, L->file, v->line, "\"%s %s\": \"%s\" is not a finite number",
+                        param_type_names[p->type], p->name, v->text);
+    }
+    if (p->kind != V_NONE && p->kind != k)
+        return fail(P, L->file, v->line, "\"%s %s\": mixed kinds of values in one list",
+                    param_type_names[p->type], p->name);
+    p->kind = k;
+    if (k == V_STR) {
+        if (!grow((void **)&p->str, cap_str, p->n_str + 1, sizeof(char *)))
+            return fail(P, L->file, v->line, "out of memory");
+        p->str[p->n_str++] = v->text;
+    } else {
+        if (!grow((void **)&p->num, cap_num, p->n_num + 1, sizeof(double)))
+            return fail(P, L->file, v->line, "out of memory (or more than %d values)", MAX_ELEMENTS);
+        p->num[p->n_num++] = x;
+    }
+    return 1;
+}
+
+/* Check that the values fit the declared type (pbrt-v4 checkParameterTypes). */
+static int param_check_kind(Parser *P, const Param *p)
+{
+    const char *tn = param_type_names[p->type];
+    switch (p->type) {
+    case PT_BOOL:
+        if (p->kind == V_STR)
+            return fail(P, p->file, p->line, "\"bool %s\": write true or false without quotes "
+                        "(pbrt-v4 rejects quoted Booleans)", p->name);
+        if (p->kind != V_BOOL)
+            return fail(P, p->file, p->line, "\"bool %s\": non-Boolean value", p->name);
+        break;
+    case PT_STRING: case PT_TEXTURE:
+        if (p->kind != V_STR)
+            return fail(P, p->file, p->line, "\"%s %s\": expected quoted string value(s)",
+                        tn, p->name);
+        break;
+    case PT_SPECTRUM:
+        if (p->kind != V_STR && p->kind != V_NUM)
+            return fail(P, p->file, p->line, "\"spectrum %s\": expected numbers or a "
+                        "quoted name", p->name);
+        break;
+    default:
+        if (p->kind != V_NUM)
+            return fail(P, p->file, p->line, "\"%s %s\": expected numeric value(s)",
+                        tn, p->name);
+    }
+    return 1;
+}
+
+/* Read "type name" value(s) pairs until the next token is not a quoted string. */
+static int parse_params(Parser *P, Lexer *L, ParamList *pl)
+{
+    for (;;) {
+        Token t, v;
+        Param *p;
+        char type[64], name[64], extra[8];
+        int i, nf, cap_num = 0, cap_str = 0;
+        if (!lex_next(P, L, &t)) return 0;
+        if (t.kind != TK_STRING) { lex_unget(L, &t); return 1; }
+        extra[0] = '\0';
+        nf = sscanf(t.text, "%63s %63s %7s", type, name, extra);
+        if (nf < 2)
+            return fail(P, L->file, t.line, "parameter \"%s\" needs a type and a name, "
+                        "like \"float fov\"", t.text);
+        if (nf > 2)
+            return fail(P, L->file, t.line, "parameter \"%s\": more than a type and a name",
+                        t.text);
+        if (!grow((void **)&pl->p, &pl->cap, pl->n + 1, sizeof(Param)))
+            return fail(P, L->file, t.line, "out of memory");
+        p = &pl->p[pl->n];
+        memset(p, 0, sizeof *p);
+        for (i = 0; i < (int)(sizeof param_type_names / sizeof param_type_names[0]); i++)
+            if (strcmp(type, param_type_names[i]) == 0) break;
+        if (i == (int)(sizeof param_type_names / sizeof param_type_names[0])) {
+            if (!strcmp(type, "point") || !strcmp(type, "vector") || !strcmp(type, "color")
+                || !strcmp(type, "normal3"))
+                return fail(P, L->file, t.line, "\"%s %s\": \"%s\" is pbrt-v3 syntax, not "
+                            "pbrt-v4 (run pbrt --upgrade)", type, name, type);
+            return fail(P, L->file, t.line, "\"%s %s\": \"%s\": unknown parameter type",
+                        type, name, type);
+        }
+        p->type = (ParamType)i;
+        snprintf(p->name, sizeof p->name, "%s", name);
+        p->file = L->file;
+        p->line = t.line;
+        pl->n++;
+        if (!lex_next(P, L, &v)) return 0;
+        if (v.kind == TK_LBRACKET) {
+            int open_line = v.line;
+            for (;;) {
+                if (!lex_next(P, L, &v)) return 0;
+                if (v.kind == TK_RBRACKET) break;
+                if (v.kind == TK_EOF)
+                    return fail(P, L->file, open_line, "\"%s %s\": unterminated '[' list "
+                                "(end of file)", type, name);
+                if (v.kind == TK_LBRACKET)
+                    return fail(P, L->file, v.line, "\"%s %s\": '[' inside a list "
+                                "(missing ']'?)", type, name);
+                if (!param_add_value(P, L, p, &v, &cap_num, &cap_str)) return 0;
+            }
+        } else if (v.kind == TK_WORD || v.kind == TK_STRING) {
+            if (!param_add_value(P, L, p, &v, &cap_num, &cap_str)) return 0;
+        } else {
+            return fail(P, L->file, v.line, "\"%s %s\": expected a value, found %s",
+                        type, name, tok_desc(&v));
+        }
+        if (p->n_num == 0 && p->n_str == 0)
+            return fail(P, L->file, p->line, "\"%s %s\": no values given", type, name);
+        if (!param_check_kind(P, p)) return 0;
+    }
+}
+
+/* Find a parameter by type and name.  As in pbrt-v4 the last one given wins and
+   the earlier ones of the same type and name count as used (shadowed). */
+static Param *param_find(ParamList *pl, ParamType type, const char *name)
+{
+    Param *found = NULL;
+    int i;
+    for (i = pl->n - 1; i >= 0; i--)
+        if (pl->p[i].type == type && strcmp(pl->p[i].name, name) == 0) {
+            if (!found) found = &pl->p[i];
+            pl->p[i].used = 1;
+        }
+    return found;
+}
+
+static int get_float(Parser *P, ParamList *pl, const char *name, float def, float *out)
+{
+    Param *p = param_find(pl, PT_FLOAT, name);
+    if (!p) { *out = def; return 1; }
+    if (p->n_num != 1)
+        return fail(P, p->file, p->line, "\"float %s\": expected one value, got %d",
+                    name, p->n_num);
+    *out = (float)p->num[0];
+    return 1;
+}
+
+static int get_int(Parser *P, ParamList *pl, const char *name, int def, int *out, int *given)
+{
+    Param *p = param_find(pl, PT_INTEGER, name);
+    if (given) *given = p != NULL;
+    if (!p) { *out = def; return 1; }
+    if (p->n_num != 1)
+        return fail(P, p->file, p->line, "\"integer %s\": expected one value, got %d",
+                    name, p->n_num);
+    *out = (int)p->num[0];
+    return 1;
+}
+
+static int get_bool(Parser *P, ParamList *pl, const char *name, int def, int *out)
+{
+    Param *p = param_find(pl, PT_BOOL, name);
+    if (!p) { *out = def; return 1; }
+    if (p->n_num != 1)
+        return fail(P, p->file, p->line, "\"bool %s\": expected one value, got %d",
+                    name, p->n_num);
+    *out = p->num[0] != 0;
+    return 1;
+}
+
+static int get_string(Parser *P, ParamList *pl, const char *name, const char **out)
+{
+    Param *p = param_find(pl, PT_STRING, name);
+    *out = NULL;
+    if (!p) return 1;
+    if (p->n_str != 1)
+        return fail(P, p->file, p->line, "\"string %s\": expected one value, got %d",
+                    name, p->n_str);
+    *out = p->str[0];
+    return 1;
+}
+
+/* Is `name` one of the space-separated words of `list`? */
+static int word_in(const char *list, const char *name)
+{
+    size_t n = strlen(name);
+    const char *s = list;
+    while (s && *s) {
+        while (*s == ' ') s++;
+        if (strncmp(s, name, n) == 0 && (s[n] == ' ' || s[n] == '\0')) return 1;
+        s = strchr(s, ' ');
+    }
+    return 0;
+}
+
+/* After a directive has looked up what it understands: any parameter left over
+   is an error, as in pbrt-v4 (ReportUnused).  `reads` lists what the directive
+   reads ("integer xresolution, ..."), `pbrt_only` names the pbrt-v4 parameters
+   of this directive that specnee does not support. */
+static int params_check_unused(Parser *P, ParamList *pl, const char *what,
+                               const char *reads, const char *pbrt_only)
+{
+    int i;
+    for (i = 0; i < pl->n; i++) {
+        const Param *p = &pl->p[i];
+        const char *tn = param_type_names[p->type];
+        char key[80];
+        if (p->used) continue;
+        if (p->type == PT_TEXTURE)
+            return fail(P, p->file, p->line, "\"texture %s\": textures are valid pbrt-v4 "
+                        "but not in the specnee subset", p->name);
+        if (pbrt_only && word_in(pbrt_only, p->name))
+            return fail(P, p->file, p->line, "%s: \"%s %s\" is valid pbrt-v4 but not in the "
+                        "specnee subset", what, tn, p->name);
+        {
+            char padded[512];
+            snprintf(padded, sizeof padded, " %s,", reads);
+            /* read with exactly this type: another parameter took precedence */
+            snprintf(key, sizeof key, " %s %s,", tn, p->name);
+            if (strstr(padded, key))
+                return fail(P, p->file, p->line, "\"%s %s\": unused parameter (overridden "
+                            "by another parameter of %s)", tn, p->name, what);
+            /* the name is known with another type: a wrong type */
+            snprintf(key, sizeof key, " %s,", p->name);
+            if (strstr(padded, key))
+                return fail(P, p->file, p->line, "\"%s %s\": wrong type for %s (it reads: %s)",
+                            tn, p->name, what, reads);
+        }
+        return fail(P, p->file, p->line, "\"%s %s\": unused parameter (%s reads: %s)",
+                    tn, p->name, what, reads[0] ? reads : "nothing");
+    }
+    return 1;
+}
+
+/* ===========================================================================
+   6. Spectrum-valued parameters
+   =========================================================================== */
+typedef enum { SPEC_ALBEDO, SPEC_UNBOUNDED, SPEC_ILLUMINANT } SpecUse;
+
+/* The last "spectrum/rgb/blackbody name" parameter (pbrt-v4 GetOneSpectrum). */
+static Param *find_spectrum_param(ParamList *pl, const char *name)
+{
+    int i;
+    for (i = pl->n - 1; i >= 0; i--) {
+        Param *p = &pl->p[i];
+        if ((p->type == PT_SPECTRUM || p->type == PT_RGB || p->type == PT_BLACKBODY)
+            && strcmp(p->name, name) == 0) {
+            param_find(pl, p->type, name);             /* mark it and its shadows */
+            return p;
+        }
+    }
+    return NULL;
+}
+
+/* Turn a spectrum parameter into a dense table.  *rgb_illum is set for an
+   "rgb" illuminant (its scale needs pbrt's D65 normalisation, section 3). */
+static int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_illum)
+{
+    const char *tn = param_type_names[p->type];
+    if (rgb_illum) *rgb_illum = 0;
+    if (p->type == PT_RGB) {
+        float rgb[3];
+        int k;
+        if (p->n_num != 3)
+            return fail(P, p->file, p->line, "\"rgb %s\": expected 3 values, got %d",
+                        p->name, p->n_num);
+        for (k = 0; k < 3; k++) rgb[k] = (float)p->num[k];
+        if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0)
+            return fail(P, p->file, p->line, "\"rgb %s\": negative component", p->name);
+        if (use == SPEC_ALBEDO && (rgb[0] > 1 || rgb[1] > 1 || rgb[2] > 1))
+            return fail(P, p->file, p->line, "\"rgb %s\": a reflectance must be within "
+                        "[0,1]", p->name);
+        if (use == SPEC_UNBOUNDED)
+            return fail(P, p->file, p->line, "\"rgb %s\": valid pbrt-v4 but not in the "
+                        "specnee subset (give a spectrum)", p->name);
+        if (!spec_from_rgb(out, rgb, use == SPEC_ILLUMINANT, P->err, p->file, p->line))
+            return 0;
+        if (rgb_illum) *rgb_illum = use == SPEC_ILLUMINANT;
+        return 1;
+    }
+    if (p->type == PT_BLACKBODY) {
+        if (p->n_num != 1)
+            return fail(P, p->file, p->line, "\"blackbody %s\": expected one temperature "
+                        "(K), got %d values", p->name, p->n_num);
+        if (use != SPEC_ILLUMINANT)
+            return fail(P, p->file, p->line, "\"blackbody %s\": valid pbrt-v4 but not in "
+                        "the specnee subset here", p->name);
+        if (!(p->num[0] > 0))
+            return fail(P, p->file, p->line, "\"blackbody %s\": temperature must be > 0 K",
+                        p->name);
+        spec_blackbody(out, (float)p->num[0]);
+        return 1;
+    }
+    if (p->kind == V_NUM) {                           /* inline [lambda value ...] */
+        float *lambda, *value;
+        int n = p->n_num / 2, k, ok;
+        if (p->n_num % 2 != 0)
+            return fail(P, p->file, p->line, "\"%s %s\": odd number of values (need "
+                        "wavelength/value pairs)", tn, p->name);
+        lambda = (float *)malloc(sizeof(float) * (size_t)n);
+        value = (float *)malloc(sizeof(float) * (size_t)n);
+        if (!lambda || !value) {
+            free(lambda); free(value);
+            return fail(P, p->file, p->line, "out of memory");
+        }
+        for (k = 0; k < n; k++) { lambda[k] = (float)p->num[2 * k]; value[k] = (float)p->num[2 * k + 1]; }
+        ok = spec_from_pairs(out, lambda, value, n, P->err, p->file, p->line);
+        free(lambda); free(value);
+        return ok;
+    }
+    if (p->n_str != 1)                                /* a name or a file */
+        return fail(P, p->file, p->line, "\"spectrum %s\": expected one name, got %d",
+                    p->name, p->n_str);
+    if (spec_named(out, p->str[0])) return 1;
+    {
+        char path[1024];
+        Error e;
+        resolve_path(P, p->file, p->str[0], path, sizeof path);
+        if (!file_exists(path))
+            return fail(P, p->file, p->line, "\"spectrum %s\": unknown named spectrum "
+                        "\"%s\" and no file of that name", p->name, p->str[0]);
+        if (!spec_from_file(out, path, &e))
+            return fail(P, p->file, p->line, "\"spectrum %s\": %s", p->name, e.msg);
+    }
+    return 1;
+}
+
+/* ===========================================================================
+   7. Growing the Scene
+   =========================================================================== */
+static int oom(Parser *P, const char *file, int line)
+{
+    return fail(P, file, line, "out of memory (or more than %d elements)", MAX_ELEMENTS);
+}
+
+static int add_material(Parser *P, const Material *m, const char *file, int line)
+{
+    Scene *s = P->s;
+    if (!grow((void **)&s->materials, &P->cap_mats, s->n_materials + 1, sizeof(Material))) {
+        oom(P, file, line);
+        return -1;
+    }
+    s->materials[s->n_materials] = *m;
+    return s->n_materials++;
+}
+
+/* pbrt-v4's default material: diffuse with reflectance 0.5. */
+static int default_material(Parser *P, const char *file, int line)
+{
+    if (P->default_material < 0) {
+        Material m;
+        memset(&m, 0, sizeof m);
+        m.type = MAT_DIFFUSE;
+        spec_const(&m.reflectance, 0.5f);
+        spec_const(&m.eta, 1.0f);
+        P->default_material = add_material(P, &m, file, line);
+    }
+    return P->default_material;
+}
+
+/* Append a Shape record for the current graphics state, and its Emitter when an
+   AreaLightSource is active.  Returns the shape index or -1. */
+static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, double area,
+                     int has_normals, const char *file, int line)
+{
+    Scene *s = P->s;
+    Shape *sh;
+    int mat = P->gs.material >= 0 ? P->gs.material : default_material(P, file, line);
+    if (mat < 0) return -1;
+    if (!grow((void **)&s->shapes, &P->cap_shapes, s->n_shapes + 1, sizeof(Shape))) {
+        oom(P, file, line);
+        return -1;
+    }
+    sh = &s->shapes[s->n_shapes];
+    memset(sh, 0, sizeof *sh);
+    sh->type = type;
+    sh->material = mat;
+    sh->emitter = -1;
+    /* pbrt-v4: reverseOrientation ^ transformSwapsHandedness */
+    sh->flip = (P->gs.reverse != 0) ^ (xf_swaps_handedness(&P->gs.ctm) != 0);
+    sh->has_normals = has_normals;
+    sh->tri_begin = tri_begin;
+    sh->tri_count = tri_count;
+    sh->area = area;
+    sh->file = file;
+    sh->line = line;
+    if (P->gs.area_light >= 0) {
+        const AreaLightDesc *al = &P->lights[P->gs.area_light];
+        Emitter *em;
+        if (!grow((void **)&s->emitters, &P->cap_emit, s->n_emitters + 1, sizeof(Emitter))) {
+            oom(P, file, line);
+            return -1;
+        }
+        em = &s->emitters[s->n_emitters];
+        memset(em, 0, sizeof *em);
+        em->shape = s->n_shapes;
+        em->L = al->L;
+        em->scale = al->scale;
+        em->twosided = al->twosided;
+        sh->emitter = s->n_emitters++;
+    }
+    return s->n_shapes++;
+}
+
+/* Append a triangle mesh given in object space (P: 3 floats a vertex, N: the
+   same or NULL, idx: 3 ints a triangle, already range-checked). */
+static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, int nv, const int32_t *idx,
+                    int ntri, const char *file, int line)
+{
+    Scene *s = P->s;
+    int v0 = s->n_verts, t0 = s->n_tris, i;
+    double area = 0.0;
+    const Xform *ctm = &P->gs.ctm;
+    if (nv > MAX_ELEMENTS - s->n_verts || ntri > MAX_ELEMENTS - s->n_tris)
+        return oom(P, file, line);
+    if (!grow((void **)&s->P, &P->cap_verts, s->n_verts + nv, sizeof(Vec3)))
+        return oom(P, file, line);
+    {   /* N stays parallel to P; it is allocated when the first normals appear */
+        int cap = P->cap_verts;
+        if (Nobj || P->any_normals) {
+            if (!P->any_normals) {
+                s->N = (Vec3 *)calloc((size_t)cap, sizeof(Vec3));
+                if (!s->N) return oom(P, file, line);
+                P->any_normals = 1;
+            } else {
+                Vec3 *nn = (Vec3 *)realloc(s->N, (size_t)cap * sizeof(Vec3));
+                if (!nn) return oom(P, file, line);
+                s->N = nn;
+            }
+        }
+    }
+    if (!grow((void **)&s->tris, &P->cap_tris, s->n_tris + ntri, sizeof(Triangle)))
+        return oom(P, file, line);
+    for (i = 0; i < nv; i++) {
+        Vec3 p = xf_point(ctm, v3(Pobj[3 * i], Pobj[3 * i + 1], Pobj[3 * i + 2]));
+        if (!(fabsf(p.x) <= FLT_MAX && fabsf(p.y) <= FLT_MAX && fabsf(p.z) <= FLT_MAX))
+            return fail(P, file, line, "vertex %d is not finite after the transform", i);
+        s->P[v0 + i] = p;
+        if (s->N) {
+            Vec3 n = v3(0, 0, 0);
+            if (Nobj) {
+                n = xf_normal(ctm, v3(Nobj[3 * i], Nobj[3 * i + 1], Nobj[3 * i + 2]));
+                if (!(v3_len(n) > 0.0f) || !(v3_len(n) <= FLT_MAX))
+                    return fail(P, file, line, "normal %d has zero or non-finite length", i);
+                n = v3_norm(n);
+                if (P->gs.reverse) n = v3_neg(n);      /* pbrt-v4: RO flips N */
+            }
+            s->N[v0 + i] = n;
+        }
+    }
+    for (i = 0; i < ntri; i++) {
+        Triangle *t = &s->tris[t0 + i];
+        Vec3 a, b, c;
+        t->v[0] = v0 + idx[3 * i];
+        t->v[1] = v0 + idx[3 * i + 1];
+        t->v[2] = v0 + idx[3 * i + 2];
+        t->shape = s->n_shapes;
+        a = s->P[t->v[0]]; b = s->P[t->v[1]]; c = s->P[t->v[2]];
+        area += 0.5 * (double)v3_len(v3_cross(v3_sub(b, a), v3_sub(c, a)));
+    }
+    s->n_verts += nv;
+    s->n_tris += ntri;
+    if (add_shape(P, SHAPE_MESH, t0, ntri, area, Nobj != NULL, file, line) < 0) return 0;
+    return 1;
+}
+
+/* ===========================================================================
+   8. Directives of the options block
+   =========================================================================== */
+static int camera_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    SceneSettings *st = &P->s->settings;
+    float fov;
+    if (strcmp(type, "perspective") != 0) {
+        if (!strcmp(type, "orthographic") || !strcmp(type, "realistic") || !strcmp(type, "spherical"))
+            return fail(P, file, line, "Camera \"%s\" is valid pbrt-v4 but not in the specnee "
+                        "subset (use \"perspective\")", type);
+        return fail(P, file, line, "Camera \"%s\": unknown camera type", type);
+    }
+    if (!get_float(P, pl, "fov", 90.0f, &fov)) return 0;
+    if (!params_check_unused(P, pl, "Camera \"perspective\"", "float fov",
+                             "lensradius focaldistance frameaspectratio screenwindow "
+                             "shutteropen shutterclose"))
+        return 0;
+    if (!(fov > 0.0f && fov < 180.0f))
+        return fail(P, file, line, "Camera: \"float fov\" %g must be within (0, 180) degrees", fov);
+    st->fov_deg = fov;
+    st->camera_from_world = P->gs.ctm;
+    {   /* the named coordinate system "camera" is world_from_camera (pbrt-v4) */
+        int i;
+        for (i = 0; i < P->n_coords; i++)
+            if (!strcmp(P->coords[i].name, "camera")) break;
+        if (i == P->n_coords) {
+            if (!grow((void **)&P->coords, &P->cap_coords, P->n_coords + 1, sizeof(NamedCoordSys)))
+                return oom(P, file, line);
+            snprintf(P->coords[i].name, sizeof P->coords[i].name, "camera");
+            P->n_coords++;
+        }
+        memcpy(P->coords[i].xf.m, P->gs.ctm.inv, sizeof P->gs.ctm.inv);
+        memcpy(P->coords[i].xf.inv, P->gs.ctm.m, sizeof P->gs.ctm.m);
+    }
+    return 1;
+}
+
+static int film_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    SceneSettings *st = &P->s->settings;
+    int xres, yres, fp16;
+    const char *fn;
+    if (strcmp(type, "rgb") != 0) {
+        if (!strcmp(type, "gbuffer") || !strcmp(type, "spectral"))
+            return fail(P, file, line, "Film \"%s\" is valid pbrt-v4 but not in the specnee "
+                        "subset (use \"rgb\")", type);
+        return fail(P, file, line, "Film \"%s\": unknown film type", type);
+    }
+    if (!get_int(P, pl, "xresolution", 1280, &xres, NULL)) return 0;
+    if (!get_int(P, pl, "yresolution", 720, &yres, NULL)) return 0;
+    if (!get_string(P, pl, "filename", &fn)) return 0;
+    if (!get_bool(P, pl, "savefp16", 1, &fp16)) return 0;    /* PFM is float32 anyway */
+    if (!params_check_unused(P, pl, "Film \"rgb\"",
+                             "integer xresolution, integer yresolution, string filename, "
+                             "bool savefp16",
+                             "iso exposuretime whitebalance sensor diagonal cropwindow "
+                             "pixelbounds maxcomponentvalue writefp16"))
+        return 0;
+    if (xres < 1 || xres > MAX_RESOLUTION || yres < 1 || yres > MAX_RESOLUTION)
+        return fail(P, file, line, "Film: resolution %d x %d outside 1..%d per axis",
+                    xres, yres, MAX_RESOLUTION);
+    st->xres = xres;
+    st->yres = yres;
+    if (!fn) fn = "pbrt.exr";                         /* pbrt-v4's default */
+    if (strlen(fn) + 1 > sizeof st->filename)
+        return fail(P, file, line, "Film: filename longer than %d characters",
+                    (int)sizeof st->filename - 1);
+    if (ends_with_ci(fn, ".exr")) {
+        /* specnee has no EXR writer: the same name with .pfm (float32 too) */
+        size_t n = strlen(fn);
+        snprintf(st->filename, sizeof st->filename, "%.*s.pfm", (int)(n - 4), fn);
+        fprintf(stderr, "%s:%d: note: specnee writes no EXR; \"%s\" becomes \"%s\"\n",
+                file, line, fn, st->filename);
+    } else if (ends_with_ci(fn, ".pfm") || ends_with_ci(fn, ".ppm") || ends_with_ci(fn, ".png")) {
+        snprintf(st->filename, sizeof st->filename, "%s", fn);
+    } else {
+        return fail(P, file, line, "Film: \"string filename\" \"%s\": specnee writes .pfm, "
+                    ".ppm or .png (.exr becomes .pfm)", fn);
+    }
+    return 1;
+}
+
+static int filter_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    SceneSettings *st = &P->s->settings;
+    float xr, yr, sigma = 0.5f;
+    int gaussian = strcmp(type, "gaussian") == 0;
+    if (!gaussian && strcmp(type, "box") != 0) {
+        if (!strcmp(type, "mitchell") || !strcmp(type, "sinc") || !strcmp(type, "triangle"))
+            return fail(P, file, line, "PixelFilter \"%s\" is valid pbrt-v4 but not in the "
+                        "specnee subset (use \"box\" or \"gaussian\")", type);
+        return fail(P, file, line, "PixelFilter \"%s\": unknown filter type", type);
+    }
+    /* pbrt-v4 names the radii xradius/yradius (box 0.5, gaussian 1.5) */
+    if (!get_float(P, pl, "xradius", gaussian ? 1.5f : 0.5f, &xr)) return 0;
+    if (!get_float(P, pl, "yradius", gaussian ? 1.5f : 0.5f, &yr)) return 0;
+    if (gaussian && !get_float(P, pl, "sigma", 0.5f, &sigma)) return 0;
+    if (!params_check_unused(P, pl, gaussian ? "PixelFilter \"gaussian\"" : "PixelFilter \"box\"",
+                             gaussian ? "float xradius, float yradius, float sigma"
+                                      : "float xradius, float yradius", NULL))
+        return 0;
+    if (xr != yr)
+        return fail(P, file, line, "PixelFilter: xradius %g != yradius %g is valid pbrt-v4 "
+                    "but not in the specnee subset", xr, yr);
+    if (!(xr > 0.0f && xr <= 16.0f) || !(sigma > 0.0f && sigma <= 16.0f))
+        return fail(P, file, line, "PixelFilter: radius and sigma must be within (0, 16]");
+    st->filter = gaussian ? FILTER_GAUSSIAN : FILTER_BOX;
+    st->filter_radius = xr;
+    st->filter_sigma = sigma;
+    return 1;
+}
+
+static int sampler_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    static const char *const known[] = {
+        "halton", "independent", "paddedsobol", "pmj02bn", "sobol", "stratified", "zsobol", NULL
+    };
+    SceneSettings *st = &P->s->settings;
+    int i, spp, seed, given = 0, seed_given = 0, dummy;
+    const char *rnd;
+    for (i = 0; known[i]; i++)
+        if (!strcmp(type, known[i])) break;
+    if (!known[i]) return fail(P, file, line, "Sampler \"%s\": unknown sampler type", type);
+    if (!strcmp(type, "stratified")) {
+        /* pbrt-v4: xsamples * ysamples (4 x 4 by default), no pixelsamples */
+        int xs, ys, gx, gy;
+        if (!get_int(P, pl, "xsamples", 4, &xs, &gx)) return 0;
+        if (!get_int(P, pl, "ysamples", 4, &ys, &gy)) return 0;
+        if (!get_bool(P, pl, "jitter", 1, &dummy)) return 0;
+        if (xs < 1 || ys < 1 || xs > 4096 || ys > 4096)
+            return fail(P, file, line, "Sampler \"stratified\": xsamples/ysamples must be "
+                        "within 1..4096");
+        spp = xs * ys;
+        given = gx || gy;
+    } else {
+        /* pbrt-v4 defaults: 4 for independent, 16 for the others */
+        if (!get_int(P, pl, "pixelsamples", strcmp(type, "independent") ? 16 : 4, &spp, &given))
+            return 0;
+        if (strcmp(type, "independent") != 0 && !get_string(P, pl, "randomization", &rnd))
+            return 0;
+    }
+    if (!get_int(P, pl, "seed", 0, &seed, &seed_given)) return 0;
+    if (!params_check_unused(P, pl, "Sampler",
+                             strcmp(type, "stratified") ? "integer pixelsamples, integer seed"
+                             : "integer xsamples, integer ysamples, bool jitter, integer seed",
+                             "pixelsamples xsamples ysamples jitter randomization"))
+        return 0;
+    if (spp < 1 || spp > MAX_SPP)
+        return fail(P, file, line, "Sampler: %d samples per pixel outside 1..%d", spp, MAX_SPP);
+    st->spp = spp;
+    st->spp_set = given;
+    st->seed = seed;
+    st->seed_set = seed_given;
+    if (strcmp(type, "independent") != 0)
+        fprintf(stderr, "%s:%d: note: Sampler \"%s\": specnee uses its own independent "
+                "sampler with the same sample count\n", file, line, type);
+    return 1;
+}
+
+static int integrator_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    static const char *const pbrt_types[] = {
+        "ambientocclusion", "bdpt", "lightpath", "mlt", "randomwalk", "simplepath",
+        "simplevolpath", "sppm", "volpath", NULL
+    };
+    SceneSettings *st = &P->s->settings;
+    int i, maxdepth, given, regularize;
+    const char *ls;
+    if (strcmp(type, "path") != 0) {
+        for (i = 0; pbrt_types[i]; i++)
+            if (!strcmp(type, pbrt_types[i]))
+                return fail(P, file, line, "Integrator \"%s\" is valid pbrt-v4 but not in the "
+                            "specnee subset (use \"path\")", type);
+        return fail(P, file, line, "Integrator \"%s\": unknown integrator type", type);
+    }
+    if (!get_int(P, pl, "maxdepth", DEFAULT_MAXDEPTH, &maxdepth, &given)) return 0;
+    if (!get_string(P, pl, "lightsampler", &ls)) return 0;
+    if (!get_bool(P, pl, "regularize", 0, &regularize)) return 0;
+    if (!params_check_unused(P, pl, "Integrator \"path\"",
+                             "integer maxdepth, string lightsampler, bool regularize", NULL))
+        return 0;
+    if (regularize)
+        return fail(P, file, line, "Integrator: \"bool regularize\" true is valid pbrt-v4 but "
+                    "not supported by specnee");
+    if (maxdepth < 0 || maxdepth > MAX_MAXDEPTH)
+        return fail(P, file, line, "Integrator: maxdepth %d outside 0..%d", maxdepth, MAX_MAXDEPTH);
+    st->maxdepth = maxdepth;
+    st->maxdepth_set = given;
+    if (ls) {
+        if (strlen(ls) + 1 > sizeof st->lightsampler)
+            return fail(P, file, line, "Integrator: lightsampler name \"%s\" too long", ls);
+        snprintf(st->lightsampler, sizeof st->lightsampler, "%s", ls);
+    }
+    return 1;
+}
+
+/* ===========================================================================
+   9. Directives of the world block: materials, lights, shapes
+   =========================================================================== */
+static int material_from_params(Parser *P, const char *type, ParamList *pl, const char *file,
+                                int line, Material *m)
+{
+    char what[96];
+    memset(m, 0, sizeof *m);
+    spec_const(&m->eta, 1.0f);
+    snprintf(what, sizeof what, "Material \"%s\"", type);
+    if (!strcmp(type, "diffuse")) {
+        Param *p = find_spectrum_param(pl, "reflectance");
+        int i;
+        m->type = MAT_DIFFUSE;
+        if (p) {
+            if (!param_spectrum(P, p, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
+            /* a reflectance must lie in [0,1]; 1e-4 of slack absorbs the rounding of
+               an RGB upsampling of (1,1,1) */
+            for (i = 0; i < SPEC_N; i++) {
+                if (!(m->reflectance.v[i] >= 0.0f && m->reflectance.v[i] <= 1.0001f))
+                    return fail(P, p->file, p->line, "\"%s reflectance\": value %g at %d nm "
+                                "outside [0,1]", param_type_names[p->type],
+                                m->reflectance.v[i], SPEC_MIN + i);
+                if (m->reflectance.v[i] > 1.0f) m->reflectance.v[i] = 1.0f;
+            }
+        } else {
+            spec_const(&m->reflectance, 0.5f);        /* pbrt-v4's default */
+        }
+        return params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance",
+                                   "displacement normalmap");
+    }
+    if (!strcmp(type, "dielectric")) {
+        Param *pf = param_find(pl, PT_FLOAT, "eta");
+        Param *pa = param_find(pl, PT_FLOAT, "cauchyA"), *pb = param_find(pl, PT_FLOAT, "cauchyB");
+        float u, v, r, A = 0, B = 0;
+        int remap, i, have_u, have_v;
+        m->type = MAT_DIELECTRIC;
+        if ((pa != NULL) != (pb != NULL))
+            return fail(P, file, line, "Material \"dielectric\": \"float cauchyA\" and "
+                        "\"float cauchyB\" must be given together");
+        if (pa) {
+            /* specnee extension: n(lambda) = A + B / lambda^2, lambda in um */
+            Param *ps = find_spectrum_param(pl, "eta");
+            if (pf || ps)
+                return fail(P, file, line, "Material \"dielectric\": give either eta or "
+                            "cauchyA/cauchyB, not both");
+            if (!get_float(P, pl, "cauchyA", 0, &A) || !get_float(P, pl, "cauchyB", 0, &B))
+                return 0;
+            if (!(A > 0.0f) || !(B >= 0.0f) || !(B < 1.0f))
+                return fail(P, file, line, "Material \"dielectric\": need cauchyA > 0 and "
+                            "0 <= cauchyB < 1 um^2");
+            for (i = 0; i < SPEC_N; i++) m->eta.v[i] = cauchy_eta(A, B, (float)(SPEC_MIN + i));
+            m->cauchy_a = A;
+            m->cauchy_b = B;
+        } else if (pf) {
+            /* pbrt-v4: a float eta is a constant index (no dispersion) */
+            float eta;
+            if (!get_float(P, pl, "eta", 1.5f, &eta)) return 0;
+            if (!(eta > 0.0f))
+                return fail(P, pf->file, pf->line, "\"float eta\": must be > 0");
+            spec_const(&m->eta, eta);
+        } else {
+            Param *ps = find_spectrum_param(pl, "eta");
+            if (ps) {
+                if (!param_spectrum(P, ps, SPEC_UNBOUNDED, &m->eta, NULL)) return 0;
+                for (i = 0; i < SPEC_N; i++) {
+                    if (!(m->eta.v[i] >= 0.0f && m->eta.v[i] < 100.0f))
+                        return fail(P, ps->file, ps->line, "\"spectrum eta\": value %g at %d "
+                                    "nm is not an index of refraction", m->eta.v[i], SPEC_MIN + i);
+                    if (m->eta.v[i] == 0.0f) m->eta.v[i] = 1.0f;   /* pbrt: eta 0 means 1 */
+                }
+            } else {
+                spec_const(&m->eta, 1.5f);            /* pbrt-v4's default */
+            }
+        }
+        /* pbrt-v4: u/vroughness default to "roughness", which defaults to 0 */
+        have_u = param_find(pl, PT_FLOAT, "uroughness") != NULL;
+        have_v = param_find(pl, PT_FLOAT, "vroughness") != NULL;
+        if (!get_float(P, pl, "uroughness", 0, &u) || !get_float(P, pl, "vroughness", 0, &v))
+            return 0;
+        if (!have_u || !have_v) {
+            if (!get_float(P, pl, "roughness", 0, &r)) return 0;
+            if (!have_u) u = r;
+            if (!have_v) v = r;
+        }
+        if (!get_bool(P, pl, "remaproughness", 1, &remap)) return 0;
+        if (!params_check_unused(P, pl, what, "float eta, spectrum eta, float roughness, "
+                                 "float uroughness, float vroughness, bool remaproughness, "
+                                 "float cauchyA, float cauchyB", "displacement normalmap"))
+            return 0;
+        if (u != v)
+            return fail(P, file, line, "Material \"dielectric\": anisotropic roughness (%g, %g) "
+                        "is valid pbrt-v4 but not in the specnee subset", u, v);
+        if (!(u >= 0.0f && u <= 1e4f))
+            return fail(P, file, line, "Material \"dielectric\": roughness must be >= 0");
+        /* pbrt-v4 TrowbridgeReitzDistribution::RoughnessToAlpha: alpha = sqrt(roughness) */
+        m->alpha = remap ? sqrtf(u) : u;
+        m->dispersive = !spec_is_constant(&m->eta);
+        return 1;
+    }
+    {
+        static const char *const pbrt_types[] = {
+            "coateddiffuse", "coatedconductor", "conductor", "diffusetransmission", "hair",
+            "interface", "measured", "mix", "subsurface", "thindielectric", NULL
+        };
+        int i;
+        for (i = 0; pbrt_types[i]; i++)
+            if (!strcmp(type, pbrt_types[i]))
+                return fail(P, file, line, "Material \"%s\" is valid pbrt-v4 but not in the "
+                            "specnee subset (use \"diffuse\" or \"dielectric\")", type);
+        return fail(P, file, line, "Material \"%s\": unknown material type", type);
+    }
+}
+
+static int area_light_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    AreaLightDesc al;
+    Param *p;
+    int rgb_illum = 0;
+    if (strcmp(type, "diffuse") != 0)
+        return fail(P, file, line, "AreaLightSource \"%s\": unknown area light type "
+                    "(pbrt-v4 has only \"diffuse\")", type);
+    memset(&al, 0, sizeof al);
+    p = find_spectrum_param(pl, "L");
+    if (p) {
+        if (!param_spectrum(P, p, SPEC_ILLUMINANT, &al.L, &rgb_illum)) return 0;
+    } else if (!spec_named(&al.L, "stdillum-D65")) {  /* the colour space's illuminant */
+        return fail(P, file, line, "AreaLightSource: the built-in spectrum stdillum-D65 is missing");
+    }
+    if (!get_float(P, pl, "scale", 1.0f, &al.scale)) return 0;
+    if (!get_bool(P, pl, "twosided", 0, &al.twosided)) return 0;
+    if (!params_check_unused(P, pl, "AreaLightSource \"diffuse\"",
+                             "spectrum L, rgb L, blackbody L, float scale, bool twosided",
+                             "power filename alpha"))
+        return 0;
+    if (!(al.scale >= 0.0f))
+        return fail(P, file, line, "AreaLightSource: \"float scale\" must be >= 0");
+    {
+        int i;
+        for (i = 0; i < SPEC_N; i++)
+            if (!(al.L.v[i] >= 0.0f))
+                return fail(P, p ? p->file : file, p ? p->line : line,
+                            "AreaLightSource: L is negative at %d nm", SPEC_MIN + i);
+    }
+    if (rgb_illum) {
+        /* pbrt-v4 normalises an RGB illuminant by its colour space's illuminant:
+           Le = scale * L / sum ybar D65.  lights.c divides by sum ybar L, so we
+           multiply scale by sum ybar L / sum ybar D65. */
+        Spectrum d65;
+        double xyz_l[3], xyz_d[3];
+        if (!spec_named(&d65, "stdillum-D65"))
+            return fail(P, file, line, "AreaLightSource: the built-in spectrum stdillum-D65 is missing");
+        spec_to_xyz(&al.L, (float)SPEC_MIN, (float)SPEC_MAX, xyz_l);
+        spec_to_xyz(&d65, (float)SPEC_MIN, (float)SPEC_MAX, xyz_d);
+        if (xyz_d[1] > 0.0) al.scale = (float)(al.scale * (xyz_l[1] / xyz_d[1]));
+    }
+    if (!grow((void **)&P->lights, &P->cap_lights, P->n_lights + 1, sizeof(AreaLightDesc)))
+        return oom(P, file, line);
+    P->lights[P->n_lights] = al;
+    P->gs.area_light = P->n_lights++;
+    return 1;
+}
+
+/* Read vertex and index arrays common to the two mesh shapes. */
+static int get_points(Parser *P, ParamList *pl, ParamType type, const char *name, int per,
+                      const double **out, int *count)
+{
+    Param *p = param_find(pl, type, name);
+    *out = NULL;
+    *count = 0;
+    if (!p) return 1;
+    if (p->n_num % per != 0)
+        return fail(P, p->file, p->line, "\"%s %s\": %d values, not a multiple of %d",
+                    param_type_names[type], name, p->n_num, per);
+    *out = p->num;
+    *count = p->n_num / per;
+    return 1;
+}
+
+static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, int line)
+{
+    const double *Pd, *Nd, *UV, *Id;
+    int nv, nn, nuv, ni, per = bilinear ? 4 : 3, i, ok, ntri;
+    const char *what = bilinear ? "Shape \"bilinearmesh\"" : "Shape \"trianglemesh\"";
+    float *Pf = NULL, *Nf = NULL;
+    int32_t *idx = NULL;
+    int32_t deflt[4] = { 0, 1, 2, 3 };
+    if (!get_points(P, pl, PT_INTEGER, "indices", 1, &Id, &ni)) return 0;
+    if (!get_points(P, pl, PT_POINT3, "P", 3, &Pd, &nv)) return 0;
+    if (!get_points(P, pl, PT_NORMAL, "N", 3, &Nd, &nn)) return 0;
+    if (!get_points(P, pl, PT_POINT2, "uv", 2, &UV, &nuv)) return 0;    /* accepted, unused */
+    if (!params_check_unused(P, pl, what, "integer indices, point3 P, normal N, point2 uv",
+                             "S faceIndices alpha emissionfilename displacement"))
+        return 0;
+    if (nv == 0) return fail(P, file, line, "%s: \"point3 P\" is required", what);
+    if (ni == 0 && nv != per)
+        return fail(P, file, line, "%s: \"integer indices\" is required unless there are "
+                    "exactly %d vertices", what, per);
+    if (ni % per != 0)
+        return fail(P, file, line, "%s: %d indices is not a multiple of %d", what, ni, per);
+    if (nn && nn != nv)
+        return fail(P, file, line, "%s: %d normals for %d vertices", what, nn, nv);
+    if (nuv && nuv != nv)
+        return fail(P, file, line, "%s: %d uv pairs for %d vertices", what, nuv, nv);
+    if (ni == 0) ni = per;
+    for (i = 0; i < ni; i++) {
+        int k = Id ? (int)Id[i] : deflt[i];
+        if (k < 0 || k >= nv)
+            return fail(P, file, line, "%s: vertex index %d out of range [0, %d)", what, k, nv);
+    }
+    ntri = bilinear ? ni / 2 : ni / 3;                /* a patch is two triangles */
+    Pf = (float *)malloc(sizeof(float) * 3 * (size_t)nv);
+    Nf = nn ? (float *)malloc(sizeof(float) * 3 * (size_t)nv) : NULL;
+    idx = (int32_t *)malloc(sizeof(int32_t) * 3 * (size_t)ntri);
+    if (!Pf || !idx || (nn && !Nf)) { free(Pf); free(Nf); free(idx); return oom(P, file, line); }
+    for (i = 0; i < 3 * nv; i++) {
+        Pf[i] = (float)Pd[i];
+        if (Nf) Nf[i] = (float)Nd[i];
+    }
+    if (!bilinear) {
+        for (i = 0; i < ni; i++) idx[i] = Id ? (int32_t)Id[i] : deflt[i];
+    } else {
+        /* pbrt's patch order p00 p10 p01 p11 -> (p00,p10,p11), (p00,p11,p01): the
+           first edge pair (p10 - p00, p11 - p00) keeps the patch's dp/du x dp/dv side */
+        for (i = 0; i < ni / 4; i++) {
+            int32_t q[4];
+            int k;
+            for (k = 0; k < 4; k++) q[k] = Id ? (int32_t)Id[4 * i + k] : deflt[k];
+            idx[6 * i + 0] = q[0]; idx[6 * i + 1] = q[1]; idx[6 * i + 2] = q[3];
+            idx[6 * i + 3] = q[0]; idx[6 * i + 4] = q[3]; idx[6 * i + 5] = q[2];
+        }
+    }
+    ok = add_mesh(P, Pf, Nf, nv, idx, ntri, file, line);
+    free(Pf); free(Nf); free(idx);
+    return ok;
+}
+
+static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
+{
+    Scene *s = P->s;
+    const double (*m)[4] = (const double (*)[4])P->gs.ctm.m;
+    float radius;
+    double col[3][3], len[3], scale;
+    int i, j, sh;
+    if (!get_float(P, pl, "radius", 1.0f, &radius)) return 0;
+    if (!params_check_unused(P, pl, "Shape \"sphere\"", "float radius",
+                             "zmin zmax phimax alpha emissionfilename"))
+        return 0;
+    if (!(radius > 0.0f))
+        return fail(P, file, line, "Shape \"sphere\": radius %g must be > 0", radius);
+    /* The CTM's 3x3 part must be a uniform scale times a rotation (or mirror):
+       its columns are orthogonal and equally long. */
+    for (j = 0; j < 3; j++) {
+        for (i = 0; i < 3; i++) col[j][i] = m[i][j];
+        len[j] = sqrt(col[j][0] * col[j][0] + col[j][1] * col[j][1] + col[j][2] * col[j][2]);
+    }
+    scale = len[0];
+    if (m[3][0] != 0.0 || m[3][1] != 0.0 || m[3][2] != 0.0 || m[3][3] != 1.0)
+        return fail(P, file, line, "Shape \"sphere\": projective transform not supported");
+    for (j = 0; j < 3; j++) {
+        int k = (j + 1) % 3;
+        double dot = col[j][0] * col[k][0] + col[j][1] * col[k][1] + col[j][2] * col[k][2];
+        if (fabs(len[j] - scale) > 1e-5 * scale || fabs(dot) > 1e-5 * scale * scale)
+            return fail(P, file, line, "Shape \"sphere\": non-uniform scale in the transform "
+                        "is not in the specnee subset");
+    }
+    if (!grow((void **)&s->sphere_shape, &P->cap_spheres, s->n_spheres + 1, sizeof(int)))
+        return oom(P, file, line);
+    {
+        double r = (double)radius * scale;
+        sh = add_shape(P, SHAPE_SPHERE, 0, 0, 4.0 * SPECNEE_PI * r * r, 0, file, line);
+        if (sh < 0) return 0;
+        s->shapes[sh].center = xf_point(&P->gs.ctm, v3(0, 0, 0));
+        s->shapes[sh].radius = (float)r;
+        if (!(s->shapes[sh].radius > 0.0f && s->shapes[sh].radius <= FLT_MAX))
+            return fail(P, file, line, "Shape \"sphere\": radius not finite after the transform");
+    }
+    s->sphere_shape[s->n_spheres++] = sh;
+    return 1;
+}
+
+static int ply_shape(Parser *P, ParamList *pl, const char *file, int line)
+{
+    const char *fn;
+    char path[1024];
+    PlyMesh mesh;
+    Error e;
+    int ok, i;
+    if (!get_string(P, pl, "filename", &fn)) return 0;
+    if (!params_check_unused(P, pl, "Shape \"plymesh\"", "string filename",
+                             "displacement edgelength alpha emissionfilename"))
+        return 0;
+    if (!fn) return fail(P, file, line, "Shape \"plymesh\": \"string filename\" is required");
+    resolve_path(P, file, fn, path, sizeof path);
+    memset(&mesh, 0, sizeof mesh);
+    if (!ply_read(path, &mesh, &e))
+        return fail(P, file, line, "Shape \"plymesh\": %s", e.msg);
+    for (i = 0; i < 3 * mesh.n_tris; i++)
+        if (mesh.idx[i] < 0 || mesh.idx[i] >= mesh.n_verts) {
+            ply_free(&mesh);
+            return fail(P, file, line, "Shape \"plymesh\" \"%s\": vertex index out of range", fn);
+        }
+    ok = add_mesh(P, mesh.P, mesh.N, mesh.n_verts, mesh.idx, mesh.n_tris, file, line);
+    ply_free(&mesh);
+    return ok;
+}
+
+static int shape_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    if (!strcmp(type, "trianglemesh")) return mesh_shape(P, 0, pl, file, line);
+    if (!strcmp(type, "bilinearmesh")) return mesh_shape(P, 1, pl, file, line);
+    if (!strcmp(type, "sphere")) return sphere_shape(P, pl, file, line);
+    if (!strcmp(type, "plymesh")) return ply_shape(P, pl, file, line);
+    if (!strcmp(type, "cylinder") || !strcmp(type, "disk") || !strcmp(type, "curve")
+        || !strcmp(type, "loopsubdiv"))
+        return fail(P, file, line, "Shape \"%s\" is valid pbrt-v4 but not in the specnee subset",
+                    type);
+    return fail(P, file, line, "Shape \"%s\": unknown shape type", type);
+}
+
+/* ===========================================================================
+   10. The directive loop
+   =========================================================================== */
+static int parse_text(Parser *P, const char *file, char *buf, size_t len);
+
+static int include_directive(Parser *P, Lexer *L, const Token *dir, int is_import)
+{
+    Token t;
+    char path[1024];
+    const char *name;
+    char *buf;
+    size_t len;
+    int ok, depth = P->depth;
+    GState saved = P->gs;
+    const char *d = is_import ? "Import" : "Include";
+    if (!expect_string(P, L, d, "file name", &t)) return 0;
+    if (is_import && !P->in_world)
+        return fail(P, L->file, dir->line, "Import is only allowed after WorldBegin");
+    if (P->include_depth >= MAX_INCLUDE_DEPTH)
+        return fail(P, L->file, dir->line, "%s \"%s\": nested deeper than %d (an include cycle?)",
+                    d, t.text, MAX_INCLUDE_DEPTH);
+    resolve_path(P, L->file, t.text, path, sizeof path);
+    buf = read_file(path, &len);
+    if (!buf)
+        return fail(P, L->file, dir->line, "%s \"%s\": cannot read \"%s\"", d, t.text, path);
+    name = intern(P, path);
+    if (!name) { free(buf); return oom(P, L->file, dir->line); }
+    P->include_depth++;
+    ok = parse_text(P, name, buf, len);
+    P->include_depth--;
+    free(buf);
+    if (!ok) return 0;
+    if (is_import) {
+        /* pbrt-v4 parses an import into a copy of the graphics state */
+        if (P->depth != depth)
+            return fail(P, L->file, dir->line, "Import \"%s\": unbalanced AttributeBegin/End "
+                        "inside the imported file", t.text);
+        P->gs = saved;
+    }
+    return 1;
+}
+
+static int transform_directive(Parser *P, Lexer *L, const Token *t, int *handled)
+{
+    const char *d = t->text;
+    double v[16];
+    Xform x;
+    *handled = 1;
+    if (!strcmp(d, "Identity")) { P->gs.ctm = xf_identity(); return 1; }
+    if (!strcmp(d, "Translate")) {
+        if (!expect_number(P, L, d, 3, v)) return 0;
+        x = xf_translate(v[0], v[1], v[2]);
+    } else if (!strcmp(d, "Scale")) {
+        if (!expect_number(P, L, d, 3, v)) return 0;
+        if (v[0] == 0.0 || v[1] == 0.0 || v[2] == 0.0)
+            return fail(P, L->file, t->line, "Scale %g %g %g: a zero factor flattens space "
+                        "(singular transform)", v[0], v[1], v[2]);
+        x = xf_scale(v[0], v[1], v[2]);
+    } else if (!strcmp(d, "Rotate")) {
+        if (!expect_number(P, L, d, 4, v)) return 0;
+        if (v[1] == 0.0 && v[2] == 0.0 && v[3] == 0.0)
+            return fail(P, L->file, t->line, "Rotate: the axis is the zero vector");
+        x = xf_rotate(v[0], v[1], v[2], v[3]);
+    } else if (!strcmp(d, "LookAt")) {
+        if (!expect_number(P, L, d, 9, v)) return 0;
+        if (!xf_lookat(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], &x))
+            return fail(P, L->file, t->line, "LookAt: degenerate (eye == look, or up parallel "
+                        "to the viewing direction)");
+    } else if (!strcmp(d, "Transform") || !strcmp(d, "ConcatTransform")) {
+        double m[4][4];
+        int i, j;
+        if (!expect_matrix(P, L, d, v)) return 0;
+        for (i = 0; i < 4; i++)
+            for (j = 0; j < 4; j++) m[i][j] = v[4 * j + i];   /* pbrt-v4: transposed */
+        if (!xf_from_matrix(m, &x))
+            return fail(P, L->file, t->line, "%s: singular matrix", d);
+        if (d[0] == 'T') { P->gs.ctm = x; return 1; }     /* Transform replaces the CTM */
+    } else if (!strcmp(d, "CoordinateSystem") || !strcmp(d, "CoordSysTransform")) {
+        Token n;
+        int i;
+        if (!expect_string(P, L, d, "name", &n)) return 0;
+        for (i = 0; i < P->n_coords; i++)
+            if (!strcmp(P->coords[i].name, n.text)) break;
+        if (d[5] == 'i') {                                 /* CoordinateSystem: record */
+            if (strlen(n.text) >= sizeof P->coords[0].name)
+                return fail(P, L->file, t->line, "CoordinateSystem: name too long");
+            if (i == P->n_coords) {
+                if (!grow((void **)&P->coords, &P->cap_coords, P->n_coords + 1, sizeof(NamedCoordSys)))
+                    return oom(P, L->file, t->line);
+                snprintf(P->coords[i].name, sizeof P->coords[i].name, "%s", n.text);
+                P->n_coords++;
+            }
+            P->coords[i].xf = P->gs.ctm;
+            return 1;
+        }
+        if (i == P->n_coords)
+            return fail(P, L->file, t->line, "CoordSysTransform: unknown coordinate system "
+                        "\"%s\"", n.text);
+        P->gs.ctm = P->coords[i].xf;
+        return 1;
+    } else {
+        *handled = 0;
+        return 1;
+    }
+    P->gs.ctm = xf_mul(&P->gs.ctm, &x);                   /* CTM <- CTM * T */
+    return 1;
+}
+
+/* Directives with a quoted type name and a parameter list. */
+static int typed_directive(Parser *P, Lexer *L, const Token *t)
+{
+    const char *d = t->text;
+    Token ty;
+    ParamList pl;
+    char type[128];
+    int ok = 0, world_only, options_only;
+    options_only = !strcmp(d, "Camera") || !strcmp(d, "Film") || !strcmp(d, "Sampler")
+                || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter");
+    world_only = !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
+              || !strcmp(d, "AreaLightSource") || !strcmp(d, "Shape");
+    if (options_only && P->in_world)
+        return fail(P, L->file, t->line, "Options cannot be set inside world block; \"%s\" "
+                    "not allowed after WorldBegin", d);
+    if (world_only && !P->in_world)
+        return fail(P, L->file, t->line, "Scene description must be inside world block; "
+                    "\"%s\" not allowed before WorldBegin", d);
+    if (!expect_string(P, L, d, "type name", &ty)) return 0;
+    snprintf(type, sizeof type, "%s", ty.text);
+    memset(&pl, 0, sizeof pl);
+    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    if (!strcmp(d, "Camera")) ok = camera_directive(P, type, &pl, L->file, t->line);
+    else if (!strcmp(d, "Film")) ok = film_directive(P, type, &pl, L->file, t->line);
+    else if (!strcmp(d, "Sampler")) ok = sampler_directive(P, type, &pl, L->file, t->line);
+    else if (!strcmp(d, "Integrator")) ok = integrator_directive(P, type, &pl, L->file, t->line);
+    else if (!strcmp(d, "PixelFilter")) ok = filter_directive(P, type, &pl, L->file, t->line);
+    else if (!strcmp(d, "Shape")) ok = shape_directive(P, type, &pl, L->file, t->line);
+    else if (!strcmp(d, "AreaLightSource")) ok = area_light_directive(P, type, &pl, L->file, t->line);
+    else if (!strcmp(d, "Material")) {
+        Material m;
+        int idx;
+        ok = material_from_params(P, type, &pl, L->file, t->line, &m);
+        if (ok) {
+            idx = add_material(P, &m, L->file, t->line);
+            ok = idx >= 0;
+            if (ok) P->gs.material = idx;
+        }
+    } else if (!strcmp(d, "MakeNamedMaterial")) {
+        /* MakeNamedMaterial "name" "string type" "diffuse" ... */
+        const char *mtype;
+        Material m;
+        int i, idx;
+        ok = get_string(P, &pl, "type", &mtype);
+        if (ok && !mtype)
+            ok = fail(P, L->file, t->line, "MakeNamedMaterial \"%s\": \"string type\" is "
+                      "required", type);
+        for (i = 0; ok && i < P->n_named; i++)
+            if (!strcmp(P->named[i].name, type))
+                ok = fail(P, L->file, t->line, "MakeNamedMaterial: named material \"%s\" "
+                          "redefined", type);
+        if (ok && strlen(type) >= sizeof P->named[0].name)
+            ok = fail(P, L->file, t->line, "MakeNamedMaterial: name too long");
+        if (ok) ok = material_from_params(P, mtype, &pl, L->file, t->line, &m);
+        if (ok) {
+            idx = add_material(P, &m, L->file, t->line);
+            ok = idx >= 0;
+        }
+        if (ok) {
+            if (!grow((void **)&P->named, &P->cap_named, P->n_named + 1, sizeof(NamedMaterial)))
+                ok = oom(P, L->file, t->line);
+            else {
+                snprintf(P->named[P->n_named].name, sizeof P->named[0].name, "%s", type);
+                P->named[P->n_named++].material = idx;
+            }
+        }
+    }
+    params_free(&pl);
+    return ok;
+}
+
+static int directive(Parser *P, Lexer *L, const Token *t)
+{
+    const char *d = t->text;
+    int handled;
+    if (!transform_directive(P, L, t, &handled)) return 0;
+    if (handled) return 1;
+    if (!strcmp(d, "Camera") || !strcmp(d, "Film") || !strcmp(d, "Sampler")
+        || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter") || !strcmp(d, "Shape")
+        || !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
+        || !strcmp(d, "AreaLightSource"))
+        return typed_directive(P, L, t);
+    if (!strcmp(d, "WorldBegin")) {
+        int i;
+        if (P->in_world)
+            return fail(P, L->file, t->line, "Options cannot be set inside world block; "
+                        "second \"WorldBegin\"");
+        P->in_world = P->world_seen = 1;
+        P->gs.ctm = xf_identity();
+        for (i = 0; i < P->n_coords; i++)
+            if (!strcmp(P->coords[i].name, "world")) break;
+        if (i == P->n_coords) {
+            if (!grow((void **)&P->coords, &P->cap_coords, P->n_coords + 1, sizeof(NamedCoordSys)))
+                return oom(P, L->file, t->line);
+            snprintf(P->coords[i].name, sizeof P->coords[i].name, "world");
+            P->n_coords++;
+        }
+        P->coords[i].xf = xf_identity();
+        return 1;
+    }
+    if (!strcmp(d, "WorldEnd"))
+        return fail(P, L->file, t->line, "WorldEnd is pbrt-v3 syntax, not pbrt-v4 (delete it)");
+    if (!strcmp(d, "AttributeBegin") || !strcmp(d, "TransformBegin")) {
+        /* pbrt-v4 treats the deprecated TransformBegin as AttributeBegin */
+        if (!P->in_world)
+            return fail(P, L->file, t->line, "Scene description must be inside world block; "
+                        "\"%s\" not allowed before WorldBegin", d);
+        if (!grow((void **)&P->stack, &P->stack_cap, P->depth + 1, sizeof(GState)))
+            return oom(P, L->file, t->line);
+        P->gs.file = L->file;
+        P->gs.line = t->line;
+        P->stack[P->depth++] = P->gs;
+        return 1;
+    }
+    if (!strcmp(d, "AttributeEnd") || !strcmp(d, "TransformEnd")) {
+        if (!P->in_world)
+            return fail(P, L->file, t->line, "Scene description must be inside world block; "
+                        "\"%s\" not allowed before WorldBegin", d);
+        if (P->depth == 0)
+            return fail(P, L->file, t->line, "unmatched %s (no AttributeBegin open)", d);
+        P->gs = P->stack[--P->depth];
+        return 1;
+    }
+    if (!strcmp(d, "ReverseOrientation")) {
+        if (!P->in_world)
+            return fail(P, L->file, t->line, "Scene description must be inside world block; "
+                        "\"ReverseOrientation\" not allowed before WorldBegin");
+        P->gs.reverse = !P->gs.reverse;
+        return 1;
+    }
+    if (!strcmp(d, "NamedMaterial")) {
+        Token n;
+        int i;
+        if (!expect_string(P, L, d, "material name", &n)) return 0;
+        if (!P->in_world)
+            return fail(P, L->file, t->line, "Scene description must be inside world block; "
+                        "\"NamedMaterial\" not allowed before WorldBegin");
+        for (i = 0; i < P->n_named; i++)
+            if (!strcmp(P->named[i].name, n.text)) { P->gs.material = P->named[i].material; return 1; }
+        return fail(P, L->file, t->line, "NamedMaterial \"%s\": unknown named material", n.text);
+    }
+    if (!strcmp(d, "Include")) return include_directive(P, L, t, 0);
+    if (!strcmp(d, "Import")) return include_directive(P, L, t, 1);
+    if (!strcmp(d, "ColorSpace")) {
+        Token n;
+        if (!expect_string(P, L, d, "colour space name", &n)) return 0;
+        if (strcmp(n.text, "srgb") != 0)
+            return fail(P, L->file, t->line, "ColorSpace \"%s\" is valid pbrt-v4 but not in the "
+                        "specnee subset (only \"srgb\", the default)", n.text);
+        return 1;
+    }
+    {
+        static const char *const pbrt_only[] = {
+            "Accelerator", "ActiveTransform", "Attribute", "LightSource", "MakeNamedMedium",
+            "MediumInterface", "ObjectBegin", "ObjectEnd", "ObjectInstance", "Option",
+            "Texture", "TransformTimes", NULL
+        };
+        int i;
+        for (i = 0; pbrt_only[i]; i++)
+            if (!strcmp(d, pbrt_only[i]))
+                return fail(P, L->file, t->line, "%s is valid pbrt-v4 but not in the specnee "
+                            "subset", d);
+    }
+    return fail(P, L->file, t->line, "Unknown directive: %s", d);
+}
+
+/* Parse one file's text (the top-level file or an included one). */
+static int parse_text(Parser *P, const char *file, char *buf, size_t len)
+{
+    Lexer L;
+    memset(&L, 0, sizeof L);
+    L.file = file;
+    L.buf = buf;
+    L.len = len;
+    L.line = 1;
+    for (;;) {
+        Token t;
+        char name[MAX_WORD + 1];
+        if (!lex_next(P, &L, &t)) return 0;
+        if (t.kind == TK_EOF) return 1;
+        if (P->include_depth == 0) P->end_line = t.line;
+        if (t.kind == TK_STRING)
+            return fail(P, file, t.line, "expected a directive, found the string \"%s\"", t.text);
+        if (t.kind != TK_WORD)
+            return fail(P, file, t.line, "expected a directive, found %s", tok_desc(&t));
+        /* keep the name: the lexer reuses its word buffers for the arguments */
+        memcpy(name, t.text, strlen(t.text) + 1);
+        t.text = name;
+        L.dir_line = t.line;
+        if (!directive(P, &L, &t)) return 0;
+    }
+}
+
+/* ===========================================================================
+   11. Entry points
+   =========================================================================== */
+static void settings_default(SceneSettings *st)
+{
+    memset(st, 0, sizeof *st);
+    st->camera_from_world = xf_identity();   /* pbrt-v4: no Camera -> identity */
+    st->fov_deg = 90.0f;
+    st->xres = 1280;
+    st->yres = 720;
+    snprintf(st->filename, sizeof st->filename, "pbrt.pfm");  /* pbrt.exr -> .pfm */
+    st->filter = FILTER_GAUSSIAN;            /* pbrt-v4's default pixel filter */
+    st->filter_radius = 1.5f;
+    st->filter_sigma = 0.5f;
+    st->spp = DEFAULT_SPP;                   /* pbrt-v4's default zsobol: 16 */
+    st->seed = 0;
+    st->maxdepth = DEFAULT_MAXDEPTH;
+}
+
+static void parser_free(Parser *P)
+{
+    free(P->stack);
+    free(P->lights);
+    free(P->named);
+    free(P->coords);
+}
+
+/* Everything after the last token: checks, bounds, emitters, BVH. */
+static int finish(Parser *P, const char *file)
+{
+    Scene *s = P->s;
+    int i;
+    if (P->depth > 0) {
+        const GState *g = &P->stack[P->depth - 1];
+        return fail(P, g->file, g->line, "AttributeBegin without a matching AttributeEnd");
+    }
+    if (!P->world_seen)
+        return fail(P, file, P->end_line, "no WorldBegin: the file describes no world");
+    for (i = 0; i < s->n_insets; i++)
+        if (s->inset[i][2] > s->settings.xres || s->inset[i][3] > s->settings.yres)
+            return fail(P, P->inset_file[i], P->inset_line[i], "inset %s (%d %d %d %d) lies outside the %d x %d film",
+                        s->inset_name[i], s->inset[i][0], s->inset[i][1], s->inset[i][2],
+                        s->inset[i][3], s->settings.xres, s->settings.yres);
+    /* world bounds of all geometry (vertices, spheres), component by component
+       (plain floats: tcc 0.9.27 miscompiles a struct-returning call whose result
+       is assigned to one of its own arguments inside this loop) */
+    {
+        float lo[3] = { FLT_MAX, FLT_MAX, FLT_MAX }, hi[3] = { -FLT_MAX, -FLT_MAX, -FLT_MAX };
+        for (i = 0; i < s->n_tris; i++) {
+            int k, a;
+            for (k = 0; k < 3; k++) {
+                Vec3 p = s->P[s->tris[i].v[k]];
+                for (a = 0; a < 3; a++) {
+                    float x = v3_get(p, a);
+                    if (x < lo[a]) lo[a] = x;
+                    if (x > hi[a]) hi[a] = x;
+                }
+            }
+        }
+        for (i = 0; i < s->n_spheres; i++) {
+            const Shape *sh = &s->shapes[s->sphere_shape[i]];
+            int a;
+            for (a = 0; a < 3; a++) {
+                float c = v3_get(sh->center, a);
+                if (c - sh->radius < lo[a]) lo[a] = c - sh->radius;
+                if (c + sh->radius > hi[a]) hi[a] = c + sh->radius;
+            }
+        }
+        s->bmin = v3(lo[0], lo[1], lo[2]);
+        s->bmax = v3(hi[0], hi[1], hi[2]);
+    }
+    if (s->n_tris == 0 && s->n_spheres == 0) s->bmin = s->bmax = v3(0, 0, 0);
+    if (!P->any_normals) { free(s->N); s->N = NULL; }
+    if (s->n_emitters > 0 && !emitters_prepare(s, LAMBDA_LO, LAMBDA_HI, P->err)) return 0;
+    if (!bvh_build(&s->bvh, s))
+        return fail(P, file, P->end_line, "out of memory building the BVH");
+    return 1;
+}
+
+static int load(Scene *s, char *buf, size_t len, const char *name, Error *err)
+{
+    Parser P;
+    const char *file;
+    int ok;
+    memset(&P, 0, sizeof P);
+    P.s = s;
+    P.err = err;
+    P.default_material = -1;
+    P.gs.ctm = xf_identity();
+    P.gs.material = -1;
+    P.gs.area_light = -1;
+    P.end_line = 1;
+    dir_of(name, P.main_dir, sizeof P.main_dir);
+    file = intern(&P, name);
+    if (!file) { parser_free(&P); return fail(&P, name, 0, "out of memory"); }
+    ok = parse_text(&P, file, buf, len) && finish(&P, file);
+    parser_free(&P);
+    return ok;
+}
+
+int scene_load_string(Scene *s, const char *text, const char *name, Error *err)
+{
+    size_t len = strlen(text);
+    char *buf = (char *)malloc(len + 1);
+    int ok;
+    memset(s, 0, sizeof *s);
+    settings_default(&s->settings);
+    if (!name) name = "<string>";
+    if (!buf) { error_set(err, name, 0, "out of memory"); return 0; }
+    memcpy(buf, text, len + 1);
+    ok = load(s, buf, len, name, err);
+    free(buf);
+    if (!ok) scene_free(s);
+    return ok;
+}
+
+int scene_load(Scene *s, const char *path, Error *err)
+{
+    size_t len;
+    char *buf;
+    int ok;
+    memset(s, 0, sizeof *s);
+    settings_default(&s->settings);
+    buf = read_file(path, &len);
+    if (!buf) { error_set(err, path, 0, "cannot read the scene file"); return 0; }
+    ok = load(s, buf, len, path, err);
+    free(buf);
+    if (!ok) scene_free(s);
+    return ok;
+}
+
+void scene_free(Scene *s)
+{
+    int i;
+    if (!s) return;
+    if (s->bvh.nodes || s->bvh.prims || s->bvh.tri_v) bvh_free(&s->bvh);
+    for (i = 0; i < s->n_emitters; i++) free(s->emitters[i].tri_cdf);
+    for (i = 0; i < s->n_strings; i++) free(s->strings[i]);
+    free(s->strings);
+    free(s->P);
+    free(s->N);
+    free(s->tris);
+    free(s->shapes);
+    free(s->materials);
+    free(s->emitters);
+    free(s->sphere_shape);
+    memset(s, 0, sizeof *s);
+}
+
+/* ===========================================================================
+   12. --dump-scene: what the parser understood, in plain text
+   =========================================================================== */
+static void dump_spectrum(FILE *f, const char *label, const Spectrum *sp)
+{
+    int l;
+    fprintf(f, "    %-12s", label);
+    for (l = 400; l <= 700; l += 50) fprintf(f, " %3d:%-8.4g", l, spec_eval(sp, (float)l));
+    fprintf(f, "\n");
+}
+
+void scene_dump(const Scene *s, FILE *f)
+{
+    const SceneSettings *st = &s->settings;
+    Xform wfc;
+    Vec3 eye, dir, up;
+    int i;
+    memcpy(wfc.m, st->camera_from_world.inv, sizeof wfc.m);   /* world_from_camera */
+    memcpy(wfc.inv, st->camera_from_world.m, sizeof wfc.inv);
+    eye = xf_point(&wfc, v3(0, 0, 0));
+    dir = v3_norm(xf_vector(&wfc, v3(0, 0, 1)));
+    up = v3_norm(xf_vector(&wfc, v3(0, 1, 0)));
+    fprintf(f, "camera: perspective, fov %g deg (shorter image axis)\n", st->fov_deg);
+    fprintf(f, "  eye (%g, %g, %g)  dir (%g, %g, %g)  up (%g, %g, %g)%s\n", eye.x, eye.y,
+            eye.z, dir.x, dir.y, dir.z, up.x, up.y, up.z,
+            xf_swaps_handedness(&st->camera_from_world) ? "  [mirrored: right-handed view]" : "");
+    fprintf(f, "film: %d x %d -> %s, filter %s radius %g", st->xres, st->yres, st->filename,
+            st->filter == FILTER_BOX ? "box" : "gaussian", st->filter_radius);
+    if (st->filter == FILTER_GAUSSIAN) fprintf(f, " sigma %g", st->filter_sigma);
+    fprintf(f, "\nsettings: spp %d%s, seed %d%s, maxdepth %d%s, lightsampler \"%s\"\n",
+            st->spp, st->spp_set ? "" : " (default)", st->seed, st->seed_set ? "" : " (default)",
+            st->maxdepth, st->maxdepth_set ? "" : " (default)", st->lightsampler);
+    for (i = 0; i < s->n_insets; i++)
+        fprintf(f, "inset %s: x %d..%d, y %d..%d\n", s->inset_name[i], s->inset[i][0],
+                s->inset[i][2], s->inset[i][1], s->inset[i][3]);
+    fprintf(f, "materials: %d\n", s->n_materials);
+    for (i = 0; i < s->n_materials; i++) {
+        const Material *m = &s->materials[i];
+        if (m->type == MAT_DIFFUSE) {
+            fprintf(f, "  [%d] diffuse\n", i);
+            dump_spectrum(f, "reflectance", &m->reflectance);
+        } else {
+            fprintf(f, "  [%d] dielectric, alpha %g, %s", i, m->alpha,
+                    m->dispersive ? "dispersive" : "constant eta");
+            if (m->cauchy_a > 0) fprintf(f, ", Cauchy A %g B %g um^2", m->cauchy_a, m->cauchy_b);
+            fprintf(f, "\n    eta at F 486.1: %.5f  d 587.6: %.5f  C 656.3: %.5f\n",
+                    spec_eval(&m->eta, 486.1f), spec_eval(&m->eta, 587.6f),
+                    spec_eval(&m->eta, 656.3f));
+        }
+    }
+    fprintf(f, "shapes: %d (%d triangles, %d vertices, %d spheres)\n", s->n_shapes, s->n_tris,
+            s->n_verts, s->n_spheres);
+    for (i = 0; i < s->n_shapes; i++) {
+        const Shape *sh = &s->shapes[i];
+        if (sh->type == SHAPE_SPHERE)
+            fprintf(f, "  [%d] sphere c (%g, %g, %g) r %g", i, sh->center.x, sh->center.y,
+                    sh->center.z, sh->radius);
+        else
+            fprintf(f, "  [%d] mesh %d triangles%s", i, sh->tri_count,
+                    sh->has_normals ? " with normals" : "");
+        fprintf(f, ", area %g, material %d, emitter %d%s  (%s:%d)\n", sh->area, sh->material,
+                sh->emitter, sh->flip ? ", flipped" : "", sh->file ? sh->file : "?", sh->line);
+    }
+    fprintf(f, "emitters: %d\n", s->n_emitters);
+    for (i = 0; i < s->n_emitters; i++) {
+        const Emitter *e = &s->emitters[i];
+        double Y = 0.0;
+        int lam;
+        for (lam = (int)LAMBDA_LO; lam <= (int)LAMBDA_HI; lam++) {  /* Y = sum ybar Le, 1 nm */
+            float xyz[3];
+            cie_xyz((float)lam, xyz);
+            Y += (double)xyz[1] * spec_eval(&e->Le, (float)lam);
+        }
+        fprintf(f, "  [%d] shape %d, scale %g, %s, Y(Le) %.4g over %g-%g nm, area %g, power %.4g\n",
+                i, e->shape, e->scale, e->twosided ? "two-sided" : "one-sided", Y,
+                LAMBDA_LO, LAMBDA_HI, e->area, e->power);
+        dump_spectrum(f, "L (as given)", &e->L);
+    }
+    fprintf(f, "bounds: (%g, %g, %g) - (%g, %g, %g)\n", s->bmin.x, s->bmin.y, s->bmin.z,
+            s->bmax.x, s->bmax.y, s->bmax.z);
+}

@@ -1,0 +1,270 @@
+/* specnee.c - main: the command line, from arguments to a written image.
+
+   The flow a student follows (docs/WALKTHROUGH.md walks through it):
+       main -> parse_args -> scene_load (scene.c: parser, PLY, BVH build)
+            -> render (render.c: wavelengths, the path loop, NEE, the film)
+            -> img_write (image.c) -> the closing line with the timings.
+   Subcommands (merge, diff, spectrum) are dispatched first; each lives with the
+   module it belongs to.  Exit codes: 0 success, 1 bad input, 2 bad usage. */
+#define _POSIX_C_SOURCE 200809L
+#include "specnee.h"
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static const char usage_text[] =
+"usage: specnee [options] scene.pbrt\n"
+"       specnee merge a.pfm b.pfm ... -o out.pfm     (sample-count weighted mean)\n"
+"       specnee diff test.pfm ref.pfm [--region NAME:x0,y0,x1,y1] [--max-mse X]\n"
+"       specnee spectrum NAME|FILE   |   specnee spectrum --svg NAME... > out.svg\n"
+"\n"
+"Renders a pbrt-v4 scene (the subset in docs/conventions.md) with a spectral path\n"
+"tracer: 4 hero wavelengths (HWSS) combined by spectral MIS, next event estimation\n"
+"with a choice of emitter-selection strategies, Cauchy dispersion.\n"
+"\n"
+"options (a command-line value overrides the scene file's):\n"
+"  -o, --out FILE          output image: .pfm (linear float), .ppm or .png (8-bit sRGB)\n"
+"      --spp N             samples per pixel (file: Sampler pixelsamples; default 16)\n"
+"      --seed N            random seed (file: Sampler seed; default 0)\n"
+"      --threads N         worker threads (default: all cores; image is identical)\n"
+"      --maxdepth N        path vertices that scatter (file: Integrator maxdepth; 5)\n"
+"      --lights NAME       emitter selection for NEE: uniform power spatial spd product\n"
+"                          spectral-spatial all  (file: Integrator lightsampler;\n"
+"                          default spatial; pbrt-v4's \"bvh\" maps to spatial)\n"
+"      --spd-metric M      unit (emitted radiance, default) or power (x area)\n"
+"      --all-wavelengths   spectral strategies weigh every alive wavelength\n"
+"      --throughput-weighted  ... each by the path throughput at that wavelength\n"
+"      --wavelengths P     uniform (HWSS, default) or importance (CMIS: pdf ~\n"
+"                          (xbar+ybar+zbar) x the emitters' spectra)\n"
+"      --wide              sample 360-830 nm (pbrt-v4's range) instead of 400-700\n"
+"      --single-wavelength one wavelength per path instead of four\n"
+"      --rough-dispersion M  terminate (default) or mis: keep the secondary\n"
+"                          wavelengths alive through rough dispersive glass\n"
+"      --no-nee            BSDF sampling only (no next event estimation)\n"
+"      --exposure E        multiply by 2^E before writing .ppm/.png\n"
+"      --debug-pixel X,Y   print every path of pixel (X, Y) to stderr\n"
+"      --dump-scene        print the scene as understood, then exit\n"
+"  -q, --quiet             no progress bar and no closing line\n"
+"  -h, --help              this text\n"
+"\n"
+"Output: .pfm rows run bottom to top (netpbm), linear sRGB (D65), with a sidecar\n"
+"FILE.txt holding the sample count for `specnee merge`.\n";
+
+static int usage_error(const char *fmt, const char *arg)
+{
+    fprintf(stderr, "specnee: ");
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\n(see specnee --help)\n");
+    return 2;
+}
+
+/* Strict integer parsing: the whole string, within [lo, hi]. */
+static int parse_int(const char *s, long lo, long hi, int *out)
+{
+    char *end;
+    long v;
+    if (!s || !*s) return 0;
+    v = strtol(s, &end, 10);
+    if (*end || v < lo || v > hi) return 0;
+    *out = (int)v;
+    return 1;
+}
+
+static int parse_float(const char *s, float *out)
+{
+    char *end;
+    double v;
+    if (!s || !*s) return 0;
+    v = strtod(s, &end);
+    if (*end || !isfinite(v)) return 0;
+    *out = (float)v;
+    return 1;
+}
+
+typedef struct {
+    RenderOptions ro;
+    const char *scene, *out;
+    int spp_cli, seed_cli, maxdepth_cli, lights_cli;
+    float exposure;
+    int dump, quiet;
+} Args;
+
+/* Returns 0 on success, else the exit code. */
+static int parse_args(int argc, char **argv, Args *a)
+{
+    int i;
+    memset(a, 0, sizeof *a);
+    render_options_default(&a->ro);
+    for (i = 1; i < argc; i++) {
+        const char *o = argv[i];
+        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
+#define NEEDS_VALUE() do { if (!v) return usage_error("option %s needs a value", o); i++; } while (0)
+        if (!strcmp(o, "-h") || !strcmp(o, "--help")) {
+            fputs(usage_text, stdout);
+            exit(0);
+        } else if (!strcmp(o, "-o") || !strcmp(o, "--out")) {
+            NEEDS_VALUE(); a->out = v;
+        } else if (!strcmp(o, "--spp")) {
+            NEEDS_VALUE();
+            if (!parse_int(v, 1, 1L << 30, &a->ro.spp)) return usage_error("--spp needs a positive integer, not '%s'", v);
+            a->spp_cli = 1;
+        } else if (!strcmp(o, "--seed")) {
+            NEEDS_VALUE();
+            if (!parse_int(v, -2147483647L, 2147483647L, &a->ro.seed)) return usage_error("--seed needs an integer, not '%s'", v);
+            a->seed_cli = 1;
+        } else if (!strcmp(o, "--threads")) {
+            NEEDS_VALUE();
+            if (!parse_int(v, 1, 4096, &a->ro.threads)) return usage_error("--threads needs a positive integer, not '%s'", v);
+        } else if (!strcmp(o, "--maxdepth")) {
+            NEEDS_VALUE();
+            if (!parse_int(v, 0, 1000, &a->ro.maxdepth)) return usage_error("--maxdepth needs an integer 0..1000, not '%s'", v);
+            a->maxdepth_cli = 1;
+        } else if (!strcmp(o, "--lights")) {
+            NEEDS_VALUE();
+            a->ro.sel.strategy = sel_from_name(v);
+            if (a->ro.sel.strategy == SEL_COUNT) return usage_error("unknown --lights strategy '%s'", v);
+            a->lights_cli = 1;
+        } else if (!strcmp(o, "--spd-metric")) {
+            NEEDS_VALUE();
+            if (!strcmp(v, "unit")) a->ro.sel.power_metric = 0;
+            else if (!strcmp(v, "power")) a->ro.sel.power_metric = 1;
+            else return usage_error("--spd-metric is unit or power, not '%s'", v);
+        } else if (!strcmp(o, "--all-wavelengths")) {
+            a->ro.sel.all_wavelengths = 1;
+        } else if (!strcmp(o, "--throughput-weighted")) {
+            a->ro.sel.all_wavelengths = 1;
+            a->ro.sel.throughput_weighted = 1;
+        } else if (!strcmp(o, "--wavelengths")) {
+            NEEDS_VALUE();
+            if (!strcmp(v, "uniform")) a->ro.wl_importance = 0;
+            else if (!strcmp(v, "importance")) a->ro.wl_importance = 1;
+            else return usage_error("--wavelengths is uniform or importance, not '%s'", v);
+        } else if (!strcmp(o, "--wide")) {
+            a->ro.wl_wide = 1;
+        } else if (!strcmp(o, "--single-wavelength")) {
+            a->ro.single_wavelength = 1;
+        } else if (!strcmp(o, "--rough-dispersion")) {
+            NEEDS_VALUE();
+            if (!strcmp(v, "mis")) a->ro.rough_mis = 1;
+            else if (!strcmp(v, "terminate")) a->ro.rough_mis = 0;
+            else return usage_error("--rough-dispersion is mis or terminate, not '%s'", v);
+        } else if (!strcmp(o, "--no-nee")) {
+            a->ro.nee = 0;
+        } else if (!strcmp(o, "--exposure")) {
+            NEEDS_VALUE();
+            if (!parse_float(v, &a->exposure)) return usage_error("--exposure needs a number, not '%s'", v);
+        } else if (!strcmp(o, "--debug-pixel")) {
+            char *end;
+            NEEDS_VALUE();
+            a->ro.debug_x = (int)strtol(v, &end, 10);
+            if (*end != ',' || a->ro.debug_x < 0) return usage_error("--debug-pixel needs X,Y, not '%s'", v);
+            a->ro.debug_y = (int)strtol(end + 1, &end, 10);
+            if (*end || a->ro.debug_y < 0) return usage_error("--debug-pixel needs X,Y, not '%s'", v);
+        } else if (!strcmp(o, "--eager-tables")) {
+            a->ro.sel.eager = 1;
+        } else if (!strcmp(o, "--dump-scene")) {
+            a->dump = 1;
+        } else if (!strcmp(o, "-q") || !strcmp(o, "--quiet")) {
+            a->quiet = 1;
+        } else if (o[0] == '-' && o[1]) {
+            return usage_error("unknown option '%s'", o);
+        } else if (!a->scene) {
+            a->scene = o;
+        } else {
+            return usage_error("more than one scene file given ('%s')", o);
+        }
+#undef NEEDS_VALUE
+    }
+    if (!a->scene) return usage_error("%s", "no scene file given");
+    return 0;
+}
+
+/* The scene's own settings, unless the command line overrides them. */
+static int apply_scene_settings(Args *a, const Scene *s)
+{
+    const SceneSettings *st = &s->settings;
+    if (!a->spp_cli && st->spp_set) a->ro.spp = st->spp;
+    if (!a->seed_cli && st->seed_set) a->ro.seed = st->seed;
+    if (!a->maxdepth_cli && st->maxdepth_set) a->ro.maxdepth = st->maxdepth;
+    if (!a->lights_cli && st->lightsampler[0]) {
+        if (!strcmp(st->lightsampler, "bvh")) {
+            fprintf(stderr, "specnee: note: lightsampler \"bvh\" (pbrt-v4's default) is not "
+                            "implemented; using \"spatial\"\n");
+            a->ro.sel.strategy = SEL_SPATIAL;
+        } else {
+            a->ro.sel.strategy = sel_from_name(st->lightsampler);
+            if (a->ro.sel.strategy == SEL_COUNT) {
+                fprintf(stderr, "%s: Integrator \"string lightsampler\" \"%s\" is unknown\n",
+                        a->scene, st->lightsampler);
+                return 1;
+            }
+        }
+    }
+    return 0;
+}
+
+static int render_main(int argc, char **argv)
+{
+    Args a;
+    Scene scene;
+    Image img;
+    RenderStats st;
+    Error err;
+    const char *out;
+    int rc = parse_args(argc, argv, &a);
+    char settings[512];
+    if (rc) return rc;
+    memset(&scene, 0, sizeof scene);
+    err.msg[0] = '\0';
+    if (!scene_load(&scene, a.scene, &err)) {
+        fprintf(stderr, "%s\n", err.msg);
+        return 1;
+    }
+    if (a.dump) {
+        scene_dump(&scene, stdout);
+        scene_free(&scene);
+        return 0;
+    }
+    if (apply_scene_settings(&a, &scene)) { scene_free(&scene); return 1; }
+    a.ro.progress = !a.quiet && isatty(fileno(stderr));
+    out = a.out ? a.out : scene.settings.filename;
+    if (!render(&scene, &a.ro, &img, &st, &err)) {
+        fprintf(stderr, "%s\n", err.msg);
+        scene_free(&scene);
+        return 1;
+    }
+    if (!img_write(&img, out, a.exposure, &err)) {
+        fprintf(stderr, "%s\n", err.msg);
+        img_free(&img);
+        scene_free(&scene);
+        return 1;
+    }
+    snprintf(settings, sizeof settings,
+             "scene=%s seed=%d maxdepth=%d lights=%s spd-metric=%s all-wavelengths=%d "
+             "wavelengths=%s range=%s single=%d rough-dispersion=%s nee=%d",
+             a.scene, a.ro.seed, a.ro.maxdepth, sel_name(a.ro.sel.strategy),
+             a.ro.sel.power_metric ? "power" : "unit", a.ro.sel.all_wavelengths,
+             a.ro.wl_importance ? "importance" : "uniform", a.ro.wl_wide ? "360-830" : "400-700",
+             a.ro.single_wavelength, a.ro.rough_mis ? "mis" : "terminate", a.ro.nee);
+    img_write_sidecar(out, a.ro.spp, settings);
+    if (!a.quiet)
+        fprintf(stderr, "specnee: %s: %dx%d, %d spp, %s, in %.3f s wall (%.3f s CPU, tables %.1f ms): "
+                        "%.0f samples/s, %.2f Mrays/s%s\n",
+                out, img.w, img.h, a.ro.spp, sel_name(a.ro.sel.strategy), st.wall_s, st.cpu_s,
+                1e3 * st.build_s, (double)st.samples / st.wall_s, (double)st.rays / st.wall_s * 1e-6,
+                st.nonfinite ? " (WARNING: non-finite samples dropped)" : "");
+    img_free(&img);
+    scene_free(&scene);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1) {
+        if (!strcmp(argv[1], "merge")) return cmd_merge(argc - 1, argv + 1);
+        if (!strcmp(argv[1], "diff")) return cmd_diff(argc - 1, argv + 1);
+        if (!strcmp(argv[1], "spectrum")) return cmd_spectrum(argc - 1, argv + 1);
+        if (!strcmp(argv[1], "converge")) return cmd_converge(argc - 1, argv + 1);
+    }
+    return render_main(argc, argv);
+}

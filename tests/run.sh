@@ -1,0 +1,103 @@
+#!/bin/sh
+# tests/run.sh - the whole test suite, run by `make test` (and by CI).
+#
+#  1. the unit/statistical suite (tests/runner) built by make with the default cc
+#  2. end-to-end checks of the binary: exit codes, one-line errors, a tiny render
+#  3. the same suite built with -Werror by gcc, clang and tcc (C99, pedantic)
+#  4. the suite once more under AddressSanitizer + UndefinedBehaviorSanitizer
+# Steps 3 and 4 run every test with a quarter of the samples (SPECNEE_TEST_SCALE):
+# they prove the build and catch memory errors; step 1 carries the statistics.
+# Every step counts as tests; the last line is "N passed, N failed".
+# SPECNEE_QUICK=1 skips steps 3 and 4 (for a fast local loop).
+set -u
+cd "$(dirname "$0")/.." || exit 2
+passed=0
+failed=0
+log=tests/tmp/run.log
+mkdir -p tests/tmp build
+: > "$log"
+
+ok()   { passed=$((passed + 1)); echo "ok   $1"; }
+fail() { failed=$((failed + 1)); echo "FAIL $1"; }
+
+# Run the unit runner and add its counts.  $1 = label, $2 = runner binary.
+unit() {
+    out=tests/tmp/unit-$1.txt
+    "$2" > "$out" 2>&1
+    rc=$?
+    grep '^FAIL' "$out" | sed "s/^/[$1] /"
+    line=$(grep 'passed, .* failed' "$out" | tail -n 1)
+    p=$(echo "$line" | sed -n 's/.* \([0-9][0-9]*\) passed.*/\1/p')
+    f=$(echo "$line" | sed -n 's/.* \([0-9][0-9]*\) failed.*/\1/p')
+    if [ -z "$p" ]; then
+        fail "[$1] unit runner crashed or printed no summary (rc=$rc)"
+        tail -n 20 "$out"
+        return
+    fi
+    echo "[$1] $line"
+    passed=$((passed + p)); failed=$((failed + f))
+    if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then fail "[$1] runner exit code $rc"; fi
+}
+
+# Expect exit code $2 from command "$3..." and stderr containing $1 (a grep -E pattern).
+expect() {
+    name=$1; code=$2; pattern=$3; shift 3
+    "$@" > tests/tmp/out.txt 2> tests/tmp/err.txt
+    rc=$?
+    if [ "$rc" -ne "$code" ]; then
+        fail "$name: exit $rc, expected $code"; head -n 3 tests/tmp/err.txt; return
+    fi
+    if [ -n "$pattern" ] && ! grep -Eq "$pattern" tests/tmp/err.txt; then
+        fail "$name: stderr lacks /$pattern/"; head -n 3 tests/tmp/err.txt; return
+    fi
+    ok "$name"
+}
+
+# ---- 1. unit suite with the default build
+unit cc tests/runner
+
+# ---- 2. the binary end to end
+expect "cli_help" 0 "" ./specnee --help
+expect "cli_no_scene" 2 "no scene file" ./specnee
+expect "cli_bad_option" 2 "unknown option" ./specnee --frobnicate x.pbrt
+expect "cli_bad_spp" 2 "positive integer" ./specnee --spp 0 scenes/cornell.pbrt
+expect "cli_missing_file" 1 "nonexistent.pbrt" ./specnee tests/tmp/nonexistent.pbrt
+printf 'WorldBegin\nShape "sphere" "float radius" [ 1 ]\nFrobnicate 3\n' > tests/tmp/bad.pbrt
+expect "cli_bad_directive" 1 "bad.pbrt:3:" ./specnee tests/tmp/bad.pbrt
+expect "cli_render_tiny" 0 "samples/s" ./specnee scenes/cornell.pbrt --spp 2 -o tests/tmp/tiny.pfm
+if [ -f tests/tmp/tiny.pfm ] && [ -f tests/tmp/tiny.pfm.txt ]; then ok "cli_render_writes_pfm_and_sidecar"
+else fail "cli_render_writes_pfm_and_sidecar"; fi
+expect "cli_render_png" 0 "" ./specnee -q scenes/cornell.pbrt --spp 1 -o tests/tmp/tiny.png
+expect "cli_merge" 0 "" ./specnee merge tests/tmp/tiny.pfm tests/tmp/tiny.pfm -o tests/tmp/merged.pfm
+expect "cli_diff_identical" 0 "" ./specnee diff tests/tmp/tiny.pfm tests/tmp/merged.pfm --max-mse 0
+expect "cli_spectrum" 0 "" ./specnee spectrum lamp-CFL1
+expect "cli_spectrum_unknown" 1 "no-such" ./specnee spectrum no-such-spectrum
+
+if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
+    # ---- 3. three compilers, warnings are errors
+    LIBSRC="util.c bvh.c spectrum.c lights.c scene.c ply.c material.c render.c image.c svg.c eval.c"
+    for cc in gcc clang tcc; do
+        if ! command -v $cc >/dev/null 2>&1; then fail "build_$cc: compiler not installed"; continue; fi
+        flags="-std=c99 -pedantic -Wall -Wextra -Werror -O2 $(sh tools/ccflags.sh $cc)"
+        [ $cc = tcc ] && flags="-std=c99 -Wall -Werror -O2"
+        if $cc $flags -I. -o build/specnee-$cc specnee.c $LIBSRC -lm >> "$log" 2>&1 &&
+           $cc $flags -I. -o build/runner-$cc tests/*.c $LIBSRC -lm >> "$log" 2>&1; then
+            ok "build_$cc (no warnings)"
+            [ $cc = gcc ] || SPECNEE_TEST_SCALE=0.25 unit $cc build/runner-$cc
+        else
+            fail "build_$cc"; tail -n 15 "$log"
+        fi
+    done
+    # ---- 4. sanitizers
+    if gcc -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer \
+           -I. -o build/runner-asan tests/*.c $LIBSRC -lm >> "$log" 2>&1; then
+        ok "build_asan"
+        SPECNEE_TEST_SCALE=0.25 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+            unit asan build/runner-asan
+    else
+        fail "build_asan"; tail -n 15 "$log"
+    fi
+fi
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]

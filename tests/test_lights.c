@@ -1,0 +1,443 @@
+/* tests/test_lights.c - emitter selection: the consistency contract, positivity,
+   lazy = eager tables, and unbiasedness of every strategy where it is weak.
+
+   The image tests compare each strategy against `uniform` (the trivially correct
+   choice) per tile, with the same statistics as test_render.c: K seeds, tile
+   means, |a - b| < 5 standard errors. */
+#include "test.h"
+#include <stdlib.h>
+#include <string.h>
+
+#define K_SIGMA 5.0
+
+static int load(T *t, Scene *s, const char *text)
+{
+    Error err;
+    memset(s, 0, sizeof *s);
+    err.msg[0] = 0;
+    if (!scene_load_string(s, text, "lights.pbrt", &err)) {
+        test_failf(t, __FILE__, __LINE__, "scene did not load: %s", err.msg);
+        return 0;
+    }
+    return 1;
+}
+
+/* ---------------------------------------------------------------- scenes */
+
+/* The open box of test_render.c, 16x16, with emitters inserted at %s. */
+static const char *box_head =
+    "LookAt 0 0 -3.2  0 0 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 45 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ] \"string filename\" \"t.pfm\"\n"
+    "Integrator \"path\" \"integer maxdepth\" [ 5 ]\n"
+    "WorldBegin\n"
+    "Material \"diffuse\" \"spectrum reflectance\" [ 400 0.8 700 0.7 ]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3  4 5 6 4 6 7 ]\n"
+    "  \"point3 P\" [ -1 -1 -1  1 -1 -1  1 -1 1  -1 -1 1   -1 1 -1  -1 1 1  1 1 1  1 1 -1 ]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "  \"point3 P\" [ -1 -1 1  1 -1 1  1 1 1  -1 1 1 ]\n"
+    "AttributeBegin\n Material \"diffuse\" \"spectrum reflectance\" [ 400 0.05 550 0.1 600 0.6 700 0.7 ]\n"
+    " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "  \"point3 P\" [ -1 -1 -1  -1 -1 1  -1 1 1  -1 1 -1 ]\nAttributeEnd\n"
+    "AttributeBegin\n Material \"diffuse\" \"spectrum reflectance\" [ 400 0.1 500 0.5 550 0.6 600 0.1 700 0.05 ]\n"
+    " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "  \"point3 P\" [ 1 -1 -1  1 1 -1  1 1 1  1 -1 1 ]\nAttributeEnd\n";
+
+static const char *glass_sphere =
+    "AttributeBegin\n Translate 0 -0.6 0\n"
+    " Material \"dielectric\" \"float cauchyA\" [ 1.5 ] \"float cauchyB\" [ 0.03 ] \"float roughness\" [ 0.04 ]\n"
+    " Shape \"sphere\" \"float radius\" [ 0.38 ]\nAttributeEnd\n";
+
+/* A downward-facing square light of half-size h at (x, 0.99, z). */
+static void add_light(char *buf, size_t cap, const char *spectrum, float scale, float x, float z, float h)
+{
+    size_t n = strlen(buf);
+    snprintf(buf + n, cap - n,
+             "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" %s \"float scale\" [ %g ]\n"
+             " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+             "  \"point3 P\" [ %g 0.99 %g  %g 0.99 %g  %g 0.99 %g  %g 0.99 %g ]\nAttributeEnd\n",
+             spectrum, scale, x - h, z - h, x + h, z - h, x + h, z + h, x - h, z + h);
+}
+
+/* A compact fluorescent-like spiky emitter and a blue-heavy LED-like one, as
+   inline spectra so the tests do not depend on the lamp models. */
+#define SPIKY "[ 400 0 430 0 435 3 440 0 540 0 545 4 550 0 605 0 611 3 617 0 700 0 ]"
+#define BLUEISH "[ 400 0.1 450 1.0 480 0.3 560 0.6 700 0.2 ]"
+#define LOW_HALF "[ 400 1 550 1 551 0 700 0 ]"
+#define HIGH_HALF "[ 400 0 549 0 550 1 700 1 ]"
+
+enum { SC_DISPERSIVE, SC_FACING_AWAY, SC_HALVES, SC_ONE, SC_IDENTICAL, SC_MANY, SC_THROUGH_GLASS, SC_N };
+static const char *const scene_names[SC_N] = {
+    "two lamps + dispersive glass", "bright emitter facing away", "complementary half spectra",
+    "one emitter", "two identical emitters", "64 small emitters", "emitter seen only through glass"
+};
+
+static void build_scene(int which, char *buf, size_t cap)
+{
+    int i;
+    snprintf(buf, cap, "%s", box_head);
+    switch (which) {
+    case SC_DISPERSIVE:
+        add_light(buf, cap, SPIKY, 4, -0.5f, 0.0f, 0.2f);
+        add_light(buf, cap, BLUEISH, 4, 0.5f, 0.0f, 0.25f);
+        strcat(buf, glass_sphere);
+        break;
+    case SC_FACING_AWAY: {
+        size_t n;
+        add_light(buf, cap, SPIKY, 3, 0.0f, 0.0f, 0.2f);
+        strcat(buf, glass_sphere);
+        /* a very bright one-sided emitter near the back wall that faces the wall */
+        n = strlen(buf);
+        snprintf(buf + n, cap - n,
+                 "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" " BLUEISH " \"float scale\" [ 60 ]\n"
+                 " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+                 "  \"point3 P\" [ -0.3 0.2 0.9  0.3 0.2 0.9  0.3 0.6 0.9  -0.3 0.6 0.9 ]\nAttributeEnd\n");
+        break;
+    }
+    case SC_HALVES:
+        add_light(buf, cap, LOW_HALF, 4, -0.5f, 0.0f, 0.2f);
+        add_light(buf, cap, HIGH_HALF, 4, 0.5f, 0.0f, 0.2f);
+        strcat(buf, glass_sphere);
+        break;
+    case SC_ONE:
+        add_light(buf, cap, SPIKY, 5, 0.0f, 0.0f, 0.25f);
+        strcat(buf, glass_sphere);
+        break;
+    case SC_IDENTICAL:
+        add_light(buf, cap, BLUEISH, 4, -0.5f, 0.0f, 0.2f);
+        add_light(buf, cap, BLUEISH, 4, 0.5f, 0.0f, 0.2f);
+        strcat(buf, glass_sphere);
+        break;
+    case SC_MANY: {
+        const char *spectra[4] = { SPIKY, BLUEISH, LOW_HALF, HIGH_HALF };
+        for (i = 0; i < 64; i++)
+            add_light(buf, cap, spectra[i % 4], 0.5f + (float)(i % 3), -0.84f + 0.24f * (i % 8),
+                      -0.84f + 0.24f * (i / 8), 0.05f);
+        strcat(buf, glass_sphere);
+        break;
+    }
+    case SC_THROUGH_GLASS: {
+        size_t n = strlen(buf);
+        /* a small light sphere inside a closed, smooth glass shell: shadow rays from
+           outside always hit the glass, so only BSDF-sampled paths bring its light */
+        snprintf(buf + n, cap - n,
+                 "AttributeBegin\n Translate 0 -0.5 0\n"
+                 " AttributeBegin\n  AreaLightSource \"diffuse\" \"spectrum L\" " SPIKY " \"float scale\" [ 3 ]\n"
+                 "  Shape \"sphere\" \"float radius\" [ 0.2 ]\n AttributeEnd\n"
+                 " Material \"dielectric\" \"float cauchyA\" [ 1.5 ] \"float cauchyB\" [ 0.02 ]\n"
+                 " Shape \"sphere\" \"float radius\" [ 0.45 ]\nAttributeEnd\n");
+        add_light(buf, cap, BLUEISH, 2, 0.0f, 0.0f, 0.2f);
+        break;
+    }
+    }
+}
+
+/* ---------------------------------------------------------------- unit tests */
+
+typedef struct { SelStrategy st; int power_metric, all_wl, tput; const char *name; } Variant;
+static const Variant variants[] = {
+    { SEL_UNIFORM, 0, 0, 0, "uniform" },
+    { SEL_POWER, 0, 0, 0, "power" },
+    { SEL_SPATIAL, 0, 0, 0, "spatial" },
+    { SEL_SPD, 0, 0, 0, "spd" },
+    { SEL_SPD, 1, 0, 0, "spd power-metric" },
+    { SEL_PRODUCT, 0, 0, 0, "product" },
+    { SEL_PRODUCT, 1, 0, 0, "product power-metric" },
+    { SEL_SPECTRAL_SPATIAL, 0, 0, 0, "spectral-spatial" },
+    { SEL_SPD, 0, 1, 0, "spd all-wavelengths" },
+    { SEL_PRODUCT, 0, 1, 1, "product throughput-weighted" },
+    { SEL_SPECTRAL_SPATIAL, 0, 1, 0, "spectral-spatial all-wavelengths" },
+};
+#define N_VARIANTS ((int)(sizeof variants / sizeof variants[0]))
+
+static LightCtx random_ctx(const Scene *s, const LightSampler *ls, Rng *r)
+{
+    LightCtx c;
+    int j;
+    Vec3 ext = v3_sub(s->bmax, s->bmin);
+    memset(&c, 0, sizeof c);
+    c.p = v3_add(s->bmin, v3(ext.x * rng_float(r), ext.y * rng_float(r), ext.z * rng_float(r)));
+    c.voxel = light_voxel(ls, c.p);
+    c.hero_only = rng_float(r) < 0.5f;
+    c.alive = c.hero_only ? 1u : (1u | ((rng_u32(r) & 7u) << 1));
+    for (j = 0; j < HERO_N; j++) {
+        c.lambda[j] = 400.0f + 300.0f * rng_float(r);
+        c.beta[j] = (c.alive & (1u << j)) ? 0.1f + rng_float(r) : 0.0f;
+    }
+    return c;
+}
+
+/* light_select's reported pmf equals light_select_pmf; the empirical frequencies
+   match the pmf (chi-square, bound dof + 5 sqrt(2 dof)); the pmfs sum to 1. */
+static void test_select_matches_pmf(T *t)
+{
+    char buf[65536];
+    Scene s;
+    int v, trial;
+    build_scene(SC_MANY, buf, sizeof buf);
+    if (!load(t, &s, buf)) return;
+    for (v = 0; v < N_VARIANTS; v++) {
+        SelOptions o;
+        LightSampler *ls;
+        Error err;
+        Rng r;
+        memset(&o, 0, sizeof o);
+        o.grid_res = 8;
+        o.strategy = variants[v].st;
+        o.power_metric = variants[v].power_metric;
+        o.all_wavelengths = variants[v].all_wl;
+        o.throughput_weighted = variants[v].tput;
+        ls = light_sampler_build(&s, &o, &err);
+        CHECK(t, ls != NULL, "%s: %s", variants[v].name, err.msg);
+        rng_seed(&r, 77, (uint64_t)v);
+        for (trial = 0; trial < 6; trial++) {
+            LightCtx c = random_ctx(&s, ls, &r);
+            static double count[64], pmf[64];
+            double sum = 0, chi2 = 0;
+            int i, n = 20000, dof = -1;
+            for (i = 0; i < s.n_emitters; i++) { count[i] = 0; pmf[i] = light_select_pmf(ls, &c, i); sum += pmf[i]; }
+            CHECK(t, fabs(sum - 1.0) < 1e-4, "%s: pmfs sum to %g", variants[v].name, sum);
+            for (i = 0; i < n; i++) {
+                float p;
+                int e = light_select(ls, &c, rng_float(&r), &p, NULL);
+                CHECK(t, e >= 0 && e < s.n_emitters, "%s: no emitter chosen", variants[v].name);
+                CHECK(t, p == (float)light_select_pmf(ls, &c, e),
+                      "%s: light_select says %g, light_select_pmf %g", variants[v].name, p, light_select_pmf(ls, &c, e));
+                count[e] += 1;
+            }
+            for (i = 0; i < s.n_emitters; i++) {
+                double ex = pmf[i] * n;
+                if (ex < 5) continue;
+                chi2 += (count[i] - ex) * (count[i] - ex) / ex;
+                dof++;
+            }
+            if (dof > 0)
+                CHECK(t, chi2 < dof + 5 * sqrt(2.0 * dof), "%s: chi2 %g with %d dof", variants[v].name, chi2, dof);
+        }
+        light_sampler_free(ls);
+    }
+    scene_free(&s);
+}
+
+/* Positivity (notes 7.3): an emitter that emits at the hero wavelength always
+   has P > 0 in hero-only mode, for spectra with a 1 nm line at a bin edge too. */
+static void test_positive_where_emitting(T *t)
+{
+    char buf[65536];
+    Scene s;
+    int v;
+    snprintf(buf, sizeof buf, "%s", box_head);
+    add_light(buf, sizeof buf, "[ 400 0 439 0 440 5 441 0 700 0 ]", 1, -0.5f, 0, 0.2f);  /* line at a bin edge */
+    add_light(buf, sizeof buf, "[ 400 0 599.5 0 600 2 600.5 0 700 0 ]", 1, 0.5f, 0, 0.2f);
+    add_light(buf, sizeof buf, LOW_HALF, 1, 0.0f, 0.5f, 0.2f);
+    if (!load(t, &s, buf)) return;
+    for (v = 0; v < N_VARIANTS; v++) {
+        SelOptions o;
+        LightSampler *ls;
+        Error err;
+        int e, k;
+        memset(&o, 0, sizeof o);
+        o.grid_res = 8;
+        o.strategy = variants[v].st;
+        o.power_metric = variants[v].power_metric;
+        ls = light_sampler_build(&s, &o, &err);
+        CHECK(t, ls != NULL, "%s", err.msg);
+        for (k = 0; k <= 600; k++) {
+            LightCtx c;
+            memset(&c, 0, sizeof c);
+            c.p = v3(0.1f, -0.5f, 0.2f);
+            c.voxel = light_voxel(ls, c.p);
+            c.hero_only = 1;
+            c.alive = 1u;
+            c.lambda[0] = 400.0f + 0.5f * k;
+            c.beta[0] = 1;
+            for (e = 0; e < s.n_emitters; e++)
+                if (spec_eval(&s.emitters[e].Le, c.lambda[0]) > 0.0f)
+                    CHECK(t, light_select_pmf(ls, &c, e) > 0.0f, "%s: emitter %d emits at %.1f nm but P = 0",
+                          variants[v].name, e, c.lambda[0]);
+        }
+        light_sampler_free(ls);
+    }
+    scene_free(&s);
+}
+
+/* Lazy and eager spatial tables are bit-identical. */
+static void test_lazy_equals_eager(T *t)
+{
+    char buf[65536];
+    Scene s;
+    SelOptions o;
+    LightSampler *lazy, *eager;
+    Error err;
+    Rng r;
+    int i, e;
+    build_scene(SC_DISPERSIVE, buf, sizeof buf);
+    if (!load(t, &s, buf)) return;
+    memset(&o, 0, sizeof o);
+        o.grid_res = 8;
+    o.strategy = SEL_SPECTRAL_SPATIAL;
+    lazy = light_sampler_build(&s, &o, &err);
+    o.eager = 1;
+    eager = light_sampler_build(&s, &o, &err);
+    CHECK(t, lazy && eager, "%s", err.msg);
+    rng_seed(&r, 1, 1);
+    for (i = 0; i < 2000; i++) {
+        LightCtx c = random_ctx(&s, lazy, &r);
+        for (e = 0; e < s.n_emitters; e++)
+            CHECK(t, light_select_pmf(lazy, &c, e) == light_select_pmf(eager, &c, e), "lazy != eager");
+    }
+    light_sampler_free(lazy);
+    light_sampler_free(eager);
+    scene_free(&s);
+}
+
+/* The spatial distribution sees an emitter that faces away as nearly
+   impossible (the floor), and a flat scene gets a grid of one cell in depth. */
+static void test_spatial_facing_and_flat(T *t)
+{
+    char buf[65536];
+    Scene s;
+    SelOptions o;
+    LightSampler *ls;
+    Error err;
+    LightCtx c;
+    memset(&o, 0, sizeof o);
+        o.grid_res = 8;
+    o.strategy = SEL_SPATIAL;
+    build_scene(SC_FACING_AWAY, buf, sizeof buf);
+    if (!load(t, &s, buf)) return;
+    ls = light_sampler_build(&s, &o, &err);
+    CHECK(t, ls != NULL, "%s", err.msg);
+    memset(&c, 0, sizeof c);
+    c.p = v3(0.0f, -0.9f, -0.5f);                 /* on the floor, in front of the emitter's back */
+    c.voxel = light_voxel(ls, c.p);
+    c.alive = 15u;
+    CHECK(t, light_select_pmf(ls, &c, 1) < 1e-3f && light_select_pmf(ls, &c, 1) > 0.0f,
+          "facing-away emitter has P = %g at a point behind it", light_select_pmf(ls, &c, 1));
+    light_sampler_free(ls);
+    scene_free(&s);
+    /* flat: everything in the plane z = 0 */
+    if (!load(t, &s,
+              "LookAt 0 0 -3 0 0 0 0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+              "AreaLightSource \"diffuse\" \"spectrum L\" [ 400 1 700 1 ]\n"
+              "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ] \"point3 P\" [ 0 0 0 1 0 0 0 1 0 ]\n"
+              "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ] \"point3 P\" [ 2 0 0 3 0 0 2 1 0 ]\n")) return;
+    ls = light_sampler_build(&s, &o, &err);
+    CHECK(t, ls != NULL, "%s", err.msg);
+    c.p = v3(0.5f, 0.5f, 0.0f);
+    c.voxel = light_voxel(ls, c.p);
+    CHECK(t, c.voxel >= 0, "flat scene: no voxel");
+    CHECK(t, fabsf(light_select_pmf(ls, &c, 0) + light_select_pmf(ls, &c, 1) - 1.0f) < 1e-5f, "flat scene pmf");
+    light_sampler_free(ls);
+    scene_free(&s);
+}
+
+/* ---------------------------------------------------------------- images */
+
+static int tile_stats(T *t, Scene *s, const RenderOptions *base, int K, double mean[4][3], double se[4][3])
+{
+    int k, i, c, x, y;
+    double sum[4][3], sum2[4][3];
+    memset(sum, 0, sizeof sum);
+    memset(sum2, 0, sizeof sum2);
+    for (k = 0; k < K; k++) {
+        RenderOptions o = *base;
+        Image img;
+        RenderStats st;
+        Error err;
+        o.seed = 7919 * k + 1;
+        if (!render(s, &o, &img, &st, &err)) { test_failf(t, __FILE__, __LINE__, "%s", err.msg); return 0; }
+        if (st.nonfinite) {
+            test_failf(t, __FILE__, __LINE__, "%ld non-finite samples", st.nonfinite);
+            img_free(&img);
+            return 0;
+        }
+        for (i = 0; i < 4; i++) {
+            double acc[3] = { 0, 0, 0 };
+            int cnt = 0;
+            for (y = (i / 2) * img.h / 2; y < (i / 2 + 1) * img.h / 2; y++)
+                for (x = (i % 2) * img.w / 2; x < (i % 2 + 1) * img.w / 2; x++, cnt++)
+                    for (c = 0; c < 3; c++) acc[c] += img.rgb[3 * (y * img.w + x) + c];
+            for (c = 0; c < 3; c++) {
+                double m = acc[c] / cnt;
+                if (!isfinite(m)) { test_failf(t, __FILE__, __LINE__, "non-finite pixel"); img_free(&img); return 0; }
+                sum[i][c] += m;
+                sum2[i][c] += m * m;
+            }
+        }
+        img_free(&img);
+    }
+    for (i = 0; i < 4; i++)
+        for (c = 0; c < 3; c++) {
+            double m = sum[i][c] / K, var = (sum2[i][c] / K - m * m) * K / (K - 1);
+            mean[i][c] = m;
+            se[i][c] = sqrt(var > 0 ? var / K : 0);
+        }
+    return 1;
+}
+
+/* Every strategy converges to uniform's image, scene by scene. */
+static void strategies_on_scene(T *t, int which)
+{
+    static char buf[65536];
+    Scene s;
+    RenderOptions o;
+    double ref_m[4][3], ref_se[4][3], m[4][3], se[4][3];
+    int v, i, c;
+    const int K = 8;
+    build_scene(which, buf, sizeof buf);
+    if (!load(t, &s, buf)) return;
+    render_options_default(&o);
+    o.sel.grid_res = 8;
+    o.spp = test_scaled(24, 4);
+    o.sel.strategy = SEL_UNIFORM;
+    if (!tile_stats(t, &s, &o, K, ref_m, ref_se)) goto done;
+    for (v = 1; v <= N_VARIANTS; v++) {
+        const char *name = v < N_VARIANTS ? variants[v].name : "all";
+        memset(&o.sel, 0, sizeof o.sel);
+        o.sel.grid_res = 8;
+        if (v < N_VARIANTS) {
+            o.sel.strategy = variants[v].st;
+            o.sel.power_metric = variants[v].power_metric;
+            o.sel.all_wavelengths = variants[v].all_wl;
+            o.sel.throughput_weighted = variants[v].tput;
+        } else {
+            o.sel.strategy = SEL_ALL;
+        }
+        if (!tile_stats(t, &s, &o, K, m, se)) goto done;
+        for (i = 0; i < 4; i++)
+            for (c = 0; c < 3; c++) {
+                double d = fabs(m[i][c] - ref_m[i][c]), e = sqrt(se[i][c] * se[i][c] + ref_se[i][c] * ref_se[i][c]);
+                if (d > K_SIGMA * e + 1e-4) {
+                    test_failf(t, __FILE__, __LINE__, "%s, %s: tile %d ch %d: %.5g vs uniform %.5g (%.1f se)",
+                               scene_names[which], name, i, c, m[i][c], ref_m[i][c], e > 0 ? d / e : 1e9);
+                    goto done;
+                }
+            }
+    }
+done:
+    scene_free(&s);
+}
+
+static void test_unbiased_dispersive(T *t) { strategies_on_scene(t, SC_DISPERSIVE); }
+static void test_unbiased_facing_away(T *t) { strategies_on_scene(t, SC_FACING_AWAY); }
+static void test_unbiased_half_spectra(T *t) { strategies_on_scene(t, SC_HALVES); }
+static void test_unbiased_one_emitter(T *t) { strategies_on_scene(t, SC_ONE); }
+static void test_unbiased_identical(T *t) { strategies_on_scene(t, SC_IDENTICAL); }
+static void test_unbiased_many(T *t) { strategies_on_scene(t, SC_MANY); }
+static void test_unbiased_through_glass(T *t) { strategies_on_scene(t, SC_THROUGH_GLASS); }
+
+const TestCase tests_lights[] = {
+    { "lights_select_matches_pmf", test_select_matches_pmf },
+    { "lights_positive_where_emitting", test_positive_where_emitting },
+    { "lights_lazy_equals_eager", test_lazy_equals_eager },
+    { "lights_spatial_facing_and_flat", test_spatial_facing_and_flat },
+    { "lights_unbiased_dispersive", test_unbiased_dispersive },
+    { "lights_unbiased_facing_away", test_unbiased_facing_away },
+    { "lights_unbiased_half_spectra", test_unbiased_half_spectra },
+    { "lights_unbiased_one_emitter", test_unbiased_one_emitter },
+    { "lights_unbiased_identical", test_unbiased_identical },
+    { "lights_unbiased_many", test_unbiased_many },
+    { "lights_unbiased_through_glass", test_unbiased_through_glass },
+    { NULL, NULL }
+};

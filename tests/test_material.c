@@ -1,0 +1,277 @@
+/* tests/test_material.c - Fresnel, Cauchy, the prism, and the rough dielectric's
+   sampler against its pdf (normalisation, chi-square, energy estimates). */
+#include "test.h"
+#include <stdlib.h>
+#include <string.h>
+
+static void make_glass(Material *m, float A, float B, float alpha)
+{
+    int k;
+    memset(m, 0, sizeof *m);
+    m->type = MAT_DIELECTRIC;
+    for (k = 0; k < SPEC_N; k++) m->eta.v[k] = cauchy_eta(A, B, (float)(SPEC_MIN + k));
+    m->cauchy_a = A;
+    m->cauchy_b = B;
+    m->dispersive = B != 0.0f;
+    m->alpha = alpha;
+}
+
+static SurfacePoint flat_point(void)
+{
+    SurfacePoint sp;
+    memset(&sp, 0, sizeof sp);
+    sp.ng = sp.ns = v3(0, 0, 1);
+    return sp;
+}
+
+static void test_cauchy_bk7(T *t)
+{
+    float n = cauchy_eta(1.5046f, 0.00420f, 587.6f);
+    CHECK(t, fabsf(n - 1.5168f) < 1e-3f, "n_BK7(587.6 nm) = %.5f, catalogue 1.5168", n);
+    CHECK(t, cauchy_eta(1.5046f, 0.0042f, 450) > cauchy_eta(1.5046f, 0.0042f, 650),
+          "normal dispersion: blue bends more");
+}
+
+static void test_fresnel_values(T *t)
+{
+    float eta = 1.5f, r0 = (eta - 1) / (eta + 1), brewster = atanf(eta);
+    float rb = fresnel_dielectric(cosf(brewster), eta);
+    /* at Brewster's angle r_par = 0, so F = r_perp^2 / 2 */
+    float ct = cosf(asinf(sinf(brewster) / eta));
+    float rperp = (cosf(brewster) - eta * ct) / (cosf(brewster) + eta * ct);
+    CHECK(t, fabsf(fresnel_dielectric(1.0f, eta) - r0 * r0) < 1e-6f, "normal incidence");
+    CHECK(t, fabsf(rb - 0.5f * rperp * rperp) < 1e-5f, "Brewster: %g vs %g", rb, 0.5f * rperp * rperp);
+    CHECK(t, fresnel_dielectric(-0.3f, eta) == 1.0f, "TIR from inside at 72.5 deg");
+    CHECK(t, fabsf(fresnel_dielectric(-1.0f, eta) - r0 * r0) < 1e-6f, "inside, normal incidence");
+}
+
+/* Smooth glass is lossless: the sampled weight f|cos|/p is 1 for reflection and
+   1/eta'^2 for transmission; with eta'^2 undone the mean must be exactly 1
+   (R + T = 1), and the reflect fraction must be F (4 sigma binomial bound). */
+static void test_smooth_energy(T *t)
+{
+    Material m;
+    SurfacePoint sp = flat_point();
+    float lam[HERO_N] = { 550, 600, 650, 450 };
+    Rng r;
+    int i, n = 20000, nr = 0;
+    double F, sigma;
+    Vec3 wo = v3_norm(v3(0.6f, 0.0f, 0.8f));
+    make_glass(&m, 1.5f, 0.0f, 0.0f);
+    rng_seed(&r, 3, 3);
+    F = fresnel_dielectric(wo.z, 1.5f);
+    for (i = 0; i < n; i++) {
+        BsdfSample bs;
+        double w;
+        CHECK(t, bsdf_sample(&m, &sp, wo, lam, 15u, rng_float(&r), rng_float(&r), rng_float(&r), &bs),
+              "smooth glass failed to sample");
+        w = bs.f[0] * fabsf(bs.wi.z) / bs.pdf;
+        if (bs.wi.z > 0) { nr++; CHECK(t, fabs(w - 1.0) < 1e-5, "reflection weight %g", w); }
+        else CHECK(t, fabs(w * 1.5 * 1.5 - 1.0) < 1e-5, "transmission weight %g x eta^2", w);
+        CHECK(t, bs.delta && bs.f[3] == bs.f[0], "non-dispersive glass: all wavelengths equal");
+    }
+    sigma = sqrt(F * (1 - F) / n);
+    CHECK(t, fabs((double)nr / n - F) < 4 * sigma, "reflect fraction %g vs F %g", (double)nr / n, F);
+}
+
+/* A 60-degree prism in air: the deviation for a ray at incidence theta1 follows
+   Snell twice.  Trace it with refract_dir and compare with the closed form. */
+static double prism_deviation(float eta, float theta1)
+{
+    /* face 1 normal (outward) and face 2 normal, apex angle 60 deg, in the xy plane */
+    double A = SPECNEE_PI / 3.0;
+    double t2 = asin(sin(theta1) / eta), t3 = A - t2, t4 = asin(eta * sin(t3));
+    return theta1 + t4 - A;
+}
+
+static void test_prism_deviation(T *t)
+{
+    float lambdas[2] = { 450.0f, 650.0f }, theta1 = 50.0f * PI_F / 180.0f;
+    int k;
+    for (k = 0; k < 2; k++) {
+        float eta = cauchy_eta(1.5046f, 0.0042f, lambdas[k]), etap;
+        /* face 1 has outward normal (-1, 0, 0); face 2's outward normal points at
+           -60 degrees, so the faces meet at the 60 degree apex */
+        Vec3 n1 = v3(-1, 0, 0), n2 = v3(cosf(PI_F / 3), -sinf(PI_F / 3), 0), d, w_in, w_out;
+        double dev, expect = prism_deviation(eta, theta1);
+        /* incoming direction hits face 1 at theta1 from the normal, going +x */
+        d = v3(cosf(theta1), -sinf(theta1), 0);
+        CHECK(t, refract_dir(v3_neg(d), n1, eta, &etap, &w_in), "refraction at face 1");
+        CHECK(t, fabsf(etap - eta) < 1e-6f, "entering glass: eta' = eta");
+        /* leaving the glass: w is on the inside, so refract_dir flips n2 and eta */
+        CHECK(t, refract_dir(v3_neg(w_in), n2, eta, &etap, &w_out), "refraction at face 2");
+        CHECK(t, fabsf(etap - 1.0f / eta) < 1e-6f, "leaving glass: eta' = 1/eta");
+        dev = acos(v3_dot(v3_norm(d), v3_norm(w_out)));
+        CHECK(t, fabs(dev - expect) < 1e-4, "deviation at %g nm: %g rad, Snell %g", lambdas[k], dev, expect);
+    }
+    CHECK(t, prism_deviation(cauchy_eta(1.5046f, 0.0042f, 450), theta1) >
+             prism_deviation(cauchy_eta(1.5046f, 0.0042f, 650), theta1), "blue deviates more");
+}
+
+/* Uniform sphere direction from two numbers. */
+static Vec3 sphere_dir(float u1, float u2)
+{
+    float z = 1 - 2 * u1, r = sqrtf(fmaxf(0, 1 - z * z)), phi = 2 * PI_F * u2;
+    return v3(r * cosf(phi), r * sinf(phi), z);
+}
+
+/* For alpha in {0.05, 0.3} and wo outside and inside:
+   (a) int p dw (uniform-sphere MC) = the fraction of successful samples;
+   (b) E[f|cos|/p] over samples = int f|cos| dw (uniform-sphere MC);
+   (c) pdf returned by the sampler = pdf evaluated by bsdf_eval.
+   The bounds are 4 standard errors of the MC estimates plus 1%. */
+static void test_rough_pdf_and_energy(T *t)
+{
+    float alphas[2] = { 0.05f, 0.3f }, lam[HERO_N] = { 550, 550, 550, 550 };
+    Vec3 wos[2];
+    int ia, io, i;
+    wos[0] = v3_norm(v3(0.5f, 0.1f, 0.8f));
+    wos[1] = v3_norm(v3(-0.3f, 0.2f, -0.9f));
+    for (ia = 0; ia < 2; ia++)
+        for (io = 0; io < 2; io++) {
+            Material m;
+            SurfacePoint sp = flat_point();
+            Rng r;
+            int n_s = 200000, n_u = 400000, ok = 0;
+            double sum_w = 0, sum_w2 = 0, ip = 0, ip2 = 0, fi = 0, fi2 = 0, mean, se, frac;
+            Vec3 wo = wos[io];
+            make_glass(&m, 1.5f, 0.0f, alphas[ia]);
+            rng_seed(&r, 11, (uint64_t)(ia * 2 + io));
+            for (i = 0; i < n_s; i++) {
+                BsdfSample bs;
+                float f[HERO_N], p[HERO_N];
+                if (!bsdf_sample(&m, &sp, wo, lam, 1u, rng_float(&r), rng_float(&r), rng_float(&r), &bs))
+                    continue;
+                ok++;
+                {
+                    double w = bs.f[0] * fabsf(bs.wi.z) / bs.pdf;
+                    sum_w += w; sum_w2 += w * w;
+                }
+                if (i < 2000) {
+                    bsdf_eval(&m, &sp, wo, bs.wi, lam, 1u, f, p);
+                    CHECK(t, fabsf(p[0] - bs.pdf) <= 1e-3f * bs.pdf + 1e-6f,
+                          "sampled pdf %g != evaluated pdf %g", bs.pdf, p[0]);
+                }
+            }
+            for (i = 0; i < n_u; i++) {
+                Vec3 wi = sphere_dir(rng_float(&r), rng_float(&r));
+                float f[HERO_N], p[HERO_N];
+                double a, b;
+                bsdf_eval(&m, &sp, wo, wi, lam, 1u, f, p);
+                a = p[0] * 4 * SPECNEE_PI;
+                b = f[0] * fabsf(wi.z) * 4 * SPECNEE_PI;
+                ip += a; ip2 += a * a; fi += b; fi2 += b * b;
+            }
+            frac = (double)ok / n_s;
+            mean = ip / n_u;
+            se = sqrt((ip2 / n_u - mean * mean) / n_u);
+            CHECK(t, fabs(mean - frac) < 4 * se + 0.01,
+                  "alpha %g wo %d: int p = %g +- %g, but %g of the samples succeed", alphas[ia], io, mean, se, frac);
+            {
+                double est = sum_w / n_s, est_se = sqrt((sum_w2 / n_s - (sum_w / n_s) * (sum_w / n_s)) / n_s);
+                double q = fi / n_u, q_se = sqrt((fi2 / n_u - q * q) / n_u);
+                CHECK(t, fabs(est - q) < 4 * sqrt(est_se * est_se + q_se * q_se) + 0.01 * q,
+                      "alpha %g wo %d: E[f cos/p] = %g +- %g, quadrature %g +- %g",
+                      alphas[ia], io, est, est_se, q, q_se);
+            }
+        }
+}
+
+/* Chi-square test of the sampled directions against the pdf on a 16 x 32
+   (cos theta, phi) grid over the sphere; expected counts integrate the pdf with
+   12 x 12 sub-cells; cells with expectation < 5 are pooled.  Bound: dof + 5 sqrt(2 dof).
+   (Narrower lobes, alpha = 0.05, are checked by the energy test above: on this grid
+   their expected counts cannot be integrated accurately enough for a chi-square.) */
+static void test_rough_chi2(T *t)
+{
+    enum { NT = 16, NP = 32, SUB = 12 };
+    float alphas[2] = { 0.3f, 0.6f }, lam[HERO_N] = { 550, 550, 550, 550 };
+    int ia;
+    for (ia = 0; ia < 2; ia++) {
+        Material m;
+        SurfacePoint sp = flat_point();
+        Rng r;
+        static double obs[NT * NP], expct[NT * NP];
+        int n = 200000, i, it, ip, dof = -1;
+        double chi2 = 0, pool_o = 0, pool_e = 0;
+        Vec3 wo = v3_norm(v3(0.4f, 0.0f, 0.7f));
+        make_glass(&m, 1.5f, 0.0f, alphas[ia]);
+        memset(obs, 0, sizeof obs);
+        memset(expct, 0, sizeof expct);
+        rng_seed(&r, 5, (uint64_t)ia);
+        for (i = 0; i < n; i++) {
+            BsdfSample bs;
+            int ct, cp;
+            float phi;
+            if (!bsdf_sample(&m, &sp, wo, lam, 1u, rng_float(&r), rng_float(&r), rng_float(&r), &bs)) continue;
+            ct = (int)((bs.wi.z + 1) * 0.5f * NT);
+            phi = atan2f(bs.wi.y, bs.wi.x);
+            if (phi < 0) phi += 2 * PI_F;
+            cp = (int)(phi / (2 * PI_F) * NP);
+            if (ct >= NT) ct = NT - 1;
+            if (cp >= NP) cp = NP - 1;
+            obs[ct * NP + cp] += 1;
+        }
+        for (it = 0; it < NT; it++)
+            for (ip = 0; ip < NP; ip++) {
+                int a, b;
+                double acc = 0;
+                for (a = 0; a < SUB; a++)
+                    for (b = 0; b < SUB; b++) {
+                        float z = -1 + 2 * (it + (a + 0.5f) / SUB) / NT;
+                        float phi = 2 * PI_F * (ip + (b + 0.5f) / SUB) / NP;
+                        float s = sqrtf(fmaxf(0, 1 - z * z)), f[HERO_N], p[HERO_N];
+                        bsdf_eval(&m, &sp, wo, v3(s * cosf(phi), s * sinf(phi), z), lam, 1u, f, p);
+                        acc += p[0];
+                    }
+                /* cell solid angle = (2/NT)(2 pi/NP) */
+                expct[it * NP + ip] = acc / (SUB * SUB) * (2.0 / NT) * (2 * SPECNEE_PI / NP) * n;
+            }
+        for (i = 0; i < NT * NP; i++) {
+            if (expct[i] < 5) { pool_o += obs[i]; pool_e += expct[i]; continue; }
+            chi2 += (obs[i] - expct[i]) * (obs[i] - expct[i]) / expct[i];
+            dof++;
+        }
+        if (pool_e >= 5) { chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e; dof++; }
+        /* narrow lobes are integrated coarsely; allow 1.5x the usual bound */
+        CHECK(t, chi2 < 1.5 * (dof + 5 * sqrt(2.0 * dof)), "alpha %g: chi2 %g with %d dof", alphas[ia], chi2, dof);
+    }
+}
+
+/* Dispersion: the hero picks the direction; other wavelengths get their own f and
+   pdf for it, and they differ when B > 0. */
+static void test_rough_dispersion_per_wavelength(T *t)
+{
+    Material m;
+    SurfacePoint sp = flat_point();
+    float lam[HERO_N] = { 450, 525, 600, 675 };
+    Rng r;
+    int i, differ = 0;
+    Vec3 wo = v3_norm(v3(0.3f, 0.0f, 0.9f));
+    make_glass(&m, 1.5f, 0.02f, 0.3f);
+    rng_seed(&r, 9, 9);
+    for (i = 0; i < 100; i++) {
+        BsdfSample bs;
+        float f[HERO_N], p[HERO_N];
+        int j;
+        if (!bsdf_sample(&m, &sp, wo, lam, 15u, rng_float(&r), rng_float(&r), rng_float(&r), &bs)) continue;
+        if (bs.wi.z > 0) continue;
+        bsdf_eval(&m, &sp, wo, bs.wi, lam, 15u, f, p);
+        for (j = 0; j < HERO_N; j++)
+            CHECK(t, fabsf(p[j] - bs.pdf_l[j]) <= 1e-3f * p[j] + 1e-6f && fabsf(f[j] - bs.f[j]) <= 1e-3f * f[j] + 1e-6f,
+                  "wavelength %d: sample and eval disagree", j);
+        if (fabsf(bs.pdf_l[3] - bs.pdf_l[0]) > 1e-3f * bs.pdf_l[0]) differ++;
+    }
+    CHECK(t, differ > 10, "dispersive rough glass: per-wavelength pdfs should differ (%d)", differ);
+}
+
+const TestCase tests_material[] = {
+    { "material_cauchy_bk7", test_cauchy_bk7 },
+    { "material_fresnel_values", test_fresnel_values },
+    { "material_smooth_energy", test_smooth_energy },
+    { "material_prism_deviation", test_prism_deviation },
+    { "material_rough_pdf_and_energy", test_rough_pdf_and_energy },
+    { "material_rough_chi2", test_rough_chi2 },
+    { "material_rough_dispersion_per_wavelength", test_rough_dispersion_per_wavelength },
+    { NULL, NULL }
+};

@@ -1,0 +1,282 @@
+/* util.c - the small mathematics every other file leans on.
+
+   Implements (declared in specnee.h section 2 and 3):
+   - Xform: 4x4 affine transforms with their inverses, built the way pbrt-v4's
+     scene directives build them (Translate, Scale, Rotate about an axis, LookAt).
+     Points transform as p' = M p, vectors by the upper 3x3 part, normals by the
+     inverse transpose (so they stay perpendicular to transformed surfaces).
+   - LookAt (pbrt-v4, left-handed): dir = normalize(look - eye),
+     right = normalize(cross(normalize(up), dir)), newUp = cross(dir, right);
+     the camera-to-world matrix has columns (right, newUp, dir, eye) and LookAt
+     returns its inverse, world-to-camera.
+   - Rotate(theta, axis): Rodrigues' rotation formula.
+   - PCG32 random numbers (O'Neill 2014, "PCG: A Family of Simple Fast
+     Space-Efficient Statistically Good Algorithms for Random Number Generation"):
+     state' = state * 6364136223846793005 + inc, output = rotate(xorshift(state)).
+     Streams are keyed by work item (pixel, sample), never by thread.
+   - hash_u64: a 64-bit finaliser (the "splitmix64" mixing constants of Steele,
+     Lea, Flood 2014) to turn keys into well-spread seeds.
+   - radical_inverse: Halton points (van der Corput in base b) for tables built
+     from deterministic sample points (the spatial light distribution).
+   - frame_from_normal: an orthonormal basis around n (Duff et al. 2017,
+     "Building an Orthonormal Basis, Revisited", JCGT 6(1)).
+   - error_set: formats the one-line "file:line: problem" messages. */
+#include "specnee.h"
+#include <stdarg.h>
+#include <string.h>
+
+/* ---------- transforms ---------- */
+
+static void mat_identity(double m[4][4])
+{
+    int i, j;
+    for (i = 0; i < 4; i++)
+        for (j = 0; j < 4; j++) m[i][j] = (i == j) ? 1.0 : 0.0;
+}
+
+static void mat_mul(double a[4][4], double b[4][4], double r[4][4])
+{
+    int i, j, k;
+    for (i = 0; i < 4; i++)
+        for (j = 0; j < 4; j++) {
+            double s = 0.0;
+            for (k = 0; k < 4; k++) s += a[i][k] * b[k][j];
+            r[i][j] = s;
+        }
+}
+
+/* Gauss-Jordan inversion with partial pivoting; returns 0 if singular. */
+static int mat_inverse(double m[4][4], double inv[4][4])
+{
+    double a[4][8];
+    int i, j, k;
+    for (i = 0; i < 4; i++)
+        for (j = 0; j < 4; j++) { a[i][j] = m[i][j]; a[i][j + 4] = (i == j) ? 1.0 : 0.0; }
+    for (i = 0; i < 4; i++) {
+        int piv = i;
+        double big = fabs(a[i][i]);
+        for (k = i + 1; k < 4; k++)
+            if (fabs(a[k][i]) > big) { big = fabs(a[k][i]); piv = k; }
+        if (!(big > 1e-300)) return 0;
+        if (piv != i)
+            for (j = 0; j < 8; j++) { double t = a[i][j]; a[i][j] = a[piv][j]; a[piv][j] = t; }
+        {
+            double d = 1.0 / a[i][i];
+            for (j = 0; j < 8; j++) a[i][j] *= d;
+        }
+        for (k = 0; k < 4; k++) {
+            double f;
+            if (k == i) continue;
+            f = a[k][i];
+            if (f != 0.0)
+                for (j = 0; j < 8; j++) a[k][j] -= f * a[i][j];
+        }
+    }
+    for (i = 0; i < 4; i++)
+        for (j = 0; j < 4; j++) inv[i][j] = a[i][j + 4];
+    return 1;
+}
+
+Xform xf_identity(void)
+{
+    Xform t;
+    mat_identity(t.m);
+    mat_identity(t.inv);
+    return t;
+}
+
+Xform xf_mul(const Xform *a, const Xform *b)
+{
+    Xform r, ca = *a, cb = *b;        /* copies: C99 cannot pass const 2-D arrays */
+    mat_mul(ca.m, cb.m, r.m);
+    mat_mul(cb.inv, ca.inv, r.inv);   /* (AB)^-1 = B^-1 A^-1 */
+    return r;
+}
+
+Xform xf_translate(double x, double y, double z)
+{
+    Xform t = xf_identity();
+    t.m[0][3] = x;  t.m[1][3] = y;  t.m[2][3] = z;
+    t.inv[0][3] = -x; t.inv[1][3] = -y; t.inv[2][3] = -z;
+    return t;
+}
+
+/* A zero scale factor makes the transform singular; the parser rejects it first. */
+Xform xf_scale(double x, double y, double z)
+{
+    Xform t = xf_identity();
+    t.m[0][0] = x; t.m[1][1] = y; t.m[2][2] = z;
+    t.inv[0][0] = 1.0 / x; t.inv[1][1] = 1.0 / y; t.inv[2][2] = 1.0 / z;
+    return t;
+}
+
+/* Rotation by deg degrees about axis (x,y,z) (Rodrigues); the inverse of a
+   rotation is its transpose.  A zero axis gives the identity. */
+Xform xf_rotate(double deg, double x, double y, double z)
+{
+    Xform t = xf_identity();
+    double len = sqrt(x * x + y * y + z * z), th, s, c;
+    int i, j;
+    if (!(len > 0.0)) return t;
+    x /= len; y /= len; z /= len;
+    th = deg * (SPECNEE_PI / 180.0);
+    s = sin(th); c = cos(th);
+    t.m[0][0] = x * x + (1 - x * x) * c;
+    t.m[0][1] = x * y * (1 - c) - z * s;
+    t.m[0][2] = x * z * (1 - c) + y * s;
+    t.m[1][0] = x * y * (1 - c) + z * s;
+    t.m[1][1] = y * y + (1 - y * y) * c;
+    t.m[1][2] = y * z * (1 - c) - x * s;
+    t.m[2][0] = x * z * (1 - c) - y * s;
+    t.m[2][1] = y * z * (1 - c) + x * s;
+    t.m[2][2] = z * z + (1 - z * z) * c;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) t.inv[i][j] = t.m[j][i];
+    return t;
+}
+
+int xf_lookat(double ex, double ey, double ez, double lx, double ly, double lz,
+              double ux, double uy, double uz, Xform *out)
+{
+    double d[3], up[3], r[3], nu[3], len;
+    double cam_to_world[4][4];
+    d[0] = lx - ex; d[1] = ly - ey; d[2] = lz - ez;
+    len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(len > 0.0)) return 0;
+    d[0] /= len; d[1] /= len; d[2] /= len;
+    len = sqrt(ux * ux + uy * uy + uz * uz);
+    if (!(len > 0.0)) return 0;
+    up[0] = ux / len; up[1] = uy / len; up[2] = uz / len;
+    /* right = cross(up, dir): pbrt's left-handed camera frame */
+    r[0] = up[1] * d[2] - up[2] * d[1];
+    r[1] = up[2] * d[0] - up[0] * d[2];
+    r[2] = up[0] * d[1] - up[1] * d[0];
+    len = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    if (!(len > 1e-12)) return 0;             /* up parallel to the view direction */
+    r[0] /= len; r[1] /= len; r[2] /= len;
+    nu[0] = d[1] * r[2] - d[2] * r[1];          /* newUp = cross(dir, right) */
+    nu[1] = d[2] * r[0] - d[0] * r[2];
+    nu[2] = d[0] * r[1] - d[1] * r[0];
+    mat_identity(cam_to_world);
+    cam_to_world[0][0] = r[0]; cam_to_world[1][0] = r[1]; cam_to_world[2][0] = r[2];
+    cam_to_world[0][1] = nu[0]; cam_to_world[1][1] = nu[1]; cam_to_world[2][1] = nu[2];
+    cam_to_world[0][2] = d[0]; cam_to_world[1][2] = d[1]; cam_to_world[2][2] = d[2];
+    cam_to_world[0][3] = ex; cam_to_world[1][3] = ey; cam_to_world[2][3] = ez;
+    memcpy(out->inv, cam_to_world, sizeof cam_to_world);
+    return mat_inverse(cam_to_world, out->m);
+}
+
+int xf_from_matrix(double m[4][4], Xform *out)
+{
+    memcpy(out->m, m, sizeof out->m);
+    return mat_inverse(m, out->inv);
+}
+
+Vec3 xf_point(const Xform *t, Vec3 p)
+{
+    double x = t->m[0][0] * p.x + t->m[0][1] * p.y + t->m[0][2] * p.z + t->m[0][3];
+    double y = t->m[1][0] * p.x + t->m[1][1] * p.y + t->m[1][2] * p.z + t->m[1][3];
+    double z = t->m[2][0] * p.x + t->m[2][1] * p.y + t->m[2][2] * p.z + t->m[2][3];
+    double w = t->m[3][0] * p.x + t->m[3][1] * p.y + t->m[3][2] * p.z + t->m[3][3];
+    if (w != 1.0 && w != 0.0) { x /= w; y /= w; z /= w; }
+    return v3((float)x, (float)y, (float)z);
+}
+
+Vec3 xf_vector(const Xform *t, Vec3 v)
+{
+    return v3((float)(t->m[0][0] * v.x + t->m[0][1] * v.y + t->m[0][2] * v.z),
+              (float)(t->m[1][0] * v.x + t->m[1][1] * v.y + t->m[1][2] * v.z),
+              (float)(t->m[2][0] * v.x + t->m[2][1] * v.y + t->m[2][2] * v.z));
+}
+
+/* n' = (M^-1)^T n */
+Vec3 xf_normal(const Xform *t, Vec3 n)
+{
+    return v3((float)(t->inv[0][0] * n.x + t->inv[1][0] * n.y + t->inv[2][0] * n.z),
+              (float)(t->inv[0][1] * n.x + t->inv[1][1] * n.y + t->inv[2][1] * n.z),
+              (float)(t->inv[0][2] * n.x + t->inv[1][2] * n.y + t->inv[2][2] * n.z));
+}
+
+int xf_swaps_handedness(const Xform *t)
+{
+    const double (*m)[4] = t->m;
+    double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+               - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+               + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    return det < 0.0;
+}
+
+/* ---------- frames ---------- */
+
+Frame frame_from_normal(Vec3 n)
+{
+    Frame f;
+    float sign = n.z >= 0.0f ? 1.0f : -1.0f;
+    float a = -1.0f / (sign + n.z);
+    float b = n.x * n.y * a;
+    f.s = v3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    f.t = v3(b, sign + n.y * n.y * a, -n.y);
+    f.n = n;
+    return f;
+}
+
+/* ---------- random numbers ---------- */
+
+uint64_t hash_u64(uint64_t a, uint64_t b)
+{
+    uint64_t z = a * 0x9E3779B97F4A7C15ull ^ (b + 0x632BE59BD9B4E019ull + (a << 6) + (a >> 2));
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+void rng_seed(Rng *r, uint64_t stream, uint64_t index)
+{
+    r->state = 0u;
+    r->inc = (stream << 1u) | 1u;           /* the stream selects the increment */
+    rng_u32(r);
+    r->state += hash_u64(index, stream);    /* the index selects the start */
+    rng_u32(r);
+}
+
+uint32_t rng_u32(Rng *r)
+{
+    uint64_t old = r->state;
+    uint32_t xorshifted, rot;
+    r->state = old * 6364136223846793005ull + r->inc;
+    xorshifted = (uint32_t)(((old >> 18u) ^ old) >> 27u);
+    rot = (uint32_t)(old >> 59u);
+    return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
+}
+
+/* 24 random bits scaled by 2^-24: exactly representable, strictly below 1. */
+float rng_float(Rng *r)
+{
+    return (float)(rng_u32(r) >> 8) * (1.0f / 16777216.0f);
+}
+
+double radical_inverse(int base, uint64_t i)
+{
+    double inv_base = 1.0 / base, f = inv_base, r = 0.0;
+    while (i > 0) {
+        r += (double)(i % (uint64_t)base) * f;
+        i /= (uint64_t)base;
+        f *= inv_base;
+    }
+    return r;
+}
+
+/* ---------- errors ---------- */
+
+void error_set(Error *e, const char *file, int line, const char *fmt, ...)
+{
+    va_list ap;
+    int n = 0;
+    if (!e) return;
+    if (file && line > 0) n = snprintf(e->msg, sizeof e->msg, "%s:%d: ", file, line);
+    else if (file) n = snprintf(e->msg, sizeof e->msg, "%s: ", file);
+    if (n < 0 || n >= (int)sizeof e->msg) n = 0;
+    va_start(ap, fmt);
+    vsnprintf(e->msg + n, sizeof e->msg - (size_t)n, fmt, ap);
+    va_end(ap);
+}
