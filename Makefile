@@ -5,6 +5,8 @@
 #   make run        build and render the default scene into out/
 #   make test       the whole test suite (unit tests, three compilers, sanitizers)
 #   make bench      benchmarks (not part of make test)
+#   make references high-spp reference renders (docs/ref/; long: see tools/references.sh)
+#   make eval       the strategy comparison behind docs/RESULTS.md (long: tools/eval.sh)
 #   make CC=tcc     any C99 compiler
 #
 # No -ffast-math: results must be exact and independent of the thread count.
@@ -35,11 +37,14 @@ tests/runner: $(TESTOBJ) $(LIBOBJ)
 tools/bench: tools/bench.o $(LIBOBJ)
 	$(CC) $(CFLAGS) -o tools/bench tools/bench.o $(LIBOBJ) $(LDLIBS)
 
+tools/bench_lights: tools/bench_lights.o $(LIBOBJ)
+	$(CC) $(CFLAGS) -o tools/bench_lights tools/bench_lights.o $(LIBOBJ) $(LDLIBS)
+
 .SUFFIXES: .c .o
 .c.o:
 	$(CC) $(CFLAGS) -I. -c -o $@ $<
 
-$(LIBOBJ) specnee.o $(TESTOBJ) tools/bench.o: specnee.h
+$(LIBOBJ) specnee.o $(TESTOBJ) tools/bench.o tools/bench_lights.o: specnee.h
 $(TESTOBJ): tests/test.h
 
 run: specnee
@@ -49,11 +54,17 @@ run: specnee
 test: specnee tests/runner
 	sh tests/run.sh
 
-bench: specnee tools/bench
+bench: specnee tools/bench tools/bench_lights
 	sh tools/bench.sh
 
+references: specnee
+	sh tools/references.sh
+
+eval: specnee
+	sh tools/eval.sh
+
 clean:
-	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench
+	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench tools/bench_lights
 	rm -rf build
 
-.PHONY: all run test bench clean
+.PHONY: all run test bench references eval clean

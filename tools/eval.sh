@@ -1,0 +1,48 @@
+#!/bin/sh
+# tools/eval.sh - the evaluation behind docs/RESULTS.md (`make eval`).
+#
+# For each scene: `specnee converge` renders every variant at every spp of the
+# ladder with SEEDS seeds against the reference in docs/ref/ (make references),
+# writing docs/eval/<scene>.csv, .md and three SVG charts.  Then docs/RESULTS.md
+# is rebuilt from docs/RESULTS.in.md, whose lines "@@include docs/eval/X.md@@"
+# are replaced by the generated tables: no number in RESULTS.md is typed by hand.
+#
+#   SEEDS   seeds per (variant, spp) (default 8)
+#   LADDER  spp ladder (default 16,32,64,128,256,512)
+#   THREADS render threads (default: all cores)
+# Run time: see docs/RESULTS.md (it records the run that produced it).
+set -eu
+SEEDS=${SEEDS:-8}
+LADDER=${LADDER:-16,32,64,128,256,512}
+THREADS=${THREADS:-0}
+mkdir -p docs/eval
+start=$(date +%s)
+run() {  # scene variants
+    sc=$1; shift
+    if [ ! -f "docs/ref/$sc.pfm" ]; then
+        echo "eval: docs/ref/$sc.pfm is missing: run 'make references' first" >&2
+        exit 1
+    fi
+    t0=$(date +%s)
+    ./specnee converge "scenes/$sc.pbrt" --ref "docs/ref/$sc.pfm" --lights "$1" \
+        --spp "$LADDER" --seeds "$SEEDS" --threads "$THREADS" --out "docs/eval/$sc" 2> "docs/eval/$sc.log"
+    echo "$sc: $(( $(date +%s) - t0 )) s" >> docs/eval/timing.txt
+}
+: > docs/eval/timing.txt
+# issue "spectral transport": wavelength strategies on the F11-lit glass box
+run cornell-glass "spatial,spatial:single,spatial:importance,spatial:roughmis,spatial:importance:roughmis"
+# issue "emitter selection": every strategy on the thesis' scenes
+run cornell1 "spatial,uniform,power,spd,product,spectral-spatial,product:all,spectral-spatial:all,all"
+run cornell2 "spatial,product,product:power,spd,spd:power,spectral-spatial,all"
+run suzanne "spatial,spd:power,spd,product,spectral-spatial,all"
+echo "total: $(( $(date +%s) - start )) s (SEEDS=$SEEDS LADDER=$LADDER on $(getconf _NPROCESSORS_ONLN) cores)" >> docs/eval/timing.txt
+# assemble docs/RESULTS.md
+awk '
+/^@@include .*@@$/ {
+    f = $2; sub(/@@$/, "", f)
+    while ((getline line < f) > 0) print line
+    close(f)
+    next
+}
+{ print }' docs/RESULTS.in.md > docs/RESULTS.md
+echo "wrote docs/RESULTS.md"
