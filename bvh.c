@@ -88,7 +88,11 @@
 #include "specnee.h"
 #include <float.h>
 #include <stdlib.h>
+#include <stddef.h>
 #include <string.h>
+
+/* The float at byte offset off inside a BvhNode (one of its bmin/bmax planes). */
+#define NODE_PLANE(nd, off) (*(const float *)((const char *)(nd) + (off)))
 
 /* Traversal stack size.  The build switches from SAH to middle splits at depth
    SAH_DEPTH_MAX; a middle split halves the count, so no path is longer than
@@ -122,6 +126,8 @@ typedef struct {
     int kx, ky, kz;          /* permutation: kz = axis of the largest |d| */
     float Sx, Sy, Sz;        /* shear constants of Woop et al. */
     float far_scale;         /* 1 + 2 gamma(3): the robust slab test's far factor */
+    size_t near_off[3];      /* byte offset in a BvhNode of the plane entered first */
+    size_t far_off[3];       /* ... and of the plane left last, per axis */
 } RayPre;
 
 /* Returns 0 for a ray that cannot hit anything (non-finite, or d = 0). */
@@ -149,6 +155,16 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
     rp->Sy = rp->d[rp->ky] / rp->d[rp->kz];
     rp->Sz = 1.0f / rp->d[rp->kz];
     rp->far_scale = 1.0f + 2.0f * gamma_n(3);
+    /* Along an axis where the ray goes forwards (inv_d >= 0) it enters the slab at
+       bmin and leaves at bmax; going backwards it is the other way round.  Deciding
+       this once per ray saves the per-axis min/max of every slab test. */
+    for (a = 0; a < 3; a++) {
+        const int backwards = signbit(rp->inv_d[a]) != 0;
+        rp->near_off[a] = (backwards ? offsetof(BvhNode, bmax) : offsetof(BvhNode, bmin)) +
+                          (size_t)a * sizeof(float);
+        rp->far_off[a] = (backwards ? offsetof(BvhNode, bmin) : offsetof(BvhNode, bmax)) +
+                         (size_t)a * sizeof(float);
+    }
     return 1;
 }
 
@@ -561,23 +577,16 @@ int bvh_build(Bvh *b, const Scene *s)
    *t_enter is where it enters (see the header comment for the robustness). */
 HOT_INLINE int node_hit(const BvhNode *nd, const RayPre *rp, float tmax, float *t_enter)
 {
-    /* slab distances per axis; written out (no loop, no swap) so that the compiler
-       turns the ?: into branch-free min/max instructions */
-    const float tx0 = (nd->bmin[0] - rp->o[0]) * rp->inv_d[0];
-    const float tx1 = (nd->bmax[0] - rp->o[0]) * rp->inv_d[0];
-    const float ty0 = (nd->bmin[1] - rp->o[1]) * rp->inv_d[1];
-    const float ty1 = (nd->bmax[1] - rp->o[1]) * rp->inv_d[1];
-    const float tz0 = (nd->bmin[2] - rp->o[2]) * rp->inv_d[2];
-    const float tz1 = (nd->bmax[2] - rp->o[2]) * rp->inv_d[2];
-    float tnear = min_f(tx0, tx1), tfar = max_f(tx0, tx1);   /* enter, leave along x */
-    tnear = max_f(tnear, min_f(ty0, ty1));
-    tfar = min_f(tfar, max_f(ty0, ty1));
-    tnear = max_f(tnear, min_f(tz0, tz1));
-    tfar = min_f(tfar, max_f(tz0, tz1));
-    tnear = max_f(tnear, 0.0f);
-    tfar = min_f(tfar * rp->far_scale, tmax);               /* robust far distance */
+    const float tx0 = (NODE_PLANE(nd, rp->near_off[0]) - rp->o[0]) * rp->inv_d[0];
+    const float tx1 = (NODE_PLANE(nd, rp->far_off[0]) - rp->o[0]) * rp->inv_d[0];
+    const float ty0 = (NODE_PLANE(nd, rp->near_off[1]) - rp->o[1]) * rp->inv_d[1];
+    const float ty1 = (NODE_PLANE(nd, rp->far_off[1]) - rp->o[1]) * rp->inv_d[1];
+    const float tz0 = (NODE_PLANE(nd, rp->near_off[2]) - rp->o[2]) * rp->inv_d[2];
+    const float tz1 = (NODE_PLANE(nd, rp->far_off[2]) - rp->o[2]) * rp->inv_d[2];
+    const float tnear = max_f(max_f(tx0, ty0), max_f(tz0, 0.0f));
+    const float tfar = min_f(min_f(tx1, ty1), tz1) * rp->far_scale;
     *t_enter = tnear;
-    return tnear <= tfar;
+    return tnear <= min_f(tfar, tmax);
 }
 
 /* Walk the tree; any_hit = 1 returns at the first hit (h may be NULL then).

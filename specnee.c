@@ -28,6 +28,7 @@ static const char usage_text[] =
 "      --seed N            random seed (file: Sampler seed; default 0)\n"
 "      --threads N         worker threads (default: all cores; image is identical)\n"
 "      --maxdepth N        path vertices that scatter (file: Integrator maxdepth; 5)\n"
+"      --res WxH           film resolution (file: Film x/yresolution)\n"
 "      --lights NAME       emitter selection for NEE: uniform power spatial spd product\n"
 "                          spectral-spatial all  (file: Integrator lightsampler;\n"
 "                          default spatial; pbrt-v4's \"bvh\" maps to spatial)\n"
@@ -87,6 +88,7 @@ typedef struct {
     int spp_cli, seed_cli, maxdepth_cli, lights_cli;
     float exposure;
     int dump, quiet;
+    int res_w, res_h;          /* --res: override the film resolution (0: the file's) */
 } Args;
 
 /* Returns 0 on success, else the exit code. */
@@ -160,6 +162,16 @@ static int parse_args(int argc, char **argv, Args *a)
             if (*end != ',' || a->ro.debug_x < 0) return usage_error("--debug-pixel needs X,Y, not '%s'", v);
             a->ro.debug_y = (int)strtol(end + 1, &end, 10);
             if (*end || a->ro.debug_y < 0) return usage_error("--debug-pixel needs X,Y, not '%s'", v);
+        } else if (!strcmp(o, "--res")) {
+            char *end;
+            long w, h;
+            NEEDS_VALUE();
+            w = strtol(v, &end, 10);
+            if (*end != 'x' || w < 1 || w > 16384) return usage_error("--res needs WxH (1..16384), not '%s'", v);
+            h = strtol(end + 1, &end, 10);
+            if (*end || h < 1 || h > 16384) return usage_error("--res needs WxH (1..16384), not '%s'", v);
+            a->res_w = (int)w;
+            a->res_h = (int)h;
         } else if (!strcmp(o, "--eager-tables")) {
             a->ro.sel.eager = 1;
         } else if (!strcmp(o, "--dump-scene")) {
@@ -180,12 +192,17 @@ static int parse_args(int argc, char **argv, Args *a)
 }
 
 /* The scene's own settings, unless the command line overrides them. */
-static int apply_scene_settings(Args *a, const Scene *s)
+static int apply_scene_settings(Args *a, Scene *s)
 {
     const SceneSettings *st = &s->settings;
     if (!a->spp_cli && st->spp_set) a->ro.spp = st->spp;
     if (!a->seed_cli && st->seed_set) a->ro.seed = st->seed;
     if (!a->maxdepth_cli && st->maxdepth_set) a->ro.maxdepth = st->maxdepth;
+    if (a->res_w > 0) {
+        /* a smaller film keeps the field of view (pbrt: fov spans the shorter axis) */
+        s->settings.xres = a->res_w;
+        s->settings.yres = a->res_h;
+    }
     if (!a->lights_cli && st->lightsampler[0]) {
         if (!strcmp(st->lightsampler, "bvh")) {
             fprintf(stderr, "specnee: note: lightsampler \"bvh\" (pbrt-v4's default) is not "
@@ -249,10 +266,11 @@ static int render_main(int argc, char **argv)
     img_write_sidecar(out, a.ro.spp, settings);
     if (!a.quiet)
         fprintf(stderr, "specnee: %s: %dx%d, %d spp, %s, in %.3f s wall (%.3f s CPU, tables %.1f ms): "
-                        "%.0f samples/s, %.2f Mrays/s%s\n",
+                        "%.0f samples/s, %.2f Mrays/s%s%s\n",
                 out, img.w, img.h, a.ro.spp, sel_name(a.ro.sel.strategy), st.wall_s, st.cpu_s,
                 1e3 * st.build_s, (double)st.samples / st.wall_s, (double)st.rays / st.wall_s * 1e-6,
-                st.nonfinite ? " (WARNING: non-finite samples dropped)" : "");
+                st.nonfinite ? " (WARNING: non-finite samples dropped)" : "",
+                st.fallbacks ? " (some vertices fell back to spatial: no emitter in the hero's bin)" : "");
     img_free(&img);
     scene_free(&scene);
     return 0;
