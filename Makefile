@@ -7,6 +7,7 @@
 #   make bench      benchmarks (not part of make test)
 #   make references high-spp reference renders (docs/ref/; long: see tools/references.sh)
 #   make eval       the strategy comparison behind docs/RESULTS.md (long: tools/eval.sh)
+#   make golden     regenerate the golden images of tests/golden/ (read its README first)
 #   make CC=tcc     any C99 compiler
 #
 # No -ffast-math: results must be exact and independent of the thread count.
@@ -24,7 +25,7 @@ LIBOBJ = util.o bvh.o spectrum.o lights.o scene.o ply.o material.o render.o imag
          svg.o eval.o
 TESTOBJ = tests/runner.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
           tests/test_scene.o tests/test_image.o tests/test_material.o \
-          tests/test_render.o tests/test_lights.o
+          tests/test_render.o tests/test_lights.o tests/test_scenes.o
 
 all: specnee
 
@@ -63,8 +64,11 @@ references: specnee
 eval: specnee
 	sh tools/eval.sh
 
+golden: specnee
+	sh tests/golden.sh --update
+
 clean:
 	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench tools/bench_lights
 	rm -rf build
 
-.PHONY: all run test bench references eval clean
+.PHONY: all run test bench references eval golden clean

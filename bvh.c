@@ -42,6 +42,25 @@
      rounding never culls a box the ray really touches, for example the flat box of an
      axis-aligned wall.  Every closest hit shrinks tmax, which culls farther boxes.
 
+   SPEED (measured on tools/bench: 82k triangles, 1M incoherent rays, one thread)
+     A ray's cost is dominated by the chain "load a node, test its children's boxes,
+     load the next node": the loads of nodes deep in the tree miss the caches (the tree
+     and the triangles are ~5 MB), and a wrongly guessed branch makes the processor wait
+     for the whole chain.  Two changes paid off (about +7% together):
+       - The Woop shear constants (3 divisions) are computed only once the ray has hit
+         the root box; 73% of the benchmark's rays miss it and never need them.
+       - At an inner node the first cache line of each child's children (or leaf
+         triangles) is prefetched before the boxes are tested, so that those loads run
+         in parallel with the slab tests instead of after them (PREFETCH below).
+     Tried and measured no faster, so not done: selecting each slab's near/far plane by
+     the sign of the direction instead of min/max (the per-ray plane offsets crowd out
+     registers); branch-free child ordering and push/pop (a longer dependency chain
+     costs more than the mispredicted branches it saves); storing both children in one
+     64-byte aligned cache line; pbrt's test-on-pop traversal ordered by the direction
+     sign on the split axis; leaves of up to 8 triangles or C_trav = 4.
+     The compiler matters too: clang vectorises the slab tests (~13% faster than gcc
+     -O2 on the same source); -ffast-math is never used.
+
    RAY/TRIANGLE (Woop, Benthin, Wald, "Watertight Ray/Triangle Intersection", JCGT 2013)
      Translate the vertices to the ray origin, permute the axes so that the largest
      direction component is z, and shear so the ray becomes the +z axis:
@@ -88,11 +107,7 @@
 #include "specnee.h"
 #include <float.h>
 #include <stdlib.h>
-#include <stddef.h>
 #include <string.h>
-
-/* The float at byte offset off inside a BvhNode (one of its bmin/bmax planes). */
-#define NODE_PLANE(nd, off) (*(const float *)((const char *)(nd) + (off)))
 
 /* Traversal stack size.  The build switches from SAH to middle splits at depth
    SAH_DEPTH_MAX; a middle split halves the count, so no path is longer than
@@ -107,6 +122,15 @@
 #define HOT_INLINE static inline __attribute__((always_inline))
 #else
 #define HOT_INLINE static inline
+#endif
+
+/* PREFETCH(p): a hint that the cache line holding *p will be read soon.  It changes no
+   result, only when the memory arrives; gcc and clang have a builtin for it, other
+   compilers (tcc) just skip it. */
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__TINYC__)
+#define PREFETCH(p) __builtin_prefetch(p)
+#else
+#define PREFETCH(p) ((void)(p))
 #endif
 
 /* gamma(n) = n u / (1 - n u) with u = 2^-24, the unit roundoff of float: a bound on the
@@ -126,11 +150,10 @@ typedef struct {
     int kx, ky, kz;          /* permutation: kz = axis of the largest |d| */
     float Sx, Sy, Sz;        /* shear constants of Woop et al. */
     float far_scale;         /* 1 + 2 gamma(3): the robust slab test's far factor */
-    size_t near_off[3];      /* byte offset in a BvhNode of the plane entered first */
-    size_t far_off[3];       /* ... and of the plane left last, per axis */
 } RayPre;
 
-/* Returns 0 for a ray that cannot hit anything (non-finite, or d = 0). */
+/* The slab-test part of the precomputation (o, d, 1/d).  Returns 0 for a ray that
+   cannot hit anything (non-finite origin or direction). */
 HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
 {
     int a;
@@ -141,6 +164,15 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
         rp->inv_d[a] = rp->d[a] != 0.0f ? 1.0f / rp->d[a]
                                         : (signbit(rp->d[a]) ? -FLT_MAX : FLT_MAX);
     }
+    rp->far_scale = 1.0f + 2.0f * gamma_n(3);
+    return 1;
+}
+
+/* The triangle-test part (permutation and shear of Woop et al.).  Kept separate so
+   that traversal computes it only for rays that hit the root box: it costs three
+   divisions, and most rays of an open scene miss everything.  Returns 0 for d = 0. */
+HOT_INLINE int ray_prepare_shear(RayPre *rp)
+{
     /* kz: the dimension where |d| is largest, so the shear divides by the most */
     rp->kz = 0;
     if (fabsf(rp->d[1]) > fabsf(rp->d[rp->kz])) rp->kz = 1;
@@ -154,17 +186,6 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
     rp->Sx = rp->d[rp->kx] / rp->d[rp->kz];
     rp->Sy = rp->d[rp->ky] / rp->d[rp->kz];
     rp->Sz = 1.0f / rp->d[rp->kz];
-    rp->far_scale = 1.0f + 2.0f * gamma_n(3);
-    /* Along an axis where the ray goes forwards (inv_d >= 0) it enters the slab at
-       bmin and leaves at bmax; going backwards it is the other way round.  Deciding
-       this once per ray saves the per-axis min/max of every slab test. */
-    for (a = 0; a < 3; a++) {
-        const int backwards = signbit(rp->inv_d[a]) != 0;
-        rp->near_off[a] = (backwards ? offsetof(BvhNode, bmax) : offsetof(BvhNode, bmin)) +
-                          (size_t)a * sizeof(float);
-        rp->far_off[a] = (backwards ? offsetof(BvhNode, bmin) : offsetof(BvhNode, bmax)) +
-                         (size_t)a * sizeof(float);
-    }
     return 1;
 }
 
@@ -296,7 +317,7 @@ int intersect_triangle(Vec3 p0, Vec3 p1, Vec3 p2, const Ray *r, float *t, float 
     v[0] = p0.x; v[1] = p0.y; v[2] = p0.z;
     v[3] = p1.x; v[4] = p1.y; v[5] = p1.z;
     v[6] = p2.x; v[7] = p2.y; v[8] = p2.z;
-    if (!ray_prepare(r, &rp)) return 0;
+    if (!ray_prepare(r, &rp) || !ray_prepare_shear(&rp)) return 0;
     return tri_hit(&rp, v, r->tmax, t, b1, b2);
 }
 
@@ -305,7 +326,7 @@ int intersect_sphere(Vec3 c, float radius, const Ray *r, float *t)
     RayPre rp;
     float s[4];
     s[0] = c.x; s[1] = c.y; s[2] = c.z; s[3] = radius;
-    if (!ray_prepare(r, &rp)) return 0;
+    if (!ray_prepare(r, &rp) || !ray_prepare_shear(&rp)) return 0;
     return sphere_hit(&rp, s, r->tmax, t);
 }
 
@@ -577,16 +598,23 @@ int bvh_build(Bvh *b, const Scene *s)
    *t_enter is where it enters (see the header comment for the robustness). */
 HOT_INLINE int node_hit(const BvhNode *nd, const RayPre *rp, float tmax, float *t_enter)
 {
-    const float tx0 = (NODE_PLANE(nd, rp->near_off[0]) - rp->o[0]) * rp->inv_d[0];
-    const float tx1 = (NODE_PLANE(nd, rp->far_off[0]) - rp->o[0]) * rp->inv_d[0];
-    const float ty0 = (NODE_PLANE(nd, rp->near_off[1]) - rp->o[1]) * rp->inv_d[1];
-    const float ty1 = (NODE_PLANE(nd, rp->far_off[1]) - rp->o[1]) * rp->inv_d[1];
-    const float tz0 = (NODE_PLANE(nd, rp->near_off[2]) - rp->o[2]) * rp->inv_d[2];
-    const float tz1 = (NODE_PLANE(nd, rp->far_off[2]) - rp->o[2]) * rp->inv_d[2];
-    const float tnear = max_f(max_f(tx0, ty0), max_f(tz0, 0.0f));
-    const float tfar = min_f(min_f(tx1, ty1), tz1) * rp->far_scale;
+    /* slab distances per axis; written out (no loop, no swap) so that the compiler
+       turns the ?: into branch-free min/max instructions */
+    const float tx0 = (nd->bmin[0] - rp->o[0]) * rp->inv_d[0];
+    const float tx1 = (nd->bmax[0] - rp->o[0]) * rp->inv_d[0];
+    const float ty0 = (nd->bmin[1] - rp->o[1]) * rp->inv_d[1];
+    const float ty1 = (nd->bmax[1] - rp->o[1]) * rp->inv_d[1];
+    const float tz0 = (nd->bmin[2] - rp->o[2]) * rp->inv_d[2];
+    const float tz1 = (nd->bmax[2] - rp->o[2]) * rp->inv_d[2];
+    float tnear = min_f(tx0, tx1), tfar = max_f(tx0, tx1);   /* enter, leave along x */
+    tnear = max_f(tnear, min_f(ty0, ty1));
+    tfar = min_f(tfar, max_f(ty0, ty1));
+    tnear = max_f(tnear, min_f(tz0, tz1));
+    tfar = min_f(tfar, max_f(tz0, tz1));
+    tnear = max_f(tnear, 0.0f);
+    tfar = min_f(tfar * rp->far_scale, tmax);               /* robust far distance */
     *t_enter = tnear;
-    return tnear <= min_f(tfar, tmax);
+    return tnear <= tfar;
 }
 
 /* Walk the tree; any_hit = 1 returns at the first hit (h may be NULL then).
@@ -602,6 +630,7 @@ static inline int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord
     float stack_t[BVH_STACK], tmax = r->tmax, t, b1, b2, t_l, t_r;
     if (b->n_nodes == 0 || !ray_prepare(r, &rp) || !(tmax > 0.0f)) return 0;
     if (!node_hit(&b->nodes[0], &rp, tmax, &t)) return 0;
+    if (!ray_prepare_shear(&rp)) return 0;         /* only now: see "SPEED" above */
 
     for (;;) {
         const BvhNode *nd = &b->nodes[node];
@@ -621,8 +650,18 @@ static inline int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord
             }
         } else {
             const int left = node + 1, right = nd->first_or_right;
-            const int hit_l = node_hit(&b->nodes[left], &rp, tmax, &t_l);
-            const int hit_r = node_hit(&b->nodes[right], &rp, tmax, &t_r);
+            const BvhNode *c_l = &b->nodes[left], *c_r = &b->nodes[right];
+            int hit_l, hit_r;
+            /* Whichever child is visited next, its children (or its triangles) are the
+               loads after that.  Ask for them now, so that they overlap with the two slab
+               tests below; nodes deep in the tree are usually not in the cache.  (A
+               child's left child sits right after it, so only the right one is asked.) */
+            if (c_l->count > 0) PREFETCH(&b->tri_v[9 * (size_t)c_l->first_or_right]);
+            else PREFETCH(&b->nodes[c_l->first_or_right]);
+            if (c_r->count > 0) PREFETCH(&b->tri_v[9 * (size_t)c_r->first_or_right]);
+            else PREFETCH(&b->nodes[c_r->first_or_right]);
+            hit_l = node_hit(c_l, &rp, tmax, &t_l);
+            hit_r = node_hit(c_r, &rp, tmax, &t_r);
             if (hit_l && hit_r) {                   /* nearer first, push the other */
                 if (t_r < t_l) { node = right; stack[sp] = left; stack_t[sp] = t_l; }
                 else { node = left; stack[sp] = right; stack_t[sp] = t_r; }

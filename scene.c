@@ -320,7 +320,7 @@ static int inset_comment(Parser *P, Lexer *L, const char *c, size_t n, int line)
         return fail(P, L->file, line, "inset %s: need 0 <= x0 < x1 and 0 <= y0 < y1", name);
     if (s->n_insets >= 8)
         return fail(P, L->file, line, "more than 8 insets");
-    snprintf(s->inset_name[s->n_insets], sizeof s->inset_name[0], "%s", name);
+    snprintf(s->inset_name[s->n_insets], sizeof s->inset_name[0], "%.15s", name); /* checked above */
     P->inset_line[s->n_insets] = line;
     P->inset_file[s->n_insets] = L->file;
     s->inset[s->n_insets][0] = x0; s->inset[s->n_insets][1] = y0;
@@ -1674,7 +1674,7 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
             if (!grow((void **)&P->named, &P->cap_named, P->n_named + 1, sizeof(NamedMaterial)))
                 ok = oom(P, L->file, t->line);
             else {
-                snprintf(P->named[P->n_named].name, sizeof P->named[0].name, "%s", type);
+                snprintf(P->named[P->n_named].name, sizeof P->named[0].name, "%.63s", type); /* length checked above */
                 P->named[P->n_named++].material = idx;
             }
         }

@@ -39,6 +39,18 @@ unit() {
     if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then fail "[$1] runner exit code $rc"; fi
 }
 
+# A script that prints "...: N passed, N failed": add its counts.  $1 = label, rest = command.
+script() {
+    label=$1; shift; out=tests/tmp/script-$label.txt
+    "$@" > "$out" 2>&1
+    grep '^FAIL' "$out" | sed "s/^/[$label] /"
+    line=$(grep 'passed, .* failed' "$out" | tail -n 1)
+    p=$(echo "$line" | sed -n 's/.* \([0-9][0-9]*\) passed.*/\1/p')
+    f=$(echo "$line" | sed -n 's/.* \([0-9][0-9]*\) failed.*/\1/p')
+    if [ -z "$p" ]; then fail "[$label] no summary"; tail -n 20 "$out"; return; fi
+    echo "[$label] $line"; passed=$((passed + p)); failed=$((failed + f))
+}
+
 # Expect exit code $2 from command "$3..." and stderr containing $1 (a grep -E pattern).
 expect() {
     name=$1; code=$2; pattern=$3; shift 3
@@ -72,6 +84,10 @@ expect "cli_merge" 0 "" ./specnee merge tests/tmp/tiny.pfm tests/tmp/tiny.pfm -o
 expect "cli_diff_identical" 0 "" ./specnee diff tests/tmp/tiny.pfm tests/tmp/merged.pfm --max-mse 0
 expect "cli_spectrum" 0 "" ./specnee spectrum lamp-CFL1
 expect "cli_spectrum_unknown" 1 "no-such" ./specnee spectrum no-such-spectrum
+expect "cli_converge_usage" 2 "usage" ./specnee converge
+# golden images (bit-exact with this binary) and every command of the walkthrough
+script golden sh tests/golden.sh
+script walkthrough sh tests/walkthrough.sh
 
 if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
     # ---- 3. three compilers, warnings are errors
@@ -84,6 +100,8 @@ if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
            $cc $flags -I. -o build/runner-$cc tests/*.c $LIBSRC -lm >> "$log" 2>&1; then
             ok "build_$cc (no warnings)"
             [ $cc = gcc ] || SPECNEE_TEST_SCALE=0.25 unit $cc build/runner-$cc
+            # the goldens rendered by this compiler, within the noise-derived tolerance
+            [ $cc = gcc ] || script golden-$cc env SPECNEE_BIN=build/specnee-$cc sh tests/golden.sh --tolerant --no-selftest
         else
             fail "build_$cc"; tail -n 15 "$log"
         fi

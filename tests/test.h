@@ -39,6 +39,6 @@ int test_scaled(int n, int lo);
         test_failf((t), __FILE__, __LINE__, __VA_ARGS__); return; } } while (0)
 
 extern const TestCase tests_util[], tests_bvh[], tests_spectrum[], tests_scene[],
-    tests_image[], tests_material[], tests_render[], tests_lights[];
+    tests_image[], tests_material[], tests_render[], tests_lights[], tests_scenes[];
 
 #endif
