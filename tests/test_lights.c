@@ -66,10 +66,12 @@ static void add_light(char *buf, size_t cap, const char *spectrum, float scale, 
 #define LOW_HALF "[ 400 1 550 1 551 0 700 0 ]"
 #define HIGH_HALF "[ 400 0 549 0 550 1 700 1 ]"
 
-enum { SC_DISPERSIVE, SC_FACING_AWAY, SC_HALVES, SC_ONE, SC_IDENTICAL, SC_MANY, SC_THROUGH_GLASS, SC_N };
+enum { SC_DISPERSIVE, SC_FACING_AWAY, SC_HALVES, SC_ONE, SC_IDENTICAL, SC_MANY, SC_THROUGH_GLASS,
+       SC_LARGE_HALVES, SC_N };
 static const char *const scene_names[SC_N] = {
     "two lamps + dispersive glass", "bright emitter facing away", "complementary half spectra",
-    "one emitter", "two identical emitters", "64 small emitters", "emitter seen only through glass"
+    "one emitter", "two identical emitters", "64 small emitters", "emitter seen only through glass",
+    "large complementary emitters, one wavelength per path"
 };
 
 static void build_scene(int which, char *buf, size_t cap)
@@ -114,6 +116,23 @@ static void build_scene(int which, char *buf, size_t cap)
             add_light(buf, cap, spectra[i % 4], 0.5f + (float)(i % 3), -0.84f + 0.24f * (i % 8),
                       -0.84f + 0.24f * (i / 8), 0.05f);
         strcat(buf, glass_sphere);
+        break;
+    }
+    case SC_LARGE_HALVES:
+        /* two large emitters next to the floor and ceiling: BSDF sampling finds them often, so
+           the MIS weight of an emitter hit (which needs light_select_pmf) carries
+           much of the image; rendered with one wavelength per path, every vertex
+           uses the spectral tables */
+    {
+        size_t n = strlen(buf);
+        /* emitters covering the side walls, facing into the box */
+        snprintf(buf + n, cap - n,
+                 "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" " LOW_HALF " \"float scale\" [ 1 ]\n"
+                 " Shape \"trianglemesh\" \"integer indices\" [ 0 2 1 0 3 2 ]\n"
+                 "  \"point3 P\" [ -0.98 -1 -1  -0.98 -1 1  -0.98 1 1  -0.98 1 -1 ]\nAttributeEnd\n"
+                 "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" " HIGH_HALF " \"float scale\" [ 1 ]\n"
+                 " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+                 "  \"point3 P\" [ 0.98 -1 -1  0.98 -1 1  0.98 1 1  0.98 1 -1 ]\nAttributeEnd\n");
         break;
     }
     case SC_THROUGH_GLASS: {
@@ -377,7 +396,10 @@ static int tile_stats(T *t, Scene *s, const RenderOptions *base, int K, double m
 }
 
 /* Every strategy converges to uniform's image, scene by scene. */
-static void strategies_on_scene(T *t, int which)
+static void strategies_on_scene_opt(T *t, int which, int single);
+static void strategies_on_scene(T *t, int which) { strategies_on_scene_opt(t, which, 0); }
+
+static void strategies_on_scene_opt(T *t, int which, int single)
 {
     static char buf[65536];
     Scene s;
@@ -390,6 +412,7 @@ static void strategies_on_scene(T *t, int which)
     render_options_default(&o);
     o.sel.grid_res = 8;
     o.spp = test_scaled(24, 4);
+    o.single_wavelength = single;
     o.sel.strategy = SEL_UNIFORM;
     if (!tile_stats(t, &s, &o, K, ref_m, ref_se)) goto done;
     for (v = 1; v <= N_VARIANTS; v++) {
@@ -426,6 +449,9 @@ static void test_unbiased_one_emitter(T *t) { strategies_on_scene(t, SC_ONE); }
 static void test_unbiased_identical(T *t) { strategies_on_scene(t, SC_IDENTICAL); }
 static void test_unbiased_many(T *t) { strategies_on_scene(t, SC_MANY); }
 static void test_unbiased_through_glass(T *t) { strategies_on_scene(t, SC_THROUGH_GLASS); }
+/* The test that catches a light_select_pmf inconsistent with light_select (e.g. a
+   different bin or mode): checked by breaking lights.c on purpose. */
+static void test_unbiased_large_single(T *t) { strategies_on_scene_opt(t, SC_LARGE_HALVES, 1); }
 
 const TestCase tests_lights[] = {
     { "lights_select_matches_pmf", test_select_matches_pmf },
@@ -439,5 +465,6 @@ const TestCase tests_lights[] = {
     { "lights_unbiased_identical", test_unbiased_identical },
     { "lights_unbiased_many", test_unbiased_many },
     { "lights_unbiased_through_glass", test_unbiased_through_glass },
+    { "lights_unbiased_large_single", test_unbiased_large_single },
     { NULL, NULL }
 };
