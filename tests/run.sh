@@ -85,6 +85,25 @@ expect "cli_diff_identical" 0 "" ./specnee diff tests/tmp/tiny.pfm tests/tmp/mer
 expect "cli_spectrum" 0 "" ./specnee spectrum lamp-CFL1
 expect "cli_spectrum_unknown" 1 "no-such" ./specnee spectrum no-such-spectrum
 expect "cli_converge_usage" 2 "usage" ./specnee converge
+# the evaluation pipeline in miniature (make eval's smoke test): the committed
+# cornell-glass reference, two variants, spp 1 and 2, two seeds; the CSV must have
+# its header and 2x2x2 rows for each of the 4 regions (image, insets A-C), no NaN,
+# and the three SVG charts and the table must be complete
+expect "eval_smoke_converge" 0 "" ./specnee converge scenes/cornell-glass.pbrt --ref docs/ref/cornell-glass.pfm \
+    --lights spatial,spatial:importance --spp 1,2 --seeds 2 --out tests/tmp/smoke
+rows=$(grep -c '^scenes/cornell-glass.pbrt,spatial' tests/tmp/smoke.csv 2>/dev/null || echo 0)
+if head -n 1 tests/tmp/smoke.csv 2>/dev/null | grep -q '^scene,variant,spp,seed,wall_s,cpu_s,build_s,region,mse,relmse,mae$' &&
+   [ "$rows" -eq 32 ] && ! grep -qi 'nan' tests/tmp/smoke.csv; then ok "eval_smoke_csv"
+else fail "eval_smoke_csv (rows $rows)"; fi
+svg_ok=1
+for c in mse_spp mse_time efficiency; do
+    f=tests/tmp/smoke_$c.svg
+    head -c 200 "$f" 2>/dev/null | grep -q '<svg' && tail -c 20 "$f" | grep -q '</svg>' &&
+        grep -q 'spatial:importance' "$f" || svg_ok=0
+done
+if [ $svg_ok = 1 ] && grep -q '| spatial:importance |' tests/tmp/smoke.md; then ok "eval_smoke_svg_and_table"
+else fail "eval_smoke_svg_and_table"; fi
+
 # golden images (bit-exact with this binary) and every command of the walkthrough
 script golden sh tests/golden.sh
 script walkthrough sh tests/walkthrough.sh
