@@ -263,7 +263,12 @@ static int render_main(int argc, char **argv)
              a.ro.sel.power_metric ? "power" : "unit", a.ro.sel.all_wavelengths,
              a.ro.wl_importance ? "importance" : "uniform", a.ro.wl_wide ? "360-830" : "400-700",
              a.ro.single_wavelength, a.ro.rough_mis ? "mis" : "terminate", a.ro.nee);
-    img_write_sidecar(out, a.ro.spp, settings);
+    {
+        /* the sample count travels with float images, for `specnee merge` */
+        size_t len = strlen(out);
+        if (len > 4 && (!strcmp(out + len - 4, ".pfm") || !strcmp(out + len - 4, ".PFM")))
+            img_write_sidecar(out, a.ro.spp, settings);
+    }
     if (!a.quiet)
         fprintf(stderr, "specnee: %s: %dx%d, %d spp, %s, in %.3f s wall (%.3f s CPU, tables %.1f ms): "
                         "%.0f samples/s, %.2f Mrays/s%s%s\n",
