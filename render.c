@@ -446,8 +446,8 @@ int render(Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error 
     }
 
 #ifdef _OPENMP
-    if (o->threads > 0) omp_set_num_threads(o->threads);
-#pragma omp parallel for schedule(dynamic, 1)
+    /* rows are handed out one at a time; each pixel is written by one thread */
+#pragma omp parallel for schedule(dynamic, 1) num_threads(o->threads > 0 ? o->threads : omp_get_max_threads())
 #endif
     for (y = 0; y < h; y++) {
         int x;
