@@ -23,8 +23,10 @@
    USAGE
      specnee [options] scene.pbrt          render (see `specnee --help`)
      specnee merge a.pfm b.pfm ... -o out.pfm
-     specnee diff test.pfm ref.pfm [--region x0,y0,x1,y1]
-     specnee spectrum NAME|FILE
+     specnee diff test.pfm ref.pfm [--region NAME:x0,y0,x1,y1] [--error-image e.png]
+                  [--max-mse X] [--max-relmse Y] [--csv]
+     specnee spectrum NAME|FILE            (--svg NAME... > plot.svg, --list)
+     specnee converge scene.pbrt --ref ref.pfm --lights a,b:mod --spp 16,32 --seeds K
 
    OUTPUT
      .pfm: linear sRGB (D65) float32, rows bottom to top (netpbm PFM), negative
