@@ -33,6 +33,15 @@ run() {  # scene variants
 run cornell-glass "spatial,spatial:single,spatial:importance,spatial:roughmis"
 # issue "emitter selection": every strategy on the thesis' scenes
 run cornell1 "spatial,spd,product,spectral-spatial,all"
+# beyond the thesis: selection by all alive wavelengths (docs/eval/cornell1-allwl.*)
+run_as() {  # output-name scene variants
+    out=$1; sc=$2; shift 2
+    t0=$(date +%s)
+    ./specnee converge "scenes/$sc.pbrt" --ref "docs/ref/$sc.pfm" --lights "$1" \
+        --spp "$LADDER" --seeds "$SEEDS" --threads "$THREADS" --out "docs/eval/$out" 2> "docs/eval/$out.log"
+    echo "$out: $(( $(date +%s) - t0 )) s" >> docs/eval/timing.txt
+}
+run_as cornell1-allwl cornell1 "spatial,product,product:all,spectral-spatial:all,product:tput"
 run cornell2 "spatial,product,product:power,spectral-spatial"
 run suzanne "spatial,spd:power,product,spectral-spatial"
 echo "total: $(( $(date +%s) - start )) s (SEEDS=$SEEDS LADDER=$LADDER on $(getconf _NPROCESSORS_ONLN) cores)" >> docs/eval/timing.txt
