@@ -38,6 +38,24 @@ int test_scaled(int n, int lo);
 #define CHECK(t, cond, ...) do { if (!(cond)) { \
         test_failf((t), __FILE__, __LINE__, __VA_ARGS__); return; } } while (0)
 
+/* ---- fixtures.c: shared by the statistical image tests ---- */
+#define TEST_K_SIGMA 5.0     /* a mean is accepted within 5 standard errors */
+#define MAX_TILES 16
+typedef struct {
+    int n;                   /* tiles per axis */
+    double mean[MAX_TILES * MAX_TILES][3], se[MAX_TILES * MAX_TILES][3];
+} Tiles;
+/* Load a scene from text; fails the test (and returns 0) on a parse error. */
+int test_load_scene(T *t, Scene *s, const char *text);
+/* Render K seeds (base->seed + 1000 k) of s, n x n tiles: per-tile mean over seeds
+   of the tile averages and its standard error.  Fails the test on any non-finite
+   sample or pixel. */
+int test_render_tiles(T *t, Scene *s, const RenderOptions *base, int K, int n, Tiles *out);
+/* 1 if every tile and channel agrees within TEST_K_SIGMA standard errors + slack. */
+int test_tiles_agree(T *t, const Tiles *a, const Tiles *b, double slack, const char *what);
+/* The walls of a small open box [-1,1]^3, as scene text after WorldBegin. */
+extern const char test_box_walls[];
+
 extern const TestCase tests_util[], tests_bvh[], tests_spectrum[], tests_scene[],
     tests_image[], tests_material[], tests_render[], tests_lights[], tests_scenes[];
 

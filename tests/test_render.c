@@ -11,99 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define K_SIGMA 5.0
-#define MAX_TILES 16
-
-typedef struct {
-    int n;                              /* tiles per axis */
-    double mean[MAX_TILES * MAX_TILES][3], se[MAX_TILES * MAX_TILES][3];
-} Tiles;
-
-/* Load a scene from text; fails the test on a parse error. */
-static int load(T *t, Scene *s, const char *text)
-{
-    Error err;
-    memset(s, 0, sizeof *s);
-    err.msg[0] = 0;
-    if (!scene_load_string(s, text, "test.pbrt", &err)) {
-        test_failf(t, __FILE__, __LINE__, "scene did not load: %s", err.msg);
-        return 0;
-    }
-    return 1;
-}
-
-/* Render K seeds and gather tile statistics. */
-static int render_tiles(T *t, Scene *s, const RenderOptions *base, int K, int n, Tiles *out)
-{
-    int k, i, c;
-    static double sum[MAX_TILES * MAX_TILES][3], sum2[MAX_TILES * MAX_TILES][3];
-    memset(sum, 0, sizeof sum);
-    memset(sum2, 0, sizeof sum2);
-    out->n = n;
-    for (k = 0; k < K; k++) {
-        RenderOptions o = *base;
-        Image img;
-        RenderStats st;
-        Error err;
-        int x, y;
-        o.seed = base->seed + 1000 * k;
-        if (!render(s, &o, &img, &st, &err)) {
-            test_failf(t, __FILE__, __LINE__, "render failed: %s", err.msg);
-            return 0;
-        }
-        if (st.nonfinite) {
-            test_failf(t, __FILE__, __LINE__, "%ld non-finite samples reached the film", st.nonfinite);
-            img_free(&img);
-            return 0;
-        }
-        for (i = 0; i < n * n; i++) {
-            int tx = i % n, ty = i / n, cnt = 0;
-            double acc[3] = { 0, 0, 0 };
-            for (y = ty * img.h / n; y < (ty + 1) * img.h / n; y++)
-                for (x = tx * img.w / n; x < (tx + 1) * img.w / n; x++) {
-                    for (c = 0; c < 3; c++) acc[c] += img.rgb[3 * (y * img.w + x) + c];
-                    cnt++;
-                }
-            for (c = 0; c < 3; c++) {
-                double m = acc[c] / cnt;
-                if (!isfinite(m)) {
-                    test_failf(t, __FILE__, __LINE__, "non-finite pixel value");
-                    img_free(&img);
-                    return 0;
-                }
-                sum[i][c] += m;
-                sum2[i][c] += m * m;
-            }
-        }
-        img_free(&img);
-    }
-    for (i = 0; i < n * n; i++)
-        for (c = 0; c < 3; c++) {
-            double m = sum[i][c] / K, var = (sum2[i][c] / K - m * m) * K / (K - 1);
-            out->mean[i][c] = m;
-            out->se[i][c] = sqrt(var > 0 ? var / K : 0);
-        }
-    return 1;
-}
-
-/* Compare two tile sets; returns 1 if they agree. */
-static int tiles_agree(T *t, const Tiles *a, const Tiles *b, double slack, const char *what)
-{
-    int i, c;
-    for (i = 0; i < a->n * a->n; i++)
-        for (c = 0; c < 3; c++) {
-            double d = fabs(a->mean[i][c] - b->mean[i][c]);
-            double se = sqrt(a->se[i][c] * a->se[i][c] + b->se[i][c] * b->se[i][c]);
-            if (d > K_SIGMA * se + slack) {
-                test_failf(t, __FILE__, __LINE__,
-                           "%s: tile %d channel %d differs: %.5g vs %.5g (%.1f standard errors of %.3g)",
-                           what, i, c, a->mean[i][c], b->mean[i][c], se > 0 ? d / se : 1e9, se);
-                return 0;
-            }
-        }
-    return 1;
-}
-
+#define K_SIGMA TEST_K_SIGMA
 /* Y of linear sRGB (pbrt-v4's sRGB primaries, D65 white). */
 static double luminance(const double rgb[3])
 {
@@ -134,13 +42,13 @@ static void test_colour_direct_emitter(T *t)
                          "Shape \"trianglemesh\" \"integer indices\" [ 0 2 1 0 3 2 ]\n"
                          "  \"point3 P\" [ -5 -5 2  5 -5 2  5 5 2  -5 5 2 ]\nAttributeEnd\n",
                          camera_16, spectra[sp]);
-                if (!load(t, &s, text)) return;
+                if (!test_load_scene(t, &s, text)) return;
                 render_options_default(&o);
     o.sel.grid_res = 8;
                 o.spp = test_scaled(64, 4);
                 o.wl_importance = pdf;
                 o.wl_wide = wide;
-                if (!render_tiles(t, &s, &o, 8, 1, &tl)) { scene_free(&s); return; }
+                if (!test_render_tiles(t, &s, &o, 8, 1, &tl)) { scene_free(&s); return; }
                 rgb[0] = tl.mean[0][0]; rgb[1] = tl.mean[0][1]; rgb[2] = tl.mean[0][2];
                 Y = luminance(rgb);
                 seY = tl.se[0][1];
@@ -179,12 +87,12 @@ static void test_white_furnace(T *t)
     for (nee = 0; nee < 2; nee++) {
         snprintf(text, sizeof text, furnace_fmt, camera_16,
                  "Material \"diffuse\" \"spectrum reflectance\" [ 360 0.5 830 0.5 ]");
-        if (!load(t, &s, text)) return;
+        if (!test_load_scene(t, &s, text)) return;
         render_options_default(&o);
     o.sel.grid_res = 8;
         o.spp = test_scaled(32, 4);
         o.nee = nee;
-        if (!render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
+        if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
         for (i = 0; i < 4; i++) {
             double Y = luminance(tl.mean[i]);
             CHECK(t, fabs(Y - 0.5) < K_SIGMA * tl.se[i][1] + 2e-3,
@@ -205,13 +113,13 @@ static void test_white_furnace_dispersive_glass(T *t)
     int i;
     snprintf(text, sizeof text, furnace_fmt, camera_16,
              "Material \"dielectric\" \"spectrum eta\" [ 400 1.625 450 1.599 500 1.58 550 1.566 600 1.556 650 1.547 700 1.541 ]");
-    if (!load(t, &s, text)) return;
+    if (!test_load_scene(t, &s, text)) return;
     CHECK(t, s.materials[s.shapes[1].material].dispersive, "the glass must count as dispersive");
     render_options_default(&o);
     o.sel.grid_res = 8;
     o.spp = test_scaled(64, 4);
     o.maxdepth = 24;
-    if (!render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
+    if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
     for (i = 0; i < 4; i++) {
         double Y = luminance(tl.mean[i]);
         CHECK(t, fabs(Y - 1.0) < K_SIGMA * tl.se[i][1] + 3e-3,
@@ -220,26 +128,16 @@ static void test_white_furnace_dispersive_glass(T *t)
     scene_free(&s);
 }
 
-/* A small open box with a ceiling light, coloured walls and a glass sphere;
-   %s is the glass material. */
+/* A small open box (fixtures.c) with a ceiling light and a glass sphere; the
+   arguments are the walls, the light and the glass material. */
 static const char *box_fmt =
     "LookAt 0 0 -3.2  0 0 0  0 1 0\n"
     "Camera \"perspective\" \"float fov\" [ 45 ]\n"
     "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ] \"string filename\" \"t.pfm\"\n"
     "Integrator \"path\" \"integer maxdepth\" [ 6 ]\n"
     "WorldBegin\n"
-    "Material \"diffuse\" \"spectrum reflectance\" [ 400 0.8 700 0.7 ]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3  4 5 6 4 6 7 ]\n"
-    "  \"point3 P\" [ -1 -1 -1  1 -1 -1  1 -1 1  -1 -1 1   -1 1 -1  -1 1 1  1 1 1  1 1 -1 ]\n"
-    "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
-    "  \"point3 P\" [ -1 -1 1  1 -1 1  1 1 1  -1 1 1 ]\n"
-    "AttributeBegin\n Material \"diffuse\" \"spectrum reflectance\" [ 400 0.05 550 0.1 600 0.6 700 0.7 ]\n"
-    " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
-    "  \"point3 P\" [ -1 -1 -1  -1 -1 1  -1 1 1  -1 1 -1 ]\nAttributeEnd\n"
-    "AttributeBegin\n Material \"diffuse\" \"spectrum reflectance\" [ 400 0.1 500 0.5 550 0.6 600 0.1 700 0.05 ]\n"
-    " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
-    "  \"point3 P\" [ 1 -1 -1  1 1 -1  1 1 1  1 -1 1 ]\nAttributeEnd\n"
-    "%s"
+    "%s"                                            /* the walls */
+    "%s"                                            /* the light */
     "AttributeBegin\n Translate 0 -0.55 0\n %s\n Shape \"sphere\" \"float radius\" [ 0.42 ]\nAttributeEnd\n";
 
 static const char *ceiling_light =
@@ -259,29 +157,29 @@ static void test_estimators_agree(T *t)
     Scene s;
     RenderOptions o;
     Tiles ref, other;
-    snprintf(text, sizeof text, box_fmt, ceiling_light, rough_dispersive);
-    if (!load(t, &s, text)) return;
+    snprintf(text, sizeof text, box_fmt, test_box_walls, ceiling_light, rough_dispersive);
+    if (!test_load_scene(t, &s, text)) return;
     render_options_default(&o);
     o.sel.grid_res = 8;
     o.spp = test_scaled(48, 4);
     o.maxdepth = 6;
-    if (!render_tiles(t, &s, &o, 12, 4, &ref)) goto done;
+    if (!test_render_tiles(t, &s, &o, 12, 4, &ref)) goto done;
     o.single_wavelength = 1;
-    if (!render_tiles(t, &s, &o, 12, 4, &other)) goto done;
-    if (!tiles_agree(t, &ref, &other, 1e-4, "single wavelength vs HWSS terminate")) goto done;
+    if (!test_render_tiles(t, &s, &o, 12, 4, &other)) goto done;
+    if (!test_tiles_agree(t, &ref, &other, 1e-4, "single wavelength vs HWSS terminate")) goto done;
     o.single_wavelength = 0;
     o.rough_mis = 1;
-    if (!render_tiles(t, &s, &o, 12, 4, &other)) goto done;
-    if (!tiles_agree(t, &ref, &other, 1e-4, "HWSS rough spectral MIS vs terminate")) goto done;
+    if (!test_render_tiles(t, &s, &o, 12, 4, &other)) goto done;
+    if (!test_tiles_agree(t, &ref, &other, 1e-4, "HWSS rough spectral MIS vs terminate")) goto done;
     o.rough_mis = 0;
     o.wl_importance = 1;
-    if (!render_tiles(t, &s, &o, 12, 4, &other)) goto done;
-    if (!tiles_agree(t, &ref, &other, 1e-4, "importance vs uniform wavelengths")) goto done;
+    if (!test_render_tiles(t, &s, &o, 12, 4, &other)) goto done;
+    if (!test_tiles_agree(t, &ref, &other, 1e-4, "importance vs uniform wavelengths")) goto done;
     o.wl_importance = 0;
     o.nee = 0;
     o.spp = test_scaled(96, 4);
-    if (!render_tiles(t, &s, &o, 12, 4, &other)) goto done;
-    if (!tiles_agree(t, &ref, &other, 1e-4, "BSDF only vs NEE + MIS")) goto done;
+    if (!test_render_tiles(t, &s, &o, 12, 4, &other)) goto done;
+    if (!test_tiles_agree(t, &ref, &other, 1e-4, "BSDF only vs NEE + MIS")) goto done;
 done:
     scene_free(&s);
 }
@@ -295,16 +193,16 @@ static void test_termination_bookkeeping(T *t)
     RenderOptions o;
     Tiles a, b;
     int m;
-    snprintf(text, sizeof text, box_fmt, ceiling_light, "Material \"dielectric\" \"float eta\" [ 1.5 ]");
-    if (!load(t, &s, text)) return;
+    snprintf(text, sizeof text, box_fmt, test_box_walls, ceiling_light, "Material \"dielectric\" \"float eta\" [ 1.5 ]");
+    if (!test_load_scene(t, &s, text)) return;
     render_options_default(&o);
     o.sel.grid_res = 8;
     o.spp = test_scaled(48, 4);
-    if (!render_tiles(t, &s, &o, 12, 4, &a)) goto done;
+    if (!test_render_tiles(t, &s, &o, 12, 4, &a)) goto done;
     for (m = 0; m < s.n_materials; m++)
         if (s.materials[m].type == MAT_DIELECTRIC) s.materials[m].dispersive = 1;
-    if (!render_tiles(t, &s, &o, 12, 4, &b)) goto done;
-    tiles_agree(t, &a, &b, 1e-4, "forced termination vs none");
+    if (!test_render_tiles(t, &s, &o, 12, 4, &b)) goto done;
+    test_tiles_agree(t, &a, &b, 1e-4, "forced termination vs none");
 done:
     scene_free(&s);
 }
@@ -319,8 +217,8 @@ static void test_determinism_threads(T *t)
     RenderStats st;
     Error err;
     size_t bytes;
-    snprintf(text, sizeof text, box_fmt, ceiling_light, rough_dispersive);
-    if (!load(t, &s, text)) return;
+    snprintf(text, sizeof text, box_fmt, test_box_walls, ceiling_light, rough_dispersive);
+    if (!test_load_scene(t, &s, text)) return;
     render_options_default(&o);
     o.sel.grid_res = 8;
     o.spp = 4;
@@ -347,8 +245,8 @@ static void test_merge_halves(T *t)
     int k, i, c, n = 4;
     double sum_m[16][3], sum2_m[16][3], sum_f[16][3], sum2_f[16][3];
     const int K = 10;
-    snprintf(text, sizeof text, box_fmt, ceiling_light, rough_dispersive);
-    if (!load(t, &s, text)) return;
+    snprintf(text, sizeof text, box_fmt, test_box_walls, ceiling_light, rough_dispersive);
+    if (!test_load_scene(t, &s, text)) return;
     render_options_default(&o);
     o.sel.grid_res = 8;
     memset(sum_m, 0, sizeof sum_m); memset(sum2_m, 0, sizeof sum2_m);

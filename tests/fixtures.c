@@ -1,0 +1,108 @@
+/* tests/fixtures.c - what the statistical image tests share: loading a scene from
+   text, rendering K seeds into per-tile means with standard errors, comparing two
+   such tile sets, and the walls of a small test box. */
+#include "test.h"
+#include <stdlib.h>
+#include <string.h>
+
+
+
+/* Load a scene from text; fails the test on a parse error. */
+int test_load_scene(T *t, Scene *s, const char *text)
+{
+    Error err;
+    memset(s, 0, sizeof *s);
+    err.msg[0] = 0;
+    if (!scene_load_string(s, text, "test.pbrt", &err)) {
+        test_failf(t, __FILE__, __LINE__, "scene did not load: %s", err.msg);
+        return 0;
+    }
+    return 1;
+}
+
+/* Render K seeds and gather tile statistics. */
+int test_render_tiles(T *t, Scene *s, const RenderOptions *base, int K, int n, Tiles *out)
+{
+    int k, i, c;
+    static double sum[MAX_TILES * MAX_TILES][3], sum2[MAX_TILES * MAX_TILES][3];
+    memset(sum, 0, sizeof sum);
+    memset(sum2, 0, sizeof sum2);
+    out->n = n;
+    for (k = 0; k < K; k++) {
+        RenderOptions o = *base;
+        Image img;
+        RenderStats st;
+        Error err;
+        int x, y;
+        o.seed = base->seed + 1000 * k;
+        if (!render(s, &o, &img, &st, &err)) {
+            test_failf(t, __FILE__, __LINE__, "render failed: %s", err.msg);
+            return 0;
+        }
+        if (st.nonfinite) {
+            test_failf(t, __FILE__, __LINE__, "%ld non-finite samples reached the film", st.nonfinite);
+            img_free(&img);
+            return 0;
+        }
+        for (i = 0; i < n * n; i++) {
+            int tx = i % n, ty = i / n, cnt = 0;
+            double acc[3] = { 0, 0, 0 };
+            for (y = ty * img.h / n; y < (ty + 1) * img.h / n; y++)
+                for (x = tx * img.w / n; x < (tx + 1) * img.w / n; x++) {
+                    for (c = 0; c < 3; c++) acc[c] += img.rgb[3 * (y * img.w + x) + c];
+                    cnt++;
+                }
+            for (c = 0; c < 3; c++) {
+                double m = acc[c] / cnt;
+                if (!isfinite(m)) {
+                    test_failf(t, __FILE__, __LINE__, "non-finite pixel value");
+                    img_free(&img);
+                    return 0;
+                }
+                sum[i][c] += m;
+                sum2[i][c] += m * m;
+            }
+        }
+        img_free(&img);
+    }
+    for (i = 0; i < n * n; i++)
+        for (c = 0; c < 3; c++) {
+            double m = sum[i][c] / K, var = (sum2[i][c] / K - m * m) * K / (K - 1);
+            out->mean[i][c] = m;
+            out->se[i][c] = sqrt(var > 0 ? var / K : 0);
+        }
+    return 1;
+}
+
+/* Compare two tile sets; returns 1 if they agree. */
+int test_tiles_agree(T *t, const Tiles *a, const Tiles *b, double slack, const char *what)
+{
+    int i, c;
+    for (i = 0; i < a->n * a->n; i++)
+        for (c = 0; c < 3; c++) {
+            double d = fabs(a->mean[i][c] - b->mean[i][c]);
+            double se = sqrt(a->se[i][c] * a->se[i][c] + b->se[i][c] * b->se[i][c]);
+            if (d > TEST_K_SIGMA * se + slack) {
+                test_failf(t, __FILE__, __LINE__,
+                           "%s: tile %d channel %d differs: %.5g vs %.5g (%.1f standard errors of %.3g)",
+                           what, i, c, a->mean[i][c], b->mean[i][c], se > 0 ? d / se : 1e9, se);
+                return 0;
+            }
+        }
+    return 1;
+}
+
+/* An open box [-1,1]^3 without its front: white floor, ceiling and back wall, a
+   red-ish left wall and a green-ish right wall (diffuse, inline spectra). */
+const char test_box_walls[] =
+    "Material \"diffuse\" \"spectrum reflectance\" [ 400 0.8 700 0.7 ]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3  4 5 6 4 6 7 ]\n"
+    "  \"point3 P\" [ -1 -1 -1  1 -1 -1  1 -1 1  -1 -1 1   -1 1 -1  -1 1 1  1 1 1  1 1 -1 ]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "  \"point3 P\" [ -1 -1 1  1 -1 1  1 1 1  -1 1 1 ]\n"
+    "AttributeBegin\n Material \"diffuse\" \"spectrum reflectance\" [ 400 0.05 550 0.1 600 0.6 700 0.7 ]\n"
+    " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "  \"point3 P\" [ -1 -1 -1  -1 -1 1  -1 1 1  -1 1 -1 ]\nAttributeEnd\n"
+    "AttributeBegin\n Material \"diffuse\" \"spectrum reflectance\" [ 400 0.1 500 0.5 550 0.6 600 0.1 700 0.05 ]\n"
+    " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "  \"point3 P\" [ 1 -1 -1  1 1 -1  1 1 1  1 -1 1 ]\nAttributeEnd\n";
