@@ -10,7 +10,8 @@
 #   make golden     regenerate the golden images of tests/golden/ (read its README first)
 #   make CC=tcc     any C99 compiler
 #
-# No -ffast-math: results must be exact and independent of the thread count.
+# No fast-math optimisation flags: results must be exact and independent of the
+# thread count.
 # -ffp-contract=off (when the compiler knows it) forbids fused multiply-adds, so
 # gcc and clang round the same way.  tools/ccflags.sh probes the compiler.
 
