@@ -245,7 +245,7 @@ int cmd_converge(int argc, char **argv)
 
     /* ---- charts (whole image) */
     {
-        static double x[MAX_VARIANTS][MAX_SPP], y[MAX_VARIANTS][MAX_SPP], lo[MAX_VARIANTS][MAX_SPP],
+        double x[MAX_VARIANTS][MAX_SPP], y[MAX_VARIANTS][MAX_SPP], lo[MAX_VARIANTS][MAX_SPP],
             hi[MAX_VARIANTS][MAX_SPP], tx[MAX_VARIANTS][MAX_SPP], eff[MAX_VARIANTS][MAX_SPP];
         SvgSeries ser[MAX_VARIANTS];
         SvgChart ch;
