@@ -20,35 +20,25 @@ mkdir -p tests/tmp build
 ok()   { passed=$((passed + 1)); echo "ok   $1"; }
 fail() { failed=$((failed + 1)); echo "FAIL $1"; }
 
-# Run the unit runner and add its counts.  $1 = label, $2 = runner binary.
-unit() {
-    out=tests/tmp/unit-$1.txt
-    "$2" > "$out" 2>&1
-    rc=$?
-    grep '^FAIL' "$out" | sed "s/^/[$1] /"
-    line=$(grep 'passed, .* failed' "$out" | tail -n 1)
-    p=$(echo "$line" | sed -n 's/.* \([0-9][0-9]*\) passed.*/\1/p')
-    f=$(echo "$line" | sed -n 's/.* \([0-9][0-9]*\) failed.*/\1/p')
-    if [ -z "$p" ]; then
-        fail "[$1] unit runner crashed or printed no summary (rc=$rc)"
-        tail -n 20 "$out"
-        return
-    fi
-    echo "[$1] $line"
-    passed=$((passed + p)); failed=$((failed + f))
-    if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then fail "[$1] runner exit code $rc"; fi
-}
-
-# A script that prints "...: N passed, N failed": add its counts.  $1 = label, rest = command.
-script() {
-    label=$1; shift; out=tests/tmp/script-$label.txt
+# Run a command that ends with a line "...: N passed, N failed" and add its counts:
+# the unit runners, tests/golden.sh, tests/walkthrough.sh.  $1 = label, rest = command.
+# A crash (no summary) or a non-zero exit with 0 failures counts as a failure.
+counted() {
+    label=$1; shift; out=tests/tmp/counted-$label.txt
     "$@" > "$out" 2>&1
+    rc=$?
     grep '^FAIL' "$out" | sed "s/^/[$label] /"
     line=$(grep 'passed, .* failed' "$out" | tail -n 1)
     p=$(echo "$line" | sed -n 's/.* \([0-9][0-9]*\) passed.*/\1/p')
     f=$(echo "$line" | sed -n 's/.* \([0-9][0-9]*\) failed.*/\1/p')
-    if [ -z "$p" ]; then fail "[$label] no summary"; tail -n 20 "$out"; return; fi
-    echo "[$label] $line"; passed=$((passed + p)); failed=$((failed + f))
+    if [ -z "$p" ]; then
+        fail "[$label] crashed or printed no summary (rc=$rc)"
+        tail -n 20 "$out"
+        return
+    fi
+    echo "[$label] $line"
+    passed=$((passed + p)); failed=$((failed + f))
+    if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then fail "[$label] exit code $rc"; fi
 }
 
 # Expect exit code $2 from command "$3..." and stderr containing $1 (a grep -E pattern).
@@ -66,7 +56,7 @@ expect() {
 }
 
 # ---- 1. unit suite with the default build
-unit cc tests/runner
+counted cc tests/runner
 
 # ---- 2. the binary end to end
 expect "cli_help" 0 "" ./specnee --help
@@ -105,8 +95,8 @@ if [ $svg_ok = 1 ] && grep -q '| spatial:importance |' tests/tmp/smoke.md; then 
 else fail "eval_smoke_svg_and_table"; fi
 
 # golden images (bit-exact with this binary) and every command of the walkthrough
-script golden sh tests/golden.sh
-script walkthrough sh tests/walkthrough.sh
+counted golden sh tests/golden.sh
+counted walkthrough sh tests/walkthrough.sh
 
 if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
     # ---- 3. three compilers, warnings are errors
@@ -118,9 +108,9 @@ if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
         if $cc $flags -I. -o build/specnee-$cc specnee.c $LIBSRC -lm >> "$log" 2>&1 &&
            $cc $flags -I. -o build/runner-$cc tests/*.c $LIBSRC -lm >> "$log" 2>&1; then
             ok "build_$cc (no warnings)"
-            [ $cc = gcc ] || SPECNEE_TEST_SCALE=0.25 unit $cc build/runner-$cc
+            [ $cc = gcc ] || counted $cc env SPECNEE_TEST_SCALE=0.25 build/runner-$cc
             # the goldens rendered by this compiler, within the noise-derived tolerance
-            [ $cc = gcc ] || script golden-$cc env SPECNEE_BIN=build/specnee-$cc sh tests/golden.sh --tolerant --no-selftest
+            [ $cc = gcc ] || counted golden-$cc env SPECNEE_BIN=build/specnee-$cc sh tests/golden.sh --tolerant --no-selftest
         else
             fail "build_$cc"; tail -n 15 "$log"
         fi
@@ -129,8 +119,8 @@ if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
     if gcc -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer \
            -I. -o build/runner-asan tests/*.c $LIBSRC -lm >> "$log" 2>&1; then
         ok "build_asan"
-        SPECNEE_TEST_SCALE=0.25 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
-            unit asan build/runner-asan
+        counted asan env SPECNEE_TEST_SCALE=0.25 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+            UBSAN_OPTIONS=print_stacktrace=1 build/runner-asan
     else
         fail "build_asan"; tail -n 15 "$log"
     fi

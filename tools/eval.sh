@@ -21,17 +21,18 @@ LADDER=${LADDER:-16,32,64,128,256,512}
 THREADS=${THREADS:-0}
 mkdir -p docs/eval
 start=$(date +%s)
-run() {  # scene variants
-    sc=$1; shift
+run_as() {  # output-name scene variants
+    out=$1; sc=$2; shift 2
     if [ ! -f "docs/ref/$sc.pfm" ]; then
         echo "eval: docs/ref/$sc.pfm is missing: run 'make references' first" >&2
         exit 1
     fi
     t0=$(date +%s)
     ./specnee converge "scenes/$sc.pbrt" --ref "docs/ref/$sc.pfm" --lights "$1" \
-        --spp "$LADDER" --seeds "$SEEDS" --threads "$THREADS" --out "docs/eval/$sc" 2> "docs/eval/$sc.log"
-    echo "$sc: $(( $(date +%s) - t0 )) s" >> docs/eval/timing.txt
+        --spp "$LADDER" --seeds "$SEEDS" --threads "$THREADS" --out "docs/eval/$out" 2> "docs/eval/$out.log"
+    echo "$out: $(( $(date +%s) - t0 )) s" >> docs/eval/timing.txt
 }
+run() { run_as "$1" "$@"; }  # scene variants: tables named after the scene
 SCENES=${SCENES:-"cornell-glass cornell1 cornell1-allwl cornell2 suzanne"}
 want() { case " $SCENES " in *" $1 "*) return 0 ;; esac; return 1; }
 [ -f docs/eval/timing.txt ] || : > docs/eval/timing.txt
@@ -40,13 +41,6 @@ want cornell-glass && run cornell-glass "spatial,spatial:single,spatial:importan
 # issue "emitter selection": every strategy on the thesis' scenes
 want cornell1 && run cornell1 "spatial,spd,product,spectral-spatial,all"
 # beyond the thesis: selection by all alive wavelengths (docs/eval/cornell1-allwl.*)
-run_as() {  # output-name scene variants
-    out=$1; sc=$2; shift 2
-    t0=$(date +%s)
-    ./specnee converge "scenes/$sc.pbrt" --ref "docs/ref/$sc.pfm" --lights "$1" \
-        --spp "$LADDER" --seeds "$SEEDS" --threads "$THREADS" --out "docs/eval/$out" 2> "docs/eval/$out.log"
-    echo "$out: $(( $(date +%s) - t0 )) s" >> docs/eval/timing.txt
-}
 want cornell1-allwl && run_as cornell1-allwl cornell1 "spatial,product,product:all,spectral-spatial:all,product:tput"
 want cornell2 && run cornell2 "spatial,product,product:power,spectral-spatial"
 want suzanne && run suzanne "spatial,spd:power,product,spectral-spatial"
