@@ -11,10 +11,17 @@
    Outputs, with PREFIX from --out:
        PREFIX.csv              one row per (variant, spp, seed, region)
        PREFIX_mse_spp.svg      MSE against spp, log-log, band = min..max over seeds
-       PREFIX_mse_time.svg     MSE against wall time, log-log
+       PREFIX_mse_time.svg     MSE against time (CPU time unless --time wall), log-log
        PREFIX_efficiency.svg   efficiency 1/(MSE x time) relative to the baseline
        PREFIX.md               tables: MSE change against the baseline at the
                                largest spp and at equal time, mean and 95% CI
+   Progressive: one render per (variant, seed) climbs the whole ladder
+   (render_ladder), each rung timed as the render so far; its image is
+   bit-identical to a separate render with that spp, so the ladder costs the
+   largest spp once instead of the sum of all rungs.
+   Time: process CPU time by default (all threads; not charged while other
+   programs hold the cores, so a busy machine barely moves it), wall time with
+   --time wall.  Both are in the CSV.
    Statistics.  For seed k the change of variant v is c_k = MSE_v,k / MSE_b,k - 1
    (b = the baseline, the first variant unless --baseline), reported as the mean
    over seeds with the 95% confidence interval mean +- t_{0.975, K-1} s / sqrt(K).
@@ -108,12 +115,56 @@ static double mse_at_time(const double *t, const double *m, int n, double T)
     return m[n - 1] * t[n - 1] / T;
 }
 
+#define IDX(v, s, k) (((size_t)(v) * MAX_SPP + (s)) * MAX_SEEDS + (k))
+#define RIDX(v, s, k, r) (IDX(v, s, k) * MAX_REGIONS + (r))
+
+/* What record_rung needs to file one rung of one (variant, seed) render. */
+typedef struct {
+    const char *scene_path, *variant;
+    int v, k;
+    const int *spp;
+    const Image *ref;
+    int n_reg;
+    int (*reg)[4];
+    char (*reg_name)[16];
+    double *mse, *relmse, *mae, *wall, *cpu, *build;
+    FILE *csv;
+} Rung;
+
+/* render_ladder callback: errors of the image at rung s against the reference,
+   for every region, into the arrays and one CSV row per region. */
+static int record_rung(void *user, int s, const Image *img, const RenderStats *st)
+{
+    Rung *R = (Rung *)user;
+    int r, v = R->v, k = R->k;
+    R->wall[IDX(v, s, k)] = st->wall_s;
+    R->cpu[IDX(v, s, k)] = st->cpu_s;
+    R->build[IDX(v, s, k)] = st->build_s;
+    for (r = 0; r < R->n_reg; r++) {
+        ImgErr e;
+        if (!img_error(img, R->ref, R->reg[r][0], R->reg[r][1], R->reg[r][2], R->reg[r][3], &e))
+            e.mse = e.relmse = e.mae = NAN;
+        R->mse[RIDX(v, s, k, r)] = e.mse;
+        R->relmse[RIDX(v, s, k, r)] = e.relmse;
+        R->mae[RIDX(v, s, k, r)] = e.mae;
+        fprintf(R->csv, "%s,%s,%d,%d,%.6f,%.6f,%.6f,%s,%.9g,%.9g,%.9g\n", R->scene_path, R->variant,
+                R->spp[s], k, st->wall_s, st->cpu_s, st->build_s, R->reg_name[r], e.mse, e.relmse, e.mae);
+    }
+    fflush(R->csv);
+    fprintf(stderr, "converge: %s spp %d seed %d: %.3f s wall, %.3f s CPU, MSE %.4g\n", R->variant,
+            R->spp[s], k, st->wall_s, st->cpu_s, R->mse[RIDX(v, s, k, 0)]);
+    return 1;
+}
+
 static const char usage_converge[] =
     "usage: specnee converge SCENE --ref REF.pfm [--lights v1,v2,...] [--spp 16,32,...]\n"
     "         [--seeds K] [--out PREFIX] [--baseline NAME] [--threads N] [--maxdepth N]\n"
+    "         [--time cpu|wall]\n"
     "  variants: a strategy (uniform power spatial spd product spectral-spatial all)\n"
     "  with modifiers, e.g. spd:power, product:all, product:tput, spatial:importance,\n"
-    "  spatial:roughmis, spatial:single, spatial:nonee.  The first is the baseline.\n";
+    "  spatial:roughmis, spatial:single, spatial:nonee.  The first is the baseline.\n"
+    "  --time: the time axis and the equal-time comparison use process CPU time\n"
+    "  (default: not charged while other programs run) or wall time.\n";
 
 int cmd_converge(int argc, char **argv)
 {
@@ -126,7 +177,8 @@ int cmd_converge(int argc, char **argv)
     Error err;
     int n_reg, reg[MAX_REGIONS][4];
     char reg_name[MAX_REGIONS][16];
-    double *mse, *relmse, *mae, *wall, *cpu, *build;
+    double *mse, *relmse, *mae, *wall, *cpu, *build, *tb;
+    int use_cpu = 1;
     FILE *csv;
     strcpy(var_names[0], "spatial");
     n_spp = split_list("16,32,64,128", spp_s, MAX_SPP);
@@ -148,6 +200,12 @@ int cmd_converge(int argc, char **argv)
         else if (!strcmp(a, "--baseline")) baseline = argv[++i];
         else if (!strcmp(a, "--threads")) threads = atoi(argv[++i]);
         else if (!strcmp(a, "--maxdepth")) maxdepth = atoi(argv[++i]);
+        else if (!strcmp(a, "--time")) {
+            const char *tv = argv[++i];
+            if (!strcmp(tv, "cpu")) use_cpu = 1;
+            else if (!strcmp(tv, "wall")) use_cpu = 0;
+            else { fprintf(stderr, "converge: --time must be cpu or wall, not '%s'\n", tv); return 2; }
+        }
         else if (a[0] == '-') { fprintf(stderr, "converge: unknown option '%s'\n%s", a, usage_converge); return 2; }
         else if (!scene_path) scene_path = a;
         else { fprintf(stderr, "converge: more than one scene\n"); return 2; }
@@ -156,6 +214,10 @@ int cmd_converge(int argc, char **argv)
     for (s = 0; s < n_spp; s++) {
         spp[s] = atoi(spp_s[s]);
         if (spp[s] <= 0) { fprintf(stderr, "converge: bad spp '%s'\n", spp_s[s]); return 2; }
+        if (s > 0 && spp[s] <= spp[s - 1]) {
+            fprintf(stderr, "converge: the --spp ladder must increase ('%s' after '%s')\n", spp_s[s], spp_s[s - 1]);
+            return 2;
+        }
     }
     for (v = 0; v < n_var; v++) {
         RenderOptions o;
@@ -183,8 +245,6 @@ int cmd_converge(int argc, char **argv)
         snprintf(reg_name[n_reg], sizeof reg_name[n_reg], "%s", scene.inset_name[i]);
         memcpy(reg[n_reg], scene.inset[i], sizeof reg[n_reg]);
     }
-#define IDX(v, s, k) (((size_t)(v) * MAX_SPP + (s)) * MAX_SEEDS + (k))
-#define RIDX(v, s, k, r) (IDX(v, s, k) * MAX_REGIONS + (r))
     mse = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, sizeof(double));
     relmse = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, sizeof(double));
     mae = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, sizeof(double));
@@ -202,48 +262,38 @@ int cmd_converge(int argc, char **argv)
     }
     fprintf(csv, "scene,variant,spp,seed,wall_s,cpu_s,build_s,region,mse,relmse,mae\n");
 
-    /* the renders: seeds outermost so an interrupted run has every variant */
+    /* the renders: seeds outermost so an interrupted run has every variant; one
+       progressive render per (seed, variant) gives the whole ladder (render_ladder:
+       each rung is bit-identical to a separate render with that spp) */
     for (k = 0; k < K; k++)
-        for (v = 0; v < n_var; v++)
-            for (s = 0; s < n_spp; s++) {
-                RenderOptions o;
-                RenderStats st;
-                Image img;
-                render_options_default(&o);
-                eval_parse_variant(var_names[v], &o);
-                o.spp = spp[s];
-                o.seed = 1000003 * (k + 1);
-                o.threads = threads;
-                o.maxdepth = maxdepth >= 0 ? maxdepth
-                             : scene.settings.maxdepth_set ? scene.settings.maxdepth : DEFAULT_MAXDEPTH;
-                if (!render(&scene, &o, &img, &st, &err)) {
-                    fprintf(stderr, "%s\n", err.msg);
-                    fclose(csv);
-                    img_free(&ref); scene_free(&scene);
-                    return 1;
-                }
-                wall[IDX(v, s, k)] = st.wall_s;
-                cpu[IDX(v, s, k)] = st.cpu_s;
-                build[IDX(v, s, k)] = st.build_s;
-                for (r = 0; r < n_reg; r++) {
-                    ImgErr e;
-                    if (!img_error(&img, &ref, reg[r][0], reg[r][1], reg[r][2], reg[r][3], &e)) {
-                        e.mse = e.relmse = e.mae = NAN;
-                    }
-                    mse[RIDX(v, s, k, r)] = e.mse;
-                    relmse[RIDX(v, s, k, r)] = e.relmse;
-                    mae[RIDX(v, s, k, r)] = e.mae;
-                    fprintf(csv, "%s,%s,%d,%d,%.6f,%.6f,%.6f,%s,%.9g,%.9g,%.9g\n", scene_path, var_names[v],
-                            spp[s], k, st.wall_s, st.cpu_s, st.build_s, reg_name[r], e.mse, e.relmse, e.mae);
-                }
-                fflush(csv);
-                fprintf(stderr, "converge: %s spp %d seed %d: %.3f s, MSE %.4g\n", var_names[v], spp[s], k,
-                        st.wall_s, mse[RIDX(v, s, k, 0)]);
-                img_free(&img);
+        for (v = 0; v < n_var; v++) {
+            RenderOptions o;
+            RenderStats st;
+            Image img;
+            Rung R;
+            render_options_default(&o);
+            eval_parse_variant(var_names[v], &o);
+            o.seed = 1000003 * (k + 1);
+            o.threads = threads;
+            o.maxdepth = maxdepth >= 0 ? maxdepth
+                         : scene.settings.maxdepth_set ? scene.settings.maxdepth : DEFAULT_MAXDEPTH;
+            R.scene_path = scene_path; R.variant = var_names[v]; R.v = v; R.k = k;
+            R.spp = spp; R.ref = &ref; R.n_reg = n_reg; R.reg = reg; R.reg_name = reg_name;
+            R.mse = mse; R.relmse = relmse; R.mae = mae; R.wall = wall; R.cpu = cpu; R.build = build;
+            R.csv = csv;
+            if (!render_ladder(&scene, &o, spp, n_spp, record_rung, &R, &img, &st, &err)) {
+                fprintf(stderr, "%s\n", err.msg);
+                fclose(csv);
+                img_free(&ref); scene_free(&scene);
+                free(mse); free(relmse); free(mae); free(wall); free(cpu); free(build);
+                return 1;
             }
+            img_free(&img);
+        }
     fclose(csv);
 
-    /* ---- charts (whole image) */
+    /* ---- charts (whole image); time is CPU or wall time (--time) */
+    tb = use_cpu ? cpu : wall;
     {
         double x[MAX_VARIANTS][MAX_SPP], y[MAX_VARIANTS][MAX_SPP], lo[MAX_VARIANTS][MAX_SPP],
             hi[MAX_VARIANTS][MAX_SPP], tx[MAX_VARIANTS][MAX_SPP], eff[MAX_VARIANTS][MAX_SPP];
@@ -255,7 +305,7 @@ int cmd_converge(int argc, char **argv)
                 double sm = 0, st = 0, mn = INFINITY, mx = 0;
                 for (k = 0; k < K; k++) {
                     double m = mse[RIDX(v, s, k, 0)];
-                    sm += m; st += wall[IDX(v, s, k)];
+                    sm += m; st += tb[IDX(v, s, k)];
                     if (m < mn) mn = m;
                     if (m > mx) mx = m;
                 }
@@ -285,7 +335,7 @@ int cmd_converge(int argc, char **argv)
             ch.title = chart == 0 ? "MSE against samples per pixel (band: min..max over seeds)"
                      : chart == 1 ? "MSE against render time (equal time: read across)"
                                   : "efficiency 1/(MSE x time) relative to the baseline";
-            ch.xlabel = chart == 1 ? "wall time (s)" : "samples per pixel";
+            ch.xlabel = chart == 1 ? (use_cpu ? "CPU time (s)" : "wall time (s)") : "samples per pixel";
             ch.ylabel = chart == 2 ? "relative efficiency" : "MSE (whole image)";
             ch.logx = 1;
             ch.logy = chart != 2;
@@ -306,11 +356,12 @@ int cmd_converge(int argc, char **argv)
             fprintf(md, "Scene `%s`, reference `%s`, %d seeds, spp ladder", scene_path, ref_path, K);
             for (s = 0; s < n_spp; s++) fprintf(md, " %d", spp[s]);
             fprintf(md, "; baseline `%s`. Changes are MSE ratios minus 1 (negative = better), "
-                        "mean [95%% CI] over seeds.\n\n", var_names[b]);
+                        "mean [95%% CI] over seeds; equal time in %s time.\n\n", var_names[b],
+                    use_cpu ? "CPU" : "wall");
             for (r = 0; r < n_reg; r++) {
                 fprintf(md, "**%s** (%d,%d)-(%d,%d)\n\n", reg_name[r], reg[r][0], reg[r][1], reg[r][2], reg[r][3]);
-                fprintf(md, "| variant | MSE at %d spp | change at %d spp | change at equal time | wall time (s) |\n",
-                        spp[last], spp[last]);
+                fprintf(md, "| variant | MSE at %d spp | change at %d spp | change at equal time | %s time (s) |\n",
+                        spp[last], spp[last], use_cpu ? "CPU" : "wall");
                 fprintf(md, "|---|---|---|---|---|\n");
                 for (v = 0; v < n_var; v++) {
                     double c_spp[MAX_SEEDS], c_time[MAX_SEEDS], mm[MAX_SEEDS], tt[MAX_SEEDS];
@@ -318,10 +369,10 @@ int cmd_converge(int argc, char **argv)
                     for (k = 0; k < K; k++) {
                         double tv[MAX_SPP], mv[MAX_SPP], T;
                         mm[k] = mse[RIDX(v, last, k, r)];
-                        tt[k] = wall[IDX(v, last, k)];
+                        tt[k] = tb[IDX(v, last, k)];
                         c_spp[k] = mse[RIDX(v, last, k, r)] / mse[RIDX(b, last, k, r)] - 1.0;
-                        for (s = 0; s < n_spp; s++) { tv[s] = wall[IDX(v, s, k)]; mv[s] = mse[RIDX(v, s, k, r)]; }
-                        T = wall[IDX(b, last, k)];
+                        for (s = 0; s < n_spp; s++) { tv[s] = tb[IDX(v, s, k)]; mv[s] = mse[RIDX(v, s, k, r)]; }
+                        T = tb[IDX(b, last, k)];
                         c_time[k] = mse_at_time(tv, mv, n_spp, T) / mse[RIDX(b, last, k, r)] - 1.0;
                     }
                     mean_ci(mm, K, &m0, &h0);

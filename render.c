@@ -1,6 +1,6 @@
 /* render.c - the spectral path tracer: camera, wavelengths, the path loop, the film.
 
-   Exported: render_options_default, render (specnee.h section 12).
+   Exported: render_options_default, render, render_ladder (specnee.h section 12).
 
    THE ESTIMATOR.  Each camera sample draws u and four wavelengths by rotation in
    the CDF of the wavelength pdf p (HWSS, Wilkie et al. 2014; CMIS, West et al.
@@ -52,7 +52,15 @@
    the integral of ybar (emitters are normalised instead, as in pbrt-v4), then
    converted to linear sRGB with pbrt-v4's matrix.  Every (pixel, sample) owns its
    random stream, every pixel is written by one thread: the image is identical
-   for any number of threads. */
+   for any number of threads.
+
+   PROGRESSIVE RENDERING.  render_ladder renders in passes up a ladder of sample
+   counts (16, 32, ..., 512) and hands the image at each rung to a callback:
+   sample k of a pixel uses the stream (pixel, seed, k) whatever the total, and the
+   per-pixel sums are kept in double and added in sample order, so the image at a
+   rung is bit-identical to a separate render with that spp (tested).  `specnee
+   converge` uses it: one 512-spp render per seed gives the whole ladder, each rung
+   timed as the render so far. */
 #define _POSIX_C_SOURCE 200809L
 #include "specnee.h"
 #include <stdlib.h>
@@ -393,20 +401,116 @@ static double wall_seconds(void)
 #endif
 }
 
+/* One pass of the progressive render: samples [k0, k1) of every pixel are added,
+   in sample order, to acc (3 doubles per pixel, XYZ sums), and img receives
+   acc / k1 in linear sRGB.  Summing in sample order makes a render that stops at
+   k1 after any sequence of passes bit-identical to one pass of k1 samples. */
+typedef struct {
+    const Renderer *R;
+    double *acc;
+    Image *img;
+    uint64_t *row_rays;
+    long *row_nonfinite, *row_fallbacks;
+    int k0, k1, spp_final, rows_done;
+} Pass;
+
+static void render_pass(Pass *P)
+{
+    const Renderer *R = P->R;
+    const RenderOptions *o = R->o;
+    const SceneSettings *set = &R->s->settings;
+    int w = set->xres, h = set->yres, y;
+#ifdef _OPENMP
+    /* rows are handed out one at a time; each pixel is written by one thread */
+#pragma omp parallel for schedule(dynamic, 1) num_threads(o->threads > 0 ? o->threads : omp_get_max_threads())
+#endif
+    for (y = 0; y < h; y++) {
+        int x;
+        Counters cnt;
+        memset(&cnt, 0, sizeof cnt);
+        for (x = 0; x < w; x++) {
+            double *sum = P->acc + 3 * ((size_t)y * w + x), avg[3], rgb[3];
+            uint64_t stream = hash_u64(hash_u64((uint64_t)x, (uint64_t)y), (uint64_t)(uint32_t)o->seed);
+            FILE *dbg = (x == o->debug_x && y == o->debug_y) ? stderr : NULL;
+            int k;
+            for (k = P->k0; k < P->k1; k++) {
+                Rng rng;
+                Wavelengths wl;
+                double xyz[3] = { 0.0, 0.0, 0.0 };
+                float fx, fy;
+                rng_seed(&rng, stream, (uint64_t)k);   /* sample k's stream: independent of spp */
+                if (set->filter == FILTER_GAUSSIAN) {
+                    fx = 0.5f + gaussian_offset(&rng, set->filter_radius, set->filter_sigma);
+                    fy = 0.5f + gaussian_offset(&rng, set->filter_radius, set->filter_sigma);
+                } else {
+                    fx = rng_float(&rng);
+                    fy = rng_float(&rng);
+                }
+                wl_sample(&R->wl, rng_float(&rng), &wl);
+                if (dbg) fprintf(dbg, "pixel (%d, %d) sample %d\n", x, y, k);
+                trace_path(R, camera_ray(&R->cam, (float)x + fx, (float)y + fy), &wl, &rng,
+                           xyz, &cnt, dbg);
+                if (isfinite(xyz[0]) && isfinite(xyz[1]) && isfinite(xyz[2])) {
+                    sum[0] += xyz[0]; sum[1] += xyz[1]; sum[2] += xyz[2];
+                } else {
+                    cnt.nonfinite++;
+                }
+            }
+            avg[0] = sum[0] / P->k1; avg[1] = sum[1] / P->k1; avg[2] = sum[2] / P->k1;
+            xyz_to_linear_srgb(avg, rgb);
+            P->img->rgb[3 * ((size_t)y * w + x) + 0] = (float)rgb[0];
+            P->img->rgb[3 * ((size_t)y * w + x) + 1] = (float)rgb[1];
+            P->img->rgb[3 * ((size_t)y * w + x) + 2] = (float)rgb[2];
+        }
+        P->row_rays[y] += cnt.rays;
+        P->row_nonfinite[y] += cnt.nonfinite;
+        P->row_fallbacks[y] += cnt.fallbacks;
+        if (o->progress) {
+#ifdef _OPENMP
+#pragma omp critical(specnee_progress)
+#endif
+            {
+                /* progress over all passes: rows weighted by their samples */
+                double done;
+                int bar, i;
+                P->rows_done++;
+                done = ((double)P->k0 * h + (double)P->rows_done * (P->k1 - P->k0)) / ((double)P->spp_final * h);
+                bar = (int)(40.0 * done);
+                fprintf(stderr, "\r[");
+                for (i = 0; i < 40; i++) fputc(i < bar ? '#' : ' ', stderr);
+                fprintf(stderr, "] %3d%%", (int)(100.0 * done));
+                if (P->rows_done == h && P->k1 == P->spp_final) fputc('\n', stderr);
+                fflush(stderr);
+            }
+        }
+    }
+}
+
 int render(Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error *err)
+{
+    if (o->spp <= 0) { memset(st, 0, sizeof *st); error_set(err, NULL, 0, "spp must be positive"); return 0; }
+    return render_ladder(s, o, &o->spp, 1, NULL, NULL, img, st, err);
+}
+
+int render_ladder(Scene *s, const RenderOptions *o, const int *ladder, int n_rungs,
+                  RenderRungFn on_rung, void *user, Image *img, RenderStats *st, Error *err)
 {
     Renderer R;
     const SceneSettings *set = &s->settings;
     float lo = o->wl_wide ? (float)SPEC_MIN : LAMBDA_LO, hi = o->wl_wide ? (float)SPEC_MAX : LAMBDA_HI;
-    int w = set->xres, h = set->yres, y;
-    double t0 = wall_seconds(), t_build;
-    clock_t c0 = clock();
-    uint64_t *row_rays;
-    long *row_nonfinite, *row_fallbacks;
-    int rows_done = 0;
+    int w = set->xres, h = set->yres, y, i, ok = 1;
+    double t0 = wall_seconds(), t_build, paused_wall = 0.0;
+    clock_t c0 = clock(), paused_cpu = 0;
+    Pass P;
 
     memset(st, 0, sizeof *st);
-    if (o->spp <= 0) { error_set(err, NULL, 0, "spp must be positive"); return 0; }
+    memset(&P, 0, sizeof P);
+    if (n_rungs < 1 || ladder[0] <= 0) { error_set(err, NULL, 0, "spp must be positive"); return 0; }
+    for (i = 1; i < n_rungs; i++)
+        if (ladder[i] <= ladder[i - 1]) {
+            error_set(err, NULL, 0, "the spp ladder must increase (%d after %d)", ladder[i], ladder[i - 1]);
+            return 0;
+        }
     if (!emitters_prepare(s, lo, hi, err)) return 0;
     R.s = s;
     R.o = o;
@@ -433,11 +537,15 @@ int render(Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error 
         wl_pdf_free(&R.wl);
         return 0;
     }
-    row_rays = (uint64_t *)calloc((size_t)h, sizeof *row_rays);
-    row_nonfinite = (long *)calloc((size_t)h, sizeof *row_nonfinite);
-    row_fallbacks = (long *)calloc((size_t)h, sizeof *row_fallbacks);
-    if (!row_rays || !row_nonfinite || !row_fallbacks) {
-        free(row_rays); free(row_nonfinite); free(row_fallbacks);
+    P.R = &R;
+    P.img = img;
+    P.spp_final = ladder[n_rungs - 1];
+    P.acc = (double *)calloc(3 * (size_t)w * (size_t)h, sizeof *P.acc);
+    P.row_rays = (uint64_t *)calloc((size_t)h, sizeof *P.row_rays);
+    P.row_nonfinite = (long *)calloc((size_t)h, sizeof *P.row_nonfinite);
+    P.row_fallbacks = (long *)calloc((size_t)h, sizeof *P.row_fallbacks);
+    if (!P.acc || !P.row_rays || !P.row_nonfinite || !P.row_fallbacks) {
+        free(P.acc); free(P.row_rays); free(P.row_nonfinite); free(P.row_fallbacks);
         img_free(img);
         light_sampler_free(R.ls);
         wl_pdf_free(&R.wl);
@@ -445,78 +553,32 @@ int render(Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error 
         return 0;
     }
 
-#ifdef _OPENMP
-    /* rows are handed out one at a time; each pixel is written by one thread */
-#pragma omp parallel for schedule(dynamic, 1) num_threads(o->threads > 0 ? o->threads : omp_get_max_threads())
-#endif
-    for (y = 0; y < h; y++) {
-        int x;
-        Counters cnt;
-        memset(&cnt, 0, sizeof cnt);
-        for (x = 0; x < w; x++) {
-            double sum[3] = { 0.0, 0.0, 0.0 }, rgb[3];
-            uint64_t stream = hash_u64(hash_u64((uint64_t)x, (uint64_t)y), (uint64_t)(uint32_t)o->seed);
-            FILE *dbg = (x == o->debug_x && y == o->debug_y) ? stderr : NULL;
-            int k;
-            for (k = 0; k < o->spp; k++) {
-                Rng rng;
-                Wavelengths wl;
-                double xyz[3] = { 0.0, 0.0, 0.0 };
-                float fx, fy;
-                rng_seed(&rng, stream, (uint64_t)k);
-                if (set->filter == FILTER_GAUSSIAN) {
-                    fx = 0.5f + gaussian_offset(&rng, set->filter_radius, set->filter_sigma);
-                    fy = 0.5f + gaussian_offset(&rng, set->filter_radius, set->filter_sigma);
-                } else {
-                    fx = rng_float(&rng);
-                    fy = rng_float(&rng);
-                }
-                wl_sample(&R.wl, rng_float(&rng), &wl);
-                if (dbg) fprintf(dbg, "pixel (%d, %d) sample %d\n", x, y, k);
-                trace_path(&R, camera_ray(&R.cam, (float)x + fx, (float)y + fy), &wl, &rng,
-                           xyz, &cnt, dbg);
-                if (isfinite(xyz[0]) && isfinite(xyz[1]) && isfinite(xyz[2])) {
-                    sum[0] += xyz[0]; sum[1] += xyz[1]; sum[2] += xyz[2];
-                } else {
-                    cnt.nonfinite++;
-                }
-            }
-            sum[0] /= o->spp; sum[1] /= o->spp; sum[2] /= o->spp;
-            xyz_to_linear_srgb(sum, rgb);
-            img->rgb[3 * ((size_t)y * w + x) + 0] = (float)rgb[0];
-            img->rgb[3 * ((size_t)y * w + x) + 1] = (float)rgb[1];
-            img->rgb[3 * ((size_t)y * w + x) + 2] = (float)rgb[2];
+    for (i = 0; i < n_rungs && ok; i++) {
+        P.k0 = i ? ladder[i - 1] : 0;
+        P.k1 = ladder[i];
+        P.rows_done = 0;
+        render_pass(&P);
+        /* cumulative statistics: the render so far, callbacks excluded */
+        st->rays = 0;
+        st->nonfinite = st->fallbacks = 0;
+        for (y = 0; y < h; y++) {
+            st->rays += P.row_rays[y];
+            st->nonfinite += P.row_nonfinite[y];
+            st->fallbacks += P.row_fallbacks[y];
         }
-        row_rays[y] = cnt.rays;
-        row_nonfinite[y] = cnt.nonfinite;
-        row_fallbacks[y] = cnt.fallbacks;
-        if (o->progress) {
-#ifdef _OPENMP
-#pragma omp critical(specnee_progress)
-#endif
-            {
-                int bar, i;
-                rows_done++;
-                bar = (int)(40L * rows_done / h);
-                fprintf(stderr, "\r[");
-                for (i = 0; i < 40; i++) fputc(i < bar ? '#' : ' ', stderr);
-                fprintf(stderr, "] %3d%%", (int)(100L * rows_done / h));
-                if (rows_done == h) fputc('\n', stderr);
-                fflush(stderr);
-            }
+        st->samples = (uint64_t)w * (uint64_t)h * (uint64_t)P.k1;
+        st->build_s = t_build;
+        st->wall_s = wall_seconds() - t0 - paused_wall;
+        st->cpu_s = (double)(clock() - c0 - paused_cpu) / CLOCKS_PER_SEC;
+        if (on_rung) {
+            double tw = wall_seconds();
+            clock_t tc = clock();
+            ok = on_rung(user, i, img, st);
+            paused_wall += wall_seconds() - tw;
+            paused_cpu += clock() - tc;
         }
     }
-
-    for (y = 0; y < h; y++) {
-        st->rays += row_rays[y];
-        st->nonfinite += row_nonfinite[y];
-        st->fallbacks += row_fallbacks[y];
-    }
-    st->samples = (uint64_t)w * (uint64_t)h * (uint64_t)o->spp;
-    st->build_s = t_build;
-    st->wall_s = wall_seconds() - t0;
-    st->cpu_s = (double)(clock() - c0) / CLOCKS_PER_SEC;
-    free(row_rays); free(row_nonfinite); free(row_fallbacks);
+    free(P.acc); free(P.row_rays); free(P.row_nonfinite); free(P.row_fallbacks);
     light_sampler_free(R.ls);
     wl_pdf_free(&R.wl);
     return 1;

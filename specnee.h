@@ -512,6 +512,14 @@ void render_options_default(RenderOptions *o);
 /* Render s into img (linear sRGB, w x h of the scene's film).  The emitters are
    re-normalised for the sampled wavelength range first (hence the non-const s). */
 int  render(Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error *err);
+/* Progressive render up an increasing ladder of spp (o->spp is ignored): after
+   the pass that reaches ladder[i], on_rung(user, i, img, st) sees the image with
+   ladder[i] samples per pixel (bit-identical to render() with that spp) and the
+   cumulative statistics of the render so far (time spent in on_rung excluded);
+   returning 0 stops the render.  img holds the last image on return. */
+typedef int (*RenderRungFn)(void *user, int rung, const Image *img, const RenderStats *st);
+int  render_ladder(Scene *s, const RenderOptions *o, const int *ladder, int n_rungs,
+                   RenderRungFn on_rung, void *user, Image *img, RenderStats *st, Error *err);
 
 /* ======================================================================
    13. SVG charts (svg.c): line plots for spectra and convergence charts

@@ -75,6 +75,8 @@ expect "cli_diff_identical" 0 "" ./specnee diff tests/tmp/tiny.pfm tests/tmp/mer
 expect "cli_spectrum" 0 "" ./specnee spectrum lamp-CFL1
 expect "cli_spectrum_unknown" 1 "no-such" ./specnee spectrum no-such-spectrum
 expect "cli_converge_usage" 2 "usage" ./specnee converge
+expect "cli_converge_ladder_order" 2 "must increase" ./specnee converge scenes/cornell.pbrt --ref x.pfm --spp 8,4
+expect "cli_converge_time_basis" 2 "cpu or wall" ./specnee converge scenes/cornell.pbrt --ref x.pfm --time gpu
 # the evaluation pipeline in miniature (make eval's smoke test): the committed
 # cornell-glass reference, two variants, spp 1 and 2, two seeds; the CSV must have
 # its header and 2x2x2 rows for each of the 4 regions (image, insets A-C), no NaN,
@@ -91,7 +93,8 @@ for c in mse_spp mse_time efficiency; do
     head -c 200 "$f" 2>/dev/null | grep -q '<svg' && tail -c 20 "$f" | grep -q '</svg>' &&
         grep -q 'spatial:importance' "$f" || svg_ok=0
 done
-if [ $svg_ok = 1 ] && grep -q '| spatial:importance |' tests/tmp/smoke.md; then ok "eval_smoke_svg_and_table"
+if [ $svg_ok = 1 ] && grep -q '| spatial:importance |' tests/tmp/smoke.md &&
+   grep -q 'CPU time (s)' tests/tmp/smoke_mse_time.svg; then ok "eval_smoke_svg_and_table"
 else fail "eval_smoke_svg_and_table"; fi
 
 # golden images (bit-exact with this binary) and every command of the walkthrough

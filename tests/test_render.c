@@ -235,6 +235,79 @@ static void test_determinism_threads(T *t)
     scene_free(&s);
 }
 
+/* Progressive rendering: each rung of a ladder is bit-identical to a separate
+   render with that spp (same seed), whatever the thread count; statistics are
+   cumulative; a callback returning 0 stops the ladder; a ladder that does not
+   increase is refused.  (`specnee converge` relies on the first property.) */
+typedef struct {
+    Image rung[3];
+    uint64_t samples[3];
+    int calls, stop_after;
+} LadderLog;
+
+static int ladder_keep(void *user, int rung, const Image *img, const RenderStats *st)
+{
+    LadderLog *L = (LadderLog *)user;
+    if (img_alloc(&L->rung[rung], img->w, img->h))
+        memcpy(L->rung[rung].rgb, img->rgb, sizeof(float) * 3 * (size_t)img->w * (size_t)img->h);
+    L->samples[rung] = st->samples;
+    L->calls++;
+    return L->calls != L->stop_after;
+}
+
+static void test_progressive_ladder(T *t)
+{
+    char text[4096];
+    Scene s;
+    RenderOptions o;
+    RenderStats st;
+    Error err;
+    Image last;
+    static const int ladder[3] = { 2, 3, 7 }, bad[2] = { 4, 4 };
+    int threads, i;
+    snprintf(text, sizeof text, box_fmt, test_box_walls, ceiling_light, rough_dispersive);
+    if (!test_load_scene(t, &s, text)) return;
+    render_options_default(&o);
+    o.sel.grid_res = 8;
+    o.sel.strategy = SEL_PRODUCT;
+    o.rough_mis = 1;
+    o.seed = 5;
+    for (threads = 1; threads <= 2; threads++) {
+        LadderLog L;
+        memset(&L, 0, sizeof L);
+        o.threads = threads;
+        CHECK(t, render_ladder(&s, &o, ladder, 3, ladder_keep, &L, &last, &st, &err), "ladder: %s", err.msg);
+        CHECK(t, L.calls == 3, "%d rung callbacks, expected 3", L.calls);
+        for (i = 0; i < 3 && L.calls == 3; i++) {
+            Image one;
+            RenderStats st1;
+            size_t bytes = sizeof(float) * 3 * (size_t)last.w * (size_t)last.h;
+            o.spp = ladder[i];
+            CHECK(t, render(&s, &o, &one, &st1, &err), "render: %s", err.msg);
+            CHECK(t, L.rung[i].rgb && memcmp(L.rung[i].rgb, one.rgb, bytes) == 0,
+                  "%d threads: rung %d (%d spp) differs from a %d-spp render", threads, i, ladder[i], ladder[i]);
+            CHECK(t, L.samples[i] == st1.samples, "rung %d counts %lu samples, a render %lu", i,
+                  (unsigned long)L.samples[i], (unsigned long)st1.samples);
+            img_free(&one);
+        }
+        for (i = 0; i < 3; i++) img_free(&L.rung[i]);
+        img_free(&last);
+    }
+    {   /* stop after the first rung */
+        LadderLog L;
+        memset(&L, 0, sizeof L);
+        L.stop_after = 1;
+        CHECK(t, render_ladder(&s, &o, ladder, 3, ladder_keep, &L, &last, &st, &err), "ladder: %s", err.msg);
+        CHECK(t, L.calls == 1 && st.samples == (uint64_t)ladder[0] * last.w * last.h,
+              "stopping after rung 0: %d calls, %lu samples", L.calls, (unsigned long)st.samples);
+        img_free(&L.rung[0]);
+        img_free(&last);
+    }
+    CHECK(t, !render_ladder(&s, &o, bad, 2, NULL, NULL, &last, &st, &err) && strstr(err.msg, "must increase"),
+          "a ladder 4,4 was accepted or gave '%s'", err.msg);
+    scene_free(&s);
+}
+
 /* Two half renders (different seeds) merged by sample count match a full render
    (another seed) in expectation. */
 static void test_merge_halves(T *t)
@@ -305,5 +378,6 @@ const TestCase tests_render[] = {
     { "render_termination_bookkeeping", test_termination_bookkeeping },
     { "render_determinism_threads", test_determinism_threads },
     { "render_merge_halves", test_merge_halves },
+    { "render_progressive_ladder", test_progressive_ladder },
     { NULL, NULL }
 };

@@ -9,16 +9,18 @@
 #
 #   SEEDS   seeds per (variant, spp) (default 8, as the evaluation issue asks)
 #   LADDER  spp ladder (default 16,32,64,128,256,512, the thesis' ladder)
-#   SCENES  which runs (default all: cornell-glass cornell1 cornell1-allwl cornell2
-#           suzanne); a subset keeps each call short, e.g. on a lent machine with a
-#           per-command limit; the tables of the other runs stay as they are
-# The committed docs/RESULTS.md was made with SEEDS=6 LADDER=16,...,256 (it says so).
+#   SCENES  which runs (default all: cornell1 cornell2 suzanne cornell-glass); a
+#           subset keeps each call short, e.g. on a lent machine with a per-command
+#           limit; the tables of the other runs stay as they are
 #   THREADS render threads (default: all cores)
-# Run time: see docs/RESULTS.md (it records the run that produced it).
+#   TIME    cpu (default) or wall: the time basis of the charts and of equal time
+# Each (variant, seed) is one progressive render up the ladder (render_ladder), so
+# a run costs SEEDS x variants x 512 spp.  Run time: docs/eval/timing.txt.
 set -eu
 SEEDS=${SEEDS:-8}
 LADDER=${LADDER:-16,32,64,128,256,512}
 THREADS=${THREADS:-0}
+TIME=${TIME:-cpu}
 mkdir -p docs/eval
 start=$(date +%s)
 run_as() {  # output-name scene variants
@@ -29,23 +31,22 @@ run_as() {  # output-name scene variants
     fi
     t0=$(date +%s)
     ./specnee converge "scenes/$sc.pbrt" --ref "docs/ref/$sc.pfm" --lights "$1" \
-        --spp "$LADDER" --seeds "$SEEDS" --threads "$THREADS" --out "docs/eval/$out" 2> "docs/eval/$out.log"
-    echo "$out: $(( $(date +%s) - t0 )) s" >> docs/eval/timing.txt
+        --spp "$LADDER" --seeds "$SEEDS" --threads "$THREADS" --time "$TIME" --out "docs/eval/$out" 2> "docs/eval/$out.log"
+    echo "$out: $(( $(date +%s) - t0 )) s (SEEDS=$SEEDS LADDER=$LADDER TIME=$TIME, $(getconf _NPROCESSORS_ONLN) cores, $(date -u +%Y-%m-%d))" >> docs/eval/timing.txt
 }
 run() { run_as "$1" "$@"; }  # scene variants: tables named after the scene
-SCENES=${SCENES:-"cornell-glass cornell1 cornell1-allwl cornell2 suzanne"}
+SCENES=${SCENES:-"cornell1 cornell2 suzanne cornell-glass"}
 want() { case " $SCENES " in *" $1 "*) return 0 ;; esac; return 1; }
 [ -f docs/eval/timing.txt ] || : > docs/eval/timing.txt
-# issue "spectral transport": wavelength strategies on the F11-lit glass box
-want cornell-glass && run cornell-glass "spatial,spatial:single,spatial:importance,spatial:roughmis"
-# issue "emitter selection": every strategy on the thesis' scenes
-want cornell1 && run cornell1 "spatial,spd,product,spectral-spatial,all"
-# beyond the thesis: selection by all alive wavelengths (docs/eval/cornell1-allwl.*)
-want cornell1-allwl && run_as cornell1-allwl cornell1 "spatial,product,product:all,spectral-spatial:all,product:tput"
+# emitter selection on the thesis' scenes; on cornell1 also the selection by all
+# alive wavelengths (:all, :tput) and NEE to every emitter (all)
+want cornell1 && run cornell1 "spatial,spd,product,spectral-spatial,all,product:all,spectral-spatial:all,product:tput"
 want cornell2 && run cornell2 "spatial,product,product:power,spectral-spatial"
 want suzanne && run suzanne "spatial,spd:power,product,spectral-spatial"
+# wavelength strategies on the F11-lit glass box
+want cornell-glass && run cornell-glass "spatial,spatial:single,spatial:importance,spatial:roughmis"
 [ "$(date +%s)" -gt "$start" ] &&
-    echo "total: $(( $(date +%s) - start )) s (SCENES=$SCENES SEEDS=$SEEDS LADDER=$LADDER on $(getconf _NPROCESSORS_ONLN) cores)" >> docs/eval/timing.txt
+    echo "total: $(( $(date +%s) - start )) s (SCENES=$SCENES SEEDS=$SEEDS LADDER=$LADDER TIME=$TIME on $(getconf _NPROCESSORS_ONLN) cores)" >> docs/eval/timing.txt
 # assemble docs/RESULTS.md
 awk '
 /^@@include .*@@$/ {
