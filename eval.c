@@ -13,6 +13,8 @@
        PREFIX_mse_spp.svg      MSE against spp, log-log, band = min..max over seeds
        PREFIX_mse_time.svg     MSE against time (CPU time unless --time wall), log-log
        PREFIX_efficiency.svg   efficiency 1/(MSE x time) relative to the baseline
+       PREFIX.png              the baseline's seed-0 render at the largest spp,
+                               insets outlined (png_write_marked)
        PREFIX.md               tables: MSE change against the baseline at the
                                largest spp and at equal time, mean and 95% CI
    Progressive: one render per (variant, seed) climbs the whole ladder
@@ -129,6 +131,9 @@ typedef struct {
     char (*reg_name)[16];
     double *mse, *relmse, *mae, *wall, *cpu, *build;
     FILE *csv;
+    const char *png;      /* write this rendering's last rung here, insets outlined (NULL: no) */
+    int last;             /* index of the last rung */
+    float exposure;
 } Rung;
 
 /* render_ladder callback: errors of the image at rung s against the reference,
@@ -151,6 +156,8 @@ static int record_rung(void *user, int s, const Image *img, const RenderStats *s
                 R->spp[s], k, st->wall_s, st->cpu_s, st->build_s, R->reg_name[r], e.mse, e.relmse, e.mae);
     }
     fflush(R->csv);
+    if (R->png && s == R->last && !png_write_marked(img, R->png, R->exposure, &R->reg[1][0], R->n_reg - 1))
+        fprintf(stderr, "%s: cannot write\n", R->png);
     fprintf(stderr, "converge: %s spp %d seed %d: %.3f s wall, %.3f s CPU, MSE %.4g\n", R->variant,
             R->spp[s], k, st->wall_s, st->cpu_s, R->mse[RIDX(v, s, k, 0)]);
     return 1;
@@ -169,7 +176,8 @@ static const char usage_converge[] =
 int cmd_converge(int argc, char **argv)
 {
     const char *scene_path = NULL, *ref_path = NULL, *prefix = "converge", *baseline = NULL;
-    char var_names[MAX_VARIANTS][64], spp_s[MAX_SPP][64], path[1024];
+    char var_names[MAX_VARIANTS][64], spp_s[MAX_SPP][64], path[1024], png_path[1024];
+    float exposure;
     int n_var = 1, n_spp = 0, K = 4, threads = 0, maxdepth = -1, i, v, s, k, r, b = 0;
     int spp[MAX_SPP];
     Scene scene;
@@ -245,6 +253,20 @@ int cmd_converge(int argc, char **argv)
         snprintf(reg_name[n_reg], sizeof reg_name[n_reg], "%s", scene.inset_name[i]);
         memcpy(reg[n_reg], scene.inset[i], sizeof reg[n_reg]);
     }
+    /* the picture for docs/RESULTS.md: the baseline's seed-0 render at the largest
+       spp, insets outlined, at the power-of-two exposure that brings the
+       reference's mean luminance nearest to middle grey (0.18) */
+    {
+        double Y = 0.0;
+        size_t p, np = (size_t)ref.w * (size_t)ref.h;
+        for (p = 0; p < np; p++)
+            Y += 0.212671 * ref.rgb[3 * p] + 0.715160 * ref.rgb[3 * p + 1] + 0.072169 * ref.rgb[3 * p + 2];
+        Y /= (double)np;
+        exposure = Y > 0.0 ? (float)floor(log2(0.18 / Y) + 0.5) : 0.0f;
+        if (exposure < -8.0f) exposure = -8.0f;
+        if (exposure > 8.0f) exposure = 8.0f;
+        snprintf(png_path, sizeof png_path, "%s.png", prefix);
+    }
     mse = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, sizeof(double));
     relmse = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, sizeof(double));
     mae = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, sizeof(double));
@@ -281,6 +303,9 @@ int cmd_converge(int argc, char **argv)
             R.spp = spp; R.ref = &ref; R.n_reg = n_reg; R.reg = reg; R.reg_name = reg_name;
             R.mse = mse; R.relmse = relmse; R.mae = mae; R.wall = wall; R.cpu = cpu; R.build = build;
             R.csv = csv;
+            R.png = v == b && k == 0 ? png_path : NULL;
+            R.last = n_spp - 1;
+            R.exposure = exposure;
             if (!render_ladder(&scene, &o, spp, n_spp, record_rung, &R, &img, &st, &err)) {
                 fprintf(stderr, "%s\n", err.msg);
                 fclose(csv);
@@ -358,6 +383,13 @@ int cmd_converge(int argc, char **argv)
             fprintf(md, "; baseline `%s`. Changes are MSE ratios minus 1 (negative = better), "
                         "mean [95%% CI] over seeds; equal time in %s time.\n\n", var_names[b],
                     use_cpu ? "CPU" : "wall");
+            fprintf(md, "Picture `%s`: `%s`, seed 0, %d spp, exposure %+g; insets outlined:", png_path,
+                    var_names[b], spp[last], exposure);
+            for (r = 1; r < n_reg; r++) {
+                static const char *cname[8] = { "yellow", "cyan", "magenta", "orange", "white", "green", "blue", "red" };
+                fprintf(md, "%s %s %s", r > 1 ? "," : "", reg_name[r], cname[(r - 1) % 8]);
+            }
+            fprintf(md, ".\n\n");
             for (r = 0; r < n_reg; r++) {
                 fprintf(md, "**%s** (%d,%d)-(%d,%d)\n\n", reg_name[r], reg[r][0], reg[r][1], reg[r][2], reg[r][3]);
                 fprintf(md, "| variant | MSE at %d spp | change at %d spp | change at equal time | %s time (s) |\n",

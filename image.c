@@ -502,6 +502,32 @@ int png_write(const Image *im, const char *path, float exposure)
     return ok;
 }
 
+/* png_write plus the rectangles' outlines, one pixel wide, inside each rectangle,
+   rectangle i in colour i mod 8 of the table below. */
+int png_write_marked(const Image *im, const char *path, float exposure, const int *rect, int n)
+{
+    static const unsigned char colour[8][3] = {   /* yellow cyan magenta orange white green blue red */
+        { 255, 230, 0 }, { 0, 230, 255 }, { 255, 60, 200 }, { 255, 140, 0 },
+        { 255, 255, 255 }, { 60, 230, 60 }, { 60, 90, 255 }, { 255, 40, 40 } };
+    unsigned char *rgb;
+    int ok, i, x, y;
+    if (!img_valid(im) || !path || n < 0) return 0;
+    rgb = img_to_rgb8(im, exposure);
+    if (!rgb) return 0;
+    for (i = 0; i < n; i++) {
+        const int *q = rect + 4 * i;
+        int x0 = q[0] < 0 ? 0 : q[0], y0 = q[1] < 0 ? 0 : q[1];
+        int x1 = q[2] > im->w ? im->w : q[2], y1 = q[3] > im->h ? im->h : q[3];
+        for (y = y0; y < y1; y++)
+            for (x = x0; x < x1; x++)
+                if (x == x0 || x == x1 - 1 || y == y0 || y == y1 - 1)
+                    memcpy(rgb + 3 * ((size_t)y * im->w + x), colour[i % 8], 3);
+    }
+    ok = png_write_rgb8(path, im->w, im->h, rgb);
+    free(rgb);
+    return ok;
+}
+
 /* ======================================================================
    Writing by extension, sidecars
    ====================================================================== */

@@ -429,6 +429,10 @@ int  pfm_read(Image *im, const char *path, Error *err);
 int  ppm_write(const Image *im, const char *path, float exposure);
 int  png_write(const Image *im, const char *path, float exposure);
 int  png_write_rgb8(const char *path, int w, int h, const unsigned char *rgb);
+/* png_write with the outlines of n pixel rectangles, rect[4i..4i+3] = x0, y0, x1,
+   y1 (x1, y1 exclusive), drawn in, rectangle i in colour i mod 8 of: yellow, cyan, magenta,
+   orange, white, green, blue, red (the insets of docs/RESULTS.md). */
+int  png_write_marked(const Image *im, const char *path, float exposure, const int *rect, int n);
 float srgb_oetf(float linear);           /* IEC 61966-2-1 transfer curve */
 /* Sidecar "<path>.txt": lines "spp <n>" (left out when spp < 0: unknown) and
    "settings <text>", for merge. */

@@ -96,6 +96,11 @@ done
 if [ $svg_ok = 1 ] && grep -q '| spatial:importance |' tests/tmp/smoke.md &&
    grep -q 'CPU time (s)' tests/tmp/smoke_mse_time.svg; then ok "eval_smoke_svg_and_table"
 else fail "eval_smoke_svg_and_table"; fi
+# the picture: a PNG (signature, IHDR 160x160) and its caption with the inset colours
+if [ "$(head -c 8 tests/tmp/smoke.png 2>/dev/null | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] &&
+   [ "$(od -An -tx1 -j16 -N8 tests/tmp/smoke.png | tr -d ' \n')" = 000000a0000000a0 ] &&
+   grep -q 'insets outlined: A yellow, B cyan, C magenta' tests/tmp/smoke.md; then ok "eval_smoke_picture"
+else fail "eval_smoke_picture"; fi
 
 # golden images (bit-exact with this binary) and every command of the walkthrough
 counted golden sh tests/golden.sh

@@ -14,6 +14,7 @@
 #           limit; the tables of the other runs stay as they are
 #   THREADS render threads (default: all cores)
 #   TIME    cpu (default) or wall: the time basis of the charts and of equal time
+#   SPECNEE the binary (default ./specnee; a copy lets you rebuild during a run)
 # Each (variant, seed) is one progressive render up the ladder (render_ladder), so
 # a run costs SEEDS x variants x 512 spp.  Run time: docs/eval/timing.txt.
 set -eu
@@ -21,6 +22,7 @@ SEEDS=${SEEDS:-8}
 LADDER=${LADDER:-16,32,64,128,256,512}
 THREADS=${THREADS:-0}
 TIME=${TIME:-cpu}
+SPECNEE=${SPECNEE:-./specnee}
 mkdir -p docs/eval
 start=$(date +%s)
 run_as() {  # output-name scene variants
@@ -30,7 +32,7 @@ run_as() {  # output-name scene variants
         exit 1
     fi
     t0=$(date +%s)
-    ./specnee converge "scenes/$sc.pbrt" --ref "docs/ref/$sc.pfm" --lights "$1" \
+    "$SPECNEE" converge "scenes/$sc.pbrt" --ref "docs/ref/$sc.pfm" --lights "$1" \
         --spp "$LADDER" --seeds "$SEEDS" --threads "$THREADS" --time "$TIME" --out "docs/eval/$out" 2> "docs/eval/$out.log"
     echo "$out: $(( $(date +%s) - t0 )) s (SEEDS=$SEEDS LADDER=$LADDER TIME=$TIME, $(getconf _NPROCESSORS_ONLN) cores, $(date -u +%Y-%m-%d))" >> docs/eval/timing.txt
 }
@@ -47,6 +49,31 @@ want suzanne && run suzanne "spatial,spd:power,product,spectral-spatial"
 want cornell-glass && run cornell-glass "spatial,spatial:single,spatial:importance,spatial:roughmis"
 [ "$(date +%s)" -gt "$start" ] &&
     echo "total: $(( $(date +%s) - start )) s (SCENES=$SCENES SEEDS=$SEEDS LADDER=$LADDER TIME=$TIME on $(getconf _NPROCESSORS_ONLN) cores)" >> docs/eval/timing.txt
+# the references' own error beside the baseline's MSE at the largest spp
+# (docs/eval/references.md; the argument for "enough spp" in RESULTS.md)
+{
+    echo "| scene | reference spp | estimated MSE of the reference | baseline MSE at the largest spp (mean over seeds) | ratio |"
+    echo "|---|---|---|---|---|"
+    for sc in cornell1 cornell2 suzanne cornell-glass; do
+        [ -f "docs/ref/$sc.txt" ] && [ -f "docs/eval/$sc.csv" ] || continue
+        awk -v sc="$sc" '
+        FNR == NR { if ($1 == "estimated_reference_mse") refmse = $2; if ($1 == "spp") refspp = $2; next }
+        FNR == 1 { next }
+        {
+            split($0, f, ",")
+            if (base == "") base = f[2]
+            if (f[2] == base && f[8] == "image") {
+                spp = f[3] + 0
+                if (spp > top) { top = spp; sum = 0; n = 0 }
+                if (spp == top) { sum += f[9]; n++ }
+            }
+        }
+        END {
+            if (n == 0 || refmse == "") exit 1
+            printf "| %s | %s | %.2g | %.3g (`%s`, %d spp) | %.2g%% |\n", sc, refspp, refmse, sum / n, base, top, 100 * refmse / (sum / n)
+        }' "docs/ref/$sc.txt" "docs/eval/$sc.csv"
+    done
+} > docs/eval/references.md
 # assemble docs/RESULTS.md
 awk '
 /^@@include .*@@$/ {
