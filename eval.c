@@ -27,9 +27,15 @@
    Statistics.  For seed k the change of variant v is c_k = MSE_v,k / MSE_b,k - 1
    (b = the baseline, the first variant unless --baseline), reported as the mean
    over seeds with the 95% confidence interval mean +- t_{0.975, K-1} s / sqrt(K).
-   Equal time: per seed, the variant's (time, MSE) ladder is interpolated in
-   log-log at the baseline's time for the largest spp; beyond the ladder it is
-   extended with MSE proportional to 1/time (the Monte Carlo rate). */
+   Equal time: a variant's cost is its time per rung averaged over the seeds
+   (timing noise between renders, e.g. a busy machine, is not sampling noise);
+   per seed, the variant's (mean time, MSE) ladder is interpolated in log-log at
+   the baseline's mean time for the largest spp, beyond the ladder extended with
+   MSE proportional to 1/time (the Monte Carlo rate).  Both the time ratio
+   against the baseline (per seed, paired) and the equal-time change are
+   averaged in log space (geometric means); the equal-time interval combines the
+   sampling noise of the MSE and the timing noise of the time ratio, which are
+   independent: half-width sqrt(h_mse^2 + h_time^2) in log space. */
 #define _POSIX_C_SOURCE 200809L
 #include "specnee.h"
 #include <stdlib.h>
@@ -109,11 +115,13 @@ static double mse_at_time(const double *t, const double *m, int n, double T)
     int i;
     if (n <= 0) return NAN;
     if (T <= t[0]) return m[0] * t[0] / T;
-    for (i = 0; i + 1 < n; i++)
+    for (i = 0; i + 1 < n; i++) {
+        if (T == t[i + 1]) return m[i + 1];
         if (T <= t[i + 1] && t[i + 1] > t[i] && m[i] > 0 && m[i + 1] > 0) {
             double a = (log(T) - log(t[i])) / (log(t[i + 1]) - log(t[i]));
             return exp(log(m[i]) + a * (log(m[i + 1]) - log(m[i])));
         }
+    }
     return m[n - 1] * t[n - 1] / T;
 }
 
@@ -163,15 +171,66 @@ static int record_rung(void *user, int s, const Image *img, const RenderStats *s
     return 1;
 }
 
+/* --reuse: fill the arrays from the CSV of an earlier run with the same variants,
+   ladder, seeds and regions, instead of rendering.  Every (variant, spp, seed,
+   region) must be present exactly once; anything else is an error naming the line. */
+static int read_csv(const char *path, char var_names[][64], int n_var, const int *spp, int n_spp, int K,
+                    char reg_name[][16], int n_reg, double *mse, double *relmse, double *mae,
+                    double *wall, double *cpu, double *build)
+{
+    FILE *f = fopen(path, "r");
+    char line[1024];
+    int lineno = 0, want = n_var * n_spp * K * n_reg, got = 0;
+    unsigned char *seen = (unsigned char *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, 1);
+    if (!f || !seen) {
+        fprintf(stderr, "%s: cannot read (run without --reuse first)\n", path);
+        if (f) fclose(f);
+        free(seen);
+        return 0;
+    }
+    while (fgets(line, sizeof line, f)) {
+        char *field[11], *p = line, *save = NULL;
+        int nf = 0, v, s, k, r, sp;
+        lineno++;
+        if (lineno == 1) continue;   /* the header */
+        line[strcspn(line, "\r\n")] = 0;
+        for (p = strtok_r(line, ",", &save); p && nf < 11; p = strtok_r(NULL, ",", &save)) field[nf++] = p;
+        if (nf != 11) { fprintf(stderr, "%s:%d: expected 11 fields\n", path, lineno); break; }
+        for (v = 0; v < n_var && strcmp(var_names[v], field[1]); v++) {}
+        sp = atoi(field[2]);
+        for (s = 0; s < n_spp && spp[s] != sp; s++) {}
+        k = atoi(field[3]);
+        for (r = 0; r < n_reg && strcmp(reg_name[r], field[7]); r++) {}
+        if (v == n_var || s == n_spp || k < 0 || k >= K || r == n_reg) continue;   /* not asked for */
+        if (seen[RIDX(v, s, k, r)]++) { fprintf(stderr, "%s:%d: a second row for this render\n", path, lineno); break; }
+        wall[IDX(v, s, k)] = atof(field[4]);
+        cpu[IDX(v, s, k)] = atof(field[5]);
+        build[IDX(v, s, k)] = atof(field[6]);
+        mse[RIDX(v, s, k, r)] = atof(field[8]);
+        relmse[RIDX(v, s, k, r)] = atof(field[9]);
+        mae[RIDX(v, s, k, r)] = atof(field[10]);
+        got++;
+    }
+    fclose(f);
+    free(seen);
+    if (got != want) {
+        fprintf(stderr, "%s: %d of the %d rows these settings need (same --lights, --spp, --seeds?)\n", path, got, want);
+        return 0;
+    }
+    return 1;
+}
+
 static const char usage_converge[] =
     "usage: specnee converge SCENE --ref REF.pfm [--lights v1,v2,...] [--spp 16,32,...]\n"
     "         [--seeds K] [--out PREFIX] [--baseline NAME] [--threads N] [--maxdepth N]\n"
-    "         [--time cpu|wall]\n"
+    "         [--time cpu|wall] [--reuse]\n"
     "  variants: a strategy (uniform power spatial spd product spectral-spatial all)\n"
     "  with modifiers, e.g. spd:power, product:all, product:tput, spatial:importance,\n"
     "  spatial:roughmis, spatial:single, spatial:nonee.  The first is the baseline.\n"
     "  --time: the time axis and the equal-time comparison use process CPU time\n"
-    "  (default: not charged while other programs run) or wall time.\n";
+    "  (default: not charged while other programs run) or wall time.\n"
+    "  --reuse: no rendering; the charts and tables are rebuilt from PREFIX.csv of an\n"
+    "  earlier run with the same variants, ladder and seeds.\n";
 
 int cmd_converge(int argc, char **argv)
 {
@@ -186,13 +245,14 @@ int cmd_converge(int argc, char **argv)
     int n_reg, reg[MAX_REGIONS][4];
     char reg_name[MAX_REGIONS][16];
     double *mse, *relmse, *mae, *wall, *cpu, *build, *tb;
-    int use_cpu = 1;
+    int use_cpu = 1, reuse = 0;
     FILE *csv;
     strcpy(var_names[0], "spatial");
     n_spp = split_list("16,32,64,128", spp_s, MAX_SPP);
     for (i = 1; i < argc; i++) {
         const char *a = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) { fputs(usage_converge, stdout); return 0; }
+        if (!strcmp(a, "--reuse")) { reuse = 1; continue; }
         if (a[0] == '-' && !val) { fprintf(stderr, "converge: %s needs a value\n%s", a, usage_converge); return 2; }
         if (!strcmp(a, "--ref")) ref_path = argv[++i];
         else if (!strcmp(a, "--lights")) {
@@ -274,20 +334,21 @@ int cmd_converge(int argc, char **argv)
     cpu = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS, sizeof(double));
     build = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS, sizeof(double));
     snprintf(path, sizeof path, "%s.csv", prefix);
-    csv = fopen(path, "w");
-    if (!mse || !relmse || !mae || !wall || !cpu || !build || !csv) {
-        fprintf(stderr, "%s: cannot write (or out of memory)\n", path);
-        if (csv) fclose(csv);
+    csv = NULL;
+    if (!mse || !relmse || !mae || !wall || !cpu || !build ||
+        (reuse ? !read_csv(path, var_names, n_var, spp, n_spp, K, reg_name, n_reg, mse, relmse, mae, wall, cpu, build)
+               : (csv = fopen(path, "w")) == NULL)) {
+        if (!reuse) fprintf(stderr, "%s: cannot write (or out of memory)\n", path);
         free(mse); free(relmse); free(mae); free(wall); free(cpu); free(build);
         img_free(&ref); scene_free(&scene);
         return 1;
     }
-    fprintf(csv, "scene,variant,spp,seed,wall_s,cpu_s,build_s,region,mse,relmse,mae\n");
+    if (csv) fprintf(csv, "scene,variant,spp,seed,wall_s,cpu_s,build_s,region,mse,relmse,mae\n");
 
     /* the renders: seeds outermost so an interrupted run has every variant; one
        progressive render per (seed, variant) gives the whole ladder (render_ladder:
        each rung is bit-identical to a separate render with that spp) */
-    for (k = 0; k < K; k++)
+    for (k = 0; k < K && csv; k++)
         for (v = 0; v < n_var; v++) {
             RenderOptions o;
             RenderStats st;
@@ -315,7 +376,7 @@ int cmd_converge(int argc, char **argv)
             }
             img_free(&img);
         }
-    fclose(csv);
+    if (csv) fclose(csv);
 
     /* ---- charts (whole image); time is CPU or wall time (--time) */
     tb = use_cpu ? cpu : wall;
@@ -376,13 +437,22 @@ int cmd_converge(int argc, char **argv)
     {
         FILE *md = fopen(path, "w");
         int last = n_spp - 1;
+        double tmean[MAX_VARIANTS][MAX_SPP];   /* time per (variant, rung), mean over seeds */
+        for (v = 0; v < n_var; v++)
+            for (s = 0; s < n_spp; s++) {
+                tmean[v][s] = 0.0;
+                for (k = 0; k < K; k++) tmean[v][s] += tb[IDX(v, s, k)] / K;
+            }
         if (!md) { fprintf(stderr, "%s: cannot write\n", path); }
         else {
             fprintf(md, "Scene `%s`, reference `%s`, %d seeds, spp ladder", scene_path, ref_path, K);
             for (s = 0; s < n_spp; s++) fprintf(md, " %d", spp[s]);
             fprintf(md, "; baseline `%s`. Changes are MSE ratios minus 1 (negative = better), "
-                        "mean [95%% CI] over seeds; equal time in %s time.\n\n", var_names[b],
-                    use_cpu ? "CPU" : "wall");
+                        "mean [95%% CI] over seeds. Time: %s time at %d spp, mean over seeds, and its "
+                        "ratio to the baseline's (per seed, geometric mean [95%% CI]). Equal time: each "
+                        "variant's MSE at the baseline's mean time for %d spp, along its own ladder of "
+                        "mean times (geometric mean over seeds; the interval adds the timing noise of the "
+                        "time ratio to the sampling noise).\n\n", var_names[b], use_cpu ? "CPU" : "wall", spp[n_spp - 1], spp[n_spp - 1]);
             fprintf(md, "Picture `%s`: `%s`, seed 0, %d spp, exposure %+g; insets outlined:", png_path,
                     var_names[b], spp[last], exposure);
             for (r = 1; r < n_reg; r++) {
@@ -392,28 +462,32 @@ int cmd_converge(int argc, char **argv)
             fprintf(md, ".\n\n");
             for (r = 0; r < n_reg; r++) {
                 fprintf(md, "**%s** (%d,%d)-(%d,%d)\n\n", reg_name[r], reg[r][0], reg[r][1], reg[r][2], reg[r][3]);
-                fprintf(md, "| variant | MSE at %d spp | change at %d spp | change at equal time | %s time (s) |\n",
+                fprintf(md, "| variant | MSE at %d spp | change at %d spp | %s time (s) | time vs baseline | change at equal time |\n",
                         spp[last], spp[last], use_cpu ? "CPU" : "wall");
-                fprintf(md, "|---|---|---|---|---|\n");
+                fprintf(md, "|---|---|---|---|---|---|\n");
                 for (v = 0; v < n_var; v++) {
-                    double c_spp[MAX_SEEDS], c_time[MAX_SEEDS], mm[MAX_SEEDS], tt[MAX_SEEDS];
-                    double m1, h1, m2, h2, m0, h0, tm, th;
+                    double c_spp[MAX_SEEDS], c_time[MAX_SEEDS], mm[MAX_SEEDS], tt[MAX_SEEDS], tr[MAX_SEEDS];
+                    double tv[MAX_SPP], m1, h1, m2, h2, m0, h0, tm, th, rm, rh;
+                    for (s = 0; s < n_spp; s++) tv[s] = tmean[v][s];
                     for (k = 0; k < K; k++) {
-                        double tv[MAX_SPP], mv[MAX_SPP], T;
+                        double mv[MAX_SPP];
                         mm[k] = mse[RIDX(v, last, k, r)];
                         tt[k] = tb[IDX(v, last, k)];
+                        tr[k] = log(tb[IDX(v, last, k)] / tb[IDX(b, last, k)]);
                         c_spp[k] = mse[RIDX(v, last, k, r)] / mse[RIDX(b, last, k, r)] - 1.0;
-                        for (s = 0; s < n_spp; s++) { tv[s] = tb[IDX(v, s, k)]; mv[s] = mse[RIDX(v, s, k, r)]; }
-                        T = tb[IDX(b, last, k)];
-                        c_time[k] = mse_at_time(tv, mv, n_spp, T) / mse[RIDX(b, last, k, r)] - 1.0;
+                        for (s = 0; s < n_spp; s++) mv[s] = mse[RIDX(v, s, k, r)];
+                        c_time[k] = log(mse_at_time(tv, mv, n_spp, tmean[b][last]) / mse[RIDX(b, last, k, r)]);
                     }
                     mean_ci(mm, K, &m0, &h0);
                     mean_ci(c_spp, K, &m1, &h1);
                     mean_ci(c_time, K, &m2, &h2);
                     mean_ci(tt, K, &tm, &th);
-                    fprintf(md, "| %s%s | %.4g | %+.1f%% [%+.1f, %+.1f] | %+.1f%% [%+.1f, %+.1f] | %.3f |\n",
+                    mean_ci(tr, K, &rm, &rh);
+                    h2 = sqrt(h2 * h2 + rh * rh);   /* sampling and timing noise, independent */
+                    fprintf(md, "| %s%s | %.4g | %+.1f%% [%+.1f, %+.1f] | %.2f | %+.1f%% [%+.1f, %+.1f] | %+.1f%% [%+.1f, %+.1f] |\n",
                             var_names[v], v == b ? " (baseline)" : "", m0, 100 * m1, 100 * (m1 - h1),
-                            100 * (m1 + h1), 100 * m2, 100 * (m2 - h2), 100 * (m2 + h2), tm);
+                            100 * (m1 + h1), tm, 100 * (exp(rm) - 1), 100 * (exp(rm - rh) - 1), 100 * (exp(rm + rh) - 1),
+                            100 * (exp(m2) - 1), 100 * (exp(m2 - h2) - 1), 100 * (exp(m2 + h2) - 1));
                 }
                 fprintf(md, "\n");
             }

@@ -96,6 +96,16 @@ done
 if [ $svg_ok = 1 ] && grep -q '| spatial:importance |' tests/tmp/smoke.md &&
    grep -q 'CPU time (s)' tests/tmp/smoke_mse_time.svg; then ok "eval_smoke_svg_and_table"
 else fail "eval_smoke_svg_and_table"; fi
+# --reuse rebuilds the tables from the CSV without rendering: the same MSE columns;
+# with settings the CSV does not hold it refuses
+cp tests/tmp/smoke.md tests/tmp/smoke-first.md
+expect "eval_smoke_reuse" 0 "" ./specnee converge scenes/cornell-glass.pbrt --ref docs/ref/cornell-glass.pfm \
+    --lights spatial,spatial:importance --spp 1,2 --seeds 2 --out tests/tmp/smoke --reuse
+if [ "$(cut -d'|' -f2-4 tests/tmp/smoke.md)" = "$(cut -d'|' -f2-4 tests/tmp/smoke-first.md)" ] &&
+   grep -q '| spatial:importance |' tests/tmp/smoke.md; then ok "eval_smoke_reuse_same_tables"
+else fail "eval_smoke_reuse_same_tables"; fi
+expect "eval_smoke_reuse_mismatch" 1 "rows these settings need" ./specnee converge scenes/cornell-glass.pbrt \
+    --ref docs/ref/cornell-glass.pfm --lights spatial,spatial:importance --spp 1,2 --seeds 3 --out tests/tmp/smoke --reuse
 # the picture: a PNG (signature, IHDR 160x160) and its caption with the inset colours
 if [ "$(head -c 8 tests/tmp/smoke.png 2>/dev/null | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] &&
    [ "$(od -An -tx1 -j16 -N8 tests/tmp/smoke.png | tr -d ' \n')" = 000000a0000000a0 ] &&

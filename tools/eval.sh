@@ -15,6 +15,8 @@
 #   THREADS render threads (default: all cores)
 #   TIME    cpu (default) or wall: the time basis of the charts and of equal time
 #   SPECNEE the binary (default ./specnee; a copy lets you rebuild during a run)
+#   REUSE   1: render nothing, rebuild the charts and tables from the CSVs already
+#           in docs/eval/ (same SEEDS and LADDER as the run that wrote them)
 # Each (variant, seed) is one progressive render up the ladder (render_ladder), so
 # a run costs SEEDS x variants x 512 spp.  Run time: docs/eval/timing.txt.
 set -eu
@@ -23,6 +25,7 @@ LADDER=${LADDER:-16,32,64,128,256,512}
 THREADS=${THREADS:-0}
 TIME=${TIME:-cpu}
 SPECNEE=${SPECNEE:-./specnee}
+REUSE=${REUSE:-0}
 mkdir -p docs/eval
 start=$(date +%s)
 run_as() {  # output-name scene variants
@@ -32,6 +35,11 @@ run_as() {  # output-name scene variants
         exit 1
     fi
     t0=$(date +%s)
+    if [ "$REUSE" = 1 ]; then
+        "$SPECNEE" converge "scenes/$sc.pbrt" --ref "docs/ref/$sc.pfm" --lights "$1" \
+            --spp "$LADDER" --seeds "$SEEDS" --time "$TIME" --out "docs/eval/$out" --reuse
+        return
+    fi
     "$SPECNEE" converge "scenes/$sc.pbrt" --ref "docs/ref/$sc.pfm" --lights "$1" \
         --spp "$LADDER" --seeds "$SEEDS" --threads "$THREADS" --time "$TIME" --out "docs/eval/$out" 2> "docs/eval/$out.log"
     echo "$out: $(( $(date +%s) - t0 )) s (SEEDS=$SEEDS LADDER=$LADDER TIME=$TIME, $(getconf _NPROCESSORS_ONLN) cores, $(date -u +%Y-%m-%d))" >> docs/eval/timing.txt
@@ -47,7 +55,7 @@ want cornell2 && run cornell2 "spatial,product,product:power,spectral-spatial"
 want suzanne && run suzanne "spatial,spd:power,product,spectral-spatial"
 # wavelength strategies on the F11-lit glass box
 want cornell-glass && run cornell-glass "spatial,spatial:single,spatial:importance,spatial:roughmis"
-[ "$(date +%s)" -gt "$start" ] &&
+[ "$REUSE" != 1 ] && [ "$(date +%s)" -gt "$start" ] &&
     echo "total: $(( $(date +%s) - start )) s (SCENES=$SCENES SEEDS=$SEEDS LADDER=$LADDER TIME=$TIME on $(getconf _NPROCESSORS_ONLN) cores)" >> docs/eval/timing.txt
 # the references' own error beside the baseline's MSE at the largest spp
 # (docs/eval/references.md; the argument for "enough spp" in RESULTS.md)
