@@ -82,6 +82,8 @@ want cornell-glass && run cornell-glass "spatial,spatial:single,spatial:importan
         }' "docs/ref/$sc.txt" "docs/eval/$sc.csv"
     done
 } > docs/eval/references.md
+# the thesis' figures beside ours (docs/eval/thesis.md)
+sh tools/thesis_table.sh "${LADDER##*,}"
 # assemble docs/RESULTS.md
 awk '
 /^@@include .*@@$/ {
