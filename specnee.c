@@ -43,6 +43,8 @@ static const char usage_text[] =
 "                          wavelengths alive through rough dispersive glass\n"
 "      --no-nee            BSDF sampling only (no next event estimation)\n"
 "      --exposure E        multiply by 2^E before writing .ppm/.png\n"
+"      --mark-insets       outline the scene's insets (\"# inset\" comments) in the\n"
+"                          .png: A yellow, B cyan, C magenta, ...\n"
 "      --debug-pixel X,Y   print every path of pixel (X, Y) to stderr\n"
 "      --dump-scene        print the scene as understood, then exit\n"
 "  -q, --quiet             no progress bar and no closing line\n"
@@ -87,7 +89,7 @@ typedef struct {
     const char *scene, *out;
     int spp_cli, seed_cli, maxdepth_cli, lights_cli;
     float exposure;
-    int dump, quiet;
+    int dump, quiet, mark_insets;
     int res_w, res_h;          /* --res: override the film resolution (0: the file's) */
 } Args;
 
@@ -152,6 +154,8 @@ static int parse_args(int argc, char **argv, Args *a)
             else return usage_error("--rough-dispersion is mis or terminate, not '%s'", v);
         } else if (!strcmp(o, "--no-nee")) {
             a->ro.nee = 0;
+        } else if (!strcmp(o, "--mark-insets")) {
+            a->mark_insets = 1;
         } else if (!strcmp(o, "--exposure")) {
             NEEDS_VALUE();
             if (!parse_float(v, &a->exposure)) return usage_error("--exposure needs a number, not '%s'", v);
@@ -245,12 +249,24 @@ static int render_main(int argc, char **argv)
     if (apply_scene_settings(&a, &scene)) { scene_free(&scene); return 1; }
     a.ro.progress = !a.quiet && isatty(fileno(stderr));
     out = a.out ? a.out : scene.settings.filename;
+    if (a.mark_insets && (strlen(out) < 4 || strcmp(out + strlen(out) - 4, ".png") || a.res_w > 0)) {
+        fprintf(stderr, "specnee: --mark-insets needs a .png output at the file's own resolution (no --res)\n");
+        scene_free(&scene);
+        return 2;
+    }
     if (!render(&scene, &a.ro, &img, &st, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         scene_free(&scene);
         return 1;
     }
-    if (!img_write(&img, out, a.exposure, &err)) {
+    if (a.mark_insets) {
+        if (!png_write_marked(&img, out, a.exposure, &scene.inset[0][0], scene.n_insets)) {
+            fprintf(stderr, "%s: cannot write\n", out);
+            img_free(&img);
+            scene_free(&scene);
+            return 1;
+        }
+    } else if (!img_write(&img, out, a.exposure, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         img_free(&img);
         scene_free(&scene);

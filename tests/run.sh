@@ -70,6 +70,13 @@ expect "cli_render_tiny" 0 "samples/s" ./specnee scenes/cornell.pbrt --spp 2 -o 
 if [ -f tests/tmp/tiny.pfm ] && [ -f tests/tmp/tiny.pfm.txt ]; then ok "cli_render_writes_pfm_and_sidecar"
 else fail "cli_render_writes_pfm_and_sidecar"; fi
 expect "cli_render_png" 0 "" ./specnee -q scenes/cornell.pbrt --spp 1 -o tests/tmp/tiny.png
+expect "cli_mark_insets_needs_png" 2 "needs a .png" ./specnee scenes/cornell1.pbrt --spp 1 --mark-insets -o tests/tmp/m.pfm
+expect "cli_mark_insets" 0 "" ./specnee -q scenes/cornell1.pbrt --spp 1 --mark-insets -o tests/tmp/marked.png
+expect "cli_mark_insets_plain" 0 "" ./specnee -q scenes/cornell1.pbrt --spp 1 -o tests/tmp/plain.png
+# same size (the outlines replace pixels), different bytes
+if [ "$(wc -c < tests/tmp/marked.png)" = "$(wc -c < tests/tmp/plain.png)" ] &&
+   ! cmp -s tests/tmp/marked.png tests/tmp/plain.png; then ok "cli_mark_insets_draws"
+else fail "cli_mark_insets_draws"; fi
 expect "cli_merge" 0 "" ./specnee merge tests/tmp/tiny.pfm tests/tmp/tiny.pfm -o tests/tmp/merged.pfm
 expect "cli_diff_identical" 0 "" ./specnee diff tests/tmp/tiny.pfm tests/tmp/merged.pfm --max-mse 0
 expect "cli_spectrum" 0 "" ./specnee spectrum lamp-CFL1
