@@ -27,6 +27,7 @@
                   [--max-mse X] [--max-relmse Y] [--csv]
      specnee spectrum NAME|FILE            (--svg NAME... > plot.svg, --list)
      specnee converge scene.pbrt --ref ref.pfm --lights a,b:mod --spp 16,32 --seeds K
+                  [--time cpu|wall] [--reuse]   (error against time: docs/RESULTS.md)
 
    OUTPUT
      .pfm: linear sRGB (D65) float32, rows bottom to top (netpbm PFM), negative
