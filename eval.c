@@ -180,7 +180,7 @@ static int read_csv(const char *path, char var_names[][64], int n_var, const int
 {
     FILE *f = fopen(path, "r");
     char line[1024];
-    int lineno = 0, want = n_var * n_spp * K * n_reg, got = 0;
+    int lineno = 0, want = n_var * n_spp * K * n_reg, got = 0, bad = 0;
     unsigned char *seen = (unsigned char *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, 1);
     if (!f || !seen) {
         fprintf(stderr, "%s: cannot read (run without --reuse first)\n", path);
@@ -195,14 +195,14 @@ static int read_csv(const char *path, char var_names[][64], int n_var, const int
         if (lineno == 1) continue;   /* the header */
         line[strcspn(line, "\r\n")] = 0;
         for (p = strtok_r(line, ",", &save); p && nf < 11; p = strtok_r(NULL, ",", &save)) field[nf++] = p;
-        if (nf != 11) { fprintf(stderr, "%s:%d: expected 11 fields\n", path, lineno); break; }
+        if (nf != 11) { fprintf(stderr, "%s:%d: expected 11 fields\n", path, lineno); bad = 1; break; }
         for (v = 0; v < n_var && strcmp(var_names[v], field[1]); v++) {}
         sp = atoi(field[2]);
         for (s = 0; s < n_spp && spp[s] != sp; s++) {}
         k = atoi(field[3]);
         for (r = 0; r < n_reg && strcmp(reg_name[r], field[7]); r++) {}
         if (v == n_var || s == n_spp || k < 0 || k >= K || r == n_reg) continue;   /* not asked for */
-        if (seen[RIDX(v, s, k, r)]++) { fprintf(stderr, "%s:%d: a second row for this render\n", path, lineno); break; }
+        if (seen[RIDX(v, s, k, r)]++) { fprintf(stderr, "%s:%d: a second row for this render\n", path, lineno); bad = 1; break; }
         wall[IDX(v, s, k)] = atof(field[4]);
         cpu[IDX(v, s, k)] = atof(field[5]);
         build[IDX(v, s, k)] = atof(field[6]);
@@ -213,6 +213,7 @@ static int read_csv(const char *path, char var_names[][64], int n_var, const int
     }
     fclose(f);
     free(seen);
+    if (bad) return 0;
     if (got != want) {
         fprintf(stderr, "%s: %d of the %d rows these settings need (same --lights, --spp, --seeds?)\n", path, got, want);
         return 0;

@@ -113,6 +113,10 @@ if [ "$(cut -d'|' -f2-4 tests/tmp/smoke.md)" = "$(cut -d'|' -f2-4 tests/tmp/smok
 else fail "eval_smoke_reuse_same_tables"; fi
 expect "eval_smoke_reuse_mismatch" 1 "rows these settings need" ./specnee converge scenes/cornell-glass.pbrt \
     --ref docs/ref/cornell-glass.pfm --lights spatial,spatial:importance --spp 1,2 --seeds 3 --out tests/tmp/smoke --reuse
+# a CSV with a duplicated row is refused, naming the line
+cp tests/tmp/smoke.csv tests/tmp/dup.csv && tail -n 1 tests/tmp/smoke.csv >> tests/tmp/dup.csv
+expect "eval_smoke_reuse_duplicate" 1 "dup.csv:[0-9]+: a second row" ./specnee converge scenes/cornell-glass.pbrt \
+    --ref docs/ref/cornell-glass.pfm --lights spatial,spatial:importance --spp 1,2 --seeds 2 --out tests/tmp/dup --reuse
 # the picture: a PNG (signature, IHDR 160x160) and its caption with the inset colours
 if [ "$(head -c 8 tests/tmp/smoke.png 2>/dev/null | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] &&
    [ "$(od -An -tx1 -j16 -N8 tests/tmp/smoke.png | tr -d ' \n')" = 000000a0000000a0 ] &&
