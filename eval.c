@@ -17,10 +17,11 @@
                                insets outlined (png_write_marked)
        PREFIX.md               tables: MSE change against the baseline at the
                                largest spp and at equal time, mean and 95% CI
-   Progressive: one render per (variant, seed) climbs the whole ladder
-   (render_ladder), each rung timed as the render so far; its image is
-   bit-identical to a separate render with that spp, so the ladder costs the
-   largest spp once instead of the sum of all rungs.
+   Progressive: one render per (variant, seed) climbs the whole ladder (a
+   RenderJob), each rung timed as the render so far; its image is bit-identical
+   to a separate render with that spp, so the ladder costs the largest spp once
+   instead of the sum of all rungs.  The variants of a seed take turns rung by
+   rung, which pairs their timings (a slow spell of the machine hits all).
    Time: process CPU time by default (all threads; not charged while other
    programs hold the cores, so a busy machine barely moves it), wall time with
    --time wall.  Both are in the CSV.
@@ -144,11 +145,10 @@ typedef struct {
     float exposure;
 } Rung;
 
-/* render_ladder callback: errors of the image at rung s against the reference,
-   for every region, into the arrays and one CSV row per region. */
-static int record_rung(void *user, int s, const Image *img, const RenderStats *st)
+/* After rung s of one (variant, seed) render: the errors of its image against the
+   reference, for every region, into the arrays and one CSV row per region. */
+static void record_rung(Rung *R, int s, const Image *img, const RenderStats *st)
 {
-    Rung *R = (Rung *)user;
     int r, v = R->v, k = R->k;
     R->wall[IDX(v, s, k)] = st->wall_s;
     R->cpu[IDX(v, s, k)] = st->cpu_s;
@@ -168,7 +168,6 @@ static int record_rung(void *user, int s, const Image *img, const RenderStats *s
         fprintf(stderr, "%s: cannot write\n", R->png);
     fprintf(stderr, "converge: %s spp %d seed %d: %.3f s wall, %.3f s CPU, MSE %.4g\n", R->variant,
             R->spp[s], k, st->wall_s, st->cpu_s, R->mse[RIDX(v, s, k, 0)]);
-    return 1;
 }
 
 /* --reuse: fill the arrays from the CSV of an earlier run with the same variants,
@@ -346,37 +345,51 @@ int cmd_converge(int argc, char **argv)
     }
     if (csv) fprintf(csv, "scene,variant,spp,seed,wall_s,cpu_s,build_s,region,mse,relmse,mae\n");
 
-    /* the renders: seeds outermost so an interrupted run has every variant; one
-       progressive render per (seed, variant) gives the whole ladder (render_ladder:
-       each rung is bit-identical to a separate render with that spp) */
-    for (k = 0; k < K && csv; k++)
-        for (v = 0; v < n_var; v++) {
-            RenderOptions o;
-            RenderStats st;
-            Image img;
-            Rung R;
-            render_options_default(&o);
-            eval_parse_variant(var_names[v], &o);
-            o.seed = 1000003 * (k + 1);
-            o.threads = threads;
-            o.maxdepth = maxdepth >= 0 ? maxdepth
-                         : scene.settings.maxdepth_set ? scene.settings.maxdepth : DEFAULT_MAXDEPTH;
-            R.scene_path = scene_path; R.variant = var_names[v]; R.v = v; R.k = k;
-            R.spp = spp; R.ref = &ref; R.n_reg = n_reg; R.reg = reg; R.reg_name = reg_name;
-            R.mse = mse; R.relmse = relmse; R.mae = mae; R.wall = wall; R.cpu = cpu; R.build = build;
-            R.csv = csv;
-            R.png = v == b && k == 0 ? png_path : NULL;
-            R.last = n_spp - 1;
-            R.exposure = exposure;
-            if (!render_ladder(&scene, &o, spp, n_spp, record_rung, &R, &img, &st, &err)) {
-                fprintf(stderr, "%s\n", err.msg);
-                fclose(csv);
-                img_free(&ref); scene_free(&scene);
-                free(mse); free(relmse); free(mae); free(wall); free(cpu); free(build);
-                return 1;
-            }
-            img_free(&img);
+    /* the renders: seeds outermost so an interrupted run has every variant.  For
+       each seed every variant is one progressive render (a RenderJob) up the whole
+       ladder, and the variants take turns rung by rung: variant 1 to 16 spp,
+       variant 2 to 16 spp, ..., variant 1 to 32 spp, ...  Each rung's image is
+       bit-identical to a separate render with that spp; taking turns puts the
+       variants' passes seconds apart, so a slow spell of the machine slows them
+       alike and their time ratios stay paired. */
+    for (k = 0; k < K && csv; k++) {
+        RenderOptions o[MAX_VARIANTS];
+        RenderJob *job[MAX_VARIANTS];
+        Rung R[MAX_VARIANTS];
+        int failed = 0;
+        for (v = 0; v < n_var; v++) job[v] = NULL;
+        for (v = 0; v < n_var && !failed; v++) {
+            render_options_default(&o[v]);
+            eval_parse_variant(var_names[v], &o[v]);
+            o[v].seed = 1000003 * (k + 1);
+            o[v].threads = threads;
+            o[v].maxdepth = maxdepth >= 0 ? maxdepth
+                            : scene.settings.maxdepth_set ? scene.settings.maxdepth : DEFAULT_MAXDEPTH;
+            R[v].scene_path = scene_path; R[v].variant = var_names[v]; R[v].v = v; R[v].k = k;
+            R[v].spp = spp; R[v].ref = &ref; R[v].n_reg = n_reg; R[v].reg = reg; R[v].reg_name = reg_name;
+            R[v].mse = mse; R[v].relmse = relmse; R[v].mae = mae;
+            R[v].wall = wall; R[v].cpu = cpu; R[v].build = build;
+            R[v].csv = csv;
+            R[v].png = v == b && k == 0 ? png_path : NULL;
+            R[v].last = n_spp - 1;
+            R[v].exposure = exposure;
+            job[v] = render_begin(&scene, &o[v], &err);
+            if (!job[v]) failed = 1;
         }
+        for (s = 0; s < n_spp && !failed; s++)
+            for (v = 0; v < n_var && !failed; v++) {
+                if (!render_advance(job[v], spp[s], spp[n_spp - 1], &err)) failed = 1;
+                else record_rung(&R[v], s, render_image(job[v]), render_stats(job[v]));
+            }
+        for (v = 0; v < n_var; v++) render_end(job[v]);
+        if (failed) {
+            fprintf(stderr, "%s\n", err.msg);
+            fclose(csv);
+            img_free(&ref); scene_free(&scene);
+            free(mse); free(relmse); free(mae); free(wall); free(cpu); free(build);
+            return 1;
+        }
+    }
     if (csv) fclose(csv);
 
     /* ---- charts (whole image); time is CPU or wall time (--time) */

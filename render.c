@@ -486,6 +486,108 @@ static void render_pass(Pass *P)
     }
 }
 
+/* A render in progress: what render_begin sets up and render_advance adds to. */
+struct RenderJob {
+    Renderer R;
+    Pass P;
+    Image img;
+    float lo, hi;              /* the sampled wavelength range (emitters are normalised to it) */
+    RenderStats st;            /* cumulative: build + every pass, nothing in between */
+};
+
+RenderJob *render_begin(Scene *s, const RenderOptions *o, Error *err)
+{
+    RenderJob *j;
+    const SceneSettings *set = &s->settings;
+    int w = set->xres, h = set->yres;
+    double t0 = wall_seconds();
+    clock_t c0 = clock();
+    j = (RenderJob *)calloc(1, sizeof *j);
+    if (!j) { error_set(err, NULL, 0, "out of memory"); return NULL; }
+    j->lo = o->wl_wide ? (float)SPEC_MIN : LAMBDA_LO;
+    j->hi = o->wl_wide ? (float)SPEC_MAX : LAMBDA_HI;
+    if (!emitters_prepare(s, j->lo, j->hi, err)) { free(j); return NULL; }
+    j->R.s = s;
+    j->R.o = o;
+    camera_init(&j->R.cam, set);
+    if (o->wl_importance && s->n_emitters > 0) {
+        Spectrum sum;
+        int e, k;
+        spec_const(&sum, 0.0f);
+        for (e = 0; e < s->n_emitters; e++)
+            for (k = 0; k < SPEC_N; k++) sum.v[k] += s->emitters[e].Le.v[k];
+        if (!wl_pdf_importance(&j->R.wl, j->lo, j->hi, &sum)) {
+            error_set(err, NULL, 0, "cannot build the wavelength importance pdf");
+            free(j);
+            return NULL;
+        }
+    } else {
+        wl_pdf_uniform(&j->R.wl, j->lo, j->hi);
+    }
+    j->R.ls = light_sampler_build(s, &o->sel, err);
+    if (!j->R.ls) { wl_pdf_free(&j->R.wl); free(j); return NULL; }
+    j->P.R = &j->R;
+    j->P.img = &j->img;
+    j->P.acc = (double *)calloc(3 * (size_t)w * (size_t)h, sizeof *j->P.acc);
+    j->P.row_rays = (uint64_t *)calloc((size_t)h, sizeof *j->P.row_rays);
+    j->P.row_nonfinite = (long *)calloc((size_t)h, sizeof *j->P.row_nonfinite);
+    j->P.row_fallbacks = (long *)calloc((size_t)h, sizeof *j->P.row_fallbacks);
+    if (!img_alloc(&j->img, w, h) || !j->P.acc || !j->P.row_rays || !j->P.row_nonfinite || !j->P.row_fallbacks) {
+        error_set(err, NULL, 0, "out of memory for a %dx%d image", w, h);
+        render_end(j);
+        return NULL;
+    }
+    j->st.build_s = wall_seconds() - t0;
+    j->st.wall_s = j->st.build_s;
+    j->st.cpu_s = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    return j;
+}
+
+int render_advance(RenderJob *j, int spp, int spp_final, Error *err)
+{
+    const SceneSettings *set = &j->R.s->settings;
+    int w = set->xres, h = set->yres, y;
+    double t0;
+    clock_t c0;
+    if (spp <= j->P.k1) {
+        error_set(err, NULL, 0, "the spp ladder must increase (%d after %d)", spp, j->P.k1);
+        return 0;
+    }
+    t0 = wall_seconds();
+    c0 = clock();
+    /* another job may have normalised the emitters for another range meanwhile */
+    if (!emitters_prepare(j->R.s, j->lo, j->hi, err)) return 0;
+    j->P.k0 = j->P.k1;
+    j->P.k1 = spp;
+    j->P.spp_final = spp_final > spp ? spp_final : spp;
+    j->P.rows_done = 0;
+    render_pass(&j->P);
+    j->st.rays = 0;
+    j->st.nonfinite = j->st.fallbacks = 0;
+    for (y = 0; y < h; y++) {
+        j->st.rays += j->P.row_rays[y];
+        j->st.nonfinite += j->P.row_nonfinite[y];
+        j->st.fallbacks += j->P.row_fallbacks[y];
+    }
+    j->st.samples = (uint64_t)w * (uint64_t)h * (uint64_t)spp;
+    j->st.wall_s += wall_seconds() - t0;
+    j->st.cpu_s += (double)(clock() - c0) / CLOCKS_PER_SEC;
+    return 1;
+}
+
+const Image *render_image(const RenderJob *j) { return &j->img; }
+const RenderStats *render_stats(const RenderJob *j) { return &j->st; }
+
+void render_end(RenderJob *j)
+{
+    if (!j) return;
+    free(j->P.acc); free(j->P.row_rays); free(j->P.row_nonfinite); free(j->P.row_fallbacks);
+    img_free(&j->img);
+    if (j->R.ls) light_sampler_free(j->R.ls);
+    wl_pdf_free(&j->R.wl);
+    free(j);
+}
+
 int render(Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error *err)
 {
     if (o->spp <= 0) { memset(st, 0, sizeof *st); error_set(err, NULL, 0, "spp must be positive"); return 0; }
@@ -495,91 +597,24 @@ int render(Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error 
 int render_ladder(Scene *s, const RenderOptions *o, const int *ladder, int n_rungs,
                   RenderRungFn on_rung, void *user, Image *img, RenderStats *st, Error *err)
 {
-    Renderer R;
-    const SceneSettings *set = &s->settings;
-    float lo = o->wl_wide ? (float)SPEC_MIN : LAMBDA_LO, hi = o->wl_wide ? (float)SPEC_MAX : LAMBDA_HI;
-    int w = set->xres, h = set->yres, y, i, ok = 1;
-    double t0 = wall_seconds(), t_build, paused_wall = 0.0;
-    clock_t c0 = clock(), paused_cpu = 0;
-    Pass P;
-
+    RenderJob *j;
+    int i, ok = 1;
     memset(st, 0, sizeof *st);
-    memset(&P, 0, sizeof P);
     if (n_rungs < 1 || ladder[0] <= 0) { error_set(err, NULL, 0, "spp must be positive"); return 0; }
     for (i = 1; i < n_rungs; i++)
         if (ladder[i] <= ladder[i - 1]) {
             error_set(err, NULL, 0, "the spp ladder must increase (%d after %d)", ladder[i], ladder[i - 1]);
             return 0;
         }
-    if (!emitters_prepare(s, lo, hi, err)) return 0;
-    R.s = s;
-    R.o = o;
-    camera_init(&R.cam, set);
-    if (o->wl_importance && s->n_emitters > 0) {
-        Spectrum sum;
-        int e, k;
-        spec_const(&sum, 0.0f);
-        for (e = 0; e < s->n_emitters; e++)
-            for (k = 0; k < SPEC_N; k++) sum.v[k] += s->emitters[e].Le.v[k];
-        if (!wl_pdf_importance(&R.wl, lo, hi, &sum)) {
-            error_set(err, NULL, 0, "cannot build the wavelength importance pdf");
-            return 0;
-        }
-    } else {
-        wl_pdf_uniform(&R.wl, lo, hi);
-    }
-    R.ls = light_sampler_build(s, &o->sel, err);
-    if (!R.ls) { wl_pdf_free(&R.wl); return 0; }
-    t_build = wall_seconds() - t0;
-    if (!img_alloc(img, w, h)) {
-        error_set(err, NULL, 0, "out of memory for a %dx%d image", w, h);
-        light_sampler_free(R.ls);
-        wl_pdf_free(&R.wl);
-        return 0;
-    }
-    P.R = &R;
-    P.img = img;
-    P.spp_final = ladder[n_rungs - 1];
-    P.acc = (double *)calloc(3 * (size_t)w * (size_t)h, sizeof *P.acc);
-    P.row_rays = (uint64_t *)calloc((size_t)h, sizeof *P.row_rays);
-    P.row_nonfinite = (long *)calloc((size_t)h, sizeof *P.row_nonfinite);
-    P.row_fallbacks = (long *)calloc((size_t)h, sizeof *P.row_fallbacks);
-    if (!P.acc || !P.row_rays || !P.row_nonfinite || !P.row_fallbacks) {
-        free(P.acc); free(P.row_rays); free(P.row_nonfinite); free(P.row_fallbacks);
-        img_free(img);
-        light_sampler_free(R.ls);
-        wl_pdf_free(&R.wl);
-        error_set(err, NULL, 0, "out of memory");
-        return 0;
-    }
-
+    j = render_begin(s, o, err);
+    if (!j) return 0;
     for (i = 0; i < n_rungs && ok; i++) {
-        P.k0 = i ? ladder[i - 1] : 0;
-        P.k1 = ladder[i];
-        P.rows_done = 0;
-        render_pass(&P);
-        /* cumulative statistics: the render so far, callbacks excluded */
-        st->rays = 0;
-        st->nonfinite = st->fallbacks = 0;
-        for (y = 0; y < h; y++) {
-            st->rays += P.row_rays[y];
-            st->nonfinite += P.row_nonfinite[y];
-            st->fallbacks += P.row_fallbacks[y];
-        }
-        st->samples = (uint64_t)w * (uint64_t)h * (uint64_t)P.k1;
-        st->build_s = t_build;
-        st->wall_s = wall_seconds() - t0 - paused_wall;
-        st->cpu_s = (double)(clock() - c0 - paused_cpu) / CLOCKS_PER_SEC;
-        if (on_rung) {
-            double tw = wall_seconds();
-            clock_t tc = clock();
-            ok = on_rung(user, i, img, st);
-            paused_wall += wall_seconds() - tw;
-            paused_cpu += clock() - tc;
-        }
+        if (!render_advance(j, ladder[i], ladder[n_rungs - 1], err)) { render_end(j); return 0; }
+        *st = j->st;
+        if (on_rung) ok = on_rung(user, i, &j->img, st);
     }
-    free(P.acc); free(P.row_rays); free(P.row_nonfinite); free(P.row_fallbacks);
-    light_sampler_free(R.ls);
-    wl_pdf_free(&R.wl);
+    *img = j->img;                       /* the caller owns the last image */
+    memset(&j->img, 0, sizeof j->img);
+    render_end(j);
     return 1;
 }

@@ -525,6 +525,22 @@ int  render(Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error
 typedef int (*RenderRungFn)(void *user, int rung, const Image *img, const RenderStats *st);
 int  render_ladder(Scene *s, const RenderOptions *o, const int *ladder, int n_rungs,
                    RenderRungFn on_rung, void *user, Image *img, RenderStats *st, Error *err);
+/* The same, one step at a time, so that several renders can take turns (converge
+   interleaves its variants rung by rung, pairing their timings):
+     j = render_begin(s, o, err)       emitters, wavelength pdf, emitter tables
+     render_advance(j, spp, final, err) add samples up to spp (increasing; final,
+                                       the last spp planned, only for the progress bar)
+     render_image(j), render_stats(j)  the image at spp and the cumulative statistics
+                                       (build + passes; time between calls not counted)
+     render_end(j)
+   o and s must outlive j; s's emitters are re-normalised to j's wavelength range at
+   every advance, so jobs with different ranges may alternate. */
+typedef struct RenderJob RenderJob;
+RenderJob *render_begin(Scene *s, const RenderOptions *o, Error *err);
+int  render_advance(RenderJob *j, int spp, int spp_final, Error *err);
+const Image *render_image(const RenderJob *j);
+const RenderStats *render_stats(const RenderJob *j);
+void render_end(RenderJob *j);
 
 /* ======================================================================
    13. SVG charts (svg.c): line plots for spectra and convergence charts

@@ -308,6 +308,56 @@ static void test_progressive_ladder(T *t)
     scene_free(&s);
 }
 
+/* Render jobs that take turns (as `specnee converge` interleaves its variants):
+   two jobs with different wavelength ranges (400-700 and --wide 360-830, so the
+   scene's emitters are re-normalised between their passes) and strategies advance
+   alternately; each image equals a separate render of its own, bit for bit, and the
+   cumulative sample count is right.  A non-increasing advance is refused. */
+static void test_jobs_take_turns(T *t)
+{
+    char text[4096];
+    Scene s;
+    RenderOptions o[2];
+    RenderJob *j[2];
+    Error err;
+    static const int ladder[2] = { 2, 5 };
+    int i, r;
+    snprintf(text, sizeof text, box_fmt, test_box_walls, ceiling_light, rough_dispersive);
+    if (!test_load_scene(t, &s, text)) return;
+    for (i = 0; i < 2; i++) {
+        render_options_default(&o[i]);
+        o[i].sel.grid_res = 8;
+        o[i].threads = 2;
+        o[i].seed = 11 + i;
+    }
+    o[1].wl_wide = 1;
+    o[1].sel.strategy = SEL_SPD;
+    j[0] = render_begin(&s, &o[0], &err);
+    j[1] = render_begin(&s, &o[1], &err);
+    CHECK(t, j[0] && j[1], "render_begin: %s", err.msg);
+    if (!j[0] || !j[1]) { render_end(j[0]); render_end(j[1]); scene_free(&s); return; }
+    for (r = 0; r < 2; r++)
+        for (i = 0; i < 2; i++) {
+            Image one;
+            RenderStats st1;
+            const Image *im;
+            CHECK(t, render_advance(j[i], ladder[r], ladder[1], &err), "advance: %s", err.msg);
+            im = render_image(j[i]);
+            o[i].spp = ladder[r];
+            CHECK(t, render(&s, &o[i], &one, &st1, &err), "render: %s", err.msg);
+            CHECK(t, memcmp(im->rgb, one.rgb, sizeof(float) * 3 * (size_t)im->w * (size_t)im->h) == 0,
+                  "job %d at %d spp differs from a separate render", i, ladder[r]);
+            CHECK(t, render_stats(j[i])->samples == st1.samples, "job %d counts %lu samples, a render %lu", i,
+                  (unsigned long)render_stats(j[i])->samples, (unsigned long)st1.samples);
+            img_free(&one);
+        }
+    CHECK(t, !render_advance(j[0], ladder[1], ladder[1], &err) && strstr(err.msg, "must increase"),
+          "advancing to the same spp again was accepted or gave '%s'", err.msg);
+    render_end(j[0]);
+    render_end(j[1]);
+    scene_free(&s);
+}
+
 /* Two half renders (different seeds) merged by sample count match a full render
    (another seed) in expectation. */
 static void test_merge_halves(T *t)
@@ -379,5 +429,6 @@ const TestCase tests_render[] = {
     { "render_determinism_threads", test_determinism_threads },
     { "render_merge_halves", test_merge_halves },
     { "render_progressive_ladder", test_progressive_ladder },
+    { "render_jobs_take_turns", test_jobs_take_turns },
     { NULL, NULL }
 };
