@@ -5,20 +5,67 @@
 #  2. end-to-end checks of the binary: exit codes, one-line errors, a tiny render
 #  3. the same suite built with -Werror by gcc, clang and tcc (C99, pedantic)
 #  4. the suite once more under AddressSanitizer + UndefinedBehaviorSanitizer
+#  5. the test runner itself: its compiler probe without clang and tcc on PATH
 # Steps 3 and 4 run every test with a quarter of the samples (SPECNEE_TEST_SCALE):
 # they prove the build and catch memory errors; step 1 carries the statistics.
-# Every step counts as tests; the last line is "N passed, N failed".
-# SPECNEE_QUICK=1 skips steps 3 and 4 (for a fast local loop).
+# Every step counts as tests; the last line is "N passed, N failed, N skipped".
+#
+# WHAT A FRESH MACHINE NEEDS: a C99 compiler (cc), make and libm; nothing else.
+# Steps 3 and 4 use what is present: a compiler that is not installed (gcc, clang,
+# tcc) and a sanitizer runtime that does not link are *skipped* with a visible
+# "skip" line, not failed.  CI (.ci/run) installs clang and tcc and sets
+# SPECNEE_STRICT=1: then a missing compiler or sanitizer is a failure, so every
+# landing is proven with all three compilers and the sanitizers.
+#
+#   SPECNEE_QUICK=1   skip steps 3-5 (a fast local loop)
+#   SPECNEE_STRICT=1  a missing compiler or sanitizer fails (CI)
+#   sh tests/run.sh --probe   only say which compilers/sanitizers steps 3-4 would
+#                     use (the same decisions, no build); step 5 tests it
 set -u
 cd "$(dirname "$0")/.." || exit 2
 passed=0
 failed=0
+skipped=0
+strict=${SPECNEE_STRICT:-0}
 log=tests/tmp/run.log
 mkdir -p tests/tmp build
 : > "$log"
 
 ok()   { passed=$((passed + 1)); echo "ok   $1"; }
 fail() { failed=$((failed + 1)); echo "FAIL $1"; }
+# A check that cannot run here: a failure under SPECNEE_STRICT=1, else a skip line.
+skip() {
+    if [ "$strict" = 1 ]; then fail "$(echo "$1" | sed 's/ (CI proves it)//') (SPECNEE_STRICT=1)"
+    else skipped=$((skipped + 1)); echo "skip $1"; fi
+}
+
+# ---- the toolchain probe (steps 3 and 4 decide with these; --probe prints them)
+SECOND_CC=0          # how many compilers other than the default one were proven
+have_cc() { command -v "$1" >/dev/null 2>&1; }
+# The first of gcc, clang whose sanitizer runtime compiles, links and runs a tiny
+# program with -fsanitize=address,undefined; empty when none does.
+asan_cc() {
+    printf 'int main(void) { return 0; }\n' > tests/tmp/asan-probe.c
+    for c in gcc clang; do
+        have_cc $c || continue
+        if $c -fsanitize=address,undefined -o tests/tmp/asan-probe tests/tmp/asan-probe.c \
+               >/dev/null 2>&1 && tests/tmp/asan-probe >/dev/null 2>&1; then
+            echo $c; return
+        fi
+    done
+}
+if [ "${1:-}" = --probe ]; then
+    for cc in gcc clang tcc; do
+        if have_cc $cc; then ok "probe_$cc: found"
+        else skip "build_$cc: $cc not installed (CI proves it)"; fi
+    done
+    a=$(asan_cc)
+    if [ -n "$a" ]; then ok "probe_asan: $a"
+    else skip "build_asan: no compiler here links -fsanitize=address,undefined (CI proves it)"; fi
+    echo "$passed passed, $failed failed, $skipped skipped"
+    [ "$failed" -eq 0 ]
+    exit
+fi
 
 # Run a command that ends with a line "...: N passed, N failed" and add its counts:
 # the unit runners, tests/golden.sh, tests/walkthrough.sh.  $1 = label, rest = command.
@@ -123,20 +170,40 @@ if [ "$(head -c 8 tests/tmp/smoke.png 2>/dev/null | od -An -tx1 | tr -d ' \n')" 
    grep -q 'insets outlined: A yellow, B cyan, C magenta' tests/tmp/smoke.md; then ok "eval_smoke_picture"
 else fail "eval_smoke_picture"; fi
 
+# no tracked file is a compiled program (an ELF, Mach-O or PE executable, or an
+# executable file that is not a #! script): build products belong in .gitignore
+if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
+    bad=""
+    for f in $(git ls-files); do
+        [ -f "$f" ] || continue
+        magic=$(head -c 4 "$f" | od -An -tx1 | tr -d ' \n')
+        case "$magic" in
+            7f454c46|cffaedfe|cefaedfe|feedfacf|feedface|4d5a*) bad="$bad $f"; continue ;;
+        esac
+        if [ -x "$f" ] && [ "$(head -c 2 "$f")" != '#!' ]; then bad="$bad $f"; fi
+    done
+    if [ -z "$bad" ]; then ok "repo_no_tracked_binaries"
+    else fail "repo_no_tracked_binaries: tracked executables:$bad (build products belong in .gitignore)"; fi
+else
+    skip "repo_no_tracked_binaries: not a git checkout"
+fi
+
 # golden images (bit-exact with this binary) and every command of the walkthrough
 counted golden sh tests/golden.sh
 counted walkthrough sh tests/walkthrough.sh
 
 if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
-    # ---- 3. three compilers, warnings are errors
+    # ---- 3. three compilers, warnings are errors (each one that is installed)
     LIBSRC="util.c bvh.c spectrum.c lights.c scene.c ply.c material.c render.c image.c svg.c eval.c"
+    proven=""
     for cc in gcc clang tcc; do
-        if ! command -v $cc >/dev/null 2>&1; then fail "build_$cc: compiler not installed"; continue; fi
+        if ! have_cc $cc; then skip "build_$cc: $cc not installed (CI proves it)"; continue; fi
         flags="-std=c99 -pedantic -Wall -Wextra -Werror -O2 $(sh tools/ccflags.sh $cc)"
         [ $cc = tcc ] && flags="-std=c99 -Wall -Werror -O2"
         if $cc $flags -I. -o build/specnee-$cc specnee.c $LIBSRC -lm >> "$log" 2>&1 &&
            $cc $flags -I. -o build/runner-$cc tests/*.c $LIBSRC -lm >> "$log" 2>&1; then
             ok "build_$cc (no warnings)"
+            proven="$proven $cc"
             [ $cc = gcc ] || counted $cc env SPECNEE_TEST_SCALE=0.25 build/runner-$cc
             # the goldens rendered by this compiler, within the noise-derived tolerance
             [ $cc = gcc ] || counted golden-$cc env SPECNEE_BIN=build/specnee-$cc sh tests/golden.sh --tolerant --no-selftest
@@ -144,16 +211,52 @@ if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
             fail "build_$cc"; tail -n 15 "$log"
         fi
     done
-    # ---- 4. sanitizers
-    if gcc -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer \
+    # which compiler is cc?  Another one proven above is "a second compiler"
+    if echo __clang__ __TINYC__ | cc -E - 2>/dev/null | grep -q '^1 __TINYC__'; then cckind=clang
+    elif echo __clang__ __TINYC__ | cc -E - 2>/dev/null | grep -q '__clang__ 1'; then cckind=tcc
+    else cckind=gcc; fi
+    second=0
+    for c in $proven; do [ $c = $cckind ] || second=1; done
+    [ $second = 1 ] || echo "note: no second compiler was available: only cc ($cckind) was proven (CI installs clang and tcc)"
+    # ---- 4. sanitizers (gcc or clang, whichever links them)
+    acc=$(asan_cc)
+    if [ -z "$acc" ]; then
+        skip "build_asan: no compiler here links -fsanitize=address,undefined (CI proves it)"
+    elif $acc -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer \
            -I. -o build/runner-asan tests/*.c $LIBSRC -lm >> "$log" 2>&1; then
-        ok "build_asan"
+        ok "build_asan ($acc)"
         counted asan env SPECNEE_TEST_SCALE=0.25 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
             UBSAN_OPTIONS=print_stacktrace=1 build/runner-asan
     else
-        fail "build_asan"; tail -n 15 "$log"
+        fail "build_asan ($acc)"; tail -n 15 "$log"
     fi
+    # ---- 5. the runner itself: with clang and tcc hidden from PATH the probe
+    # skips them and exits 0; under SPECNEE_STRICT=1 the same probe fails
+    nopath=tests/tmp/nopath
+    rm -rf "$nopath"; mkdir -p "$nopath"
+    IFS_save=$IFS; IFS=:
+    for d in $PATH; do
+        [ -d "$d" ] || continue
+        for f in "$d"/*; do
+            b=${f##*/}
+            case "$b" in clang*|tcc*) continue ;; esac
+            [ -x "$f" ] && [ ! -e "$nopath/$b" ] && ln -s "$f" "$nopath/$b"
+        done
+    done
+    IFS=$IFS_save
+    PATH="$PWD/$nopath" SPECNEE_STRICT=0 sh tests/run.sh --probe > tests/tmp/probe.txt 2>&1
+    rc=$?
+    if [ $rc -eq 0 ] && grep -q '^skip build_tcc: tcc not installed (CI proves it)' tests/tmp/probe.txt &&
+       grep -q '^skip build_clang: clang not installed' tests/tmp/probe.txt &&
+       grep -q 'passed, 0 failed, [1-9][0-9]* skipped$' tests/tmp/probe.txt; then
+        ok "runner_skips_missing_compilers"
+    else fail "runner_skips_missing_compilers (rc $rc)"; cat tests/tmp/probe.txt; fi
+    PATH="$PWD/$nopath" SPECNEE_STRICT=1 sh tests/run.sh --probe > tests/tmp/probe-strict.txt 2>&1
+    rc=$?
+    if [ $rc -ne 0 ] && grep -q '^FAIL build_tcc: tcc not installed .*SPECNEE_STRICT=1' tests/tmp/probe-strict.txt; then
+        ok "runner_strict_fails_missing_compilers"
+    else fail "runner_strict_fails_missing_compilers (rc $rc)"; cat tests/tmp/probe-strict.txt; fi
 fi
 
-echo "$passed passed, $failed failed"
+echo "$passed passed, $failed failed, $skipped skipped"
 [ "$failed" -eq 0 ]
