@@ -15,7 +15,8 @@
 # -ffp-contract=off (when the compiler knows it) forbids fused multiply-adds, so
 # gcc and clang round the same way.  tools/ccflags.sh probes the compiler.
 
-CC = cc
+# cc, or the first C compiler found when a machine has no `cc` (only clang, say)
+CC != for c in cc gcc clang tcc; do command -v $$c >/dev/null 2>&1 && { echo $$c; exit 0; }; done; echo cc
 OPT = -O2
 WARN = -std=c99 -pedantic -Wall -Wextra
 DETECTED != sh tools/ccflags.sh "$(CC)"

@@ -211,9 +211,11 @@ if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
             fail "build_$cc"; tail -n 15 "$log"
         fi
     done
-    # which compiler is cc?  Another one proven above is "a second compiler"
-    if echo __clang__ __TINYC__ | cc -E - 2>/dev/null | grep -q '^1 __TINYC__'; then cckind=clang
-    elif echo __clang__ __TINYC__ | cc -E - 2>/dev/null | grep -q '__clang__ 1'; then cckind=tcc
+    # which compiler built step 1 (the Makefile's choice: cc, else gcc, clang, tcc)?
+    # Another one proven above is "a second compiler"
+    for defcc in cc gcc clang tcc; do have_cc $defcc && break; done
+    if echo __clang__ __TINYC__ | $defcc -E - 2>/dev/null | grep -q '^1 __TINYC__'; then cckind=clang
+    elif echo __clang__ __TINYC__ | $defcc -E - 2>/dev/null | grep -q '__clang__ 1'; then cckind=tcc
     else cckind=gcc; fi
     second=0
     for c in $proven; do [ $c = $cckind ] || second=1; done
