@@ -31,16 +31,44 @@
 
    TRAVERSAL (after pbrt-v3 section 4.4.3 "BVH traversal")
      Iterative, with a stack of node indices: at an inner node both children's boxes
-     are tested, the one the ray enters first is visited next and the other is pushed
-     with its entry distance, so that it is skipped when a closer hit has been found by
-     the time it is popped.  (Ordering by the sign of the direction on the node's split
-     axis, pbrt's choice, measured no faster; the axis stays in the node for tools.)
-     Nodes are culled by the slab test with the precomputed inverse direction; a
-     zero direction component gets +-FLT_MAX instead of inf so that (b - o) * inv_d
-     is never 0 * inf = NaN.  The far slab distance is enlarged by
+     are tested, the one the ray enters first is visited next and the other is pushed,
+     so that it is skipped when a closer hit has been found by the time it is popped.
+     Slab test (Kay & Kajiya 1986) with the precomputed inverse direction: on each axis
+     the ray enters through the plane the sign of d points away from (lo for d >= 0, hi
+     for d < 0), so near and far planes are picked once per ray.  A zero component of d
+     gives 1/d = +-infinity; (b - o) * inf is then +-infinity, or NaN when the origin
+     lies exactly on the plane, and the near/far distances are accumulated with
+     "x > acc ? x : acc", which skips a NaN: a ray in the plane of a flat box (an
+     axis-aligned wall seen edge-on) still enters it.  The far distance is enlarged by
      1 + 2 gamma(3) (Ize 2013, "Robust BVH ray traversal"; pbrt-v3 section 3.9.2) so that
-     rounding never culls a box the ray really touches, for example the flat box of an
-     axis-aligned wall.  Every closest hit shrinks tmax, which culls farther boxes.
+     rounding never culls a box the ray really touches.
+
+   ORDER INDEPENDENCE (the closest hit is a function of the ray, not of the traversal)
+     The closest hit is defined as brute force over all primitives would find it: the
+     smallest computed t with 0 < t < tmax, and among equal t the smallest primitive
+     id.  Whatever order the leaves are visited in, the traversal returns exactly that,
+     because (1) a leaf accepts t <= t_best and breaks a tie by the id, and (2) a box is
+     culled only when no primitive inside it can have a computed t <= t_best.
+     (2) needs care: the computed t of a triangle and the computed entry distance of
+     its box round differently, so "entry > t_best" alone can cull the box of a hit
+     1 ulp closer; and for a grazing ray the barycentrics, hence t, can be off by far
+     more than an ulp, so no small margin on the full entry distance is safe.  One axis
+     is safe: the ray's dominant axis kz, the triangle test's z.  There the test
+     computes each vertex's distance as  Az = (v_kz - o_kz) * Sz  and the slab test the
+     box's near plane as  tz = (b_kz - o_kz) * inv_d_kz,  with Sz == inv_d_kz (both
+     1.0f / d_kz) and b_kz beyond no vertex; rounding is monotonic, so tz <= Az, Bz, Cz
+     exactly.  The test's t = (U Az + V Bz + W Cz) / (U + V + W) with U, V, W of one
+     sign is a convex combination of them, which 7 roundings take at most a factor
+     (1 - gamma(7)) below their minimum (Higham 2002, ch. 3).  So every triangle in the
+     box has t >= (1 - gamma(7)) tz, and the box may be culled when
+         tz > t_best * (1 + 2 gamma(8))           (the margin: 16 ulps, relative)
+     since fl(t_best (1 + 2 gamma(8))) >= t_best / (1 - gamma(7)).  A sphere's t is
+     solved in double and rounded once, and its box is rounded outwards, so the same
+     bound holds up to the error of the double solve (far below a float ulp, except
+     for rays within about 1e-8 r of tangency).  tests/test_bvh.c (bvh_exact_adversarial) checks the
+     result against brute force bit for bit on rays through shared edges and vertices,
+     along the normals of axis-aligned faces (where every vertex has the same Az and
+     the 1-ulp cases live), grazing, and on duplicated and coplanar triangles.
 
    SPEED (measured on tools/bench: 82k triangles, 1M incoherent rays, one thread)
      A ray's cost is dominated by the chain "load a node, test its children's boxes,
@@ -146,10 +174,12 @@ static inline float gamma_n(int n)
    ====================================================================== */
 typedef struct {
     float o[3], d[3];
-    float inv_d[3];          /* 1/d, +-FLT_MAX where d is 0 (no 0 * inf) */
+    float inv_d[3];          /* 1/d; +-infinity where d is +-0 */
+    int neg[3];              /* the sign bit of d: the slab the ray enters first */
     int kx, ky, kz;          /* permutation: kz = axis of the largest |d| */
     float Sx, Sy, Sz;        /* shear constants of Woop et al. */
     float far_scale;         /* 1 + 2 gamma(3): the robust slab test's far factor */
+    float cull_scale;        /* 1 + 2 gamma(8): the closest-hit culling margin */
 } RayPre;
 
 /* The slab-test part of the precomputation (o, d, 1/d).  Returns 0 for a ray that
@@ -161,10 +191,19 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
     rp->d[0] = r->d.x; rp->d[1] = r->d.y; rp->d[2] = r->d.z;
     for (a = 0; a < 3; a++) {
         if (!isfinite(rp->o[a]) || !isfinite(rp->d[a])) return 0;
-        rp->inv_d[a] = rp->d[a] != 0.0f ? 1.0f / rp->d[a]
-                                        : (signbit(rp->d[a]) ? -FLT_MAX : FLT_MAX);
+        rp->neg[a] = signbit(rp->d[a]) != 0;
+        rp->inv_d[a] = rp->d[a] != 0.0f ? 1.0f / rp->d[a] : (rp->neg[a] ? -INFINITY : INFINITY);
     }
+    /* kz: the dimension where |d| is largest (the triangle test's z, and the axis
+       whose slab culls boxes beyond the closest hit; see ORDER INDEPENDENCE) */
+    rp->kz = 0;
+    if (fabsf(rp->d[1]) > fabsf(rp->d[rp->kz])) rp->kz = 1;
+    if (fabsf(rp->d[2]) > fabsf(rp->d[rp->kz])) rp->kz = 2;
+    /* a direction too short for 1/d_kz to be finite hits nothing (the same for the
+       brute-force tests intersect_triangle and intersect_sphere) */
+    if (!(fabsf(rp->d[rp->kz]) >= FLT_MIN)) return 0;
     rp->far_scale = 1.0f + 2.0f * gamma_n(3);
+    rp->cull_scale = 1.0f + 2.0f * gamma_n(8);
     return 1;
 }
 
@@ -173,10 +212,8 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
    divisions, and most rays of an open scene miss everything.  Returns 0 for d = 0. */
 HOT_INLINE int ray_prepare_shear(RayPre *rp)
 {
-    /* kz: the dimension where |d| is largest, so the shear divides by the most */
-    rp->kz = 0;
-    if (fabsf(rp->d[1]) > fabsf(rp->d[rp->kz])) rp->kz = 1;
-    if (fabsf(rp->d[2]) > fabsf(rp->d[rp->kz])) rp->kz = 2;
+    /* kz (ray_prepare): the dimension where |d| is largest, so the shear divides by
+       the most */
     if (rp->d[rp->kz] == 0.0f) return 0;                 /* d = (0, 0, 0) */
     rp->kx = (rp->kz + 1) % 3;
     rp->ky = (rp->kx + 1) % 3;
@@ -266,7 +303,7 @@ HOT_INLINE int tri_hit(const RayPre *rp, const float *v, float tmax,
     if (det < 0.0f ? T >= 0.0f : T <= 0.0f) return 0;   /* behind the origin */
     inv_det = 1.0f / det;
     t = T * inv_det;
-    if (!(t > 0.0f && t < tmax)) return 0;
+    if (!(t > 0.0f && t <= tmax)) return 0;        /* tmax itself counts: ties */
 
     /* 5. Reject t within its rounding error of 0 (pbrt-v3 section 3.9.6) */
     if (t <= t_error_bound(Ax, Ay, Az, Bx, By, Bz, Cx, Cy, Cz, U, V, W, inv_det)) return 0;
@@ -305,7 +342,7 @@ static int sphere_hit(const RayPre *rp, const float *s, float tmax, float *t_out
     if (t0 > t1) { tmp = t0; t0 = t1; t1 = tmp; }
     tf = (float)t0;
     if (!(tf > 0.0f)) tf = (float)t1;              /* origin inside or past the first root */
-    if (!(tf > 0.0f && tf < tmax)) return 0;
+    if (!(tf > 0.0f && tf <= tmax)) return 0;
     *t_out = tf;
     return 1;
 }
@@ -318,7 +355,7 @@ int intersect_triangle(Vec3 p0, Vec3 p1, Vec3 p2, const Ray *r, float *t, float 
     v[3] = p1.x; v[4] = p1.y; v[5] = p1.z;
     v[6] = p2.x; v[7] = p2.y; v[8] = p2.z;
     if (!ray_prepare(r, &rp) || !ray_prepare_shear(&rp)) return 0;
-    return tri_hit(&rp, v, r->tmax, t, b1, b2);
+    return tri_hit(&rp, v, r->tmax, t, b1, b2) && *t < r->tmax;
 }
 
 int intersect_sphere(Vec3 c, float radius, const Ray *r, float *t)
@@ -327,7 +364,7 @@ int intersect_sphere(Vec3 c, float radius, const Ray *r, float *t)
     float s[4];
     s[0] = c.x; s[1] = c.y; s[2] = c.z; s[3] = radius;
     if (!ray_prepare(r, &rp) || !ray_prepare_shear(&rp)) return 0;
-    return sphere_hit(&rp, s, r->tmax, t);
+    return sphere_hit(&rp, s, r->tmax, t) && *t < r->tmax;
 }
 
 /* ======================================================================
@@ -406,10 +443,10 @@ static int prim_infos(const Scene *s, PrimInfo *info)
         Box *b = &info[s->n_tris + j].box;
         if (s->sphere_shape[j] < 0 || s->sphere_shape[j] >= s->n_shapes) return 0;
         sh = &s->shapes[s->sphere_shape[j]];
-        for (a = 0; a < 3; a++) {
+        for (a = 0; a < 3; a++) {         /* rounded outwards: the box holds the sphere */
             float c = v3_get(sh->center, a);
-            b->lo[a] = c - sh->radius;
-            b->hi[a] = c + sh->radius;
+            b->lo[a] = nextafterf(c - sh->radius, -FLT_MAX);
+            b->hi[a] = nextafterf(c + sh->radius, FLT_MAX);
         }
     }
     for (i = 0; i < s->n_tris + s->n_spheres; i++) {
@@ -594,59 +631,69 @@ int bvh_build(Bvh *b, const Scene *s)
 /* ======================================================================
    Traversal
    ====================================================================== */
-/* Slab test: does the ray meet the node's box between 0 and tmax?  On a hit,
-   *t_enter is where it enters (see the header comment for the robustness). */
-HOT_INLINE int node_hit(const BvhNode *nd, const RayPre *rp, float tmax, float *t_enter)
+/* Slab test: does the ray meet the node's box, and may the box still hold a hit at
+   t <= t_best?  (t_cull = t_best * cull_scale; see ORDER INDEPENDENCE in the header.)
+   On a hit, *t_enter is where the ray enters the box (the visiting order) and *t_z is
+   the near plane on the ray's dominant axis kz (what culls the box later). */
+HOT_INLINE int node_hit(const BvhNode *nd, const RayPre *rp, float t_cull,
+                        float *t_enter, float *t_z)
 {
-    /* slab distances per axis; written out (no loop, no swap) so that the compiler
-       turns the ?: into branch-free min/max instructions */
-    const float tx0 = (nd->bmin[0] - rp->o[0]) * rp->inv_d[0];
-    const float tx1 = (nd->bmax[0] - rp->o[0]) * rp->inv_d[0];
-    const float ty0 = (nd->bmin[1] - rp->o[1]) * rp->inv_d[1];
-    const float ty1 = (nd->bmax[1] - rp->o[1]) * rp->inv_d[1];
-    const float tz0 = (nd->bmin[2] - rp->o[2]) * rp->inv_d[2];
-    const float tz1 = (nd->bmax[2] - rp->o[2]) * rp->inv_d[2];
-    float tnear = min_f(tx0, tx1), tfar = max_f(tx0, tx1);   /* enter, leave along x */
-    tnear = max_f(tnear, min_f(ty0, ty1));
-    tfar = min_f(tfar, max_f(ty0, ty1));
-    tnear = max_f(tnear, min_f(tz0, tz1));
-    tfar = min_f(tfar, max_f(tz0, tz1));
-    tnear = max_f(tnear, 0.0f);
-    tfar = min_f(tfar * rp->far_scale, tmax);               /* robust far distance */
+    /* the plane the ray crosses first on each axis, by the sign of d, and the other */
+    const float nx = ((rp->neg[0] ? nd->bmax[0] : nd->bmin[0]) - rp->o[0]) * rp->inv_d[0];
+    const float fx = ((rp->neg[0] ? nd->bmin[0] : nd->bmax[0]) - rp->o[0]) * rp->inv_d[0];
+    const float ny = ((rp->neg[1] ? nd->bmax[1] : nd->bmin[1]) - rp->o[1]) * rp->inv_d[1];
+    const float fy = ((rp->neg[1] ? nd->bmin[1] : nd->bmax[1]) - rp->o[1]) * rp->inv_d[1];
+    const float nz = ((rp->neg[2] ? nd->bmax[2] : nd->bmin[2]) - rp->o[2]) * rp->inv_d[2];
+    const float fz = ((rp->neg[2] ? nd->bmin[2] : nd->bmax[2]) - rp->o[2]) * rp->inv_d[2];
+    /* a NaN (0 * inf: d = 0 with the origin on the plane) is skipped by the ?: */
+    float tnear = 0.0f, tfar = INFINITY;
+    tnear = nx > tnear ? nx : tnear;  tfar = fx < tfar ? fx : tfar;
+    tnear = ny > tnear ? ny : tnear;  tfar = fy < tfar ? fy : tfar;
+    tnear = nz > tnear ? nz : tnear;  tfar = fz < tfar ? fz : tfar;
     *t_enter = tnear;
-    return tnear <= tfar;
+    *t_z = rp->kz == 0 ? nx : rp->kz == 1 ? ny : nz;
+    return tnear <= tfar * rp->far_scale && *t_z <= t_cull;
 }
 
 /* Walk the tree; any_hit = 1 returns at the first hit (h may be NULL then).
    A node is entered only after its box was hit; at an inner node both children's
    boxes are tested, the one the ray enters first is visited next and the other is
-   pushed with its entry distance, which culls it on the way back if a closer hit
-   has been found meanwhile. */
+   pushed with its dominant-axis near plane, which culls it on the way back if a
+   closer hit has been found meanwhile.  The closest hit is the smallest t, and among
+   equal t the smallest primitive id, whatever the order of the visits. */
 static inline int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h,
                            int any_hit)
 {
     RayPre rp;
-    int stack[BVH_STACK], sp = 0, node = 0, hit = 0, i;
-    float stack_t[BVH_STACK], tmax = r->tmax, t, b1, b2, t_l, t_r;
-    if (b->n_nodes == 0 || !ray_prepare(r, &rp) || !(tmax > 0.0f)) return 0;
-    if (!node_hit(&b->nodes[0], &rp, tmax, &t)) return 0;
+    int stack[BVH_STACK], sp = 0, node = 0, best_p = -1, i;
+    float stack_t[BVH_STACK], t_best = r->tmax, t_cull, t, b1, b2, t_l, t_r, z_l, z_r;
+    if (b->n_nodes == 0 || !ray_prepare(r, &rp) || !(t_best > 0.0f)) return 0;
+    t_cull = t_best * rp.cull_scale;
+    if (!node_hit(&b->nodes[0], &rp, t_cull, &t, &z_l)) return 0;
     if (!ray_prepare_shear(&rp)) return 0;         /* only now: see "SPEED" above */
 
     for (;;) {
         const BvhNode *nd = &b->nodes[node];
         if (nd->count > 0) {
-            /* leaf: test its primitives */
+            /* leaf: test its primitives; tri_hit accepts t <= t_best */
             const int end = nd->first_or_right + nd->count;
             for (i = nd->first_or_right; i < end; i++) {
                 const float *v = &b->tri_v[9 * (size_t)i];
                 int p = b->prims[i], ok;
-                if (p < s->n_tris) ok = tri_hit(&rp, v, tmax, &t, &b1, &b2);
-                else { ok = sphere_hit(&rp, v, tmax, &t); b1 = b2 = 0.0f; }
+                if (p < s->n_tris) ok = tri_hit(&rp, v, t_best, &t, &b1, &b2);
+                else { ok = sphere_hit(&rp, v, t_best, &t); b1 = b2 = 0.0f; }
                 if (!ok) continue;
-                if (any_hit) return 1;
-                tmax = t;                           /* closer hits only from now on */
+                if (any_hit) {
+                    if (t < r->tmax) return 1;
+                    continue;
+                }
+                /* the ray's own tmax is excluded (best_p = -1 loses every tie);
+                   a tie with the best so far goes to the smaller primitive id */
+                if (!(t < t_best || p < best_p)) continue;
+                t_best = t;                         /* closer hits only from now on */
+                t_cull = t_best * rp.cull_scale;
+                best_p = p;
                 h->t = t; h->prim = p; h->b1 = b1; h->b2 = b2;
-                hit = 1;
             }
         } else {
             const int left = node + 1, right = nd->first_or_right;
@@ -660,22 +707,22 @@ static inline int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord
             else PREFETCH(&b->nodes[c_l->first_or_right]);
             if (c_r->count > 0) PREFETCH(&b->tri_v[9 * (size_t)c_r->first_or_right]);
             else PREFETCH(&b->nodes[c_r->first_or_right]);
-            hit_l = node_hit(c_l, &rp, tmax, &t_l);
-            hit_r = node_hit(c_r, &rp, tmax, &t_r);
+            hit_l = node_hit(c_l, &rp, t_cull, &t_l, &z_l);
+            hit_r = node_hit(c_r, &rp, t_cull, &t_r, &z_r);
             if (hit_l && hit_r) {                   /* nearer first, push the other */
-                if (t_r < t_l) { node = right; stack[sp] = left; stack_t[sp] = t_l; }
-                else { node = left; stack[sp] = right; stack_t[sp] = t_r; }
+                if (t_r < t_l) { node = right; stack[sp] = left; stack_t[sp] = z_l; }
+                else { node = left; stack[sp] = right; stack_t[sp] = z_r; }
                 sp++;
                 continue;
             }
             if (hit_l) { node = left; continue; }
             if (hit_r) { node = right; continue; }
         }
-        /* pop the next node the ray still reaches before tmax */
+        /* pop the next node that may still hold a hit at t <= t_best */
         do {
-            if (sp == 0) return hit;
+            if (sp == 0) return best_p >= 0;
             sp--;
-        } while (stack_t[sp] > tmax);
+        } while (stack_t[sp] > t_cull);
         node = stack[sp];
     }
 }

@@ -1,8 +1,14 @@
 /* tests/test_bvh.c - tests of bvh.c (BVH, ray/primitive tests, hit points) and ply.c.
 
    What is checked, and why it can fail:
-     bvh_vs_brute        BVH closest hit and any hit equal a loop over every primitive,
-                         on random triangle soups with degenerate triangles and spheres
+     bvh_vs_brute        BVH closest hit and any hit equal a loop over every primitive
+                         exactly (same primitive, t and barycentrics; ties in t go to
+                         the smaller id), on random triangle soups with degenerate
+                         triangles and spheres
+     bvh_exact_adversarial  the same on scenes made of ties (a subdivided cube and an
+                         icosphere with every triangle duplicated, overlapping coplanar
+                         triangles) with rays through vertices and edges, along the axes
+                         and the normals, and grazing the triangles' planes
      bvh_watertight_*    rays aimed exactly at shared vertices and edges of closed meshes
                          (an icosphere; a subdivided cube hit by axis-aligned rays, whose
                          flat boxes stress the slab test) all hit
@@ -140,7 +146,9 @@ static int make_icosphere(Scene *s, int level)
     return nt == n_tris && nv == n_verts;
 }
 
-/* Brute force: every primitive, the smallest t (first one on ties). */
+/* Brute force: every primitive in id order, the smallest t; on equal t the first,
+   i.e. the smallest id.  This is the definition of the closest hit that the BVH
+   must reproduce bit for bit, whatever order its traversal visits the leaves in. */
 static int brute_intersect(const Scene *s, const Ray *r, HitRecord *h)
 {
     int i, hit = 0;
@@ -160,18 +168,45 @@ static int brute_intersect(const Scene *s, const Ray *r, HitRecord *h)
     return hit;
 }
 
-/* t of primitive prim alone (or -1). */
-static float prim_t(const Scene *s, int prim, const Ray *r)
+/* Compare the BVH with brute force on one ray, exactly: the same answer to "any hit",
+   and for the closest hit the same primitive, the same t and the same barycentrics,
+   bit for bit.  The ray is also cast with tmax equal to the closest t (which tmax
+   excludes: no hit, no occlusion) and to the next float above it (the same hit).
+   Returns 0, or 1 with the first disagreement written into msg when msg[0] == 0. */
+static int check_ray(const Scene *s, const Ray *r0, int k, char *msg, size_t n_msg)
 {
-    float t, b1, b2;
-    if (prim < s->n_tris) {
-        if (intersect_triangle(s->P[s->tris[prim].v[0]], s->P[s->tris[prim].v[1]],
-                               s->P[s->tris[prim].v[2]], r, &t, &b1, &b2)) return t;
-    } else {
-        const Shape *sh = &s->shapes[s->sphere_shape[prim - s->n_tris]];
-        if (intersect_sphere(sh->center, sh->radius, r, &t)) return t;
+    Ray r = *r0;
+    int pass;
+    for (pass = 0; pass < 3; pass++) {
+        HitRecord hb, hr;
+        int got, want, occ;
+        memset(&hb, 0, sizeof hb);
+        memset(&hr, 0, sizeof hr);
+        got = bvh_intersect(&s->bvh, s, &r, &hb);
+        want = brute_intersect(s, &r, &hr);
+        occ = bvh_occluded(&s->bvh, s, &r);
+        if (got != want || occ != want) {
+            if (!msg[0]) snprintf(msg, n_msg, "ray %d pass %d (tmax %.9g): bvh hit %d, any hit %d, "
+                                  "brute %d (prim %d t %.9g) o %a %a %a d %a %a %a", k, pass, r.tmax, got, occ, want,
+                                  want ? hr.prim : -1, want ? hr.t : 0.0f, r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z);
+            return 1;
+        }
+        if (got && (hb.prim != hr.prim || hb.t != hr.t || hb.b1 != hr.b1 || hb.b2 != hr.b2)) {
+            if (!msg[0]) snprintf(msg, n_msg, "ray %d pass %d: bvh prim %d t %.9g, brute prim %d "
+                                  "t %.9g", k, pass, hb.prim, hb.t, hr.prim, hr.t);
+            return 1;
+        }
+        if (!want) return 0;
+        if (pass == 0) r.tmax = hr.t;                     /* excluded: must miss */
+        else if (pass == 1) {
+            if (got) {
+                if (!msg[0]) snprintf(msg, n_msg, "ray %d: tmax = closest t still hits", k);
+                return 1;
+            }
+            r.tmax = nextafterf(r.tmax, INFINITY);        /* included again */
+        }
     }
-    return -1.0f;
+    return 0;
 }
 
 /* Compare the BVH with brute force on n_rays random rays; returns the number of
@@ -179,13 +214,10 @@ static float prim_t(const Scene *s, int prim, const Ray *r)
 static int compare_with_brute(const Scene *s, Rng *rng, int n_rays, char *msg, size_t n_msg)
 {
     int k, bad = 0;
+    msg[0] = 0;
     for (k = 0; k < n_rays; k++) {
         Ray r;
-        HitRecord hb, hr;
-        int got, want, occ;
         float u = rng_float(rng);
-        memset(&hb, 0, sizeof hb);
-        memset(&hr, 0, sizeof hr);
         r.o = v3(urand(rng, -2, 2), urand(rng, -2, 2), urand(rng, -2, 2));
         r.d = v3_mul(random_dir(rng), urand(rng, 0.5f, 2.0f));       /* not unit length */
         if (u < 0.15f) {                                              /* axis-aligned */
@@ -194,19 +226,61 @@ static int compare_with_brute(const Scene *s, Rng *rng, int n_rays, char *msg, s
             r.d = v3(a == 0 ? sgn : 0.0f, a == 1 ? sgn : 0.0f, a == 2 ? sgn : 0.0f);
         }
         r.tmax = rng_float(rng) < 0.5f ? INFINITY : urand(rng, 0.05f, 3.0f);
-        got = bvh_intersect(&s->bvh, s, &r, &hb);
-        want = brute_intersect(s, &r, &hr);
-        occ = bvh_occluded(&s->bvh, s, &r);
-        if (got != want || occ != want) {
-            if (!bad++) snprintf(msg, n_msg, "ray %d: bvh hit %d, any hit %d, brute %d", k, got, occ, want);
-            continue;
+        bad += check_ray(s, &r, k, msg, n_msg);
+    }
+    return bad;
+}
+
+/* Adversarial rays against the triangles of s (which must have some): aimed at a
+   vertex, an edge point or an interior point of a random triangle, either
+   from a random origin, along a coordinate axis (the flat boxes of axis-aligned
+   faces, and a dominant axis along the normal where every vertex has the same
+   depth), or grazing: almost in the triangle's plane, at angles down to 1e-7. */
+static int adversarial_rays(const Scene *s, Rng *rng, int n_rays, char *msg, size_t n_msg)
+{
+    int k, bad = 0;
+    msg[0] = 0;
+    for (k = 0; k < n_rays; k++) {
+        const Triangle *tri = &s->tris[(int)(rng_float(rng) * (float)s->n_tris) % s->n_tris];
+        Vec3 a = s->P[tri->v[0]], b = s->P[tri->v[1]], c = s->P[tri->v[2]], target, d, n;
+        int aim = (int)(rng_float(rng) * 3), how = (int)(rng_float(rng) * 4);
+        Ray r;
+        if (aim == 0) target = rng_float(rng) < 0.5f ? a : b;                 /* vertex */
+        else if (aim == 1) target = v3_add(a, v3_mul(v3_sub(b, a), rng_float(rng) < 0.5f
+                                                     ? 0.5f : rng_float(rng)));  /* edge */
+        else {                                                               /* inside */
+            float u = rng_float(rng), v = rng_float(rng);
+            if (u + v > 1.0f) { u = 1.0f - u; v = 1.0f - v; }
+            target = v3_add(a, v3_add(v3_mul(v3_sub(b, a), u), v3_mul(v3_sub(c, a), v)));
         }
-        if (!got) continue;
-        if (fabsf(hb.t - hr.t) > 1e-6f * hr.t ||
-            (hb.prim != hr.prim && prim_t(s, hb.prim, &r) != hb.t)) {
-            if (!bad++) snprintf(msg, n_msg, "ray %d: bvh prim %d t %.9g, brute prim %d t %.9g",
-                                 k, hb.prim, hb.t, hr.prim, hr.t);
+        n = v3_cross(v3_sub(b, a), v3_sub(c, a));
+        if (how == 0) {                                  /* from anywhere */
+            r.o = v3(urand(rng, -3, 3), urand(rng, -3, 3), urand(rng, -3, 3));
+            d = v3_sub(target, r.o);
+        } else if (how == 1) {                           /* along an axis */
+            int ax = (int)(rng_float(rng) * 3);
+            float sgn = rng_float(rng) < 0.5f ? -1.0f : 1.0f, dist = urand(rng, 0.5f, 3.0f);
+            d = v3(ax == 0 ? sgn : 0.0f, ax == 1 ? sgn : 0.0f, ax == 2 ? sgn : 0.0f);
+            r.o = v3_sub(target, v3_mul(d, dist));
+        } else if (how == 2 && v3_dot(n, n) > 0.0f) {   /* along the normal */
+            float dist = urand(rng, 0.5f, 3.0f) * (rng_float(rng) < 0.5f ? -1.0f : 1.0f);
+            d = v3_norm(n);
+            r.o = v3_sub(target, v3_mul(d, dist));
+        } else {                                         /* grazing the plane */
+            Vec3 in = random_dir(rng);
+            float eps = ldexpf(1.0f, -(int)(rng_float(rng) * 24.0f));
+            if (v3_dot(n, n) > 0.0f) {
+                Vec3 nn = v3_norm(n);
+                in = v3_sub(in, v3_mul(nn, v3_dot(in, nn)));       /* in the plane */
+                if (v3_dot(in, in) == 0.0f) in = v3_sub(b, a);
+                d = v3_add(v3_norm(in), v3_mul(nn, eps * (rng_float(rng) < 0.5f ? -1.0f : 1.0f)));
+            } else
+                d = in;
+            r.o = v3_sub(target, v3_mul(d, urand(rng, 0.2f, 3.0f)));
         }
+        r.d = d;
+        r.tmax = INFINITY;
+        bad += check_ray(s, &r, k, msg, n_msg);
     }
     return bad;
 }
@@ -256,6 +330,76 @@ static void test_bvh_vs_brute(T *t)
         scene_release(&s);
         CHECK(t, bad == 0, "%d tris %d spheres: %d of 3000 rays differ; %s",
               sizes[i][0], sizes[i][1], bad, msg);
+    }
+}
+
+/* Append `copies - 1` copies of every triangle of s (odd copies with the vertex order
+   rotated, which may round t differently): equal or nearly equal t in different
+   leaves, the ties that the closest hit must break by primitive id. */
+static int duplicate_triangles(Scene *s, int copies)
+{
+    Triangle *tris = (Triangle *)realloc(s->tris, (size_t)copies * s->n_tris * sizeof *tris);
+    int n = s->n_tris, c, i;
+    if (!tris) return 0;
+    s->tris = tris;
+    for (c = 1; c < copies; c++)
+        for (i = 0; i < n; i++) {
+            Triangle *q = &tris[c * n + i];
+            *q = tris[i];
+            if (c & 1) { q->v[0] = tris[i].v[1]; q->v[1] = tris[i].v[2]; q->v[2] = tris[i].v[0]; }
+        }
+    s->n_tris = copies * n;
+    s->shapes[0].tri_count = s->n_tris;
+    return 1;
+}
+
+/* Overlapping triangles in two planes: z = 0.25 (exactly) and a tilted one, plus
+   spheres cutting through them. */
+static int make_coplanar(Scene *s, Rng *rng, int n)
+{
+    int i, k;
+    if (!scene_make(s, 3 * n, n, 4)) return 0;
+    for (i = 0; i < n; i++) {
+        for (k = 0; k < 3; k++) {
+            float x = urand(rng, -1, 1), y = urand(rng, -1, 1);
+            s->P[3 * i + k] = i % 2 ? v3(x, y, 0.25f) : v3(x, y, 0.3f * x - 0.7f * y);
+            s->tris[i].v[k] = 3 * i + k;
+        }
+    }
+    for (i = 0; i < 4; i++) {
+        s->shapes[1 + i].center = v3(urand(rng, -1, 1), urand(rng, -1, 1), 0.25f);
+        s->shapes[1 + i].radius = urand(rng, 0.05f, 0.4f);
+    }
+    return 1;
+}
+
+static int make_grid_cube(Scene *s, int n);
+
+/* The closest hit does not depend on the traversal order: on scenes full of ties
+   (shared edges and vertices, coplanar and duplicated triangles) and adversarial
+   rays, the BVH returns exactly brute force's answer (see check_ray). */
+static void test_bvh_exact_adversarial(T *t)
+{
+    const int n_rays = test_scaled(6000, 1000);
+    Scene s;
+    Rng rng;
+    char msg[256];
+    int bad, scene;
+    rng_seed(&rng, 17, 0);
+    for (scene = 0; scene < 4; scene++) {
+        static const char *names[] = {"grid cube x3", "icosphere x2", "coplanar", "soup x2"};
+        int ok;
+        if (scene == 0) ok = make_grid_cube(&s, 6) && duplicate_triangles(&s, 3);
+        else if (scene == 1) ok = make_icosphere(&s, 3) && duplicate_triangles(&s, 2);
+        else if (scene == 2) ok = make_coplanar(&s, &rng, 400);
+        else ok = make_soup(&s, &rng, 300, 5) && duplicate_triangles(&s, 2);
+        CHECK(t, ok, "out of memory");
+        CHECK(t, bvh_build(&s.bvh, &s), "bvh_build failed");
+        bad = adversarial_rays(&s, &rng, n_rays, msg, sizeof msg);
+        if (!bad) bad = compare_with_brute(&s, &rng, n_rays / 4, msg, sizeof msg);
+        scene_release(&s);
+        CHECK(t, bad == 0, "%s: %d of %d rays differ from brute force; %s", names[scene], bad,
+              n_rays + n_rays / 4, msg);
     }
 }
 
@@ -967,6 +1111,7 @@ static void test_ply_fuzz(T *t)
 
 const TestCase tests_bvh[] = {
     {"bvh_vs_brute", test_bvh_vs_brute},
+    {"bvh_exact_adversarial", test_bvh_exact_adversarial},
     {"bvh_watertight_icosphere", test_bvh_watertight_icosphere},
     {"bvh_watertight_cube", test_bvh_watertight_cube},
     {"bvh_structure", test_bvh_structure},
