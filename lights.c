@@ -51,6 +51,10 @@
 #include "specnee.h"
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 /* ------------------------------------------------------------------ emitters */
 
@@ -189,7 +193,19 @@ struct LightSampler {
     Vec3 bmin, bmax;
     long n_voxels;
     float **voxel;             /* per voxel: s[n] (spatial pmf) then g[n] (geometry) */
+    double lazy_s;             /* seconds spent building voxels on first use (under the
+                                  critical section, so the sum is time really spent) */
 };
+
+/* A clock for lazy_s: OpenMP's wall clock, else the CPU clock (one thread). */
+static double lights_seconds(void)
+{
+#ifdef _OPENMP
+    return omp_get_wtime();
+#else
+    return (double)clock() / CLOCKS_PER_SEC;
+#endif
+}
 
 static const char *const sel_names[SEL_COUNT] = {
     "uniform", "power", "spatial", "spd", "product", "spectral-spatial", "all"
@@ -288,7 +304,9 @@ static const float *voxel_table(LightSampler *ls, int v)
         if (!ls->voxel[v]) {
             float *nt = (float *)malloc(sizeof(float) * 2 * (size_t)ls->n);
             if (nt) {
+                double t0 = lights_seconds();
                 build_voxel(ls, v, nt);
+                ls->lazy_s += lights_seconds() - t0;
 #ifdef _OPENMP
 #pragma omp flush
 #pragma omp atomic write
@@ -343,6 +361,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
             long v;
             for (v = 0; v < ls->n_voxels; v++)
                 if (!voxel_table(ls, (int)v)) goto oom;
+            ls->lazy_s = 0.0;          /* built up front: counted in the build time */
         }
     }
     return ls;
@@ -363,6 +382,11 @@ void light_sampler_free(LightSampler *ls)
     free(ls->T);
     free(ls->Y);
     free(ls);
+}
+
+double light_sampler_lazy_seconds(const LightSampler *ls)
+{
+    return ls->lazy_s;
 }
 
 size_t light_sampler_bytes(const LightSampler *ls)

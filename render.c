@@ -195,6 +195,45 @@ static void debug_vertex(FILE *dbg, int depth, const SurfacePoint *sp, const flo
             beta[0], beta[1], beta[2], beta[3], r[0], r[1], r[2], r[3]);
 }
 
+/* --debug-pixel: where P(e | c) came from (the rule of lights.c, section 2). */
+static const char *debug_pmf_source(const SelOptions *sel, const LightCtx *c, int fell_back)
+{
+    SelStrategy st = sel->strategy;
+    if (st == SEL_UNIFORM) return "uniform";
+    if (st == SEL_POWER) return "power table";
+    if (st == SEL_SPATIAL) return "spatial table of the voxel";
+    if (fell_back) return "spatial table: no emitter emits in the bins of these wavelengths (fallback)";
+    if (c->hero_only)
+        return st == SEL_SPD ? "spectral table T_e(b) at the hero's bin"
+             : st == SEL_PRODUCT ? "spectral table T_e(b) at the hero's bin x spatial table"
+             : "spectral table T_e(b) at the hero's bin x unit-radiance spatial table";
+    if (sel->all_wavelengths) return "spectral table summed over the alive wavelengths' bins";
+    return "spatial table of the voxel: several wavelengths alive, spectral tables act on hero-only paths";
+}
+
+/* --debug-pixel: a contribution's MIS weight w (the film receives w / (q_t(0) p(lambda_j))
+   times the sample's value, docs/THEORY.md eq. (5)) split into the share of the
+   technique t, summed over every hero m, and the share of hero 0 within t:
+       w = [sum_m r_m^2 q_t(m)^2 / D] x [q_t(0)^2 / sum_m r_m^2 q_t(m)^2]. */
+static void debug_weight(FILE *dbg, const char *what, int e, double w, const float *r,
+                         const float *q_bsdf, float q_nee, unsigned alive, int nee)
+{
+    double tech = 0.0, den = 0.0, q0;
+    int m, n = 0;
+    for (m = 0; m < HERO_N; m++)
+        if (alive & (1u << m)) {
+            double qn = (double)r[m] * r[m] * q_nee * q_nee;
+            double qb = (double)r[m] * r[m] * q_bsdf[m] * q_bsdf[m];
+            tech += nee ? qn : qb;
+            den += qn + qb;
+            n++;
+        }
+    q0 = nee ? (double)q_nee * q_nee : (double)q_bsdf[0] * q_bsdf[0];
+    fprintf(dbg, "  %s %d: MIS weight %.4g = %s share %.4g x hero share %.4g (%d wavelength%s alive)\n",
+            what, e, w, nee ? "NEE" : "BSDF", den > 0.0 ? tech / den : 0.0,
+            tech > 0.0 ? q0 / tech : 0.0, n, n == 1 ? "" : "s");
+}
+
 /* Trace one camera sample; adds its XYZ estimate to xyz. */
 static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *rng,
                        double xyz[3], Counters *cnt, FILE *dbg)
@@ -261,8 +300,8 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
                 /* beta already holds 1/q_bsdf(0): weight = q_bsdf(0)^2 / den */
                 w = den > 0.0 ? (double)prev.q_bsdf[0] * prev.q_bsdf[0] / den : 0.0;
                 film_add(xyz, cmf, wl, value, w, alive);
-                if (dbg) fprintf(dbg, "  emission from emitter %d: mis weight %.4g (q_nee %.4g)\n",
-                                 shape->emitter, w, q_nee);
+                if (dbg) debug_weight(dbg, "emission from emitter", shape->emitter, w, prev.r,
+                                      prev.q_bsdf, q_nee, prev.alive, 0);
             }
         }
         if (depth >= o->maxdepth) break;
@@ -297,18 +336,27 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
                 if (!is_all) {
                     chosen = light_select(R->ls, &ctx, rng_float(rng), &P, &fb);
                     if (fb) cnt->fallbacks++;
-                    if (dbg) fprintf(dbg, "  NEE: chose emitter %d with P=%.4g%s\n", chosen, P,
-                                     fb ? " (fallback to spatial)" : "");
-                    if (chosen < 0) break;
+                    if (dbg) fprintf(dbg, "  NEE: chose emitter %d with P=%.4g (%s)\n", chosen, P,
+                                     debug_pmf_source(&o->sel, &ctx, fb));
+                    if (chosen < 0) {
+                        if (dbg) fprintf(dbg, "  NEE: no emitter can be chosen here (every P is 0)\n");
+                        break;
+                    }
                 }
-                if (!emitter_sample(s, chosen, sp.p, u0, u1, u2, &es)) continue;
+                if (!emitter_sample(s, chosen, sp.p, u0, u1, u2, &es)) {
+                    if (dbg) fprintf(dbg, "  NEE: no usable point on emitter %d (seen edge-on or at distance 0)\n", chosen);
+                    continue;
+                }
                 for (j = 0; j < HERO_N; j++) {
                     value[j] = 0.0;
                     if (alive & (1u << j))
                         value[j] = emitter_Le(s, chosen, es.n, v3_neg(es.wi), wl->lambda[j]);
                     if (value[j] != 0.0) any = 1;
                 }
-                if (!any) continue;
+                if (!any) {
+                    if (dbg) fprintf(dbg, "  NEE: emitter %d sends nothing here (its back faces this point, or Le = 0 at the alive wavelengths)\n", chosen);
+                    continue;
+                }
                 bsdf_eval(mat, &sp, wo, es.wi, wl->lambda, alive, f, pdf_l);
                 cos_i = fabsf(v3_dot(es.wi, sp.ns));
                 any = 0;
@@ -316,7 +364,10 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
                     value[j] *= (double)beta[j] * f[j] * cos_i;
                     if (value[j] != 0.0) any = 1;
                 }
-                if (!any) continue;
+                if (!any) {
+                    if (dbg) fprintf(dbg, "  NEE: emitter %d: f |cos| = 0 (the sampled point is below this surface, or the BSDF has no lobe there)\n", chosen);
+                    continue;
+                }
                 {
                     Ray shadow;
                     Vec3 target = offset_ray_origin(es.p, es.n, v3_neg(es.wi));
@@ -333,8 +384,10 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
                 den = mis_denominator(r, pdf_l, q_nee, alive);
                 if (den > 0.0) {
                     film_add(xyz, cmf, wl, value, (double)q_nee / den, alive);
-                    if (dbg) fprintf(dbg, "  NEE: emitter %d visible, weight %.4g\n", chosen,
-                                     (double)q_nee * q_nee / den);
+                    if (dbg) debug_weight(dbg, "NEE: visible emitter", chosen, (double)q_nee * q_nee / den,
+                                          r, pdf_l, q_nee, alive, 1);
+                } else if (dbg) {
+                    fprintf(dbg, "  NEE: emitter %d: MIS denominator 0 (no technique has a density here)\n", chosen);
                 }
             }
         }
@@ -376,7 +429,10 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
                 }
             q = sum_r > 0.0f ? (float)HERO_N * bmax / sum_r : 0.0f;
             if (q < 1.0f) {
-                if (rng_float(rng) >= q) break;
+                int dies = rng_float(rng) >= q;
+                if (dbg) fprintf(dbg, "  roulette: survival q = min(1, %d max_j beta_j / sum_m r_m) = %.4g: %s\n",
+                                 HERO_N, q, dies ? "path ends" : "survives, beta /= q");
+                if (dies) break;
                 for (j = 0; j < HERO_N; j++) beta[j] /= q;
             }
         }
@@ -570,6 +626,7 @@ int render_advance(RenderJob *j, int spp, int spp_final, Error *err)
         j->st.fallbacks += j->P.row_fallbacks[y];
     }
     j->st.samples = (uint64_t)w * (uint64_t)h * (uint64_t)spp;
+    j->st.lazy_s = light_sampler_lazy_seconds(j->R.ls);
     j->st.wall_s += wall_seconds() - t0;
     j->st.cpu_s += (double)(clock() - c0) / CLOCKS_PER_SEC;
     return 1;

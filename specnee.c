@@ -14,16 +14,30 @@
 
 static const char usage_text[] =
 "usage: specnee [options] scene.pbrt\n"
-"       specnee merge a.pfm b.pfm ... -o out.pfm     (sample-count weighted mean)\n"
-"       specnee diff test.pfm ref.pfm [--region NAME:x0,y0,x1,y1] [--max-mse X]\n"
-"       specnee spectrum NAME|FILE   |   specnee spectrum --svg NAME... > out.svg\n"
+"       specnee merge a.pfm b.pfm ... -o out.pfm [--equal-weights]\n"
+"                        (sample-count weighted mean of renders)\n"
+"       specnee diff test.pfm ref.pfm [--region NAME:x0,y0,x1,y1 ...]\n"
+"                        [--error-image err.png] [--max-mse X] [--max-relmse Y] [--csv]\n"
+"                        (MSE, relMSE, MAE; --error-image: false-colour error map;\n"
+"                        --max-*: exit 1 above a threshold; --csv: one CSV line each)\n"
+"       specnee spectrum NAME|FILE | --svg [--range LO HI] NAME... > out.svg | --list\n"
+"       specnee spectrum --table [--spd-metric unit|power] [--svg] scene.pbrt\n"
+"                        (the emitter x 60-bin table T_e(b) and P(e | bin); --svg: heat map)\n"
+"       specnee converge scene.pbrt --ref ref.pfm --lights a,b:mod,... [--spp 16,32,...]\n"
+"                        [--seeds K] [--time cpu|wall] [--reuse] [--out PREFIX]\n"
+"                        (error against samples and time per strategy: docs/RESULTS.md)\n"
+"       Each subcommand explains its options with --help (specnee diff --help, ...).\n"
 "\n"
 "Renders a pbrt-v4 scene (the subset in docs/conventions.md) with a spectral path\n"
 "tracer: 4 hero wavelengths (HWSS) combined by spectral MIS, next event estimation\n"
-"with a choice of emitter-selection strategies, Cauchy dispersion.\n"
-"\n"
+"with a choice of emitter-selection strategies, Cauchy dispersion.  The estimator\n"
+"is derived in docs/THEORY.md; docs/WALKTHROUGH.md follows one sample through it.\n"
+"\n";
+
+static const char usage_options[] =
 "options (a command-line value overrides the scene file's):\n"
-"  -o, --out FILE          output image: .pfm (linear float), .ppm or .png (8-bit sRGB)\n"
+"  -o, --out FILE          output image: .pfm (linear float), .ppm or .png (8-bit sRGB);\n"
+"                          its directory must exist\n"
 "      --spp N             samples per pixel (file: Sampler pixelsamples; default 16)\n"
 "      --seed N            random seed (file: Sampler seed; default 0)\n"
 "      --threads N         worker threads (default: all cores; image is identical)\n"
@@ -32,11 +46,12 @@ static const char usage_text[] =
 "      --lights NAME       emitter selection for NEE: uniform power spatial spd product\n"
 "                          spectral-spatial all  (file: Integrator lightsampler;\n"
 "                          default spatial; pbrt-v4's \"bvh\" maps to spatial)\n"
-"      --spd-metric M      unit (emitted radiance, default) or power (x area)\n"
+"      --spd-metric M      what the spectral table T_e(b) holds: unit (the bin average\n"
+"                          of the emitted radiance Le, default) or power (that x area)\n"
 "      --all-wavelengths   spectral strategies weigh every alive wavelength\n"
 "      --throughput-weighted  ... each by the path throughput at that wavelength\n"
-"      --wavelengths P     uniform (HWSS, default) or importance (CMIS: pdf ~\n"
-"                          (xbar+ybar+zbar) x the emitters' spectra)\n"
+"      --wavelengths P     the wavelength pdf p: uniform on the range (default) or\n"
+"                          importance (p ~ (xbar+ybar+zbar) x the emitters' spectra)\n"
 "      --wide              sample 360-830 nm (pbrt-v4's range) instead of 400-700\n"
 "      --single-wavelength one wavelength per path instead of four\n"
 "      --rough-dispersion M  terminate (default) or mis: keep the secondary\n"
@@ -45,13 +60,20 @@ static const char usage_text[] =
 "      --exposure E        multiply by 2^E before writing .ppm/.png\n"
 "      --mark-insets       outline the scene's insets (\"# inset\" comments) in the\n"
 "                          .png: A yellow, B cyan, C magenta, ...\n"
-"      --debug-pixel X,Y   print every path of pixel (X, Y) to stderr\n"
+"      --debug-pixel X,Y   print every path of pixel (X, Y) to stderr: X counts from\n"
+"                          the left, Y from the top, both from 0, on the film after\n"
+"                          --res (a picture viewer's coordinates)\n"
+"      --eager-tables      build every voxel of the spatial tables before rendering\n"
+"                          (default: each voxel on first use; the image is the same)\n"
 "      --dump-scene        print the scene as understood, then exit\n"
 "  -q, --quiet             no progress bar and no closing line\n"
 "  -h, --help              this text\n"
 "\n"
 "Output: .pfm rows run bottom to top (netpbm), linear sRGB (D65), with a sidecar\n"
-"FILE.txt holding the sample count for `specnee merge`.\n";
+"FILE.txt holding the sample count for `specnee merge`.  The closing line gives the\n"
+"wall and CPU time and the time spent building emitter tables (\"tables\"), also\n"
+"those built lazily during the render.\n"
+"Exit status: 0 ok, 1 bad input (a message file:line: problem), 2 bad usage.\n";
 
 static int usage_error(const char *fmt, const char *arg)
 {
@@ -105,6 +127,7 @@ static int parse_args(int argc, char **argv, Args *a)
 #define NEEDS_VALUE() do { if (!v) return usage_error("option %s needs a value", o); i++; } while (0)
         if (!strcmp(o, "-h") || !strcmp(o, "--help")) {
             fputs(usage_text, stdout);
+            fputs(usage_options, stdout);
             exit(0);
         } else if (!strcmp(o, "-o") || !strcmp(o, "--out")) {
             NEEDS_VALUE(); a->out = v;
@@ -247,6 +270,13 @@ static int render_main(int argc, char **argv)
         return 0;
     }
     if (apply_scene_settings(&a, &scene)) { scene_free(&scene); return 1; }
+    if (a.ro.debug_x >= 0 && (a.ro.debug_x >= scene.settings.xres || a.ro.debug_y >= scene.settings.yres)) {
+        fprintf(stderr, "specnee: --debug-pixel %d,%d is outside the %dx%d film (X 0..%d from the left, "
+                        "Y 0..%d from the top)\n(see specnee --help)\n", a.ro.debug_x, a.ro.debug_y,
+                scene.settings.xres, scene.settings.yres, scene.settings.xres - 1, scene.settings.yres - 1);
+        scene_free(&scene);
+        return 2;
+    }
     a.ro.progress = !a.quiet && isatty(fileno(stderr));
     out = a.out ? a.out : scene.settings.filename;
     if (a.mark_insets && (strlen(out) < 4 || strcmp(out + strlen(out) - 4, ".png") || a.res_w > 0)) {
@@ -286,10 +316,10 @@ static int render_main(int argc, char **argv)
             img_write_sidecar(out, a.ro.spp, settings);
     }
     if (!a.quiet)
-        fprintf(stderr, "specnee: %s: %dx%d, %d spp, %s, in %.3f s wall (%.3f s CPU, tables %.1f ms): "
+        fprintf(stderr, "specnee: %s: %dx%d, %d spp, %s, in %.3f s wall (%.3f s CPU, tables %.1f ms%s): "
                         "%.0f samples/s, %.2f Mrays/s%s%s\n",
                 out, img.w, img.h, a.ro.spp, sel_name(a.ro.sel.strategy), st.wall_s, st.cpu_s,
-                1e3 * st.build_s, (double)st.samples / st.wall_s, (double)st.rays / st.wall_s * 1e-6,
+                1e3 * (st.build_s + st.lazy_s), st.lazy_s > 0.0 ? ", built lazily during the render" : "", (double)st.samples / st.wall_s, (double)st.rays / st.wall_s * 1e-6,
                 st.nonfinite ? " (WARNING: non-finite samples dropped)" : "",
                 st.fallbacks ? " (some vertices fell back to spatial: no emitter in the hero's bin)" : "");
     img_free(&img);

@@ -488,6 +488,8 @@ int   light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int
 /* The probability light_select gives emitter e in context c (for MIS weights). */
 float light_select_pmf(LightSampler *ls, const LightCtx *c, int e);
 size_t light_sampler_bytes(const LightSampler *ls);      /* memory held by its tables */
+/* Seconds spent so far building voxel tables on first use (eager builds excluded). */
+double light_sampler_lazy_seconds(const LightSampler *ls);
 SelStrategy sel_from_name(const char *name);             /* SEL_COUNT if unknown */
 const char *sel_name(SelStrategy s);
 
@@ -507,7 +509,10 @@ typedef struct {
 } RenderOptions;
 
 typedef struct {
-    double wall_s, cpu_s, build_s;   /* render time, CPU time, table build time */
+    double wall_s, cpu_s, build_s;   /* render time, CPU time, table build time before
+                                        the first pass (eager tables) */
+    double lazy_s;                   /* tables built on first use during the passes
+                                        (part of wall_s) */
     uint64_t rays, samples;
     long nonfinite;                  /* samples rejected as NaN/inf (must stay 0) */
     long fallbacks;
