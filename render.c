@@ -234,6 +234,52 @@ static void debug_weight(FILE *dbg, const char *what, int e, double w, const flo
             tech > 0.0 ? q0 / tech : 0.0, n, n == 1 ? "" : "s");
 }
 
+/* --debug-pixel: the sum over every (technique, hero h) pair of the MIS weight that
+   pair would give this path (docs/THEORY.md section 6).  Pair (t, h) evaluates its
+   weight with its OWN selection probability P_h = P(e | c with lambda_h as the
+   hero) for every term of its denominator:
+       S = sum_h r_h^2 (a_h + q_bsdf(h)^2) / sum_m r_m^2 (a_h + q_bsdf(m)^2),
+       a_h = (P_h p_sigma)^2.
+   S = 1 whenever P_h is the same for every h (the reason the renderer may use one
+   q_nee for every m); a hero-dependent P leaves S = 1 only while the densities do
+   not depend on the wavelength (r_m = 1, equal q_bsdf).  The context for hero h is
+   the stored one with the wavelengths (and their alive bits and throughputs)
+   rotated so that lambda_h is in slot 0. */
+static double debug_weight_sum(const Renderer *R, const LightCtx *c, int e, float p_sigma,
+                               const float *r, const float *q_bsdf, unsigned alive)
+{
+    double S = 0.0;
+    int h, m, k;
+    for (h = 0; h < HERO_N; h++) {
+        LightCtx ch = *c;
+        double a, num, den = 0.0;
+        float P = 1.0f;
+        if (!(alive & (1u << h))) continue;
+        ch.alive = 0u;
+        for (k = 0; k < HERO_N; k++) {
+            int from = (h + k) % HERO_N;
+            ch.lambda[k] = c->lambda[from];
+            ch.beta[k] = c->beta[from];
+            if (c->alive & (1u << from)) ch.alive |= 1u << k;
+        }
+        if (R->o->sel.strategy != SEL_ALL) P = light_select_pmf(R->ls, &ch, e);
+        a = (double)P * p_sigma * P * p_sigma;
+        num = (double)r[h] * r[h] * (a + (double)q_bsdf[h] * q_bsdf[h]);
+        for (m = 0; m < HERO_N; m++)
+            if (alive & (1u << m)) den += (double)r[m] * r[m] * (a + (double)q_bsdf[m] * q_bsdf[m]);
+        if (den > 0.0) S += num / den;
+    }
+    return S;
+}
+
+/* Silence means S = 1 (to 1e-4): said once in docs/WALKTHROUGH.md. */
+static void debug_check_sum(FILE *dbg, double S)
+{
+    if (fabs(S - 1.0) > 1e-4)
+        fprintf(dbg, "  WARNING: the MIS weights of all (technique, hero) pairs sum to %.4g, not 1: "
+                     "this contribution is weighted wrongly\n", S);
+}
+
 /* Trace one camera sample; adds its XYZ estimate to xyz. */
 static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *rng,
                        double xyz[3], Counters *cnt, FILE *dbg)
@@ -300,8 +346,14 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
                 /* beta already holds 1/q_bsdf(0): weight = q_bsdf(0)^2 / den */
                 w = den > 0.0 ? (double)prev.q_bsdf[0] * prev.q_bsdf[0] / den : 0.0;
                 film_add(xyz, cmf, wl, value, w, alive);
-                if (dbg) debug_weight(dbg, "emission from emitter", shape->emitter, w, prev.r,
-                                      prev.q_bsdf, q_nee, prev.alive, 0);
+                if (dbg) {
+                    debug_weight(dbg, "emission from emitter", shape->emitter, w, prev.r,
+                                 prev.q_bsdf, q_nee, prev.alive, 0);
+                    if (prev.can_nee && prev.alive != 1u)
+                        debug_check_sum(dbg, debug_weight_sum(R, &prev.ctx, shape->emitter,
+                                        emitter_pdf_sa(s, shape->emitter, prev.p, sp.p, sp.ng),
+                                        prev.r, prev.q_bsdf, prev.alive));
+                }
             }
         }
         if (depth >= o->maxdepth) break;
@@ -384,8 +436,12 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
                 den = mis_denominator(r, pdf_l, q_nee, alive);
                 if (den > 0.0) {
                     film_add(xyz, cmf, wl, value, (double)q_nee / den, alive);
-                    if (dbg) debug_weight(dbg, "NEE: visible emitter", chosen, (double)q_nee * q_nee / den,
-                                          r, pdf_l, q_nee, alive, 1);
+                    if (dbg) {
+                        debug_weight(dbg, "NEE: visible emitter", chosen, (double)q_nee * q_nee / den,
+                                     r, pdf_l, q_nee, alive, 1);
+                        if (alive != 1u)
+                            debug_check_sum(dbg, debug_weight_sum(R, &ctx, chosen, es.pdf_sa, r, pdf_l, alive));
+                    }
                 } else if (dbg) {
                     fprintf(dbg, "  NEE: emitter %d: MIS denominator 0 (no technique has a density here)\n", chosen);
                 }
