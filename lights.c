@@ -17,7 +17,8 @@
    2. Selection.  light_select picks emitter i with probability P(i | c), where the
       context c = (voxel, wavelengths, alive set, hero_only) is fixed at the vertex
       and stored by the integrator; light_select_pmf(c, i) returns the same number
-      for an emitter hit by BSDF sampling (the consistency contract, notes section 4).
+      for an emitter hit by BSDF sampling (the consistency contract, items C1-C4 of
+      docs/THEORY.md section 5).
       Strategies (T_i(b) = bin average of Le_i over bin b, times area x sides with
       the power metric):
         uniform           1/n
@@ -27,18 +28,23 @@
         product           thesis Sec. 2 ("combined PDF"): s_i(v) T_i(b) / sum_k s_k(v) T_k(b)
         spectral-spatial  beyond the thesis: g_i(v) T_i(b) / sum_k g_k(v) T_k(b), with
                           g_i(v) the spatial estimate for UNIT radiance, so brightness
-                          is counted once (notes section 4, remark a)
+                          is counted once (the thesis' argument for the unit
+                          metric, thesis Sec. 2 "Combining PDFs")
+      T_i(b) with the unit metric (the default) is the bin average of the emitted
+      radiance Le_i, the thesis' "unit emission"; the power metric multiplies it by
+      the area (x 2 if two-sided), the thesis' "power".
       The spectral strategies act only where the path carries the hero alone
-      (after a wavelength-dependent event); while all wavelengths are alive the
-      thesis uses the spatial distribution.  Beyond the thesis (all_wavelengths),
-      the weight of emitter i is sum over alive j of c_j * e_i(lambda_j), with
-      e_i the strategy's unnormalised weight and c_j = 1 or the path throughput at
-      lambda_j.  It is symmetric in the alive set, so it does not disturb the
-      spectral MIS weights.  When every emitter has weight 0 for the hero's bin
+      (after a wavelength-dependent event, LightCtx.hero_only); while several
+      wavelengths are alive the thesis uses the spatial distribution.  Beyond the
+      thesis (all_wavelengths), the weight of emitter i is sum over alive j of
+      c_j * e_i(lambda_j), with e_i the strategy's unnormalised weight and c_j = 1
+      or the path throughput at lambda_j.  Either way P(i | c) is the same whichever
+      alive wavelength is the hero: item C4 of the contract, which the single
+      q_nee of render.c's MIS weights needs (docs/THEORY.md section 6 derives why).  When every emitter has weight 0 for the hero's bin
       (or the hero lies outside 400-700 nm) the spatial distribution is used
       (counted as a fallback); the same rule runs in light_select_pmf.
 
-   3. The spatial distribution (pbrt-v3 lightdistrib.cpp, notes section 1): a grid
+   3. The spatial distribution (pbrt-v3 lightdistrib.cpp; docs/THEORY.md section 5): a grid
       over the scene bounds with SPATIAL_RES cells on the longest axis; per voxel,
       for k = 0..127, a receiver point at Halton(2,3,5)(k) in the voxel and an
       emitter sample at Halton(7,11,13)(k); each emitter j accumulates

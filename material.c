@@ -32,8 +32,9 @@
        f = D G (1-F) |wi.m| |wo.m| / (|cos i cos o| d) / eta'^2
        p = D_wo(m) |wi.m| / d * (1-F)
    Visible normals are sampled with Heitz 2018, "Sampling the GGX Distribution of
-   Visible Normals", JCGT 7(4).  All of this follows the equations in
-   ../shared/notes/algorithms.md section 5, checked against pbrt-v4's DielectricBxDF.
+   Visible Normals", JCGT 7(4); G is the height-correlated Smith term (Heitz 2014).
+   docs/THEORY.md section 10 states these equations with their sources; they were
+   checked against pbrt-v4's DielectricBxDF.
 
    Dispersion: with a wavelength-dependent index, the hero's index picks the
    direction.  For other wavelengths f and pdf are evaluated along the SAME

@@ -18,7 +18,7 @@
      end_header
      <data: elements in header order, properties in declared order>
 
-   WHAT IS READ (the subset pbrt-v4 reads, notes/conventions.md section 1.4)
+   WHAT IS READ (the subset pbrt-v4 reads, docs/conventions.md)
      - element vertex: x y z (required), nx ny nz (optional, all three or none); any
        other property (u v, colours, lists, ...) is read and skipped by its type.
      - element face: list vertex_indices (or vertex_index) with an integer count and

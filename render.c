@@ -1,34 +1,43 @@
 /* render.c - the spectral path tracer: camera, wavelengths, the path loop, the film.
 
-   Exported: render_options_default, render, render_ladder (specnee.h section 12).
+   Exported (specnee.h section 12): render_options_default, render, render_ladder,
+   render_begin, render_advance, render_image, render_stats, render_end.
 
-   THE ESTIMATOR.  Each camera sample draws u and four wavelengths by rotation in
-   the CDF of the wavelength pdf p (HWSS, Wilkie et al. 2014; CMIS, West et al.
-   2020): lambda_j = P^-1(frac(u + j/4)), so every lambda_j has marginal density p.
-   The path X is sampled with the hero lambda_0 only.  For a path found by
+   THE ESTIMATOR.  docs/THEORY.md derives it; the numbers (2)-(9) below are its
+   equation numbers, and the symbols are those of its section 0.  Each camera
+   sample draws u and four wavelengths by rotation in the CDF P of the wavelength
+   pdf p (HWSS, Wilkie et al. 2014, rotated in the CDF as in West et al. 2020):
+   lambda_j = P^-1(frac(u + j/4))  (2), so every lambda_j has marginal density p.
+   The path X is sampled with the hero lambda_0 only.  For a path ended by
    technique t (NEE or BSDF sampling) the film receives, for each wavelength j,
 
-                      f(X, lambda_j)  p_t(X | lambda_0)
-        C_j = --------------------------------------------------        (1)
+                      f(X, lambda_j) p_t(X | lambda_0)
+        C_j = --------------------------------------------------        (4)
                p(lambda_j) * sum_{t', m} p_t'(X | lambda_m)^2
 
    the power heuristic over every (technique, hero) pair that could have made X
-   (notes/algorithms.md eq. (B) combined with section 4).  Writing
-   beta_j = f(prefix, lambda_j)/p(prefix | lambda_0) for the throughput and
-   r_m = p(prefix | lambda_m)/p(prefix | lambda_0) for the pdf ratio of the path
-   so far (r_0 = 1), a contribution at the last vertex with technique densities
-   q_nee (selection pmf x solid-angle pdf; the same for every m) and q_bsdf(m)
-   (the BSDF pdf of the last direction with wavelength m's index) is
+   (THEORY section 4).  Writing beta_j = f(prefix, lambda_j)/p(prefix | lambda_0)
+   for the throughput and r_m = p(prefix | lambda_m)/p(prefix | lambda_0) for the
+   pdf ratio of the path so far (r_0 = 1), and g_j = f_s Le_j |cos| for the last
+   segment, a contribution at the last vertex with the technique densities
+   q_nee = P(e | c) p_sigma (selection pmf x solid-angle pdf; one value for every m,
+   THEORY section 6) and q_bsdf(m) (the BSDF pdf of the last direction with
+   wavelength m's index) is
 
-        C_j = beta_j f_j Le_j |cos| q_t(0) / (p(lambda_j) sum_m r_m^2 (q_nee^2 + q_bsdf(m)^2))
+        C_j = beta_j g_j q_t(0) / (p(lambda_j) D),
+        D   = sum_m r_m^2 (q_nee^2 + q_bsdf(m)^2)                          (6)
 
+   In the code the factor q_t(0)/D (NEE) or q_bsdf(0)^2/D (a BSDF-sampled hit,
+   whose beta already holds 1/q_bsdf(0)) is `w`, and film_add divides by
+   p(lambda_j) once (9).
    Special cases that make this readable:
    - No wavelength-dependent event so far: r_m = 1 and q_bsdf(m) = q_bsdf(0), so
      C_j is the usual power-heuristic NEE/BSDF weight times 1/(4 p(lambda_j)):
      pbrt-v4's film average.
    - Termination at a dispersive dielectric (thesis baseline, pbrt-v4
-     TerminateSecondary): r = (1, 0, 0, 0) and beta_1..3 = 0, so the hero gets
-     weight 1/p(lambda_0) - the "divide the hero pdf by 4" bookkeeping.
+     TerminateSecondary; THEORY section 7): r = (1, 0, 0, 0) and beta_1..3 = 0, so
+     the hero gets weight 1/p(lambda_0) - the "divide the hero pdf by 4"
+     bookkeeping.
    - Single-wavelength mode: r = (1, 0, 0, 0) from the start.
    - Rough spectral MIS (beyond the baseline, --rough-dispersion mis): at a rough
      dispersive interface the secondaries survive; every later direction pdf is
@@ -39,13 +48,13 @@
    could have produced it.
 
    Russian roulette (from depth RR_START_DEPTH) survives with probability
-   min(1, 4 max_j beta_j / sum_m r_m).  beta_j / sum_m r_m = f_j / sum_m p(X|m)
-   does not depend on which wavelength was the hero, so the roulette is the same
-   for every technique and needs no place in (1).
+   q = min(1, 4 max_j beta_j / sum_m r_m)  (8).  beta_j / sum_m r_m =
+   f_j / sum_m p(prefix | lambda_m) does not depend on which wavelength was the
+   hero, so the roulette is the same for every technique and needs no place in (4).
 
    NEE picks one emitter with light_select (lights.c) in a context that is stored
    with the vertex, so that a BSDF-sampled hit on an emitter is weighted with the
-   same selection probability (the consistency contract, notes section 4).
+   same selection probability (the consistency contract, item C1, THEORY section 5).
 
    The film averages C_j x (xbar, ybar, zbar)(lambda_j) per pixel: an estimate of
    the integrals of xbar L, ybar L, zbar L over the sampled range, not divided by
@@ -212,7 +221,7 @@ static const char *debug_pmf_source(const SelOptions *sel, const LightCtx *c, in
 }
 
 /* --debug-pixel: a contribution's MIS weight w (the film receives w / (q_t(0) p(lambda_j))
-   times the sample's value, docs/THEORY.md eq. (5)) split into the share of the
+   times the sample's value, docs/THEORY.md eq. (6)) split into the share of the
    technique t, summed over every hero m, and the share of hero 0 within t:
        w = [sum_m r_m^2 q_t(m)^2 / D] x [q_t(0)^2 / sum_m r_m^2 q_t(m)^2]. */
 static void debug_weight(FILE *dbg, const char *what, int e, double w, const float *r,
@@ -359,7 +368,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
         if (depth >= o->maxdepth) break;
 
         /* 3. Termination of the secondary wavelengths at a dispersive dielectric,
-              before NEE at this vertex (pbrt-v4 TerminateSecondary, notes 2-3) */
+              before NEE at this vertex (pbrt-v4 TerminateSecondary; THEORY section 7) */
         if (mat->type == MAT_DIELECTRIC && mat->dispersive && alive != 1u &&
             (mat->alpha == 0.0f || !o->rough_mis)) {
             alive = 1u;

@@ -7,8 +7,11 @@
      next event estimation (NEE) with a choice of emitter-selection strategies, and
      dispersive glass whose index follows Cauchy's law.  It reproduces the thesis
      "Efficient Emitter Sampling for Spectral Path Tracing" (Deshmukh, van de Ruit,
-     Eisemann, TU Delft 2022): the emitter for NEE is chosen in proportion to the
-     emitters' spectral power at the hero wavelength, times a spatial estimate.
+     Eisemann, TU Delft 2022): the emitter for NEE is chosen in proportion to a
+     table of the emitters' spectra at the hero wavelength (by default their
+     emitted radiance, the thesis' "unit emission"; optionally times the area, the
+     thesis' "power"), times a spatial estimate.  docs/THEORY.md derives the
+     estimator; docs/WALKTHROUGH.md follows one sample through the code.
 
      Read this header top to bottom: it walks from the tunables through the math
      types, spectra, geometry, materials, emitters, the integrator and the images,
@@ -194,7 +197,9 @@ static inline float cauchy_eta(float A, float B, float lambda_nm)
    teaching, teaching-strong (case-insensitive, optional "cauchy-" prefix). */
 int   cauchy_named(const char *name, float *A, float *B);
 
-/* ---- Wavelength sampling (HWSS + CMIS): lambda_j = P^-1(frac(u + j/4)) ---- */
+/* ---- Wavelength sampling: lambda_j = P^-1(frac(u + j/4)) (HWSS rotated in the CDF
+   of p as in West et al. 2020; docs/THEORY.md section 2).  p is uniform or an
+   importance pdf; the four are combined by spectral MIS (THEORY section 3). ---- */
 typedef struct {
     float lo, hi;              /* sampled range in nm (400-700 default, 360-830 wide) */
     int   n;                   /* number of table cells (1 nm each), 0 = uniform */
@@ -352,13 +357,16 @@ typedef enum {
 
 /* Context of one selection: the same context must be passed to light_select and
    later to light_select_pmf for an emitter found by BSDF sampling (the
-   consistency contract, notes section 4). */
+   consistency contract, item C1 of docs/THEORY.md section 5). */
 typedef struct {
     Vec3 p;                    /* shading point */
     int voxel;                 /* spatial cell of p, computed once at the vertex */
     float lambda[HERO_N];
     unsigned alive;            /* bit j set: wavelength j still carried */
-    int hero_only;             /* 1 after a wavelength-dependent event */
+    int hero_only;             /* 1 when only the hero is alive (alive == 1): after
+                                  termination at dispersive glass, or from the start
+                                  with --single-wavelength; 0 after rough glass with
+                                  --rough-dispersion mis (THEORY section 7) */
     float beta[HERO_N];        /* path throughput per wavelength (optional weighting) */
 } LightCtx;
 

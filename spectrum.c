@@ -498,7 +498,7 @@ void spec_to_xyz(const Spectrum *s, float lo_nm, float hi_nm, double xyz[3])
 }
 
 /* pbrt-v4's XYZ -> linear sRGB matrix (its RGBColorSpace::sRGB, D65 white
-   xy = (0.312727, 0.329023)), notes/conventions.md section 5. */
+   xy = (0.312727, 0.329023)), docs/conventions.md and docs/THEORY.md section 1. */
 void xyz_to_linear_srgb(const double xyz[3], double rgb[3])
 {
     static const double M[3][3] = {
@@ -728,7 +728,7 @@ static void normalise_bin_sum(Spectrum *s)
    tri-phosphor lamp.  Mercury lines (FWHM 2 nm) with peaks relative to 435.8 nm;
    terbium (Tb3+) green bands (FWHM 9 nm) scaled by k_g; europium (Eu3+, Y2O3:Eu)
    red lines (FWHM 5 nm) scaled by k_r.  Line positions: NIST atomic spectra (Hg) and
-   the phosphors' published emission peaks (notes/data.md section 2). */
+   the phosphors' published emission peaks (docs/spectra.md). */
 static const GaussLine cfl_mercury[] = {
     { 404.7, 2.0, 0.25 }, { 435.8, 2.0, 1.0 }, { 546.1, 2.0, 0.6 },
     { 577.0, 2.0, 0.08 }, { 579.1, 2.0, 0.08 } };

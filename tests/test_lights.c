@@ -214,7 +214,7 @@ static void test_select_matches_pmf(T *t)
     scene_free(&s);
 }
 
-/* Positivity (notes 7.3): an emitter that emits at the hero wavelength always
+/* Positivity (item C3 of the consistency contract, docs/THEORY.md section 5): an emitter that emits at the hero wavelength always
    has P > 0 in hero-only mode, for spectra with a 1 nm line at a bin edge too. */
 static void test_positive_where_emitting(T *t)
 {
