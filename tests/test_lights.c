@@ -214,8 +214,9 @@ static void test_select_matches_pmf(T *t)
     scene_free(&s);
 }
 
-/* Positivity (item C3 of the consistency contract, docs/THEORY.md section 5): an emitter that emits at the hero wavelength always
-   has P > 0 in hero-only mode, for spectra with a 1 nm line at a bin edge too. */
+/* Positivity (item C3 of the consistency contract, docs/THEORY.md section 5): an
+   emitter that emits at the hero wavelength always has P > 0 in hero-only mode,
+   for spectra with a 1 nm line at a bin edge too. */
 static void test_positive_where_emitting(T *t)
 {
     char buf[65536];
@@ -250,6 +251,65 @@ static void test_positive_where_emitting(T *t)
                 if (spec_eval(&s.emitters[e].Le, c.lambda[0]) > 0.0f)
                     CHECK(t, light_select_pmf(ls, &c, e) > 0.0f, "%s: emitter %d emits at %.1f nm but P = 0",
                           variants[v].name, e, c.lambda[0]);
+        }
+        light_sampler_free(ls);
+    }
+    scene_free(&s);
+}
+
+/* Item C4 of the consistency contract (docs/THEORY.md section 6): while several
+   wavelengths are alive, P(e | c) must not depend on which of them is the hero,
+   because render.c uses one q_nee for every hero m in the MIS denominator.  The
+   context is rotated so that each alive wavelength in turn sits in slot 0 (with
+   its alive bit, and its throughput divided by an arbitrary common factor, as the
+   throughput relative to another hero's pdf would be); every emitter's P must stay
+   the same, up to the rounding of a sum taken in another order. */
+static void test_pmf_same_for_every_hero(T *t)
+{
+    char buf[65536];
+    Scene s;
+    int v, trial;
+    build_scene(SC_MANY, buf, sizeof buf);
+    if (!test_load_scene(t, &s, buf)) return;
+    for (v = 0; v < N_VARIANTS; v++) {
+        SelOptions o;
+        LightSampler *ls;
+        Error err;
+        Rng r;
+        memset(&o, 0, sizeof o);
+        o.grid_res = 8;
+        o.strategy = variants[v].st;
+        o.power_metric = variants[v].power_metric;
+        o.all_wavelengths = variants[v].all_wl;
+        o.throughput_weighted = variants[v].tput;
+        ls = light_sampler_build(&s, &o, &err);
+        CHECK(t, ls != NULL, "%s: %s", variants[v].name, err.msg);
+        if (!ls) continue;
+        rng_seed(&r, 91, (uint64_t)v);
+        for (trial = 0; trial < 40; trial++) {
+            LightCtx c = random_ctx(&s, ls, &r);
+            int h, k, e;
+            c.hero_only = 0;
+            c.alive = 1u | 2u | ((rng_u32(&r) & 3u) << 2);   /* at least two alive */
+            for (k = 0; k < HERO_N; k++) c.beta[k] = (c.alive & (1u << k)) ? 0.1f + rng_float(&r) : 0.0f;
+            for (h = 1; h < HERO_N; h++) {
+                LightCtx ch = c;
+                float scale = 0.3f + rng_float(&r);
+                if (!(c.alive & (1u << h))) continue;
+                ch.alive = 0u;
+                for (k = 0; k < HERO_N; k++) {
+                    int from = (h + k) % HERO_N;
+                    ch.lambda[k] = c.lambda[from];
+                    ch.beta[k] = c.beta[from] / scale;
+                    if (c.alive & (1u << from)) ch.alive |= 1u << k;
+                }
+                for (e = 0; e < s.n_emitters; e++) {
+                    float p0 = light_select_pmf(ls, &c, e), ph = light_select_pmf(ls, &ch, e);
+                    CHECK(t, fabsf(ph - p0) <= 1e-5f * p0 + 1e-7f,
+                          "%s: emitter %d has P = %g with lambda_0 = %.1f nm as the hero but %g with %.1f nm",
+                          variants[v].name, e, p0, c.lambda[0], ph, ch.lambda[0]);
+                }
+            }
         }
         light_sampler_free(ls);
     }
@@ -388,6 +448,7 @@ static void test_unbiased_large_single(T *t) { strategies_on_scene_opt(t, SC_LAR
 const TestCase tests_lights[] = {
     { "lights_select_matches_pmf", test_select_matches_pmf },
     { "lights_positive_where_emitting", test_positive_where_emitting },
+    { "lights_pmf_same_for_every_hero", test_pmf_same_for_every_hero },
     { "lights_lazy_equals_eager", test_lazy_equals_eager },
     { "lights_spatial_facing_and_flat", test_spatial_facing_and_flat },
     { "lights_unbiased_dispersive", test_unbiased_dispersive },
