@@ -155,6 +155,43 @@ function linematch(p, a,    n, parts, i, pos, k) {
     return substr(a, length(a) - length(parts[n]) + 1) == parts[n]
 }
 BEGIN { n = 0; m = 0 }
+# For --update: a line with an in-line "..." whose literal pieces no longer match
+# because numbers changed.  Each piece becomes a regular expression in which every
+# number matches any number; if the pieces still match in order, the new pattern
+# keeps the "..." and takes the pieces' new text, and the changed numbers are
+# printed as "old<TAB>new" lines.  Returns "" when even that fails.
+function piece_re(s,    out, c, i, ch) {
+    out = ""
+    while (match(s, /[-+]?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?/)) {
+        out = out esc(substr(s, 1, RSTART - 1)) "[-+]?[0-9]+(\\.[0-9]+)?([eE][-+]?[0-9]+)?"
+        s = substr(s, RSTART + RLENGTH)
+    }
+    return out esc(s)
+}
+function esc(s,    out, i, ch) {
+    out = ""
+    for (i = 1; i <= length(s); i++) {
+        ch = substr(s, i, 1)
+        out = out (index("\\^$.[]|()*+?{}/", ch) ? "\\" ch : ch)
+    }
+    return out
+}
+function skel_update(p, a,    n, parts, i, rest, newp, got, re) {
+    n = split(p, parts, /\.\.\./)
+    rest = a; newp = ""
+    for (i = 1; i <= n; i++) {
+        re = piece_re(parts[i])
+        if (i == 1) re = "^" re
+        if (i == n) re = re "$"
+        if (!match(rest, re)) return ""
+        if (i == 1 && RSTART != 1) return ""
+        got[i] = substr(rest, RSTART, RLENGTH)
+        rest = substr(rest, RSTART + RLENGTH)
+        newp = newp (i > 1 ? "..." : "") got[i]
+    }
+    for (i = 1; i <= n; i++) if (got[i] != parts[i]) printf "%s\t%s\n", parts[i], got[i]
+    return newp
+}
 FILENAME == EXPECT { e[++n] = rtrim($0); next }
 { a[++m] = rtrim($0) }
 END {
@@ -176,9 +213,11 @@ END {
         i = n; j = m; k = 0
         while (i > 0 || j > 0) {
             h = how[i, j]
-            if (h == "d") { out[++k] = linematch(e[i], a[j]) ? e[i] : a[j]
-                            if (!linematch(e[i], a[j])) printf "%s\t%s\n", e[i], a[j]
-                            i--; j-- }
+            if (h == "d") {
+                if (linematch(e[i], a[j])) out[++k] = e[i]
+                else if (index(e[i], "...") && (sk = skel_update(e[i], a[j])) != "") out[++k] = sk
+                else { out[++k] = a[j]; printf "%s\t%s\n", e[i], a[j] }
+                i--; j-- }
             else if (h == "u") { if (skipline(e[i])) out[++k] = e[i]; i-- }
             else { if (!(i > 0 && skipline(e[i]))) out[++k] = a[j]; j-- }
         }
