@@ -128,6 +128,35 @@ expect "cli_merge" 0 "" ./specnee merge tests/tmp/tiny.pfm tests/tmp/tiny.pfm -o
 expect "cli_diff_identical" 0 "" ./specnee diff tests/tmp/tiny.pfm tests/tmp/merged.pfm --max-mse 0
 expect "cli_spectrum" 0 "" ./specnee spectrum lamp-CFL1
 expect "cli_spectrum_unknown" 1 "no-such" ./specnee spectrum no-such-spectrum
+# --debug-pixel: a pixel outside the film is bad usage; NEE failures are printed
+expect "cli_debug_pixel_outside" 2 "outside the 64x64 film" ./specnee scenes/cornell.pbrt --res 64x64 --debug-pixel 200,200 -o tests/tmp/d.pfm
+if ./specnee scenes/cornell.pbrt --res 128x128 --spp 1 -q --debug-pixel 40,120 -o tests/tmp/d.pfm 2>&1 |
+   grep -q 'NEE: emitter 0 sends nothing here'; then ok "cli_debug_pixel_nee_failure"
+else fail "cli_debug_pixel_nee_failure"; fi
+# contract item C4 end to end: through rough dispersive glass with all four
+# wavelengths alive, the MIS weights of all (technique, hero) pairs sum to 1
+sed 's/^LookAt .*/LookAt 200 20 170   230 548 280   0 0 1/' scenes/cornell1.pbrt > tests/tmp/up.pbrt
+./specnee tests/tmp/up.pbrt --res 32x32 --spp 16 -q --lights spd --all-wavelengths --rough-dispersion mis \
+    --debug-pixel 16,16 -o tests/tmp/d.pfm > tests/tmp/up.txt 2>&1
+if grep -q 'MIS weight' tests/tmp/up.txt && ! grep -q WARNING tests/tmp/up.txt; then ok "cli_debug_pixel_weights_sum_to_one"
+else fail "cli_debug_pixel_weights_sum_to_one"; fi
+# the emitter x bin table: cornell1's bin 29 (545-550 nm), P(CFL) = 0.1771/(0.1771 + 0.02754)
+if ./specnee spectrum --table scenes/cornell1.pbrt | grep -Eq '^ +29 +545-550 +0\.1771 +0\.02754 +0\.8654 +0\.1346$'
+then ok "cli_spectrum_table"; else fail "cli_spectrum_table"; fi
+./specnee spectrum --table --svg scenes/cornell2.pbrt > tests/tmp/table.svg
+if head -c 5 tests/tmp/table.svg | grep -q '<svg' && tail -n 1 tests/tmp/table.svg | grep -q '</svg>' &&
+   [ "$(grep -c '<title>emitter' tests/tmp/table.svg)" -eq 360 ]; then ok "cli_spectrum_table_svg"
+else fail "cli_spectrum_table_svg"; fi
+# a refractive index is plotted as an index, and not mixed with emission spectra
+if ./specnee spectrum --svg glass-BK7 | grep -q 'refractive index n' &&
+   ! ./specnee spectrum --svg glass-BK7 | grep -q 'relative spectral power'; then ok "cli_spectrum_svg_index"
+else fail "cli_spectrum_svg_index"; fi
+expect "cli_spectrum_svg_mixed" 2 "refractive indices" ./specnee spectrum --svg glass-BK7 lamp-CFL1
+# the closing line counts the lazily built voxel tables
+ms=$(./specnee scenes/cornell1.pbrt --res 16x16 --spp 1 --lights product -o tests/tmp/d.pfm 2>&1 |
+     sed -n 's/.*tables \([0-9.]*\) ms, built lazily.*/\1/p')
+if [ -n "$ms" ] && awk -v m="$ms" 'BEGIN { exit !(m > 0) }'; then ok "cli_tables_time_lazy ($ms ms)"
+else fail "cli_tables_time_lazy"; fi
 expect "cli_converge_usage" 2 "usage" ./specnee converge
 expect "cli_converge_ladder_order" 2 "must increase" ./specnee converge scenes/cornell.pbrt --ref x.pfm --spp 8,4
 expect "cli_converge_time_basis" 2 "cpu or wall" ./specnee converge scenes/cornell.pbrt --ref x.pfm --time gpu
