@@ -21,6 +21,8 @@
 #       when specnee fails; plain `sh -c` only where bash is missing), within
 #       WALKTHROUGH_TIMEOUT seconds (default 120; `make` gets 900);
 #     - if it has "-o FILE", FILE exists and is not empty;
+#     (so the pages cut long outputs with `sed -n '1,Np'`, which reads to the end,
+#     not with `head`, whose early exit would kill specnee with SIGPIPE, exit 141);
 #   and the block's output (stdout and stderr of its commands, in order) is what
 #   the page shows:
 #     - a ```output block after the ```sh block (with no other fenced block in
