@@ -229,8 +229,6 @@ HOT_INLINE int ray_prepare_shear(RayPre *rp)
 /* ======================================================================
    Primitive tests on prepared rays
    ====================================================================== */
-static inline float min_f(float a, float b) { return a < b ? a : b; }
-static inline float max_f(float a, float b) { return a > b ? a : b; }
 
 static inline float max3f(float a, float b, float c)
 {
