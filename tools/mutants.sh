@@ -3,7 +3,7 @@
 # Run by `make mutants` (not part of `make test`: it rebuilds and reruns the suite
 # once per mutant).
 #
-#   sh tools/mutants.sh [--full] [--keep] [--list FILE] [PATTERN]
+#   sh tools/mutants.sh [--full] [--keep] [--list FILE] [PATTERN ...]
 #
 # Each block of tests/mutants.txt (format in that file's header) is a one-line
 # bug: a text that occurs in exactly one line of a source file and what replaces
@@ -27,7 +27,7 @@
 # The exit status is 1 if any mutant survived or is broken, else 0.
 #
 # --keep leaves the mutated copy build/mutants/tree in place afterwards;
-# PATTERN runs only the mutants whose "FILE | description" contains it;
+# PATTERNs run only the mutants whose "FILE | description" contains one of them;
 # --list FILE reads another list; MUTANT_TIMEOUT (seconds, default 600) bounds one
 # run of the suite when timeout(1) exists.  POSIX sh + awk + make; no python.
 set -u
@@ -36,15 +36,16 @@ root=$(pwd)
 list=tests/mutants.txt
 full=0
 keep=0
-pattern=
+patterns=
 while [ $# -gt 0 ]; do
     case $1 in
         --full) full=1 ;;
         --keep) keep=1 ;;
         --list) shift; list=${1:-} ;;
         -h|--help) sed -n '2,33p' "$0"; exit 0 ;;
-        -*) echo "usage: sh tools/mutants.sh [--full] [--keep] [--list FILE] [PATTERN]" >&2; exit 2 ;;
-        *) pattern=$1 ;;
+        -*) echo "usage: sh tools/mutants.sh [--full] [--keep] [--list FILE] [PATTERN ...]" >&2; exit 2 ;;
+        *) patterns="$patterns$1
+" ;;
     esac
     shift
 done
@@ -141,8 +142,15 @@ while [ "$i" -lt "$count" ]; do
     file=$(cat "$d/file")
     desc=$(cat "$d/desc")
     name="$file | $desc"
-    if [ -n "$pattern" ]; then
-        case $name in *"$pattern"*) ;; *) continue ;; esac
+    if [ -n "$patterns" ]; then
+        hit=0
+        while IFS= read -r pat; do
+            [ -n "$pat" ] || continue
+            case $name in *"$pat"*) hit=1 ;; esac
+        done <<EOF
+$patterns
+EOF
+        [ "$hit" = 1 ] || continue
     fi
     is_equiv=0; [ -f "$d/equiv" ] && is_equiv=1
     filter=$(cat "$d/filter")
