@@ -211,6 +211,25 @@ static D3 sphere_d3(Rng *r)
     return d3(s * cos(phi), s * sin(phi), z);
 }
 
+/* Is the pair (o, i) so ill-conditioned that float round-off of the directions
+   alone moves f or the pdf by more than 5e-4?  (Near the critical angle of a
+   microfacet the Fresnel term has a square-root edge: there material.c's float
+   arithmetic and this double reference may differ by percents, both correctly.) */
+static int ill_conditioned(double a, double eta, D3 o, D3 i)
+{
+    static const double d[4][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 }, { 1, -1, 1 } };
+    double f0, p0, f, p;
+    int k;
+    walter(a, eta, o, i, &f0, &p0);
+    for (k = 0; k < 4; k++) {
+        double e = 3e-7;
+        walter(a, eta, add3(o, d3(e * d[k][0], e * d[k][1], e * d[k][2])),
+               add3(i, d3(-e * d[k][2], e * d[k][0], e * d[k][1])), &f, &p);
+        if (fabs(f - f0) > 5e-4 * fabs(f0) + 1e-9 || fabs(p - p0) > 5e-4 * fabs(p0) + 1e-9) return 1;
+    }
+    return 0;
+}
+
 /* Does the float value x agree with the double reference y?  Relative 2e-3, or
    absolute where y is tiny (float round-off of narrow lobes near their tails). */
 static int close_to(double x, double y, double abs_tol)
@@ -240,6 +259,7 @@ static void test_rough_pointwise(T *t)
                 double fw, pw, eta = cauchy_eta(1.5f, 0.04f, lam[j]);
                 walter(alphas[ia], eta, from_v3(to_v3(o)), from_v3(to_v3(wi)), &fw, &pw);
                 if (fabs(o.z) < 0.02 || fabs(wi.z) < 0.02) continue;   /* float cosines */
+                if (ill_conditioned(alphas[ia], eta, from_v3(to_v3(o)), from_v3(to_v3(wi)))) continue;
                 CHECK(t, close_to(f[j], fw, 1e-4) && close_to(p[j], pw, 1e-4),
                       "alpha %g lambda %g: o (%.3f %.3f %.3f) i (%.3f %.3f %.3f): f %g pdf %g, Walter f %g pdf %g",
                       alphas[ia], lam[j], o.x, o.y, o.z, wi.x, wi.y, wi.z, f[j], p[j], fw, pw);
@@ -257,6 +277,7 @@ static void test_rough_pointwise(T *t)
             for (j = 0; j < HERO_N; j++) {
                 double fw, pw, eta = cauchy_eta(1.5f, 0.04f, lam[j]);
                 walter(alphas[ia], eta, from_v3(to_v3(o)), from_v3(bs.wi), &fw, &pw);
+                if (ill_conditioned(alphas[ia], eta, from_v3(to_v3(o)), from_v3(bs.wi))) continue;
                 CHECK(t, close_to(bs.f[j], fw, 1e-4) && close_to(bs.pdf_l[j], pw, 1e-4),
                       "alpha %g sample, lambda %g: f %g pdf %g, Walter f %g pdf %g; o (%.9g %.9g %.9g) i (%.9g %.9g %.9g)",
                       alphas[ia], lam[j], bs.f[j], bs.pdf_l[j], fw, pw, o.x, o.y, o.z, bs.wi.x, bs.wi.y, bs.wi.z);

@@ -8,13 +8,17 @@
 # Each block of tests/mutants.txt (format in that file's header) is a one-line
 # bug: a text that occurs in exactly one line of a source file and what replaces
 # it.  The whole source tree is copied once to build/mutants/tree (the checkout is
-# never touched) and tests/runner is built there.  Then, one mutant at a time:
+# never touched) and tests/runner is built there; the unmutated suite must pass
+# there first (else every mutant would look caught).  Then, one mutant at a time:
 # the mutated line is written into the copy, tests/runner is rebuilt (make only
 # recompiles that file), the suite is run, and the file is put back.  The suite is
 # tests/runner: every unit and statistical test, no golden images (a golden image
 # detects a change, not an error).  With a `= filter` line only the tests whose
 # names contain one of the filter's words run (for speed); --full ignores the
-# filters and runs the whole suite for every mutant, to prove a filter honest.
+# filters and runs the whole suite for every mutant.  A filter only selects tests
+# of the suite a user runs (each test seeds its own random numbers, so a test
+# fails alone exactly as it fails in the whole suite): a mutant caught with its
+# filter is caught by `make test`; --full shows which other tests catch it.
 #
 # Each mutant is reported on one line:
 #   CAUGHT      some test failed (its names follow), or the runner crashed or hung
@@ -24,7 +28,8 @@
 #   EQUIVALENT  marked `! equivalent` (not a bug, say why in a comment) and
 #               survived, as it should; a marked mutant that is caught says so
 # The last line is "mutants: N caught, N survived, N broken, N equivalent (T s)".
-# The exit status is 1 if any mutant survived or is broken, else 0.
+# The exit status is 1 if any mutant survived or is broken, 2 if nothing could be
+# judged (no list, the copy does not build, the unmutated suite fails), else 0.
 #
 # --keep leaves the mutated copy build/mutants/tree in place afterwards;
 # PATTERNs run only the mutants whose "FILE | description" contains one of them;
@@ -32,7 +37,6 @@
 # run of the suite when timeout(1) exists.  POSIX sh + awk + make; no python.
 set -u
 cd "$(dirname "$0")/.." || exit 2
-root=$(pwd)
 list=tests/mutants.txt
 full=0
 keep=0
@@ -42,7 +46,7 @@ while [ $# -gt 0 ]; do
         --full) full=1 ;;
         --keep) keep=1 ;;
         --list) shift; list=${1:-} ;;
-        -h|--help) sed -n '2,33p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,40p' "$0"; exit 0 ;;
         -*) echo "usage: sh tools/mutants.sh [--full] [--keep] [--list FILE] [PATTERN ...]" >&2; exit 2 ;;
         *) patterns="$patterns$1
 " ;;
@@ -117,12 +121,15 @@ mkdir -p "$tree" || exit 2
 if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
     git ls-files -co --exclude-standard | grep -v '^build/' > "$work/files"
 else
-    find . -type f ! -path './build/*' ! -path './.git/*' ! -name '*.o' | sed 's|^\./||' > "$work/files"
+    find . -type f ! -path './build/*' ! -path './.git/*' ! -name '*.o' ! -path './tests/runner' \
+        ! -path './specnee' | sed 's|^\./||' > "$work/files"
 fi
 # cp -p keeps the modification times (make must see the copy as up to date)
 while IFS= read -r f; do
     [ -f "$f" ] || continue
-    mkdir -p "$tree/$(dirname "$f")" && cp -p "$f" "$tree/$f" || { echo "mutants: cannot copy $f" >&2; exit 2; }
+    if ! { mkdir -p "$tree/$(dirname "$f")" && cp -p "$f" "$tree/$f"; }; then
+        echo "mutants: cannot copy $f" >&2; exit 2
+    fi
 done < "$work/files"
 mkdir -p "$tree/tests/tmp"
 if ! (cd "$tree" && $MAKE tests/runner) > "$work/build.log" 2>&1; then
@@ -132,7 +139,41 @@ fi
 tmo=
 command -v timeout >/dev/null 2>&1 && tmo="timeout $MUTANT_TIMEOUT"
 
-# ---- 3. one mutant at a time
+# Is the mutant "FILE | description" $1 among those the PATTERNs select?
+selected() {
+    [ -z "$patterns" ] && return 0
+    sel=1
+    while IFS= read -r pat; do
+        [ -n "$pat" ] || continue
+        case $1 in *"$pat"*) sel=0 ;; esac
+    done <<EOF
+$patterns
+EOF
+    return $sel
+}
+
+# ---- 3. the unmutated suite must pass, or every mutant would look caught: the
+#         union of the selected mutants' filters (the whole suite if one has none)
+base_filter=
+base_all=$full
+i=0
+while [ "$i" -lt "$count" ]; do
+    i=$((i + 1))
+    selected "$(cat "$blocks/$i/file") | $(cat "$blocks/$i/desc")" || continue
+    [ -f "$blocks/$i/err" ] && continue
+    f=$(cat "$blocks/$i/filter")
+    if [ -z "$f" ]; then base_all=1; else base_filter="$base_filter $f"; fi
+done
+[ "$base_all" = 1 ] && base_filter=
+# shellcheck disable=SC2086
+if ! (cd "$tree" && SPECNEE_TEST_TMP=tests/tmp/mutant $tmo tests/runner $base_filter) > "$work/run-base.log" 2>&1; then
+    echo "mutants: the UNMUTATED suite fails, so no mutant can be judged:" >&2
+    grep '^FAIL' "$work/run-base.log" >&2
+    exit 2
+fi
+echo "mutants: the unmutated suite passes ($(grep -c '^ok   ' "$work/run-base.log") tests)"
+
+# ---- 4. one mutant at a time
 caught=0; survived=0; broken=0; equiv=0
 t_start=$(date +%s)
 i=0
@@ -142,16 +183,7 @@ while [ "$i" -lt "$count" ]; do
     file=$(cat "$d/file")
     desc=$(cat "$d/desc")
     name="$file | $desc"
-    if [ -n "$patterns" ]; then
-        hit=0
-        while IFS= read -r pat; do
-            [ -n "$pat" ] || continue
-            case $name in *"$pat"*) hit=1 ;; esac
-        done <<EOF
-$patterns
-EOF
-        [ "$hit" = 1 ] || continue
-    fi
+    selected "$name" || continue
     is_equiv=0; [ -f "$d/equiv" ] && is_equiv=1
     filter=$(cat "$d/filter")
     [ "$full" = 1 ] && filter=
@@ -195,7 +227,8 @@ EOF
             "$(grep -m1 -i 'error' "$work/build-$i.log" | cut -c1-100)"
         continue
     fi
-    # shellcheck disable=SC2086 -- the filter is a list of words on purpose
+    # the filter is a list of words on purpose: $filter is not quoted
+    # shellcheck disable=SC2086
     (cd "$tree" && SPECNEE_TEST_TMP=tests/tmp/mutant $tmo tests/runner $filter) > "$work/run-$i.log" 2>&1
     rc=$?
     cat "$work/orig" > "$tree/$file"          # newer mtime: the next build recompiles it
