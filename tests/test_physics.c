@@ -18,10 +18,12 @@
                           / (eta_i (i.h) + eta_o (o.h))^2,
                           h_t = -normalize(eta_i i + eta_o o)                  eq. 21
      with the height-correlated masking-shadowing of Heitz 2014 ("Understanding the
-     masking-shadowing function", JCGT 3(2), eq. 99), G = 1 / (1 + Lambda(o) +
+     masking-shadowing function", JCGT 3(2), the height-correlated form; as in
+     pbrt-v4), G = 1 / (1 + Lambda(o) +
      Lambda(i)), Lambda written through a = 1 / (alpha tan theta):
        Lambda = (-1 + sqrt(1 + 1/a^2)) / 2.
-     The sampling density (visible normals, Heitz 2018; Walter's Jacobians eq. 14, 17):
+     The sampling density (visible normals, Heitz 2018; the Jacobians of the half
+     vectors from Walter et al. section 4):
        p(i) = D_o(m) F / (4 |o.m|)                                   (reflection)
        p(i) = D_o(m) (1 - F) eta_i^2 |i.m| / (eta_i i.m + eta_o o.m)^2 (transmission)
        D_o(m) = G1(o) |o.m| D(m) / |o.n|.
@@ -33,14 +35,18 @@
                                  a quadrature over microfacet normals of the formulas
                                  above against E[f |cos| / p] of bsdf_sample; and no
                                  energy gained (R + eta'^2 T <= 1)
-     physics_rough_reciprocity   f(o, i) / eta_o^2 = f(i, o) / eta_i^2 (Walter eq. 23)
+     physics_rough_reciprocity   f(o, i) / eta_o^2 = f(i, o) / eta_i^2 (the radiance
+                                 BTDF is not symmetric; Veach 1997, section 5.2)
      physics_rough_chi2          the sampled directions against the independent pdf
                                  integrated over the cells of a sphere grid
      physics_rough_furnace       a rough non-dispersive glass sphere in a white furnace:
                                  nothing gained, only the single-scattering loss lost
+     physics_furnace_off_centre  a diffuse sphere near the edge of an emitting cube:
+                                 Y = albedo, so the NEE and hit MIS weights sum to 1
      physics_spectral_mis_far    spectral MIS through nearly smooth, strongly dispersive
-                                 glass, where the pdf ratios r_m are far from 1, against
-                                 the terminating estimator
+                                 glass, where the pdf ratios r_m are far from 1: the
+                                 same mean as the terminating estimator, and less than
+                                 0.55 of its variance
    Each was watched failing on a one-line mutant of the code it guards; the mutants
    are listed in tests/mutants.txt and checked by `make mutants`. */
 #include "test.h"
@@ -137,7 +143,7 @@ static void walter(double a, double eta, D3 o, D3 i, double *f, double *pdf)
    microfacet normals: m is parametrised by (u, v) with density D(m) cos theta_m
    (tan^2 theta_m = a^2 u / (1 - u), phi = 2 pi v), so dw_m = du dv / (D cos theta_m),
    and each m gives one reflected and one refracted direction with
-   dw_i = |dw_i / dw_m| dw_m (Walter eq. 14 and 17).  D cancels: the integrand is
+   dw_i = |dw_i / dw_m| dw_m (the Jacobians of Walter et al. section 4).  D cancels: the integrand is
    smooth, and the quadrature owes nothing to the visible-normal sampling of
    material.c. */
 static void walter_scatter(double a, double eta, D3 o, int N, int NB, double *Rb, double *Tb)
@@ -335,7 +341,8 @@ static void test_rough_albedo(T *t)
         }
 }
 
-/* Walter eq. 23: the BTDF for radiance is not symmetric, but f / eta_o^2 is. */
+/* The BTDF for radiance is not symmetric, but f / eta_o^2 is (eta_o: the index on
+   the side of the viewing direction). */
 static void test_rough_reciprocity(T *t)
 {
     float alphas[2] = { 0.2f, 0.6f }, lam[HERO_N] = { 550, 550, 550, 550 };
@@ -536,6 +543,50 @@ static void test_rough_furnace(T *t)
     }
 }
 
+/* The MIS weights of NEE and of emitter hits must sum to one everywhere, which a
+   furnace with the object at the centre of a sphere cannot show (every emitter
+   point is seen nearly head-on there).  Here the enclosure is a cube [-2, 2]^3
+   whose walls emit L = 1 on both sides, and a diffuse sphere of albedo 1/2 (radius
+   1) sits near one of its edges: the walls are seen at every angle down to
+   grazing, so the NEE pdf (selection pmf x area-to-solid-angle pdf, with its
+   1/cos at the emitter) and the BSDF pdf are comparable and both techniques count.
+   A convex object inside a closed enclosure of radiance 1 receives radiance 1
+   from every direction, wherever it is: Y = 1/2 on every tile (5 standard errors
+   + 2e-3).  (An emitter_pdf_sa without the cosine gives Y = 0.52, 16 standard
+   errors off.) */
+static void test_furnace_off_centre(T *t)
+{
+    char text[2048];
+    Scene s;
+    RenderOptions o;
+    Tiles tl;
+    int i;
+    snprintf(text, sizeof text,
+             "LookAt 0 0 -1.9  0.8 0.8 0  0 1 0\n"
+             "Camera \"perspective\" \"float fov\" [ 20 ]\n"
+             "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ] \"string filename\" \"t.pfm\"\n"
+             "WorldBegin\n"
+             "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" [ 360 1 830 1 ] \"bool twosided\" true\n"
+             " Material \"diffuse\" \"spectrum reflectance\" [ 360 0 830 0 ]\n"
+             " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3  4 5 6 4 6 7  0 1 5 0 5 4  "
+             "3 2 6 3 6 7  0 3 7 0 7 4  1 2 6 1 6 5 ]\n"
+             "  \"point3 P\" [ -2 -2 -2  2 -2 -2  2 2 -2  -2 2 -2  -2 -2 2  2 -2 2  2 2 2  -2 2 2 ]\n"
+             "AttributeEnd\n"
+             "AttributeBegin\n Translate 0.8 0.8 0\n Material \"diffuse\" \"spectrum reflectance\" [ 360 0.5 830 0.5 ]\n"
+             " Shape \"sphere\" \"float radius\" [ 1 ]\nAttributeEnd\n");
+    if (!test_load_scene(t, &s, text)) return;
+    render_options_default(&o);
+    o.sel.grid_res = 8;
+    o.spp = test_scaled(32, 8);
+    if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
+    for (i = 0; i < 4; i++) {
+        double Y = luminance(tl.mean[i]), se = tl.se[i][1];
+        CHECK(t, fabs(Y - 0.5) < TEST_K_SIGMA * se + 2e-3,
+              "tile %d: Y = %.5f +- %.2g, expected 0.5 (do the MIS weights sum to 1?)", i, Y, se);
+    }
+    scene_free(&s);
+}
+
 /* Spectral MIS through rough dispersion where it matters: alpha = 0.03 and a
    strongly dispersive glass (Cauchy B = 0.04, n = 1.75 at 400 nm and 1.58 at 700
    nm), so that along the hero's direction the other wavelengths' pdfs are far from
@@ -660,6 +711,7 @@ const TestCase tests_physics[] = {
     { "physics_rough_reciprocity", test_rough_reciprocity },
     { "physics_rough_chi2", test_rough_chi2 },
     { "physics_rough_furnace", test_rough_furnace },
+    { "physics_furnace_off_centre", test_furnace_off_centre },
     { "physics_spectral_mis_far", test_spectral_mis_far },
     { NULL, NULL }
 };
