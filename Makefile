@@ -8,6 +8,8 @@
 #   make references high-spp reference renders (docs/ref/; long: see tools/references.sh)
 #   make eval       the strategy comparison behind docs/RESULTS.md (long: tools/eval.sh)
 #   make golden     regenerate the golden images of tests/golden/ (read its README first)
+#   make mutants    mutation testing: each bug of tests/mutants.txt must fail the suite
+#                   (not part of make test; tools/mutants.sh)
 #   make CC=tcc     any C99 compiler
 #
 # No fast-math optimisation flags: results must be exact and independent of the
@@ -27,7 +29,7 @@ LIBOBJ = util.o bvh.o spectrum.o lights.o scene.o ply.o material.o render.o imag
          svg.o eval.o
 TESTOBJ = tests/runner.o tests/fixtures.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
           tests/test_scene.o tests/test_image.o tests/test_material.o \
-          tests/test_render.o tests/test_lights.o tests/test_scenes.o
+          tests/test_render.o tests/test_lights.o tests/test_scenes.o tests/test_physics.o
 
 all: specnee
 
@@ -66,6 +68,9 @@ references: specnee
 eval: specnee
 	sh tools/eval.sh
 
+mutants:
+	sh tools/mutants.sh
+
 golden: specnee
 	sh tests/golden.sh --update
 
@@ -73,4 +78,4 @@ clean:
 	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench tools/bench_lights
 	rm -rf build
 
-.PHONY: all run test bench references eval golden clean
+.PHONY: all run test bench references eval golden mutants clean

@@ -1,4 +1,5 @@
-/* tests/runner.c - runs every test table; `tests/runner [substring]` filters by name.
+/* tests/runner.c - runs every test table; `tests/runner [substring ...]` runs only the
+   tests whose names contain one of the substrings (tools/mutants.sh passes a list).
    Ends with the line "unit: N passed, N failed" and exits non-zero on failure. */
 #define _POSIX_C_SOURCE 200809L
 #include "test.h"
@@ -51,12 +52,11 @@ int test_scaled(int n, int lo)
 
 static const TestCase *const tables[] = {
     tests_util, tests_bvh, tests_spectrum, tests_scene, tests_image,
-    tests_material, tests_render, tests_lights, tests_scenes, NULL
+    tests_material, tests_render, tests_lights, tests_scenes, tests_physics, NULL
 };
 
 int main(int argc, char **argv)
 {
-    const char *filter = argc > 1 ? argv[1] : NULL;
     const char *tmp = getenv("SPECNEE_TEST_TMP");
     int passed = 0, failed = 0, i, j;
     char cmd[512];
@@ -67,7 +67,9 @@ int main(int argc, char **argv)
         for (j = 0; tables[i][j].name; j++) {
             T t;
             clock_t c0 = clock();
-            if (filter && !strstr(tables[i][j].name, filter)) continue;
+            int k, wanted = argc < 2;
+            for (k = 1; k < argc && !wanted; k++) wanted = strstr(tables[i][j].name, argv[k]) != NULL;
+            if (!wanted) continue;
             memset(&t, 0, sizeof t);
             t.tmpdir = tmp;
             tables[i][j].fn(&t);

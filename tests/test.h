@@ -57,6 +57,7 @@ int test_tiles_agree(T *t, const Tiles *a, const Tiles *b, double slack, const c
 extern const char test_box_walls[];
 
 extern const TestCase tests_util[], tests_bvh[], tests_spectrum[], tests_scene[],
-    tests_image[], tests_material[], tests_render[], tests_lights[], tests_scenes[];
+    tests_image[], tests_material[], tests_render[], tests_lights[], tests_scenes[],
+    tests_physics[];
 
 #endif

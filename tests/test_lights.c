@@ -162,8 +162,11 @@ static LightCtx random_ctx(const Scene *s, const LightSampler *ls, Rng *r)
     return c;
 }
 
-/* light_select's reported pmf equals light_select_pmf; the empirical frequencies
-   match the pmf (chi-square, bound dof + 5 sqrt(2 dof)); the pmfs sum to 1. */
+/* Both pmfs against what the sampler does (neither against the other: both go
+   through context_weights, so comparing them could not fail): the frequencies
+   match light_select_pmf (chi-square, bound dof + 5 sqrt(2 dof)) and the pmf that
+   light_select reports (binomial bound per emitter); the pmfs sum to 1; uniform
+   selection has the closed form 1/n. */
 static void test_select_matches_pmf(T *t)
 {
     char buf[65536];
@@ -187,19 +190,25 @@ static void test_select_matches_pmf(T *t)
         rng_seed(&r, 77, (uint64_t)v);
         for (trial = 0; trial < 6; trial++) {
             LightCtx c = random_ctx(&s, ls, &r);
-            static double count[64], pmf[64];
+            static double count[64], pmf[64], rep[64];
             double sum = 0, chi2 = 0;
             int i, n = 20000, dof = -1;
-            for (i = 0; i < s.n_emitters; i++) { count[i] = 0; pmf[i] = light_select_pmf(ls, &c, i); sum += pmf[i]; }
+            for (i = 0; i < s.n_emitters; i++) {
+                count[i] = 0; rep[i] = -1; pmf[i] = light_select_pmf(ls, &c, i); sum += pmf[i];
+                if (variants[v].st == SEL_UNIFORM)          /* closed form */
+                    CHECK(t, fabs(pmf[i] - 1.0 / s.n_emitters) < 1e-6, "uniform: pmf %g, not 1/%d", pmf[i], s.n_emitters);
+            }
             CHECK(t, fabs(sum - 1.0) < 1e-4, "%s: pmfs sum to %g", variants[v].name, sum);
             for (i = 0; i < n; i++) {
                 float p;
                 int e = light_select(ls, &c, rng_float(&r), &p, NULL);
                 CHECK(t, e >= 0 && e < s.n_emitters, "%s: no emitter chosen", variants[v].name);
-                CHECK(t, p == (float)light_select_pmf(ls, &c, e),
-                      "%s: light_select says %g, light_select_pmf %g", variants[v].name, p, light_select_pmf(ls, &c, e));
+                /* in one context an emitter's reported pmf is one number */
+                CHECK(t, rep[e] < 0 || rep[e] == p, "%s: emitter %d reported %g and %g", variants[v].name, e, rep[e], p);
+                rep[e] = p;
                 count[e] += 1;
             }
+            /* light_select_pmf (used for the MIS weight of hits) against the frequencies */
             for (i = 0; i < s.n_emitters; i++) {
                 double ex = pmf[i] * n;
                 if (ex < 5) continue;
@@ -208,6 +217,16 @@ static void test_select_matches_pmf(T *t)
             }
             if (dof > 0)
                 CHECK(t, chi2 < dof + 5 * sqrt(2.0 * dof), "%s: chi2 %g with %d dof", variants[v].name, chi2, dof);
+            /* the pmf light_select reports (used by NEE) against the frequencies, on
+               its own: each chosen emitter's count within 5 binomial standard
+               deviations of n times its reported pmf */
+            for (i = 0; i < s.n_emitters; i++) {
+                double ex = rep[i] * n;
+                if (rep[i] < 0) continue;
+                CHECK(t, fabs(count[i] - ex) < 5 * sqrt(ex * (1 - rep[i])) + 2,
+                      "%s: emitter %d chosen %g times in %d, but light_select reports pmf %g",
+                      variants[v].name, i, count[i], n, rep[i]);
+            }
         }
         light_sampler_free(ls);
     }

@@ -118,7 +118,9 @@ static Vec3 sphere_dir(float u1, float u2)
 /* For alpha in {0.05, 0.3} and wo outside and inside:
    (a) int p dw (uniform-sphere MC) = the fraction of successful samples;
    (b) E[f|cos|/p] over samples = int f|cos| dw (uniform-sphere MC);
-   (c) pdf returned by the sampler = pdf evaluated by bsdf_eval.
+   (c) pdf returned by the sampler = pdf evaluated by bsdf_eval (a consistency
+       check only: both come from rough_eval; the pdf and the sampling density are
+       checked against independent formulas in tests/test_physics.c).
    The bounds are 4 standard errors of the MC estimates plus 1%. */
 static void test_rough_pdf_and_energy(T *t)
 {
