@@ -106,3 +106,23 @@ const char test_box_walls[] =
     "AttributeBegin\n Material \"diffuse\" \"spectrum reflectance\" [ 400 0.1 500 0.5 550 0.6 600 0.1 700 0.05 ]\n"
     " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
     "  \"point3 P\" [ 1 -1 -1  1 1 -1  1 1 1  1 -1 1 ]\nAttributeEnd\n";
+
+void test_glass(Material *m, float A, float B, float alpha)
+{
+    int k;
+    memset(m, 0, sizeof *m);
+    m->type = MAT_DIELECTRIC;
+    for (k = 0; k < SPEC_N; k++) m->eta.v[k] = cauchy_eta(A, B, (float)(SPEC_MIN + k));
+    m->cauchy_a = A;
+    m->cauchy_b = B;
+    m->dispersive = B != 0.0f;
+    m->alpha = alpha;
+}
+
+SurfacePoint test_flat_point(void)
+{
+    SurfacePoint sp;
+    memset(&sp, 0, sizeof sp);
+    sp.ng = sp.ns = v3(0, 0, 1);
+    return sp;
+}

@@ -53,6 +53,10 @@ int test_load_scene(T *t, Scene *s, const char *text);
 int test_render_tiles(T *t, Scene *s, const RenderOptions *base, int K, int n, Tiles *out);
 /* 1 if every tile and channel agrees within TEST_K_SIGMA standard errors + slack. */
 int test_tiles_agree(T *t, const Tiles *a, const Tiles *b, double slack, const char *what);
+/* A (rough, dispersive when B != 0) Cauchy glass A + B/lambda^2 with GGX alpha. */
+void test_glass(Material *m, float A, float B, float alpha);
+/* A surface point at the origin with normal +z. */
+SurfacePoint test_flat_point(void);
 /* The walls of a small open box [-1,1]^3, as scene text after WorldBegin. */
 extern const char test_box_walls[];
 

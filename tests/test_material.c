@@ -4,26 +4,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void make_glass(Material *m, float A, float B, float alpha)
-{
-    int k;
-    memset(m, 0, sizeof *m);
-    m->type = MAT_DIELECTRIC;
-    for (k = 0; k < SPEC_N; k++) m->eta.v[k] = cauchy_eta(A, B, (float)(SPEC_MIN + k));
-    m->cauchy_a = A;
-    m->cauchy_b = B;
-    m->dispersive = B != 0.0f;
-    m->alpha = alpha;
-}
-
-static SurfacePoint flat_point(void)
-{
-    SurfacePoint sp;
-    memset(&sp, 0, sizeof sp);
-    sp.ng = sp.ns = v3(0, 0, 1);
-    return sp;
-}
-
 static void test_cauchy_bk7(T *t)
 {
     float n = cauchy_eta(1.5046f, 0.00420f, 587.6f);
@@ -51,13 +31,13 @@ static void test_fresnel_values(T *t)
 static void test_smooth_energy(T *t)
 {
     Material m;
-    SurfacePoint sp = flat_point();
+    SurfacePoint sp = test_flat_point();
     float lam[HERO_N] = { 550, 600, 650, 450 };
     Rng r;
     int i, n = 20000, nr = 0;
     double F, sigma;
     Vec3 wo = v3_norm(v3(0.6f, 0.0f, 0.8f));
-    make_glass(&m, 1.5f, 0.0f, 0.0f);
+    test_glass(&m, 1.5f, 0.0f, 0.0f);
     rng_seed(&r, 3, 3);
     F = fresnel_dielectric(wo.z, 1.5f);
     for (i = 0; i < n; i++) {
@@ -132,12 +112,12 @@ static void test_rough_pdf_and_energy(T *t)
     for (ia = 0; ia < 2; ia++)
         for (io = 0; io < 2; io++) {
             Material m;
-            SurfacePoint sp = flat_point();
+            SurfacePoint sp = test_flat_point();
             Rng r;
             int n_s = 200000, n_u = 400000, ok = 0;
             double sum_w = 0, sum_w2 = 0, ip = 0, ip2 = 0, fi = 0, fi2 = 0, mean, se, frac;
             Vec3 wo = wos[io];
-            make_glass(&m, 1.5f, 0.0f, alphas[ia]);
+            test_glass(&m, 1.5f, 0.0f, alphas[ia]);
             rng_seed(&r, 11, (uint64_t)(ia * 2 + io));
             for (i = 0; i < n_s; i++) {
                 BsdfSample bs;
@@ -191,13 +171,13 @@ static void test_rough_chi2(T *t)
     int ia;
     for (ia = 0; ia < 2; ia++) {
         Material m;
-        SurfacePoint sp = flat_point();
+        SurfacePoint sp = test_flat_point();
         Rng r;
         static double obs[NT * NP], expct[NT * NP];
         int n = 200000, i, it, ip, dof = -1;
         double chi2 = 0, pool_o = 0, pool_e = 0;
         Vec3 wo = v3_norm(v3(0.4f, 0.0f, 0.7f));
-        make_glass(&m, 1.5f, 0.0f, alphas[ia]);
+        test_glass(&m, 1.5f, 0.0f, alphas[ia]);
         memset(obs, 0, sizeof obs);
         memset(expct, 0, sizeof expct);
         rng_seed(&r, 5, (uint64_t)ia);
@@ -245,12 +225,12 @@ static void test_rough_chi2(T *t)
 static void test_rough_dispersion_per_wavelength(T *t)
 {
     Material m;
-    SurfacePoint sp = flat_point();
+    SurfacePoint sp = test_flat_point();
     float lam[HERO_N] = { 450, 525, 600, 675 };
     Rng r;
     int i, differ = 0;
     Vec3 wo = v3_norm(v3(0.3f, 0.0f, 0.9f));
-    make_glass(&m, 1.5f, 0.02f, 0.3f);
+    test_glass(&m, 1.5f, 0.02f, 0.3f);
     rng_seed(&r, 9, 9);
     for (i = 0; i < 100; i++) {
         BsdfSample bs;

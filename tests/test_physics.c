@@ -191,26 +191,6 @@ static void walter_albedo(double a, double eta, D3 o, int N, double *R, double *
 
 /* ------------------------------------------------------------------ helpers */
 
-static void glass(Material *m, float A, float B, float alpha)
-{
-    int k;
-    memset(m, 0, sizeof *m);
-    m->type = MAT_DIELECTRIC;
-    for (k = 0; k < SPEC_N; k++) m->eta.v[k] = cauchy_eta(A, B, (float)(SPEC_MIN + k));
-    m->cauchy_a = A;
-    m->cauchy_b = B;
-    m->dispersive = B != 0.0f;
-    m->alpha = alpha;
-}
-
-static SurfacePoint up_point(void)
-{
-    SurfacePoint sp;
-    memset(&sp, 0, sizeof sp);
-    sp.ng = sp.ns = v3(0, 0, 1);
-    return sp;
-}
-
 static D3 sphere_d3(Rng *r)
 {
     double z = 1.0 - 2.0 * rng_float(r), s = sqrt(fmax(0.0, 1.0 - z * z)), phi = 2.0 * SPECNEE_PI * rng_float(r);
@@ -253,9 +233,9 @@ static void test_rough_pointwise(T *t)
     int ia, i, j, tested = 0;
     for (ia = 0; ia < 3; ia++) {
         Material m;
-        SurfacePoint sp = up_point();
+        SurfacePoint sp = test_flat_point();
         Rng r;
-        glass(&m, 1.5f, 0.04f, alphas[ia]);
+        test_glass(&m, 1.5f, 0.04f, alphas[ia]);
         rng_seed(&r, 31, (uint64_t)ia);
         for (i = 0; i < 20000; i++) {
             D3 o = sphere_d3(&r), wi = sphere_d3(&r);
@@ -304,14 +284,14 @@ static void test_rough_albedo(T *t)
     for (ia = 0; ia < 3; ia++)
         for (io = 0; io < 4; io++) {
             Material m;
-            SurfacePoint sp = up_point();
+            SurfacePoint sp = test_flat_point();
             Rng r;
             int n = test_scaled(100000, 20000);
             double a = alphas[ia], R, T2, Rc, Tc, qerr, sR = 0, sR2 = 0, sT = 0, sT2 = 0, mR, mT, seR, seT;
             double etap2 = cos_o[io] > 0 ? 1.5 * 1.5 : 1.0 / (1.5 * 1.5);  /* eta'^2 of transmission */
             Vec3 wo = v3(sqrtf(1.0f - cos_o[io] * cos_o[io]), 0.0f, cos_o[io]);
             D3 o = from_v3(wo);
-            glass(&m, 1.5f, 0.0f, alphas[ia]);
+            test_glass(&m, 1.5f, 0.0f, alphas[ia]);
             walter_albedo(a, 1.5, o, 512, &R, &T2);
             walter_albedo(a, 1.5, o, 256, &Rc, &Tc);
             qerr = 2.0 * (fabs(R - Rc) + fabs(T2 - Tc)) + 1e-4;
@@ -349,9 +329,9 @@ static void test_rough_reciprocity(T *t)
     int ia, i, n_t = 0, n_r = 0;
     for (ia = 0; ia < 2; ia++) {
         Material m;
-        SurfacePoint sp = up_point();
+        SurfacePoint sp = test_flat_point();
         Rng r;
-        glass(&m, 1.5f, 0.0f, alphas[ia]);
+        test_glass(&m, 1.5f, 0.0f, alphas[ia]);
         rng_seed(&r, 53, (uint64_t)ia);
         for (i = 0; i < 20000; i++) {
             Vec3 a = to_v3(sphere_d3(&r)), b = to_v3(sphere_d3(&r));
@@ -382,13 +362,13 @@ static void test_rough_chi2(T *t)
     for (ia = 0; ia < 2; ia++)
         for (io = 0; io < 2; io++) {
             Material m;
-            SurfacePoint sp = up_point();
+            SurfacePoint sp = test_flat_point();
             Rng r;
             static double obs[NT * NP], ex[NT * NP];
             int n = test_scaled(200000, 50000), i, it, ip, dof = -1;
             double chi2 = 0, pool_o = 0, pool_e = 0;
             Vec3 wo = v3(sqrtf(1.0f - cos_o[io] * cos_o[io]), 0.0f, cos_o[io]);
-            glass(&m, 1.5f, 0.0f, alphas[ia]);
+            test_glass(&m, 1.5f, 0.0f, alphas[ia]);
             memset(obs, 0, sizeof obs);
             rng_seed(&r, 59, (uint64_t)(ia * 2 + io));
             for (i = 0; i < n; i++) {
@@ -663,7 +643,7 @@ static void test_spectral_mis_far(T *t)
     {
         /* the regime: along sampled transmissions, r = p(lambda_3)/p(lambda_0) far from 1 */
         const Material *g = NULL;
-        SurfacePoint sp = up_point();
+        SurfacePoint sp = test_flat_point();
         float lam[HERO_N] = { 430, 505, 580, 655 };
         Rng r;
         int i, far = 0, n = 0;
