@@ -52,7 +52,10 @@
    ERRORS
      Every problem gives one line "file:line: problem" in the Error and a 0
      return; scene_load frees everything it allocated.  Nothing exits, and
-     every loop advances through a finite buffer, so bad input cannot hang.
+     every loop advances through a finite buffer, so bad input cannot hang; the
+     Include budget (MAX_INCLUDES directives, READ_MAX_BYTES of text) bounds the
+     work of files that include each other repeatedly.  Messages never carry raw
+     bytes of the input (error_set escapes them).
 
    USE
      Scene s; Error err;
@@ -71,7 +74,7 @@
    Limits that keep hostile input finite.
    --------------------------------------------------------------------------- */
 #define MAX_INCLUDE_DEPTH 32        /* Include/Import nesting (catches cycles) */
-#define MAX_INCLUDES 100000         /* Include/Import directives run in one scene
+#define MAX_INCLUDES 10000          /* Include/Import directives run in one scene
                                        (with the byte budget below: catches fan-out,
                                        files that include the next one twice) */
 #define MAX_RESOLUTION 16384        /* pixels per film axis */
@@ -277,7 +280,7 @@ static void resolve_path(const Parser *P, const char *from_file, const char *nam
     dir_of(from_file, dir, sizeof dir);
     snprintf(out, cap, "%s%s", dir, name);
     if (file_exists(out)) return;
-    snprintf(out, cap, "%s%s", P->main_dir, name);
+    snprintf(out, cap, "%s%s", P->main_dir, name);    /* pbrt-v4's candidate */
 }
 
 static int ends_with_ci(const char *s, const char *suffix)
