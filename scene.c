@@ -174,6 +174,7 @@ typedef struct {
     char main_dir[1024];       /* directory of the top-level file (pbrt's search dir) */
     int in_world;              /* after WorldBegin */
     int world_seen, include_depth;   /* include_depth: Import nesting */
+    int nest;                  /* files open now inside the top-level one (Include+Import) */
     long n_includes;           /* Include/Import directives run so far */
     size_t text_bytes;         /* scene text read so far, included files included */
     GState gs;
@@ -342,6 +343,7 @@ static int lex_next(Parser *P, Lexer *L, Token *t)
                     free(S->buf);
                 *S = L->parent[--L->n_parent];
                 L->file = S->file;
+                P->nest--;
                 continue;
             }
             t->kind = TK_EOF; t->text = ""; t->file = S->file; t->line = S->line;
@@ -1589,7 +1591,7 @@ static int include_directive(Parser *P, Lexer *L, const Token *dir, int is_impor
     if (!expect_string(P, L, d, "file name", &t)) return 0;
     if (is_import && !P->in_world)
         return fail(P, dir->file, dir->line, "Import is only allowed after WorldBegin");
-    if (P->include_depth + L->n_parent >= MAX_INCLUDE_DEPTH)
+    if (P->nest >= MAX_INCLUDE_DEPTH)
         return fail(P, dir->file, dir->line, "%s \"%s\": nested deeper than %d (an include cycle?)",
                     d, t.text, MAX_INCLUDE_DEPTH);
     if (++P->n_includes > MAX_INCLUDES)
@@ -1621,10 +1623,13 @@ static int include_directive(Parser *P, Lexer *L, const Token *dir, int is_impor
         L->cur.pos = 0;
         L->cur.line = 1;
         L->file = name;
+        P->nest++;
         return 1;
     }
     P->include_depth++;
+    P->nest++;
     ok = parse_text(P, name, buf, len);
+    P->nest--;
     P->include_depth--;
     free(buf);
     if (!ok) return 0;

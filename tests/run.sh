@@ -230,6 +230,7 @@ if mkfifo tests/tmp/pipe.pfm 2>/dev/null; then
 else
     skip "robust_pfm_pipe: no mkfifo"
 fi
+expect "robust_res_budget" 2 "memory budget" ./specnee --res 16384x16384 scenes/cornell.pbrt
 # every input that ever crashed a fuzz target (fuzz/regress) and the fuzz seeds
 for t in scene ply pfm spectrum; do
     mkdir -p tests/tmp/replay-$t

@@ -88,12 +88,13 @@ static void test_include_params_continue(T *t)
    file's directory (pbrt-v4), and a missing one is reported there, not as sub/sub/. */
 static void test_include_paths(T *t)
 {
-    char cmd[1200], text[256];
+    char cmd[1200];
     Scene s;
     Error e;
     const char *p;
     snprintf(cmd, sizeof cmd, "mkdir -p %s/paths/sub", t->tmpdir);
     CHECK(t, system(cmd) == 0, "mkdir");
+    remove(test_path(t, "paths/sub/m.ply"));        /* from an earlier run */
     test_write_file(t, "paths/sub/inc.pbrt", "Shape \"plymesh\" \"string filename\" \"sub/m.ply\"\n");
     p = test_write_file(t, "paths/main.pbrt", "WorldBegin\nInclude \"sub/inc.pbrt\"\n");
     if (!expect_fail(t, p, "paths/sub/m.ply", "cannot read", &e)) return;
@@ -107,7 +108,6 @@ static void test_include_paths(T *t)
         CHECK(t, s.n_tris == 1, "%d triangles", s.n_tris);
         scene_free(&s);
     }
-    (void)text;
 }
 
 /* #20: gzip data is refused with a message that says so, and nothing binary is echoed. */
