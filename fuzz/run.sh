@@ -35,7 +35,7 @@ for t in $targets; do
 done
 for t in $targets; do
     corpus=build/fuzz/corpus-$t
-    mkdir -p "$corpus"
+    mkdir -p "$corpus" fuzz/regress/$t
     extra="fuzz/seeds/$t fuzz/regress/$t"
     if [ "$t" = scene ]; then      # the example scenes, but not the 100 KB mesh one (slow)
         mkdir -p build/fuzz/seeds-scene
