@@ -5,6 +5,8 @@
 #   make run        build and render the default scene into out/
 #   make test       the whole test suite (unit tests, three compilers, sanitizers)
 #   make bench      benchmarks (not part of make test)
+#   make fuzz       libFuzzer targets with clang, ASan + UBSan (not part of make test;
+#                   FUZZ_SECONDS per target, default 60; fuzz/run.sh)
 #   make references high-spp reference renders (docs/ref/; long: see tools/references.sh)
 #   make eval       the strategy comparison behind docs/RESULTS.md (long: tools/eval.sh)
 #   make golden     regenerate the golden images of tests/golden/ (read its README first)
@@ -29,7 +31,8 @@ LIBOBJ = util.o bvh.o spectrum.o lights.o scene.o ply.o material.o render.o imag
          svg.o eval.o
 TESTOBJ = tests/runner.o tests/fixtures.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
           tests/test_scene.o tests/test_image.o tests/test_material.o \
-          tests/test_render.o tests/test_lights.o tests/test_scenes.o tests/test_physics.o
+          tests/test_render.o tests/test_lights.o tests/test_scenes.o tests/test_physics.o \
+          tests/test_robust.o
 
 all: specnee
 
@@ -38,6 +41,9 @@ specnee: specnee.o $(LIBOBJ)
 
 tests/runner: $(TESTOBJ) $(LIBOBJ)
 	$(CC) $(CFLAGS) -o tests/runner $(TESTOBJ) $(LIBOBJ) $(LDLIBS)
+
+fuzz/replay: fuzz/replay.o fuzz/targets.o $(LIBOBJ)
+	$(CC) $(CFLAGS) -o fuzz/replay fuzz/replay.o fuzz/targets.o $(LIBOBJ) $(LDLIBS)
 
 tools/bench: tools/bench.o $(LIBOBJ)
 	$(CC) $(CFLAGS) -o tools/bench tools/bench.o $(LIBOBJ) $(LDLIBS)
@@ -49,15 +55,19 @@ tools/bench_lights: tools/bench_lights.o $(LIBOBJ)
 .c.o:
 	$(CC) $(CFLAGS) -I. -c -o $@ $<
 
-$(LIBOBJ) specnee.o $(TESTOBJ) tools/bench.o tools/bench_lights.o: specnee.h
+$(LIBOBJ) specnee.o $(TESTOBJ) tools/bench.o tools/bench_lights.o fuzz/replay.o fuzz/targets.o: specnee.h
 $(TESTOBJ): tests/test.h
 
 run: specnee
 	mkdir -p out
 	./specnee scenes/cornell.pbrt -o out/cornell.png
 
-test: specnee tests/runner
+test: specnee tests/runner fuzz/replay
 	sh tests/run.sh
+
+FUZZ_SECONDS = 60
+fuzz:
+	sh fuzz/run.sh $(FUZZ_SECONDS)
 
 bench: specnee tools/bench tools/bench_lights
 	sh tools/bench.sh
@@ -76,6 +86,7 @@ golden: specnee
 
 clean:
 	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench tools/bench_lights
+	rm -f fuzz/*.o fuzz/replay
 	rm -rf build
 
-.PHONY: all run test bench references eval golden mutants clean
+.PHONY: all run test bench references eval golden mutants clean fuzz

@@ -45,6 +45,7 @@
 #include "specnee.h"
 #include <errno.h>
 #include <float.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -181,8 +182,9 @@ int pfm_read(Image *im, const char *path, Error *err)
     long pos, end;
     double scale;
     char *endp;
-    unsigned char *row = NULL;
-    size_t row_bytes;
+    unsigned char *row = NULL, *data = NULL;   /* data: all pixel bytes (pipes only) */
+    size_t row_bytes, have = 0;
+    int seekable = 0;
 
     im->w = 0; im->h = 0; im->rgb = NULL;
     f = fopen(path, "rb");
@@ -240,7 +242,8 @@ int pfm_read(Image *im, const char *path, Error *err)
     }
     row_bytes = (size_t)w * (size_t)channels * 4;
     pos = ftell(f);
-    if (pos >= 0 && fseek(f, 0, SEEK_END) == 0 && (end = ftell(f)) >= 0) {
+    seekable = pos >= 0 && fseek(f, 0, SEEK_END) == 0 && (end = ftell(f)) >= 0;
+    if (seekable) {
         double need = (double)row_bytes * h;
         if ((double)(end - pos) < need) {
             error_set(err, path, 0, "truncated: %dx%d pixels need %.0f bytes of data, "
@@ -251,17 +254,45 @@ int pfm_read(Image *im, const char *path, Error *err)
             error_set(err, path, 0, "cannot seek: %s", strerror(errno));
             goto fail;
         }
-    } /* else: not seekable (a pipe); a short read below reports the truncation */
+    } else {
+        /* Not seekable (a pipe): the size is unknown until the data ends, so read
+           the pixel bytes first, into a buffer that grows only as data arrives
+           (an 18-byte input claiming 3 GiB allocates 64 KiB, not 3 GiB). */
+        size_t need = row_bytes * (size_t)h, cap = 0, got;
+        for (;;) {
+            if (have == cap) {
+                unsigned char *nb;
+                if (cap == need) break;
+                cap = cap ? (cap > need / 2 ? need : 2 * cap) : (need < 65536 ? need : 65536);
+                nb = (unsigned char *)realloc(data, cap);
+                if (!nb) {
+                    error_set(err, path, 0, "out of memory for a %dx%d image", w, h);
+                    goto fail;
+                }
+                data = nb;
+            }
+            got = fread(data + have, 1, cap - have, f);
+            have += got;
+            if (got == 0) break;
+        }
+        if (have < need) {
+            error_set(err, path, 0, "truncated: %dx%d pixels need %.0f bytes of data, "
+                      "the stream has %.0f", w, h, (double)need, (double)have);
+            goto fail;
+        }
+    }
 
     /* 4. Pixels, bottom row first in the file. */
-    row = (unsigned char *)malloc(row_bytes);
-    if (!row || !img_alloc(im, w, h)) {
+    row = seekable ? (unsigned char *)malloc(row_bytes) : NULL;
+    if ((seekable && !row) || !img_alloc(im, w, h)) {
         error_set(err, path, 0, "out of memory for a %dx%d image", w, h);
         goto fail;
     }
     for (y = h - 1; y >= 0; y--) {
         float *dst = im->rgb + (size_t)y * (size_t)w * 3;
-        if (fread(row, 1, row_bytes, f) != row_bytes) {
+        if (!seekable) {
+            row = data + (size_t)(h - 1 - y) * row_bytes;
+        } else if (fread(row, 1, row_bytes, f) != row_bytes) {
             error_set(err, path, 0, "truncated pixel data (row %d of %d from the bottom)",
                       h - y, h);
             goto fail;
@@ -278,14 +309,16 @@ int pfm_read(Image *im, const char *path, Error *err)
                 else dst[3 * x] = dst[3 * x + 1] = dst[3 * x + 2] = v;   /* grey -> RGB */
             }
     }
-    free(row);
+    if (seekable) free(row);
+    free(data);
     fclose(f);
     return 1;
 
 bad_header:
     error_set(err, path, 0, "bad PFM header: %s", why);
 fail:
-    free(row);
+    if (seekable) free(row);
+    free(data);
     img_free(im);
     fclose(f);
     return 0;
@@ -627,8 +660,10 @@ long img_read_sidecar_spp(const char *path)
         at_line_start = n > 0 && line[n - 1] == '\n';
         if (starts && strncmp(line, "spp", 3) == 0 && is_space((unsigned char)line[3])) {
             char *endp;
-            long v = strtol(line + 3, &endp, 10);
-            if (endp == line + 3) break;
+            long v;
+            errno = 0;
+            v = strtol(line + 3, &endp, 10);
+            if (endp == line + 3 || errno == ERANGE) break;   /* no number, or too big */
             while (is_space((unsigned char)*endp)) endp++;
             if (*endp == '\0' && v >= 0) result = v;
             break;
@@ -828,9 +863,9 @@ int img_cmd_merge(int argc, char **argv, FILE *out, FILE *errf)
     for (k = 0; k < n; k++) {
         long spp = img_read_sidecar_spp(inputs[k]);
         if (spp < 0 && !equal) {
-            fprintf(errf, "%s: no sidecar %s.txt with a line 'spp N' (needed for the "
-                    "sample-count weights; --equal-weights merges without)\n",
-                    inputs[k], inputs[k]);
+            fprintf(errf, "%s: no sidecar %s.txt with a valid line 'spp N', N from 0 to %ld "
+                    "(needed for the sample-count weights; --equal-weights merges without)\n",
+                    inputs[k], inputs[k], LONG_MAX);
             goto done;
         }
         if (spp == 0 && !equal) {
@@ -838,6 +873,11 @@ int img_cmd_merge(int argc, char **argv, FILE *out, FILE *errf)
             goto done;
         }
         weights[k] = equal ? 1.0 : (double)spp;
+        if (spp >= 0 && spp_total >= 0 && spp > LONG_MAX - spp_total) {
+            fprintf(errf, "%s: sidecar spp %ld: the summed sample count would exceed %ld\n",
+                    inputs[k], spp, LONG_MAX);
+            goto done;
+        }
         if (spp_total >= 0) spp_total = spp < 0 ? -1 : spp_total + spp;  /* -1: unknown */
     }
 

@@ -235,8 +235,16 @@ static int uses_grid(SelStrategy st)
     return st == SEL_SPATIAL || st == SEL_SPD || st == SEL_PRODUCT || st == SEL_SPECTRAL_SPATIAL;
 }
 
-/* The per-voxel estimate of section 3 above: fills s[n] (a pmf) and g[n]. */
-static void build_voxel(const LightSampler *ls, long v, float *out)
+/* A voxel whose table could not be built (out of memory) points here, for good:
+   every later light_select and light_select_pmf in it then use the uniform pmf,
+   so a selection and the pmf of the same context can never disagree.  Only its
+   address matters; it is never written. */
+static const float voxel_failed[1] = { 0.0f };
+#define VOXEL_FAILED ((float *)voxel_failed)
+
+/* The per-voxel estimate of section 3 above: fills s[n] (a pmf) and g[n].
+   Returns 0 (out[] untouched) when out of memory. */
+static int build_voxel(const LightSampler *ls, long v, float *out)
 {
     const Scene *s = ls->scene;
     int n = ls->n, j, k;
@@ -244,7 +252,7 @@ static void build_voxel(const LightSampler *ls, long v, float *out)
     double *g = (double *)calloc((size_t)n, sizeof(double));
     double sum_w = 0.0, sum_g = 0.0, floor_w, floor_g;
     Vec3 ext = v3_sub(ls->bmax, ls->bmin);
-    if (!g) return;                                    /* caller checks out[] later */
+    if (!g) return 0;
     for (k = 0; k < SPATIAL_SAMPLES; k++) {
         Vec3 p = v3(ls->bmin.x + ext.x * (float)((vx + radical_inverse(2, (uint64_t)k)) / ls->res[0]),
                     ls->bmin.y + ext.y * (float)((vy + radical_inverse(3, (uint64_t)k)) / ls->res[1]),
@@ -273,6 +281,7 @@ static void build_voxel(const LightSampler *ls, long v, float *out)
     }
     for (j = 0; j < n; j++) out[j] = (float)(out[j] / sum_w);
     free(g);
+    return 1;
 }
 
 int light_voxel(const LightSampler *ls, Vec3 p)
@@ -294,7 +303,8 @@ int light_voxel(const LightSampler *ls, Vec3 p)
 }
 
 /* The voxel's table, built on first use.  Readers take the pointer atomically;
-   a missing voxel is built inside a critical section, once. */
+   a missing voxel is built inside a critical section, once: what is published
+   (the table, or VOXEL_FAILED when memory ran out) stays. */
 static const float *voxel_table(LightSampler *ls, int v)
 {
     float *t;
@@ -311,14 +321,16 @@ static const float *voxel_table(LightSampler *ls, int v)
             float *nt = (float *)malloc(sizeof(float) * 2 * (size_t)ls->n);
             if (nt) {
                 double t0 = lights_seconds();
-                build_voxel(ls, v, nt);
+                int built = build_voxel(ls, v, nt);
                 ls->lazy_s += lights_seconds() - t0;
+                if (!built) { free(nt); nt = NULL; }
+            }
+            if (!nt) nt = VOXEL_FAILED;
 #ifdef _OPENMP
 #pragma omp flush
 #pragma omp atomic write
 #endif
-                ls->voxel[v] = nt;
-            }
+            ls->voxel[v] = nt;
         }
         t = ls->voxel[v];
     }
@@ -366,7 +378,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
         if (o->eager) {
             long v;
             for (v = 0; v < ls->n_voxels; v++)
-                if (!voxel_table(ls, (int)v)) goto oom;
+                if (voxel_table(ls, (int)v) == VOXEL_FAILED) goto oom;
             ls->lazy_s = 0.0;          /* built up front: counted in the build time */
         }
     }
@@ -382,7 +394,8 @@ void light_sampler_free(LightSampler *ls)
     long v;
     if (!ls) return;
     if (ls->voxel)
-        for (v = 0; v < ls->n_voxels; v++) free(ls->voxel[v]);
+        for (v = 0; v < ls->n_voxels; v++)
+            if (ls->voxel[v] != VOXEL_FAILED) free(ls->voxel[v]);
     free(ls->voxel);
     free(ls->power_pmf);
     free(ls->T);
@@ -402,7 +415,8 @@ size_t light_sampler_bytes(const LightSampler *ls)
     if (ls->voxel) {
         bytes += sizeof(float *) * (size_t)ls->n_voxels;
         for (v = 0; v < ls->n_voxels; v++)
-            if (ls->voxel[v]) bytes += sizeof(float) * 2 * (size_t)ls->n;
+            if (ls->voxel[v] && ls->voxel[v] != VOXEL_FAILED)
+                bytes += sizeof(float) * 2 * (size_t)ls->n;
     }
     return bytes;
 }
@@ -435,7 +449,7 @@ static double context_weights(LightSampler *ls, const LightCtx *c, double *w, in
         return 1.0;
     }
     if (c->voxel >= 0 && c->voxel < ls->n_voxels) vt = voxel_table(ls, c->voxel);
-    if (!vt) {                                   /* out of memory: degrade to uniform */
+    if (!vt || vt == VOXEL_FAILED) {             /* out of memory: uniform, for good */
         for (i = 0; i < n; i++) w[i] = 1.0;
         return n;
     }

@@ -33,7 +33,10 @@
      line of the offending value, and for binary files the header line of the element
      being read (a binary file has no lines).  Element counts are checked against the
      bytes left in the file before anything is allocated, so a count of 10^12 is an
-     error, not a huge malloc.  Coordinates and normals must be finite; indices must lie
+     error, not a huge malloc: with files of at most READ_MAX_BYTES (1 GiB) the mesh
+     then takes at most 3 GiB (24 bytes a face of at least 8 bytes), within
+     MEM_BUDGET_MIB.  The file is read whole (read_whole_file): a file that does not
+     start with "ply" (/dev/zero) or is gzip-compressed is refused at once.  Coordinates and normals must be finite; indices must lie
      in [0, vertex count).
 
    USE
@@ -419,15 +422,20 @@ static int find_prop(const PlyElement *e, const char *name)
 }
 
 /* Fewest bytes one row of e can take: binary from the types (a list at least its
-   count), ascii one byte per scalar value (a digit; separators make it more). */
+   count, and the face's vertex list at least 3 indices), ascii two bytes per value
+   (a digit and a separator; the file's very last value may lack the separator,
+   which the caller allows for). */
 static size_t min_row_bytes(const Reader *rd, const PlyElement *e)
 {
     size_t n = 0;
-    int i;
+    int i, face = strcmp(e->name, "face") == 0;
     for (i = 0; i < e->n_props; i++) {
         const PlyProp *pr = &e->props[i];
-        if (rd->format == FMT_ASCII) n += 1;
-        else n += type_size(pr->count_type != T_NONE ? pr->count_type : pr->type);
+        int items = face && pr->count_type != T_NONE && (!strcmp(pr->name, "vertex_indices")
+                    || !strcmp(pr->name, "vertex_index")) ? 3 : 0;
+        if (rd->format == FMT_ASCII) n += 2 * (size_t)(1 + items);
+        else n += type_size(pr->count_type != T_NONE ? pr->count_type : pr->type)
+                + (size_t)items * type_size(pr->type);
     }
     return n;
 }
@@ -561,31 +569,6 @@ static int read_faces(Reader *rd, const PlyElement *e, long n_verts, PlyMesh *m)
     return 1;
 }
 
-static int read_file(const char *path, Reader *rd)
-{
-    FILE *f = fopen(path, "rb");
-    size_t cap = 1 << 16, n = 0, got;
-    unsigned char *buf, *nb;
-    if (!f) return 0;
-    buf = (unsigned char *)malloc(cap + 1);
-    while (buf) {
-        got = fread(buf + n, 1, cap - n, f);
-        n += got;
-        if (n < cap) break;                    /* end of file (or a read error) */
-        nb = cap > ((size_t)-1) / 4 ? NULL : (unsigned char *)realloc(buf, 2 * cap + 1);
-        if (!nb) { free(buf); buf = NULL; break; }
-        buf = nb;
-        cap *= 2;
-    }
-    if (buf && ferror(f)) { free(buf); buf = NULL; }
-    fclose(f);
-    if (!buf) return 0;
-    buf[n] = '\0';
-    rd->data = buf;
-    rd->size = n;
-    return 1;
-}
-
 void ply_free(PlyMesh *m)
 {
     free(m->P);
@@ -599,13 +582,20 @@ int ply_read(const char *path, PlyMesh *m, Error *err)
     Reader rd;
     PlyElement *el;
     int n_el = 0, end_line = 0, i, ivert = -1, iface = -1, ok = 1;
+    ReadStatus rs;
 
     memset(m, 0, sizeof *m);
     memset(&rd, 0, sizeof rd);
     rd.path = path;
     rd.err = err;
-    if (!read_file(path, &rd)) {
-        error_set(err, path, 0, "cannot read file");
+    rd.data = (unsigned char *)read_whole_file(path, 0, "ply", &rd.size, &rs);
+    if (!rd.data) {
+        if (rs == READ_MAGIC && rd.size == 0)
+            error_set(err, path, 1, "not a PLY file (no 'ply' magic line)");
+        else
+            error_set(err, path, 0, "%s", rs == READ_OPEN ? "cannot read file"
+                      : rs == READ_MAGIC ? "not a PLY file (no 'ply' magic line)"
+                      : read_status_text(rs));
         return 0;
     }
     el = (PlyElement *)malloc(PLY_MAX_ELEMENTS * sizeof *el);
@@ -629,13 +619,19 @@ int ply_read(const char *path, PlyMesh *m, Error *err)
         }
     }
     /* element counts must fit the bytes left (no giant allocations, no endless loops) */
-    for (i = 0; ok && i < n_el; i++) {
-        size_t row = min_row_bytes(&rd, &el[i]);
-        if (row > 0 && (size_t)el[i].count > (rd.size - rd.pos) / row) {
-            error_set(err, path, el[i].line,
-                      "element %s: count %ld does not fit in the file (truncated or corrupt)",
-                      el[i].name, el[i].count);
-            ok = 0;
+    {   /* the elements in order: each needs its rows after the rows before it */
+        double before = 0.0, left = (double)(rd.size - rd.pos) + 1.0;  /* +1: see above */
+        for (i = 0; ok && i < n_el; i++) {
+            double need = (double)el[i].count * (double)min_row_bytes(&rd, &el[i]);
+            if (before + need > left) {
+                error_set(err, path, el[i].line,
+                          "element %s: count %ld does not fit in the file (truncated or "
+                          "corrupt: %ld rows need at least %.0f bytes, %.0f are left)",
+                          el[i].name, el[i].count, el[i].count, need,
+                          before < left - 1.0 ? left - 1.0 - before : 0.0);
+                ok = 0;
+            }
+            before += need;
         }
     }
     for (i = 0; ok && i < n_el; i++) {

@@ -52,7 +52,10 @@
    ERRORS
      Every problem gives one line "file:line: problem" in the Error and a 0
      return; scene_load frees everything it allocated.  Nothing exits, and
-     every loop advances through a finite buffer, so bad input cannot hang.
+     every loop advances through a finite buffer, so bad input cannot hang; the
+     Include budget (MAX_INCLUDES directives, READ_MAX_BYTES of text) bounds the
+     work of files that include each other repeatedly.  Messages never carry raw
+     bytes of the input (error_set escapes them).
 
    USE
      Scene s; Error err;
@@ -71,12 +74,15 @@
    Limits that keep hostile input finite.
    --------------------------------------------------------------------------- */
 #define MAX_INCLUDE_DEPTH 32        /* Include/Import nesting (catches cycles) */
+#define MAX_INCLUDES 10000          /* Include/Import directives run in one scene
+                                       (with the byte budget below: catches fan-out,
+                                       files that include the next one twice) */
 #define MAX_RESOLUTION 16384        /* pixels per film axis */
 #define MAX_SPP (1 << 24)           /* samples per pixel */
 #define MAX_MAXDEPTH 10000          /* path length */
 #define MAX_ELEMENTS (1 << 27)      /* vertices, indices, triangles of one scene */
 #define MAX_WORD 255                /* longest unquoted token */
-#define MAX_FILE_BYTES (1L << 30)   /* largest scene file read */
+/* the scene text, all its included files together, is at most READ_MAX_BYTES */
 
 /* ===========================================================================
    1. Tokens
@@ -86,19 +92,33 @@ typedef enum { TK_EOF, TK_WORD, TK_STRING, TK_LBRACKET, TK_RBRACKET } TokKind;
 typedef struct {
     TokKind kind;
     const char *text;          /* word or (unescaped) string, NUL-terminated */
-    int line;
+    const char *file; int line;/* where it was read */
 } Token;
 
-/* One file being read.  Strings are unescaped in place inside `buf`, words are
-   copied into `word` (their terminator is the next token's first character). */
+/* A file being read: its text and the cursor. */
 typedef struct {
     const char *file;          /* interned name used in messages */
     char *buf; size_t len, pos;
     int line;
+} Source;
+
+/* The token stream of one file and the files it Includes.  As in pbrt-v4, Include
+   is textual: the included file's tokens come next, and when it ends the stream
+   goes on in the including file, so a statement may begin in one file and take
+   parameters from the next.  Strings are unescaped in place inside the buffer,
+   words are copied into `word` (their terminator is the next token's first
+   character).  An included buffer that has been read to its end stays alive
+   until the statement being read is done (parameters point into it). */
+typedef struct {
+    Source cur;                /* the file being read */
+    Source parent[MAX_INCLUDE_DEPTH];  /* the files that included it, innermost last */
+    int n_parent;
+    char *finished[MAX_INCLUDE_DEPTH + 1]; int n_finished;  /* included, read to the end */
+    const char *file;          /* = cur.file: the file of the last token read */
     char word[2][MAX_WORD + 1];/* two slots: a peeked word survives the next one */
     int word_slot;
     Token peeked; int has_peeked;
-    int dir_line;              /* line of the directive being read */
+    const char *dir_file; int dir_line;  /* the directive being read */
 } Lexer;
 
 /* ===========================================================================
@@ -153,7 +173,10 @@ typedef struct {
     Error *err;
     char main_dir[1024];       /* directory of the top-level file (pbrt's search dir) */
     int in_world;              /* after WorldBegin */
-    int world_seen, include_depth;
+    int world_seen, include_depth;   /* include_depth: Import nesting */
+    int nest;                  /* files open now inside the top-level one (Include+Import) */
+    long n_includes;           /* Include/Import directives run so far */
+    size_t text_bytes;         /* scene text read so far, included files included */
     GState gs;
     GState *stack; int depth, stack_cap;
     AreaLightDesc *lights; int n_lights, cap_lights;
@@ -166,6 +189,7 @@ typedef struct {
     int inset_line[8];         /* where each inset comment was (for messages) */
     const char *inset_file[8];
     int end_line;              /* line of the top-level file's last token */
+    const char *camera_file; int camera_line;   /* the Camera directive, if any */
 } Parser;
 
 /* ===========================================================================
@@ -240,51 +264,24 @@ static int file_exists(const char *path)
     return 1;
 }
 
-/* Resolve a file name given in `from_file`.  specnee looks next to the file that
-   names it first; pbrt-v4 resolves every name against the directory of the
-   top-level scene file (util/file.cpp ResolveFilename), then the working
-   directory, so those two are tried next: a file pbrt-v4 accepts loads here too.
-   When nothing exists, out gets the first candidate (for the message). */
+/* Resolve a file name given in `from_file` as pbrt-v4 does (util/file.cpp
+   ResolveFilename): relative to the directory of the top-level scene file, else as
+   given (the working directory).  Only when neither exists, specnee also looks next
+   to the file that names it.  When nothing exists, out gets pbrt-v4's candidate,
+   the name in the top-level file's directory, for the message. */
 static void resolve_path(const Parser *P, const char *from_file, const char *name,
                          char *out, size_t cap)
 {
     char dir[1024];
     if (name[0] == '/') { snprintf(out, cap, "%s", name); return; }
-    dir_of(from_file, dir, sizeof dir);
-    snprintf(out, cap, "%s%s", dir, name);
-    if (file_exists(out)) return;
     snprintf(out, cap, "%s%s", P->main_dir, name);
     if (file_exists(out)) return;
     snprintf(out, cap, "%s", name);
     if (file_exists(out)) return;
+    dir_of(from_file, dir, sizeof dir);
     snprintf(out, cap, "%s%s", dir, name);
-}
-
-/* Read a whole file into a NUL-terminated buffer. */
-static char *read_file(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    char *buf = NULL;
-    size_t n = 0, cap = 0;
-    if (!f) return NULL;
-    for (;;) {
-        size_t got;
-        if (n + 4096 + 1 > cap) {
-            char *nb;
-            cap = cap ? cap * 2 : 65536;
-            if (cap > (size_t)MAX_FILE_BYTES) { free(buf); fclose(f); return NULL; }
-            nb = (char *)realloc(buf, cap);
-            if (!nb) { free(buf); fclose(f); return NULL; }
-            buf = nb;
-        }
-        got = fread(buf + n, 1, cap - n - 1, f);
-        n += got;
-        if (got == 0) break;
-    }
-    fclose(f);
-    buf[n] = '\0';
-    *len = n;
-    return buf;
+    if (file_exists(out)) return;
+    snprintf(out, cap, "%s%s", P->main_dir, name);    /* pbrt-v4's candidate */
 }
 
 static int ends_with_ci(const char *s, const char *suffix)
@@ -312,17 +309,17 @@ static int inset_comment(Parser *P, Lexer *L, const char *c, size_t n, int line)
     text[n] = '\0';
     if (sscanf(text, " inset %63s %d %d %d %d %n", name, &x0, &y0, &x1, &y1, &used) != 5
         || text[used] != '\0')
-        return fail(P, L->file, line, "malformed structured comment, expected "
+        return fail(P, L->cur.file, line, "malformed structured comment, expected "
                     "\"# inset NAME x0 y0 x1 y1\"");
     if (strlen(name) > 15)
-        return fail(P, L->file, line, "inset name \"%s\" longer than 15 characters", name);
+        return fail(P, L->cur.file, line, "inset name \"%s\" longer than 15 characters", name);
     if (x0 < 0 || y0 < 0 || x1 <= x0 || y1 <= y0)
-        return fail(P, L->file, line, "inset %s: need 0 <= x0 < x1 and 0 <= y0 < y1", name);
+        return fail(P, L->cur.file, line, "inset %s: need 0 <= x0 < x1 and 0 <= y0 < y1", name);
     if (s->n_insets >= 8)
-        return fail(P, L->file, line, "more than 8 insets");
+        return fail(P, L->cur.file, line, "more than 8 insets");
     snprintf(s->inset_name[s->n_insets], sizeof s->inset_name[0], "%.15s", name); /* checked above */
     P->inset_line[s->n_insets] = line;
-    P->inset_file[s->n_insets] = L->file;
+    P->inset_file[s->n_insets] = L->cur.file;
     s->inset[s->n_insets][0] = x0; s->inset[s->n_insets][1] = y0;
     s->inset[s->n_insets][2] = x1; s->inset[s->n_insets][3] = y1;
     s->n_insets++;
@@ -334,48 +331,66 @@ static int is_space(int c) { return c == ' ' || c == '\t' || c == '\n' || c == '
 /* Next token; comments are consumed here (structured ones are recorded). */
 static int lex_next(Parser *P, Lexer *L, Token *t)
 {
+    Source *S = &L->cur;
     if (L->has_peeked) { *t = L->peeked; L->has_peeked = 0; return 1; }
     for (;;) {
         int c;
-        if (L->pos >= L->len) { t->kind = TK_EOF; t->text = ""; t->line = L->line; return 1; }
-        c = (unsigned char)L->buf[L->pos];
-        if (c == '\n') { L->line++; L->pos++; continue; }
-        if (is_space(c)) { L->pos++; continue; }
-        t->line = L->line;
+        if (S->pos >= S->len) {
+            if (L->n_parent > 0) {                    /* an included file ends: go on */
+                if (L->n_finished < MAX_INCLUDE_DEPTH + 1)   /* always (see Lexer) */
+                    L->finished[L->n_finished++] = S->buf;
+                else
+                    free(S->buf);
+                *S = L->parent[--L->n_parent];
+                L->file = S->file;
+                P->nest--;
+                continue;
+            }
+            t->kind = TK_EOF; t->text = ""; t->file = S->file; t->line = S->line;
+            return 1;
+        }
+        c = (unsigned char)S->buf[S->pos];
+        if (c == '\n') { S->line++; S->pos++; continue; }
+        if (is_space(c)) { S->pos++; continue; }
+        t->file = S->file;
+        t->line = S->line;
         if (c == '\0')
-            return fail(P, L->file, L->line, "unexpected NUL byte (not a text file?)");
+            return fail(P, S->file, S->line, "unexpected NUL byte (not a text file?)");
+        if (c < 0x20 || c == 0x7F)
+            return fail(P, S->file, S->line, "unexpected control byte 0x%02X (not a text "
+                        "file?)", c);
         if (c == '#') {                               /* comment to end of line */
-            size_t start = ++L->pos;
-            while (L->pos < L->len && L->buf[L->pos] != '\n' && L->buf[L->pos] != '\r')
-                L->pos++;
-            if (L->pos - start >= 6 && strncmp(L->buf + start, " inset", 6) == 0
-                && !inset_comment(P, L, L->buf + start, L->pos - start, t->line))
+            size_t start = ++S->pos;
+            while (S->pos < S->len && S->buf[S->pos] != '\n' && S->buf[S->pos] != '\r')
+                S->pos++;
+            if (S->pos - start >= 6 && strncmp(S->buf + start, " inset", 6) == 0
+                && !inset_comment(P, L, S->buf + start, S->pos - start, t->line))
                 return 0;
             continue;
         }
         if (c == '[' || c == ']') {
-            L->pos++;
+            S->pos++;
             t->kind = c == '[' ? TK_LBRACKET : TK_RBRACKET;
             t->text = c == '[' ? "[" : "]";
             return 1;
         }
         if (c == '"') {                               /* quoted string, escapes */
-            char *w = L->buf + L->pos + 1;            /* write cursor (in place) */
+            char *w = S->buf + S->pos + 1;            /* write cursor (in place) */
             char *start = w;
-            L->pos++;
+            S->pos++;
             for (;;) {
                 int ch;
-                if (L->pos >= L->len)
-                    return fail(P, L->file, t->line, "unterminated string (end of file)");
-                ch = (unsigned char)L->buf[L->pos++];
+                if (S->pos >= S->len)
+                    return fail(P, S->file, t->line, "unterminated string (end of file)");
+                ch = (unsigned char)S->buf[S->pos++];
                 if (ch == '"') break;
                 if (ch == '\n' || ch == '\r')
-                    return fail(P, L->file, t->line, "unterminated string (end of line)");
+                    return fail(P, S->file, t->line, "unterminated string (end of line)");
                 if (ch == '\\') {
                     int e;
-                    if (L->pos >= L->len)
-                        return fail(P, L->file, t->line, "unterminated string (end of file)");
-                    e = (unsigned char)L->buf[L->pos++];
+                    if (S->pos >= S->len)
+                        return fail(P, S->file, t->line, "unterminated string (end of file)");
+                    e = (unsigned char)S->buf[S->pos++];
                     switch (e) {
                     case 'n': ch = '\n'; break;
                     case 't': ch = '\t'; break;
@@ -384,7 +399,7 @@ static int lex_next(Parser *P, Lexer *L, Token *t)
                     case 'f': ch = '\f'; break;
                     case '\\': case '\'': case '"': ch = e; break;
                     default:
-                        return fail(P, L->file, t->line, "unexpected escaped character \"\\%c\"", e);
+                        return fail(P, S->file, t->line, "unexpected escaped character \"\\%c\"", e);
                     }
                 }
                 *w++ = (char)ch;
@@ -395,18 +410,18 @@ static int lex_next(Parser *P, Lexer *L, Token *t)
             return 1;
         }
         {                                             /* word: up to space, quote, bracket */
-            size_t start = L->pos, n;
+            size_t start = S->pos, n;
             char *word = L->word[L->word_slot];
             L->word_slot ^= 1;
-            while (L->pos < L->len) {
-                c = (unsigned char)L->buf[L->pos];
+            while (S->pos < S->len) {
+                c = (unsigned char)S->buf[S->pos];
                 if (is_space(c) || c == '"' || c == '[' || c == ']' || c == '#' || c == '\0') break;
-                L->pos++;
+                S->pos++;
             }
-            n = L->pos - start;
+            n = S->pos - start;
             if (n > MAX_WORD)
-                return fail(P, L->file, t->line, "token longer than %d characters", MAX_WORD);
-            memcpy(word, L->buf + start, n);
+                return fail(P, S->file, t->line, "token longer than %d characters", MAX_WORD);
+            memcpy(word, S->buf + start, n);
             word[n] = '\0';
             t->kind = TK_WORD;
             t->text = word;
@@ -467,13 +482,13 @@ static int expect_number(Parser *P, Lexer *L, const char *directive, int count, 
         Token t;
         if (!lex_next(P, L, &t)) return 0;
         if (t.kind == TK_EOF)                     /* a truncated file: blame the directive */
-            return fail(P, L->file, L->dir_line, "%s expects %d numbers, found end of file",
+            return fail(P, L->dir_file, L->dir_line, "%s expects %d numbers, found end of file",
                         directive, count);
         if (t.kind != TK_WORD)
-            return fail(P, L->file, t.line, "%s expects %d numbers, found %s",
+            return fail(P, t.file, t.line, "%s expects %d numbers, found %s",
                         directive, count, tok_desc(&t));
         if (!parse_number(t.text, &out[i]))
-            return fail(P, L->file, t.line, "%s: \"%s\" is not a finite number",
+            return fail(P, t.file, t.line, "%s: \"%s\" is not a finite number",
                         directive, t.text);
     }
     return 1;
@@ -485,12 +500,12 @@ static int expect_matrix(Parser *P, Lexer *L, const char *directive, double m[16
     Token t;
     if (!lex_next(P, L, &t)) return 0;
     if (t.kind != TK_LBRACKET)
-        return fail(P, L->file, t.line, "%s expects '[' and 16 numbers, found %s",
+        return fail(P, t.file, t.line, "%s expects '[' and 16 numbers, found %s",
                     directive, tok_desc(&t));
     if (!expect_number(P, L, directive, 16, m)) return 0;
     if (!lex_next(P, L, &t)) return 0;
     if (t.kind != TK_RBRACKET)
-        return fail(P, L->file, t.line, "%s expects exactly 16 numbers and ']', found %s",
+        return fail(P, t.file, t.line, "%s expects exactly 16 numbers and ']', found %s",
                     directive, tok_desc(&t));
     return 1;
 }
@@ -500,7 +515,7 @@ static int expect_string(Parser *P, Lexer *L, const char *directive, const char 
 {
     if (!lex_next(P, L, t)) return 0;
     if (t->kind != TK_STRING)
-        return fail(P, L->file, t->line, "%s expects a quoted %s, found %s",
+        return fail(P, t->file, t->line, "%s expects a quoted %s, found %s",
                     directive, what, tok_desc(t));
     return 1;
 }
@@ -521,6 +536,7 @@ static int param_add_value(Parser *P, Lexer *L, Param *p, const Token *v, int *c
 {
     ValueKind k;
     double x = 0;
+    (void)L;
     if (v->kind == TK_STRING) k = V_STR;
     else if (strcmp(v->text, "true") == 0) { k = V_BOOL; x = 1; }
     else if (strcmp(v->text, "false") == 0) { k = V_BOOL; x = 0; }
@@ -528,23 +544,23 @@ static int param_add_value(Parser *P, Lexer *L, Param *p, const Token *v, int *c
         k = V_NUM;
         if (p->type == PT_INTEGER) {
             if (!parse_integer(v->text, &x))
-                return fail(P, L->file, v->line, "\"integer %s\": \"%s\" is not an integer",
+                return fail(P, v->file, v->line, "\"integer %s\": \"%s\" is not an integer",
                             p->name, v->text);
         } else if (!parse_number(v->text, &x))
-            return fail(P, L->file, v->line, "\"%s %s\": \"%s\" is not a finite number",
+            return fail(P, v->file, v->line, "\"%s %s\": \"%s\" is not a finite number",
                         param_type_names[p->type], p->name, v->text);
     }
     if (p->kind != V_NONE && p->kind != k)
-        return fail(P, L->file, v->line, "\"%s %s\": mixed kinds of values in one list",
+        return fail(P, v->file, v->line, "\"%s %s\": mixed kinds of values in one list",
                     param_type_names[p->type], p->name);
     p->kind = k;
     if (k == V_STR) {
         if (!grow((void **)&p->str, cap_str, p->n_str + 1, sizeof(char *)))
-            return fail(P, L->file, v->line, "out of memory");
+            return fail(P, v->file, v->line, "out of memory");
         p->str[p->n_str++] = v->text;
     } else {
         if (!grow((void **)&p->num, cap_num, p->n_num + 1, sizeof(double)))
-            return fail(P, L->file, v->line, "out of memory (or more than %d values)", MAX_ELEMENTS);
+            return fail(P, v->file, v->line, "out of memory (or more than %d values)", MAX_ELEMENTS);
         p->num[p->n_num++] = x;
     }
     return 1;
@@ -593,13 +609,13 @@ static int parse_params(Parser *P, Lexer *L, ParamList *pl)
         extra[0] = '\0';
         nf = sscanf(t.text, "%63s %63s %7s", type, name, extra);
         if (nf < 2)
-            return fail(P, L->file, t.line, "parameter \"%s\" needs a type and a name, "
+            return fail(P, t.file, t.line, "parameter \"%s\" needs a type and a name, "
                         "like \"float fov\"", t.text);
         if (nf > 2)
-            return fail(P, L->file, t.line, "parameter \"%s\": more than a type and a name",
+            return fail(P, t.file, t.line, "parameter \"%s\": more than a type and a name",
                         t.text);
         if (!grow((void **)&pl->p, &pl->cap, pl->n + 1, sizeof(Param)))
-            return fail(P, L->file, t.line, "out of memory");
+            return fail(P, t.file, t.line, "out of memory");
         p = &pl->p[pl->n];
         memset(p, 0, sizeof *p);
         for (i = 0; i < (int)(sizeof param_type_names / sizeof param_type_names[0]); i++)
@@ -607,38 +623,39 @@ static int parse_params(Parser *P, Lexer *L, ParamList *pl)
         if (i == (int)(sizeof param_type_names / sizeof param_type_names[0])) {
             if (!strcmp(type, "point") || !strcmp(type, "vector") || !strcmp(type, "color")
                 || !strcmp(type, "normal3"))
-                return fail(P, L->file, t.line, "\"%s %s\": \"%s\" is pbrt-v3 syntax, not "
+                return fail(P, t.file, t.line, "\"%s %s\": \"%s\" is pbrt-v3 syntax, not "
                             "pbrt-v4 (run pbrt --upgrade)", type, name, type);
-            return fail(P, L->file, t.line, "\"%s %s\": \"%s\": unknown parameter type",
+            return fail(P, t.file, t.line, "\"%s %s\": \"%s\": unknown parameter type",
                         type, name, type);
         }
         p->type = (ParamType)i;
         snprintf(p->name, sizeof p->name, "%s", name);
-        p->file = L->file;
+        p->file = t.file;
         p->line = t.line;
         pl->n++;
         if (!lex_next(P, L, &v)) return 0;
         if (v.kind == TK_LBRACKET) {
             int open_line = v.line;
+            const char *open_file = v.file;
             for (;;) {
                 if (!lex_next(P, L, &v)) return 0;
                 if (v.kind == TK_RBRACKET) break;
                 if (v.kind == TK_EOF)
-                    return fail(P, L->file, open_line, "\"%s %s\": unterminated '[' list "
+                    return fail(P, open_file, open_line, "\"%s %s\": unterminated '[' list "
                                 "(end of file)", type, name);
                 if (v.kind == TK_LBRACKET)
-                    return fail(P, L->file, v.line, "\"%s %s\": '[' inside a list "
+                    return fail(P, v.file, v.line, "\"%s %s\": '[' inside a list "
                                 "(missing ']'?)", type, name);
                 if (!param_add_value(P, L, p, &v, &cap_num, &cap_str)) return 0;
             }
         } else if (v.kind == TK_WORD || v.kind == TK_STRING) {
             if (!param_add_value(P, L, p, &v, &cap_num, &cap_str)) return 0;
         } else {
-            return fail(P, L->file, v.line, "\"%s %s\": expected a value, found %s",
+            return fail(P, v.file, v.line, "\"%s %s\": expected a value, found %s",
                         type, name, tok_desc(&v));
         }
         if (p->n_num == 0 && p->n_str == 0)
-            return fail(P, L->file, p->line, "\"%s %s\": no values given", type, name);
+            return fail(P, p->file, p->line, "\"%s %s\": no values given", type, name);
         if (!param_check_kind(P, p)) return 0;
     }
 }
@@ -990,6 +1007,32 @@ static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, int nv, con
 /* ===========================================================================
    8. Directives of the options block
    =========================================================================== */
+/* The camera transform must give the renderer finite numbers, as mesh vertices
+   must: the eye and the world-space directions through the image's corners and
+   centre, in float, with a length that neither overflows nor underflows when
+   squared (render.c normalises them).  A transform such as `Scale 1e-30 ...`
+   before Camera is invertible in double precision but fails here. */
+static int camera_transform_ok(const Xform *camera_from_world, float fov_deg, int xres, int yres)
+{
+    Xform wfc;
+    double t = tan(fov_deg * 0.5 * SPECNEE_PI / 180.0);
+    double ax = xres >= yres ? (double)xres / yres : 1.0, ay = xres >= yres ? 1.0 : (double)yres / xres;
+    Vec3 eye;
+    int i;
+    memcpy(wfc.m, camera_from_world->inv, sizeof wfc.m);     /* world_from_camera */
+    memcpy(wfc.inv, camera_from_world->m, sizeof wfc.inv);
+    eye = xf_point(&wfc, v3(0, 0, 0));
+    if (!(fabsf(eye.x) <= FLT_MAX && fabsf(eye.y) <= FLT_MAX && fabsf(eye.z) <= FLT_MAX))
+        return 0;
+    for (i = 0; i < 5; i++) {
+        double sx = i == 4 ? 0.0 : (i & 1 ? ax : -ax), sy = i == 4 ? 0.0 : (i & 2 ? ay : -ay);
+        Vec3 d = xf_vector(&wfc, v3((float)(sx * t), (float)(sy * t), 1.0f));
+        float l2 = v3_dot(d, d);
+        if (!(l2 >= FLT_MIN && l2 <= FLT_MAX)) return 0;
+    }
+    return 1;
+}
+
 static int camera_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     SceneSettings *st = &P->s->settings;
@@ -1007,8 +1050,16 @@ static int camera_directive(Parser *P, const char *type, ParamList *pl, const ch
         return 0;
     if (!(fov > 0.0f && fov < 180.0f))
         return fail(P, file, line, "Camera: \"float fov\" %g must be within (0, 180) degrees", fov);
+    /* the film may come later: checked with the largest aspect ratio allowed here
+       and again with the film's own in finish() */
+    if (!camera_transform_ok(&P->gs.ctm, fov, 1, 1))
+        return fail(P, file, line, "Camera: degenerate camera transform: the eye or the "
+                    "viewing directions are not finite, non-zero float vectors (look at "
+                    "the Scale/Transform/LookAt before Camera)");
     st->fov_deg = fov;
     st->camera_from_world = P->gs.ctm;
+    P->camera_file = file;
+    P->camera_line = line;
     {   /* the named coordinate system "camera" is world_from_camera (pbrt-v4) */
         int i;
         for (i = 0; i < P->n_coords; i++)
@@ -1049,6 +1100,14 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
     if (xres < 1 || xres > MAX_RESOLUTION || yres < 1 || yres > MAX_RESOLUTION)
         return fail(P, file, line, "Film: resolution %d x %d outside 1..%d per axis",
                     xres, yres, MAX_RESOLUTION);
+    {   /* what the render's buffers would take, against the stated budget */
+        double need = (double)xres * yres * FILM_BYTES_PER_PIXEL;
+        if (need > (double)MEM_BUDGET_MIB * 1048576.0)
+            return fail(P, file, line, "Film: %d x %d pixels would need %.1f GiB for the "
+                        "render's buffers, more than specnee's memory budget of %.0f GiB "
+                        "(MEM_BUDGET_MIB in specnee.h)", xres, yres, need / 1073741824.0,
+                        MEM_BUDGET_MIB / 1024.0);
+    }
     st->xres = xres;
     st->yres = yres;
     if (!fn) fn = "pbrt.exr";                         /* pbrt-v4's default */
@@ -1290,6 +1349,10 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
             "interface", "measured", "mix", "subsurface", "thindielectric", NULL
         };
         int i;
+        if (!type[0] || !strcmp(type, "none"))      /* pbrt-v4 materials.cpp */
+            return fail(P, file, line, "Material \"%s\" is pbrt-v4's deprecated spelling of "
+                        "\"interface\" (a surface that only bounds a medium), which is valid "
+                        "pbrt-v4 but not in the specnee subset", type);
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
                 return fail(P, file, line, "Material \"%s\" is valid pbrt-v4 but not in the "
@@ -1509,6 +1572,11 @@ static int shape_directive(Parser *P, const char *type, ParamList *pl, const cha
    =========================================================================== */
 static int parse_text(Parser *P, const char *file, char *buf, size_t len);
 
+/* Include: the file's tokens come next in the same stream (pbrt-v4 pushes it on
+   its file stack).  Import: parsed on its own into a copy of the graphics state.
+   Both count against the include budget: MAX_INCLUDES directives and
+   READ_MAX_BYTES of text in all, so that files which include the next one twice
+   cannot keep the parser busy for hours. */
 static int include_directive(Parser *P, Lexer *L, const Token *dir, int is_import)
 {
     Token t;
@@ -1516,33 +1584,60 @@ static int include_directive(Parser *P, Lexer *L, const Token *dir, int is_impor
     const char *name;
     char *buf;
     size_t len;
+    ReadStatus rs;
     int ok, depth = P->depth;
     GState saved = P->gs;
     const char *d = is_import ? "Import" : "Include";
     if (!expect_string(P, L, d, "file name", &t)) return 0;
     if (is_import && !P->in_world)
-        return fail(P, L->file, dir->line, "Import is only allowed after WorldBegin");
-    if (P->include_depth >= MAX_INCLUDE_DEPTH)
-        return fail(P, L->file, dir->line, "%s \"%s\": nested deeper than %d (an include cycle?)",
+        return fail(P, dir->file, dir->line, "Import is only allowed after WorldBegin");
+    if (P->nest >= MAX_INCLUDE_DEPTH)
+        return fail(P, dir->file, dir->line, "%s \"%s\": nested deeper than %d (an include cycle?)",
                     d, t.text, MAX_INCLUDE_DEPTH);
-    resolve_path(P, L->file, t.text, path, sizeof path);
-    buf = read_file(path, &len);
-    if (!buf)
-        return fail(P, L->file, dir->line, "%s \"%s\": cannot read \"%s\"", d, t.text, path);
+    if (++P->n_includes > MAX_INCLUDES)
+        return fail(P, dir->file, dir->line, "%s \"%s\": more than %d Include/Import directives "
+                    "run in one scene (files that include each other repeatedly?)",
+                    d, t.text, MAX_INCLUDES);
+    resolve_path(P, t.file, t.text, path, sizeof path);
+    buf = read_whole_file(path, 1, NULL, &len, &rs);
+    if (!buf) {
+        if (rs == READ_OPEN)
+            return fail(P, dir->file, dir->line, "%s \"%s\": cannot read \"%s\"", d, t.text, path);
+        return fail(P, dir->file, dir->line, "%s \"%s\": \"%s\": %s", d, t.text, path,
+                    read_status_text(rs));
+    }
+    if (len > READ_MAX_BYTES - P->text_bytes) {
+        free(buf);
+        return fail(P, dir->file, dir->line, "%s \"%s\": the scene text with its included files "
+                    "exceeds %lu MiB (files that include each other repeatedly?)", d, t.text,
+                    (unsigned long)(READ_MAX_BYTES >> 20));
+    }
+    P->text_bytes += len;
     name = intern(P, path);
-    if (!name) { free(buf); return oom(P, L->file, dir->line); }
+    if (!name) { free(buf); return oom(P, dir->file, dir->line); }
+    if (!is_import) {                                  /* push: its tokens come next */
+        L->parent[L->n_parent++] = L->cur;
+        L->cur.file = name;
+        L->cur.buf = buf;
+        L->cur.len = len;
+        L->cur.pos = 0;
+        L->cur.line = 1;
+        L->file = name;
+        P->nest++;
+        return 1;
+    }
     P->include_depth++;
+    P->nest++;
     ok = parse_text(P, name, buf, len);
+    P->nest--;
     P->include_depth--;
     free(buf);
     if (!ok) return 0;
-    if (is_import) {
-        /* pbrt-v4 parses an import into a copy of the graphics state */
-        if (P->depth != depth)
-            return fail(P, L->file, dir->line, "Import \"%s\": unbalanced AttributeBegin/End "
-                        "inside the imported file", t.text);
-        P->gs = saved;
-    }
+    /* pbrt-v4 parses an import into a copy of the graphics state */
+    if (P->depth != depth)
+        return fail(P, dir->file, dir->line, "Import \"%s\": unbalanced AttributeBegin/End "
+                    "inside the imported file", t.text);
+    P->gs = saved;
     return 1;
 }
 
@@ -1559,18 +1654,18 @@ static int transform_directive(Parser *P, Lexer *L, const Token *t, int *handled
     } else if (!strcmp(d, "Scale")) {
         if (!expect_number(P, L, d, 3, v)) return 0;
         if (v[0] == 0.0 || v[1] == 0.0 || v[2] == 0.0)
-            return fail(P, L->file, t->line, "Scale %g %g %g: a zero factor flattens space "
+            return fail(P, t->file, t->line, "Scale %g %g %g: a zero factor flattens space "
                         "(singular transform)", v[0], v[1], v[2]);
         x = xf_scale(v[0], v[1], v[2]);
     } else if (!strcmp(d, "Rotate")) {
         if (!expect_number(P, L, d, 4, v)) return 0;
         if (v[1] == 0.0 && v[2] == 0.0 && v[3] == 0.0)
-            return fail(P, L->file, t->line, "Rotate: the axis is the zero vector");
+            return fail(P, t->file, t->line, "Rotate: the axis is the zero vector");
         x = xf_rotate(v[0], v[1], v[2], v[3]);
     } else if (!strcmp(d, "LookAt")) {
         if (!expect_number(P, L, d, 9, v)) return 0;
         if (!xf_lookat(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], &x))
-            return fail(P, L->file, t->line, "LookAt: degenerate (eye == look, or up parallel "
+            return fail(P, t->file, t->line, "LookAt: degenerate (eye == look, or up parallel "
                         "to the viewing direction)");
     } else if (!strcmp(d, "Transform") || !strcmp(d, "ConcatTransform")) {
         double m[4][4];
@@ -1579,7 +1674,7 @@ static int transform_directive(Parser *P, Lexer *L, const Token *t, int *handled
         for (i = 0; i < 4; i++)
             for (j = 0; j < 4; j++) m[i][j] = v[4 * j + i];   /* pbrt-v4: transposed */
         if (!xf_from_matrix(m, &x))
-            return fail(P, L->file, t->line, "%s: singular matrix", d);
+            return fail(P, t->file, t->line, "%s: singular matrix", d);
         if (d[0] == 'T') { P->gs.ctm = x; return 1; }     /* Transform replaces the CTM */
     } else if (!strcmp(d, "CoordinateSystem") || !strcmp(d, "CoordSysTransform")) {
         Token n;
@@ -1589,10 +1684,10 @@ static int transform_directive(Parser *P, Lexer *L, const Token *t, int *handled
             if (!strcmp(P->coords[i].name, n.text)) break;
         if (d[5] == 'i') {                                 /* CoordinateSystem: record */
             if (strlen(n.text) >= sizeof P->coords[0].name)
-                return fail(P, L->file, t->line, "CoordinateSystem: name too long");
+                return fail(P, t->file, t->line, "CoordinateSystem: name too long");
             if (i == P->n_coords) {
                 if (!grow((void **)&P->coords, &P->cap_coords, P->n_coords + 1, sizeof(NamedCoordSys)))
-                    return oom(P, L->file, t->line);
+                    return oom(P, t->file, t->line);
                 snprintf(P->coords[i].name, sizeof P->coords[i].name, "%s", n.text);
                 P->n_coords++;
             }
@@ -1600,7 +1695,7 @@ static int transform_directive(Parser *P, Lexer *L, const Token *t, int *handled
             return 1;
         }
         if (i == P->n_coords)
-            return fail(P, L->file, t->line, "CoordSysTransform: unknown coordinate system "
+            return fail(P, t->file, t->line, "CoordSysTransform: unknown coordinate system "
                         "\"%s\"", n.text);
         P->gs.ctm = P->coords[i].xf;
         return 1;
@@ -1625,28 +1720,28 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     world_only = !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
               || !strcmp(d, "AreaLightSource") || !strcmp(d, "Shape");
     if (options_only && P->in_world)
-        return fail(P, L->file, t->line, "Options cannot be set inside world block; \"%s\" "
+        return fail(P, t->file, t->line, "Options cannot be set inside world block; \"%s\" "
                     "not allowed after WorldBegin", d);
     if (world_only && !P->in_world)
-        return fail(P, L->file, t->line, "Scene description must be inside world block; "
+        return fail(P, t->file, t->line, "Scene description must be inside world block; "
                     "\"%s\" not allowed before WorldBegin", d);
     if (!expect_string(P, L, d, "type name", &ty)) return 0;
     snprintf(type, sizeof type, "%s", ty.text);
     memset(&pl, 0, sizeof pl);
     if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
-    if (!strcmp(d, "Camera")) ok = camera_directive(P, type, &pl, L->file, t->line);
-    else if (!strcmp(d, "Film")) ok = film_directive(P, type, &pl, L->file, t->line);
-    else if (!strcmp(d, "Sampler")) ok = sampler_directive(P, type, &pl, L->file, t->line);
-    else if (!strcmp(d, "Integrator")) ok = integrator_directive(P, type, &pl, L->file, t->line);
-    else if (!strcmp(d, "PixelFilter")) ok = filter_directive(P, type, &pl, L->file, t->line);
-    else if (!strcmp(d, "Shape")) ok = shape_directive(P, type, &pl, L->file, t->line);
-    else if (!strcmp(d, "AreaLightSource")) ok = area_light_directive(P, type, &pl, L->file, t->line);
+    if (!strcmp(d, "Camera")) ok = camera_directive(P, type, &pl, t->file, t->line);
+    else if (!strcmp(d, "Film")) ok = film_directive(P, type, &pl, t->file, t->line);
+    else if (!strcmp(d, "Sampler")) ok = sampler_directive(P, type, &pl, t->file, t->line);
+    else if (!strcmp(d, "Integrator")) ok = integrator_directive(P, type, &pl, t->file, t->line);
+    else if (!strcmp(d, "PixelFilter")) ok = filter_directive(P, type, &pl, t->file, t->line);
+    else if (!strcmp(d, "Shape")) ok = shape_directive(P, type, &pl, t->file, t->line);
+    else if (!strcmp(d, "AreaLightSource")) ok = area_light_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Material")) {
         Material m;
         int idx;
-        ok = material_from_params(P, type, &pl, L->file, t->line, &m);
+        ok = material_from_params(P, type, &pl, t->file, t->line, &m);
         if (ok) {
-            idx = add_material(P, &m, L->file, t->line);
+            idx = add_material(P, &m, t->file, t->line);
             ok = idx >= 0;
             if (ok) P->gs.material = idx;
         }
@@ -1657,22 +1752,22 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
         int i, idx;
         ok = get_string(P, &pl, "type", &mtype);
         if (ok && !mtype)
-            ok = fail(P, L->file, t->line, "MakeNamedMaterial \"%s\": \"string type\" is "
+            ok = fail(P, t->file, t->line, "MakeNamedMaterial \"%s\": \"string type\" is "
                       "required", type);
         for (i = 0; ok && i < P->n_named; i++)
             if (!strcmp(P->named[i].name, type))
-                ok = fail(P, L->file, t->line, "MakeNamedMaterial: named material \"%s\" "
+                ok = fail(P, t->file, t->line, "MakeNamedMaterial: named material \"%s\" "
                           "redefined", type);
         if (ok && strlen(type) >= sizeof P->named[0].name)
-            ok = fail(P, L->file, t->line, "MakeNamedMaterial: name too long");
-        if (ok) ok = material_from_params(P, mtype, &pl, L->file, t->line, &m);
+            ok = fail(P, t->file, t->line, "MakeNamedMaterial: name too long");
+        if (ok) ok = material_from_params(P, mtype, &pl, t->file, t->line, &m);
         if (ok) {
-            idx = add_material(P, &m, L->file, t->line);
+            idx = add_material(P, &m, t->file, t->line);
             ok = idx >= 0;
         }
         if (ok) {
             if (!grow((void **)&P->named, &P->cap_named, P->n_named + 1, sizeof(NamedMaterial)))
-                ok = oom(P, L->file, t->line);
+                ok = oom(P, t->file, t->line);
             else {
                 snprintf(P->named[P->n_named].name, sizeof P->named[0].name, "%.63s", type); /* length checked above */
                 P->named[P->n_named++].material = idx;
@@ -1697,7 +1792,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     if (!strcmp(d, "WorldBegin")) {
         int i;
         if (P->in_world)
-            return fail(P, L->file, t->line, "Options cannot be set inside world block; "
+            return fail(P, t->file, t->line, "Options cannot be set inside world block; "
                         "second \"WorldBegin\"");
         P->in_world = P->world_seen = 1;
         P->gs.ctm = xf_identity();
@@ -1705,7 +1800,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
             if (!strcmp(P->coords[i].name, "world")) break;
         if (i == P->n_coords) {
             if (!grow((void **)&P->coords, &P->cap_coords, P->n_coords + 1, sizeof(NamedCoordSys)))
-                return oom(P, L->file, t->line);
+                return oom(P, t->file, t->line);
             snprintf(P->coords[i].name, sizeof P->coords[i].name, "world");
             P->n_coords++;
         }
@@ -1713,31 +1808,31 @@ static int directive(Parser *P, Lexer *L, const Token *t)
         return 1;
     }
     if (!strcmp(d, "WorldEnd"))
-        return fail(P, L->file, t->line, "WorldEnd is pbrt-v3 syntax, not pbrt-v4 (delete it)");
+        return fail(P, t->file, t->line, "WorldEnd is pbrt-v3 syntax, not pbrt-v4 (delete it)");
     if (!strcmp(d, "AttributeBegin") || !strcmp(d, "TransformBegin")) {
         /* pbrt-v4 treats the deprecated TransformBegin as AttributeBegin */
         if (!P->in_world)
-            return fail(P, L->file, t->line, "Scene description must be inside world block; "
+            return fail(P, t->file, t->line, "Scene description must be inside world block; "
                         "\"%s\" not allowed before WorldBegin", d);
         if (!grow((void **)&P->stack, &P->stack_cap, P->depth + 1, sizeof(GState)))
-            return oom(P, L->file, t->line);
-        P->gs.file = L->file;
+            return oom(P, t->file, t->line);
+        P->gs.file = t->file;
         P->gs.line = t->line;
         P->stack[P->depth++] = P->gs;
         return 1;
     }
     if (!strcmp(d, "AttributeEnd") || !strcmp(d, "TransformEnd")) {
         if (!P->in_world)
-            return fail(P, L->file, t->line, "Scene description must be inside world block; "
+            return fail(P, t->file, t->line, "Scene description must be inside world block; "
                         "\"%s\" not allowed before WorldBegin", d);
         if (P->depth == 0)
-            return fail(P, L->file, t->line, "unmatched %s (no AttributeBegin open)", d);
+            return fail(P, t->file, t->line, "unmatched %s (no AttributeBegin open)", d);
         P->gs = P->stack[--P->depth];
         return 1;
     }
     if (!strcmp(d, "ReverseOrientation")) {
         if (!P->in_world)
-            return fail(P, L->file, t->line, "Scene description must be inside world block; "
+            return fail(P, t->file, t->line, "Scene description must be inside world block; "
                         "\"ReverseOrientation\" not allowed before WorldBegin");
         P->gs.reverse = !P->gs.reverse;
         return 1;
@@ -1747,11 +1842,11 @@ static int directive(Parser *P, Lexer *L, const Token *t)
         int i;
         if (!expect_string(P, L, d, "material name", &n)) return 0;
         if (!P->in_world)
-            return fail(P, L->file, t->line, "Scene description must be inside world block; "
+            return fail(P, t->file, t->line, "Scene description must be inside world block; "
                         "\"NamedMaterial\" not allowed before WorldBegin");
         for (i = 0; i < P->n_named; i++)
             if (!strcmp(P->named[i].name, n.text)) { P->gs.material = P->named[i].material; return 1; }
-        return fail(P, L->file, t->line, "NamedMaterial \"%s\": unknown named material", n.text);
+        return fail(P, t->file, t->line, "NamedMaterial \"%s\": unknown named material", n.text);
     }
     if (!strcmp(d, "Include")) return include_directive(P, L, t, 0);
     if (!strcmp(d, "Import")) return include_directive(P, L, t, 1);
@@ -1759,7 +1854,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
         Token n;
         if (!expect_string(P, L, d, "colour space name", &n)) return 0;
         if (strcmp(n.text, "srgb") != 0)
-            return fail(P, L->file, t->line, "ColorSpace \"%s\" is valid pbrt-v4 but not in the "
+            return fail(P, t->file, t->line, "ColorSpace \"%s\" is valid pbrt-v4 but not in the "
                         "specnee subset (only \"srgb\", the default)", n.text);
         return 1;
     }
@@ -1771,38 +1866,76 @@ static int directive(Parser *P, Lexer *L, const Token *t)
         };
         int i;
         for (i = 0; pbrt_only[i]; i++)
-            if (!strcmp(d, pbrt_only[i]))
-                return fail(P, L->file, t->line, "%s is valid pbrt-v4 but not in the specnee "
+            if (!strcmp(d, pbrt_only[i])) {
+                /* name the type: LightSource "type" ..., Texture "name" "type" "class"
+                   (the class says what it is), others their first string */
+                Token a[3];
+                int k, n = 0, want = !strcmp(d, "Texture") ? 3 : 1;
+                for (k = 0; k < want; k++) {
+                    if (!lex_next(P, L, &a[k])) return 0;
+                    if (a[k].kind != TK_STRING) break;
+                    n++;
+                }
+                if (n == 3)
+                    return fail(P, t->file, t->line, "Texture \"%s\" (\"%s\" texture \"%s\") is "
+                                "valid pbrt-v4 but not in the specnee subset", a[2].text,
+                                a[1].text, a[0].text);
+                if (n >= 1 && want == 1)
+                    return fail(P, t->file, t->line, "%s \"%s\" is valid pbrt-v4 but not in the "
+                                "specnee subset", d, a[0].text);
+                return fail(P, t->file, t->line, "%s is valid pbrt-v4 but not in the specnee "
                             "subset", d);
+            }
     }
-    return fail(P, L->file, t->line, "Unknown directive: %s", d);
+    return fail(P, t->file, t->line, "Unknown directive: %s", d);
 }
 
-/* Parse one file's text (the top-level file or an included one). */
+/* Free the buffers of included files that were read to their end. */
+static void lex_release_finished(Lexer *L)
+{
+    while (L->n_finished > 0) free(L->finished[--L->n_finished]);
+}
+
+/* Parse one file's text (the top-level file or an imported one) with the files it
+   Includes.  buf belongs to the caller; included buffers are freed here. */
 static int parse_text(Parser *P, const char *file, char *buf, size_t len)
 {
     Lexer L;
+    int ok = 1;
     memset(&L, 0, sizeof L);
-    L.file = file;
-    L.buf = buf;
-    L.len = len;
-    L.line = 1;
+    L.cur.file = L.file = file;
+    L.cur.buf = buf;
+    L.cur.len = len;
+    L.cur.line = 1;
     for (;;) {
         Token t;
         char name[MAX_WORD + 1];
-        if (!lex_next(P, &L, &t)) return 0;
-        if (t.kind == TK_EOF) return 1;
-        if (P->include_depth == 0) P->end_line = t.line;
-        if (t.kind == TK_STRING)
-            return fail(P, file, t.line, "expected a directive, found the string \"%s\"", t.text);
-        if (t.kind != TK_WORD)
-            return fail(P, file, t.line, "expected a directive, found %s", tok_desc(&t));
+        lex_release_finished(&L);       /* the last statement is done with them */
+        if (!lex_next(P, &L, &t)) { ok = 0; break; }
+        if (t.kind == TK_EOF) break;
+        if (P->include_depth == 0 && t.file == file) P->end_line = t.line;
+        if (t.kind == TK_STRING) {
+            ok = fail(P, t.file, t.line, "expected a directive, found the string \"%s\"",
+                      t.text);
+            break;
+        }
+        if (t.kind != TK_WORD) {
+            ok = fail(P, t.file, t.line, "expected a directive, found %s", tok_desc(&t));
+            break;
+        }
         /* keep the name: the lexer reuses its word buffers for the arguments */
         memcpy(name, t.text, strlen(t.text) + 1);
         t.text = name;
+        L.dir_file = t.file;
         L.dir_line = t.line;
-        if (!directive(P, &L, &t)) return 0;
+        if (!directive(P, &L, &t)) { ok = 0; break; }
     }
+    lex_release_finished(&L);
+    if (L.n_parent > 0) {               /* stopped inside included files: free them */
+        free(L.cur.buf);
+        while (L.n_parent > 1) free(L.parent[--L.n_parent].buf);
+    }
+    return ok;
 }
 
 /* ===========================================================================
@@ -1843,6 +1976,12 @@ static int finish(Parser *P, const char *file)
     }
     if (!P->world_seen)
         return fail(P, file, P->end_line, "no WorldBegin: the file describes no world");
+    if (P->camera_file && !camera_transform_ok(&s->settings.camera_from_world,
+                                               s->settings.fov_deg, s->settings.xres,
+                                               s->settings.yres))
+        return fail(P, P->camera_file, P->camera_line, "Camera: degenerate camera transform "
+                    "for the %d x %d film: the viewing directions are not finite, non-zero "
+                    "float vectors", s->settings.xres, s->settings.yres);
     for (i = 0; i < s->n_insets; i++)
         if (s->inset[i][2] > s->settings.xres || s->inset[i][3] > s->settings.yres)
             return fail(P, P->inset_file[i], P->inset_line[i], "inset %s (%d %d %d %d) lies outside the %d x %d film",
@@ -1900,6 +2039,7 @@ static int load(Scene *s, char *buf, size_t len, const char *name, Error *err)
     dir_of(name, P.main_dir, sizeof P.main_dir);
     file = intern(&P, name);
     if (!file) { parser_free(&P); return fail(&P, name, 0, "out of memory"); }
+    P.text_bytes = len;
     ok = parse_text(&P, file, buf, len) && finish(&P, file);
     parser_free(&P);
     return ok;
@@ -1924,12 +2064,17 @@ int scene_load_string(Scene *s, const char *text, const char *name, Error *err)
 int scene_load(Scene *s, const char *path, Error *err)
 {
     size_t len;
+    ReadStatus rs;
     char *buf;
     int ok;
     memset(s, 0, sizeof *s);
     settings_default(&s->settings);
-    buf = read_file(path, &len);
-    if (!buf) { error_set(err, path, 0, "cannot read the scene file"); return 0; }
+    buf = read_whole_file(path, 1, NULL, &len, &rs);
+    if (!buf) {
+        error_set(err, path, 0, "%s", rs == READ_OPEN ? "cannot read the scene file"
+                  : read_status_text(rs));
+        return 0;
+    }
     ok = load(s, buf, len, path, err);
     free(buf);
     if (!ok) scene_free(s);

@@ -197,6 +197,9 @@ static int parse_args(int argc, char **argv, Args *a)
             if (*end != 'x' || w < 1 || w > 16384) return usage_error("--res needs WxH (1..16384), not '%s'", v);
             h = strtol(end + 1, &end, 10);
             if (*end || h < 1 || h > 16384) return usage_error("--res needs WxH (1..16384), not '%s'", v);
+            if ((double)w * h * FILM_BYTES_PER_PIXEL > (double)MEM_BUDGET_MIB * 1048576.0)
+                return usage_error("--res %s: the render's buffers would exceed the memory "
+                                   "budget (MEM_BUDGET_MIB in specnee.h)", v);
             a->res_w = (int)w;
             a->res_h = (int)h;
         } else if (!strcmp(o, "--eager-tables")) {

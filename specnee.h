@@ -69,6 +69,10 @@
 #define RR_START_DEPTH 1    /* @@ Russian roulette from this depth on (pbrt-v4: after depth 1) */
 #define DEFAULT_SPP 16
 #define DEFAULT_MAXDEPTH 5  /* pbrt-v4's default for Integrator "path" */
+#define MEM_BUDGET_MIB 4096  /* @@ memory budget of one input-sized allocation (film,
+                                mesh, image): a bigger claim is an error naming the need */
+#define FILM_BYTES_PER_PIXEL 40  /* render buffers a film pixel costs: 3 doubles of sums,
+                                3 floats of image, 4 bytes of writer output */
 #define SPECNEE_PI 3.14159265358979323846
 #define PI_F 3.14159265358979323846f
 
@@ -148,7 +152,19 @@ double radical_inverse(int base, uint64_t i);
    ====================================================================== */
 /* Every loader writes one line "file:line: problem" into an Error and returns 0. */
 typedef struct { char msg[512]; } Error;
+/* Control bytes and bytes that are not UTF-8 are written as \xNN: one printable line. */
 void error_set(Error *e, const char *file, int line, const char *fmt, ...);
+
+/* A whole file in memory, NUL-terminated (scene text, PLY, spectrum files).  Reading
+   stops early at gzip data (pbrt-v4 reads .gz, the subset does not), when text is
+   set at a NUL byte, and when magic is not NULL at first bytes other than magic;
+   never more than READ_MAX_BYTES.  NULL and *st on failure. */
+#define READ_MAX_BYTES ((size_t)1 << 30)   /* @@ 1 GiB: largest input file read */
+typedef enum { READ_OK, READ_OPEN, READ_IO, READ_NOMEM, READ_TOO_BIG, READ_GZIP,
+               READ_NUL, READ_MAGIC } ReadStatus;
+char *read_whole_file(const char *path, int text, const char *magic, size_t *len,
+                      ReadStatus *st);
+const char *read_status_text(ReadStatus st);   /* "not a text file (...)", ... */
 
 /* ======================================================================
    4. Spectra (spectrum.c)

@@ -888,32 +888,6 @@ static int pairs_push(PairList *p, double lambda, double value)
     return 1;
 }
 
-/* Read a whole file into a NUL-terminated buffer; NULL on failure (errno kept). */
-static char *read_text_file(const char *path, size_t *len_out)
-{
-    FILE *f = fopen(path, "rb");
-    char *buf = NULL, *nb;
-    size_t len = 0, cap = 0, got;
-    if (!f) return NULL;
-    for (;;) {
-        if (cap - len < 4096) {
-            cap = cap ? 2 * cap : 8192;
-            if (cap > ((size_t)1 << 30) || !(nb = (char *)realloc(buf, cap + 1))) {
-                free(buf); fclose(f); errno = ENOMEM; return NULL;
-            }
-            buf = nb;
-        }
-        got = fread(buf + len, 1, cap - len, f);
-        len += got;
-        if (got == 0) break;
-    }
-    if (ferror(f)) { int e = errno; free(buf); fclose(f); errno = e ? e : EIO; return NULL; }
-    fclose(f);
-    buf[len] = '\0';
-    *len_out = len;
-    return buf;
-}
-
 /* A whole token as a number (strtod accepts "nan"/"inf": finiteness is checked by
    the caller so that it can say so). */
 static int parse_number(const char *tok, double *out)
@@ -963,20 +937,21 @@ int spec_from_file(Spectrum *s, const char *path, Error *err)
 {
     PairList p = { NULL, NULL, 0, 0 };
     size_t len = 0;
+    ReadStatus rs;
     char *text, *line, *next;
     int line_no = 0, csv, seen_content = 0, have_lambda = 0, lambda_line = 0, ok = 0, i;
     double pending_lambda = 0.0;
     float *fl = NULL, *fv = NULL;
 
     if (!path) { error_set(err, "(null)", 0, "no spectrum file name"); return 0; }
-    text = read_text_file(path, &len);
+    errno = 0;
+    text = read_whole_file(path, 1, NULL, &len, &rs);
     if (!text) {
-        error_set(err, path, 0, "cannot read spectrum file (%s)", strerror(errno));
+        if (rs == READ_OPEN)
+            error_set(err, path, 0, "cannot read spectrum file (%s)", strerror(errno));
+        else
+            error_set(err, path, 0, "%s", read_status_text(rs));
         return 0;
-    }
-    if (memchr(text, '\0', len)) {
-        error_set(err, path, 0, "not a text file (contains NUL bytes)");
-        goto done;
     }
     line = text;
     if ((unsigned char)line[0] == 0xEF && (unsigned char)line[1] == 0xBB &&
@@ -984,12 +959,14 @@ int spec_from_file(Spectrum *s, const char *path, Error *err)
     csv = -1;                                     /* decided by the first data line */
 
     for (; line && *line; line = next) {          /* *line == 0: after the last newline */
-        char *hash, *cr;
+        char *hash;
         line_no++;
-        next = strchr(line, '\n');
-        if (next) *next++ = '\0';
+        /* a line ends at LF, CR LF or a lone CR (old Mac files) */
+        next = line + strcspn(line, "\r\n");
+        if (*next == '\0') next = NULL;
+        else if (next[0] == '\r' && next[1] == '\n') { *next = '\0'; next += 2; }
+        else *next++ = '\0';
         if ((hash = strchr(line, '#')) != NULL) *hash = '\0';
-        if ((cr = strchr(line, '\r')) != NULL) *cr = '\0';
         if (csv < 0) {
             const char *c = line;
             while (isspace((unsigned char)*c)) c++;

@@ -20,9 +20,13 @@
      from deterministic sample points (the spatial light distribution).
    - frame_from_normal: an orthonormal basis around n (Duff et al. 2017,
      "Building an Orthonormal Basis, Revisited", JCGT 6(1)).
-   - error_set: formats the one-line "file:line: problem" messages. */
+   - error_set: formats the one-line "file:line: problem" messages (bytes that
+     are not printable text are escaped as \xNN).
+   - read_whole_file: a whole file into memory, at most READ_MAX_BYTES, refusing
+     gzip data and (for text) NUL bytes as soon as they are read. */
 #include "specnee.h"
 #include <stdarg.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* ---------- transforms ---------- */
@@ -268,15 +272,117 @@ double radical_inverse(int base, uint64_t i)
 
 /* ---------- errors ---------- */
 
+/* Length of the valid UTF-8 sequence at p (at most n bytes), 0 if there is none.
+   Used to print non-ASCII file names as they are and anything else escaped. */
+static size_t utf8_len(const unsigned char *p, size_t n)
+{
+    size_t len, i;
+    if (p[0] < 0x80) return 1;
+    if (p[0] >= 0xC2 && p[0] <= 0xDF) len = 2;
+    else if (p[0] >= 0xE0 && p[0] <= 0xEF) len = 3;
+    else if (p[0] >= 0xF0 && p[0] <= 0xF4) len = 4;
+    else return 0;
+    if (len > n) return 0;
+    for (i = 1; i < len; i++)
+        if ((p[i] & 0xC0) != 0x80) return 0;
+    return len;
+}
+
 void error_set(Error *e, const char *file, int line, const char *fmt, ...)
 {
     va_list ap;
-    int n = 0;
+    char raw[sizeof e->msg];
+    size_t i, o = 0, n;
+    int k = 0;
     if (!e) return;
-    if (file && line > 0) n = snprintf(e->msg, sizeof e->msg, "%s:%d: ", file, line);
-    else if (file) n = snprintf(e->msg, sizeof e->msg, "%s: ", file);
-    if (n < 0 || n >= (int)sizeof e->msg) n = 0;
+    if (file && line > 0) k = snprintf(raw, sizeof raw, "%s:%d: ", file, line);
+    else if (file) k = snprintf(raw, sizeof raw, "%s: ", file);
+    if (k < 0 || k >= (int)sizeof raw) k = 0;
     va_start(ap, fmt);
-    vsnprintf(e->msg + n, sizeof e->msg - (size_t)n, fmt, ap);
+    vsnprintf(raw + k, sizeof raw - (size_t)k, fmt, ap);
     va_end(ap);
+    /* One printable line whatever the input held: control bytes (line breaks
+       included) and bytes that are not UTF-8 are written as \xNN, so a binary
+       file named as a scene never sends raw bytes to the terminal. */
+    n = strlen(raw);
+    for (i = 0; i < n;) {
+        const unsigned char *c = (const unsigned char *)raw + i;
+        size_t len = (*c < 0x20 || *c == 0x7F) ? 0 : utf8_len(c, n - i);
+        if (len == 0) {
+            if (o + 4 >= sizeof e->msg) break;
+            snprintf(e->msg + o, 5, "\\x%02X", *c);
+            o += 4;
+            i++;
+        } else {
+            if (o + len >= sizeof e->msg) break;
+            memcpy(e->msg + o, c, len);
+            o += len;
+            i += len;
+        }
+    }
+    e->msg[o] = '\0';
+}
+
+/* ---------- reading whole files ---------- */
+
+const char *read_status_text(ReadStatus st)
+{
+    switch (st) {
+    case READ_OK: return "ok";
+    case READ_OPEN: return "cannot open the file";
+    case READ_IO: return "read error";
+    case READ_NOMEM: return "out of memory";
+    case READ_TOO_BIG: return "file larger than 1 GiB (READ_MAX_BYTES)";
+    case READ_GZIP: return "a gzip-compressed file: compressed files are not in the specnee "
+                           "subset (decompress it first, e.g. gunzip -k FILE.gz, and name "
+                           "the result)";
+    case READ_NUL: return "not a text file (it contains NUL bytes)";
+    case READ_MAGIC: return "not the expected file format (wrong first bytes)";
+    }
+    return "?";
+}
+
+char *read_whole_file(const char *path, int text, const char *magic, size_t *len,
+                      ReadStatus *st)
+{
+    size_t nm = magic ? strlen(magic) : 0;
+    FILE *f;
+    char *buf = NULL;
+    size_t n = 0, cap = 0;
+    *len = 0;
+    *st = READ_OK;
+    f = fopen(path, "rb");
+    if (!f) { *st = READ_OPEN; return NULL; }
+    for (;;) {
+        size_t got;
+        if (cap - n < 4096) {
+            char *nb;
+            size_t ncap = cap ? 2 * cap : 65536;
+            if (cap >= READ_MAX_BYTES) { *st = READ_TOO_BIG; break; }
+            if (ncap > READ_MAX_BYTES) ncap = READ_MAX_BYTES;
+            nb = (char *)realloc(buf, ncap + 1);
+            if (!nb) { *st = READ_NOMEM; break; }
+            buf = nb;
+            cap = ncap;
+        }
+        got = fread(buf + n, 1, cap - n, f);
+        /* what the first bytes say is checked as soon as they arrive, so that
+           /dev/zero or a compressed file is refused without reading it whole */
+        if (n < 2 && n + got >= 2 && (unsigned char)buf[0] == 0x1F
+            && (unsigned char)buf[1] == 0x8B) { *st = READ_GZIP; break; }
+        if (n < nm && n + got >= nm && memcmp(buf, magic, nm) != 0) { *st = READ_MAGIC; break; }
+        if (text && memchr(buf + n, '\0', got)) { *st = READ_NUL; break; }
+        n += got;
+        if (got == 0) {
+            if (ferror(f)) *st = READ_IO;
+            else if (n < nm) *st = READ_MAGIC;
+            break;
+        }
+    }
+    fclose(f);
+    if (*st != READ_OK) { free(buf); return NULL; }
+    if (!buf && !(buf = (char *)malloc(1))) { *st = READ_NOMEM; return NULL; }
+    buf[n] = '\0';
+    *len = n;
+    return buf;
 }

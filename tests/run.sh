@@ -4,7 +4,8 @@
 #  1. the unit/statistical suite (tests/runner) built by make with the default cc
 #  2. end-to-end checks of the binary: exit codes, one-line errors, a tiny render
 #  3. the same suite built with -Werror by gcc, clang and tcc (C99, pedantic)
-#  4. the suite once more under AddressSanitizer + UndefinedBehaviorSanitizer
+#  4. the suite once more under AddressSanitizer + UndefinedBehaviorSanitizer, and
+#     the fuzz inputs (fuzz/regress, fuzz/seeds) replayed under it
 #  5. the test runner itself: its compiler probe without clang and tcc on PATH
 # Steps 3 and 4 run every test with a quarter of the samples (SPECNEE_TEST_SCALE):
 # they prove the build and catch memory errors; step 1 carries the statistics.
@@ -216,6 +217,25 @@ if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
 else
     skip "repo_no_tracked_binaries: not a git checkout"
 fi
+# hostile input end to end (tests/test_robust.c has the unit cases)
+# a PFM read from a pipe: the header claims 16384 x 16384 (3 GiB); 18 bytes arrive.
+# Within 1 GiB of address space the reader must report the truncation, not try to
+# allocate what the header claims first
+rm -f tests/tmp/pipe.pfm
+if mkfifo tests/tmp/pipe.pfm 2>/dev/null; then
+    (printf 'PF\n16384 16384\n-1\n' > tests/tmp/pipe.pfm &)
+    expect "robust_pfm_pipe" 1 "truncated: 16384x16384 pixels need 3221225472 bytes of data, the stream has 0" \
+        sh -c 'ulimit -v 1048576; exec ./specnee merge --equal-weights tests/tmp/pipe.pfm -o tests/tmp/pipe-out.pfm'
+    rm -f tests/tmp/pipe.pfm
+else
+    skip "robust_pfm_pipe: no mkfifo"
+fi
+expect "robust_res_budget" 2 "memory budget" ./specnee --res 16384x16384 scenes/cornell.pbrt
+# every input that ever crashed a fuzz target (fuzz/regress) and the fuzz seeds
+for t in scene ply pfm spectrum; do
+    mkdir -p tests/tmp/replay-$t
+    counted replay-$t fuzz/replay $t tests/tmp/replay-$t fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)
+done
 
 # golden images (bit-exact with this binary) and every command of the walkthrough
 counted golden sh tests/golden.sh
@@ -260,6 +280,20 @@ if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
             UBSAN_OPTIONS=print_stacktrace=1 build/runner-asan
     else
         fail "build_asan ($acc)"; tail -n 15 "$log"
+    fi
+    # the fuzz inputs (fuzz/regress, fuzz/seeds) under the same sanitizers
+    if [ -n "$acc" ]; then
+        if $acc -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
+               -fno-omit-frame-pointer -I. -o build/replay-asan fuzz/replay.c fuzz/targets.c \
+               $LIBSRC -lm >> "$log" 2>&1; then
+            for t in scene ply pfm spectrum; do
+                counted replay-asan-$t env ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+                    UBSAN_OPTIONS=print_stacktrace=1 build/replay-asan $t tests/tmp/replay-$t \
+                    fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)
+            done
+        else
+            fail "build_replay_asan ($acc)"; tail -n 15 "$log"
+        fi
     fi
     # ---- 5. the runner itself: with clang and tcc hidden from PATH the probe
     # skips them and exits 0; under SPECNEE_STRICT=1 the same probe fails

@@ -1015,7 +1015,11 @@ static void test_ply_errors(T *t)
          "nx ny nz"},
         {"e_noindices.ply", HDR_V "element face 1\nproperty list uchar int corners\nend_header\n"
          VERTS "3 0 1 2\n", ":7:", "no vertex_indices"},
-        {"e_trunc.ply", HDR_V HDR_F "0 0 0\n1 0 0\n", ":12:", "truncated"},
+        {"e_trunc.ply", HDR_V HDR_F "0      0      0\n1      0      0\n", ":12:", "truncated"},
+        {"e_short.ply", HDR_V HDR_F "0 0 0\n1 0 0\n", ":3:", "3 rows need at least 18 bytes"},
+        {"e_faces.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n"
+         "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1\n", ":7:", "3 rows need at least 24 bytes"},
         {"e_range.ply", HDR_V HDR_F VERTS "3 0 1 3\n", ":13:", "out of range"},
         {"e_negindex.ply", HDR_V HDR_F VERTS "3 0 -1 2\n", ":13:", "out of range"},
         {"e_pentagon.ply", HDR_V HDR_F VERTS "5 0 1 2 0 1\n", ":13:", "5 vertices"},

@@ -1,0 +1,166 @@
+/* fuzz/targets.c - the four input readers of specnee as fuzz targets.
+
+   Each target takes arbitrary bytes and must come back with either a result or a
+   one-line error: no crash, no hang, no leak, no undefined behaviour, and no
+   absurd allocation.  The same code serves two drivers:
+     fuzz/libfuzzer.c  libFuzzer's entry point (clang -fsanitize=fuzzer, `make fuzz`)
+     fuzz/replay.c     a plain C99 program that runs saved inputs through a target;
+                       `make test` replays every input that ever crashed
+                       (fuzz/regress/TARGET/) and the seeds (fuzz/seeds/TARGET/).
+
+   Targets (name: what the bytes are):
+     scene     pbrt-v4 scene text, parsed as if it were scenes/fuzz-input.pbrt (so
+               relative names find scenes/meshes/...); a scene that loads is also
+               rendered at no more than 8 x 8 pixels, 1 sample per pixel, and must
+               give finite pixels (the camera and emitters are validated at load)
+     ply       a PLY file
+     pfm       a PFM image followed by its sidecar: the last byte b says that the
+               last b bytes before it are the sidecar "<image>.txt"; the image is
+               read, its sidecar spp is read, and `specnee merge` combines the image
+               with itself
+     spectrum  a spectrum file (.spd text or CSV)
+
+   Files go to the directory tmpdir (the drivers give each process its own). */
+#include "../specnee.h"
+#include <stdlib.h>
+#include <string.h>
+
+int fuzz_run(const char *target, const unsigned char *data, size_t n, const char *tmpdir,
+             Error *e);
+
+static int write_bytes(const char *path, const unsigned char *data, size_t n)
+{
+    FILE *f = fopen(path, "wb");
+    int ok;
+    if (!f) return 0;
+    ok = fwrite(data, 1, n, f) == n;
+    if (fclose(f) != 0) ok = 0;
+    return ok;
+}
+
+/* Every error message must be one printable line: no control bytes. */
+static void check_message(const Error *e)
+{
+    const unsigned char *c;
+    for (c = (const unsigned char *)e->msg; *c; c++)
+        if (*c < 0x20 || *c == 0x7F) abort();
+}
+
+static int fuzz_scene(const unsigned char *data, size_t n, Error *e)
+{
+    char *text = (char *)malloc(n + 1);
+    Scene s;
+    int loaded;
+    if (!text) return 0;
+    memcpy(text, data, n);
+    text[n] = '\0';
+    loaded = scene_load_string(&s, text, "scenes/fuzz-input.pbrt", e);
+    if (loaded) {
+        RenderOptions o;
+        RenderStats st;
+        Image img;
+        Error re;
+        render_options_default(&o);
+        o.spp = 1;
+        o.threads = 1;
+        o.maxdepth = s.settings.maxdepth < 3 ? s.settings.maxdepth : 3;
+        o.progress = 0;
+        o.sel.strategy = (SelStrategy)(n % SEL_COUNT);
+        o.sel.grid_res = 4;
+        if (s.settings.xres > 8) s.settings.xres = 8;
+        if (s.settings.yres > 8) s.settings.yres = 8;
+        memset(&img, 0, sizeof img);
+        if (render(&s, &o, &img, &st, &re)) {
+            size_t i;
+            if (st.nonfinite != 0) abort();
+            for (i = 0; i < (size_t)img.w * (size_t)img.h * 3; i++)
+                if (!(img.rgb[i] == img.rgb[i]) || img.rgb[i] > 3.0e38f || img.rgb[i] < -3.0e38f)
+                    abort();
+        } else {
+            check_message(&re);
+            *e = re;
+            loaded = 0;
+        }
+        img_free(&img);
+        scene_free(&s);
+    } else {
+        check_message(e);
+    }
+    free(text);
+    return loaded;
+}
+
+static int fuzz_ply(const unsigned char *data, size_t n, const char *tmpdir, Error *e)
+{
+    char path[1024];
+    PlyMesh m;
+    int i;
+    snprintf(path, sizeof path, "%s/fuzz-input.ply", tmpdir);
+    if (!write_bytes(path, data, n)) return 0;
+    if (ply_read(path, &m, e)) {
+        for (i = 0; i < 3 * m.n_tris; i++)
+            if (m.idx[i] < 0 || m.idx[i] >= m.n_verts) abort();
+        ply_free(&m);
+        return 1;
+    }
+    check_message(e);
+    return 0;
+}
+
+static int fuzz_pfm(const unsigned char *data, size_t n, const char *tmpdir, Error *e)
+{
+    char path[1024], side[1100], out[1024];
+    size_t side_n = n > 0 ? data[n - 1] : 0;
+    Image im;
+    FILE *null;
+    char *argv[6];
+    int ok;
+    if (n == 0) return 0;
+    n--;                                         /* the length byte */
+    if (side_n > n) side_n = n;
+    snprintf(path, sizeof path, "%s/fuzz-input.pfm", tmpdir);
+    snprintf(side, sizeof side, "%s.txt", path);
+    snprintf(out, sizeof out, "%s/fuzz-merged.pfm", tmpdir);
+    if (!write_bytes(path, data, n - side_n) || !write_bytes(side, data + n - side_n, side_n))
+        return 0;
+    ok = pfm_read(&im, path, e);
+    if (ok) img_free(&im);
+    else check_message(e);
+    (void)img_read_sidecar_spp(path);
+    null = fopen("/dev/null", "w");
+    if (!null) return ok;
+    argv[0] = (char *)"merge"; argv[1] = path; argv[2] = path;
+    argv[3] = (char *)"-o"; argv[4] = out; argv[5] = NULL;
+    (void)img_cmd_merge(5, argv, null, null);
+    fclose(null);
+    return ok;
+}
+
+static int fuzz_spectrum(const unsigned char *data, size_t n, const char *tmpdir, Error *e)
+{
+    char path[1024];
+    Spectrum s;
+    snprintf(path, sizeof path, "%s/fuzz-input.spd", tmpdir);
+    if (!write_bytes(path, data, n)) return 0;
+    if (spec_from_file(&s, path, e)) {
+        int i;
+        for (i = 0; i < SPEC_N; i++)
+            if (!(s.v[i] == s.v[i]) || s.v[i] > 3.0e38f || s.v[i] < -3.0e38f) abort();
+        return 1;
+    }
+    check_message(e);
+    return 0;
+}
+
+/* Returns 1 when the input was accepted, 0 when it was refused (e->msg says why),
+   -1 for an unknown target. */
+int fuzz_run(const char *target, const unsigned char *data, size_t n, const char *tmpdir,
+             Error *e)
+{
+    e->msg[0] = '\0';
+    if (!strcmp(target, "scene")) return fuzz_scene(data, n, e);
+    if (!strcmp(target, "ply")) return fuzz_ply(data, n, tmpdir, e);
+    if (!strcmp(target, "pfm")) return fuzz_pfm(data, n, tmpdir, e);
+    if (!strcmp(target, "spectrum")) return fuzz_spectrum(data, n, tmpdir, e);
+    return -1;
+}
