@@ -12,8 +12,10 @@
      bvh_watertight_*    rays aimed exactly at shared vertices and edges of closed meshes
                          (an icosphere; a subdivided cube hit by axis-aligned rays, whose
                          flat boxes stress the slab test) all hit
-     bvh_structure       node boxes contain their children and primitives, every
-                         primitive sits in exactly one leaf of at most BVH_LEAF_MAX
+     bvh_structure       the 8-wide nodes' child boxes nest and contain their leaves'
+                         primitives (records copied exactly), empty slots are inverted
+                         boxes, every primitive sits in exactly one leaf of at most
+                         BVH_LEAF_MAX, the depth stays bounded
      bvh_deterministic   two builds are byte-identical
      bvh_degenerate      coincident centroids and an SAH-hostile exponential spacing
                          give a valid tree of bounded depth, still equal to brute force
