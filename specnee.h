@@ -247,6 +247,7 @@ typedef struct {
 /* The BVH (bvh.c; the node layout is drawn at the top of that file): 8-wide nodes
    holding their children's boxes, and the primitives in leaf order. */
 #define BVH_WIDTH 8
+#define BVH_WIDE_LEAF_MAX 8    /* a leaf of the wide tree: at most this many primitives */
 typedef struct {
     float box[6][BVH_WIDTH];   /* children's boxes by plane: lo x, lo y, lo z, hi x,
                                   hi y, hi z; an empty slot has lo = +inf, hi = -inf */

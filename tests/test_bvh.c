@@ -15,7 +15,7 @@
      bvh_structure       the 8-wide nodes' child boxes nest and contain their leaves'
                          primitives (records copied exactly), empty slots are inverted
                          boxes, every primitive sits in exactly one leaf of at most
-                         BVH_LEAF_MAX, the depth stays bounded
+                         BVH_WIDE_LEAF_MAX, the depth stays bounded
      bvh_deterministic   two builds are byte-identical
      bvh_degenerate      coincident centroids and an SAH-hostile exponential spacing
                          give a valid tree of bounded depth, still equal to brute force
@@ -511,7 +511,7 @@ static void test_bvh_watertight_cube(T *t)
 
 /* Recursive check of wide node i, whose box (from its parent's slot, or the root box)
    is lo..hi: every used slot's box lies inside it, empty slots are inverted boxes,
-   leaves hold 1..BVH_LEAF_MAX primitives whose geometry lies inside the leaf's box
+   leaves hold 1..BVH_WIDE_LEAF_MAX primitives whose geometry lies inside the leaf's box
    and whose records copy the scene.  seen[p] counts the leaves holding primitive p.
    Returns the depth below node i, or -1 (and a message). */
 static int check_node(const Bvh *b, const Scene *s, int i, const float *lo, const float *hi,
@@ -540,7 +540,7 @@ static int check_node(const Bvh *b, const Scene *s, int i, const float *lo, cons
         if (ref < 0) {                             /* leaf */
             const int first = (~ref) >> 3, count = ((~ref) & 7) + 1;
             int q, v;
-            if (count > BVH_LEAF_MAX || first + count > b->n_prims) {
+            if (count > BVH_WIDE_LEAF_MAX || first + count > b->n_prims) {
                 snprintf(msg, n_msg, "node %d slot %d: bad leaf %d+%d", i, k, first, count);
                 return -1;
             }
