@@ -1,7 +1,8 @@
 /* bvh.c - the bounding volume hierarchy: builds it, and answers ray queries with it.
 
    WHAT IT IMPLEMENTS
-     bvh_build / bvh_free       binned-SAH BVH over every triangle and sphere of a Scene
+     bvh_build / bvh_free       binned-SAH BVH over every triangle and sphere of a Scene,
+                                collapsed into 8-wide nodes
      bvh_intersect              closest hit along a ray segment 0 < t < tmax
      bvh_occluded               any hit (shadow rays): stops at the first one found
      intersect_triangle         watertight ray/triangle test (Woop, Benthin, Wald 2013)
@@ -12,6 +13,7 @@
    PRIMITIVES
      Primitive id k < n_tris is triangle k (vertices s->P[tris[k].v[0..2]]);
      id n_tris + j is sphere j, i.e. shape s->shapes[s->sphere_shape[j]].
+     At most 2^28 - 1 primitives (a leaf packs its first primitive into 28 bits).
 
    BUILD: binned surface area heuristic (Wald 2007, "On fast construction of SAH-based
    bounding volume hierarchies"; pbrt-v4 section 7.3.2)
@@ -24,24 +26,54 @@
      centroid coincides (nothing to bin) or the tree gets deeper than SAH_DEPTH_MAX,
      the node is cut in the middle of its primitive list instead, which bounds the depth
      (see BVH_STACK).  Nothing depends on threads or timing: the build is deterministic.
-     Nodes are stored depth first: the left child of node i is node i + 1 and the right
-     child's index is stored in the node, so the tree is one array of 32-byte nodes.
-     The triangles' vertices are copied in leaf order into tri_v (9 floats each), so a
-     leaf reads one contiguous run of memory; a sphere's slot holds (cx, cy, cz, r).
+     This binary tree (BinNode, depth first: the left child of node i is node i + 1)
+     is only a step: it is then collapsed into 8-wide nodes.  Each wide node starts
+     from a binary node's two children and repeatedly replaces the inner child of
+     largest surface area (the one most rays enter) by its two children, until it has
+     8 (Wald, Benthin, Boulos 2008, "Getting rid of packets"; pbrt-v4 and Embree build
+     wide BVHs this way).  A wide node replaces up to 7 binary nodes, and a ray visits
+     about a third as many nodes, each a few steps of straight-line SIMD work.
 
-   TRAVERSAL (after pbrt-v3 section 4.4.3 "BVH traversal")
-     Iterative, with a stack of node indices: at an inner node both children's boxes
-     are tested, the one the ray enters first is visited next and the other is pushed,
-     so that it is skipped when a closer hit has been found by the time it is popped.
+   LAYOUT (specnee.h: BvhNode, BvhPrim; 256-byte nodes aligned to 64 bytes)
+     A node holds the boxes of its (up to) 8 children, not its own, grouped by plane,
+     so that one plane of all 8 children is 8 consecutive floats:
+
+         BvhNode                 child 0   child 1   ...   child 7
+         box[0]  lo x            [ f32 ]   [ f32 ]         [ f32 ]   \
+         box[1]  lo y              ...                                |  6 x 32 bytes:
+         box[2]  lo z                                                 |  the slab test
+         box[3]  hi x                                                 |  reads 8 children
+         box[4]  hi y                                                 |  at once
+         box[5]  hi z                                                /
+         child[] >= 0: node index   < 0: leaf = ~(first << 3 | count - 1)
+         pad[]   (to 256 bytes: four whole cache lines)
+
+     An empty slot is the box lo = +inf, hi = -inf, which every ray misses, so the
+     loop over the 8 slots needs no test for it.  A leaf's primitives are the records
+     prims[first .. first + count), count <= BVH_WIDE_LEAF_MAX:
+
+         BvhPrim   v[0..8] = p0 p1 p2 (a sphere: centre, radius)   prim = its id
+
+     the vertices copied next to the primitive id, so a leaf is one contiguous run of
+     memory and needs no second indirection.  bmin/bmax in Bvh is the root's own box.
+
+   TRAVERSAL (the loop is traverse(), below)
+     Iterative, with a stack of (child, culling distance, entry distance).  Per ray:
+     1/d, the signs of d and the dominant axis kz are computed once; rays that miss the
+     root box stop there (ray_prepare, root_hit).  At an inner node node_hit_mask tests
+     the 8 child boxes and returns a bitmask of those entered.  No child: pop.  One
+     child: go to it directly.  Several: push them sorted by entry distance and go on
+     with the nearest.  At a leaf the primitives are tested.  Shadow rays (any hit)
+     use the same loop, skip the sorting and return at the first hit.
      Slab test (Kay & Kajiya 1986) with the precomputed inverse direction: on each axis
      the ray enters through the plane the sign of d points away from (lo for d >= 0, hi
-     for d < 0), so near and far planes are picked once per ray.  A zero component of d
-     gives 1/d = +-infinity; (b - o) * inf is then +-infinity, or NaN when the origin
-     lies exactly on the plane, and the near/far distances are accumulated with
-     "x > acc ? x : acc", which skips a NaN: a ray in the plane of a flat box (an
-     axis-aligned wall seen edge-on) still enters it.  The far distance is enlarged by
-     1 + 2 gamma(3) (Ize 2013, "Robust BVH ray traversal"; pbrt-v3 section 3.9.2) so that
-     rounding never culls a box the ray really touches.
+     for d < 0), so near and far planes are picked once per ray (RayPre.near/far).  A
+     zero component of d gives 1/d = +-infinity; (b - o) * inf is then +-infinity, or
+     NaN when the origin lies exactly on the plane, and the near/far distances are
+     accumulated with "x > acc ? x : acc", which skips a NaN: a ray in the plane of a
+     flat box (an axis-aligned wall seen edge-on) still enters it.  The far distance
+     is enlarged by 1 + 2 gamma(3) (Ize 2013, "Robust BVH ray traversal"; pbrt-v3
+     section 3.9.2) so that rounding never culls a box the ray really touches.
 
    ORDER INDEPENDENCE (the closest hit is a function of the ray, not of the traversal)
      The closest hit is defined as brute force over all primitives would find it: the
@@ -70,24 +102,24 @@
      along the normals of axis-aligned faces (where every vertex has the same Az and
      the 1-ulp cases live), grazing, and on duplicated and coplanar triangles.
 
-   SPEED (measured on tools/bench: 82k triangles, 1M incoherent rays, one thread)
-     A ray's cost is dominated by the chain "load a node, test its children's boxes,
-     load the next node": the loads of nodes deep in the tree miss the caches (the tree
-     and the triangles are ~5 MB), and a wrongly guessed branch makes the processor wait
-     for the whole chain.  Two changes paid off (about +7% together):
-       - The Woop shear constants (3 divisions) are computed only once the ray has hit
-         the root box; 73% of the benchmark's rays miss it and never need them.
-       - At an inner node the first cache line of each child's children (or leaf
-         triangles) is prefetched before the boxes are tested, so that those loads run
-         in parallel with the slab tests instead of after them (PREFETCH below).
-     Tried and measured no faster, so not done: selecting each slab's near/far plane by
-     the sign of the direction instead of min/max (the per-ray plane offsets crowd out
-     registers); branch-free child ordering and push/pop (a longer dependency chain
-     costs more than the mispredicted branches it saves); storing both children in one
-     64-byte aligned cache line; pbrt's test-on-pop traversal ordered by the direction
-     sign on the split axis; leaves of up to 8 triangles or C_trav = 4.
-     The compiler matters too: clang vectorises the slab tests (~13% faster than gcc
-     -O2 on the same source); -ffast-math is never used.
+   SPEED (tools/bench, `make bench`: 82k triangles, 1M incoherent rays, one thread)
+     A ray's cost is dominated by memory: loading a node, then the next, then the leaf
+     records; the loads deep in the tree miss the caches (tree and records ~5 MB).  The
+     8-wide layout cuts the chain of dependent loads (about 6 node visits a ray that
+     enters the mesh's box, against 17 binary ones), and the slab test of 8 children
+     is a branch-free loop that gcc and clang turn into SIMD instructions.  Also:
+       - the triangle test's shear (3 divisions) and the per-ray axis order are
+         computed only once the ray has hit the root box; 73% of the benchmark's rays
+         miss it (ray_prepare_rest);
+       - the children pushed are prefetched, all four lines of a node (PREFETCH);
+       - one child entered goes straight on, without the stack.
+     Measured no faster, so not done: 4-wide nodes (128 bytes); building the bitmask
+     with a SIMD OR of per-child bits (gcc made it slower); no sorting of the children;
+     prefetching only a node's first line; C_trav = 1, 3 or 4, or leaves of up to 8.
+     Culling on the dominant axis (ORDER INDEPENDENCE) visits about 7% more nodes than
+     culling on the full entry distance would; that is the price of exactness.
+     clang compiles the same source about 20% faster than gcc -O2; -ffast-math is never
+     used.  Figures: the commit message of the wide layout and `make bench`.
 
    RAY/TRIANGLE (Woop, Benthin, Wald, "Watertight Ray/Triangle Intersection", JCGT 2013)
      Translate the vertices to the ray origin, permute the axes so that the largest
@@ -138,10 +170,12 @@
 #include <string.h>
 
 /* Traversal stack size.  The build switches from SAH to middle splits at depth
-   SAH_DEPTH_MAX; a middle split halves the count, so no path is longer than
-   SAH_DEPTH_MAX + 31 < BVH_STACK nodes even for 2^31 primitives, and a traversal
-   never pushes more than one node per level. */
-#define BVH_STACK 64
+   SAH_DEPTH_MAX; a middle split halves the count, so no binary path is longer than
+   SAH_DEPTH_MAX + 28 < 64 nodes for the at most 2^28 primitives, and no wide path
+   either (a wide level takes at least one binary level).  A visit pops one entry and
+   pushes at most BVH_WIDTH, so the stack never holds more than
+   (BVH_WIDTH - 1) * 64 + 1 entries. */
+#define BVH_STACK ((BVH_WIDTH - 1) * 64 + 1)
 #define SAH_DEPTH_MAX 32
 
 /* The hot path (ray_prepare, node_hit, tri_hit) must be inlined into the traversal
@@ -177,13 +211,17 @@ typedef struct {
     float inv_d[3];          /* 1/d; +-infinity where d is +-0 */
     int neg[3];              /* the sign bit of d: the slab the ray enters first */
     int kx, ky, kz;          /* permutation: kz = axis of the largest |d| */
+    int axis[3];             /* the slab test's axis order: the other two, then kz */
+    int near[3], far[3];     /* the planes (BvhNode.box rows) of axis[s] that the ray
+                                enters and leaves through, by the sign of d */
     float Sx, Sy, Sz;        /* shear constants of Woop et al. */
     float far_scale;         /* 1 + 2 gamma(3): the robust slab test's far factor */
     float cull_scale;        /* 1 + 2 gamma(8): the closest-hit culling margin */
 } RayPre;
 
-/* The slab-test part of the precomputation (o, d, 1/d).  Returns 0 for a ray that
-   cannot hit anything (non-finite origin or direction). */
+/* The first part of the precomputation (o, d, 1/d, signs): all that the test of the
+   root box needs.  Returns 0 for a ray that cannot hit anything (a non-finite origin
+   or direction). */
 HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
 {
     int a;
@@ -194,27 +232,32 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
         rp->neg[a] = signbit(rp->d[a]) != 0;
         rp->inv_d[a] = rp->d[a] != 0.0f ? 1.0f / rp->d[a] : (rp->neg[a] ? -INFINITY : INFINITY);
     }
-    /* kz: the dimension where |d| is largest (the triangle test's z, and the axis
-       whose slab culls boxes beyond the closest hit; see ORDER INDEPENDENCE) */
+    return 1;
+}
+
+/* The rest: the dominant axis, the slab test's axis order and planes, and the
+   triangle test's permutation and shear (Woop et al.).  Kept separate so that
+   traversal computes it only for rays that hit the root box: most rays of an open
+   scene miss everything.  Returns 0 for a direction too short to use. */
+HOT_INLINE int ray_prepare_rest(RayPre *rp)
+{
+    int a;
+    /* kz: the dimension where |d| is largest, so the shear divides by the most (and
+       the axis whose slab culls boxes beyond the closest hit: ORDER INDEPENDENCE) */
     rp->kz = 0;
     if (fabsf(rp->d[1]) > fabsf(rp->d[rp->kz])) rp->kz = 1;
     if (fabsf(rp->d[2]) > fabsf(rp->d[rp->kz])) rp->kz = 2;
     /* a direction too short for 1/d_kz to be finite hits nothing (the same for the
-       brute-force tests intersect_triangle and intersect_sphere) */
+       brute-force tests intersect_triangle and intersect_sphere); this includes 0 */
     if (!(fabsf(rp->d[rp->kz]) >= FLT_MIN)) return 0;
+    for (a = 0; a < 3; a++) {
+        const int ax = (rp->kz + 1 + a) % 3;       /* a = 2 gives kz itself */
+        rp->axis[a] = ax;
+        rp->near[a] = rp->neg[ax] ? 3 + ax : ax;   /* hi for d < 0, lo for d >= 0 */
+        rp->far[a] = rp->neg[ax] ? ax : 3 + ax;
+    }
     rp->far_scale = 1.0f + 2.0f * gamma_n(3);
     rp->cull_scale = 1.0f + 2.0f * gamma_n(8);
-    return 1;
-}
-
-/* The triangle-test part (permutation and shear of Woop et al.).  Kept separate so
-   that traversal computes it only for rays that hit the root box: it costs three
-   divisions, and most rays of an open scene miss everything.  Returns 0 for d = 0. */
-HOT_INLINE int ray_prepare_shear(RayPre *rp)
-{
-    /* kz (ray_prepare): the dimension where |d| is largest, so the shear divides by
-       the most */
-    if (rp->d[rp->kz] == 0.0f) return 0;                 /* d = (0, 0, 0) */
     rp->kx = (rp->kz + 1) % 3;
     rp->ky = (rp->kx + 1) % 3;
     if (rp->d[rp->kz] < 0.0f) {        /* swap x and y to keep the triangles' winding */
@@ -222,7 +265,7 @@ HOT_INLINE int ray_prepare_shear(RayPre *rp)
     }
     rp->Sx = rp->d[rp->kx] / rp->d[rp->kz];
     rp->Sy = rp->d[rp->ky] / rp->d[rp->kz];
-    rp->Sz = 1.0f / rp->d[rp->kz];
+    rp->Sz = rp->inv_d[rp->kz];        /* = 1 / d_kz, the very float the slab test uses */
     return 1;
 }
 
@@ -352,7 +395,7 @@ int intersect_triangle(Vec3 p0, Vec3 p1, Vec3 p2, const Ray *r, float *t, float 
     v[0] = p0.x; v[1] = p0.y; v[2] = p0.z;
     v[3] = p1.x; v[4] = p1.y; v[5] = p1.z;
     v[6] = p2.x; v[7] = p2.y; v[8] = p2.z;
-    if (!ray_prepare(r, &rp) || !ray_prepare_shear(&rp)) return 0;
+    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp)) return 0;
     return tri_hit(&rp, v, r->tmax, t, b1, b2) && *t < r->tmax;
 }
 
@@ -361,7 +404,7 @@ int intersect_sphere(Vec3 c, float radius, const Ray *r, float *t)
     RayPre rp;
     float s[4];
     s[0] = c.x; s[1] = c.y; s[2] = c.z; s[3] = radius;
-    if (!ray_prepare(r, &rp) || !ray_prepare_shear(&rp)) return 0;
+    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp)) return 0;
     return sphere_hit(&rp, s, r->tmax, t) && *t < r->tmax;
 }
 
@@ -404,6 +447,15 @@ typedef struct {
     Box box;
     float centroid[3];
 } PrimInfo;
+
+/* A node of the binary tree the build makes first (then collapsed into wide nodes):
+   its children are the next node and node first_or_right; a leaf (count > 0) holds
+   prims[first_or_right .. + count). */
+typedef struct {
+    Box box;
+    int32_t first_or_right, count;
+    int32_t sub_first, sub_count;  /* all primitives below: prims[sub_first .. + sub_count) */
+} BinNode;
 
 /* A node waiting to be built: primitives prims[begin, end), at this depth; parent is
    the inner node whose right child it is (-1 for a left child or the root). */
@@ -531,10 +583,74 @@ static int sah_split(const PrimInfo *info, int32_t *prims, int begin, int end,
 
 void bvh_free(Bvh *b)
 {
-    free(b->nodes);
+    free(b->node_mem);
     free(b->prims);
-    free(b->tri_v);
     memset(b, 0, sizeof *b);
+}
+
+/* The empty slot of a wide node: a box with lo = +inf and hi = -inf, which every
+   ray's slab test misses (entry +inf, exit -inf; no NaN, since o is finite). */
+static void slot_empty(BvhNode *nd, int j)
+{
+    int a;
+    for (a = 0; a < 3; a++) { nd->box[a][j] = INFINITY; nd->box[3 + a][j] = -INFINITY; }
+    nd->child[j] = 0;
+}
+
+/* Slot k of a wide node holds the binary node c: its box, and for a leaf the packed
+   (first, count), else the wide node index `wide`. */
+static void slot_set(BvhNode *nd, int k, const BinNode *c, int32_t wide)
+{
+    int a;
+    for (a = 0; a < 3; a++) { nd->box[a][k] = c->box.lo[a]; nd->box[3 + a][k] = c->box.hi[a]; }
+    nd->child[k] = c->sub_count <= BVH_WIDE_LEAF_MAX
+                       ? ~(int32_t)(((uint32_t)c->sub_first << 3) | (uint32_t)(c->sub_count - 1))
+                       : wide;
+}
+
+/* Collapse the binary tree bin[] (root bin[0], an inner node) into the wide nodes of
+   b: each wide node starts from a binary node's two children and opens, while it has
+   fewer than BVH_WIDTH children, the inner child of largest surface area (it is the
+   one most rays enter), so one wide node replaces up to 7 binary levels.  Leaves stay
+   as they are, and so does, as one leaf, an inner child left unopened that holds at
+   most BVH_WIDE_LEAF_MAX primitives: without that, the bottom of the tree would be
+   full of wide nodes with two or three leaves (on 1.3 M triangles 3.3 children a node
+   and 30% more memory than the binary tree; with it 7.5 and less).  Wide nodes are numbered in depth-first order, which keeps a subtree
+   close in memory. */
+static void collapse(Bvh *b, const BinNode *bin, int32_t *todo_bin, int32_t *todo_wide)
+{
+    int sp = 0, k;
+    todo_bin[sp] = 0; todo_wide[sp] = 0; sp++;
+    b->n_nodes = 1;
+    while (sp > 0) {
+        const int bi = todo_bin[--sp], wi = todo_wide[sp];
+        BvhNode *nd = &b->nodes[wi];
+        int kids[BVH_WIDTH], n_kids = 2;
+        kids[0] = bi + 1;
+        kids[1] = bin[bi].first_or_right;
+        while (n_kids < BVH_WIDTH) {
+            int best = -1;
+            float best_area = -1.0f;
+            for (k = 0; k < n_kids; k++) {
+                const BinNode *c = &bin[kids[k]];
+                if (c->count == 0 && box_half_area(&c->box) > best_area) {
+                    best = k;
+                    best_area = box_half_area(&c->box);
+                }
+            }
+            if (best < 0) break;                   /* only leaves left */
+            kids[n_kids++] = bin[kids[best]].first_or_right;   /* open it */
+            kids[best] = kids[best] + 1;
+        }
+        for (k = 0; k < BVH_WIDTH; k++) {
+            if (k >= n_kids) { slot_empty(nd, k); continue; }
+            slot_set(nd, k, &bin[kids[k]], b->n_nodes);
+            if (bin[kids[k]].sub_count > BVH_WIDE_LEAF_MAX) {   /* a wide node to make */
+                todo_bin[sp] = kids[k]; todo_wide[sp] = b->n_nodes++; sp++;
+            }
+        }
+        for (k = 0; k < BVH_WIDTH; k++) nd->pad[k] = 0;
+    }
 }
 
 int bvh_build(Bvh *b, const Scene *s)
@@ -542,144 +658,243 @@ int bvh_build(Bvh *b, const Scene *s)
     const int n = s->n_tris + s->n_spheres;
     PrimInfo *info = NULL;
     BuildTask *stack = NULL;
-    int sp = 0, i, a;
+    BinNode *bin = NULL;
+    int32_t *prims = NULL, *todo = NULL;
+    int sp = 0, n_bin = 0, n_inner, i, a;
+    size_t n_wide;
 
     memset(b, 0, sizeof *b);
     if (s->n_tris < 0 || s->n_spheres < 0 || n < 0) return 0;
     if (n == 0) return 1;                          /* empty scene: no nodes, no hits */
-    if ((size_t)n > ((size_t)-1) / (2 * sizeof(BvhNode))) return 0;
+    if (n >= (1 << 28)) return 0;                  /* a leaf packs first << 3 in 31 bits */
     info = (PrimInfo *)malloc((size_t)n * sizeof *info);
     stack = (BuildTask *)malloc(((size_t)n + 1) * sizeof *stack);
-    b->nodes = (BvhNode *)malloc(2 * (size_t)n * sizeof *b->nodes);  /* <= 2n-1 nodes */
-    b->prims = (int32_t *)malloc((size_t)n * sizeof *b->prims);
-    b->tri_v = (float *)malloc(9 * (size_t)n * sizeof *b->tri_v);
-    if (!info || !stack || !b->nodes || !b->prims || !b->tri_v || !prim_infos(s, info)) {
-        free(info); free(stack); bvh_free(b);
+    bin = (BinNode *)malloc(2 * (size_t)n * sizeof *bin);              /* <= 2n-1 nodes */
+    prims = (int32_t *)malloc((size_t)n * sizeof *prims);
+    if (!info || !stack || !bin || !prims || !prim_infos(s, info)) {
+        free(info); free(stack); free(bin); free(prims);
         return 0;
     }
-    for (i = 0; i < n; i++) b->prims[i] = i;
-    b->n_prims = n;
+    for (i = 0; i < n; i++) prims[i] = i;
 
-    /* Depth-first construction with an explicit stack (no recursion, so no C stack
-       overflow on a degenerate tree): pushing the right task before the left one
-       makes the left child the very next node. */
+    /* 1. The binary SAH tree, depth first with an explicit stack (no recursion, so no
+       C stack overflow on a degenerate tree): pushing the right task before the left
+       one makes the left child the very next node. */
     stack[sp].begin = 0; stack[sp].end = n; stack[sp].parent = -1; stack[sp].depth = 0;
     sp++;
     while (sp > 0) {
         BuildTask task = stack[--sp];
-        int node = b->n_nodes++, count = task.end - task.begin, axis = 0, mid = 0, split;
-        BvhNode *nd = &b->nodes[node];
-        Box box, cbox;
-        if (task.parent >= 0) b->nodes[task.parent].first_or_right = node;
+        int node = n_bin++, count = task.end - task.begin, axis = 0, mid = 0, split;
+        BinNode *nd = &bin[node];
+        Box cbox;
+        if (task.parent >= 0) bin[task.parent].first_or_right = node;
 
-        box_empty(&box); box_empty(&cbox);
+        box_empty(&nd->box); box_empty(&cbox);
         for (i = task.begin; i < task.end; i++) {
-            box_grow(&box, &info[b->prims[i]].box);
-            box_grow_point(&cbox, info[b->prims[i]].centroid);
+            box_grow(&nd->box, &info[prims[i]].box);
+            box_grow_point(&cbox, info[prims[i]].centroid);
         }
-        for (a = 0; a < 3; a++) { nd->bmin[a] = box.lo[a]; nd->bmax[a] = box.hi[a]; }
 
         split = 0;
         if (count > 1 && task.depth < SAH_DEPTH_MAX)
-            split = sah_split(info, b->prims, task.begin, task.end, &box, &cbox, &axis, &mid);
+            split = sah_split(info, prims, task.begin, task.end, &nd->box, &cbox, &axis, &mid);
         if (!split && count > BVH_LEAF_MAX) {
             /* middle split: identical centroids, or too deep for the SAH */
-            float ext = -1.0f;
-            for (a = 0; a < 3; a++)
-                if (box.hi[a] - box.lo[a] > ext) { ext = box.hi[a] - box.lo[a]; axis = a; }
             mid = task.begin + count / 2;
             split = 1;
         }
         if (!split) {                              /* leaf */
             nd->first_or_right = task.begin;
-            nd->count = (int16_t)count;            /* <= BVH_LEAF_MAX */
-            nd->axis = 0;
+            nd->count = count;                     /* <= BVH_LEAF_MAX */
             continue;
         }
         nd->count = 0;
-        nd->axis = (int16_t)axis;
         nd->first_or_right = -1;                   /* set when the right child is made */
         stack[sp].begin = mid; stack[sp].end = task.end;
         stack[sp].parent = node; stack[sp].depth = task.depth + 1; sp++;
         stack[sp].begin = task.begin; stack[sp].end = mid;
         stack[sp].parent = -1; stack[sp].depth = task.depth + 1; sp++;
     }
+    free(info);
+    free(stack);
+    /* every node's range of primitives, bottom up (children come after parents) */
+    for (i = n_bin - 1; i >= 0; i--) {
+        BinNode *nd = &bin[i];
+        if (nd->count > 0) { nd->sub_first = nd->first_or_right; nd->sub_count = nd->count; }
+        else {
+            nd->sub_first = bin[i + 1].sub_first;
+            nd->sub_count = bin[i + 1].sub_count + bin[nd->first_or_right].sub_count;
+        }
+    }
 
-    /* Copy the primitives' data into leaf order: 9 floats a triangle, 4 a sphere. */
+    /* 2. Collapse it into wide nodes.  Each wide node takes at least one binary inner
+       node, so there are at most n_inner of them (one when the root is a leaf). */
+    n_inner = (n_bin - 1) / 2;                     /* a binary tree: leaves = inner + 1 */
+    n_wide = n_inner > 0 ? (size_t)n_inner : 1;
+    b->node_mem = malloc(n_wide * sizeof(BvhNode) + 63);
+    b->prims = (BvhPrim *)malloc((size_t)n * sizeof *b->prims);
+    todo = (int32_t *)malloc(2 * (n_wide + 1) * sizeof *todo);
+    if (!b->node_mem || !b->prims || !todo) {
+        free(bin); free(prims); free(todo); bvh_free(b);
+        return 0;
+    }
+    /* align the nodes to a cache line: a node is then exactly four lines */
+    b->nodes = (BvhNode *)((char *)b->node_mem + ((64 - (size_t)((uintptr_t)b->node_mem & 63)) & 63));
+    for (a = 0; a < 3; a++) { b->bmin[a] = bin[0].box.lo[a]; b->bmax[a] = bin[0].box.hi[a]; }
+    if (bin[0].count > 0) {                        /* the root is a leaf: one slot */
+        for (i = 1; i < BVH_WIDTH; i++) slot_empty(b->nodes, i);
+        slot_set(b->nodes, 0, &bin[0], 0);
+        for (i = 0; i < BVH_WIDTH; i++) b->nodes->pad[i] = 0;
+        b->n_nodes = 1;
+    } else
+        collapse(b, bin, todo, todo + n_wide + 1);
+
+    /* 3. The primitives' data in leaf order: 9 floats a triangle, 4 a sphere. */
     for (i = 0; i < n; i++) {
-        float *v = &b->tri_v[9 * (size_t)i];
-        int p = b->prims[i], k;
+        BvhPrim *q = &b->prims[i];
+        int p = prims[i], k;
+        q->prim = p;
         if (p < s->n_tris) {
             for (k = 0; k < 3; k++) {
-                Vec3 q = s->P[s->tris[p].v[k]];
-                v[3 * k] = q.x; v[3 * k + 1] = q.y; v[3 * k + 2] = q.z;
+                Vec3 v = s->P[s->tris[p].v[k]];
+                q->v[3 * k] = v.x; q->v[3 * k + 1] = v.y; q->v[3 * k + 2] = v.z;
             }
         } else {
             const Shape *sh = &s->shapes[s->sphere_shape[p - s->n_tris]];
-            v[0] = sh->center.x; v[1] = sh->center.y; v[2] = sh->center.z;
-            v[3] = sh->radius;
-            for (k = 4; k < 9; k++) v[k] = 0.0f;
+            q->v[0] = sh->center.x; q->v[1] = sh->center.y; q->v[2] = sh->center.z;
+            q->v[3] = sh->radius;
+            for (k = 4; k < 9; k++) q->v[k] = 0.0f;
         }
     }
-    free(info);
-    free(stack);
+    b->n_prims = n;
+    free(bin);
+    free(prims);
+    free(todo);
     return 1;
 }
 
 /* ======================================================================
    Traversal
    ====================================================================== */
-/* Slab test: does the ray meet the node's box, and may the box still hold a hit at
-   t <= t_best?  (t_cull = t_best * cull_scale; see ORDER INDEPENDENCE in the header.)
-   On a hit, *t_enter is where the ray enters the box (the visiting order) and *t_z is
-   the near plane on the ray's dominant axis kz (what culls the box later). */
-HOT_INLINE int node_hit(const BvhNode *nd, const RayPre *rp, float t_cull,
-                        float *t_enter, float *t_z)
+/* The slab test of the root's box (as in node_hit_mask, but without the culling by
+   tmax: for a ray that misses it, nothing else needs computing). */
+HOT_INLINE int root_hit(const Bvh *b, const RayPre *rp)
 {
-    /* the plane the ray crosses first on each axis, by the sign of d, and the other */
-    const float nx = ((rp->neg[0] ? nd->bmax[0] : nd->bmin[0]) - rp->o[0]) * rp->inv_d[0];
-    const float fx = ((rp->neg[0] ? nd->bmin[0] : nd->bmax[0]) - rp->o[0]) * rp->inv_d[0];
-    const float ny = ((rp->neg[1] ? nd->bmax[1] : nd->bmin[1]) - rp->o[1]) * rp->inv_d[1];
-    const float fy = ((rp->neg[1] ? nd->bmin[1] : nd->bmax[1]) - rp->o[1]) * rp->inv_d[1];
-    const float nz = ((rp->neg[2] ? nd->bmax[2] : nd->bmin[2]) - rp->o[2]) * rp->inv_d[2];
-    const float fz = ((rp->neg[2] ? nd->bmin[2] : nd->bmax[2]) - rp->o[2]) * rp->inv_d[2];
-    /* a NaN (0 * inf: d = 0 with the origin on the plane) is skipped by the ?: */
-    float tnear = 0.0f, tfar = INFINITY;
-    tnear = nx > tnear ? nx : tnear;  tfar = fx < tfar ? fx : tfar;
-    tnear = ny > tnear ? ny : tnear;  tfar = fy < tfar ? fy : tfar;
-    tnear = nz > tnear ? nz : tnear;  tfar = fz < tfar ? fz : tfar;
-    *t_enter = tnear;
-    *t_z = rp->kz == 0 ? nx : rp->kz == 1 ? ny : nz;
-    return tnear <= tfar * rp->far_scale && *t_z <= t_cull;
+    float tn = 0.0f, tf = INFINITY;
+    int a;
+    for (a = 0; a < 3; a++) {
+        const float t_near = ((rp->neg[a] ? b->bmax[a] : b->bmin[a]) - rp->o[a]) * rp->inv_d[a];
+        const float t_far = ((rp->neg[a] ? b->bmin[a] : b->bmax[a]) - rp->o[a]) * rp->inv_d[a];
+        tn = t_near > tn ? t_near : tn;
+        tf = t_far < tf ? t_far : tf;
+    }
+    return tn <= tf * (1.0f + 2.0f * gamma_n(3));
+}
+
+/* Ask for the memory of a child (a node, or a leaf's primitive records) before it is
+   needed, so that loading it overlaps with the work on its siblings. */
+HOT_INLINE void prefetch_ref(const Bvh *b, int32_t ref)
+{
+    if (ref >= 0) {
+        const char *p = (const char *)&b->nodes[ref];
+        PREFETCH(p); PREFETCH(p + 64); PREFETCH(p + 128); PREFETCH(p + 192);
+    } else {
+        const char *p = (const char *)&b->prims[(~ref) >> 3];
+        PREFETCH(p); PREFETCH(p + 64); PREFETCH(p + 128);
+    }
+}
+
+/* One stack entry: a child reference (node or leaf, as in BvhNode.child), its near
+   plane on the dominant axis (culls it when popped) and its entry distance (orders
+   the children of one node). */
+typedef struct { int32_t ref; float t_z, t_enter; } StackEntry;
+
+/* The slab test of all BVH_WIDTH children of a node: returns the bitmask of those the
+   ray enters and that may still hold a hit at t <= t_best (t_cull = t_best *
+   cull_scale; ORDER INDEPENDENCE above), with their entry distances and dominant-axis
+   near planes.  The loop has no branches, so gcc and clang turn it into SIMD code;
+   the axes are taken in the ray's order (slot 2 is kz) and the planes by its signs. */
+HOT_INLINE unsigned node_hit_mask(const BvhNode *nd, const RayPre *rp, float t_cull,
+                                  float *t_enter, float *t_z)
+{
+    const float *n0 = nd->box[rp->near[0]], *f0 = nd->box[rp->far[0]];
+    const float *n1 = nd->box[rp->near[1]], *f1 = nd->box[rp->far[1]];
+    const float *n2 = nd->box[rp->near[2]], *f2 = nd->box[rp->far[2]];
+    const float o0 = rp->o[rp->axis[0]], o1 = rp->o[rp->axis[1]], o2 = rp->o[rp->axis[2]];
+    const float i0 = rp->inv_d[rp->axis[0]], i1 = rp->inv_d[rp->axis[1]],
+                i2 = rp->inv_d[rp->axis[2]], far_scale = rp->far_scale;
+    int hit[BVH_WIDTH], j;
+    unsigned mask = 0;
+    for (j = 0; j < BVH_WIDTH; j++) {
+        const float tn0 = (n0[j] - o0) * i0, tf0 = (f0[j] - o0) * i0;
+        const float tn1 = (n1[j] - o1) * i1, tf1 = (f1[j] - o1) * i1;
+        const float tn2 = (n2[j] - o2) * i2, tf2 = (f2[j] - o2) * i2;
+        /* "x > acc ? x : acc" skips a NaN x (d = 0 and the origin on the plane) */
+        float tn = 0.0f, tf = INFINITY;
+        tn = tn0 > tn ? tn0 : tn;  tf = tf0 < tf ? tf0 : tf;
+        tn = tn1 > tn ? tn1 : tn;  tf = tf1 < tf ? tf1 : tf;
+        tn = tn2 > tn ? tn2 : tn;  tf = tf2 < tf ? tf2 : tf;
+        t_enter[j] = tn;
+        t_z[j] = tn2;
+        hit[j] = (tn <= tf * far_scale) & (tn2 <= t_cull);
+    }
+    for (j = BVH_WIDTH - 1; j >= 0; j--) mask = mask << 1 | (unsigned)hit[j];  /* bit j */
+    return mask;
 }
 
 /* Walk the tree; any_hit = 1 returns at the first hit (h may be NULL then).
-   A node is entered only after its box was hit; at an inner node both children's
-   boxes are tested, the one the ray enters first is visited next and the other is
-   pushed with its dominant-axis near plane, which culls it on the way back if a
-   closer hit has been found meanwhile.  The closest hit is the smallest t, and among
-   equal t the smallest primitive id, whatever the order of the visits. */
+   A stack holds the children still to visit.  At an inner node, the children the ray
+   enters are pushed, the nearest last, so that it is popped next (the order only
+   saves time: ORDER INDEPENDENCE); a child is dropped when popped if a hit closer
+   than its dominant-axis near plane (with the margin) has been found meanwhile. */
 static inline int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h,
                            int any_hit)
 {
     RayPre rp;
-    int stack[BVH_STACK], sp = 0, node = 0, best_p = -1, i;
-    float stack_t[BVH_STACK], t_best = r->tmax, t_cull, t, b1, b2, t_l, t_r, z_l, z_r;
-    if (b->n_nodes == 0 || !ray_prepare(r, &rp) || !(t_best > 0.0f)) return 0;
+    StackEntry stack[BVH_STACK];
+    float t_enter[BVH_WIDTH], t_z[BVH_WIDTH], t_best = r->tmax, t_cull, t, b1, b2;
+    int sp = 0, best_p = -1, ref = 0, j;
+    if (b->n_nodes == 0 || !(t_best > 0.0f) || !ray_prepare(r, &rp) || !root_hit(b, &rp) ||
+        !ray_prepare_rest(&rp))                    /* only now: see "SPEED" above */
+        return 0;
     t_cull = t_best * rp.cull_scale;
-    if (!node_hit(&b->nodes[0], &rp, t_cull, &t, &z_l)) return 0;
-    if (!ray_prepare_shear(&rp)) return 0;         /* only now: see "SPEED" above */
 
     for (;;) {
-        const BvhNode *nd = &b->nodes[node];
-        if (nd->count > 0) {
+        if (ref >= 0) {
+            /* inner node: test the children; go on with the nearest one entered, push
+               the others (sorted, so that the nearer ones are popped first) */
+            const BvhNode *nd = &b->nodes[ref];
+            const unsigned mask = node_hit_mask(nd, &rp, t_cull, t_enter, t_z);
+            if (mask != 0) {
+                const int first = sp;
+                if ((mask & (mask - 1)) == 0) {    /* one child: no stack */
+                    for (j = 0; !(mask >> j & 1u); j++) continue;
+                    ref = nd->child[j];
+                    prefetch_ref(b, ref);
+                    continue;
+                }
+                for (j = 0; j < BVH_WIDTH; j++) {
+                    int k;
+                    if (!(mask >> j & 1u)) continue;
+                    /* insertion into stack[first .. sp), by decreasing entry distance */
+                    for (k = sp++; k > first && !any_hit && stack[k - 1].t_enter < t_enter[j]; k--)
+                        stack[k] = stack[k - 1];
+                    stack[k].ref = nd->child[j];
+                    stack[k].t_z = t_z[j];
+                    stack[k].t_enter = t_enter[j];
+                    prefetch_ref(b, nd->child[j]);
+                }
+                ref = stack[--sp].ref;             /* the nearest */
+                continue;
+            }
+        } else {
             /* leaf: test its primitives; tri_hit accepts t <= t_best */
-            const int end = nd->first_or_right + nd->count;
-            for (i = nd->first_or_right; i < end; i++) {
-                const float *v = &b->tri_v[9 * (size_t)i];
-                int p = b->prims[i], ok;
-                if (p < s->n_tris) ok = tri_hit(&rp, v, t_best, &t, &b1, &b2);
-                else { ok = sphere_hit(&rp, v, t_best, &t); b1 = b2 = 0.0f; }
+            const BvhPrim *q = &b->prims[(~ref) >> 3], *end = q + ((~ref) & 7) + 1;
+            for (; q < end; q++) {
+                const int p = q->prim;
+                int ok;
+                if (p < s->n_tris) ok = tri_hit(&rp, q->v, t_best, &t, &b1, &b2);
+                else { ok = sphere_hit(&rp, q->v, t_best, &t); b1 = b2 = 0.0f; }
                 if (!ok) continue;
                 if (any_hit) {
                     if (t < r->tmax) return 1;
@@ -693,35 +908,13 @@ static inline int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord
                 best_p = p;
                 h->t = t; h->prim = p; h->b1 = b1; h->b2 = b2;
             }
-        } else {
-            const int left = node + 1, right = nd->first_or_right;
-            const BvhNode *c_l = &b->nodes[left], *c_r = &b->nodes[right];
-            int hit_l, hit_r;
-            /* Whichever child is visited next, its children (or its triangles) are the
-               loads after that.  Ask for them now, so that they overlap with the two slab
-               tests below; nodes deep in the tree are usually not in the cache.  (A
-               child's left child sits right after it, so only the right one is asked.) */
-            if (c_l->count > 0) PREFETCH(&b->tri_v[9 * (size_t)c_l->first_or_right]);
-            else PREFETCH(&b->nodes[c_l->first_or_right]);
-            if (c_r->count > 0) PREFETCH(&b->tri_v[9 * (size_t)c_r->first_or_right]);
-            else PREFETCH(&b->nodes[c_r->first_or_right]);
-            hit_l = node_hit(c_l, &rp, t_cull, &t_l, &z_l);
-            hit_r = node_hit(c_r, &rp, t_cull, &t_r, &z_r);
-            if (hit_l && hit_r) {                   /* nearer first, push the other */
-                if (t_r < t_l) { node = right; stack[sp] = left; stack_t[sp] = z_l; }
-                else { node = left; stack[sp] = right; stack_t[sp] = z_r; }
-                sp++;
-                continue;
-            }
-            if (hit_l) { node = left; continue; }
-            if (hit_r) { node = right; continue; }
         }
-        /* pop the next node that may still hold a hit at t <= t_best */
+        /* pop the next child that may still hold a hit at t <= t_best */
         do {
             if (sp == 0) return best_p >= 0;
             sp--;
-        } while (stack_t[sp] > t_cull);
-        node = stack[sp];
+        } while (stack[sp].t_z > t_cull);
+        ref = stack[sp].ref;
     }
 }
 

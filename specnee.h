@@ -260,19 +260,28 @@ typedef struct {
     float b1, b2;              /* barycentrics of v[1], v[2] (triangles) */
 } HitRecord;
 
-/* Flattened BVH: a node's children are nodes[i + 1] and nodes[right]; leaves hold
-   prims[first .. first + count). */
+/* The BVH (bvh.c; the node layout is drawn at the top of that file): 8-wide nodes
+   holding their children's boxes, and the primitives in leaf order. */
+#define BVH_WIDTH 8
+#define BVH_WIDE_LEAF_MAX 8    /* a leaf of the wide tree: at most this many primitives */
 typedef struct {
-    float bmin[3], bmax[3];
-    int32_t first_or_right;    /* leaf: first primitive; inner: index of right child */
-    int16_t count;             /* leaf: primitive count (> 0); inner: 0 */
-    int16_t axis;              /* inner: split axis (traversal order) */
+    float box[6][BVH_WIDTH];   /* children's boxes by plane: lo x, lo y, lo z, hi x,
+                                  hi y, hi z; an empty slot has lo = +inf, hi = -inf */
+    int32_t child[BVH_WIDTH];  /* >= 0: inner node index; < 0: a leaf,
+                                  ~(first primitive << 3 | (count - 1)) */
+    int32_t pad[BVH_WIDTH];    /* to 256 bytes: four whole cache lines */
 } BvhNode;
 
 typedef struct {
-    BvhNode *nodes; int n_nodes;
-    int32_t *prims; int n_prims;     /* primitive ids: triangle i, or n_tris + sphere j */
-    float *tri_v;                    /* 9 floats per triangle in prims order (cache) */
+    float v[9];                /* triangle: p0, p1, p2; sphere: centre, radius */
+    int32_t prim;              /* primitive id: triangle i, or n_tris + sphere j */
+} BvhPrim;
+
+typedef struct {
+    BvhNode *nodes; int n_nodes;     /* nodes[0] is the root (64-byte aligned) */
+    BvhPrim *prims; int n_prims;     /* in leaf order */
+    float bmin[3], bmax[3];          /* the root's box */
+    void *node_mem;                  /* what malloc returned for nodes */
 } Bvh;
 
 struct Scene;

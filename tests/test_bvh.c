@@ -12,8 +12,10 @@
      bvh_watertight_*    rays aimed exactly at shared vertices and edges of closed meshes
                          (an icosphere; a subdivided cube hit by axis-aligned rays, whose
                          flat boxes stress the slab test) all hit
-     bvh_structure       node boxes contain their children and primitives, every
-                         primitive sits in exactly one leaf of at most BVH_LEAF_MAX
+     bvh_structure       the 8-wide nodes' child boxes nest and contain their leaves'
+                         primitives (records copied exactly), empty slots are inverted
+                         boxes, every primitive sits in exactly one leaf of at most
+                         BVH_WIDE_LEAF_MAX, the depth stays bounded
      bvh_deterministic   two builds are byte-identical
      bvh_degenerate      coincident centroids and an SAH-hostile exponential spacing
                          give a valid tree of bounded depth, still equal to brute force
@@ -507,48 +509,84 @@ static void test_bvh_watertight_cube(T *t)
     CHECK(t, misses == 0, "%d of %d rays at grid vertices/edges slipped through", misses, rays);
 }
 
-/* Recursive check of node i; returns its depth below, or -1 (and a message). */
-static int check_node(const Bvh *b, const Scene *s, int i, int *seen, char *msg, size_t n_msg)
+/* Recursive check of wide node i, whose box (from its parent's slot, or the root box)
+   is lo..hi: every used slot's box lies inside it, empty slots are inverted boxes,
+   leaves hold 1..BVH_WIDE_LEAF_MAX primitives whose geometry lies inside the leaf's box
+   and whose records copy the scene.  seen[p] counts the leaves holding primitive p.
+   Returns the depth below node i, or -1 (and a message). */
+static int check_node(const Bvh *b, const Scene *s, int i, const float *lo, const float *hi,
+                      int *seen, char *msg, size_t n_msg)
 {
     const BvhNode *nd = &b->nodes[i];
-    int k, a;
-    if (nd->count > 0) {
-        if (nd->count > BVH_LEAF_MAX || nd->first_or_right < 0 ||
-            nd->first_or_right + nd->count > b->n_prims) {
-            snprintf(msg, n_msg, "leaf %d: bad range %d+%d", i, nd->first_or_right, nd->count);
-            return -1;
-        }
-        for (k = nd->first_or_right; k < nd->first_or_right + nd->count; k++) {
-            int p = b->prims[k], v;
-            seen[p]++;
-            for (v = 0; v < (p < s->n_tris ? 3 : 0); v++)
-                for (a = 0; a < 3; a++) {
-                    float x = v3_get(s->P[s->tris[p].v[v]], a);
-                    if (x < nd->bmin[a] || x > nd->bmax[a] || b->tri_v[9 * k + 3 * v + a] != x) {
-                        snprintf(msg, n_msg, "leaf %d: triangle %d outside its box or tri_v", i, p);
-                        return -1;
-                    }
-                }
-        }
-        return 0;
-    } else {
-        int l = i + 1, r = nd->first_or_right, dl, dr, c;
-        if (r <= i + 1 || r >= b->n_nodes) {
-            snprintf(msg, n_msg, "node %d: bad right child %d", i, r);
-            return -1;
-        }
-        for (c = 0; c < 2; c++) {
-            const BvhNode *ch = &b->nodes[c ? r : l];
+    int k, a, depth = 0, used = 0;
+    for (k = 0; k < BVH_WIDTH; k++) {
+        float clo[3], chi[3];
+        const int32_t ref = nd->child[k];
+        for (a = 0; a < 3; a++) { clo[a] = nd->box[a][k]; chi[a] = nd->box[3 + a][k]; }
+        if (clo[0] == INFINITY) {                  /* empty slot */
             for (a = 0; a < 3; a++)
-                if (ch->bmin[a] < nd->bmin[a] || ch->bmax[a] > nd->bmax[a]) {
-                    snprintf(msg, n_msg, "node %d: child box sticks out", i);
+                if (clo[a] != INFINITY || chi[a] != -INFINITY || ref != 0) {
+                    snprintf(msg, n_msg, "node %d slot %d: empty slot not inverted", i, k);
                     return -1;
                 }
+            continue;
         }
-        if ((dl = check_node(b, s, l, seen, msg, n_msg)) < 0) return -1;
-        if ((dr = check_node(b, s, r, seen, msg, n_msg)) < 0) return -1;
-        return 1 + (dl > dr ? dl : dr);
+        used++;
+        for (a = 0; a < 3; a++)
+            if (!(clo[a] <= chi[a]) || clo[a] < lo[a] || chi[a] > hi[a]) {
+                snprintf(msg, n_msg, "node %d slot %d: box empty or sticking out", i, k);
+                return -1;
+            }
+        if (ref < 0) {                             /* leaf */
+            const int first = (~ref) >> 3, count = ((~ref) & 7) + 1;
+            int q, v;
+            if (count > BVH_WIDE_LEAF_MAX || first + count > b->n_prims) {
+                snprintf(msg, n_msg, "node %d slot %d: bad leaf %d+%d", i, k, first, count);
+                return -1;
+            }
+            for (q = first; q < first + count; q++) {
+                const BvhPrim *r = &b->prims[q];
+                const int p = r->prim;
+                if (p < 0 || p >= s->n_tris + s->n_spheres) {
+                    snprintf(msg, n_msg, "leaf record %d: bad primitive id %d", q, p);
+                    return -1;
+                }
+                seen[p]++;
+                for (v = 0; v < 3; v++)
+                    for (a = 0; a < 3; a++) {
+                        float x, rec;
+                        if (p < s->n_tris) {
+                            x = v3_get(s->P[s->tris[p].v[v]], a);
+                            rec = r->v[3 * v + a];
+                        } else {           /* the sphere's extreme points, exactly */
+                            const Shape *sh = &s->shapes[s->sphere_shape[p - s->n_tris]];
+                            double c = v3_get(sh->center, a), e = v == 0 ? -sh->radius : sh->radius;
+                            x = (float)c;
+                            rec = r->v[a];
+                            if (c + e < clo[a] || c + e > chi[a]) x = NAN;
+                        }
+                        if (!(x >= clo[a] && x <= chi[a]) || rec != x) {
+                            snprintf(msg, n_msg, "leaf record %d: primitive %d outside its box "
+                                     "or not copied", q, p);
+                            return -1;
+                        }
+                    }
+            }
+        } else {                                   /* inner node: after its parent */
+            int d;
+            if (ref <= i || ref >= b->n_nodes) {
+                snprintf(msg, n_msg, "node %d slot %d: bad child %d", i, k, ref);
+                return -1;
+            }
+            if ((d = check_node(b, s, ref, clo, chi, seen, msg, n_msg)) < 0) return -1;
+            if (d + 1 > depth) depth = d + 1;
+        }
     }
+    if (used == 0) {
+        snprintf(msg, n_msg, "node %d has no children", i);
+        return -1;
+    }
+    return depth;
 }
 
 static void test_bvh_structure(T *t)
@@ -562,7 +600,7 @@ static void test_bvh_structure(T *t)
     CHECK(t, bvh_build(&s.bvh, &s), "bvh_build failed");
     seen = (int *)calloc((size_t)s.bvh.n_prims, sizeof *seen);
     CHECK(t, seen != NULL, "out of memory");
-    depth = check_node(&s.bvh, &s, 0, seen, msg, sizeof msg);
+    depth = check_node(&s.bvh, &s, 0, s.bvh.bmin, s.bvh.bmax, seen, msg, sizeof msg);
     for (i = 0; i < s.bvh.n_prims; i++) bad += seen[i] != 1;
     free(seen);
     i = s.bvh.n_prims;
@@ -583,8 +621,7 @@ static void test_bvh_deterministic(T *t)
     CHECK(t, bvh_build(&s.bvh, &s) && bvh_build(&b2, &s), "bvh_build failed");
     same = s.bvh.n_nodes == b2.n_nodes &&
            memcmp(s.bvh.nodes, b2.nodes, (size_t)b2.n_nodes * sizeof(BvhNode)) == 0 &&
-           memcmp(s.bvh.prims, b2.prims, (size_t)b2.n_prims * sizeof(int32_t)) == 0 &&
-           memcmp(s.bvh.tri_v, b2.tri_v, 9 * (size_t)b2.n_prims * sizeof(float)) == 0;
+           memcmp(s.bvh.prims, b2.prims, (size_t)b2.n_prims * sizeof(BvhPrim)) == 0;
     bvh_free(&b2);
     scene_release(&s);
     CHECK(t, same, "two builds of the same scene differ");
@@ -604,7 +641,7 @@ static void test_bvh_degenerate(T *t)
         for (k = 0; k < 3; k++) s.tris[i].v[k] = k;
     CHECK(t, bvh_build(&s.bvh, &s), "bvh_build failed (copies)");
     seen = (int *)calloc(1000, sizeof *seen);
-    depth = seen ? check_node(&s.bvh, &s, 0, seen, msg, sizeof msg) : -1;
+    depth = seen ? check_node(&s.bvh, &s, 0, s.bvh.bmin, s.bvh.bmax, seen, msg, sizeof msg) : -1;
     free(seen);
     bad = compare_with_brute(&s, &rng, 300, msg, sizeof msg);
     scene_release(&s);
@@ -623,7 +660,7 @@ static void test_bvh_degenerate(T *t)
     }
     CHECK(t, bvh_build(&s.bvh, &s), "bvh_build failed (exponential)");
     seen = (int *)calloc(3000, sizeof *seen);
-    depth = seen ? check_node(&s.bvh, &s, 0, seen, msg, sizeof msg) : -1;
+    depth = seen ? check_node(&s.bvh, &s, 0, s.bvh.bmin, s.bvh.bmax, seen, msg, sizeof msg) : -1;
     free(seen);
     bad = compare_with_brute(&s, &rng, 300, msg, sizeof msg);
     scene_release(&s);
@@ -647,7 +684,7 @@ static void test_bvh_empty_and_invalid(T *t)
     CHECK(t, scene_make(&s, 3, 1, 0), "out of memory");
     s.tris[0].v[0] = 0; s.tris[0].v[1] = 1; s.tris[0].v[2] = 3;     /* index 3 of 3 */
     ok = bvh_build(&s.bvh, &s);
-    CHECK(t, !ok && s.bvh.nodes == NULL, "out-of-range vertex index accepted");
+    CHECK(t, !ok && s.bvh.nodes == NULL && s.bvh.prims == NULL, "out-of-range vertex index accepted");
     s.tris[0].v[2] = 2;
     s.P[1] = v3(NAN, 0, 0);
     ok = bvh_build(&s.bvh, &s);

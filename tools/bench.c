@@ -2,42 +2,60 @@
 
    WHAT IT MEASURES
      1. A displaced icosphere: the icosahedron split `level` times (20 * 4^level
-        triangles; level 6 = 81,920, level 7 = 327,680), each vertex v on the unit
-        sphere moved to radius
+        triangles; level 6 = 81,920, level 7 = 327,680, level 8 = 1,310,720), each
+        vertex v on the unit sphere moved to radius
             r(v) = 1 + 0.1 sin(5 x) sin(7 y) sin(3 z),
         a smooth bumpy surface.  It is written to out/bench_mesh.ply with
         ply_write_binary and read back with ply_read (both timed).
-     2. BVH build time (best of 3).
-     3. Incoherent closest-hit throughput: N rays with origins uniform in the mesh's
-        bounding box scaled x2 about its centre, directions uniform on the sphere
-        (z = 1 - 2u, phi = 2 pi v), fixed seed (PCG32 stream per ray, util.c), tmax = inf.
-        Reported in Mrays/s on 1 thread and on all threads (OpenMP, when compiled in);
-        best of 3 runs each.
-     4. Any-hit (shadow-ray) throughput with the same rays.
-     5. Ratios taken in the same run: all-thread / 1-thread speedups, any / closest.
+     2. BVH build time (min/median/max of the runs), the BVH's memory per triangle and
+        the process's peak resident memory (getrusage).
+     3. Incoherent rays: N rays with origins uniform in the mesh's bounding box scaled
+        x2 about its centre, directions uniform on the sphere (z = 1 - 2u,
+        phi = 2 pi v), fixed seed (PCG32 stream per ray, util.c), tmax = inf.  They
+        are split into the rays that miss the mesh's bounding box (the BVH rejects
+        them with one box test) and those that hit it (the real work).
+     4. Single-thread throughput in Mrays/s of closest hit (bvh_intersect) and of any
+        hit (bvh_occluded, the shadow-ray query), on all rays and on each part.  Every
+        measurement is repeated `runs` times (default 5), interleaved (each run times
+        every measurement once, in the same order), and min/median/max are printed:
+        the machine is shared, so the median is the figure to quote and the spread
+        says how noisy it was.  Single-thread work (build, casts) is timed in CPU time
+        (CLOCK_PROCESS_CPUTIME_ID), which leaves out the time spent waiting for a core.
+        Closest hit is also timed on all threads (OpenMP, wall-clock time).
    The hit count and the sum of hit distances are printed as a checksum: they must not
-   change with the thread count.
+   change with the thread count or between closest and any hit (hits only).
 
    USE
      make bench             (runs tools/bench.sh, which runs this)
-     tools/bench [level]    level 6 (default) or 7, or any of 1..8
+     tools/bench [--runs N] [level]    level 6 (default), any of 1..8
 */
 #define _POSIX_C_SOURCE 200809L
 #include "../specnee.h"
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/resource.h>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
 
 #define BENCH_RAYS (1 << 20)        /* rays per measurement */
-#define BENCH_REPEAT 3              /* best of this many runs */
+#define BENCH_RUNS 5                /* default number of interleaved runs */
+#define MAX_RUNS 99
 
 static double now_s(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* CPU time of this process: single-thread work is timed with it, so that time the
+   process spends waiting for a core on a busy machine does not count. */
+static double cpu_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
@@ -129,8 +147,7 @@ static CastResult cast(const Scene *s, const Ray *rays, int n, int threads, int 
     long hits = 0;
     double t_sum = 0.0, t0;
     int i;
-    (void)threads;
-    t0 = now_s();
+    t0 = threads == 1 ? cpu_s() : now_s();
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 4096) num_threads(threads) reduction(+ : hits, t_sum)
 #endif
@@ -142,43 +159,99 @@ static CastResult cast(const Scene *s, const Ray *rays, int n, int threads, int 
             if (bvh_intersect(&s->bvh, s, &rays[i], &h)) { hits++; t_sum += h.t; }
         }
     }
-    res.seconds = now_s() - t0;
+    res.seconds = (threads == 1 ? cpu_s() : now_s()) - t0;
     res.hits = hits;
     res.t_sum = t_sum;
     return res;
 }
 
-static CastResult cast_best(const Scene *s, const Ray *rays, int n, int threads, int any)
+/* min, median and max of x[0..n) (sorts x) */
+static void stats3(double *x, int n, double *mn, double *med, double *mx)
 {
-    CastResult best = cast(s, rays, n, threads, any), r;
-    int k;
-    for (k = 1; k < BENCH_REPEAT; k++) {
-        r = cast(s, rays, n, threads, any);
-        if (r.seconds < best.seconds) best = r;
+    int i, j;
+    for (i = 1; i < n; i++)
+        for (j = i; j > 0 && x[j - 1] > x[j]; j--) { double t = x[j]; x[j] = x[j - 1]; x[j - 1] = t; }
+    *mn = x[0];
+    *med = n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
+    *mx = x[n - 1];
+}
+
+/* Does the ray meet the box [lo, hi] at some t >= 0?  (Only to split the rays, in
+   double, independent of bvh.c.) */
+static int ray_hits_box(const Ray *r, Vec3 lo, Vec3 hi)
+{
+    double t0 = 0.0, t1 = INFINITY;
+    int a;
+    for (a = 0; a < 3; a++) {
+        double o = v3_get(r->o, a), d = v3_get(r->d, a), l = v3_get(lo, a), h = v3_get(hi, a);
+        if (d == 0.0) {
+            if (o < l || o > h) return 0;
+            continue;
+        }
+        {
+            double ta = (l - o) / d, tb = (h - o) / d;
+            if (ta > tb) { double t = ta; ta = tb; tb = t; }
+            if (ta > t0) t0 = ta;
+            if (tb < t1) t1 = tb;
+        }
     }
-    return best;
+    return t0 <= t1;
+}
+
+/* The BVH's leaves, used child slots and bytes. */
+static double bvh_stats(const Bvh *b, int *leaves, int *slots)
+{
+    int i, k;
+    for (i = 0; i < b->n_nodes; i++)
+        for (k = 0; k < BVH_WIDTH; k++) {
+            *leaves += b->nodes[i].child[k] < 0;
+            *slots += b->nodes[i].box[0][k] != INFINITY;
+        }
+    return (double)b->n_nodes * sizeof(BvhNode) + (double)b->n_prims * sizeof(BvhPrim);
+}
+
+/* One line "name: min / median / max Mrays/s" from the run times of n rays. */
+static double print_rate(const char *name, const double *seconds, int runs, long n)
+{
+    double rate[MAX_RUNS], mn, med, mx;
+    int k;
+    for (k = 0; k < runs; k++) rate[k] = (double)n / seconds[k] * 1e-6;
+    stats3(rate, runs, &mn, &med, &mx);
+    printf("  %-34s %7.2f  %7.2f  %7.2f Mrays/s  (%.0f ns a ray, median)\n", name, mn, med, mx,
+           1e3 / med);
+    return med;
 }
 
 int main(int argc, char **argv)
 {
     const char *ply_path = "out/bench_mesh.ply";
-    int level = 6, n_verts = 0, n_tris = 0, i, k, threads = 1, leaves = 0;
+    int level = 6, runs = BENCH_RUNS, n_verts = 0, n_tris = 0, i, k, q, threads = 1;
+    int leaves = 0, slots = 0, n_in = 0, n_out = 0;
     float *P = NULL;
     int32_t *idx = NULL;
     PlyMesh mesh;
     Error err;
     Scene s;
-    Ray *rays;
-    double t0, t_write, t_read, t_build = 1e30, mrays1, mraysN, any1, anyN;
+    Ray *rays, *rays_in, *rays_out;
+    double t0, t_write, t_read, t_build[MAX_RUNS], bmn, bmed, bmx, mem;
+    double sec[7][MAX_RUNS], med_c_in, med_a_in;
     Vec3 c, half;
-    CastResult r1, rN, a1, aN;
+    CastResult res[7];
+    struct rusage ru;
 
-    if (argc > 1) {
-        level = atoi(argv[argc - 1]);
-        if (level < 1 || level > 8) {
-            fprintf(stderr, "usage: %s [level 1..8, default 6]\n", argv[0]);
-            return 2;
+    for (i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--runs") && i + 1 < argc) {
+            runs = atoi(argv[++i]);
+            if (runs < 1 || runs > MAX_RUNS) break;
+        } else {
+            level = atoi(argv[i]);
+            if (level < 1 || level > 8) break;
         }
+    }
+    if (i < argc) {
+        fprintf(stderr, "usage: %s [--runs 1..%d, default %d] [level 1..8, default 6]\n",
+                argv[0], MAX_RUNS, BENCH_RUNS);
+        return 2;
     }
 #ifdef _OPENMP
     threads = omp_get_max_threads();
@@ -217,11 +290,13 @@ int main(int argc, char **argv)
     s.P = (Vec3 *)malloc((size_t)s.n_verts * sizeof *s.P);
     s.tris = (Triangle *)malloc((size_t)s.n_tris * sizeof *s.tris);
     s.shapes = (Shape *)calloc(1, sizeof *s.shapes);
-    rays = (Ray *)malloc(BENCH_RAYS * sizeof *rays);
+    rays = (Ray *)malloc(3 * (size_t)BENCH_RAYS * sizeof *rays);
     if (!s.P || !s.tris || !s.shapes || !rays) {
         fprintf(stderr, "bench: out of memory\n");
         return 1;
     }
+    rays_in = rays + BENCH_RAYS;
+    rays_out = rays + 2 * BENCH_RAYS;
     s.shapes[0].type = SHAPE_MESH;
     s.shapes[0].emitter = -1;
     s.shapes[0].tri_count = s.n_tris;
@@ -238,22 +313,21 @@ int main(int argc, char **argv)
     }
     ply_free(&mesh);
 
-    /* 3. BVH build, best of 3 */
-    for (k = 0; k < BENCH_REPEAT; k++) {
-        double dt;
+    /* 3. BVH build, timed `runs` times */
+    for (k = 0; k < runs; k++) {
         if (k > 0) bvh_free(&s.bvh);
-        t0 = now_s();
+        t0 = cpu_s();
         if (!bvh_build(&s.bvh, &s)) {
             fprintf(stderr, "bench: bvh_build failed\n");
             return 1;
         }
-        dt = now_s() - t0;
-        if (dt < t_build) t_build = dt;
+        t_build[k] = cpu_s() - t0;
     }
-    for (i = 0; i < s.bvh.n_nodes; i++) leaves += s.bvh.nodes[i].count > 0;
+    stats3(t_build, runs, &bmn, &bmed, &bmx);
+    mem = bvh_stats(&s.bvh, &leaves, &slots);
 
     /* 4. rays: origin uniform in the bounds scaled x2 about the centre, direction
-          uniform on the sphere */
+          uniform on the sphere; then split by the mesh's bounding box */
     c = v3_mul(v3_add(s.bmin, s.bmax), 0.5f);
     half = v3_sub(s.bmax, c);                       /* x2: the box spans c +- 2 half */
     for (i = 0; i < BENCH_RAYS; i++) {
@@ -268,37 +342,62 @@ int main(int argc, char **argv)
         phi = 2.0f * PI_F * rng_float(&rng);
         rays[i].d = v3(rxy * cosf(phi), rxy * sinf(phi), z);
         rays[i].tmax = INFINITY;
+        if (ray_hits_box(&rays[i], s.bmin, s.bmax)) rays_in[n_in++] = rays[i];
+        else rays_out[n_out++] = rays[i];
     }
-
-    /* 5. throughput */
-    r1 = cast_best(&s, rays, BENCH_RAYS, 1, 0);
-    rN = cast_best(&s, rays, BENCH_RAYS, threads, 0);
-    a1 = cast_best(&s, rays, BENCH_RAYS, 1, 1);
-    aN = cast_best(&s, rays, BENCH_RAYS, threads, 1);
-    mrays1 = BENCH_RAYS / r1.seconds * 1e-6;
-    mraysN = BENCH_RAYS / rN.seconds * 1e-6;
-    any1 = BENCH_RAYS / a1.seconds * 1e-6;
-    anyN = BENCH_RAYS / aN.seconds * 1e-6;
 
     printf("bench: displaced icosphere level %d: %d triangles, %d vertices (%s)\n",
            level, s.n_tris, s.n_verts, ply_path);
+    printf("  bounds (%.3g %.3g %.3g) .. (%.3g %.3g %.3g)\n", s.bmin.x, s.bmin.y, s.bmin.z,
+           s.bmax.x, s.bmax.y, s.bmax.z);
     printf("  ply write %.3f s, ply read %.3f s\n", t_write, t_read);
-    printf("  bvh build %.3f s: %d nodes, %d leaves, %.2f triangles a leaf (best of %d)\n",
-           t_build, s.bvh.n_nodes, leaves, (double)s.n_tris / leaves, BENCH_REPEAT);
-    printf("  %d incoherent rays, %.1f%% hit (checksum: sum t = %.6g)\n",
-           BENCH_RAYS, 100.0 * (double)r1.hits / BENCH_RAYS, r1.t_sum);
-    printf("  closest hit, 1 thread:    %7.2f Mrays/s\n", mrays1);
-    printf("  closest hit, %d threads:%*s %7.2f Mrays/s  (speedup x%.2f)\n", threads,
-           threads < 10 ? 3 : 2, "", mraysN, mraysN / mrays1);
-    printf("  any hit,     1 thread:    %7.2f Mrays/s  (x%.2f the closest-hit rate)\n",
-           any1, any1 / mrays1);
-    printf("  any hit,     %d threads:%*s %7.2f Mrays/s  (speedup x%.2f)\n", threads,
-           threads < 10 ? 3 : 2, "", anyN, anyN / any1);
-    /* the sum of t is added in another order by each thread count: compare loosely */
-    if (rN.hits != r1.hits || fabs(rN.t_sum - r1.t_sum) > 1e-9 * fabs(r1.t_sum) ||
-        a1.hits != r1.hits || aN.hits != r1.hits) {
-        printf("  ERROR: results differ between runs (hits %ld %ld %ld %ld)\n",
-               r1.hits, rN.hits, a1.hits, aN.hits);
+    printf("  bvh build %.3f / %.3f / %.3f s CPU time (min / median / max of %d)\n", bmn, bmed,
+           bmx, runs);
+    printf("  bvh: %d nodes of %d children, %d leaves, %.2f children a node, "
+           "%.2f triangles a leaf\n", s.bvh.n_nodes, BVH_WIDTH, leaves,
+           (double)slots / s.bvh.n_nodes, (double)s.n_tris / leaves);
+    printf("  bvh memory %.1f MB, %.1f bytes a triangle\n", mem * 1e-6, mem / s.n_tris);
+    printf("  rays: %d, origins uniform in the bounds scaled x2 about the centre,\n"
+           "        directions uniform on the sphere, tmax = inf\n", BENCH_RAYS);
+    printf("        %d (%.1f%%) miss the mesh's bounding box, %d (%.1f%%) hit it\n",
+           n_out, 100.0 * n_out / BENCH_RAYS, n_in, 100.0 * n_in / BENCH_RAYS);
+
+    /* 5. throughput: every run times each measurement once, in this order */
+    for (k = 0; k < runs; k++) {
+        for (q = 0; q < 7; q++) {
+            const Ray *set = q % 3 == 0 ? rays : q % 3 == 1 ? rays_in : rays_out;
+            const int n = q % 3 == 0 ? BENCH_RAYS : q % 3 == 1 ? n_in : n_out;
+            CastResult r = cast(&s, set, n, q == 6 ? threads : 1, q >= 3 && q < 6);
+            sec[q][k] = r.seconds;
+            if (k > 0 && (r.hits != res[q].hits || r.t_sum != res[q].t_sum) && q != 6) {
+                printf("  ERROR: run %d of measurement %d gave another result\n", k, q);
+                return 1;
+            }
+            res[q] = r;
+        }
+    }
+    printf("  %d hit the mesh (%.1f%% of all, %.1f%% of those that hit the box); "
+           "checksum: sum t = %.9g\n", (int)res[0].hits, 100.0 * res[0].hits / BENCH_RAYS,
+           100.0 * res[1].hits / (n_in > 0 ? n_in : 1), res[0].t_sum);
+    printf("  single thread (CPU time), %d interleaved runs: min   median      max\n", runs);
+    print_rate("closest hit, all rays", sec[0], runs, BENCH_RAYS);
+    med_c_in = print_rate("closest hit, rays hitting the box", sec[1], runs, n_in);
+    print_rate("closest hit, rays missing the box", sec[2], runs, n_out);
+    print_rate("any hit,     all rays", sec[3], runs, BENCH_RAYS);
+    med_a_in = print_rate("any hit,     rays hitting the box", sec[4], runs, n_in);
+    print_rate("any hit,     rays missing the box", sec[5], runs, n_out);
+    printf("  any hit / closest hit on the box-hitting rays: x%.2f (medians)\n",
+           med_a_in / med_c_in);
+    printf("  %d threads (wall-clock time):\n", threads);
+    print_rate("closest hit, all rays", sec[6], runs, BENCH_RAYS);
+    getrusage(RUSAGE_SELF, &ru);
+    printf("  peak resident memory %.1f MB (whole process)\n", (double)ru.ru_maxrss / 1024.0);
+    /* the same hits on every path; the sum of t is added in another order by each
+       thread count: compare loosely */
+    if (res[3].hits != res[0].hits || res[1].hits + res[2].hits != res[0].hits ||
+        res[4].hits != res[1].hits || res[2].hits != 0 || res[5].hits != 0 ||
+        res[6].hits != res[0].hits || fabs(res[6].t_sum - res[0].t_sum) > 1e-9 * fabs(res[0].t_sum)) {
+        printf("  ERROR: results differ between queries or thread counts\n");
         return 1;
     }
     bvh_free(&s.bvh);

@@ -1,7 +1,10 @@
 #!/bin/sh
 # tools/bench.sh - the benchmarks, run by `make bench` (not part of `make test`).
-#   1. tools/bench: BVH build time and ray throughput on a displaced icosphere
-#      (81,920 triangles; `tools/bench 7` for 327,680), 1 thread and all threads.
+#   1. tools/bench: BVH build time and memory, and ray throughput on a displaced
+#      icosphere (81,920 triangles; `tools/bench 7` for 327,680, `8` for 1.3 M):
+#      closest hit and any hit (shadow rays) on one thread, split into the rays that
+#      miss the mesh's bounding box and those that hit it, min/median/max of 5
+#      interleaved runs (`tools/bench --runs N`); closest hit on all threads.
 #   2. Renders at 16 spp of the Cornell box, of its dispersive-glass variant (rough
 #      dispersion terminated and kept alive by spectral MIS) and, per emitter-selection
 #      strategy, of cornell1; plus tools/bench_lights (table build, ns per vertex).
