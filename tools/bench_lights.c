@@ -91,8 +91,7 @@ int main(int argc, char **argv)
             memset(&ctx, 0, sizeof ctx);
             ctx.p = pts[i % n];
             ctx.voxel = light_voxel(ls, ctx.p);
-            ctx.hero_only = (i & 1);
-            ctx.alive = ctx.hero_only ? 1u : 15u;
+            ctx.alive = (i & 1) ? 1u : 15u;       /* half with the hero alone */
             ctx.lambda[0] = 400.0f + 300.0f * rng_float(&rng);
             for (j = 1; j < HERO_N; j++) ctx.lambda[j] = ctx.lambda[0] + 75.0f * j > 700.0f ? ctx.lambda[0] + 75.0f * j - 300.0f : ctx.lambda[0] + 75.0f * j;
             for (j = 0; j < HERO_N; j++) ctx.beta[j] = 1.0f;
