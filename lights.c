@@ -279,10 +279,10 @@ typedef struct {
 /* A node of the light tree (section 4).  Depth-first order: the first child of
    an interior node i is node i + 1, the second is nodes[i].second. */
 typedef struct {
-    float bmin[3], bmax[3];
+    float c[3], r;             /* centre and radius of the box's bounding sphere */
     float axis[3];             /* orientation cone: unit axis w ... */
-    float cos_o, cos_e;        /* ... cos theta_o, cos theta_e (-1: every direction) */
-    float power;               /* radiant power over the sampled range (W-like units) */
+    float cos_o, sin_o, cos_e; /* ... theta_o, cos theta_e (cos_o = -1: every direction) */
+    float power;               /* radiant power over the sampled range */
     int32_t second;            /* interior: index of the second child; leaf: -1 - piece */
     int32_t twosided;
 } TreeNode;
@@ -592,10 +592,14 @@ static int tree_build(Builder *B, int *items, int n, int depth, uint64_t trail)
     Vec3 cmin, cmax, cext;
     acc_init(&all);
     for (i = 0; i < n; i++) acc_add(&all, &B->pb[items[i]]);
-    nd->bmin[0] = all.bmin.x; nd->bmin[1] = all.bmin.y; nd->bmin[2] = all.bmin.z;
-    nd->bmax[0] = all.bmax.x; nd->bmax[1] = all.bmax.y; nd->bmax[2] = all.bmax.z;
+    {
+        Vec3 c = v3_mul(v3_add(all.bmin, all.bmax), 0.5f), half = v3_mul(v3_sub(all.bmax, all.bmin), 0.5f);
+        nd->c[0] = c.x; nd->c[1] = c.y; nd->c[2] = c.z;
+        nd->r = v3_len(half);
+    }
     nd->axis[0] = all.cone.w.x; nd->axis[1] = all.cone.w.y; nd->axis[2] = all.cone.w.z;
     nd->cos_o = all.cone.cos_o;
+    nd->sin_o = sqrtf(fmaxf(0.0f, 1.0f - nd->cos_o * nd->cos_o));
     nd->cos_e = all.cone.cos_e;
     nd->twosided = all.twosided;
     if (n == 1) {
@@ -818,8 +822,8 @@ static void tree_query(const LightSampler *ls, const LightCtx *c, TreeQuery *q)
 static float tree_importance(const LightSampler *ls, const TreeQuery *q, int i)
 {
     const TreeNode *nd = &ls->nodes[i];
-    float phi, d2, r2, cos_b, sin_b, cos_w, sin_w, cos_wo, sin_wo, cos_x, imp;
-    Vec3 c, d, half, w;
+    float phi, d2, r2, cos_x, imp;
+    Vec3 d;
     if (q->spectral) {
         int k;
         const float *nb = ls->node_bin + (size_t)i * ls->nb;
@@ -829,38 +833,32 @@ static float tree_importance(const LightSampler *ls, const TreeQuery *q, int i)
         phi = nd->power;
     }
     if (!(phi > 0.0f)) return 0.0f;
-    c = v3(0.5f * (nd->bmin[0] + nd->bmax[0]), 0.5f * (nd->bmin[1] + nd->bmax[1]),
-           0.5f * (nd->bmin[2] + nd->bmax[2]));
-    half = v3(0.5f * (nd->bmax[0] - nd->bmin[0]), 0.5f * (nd->bmax[1] - nd->bmin[1]),
-              0.5f * (nd->bmax[2] - nd->bmin[2]));
-    r2 = v3_dot(half, half);
-    d = v3_sub(q->p, c);
+    d = v3(q->p.x - nd->c[0], q->p.y - nd->c[1], q->p.z - nd->c[2]);
     d2 = v3_dot(d, d);
+    r2 = nd->r * nd->r;
     if (!(d2 > r2)) {
         /* p inside the bounding sphere: no angle can be bounded */
         imp = phi / fmaxf(r2, FLT_MIN);
     } else {
         float inv = 1.0f / sqrtf(d2);
-        w = v3_mul(d, inv);                          /* from the centre towards p */
-        sin_b = sqrtf(r2 / d2);
-        cos_b = sqrtf(fmaxf(0.0f, 1.0f - r2 / d2));
-        cos_w = w.x * nd->axis[0] + w.y * nd->axis[1] + w.z * nd->axis[2];
+        float sin_b = nd->r * inv, cos_b = sqrtf(fmaxf(0.0f, 1.0f - sin_b * sin_b));
+        Vec3 w = v3_mul(d, inv);                     /* from the centre towards p */
+        float cos_w = w.x * nd->axis[0] + w.y * nd->axis[1] + w.z * nd->axis[2];
         if (nd->twosided) cos_w = fabsf(cos_w);
-        sin_w = sqrtf(fmaxf(0.0f, 1.0f - cos_w * cos_w));
-        /* theta_w - theta_o, clamped at 0 */
-        if (cos_w >= nd->cos_o) { cos_wo = 1.0f; sin_wo = 0.0f; }
-        else {
-            float sin_o = sqrtf(fmaxf(0.0f, 1.0f - nd->cos_o * nd->cos_o));
-            cos_wo = cos_w * nd->cos_o + sin_w * sin_o;
-            sin_wo = sin_w * nd->cos_o - cos_w * sin_o;
+        if (cos_w >= nd->cos_o) {
+            cos_x = 1.0f;                            /* p inside the normal cone */
+        } else {
+            /* theta_w - theta_o > 0, then minus theta_b, clamped at 0 */
+            float sin_w = sqrtf(fmaxf(0.0f, 1.0f - cos_w * cos_w));
+            float cos_wo = cos_w * nd->cos_o + sin_w * nd->sin_o;
+            float sin_wo = sin_w * nd->cos_o - cos_w * nd->sin_o;
+            cos_x = cos_wo >= cos_b ? 1.0f : cos_wo * cos_b + sin_wo * sin_b;
         }
-        /* ... minus theta_b, clamped at 0 */
-        cos_x = cos_wo >= cos_b ? 1.0f : cos_wo * cos_b + sin_wo * sin_b;
         if (cos_x <= nd->cos_e) return 0.0f;
         imp = phi * cos_x / d2;
         if (q->has_n) {
-            float cos_i = fabsf(v3_dot(q->n, w)), sin_i = sqrtf(fmaxf(0.0f, 1.0f - cos_i * cos_i));
-            imp *= cos_i >= cos_b ? 1.0f : cos_i * cos_b + sin_i * sin_b;
+            float cos_i = fabsf(v3_dot(q->n, w));
+            if (cos_i < cos_b) imp *= cos_i * cos_b + sqrtf(fmaxf(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
         }
     }
     if (!(imp >= 0.0f)) return 0.0f;                 /* NaN */

@@ -142,6 +142,8 @@ static const Variant variants[] = {
     { SEL_SPD, 0, 1, 0, "spd all-wavelengths" },
     { SEL_PRODUCT, 0, 1, 1, "product throughput-weighted" },
     { SEL_SPECTRAL_SPATIAL, 0, 1, 0, "spectral-spatial all-wavelengths" },
+    { SEL_TREE, 0, 0, 0, "tree" },
+    { SEL_SPECTRAL_TREE, 0, 0, 0, "spectral-tree" },
 };
 #define N_VARIANTS ((int)(sizeof variants / sizeof variants[0]))
 
