@@ -48,7 +48,8 @@
 #define MAX_REGIONS 9
 
 /* "name[:modifier]...": modifiers power, all, tput, importance, roughmis, single,
-   wide, nonee.  Returns 0 on an unknown name or modifier. */
+   wide, nonee, nosplit (light trees: a large emissive mesh stays one leaf).
+   Returns 0 on an unknown name or modifier. */
 int eval_parse_variant(const char *spec, RenderOptions *o)
 {
     char buf[128], *tok, *save = NULL;
@@ -66,6 +67,7 @@ int eval_parse_variant(const char *spec, RenderOptions *o)
         else if (!strcmp(tok, "single")) o->single_wavelength = 1;
         else if (!strcmp(tok, "wide")) o->wl_wide = 1;
         else if (!strcmp(tok, "nonee")) o->nee = 0;
+        else if (!strcmp(tok, "nosplit")) o->sel.no_split = 1;
         else return 0;
     }
     return 1;

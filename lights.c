@@ -1177,6 +1177,7 @@ int light_sample(const LightSampler *ls, int piece, Vec3 ref, float u0, float u1
 
 float light_pdf_sa(const LightSampler *ls, int piece, Vec3 ref, Vec3 p, Vec3 n)
 {
+    if (piece < 0 || piece >= ls->n_pieces) return 0.0f;
     return pdf_sa_area(ls->pieces[piece].area, ref, p, n);
 }
 

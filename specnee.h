@@ -616,7 +616,7 @@ int cmd_merge(int argc, char **argv);      /* image.c */
 int cmd_diff(int argc, char **argv);       /* image.c */
 int cmd_converge(int argc, char **argv);   /* eval.c: error against time, charts, tables */
 /* "strategy[:modifier]..." (modifiers: power all tput importance roughmis single wide
-   nonee) into render options; 0 if unknown.  Used by converge and its tests. */
+   nonee nosplit) into render options; 0 if unknown.  Used by converge and its tests. */
 int eval_parse_variant(const char *spec, RenderOptions *o);
 
 #endif /* SPECNEE_H */

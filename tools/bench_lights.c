@@ -2,8 +2,9 @@
 
    usage: tools/bench_lights [scene.pbrt]     per-strategy table for one scene
                                               (default scenes/cornell1.pbrt)
-          tools/bench_lights --many [NMAX] [--svg FILE] [--csv FILE]
+          tools/bench_lights --many [NMAX] [--svg FILE] [--csv FILE] [--only a,b]
                                               cost against the number of emitters
+                                              (--only: those strategies)
           tools/bench_lights --hall N FILE    write the generated scene with N lamps
 
    ONE SCENE.  Shading points are the first hits of 200,000 rays from the scene's
@@ -204,7 +205,7 @@ static char *write_hall(int n)
     return b;
 }
 
-static int many(int nmax, const char *svg, const char *csv)
+static int many(int nmax, const char *svg, const char *csv, const char *only)
 {
     static const char *strat[] = { "uniform", "power", "spatial", "product", "tree", "spectral-tree" };
     enum { NS = sizeof strat / sizeof strat[0], NMAXPTS = 8, NPTS = 2000 };
@@ -235,6 +236,8 @@ static int many(int nmax, const char *svg, const char *csv)
             RenderStats st;
             double t0, t_build, ns;
             int i;
+            us[v][k] = NAN;
+            if (only && !strstr(only, strat[v])) continue;
             render_options_default(&o);
             eval_parse_variant(strat[v], &o);
             t0 = now();
@@ -306,14 +309,15 @@ int main(int argc, char **argv)
     }
     if (argc > 1 && !strcmp(argv[1], "--many")) {
         int i, nmax = 4096;
-        const char *svg = NULL, *csv = NULL;
+        const char *svg = NULL, *csv = NULL, *only = NULL;
         for (i = 2; i < argc; i++) {
             if (!strcmp(argv[i], "--svg") && i + 1 < argc) svg = argv[++i];
+            else if (!strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
             else if (!strcmp(argv[i], "--csv") && i + 1 < argc) csv = argv[++i];
             else if (atoi(argv[i]) >= 4) nmax = atoi(argv[i]);
-            else { fprintf(stderr, "usage: tools/bench_lights --many [NMAX] [--svg FILE] [--csv FILE]\n"); return 2; }
+            else { fprintf(stderr, "usage: tools/bench_lights --many [NMAX] [--svg FILE] [--csv FILE] [--only a,b]\n"); return 2; }
         }
-        return many(nmax, svg, csv);
+        return many(nmax, svg, csv, only);
     }
     return one_scene(argc > 1 ? argv[1] : "scenes/cornell1.pbrt");
 }
