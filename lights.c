@@ -890,7 +890,7 @@ static int tree_select(const LightSampler *ls, const LightCtx *c, float u, float
             i = i + 1;
         } else {
             uu = (uu - pa) / (1.0 - pa);
-            p *= 1.0 - pa;
+            p *= 1.0 - pa;                       /* select: the second child */
             i = ls->nodes[i].second;
         }
         if (!(uu < 1.0)) uu = 1.0 - DBL_EPSILON;     /* round-off */
@@ -908,7 +908,9 @@ static float tree_pmf(const LightSampler *ls, const LightCtx *c, int piece)
     tree_query(ls, c, &q);
     for (d = 0; d < pc->depth; d++) {
         int ok;
-        double pa = branch_first(ls, &q, i, &ok);
+        double pa;
+        if (ls->nodes[i].second < 0) return 0.0f;   /* a trail longer than the tree */
+        pa = branch_first(ls, &q, i, &ok);
         if (!ok) return 0.0f;
         if ((pc->trail >> d) & 1u) {
             p *= 1.0 - pa;
@@ -918,7 +920,7 @@ static float tree_pmf(const LightSampler *ls, const LightCtx *c, int piece)
             i = i + 1;
         }
     }
-    return (float)p;
+    return ls->nodes[i].second == -1 - piece ? (float)p : 0.0f;   /* the trail ends at the piece */
 }
 
 /* Pieces and the tree (called by light_sampler_build for the tree strategies). */

@@ -18,8 +18,9 @@
      lighttree_mesh_split_unbiased  a large emissive mesh split into clusters
                   converges to `uniform`'s image (and to the unsplit tree's)
      lighttree_mesh_split_pmf  the cluster hit by a ray is the one light_piece_of
-                  names, and the area pdf inside a cluster integrates to the
-                  cluster's share */
+                  names, with the pdf NEE sampled it with
+     lighttree_per_render_radiance  the emitters' radiance for two wavelength
+                  ranges from one const Scene (the render owns it) */
 #include "test.h"
 #include <stdlib.h>
 #include <string.h>
@@ -421,7 +422,59 @@ static void test_mesh_split_pmf(T *t)
     scene_free(&s);
 }
 
+/* The emitters' radiance belongs to the render (issue 13): two samplers over one
+   const Scene, for 400-700 and 360-830 nm, each normalise every emitter so that
+   sum_{1 nm over its own range} ybar Le = scale (pbrt-v4), light_Le returns that
+   radiance towards the front (0 behind a one-sided emitter), and the Scene's
+   emitters are byte for byte what the file gave. */
+static void test_per_render_radiance(T *t)
+{
+    static char buf[1 << 14];
+    static Emitter before[3];
+    Scene s;
+    LightSampler *ls[2];
+    int e, k, lam;
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    add_quad(buf, sizeof buf, SPIKY, 2, v3(-0.5f, 0.99f, 0.0f), 1, -1, 0.2f);
+    add_quad(buf, sizeof buf, "[ 380 1 400 1 700 0.2 720 3 ]", 3, v3(0.5f, 0.99f, 0.0f), 1, -1, 0.2f);
+    add_quad(buf, sizeof buf, LOW_HALF, 5, v3(0.0f, 0.99f, 0.5f), 1, -1, 0.2f);
+    if (!test_load_scene(t, &s, buf)) return;
+    memcpy(before, s.emitters, sizeof before);
+    for (k = 0; k < 2; k++) {
+        SelOptions o;
+        Error err;
+        memset(&o, 0, sizeof o);
+        o.strategy = k ? SEL_SPECTRAL_TREE : SEL_POWER;
+        o.lo_nm = k ? (float)SPEC_MIN : LAMBDA_LO;
+        o.hi_nm = k ? (float)SPEC_MAX : LAMBDA_HI;
+        ls[k] = light_sampler_build(&s, &o, &err);
+        CHECK(t, ls[k] != NULL, "%s", err.msg);
+    }
+    for (k = 0; k < 2; k++)
+        for (e = 0; e < 3; e++) {
+            int lo = k ? SPEC_MIN : (int)LAMBDA_LO, hi = k ? SPEC_MAX : (int)LAMBDA_HI;
+            double Y = 0.0;
+            Vec3 down = v3(0, -1, 0);
+            for (lam = lo; lam <= hi; lam++) {
+                float xyz[3];
+                cie_xyz((float)lam, xyz);
+                Y += (double)xyz[1] * light_Le(ls[k], e, down, down, (float)lam);
+            }
+            CHECK(t, fabs(Y - s.emitters[e].scale) < 1e-4 * s.emitters[e].scale,
+                  "range %d-%d nm, emitter %d: sum ybar Le = %g, want scale %g", lo, hi, e, Y, s.emitters[e].scale);
+            CHECK(t, light_Le(ls[k], e, down, v3(0, 1, 0), 500.0f) == 0.0f, "light from behind a one-sided emitter");
+        }
+    /* emitter 1 emits outside 400-700 nm: its wide-range radiance inside is lower */
+    CHECK(t, light_Le(ls[1], 1, v3(0, -1, 0), v3(0, -1, 0), 550.0f) <
+             light_Le(ls[0], 1, v3(0, -1, 0), v3(0, -1, 0), 550.0f), "the wide range changes nothing");
+    light_sampler_free(ls[0]);
+    light_sampler_free(ls[1]);
+    CHECK(t, memcmp(before, s.emitters, sizeof before) == 0, "building a sampler changed the scene's emitters");
+    scene_free(&s);
+}
+
 const TestCase tests_lighttree[] = {
+    { "lighttree_per_render_radiance", test_per_render_radiance },
     { "lighttree_select_matches_pmf", test_select_matches_pmf },
     { "lighttree_spectral_preference", test_spectral_preference },
     { "lighttree_prefers_near", test_prefers_near },
