@@ -3,8 +3,9 @@
    usage: tools/bench_lights [scene.pbrt]     per-strategy table for one scene
                                               (default scenes/cornell1.pbrt)
           tools/bench_lights --many [NMAX] [--svg FILE] [--csv FILE] [--only a,b]
-                                              cost against the number of emitters
-                                              (--only: those strategies)
+                             [--slow-max N]   cost against the number of emitters
+                                              (--only: those strategies; spatial
+                                              and product only up to N emitters)
           tools/bench_lights --hall N FILE    write the generated scene with N lamps
 
    ONE SCENE.  Shading points are the first hits of 200,000 rays from the scene's
@@ -205,7 +206,7 @@ static char *write_hall(int n)
     return b;
 }
 
-static int many(int nmax, const char *svg, const char *csv, const char *only)
+static int many(int nmax, int slow_max, const char *svg, const char *csv, const char *only)
 {
     static const char *strat[] = { "uniform", "power", "spatial", "product", "tree", "spectral-tree" };
     enum { NS = sizeof strat / sizeof strat[0], NMAXPTS = 8, NPTS = 2000 };
@@ -238,6 +239,7 @@ static int many(int nmax, const char *svg, const char *csv, const char *only)
             int i;
             us[v][k] = NAN;
             if (only && !strstr(only, strat[v])) continue;
+            if ((!strcmp(strat[v], "spatial") || !strcmp(strat[v], "product")) && counts[k] > slow_max) continue;
             render_options_default(&o);
             eval_parse_variant(strat[v], &o);
             t0 = now();
@@ -308,16 +310,17 @@ int main(int argc, char **argv)
         return 0;
     }
     if (argc > 1 && !strcmp(argv[1], "--many")) {
-        int i, nmax = 4096;
+        int i, nmax = 4096, slow_max = 1 << 30;
         const char *svg = NULL, *csv = NULL, *only = NULL;
         for (i = 2; i < argc; i++) {
             if (!strcmp(argv[i], "--svg") && i + 1 < argc) svg = argv[++i];
             else if (!strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
+            else if (!strcmp(argv[i], "--slow-max") && i + 1 < argc) slow_max = atoi(argv[++i]);
             else if (!strcmp(argv[i], "--csv") && i + 1 < argc) csv = argv[++i];
             else if (atoi(argv[i]) >= 4) nmax = atoi(argv[i]);
-            else { fprintf(stderr, "usage: tools/bench_lights --many [NMAX] [--svg FILE] [--csv FILE] [--only a,b]\n"); return 2; }
+            else { fprintf(stderr, "usage: tools/bench_lights --many [NMAX] [--svg FILE] [--csv FILE] [--only a,b] [--slow-max N]\n"); return 2; }
         }
-        return many(nmax, svg, csv, only);
+        return many(nmax, slow_max, svg, csv, only);
     }
     return one_scene(argc > 1 ? argv[1] : "scenes/cornell1.pbrt");
 }
