@@ -11,6 +11,8 @@
                   subtrees have importance 0 (counted, so the case is exercised)
      lighttree_spectral_preference  hero alone at 450 nm: the spectral tree never
                   picks the emitter that is dark there, the total-power tree does
+     lighttree_conservative  every piece with a point facing a random point has
+                  P > 0 (one- and two-sided lamps facing every way, a split panel)
      lighttree_prefers_near  two identical emitters: the near one is preferred,
                   and an emitter facing away from the point is never chosen
      lighttree_degenerate  all emitters at one point, all coplanar, one emitter,
@@ -473,7 +475,69 @@ static void test_per_render_radiance(T *t)
     scene_free(&s);
 }
 
+/* The bounds are conservative: at random points, every piece with a point that
+   faces the point (one-sided: on its front side; two-sided: either side) has
+   P > 0 under the total-power tree, so no merged cone or box loses an emitter.
+   Lamps face every way; a third of them are two-sided; the panel is split. */
+static void test_conservative(T *t)
+{
+    static char buf[1 << 16];
+    Scene s;
+    LightSampler *ls;
+    Rng r;
+    int i, k, checked = 0;
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    for (i = 0; i < 48; i++) {
+        size_t n;
+        Vec3 c = v3(-0.8f + 0.3f * (i % 6), -0.7f + 0.2f * (float)(i / 6), 0.35f * (float)(i % 5) - 0.7f);
+        add_quad(buf, sizeof buf, i % 2 ? SPIKY : BLUEISH, 1, c, i % 3, (i / 3) % 2 ? 1 : -1, 0.04f);
+        if (i % 3 == 0) {                            /* make it two-sided */
+            n = strlen(buf);
+            while (n > 0 && strncmp(buf + n, "\"diffuse\"", 9) != 0) n--;
+            memmove(buf + n + 9 + 25, buf + n + 9, strlen(buf + n + 9) + 1);
+            memcpy(buf + n + 9, " \"bool twosided\" [ true ]", 25);
+        }
+    }
+    add_panel(buf, sizeof buf, LOW_HALF, 1.0f, 4);
+    if (!test_load_scene(t, &s, buf)) return;
+    for (i = 0, k = 0; i < s.n_emitters; i++) k += s.emitters[i].twosided;
+    if (k != 16) { scene_free(&s); CHECK(t, 0, "%d two-sided lamps, want 16", k); }
+    ls = build(t, &s, SEL_TREE, 0, 0);
+    if (!ls) { scene_free(&s); return; }
+    rng_seed(&r, 21, 4);
+    for (k = 0; k < 300; k++) {
+        LightCtx c;
+        int piece, j;
+        memset(&c, 0, sizeof c);
+        c.p = v3(1.9f * rng_float(&r) - 0.95f, 1.9f * rng_float(&r) - 0.95f, 1.9f * rng_float(&r) - 0.95f);
+        c.voxel = -1;
+        c.alive = 15u;
+        for (j = 0; j < HERO_N; j++) { c.lambda[j] = 420.0f + 70.0f * j; c.beta[j] = 1.0f; }
+        for (piece = 0; piece < light_n_pieces(ls); piece++) {
+            int e = light_piece_emitter(ls, piece), faces = 0;
+            for (j = 0; j < 8 && !faces; j++) {
+                EmitterSample es;
+                Vec3 to_p;
+                float d;
+                if (!light_sample(ls, piece, c.p, rng_float(&r), rng_float(&r), rng_float(&r), &es)) continue;
+                to_p = v3_mul(es.wi, -1.0f);
+                d = v3_dot(es.n, to_p);
+                faces = s.emitters[e].twosided ? fabsf(d) > 1e-3f : d > 1e-3f;
+            }
+            if (!faces) continue;
+            checked++;
+            CHECK(t, light_select_pmf(ls, &c, piece) > 0.0f,
+                  "piece %d (emitter %d%s) faces (%g %g %g) but has P = 0", piece, e,
+                  s.emitters[e].twosided ? ", two-sided" : "", c.p.x, c.p.y, c.p.z);
+        }
+    }
+    light_sampler_free(ls);
+    scene_free(&s);
+    CHECK(t, checked > 1000, "only %d facing pieces checked", checked);
+}
+
 const TestCase tests_lighttree[] = {
+    { "lighttree_conservative", test_conservative },
     { "lighttree_per_render_radiance", test_per_render_radiance },
     { "lighttree_select_matches_pmf", test_select_matches_pmf },
     { "lighttree_spectral_preference", test_spectral_preference },
