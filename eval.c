@@ -48,7 +48,8 @@
 #define MAX_REGIONS 9
 
 /* "name[:modifier]...": modifiers power, all, tput, importance, roughmis, single,
-   wide, nonee.  Returns 0 on an unknown name or modifier. */
+   wide, nonee, nosplit (light trees: a large emissive mesh stays one leaf).
+   Returns 0 on an unknown name or modifier. */
 int eval_parse_variant(const char *spec, RenderOptions *o)
 {
     char buf[128], *tok, *save = NULL;
@@ -66,6 +67,7 @@ int eval_parse_variant(const char *spec, RenderOptions *o)
         else if (!strcmp(tok, "single")) o->single_wavelength = 1;
         else if (!strcmp(tok, "wide")) o->wl_wide = 1;
         else if (!strcmp(tok, "nonee")) o->nee = 0;
+        else if (!strcmp(tok, "nosplit")) o->sel.no_split = 1;
         else return 0;
     }
     return 1;
@@ -224,9 +226,11 @@ static const char usage_converge[] =
     "usage: specnee converge SCENE --ref REF.pfm [--lights v1,v2,...] [--spp 16,32,...]\n"
     "         [--seeds K] [--out PREFIX] [--baseline NAME] [--threads N] [--maxdepth N]\n"
     "         [--time cpu|wall] [--reuse]\n"
-    "  variants: a strategy (uniform power spatial spd product spectral-spatial all)\n"
+    "  variants: a strategy (uniform power spatial spd product spectral-spatial all\n"
+    "  tree spectral-tree)\n"
     "  with modifiers, e.g. spd:power, product:all, product:tput, spatial:importance,\n"
-    "  spatial:roughmis, spatial:single, spatial:nonee.  The first is the baseline.\n"
+    "  spatial:roughmis, spatial:single, spatial:nonee, spectral-tree:nosplit.  The\n"
+    "  first is the baseline.\n"
     "  --time: the time axis and the equal-time comparison use process CPU time\n"
     "  (default: not charged while other programs run) or wall time.\n"
     "  --reuse: no rendering; the charts and tables are rebuilt from PREFIX.csv of an\n"

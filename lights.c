@@ -1,28 +1,35 @@
 /* lights.c - emitters, and how next event estimation chooses one of them.
 
-   Exported (specnee.h section 11): emitters_prepare, emitter_Le, emitter_sample,
-   emitter_pdf_sa, light_sampler_build/free, light_voxel, light_select,
-   light_select_pmf, light_sampler_bytes, sel_from_name, sel_name.
+   Exported (specnee.h section 11): emitters_prepare, emitter_radiance,
+   emitter_sample, emitter_pdf_sa, light_sampler_build/free, light_Le,
+   light_spectrum, light_n_pieces, light_piece_emitter, light_piece_of,
+   light_sample, light_pdf_sa, light_voxel, light_select, light_select_pmf,
+   light_sampler_bytes, sel_from_name, sel_name.
 
    1. Emitters.  An emitter is one AreaLightSource shape: a whole mesh (or sphere).
       Its radiance follows pbrt-v4's normalisation (DiffuseAreaLight::Create):
           Le(lambda) = scale * L(lambda) / sum_{lambda = lo..hi, 1 nm} ybar(lambda) L(lambda)
       over the range the film integrates, so a directly seen emitter has Y = scale.
+      The range belongs to a render (--wide samples 360-830 nm), so Le is computed
+      by light_sampler_build and kept in the LightSampler, which the render owns;
+      the Scene keeps only what the file says and the geometry (area, triangle CDF).
       A one-sided emitter emits only to the side its oriented normal points to.
       Points are sampled by area: a triangle with probability area_t / A, then a
       uniform point on it (u = 1 - sqrt(u1), v = u2 sqrt(u1)).  Converted to solid
       angle at the reference point x (pbrt-v3/v4 Shape::Sample):
           p_sigma(y) = |x - y|^2 / (A |cos theta_y|).
 
-   2. Selection.  light_select picks emitter i with probability P(i | c), where the
-      context c = (voxel, wavelengths, alive set, hero_only) is fixed at the vertex
-      and stored by the integrator; light_select_pmf(c, i) returns the same number
-      for an emitter hit by BSDF sampling (the consistency contract, items C1-C4 of
-      docs/THEORY.md section 5).
+   2. Selection.  light_select picks a piece i (an emitter, or with the light trees
+      a cluster of triangles of a large emissive mesh, section 4) with probability
+      P(i | c), where the context c = (point, normal, voxel, wavelengths, alive set)
+      is fixed at the vertex and stored by the integrator; light_select_pmf(c, i)
+      returns the same number for a piece hit by BSDF sampling (the consistency
+      contract, items C1-C4 of docs/THEORY.md section 5).
       Strategies (T_i(b) = bin average of Le_i over bin b, times area x sides with
       the power metric):
-        uniform           1/n
+        uniform           1/n                                   (O(1): a lookup)
         power             proportional to pi * A_i * (2 if two-sided) * int_400^700 Le_i
+                                      (O(log n): binary search in a CDF; pmf a lookup)
         spatial           s_i(v): pbrt-v3's SpatialLightDistribution (see below)
         spd               thesis Sec. 2: T_i(b(lambda_h)) / sum_k T_k(b(lambda_h))
         product           thesis Sec. 2 ("combined PDF"): s_i(v) T_i(b) / sum_k s_k(v) T_k(b)
@@ -30,19 +37,26 @@
                           g_i(v) the spatial estimate for UNIT radiance, so brightness
                           is counted once (the thesis' argument for the unit
                           metric, thesis Sec. 2 "Combining PDFs")
+        tree              a light BVH (pbrt-v4's BVHLightSampler; Conty Estevez and
+                          Kulla 2018), importance from total power (section 4)
+        spectral-tree     the same tree, importance from the power in the bins of
+                          the alive wavelengths (section 4)
       T_i(b) with the unit metric (the default) is the bin average of the emitted
       radiance Le_i, the thesis' "unit emission"; the power metric multiplies it by
       the area (x 2 if two-sided), the thesis' "power".
-      The spectral strategies act only where the path carries the hero alone
-      (after a wavelength-dependent event, LightCtx.hero_only); while several
-      wavelengths are alive the thesis uses the spatial distribution.  Beyond the
-      thesis (all_wavelengths), the weight of emitter i is sum over alive j of
+      The thesis' spectral strategies act only where the path carries the hero
+      alone (LightCtx.hero_only, i.e. alive == 1: after a wavelength-dependent event
+      terminated the secondaries, or with --single-wavelength); while several wavelengths are
+      alive the thesis uses the spatial distribution.  Beyond the thesis
+      (all_wavelengths), the weight of emitter i is sum over alive j of
       c_j * e_i(lambda_j), with e_i the strategy's unnormalised weight and c_j = 1
       or the path throughput at lambda_j.  Either way P(i | c) is the same whichever
       alive wavelength is the hero: item C4 of the contract, which the single
-      q_nee of render.c's MIS weights needs (docs/THEORY.md section 6 derives why).  When every emitter has weight 0 for the hero's bin
-      (or the hero lies outside 400-700 nm) the spatial distribution is used
-      (counted as a fallback); the same rule runs in light_select_pmf.
+      q_nee of render.c's MIS weights needs (docs/THEORY.md section 6 derives why).
+      When every emitter has weight 0 for the hero's bin (or the hero lies outside
+      400-700 nm) the spatial distribution is used (counted as a fallback); the same
+      rule runs in light_select_pmf.  spatial, spd, product and spectral-spatial
+      cost O(n) per vertex; uniform O(1), power O(log n), the trees O(log n).
 
    3. The spatial distribution (pbrt-v3 lightdistrib.cpp; docs/THEORY.md section 5): a grid
       over the scene bounds with SPATIAL_RES cells on the longest axis; per voxel,
@@ -53,8 +67,58 @@
       Y_j = scale_j is the emitter's luminance.  A floor of 1e-3 of the mean weight
       keeps every emitter possible.  Voxels are built lazily on first use (under an
       OpenMP critical section) or all up front; both give identical tables because
-      the computation is deterministic. */
+      the computation is deterministic.  Cost: 128 n evaluations per voxel touched
+      and 2n floats per voxel.
+
+   4. The light tree (Conty Estevez and Kulla, "Importance Sampling of Many Lights
+      with Adaptive Tree Splitting", HPG 2018; pbrt-v4's BVHLightSampler and
+      LightBounds, pbrt book 4th ed. section 12.6.3; written here from the
+      equations).  A binary tree over the pieces, built once per render.  Every
+      node stores the box of its pieces, an orientation cone (axis w; theta_o,
+      the spread of the emitting normals around w; theta_e = pi/2, how far past
+      a normal a diffuse emitter still emits), a two-sided flag, its radiant power
+      Phi = sum over pieces of pi A (2 if two-sided) int Le, and its power in each
+      5 nm bin of the sampled range (60 bins over 400-700 nm, 94 over 360-830).
+      Importance of a node at a shading point p with normal n:
+          I = Phi_c * cos(theta') * cos(theta_i') / d^2
+      d = distance from p to the box centre, clamped below by the radius r of the
+      box's bounding sphere; theta_b = the half-angle under which that sphere is
+      seen from p (pi when p is inside it); theta_w = angle between w and the
+      direction from the centre to p (folded into [0, pi/2] when two-sided);
+      theta' = max(0, theta_w - theta_o - theta_b), and I = 0 when theta' >= theta_e
+      (no emitter below faces p); theta_i' = max(0, theta_i - theta_b) with
+      theta_i the angle between n and the direction to the centre (|cos|: the
+      surface may transmit).  Each bound only overestimates, so a node that can
+      light p never gets 0.  Phi_c is the power that counts in the context:
+          tree           Phi (all wavelengths together: pbrt-v4's sampler)
+          spectral-tree  sum over alive j of c_j Phi(bin(lambda_j)), c_j = 1 or the
+                         throughput (--throughput-weighted): the hero's bin alone
+                         after a wavelength-dependent event, the thesis' spectral
+                         preference; symmetric in the alive set, so the spectral MIS
+                         weights stay intact (like --all-wavelengths above).
+      Selection walks from the root: at an interior node with children importances
+      a, b it goes to the first with probability a / (a + b) (the path stops when
+      a + b = 0: nothing below can light p), rescales u into the chosen interval
+      and multiplies the branch probabilities.  The pmf of a given piece walks the
+      same nodes along the piece's bit trail (bit d = branch taken at depth d),
+      calling the same importance function: select and pmf cannot disagree.
+      Build: top-down over the box centroids, LIGHT_TREE_BINS candidate planes per
+      axis scored by the surface-area-orientation cost of both sides,
+          M = Phi * area(box) * M_omega(theta_o, theta_e) * (longest extent / extent on the axis)
+          M_omega = 2 pi (1 - cos theta_o) + pi/2 (2 t sin theta_o - cos(theta_o - 2 t)
+                    - 2 theta_o sin theta_o + cos theta_o),   t = min(theta_o + theta_e, pi)
+      (M_omega is the solid-angle measure of the cone of emitted directions: the
+      integral of cos(theta - theta_o) sin theta from theta_o to t, our derivation).
+      When all centroids coincide, or below depth 32, the middle of the list (in
+      centroid order) is taken: depth <= 32 + log2 n <= 63, so a 64-bit trail holds it.
+      O(n log n) time (n log^2 n for the median fallbacks), 2n - 1 nodes.
+      Large emissive meshes (more than LIGHT_CLUSTER_TRIS triangles) are split into
+      clusters of at most LIGHT_CLUSTER_TRIS nearby triangles (recursive median cuts
+      of their centroids); each cluster is a leaf with its own box, cone and area,
+      and the mesh's spectrum.  A point is then sampled by area inside the chosen
+      cluster, so p_sigma uses the cluster's area. */
 #include "specnee.h"
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -72,25 +136,35 @@ static double tri_area(const Scene *s, int t)
     return 0.5 * (double)v3_len(v3_cross(e1, e2));
 }
 
-int emitters_prepare(Scene *s, float lo_nm, float hi_nm, Error *err)
+int emitter_radiance(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *Le, Error *err)
 {
-    int e, b, t, lam;
+    const Emitter *em = &s->emitters[e];
+    const Shape *sh = &s->shapes[em->shape];
+    double norm = 0.0;
+    int lam;
+    for (lam = (int)ceilf(lo_nm); lam <= (int)floorf(hi_nm); lam++) {
+        float xyz[3];
+        cie_xyz((float)lam, xyz);
+        norm += (double)xyz[1] * spec_eval(&em->L, (float)lam);
+    }
+    if (!(norm > 0.0)) {
+        error_set(err, sh->file, sh->line,
+                  "AreaLightSource: spectrum L emits nothing visible in %g-%g nm", lo_nm, hi_nm);
+        return 0;
+    }
+    for (lam = 0; lam < SPEC_N; lam++)
+        Le->v[lam] = (float)(em->scale * em->L.v[lam] / norm);
+    return 1;
+}
+
+int emitters_prepare(Scene *s, Error *err)
+{
+    int e, t;
     for (e = 0; e < s->n_emitters; e++) {
         Emitter *em = &s->emitters[e];
         const Shape *sh = &s->shapes[em->shape];
-        double norm = 0.0, sum = 0.0;
-        for (lam = (int)ceilf(lo_nm); lam <= (int)floorf(hi_nm); lam++) {
-            float xyz[3];
-            cie_xyz((float)lam, xyz);
-            norm += (double)xyz[1] * spec_eval(&em->L, (float)lam);
-        }
-        if (!(norm > 0.0)) {
-            error_set(err, sh->file, sh->line,
-                      "AreaLightSource: spectrum L emits nothing visible in %g-%g nm", lo_nm, hi_nm);
-            return 0;
-        }
-        for (lam = 0; lam < SPEC_N; lam++)
-            em->Le.v[lam] = (float)(em->scale * em->L.v[lam] / norm);
+        Spectrum Le;
+        if (!emitter_radiance(s, e, LAMBDA_LO, LAMBDA_HI, &Le, err)) return 0;
         /* area and the triangle CDF */
         free(em->tri_cdf);
         em->tri_cdf = NULL;
@@ -113,20 +187,41 @@ int emitters_prepare(Scene *s, float lo_nm, float hi_nm, Error *err)
             error_set(err, sh->file, sh->line, "AreaLightSource: emitting shape has zero area");
             return 0;
         }
-        for (b = 0; b < SPD_BINS; b++) {
-            em->bin[b] = spec_bin_average(&em->Le, b);
-            sum += em->bin[b] * SPD_BIN_NM;
-        }
-        em->power = SPECNEE_PI * em->area * (em->twosided ? 2.0 : 1.0) * sum;
     }
     return 1;
 }
 
-float emitter_Le(const Scene *s, int e, Vec3 n, Vec3 w, float lambda_nm)
+/* The end of every area sample: direction, distance and solid-angle pdf of the
+   point out->p (normal out->n) seen from ref, for a piece of area `area`. */
+static int finish_sample(Vec3 ref, double area, EmitterSample *out)
 {
-    const Emitter *em = &s->emitters[e];
-    if (!em->twosided && v3_dot(n, w) <= 0.0f) return 0.0f;
-    return spec_eval(&em->Le, lambda_nm);
+    Vec3 d = v3_sub(out->p, ref);
+    float dist2 = v3_dot(d, d), cos_y;
+    if (!(dist2 > 0.0f)) return 0;
+    out->dist = sqrtf(dist2);
+    out->wi = v3_mul(d, 1.0f / out->dist);
+    cos_y = fabsf(v3_dot(out->n, out->wi));
+    if (!(cos_y > 0.0f)) return 0;
+    out->pdf_sa = (float)(dist2 / (area * cos_y));
+    return isfinite(out->pdf_sa) && out->pdf_sa > 0.0f;
+}
+
+/* A uniform point on triangle tri (u = 1 - sqrt(u1), v = u2 sqrt(u1)), with the
+   oriented geometric normal the integrator sees at a hit there. */
+static void point_on_triangle(const Scene *s, int tri, Vec3 ref, float u1, float u2, EmitterSample *out)
+{
+    HitRecord h;
+    SurfacePoint sp;
+    Ray dummy;
+    float su = sqrtf(u1);
+    h.t = 0.0f;
+    h.prim = tri;
+    h.b1 = u2 * su;                    /* barycentric of v1 */
+    h.b2 = 1.0f - su;                  /* barycentric of v2 */
+    dummy.o = ref; dummy.d = v3(0, 0, 1); dummy.tmax = 0.0f;
+    scene_surface_point(s, &dummy, &h, &sp);
+    out->p = sp.p;
+    out->n = sp.ng;
 }
 
 int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2,
@@ -134,8 +229,6 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
 {
     const Emitter *em = &s->emitters[e];
     const Shape *sh = &s->shapes[em->shape];
-    Vec3 d;
-    float dist2, cos_y;
     if (sh->type == SHAPE_SPHERE) {
         float z = 1.0f - 2.0f * u1, r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
         float phi = 2.0f * PI_F * u2;
@@ -146,54 +239,78 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
     } else {
         /* pick a triangle by area: first cdf entry above u0 (binary search) */
         int lo = 0, hi = sh->tri_count - 1;
-        HitRecord h;
-        SurfacePoint sp;
-        Ray dummy;
-        float su;
         while (lo < hi) {
             int mid = (lo + hi) / 2;
             if (em->tri_cdf[mid + 1] <= u0) lo = mid + 1; else hi = mid;
         }
-        su = sqrtf(u1);
-        h.t = 0.0f;
-        h.prim = sh->tri_begin + lo;
-        h.b1 = u2 * su;                    /* barycentric of v1 */
-        h.b2 = 1.0f - su;                  /* barycentric of v2 */
-        dummy.o = ref; dummy.d = v3(0, 0, 1); dummy.tmax = 0.0f;
-        scene_surface_point(s, &dummy, &h, &sp);
-        out->p = sp.p;
-        out->n = sp.ng;
+        point_on_triangle(s, sh->tri_begin + lo, ref, u1, u2, out);
     }
-    d = v3_sub(out->p, ref);
-    dist2 = v3_dot(d, d);
-    if (!(dist2 > 0.0f)) return 0;
-    out->dist = sqrtf(dist2);
-    out->wi = v3_mul(d, 1.0f / out->dist);
-    cos_y = fabsf(v3_dot(out->n, out->wi));
-    if (!(cos_y > 0.0f)) return 0;
-    out->pdf_sa = (float)(dist2 / (em->area * cos_y));
-    return isfinite(out->pdf_sa) && out->pdf_sa > 0.0f;
+    return finish_sample(ref, em->area, out);
+}
+
+static float pdf_sa_area(double area, Vec3 ref, Vec3 p, Vec3 n)
+{
+    Vec3 d = v3_sub(p, ref);
+    float dist2 = v3_dot(d, d), cos_y;
+    if (!(dist2 > 0.0f) || !(area > 0.0)) return 0.0f;
+    cos_y = fabsf(v3_dot(n, d)) / sqrtf(dist2);
+    if (!(cos_y > 0.0f)) return 0.0f;
+    return (float)(dist2 / (area * cos_y));
 }
 
 float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n)
 {
-    Vec3 d = v3_sub(p, ref);
-    float dist2 = v3_dot(d, d), cos_y;
-    if (!(dist2 > 0.0f)) return 0.0f;
-    cos_y = fabsf(v3_dot(n, d)) / sqrtf(dist2);
-    if (!(cos_y > 0.0f)) return 0.0f;
-    return (float)(dist2 / (s->emitters[e].area * cos_y));
+    return pdf_sa_area(s->emitters[e].area, ref, p, n);
 }
 
-/* ------------------------------------------------------------------ selection */
+/* ------------------------------------------------------------------ the sampler */
+
+/* A piece: what NEE chooses.  A whole emitter (count == 0, sampled by
+   emitter_sample), or a cluster of triangles of a split mesh. */
+typedef struct {
+    int emitter;
+    int first, count;          /* triangles ls->piece_tri[first .. first + count) */
+    double area;
+    uint64_t trail;            /* light trees: bit d = 1 if the path to the leaf takes
+                                  the second child at depth d */
+    int depth;                 /* number of branches from the root to the leaf */
+} Piece;
+
+/* A node of the light tree (section 4).  Depth-first order: the first child of
+   an interior node i is node i + 1, the second is nodes[i].second. */
+typedef struct {
+    float c[3], r;             /* centre and radius of the box's bounding sphere */
+    float axis[3];             /* orientation cone: unit axis w ... */
+    float cos_o, sin_o, cos_e; /* ... theta_o, cos theta_e (cos_o = -1: every direction) */
+    float power;               /* radiant power over the sampled range */
+    int32_t second;            /* interior: index of the second child; leaf: -1 - piece */
+    int32_t twosided;
+} TreeNode;
 
 struct LightSampler {
     const Scene *scene;
     SelOptions opt;
     int n;                     /* number of emitters */
+    Spectrum *Le;              /* per emitter: radiance for the sampled range */
+    float *bin;                /* n x SPD_BINS: bin averages of Le over 400-700 nm */
+    double *power;             /* per emitter: radiant power over 400-700 nm */
+    double *power_cdf;         /* power strategy: n + 1 running sums of power_pmf */
+    int power_last;            /* last emitter with positive power_pmf */
     float *power_pmf;          /* power strategy */
     float *T;                  /* SPD_BINS x n spectral table (unit or power metric) */
     float *Y;                  /* luminance (= scale) per emitter */
+    /* pieces (section 4): without splitting piece i is emitter i */
+    int n_pieces;
+    Piece *pieces;
+    int *emitter_piece;        /* per emitter: its piece, -1 when split */
+    int *piece_tri;            /* triangles of the split meshes' clusters */
+    float *piece_cdf;          /* parallel: cumulative area fraction within the cluster */
+    int *piece_of_tri;         /* per scene triangle: its cluster, -1 (NULL: no splits) */
+    /* light tree */
+    TreeNode *nodes;
+    int n_nodes;
+    int nb;                    /* bins of the sampled range (5 nm each) */
+    float *node_bin;           /* n_nodes x nb: power per bin */
     /* spatial grid */
     int res[3];
     Vec3 bmin, bmax;
@@ -214,7 +331,8 @@ static double lights_seconds(void)
 }
 
 static const char *const sel_names[SEL_COUNT] = {
-    "uniform", "power", "spatial", "spd", "product", "spectral-spatial", "all"
+    "uniform", "power", "spatial", "spd", "product", "spectral-spatial", "all",
+    "tree", "spectral-tree"
 };
 
 const char *sel_name(SelStrategy st)
@@ -229,6 +347,8 @@ SelStrategy sel_from_name(const char *name)
         if (strcmp(name, sel_names[i]) == 0) return (SelStrategy)i;
     return SEL_COUNT;
 }
+
+static int is_tree(SelStrategy st) { return st == SEL_TREE || st == SEL_SPECTRAL_TREE; }
 
 static int uses_grid(SelStrategy st)
 {
@@ -337,6 +457,565 @@ static const float *voxel_table(LightSampler *ls, int v)
     return t;
 }
 
+
+/* ------------------------------------------------------------------ light tree */
+
+/* An orientation cone: unit axis w, cos theta_o, cos theta_e. */
+typedef struct { Vec3 w; float cos_o, cos_e; } Cone;
+
+static Cone cone_full(float cos_e)
+{
+    Cone c;
+    c.w = v3(0.0f, 0.0f, 1.0f);
+    c.cos_o = -1.0f;
+    c.cos_e = cos_e;
+    return c;
+}
+
+/* The smallest cone holding both a and b (the cone of normals; theta_e: the
+   larger of the two).  Where the two axes are opposite, the whole sphere. */
+static Cone cone_union(Cone a, Cone b)
+{
+    double ta, tb, td, to, rot, len, cd;
+    Vec3 perp;
+    Cone c;
+    float cos_e = fminf(a.cos_e, b.cos_e);
+    if (a.cos_o <= -1.0f || b.cos_o <= -1.0f) return cone_full(cos_e);
+    ta = acos(a.cos_o);
+    tb = acos(b.cos_o);
+    cd = v3_dot(a.w, b.w);
+    td = acos(cd > 1.0 ? 1.0 : cd < -1.0 ? -1.0 : cd);
+    if (td + tb <= ta) { a.cos_e = cos_e; return a; }          /* b inside a */
+    if (td + ta <= tb) { b.cos_e = cos_e; return b; }          /* a inside b */
+    to = 0.5 * (ta + td + tb);
+    if (to >= SPECNEE_PI) return cone_full(cos_e);
+    /* turn a's axis towards b's by to - ta, in the plane of the two axes */
+    perp = v3_sub(b.w, v3_mul(a.w, (float)cd));
+    len = v3_len(perp);
+    if (!(len > 1e-7)) return cone_full(cos_e);
+    rot = to - ta;
+    c.w = v3_norm(v3_add(v3_mul(a.w, (float)cos(rot)), v3_mul(perp, (float)(sin(rot) / len))));
+    c.cos_o = (float)cos(to);
+    c.cos_e = cos_e;
+    return c;
+}
+
+/* Solid-angle measure of the directions a cone emits into (section 4). */
+static double cone_measure(const Cone *c)
+{
+    double to = acos(c->cos_o < -1.0f ? -1.0 : c->cos_o > 1.0f ? 1.0 : c->cos_o);
+    double te = acos(c->cos_e < -1.0f ? -1.0 : c->cos_e > 1.0f ? 1.0 : c->cos_e);
+    double t = to + te < SPECNEE_PI ? to + te : SPECNEE_PI;
+    double so = sin(to);
+    return 2.0 * SPECNEE_PI * (1.0 - cos(to)) +
+           0.5 * SPECNEE_PI * (2.0 * t * so - cos(to - 2.0 * t) - 2.0 * to * so + cos(to));
+}
+
+/* What the build knows of each piece. */
+typedef struct {
+    Vec3 bmin, bmax, centroid;
+    Cone cone;
+    int twosided;
+    double power;
+} PieceBounds;
+
+/* The bounds of a set of pieces, accumulated one at a time. */
+typedef struct {
+    Vec3 bmin, bmax;
+    Cone cone;
+    int twosided, any;
+    double power;
+} Acc;
+
+static void acc_init(Acc *a) { memset(a, 0, sizeof *a); }
+
+static void acc_add(Acc *a, const PieceBounds *b)
+{
+    if (!a->any) {
+        a->bmin = b->bmin; a->bmax = b->bmax; a->cone = b->cone;
+        a->twosided = b->twosided; a->power = b->power; a->any = 1;
+        return;
+    }
+    a->bmin = v3_min(a->bmin, b->bmin);
+    a->bmax = v3_max(a->bmax, b->bmax);
+    a->cone = cone_union(a->cone, b->cone);
+    a->twosided |= b->twosided;
+    a->power += b->power;
+}
+
+static void acc_merge(Acc *a, const Acc *b)
+{
+    PieceBounds pb;
+    if (!b->any) return;
+    pb.bmin = b->bmin; pb.bmax = b->bmax; pb.cone = b->cone;
+    pb.twosided = b->twosided; pb.power = b->power;
+    acc_add(a, &pb);
+}
+
+/* The split cost of one side: Phi * area(box) * M_omega (section 4). */
+static double acc_cost(const Acc *a)
+{
+    Vec3 d;
+    if (!a->any) return 0.0;
+    d = v3_sub(a->bmax, a->bmin);
+    return a->power * 2.0 * ((double)d.x * d.y + (double)d.y * d.z + (double)d.z * d.x) *
+           cone_measure(&a->cone);
+}
+
+typedef struct { float key; int idx; } KeyIdx;
+
+static int cmp_key(const void *pa, const void *pb)
+{
+    const KeyIdx *a = (const KeyIdx *)pa, *b = (const KeyIdx *)pb;
+    if (a->key < b->key) return -1;
+    if (a->key > b->key) return 1;
+    return a->idx < b->idx ? -1 : a->idx > b->idx;   /* ties: a deterministic order */
+}
+
+/* Sort items[0..n) by coordinate `axis` of their points (pts[item]). */
+static void sort_by_axis(int *items, int n, const Vec3 *pts, int axis, KeyIdx *tmp)
+{
+    int i;
+    for (i = 0; i < n; i++) { tmp[i].key = v3_get(pts[items[i]], axis); tmp[i].idx = items[i]; }
+    qsort(tmp, (size_t)n, sizeof *tmp, cmp_key);
+    for (i = 0; i < n; i++) items[i] = tmp[i].idx;
+}
+
+typedef struct {
+    LightSampler *ls;
+    const PieceBounds *pb;
+    Vec3 *centroids;
+    KeyIdx *tmp;
+} Builder;
+
+static int longest_axis(Vec3 d)
+{
+    return d.x >= d.y && d.x >= d.z ? 0 : d.y >= d.z ? 1 : 2;
+}
+
+/* Build the subtree over items[0..n) at `depth` with the given trail; returns
+   its node index.  Recursion depth <= 64 (section 4). */
+static int tree_build(Builder *B, int *items, int n, int depth, uint64_t trail)
+{
+    LightSampler *ls = B->ls;
+    int node = ls->n_nodes++, i, b, mid = -1;
+    TreeNode *nd = &ls->nodes[node];
+    Acc all;
+    Vec3 cmin, cmax, cext;
+    acc_init(&all);
+    for (i = 0; i < n; i++) acc_add(&all, &B->pb[items[i]]);
+    {
+        Vec3 c = v3_mul(v3_add(all.bmin, all.bmax), 0.5f), half = v3_mul(v3_sub(all.bmax, all.bmin), 0.5f);
+        nd->c[0] = c.x; nd->c[1] = c.y; nd->c[2] = c.z;
+        nd->r = v3_len(half);
+    }
+    nd->axis[0] = all.cone.w.x; nd->axis[1] = all.cone.w.y; nd->axis[2] = all.cone.w.z;
+    nd->cos_o = all.cone.cos_o;
+    nd->sin_o = sqrtf(fmaxf(0.0f, 1.0f - nd->cos_o * nd->cos_o));
+    nd->cos_e = all.cone.cos_e;
+    nd->twosided = all.twosided;
+    if (n == 1) {
+        Piece *pc = &ls->pieces[items[0]];
+        double sum = 0.0;
+        nd->second = -1 - items[0];
+        pc->trail = trail;
+        pc->depth = depth;
+        /* power per bin: pi A (2 if two-sided) times the bin average of Le */
+        for (b = 0; b < ls->nb; b++) {
+            const Spectrum *Le = &ls->Le[pc->emitter];
+            const int width = (int)SPD_BIN_NM;
+            int i0 = (int)ls->opt.lo_nm + width * b - SPEC_MIN, k;
+            double avg = 0.5 * (Le->v[i0] + Le->v[i0 + width]);
+            float v;
+            for (k = 1; k < width; k++) avg += Le->v[i0 + k];
+            avg /= width;
+            v = (float)(SPECNEE_PI * pc->area * (ls->scene->emitters[pc->emitter].twosided ? 2.0 : 1.0) * avg);
+            ls->node_bin[(size_t)node * ls->nb + b] = v;
+            sum += (double)v * SPD_BIN_NM;
+        }
+        nd->power = (float)sum;
+        return node;
+    }
+    cmin = cmax = B->centroids[items[0]];
+    for (i = 1; i < n; i++) {
+        cmin = v3_min(cmin, B->centroids[items[i]]);
+        cmax = v3_max(cmax, B->centroids[items[i]]);
+    }
+    cext = v3_sub(cmax, cmin);
+    if (depth < 32 && (cext.x > 0.0f || cext.y > 0.0f || cext.z > 0.0f)) {
+        /* binned surface-area-orientation heuristic */
+        double best = INFINITY;
+        int best_axis = -1, best_plane = -1, a;
+        Vec3 ext = v3_sub(all.bmax, all.bmin);
+        float emax = fmaxf(ext.x, fmaxf(ext.y, ext.z));
+        for (a = 0; a < 3; a++) {
+            Acc bins[LIGHT_TREE_BINS], left[LIGHT_TREE_BINS];
+            float lo = v3_get(cmin, a), w = v3_get(cext, a), ea = v3_get(ext, a);
+            double kr;
+            Acc right;
+            if (!(w > 0.0f)) continue;
+            kr = ea > 0.0f ? (double)emax / ea : 1.0;
+            for (b = 0; b < LIGHT_TREE_BINS; b++) acc_init(&bins[b]);
+            for (i = 0; i < n; i++) {
+                int k = (int)((v3_get(B->centroids[items[i]], a) - lo) / w * LIGHT_TREE_BINS);
+                if (k < 0) k = 0;
+                if (k >= LIGHT_TREE_BINS) k = LIGHT_TREE_BINS - 1;
+                acc_add(&bins[k], &B->pb[items[i]]);
+            }
+            acc_init(&left[0]);
+            acc_merge(&left[0], &bins[0]);
+            for (b = 1; b < LIGHT_TREE_BINS; b++) { left[b] = left[b - 1]; acc_merge(&left[b], &bins[b]); }
+            acc_init(&right);
+            for (b = LIGHT_TREE_BINS - 1; b >= 1; b--) {
+                double cost;
+                acc_merge(&right, &bins[b]);
+                /* plane between bin b - 1 and bin b */
+                if (!left[b - 1].any || !right.any) continue;
+                cost = kr * (acc_cost(&left[b - 1]) + acc_cost(&right));
+                if (cost < best) { best = cost; best_axis = a; best_plane = b; }
+            }
+        }
+        if (best_axis >= 0) {
+            /* partition in place: bin < best_plane first */
+            float lo = v3_get(cmin, best_axis), w = v3_get(cext, best_axis);
+            int l = 0, r = n - 1;
+            while (l <= r) {
+                int k = (int)((v3_get(B->centroids[items[l]], best_axis) - lo) / w * LIGHT_TREE_BINS);
+                if (k < 0) k = 0;
+                if (k >= LIGHT_TREE_BINS) k = LIGHT_TREE_BINS - 1;
+                if (k < best_plane) l++;
+                else { int t = items[l]; items[l] = items[r]; items[r] = t; r--; }
+            }
+            if (l > 0 && l < n) mid = l;
+        }
+    }
+    if (mid < 0) {
+        /* all centroids coincide, or deep: the middle of the list in centroid order */
+        if (cext.x > 0.0f || cext.y > 0.0f || cext.z > 0.0f)
+            sort_by_axis(items, n, B->centroids, longest_axis(cext), B->tmp);
+        mid = n / 2;
+    }
+    tree_build(B, items, mid, depth + 1, trail);
+    nd = &ls->nodes[node];
+    nd->second = tree_build(B, items + mid, n - mid, depth + 1, trail | ((uint64_t)1 << depth));
+    {
+        const TreeNode *c0 = &ls->nodes[node + 1], *c1 = &ls->nodes[nd->second];
+        size_t o = (size_t)node * ls->nb, o0 = (size_t)(node + 1) * ls->nb, o1 = (size_t)nd->second * ls->nb;
+        for (b = 0; b < ls->nb; b++) ls->node_bin[o + b] = ls->node_bin[o0 + b] + ls->node_bin[o1 + b];
+        nd->power = c0->power + c1->power;
+    }
+    return node;
+}
+
+/* Split mesh emitter e's triangles tris[0..n) into clusters of at most
+   LIGHT_CLUSTER_TRIS by median cuts along the longest axis of their centroids. */
+static void cluster_mesh(LightSampler *ls, int e, int *tris, int n, const Vec3 *tri_c, KeyIdx *tmp,
+                         int *next_tri)
+{
+    const Scene *s = ls->scene;
+    if (n > LIGHT_CLUSTER_TRIS) {
+        Vec3 cmin = tri_c[tris[0]], cmax = cmin;
+        int i, mid = n / 2;
+        for (i = 1; i < n; i++) { cmin = v3_min(cmin, tri_c[tris[i]]); cmax = v3_max(cmax, tri_c[tris[i]]); }
+        sort_by_axis(tris, n, tri_c, longest_axis(v3_sub(cmax, cmin)), tmp);
+        cluster_mesh(ls, e, tris, mid, tri_c, tmp, next_tri);
+        cluster_mesh(ls, e, tris + mid, n - mid, tri_c, tmp, next_tri);
+    } else {
+        Piece *pc = &ls->pieces[ls->n_pieces];
+        double acc = 0.0;
+        int i;
+        pc->emitter = e;
+        pc->first = *next_tri;
+        pc->count = n;
+        for (i = 0; i < n; i++) {
+            ls->piece_tri[pc->first + i] = tris[i];
+            acc += tri_area(s, tris[i]);
+            ls->piece_cdf[pc->first + i] = (float)acc;
+            ls->piece_of_tri[tris[i]] = ls->n_pieces;
+        }
+        for (i = 0; i < n; i++)
+            ls->piece_cdf[pc->first + i] = acc > 0.0 ? (float)(ls->piece_cdf[pc->first + i] / acc)
+                                                     : (float)(i + 1) / (float)n;
+        ls->piece_cdf[pc->first + n - 1] = 1.0f;
+        pc->area = acc;
+        *next_tri += n;
+        ls->n_pieces++;
+    }
+}
+
+/* The oriented geometric normal of triangle t, as scene_surface_point sees it. */
+static Vec3 tri_normal(const Scene *s, int t)
+{
+    const Triangle *tr = &s->tris[t];
+    Vec3 p0 = s->P[tr->v[0]], p1 = s->P[tr->v[1]], p2 = s->P[tr->v[2]];
+    Vec3 n = v3_norm(v3_cross(v3_sub(p0, p2), v3_sub(p1, p2)));
+    return s->shapes[tr->shape].flip ? v3_neg(n) : n;
+}
+
+/* Box, cone and power of a piece. */
+static void piece_bounds(const LightSampler *ls, const Piece *pc, PieceBounds *out)
+{
+    const Scene *s = ls->scene;
+    const Emitter *em = &s->emitters[pc->emitter];
+    const Shape *sh = &s->shapes[em->shape];
+    double sum = 0.0;
+    int b;
+    out->twosided = em->twosided;
+    if (sh->type == SHAPE_SPHERE) {
+        Vec3 r = v3(sh->radius, sh->radius, sh->radius);
+        out->bmin = v3_sub(sh->center, r);
+        out->bmax = v3_add(sh->center, r);
+        out->cone = cone_full(0.0f);
+    } else {
+        int first = pc->count ? pc->first : 0, count = pc->count ? pc->count : sh->tri_count, i, k;
+        Vec3 nsum = v3(0, 0, 0);
+        float cos_o = 1.0f;
+        for (i = 0; i < count; i++) {
+            int t = pc->count ? ls->piece_tri[first + i] : sh->tri_begin + i;
+            const Triangle *tr = &s->tris[t];
+            for (k = 0; k < 3; k++) {
+                Vec3 p = s->P[tr->v[k]];
+                if (i == 0 && k == 0) out->bmin = out->bmax = p;
+                out->bmin = v3_min(out->bmin, p);
+                out->bmax = v3_max(out->bmax, p);
+            }
+            nsum = v3_add(nsum, v3_mul(tri_normal(s, t), (float)tri_area(s, t)));
+        }
+        if (sh->has_normals || !(v3_len(nsum) > 0.0f)) {
+            out->cone = cone_full(0.0f);   /* shading normals may flip a point's side */
+        } else {
+            out->cone.w = v3_norm(nsum);
+            for (i = 0; i < count; i++) {
+                int t = pc->count ? ls->piece_tri[first + i] : sh->tri_begin + i;
+                if (tri_area(s, t) > 0.0) cos_o = fminf(cos_o, v3_dot(out->cone.w, tri_normal(s, t)));
+            }
+            out->cone.cos_o = fmaxf(-1.0f, fminf(1.0f, cos_o));
+            out->cone.cos_e = 0.0f;
+        }
+    }
+    out->centroid = v3_mul(v3_add(out->bmin, out->bmax), 0.5f);
+    for (b = 0; b < SPD_BINS; b++) sum += ls->bin[(size_t)pc->emitter * SPD_BINS + b];
+    out->power = SPECNEE_PI * pc->area * (em->twosided ? 2.0 : 1.0) * sum;
+}
+
+/* The context as the tree reads it: point, normal, and the bins that count. */
+typedef struct {
+    Vec3 p, n;
+    int has_n;
+    int spectral, nbins;
+    int bin[HERO_N];
+    float c[HERO_N];
+} TreeQuery;
+
+static void tree_query(const LightSampler *ls, const LightCtx *c, TreeQuery *q)
+{
+    int j;
+    q->p = c->p;
+    q->n = c->n;
+    q->has_n = v3_dot(c->n, c->n) > 0.0f;
+    q->spectral = ls->opt.strategy == SEL_SPECTRAL_TREE;
+    q->nbins = 0;
+    if (!q->spectral) return;
+    for (j = 0; j < HERO_N; j++) {
+        float cj = ls->opt.throughput_weighted ? c->beta[j] : 1.0f;
+        float x = (c->lambda[j] - ls->opt.lo_nm) / SPD_BIN_NM;
+        int b;
+        if (!(c->alive & (1u << j)) || !(cj > 0.0f)) continue;
+        b = x >= 0.0f ? (int)x : 0;                  /* also catches NaN */
+        if (b >= ls->nb) b = ls->nb - 1;
+        q->bin[q->nbins] = b;
+        q->c[q->nbins] = cj;
+        q->nbins++;
+    }
+}
+
+/* The importance of node i at the query (section 4): the one function that both
+   tree_select and tree_pmf call. */
+static float tree_importance(const LightSampler *ls, const TreeQuery *q, int i)
+{
+    const TreeNode *nd = &ls->nodes[i];
+    float phi, d2, r2, cos_x, imp;
+    Vec3 d;
+    if (q->spectral) {
+        int k;
+        const float *nb = ls->node_bin + (size_t)i * ls->nb;
+        phi = 0.0f;
+        for (k = 0; k < q->nbins; k++) phi += q->c[k] * nb[q->bin[k]];
+    } else {
+        phi = nd->power;
+    }
+    if (!(phi > 0.0f)) return 0.0f;
+    d = v3(q->p.x - nd->c[0], q->p.y - nd->c[1], q->p.z - nd->c[2]);
+    d2 = v3_dot(d, d);
+    r2 = nd->r * nd->r;
+    if (!(d2 > r2)) {
+        /* p inside the bounding sphere: no angle can be bounded */
+        imp = phi / fmaxf(r2, FLT_MIN);
+    } else {
+        float inv = 1.0f / sqrtf(d2);
+        float sin_b = nd->r * inv, cos_b = sqrtf(fmaxf(0.0f, 1.0f - sin_b * sin_b));
+        Vec3 w = v3_mul(d, inv);                     /* from the centre towards p */
+        float cos_w = w.x * nd->axis[0] + w.y * nd->axis[1] + w.z * nd->axis[2];
+        if (nd->twosided) cos_w = fabsf(cos_w);
+        if (cos_w >= nd->cos_o) {
+            cos_x = 1.0f;                            /* p inside the normal cone */
+        } else {
+            /* theta_w - theta_o > 0, then minus theta_b, clamped at 0 */
+            float sin_w = sqrtf(fmaxf(0.0f, 1.0f - cos_w * cos_w));
+            float cos_wo = cos_w * nd->cos_o + sin_w * nd->sin_o;
+            float sin_wo = sin_w * nd->cos_o - cos_w * nd->sin_o;
+            cos_x = cos_wo >= cos_b ? 1.0f : cos_wo * cos_b + sin_wo * sin_b;
+        }
+        if (cos_x <= nd->cos_e) return 0.0f;
+        imp = phi * cos_x / d2;
+        if (q->has_n) {
+            float cos_i = fabsf(v3_dot(q->n, w));
+            if (cos_i < cos_b) imp *= cos_i * cos_b + sqrtf(fmaxf(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
+        }
+    }
+    if (!(imp >= 0.0f)) return 0.0f;                 /* NaN */
+    return imp < FLT_MAX ? imp : FLT_MAX;
+}
+
+/* Probability of the first child of interior node i: a / (a + b); 0 and *ok = 0
+   when neither child can light the point. */
+static double branch_first(const LightSampler *ls, const TreeQuery *q, int i, int *ok)
+{
+    double a = tree_importance(ls, q, i + 1), b = tree_importance(ls, q, ls->nodes[i].second);
+    *ok = a + b > 0.0;
+    return *ok ? a / (a + b) : 0.0;
+}
+
+static int tree_select(const LightSampler *ls, const LightCtx *c, float u, float *pmf)
+{
+    TreeQuery q;
+    double uu = u, p = 1.0;
+    int i = 0;
+    tree_query(ls, c, &q);
+    while (ls->nodes[i].second >= 0) {
+        int ok;
+        double pa = branch_first(ls, &q, i, &ok);
+        if (!ok) { *pmf = 0.0f; return -1; }
+        if (uu < pa) {
+            uu /= pa;
+            p *= pa;
+            i = i + 1;
+        } else {
+            uu = (uu - pa) / (1.0 - pa);
+            p *= 1.0 - pa;                       /* select: the second child */
+            i = ls->nodes[i].second;
+        }
+        if (!(uu < 1.0)) uu = 1.0 - DBL_EPSILON;     /* round-off */
+    }
+    *pmf = (float)p;
+    return -1 - ls->nodes[i].second;
+}
+
+static float tree_pmf(const LightSampler *ls, const LightCtx *c, int piece)
+{
+    const Piece *pc = &ls->pieces[piece];
+    TreeQuery q;
+    double p = 1.0;
+    int i = 0, d;
+    tree_query(ls, c, &q);
+    for (d = 0; d < pc->depth; d++) {
+        int ok;
+        double pa;
+        if (ls->nodes[i].second < 0) return 0.0f;   /* a trail longer than the tree */
+        pa = branch_first(ls, &q, i, &ok);
+        if (!ok) return 0.0f;
+        if ((pc->trail >> d) & 1u) {
+            p *= 1.0 - pa;
+            i = ls->nodes[i].second;
+        } else {
+            p *= pa;
+            i = i + 1;
+        }
+    }
+    return ls->nodes[i].second == -1 - piece ? (float)p : 0.0f;   /* the trail ends at the piece */
+}
+
+/* Pieces and the tree (called by light_sampler_build for the tree strategies). */
+static int tree_setup(LightSampler *ls)
+{
+    const Scene *s = ls->scene;
+    int e, i, n_split_tris = 0, next_tri = 0, max_tris = 1, ok = 0;
+    int *items = NULL, *tris = NULL;
+    Vec3 *tri_c = NULL;
+    PieceBounds *pb = NULL;
+    KeyIdx *tmp = NULL;
+    Builder B;
+    size_t cap = (size_t)ls->n;
+    for (e = 0; e < ls->n; e++) {
+        const Shape *sh = &s->shapes[s->emitters[e].shape];
+        if (!ls->opt.no_split && sh->type == SHAPE_MESH && sh->tri_count > LIGHT_CLUSTER_TRIS) {
+            n_split_tris += sh->tri_count;
+            cap += (size_t)(sh->tri_count + LIGHT_CLUSTER_TRIS - 1) / LIGHT_CLUSTER_TRIS * 2;
+            if (sh->tri_count > max_tris) max_tris = sh->tri_count;
+        }
+    }
+    ls->pieces = (Piece *)calloc(cap, sizeof *ls->pieces);
+    ls->emitter_piece = (int *)malloc(sizeof(int) * (size_t)ls->n);
+    if (!ls->pieces || !ls->emitter_piece) goto done;
+    if (n_split_tris > 0) {
+        ls->piece_tri = (int *)malloc(sizeof(int) * (size_t)n_split_tris);
+        ls->piece_cdf = (float *)malloc(sizeof(float) * (size_t)n_split_tris);
+        ls->piece_of_tri = (int *)malloc(sizeof(int) * (size_t)s->n_tris);
+        tris = (int *)malloc(sizeof(int) * (size_t)max_tris);
+        tri_c = (Vec3 *)malloc(sizeof(Vec3) * (size_t)s->n_tris);
+        tmp = (KeyIdx *)malloc(sizeof(KeyIdx) * (size_t)(max_tris > ls->n ? max_tris : ls->n));
+        if (!ls->piece_tri || !ls->piece_cdf || !ls->piece_of_tri || !tris || !tri_c || !tmp) goto done;
+        for (i = 0; i < s->n_tris; i++) ls->piece_of_tri[i] = -1;
+    }
+    ls->n_pieces = 0;
+    for (e = 0; e < ls->n; e++) {
+        const Shape *sh = &s->shapes[s->emitters[e].shape];
+        if (ls->piece_of_tri && !ls->opt.no_split && sh->type == SHAPE_MESH &&
+            sh->tri_count > LIGHT_CLUSTER_TRIS) {
+            for (i = 0; i < sh->tri_count; i++) {
+                const Triangle *tr = &s->tris[sh->tri_begin + i];
+                tris[i] = sh->tri_begin + i;
+                tri_c[tris[i]] = v3_mul(v3_add(v3_add(s->P[tr->v[0]], s->P[tr->v[1]]), s->P[tr->v[2]]),
+                                        1.0f / 3.0f);
+            }
+            ls->emitter_piece[e] = -1;
+            cluster_mesh(ls, e, tris, sh->tri_count, tri_c, tmp, &next_tri);
+        } else {
+            Piece *pc = &ls->pieces[ls->n_pieces];
+            pc->emitter = e;
+            pc->area = s->emitters[e].area;
+            ls->emitter_piece[e] = ls->n_pieces++;
+        }
+    }
+    /* the tree over the pieces */
+    free(tmp);
+    pb = (PieceBounds *)malloc(sizeof *pb * (size_t)ls->n_pieces);
+    items = (int *)malloc(sizeof(int) * (size_t)ls->n_pieces);
+    tmp = (KeyIdx *)malloc(sizeof(KeyIdx) * (size_t)ls->n_pieces);
+    B.centroids = (Vec3 *)malloc(sizeof(Vec3) * (size_t)ls->n_pieces);
+    ls->nodes = (TreeNode *)calloc((size_t)(2 * ls->n_pieces - 1), sizeof *ls->nodes);
+    ls->nb = (int)((ls->opt.hi_nm - ls->opt.lo_nm) / SPD_BIN_NM + 0.5f);
+    ls->node_bin = (float *)malloc(sizeof(float) * (size_t)(2 * ls->n_pieces - 1) * (size_t)ls->nb);
+    if (!pb || !items || !tmp || !B.centroids || !ls->nodes || !ls->node_bin) { free(B.centroids); goto done; }
+    for (i = 0; i < ls->n_pieces; i++) {
+        piece_bounds(ls, &ls->pieces[i], &pb[i]);
+        B.centroids[i] = pb[i].centroid;
+        items[i] = i;
+    }
+    B.ls = ls;
+    B.pb = pb;
+    B.tmp = tmp;
+    ls->n_nodes = 0;
+    tree_build(&B, items, ls->n_pieces, 0, 0);
+    free(B.centroids);
+    ok = 1;
+done:
+    free(items); free(tris); free(tri_c); free(pb); free(tmp);
+    return ok;
+}
+
+/* ------------------------------------------------------------------ build */
+
 LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *err)
 {
     LightSampler *ls = (LightSampler *)calloc(1, sizeof *ls);
@@ -345,20 +1024,62 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     if (!ls) { error_set(err, NULL, 0, "out of memory"); return NULL; }
     ls->scene = s;
     ls->opt = *o;
+    if (!(ls->opt.hi_nm > ls->opt.lo_nm)) { ls->opt.lo_nm = LAMBDA_LO; ls->opt.hi_nm = LAMBDA_HI; }
     ls->n = n;
     if (n == 0) return ls;
+    ls->Le = (Spectrum *)malloc(sizeof(Spectrum) * (size_t)n);
+    ls->bin = (float *)malloc(sizeof(float) * (size_t)n * SPD_BINS);
+    ls->power = (double *)malloc(sizeof(double) * (size_t)n);
     ls->power_pmf = (float *)malloc(sizeof(float) * (size_t)n);
+    ls->power_cdf = (double *)malloc(sizeof(double) * (size_t)(n + 1));
     ls->T = (float *)malloc(sizeof(float) * (size_t)n * SPD_BINS);
     ls->Y = (float *)malloc(sizeof(float) * (size_t)n);
-    if (!ls->power_pmf || !ls->T || !ls->Y) goto oom;
-    for (i = 0; i < n; i++) sum += s->emitters[i].power;
+    if (!ls->Le || !ls->bin || !ls->power || !ls->power_pmf || !ls->power_cdf || !ls->T || !ls->Y)
+        goto oom;
+    /* the emitters' radiance for this render's range, bin table and power */
+    for (i = 0; i < n; i++) {
+        const Emitter *em = &s->emitters[i];
+        double bsum = 0.0;
+        if (!emitter_radiance(s, i, ls->opt.lo_nm, ls->opt.hi_nm, &ls->Le[i], err)) {
+            light_sampler_free(ls);
+            return NULL;
+        }
+        for (b = 0; b < SPD_BINS; b++) {
+            float v = spec_bin_average(&ls->Le[i], b);
+            ls->bin[(size_t)i * SPD_BINS + b] = v;
+            bsum += v * SPD_BIN_NM;
+        }
+        ls->power[i] = SPECNEE_PI * em->area * (em->twosided ? 2.0 : 1.0) * bsum;
+    }
+    for (i = 0; i < n; i++) sum += ls->power[i];
     for (i = 0; i < n; i++)
-        ls->power_pmf[i] = sum > 0 ? (float)(s->emitters[i].power / sum) : 1.0f / (float)n;
+        ls->power_pmf[i] = sum > 0 ? (float)(ls->power[i] / sum) : 1.0f / (float)n;
+    /* the power strategy's CDF: running sums in the order the old linear scan used */
+    ls->power_cdf[0] = 0.0;
+    ls->power_last = -1;
+    for (i = 0; i < n; i++) {
+        ls->power_cdf[i + 1] = ls->power_cdf[i] + ls->power_pmf[i];
+        if (ls->power_pmf[i] > 0.0f) ls->power_last = i;
+    }
     for (i = 0; i < n; i++) {
         const Emitter *em = &s->emitters[i];
         float m = o->power_metric ? (float)(em->area * (em->twosided ? 2.0 : 1.0)) : 1.0f;
         ls->Y[i] = em->scale;
-        for (b = 0; b < SPD_BINS; b++) ls->T[b * n + i] = em->bin[b] * m;
+        for (b = 0; b < SPD_BINS; b++) ls->T[b * n + i] = ls->bin[(size_t)i * SPD_BINS + b] * m;
+    }
+    if (is_tree(o->strategy)) {
+        if (!tree_setup(ls)) goto oom;
+    } else {
+        /* one piece per emitter */
+        ls->n_pieces = n;
+        ls->pieces = (Piece *)calloc((size_t)n, sizeof *ls->pieces);
+        ls->emitter_piece = (int *)malloc(sizeof(int) * (size_t)n);
+        if (!ls->pieces || !ls->emitter_piece) goto oom;
+        for (i = 0; i < n; i++) {
+            ls->pieces[i].emitter = i;
+            ls->pieces[i].area = s->emitters[i].area;
+            ls->emitter_piece[i] = i;
+        }
     }
     if (uses_grid(o->strategy)) {
         Vec3 d = v3_sub(s->bmax, s->bmin);
@@ -397,9 +1118,13 @@ void light_sampler_free(LightSampler *ls)
         for (v = 0; v < ls->n_voxels; v++)
             if (ls->voxel[v] != VOXEL_FAILED) free(ls->voxel[v]);
     free(ls->voxel);
-    free(ls->power_pmf);
+    free(ls->Le); free(ls->bin); free(ls->power);
+    free(ls->power_pmf); free(ls->power_cdf);
     free(ls->T);
     free(ls->Y);
+    free(ls->pieces); free(ls->emitter_piece);
+    free(ls->piece_tri); free(ls->piece_cdf); free(ls->piece_of_tri);
+    free(ls->nodes); free(ls->node_bin);
     free(ls);
 }
 
@@ -410,16 +1135,69 @@ double light_sampler_lazy_seconds(const LightSampler *ls)
 
 size_t light_sampler_bytes(const LightSampler *ls)
 {
-    size_t bytes = sizeof *ls + sizeof(float) * (size_t)ls->n * (2 + SPD_BINS);
+    size_t n = (size_t)ls->n, bytes = sizeof *ls;
     long v;
+    bytes += n * (sizeof(Spectrum) + sizeof(float) * (2 * SPD_BINS + 2) + sizeof(double) * 2 + sizeof(int));
+    bytes += sizeof(Piece) * (size_t)ls->n_pieces;
+    if (ls->piece_of_tri) bytes += sizeof(int) * (size_t)ls->scene->n_tris;
+    if (ls->piece_tri) {
+        size_t k = 0;
+        int i;
+        for (i = 0; i < ls->n_pieces; i++) k += (size_t)ls->pieces[i].count;
+        bytes += k * (sizeof(int) + sizeof(float));
+    }
+    bytes += (size_t)ls->n_nodes * (sizeof(TreeNode) + sizeof(float) * (size_t)ls->nb);
     if (ls->voxel) {
         bytes += sizeof(float *) * (size_t)ls->n_voxels;
         for (v = 0; v < ls->n_voxels; v++)
             if (ls->voxel[v] && ls->voxel[v] != VOXEL_FAILED)
-                bytes += sizeof(float) * 2 * (size_t)ls->n;
+                bytes += sizeof(float) * 2 * n;
     }
     return bytes;
 }
+
+/* ------------------------------------------------------------------ pieces */
+
+float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm)
+{
+    if (!ls->scene->emitters[e].twosided && v3_dot(n, w) <= 0.0f) return 0.0f;
+    return spec_eval(&ls->Le[e], lambda_nm);
+}
+
+const Spectrum *light_spectrum(const LightSampler *ls, int e) { return &ls->Le[e]; }
+int light_n_pieces(const LightSampler *ls) { return ls->n_pieces; }
+int light_piece_emitter(const LightSampler *ls, int piece) { return ls->pieces[piece].emitter; }
+
+int light_piece_of(const LightSampler *ls, int e, int prim)
+{
+    if (ls->piece_of_tri && prim >= 0 && prim < ls->scene->n_tris && ls->piece_of_tri[prim] >= 0)
+        return ls->piece_of_tri[prim];
+    return ls->emitter_piece[e];
+}
+
+int light_sample(const LightSampler *ls, int piece, Vec3 ref, float u0, float u1, float u2,
+                 EmitterSample *out)
+{
+    const Piece *pc = &ls->pieces[piece];
+    int lo = 0, hi;
+    if (pc->count == 0) return emitter_sample(ls->scene, pc->emitter, ref, u0, u1, u2, out);
+    /* a cluster: a triangle by area (first cdf entry above u0), then a point */
+    hi = pc->count - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (ls->piece_cdf[pc->first + mid] <= u0) lo = mid + 1; else hi = mid;
+    }
+    point_on_triangle(ls->scene, ls->piece_tri[pc->first + lo], ref, u1, u2, out);
+    return finish_sample(ref, pc->area, out);
+}
+
+float light_pdf_sa(const LightSampler *ls, int piece, Vec3 ref, Vec3 p, Vec3 n)
+{
+    if (piece < 0 || piece >= ls->n_pieces) return 0.0f;
+    return pdf_sa_area(ls->pieces[piece].area, ref, p, n);
+}
+
+/* ------------------------------------------------------------------ selection */
 
 /* Bin of a wavelength in the 60-bin table, -1 outside 400-700 nm. */
 static int spd_bin(float lambda)
@@ -430,9 +1208,10 @@ static int spd_bin(float lambda)
     return b >= SPD_BINS ? SPD_BINS - 1 : b;
 }
 
-/* The unnormalised weights w[i] of the context; returns their sum.  Both
-   light_select and light_select_pmf go through here, so they cannot disagree.
-   *fell_back = 1 when a spectral strategy had to use the spatial weights. */
+/* The unnormalised weights w[i] of the context for the O(n) strategies (spatial,
+   spd, product, spectral-spatial); returns their sum.  Both light_select and
+   light_select_pmf go through here, so they cannot disagree.  *fell_back = 1
+   when a spectral strategy had to use the spatial weights. */
 static double context_weights(LightSampler *ls, const LightCtx *c, double *w, int *fell_back)
 {
     int n = ls->n, i, j;
@@ -440,14 +1219,6 @@ static double context_weights(LightSampler *ls, const LightCtx *c, double *w, in
     double sum = 0.0;
     const float *vt = NULL;
     *fell_back = 0;
-    if (st == SEL_UNIFORM || st == SEL_ALL) {
-        for (i = 0; i < n; i++) w[i] = 1.0;
-        return n;
-    }
-    if (st == SEL_POWER) {
-        for (i = 0; i < n; i++) w[i] = ls->power_pmf[i];
-        return 1.0;
-    }
     if (c->voxel >= 0 && c->voxel < ls->n_voxels) vt = voxel_table(ls, c->voxel);
     if (!vt || vt == VOXEL_FAILED) {             /* out of memory: uniform, for good */
         for (i = 0; i < n; i++) w[i] = 1.0;
@@ -489,9 +1260,30 @@ int light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int *
 {
     double wbuf[SEL_STACK], *w = wbuf, sum, acc = 0.0, target;
     int n = ls->n, i, fb, chosen = -1;
+    SelStrategy st = ls->opt.strategy;
     *pmf = 0.0f;
     if (fell_back) *fell_back = 0;
     if (n == 0) return -1;
+    if (st == SEL_UNIFORM || st == SEL_ALL) {
+        /* floor(u n): the same emitter as a scan of n weights 1 */
+        i = (int)((double)u * n);
+        if (i >= n) i = n - 1;
+        *pmf = (float)(1.0 / n);
+        return i;
+    }
+    if (st == SEL_POWER) {
+        /* the first i with u < cdf[i + 1], by bisection */
+        int lo = 0, hi = n;
+        target = (double)u;
+        while (lo < hi) {
+            int mid = (lo + hi) / 2;
+            if (target < ls->power_cdf[mid + 1]) hi = mid; else lo = mid + 1;
+        }
+        chosen = lo < n ? lo : ls->power_last;   /* round-off at u -> 1: last positive */
+        if (chosen >= 0) *pmf = ls->power_pmf[chosen];
+        return chosen;
+    }
+    if (is_tree(st)) return tree_select(ls, c, u, pmf);
     if (n > SEL_STACK && !(w = (double *)malloc(sizeof(double) * (size_t)n))) return -1;
     sum = context_weights(ls, c, w, &fb);
     if (fell_back) *fell_back = fb;
@@ -510,15 +1302,19 @@ int light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int *
     return chosen;
 }
 
-float light_select_pmf(LightSampler *ls, const LightCtx *c, int e)
+float light_select_pmf(LightSampler *ls, const LightCtx *c, int piece)
 {
     double wbuf[SEL_STACK], *w = wbuf, sum;
     int n = ls->n, fb;
+    SelStrategy st = ls->opt.strategy;
     float p = 0.0f;
-    if (e < 0 || e >= n) return 0.0f;
+    if (piece < 0 || piece >= ls->n_pieces) return 0.0f;
+    if (st == SEL_UNIFORM || st == SEL_ALL) return (float)(1.0 / n);
+    if (st == SEL_POWER) return ls->power_pmf[piece];
+    if (is_tree(st)) return tree_pmf(ls, c, piece);
     if (n > SEL_STACK && !(w = (double *)malloc(sizeof(double) * (size_t)n))) return 0.0f;
     sum = context_weights(ls, c, w, &fb);
-    if (sum > 0.0) p = (float)(w[e] / sum);
+    if (sum > 0.0) p = (float)(w[piece] / sum);
     if (w != wbuf) free(w);
     return p;
 }

@@ -103,7 +103,6 @@ typedef struct {
 static void camera_init(Camera *c, const SceneSettings *st)
 {
     float aspect = (float)st->xres / (float)st->yres;
-    c->world_from_camera.m[0][0] = 0;          /* set below */
     {
         Xform t = st->camera_from_world;
         memcpy(c->world_from_camera.m, t.inv, sizeof t.inv);
@@ -146,7 +145,7 @@ static float gaussian_offset(Rng *rng, float radius, float sigma)
 /* ------------------------------------------------------------------ the path */
 
 typedef struct {
-    Scene *s;
+    const Scene *s;
     const RenderOptions *o;
     LightSampler *ls;
     WavelengthPdf wl;
@@ -211,6 +210,9 @@ static const char *debug_pmf_source(const SelOptions *sel, const LightCtx *c, in
     if (st == SEL_UNIFORM) return "uniform";
     if (st == SEL_POWER) return "power table";
     if (st == SEL_SPATIAL) return "spatial table of the voxel";
+    if (st == SEL_TREE) return "light tree, total power";
+    if (st == SEL_SPECTRAL_TREE) return "light tree, power in the alive wavelengths' bins";
+    if (st == SEL_ALL) return "every emitter";
     if (fell_back) return "spatial table: no emitter emits in the bins of these wavelengths (fallback)";
     if (c->hero_only)
         return st == SEL_SPD ? "spectral table T_e(b) at the hero's bin"
@@ -254,7 +256,7 @@ static void debug_weight(FILE *dbg, const char *what, int e, double w, const flo
    not depend on the wavelength (r_m = 1, equal q_bsdf).  The context for hero h is
    the stored one with the wavelengths (and their alive bits and throughputs)
    rotated so that lambda_h is in slot 0. */
-static double debug_weight_sum(const Renderer *R, const LightCtx *c, int e, float p_sigma,
+static double debug_weight_sum(const Renderer *R, const LightCtx *c, int piece, float p_sigma,
                                const float *r, const float *q_bsdf, unsigned alive)
 {
     double S = 0.0;
@@ -271,7 +273,7 @@ static double debug_weight_sum(const Renderer *R, const LightCtx *c, int e, floa
             ch.beta[k] = c->beta[from];
             if (c->alive & (1u << from)) ch.alive |= 1u << k;
         }
-        if (R->o->sel.strategy != SEL_ALL) P = light_select_pmf(R->ls, &ch, e);
+        if (R->o->sel.strategy != SEL_ALL) P = light_select_pmf(R->ls, &ch, piece);
         a = (double)P * p_sigma * P * p_sigma;
         num = (double)r[h] * r[h] * (a + (double)q_bsdf[h] * q_bsdf[h]);
         for (m = 0; m < HERO_N; m++)
@@ -343,13 +345,15 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
             for (j = 0; j < HERO_N; j++) {
                 value[j] = 0.0;
                 if (!(alive & (1u << j))) continue;
-                value[j] = (double)beta[j] * emitter_Le(s, shape->emitter, sp.ng, wo, wl->lambda[j]);
+                value[j] = (double)beta[j] * light_Le(R->ls, shape->emitter, sp.ng, wo, wl->lambda[j]);
                 if (value[j] != 0.0) any = 1;
             }
             if (any) {
+                /* the piece NEE would have had to choose to sample this point */
+                int piece = light_piece_of(R->ls, shape->emitter, sp.prim);
                 if (prev.can_nee) {
-                    float P = is_all ? 1.0f : light_select_pmf(R->ls, &prev.ctx, shape->emitter);
-                    q_nee = P * emitter_pdf_sa(s, shape->emitter, prev.p, sp.p, sp.ng);
+                    float P = is_all ? 1.0f : light_select_pmf(R->ls, &prev.ctx, piece);
+                    q_nee = P * light_pdf_sa(R->ls, piece, prev.p, sp.p, sp.ng);
                 }
                 den = mis_denominator(prev.r, prev.q_bsdf, q_nee, prev.alive);
                 /* beta already holds 1/q_bsdf(0): weight = q_bsdf(0)^2 / den */
@@ -359,8 +363,8 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
                     debug_weight(dbg, "emission from emitter", shape->emitter, w, prev.r,
                                  prev.q_bsdf, q_nee, prev.alive, 0);
                     if (prev.can_nee && prev.alive != 1u)
-                        debug_check_sum(dbg, debug_weight_sum(R, &prev.ctx, shape->emitter,
-                                        emitter_pdf_sa(s, shape->emitter, prev.p, sp.p, sp.ng),
+                        debug_check_sum(dbg, debug_weight_sum(R, &prev.ctx, piece,
+                                        light_pdf_sa(R->ls, piece, prev.p, sp.p, sp.ng),
                                         prev.r, prev.q_bsdf, prev.alive));
                 }
             }
@@ -379,43 +383,46 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
 
         /* 4. Next event estimation: choose an emitter, sample a point on it */
         ctx.p = sp.p;
+        ctx.n = sp.ns;
         ctx.voxel = light_voxel(R->ls, sp.p);
         for (j = 0; j < HERO_N; j++) { ctx.lambda[j] = wl->lambda[j]; ctx.beta[j] = beta[j]; }
         ctx.alive = alive;
         ctx.hero_only = alive == 1u;
         if (o->nee && !mat_is_delta(mat) && s->n_emitters > 0) {
             int e, e_first = 0, e_end = 1;
-            if (is_all) { e_first = 0; e_end = s->n_emitters; }
+            if (is_all) { e_first = 0; e_end = light_n_pieces(R->ls); }
             u0 = rng_float(rng);
             u1 = rng_float(rng);
             u2 = rng_float(rng);
             for (e = e_first; e < e_end; e++) {
                 float P = 1.0f, f[HERO_N], pdf_l[HERO_N], cos_i, q_nee;
-                int chosen = e, fb = 0, any = 0;
+                int chosen = e, fb = 0, any = 0, em;
                 EmitterSample es;
                 double value[HERO_N], den;
                 if (!is_all) {
                     chosen = light_select(R->ls, &ctx, rng_float(rng), &P, &fb);
                     if (fb) cnt->fallbacks++;
-                    if (dbg) fprintf(dbg, "  NEE: chose emitter %d with P=%.4g (%s)\n", chosen, P,
+                    if (dbg) fprintf(dbg, "  NEE: chose emitter %d with P=%.4g (%s)\n",
+                                     chosen >= 0 ? light_piece_emitter(R->ls, chosen) : -1, P,
                                      debug_pmf_source(&o->sel, &ctx, fb));
                     if (chosen < 0) {
                         if (dbg) fprintf(dbg, "  NEE: no emitter can be chosen here (every P is 0)\n");
                         break;
                     }
                 }
-                if (!emitter_sample(s, chosen, sp.p, u0, u1, u2, &es)) {
-                    if (dbg) fprintf(dbg, "  NEE: no usable point on emitter %d (seen edge-on or at distance 0)\n", chosen);
+                em = light_piece_emitter(R->ls, chosen);
+                if (!light_sample(R->ls, chosen, sp.p, u0, u1, u2, &es)) {
+                    if (dbg) fprintf(dbg, "  NEE: no usable point on emitter %d (seen edge-on or at distance 0)\n", em);
                     continue;
                 }
                 for (j = 0; j < HERO_N; j++) {
                     value[j] = 0.0;
                     if (alive & (1u << j))
-                        value[j] = emitter_Le(s, chosen, es.n, v3_neg(es.wi), wl->lambda[j]);
+                        value[j] = light_Le(R->ls, em, es.n, v3_neg(es.wi), wl->lambda[j]);
                     if (value[j] != 0.0) any = 1;
                 }
                 if (!any) {
-                    if (dbg) fprintf(dbg, "  NEE: emitter %d sends nothing here (its back faces this point, or Le = 0 at the alive wavelengths)\n", chosen);
+                    if (dbg) fprintf(dbg, "  NEE: emitter %d sends nothing here (its back faces this point, or Le = 0 at the alive wavelengths)\n", em);
                     continue;
                 }
                 bsdf_eval(mat, &sp, wo, es.wi, wl->lambda, alive, f, pdf_l);
@@ -426,7 +433,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
                     if (value[j] != 0.0) any = 1;
                 }
                 if (!any) {
-                    if (dbg) fprintf(dbg, "  NEE: emitter %d: f |cos| = 0 (the sampled point is below this surface, or the BSDF has no lobe there)\n", chosen);
+                    if (dbg) fprintf(dbg, "  NEE: emitter %d: f |cos| = 0 (the sampled point is below this surface, or the BSDF has no lobe there)\n", em);
                     continue;
                 }
                 {
@@ -446,13 +453,13 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
                 if (den > 0.0) {
                     film_add(xyz, cmf, wl, value, (double)q_nee / den, alive);
                     if (dbg) {
-                        debug_weight(dbg, "NEE: visible emitter", chosen, (double)q_nee * q_nee / den,
+                        debug_weight(dbg, "NEE: visible emitter", em, (double)q_nee * q_nee / den,
                                      r, pdf_l, q_nee, alive, 1);
                         if (alive != 1u)
                             debug_check_sum(dbg, debug_weight_sum(R, &ctx, chosen, es.pdf_sa, r, pdf_l, alive));
                     }
                 } else if (dbg) {
-                    fprintf(dbg, "  NEE: emitter %d: MIS denominator 0 (no technique has a density here)\n", chosen);
+                    fprintf(dbg, "  NEE: emitter %d: MIS denominator 0 (no technique has a density here)\n", em);
                 }
             }
         }
@@ -612,11 +619,12 @@ struct RenderJob {
     Renderer R;
     Pass P;
     Image img;
-    float lo, hi;              /* the sampled wavelength range (emitters are normalised to it) */
+    SelOptions sel;            /* o->sel with the sampled wavelength range: the emitters'
+                                  radiance for it lives in R.ls, not in the scene */
     RenderStats st;            /* cumulative: build + every pass, nothing in between */
 };
 
-RenderJob *render_begin(Scene *s, const RenderOptions *o, Error *err)
+RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
 {
     RenderJob *j;
     const SceneSettings *set = &s->settings;
@@ -625,28 +633,30 @@ RenderJob *render_begin(Scene *s, const RenderOptions *o, Error *err)
     clock_t c0 = clock();
     j = (RenderJob *)calloc(1, sizeof *j);
     if (!j) { error_set(err, NULL, 0, "out of memory"); return NULL; }
-    j->lo = o->wl_wide ? (float)SPEC_MIN : LAMBDA_LO;
-    j->hi = o->wl_wide ? (float)SPEC_MAX : LAMBDA_HI;
-    if (!emitters_prepare(s, j->lo, j->hi, err)) { free(j); return NULL; }
+    j->sel = o->sel;
+    j->sel.lo_nm = o->wl_wide ? (float)SPEC_MIN : LAMBDA_LO;
+    j->sel.hi_nm = o->wl_wide ? (float)SPEC_MAX : LAMBDA_HI;
     j->R.s = s;
     j->R.o = o;
     camera_init(&j->R.cam, set);
+    /* the emitters for this range and their selection tables */
+    j->R.ls = light_sampler_build(s, &j->sel, err);
+    if (!j->R.ls) { free(j); return NULL; }
     if (o->wl_importance && s->n_emitters > 0) {
         Spectrum sum;
         int e, k;
         spec_const(&sum, 0.0f);
         for (e = 0; e < s->n_emitters; e++)
-            for (k = 0; k < SPEC_N; k++) sum.v[k] += s->emitters[e].Le.v[k];
-        if (!wl_pdf_importance(&j->R.wl, j->lo, j->hi, &sum)) {
+            for (k = 0; k < SPEC_N; k++) sum.v[k] += light_spectrum(j->R.ls, e)->v[k];
+        if (!wl_pdf_importance(&j->R.wl, j->sel.lo_nm, j->sel.hi_nm, &sum)) {
             error_set(err, NULL, 0, "cannot build the wavelength importance pdf");
+            light_sampler_free(j->R.ls);
             free(j);
             return NULL;
         }
     } else {
-        wl_pdf_uniform(&j->R.wl, j->lo, j->hi);
+        wl_pdf_uniform(&j->R.wl, j->sel.lo_nm, j->sel.hi_nm);
     }
-    j->R.ls = light_sampler_build(s, &o->sel, err);
-    if (!j->R.ls) { wl_pdf_free(&j->R.wl); free(j); return NULL; }
     j->P.R = &j->R;
     j->P.img = &j->img;
     j->P.acc = (double *)calloc(3 * (size_t)w * (size_t)h, sizeof *j->P.acc);
@@ -676,8 +686,6 @@ int render_advance(RenderJob *j, int spp, int spp_final, Error *err)
     }
     t0 = wall_seconds();
     c0 = clock();
-    /* another job may have normalised the emitters for another range meanwhile */
-    if (!emitters_prepare(j->R.s, j->lo, j->hi, err)) return 0;
     j->P.k0 = j->P.k1;
     j->P.k1 = spp;
     j->P.spp_final = spp_final > spp ? spp_final : spp;
@@ -710,13 +718,13 @@ void render_end(RenderJob *j)
     free(j);
 }
 
-int render(Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error *err)
+int render(const Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error *err)
 {
     if (o->spp <= 0) { memset(st, 0, sizeof *st); error_set(err, NULL, 0, "spp must be positive"); return 0; }
     return render_ladder(s, o, &o->spp, 1, NULL, NULL, img, st, err);
 }
 
-int render_ladder(Scene *s, const RenderOptions *o, const int *ladder, int n_rungs,
+int render_ladder(const Scene *s, const RenderOptions *o, const int *ladder, int n_rungs,
                   RenderRungFn on_rung, void *user, Image *img, RenderStats *st, Error *err)
 {
     RenderJob *j;

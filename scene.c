@@ -44,8 +44,8 @@
 
    EMISSION (pbrt-v4 DiffuseAreaLight::Create)
      Le(lambda) = scale * L(lambda) / sum_lambda ybar(lambda) L(lambda), so a
-     light seen directly has luminance Y = scale; lights.c's emitters_prepare
-     does the division, this file records L, scale and twosided.  For "rgb L"
+     light seen directly has luminance Y = scale; lights.c's emitter_radiance
+     does the division (per render), this file records L, scale and twosided.  For "rgb L"
      pbrt-v4 divides by the colour space's illuminant (D65) instead of by L;
      we emulate that by multiplying scale by  sum ybar L / sum ybar D65.
 
@@ -2017,7 +2017,7 @@ static int finish(Parser *P, const char *file)
     }
     if (s->n_tris == 0 && s->n_spheres == 0) s->bmin = s->bmax = v3(0, 0, 0);
     if (!P->any_normals) { free(s->N); s->N = NULL; }
-    if (s->n_emitters > 0 && !emitters_prepare(s, LAMBDA_LO, LAMBDA_HI, P->err)) return 0;
+    if (s->n_emitters > 0 && !emitters_prepare(s, P->err)) return 0;
     if (!bvh_build(&s->bvh, s))
         return fail(P, file, P->end_line, "out of memory building the BVH");
     return 1;
@@ -2165,16 +2165,20 @@ void scene_dump(const Scene *s, FILE *f)
     fprintf(f, "emitters: %d\n", s->n_emitters);
     for (i = 0; i < s->n_emitters; i++) {
         const Emitter *e = &s->emitters[i];
-        double Y = 0.0;
-        int lam;
+        double Y = 0.0, bins = 0.0;
+        int lam, b;
+        Spectrum Le;
+        Error err;
+        if (!emitter_radiance(s, i, LAMBDA_LO, LAMBDA_HI, &Le, &err)) spec_const(&Le, 0.0f);
         for (lam = (int)LAMBDA_LO; lam <= (int)LAMBDA_HI; lam++) {  /* Y = sum ybar Le, 1 nm */
             float xyz[3];
             cie_xyz((float)lam, xyz);
-            Y += (double)xyz[1] * spec_eval(&e->Le, (float)lam);
+            Y += (double)xyz[1] * spec_eval(&Le, (float)lam);
         }
+        for (b = 0; b < SPD_BINS; b++) bins += spec_bin_average(&Le, b) * SPD_BIN_NM;
         fprintf(f, "  [%d] shape %d, scale %g, %s, Y(Le) %.4g over %g-%g nm, area %g, power %.4g\n",
                 i, e->shape, e->scale, e->twosided ? "two-sided" : "one-sided", Y,
-                LAMBDA_LO, LAMBDA_HI, e->area, e->power);
+                LAMBDA_LO, LAMBDA_HI, e->area, SPECNEE_PI * e->area * (e->twosided ? 2.0 : 1.0) * bins);
         dump_spectrum(f, "L (as given)", &e->L);
     }
     fprintf(f, "bounds: (%g, %g, %g) - (%g, %g, %g)\n", s->bmin.x, s->bmin.y, s->bmin.z,

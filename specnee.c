@@ -43,9 +43,14 @@ static const char usage_options[] =
 "      --threads N         worker threads (default: all cores; image is identical)\n"
 "      --maxdepth N        path vertices that scatter (file: Integrator maxdepth; 5)\n"
 "      --res WxH           film resolution (file: Film x/yresolution)\n"
-"      --lights NAME       emitter selection for NEE: uniform power spatial spd product\n"
-"                          spectral-spatial all  (file: Integrator lightsampler;\n"
-"                          default spatial; pbrt-v4's \"bvh\" maps to spatial)\n"
+"      --lights NAME       emitter selection for NEE (file: Integrator lightsampler;\n"
+"                          pbrt-v4's \"bvh\" maps to tree; default spatial):\n"
+"                          spectral-tree  light tree with per-bin spectral power:\n"
+"                                         the choice for many emitters (O(log n))\n"
+"                          tree           the same tree with total power (pbrt-v4)\n"
+"                          spatial product spectral-spatial  the thesis' voxel\n"
+"                                         tables: few emitters (each vertex O(n))\n"
+"                          uniform power spd all  baselines (docs/lighttree.md)\n"
 "      --spd-metric M      what the spectral table T_e(b) holds: unit (the bin average\n"
 "                          of the emitted radiance Le, default) or power (that x area)\n"
 "      --all-wavelengths   spectral strategies weigh every alive wavelength\n"
@@ -235,9 +240,7 @@ static int apply_scene_settings(Args *a, Scene *s)
     }
     if (!a->lights_cli && st->lightsampler[0]) {
         if (!strcmp(st->lightsampler, "bvh")) {
-            fprintf(stderr, "specnee: note: lightsampler \"bvh\" (pbrt-v4's default) is not "
-                            "implemented; using \"spatial\"\n");
-            a->ro.sel.strategy = SEL_SPATIAL;
+            a->ro.sel.strategy = SEL_TREE;     /* pbrt-v4's BVHLightSampler */
         } else {
             a->ro.sel.strategy = sel_from_name(st->lightsampler);
             if (a->ro.sel.strategy == SEL_COUNT) {

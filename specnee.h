@@ -66,6 +66,8 @@
 #define BVH_BINS 16         /* @@ SAH bins per axis: build time vs. tree quality */
 #define SPATIAL_RES 64      /* @@ voxels on the longest axis of the spatial grid (pbrt-v3) */
 #define SPATIAL_SAMPLES 128 /* @@ receiver points per voxel (pbrt-v3) */
+#define LIGHT_TREE_BINS 12  /* @@ split candidates per axis in the light tree build */
+#define LIGHT_CLUSTER_TRIS 4 /* @@ triangles per light-tree leaf of a split emissive mesh */
 #define RR_START_DEPTH 1    /* @@ Russian roulette from this depth on (pbrt-v4: after depth 1) */
 #define DEFAULT_SPP 16
 #define DEFAULT_MAXDEPTH 5  /* pbrt-v4's default for Integrator "path" */
@@ -359,12 +361,11 @@ typedef struct {
     Spectrum L;                /* the spectrum as given in the file (its shape matters) */
     float scale;               /* "float scale" */
     int twosided;
-    /* filled by emitters_prepare: */
-    Spectrum Le;               /* emitted radiance = scale * L / sum_{lo..hi} ybar L (pbrt-v4) */
+    /* geometry, filled by emitters_prepare at load time (the radiance Le depends on
+       the wavelength range a render samples, so it lives with the render: see
+       light_sampler_build and light_Le) */
     double area;               /* total area (sampling picks a triangle by area) */
     float *tri_cdf;            /* tri_count + 1 entries for meshes */
-    float bin[SPD_BINS];       /* bin averages of Le over 400-700 nm */
-    double power;              /* radiant power over 400-700 nm */
 } Emitter;
 
 /* A point sampled on an emitter, as seen from a reference point. */
@@ -377,14 +378,19 @@ typedef struct {
 
 typedef enum {
     SEL_UNIFORM, SEL_POWER, SEL_SPATIAL, SEL_SPD, SEL_PRODUCT, SEL_SPECTRAL_SPATIAL,
-    SEL_ALL, SEL_COUNT
+    SEL_ALL, SEL_TREE, SEL_SPECTRAL_TREE, SEL_COUNT
 } SelStrategy;
 
 /* Context of one selection: the same context must be passed to light_select and
    later to light_select_pmf for an emitter found by BSDF sampling (the
-   consistency contract, item C1 of docs/THEORY.md section 5). */
+   consistency contract, item C1 of docs/THEORY.md section 5).  The thesis'
+   spectral strategies (spd, product, spectral-spatial) use their spectral table
+   only where hero_only; the light trees and --all-wavelengths use every alive
+   wavelength. */
 typedef struct {
-    Vec3 p;                    /* shading point */
+    Vec3 p;                    /* shading point (the light tree's distance and angles) */
+    Vec3 n;                    /* its shading normal (the tree's receiver-cosine bound);
+                                  the zero vector: no bound */
     int voxel;                 /* spatial cell of p, computed once at the vertex */
     float lambda[HERO_N];
     unsigned alive;            /* bit j set: wavelength j still carried */
@@ -488,14 +494,15 @@ int  img_cmd_diff(int argc, char **argv, FILE *out, FILE *err);
 /* ======================================================================
    11. Emitters and their selection: the API (lights.c)
    ====================================================================== */
-/* Normalise each emitter for the sampled range [lo, hi] nm (pbrt-v4: Le = scale * L /
-   sum_{1 nm} ybar L over the range the film integrates) and fill its area, triangle
-   CDF, bin table and power.  scene_load calls it with 400-700; render with others. */
-int   emitters_prepare(Scene *s, float lo_nm, float hi_nm, Error *err);
-/* Radiance leaving emitter e at a point with oriented normal n towards w (unit):
-   zero from the back of a one-sided emitter. */
-float emitter_Le(const Scene *s, int e, Vec3 n, Vec3 w, float lambda_nm);
-/* Sample a point on emitter e by area (a triangle by area, then uniform on it). */
+/* Check each emitter (its spectrum emits in 400-700 nm, its area is positive) and
+   fill its area and triangle CDF.  scene_load calls it; nothing here depends on
+   the wavelength range a render samples. */
+int   emitters_prepare(Scene *s, Error *err);
+/* Emitter e's radiance for a film that integrates [lo, hi] nm (pbrt-v4: Le = scale
+   * L / sum_{1 nm} ybar L over the range); 0 and a message if it emits nothing there. */
+int   emitter_radiance(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *Le, Error *err);
+/* Sample a point on the whole of emitter e by area (a triangle by area, then uniform
+   on it).  Geometry only: the radiance comes from light_Le. */
 int   emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2,
                      EmitterSample *out);
 /* Solid-angle pdf of emitter_sample producing point p (normal n) from ref. */
@@ -509,17 +516,38 @@ typedef struct {
     int eager;                 /* build every spatial voxel up front (else lazily) */
     int grid_res;              /* voxels on the longest axis; 0 = SPATIAL_RES (tests use
                                   small grids: a tiny render touches few points per voxel) */
+    float lo_nm, hi_nm;        /* the range the film integrates, for the emitters'
+                                  normalisation and the tree's bins (0, 0: 400-700) */
+    int no_split;              /* light tree: keep every emissive mesh one leaf */
 } SelOptions;
 
+/* The per-render state of the emitters: their radiance normalised for the range
+   o->lo_nm..hi_nm and the selection tables of o->strategy (for the light trees:
+   the tree, built here in O(N log N)).  The Scene is only read. */
 LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *err);
 void  light_sampler_free(LightSampler *ls);
+/* Radiance leaving emitter e at a point with oriented normal n towards w (unit):
+   zero from the back of a one-sided emitter. */
+float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm);
+const Spectrum *light_spectrum(const LightSampler *ls, int e);   /* e's Le */
+/* What NEE chooses is a PIECE: a whole emitter, or (light trees only) a cluster of
+   at most LIGHT_CLUSTER_TRIS triangles of a large emissive mesh.  Without
+   splitting, piece i is emitter i. */
+int   light_n_pieces(const LightSampler *ls);
+int   light_piece_emitter(const LightSampler *ls, int piece);
+/* The piece holding primitive prim (SurfacePoint.prim) of emitter e. */
+int   light_piece_of(const LightSampler *ls, int e, int prim);
+/* Sample a point on the piece by area; its pdf in solid angle at ref. */
+int   light_sample(const LightSampler *ls, int piece, Vec3 ref, float u0, float u1, float u2,
+                   EmitterSample *out);
+float light_pdf_sa(const LightSampler *ls, int piece, Vec3 ref, Vec3 p, Vec3 n);
 int   light_voxel(const LightSampler *ls, Vec3 p);       /* -1 when not spatial */
-/* Choose one emitter for NEE; returns -1 for "none" and sets *pmf.  *fell_back
-   (may be NULL) is set to 1 when a spectral table had no emitter for the bin
-   and the spatial distribution was used instead. */
+/* Choose one piece for NEE with the uniform number u; returns -1 for "none" and
+   sets *pmf.  *fell_back (may be NULL) is set to 1 when a spectral table had no
+   emitter for the bin and the spatial distribution was used instead. */
 int   light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int *fell_back);
-/* The probability light_select gives emitter e in context c (for MIS weights). */
-float light_select_pmf(LightSampler *ls, const LightCtx *c, int e);
+/* The probability light_select gives piece i in context c (for MIS weights). */
+float light_select_pmf(LightSampler *ls, const LightCtx *c, int piece);
 size_t light_sampler_bytes(const LightSampler *ls);      /* memory held by its tables */
 /* Seconds spent so far building voxel tables on first use (eager builds excluded). */
 double light_sampler_lazy_seconds(const LightSampler *ls);
@@ -552,16 +580,17 @@ typedef struct {
 } RenderStats;
 
 void render_options_default(RenderOptions *o);
-/* Render s into img (linear sRGB, w x h of the scene's film).  The emitters are
-   re-normalised for the sampled wavelength range first (hence the non-const s). */
-int  render(Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error *err);
+/* Render s into img (linear sRGB, w x h of the scene's film).  The scene is only
+   read: the emitters' radiance for the sampled wavelength range, the wavelength
+   pdf and the selection tables belong to the render (its RenderJob). */
+int  render(const Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error *err);
 /* Progressive render up an increasing ladder of spp (o->spp is ignored): after
    the pass that reaches ladder[i], on_rung(user, i, img, st) sees the image with
    ladder[i] samples per pixel (bit-identical to render() with that spp) and the
    cumulative statistics of the render so far (time spent in on_rung excluded);
    returning 0 stops the render.  img holds the last image on return. */
 typedef int (*RenderRungFn)(void *user, int rung, const Image *img, const RenderStats *st);
-int  render_ladder(Scene *s, const RenderOptions *o, const int *ladder, int n_rungs,
+int  render_ladder(const Scene *s, const RenderOptions *o, const int *ladder, int n_rungs,
                    RenderRungFn on_rung, void *user, Image *img, RenderStats *st, Error *err);
 /* The same, one step at a time, so that several renders can take turns (converge
    interleaves its variants rung by rung, pairing their timings):
@@ -571,10 +600,10 @@ int  render_ladder(Scene *s, const RenderOptions *o, const int *ladder, int n_ru
      render_image(j), render_stats(j)  the image at spp and the cumulative statistics
                                        (build + passes; time between calls not counted)
      render_end(j)
-   o and s must outlive j; s's emitters are re-normalised to j's wavelength range at
-   every advance, so jobs with different ranges may alternate. */
+   o and s must outlive j; s is only read, so jobs with different wavelength ranges
+   may alternate. */
 typedef struct RenderJob RenderJob;
-RenderJob *render_begin(Scene *s, const RenderOptions *o, Error *err);
+RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err);
 int  render_advance(RenderJob *j, int spp, int spp_final, Error *err);
 const Image *render_image(const RenderJob *j);
 const RenderStats *render_stats(const RenderJob *j);
@@ -612,7 +641,7 @@ int cmd_merge(int argc, char **argv);      /* image.c */
 int cmd_diff(int argc, char **argv);       /* image.c */
 int cmd_converge(int argc, char **argv);   /* eval.c: error against time, charts, tables */
 /* "strategy[:modifier]..." (modifiers: power all tput importance roughmis single wide
-   nonee) into render options; 0 if unknown.  Used by converge and its tests. */
+   nonee nosplit) into render options; 0 if unknown.  Used by converge and its tests. */
 int eval_parse_variant(const char *spec, RenderOptions *o);
 
 #endif /* SPECNEE_H */

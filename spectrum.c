@@ -1512,6 +1512,7 @@ static int spectrum_table(const char *path, int power_metric, int svg)
     Error err;
     int e, b, n, panel;
     double tmax = 0.0;
+    float *bins;
     memset(&scene, 0, sizeof scene);
     err.msg[0] = '\0';
     if (!scene_load(&scene, path, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
@@ -1521,9 +1522,16 @@ static int spectrum_table(const char *path, int power_metric, int svg)
         scene_free(&scene);
         return 1;
     }
-    /* T_e(b): as light_sampler_build fills its table (scene_load normalised the
-       emitters over 400-700 nm, the range of the bins) */
-#define TABLE_T(e, b) ((double)scene.emitters[e].bin[b] * (power_metric ? \
+    /* T_e(b): as light_sampler_build fills its table (the emitters normalised over
+       400-700 nm, the range of the bins) */
+    bins = (float *)malloc(sizeof(float) * (size_t)n * SPD_BINS);
+    if (!bins) { fprintf(stderr, "out of memory\n"); scene_free(&scene); return 1; }
+    for (e = 0; e < n; e++) {
+        Spectrum Le;
+        if (!emitter_radiance(&scene, e, LAMBDA_LO, LAMBDA_HI, &Le, &err)) spec_const(&Le, 0.0f);
+        for (b = 0; b < SPD_BINS; b++) bins[(size_t)e * SPD_BINS + b] = spec_bin_average(&Le, b);
+    }
+#define TABLE_T(e, b) ((double)bins[(size_t)(e) * SPD_BINS + (b)] * (power_metric ? \
         scene.emitters[e].area * (scene.emitters[e].twosided ? 2.0 : 1.0) : 1.0))
     for (e = 0; e < n; e++)
         for (b = 0; b < SPD_BINS; b++)
@@ -1592,6 +1600,7 @@ static int spectrum_table(const char *path, int power_metric, int svg)
         printf("</svg>\n");
     }
 #undef TABLE_T
+    free(bins);
     scene_free(&scene);
     return ferror(stdout) ? 1 : 0;
 }

@@ -142,6 +142,8 @@ static const Variant variants[] = {
     { SEL_SPD, 0, 1, 0, "spd all-wavelengths" },
     { SEL_PRODUCT, 0, 1, 1, "product throughput-weighted" },
     { SEL_SPECTRAL_SPATIAL, 0, 1, 0, "spectral-spatial all-wavelengths" },
+    { SEL_TREE, 0, 0, 0, "tree" },
+    { SEL_SPECTRAL_TREE, 0, 0, 0, "spectral-tree" },
 };
 #define N_VARIANTS ((int)(sizeof variants / sizeof variants[0]))
 
@@ -153,8 +155,12 @@ static LightCtx random_ctx(const Scene *s, const LightSampler *ls, Rng *r)
     memset(&c, 0, sizeof c);
     c.p = v3_add(s->bmin, v3(ext.x * rng_float(r), ext.y * rng_float(r), ext.z * rng_float(r)));
     c.voxel = light_voxel(ls, c.p);
-    c.hero_only = rng_float(r) < 0.5f;
-    c.alive = c.hero_only ? 1u : (1u | ((rng_u32(r) & 7u) << 1));
+    /* half the contexts carry the hero alone (after a wavelength-dependent event) */
+    c.alive = rng_float(r) < 0.5f ? 1u : (1u | ((rng_u32(r) & 7u) << 1));
+    c.hero_only = c.alive == 1u;
+    /* a receiver normal for the light trees (zero: none) */
+    if (rng_float(r) < 0.75f)
+        c.n = v3_norm(v3(2 * rng_float(r) - 1, 2 * rng_float(r) - 1, 2 * rng_float(r) - 1));
     for (j = 0; j < HERO_N; j++) {
         c.lambda[j] = 400.0f + 300.0f * rng_float(r);
         c.beta[j] = (c.alive & (1u << j)) ? 0.1f + rng_float(r) : 0.0f;
@@ -262,12 +268,12 @@ static void test_positive_where_emitting(T *t)
             memset(&c, 0, sizeof c);
             c.p = v3(0.1f, -0.5f, 0.2f);
             c.voxel = light_voxel(ls, c.p);
-            c.hero_only = 1;
             c.alive = 1u;
+            c.hero_only = 1;
             c.lambda[0] = 400.0f + 0.5f * k;
             c.beta[0] = 1;
             for (e = 0; e < s.n_emitters; e++)
-                if (spec_eval(&s.emitters[e].Le, c.lambda[0]) > 0.0f)
+                if (spec_eval(light_spectrum(ls, e), c.lambda[0]) > 0.0f)
                     CHECK(t, light_select_pmf(ls, &c, e) > 0.0f, "%s: emitter %d emits at %.1f nm but P = 0",
                           variants[v].name, e, c.lambda[0]);
         }

@@ -21,7 +21,9 @@
      - the insets "# inset A/B/C" parse and lie inside the film;
      - the geometric claims of the headers: cornell2's LEDs are larger than its
        CFL (so the unit and power metrics differ), the Suzanne scene's LED1 faces
-       away from the glass head.
+       away from the glass head; many-lamps has 257 emitters of three lamp
+       spectra, 32 facing up, 48 hidden above a panel, a strip the light trees
+       split, and dispersive glass.
    No test here is statistical: every check is exact or a fixed tolerance. */
 #include "test.h"
 #include <stdlib.h>
@@ -30,7 +32,7 @@
 /* The shipped scenes (paths relative to the repository root). */
 static const char *const scene_files[] = {
     "scenes/cornell.pbrt", "scenes/cornell1.pbrt", "scenes/cornell2.pbrt",
-    "scenes/suzanne.pbrt", NULL
+    "scenes/suzanne.pbrt", "scenes/many-lamps.pbrt", NULL
 };
 
 /* Load a scene file; fails the test (and returns 0) on a parse error. */
@@ -266,7 +268,11 @@ static void test_eq6_normalisation(T *t)
         }
         for (e = 0; e < s.n_emitters; e++) {
             const char *lamp = lamp_of(&s.emitters[e]);
-            double c = -1.0, sum = spec_bin_sum(&s.emitters[e].Le);
+            double c = -1.0, sum;
+            Spectrum Le;
+            Error err;
+            if (!emitter_radiance(&s, e, LAMBDA_LO, LAMBDA_HI, &Le, &err)) spec_const(&Le, 0.0f);
+            sum = spec_bin_sum(&Le);
             for (i = 0; lamp && lamp_claims[i].scene; i++)
                 if (strcmp(lamp_claims[i].scene, scenes[si]) == 0 &&
                     strcmp(lamp_claims[i].lamp, lamp) == 0) c = lamp_claims[i].c;
@@ -374,7 +380,57 @@ static void test_emitter_layout(T *t)
     scene_free(&s);
 }
 
+/* scenes/many-lamps.pbrt has what its header claims: 257 emitters, three lamp
+   spectra, 32 lamps facing up, the 48 lamps above the dropped panel (x > 0.5,
+   z > 4) hidden from the floor, a 192-triangle strip that the light trees split,
+   dispersive glass. */
+static void test_many_lamps(T *t)
+{
+    Scene s;
+    SelOptions o;
+    LightSampler *ls;
+    Error err;
+    int e, up = 0, hidden = 0, big = -1, lamps[3] = { 0, 0, 0 }, i, glass = 0;
+    static const char *const names[3] = { "lamp-CFL1", "lamp-LED1", "lamp-LED2" };
+    if (!load_file(t, &s, "scenes/many-lamps.pbrt")) return;
+    for (e = 0; e < s.n_emitters; e++) {
+        const Shape *sh = &s.shapes[s.emitters[e].shape];
+        const Triangle *tr = &s.tris[sh->tri_begin];
+        Vec3 p0 = s.P[tr->v[0]], p1 = s.P[tr->v[1]], p2 = s.P[tr->v[2]];
+        Vec3 n = v3_cross(v3_sub(p0, p2), v3_sub(p1, p2));
+        const char *lamp = lamp_of(&s.emitters[e]);
+        if (sh->flip) n = v3_neg(n);
+        for (i = 0; i < 3; i++) if (lamp && !strcmp(lamp, names[i])) lamps[i]++;
+        if (sh->tri_count > 2) { big = e; continue; }
+        if (n.y > 0.0f) up++;
+        if (p0.x > 0.5f && p0.z > 4.0f) {
+            /* above the panel at y = 2.7: a ray from the floor below is blocked */
+            Ray r;
+            HitRecord h;
+            r.o = v3(p0.x + 0.03f, 0.01f, p0.z + 0.03f);
+            r.d = v3(0.0f, 1.0f, 0.0f);
+            r.tmax = 2.97f;
+            if (bvh_occluded(&s.bvh, &s, &r) && bvh_intersect(&s.bvh, &s, &r, &h) && h.t < 2.75f) hidden++;
+        }
+    }
+    for (i = 0; i < s.n_materials; i++) glass += s.materials[i].type == MAT_DIELECTRIC && s.materials[i].dispersive;
+    CHECK(t, s.n_emitters == 257, "%d emitters, the header claims 257", s.n_emitters);
+    CHECK(t, lamps[0] >= 85 && lamps[1] >= 85 && lamps[2] >= 86, "lamp spectra %d %d %d", lamps[0], lamps[1], lamps[2]);
+    CHECK(t, up == 32 && hidden == 48, "%d lamps face up (want 32), %d hidden above the panel (want 48)", up, hidden);
+    CHECK(t, big >= 0 && s.shapes[s.emitters[big].shape].tri_count == 192, "no 192-triangle strip");
+    CHECK(t, glass == 1, "%d dispersive glasses", glass);
+    memset(&o, 0, sizeof o);
+    o.strategy = SEL_SPECTRAL_TREE;
+    ls = light_sampler_build(&s, &o, &err);
+    CHECK(t, ls != NULL, "%s", err.msg);
+    i = light_n_pieces(ls);
+    light_sampler_free(ls);
+    scene_free(&s);
+    CHECK(t, i >= 256 + 192 / LIGHT_CLUSTER_TRIS, "the strip was not split: %d pieces", i);
+}
+
 const TestCase tests_scenes[] = {
+    { "scenes_many_lamps", test_many_lamps },
     { "scenes_render_finite", test_render_finite },
     { "scenes_glass_boxes_closed", test_glass_boxes_closed },
     { "scenes_suzanne_mesh", test_suzanne_mesh },

@@ -8,6 +8,12 @@
 #   2. Renders at 16 spp of the Cornell box, of its dispersive-glass variant (rough
 #      dispersion terminated and kept alive by spectral MIS) and, per emitter-selection
 #      strategy, of cornell1; plus tools/bench_lights (table build, ns per vertex).
+#   3. Many emitters (docs/lighttree.md): tools/bench_lights --many, N = 4 .. 4096
+#      lamps in a generated hall: build time, ns per selection + pmf, CPU time per
+#      sample and table memory per strategy, with the log-log chart
+#      out/lighttree-cost.svg (docs/lighttree-cost.svg is a copy of one run) and
+#      out/lighttree-cost.csv; then the peak memory of the whole specnee process
+#      (/usr/bin/time, where present) rendering the hall with 1024 lamps.
 #      The Cornell render, when ./specnee and the scene exist:
 #      its closing line reports the speed in samples/s.
 # Run from the repository root.  Output goes to out/.
@@ -37,10 +43,24 @@ if [ -x ./tools/bench_lights ]; then
     ./tools/bench_lights $sc
     echo "== render time per strategy, $sc at 16 spp (ratio to uniform in the same run)"
     base=""
-    for st in uniform power spatial spd product spectral-spatial all; do
+    for st in uniform power spatial spd product spectral-spatial all tree spectral-tree; do
         line=$(./specnee $sc --spp 16 --lights $st -o out/bench_lights.pfm 2>&1 | tail -n 1)
         t=$(echo "$line" | sed -n 's/.* in \([0-9.]*\) s wall.*/\1/p')
         [ -z "$base" ] && base=$t
         printf '%-18s %8s s  x%s\n' "$st" "$t" "$(awk -v a="$t" -v b="$base" 'BEGIN { printf "%.2f", a / b }')"
     done
+fi
+
+if [ -x ./tools/bench_lights ]; then
+    echo "== many emitters: cost against N (tools/bench_lights --many; CPU times, 1 thread)"
+    ./tools/bench_lights --many 4096 --svg out/lighttree-cost.svg --csv out/lighttree-cost.csv
+    if [ -x /usr/bin/time ] && [ -x ./specnee ]; then
+        echo "== peak memory of the process, hall with 1024 lamps, 64x64, 4 spp, 1 thread"
+        ./tools/bench_lights --hall 1024 out/hall1024.pbrt
+        for st in uniform power spatial product tree spectral-tree; do
+            kb=$( { /usr/bin/time -f "%M" ./specnee out/hall1024.pbrt -q --threads 1 --lights $st \
+                    -o out/hall1024.pfm 2>&1 >/dev/null; } | tail -n 1)
+            printf '%-14s %8s MB\n' "$st" "$(awk -v k="$kb" 'BEGIN { printf "%.1f", k / 1024 }')"
+        done
+    fi
 fi

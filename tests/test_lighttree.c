@@ -1,0 +1,549 @@
+/* tests/test_lighttree.c - the light tree of lights.c section 4 (--lights tree and
+   spectral-tree), beyond what tests/test_lights.c checks for every strategy (there
+   both trees are compared with `uniform` on one emitter, two identical emitters,
+   64 small emitters of four spectra, complementary half spectra, a bright emitter
+   facing away, an emitter seen only through glass, dispersive glass).
+
+     lighttree_select_matches_pmf  light_select's pmf equals light_select_pmf
+                  bit for bit, frequencies match the pmf (chi-square), the pmfs
+                  sum to 1, pieces with pmf 0 are never chosen; random points,
+                  normals, wavelengths and alive sets, with contexts where whole
+                  subtrees have importance 0 (counted, so the case is exercised)
+     lighttree_spectral_preference  hero alone at 450 nm: the spectral tree never
+                  picks the emitter that is dark there, the total-power tree does
+     lighttree_conservative  every piece with a point facing a random point has
+                  P > 0 (one- and two-sided lamps facing every way, a split panel)
+     lighttree_prefers_near  two identical emitters: the near one is preferred,
+                  and an emitter facing away from the point is never chosen
+     lighttree_degenerate  all emitters at one point, all coplanar, one emitter,
+                  10,000 emitters: the build works, pmfs sum to 1, no NaN
+     lighttree_mesh_split_unbiased  a large emissive mesh split into clusters
+                  converges to `uniform`'s image (and to the unsplit tree's)
+     lighttree_mesh_split_pmf  the cluster hit by a ray is the one light_piece_of
+                  names, with the pdf NEE sampled it with
+     lighttree_per_render_radiance  the emitters' radiance for two wavelength
+                  ranges from one const Scene (the render owns it) */
+#include "test.h"
+#include <stdlib.h>
+#include <string.h>
+
+static const char *camera16 =
+    "LookAt 0 0 -3.2  0 0 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 45 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ] \"string filename\" \"t.pfm\"\n"
+    "Integrator \"path\" \"integer maxdepth\" [ 5 ]\n"
+    "WorldBegin\n";
+
+#define SPIKY "[ 400 0 430 0 435 3 440 0 540 0 545 4 550 0 605 0 611 3 617 0 700 0 ]"
+#define BLUEISH "[ 400 0.1 450 1.0 480 0.3 560 0.6 700 0.2 ]"
+#define LOW_HALF "[ 400 1 550 1 551 0 700 0 ]"
+#define HIGH_HALF "[ 400 0 549 0 550 1 700 1 ]"
+
+/* Append a one-sided square emitter of half-size h centred at c, facing along
+   +dir_axis (0: x, 1: y, 2: z) with sign sgn. */
+static void add_quad(char *buf, size_t cap, const char *spectrum, float scale, Vec3 c, int axis,
+                     int sgn, float h)
+{
+    size_t n = strlen(buf);
+    float p[4][3];
+    int k, u = (axis + 1) % 3, v = (axis + 2) % 3;
+    static const float su[4] = { -1, 1, 1, -1 }, sv[4] = { -1, -1, 1, 1 };
+    for (k = 0; k < 4; k++) {
+        p[k][axis] = v3_get(c, axis);
+        p[k][u] = v3_get(c, u) + h * su[k];
+        p[k][v] = v3_get(c, v) + h * sv[k];
+    }
+    /* (u, v) counter-clockwise has normal +axis; flip the winding for -axis */
+    snprintf(buf + n, cap - n,
+             "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" %s \"float scale\" [ %g ]\n"
+             " Shape \"trianglemesh\" \"integer indices\" [ %s ]\n"
+             "  \"point3 P\" [ %g %g %g  %g %g %g  %g %g %g  %g %g %g ]\nAttributeEnd\n",
+             spectrum, scale, sgn > 0 ? "0 1 2 0 2 3" : "0 2 1 0 3 2",
+             p[0][0], p[0][1], p[0][2], p[1][0], p[1][1], p[1][2],
+             p[2][0], p[2][1], p[2][2], p[3][0], p[3][1], p[3][2]);
+}
+
+/* A tessellated emissive panel (k x k quads, 2 k^2 triangles) on the plane
+   x = -0.98 facing +x, from y = -1 to 1 and z = -1 to 1: a large emitter next to
+   the floor and the back wall. */
+static void add_panel(char *buf, size_t cap, const char *spectrum, float scale, int k)
+{
+    size_t n = strlen(buf);
+    int i, j;
+    n += (size_t)snprintf(buf + n, cap - n,
+                          "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" %s \"float scale\" [ %g ]\n"
+                          " Shape \"trianglemesh\" \"integer indices\" [", spectrum, scale);
+    for (i = 0; i < k; i++)
+        for (j = 0; j < k; j++) {
+            int a = i * (k + 1) + j, b = a + 1, c = a + k + 1, d = c + 1;
+            /* vertex (i, j) at y = -1 + 2i/k, z = -1 + 2j/k: (a, c, d) winds to +x */
+            n += (size_t)snprintf(buf + n, cap - n, " %d %d %d %d %d %d", a, c, d, a, d, b);
+        }
+    n += (size_t)snprintf(buf + n, cap - n, " ]\n  \"point3 P\" [");
+    for (i = 0; i <= k; i++)
+        for (j = 0; j <= k; j++)
+            n += (size_t)snprintf(buf + n, cap - n, " -0.98 %g %g", -1.0 + 2.0 * i / k, -1.0 + 2.0 * j / k);
+    snprintf(buf + n, cap - n, " ]\nAttributeEnd\n");
+}
+
+static LightSampler *build(T *t, const Scene *s, SelStrategy st, int tput, int no_split)
+{
+    SelOptions o;
+    Error err;
+    LightSampler *ls;
+    memset(&o, 0, sizeof o);
+    o.strategy = st;
+    o.all_wavelengths = tput;
+    o.throughput_weighted = tput;
+    o.no_split = no_split;
+    err.msg[0] = 0;
+    ls = light_sampler_build(s, &o, &err);
+    if (!ls) test_failf(t, __FILE__, __LINE__, "light_sampler_build: %s", err.msg);
+    return ls;
+}
+
+/* A random context: a point in the scene's box (a quarter of them on an
+   emitter's box face, inside the bounding spheres), a random normal or none,
+   random wavelengths, the hero alone half of the time. */
+static LightCtx random_ctx(const Scene *s, Rng *r)
+{
+    LightCtx c;
+    int j;
+    Vec3 ext = v3_sub(s->bmax, s->bmin);
+    memset(&c, 0, sizeof c);
+    c.p = v3_add(s->bmin, v3(ext.x * rng_float(r), ext.y * rng_float(r), ext.z * rng_float(r)));
+    if (rng_float(r) < 0.75f)
+        c.n = v3_norm(v3(2 * rng_float(r) - 1, 2 * rng_float(r) - 1, 2 * rng_float(r) - 1));
+    c.voxel = -1;
+    c.alive = rng_float(r) < 0.5f ? 1u : (1u | ((rng_u32(r) & 7u) << 1));
+    c.hero_only = c.alive == 1u;
+    for (j = 0; j < HERO_N; j++) {
+        c.lambda[j] = 400.0f + 300.0f * rng_float(r);
+        c.beta[j] = (c.alive & (1u << j)) ? 0.1f + rng_float(r) : 0.0f;
+    }
+    return c;
+}
+
+/* select == pmf, chi-square (with "none" as one more outcome), the pmfs sum to at
+   most 1, zero-pmf pieces never chosen.  Counts in *zero_seen the contexts where
+   some piece had pmf 0, in *partial those where "none" had probability > 0.1. */
+static int check_consistency(T *t, const Scene *s, LightSampler *ls, const char *what, int trials,
+                             int draws, uint64_t seed, int *zero_seen, int *partial)
+{
+    int np = light_n_pieces(ls), trial;
+    double *pmf = (double *)malloc(sizeof(double) * (size_t)np);
+    double *count = (double *)malloc(sizeof(double) * (size_t)np);
+    Rng r;
+    int ok = 0;
+    if (!pmf || !count) { test_failf(t, __FILE__, __LINE__, "out of memory"); goto done; }
+    rng_seed(&r, seed, 3);
+    for (trial = 0; trial < trials; trial++) {
+        LightCtx c = random_ctx(s, &r);
+        double sum = 0.0, chi2 = 0.0;
+        int i, dof = -1, zeros = 0, none = 0;
+        for (i = 0; i < np; i++) {
+            float p = light_select_pmf(ls, &c, i);
+            if (!(p >= 0.0f && p <= 1.0f)) {
+                test_failf(t, __FILE__, __LINE__, "%s: pmf %g of piece %d", what, p, i);
+                goto done;
+            }
+            pmf[i] = p;
+            count[i] = 0.0;
+            sum += p;
+            zeros += p == 0.0f;
+        }
+        if (zeros) (*zero_seen)++;
+        /* the pmfs sum to at most 1: the walk stops ("none") where both children of
+           a node have importance 0 (a node's bound does not bound its children's) */
+        if (!(sum < 1.0 + 1e-4)) {
+            test_failf(t, __FILE__, __LINE__, "%s: pmfs sum to %.7g", what, sum);
+            goto done;
+        }
+        if (sum > 0.0 && sum < 0.9) (*partial)++;
+        for (i = 0; i < draws; i++) {
+            float p;
+            int e = light_select(ls, &c, rng_float(&r), &p, NULL);
+            if (e < 0) { none++; continue; }
+            if (e >= np || p != (float)pmf[e] || !(p > 0.0f)) {
+                test_failf(t, __FILE__, __LINE__, "%s: light_select chose %d with %g, light_select_pmf %g",
+                           what, e, p, e < np ? pmf[e] : -1.0);
+                goto done;
+            }
+            count[e] += 1.0;
+        }
+        if (sum == 0.0) {
+            if (none != draws) { test_failf(t, __FILE__, __LINE__, "%s: chose with pmf 0", what); goto done; }
+            continue;
+        }
+        for (i = 0; i <= np; i++) {                  /* i == np: "none", 1 - sum */
+            double ex = (i < np ? pmf[i] : 1.0 - sum) * draws, got = i < np ? count[i] : none;
+            if (ex < 5) {
+                if (ex == 0.0 && got > 0) {
+                    test_failf(t, __FILE__, __LINE__, "%s: %s chosen %g times with probability 0", what,
+                               i < np ? "a piece" : "none", got);
+                    goto done;
+                }
+                continue;
+            }
+            chi2 += (got - ex) * (got - ex) / ex;
+            dof++;
+        }
+        if (dof > 0 && !(chi2 < dof + 5 * sqrt(2.0 * dof))) {
+            test_failf(t, __FILE__, __LINE__, "%s: chi2 %g with %d dof", what, chi2, dof);
+            goto done;
+        }
+    }
+    ok = 1;
+done:
+    free(pmf);
+    free(count);
+    return ok;
+}
+
+static void test_select_matches_pmf(T *t)
+{
+    static char buf[1 << 16];
+    const char *spectra[4] = { SPIKY, BLUEISH, LOW_HALF, HIGH_HALF };
+    Scene s;
+    int i, v, zero_seen = 0, partial = 0;
+    /* 64 small emitters of four spectra facing every way, and a split panel */
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    for (i = 0; i < 64; i++)
+        add_quad(buf, sizeof buf, spectra[i % 4], 0.5f + (float)(i % 3),
+                 v3(-0.8f + 0.2f * (i % 8), -0.8f + 0.2f * (float)(i / 8), 0.3f * (float)(i % 5) - 0.6f),
+                 i % 3, (i / 3) % 2 ? 1 : -1, 0.04f);
+    add_panel(buf, sizeof buf, LOW_HALF, 1.0f, 4);
+    if (!test_load_scene(t, &s, buf)) return;
+    for (v = 0; v < 3; v++) {
+        static const char *names[3] = { "tree", "spectral-tree", "spectral-tree throughput-weighted" };
+        LightSampler *ls = build(t, &s, v == 0 ? SEL_TREE : SEL_SPECTRAL_TREE, v == 2, 0);
+        int ok;
+        if (!ls) break;
+        CHECK(t, light_n_pieces(ls) > s.n_emitters, "%s: the 32-triangle panel was not split", names[v]);
+        ok = check_consistency(t, &s, ls, names[v], 40, 20000, 11 + (uint64_t)v, &zero_seen, &partial);
+        light_sampler_free(ls);
+        if (!ok) break;
+    }
+    scene_free(&s);
+    CHECK(t, zero_seen > 10, "only %d contexts had a piece of pmf 0: zero-importance subtrees untested",
+          zero_seen);
+}
+
+static float pmf_of(LightSampler *ls, Vec3 p, Vec3 n, float lambda, unsigned alive, int piece)
+{
+    LightCtx c;
+    int j;
+    memset(&c, 0, sizeof c);
+    c.p = p;
+    c.n = n;
+    c.voxel = -1;
+    c.alive = alive;
+    c.hero_only = alive == 1u;
+    for (j = 0; j < HERO_N; j++) { c.lambda[j] = lambda + 75.0f * j; c.beta[j] = 1.0f; }
+    for (j = 0; j < HERO_N; j++) if (c.lambda[j] > 700.0f) c.lambda[j] -= 300.0f;
+    return light_select_pmf(ls, &c, piece);
+}
+
+static void test_spectral_preference(T *t)
+{
+    static char buf[1 << 14];
+    Scene s;
+    LightSampler *tree, *spec;
+    Vec3 p = v3(0.0f, -0.9f, 0.0f), n = v3(0, 1, 0);
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    add_quad(buf, sizeof buf, LOW_HALF, 4, v3(-0.5f, 0.99f, 0.0f), 1, -1, 0.2f);
+    add_quad(buf, sizeof buf, HIGH_HALF, 4, v3(0.5f, 0.99f, 0.0f), 1, -1, 0.2f);
+    if (!test_load_scene(t, &s, buf)) return;
+    tree = build(t, &s, SEL_TREE, 0, 0);
+    spec = build(t, &s, SEL_SPECTRAL_TREE, 0, 0);
+    if (tree && spec) {
+        float a450 = pmf_of(spec, p, n, 450.0f, 1u, 0), b450 = pmf_of(spec, p, n, 450.0f, 1u, 1);
+        float a650 = pmf_of(spec, p, n, 650.0f, 1u, 0), b650 = pmf_of(spec, p, n, 650.0f, 1u, 1);
+        float t450 = pmf_of(tree, p, n, 450.0f, 1u, 1), all = pmf_of(spec, p, n, 450.0f, 15u, 1);
+        CHECK(t, a450 == 1.0f && b450 == 0.0f, "spectral tree at 450 nm: P = %g, %g (want 1, 0)", a450, b450);
+        CHECK(t, a650 == 0.0f && b650 == 1.0f, "spectral tree at 650 nm: P = %g, %g (want 0, 1)", a650, b650);
+        CHECK(t, t450 > 0.4f && t450 < 0.6f, "total-power tree: the dark emitter still has P = %g", t450);
+        /* four wavelengths 75 nm apart span both halves: both possible */
+        CHECK(t, all > 0.2f && all < 0.8f, "spectral tree, all alive: P = %g", all);
+    }
+    light_sampler_free(tree);
+    light_sampler_free(spec);
+    scene_free(&s);
+}
+
+static void test_prefers_near(T *t)
+{
+    static char buf[1 << 14];
+    Scene s;
+    int v;
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    add_quad(buf, sizeof buf, BLUEISH, 4, v3(-0.7f, 0.99f, 0.0f), 1, -1, 0.1f);   /* faces down */
+    add_quad(buf, sizeof buf, BLUEISH, 4, v3(0.7f, 0.99f, 0.0f), 1, -1, 0.1f);    /* faces down */
+    add_quad(buf, sizeof buf, BLUEISH, 40, v3(0.0f, 0.0f, 0.9f), 2, 1, 0.1f);     /* faces the back wall */
+    if (!test_load_scene(t, &s, buf)) return;
+    for (v = 0; v < 2; v++) {
+        LightSampler *ls = build(t, &s, v ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
+        float near_, far_, away;
+        if (!ls) break;
+        near_ = pmf_of(ls, v3(-0.7f, 0.5f, 0.0f), v3(0, 1, 0), 500.0f, 15u, 0);
+        far_ = pmf_of(ls, v3(-0.7f, 0.5f, 0.0f), v3(0, 1, 0), 500.0f, 15u, 1);
+        away = pmf_of(ls, v3(0.0f, 0.0f, 0.0f), v3(0, 0, 0), 500.0f, 15u, 2);
+        light_sampler_free(ls);
+        CHECK(t, near_ > 0.9f && far_ > 0.0f && far_ < 0.1f,
+              "%s: near emitter P = %g, far one %g", v ? "spectral-tree" : "tree", near_, far_);
+        CHECK(t, away == 0.0f, "%s: an emitter facing away has P = %g", v ? "spectral-tree" : "tree", away);
+    }
+    scene_free(&s);
+}
+
+/* Build, then check pmfs and selection at random points. */
+static int degenerate_case(T *t, const char *text, const char *what, int trials)
+{
+    Scene s;
+    int v, zero_seen = 0, partial = 0, ok = 1;
+    if (!test_load_scene(t, &s, text)) return 0;
+    for (v = 0; v < 2 && ok; v++) {
+        LightSampler *ls = build(t, &s, v ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
+        char name[96];
+        if (!ls) { ok = 0; break; }
+        snprintf(name, sizeof name, "%s, %s", what, v ? "spectral-tree" : "tree");
+        ok = check_consistency(t, &s, ls, name, trials, 2000, 5, &zero_seen, &partial);
+        light_sampler_free(ls);
+    }
+    scene_free(&s);
+    return ok;
+}
+
+static void test_degenerate(T *t)
+{
+    size_t cap = (size_t)10000 * 400 + 4096;
+    char *buf = (char *)malloc(cap);
+    int i;
+    CHECK(t, buf != NULL, "out of memory");
+    /* all emitters at one point: 40 identical tiny triangles */
+    snprintf(buf, cap, "%s", camera16);
+    for (i = 0; i < 40; i++) add_quad(buf, cap, i % 2 ? SPIKY : BLUEISH, 1, v3(0, 0, 0), 1, -1, 1e-3f);
+    strcat(buf, "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ] \"point3 P\" [ -1 -1 -1  1 -1 -1  0 -1 1 ]\n");
+    if (!degenerate_case(t, buf, "all at one point", 20)) goto done;
+    /* all coplanar: a 10 x 10 grid of lamps in the plane y = 0.5, half facing up */
+    snprintf(buf, cap, "%s", camera16);
+    for (i = 0; i < 100; i++)
+        add_quad(buf, cap, i % 3 ? SPIKY : HIGH_HALF, 1, v3(-0.9f + 0.2f * (i % 10), 0.5f, -0.9f + 0.2f * (float)(i / 10)),
+                 1, i % 2 ? 1 : -1, 0.05f);
+    if (!degenerate_case(t, buf, "coplanar", 20)) goto done;
+    /* one emitter (a one-node tree: P = 1 wherever, as for every strategy) */
+    snprintf(buf, cap, "%s", camera16);
+    add_quad(buf, cap, SPIKY, 1, v3(0, 0.9f, 0), 1, -1, 0.2f);
+    strcat(buf, "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ] \"point3 P\" [ -1 -1 -1  1 -1 -1  0 -1 1 ]\n");
+    if (!degenerate_case(t, buf, "one emitter", 10)) goto done;
+    /* 10,000 emitters in a 100 x 100 x 1 ceiling grid */
+    snprintf(buf, cap, "%s", camera16);
+    for (i = 0; i < 10000; i++)
+        add_quad(buf, cap, i % 2 ? SPIKY : BLUEISH, 1, v3(-1.0f + 0.02f * (i % 100), 1.0f, -1.0f + 0.02f * (float)(i / 100)),
+                 1, -1, 0.005f);
+    strcat(buf, "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ] \"point3 P\" [ -1 -1 -1  1 -1 -1  0 -1 1 ]\n");
+    degenerate_case(t, buf, "10,000 emitters", 3);
+done:
+    free(buf);
+}
+
+/* The large panel (128 triangles) split into clusters converges to uniform. */
+static void test_mesh_split_unbiased(T *t)
+{
+    static char buf[1 << 15];
+    static Tiles ref, m;
+    Scene s;
+    RenderOptions o;
+    int v;
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    add_panel(buf, sizeof buf, SPIKY, 1.0f, 8);
+    add_quad(buf, sizeof buf, BLUEISH, 3, v3(0.5f, 0.99f, 0.3f), 1, -1, 0.1f);
+    strcat(buf, "AttributeBegin\n Translate 0 -0.6 0\n"
+                " Material \"dielectric\" \"float cauchyA\" [ 1.5 ] \"float cauchyB\" [ 0.03 ] \"float roughness\" [ 0.04 ]\n"
+                " Shape \"sphere\" \"float radius\" [ 0.3 ]\nAttributeEnd\n");
+    if (!test_load_scene(t, &s, buf)) return;
+    render_options_default(&o);
+    o.spp = test_scaled(24, 4);
+    o.seed = 3;
+    o.sel.strategy = SEL_UNIFORM;
+    if (!test_render_tiles(t, &s, &o, 8, 2, &ref)) goto done;
+    for (v = 0; v < 3; v++) {
+        static const char *names[3] = { "tree (split)", "spectral-tree (split)", "spectral-tree (one leaf)" };
+        memset(&o.sel, 0, sizeof o.sel);
+        o.sel.strategy = v ? SEL_SPECTRAL_TREE : SEL_TREE;
+        o.sel.no_split = v == 2;
+        if (!test_render_tiles(t, &s, &o, 8, 2, &m)) goto done;
+        if (!test_tiles_agree(t, &m, &ref, 1e-4, names[v])) goto done;
+    }
+done:
+    scene_free(&s);
+}
+
+/* light_piece_of names the cluster that holds a hit, and sampling a cluster
+   stays on its triangles: the mean of 1/pdf over cluster samples is the
+   cluster's solid angle estimate, consistent with light_pdf_sa. */
+static void test_mesh_split_pmf(T *t)
+{
+    static char buf[1 << 15];
+    Scene s;
+    LightSampler *ls;
+    Rng r;
+    int np, i, k, checked = 0;
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    add_panel(buf, sizeof buf, SPIKY, 1.0f, 8);
+    if (!test_load_scene(t, &s, buf)) return;
+    ls = build(t, &s, SEL_SPECTRAL_TREE, 0, 0);
+    if (!ls) { scene_free(&s); return; }
+    np = light_n_pieces(ls);
+    CHECK(t, np >= 128 / LIGHT_CLUSTER_TRIS && np <= 64, "128 triangles in %d clusters", np);
+    rng_seed(&r, 9, 9);
+    for (i = 0; i < np; i++)
+        for (k = 0; k < 20; k++) {
+            EmitterSample es;
+            Ray ray;
+            HitRecord h;
+            SurfacePoint sp;
+            Vec3 ref = v3(0.2f + 0.5f * rng_float(&r), -0.5f + rng_float(&r), -0.5f + rng_float(&r));
+            float pdf;
+            if (!light_sample(ls, i, ref, rng_float(&r), rng_float(&r), rng_float(&r), &es)) continue;
+            CHECK(t, light_piece_emitter(ls, i) == 0, "cluster %d belongs to emitter %d", i, light_piece_emitter(ls, i));
+            ray.o = ref;
+            ray.d = es.wi;
+            ray.tmax = es.dist * 1.001f;
+            if (!bvh_intersect(&s.bvh, &s, &ray, &h)) continue;
+            scene_surface_point(&s, &ray, &h, &sp);
+            if (s.shapes[sp.shape].emitter != 0) continue;
+            CHECK(t, light_piece_of(ls, 0, sp.prim) == i || fabsf(h.t - es.dist) > 1e-3f,
+                  "sample of cluster %d hit cluster %d", i, light_piece_of(ls, 0, sp.prim));
+            pdf = light_pdf_sa(ls, i, ref, sp.p, sp.ng);
+            CHECK(t, fabsf(pdf - es.pdf_sa) <= 1e-3f * es.pdf_sa, "pdf at the hit %g, sampled %g", pdf, es.pdf_sa);
+            checked++;
+        }
+    CHECK(t, checked > np * 10, "only %d of %d samples were found again by a ray", checked, np * 20);
+    light_sampler_free(ls);
+    scene_free(&s);
+}
+
+/* The emitters' radiance belongs to the render (issue 13): two samplers over one
+   const Scene, for 400-700 and 360-830 nm, each normalise every emitter so that
+   sum_{1 nm over its own range} ybar Le = scale (pbrt-v4), light_Le returns that
+   radiance towards the front (0 behind a one-sided emitter), and the Scene's
+   emitters are byte for byte what the file gave. */
+static void test_per_render_radiance(T *t)
+{
+    static char buf[1 << 14];
+    static Emitter before[3];
+    Scene s;
+    LightSampler *ls[2];
+    int e, k, lam;
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    add_quad(buf, sizeof buf, SPIKY, 2, v3(-0.5f, 0.99f, 0.0f), 1, -1, 0.2f);
+    add_quad(buf, sizeof buf, "[ 380 1 400 1 700 0.2 720 3 ]", 3, v3(0.5f, 0.99f, 0.0f), 1, -1, 0.2f);
+    add_quad(buf, sizeof buf, LOW_HALF, 5, v3(0.0f, 0.99f, 0.5f), 1, -1, 0.2f);
+    if (!test_load_scene(t, &s, buf)) return;
+    memcpy(before, s.emitters, sizeof before);
+    for (k = 0; k < 2; k++) {
+        SelOptions o;
+        Error err;
+        memset(&o, 0, sizeof o);
+        o.strategy = k ? SEL_SPECTRAL_TREE : SEL_POWER;
+        o.lo_nm = k ? (float)SPEC_MIN : LAMBDA_LO;
+        o.hi_nm = k ? (float)SPEC_MAX : LAMBDA_HI;
+        ls[k] = light_sampler_build(&s, &o, &err);
+        CHECK(t, ls[k] != NULL, "%s", err.msg);
+    }
+    for (k = 0; k < 2; k++)
+        for (e = 0; e < 3; e++) {
+            int lo = k ? SPEC_MIN : (int)LAMBDA_LO, hi = k ? SPEC_MAX : (int)LAMBDA_HI;
+            double Y = 0.0;
+            Vec3 down = v3(0, -1, 0);
+            for (lam = lo; lam <= hi; lam++) {
+                float xyz[3];
+                cie_xyz((float)lam, xyz);
+                Y += (double)xyz[1] * light_Le(ls[k], e, down, down, (float)lam);
+            }
+            CHECK(t, fabs(Y - s.emitters[e].scale) < 1e-4 * s.emitters[e].scale,
+                  "range %d-%d nm, emitter %d: sum ybar Le = %g, want scale %g", lo, hi, e, Y, s.emitters[e].scale);
+            CHECK(t, light_Le(ls[k], e, down, v3(0, 1, 0), 500.0f) == 0.0f, "light from behind a one-sided emitter");
+        }
+    /* emitter 1 emits outside 400-700 nm: its wide-range radiance inside is lower */
+    CHECK(t, light_Le(ls[1], 1, v3(0, -1, 0), v3(0, -1, 0), 550.0f) <
+             light_Le(ls[0], 1, v3(0, -1, 0), v3(0, -1, 0), 550.0f), "the wide range changes nothing");
+    light_sampler_free(ls[0]);
+    light_sampler_free(ls[1]);
+    CHECK(t, memcmp(before, s.emitters, sizeof before) == 0, "building a sampler changed the scene's emitters");
+    scene_free(&s);
+}
+
+/* The bounds are conservative: at random points, every piece with a point that
+   faces the point (one-sided: on its front side; two-sided: either side) has
+   P > 0 under the total-power tree, so no merged cone or box loses an emitter.
+   Lamps face every way; a third of them are two-sided; the panel is split. */
+static void test_conservative(T *t)
+{
+    static char buf[1 << 16];
+    Scene s;
+    LightSampler *ls;
+    Rng r;
+    int i, k, checked = 0;
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    for (i = 0; i < 48; i++) {
+        size_t n;
+        Vec3 c = v3(-0.8f + 0.3f * (i % 6), -0.7f + 0.2f * (float)(i / 6), 0.35f * (float)(i % 5) - 0.7f);
+        add_quad(buf, sizeof buf, i % 2 ? SPIKY : BLUEISH, 1, c, i % 3, (i / 3) % 2 ? 1 : -1, 0.04f);
+        if (i % 3 == 0) {                            /* make it two-sided */
+            n = strlen(buf);
+            while (n > 0 && strncmp(buf + n, "\"diffuse\"", 9) != 0) n--;
+            memmove(buf + n + 9 + 25, buf + n + 9, strlen(buf + n + 9) + 1);
+            memcpy(buf + n + 9, " \"bool twosided\" [ true ]", 25);
+        }
+    }
+    add_panel(buf, sizeof buf, LOW_HALF, 1.0f, 4);
+    if (!test_load_scene(t, &s, buf)) return;
+    for (i = 0, k = 0; i < s.n_emitters; i++) k += s.emitters[i].twosided;
+    if (k != 16) { scene_free(&s); CHECK(t, 0, "%d two-sided lamps, want 16", k); }
+    ls = build(t, &s, SEL_TREE, 0, 0);
+    if (!ls) { scene_free(&s); return; }
+    rng_seed(&r, 21, 4);
+    for (k = 0; k < 300; k++) {
+        LightCtx c;
+        int piece, j;
+        memset(&c, 0, sizeof c);
+        c.p = v3(1.9f * rng_float(&r) - 0.95f, 1.9f * rng_float(&r) - 0.95f, 1.9f * rng_float(&r) - 0.95f);
+        c.voxel = -1;
+        c.alive = 15u;
+        for (j = 0; j < HERO_N; j++) { c.lambda[j] = 420.0f + 70.0f * j; c.beta[j] = 1.0f; }
+        for (piece = 0; piece < light_n_pieces(ls); piece++) {
+            int e = light_piece_emitter(ls, piece), faces = 0;
+            for (j = 0; j < 8 && !faces; j++) {
+                EmitterSample es;
+                Vec3 to_p;
+                float d;
+                if (!light_sample(ls, piece, c.p, rng_float(&r), rng_float(&r), rng_float(&r), &es)) continue;
+                to_p = v3_mul(es.wi, -1.0f);
+                d = v3_dot(es.n, to_p);
+                faces = s.emitters[e].twosided ? fabsf(d) > 1e-3f : d > 1e-3f;
+            }
+            if (!faces) continue;
+            checked++;
+            CHECK(t, light_select_pmf(ls, &c, piece) > 0.0f,
+                  "piece %d (emitter %d%s) faces (%g %g %g) but has P = 0", piece, e,
+                  s.emitters[e].twosided ? ", two-sided" : "", c.p.x, c.p.y, c.p.z);
+        }
+    }
+    light_sampler_free(ls);
+    scene_free(&s);
+    CHECK(t, checked > 1000, "only %d facing pieces checked", checked);
+}
+
+const TestCase tests_lighttree[] = {
+    { "lighttree_conservative", test_conservative },
+    { "lighttree_per_render_radiance", test_per_render_radiance },
+    { "lighttree_select_matches_pmf", test_select_matches_pmf },
+    { "lighttree_spectral_preference", test_spectral_preference },
+    { "lighttree_prefers_near", test_prefers_near },
+    { "lighttree_degenerate", test_degenerate },
+    { "lighttree_mesh_split_pmf", test_mesh_split_pmf },
+    { "lighttree_mesh_split_unbiased", test_mesh_split_unbiased },
+    { NULL, NULL }
+};
