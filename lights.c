@@ -1,7 +1,7 @@
 /* lights.c - emitters, and how next event estimation chooses one of them.
 
    Exported (specnee.h section 11): emitters_prepare, emitter_Le, emitter_sample,
-   emitter_pdf_sa, light_sampler_build/free, light_voxel, light_select,
+   emitter_pdf_sa, emitter_can_reach, light_sampler_build/free, light_voxel, light_select,
    light_select_pmf, light_sampler_bytes, sel_from_name, sel_name.
 
    1. Emitters.  An emitter is one AreaLightSource shape: a whole mesh (or sphere).
@@ -53,7 +53,28 @@
       Y_j = scale_j is the emitter's luminance.  A floor of 1e-3 of the mean weight
       keeps every emitter possible.  Voxels are built lazily on first use (under an
       OpenMP critical section) or all up front; both give identical tables because
-      the computation is deterministic. */
+      the computation is deterministic.
+
+   4. Which side an emitter lights (emitter_can_reach).  The voxel table is an
+      average over receivers spread through the whole voxel, so a voxel cut by a
+      one-sided emitter credits it with the light its front receivers get - also
+      at shading points behind it or on it (the emitter's own back face, lit by
+      another lamp, was a band of noise: NEE chose the emitter that could not
+      reach the point most of the time).  So where the spatial table is used
+      (spatial, product, spectral-spatial, and spd while every wavelength is
+      alive), emitter i's weight is multiplied by reach_i(p) in {0, 1}:
+        mesh, one-sided    reach = [some triangle t has n_t . p - d_t > eps]
+        mesh, two-sided    reach = [some triangle t has |n_t . p - d_t| > eps]
+        sphere             outside of an outward one, inside of a flipped one
+        bigger meshes      reach = 1 (over REACH_MAX_TRIS triangles, or shading
+                           normals against the geometry: a limit of the voxel
+                           tables; the light tree's orientation cones cover it)
+      eps = 1e-5 (1 + the largest coordinate), the ray-offset scale of bvh.c, so
+      a point on the emitter (within round-off of its plane) is excluded.  The
+      mask is exact for the shapes it tests, never 0 where light can arrive from
+      more than eps away, and it is part of context_weights, so light_select and
+      light_select_pmf agree; if it zeroes every emitter NEE is skipped, which is
+      unbiased because no emitter can light the point. */
 #include "specnee.h"
 #include <stdlib.h>
 #include <string.h>
@@ -70,6 +91,85 @@ static double tri_area(const Scene *s, int t)
     Vec3 e1 = v3_sub(s->P[tr->v[1]], s->P[tr->v[0]]);
     Vec3 e2 = v3_sub(s->P[tr->v[2]], s->P[tr->v[0]]);
     return 0.5 * (double)v3_len(v3_cross(e1, e2));
+}
+
+/* The planes of a small emitter mesh, for emitter_can_reach (section 4): per
+   triangle its unit normal with the orientation scene_surface_point gives it, and
+   the offset d = n . v0.  With shading normals (which decide the orientation at a
+   point) that disagree with a triangle's normal the mesh gets no planes. */
+static int emitter_find_planes(const Scene *s, Emitter *em)
+{
+    const Shape *sh = &s->shapes[em->shape];
+    double big = 0.0;
+    int t, k, a;
+    free(em->planes);
+    em->planes = NULL;
+    em->n_planes = 0;
+    if (sh->type == SHAPE_SPHERE) {
+        big = fabs(sh->center.x) + fabs(sh->center.y) + fabs(sh->center.z) + sh->radius;
+        em->reach_eps = 1e-5 * (1.0 + big);
+        return 1;
+    }
+    for (t = sh->tri_begin; t < sh->tri_begin + sh->tri_count; t++)
+        for (k = 0; k < 3; k++)
+            for (a = 0; a < 3; a++) {
+                double q = fabs((double)v3_get(s->P[s->tris[t].v[k]], a));
+                if (q > big) big = q;
+            }
+    em->reach_eps = 1e-5 * (1.0 + big);
+    if (sh->tri_count > REACH_MAX_TRIS) return 1;
+    em->planes = (double *)malloc(sizeof(double) * 4 * (size_t)sh->tri_count);
+    if (!em->planes) return 0;
+    for (t = 0; t < sh->tri_count; t++) {
+        const Triangle *tr = &s->tris[sh->tri_begin + t];
+        Vec3 p0 = s->P[tr->v[0]], p1 = s->P[tr->v[1]], p2 = s->P[tr->v[2]];
+        Vec3 c = v3_cross(v3_sub(p0, p2), v3_sub(p1, p2));   /* as scene_surface_point */
+        double n[3], len;
+        n[0] = c.x; n[1] = c.y; n[2] = c.z;
+        len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (sh->flip) len = -len;
+        if (!(fabs(len) > 0.0)) {                       /* degenerate: emits nothing */
+            em->planes[4 * t + 0] = em->planes[4 * t + 1] = em->planes[4 * t + 2] = 0.0;
+            em->planes[4 * t + 3] = 1.0;                /* 0 . p - 1 < 0: never reaches */
+            continue;
+        }
+        for (a = 0; a < 3; a++) n[a] /= len;
+        if (sh->has_normals && s->N)
+            for (k = 0; k < 3; k++) {
+                Vec3 m = s->N[tr->v[k]];
+                if (!(n[0] * m.x + n[1] * m.y + n[2] * m.z > 0.0)) {
+                    free(em->planes);
+                    em->planes = NULL;
+                    return 1;
+                }
+            }
+        for (a = 0; a < 3; a++) em->planes[4 * t + a] = n[a];
+        em->planes[4 * t + 3] = n[0] * p0.x + n[1] * p0.y + n[2] * p0.z;
+    }
+    em->n_planes = sh->tri_count;
+    return 1;
+}
+
+int emitter_can_reach(const Scene *s, int e, Vec3 p)
+{
+    const Emitter *em = &s->emitters[e];
+    const Shape *sh = &s->shapes[em->shape];
+    int t;
+    if (sh->type == SHAPE_SPHERE) {
+        double dx = (double)p.x - sh->center.x, dy = (double)p.y - sh->center.y;
+        double dz = (double)p.z - sh->center.z, r = sqrt(dx * dx + dy * dy + dz * dz);
+        if (em->twosided) return 1;
+        /* convex outside: light leaves outwards, a point on the sphere sees none of
+           it; flipped (emitting inwards): every point inside or on it is lit */
+        return sh->flip ? r < sh->radius + em->reach_eps : r > sh->radius + em->reach_eps;
+    }
+    if (em->n_planes == 0) return 1;
+    for (t = 0; t < em->n_planes; t++) {
+        const double *q = em->planes + 4 * t;
+        double dist = q[0] * p.x + q[1] * p.y + q[2] * p.z - q[3];
+        if (em->twosided ? fabs(dist) > em->reach_eps : dist > em->reach_eps) return 1;
+    }
+    return 0;
 }
 
 int emitters_prepare(Scene *s, float lo_nm, float hi_nm, Error *err)
@@ -118,6 +218,10 @@ int emitters_prepare(Scene *s, float lo_nm, float hi_nm, Error *err)
             sum += em->bin[b] * SPD_BIN_NM;
         }
         em->power = SPECNEE_PI * em->area * (em->twosided ? 2.0 : 1.0) * sum;
+        if (!emitter_find_planes(s, em)) {
+            error_set(err, sh->file, sh->line, "out of memory");
+            return 0;
+        }
     }
     return 1;
 }
@@ -421,6 +525,7 @@ static int spd_bin(float lambda)
    *fell_back = 1 when a spectral strategy had to use the spatial weights. */
 static double context_weights(LightSampler *ls, const LightCtx *c, double *w, int *fell_back)
 {
+    double *reach = w + ls->n;                   /* callers give 2n doubles */
     int n = ls->n, i, j;
     SelStrategy st = ls->opt.strategy;
     double sum = 0.0;
@@ -439,6 +544,12 @@ static double context_weights(LightSampler *ls, const LightCtx *c, double *w, in
         for (i = 0; i < n; i++) w[i] = 1.0;
         return n;
     }
+    /* The voxel's table holds receivers on every side of an emitter; the shading
+       point is on one.  An emitter that cannot reach p (p behind a flat one-sided
+       emitter, or on it) gets weight 0 wherever the spatial table is used: the
+       table would otherwise give it the share earned by the voxel's receivers in
+       front of it (section 4).  w[] holds the mask until it is overwritten. */
+    for (i = 0; i < n; i++) reach[i] = emitter_can_reach(ls->scene, i, c->p) ? 1.0 : 0.0;
     if (st != SEL_SPATIAL && (c->hero_only || ls->opt.all_wavelengths)) {
         /* spectral weights, summed over the wavelengths that count here */
         for (i = 0; i < n; i++) w[i] = 0.0;
@@ -453,8 +564,8 @@ static double context_weights(LightSampler *ls, const LightCtx *c, double *w, in
             if (!(cj > 0.0)) continue;
             for (i = 0; i < n; i++) {
                 double e = ls->T[b * n + i];
-                if (st == SEL_PRODUCT) e *= vt[i];
-                else if (st == SEL_SPECTRAL_SPATIAL) e *= vt[n + i];
+                if (st == SEL_PRODUCT) e *= vt[i] * reach[i];
+                else if (st == SEL_SPECTRAL_SPATIAL) e *= vt[n + i] * reach[i];
                 w[i] += cj * e;
             }
         }
@@ -463,7 +574,7 @@ static double context_weights(LightSampler *ls, const LightCtx *c, double *w, in
         *fell_back = 1;                          /* no emitter for these bins */
     }
     sum = 0.0;
-    for (i = 0; i < n; i++) { w[i] = vt[i]; sum += w[i]; }
+    for (i = 0; i < n; i++) { w[i] = vt[i] * reach[i]; sum += w[i]; }
     return sum;
 }
 
@@ -473,12 +584,12 @@ static double context_weights(LightSampler *ls, const LightCtx *c, double *w, in
 
 int light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int *fell_back)
 {
-    double wbuf[SEL_STACK], *w = wbuf, sum, acc = 0.0, target;
+    double wbuf[2 * SEL_STACK], *w = wbuf, sum, acc = 0.0, target;
     int n = ls->n, i, fb, chosen = -1;
     *pmf = 0.0f;
     if (fell_back) *fell_back = 0;
     if (n == 0) return -1;
-    if (n > SEL_STACK && !(w = (double *)malloc(sizeof(double) * (size_t)n))) return -1;
+    if (n > SEL_STACK && !(w = (double *)malloc(sizeof(double) * 2 * (size_t)n))) return -1;
     sum = context_weights(ls, c, w, &fb);
     if (fell_back) *fell_back = fb;
     if (sum > 0.0) {
@@ -498,11 +609,11 @@ int light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int *
 
 float light_select_pmf(LightSampler *ls, const LightCtx *c, int e)
 {
-    double wbuf[SEL_STACK], *w = wbuf, sum;
+    double wbuf[2 * SEL_STACK], *w = wbuf, sum;
     int n = ls->n, fb;
     float p = 0.0f;
     if (e < 0 || e >= n) return 0.0f;
-    if (n > SEL_STACK && !(w = (double *)malloc(sizeof(double) * (size_t)n))) return 0.0f;
+    if (n > SEL_STACK && !(w = (double *)malloc(sizeof(double) * 2 * (size_t)n))) return 0.0f;
     sum = context_weights(ls, c, w, &fb);
     if (sum > 0.0) p = (float)(w[e] / sum);
     if (w != wbuf) free(w);

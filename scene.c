@@ -1941,7 +1941,7 @@ void scene_free(Scene *s)
     int i;
     if (!s) return;
     if (s->bvh.nodes || s->bvh.prims || s->bvh.tri_v) bvh_free(&s->bvh);
-    for (i = 0; i < s->n_emitters; i++) free(s->emitters[i].tri_cdf);
+    for (i = 0; i < s->n_emitters; i++) { free(s->emitters[i].tri_cdf); free(s->emitters[i].planes); }
     for (i = 0; i < s->n_strings; i++) free(s->strings[i]);
     free(s->strings);
     free(s->P);

@@ -66,6 +66,8 @@
 #define BVH_BINS 16         /* @@ SAH bins per axis: build time vs. tree quality */
 #define SPATIAL_RES 64      /* @@ voxels on the longest axis of the spatial grid (pbrt-v3) */
 #define SPATIAL_SAMPLES 128 /* @@ receiver points per voxel (pbrt-v3) */
+#define REACH_MAX_TRIS 64   /* @@ emitter meshes up to this size get the exact per-triangle
+                               "which side does it light" test (lights.c section 4) */
 #define RR_START_DEPTH 1    /* @@ Russian roulette from this depth on (pbrt-v4: after depth 1) */
 #define DEFAULT_SPP 16
 #define DEFAULT_MAXDEPTH 5  /* pbrt-v4's default for Integrator "path" */
@@ -340,6 +342,14 @@ typedef struct {
     float *tri_cdf;            /* tri_count + 1 entries for meshes */
     float bin[SPD_BINS];       /* bin averages of Le over 400-700 nm */
     double power;              /* radiant power over 400-700 nm */
+    /* which side it lights (emitter_can_reach): a point p can receive light from
+       a one-sided triangle only if it lies in front of the triangle's plane (off
+       the plane, either side, when two-sided).  Meshes of up to REACH_MAX_TRIS
+       triangles keep each triangle's plane; a sphere lights its outside (its
+       inside when flipped); bigger meshes are never ruled out. */
+    int n_planes;              /* 0: no plane test */
+    double *planes;            /* 4 per triangle: oriented unit normal n, offset d = n . v0 */
+    double reach_eps;          /* distance below which a point counts as in the plane */
 } Emitter;
 
 /* A point sampled on an emitter, as seen from a reference point. */
@@ -475,6 +485,11 @@ int   emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float 
                      EmitterSample *out);
 /* Solid-angle pdf of emitter_sample producing point p (normal n) from ref. */
 float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n);
+/* 0 when emitter e certainly sends no light to the point p (p behind every
+   triangle of a one-sided emitter, or in their planes - e.g. on the emitter
+   itself -, or on the dark side of a sphere); 1 when it may.  Conservative: never
+   0 where light could arrive from farther than reach_eps off a triangle's plane. */
+int   emitter_can_reach(const Scene *s, int e, Vec3 p);
 
 typedef struct {
     SelStrategy strategy;

@@ -113,6 +113,10 @@ expect "cli_bad_spp" 2 "positive integer" ./specnee --spp 0 scenes/cornell.pbrt
 expect "cli_missing_file" 1 "nonexistent.pbrt" ./specnee tests/tmp/nonexistent.pbrt
 printf 'WorldBegin\nShape "sphere" "float radius" [ 1 ]\nFrobnicate 3\n' > tests/tmp/bad.pbrt
 expect "cli_bad_directive" 1 "bad.pbrt:3:" ./specnee tests/tmp/bad.pbrt
+printf 'Film "rgb" "integer xresolution" 4 "integer yresolution" 4\nWorldBegin\nShape "sphere"\n' > tests/tmp/nolight.pbrt
+expect "cli_no_lights_warns" 0 "nolight.pbrt: warning: no light sources" ./specnee -q tests/tmp/nolight.pbrt -o tests/tmp/nolight.pfm
+./specnee -q scenes/cornell.pbrt --spp 1 --res 4x4 -o tests/tmp/lit.pfm 2> tests/tmp/lit.txt
+if grep -q "no light sources" tests/tmp/lit.txt; then fail "cli_lit_scene_no_warning"; else ok "cli_lit_scene_no_warning"; fi
 expect "cli_render_tiny" 0 "samples/s" ./specnee scenes/cornell.pbrt --spp 2 -o tests/tmp/tiny.pfm
 if [ -f tests/tmp/tiny.pfm ] && [ -f tests/tmp/tiny.pfm.txt ]; then ok "cli_render_writes_pfm_and_sidecar"
 else fail "cli_render_writes_pfm_and_sidecar"; fi
