@@ -98,6 +98,7 @@ typedef struct {
     float tan_half;                  /* tan(fov/2) of the shorter axis */
     float sx0, sx1, sy0, sy1;        /* screen window */
     int w, h;
+    float lens_radius, focal_distance;   /* thin lens; lens_radius 0: pinhole */
 } Camera;
 
 static void camera_init(Camera *c, const SceneSettings *st)
@@ -115,16 +116,47 @@ static void camera_init(Camera *c, const SceneSettings *st)
     else { c->sx0 = -1; c->sx1 = 1; c->sy0 = -1.0f / aspect; c->sy1 = 1.0f / aspect; }
     c->w = st->xres;
     c->h = st->yres;
+    c->lens_radius = st->lens_radius;
+    c->focal_distance = st->focal_distance;
 }
 
-/* Raster (x, y), y down, to a world-space ray. */
-static Ray camera_ray(const Camera *c, float x, float y)
+/* Shirley and Chiu's concentric map from the unit square to the unit disk (1997):
+   squares around the centre go to circles, so strata stay compact and the map
+   keeps area ratios (uniform in, uniform out). */
+static void concentric_disk(float u0, float u1, float *dx, float *dy)
+{
+    float a = 2.0f * u0 - 1.0f, b = 2.0f * u1 - 1.0f, r, phi;
+    if (a == 0.0f && b == 0.0f) { *dx = *dy = 0.0f; return; }
+    if (fabsf(a) > fabsf(b)) { r = a; phi = (PI_F / 4.0f) * (b / a); }
+    else { r = b; phi = PI_F / 2.0f - (PI_F / 4.0f) * (a / b); }
+    *dx = r * cosf(phi);
+    *dy = r * sinf(phi);
+}
+
+/* Raster (x, y), y down, to a world-space ray.  (ul0, ul1) pick the point on the
+   lens (unused for a pinhole).
+
+   THIN LENS (pbrt-v4 PerspectiveCamera).  The pinhole ray of the raster point has
+   the camera-space direction d = (sx tan, sy tan, 1).  A lens of radius r at z = 0
+   focused at distance f sends every ray of that raster point through the point
+   where the pinhole ray meets the plane of focus, q = f d (z = f), from a point
+   (r l, 0) with l uniform on the unit disk.  Points on that plane are sharp; a
+   point at depth z spreads into a disk of radius r |1/f - 1/z| in the screen's
+   tan units (the circle of confusion; tested by render_thin_lens). */
+static Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1)
 {
     Ray r;
     float sx = c->sx0 + (x / (float)c->w) * (c->sx1 - c->sx0);
     float sy = c->sy1 - (y / (float)c->h) * (c->sy1 - c->sy0);
-    Vec3 d = v3(sx * c->tan_half, sy * c->tan_half, 1.0f);
-    r.o = xf_point(&c->world_from_camera, v3(0, 0, 0));
+    Vec3 d = v3(sx * c->tan_half, sy * c->tan_half, 1.0f), o = v3(0, 0, 0);
+    if (c->lens_radius > 0.0f) {
+        float lx, ly;
+        Vec3 q = v3_mul(d, c->focal_distance);
+        concentric_disk(ul0, ul1, &lx, &ly);
+        o = v3(c->lens_radius * lx, c->lens_radius * ly, 0.0f);
+        d = v3_sub(q, o);
+    }
+    r.o = xf_point(&c->world_from_camera, o);
     r.d = v3_norm(xf_vector(&c->world_from_camera, d));
     r.tmax = INFINITY;
     return r;
@@ -557,8 +589,8 @@ static void render_pass(Pass *P)
             for (k = P->k0; k < P->k1; k++) {
                 Rng rng;
                 Wavelengths wl;
-                double xyz[3] = { 0.0, 0.0, 0.0 };
-                float fx, fy;
+                double xyz[3] = { 0.0, 0.0, 0.0 }, m;
+                float fx, fy, ul0 = 0.5f, ul1 = 0.5f;
                 rng_seed(&rng, stream, (uint64_t)k);   /* sample k's stream: independent of spp */
                 if (set->filter == FILTER_GAUSSIAN) {
                     fx = 0.5f + gaussian_offset(&rng, set->filter_radius, set->filter_sigma);
@@ -568,10 +600,25 @@ static void render_pass(Pass *P)
                     fy = rng_float(&rng);
                 }
                 wl_sample(&R->wl, rng_float(&rng), &wl);
+                /* the two lens dimensions come next in the sample's stream, drawn
+                   only with a lens, so pinhole images keep their random numbers */
+                if (R->cam.lens_radius > 0.0f) {
+                    ul0 = rng_float(&rng);
+                    ul1 = rng_float(&rng);
+                }
                 if (dbg) fprintf(dbg, "pixel (%d, %d) sample %d\n", x, y, k);
-                trace_path(R, camera_ray(&R->cam, (float)x + fx, (float)y + fy), &wl, &rng,
-                           xyz, &cnt, dbg);
+                trace_path(R, camera_ray(&R->cam, (float)x + fx, (float)y + fy, ul0, ul1), &wl,
+                           &rng, xyz, &cnt, dbg);
                 if (isfinite(xyz[0]) && isfinite(xyz[1]) && isfinite(xyz[2])) {
+                    /* pbrt-v4's sensor (RGBFilm::AddSample, cie1931 sensor: sensor
+                       RGB = XYZ): times the imaging ratio, then the largest
+                       component clamped to maxcomponentvalue, hue kept */
+                    xyz[0] *= set->imaging_ratio; xyz[1] *= set->imaging_ratio; xyz[2] *= set->imaging_ratio;
+                    m = fmax(xyz[0], fmax(xyz[1], xyz[2]));
+                    if (m > set->max_component) {
+                        double f = set->max_component / m;
+                        xyz[0] *= f; xyz[1] *= f; xyz[2] *= f;
+                    }
                     sum[0] += xyz[0]; sum[1] += xyz[1]; sum[2] += xyz[2];
                 } else {
                     cnt.nonfinite++;

@@ -166,6 +166,7 @@ typedef struct {
     int inset_line[8];         /* where each inset comment was (for messages) */
     const char *inset_file[8];
     int end_line;              /* line of the top-level file's last token */
+    float iso, exposure_time;  /* Film "iso", Camera shutter interval: the imaging ratio */
 } Parser;
 
 /* ===========================================================================
@@ -993,7 +994,7 @@ static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, int nv, con
 static int camera_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     SceneSettings *st = &P->s->settings;
-    float fov;
+    float fov, lens, focus, open, close;
     if (strcmp(type, "perspective") != 0) {
         if (!strcmp(type, "orthographic") || !strcmp(type, "realistic") || !strcmp(type, "spherical"))
             return fail(P, file, line, "Camera \"%s\" is valid pbrt-v4 but not in the specnee "
@@ -1001,13 +1002,29 @@ static int camera_directive(Parser *P, const char *type, ParamList *pl, const ch
         return fail(P, file, line, "Camera \"%s\": unknown camera type", type);
     }
     if (!get_float(P, pl, "fov", 90.0f, &fov)) return 0;
-    if (!params_check_unused(P, pl, "Camera \"perspective\"", "float fov",
-                             "lensradius focaldistance frameaspectratio screenwindow "
-                             "shutteropen shutterclose"))
+    if (!get_float(P, pl, "lensradius", 0.0f, &lens)) return 0;
+    if (!get_float(P, pl, "focaldistance", 1e6f, &focus)) return 0;
+    if (!get_float(P, pl, "shutteropen", 0.0f, &open)) return 0;
+    if (!get_float(P, pl, "shutterclose", 1.0f, &close)) return 0;
+    if (!params_check_unused(P, pl, "Camera \"perspective\"",
+                             "float fov, float lensradius, float focaldistance, "
+                             "float shutteropen, float shutterclose",
+                             "frameaspectratio screenwindow"))
         return 0;
     if (!(fov > 0.0f && fov < 180.0f))
         return fail(P, file, line, "Camera: \"float fov\" %g must be within (0, 180) degrees", fov);
+    if (!(lens >= 0.0f) || !(focus > 0.0f))
+        return fail(P, file, line, "Camera: \"float lensradius\" %g must be >= 0 and "
+                    "\"float focaldistance\" %g > 0", lens, focus);
+    /* pbrt-v4 (scene.cpp): the exposure time is the shutter interval; the scene is
+       static, so it only scales the image (the imaging ratio, Film "iso") */
+    if (!(close - open > 0.0f))
+        return fail(P, file, line, "Camera: shutterclose %g <= shutteropen %g: the shutter "
+                    "never opens", close, open);
     st->fov_deg = fov;
+    st->lens_radius = lens;
+    st->focal_distance = focus;
+    P->exposure_time = close - open;
     st->camera_from_world = P->gs.ctm;
     {   /* the named coordinate system "camera" is world_from_camera (pbrt-v4) */
         int i;
@@ -1030,8 +1047,11 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
     SceneSettings *st = &P->s->settings;
     int xres, yres, fp16;
     const char *fn;
-    if (strcmp(type, "rgb") != 0) {
-        if (!strcmp(type, "gbuffer") || !strcmp(type, "spectral"))
+    int gbuffer = !strcmp(type, "gbuffer");
+    float iso, maxcomp;
+    const char *coordsys = NULL;
+    if (strcmp(type, "rgb") != 0 && !gbuffer) {
+        if (!strcmp(type, "spectral"))
             return fail(P, file, line, "Film \"%s\" is valid pbrt-v4 but not in the specnee "
                         "subset (use \"rgb\")", type);
         return fail(P, file, line, "Film \"%s\": unknown film type", type);
@@ -1040,15 +1060,29 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
     if (!get_int(P, pl, "yresolution", 720, &yres, NULL)) return 0;
     if (!get_string(P, pl, "filename", &fn)) return 0;
     if (!get_bool(P, pl, "savefp16", 1, &fp16)) return 0;    /* PFM is float32 anyway */
-    if (!params_check_unused(P, pl, "Film \"rgb\"",
-                             "integer xresolution, integer yresolution, string filename, "
-                             "bool savefp16",
-                             "iso exposuretime whitebalance sensor diagonal cropwindow "
-                             "pixelbounds maxcomponentvalue writefp16"))
+    if (!get_float(P, pl, "iso", 100.0f, &iso)) return 0;
+    if (!get_float(P, pl, "maxcomponentvalue", INFINITY, &maxcomp)) return 0;
+    if (gbuffer && !get_string(P, pl, "coordinatesystem", &coordsys)) return 0;
+    if (!params_check_unused(P, pl, gbuffer ? "Film \"gbuffer\"" : "Film \"rgb\"",
+                             gbuffer ? "integer xresolution, integer yresolution, string filename, "
+                                       "bool savefp16, float iso, float maxcomponentvalue, "
+                                       "string coordinatesystem"
+                                     : "integer xresolution, integer yresolution, string filename, "
+                                       "bool savefp16, float iso, float maxcomponentvalue",
+                             "exposuretime whitebalance sensor diagonal cropwindow "
+                             "pixelbounds writefp16"))
         return 0;
     if (xres < 1 || xres > MAX_RESOLUTION || yres < 1 || yres > MAX_RESOLUTION)
         return fail(P, file, line, "Film: resolution %d x %d outside 1..%d per axis",
                     xres, yres, MAX_RESOLUTION);
+    if (!(iso > 0.0f) || !(maxcomp > 0.0f))
+        return fail(P, file, line, "Film: \"float iso\" %g and \"float maxcomponentvalue\" %g "
+                    "must be > 0", iso, maxcomp);
+    if (gbuffer)
+        fprintf(stderr, "%s:%d: note: Film \"gbuffer\" is read as \"rgb\": specnee writes "
+                "the colour image only, without the geometry channels\n", file, line);
+    P->iso = iso;
+    st->max_component = maxcomp;
     st->xres = xres;
     st->yres = yres;
     if (!fn) fn = "pbrt.exr";                         /* pbrt-v4's default */
@@ -1154,21 +1188,50 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
         "simplevolpath", "sppm", "volpath", NULL
     };
     SceneSettings *st = &P->s->settings;
-    int i, maxdepth, given, regularize;
-    const char *ls;
-    if (strcmp(type, "path") != 0) {
+    int i, maxdepth, given, regularize, dummy_i;
+    float dummy_f;
+    const char *ls = NULL;
+    char what[64];
+    /* volpath (pbrt-v4's default), bdpt and sppm converge to the same image as path
+       in a scene without participating media, which the subset has none of */
+    int as_path = !strcmp(type, "volpath") || !strcmp(type, "bdpt") || !strcmp(type, "sppm");
+    if (strcmp(type, "path") != 0 && !as_path) {
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
                 return fail(P, file, line, "Integrator \"%s\" is valid pbrt-v4 but not in the "
                             "specnee subset (use \"path\")", type);
         return fail(P, file, line, "Integrator \"%s\": unknown integrator type", type);
     }
+    snprintf(what, sizeof what, "Integrator \"%s\"", type);
     if (!get_int(P, pl, "maxdepth", DEFAULT_MAXDEPTH, &maxdepth, &given)) return 0;
-    if (!get_string(P, pl, "lightsampler", &ls)) return 0;
-    if (!get_bool(P, pl, "regularize", 0, &regularize)) return 0;
-    if (!params_check_unused(P, pl, "Integrator \"path\"",
-                             "integer maxdepth, string lightsampler, bool regularize", NULL))
+    if (strcmp(type, "bdpt") != 0 && strcmp(type, "sppm") != 0 &&
+        !get_string(P, pl, "lightsampler", &ls)) return 0;
+    if (strcmp(type, "sppm") != 0 && !get_bool(P, pl, "regularize", 0, &regularize)) return 0;
+    if (!strcmp(type, "sppm")) regularize = 0;
+    if (!strcmp(type, "bdpt")) {
+        /* debugging images of bdpt's strategies: nothing to show for path */
+        if (!get_bool(P, pl, "visualizestrategies", 0, &dummy_i)) return 0;
+        if (dummy_i) return fail(P, file, line, "Integrator \"bdpt\": visualizestrategies is "
+                                 "not in the specnee subset");
+        if (!get_bool(P, pl, "visualizeweights", 0, &dummy_i)) return 0;
+        if (dummy_i) return fail(P, file, line, "Integrator \"bdpt\": visualizeweights is "
+                                 "not in the specnee subset");
+    }
+    if (!strcmp(type, "sppm")) {              /* photon-map settings: no meaning for path */
+        if (!get_int(P, pl, "photonsperiteration", -1, &dummy_i, NULL)) return 0;
+        if (!get_float(P, pl, "radius", 1.0f, &dummy_f)) return 0;
+        if (!get_int(P, pl, "seed", 0, &dummy_i, NULL)) return 0;
+    }
+    if (!params_check_unused(P, pl, what,
+                             !strcmp(type, "bdpt") ? "integer maxdepth, bool regularize, "
+                                 "bool visualizestrategies, bool visualizeweights"
+                             : !strcmp(type, "sppm") ? "integer maxdepth, integer "
+                                 "photonsperiteration, float radius, integer seed"
+                             : "integer maxdepth, string lightsampler, bool regularize", NULL))
         return 0;
+    if (as_path)
+        fprintf(stderr, "%s:%d: note: Integrator \"%s\" is rendered by \"path\" (the same "
+                "image without participating media)\n", file, line, type);
     if (regularize)
         return fail(P, file, line, "Integrator: \"bool regularize\" true is valid pbrt-v4 but "
                     "not supported by specnee");
@@ -1822,6 +1885,9 @@ static void settings_default(SceneSettings *st)
     st->spp = DEFAULT_SPP;                   /* pbrt-v4's default zsobol: 16 */
     st->seed = 0;
     st->maxdepth = DEFAULT_MAXDEPTH;
+    st->focal_distance = 1e6f;               /* pbrt-v4's default (no lens: unused) */
+    st->imaging_ratio = 1.0f;
+    st->max_component = INFINITY;
 }
 
 static void parser_free(Parser *P)
@@ -1843,6 +1909,8 @@ static int finish(Parser *P, const char *file)
     }
     if (!P->world_seen)
         return fail(P, file, P->end_line, "no WorldBegin: the file describes no world");
+    /* pbrt-v4 PixelSensor::Create: imaging ratio = exposure time * ISO / 100 */
+    s->settings.imaging_ratio = P->exposure_time * P->iso / 100.0f;
     for (i = 0; i < s->n_insets; i++)
         if (s->inset[i][2] > s->settings.xres || s->inset[i][3] > s->settings.yres)
             return fail(P, P->inset_file[i], P->inset_line[i], "inset %s (%d %d %d %d) lies outside the %d x %d film",
@@ -1897,6 +1965,8 @@ static int load(Scene *s, char *buf, size_t len, const char *name, Error *err)
     P.gs.material = -1;
     P.gs.area_light = -1;
     P.end_line = 1;
+    P.iso = 100.0f;                          /* pbrt-v4: imaging ratio 1 by default */
+    P.exposure_time = 1.0f;
     dir_of(name, P.main_dir, sizeof P.main_dir);
     file = intern(&P, name);
     if (!file) { parser_free(&P); return fail(&P, name, 0, "out of memory"); }

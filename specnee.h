@@ -398,6 +398,12 @@ typedef struct {
     int spp, seed, maxdepth;
     int spp_set, seed_set, maxdepth_set; /* given in the file */
     char lightsampler[32];     /* Integrator "string lightsampler", "" if unset */
+    /* thin lens (pbrt-v4 PerspectiveCamera): 0 = pinhole */
+    float lens_radius, focal_distance;   /* "lensradius" = 0, "focaldistance" = 1e6 */
+    /* pbrt-v4's sensor: every sample's XYZ is multiplied by the imaging ratio
+       (shutterclose - shutteropen) * iso / 100, then scaled down so that its largest
+       component is at most max_component (Film "maxcomponentvalue", default inf) */
+    float imaging_ratio, max_component;
 } SceneSettings;
 
 typedef struct Scene {
