@@ -50,7 +50,10 @@
       emitter sample at Halton(7,11,13)(k); each emitter j accumulates
           g_j += [emitter faces the receiver] / p_sigma,   s_j = Y_j g_j,
       an estimate of the unoccluded scalar irradiance (no cosine, no visibility).
-      Y_j = scale_j is the emitter's luminance.  A floor of 1e-3 of the mean weight
+      Y_j = scale_j is the emitter's luminance.  An infinite light (infinite.c)
+      fills the whole sphere: g_j = 4 pi per receiver, Y_j = the luminance of its
+      (mean) radiance; its power is pbrt-v4's Phi = 4 pi^2 R^2 int Le (R: the
+      scene's bounding-sphere radius) and its spectral table is its (mean) Le.  A floor of 1e-3 of the mean weight
       keeps every emitter possible.  Voxels are built lazily on first use (under an
       OpenMP critical section) or all up front; both give identical tables because
       the computation is deterministic.
@@ -153,8 +156,10 @@ static int emitter_find_planes(const Scene *s, Emitter *em)
 int emitter_can_reach(const Scene *s, int e, Vec3 p)
 {
     const Emitter *em = &s->emitters[e];
-    const Shape *sh = &s->shapes[em->shape];
+    const Shape *sh;
     int t;
+    if (em->inf) return 1;                       /* light from every direction */
+    sh = &s->shapes[em->shape];
     if (sh->type == SHAPE_SPHERE) {
         double dx = (double)p.x - sh->center.x, dy = (double)p.y - sh->center.y;
         double dz = (double)p.z - sh->center.z, r = sqrt(dx * dx + dy * dy + dz * dz);
@@ -172,13 +177,62 @@ int emitter_can_reach(const Scene *s, int e, Vec3 p)
     return 0;
 }
 
+/* An infinite light's share of emitters_prepare (infinite.c has the rest):
+   constant: Le = scale L / sum_{lo..hi} ybar L, as for an area light; image map:
+   texels are divided by D65's luminance over the range (a white texel has
+   luminance scale) and Le is the spectrum of the mean colour, for selection
+   weights only.  Its "area" is that of the scene's bounding sphere, so that
+   power = pi area int Le = pbrt-v4's Phi = 4 pi^2 R^2 int Le. */
+static int infinite_prepare(const Scene *s, Emitter *em, float lo_nm, float hi_nm, Error *err)
+{
+    InfiniteLight *inf = em->inf;
+    Vec3 ext = v3_sub(s->bmax, s->bmin);
+    double norm = 0.0, sum = 0.0;
+    int lam, b;
+    const Spectrum *shape = inf->res > 0 ? &inf->mean : &em->L;
+    for (lam = (int)ceilf(lo_nm); lam <= (int)floorf(hi_nm); lam++) {
+        float xyz[3];
+        cie_xyz((float)lam, xyz);
+        norm += (double)xyz[1] * spec_eval(inf->res > 0 ? &em->L : shape, (float)lam);
+    }
+    if (!(norm > 0.0)) {
+        error_set(err, inf->file, inf->line,
+                  "LightSource \"infinite\": spectrum L emits nothing visible in %g-%g nm", lo_nm, hi_nm);
+        return 0;
+    }
+    inf->texel_norm = norm;                     /* image: D65's luminance over the range */
+    for (lam = 0; lam < SPEC_N; lam++) em->Le.v[lam] = (float)(em->scale * shape->v[lam] / norm);
+    em->lum = 0.0;
+    for (lam = (int)ceilf(lo_nm); lam <= (int)floorf(hi_nm); lam++) {
+        float xyz[3];
+        cie_xyz((float)lam, xyz);
+        em->lum += (double)xyz[1] * spec_eval(&em->Le, (float)lam);
+    }
+    inf->center = v3_mul(v3_add(s->bmin, s->bmax), 0.5f);
+    inf->radius = 0.5 * v3_len(ext);
+    if (!(inf->radius > 0.0) || !isfinite(inf->radius)) inf->radius = 1.0;
+    em->area = 4.0 * SPECNEE_PI * inf->radius * inf->radius;
+    em->twosided = 0;
+    for (b = 0; b < SPD_BINS; b++) {
+        em->bin[b] = spec_bin_average(&em->Le, b);
+        sum += em->bin[b] * SPD_BIN_NM;
+    }
+    em->power = SPECNEE_PI * em->area * sum;
+    return 1;
+}
+
 int emitters_prepare(Scene *s, float lo_nm, float hi_nm, Error *err)
 {
     int e, b, t, lam;
     for (e = 0; e < s->n_emitters; e++) {
         Emitter *em = &s->emitters[e];
-        const Shape *sh = &s->shapes[em->shape];
+        const Shape *sh;
         double norm = 0.0, sum = 0.0;
+        if (em->inf) {
+            if (!infinite_prepare(s, em, lo_nm, hi_nm, err)) return 0;
+            continue;
+        }
+        sh = &s->shapes[em->shape];
         for (lam = (int)ceilf(lo_nm); lam <= (int)floorf(hi_nm); lam++) {
             float xyz[3];
             cie_xyz((float)lam, xyz);
@@ -191,6 +245,7 @@ int emitters_prepare(Scene *s, float lo_nm, float hi_nm, Error *err)
         }
         for (lam = 0; lam < SPEC_N; lam++)
             em->Le.v[lam] = (float)(em->scale * em->L.v[lam] / norm);
+        em->lum = em->scale;
         /* area and the triangle CDF */
         free(em->tri_cdf);
         em->tri_cdf = NULL;
@@ -229,6 +284,7 @@ int emitters_prepare(Scene *s, float lo_nm, float hi_nm, Error *err)
 float emitter_Le(const Scene *s, int e, Vec3 n, Vec3 w, float lambda_nm)
 {
     const Emitter *em = &s->emitters[e];
+    if (em->inf) return inf_Le(em, v3_neg(w), lambda_nm);   /* light travels along w */
     if (!em->twosided && v3_dot(n, w) <= 0.0f) return 0.0f;
     return spec_eval(&em->Le, lambda_nm);
 }
@@ -237,9 +293,20 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
                    EmitterSample *out)
 {
     const Emitter *em = &s->emitters[e];
-    const Shape *sh = &s->shapes[em->shape];
+    const Shape *sh;
     Vec3 d;
     float dist2, cos_y;
+    if (em->inf) {
+        /* a direction; the "point" lies beyond the scene's bounding sphere, so a
+           shadow ray to it tests the whole way out */
+        if (!inf_sample(em, u1, u2, &out->wi, &out->pdf_sa)) return 0;
+        (void)u0;
+        out->dist = (float)(2.0 * em->inf->radius + v3_len(v3_sub(ref, em->inf->center)));
+        out->p = v3_add(ref, v3_mul(out->wi, out->dist));
+        out->n = v3_neg(out->wi);
+        return 1;
+    }
+    sh = &s->shapes[em->shape];
     if (sh->type == SHAPE_SPHERE) {
         float z = 1.0f - 2.0f * u1, r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
         float phi = 2.0f * PI_F * u2;
@@ -284,6 +351,7 @@ float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n)
     Vec3 d = v3_sub(p, ref);
     float dist2 = v3_dot(d, d), cos_y;
     if (!(dist2 > 0.0f)) return 0.0f;
+    if (s->emitters[e].inf) return inf_pdf(&s->emitters[e], v3_norm(d));
     cos_y = fabsf(v3_dot(n, d)) / sqrtf(dist2);
     if (!(cos_y > 0.0f)) return 0.0f;
     return (float)(dist2 / (s->emitters[e].area * cos_y));
@@ -357,6 +425,7 @@ static void build_voxel(const LightSampler *ls, long v, float *out)
         float u2 = (float)radical_inverse(13, (uint64_t)k);
         for (j = 0; j < n; j++) {
             EmitterSample es;
+            if (s->emitters[j].inf) { g[j] += 4.0 * SPECNEE_PI; continue; }  /* the whole sphere */
             if (!emitter_sample(s, j, p, u0, u1, u2, &es)) continue;
             /* one-sided: no light towards a receiver behind the emitter */
             if (!s->emitters[j].twosided && v3_dot(es.n, v3_neg(es.wi)) <= 0.0f) continue;
@@ -449,7 +518,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     for (i = 0; i < n; i++) {
         const Emitter *em = &s->emitters[i];
         float m = o->power_metric ? (float)(em->area * (em->twosided ? 2.0 : 1.0)) : 1.0f;
-        ls->Y[i] = em->scale;
+        ls->Y[i] = (float)em->lum;
         for (b = 0; b < SPD_BINS; b++) ls->T[b * n + i] = em->bin[b] * m;
     }
     if (uses_grid(o->strategy)) {

@@ -183,6 +183,7 @@ typedef struct {
     LightSampler *ls;
     WavelengthPdf wl;
     Camera cam;
+    int *inf; int n_inf;             /* the emitters that are infinite lights */
 } Renderer;
 
 typedef struct {
@@ -355,10 +356,34 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
         BsdfSample bs;
         float u0, u1, u2;
 
-        /* 1. Intersection */
+        /* 1. Intersection; a ray that escapes gathers the infinite lights,
+              weighted against NEE from prev like an emitter hit (step 2) */
         cnt->rays++;
         if (!bvh_intersect(&s->bvh, s, &ray, &hit)) {
-            if (dbg) fprintf(dbg, "  escaped\n");
+            Vec3 dir = v3_norm(ray.d);
+            int i;
+            for (i = 0; i < R->n_inf; i++) {
+                int e = R->inf[i], any = 0;
+                double value[HERO_N], w, den;
+                float q_nee = 0.0f;
+                for (j = 0; j < HERO_N; j++) {
+                    value[j] = 0.0;
+                    if (!(alive & (1u << j))) continue;
+                    value[j] = (double)beta[j] * inf_Le(&s->emitters[e], dir, wl->lambda[j]);
+                    if (value[j] != 0.0) any = 1;
+                }
+                if (!any) continue;
+                if (prev.can_nee) {
+                    float P = is_all ? 1.0f : light_select_pmf(R->ls, &prev.ctx, e);
+                    q_nee = P * inf_pdf(&s->emitters[e], dir);
+                }
+                den = mis_denominator(prev.r, prev.q_bsdf, q_nee, prev.alive);
+                w = den > 0.0 ? (double)prev.q_bsdf[0] * prev.q_bsdf[0] / den : 0.0;
+                film_add(xyz, cmf, wl, value, w, alive);
+                if (dbg) fprintf(dbg, "  escaped: infinite light %d, mis weight %.4g (q_nee %.4g)\n",
+                                 e, w, q_nee);
+            }
+            if (dbg && R->n_inf == 0) fprintf(dbg, "  escaped\n");
             break;
         }
         scene_surface_point(s, &ray, &hit, &sp);
@@ -694,6 +719,13 @@ RenderJob *render_begin(Scene *s, const RenderOptions *o, Error *err)
     }
     j->R.ls = light_sampler_build(s, &o->sel, err);
     if (!j->R.ls) { wl_pdf_free(&j->R.wl); free(j); return NULL; }
+    {
+        int e;
+        j->R.inf = (int *)malloc(sizeof(int) * (size_t)(s->n_emitters + 1));
+        if (!j->R.inf) { error_set(err, NULL, 0, "out of memory"); render_end(j); return NULL; }
+        for (e = 0; e < s->n_emitters; e++)
+            if (s->emitters[e].inf) j->R.inf[j->R.n_inf++] = e;
+    }
     j->P.R = &j->R;
     j->P.img = &j->img;
     j->P.acc = (double *)calloc(3 * (size_t)w * (size_t)h, sizeof *j->P.acc);
@@ -753,6 +785,7 @@ void render_end(RenderJob *j)
     free(j->P.acc); free(j->P.row_rays); free(j->P.row_nonfinite); free(j->P.row_fallbacks);
     img_free(&j->img);
     if (j->R.ls) light_sampler_free(j->R.ls);
+    free(j->R.inf);
     wl_pdf_free(&j->R.wl);
     free(j);
 }

@@ -1410,6 +1410,140 @@ static int area_light_directive(Parser *P, const char *type, ParamList *pl, cons
     return 1;
 }
 
+/* LightSource "infinite" (infinite.c): constant (L, scale, illuminance) or an
+   image map (filename: a PFM in pbrt-v4's equal-area octahedral layout).  The
+   CTM is the light's frame.  pbrt-v4's normalisation: L is divided by its
+   luminance (an rgb L by D65's), a map's texels by D65's, so a constant light or
+   a white texel has luminance scale; "illuminance" E_v (lux) then multiplies
+   scale by E_v / k_e, k_e the illuminance the light would give an upward-facing
+   point (+z of the light's frame) without it: pi for a constant light, and for a
+   map pbrt-v4's sum over the upper hemisphere's texels of Y(rgb) cos(theta) 2 pi
+   / res^2 (pbrt-v4 lights.cpp, reproduced as it is). */
+static int light_source_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    static const char *const pbrt_types[] = {
+        "point", "spot", "goniometric", "projection", "distant", NULL
+    };
+    Scene *s = P->s;
+    Emitter *em;
+    InfiniteLight *inf;
+    Param *p, *portal;
+    const char *fn = NULL;
+    float scale, ev;
+    int rgb_illum = 0, i;
+    Spectrum L;
+    if (strcmp(type, "infinite") != 0) {
+        for (i = 0; pbrt_types[i]; i++)
+            if (!strcmp(type, pbrt_types[i]))
+                return fail(P, file, line, "LightSource \"%s\" is valid pbrt-v4 but not in the "
+                            "specnee subset (only \"infinite\")", type);
+        return fail(P, file, line, "LightSource \"%s\": unknown light type", type);
+    }
+    p = find_spectrum_param(pl, "L");
+    if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
+    if (!get_float(P, pl, "illuminance", -1.0f, &ev)) return 0;
+    if (!get_string(P, pl, "filename", &fn)) return 0;
+    portal = param_find(pl, PT_POINT3, "portal");
+    if (portal)
+        return fail(P, portal->file, portal->line, "LightSource \"infinite\": \"point3 portal\" "
+                    "is valid pbrt-v4 but not in the specnee subset");
+    if (p && fn)
+        return fail(P, file, line, "LightSource \"infinite\": cannot have both \"L\" and "
+                    "\"filename\" (pbrt-v4)");
+    if (p) {
+        if (!param_spectrum(P, p, SPEC_ILLUMINANT, &L, &rgb_illum)) return 0;
+    } else if (!spec_named(&L, "stdillum-D65")) {
+        return fail(P, file, line, "LightSource: the built-in spectrum stdillum-D65 is missing");
+    }
+    if (!params_check_unused(P, pl, "LightSource \"infinite\"",
+                             "spectrum L, rgb L, blackbody L, float scale, float illuminance, "
+                             "string filename", "portal"))
+        return 0;
+    if (!(scale >= 0.0f))
+        return fail(P, file, line, "LightSource \"infinite\": \"float scale\" must be >= 0");
+    for (i = 0; i < SPEC_N; i++)
+        if (!(L.v[i] >= 0.0f))
+            return fail(P, p ? p->file : file, p ? p->line : line,
+                        "LightSource \"infinite\": L is negative at %d nm", SPEC_MIN + i);
+    if (rgb_illum) {       /* as for AreaLightSource: normalised by D65, not by L */
+        Spectrum d65;
+        double xyz_l[3], xyz_d[3];
+        spec_named(&d65, "stdillum-D65");
+        spec_to_xyz(&L, (float)SPEC_MIN, (float)SPEC_MAX, xyz_l);
+        spec_to_xyz(&d65, (float)SPEC_MIN, (float)SPEC_MAX, xyz_d);
+        if (xyz_d[1] > 0.0) scale = (float)(scale * (xyz_l[1] / xyz_d[1]));
+    }
+    inf = (InfiniteLight *)calloc(1, sizeof *inf);
+    if (!inf) return oom(P, file, line);
+    inf->world_from_light = P->gs.ctm;
+    inf->file = file;
+    inf->line = line;
+    if (fn) {
+        char path[1024];
+        Image im;
+        Error ierr;
+        double mean[3] = { 0, 0, 0 }, k_e = 0.0;
+        float mrgb[3];
+        int x, y, c;
+        if (ends_with_ci(fn, ".exr")) {
+            free(inf);
+            return fail(P, file, line, "LightSource \"infinite\": \"%s\": EXR images are not in "
+                        "the specnee subset; convert it to PFM (e.g. pbrt-v4's `imgtool convert "
+                        "--outfile %.*s.pfm %s`) and name the .pfm", fn, (int)strlen(fn) - 4, fn, fn);
+        }
+        if (!ends_with_ci(fn, ".pfm")) {
+            free(inf);
+            return fail(P, file, line, "LightSource \"infinite\": \"%s\": specnee reads image "
+                        "maps only as PFM (convert with pbrt-v4's `imgtool convert`)", fn);
+        }
+        resolve_path(P, file, fn, path, sizeof path);
+        if (!pfm_read(&im, path, &ierr)) {
+            free(inf);
+            return fail(P, file, line, "LightSource \"infinite\": %s", ierr.msg);
+        }
+        if (!inf_set_image(inf, &im, file, line, P->err)) {
+            img_free(&im);
+            inf_free(inf);
+            return 0;
+        }
+        for (y = 0; y < im.h; y++)
+            for (x = 0; x < im.w; x++) {
+                const float *px = im.rgb + 3 * ((size_t)y * im.w + x);
+                for (c = 0; c < 3; c++) mean[c] += px[c] > 0.0f ? px[c] : 0.0f;
+                if (ev > 0.0f) {
+                    Vec3 w = equal_area_square_to_sphere((x + 0.5f) / im.w, (y + 0.5f) / im.h);
+                    if (w.z > 0.0f)                      /* sRGB's luminance row */
+                        k_e += (0.2126 * px[0] + 0.7152 * px[1] + 0.0722 * px[2]) * w.z;
+                }
+            }
+        for (c = 0; c < 3; c++) mrgb[c] = (float)(mean[c] / ((double)im.w * im.h));
+        k_e *= 2.0 * SPECNEE_PI / ((double)im.w * im.h);
+        img_free(&im);
+        if (!spec_from_rgb(&inf->mean, mrgb, 1, P->err, file, line)) { inf_free(inf); return 0; }
+        if (ev > 0.0f) {
+            if (!(k_e > 0.0)) {
+                inf_free(inf);
+                return fail(P, file, line, "LightSource \"infinite\": \"illuminance\" given, but "
+                            "the map sends no light to the upper hemisphere");
+            }
+            scale = (float)(scale * ev / k_e);
+        }
+    } else if (ev > 0.0f) {
+        scale = (float)(scale * ev / SPECNEE_PI);
+    }
+    if (!grow((void **)&s->emitters, &P->cap_emit, s->n_emitters + 1, sizeof(Emitter))) {
+        inf_free(inf);
+        return oom(P, file, line);
+    }
+    em = &s->emitters[s->n_emitters++];
+    memset(em, 0, sizeof *em);
+    em->shape = -1;
+    em->inf = inf;
+    em->L = L;                   /* an image map: D65, the texels' illuminant */
+    em->scale = scale;
+    return 1;
+}
+
 /* Read vertex and index arrays common to the two mesh shapes. */
 static int get_points(Parser *P, ParamList *pl, ParamType type, const char *name, int per,
                       const double **out, int *count)
@@ -1686,7 +1820,7 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     options_only = !strcmp(d, "Camera") || !strcmp(d, "Film") || !strcmp(d, "Sampler")
                 || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter");
     world_only = !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
-              || !strcmp(d, "AreaLightSource") || !strcmp(d, "Shape");
+              || !strcmp(d, "AreaLightSource") || !strcmp(d, "Shape") || !strcmp(d, "LightSource");
     if (options_only && P->in_world)
         return fail(P, L->file, t->line, "Options cannot be set inside world block; \"%s\" "
                     "not allowed after WorldBegin", d);
@@ -1704,6 +1838,7 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     else if (!strcmp(d, "PixelFilter")) ok = filter_directive(P, type, &pl, L->file, t->line);
     else if (!strcmp(d, "Shape")) ok = shape_directive(P, type, &pl, L->file, t->line);
     else if (!strcmp(d, "AreaLightSource")) ok = area_light_directive(P, type, &pl, L->file, t->line);
+    else if (!strcmp(d, "LightSource")) ok = light_source_directive(P, type, &pl, L->file, t->line);
     else if (!strcmp(d, "Material")) {
         Material m;
         int idx;
@@ -1755,7 +1890,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     if (!strcmp(d, "Camera") || !strcmp(d, "Film") || !strcmp(d, "Sampler")
         || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter") || !strcmp(d, "Shape")
         || !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
-        || !strcmp(d, "AreaLightSource"))
+        || !strcmp(d, "AreaLightSource") || !strcmp(d, "LightSource"))
         return typed_directive(P, L, t);
     if (!strcmp(d, "WorldBegin")) {
         int i;
@@ -1828,7 +1963,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     }
     {
         static const char *const pbrt_only[] = {
-            "Accelerator", "ActiveTransform", "Attribute", "LightSource", "MakeNamedMedium",
+            "Accelerator", "ActiveTransform", "Attribute", "MakeNamedMedium",
             "MediumInterface", "ObjectBegin", "ObjectEnd", "ObjectInstance", "Option",
             "Texture", "TransformTimes", NULL
         };
@@ -2011,7 +2146,11 @@ void scene_free(Scene *s)
     int i;
     if (!s) return;
     if (s->bvh.nodes || s->bvh.prims || s->bvh.tri_v) bvh_free(&s->bvh);
-    for (i = 0; i < s->n_emitters; i++) { free(s->emitters[i].tri_cdf); free(s->emitters[i].planes); }
+    for (i = 0; i < s->n_emitters; i++) {
+        free(s->emitters[i].tri_cdf);
+        free(s->emitters[i].planes);
+        inf_free(s->emitters[i].inf);
+    }
     for (i = 0; i < s->n_strings; i++) free(s->strings[i]);
     free(s->strings);
     free(s->P);
@@ -2097,6 +2236,11 @@ void scene_dump(const Scene *s, FILE *f)
             cie_xyz((float)lam, xyz);
             Y += (double)xyz[1] * spec_eval(&e->Le, (float)lam);
         }
+        if (e->inf)
+            fprintf(f, "  [%d] infinite light, %s, scale %g, Y(Le) %.4g over %g-%g nm (mean), "
+                    "power %.4g\n", i, e->inf->res ? "image map" : "constant", e->scale, Y,
+                    LAMBDA_LO, LAMBDA_HI, e->power);
+        else
         fprintf(f, "  [%d] shape %d, scale %g, %s, Y(Le) %.4g over %g-%g nm, area %g, power %.4g\n",
                 i, e->shape, e->scale, e->twosided ? "two-sided" : "one-sided", Y,
                 LAMBDA_LO, LAMBDA_HI, e->area, e->power);

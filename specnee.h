@@ -179,6 +179,10 @@ int   spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
                     const char *file, int line);
 void  spec_blackbody(Spectrum *s, float kelvin);  /* normalised to a peak of 1 (pbrt-v4) */
 
+/* The sigmoid fit behind spec_from_rgb, for infinite.c's image maps: coefficients for a
+   colour whose largest component is 1/2, and the shape sigmoid(poly(lambda)). */
+void  spec_rgb_coeffs(const double target[3], double c[3]);
+float spec_sigmoid_eval(const float c[3], float lambda_nm);
 /* CIE 1931 2-degree colour matching functions at lambda (nm), linear in the 5 nm CIE table. */
 void  cie_xyz(float lambda_nm, float xyz[3]);
 double cie_y_integral(float lo_nm, float hi_nm); /* sum of ybar at 1 nm steps over [lo, hi] */
@@ -331,14 +335,44 @@ int   refract_dir(Vec3 w, Vec3 n, float eta, float *etap, Vec3 *wt);
 /* ======================================================================
    7. Emitters and emitter selection (lights.c)
    ====================================================================== */
+/* An infinite light (LightSource "infinite", infinite.c): light arriving from every
+   direction, from infinitely far away.  Constant (one spectrum) or an image map in
+   pbrt-v4's equal-area octahedral layout, a square RGB image whose texel (x, y)
+   (row 0 at the top) covers the directions equal_area_square_to_sphere maps its
+   cell to, in the light's frame (the CTM at the LightSource).  RGB texels become
+   spectra as pbrt-v4's RGBIlluminantSpectrum does: 2 max(rgb) x sigmoid(quadratic
+   in lambda) x D65. */
 typedef struct {
-    int shape;                 /* the Shape that emits */
+    Xform world_from_light;    /* CTM at the LightSource (rotation expected) */
+    int res;                   /* image map: res x res texels; 0: constant */
+    float *texel;              /* 4 floats per texel: m = 2 max(rgb) and the sigmoid
+                                  polynomial's 3 coefficients (spectrum.c) */
+    float *cdf_rows;           /* res + 1: marginal CDF over rows (pbrt-v4: texel weight =
+                                  the mean of its R, G, B) */
+    float *cdf_cols;           /* res x (res + 1): each row's conditional CDF */
+    float *row_sum;            /* res: each row's weight sum */
+    double weight_sum;         /* sum of all texel weights (0: sampled uniformly) */
+    double texel_norm;         /* D65's sum_{1 nm} ybar over 360-830 nm (pbrt-v4: an RGB
+                                  texel (1,1,1) has luminance 1) */
+    Vec3 center; double radius;/* the scene's bounding sphere (power, NEE points) */
+    Spectrum mean;             /* image map: the RGB illuminant spectrum of its mean colour
+                                  (selection weights only) */
+    const char *file; int line;/* the LightSource directive, for messages */
+} InfiniteLight;
+
+typedef struct {
+    int shape;                 /* the Shape that emits; -1 for an infinite light */
+    InfiniteLight *inf;        /* NULL for an area light */
     Spectrum L;                /* the spectrum as given in the file (its shape matters) */
     float scale;               /* "float scale" */
     int twosided;
     /* filled by emitters_prepare: */
-    Spectrum Le;               /* emitted radiance = scale * L / sum_{lo..hi} ybar L (pbrt-v4) */
-    double area;               /* total area (sampling picks a triangle by area) */
+    Spectrum Le;               /* emitted radiance = scale * L / sum_{lo..hi} ybar L (pbrt-v4);
+                                  for an image map: scale x the spectrum of its mean RGB, a
+                                  stand-in used only for selection weights */
+    double area;               /* total area (sampling picks a triangle by area); infinite:
+                                  4 pi radius^2, so that power = pbrt-v4's Phi */
+    double lum;                /* luminance of Le over the sampled range (= scale for areas) */
     float *tri_cdf;            /* tri_count + 1 entries for meshes */
     float bin[SPD_BINS];       /* bin averages of Le over 400-700 nm */
     double power;              /* radiant power over 400-700 nm */
@@ -489,8 +523,25 @@ float emitter_Le(const Scene *s, int e, Vec3 n, Vec3 w, float lambda_nm);
 /* Sample a point on emitter e by area (a triangle by area, then uniform on it). */
 int   emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2,
                      EmitterSample *out);
-/* Solid-angle pdf of emitter_sample producing point p (normal n) from ref. */
+/* Solid-angle pdf of emitter_sample producing point p (normal n) from ref.  For an
+   infinite light the direction p - ref counts. */
 float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n);
+
+/* Infinite lights (infinite.c).  dir: unit world direction towards the light (the
+   direction of a ray that escapes).  Radiance and solid-angle pdf of inf_sample. */
+float inf_Le(const Emitter *em, Vec3 dir, float lambda_nm);
+float inf_pdf(const Emitter *em, Vec3 dir);
+/* A direction with density inf_pdf (piecewise constant over texels; uniform for a
+   constant light); 0 if none. */
+int   inf_sample(const Emitter *em, float u1, float u2, Vec3 *dir, float *pdf);
+/* pbrt-v4's equal-area octahedral map (Clarberg 2008): the unit square <-> the
+   unit sphere, +z at the centre, -z at the corners. */
+Vec3  equal_area_square_to_sphere(float u, float v);
+void  equal_area_sphere_to_square(Vec3 d, float *u, float *v);
+/* Build an image map's texels and distribution from an RGB image (rows top to
+   bottom); 0 and a message on a non-square or non-finite image. */
+int   inf_set_image(InfiniteLight *inf, const Image *im, const char *file, int line, Error *err);
+void  inf_free(InfiniteLight *inf);
 /* 0 when emitter e certainly sends no light to the point p (p behind every
    triangle of a one-sided emitter, or in their planes - e.g. on the emitter
    itself -, or on the dark side of a sphere); 1 when it may.  Conservative: never

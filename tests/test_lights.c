@@ -43,11 +43,12 @@ static void add_light(char *buf, size_t cap, const char *spectrum, float scale, 
 #define HIGH_HALF "[ 400 0 549 0 550 1 700 1 ]"
 
 enum { SC_DISPERSIVE, SC_FACING_AWAY, SC_HALVES, SC_ONE, SC_IDENTICAL, SC_MANY, SC_THROUGH_GLASS,
-       SC_LARGE_HALVES, SC_N };
+       SC_LARGE_HALVES, SC_ENV, SC_N };
 static const char *const scene_names[SC_N] = {
     "two lamps + dispersive glass", "bright emitter facing away", "complementary half spectra",
     "one emitter", "two identical emitters", "64 small emitters", "emitter seen only through glass",
-    "large complementary emitters, one wavelength per path"
+    "large complementary emitters, one wavelength per path",
+    "two lamps, glass and a constant environment through the open front"
 };
 
 static void build_scene(int which, char *buf, size_t cap)
@@ -111,6 +112,12 @@ static void build_scene(int which, char *buf, size_t cap)
                  "  \"point3 P\" [ 0.98 -1 -1  0.98 -1 1  0.98 1 1  0.98 1 -1 ]\nAttributeEnd\n");
         break;
     }
+    case SC_ENV:
+        add_light(buf, cap, SPIKY, 4, -0.5f, 0.0f, 0.2f);
+        add_light(buf, cap, LOW_HALF, 3, 0.5f, 0.0f, 0.25f);
+        strcat(buf, glass_sphere);
+        strcat(buf, "LightSource \"infinite\" \"spectrum L\" " BLUEISH " \"float scale\" [ 0.7 ]\n");
+        break;
     case SC_THROUGH_GLASS: {
         size_t n = strlen(buf);
         /* a small light sphere inside a closed, smooth glass shell: shadow rays from
@@ -525,15 +532,21 @@ static void test_back_of_lamp_noise(T *t)
 static void strategies_on_scene_opt(T *t, int which, int single);
 static void strategies_on_scene(T *t, int which) { strategies_on_scene_opt(t, which, 0); }
 
+static void strategies_on_text(T *t, const char *buf, const char *name, int single);
 static void strategies_on_scene_opt(T *t, int which, int single)
 {
     static char buf[65536];
+    build_scene(which, buf, sizeof buf);
+    strategies_on_text(t, buf, scene_names[which], single);
+}
+
+static void strategies_on_text(T *t, const char *buf, const char *name, int single)
+{
     static Tiles ref, m;
     Scene s;
     RenderOptions o;
     int v;
     const int K = 8;
-    build_scene(which, buf, sizeof buf);
     if (!test_load_scene(t, &s, buf)) return;
     render_options_default(&o);
     o.sel.grid_res = 8;
@@ -557,8 +570,20 @@ static void strategies_on_scene_opt(T *t, int which, int single)
         } else {
             o.sel.strategy = SEL_ALL;
         }
-        snprintf(what, sizeof what, "%s, %s vs uniform", scene_names[which],
+        snprintf(what, sizeof what, "%s, %s vs uniform", name,
                  v < N_VARIANTS ? variants[v].name : "all");
+        if (!test_render_tiles(t, &s, &o, K, 2, &m)) goto done;
+        if (!test_tiles_agree(t, &m, &ref, 1e-4, what)) goto done;
+    }
+    if (s.emitters[s.n_emitters - 1].inf) {
+        /* with an infinite light, also BSDF sampling alone (no NEE, no pdf of the
+           map used): catches an emitter pdf that differs from the sampling density,
+           which would bias every strategy, uniform included, the same way */
+        char what[160];
+        memset(&o.sel, 0, sizeof o.sel);
+        o.nee = 0;
+        o.spp *= 4;
+        snprintf(what, sizeof what, "%s, BSDF sampling only vs uniform NEE", name);
         if (!test_render_tiles(t, &s, &o, K, 2, &m)) goto done;
         if (!test_tiles_agree(t, &m, &ref, 1e-4, what)) goto done;
     }
@@ -573,6 +598,38 @@ static void test_unbiased_one_emitter(T *t) { strategies_on_scene(t, SC_ONE); }
 static void test_unbiased_identical(T *t) { strategies_on_scene(t, SC_IDENTICAL); }
 static void test_unbiased_many(T *t) { strategies_on_scene(t, SC_MANY); }
 static void test_unbiased_through_glass(T *t) { strategies_on_scene(t, SC_THROUGH_GLASS); }
+static void test_unbiased_environment(T *t) { strategies_on_scene(t, SC_ENV); }
+
+/* An image map (16 x 16, one texel 200 times brighter and coloured, the rest a
+   dim gradient) rotated so the bright texel shines into the box, with two lamps:
+   every strategy converges to uniform's image. */
+static void test_unbiased_environment_map(T *t)
+{
+    static char buf[65536];
+    Image im;
+    int x, y;
+    const char *path = test_path(t, "env_bright.pfm");
+    CHECK(t, img_alloc(&im, 16, 16), "out of memory");
+    for (y = 0; y < 16; y++)
+        for (x = 0; x < 16; x++) {
+            float *px = im.rgb + 3 * (y * 16 + x);
+            px[0] = 0.05f + 0.01f * x; px[1] = 0.05f + 0.01f * y; px[2] = 0.1f;
+        }
+    im.rgb[3 * (7 * 16 + 8) + 0] = 30.0f;   /* texel (8, 7): near +z, the map's centre */
+    im.rgb[3 * (7 * 16 + 8) + 1] = 12.0f;
+    im.rgb[3 * (7 * 16 + 8) + 2] = 2.0f;
+    CHECK(t, pfm_write(&im, path), "cannot write %s", path);
+    img_free(&im);
+    snprintf(buf, sizeof buf, "%s%s", box_camera, test_box_walls);
+    add_light(buf, sizeof buf, SPIKY, 4, -0.5f, 0.0f, 0.2f);
+    add_light(buf, sizeof buf, HIGH_HALF, 3, 0.5f, 0.0f, 0.25f);
+    strcat(buf, glass_sphere);
+    /* the map's +z turned to -z: the bright texel lights the box through its open front */
+    snprintf(buf + strlen(buf), sizeof buf - strlen(buf),
+             "AttributeBegin\n Rotate 180 0 1 0\n LightSource \"infinite\" \"string filename\" \"%s\"\n"
+             "AttributeEnd\n", path);
+    strategies_on_text(t, buf, "two lamps, glass and an image map", 0);
+}
 /* The test that catches a light_select_pmf inconsistent with light_select (e.g. a
    different bin or mode): checked by breaking lights.c on purpose. */
 static void test_unbiased_large_single(T *t) { strategies_on_scene_opt(t, SC_LARGE_HALVES, 1); }
@@ -593,5 +650,7 @@ const TestCase tests_lights[] = {
     { "lights_unbiased_many", test_unbiased_many },
     { "lights_unbiased_through_glass", test_unbiased_through_glass },
     { "lights_unbiased_large_single", test_unbiased_large_single },
+    { "lights_unbiased_environment", test_unbiased_environment },
+    { "lights_unbiased_environment_map", test_unbiased_environment_map },
     { NULL, NULL }
 };

@@ -243,10 +243,198 @@ static void test_thin_lens(T *t)
     }
 }
 
+/* ---------------------------------------------------------------- infinite lights */
+
+/* pbrt-v4's equal-area octahedral map: the inverse undoes it, +z is the centre,
+   and it is equal-area: uniform points of the square give z uniform in [-1, 1]
+   (Archimedes), checked by chi-square over 20 bins. */
+static void test_equal_area_map(T *t)
+{
+    Rng r;
+    int i, bins[20] = { 0 }, n = test_scaled(40000, 10000);
+    double chi2 = 0.0;
+    Vec3 c = equal_area_square_to_sphere(0.5f, 0.5f);
+    CHECK(t, fabsf(c.z - 1.0f) < 1e-6f, "the centre maps to (%g %g %g), not +z", c.x, c.y, c.z);
+    c = equal_area_square_to_sphere(0.0f, 0.0f);
+    CHECK(t, fabsf(c.z + 1.0f) < 1e-6f, "a corner maps to (%g %g %g), not -z", c.x, c.y, c.z);
+    rng_seed(&r, 11, 0);
+    for (i = 0; i < n; i++) {
+        float u = rng_float(&r), v = rng_float(&r), u2, v2;
+        Vec3 d = equal_area_square_to_sphere(u, v);
+        int b = (int)((d.z + 1.0f) * 10.0f);
+        CHECK(t, fabsf(v3_len(d) - 1.0f) < 1e-5f, "not a unit vector at (%g, %g)", u, v);
+        equal_area_sphere_to_square(d, &u2, &v2);
+        CHECK(t, fabsf(u2 - u) < 2e-4f && fabsf(v2 - v) < 2e-4f,
+              "(%g, %g) -> (%g %g %g) -> (%g, %g)", u, v, d.x, d.y, d.z, u2, v2);
+        bins[b < 0 ? 0 : b > 19 ? 19 : b]++;
+    }
+    for (i = 0; i < 20; i++) chi2 += (bins[i] - n / 20.0) * (bins[i] - n / 20.0) / (n / 20.0);
+    CHECK(t, chi2 < 19 + 5 * sqrt(38.0), "z of uniform square points is not uniform: chi2 %g, 19 dof", chi2);
+}
+
+/* A 16 x 16 map with one texel 200 times brighter: its pdf integrates to 1 over
+   the sphere (exactly, texel by texel: the map is equal-area) also when the light
+   is rotated, and directions from inf_sample fall in each texel as often as its
+   weight says (chi-square, 255 dof) with the pdf inf_pdf gives them. */
+static void test_env_map_pdf_and_sampling(T *t)
+{
+    static char text[2048];
+    Image im;
+    Scene s;
+    Rng r;
+    const Emitter *em;
+    const char *path = test_path(t, "env_one_bright.pfm");
+    static double count[256];
+    double integral = 0.0, chi2 = 0.0, wsum = 0.0, w[256];
+    int x, y, i, k, n = test_scaled(100000, 20000), rot;
+    CHECK(t, img_alloc(&im, 16, 16), "out of memory");
+    for (i = 0; i < 256; i++) { im.rgb[3 * i] = 0.2f; im.rgb[3 * i + 1] = 0.3f; im.rgb[3 * i + 2] = 0.4f; }
+    im.rgb[3 * (3 * 16 + 12)] = 60.0f; im.rgb[3 * (3 * 16 + 12) + 1] = 60.0f; im.rgb[3 * (3 * 16 + 12) + 2] = 60.0f;
+    for (i = 0; i < 256; i++) { w[i] = (im.rgb[3 * i] + im.rgb[3 * i + 1] + im.rgb[3 * i + 2]) / 3.0; wsum += w[i]; }
+    CHECK(t, pfm_write(&im, path), "cannot write %s", path);
+    img_free(&im);
+    for (rot = 0; rot < 2; rot++) {
+        snprintf(text, sizeof text, "WorldBegin\n%s\nLightSource \"infinite\" \"string filename\" \"%s\"\n",
+                 rot ? "Rotate 37 1 2 3" : "", path);
+        if (!test_load_scene(t, &s, text)) return;
+        em = &s.emitters[0];
+        CHECK(t, em->inf && em->inf->res == 16, "not a 16 x 16 image map");
+        /* integral over the sphere: 16 points per texel, each texel 4 pi / 256 sr */
+        integral = 0.0;
+        for (y = 0; y < 16; y++)
+            for (x = 0; x < 16; x++)
+                for (k = 0; k < 16; k++) {
+                    Vec3 d = equal_area_square_to_sphere((x + (k % 4 + 0.5f) / 4) / 16, (y + (k / 4 + 0.5f) / 4) / 16);
+                    d = v3_norm(xf_vector(&em->inf->world_from_light, d));
+                    integral += inf_pdf(em, d) * (4.0 * SPECNEE_PI / 256.0) / 16.0;
+                }
+        CHECK(t, fabs(integral - 1.0) < 1e-3, "rotation %d: the pdf integrates to %.6f", rot, integral);
+        if (rot == 0) {
+            rng_seed(&r, 3, 3);
+            for (i = 0; i < 256; i++) count[i] = 0;
+            for (i = 0; i < n; i++) {
+                Vec3 d;
+                float pdf, u, v;
+                int tx, ty;
+                CHECK(t, inf_sample(em, rng_float(&r), rng_float(&r), &d, &pdf), "no sample");
+                CHECK(t, pdf == inf_pdf(em, d), "inf_sample's pdf %g != inf_pdf %g", pdf, inf_pdf(em, d));
+                equal_area_sphere_to_square(d, &u, &v);
+                tx = (int)(u * 16); ty = (int)(v * 16);
+                if (tx > 15) tx = 15;
+                if (ty > 15) ty = 15;
+                count[ty * 16 + tx] += 1;
+            }
+            for (i = 0; i < 256; i++) {
+                double ex = n * w[i] / wsum;
+                chi2 += (count[i] - ex) * (count[i] - ex) / ex;
+            }
+            CHECK(t, chi2 < 255 + 5 * sqrt(510.0), "sampled texels do not follow the weights: chi2 %g, 255 dof", chi2);
+            CHECK(t, count[3 * 16 + 12] > 0.4 * n, "the bright texel got %g of %d samples", count[3 * 16 + 12], n);
+        }
+        scene_free(&s);
+    }
+}
+
+/* Mean and standard error of Y over the pixels [x0, x1) x [y0, y1). */
+static void region_Y(const Image *im, int x0, int y0, int x1, int y1, double *mean, double *se)
+{
+    double s1 = 0, s2 = 0;
+    int x, y, n = 0;
+    for (y = y0; y < y1; y++)
+        for (x = x0; x < x1; x++) {
+            const float *p = im->rgb + 3 * (y * im->w + x);
+            double Y = 0.2126390 * p[0] + 0.7151687 * p[1] + 0.0721923 * p[2];
+            s1 += Y; s2 += Y * Y; n++;
+        }
+    *mean = s1 / n;
+    *se = sqrt(fmax(0.0, s2 / n - *mean * *mean) / (n - 1));
+}
+
+/* The furnace: a diffuse sphere of albedo 0.5 under an environment of luminance
+   1 reflects luminance 0.5 everywhere (convex: one bounce), and the environment
+   seen directly has luminance 1.  For a constant light with L flat, an rgb L, a
+   white 8 x 8 image map (a texel (1, 1, 1) has luminance 1, pbrt-v4), and a
+   constant light given by its illuminance: E_v = 2 pi lux on an upward-facing
+   point means L = 2 (pbrt-v4: E = pi L), so the sphere shows 1. */
+static void test_env_furnace(T *t)
+{
+    static char text[2048];
+    static const char *const lights[] = {
+        "LightSource \"infinite\" \"spectrum L\" [ 400 1 700 1 ]",
+        "LightSource \"infinite\" \"rgb L\" [ 1 1 1 ]",
+        "LightSource \"infinite\" \"string filename\" \"%s\"",
+        "LightSource \"infinite\" \"spectrum L\" [ 400 3 700 3 ] \"float illuminance\" 6.283185307"
+    };
+    const char *path = test_path(t, "env_white.pfm");
+    Image im;
+    int i, k;
+    CHECK(t, img_alloc(&im, 8, 8), "out of memory");
+    for (k = 0; k < 3 * 64; k++) im.rgb[k] = 1.0f;
+    CHECK(t, pfm_write(&im, path), "cannot write %s", path);
+    img_free(&im);
+    for (i = 0; i < 4; i++) {
+        char light[512];
+        double m, se, want = i == 3 ? 1.0 : 0.5;
+        snprintf(light, sizeof light, lights[i], path);
+        snprintf(text, sizeof text,
+                 "Film \"rgb\" \"integer xresolution\" 32 \"integer yresolution\" 32\n"
+                 "LookAt 0 0 -5 0 0 0 0 1 0\nCamera \"perspective\" \"float fov\" 30\nPixelFilter \"box\"\n"
+                 "WorldBegin\n%s\nMaterial \"diffuse\" \"spectrum reflectance\" [ 400 0.5 700 0.5 ]\n"
+                 "Shape \"sphere\" \"float radius\" 1\n", light);
+        if (!render_text(t, text, test_scaled(32, 8), &im)) return;
+        region_Y(&im, 12, 12, 20, 20, &m, &se);
+        if (!(fabs(m - want) < TEST_K_SIGMA * se + 2e-3)) {
+            img_free(&im);
+            CHECK(t, 0, "light %d: the sphere has Y %.5f +- %.5f, want %g", i, m, se, want);
+        }
+        region_Y(&im, 0, 0, 4, 4, &m, &se);
+        img_free(&im);
+        CHECK(t, fabs(m - 2.0 * want) < TEST_K_SIGMA * se + 2e-3,
+              "light %d: the environment seen directly has Y %.5f +- %.5f, want %g", i, m, se, 2.0 * want);
+    }
+}
+
+/* What the subset does not read is said so: EXR (with a conversion command),
+   portals, a non-square map, another light type. */
+static void test_env_rejections(T *t)
+{
+    static const char *const bad[][2] = {
+        { "LightSource \"infinite\" \"string filename\" \"sky.exr\"", "imgtool convert --outfile sky.pfm sky.exr" },
+        { "LightSource \"infinite\" \"point3 portal\" [ 0 0 0 1 0 0 1 1 0 0 1 0 ]", "portal" },
+        { "LightSource \"point\"", "valid pbrt-v4 but not in the specnee subset" },
+        { "LightSource \"infinite\" \"string filename\" \"NONSQUARE\"", "not square" },
+        { "LightSource \"infinite\" \"rgb L\" [ 1 1 1 ] \"string filename\" \"x.pfm\"", "both" },
+    };
+    static char text[1024], line[512];
+    const char *path = test_path(t, "env_nonsquare.pfm");
+    Image im;
+    Scene s;
+    Error e;
+    int i;
+    CHECK(t, img_alloc(&im, 8, 4), "out of memory");
+    CHECK(t, pfm_write(&im, path), "cannot write");
+    img_free(&im);
+    for (i = 0; i < 5; i++) {
+        const char *nonsq = strstr(bad[i][0], "NONSQUARE");
+        if (nonsq) snprintf(line, sizeof line, "LightSource \"infinite\" \"string filename\" \"%s\"", path);
+        else snprintf(line, sizeof line, "%s", bad[i][0]);
+        snprintf(text, sizeof text, "WorldBegin\n%s\n", line);
+        e.msg[0] = 0;
+        CHECK(t, !scene_load_string(&s, text, "t.pbrt", &e), "accepted: %s", line);
+        CHECK(t, strncmp(e.msg, "t.pbrt:2:", 9) == 0 && strstr(e.msg, bad[i][1]) && !strchr(e.msg, '\n'),
+              "message \"%s\" lacks \"t.pbrt:2:\" or \"%s\"", e.msg, bad[i][1]);
+        scene_free(&s);
+    }
+}
+
 const TestCase tests_pbrt[] = {
     { "pbrt_iso_exposure", test_iso_exposure },
     { "pbrt_maxcomponentvalue", test_maxcomponentvalue },
     { "pbrt_film_and_integrator_aliases", test_film_and_integrator_aliases },
     { "pbrt_thin_lens", test_thin_lens },
+    { "pbrt_equal_area_map", test_equal_area_map },
+    { "pbrt_env_map_pdf_and_sampling", test_env_map_pdf_and_sampling },
+    { "pbrt_env_furnace", test_env_furnace },
+    { "pbrt_env_rejections", test_env_rejections },
     { NULL, NULL }
 };
