@@ -1,8 +1,8 @@
 /* lights.c - emitters, and how next event estimation chooses one of them.
 
    Exported (specnee.h section 11): emitters_prepare, emitter_radiance,
-   emitter_sample, emitter_pdf_sa, light_sampler_build/free, light_Le,
-   light_spectrum, light_n_pieces, light_piece_emitter, light_piece_of,
+   emitter_sample, emitter_pdf_sa, emitter_can_reach, light_sampler_build/free,
+   light_Le, light_spectrum, light_n_pieces, light_piece_emitter, light_piece_of,
    light_sample, light_pdf_sa, light_voxel, light_select, light_select_pmf,
    light_sampler_bytes, sel_from_name, sel_name.
 
@@ -64,7 +64,10 @@
       emitter sample at Halton(7,11,13)(k); each emitter j accumulates
           g_j += [emitter faces the receiver] / p_sigma,   s_j = Y_j g_j,
       an estimate of the unoccluded scalar irradiance (no cosine, no visibility).
-      Y_j = scale_j is the emitter's luminance.  A floor of 1e-3 of the mean weight
+      Y_j = scale_j is the emitter's luminance.  An infinite light (infinite.c)
+      fills the whole sphere: g_j = 4 pi per receiver, Y_j = the luminance of its
+      (mean) radiance; its power is pbrt-v4's Phi = 4 pi^2 R^2 int Le (R: the
+      scene's bounding-sphere radius) and its spectral table is its (mean) Le.  A floor of 1e-3 of the mean weight
       keeps every emitter possible.  Voxels are built lazily on first use (under an
       OpenMP critical section) or all up front; both give identical tables because
       the computation is deterministic.  Cost: 128 n evaluations per voxel touched
@@ -116,7 +119,34 @@
       clusters of at most LIGHT_CLUSTER_TRIS nearby triangles (recursive median cuts
       of their centroids); each cluster is a leaf with its own box, cone and area,
       and the mesh's spectrum.  A point is then sampled by area inside the chosen
-      cluster, so p_sigma uses the cluster's area. */
+      cluster, so p_sigma uses the cluster's area.
+      Infinite lights have no position, so they are not in the tree: as in
+      pbrt-v4's BVHLightSampler, each of the n_inf infinite lights is chosen with
+      probability 1 / (n_inf + 1) and the tree with the rest; the pmf of a tree
+      piece is that share times its branch probabilities.  Where the tree cannot
+      light p (no piece, or the root's importance is 0) the infinite lights share
+      everything, 1 / n_inf each.
+
+   5. Which side an emitter lights (emitter_can_reach).  The voxel table is an
+      average over receivers spread through the whole voxel, so a voxel cut by a
+      one-sided emitter credits it with the light its front receivers get - also
+      at shading points behind it or on it (the emitter's own back face, lit by
+      another lamp, was a band of noise: NEE chose the emitter that could not
+      reach the point most of the time).  So where the spatial table is used
+      (spatial, product, spectral-spatial, and spd while every wavelength is
+      alive), emitter i's weight is multiplied by reach_i(p) in {0, 1}:
+        mesh, one-sided    reach = [some triangle t has n_t . p - d_t > eps]
+        mesh, two-sided    reach = [some triangle t has |n_t . p - d_t| > eps]
+        sphere             outside of an outward one, inside of a flipped one
+        bigger meshes      reach = 1 (over REACH_MAX_TRIS triangles, or shading
+                           normals against the geometry: a limit of the voxel
+                           tables; the light tree's orientation cones cover it)
+      eps = 1e-5 (1 + the largest coordinate), the ray-offset scale of bvh.c, so
+      a point on the emitter (within round-off of its plane) is excluded.  The
+      mask is exact for the shapes it tests, never 0 where light can arrive from
+      more than eps away, and it is part of context_weights, so light_select and
+      light_select_pmf agree; if it zeroes every emitter NEE is skipped, which is
+      unbiased because no emitter can light the point. */
 #include "specnee.h"
 #include <float.h>
 #include <stdlib.h>
@@ -136,25 +166,130 @@ static double tri_area(const Scene *s, int t)
     return 0.5 * (double)v3_len(v3_cross(e1, e2));
 }
 
-int emitter_radiance(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *Le, Error *err)
+/* The planes of a small emitter mesh, for emitter_can_reach (section 5): per
+   triangle its unit normal with the orientation scene_surface_point gives it, and
+   the offset d = n . v0.  With shading normals (which decide the orientation at a
+   point) that disagree with a triangle's normal the mesh gets no planes. */
+static int emitter_find_planes(const Scene *s, Emitter *em)
+{
+    const Shape *sh = &s->shapes[em->shape];
+    double big = 0.0;
+    int t, k, a;
+    free(em->planes);
+    em->planes = NULL;
+    em->n_planes = 0;
+    if (sh->type == SHAPE_SPHERE) {
+        big = fabs(sh->center.x) + fabs(sh->center.y) + fabs(sh->center.z) + sh->radius;
+        em->reach_eps = 1e-5 * (1.0 + big);
+        return 1;
+    }
+    for (t = sh->tri_begin; t < sh->tri_begin + sh->tri_count; t++)
+        for (k = 0; k < 3; k++)
+            for (a = 0; a < 3; a++) {
+                double q = fabs((double)v3_get(s->P[s->tris[t].v[k]], a));
+                if (q > big) big = q;
+            }
+    em->reach_eps = 1e-5 * (1.0 + big);
+    if (sh->tri_count > REACH_MAX_TRIS) return 1;
+    em->planes = (double *)malloc(sizeof(double) * 4 * (size_t)sh->tri_count);
+    if (!em->planes) return 0;
+    for (t = 0; t < sh->tri_count; t++) {
+        const Triangle *tr = &s->tris[sh->tri_begin + t];
+        Vec3 p0 = s->P[tr->v[0]], p1 = s->P[tr->v[1]], p2 = s->P[tr->v[2]];
+        Vec3 c = v3_cross(v3_sub(p0, p2), v3_sub(p1, p2));   /* as scene_surface_point */
+        double n[3], len;
+        n[0] = c.x; n[1] = c.y; n[2] = c.z;
+        len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (sh->flip) len = -len;
+        if (!(fabs(len) > 0.0)) {                       /* degenerate: emits nothing */
+            em->planes[4 * t + 0] = em->planes[4 * t + 1] = em->planes[4 * t + 2] = 0.0;
+            em->planes[4 * t + 3] = 1.0;                /* 0 . p - 1 < 0: never reaches */
+            continue;
+        }
+        for (a = 0; a < 3; a++) n[a] /= len;
+        if (sh->has_normals && s->N)
+            for (k = 0; k < 3; k++) {
+                Vec3 m = s->N[tr->v[k]];
+                if (!(n[0] * m.x + n[1] * m.y + n[2] * m.z > 0.0)) {
+                    free(em->planes);
+                    em->planes = NULL;
+                    return 1;
+                }
+            }
+        for (a = 0; a < 3; a++) em->planes[4 * t + a] = n[a];
+        em->planes[4 * t + 3] = n[0] * p0.x + n[1] * p0.y + n[2] * p0.z;
+    }
+    em->n_planes = sh->tri_count;
+    return 1;
+}
+
+int emitter_can_reach(const Scene *s, int e, Vec3 p)
 {
     const Emitter *em = &s->emitters[e];
-    const Shape *sh = &s->shapes[em->shape];
+    const Shape *sh;
+    int t;
+    if (em->inf) return 1;                       /* light from every direction */
+    sh = &s->shapes[em->shape];
+    if (sh->type == SHAPE_SPHERE) {
+        double dx = (double)p.x - sh->center.x, dy = (double)p.y - sh->center.y;
+        double dz = (double)p.z - sh->center.z, r = sqrt(dx * dx + dy * dy + dz * dz);
+        if (em->twosided) return 1;
+        /* convex outside: light leaves outwards, a point on the sphere sees none of
+           it; flipped (emitting inwards): every point inside or on it is lit */
+        return sh->flip ? r < sh->radius + em->reach_eps : r > sh->radius + em->reach_eps;
+    }
+    if (em->n_planes == 0) return 1;
+    for (t = 0; t < em->n_planes; t++) {
+        const double *q = em->planes + 4 * t;
+        double dist = q[0] * p.x + q[1] * p.y + q[2] * p.z - q[3];
+        if (em->twosided ? fabs(dist) > em->reach_eps : dist > em->reach_eps) return 1;
+    }
+    return 0;
+}
+
+/* sum_{1 nm over [lo, hi]} ybar(lambda) S(lambda): the luminance that normalises
+   an emitter's spectrum S (for an image map, S = D65, held in L). */
+static double luminance_sum(const Spectrum *S, float lo_nm, float hi_nm)
+{
     double norm = 0.0;
     int lam;
     for (lam = (int)ceilf(lo_nm); lam <= (int)floorf(hi_nm); lam++) {
         float xyz[3];
         cie_xyz((float)lam, xyz);
-        norm += (double)xyz[1] * spec_eval(&em->L, (float)lam);
+        norm += (double)xyz[1] * spec_eval(S, (float)lam);
     }
+    return norm;
+}
+
+/* Le = scale * S / luminance_sum(L) with S = L (S = the mean colour's spectrum
+   for an image map), and k = scale / luminance_sum(L), which infinite.c applies
+   to an image map's texels. */
+static int radiance_and_k(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *Le,
+                          double *k, Error *err)
+{
+    const Emitter *em = &s->emitters[e];
+    const Spectrum *shape = em->inf && em->inf->res > 0 ? &em->inf->mean : &em->L;
+    double norm = luminance_sum(&em->L, lo_nm, hi_nm);
+    int lam;
     if (!(norm > 0.0)) {
-        error_set(err, sh->file, sh->line,
-                  "AreaLightSource: spectrum L emits nothing visible in %g-%g nm", lo_nm, hi_nm);
+        if (em->inf)
+            error_set(err, em->inf->file, em->inf->line, "LightSource \"infinite\": spectrum L "
+                      "emits nothing visible in %g-%g nm", lo_nm, hi_nm);
+        else
+            error_set(err, s->shapes[em->shape].file, s->shapes[em->shape].line,
+                      "AreaLightSource: spectrum L emits nothing visible in %g-%g nm", lo_nm, hi_nm);
         return 0;
     }
     for (lam = 0; lam < SPEC_N; lam++)
-        Le->v[lam] = (float)(em->scale * em->L.v[lam] / norm);
+        Le->v[lam] = (float)(em->scale * shape->v[lam] / norm);
+    *k = em->scale / norm;
     return 1;
+}
+
+int emitter_radiance(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *Le, Error *err)
+{
+    double k;
+    return radiance_and_k(s, e, lo_nm, hi_nm, Le, &k, err);
 }
 
 int emitters_prepare(Scene *s, Error *err)
@@ -162,9 +297,21 @@ int emitters_prepare(Scene *s, Error *err)
     int e, t;
     for (e = 0; e < s->n_emitters; e++) {
         Emitter *em = &s->emitters[e];
-        const Shape *sh = &s->shapes[em->shape];
+        const Shape *sh;
         Spectrum Le;
         if (!emitter_radiance(s, e, LAMBDA_LO, LAMBDA_HI, &Le, err)) return 0;
+        if (em->inf) {
+            /* infinite.c has the rest; here the scene's bounding sphere, which gives
+               NEE its far points and the light its "area" 4 pi R^2 (power) */
+            InfiniteLight *inf = em->inf;
+            inf->center = v3_mul(v3_add(s->bmin, s->bmax), 0.5f);
+            inf->radius = 0.5 * v3_len(v3_sub(s->bmax, s->bmin));
+            if (!(inf->radius > 0.0) || !isfinite(inf->radius)) inf->radius = 1.0;
+            em->area = 4.0 * SPECNEE_PI * inf->radius * inf->radius;
+            em->twosided = 0;
+            continue;
+        }
+        sh = &s->shapes[em->shape];
         /* area and the triangle CDF */
         free(em->tri_cdf);
         em->tri_cdf = NULL;
@@ -185,6 +332,10 @@ int emitters_prepare(Scene *s, Error *err)
         }
         if (!(em->area > 0.0)) {
             error_set(err, sh->file, sh->line, "AreaLightSource: emitting shape has zero area");
+            return 0;
+        }
+        if (!emitter_find_planes(s, em)) {
+            error_set(err, sh->file, sh->line, "out of memory");
             return 0;
         }
     }
@@ -228,7 +379,18 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
                    EmitterSample *out)
 {
     const Emitter *em = &s->emitters[e];
-    const Shape *sh = &s->shapes[em->shape];
+    const Shape *sh;
+    if (em->inf) {
+        /* a direction; the "point" lies beyond the scene's bounding sphere, so a
+           shadow ray to it tests the whole way out */
+        if (!inf_sample(em, u1, u2, &out->wi, &out->pdf_sa)) return 0;
+        (void)u0;
+        out->dist = (float)(2.0 * em->inf->radius + v3_len(v3_sub(ref, em->inf->center)));
+        out->p = v3_add(ref, v3_mul(out->wi, out->dist));
+        out->n = v3_neg(out->wi);
+        return 1;
+    }
+    sh = &s->shapes[em->shape];
     if (sh->type == SHAPE_SPHERE) {
         float z = 1.0f - 2.0f * u1, r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
         float phi = 2.0f * PI_F * u2;
@@ -260,6 +422,11 @@ static float pdf_sa_area(double area, Vec3 ref, Vec3 p, Vec3 n)
 
 float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n)
 {
+    if (s->emitters[e].inf) {
+        Vec3 d = v3_sub(p, ref);
+        if (!(v3_dot(d, d) > 0.0f)) return 0.0f;
+        return inf_pdf(&s->emitters[e], v3_norm(d));
+    }
     return pdf_sa_area(s->emitters[e].area, ref, p, n);
 }
 
@@ -292,6 +459,7 @@ struct LightSampler {
     SelOptions opt;
     int n;                     /* number of emitters */
     Spectrum *Le;              /* per emitter: radiance for the sampled range */
+    double *k;                 /* per emitter: scale / luminance_sum(L) (image maps' texels) */
     float *bin;                /* n x SPD_BINS: bin averages of Le over 400-700 nm */
     double *power;             /* per emitter: radiant power over 400-700 nm */
     double *power_cdf;         /* power strategy: n + 1 running sums of power_pmf */
@@ -307,6 +475,9 @@ struct LightSampler {
     float *piece_cdf;          /* parallel: cumulative area fraction within the cluster */
     int *piece_of_tri;         /* per scene triangle: its cluster, -1 (NULL: no splits) */
     /* light tree */
+    int n_inf;                 /* infinite lights: chosen beside the tree (section 4) */
+    int *inf_piece;            /* their pieces */
+    int n_tree_pieces;         /* pieces in the tree (0: no tree) */
     TreeNode *nodes;
     int n_nodes;
     int nb;                    /* bins of the sampled range (5 nm each) */
@@ -381,6 +552,7 @@ static int build_voxel(const LightSampler *ls, long v, float *out)
         float u2 = (float)radical_inverse(13, (uint64_t)k);
         for (j = 0; j < n; j++) {
             EmitterSample es;
+            if (s->emitters[j].inf) { g[j] += 4.0 * SPECNEE_PI; continue; }  /* the whole sphere */
             if (!emitter_sample(s, j, p, u0, u1, u2, &es)) continue;
             /* one-sided: no light towards a receiver behind the emitter */
             if (!s->emitters[j].twosided && v3_dot(es.n, v3_neg(es.wi)) <= 0.0f) continue;
@@ -886,12 +1058,31 @@ static double branch_first(const LightSampler *ls, const TreeQuery *q, int i, in
     return *ok ? a / (a + b) : 0.0;
 }
 
+/* Does the tree get a share beside the infinite lights?  Only when it has pieces
+   and its root can light the point (else every share goes to the infinite
+   lights).  A function of the context alone, so select and pmf agree. */
+static int tree_live(const LightSampler *ls, const TreeQuery *q)
+{
+    return ls->n_tree_pieces > 0 && tree_importance(ls, q, 0) > 0.0f;
+}
+
 static int tree_select(const LightSampler *ls, const LightCtx *c, float u, float *pmf)
 {
     TreeQuery q;
     double uu = u, p = 1.0;
     int i = 0;
     tree_query(ls, c, &q);
+    if (ls->n_inf > 0) {
+        /* one share for each infinite light, one for the tree (section 4) */
+        int k = ls->n_inf + tree_live(ls, &q), slot;
+        uu = (double)u * k;
+        slot = (int)uu;
+        if (slot >= k) slot = k - 1;
+        p = 1.0 / k;
+        if (slot < ls->n_inf) { *pmf = (float)p; return ls->inf_piece[slot]; }
+        uu -= slot;
+        if (!(uu < 1.0)) uu = 1.0 - DBL_EPSILON;
+    }
     while (ls->nodes[i].second >= 0) {
         int ok;
         double pa = branch_first(ls, &q, i, &ok);
@@ -918,6 +1109,12 @@ static float tree_pmf(const LightSampler *ls, const LightCtx *c, int piece)
     double p = 1.0;
     int i = 0, d;
     tree_query(ls, c, &q);
+    if (ls->n_inf > 0) {
+        int live = tree_live(ls, &q);
+        p = 1.0 / (ls->n_inf + live);
+        if (ls->scene->emitters[pc->emitter].inf) return (float)p;
+        if (!live) return 0.0f;
+    }
     for (d = 0; d < pc->depth; d++) {
         int ok;
         double pa;
@@ -947,7 +1144,9 @@ static int tree_setup(LightSampler *ls)
     Builder B;
     size_t cap = (size_t)ls->n;
     for (e = 0; e < ls->n; e++) {
-        const Shape *sh = &s->shapes[s->emitters[e].shape];
+        const Shape *sh;
+        if (s->emitters[e].inf) { ls->n_inf++; continue; }
+        sh = &s->shapes[s->emitters[e].shape];
         if (!ls->opt.no_split && sh->type == SHAPE_MESH && sh->tri_count > LIGHT_CLUSTER_TRIS) {
             n_split_tris += sh->tri_count;
             cap += (size_t)(sh->tri_count + LIGHT_CLUSTER_TRIS - 1) / LIGHT_CLUSTER_TRIS * 2;
@@ -956,7 +1155,8 @@ static int tree_setup(LightSampler *ls)
     }
     ls->pieces = (Piece *)calloc(cap, sizeof *ls->pieces);
     ls->emitter_piece = (int *)malloc(sizeof(int) * (size_t)ls->n);
-    if (!ls->pieces || !ls->emitter_piece) goto done;
+    ls->inf_piece = (int *)malloc(sizeof(int) * (size_t)(ls->n_inf + 1));
+    if (!ls->pieces || !ls->emitter_piece || !ls->inf_piece) goto done;
     if (n_split_tris > 0) {
         ls->piece_tri = (int *)malloc(sizeof(int) * (size_t)n_split_tris);
         ls->piece_cdf = (float *)malloc(sizeof(float) * (size_t)n_split_tris);
@@ -968,8 +1168,18 @@ static int tree_setup(LightSampler *ls)
         for (i = 0; i < s->n_tris; i++) ls->piece_of_tri[i] = -1;
     }
     ls->n_pieces = 0;
+    ls->n_inf = 0;
     for (e = 0; e < ls->n; e++) {
-        const Shape *sh = &s->shapes[s->emitters[e].shape];
+        const Shape *sh;
+        if (s->emitters[e].inf) {                    /* beside the tree (section 4) */
+            Piece *pc = &ls->pieces[ls->n_pieces];
+            pc->emitter = e;
+            pc->area = s->emitters[e].area;
+            ls->inf_piece[ls->n_inf++] = ls->n_pieces;
+            ls->emitter_piece[e] = ls->n_pieces++;
+            continue;
+        }
+        sh = &s->shapes[s->emitters[e].shape];
         if (ls->piece_of_tri && !ls->opt.no_split && sh->type == SHAPE_MESH &&
             sh->tri_count > LIGHT_CLUSTER_TRIS) {
             for (i = 0; i < sh->tri_count; i++) {
@@ -987,26 +1197,30 @@ static int tree_setup(LightSampler *ls)
             ls->emitter_piece[e] = ls->n_pieces++;
         }
     }
-    /* the tree over the pieces */
+    /* the tree over the pieces that have a position (all but the infinite lights) */
     free(tmp);
+    tmp = NULL;
+    ls->n_tree_pieces = ls->n_pieces - ls->n_inf;
+    ls->nb = (int)((ls->opt.hi_nm - ls->opt.lo_nm) / SPD_BIN_NM + 0.5f);
+    if (ls->n_tree_pieces == 0) { ok = 1; goto done; }
     pb = (PieceBounds *)malloc(sizeof *pb * (size_t)ls->n_pieces);
     items = (int *)malloc(sizeof(int) * (size_t)ls->n_pieces);
     tmp = (KeyIdx *)malloc(sizeof(KeyIdx) * (size_t)ls->n_pieces);
     B.centroids = (Vec3 *)malloc(sizeof(Vec3) * (size_t)ls->n_pieces);
-    ls->nodes = (TreeNode *)calloc((size_t)(2 * ls->n_pieces - 1), sizeof *ls->nodes);
-    ls->nb = (int)((ls->opt.hi_nm - ls->opt.lo_nm) / SPD_BIN_NM + 0.5f);
-    ls->node_bin = (float *)malloc(sizeof(float) * (size_t)(2 * ls->n_pieces - 1) * (size_t)ls->nb);
+    ls->nodes = (TreeNode *)calloc((size_t)(2 * ls->n_tree_pieces - 1), sizeof *ls->nodes);
+    ls->node_bin = (float *)malloc(sizeof(float) * (size_t)(2 * ls->n_tree_pieces - 1) * (size_t)ls->nb);
     if (!pb || !items || !tmp || !B.centroids || !ls->nodes || !ls->node_bin) { free(B.centroids); goto done; }
-    for (i = 0; i < ls->n_pieces; i++) {
+    for (i = 0, e = 0; i < ls->n_pieces; i++) {
+        if (ls->scene->emitters[ls->pieces[i].emitter].inf) continue;
         piece_bounds(ls, &ls->pieces[i], &pb[i]);
         B.centroids[i] = pb[i].centroid;
-        items[i] = i;
+        items[e++] = i;
     }
     B.ls = ls;
     B.pb = pb;
     B.tmp = tmp;
     ls->n_nodes = 0;
-    tree_build(&B, items, ls->n_pieces, 0, 0);
+    tree_build(&B, items, ls->n_tree_pieces, 0, 0);
     free(B.centroids);
     ok = 1;
 done:
@@ -1028,19 +1242,20 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     ls->n = n;
     if (n == 0) return ls;
     ls->Le = (Spectrum *)malloc(sizeof(Spectrum) * (size_t)n);
+    ls->k = (double *)malloc(sizeof(double) * (size_t)n);
     ls->bin = (float *)malloc(sizeof(float) * (size_t)n * SPD_BINS);
     ls->power = (double *)malloc(sizeof(double) * (size_t)n);
     ls->power_pmf = (float *)malloc(sizeof(float) * (size_t)n);
     ls->power_cdf = (double *)malloc(sizeof(double) * (size_t)(n + 1));
     ls->T = (float *)malloc(sizeof(float) * (size_t)n * SPD_BINS);
     ls->Y = (float *)malloc(sizeof(float) * (size_t)n);
-    if (!ls->Le || !ls->bin || !ls->power || !ls->power_pmf || !ls->power_cdf || !ls->T || !ls->Y)
+    if (!ls->Le || !ls->k || !ls->bin || !ls->power || !ls->power_pmf || !ls->power_cdf || !ls->T || !ls->Y)
         goto oom;
     /* the emitters' radiance for this render's range, bin table and power */
     for (i = 0; i < n; i++) {
         const Emitter *em = &s->emitters[i];
         double bsum = 0.0;
-        if (!emitter_radiance(s, i, ls->opt.lo_nm, ls->opt.hi_nm, &ls->Le[i], err)) {
+        if (!radiance_and_k(s, i, ls->opt.lo_nm, ls->opt.hi_nm, &ls->Le[i], &ls->k[i], err)) {
             light_sampler_free(ls);
             return NULL;
         }
@@ -1064,7 +1279,10 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     for (i = 0; i < n; i++) {
         const Emitter *em = &s->emitters[i];
         float m = o->power_metric ? (float)(em->area * (em->twosided ? 2.0 : 1.0)) : 1.0f;
-        ls->Y[i] = em->scale;
+        /* Y: luminance over the range, = scale for area lights (pbrt-v4's
+           normalisation); an image map's stand-in spectrum has its own */
+        ls->Y[i] = em->inf ? (float)luminance_sum(&ls->Le[i], ls->opt.lo_nm, ls->opt.hi_nm)
+                           : em->scale;
         for (b = 0; b < SPD_BINS; b++) ls->T[b * n + i] = ls->bin[(size_t)i * SPD_BINS + b] * m;
     }
     if (is_tree(o->strategy)) {
@@ -1118,7 +1336,7 @@ void light_sampler_free(LightSampler *ls)
         for (v = 0; v < ls->n_voxels; v++)
             if (ls->voxel[v] != VOXEL_FAILED) free(ls->voxel[v]);
     free(ls->voxel);
-    free(ls->Le); free(ls->bin); free(ls->power);
+    free(ls->Le); free(ls->k); free(ls->bin); free(ls->inf_piece); free(ls->power);
     free(ls->power_pmf); free(ls->power_cdf);
     free(ls->T);
     free(ls->Y);
@@ -1160,6 +1378,8 @@ size_t light_sampler_bytes(const LightSampler *ls)
 
 float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm)
 {
+    const Emitter *em = &ls->scene->emitters[e];
+    if (em->inf) return inf_Le(em, &ls->Le[e], ls->k[e], v3_neg(w), lambda_nm);  /* along w */
     if (!ls->scene->emitters[e].twosided && v3_dot(n, w) <= 0.0f) return 0.0f;
     return spec_eval(&ls->Le[e], lambda_nm);
 }
@@ -1194,6 +1414,8 @@ int light_sample(const LightSampler *ls, int piece, Vec3 ref, float u0, float u1
 float light_pdf_sa(const LightSampler *ls, int piece, Vec3 ref, Vec3 p, Vec3 n)
 {
     if (piece < 0 || piece >= ls->n_pieces) return 0.0f;
+    if (ls->pieces[piece].count == 0)             /* a whole emitter (also an infinite one) */
+        return emitter_pdf_sa(ls->scene, ls->pieces[piece].emitter, ref, p, n);
     return pdf_sa_area(ls->pieces[piece].area, ref, p, n);
 }
 
@@ -1214,6 +1436,7 @@ static int spd_bin(float lambda)
    when a spectral strategy had to use the spatial weights. */
 static double context_weights(LightSampler *ls, const LightCtx *c, double *w, int *fell_back)
 {
+    double *reach = w + ls->n;                   /* callers give 2n doubles */
     int n = ls->n, i, j;
     SelStrategy st = ls->opt.strategy;
     double sum = 0.0;
@@ -1224,6 +1447,12 @@ static double context_weights(LightSampler *ls, const LightCtx *c, double *w, in
         for (i = 0; i < n; i++) w[i] = 1.0;
         return n;
     }
+    /* The voxel's table holds receivers on every side of an emitter; the shading
+       point is on one.  An emitter that cannot reach p (p behind a flat one-sided
+       emitter, or on it) gets weight 0 wherever the spatial table is used: the
+       table would otherwise give it the share earned by the voxel's receivers in
+       front of it (section 5). */
+    for (i = 0; i < n; i++) reach[i] = emitter_can_reach(ls->scene, i, c->p) ? 1.0 : 0.0;
     if (st != SEL_SPATIAL && (c->hero_only || ls->opt.all_wavelengths)) {
         /* spectral weights, summed over the wavelengths that count here */
         for (i = 0; i < n; i++) w[i] = 0.0;
@@ -1238,8 +1467,8 @@ static double context_weights(LightSampler *ls, const LightCtx *c, double *w, in
             if (!(cj > 0.0)) continue;
             for (i = 0; i < n; i++) {
                 double e = ls->T[b * n + i];
-                if (st == SEL_PRODUCT) e *= vt[i];
-                else if (st == SEL_SPECTRAL_SPATIAL) e *= vt[n + i];
+                if (st == SEL_PRODUCT) e *= vt[i] * reach[i];
+                else if (st == SEL_SPECTRAL_SPATIAL) e *= vt[n + i] * reach[i];
                 w[i] += cj * e;
             }
         }
@@ -1248,7 +1477,7 @@ static double context_weights(LightSampler *ls, const LightCtx *c, double *w, in
         *fell_back = 1;                          /* no emitter for these bins */
     }
     sum = 0.0;
-    for (i = 0; i < n; i++) { w[i] = vt[i]; sum += w[i]; }
+    for (i = 0; i < n; i++) { w[i] = vt[i] * reach[i]; sum += w[i]; }
     return sum;
 }
 
@@ -1258,7 +1487,7 @@ static double context_weights(LightSampler *ls, const LightCtx *c, double *w, in
 
 int light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int *fell_back)
 {
-    double wbuf[SEL_STACK], *w = wbuf, sum, acc = 0.0, target;
+    double wbuf[2 * SEL_STACK], *w = wbuf, sum, acc = 0.0, target;
     int n = ls->n, i, fb, chosen = -1;
     SelStrategy st = ls->opt.strategy;
     *pmf = 0.0f;
@@ -1284,7 +1513,7 @@ int light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int *
         return chosen;
     }
     if (is_tree(st)) return tree_select(ls, c, u, pmf);
-    if (n > SEL_STACK && !(w = (double *)malloc(sizeof(double) * (size_t)n))) return -1;
+    if (n > SEL_STACK && !(w = (double *)malloc(sizeof(double) * 2 * (size_t)n))) return -1;
     sum = context_weights(ls, c, w, &fb);
     if (fell_back) *fell_back = fb;
     if (sum > 0.0) {
@@ -1304,7 +1533,7 @@ int light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int *
 
 float light_select_pmf(LightSampler *ls, const LightCtx *c, int piece)
 {
-    double wbuf[SEL_STACK], *w = wbuf, sum;
+    double wbuf[2 * SEL_STACK], *w = wbuf, sum;
     int n = ls->n, fb;
     SelStrategy st = ls->opt.strategy;
     float p = 0.0f;
@@ -1312,7 +1541,7 @@ float light_select_pmf(LightSampler *ls, const LightCtx *c, int piece)
     if (st == SEL_UNIFORM || st == SEL_ALL) return (float)(1.0 / n);
     if (st == SEL_POWER) return ls->power_pmf[piece];
     if (is_tree(st)) return tree_pmf(ls, c, piece);
-    if (n > SEL_STACK && !(w = (double *)malloc(sizeof(double) * (size_t)n))) return 0.0f;
+    if (n > SEL_STACK && !(w = (double *)malloc(sizeof(double) * 2 * (size_t)n))) return 0.0f;
     sum = context_weights(ls, c, w, &fb);
     if (sum > 0.0) p = (float)(w[piece] / sum);
     if (w != wbuf) free(w);

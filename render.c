@@ -98,6 +98,7 @@ typedef struct {
     float tan_half;                  /* tan(fov/2) of the shorter axis */
     float sx0, sx1, sy0, sy1;        /* screen window */
     int w, h;
+    float lens_radius, focal_distance;   /* thin lens; lens_radius 0: pinhole */
 } Camera;
 
 static void camera_init(Camera *c, const SceneSettings *st)
@@ -114,16 +115,47 @@ static void camera_init(Camera *c, const SceneSettings *st)
     else { c->sx0 = -1; c->sx1 = 1; c->sy0 = -1.0f / aspect; c->sy1 = 1.0f / aspect; }
     c->w = st->xres;
     c->h = st->yres;
+    c->lens_radius = st->lens_radius;
+    c->focal_distance = st->focal_distance;
 }
 
-/* Raster (x, y), y down, to a world-space ray. */
-static Ray camera_ray(const Camera *c, float x, float y)
+/* Shirley and Chiu's concentric map from the unit square to the unit disk (1997):
+   squares around the centre go to circles, so strata stay compact and the map
+   keeps area ratios (uniform in, uniform out). */
+static void concentric_disk(float u0, float u1, float *dx, float *dy)
+{
+    float a = 2.0f * u0 - 1.0f, b = 2.0f * u1 - 1.0f, r, phi;
+    if (a == 0.0f && b == 0.0f) { *dx = *dy = 0.0f; return; }
+    if (fabsf(a) > fabsf(b)) { r = a; phi = (PI_F / 4.0f) * (b / a); }
+    else { r = b; phi = PI_F / 2.0f - (PI_F / 4.0f) * (a / b); }
+    *dx = r * cosf(phi);
+    *dy = r * sinf(phi);
+}
+
+/* Raster (x, y), y down, to a world-space ray.  (ul0, ul1) pick the point on the
+   lens (unused for a pinhole).
+
+   THIN LENS (pbrt-v4 PerspectiveCamera).  The pinhole ray of the raster point has
+   the camera-space direction d = (sx tan, sy tan, 1).  A lens of radius r at z = 0
+   focused at distance f sends every ray of that raster point through the point
+   where the pinhole ray meets the plane of focus, q = f d (z = f), from a point
+   (r l, 0) with l uniform on the unit disk.  Points on that plane are sharp; a
+   point at depth z spreads into a disk of radius r |1/f - 1/z| in the screen's
+   tan units (the circle of confusion; tested by render_thin_lens). */
+static Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1)
 {
     Ray r;
     float sx = c->sx0 + (x / (float)c->w) * (c->sx1 - c->sx0);
     float sy = c->sy1 - (y / (float)c->h) * (c->sy1 - c->sy0);
-    Vec3 d = v3(sx * c->tan_half, sy * c->tan_half, 1.0f);
-    r.o = xf_point(&c->world_from_camera, v3(0, 0, 0));
+    Vec3 d = v3(sx * c->tan_half, sy * c->tan_half, 1.0f), o = v3(0, 0, 0);
+    if (c->lens_radius > 0.0f) {
+        float lx, ly;
+        Vec3 q = v3_mul(d, c->focal_distance);
+        concentric_disk(ul0, ul1, &lx, &ly);
+        o = v3(c->lens_radius * lx, c->lens_radius * ly, 0.0f);
+        d = v3_sub(q, o);
+    }
+    r.o = xf_point(&c->world_from_camera, o);
     r.d = v3_norm(xf_vector(&c->world_from_camera, d));
     r.tmax = INFINITY;
     return r;
@@ -150,6 +182,7 @@ typedef struct {
     LightSampler *ls;
     WavelengthPdf wl;
     Camera cam;
+    int *inf; int n_inf;             /* the emitters that are infinite lights */
 } Renderer;
 
 typedef struct {
@@ -325,10 +358,35 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
         BsdfSample bs;
         float u0, u1, u2;
 
-        /* 1. Intersection */
+        /* 1. Intersection; a ray that escapes gathers the infinite lights,
+              weighted against NEE from prev like an emitter hit (step 2) */
         cnt->rays++;
         if (!bvh_intersect(&s->bvh, s, &ray, &hit)) {
-            if (dbg) fprintf(dbg, "  escaped\n");
+            Vec3 dir = v3_norm(ray.d);
+            int i;
+            for (i = 0; i < R->n_inf; i++) {
+                int e = R->inf[i], any = 0;
+                double value[HERO_N], w, den;
+                float q_nee = 0.0f;
+                for (j = 0; j < HERO_N; j++) {
+                    value[j] = 0.0;
+                    if (!(alive & (1u << j))) continue;
+                    value[j] = (double)beta[j] * light_Le(R->ls, e, dir, v3_neg(dir), wl->lambda[j]);
+                    if (value[j] != 0.0) any = 1;
+                }
+                if (!any) continue;
+                if (prev.can_nee) {
+                    float P = is_all ? 1.0f
+                                     : light_select_pmf(R->ls, &prev.ctx, light_piece_of(R->ls, e, -1));
+                    q_nee = P * inf_pdf(&s->emitters[e], dir);
+                }
+                den = mis_denominator(prev.r, prev.q_bsdf, q_nee, prev.alive);
+                w = den > 0.0 ? (double)prev.q_bsdf[0] * prev.q_bsdf[0] / den : 0.0;
+                film_add(xyz, cmf, wl, value, w, alive);
+                if (dbg) fprintf(dbg, "  escaped: infinite light %d, mis weight %.4g (q_nee %.4g)\n",
+                                 e, w, q_nee);
+            }
+            if (dbg && R->n_inf == 0) fprintf(dbg, "  escaped\n");
             break;
         }
         scene_surface_point(s, &ray, &hit, &sp);
@@ -564,8 +622,8 @@ static void render_pass(Pass *P)
             for (k = P->k0; k < P->k1; k++) {
                 Rng rng;
                 Wavelengths wl;
-                double xyz[3] = { 0.0, 0.0, 0.0 };
-                float fx, fy;
+                double xyz[3] = { 0.0, 0.0, 0.0 }, m;
+                float fx, fy, ul0 = 0.5f, ul1 = 0.5f;
                 rng_seed(&rng, stream, (uint64_t)k);   /* sample k's stream: independent of spp */
                 if (set->filter == FILTER_GAUSSIAN) {
                     fx = 0.5f + gaussian_offset(&rng, set->filter_radius, set->filter_sigma);
@@ -575,10 +633,25 @@ static void render_pass(Pass *P)
                     fy = rng_float(&rng);
                 }
                 wl_sample(&R->wl, rng_float(&rng), &wl);
+                /* the two lens dimensions come next in the sample's stream, drawn
+                   only with a lens, so pinhole images keep their random numbers */
+                if (R->cam.lens_radius > 0.0f) {
+                    ul0 = rng_float(&rng);
+                    ul1 = rng_float(&rng);
+                }
                 if (dbg) fprintf(dbg, "pixel (%d, %d) sample %d\n", x, y, k);
-                trace_path(R, camera_ray(&R->cam, (float)x + fx, (float)y + fy), &wl, &rng,
-                           xyz, &cnt, dbg);
+                trace_path(R, camera_ray(&R->cam, (float)x + fx, (float)y + fy, ul0, ul1), &wl,
+                           &rng, xyz, &cnt, dbg);
                 if (isfinite(xyz[0]) && isfinite(xyz[1]) && isfinite(xyz[2])) {
+                    /* pbrt-v4's sensor (RGBFilm::AddSample, cie1931 sensor: sensor
+                       RGB = XYZ): times the imaging ratio, then the largest
+                       component clamped to maxcomponentvalue, hue kept */
+                    xyz[0] *= set->imaging_ratio; xyz[1] *= set->imaging_ratio; xyz[2] *= set->imaging_ratio;
+                    m = fmax(xyz[0], fmax(xyz[1], xyz[2]));
+                    if (m > set->max_component) {
+                        double f = set->max_component / m;
+                        xyz[0] *= f; xyz[1] *= f; xyz[2] *= f;
+                    }
                     sum[0] += xyz[0]; sum[1] += xyz[1]; sum[2] += xyz[2];
                 } else {
                     cnt.nonfinite++;
@@ -657,6 +730,13 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     } else {
         wl_pdf_uniform(&j->R.wl, j->sel.lo_nm, j->sel.hi_nm);
     }
+    {   /* the infinite lights, which rays that escape the scene see */
+        int e;
+        j->R.inf = (int *)malloc(sizeof(int) * (size_t)(s->n_emitters + 1));
+        if (!j->R.inf) { error_set(err, NULL, 0, "out of memory"); render_end(j); return NULL; }
+        for (e = 0; e < s->n_emitters; e++)
+            if (s->emitters[e].inf) j->R.inf[j->R.n_inf++] = e;
+    }
     j->P.R = &j->R;
     j->P.img = &j->img;
     j->P.acc = (double *)calloc(3 * (size_t)w * (size_t)h, sizeof *j->P.acc);
@@ -714,6 +794,7 @@ void render_end(RenderJob *j)
     free(j->P.acc); free(j->P.row_rays); free(j->P.row_nonfinite); free(j->P.row_fallbacks);
     img_free(&j->img);
     if (j->R.ls) light_sampler_free(j->R.ls);
+    free(j->R.inf);
     wl_pdf_free(&j->R.wl);
     free(j);
 }

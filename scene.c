@@ -190,6 +190,7 @@ typedef struct {
     const char *inset_file[8];
     int end_line;              /* line of the top-level file's last token */
     const char *camera_file; int camera_line;   /* the Camera directive, if any */
+    float iso, exposure_time;  /* Film "iso", Camera shutter interval: the imaging ratio */
 } Parser;
 
 /* ===========================================================================
@@ -1036,7 +1037,7 @@ static int camera_transform_ok(const Xform *camera_from_world, float fov_deg, in
 static int camera_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     SceneSettings *st = &P->s->settings;
-    float fov;
+    float fov, lens, focus, open, close;
     if (strcmp(type, "perspective") != 0) {
         if (!strcmp(type, "orthographic") || !strcmp(type, "realistic") || !strcmp(type, "spherical"))
             return fail(P, file, line, "Camera \"%s\" is valid pbrt-v4 but not in the specnee "
@@ -1044,9 +1045,14 @@ static int camera_directive(Parser *P, const char *type, ParamList *pl, const ch
         return fail(P, file, line, "Camera \"%s\": unknown camera type", type);
     }
     if (!get_float(P, pl, "fov", 90.0f, &fov)) return 0;
-    if (!params_check_unused(P, pl, "Camera \"perspective\"", "float fov",
-                             "lensradius focaldistance frameaspectratio screenwindow "
-                             "shutteropen shutterclose"))
+    if (!get_float(P, pl, "lensradius", 0.0f, &lens)) return 0;
+    if (!get_float(P, pl, "focaldistance", 1e6f, &focus)) return 0;
+    if (!get_float(P, pl, "shutteropen", 0.0f, &open)) return 0;
+    if (!get_float(P, pl, "shutterclose", 1.0f, &close)) return 0;
+    if (!params_check_unused(P, pl, "Camera \"perspective\"",
+                             "float fov, float lensradius, float focaldistance, "
+                             "float shutteropen, float shutterclose",
+                             "frameaspectratio screenwindow"))
         return 0;
     if (!(fov > 0.0f && fov < 180.0f))
         return fail(P, file, line, "Camera: \"float fov\" %g must be within (0, 180) degrees", fov);
@@ -1056,7 +1062,18 @@ static int camera_directive(Parser *P, const char *type, ParamList *pl, const ch
         return fail(P, file, line, "Camera: degenerate camera transform: the eye or the "
                     "viewing directions are not finite, non-zero float vectors (look at "
                     "the Scale/Transform/LookAt before Camera)");
+    if (!(lens >= 0.0f) || !(focus > 0.0f))
+        return fail(P, file, line, "Camera: \"float lensradius\" %g must be >= 0 and "
+                    "\"float focaldistance\" %g > 0", lens, focus);
+    /* pbrt-v4 (scene.cpp): the exposure time is the shutter interval; the scene is
+       static, so it only scales the image (the imaging ratio, Film "iso") */
+    if (!(close - open > 0.0f))
+        return fail(P, file, line, "Camera: shutterclose %g <= shutteropen %g: the shutter "
+                    "never opens", close, open);
     st->fov_deg = fov;
+    st->lens_radius = lens;
+    st->focal_distance = focus;
+    P->exposure_time = close - open;
     st->camera_from_world = P->gs.ctm;
     P->camera_file = file;
     P->camera_line = line;
@@ -1081,8 +1098,11 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
     SceneSettings *st = &P->s->settings;
     int xres, yres, fp16;
     const char *fn;
-    if (strcmp(type, "rgb") != 0) {
-        if (!strcmp(type, "gbuffer") || !strcmp(type, "spectral"))
+    int gbuffer = !strcmp(type, "gbuffer");
+    float iso, maxcomp;
+    const char *coordsys = NULL;
+    if (strcmp(type, "rgb") != 0 && !gbuffer) {
+        if (!strcmp(type, "spectral"))
             return fail(P, file, line, "Film \"%s\" is valid pbrt-v4 but not in the specnee "
                         "subset (use \"rgb\")", type);
         return fail(P, file, line, "Film \"%s\": unknown film type", type);
@@ -1091,11 +1111,17 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
     if (!get_int(P, pl, "yresolution", 720, &yres, NULL)) return 0;
     if (!get_string(P, pl, "filename", &fn)) return 0;
     if (!get_bool(P, pl, "savefp16", 1, &fp16)) return 0;    /* PFM is float32 anyway */
-    if (!params_check_unused(P, pl, "Film \"rgb\"",
-                             "integer xresolution, integer yresolution, string filename, "
-                             "bool savefp16",
-                             "iso exposuretime whitebalance sensor diagonal cropwindow "
-                             "pixelbounds maxcomponentvalue writefp16"))
+    if (!get_float(P, pl, "iso", 100.0f, &iso)) return 0;
+    if (!get_float(P, pl, "maxcomponentvalue", INFINITY, &maxcomp)) return 0;
+    if (gbuffer && !get_string(P, pl, "coordinatesystem", &coordsys)) return 0;
+    if (!params_check_unused(P, pl, gbuffer ? "Film \"gbuffer\"" : "Film \"rgb\"",
+                             gbuffer ? "integer xresolution, integer yresolution, string filename, "
+                                       "bool savefp16, float iso, float maxcomponentvalue, "
+                                       "string coordinatesystem"
+                                     : "integer xresolution, integer yresolution, string filename, "
+                                       "bool savefp16, float iso, float maxcomponentvalue",
+                             "exposuretime whitebalance sensor diagonal cropwindow "
+                             "pixelbounds writefp16"))
         return 0;
     if (xres < 1 || xres > MAX_RESOLUTION || yres < 1 || yres > MAX_RESOLUTION)
         return fail(P, file, line, "Film: resolution %d x %d outside 1..%d per axis",
@@ -1108,6 +1134,14 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
                         "(MEM_BUDGET_MIB in specnee.h)", xres, yres, need / 1073741824.0,
                         MEM_BUDGET_MIB / 1024.0);
     }
+    if (!(iso > 0.0f) || !(maxcomp > 0.0f))
+        return fail(P, file, line, "Film: \"float iso\" %g and \"float maxcomponentvalue\" %g "
+                    "must be > 0", iso, maxcomp);
+    if (gbuffer)
+        fprintf(stderr, "%s:%d: note: Film \"gbuffer\" is read as \"rgb\": specnee writes "
+                "the colour image only, without the geometry channels\n", file, line);
+    P->iso = iso;
+    st->max_component = maxcomp;
     st->xres = xres;
     st->yres = yres;
     if (!fn) fn = "pbrt.exr";                         /* pbrt-v4's default */
@@ -1213,21 +1247,50 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
         "simplevolpath", "sppm", "volpath", NULL
     };
     SceneSettings *st = &P->s->settings;
-    int i, maxdepth, given, regularize;
-    const char *ls;
-    if (strcmp(type, "path") != 0) {
+    int i, maxdepth, given, regularize, dummy_i;
+    float dummy_f;
+    const char *ls = NULL;
+    char what[64];
+    /* volpath (pbrt-v4's default), bdpt and sppm converge to the same image as path
+       in a scene without participating media, which the subset has none of */
+    int as_path = !strcmp(type, "volpath") || !strcmp(type, "bdpt") || !strcmp(type, "sppm");
+    if (strcmp(type, "path") != 0 && !as_path) {
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
                 return fail(P, file, line, "Integrator \"%s\" is valid pbrt-v4 but not in the "
                             "specnee subset (use \"path\")", type);
         return fail(P, file, line, "Integrator \"%s\": unknown integrator type", type);
     }
+    snprintf(what, sizeof what, "Integrator \"%s\"", type);
     if (!get_int(P, pl, "maxdepth", DEFAULT_MAXDEPTH, &maxdepth, &given)) return 0;
-    if (!get_string(P, pl, "lightsampler", &ls)) return 0;
-    if (!get_bool(P, pl, "regularize", 0, &regularize)) return 0;
-    if (!params_check_unused(P, pl, "Integrator \"path\"",
-                             "integer maxdepth, string lightsampler, bool regularize", NULL))
+    if (strcmp(type, "bdpt") != 0 && strcmp(type, "sppm") != 0 &&
+        !get_string(P, pl, "lightsampler", &ls)) return 0;
+    if (strcmp(type, "sppm") != 0 && !get_bool(P, pl, "regularize", 0, &regularize)) return 0;
+    if (!strcmp(type, "sppm")) regularize = 0;
+    if (!strcmp(type, "bdpt")) {
+        /* debugging images of bdpt's strategies: nothing to show for path */
+        if (!get_bool(P, pl, "visualizestrategies", 0, &dummy_i)) return 0;
+        if (dummy_i) return fail(P, file, line, "Integrator \"bdpt\": visualizestrategies is "
+                                 "not in the specnee subset");
+        if (!get_bool(P, pl, "visualizeweights", 0, &dummy_i)) return 0;
+        if (dummy_i) return fail(P, file, line, "Integrator \"bdpt\": visualizeweights is "
+                                 "not in the specnee subset");
+    }
+    if (!strcmp(type, "sppm")) {              /* photon-map settings: no meaning for path */
+        if (!get_int(P, pl, "photonsperiteration", -1, &dummy_i, NULL)) return 0;
+        if (!get_float(P, pl, "radius", 1.0f, &dummy_f)) return 0;
+        if (!get_int(P, pl, "seed", 0, &dummy_i, NULL)) return 0;
+    }
+    if (!params_check_unused(P, pl, what,
+                             !strcmp(type, "bdpt") ? "integer maxdepth, bool regularize, "
+                                 "bool visualizestrategies, bool visualizeweights"
+                             : !strcmp(type, "sppm") ? "integer maxdepth, integer "
+                                 "photonsperiteration, float radius, integer seed"
+                             : "integer maxdepth, string lightsampler, bool regularize", NULL))
         return 0;
+    if (as_path)
+        fprintf(stderr, "%s:%d: note: Integrator \"%s\" is rendered by \"path\" (the same "
+                "image without participating media)\n", file, line, type);
     if (regularize)
         return fail(P, file, line, "Integrator: \"bool regularize\" true is valid pbrt-v4 but "
                     "not supported by specnee");
@@ -1407,6 +1470,140 @@ static int area_light_directive(Parser *P, const char *type, ParamList *pl, cons
         return oom(P, file, line);
     P->lights[P->n_lights] = al;
     P->gs.area_light = P->n_lights++;
+    return 1;
+}
+
+/* LightSource "infinite" (infinite.c): constant (L, scale, illuminance) or an
+   image map (filename: a PFM in pbrt-v4's equal-area octahedral layout).  The
+   CTM is the light's frame.  pbrt-v4's normalisation: L is divided by its
+   luminance (an rgb L by D65's), a map's texels by D65's, so a constant light or
+   a white texel has luminance scale; "illuminance" E_v (lux) then multiplies
+   scale by E_v / k_e, k_e the illuminance the light would give an upward-facing
+   point (+z of the light's frame) without it: pi for a constant light, and for a
+   map pbrt-v4's sum over the upper hemisphere's texels of Y(rgb) cos(theta) 2 pi
+   / res^2 (pbrt-v4 lights.cpp, reproduced as it is). */
+static int light_source_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    static const char *const pbrt_types[] = {
+        "point", "spot", "goniometric", "projection", "distant", NULL
+    };
+    Scene *s = P->s;
+    Emitter *em;
+    InfiniteLight *inf;
+    Param *p, *portal;
+    const char *fn = NULL;
+    float scale, ev;
+    int rgb_illum = 0, i;
+    Spectrum L;
+    if (strcmp(type, "infinite") != 0) {
+        for (i = 0; pbrt_types[i]; i++)
+            if (!strcmp(type, pbrt_types[i]))
+                return fail(P, file, line, "LightSource \"%s\" is valid pbrt-v4 but not in the "
+                            "specnee subset (only \"infinite\")", type);
+        return fail(P, file, line, "LightSource \"%s\": unknown light type", type);
+    }
+    p = find_spectrum_param(pl, "L");
+    if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
+    if (!get_float(P, pl, "illuminance", -1.0f, &ev)) return 0;
+    if (!get_string(P, pl, "filename", &fn)) return 0;
+    portal = param_find(pl, PT_POINT3, "portal");
+    if (portal)
+        return fail(P, portal->file, portal->line, "LightSource \"infinite\": \"point3 portal\" "
+                    "is valid pbrt-v4 but not in the specnee subset");
+    if (p && fn)
+        return fail(P, file, line, "LightSource \"infinite\": cannot have both \"L\" and "
+                    "\"filename\" (pbrt-v4)");
+    if (p) {
+        if (!param_spectrum(P, p, SPEC_ILLUMINANT, &L, &rgb_illum)) return 0;
+    } else if (!spec_named(&L, "stdillum-D65")) {
+        return fail(P, file, line, "LightSource: the built-in spectrum stdillum-D65 is missing");
+    }
+    if (!params_check_unused(P, pl, "LightSource \"infinite\"",
+                             "spectrum L, rgb L, blackbody L, float scale, float illuminance, "
+                             "string filename", "portal"))
+        return 0;
+    if (!(scale >= 0.0f))
+        return fail(P, file, line, "LightSource \"infinite\": \"float scale\" must be >= 0");
+    for (i = 0; i < SPEC_N; i++)
+        if (!(L.v[i] >= 0.0f))
+            return fail(P, p ? p->file : file, p ? p->line : line,
+                        "LightSource \"infinite\": L is negative at %d nm", SPEC_MIN + i);
+    if (rgb_illum) {       /* as for AreaLightSource: normalised by D65, not by L */
+        Spectrum d65;
+        double xyz_l[3], xyz_d[3];
+        spec_named(&d65, "stdillum-D65");
+        spec_to_xyz(&L, (float)SPEC_MIN, (float)SPEC_MAX, xyz_l);
+        spec_to_xyz(&d65, (float)SPEC_MIN, (float)SPEC_MAX, xyz_d);
+        if (xyz_d[1] > 0.0) scale = (float)(scale * (xyz_l[1] / xyz_d[1]));
+    }
+    inf = (InfiniteLight *)calloc(1, sizeof *inf);
+    if (!inf) return oom(P, file, line);
+    inf->world_from_light = P->gs.ctm;
+    inf->file = file;
+    inf->line = line;
+    if (fn) {
+        char path[1024];
+        Image im;
+        Error ierr;
+        double mean[3] = { 0, 0, 0 }, k_e = 0.0;
+        float mrgb[3];
+        int x, y, c;
+        if (ends_with_ci(fn, ".exr")) {
+            free(inf);
+            return fail(P, file, line, "LightSource \"infinite\": \"%s\": EXR images are not in "
+                        "the specnee subset; convert it to PFM (e.g. pbrt-v4's `imgtool convert "
+                        "--outfile %.*s.pfm %s`) and name the .pfm", fn, (int)strlen(fn) - 4, fn, fn);
+        }
+        if (!ends_with_ci(fn, ".pfm")) {
+            free(inf);
+            return fail(P, file, line, "LightSource \"infinite\": \"%s\": specnee reads image "
+                        "maps only as PFM (convert with pbrt-v4's `imgtool convert`)", fn);
+        }
+        resolve_path(P, file, fn, path, sizeof path);
+        if (!pfm_read(&im, path, &ierr)) {
+            free(inf);
+            return fail(P, file, line, "LightSource \"infinite\": %s", ierr.msg);
+        }
+        if (!inf_set_image(inf, &im, file, line, P->err)) {
+            img_free(&im);
+            inf_free(inf);
+            return 0;
+        }
+        for (y = 0; y < im.h; y++)
+            for (x = 0; x < im.w; x++) {
+                const float *px = im.rgb + 3 * ((size_t)y * im.w + x);
+                for (c = 0; c < 3; c++) mean[c] += px[c] > 0.0f ? px[c] : 0.0f;
+                if (ev > 0.0f) {
+                    Vec3 w = equal_area_square_to_sphere((x + 0.5f) / im.w, (y + 0.5f) / im.h);
+                    if (w.z > 0.0f)                      /* sRGB's luminance row */
+                        k_e += (0.2126 * px[0] + 0.7152 * px[1] + 0.0722 * px[2]) * w.z;
+                }
+            }
+        for (c = 0; c < 3; c++) mrgb[c] = (float)(mean[c] / ((double)im.w * im.h));
+        k_e *= 2.0 * SPECNEE_PI / ((double)im.w * im.h);
+        img_free(&im);
+        if (!spec_from_rgb(&inf->mean, mrgb, 1, P->err, file, line)) { inf_free(inf); return 0; }
+        if (ev > 0.0f) {
+            if (!(k_e > 0.0)) {
+                inf_free(inf);
+                return fail(P, file, line, "LightSource \"infinite\": \"illuminance\" given, but "
+                            "the map sends no light to the upper hemisphere");
+            }
+            scale = (float)(scale * ev / k_e);
+        }
+    } else if (ev > 0.0f) {
+        scale = (float)(scale * ev / SPECNEE_PI);
+    }
+    if (!grow((void **)&s->emitters, &P->cap_emit, s->n_emitters + 1, sizeof(Emitter))) {
+        inf_free(inf);
+        return oom(P, file, line);
+    }
+    em = &s->emitters[s->n_emitters++];
+    memset(em, 0, sizeof *em);
+    em->shape = -1;
+    em->inf = inf;
+    em->L = L;                   /* an image map: D65, the texels' illuminant */
+    em->scale = scale;
     return 1;
 }
 
@@ -1718,7 +1915,7 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     options_only = !strcmp(d, "Camera") || !strcmp(d, "Film") || !strcmp(d, "Sampler")
                 || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter");
     world_only = !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
-              || !strcmp(d, "AreaLightSource") || !strcmp(d, "Shape");
+              || !strcmp(d, "AreaLightSource") || !strcmp(d, "Shape") || !strcmp(d, "LightSource");
     if (options_only && P->in_world)
         return fail(P, t->file, t->line, "Options cannot be set inside world block; \"%s\" "
                     "not allowed after WorldBegin", d);
@@ -1736,6 +1933,7 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     else if (!strcmp(d, "PixelFilter")) ok = filter_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Shape")) ok = shape_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "AreaLightSource")) ok = area_light_directive(P, type, &pl, t->file, t->line);
+    else if (!strcmp(d, "LightSource")) ok = light_source_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Material")) {
         Material m;
         int idx;
@@ -1787,7 +1985,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     if (!strcmp(d, "Camera") || !strcmp(d, "Film") || !strcmp(d, "Sampler")
         || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter") || !strcmp(d, "Shape")
         || !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
-        || !strcmp(d, "AreaLightSource"))
+        || !strcmp(d, "AreaLightSource") || !strcmp(d, "LightSource"))
         return typed_directive(P, L, t);
     if (!strcmp(d, "WorldBegin")) {
         int i;
@@ -1860,7 +2058,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     }
     {
         static const char *const pbrt_only[] = {
-            "Accelerator", "ActiveTransform", "Attribute", "LightSource", "MakeNamedMedium",
+            "Accelerator", "ActiveTransform", "Attribute", "MakeNamedMedium",
             "MediumInterface", "ObjectBegin", "ObjectEnd", "ObjectInstance", "Option",
             "Texture", "TransformTimes", NULL
         };
@@ -1955,6 +2153,9 @@ static void settings_default(SceneSettings *st)
     st->spp = DEFAULT_SPP;                   /* pbrt-v4's default zsobol: 16 */
     st->seed = 0;
     st->maxdepth = DEFAULT_MAXDEPTH;
+    st->focal_distance = 1e6f;               /* pbrt-v4's default (no lens: unused) */
+    st->imaging_ratio = 1.0f;
+    st->max_component = INFINITY;
 }
 
 static void parser_free(Parser *P)
@@ -1982,6 +2183,8 @@ static int finish(Parser *P, const char *file)
         return fail(P, P->camera_file, P->camera_line, "Camera: degenerate camera transform "
                     "for the %d x %d film: the viewing directions are not finite, non-zero "
                     "float vectors", s->settings.xres, s->settings.yres);
+    /* pbrt-v4 PixelSensor::Create: imaging ratio = exposure time * ISO / 100 */
+    s->settings.imaging_ratio = P->exposure_time * P->iso / 100.0f;
     for (i = 0; i < s->n_insets; i++)
         if (s->inset[i][2] > s->settings.xres || s->inset[i][3] > s->settings.yres)
             return fail(P, P->inset_file[i], P->inset_line[i], "inset %s (%d %d %d %d) lies outside the %d x %d film",
@@ -2036,6 +2239,8 @@ static int load(Scene *s, char *buf, size_t len, const char *name, Error *err)
     P.gs.material = -1;
     P.gs.area_light = -1;
     P.end_line = 1;
+    P.iso = 100.0f;                          /* pbrt-v4: imaging ratio 1 by default */
+    P.exposure_time = 1.0f;
     dir_of(name, P.main_dir, sizeof P.main_dir);
     file = intern(&P, name);
     if (!file) { parser_free(&P); return fail(&P, name, 0, "out of memory"); }
@@ -2086,7 +2291,11 @@ void scene_free(Scene *s)
     int i;
     if (!s) return;
     if (s->bvh.node_mem || s->bvh.prims) bvh_free(&s->bvh);
-    for (i = 0; i < s->n_emitters; i++) free(s->emitters[i].tri_cdf);
+    for (i = 0; i < s->n_emitters; i++) {
+        free(s->emitters[i].tri_cdf);
+        free(s->emitters[i].planes);
+        inf_free(s->emitters[i].inf);
+    }
     for (i = 0; i < s->n_strings; i++) free(s->strings[i]);
     free(s->strings);
     free(s->P);
@@ -2176,6 +2385,11 @@ void scene_dump(const Scene *s, FILE *f)
             Y += (double)xyz[1] * spec_eval(&Le, (float)lam);
         }
         for (b = 0; b < SPD_BINS; b++) bins += spec_bin_average(&Le, b) * SPD_BIN_NM;
+        if (e->inf)
+            fprintf(f, "  [%d] infinite light, %s, scale %g, Y(Le) %.4g over %g-%g nm (mean), "
+                    "power %.4g\n", i, e->inf->res ? "image map" : "constant", e->scale, Y,
+                    LAMBDA_LO, LAMBDA_HI, SPECNEE_PI * e->area * bins);
+        else
         fprintf(f, "  [%d] shape %d, scale %g, %s, Y(Le) %.4g over %g-%g nm, area %g, power %.4g\n",
                 i, e->shape, e->scale, e->twosided ? "two-sided" : "one-sided", Y,
                 LAMBDA_LO, LAMBDA_HI, e->area, SPECNEE_PI * e->area * (e->twosided ? 2.0 : 1.0) * bins);

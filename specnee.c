@@ -283,6 +283,10 @@ static int render_main(int argc, char **argv)
         scene_free(&scene);
         return 2;
     }
+    if (scene.n_emitters == 0)
+        /* pbrt-v4 warns and renders; so does specnee (exit 0, docs/conventions.md 1) */
+        fprintf(stderr, "%s: warning: no light sources (AreaLightSource or LightSource) in the "
+                        "scene: the image is black\n", a.scene);
     a.ro.progress = !a.quiet && isatty(fileno(stderr));
     out = a.out ? a.out : scene.settings.filename;
     if (a.mark_insets && (strlen(out) < 4 || strcmp(out + strlen(out) - 4, ".png") || a.res_w > 0)) {

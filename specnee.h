@@ -68,6 +68,8 @@
 #define SPATIAL_SAMPLES 128 /* @@ receiver points per voxel (pbrt-v3) */
 #define LIGHT_TREE_BINS 12  /* @@ split candidates per axis in the light tree build */
 #define LIGHT_CLUSTER_TRIS 4 /* @@ triangles per light-tree leaf of a split emissive mesh */
+#define REACH_MAX_TRIS 64   /* @@ emitter meshes up to this size get the exact per-triangle
+                               "which side does it light" test (lights.c section 4) */
 #define RR_START_DEPTH 1    /* @@ Russian roulette from this depth on (pbrt-v4: after depth 1) */
 #define DEFAULT_SPP 16
 #define DEFAULT_MAXDEPTH 5  /* pbrt-v4's default for Integrator "path" */
@@ -195,6 +197,10 @@ int   spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
                     const char *file, int line);
 void  spec_blackbody(Spectrum *s, float kelvin);  /* normalised to a peak of 1 (pbrt-v4) */
 
+/* The sigmoid fit behind spec_from_rgb, for infinite.c's image maps: coefficients for a
+   colour whose largest component is 1/2, and the shape sigmoid(poly(lambda)). */
+void  spec_rgb_coeffs(const double target[3], double c[3]);
+float spec_sigmoid_eval(const float c[3], float lambda_nm);
 /* CIE 1931 2-degree colour matching functions at lambda (nm), linear in the 5 nm CIE table. */
 void  cie_xyz(float lambda_nm, float xyz[3]);
 double cie_y_integral(float lo_nm, float hi_nm); /* sum of ybar at 1 nm steps over [lo, hi] */
@@ -356,16 +362,50 @@ int   refract_dir(Vec3 w, Vec3 n, float eta, float *etap, Vec3 *wt);
 /* ======================================================================
    7. Emitters and emitter selection (lights.c)
    ====================================================================== */
+/* An infinite light (LightSource "infinite", infinite.c): light arriving from every
+   direction, from infinitely far away.  Constant (one spectrum) or an image map in
+   pbrt-v4's equal-area octahedral layout, a square RGB image whose texel (x, y)
+   (row 0 at the top) covers the directions equal_area_square_to_sphere maps its
+   cell to, in the light's frame (the CTM at the LightSource).  RGB texels become
+   spectra as pbrt-v4's RGBIlluminantSpectrum does: 2 max(rgb) x sigmoid(quadratic
+   in lambda) x D65. */
 typedef struct {
-    int shape;                 /* the Shape that emits */
+    Xform world_from_light;    /* CTM at the LightSource (rotation expected) */
+    int res;                   /* image map: res x res texels; 0: constant */
+    float *texel;              /* 4 floats per texel: m = 2 max(rgb) and the sigmoid
+                                  polynomial's 3 coefficients (spectrum.c) */
+    float *cdf_rows;           /* res + 1: marginal CDF over rows (pbrt-v4: texel weight =
+                                  the mean of its R, G, B) */
+    float *cdf_cols;           /* res x (res + 1): each row's conditional CDF */
+    float *row_sum;            /* res: each row's weight sum */
+    double weight_sum;         /* sum of all texel weights (0: sampled uniformly) */
+    Vec3 center; double radius;/* the scene's bounding sphere (power, NEE points) */
+    Spectrum mean;             /* image map: the RGB illuminant spectrum of its mean colour
+                                  (selection weights only) */
+    const char *file; int line;/* the LightSource directive, for messages */
+} InfiniteLight;
+
+typedef struct {
+    int shape;                 /* the Shape that emits; -1 for an infinite light */
+    InfiniteLight *inf;        /* NULL for an area light */
     Spectrum L;                /* the spectrum as given in the file (its shape matters) */
     float scale;               /* "float scale" */
     int twosided;
     /* geometry, filled by emitters_prepare at load time (the radiance Le depends on
        the wavelength range a render samples, so it lives with the render: see
        light_sampler_build and light_Le) */
-    double area;               /* total area (sampling picks a triangle by area) */
+    double area;               /* total area (sampling picks a triangle by area); infinite:
+                                  4 pi radius^2, so that its power pi area int Le is
+                                  pbrt-v4's Phi = 4 pi^2 R^2 int Le */
     float *tri_cdf;            /* tri_count + 1 entries for meshes */
+    /* which side it lights (emitter_can_reach): a point p can receive light from
+       a one-sided triangle only if it lies in front of the triangle's plane (off
+       the plane, either side, when two-sided).  Meshes of up to REACH_MAX_TRIS
+       triangles keep each triangle's plane; a sphere lights its outside (its
+       inside when flipped); bigger meshes are never ruled out. */
+    int n_planes;              /* 0: no plane test */
+    double *planes;            /* 4 per triangle: oriented unit normal n, offset d = n . v0 */
+    double reach_eps;          /* distance below which a point counts as in the plane */
 } Emitter;
 
 /* A point sampled on an emitter, as seen from a reference point. */
@@ -419,6 +459,12 @@ typedef struct {
     int spp, seed, maxdepth;
     int spp_set, seed_set, maxdepth_set; /* given in the file */
     char lightsampler[32];     /* Integrator "string lightsampler", "" if unset */
+    /* thin lens (pbrt-v4 PerspectiveCamera): 0 = pinhole */
+    float lens_radius, focal_distance;   /* "lensradius" = 0, "focaldistance" = 1e6 */
+    /* pbrt-v4's sensor: every sample's XYZ is multiplied by the imaging ratio
+       (shutterclose - shutteropen) * iso / 100, then scaled down so that its largest
+       component is at most max_component (Film "maxcomponentvalue", default inf) */
+    float imaging_ratio, max_component;
 } SceneSettings;
 
 typedef struct Scene {
@@ -499,14 +545,41 @@ int  img_cmd_diff(int argc, char **argv, FILE *out, FILE *err);
    the wavelength range a render samples. */
 int   emitters_prepare(Scene *s, Error *err);
 /* Emitter e's radiance for a film that integrates [lo, hi] nm (pbrt-v4: Le = scale
-   * L / sum_{1 nm} ybar L over the range); 0 and a message if it emits nothing there. */
+   * L / sum_{1 nm} ybar L over the range); 0 and a message if it emits nothing there.
+   For an image map (L holds D65) Le is the spectrum of the map's mean colour, a
+   stand-in used only by the selection tables. */
 int   emitter_radiance(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *Le, Error *err);
 /* Sample a point on the whole of emitter e by area (a triangle by area, then uniform
    on it).  Geometry only: the radiance comes from light_Le. */
 int   emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2,
                      EmitterSample *out);
-/* Solid-angle pdf of emitter_sample producing point p (normal n) from ref. */
+/* Solid-angle pdf of emitter_sample producing point p (normal n) from ref.  For an
+   infinite light the direction p - ref counts. */
 float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n);
+
+/* Infinite lights (infinite.c).  dir: unit world direction towards the light (the
+   direction of a ray that escapes).  Radiance and solid-angle pdf of inf_sample.
+   Le and k come from the render (light_sampler_build): Le = the emitter's
+   normalised radiance (constant light), k = scale / sum_{lo..hi} ybar L, the
+   factor that turns an image map's texel spectrum into radiance. */
+float inf_Le(const Emitter *em, const Spectrum *Le, double k, Vec3 dir, float lambda_nm);
+float inf_pdf(const Emitter *em, Vec3 dir);
+/* A direction with density inf_pdf (piecewise constant over texels; uniform for a
+   constant light); 0 if none. */
+int   inf_sample(const Emitter *em, float u1, float u2, Vec3 *dir, float *pdf);
+/* pbrt-v4's equal-area octahedral map (Clarberg 2008): the unit square <-> the
+   unit sphere, +z at the centre, -z at the corners. */
+Vec3  equal_area_square_to_sphere(float u, float v);
+void  equal_area_sphere_to_square(Vec3 d, float *u, float *v);
+/* Build an image map's texels and distribution from an RGB image (rows top to
+   bottom); 0 and a message on a non-square or non-finite image. */
+int   inf_set_image(InfiniteLight *inf, const Image *im, const char *file, int line, Error *err);
+void  inf_free(InfiniteLight *inf);
+/* 0 when emitter e certainly sends no light to the point p (p behind every
+   triangle of a one-sided emitter, or in their planes - e.g. on the emitter
+   itself -, or on the dark side of a sphere); 1 when it may.  Conservative: never
+   0 where light could arrive from farther than reach_eps off a triangle's plane. */
+int   emitter_can_reach(const Scene *s, int e, Vec3 p);
 
 typedef struct {
     SelStrategy strategy;

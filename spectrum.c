@@ -1233,6 +1233,25 @@ int spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
     return 1;
 }
 
+/* The sigmoid-polynomial fit of spec_from_rgb for one colour whose largest
+   component is 1/2 (an RGB illuminant divided by twice its maximum): used by
+   infinite.c, which tabulates it for image maps.  A grey target gives c = 0. */
+void spec_rgb_coeffs(const double target[3], double c[3])
+{
+    RgbFit fit;
+    if (target[0] == target[1] && target[1] == target[2]) { c[0] = c[1] = c[2] = 0.0; return; }
+    rgb_fit_init(&fit);
+    rgb_fit(&fit, target, c);
+}
+
+/* sigmoid((c0 x + c1) x + c2) with x = (lambda - SPEC_MIN) / (SPEC_MAX - SPEC_MIN),
+   the spectral shape spec_from_rgb tabulates. */
+float spec_sigmoid_eval(const float c[3], float lambda_nm)
+{
+    double x = ((double)lambda_nm - SPEC_MIN) / (double)(SPEC_N - 1);
+    return (float)sigmoid(((double)c[0] * x + c[1]) * x + c[2]);
+}
+
 /* ======================================================================
    12. Wavelength sampling: uniform, or tabulated importance, rotated in CDF space
    ====================================================================== */
@@ -1541,9 +1560,15 @@ static int spectrum_table(const char *path, int power_metric, int svg)
         printf("# T_e(b) = bin average of emitter e's Le over bin b%s; P(e|b) = T_e(b) / sum_k T_k(b)\n",
                power_metric ? " x area x sides" : "");
         printf("# (P is '-' where no emitter emits: there the spectral strategies fall back to spatial)\n");
-        for (e = 0; e < n; e++)
-            printf("# emitter %d: %s:%d, area %.6g\n", e, scene.shapes[scene.emitters[e].shape].file,
-                   scene.shapes[scene.emitters[e].shape].line, scene.emitters[e].area);
+        for (e = 0; e < n; e++) {
+            const Emitter *em = &scene.emitters[e];
+            if (em->inf)
+                printf("# emitter %d: %s:%d, infinite light, area 4 pi R^2 = %.6g\n", e,
+                       em->inf->file, em->inf->line, em->area);
+            else
+                printf("# emitter %d: %s:%d, area %.6g\n", e, scene.shapes[em->shape].file,
+                       scene.shapes[em->shape].line, em->area);
+        }
         printf("# bin       nm");
         for (e = 0; e < n; e++) printf("     T_%-4d", e);
         for (e = 0; e < n; e++) printf("  P_%-4d", e);

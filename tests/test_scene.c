@@ -667,8 +667,8 @@ REJECT(rej_fov_zero, "Camera \"perspective\" \"float fov\" 0\nWorldBegin\n", 1, 
 REJECT(rej_fov_180, "Camera \"perspective\" \"float fov\" 180\nWorldBegin\n", 1, "fov", NULL)
 REJECT(rej_camera_type, "Camera \"orthographic\"\nWorldBegin\n", 1,
        "valid pbrt-v4 but not in the specnee subset", "orthographic")
-REJECT(rej_integrator_type, "Integrator \"volpath\"\nWorldBegin\n", 1,
-       "valid pbrt-v4 but not in the specnee subset", "volpath")
+REJECT(rej_integrator_type, "Integrator \"mlt\"\nWorldBegin\n", 1,
+       "valid pbrt-v4 but not in the specnee subset", "mlt")
 REJECT(rej_regularize, "Integrator \"path\" \"bool regularize\" true\nWorldBegin\n", 1, "regularize", NULL)
 REJECT(rej_negative_radius, "WorldBegin\nShape \"sphere\" \"float radius\" -2\n", 2, "radius", NULL)
 REJECT(rej_sphere_zmin, "WorldBegin\nShape \"sphere\" \"float zmin\" 0\n", 2, "zmin",

@@ -1,0 +1,440 @@
+/* tests/test_pbrt.c - pbrt-v4 settings that real scene files use (issue 20): the
+   film's imaging ratio (iso, shutter interval) and clamp (maxcomponentvalue), the
+   gbuffer film read as rgb, the volpath/bdpt/sppm integrators rendered by path,
+   the thin-lens camera; each checked against pbrt-v4's documented formula.
+
+   The scenes are a square emitter facing a camera at the origin that looks down
+   +z (no LookAt: camera space is world space), on a black background, so every
+   pixel value is the emitter's radiance times the fraction of the pixel (and of
+   the lens) that sees it. */
+#include "test.h"
+#include <stdlib.h>
+#include <string.h>
+
+/* A two-sided square emitter of half-size 0.5 at depth 5, luminance `scale`,
+   seen by a 64x64 camera with a 30 degree fov and a box filter; `camera` and
+   `film` are extra parameters. */
+static void square_scene_film(char *buf, size_t cap, const char *type, const char *camera,
+                              const char *film, float scale)
+{
+    snprintf(buf, cap,
+             "Film \"%s\" \"integer xresolution\" 64 \"integer yresolution\" 64 %s\n"
+             "PixelFilter \"box\"\n"
+             "Camera \"perspective\" \"float fov\" 30 %s\n"
+             "WorldBegin\n"
+             "AttributeBegin\n"
+             " AreaLightSource \"diffuse\" \"bool twosided\" true \"float scale\" %g\n"
+             " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+             "  \"point3 P\" [ -0.5 -0.5 5  0.5 -0.5 5  0.5 0.5 5  -0.5 0.5 5 ]\n"
+             "AttributeEnd\n", type, film, camera, scale);
+}
+
+static void square_scene(char *buf, size_t cap, const char *camera, const char *film, float scale)
+{
+    square_scene_film(buf, cap, "rgb", camera, film, scale);
+}
+
+static int render_text(T *t, const char *text, int spp, Image *im)
+{
+    Scene s;
+    RenderOptions o;
+    RenderStats st;
+    Error err;
+    int ok;
+    if (!test_load_scene(t, &s, text)) return 0;
+    render_options_default(&o);
+    o.spp = spp;
+    o.seed = 5;
+    o.threads = 2;
+    ok = render(&s, &o, im, &st, &err);
+    if (!ok) test_failf(t, __FILE__, __LINE__, "render: %s", err.msg);
+    scene_free(&s);
+    return ok;
+}
+
+/* pbrt-v4 PixelSensor::Create: imaging ratio = exposure time * ISO / 100, the
+   exposure time being Camera shutterclose - shutteropen.  The image scales by
+   exactly that ratio (same paths, every sample multiplied). */
+static void test_iso_exposure(T *t)
+{
+    static char buf[4096];
+    Image a, b, c;
+    int i;
+    square_scene(buf, sizeof buf, "", "", 1.0f);
+    if (!render_text(t, buf, 2, &a)) return;
+    square_scene(buf, sizeof buf, "", "\"float iso\" 300", 1.0f);
+    if (!render_text(t, buf, 2, &b)) { img_free(&a); return; }
+    square_scene(buf, sizeof buf, "\"float shutteropen\" 0.25 \"float shutterclose\" 0.75",
+                 "\"float iso\" 400", 1.0f);
+    if (!render_text(t, buf, 2, &c)) { img_free(&a); img_free(&b); return; }
+    for (i = 0; i < 3 * a.w * a.h; i++) {
+        double x = a.rgb[i];
+        if (!(fabs(b.rgb[i] - 3.0 * x) <= 1e-6 * fabs(3.0 * x)) ||
+            !(fabs(c.rgb[i] - 2.0 * x) <= 1e-6 * fabs(2.0 * x))) {
+            test_failf(t, __FILE__, __LINE__, "value %d: %g, with iso 300: %g (want x3), with "
+                       "iso 400 and a 0.5 shutter: %g (want x2)", i, x, b.rgb[i], c.rgb[i]);
+            break;
+        }
+    }
+    CHECK(t, !t->failed, "(see above)");
+    img_free(&a); img_free(&b); img_free(&c);
+    {
+        Scene s;
+        Error e;
+        square_scene(buf, sizeof buf, "\"float shutteropen\" 1 \"float shutterclose\" 1", "", 1.0f);
+        CHECK(t, !scene_load_string(&s, buf, "t.pbrt", &e) && strstr(e.msg, "t.pbrt:3:") &&
+              strstr(e.msg, "never opens"), "a closed shutter is accepted: %s", e.msg);
+        scene_free(&s);
+    }
+}
+
+/* Linear sRGB back to XYZ (the inverse of xyz_to_linear_srgb, by columns). */
+static void srgb_to_xyz(const float rgb[3], double xyz[3])
+{
+    double M[3][3], inv[3][3], det;
+    int i, j;
+    for (j = 0; j < 3; j++) {
+        double e[3] = { 0, 0, 0 }, r[3];
+        e[j] = 1.0;
+        xyz_to_linear_srgb(e, r);
+        for (i = 0; i < 3; i++) M[i][j] = r[i];
+    }
+    det = M[0][0] * (M[1][1] * M[2][2] - M[1][2] * M[2][1]) - M[0][1] * (M[1][0] * M[2][2] - M[1][2] * M[2][0])
+        + M[0][2] * (M[1][0] * M[2][1] - M[1][1] * M[2][0]);
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            int a = (j + 1) % 3, b = (j + 2) % 3, c = (i + 1) % 3, d = (i + 2) % 3;
+            inv[i][j] = (M[a][c] * M[b][d] - M[a][d] * M[b][c]) / det;
+        }
+    for (i = 0; i < 3; i++) xyz[i] = inv[i][0] * rgb[0] + inv[i][1] * rgb[1] + inv[i][2] * rgb[2];
+}
+
+/* pbrt-v4 RGBFilm::AddSample: each sample's sensor RGB (XYZ for the default
+   cie1931 sensor) is scaled down so that its largest component is at most
+   maxcomponentvalue.  So no pixel's XYZ can exceed it; without the clamp the
+   bright emitter (Y = 10) does; a clamp above every sample changes nothing. */
+static void test_maxcomponentvalue(T *t)
+{
+    static char buf[4096];
+    Image a, b, c;
+    double worst = 0.0, worst_free = 0.0;
+    int i, k;
+    square_scene(buf, sizeof buf, "", "", 10.0f);
+    if (!render_text(t, buf, 4, &a)) return;
+    square_scene(buf, sizeof buf, "", "\"float maxcomponentvalue\" 2", 10.0f);
+    if (!render_text(t, buf, 4, &b)) { img_free(&a); return; }
+    square_scene(buf, sizeof buf, "", "\"float maxcomponentvalue\" 1e30", 10.0f);
+    if (!render_text(t, buf, 4, &c)) { img_free(&a); img_free(&b); return; }
+    for (i = 0; i < a.w * a.h; i++) {
+        double xa[3], xb[3];
+        srgb_to_xyz(&a.rgb[3 * i], xa);
+        srgb_to_xyz(&b.rgb[3 * i], xb);
+        for (k = 0; k < 3; k++) {
+            if (xb[k] > worst) worst = xb[k];
+            if (xa[k] > worst_free) worst_free = xa[k];
+        }
+    }
+    CHECK(t, worst_free > 5.0, "the unclamped image peaks at XYZ %g only: the test has no power", worst_free);
+    CHECK(t, worst <= 2.0 * (1.0 + 1e-5), "a clamped pixel has an XYZ component %g > 2", worst);
+    CHECK(t, worst > 1.9, "the clamped image peaks at %g, far below the clamp 2", worst);
+    CHECK(t, memcmp(a.rgb, c.rgb, sizeof(float) * 3 * (size_t)a.w * a.h) == 0,
+          "a clamp of 1e30 changed the image");
+    img_free(&a); img_free(&b); img_free(&c);
+}
+
+/* Film "gbuffer" is read as "rgb" (same settings, same image), Integrator
+   volpath, bdpt and sppm render as path with their maxdepth; parameters those
+   integrators do not read stay errors, as in pbrt-v4. */
+static void test_film_and_integrator_aliases(T *t)
+{
+    static const char *const integ[] = { "volpath", "bdpt", "sppm" };
+    static char buf[4096], text[8192];
+    Image ref, im;
+    Scene s;
+    Error e;
+    int i;
+    square_scene(buf, sizeof buf, "", "", 1.0f);
+    snprintf(text, sizeof text, "Integrator \"path\" \"integer maxdepth\" 3\n%s", buf);
+    if (!render_text(t, text, 2, &ref)) return;
+    for (i = 0; i < 4; i++) {
+        int same;
+        if (i < 3) snprintf(text, sizeof text, "Integrator \"%s\" \"integer maxdepth\" 3\n%s", integ[i], buf);
+        else {
+            char g[4096];
+            square_scene_film(g, sizeof g, "gbuffer", "", "\"string filename\" \"g.exr\"", 1.0f);
+            snprintf(text, sizeof text, "Integrator \"path\" \"integer maxdepth\" 3\n%s", g);
+        }
+        CHECK(t, test_load_scene(t, &s, text), "(load)");
+        CHECK(t, s.settings.maxdepth == 3 && s.settings.maxdepth_set, "%s: maxdepth not read",
+              i < 3 ? integ[i] : "gbuffer");
+        scene_free(&s);
+        if (!render_text(t, text, 2, &im)) { img_free(&ref); return; }
+        same = memcmp(im.rgb, ref.rgb, sizeof(float) * 3 * (size_t)im.w * im.h) == 0;
+        img_free(&im);
+        if (!same) { img_free(&ref); CHECK(t, 0, "%s: not the path image", i < 3 ? integ[i] : "gbuffer"); }
+    }
+    img_free(&ref);
+    CHECK(t, !scene_load_string(&s, "Integrator \"bdpt\" \"string lightsampler\" \"bvh\"\nWorldBegin\n",
+                                "t.pbrt", &e) && strstr(e.msg, "t.pbrt:1:") && strstr(e.msg, "lightsampler"),
+          "bdpt accepted a lightsampler (pbrt-v4 does not read one): %s", e.msg);
+    scene_free(&s);
+    CHECK(t, !scene_load_string(&s, "Integrator \"bdpt\" \"bool visualizestrategies\" true\nWorldBegin\n",
+                                "t.pbrt", &e) && strstr(e.msg, "visualizestrategies"),
+          "bdpt's visualizestrategies accepted: %s", e.msg);
+    scene_free(&s);
+}
+
+/* Second moment about the centroid of the image's luminance (pixel centres),
+   and the total. */
+static void image_moments(const Image *im, double *total, double *m2)
+{
+    double sw = 0, sx = 0, sy = 0, sxx = 0;
+    int x, y;
+    for (y = 0; y < im->h; y++)
+        for (x = 0; x < im->w; x++) {
+            double w = im->rgb[3 * (y * im->w + x) + 1];
+            sw += w; sx += w * (x + 0.5); sy += w * (y + 0.5);
+            sxx += w * ((x + 0.5) * (x + 0.5) + (y + 0.5) * (y + 0.5));
+        }
+    *total = sw;
+    *m2 = sw > 0 ? sxx / sw - (sx * sx + sy * sy) / (sw * sw) : 0.0;
+}
+
+/* Thin lens (pbrt-v4 PerspectiveCamera): a point at depth z seen through a lens
+   of radius r focused at f spreads into a disk of radius r |1/f - 1/z| in tan
+   units, i.e. R = r |1/f - 1/z| (h/2) / tan(fov/2) pixels (h = 64, fov = 30).
+   Blurring adds the disk's second moment R^2/2 to the image's (moments of
+   independent offsets add), keeps the image's total, and a lens focused on the
+   square leaves it as sharp as the pinhole.  With r = 1/3, f = 2, z = 5:
+   R = 0.1 tan units = 11.9 pixels, R^2/2 = 71.3 pixels^2 against a pinhole
+   moment of 95 (the square, 2 a^2/3 with a = 11.9) + 1/6 (the pixels). */
+static void test_thin_lens(T *t)
+{
+    static char buf[4096];
+    Image pin, blur, sharp;
+    double t0, m0, t1, m1, t2, m2, R, want;
+    int spp = test_scaled(32, 16);
+    square_scene(buf, sizeof buf, "", "", 1.0f);
+    if (!render_text(t, buf, spp, &pin)) return;
+    square_scene(buf, sizeof buf, "\"float lensradius\" 0.333333 \"float focaldistance\" 2", "", 1.0f);
+    if (!render_text(t, buf, spp, &blur)) { img_free(&pin); return; }
+    square_scene(buf, sizeof buf, "\"float lensradius\" 0.333333 \"float focaldistance\" 5", "", 1.0f);
+    if (!render_text(t, buf, spp, &sharp)) { img_free(&pin); img_free(&blur); return; }
+    image_moments(&pin, &t0, &m0);
+    image_moments(&blur, &t1, &m1);
+    image_moments(&sharp, &t2, &m2);
+    img_free(&pin); img_free(&blur); img_free(&sharp);
+    R = 0.333333 * fabs(1.0 / 2.0 - 1.0 / 5.0) * 32.0 / tan(15.0 * SPECNEE_PI / 180.0);
+    want = m0 + R * R / 2.0;
+    CHECK(t, fabs(m0 - (2.0 / 3.0 * pow(0.1 * 32.0 / tan(15.0 * SPECNEE_PI / 180.0), 2) + 1.0 / 6.0)) < 0.02 * m0,
+          "pinhole: second moment %g, want that of the square", m0);
+    CHECK(t, fabs(m1 - want) < 0.03 * want, "out of focus: second moment %g, want %g + R^2/2 = %g "
+          "(R = %.2f pixels)", m1, m0, want, R);
+    CHECK(t, fabs(m2 - m0) < 0.02 * m0, "in focus: second moment %g, the pinhole's %g", m2, m0);
+    CHECK(t, fabs(t1 - t0) < 0.02 * t0 && fabs(t2 - t0) < 0.02 * t0,
+          "the lens changed the image's total: %g, %g vs %g", t1, t2, t0);
+    {
+        Scene s;
+        Error e;
+        square_scene(buf, sizeof buf, "\"float lensradius\" -1", "", 1.0f);
+        CHECK(t, !scene_load_string(&s, buf, "t.pbrt", &e) && strstr(e.msg, "lensradius"),
+              "a negative lens radius is accepted: %s", e.msg);
+        scene_free(&s);
+    }
+}
+
+/* ---------------------------------------------------------------- infinite lights */
+
+/* pbrt-v4's equal-area octahedral map: the inverse undoes it, +z is the centre,
+   and it is equal-area: uniform points of the square give z uniform in [-1, 1]
+   (Archimedes), checked by chi-square over 20 bins. */
+static void test_equal_area_map(T *t)
+{
+    Rng r;
+    int i, bins[20] = { 0 }, n = test_scaled(40000, 10000);
+    double chi2 = 0.0;
+    Vec3 c = equal_area_square_to_sphere(0.5f, 0.5f);
+    CHECK(t, fabsf(c.z - 1.0f) < 1e-6f, "the centre maps to (%g %g %g), not +z", c.x, c.y, c.z);
+    c = equal_area_square_to_sphere(0.0f, 0.0f);
+    CHECK(t, fabsf(c.z + 1.0f) < 1e-6f, "a corner maps to (%g %g %g), not -z", c.x, c.y, c.z);
+    rng_seed(&r, 11, 0);
+    for (i = 0; i < n; i++) {
+        float u = rng_float(&r), v = rng_float(&r), u2, v2;
+        Vec3 d = equal_area_square_to_sphere(u, v);
+        int b = (int)((d.z + 1.0f) * 10.0f);
+        CHECK(t, fabsf(v3_len(d) - 1.0f) < 1e-5f, "not a unit vector at (%g, %g)", u, v);
+        equal_area_sphere_to_square(d, &u2, &v2);
+        CHECK(t, fabsf(u2 - u) < 2e-4f && fabsf(v2 - v) < 2e-4f,
+              "(%g, %g) -> (%g %g %g) -> (%g, %g)", u, v, d.x, d.y, d.z, u2, v2);
+        bins[b < 0 ? 0 : b > 19 ? 19 : b]++;
+    }
+    for (i = 0; i < 20; i++) chi2 += (bins[i] - n / 20.0) * (bins[i] - n / 20.0) / (n / 20.0);
+    CHECK(t, chi2 < 19 + 5 * sqrt(38.0), "z of uniform square points is not uniform: chi2 %g, 19 dof", chi2);
+}
+
+/* A 16 x 16 map with one texel 200 times brighter: its pdf integrates to 1 over
+   the sphere (exactly, texel by texel: the map is equal-area) also when the light
+   is rotated, and directions from inf_sample fall in each texel as often as its
+   weight says (chi-square, 255 dof) with the pdf inf_pdf gives them. */
+static void test_env_map_pdf_and_sampling(T *t)
+{
+    static char text[2048];
+    Image im;
+    Scene s;
+    Rng r;
+    const Emitter *em;
+    const char *path = test_path(t, "env_one_bright.pfm");
+    static double count[256];
+    double integral = 0.0, chi2 = 0.0, wsum = 0.0, w[256];
+    int x, y, i, k, n = test_scaled(100000, 20000), rot;
+    CHECK(t, img_alloc(&im, 16, 16), "out of memory");
+    for (i = 0; i < 256; i++) { im.rgb[3 * i] = 0.2f; im.rgb[3 * i + 1] = 0.3f; im.rgb[3 * i + 2] = 0.4f; }
+    im.rgb[3 * (3 * 16 + 12)] = 60.0f; im.rgb[3 * (3 * 16 + 12) + 1] = 60.0f; im.rgb[3 * (3 * 16 + 12) + 2] = 60.0f;
+    for (i = 0; i < 256; i++) { w[i] = (im.rgb[3 * i] + im.rgb[3 * i + 1] + im.rgb[3 * i + 2]) / 3.0; wsum += w[i]; }
+    CHECK(t, pfm_write(&im, path), "cannot write %s", path);
+    img_free(&im);
+    for (rot = 0; rot < 2; rot++) {
+        snprintf(text, sizeof text, "WorldBegin\n%s\nLightSource \"infinite\" \"string filename\" \"%s\"\n",
+                 rot ? "Rotate 37 1 2 3" : "", path);
+        if (!test_load_scene(t, &s, text)) return;
+        em = &s.emitters[0];
+        CHECK(t, em->inf && em->inf->res == 16, "not a 16 x 16 image map");
+        /* integral over the sphere: 16 points per texel, each texel 4 pi / 256 sr */
+        integral = 0.0;
+        for (y = 0; y < 16; y++)
+            for (x = 0; x < 16; x++)
+                for (k = 0; k < 16; k++) {
+                    Vec3 d = equal_area_square_to_sphere((x + (k % 4 + 0.5f) / 4) / 16, (y + (k / 4 + 0.5f) / 4) / 16);
+                    d = v3_norm(xf_vector(&em->inf->world_from_light, d));
+                    integral += inf_pdf(em, d) * (4.0 * SPECNEE_PI / 256.0) / 16.0;
+                }
+        CHECK(t, fabs(integral - 1.0) < 1e-3, "rotation %d: the pdf integrates to %.6f", rot, integral);
+        if (rot == 0) {
+            rng_seed(&r, 3, 3);
+            for (i = 0; i < 256; i++) count[i] = 0;
+            for (i = 0; i < n; i++) {
+                Vec3 d;
+                float pdf, u, v;
+                int tx, ty;
+                CHECK(t, inf_sample(em, rng_float(&r), rng_float(&r), &d, &pdf), "no sample");
+                CHECK(t, pdf == inf_pdf(em, d), "inf_sample's pdf %g != inf_pdf %g", pdf, inf_pdf(em, d));
+                equal_area_sphere_to_square(d, &u, &v);
+                tx = (int)(u * 16); ty = (int)(v * 16);
+                if (tx > 15) tx = 15;
+                if (ty > 15) ty = 15;
+                count[ty * 16 + tx] += 1;
+            }
+            for (i = 0; i < 256; i++) {
+                double ex = n * w[i] / wsum;
+                chi2 += (count[i] - ex) * (count[i] - ex) / ex;
+            }
+            CHECK(t, chi2 < 255 + 5 * sqrt(510.0), "sampled texels do not follow the weights: chi2 %g, 255 dof", chi2);
+            CHECK(t, count[3 * 16 + 12] > 0.4 * n, "the bright texel got %g of %d samples", count[3 * 16 + 12], n);
+        }
+        scene_free(&s);
+    }
+}
+
+/* Mean and standard error of Y over the pixels [x0, x1) x [y0, y1). */
+static void region_Y(const Image *im, int x0, int y0, int x1, int y1, double *mean, double *se)
+{
+    double s1 = 0, s2 = 0;
+    int x, y, n = 0;
+    for (y = y0; y < y1; y++)
+        for (x = x0; x < x1; x++) {
+            const float *p = im->rgb + 3 * (y * im->w + x);
+            double Y = 0.2126390 * p[0] + 0.7151687 * p[1] + 0.0721923 * p[2];
+            s1 += Y; s2 += Y * Y; n++;
+        }
+    *mean = s1 / n;
+    *se = sqrt(fmax(0.0, s2 / n - *mean * *mean) / (n - 1));
+}
+
+/* The furnace: a diffuse sphere of albedo 0.5 under an environment of luminance
+   1 reflects luminance 0.5 everywhere (convex: one bounce), and the environment
+   seen directly has luminance 1.  For a constant light with L flat, an rgb L, a
+   white 8 x 8 image map (a texel (1, 1, 1) has luminance 1, pbrt-v4), and a
+   constant light given by its illuminance: E_v = 2 pi lux on an upward-facing
+   point means L = 2 (pbrt-v4: E = pi L), so the sphere shows 1. */
+static void test_env_furnace(T *t)
+{
+    static char text[2048];
+    static const char *const lights[] = {
+        "LightSource \"infinite\" \"spectrum L\" [ 400 1 700 1 ]",
+        "LightSource \"infinite\" \"rgb L\" [ 1 1 1 ]",
+        "LightSource \"infinite\" \"string filename\" \"%s\"",
+        "LightSource \"infinite\" \"spectrum L\" [ 400 3 700 3 ] \"float illuminance\" 6.283185307"
+    };
+    const char *path = test_path(t, "env_white.pfm");
+    Image im;
+    int i, k;
+    CHECK(t, img_alloc(&im, 8, 8), "out of memory");
+    for (k = 0; k < 3 * 64; k++) im.rgb[k] = 1.0f;
+    CHECK(t, pfm_write(&im, path), "cannot write %s", path);
+    img_free(&im);
+    for (i = 0; i < 4; i++) {
+        char light[512];
+        double m, se, want = i == 3 ? 1.0 : 0.5;
+        snprintf(light, sizeof light, lights[i], path);
+        snprintf(text, sizeof text,
+                 "Film \"rgb\" \"integer xresolution\" 32 \"integer yresolution\" 32\n"
+                 "LookAt 0 0 -5 0 0 0 0 1 0\nCamera \"perspective\" \"float fov\" 30\nPixelFilter \"box\"\n"
+                 "WorldBegin\n%s\nMaterial \"diffuse\" \"spectrum reflectance\" [ 400 0.5 700 0.5 ]\n"
+                 "Shape \"sphere\" \"float radius\" 1\n", light);
+        if (!render_text(t, text, test_scaled(32, 8), &im)) return;
+        region_Y(&im, 12, 12, 20, 20, &m, &se);
+        if (!(fabs(m - want) < TEST_K_SIGMA * se + 2e-3)) {
+            img_free(&im);
+            CHECK(t, 0, "light %d: the sphere has Y %.5f +- %.5f, want %g", i, m, se, want);
+        }
+        region_Y(&im, 0, 0, 4, 4, &m, &se);
+        img_free(&im);
+        CHECK(t, fabs(m - 2.0 * want) < TEST_K_SIGMA * se + 2e-3,
+              "light %d: the environment seen directly has Y %.5f +- %.5f, want %g", i, m, se, 2.0 * want);
+    }
+}
+
+/* What the subset does not read is said so: EXR (with a conversion command),
+   portals, a non-square map, another light type. */
+static void test_env_rejections(T *t)
+{
+    static const char *const bad[][2] = {
+        { "LightSource \"infinite\" \"string filename\" \"sky.exr\"", "imgtool convert --outfile sky.pfm sky.exr" },
+        { "LightSource \"infinite\" \"point3 portal\" [ 0 0 0 1 0 0 1 1 0 0 1 0 ]", "portal" },
+        { "LightSource \"point\"", "valid pbrt-v4 but not in the specnee subset" },
+        { "LightSource \"infinite\" \"string filename\" \"NONSQUARE\"", "not square" },
+        { "LightSource \"infinite\" \"rgb L\" [ 1 1 1 ] \"string filename\" \"x.pfm\"", "both" },
+    };
+    static char text[1024], line[512];
+    const char *path = test_path(t, "env_nonsquare.pfm");
+    Image im;
+    Scene s;
+    Error e;
+    int i;
+    CHECK(t, img_alloc(&im, 8, 4), "out of memory");
+    CHECK(t, pfm_write(&im, path), "cannot write");
+    img_free(&im);
+    for (i = 0; i < 5; i++) {
+        const char *nonsq = strstr(bad[i][0], "NONSQUARE");
+        if (nonsq) snprintf(line, sizeof line, "LightSource \"infinite\" \"string filename\" \"%s\"", path);
+        else snprintf(line, sizeof line, "%s", bad[i][0]);
+        snprintf(text, sizeof text, "WorldBegin\n%s\n", line);
+        e.msg[0] = 0;
+        CHECK(t, !scene_load_string(&s, text, "t.pbrt", &e), "accepted: %s", line);
+        CHECK(t, strncmp(e.msg, "t.pbrt:2:", 9) == 0 && strstr(e.msg, bad[i][1]) && !strchr(e.msg, '\n'),
+              "message \"%s\" lacks \"t.pbrt:2:\" or \"%s\"", e.msg, bad[i][1]);
+        scene_free(&s);
+    }
+}
+
+const TestCase tests_pbrt[] = {
+    { "pbrt_iso_exposure", test_iso_exposure },
+    { "pbrt_maxcomponentvalue", test_maxcomponentvalue },
+    { "pbrt_film_and_integrator_aliases", test_film_and_integrator_aliases },
+    { "pbrt_thin_lens", test_thin_lens },
+    { "pbrt_equal_area_map", test_equal_area_map },
+    { "pbrt_env_map_pdf_and_sampling", test_env_map_pdf_and_sampling },
+    { "pbrt_env_furnace", test_env_furnace },
+    { "pbrt_env_rejections", test_env_rejections },
+    { NULL, NULL }
+};
