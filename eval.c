@@ -47,8 +47,8 @@
 #define MAX_SEEDS 64
 #define MAX_REGIONS 9
 
-/* "name[:modifier]...": modifiers power, all, tput, importance, roughmis, single,
-   wide, nonee.  Returns 0 on an unknown name or modifier. */
+/* "name[:modifier]...": modifiers power, all, tput, importance, visible, mixture,
+   uniform (the wavelength pdf), roughmis, single, wide, nonee.  Returns 0 on an unknown name or modifier. */
 int eval_parse_variant(const char *spec, RenderOptions *o)
 {
     char buf[128], *tok, *save = NULL;
@@ -61,7 +61,10 @@ int eval_parse_variant(const char *spec, RenderOptions *o)
         if (!strcmp(tok, "power")) o->sel.power_metric = 1;
         else if (!strcmp(tok, "all")) o->sel.all_wavelengths = 1;
         else if (!strcmp(tok, "tput")) { o->sel.all_wavelengths = 1; o->sel.throughput_weighted = 1; }
-        else if (!strcmp(tok, "importance")) o->wl_importance = 1;
+        else if (!strcmp(tok, "importance")) o->wl_mode = WL_IMPORTANCE;
+        else if (!strcmp(tok, "visible")) o->wl_mode = WL_VISIBLE;
+        else if (!strcmp(tok, "mixture")) o->wl_mode = WL_MIXTURE;
+        else if (!strcmp(tok, "uniform")) o->wl_mode = WL_UNIFORM;
         else if (!strcmp(tok, "roughmis")) o->rough_mis = 1;
         else if (!strcmp(tok, "single")) o->single_wavelength = 1;
         else if (!strcmp(tok, "wide")) o->wl_wide = 1;

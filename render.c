@@ -631,19 +631,20 @@ RenderJob *render_begin(Scene *s, const RenderOptions *o, Error *err)
     j->R.s = s;
     j->R.o = o;
     camera_init(&j->R.cam, set);
-    if (o->wl_importance && s->n_emitters > 0) {
+    {
+        /* the wavelength pdf (spectrum.c); importance and mixture follow the
+           emitters' summed spectrum (none: the importance part is flat) */
         Spectrum sum;
         int e, k;
         spec_const(&sum, 0.0f);
         for (e = 0; e < s->n_emitters; e++)
             for (k = 0; k < SPEC_N; k++) sum.v[k] += s->emitters[e].Le.v[k];
-        if (!wl_pdf_importance(&j->R.wl, j->lo, j->hi, &sum)) {
-            error_set(err, NULL, 0, "cannot build the wavelength importance pdf");
+        if (o->wl_mode == WL_IMPORTANCE && s->n_emitters == 0) wl_pdf_uniform(&j->R.wl, j->lo, j->hi);
+        else if (!wl_pdf_build(&j->R.wl, o->wl_mode, j->lo, j->hi, &sum, o->wl_mix)) {
+            error_set(err, NULL, 0, "cannot build the %s wavelength pdf", wl_mode_name(o->wl_mode));
             free(j);
             return NULL;
         }
-    } else {
-        wl_pdf_uniform(&j->R.wl, j->lo, j->hi);
     }
     j->R.ls = light_sampler_build(s, &o->sel, err);
     if (!j->R.ls) { wl_pdf_free(&j->R.wl); free(j); return NULL; }
