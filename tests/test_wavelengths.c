@@ -161,7 +161,8 @@ static const char *camera_8 =
 
 /* White furnaces: a convex object inside a closed sphere whose inner surface emits
    L = 1.  A diffuse sphere of albedo 0.5 has Y = 0.5 everywhere; a lossless
-   dispersive glass sphere has Y = 1 although only the hero survives it. */
+   dispersive glass sphere has Y = 1 although only the hero survives it; both
+   have the colour of the equal-energy emitter (spec_to_xyz over 400-700 nm). */
 static void test_wl_furnaces(T *t)
 {
     static const char *inner[2] = {
@@ -170,6 +171,11 @@ static void test_wl_furnaces(T *t)
     static const double Yref[2] = { 0.5, 1.0 };
     static const WlMode modes[3] = { WL_VISIBLE, WL_MIXTURE, WL_IMPORTANCE };
     int obj, md, i;
+    Spectrum e;
+    double xyz_e[3], rgb_e[3];
+    spec_const(&e, 1.0f);
+    spec_to_xyz(&e, LAMBDA_LO, LAMBDA_HI, xyz_e);
+    xyz_to_linear_srgb(xyz_e, rgb_e);
     for (obj = 0; obj < 2; obj++)
         for (md = 0; md < 3; md++) {
             char text[2048];
@@ -193,9 +199,16 @@ static void test_wl_furnaces(T *t)
             scene_free(&s);
             for (i = 0; i < 4; i++) {
                 double Y = luminance(tl.mean[i]);
+                int c;
                 CHECK(t, fabs(Y - Yref[obj]) < K_SIGMA * tl.se[i][1] + 3e-3,
                       "%s furnace, %s wavelengths, tile %d: Y = %.5f +- %.2g, expected %g",
                       obj ? "glass" : "diffuse", wl_mode_name(modes[md]), i, Y, tl.se[i][1], Yref[obj]);
+                /* and the colour: Yref x the equal-energy white's linear sRGB */
+                for (c = 0; c < 3; c++)
+                    CHECK(t, fabs(tl.mean[i][c] - Yref[obj] * rgb_e[c]) < K_SIGMA * tl.se[i][c] + 3e-3,
+                          "%s furnace, %s wavelengths, tile %d: rgb[%d] = %.5f +- %.2g, expected %.5f",
+                          obj ? "glass" : "diffuse", wl_mode_name(modes[md]), i, c, tl.mean[i][c],
+                          tl.se[i][c], Yref[obj] * rgb_e[c]);
             }
         }
 }
