@@ -7,6 +7,7 @@
 #   make bench      benchmarks (not part of make test)
 #   make references high-spp reference renders (docs/ref/; long: see tools/references.sh)
 #   make eval       the strategy comparison behind docs/RESULTS.md (long: tools/eval.sh)
+#   make factorial  wavelength pdf x selection x rough dispersion (longer: tools/factorial.sh)
 #   make golden     regenerate the golden images of tests/golden/ (read its README first)
 #   make mutants    mutation testing: each bug of tests/mutants.txt must fail the suite
 #                   (not part of make test; tools/mutants.sh)
@@ -71,6 +72,9 @@ eval: specnee
 mutants:
 	sh tools/mutants.sh
 
+factorial: specnee
+	sh tools/factorial.sh
+
 golden: specnee
 	sh tests/golden.sh --update
 
@@ -78,4 +82,4 @@ clean:
 	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench tools/bench_lights
 	rm -rf build
 
-.PHONY: all run test bench references eval golden mutants clean
+.PHONY: all run test bench references eval factorial golden mutants clean

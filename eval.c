@@ -42,13 +42,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_VARIANTS 16
+#define MAX_VARIANTS 40      /* the factorial evaluation (tools/factorial.sh) runs 32 */
 #define MAX_SPP 16
 #define MAX_SEEDS 64
 #define MAX_REGIONS 9
 
 /* "name[:modifier]...": modifiers power, all, tput, importance, visible, mixture,
-   uniform (the wavelength pdf), roughmis, single, wide, nonee.  Returns 0 on an unknown name or modifier. */
+   mixture=M (weight M of visible), uniform (the wavelength pdf), roughmis, single,
+   wide, nonee.  Returns 0 on an unknown name or modifier. */
 int eval_parse_variant(const char *spec, RenderOptions *o)
 {
     char buf[128], *tok, *save = NULL;
@@ -64,6 +65,13 @@ int eval_parse_variant(const char *spec, RenderOptions *o)
         else if (!strcmp(tok, "importance")) o->wl_mode = WL_IMPORTANCE;
         else if (!strcmp(tok, "visible")) o->wl_mode = WL_VISIBLE;
         else if (!strcmp(tok, "mixture")) o->wl_mode = WL_MIXTURE;
+        else if (!strncmp(tok, "mixture=", 8)) {        /* mixture=M: with weight M */
+            char *end;
+            double m = strtod(tok + 8, &end);
+            if (*end || !(m > 0.0 && m <= 1.0)) return 0;
+            o->wl_mode = WL_MIXTURE;
+            o->wl_mix = (float)m;
+        }
         else if (!strcmp(tok, "uniform")) o->wl_mode = WL_UNIFORM;
         else if (!strcmp(tok, "roughmis")) o->rough_mis = 1;
         else if (!strcmp(tok, "single")) o->single_wavelength = 1;
@@ -229,7 +237,8 @@ static const char usage_converge[] =
     "         [--time cpu|wall] [--reuse]\n"
     "  variants: a strategy (uniform power spatial spd product spectral-spatial all)\n"
     "  with modifiers, e.g. spd:power, product:all, product:tput, spatial:importance,\n"
-    "  spatial:roughmis, spatial:single, spatial:nonee.  The first is the baseline.\n"
+    "  spatial:visible, spatial:mixture, spatial:mixture=0.1, spatial:roughmis,\n"
+    "  spatial:single, spatial:nonee.  The first is the baseline.\n"
     "  --time: the time axis and the equal-time comparison use process CPU time\n"
     "  (default: not charged while other programs run) or wall time.\n"
     "  --reuse: no rendering; the charts and tables are rebuilt from PREFIX.csv of an\n"

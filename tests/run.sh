@@ -247,6 +247,19 @@ else
     skip "repo_no_tracked_binaries: not a git checkout"
 fi
 
+# the factorial evaluation in miniature (tools/factorial.sh, tools/factor_table.sh):
+# one small scene, 2 x 2 x 2 levels, 2 seeds, spp 1 and 2; the factor table must
+# name every non-reference level with a finite gain and list all 8 configurations
+rm -rf tests/tmp/factorial
+if SCENES=wl-filter SEEDS=2 LADDER=1,2 WAVELENGTHS="uniform visible" SELECTIONS="spatial product" \
+       OUT=tests/tmp/factorial sh tools/factorial.sh > tests/tmp/factorial.txt 2>&1 &&
+   grep -q '^| wavelengths | visible (vs uniform) | [0-9.]* \[[0-9.]*, [0-9.]*\] |' tests/tmp/factorial/factors.md &&
+   grep -q '^| selection | product (vs spatial) |' tests/tmp/factorial/factors.md &&
+   grep -q '^| rough dispersion | mis (vs terminate) |' tests/tmp/factorial/factors.md &&
+   [ "$(grep -c '^| spatial:\|^| product:' tests/tmp/factorial/factors.md)" -eq 8 ] &&
+   ! grep -qi 'nan\|inf' tests/tmp/factorial/factors.md; then ok "factorial_smoke"
+else fail "factorial_smoke"; tail -n 5 tests/tmp/factorial.txt; fi
+
 # golden images (bit-exact with this binary) and every command of the walkthrough
 counted golden sh tests/golden.sh
 counted walkthrough sh tests/walkthrough.sh
