@@ -218,6 +218,7 @@ typedef struct {
     float *pdf;                /* per-nm pdf (n cells) for importance sampling */
     float *cdf;                /* n + 1 entries, cdf[0] = 0, cdf[n] = 1 */
     int   visible;             /* n == 0: 1 = the visible sech^2 pdf, 0 = uniform */
+    double vis_t_lo, vis_t_span; /* visible: tanh at lo and its span to hi (spectrum.c) */
 } WavelengthPdf;
 typedef struct {
     float lambda[HERO_N];      /* nm; lambda[0] is the hero */

@@ -1308,6 +1308,7 @@ void wl_pdf_uniform(WavelengthPdf *w, float lo, float hi)
     w->pdf = NULL;
     w->cdf = NULL;
     w->visible = 0;
+    w->vis_t_lo = w->vis_t_span = 0.0;
 }
 
 int wl_pdf_visible(WavelengthPdf *w, float lo, float hi)
@@ -1315,6 +1316,8 @@ int wl_pdf_visible(WavelengthPdf *w, float lo, float hi)
     wl_pdf_uniform(w, lo, hi);
     if (!isfinite(lo) || !isfinite(hi) || !(hi > lo)) return 0;
     w->visible = 1;
+    w->vis_t_lo = vis_T(lo);                      /* computed once: wl_sample and */
+    w->vis_t_span = vis_T(hi) - w->vis_t_lo;      /* wl_pdf_eval run per sample */
     return 1;
 }
 
@@ -1441,7 +1444,7 @@ float wl_pdf_eval(const WavelengthPdf *w, float lambda_nm)
     if (!(lambda_nm >= w->lo) || !(lambda_nm <= w->hi) || !(w->hi > w->lo)) return 0.0f;
     if (w->n == 0 && w->visible) {
         double ch = cosh(WL_VIS_A * ((double)lambda_nm - WL_VIS_C));
-        return (float)(WL_VIS_A / (ch * ch) / (vis_T(w->hi) - vis_T(w->lo)));
+        return (float)(WL_VIS_A / (ch * ch) / w->vis_t_span);
     }
     if (w->n == 0) return (float)(1.0 / ((double)w->hi - w->lo));
     h = ((double)w->hi - w->lo) / w->n;
@@ -1458,7 +1461,7 @@ double wl_cdf(const WavelengthPdf *w, float lambda_nm)
     int k;
     if (!(x > w->lo)) return 0.0;
     if (!(x < w->hi)) return 1.0;
-    if (w->n == 0 && w->visible) return (vis_T(x) - vis_T(w->lo)) / (vis_T(w->hi) - vis_T(w->lo));
+    if (w->n == 0 && w->visible) return (vis_T(x) - w->vis_t_lo) / w->vis_t_span;
     if (w->n == 0) return (x - w->lo) / range;
     h = range / w->n;
     cell = (x - w->lo) / h;
@@ -1475,14 +1478,13 @@ double wl_cdf(const WavelengthPdf *w, float lambda_nm)
 void wl_sample(const WavelengthPdf *w, float u, Wavelengths *out)
 {
     double u0 = (double)u, range = (double)w->hi - w->lo;
-    double t_lo = w->visible ? vis_T(w->lo) : 0.0, t_span = w->visible ? vis_T(w->hi) - t_lo : 0.0;
     int j;
     if (!isfinite(u0)) u0 = 0.0;
     u0 -= floor(u0);                              /* into [0, 1) */
     for (j = 0; j < HERO_N; j++) {
         double uj = u0 + (double)j / HERO_N, lambda;
         if (uj >= 1.0) uj -= 1.0;
-        if (w->n == 0 && w->visible) lambda = WL_VIS_C + atanh(t_lo + uj * t_span) / WL_VIS_A;
+        if (w->n == 0 && w->visible) lambda = WL_VIS_C + atanh(w->vis_t_lo + uj * w->vis_t_span) / WL_VIS_A;
         else if (w->n == 0) lambda = w->lo + uj * range;
         else {
             int lo = 0, hi = w->n;                /* invariant: cdf[lo] <= uj < cdf[hi] */
