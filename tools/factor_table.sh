@@ -22,7 +22,7 @@
 # largest spp (half-widths added in quadrature, log space).  Gain > 1: the level
 # reaches the reference's MSE in less time (e.g. 2.0 = half the MSE at equal time).
 # Column "all scenes": geometric mean of the scene gains; half-width
-# sqrt(sum h_s^2) / S (scenes are independent).
+# sqrt(sum h_s^2) / S (scenes are independent); only for levels run on every scene.
 #
 # Table 2, every configuration against the baseline at equal time (gain and
 # interval as above, one pair per seed), the geometric mean over the scenes, and
@@ -141,8 +141,8 @@ END {
             printf " %s |", fmt(exp(-m), exp(-m - h), exp(-m + h))
             gsum += m; hsum += h * h; gn++
         }
-        if (gn) { m = gsum / gn; h = sqrt(hsum) / gn; printf " %s |\n", fmt(exp(-m), exp(-m - h), exp(-m + h)) }
-        else print " - |"
+        if (gn == S) { m = gsum / gn; h = sqrt(hsum) / gn; printf " %s |\n", fmt(exp(-m), exp(-m - h), exp(-m + h)) }
+        else print " - (not on every scene) |"
     }
     print ""
     print "Every configuration against the baseline (the first variant: " base[1] ") at equal time, gain [95% CI]; worse: scenes where the whole interval is below 1."
@@ -168,6 +168,7 @@ END {
             gsum += m; hsum += h * h; gn++
         }
         m = gn ? gsum / gn : 0; h = gn ? sqrt(hsum) / gn : 0
-        printf " %s | %s |\n", fmt(exp(-m), exp(-m - h), exp(-m + h)), worse == "" ? "-" : worse
+        printf " %s | %s |\n", gn == S ? fmt(exp(-m), exp(-m - h), exp(-m + h)) : "- (not on every scene)",
+               worse == "" ? "-" : worse
     }
 }' "$@"
