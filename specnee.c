@@ -89,9 +89,11 @@ static const char usage_options[] =
    preset pins every setting whose default may change (wavelength pdf, emitter
    selection and its variants, rough dispersion), so that it keeps meaning the
    same method when the defaults move.
-   SAMPLER: when specnee has a --sampler flag, both thesis presets pin
-   "--sampler", "independent": the thesis rendered with pbrt-v3, whose default
-   sampler is "halton"; specnee's nearest equivalent is stated with --sampler. */
+   SAMPLER (a place kept for it): once specnee has a --sampler flag, add
+   "--sampler", "independent" to both presets below (the sampler specnee has
+   always used, the one the thesis' figures were reproduced with here) and say in
+   --help and docs/wavelengths.md that the thesis itself rendered with pbrt-v3's
+   default sampler, "halton", and which specnee sampler --sampler maps that to. */
 typedef struct {
     const char *name, *what;
     const char *const *flags;  /* NULL-terminated */
