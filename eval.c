@@ -49,7 +49,8 @@
 
 /* "name[:modifier]...": modifiers power, all, tput, importance, visible, mixture,
    mixture=M (weight M of visible), uniform (the wavelength pdf), roughmis, single,
-   wide, nonee.  Returns 0 on an unknown name or modifier. */
+   wide, nonee, and terminate, hero, unit that pin a setting to the thesis' value
+   whatever the defaults (the factorial evaluation names every factor).  Returns 0 on an unknown name or modifier. */
 int eval_parse_variant(const char *spec, RenderOptions *o)
 {
     char buf[128], *tok, *save = NULL;
@@ -74,6 +75,9 @@ int eval_parse_variant(const char *spec, RenderOptions *o)
         }
         else if (!strcmp(tok, "uniform")) o->wl_mode = WL_UNIFORM;
         else if (!strcmp(tok, "roughmis")) o->rough_mis = 1;
+        else if (!strcmp(tok, "terminate")) o->rough_mis = 0;      /* pinned, whatever the default */
+        else if (!strcmp(tok, "hero")) o->sel.all_wavelengths = o->sel.throughput_weighted = 0;
+        else if (!strcmp(tok, "unit")) o->sel.power_metric = 0;
         else if (!strcmp(tok, "single")) o->single_wavelength = 1;
         else if (!strcmp(tok, "wide")) o->wl_wide = 1;
         else if (!strcmp(tok, "nonee")) o->nee = 0;

@@ -612,7 +612,7 @@ int cmd_merge(int argc, char **argv);      /* image.c */
 int cmd_diff(int argc, char **argv);       /* image.c */
 int cmd_converge(int argc, char **argv);   /* eval.c: error against time, charts, tables */
 /* "strategy[:modifier]..." (modifiers: power all tput importance visible mixture
-   mixture=M uniform roughmis single wide nonee) into render options; 0 if unknown.  Used by converge and its tests. */
+   mixture=M uniform roughmis terminate hero unit single wide nonee) into render options; 0 if unknown.  Used by converge and its tests. */
 int eval_parse_variant(const char *spec, RenderOptions *o);
 
 #endif /* SPECNEE_H */

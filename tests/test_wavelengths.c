@@ -289,7 +289,27 @@ static void test_wl_stress_scenes(T *t)
     }
 }
 
+/* converge's variant names carry the wavelength pdf and pin settings (the
+   factorial evaluation relies on it, tools/factorial.sh). */
+static void test_wl_variant_names(T *t)
+{
+    RenderOptions o;
+    render_options_default(&o);
+    CHECK(t, eval_parse_variant("product:mixture=0.3:roughmis", &o), "mixture=0.3 refused");
+    CHECK(t, o.sel.strategy == SEL_PRODUCT && o.wl_mode == WL_MIXTURE && o.wl_mix == 0.3f && o.rough_mis,
+          "product:mixture=0.3:roughmis parsed wrong");
+    o.sel.all_wavelengths = o.sel.throughput_weighted = o.sel.power_metric = 1;
+    CHECK(t, eval_parse_variant("spatial:visible:terminate:hero:unit", &o), "pins refused");
+    CHECK(t, o.wl_mode == WL_VISIBLE && !o.rough_mis && !o.sel.all_wavelengths && !o.sel.throughput_weighted
+          && !o.sel.power_metric, "terminate, hero, unit must pin their settings");
+    CHECK(t, eval_parse_variant("spatial:importance:uniform", &o) && o.wl_mode == WL_UNIFORM, "uniform");
+    CHECK(t, !eval_parse_variant("spatial:mixture=0", &o) && !eval_parse_variant("spatial:mixture=1.5", &o)
+          && !eval_parse_variant("spatial:mixture=x", &o) && !eval_parse_variant("spatial:hot", &o),
+          "bad modifiers must be refused");
+}
+
 const TestCase tests_wavelengths[] = {
+    { "wavelengths_variant_names", test_wl_variant_names },
     { "wavelengths_visible_pdf", test_wl_visible },
     { "wavelengths_mixture_pdf", test_wl_mixture },
     { "wavelengths_furnaces", test_wl_furnaces },

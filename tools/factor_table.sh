@@ -3,10 +3,11 @@
 # (tools/factorial.sh) from `specnee converge` CSVs, one per scene, as markdown on
 # stdout.  TIME=wall uses wall time instead of CPU time (as converge --time).
 #
-# Variant names are SELECTION:WAVELENGTHS[:roughmis][:...]; the factors read from
-# them are the selection (first field), the wavelength pdf (uniform importance
-# visible mixture mixture=M; uniform when absent) and rough dispersion (mis with
-# the roughmis field, else terminate).  The first variant of a CSV is the baseline;
+# Variant names are SELECTION:WAVELENGTHS[:roughmis|:terminate][:...]; the factors
+# read from them are the selection (first field), the wavelength pdf (uniform
+# importance visible mixture mixture=M; uniform when absent) and rough dispersion
+# (mis with the roughmis field, else terminate).  Other fields must match for two
+# variants to be compared.  The first variant of a CSV is the baseline;
 # its levels are each factor's reference level.  Only the "image" region is used.
 #
 # Equal time, as converge computes it (eval.c): the time of a (variant, spp) is its
@@ -59,6 +60,7 @@ function levels(v,   f, n, i, w) {   # sets L_sel, L_wl, L_rough, L_rest
         w = f[i]
         if (w == "uniform" || w == "importance" || w == "visible" || w ~ /^mixture(=.*)?$/) L_wl = w
         else if (w == "roughmis") L_rough = "mis"
+        else if (w == "terminate") L_rough = "terminate"
         else L_rest = L_rest ":" w
     }
 }

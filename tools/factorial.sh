@@ -3,14 +3,15 @@
 # which factor of the configuration matters, by how much, at equal time.
 #
 # Factors and levels (every combination is one `specnee converge` variant, named
-# SELECTION:WAVELENGTHS[:roughmis], e.g. product:mixture:roughmis):
+# SELECTION:WAVELENGTHS:terminate|roughmis, e.g. product:mixture:roughmis; every
+# factor is named, so the variants keep their meaning when the defaults change):
 #   WAVELENGTHS  the wavelength pdf          uniform importance visible mixture
 #   SELECTIONS   the emitter selection       spatial product spectral-spatial, and
 #                                            tree when `specnee --help` lists it
 #   ROUGH        rough dispersive glass      terminate mis
 # The first level of each list is that factor's reference; the first combination
-# (spatial:uniform, terminate: the thesis' baseline, `--preset thesis`) is the
-# baseline of the converge tables.
+# (spatial:uniform:terminate: the thesis' baseline, what `--preset thesis` sets) is
+# the baseline of the converge tables.
 #
 # For each scene: converge renders every variant up the spp ladder with SEEDS
 # seeds against docs/ref/<scene>.pfm, into docs/eval/factorial/<scene>.csv, .md and
@@ -25,6 +26,8 @@
 #                many-emitter scene once it has a reference)
 #   WAVELENGTHS, SELECTIONS, ROUGH   the levels (defaults above; a pilot may prune)
 #   THREADS, TIME, SPECNEE, REUSE    as in tools/eval.sh
+# The selection levels take the current defaults of --spd-metric and
+# --spd-wavelengths (unit, hero); add ":unit:hero" to each name if those change.
 # Cost: SEEDS x variants x the largest spp per scene; 32 variants x 8 seeds x 512
 # spp is 32 times one 8-seed baseline run of tools/eval.sh: hours on 2 cores.
 # Never run in full by `make test`; tests/run.sh runs it on a tiny setting (factorial_smoke).
@@ -47,7 +50,7 @@ mkdir -p "$OUT"
 
 variants=""
 for r in $ROUGH; do
-    case $r in terminate) suffix="" ;; mis) suffix=":roughmis" ;;
+    case $r in terminate) suffix=":terminate" ;; mis) suffix=":roughmis" ;;
         *) echo "factorial: ROUGH levels are terminate and mis, not '$r'" >&2; exit 2 ;; esac
     for w in $WAVELENGTHS; do
         for s in $SELECTIONS; do
