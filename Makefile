@@ -9,6 +9,7 @@
 #                   FUZZ_SECONDS per target, default 60; fuzz/run.sh)
 #   make references high-spp reference renders (docs/ref/; long: see tools/references.sh)
 #   make eval       the strategy comparison behind docs/RESULTS.md (long: tools/eval.sh)
+#   make factorial  wavelength pdf x selection x rough dispersion (longer: tools/factorial.sh)
 #   make golden     regenerate the golden images of tests/golden/ (read its README first)
 #   make mutants    mutation testing: each bug of tests/mutants.txt must fail the suite
 #                   (not part of make test; tools/mutants.sh)
@@ -32,7 +33,7 @@ LIBOBJ = util.o bvh.o spectrum.o lights.o infinite.o scene.o ply.o material.o re
 TESTOBJ = tests/runner.o tests/fixtures.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
           tests/test_scene.o tests/test_image.o tests/test_material.o \
           tests/test_render.o tests/test_lights.o tests/test_scenes.o tests/test_physics.o \
-          tests/test_robust.o tests/test_lighttree.o tests/test_pbrt.o
+          tests/test_robust.o tests/test_lighttree.o tests/test_pbrt.o tests/test_wavelengths.o
 
 all: specnee
 
@@ -81,6 +82,9 @@ eval: specnee
 mutants:
 	sh tools/mutants.sh
 
+factorial: specnee
+	sh tools/factorial.sh
+
 golden: specnee
 	sh tests/golden.sh --update
 
@@ -89,4 +93,4 @@ clean:
 	rm -f fuzz/*.o fuzz/replay
 	rm -rf build
 
-.PHONY: all run test bench references eval golden mutants clean fuzz
+.PHONY: all run test bench references eval factorial golden mutants clean fuzz

@@ -42,14 +42,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_VARIANTS 16
+#define MAX_VARIANTS 40      /* the factorial evaluation (tools/factorial.sh) runs 32 */
 #define MAX_SPP 16
 #define MAX_SEEDS 64
 #define MAX_REGIONS 9
 
-/* "name[:modifier]...": modifiers power, all, tput, importance, roughmis, single,
-   wide, nonee, nosplit (light trees: a large emissive mesh stays one leaf).
-   Returns 0 on an unknown name or modifier. */
+/* "name[:modifier]...": modifiers power, all, tput, importance, visible, mixture,
+   mixture=M (weight M of visible), uniform (the wavelength pdf), roughmis, single,
+   wide, nonee, nosplit (light trees: a large emissive mesh stays one leaf), and
+   terminate, hero, unit that pin a setting to the thesis' value whatever the
+   defaults (the factorial evaluation names every factor).  Returns 0 on an unknown
+   name or modifier. */
 int eval_parse_variant(const char *spec, RenderOptions *o)
 {
     char buf[128], *tok, *save = NULL;
@@ -62,8 +65,21 @@ int eval_parse_variant(const char *spec, RenderOptions *o)
         if (!strcmp(tok, "power")) o->sel.power_metric = 1;
         else if (!strcmp(tok, "all")) o->sel.all_wavelengths = 1;
         else if (!strcmp(tok, "tput")) { o->sel.all_wavelengths = 1; o->sel.throughput_weighted = 1; }
-        else if (!strcmp(tok, "importance")) o->wl_importance = 1;
+        else if (!strcmp(tok, "importance")) o->wl_mode = WL_IMPORTANCE;
+        else if (!strcmp(tok, "visible")) o->wl_mode = WL_VISIBLE;
+        else if (!strcmp(tok, "mixture")) o->wl_mode = WL_MIXTURE;
+        else if (!strncmp(tok, "mixture=", 8)) {        /* mixture=M: with weight M */
+            char *end;
+            double m = strtod(tok + 8, &end);
+            if (*end || !(m > 0.0 && m <= 1.0)) return 0;
+            o->wl_mode = WL_MIXTURE;
+            o->wl_mix = (float)m;
+        }
+        else if (!strcmp(tok, "uniform")) o->wl_mode = WL_UNIFORM;
         else if (!strcmp(tok, "roughmis")) o->rough_mis = 1;
+        else if (!strcmp(tok, "terminate")) o->rough_mis = 0;      /* pinned, whatever the default */
+        else if (!strcmp(tok, "hero")) o->sel.all_wavelengths = o->sel.throughput_weighted = 0;
+        else if (!strcmp(tok, "unit")) o->sel.power_metric = 0;
         else if (!strcmp(tok, "single")) o->single_wavelength = 1;
         else if (!strcmp(tok, "wide")) o->wl_wide = 1;
         else if (!strcmp(tok, "nonee")) o->nee = 0;
@@ -229,8 +245,8 @@ static const char usage_converge[] =
     "  variants: a strategy (uniform power spatial spd product spectral-spatial all\n"
     "  tree spectral-tree)\n"
     "  with modifiers, e.g. spd:power, product:all, product:tput, spatial:importance,\n"
-    "  spatial:roughmis, spatial:single, spatial:nonee, spectral-tree:nosplit.  The\n"
-    "  first is the baseline.\n"
+    "  spatial:visible, spatial:mixture, spatial:mixture=0.1, spatial:roughmis,\n"
+    "  spatial:single, spatial:nonee, spectral-tree:nosplit.  The first is the baseline.\n"
     "  --time: the time axis and the equal-time comparison use process CPU time\n"
     "  (default: not charged while other programs run) or wall time.\n"
     "  --reuse: no rendering; the charts and tables are rebuilt from PREFIX.csv of an\n"

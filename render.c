@@ -715,20 +715,22 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     /* the emitters for this range and their selection tables */
     j->R.ls = light_sampler_build(s, &j->sel, err);
     if (!j->R.ls) { free(j); return NULL; }
-    if (o->wl_importance && s->n_emitters > 0) {
+    {
+        /* the wavelength pdf (spectrum.c); importance and mixture follow the
+           emitters' summed spectrum (none: the importance part is flat) */
         Spectrum sum;
         int e, k;
         spec_const(&sum, 0.0f);
         for (e = 0; e < s->n_emitters; e++)
             for (k = 0; k < SPEC_N; k++) sum.v[k] += light_spectrum(j->R.ls, e)->v[k];
-        if (!wl_pdf_importance(&j->R.wl, j->sel.lo_nm, j->sel.hi_nm, &sum)) {
-            error_set(err, NULL, 0, "cannot build the wavelength importance pdf");
+        if (o->wl_mode == WL_IMPORTANCE && s->n_emitters == 0)
+            wl_pdf_uniform(&j->R.wl, j->sel.lo_nm, j->sel.hi_nm);
+        else if (!wl_pdf_build(&j->R.wl, o->wl_mode, j->sel.lo_nm, j->sel.hi_nm, &sum, o->wl_mix)) {
+            error_set(err, NULL, 0, "cannot build the %s wavelength pdf", wl_mode_name(o->wl_mode));
             light_sampler_free(j->R.ls);
             free(j);
             return NULL;
         }
-    } else {
-        wl_pdf_uniform(&j->R.wl, j->sel.lo_nm, j->sel.hi_nm);
     }
     {   /* the infinite lights, which rays that escape the scene see */
         int e;

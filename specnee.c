@@ -55,8 +55,14 @@ static const char usage_options[] =
 "                          of the emitted radiance Le, default) or power (that x area)\n"
 "      --all-wavelengths   spectral strategies weigh every alive wavelength\n"
 "      --throughput-weighted  ... each by the path throughput at that wavelength\n"
-"      --wavelengths P     the wavelength pdf p: uniform on the range (default) or\n"
-"                          importance (p ~ (xbar+ybar+zbar) x the emitters' spectra)\n"
+"      --spd-wavelengths W hero (the thesis, default), all or throughput: the same\n"
+"                          as the two flags above, and the way to switch them off\n"
+"      --wavelengths P     the wavelength pdf: uniform (HWSS, default), importance\n"
+"                          (CMIS: ~ (xbar+ybar+zbar) x the emitters' spectra),\n"
+"                          visible (scene-independent sech^2 around 538 nm, as\n"
+"                          pbrt-v4) or mixture (importance with a share of visible\n"
+"                          that bounds its worst case: docs/wavelengths.md)\n"
+"      --mix-weight M      visible's share in the mixture, 0 < M <= 1 (default 0.5)\n"
 "      --wide              sample 360-830 nm (pbrt-v4's range) instead of 400-700\n"
 "      --single-wavelength one wavelength per path instead of four\n"
 "      --rough-dispersion M  terminate (default) or mis: keep the secondary\n"
@@ -71,6 +77,8 @@ static const char usage_options[] =
 "      --eager-tables      build every voxel of the spatial tables before rendering\n"
 "                          (default: each voxel on first use; the image is the same)\n"
 "      --dump-scene        print the scene as understood, then exit\n"
+"      --preset NAME       a named list of flags, expanded where it stands (later\n"
+"                          flags override it); the presets are listed below\n"
 "  -q, --quiet             no progress bar and no closing line\n"
 "  -h, --help              this text\n"
 "\n"
@@ -79,6 +87,48 @@ static const char usage_options[] =
 "wall and CPU time and the time spent building emitter tables (\"tables\"), also\n"
 "those built lazily during the render.\n"
 "Exit status: 0 ok, 1 bad input (a message file:line: problem), 2 bad usage.\n";
+
+/* Presets: a name for a list of flags, nothing more.  `--preset NAME` is parsed as
+   if its flags stood at its place on the command line, so a preset renders
+   bit-identically to its flags spelled out, and a later flag overrides it.  Each
+   preset pins every setting whose default may change (wavelength pdf, emitter
+   selection and its variants, rough dispersion), so that it keeps meaning the
+   same method when the defaults move.
+   SAMPLER (a place kept for it): once specnee has a --sampler flag, add
+   "--sampler", "independent" to both presets below (the sampler specnee has
+   always used, the one the thesis' figures were reproduced with here) and say in
+   --help and docs/wavelengths.md that the thesis itself rendered with pbrt-v3's
+   default sampler, "halton", and which specnee sampler --sampler maps that to. */
+typedef struct {
+    const char *name, *what;
+    const char *const *flags;  /* NULL-terminated */
+} Preset;
+static const char *const preset_thesis[] = {
+    "--wavelengths", "uniform", "--lights", "spatial", "--spd-metric", "unit",
+    "--spd-wavelengths", "hero", "--rough-dispersion", "terminate", NULL };
+static const char *const preset_thesis_spd[] = {
+    "--wavelengths", "uniform", "--lights", "product", "--spd-metric", "unit",
+    "--spd-wavelengths", "hero", "--rough-dispersion", "terminate", NULL };
+static const Preset presets[] = {
+    { "thesis", "the thesis' baseline: HWSS with uniform wavelengths, pbrt-v3's spatial\n"
+                "          selection, termination at dispersive glass", preset_thesis },
+    { "thesis-spd", "the thesis' method: spatial x emitted spectrum at the hero wavelength\n"
+                    "          (product, unit metric), uniform wavelengths", preset_thesis_spd },
+    { NULL, NULL, NULL }
+};
+
+static void print_help(void)
+{
+    int p, k;
+    fputs(usage_text, stdout);
+    fputs(usage_options, stdout);
+    fputs("\npresets (--preset NAME is the same as its flags at that place):\n", stdout);
+    for (p = 0; presets[p].name; p++) {
+        printf("  %-11s", presets[p].name);
+        for (k = 0; presets[p].flags[k]; k++) printf(" %s", presets[p].flags[k]);
+        printf("\n          = %s\n", presets[p].what);
+    }
+}
 
 static int usage_error(const char *fmt, const char *arg)
 {
@@ -120,20 +170,25 @@ typedef struct {
     int res_w, res_h;          /* --res: override the film resolution (0: the file's) */
 } Args;
 
-/* Returns 0 on success, else the exit code. */
-static int parse_args(int argc, char **argv, Args *a)
+/* Parse argv[0 .. argc) into a; in_preset: the flags of a preset (no scene file,
+   no nested preset there).  Returns 0 on success, else the exit code. */
+static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset)
 {
     int i;
-    memset(a, 0, sizeof *a);
-    render_options_default(&a->ro);
-    for (i = 1; i < argc; i++) {
+    for (i = 0; i < argc; i++) {
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
 #define NEEDS_VALUE() do { if (!v) return usage_error("option %s needs a value", o); i++; } while (0)
         if (!strcmp(o, "-h") || !strcmp(o, "--help")) {
-            fputs(usage_text, stdout);
-            fputs(usage_options, stdout);
+            print_help();
             exit(0);
+        } else if (!strcmp(o, "--preset") && !in_preset) {
+            int p, n, rc;
+            NEEDS_VALUE();
+            for (p = 0; presets[p].name && strcmp(presets[p].name, v); p++) {}
+            if (!presets[p].name) return usage_error("unknown --preset '%s' (see specnee --help)", v);
+            for (n = 0; presets[p].flags[n]; n++) {}
+            if ((rc = parse_flags(n, presets[p].flags, a, 1)) != 0) return rc;
         } else if (!strcmp(o, "-o") || !strcmp(o, "--out")) {
             NEEDS_VALUE(); a->out = v;
         } else if (!strcmp(o, "--spp")) {
@@ -166,11 +221,21 @@ static int parse_args(int argc, char **argv, Args *a)
         } else if (!strcmp(o, "--throughput-weighted")) {
             a->ro.sel.all_wavelengths = 1;
             a->ro.sel.throughput_weighted = 1;
+        } else if (!strcmp(o, "--spd-wavelengths")) {
+            NEEDS_VALUE();
+            if (!strcmp(v, "hero")) a->ro.sel.all_wavelengths = a->ro.sel.throughput_weighted = 0;
+            else if (!strcmp(v, "all")) { a->ro.sel.all_wavelengths = 1; a->ro.sel.throughput_weighted = 0; }
+            else if (!strcmp(v, "throughput")) a->ro.sel.all_wavelengths = a->ro.sel.throughput_weighted = 1;
+            else return usage_error("--spd-wavelengths is hero, all or throughput, not '%s'", v);
         } else if (!strcmp(o, "--wavelengths")) {
             NEEDS_VALUE();
-            if (!strcmp(v, "uniform")) a->ro.wl_importance = 0;
-            else if (!strcmp(v, "importance")) a->ro.wl_importance = 1;
-            else return usage_error("--wavelengths is uniform or importance, not '%s'", v);
+            a->ro.wl_mode = wl_mode_from_name(v);
+            if (a->ro.wl_mode == WL_MODE_COUNT)
+                return usage_error("--wavelengths is uniform, importance, visible or mixture, not '%s'", v);
+        } else if (!strcmp(o, "--mix-weight")) {
+            NEEDS_VALUE();
+            if (!parse_float(v, &a->ro.wl_mix) || !(a->ro.wl_mix > 0.0f && a->ro.wl_mix <= 1.0f))
+                return usage_error("--mix-weight needs a number in (0, 1], not '%s'", v);
         } else if (!strcmp(o, "--wide")) {
             a->ro.wl_wide = 1;
         } else if (!strcmp(o, "--single-wavelength")) {
@@ -215,13 +280,23 @@ static int parse_args(int argc, char **argv, Args *a)
             a->quiet = 1;
         } else if (o[0] == '-' && o[1]) {
             return usage_error("unknown option '%s'", o);
-        } else if (!a->scene) {
+        } else if (!a->scene && !in_preset) {
             a->scene = o;
         } else {
             return usage_error("more than one scene file given ('%s')", o);
         }
 #undef NEEDS_VALUE
     }
+    return 0;
+}
+
+/* Returns 0 on success, else the exit code. */
+static int parse_args(int argc, char **argv, Args *a)
+{
+    int rc;
+    memset(a, 0, sizeof *a);
+    render_options_default(&a->ro);
+    if ((rc = parse_flags(argc - 1, (const char *const *)(argv + 1), a, 0)) != 0) return rc;
     if (!a->scene) return usage_error("%s", "no scene file given");
     return 0;
 }
@@ -262,7 +337,7 @@ static int render_main(int argc, char **argv)
     Error err;
     const char *out;
     int rc = parse_args(argc, argv, &a);
-    char settings[512];
+    char settings[512], wl_text[32];
     if (rc) return rc;
     memset(&scene, 0, sizeof scene);
     err.msg[0] = '\0';
@@ -312,12 +387,16 @@ static int render_main(int argc, char **argv)
         scene_free(&scene);
         return 1;
     }
+    if (a.ro.wl_mode == WL_MIXTURE)
+        snprintf(wl_text, sizeof wl_text, "mixture:%g", (double)(a.ro.wl_mix > 0.0f ? a.ro.wl_mix : WL_MIX_DEFAULT));
+    else
+        snprintf(wl_text, sizeof wl_text, "%s", wl_mode_name(a.ro.wl_mode));
     snprintf(settings, sizeof settings,
              "scene=%s seed=%d maxdepth=%d lights=%s spd-metric=%s all-wavelengths=%d "
              "wavelengths=%s range=%s single=%d rough-dispersion=%s nee=%d",
              a.scene, a.ro.seed, a.ro.maxdepth, sel_name(a.ro.sel.strategy),
              a.ro.sel.power_metric ? "power" : "unit", a.ro.sel.all_wavelengths,
-             a.ro.wl_importance ? "importance" : "uniform", a.ro.wl_wide ? "360-830" : "400-700",
+             wl_text, a.ro.wl_wide ? "360-830" : "400-700",
              a.ro.single_wavelength, a.ro.rough_mis ? "mis" : "terminate", a.ro.nee);
     {
         /* the sample count travels with float images, for `specnee merge` */

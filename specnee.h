@@ -222,13 +222,27 @@ static inline float cauchy_eta(float A, float B, float lambda_nm)
 int   cauchy_named(const char *name, float *A, float *B);
 
 /* ---- Wavelength sampling: lambda_j = P^-1(frac(u + j/4)) (HWSS rotated in the CDF
-   of p as in West et al. 2020; docs/THEORY.md section 2).  p is uniform or an
-   importance pdf; the four are combined by spectral MIS (THEORY section 3). ---- */
+   of p as in West et al. 2020; docs/THEORY.md section 2).  p is uniform, an
+   importance pdf, the visible pdf or a mixture (docs/wavelengths.md); the four
+   are combined by spectral MIS (THEORY section 3). ---- */
+/* Which pdf the wavelengths are drawn from (--wavelengths). */
+typedef enum {
+    WL_UNIFORM,                /* uniform over the range: plain HWSS, the thesis */
+    WL_IMPORTANCE,             /* ~ (xbar + ybar + zbar) x the sum of the emitters' spectra */
+    WL_VISIBLE,                /* scene-independent: sech^2 around 538 nm (pbrt-v4's
+                                  "visible wavelengths" pdf, Radziszewski et al. 2009) */
+    WL_MIXTURE,                /* (1 - m) importance + m visible: a defensive mixture */
+    WL_MODE_COUNT
+} WlMode;
+#define WL_MIX_DEFAULT 0.5f    /* @@ m of WL_MIXTURE: robustness vs. the gain of importance
+                                  (chosen by the sweep in docs/wavelengths.md) */
 typedef struct {
     float lo, hi;              /* sampled range in nm (400-700 default, 360-830 wide) */
-    int   n;                   /* number of table cells (1 nm each), 0 = uniform */
+    int   n;                   /* number of table cells (1 nm each), 0 = analytic */
     float *pdf;                /* per-nm pdf (n cells) for importance sampling */
     float *cdf;                /* n + 1 entries, cdf[0] = 0, cdf[n] = 1 */
+    int   visible;             /* n == 0: 1 = the visible sech^2 pdf, 0 = uniform */
+    double vis_t_lo, vis_t_span; /* visible: tanh at lo and its span to hi (spectrum.c) */
 } WavelengthPdf;
 typedef struct {
     float lambda[HERO_N];      /* nm; lambda[0] is the hero */
@@ -237,9 +251,19 @@ typedef struct {
 void  wl_pdf_uniform(WavelengthPdf *w, float lo, float hi);
 /* pdf proportional to (xbar + ybar + zbar) times the given emission spectrum. */
 int   wl_pdf_importance(WavelengthPdf *w, float lo, float hi, const Spectrum *emission);
+/* pbrt-v4's visible pdf restricted to [lo, hi] and renormalised (exact inverse CDF). */
+int   wl_pdf_visible(WavelengthPdf *w, float lo, float hi);
+/* (1 - mix) x the importance pdf + mix x the visible pdf, tabulated per 1 nm cell. */
+int   wl_pdf_mixture(WavelengthPdf *w, float lo, float hi, const Spectrum *emission, float mix);
+/* One of the above by mode (emission: the emitters' summed spectrum, may be NULL). */
+int   wl_pdf_build(WavelengthPdf *w, WlMode mode, float lo, float hi, const Spectrum *emission,
+                   float mix);
 void  wl_pdf_free(WavelengthPdf *w);
 void  wl_sample(const WavelengthPdf *w, float u, Wavelengths *out);
 float wl_pdf_eval(const WavelengthPdf *w, float lambda_nm);
+double wl_cdf(const WavelengthPdf *w, float lambda_nm);   /* P(lambda), exact (tests) */
+WlMode wl_mode_from_name(const char *name);               /* WL_MODE_COUNT if unknown */
+const char *wl_mode_name(WlMode m);
 
 /* ======================================================================
    5. Geometry (scene.c builds it, bvh.c intersects it)
@@ -633,7 +657,8 @@ const char *sel_name(SelStrategy s);
 typedef struct {
     int spp, seed, threads, maxdepth;
     SelOptions sel;
-    int wl_importance;         /* --wavelengths importance */
+    WlMode wl_mode;            /* --wavelengths: uniform importance visible mixture */
+    float wl_mix;              /* --mix-weight: m of WL_MIXTURE (0: WL_MIX_DEFAULT) */
     int wl_wide;               /* sample 360-830 nm instead of 400-700 */
     int single_wavelength;     /* 1 wavelength per path instead of HWSS */
     int rough_mis;             /* --rough-dispersion mis: secondaries survive rough glass */
@@ -713,8 +738,9 @@ int cmd_spectrum(int argc, char **argv);   /* spectrum.c */
 int cmd_merge(int argc, char **argv);      /* image.c */
 int cmd_diff(int argc, char **argv);       /* image.c */
 int cmd_converge(int argc, char **argv);   /* eval.c: error against time, charts, tables */
-/* "strategy[:modifier]..." (modifiers: power all tput importance roughmis single wide
-   nonee nosplit) into render options; 0 if unknown.  Used by converge and its tests. */
+/* "strategy[:modifier]..." (modifiers: power all tput importance visible mixture
+   mixture=M uniform roughmis terminate hero unit single wide nonee nosplit) into
+   render options; 0 if unknown.  Used by converge and its tests. */
 int eval_parse_variant(const char *spec, RenderOptions *o);
 
 #endif /* SPECNEE_H */

@@ -165,6 +165,36 @@ else fail "cli_tables_time_lazy"; fi
 expect "cli_converge_usage" 2 "usage" ./specnee converge
 expect "cli_converge_ladder_order" 2 "must increase" ./specnee converge scenes/cornell.pbrt --ref x.pfm --spp 8,4
 expect "cli_converge_time_basis" 2 "cpu or wall" ./specnee converge scenes/cornell.pbrt --ref x.pfm --time gpu
+# presets (specnee.c): a preset is exactly its flags (bit-identical image and
+# sidecar), a later flag overrides it, an earlier one does not survive it (it pins
+# every setting whose default may change), an unknown one is a usage error
+preset_run() {  # output-name flags...: a tiny cornell1 render (two emitters, rough glass)
+    n=$1; shift
+    ./specnee -q scenes/cornell1.pbrt --res 24x24 --spp 2 --seed 3 "$@" -o "tests/tmp/preset-$n.pfm" 2> /dev/null
+}
+same() {  # images bit-identical and the sidecars (spp, settings) equal
+    cmp -s "tests/tmp/preset-$1.pfm" "tests/tmp/preset-$2.pfm" &&
+        cmp -s "tests/tmp/preset-$1.pfm.txt" "tests/tmp/preset-$2.pfm.txt"
+}
+preset_run thesis --preset thesis
+preset_run thesis-flags --wavelengths uniform --lights spatial --spd-metric unit --spd-wavelengths hero --rough-dispersion terminate
+preset_run spd --preset thesis-spd
+preset_run spd-flags --wavelengths uniform --lights product --spd-metric unit --spd-wavelengths hero --rough-dispersion terminate
+preset_run thesis-then-product --preset thesis --lights product
+preset_run thesis-then-mis --preset thesis --rough-dispersion mis
+preset_run pinned --wavelengths importance --lights product --spd-metric power --all-wavelengths --rough-dispersion mis --preset thesis
+preset_run pinned-spd --wavelengths visible --lights spatial --spd-metric power --throughput-weighted --rough-dispersion mis --preset thesis-spd
+if same thesis thesis-flags; then ok "cli_preset_thesis_is_its_flags"; else fail "cli_preset_thesis_is_its_flags"; fi
+if same spd spd-flags; then ok "cli_preset_thesis_spd_is_its_flags"; else fail "cli_preset_thesis_spd_is_its_flags"; fi
+if same thesis-then-product spd && ! same thesis-then-mis thesis && ! same spd thesis; then ok "cli_preset_later_flags_override"
+else fail "cli_preset_later_flags_override"; fi
+if same pinned thesis && same pinned-spd spd; then ok "cli_preset_pins_every_setting"; else fail "cli_preset_pins_every_setting"; fi
+expect "cli_preset_unknown" 2 "unknown --preset" ./specnee --preset pbrt scenes/cornell.pbrt
+expect "cli_preset_help" 0 "" ./specnee --help
+if grep -q 'thesis-spd *--wavelengths uniform --lights product' tests/tmp/out.txt; then ok "cli_preset_help_lists_flags"
+else fail "cli_preset_help_lists_flags"; fi
+expect "cli_wavelengths_unknown" 2 "uniform, importance, visible or mixture" ./specnee --wavelengths hero scenes/cornell.pbrt
+expect "cli_mix_weight_range" 2 "in \(0, 1\]" ./specnee --mix-weight 0 scenes/cornell.pbrt
 # the evaluation pipeline in miniature (make eval's smoke test): the committed
 # cornell-glass reference, two variants, spp 1 and 2, two seeds; the CSV must have
 # its header and 2x2x2 rows for each of the 4 regions (image, insets A-C), no NaN,
@@ -240,6 +270,19 @@ for t in scene ply pfm spectrum; do
     mkdir -p tests/tmp/replay-$t
     counted replay-$t fuzz/replay $t tests/tmp/replay-$t fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)
 done
+
+# the factorial evaluation in miniature (tools/factorial.sh, tools/factor_table.sh):
+# one small scene, 2 x 2 x 2 levels, 2 seeds, spp 1 and 2; the factor table must
+# name every non-reference level with a finite gain and list all 8 configurations
+rm -rf tests/tmp/factorial
+if SCENES=wl-filter SEEDS=2 LADDER=1,2 WAVELENGTHS="uniform visible" SELECTIONS="spatial product" \
+       OUT=tests/tmp/factorial sh tools/factorial.sh > tests/tmp/factorial.txt 2>&1 &&
+   grep -q '^| wavelengths | visible (vs uniform) | [0-9.]* \[[0-9.]*, [0-9.]*\] |' tests/tmp/factorial/factors.md &&
+   grep -q '^| selection | product (vs spatial) |' tests/tmp/factorial/factors.md &&
+   grep -q '^| rough dispersion | mis (vs terminate) |' tests/tmp/factorial/factors.md &&
+   [ "$(grep -c '^| spatial:\|^| product:' tests/tmp/factorial/factors.md)" -eq 8 ] &&
+   ! grep -qi 'nan\|inf' tests/tmp/factorial/factors.md; then ok "factorial_smoke"
+else fail "factorial_smoke"; tail -n 5 tests/tmp/factorial.txt; fi
 
 # golden images (bit-exact with this binary) and every command of the walkthrough
 counted golden sh tests/golden.sh

@@ -60,8 +60,11 @@ SurfacePoint test_flat_point(void);
 /* The walls of a small open box [-1,1]^3, as scene text after WorldBegin. */
 extern const char test_box_walls[];
 
+/* test_spectrum.c: chi-square of wl_sample against wl_pdf_eval, stratification in wl_cdf. */
+void check_wl_sampling(T *t, const WavelengthPdf *w, const char *what);
+
 extern const TestCase tests_util[], tests_bvh[], tests_spectrum[], tests_scene[],
     tests_image[], tests_material[], tests_render[], tests_lights[], tests_scenes[],
-    tests_physics[], tests_robust[], tests_lighttree[], tests_pbrt[];
+    tests_physics[], tests_robust[], tests_lighttree[], tests_pbrt[], tests_wavelengths[];
 
 #endif

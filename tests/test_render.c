@@ -46,7 +46,7 @@ static void test_colour_direct_emitter(T *t)
                 render_options_default(&o);
     o.sel.grid_res = 8;
                 o.spp = test_scaled(64, 4);
-                o.wl_importance = pdf;
+                o.wl_mode = pdf ? WL_IMPORTANCE : WL_UNIFORM;
                 o.wl_wide = wide;
                 if (!test_render_tiles(t, &s, &o, 8, 1, &tl)) { scene_free(&s); return; }
                 rgb[0] = tl.mean[0][0]; rgb[1] = tl.mean[0][1]; rgb[2] = tl.mean[0][2];
@@ -172,10 +172,10 @@ static void test_estimators_agree(T *t)
     if (!test_render_tiles(t, &s, &o, 12, 4, &other)) goto done;
     if (!test_tiles_agree(t, &ref, &other, 1e-4, "HWSS rough spectral MIS vs terminate")) goto done;
     o.rough_mis = 0;
-    o.wl_importance = 1;
+    o.wl_mode = WL_IMPORTANCE;
     if (!test_render_tiles(t, &s, &o, 12, 4, &other)) goto done;
     if (!test_tiles_agree(t, &ref, &other, 1e-4, "importance vs uniform wavelengths")) goto done;
-    o.wl_importance = 0;
+    o.wl_mode = WL_UNIFORM;
     o.nee = 0;
     o.spp = test_scaled(96, 4);
     if (!test_render_tiles(t, &s, &o, 12, 4, &other)) goto done;

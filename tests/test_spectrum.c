@@ -428,7 +428,7 @@ static void test_rgb_illuminant(T *t)
    (p = 1e-4) that each lambda_j follows the pdf w claims (1 nm bins = the cells, expected
    counts from w->pdf, bins with < 5 expected pooled), that pdf[j] = p(lambda_j),
    and that the set is stratified: the CDF positions are u + j/4 (mod 1). */
-static void check_wl_sampling(T *t, const WavelengthPdf *w, const char *what)
+void check_wl_sampling(T *t, const WavelengthPdf *w, const char *what)
 {
     enum { N_DRAW = 40000, BIN_NM = 1, MAX_BINS = 512 };
     int n_bins = (int)((w->hi - w->lo) / BIN_NM + 0.5), j, b, k, i;
@@ -457,14 +457,7 @@ static void check_wl_sampling(T *t, const WavelengthPdf *w, const char *what)
             b = (int)((l - w->lo) / BIN_NM);
             if (b >= n_bins) b = n_bins - 1;
             count[j][b]++;
-            /* CDF position of lambda_j */
-            if (w->n == 0) P[j] = (l - w->lo) / (w->hi - w->lo);
-            else {
-                double h = (double)(w->hi - w->lo) / w->n, cell = (l - w->lo) / h;
-                int c = (int)cell;
-                if (c >= w->n) c = w->n - 1;
-                P[j] = w->cdf[c] + (cell - c) * (w->cdf[c + 1] - w->cdf[c]);
-            }
+            P[j] = wl_cdf(w, l);                  /* CDF position of lambda_j */
         }
         /* the reported pdf is the sampler's own density: 1 / (d lambda / du), by
            one-sided differences (over about 0.25 nm) of wl_sample itself (not wl_pdf_eval, which
