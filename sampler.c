@@ -147,21 +147,26 @@ static uint64_t owen_scramble64(uint64_t x, uint64_t seed)
     return ((uint64_t)hi << 32) | lo;
 }
 
-/* A hashed permutation of [0, n) evaluated at i (cycle walking: a bijection of
-   the smallest power-of-two range holding n, repeated until it lands below n). */
-static uint32_t permute_index(uint32_t i, uint32_t n, uint32_t seed)
+/* A hashed permutation of [0, n) evaluated at i: a 4-round Feistel network on
+   the 2h bits of the smallest even-width power-of-two range holding n (each
+   round swaps the halves and XORs one with a hash of the other: a bijection
+   whatever the hash), repeated until the result lands below n (cycle walking,
+   fewer than 4 rounds on average as 2^2h < 4n). */
+static uint32_t permute_index(uint32_t i, uint32_t n, uint64_t seed)
 {
-    uint32_t mask = n - 1u;
-    int shift;
-    mask |= mask >> 1; mask |= mask >> 2; mask |= mask >> 4; mask |= mask >> 8; mask |= mask >> 16;
-    for (shift = 1; (mask >> shift) != 0u; shift++) {}
-    shift = shift / 2 + 1;
-    do {                               /* each step is a bijection of [0, mask] */
-        i ^= seed & mask;
-        i = (i * 0x9E3779B1u) & mask;          /* odd multiplier */
-        i ^= i >> shift;
-        i = (i * ((seed >> 8) | 1u)) & mask;
-        i ^= i >> shift;
+    int h = 1, r;
+    uint32_t hmask;
+    while ((1ull << (2 * h)) < (uint64_t)n) h++;
+    hmask = (1u << h) - 1u;
+    do {
+        uint32_t left = i >> h, right = i & hmask;
+        for (r = 0; r < 4; r++) {
+            uint32_t f = (uint32_t)hash_u64(seed + (uint64_t)r, (uint64_t)right) & hmask;
+            uint32_t next = left ^ f;
+            left = right;
+            right = next;
+        }
+        i = (left << h) | right;
     } while (i >= n);
     return i;
 }
@@ -230,7 +235,7 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
     case SAMPLER_STRATIFIED: {
         uint64_t h = hash_u64(ps->key, (uint64_t)dim);
         uint32_t cells = n == 2 ? (uint32_t)(s->xsamples * s->ysamples) : (uint32_t)s->spp;
-        uint32_t cell = permute_index(ps->k, cells, (uint32_t)h);
+        uint32_t cell = permute_index(ps->k, cells, h);
         uint64_t j = hash_u64(h, (uint64_t)ps->k);    /* the jitter of this sample */
         float jx = s->jitter ? u32_to_float((uint32_t)j) : 0.5f;
         float jy = s->jitter ? u32_to_float((uint32_t)(j >> 32)) : 0.5f;
@@ -245,7 +250,7 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
         break;
     }
     case SAMPLER_SOBOL: {
-        uint64_t h = hash_u64(ps->key, (uint64_t)dim);
+        uint64_t h = hash_u64(ps->key, (uint64_t)dim);               /* pixel, seed, group */
         uint32_t i = owen_scramble(ps->k, (uint32_t)h);          /* the group's own order */
         for (c = 0; c < n; c++)
             u[c] = u32_to_float(owen_scramble(sobol_u32(i, c), (uint32_t)(h >> 32) ^ (uint32_t)(0x68bc21ebu * (uint32_t)c)));
