@@ -113,27 +113,52 @@ static float u32_to_float(uint32_t v) { return (float)(v >> 8) * (1.0f / 1677721
 
 /* ------------------------------------------------------------------ Sobol, Owen */
 
-uint32_t sobol_u32(uint32_t i, int dim)
+/* The digits of Sobol dimension 1 of point i, first digit in bit 0.  Column b
+   of its generator matrix has digit r set iff C(b, r) is odd (Pascal's triangle
+   mod 2), i.e. by Lucas' theorem iff the bits of r are a subset of those of b, so
+   digit r = XOR of the i_b with b a superset of r: five butterfly steps over the
+   bits of the digit position r, instead of a loop over the 32 columns (1). */
+static uint32_t sobol1_digits(uint32_t i)
 {
-    uint32_t x = 0, v = 0x80000000u;
-    if (dim == 0) return reverse_bits32(i);          /* van der Corput */
-    for (; i; i >>= 1, v ^= v >> 1)                   /* (1) with v_1 */
-        if (i & 1u) x ^= v;
-    return x;
+    i ^= (i >> 1) & 0x55555555u;
+    i ^= (i >> 2) & 0x33333333u;
+    i ^= (i >> 4) & 0x0F0F0F0Fu;
+    i ^= (i >> 8) & 0x00FF00FFu;
+    i ^= (i >> 16) & 0x0000FFFFu;
+    return i;
 }
 
-/* Owen scramble of the 32 digits of x (Burley 2020, section 4, with Vegdahl's
-   constants): in the reversed bit order every step changes a bit only as a
-   function of the bits below it, i.e. digit j of x as a function of digits < j. */
-uint32_t owen_scramble(uint32_t x, uint32_t seed)
+uint32_t sobol_u32(uint32_t i, int dim)
 {
-    x = reverse_bits32(x);
+    return reverse_bits32(dim == 0 ? i : sobol1_digits(i));   /* dim 0: van der Corput */
+}
+
+/* Burley's scramble works on the digits in reversed order (first digit in bit
+   0): every step changes a bit only as a function of the bits below it, i.e.
+   digit j as a function of digits < j (Vegdahl's constants). */
+static uint32_t owen_reversed(uint32_t x, uint32_t seed)
+{
     x ^= x * 0x3d20adeau;
     x += seed;
     x *= (seed >> 16) | 1u;
     x ^= x * 0x05526c56u;
     x ^= x * 0x53a22864u;
-    return reverse_bits32(x);
+    return x;
+}
+
+/* Owen scramble of the 32 digits of x (Burley 2020, section 4). */
+uint32_t owen_scramble(uint32_t x, uint32_t seed)
+{
+    return reverse_bits32(owen_reversed(reverse_bits32(x), seed));
+}
+
+/* n = 1 or 2 Owen-scrambled Sobol coordinates of point i, the seeds of the two
+   coordinates derived from seed.  Both sobol_u32 and owen_scramble reverse the
+   digits, so the reversals in between cancel. */
+static void sobol_owen(uint32_t i, uint32_t seed, int n, float *u)
+{
+    u[0] = u32_to_float(reverse_bits32(owen_reversed(i, seed)));
+    if (n == 2) u[1] = u32_to_float(reverse_bits32(owen_reversed(sobol1_digits(i), seed ^ 0x68bc21ebu)));
 }
 
 /* The same on 64 digits, for zsobol's film-wide index (morton code x 2^L).  The
@@ -200,6 +225,7 @@ void sampler_start(const Sampler *s, int x, int y, int k, PixelSample *ps)
 {
     ps->s = s;
     ps->k = (uint32_t)k;
+    ps->k_reversed = reverse_bits32((uint32_t)k);
     ps->key = hash_u64(hash_u64((uint64_t)x, (uint64_t)y), (uint64_t)s->seed);
     memset(ps->used, 0, sizeof ps->used);
     ps->reused = 0;
@@ -251,16 +277,14 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
     }
     case SAMPLER_SOBOL: {
         uint64_t h = hash_u64(ps->key, (uint64_t)dim);               /* pixel, seed, group */
-        uint32_t i = owen_scramble(ps->k, (uint32_t)h);          /* the group's own order */
-        for (c = 0; c < n; c++)
-            u[c] = u32_to_float(owen_scramble(sobol_u32(i, c), (uint32_t)(h >> 32) ^ (uint32_t)(0x68bc21ebu * (uint32_t)c)));
+        /* the group's own order: i = owen_scramble(k), with k's reversal kept */
+        uint32_t i = reverse_bits32(owen_reversed(ps->k_reversed, (uint32_t)h));
+        sobol_owen(i, (uint32_t)(h >> 32), n, u);
         break;
     }
     case SAMPLER_ZSOBOL: {
         uint64_t h = hash_u64((uint64_t)s->seed, (uint64_t)dim);     /* one per film, not per pixel */
-        uint32_t i = (uint32_t)owen_scramble64(ps->index, h);
-        for (c = 0; c < n; c++)
-            u[c] = u32_to_float(owen_scramble(sobol_u32(i, c), (uint32_t)(h >> 32) ^ (uint32_t)(0x68bc21ebu * (uint32_t)c)));
+        sobol_owen((uint32_t)owen_scramble64(ps->index, h), (uint32_t)(h >> 32), n, u);
         break;
     }
     default:

@@ -198,6 +198,7 @@ typedef struct {               /* one sample of one pixel, on the stack of the t
     uint64_t key;              /* hash of (x, y, seed) */
     uint64_t index;            /* zsobol: Morton code of the pixel x 2^log2_spp + k */
     uint32_t k;                /* sample index in the pixel */
+    uint32_t k_reversed;       /* its bits reversed (sobol's index scramble starts there) */
     Rng rng;                   /* independent: the sample's PCG32 stream */
     uint32_t used[SAMPLER_CHECKED_DIMS / 32];  /* dimensions asked for so far */
     int reused;                /* dimensions asked for a second time */

@@ -42,6 +42,24 @@ static int is_net(const float *x, const float *y, int m, int *bad_p)
     return 1;
 }
 
+/* sobol_u32 against the definition (1) of sampler.c: dimension 0 XORs the
+   columns 2^(31-b), dimension 1 the columns v[0] = 2^31, v[b] = v[b-1] ^ (v[b-1] >> 1)
+   (direction numbers of the polynomial x + 1), for the bits b set in i. */
+static void test_sobol_definition(T *t)
+{
+    uint32_t i;
+    int n;
+    for (n = 0; n < 5000; n++) {
+        uint32_t x0 = 0, x1 = 0, v = 0x80000000u;
+        int b;
+        i = n < 2048 ? (uint32_t)n : (uint32_t)hash_u64((uint64_t)n, 99);
+        for (b = 0; b < 32; b++, v ^= v >> 1)
+            if ((i >> b) & 1u) { x0 ^= 0x80000000u >> b; x1 ^= v; }
+        CHECK(t, sobol_u32(i, 0) == x0 && sobol_u32(i, 1) == x1, "point %u: sobol_u32 gives %08x %08x, the "
+              "generator matrices %08x %08x", i, sobol_u32(i, 0), sobol_u32(i, 1), x0, x1);
+    }
+}
+
 static void test_sobol_nets(T *t)
 {
     static float x[1024], y[1024], z[1024];
@@ -598,6 +616,7 @@ static void test_sampler_ladders(T *t)
 }
 
 const TestCase tests_sampler[] = {
+    { "sampler_sobol_definition", test_sobol_definition },
     { "sampler_sobol_nets", test_sobol_nets },
     { "sampler_zsobol_stratified_strata", test_zsobol_stratified_strata },
     { "sampler_scrambles_decorrelated", test_scrambles_decorrelated },
