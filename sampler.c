@@ -70,7 +70,7 @@ static const char *const sampler_names[SAMPLER_COUNT] = { "independent", "strati
 
 const char *sampler_name(SamplerType t)
 {
-    return t >= 0 && t < SAMPLER_COUNT ? sampler_names[t] : "unknown";
+    return (int)t >= 0 && (int)t < SAMPLER_COUNT ? sampler_names[t] : "unknown";
 }
 
 SamplerType sampler_from_name(const char *name)

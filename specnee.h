@@ -620,7 +620,9 @@ int  render(Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error
    the pass that reaches ladder[i], on_rung(user, i, img, st) sees the image with
    ladder[i] samples per pixel (bit-identical to render() with that spp) and the
    cumulative statistics of the render so far (time spent in on_rung excluded);
-   returning 0 stops the render.  img holds the last image on return. */
+   returning 0 stops the render.  img holds the last image on return.  With a
+   sampler that is not progressive (stratified, zsobol: sampler_progressive) every
+   rung is a render of its own and st covers that render alone. */
 typedef int (*RenderRungFn)(void *user, int rung, const Image *img, const RenderStats *st);
 int  render_ladder(Scene *s, const RenderOptions *o, const int *ladder, int n_rungs,
                    RenderRungFn on_rung, void *user, Image *img, RenderStats *st, Error *err);
@@ -633,7 +635,8 @@ int  render_ladder(Scene *s, const RenderOptions *o, const int *ladder, int n_ru
                                        (build + passes; time between calls not counted)
      render_end(j)
    o and s must outlive j; s's emitters are re-normalised to j's wavelength range at
-   every advance, so jobs with different ranges may alternate. */
+   every advance, so jobs with different ranges may alternate.  A job whose sampler
+   is not progressive takes one advance only (a second one fails: "not progressive"). */
 typedef struct RenderJob RenderJob;
 RenderJob *render_begin(Scene *s, const RenderOptions *o, Error *err);
 int  render_advance(RenderJob *j, int spp, int spp_final, Error *err);
