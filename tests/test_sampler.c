@@ -615,7 +615,39 @@ static void test_sampler_ladders(T *t)
     scene_free(&s);
 }
 
+/* Sampler directives mean what they mean in pbrt-v4: the type picks the sampler
+   (halton, pmj02bn, paddedsobol: the nearest, sobol), stratified keeps its strata
+   and jitter; no directive leaves the choice to the options. */
+static void test_scene_directives(T *t)
+{
+    static const struct { const char *text, *want; int xs, ys, jitter; } cases[] = {
+        { "Sampler \"zsobol\" \"integer pixelsamples\" 32\nWorldBegin\n", "zsobol", 0, 0, 1 },
+        { "Sampler \"sobol\"\nWorldBegin\n", "sobol", 0, 0, 1 },
+        { "Sampler \"halton\"\nWorldBegin\n", "sobol", 0, 0, 1 },
+        { "Sampler \"pmj02bn\"\nWorldBegin\n", "sobol", 0, 0, 1 },
+        { "Sampler \"paddedsobol\" \"string randomization\" \"owen\"\nWorldBegin\n", "sobol", 0, 0, 1 },
+        { "Sampler \"independent\"\nWorldBegin\n", "independent", 0, 0, 1 },
+        { "Sampler \"stratified\" \"integer xsamples\" 2 \"integer ysamples\" 3 \"bool jitter\" false\nWorldBegin\n",
+          "stratified", 2, 3, 0 },
+        { "WorldBegin\n", "", 0, 0, 0 } };
+    int i;
+    for (i = 0; i < (int)(sizeof cases / sizeof cases[0]); i++) {
+        Scene s;
+        const SceneSettings *st = &s.settings;
+        if (!test_load_scene(t, &s, cases[i].text)) return;
+        CHECK(t, !strcmp(st->sampler, cases[i].want), "case %d: sampler '%s', expected '%s'", i, st->sampler,
+              cases[i].want);
+        if (!strcmp(cases[i].want, "stratified"))
+            CHECK(t, st->xsamples == cases[i].xs && st->ysamples == cases[i].ys && st->jitter == cases[i].jitter
+                  && st->spp == 6, "stratified: %d x %d jitter %d spp %d", st->xsamples, st->ysamples, st->jitter, st->spp);
+        CHECK(t, cases[i].want[0] == 0 || sampler_from_name(st->sampler) != SAMPLER_COUNT,
+              "case %d: '%s' is no sampler", i, st->sampler);
+        scene_free(&s);
+    }
+}
+
 const TestCase tests_sampler[] = {
+    { "sampler_scene_directives", test_scene_directives },
     { "sampler_sobol_definition", test_sobol_definition },
     { "sampler_sobol_nets", test_sobol_nets },
     { "sampler_zsobol_stratified_strata", test_zsobol_stratified_strata },
