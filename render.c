@@ -88,7 +88,7 @@ void render_options_default(RenderOptions *o)
     o->maxdepth = DEFAULT_MAXDEPTH;
     o->sel.strategy = SEL_SPATIAL;   /* the thesis' baseline distribution */
     o->nee = 1;
-    o->sampler = SAMPLER_INDEPENDENT;
+    o->sampler = SAMPLER_SOBOL;      /* lowest equal-time error, progressive (docs/sampling.md) */
     o->jitter = 1;
     o->debug_x = o->debug_y = -1;
 }

@@ -41,7 +41,7 @@ static const char usage_options[] =
 "      --spp N             samples per pixel (file: Sampler pixelsamples; default 16)\n"
 "      --seed N            random seed (file: Sampler seed; default 0)\n"
 "      --sampler NAME      independent, stratified, sobol or zsobol (file: Sampler;\n"
-"                          default independent; docs/sampling.md)\n"
+"                          default sobol; docs/sampling.md)\n"
 "      --threads N         worker threads (default: all cores; image is identical)\n"
 "      --maxdepth N        path vertices that scatter (file: Integrator maxdepth; 5)\n"
 "      --res WxH           film resolution (file: Film x/yresolution)\n"

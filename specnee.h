@@ -593,7 +593,7 @@ typedef struct {
     int single_wavelength;     /* 1 wavelength per path instead of HWSS */
     int rough_mis;             /* --rough-dispersion mis: secondaries survive rough glass */
     int nee;                   /* 1: NEE + BSDF sampling by MIS; 0: BSDF sampling only */
-    SamplerType sampler;       /* --sampler (file: Sampler); independent by default */
+    SamplerType sampler;       /* --sampler (file: Sampler); sobol by default */
     int xsamples, ysamples;    /* stratified strata (0: from spp) */
     int jitter;                /* stratified: jitter in the strata (default 1) */
     int progress;              /* progress bar on stderr */
