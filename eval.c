@@ -20,7 +20,9 @@
    Progressive: one render per (variant, seed) climbs the whole ladder (a
    RenderJob), each rung timed as the render so far; its image is bit-identical
    to a separate render with that spp, so the ladder costs the largest spp once
-   instead of the sum of all rungs.  The variants of a seed take turns rung by
+   instead of the sum of all rungs.  A variant whose sampler is not progressive
+   (stratified, zsobol: their samples depend on the total spp) renders every rung
+   separately, timed alone; converge says so on stderr and never mixes the two.  The variants of a seed take turns rung by
    rung, which pairs their timings (a slow spell of the machine hits all).
    Time: process CPU time by default (all threads; not charged while other
    programs hold the cores, so a busy machine barely moves it), wall time with
@@ -49,10 +51,10 @@
 
 /* "name[:modifier]...": modifiers power, all, tput, importance, visible, mixture,
    mixture=M (weight M of visible), uniform (the wavelength pdf), roughmis, single,
-   wide, nonee, nosplit (light trees: a large emissive mesh stays one leaf), and
-   terminate, hero, unit that pin a setting to the thesis' value whatever the
-   defaults (the factorial evaluation names every factor).  Returns 0 on an unknown
-   name or modifier. */
+   wide, nonee, nosplit (light trees: a large emissive mesh stays one leaf), a
+   sampler (independent stratified sobol zsobol), and terminate, hero, unit that
+   pin a setting to the thesis' value whatever the defaults (the factorial
+   evaluation names every factor).  Returns 0 on an unknown name or modifier. */
 int eval_parse_variant(const char *spec, RenderOptions *o)
 {
     char buf[128], *tok, *save = NULL;
@@ -84,6 +86,7 @@ int eval_parse_variant(const char *spec, RenderOptions *o)
         else if (!strcmp(tok, "wide")) o->wl_wide = 1;
         else if (!strcmp(tok, "nonee")) o->nee = 0;
         else if (!strcmp(tok, "nosplit")) o->sel.no_split = 1;
+        else if (sampler_from_name(tok) != SAMPLER_COUNT) o->sampler = sampler_from_name(tok);
         else return 0;
     }
     return 1;
@@ -246,7 +249,10 @@ static const char usage_converge[] =
     "  tree spectral-tree)\n"
     "  with modifiers, e.g. spd:power, product:all, product:tput, spatial:importance,\n"
     "  spatial:visible, spatial:mixture, spatial:mixture=0.1, spatial:roughmis,\n"
-    "  spatial:single, spatial:nonee, spectral-tree:nosplit.  The first is the baseline.\n"
+    "  spatial:single, spatial:nonee, spectral-tree:nosplit, and a sampler:\n"
+    "  spatial:sobol, spatial:zsobol, spatial:stratified, spatial:independent\n"
+    "  (stratified and zsobol are not progressive: their rungs are rendered one by\n"
+    "  one).  The first is the baseline.\n"
     "  --time: the time axis and the equal-time comparison use process CPU time\n"
     "  (default: not charged while other programs run) or wall time.\n"
     "  --reuse: no rendering; the charts and tables are rebuilt from PREFIX.csv of an\n"
@@ -315,6 +321,10 @@ int cmd_converge(int argc, char **argv)
             return 2;
         }
         if (baseline && !strcmp(baseline, var_names[v])) b = v;
+        if (!sampler_progressive(o.sampler) && !reuse)
+            fprintf(stderr, "converge: %s: the %s sampler is not progressive (its samples depend on "
+                    "the total spp): every rung is a separate render, timed alone\n",
+                    var_names[v], sampler_name(o.sampler));
     }
     memset(&scene, 0, sizeof scene);
     if (!scene_load(&scene, scene_path, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
@@ -398,6 +408,12 @@ int cmd_converge(int argc, char **argv)
         }
         for (s = 0; s < n_spp && !failed; s++)
             for (v = 0; v < n_var && !failed; v++) {
+                if (s > 0 && !sampler_progressive(o[v].sampler)) {
+                    /* a fresh render for this rung: its samples depend on the spp */
+                    render_end(job[v]);
+                    job[v] = render_begin(&scene, &o[v], &err);
+                    if (!job[v]) { failed = 1; break; }
+                }
                 if (!render_advance(job[v], spp[s], spp[n_spp - 1], &err)) failed = 1;
                 else record_rung(&R[v], s, render_image(job[v]), render_stats(job[v]));
             }

@@ -88,6 +88,8 @@ void render_options_default(RenderOptions *o)
     o->maxdepth = DEFAULT_MAXDEPTH;
     o->sel.strategy = SEL_SPATIAL;   /* the thesis' baseline distribution */
     o->nee = 1;
+    o->sampler = SAMPLER_SOBOL;      /* lowest equal-time error, progressive (docs/sampling.md) */
+    o->jitter = 1;
     o->debug_x = o->debug_y = -1;
 }
 
@@ -161,7 +163,8 @@ static Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1)
     return r;
 }
 
-/* One axis of pbrt-v4's Gaussian filter, g(x) - g(radius), by rejection. */
+/* One axis of pbrt-v4's Gaussian filter, g(x) - g(radius), by rejection: the
+   independent sampler's way (a variable count of numbers from its stream). */
 static float gaussian_offset(Rng *rng, float radius, float sigma)
 {
     float g_r = expf(-radius * radius / (2.0f * sigma * sigma));
@@ -174,6 +177,45 @@ static float gaussian_offset(Rng *rng, float radius, float sigma)
     return 0.0f;
 }
 
+/* The same filter for the other samplers, which need a fixed number of
+   dimensions: one axis of g(x) - g(radius) over [-radius, radius] tabulated in
+   FILTER_CELLS cells (the value at each cell's centre: 1/85 pixel wide for the
+   default radius 1.5), its CDF, and x = P^-1(u) by binary search, uniform within
+   the cell (pbrt-v4 samples filters from a table too).  One number per axis. */
+#define FILTER_CELLS 256
+typedef struct {
+    float radius;
+    float cdf[FILTER_CELLS + 1];     /* cdf[0] = 0, cdf[FILTER_CELLS] = 1 */
+} FilterTable;
+
+static void filter_table_init(FilterTable *ft, float radius, float sigma)
+{
+    double g_r = exp(-(double)radius * radius / (2.0 * sigma * sigma)), sum = 0.0, acc[FILTER_CELLS + 1];
+    int i;
+    ft->radius = radius;
+    acc[0] = 0.0;
+    for (i = 0; i < FILTER_CELLS; i++) {
+        double x = -radius + 2.0 * radius * (i + 0.5) / FILTER_CELLS;
+        double g = exp(-x * x / (2.0 * sigma * sigma)) - g_r;
+        sum += g > 0.0 ? g : 0.0;
+        acc[i + 1] = sum;
+    }
+    for (i = 0; i <= FILTER_CELLS; i++) ft->cdf[i] = (float)(acc[i] / sum);
+    ft->cdf[FILTER_CELLS] = 1.0f;
+}
+
+static float filter_table_sample(const FilterTable *ft, float u)
+{
+    int lo = 0, hi = FILTER_CELLS;          /* cdf[lo] <= u < cdf[hi] */
+    float t;
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (ft->cdf[mid] <= u) lo = mid; else hi = mid;
+    }
+    t = ft->cdf[lo + 1] > ft->cdf[lo] ? (u - ft->cdf[lo]) / (ft->cdf[lo + 1] - ft->cdf[lo]) : 0.5f;
+    return ft->radius * (-1.0f + 2.0f * ((float)lo + t) / (float)FILTER_CELLS);
+}
+
 /* ------------------------------------------------------------------ the path */
 
 typedef struct {
@@ -183,11 +225,13 @@ typedef struct {
     WavelengthPdf wl;
     Camera cam;
     int *inf; int n_inf;             /* the emitters that are infinite lights */
+    Sampler sampler;                 /* the numbers (sampler.c); its spp is the pass's target */
+    FilterTable filter;              /* the Gaussian filter for the non-independent samplers */
 } Renderer;
 
 typedef struct {
     uint64_t rays;
-    long nonfinite, fallbacks;
+    long nonfinite, fallbacks, dims_reused;
 } Counters;
 
 /* What the integrator remembers of the previous vertex for the MIS weight of an
@@ -325,7 +369,7 @@ static void debug_check_sum(FILE *dbg, double S)
 }
 
 /* Trace one camera sample; adds its XYZ estimate to xyz. */
-static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *rng,
+static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelSample *ps,
                        double xyz[3], Counters *cnt, FILE *dbg)
 {
     const Scene *s = R->s;
@@ -449,16 +493,16 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
         if (o->nee && !mat_is_delta(mat) && s->n_emitters > 0) {
             int e, e_first = 0, e_end = 1;
             if (is_all) { e_first = 0; e_end = light_n_pieces(R->ls); }
-            u0 = rng_float(rng);
-            u1 = rng_float(rng);
-            u2 = rng_float(rng);
+            /* (the order of these requests is the independent sampler's stream order) */
+            u0 = sampler_1d(ps, dim_bounce(depth, BD_TRIANGLE));
+            sampler_2d(ps, dim_bounce(depth, BD_POINT), &u1, &u2);
             for (e = e_first; e < e_end; e++) {
                 float P = 1.0f, f[HERO_N], pdf_l[HERO_N], cos_i, q_nee;
                 int chosen = e, fb = 0, any = 0, em;
                 EmitterSample es;
                 double value[HERO_N], den;
                 if (!is_all) {
-                    chosen = light_select(R->ls, &ctx, rng_float(rng), &P, &fb);
+                    chosen = light_select(R->ls, &ctx, sampler_1d(ps, dim_bounce(depth, BD_LIGHT)), &P, &fb);
                     if (fb) cnt->fallbacks++;
                     if (dbg) fprintf(dbg, "  NEE: chose emitter %d with P=%.4g (%s)\n",
                                      chosen >= 0 ? light_piece_emitter(R->ls, chosen) : -1, P,
@@ -523,9 +567,8 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
         }
 
         /* 5. BSDF sampling: the next direction, with the hero's index */
-        u0 = rng_float(rng);
-        u1 = rng_float(rng);
-        u2 = rng_float(rng);
+        u0 = sampler_1d(ps, dim_bounce(depth, BD_LOBE));
+        sampler_2d(ps, dim_bounce(depth, BD_DIR), &u1, &u2);
         if (!bsdf_sample(mat, &sp, wo, wl->lambda, alive, u0, u1, u2, &bs)) break;
         prev.can_nee = o->nee && !bs.delta && s->n_emitters > 0;
         prev.ctx = ctx;
@@ -559,7 +602,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, Rng *r
                 }
             q = sum_r > 0.0f ? (float)HERO_N * bmax / sum_r : 0.0f;
             if (q < 1.0f) {
-                int dies = rng_float(rng) >= q;
+                int dies = sampler_1d(ps, dim_bounce(depth, BD_ROULETTE)) >= q;
                 if (dbg) fprintf(dbg, "  roulette: survival q = min(1, %d max_j beta_j / sum_m r_m) = %.4g: %s\n",
                                  HERO_N, q, dies ? "path ends" : "survives, beta /= q");
                 if (dies) break;
@@ -596,7 +639,7 @@ typedef struct {
     double *acc;
     Image *img;
     uint64_t *row_rays;
-    long *row_nonfinite, *row_fallbacks;
+    long *row_nonfinite, *row_fallbacks, *row_dims_reused;
     int k0, k1, spp_final, rows_done;
 } Pass;
 
@@ -616,32 +659,36 @@ static void render_pass(Pass *P)
         memset(&cnt, 0, sizeof cnt);
         for (x = 0; x < w; x++) {
             double *sum = P->acc + 3 * ((size_t)y * w + x), avg[3], rgb[3];
-            uint64_t stream = hash_u64(hash_u64((uint64_t)x, (uint64_t)y), (uint64_t)(uint32_t)o->seed);
             FILE *dbg = (x == o->debug_x && y == o->debug_y) ? stderr : NULL;
             int k;
             for (k = P->k0; k < P->k1; k++) {
-                Rng rng;
+                PixelSample ps;
+                Rng *stream;
                 Wavelengths wl;
                 double xyz[3] = { 0.0, 0.0, 0.0 }, m;
                 float fx, fy, ul0 = 0.5f, ul1 = 0.5f;
-                rng_seed(&rng, stream, (uint64_t)k);   /* sample k's stream: independent of spp */
-                if (set->filter == FILTER_GAUSSIAN) {
-                    fx = 0.5f + gaussian_offset(&rng, set->filter_radius, set->filter_sigma);
-                    fy = 0.5f + gaussian_offset(&rng, set->filter_radius, set->filter_sigma);
+                sampler_start(&R->sampler, x, y, k, &ps);
+                stream = sampler_stream(&ps);
+                if (set->filter == FILTER_GAUSSIAN && stream) {
+                    /* independent: rejection from the stream (bit-identical to before) */
+                    fx = 0.5f + gaussian_offset(stream, set->filter_radius, set->filter_sigma);
+                    fy = 0.5f + gaussian_offset(stream, set->filter_radius, set->filter_sigma);
+                } else if (set->filter == FILTER_GAUSSIAN) {
+                    sampler_2d(&ps, DIM_FILM, &fx, &fy);
+                    fx = 0.5f + filter_table_sample(&R->filter, fx);
+                    fy = 0.5f + filter_table_sample(&R->filter, fy);
                 } else {
-                    fx = rng_float(&rng);
-                    fy = rng_float(&rng);
+                    sampler_2d(&ps, DIM_FILM, &fx, &fy);
                 }
-                wl_sample(&R->wl, rng_float(&rng), &wl);
-                /* the two lens dimensions come next in the sample's stream, drawn
-                   only with a lens, so pinhole images keep their random numbers */
-                if (R->cam.lens_radius > 0.0f) {
-                    ul0 = rng_float(&rng);
-                    ul1 = rng_float(&rng);
-                }
+                wl_sample(&R->wl, sampler_1d(&ps, DIM_WAVELENGTH), &wl);
+                /* the lens dimensions, requested only with a lens: the independent
+                   sampler's stream then has them after the wavelength, and pinhole
+                   images keep their random numbers */
+                if (R->cam.lens_radius > 0.0f) sampler_2d(&ps, DIM_LENS, &ul0, &ul1);
                 if (dbg) fprintf(dbg, "pixel (%d, %d) sample %d\n", x, y, k);
                 trace_path(R, camera_ray(&R->cam, (float)x + fx, (float)y + fy, ul0, ul1), &wl,
-                           &rng, xyz, &cnt, dbg);
+                           &ps, xyz, &cnt, dbg);
+                cnt.dims_reused += ps.reused;
                 if (isfinite(xyz[0]) && isfinite(xyz[1]) && isfinite(xyz[2])) {
                     /* pbrt-v4's sensor (RGBFilm::AddSample, cie1931 sensor: sensor
                        RGB = XYZ): times the imaging ratio, then the largest
@@ -666,6 +713,7 @@ static void render_pass(Pass *P)
         P->row_rays[y] += cnt.rays;
         P->row_nonfinite[y] += cnt.nonfinite;
         P->row_fallbacks[y] += cnt.fallbacks;
+        P->row_dims_reused[y] += cnt.dims_reused;
         if (o->progress) {
 #ifdef _OPENMP
 #pragma omp critical(specnee_progress)
@@ -712,6 +760,8 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     j->R.s = s;
     j->R.o = o;
     camera_init(&j->R.cam, set);
+    filter_table_init(&j->R.filter, set->filter_radius, set->filter_sigma);
+    sampler_init(&j->R.sampler, o->sampler, o->seed, o->spp, o->xsamples, o->ysamples, o->jitter);
     /* the emitters for this range and their selection tables */
     j->R.ls = light_sampler_build(s, &j->sel, err);
     if (!j->R.ls) { free(j); return NULL; }
@@ -745,7 +795,9 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     j->P.row_rays = (uint64_t *)calloc((size_t)h, sizeof *j->P.row_rays);
     j->P.row_nonfinite = (long *)calloc((size_t)h, sizeof *j->P.row_nonfinite);
     j->P.row_fallbacks = (long *)calloc((size_t)h, sizeof *j->P.row_fallbacks);
-    if (!img_alloc(&j->img, w, h) || !j->P.acc || !j->P.row_rays || !j->P.row_nonfinite || !j->P.row_fallbacks) {
+    j->P.row_dims_reused = (long *)calloc((size_t)h, sizeof *j->P.row_dims_reused);
+    if (!img_alloc(&j->img, w, h) || !j->P.acc || !j->P.row_rays || !j->P.row_nonfinite || !j->P.row_fallbacks
+        || !j->P.row_dims_reused) {
         error_set(err, NULL, 0, "out of memory for a %dx%d image", w, h);
         render_end(j);
         return NULL;
@@ -766,16 +818,28 @@ int render_advance(RenderJob *j, int spp, int spp_final, Error *err)
         error_set(err, NULL, 0, "the spp ladder must increase (%d after %d)", spp, j->P.k1);
         return 0;
     }
+    if (j->P.k1 > 0 && !sampler_progressive(j->R.sampler.type)) {
+        /* its samples depend on the total spp: adding to a render would mix two designs */
+        error_set(err, NULL, 0, "the %s sampler is not progressive (its samples depend on the "
+                  "total spp): render %d spp separately", sampler_name(j->R.sampler.type), spp);
+        return 0;
+    }
     t0 = wall_seconds();
     c0 = clock();
     j->P.k0 = j->P.k1;
     j->P.k1 = spp;
     j->P.spp_final = spp_final > spp ? spp_final : spp;
     j->P.rows_done = 0;
+    {   /* the sampler's spp is this pass's target (only stratified and zsobol use it,
+           and they allow one pass) */
+        const RenderOptions *o = j->R.o;
+        sampler_init(&j->R.sampler, o->sampler, o->seed, spp, o->xsamples, o->ysamples, o->jitter);
+    }
     render_pass(&j->P);
     j->st.rays = 0;
-    j->st.nonfinite = j->st.fallbacks = 0;
+    j->st.nonfinite = j->st.fallbacks = j->st.dims_reused = 0;
     for (y = 0; y < h; y++) {
+        j->st.dims_reused += j->P.row_dims_reused[y];
         j->st.rays += j->P.row_rays[y];
         j->st.nonfinite += j->P.row_nonfinite[y];
         j->st.fallbacks += j->P.row_fallbacks[y];
@@ -794,6 +858,7 @@ void render_end(RenderJob *j)
 {
     if (!j) return;
     free(j->P.acc); free(j->P.row_rays); free(j->P.row_nonfinite); free(j->P.row_fallbacks);
+    free(j->P.row_dims_reused);
     img_free(&j->img);
     if (j->R.ls) light_sampler_free(j->R.ls);
     free(j->R.inf);
@@ -819,6 +884,23 @@ int render_ladder(const Scene *s, const RenderOptions *o, const int *ladder, int
             error_set(err, NULL, 0, "the spp ladder must increase (%d after %d)", ladder[i], ladder[i - 1]);
             return 0;
         }
+    if (!sampler_progressive(o->sampler)) {
+        /* stratified, zsobol: sample k depends on the total spp, so every rung is
+           a render of its own (and st covers that render alone) */
+        img->rgb = NULL;
+        for (i = 0; i < n_rungs && ok; i++) {
+            j = render_begin(s, o, err);
+            if (!j) { img_free(img); return 0; }
+            if (!render_advance(j, ladder[i], ladder[i], err)) { render_end(j); img_free(img); return 0; }
+            *st = j->st;
+            if (on_rung) ok = on_rung(user, i, &j->img, st);
+            img_free(img);
+            *img = j->img;               /* the caller owns the last image */
+            memset(&j->img, 0, sizeof j->img);
+            render_end(j);
+        }
+        return 1;
+    }
     j = render_begin(s, o, err);
     if (!j) return 0;
     for (i = 0; i < n_rungs && ok; i++) {

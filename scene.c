@@ -1199,17 +1199,17 @@ static int sampler_directive(Parser *P, const char *type, ParamList *pl, const c
         "halton", "independent", "paddedsobol", "pmj02bn", "sobol", "stratified", "zsobol", NULL
     };
     SceneSettings *st = &P->s->settings;
-    int i, spp, seed, given = 0, seed_given = 0, dummy;
+    int i, spp, seed, given = 0, seed_given = 0, jitter = 1, xs = 0, ys = 0;
     const char *rnd;
     for (i = 0; known[i]; i++)
         if (!strcmp(type, known[i])) break;
     if (!known[i]) return fail(P, file, line, "Sampler \"%s\": unknown sampler type", type);
     if (!strcmp(type, "stratified")) {
         /* pbrt-v4: xsamples * ysamples (4 x 4 by default), no pixelsamples */
-        int xs, ys, gx, gy;
+        int gx, gy;
         if (!get_int(P, pl, "xsamples", 4, &xs, &gx)) return 0;
         if (!get_int(P, pl, "ysamples", 4, &ys, &gy)) return 0;
-        if (!get_bool(P, pl, "jitter", 1, &dummy)) return 0;
+        if (!get_bool(P, pl, "jitter", 1, &jitter)) return 0;
         if (xs < 1 || ys < 1 || xs > 4096 || ys > 4096)
             return fail(P, file, line, "Sampler \"stratified\": xsamples/ysamples must be "
                         "within 1..4096");
@@ -1234,9 +1234,18 @@ static int sampler_directive(Parser *P, const char *type, ParamList *pl, const c
     st->spp_set = given;
     st->seed = seed;
     st->seed_set = seed_given;
-    if (strcmp(type, "independent") != 0)
-        fprintf(stderr, "%s:%d: note: Sampler \"%s\": specnee uses its own independent "
-                "sampler with the same sample count\n", file, line, type);
+    st->xsamples = xs;
+    st->ysamples = ys;
+    st->jitter = jitter;
+    /* pbrt-v4's samplers specnee does not have map to the nearest it has
+       (docs/sampling.md): halton, pmj02bn and paddedsobol are per-pixel
+       stratified low-discrepancy points like specnee's padded Owen-scrambled sobol */
+    if (!strcmp(type, "halton") || !strcmp(type, "pmj02bn") || !strcmp(type, "paddedsobol")) {
+        fprintf(stderr, "%s:%d: note: Sampler \"%s\": specnee uses its nearest, \"sobol\" "
+                "(padded, Owen-scrambled), with the same sample count\n", file, line, type);
+        type = "sobol";
+    }
+    snprintf(st->sampler, sizeof st->sampler, "%s", type);
     return 1;
 }
 

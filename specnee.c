@@ -40,6 +40,8 @@ static const char usage_options[] =
 "                          its directory must exist\n"
 "      --spp N             samples per pixel (file: Sampler pixelsamples; default 16)\n"
 "      --seed N            random seed (file: Sampler seed; default 0)\n"
+"      --sampler NAME      independent, stratified, sobol or zsobol (file: Sampler;\n"
+"                          default sobol; docs/sampling.md)\n"
 "      --threads N         worker threads (default: all cores; image is identical)\n"
 "      --maxdepth N        path vertices that scatter (file: Integrator maxdepth; 5)\n"
 "      --res WxH           film resolution (file: Film x/yresolution)\n"
@@ -164,7 +166,7 @@ static int parse_float(const char *s, float *out)
 typedef struct {
     RenderOptions ro;
     const char *scene, *out;
-    int spp_cli, seed_cli, maxdepth_cli, lights_cli;
+    int spp_cli, seed_cli, maxdepth_cli, lights_cli, sampler_cli;
     float exposure;
     int dump, quiet, mark_insets;
     int res_w, res_h;          /* --res: override the film resolution (0: the file's) */
@@ -199,6 +201,12 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
             NEEDS_VALUE();
             if (!parse_int(v, -2147483647L, 2147483647L, &a->ro.seed)) return usage_error("--seed needs an integer, not '%s'", v);
             a->seed_cli = 1;
+        } else if (!strcmp(o, "--sampler")) {
+            NEEDS_VALUE();
+            a->ro.sampler = sampler_from_name(v);
+            if (a->ro.sampler == SAMPLER_COUNT)
+                return usage_error("--sampler is independent, stratified, sobol or zsobol, not '%s'", v);
+            a->sampler_cli = 1;
         } else if (!strcmp(o, "--threads")) {
             NEEDS_VALUE();
             if (!parse_int(v, 1, 4096, &a->ro.threads)) return usage_error("--threads needs a positive integer, not '%s'", v);
@@ -308,6 +316,12 @@ static int apply_scene_settings(Args *a, Scene *s)
     if (!a->spp_cli && st->spp_set) a->ro.spp = st->spp;
     if (!a->seed_cli && st->seed_set) a->ro.seed = st->seed;
     if (!a->maxdepth_cli && st->maxdepth_set) a->ro.maxdepth = st->maxdepth;
+    if (!a->sampler_cli && st->sampler[0]) {
+        a->ro.sampler = sampler_from_name(st->sampler);   /* scene.c wrote a known name */
+        a->ro.xsamples = st->xsamples;
+        a->ro.ysamples = st->ysamples;
+        a->ro.jitter = st->jitter;
+    }
     if (a->res_w > 0) {
         /* a smaller film keeps the field of view (pbrt: fov spans the shorter axis) */
         s->settings.xres = a->res_w;
@@ -392,9 +406,9 @@ static int render_main(int argc, char **argv)
     else
         snprintf(wl_text, sizeof wl_text, "%s", wl_mode_name(a.ro.wl_mode));
     snprintf(settings, sizeof settings,
-             "scene=%s seed=%d maxdepth=%d lights=%s spd-metric=%s all-wavelengths=%d "
+             "scene=%s seed=%d sampler=%s maxdepth=%d lights=%s spd-metric=%s all-wavelengths=%d "
              "wavelengths=%s range=%s single=%d rough-dispersion=%s nee=%d",
-             a.scene, a.ro.seed, a.ro.maxdepth, sel_name(a.ro.sel.strategy),
+             a.scene, a.ro.seed, sampler_name(a.ro.sampler), a.ro.maxdepth, sel_name(a.ro.sel.strategy),
              a.ro.sel.power_metric ? "power" : "unit", a.ro.sel.all_wavelengths,
              wl_text, a.ro.wl_wide ? "360-830" : "400-700",
              a.ro.single_wavelength, a.ro.rough_mis ? "mis" : "terminate", a.ro.nee);
@@ -406,10 +420,11 @@ static int render_main(int argc, char **argv)
     }
     if (!a.quiet)
         fprintf(stderr, "specnee: %s: %dx%d, %d spp, %s, in %.3f s wall (%.3f s CPU, tables %.1f ms%s): "
-                        "%.0f samples/s, %.2f Mrays/s%s%s\n",
+                        "%.0f samples/s, %.2f Mrays/s%s%s%s\n",
                 out, img.w, img.h, a.ro.spp, sel_name(a.ro.sel.strategy), st.wall_s, st.cpu_s,
                 1e3 * (st.build_s + st.lazy_s), st.lazy_s > 0.0 ? ", built lazily during the render" : "", (double)st.samples / st.wall_s, (double)st.rays / st.wall_s * 1e-6,
                 st.nonfinite ? " (WARNING: non-finite samples dropped)" : "",
+                st.dims_reused ? " (WARNING: a sampler dimension was used twice)" : "",
                 st.fallbacks ? " (some vertices fell back to spatial: no emitter in the hero's bin)" : "");
     img_free(&img);
     scene_free(&scene);

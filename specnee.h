@@ -81,7 +81,7 @@
 #define PI_F 3.14159265358979323846f
 
 /* ======================================================================
-   2. Small math: vectors, rays, 4x4 transforms, a counter-based RNG
+   2. Small math: vectors, rays, 4x4 transforms, a counter-based RNG, samplers
    ====================================================================== */
 typedef struct {
     float x, y, z;
@@ -150,6 +150,85 @@ float    rng_float(Rng *r);                          /* uniform in [0, 1) */
 
 /* Radical inverse of i in a prime base (Halton points, for deterministic tables). */
 double radical_inverse(int base, uint64_t i);
+
+/* ---- Samplers (sampler.c): the number for a (pixel, sample, dimension) ----
+   Every random decision of the renderer asks the sampler for its number by its
+   DIMENSION.  The table (docs/sampling.md explains it):
+
+     dim            numbers  decision                              group
+     0, 1           2-D      position in the pixel (pixel filter)  camera
+     2, 3           2-D      reserved: a point on a thin lens      lens
+     4              1-D      hero wavelength u (HWSS rotates the   wavelength
+                             other three by j/4)
+     then for bounce d = 0, 1, ... at DIM_BOUNCE0 + d * DIMS_PER_BOUNCE + slot:
+     +0 BD_LIGHT    1-D      which emitter NEE picks (light_select)
+     +1 BD_TRIANGLE 1-D      which triangle of that emitter (by area)
+     +2 BD_POINT    2-D      the point on the triangle / sphere
+     +4 BD_LOBE     1-D      reflect or refract (dielectrics)
+     +5 BD_DIR      2-D      the BSDF direction
+     +7 BD_ROULETTE 1-D      Russian roulette after the bounce
+
+   A GROUP is one request: the two numbers of a 2-D group map together onto a 2-D
+   domain (pixel, triangle, hemisphere), so they must be spread as a 2-D point
+   set; every group gets its own scramble and sample order (padding), so groups
+   are decorrelated and any number of bounces can be served by 2-D sequences.
+   No two decisions share a dimension: two decisions driven by one number would
+   be correlated (and biased).  Each sample counts a dimension asked for twice
+   (RenderStats.dims_reused, which must stay 0). */
+#define DIM_FILM 0
+#define DIM_LENS 2
+#define DIM_WAVELENGTH 4
+#define DIM_BOUNCE0 5
+#define DIMS_PER_BOUNCE 8
+enum { BD_LIGHT = 0, BD_TRIANGLE = 1, BD_POINT = 2, BD_LOBE = 4, BD_DIR = 5, BD_ROULETTE = 7 };
+static inline int dim_bounce(int depth, int slot) { return DIM_BOUNCE0 + depth * DIMS_PER_BOUNCE + slot; }
+#define SAMPLER_CHECKED_DIMS 256   /* dimensions whose reuse is counted (31 bounces) */
+
+typedef enum {
+    SAMPLER_INDEPENDENT,       /* PCG32 per (pixel, sample): specnee's original, bit for bit */
+    SAMPLER_STRATIFIED,        /* jittered strata (pbrt-v4 xsamples, ysamples, jitter) */
+    SAMPLER_SOBOL,             /* padded Owen-scrambled Sobol per pixel (Burley 2020) */
+    SAMPLER_ZSOBOL,            /* one Sobol sequence over the film in Morton order (pbrt-v4) */
+    SAMPLER_COUNT
+} SamplerType;
+
+typedef struct {
+    SamplerType type;
+    uint32_t seed;             /* --seed: different seeds give independent scrambles */
+    int spp;                   /* samples per pixel of the render (stratified, zsobol use it) */
+    int xsamples, ysamples;    /* stratified: the 2-D strata, xsamples * ysamples = spp */
+    int jitter;                /* stratified: 1 = random point in the stratum, 0 = centre */
+    int log2_spp;              /* zsobol: 2^log2_spp >= spp indices per pixel */
+} Sampler;
+
+typedef struct {               /* one sample of one pixel, on the stack of the tracer */
+    const Sampler *s;
+    uint64_t key;              /* hash of (x, y, seed) */
+    uint64_t index;            /* zsobol: Morton code of the pixel x 2^log2_spp + k */
+    uint32_t k;                /* sample index in the pixel */
+    uint32_t k_reversed;       /* its bits reversed (sobol's index scramble starts there) */
+    Rng rng;                   /* independent: the sample's PCG32 stream */
+    uint32_t used[SAMPLER_CHECKED_DIMS / 32];  /* dimensions asked for so far */
+    int reused;                /* dimensions asked for a second time */
+} PixelSample;
+
+/* xsamples/ysamples: the file's strata (0: factor spp into two near-equal factors,
+   as pbrt-v4 does when --spp overrides them). */
+void  sampler_init(Sampler *s, SamplerType type, int seed, int spp, int xsamples, int ysamples,
+                   int jitter);
+void  sampler_start(const Sampler *s, int x, int y, int k, PixelSample *ps);
+float sampler_1d(PixelSample *ps, int dim);                     /* in [0, 1) */
+void  sampler_2d(PixelSample *ps, int dim, float *u0, float *u1);  /* dims dim, dim + 1 */
+/* The independent sampler's raw stream, for the one consumer that needs a
+   variable count of numbers (the Gaussian filter's rejection loop, kept so that
+   independent images stay bit-identical); NULL for the other samplers. */
+Rng  *sampler_stream(PixelSample *ps);
+/* 1 if sample k does not depend on spp (a progressive render equals separate ones). */
+int   sampler_progressive(SamplerType t);
+SamplerType sampler_from_name(const char *name);   /* SAMPLER_COUNT if unknown */
+const char *sampler_name(SamplerType t);
+uint32_t sobol_u32(uint32_t i, int dim);            /* Sobol dimension 0 or 1, 32 bits */
+uint32_t owen_scramble(uint32_t x, uint32_t seed);  /* nested uniform scramble of x's digits */
 
 /* ======================================================================
    3. Errors: libraries return, only main exits
@@ -489,6 +568,8 @@ typedef struct {
        (shutterclose - shutteropen) * iso / 100, then scaled down so that its largest
        component is at most max_component (Film "maxcomponentvalue", default inf) */
     float imaging_ratio, max_component;
+    char sampler[16];          /* Sampler: the specnee sampler it maps to, "" if none */
+    int xsamples, ysamples, jitter;      /* Sampler "stratified" */
 } SceneSettings;
 
 typedef struct Scene {
@@ -663,6 +744,9 @@ typedef struct {
     int single_wavelength;     /* 1 wavelength per path instead of HWSS */
     int rough_mis;             /* --rough-dispersion mis: secondaries survive rough glass */
     int nee;                   /* 1: NEE + BSDF sampling by MIS; 0: BSDF sampling only */
+    SamplerType sampler;       /* --sampler (file: Sampler); sobol by default */
+    int xsamples, ysamples;    /* stratified strata (0: from spp) */
+    int jitter;                /* stratified: jitter in the strata (default 1) */
     int progress;              /* progress bar on stderr */
     int debug_x, debug_y;      /* --debug-pixel: print that pixel's paths (-1: off) */
 } RenderOptions;
@@ -674,6 +758,8 @@ typedef struct {
                                         (part of wall_s) */
     uint64_t rays, samples;
     long nonfinite;                  /* samples rejected as NaN/inf (must stay 0) */
+    long dims_reused;                /* sampler dimensions asked for twice by one
+                                        sample (the dimension table; must stay 0) */
     long fallbacks;
 } RenderStats;
 
@@ -686,7 +772,9 @@ int  render(const Scene *s, const RenderOptions *o, Image *img, RenderStats *st,
    the pass that reaches ladder[i], on_rung(user, i, img, st) sees the image with
    ladder[i] samples per pixel (bit-identical to render() with that spp) and the
    cumulative statistics of the render so far (time spent in on_rung excluded);
-   returning 0 stops the render.  img holds the last image on return. */
+   returning 0 stops the render.  img holds the last image on return.  With a
+   sampler that is not progressive (stratified, zsobol: sampler_progressive) every
+   rung is a render of its own and st covers that render alone. */
 typedef int (*RenderRungFn)(void *user, int rung, const Image *img, const RenderStats *st);
 int  render_ladder(const Scene *s, const RenderOptions *o, const int *ladder, int n_rungs,
                    RenderRungFn on_rung, void *user, Image *img, RenderStats *st, Error *err);
@@ -699,7 +787,8 @@ int  render_ladder(const Scene *s, const RenderOptions *o, const int *ladder, in
                                        (build + passes; time between calls not counted)
      render_end(j)
    o and s must outlive j; s is only read, so jobs with different wavelength ranges
-   may alternate. */
+   may alternate.  A job whose sampler is not progressive takes one advance only (a
+   second one fails: "not progressive"). */
 typedef struct RenderJob RenderJob;
 RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err);
 int  render_advance(RenderJob *j, int spp, int spp_final, Error *err);

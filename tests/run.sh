@@ -122,6 +122,10 @@ expect "cli_render_tiny" 0 "samples/s" ./specnee scenes/cornell.pbrt --spp 2 -o 
 if [ -f tests/tmp/tiny.pfm ] && [ -f tests/tmp/tiny.pfm.txt ]; then ok "cli_render_writes_pfm_and_sidecar"
 else fail "cli_render_writes_pfm_and_sidecar"; fi
 expect "cli_render_png" 0 "" ./specnee -q scenes/cornell.pbrt --spp 1 -o tests/tmp/tiny.png
+expect "cli_bad_sampler" 2 "independent, stratified, sobol or zsobol" ./specnee --sampler halton scenes/cornell.pbrt
+expect "cli_render_sampler" 0 "samples/s" ./specnee scenes/cornell.pbrt --res 16x16 --spp 2 --sampler zsobol -o tests/tmp/zs.pfm
+if grep -q 'sampler=zsobol' tests/tmp/zs.pfm.txt 2>/dev/null; then ok "cli_sidecar_records_sampler"
+else fail "cli_sidecar_records_sampler"; fi
 expect "cli_mark_insets_needs_png" 2 "needs a .png" ./specnee scenes/cornell1.pbrt --spp 1 --mark-insets -o tests/tmp/m.pfm
 expect "cli_mark_insets" 0 "" ./specnee -q scenes/cornell1.pbrt --spp 1 --mark-insets -o tests/tmp/marked.png
 expect "cli_mark_insets_plain" 0 "" ./specnee -q scenes/cornell1.pbrt --spp 1 -o tests/tmp/plain.png
@@ -284,13 +288,16 @@ if SCENES=wl-filter SEEDS=2 LADDER=1,2 WAVELENGTHS="uniform visible" SELECTIONS=
    ! grep -qi 'nan\|inf' tests/tmp/factorial/factors.md; then ok "factorial_smoke"
 else fail "factorial_smoke"; tail -n 5 tests/tmp/factorial.txt; fi
 
+# a sampler that is not progressive (zsobol): converge renders its rungs one by one and says so
+expect "eval_converge_not_progressive" 0 "zsobol sampler is not progressive" ./specnee converge scenes/cornell-glass.pbrt \
+    --ref docs/ref/cornell-glass.pfm --lights spatial,spatial:zsobol --spp 1,2 --seeds 2 --out tests/tmp/smoke-z
 # golden images (bit-exact with this binary) and every command of the walkthrough
 counted golden sh tests/golden.sh
 counted walkthrough sh tests/walkthrough.sh
 
 if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
     # ---- 3. three compilers, warnings are errors (each one that is installed)
-    LIBSRC="util.c bvh.c spectrum.c lights.c infinite.c scene.c ply.c material.c render.c image.c svg.c eval.c"
+    LIBSRC="util.c sampler.c bvh.c spectrum.c lights.c infinite.c scene.c ply.c material.c render.c image.c svg.c eval.c"
     proven=""
     for cc in gcc clang tcc; do
         if ! have_cc $cc; then skip "build_$cc: $cc not installed (CI proves it)"; continue; fi

@@ -64,3 +64,25 @@ if [ -x ./tools/bench_lights ]; then
         done
     fi
 fi
+
+if [ -x ./specnee ] && [ -f scenes/cornell1.pbrt ]; then
+    # samplers (docs/sampling.md): the same render with each, interleaved over rounds
+    # so that a busy spell of the machine slows them alike; CPU time of 1 thread
+    sc=scenes/cornell1.pbrt
+    rounds=${SAMPLER_ROUNDS:-3}
+    echo "== CPU time per sampler, $sc at 16 spp, 1 thread, $rounds rounds (ratio to independent)"
+    : > out/bench_sampler.txt
+    r=0
+    while [ $r -lt "$rounds" ]; do
+        for smp in independent stratified sobol zsobol; do
+            line=$(./specnee $sc --spp 16 --threads 1 --sampler $smp -o out/bench_sampler.pfm 2>&1 | tail -n 1)
+            echo "$smp $(echo "$line" | sed -n 's/.*(\([0-9.]*\) s CPU.*/\1/p')" >> out/bench_sampler.txt
+        done
+        r=$((r + 1))
+    done
+    awk '{ t[$1] += $2; n[$1]++ } END {
+        split("independent stratified sobol zsobol", order, " ")
+        for (i = 1; i <= 4; i++) { s = order[i]
+            printf "%-12s %8.3f s CPU (mean of %d)  x%.3f\n", s, t[s] / n[s], n[s], t[s] / t["independent"] } }' \
+        out/bench_sampler.txt
+fi

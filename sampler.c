@@ -1,0 +1,313 @@
+/* sampler.c - the numbers a path uses: one u in [0, 1) per (pixel, sample, dimension).
+
+   Exported (specnee.h section 2, "Samplers"): sampler_init, sampler_start,
+   sampler_1d, sampler_2d, sampler_stream, sampler_progressive, sampler_from_name,
+   sampler_name, sobol_u32, owen_scramble.
+
+   A path tracer is a Monte Carlo integrator over a space of many dimensions: the
+   position in the pixel, the hero wavelength, then per bounce the emitter, the
+   point on it, the BSDF lobe, the direction, the roulette.  render.c asks for the
+   number of each decision by its DIMENSION (the table in specnee.h, DIM_*): a
+   sampler decides how the numbers of one dimension are spread over the samples
+   of a pixel.  Every sampler hands out numbers that are uniform on [0, 1) one at
+   a time, so every estimator stays unbiased; they differ in how evenly the N
+   samples of a pixel cover each dimension (docs/sampling.md).
+
+   independent  PCG32 (util.c), one stream per (pixel, seed, sample): specnee's
+                original sampler, bit for bit.  It ignores the dimension and hands
+                out the stream's numbers in the order they are asked for.
+   stratified   pbrt-v4's jittered strata: a 2-D request falls into one of
+                xsamples x ysamples cells, a 1-D request into one of spp cells; a
+                hashed permutation per (pixel, dimension) decides which sample takes
+                which cell, a hashed jitter where in the cell.  Not progressive: the
+                cells depend on spp.
+   sobol        The Sobol (0,2)-sequence in its first two dimensions, PADDED: every
+                dimension group (one 1-D or 2-D request, specnee.h's table) takes the
+                2-D (or 1-D) Sobol points of its own shuffled order, with its own
+                Owen scramble (Burley 2020, "Practical Hash-based Owen Scrambling",
+                JCGT 9(4)).  Seeds are hashed from (pixel, seed, group), so groups,
+                pixels and seeds are decorrelated.  Progressive: sample k does not
+                depend on spp, and any 2^m first samples of a pixel form a (0,m,2)-net
+                in every 2-D group.
+   zsobol       pbrt-v4's default (Ahmed and Wonka 2020, "Screen-Space Blue-Noise
+                Diffusion of Monte Carlo Sampling Error via Hierarchical Ordering of
+                Pixels"): ONE Sobol sequence for the whole film, pixel p taking the
+                2^L indices morton(p) * 2^L ... (2^L >= spp), shuffled per group by a
+                nested scramble of the index; neighbouring pixels then hold
+                neighbouring, complementary parts of one net, which spreads the error
+                like blue noise.  Not progressive: the index depends on L.
+
+   THE SOBOL POINTS.  Dimension d of point i is the 32-bit fraction
+       x_d(i) = XOR over the bits b set in i of v_d[b]                      (1)
+   with the generator matrix's columns v_d.  Dimension 0 is van der Corput's
+   sequence, v_0[b] = 2^(31-b) (x_0 = the bits of i reversed).  Dimension 1 is
+   the one with primitive polynomial x + 1 (Bratley and Fox 1988): v_1[0] = 2^31,
+   v_1[b] = v_1[b-1] XOR (v_1[b-1] >> 1) (Pascal's triangle mod 2).  Together they
+   are a (0,2)-sequence in base 2: every aligned block of 2^m points is a
+   (0,m,2)-net, one point in every elementary box of area 2^-m.
+
+   OWEN SCRAMBLING (Owen 1995) flips digit j of x by a random bit chosen by the
+   digits above j: it keeps nets nets and makes every point uniform on [0,1).
+   Burley's hash does it in one pass: reverse the bits (the first digit becomes the
+   lowest), apply operations in which each output bit depends only on the input
+   bits below it (adding a seed, multiplying by an odd number, x ^= x * even),
+   and reverse back.  The same scramble of the INDEX i shuffles the order of the
+   samples: the first 2^m indices map onto an aligned block of 2^m, so every
+   power-of-two prefix is still a net, and two groups with different shuffles are
+   decorrelated (padding).  The multipliers are data: the improved
+   Laine-Karras hash of N. Vegdahl (2021, "Building a Better LK Hash",
+   psychopath.io), which Burley's method admits in place of the paper's own
+   constants and pbrt-v4 uses too.
+
+   A FLOAT from 32 bits keeps the top 24 (as rng_float does): exactly representable
+   and strictly below 1. */
+#include "specnee.h"
+#include <string.h>
+
+/* ------------------------------------------------------------------ names */
+
+static const char *const sampler_names[SAMPLER_COUNT] = { "independent", "stratified", "sobol", "zsobol" };
+
+const char *sampler_name(SamplerType t)
+{
+    return (int)t >= 0 && (int)t < SAMPLER_COUNT ? sampler_names[t] : "unknown";
+}
+
+SamplerType sampler_from_name(const char *name)
+{
+    int i;
+    for (i = 0; i < SAMPLER_COUNT; i++)
+        if (!strcmp(name, sampler_names[i])) return (SamplerType)i;
+    return SAMPLER_COUNT;
+}
+
+int sampler_progressive(SamplerType t)
+{
+    return t == SAMPLER_INDEPENDENT || t == SAMPLER_SOBOL;
+}
+
+/* ------------------------------------------------------------------ bits */
+
+static uint32_t reverse_bits32(uint32_t v)
+{
+    v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+    v = ((v >> 4) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4);
+    v = ((v >> 8) & 0x00FF00FFu) | ((v & 0x00FF00FFu) << 8);
+    return (v >> 16) | (v << 16);
+}
+
+/* Morton code: the bits of x and y interleaved, x in the even bits. */
+static uint64_t spread_bits(uint32_t v)
+{
+    uint64_t x = v;
+    x = (x | (x << 16)) & 0x0000FFFF0000FFFFull;
+    x = (x | (x << 8)) & 0x00FF00FF00FF00FFull;
+    x = (x | (x << 4)) & 0x0F0F0F0F0F0F0F0Full;
+    x = (x | (x << 2)) & 0x3333333333333333ull;
+    x = (x | (x << 1)) & 0x5555555555555555ull;
+    return x;
+}
+
+static float u32_to_float(uint32_t v) { return (float)(v >> 8) * (1.0f / 16777216.0f); }
+
+/* ------------------------------------------------------------------ Sobol, Owen */
+
+/* The digits of Sobol dimension 1 of point i, first digit in bit 0.  Column b
+   of its generator matrix has digit r set iff C(b, r) is odd (Pascal's triangle
+   mod 2), i.e. by Lucas' theorem iff the bits of r are a subset of those of b, so
+   digit r = XOR of the i_b with b a superset of r: five butterfly steps over the
+   bits of the digit position r, instead of a loop over the 32 columns (1). */
+static uint32_t sobol1_digits(uint32_t i)
+{
+    i ^= (i >> 1) & 0x55555555u;
+    i ^= (i >> 2) & 0x33333333u;
+    i ^= (i >> 4) & 0x0F0F0F0Fu;
+    i ^= (i >> 8) & 0x00FF00FFu;
+    i ^= (i >> 16) & 0x0000FFFFu;
+    return i;
+}
+
+uint32_t sobol_u32(uint32_t i, int dim)
+{
+    return reverse_bits32(dim == 0 ? i : sobol1_digits(i));   /* dim 0: van der Corput */
+}
+
+/* Burley's scramble works on the digits in reversed order (first digit in bit
+   0): every step changes a bit only as a function of the bits below it, i.e.
+   digit j as a function of digits < j (Vegdahl's constants). */
+static uint32_t owen_reversed(uint32_t x, uint32_t seed)
+{
+    x ^= x * 0x3d20adeau;
+    x += seed;
+    x *= (seed >> 16) | 1u;
+    x ^= x * 0x05526c56u;
+    x ^= x * 0x53a22864u;
+    return x;
+}
+
+/* Owen scramble of the 32 digits of x (Burley 2020, section 4). */
+uint32_t owen_scramble(uint32_t x, uint32_t seed)
+{
+    return reverse_bits32(owen_reversed(reverse_bits32(x), seed));
+}
+
+/* n = 1 or 2 Owen-scrambled Sobol coordinates of point i, the seeds of the two
+   coordinates derived from seed.  Both sobol_u32 and owen_scramble reverse the
+   digits, so the reversals in between cancel. */
+static void sobol_owen(uint32_t i, uint32_t seed, int n, float *u)
+{
+    u[0] = u32_to_float(reverse_bits32(owen_reversed(i, seed)));
+    if (n == 2) u[1] = u32_to_float(reverse_bits32(owen_reversed(sobol1_digits(i), seed ^ 0x68bc21ebu)));
+}
+
+/* The same on 64 digits, for zsobol's film-wide index (morton code x 2^L).  The
+   two 32-bit halves are scrambled in turn, the high digits first; the low half's
+   seed is hashed with the high half, so each low digit still depends on every
+   digit above it (nested). */
+static uint64_t owen_scramble64(uint64_t x, uint64_t seed)
+{
+    uint32_t hi = owen_scramble((uint32_t)(x >> 32), (uint32_t)seed);
+    uint32_t lo = owen_scramble((uint32_t)x, (uint32_t)hash_u64(seed, (uint64_t)(uint32_t)(x >> 32)));
+    return ((uint64_t)hi << 32) | lo;
+}
+
+/* A hashed permutation of [0, n) evaluated at i: a 4-round Feistel network on
+   the 2h bits of the smallest even-width power-of-two range holding n (each
+   round swaps the halves and XORs one with a hash of the other: a bijection
+   whatever the hash), repeated until the result lands below n (cycle walking,
+   fewer than 4 rounds on average as 2^2h < 4n). */
+static uint32_t permute_index(uint32_t i, uint32_t n, uint64_t seed)
+{
+    int h = 1, r;
+    uint32_t hmask;
+    while ((1ull << (2 * h)) < (uint64_t)n) h++;
+    hmask = (1u << h) - 1u;
+    do {
+        uint32_t left = i >> h, right = i & hmask;
+        for (r = 0; r < 4; r++) {
+            uint32_t f = (uint32_t)hash_u64(seed + (uint64_t)r, (uint64_t)right) & hmask;
+            uint32_t next = left ^ f;
+            left = right;
+            right = next;
+        }
+        i = (left << h) | right;
+    } while (i >= n);
+    return i;
+}
+
+/* ------------------------------------------------------------------ the sampler */
+
+void sampler_init(Sampler *s, SamplerType type, int seed, int spp, int xsamples, int ysamples, int jitter)
+{
+    memset(s, 0, sizeof *s);
+    s->type = type;
+    s->seed = (uint32_t)seed;
+    s->spp = spp > 0 ? spp : 1;
+    s->jitter = jitter;
+    /* stratified: xsamples x ysamples = spp; when they do not multiply to spp,
+       factor spp into the two most nearly equal factors (pbrt-v4 does the same
+       with --spp) */
+    if (xsamples > 0 && ysamples > 0 && xsamples * ysamples == s->spp) {
+        s->xsamples = xsamples;
+        s->ysamples = ysamples;
+    } else {
+        int d = 1;
+        while ((d + 1) * (d + 1) <= s->spp) d++;
+        while (s->spp % d) d--;
+        s->ysamples = d;
+        s->xsamples = s->spp / d;
+    }
+    while ((1L << s->log2_spp) < s->spp) s->log2_spp++;
+}
+
+void sampler_start(const Sampler *s, int x, int y, int k, PixelSample *ps)
+{
+    ps->s = s;
+    ps->k = (uint32_t)k;
+    ps->k_reversed = reverse_bits32((uint32_t)k);
+    ps->key = hash_u64(hash_u64((uint64_t)x, (uint64_t)y), (uint64_t)s->seed);
+    memset(ps->used, 0, sizeof ps->used);
+    ps->reused = 0;
+    if (s->type == SAMPLER_INDEPENDENT) {
+        rng_seed(&ps->rng, ps->key, (uint64_t)k);   /* sample k's stream: independent of spp */
+    } else if (s->type == SAMPLER_ZSOBOL) {
+        ps->index = ((spread_bits((uint32_t)y) << 1 | spread_bits((uint32_t)x)) << s->log2_spp) | (uint64_t)k;
+    }
+}
+
+/* Mark dimensions [dim, dim + n) as used by this sample (the table's promise:
+   no two decisions share one); counts a second use. */
+static void mark_used(PixelSample *ps, int dim, int n)
+{
+    for (; n > 0; n--, dim++)
+        if (dim >= 0 && dim < SAMPLER_CHECKED_DIMS) {
+            uint32_t bit = 1u << (dim & 31);
+            if (ps->used[dim >> 5] & bit) ps->reused++;
+            ps->used[dim >> 5] |= bit;
+        }
+}
+
+/* n = 1 or 2 numbers of the group that starts at dimension dim. */
+static void group_sample(PixelSample *ps, int dim, int n, float *u)
+{
+    const Sampler *s = ps->s;
+    int c;
+    mark_used(ps, dim, n);
+    switch (s->type) {
+    case SAMPLER_INDEPENDENT:
+        for (c = 0; c < n; c++) u[c] = rng_float(&ps->rng);
+        break;
+    case SAMPLER_STRATIFIED: {
+        uint64_t h = hash_u64(ps->key, (uint64_t)dim);
+        uint32_t cells = n == 2 ? (uint32_t)(s->xsamples * s->ysamples) : (uint32_t)s->spp;
+        uint32_t cell = permute_index(ps->k, cells, h);
+        uint64_t j = hash_u64(h, (uint64_t)ps->k);    /* the jitter of this sample */
+        float jx = s->jitter ? u32_to_float((uint32_t)j) : 0.5f;
+        float jy = s->jitter ? u32_to_float((uint32_t)(j >> 32)) : 0.5f;
+        if (n == 1) {
+            u[0] = ((float)cell + jx) / (float)cells;
+        } else {
+            u[0] = ((float)(cell % (uint32_t)s->xsamples) + jx) / (float)s->xsamples;
+            u[1] = ((float)(cell / (uint32_t)s->xsamples) + jy) / (float)s->ysamples;
+        }
+        /* (cell + j) / cells can round up to 1 in float: keep [0, 1) */
+        for (c = 0; c < n; c++) if (u[c] >= 1.0f) u[c] = 0.99999994f;
+        break;
+    }
+    case SAMPLER_SOBOL: {
+        uint64_t h = hash_u64(ps->key, (uint64_t)dim);               /* pixel, seed, group */
+        /* the group's own order: i = owen_scramble(k), with k's reversal kept */
+        uint32_t i = reverse_bits32(owen_reversed(ps->k_reversed, (uint32_t)h));
+        sobol_owen(i, (uint32_t)(h >> 32), n, u);
+        break;
+    }
+    case SAMPLER_ZSOBOL: {
+        uint64_t h = hash_u64((uint64_t)s->seed, (uint64_t)dim);     /* one per film, not per pixel */
+        sobol_owen((uint32_t)owen_scramble64(ps->index, h), (uint32_t)(h >> 32), n, u);
+        break;
+    }
+    default:
+        for (c = 0; c < n; c++) u[c] = 0.5f;
+    }
+}
+
+float sampler_1d(PixelSample *ps, int dim)
+{
+    float u;
+    group_sample(ps, dim, 1, &u);
+    return u;
+}
+
+void sampler_2d(PixelSample *ps, int dim, float *u0, float *u1)
+{
+    float u[2];
+    group_sample(ps, dim, 2, u);
+    *u0 = u[0];
+    *u1 = u[1];
+}
+
+Rng *sampler_stream(PixelSample *ps)
+{
+    return ps->s->type == SAMPLER_INDEPENDENT ? &ps->rng : NULL;
+}

@@ -1,0 +1,663 @@
+/* tests/test_sampler.c - the samplers (sampler.c) and the renderer's use of them.
+
+   - Sobol: every power-of-two prefix of a pixel's 2-D group is a (0,m,2)-net (one
+     point in every elementary box of area 2^-m), every 1-D projection stratified;
+     zsobol the same over one pixel's 2^L samples; stratified one point per stratum.
+   - Scrambles are decorrelated across pixels, seeds and dimension groups
+     (Pearson correlation within 5 standard errors of 0).
+   - An analytic integrand (irradiance from a triangle light, Lambert's polygon
+     formula): unbiased for every sampler, and sobol's MSE falls faster with N
+     than independent's (slopes measured by least squares and bounded).
+   - The renderer: no dimension is asked for twice by one sample (the table's
+     promise); furnace values and a dispersive scene agree with independent over
+     seeds; merged seeds are unbiased; images do not depend on the thread count;
+     progressive rungs equal separate renders (sobol), non-progressive samplers
+     refuse a second pass; independent is bit-identical to specnee before the
+     sampler module (an image checksum recorded from commit 2377aeb). */
+#include "test.h"
+#include <stdlib.h>
+#include <string.h>
+
+#define K_SIGMA TEST_K_SIGMA
+
+/* ---------------------------------------------------------- point-set properties */
+
+/* 1 if the n = 2^m points (x[i], y[i]) have exactly one point in every elementary
+   box [a 2^-p, (a+1) 2^-p) x [b 2^-q, (b+1) 2^-q), p + q = m; y == NULL: 1-D. */
+static int is_net(const float *x, const float *y, int m, int *bad_p)
+{
+    int n = 1 << m, p, i;
+    unsigned char *cnt = (unsigned char *)calloc((size_t)n, 1);
+    if (!cnt) return 0;
+    for (p = y ? 0 : m; p <= m; p++) {
+        int q = m - p;
+        memset(cnt, 0, (size_t)n);
+        for (i = 0; i < n; i++) {
+            int a = (int)(x[i] * (float)(1 << p)), b = y ? (int)(y[i] * (float)(1 << q)) : 0;
+            int box = (a << q) | b;
+            if (cnt[box]++) { *bad_p = p; free(cnt); return 0; }
+        }
+    }
+    free(cnt);
+    return 1;
+}
+
+/* sobol_u32 against the definition (1) of sampler.c: dimension 0 XORs the
+   columns 2^(31-b), dimension 1 the columns v[0] = 2^31, v[b] = v[b-1] ^ (v[b-1] >> 1)
+   (direction numbers of the polynomial x + 1), for the bits b set in i. */
+static void test_sobol_definition(T *t)
+{
+    uint32_t i;
+    int n;
+    for (n = 0; n < 5000; n++) {
+        uint32_t x0 = 0, x1 = 0, v = 0x80000000u;
+        int b;
+        i = n < 2048 ? (uint32_t)n : (uint32_t)hash_u64((uint64_t)n, 99);
+        for (b = 0; b < 32; b++, v ^= v >> 1)
+            if ((i >> b) & 1u) { x0 ^= 0x80000000u >> b; x1 ^= v; }
+        CHECK(t, sobol_u32(i, 0) == x0 && sobol_u32(i, 1) == x1, "point %u: sobol_u32 gives %08x %08x, the "
+              "generator matrices %08x %08x", i, sobol_u32(i, 0), sobol_u32(i, 1), x0, x1);
+    }
+}
+
+static void test_sobol_nets(T *t)
+{
+    static float x[1024], y[1024], z[1024];
+    Sampler s;
+    int pix, m, k, bad = -1, g;
+    sampler_init(&s, SAMPLER_SOBOL, 3, 1024, 0, 0, 1);
+    for (pix = 0; pix < 6; pix++)
+        for (g = 0; g < 3; g++) {
+            int dim2 = g == 0 ? DIM_FILM : dim_bounce(g, BD_DIR), dim1 = g == 0 ? DIM_WAVELENGTH : dim_bounce(g, BD_LOBE);
+            for (k = 0; k < 1024; k++) {
+                PixelSample ps;
+                sampler_start(&s, pix * 7, pix * 3 + 1, k, &ps);
+                sampler_2d(&ps, dim2, &x[k], &y[k]);
+                z[k] = sampler_1d(&ps, dim1);
+                CHECK(t, x[k] >= 0.0f && x[k] < 1.0f && y[k] >= 0.0f && y[k] < 1.0f && z[k] >= 0.0f && z[k] < 1.0f,
+                      "value outside [0,1)");
+            }
+            for (m = 0; m <= 10; m++) {
+                CHECK(t, is_net(x, y, m, &bad), "pixel %d dim %d: the first 2^%d points are no (0,%d,2)-net "
+                      "(boxes 2^-%d x 2^-%d)", pix, dim2, m, m, bad, m - bad);
+                CHECK(t, is_net(x, NULL, m, &bad) && is_net(y, NULL, m, &bad),
+                      "pixel %d dim %d: a 1-D projection of 2^%d points is not stratified", pix, dim2, m);
+                CHECK(t, is_net(z, NULL, m, &bad), "pixel %d 1-D dim %d: 2^%d points not stratified", pix, dim1, m);
+            }
+        }
+}
+
+/* zsobol: one pixel's 2^L samples form a net; stratified: one point per stratum. */
+static void test_zsobol_stratified_strata(T *t)
+{
+    static float x[256], y[256], z[256];
+    Sampler s;
+    int pix, k, bad = -1, L;
+    for (L = 0; L <= 8; L += 2)
+        for (pix = 0; pix < 5; pix++) {
+            sampler_init(&s, SAMPLER_ZSOBOL, 9, 1 << L, 0, 0, 1);
+            for (k = 0; k < (1 << L); k++) {
+                PixelSample ps;
+                sampler_start(&s, 13 * pix, 5 * pix + 2, k, &ps);
+                sampler_2d(&ps, dim_bounce(1, BD_POINT), &x[k], &y[k]);
+                z[k] = sampler_1d(&ps, dim_bounce(2, BD_ROULETTE));
+            }
+            CHECK(t, is_net(x, y, L, &bad), "zsobol pixel %d: %d samples are no (0,%d,2)-net", pix, 1 << L, L);
+            CHECK(t, is_net(z, NULL, L, &bad), "zsobol pixel %d: %d 1-D samples not stratified", pix, 1 << L);
+        }
+    /* zsobol's point: the 4 pixels of an aligned 2 x 2 block (4 consecutive Morton
+       codes) hold complementary parts of one net, 4 x 2^L points that form a
+       (0, L+2, 2)-net together (Ahmed and Wonka 2020) */
+    for (L = 0; L <= 6; L += 2)
+        for (pix = 0; pix < 4; pix++) {
+            static float qx[1024], qy[1024];
+            int q, n = 0;
+            sampler_init(&s, SAMPLER_ZSOBOL, 5, 1 << L, 0, 0, 1);
+            for (q = 0; q < 4; q++)
+                for (k = 0; k < (1 << L); k++, n++) {
+                    PixelSample ps;
+                    sampler_start(&s, 2 * (3 * pix + 1) + (q & 1), 2 * pix + (q >> 1), k, &ps);
+                    sampler_2d(&ps, dim_bounce(0, BD_DIR), &qx[n], &qy[n]);
+                }
+            CHECK(t, is_net(qx, qy, L + 2, &bad), "zsobol, %d spp: the 2 x 2 pixel block %d is no (0,%d,2)-net",
+                  1 << L, pix, L + 2);
+        }
+    {   /* stratified 4 x 3 (12 spp): one sample per 2-D cell and per 1-D twelfth */
+        int cell[12], strat[12], j;
+        sampler_init(&s, SAMPLER_STRATIFIED, 1, 12, 4, 3, 1);
+        CHECK(t, s.xsamples == 4 && s.ysamples == 3, "strata %d x %d, expected 4 x 3", s.xsamples, s.ysamples);
+        for (pix = 0; pix < 5; pix++) {
+            memset(cell, 0, sizeof cell);
+            memset(strat, 0, sizeof strat);
+            for (k = 0; k < 12; k++) {
+                PixelSample ps;
+                float u0, u1, u;
+                sampler_start(&s, pix, 2 * pix, k, &ps);
+                sampler_2d(&ps, DIM_FILM, &u0, &u1);
+                u = sampler_1d(&ps, DIM_WAVELENGTH);
+                cell[(int)(u0 * 4) + 4 * (int)(u1 * 3)]++;
+                strat[(int)(u * 12)]++;
+            }
+            for (j = 0; j < 12; j++)
+                CHECK(t, cell[j] == 1 && strat[j] == 1, "stratified pixel %d: stratum %d holds %d (2-D) / %d (1-D)",
+                      pix, j, cell[j], strat[j]);
+        }
+        sampler_init(&s, SAMPLER_STRATIFIED, 1, 12, 0, 0, 1);   /* from spp: 4 x 3 */
+        CHECK(t, s.xsamples * s.ysamples == 12 && s.ysamples == 3, "12 spp factored as %d x %d", s.xsamples, s.ysamples);
+    }
+}
+
+/* Pearson correlation of pairs; 1/sqrt(n) is its standard error near 0. */
+static double correlation(const double *a, const double *b, int n)
+{
+    double ma = 0, mb = 0, sab = 0, saa = 0, sbb = 0;
+    int i;
+    for (i = 0; i < n; i++) { ma += a[i]; mb += b[i]; }
+    ma /= n; mb /= n;
+    for (i = 0; i < n; i++) {
+        sab += (a[i] - ma) * (b[i] - mb);
+        saa += (a[i] - ma) * (a[i] - ma);
+        sbb += (b[i] - mb) * (b[i] - mb);
+    }
+    return sab / sqrt(saa * sbb);
+}
+
+/* The same (sample, dimension) in neighbouring pixels, in two seeds, and two
+   groups of one sample must be decorrelated.  Per pixel and group, the Pearson
+   correlation r over the NK samples: for independently ordered point sets its
+   permutation distribution has E[r^2] = 1/(NK - 1), so the mean of r^2 over the
+   240 (pixel, group) pairs must stay below 2/(NK - 1); shared scrambles or a
+   shared order give r^2 near 1 (a pooled correlation would let r = +1 and r = -1
+   pixels cancel).  zsobol's pixels share one sequence on purpose, so only its
+   seeds and groups are checked. */
+static void test_scrambles_decorrelated(T *t)
+{
+    enum { NPIX = 40, NK = 32, NDIM = 6 };
+    static const SamplerType types[3] = { SAMPLER_SOBOL, SAMPLER_ZSOBOL, SAMPLER_STRATIFIED };
+    static const char *what[3] = { "neighbouring pixels", "seeds 1 and 2", "two groups of a sample" };
+    int ti, rel;
+    for (ti = 0; ti < 3; ti++) {
+        Sampler s1, s2;
+        sampler_init(&s1, types[ti], 1, NK, 0, 0, 1);
+        sampler_init(&s2, types[ti], 2, NK, 0, 0, 1);
+        for (rel = 0; rel < 3; rel++) {
+            double r2 = 0.0;
+            int pix, k, di;
+            if (rel == 0 && types[ti] == SAMPLER_ZSOBOL) continue;
+            for (pix = 0; pix < NPIX; pix++)
+                for (di = 0; di < NDIM; di++) {
+                    double a[NK], b[NK], r;
+                    for (k = 0; k < NK; k++) {
+                        PixelSample p, q;
+                        int dim = dim_bounce(di, BD_LOBE);
+                        sampler_start(&s1, pix, 3, k, &p);
+                        a[k] = sampler_1d(&p, dim);
+                        if (rel == 0) { sampler_start(&s1, pix + 1, 3, k, &q); b[k] = sampler_1d(&q, dim); }
+                        if (rel == 1) { sampler_start(&s2, pix, 3, k, &q); b[k] = sampler_1d(&q, dim); }
+                        if (rel == 2) b[k] = sampler_1d(&p, dim_bounce(di, BD_ROULETTE));
+                    }
+                    r = correlation(a, b, NK);
+                    r2 += r * r / (NPIX * NDIM);
+                }
+            CHECK(t, r2 < 2.0 / (NK - 1), "%s: %s correlate: mean r^2 = %.3f, independent orders give %.3f",
+                  sampler_name(types[ti]), what[rel], r2, 1.0 / (NK - 1));
+        }
+    }
+}
+
+/* --------------------------------------------------------------- an analytic integrand */
+
+/* Irradiance / L at p (normal n) from a uniform Lambertian polygon (Lambert 1760):
+   E / L = 1/2 |sum_i acos(v_i . v_i+1) n . normalize(v_i x v_i+1)|, v_i the unit
+   vectors from p to the vertices. */
+static double polygon_irradiance(Vec3 p, Vec3 n, const Vec3 *v, int nv)
+{
+    double sum = 0.0;
+    int i;
+    for (i = 0; i < nv; i++) {
+        Vec3 a = v3_norm(v3_sub(v[i], p)), b = v3_norm(v3_sub(v[(i + 1) % nv], p));
+        double ab = v3_dot(a, b);
+        Vec3 cr = v3_norm(v3_cross(a, b));
+        if (ab > 1.0) ab = 1.0;
+        sum += acos(ab) * v3_dot(n, cr);
+    }
+    return 0.5 * fabs(sum);
+}
+
+/* Direct light from a triangle emitter onto a point of a diffuse plane, estimated
+   as (1/N) sum cos_p / pdf_sa with emitter_sample's point from the sampler (NEE's
+   dimensions at bounce 0).  Over 256 pixels (independent scrambles) the MSE
+   against Lambert's formula at N = 4 .. 256 gives a log-log slope: about -1 for
+   independent (Monte Carlo), about -3 for Owen-scrambled Sobol on a smooth 2-D
+   integrand (Owen 1997); measured -1.05, -2.6 (sobol and zsobol), -1.95
+   (stratified).  Bounds: independent -1 +- 0.3, sobol and zsobol below -2.2 and 10x
+   less error at 256; every sampler's mean within K_SIGMA standard errors. */
+static void test_analytic_slope(T *t)
+{
+    static const SamplerType types[4] = { SAMPLER_INDEPENDENT, SAMPLER_SOBOL, SAMPLER_ZSOBOL, SAMPLER_STRATIFIED };
+    static const int Ns[5] = { 4, 16, 64, 256, 1024 };
+    const Vec3 tri[3] = { { -0.3f, 1.0f, -0.2f }, { 0.4f, 1.0f, -0.3f }, { 0.1f, 1.0f, 0.4f } };
+    const Vec3 p = v3(0.5f, 0.0f, 0.2f), n = v3(0.0f, 1.0f, 0.0f);
+    const int NPIX = test_scaled(256, 64);
+    double exact = polygon_irradiance(p, n, tri, 3), slope[4], mse_last[4];
+    Scene s;
+    int ti;
+    if (!test_load_scene(t, &s,
+        "WorldBegin\nAreaLightSource \"diffuse\" \"spectrum L\" [ 360 1 830 1 ]\n"
+        "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ]\n"
+        "  \"point3 P\" [ -0.3 1 -0.2  0.4 1 -0.3  0.1 1 0.4 ]\n")) return;
+    for (ti = 0; ti < 4; ti++) {
+        double lx[5], ly[5], sx = 0, sy = 0, sxx = 0, sxy = 0;
+        int ni;
+        for (ni = 0; ni < 5; ni++) {
+            Sampler smp;
+            double se2 = 0.0, sum_err = 0.0, sum_err2 = 0.0;
+            int pix, k;
+            sampler_init(&smp, types[ti], 17, Ns[ni], 0, 0, 1);
+            for (pix = 0; pix < NPIX; pix++) {
+                double est = 0.0, err;
+                for (k = 0; k < Ns[ni]; k++) {
+                    PixelSample ps;
+                    EmitterSample es;
+                    float u0, u1, u2;
+                    sampler_start(&smp, pix % 16, pix / 16, k, &ps);
+                    u0 = sampler_1d(&ps, dim_bounce(0, BD_TRIANGLE));
+                    sampler_2d(&ps, dim_bounce(0, BD_POINT), &u1, &u2);
+                    if (emitter_sample(&s, 0, p, u0, u1, u2, &es) && es.pdf_sa > 0.0f)
+                        est += v3_dot(es.wi, n) / es.pdf_sa;
+                }
+                err = est / Ns[ni] - exact;
+                sum_err += err;
+                sum_err2 += err * err;
+            }
+            se2 = sum_err2 / NPIX;                      /* the MSE */
+            {   /* unbiased: mean error within K_SIGMA standard errors */
+                double mean = sum_err / NPIX, sd = sqrt((sum_err2 / NPIX - mean * mean) / (NPIX - 1));
+                CHECK(t, fabs(mean) < K_SIGMA * sd + 1e-6 * exact, "%s N=%d: mean %.6g, exact %.6g (se %.2g)",
+                      sampler_name(types[ti]), Ns[ni], mean + exact, exact, sd);
+            }
+            lx[ni] = log((double)Ns[ni]);
+            ly[ni] = log(se2);
+            if (ni == 3) mse_last[ti] = se2;
+        }
+        for (ni = 0; ni < 5; ni++) { sx += lx[ni]; sy += ly[ni]; sxx += lx[ni] * lx[ni]; sxy += lx[ni] * ly[ni]; }
+        slope[ti] = (5 * sxy - sx * sy) / (5 * sxx - sx * sx);
+    }
+    CHECK(t, slope[0] > -1.3 && slope[0] < -0.7, "independent: MSE slope %.2f, expected -1 +- 0.3", slope[0]);
+    CHECK(t, slope[1] < -2.2, "sobol: MSE slope %.2f, expected below -2.2 (independent %.2f)", slope[1], slope[0]);
+    CHECK(t, slope[2] < -2.2, "zsobol: MSE slope %.2f, expected below -2.2", slope[2]);
+    CHECK(t, mse_last[1] < 0.1 * mse_last[0], "sobol at 256: MSE %.3g, independent %.3g: not 10x less",
+          mse_last[1], mse_last[0]);
+    CHECK(t, mse_last[3] < mse_last[0], "stratified at 256: MSE %.3g above independent's %.3g",
+          mse_last[3], mse_last[0]);
+    scene_free(&s);
+}
+
+/* --------------------------------------------------------------- the renderer */
+
+static const char *box_scene =
+    "LookAt 0 0 -3.2  0 0 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 45 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ] \"string filename\" \"t.pfm\"\n"
+    "Integrator \"path\" \"integer maxdepth\" [ 6 ]\n"
+    "WorldBegin\n"
+    "%s"
+    "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" \"stdillum-F11\" \"float scale\" [ 6 ]\n"
+    " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "  \"point3 P\" [ -0.4 0.99 -0.4  0.4 0.99 -0.4  0.4 0.99 0.4  -0.4 0.99 0.4 ]\nAttributeEnd\n"
+    "AttributeBegin\n Translate 0 -0.55 0\n"
+    " Material \"dielectric\" \"float cauchyA\" [ 1.5 ] \"float cauchyB\" [ 0.04 ] \"float roughness\" [ 0.09 ]\n"
+    " Shape \"sphere\" \"float radius\" [ 0.42 ]\nAttributeEnd\n";
+
+static int load_box(T *t, Scene *s, int box_filter)
+{
+    char text[8192];
+    snprintf(text, sizeof text, box_scene, test_box_walls);
+    if (!test_load_scene(t, s, text)) return 0;
+    if (box_filter) { s->settings.filter = FILTER_BOX; s->settings.filter_radius = 0.5f; }
+    return 1;
+}
+
+/* FNV-1a over the image's float bytes. */
+static uint64_t image_hash(const Image *im)
+{
+    const unsigned char *b = (const unsigned char *)im->rgb;
+    size_t i, n = sizeof(float) * 3 * (size_t)im->w * (size_t)im->h;
+    uint64_t h = 1469598103934665603ull;
+    for (i = 0; i < n; i++) { h ^= b[i]; h *= 1099511628211ull; }
+    return h;
+}
+
+/* independent = specnee before the sampler module, bit for bit: these checksums
+   were printed by the same renders built from commit 2377aeb (gcc; gcc, clang and
+   tcc agree bit for bit under -ffp-contract=off, tests/golden/README.md). */
+static void test_independent_unchanged(T *t)
+{
+    static const uint64_t expected[2] = { 0xb1a191d45011c551ull, 0xd7bf5a9487a33299ull };  /* gaussian, box */
+    int f;
+    for (f = 0; f < 2; f++) {
+        Scene s;
+        RenderOptions o;
+        Image img;
+        RenderStats st;
+        Error err;
+        uint64_t h;
+        if (!load_box(t, &s, f)) return;
+        render_options_default(&o);
+        o.sel.grid_res = 8;
+        o.sampler = SAMPLER_INDEPENDENT;
+        o.spp = 4;
+        o.seed = 7;
+        o.threads = 2;
+        CHECK(t, render(&s, &o, &img, &st, &err), "render: %s", err.msg);
+        h = image_hash(&img);
+        img_free(&img);
+        scene_free(&s);
+        CHECK(t, h == expected[f], "%s filter: image checksum %016llx, before the sampler module %016llx",
+              f ? "box" : "gaussian", (unsigned long long)h, (unsigned long long)expected[f]);
+    }
+}
+
+/* No sample asks for a dimension twice (the table's promise, counted by the
+   sampler in RenderStats.dims_reused), with NEE on and off and every strategy
+   family, for every sampler; the table itself is injective over 31 bounces. */
+static void test_dimensions_not_shared(T *t)
+{
+    Scene s;
+    int ti, d, slot, variant;
+    static const int slots[6] = { BD_LIGHT, BD_TRIANGLE, BD_POINT, BD_LOBE, BD_DIR, BD_ROULETTE };
+    static const int width[6] = { 1, 1, 2, 1, 2, 1 };
+    unsigned char seen[SAMPLER_CHECKED_DIMS];
+    memset(seen, 0, sizeof seen);
+    seen[DIM_FILM] = seen[DIM_FILM + 1] = seen[DIM_LENS] = seen[DIM_LENS + 1] = seen[DIM_WAVELENGTH] = 1;
+    CHECK(t, DIM_BOUNCE0 == DIM_WAVELENGTH + 1, "camera dimensions and bounce 0 overlap or leave a gap");
+    for (d = 0; d < 31; d++)
+        for (slot = 0; slot < 6; slot++) {
+            int w;
+            for (w = 0; w < width[slot]; w++) {
+                int dim = dim_bounce(d, slots[slot]) + w;
+                CHECK(t, dim < SAMPLER_CHECKED_DIMS && !seen[dim], "bounce %d slot %d: dimension %d used twice",
+                      d, slots[slot], dim);
+                seen[dim] = 1;
+            }
+        }
+    if (!load_box(t, &s, 0)) return;
+    for (ti = 0; ti < SAMPLER_COUNT; ti++)
+        for (variant = 0; variant < 3; variant++) {
+            RenderOptions o;
+            Image img;
+            RenderStats st;
+            Error err;
+            render_options_default(&o);
+            o.sel.grid_res = 8;
+            o.sampler = (SamplerType)ti;
+            o.spp = 4;
+            o.threads = 2;
+            o.maxdepth = 12;
+            if (variant == 1) o.nee = 0;
+            if (variant == 2) o.sel.strategy = SEL_ALL;
+            CHECK(t, render(&s, &o, &img, &st, &err), "render: %s", err.msg);
+            img_free(&img);
+            CHECK(t, st.dims_reused == 0, "%s (variant %d): %ld dimensions asked for twice in one sample",
+                  sampler_name(o.sampler), variant, st.dims_reused);
+        }
+    scene_free(&s);
+}
+
+/* Unbiased over seeds: the furnace (Y = 0.5 on a diffuse sphere, Y = 1 through
+   dispersive glass) and the dispersive box against independent, tile by tile. */
+static void test_unbiased_over_seeds(T *t)
+{
+    static const char *furnace =
+        "LookAt 0 0 -3  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 10 ]\n"
+        "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ] \"string filename\" \"t.pfm\"\n"
+        "WorldBegin\n"
+        "AttributeBegin\n ReverseOrientation\n AreaLightSource \"diffuse\" \"spectrum L\" [ 360 1 830 1 ]\n"
+        " Material \"diffuse\" \"spectrum reflectance\" [ 360 0 830 0 ]\n"
+        " Shape \"sphere\" \"float radius\" [ 20 ]\nAttributeEnd\n"
+        "AttributeBegin\n %s\n Shape \"sphere\" \"float radius\" [ 1 ]\nAttributeEnd\n";
+    static const char *mats[2] = {
+        "Material \"diffuse\" \"spectrum reflectance\" [ 360 0.5 830 0.5 ]",
+        "Material \"dielectric\" \"spectrum eta\" [ 400 1.625 450 1.599 500 1.58 550 1.566 600 1.556 650 1.547 700 1.541 ]" };
+    static const double expect[2] = { 0.5, 1.0 };
+    static const SamplerType types[3] = { SAMPLER_SOBOL, SAMPLER_ZSOBOL, SAMPLER_STRATIFIED };
+    int ti, m, i;
+    for (m = 0; m < 2; m++) {
+        char text[2048];
+        Scene s;
+        snprintf(text, sizeof text, furnace, mats[m]);
+        if (!test_load_scene(t, &s, text)) return;
+        for (ti = 0; ti < 3; ti++) {
+            RenderOptions o;
+            Tiles tl;
+            render_options_default(&o);
+            o.sel.grid_res = 8;
+            o.sampler = types[ti];
+            o.spp = test_scaled(16, 4);
+            o.maxdepth = 24;
+            if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
+            for (i = 0; i < 4; i++) {
+                double Y = 0.212671 * tl.mean[i][0] + 0.715160 * tl.mean[i][1] + 0.072169 * tl.mean[i][2];
+                CHECK(t, fabs(Y - expect[m]) < K_SIGMA * tl.se[i][1] + 3e-3,
+                      "%s, furnace %d, tile %d: Y = %.5f +- %.2g, expected %g", sampler_name(types[ti]), m, i, Y,
+                      tl.se[i][1], expect[m]);
+            }
+        }
+        scene_free(&s);
+    }
+    {
+        Scene s;
+        RenderOptions o;
+        Tiles ref, other;
+        if (!load_box(t, &s, 0)) return;
+        render_options_default(&o);
+        o.sel.grid_res = 8;
+        o.spp = test_scaled(32, 4);
+        o.sampler = SAMPLER_INDEPENDENT;
+        if (!test_render_tiles(t, &s, &o, 12, 4, &ref)) { scene_free(&s); return; }
+        for (ti = 0; ti < 3; ti++) {
+            o.sampler = types[ti];
+            if (!test_render_tiles(t, &s, &o, 12, 4, &other)) break;
+            if (!test_tiles_agree(t, &ref, &other, 1e-4, sampler_name(types[ti]))) break;
+        }
+        scene_free(&s);
+    }
+}
+
+/* specnee merge of differently seeded sobol renders: two halves (seeds a, b)
+   merged by sample count agree over seeds with full renders (seed c). */
+static void test_merge_seeds_unbiased(T *t)
+{
+    Scene s;
+    RenderOptions o;
+    enum { K = 10, NT = 4 };
+    double sm[NT * NT][3], s2m[NT * NT][3], sf[NT * NT][3], s2f[NT * NT][3];
+    int k, i, c;
+    if (!load_box(t, &s, 0)) return;
+    render_options_default(&o);
+    o.sel.grid_res = 8;
+    o.sampler = SAMPLER_SOBOL;
+    memset(sm, 0, sizeof sm); memset(s2m, 0, sizeof s2m); memset(sf, 0, sizeof sf); memset(s2f, 0, sizeof s2f);
+    for (k = 0; k < K; k++) {
+        Image half[2], merged, full;
+        RenderStats st;
+        Error err;
+        double w[2] = { 1, 1 };
+        int x, y;
+        o.spp = test_scaled(16, 4);
+        o.seed = 3 * k + 1;
+        CHECK(t, render(&s, &o, &half[0], &st, &err), "%s", err.msg);
+        o.seed = 3 * k + 2;
+        CHECK(t, render(&s, &o, &half[1], &st, &err), "%s", err.msg);
+        o.spp *= 2;
+        o.seed = 3 * k + 3;
+        CHECK(t, render(&s, &o, &full, &st, &err), "%s", err.msg);
+        CHECK(t, img_merge(half, w, 2, &merged), "img_merge failed");
+        for (i = 0; i < NT * NT; i++) {
+            double am[3] = { 0, 0, 0 }, af[3] = { 0, 0, 0 };
+            int tx = i % NT, ty = i / NT;
+            for (y = ty * 4; y < ty * 4 + 4; y++)
+                for (x = tx * 4; x < tx * 4 + 4; x++)
+                    for (c = 0; c < 3; c++) {
+                        am[c] += merged.rgb[3 * (y * 16 + x) + c] / 16.0;
+                        af[c] += full.rgb[3 * (y * 16 + x) + c] / 16.0;
+                    }
+            for (c = 0; c < 3; c++) {
+                sm[i][c] += am[c]; s2m[i][c] += am[c] * am[c];
+                sf[i][c] += af[c]; s2f[i][c] += af[c] * af[c];
+            }
+        }
+        img_free(&half[0]); img_free(&half[1]); img_free(&merged); img_free(&full);
+    }
+    for (i = 0; i < NT * NT; i++)
+        for (c = 0; c < 3; c++) {
+            double mm = sm[i][c] / K, mf = sf[i][c] / K;
+            double vm = (s2m[i][c] / K - mm * mm) / (K - 1), vf = (s2f[i][c] / K - mf * mf) / (K - 1);
+            double se = sqrt((vm > 0 ? vm : 0) + (vf > 0 ? vf : 0));
+            CHECK(t, fabs(mm - mf) < K_SIGMA * se + 1e-5, "tile %d ch %d: merged seeds %.5g vs full %.5g (se %.2g)",
+                  i, c, mm, mf, se);
+        }
+    scene_free(&s);
+}
+
+/* Bit-identical for 1 and 2 threads, for every sampler; seeds differ. */
+static void test_sampler_threads(T *t)
+{
+    Scene s;
+    int ti;
+    if (!load_box(t, &s, 0)) return;
+    for (ti = 0; ti < SAMPLER_COUNT; ti++) {
+        RenderOptions o;
+        Image a, b, c;
+        RenderStats st;
+        Error err;
+        size_t bytes;
+        render_options_default(&o);
+        o.sel.grid_res = 8;
+        o.sampler = (SamplerType)ti;
+        o.spp = 4;
+        o.threads = 1;
+        CHECK(t, render(&s, &o, &a, &st, &err), "render: %s", err.msg);
+        o.threads = 2;
+        CHECK(t, render(&s, &o, &b, &st, &err), "render: %s", err.msg);
+        o.seed = 1;
+        CHECK(t, render(&s, &o, &c, &st, &err), "render: %s", err.msg);
+        bytes = sizeof(float) * 3 * (size_t)a.w * (size_t)a.h;
+        CHECK(t, memcmp(a.rgb, b.rgb, bytes) == 0, "%s: 1 and 2 threads differ", sampler_name(o.sampler));
+        CHECK(t, memcmp(a.rgb, c.rgb, bytes) != 0, "%s: seeds 0 and 1 give the same image", sampler_name(o.sampler));
+        img_free(&a); img_free(&b); img_free(&c);
+    }
+    scene_free(&s);
+}
+
+/* Ladders: sobol's rungs of one progressive render equal separate renders; a
+   non-progressive sampler (stratified, zsobol) refuses a second pass of a job
+   and render_ladder renders its rungs separately (again equal to separate
+   renders); a 2^k-spp sobol render is the prefix of a larger one (its merge with
+   the rest is the larger render: checked through the ladder's equality). */
+typedef struct { Image rung[3]; int calls; } Keep;
+static int keep_rung(void *user, int rung, const Image *img, const RenderStats *st)
+{
+    Keep *K = (Keep *)user;
+    (void)st;
+    if (img_alloc(&K->rung[rung], img->w, img->h))
+        memcpy(K->rung[rung].rgb, img->rgb, sizeof(float) * 3 * (size_t)img->w * (size_t)img->h);
+    K->calls++;
+    return 1;
+}
+
+static void test_sampler_ladders(T *t)
+{
+    static const int ladder[3] = { 4, 8, 16 };
+    static const SamplerType types[3] = { SAMPLER_SOBOL, SAMPLER_ZSOBOL, SAMPLER_STRATIFIED };
+    Scene s;
+    int ti, i;
+    if (!load_box(t, &s, 0)) return;
+    for (ti = 0; ti < 3; ti++) {
+        RenderOptions o;
+        RenderStats st;
+        Error err;
+        Image last;
+        Keep K;
+        RenderJob *j;
+        render_options_default(&o);
+        o.sel.grid_res = 8;
+        o.sampler = types[ti];
+        o.seed = 4;
+        o.threads = 2;
+        memset(&K, 0, sizeof K);
+        CHECK(t, render_ladder(&s, &o, ladder, 3, keep_rung, &K, &last, &st, &err), "ladder: %s", err.msg);
+        CHECK(t, K.calls == 3, "%d rungs", K.calls);
+        for (i = 0; i < 3; i++) {
+            Image one;
+            RenderStats st1;
+            o.spp = ladder[i];
+            CHECK(t, render(&s, &o, &one, &st1, &err), "render: %s", err.msg);
+            CHECK(t, memcmp(K.rung[i].rgb, one.rgb, sizeof(float) * 3 * (size_t)one.w * (size_t)one.h) == 0,
+                  "%s: rung %d (%d spp) differs from a separate render", sampler_name(o.sampler), i, ladder[i]);
+            if (i == 2) CHECK(t, memcmp(last.rgb, one.rgb, sizeof(float) * 3 * (size_t)one.w * (size_t)one.h) == 0,
+                              "%s: the ladder's last image is not its last rung", sampler_name(o.sampler));
+            img_free(&one);
+            img_free(&K.rung[i]);
+        }
+        img_free(&last);
+        j = render_begin(&s, &o, &err);
+        CHECK(t, j != NULL, "render_begin: %s", err.msg);
+        CHECK(t, render_advance(j, 4, 8, &err), "advance: %s", err.msg);
+        i = render_advance(j, 8, 8, &err);
+        render_end(j);
+        if (sampler_progressive(o.sampler))
+            CHECK(t, i, "%s: a second pass was refused: %s", sampler_name(o.sampler), err.msg);
+        else
+            CHECK(t, !i && strstr(err.msg, "not progressive"), "%s: a second pass was accepted or gave '%s'",
+                  sampler_name(o.sampler), i ? "" : err.msg);
+    }
+    scene_free(&s);
+}
+
+/* Sampler directives mean what they mean in pbrt-v4: the type picks the sampler
+   (halton, pmj02bn, paddedsobol: the nearest, sobol), stratified keeps its strata
+   and jitter; no directive leaves the choice to the options. */
+static void test_scene_directives(T *t)
+{
+    static const struct { const char *text, *want; int xs, ys, jitter; } cases[] = {
+        { "Sampler \"zsobol\" \"integer pixelsamples\" 32\nWorldBegin\n", "zsobol", 0, 0, 1 },
+        { "Sampler \"sobol\"\nWorldBegin\n", "sobol", 0, 0, 1 },
+        { "Sampler \"halton\"\nWorldBegin\n", "sobol", 0, 0, 1 },
+        { "Sampler \"pmj02bn\"\nWorldBegin\n", "sobol", 0, 0, 1 },
+        { "Sampler \"paddedsobol\" \"string randomization\" \"owen\"\nWorldBegin\n", "sobol", 0, 0, 1 },
+        { "Sampler \"independent\"\nWorldBegin\n", "independent", 0, 0, 1 },
+        { "Sampler \"stratified\" \"integer xsamples\" 2 \"integer ysamples\" 3 \"bool jitter\" false\nWorldBegin\n",
+          "stratified", 2, 3, 0 },
+        { "WorldBegin\n", "", 0, 0, 0 } };
+    int i;
+    for (i = 0; i < (int)(sizeof cases / sizeof cases[0]); i++) {
+        Scene s;
+        const SceneSettings *st = &s.settings;
+        if (!test_load_scene(t, &s, cases[i].text)) return;
+        CHECK(t, !strcmp(st->sampler, cases[i].want), "case %d: sampler '%s', expected '%s'", i, st->sampler,
+              cases[i].want);
+        if (!strcmp(cases[i].want, "stratified"))
+            CHECK(t, st->xsamples == cases[i].xs && st->ysamples == cases[i].ys && st->jitter == cases[i].jitter
+                  && st->spp == 6, "stratified: %d x %d jitter %d spp %d", st->xsamples, st->ysamples, st->jitter, st->spp);
+        CHECK(t, cases[i].want[0] == 0 || sampler_from_name(st->sampler) != SAMPLER_COUNT,
+              "case %d: '%s' is no sampler", i, st->sampler);
+        scene_free(&s);
+    }
+}
+
+const TestCase tests_sampler[] = {
+    { "sampler_scene_directives", test_scene_directives },
+    { "sampler_sobol_definition", test_sobol_definition },
+    { "sampler_sobol_nets", test_sobol_nets },
+    { "sampler_zsobol_stratified_strata", test_zsobol_stratified_strata },
+    { "sampler_scrambles_decorrelated", test_scrambles_decorrelated },
+    { "sampler_analytic_slope", test_analytic_slope },
+    { "sampler_independent_unchanged", test_independent_unchanged },
+    { "sampler_dimensions_not_shared", test_dimensions_not_shared },
+    { "sampler_unbiased_over_seeds", test_unbiased_over_seeds },
+    { "sampler_merge_seeds_unbiased", test_merge_seeds_unbiased },
+    { "sampler_threads", test_sampler_threads },
+    { "sampler_ladders", test_sampler_ladders },
+    { NULL, NULL }
+};
