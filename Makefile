@@ -29,7 +29,8 @@ LIBOBJ = util.o bvh.o spectrum.o lights.o scene.o ply.o material.o render.o imag
          svg.o eval.o
 TESTOBJ = tests/runner.o tests/fixtures.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
           tests/test_scene.o tests/test_image.o tests/test_material.o \
-          tests/test_render.o tests/test_lights.o tests/test_scenes.o tests/test_physics.o
+          tests/test_render.o tests/test_lights.o tests/test_scenes.o tests/test_physics.o \
+          tests/test_fluor.o
 
 all: specnee
 

@@ -84,6 +84,19 @@ int emitters_prepare(Scene *s, float lo_nm, float hi_nm, Error *err)
             cie_xyz((float)lam, xyz);
             norm += (double)xyz[1] * spec_eval(&em->L, (float)lam);
         }
+        /* A UV lamp has no luminance: its L is absolute spectral radiance, and the
+           decision is the emitter's own (made on 400-700 nm, whatever range the
+           film integrates now), so every range gives it the same meaning. */
+        em->absolute = 0;
+        {
+            double vis = 0.0;
+            for (lam = (int)LAMBDA_LO; lam <= (int)LAMBDA_HI; lam++) {
+                float xyz[3];
+                cie_xyz((float)lam, xyz);
+                vis += (double)xyz[1] * spec_eval(&em->L, (float)lam);
+            }
+            if (!(vis > 0.0)) { em->absolute = 1; norm = 1.0; }
+        }
         if (!(norm > 0.0)) {
             error_set(err, sh->file, sh->line,
                       "AreaLightSource: spectrum L emits nothing visible in %g-%g nm", lo_nm, hi_nm);
@@ -91,6 +104,8 @@ int emitters_prepare(Scene *s, float lo_nm, float hi_nm, Error *err)
         }
         for (lam = 0; lam < SPEC_N; lam++)
             em->Le.v[lam] = (float)(em->scale * em->L.v[lam] / norm);
+        for (lam = 0; lam < SPEC_UV_N; lam++)
+            em->Le.uv[lam] = (float)(em->scale * em->L.uv[lam] / norm);
         /* area and the triangle CDF */
         free(em->tri_cdf);
         em->tri_cdf = NULL;
@@ -117,6 +132,8 @@ int emitters_prepare(Scene *s, float lo_nm, float hi_nm, Error *err)
             em->bin[b] = spec_bin_average(&em->Le, b);
             sum += em->bin[b] * SPD_BIN_NM;
         }
+        for (b = 0; b < SPD_UV_BINS; b++)
+            em->bin_uv[b] = spec_band_average(&em->Le, SPEC_UV_MIN + (int)SPD_BIN_NM * b, (int)SPD_BIN_NM);
         em->power = SPECNEE_PI * em->area * (em->twosided ? 2.0 : 1.0) * sum;
     }
     return 1;
@@ -192,7 +209,9 @@ struct LightSampler {
     SelOptions opt;
     int n;                     /* number of emitters */
     float *power_pmf;          /* power strategy */
-    float *T;                  /* SPD_BINS x n spectral table (unit or power metric) */
+    float *T;                  /* (SPD_UV_BINS + SPD_BINS) x n spectral table (unit or power
+                                  metric): rows 0..19 are 300-400 nm, rows 20..79 the
+                                  thesis' 60 bins over 400-700 nm */
     float *Y;                  /* luminance (= scale) per emitter */
     /* spatial grid */
     int res[3];
@@ -336,7 +355,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     ls->n = n;
     if (n == 0) return ls;
     ls->power_pmf = (float *)malloc(sizeof(float) * (size_t)n);
-    ls->T = (float *)malloc(sizeof(float) * (size_t)n * SPD_BINS);
+    ls->T = (float *)malloc(sizeof(float) * (size_t)n * (SPD_UV_BINS + SPD_BINS));
     ls->Y = (float *)malloc(sizeof(float) * (size_t)n);
     if (!ls->power_pmf || !ls->T || !ls->Y) goto oom;
     for (i = 0; i < n; i++) sum += s->emitters[i].power;
@@ -346,7 +365,8 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
         const Emitter *em = &s->emitters[i];
         float m = o->power_metric ? (float)(em->area * (em->twosided ? 2.0 : 1.0)) : 1.0f;
         ls->Y[i] = em->scale;
-        for (b = 0; b < SPD_BINS; b++) ls->T[b * n + i] = em->bin[b] * m;
+        for (b = 0; b < SPD_UV_BINS; b++) ls->T[b * n + i] = em->bin_uv[b] * m;
+        for (b = 0; b < SPD_BINS; b++) ls->T[(SPD_UV_BINS + b) * n + i] = em->bin[b] * m;
     }
     if (uses_grid(o->strategy)) {
         Vec3 d = v3_sub(s->bmax, s->bmin);
@@ -397,7 +417,7 @@ double light_sampler_lazy_seconds(const LightSampler *ls)
 
 size_t light_sampler_bytes(const LightSampler *ls)
 {
-    size_t bytes = sizeof *ls + sizeof(float) * (size_t)ls->n * (2 + SPD_BINS);
+    size_t bytes = sizeof *ls + sizeof(float) * (size_t)ls->n * (2 + SPD_UV_BINS + SPD_BINS);
     long v;
     if (ls->voxel) {
         bytes += sizeof(float *) * (size_t)ls->n_voxels;
@@ -407,13 +427,19 @@ size_t light_sampler_bytes(const LightSampler *ls)
     return bytes;
 }
 
-/* Bin of a wavelength in the 60-bin table, -1 outside 400-700 nm. */
+/* Row of a wavelength in the spectral table T: the thesis' 60 bins over 400-700 nm
+   are rows SPD_UV_BINS.., the 20 UV bins over 300-400 nm (fluorescence excitation,
+   docs/FLUORESCENCE.md section 5) rows 0..19; -1 outside 300-700 nm. */
 static int spd_bin(float lambda)
 {
     int b;
+    if (lambda >= (float)SPEC_UV_MIN && lambda < LAMBDA_LO) {
+        b = (int)((lambda - (float)SPEC_UV_MIN) / SPD_BIN_NM);
+        return b >= SPD_UV_BINS ? SPD_UV_BINS - 1 : b;
+    }
     if (!(lambda >= LAMBDA_LO && lambda <= LAMBDA_HI)) return -1;
     b = (int)((lambda - LAMBDA_LO) / SPD_BIN_NM);
-    return b >= SPD_BINS ? SPD_BINS - 1 : b;
+    return SPD_UV_BINS + (b >= SPD_BINS ? SPD_BINS - 1 : b);
 }
 
 /* The unnormalised weights w[i] of the context; returns their sum.  Both

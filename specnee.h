@@ -58,10 +58,16 @@
 #define SPEC_MIN 360        /* @@ first nm of the dense spectrum table (pbrt-v4's range) */
 #define SPEC_MAX 830        /* @@ last nm of the dense spectrum table */
 #define SPEC_N (SPEC_MAX - SPEC_MIN + 1) /* 471 samples, 1 nm apart */
+#define SPEC_UV_MIN 300     /* @@ first nm of the UV extension of every spectrum: emitters and
+                               fluorescent excitation reach down to here (docs/FLUORESCENCE.md
+                               section 6); the camera's colour matching stays >= SPEC_MIN */
+#define SPEC_UV_N (SPEC_MIN - SPEC_UV_MIN)  /* 60 more samples, 300..359 nm */
 #define LAMBDA_LO 400.0f    /* @@ default sampled range: the thesis' 400-700 nm */
 #define LAMBDA_HI 700.0f
 #define SPD_BINS 60         /* thesis: 60 bins over 400-700 nm ... */
 #define SPD_BIN_NM 5.0f     /* ... i.e. 5 nm each */
+#define SPD_UV_BINS 20      /* beyond the thesis: 20 more 5 nm bins over 300-400 nm, for the
+                               excitation wavelengths of fluorescence (thesis' future work) */
 #define BVH_LEAF_MAX 4      /* @@ primitives per BVH leaf: deeper trees vs. more tests */
 #define BVH_BINS 16         /* @@ SAH bins per axis: build time vs. tree quality */
 #define SPATIAL_RES 64      /* @@ voxels on the longest axis of the spatial grid (pbrt-v3) */
@@ -153,11 +159,21 @@ void error_set(Error *e, const char *file, int line, const char *fmt, ...);
 /* ======================================================================
    4. Spectra (spectrum.c)
    A spectrum is a dense table at 1 nm over SPEC_MIN..SPEC_MAX (pbrt-v4's range),
-   evaluated by linear interpolation; zero outside.  Every source of a spectrum
+   evaluated by linear interpolation; zero outside.  A UV extension uv[] holds
+   SPEC_UV_MIN..SPEC_MIN-1 (300-359 nm): zero unless the spectrum's source defines it
+   there (constants, blackbody, Cauchy/Sellmeier indices, wavelength pairs or files
+   that list UV wavelengths, the named UV lamps and fluorophores); spectra from rgb
+   have none.  Only fluorescence ever evaluates a spectrum below SPEC_MIN, so scenes
+   without it render exactly as before (docs/FLUORESCENCE.md section 6).  Every source of a spectrum
    (inline pairs, named spectra, files, rgb) is resampled into this table once at
    load time, so rendering never searches a list.
    ====================================================================== */
-typedef struct { float v[SPEC_N]; } Spectrum;
+typedef struct { float v[SPEC_N]; float uv[SPEC_UV_N]; } Spectrum;
+/* The sample at integer nm in SPEC_UV_MIN..SPEC_MAX (the caller keeps nm in range). */
+static inline float *spec_at(Spectrum *s, int nm)
+{ return nm < SPEC_MIN ? &s->uv[nm - SPEC_UV_MIN] : &s->v[nm - SPEC_MIN]; }
+static inline float spec_get(const Spectrum *s, int nm)
+{ return nm < SPEC_MIN ? s->uv[nm - SPEC_UV_MIN] : s->v[nm - SPEC_MIN]; }
 
 float spec_eval(const Spectrum *s, float lambda_nm);
 void  spec_const(Spectrum *s, float value);
@@ -189,6 +205,9 @@ double cct_from_xy(double x, double y, double *duv);
 /* Thesis Eq. 6: sum of the 60 bin averages over 400-700 nm. */
 double spec_bin_sum(const Spectrum *s);
 float spec_bin_average(const Spectrum *s, int bin);  /* mean over [400+5b, 405+5b] nm */
+/* Exact mean of the piecewise-linear spectrum over [lo, lo + width] nm (integers,
+   inside SPEC_UV_MIN..SPEC_MAX); spec_bin_average is this over a thesis bin. */
+float spec_band_average(const Spectrum *s, int lo_nm, int width_nm);
 
 /* Cauchy's law n(lambda) = A + B / lambda^2, lambda in micrometres. */
 static inline float cauchy_eta(float A, float B, float lambda_nm)
@@ -339,7 +358,10 @@ typedef struct {
     double area;               /* total area (sampling picks a triangle by area) */
     float *tri_cdf;            /* tri_count + 1 entries for meshes */
     float bin[SPD_BINS];       /* bin averages of Le over 400-700 nm */
+    float bin_uv[SPD_UV_BINS]; /* bin averages of Le over 300-400 nm (fluorescence) */
     double power;              /* radiant power over 400-700 nm */
+    int absolute;              /* L has no luminance in 400-700 nm (a UV lamp): Le = scale * L,
+                                  absolute spectral radiance (docs/conventions.md section 4) */
 } Emitter;
 
 /* A point sampled on an emitter, as seen from a reference point. */

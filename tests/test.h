@@ -58,6 +58,6 @@ extern const char test_box_walls[];
 
 extern const TestCase tests_util[], tests_bvh[], tests_spectrum[], tests_scene[],
     tests_image[], tests_material[], tests_render[], tests_lights[], tests_scenes[],
-    tests_physics[];
+    tests_physics[], tests_fluor[];
 
 #endif
