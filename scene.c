@@ -1227,6 +1227,41 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         return params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance",
                                    "displacement normalmap");
     }
+    if (!strcmp(type, "fluorescent")) {
+        /* specnee extension (docs/FLUORESCENCE.md, docs/conventions.md section 6):
+           a diffuse fluorescent layer, F2 */
+        Param *pr = find_spectrum_param(pl, "reflectance");
+        Param *pa = find_spectrum_param(pl, "excitation"), *pe = find_spectrum_param(pl, "emission");
+        Param *pq = param_find(pl, PT_FLOAT, "quantumyield");
+        int nm;
+        m->type = MAT_FLUORESCENT;
+        if (!pa || !pe)
+            return fail(P, file, line, "Material \"fluorescent\": needs \"spectrum excitation\" "
+                        "and \"spectrum emission\"");
+        if (pr) {
+            if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
+            if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
+        } else {
+            spec_const(&m->reflectance, 0.5f);
+        }
+        if (!param_spectrum(P, pa, SPEC_UNBOUNDED, &m->excitation, NULL)) return 0;
+        if (!check_unit_spectrum(P, pa, &m->excitation)) return 0;
+        if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->emission, NULL)) return 0;
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
+            if (!(spec_get(&m->emission, nm) >= 0.0f))
+                return fail(P, pe->file, pe->line, "\"spectrum emission\": negative (%g) at %d nm",
+                            spec_get(&m->emission, nm), nm);
+        if (!get_float(P, pl, "quantumyield", 1.0f, &m->qyield)) return 0;
+        if (!(m->qyield >= 0.0f && m->qyield <= 1.0f))
+            return fail(P, pq ? pq->file : file, pq ? pq->line : line,
+                        "\"float quantumyield\": %g is outside [0,1] (photons re-emitted per "
+                        "photon absorbed)", m->qyield);
+        if (!fluor_prepare(m))
+            return fail(P, pe->file, pe->line, "\"spectrum emission\": zero everywhere in %d-%d nm",
+                        SPEC_UV_MIN, SPEC_MAX);
+        return params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
+                                   "spectrum excitation, spectrum emission, float quantumyield", "");
+    }
     if (!strcmp(type, "dielectric")) {
         Param *pf = param_find(pl, PT_FLOAT, "eta");
         Param *pa = param_find(pl, PT_FLOAT, "cauchyA"), *pb = param_find(pl, PT_FLOAT, "cauchyB");
@@ -2035,6 +2070,11 @@ void scene_dump(const Scene *s, FILE *f)
         if (m->type == MAT_DIFFUSE) {
             fprintf(f, "  [%d] diffuse\n", i);
             dump_spectrum(f, "reflectance", &m->reflectance);
+        } else if (m->type == MAT_FLUORESCENT) {
+            fprintf(f, "  [%d] fluorescent, quantum yield %g\n", i, m->qyield);
+            dump_spectrum(f, "reflectance", &m->reflectance);
+            dump_spectrum(f, "excitation", &m->excitation);
+            dump_spectrum(f, "emission", &m->emission);
         } else {
             fprintf(f, "  [%d] dielectric, alpha %g, %s", i, m->alpha,
                     m->dispersive ? "dispersive" : "constant eta");

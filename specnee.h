@@ -305,10 +305,18 @@ Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w);
 /* ======================================================================
    6. Materials (material.c): only what the scenes need
    ====================================================================== */
-typedef enum { MAT_DIFFUSE, MAT_DIELECTRIC } MaterialType;
+typedef enum { MAT_DIFFUSE, MAT_DIELECTRIC, MAT_FLUORESCENT } MaterialType;
+#define FL_N (SPEC_MAX - SPEC_UV_MIN + 1)   /* 1 nm knots of the fluorescence tables */
 typedef struct {
     MaterialType type;
-    Spectrum reflectance;      /* diffuse albedo */
+    Spectrum reflectance;      /* diffuse albedo; fluorescent: rho, of the light not absorbed */
+    /* fluorescent (docs/FLUORESCENCE.md, F2): f = (1/pi) [rho (1 - A) delta(li - lo)
+       + Phi A(li) e(lo) (li/lo) H(lo - li) / N(li)] */
+    Spectrum excitation;       /* A, the absorptance, in [0, 1] */
+    Spectrum emission;         /* e, the emission shape in photon units */
+    float qyield;              /* Phi, the photon quantum yield, in [0, 1] */
+    double fl_cdf[FL_N];       /* C at each knot: integral of A from 300 nm (F3) */
+    double fl_tail[FL_N];      /* N at each knot: integral of e from the knot to 830 nm */
     Spectrum eta;              /* dielectric index of refraction n(lambda); a Cauchy glass
                                   (A + B/lambda^2) is tabulated into it at load time */
     float cauchy_a, cauchy_b;  /* the Cauchy coefficients when given (for --dump-scene) */
@@ -317,6 +325,17 @@ typedef struct {
 } Material;
 
 float mat_eta(const Material *m, float lambda_nm);
+/* Fluorescence (docs/FLUORESCENCE.md sections 1-3).  fluor_prepare fills the tables
+   of a MAT_FLUORESCENT material; returns 0 if the emission is zero everywhere. */
+int   fluor_prepare(Material *m);
+float fluor_branch_pf(const Material *m, float lo);      /* P_f(lo): re-radiate */
+/* Phi A(li) e(lo) (li/lo) H(lo - li) / N(li): (F2)'s second term without 1/pi. */
+float fluor_weight(const Material *m, float li, float lo);
+/* Sample li on [300, lo] from A (F3); *pdf = p(li | lo), 0 when A is 0 there. */
+float fluor_sample_li(const Material *m, float lo, float u, float *pdf);
+float fluor_pdf_li(const Material *m, float lo, float li);
+/* The diffuse albedo of the reflect lobe: rho (diffuse) or rho (1 - A) (fluorescent). */
+float mat_albedo(const Material *m, float lambda_nm);
 /* Smooth dielectrics scatter into discrete (delta) directions: no NEE there. */
 int   mat_is_delta(const Material *m);
 

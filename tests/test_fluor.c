@@ -143,10 +143,314 @@ static void test_named_fluor_spectra(T *t)
     CHECK(t, spec_eval(&sp, 340.0f) > 0.5f && spec_eval(&sp, 420.0f) < 0.01f, "brightener absorbs UV only");
 }
 
+/* ---- the material and its transport (docs/FLUORESCENCE.md sections 1-5) ---- */
+
+#define FL_MAT(refl, ex, em, qy) "Material \"fluorescent\" \"spectrum reflectance\" " refl \
+    " \"spectrum excitation\" " ex " \"spectrum emission\" " em " \"float quantumyield\" " qy "\n"
+
+/* Bad input: a clear one-line error for each. */
+static void test_fluor_parse_errors(T *t)
+{
+    static const struct { const char *mat, *want; } bad[] = {
+        { FL_MAT("[300 1 830 1]", "\"fluor-brightener-ex\"", "\"fluor-brightener-em\"", "1.5"), "quantumyield\": 1.5 is outside [0,1]" },
+        { FL_MAT("[300 1 830 1]", "\"fluor-brightener-ex\"", "\"fluor-brightener-em\"", "-0.1"), "outside [0,1]" },
+        { FL_MAT("[300 1 830 1]", "[300 0.5 400 1.2 830 0]", "\"fluor-brightener-em\"", "0.9"), "\"spectrum excitation\": value" },
+        { FL_MAT("[300 1 830 1]", "[300 -0.1 830 0]", "\"fluor-brightener-em\"", "0.9"), "\"spectrum excitation\": value -" },
+        { FL_MAT("[300 1 830 1]", "\"fluor-brightener-ex\"", "[300 0 830 0]", "0.9"), "\"spectrum emission\": zero everywhere" },
+        { "Material \"fluorescent\" \"spectrum excitation\" \"fluor-brightener-ex\"\n", "needs \"spectrum excitation\" and \"spectrum emission\"" },
+    };
+    size_t i;
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        Scene s;
+        Error e;
+        char text[1024];
+        snprintf(text, sizeof text, "%s%s", UV_CAMERA, bad[i].mat);
+        memset(&s, 0, sizeof s);
+        e.msg[0] = 0;
+        CHECK(t, !scene_load_string(&s, text, "f.pbrt", &e) && strstr(e.msg, "f.pbrt:5:") &&
+              strstr(e.msg, bad[i].want), "case %d: got '%s', want '%s'", (int)i, e.msg, bad[i].want);
+    }
+}
+
+/* A material from scene text (the first material of the scene). */
+static int load_fluor(T *t, Scene *s, const char *mat)
+{
+    char text[2048];
+    snprintf(text, sizeof text, "%s%sShape \"sphere\" \"float radius\" 1\n", UV_CAMERA, mat);
+    if (!test_load_scene(t, s, text)) return 0;
+    if (s->n_materials < 1 || s->materials[s->n_materials - 1].type != MAT_FLUORESCENT) {
+        test_failf(t, __FILE__, __LINE__, "no fluorescent material");
+        return 0;
+    }
+    return 1;
+}
+
+/* Integral of A over [a, b] by a fine midpoint rule on spec_eval (independent of
+   the material's tables). */
+static double quad_A(const Material *m, double a, double b)
+{
+    double sum = 0.0, h = 0.01, x;
+    for (x = a + 0.5 * h; x < b; x += h) sum += spec_eval(&m->excitation, (float)x) * h;
+    return sum;
+}
+
+/* chi^2 of the lambda_i sampler against the pdf (F3) it claims, with the expected
+   counts from an independent quadrature of A; and p(li | lo) integrates to 1 and
+   vanishes above lo (the Stokes rule). */
+static void test_fluor_li_sampler(T *t)
+{
+    Scene s;
+    const Material *m;
+    enum { NB = 34 };
+    const double lo = 470.0;
+    double cnt[NB], total, chi2 = 0.0, pint = 0.0, x;
+    int n = test_scaled(40000, 4000), i, b, dof;
+    Rng rng;
+    if (!load_fluor(t, &s, FL_MAT("[300 1 830 1]", "\"fluor-pyranine-ex\"", "\"fluor-pyranine-em\"", "0.9"))) return;
+    m = &s.materials[s.n_materials - 1];
+    memset(cnt, 0, sizeof cnt);
+    rng_seed(&rng, 17, 0);
+    for (i = 0; i < n; i++) {
+        float pdf, li = fluor_sample_li(m, (float)lo, rng_float(&rng), &pdf);
+        CHECK(t, li >= 300.0f && li <= (float)lo && pdf > 0.0f, "sample %g nm pdf %g", (double)li, (double)pdf);
+        CHECK(t, fabsf(pdf - fluor_pdf_li(m, (float)lo, li)) <= 1e-6f * pdf, "sampler and pdf agree");
+        b = (int)((li - 300.0f) / 5.0f);
+        if (b >= NB) b = NB - 1;
+        cnt[b] += 1.0;
+    }
+    total = quad_A(m, 300.0, lo);
+    {   /* adjacent bins merged until each group expects >= 5 samples */
+        double ce = 0.0, cc = 0.0;
+        int groups = 0;
+        for (b = 0; b < NB; b++) {
+            ce += n * quad_A(m, 300.0 + 5.0 * b, b == NB - 1 ? lo : 300.0 + 5.0 * (b + 1)) / total;
+            cc += cnt[b];
+            if (ce >= 5.0 || b == NB - 1) {
+                chi2 += (cc - ce) * (cc - ce) / ce;
+                groups++;
+                ce = cc = 0.0;
+            }
+        }
+        dof = groups - 1;
+    }
+    CHECK(t, dof >= 20, "only %d degrees of freedom", dof);
+    CHECK(t, chi2 < dof + 5.0 * sqrt(2.0 * dof), "chi^2 = %g with %d dof", chi2, dof);
+    for (x = 299.995; x < 600.0; x += 0.01) pint += fluor_pdf_li(m, (float)lo, (float)x) * 0.01;
+    CHECK(t, fabs(pint - 1.0) < 2e-3, "p(li | lo) integrates to %g", pint);
+    CHECK(t, fluor_pdf_li(m, (float)lo, (float)lo + 1.0f) == 0.0f, "no density above lo");
+    scene_free(&s);
+}
+
+/* The scene of the render tests: the camera inside a closed, non-reflecting,
+   two-sided emitting sphere of radius 10 (the environment), looking at a
+   fluorescent unit sphere that fills the view; the fluorescent sphere sees only
+   the environment, so one bounce is exact. */
+static int load_furnace(T *t, Scene *s, const char *env_L, const char *mat)
+{
+    char text[4096];
+    snprintf(text, sizeof text,
+             "LookAt 0 0 3  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 10\n"
+             "Film \"rgb\" \"integer xresolution\" 4 \"integer yresolution\" 4 \"string filename\" \"t.pfm\"\n"
+             "Integrator \"path\" \"integer maxdepth\" 3\n"
+             "WorldBegin\n"
+             "AttributeBegin\nMaterial \"diffuse\" \"spectrum reflectance\" [300 0 830 0]\n"
+             "AreaLightSource \"diffuse\" \"spectrum L\" %s \"bool twosided\" true\n"
+             "Shape \"sphere\" \"float radius\" 10\nAttributeEnd\n"
+             "%sShape \"sphere\" \"float radius\" 1\n", env_L, mat);
+    return test_load_scene(t, s, text);
+}
+
+/* The expected radiance of the fluorescent sphere at lo under the environment's
+   Le, from (F1)-(F2) by quadrature (1/4 nm), written independently of material.c:
+   rho (1 - A) Le(lo) + int Phi A(li) e(lo) (li/lo) / N(li) Le(li) dli, with N by
+   its own quadrature. */
+static double model_Lo(const Material *m, const Spectrum *Le, double lo, const double *Ntab)
+{
+    double sum = 0.0, h = 0.25, li;
+    double e = spec_eval(&m->emission, (float)lo);
+    for (li = 300.0 + 0.5 * h; li < lo; li += h) {
+        int k = (int)((li - 300.0) / h);
+        if (Ntab[k] > 0.0)
+            sum += m->qyield * spec_eval(&m->excitation, (float)li) * e * (li / lo) / Ntab[k]
+                   * spec_eval(Le, (float)li) * h;
+    }
+    return spec_eval(&m->reflectance, (float)lo) * (1.0 - spec_eval(&m->excitation, (float)lo))
+           * spec_eval(Le, (float)lo) + sum;
+}
+
+/* N(li) at li = 300 + (k + 1/2) h, the integral of e over [li, 830], by the
+   midpoint rule on the same 1/4 nm grid (half a cell for the cell of li itself). */
+static double *model_N(const Material *m)
+{
+    const double h = 0.25;
+    int nk = (int)(530.0 / h), k;
+    double *N = (double *)malloc(sizeof(double) * (size_t)nk), above = 0.0;
+    if (!N) return NULL;
+    for (k = nk - 1; k >= 0; k--) {
+        double x = 300.0 + (k + 0.5) * h, e = spec_eval(&m->emission, (float)x);
+        N[k] = above + 0.5 * h * e;
+        above += h * e;
+    }
+    return N;
+}
+
+/* Expected linear sRGB of the fluorescent sphere over the film range [a, b]:
+   int cbar(lo) Lo(lo) dlo by the midpoint rule (1/2 nm), then pbrt-v4's matrix. */
+static void model_rgb(const Material *m, const Spectrum *Le, double a, double b, double rgb[3],
+                      double *photons_in, double *photons_out, double *energy_in, double *energy_out)
+{
+    double xyz[3] = { 0, 0, 0 }, lo, h = 0.5;
+    double *N = model_N(m);
+    *photons_in = *photons_out = *energy_in = *energy_out = 0.0;
+    if (!N) return;
+    for (lo = a + 0.5 * h; lo < b; lo += h) {
+        float c[3];
+        double L = model_Lo(m, Le, lo, N);
+        cie_xyz((float)lo, c);
+        xyz[0] += c[0] * L * h; xyz[1] += c[1] * L * h; xyz[2] += c[2] * L * h;
+    }
+    for (lo = 300.0 + 0.5 * h; lo < 830.0; lo += h) {   /* photons ~ L lambda, energy ~ L */
+        double L = model_Lo(m, Le, lo, N), E = spec_eval(Le, (float)lo);
+        *photons_out += L * lo * h; *photons_in += E * lo * h;
+        *energy_out += L * h; *energy_in += E * h;
+    }
+    free(N);
+    xyz_to_linear_srgb(xyz, rgb);
+}
+
+/* Line test: a narrow UV source (the 365 nm LED, FWHM 9 nm) as the environment;
+   the sphere shows only re-radiated light Phi A(365) e(lo) (365/lo) / N(365)
+   (spread over the LED's band), and the render must match the quadrature of the
+   model in every channel within TEST_K_SIGMA standard errors.  Dropping li/lo,
+   allowing anti-Stokes emission or mis-weighting the branch moves the mean. */
+static void test_fluor_line(T *t)
+{
+    Scene s;
+    RenderOptions o;
+    Tiles tl;
+    double rgb[3], pin, pout, ein, eout;
+    int c;
+    if (!load_furnace(t, &s, "\"lamp-UVLED365\"",
+                      FL_MAT("[300 0.8 830 0.8]", "[300 0 330 1 420 1 440 0]", "[330 0 360 0.6 400 1 520 0]", "0.9")))
+        return;
+    render_options_default(&o);
+    o.spp = test_scaled(512, 64);
+    o.threads = 1;
+    o.wl_wide = 1;
+    o.sel.strategy = SEL_SPD;
+    if (!test_render_tiles(t, &s, &o, 8, 1, &tl)) { scene_free(&s); return; }
+    model_rgb(&s.materials[s.n_materials - 1], &s.emitters[0].Le, 360.0, 830.0, rgb, &pin, &pout, &ein, &eout);
+    for (c = 0; c < 3; c++)
+        CHECK(t, fabs(tl.mean[0][c] - rgb[c]) < TEST_K_SIGMA * tl.se[0][c] + 2e-3 * fabs(rgb[c]),
+              "channel %d: render %.6g +- %.2g, model %.6g", c, tl.mean[0][c], tl.se[0][c], rgb[c]);
+    if (getenv("FLUOR_VERBOSE"))
+        printf("line: render (%g %g %g) +- (%g %g %g), model (%g %g %g)\n", tl.mean[0][0], tl.mean[0][1],
+               tl.mean[0][2], tl.se[0][0], tl.se[0][1], tl.se[0][2], rgb[0], rgb[1], rgb[2]);
+    CHECK(t, rgb[2] > 0.05, "the sphere glows blue: model rgb (%g %g %g)", rgb[0], rgb[1], rgb[2]);
+    scene_free(&s);
+}
+
+/* Photon furnace: Phi = rho = 1, A = 1 in a UV-A band inside the film's range
+   (375-395 nm, so the camera sees the band's own reflectance drop), a flat
+   environment.  The model conserves photons and loses energy; the render must
+   match the model (so rho (1 - A), not rho; li/lo; and the branch weights are
+   checked by the renderer itself). */
+static void test_fluor_photon_furnace(T *t)
+{
+    Scene s;
+    RenderOptions o;
+    Tiles tl;
+    double rgb[3], pin, pout, ein, eout;
+    int c;
+    if (!load_furnace(t, &s, "[300 1 830 1]",
+                      FL_MAT("[300 1 830 1]", "[300 0 370 0 375 1 395 1 400 0 830 0]", "[420 0 470 1 520 0]", "1")))
+        return;
+    render_options_default(&o);
+    o.spp = test_scaled(64, 16);
+    o.threads = 1;
+    o.wl_wide = 1;
+    if (!test_render_tiles(t, &s, &o, 8, 1, &tl)) { scene_free(&s); return; }
+    model_rgb(&s.materials[s.n_materials - 1], &s.emitters[0].Le, 360.0, 830.0, rgb, &pin, &pout, &ein, &eout);
+    if (getenv("FLUOR_VERBOSE"))
+        printf("furnace: render (%g %g %g) +- (%g %g %g), model (%g %g %g)\n", tl.mean[0][0], tl.mean[0][1],
+               tl.mean[0][2], tl.se[0][0], tl.se[0][1], tl.se[0][2], rgb[0], rgb[1], rgb[2]);
+    /* the model as written: photon radiance equal over 300-830 nm (to the quadrature's
+       accuracy), energy strictly less */
+    CHECK(t, fabs(pout - pin) < 2e-3 * pin, "photon radiance: out %.8g, in %.8g", pout, pin);
+    CHECK(t, eout < ein * (1.0 - 1e-3), "energy: out %.8g must be below in %.8g", eout, ein);
+    for (c = 0; c < 3; c++)
+        CHECK(t, fabs(tl.mean[0][c] - rgb[c]) < TEST_K_SIGMA * tl.se[0][c] + 2e-3 * fabs(rgb[c]),
+              "channel %d: render %.6g +- %.2g, model %.6g", c, tl.mean[0][c], tl.se[0][c], rgb[c]);
+    scene_free(&s);
+    /* The Stokes rule: excitation and emission bands that overlap (as fluorescein's
+       do), so anti-Stokes emission would add light at the short side. */
+    if (!load_furnace(t, &s, "[300 1 830 1]",
+                      FL_MAT("[300 1 830 1]", "[300 0 440 0 470 1 500 1 510 0 830 0]", "[440 0 490 1 560 0]", "1")))
+        return;
+    if (!test_render_tiles(t, &s, &o, 8, 1, &tl)) { scene_free(&s); return; }
+    model_rgb(&s.materials[s.n_materials - 1], &s.emitters[0].Le, 360.0, 830.0, rgb, &pin, &pout, &ein, &eout);
+    CHECK(t, fabs(pout - pin) < 2e-3 * pin && eout < ein * (1.0 - 1e-4), "overlap: photons %.8g / %.8g, energy %.8g / %.8g",
+          pout, pin, eout, ein);
+    for (c = 0; c < 3; c++)
+        CHECK(t, fabs(tl.mean[0][c] - rgb[c]) < TEST_K_SIGMA * tl.se[0][c] + 2e-3 * fabs(rgb[c]),
+              "overlap, channel %d: render %.6g +- %.2g, model %.6g", c, tl.mean[0][c], tl.se[0][c], rgb[c]);
+    scene_free(&s);
+}
+
+/* Unbiasedness: a UV LED, a visible LED and a fluorescent sphere on a diffuse floor.
+   NEE+MIS with every emitter strategy and BSDF sampling only must agree tile by
+   tile.  NEE at lo after a shift, or a selection pmf at lo in the MIS weight,
+   would break the agreement. */
+static void test_fluor_estimators_agree(T *t)
+{
+    static const SelStrategy strat[] = { SEL_SPD, SEL_UNIFORM, SEL_POWER, SEL_SPATIAL,
+                                         SEL_PRODUCT, SEL_SPECTRAL_SPATIAL };
+    Scene s;
+    RenderOptions o;
+    static Tiles ref, other;
+    size_t i;
+    int K = 10;
+    if (!test_load_scene(t, &s,
+            "LookAt 0 1 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n"
+            "Film \"rgb\" \"integer xresolution\" 12 \"integer yresolution\" 12 \"string filename\" \"t.pfm\"\n"
+            "Integrator \"path\" \"integer maxdepth\" 4\n"
+            "WorldBegin\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\" \"float scale\" 3\n"
+            "Translate -1.5 2.5 1\nShape \"sphere\" \"float radius\" 0.6\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\" \"float scale\" 1\n"
+            "Translate 1.5 2.5 1\nShape \"sphere\" \"float radius\" 0.3\nAttributeEnd\n"
+            "Material \"diffuse\" \"spectrum reflectance\" [300 0.5 830 0.5]\n"
+            "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point3 P\" [-4 -1 -4  4 -1 -4  4 -1 4  -4 -1 4]\n"
+            FL_MAT("[300 0.7 830 0.7]", "\"fluor-brightener-ex\"", "\"fluor-brightener-em\"", "0.9")
+            "Shape \"sphere\" \"float radius\" 1\n")) return;
+    render_options_default(&o);
+    o.spp = test_scaled(24, 8);
+    o.threads = 1;
+    o.sel.strategy = SEL_SPD;
+    o.sel.grid_res = 4;
+    if (!test_render_tiles(t, &s, &o, K, 3, &ref)) { scene_free(&s); return; }
+    for (i = 0; i <= sizeof strat / sizeof strat[0]; i++) {
+        RenderOptions oi = o;
+        char what[64];
+        if (i < sizeof strat / sizeof strat[0]) { oi.sel.strategy = strat[i]; oi.seed = 7 + (int)i; }
+        else { oi.nee = 0; oi.spp *= 4; oi.seed = 99; }           /* BSDF sampling only */
+        if (i == 0) continue;
+        if (!test_render_tiles(t, &s, &oi, K, 3, &other)) { scene_free(&s); return; }
+        snprintf(what, sizeof what, "%s vs spd", i < sizeof strat / sizeof strat[0] ? sel_name(strat[i]) : "BSDF only");
+        if (!test_tiles_agree(t, &ref, &other, 1e-3, what)) { scene_free(&s); return; }
+    }
+    scene_free(&s);
+}
+
 const TestCase tests_fluor[] = {
     { "fluor_uv_lamp_absolute", test_uv_lamp_absolute },
     { "fluor_uv_lamp_rules", test_uv_lamp_rules },
     { "fluor_uv_bins_select", test_uv_bins_select },
     { "fluor_named_spectra", test_named_fluor_spectra },
+    { "fluor_parse_errors", test_fluor_parse_errors },
+    { "fluor_li_sampler_chi2", test_fluor_li_sampler },
+    { "fluor_line", test_fluor_line },
+    { "fluor_photon_furnace", test_fluor_photon_furnace },
+    { "fluor_estimators_agree", test_fluor_estimators_agree },
     { NULL, NULL }
 };
