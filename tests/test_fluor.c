@@ -331,10 +331,10 @@ static void test_fluor_line(T *t)
     double rgb[3], pin, pout, ein, eout;
     int c;
     if (!load_furnace(t, &s, "\"lamp-UVLED365\"",
-                      FL_MAT("[300 0.8 830 0.8]", "[300 0 330 1 420 1 440 0]", "[330 0 360 0.6 400 1 520 0]", "0.9")))
+                      FL_MAT("[300 0.8 830 0.8]", "[300 0 345 0 350 1 380 1 390 0 830 0]", "[330 0 360 0.6 400 1 520 0]", "0.9")))
         return;
     render_options_default(&o);
-    o.spp = test_scaled(512, 64);
+    o.spp = test_scaled(2048, 256);
     o.threads = 1;
     o.wl_wide = 1;
     o.sel.strategy = SEL_SPD;
@@ -366,7 +366,7 @@ static void test_fluor_photon_furnace(T *t)
                       FL_MAT("[300 1 830 1]", "[300 0 370 0 375 1 395 1 400 0 830 0]", "[420 0 470 1 520 0]", "1")))
         return;
     render_options_default(&o);
-    o.spp = test_scaled(64, 16);
+    o.spp = test_scaled(256, 32);
     o.threads = 1;
     o.wl_wide = 1;
     if (!test_render_tiles(t, &s, &o, 8, 1, &tl)) { scene_free(&s); return; }
@@ -409,14 +409,14 @@ static void test_fluor_estimators_agree(T *t)
     RenderOptions o;
     static Tiles ref, other;
     size_t i;
-    int K = 10;
+    int K = 16;
     if (!test_load_scene(t, &s,
             "LookAt 0 1 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n"
             "Film \"rgb\" \"integer xresolution\" 12 \"integer yresolution\" 12 \"string filename\" \"t.pfm\"\n"
             "Integrator \"path\" \"integer maxdepth\" 4\n"
             "WorldBegin\n"
-            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\" \"float scale\" 3\n"
-            "Translate -1.5 2.5 1\nShape \"sphere\" \"float radius\" 0.6\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-BLB\" \"float scale\" 0.02\n"
+            "Translate -1.5 2.8 1\nShape \"sphere\" \"float radius\" 1\nAttributeEnd\n"
             "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\" \"float scale\" 1\n"
             "Translate 1.5 2.5 1\nShape \"sphere\" \"float radius\" 0.3\nAttributeEnd\n"
             "Material \"diffuse\" \"spectrum reflectance\" [300 0.5 830 0.5]\n"
@@ -424,7 +424,7 @@ static void test_fluor_estimators_agree(T *t)
             FL_MAT("[300 0.7 830 0.7]", "\"fluor-brightener-ex\"", "\"fluor-brightener-em\"", "0.9")
             "Shape \"sphere\" \"float radius\" 1\n")) return;
     render_options_default(&o);
-    o.spp = test_scaled(24, 8);
+    o.spp = test_scaled(96, 16);
     o.threads = 1;
     o.sel.strategy = SEL_SPD;
     o.sel.grid_res = 4;
