@@ -34,7 +34,7 @@ TESTOBJ = tests/runner.o tests/fixtures.o tests/test_util.o tests/test_bvh.o tes
           tests/test_scene.o tests/test_image.o tests/test_material.o \
           tests/test_render.o tests/test_lights.o tests/test_scenes.o tests/test_physics.o \
           tests/test_robust.o tests/test_lighttree.o tests/test_pbrt.o tests/test_wavelengths.o \
-          tests/test_sampler.o
+          tests/test_sampler.o tests/test_fluor.o
 
 all: specnee
 

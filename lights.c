@@ -269,7 +269,7 @@ static int radiance_and_k(const Scene *s, int e, float lo_nm, float hi_nm, Spect
 {
     const Emitter *em = &s->emitters[e];
     const Spectrum *shape = em->inf && em->inf->res > 0 ? &em->inf->mean : &em->L;
-    double norm = luminance_sum(&em->L, lo_nm, hi_nm);
+    double norm = em->absolute ? 1.0 : luminance_sum(&em->L, lo_nm, hi_nm);
     int lam;
     if (!(norm > 0.0)) {
         if (em->inf)
@@ -282,6 +282,8 @@ static int radiance_and_k(const Scene *s, int e, float lo_nm, float hi_nm, Spect
     }
     for (lam = 0; lam < SPEC_N; lam++)
         Le->v[lam] = (float)(em->scale * shape->v[lam] / norm);
+    for (lam = 0; lam < SPEC_UV_N; lam++)
+        Le->uv[lam] = (float)(em->scale * shape->uv[lam] / norm);
     *k = em->scale / norm;
     return 1;
 }
@@ -299,6 +301,10 @@ int emitters_prepare(Scene *s, Error *err)
         Emitter *em = &s->emitters[e];
         const Shape *sh;
         Spectrum Le;
+        /* A UV lamp has no luminance: its L is absolute spectral radiance, and the
+           decision is the emitter's own (made on 400-700 nm, whatever range the
+           film integrates), so every range gives it the same meaning. */
+        em->absolute = !(luminance_sum(&em->L, LAMBDA_LO, LAMBDA_HI) > 0.0);
         if (!emitter_radiance(s, e, LAMBDA_LO, LAMBDA_HI, &Le, err)) return 0;
         if (em->inf) {
             /* infinite.c has the rest; here the scene's bounding sphere, which gives
@@ -465,7 +471,9 @@ struct LightSampler {
     double *power_cdf;         /* power strategy: n + 1 running sums of power_pmf */
     int power_last;            /* last emitter with positive power_pmf */
     float *power_pmf;          /* power strategy */
-    float *T;                  /* SPD_BINS x n spectral table (unit or power metric) */
+    float *T;                  /* (SPD_UV_BINS + SPD_BINS) x n spectral table (unit or power
+                                  metric): rows 0..19 are 300-400 nm, rows 20..79 the
+                                  thesis' 60 bins over 400-700 nm */
     float *Y;                  /* luminance (= scale) per emitter */
     /* pieces (section 4): without splitting piece i is emitter i */
     int n_pieces;
@@ -1247,7 +1255,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     ls->power = (double *)malloc(sizeof(double) * (size_t)n);
     ls->power_pmf = (float *)malloc(sizeof(float) * (size_t)n);
     ls->power_cdf = (double *)malloc(sizeof(double) * (size_t)(n + 1));
-    ls->T = (float *)malloc(sizeof(float) * (size_t)n * SPD_BINS);
+    ls->T = (float *)malloc(sizeof(float) * (size_t)n * (SPD_UV_BINS + SPD_BINS));
     ls->Y = (float *)malloc(sizeof(float) * (size_t)n);
     if (!ls->Le || !ls->k || !ls->bin || !ls->power || !ls->power_pmf || !ls->power_cdf || !ls->T || !ls->Y)
         goto oom;
@@ -1283,7 +1291,13 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
            normalisation); an image map's stand-in spectrum has its own */
         ls->Y[i] = em->inf ? (float)luminance_sum(&ls->Le[i], ls->opt.lo_nm, ls->opt.hi_nm)
                            : em->scale;
-        for (b = 0; b < SPD_BINS; b++) ls->T[b * n + i] = ls->bin[(size_t)i * SPD_BINS + b] * m;
+        /* T rows 0..19: 300-400 nm (fluorescence excitation), rows 20..79: the
+           thesis' 60 bins over 400-700 nm (spd_bin) */
+        for (b = 0; b < SPD_UV_BINS; b++)
+            ls->T[b * n + i] = spec_band_average(&ls->Le[i], SPEC_UV_MIN + (int)SPD_BIN_NM * b,
+                                                 (int)SPD_BIN_NM) * m;
+        for (b = 0; b < SPD_BINS; b++)
+            ls->T[(SPD_UV_BINS + b) * n + i] = ls->bin[(size_t)i * SPD_BINS + b] * m;
     }
     if (is_tree(o->strategy)) {
         if (!tree_setup(ls)) goto oom;
@@ -1355,7 +1369,8 @@ size_t light_sampler_bytes(const LightSampler *ls)
 {
     size_t n = (size_t)ls->n, bytes = sizeof *ls;
     long v;
-    bytes += n * (sizeof(Spectrum) + sizeof(float) * (2 * SPD_BINS + 2) + sizeof(double) * 2 + sizeof(int));
+    bytes += n * (sizeof(Spectrum) + sizeof(float) * (2 * SPD_BINS + SPD_UV_BINS + 2)
+                  + sizeof(double) * 3 + sizeof(int));
     bytes += sizeof(Piece) * (size_t)ls->n_pieces;
     if (ls->piece_of_tri) bytes += sizeof(int) * (size_t)ls->scene->n_tris;
     if (ls->piece_tri) {
@@ -1421,13 +1436,19 @@ float light_pdf_sa(const LightSampler *ls, int piece, Vec3 ref, Vec3 p, Vec3 n)
 
 /* ------------------------------------------------------------------ selection */
 
-/* Bin of a wavelength in the 60-bin table, -1 outside 400-700 nm. */
+/* Row of a wavelength in the spectral table T: the thesis' 60 bins over 400-700 nm
+   are rows SPD_UV_BINS.., the 20 UV bins over 300-400 nm (fluorescence excitation,
+   docs/FLUORESCENCE.md section 5) rows 0..19; -1 outside 300-700 nm. */
 static int spd_bin(float lambda)
 {
     int b;
+    if (lambda >= (float)SPEC_UV_MIN && lambda < LAMBDA_LO) {
+        b = (int)((lambda - (float)SPEC_UV_MIN) / SPD_BIN_NM);
+        return b >= SPD_UV_BINS ? SPD_UV_BINS - 1 : b;
+    }
     if (!(lambda >= LAMBDA_LO && lambda <= LAMBDA_HI)) return -1;
     b = (int)((lambda - LAMBDA_LO) / SPD_BIN_NM);
-    return b >= SPD_BINS ? SPD_BINS - 1 : b;
+    return SPD_UV_BINS + (b >= SPD_BINS ? SPD_BINS - 1 : b);
 }
 
 /* The unnormalised weights w[i] of the context for the O(n) strategies (spatial,

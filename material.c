@@ -1,7 +1,16 @@
-/* material.c - the two materials the scenes need: diffuse and (dispersive) glass.
+/* material.c - the materials the scenes need: diffuse, (dispersive) glass, and a
+   diffuse fluorescent layer.
 
    Exported: mat_eta, mat_is_delta, bsdf_sample, bsdf_eval, fresnel_dielectric,
-   refract_dir (specnee.h section 6).  Every sampler has its pdf beside it.
+   refract_dir, mat_albedo, fluor_* (specnee.h section 6).  Every sampler has its
+   pdf beside it.
+
+   Fluorescent (docs/FLUORESCENCE.md, F2-F4): f(li -> lo) = (1/pi) [rho(lo)(1 -
+   A(lo)) delta(li - lo) + Phi A(li) e(lo) (li/lo) H(lo - li) / N(li)].  bsdf_sample
+   and bsdf_eval give its reflect lobe, a Lambertian of albedo rho (1 - A); the
+   re-radiate lobe is chosen and weighted by render.c with fluor_branch_pf,
+   fluor_sample_li and fluor_weight, after which the vertex is a Lambertian of
+   albedo 1 at the excitation wavelength li.
 
    Conventions.  wo and wi are unit world directions pointing AWAY from the
    surface; BSDF values f carry no cosine (the integrator multiplies |cos theta_i|
@@ -46,6 +55,116 @@ float mat_eta(const Material *m, float lambda_nm)
 {
     float eta = spec_eval(&m->eta, lambda_nm);
     return eta > 0.0f ? eta : 1.0f;           /* pbrt-v4: a sampled eta of 0 means 1 */
+}
+
+float mat_albedo(const Material *m, float lambda_nm)
+{
+    float rho = spec_eval(&m->reflectance, lambda_nm);
+    if (m->type == MAT_FLUORESCENT) return rho * (1.0f - spec_eval(&m->excitation, lambda_nm));
+    return rho;
+}
+
+/* ---- fluorescence: tables at the 1 nm knots 300..830 nm (k = nm - 300) ---- */
+
+int fluor_prepare(Material *m)
+{
+    int k;
+    double acc = 0.0;
+    m->fl_cdf[0] = 0.0;
+    for (k = 0; k + 1 < FL_N; k++) {      /* exact integral of the linear A per cell */
+        acc += 0.5 * ((double)spec_get(&m->excitation, SPEC_UV_MIN + k) +
+                      spec_get(&m->excitation, SPEC_UV_MIN + k + 1));
+        m->fl_cdf[k + 1] = acc;
+    }
+    acc = 0.0;
+    m->fl_tail[FL_N - 1] = 0.0;
+    for (k = FL_N - 2; k >= 0; k--) {      /* N at the knots, from the top down */
+        acc += 0.5 * ((double)spec_get(&m->emission, SPEC_UV_MIN + k) +
+                      spec_get(&m->emission, SPEC_UV_MIN + k + 1));
+        m->fl_tail[k] = acc;
+    }
+    return m->fl_tail[0] > 0.0;
+}
+
+/* The Stokes rule: light absorbed at li leaves at lo >= li only. */
+static float stokes_limit(float lo) { return lo; }
+
+/* C(x) = integral of A over [300, x] (x clamped to the table). */
+static double fluor_cdf_at(const Material *m, float x)
+{
+    double t = (double)x - SPEC_UV_MIN;
+    int k;
+    if (!(t > 0.0)) return 0.0;
+    if (t >= FL_N - 1) return m->fl_cdf[FL_N - 1];
+    k = (int)t;
+    return m->fl_cdf[k] + (t - k) * (m->fl_cdf[k + 1] - m->fl_cdf[k]);
+}
+
+/* N(li) = integral of e over [li, 830]: the tail at the next knot plus the exact
+   integral of the linear e over [li, next knot]. */
+static double fluor_tail_at(const Material *m, float li)
+{
+    double t = (double)li - SPEC_UV_MIN;
+    int k;
+    if (!(t >= 0.0)) return m->fl_tail[0];
+    if (t >= FL_N - 1) return 0.0;
+    k = (int)t;
+    return m->fl_tail[k + 1] + (k + 1 - t) * 0.5 * ((double)spec_eval(&m->emission, li) +
+                                                    spec_get(&m->emission, SPEC_UV_MIN + k + 1));
+}
+
+float fluor_branch_pf(const Material *m, float lo)
+{
+    /* Any P_f > 0 wherever re-radiation can contribute is unbiased; specnee uses 1/2
+       where both lobes can contribute, else the one that can (FLUORESCENCE 3). */
+    int can_f = m->type == MAT_FLUORESCENT && fluor_cdf_at(m, stokes_limit(lo)) > 0.0 &&
+                spec_eval(&m->emission, lo) > 0.0f && m->qyield > 0.0f;
+    int can_r = mat_albedo(m, lo) > 0.0f;
+    if (!can_f) return 0.0f;
+    return can_r ? 0.5f : 1.0f;
+}
+
+float fluor_weight(const Material *m, float li, float lo)
+{
+    double n;
+    if (!(li <= stokes_limit(lo)) || li < (float)SPEC_UV_MIN) return 0.0f;
+    n = fluor_tail_at(m, li);
+    if (!(n > 0.0)) return 0.0f;
+    return (float)((double)m->qyield * spec_eval(&m->excitation, li) * spec_eval(&m->emission, lo)
+                   * ((double)li / lo) / n);
+}
+
+float fluor_sample_li(const Material *m, float lo, float u, float *pdf)
+{
+    double c = fluor_cdf_at(m, stokes_limit(lo)), target, w;
+    int a = 0, b, k;
+    float li;
+    *pdf = 0.0f;
+    if (!(c > 0.0)) return (float)SPEC_UV_MIN;
+    target = (double)u * c;
+    /* the first cell k with cdf[k + 1] > target (cells of zero weight are skipped) */
+    b = FL_N - 1;
+    while (a + 1 < b) {
+        int mid = (a + b) / 2;
+        if (m->fl_cdf[mid] <= target) a = mid; else b = mid;
+    }
+    k = a;
+    w = m->fl_cdf[k + 1] - m->fl_cdf[k];
+    if (!(w > 0.0)) return (float)SPEC_UV_MIN;
+    li = (float)(SPEC_UV_MIN + k + (target - m->fl_cdf[k]) / w);
+    if (li > stokes_limit(lo)) li = stokes_limit(lo);
+    *pdf = (float)(w / c);
+    return li;
+}
+
+float fluor_pdf_li(const Material *m, float lo, float li)
+{
+    double c = fluor_cdf_at(m, stokes_limit(lo));
+    int k;
+    if (!(c > 0.0) || !(li >= (float)SPEC_UV_MIN) || li > stokes_limit(lo)) return 0.0f;
+    k = (int)(li - (float)SPEC_UV_MIN);
+    if (k > FL_N - 2) k = FL_N - 2;
+    return (float)((m->fl_cdf[k + 1] - m->fl_cdf[k]) / c);
 }
 
 int mat_is_delta(const Material *m)
@@ -187,7 +306,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
     out->delta = 0;
     if (lo.z == 0.0f) return 0;
 
-    if (m->type == MAT_DIFFUSE) {
+    if (m->type != MAT_DIELECTRIC) {    /* diffuse, or the fluorescent reflect lobe */
         /* cosine-weighted hemisphere (Malley's method: a uniform disk lifted up) */
         float r = sqrtf(u1), phi = 2.0f * PI_F * u2;
         float z = sqrtf(fmaxf(0.0f, 1.0f - u1));
@@ -201,7 +320,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         if (!(out->pdf > 0.0f)) return 0;
         for (j = 0; j < HERO_N; j++) {
             out->pdf_l[j] = out->pdf;
-            if (alive & (1u << j)) out->f[j] = spec_eval(&m->reflectance, lambda[j]) / PI_F;
+            if (alive & (1u << j)) out->f[j] = mat_albedo(m, lambda[j]) / PI_F;
         }
         return 1;
     }
@@ -266,14 +385,14 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
     Vec3 lo = frame_to_local(&fr, wo), li = frame_to_local(&fr, wi);
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
-    if (m->type == MAT_DIFFUSE) {
+    if (m->type != MAT_DIELECTRIC) {    /* diffuse, or the fluorescent reflect lobe */
         float pdf;
         if (lo.z * li.z <= 0.0f) return;                           /* other side */
         if (v3_dot(wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return; /* no leaks */
         pdf = fabsf(li.z) / PI_F;
         for (j = 0; j < HERO_N; j++) {
             pdf_l[j] = pdf;
-            if (alive & (1u << j)) f[j] = spec_eval(&m->reflectance, lambda[j]) / PI_F;
+            if (alive & (1u << j)) f[j] = mat_albedo(m, lambda[j]) / PI_F;
         }
         return;
     }

@@ -227,6 +227,8 @@ typedef struct {
     int *inf; int n_inf;             /* the emitters that are infinite lights */
     Sampler sampler;                 /* the numbers (sampler.c); its spp is the pass's target */
     FilterTable filter;              /* the Gaussian filter for the non-independent samplers */
+    Material white;                  /* Lambertian of albedo 1: a fluorescent vertex after a
+                                        shift re-radiates like this at lambda_i (FLUORESCENCE 3) */
 } Renderer;
 
 typedef struct {
@@ -376,12 +378,16 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
     const RenderOptions *o = R->o;
     int is_all = o->sel.strategy == SEL_ALL;
     float cmf[HERO_N][3], beta[HERO_N], r[HERO_N];
+    float lam[HERO_N];         /* the wavelengths light is transported at: the camera's
+                                  (wl) until a fluorescent shift moves the hero to
+                                  lambda_i; the film keeps wl (FLUORESCENCE 4) */
     unsigned alive = o->single_wavelength ? 1u : (1u << HERO_N) - 1u;
     PrevVertex prev;
     int depth, j;
 
     for (j = 0; j < HERO_N; j++) {
         cie_xyz(wl->lambda[j], cmf[j]);
+        lam[j] = wl->lambda[j];
         beta[j] = (alive & (1u << j)) ? 1.0f : 0.0f;
         r[j] = (alive & (1u << j)) ? 1.0f : 0.0f;
     }
@@ -415,7 +421,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
                 for (j = 0; j < HERO_N; j++) {
                     value[j] = 0.0;
                     if (!(alive & (1u << j))) continue;
-                    value[j] = (double)beta[j] * light_Le(R->ls, e, dir, v3_neg(dir), wl->lambda[j]);
+                    value[j] = (double)beta[j] * light_Le(R->ls, e, dir, v3_neg(dir), lam[j]);
                     if (value[j] != 0.0) any = 1;
                 }
                 if (!any) continue;
@@ -447,7 +453,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
             for (j = 0; j < HERO_N; j++) {
                 value[j] = 0.0;
                 if (!(alive & (1u << j))) continue;
-                value[j] = (double)beta[j] * light_Le(R->ls, shape->emitter, sp.ng, wo, wl->lambda[j]);
+                value[j] = (double)beta[j] * light_Le(R->ls, shape->emitter, sp.ng, wo, lam[j]);
                 if (value[j] != 0.0) any = 1;
             }
             if (any) {
@@ -483,11 +489,48 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
                              wl->lambda[0]);
         }
 
+        /* 3b. A fluorescent vertex reflects or re-radiates (FLUORESCENCE 3-5).  To
+              re-radiate: terminate the secondaries (the baseline, as at dispersive
+              glass), sample lambda_i from A on [300, lambda_o], weight by (F4), and
+              from here on transport at lambda_i through a Lambertian of albedo 1:
+              NEE, emitter selection (ctx.lambda) and every MIS pdf below use it. */
+        if (mat->type == MAT_FLUORESCENT) {
+            float pf = fluor_branch_pf(mat, lam[0]), ub, ul;
+            sampler_2d(ps, dim_fluor(depth), &ub, &ul);
+            if (ub < pf) {
+                float pli, li = fluor_sample_li(mat, lam[0], ul, &pli);
+                float wgt = fluor_weight(mat, li, lam[0]);
+                if (dbg) fprintf(dbg, "  fluorescent: re-radiates, %.1f nm absorbed at %.1f nm "
+                                 "(P_f %.3g, p(li|lo) %.4g, weight %.4g); secondaries terminated\n",
+                                 lam[0], li, pf, pli, wgt);
+                if (!(pli > 0.0f) || !(wgt > 0.0f)) break;
+                alive = 1u;
+                for (j = 1; j < HERO_N; j++) { beta[j] = 0.0f; r[j] = 0.0f; }
+                beta[0] *= wgt / (pf * pli);
+                lam[0] = li;
+                mat = &R->white;
+            } else {
+                /* reflect: a Lambertian of albedo rho (1 - A); the choice depends on
+                   lambda_o, so the pdf ratios carry it (THEORY (5)) */
+                unsigned still = 1u;
+                for (j = 1; j < HERO_N; j++) {
+                    if (!(alive & (1u << j))) continue;
+                    r[j] *= (1.0f - fluor_branch_pf(mat, lam[j])) / (1.0f - pf);
+                    beta[j] /= 1.0f - pf;
+                    if (r[j] > 0.0f) still |= 1u << j;
+                    else { r[j] = 0.0f; beta[j] = 0.0f; }
+                }
+                beta[0] /= 1.0f - pf;
+                alive = still;
+                if (dbg) fprintf(dbg, "  fluorescent: reflects (P_r %.3g)\n", 1.0f - pf);
+            }
+        }
+
         /* 4. Next event estimation: choose an emitter, sample a point on it */
         ctx.p = sp.p;
         ctx.n = sp.ns;
         ctx.voxel = light_voxel(R->ls, sp.p);
-        for (j = 0; j < HERO_N; j++) { ctx.lambda[j] = wl->lambda[j]; ctx.beta[j] = beta[j]; }
+        for (j = 0; j < HERO_N; j++) { ctx.lambda[j] = lam[j]; ctx.beta[j] = beta[j]; }
         ctx.alive = alive;
         ctx.hero_only = alive == 1u;
         if (o->nee && !mat_is_delta(mat) && s->n_emitters > 0) {
@@ -520,14 +563,14 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
                 for (j = 0; j < HERO_N; j++) {
                     value[j] = 0.0;
                     if (alive & (1u << j))
-                        value[j] = light_Le(R->ls, em, es.n, v3_neg(es.wi), wl->lambda[j]);
+                        value[j] = light_Le(R->ls, em, es.n, v3_neg(es.wi), lam[j]);
                     if (value[j] != 0.0) any = 1;
                 }
                 if (!any) {
                     if (dbg) fprintf(dbg, "  NEE: emitter %d sends nothing here (its back faces this point, or Le = 0 at the alive wavelengths)\n", em);
                     continue;
                 }
-                bsdf_eval(mat, &sp, wo, es.wi, wl->lambda, alive, f, pdf_l);
+                bsdf_eval(mat, &sp, wo, es.wi, lam, alive, f, pdf_l);
                 cos_i = fabsf(v3_dot(es.wi, sp.ns));
                 any = 0;
                 for (j = 0; j < HERO_N; j++) {
@@ -569,7 +612,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
         /* 5. BSDF sampling: the next direction, with the hero's index */
         u0 = sampler_1d(ps, dim_bounce(depth, BD_LOBE));
         sampler_2d(ps, dim_bounce(depth, BD_DIR), &u1, &u2);
-        if (!bsdf_sample(mat, &sp, wo, wl->lambda, alive, u0, u1, u2, &bs)) break;
+        if (!bsdf_sample(mat, &sp, wo, lam, alive, u0, u1, u2, &bs)) break;
         prev.can_nee = o->nee && !bs.delta && s->n_emitters > 0;
         prev.ctx = ctx;
         prev.p = sp.p;
@@ -759,6 +802,8 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     j->sel.hi_nm = o->wl_wide ? (float)SPEC_MAX : LAMBDA_HI;
     j->R.s = s;
     j->R.o = o;
+    j->R.white.type = MAT_DIFFUSE;
+    spec_const(&j->R.white.reflectance, 1.0f);
     camera_init(&j->R.cam, set);
     filter_table_init(&j->R.filter, set->filter_radius, set->filter_sigma);
     sampler_init(&j->R.sampler, o->sampler, o->seed, o->spp, o->xsamples, o->ysamples, o->jitter);

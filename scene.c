@@ -1318,6 +1318,25 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
 /* ===========================================================================
    9. Directives of the world block: materials, lights, shapes
    =========================================================================== */
+
+/* A reflectance or absorptance must lie in [0, 1] at every nm, the UV extension
+   included; 1e-4 of slack absorbs the rounding of an RGB upsampling of (1,1,1),
+   and values in the slack are clamped to 1. */
+static int check_unit_spectrum(Parser *P, const Param *p, Spectrum *sp)
+{
+    int k;
+    for (k = 0; k < SPEC_N + SPEC_UV_N; k++) {
+        /* 360..830 nm first (the first error names the visible value), then 300..359 */
+        int nm = k < SPEC_N ? SPEC_MIN + k : SPEC_UV_MIN + (k - SPEC_N);
+        float *v = spec_at(sp, nm);
+        if (!(*v >= 0.0f && *v <= 1.0001f))
+            return fail(P, p->file, p->line, "\"%s %s\": value %g at %d nm outside [0,1]",
+                        param_type_names[p->type], p->name, *v, nm);
+        if (*v > 1.0f) *v = 1.0f;
+    }
+    return 1;
+}
+
 static int material_from_params(Parser *P, const char *type, ParamList *pl, const char *file,
                                 int line, Material *m)
 {
@@ -1327,24 +1346,52 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
     snprintf(what, sizeof what, "Material \"%s\"", type);
     if (!strcmp(type, "diffuse")) {
         Param *p = find_spectrum_param(pl, "reflectance");
-        int i;
         m->type = MAT_DIFFUSE;
         if (p) {
             if (!param_spectrum(P, p, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
             /* a reflectance must lie in [0,1]; 1e-4 of slack absorbs the rounding of
                an RGB upsampling of (1,1,1) */
-            for (i = 0; i < SPEC_N; i++) {
-                if (!(m->reflectance.v[i] >= 0.0f && m->reflectance.v[i] <= 1.0001f))
-                    return fail(P, p->file, p->line, "\"%s reflectance\": value %g at %d nm "
-                                "outside [0,1]", param_type_names[p->type],
-                                m->reflectance.v[i], SPEC_MIN + i);
-                if (m->reflectance.v[i] > 1.0f) m->reflectance.v[i] = 1.0f;
-            }
+            if (!check_unit_spectrum(P, p, &m->reflectance)) return 0;
         } else {
             spec_const(&m->reflectance, 0.5f);        /* pbrt-v4's default */
         }
         return params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance",
                                    "displacement normalmap");
+    }
+    if (!strcmp(type, "fluorescent")) {
+        /* specnee extension (docs/FLUORESCENCE.md, docs/conventions.md section 6):
+           a diffuse fluorescent layer, F2 */
+        Param *pr = find_spectrum_param(pl, "reflectance");
+        Param *pa = find_spectrum_param(pl, "excitation"), *pe = find_spectrum_param(pl, "emission");
+        Param *pq = param_find(pl, PT_FLOAT, "quantumyield");
+        int nm;
+        m->type = MAT_FLUORESCENT;
+        if (!pa || !pe)
+            return fail(P, file, line, "Material \"fluorescent\": needs \"spectrum excitation\" "
+                        "and \"spectrum emission\"");
+        if (pr) {
+            if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
+            if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
+        } else {
+            spec_const(&m->reflectance, 0.5f);
+        }
+        if (!param_spectrum(P, pa, SPEC_UNBOUNDED, &m->excitation, NULL)) return 0;
+        if (!check_unit_spectrum(P, pa, &m->excitation)) return 0;
+        if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->emission, NULL)) return 0;
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
+            if (!(spec_get(&m->emission, nm) >= 0.0f))
+                return fail(P, pe->file, pe->line, "\"spectrum emission\": negative (%g) at %d nm",
+                            spec_get(&m->emission, nm), nm);
+        if (!get_float(P, pl, "quantumyield", 1.0f, &m->qyield)) return 0;
+        if (!(m->qyield >= 0.0f && m->qyield <= 1.0f))
+            return fail(P, pq ? pq->file : file, pq ? pq->line : line,
+                        "\"float quantumyield\": %g is outside [0,1] (photons re-emitted per "
+                        "photon absorbed)", m->qyield);
+        if (!fluor_prepare(m))
+            return fail(P, pe->file, pe->line, "\"spectrum emission\": zero everywhere in %d-%d nm",
+                        SPEC_UV_MIN, SPEC_MAX);
+        return params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
+                                   "spectrum excitation, spectrum emission, float quantumyield", "");
     }
     if (!strcmp(type, "dielectric")) {
         Param *pf = param_find(pl, PT_FLOAT, "eta");
@@ -1366,7 +1413,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
             if (!(A > 0.0f) || !(B >= 0.0f) || !(B < 1.0f))
                 return fail(P, file, line, "Material \"dielectric\": need cauchyA > 0 and "
                             "0 <= cauchyB < 1 um^2");
-            for (i = 0; i < SPEC_N; i++) m->eta.v[i] = cauchy_eta(A, B, (float)(SPEC_MIN + i));
+            for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++) *spec_at(&m->eta, i) = cauchy_eta(A, B, (float)i);
             m->cauchy_a = A;
             m->cauchy_b = B;
         } else if (pf) {
@@ -1385,6 +1432,12 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
                         return fail(P, ps->file, ps->line, "\"spectrum eta\": value %g at %d "
                                     "nm is not an index of refraction", m->eta.v[i], SPEC_MIN + i);
                     if (m->eta.v[i] == 0.0f) m->eta.v[i] = 1.0f;   /* pbrt: eta 0 means 1 */
+                }
+                for (i = 0; i < SPEC_UV_N; i++) {          /* the UV extension, same rule */
+                    if (!(m->eta.uv[i] >= 0.0f && m->eta.uv[i] < 100.0f))
+                        return fail(P, ps->file, ps->line, "\"spectrum eta\": value %g at %d "
+                                    "nm is not an index of refraction", m->eta.uv[i], SPEC_UV_MIN + i);
+                    if (m->eta.uv[i] == 0.0f) m->eta.uv[i] = 1.0f;
                 }
             } else {
                 spec_const(&m->eta, 1.5f);            /* pbrt-v4's default */
@@ -1458,10 +1511,32 @@ static int area_light_directive(Parser *P, const char *type, ParamList *pl, cons
         return fail(P, file, line, "AreaLightSource: \"float scale\" must be >= 0");
     {
         int i;
-        for (i = 0; i < SPEC_N; i++)
-            if (!(al.L.v[i] >= 0.0f))
+        for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
+            if (!(spec_get(&al.L, i) >= 0.0f))
                 return fail(P, p ? p->file : file, p ? p->line : line,
-                            "AreaLightSource: L is negative at %d nm", SPEC_MIN + i);
+                            "AreaLightSource: L is negative at %d nm", i);
+    }
+    {
+        /* A spectrum with no luminance in 400-700 nm (an ultraviolet lamp) cannot be
+           normalised to Y = scale: lights.c reads it as absolute spectral radiance
+           times scale (docs/conventions.md section 4, docs/FLUORESCENCE.md section 6). */
+        double vis = 0.0, any = 0.0;
+        int nm;
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+            float xyz[3];
+            any += spec_get(&al.L, nm);
+            if (nm < (int)LAMBDA_LO || nm > (int)LAMBDA_HI) continue;
+            cie_xyz((float)nm, xyz);
+            vis += (double)xyz[1] * spec_get(&al.L, nm);
+        }
+        if (!(any > 0.0))
+            return fail(P, p ? p->file : file, p ? p->line : line,
+                        "AreaLightSource: spectrum L is zero everywhere in %d-%d nm",
+                        SPEC_UV_MIN, SPEC_MAX);
+        if (!(vis > 0.0))
+            fprintf(stderr, "%s:%d: note: AreaLightSource: L has no luminance in 400-700 nm; "
+                    "read as absolute spectral radiance times scale (docs/conventions.md)\n",
+                    p ? p->file : file, p ? p->line : line);
     }
     if (rgb_illum) {
         /* pbrt-v4 normalises an RGB illuminant by its colour space's illuminant:
@@ -2358,6 +2433,11 @@ void scene_dump(const Scene *s, FILE *f)
         if (m->type == MAT_DIFFUSE) {
             fprintf(f, "  [%d] diffuse\n", i);
             dump_spectrum(f, "reflectance", &m->reflectance);
+        } else if (m->type == MAT_FLUORESCENT) {
+            fprintf(f, "  [%d] fluorescent, quantum yield %g\n", i, m->qyield);
+            dump_spectrum(f, "reflectance", &m->reflectance);
+            dump_spectrum(f, "excitation", &m->excitation);
+            dump_spectrum(f, "emission", &m->emission);
         } else {
             fprintf(f, "  [%d] dielectric, alpha %g, %s", i, m->alpha,
                     m->dispersive ? "dispersive" : "constant eta");

@@ -58,10 +58,16 @@
 #define SPEC_MIN 360        /* @@ first nm of the dense spectrum table (pbrt-v4's range) */
 #define SPEC_MAX 830        /* @@ last nm of the dense spectrum table */
 #define SPEC_N (SPEC_MAX - SPEC_MIN + 1) /* 471 samples, 1 nm apart */
+#define SPEC_UV_MIN 300     /* @@ first nm of the UV extension of every spectrum: emitters and
+                               fluorescent excitation reach down to here (docs/FLUORESCENCE.md
+                               section 6); the camera's colour matching stays >= SPEC_MIN */
+#define SPEC_UV_N (SPEC_MIN - SPEC_UV_MIN)  /* 60 more samples, 300..359 nm */
 #define LAMBDA_LO 400.0f    /* @@ default sampled range: the thesis' 400-700 nm */
 #define LAMBDA_HI 700.0f
 #define SPD_BINS 60         /* thesis: 60 bins over 400-700 nm ... */
 #define SPD_BIN_NM 5.0f     /* ... i.e. 5 nm each */
+#define SPD_UV_BINS 20      /* beyond the thesis: 20 more 5 nm bins over 300-400 nm, for the
+                               excitation wavelengths of fluorescence (thesis' future work) */
 #define BVH_LEAF_MAX 4      /* @@ primitives per BVH leaf: deeper trees vs. more tests */
 #define BVH_BINS 16         /* @@ SAH bins per axis: build time vs. tree quality */
 #define SPATIAL_RES 64      /* @@ voxels on the longest axis of the spatial grid (pbrt-v3) */
@@ -167,6 +173,9 @@ double radical_inverse(int base, uint64_t i);
      +4 BD_LOBE     1-D      reflect or refract (dielectrics)
      +5 BD_DIR      2-D      the BSDF direction
      +7 BD_ROULETTE 1-D      Russian roulette after the bounce
+     and at a fluorescent vertex of bounce d (docs/FLUORESCENCE.md), beyond every
+     bounce's dimensions (maxdepth <= 10000):
+     DIM_FLUOR0 + 2d  2-D    re-radiate or reflect, and the absorbed wavelength
 
    A GROUP is one request: the two numbers of a 2-D group map together onto a 2-D
    domain (pixel, triangle, hemisphere), so they must be spread as a 2-D point
@@ -182,6 +191,8 @@ double radical_inverse(int base, uint64_t i);
 #define DIMS_PER_BOUNCE 8
 enum { BD_LIGHT = 0, BD_TRIANGLE = 1, BD_POINT = 2, BD_LOBE = 4, BD_DIR = 5, BD_ROULETTE = 7 };
 static inline int dim_bounce(int depth, int slot) { return DIM_BOUNCE0 + depth * DIMS_PER_BOUNCE + slot; }
+#define DIM_FLUOR0 (1 << 20)
+static inline int dim_fluor(int depth) { return DIM_FLUOR0 + 2 * depth; }
 #define SAMPLER_CHECKED_DIMS 256   /* dimensions whose reuse is counted (31 bounces) */
 
 typedef enum {
@@ -252,11 +263,21 @@ const char *read_status_text(ReadStatus st);   /* "not a text file (...)", ... *
 /* ======================================================================
    4. Spectra (spectrum.c)
    A spectrum is a dense table at 1 nm over SPEC_MIN..SPEC_MAX (pbrt-v4's range),
-   evaluated by linear interpolation; zero outside.  Every source of a spectrum
+   evaluated by linear interpolation; zero outside.  A UV extension uv[] holds
+   SPEC_UV_MIN..SPEC_MIN-1 (300-359 nm): zero unless the spectrum's source defines it
+   there (constants, blackbody, Cauchy/Sellmeier indices, wavelength pairs or files
+   that list UV wavelengths, the named UV lamps and fluorophores); spectra from rgb
+   have none.  Only fluorescence ever evaluates a spectrum below SPEC_MIN, so scenes
+   without it render exactly as before (docs/FLUORESCENCE.md section 6).  Every source of a spectrum
    (inline pairs, named spectra, files, rgb) is resampled into this table once at
    load time, so rendering never searches a list.
    ====================================================================== */
-typedef struct { float v[SPEC_N]; } Spectrum;
+typedef struct { float v[SPEC_N]; float uv[SPEC_UV_N]; } Spectrum;
+/* The sample at integer nm in SPEC_UV_MIN..SPEC_MAX (the caller keeps nm in range). */
+static inline float *spec_at(Spectrum *s, int nm)
+{ return nm < SPEC_MIN ? &s->uv[nm - SPEC_UV_MIN] : &s->v[nm - SPEC_MIN]; }
+static inline float spec_get(const Spectrum *s, int nm)
+{ return nm < SPEC_MIN ? s->uv[nm - SPEC_UV_MIN] : s->v[nm - SPEC_MIN]; }
 
 float spec_eval(const Spectrum *s, float lambda_nm);
 void  spec_const(Spectrum *s, float value);
@@ -292,6 +313,9 @@ double cct_from_xy(double x, double y, double *duv);
 /* Thesis Eq. 6: sum of the 60 bin averages over 400-700 nm. */
 double spec_bin_sum(const Spectrum *s);
 float spec_bin_average(const Spectrum *s, int bin);  /* mean over [400+5b, 405+5b] nm */
+/* Exact mean of the piecewise-linear spectrum over [lo, lo + width] nm (integers,
+   inside SPEC_UV_MIN..SPEC_MAX); spec_bin_average is this over a thesis bin. */
+float spec_band_average(const Spectrum *s, int lo_nm, int width_nm);
 
 /* Cauchy's law n(lambda) = A + B / lambda^2, lambda in micrometres. */
 static inline float cauchy_eta(float A, float B, float lambda_nm)
@@ -422,10 +446,18 @@ Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w);
 /* ======================================================================
    6. Materials (material.c): only what the scenes need
    ====================================================================== */
-typedef enum { MAT_DIFFUSE, MAT_DIELECTRIC } MaterialType;
+typedef enum { MAT_DIFFUSE, MAT_DIELECTRIC, MAT_FLUORESCENT } MaterialType;
+#define FL_N (SPEC_MAX - SPEC_UV_MIN + 1)   /* 1 nm knots of the fluorescence tables */
 typedef struct {
     MaterialType type;
-    Spectrum reflectance;      /* diffuse albedo */
+    Spectrum reflectance;      /* diffuse albedo; fluorescent: rho, of the light not absorbed */
+    /* fluorescent (docs/FLUORESCENCE.md, F2): f = (1/pi) [rho (1 - A) delta(li - lo)
+       + Phi A(li) e(lo) (li/lo) H(lo - li) / N(li)] */
+    Spectrum excitation;       /* A, the absorptance, in [0, 1] */
+    Spectrum emission;         /* e, the emission shape in photon units */
+    float qyield;              /* Phi, the photon quantum yield, in [0, 1] */
+    double fl_cdf[FL_N];       /* C at each knot: integral of A from 300 nm (F3) */
+    double fl_tail[FL_N];      /* N at each knot: integral of e from the knot to 830 nm */
     Spectrum eta;              /* dielectric index of refraction n(lambda); a Cauchy glass
                                   (A + B/lambda^2) is tabulated into it at load time */
     float cauchy_a, cauchy_b;  /* the Cauchy coefficients when given (for --dump-scene) */
@@ -434,6 +466,17 @@ typedef struct {
 } Material;
 
 float mat_eta(const Material *m, float lambda_nm);
+/* Fluorescence (docs/FLUORESCENCE.md sections 1-3).  fluor_prepare fills the tables
+   of a MAT_FLUORESCENT material; returns 0 if the emission is zero everywhere. */
+int   fluor_prepare(Material *m);
+float fluor_branch_pf(const Material *m, float lo);      /* P_f(lo): re-radiate */
+/* Phi A(li) e(lo) (li/lo) H(lo - li) / N(li): (F2)'s second term without 1/pi. */
+float fluor_weight(const Material *m, float li, float lo);
+/* Sample li on [300, lo] from A (F3); *pdf = p(li | lo), 0 when A is 0 there. */
+float fluor_sample_li(const Material *m, float lo, float u, float *pdf);
+float fluor_pdf_li(const Material *m, float lo, float li);
+/* The diffuse albedo of the reflect lobe: rho (diffuse) or rho (1 - A) (fluorescent). */
+float mat_albedo(const Material *m, float lambda_nm);
 /* Smooth dielectrics scatter into discrete (delta) directions: no NEE there. */
 int   mat_is_delta(const Material *m);
 
@@ -509,6 +552,8 @@ typedef struct {
     int n_planes;              /* 0: no plane test */
     double *planes;            /* 4 per triangle: oriented unit normal n, offset d = n . v0 */
     double reach_eps;          /* distance below which a point counts as in the plane */
+    int absolute;              /* L has no luminance in 400-700 nm (a UV lamp): Le = scale * L,
+                                  absolute spectral radiance (docs/conventions.md section 4) */
 } Emitter;
 
 /* A point sampled on an emitter, as seen from a reference point. */

@@ -388,6 +388,17 @@ float spec_eval(const Spectrum *s, float lambda_nm)
 {
     float t = lambda_nm - (float)SPEC_MIN;
     int i;
+    if (lambda_nm < (float)SPEC_MIN && lambda_nm >= (float)SPEC_UV_MIN) {
+        /* the UV extension, continuous with v[0] at SPEC_MIN */
+        float a, b;
+        t = lambda_nm - (float)SPEC_UV_MIN;
+        i = (int)t;
+        if (i > SPEC_UV_N - 1) i = SPEC_UV_N - 1;
+        a = s->uv[i];
+        b = i + 1 < SPEC_UV_N ? s->uv[i + 1] : s->v[0];
+        t -= (float)i;
+        return a + t * (b - a);
+    }
     if (!(t >= 0.0f) || t > (float)(SPEC_N - 1)) return 0.0f;
     i = (int)t;
     if (i >= SPEC_N - 1) return s->v[SPEC_N - 1];
@@ -399,6 +410,7 @@ void spec_const(Spectrum *s, float value)
 {
     int i;
     for (i = 0; i < SPEC_N; i++) s->v[i] = value;
+    for (i = 0; i < SPEC_UV_N; i++) s->uv[i] = value;
 }
 
 int spec_is_constant(const Spectrum *s)
@@ -420,6 +432,7 @@ static void scale_to_cie_y(Spectrum *s)
     if (!(sum > 0.0)) return;
     k = CIE_Y_INTEGRAL / sum;
     for (i = 0; i < SPEC_N; i++) s->v[i] = (float)(s->v[i] * k);
+    for (i = 0; i < SPEC_UV_N; i++) s->uv[i] = (float)(s->uv[i] * k);
 }
 
 /* Piecewise linear through the pairs, zero outside [lambda_0, lambda_{n-1}]
@@ -447,13 +460,14 @@ int spec_from_pairs(Spectrum *s, const float *lambda, const float *value, int n,
         }
     }
     k = 0;                                        /* current segment [k, k + 1] */
-    for (i = 0; i < SPEC_N; i++) {
-        double l = (double)(SPEC_MIN + i), t;
-        if (l < lambda[0] || l > lambda[n - 1]) { s->v[i] = 0.0f; continue; }
+    for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++) {   /* the UV extension too */
+        double l = (double)i, t;
+        float *v = spec_at(s, i);
+        if (l < lambda[0] || l > lambda[n - 1]) { *v = 0.0f; continue; }
         while (k + 1 < n - 1 && l > lambda[k + 1]) k++;
-        if (n == 1) { s->v[i] = value[0]; continue; }
+        if (n == 1) { *v = value[0]; continue; }
         t = (l - lambda[k]) / ((double)lambda[k + 1] - lambda[k]);
-        s->v[i] = (float)((1.0 - t) * value[k] + t * value[k + 1]);
+        *v = (float)((1.0 - t) * value[k] + t * value[k + 1]);
     }
     return 1;
 }
@@ -476,8 +490,8 @@ void spec_blackbody(Spectrum *s, float kelvin)
     int i;
     if (!(kelvin > 0.0f) || !isfinite(kelvin)) { spec_const(s, 0.0f); return; }
     peak = planck_shape(WIEN_B / kelvin * 1e9, kelvin);
-    for (i = 0; i < SPEC_N; i++)
-        s->v[i] = peak > 0.0 ? (float)(planck_shape(SPEC_MIN + i, kelvin) / peak) : 0.0f;
+    for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
+        *spec_at(s, i) = peak > 0.0 ? (float)(planck_shape(i, kelvin) / peak) : 0.0f;
 }
 
 /* ======================================================================
@@ -591,6 +605,16 @@ double cct_from_xy(double x, double y, double *duv)
 /* The exact mean of the piecewise-linear table over [400 + 5b, 405 + 5b] nm: the
    trapezoid rule is exact for a piecewise-linear function with knots at integers,
        mean = (v0/2 + v1 + v2 + v3 + v4 + v5/2) / 5. */
+float spec_band_average(const Spectrum *s, int lo_nm, int width_nm)
+{
+    int k;
+    double sum;
+    if (width_nm < 1 || lo_nm < SPEC_UV_MIN || lo_nm + width_nm > SPEC_MAX) return 0.0f;
+    sum = 0.5 * (spec_get(s, lo_nm) + spec_get(s, lo_nm + width_nm));
+    for (k = 1; k < width_nm; k++) sum += spec_get(s, lo_nm + k);
+    return (float)(sum / width_nm);
+}
+
 float spec_bin_average(const Spectrum *s, int bin)
 {
     const int width = (int)SPD_BIN_NM;
@@ -708,9 +732,9 @@ static void add_gaussian(Spectrum *s, double mu, double fwhm, double peak)
     const double sigma = fwhm / 2.354820045;      /* 2 sqrt(2 ln 2) */
     const double k = 1.0 / (sigma * sqrt(2.0));
     int i;
-    for (i = 0; i < SPEC_N; i++) {
-        double a = SPEC_MIN + i - 0.5, b = a + 1.0;
-        s->v[i] += (float)(peak * sigma * sqrt(0.5 * SPECNEE_PI) * (erf((b - mu) * k) - erf((a - mu) * k)));
+    for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++) {      /* the UV extension too */
+        double a = i - 0.5, b = a + 1.0;
+        *spec_at(s, i) += (float)(peak * sigma * sqrt(0.5 * SPECNEE_PI) * (erf((b - mu) * k) - erf((a - mu) * k)));
     }
 }
 
@@ -726,6 +750,7 @@ static void normalise_bin_sum(Spectrum *s)
     int i;
     if (!(sum > 0.0)) return;
     for (i = 0; i < SPEC_N; i++) s->v[i] = (float)(s->v[i] / sum);
+    for (i = 0; i < SPEC_UV_N; i++) s->uv[i] = (float)(s->uv[i] / sum);
 }
 
 /* CFL1, "Globe Twister" compact fluorescent, 4404 K (modeled after LSPDD 2488): a
@@ -773,6 +798,79 @@ static void lamp_led(Spectrum *s, double r, double phosphor_nm, double phosphor_
     normalise_bin_sum(s);
 }
 
+/* ----------------------------------------------------------------------
+   Ultraviolet lamps and fluorophores (fluorescence, docs/FLUORESCENCE.md section 6).
+   Modelled as Gaussian bands (the add_gaussian cell means above) from published
+   peak positions and widths; they are not copied from measured tables.  Where a
+   width is not given by the source it is marked "chosen".
+   ---------------------------------------------------------------------- */
+
+/* Peak 1 (the sample at the peak's nearest nm): the UV lamps have no luminance, so
+   they cannot be scaled to Eq. 6 or to Y; scene files read them as absolute
+   radiance times "scale" (docs/conventions.md section 4). */
+static void normalise_peak(Spectrum *s)
+{
+    float m = 0.0f;
+    int nm;
+    for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) if (spec_get(s, nm) > m) m = spec_get(s, nm);
+    if (m > 0.0f)
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) *spec_at(s, nm) /= m;
+}
+
+/* lamp-UVLED365: a 365 nm UV LED, peak 365 nm, spectrum half width (FWHM) 9 nm
+   (Nichia NCSU033B specification: peak wavelength 365 nm, spectrum half width
+   9 nm typ.). */
+static void lamp_uvled365(Spectrum *s)
+{
+    spec_const(s, 0.0f);
+    add_gaussian(s, 365.0, 9.0, 1.0);
+    normalise_peak(s);
+}
+
+/* lamp-BLB: a blacklight-blue fluorescent tube (Philips TL-D BLB type): a UV-A
+   phosphor band peaking at 365 nm behind a Wood's-glass envelope, about 350-400 nm
+   (FWHM 25 nm, chosen to span that band), plus the mercury lines that leak through
+   the glass, 404.66 and 435.84 nm (NIST Atomic Spectra Database), FWHM 2 nm as in
+   CFL1, at 5 % and 2 % of the band's peak (chosen: "weak").  It has luminance (the
+   lines), so a scene's "scale" sets the luminance of its visible leak, as for any
+   visible lamp (pbrt-v4's rule). */
+static void lamp_blb(Spectrum *s)
+{
+    spec_const(s, 0.0f);
+    add_gaussian(s, 365.0, 25.0, 1.0);
+    add_gaussian(s, 404.66, 2.0, 0.05);
+    add_gaussian(s, 435.84, 2.0, 0.02);
+    normalise_peak(s);
+}
+
+/* Fluorophores: excitation = absorptance A (peak 1: the layer absorbs all light at
+   its peak) and emission shape (peak 1; the material renormalises it).
+   - brightener: stilbene-type fluorescent whitening agents in white paper absorb
+     about 340-370 nm and emit about 420-470 nm (Wikipedia, "Optical brightener"):
+     excitation 355 nm FWHM 35, emission 440 nm FWHM 50 (widths chosen to span the
+     ranges).
+   - fluorescein (dianion): absorption peak 490 nm, quantum yield 0.93 (Sjoeback,
+     Nygren, Kubista 1995, Spectrochim. Acta A 51, L7); emission peak 515 nm (Martin,
+     Lindqvist 1975, J. Luminescence 10, 381); FWHM 40 nm for both (chosen).  No
+     near-UV band is modelled.
+   - pyranine (the yellow highlighter dye): emission bands at 441 and 511 nm under
+     350 nm excitation (Barnadas-Rodriguez, Estelrich 2008, J. Photochem. Photobiol.
+     A 198, 262); excitation: the protonated and deprotonated bands at 405 and 455 nm
+     and the 350 nm band the paper excites; relative heights and all widths chosen. */
+static void fluor_band(Spectrum *s, const GaussLine *b, int n)
+{
+    spec_const(s, 0.0f);
+    add_lines(s, b, n, 1.0);
+    normalise_peak(s);
+}
+static const GaussLine fl_brightener_ex[] = { { 355.0, 35.0, 1.0 } };
+static const GaussLine fl_brightener_em[] = { { 440.0, 50.0, 1.0 } };
+static const GaussLine fl_fluorescein_ex[] = { { 490.0, 40.0, 1.0 } };
+static const GaussLine fl_fluorescein_em[] = { { 515.0, 40.0, 1.0 } };
+static const GaussLine fl_pyranine_ex[] = { { 350.0, 30.0, 0.5 }, { 405.0, 30.0, 0.7 }, { 455.0, 30.0, 1.0 } };
+static const GaussLine fl_pyranine_em[] = { { 441.0, 35.0, 0.3 }, { 511.0, 40.0, 1.0 } };
+#define FL_BANDS(a) (a), (int)(sizeof (a) / sizeof (a)[0])
+
 /* ======================================================================
    9. Named spectra (pbrt-v4 names where pbrt-v4 has them)
    ====================================================================== */
@@ -784,7 +882,9 @@ static const char *const named_spectra[] = {
     "glass-BK7", "glass-BAF10", "glass-FK51A", "glass-LASF9", "glass-F5", "glass-F10", "glass-F11",
     "cauchy-BK7", "cauchy-fused-silica", "cauchy-SF10", "cauchy-SF11", "cauchy-diamond",
     "cauchy-teaching", "cauchy-teaching-strong",
-    "lamp-CFL1", "lamp-LED1", "lamp-LED2",
+    "lamp-CFL1", "lamp-LED1", "lamp-LED2", "lamp-UVLED365", "lamp-BLB",
+    "fluor-brightener-ex", "fluor-brightener-em", "fluor-fluorescein-ex",
+    "fluor-fluorescein-em", "fluor-pyranine-ex", "fluor-pyranine-em",
     NULL
 };
 
@@ -794,8 +894,8 @@ const char *const *spec_named_list(void) { return named_spectra; }
 static void from_5nm_table(Spectrum *s, const float *tab, int n, int start)
 {
     int i;
-    for (i = 0; i < SPEC_N; i++)
-        s->v[i] = (float)table_lerp(tab, n, start, 5.0, (double)(SPEC_MIN + i));
+    for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
+        *spec_at(s, i) = (float)table_lerp(tab, n, start, 5.0, (double)i);
 }
 
 /* CIE standard illuminant A by its definition (CIE 015:2018):
@@ -807,9 +907,9 @@ static void illuminant_a(Spectrum *s)
 {
     const double c = 1.435e7 / 2848.0;            /* nm */
     int i;
-    for (i = 0; i < SPEC_N; i++) {
-        double l = SPEC_MIN + i;
-        s->v[i] = (float)(100.0 * pow(560.0 / l, 5.0) * expm1(c / 560.0) / expm1(c / l));
+    for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++) {
+        double l = i;
+        *spec_at(s, i) = (float)(100.0 * pow(560.0 / l, 5.0) * expm1(c / 560.0) / expm1(c / l));
     }
 }
 
@@ -843,18 +943,26 @@ int spec_named(Spectrum *s, const char *name)
     for (i = 0; sellmeier_glasses[i].name; i++)
         if (name_eq(name, sellmeier_glasses[i].name)) {
             int l;
-            for (l = 0; l < SPEC_N; l++)
-                s->v[l] = (float)sellmeier_eta(&sellmeier_glasses[i], (double)(SPEC_MIN + l));
+            for (l = SPEC_UV_MIN; l <= SPEC_MAX; l++)
+                *spec_at(s, l) = (float)sellmeier_eta(&sellmeier_glasses[i], (double)l);
             return 1;
         }
     if (skip_prefix(name, "cauchy-") && cauchy_named(name, &A, &B)) {
         int l;
-        for (l = 0; l < SPEC_N; l++) s->v[l] = cauchy_eta(A, B, (float)(SPEC_MIN + l));
+        for (l = SPEC_UV_MIN; l <= SPEC_MAX; l++) *spec_at(s, l) = cauchy_eta(A, B, (float)l);
         return 1;
     }
     if (name_eq(name, "lamp-CFL1")) { lamp_cfl1(s, CFL1_K_G, CFL1_K_R); return 1; }
     if (name_eq(name, "lamp-LED1")) { lamp_led(s, LED1_R, 565.0, 125.0); return 1; }
     if (name_eq(name, "lamp-LED2")) { lamp_led(s, LED2_R, 560.0, 120.0); return 1; }
+    if (name_eq(name, "lamp-UVLED365")) { lamp_uvled365(s); return 1; }
+    if (name_eq(name, "lamp-BLB")) { lamp_blb(s); return 1; }
+    if (name_eq(name, "fluor-brightener-ex")) { fluor_band(s, FL_BANDS(fl_brightener_ex)); return 1; }
+    if (name_eq(name, "fluor-brightener-em")) { fluor_band(s, FL_BANDS(fl_brightener_em)); return 1; }
+    if (name_eq(name, "fluor-fluorescein-ex")) { fluor_band(s, FL_BANDS(fl_fluorescein_ex)); return 1; }
+    if (name_eq(name, "fluor-fluorescein-em")) { fluor_band(s, FL_BANDS(fl_fluorescein_em)); return 1; }
+    if (name_eq(name, "fluor-pyranine-ex")) { fluor_band(s, FL_BANDS(fl_pyranine_ex)); return 1; }
+    if (name_eq(name, "fluor-pyranine-em")) { fluor_band(s, FL_BANDS(fl_pyranine_em)); return 1; }
     return 0;
 }
 
@@ -1198,6 +1306,7 @@ int spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
     RgbFit fit;
     double target[3], c[3], m = 0.0;
     int i, k;
+    for (i = 0; i < SPEC_UV_N; i++) s->uv[i] = 0.0f;   /* rgb spectra have no UV */
     for (k = 0; k < 3; k++) {
         if (!isfinite(rgb[k]) || rgb[k] > 1e30f) {   /* 1e30: D65 times it stays finite */
             error_set(err, file, line, "rgb value (%g, %g, %g) is not finite or too large",

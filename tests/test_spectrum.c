@@ -265,8 +265,10 @@ static void test_pairs(T *t)
     CHECK(t, !spec_is_constant(&s), "not constant");
     spec_const(&s, 0.25f);
     CHECK(t, spec_is_constant(&s) && spec_eval(&s, 777.7f) == 0.25f, "constant");
-    CHECK(t, spec_eval(&s, 300.0f) == 0.0f && spec_eval(&s, 900.0f) == 0.0f && spec_eval(&s, NAN) == 0.0f,
-          "spec_eval outside the table is 0");
+    CHECK(t, spec_eval(&s, 299.0f) == 0.0f && spec_eval(&s, 900.0f) == 0.0f && spec_eval(&s, NAN) == 0.0f,
+          "spec_eval outside the table (300-830 nm with its UV extension) is 0");
+    CHECK(t, spec_eval(&s, 300.0f) == 0.25f && spec_eval(&s, 359.5f) == 0.25f,
+          "a constant reaches into the UV extension");
     CHECK(t, !spec_from_pairs(&s, lbad, v3, 3, &e, "a.pbrt", 7) && msg_at(&e, "a.pbrt", 7) &&
           strstr(e.msg, "increase"), "equal wavelengths must fail: '%s'", e.msg);
     CHECK(t, !spec_from_pairs(&s, l3, v3, 0, &e, "a.pbrt", 9) && msg_at(&e, "a.pbrt", 9),

@@ -1,0 +1,476 @@
+/* tests/test_fluor.c - fluorescence (issue #17, docs/FLUORESCENCE.md): the UV
+   extension of the spectra (300-359 nm), UV lamps read as absolute radiance, the
+   20 UV bins of emitter selection, and the named UV lamps and fluorophores. */
+#include "test.h"
+#include <string.h>
+#include <stdlib.h>
+
+#define UV_CAMERA "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n" \
+    "Film \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8 \"string filename\" \"t.pfm\"\n" \
+    "WorldBegin\n"
+
+/* Emitter e's radiance for a film that integrates [lo, hi] nm (the render's,
+   lights.c emitter_radiance); zero if it has none there. */
+static Spectrum le_of(const Scene *s, int e, float lo, float hi)
+{
+    Spectrum Le;
+    Error err;
+    if (!emitter_radiance(s, e, lo, hi, &Le, &err)) memset(&Le, 0, sizeof Le);
+    return Le;
+}
+
+/* The issue's inline UV spectrum loads, means absolute radiance x scale, is finite,
+   reaches into the UV extension and is zero where L is zero. */
+static void test_uv_lamp_absolute(T *t)
+{
+    Scene s;
+    const Emitter *em;
+    Spectrum Le;
+    int nm, b;
+    if (!test_load_scene(t, &s, UV_CAMERA
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" [ 300 0 355 0 360 1 370 1 375 0 830 0 ] \"float scale\" 3\n"
+            "Shape \"sphere\" \"float radius\" 1\nAttributeEnd\n")) return;
+    CHECK(t, s.n_emitters == 1, "one emitter");
+    em = &s.emitters[0];
+    CHECK(t, em->absolute == 1, "a lamp with no luminance in 400-700 nm is absolute");
+    Le = le_of(&s, 0, LAMBDA_LO, LAMBDA_HI);
+    for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
+        CHECK(t, isfinite(spec_get(&Le, nm)), "Le finite at %d nm", nm);
+    CHECK(t, spec_eval(&Le, 365.0f) == 3.0f, "Le = scale * L at 365 nm: %g", (double)spec_eval(&Le, 365.0f));
+    CHECK(t, fabsf(spec_eval(&Le, 357.5f) - 1.5f) < 1e-6f, "UV extension interpolates: %g",
+          (double)spec_eval(&Le, 357.5f));
+    CHECK(t, spec_eval(&Le, 340.0f) == 0.0f && spec_eval(&Le, 500.0f) == 0.0f, "zero outside");
+    /* UV bins: 355-360 holds the ramp 0 -> 3 (mean 1.5), 360-365 and 365-370 are 3 */
+    {
+        float b11 = spec_band_average(&Le, SPEC_UV_MIN + 55, 5), b12 = spec_band_average(&Le, SPEC_UV_MIN + 60, 5);
+        float b13 = spec_band_average(&Le, SPEC_UV_MIN + 65, 5);
+        CHECK(t, fabsf(b11 - 1.5f) < 1e-6f && b12 == 3.0f && b13 == 3.0f, "UV bins: %g %g %g",
+              (double)b11, (double)b12, (double)b13);
+    }
+    for (b = 0; b < SPD_BINS; b++) CHECK(t, spec_bin_average(&Le, b) == 0.0f, "no visible bins");
+    /* the same meaning when the film samples 360-830 nm */
+    Le = le_of(&s, 0, 360.0f, 830.0f);
+    CHECK(t, spec_eval(&Le, 365.0f) == 3.0f, "absolute in wide mode too");
+    scene_free(&s);
+}
+
+/* A visible lamp keeps pbrt-v4's normalisation (absolute = 0), and an all-zero L
+   is an error naming its line. */
+static void test_uv_lamp_rules(T *t)
+{
+    Scene s;
+    Spectrum Le;
+    Error e;
+    if (!test_load_scene(t, &s, UV_CAMERA
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-BLB\"\n"
+            "Shape \"sphere\" \"float radius\" 1\nAttributeEnd\n")) return;
+    CHECK(t, s.emitters[0].absolute == 0, "BLB has luminance (its Hg lines): pbrt-v4's rule");
+    Le = le_of(&s, 0, LAMBDA_LO, LAMBDA_HI);
+    CHECK(t, spec_eval(&Le, 365.0f) > 10.0f * spec_eval(&Le, 404.66f),
+          "BLB: the UV band dominates the visible leak");
+    scene_free(&s);
+    memset(&s, 0, sizeof s);
+    CHECK(t, !scene_load_string(&s, UV_CAMERA "AttributeBegin\n"
+              "AreaLightSource \"diffuse\" \"spectrum L\" [ 300 0 830 0 ]\n"
+              "Shape \"sphere\" \"float radius\" 1\nAttributeEnd\n", "z.pbrt", &e) &&
+          strstr(e.msg, "z.pbrt:6:") && strstr(e.msg, "zero everywhere"),
+          "all-zero L: '%s'", e.msg);
+}
+
+/* Spectral selection in a UV bin picks the UV lamp; in a visible bin the visible one. */
+static void test_uv_bins_select(T *t)
+{
+    Scene s;
+    SelOptions so;
+    LightSampler *ls;
+    LightCtx c;
+    Error e;
+    float P;
+    int fb, j;
+    if (!test_load_scene(t, &s, UV_CAMERA
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\"\n"
+            "Translate -2 0 0\nShape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\"\n"
+            "Translate 2 0 0\nShape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n")) return;
+    memset(&so, 0, sizeof so);
+    so.strategy = SEL_SPD;
+    ls = light_sampler_build(&s, &so, &e);
+    CHECK(t, ls != NULL, "build: %s", e.msg);
+    memset(&c, 0, sizeof c);
+    c.p = v3(0, 0, 0);
+    c.voxel = light_voxel(ls, c.p);
+    c.alive = 1u;
+    c.hero_only = 1;
+    for (j = 0; j < HERO_N; j++) c.beta[j] = 1.0f;
+    c.lambda[0] = 366.0f;
+    CHECK(t, light_select(ls, &c, 0.5f, &P, &fb) == 0 && P > 0.999f && !fb,
+          "at 366 nm spd picks the UV LED: P = %g, fell back %d", (double)P, fb);
+    CHECK(t, light_select_pmf(ls, &c, 0) == P, "pmf agrees (C1)");
+    c.lambda[0] = 550.0f;
+    CHECK(t, light_select_pmf(ls, &c, 1) > 0.999f, "at 550 nm spd picks LED1");
+    light_sampler_free(ls);
+    scene_free(&s);
+}
+
+/* The named UV lamps and fluorophores exist, peak where their sources say, reach
+   into the UV extension where they should, and the excitation spectra are valid
+   absorptances (in [0, 1]). */
+static void test_named_fluor_spectra(T *t)
+{
+    static const struct { const char *name; float peak; } want[] = {
+        { "lamp-UVLED365", 365 }, { "lamp-BLB", 365 },
+        { "fluor-brightener-ex", 355 }, { "fluor-brightener-em", 440 },
+        { "fluor-fluorescein-ex", 490 }, { "fluor-fluorescein-em", 515 },
+        { "fluor-pyranine-ex", 455 }, { "fluor-pyranine-em", 511 } };
+    Spectrum sp;
+    size_t i;
+    int nm, arg;
+    for (i = 0; i < sizeof want / sizeof want[0]; i++) {
+        float m = -1.0f;
+        CHECK(t, spec_named(&sp, want[i].name), "%s missing", want[i].name);
+        arg = 0;
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+            float v = spec_get(&sp, nm);
+            CHECK(t, v >= 0.0f && v <= 1.0f, "%s at %d nm: %g outside [0,1]", want[i].name, nm, (double)v);
+            if (v > m) { m = v; arg = nm; }
+        }
+        CHECK(t, abs(arg - (int)want[i].peak) <= 1, "%s peaks at %d nm, want %g", want[i].name, arg,
+              (double)want[i].peak);
+    }
+    {   /* the glasses' indices extend into the UV as real indices (a shifted path may
+           cross a prism there) */
+        static const char *const glass[] = { "glass-BK7", "glass-BAF10", "glass-FK51A",
+            "glass-LASF9", "glass-F5", "glass-F10", "glass-F11", "cauchy-SF11" };
+        for (i = 0; i < sizeof glass / sizeof glass[0]; i++) {
+            CHECK(t, spec_named(&sp, glass[i]), "%s missing", glass[i]);
+            for (nm = SPEC_UV_MIN; nm < SPEC_MIN; nm++)
+                CHECK(t, spec_get(&sp, nm) > 1.0f && spec_get(&sp, nm) < 3.0f &&
+                      spec_get(&sp, nm) >= spec_get(&sp, nm + 1), "%s at %d nm: %g", glass[i], nm,
+                      (double)spec_get(&sp, nm));
+        }
+    }
+    spec_named(&sp, "lamp-UVLED365");   /* FWHM 9 nm: half maximum at 360.5 and 369.5 */
+    CHECK(t, fabsf(spec_eval(&sp, 360.5f) - 0.5f) < 0.02f && fabsf(spec_eval(&sp, 369.5f) - 0.5f) < 0.02f,
+          "UV LED FWHM 9 nm: %g %g", (double)spec_eval(&sp, 360.5f), (double)spec_eval(&sp, 369.5f));
+    spec_named(&sp, "lamp-BLB");
+    CHECK(t, spec_eval(&sp, 340.0f) > 0.05f, "BLB band reaches below 360 nm");
+    spec_named(&sp, "fluor-brightener-ex");
+    CHECK(t, spec_eval(&sp, 340.0f) > 0.5f && spec_eval(&sp, 420.0f) < 0.01f, "brightener absorbs UV only");
+}
+
+/* ---- the material and its transport (docs/FLUORESCENCE.md sections 1-5) ---- */
+
+#define FL_MAT(refl, ex, em, qy) "Material \"fluorescent\" \"spectrum reflectance\" " refl \
+    " \"spectrum excitation\" " ex " \"spectrum emission\" " em " \"float quantumyield\" " qy "\n"
+
+/* Bad input: a clear one-line error for each. */
+static void test_fluor_parse_errors(T *t)
+{
+    static const struct { const char *mat, *want; } bad[] = {
+        { FL_MAT("[300 1 830 1]", "\"fluor-brightener-ex\"", "\"fluor-brightener-em\"", "1.5"), "quantumyield\": 1.5 is outside [0,1]" },
+        { FL_MAT("[300 1 830 1]", "\"fluor-brightener-ex\"", "\"fluor-brightener-em\"", "-0.1"), "outside [0,1]" },
+        { FL_MAT("[300 1 830 1]", "[300 0.5 400 1.2 830 0]", "\"fluor-brightener-em\"", "0.9"), "\"spectrum excitation\": value" },
+        { FL_MAT("[300 1 830 1]", "[300 -0.1 830 0]", "\"fluor-brightener-em\"", "0.9"), "\"spectrum excitation\": value -" },
+        { FL_MAT("[300 1 830 1]", "\"fluor-brightener-ex\"", "[300 0 830 0]", "0.9"), "\"spectrum emission\": zero everywhere" },
+        { "Material \"fluorescent\" \"spectrum excitation\" \"fluor-brightener-ex\"\n", "needs \"spectrum excitation\" and \"spectrum emission\"" },
+    };
+    size_t i;
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        Scene s;
+        Error e;
+        char text[1024];
+        snprintf(text, sizeof text, "%s%s", UV_CAMERA, bad[i].mat);
+        memset(&s, 0, sizeof s);
+        e.msg[0] = 0;
+        CHECK(t, !scene_load_string(&s, text, "f.pbrt", &e) && strstr(e.msg, "f.pbrt:5:") &&
+              strstr(e.msg, bad[i].want), "case %d: got '%s', want '%s'", (int)i, e.msg, bad[i].want);
+    }
+}
+
+/* A material from scene text (the first material of the scene). */
+static int load_fluor(T *t, Scene *s, const char *mat)
+{
+    char text[2048];
+    snprintf(text, sizeof text, "%s%sShape \"sphere\" \"float radius\" 1\n", UV_CAMERA, mat);
+    if (!test_load_scene(t, s, text)) return 0;
+    if (s->n_materials < 1 || s->materials[s->n_materials - 1].type != MAT_FLUORESCENT) {
+        test_failf(t, __FILE__, __LINE__, "no fluorescent material");
+        return 0;
+    }
+    return 1;
+}
+
+/* Integral of A over [a, b] by a fine midpoint rule on spec_eval (independent of
+   the material's tables). */
+static double quad_A(const Material *m, double a, double b)
+{
+    double sum = 0.0, h = 0.01, x;
+    for (x = a + 0.5 * h; x < b; x += h) sum += spec_eval(&m->excitation, (float)x) * h;
+    return sum;
+}
+
+/* chi^2 of the lambda_i sampler against the pdf (F3) it claims, with the expected
+   counts from an independent quadrature of A; and p(li | lo) integrates to 1 and
+   vanishes above lo (the Stokes rule). */
+static void test_fluor_li_sampler(T *t)
+{
+    Scene s;
+    const Material *m;
+    enum { NB = 34 };
+    const double lo = 470.0;
+    double cnt[NB], total, chi2 = 0.0, pint = 0.0, x;
+    int n = test_scaled(40000, 4000), i, b, dof;
+    Rng rng;
+    if (!load_fluor(t, &s, FL_MAT("[300 1 830 1]", "\"fluor-pyranine-ex\"", "\"fluor-pyranine-em\"", "0.9"))) return;
+    m = &s.materials[s.n_materials - 1];
+    memset(cnt, 0, sizeof cnt);
+    rng_seed(&rng, 17, 0);
+    for (i = 0; i < n; i++) {
+        float pdf, li = fluor_sample_li(m, (float)lo, rng_float(&rng), &pdf);
+        CHECK(t, li >= 300.0f && li <= (float)lo && pdf > 0.0f, "sample %g nm pdf %g", (double)li, (double)pdf);
+        CHECK(t, fabsf(pdf - fluor_pdf_li(m, (float)lo, li)) <= 1e-6f * pdf, "sampler and pdf agree");
+        b = (int)((li - 300.0f) / 5.0f);
+        if (b >= NB) b = NB - 1;
+        cnt[b] += 1.0;
+    }
+    total = quad_A(m, 300.0, lo);
+    {   /* adjacent bins merged until each group expects >= 5 samples */
+        double ce = 0.0, cc = 0.0;
+        int groups = 0;
+        for (b = 0; b < NB; b++) {
+            ce += n * quad_A(m, 300.0 + 5.0 * b, b == NB - 1 ? lo : 300.0 + 5.0 * (b + 1)) / total;
+            cc += cnt[b];
+            if (ce >= 5.0 || b == NB - 1) {
+                chi2 += (cc - ce) * (cc - ce) / ce;
+                groups++;
+                ce = cc = 0.0;
+            }
+        }
+        dof = groups - 1;
+    }
+    CHECK(t, dof >= 20, "only %d degrees of freedom", dof);
+    CHECK(t, chi2 < dof + 5.0 * sqrt(2.0 * dof), "chi^2 = %g with %d dof", chi2, dof);
+    for (x = 299.995; x < 600.0; x += 0.01) pint += fluor_pdf_li(m, (float)lo, (float)x) * 0.01;
+    CHECK(t, fabs(pint - 1.0) < 2e-3, "p(li | lo) integrates to %g", pint);
+    CHECK(t, fluor_pdf_li(m, (float)lo, (float)lo + 1.0f) == 0.0f, "no density above lo");
+    scene_free(&s);
+}
+
+/* The scene of the render tests: the camera inside a closed, non-reflecting,
+   two-sided emitting sphere of radius 10 (the environment), looking at a
+   fluorescent unit sphere that fills the view; the fluorescent sphere sees only
+   the environment, so one bounce is exact. */
+static int load_furnace(T *t, Scene *s, const char *env_L, const char *mat)
+{
+    char text[4096];
+    snprintf(text, sizeof text,
+             "LookAt 0 0 3  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 10\n"
+             "Film \"rgb\" \"integer xresolution\" 4 \"integer yresolution\" 4 \"string filename\" \"t.pfm\"\n"
+             "Integrator \"path\" \"integer maxdepth\" 3\n"
+             "WorldBegin\n"
+             "AttributeBegin\nMaterial \"diffuse\" \"spectrum reflectance\" [300 0 830 0]\n"
+             "AreaLightSource \"diffuse\" \"spectrum L\" %s \"bool twosided\" true\n"
+             "Shape \"sphere\" \"float radius\" 10\nAttributeEnd\n"
+             "%sShape \"sphere\" \"float radius\" 1\n", env_L, mat);
+    return test_load_scene(t, s, text);
+}
+
+/* The expected radiance of the fluorescent sphere at lo under the environment's
+   Le, from (F1)-(F2) by quadrature (1/4 nm), written independently of material.c:
+   rho (1 - A) Le(lo) + int Phi A(li) e(lo) (li/lo) / N(li) Le(li) dli, with N by
+   its own quadrature. */
+static double model_Lo(const Material *m, const Spectrum *Le, double lo, const double *Ntab)
+{
+    double sum = 0.0, h = 0.25, li;
+    double e = spec_eval(&m->emission, (float)lo);
+    for (li = 300.0 + 0.5 * h; li < lo; li += h) {
+        int k = (int)((li - 300.0) / h);
+        if (Ntab[k] > 0.0)
+            sum += m->qyield * spec_eval(&m->excitation, (float)li) * e * (li / lo) / Ntab[k]
+                   * spec_eval(Le, (float)li) * h;
+    }
+    return spec_eval(&m->reflectance, (float)lo) * (1.0 - spec_eval(&m->excitation, (float)lo))
+           * spec_eval(Le, (float)lo) + sum;
+}
+
+/* N(li) at li = 300 + (k + 1/2) h, the integral of e over [li, 830], by the
+   midpoint rule on the same 1/4 nm grid (half a cell for the cell of li itself). */
+static double *model_N(const Material *m)
+{
+    const double h = 0.25;
+    int nk = (int)(530.0 / h), k;
+    double *N = (double *)malloc(sizeof(double) * (size_t)nk), above = 0.0;
+    if (!N) return NULL;
+    for (k = nk - 1; k >= 0; k--) {
+        double x = 300.0 + (k + 0.5) * h, e = spec_eval(&m->emission, (float)x);
+        N[k] = above + 0.5 * h * e;
+        above += h * e;
+    }
+    return N;
+}
+
+/* Expected linear sRGB of the fluorescent sphere over the film range [a, b]:
+   int cbar(lo) Lo(lo) dlo by the midpoint rule (1/2 nm), then pbrt-v4's matrix. */
+static void model_rgb(const Material *m, const Spectrum *Le, double a, double b, double rgb[3],
+                      double *photons_in, double *photons_out, double *energy_in, double *energy_out)
+{
+    double xyz[3] = { 0, 0, 0 }, lo, h = 0.5;
+    double *N = model_N(m);
+    *photons_in = *photons_out = *energy_in = *energy_out = 0.0;
+    if (!N) return;
+    for (lo = a + 0.5 * h; lo < b; lo += h) {
+        float c[3];
+        double L = model_Lo(m, Le, lo, N);
+        cie_xyz((float)lo, c);
+        xyz[0] += c[0] * L * h; xyz[1] += c[1] * L * h; xyz[2] += c[2] * L * h;
+    }
+    for (lo = 300.0 + 0.5 * h; lo < 830.0; lo += h) {   /* photons ~ L lambda, energy ~ L */
+        double L = model_Lo(m, Le, lo, N), E = spec_eval(Le, (float)lo);
+        *photons_out += L * lo * h; *photons_in += E * lo * h;
+        *energy_out += L * h; *energy_in += E * h;
+    }
+    free(N);
+    xyz_to_linear_srgb(xyz, rgb);
+}
+
+/* Line test: a narrow UV source (the 365 nm LED, FWHM 9 nm) as the environment;
+   the sphere shows only re-radiated light Phi A(365) e(lo) (365/lo) / N(365)
+   (spread over the LED's band), and the render must match the quadrature of the
+   model in every channel within TEST_K_SIGMA standard errors.  Dropping li/lo,
+   allowing anti-Stokes emission or mis-weighting the branch moves the mean. */
+static void test_fluor_line(T *t)
+{
+    Scene s;
+    Spectrum Le;
+    RenderOptions o;
+    Tiles tl;
+    double rgb[3], pin, pout, ein, eout;
+    int c;
+    if (!load_furnace(t, &s, "\"lamp-UVLED365\"",
+                      FL_MAT("[300 0.8 830 0.8]", "[300 0 345 0 350 1 380 1 390 0 830 0]", "[330 0 360 0.6 400 1 520 0]", "0.9")))
+        return;
+    render_options_default(&o);
+    o.spp = test_scaled(2048, 256);
+    o.threads = 1;
+    o.wl_wide = 1;
+    o.sel.strategy = SEL_SPD;
+    if (!test_render_tiles(t, &s, &o, 8, 1, &tl)) { scene_free(&s); return; }
+    Le = le_of(&s, 0, 360.0f, 830.0f);
+    model_rgb(&s.materials[s.n_materials - 1], &Le, 360.0, 830.0, rgb, &pin, &pout, &ein, &eout);
+    for (c = 0; c < 3; c++)
+        CHECK(t, fabs(tl.mean[0][c] - rgb[c]) < TEST_K_SIGMA * tl.se[0][c] + 2e-3 * fabs(rgb[c]),
+              "channel %d: render %.6g +- %.2g, model %.6g", c, tl.mean[0][c], tl.se[0][c], rgb[c]);
+    if (getenv("FLUOR_VERBOSE"))
+        printf("line: render (%g %g %g) +- (%g %g %g), model (%g %g %g)\n", tl.mean[0][0], tl.mean[0][1],
+               tl.mean[0][2], tl.se[0][0], tl.se[0][1], tl.se[0][2], rgb[0], rgb[1], rgb[2]);
+    CHECK(t, rgb[2] > 0.05, "the sphere glows blue: model rgb (%g %g %g)", rgb[0], rgb[1], rgb[2]);
+    scene_free(&s);
+}
+
+/* Photon furnace: Phi = rho = 1, A = 1 in a UV-A band inside the film's range
+   (375-395 nm, so the camera sees the band's own reflectance drop), a flat
+   environment.  The model conserves photons and loses energy; the render must
+   match the model (so rho (1 - A), not rho; li/lo; and the branch weights are
+   checked by the renderer itself). */
+static void test_fluor_photon_furnace(T *t)
+{
+    Scene s;
+    Spectrum Le;
+    RenderOptions o;
+    Tiles tl;
+    double rgb[3], pin, pout, ein, eout;
+    int c;
+    if (!load_furnace(t, &s, "[300 1 830 1]",
+                      FL_MAT("[300 1 830 1]", "[300 0 370 0 375 1 395 1 400 0 830 0]", "[420 0 470 1 520 0]", "1")))
+        return;
+    render_options_default(&o);
+    o.spp = test_scaled(256, 32);
+    o.threads = 1;
+    o.wl_wide = 1;
+    if (!test_render_tiles(t, &s, &o, 8, 1, &tl)) { scene_free(&s); return; }
+    Le = le_of(&s, 0, 360.0f, 830.0f);
+    model_rgb(&s.materials[s.n_materials - 1], &Le, 360.0, 830.0, rgb, &pin, &pout, &ein, &eout);
+    if (getenv("FLUOR_VERBOSE"))
+        printf("furnace: render (%g %g %g) +- (%g %g %g), model (%g %g %g)\n", tl.mean[0][0], tl.mean[0][1],
+               tl.mean[0][2], tl.se[0][0], tl.se[0][1], tl.se[0][2], rgb[0], rgb[1], rgb[2]);
+    /* the model as written: photon radiance equal over 300-830 nm (to the quadrature's
+       accuracy), energy strictly less */
+    CHECK(t, fabs(pout - pin) < 2e-3 * pin, "photon radiance: out %.8g, in %.8g", pout, pin);
+    CHECK(t, eout < ein * (1.0 - 1e-3), "energy: out %.8g must be below in %.8g", eout, ein);
+    for (c = 0; c < 3; c++)
+        CHECK(t, fabs(tl.mean[0][c] - rgb[c]) < TEST_K_SIGMA * tl.se[0][c] + 2e-3 * fabs(rgb[c]),
+              "channel %d: render %.6g +- %.2g, model %.6g", c, tl.mean[0][c], tl.se[0][c], rgb[c]);
+    scene_free(&s);
+    /* The Stokes rule: excitation and emission bands that overlap (as fluorescein's
+       do), so anti-Stokes emission would add light at the short side. */
+    if (!load_furnace(t, &s, "[300 1 830 1]",
+                      FL_MAT("[300 1 830 1]", "[300 0 440 0 470 1 500 1 510 0 830 0]", "[440 0 490 1 560 0]", "1")))
+        return;
+    if (!test_render_tiles(t, &s, &o, 8, 1, &tl)) { scene_free(&s); return; }
+    Le = le_of(&s, 0, 360.0f, 830.0f);
+    model_rgb(&s.materials[s.n_materials - 1], &Le, 360.0, 830.0, rgb, &pin, &pout, &ein, &eout);
+    CHECK(t, fabs(pout - pin) < 2e-3 * pin && eout < ein * (1.0 - 1e-4), "overlap: photons %.8g / %.8g, energy %.8g / %.8g",
+          pout, pin, eout, ein);
+    for (c = 0; c < 3; c++)
+        CHECK(t, fabs(tl.mean[0][c] - rgb[c]) < TEST_K_SIGMA * tl.se[0][c] + 2e-3 * fabs(rgb[c]),
+              "overlap, channel %d: render %.6g +- %.2g, model %.6g", c, tl.mean[0][c], tl.se[0][c], rgb[c]);
+    scene_free(&s);
+}
+
+/* Unbiasedness: a UV LED, a visible LED and a fluorescent sphere on a diffuse floor.
+   NEE+MIS with every emitter strategy and BSDF sampling only must agree tile by
+   tile.  NEE at lo after a shift, or a selection pmf at lo in the MIS weight,
+   would break the agreement. */
+static void test_fluor_estimators_agree(T *t)
+{
+    static const SelStrategy strat[] = { SEL_SPD, SEL_UNIFORM, SEL_POWER, SEL_SPATIAL,
+                                         SEL_PRODUCT, SEL_SPECTRAL_SPATIAL };
+    Scene s;
+    RenderOptions o;
+    static Tiles ref, other;
+    size_t i;
+    int K = 16;
+    if (!test_load_scene(t, &s,
+            "LookAt 0 1 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n"
+            "Film \"rgb\" \"integer xresolution\" 12 \"integer yresolution\" 12 \"string filename\" \"t.pfm\"\n"
+            "Integrator \"path\" \"integer maxdepth\" 4\n"
+            "WorldBegin\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-BLB\" \"float scale\" 0.02\n"
+            "Translate -1.5 2.8 1\nShape \"sphere\" \"float radius\" 1\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\" \"float scale\" 1\n"
+            "Translate 1.5 2.5 1\nShape \"sphere\" \"float radius\" 0.3\nAttributeEnd\n"
+            "Material \"diffuse\" \"spectrum reflectance\" [300 0.5 830 0.5]\n"
+            "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point3 P\" [-4 -1 -4  4 -1 -4  4 -1 4  -4 -1 4]\n"
+            FL_MAT("[300 0.7 830 0.7]", "\"fluor-brightener-ex\"", "\"fluor-brightener-em\"", "0.9")
+            "Shape \"sphere\" \"float radius\" 1\n")) return;
+    render_options_default(&o);
+    o.spp = test_scaled(96, 16);
+    o.threads = 1;
+    o.sel.strategy = SEL_SPD;
+    o.sel.grid_res = 4;
+    if (!test_render_tiles(t, &s, &o, K, 3, &ref)) { scene_free(&s); return; }
+    for (i = 0; i <= sizeof strat / sizeof strat[0]; i++) {
+        RenderOptions oi = o;
+        char what[64];
+        if (i < sizeof strat / sizeof strat[0]) { oi.sel.strategy = strat[i]; oi.seed = 7 + (int)i; }
+        else { oi.nee = 0; oi.spp *= 4; oi.seed = 99; }           /* BSDF sampling only */
+        if (i == 0) continue;
+        if (!test_render_tiles(t, &s, &oi, K, 3, &other)) { scene_free(&s); return; }
+        snprintf(what, sizeof what, "%s vs spd", i < sizeof strat / sizeof strat[0] ? sel_name(strat[i]) : "BSDF only");
+        if (!test_tiles_agree(t, &ref, &other, 1e-3, what)) { scene_free(&s); return; }
+    }
+    scene_free(&s);
+}
+
+const TestCase tests_fluor[] = {
+    { "fluor_uv_lamp_absolute", test_uv_lamp_absolute },
+    { "fluor_uv_lamp_rules", test_uv_lamp_rules },
+    { "fluor_uv_bins_select", test_uv_bins_select },
+    { "fluor_named_spectra", test_named_fluor_spectra },
+    { "fluor_parse_errors", test_fluor_parse_errors },
+    { "fluor_li_sampler_chi2", test_fluor_li_sampler },
+    { "fluor_line", test_fluor_line },
+    { "fluor_photon_furnace", test_fluor_photon_furnace },
+    { "fluor_estimators_agree", test_fluor_estimators_agree },
+    { NULL, NULL }
+};
