@@ -163,7 +163,7 @@ double radical_inverse(int base, uint64_t i);
 
      dim            numbers  decision                              group
      0, 1           2-D      position in the pixel (pixel filter)  camera
-     2, 3           2-D      reserved: a point on a thin lens      lens
+     2, 3           2-D      a point on a thin lens (lensradius>0) lens
      4              1-D      hero wavelength u (HWSS rotates the   wavelength
                              other three by j/4)
      then for bounce d = 0, 1, ... at DIM_BOUNCE0 + d * DIMS_PER_BOUNCE + slot:
