@@ -93,6 +93,17 @@ void render_options_default(RenderOptions *o)
     o->debug_x = o->debug_y = -1;
 }
 
+void render_options_thesis(RenderOptions *o)
+{
+    render_options_default(o);
+    o->wl_mode = WL_UNIFORM;
+    o->sel.strategy = SEL_SPATIAL;
+    o->sel.power_metric = 0;
+    o->sel.all_wavelengths = o->sel.throughput_weighted = 0;
+    o->rough_mis = 0;
+    o->sampler = SAMPLER_INDEPENDENT;
+}
+
 /* ------------------------------------------------------------------ camera */
 
 typedef struct {

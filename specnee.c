@@ -94,23 +94,23 @@ static const char usage_options[] =
    if its flags stood at its place on the command line, so a preset renders
    bit-identically to its flags spelled out, and a later flag overrides it.  Each
    preset pins every setting whose default may change (wavelength pdf, emitter
-   selection and its variants, rough dispersion), so that it keeps meaning the
-   same method when the defaults move.
-   SAMPLER (a place kept for it): once specnee has a --sampler flag, add
-   "--sampler", "independent" to both presets below (the sampler specnee has
-   always used, the one the thesis' figures were reproduced with here) and say in
-   --help and docs/wavelengths.md that the thesis itself rendered with pbrt-v3's
-   default sampler, "halton", and which specnee sampler --sampler maps that to. */
+   selection and its variants, rough dispersion, sampler), so that it keeps
+   meaning the same method when the defaults move.  The sampler is independent
+   random numbers, the one specnee reproduced the thesis' figures with (the
+   thesis itself rendered with pbrt-v3's default sampler, "halton", which a scene
+   file's Sampler maps to specnee's sobol: docs/sampling.md). */
 typedef struct {
     const char *name, *what;
     const char *const *flags;  /* NULL-terminated */
 } Preset;
 static const char *const preset_thesis[] = {
     "--wavelengths", "uniform", "--lights", "spatial", "--spd-metric", "unit",
-    "--spd-wavelengths", "hero", "--rough-dispersion", "terminate", NULL };
+    "--spd-wavelengths", "hero", "--rough-dispersion", "terminate",
+    "--sampler", "independent", NULL };
 static const char *const preset_thesis_spd[] = {
     "--wavelengths", "uniform", "--lights", "product", "--spd-metric", "unit",
-    "--spd-wavelengths", "hero", "--rough-dispersion", "terminate", NULL };
+    "--spd-wavelengths", "hero", "--rough-dispersion", "terminate",
+    "--sampler", "independent", NULL };
 static const Preset presets[] = {
     { "thesis", "the thesis' baseline: HWSS with uniform wavelengths, pbrt-v3's spatial\n"
                 "          selection, termination at dispersive glass", preset_thesis },
