@@ -177,7 +177,11 @@ static void test_estimators_agree(T *t)
     if (!test_tiles_agree(t, &ref, &other, 1e-4, "importance vs uniform wavelengths")) goto done;
     o.wl_mode = WL_UNIFORM;
     o.nee = 0;
-    o.spp = test_scaled(96, 4);
+    /* BSDF sampling alone finds the small ceiling light rarely: its per-tile
+       estimate is heavy-tailed, and below ~48 spp the sample variance behind the
+       standard error is unreliable (at 24 spp one firefly read as 5.2 standard
+       errors; 48 and more agree at every scale), so the quarter-scale runs keep 48 */
+    o.spp = test_scaled(96, 48);
     if (!test_render_tiles(t, &s, &o, 12, 4, &other)) goto done;
     if (!test_tiles_agree(t, &ref, &other, 1e-4, "BSDF only vs NEE + MIS")) goto done;
 done:
