@@ -32,6 +32,11 @@ static const char usage_text[] =
 "tracer: 4 hero wavelengths (HWSS) combined by spectral MIS, next event estimation\n"
 "with a choice of emitter-selection strategies, Cauchy dispersion.  The estimator\n"
 "is derived in docs/THEORY.md; docs/WALKTHROUGH.md follows one sample through it.\n"
+"Defaults: the fastest configuration of the evaluation (sobol sampler, mixture\n"
+"wavelength pdf, spectral MIS through rough glass, spectral light tree), chosen by\n"
+"the best geometric mean of equal-time error over the evaluation scenes, never\n"
+"significantly worse than the thesis' baseline (docs/RESULTS.md, What to use);\n"
+"--preset thesis renders that baseline.\n"
 "\n";
 
 static const char usage_options[] =
@@ -46,7 +51,7 @@ static const char usage_options[] =
 "      --maxdepth N        path vertices that scatter (file: Integrator maxdepth; 5)\n"
 "      --res WxH           film resolution (file: Film x/yresolution)\n"
 "      --lights NAME       emitter selection for NEE (file: Integrator lightsampler;\n"
-"                          pbrt-v4's \"bvh\" maps to tree; default spatial):\n"
+"                          pbrt-v4's \"bvh\" maps to tree; default spectral-tree):\n"
 "                          spectral-tree  light tree with per-bin spectral power:\n"
 "                                         the choice for many emitters (O(log n))\n"
 "                          tree           the same tree with total power (pbrt-v4)\n"
