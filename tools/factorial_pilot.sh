@@ -8,7 +8,8 @@
 #            {terminate mis}, spatial selection, the default sampler (sobol): which
 #            wavelength pdf and which treatment of rough glass;
 #   stage 2  emitter selection {spatial product spectral-spatial tree spectral-tree}
-#            with the winner of stage 1 (mixture, mis).
+#            with the winner of stage 1 (mixture, mis); on many-lamps without
+#            product and spectral-spatial (see below).
 # The full grid (tools/factorial.sh: 4 x 4 x 2 = 32 variants x 6 rungs up to 512 spp
 # x 8 seeds) costs hours per scene on 2 cores; the pilot prunes it to a fractional
 # design (one factor at a time around the best level, 9 + 6 variants), LADDER
@@ -38,6 +39,12 @@ for s in spatial product spectral-spatial tree spectral-tree; do S2="$S2,$s:mixt
 for sc in $SCENES; do
     for st in s1 s2; do
         if [ $st = s1 ]; then V=$S1; else V=$S2; fi
+        # many-lamps (257 emitters): product and spectral-spatial build O(n) voxel
+        # tables like spatial (about 19 s CPU per 16 spp here, against 1 s for a
+        # tree); docs/lighttree.md measures them, the pilot leaves them out there
+        if [ $st = s2 ] && [ "$sc" = many-lamps ]; then
+            V="$BASE,spatial:mixture:roughmis,tree:mixture:roughmis,spectral-tree:mixture:roughmis"
+        fi
         if [ "$REUSE" = 1 ]; then
             "$SPECNEE" converge "scenes/$sc.pbrt" --ref "docs/ref/$sc.pfm" --lights "$V" --spp "$LADDER" \
                 --seeds "$SEEDS" --time cpu --out "$OUT/pilot_${st}_$sc" --reuse
