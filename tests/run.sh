@@ -255,6 +255,15 @@ if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then
 else
     skip "repo_no_tracked_binaries: not a git checkout"
 fi
+# the scripts that compile the library themselves (the compiler matrix below,
+# make fuzz) list the same sources as the Makefile's LIBOBJ
+mk_src=$(sed -n '/^LIBOBJ *=/,/[^\\]$/p' Makefile | sed 's/LIBOBJ *=//; s/\\//g' | tr ' ' '\n' |
+         sed -n 's/\.o$/.c/p' | sort | tr '\n' ' ')
+for f in tests/run.sh fuzz/run.sh; do
+    f_src=$(sed -n 's/^ *LIBSRC="\([^"]*\)".*/\1/p' "$f" | head -n 1 | tr ' ' '\n' | grep . | sort | tr '\n' ' ')
+    if [ -n "$mk_src" ] && [ "$f_src" = "$mk_src" ]; then ok "repo_libsrc_$(echo "$f" | tr '/.' '__')"
+    else fail "repo_libsrc_$(echo "$f" | tr '/.' '__'): LIBSRC is '$f_src', the Makefile's LIBOBJ '$mk_src'"; fi
+done
 # hostile input end to end (tests/test_robust.c has the unit cases)
 # a PFM read from a pipe: the header claims 16384 x 16384 (3 GiB); 18 bytes arrive.
 # Within 1 GiB of address space the reader must report the truncation, not try to
