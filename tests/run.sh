@@ -138,8 +138,9 @@ expect "cli_diff_identical" 0 "" ./specnee diff tests/tmp/tiny.pfm tests/tmp/mer
 expect "cli_spectrum" 0 "" ./specnee spectrum lamp-CFL1
 expect "cli_spectrum_unknown" 1 "no-such" ./specnee spectrum no-such-spectrum
 # --debug-pixel: a pixel outside the film is bad usage; NEE failures are printed
+# (with the thesis' spatial selection: its reach mask leaves no emitter at that vertex)
 expect "cli_debug_pixel_outside" 2 "outside the 64x64 film" ./specnee scenes/cornell.pbrt --res 64x64 --debug-pixel 200,200 -o tests/tmp/d.pfm
-if ./specnee scenes/cornell.pbrt --res 128x128 --spp 1 -q --debug-pixel 40,120 -o tests/tmp/d.pfm 2>&1 |
+if ./specnee scenes/cornell.pbrt --preset thesis --res 128x128 --spp 1 -q --debug-pixel 40,120 -o tests/tmp/d.pfm 2>&1 |
    grep -q 'NEE: no emitter can be chosen here'; then ok "cli_debug_pixel_nee_failure"
 else fail "cli_debug_pixel_nee_failure"; fi
 # contract item C4 end to end: through rough dispersive glass with all four
