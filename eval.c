@@ -244,7 +244,7 @@ static int read_csv(const char *path, char var_names[][64], int n_var, const int
 static const char usage_converge[] =
     "usage: specnee converge SCENE --ref REF.pfm [--lights v1,v2,...] [--spp 16,32,...]\n"
     "         [--seeds K] [--out PREFIX] [--baseline NAME] [--threads N] [--maxdepth N]\n"
-    "         [--time cpu|wall] [--reuse]\n"
+    "         [--time cpu|wall] [--base defaults|thesis] [--reuse]\n"
     "  variants: a strategy (uniform power spatial spd product spectral-spatial all\n"
     "  tree spectral-tree)\n"
     "  with modifiers, e.g. spd:power, product:all, product:tput, spatial:importance,\n"
@@ -255,6 +255,9 @@ static const char usage_converge[] =
     "  one).  The first is the baseline.\n"
     "  --time: the time axis and the equal-time comparison use process CPU time\n"
     "  (default: not charged while other programs run) or wall time.\n"
+    "  --base: what a variant's unnamed settings are: the defaults (default) or the\n"
+    "  thesis' (--preset thesis: uniform wavelengths, terminate, unit, hero,\n"
+    "  independent sampler), so that a table keeps its meaning when defaults change.\n"
     "  --reuse: no rendering; the charts and tables are rebuilt from PREFIX.csv of an\n"
     "  earlier run with the same variants, ladder and seeds.\n";
 
@@ -271,7 +274,7 @@ int cmd_converge(int argc, char **argv)
     int n_reg, reg[MAX_REGIONS][4];
     char reg_name[MAX_REGIONS][16];
     double *mse, *relmse, *mae, *wall, *cpu, *build, *tb;
-    int use_cpu = 1, reuse = 0;
+    int use_cpu = 1, reuse = 0, base_thesis = 0;
     FILE *csv;
     strcpy(var_names[0], "spatial");
     n_spp = split_list("16,32,64,128", spp_s, MAX_SPP);
@@ -292,6 +295,12 @@ int cmd_converge(int argc, char **argv)
             if (K < 2 || K > MAX_SEEDS) { fprintf(stderr, "converge: --seeds must be 2..%d\n", MAX_SEEDS); return 2; }
         } else if (!strcmp(a, "--out")) prefix = argv[++i];
         else if (!strcmp(a, "--baseline")) baseline = argv[++i];
+        else if (!strcmp(a, "--base")) {
+            const char *bv = argv[++i];
+            if (!strcmp(bv, "thesis")) base_thesis = 1;
+            else if (!strcmp(bv, "defaults")) base_thesis = 0;
+            else { fprintf(stderr, "converge: --base must be defaults or thesis, not '%s'\n", bv); return 2; }
+        }
         else if (!strcmp(a, "--threads")) threads = atoi(argv[++i]);
         else if (!strcmp(a, "--maxdepth")) maxdepth = atoi(argv[++i]);
         else if (!strcmp(a, "--time")) {
@@ -315,7 +324,7 @@ int cmd_converge(int argc, char **argv)
     }
     for (v = 0; v < n_var; v++) {
         RenderOptions o;
-        render_options_default(&o);
+        if (base_thesis) render_options_thesis(&o); else render_options_default(&o);
         if (!eval_parse_variant(var_names[v], &o)) {
             fprintf(stderr, "converge: unknown variant '%s'\n", var_names[v]);
             return 2;
@@ -389,7 +398,7 @@ int cmd_converge(int argc, char **argv)
         int failed = 0;
         for (v = 0; v < n_var; v++) job[v] = NULL;
         for (v = 0; v < n_var && !failed; v++) {
-            render_options_default(&o[v]);
+            if (base_thesis) render_options_thesis(&o[v]); else render_options_default(&o[v]);
             eval_parse_variant(var_names[v], &o[v]);
             o[v].seed = 1000003 * (k + 1);
             o[v].threads = threads;
@@ -497,6 +506,7 @@ int cmd_converge(int argc, char **argv)
         else {
             fprintf(md, "Scene `%s`, reference `%s`, %d seeds, spp ladder", scene_path, ref_path, K);
             for (s = 0; s < n_spp; s++) fprintf(md, " %d", spp[s]);
+            if (base_thesis) fprintf(md, "; every variant on the thesis' settings (`--base thesis`)");
             fprintf(md, "; baseline `%s`. Changes are MSE ratios minus 1 (negative = better), "
                         "mean [95%% CI] over seeds. Time: %s time at %d spp, mean over seeds, and its "
                         "ratio to the baseline's (per seed, geometric mean [95%% CI]). Equal time: each "

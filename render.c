@@ -86,11 +86,28 @@ void render_options_default(RenderOptions *o)
     o->seed = 0;
     o->threads = 0;                  /* 0: all the cores OpenMP offers */
     o->maxdepth = DEFAULT_MAXDEPTH;
-    o->sel.strategy = SEL_SPATIAL;   /* the thesis' baseline distribution */
+    /* The defaults are the best configuration of the factorial evaluation by the
+       rule of docs/RESULTS.md ("What to use"): the best geometric mean of
+       equal-time MSE over the evaluation scenes, never significantly worse than
+       the thesis' baseline (--preset thesis) on any of them. */
+    o->sel.strategy = SEL_SPECTRAL_TREE;  /* O(log n) per vertex, the thesis spectral preference */
+    o->wl_mode = WL_MIXTURE;         /* importance + visible: 3-5x at equal time (docs/wavelengths.md) */
+    o->rough_mis = 1;                /* secondaries live through rough glass (docs/THEORY.md) */
     o->nee = 1;
     o->sampler = SAMPLER_SOBOL;      /* lowest equal-time error, progressive (docs/sampling.md) */
     o->jitter = 1;
     o->debug_x = o->debug_y = -1;
+}
+
+void render_options_thesis(RenderOptions *o)
+{
+    render_options_default(o);
+    o->wl_mode = WL_UNIFORM;
+    o->sel.strategy = SEL_SPATIAL;
+    o->sel.power_metric = 0;
+    o->sel.all_wavelengths = o->sel.throughput_weighted = 0;
+    o->rough_mis = 0;
+    o->sampler = SAMPLER_INDEPENDENT;
 }
 
 /* ------------------------------------------------------------------ camera */

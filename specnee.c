@@ -32,6 +32,11 @@ static const char usage_text[] =
 "tracer: 4 hero wavelengths (HWSS) combined by spectral MIS, next event estimation\n"
 "with a choice of emitter-selection strategies, Cauchy dispersion.  The estimator\n"
 "is derived in docs/THEORY.md; docs/WALKTHROUGH.md follows one sample through it.\n"
+"Defaults: the fastest configuration of the evaluation (sobol sampler, mixture\n"
+"wavelength pdf, spectral MIS through rough glass, spectral light tree), chosen by\n"
+"the best geometric mean of equal-time error over the evaluation scenes, never\n"
+"significantly worse than the thesis' baseline (docs/RESULTS.md, What to use);\n"
+"--preset thesis renders that baseline.\n"
 "\n";
 
 static const char usage_options[] =
@@ -46,7 +51,7 @@ static const char usage_options[] =
 "      --maxdepth N        path vertices that scatter (file: Integrator maxdepth; 5)\n"
 "      --res WxH           film resolution (file: Film x/yresolution)\n"
 "      --lights NAME       emitter selection for NEE (file: Integrator lightsampler;\n"
-"                          pbrt-v4's \"bvh\" maps to tree; default spatial):\n"
+"                          pbrt-v4's \"bvh\" maps to tree; default spectral-tree):\n"
 "                          spectral-tree  light tree with per-bin spectral power:\n"
 "                                         the choice for many emitters (O(log n))\n"
 "                          tree           the same tree with total power (pbrt-v4)\n"
@@ -59,16 +64,16 @@ static const char usage_options[] =
 "      --throughput-weighted  ... each by the path throughput at that wavelength\n"
 "      --spd-wavelengths W hero (the thesis, default), all or throughput: the same\n"
 "                          as the two flags above, and the way to switch them off\n"
-"      --wavelengths P     the wavelength pdf: uniform (HWSS, default), importance\n"
-"                          (CMIS: ~ (xbar+ybar+zbar) x the emitters' spectra),\n"
-"                          visible (scene-independent sech^2 around 538 nm, as\n"
-"                          pbrt-v4) or mixture (importance with a share of visible\n"
-"                          that bounds its worst case: docs/wavelengths.md)\n"
+"      --wavelengths P     the wavelength pdf: mixture (default: importance with a\n"
+"                          share of visible that bounds its worst case), uniform\n"
+"                          (plain HWSS, the thesis), importance (~ (xbar+ybar+zbar)\n"
+"                          x the emitters' spectra) or visible (scene-independent\n"
+"                          sech^2 around 538 nm, as pbrt-v4): docs/wavelengths.md\n"
 "      --mix-weight M      visible's share in the mixture, 0 < M <= 1 (default 0.5)\n"
 "      --wide              sample 360-830 nm (pbrt-v4's range) instead of 400-700\n"
 "      --single-wavelength one wavelength per path instead of four\n"
-"      --rough-dispersion M  terminate (default) or mis: keep the secondary\n"
-"                          wavelengths alive through rough dispersive glass\n"
+"      --rough-dispersion M  mis (default: keep the secondary wavelengths alive\n"
+"                          through rough dispersive glass) or terminate (the thesis)\n"
 "      --no-nee            BSDF sampling only (no next event estimation)\n"
 "      --exposure E        multiply by 2^E before writing .ppm/.png\n"
 "      --mark-insets       outline the scene's insets (\"# inset\" comments) in the\n"
@@ -94,23 +99,23 @@ static const char usage_options[] =
    if its flags stood at its place on the command line, so a preset renders
    bit-identically to its flags spelled out, and a later flag overrides it.  Each
    preset pins every setting whose default may change (wavelength pdf, emitter
-   selection and its variants, rough dispersion), so that it keeps meaning the
-   same method when the defaults move.
-   SAMPLER (a place kept for it): once specnee has a --sampler flag, add
-   "--sampler", "independent" to both presets below (the sampler specnee has
-   always used, the one the thesis' figures were reproduced with here) and say in
-   --help and docs/wavelengths.md that the thesis itself rendered with pbrt-v3's
-   default sampler, "halton", and which specnee sampler --sampler maps that to. */
+   selection and its variants, rough dispersion, sampler), so that it keeps
+   meaning the same method when the defaults move.  The sampler is independent
+   random numbers, the one specnee reproduced the thesis' figures with (the
+   thesis itself rendered with pbrt-v3's default sampler, "halton", which a scene
+   file's Sampler maps to specnee's sobol: docs/sampling.md). */
 typedef struct {
     const char *name, *what;
     const char *const *flags;  /* NULL-terminated */
 } Preset;
 static const char *const preset_thesis[] = {
     "--wavelengths", "uniform", "--lights", "spatial", "--spd-metric", "unit",
-    "--spd-wavelengths", "hero", "--rough-dispersion", "terminate", NULL };
+    "--spd-wavelengths", "hero", "--rough-dispersion", "terminate",
+    "--sampler", "independent", NULL };
 static const char *const preset_thesis_spd[] = {
     "--wavelengths", "uniform", "--lights", "product", "--spd-metric", "unit",
-    "--spd-wavelengths", "hero", "--rough-dispersion", "terminate", NULL };
+    "--spd-wavelengths", "hero", "--rough-dispersion", "terminate",
+    "--sampler", "independent", NULL };
 static const Preset presets[] = {
     { "thesis", "the thesis' baseline: HWSS with uniform wavelengths, pbrt-v3's spatial\n"
                 "          selection, termination at dispersive glass", preset_thesis },

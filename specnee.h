@@ -809,6 +809,10 @@ typedef struct {
 } RenderStats;
 
 void render_options_default(RenderOptions *o);
+/* The thesis' settings, whatever the defaults (what `--preset thesis` sets): HWSS
+   with uniform wavelengths, spatial selection (unit metric, hero wavelength),
+   termination at rough dispersive glass, independent random numbers. */
+void render_options_thesis(RenderOptions *o);
 /* Render s into img (linear sRGB, w x h of the scene's film).  The scene is only
    read: the emitters' radiance for the sampled wavelength range, the wavelength
    pdf and the selection tables belong to the render (its RenderJob). */

@@ -3,11 +3,12 @@
 # and compare it with the committed image in tests/golden/.
 #
 # WHAT IT CHECKS
-#   For every scenes/*.pbrt (except those with a line "# golden: skip <reason>") one render with the scene's own emitter selection
-#   (golden_<scene>), and for every scene with more than one emitter a second one
-#   with --lights product, the thesis' combined pdf (golden_<scene>-product; with
-#   a single emitter every strategy picks it with P = 1, so a second render would
-#   repeat the first).  Every render uses the same flags:
+#   For every scenes/*.pbrt (except those with a line "# golden: skip <reason>") one render with the defaults and the scene's own emitter selection
+#   (golden_<scene>), one with the thesis' baseline, --preset thesis (golden_<scene>-thesis:
+#   the thesis' method keeps a golden whatever the defaults are), and for every
+#   scene with more than one emitter one with --lights product, the thesis'
+#   combined pdf (golden_<scene>-product; with a single emitter every strategy
+#   picks it with P = 1, so that render would repeat the first).  Every render uses the same flags:
 #       --res 64x64 --spp 16 --seed 1 --threads 2 -q
 #   (the scene's own maxdepth, filter and camera).  The image does not depend on
 #   the thread count (every pixel sample owns its random stream, render.c).
@@ -198,14 +199,15 @@ for scene in scenes/*.pbrt; do
         fail "$name: $scene does not load: $("$BIN" "$scene" --dump-scene 2>&1 >/dev/null | head -n 1)"
         continue
     fi
-    variants="$name"
+    variants="$name $name-thesis"
     if [ "$n" -gt 1 ]; then
-        variants="$name $name-product"
+        variants="$variants $name-product"
         [ -z "$multi" ] && multi=$scene
     fi
     for id in $variants; do
         extra=""
         [ "$id" = "$name-product" ] && extra="--lights product"
+        [ "$id" = "$name-thesis" ] && extra="--preset thesis"
         ids="$ids $id"
         if ! render "$id" "$scene" $extra; then
             fail "$id: render failed: $(head -n 1 "$TMP/$id.log")"
@@ -244,7 +246,7 @@ perturb() {
     p_name=$1; p_src=$2; p_id=$3; p_prog=$4
     p_base=$(basename "$p_src" .pbrt)
     p_extra=""
-    case $p_id in *-product) p_extra="--lights product" ;; esac
+    case $p_id in *-product) p_extra="--lights product" ;; *-thesis) p_extra="--preset thesis" ;; esac
     rm -rf "$TMP/scenes"
     cp -R scenes "$TMP/scenes"
     awk "$p_prog" "$p_src" > "$TMP/scenes/$p_base.pbrt"

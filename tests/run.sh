@@ -138,8 +138,9 @@ expect "cli_diff_identical" 0 "" ./specnee diff tests/tmp/tiny.pfm tests/tmp/mer
 expect "cli_spectrum" 0 "" ./specnee spectrum lamp-CFL1
 expect "cli_spectrum_unknown" 1 "no-such" ./specnee spectrum no-such-spectrum
 # --debug-pixel: a pixel outside the film is bad usage; NEE failures are printed
+# (with the thesis' spatial selection: its reach mask leaves no emitter at that vertex)
 expect "cli_debug_pixel_outside" 2 "outside the 64x64 film" ./specnee scenes/cornell.pbrt --res 64x64 --debug-pixel 200,200 -o tests/tmp/d.pfm
-if ./specnee scenes/cornell.pbrt --res 128x128 --spp 1 -q --debug-pixel 40,120 -o tests/tmp/d.pfm 2>&1 |
+if ./specnee scenes/cornell.pbrt --preset thesis --res 128x128 --spp 1 -q --debug-pixel 40,120 -o tests/tmp/d.pfm 2>&1 |
    grep -q 'NEE: no emitter can be chosen here'; then ok "cli_debug_pixel_nee_failure"
 else fail "cli_debug_pixel_nee_failure"; fi
 # contract item C4 end to end: through rough dispersive glass with all four
@@ -181,13 +182,13 @@ same() {  # images bit-identical and the sidecars (spp, settings) equal
         cmp -s "tests/tmp/preset-$1.pfm.txt" "tests/tmp/preset-$2.pfm.txt"
 }
 preset_run thesis --preset thesis
-preset_run thesis-flags --wavelengths uniform --lights spatial --spd-metric unit --spd-wavelengths hero --rough-dispersion terminate
+preset_run thesis-flags --wavelengths uniform --lights spatial --spd-metric unit --spd-wavelengths hero --rough-dispersion terminate --sampler independent
 preset_run spd --preset thesis-spd
-preset_run spd-flags --wavelengths uniform --lights product --spd-metric unit --spd-wavelengths hero --rough-dispersion terminate
+preset_run spd-flags --wavelengths uniform --lights product --spd-metric unit --spd-wavelengths hero --rough-dispersion terminate --sampler independent
 preset_run thesis-then-product --preset thesis --lights product
 preset_run thesis-then-mis --preset thesis --rough-dispersion mis
-preset_run pinned --wavelengths importance --lights product --spd-metric power --all-wavelengths --rough-dispersion mis --preset thesis
-preset_run pinned-spd --wavelengths visible --lights spatial --spd-metric power --throughput-weighted --rough-dispersion mis --preset thesis-spd
+preset_run pinned --wavelengths importance --lights product --spd-metric power --all-wavelengths --rough-dispersion mis --sampler sobol --preset thesis
+preset_run pinned-spd --wavelengths visible --lights spatial --spd-metric power --throughput-weighted --rough-dispersion mis --sampler zsobol --preset thesis-spd
 if same thesis thesis-flags; then ok "cli_preset_thesis_is_its_flags"; else fail "cli_preset_thesis_is_its_flags"; fi
 if same spd spd-flags; then ok "cli_preset_thesis_spd_is_its_flags"; else fail "cli_preset_thesis_spd_is_its_flags"; fi
 if same thesis-then-product spd && ! same thesis-then-mis thesis && ! same spd thesis; then ok "cli_preset_later_flags_override"

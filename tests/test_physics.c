@@ -660,7 +660,7 @@ static void test_spectral_mis_far(T *t)
         }
         CHECK(t, far > n / 2, "r_m far from 1 in only %d of %d transmissions", far, n);
     }
-    render_options_default(&o);
+    render_options_thesis(&o);           /* uniform wavelengths, independent: as calibrated */
     o.sel.grid_res = 8;
     o.spp = test_scaled(32, 4);
     o.maxdepth = 5;

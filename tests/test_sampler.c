@@ -343,7 +343,7 @@ static void test_independent_unchanged(T *t)
         Error err;
         uint64_t h;
         if (!load_box(t, &s, f)) return;
-        render_options_default(&o);
+        render_options_thesis(&o);        /* the settings of that commit's defaults */
         o.sel.grid_res = 8;
         o.sampler = SAMPLER_INDEPENDENT;
         o.spp = 4;

@@ -308,7 +308,24 @@ static void test_wl_variant_names(T *t)
           "bad modifiers must be refused");
 }
 
+/* The thesis' settings (render_options_thesis, converge --base thesis) are the
+   defaults with every factor pinned to the thesis' level by name: whatever the
+   defaults are, the two agree field by field. */
+static void test_thesis_options(T *t)
+{
+    RenderOptions a, b;
+    render_options_thesis(&a);
+    render_options_default(&b);
+    CHECK(t, eval_parse_variant("spatial:uniform:terminate:unit:hero:independent", &b), "pins refused");
+    CHECK(t, a.wl_mode == WL_UNIFORM && a.sel.strategy == SEL_SPATIAL && !a.rough_mis &&
+          a.sampler == SAMPLER_INDEPENDENT && !a.sel.power_metric && !a.sel.all_wavelengths,
+          "render_options_thesis is not the thesis' baseline");
+    CHECK(t, memcmp(&a, &b, sizeof a) == 0, "render_options_thesis differs from the defaults "
+          "with the thesis' levels named");
+}
+
 const TestCase tests_wavelengths[] = {
+    { "wavelengths_thesis_options", test_thesis_options },
     { "wavelengths_variant_names", test_wl_variant_names },
     { "wavelengths_visible_pdf", test_wl_visible },
     { "wavelengths_mixture_pdf", test_wl_mixture },

@@ -37,11 +37,11 @@ run_as() {  # output-name scene variants
     t0=$(date +%s)
     if [ "$REUSE" = 1 ]; then
         "$SPECNEE" converge "scenes/$sc.pbrt" --ref "docs/ref/$sc.pfm" --lights "$1" \
-            --spp "$LADDER" --seeds "$SEEDS" --time "$TIME" --out "docs/eval/$out" --reuse
+            --spp "$LADDER" --seeds "$SEEDS" --time "$TIME" --base thesis --out "docs/eval/$out" --reuse
         return
     fi
     "$SPECNEE" converge "scenes/$sc.pbrt" --ref "docs/ref/$sc.pfm" --lights "$1" \
-        --spp "$LADDER" --seeds "$SEEDS" --threads "$THREADS" --time "$TIME" --out "docs/eval/$out" 2> "docs/eval/$out.log"
+        --spp "$LADDER" --seeds "$SEEDS" --threads "$THREADS" --time "$TIME" --base thesis --out "docs/eval/$out" 2> "docs/eval/$out.log"
     echo "$out: $(( $(date +%s) - t0 )) s (SEEDS=$SEEDS LADDER=$LADDER TIME=$TIME, $(getconf _NPROCESSORS_ONLN) cores, $(date -u +%Y-%m-%d))" >> docs/eval/timing.txt
 }
 run() { run_as "$1" "$@"; }  # scene variants: tables named after the scene
