@@ -462,6 +462,61 @@ static void test_fluor_estimators_agree(T *t)
     scene_free(&s);
 }
 
+/* The MIS weights after a shift use the selection pmf at lambda_i (FLUORESCENCE 5,
+   contract C1).  A card that only re-radiates (rho = 0, A = 1 over 350-380 nm) lit
+   by a UV LED (nothing in 400-700 nm) beside a white LED1 (nothing below 380 nm):
+   at lambda_i the spectral strategies choose the UV LED with P = 1, at lambda_o they
+   would give it P = 0.  A pmf taken at lambda_o sets q_nee = 0 in the weight of the
+   UV light found by BSDF sampling, so that weight becomes 1 while NEE keeps its
+   own: the weights sum to 1 + w_nee and the card comes out up to twice too bright.
+   The lamps are spheres that subtend about 0.5 sr, so BSDF sampling finds them
+   often and w_nee is large: the bias is tens of percent against a standard error
+   of about 1 % on the image mean.  BSDF sampling alone (no selection pmf at all)
+   and uniform selection (a pmf that does not depend on lambda) are the
+   independent references; every spectral strategy must agree with both. */
+static void test_fluor_mis_pmf_at_li(T *t)
+{
+    static const SelStrategy strat[] = { SEL_SPD, SEL_PRODUCT, SEL_SPECTRAL_SPATIAL,
+                                         SEL_SPECTRAL_TREE, SEL_TREE, SEL_POWER };
+    Scene s;
+    RenderOptions o;
+    static Tiles ref, other;
+    size_t i;
+    int K = 8;
+    if (!test_load_scene(t, &s,
+            "LookAt 0 0 3  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 25\n"
+            "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16 \"string filename\" \"t.pfm\"\n"
+            "Integrator \"path\" \"integer maxdepth\" 1\n"
+            "WorldBegin\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\" \"float scale\" 0.05\n"
+            "Translate 1.5 0 0.9\nShape \"sphere\" \"float radius\" 0.7\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\" \"float scale\" 1\n"
+            "Translate -1.5 0 0.9\nShape \"sphere\" \"float radius\" 0.7\nAttributeEnd\n"
+            FL_MAT("[300 0 830 0]", "[300 0 345 0 350 1 380 1 385 0 830 0]", "[380 0 440 1 520 0]", "1")
+            "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point3 P\" [-3 -3 0  3 -3 0  3 3 0  -3 3 0]\n"))
+        return;
+    render_options_default(&o);
+    o.spp = test_scaled(64, 16);
+    o.threads = 1;
+    o.sel.strategy = SEL_UNIFORM;
+    if (!test_render_tiles(t, &s, &o, K, 1, &ref)) { scene_free(&s); return; }
+    CHECK(t, ref.mean[0][2] > 0.01 && ref.se[0][2] < 0.06 * ref.mean[0][2],
+          "the card glows blue with a small standard error: %g +- %g", ref.mean[0][2], ref.se[0][2]);
+    for (i = 0; i <= sizeof strat / sizeof strat[0]; i++) {
+        RenderOptions oi = o;
+        char what[64];
+        if (i < sizeof strat / sizeof strat[0]) { oi.sel.strategy = strat[i]; oi.seed = 11 + (int)i; }
+        else { oi.nee = 0; oi.spp *= 4; oi.seed = 77; }           /* BSDF sampling only */
+        if (!test_render_tiles(t, &s, &oi, K, 1, &other)) { scene_free(&s); return; }
+        snprintf(what, sizeof what, "%s vs uniform", i < sizeof strat / sizeof strat[0] ? sel_name(strat[i]) : "BSDF only");
+        if (getenv("FLUOR_VERBOSE"))
+            printf("%s: %g +- %g (uniform %g +- %g)\n", what, other.mean[0][2], other.se[0][2],
+                   ref.mean[0][2], ref.se[0][2]);
+        if (!test_tiles_agree(t, &ref, &other, 1e-4, what)) { scene_free(&s); return; }
+    }
+    scene_free(&s);
+}
+
 const TestCase tests_fluor[] = {
     { "fluor_uv_lamp_absolute", test_uv_lamp_absolute },
     { "fluor_uv_lamp_rules", test_uv_lamp_rules },
@@ -472,5 +527,6 @@ const TestCase tests_fluor[] = {
     { "fluor_line", test_fluor_line },
     { "fluor_photon_furnace", test_fluor_photon_furnace },
     { "fluor_estimators_agree", test_fluor_estimators_agree },
+    { "fluor_mis_pmf_at_li", test_fluor_mis_pmf_at_li },
     { NULL, NULL }
 };
