@@ -517,6 +517,106 @@ static void test_fluor_mis_pmf_at_li(T *t)
     scene_free(&s);
 }
 
+/* The spectral light tree's UV bins (lights.c section 4): each node stores its power
+   per 5 nm bin from 300 nm, so after a fluorescent shift to lambda_i < 400 nm
+   `spectral-tree` picks the UV lamp; select and pmf agree bit for bit and in
+   frequency (chi^2) at UV wavelengths; `tree` keeps the power of the sampled range
+   alone, so a UV LED (no power in 400-700 nm) gets nothing from it.  Both film
+   ranges: 400-700 nm (20 UV bins) and --wide 360-830 nm (12). */
+static void test_fluor_tree_uv_bins(T *t)
+{
+    Scene s;
+    Rng r;
+    int wide, k;
+    if (!test_load_scene(t, &s, UV_CAMERA
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\" \"float scale\" 0.2\n"
+            "Translate -1 0 0\nShape \"sphere\" \"float radius\" 0.3\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\"\n"
+            "Translate 1 0 0\nShape \"sphere\" \"float radius\" 0.3\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-BLB\" \"float scale\" 0.05\n"
+            "Translate 0 1.5 0\nShape \"sphere\" \"float radius\" 0.3\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" [ 300 1 330 1 331 0 830 0 ]\n"
+            "Translate 0 -1.5 0\nShape \"sphere\" \"float radius\" 0.3\nAttributeEnd\n")) return;
+    rng_seed(&r, 23, 0);
+    for (wide = 0; wide < 2; wide++) {
+        SelOptions so;
+        LightSampler *spec, *tree;
+        LightCtx c;
+        Error e;
+        int j;
+        memset(&so, 0, sizeof so);
+        so.strategy = SEL_SPECTRAL_TREE;
+        if (wide) { so.lo_nm = 360.0f; so.hi_nm = 830.0f; }
+        spec = light_sampler_build(&s, &so, &e);
+        so.strategy = SEL_TREE;
+        tree = light_sampler_build(&s, &so, &e);
+        CHECK(t, spec && tree, "build: %s", e.msg);
+        memset(&c, 0, sizeof c);
+        c.p = v3(0, 0, 0);
+        c.voxel = -1;
+        c.alive = 1u;
+        c.hero_only = 1;
+        for (j = 0; j < HERO_N; j++) { c.lambda[j] = 550.0f; c.beta[j] = 1.0f; }
+        c.lambda[0] = 366.0f;      /* the UV LED's band: it, and the BLB tube */
+        {
+            float pu = light_select_pmf(spec, &c, light_piece_of(spec, 0, -1));
+            float pl = light_select_pmf(spec, &c, light_piece_of(spec, 1, -1));
+            float pb = light_select_pmf(spec, &c, light_piece_of(spec, 2, -1));
+            CHECK(t, pu > 100.0f * pl && pu + pb > 0.999f,
+                  "wide %d: spectral tree at 366 nm: UV LED %g, BLB %g, LED1 %g", wide,
+                  (double)pu, (double)pb, (double)pl);
+        }
+        c.lambda[0] = 315.0f;      /* only the 300-330 nm lamp emits here */
+        CHECK(t, light_select_pmf(spec, &c, light_piece_of(spec, 3, -1)) > 0.99f,
+              "wide %d: at 315 nm the 300-330 nm lamp has P = %g", wide,
+              (double)light_select_pmf(spec, &c, light_piece_of(spec, 3, -1)));
+        c.lambda[0] = 550.0f;
+        CHECK(t, light_select_pmf(spec, &c, light_piece_of(spec, 1, -1)) > 0.9f, "at 550 nm LED1");
+        /* tree: the power of the sampled range, where the 300-330 nm lamp has none
+           (nor has the UV LED when the range starts at 400 nm) */
+        CHECK(t, light_select_pmf(tree, &c, light_piece_of(tree, 3, -1)) == 0.0f &&
+              (wide || light_select_pmf(tree, &c, light_piece_of(tree, 0, -1)) == 0.0f) &&
+              light_select_pmf(tree, &c, light_piece_of(tree, 1, -1)) > 0.0f,
+              "wide %d: tree: 300-330 nm lamp %g, UV LED %g, LED1 %g", wide,
+              (double)light_select_pmf(tree, &c, light_piece_of(tree, 3, -1)),
+              (double)light_select_pmf(tree, &c, light_piece_of(tree, 0, -1)),
+              (double)light_select_pmf(tree, &c, light_piece_of(tree, 1, -1)));
+        /* select == pmf bit for bit, and in frequency, at random UV wavelengths and
+           points (the hero alone, as after a shift) */
+        for (k = 0; k < 30; k++) {
+            enum { NP = 4, DRAWS = 4000 };
+            double cnt[NP + 1], sum = 0.0, chi2 = 0.0;
+            float pm[NP];
+            int i, dof = -1;
+            c.p = v3(4.0f * rng_float(&r) - 2.0f, 4.0f * rng_float(&r) - 2.0f, 4.0f * rng_float(&r) - 2.0f);
+            c.n = v3_norm(v3(2 * rng_float(&r) - 1, 2 * rng_float(&r) - 1, 2 * rng_float(&r) - 1));
+            c.lambda[0] = 300.0f + 100.0f * rng_float(&r);
+            for (i = 0; i < NP; i++) { pm[i] = light_select_pmf(spec, &c, i); sum += pm[i]; cnt[i] = 0.0; }
+            cnt[NP] = 0.0;
+            CHECK(t, sum < 1.0 + 1e-4, "pmfs sum to %g", sum);
+            for (i = 0; i < DRAWS; i++) {
+                float p;
+                int fb, got = light_select(spec, &c, rng_float(&r), &p, &fb);
+                if (got < 0) { cnt[NP] += 1.0; continue; }
+                CHECK(t, got < NP && p == pm[got] && p > 0.0f, "%.1f nm: chose %d with %g, pmf %g",
+                      (double)c.lambda[0], got, (double)p, got < NP ? (double)pm[got] : -1.0);
+                cnt[got] += 1.0;
+            }
+            for (i = 0; i <= NP; i++) {
+                double ex = (i < NP ? pm[i] : 1.0 - sum) * DRAWS;
+                if (ex < 5.0) { CHECK(t, ex > 0.0 || cnt[i] == 0.0, "chosen with pmf 0"); continue; }
+                chi2 += (cnt[i] - ex) * (cnt[i] - ex) / ex;
+                dof++;
+            }
+            CHECK(t, dof <= 0 || chi2 < dof + 5.0 * sqrt(2.0 * dof), "%.1f nm: chi^2 %g with %d dof",
+                  (double)c.lambda[0], chi2, dof);
+        }
+        light_sampler_free(spec);
+        light_sampler_free(tree);
+    }
+    scene_free(&s);
+}
+
 const TestCase tests_fluor[] = {
     { "fluor_uv_lamp_absolute", test_uv_lamp_absolute },
     { "fluor_uv_lamp_rules", test_uv_lamp_rules },
@@ -528,5 +628,6 @@ const TestCase tests_fluor[] = {
     { "fluor_photon_furnace", test_fluor_photon_furnace },
     { "fluor_estimators_agree", test_fluor_estimators_agree },
     { "fluor_mis_pmf_at_li", test_fluor_mis_pmf_at_li },
+    { "fluor_tree_uv_bins", test_fluor_tree_uv_bins },
     { NULL, NULL }
 };
