@@ -502,13 +502,16 @@ static void test_fluor_mis_pmf_at_li(T *t)
     if (!test_render_tiles(t, &s, &o, K, 1, &ref)) { scene_free(&s); return; }
     CHECK(t, ref.mean[0][2] > 0.01 && ref.se[0][2] < 0.06 * ref.mean[0][2],
           "the card glows blue with a small standard error: %g +- %g", ref.mean[0][2], ref.se[0][2]);
-    for (i = 0; i <= sizeof strat / sizeof strat[0]; i++) {
+    for (i = 0; i <= sizeof strat / sizeof strat[0] + 2; i++) {
         RenderOptions oi = o;
         char what[64];
-        if (i < sizeof strat / sizeof strat[0]) { oi.sel.strategy = strat[i]; oi.seed = 11 + (int)i; }
-        else { oi.nee = 0; oi.spp *= 4; oi.seed = 77; }           /* BSDF sampling only */
+        size_t ns = sizeof strat / sizeof strat[0];
+        if (i < ns) { oi.sel.strategy = strat[i]; oi.seed = 11 + (int)i; }
+        else if (i == ns) { oi.nee = 0; oi.spp *= 4; oi.seed = 77; }   /* BSDF sampling only */
+        else { oi.sel.strategy = i == ns + 1 ? SEL_PRODUCT : SEL_UNIFORM; oi.fluor_li_power = 1; oi.seed = 55 + (int)i; }
         if (!test_render_tiles(t, &s, &oi, K, 1, &other)) { scene_free(&s); return; }
-        snprintf(what, sizeof what, "%s vs uniform", i < sizeof strat / sizeof strat[0] ? sel_name(strat[i]) : "BSDF only");
+        snprintf(what, sizeof what, "%s vs uniform", i < ns ? sel_name(strat[i]) : i == ns ? "BSDF only"
+                 : i == ns + 1 ? "product, li ~ A x power" : "uniform, li ~ A x power");
         if (getenv("FLUOR_VERBOSE"))
             printf("%s: %g +- %g (uniform %g +- %g)\n", what, other.mean[0][2], other.se[0][2],
                    ref.mean[0][2], ref.se[0][2]);
@@ -617,6 +620,78 @@ static void test_fluor_tree_uv_bins(T *t)
     scene_free(&s);
 }
 
+/* --fluor-li power (FLUORESCENCE 3): the mixture a p_A + (1 - a) p_AE.  The sampler
+   returns the density fluor_pdf_li_mix gives, its samples follow that density
+   (chi^2 against expected counts from the pdf integrated on a fine grid), the
+   density integrates to 1 over [300, lo], vanishes above lo, and is p_A alone
+   where the emitters have no power below lo. */
+static void test_fluor_li_mix_sampler(T *t)
+{
+    Scene s;
+    const Material *m;
+    Spectrum E;
+    static double pcdf[FL_N];
+    enum { NB = 34 };
+    const float lo = 470.0f;
+    double cnt[NB], ex[NB], chi2 = 0.0, pint = 0.0, x, ce = 0.0, cc = 0.0;
+    int n = test_scaled(40000, 4000), i, b, groups = 0, k;
+    Rng rng;
+    if (!load_fluor(t, &s, FL_MAT("[300 1 830 1]", "\"fluor-pyranine-ex\"", "\"fluor-pyranine-em\"", "0.9"))) return;
+    m = &s.materials[s.n_materials - 1];
+    CHECK(t, spec_named(&E, "lamp-UVLED365"), "lamp-UVLED365");
+    for (k = 0; k < SPEC_N; k++) E.v[k] = 5.0f * E.v[k] + 0.1f;
+    for (k = 0; k < SPEC_UV_N; k++) E.uv[k] = 5.0f * E.uv[k] + 0.1f;
+    fluor_power_cdf(m, &E, pcdf);
+    memset(cnt, 0, sizeof cnt);
+    memset(ex, 0, sizeof ex);
+    rng_seed(&rng, 29, 0);
+    for (i = 0; i < n; i++) {
+        float pdf, li = fluor_sample_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, rng_float(&rng), &pdf);
+        CHECK(t, li >= 300.0f && li <= lo && pdf > 0.0f, "sample %g nm pdf %g", (double)li, (double)pdf);
+        CHECK(t, fabsf(pdf - fluor_pdf_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, li)) <= 1e-6f * pdf,
+              "sampler %g and pdf %g disagree at %g nm", (double)pdf,
+              (double)fluor_pdf_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, li), (double)li);
+        b = (int)((li - 300.0f) / 5.0f);
+        if (b >= NB) b = NB - 1;
+        cnt[b] += 1.0;
+    }
+    for (x = 300.0005; x < lo; x += 0.001) {     /* expected counts: the pdf on a fine grid */
+        double p = fluor_pdf_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, (float)x) * 0.001;
+        b = (int)((x - 300.0) / 5.0);
+        if (b >= NB) b = NB - 1;
+        ex[b] += n * p;
+        pint += p;
+    }
+    CHECK(t, fabs(pint - 1.0) < 2e-3, "the mixture density integrates to %g", pint);
+    for (b = 0; b < NB; b++) {                   /* adjacent bins merged to >= 5 expected */
+        ce += ex[b];
+        cc += cnt[b];
+        if (ce >= 5.0 || b == NB - 1) {
+            if (ce > 0.0) { chi2 += (cc - ce) * (cc - ce) / ce; groups++; }
+            ce = cc = 0.0;
+        }
+    }
+    CHECK(t, groups >= 20, "only %d groups", groups);
+    CHECK(t, chi2 < groups - 1 + 5.0 * sqrt(2.0 * (groups - 1)), "chi^2 = %g with %d dof", chi2, groups - 1);
+    CHECK(t, fluor_pdf_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, lo + 1.0f) == 0.0f, "no density above lo");
+    /* the UV band carries (1 - a) of the mass and more: 360-370 nm holds far more
+       than under p_A alone */
+    {
+        double pa = 0.0, pm = 0.0;
+        for (x = 360.0005; x < 370.0; x += 0.001) {
+            pa += fluor_pdf_li(m, lo, (float)x) * 0.001;
+            pm += fluor_pdf_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, (float)x) * 0.001;
+        }
+        CHECK(t, pm > 3.0 * pa, "360-370 nm: mixture %g, A alone %g", pm, pa);
+    }
+    /* no emitter power: the mixture is p_A */
+    spec_const(&E, 0.0f);
+    fluor_power_cdf(m, &E, pcdf);
+    CHECK(t, fluor_pdf_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, 400.0f) == fluor_pdf_li(m, lo, 400.0f),
+          "without power the mixture is A alone");
+    scene_free(&s);
+}
+
 const TestCase tests_fluor[] = {
     { "fluor_uv_lamp_absolute", test_uv_lamp_absolute },
     { "fluor_uv_lamp_rules", test_uv_lamp_rules },
@@ -624,6 +699,7 @@ const TestCase tests_fluor[] = {
     { "fluor_named_spectra", test_named_fluor_spectra },
     { "fluor_parse_errors", test_fluor_parse_errors },
     { "fluor_li_sampler_chi2", test_fluor_li_sampler },
+    { "fluor_li_mix_sampler_chi2", test_fluor_li_mix_sampler },
     { "fluor_line", test_fluor_line },
     { "fluor_photon_furnace", test_fluor_photon_furnace },
     { "fluor_estimators_agree", test_fluor_estimators_agree },
