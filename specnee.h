@@ -175,7 +175,9 @@ double radical_inverse(int base, uint64_t i);
      +7 BD_ROULETTE 1-D      Russian roulette after the bounce
      and at a fluorescent vertex of bounce d (docs/FLUORESCENCE.md), beyond every
      bounce's dimensions (maxdepth <= 10000):
-     DIM_FLUOR0 + 2d  2-D    re-radiate or reflect, and the absorbed wavelength
+     DIM_FLUOR0 + 2d  2-D    re-radiate or reflect, and the absorbed wavelength (with
+                             --fluor-li power the second number also picks the
+                             mixture's component, rescaled: no extra dimension)
 
    A GROUP is one request: the two numbers of a 2-D group map together onto a 2-D
    domain (pixel, triangle, hemisphere), so they must be spread as a 2-D point
