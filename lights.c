@@ -81,7 +81,12 @@
       the spread of the emitting normals around w; theta_e = pi/2, how far past
       a normal a diffuse emitter still emits), a two-sided flag, its radiant power
       Phi = sum over pieces of pi A (2 if two-sided) int Le, and its power in each
-      5 nm bin of the sampled range (60 bins over 400-700 nm, 94 over 360-830).
+      5 nm bin of the sampled range (60 bins over 400-700 nm, 94 over 360-830),
+      preceded by the bins from 300 nm up to the sampled range (20 over 300-400,
+      12 over 300-360): a fluorescent vertex moves the path to an excitation
+      wavelength lambda_i < 400 nm (docs/FLUORESCENCE.md section 5), and the thesis'
+      future work is that the spectral table "can be extended to store additional
+      bins" there.  Phi itself stays the power over the sampled range.
       Importance of a node at a shading point p with normal n:
           I = Phi_c * cos(theta') * cos(theta_i') / d^2
       d = distance from p to the box centre, clamped below by the radius r of the
@@ -96,8 +101,8 @@
           tree           Phi (all wavelengths together: pbrt-v4's sampler)
           spectral-tree  sum over alive j of c_j Phi(bin(lambda_j)), c_j = 1 or the
                          throughput (--throughput-weighted): the hero's bin alone
-                         after a wavelength-dependent event, the thesis' spectral
-                         preference; symmetric in the alive set, so the spectral MIS
+                         after a wavelength-dependent event (a UV bin after a
+                         fluorescent shift), the thesis' spectral preference; symmetric in the alive set, so the spectral MIS
                          weights stay intact (like --all-wavelengths above).
       Selection walks from the root: at an interior node with children importances
       a, b it goes to the first with probability a / (a + b) (the path stops when
@@ -488,7 +493,10 @@ struct LightSampler {
     int n_tree_pieces;         /* pieces in the tree (0: no tree) */
     TreeNode *nodes;
     int n_nodes;
-    int nb;                    /* bins of the sampled range (5 nm each) */
+    int nb;                    /* bins per node (5 nm each): nb_uv below the sampled
+                                  range, from 300 nm, then those of the range */
+    int nb_uv;                 /* bins over [lo_nm - 5 nb_uv, lo_nm): 20 for 400-700 nm,
+                                  12 for 360-830 (fluorescence excitation, section 4) */
     float *node_bin;           /* n_nodes x nb: power per bin */
     /* spatial grid */
     int res[3];
@@ -800,18 +808,19 @@ static int tree_build(Builder *B, int *items, int n, int depth, uint64_t trail)
         nd->second = -1 - items[0];
         pc->trail = trail;
         pc->depth = depth;
-        /* power per bin: pi A (2 if two-sided) times the bin average of Le */
+        /* power per bin: pi A (2 if two-sided) times the bin average of Le; the
+           power Phi sums the bins of the sampled range only (b >= nb_uv) */
         for (b = 0; b < ls->nb; b++) {
             const Spectrum *Le = &ls->Le[pc->emitter];
             const int width = (int)SPD_BIN_NM;
-            int i0 = (int)ls->opt.lo_nm + width * b - SPEC_MIN, k;
-            double avg = 0.5 * (Le->v[i0] + Le->v[i0 + width]);
+            int nm0 = (int)ls->opt.lo_nm + width * (b - ls->nb_uv), k;
+            double avg = 0.5 * (spec_get(Le, nm0) + spec_get(Le, nm0 + width));
             float v;
-            for (k = 1; k < width; k++) avg += Le->v[i0 + k];
+            for (k = 1; k < width; k++) avg += spec_get(Le, nm0 + k);
             avg /= width;
             v = (float)(SPECNEE_PI * pc->area * (ls->scene->emitters[pc->emitter].twosided ? 2.0 : 1.0) * avg);
             ls->node_bin[(size_t)node * ls->nb + b] = v;
-            sum += (double)v * SPD_BIN_NM;
+            if (b >= ls->nb_uv) sum += (double)v * SPD_BIN_NM;
         }
         nd->power = (float)sum;
         return node;
@@ -1001,7 +1010,13 @@ static void tree_query(const LightSampler *ls, const LightCtx *c, TreeQuery *q)
         float x = (c->lambda[j] - ls->opt.lo_nm) / SPD_BIN_NM;
         int b;
         if (!(c->alive & (1u << j)) || !(cj > 0.0f)) continue;
-        b = x >= 0.0f ? (int)x : 0;                  /* also catches NaN */
+        if (x >= 0.0f) {
+            b = ls->nb_uv + (int)x;                  /* the sampled range */
+        } else {                                     /* below it: a UV bin, from 300 nm */
+            float xu = (c->lambda[j] - (ls->opt.lo_nm - SPD_BIN_NM * ls->nb_uv)) / SPD_BIN_NM;
+            b = xu >= 0.0f ? (int)xu : 0;            /* also catches NaN */
+            if (b >= ls->nb_uv) b = ls->nb_uv - 1;
+        }
         if (b >= ls->nb) b = ls->nb - 1;
         q->bin[q->nbins] = b;
         q->c[q->nbins] = cj;
@@ -1209,7 +1224,9 @@ static int tree_setup(LightSampler *ls)
     free(tmp);
     tmp = NULL;
     ls->n_tree_pieces = ls->n_pieces - ls->n_inf;
-    ls->nb = (int)((ls->opt.hi_nm - ls->opt.lo_nm) / SPD_BIN_NM + 0.5f);
+    ls->nb_uv = (int)((ls->opt.lo_nm - (float)SPEC_UV_MIN) / SPD_BIN_NM);
+    if (ls->nb_uv < 0) ls->nb_uv = 0;
+    ls->nb = ls->nb_uv + (int)((ls->opt.hi_nm - ls->opt.lo_nm) / SPD_BIN_NM + 0.5f);
     if (ls->n_tree_pieces == 0) { ok = 1; goto done; }
     pb = (PieceBounds *)malloc(sizeof *pb * (size_t)ls->n_pieces);
     items = (int *)malloc(sizeof(int) * (size_t)ls->n_pieces);

@@ -89,15 +89,22 @@ int fluor_prepare(Material *m)
 /* The Stokes rule: light absorbed at li leaves at lo >= li only. */
 static float stokes_limit(float lo) { return lo; }
 
-/* C(x) = integral of A over [300, x] (x clamped to the table). */
-static double fluor_cdf_at(const Material *m, float x)
+/* The running integral of a density that is constant in each 1 nm cell (cdf[k] at
+   the knot 300 + k), at x (clamped to the table). */
+static double cdf_at(const double *cdf, float x)
 {
     double t = (double)x - SPEC_UV_MIN;
     int k;
     if (!(t > 0.0)) return 0.0;
-    if (t >= FL_N - 1) return m->fl_cdf[FL_N - 1];
+    if (t >= FL_N - 1) return cdf[FL_N - 1];
     k = (int)t;
-    return m->fl_cdf[k] + (t - k) * (m->fl_cdf[k + 1] - m->fl_cdf[k]);
+    return cdf[k] + (t - k) * (cdf[k + 1] - cdf[k]);
+}
+
+/* C(x) = integral of A over [300, x] (x clamped to the table). */
+static double fluor_cdf_at(const Material *m, float x)
+{
+    return cdf_at(m->fl_cdf, x);
 }
 
 /* N(li) = integral of e over [li, 830]: the tail at the next knot plus the exact
@@ -134,9 +141,11 @@ float fluor_weight(const Material *m, float li, float lo)
                    * ((double)li / lo) / n);
 }
 
-float fluor_sample_li(const Material *m, float lo, float u, float *pdf)
+/* Sample li on [300, lo] from the cell-constant density whose running integral is
+   cdf (F3's table, or fluor_power_cdf's); *pdf its density there, 0 if none. */
+static float cdf_sample(const double *cdf, float lo, float u, float *pdf)
 {
-    double c = fluor_cdf_at(m, stokes_limit(lo)), target, w;
+    double c = cdf_at(cdf, stokes_limit(lo)), target, w;
     int a = 0, b, k;
     float li;
     *pdf = 0.0f;
@@ -146,25 +155,78 @@ float fluor_sample_li(const Material *m, float lo, float u, float *pdf)
     b = FL_N - 1;
     while (a + 1 < b) {
         int mid = (a + b) / 2;
-        if (m->fl_cdf[mid] <= target) a = mid; else b = mid;
+        if (cdf[mid] <= target) a = mid; else b = mid;
     }
     k = a;
-    w = m->fl_cdf[k + 1] - m->fl_cdf[k];
+    w = cdf[k + 1] - cdf[k];
     if (!(w > 0.0)) return (float)SPEC_UV_MIN;
-    li = (float)(SPEC_UV_MIN + k + (target - m->fl_cdf[k]) / w);
+    li = (float)(SPEC_UV_MIN + k + (target - cdf[k]) / w);
     if (li > stokes_limit(lo)) li = stokes_limit(lo);
     *pdf = (float)(w / c);
     return li;
 }
 
-float fluor_pdf_li(const Material *m, float lo, float li)
+static float cdf_pdf(const double *cdf, float lo, float li)
 {
-    double c = fluor_cdf_at(m, stokes_limit(lo));
+    double c = cdf_at(cdf, stokes_limit(lo));
     int k;
     if (!(c > 0.0) || !(li >= (float)SPEC_UV_MIN) || li > stokes_limit(lo)) return 0.0f;
     k = (int)(li - (float)SPEC_UV_MIN);
     if (k > FL_N - 2) k = FL_N - 2;
-    return (float)((m->fl_cdf[k + 1] - m->fl_cdf[k]) / c);
+    return (float)((cdf[k + 1] - cdf[k]) / c);
+}
+
+float fluor_sample_li(const Material *m, float lo, float u, float *pdf)
+{
+    return cdf_sample(m->fl_cdf, lo, u, pdf);
+}
+
+float fluor_pdf_li(const Material *m, float lo, float li)
+{
+    return cdf_pdf(m->fl_cdf, lo, li);
+}
+
+/* ---- li in proportion to A x the scene's emitter power, with a defensive share
+   of A alone (FLUORESCENCE 3, "Excitation wavelength from A x power") ---- */
+
+void fluor_power_cdf(const Material *m, const Spectrum *E, double *cdf)
+{
+    int k;
+    double acc = 0.0;
+    cdf[0] = 0.0;
+    for (k = 0; k + 1 < FL_N; k++) {      /* the trapezoid of A E over each cell */
+        acc += 0.5 * ((double)spec_get(&m->excitation, SPEC_UV_MIN + k) * spec_get(E, SPEC_UV_MIN + k) +
+                      (double)spec_get(&m->excitation, SPEC_UV_MIN + k + 1) * spec_get(E, SPEC_UV_MIN + k + 1));
+        cdf[k + 1] = acc;
+    }
+}
+
+/* The share of A alone at lo: a, or 1 where A x power has no mass below lo. */
+static float mix_share(const double *pcdf, float a, float lo)
+{
+    return pcdf && cdf_at(pcdf, stokes_limit(lo)) > 0.0 ? a : 1.0f;
+}
+
+float fluor_pdf_li_mix(const Material *m, const double *pcdf, float a, float lo, float li)
+{
+    float s = mix_share(pcdf, a, lo);
+    float p = s * cdf_pdf(m->fl_cdf, lo, li);
+    if (s < 1.0f) p += (1.0f - s) * cdf_pdf(pcdf, lo, li);
+    return p;
+}
+
+float fluor_sample_li_mix(const Material *m, const double *pcdf, float a, float lo, float u, float *pdf)
+{
+    float s = mix_share(pcdf, a, lo), li, pc;
+    /* one number picks the component and, rescaled, samples inside it */
+    if (u < s) {
+        li = cdf_sample(m->fl_cdf, lo, u / s, &pc);
+    } else {
+        float v = (u - s) / (1.0f - s);
+        li = cdf_sample(pcdf, lo, v < 1.0f ? v : 0.99999994f, &pc);
+    }
+    *pdf = pc > 0.0f ? fluor_pdf_li_mix(m, pcdf, a, lo, li) : 0.0f;
+    return li;
 }
 
 int mat_is_delta(const Material *m)

@@ -246,6 +246,9 @@ typedef struct {
     FilterTable filter;              /* the Gaussian filter for the non-independent samplers */
     Material white;                  /* Lambertian of albedo 1: a fluorescent vertex after a
                                         shift re-radiates like this at lambda_i (FLUORESCENCE 3) */
+    double *fl_power;                /* --fluor-li power: per material FL_N entries, the
+                                        running integral of A x the emitters' power
+                                        (fluor_power_cdf); NULL: lambda_i from A alone */
 } Renderer;
 
 typedef struct {
@@ -515,7 +518,12 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
             float pf = fluor_branch_pf(mat, lam[0]), ub, ul;
             sampler_2d(ps, dim_fluor(depth), &ub, &ul);
             if (ub < pf) {
-                float pli, li = fluor_sample_li(mat, lam[0], ul, &pli);
+                /* lambda_i from A, or (--fluor-li power) from A x the emitters' power
+                   mixed with A; either way divided by the density it was drawn from */
+                float pli, li = R->fl_power
+                    ? fluor_sample_li_mix(mat, R->fl_power + (size_t)shape->material * FL_N,
+                                          FLUOR_LI_DEFENSIVE, lam[0], ul, &pli)
+                    : fluor_sample_li(mat, lam[0], ul, &pli);
                 float wgt = fluor_weight(mat, li, lam[0]);
                 if (dbg) fprintf(dbg, "  fluorescent: re-radiates, %.1f nm absorbed at %.1f nm "
                                  "(P_f %.3g, p(li|lo) %.4g, weight %.4g); secondaries terminated\n",
@@ -851,6 +859,25 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
         for (e = 0; e < s->n_emitters; e++)
             if (s->emitters[e].inf) j->R.inf[j->R.n_inf++] = e;
     }
+    if (o->fluor_li_power && s->n_emitters > 0) {
+        /* FLUORESCENCE 3: E = the scene's emitter power per nm, pi A (2 if two-sided)
+           Le (an infinite light's area is 4 pi r^2), for this render's Le; a table
+           of A E for each fluorescent material */
+        Spectrum E;
+        int e, k, mi;
+        spec_const(&E, 0.0f);
+        for (e = 0; e < s->n_emitters; e++) {
+            const Spectrum *Le = light_spectrum(j->R.ls, e);
+            float f = (float)(SPECNEE_PI * s->emitters[e].area * (s->emitters[e].twosided ? 2.0 : 1.0));
+            for (k = 0; k < SPEC_N; k++) E.v[k] += f * Le->v[k];
+            for (k = 0; k < SPEC_UV_N; k++) E.uv[k] += f * Le->uv[k];
+        }
+        j->R.fl_power = (double *)calloc((size_t)s->n_materials * FL_N, sizeof(double));
+        if (!j->R.fl_power) { error_set(err, NULL, 0, "out of memory"); render_end(j); return NULL; }
+        for (mi = 0; mi < s->n_materials; mi++)
+            if (s->materials[mi].type == MAT_FLUORESCENT)
+                fluor_power_cdf(&s->materials[mi], &E, j->R.fl_power + (size_t)mi * FL_N);
+    }
     j->P.R = &j->R;
     j->P.img = &j->img;
     j->P.acc = (double *)calloc(3 * (size_t)w * (size_t)h, sizeof *j->P.acc);
@@ -924,6 +951,7 @@ void render_end(RenderJob *j)
     img_free(&j->img);
     if (j->R.ls) light_sampler_free(j->R.ls);
     free(j->R.inf);
+    free(j->R.fl_power);
     wl_pdf_free(&j->R.wl);
     free(j);
 }

@@ -75,6 +75,9 @@ static const char usage_options[] =
 "      --rough-dispersion M  mis (default: keep the secondary wavelengths alive\n"
 "                          through rough dispersive glass) or terminate (the thesis)\n"
 "      --no-nee            BSDF sampling only (no next event estimation)\n"
+"      --fluor-li M        a fluorescent vertex samples the absorbed wavelength from\n"
+"                          its excitation A (a, default) or from A x the emitters'\n"
+"                          power with a share of A (power: docs/FLUORESCENCE.md)\n"
 "      --exposure E        multiply by 2^E before writing .ppm/.png\n"
 "      --mark-insets       outline the scene's insets (\"# inset\" comments) in the\n"
 "                          .png: A yellow, B cyan, C magenta, ...\n"
@@ -87,7 +90,9 @@ static const char usage_options[] =
 "      --preset NAME       a named list of flags, expanded where it stands (later\n"
 "                          flags override it); the presets are listed below\n"
 "  -q, --quiet             no progress bar and no closing line\n"
-"  -h, --help              this text\n"
+"  -h, --help              this text\n";
+/* (split in two: C99 compilers need to support string literals of 4095 chars only) */
+static const char usage_notes[] =
 "\n"
 "Output: .pfm rows run bottom to top (netpbm), linear sRGB (D65), with a sidecar\n"
 "FILE.txt holding the sample count for `specnee merge`.  The closing line gives the\n"
@@ -129,6 +134,7 @@ static void print_help(void)
     int p, k;
     fputs(usage_text, stdout);
     fputs(usage_options, stdout);
+    fputs(usage_notes, stdout);
     fputs("\npresets (--preset NAME is the same as its flags at that place):\n", stdout);
     for (p = 0; presets[p].name; p++) {
         printf("  %-11s", presets[p].name);
@@ -249,6 +255,11 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
             NEEDS_VALUE();
             if (!parse_float(v, &a->ro.wl_mix) || !(a->ro.wl_mix > 0.0f && a->ro.wl_mix <= 1.0f))
                 return usage_error("--mix-weight needs a number in (0, 1], not '%s'", v);
+        } else if (!strcmp(o, "--fluor-li")) {
+            NEEDS_VALUE();
+            if (!strcmp(v, "a")) a->ro.fluor_li_power = 0;
+            else if (!strcmp(v, "power")) a->ro.fluor_li_power = 1;
+            else return usage_error("--fluor-li is a or power, not '%s'", v);
         } else if (!strcmp(o, "--wide")) {
             a->ro.wl_wide = 1;
         } else if (!strcmp(o, "--single-wavelength")) {

@@ -175,7 +175,9 @@ double radical_inverse(int base, uint64_t i);
      +7 BD_ROULETTE 1-D      Russian roulette after the bounce
      and at a fluorescent vertex of bounce d (docs/FLUORESCENCE.md), beyond every
      bounce's dimensions (maxdepth <= 10000):
-     DIM_FLUOR0 + 2d  2-D    re-radiate or reflect, and the absorbed wavelength
+     DIM_FLUOR0 + 2d  2-D    re-radiate or reflect, and the absorbed wavelength (with
+                             --fluor-li power the second number also picks the
+                             mixture's component, rescaled: no extra dimension)
 
    A GROUP is one request: the two numbers of a 2-D group map together onto a 2-D
    domain (pixel, triangle, hemisphere), so they must be spread as a 2-D point
@@ -475,6 +477,14 @@ float fluor_weight(const Material *m, float li, float lo);
 /* Sample li on [300, lo] from A (F3); *pdf = p(li | lo), 0 when A is 0 there. */
 float fluor_sample_li(const Material *m, float lo, float u, float *pdf);
 float fluor_pdf_li(const Material *m, float lo, float li);
+/* Beyond sampling from A (FLUORESCENCE 3): li on [300, lo] with the density
+   a p_A + (1 - a) p_AE, p_AE proportional to A(li) E(li), E the scene's emitter power
+   per nm; fluor_power_cdf fills pcdf[FL_N] (its running integral, 1 nm cells) for a
+   render; where A E has no mass below lo the density is p_A alone. */
+void  fluor_power_cdf(const Material *m, const Spectrum *E, double *pcdf);
+float fluor_sample_li_mix(const Material *m, const double *pcdf, float a, float lo, float u, float *pdf);
+float fluor_pdf_li_mix(const Material *m, const double *pcdf, float a, float lo, float li);
+#define FLUOR_LI_DEFENSIVE 0.25f   /* a: the share of A alone in --fluor-li power */
 /* The diffuse albedo of the reflect lobe: rho (diffuse) or rho (1 - A) (fluorescent). */
 float mat_albedo(const Material *m, float lambda_nm);
 /* Smooth dielectrics scatter into discrete (delta) directions: no NEE there. */
@@ -789,6 +799,8 @@ typedef struct {
     int single_wavelength;     /* 1 wavelength per path instead of HWSS */
     int rough_mis;             /* --rough-dispersion mis: secondaries survive rough glass */
     int nee;                   /* 1: NEE + BSDF sampling by MIS; 0: BSDF sampling only */
+    int fluor_li_power;        /* --fluor-li power: lambda_i ~ A x emitter power, mixed
+                                  with A (FLUORESCENCE 3); 0: from A alone */
     SamplerType sampler;       /* --sampler (file: Sampler); sobol by default */
     int xsamples, ysamples;    /* stratified strata (0: from spp) */
     int jitter;                /* stratified: jitter in the strata (default 1) */

@@ -462,6 +462,236 @@ static void test_fluor_estimators_agree(T *t)
     scene_free(&s);
 }
 
+/* The MIS weights after a shift use the selection pmf at lambda_i (FLUORESCENCE 5,
+   contract C1).  A card that only re-radiates (rho = 0, A = 1 over 350-380 nm) lit
+   by a UV LED (nothing in 400-700 nm) beside a white LED1 (nothing below 380 nm):
+   at lambda_i the spectral strategies choose the UV LED with P = 1, at lambda_o they
+   would give it P = 0.  A pmf taken at lambda_o sets q_nee = 0 in the weight of the
+   UV light found by BSDF sampling, so that weight becomes 1 while NEE keeps its
+   own: the weights sum to 1 + w_nee and the card comes out up to twice too bright.
+   The lamps are spheres that subtend about 0.5 sr, so BSDF sampling finds them
+   often and w_nee is large: the bias is tens of percent against a standard error
+   of about 1 % on the image mean.  BSDF sampling alone (no selection pmf at all)
+   and uniform selection (a pmf that does not depend on lambda) are the
+   independent references; every spectral strategy must agree with both. */
+static void test_fluor_mis_pmf_at_li(T *t)
+{
+    static const SelStrategy strat[] = { SEL_SPD, SEL_PRODUCT, SEL_SPECTRAL_SPATIAL,
+                                         SEL_SPECTRAL_TREE, SEL_TREE, SEL_POWER };
+    Scene s;
+    RenderOptions o;
+    static Tiles ref, other;
+    size_t i;
+    int K = 8;
+    if (!test_load_scene(t, &s,
+            "LookAt 0 0 3  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 25\n"
+            "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16 \"string filename\" \"t.pfm\"\n"
+            "Integrator \"path\" \"integer maxdepth\" 1\n"
+            "WorldBegin\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\" \"float scale\" 0.05\n"
+            "Translate 1.5 0 0.9\nShape \"sphere\" \"float radius\" 0.7\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\" \"float scale\" 1\n"
+            "Translate -1.5 0 0.9\nShape \"sphere\" \"float radius\" 0.7\nAttributeEnd\n"
+            FL_MAT("[300 0 830 0]", "[300 0 345 0 350 1 380 1 385 0 830 0]", "[380 0 440 1 520 0]", "1")
+            "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point3 P\" [-3 -3 0  3 -3 0  3 3 0  -3 3 0]\n"))
+        return;
+    render_options_default(&o);
+    o.spp = test_scaled(64, 16);
+    o.threads = 1;
+    o.sel.strategy = SEL_UNIFORM;
+    if (!test_render_tiles(t, &s, &o, K, 1, &ref)) { scene_free(&s); return; }
+    CHECK(t, ref.mean[0][2] > 0.01 && ref.se[0][2] < 0.06 * ref.mean[0][2],
+          "the card glows blue with a small standard error: %g +- %g", ref.mean[0][2], ref.se[0][2]);
+    for (i = 0; i <= sizeof strat / sizeof strat[0] + 2; i++) {
+        RenderOptions oi = o;
+        char what[64];
+        size_t ns = sizeof strat / sizeof strat[0];
+        if (i < ns) { oi.sel.strategy = strat[i]; oi.seed = 11 + (int)i; }
+        else if (i == ns) { oi.nee = 0; oi.spp *= 4; oi.seed = 77; }   /* BSDF sampling only */
+        else { oi.sel.strategy = i == ns + 1 ? SEL_PRODUCT : SEL_UNIFORM; oi.fluor_li_power = 1; oi.seed = 55 + (int)i; }
+        if (!test_render_tiles(t, &s, &oi, K, 1, &other)) { scene_free(&s); return; }
+        snprintf(what, sizeof what, "%s vs uniform", i < ns ? sel_name(strat[i]) : i == ns ? "BSDF only"
+                 : i == ns + 1 ? "product, li ~ A x power" : "uniform, li ~ A x power");
+        if (getenv("FLUOR_VERBOSE"))
+            printf("%s: %g +- %g (uniform %g +- %g)\n", what, other.mean[0][2], other.se[0][2],
+                   ref.mean[0][2], ref.se[0][2]);
+        if (!test_tiles_agree(t, &ref, &other, 1e-4, what)) { scene_free(&s); return; }
+    }
+    scene_free(&s);
+}
+
+/* The spectral light tree's UV bins (lights.c section 4): each node stores its power
+   per 5 nm bin from 300 nm, so after a fluorescent shift to lambda_i < 400 nm
+   `spectral-tree` picks the UV lamp; select and pmf agree bit for bit and in
+   frequency (chi^2) at UV wavelengths; `tree` keeps the power of the sampled range
+   alone, so a UV LED (no power in 400-700 nm) gets nothing from it.  Both film
+   ranges: 400-700 nm (20 UV bins) and --wide 360-830 nm (12). */
+static void test_fluor_tree_uv_bins(T *t)
+{
+    Scene s;
+    Rng r;
+    int wide, k;
+    if (!test_load_scene(t, &s, UV_CAMERA
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\" \"float scale\" 0.2\n"
+            "Translate -1 0 0\nShape \"sphere\" \"float radius\" 0.3\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\"\n"
+            "Translate 1 0 0\nShape \"sphere\" \"float radius\" 0.3\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-BLB\" \"float scale\" 0.05\n"
+            "Translate 0 1.5 0\nShape \"sphere\" \"float radius\" 0.3\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" [ 300 1 330 1 331 0 830 0 ]\n"
+            "Translate 0 -1.5 0\nShape \"sphere\" \"float radius\" 0.3\nAttributeEnd\n")) return;
+    rng_seed(&r, 23, 0);
+    for (wide = 0; wide < 2; wide++) {
+        SelOptions so;
+        LightSampler *spec, *tree;
+        LightCtx c;
+        Error e;
+        int j;
+        memset(&so, 0, sizeof so);
+        so.strategy = SEL_SPECTRAL_TREE;
+        if (wide) { so.lo_nm = 360.0f; so.hi_nm = 830.0f; }
+        spec = light_sampler_build(&s, &so, &e);
+        so.strategy = SEL_TREE;
+        tree = light_sampler_build(&s, &so, &e);
+        CHECK(t, spec && tree, "build: %s", e.msg);
+        memset(&c, 0, sizeof c);
+        c.p = v3(0, 0, 0);
+        c.voxel = -1;
+        c.alive = 1u;
+        c.hero_only = 1;
+        for (j = 0; j < HERO_N; j++) { c.lambda[j] = 550.0f; c.beta[j] = 1.0f; }
+        c.lambda[0] = 366.0f;      /* the UV LED's band: it, and the BLB tube */
+        {
+            float pu = light_select_pmf(spec, &c, light_piece_of(spec, 0, -1));
+            float pl = light_select_pmf(spec, &c, light_piece_of(spec, 1, -1));
+            float pb = light_select_pmf(spec, &c, light_piece_of(spec, 2, -1));
+            CHECK(t, pu > 100.0f * pl && pu + pb > 0.999f,
+                  "wide %d: spectral tree at 366 nm: UV LED %g, BLB %g, LED1 %g", wide,
+                  (double)pu, (double)pb, (double)pl);
+        }
+        c.lambda[0] = 315.0f;      /* only the 300-330 nm lamp emits here */
+        CHECK(t, light_select_pmf(spec, &c, light_piece_of(spec, 3, -1)) > 0.99f,
+              "wide %d: at 315 nm the 300-330 nm lamp has P = %g", wide,
+              (double)light_select_pmf(spec, &c, light_piece_of(spec, 3, -1)));
+        c.lambda[0] = 550.0f;
+        CHECK(t, light_select_pmf(spec, &c, light_piece_of(spec, 1, -1)) > 0.9f, "at 550 nm LED1");
+        /* tree: the power of the sampled range, where the 300-330 nm lamp has none
+           (nor has the UV LED when the range starts at 400 nm) */
+        CHECK(t, light_select_pmf(tree, &c, light_piece_of(tree, 3, -1)) == 0.0f &&
+              (wide || light_select_pmf(tree, &c, light_piece_of(tree, 0, -1)) == 0.0f) &&
+              light_select_pmf(tree, &c, light_piece_of(tree, 1, -1)) > 0.0f,
+              "wide %d: tree: 300-330 nm lamp %g, UV LED %g, LED1 %g", wide,
+              (double)light_select_pmf(tree, &c, light_piece_of(tree, 3, -1)),
+              (double)light_select_pmf(tree, &c, light_piece_of(tree, 0, -1)),
+              (double)light_select_pmf(tree, &c, light_piece_of(tree, 1, -1)));
+        /* select == pmf bit for bit, and in frequency, at random UV wavelengths and
+           points (the hero alone, as after a shift) */
+        for (k = 0; k < 30; k++) {
+            enum { NP = 4, DRAWS = 4000 };
+            double cnt[NP + 1], sum = 0.0, chi2 = 0.0;
+            float pm[NP];
+            int i, dof = -1;
+            c.p = v3(4.0f * rng_float(&r) - 2.0f, 4.0f * rng_float(&r) - 2.0f, 4.0f * rng_float(&r) - 2.0f);
+            c.n = v3_norm(v3(2 * rng_float(&r) - 1, 2 * rng_float(&r) - 1, 2 * rng_float(&r) - 1));
+            c.lambda[0] = 300.0f + 100.0f * rng_float(&r);
+            for (i = 0; i < NP; i++) { pm[i] = light_select_pmf(spec, &c, i); sum += pm[i]; cnt[i] = 0.0; }
+            cnt[NP] = 0.0;
+            CHECK(t, sum < 1.0 + 1e-4, "pmfs sum to %g", sum);
+            for (i = 0; i < DRAWS; i++) {
+                float p;
+                int fb, got = light_select(spec, &c, rng_float(&r), &p, &fb);
+                if (got < 0) { cnt[NP] += 1.0; continue; }
+                CHECK(t, got < NP && p == pm[got] && p > 0.0f, "%.1f nm: chose %d with %g, pmf %g",
+                      (double)c.lambda[0], got, (double)p, got < NP ? (double)pm[got] : -1.0);
+                cnt[got] += 1.0;
+            }
+            for (i = 0; i <= NP; i++) {
+                double ex = (i < NP ? pm[i] : 1.0 - sum) * DRAWS;
+                if (ex < 5.0) { CHECK(t, ex > 0.0 || cnt[i] == 0.0, "chosen with pmf 0"); continue; }
+                chi2 += (cnt[i] - ex) * (cnt[i] - ex) / ex;
+                dof++;
+            }
+            CHECK(t, dof <= 0 || chi2 < dof + 5.0 * sqrt(2.0 * dof), "%.1f nm: chi^2 %g with %d dof",
+                  (double)c.lambda[0], chi2, dof);
+        }
+        light_sampler_free(spec);
+        light_sampler_free(tree);
+    }
+    scene_free(&s);
+}
+
+/* --fluor-li power (FLUORESCENCE 3): the mixture a p_A + (1 - a) p_AE.  The sampler
+   returns the density fluor_pdf_li_mix gives, its samples follow that density
+   (chi^2 against expected counts from the pdf integrated on a fine grid), the
+   density integrates to 1 over [300, lo], vanishes above lo, and is p_A alone
+   where the emitters have no power below lo. */
+static void test_fluor_li_mix_sampler(T *t)
+{
+    Scene s;
+    const Material *m;
+    Spectrum E;
+    static double pcdf[FL_N];
+    enum { NB = 34 };
+    const float lo = 470.0f;
+    double cnt[NB], ex[NB], chi2 = 0.0, pint = 0.0, x, ce = 0.0, cc = 0.0;
+    int n = test_scaled(40000, 4000), i, b, groups = 0, k;
+    Rng rng;
+    if (!load_fluor(t, &s, FL_MAT("[300 1 830 1]", "\"fluor-pyranine-ex\"", "\"fluor-pyranine-em\"", "0.9"))) return;
+    m = &s.materials[s.n_materials - 1];
+    CHECK(t, spec_named(&E, "lamp-UVLED365"), "lamp-UVLED365");
+    for (k = 0; k < SPEC_N; k++) E.v[k] = 5.0f * E.v[k] + 0.1f;
+    for (k = 0; k < SPEC_UV_N; k++) E.uv[k] = 5.0f * E.uv[k] + 0.1f;
+    fluor_power_cdf(m, &E, pcdf);
+    memset(cnt, 0, sizeof cnt);
+    memset(ex, 0, sizeof ex);
+    rng_seed(&rng, 29, 0);
+    for (i = 0; i < n; i++) {
+        float pdf, li = fluor_sample_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, rng_float(&rng), &pdf);
+        CHECK(t, li >= 300.0f && li <= lo && pdf > 0.0f, "sample %g nm pdf %g", (double)li, (double)pdf);
+        CHECK(t, fabsf(pdf - fluor_pdf_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, li)) <= 1e-6f * pdf,
+              "sampler %g and pdf %g disagree at %g nm", (double)pdf,
+              (double)fluor_pdf_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, li), (double)li);
+        b = (int)((li - 300.0f) / 5.0f);
+        if (b >= NB) b = NB - 1;
+        cnt[b] += 1.0;
+    }
+    for (x = 300.0005; x < lo; x += 0.001) {     /* expected counts: the pdf on a fine grid */
+        double p = fluor_pdf_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, (float)x) * 0.001;
+        b = (int)((x - 300.0) / 5.0);
+        if (b >= NB) b = NB - 1;
+        ex[b] += n * p;
+        pint += p;
+    }
+    CHECK(t, fabs(pint - 1.0) < 2e-3, "the mixture density integrates to %g", pint);
+    for (b = 0; b < NB; b++) {                   /* adjacent bins merged to >= 5 expected */
+        ce += ex[b];
+        cc += cnt[b];
+        if (ce >= 5.0 || b == NB - 1) {
+            if (ce > 0.0) { chi2 += (cc - ce) * (cc - ce) / ce; groups++; }
+            ce = cc = 0.0;
+        }
+    }
+    CHECK(t, groups >= 20, "only %d groups", groups);
+    CHECK(t, chi2 < groups - 1 + 5.0 * sqrt(2.0 * (groups - 1)), "chi^2 = %g with %d dof", chi2, groups - 1);
+    CHECK(t, fluor_pdf_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, lo + 1.0f) == 0.0f, "no density above lo");
+    /* the UV band carries (1 - a) of the mass and more: 360-370 nm holds far more
+       than under p_A alone */
+    {
+        double pa = 0.0, pm = 0.0;
+        for (x = 360.0005; x < 370.0; x += 0.001) {
+            pa += fluor_pdf_li(m, lo, (float)x) * 0.001;
+            pm += fluor_pdf_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, (float)x) * 0.001;
+        }
+        CHECK(t, pm > 3.0 * pa, "360-370 nm: mixture %g, A alone %g", pm, pa);
+    }
+    /* no emitter power: the mixture is p_A */
+    spec_const(&E, 0.0f);
+    fluor_power_cdf(m, &E, pcdf);
+    CHECK(t, fluor_pdf_li_mix(m, pcdf, FLUOR_LI_DEFENSIVE, lo, 400.0f) == fluor_pdf_li(m, lo, 400.0f),
+          "without power the mixture is A alone");
+    scene_free(&s);
+}
+
 const TestCase tests_fluor[] = {
     { "fluor_uv_lamp_absolute", test_uv_lamp_absolute },
     { "fluor_uv_lamp_rules", test_uv_lamp_rules },
@@ -469,8 +699,11 @@ const TestCase tests_fluor[] = {
     { "fluor_named_spectra", test_named_fluor_spectra },
     { "fluor_parse_errors", test_fluor_parse_errors },
     { "fluor_li_sampler_chi2", test_fluor_li_sampler },
+    { "fluor_li_mix_sampler_chi2", test_fluor_li_mix_sampler },
     { "fluor_line", test_fluor_line },
     { "fluor_photon_furnace", test_fluor_photon_furnace },
     { "fluor_estimators_agree", test_fluor_estimators_agree },
+    { "fluor_mis_pmf_at_li", test_fluor_mis_pmf_at_li },
+    { "fluor_tree_uv_bins", test_fluor_tree_uv_bins },
     { NULL, NULL }
 };
