@@ -223,6 +223,9 @@ static void test_unsupported_named(T *t)
                         "\"string filename\" \"w.png\"\n");
     if (!expect_fail(t, p, "tex.pbrt:2:", "Texture \"imagemap\"", &e)) return;
     CHECK(t, strstr(e.msg, "\"wood\"") != NULL, "%s", e.msg);
+    /* the other unsupported directives name their first string */
+    p = test_write_file(t, "medium.pbrt", "WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n");
+    if (!expect_fail(t, p, "medium.pbrt:2:", "MakeNamedMedium \"fog\" is valid pbrt-v4", &e)) return;
 }
 
 /* #20: a spectrum file with CR-only line endings is three lines, not one. */
