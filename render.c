@@ -709,6 +709,7 @@ typedef struct {
     uint64_t *row_rays;
     long *row_nonfinite, *row_fallbacks, *row_dims_reused;
     int k0, k1, spp_final, rows_done;
+    int x0, y0;                /* the image's first pixel on the film (crop window) */
 } Pass;
 
 static void render_pass(Pass *P)
@@ -716,7 +717,7 @@ static void render_pass(Pass *P)
     const Renderer *R = P->R;
     const RenderOptions *o = R->o;
     const SceneSettings *set = &R->s->settings;
-    int w = set->xres, h = set->yres, y;
+    int w = P->img->w, h = P->img->h, y;
 #ifdef _OPENMP
     /* rows are handed out one at a time; each pixel is written by one thread */
 #pragma omp parallel for schedule(dynamic, 1) num_threads(o->threads > 0 ? o->threads : omp_get_max_threads())
@@ -727,7 +728,9 @@ static void render_pass(Pass *P)
         memset(&cnt, 0, sizeof cnt);
         for (x = 0; x < w; x++) {
             double *sum = P->acc + 3 * ((size_t)y * w + x), avg[3], rgb[3];
-            FILE *dbg = (x == o->debug_x && y == o->debug_y) ? stderr : NULL;
+            /* (fx0, fy0): this image pixel on the film (a crop window shifts it) */
+            int fx0 = x + P->x0, fy0 = y + P->y0;
+            FILE *dbg = (fx0 == o->debug_x && fy0 == o->debug_y) ? stderr : NULL;
             int k;
             for (k = P->k0; k < P->k1; k++) {
                 PixelSample ps;
@@ -735,7 +738,7 @@ static void render_pass(Pass *P)
                 Wavelengths wl;
                 double xyz[3] = { 0.0, 0.0, 0.0 }, m;
                 float fx, fy, ul0 = 0.5f, ul1 = 0.5f;
-                sampler_start(&R->sampler, x, y, k, &ps);
+                sampler_start(&R->sampler, fx0, fy0, k, &ps);
                 stream = sampler_stream(&ps);
                 if (set->filter == FILTER_GAUSSIAN && stream) {
                     /* independent: rejection from the stream (bit-identical to before) */
@@ -753,8 +756,8 @@ static void render_pass(Pass *P)
                    sampler's stream then has them after the wavelength, and pinhole
                    images keep their random numbers */
                 if (R->cam.lens_radius > 0.0f) sampler_2d(&ps, DIM_LENS, &ul0, &ul1);
-                if (dbg) fprintf(dbg, "pixel (%d, %d) sample %d\n", x, y, k);
-                trace_path(R, camera_ray(&R->cam, (float)x + fx, (float)y + fy, ul0, ul1), &wl,
+                if (dbg) fprintf(dbg, "pixel (%d, %d) sample %d\n", fx0, fy0, k);
+                trace_path(R, camera_ray(&R->cam, (float)fx0 + fx, (float)fy0 + fy, ul0, ul1), &wl,
                            &ps, xyz, &cnt, dbg);
                 cnt.dims_reused += ps.reused;
                 if (isfinite(xyz[0]) && isfinite(xyz[1]) && isfinite(xyz[2])) {
@@ -773,6 +776,15 @@ static void render_pass(Pass *P)
                 }
             }
             avg[0] = sum[0] / P->k1; avg[1] = sum[1] / P->k1; avg[2] = sum[2] / P->k1;
+            if (set->white_balance > 0.0f) {
+                /* pbrt-v4's white balance (Film "whitebalance"): a 3x3 map of the
+                   sensor's XYZ after the clamp, linear, so applied to the mean */
+                const double *m = set->white_balance_m;
+                double a0 = avg[0], a1 = avg[1], a2 = avg[2];
+                avg[0] = m[0] * a0 + m[1] * a1 + m[2] * a2;
+                avg[1] = m[3] * a0 + m[4] * a1 + m[5] * a2;
+                avg[2] = m[6] * a0 + m[7] * a1 + m[8] * a2;
+            }
             xyz_to_linear_srgb(avg, rgb);
             P->img->rgb[3 * ((size_t)y * w + x) + 0] = (float)rgb[0];
             P->img->rgb[3 * ((size_t)y * w + x) + 1] = (float)rgb[1];
@@ -817,11 +829,21 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
 {
     RenderJob *j;
     const SceneSettings *set = &s->settings;
-    int w = set->xres, h = set->yres;
+    int w, h, b[4];
     double t0 = wall_seconds();
     clock_t c0 = clock();
+    /* the part of the film to render and write (Film "cropwindow"/"pixelbounds") */
+    if (!film_bounds(set, b)) {
+        error_set(err, NULL, 0, "the film's crop window selects no pixel of the %d x %d film",
+                  set->xres, set->yres);
+        return NULL;
+    }
+    w = b[1] - b[0];
+    h = b[3] - b[2];
     j = (RenderJob *)calloc(1, sizeof *j);
     if (!j) { error_set(err, NULL, 0, "out of memory"); return NULL; }
+    j->P.x0 = b[0];
+    j->P.y0 = b[2];
     j->sel = o->sel;
     j->sel.lo_nm = o->wl_wide ? (float)SPEC_MIN : LAMBDA_LO;
     j->sel.hi_nm = o->wl_wide ? (float)SPEC_MAX : LAMBDA_HI;
@@ -899,8 +921,7 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
 
 int render_advance(RenderJob *j, int spp, int spp_final, Error *err)
 {
-    const SceneSettings *set = &j->R.s->settings;
-    int w = set->xres, h = set->yres, y;
+    int w = j->img.w, h = j->img.h, y;
     double t0;
     clock_t c0;
     if (spp <= j->P.k1) {

@@ -159,13 +159,18 @@ typedef struct {
 
 typedef struct {
     Xform ctm;                 /* current transformation matrix */
-    int material;              /* index into Scene.materials, -1: the default */
+    int material;              /* index into Scene.materials, -1: the default,
+                                  <= -2: named material -2 - material, not yet made */
     int reverse;               /* ReverseOrientation seen in this block */
     int area_light;            /* index into Parser.lights, -1: none */
     const char *file; int line;/* where the block was opened (for messages) */
 } GState;
 
-typedef struct { char name[64]; int material; } NamedMaterial;
+/* A named material.  As in pbrt-v4 a NamedMaterial may come before its
+   MakeNamedMaterial (pbrt-v4 looks names up when it builds the scene): the name is
+   then recorded with material -1 and the NamedMaterial's place, and shapes made
+   under it carry the code -2 - (its index) until finish() resolves them. */
+typedef struct { char name[64]; int material; const char *file; int line; } NamedMaterial;
 typedef struct { char name[64]; Xform xf; } NamedCoordSys;
 
 typedef struct {
@@ -906,8 +911,8 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
 {
     Scene *s = P->s;
     Shape *sh;
-    int mat = P->gs.material >= 0 ? P->gs.material : default_material(P, file, line);
-    if (mat < 0) return -1;
+    int mat = P->gs.material != -1 ? P->gs.material : default_material(P, file, line);
+    if (mat == -1) return -1;
     if (!grow((void **)&s->shapes, &P->cap_shapes, s->n_shapes + 1, sizeof(Shape))) {
         oom(P, file, line);
         return -1;
@@ -1093,14 +1098,125 @@ static int camera_directive(Parser *P, const char *type, ParamList *pl, const ch
     return 1;
 }
 
+/* The chromaticity of the white of pbrt-v4's Film "whitebalance" temperature T:
+   pbrt-v4 (Spectra::D) first turns T into a CCT with today's second radiation
+   constant, T * 1.4388 / 1.4380, then takes the CIE daylight locus (CIE 015:2004,
+   eq. 3.3 and 3.4: x_D as a cubic in 1/T, valid 4000..25000 K, and
+   y_D = -3 x_D^2 + 2.870 x_D - 0.275) at 4000 K and above, and a Planckian
+   (blackbody) radiator below.  pbrt-v4 rebuilds the daylight spectrum from the
+   S0, S1, S2 basis and integrates it; the locus gives its chromaticity directly
+   (the two agree to about 1e-4 in x and y). */
+static void white_balance_xy(double kelvin, double *x, double *y)
+{
+    double cct = kelvin * 1.4388 / 1.4380, t = 1.0 / cct;
+    if (cct < 4000.0) {
+        Spectrum bb;
+        spec_blackbody(&bb, (float)cct);
+        spec_chromaticity(&bb, x, y);
+        return;
+    }
+    if (cct <= 7000.0)
+        *x = -4.6070e9 * t * t * t + 2.9678e6 * t * t + 0.09911e3 * t + 0.244063;
+    else
+        *x = -2.0064e9 * t * t * t + 1.9018e6 * t * t + 0.24748e3 * t + 0.237040;
+    *y = -3.000 * *x * *x + 2.870 * *x - 0.275;
+}
+
+static void mat3_mul(const double a[9], const double b[9], double out[9])
+{
+    int i, j;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            out[3 * i + j] = a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] + a[3 * i + 2] * b[6 + j];
+}
+
+/* von Kries adaptation in the Bradford cone space (K. M. Lam, "Metamerism and
+   colour constancy", PhD thesis, University of Bradford, 1985; the matrix as
+   published by CIE 159:2004 and in pbrt-v4's WhiteBalance): XYZ -> LMS, each cone
+   signal scaled by target white / source white, LMS -> XYZ (the inverse is
+   computed here, not tabulated).  The source white is the temperature's
+   (white_balance_xy), the target sRGB's own white: the xy of specnee's D65, as
+   pbrt-v4 takes its colour space's white from its illuminant spectrum. */
+static void white_balance_matrix(double kelvin, double m[9])
+{
+    static const double lms[9] = {  0.8951,  0.2664, -0.1614,
+                                   -0.7502,  1.7135,  0.0367,
+                                    0.0389, -0.0685,  1.0296 };
+    double inv[9], det, src[3], dst[3], sx, sy, tx, ty, d[9], tmp[9];
+    Spectrum d65;
+    int i;
+    white_balance_xy(kelvin, &sx, &sy);
+    spec_named(&d65, "stdillum-D65");
+    spec_chromaticity(&d65, &tx, &ty);
+    /* inverse of lms by cofactors */
+    det = lms[0] * (lms[4] * lms[8] - lms[5] * lms[7]) - lms[1] * (lms[3] * lms[8] - lms[5] * lms[6])
+        + lms[2] * (lms[3] * lms[7] - lms[4] * lms[6]);
+    inv[0] = (lms[4] * lms[8] - lms[5] * lms[7]) / det;
+    inv[1] = (lms[2] * lms[7] - lms[1] * lms[8]) / det;
+    inv[2] = (lms[1] * lms[5] - lms[2] * lms[4]) / det;
+    inv[3] = (lms[5] * lms[6] - lms[3] * lms[8]) / det;
+    inv[4] = (lms[0] * lms[8] - lms[2] * lms[6]) / det;
+    inv[5] = (lms[2] * lms[3] - lms[0] * lms[5]) / det;
+    inv[6] = (lms[3] * lms[7] - lms[4] * lms[6]) / det;
+    inv[7] = (lms[1] * lms[6] - lms[0] * lms[7]) / det;
+    inv[8] = (lms[0] * lms[4] - lms[1] * lms[3]) / det;
+    for (i = 0; i < 3; i++) {   /* LMS of the whites at Y = 1: XYZ = (x/y, 1, (1-x-y)/y) */
+        src[i] = lms[3 * i] * (sx / sy) + lms[3 * i + 1] + lms[3 * i + 2] * ((1.0 - sx - sy) / sy);
+        dst[i] = lms[3 * i] * (tx / ty) + lms[3 * i + 1] + lms[3 * i + 2] * ((1.0 - tx - ty) / ty);
+    }
+    memset(d, 0, sizeof d);
+    for (i = 0; i < 3; i++) d[4 * i] = dst[i] / src[i];
+    mat3_mul(d, lms, tmp);
+    mat3_mul(inv, tmp, m);
+}
+
+int film_bounds(const SceneSettings *st, int b[4])
+{
+    b[0] = 0; b[1] = st->xres; b[2] = 0; b[3] = st->yres;
+    if (st->crop_set) {
+        /* pbrt-v4: ceil(resolution * fraction), the product in float (20 * 0.1f
+           rounds to 2 in float, to 2.0000000298 in double) */
+        float v[4];
+        int a;
+        v[0] = (float)st->xres * st->crop[0];
+        v[1] = (float)st->xres * st->crop[1];
+        v[2] = (float)st->yres * st->crop[2];
+        v[3] = (float)st->yres * st->crop[3];
+        for (a = 0; a < 4; a++) b[a] = (int)ceilf(v[a]);
+    } else if (st->pixel_bounds_set) {   /* clipped to the film */
+        b[0] = st->pixel_bounds[0] > 0 ? st->pixel_bounds[0] : 0;
+        b[1] = st->pixel_bounds[1] < st->xres ? st->pixel_bounds[1] : st->xres;
+        b[2] = st->pixel_bounds[2] > 0 ? st->pixel_bounds[2] : 0;
+        b[3] = st->pixel_bounds[3] < st->yres ? st->pixel_bounds[3] : st->yres;
+    }
+    return b[1] > b[0] && b[3] > b[2];
+}
+
+/* The named camera sensors of pbrt-v4 (their r, g, b curves are its named
+   spectra "<name>_r/_g/_b"), which specnee does not have. */
+static int pbrt_sensor_name(const char *n)
+{
+    static const char *const names[] = {
+        "canon_eos_100d", "canon_eos_1dx_mkii", "canon_eos_200d", "canon_eos_200d_mkii",
+        "canon_eos_5d", "canon_eos_5d_mkii", "canon_eos_5d_mkiii", "canon_eos_5d_mkiv",
+        "canon_eos_5ds", "canon_eos_m", "hasselblad_l1d_20c", "nikon_d810", "nikon_d850",
+        "sony_ilce_6400", "sony_ilce_7m3", "sony_ilce_7rm3", "sony_ilce_9", NULL
+    };
+    int i;
+    for (i = 0; names[i]; i++)
+        if (!strcmp(n, names[i])) return 1;
+    return 0;
+}
+
 static int film_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     SceneSettings *st = &P->s->settings;
     int xres, yres, fp16;
     const char *fn;
     int gbuffer = !strcmp(type, "gbuffer");
-    float iso, maxcomp;
-    const char *coordsys = NULL;
+    float iso, maxcomp, scale, wb;
+    const char *coordsys = NULL, *sensor;
+    Param *crop, *pb;
     if (strcmp(type, "rgb") != 0 && !gbuffer) {
         if (!strcmp(type, "spectral"))
             return fail(P, file, line, "Film \"%s\" is valid pbrt-v4 but not in the specnee "
@@ -1113,16 +1229,45 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
     if (!get_bool(P, pl, "savefp16", 1, &fp16)) return 0;    /* PFM is float32 anyway */
     if (!get_float(P, pl, "iso", 100.0f, &iso)) return 0;
     if (!get_float(P, pl, "maxcomponentvalue", INFINITY, &maxcomp)) return 0;
+    if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
+    if (!get_float(P, pl, "whitebalance", 0.0f, &wb)) return 0;
+    if (!get_string(P, pl, "sensor", &sensor)) return 0;
+    crop = param_find(pl, PT_FLOAT, "cropwindow");
+    pb = param_find(pl, PT_INTEGER, "pixelbounds");
     if (gbuffer && !get_string(P, pl, "coordinatesystem", &coordsys)) return 0;
     if (!params_check_unused(P, pl, gbuffer ? "Film \"gbuffer\"" : "Film \"rgb\"",
                              gbuffer ? "integer xresolution, integer yresolution, string filename, "
                                        "bool savefp16, float iso, float maxcomponentvalue, "
+                                       "float whitebalance, string sensor, float cropwindow, "
+                                       "integer pixelbounds, float scale, "
                                        "string coordinatesystem"
                                      : "integer xresolution, integer yresolution, string filename, "
-                                       "bool savefp16, float iso, float maxcomponentvalue",
-                             "exposuretime whitebalance sensor diagonal cropwindow "
-                             "pixelbounds writefp16"))
+                                       "bool savefp16, float iso, float maxcomponentvalue, "
+                                       "float whitebalance, string sensor, float cropwindow, "
+                                       "integer pixelbounds, float scale",
+                             "exposuretime diagonal writefp16"))
         return 0;
+    /* pbrt-v4's sensor "cie1931" (the default) records XYZ, which is what specnee
+       does; its named camera sensors need their measured r, g, b curves */
+    if (sensor && strcmp(sensor, "cie1931") != 0) {
+        if (pbrt_sensor_name(sensor))
+            return fail(P, file, line, "Film: \"string sensor\" \"%s\" is valid pbrt-v4 but "
+                        "not in the specnee subset (only \"cie1931\", the CIE 1931 observer; "
+                        "specnee has no camera sensitivity curves)", sensor);
+        return fail(P, file, line, "Film: \"string sensor\" \"%s\": unknown sensor type "
+                    "(pbrt-v4 knows \"cie1931\" and 17 named cameras)", sensor);
+    }
+    if (!(wb == 0.0f || (wb >= 1000.0f && wb <= 100000.0f)))
+        return fail(P, file, line, "Film: \"float whitebalance\" %g: a colour temperature "
+                    "within 1000..100000 K, or 0 for none", wb);
+    if (!(scale > 0.0f))
+        return fail(P, file, line, "Film: \"float scale\" %g must be > 0", scale);
+    if (crop && crop->n_num != 4)
+        return fail(P, crop->file, crop->line, "Film: \"float cropwindow\": %d values, "
+                    "expected 4 (x0 x1 y0 y1, fractions of the film)", crop->n_num);
+    if (pb && pb->n_num != 4)
+        return fail(P, pb->file, pb->line, "Film: \"integer pixelbounds\": %d values, "
+                    "expected 4 (x0 x1 y0 y1, pixels)", pb->n_num);
     if (xres < 1 || xres > MAX_RESOLUTION || yres < 1 || yres > MAX_RESOLUTION)
         return fail(P, file, line, "Film: resolution %d x %d outside 1..%d per axis",
                     xres, yres, MAX_RESOLUTION);
@@ -1141,9 +1286,42 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
         fprintf(stderr, "%s:%d: note: Film \"gbuffer\" is read as \"rgb\": specnee writes "
                 "the colour image only, without the geometry channels\n", file, line);
     P->iso = iso;
+    if (scale != 1.0f) {
+        /* pbrt-v3's film scale: current pbrt-v4 refuses it as unused, and its
+           --upgrade rewrites it as "float iso" 100 * scale; specnee reads it so */
+        fprintf(stderr, "%s:%d: note: Film \"float scale\" %g is pbrt-v3 syntax (pbrt-v4 "
+                "reads \"float iso\" %g instead, as its --upgrade writes): the image is "
+                "scaled by %g\n", file, line, scale, 100.0 * scale, scale);
+        P->iso = iso * scale;
+    }
     st->max_component = maxcomp;
     st->xres = xres;
     st->yres = yres;
+    st->white_balance = wb;
+    if (wb > 0.0f) white_balance_matrix(wb, st->white_balance_m);
+    st->crop_set = crop != NULL;
+    st->pixel_bounds_set = pb != NULL && !crop;   /* pbrt-v4: the crop window wins */
+    if (crop) {
+        /* pbrt-v4: each pair sorted, clamped to [0, 1] */
+        int a;
+        for (a = 0; a < 2; a++) {
+            double lo = crop->num[2 * a] < crop->num[2 * a + 1] ? crop->num[2 * a] : crop->num[2 * a + 1];
+            double hi = crop->num[2 * a] < crop->num[2 * a + 1] ? crop->num[2 * a + 1] : crop->num[2 * a];
+            st->crop[2 * a] = (float)(lo < 0.0 ? 0.0 : lo > 1.0 ? 1.0 : lo);
+            st->crop[2 * a + 1] = (float)(hi < 0.0 ? 0.0 : hi > 1.0 ? 1.0 : hi);
+        }
+    }
+    if (pb) {
+        int a;
+        for (a = 0; a < 4; a++) st->pixel_bounds[a] = (int)pb->num[a];
+    }
+    {
+        int b[4];
+        if (!film_bounds(st, b))
+            return fail(P, file, line, "Film: the %s selects no pixel of the %d x %d film "
+                        "(x %d..%d, y %d..%d)", crop ? "cropwindow" : "pixelbounds",
+                        xres, yres, b[0], b[1], b[2], b[3]);
+    }
     if (!fn) fn = "pbrt.exr";                         /* pbrt-v4's default */
     if (strlen(fn) + 1 > sizeof st->filename)
         return fail(P, file, line, "Film: filename longer than %d characters",
@@ -1276,6 +1454,16 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
         !get_string(P, pl, "lightsampler", &ls)) return 0;
     if (strcmp(type, "sppm") != 0 && !get_bool(P, pl, "regularize", 0, &regularize)) return 0;
     if (!strcmp(type, "sppm")) regularize = 0;
+    {   /* pbrt-v3's Russian-roulette threshold: current pbrt-v4 no longer reads it
+           (its path integrators start the roulette when the throughput's largest
+           component falls below 1 after the second bounce; --upgrade drops the
+           parameter, and a plain pbrt-v4 refuses it as unused) */
+        Param *rr = param_find(pl, PT_FLOAT, "rrthreshold");
+        if (rr)
+            fprintf(stderr, "%s:%d: note: Integrator \"float rrthreshold\" is pbrt-v3 syntax "
+                    "that pbrt-v4 no longer reads (its --upgrade drops it): ignored\n",
+                    rr->file, rr->line);
+    }
     if (!strcmp(type, "bdpt")) {
         /* debugging images of bdpt's strategies: nothing to show for path */
         if (!get_bool(P, pl, "visualizestrategies", 0, &dummy_i)) return 0;
@@ -1338,12 +1526,12 @@ static int check_unit_spectrum(Parser *P, const Param *p, Spectrum *sp)
 }
 
 static int material_from_params(Parser *P, const char *type, ParamList *pl, const char *file,
-                                int line, Material *m)
+                                int line, Material *m, const char *dir)
 {
-    char what[96];
+    char what[192];
     memset(m, 0, sizeof *m);
     spec_const(&m->eta, 1.0f);
-    snprintf(what, sizeof what, "Material \"%s\"", type);
+    snprintf(what, sizeof what, "%s \"%s\"", dir, type);
     if (!strcmp(type, "diffuse")) {
         Param *p = find_spectrum_param(pl, "reflectance");
         m->type = MAT_DIFFUSE;
@@ -1367,8 +1555,8 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         int nm;
         m->type = MAT_FLUORESCENT;
         if (!pa || !pe)
-            return fail(P, file, line, "Material \"fluorescent\": needs \"spectrum excitation\" "
-                        "and \"spectrum emission\"");
+            return fail(P, file, line, "%s \"fluorescent\": needs \"spectrum excitation\" "
+                        "and \"spectrum emission\"", dir);
         if (pr) {
             if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
             if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
@@ -1400,19 +1588,19 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         int remap, i, have_u, have_v;
         m->type = MAT_DIELECTRIC;
         if ((pa != NULL) != (pb != NULL))
-            return fail(P, file, line, "Material \"dielectric\": \"float cauchyA\" and "
-                        "\"float cauchyB\" must be given together");
+            return fail(P, file, line, "%s \"dielectric\": \"float cauchyA\" and "
+                        "\"float cauchyB\" must be given together", dir);
         if (pa) {
             /* specnee extension: n(lambda) = A + B / lambda^2, lambda in um */
             Param *ps = find_spectrum_param(pl, "eta");
             if (pf || ps)
-                return fail(P, file, line, "Material \"dielectric\": give either eta or "
-                            "cauchyA/cauchyB, not both");
+                return fail(P, file, line, "%s \"dielectric\": give either eta or "
+                            "cauchyA/cauchyB, not both", dir);
             if (!get_float(P, pl, "cauchyA", 0, &A) || !get_float(P, pl, "cauchyB", 0, &B))
                 return 0;
             if (!(A > 0.0f) || !(B >= 0.0f) || !(B < 1.0f))
-                return fail(P, file, line, "Material \"dielectric\": need cauchyA > 0 and "
-                            "0 <= cauchyB < 1 um^2");
+                return fail(P, file, line, "%s \"dielectric\": need cauchyA > 0 and "
+                            "0 <= cauchyB < 1 um^2", dir);
             for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++) *spec_at(&m->eta, i) = cauchy_eta(A, B, (float)i);
             m->cauchy_a = A;
             m->cauchy_b = B;
@@ -1459,10 +1647,10 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
                                  "float cauchyA, float cauchyB", "displacement normalmap"))
             return 0;
         if (u != v)
-            return fail(P, file, line, "Material \"dielectric\": anisotropic roughness (%g, %g) "
-                        "is valid pbrt-v4 but not in the specnee subset", u, v);
+            return fail(P, file, line, "%s \"dielectric\": anisotropic roughness (%g, %g) "
+                        "is valid pbrt-v4 but not in the specnee subset", dir, u, v);
         if (!(u >= 0.0f && u <= 1e4f))
-            return fail(P, file, line, "Material \"dielectric\": roughness must be >= 0");
+            return fail(P, file, line, "%s \"dielectric\": roughness must be >= 0", dir);
         /* pbrt-v4 TrowbridgeReitzDistribution::RoughnessToAlpha: alpha = sqrt(roughness) */
         m->alpha = remap ? sqrtf(u) : u;
         m->dispersive = !spec_is_constant(&m->eta);
@@ -1475,14 +1663,14 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         };
         int i;
         if (!type[0] || !strcmp(type, "none"))      /* pbrt-v4 materials.cpp */
-            return fail(P, file, line, "Material \"%s\" is pbrt-v4's deprecated spelling of "
+            return fail(P, file, line, "%s \"%s\" is pbrt-v4's deprecated spelling of "
                         "\"interface\" (a surface that only bounds a medium), which is valid "
-                        "pbrt-v4 but not in the specnee subset", type);
+                        "pbrt-v4 but not in the specnee subset", dir, type);
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
-                return fail(P, file, line, "Material \"%s\" is valid pbrt-v4 but not in the "
-                            "specnee subset (use \"diffuse\" or \"dielectric\")", type);
-        return fail(P, file, line, "Material \"%s\": unknown material type", type);
+                return fail(P, file, line, "%s \"%s\" is valid pbrt-v4 but not in the "
+                            "specnee subset (use \"diffuse\" or \"dielectric\")", dir, type);
+        return fail(P, file, line, "%s \"%s\": unknown material type", dir, type);
     }
 }
 
@@ -2021,7 +2209,7 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     else if (!strcmp(d, "Material")) {
         Material m;
         int idx;
-        ok = material_from_params(P, type, &pl, t->file, t->line, &m);
+        ok = material_from_params(P, type, &pl, t->file, t->line, &m, "Material");
         if (ok) {
             idx = add_material(P, &m, t->file, t->line);
             ok = idx >= 0;
@@ -2037,21 +2225,32 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
             ok = fail(P, t->file, t->line, "MakeNamedMaterial \"%s\": \"string type\" is "
                       "required", type);
         for (i = 0; ok && i < P->n_named; i++)
-            if (!strcmp(P->named[i].name, type))
-                ok = fail(P, t->file, t->line, "MakeNamedMaterial: named material \"%s\" "
-                          "redefined", type);
+            if (!strcmp(P->named[i].name, type)) {
+                if (P->named[i].material >= 0)
+                    ok = fail(P, t->file, t->line, "MakeNamedMaterial: named material \"%s\" "
+                              "redefined", type);
+                break;                  /* else used before: made now */
+            }
         if (ok && strlen(type) >= sizeof P->named[0].name)
             ok = fail(P, t->file, t->line, "MakeNamedMaterial: name too long");
-        if (ok) ok = material_from_params(P, mtype, &pl, t->file, t->line, &m);
+        if (ok) {
+            char what[128];
+            snprintf(what, sizeof what, "MakeNamedMaterial \"%.100s\": type", type);
+            ok = material_from_params(P, mtype, &pl, t->file, t->line, &m, what);
+        }
         if (ok) {
             idx = add_material(P, &m, t->file, t->line);
             ok = idx >= 0;
         }
-        if (ok) {
+        if (ok && i < P->n_named) {
+            P->named[i].material = idx;     /* a NamedMaterial before it: resolved in finish() */
+        } else if (ok) {
             if (!grow((void **)&P->named, &P->cap_named, P->n_named + 1, sizeof(NamedMaterial)))
                 ok = oom(P, t->file, t->line);
             else {
                 snprintf(P->named[P->n_named].name, sizeof P->named[0].name, "%.63s", type); /* length checked above */
+                P->named[P->n_named].file = t->file;
+                P->named[P->n_named].line = t->line;
                 P->named[P->n_named++].material = idx;
             }
         }
@@ -2127,8 +2326,22 @@ static int directive(Parser *P, Lexer *L, const Token *t)
             return fail(P, t->file, t->line, "Scene description must be inside world block; "
                         "\"NamedMaterial\" not allowed before WorldBegin");
         for (i = 0; i < P->n_named; i++)
-            if (!strcmp(P->named[i].name, n.text)) { P->gs.material = P->named[i].material; return 1; }
-        return fail(P, t->file, t->line, "NamedMaterial \"%s\": unknown named material", n.text);
+            if (!strcmp(P->named[i].name, n.text)) {
+                P->gs.material = P->named[i].material >= 0 ? P->named[i].material : -2 - i;
+                return 1;
+            }
+        /* not made yet: pbrt-v4 looks the name up at the end of the file */
+        if (strlen(n.text) >= sizeof P->named[0].name)
+            return fail(P, t->file, t->line, "NamedMaterial: name too long");
+        if (!grow((void **)&P->named, &P->cap_named, P->n_named + 1, sizeof(NamedMaterial)))
+            return oom(P, t->file, t->line);
+        snprintf(P->named[i].name, sizeof P->named[0].name, "%.63s", n.text);
+        P->named[i].material = -1;
+        P->named[i].file = t->file;
+        P->named[i].line = t->line;
+        P->n_named++;
+        P->gs.material = -2 - i;
+        return 1;
     }
     if (!strcmp(d, "Include")) return include_directive(P, L, t, 0);
     if (!strcmp(d, "Import")) return include_directive(P, L, t, 1);
@@ -2261,6 +2474,17 @@ static int finish(Parser *P, const char *file)
     }
     if (!P->world_seen)
         return fail(P, file, P->end_line, "no WorldBegin: the file describes no world");
+    /* shapes under a NamedMaterial that came before its MakeNamedMaterial (pbrt-v4
+       looks every shape's name up now); a name never made is an error at the
+       NamedMaterial that named it, as in pbrt-v4 only if a shape uses it */
+    for (i = 0; i < s->n_shapes; i++)
+        if (s->shapes[i].material <= -2) {
+            const NamedMaterial *nm = &P->named[-2 - s->shapes[i].material];
+            if (nm->material < 0)
+                return fail(P, nm->file, nm->line, "NamedMaterial \"%s\": no "
+                            "MakeNamedMaterial defines it", nm->name);
+            s->shapes[i].material = nm->material;
+        }
     if (P->camera_file && !camera_transform_ok(&s->settings.camera_from_world,
                                                s->settings.fov_deg, s->settings.xres,
                                                s->settings.yres))
@@ -2414,13 +2638,30 @@ void scene_dump(const Scene *s, FILE *f)
     eye = xf_point(&wfc, v3(0, 0, 0));
     dir = v3_norm(xf_vector(&wfc, v3(0, 0, 1)));
     up = v3_norm(xf_vector(&wfc, v3(0, 1, 0)));
-    fprintf(f, "camera: perspective, fov %g deg (shorter image axis)\n", st->fov_deg);
+    fprintf(f, "camera: perspective, fov %g deg (shorter image axis)", st->fov_deg);
+    if (st->lens_radius > 0.0f)
+        fprintf(f, ", thin lens: lensradius %g focaldistance %g", st->lens_radius,
+                st->focal_distance);
+    else
+        fprintf(f, ", pinhole (lensradius 0)");
+    fprintf(f, "\n");
     fprintf(f, "  eye (%g, %g, %g)  dir (%g, %g, %g)  up (%g, %g, %g)%s\n", eye.x, eye.y,
             eye.z, dir.x, dir.y, dir.z, up.x, up.y, up.z,
             xf_swaps_handedness(&st->camera_from_world) ? "  [mirrored: right-handed view]" : "");
     fprintf(f, "film: %d x %d -> %s, filter %s radius %g", st->xres, st->yres, st->filename,
             st->filter == FILTER_BOX ? "box" : "gaussian", st->filter_radius);
     if (st->filter == FILTER_GAUSSIAN) fprintf(f, " sigma %g", st->filter_sigma);
+    {   /* the sensor: imaging ratio (iso, shutter, pbrt-v3 scale), clamp, white balance */
+        int b[4];
+        fprintf(f, "\n  sensor cie1931, imaging ratio %g (iso x exposure / 100), "
+                "maxcomponentvalue %g, whitebalance ", st->imaging_ratio, st->max_component);
+        if (st->white_balance > 0.0f) fprintf(f, "%g K", st->white_balance);
+        else fprintf(f, "none");
+        if (film_bounds(st, b) && (st->crop_set || st->pixel_bounds_set))
+            fprintf(f, "\n  %s: renders and writes pixels x %d..%d, y %d..%d (%d x %d)",
+                    st->crop_set ? "cropwindow" : "pixelbounds", b[0], b[1] - 1, b[2],
+                    b[3] - 1, b[1] - b[0], b[3] - b[2]);
+    }
     fprintf(f, "\nsettings: spp %d%s, seed %d%s, maxdepth %d%s, lightsampler \"%s\"\n",
             st->spp, st->spp_set ? "" : " (default)", st->seed, st->seed_set ? "" : " (default)",
             st->maxdepth, st->maxdepth_set ? "" : " (default)", st->lightsampler);

@@ -623,6 +623,18 @@ typedef struct {
        (shutterclose - shutteropen) * iso / 100, then scaled down so that its largest
        component is at most max_component (Film "maxcomponentvalue", default inf) */
     float imaging_ratio, max_component;
+    /* pbrt-v4 Film "whitebalance" (kelvin, 0 = none): a Bradford adaptation from the
+       white of the daylight illuminant of that temperature to sRGB's white, applied
+       to the pixel's XYZ (row-major 3x3, xyz' = white_balance_m xyz) */
+    float white_balance;
+    double white_balance_m[9];
+    /* pbrt-v4 Film "cropwindow" (fractions x0 x1 y0 y1 of the film) or "pixelbounds"
+       (pixels x0 x1 y0 y1, end exclusive): only that part is rendered and written;
+       the camera keeps the whole film's projection.  film_bounds() turns them into
+       pixels for the current resolution. */
+    int crop_set, pixel_bounds_set;
+    float crop[4];
+    int pixel_bounds[4];
     char sampler[16];          /* Sampler: the specnee sampler it maps to, "" if none */
     int xsamples, ysamples, jitter;      /* Sampler "stratified" */
 } SceneSettings;
@@ -649,6 +661,11 @@ int  scene_load(Scene *s, const char *path, Error *err);
 int  scene_load_string(Scene *s, const char *text, const char *name, Error *err);
 void scene_free(Scene *s);
 void scene_dump(const Scene *s, FILE *f);      /* --dump-scene */
+/* The film's part to render, in pixels [b[0], b[1]) x [b[2], b[3]) of the
+   xres x yres film (pbrt-v4 FilmBaseParameters: cropwindow scaled with ceil,
+   pixelbounds clipped to the film); the whole film when neither is given.
+   Returns 0 when the part is empty. */
+int  film_bounds(const SceneSettings *st, int b[4]);
 
 /* ======================================================================
    9. PLY meshes (ply.c)

@@ -427,6 +427,254 @@ static void test_env_rejections(T *t)
     }
 }
 
+
+/* ---- issue 20, second round: the remaining film and integrator settings ---- */
+
+/* Render a scene and a variant; 1 if both rendered. */
+static int render_pair(T *t, const char *ta, const char *tb, int spp, Image *a, Image *b)
+{
+    if (!render_text(t, ta, spp, a)) return 0;
+    if (!render_text(t, tb, spp, b)) { img_free(a); return 0; }
+    return 1;
+}
+
+/* Film "float scale" is pbrt-v3's; pbrt-v4's --upgrade writes it as "float iso"
+   100 * scale, so the image scales by it (times iso's own ratio).  Integrator
+   "float rrthreshold" is pbrt-v3's too and no longer read by pbrt-v4: accepted
+   and ignored, the image bit for bit the same. */
+static void test_film_scale_rrthreshold(T *t)
+{
+    static char a_txt[4096], b_txt[4096], c_txt[8192];
+    Image a, b, c;
+    int i;
+    square_scene(a_txt, sizeof a_txt, "", "", 1.0f);
+    square_scene(b_txt, sizeof b_txt, "", "\"float scale\" 3 \"float iso\" 200", 1.0f);
+    if (!render_pair(t, a_txt, b_txt, 2, &a, &b)) return;
+    for (i = 0; i < 3 * a.w * a.h; i++)
+        if (!(fabs(b.rgb[i] - 6.0 * a.rgb[i]) <= 1e-6 * fabs(6.0 * a.rgb[i]))) {
+            test_failf(t, __FILE__, __LINE__, "value %d: %g, with scale 3 and iso 200: %g "
+                       "(want x6)", i, a.rgb[i], b.rgb[i]);
+            break;
+        }
+    snprintf(c_txt, sizeof c_txt, "Integrator \"volpath\" \"float rrthreshold\" [ 0 ]\n%s", a_txt);
+    if (render_text(t, c_txt, 2, &c)) {
+        CHECK(t, memcmp(a.rgb, c.rgb, sizeof(float) * 3 * (size_t)a.w * a.h) == 0,
+              "rrthreshold changed the image");
+        img_free(&c);
+    }
+    img_free(&a); img_free(&b);
+    {
+        Scene s;
+        Error e;
+        square_scene(b_txt, sizeof b_txt, "", "\"float scale\" 0", 1.0f);
+        CHECK(t, !scene_load_string(&s, b_txt, "t.pbrt", &e) && strstr(e.msg, "t.pbrt:1:")
+              && strstr(e.msg, "scale"), "Film scale 0 accepted: %s", e.msg);
+        scene_free(&s);
+    }
+}
+
+/* pbrt-v4 FilmBaseParameters: a cropwindow (x0 x1 y0 y1, fractions, each pair
+   sorted) renders and writes pixels ceil(res * fraction) .. ceil(res * fraction)
+   (end exclusive), pixelbounds the given pixels clipped to the film; the crop
+   window wins over pixelbounds; the camera keeps the whole film.  So each crop is
+   bit for bit its rectangle of the whole image. */
+static void test_film_crop(T *t)
+{
+    static const struct { const char *film; int x0, y0, w, h; } c[] = {
+        { "\"float cropwindow\" [ 0.25 0.75 0.1 0.6 ]", 16, 7, 32, 32 },      /* 6.4 -> 7 */
+        { "\"float cropwindow\" [ 0.75 0.25 0.6 0.1 ]", 16, 7, 32, 32 },      /* sorted */
+        { "\"integer pixelbounds\" [ 3 40 5 70 ]", 3, 5, 37, 59 },           /* clipped */
+        { "\"integer pixelbounds\" [ 0 8 0 8 ] \"float cropwindow\" [ 0.5 1 0.5 1 ]", 32, 32, 32, 32 },
+    };
+    static char buf[4096];
+    Image full, im;
+    Scene s;
+    Error e;
+    int i;
+    square_scene(buf, sizeof buf, "", "", 1.0f);
+    if (!render_text(t, buf, 2, &full)) return;
+    for (i = 0; i < 4; i++) {
+        int x, y, same = 1;
+        square_scene(buf, sizeof buf, "", c[i].film, 1.0f);
+        if (!render_text(t, buf, 2, &im)) break;
+        CHECK(t, im.w == c[i].w && im.h == c[i].h, "%s: image %d x %d, want %d x %d",
+              c[i].film, im.w, im.h, c[i].w, c[i].h);
+        if (im.w == c[i].w && im.h == c[i].h)
+            for (y = 0; y < im.h; y++)
+                for (x = 0; x < im.w; x++)
+                    if (memcmp(&im.rgb[3 * (y * im.w + x)],
+                               &full.rgb[3 * ((y + c[i].y0) * full.w + x + c[i].x0)], 3 * sizeof(float)))
+                        same = 0;
+        CHECK(t, same, "%s: not the whole image's rectangle at (%d, %d)", c[i].film, c[i].x0, c[i].y0);
+        img_free(&im);
+    }
+    img_free(&full);
+    square_scene(buf, sizeof buf, "", "\"float cropwindow\" [ 0 1 0.5 ]", 1.0f);
+    CHECK(t, !scene_load_string(&s, buf, "t.pbrt", &e) && strstr(e.msg, "t.pbrt:1:")
+          && strstr(e.msg, "3 values, expected 4"), "3-value cropwindow: %s", e.msg);
+    scene_free(&s);
+    square_scene(buf, sizeof buf, "", "\"float cropwindow\" [ 0.5 0.5 0 1 ]", 1.0f);
+    CHECK(t, !scene_load_string(&s, buf, "t.pbrt", &e) && strstr(e.msg, "t.pbrt:1:")
+          && strstr(e.msg, "selects no pixel"), "empty cropwindow: %s", e.msg);
+    scene_free(&s);
+}
+
+/* Film "string sensor": "cie1931" (pbrt-v4's default) is specnee's XYZ; a named
+   pbrt-v4 camera is refused by name; an unknown one is called unknown. */
+static void test_film_sensor(T *t)
+{
+    static const char *const cases[][2] = {
+        { "\"string sensor\" \"nikon_d850\"", "\"nikon_d850\" is valid pbrt-v4 but not in the specnee subset" },
+        { "\"string sensor\" \"canon_eos_5d_mkiv\"", "\"canon_eos_5d_mkiv\" is valid pbrt-v4" },
+        { "\"string sensor\" \"kodak\"", "\"kodak\": unknown sensor type" },
+    };
+    static char buf[4096];
+    Scene s;
+    Error e;
+    int i;
+    square_scene(buf, sizeof buf, "", "\"string sensor\" \"cie1931\"", 1.0f);
+    CHECK(t, test_load_scene(t, &s, buf), "cie1931 refused");
+    scene_free(&s);
+    for (i = 0; i < 3; i++) {
+        square_scene(buf, sizeof buf, "", cases[i][0], 1.0f);
+        e.msg[0] = 0;
+        CHECK(t, !scene_load_string(&s, buf, "t.pbrt", &e) && strncmp(e.msg, "t.pbrt:1:", 9) == 0
+              && strstr(e.msg, cases[i][1]), "%s: \"%s\" lacks \"%s\"", cases[i][0], e.msg, cases[i][1]);
+        scene_free(&s);
+    }
+}
+
+/* Film "whitebalance" T (pbrt-v4 PixelSensor): a Bradford von Kries map from the
+   white of CIE daylight at T * 1.4388 / 1.4380 K (so the nominal 5000 and 7500
+   are D50 and D75) to sRGB's white.  Its property: the white it adapts from
+   becomes neutral.  The whites are CIE 015:2004's tabulated chromaticities, not
+   the locus formula the code uses: D50 (0.34567, 0.35850), D75 (0.29902,
+   0.31485), D65 (0.31271, 0.32902).  Then a render: each white-balanced pixel's
+   XYZ is that matrix times the plain pixel's. */
+static void test_film_whitebalance(T *t)
+{
+    static const struct { float T; double x, y; } w[] = {
+        { 5000.0f, 0.34567, 0.35850 }, { 7500.0f, 0.29902, 0.31485 }, { 6500.0f, 0.31271, 0.32902 },
+    };
+    static char buf[4096], b2[4096];
+    char film[64];
+    Scene s;
+    Error e;
+    Image a, b;
+    int i, k;
+    for (i = 0; i < 3; i++) {
+        double xyz[3], out[3], rgb[3];
+        const double *m;
+        snprintf(film, sizeof film, "\"float whitebalance\" %g", w[i].T);
+        square_scene(buf, sizeof buf, "", film, 1.0f);
+        if (!test_load_scene(t, &s, buf)) return;
+        m = s.settings.white_balance_m;
+        xyz[0] = w[i].x / w[i].y; xyz[1] = 1.0; xyz[2] = (1.0 - w[i].x - w[i].y) / w[i].y;
+        for (k = 0; k < 3; k++) out[k] = m[3 * k] * xyz[0] + m[3 * k + 1] * xyz[1] + m[3 * k + 2] * xyz[2];
+        xyz_to_linear_srgb(out, rgb);
+        CHECK(t, fabs(rgb[0] / rgb[1] - 1.0) < 2e-3 && fabs(rgb[2] / rgb[1] - 1.0) < 2e-3,
+              "whitebalance %g: its white becomes rgb (%g, %g, %g), not neutral", w[i].T,
+              rgb[0], rgb[1], rgb[2]);
+        if (i == 0) {   /* D50 is yellower than D65: the map must change it */
+            xyz_to_linear_srgb(xyz, rgb);
+            CHECK(t, rgb[2] / rgb[1] < 0.8, "D50's white unbalanced is (%g, %g, %g): no power",
+                  rgb[0], rgb[1], rgb[2]);
+        }
+        scene_free(&s);
+    }
+    square_scene(buf, sizeof buf, "", "", 1.0f);
+    square_scene(b2, sizeof b2, "", "\"float whitebalance\" 3000", 1.0f);
+    if (!test_load_scene(t, &s, b2)) return;
+    if (render_pair(t, buf, b2, 2, &a, &b)) {
+        const double *m = s.settings.white_balance_m;
+        double worst = 0.0;
+        for (i = 0; i < a.w * a.h; i++) {
+            double xa[3], xb[3];
+            srgb_to_xyz(&a.rgb[3 * i], xa);
+            srgb_to_xyz(&b.rgb[3 * i], xb);
+            for (k = 0; k < 3; k++) {
+                double want = m[3 * k] * xa[0] + m[3 * k + 1] * xa[1] + m[3 * k + 2] * xa[2];
+                double d = fabs(xb[k] - want) / (fabs(want) + 1e-3);
+                if (d > worst) worst = d;
+            }
+        }
+        CHECK(t, worst < 1e-4, "whitebalanced pixels differ from M x plain by %g (relative)", worst);
+        CHECK(t, fabs(m[0] - 1.0) > 0.05 || fabs(m[8] - 1.0) > 0.05, "3000 K: M is near identity");
+        img_free(&a); img_free(&b);
+    }
+    scene_free(&s);
+    square_scene(buf, sizeof buf, "", "\"float whitebalance\" 500", 1.0f);
+    CHECK(t, !scene_load_string(&s, buf, "t.pbrt", &e) && strstr(e.msg, "t.pbrt:1:")
+          && strstr(e.msg, "whitebalance"), "whitebalance 500 K accepted: %s", e.msg);
+    scene_free(&s);
+}
+
+/* pbrt-v4 looks named materials up when the scene is built: a NamedMaterial may
+   come before its MakeNamedMaterial; a name never made is an error at the
+   NamedMaterial.  And an unsupported type in MakeNamedMaterial names it. */
+static void test_named_material_forward(T *t)
+{
+    static const char *const fwd =
+        "WorldBegin\n"
+        "AttributeBegin\n"
+        "NamedMaterial \"m\"\n"
+        "Shape \"sphere\"\n"
+        "AttributeEnd\n"
+        "Shape \"sphere\" \"float radius\" 2\n"
+        "MakeNamedMaterial \"m\" \"string type\" \"dielectric\"\n";
+    Scene s;
+    Error e;
+    if (test_load_scene(t, &s, fwd)) {
+        CHECK(t, s.n_shapes == 2 && s.materials[s.shapes[0].material].type == MAT_DIELECTRIC
+              && s.materials[s.shapes[1].material].type == MAT_DIFFUSE,
+              "the forward NamedMaterial is not the dielectric it names");
+        scene_free(&s);
+    }
+    CHECK(t, !scene_load_string(&s, "WorldBegin\nNamedMaterial \"m\"\nShape \"sphere\"\n"
+                                "MakeNamedMaterial \"n\" \"string type\" \"diffuse\"\n", "t.pbrt", &e)
+          && strstr(e.msg, "t.pbrt:2:") && strstr(e.msg, "\"m\"") && strstr(e.msg, "no MakeNamedMaterial"),
+          "a never-made name: %s", e.msg);
+    scene_free(&s);
+    CHECK(t, !scene_load_string(&s, "WorldBegin\nNamedMaterial \"m\"\nShape \"sphere\"\n"
+                                "MakeNamedMaterial \"m\" \"string type\" \"diffuse\"\n"
+                                "MakeNamedMaterial \"m\" \"string type\" \"diffuse\"\n", "t.pbrt", &e)
+          && strstr(e.msg, "t.pbrt:5:") && strstr(e.msg, "redefined"), "a redefinition: %s", e.msg);
+    scene_free(&s);
+    CHECK(t, !scene_load_string(&s, "WorldBegin\nMakeNamedMaterial \"CarPaint\" \"string type\" "
+                                "\"coateddiffuse\"\n", "t.pbrt", &e)
+          && strstr(e.msg, "t.pbrt:2: MakeNamedMaterial \"CarPaint\": type \"coateddiffuse\" is valid pbrt-v4"),
+          "MakeNamedMaterial message: %s", e.msg);
+    scene_free(&s);
+}
+
+/* --dump-scene shows every setting that changes the image. */
+static void test_dump_settings(T *t)
+{
+    static const char *const want[] = {
+        "lensradius 0.25 focaldistance 7", "imaging ratio 6", "maxcomponentvalue 4",
+        "whitebalance 5000 K", "cropwindow: renders and writes pixels x 16..47, y 7..38 (32 x 32)",
+    };
+    static char buf[4096], text[65536];
+    FILE *f;
+    Scene s;
+    size_t n;
+    int i;
+    square_scene(buf, sizeof buf, "\"float lensradius\" 0.25 \"float focaldistance\" 7",
+                 "\"float iso\" 300 \"float scale\" 2 \"float maxcomponentvalue\" 4 "
+                 "\"float whitebalance\" 5000 \"float cropwindow\" [ 0.25 0.75 0.1 0.6 ]", 1.0f);
+    if (!test_load_scene(t, &s, buf)) return;
+    f = tmpfile();
+    CHECK(t, f != NULL, "no tmpfile");
+    if (!f) { scene_free(&s); return; }
+    scene_dump(&s, f);
+    rewind(f);
+    n = fread(text, 1, sizeof text - 1, f);
+    text[n] = 0;
+    fclose(f);
+    for (i = 0; i < 5; i++) CHECK(t, strstr(text, want[i]) != NULL, "dump lacks \"%s\":\n%s", want[i], text);
+    scene_free(&s);
+}
+
 const TestCase tests_pbrt[] = {
     { "pbrt_iso_exposure", test_iso_exposure },
     { "pbrt_maxcomponentvalue", test_maxcomponentvalue },
@@ -436,5 +684,11 @@ const TestCase tests_pbrt[] = {
     { "pbrt_env_map_pdf_and_sampling", test_env_map_pdf_and_sampling },
     { "pbrt_env_furnace", test_env_furnace },
     { "pbrt_env_rejections", test_env_rejections },
+    { "pbrt_film_scale_rrthreshold", test_film_scale_rrthreshold },
+    { "pbrt_film_crop", test_film_crop },
+    { "pbrt_film_sensor", test_film_sensor },
+    { "pbrt_film_whitebalance", test_film_whitebalance },
+    { "pbrt_named_material_forward", test_named_material_forward },
+    { "pbrt_dump_settings", test_dump_settings },
     { NULL, NULL }
 };
