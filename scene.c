@@ -1454,10 +1454,12 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
         !get_string(P, pl, "lightsampler", &ls)) return 0;
     if (strcmp(type, "sppm") != 0 && !get_bool(P, pl, "regularize", 0, &regularize)) return 0;
     if (!strcmp(type, "sppm")) regularize = 0;
-    {   /* pbrt-v3's Russian-roulette threshold: current pbrt-v4 no longer reads it
-           (its path integrators start the roulette when the throughput's largest
-           component falls below 1 after the second bounce; --upgrade drops the
-           parameter, and a plain pbrt-v4 refuses it as unused) */
+    {   /* pbrt-v3's Russian-roulette threshold, which pbrt-v4 read only in 2020
+           (until its commit 56ee5e8c): current pbrt-v4 starts the roulette when the
+           throughput's largest component falls below 1 after the second bounce,
+           its --upgrade drops the parameter and a plain pbrt-v4 refuses it as
+           unused.  The roulette is unbiased, so ignoring it changes noise only,
+           never the expected image */
         Param *rr = param_find(pl, PT_FLOAT, "rrthreshold");
         if (rr)
             fprintf(stderr, "%s:%d: note: Integrator \"float rrthreshold\" is pbrt-v3 syntax "
