@@ -119,6 +119,18 @@ void test_glass(Material *m, float A, float B, float alpha)
     m->alpha = alpha;
 }
 
+int test_dir_cell(Vec3 w, int nt, int np)
+{
+    int ct = (int)((w.z + 1.0) * 0.5 * nt), cp;
+    double phi = atan2(w.y, w.x);
+    if (phi < 0) phi += 2 * SPECNEE_PI;
+    cp = (int)(phi / (2 * SPECNEE_PI) * np);
+    if (ct >= nt) ct = nt - 1;
+    if (ct < 0) ct = 0;
+    if (cp >= np) cp = np - 1;
+    return ct * np + cp;
+}
+
 SurfacePoint test_flat_point(void)
 {
     SurfacePoint sp;

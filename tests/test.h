@@ -55,6 +55,9 @@ int test_render_tiles(T *t, Scene *s, const RenderOptions *base, int K, int n, T
 int test_tiles_agree(T *t, const Tiles *a, const Tiles *b, double slack, const char *what);
 /* A (rough, dispersive when B != 0) Cauchy glass A + B/lambda^2 with GGX alpha. */
 void test_glass(Material *m, float A, float B, float alpha);
+/* The cell of direction w in an nt x np grid over (cos theta in [-1,1], phi in
+   [0, 2 pi)), row-major in cos theta: the chi-square tests of sampled directions. */
+int test_dir_cell(Vec3 w, int nt, int np);
 /* A surface point at the origin with normal +z. */
 SurfacePoint test_flat_point(void);
 /* The walls of a small open box [-1,1]^3, as scene text after WorldBegin. */

@@ -154,6 +154,23 @@ static const Variant variants[] = {
 };
 #define N_VARIANTS ((int)(sizeof variants / sizeof variants[0]))
 
+/* The light sampler of variants[v] on s (8^3 voxels), or NULL after a failed check. */
+static LightSampler *variant_sampler(T *t, const Scene *s, int v)
+{
+    SelOptions o;
+    LightSampler *ls;
+    Error err;
+    memset(&o, 0, sizeof o);
+    o.grid_res = 8;
+    o.strategy = variants[v].st;
+    o.power_metric = variants[v].power_metric;
+    o.all_wavelengths = variants[v].all_wl;
+    o.throughput_weighted = variants[v].tput;
+    ls = light_sampler_build(s, &o, &err);
+    if (!ls) test_failf(t, __FILE__, __LINE__, "%s: %s", variants[v].name, err.msg);
+    return ls;
+}
+
 static LightCtx random_ctx(const Scene *s, const LightSampler *ls, Rng *r)
 {
     LightCtx c;
@@ -188,18 +205,9 @@ static void select_matches_pmf_on(T *t, int sc)
     build_scene(sc, buf, sizeof buf);
     if (!test_load_scene(t, &s, buf)) return;
     for (v = 0; v < N_VARIANTS; v++) {
-        SelOptions o;
-        LightSampler *ls;
-        Error err;
+        LightSampler *ls = variant_sampler(t, &s, v);
         Rng r;
-        memset(&o, 0, sizeof o);
-        o.grid_res = 8;
-        o.strategy = variants[v].st;
-        o.power_metric = variants[v].power_metric;
-        o.all_wavelengths = variants[v].all_wl;
-        o.throughput_weighted = variants[v].tput;
-        ls = light_sampler_build(&s, &o, &err);
-        CHECK(t, ls != NULL, "%s: %s", variants[v].name, err.msg);
+        if (!ls) continue;
         rng_seed(&r, 77, (uint64_t)v);
         for (trial = 0; trial < 6; trial++) {
             LightCtx c = random_ctx(&s, ls, &r);
@@ -323,18 +331,8 @@ static void test_pmf_same_for_every_hero(T *t)
     build_scene(SC_MANY, buf, sizeof buf);
     if (!test_load_scene(t, &s, buf)) return;
     for (v = 0; v < N_VARIANTS; v++) {
-        SelOptions o;
-        LightSampler *ls;
-        Error err;
+        LightSampler *ls = variant_sampler(t, &s, v);
         Rng r;
-        memset(&o, 0, sizeof o);
-        o.grid_res = 8;
-        o.strategy = variants[v].st;
-        o.power_metric = variants[v].power_metric;
-        o.all_wavelengths = variants[v].all_wl;
-        o.throughput_weighted = variants[v].tput;
-        ls = light_sampler_build(&s, &o, &err);
-        CHECK(t, ls != NULL, "%s: %s", variants[v].name, err.msg);
         if (!ls) continue;
         rng_seed(&r, 91, (uint64_t)v);
         for (trial = 0; trial < 40; trial++) {

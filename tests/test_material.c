@@ -183,16 +183,8 @@ static void test_rough_chi2(T *t)
         rng_seed(&r, 5, (uint64_t)ia);
         for (i = 0; i < n; i++) {
             BsdfSample bs;
-            int ct, cp;
-            float phi;
             if (!bsdf_sample(&m, &sp, wo, lam, 1u, rng_float(&r), rng_float(&r), rng_float(&r), &bs)) continue;
-            ct = (int)((bs.wi.z + 1) * 0.5f * NT);
-            phi = atan2f(bs.wi.y, bs.wi.x);
-            if (phi < 0) phi += 2 * PI_F;
-            cp = (int)(phi / (2 * PI_F) * NP);
-            if (ct >= NT) ct = NT - 1;
-            if (cp >= NP) cp = NP - 1;
-            obs[ct * NP + cp] += 1;
+            obs[test_dir_cell(bs.wi, NT, NP)] += 1;
         }
         for (it = 0; it < NT; it++)
             for (ip = 0; ip < NP; ip++) {

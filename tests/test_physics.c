@@ -373,17 +373,8 @@ static void test_rough_chi2(T *t)
             rng_seed(&r, 59, (uint64_t)(ia * 2 + io));
             for (i = 0; i < n; i++) {
                 BsdfSample bs;
-                int ct, cp;
-                double phi;
                 if (!bsdf_sample(&m, &sp, wo, lam, 1u, rng_float(&r), rng_float(&r), rng_float(&r), &bs)) continue;
-                ct = (int)((bs.wi.z + 1.0) * 0.5 * NT);
-                phi = atan2(bs.wi.y, bs.wi.x);
-                if (phi < 0) phi += 2 * SPECNEE_PI;
-                cp = (int)(phi / (2 * SPECNEE_PI) * NP);
-                if (ct >= NT) ct = NT - 1;
-                if (ct < 0) ct = 0;
-                if (cp >= NP) cp = NP - 1;
-                obs[ct * NP + cp] += 1;
+                obs[test_dir_cell(bs.wi, NT, NP)] += 1;
             }
             for (it = 0; it < NT; it++)
                 for (ip = 0; ip < NP; ip++) {

@@ -20,12 +20,7 @@
 # Each (variant, seed) is one progressive render up the ladder (render_ladder), so
 # a run costs SEEDS x variants x 512 spp.  Run time: docs/eval/timing.txt.
 set -eu
-SEEDS=${SEEDS:-8}
-LADDER=${LADDER:-16,32,64,128,256,512}
-THREADS=${THREADS:-0}
-TIME=${TIME:-cpu}
-SPECNEE=${SPECNEE:-./specnee}
-REUSE=${REUSE:-0}
+. "$(dirname "$0")/eval_defaults.sh"
 mkdir -p docs/eval
 start=$(date +%s)
 run_as() {  # output-name scene variants

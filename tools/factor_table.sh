@@ -65,6 +65,18 @@ function levels(v,   f, n, i, w) {   # sets L_sel, L_wl, L_rough, L_rest
     }
 }
 function fmt(g, lo, hi) { return sprintf("%.2f [%.2f, %.2f]", g, lo, hi) }
+# The mean M of the n per-seed log MSE ratios dd[1..n] and the half-width H of
+# its 95% interval, widened by the timing noise of the log time ratios tq[1..n]
+# (half-widths added in quadrature, as converge does).
+function mean_ci(n, dd, tq,   q, tm, m2, tm2, h, ht) {
+    M = 0; tm = 0; m2 = 0; tm2 = 0
+    for (q = 1; q <= n; q++) { M += dd[q]; tm += tq[q] }
+    M /= n; tm /= n
+    for (q = 1; q <= n; q++) { m2 += (dd[q] - M) ^ 2; tm2 += (tq[q] - tm) ^ 2 }
+    h = n > 1 ? t975(n - 1) * sqrt(m2 / (n - 1)) / sqrt(n) : 0
+    ht = n > 1 ? t975(n - 1) * sqrt(tm2 / (n - 1)) / sqrt(n) : 0
+    H = sqrt(h * h + ht * ht)
+}
 FNR == 1 { S++; scene[S] = FILENAME; sub(/^.*\//, "", scene[S]); sub(/\.csv$/, "", scene[S]); next }
 {
     n = split($0, c, ",")
@@ -132,14 +144,9 @@ END {
         gsum = 0; hsum = 0; gn = 0
         for (s = 1; s <= S; s++) {
             if (!npair[s, F, Lv]) { printf " - |"; continue }
-            m = 0; m2 = 0; tm = 0; tm2 = 0
-            for (q = 1; q <= K[s]; q++) { d = dsum[s, F, Lv, q] / npair[s, F, Lv]; dd[q] = d; m += d
-                                          tr = tsum[s, F, Lv, q] / npair[s, F, Lv]; tq[q] = tr; tm += tr }
-            m /= K[s]; tm /= K[s]
-            for (q = 1; q <= K[s]; q++) { m2 += (dd[q] - m) ^ 2; tm2 += (tq[q] - tm) ^ 2 }
-            h = K[s] > 1 ? t975(K[s] - 1) * sqrt(m2 / (K[s] - 1)) / sqrt(K[s]) : 0
-            ht = K[s] > 1 ? t975(K[s] - 1) * sqrt(tm2 / (K[s] - 1)) / sqrt(K[s]) : 0
-            h = sqrt(h * h + ht * ht)
+            for (q = 1; q <= K[s]; q++) { dd[q] = dsum[s, F, Lv, q] / npair[s, F, Lv]
+                                          tq[q] = tsum[s, F, Lv, q] / npair[s, F, Lv] }
+            mean_ci(K[s], dd, tq); m = M; h = H
             printf " %s |", fmt(exp(-m), exp(-m - h), exp(-m + h))
             gsum += m; hsum += h * h; gn++
         }
@@ -157,14 +164,9 @@ END {
         gsum = 0; hsum = 0; gn = 0; worse = ""
         for (s = 1; s <= S; s++) {
             if (!((s, v) in isvar)) { printf " - |"; continue }
-            m = 0; m2 = 0; tm = 0; tm2 = 0
-            for (q = 1; q <= K[s]; q++) { dd[q] = log(meq[s, v, q] / meq[s, base[s], q]); m += dd[q]
-                                          tq[q] = log(ttop[s, v, q] / ttop[s, base[s], q]); tm += tq[q] }
-            m /= K[s]; tm /= K[s]
-            for (q = 1; q <= K[s]; q++) { m2 += (dd[q] - m) ^ 2; tm2 += (tq[q] - tm) ^ 2 }
-            h = K[s] > 1 ? t975(K[s] - 1) * sqrt(m2 / (K[s] - 1)) / sqrt(K[s]) : 0
-            ht = K[s] > 1 ? t975(K[s] - 1) * sqrt(tm2 / (K[s] - 1)) / sqrt(K[s]) : 0
-            h = sqrt(h * h + ht * ht)
+            for (q = 1; q <= K[s]; q++) { dd[q] = log(meq[s, v, q] / meq[s, base[s], q])
+                                          tq[q] = log(ttop[s, v, q] / ttop[s, base[s], q]) }
+            mean_ci(K[s], dd, tq); m = M; h = H
             printf " %s |", fmt(exp(-m), exp(-m - h), exp(-m + h))
             if (exp(-m + h) < 1) worse = worse (worse == "" ? "" : ", ") scene[s]
             gsum += m; hsum += h * h; gn++

@@ -32,12 +32,7 @@
 # spp is 32 times one 8-seed baseline run of tools/eval.sh: hours on 2 cores.
 # Never run in full by `make test`; tests/run.sh runs it on a tiny setting (factorial_smoke).
 set -eu
-SEEDS=${SEEDS:-8}
-LADDER=${LADDER:-16,32,64,128,256,512}
-THREADS=${THREADS:-0}
-TIME=${TIME:-cpu}
-SPECNEE=${SPECNEE:-./specnee}
-REUSE=${REUSE:-0}
+. "$(dirname "$0")/eval_defaults.sh"
 SCENES=${SCENES:-"cornell1 cornell2 suzanne cornell-glass"}
 WAVELENGTHS=${WAVELENGTHS:-"uniform importance visible mixture"}
 if [ -z "${SELECTIONS:-}" ]; then
