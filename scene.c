@@ -680,37 +680,43 @@ static Param *param_find(ParamList *pl, ParamType type, const char *name)
     return found;
 }
 
+/* The one number of parameter `TNAME name` (type `type`) in *v, and *found = 1;
+   *found = 0 when absent.  Fails on any count but one. */
+static int get_one(Parser *P, ParamList *pl, ParamType type, const char *tname, const char *name,
+                   double *v, int *found)
+{
+    Param *p = param_find(pl, type, name);
+    *found = p != NULL;
+    if (!p) return 1;
+    if (p->n_num == 1) { *v = p->num[0]; return 1; }
+    return fail(P, p->file, p->line, "\"%s %s\": expected one value, got %d", tname, name, p->n_num);
+}
+
 static int get_float(Parser *P, ParamList *pl, const char *name, float def, float *out)
 {
-    Param *p = param_find(pl, PT_FLOAT, name);
-    if (!p) { *out = def; return 1; }
-    if (p->n_num != 1)
-        return fail(P, p->file, p->line, "\"float %s\": expected one value, got %d",
-                    name, p->n_num);
-    *out = (float)p->num[0];
+    double v = def;
+    int found;
+    if (!get_one(P, pl, PT_FLOAT, "float", name, &v, &found)) return 0;
+    *out = found ? (float)v : def;
     return 1;
 }
 
 static int get_int(Parser *P, ParamList *pl, const char *name, int def, int *out, int *given)
 {
-    Param *p = param_find(pl, PT_INTEGER, name);
-    if (given) *given = p != NULL;
-    if (!p) { *out = def; return 1; }
-    if (p->n_num != 1)
-        return fail(P, p->file, p->line, "\"integer %s\": expected one value, got %d",
-                    name, p->n_num);
-    *out = (int)p->num[0];
+    double v = def;
+    int found;
+    if (!get_one(P, pl, PT_INTEGER, "integer", name, &v, &found)) return 0;
+    if (given) *given = found;
+    *out = found ? (int)v : def;
     return 1;
 }
 
 static int get_bool(Parser *P, ParamList *pl, const char *name, int def, int *out)
 {
-    Param *p = param_find(pl, PT_BOOL, name);
-    if (!p) { *out = def; return 1; }
-    if (p->n_num != 1)
-        return fail(P, p->file, p->line, "\"bool %s\": expected one value, got %d",
-                    name, p->n_num);
-    *out = p->num[0] != 0;
+    double v = def;
+    int found;
+    if (!get_one(P, pl, PT_BOOL, "bool", name, &v, &found)) return 0;
+    *out = found ? v != 0 : def;
     return 1;
 }
 

@@ -205,6 +205,26 @@ static void test_film_budget(T *t)
     expect_loads(t, p, "8192 x 8192 (2.5 GiB)");
 }
 
+/* A parameter read as one number (float, integer, bool) given with two values or
+   none is refused, naming its type and name and the count. */
+static void test_param_count(T *t)
+{
+    Scene s;
+    Error e;
+    const char *p = test_write_file(t, "cnt_int.pbrt", "Film \"rgb\" \"integer xresolution\" [ 4 5 ]\nWorldBegin\n");
+    if (!expect_fail(t, p, "cnt_int.pbrt:1:", "\"integer xresolution\": expected one value, got 2", &e)) return;
+    p = test_write_file(t, "cnt_float.pbrt", "Camera \"perspective\" \"float fov\" [ 30 40 ]\nWorldBegin\n");
+    if (!expect_fail(t, p, "cnt_float.pbrt:1:", "\"float fov\": expected one value, got 2", &e)) return;
+    p = test_write_file(t, "cnt_bool.pbrt", "Integrator \"path\" \"bool regularize\" [ false true ]\nWorldBegin\n");
+    if (!expect_fail(t, p, "cnt_bool.pbrt:1:", "\"bool regularize\": expected one value, got 2", &e)) return;
+    p = test_write_file(t, "cnt_ok.pbrt", "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" 3\n"
+                        "Camera \"perspective\" \"float fov\" 30\nWorldBegin\n");
+    CHECK(t, scene_load(&s, p, &e), "one value each refused: %s", e.msg);
+    CHECK(t, s.settings.xres == 4 && s.settings.yres == 3 && s.settings.fov_deg == 30.0f,
+          "read %d x %d, fov %g: not the values given", s.settings.xres, s.settings.yres, s.settings.fov_deg);
+    scene_free(&s);
+}
+
 /* #20: "" and "none" are pbrt-v4's deprecated names of "interface". */
 static void test_material_none(T *t)
 {
@@ -305,6 +325,7 @@ const TestCase tests_robust[] = {
     {"robust_ply_dev_zero", test_ply_dev_zero},
     {"robust_camera_degenerate", test_camera_degenerate},
     {"robust_film_budget", test_film_budget},
+    {"robust_param_count", test_param_count},
     {"robust_material_none", test_material_none},
     {"robust_unsupported_named", test_unsupported_named},
     {"robust_spectrum_cr", test_spectrum_cr},
