@@ -340,19 +340,29 @@ int cmd_converge(int argc, char **argv)
     memset(&scene, 0, sizeof scene);
     if (!scene_load(&scene, scene_path, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
     if (!pfm_read(&ref, ref_path, &err)) { fprintf(stderr, "%s\n", err.msg); scene_free(&scene); return 1; }
-    if (ref.w != scene.settings.xres || ref.h != scene.settings.yres) {
-        fprintf(stderr, "%s: reference is %dx%d, the scene renders %dx%d\n", ref_path, ref.w, ref.h,
-                scene.settings.xres, scene.settings.yres);
-        img_free(&ref); scene_free(&scene);
-        return 1;
+    {
+        /* the image render() makes: the film, or its crop (Film cropwindow) */
+        int fb[4];
+        film_bounds(&scene.settings, fb);
+        if (ref.w != fb[1] - fb[0] || ref.h != fb[3] - fb[2]) {
+            fprintf(stderr, "%s: reference is %dx%d, the scene renders %dx%d\n", ref_path, ref.w, ref.h,
+                    fb[1] - fb[0], fb[3] - fb[2]);
+            img_free(&ref); scene_free(&scene);
+            return 1;
+        }
     }
-    /* regions: the whole image, then the scene's insets */
+    /* regions: the whole image, then the scene's insets (in the rendered part) */
     n_reg = 1;
     strcpy(reg_name[0], "image");
     reg[0][0] = 0; reg[0][1] = 0; reg[0][2] = ref.w; reg[0][3] = ref.h;
-    for (i = 0; i < scene.n_insets && n_reg < MAX_REGIONS; i++, n_reg++) {
-        snprintf(reg_name[n_reg], sizeof reg_name[n_reg], "%s", scene.inset_name[i]);
-        memcpy(reg[n_reg], scene.inset[i], sizeof reg[n_reg]);
+    {
+        int rect[8][4], n_rect;
+        const char *names[8];
+        n_rect = scene_insets_rendered(&scene, rect, names);
+        for (i = 0; i < n_rect && n_reg < MAX_REGIONS; i++, n_reg++) {
+            snprintf(reg_name[n_reg], sizeof reg_name[n_reg], "%s", names[i]);
+            memcpy(reg[n_reg], rect[i], sizeof reg[n_reg]);
+        }
     }
     /* the picture for docs/RESULTS.md: the baseline's seed-0 render at the largest
        spp, insets outlined, at the power-of-two exposure that brings the

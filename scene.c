@@ -1198,6 +1198,24 @@ int film_bounds(const SceneSettings *st, int b[4])
     return b[1] > b[0] && b[3] > b[2];
 }
 
+int scene_insets_rendered(const Scene *s, int rect[8][4], const char *names[8])
+{
+    int b[4], i, n = 0;
+    if (!film_bounds(&s->settings, b)) return 0;
+    for (i = 0; i < s->n_insets; i++) {
+        int x0 = s->inset[i][0] > b[0] ? s->inset[i][0] : b[0];
+        int y0 = s->inset[i][1] > b[2] ? s->inset[i][1] : b[2];
+        int x1 = s->inset[i][2] < b[1] ? s->inset[i][2] : b[1];
+        int y1 = s->inset[i][3] < b[3] ? s->inset[i][3] : b[3];
+        if (x1 <= x0 || y1 <= y0) continue;          /* outside the rendered part */
+        rect[n][0] = x0 - b[0]; rect[n][1] = y0 - b[2];
+        rect[n][2] = x1 - b[0]; rect[n][3] = y1 - b[2];
+        names[n] = s->inset_name[i];
+        n++;
+    }
+    return n;
+}
+
 /* The named camera sensors of pbrt-v4 (their r, g, b curves are its named
    spectra "<name>_r/_g/_b"), which specnee does not have. */
 static int pbrt_sensor_name(const char *n)

@@ -405,7 +405,10 @@ static int render_main(int argc, char **argv)
         return 1;
     }
     if (a.mark_insets) {
-        if (!png_write_marked(&img, out, a.exposure, &scene.inset[0][0], scene.n_insets)) {
+        int rect[8][4], n_rect;
+        const char *names[8];
+        n_rect = scene_insets_rendered(&scene, rect, names);
+        if (!png_write_marked(&img, out, a.exposure, &rect[0][0], n_rect)) {
             fprintf(stderr, "%s: cannot write\n", out);
             img_free(&img);
             scene_free(&scene);

@@ -666,6 +666,10 @@ void scene_dump(const Scene *s, FILE *f);      /* --dump-scene */
    pixelbounds clipped to the film); the whole film when neither is given.
    Returns 0 when the part is empty. */
 int  film_bounds(const SceneSettings *st, int b[4]);
+/* The scene's insets in the pixels of the image render() makes: each clipped to
+   film_bounds() and moved to its origin (x0 y0 x1 y1, end exclusive), with its
+   name; an inset outside a crop is left out.  Returns how many. */
+int  scene_insets_rendered(const Scene *s, int rect[8][4], const char *names[8]);
 
 /* ======================================================================
    9. PLY meshes (ply.c)

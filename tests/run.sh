@@ -233,6 +233,18 @@ expect "eval_smoke_reuse_mismatch" 1 "rows these settings need" ./specnee conver
 cp tests/tmp/smoke.csv tests/tmp/dup.csv && tail -n 1 tests/tmp/smoke.csv >> tests/tmp/dup.csv
 expect "eval_smoke_reuse_duplicate" 1 "dup.csv:[0-9]+: a second row" ./specnee converge scenes/cornell-glass.pbrt \
     --ref docs/ref/cornell-glass.pfm --lights spatial,spatial:importance --spp 1,2 --seeds 2 --out tests/tmp/dup --reuse
+# a cropped film (Film cropwindow): the reference is the crop's size, the insets are
+# clipped to the crop and moved to its origin (A and B stay, C lies outside)
+sed 's/^Film "rgb"/Film "rgb" "float cropwindow" [ 0.25 0.75 0.25 0.75 ]/' scenes/cornell-glass.pbrt > tests/tmp/crop.pbrt
+expect "eval_crop_reference" 0 "" ./specnee -q tests/tmp/crop.pbrt --spp 4 -o tests/tmp/crop-ref.pfm
+expect "eval_crop_converge" 0 "" ./specnee converge tests/tmp/crop.pbrt --ref tests/tmp/crop-ref.pfm \
+    --lights spatial --spp 1,2 --seeds 2 --out tests/tmp/crop
+if [ "$(grep -c ',image,' tests/tmp/crop.csv 2>/dev/null)" = 4 ] && [ "$(grep -c ',A,' tests/tmp/crop.csv)" = 4 ] &&
+   [ "$(grep -c ',B,' tests/tmp/crop.csv)" = 4 ] && ! grep -q ',C,' tests/tmp/crop.csv; then ok "eval_crop_regions"
+else fail "eval_crop_regions"; fi
+expect "eval_crop_full_reference_refused" 1 "reference is 160x160, the scene renders 80x80" ./specnee converge \
+    tests/tmp/crop.pbrt --ref docs/ref/cornell-glass.pfm --lights spatial --spp 1 --seeds 2 --out tests/tmp/crop2
+expect "cli_mark_insets_crop" 0 "" ./specnee -q tests/tmp/crop.pbrt --spp 1 --mark-insets -o tests/tmp/crop-marked.png
 # the picture: a PNG (signature, IHDR 160x160) and its caption with the inset colours
 if [ "$(head -c 8 tests/tmp/smoke.png 2>/dev/null | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] &&
    [ "$(od -An -tx1 -j16 -N8 tests/tmp/smoke.png | tr -d ' \n')" = 000000a0000000a0 ] &&

@@ -519,6 +519,36 @@ static void test_film_crop(T *t)
     scene_free(&s);
 }
 
+/* The insets ("# inset" comments, in pixels of the whole film) in the cropped
+   image: clipped to the crop and moved to its origin; one outside the crop is left
+   out (--mark-insets and converge's regions use them). */
+static void test_film_crop_insets(T *t)
+{
+    static char buf[4096], b2[4200];
+    static const int want[2][4] = { { 4, 0, 14, 5 }, { 24, 23, 32, 32 } };
+    int rect[8][4], n, i;
+    const char *names[8];
+    Scene s;
+    square_scene(buf, sizeof buf, "", "\"float cropwindow\" [ 0.25 0.75 0.1 0.6 ]", 1.0f);  /* x 16..48, y 7..39 */
+    snprintf(b2, sizeof b2, "# inset A 0 0 8 8\n# inset B 20 4 30 12\n# inset C 40 30 60 60\n%s", buf);
+    if (!test_load_scene(t, &s, b2)) return;
+    n = scene_insets_rendered(&s, rect, names);
+    CHECK(t, n == 2, "%d insets in the crop, want 2 (A lies outside it)", n);
+    for (i = 0; i < n && i < 2; i++)
+        CHECK(t, !strcmp(names[i], i ? "C" : "B") && !memcmp(rect[i], want[i], sizeof want[i]),
+              "inset %s: (%d %d %d %d) in the crop, want %s (%d %d %d %d)", names[i], rect[i][0], rect[i][1],
+              rect[i][2], rect[i][3], i ? "C" : "B", want[i][0], want[i][1], want[i][2], want[i][3]);
+    scene_free(&s);
+    /* without a crop they are the insets as written */
+    square_scene(buf, sizeof buf, "", "", 1.0f);
+    snprintf(b2, sizeof b2, "# inset A 0 0 8 8\n%s", buf);
+    if (!test_load_scene(t, &s, b2)) return;
+    n = scene_insets_rendered(&s, rect, names);
+    CHECK(t, n == 1 && rect[0][0] == 0 && rect[0][1] == 0 && rect[0][2] == 8 && rect[0][3] == 8,
+          "uncropped inset A: %d insets, (%d %d %d %d)", n, rect[0][0], rect[0][1], rect[0][2], rect[0][3]);
+    scene_free(&s);
+}
+
 /* Film "string sensor": "cie1931" (pbrt-v4's default) is specnee's XYZ; a named
    pbrt-v4 camera is refused by name; an unknown one is called unknown. */
 static void test_film_sensor(T *t)
@@ -686,6 +716,7 @@ const TestCase tests_pbrt[] = {
     { "pbrt_env_rejections", test_env_rejections },
     { "pbrt_film_scale_rrthreshold", test_film_scale_rrthreshold },
     { "pbrt_film_crop", test_film_crop },
+    { "pbrt_film_crop_insets", test_film_crop_insets },
     { "pbrt_film_sensor", test_film_sensor },
     { "pbrt_film_whitebalance", test_film_whitebalance },
     { "pbrt_named_material_forward", test_named_material_forward },
