@@ -138,3 +138,58 @@ SurfacePoint test_flat_point(void)
     sp.ng = sp.ns = v3(0, 0, 1);
     return sp;
 }
+
+/* K = 10 times: two renders of base->spp samples (seeds 3k+1, 3k+2) merged by
+   sample count (img_merge), against one render of twice the samples (seed 3k+3).
+   Per 4 x 4 tile and channel the means over k must agree within TEST_K_SIGMA
+   standard errors; and the merge of equal counts is exactly the pixels' mean. */
+void test_merge_agrees(T *t, const Scene *s, const RenderOptions *base, const char *what)
+{
+    enum { K = 10, NT = 4 };
+    double sm[NT * NT][3], s2m[NT * NT][3], sf[NT * NT][3], s2f[NT * NT][3];
+    RenderOptions o = *base;
+    int k, i, c;
+    memset(sm, 0, sizeof sm); memset(s2m, 0, sizeof s2m); memset(sf, 0, sizeof sf); memset(s2f, 0, sizeof s2f);
+    for (k = 0; k < K; k++) {
+        Image half[2], merged, full;
+        RenderStats st;
+        Error err;
+        double w[2] = { 1, 1 };
+        int x, y, tw, th;
+        o.spp = base->spp;
+        o.seed = 3 * k + 1;
+        CHECK(t, render(s, &o, &half[0], &st, &err), "%s: %s", what, err.msg);
+        o.seed = 3 * k + 2;
+        CHECK(t, render(s, &o, &half[1], &st, &err), "%s: %s", what, err.msg);
+        o.spp = 2 * base->spp;
+        o.seed = 3 * k + 3;
+        CHECK(t, render(s, &o, &full, &st, &err), "%s: %s", what, err.msg);
+        CHECK(t, img_merge(half, w, 2, &merged), "%s: img_merge failed", what);
+        tw = full.w / NT; th = full.h / NT;
+        for (i = 0; i < NT * NT; i++) {
+            double am[3] = { 0, 0, 0 }, af[3] = { 0, 0, 0 };
+            int tx = i % NT, ty = i / NT;
+            for (y = ty * th; y < (ty + 1) * th; y++)
+                for (x = tx * tw; x < (tx + 1) * tw; x++)
+                    for (c = 0; c < 3; c++) {
+                        am[c] += merged.rgb[3 * (y * full.w + x) + c] / (tw * th);
+                        af[c] += full.rgb[3 * (y * full.w + x) + c] / (tw * th);
+                    }
+            for (c = 0; c < 3; c++) {
+                sm[i][c] += am[c]; s2m[i][c] += am[c] * am[c];
+                sf[i][c] += af[c]; s2f[i][c] += af[c] * af[c];
+            }
+        }
+        CHECK(t, fabsf(merged.rgb[0] - 0.5f * (half[0].rgb[0] + half[1].rgb[0])) <= 1e-6f * fabsf(merged.rgb[0]) + 1e-9f,
+              "%s: the merge of equal counts is not the mean", what);
+        img_free(&half[0]); img_free(&half[1]); img_free(&merged); img_free(&full);
+    }
+    for (i = 0; i < NT * NT; i++)
+        for (c = 0; c < 3; c++) {
+            double mm = sm[i][c] / K, mf = sf[i][c] / K;
+            double vm = (s2m[i][c] / K - mm * mm) / (K - 1), vf = (s2f[i][c] / K - mf * mf) / (K - 1);
+            double se = sqrt((vm > 0 ? vm : 0) + (vf > 0 ? vf : 0));
+            CHECK(t, fabs(mm - mf) < TEST_K_SIGMA * se + 1e-5, "%s: tile %d ch %d: merged %.5g vs full %.5g (se %.2g)",
+                  what, i, c, mm, mf, se);
+        }
+}

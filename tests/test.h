@@ -51,6 +51,10 @@ int test_load_scene(T *t, Scene *s, const char *text);
    of the tile averages and its standard error.  Fails the test on any non-finite
    sample or pixel. */
 int test_render_tiles(T *t, Scene *s, const RenderOptions *base, int K, int n, Tiles *out);
+/* Two renders of base->spp samples merged by sample count against one render of
+   twice the samples, over 10 seed triples: tile means within TEST_K_SIGMA
+   standard errors (a w x h image, 4 x 4 tiles). */
+void test_merge_agrees(T *t, const Scene *s, const RenderOptions *base, const char *what);
 /* 1 if every tile and channel agrees within TEST_K_SIGMA standard errors + slack. */
 int test_tiles_agree(T *t, const Tiles *a, const Tiles *b, double slack, const char *what);
 /* A (rough, dispersive when B != 0) Cauchy glass A + B/lambda^2 with GGX alpha. */

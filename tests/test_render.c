@@ -381,58 +381,12 @@ static void test_merge_halves(T *t)
     char text[8192];
     Scene s;
     RenderOptions o;
-    int k, i, c, n = 4;
-    double sum_m[16][3], sum2_m[16][3], sum_f[16][3], sum2_f[16][3];
-    const int K = 10;
     snprintf(text, sizeof text, box_fmt, test_box_walls, ceiling_light, rough_dispersive);
     if (!test_load_scene(t, &s, text)) return;
     render_options_default(&o);
     o.sel.grid_res = 8;
-    memset(sum_m, 0, sizeof sum_m); memset(sum2_m, 0, sizeof sum2_m);
-    memset(sum_f, 0, sizeof sum_f); memset(sum2_f, 0, sizeof sum2_f);
-    for (k = 0; k < K; k++) {
-        Image half[2], merged, full;
-        RenderStats st;
-        Error err;
-        double w[2] = { 16, 16 };
-        int x, y;
-        o.spp = test_scaled(16, 4);
-        o.seed = 3 * k + 1;
-        CHECK(t, render(&s, &o, &half[0], &st, &err), "%s", err.msg);
-        o.seed = 3 * k + 2;
-        CHECK(t, render(&s, &o, &half[1], &st, &err), "%s", err.msg);
-        o.spp = test_scaled(32, 4);
-        o.seed = 3 * k + 3;
-        CHECK(t, render(&s, &o, &full, &st, &err), "%s", err.msg);
-        CHECK(t, img_merge(half, w, 2, &merged), "img_merge failed");
-        for (i = 0; i < n * n; i++) {
-            double am[3] = { 0, 0, 0 }, af[3] = { 0, 0, 0 };
-            int tx = i % n, ty = i / n, cnt = 0;
-            for (y = ty * 4; y < ty * 4 + 4; y++)
-                for (x = tx * 4; x < tx * 4 + 4; x++, cnt++)
-                    for (c = 0; c < 3; c++) {
-                        am[c] += merged.rgb[3 * (y * 16 + x) + c];
-                        af[c] += full.rgb[3 * (y * 16 + x) + c];
-                    }
-            for (c = 0; c < 3; c++) {
-                am[c] /= cnt; af[c] /= cnt;
-                sum_m[i][c] += am[c]; sum2_m[i][c] += am[c] * am[c];
-                sum_f[i][c] += af[c]; sum2_f[i][c] += af[c] * af[c];
-            }
-        }
-        /* the merged image is exactly the average of the halves */
-        CHECK(t, fabsf(merged.rgb[0] - 0.5f * (half[0].rgb[0] + half[1].rgb[0])) <= 1e-6f * fabsf(merged.rgb[0]) + 1e-9f,
-              "merge of equal counts is not the mean");
-        img_free(&half[0]); img_free(&half[1]); img_free(&merged); img_free(&full);
-    }
-    for (i = 0; i < n * n; i++)
-        for (c = 0; c < 3; c++) {
-            double mm = sum_m[i][c] / K, mf = sum_f[i][c] / K;
-            double vm = (sum2_m[i][c] / K - mm * mm) / (K - 1), vf = (sum2_f[i][c] / K - mf * mf) / (K - 1);
-            double se = sqrt((vm > 0 ? vm : 0) + (vf > 0 ? vf : 0));
-            CHECK(t, fabs(mm - mf) < K_SIGMA * se + 1e-5, "tile %d ch %d: merged %.5g vs full %.5g (se %.2g)",
-                  i, c, mm, mf, se);
-        }
+    o.spp = test_scaled(16, 4);
+    test_merge_agrees(t, &s, &o, "rough dispersive box");
     scene_free(&s);
 }
 

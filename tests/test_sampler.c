@@ -470,53 +470,12 @@ static void test_merge_seeds_unbiased(T *t)
 {
     Scene s;
     RenderOptions o;
-    enum { K = 10, NT = 4 };
-    double sm[NT * NT][3], s2m[NT * NT][3], sf[NT * NT][3], s2f[NT * NT][3];
-    int k, i, c;
     if (!load_box(t, &s, 0)) return;
     render_options_default(&o);
     o.sel.grid_res = 8;
     o.sampler = SAMPLER_SOBOL;
-    memset(sm, 0, sizeof sm); memset(s2m, 0, sizeof s2m); memset(sf, 0, sizeof sf); memset(s2f, 0, sizeof s2f);
-    for (k = 0; k < K; k++) {
-        Image half[2], merged, full;
-        RenderStats st;
-        Error err;
-        double w[2] = { 1, 1 };
-        int x, y;
-        o.spp = test_scaled(16, 4);
-        o.seed = 3 * k + 1;
-        CHECK(t, render(&s, &o, &half[0], &st, &err), "%s", err.msg);
-        o.seed = 3 * k + 2;
-        CHECK(t, render(&s, &o, &half[1], &st, &err), "%s", err.msg);
-        o.spp *= 2;
-        o.seed = 3 * k + 3;
-        CHECK(t, render(&s, &o, &full, &st, &err), "%s", err.msg);
-        CHECK(t, img_merge(half, w, 2, &merged), "img_merge failed");
-        for (i = 0; i < NT * NT; i++) {
-            double am[3] = { 0, 0, 0 }, af[3] = { 0, 0, 0 };
-            int tx = i % NT, ty = i / NT;
-            for (y = ty * 4; y < ty * 4 + 4; y++)
-                for (x = tx * 4; x < tx * 4 + 4; x++)
-                    for (c = 0; c < 3; c++) {
-                        am[c] += merged.rgb[3 * (y * 16 + x) + c] / 16.0;
-                        af[c] += full.rgb[3 * (y * 16 + x) + c] / 16.0;
-                    }
-            for (c = 0; c < 3; c++) {
-                sm[i][c] += am[c]; s2m[i][c] += am[c] * am[c];
-                sf[i][c] += af[c]; s2f[i][c] += af[c] * af[c];
-            }
-        }
-        img_free(&half[0]); img_free(&half[1]); img_free(&merged); img_free(&full);
-    }
-    for (i = 0; i < NT * NT; i++)
-        for (c = 0; c < 3; c++) {
-            double mm = sm[i][c] / K, mf = sf[i][c] / K;
-            double vm = (s2m[i][c] / K - mm * mm) / (K - 1), vf = (s2f[i][c] / K - mf * mf) / (K - 1);
-            double se = sqrt((vm > 0 ? vm : 0) + (vf > 0 ? vf : 0));
-            CHECK(t, fabs(mm - mf) < K_SIGMA * se + 1e-5, "tile %d ch %d: merged seeds %.5g vs full %.5g (se %.2g)",
-                  i, c, mm, mf, se);
-        }
+    o.spp = test_scaled(16, 4);
+    test_merge_agrees(t, &s, &o, "sobol box");
     scene_free(&s);
 }
 
