@@ -10,8 +10,16 @@
      Eisemann, TU Delft 2022): the emitter for NEE is chosen in proportion to a
      table of the emitters' spectra at the hero wavelength (by default their
      emitted radiance, the thesis' "unit emission"; optionally times the area, the
-     thesis' "power"), times a spatial estimate.  docs/THEORY.md derives the
-     estimator; docs/WALKTHROUGH.md follows one sample through the code.
+     thesis' "power"), times a spatial estimate (`--preset thesis` sets exactly
+     the thesis' configuration).  The defaults go further, each chosen by measured
+     error at equal time (docs/RESULTS.md, "What to use"): a spectral light tree
+     that keeps the thesis' spectral preference at O(log N) per vertex
+     (docs/lighttree.md), wavelengths sampled from the emitters' spectra mixed with
+     a visible-range pdf (docs/wavelengths.md), Owen-scrambled Sobol' samples
+     (docs/sampling.md), and spectral MIS at rough dispersive glass.  Fluorescent
+     surfaces and ultraviolet lamps, the thesis' future work, are in
+     docs/FLUORESCENCE.md.  docs/THEORY.md derives the estimator;
+     docs/WALKTHROUGH.md follows one sample through the code.
 
      Read this header top to bottom: it walks from the tunables through the math
      types, spectra, geometry, materials, emitters, the integrator and the images,
