@@ -85,7 +85,10 @@ int eval_parse_variant(const char *spec, RenderOptions *o)
         else if (!strcmp(tok, "single")) o->single_wavelength = 1;
         else if (!strcmp(tok, "wide")) o->wl_wide = 1;
         else if (!strcmp(tok, "nonee")) o->nee = 0;
-        else if (!strcmp(tok, "flpower")) o->fluor_li_power = 1;    /* --fluor-li power */
+        else if (!strcmp(tok, "flpower")) o->fluor_li = FLUOR_LI_POWER;     /* --fluor-li power */
+        else if (!strcmp(tok, "fluniform")) o->fluor_li = FLUOR_LI_UNIFORM; /* --fluor-li uniform */
+        else if (!strcmp(tok, "flkeep")) o->fluor_keep = 1;                 /* --fluor-lanes keep */
+        else if (!strcmp(tok, "flterminate")) o->fluor_keep = 0;
         else if (!strcmp(tok, "nosplit")) o->sel.no_split = 1;
         else if (sampler_from_name(tok) != SAMPLER_COUNT) o->sampler = sampler_from_name(tok);
         else return 0;
@@ -251,7 +254,8 @@ static const char usage_converge[] =
     "  with modifiers, e.g. spd:power, product:all, product:tput, spatial:importance,\n"
     "  spatial:visible, spatial:mixture, spatial:mixture=0.1, spatial:roughmis,\n"
     "  spatial:single, spatial:nonee, spectral-tree:nosplit, product:flpower\n"
-    "  (--fluor-li power), and a sampler:\n"
+    "  (--fluor-li power), product:fluniform (--fluor-li uniform), product:flkeep\n"
+    "  (--fluor-lanes keep), product:flterminate, and a sampler:\n"
     "  spatial:sobol, spatial:zsobol, spatial:stratified, spatial:independent\n"
     "  (stratified and zsobol are not progressive: their rungs are rendered one by\n"
     "  one).  The first is the baseline.\n"

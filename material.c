@@ -229,6 +229,27 @@ float fluor_sample_li_mix(const Material *m, const double *pcdf, float a, float 
     return li;
 }
 
+/* ---- li uniformly on [300, lo] (--fluor-li uniform; FLUORESCENCE 3): blind to A,
+   the reference the other two samplers must agree with ---- */
+
+float fluor_sample_li_uniform(float lo, float u, float *pdf)
+{
+    float w = stokes_limit(lo) - (float)SPEC_UV_MIN, li;
+    *pdf = 0.0f;
+    if (!(w > 0.0f)) return (float)SPEC_UV_MIN;
+    li = (float)SPEC_UV_MIN + u * w;
+    if (li > stokes_limit(lo)) li = stokes_limit(lo);
+    *pdf = 1.0f / w;
+    return li;
+}
+
+float fluor_pdf_li_uniform(float lo, float li)
+{
+    float w = stokes_limit(lo) - (float)SPEC_UV_MIN;
+    if (!(w > 0.0f) || !(li >= (float)SPEC_UV_MIN) || li > stokes_limit(lo)) return 0.0f;
+    return 1.0f / w;
+}
+
 int mat_is_delta(const Material *m)
 {
     return m->type == MAT_DIELECTRIC && m->alpha == 0.0f;

@@ -390,6 +390,17 @@ static void debug_check_sum(FILE *dbg, double S)
                      "this contribution is weighted wrongly\n", S);
 }
 
+/* lambda_i for a path at lo through fluorescent material mi (FLUORESCENCE 3), by
+   --fluor-li; *pdf the density it was drawn from (0: none). */
+static float fluor_sample_lambda_i(const Renderer *R, const Material *mat, int mi, float lo,
+                                   float u, float *pdf)
+{
+    if (R->o->fluor_li == FLUOR_LI_UNIFORM) return fluor_sample_li_uniform(lo, u, pdf);
+    if (R->fl_power)
+        return fluor_sample_li_mix(mat, R->fl_power + (size_t)mi * FL_N, FLUOR_LI_DEFENSIVE, lo, u, pdf);
+    return fluor_sample_li(mat, lo, u, pdf);
+}
+
 /* Trace one camera sample; adds its XYZ estimate to xyz. */
 static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelSample *ps,
                        double xyz[3], Counters *cnt, FILE *dbg)
@@ -510,29 +521,48 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
         }
 
         /* 3b. A fluorescent vertex reflects or re-radiates (FLUORESCENCE 3-5).  To
-              re-radiate: terminate the secondaries (the baseline, as at dispersive
-              glass), sample lambda_i from A on [300, lambda_o], weight by (F4), and
-              from here on transport at lambda_i through a Lambertian of albedo 1:
-              NEE, emitter selection (ctx.lambda) and every MIS pdf below use it. */
+              re-radiate: sample lambda_i on [300, lambda_o] (from A, A x power or
+              uniformly), weight by (F4), and from here on transport at lambda_i
+              through a Lambertian of albedo 1: NEE, emitter selection (ctx.lambda)
+              and every MIS pdf below use it.  The baseline terminates the
+              secondaries (as at dispersive glass); --fluor-lanes keep shifts every
+              alive wavelength with the SAME number ul through its own p(li | lo_j)
+              and carries the branch probability in the ratios r (FLUORESCENCE 4b). */
         if (mat->type == MAT_FLUORESCENT) {
             float pf = fluor_branch_pf(mat, lam[0]), ub, ul;
             sampler_2d(ps, dim_fluor(depth), &ub, &ul);
             if (ub < pf) {
-                /* lambda_i from A, or (--fluor-li power) from A x the emitters' power
-                   mixed with A; either way divided by the density it was drawn from */
-                float pli, li = R->fl_power
-                    ? fluor_sample_li_mix(mat, R->fl_power + (size_t)shape->material * FL_N,
-                                          FLUOR_LI_DEFENSIVE, lam[0], ul, &pli)
-                    : fluor_sample_li(mat, lam[0], ul, &pli);
-                float wgt = fluor_weight(mat, li, lam[0]);
+                float li[HERO_N], pli[HERO_N], wgt[HERO_N];
+                unsigned still = 1u;
+                for (j = 0; j < HERO_N; j++) {
+                    li[j] = lam[j];
+                    pli[j] = wgt[j] = 0.0f;
+                    if (!(alive & (1u << j)) || (j > 0 && !o->fluor_keep)) continue;
+                    li[j] = fluor_sample_lambda_i(R, mat, shape->material, lam[j], ul, &pli[j]);
+                    wgt[j] = pli[j] > 0.0f ? fluor_weight(mat, li[j], lam[j]) : 0.0f;
+                }
                 if (dbg) fprintf(dbg, "  fluorescent: re-radiates, %.1f nm absorbed at %.1f nm "
-                                 "(P_f %.3g, p(li|lo) %.4g, weight %.4g); secondaries terminated\n",
-                                 lam[0], li, pf, pli, wgt);
-                if (!(pli > 0.0f) || !(wgt > 0.0f)) break;
-                alive = 1u;
-                for (j = 1; j < HERO_N; j++) { beta[j] = 0.0f; r[j] = 0.0f; }
-                beta[0] *= wgt / (pf * pli);
-                lam[0] = li;
+                                 "(P_f %.3g, p(li|lo) %.4g, weight %.4g); secondaries %s\n",
+                                 lam[0], li[0], pf, pli[0], wgt[0],
+                                 o->fluor_keep ? "shifted with the same number" : "terminated");
+                if (!o->fluor_keep && (!(pli[0] > 0.0f) || !(wgt[0] > 0.0f))) break;
+                /* lane j: f_j / (P_f(lambda_0) p(li_j | lo_j)); the technique with hero j
+                   would have re-radiated with P_f(lo_j): r_j *= P_f(lo_j) / P_f(lo_0).
+                   A lane whose weight is 0 stays in the MIS sums while r_j > 0 (its
+                   technique could have made this path), with beta_j = 0. */
+                beta[0] = pli[0] > 0.0f ? beta[0] * (wgt[0] / (pf * pli[0])) : 0.0f;
+                for (j = 1; j < HERO_N; j++) {
+                    if (o->fluor_keep && (alive & (1u << j))) {
+                        r[j] *= fluor_branch_pf(mat, lam[j]) / pf;
+                        beta[j] = pli[j] > 0.0f ? beta[j] * (wgt[j] / (pf * pli[j])) : 0.0f;
+                        if (r[j] > 0.0f && isfinite(r[j])) { still |= 1u << j; continue; }
+                    }
+                    beta[j] = 0.0f;
+                    r[j] = 0.0f;
+                }
+                alive = still;
+                for (j = 0; j < HERO_N; j++) lam[j] = li[j];
+                if (!(beta[0] > 0.0f) && alive == 1u) break;
                 mat = &R->white;
             } else {
                 /* reflect: a Lambertian of albedo rho (1 - A); the choice depends on
@@ -865,7 +895,9 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
         spec_const(&sum, 0.0f);
         for (e = 0; e < s->n_emitters; e++)
             for (k = 0; k < SPEC_N; k++) sum.v[k] += light_spectrum(j->R.ls, e)->v[k];
-        if (o->wl_mode == WL_IMPORTANCE && s->n_emitters == 0)
+        if (o->band_hi > o->band_lo)     /* a band of the film's spectrum (the tests) */
+            wl_pdf_uniform(&j->R.wl, o->band_lo, o->band_hi);
+        else if (o->wl_mode == WL_IMPORTANCE && s->n_emitters == 0)
             wl_pdf_uniform(&j->R.wl, j->sel.lo_nm, j->sel.hi_nm);
         else if (!wl_pdf_build(&j->R.wl, o->wl_mode, j->sel.lo_nm, j->sel.hi_nm, &sum, o->wl_mix)) {
             error_set(err, NULL, 0, "cannot build the %s wavelength pdf", wl_mode_name(o->wl_mode));
@@ -881,7 +913,7 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
         for (e = 0; e < s->n_emitters; e++)
             if (s->emitters[e].inf) j->R.inf[j->R.n_inf++] = e;
     }
-    if (o->fluor_li_power && s->n_emitters > 0) {
+    if (o->fluor_li == FLUOR_LI_POWER && s->n_emitters > 0) {
         /* FLUORESCENCE 3: E = the scene's emitter power per nm, pi A (2 if two-sided)
            Le (an infinite light's area is 4 pi r^2), for this render's Le; a table
            of A E for each fluorescent material */

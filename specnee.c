@@ -74,10 +74,15 @@ static const char usage_options[] =
 "      --single-wavelength one wavelength per path instead of four\n"
 "      --rough-dispersion M  mis (default: keep the secondary wavelengths alive\n"
 "                          through rough dispersive glass) or terminate (the thesis)\n"
-"      --no-nee            BSDF sampling only (no next event estimation)\n"
+"      --no-nee            BSDF sampling only (no next event estimation)\n";
+static const char usage_options2[] =
 "      --fluor-li M        a fluorescent vertex samples the absorbed wavelength from\n"
-"                          its excitation A (a, default) or from A x the emitters'\n"
-"                          power with a share of A (power: docs/FLUORESCENCE.md)\n"
+"                          its excitation A (a, default), from A x the emitters'\n"
+"                          power with a share of A (power), or uniformly on\n"
+"                          [300 nm, emitted wavelength] (uniform): docs/FLUORESCENCE.md\n"
+"      --fluor-lanes M     at a fluorescent shift, terminate the secondary wavelengths\n"
+"                          (terminate, default) or keep all four, each shifted with\n"
+"                          its own excitation wavelength (keep)\n"
 "      --exposure E        multiply by 2^E before writing .ppm/.png\n"
 "      --mark-insets       outline the scene's insets (\"# inset\" comments) in the\n"
 "                          .png: A yellow, B cyan, C magenta, ...\n"
@@ -134,6 +139,7 @@ static void print_help(void)
     int p, k;
     fputs(usage_text, stdout);
     fputs(usage_options, stdout);
+    fputs(usage_options2, stdout);
     fputs(usage_notes, stdout);
     fputs("\npresets (--preset NAME is the same as its flags at that place):\n", stdout);
     for (p = 0; presets[p].name; p++) {
@@ -257,9 +263,15 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
                 return usage_error("--mix-weight needs a number in (0, 1], not '%s'", v);
         } else if (!strcmp(o, "--fluor-li")) {
             NEEDS_VALUE();
-            if (!strcmp(v, "a")) a->ro.fluor_li_power = 0;
-            else if (!strcmp(v, "power")) a->ro.fluor_li_power = 1;
-            else return usage_error("--fluor-li is a or power, not '%s'", v);
+            if (!strcmp(v, "a")) a->ro.fluor_li = FLUOR_LI_A;
+            else if (!strcmp(v, "power")) a->ro.fluor_li = FLUOR_LI_POWER;
+            else if (!strcmp(v, "uniform")) a->ro.fluor_li = FLUOR_LI_UNIFORM;
+            else return usage_error("--fluor-li is a, power or uniform, not '%s'", v);
+        } else if (!strcmp(o, "--fluor-lanes")) {
+            NEEDS_VALUE();
+            if (!strcmp(v, "terminate")) a->ro.fluor_keep = 0;
+            else if (!strcmp(v, "keep")) a->ro.fluor_keep = 1;
+            else return usage_error("--fluor-lanes is terminate or keep, not '%s'", v);
         } else if (!strcmp(o, "--wide")) {
             a->ro.wl_wide = 1;
         } else if (!strcmp(o, "--single-wavelength")) {

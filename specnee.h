@@ -493,6 +493,11 @@ void  fluor_power_cdf(const Material *m, const Spectrum *E, double *pcdf);
 float fluor_sample_li_mix(const Material *m, const double *pcdf, float a, float lo, float u, float *pdf);
 float fluor_pdf_li_mix(const Material *m, const double *pcdf, float a, float lo, float li);
 #define FLUOR_LI_DEFENSIVE 0.25f   /* a: the share of A alone in --fluor-li power */
+/* Uniformly on [300, lo] (--fluor-li uniform): p(li | lo) = 1 / (lo - 300). */
+float fluor_sample_li_uniform(float lo, float u, float *pdf);
+float fluor_pdf_li_uniform(float lo, float li);
+/* --fluor-li: lambda_i from A, from A x the emitters' power mixed with A, uniformly. */
+typedef enum { FLUOR_LI_A, FLUOR_LI_POWER, FLUOR_LI_UNIFORM } FluorLi;
 /* The diffuse albedo of the reflect lobe: rho (diffuse) or rho (1 - A) (fluorescent). */
 float mat_albedo(const Material *m, float lambda_nm);
 /* Smooth dielectrics scatter into discrete (delta) directions: no NEE there. */
@@ -828,8 +833,17 @@ typedef struct {
     int single_wavelength;     /* 1 wavelength per path instead of HWSS */
     int rough_mis;             /* --rough-dispersion mis: secondaries survive rough glass */
     int nee;                   /* 1: NEE + BSDF sampling by MIS; 0: BSDF sampling only */
-    int fluor_li_power;        /* --fluor-li power: lambda_i ~ A x emitter power, mixed
-                                  with A (FLUORESCENCE 3); 0: from A alone */
+    FluorLi fluor_li;          /* --fluor-li: how a fluorescent vertex samples lambda_i
+                                  (FLUORESCENCE 3): from A (default), A x emitter power
+                                  mixed with A, or uniformly on [300, lambda_o] */
+    int fluor_keep;            /* --fluor-lanes keep: all four wavelengths go through a
+                                  shift, each with its own lambda_i (FLUORESCENCE 4b);
+                                  0: the secondaries are terminated (the baseline) */
+    float band_lo, band_hi;    /* band_hi > band_lo: the camera samples its wavelengths
+                                  uniformly in [band_lo, band_hi] only, the emitters keep
+                                  the film range's normalisation, so the image is the
+                                  integral of cbar L over the band: a spectral film one
+                                  band at a time, for the tests (no command-line flag) */
     SamplerType sampler;       /* --sampler (file: Sampler); sobol by default */
     int xsamples, ysamples;    /* stratified strata (0: from spp) */
     int jitter;                /* stratified: jitter in the strata (default 1) */
@@ -918,7 +932,8 @@ int cmd_merge(int argc, char **argv);      /* image.c */
 int cmd_diff(int argc, char **argv);       /* image.c */
 int cmd_converge(int argc, char **argv);   /* eval.c: error against time, charts, tables */
 /* "strategy[:modifier]..." (modifiers: power all tput importance visible mixture
-   mixture=M uniform roughmis terminate hero unit single wide nonee nosplit) into
+   mixture=M uniform roughmis terminate hero unit single wide nonee nosplit flpower
+   fluniform flkeep flterminate) into
    render options; 0 if unknown.  Used by converge and its tests. */
 int eval_parse_variant(const char *spec, RenderOptions *o);
 

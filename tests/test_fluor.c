@@ -417,6 +417,198 @@ static void test_fluor_photon_furnace(T *t)
     scene_free(&s);
 }
 
+/* ---- spectral checks, one band of the film at a time (RenderOptions.band_lo/hi:
+   the camera samples only the band, the emitters keep the film's normalisation) ---- */
+
+/* Render the band [a, b] of s with o (K seeds, one tile) and compare every channel
+   with the model's rgb of that band within TEST_K_SIGMA standard errors plus a
+   relative slack rel (quadrature error) and an absolute floor abs_floor. */
+static int band_matches(T *t, Scene *s, const RenderOptions *o, double a, double b, int K,
+                        const double want[3], double rel, double abs_floor, const char *what)
+{
+    RenderOptions ob = *o;
+    Tiles tl;
+    int c, ok = 1;
+    ob.band_lo = (float)a;
+    ob.band_hi = (float)b;
+    if (!test_render_tiles(t, s, &ob, K, 1, &tl)) return 0;
+    for (c = 0; c < 3; c++) {
+        double d = fabs(tl.mean[0][c] - want[c]);
+        if (!(d < TEST_K_SIGMA * tl.se[0][c] + rel * fabs(want[c]) + abs_floor)) {
+            test_failf(t, __FILE__, __LINE__, "%s, %g-%g nm, channel %d: render %.6g +- %.2g, model %.6g",
+                       what, a, b, c, tl.mean[0][c], tl.se[0][c], want[c]);
+            ok = 0;
+        }
+    }
+    if (getenv("FLUOR_VERBOSE"))
+        printf("%s %g-%g: render (%.5g %.5g %.5g) +- (%.2g %.2g %.2g), model (%.5g %.5g %.5g)\n", what, a, b,
+               tl.mean[0][0], tl.mean[0][1], tl.mean[0][2], tl.se[0][0], tl.se[0][1], tl.se[0][2],
+               want[0], want[1], want[2]);
+    return ok;
+}
+
+/* Line test per 10 nm bin (issue #17): the 365 nm LED scene of fluor_line, each
+   10 nm bin of 360-530 nm rendered alone and compared with the quadrature of the
+   model over that bin, Phi A e(lo) (li/lo) / N(li) integrated over the LED's band:
+   the output spectrum, not only its colour. */
+static void test_fluor_line_bins(T *t)
+{
+    Scene s;
+    Spectrum Le;
+    RenderOptions o;
+    double a;
+    if (!load_furnace(t, &s, "\"lamp-UVLED365\"",
+                      FL_MAT("[300 0.8 830 0.8]", "[300 0 345 0 350 1 380 1 390 0 830 0]", "[330 0 360 0.6 400 1 520 0]", "0.9")))
+        return;
+    render_options_default(&o);
+    o.spp = test_scaled(96, 32);
+    o.threads = 1;
+    o.wl_wide = 1;
+    o.sel.strategy = SEL_SPD;
+    Le = le_of(&s, 0, 360.0f, 830.0f);
+    for (a = 360.0; a < 530.0; a += 10.0) {
+        double rgb[3], pin, pout, ein, eout;
+        model_rgb(&s.materials[s.n_materials - 1], &Le, a, a + 10.0, rgb, &pin, &pout, &ein, &eout);
+        if (!band_matches(t, &s, &o, a, a + 10.0, 16, rgb, 2e-3, 1e-7, "line")) break;
+    }
+    scene_free(&s);
+}
+
+/* The closed sphere (issue #17; FLUORESCENCE section 7b).  Inside a closed sphere
+   whose wall is the fluorescent material and emits Le uniformly, the radiance is
+   the same everywhere and in every direction, and (F1)-(F2) with the wall's own
+   1/pi cos integrating to 1 give the wavelength equation L = Le + P L:
+       L(lo) = Le(lo) + a_r(lo) L(lo) + int_300^lo K(li, lo) L(li) dli,
+       a_r = rho (1 - A),  K(li, lo) = Phi A(li) e(lo) (li/lo) / N(li).
+   P is triangular (the Stokes rule), so on a grid x_0 < x_1 < ... the trapezoid
+   rule gives L at x_k from the L at x_i, i < k, by forward substitution:
+       L_k (1 - a_r(x_k) - w_k K(x_k, x_k)) = Le(x_k) + sum_{i<k} w_i K(x_i, x_k) L_i.
+   Everything here (N, the grid, the colour integral) is computed from spec_eval
+   alone, independently of material.c. */
+typedef struct {
+    double h;                 /* grid step, nm */
+    int n;                    /* knots 300 + k h, k < n */
+    double *L;                /* the solution at the knots */
+} SphereModel;
+
+static int closed_sphere_solve(const Material *m, const Spectrum *Le, SphereModel *sm)
+{
+    const double h = 0.25;
+    int n = (int)(530.0 / h) + 1, k, i;
+    double *N = (double *)malloc(sizeof(double) * (size_t)n), *A = (double *)malloc(sizeof(double) * (size_t)n);
+    sm->h = h;
+    sm->n = n;
+    sm->L = (double *)malloc(sizeof(double) * (size_t)n);
+    if (!N || !A || !sm->L) { free(N); free(A); free(sm->L); sm->L = NULL; return 0; }
+    N[n - 1] = 0.0;
+    for (k = n - 2; k >= 0; k--)      /* N(x_k) = int_{x_k}^{830} e, trapezoid */
+        N[k] = N[k + 1] + 0.5 * h * (spec_eval(&m->emission, (float)(300.0 + k * h)) +
+                                     spec_eval(&m->emission, (float)(300.0 + (k + 1) * h)));
+    for (k = 0; k < n; k++) A[k] = spec_eval(&m->excitation, (float)(300.0 + k * h));
+    for (k = 0; k < n; k++) {
+        double lo = 300.0 + k * h, e = spec_eval(&m->emission, (float)lo);
+        double ar = spec_eval(&m->reflectance, (float)lo) * (1.0 - A[k]);
+        double rhs = spec_eval(Le, (float)lo), diag = 1.0 - ar;
+        for (i = 0; i <= k; i++) {
+            double li = 300.0 + i * h, w = (i == 0 || i == k) ? 0.5 * h : h, K;
+            if (!(N[i] > 0.0) || k == 0) continue;
+            K = m->qyield * A[i] * e * (li / lo) / N[i];
+            if (i < k) rhs += w * K * sm->L[i];
+            else diag -= w * K;
+        }
+        sm->L[k] = rhs / diag;
+    }
+    free(N);
+    free(A);
+    return 1;
+}
+
+/* The model's linear sRGB over the band [a, b]: int cbar L by the trapezoid rule on
+   the model's grid, then pbrt-v4's matrix. */
+static void closed_sphere_rgb(const SphereModel *sm, double a, double b, double rgb[3])
+{
+    double xyz[3] = { 0, 0, 0 };
+    int k;
+    for (k = 0; k + 1 < sm->n; k++) {
+        double x0 = 300.0 + k * sm->h, x1 = x0 + sm->h, y, c, j;
+        if (x1 <= a || x0 >= b) continue;
+        for (j = 0; j < 2; j++) {     /* the cell's overlap with the band, 2-point Gauss */
+            double lo = x0 > a ? x0 : a, hi = x1 < b ? x1 : b, g = (j == 0 ? -1.0 : 1.0) / sqrt(3.0);
+            float cm[3];
+            y = 0.5 * (lo + hi) + 0.5 * (hi - lo) * g;
+            c = sm->L[k] + (sm->L[k + 1] - sm->L[k]) * (y - x0) / sm->h;
+            cie_xyz((float)y, cm);
+            xyz[0] += 0.5 * (hi - lo) * cm[0] * c;
+            xyz[1] += 0.5 * (hi - lo) * cm[1] * c;
+            xyz[2] += 0.5 * (hi - lo) * cm[2] * c;
+        }
+    }
+    xyz_to_linear_srgb(xyz, rgb);
+}
+
+#define CLOSED_SPHERE_MAT FL_MAT("[300 0.6 830 0.6]", "[300 0 340 0 350 0.9 470 0.9 490 0 830 0]", \
+                                 "[300 0 420 0 470 1 540 0 830 0]", "0.8")
+
+static int load_closed_sphere(T *t, Scene *s)
+{
+    return test_load_scene(t, s,
+        "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\" \"float fov\" 60\n"
+        "Film \"rgb\" \"integer xresolution\" 4 \"integer yresolution\" 4 \"string filename\" \"t.pfm\"\n"
+        "Integrator \"path\" \"integer maxdepth\" 200\n"
+        "WorldBegin\n"
+        CLOSED_SPHERE_MAT
+        "AreaLightSource \"diffuse\" \"spectrum L\" [300 1 830 1] \"bool twosided\" true\n"
+        "Shape \"sphere\" \"float radius\" 1\n");
+}
+
+/* Per 10 nm bin over 400-700 nm with the default settings, then the whole film
+   range for every way of sampling lambda_i and both hero-wavelength modes. */
+static void test_fluor_closed_sphere(T *t)
+{
+    Scene s;
+    Spectrum Le;
+    RenderOptions o;
+    SphereModel sm;
+    double a, rgb[3];
+    int v;
+    if (!load_closed_sphere(t, &s)) return;
+    Le = le_of(&s, 0, LAMBDA_LO, LAMBDA_HI);
+    if (!closed_sphere_solve(&s.materials[s.n_materials - 1], &Le, &sm)) {
+        test_failf(t, __FILE__, __LINE__, "out of memory");
+        scene_free(&s);
+        return;
+    }
+    {   /* the fluorescence is real: the sphere is brighter at 520 nm than a plain
+           reflector of albedo 0.6 (Le / 0.4) and darker in the absorption band */
+        double L520 = sm.L[(int)((520.0 - 300.0) / sm.h)], L400 = sm.L[(int)((400.0 - 300.0) / sm.h)];
+        double Le0 = spec_eval(&Le, 520.0f);
+        CHECK(t, L520 > 1.2 * Le0 / 0.4 && L400 < Le0 / 0.4, "model: L(520) %g, L(400) %g, Le %g",
+              L520, L400, Le0);
+    }
+    render_options_default(&o);
+    o.spp = test_scaled(64, 16);
+    o.threads = 1;
+    o.maxdepth = 200;          /* the options', not the file's: 0.8^200 of truncation */
+    for (a = 400.0; a < 700.0; a += 10.0) {
+        closed_sphere_rgb(&sm, a, a + 10.0, rgb);
+        if (!band_matches(t, &s, &o, a, a + 10.0, 16, rgb, 1e-3, 1e-6, "closed sphere")) break;
+    }
+    closed_sphere_rgb(&sm, LAMBDA_LO, LAMBDA_HI, rgb);
+    for (v = 0; v < 6; v++) {
+        static const char *const name[] = { "li ~ A", "li ~ A x power", "li uniform",
+                                            "li ~ A, lanes kept", "li ~ A x power, lanes kept",
+                                            "li uniform, lanes kept" };
+        RenderOptions ov = o;
+        ov.fluor_li = v % 3 == 0 ? FLUOR_LI_A : v % 3 == 1 ? FLUOR_LI_POWER : FLUOR_LI_UNIFORM;
+        ov.fluor_keep = v >= 3;
+        ov.spp = test_scaled(256, 32);
+        ov.seed = 100 + v;
+        if (!band_matches(t, &s, &ov, LAMBDA_LO, LAMBDA_HI, 16, rgb, 1e-3, 1e-6, name[v])) break;
+    }
+    free(sm.L);
+    scene_free(&s);
+}
+
 /* Unbiasedness: a UV LED, a visible LED and a fluorescent sphere on a diffuse floor.
    NEE+MIS with every emitter strategy and BSDF sampling only must agree tile by
    tile.  NEE at lo after a shift, or a selection pmf at lo in the MIS weight,
@@ -454,9 +646,11 @@ static void test_fluor_estimators_agree(T *t)
         char what[64];
         if (i < sizeof strat / sizeof strat[0]) { oi.sel.strategy = strat[i]; oi.seed = 7 + (int)i; }
         else { oi.nee = 0; oi.spp *= 4; oi.seed = 99; }           /* BSDF sampling only */
+        oi.fluor_keep = i % 2;     /* both hero-wavelength modes against the baseline */
         if (i == 0) continue;
         if (!test_render_tiles(t, &s, &oi, K, 3, &other)) { scene_free(&s); return; }
-        snprintf(what, sizeof what, "%s vs spd", i < sizeof strat / sizeof strat[0] ? sel_name(strat[i]) : "BSDF only");
+        snprintf(what, sizeof what, "%s%s vs spd", i < sizeof strat / sizeof strat[0] ? sel_name(strat[i]) : "BSDF only",
+                 oi.fluor_keep ? ", lanes kept" : "");
         if (!test_tiles_agree(t, &ref, &other, 1e-3, what)) { scene_free(&s); return; }
     }
     scene_free(&s);
@@ -502,16 +696,20 @@ static void test_fluor_mis_pmf_at_li(T *t)
     if (!test_render_tiles(t, &s, &o, K, 1, &ref)) { scene_free(&s); return; }
     CHECK(t, ref.mean[0][2] > 0.01 && ref.se[0][2] < 0.06 * ref.mean[0][2],
           "the card glows blue with a small standard error: %g +- %g", ref.mean[0][2], ref.se[0][2]);
-    for (i = 0; i <= sizeof strat / sizeof strat[0] + 2; i++) {
+    for (i = 0; i <= sizeof strat / sizeof strat[0] + 5; i++) {
         RenderOptions oi = o;
         char what[64];
         size_t ns = sizeof strat / sizeof strat[0];
         if (i < ns) { oi.sel.strategy = strat[i]; oi.seed = 11 + (int)i; }
         else if (i == ns) { oi.nee = 0; oi.spp *= 4; oi.seed = 77; }   /* BSDF sampling only */
-        else { oi.sel.strategy = i == ns + 1 ? SEL_PRODUCT : SEL_UNIFORM; oi.fluor_li_power = 1; oi.seed = 55 + (int)i; }
+        else if (i <= ns + 2) { oi.sel.strategy = i == ns + 1 ? SEL_PRODUCT : SEL_UNIFORM; oi.fluor_li = FLUOR_LI_POWER; oi.seed = 55 + (int)i; }
+        else if (i == ns + 3) { oi.sel.strategy = SEL_PRODUCT; oi.fluor_li = FLUOR_LI_UNIFORM; oi.spp *= 2; oi.seed = 61; }
+        else { oi.sel.strategy = i == ns + 4 ? SEL_SPECTRAL_TREE : SEL_UNIFORM; oi.fluor_keep = 1; oi.seed = 63 + (int)i; }
         if (!test_render_tiles(t, &s, &oi, K, 1, &other)) { scene_free(&s); return; }
         snprintf(what, sizeof what, "%s vs uniform", i < ns ? sel_name(strat[i]) : i == ns ? "BSDF only"
-                 : i == ns + 1 ? "product, li ~ A x power" : "uniform, li ~ A x power");
+                 : i == ns + 1 ? "product, li ~ A x power" : i == ns + 2 ? "uniform, li ~ A x power"
+                 : i == ns + 3 ? "product, li uniform" : i == ns + 4 ? "spectral-tree, lanes kept"
+                 : "uniform, lanes kept");
         if (getenv("FLUOR_VERBOSE"))
             printf("%s: %g +- %g (uniform %g +- %g)\n", what, other.mean[0][2], other.se[0][2],
                    ref.mean[0][2], ref.se[0][2]);
@@ -692,6 +890,39 @@ static void test_fluor_li_mix_sampler(T *t)
     scene_free(&s);
 }
 
+/* --fluor-li uniform (FLUORESCENCE 3): samples uniform on [300, lo] by chi^2 over 5 nm
+   bins, the density 1 / (lo - 300) where it claims, nothing above lo. */
+static void test_fluor_li_uniform_sampler(T *t)
+{
+    enum { NB = 34 };
+    const float lo = 470.0f;
+    double cnt[NB], chi2 = 0.0;
+    int n = test_scaled(40000, 4000), i, b;
+    Rng rng;
+    memset(cnt, 0, sizeof cnt);
+    rng_seed(&rng, 31, 0);
+    for (i = 0; i < n; i++) {
+        float pdf, li = fluor_sample_li_uniform(lo, rng_float(&rng), &pdf);
+        CHECK(t, li >= 300.0f && li <= lo && pdf == fluor_pdf_li_uniform(lo, li) &&
+              fabsf(pdf - 1.0f / 170.0f) < 1e-9f, "sample %g nm pdf %g", (double)li, (double)pdf);
+        b = (int)((li - 300.0f) / 5.0f);
+        if (b >= NB) b = NB - 1;
+        cnt[b] += 1.0;
+    }
+    for (b = 0; b < NB; b++) {
+        double ex = n / (double)NB;
+        chi2 += (cnt[b] - ex) * (cnt[b] - ex) / ex;
+    }
+    CHECK(t, chi2 < NB - 1 + 5.0 * sqrt(2.0 * (NB - 1)), "chi^2 = %g with %d dof", chi2, NB - 1);
+    CHECK(t, fluor_pdf_li_uniform(lo, lo + 0.5f) == 0.0f && fluor_pdf_li_uniform(lo, 299.0f) == 0.0f,
+          "no density outside [300, lo]");
+    {
+        float pdf;
+        fluor_sample_li_uniform(300.0f, 0.5f, &pdf);
+        CHECK(t, pdf == 0.0f, "nothing below 300 nm to absorb: pdf %g", (double)pdf);
+    }
+}
+
 const TestCase tests_fluor[] = {
     { "fluor_uv_lamp_absolute", test_uv_lamp_absolute },
     { "fluor_uv_lamp_rules", test_uv_lamp_rules },
@@ -700,8 +931,11 @@ const TestCase tests_fluor[] = {
     { "fluor_parse_errors", test_fluor_parse_errors },
     { "fluor_li_sampler_chi2", test_fluor_li_sampler },
     { "fluor_li_mix_sampler_chi2", test_fluor_li_mix_sampler },
+    { "fluor_li_uniform_sampler_chi2", test_fluor_li_uniform_sampler },
     { "fluor_line", test_fluor_line },
     { "fluor_photon_furnace", test_fluor_photon_furnace },
+    { "fluor_line_bins", test_fluor_line_bins },
+    { "fluor_closed_sphere", test_fluor_closed_sphere },
     { "fluor_estimators_agree", test_fluor_estimators_agree },
     { "fluor_mis_pmf_at_li", test_fluor_mis_pmf_at_li },
     { "fluor_tree_uv_bins", test_fluor_tree_uv_bins },
