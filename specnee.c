@@ -96,7 +96,7 @@ static const char usage_options2[] =
 "                          flags override it); the presets are listed below\n"
 "  -q, --quiet             no progress bar and no closing line\n"
 "  -h, --help              this text\n";
-/* (split in two: C99 compilers need to support string literals of 4095 chars only) */
+/* (split in parts: C99 compilers need to support string literals of 4095 chars only) */
 static const char usage_notes[] =
 "\n"
 "Output: .pfm rows run bottom to top (netpbm), linear sRGB (D65), with a sidecar\n"
