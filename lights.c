@@ -465,11 +465,20 @@ typedef struct {
     int32_t twosided;
 } TreeNode;
 
+/* Per emitter, the little that every emitter hit and NEE sample reads (light_Le):
+   its radiance's index in LightSampler.Le, and how it emits. */
+typedef struct { int le, twosided, inf; } EmitterRef;
+
 struct LightSampler {
     const Scene *scene;
     SelOptions opt;
     int n;                     /* number of emitters */
-    Spectrum *Le;              /* per emitter: radiance for the sampled range */
+    Spectrum *Le;              /* the distinct radiances for the sampled range: emitters
+                                  with the same L, scale and kind share one (a hall of
+                                  1024 lamps of six spectra keeps 6, not 1024 x 2 KB,
+                                  which NEE would read from all over memory) */
+    int n_le;
+    EmitterRef *ref;           /* per emitter: what light_Le reads, in one place */
     double *k;                 /* per emitter: scale / luminance_sum(L) (image maps' texels) */
     float *bin;                /* n x SPD_BINS: bin averages of Le over 400-700 nm */
     double *power;             /* per emitter: radiant power over 400-700 nm */
@@ -811,7 +820,7 @@ static int tree_build(Builder *B, int *items, int n, int depth, uint64_t trail)
         /* power per bin: pi A (2 if two-sided) times the bin average of Le; the
            power Phi sums the bins of the sampled range only (b >= nb_uv) */
         for (b = 0; b < ls->nb; b++) {
-            const Spectrum *Le = &ls->Le[pc->emitter];
+            const Spectrum *Le = &ls->Le[ls->ref[pc->emitter].le];
             const int width = (int)SPD_BIN_NM;
             int nm0 = (int)ls->opt.lo_nm + width * (b - ls->nb_uv), k;
             double avg = 0.5 * (spec_get(Le, nm0) + spec_get(Le, nm0 + width));
@@ -1267,6 +1276,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     ls->n = n;
     if (n == 0) return ls;
     ls->Le = (Spectrum *)malloc(sizeof(Spectrum) * (size_t)n);
+    ls->ref = (EmitterRef *)malloc(sizeof(EmitterRef) * (size_t)n);
     ls->k = (double *)malloc(sizeof(double) * (size_t)n);
     ls->bin = (float *)malloc(sizeof(float) * (size_t)n * SPD_BINS);
     ls->power = (double *)malloc(sizeof(double) * (size_t)n);
@@ -1274,21 +1284,41 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     ls->power_cdf = (double *)malloc(sizeof(double) * (size_t)(n + 1));
     ls->T = (float *)malloc(sizeof(float) * (size_t)n * (SPD_UV_BINS + SPD_BINS));
     ls->Y = (float *)malloc(sizeof(float) * (size_t)n);
-    if (!ls->Le || !ls->k || !ls->bin || !ls->power || !ls->power_pmf || !ls->power_cdf || !ls->T || !ls->Y)
+    if (!ls->Le || !ls->ref || !ls->k || !ls->bin || !ls->power || !ls->power_pmf || !ls->power_cdf || !ls->T || !ls->Y)
         goto oom;
     /* the emitters' radiance for this render's range, bin table and power */
     for (i = 0; i < n; i++) {
         const Emitter *em = &s->emitters[i];
         double bsum = 0.0;
-        if (!radiance_and_k(s, i, ls->opt.lo_nm, ls->opt.hi_nm, &ls->Le[i], &ls->k[i], err)) {
-            light_sampler_free(ls);
-            return NULL;
+        int same = -1;
+        ls->ref[i].twosided = em->twosided;
+        ls->ref[i].inf = em->inf != NULL;
+        /* the same radiance as an earlier area light (same L, scale, kind)?  The
+           previous emitter is checked first, then a few before it: lamps of one
+           kind are usually declared together (O(n), never O(n^2)) */
+        if (!em->inf) {
+            int j, tries = 0;
+            for (j = i - 1; j >= 0 && tries < 8; j--, tries++) {
+                const Emitter *ej = &s->emitters[j];
+                if (!ej->inf && ej->scale == em->scale && ej->absolute == em->absolute &&
+                    memcmp(&ej->L, &em->L, sizeof em->L) == 0) { same = j; break; }
+            }
         }
-        for (b = 0; b < SPD_BINS; b++) {
-            float v = spec_bin_average(&ls->Le[i], b);
-            ls->bin[(size_t)i * SPD_BINS + b] = v;
-            bsum += v * SPD_BIN_NM;
+        if (same >= 0) {
+            /* radiance_and_k is a function of (L, scale, absolute) alone */
+            ls->ref[i].le = ls->ref[same].le;
+            ls->k[i] = ls->k[same];
+            memcpy(ls->bin + (size_t)i * SPD_BINS, ls->bin + (size_t)same * SPD_BINS, sizeof(float) * SPD_BINS);
+        } else {
+            ls->ref[i].le = ls->n_le++;
+            if (!radiance_and_k(s, i, ls->opt.lo_nm, ls->opt.hi_nm, &ls->Le[ls->ref[i].le], &ls->k[i], err)) {
+                light_sampler_free(ls);
+                return NULL;
+            }
+            for (b = 0; b < SPD_BINS; b++)
+                ls->bin[(size_t)i * SPD_BINS + b] = spec_bin_average(&ls->Le[ls->ref[i].le], b);
         }
+        for (b = 0; b < SPD_BINS; b++) bsum += ls->bin[(size_t)i * SPD_BINS + b] * SPD_BIN_NM;
         ls->power[i] = SPECNEE_PI * em->area * (em->twosided ? 2.0 : 1.0) * bsum;
     }
     for (i = 0; i < n; i++) sum += ls->power[i];
@@ -1306,12 +1336,12 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
         float m = o->power_metric ? (float)(em->area * (em->twosided ? 2.0 : 1.0)) : 1.0f;
         /* Y: luminance over the range, = scale for area lights (pbrt-v4's
            normalisation); an image map's stand-in spectrum has its own */
-        ls->Y[i] = em->inf ? (float)luminance_sum(&ls->Le[i], ls->opt.lo_nm, ls->opt.hi_nm)
+        ls->Y[i] = em->inf ? (float)luminance_sum(&ls->Le[ls->ref[i].le], ls->opt.lo_nm, ls->opt.hi_nm)
                            : em->scale;
         /* T rows 0..19: 300-400 nm (fluorescence excitation), rows 20..79: the
            thesis' 60 bins over 400-700 nm (spd_bin) */
         for (b = 0; b < SPD_UV_BINS; b++)
-            ls->T[b * n + i] = spec_band_average(&ls->Le[i], SPEC_UV_MIN + (int)SPD_BIN_NM * b,
+            ls->T[b * n + i] = spec_band_average(&ls->Le[ls->ref[i].le], SPEC_UV_MIN + (int)SPD_BIN_NM * b,
                                                  (int)SPD_BIN_NM) * m;
         for (b = 0; b < SPD_BINS; b++)
             ls->T[(SPD_UV_BINS + b) * n + i] = ls->bin[(size_t)i * SPD_BINS + b] * m;
@@ -1367,7 +1397,7 @@ void light_sampler_free(LightSampler *ls)
         for (v = 0; v < ls->n_voxels; v++)
             if (ls->voxel[v] != VOXEL_FAILED) free(ls->voxel[v]);
     free(ls->voxel);
-    free(ls->Le); free(ls->k); free(ls->bin); free(ls->inf_piece); free(ls->power);
+    free(ls->Le); free(ls->ref); free(ls->k); free(ls->bin); free(ls->inf_piece); free(ls->power);
     free(ls->power_pmf); free(ls->power_cdf);
     free(ls->T);
     free(ls->Y);
@@ -1386,7 +1416,8 @@ size_t light_sampler_bytes(const LightSampler *ls)
 {
     size_t n = (size_t)ls->n, bytes = sizeof *ls;
     long v;
-    bytes += n * (sizeof(Spectrum) + sizeof(float) * (2 * SPD_BINS + SPD_UV_BINS + 2)
+    bytes += (size_t)ls->n_le * sizeof(Spectrum);
+    bytes += n * (sizeof(EmitterRef) + sizeof(float) * (2 * SPD_BINS + SPD_UV_BINS + 2)
                   + sizeof(double) * 3 + sizeof(int));
     bytes += sizeof(Piece) * (size_t)ls->n_pieces;
     if (ls->piece_of_tri) bytes += sizeof(int) * (size_t)ls->scene->n_tris;
@@ -1410,13 +1441,14 @@ size_t light_sampler_bytes(const LightSampler *ls)
 
 float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm)
 {
-    const Emitter *em = &ls->scene->emitters[e];
-    if (em->inf) return inf_Le(em, &ls->Le[e], ls->k[e], v3_neg(w), lambda_nm);  /* along w */
-    if (!ls->scene->emitters[e].twosided && v3_dot(n, w) <= 0.0f) return 0.0f;
-    return spec_eval(&ls->Le[e], lambda_nm);
+    const EmitterRef *r = &ls->ref[e];
+    if (r->inf)                                                    /* along w */
+        return inf_Le(&ls->scene->emitters[e], &ls->Le[r->le], ls->k[e], v3_neg(w), lambda_nm);
+    if (!r->twosided && v3_dot(n, w) <= 0.0f) return 0.0f;
+    return spec_eval(&ls->Le[r->le], lambda_nm);
 }
 
-const Spectrum *light_spectrum(const LightSampler *ls, int e) { return &ls->Le[e]; }
+const Spectrum *light_spectrum(const LightSampler *ls, int e) { return &ls->Le[ls->ref[e].le]; }
 int light_n_pieces(const LightSampler *ls) { return ls->n_pieces; }
 int light_piece_emitter(const LightSampler *ls, int piece) { return ls->pieces[piece].emitter; }
 
