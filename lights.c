@@ -506,7 +506,11 @@ struct LightSampler {
                                   range, from 300 nm, then those of the range */
     int nb_uv;                 /* bins over [lo_nm - 5 nb_uv, lo_nm): 20 for 400-700 nm,
                                   12 for 360-830 (fluorescence excitation, section 4) */
-    float *node_bin;           /* n_nodes x nb: power per bin */
+    float *node_bin;           /* n_nodes x nb: power per bin (while building) */
+    float *pair_bin;           /* n_nodes x nb x 2: row i holds, bin by bin, the power of
+                                  interior node i's first and second child (unused
+                                  rows: leaves) */
+    float *root_bin;           /* nb: the root's power per bin */
     /* spatial grid */
     int res[3];
     Vec3 bmin, bmax;
@@ -1033,31 +1037,37 @@ static void tree_query(const LightSampler *ls, const LightCtx *c, TreeQuery *q)
     }
 }
 
-/* The importance of node i at the query (section 4): the one function that both
-   tree_select and tree_pmf call. */
-static float tree_importance(const LightSampler *ls, const TreeQuery *q, int i)
+/* max(x, 0) without libm's fmaxf (a call per use in this, the hottest loop of the
+   tree; a NaN gives 0 as fmaxf(0, NaN) does). */
+static float pos_or_zero(float x) { return x > 0.0f ? x : 0.0f; }
+
+/* The power that counts at the query (section 4): sum over the query's bins of
+   c_j times the power in bin b_j, read from bins[stride * b_j]. */
+static float query_power(const TreeQuery *q, const float *bins, int stride)
 {
-    const TreeNode *nd = &ls->nodes[i];
-    float phi, d2, r2, cos_x, imp;
+    float phi = 0.0f;
+    int k;
+    for (k = 0; k < q->nbins; k++) phi += q->c[k] * bins[stride * q->bin[k]];
+    return phi;
+}
+
+/* The importance of node nd, whose power in the context is phi, at the query
+   (section 4): the one function that both tree_select and tree_pmf call (through
+   branch_first). */
+static float node_importance(const TreeNode *nd, const TreeQuery *q, float phi)
+{
+    float d2, r2, cos_x, imp;
     Vec3 d;
-    if (q->spectral) {
-        int k;
-        const float *nb = ls->node_bin + (size_t)i * ls->nb;
-        phi = 0.0f;
-        for (k = 0; k < q->nbins; k++) phi += q->c[k] * nb[q->bin[k]];
-    } else {
-        phi = nd->power;
-    }
     if (!(phi > 0.0f)) return 0.0f;
     d = v3(q->p.x - nd->c[0], q->p.y - nd->c[1], q->p.z - nd->c[2]);
     d2 = v3_dot(d, d);
     r2 = nd->r * nd->r;
     if (!(d2 > r2)) {
         /* p inside the bounding sphere: no angle can be bounded */
-        imp = phi / fmaxf(r2, FLT_MIN);
+        imp = phi / (r2 > FLT_MIN ? r2 : FLT_MIN);
     } else {
         float inv = 1.0f / sqrtf(d2);
-        float sin_b = nd->r * inv, cos_b = sqrtf(fmaxf(0.0f, 1.0f - sin_b * sin_b));
+        float sin_b = nd->r * inv, cos_b = sqrtf(pos_or_zero(1.0f - sin_b * sin_b));
         Vec3 w = v3_mul(d, inv);                     /* from the centre towards p */
         float cos_w = w.x * nd->axis[0] + w.y * nd->axis[1] + w.z * nd->axis[2];
         if (nd->twosided) cos_w = fabsf(cos_w);
@@ -1065,7 +1075,7 @@ static float tree_importance(const LightSampler *ls, const TreeQuery *q, int i)
             cos_x = 1.0f;                            /* p inside the normal cone */
         } else {
             /* theta_w - theta_o > 0, then minus theta_b, clamped at 0 */
-            float sin_w = sqrtf(fmaxf(0.0f, 1.0f - cos_w * cos_w));
+            float sin_w = sqrtf(pos_or_zero(1.0f - cos_w * cos_w));
             float cos_wo = cos_w * nd->cos_o + sin_w * nd->sin_o;
             float sin_wo = sin_w * nd->cos_o - cos_w * nd->sin_o;
             cos_x = cos_wo >= cos_b ? 1.0f : cos_wo * cos_b + sin_wo * sin_b;
@@ -1074,7 +1084,7 @@ static float tree_importance(const LightSampler *ls, const TreeQuery *q, int i)
         imp = phi * cos_x / d2;
         if (q->has_n) {
             float cos_i = fabsf(v3_dot(q->n, w));
-            if (cos_i < cos_b) imp *= cos_i * cos_b + sqrtf(fmaxf(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
+            if (cos_i < cos_b) imp *= cos_i * cos_b + sqrtf(pos_or_zero(1.0f - cos_i * cos_i)) * sin_b;
         }
     }
     if (!(imp >= 0.0f)) return 0.0f;                 /* NaN */
@@ -1082,10 +1092,21 @@ static float tree_importance(const LightSampler *ls, const TreeQuery *q, int i)
 }
 
 /* Probability of the first child of interior node i: a / (a + b); 0 and *ok = 0
-   when neither child can light the point. */
+   when neither child can light the point.  The spectral powers of both children
+   sit side by side in the parent's row of pair_bin, so one cache line serves both
+   (a row per node of every bin was one cache miss per child and bin). */
 static double branch_first(const LightSampler *ls, const TreeQuery *q, int i, int *ok)
 {
-    double a = tree_importance(ls, q, i + 1), b = tree_importance(ls, q, ls->nodes[i].second);
+    const TreeNode *n0 = &ls->nodes[i + 1], *n1 = &ls->nodes[ls->nodes[i].second];
+    double a, b;
+    if (q->spectral) {
+        const float *pb = ls->pair_bin + (size_t)i * 2 * (size_t)ls->nb;
+        a = node_importance(n0, q, query_power(q, pb, 2));
+        b = node_importance(n1, q, query_power(q, pb + 1, 2));
+    } else {
+        a = node_importance(n0, q, n0->power);
+        b = node_importance(n1, q, n1->power);
+    }
     *ok = a + b > 0.0;
     return *ok ? a / (a + b) : 0.0;
 }
@@ -1095,7 +1116,9 @@ static double branch_first(const LightSampler *ls, const TreeQuery *q, int i, in
    lights).  A function of the context alone, so select and pmf agree. */
 static int tree_live(const LightSampler *ls, const TreeQuery *q)
 {
-    return ls->n_tree_pieces > 0 && tree_importance(ls, q, 0) > 0.0f;
+    return ls->n_tree_pieces > 0 &&
+           node_importance(&ls->nodes[0], q, q->spectral ? query_power(q, ls->root_bin, 1)
+                                                          : ls->nodes[0].power) > 0.0f;
 }
 
 static int tree_select(const LightSampler *ls, const LightCtx *c, float u, float *pmf)
@@ -1256,6 +1279,23 @@ static int tree_setup(LightSampler *ls)
     ls->n_nodes = 0;
     tree_build(&B, items, ls->n_tree_pieces, 0, 0);
     free(B.centroids);
+    /* the children's bins side by side in their parent's row (branch_first) */
+    ls->pair_bin = (float *)malloc(sizeof(float) * 2 * (size_t)ls->n_nodes * (size_t)ls->nb);
+    ls->root_bin = (float *)malloc(sizeof(float) * (size_t)ls->nb);
+    if (!ls->pair_bin || !ls->root_bin) goto done;
+    memcpy(ls->root_bin, ls->node_bin, sizeof(float) * (size_t)ls->nb);
+    for (i = 0; i < ls->n_nodes; i++) {
+        const TreeNode *nd = &ls->nodes[i];
+        float *row = ls->pair_bin + (size_t)i * 2 * (size_t)ls->nb;
+        int b;
+        if (nd->second < 0) continue;
+        for (b = 0; b < ls->nb; b++) {
+            row[2 * b] = ls->node_bin[(size_t)(i + 1) * ls->nb + b];
+            row[2 * b + 1] = ls->node_bin[(size_t)nd->second * ls->nb + b];
+        }
+    }
+    free(ls->node_bin);
+    ls->node_bin = NULL;
     ok = 1;
 done:
     free(items); free(tris); free(tri_c); free(pb); free(tmp);
@@ -1403,7 +1443,7 @@ void light_sampler_free(LightSampler *ls)
     free(ls->Y);
     free(ls->pieces); free(ls->emitter_piece);
     free(ls->piece_tri); free(ls->piece_cdf); free(ls->piece_of_tri);
-    free(ls->nodes); free(ls->node_bin);
+    free(ls->nodes); free(ls->node_bin); free(ls->pair_bin); free(ls->root_bin);
     free(ls);
 }
 
@@ -1427,7 +1467,8 @@ size_t light_sampler_bytes(const LightSampler *ls)
         for (i = 0; i < ls->n_pieces; i++) k += (size_t)ls->pieces[i].count;
         bytes += k * (sizeof(int) + sizeof(float));
     }
-    bytes += (size_t)ls->n_nodes * (sizeof(TreeNode) + sizeof(float) * (size_t)ls->nb);
+    bytes += (size_t)ls->n_nodes * (sizeof(TreeNode) + 2 * sizeof(float) * (size_t)ls->nb);
+    if (ls->root_bin) bytes += sizeof(float) * (size_t)ls->nb;
     if (ls->voxel) {
         bytes += sizeof(float *) * (size_t)ls->n_voxels;
         for (v = 0; v < ls->n_voxels; v++)
