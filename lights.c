@@ -11,7 +11,8 @@
           Le(lambda) = scale * L(lambda) / sum_{lambda = lo..hi, 1 nm} ybar(lambda) L(lambda)
       over the range the film integrates, so a directly seen emitter has Y = scale.
       The range belongs to a render (--wide samples 360-830 nm), so Le is computed
-      by light_sampler_build and kept in the LightSampler, which the render owns;
+      by light_sampler_build and kept in the LightSampler, which the render owns
+      (once per distinct (L, scale, kind): emitters of one lamp type share it);
       the Scene keeps only what the file says and the geometry (area, triangle CDF).
       A one-sided emitter emits only to the side its oriented normal points to.
       Points are sampled by area: a triangle with probability area_t / A, then a

@@ -3,9 +3,13 @@
    usage: tools/bench_lights [scene.pbrt]     per-strategy table for one scene
                                               (default scenes/cornell1.pbrt)
           tools/bench_lights --many [NMAX] [--svg FILE] [--csv FILE] [--only a,b]
-                             [--slow-max N]   cost against the number of emitters
+                             [--slow-max N] [--runs R] [--geometry G]
+                                              cost against the number of emitters
                                               (--only: those strategies; spatial
-                                              and product only up to N emitters)
+                                              and product only up to N emitters;
+                                              --runs: renders per entry, default 5;
+                                              --geometry: G lamp quads in every
+                                              scene, N of them emitting)
           tools/bench_lights --hall N FILE    write the generated scene with N lamps
 
    ONE SCENE.  Shading points are the first hits of 200,000 rays from the scene's
@@ -30,7 +34,13 @@
      ns/sel     light_select + light_select_pmf at 2,000 first-hit points
                 (lazy voxels filled before timing), hero alone half of the time
      us/sample  CPU time of a 64x64, 8 spp render (maxdepth 5, 1 thread) per
-                camera sample: the whole per-sample cost, tables included
+                camera sample: the whole per-sample cost, render_begin (tables,
+                radiance, wavelength pdf) included; the median and the minimum
+                of R renders interleaved over N and strategy (round r renders
+                every entry once; spatial and product, 100 x slower, once), and
+                render_begin's share
+     ratios     per strategy the cost at 1024 over that at 4 emitters (the
+                issue-11 target), and every strategy against uniform per N
      table KiB  light_sampler_bytes after the ns/sel loop
    Every time is CPU time of the process (the render: clock(), 1 thread), so a
    busy machine does not inflate it.  --svg writes the log-log chart of us/sample against N
