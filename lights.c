@@ -11,7 +11,8 @@
           Le(lambda) = scale * L(lambda) / sum_{lambda = lo..hi, 1 nm} ybar(lambda) L(lambda)
       over the range the film integrates, so a directly seen emitter has Y = scale.
       The range belongs to a render (--wide samples 360-830 nm), so Le is computed
-      by light_sampler_build and kept in the LightSampler, which the render owns;
+      by light_sampler_build and kept in the LightSampler, which the render owns
+      (once per distinct (L, scale, kind): emitters of one lamp type share it);
       the Scene keeps only what the file says and the geometry (area, triangle CDF).
       A one-sided emitter emits only to the side its oriented normal points to.
       Points are sampled by area: a triangle with probability area_t / A, then a
@@ -465,11 +466,20 @@ typedef struct {
     int32_t twosided;
 } TreeNode;
 
+/* Per emitter, the little that every emitter hit and NEE sample reads (light_Le):
+   its radiance's index in LightSampler.Le, and how it emits. */
+typedef struct { int le, twosided, inf; } EmitterRef;
+
 struct LightSampler {
     const Scene *scene;
     SelOptions opt;
     int n;                     /* number of emitters */
-    Spectrum *Le;              /* per emitter: radiance for the sampled range */
+    Spectrum *Le;              /* the distinct radiances for the sampled range: emitters
+                                  with the same L, scale and kind share one (a hall of
+                                  1024 lamps of six spectra keeps 6, not 1024 x 2 KB,
+                                  which NEE would read from all over memory) */
+    int n_le;
+    EmitterRef *ref;           /* per emitter: what light_Le reads, in one place */
     double *k;                 /* per emitter: scale / luminance_sum(L) (image maps' texels) */
     float *bin;                /* n x SPD_BINS: bin averages of Le over 400-700 nm */
     double *power;             /* per emitter: radiant power over 400-700 nm */
@@ -497,7 +507,11 @@ struct LightSampler {
                                   range, from 300 nm, then those of the range */
     int nb_uv;                 /* bins over [lo_nm - 5 nb_uv, lo_nm): 20 for 400-700 nm,
                                   12 for 360-830 (fluorescence excitation, section 4) */
-    float *node_bin;           /* n_nodes x nb: power per bin */
+    float *node_bin;           /* n_nodes x nb: power per bin (while building) */
+    float *pair_bin;           /* n_nodes x nb x 2: row i holds, bin by bin, the power of
+                                  interior node i's first and second child (unused
+                                  rows: leaves) */
+    float *root_bin;           /* nb: the root's power per bin */
     /* spatial grid */
     int res[3];
     Vec3 bmin, bmax;
@@ -811,7 +825,7 @@ static int tree_build(Builder *B, int *items, int n, int depth, uint64_t trail)
         /* power per bin: pi A (2 if two-sided) times the bin average of Le; the
            power Phi sums the bins of the sampled range only (b >= nb_uv) */
         for (b = 0; b < ls->nb; b++) {
-            const Spectrum *Le = &ls->Le[pc->emitter];
+            const Spectrum *Le = &ls->Le[ls->ref[pc->emitter].le];
             const int width = (int)SPD_BIN_NM;
             int nm0 = (int)ls->opt.lo_nm + width * (b - ls->nb_uv), k;
             double avg = 0.5 * (spec_get(Le, nm0) + spec_get(Le, nm0 + width));
@@ -1024,31 +1038,37 @@ static void tree_query(const LightSampler *ls, const LightCtx *c, TreeQuery *q)
     }
 }
 
-/* The importance of node i at the query (section 4): the one function that both
-   tree_select and tree_pmf call. */
-static float tree_importance(const LightSampler *ls, const TreeQuery *q, int i)
+/* max(x, 0) without libm's fmaxf (a call per use in this, the hottest loop of the
+   tree; a NaN gives 0 as fmaxf(0, NaN) does). */
+static float pos_or_zero(float x) { return x > 0.0f ? x : 0.0f; }
+
+/* The power that counts at the query (section 4): sum over the query's bins of
+   c_j times the power in bin b_j, read from bins[stride * b_j]. */
+static float query_power(const TreeQuery *q, const float *bins, int stride)
 {
-    const TreeNode *nd = &ls->nodes[i];
-    float phi, d2, r2, cos_x, imp;
+    float phi = 0.0f;
+    int k;
+    for (k = 0; k < q->nbins; k++) phi += q->c[k] * bins[stride * q->bin[k]];
+    return phi;
+}
+
+/* The importance of node nd, whose power in the context is phi, at the query
+   (section 4): the one function that both tree_select and tree_pmf call (through
+   branch_first). */
+static float node_importance(const TreeNode *nd, const TreeQuery *q, float phi)
+{
+    float d2, r2, cos_x, imp;
     Vec3 d;
-    if (q->spectral) {
-        int k;
-        const float *nb = ls->node_bin + (size_t)i * ls->nb;
-        phi = 0.0f;
-        for (k = 0; k < q->nbins; k++) phi += q->c[k] * nb[q->bin[k]];
-    } else {
-        phi = nd->power;
-    }
     if (!(phi > 0.0f)) return 0.0f;
     d = v3(q->p.x - nd->c[0], q->p.y - nd->c[1], q->p.z - nd->c[2]);
     d2 = v3_dot(d, d);
     r2 = nd->r * nd->r;
     if (!(d2 > r2)) {
         /* p inside the bounding sphere: no angle can be bounded */
-        imp = phi / fmaxf(r2, FLT_MIN);
+        imp = phi / (r2 > FLT_MIN ? r2 : FLT_MIN);
     } else {
         float inv = 1.0f / sqrtf(d2);
-        float sin_b = nd->r * inv, cos_b = sqrtf(fmaxf(0.0f, 1.0f - sin_b * sin_b));
+        float sin_b = nd->r * inv, cos_b = sqrtf(pos_or_zero(1.0f - sin_b * sin_b));
         Vec3 w = v3_mul(d, inv);                     /* from the centre towards p */
         float cos_w = w.x * nd->axis[0] + w.y * nd->axis[1] + w.z * nd->axis[2];
         if (nd->twosided) cos_w = fabsf(cos_w);
@@ -1056,7 +1076,7 @@ static float tree_importance(const LightSampler *ls, const TreeQuery *q, int i)
             cos_x = 1.0f;                            /* p inside the normal cone */
         } else {
             /* theta_w - theta_o > 0, then minus theta_b, clamped at 0 */
-            float sin_w = sqrtf(fmaxf(0.0f, 1.0f - cos_w * cos_w));
+            float sin_w = sqrtf(pos_or_zero(1.0f - cos_w * cos_w));
             float cos_wo = cos_w * nd->cos_o + sin_w * nd->sin_o;
             float sin_wo = sin_w * nd->cos_o - cos_w * nd->sin_o;
             cos_x = cos_wo >= cos_b ? 1.0f : cos_wo * cos_b + sin_wo * sin_b;
@@ -1065,7 +1085,7 @@ static float tree_importance(const LightSampler *ls, const TreeQuery *q, int i)
         imp = phi * cos_x / d2;
         if (q->has_n) {
             float cos_i = fabsf(v3_dot(q->n, w));
-            if (cos_i < cos_b) imp *= cos_i * cos_b + sqrtf(fmaxf(0.0f, 1.0f - cos_i * cos_i)) * sin_b;
+            if (cos_i < cos_b) imp *= cos_i * cos_b + sqrtf(pos_or_zero(1.0f - cos_i * cos_i)) * sin_b;
         }
     }
     if (!(imp >= 0.0f)) return 0.0f;                 /* NaN */
@@ -1073,10 +1093,21 @@ static float tree_importance(const LightSampler *ls, const TreeQuery *q, int i)
 }
 
 /* Probability of the first child of interior node i: a / (a + b); 0 and *ok = 0
-   when neither child can light the point. */
+   when neither child can light the point.  The spectral powers of both children
+   sit side by side in the parent's row of pair_bin, so one cache line serves both
+   (a row per node of every bin was one cache miss per child and bin). */
 static double branch_first(const LightSampler *ls, const TreeQuery *q, int i, int *ok)
 {
-    double a = tree_importance(ls, q, i + 1), b = tree_importance(ls, q, ls->nodes[i].second);
+    const TreeNode *n0 = &ls->nodes[i + 1], *n1 = &ls->nodes[ls->nodes[i].second];
+    double a, b;
+    if (q->spectral) {
+        const float *pb = ls->pair_bin + (size_t)i * 2 * (size_t)ls->nb;
+        a = node_importance(n0, q, query_power(q, pb, 2));
+        b = node_importance(n1, q, query_power(q, pb + 1, 2));
+    } else {
+        a = node_importance(n0, q, n0->power);
+        b = node_importance(n1, q, n1->power);
+    }
     *ok = a + b > 0.0;
     return *ok ? a / (a + b) : 0.0;
 }
@@ -1086,7 +1117,9 @@ static double branch_first(const LightSampler *ls, const TreeQuery *q, int i, in
    lights).  A function of the context alone, so select and pmf agree. */
 static int tree_live(const LightSampler *ls, const TreeQuery *q)
 {
-    return ls->n_tree_pieces > 0 && tree_importance(ls, q, 0) > 0.0f;
+    return ls->n_tree_pieces > 0 &&
+           node_importance(&ls->nodes[0], q, q->spectral ? query_power(q, ls->root_bin, 1)
+                                                          : ls->nodes[0].power) > 0.0f;
 }
 
 static int tree_select(const LightSampler *ls, const LightCtx *c, float u, float *pmf)
@@ -1247,6 +1280,23 @@ static int tree_setup(LightSampler *ls)
     ls->n_nodes = 0;
     tree_build(&B, items, ls->n_tree_pieces, 0, 0);
     free(B.centroids);
+    /* the children's bins side by side in their parent's row (branch_first) */
+    ls->pair_bin = (float *)malloc(sizeof(float) * 2 * (size_t)ls->n_nodes * (size_t)ls->nb);
+    ls->root_bin = (float *)malloc(sizeof(float) * (size_t)ls->nb);
+    if (!ls->pair_bin || !ls->root_bin) goto done;
+    memcpy(ls->root_bin, ls->node_bin, sizeof(float) * (size_t)ls->nb);
+    for (i = 0; i < ls->n_nodes; i++) {
+        const TreeNode *nd = &ls->nodes[i];
+        float *row = ls->pair_bin + (size_t)i * 2 * (size_t)ls->nb;
+        int b;
+        if (nd->second < 0) continue;
+        for (b = 0; b < ls->nb; b++) {
+            row[2 * b] = ls->node_bin[(size_t)(i + 1) * ls->nb + b];
+            row[2 * b + 1] = ls->node_bin[(size_t)nd->second * ls->nb + b];
+        }
+    }
+    free(ls->node_bin);
+    ls->node_bin = NULL;
     ok = 1;
 done:
     free(items); free(tris); free(tri_c); free(pb); free(tmp);
@@ -1267,6 +1317,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     ls->n = n;
     if (n == 0) return ls;
     ls->Le = (Spectrum *)malloc(sizeof(Spectrum) * (size_t)n);
+    ls->ref = (EmitterRef *)malloc(sizeof(EmitterRef) * (size_t)n);
     ls->k = (double *)malloc(sizeof(double) * (size_t)n);
     ls->bin = (float *)malloc(sizeof(float) * (size_t)n * SPD_BINS);
     ls->power = (double *)malloc(sizeof(double) * (size_t)n);
@@ -1274,21 +1325,41 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     ls->power_cdf = (double *)malloc(sizeof(double) * (size_t)(n + 1));
     ls->T = (float *)malloc(sizeof(float) * (size_t)n * (SPD_UV_BINS + SPD_BINS));
     ls->Y = (float *)malloc(sizeof(float) * (size_t)n);
-    if (!ls->Le || !ls->k || !ls->bin || !ls->power || !ls->power_pmf || !ls->power_cdf || !ls->T || !ls->Y)
+    if (!ls->Le || !ls->ref || !ls->k || !ls->bin || !ls->power || !ls->power_pmf || !ls->power_cdf || !ls->T || !ls->Y)
         goto oom;
     /* the emitters' radiance for this render's range, bin table and power */
     for (i = 0; i < n; i++) {
         const Emitter *em = &s->emitters[i];
         double bsum = 0.0;
-        if (!radiance_and_k(s, i, ls->opt.lo_nm, ls->opt.hi_nm, &ls->Le[i], &ls->k[i], err)) {
-            light_sampler_free(ls);
-            return NULL;
+        int same = -1;
+        ls->ref[i].twosided = em->twosided;
+        ls->ref[i].inf = em->inf != NULL;
+        /* the same radiance as an earlier area light (same L, scale, kind)?  The
+           previous emitter is checked first, then a few before it: lamps of one
+           kind are usually declared together (O(n), never O(n^2)) */
+        if (!em->inf) {
+            int j, tries = 0;
+            for (j = i - 1; j >= 0 && tries < 8; j--, tries++) {
+                const Emitter *ej = &s->emitters[j];
+                if (!ej->inf && ej->scale == em->scale && ej->absolute == em->absolute &&
+                    memcmp(&ej->L, &em->L, sizeof em->L) == 0) { same = j; break; }
+            }
         }
-        for (b = 0; b < SPD_BINS; b++) {
-            float v = spec_bin_average(&ls->Le[i], b);
-            ls->bin[(size_t)i * SPD_BINS + b] = v;
-            bsum += v * SPD_BIN_NM;
+        if (same >= 0) {
+            /* radiance_and_k is a function of (L, scale, absolute) alone */
+            ls->ref[i].le = ls->ref[same].le;
+            ls->k[i] = ls->k[same];
+            memcpy(ls->bin + (size_t)i * SPD_BINS, ls->bin + (size_t)same * SPD_BINS, sizeof(float) * SPD_BINS);
+        } else {
+            ls->ref[i].le = ls->n_le++;
+            if (!radiance_and_k(s, i, ls->opt.lo_nm, ls->opt.hi_nm, &ls->Le[ls->ref[i].le], &ls->k[i], err)) {
+                light_sampler_free(ls);
+                return NULL;
+            }
+            for (b = 0; b < SPD_BINS; b++)
+                ls->bin[(size_t)i * SPD_BINS + b] = spec_bin_average(&ls->Le[ls->ref[i].le], b);
         }
+        for (b = 0; b < SPD_BINS; b++) bsum += ls->bin[(size_t)i * SPD_BINS + b] * SPD_BIN_NM;
         ls->power[i] = SPECNEE_PI * em->area * (em->twosided ? 2.0 : 1.0) * bsum;
     }
     for (i = 0; i < n; i++) sum += ls->power[i];
@@ -1306,12 +1377,12 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
         float m = o->power_metric ? (float)(em->area * (em->twosided ? 2.0 : 1.0)) : 1.0f;
         /* Y: luminance over the range, = scale for area lights (pbrt-v4's
            normalisation); an image map's stand-in spectrum has its own */
-        ls->Y[i] = em->inf ? (float)luminance_sum(&ls->Le[i], ls->opt.lo_nm, ls->opt.hi_nm)
+        ls->Y[i] = em->inf ? (float)luminance_sum(&ls->Le[ls->ref[i].le], ls->opt.lo_nm, ls->opt.hi_nm)
                            : em->scale;
         /* T rows 0..19: 300-400 nm (fluorescence excitation), rows 20..79: the
            thesis' 60 bins over 400-700 nm (spd_bin) */
         for (b = 0; b < SPD_UV_BINS; b++)
-            ls->T[b * n + i] = spec_band_average(&ls->Le[i], SPEC_UV_MIN + (int)SPD_BIN_NM * b,
+            ls->T[b * n + i] = spec_band_average(&ls->Le[ls->ref[i].le], SPEC_UV_MIN + (int)SPD_BIN_NM * b,
                                                  (int)SPD_BIN_NM) * m;
         for (b = 0; b < SPD_BINS; b++)
             ls->T[(SPD_UV_BINS + b) * n + i] = ls->bin[(size_t)i * SPD_BINS + b] * m;
@@ -1367,13 +1438,13 @@ void light_sampler_free(LightSampler *ls)
         for (v = 0; v < ls->n_voxels; v++)
             if (ls->voxel[v] != VOXEL_FAILED) free(ls->voxel[v]);
     free(ls->voxel);
-    free(ls->Le); free(ls->k); free(ls->bin); free(ls->inf_piece); free(ls->power);
+    free(ls->Le); free(ls->ref); free(ls->k); free(ls->bin); free(ls->inf_piece); free(ls->power);
     free(ls->power_pmf); free(ls->power_cdf);
     free(ls->T);
     free(ls->Y);
     free(ls->pieces); free(ls->emitter_piece);
     free(ls->piece_tri); free(ls->piece_cdf); free(ls->piece_of_tri);
-    free(ls->nodes); free(ls->node_bin);
+    free(ls->nodes); free(ls->node_bin); free(ls->pair_bin); free(ls->root_bin);
     free(ls);
 }
 
@@ -1386,7 +1457,8 @@ size_t light_sampler_bytes(const LightSampler *ls)
 {
     size_t n = (size_t)ls->n, bytes = sizeof *ls;
     long v;
-    bytes += n * (sizeof(Spectrum) + sizeof(float) * (2 * SPD_BINS + SPD_UV_BINS + 2)
+    bytes += (size_t)ls->n_le * sizeof(Spectrum);
+    bytes += n * (sizeof(EmitterRef) + sizeof(float) * (2 * SPD_BINS + SPD_UV_BINS + 2)
                   + sizeof(double) * 3 + sizeof(int));
     bytes += sizeof(Piece) * (size_t)ls->n_pieces;
     if (ls->piece_of_tri) bytes += sizeof(int) * (size_t)ls->scene->n_tris;
@@ -1396,7 +1468,8 @@ size_t light_sampler_bytes(const LightSampler *ls)
         for (i = 0; i < ls->n_pieces; i++) k += (size_t)ls->pieces[i].count;
         bytes += k * (sizeof(int) + sizeof(float));
     }
-    bytes += (size_t)ls->n_nodes * (sizeof(TreeNode) + sizeof(float) * (size_t)ls->nb);
+    bytes += (size_t)ls->n_nodes * (sizeof(TreeNode) + 2 * sizeof(float) * (size_t)ls->nb);
+    if (ls->root_bin) bytes += sizeof(float) * (size_t)ls->nb;
     if (ls->voxel) {
         bytes += sizeof(float *) * (size_t)ls->n_voxels;
         for (v = 0; v < ls->n_voxels; v++)
@@ -1410,13 +1483,14 @@ size_t light_sampler_bytes(const LightSampler *ls)
 
 float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm)
 {
-    const Emitter *em = &ls->scene->emitters[e];
-    if (em->inf) return inf_Le(em, &ls->Le[e], ls->k[e], v3_neg(w), lambda_nm);  /* along w */
-    if (!ls->scene->emitters[e].twosided && v3_dot(n, w) <= 0.0f) return 0.0f;
-    return spec_eval(&ls->Le[e], lambda_nm);
+    const EmitterRef *r = &ls->ref[e];
+    if (r->inf)                                                    /* along w */
+        return inf_Le(&ls->scene->emitters[e], &ls->Le[r->le], ls->k[e], v3_neg(w), lambda_nm);
+    if (!r->twosided && v3_dot(n, w) <= 0.0f) return 0.0f;
+    return spec_eval(&ls->Le[r->le], lambda_nm);
 }
 
-const Spectrum *light_spectrum(const LightSampler *ls, int e) { return &ls->Le[e]; }
+const Spectrum *light_spectrum(const LightSampler *ls, int e) { return &ls->Le[ls->ref[e].le]; }
 int light_n_pieces(const LightSampler *ls) { return ls->n_pieces; }
 int light_piece_emitter(const LightSampler *ls, int piece) { return ls->pieces[piece].emitter; }
 

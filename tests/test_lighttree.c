@@ -432,7 +432,7 @@ static void test_mesh_split_pmf(T *t)
 static void test_per_render_radiance(T *t)
 {
     static char buf[1 << 14];
-    static Emitter before[3];
+    static Emitter before[5];
     Scene s;
     LightSampler *ls[2];
     int e, k, lam;
@@ -440,6 +440,10 @@ static void test_per_render_radiance(T *t)
     add_quad(buf, sizeof buf, SPIKY, 2, v3(-0.5f, 0.99f, 0.0f), 1, -1, 0.2f);
     add_quad(buf, sizeof buf, "[ 380 1 400 1 700 0.2 720 3 ]", 3, v3(0.5f, 0.99f, 0.0f), 1, -1, 0.2f);
     add_quad(buf, sizeof buf, LOW_HALF, 5, v3(0.0f, 0.99f, 0.5f), 1, -1, 0.2f);
+    /* the same spectrum at another scale (its own radiance), then once more (the
+       sampler may share that radiance between emitters 3 and 4) */
+    add_quad(buf, sizeof buf, LOW_HALF, 9, v3(0.0f, 0.99f, -0.5f), 1, -1, 0.2f);
+    add_quad(buf, sizeof buf, LOW_HALF, 9, v3(0.5f, 0.99f, -0.5f), 1, -1, 0.2f);
     if (!test_load_scene(t, &s, buf)) return;
     memcpy(before, s.emitters, sizeof before);
     for (k = 0; k < 2; k++) {
@@ -453,7 +457,7 @@ static void test_per_render_radiance(T *t)
         CHECK(t, ls[k] != NULL, "%s", err.msg);
     }
     for (k = 0; k < 2; k++)
-        for (e = 0; e < 3; e++) {
+        for (e = 0; e < 5; e++) {
             int lo = k ? SPEC_MIN : (int)LAMBDA_LO, hi = k ? SPEC_MAX : (int)LAMBDA_HI;
             double Y = 0.0;
             Vec3 down = v3(0, -1, 0);

@@ -53,7 +53,7 @@ fi
 
 if [ -x ./tools/bench_lights ]; then
     echo "== many emitters: cost against N (tools/bench_lights --many; CPU times, 1 thread)"
-    ./tools/bench_lights --many 4096 --svg out/lighttree-cost.svg --csv out/lighttree-cost.csv
+    ./tools/bench_lights --many 4096 --runs 5 --svg out/lighttree-cost.svg --csv out/lighttree-cost.csv
     if [ -x /usr/bin/time ] && [ -x ./specnee ]; then
         echo "== peak memory of the process, hall with 1024 lamps, 64x64, 4 spp, 1 thread"
         ./tools/bench_lights --hall 1024 out/hall1024.pbrt

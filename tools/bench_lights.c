@@ -3,9 +3,13 @@
    usage: tools/bench_lights [scene.pbrt]     per-strategy table for one scene
                                               (default scenes/cornell1.pbrt)
           tools/bench_lights --many [NMAX] [--svg FILE] [--csv FILE] [--only a,b]
-                             [--slow-max N]   cost against the number of emitters
+                             [--slow-max N] [--runs R] [--geometry G]
+                                              cost against the number of emitters
                                               (--only: those strategies; spatial
-                                              and product only up to N emitters)
+                                              and product only up to N emitters;
+                                              --runs: renders per entry, default 5;
+                                              --geometry: G lamp quads in every
+                                              scene, N of them emitting)
           tools/bench_lights --hall N FILE    write the generated scene with N lamps
 
    ONE SCENE.  Shading points are the first hits of 200,000 rays from the scene's
@@ -30,7 +34,13 @@
      ns/sel     light_select + light_select_pmf at 2,000 first-hit points
                 (lazy voxels filled before timing), hero alone half of the time
      us/sample  CPU time of a 64x64, 8 spp render (maxdepth 5, 1 thread) per
-                camera sample: the whole per-sample cost, tables included
+                camera sample: the whole per-sample cost, render_begin (tables,
+                radiance, wavelength pdf) included; the median and the minimum
+                of R renders interleaved over N and strategy (round r renders
+                every entry once; spatial and product, 100 x slower, once), and
+                render_begin's share
+     ratios     per strategy the cost at 1024 over that at 4 emitters (the
+                issue-11 target), and every strategy against uniform per N
      table KiB  light_sampler_bytes after the ns/sel loop
    Every time is CPU time of the process (the render: clock(), 1 thread), so a
    busy machine does not inflate it.  --svg writes the log-log chart of us/sample against N
@@ -157,18 +167,24 @@ static int one_scene(const char *path)
 
 /* ------------------------------------------------------------------ the hall */
 
-/* The generated scene (see the top of this file) as pbrt-v4 text; malloc'd. */
-static char *write_hall(int n)
+/* The generated scene (see the top of this file) as pbrt-v4 text; malloc'd.
+   The lamps are laid out as for g lamps (g >= n); n of them, spread evenly over
+   the grid, emit and the others are dark quads of the walls' material, so that
+   g > n holds the geometry fixed while n varies (--geometry). */
+static char *write_hall(int n, int g)
 {
     static const char *spectra[6] = { "stdillum-F2", "stdillum-F7", "stdillum-F11",
                                       "lamp-CFL1", "lamp-LED1", "lamp-LED2" };
-    size_t cap = (size_t)n * 400 + 8192, len = 0;
-    char *b = (char *)malloc(cap);
-    int nx = 1, nz, i;
+    size_t cap, len = 0;
+    char *b;
+    int nx = 1, nz, i, next = 0, k = 0;
     float sx, sz, h, scale;
+    if (g < n) g = n;
+    cap = (size_t)g * 400 + 8192;
+    b = (char *)malloc(cap);
     if (!b) return NULL;
-    while ((nx * nx) / 3 < n) nx++;                  /* about 3 x as many along the hall */
-    nz = (n + nx - 1) / nx;
+    while ((nx * nx) / 3 < g) nx++;                  /* about 3 x as many along the hall */
+    nz = (g + nx - 1) / nx;
     if (nz < 1) nz = 1;
     sx = 12.0f / nx;                                 /* the hall runs along x: -6..6 */
     sz = 4.0f / nz;                                  /* and is 4 m wide: -2..2 */
@@ -193,58 +209,105 @@ static char *write_hall(int n)
         "AttributeBegin\n Translate 0 0.5 0.6\n"
         " Material \"dielectric\" \"spectrum eta\" \"glass-F5\"\n"
         " Shape \"sphere\" \"float radius\" [ 0.5 ]\nAttributeEnd\n", n);
-    for (i = 0; i < n; i++) {
+    for (i = 0; i < g; i++) {
         float x = -6.0f + sx * (0.5f + (float)(i % nx)), z = -2.0f + sz * (0.5f + (float)(i / nx)), y = 2.9f;
-        int up = i % 5 == 4;                         /* faces the ceiling */
+        int up = k % 5 == 4, lit = i == next && k < n;   /* every fifth lamp faces the ceiling */
+        if (lit) {
+            len += (size_t)snprintf(b + len, cap - len,
+                "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" \"%s\" \"float scale\" [ %g ]\n",
+                spectra[k % 6], scale);
+            k++;
+            next = (int)((long)k * g / n);
+        } else {
+            len += (size_t)snprintf(b + len, cap - len, "AttributeBegin\n");
+            up = 0;
+        }
         len += (size_t)snprintf(b + len, cap - len,
-            "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" \"%s\" \"float scale\" [ %g ]\n"
             " Shape \"trianglemesh\" \"integer indices\" [ %s ]\n"
             "  \"point3 P\" [ %g %g %g  %g %g %g  %g %g %g  %g %g %g ]\nAttributeEnd\n",
-            spectra[i % 6], scale, up ? "0 2 1 0 3 2" : "0 1 2 0 2 3",
+            up ? "0 2 1 0 3 2" : "0 1 2 0 2 3",
             x - h, y, z - h, x + h, y, z - h, x + h, y, z + h, x - h, y, z + h);
     }
     return b;
 }
 
-static int many(int nmax, int slow_max, const char *svg, const char *csv, const char *only)
+static int cmp_double(const void *pa, const void *pb)
 {
-    static const char *strat[] = { "uniform", "power", "spatial", "product", "tree", "spectral-tree" };
-    enum { NS = sizeof strat / sizeof strat[0], NMAXPTS = 8, NPTS = 2000 };
-    double xs[NMAXPTS], us[NS][NMAXPTS];
-    int counts[NMAXPTS], nn = 0, k, v;
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return a < b ? -1 : a > b;
+}
+
+/* The cost of one render at the bench's settings, CPU seconds: *setup for
+   render_begin (emitter radiance, selection tables, wavelength pdf), *pass for
+   the samples; returns the number of camera samples (0: failed). */
+static double render_once(const Scene *s, const RenderOptions *o, double *setup, double *pass)
+{
+    Error err;
+    RenderJob *j;
+    double t0 = now(), t1, samples;
+    j = render_begin(s, o, &err);
+    t1 = now();
+    if (!j || !render_advance(j, o->spp, o->spp, &err)) {
+        fprintf(stderr, "%s\n", err.msg);
+        if (j) render_end(j);
+        return 0.0;
+    }
+    *setup = t1 - t0;
+    *pass = now() - t1;
+    samples = (double)render_stats(j)->samples;
+    render_end(j);
+    return samples;
+}
+
+enum { NSTRAT = 6, NMAXPTS = 8, MAXRUNS = 64 };
+
+static int many(int nmax, int slow_max, int runs, int geometry, const char *svg, const char *csv,
+                const char *only)
+{
+    static const char *strat[NSTRAT] = { "uniform", "power", "spatial", "product", "tree", "spectral-tree" };
+    enum { NPTS = 2000 };
+    static double us_run[NMAXPTS][NSTRAT][MAXRUNS], setup_run[NMAXPTS][NSTRAT][MAXRUNS];
+    double xs[NMAXPTS], med[NSTRAT][NMAXPTS], mins[NSTRAT][NMAXPTS], setup_med[NSTRAT][NMAXPTS];
+    double build_ms[NMAXPTS][NSTRAT], ns_sel[NMAXPTS][NSTRAT], kib[NMAXPTS][NSTRAT];
+    int nrun[NMAXPTS][NSTRAT], want[NMAXPTS][NSTRAT];
+    int counts[NMAXPTS], nn = 0, k, v, r, i4 = -1, i1024 = -1;
+    Scene scenes[NMAXPTS];
     FILE *fc = csv ? fopen(csv, "w") : NULL;
     for (k = 4; k <= nmax && nn < NMAXPTS; k *= 4) counts[nn++] = k;
-    if (fc) fprintf(fc, "emitters,strategy,build_ms,ns_per_select_pmf,us_per_sample,table_kib\n");
-    printf("%-8s %-14s %10s %10s %11s %10s\n", "emitters", "strategy", "build ms", "ns/sel", "us/sample",
-           "table KiB");
+    if (runs < 1) runs = 1;
+    if (runs > MAXRUNS) runs = MAXRUNS;
+    if (geometry > 0)
+        printf("lamp geometry held fixed: %d lamp quads in every scene, N of them emit\n", geometry);
+    /* pass 1: per N and strategy the selection microbenchmarks and one render */
     for (k = 0; k < nn; k++) {
-        char *text = write_hall(counts[k]);
-        Scene s;
+        char *text = write_hall(counts[k], geometry);
         Error err;
         Vec3 pts[NPTS];
         int np;
-        if (!text || !scene_load_string(&s, text, "hall", &err)) {
+        if (!text || !scene_load_string(&scenes[k], text, "hall", &err)) {
             fprintf(stderr, "%s\n", text ? err.msg : "out of memory");
             return 1;
         }
         free(text);
-        np = shading_points(&s, pts, NPTS, 7);
+        np = shading_points(&scenes[k], pts, NPTS, 7);
         xs[k] = counts[k];
-        for (v = 0; v < NS; v++) {
+        if (counts[k] == 4) i4 = k;
+        if (counts[k] == 1024) i1024 = k;
+        for (v = 0; v < NSTRAT; v++) {
             RenderOptions o;
             LightSampler *ls;
-            Image img;
-            RenderStats st;
-            double t0, t_build, ns;
+            double t0;
             int i;
-            us[v][k] = NAN;
-            if (only && !strstr(only, strat[v])) continue;
-            if ((!strcmp(strat[v], "spatial") || !strcmp(strat[v], "product")) && counts[k] > slow_max) continue;
+            nrun[k][v] = 0;
+            med[v][k] = mins[v][k] = setup_med[v][k] = NAN;
+            want[k][v] = !(only && !strstr(only, strat[v])) &&
+                         !((!strcmp(strat[v], "spatial") || !strcmp(strat[v], "product")) && counts[k] > slow_max);
+            if (!want[k][v]) continue;
             render_options_default(&o);
             eval_parse_variant(strat[v], &o);
             t0 = now();
-            ls = light_sampler_build(&s, &o.sel, &err);
-            t_build = now() - t0;
+            ls = light_sampler_build(&scenes[k], &o.sel, &err);
+            build_ms[k][v] = 1e3 * (now() - t0);
             if (!ls) { fprintf(stderr, "%s\n", err.msg); return 1; }
             for (i = 0; i < np; i++) {               /* fill the lazy voxels first */
                 LightCtx ctx;
@@ -256,41 +319,92 @@ static int many(int nmax, int slow_max, const char *svg, const char *csv, const 
                 ctx.lambda[0] = 550.0f;
                 light_select(ls, &ctx, 0.5f, &p, NULL);
             }
-            ns = select_ns(ls, pts, np, 0.3);
-            o.spp = 8;
-            o.threads = 1;
-            o.maxdepth = 5;
-            if (!render(&s, &o, &img, &st, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
-            us[v][k] = 1e6 * st.cpu_s / (double)st.samples;
-            printf("%-8d %-14s %10.2f %10.1f %11.2f %10.1f\n", counts[k], strat[v], 1e3 * t_build, ns,
-                   us[v][k], light_sampler_bytes(ls) / 1024.0);
-            fflush(stdout);
-            if (fc) fprintf(fc, "%d,%s,%.4f,%.2f,%.4f,%.1f\n", counts[k], strat[v], 1e3 * t_build, ns,
-                            us[v][k], light_sampler_bytes(ls) / 1024.0);
-            img_free(&img);
+            ns_sel[k][v] = select_ns(ls, pts, np, 0.3);
+            kib[k][v] = light_sampler_bytes(ls) / 1024.0;
             light_sampler_free(ls);
         }
-        scene_free(&s);
     }
+    /* pass 2: the renders, interleaved: round r renders every N and strategy once,
+       so that a busy spell of the machine slows them alike; spatial and product
+       (100 x slower) render in the first round only */
+    for (r = 0; r < runs; r++)
+        for (k = 0; k < nn; k++)
+            for (v = 0; v < NSTRAT; v++) {
+                RenderOptions o;
+                double setup, pass, samples;
+                if (!want[k][v]) continue;
+                if (r > 0 && (!strcmp(strat[v], "spatial") || !strcmp(strat[v], "product"))) continue;
+                render_options_default(&o);
+                eval_parse_variant(strat[v], &o);
+                o.spp = 8;
+                o.threads = 1;
+                o.maxdepth = 5;
+                samples = render_once(&scenes[k], &o, &setup, &pass);
+                if (!(samples > 0.0)) return 1;
+                us_run[k][v][nrun[k][v]] = 1e6 * (setup + pass) / samples;
+                setup_run[k][v][nrun[k][v]] = 1e6 * setup / samples;
+                nrun[k][v]++;
+            }
+    printf("%-8s %-14s %9s %9s %10s %10s %10s %10s\n", "emitters", "strategy", "build ms", "ns/sel",
+           "us/sample", "(min)", "(setup)", "table KiB");
+    if (fc) fprintf(fc, "emitters,strategy,build_ms,ns_per_select_pmf,us_per_sample,us_per_sample_min,"
+                        "us_setup_per_sample,table_kib,runs\n");
+    for (k = 0; k < nn; k++)
+        for (v = 0; v < NSTRAT; v++) {
+            int m = nrun[k][v];
+            if (!want[k][v] || m == 0) continue;
+            qsort(us_run[k][v], (size_t)m, sizeof(double), cmp_double);
+            qsort(setup_run[k][v], (size_t)m, sizeof(double), cmp_double);
+            med[v][k] = m % 2 ? us_run[k][v][m / 2] : 0.5 * (us_run[k][v][m / 2 - 1] + us_run[k][v][m / 2]);
+            mins[v][k] = us_run[k][v][0];
+            setup_med[v][k] = m % 2 ? setup_run[k][v][m / 2]
+                                    : 0.5 * (setup_run[k][v][m / 2 - 1] + setup_run[k][v][m / 2]);
+            printf("%-8d %-14s %9.2f %9.1f %10.2f %10.2f %10.2f %10.1f\n", counts[k], strat[v], build_ms[k][v],
+                   ns_sel[k][v], med[v][k], mins[v][k], setup_med[v][k], kib[k][v]);
+            if (fc) fprintf(fc, "%d,%s,%.4f,%.2f,%.4f,%.4f,%.4f,%.1f,%d\n", counts[k], strat[v], build_ms[k][v],
+                            ns_sel[k][v], med[v][k], mins[v][k], setup_med[v][k], kib[k][v], m);
+        }
+    printf("us/sample: median of %d interleaved renders (spatial, product: 1), (min) their minimum, "
+           "(setup) the median of render_begin's share\n", runs);
+    if (i4 >= 0 && i1024 >= 0) {
+        printf("per-sample cost, 1024 vs 4 emitters (median; min):\n");
+        for (v = 0; v < NSTRAT; v++)
+            if (nrun[i4][v] > 0 && nrun[i1024][v] > 0)
+                printf("  %-14s %5.2fx  %5.2fx\n", strat[v], med[v][i1024] / med[v][i4],
+                       mins[v][i1024] / mins[v][i4]);
+    }
+    if (nrun[0][0] > 0) {
+        printf("per-sample cost against uniform at the same N (median):\n");
+        for (k = 0; k < nn; k++) {
+            printf("  %-6d", counts[k]);
+            for (v = 1; v < NSTRAT; v++)
+                if (nrun[k][v] > 0) printf("  %s %.2fx", strat[v], med[v][k] / med[0][k]);
+            printf("\n");
+        }
+    }
+    for (k = 0; k < nn; k++) scene_free(&scenes[k]);
     if (fc) fclose(fc);
     if (svg) {
-        SvgSeries ser[NS];
+        SvgSeries ser[NSTRAT];
         SvgChart ch;
         FILE *f = fopen(svg, "w");
         memset(&ch, 0, sizeof ch);
-        ch.title = "Per-sample cost against the number of emitters (generated hall, 64x64, 8 spp, 1 thread)";
+        ch.title = geometry > 0 ? "Per-sample cost against the number of emitters (hall, lamp geometry fixed, "
+                                  "64x64, 8 spp, 1 thread, median)"
+                                : "Per-sample cost against the number of emitters (generated hall, 64x64, 8 spp, "
+                                  "1 thread, median)";
         ch.xlabel = "emitters";
         ch.ylabel = "CPU microseconds per camera sample";
         ch.logx = ch.logy = 1;
-        for (v = 0; v < NS; v++) {
+        for (v = 0; v < NSTRAT; v++) {
             memset(&ser[v], 0, sizeof ser[v]);
             ser[v].name = strat[v];
             ser[v].n = nn;
             ser[v].x = xs;
-            ser[v].y = us[v];
+            ser[v].y = med[v];
             ser[v].dashed = v < 2;
         }
-        if (!f || !svg_line_chart(f, &ch, ser, NS)) { fprintf(stderr, "%s: cannot write\n", svg); return 1; }
+        if (!f || !svg_line_chart(f, &ch, ser, NSTRAT)) { fprintf(stderr, "%s: cannot write\n", svg); return 1; }
         fclose(f);
     }
     return 0;
@@ -302,7 +416,7 @@ int main(int argc, char **argv)
         char *text;
         FILE *f;
         if (argc != 4 || atoi(argv[2]) < 1) { fprintf(stderr, "usage: tools/bench_lights --hall N FILE\n"); return 2; }
-        text = write_hall(atoi(argv[2]));
+        text = write_hall(atoi(argv[2]), 0);
         f = fopen(argv[3], "w");
         if (!text || !f || fputs(text, f) < 0) { fprintf(stderr, "%s: cannot write\n", argv[3]); return 1; }
         fclose(f);
@@ -310,17 +424,19 @@ int main(int argc, char **argv)
         return 0;
     }
     if (argc > 1 && !strcmp(argv[1], "--many")) {
-        int i, nmax = 4096, slow_max = 1 << 30;
+        int i, nmax = 4096, slow_max = 1 << 30, runs = 5, geometry = 0;
         const char *svg = NULL, *csv = NULL, *only = NULL;
         for (i = 2; i < argc; i++) {
             if (!strcmp(argv[i], "--svg") && i + 1 < argc) svg = argv[++i];
             else if (!strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
             else if (!strcmp(argv[i], "--slow-max") && i + 1 < argc) slow_max = atoi(argv[++i]);
             else if (!strcmp(argv[i], "--csv") && i + 1 < argc) csv = argv[++i];
+            else if (!strcmp(argv[i], "--runs") && i + 1 < argc) runs = atoi(argv[++i]);
+            else if (!strcmp(argv[i], "--geometry") && i + 1 < argc) geometry = atoi(argv[++i]);
             else if (atoi(argv[i]) >= 4) nmax = atoi(argv[i]);
-            else { fprintf(stderr, "usage: tools/bench_lights --many [NMAX] [--svg FILE] [--csv FILE] [--only a,b] [--slow-max N]\n"); return 2; }
+            else { fprintf(stderr, "usage: tools/bench_lights --many [NMAX] [--svg FILE] [--csv FILE] [--only a,b] [--slow-max N] [--runs R] [--geometry G]\n"); return 2; }
         }
-        return many(nmax, slow_max, svg, csv, only);
+        return many(nmax, slow_max, runs, geometry, svg, csv, only);
     }
     return one_scene(argc > 1 ? argv[1] : "scenes/cornell1.pbrt");
 }
