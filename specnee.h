@@ -406,35 +406,27 @@ typedef struct {
 } HitRecord;
 
 /* The BVH (bvh.c; the node layout is drawn at the top of that file): 8-wide nodes
-   holding their children's boxes quantised to 8 bits a plane (128 bytes, two cache
-   lines), and leaves of packs of 4 primitives stored plane by plane. */
+   holding their children's boxes, and the primitives in leaf order. */
 #define BVH_WIDTH 8
 #define BVH_WIDE_LEAF_MAX 8    /* a leaf of the wide tree: at most this many primitives */
-#define BVH_PACK 4             /* primitives a leaf pack holds (tested together) */
 typedef struct {
-    float org[3];              /* the quantisation grid: plane q of axis a lies at   */
-    float step[3];             /*   org[a] + q * step[a]  (step a power of two, or 0) */
-    uint8_t q[6][BVH_WIDTH];   /* children's boxes by plane: lo x, lo y, lo z, hi x,
-                                  hi y, hi z, each rounded outwards onto the grid */
+    float box[6][BVH_WIDTH];   /* children's boxes by plane: lo x, lo y, lo z, hi x,
+                                  hi y, hi z; an empty slot has lo = +inf, hi = -inf */
     int32_t child[BVH_WIDTH];  /* >= 0: inner node index; < 0: a leaf,
-                                  ~(first pack << 1 | (number of packs - 1)) */
-    uint32_t used;             /* bit j set: slot j holds a child */
-    int32_t pad[5];            /* to 128 bytes: two whole cache lines */
+                                  ~(first primitive << 3 | (count - 1)) */
+    int32_t pad[BVH_WIDTH];    /* to 256 bytes: four whole cache lines */
 } BvhNode;
 
 typedef struct {
-    float v[9][BVH_PACK];      /* v[k][j]: coordinate k of primitive j's p0, p1, p2
-                                  (a sphere: centre, radius, then zeros) */
-    int32_t prim[BVH_PACK];    /* primitive ids: triangle i, or n_tris + sphere j; a
-                                  pack not full repeats its last primitive */
-} BvhPrim4;
+    float v[9];                /* triangle: p0, p1, p2; sphere: centre, radius */
+    int32_t prim;              /* primitive id: triangle i, or n_tris + sphere j */
+} BvhPrim;
 
 typedef struct {
     BvhNode *nodes; int n_nodes;     /* nodes[0] is the root (64-byte aligned) */
-    BvhPrim4 *prims; int n_packs;    /* leaf packs, in leaf order (64-byte aligned) */
-    int n_prims;                     /* primitives (triangles + spheres) */
+    BvhPrim *prims; int n_prims;     /* in leaf order */
     float bmin[3], bmax[3];          /* the root's box */
-    void *node_mem, *prim_mem;       /* what malloc returned for nodes and prims */
+    void *node_mem;                  /* what malloc returned for nodes */
 } Bvh;
 
 struct Scene;

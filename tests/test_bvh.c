@@ -509,97 +509,69 @@ static void test_bvh_watertight_cube(T *t)
     CHECK(t, misses == 0, "%d of %d rays at grid vertices/edges slipped through", misses, rays);
 }
 
-/* The float a quantised plane stands for (bvh.c, dequant). */
-static float plane_of(const BvhNode *nd, int row, int k)
-{
-    return nd->org[row % 3] + (float)nd->q[row][k] * nd->step[row % 3];
-}
-
-/* Recursive check of wide node i: every used slot's quantised box holds all the
-   geometry below it (vertices; a sphere's extreme points) and is not looser than
-   one grid step, the grid's steps are powers of two (or 0), unused slots are zero,
-   leaves hold 1 or 2 packs whose records copy the scene, a pack not full repeating its
-   last primitive.  seen[p] counts the leaves holding primitive p.  lo/hi return the
-   exact bounds of node i's geometry.  Returns the depth below node i, or -1 (and a
-   message). */
-static int check_node(const Bvh *b, const Scene *s, int i, float *lo, float *hi,
+/* Recursive check of wide node i, whose box (from its parent's slot, or the root box)
+   is lo..hi: every used slot's box lies inside it, empty slots are inverted boxes,
+   leaves hold 1..BVH_WIDE_LEAF_MAX primitives whose geometry lies inside the leaf's box
+   and whose records copy the scene.  seen[p] counts the leaves holding primitive p.
+   Returns the depth below node i, or -1 (and a message). */
+static int check_node(const Bvh *b, const Scene *s, int i, const float *lo, const float *hi,
                       int *seen, char *msg, size_t n_msg)
 {
     const BvhNode *nd = &b->nodes[i];
     int k, a, depth = 0, used = 0;
-    for (a = 0; a < 3; a++) {
-        int e;
-        lo[a] = INFINITY; hi[a] = -INFINITY;
-        if (nd->step[a] != 0.0f && frexpf(nd->step[a], &e) != 0.5f) {
-            snprintf(msg, n_msg, "node %d: step %g not a power of two", i, nd->step[a]);
-            return -1;
-        }
-    }
     for (k = 0; k < BVH_WIDTH; k++) {
         float clo[3], chi[3];
         const int32_t ref = nd->child[k];
-        if (!(nd->used >> k & 1u)) {               /* empty slot */
-            if (ref != 0) {
-                snprintf(msg, n_msg, "node %d slot %d: empty slot with a child", i, k);
-                return -1;
-            }
+        for (a = 0; a < 3; a++) { clo[a] = nd->box[a][k]; chi[a] = nd->box[3 + a][k]; }
+        if (clo[0] == INFINITY) {                  /* empty slot */
+            for (a = 0; a < 3; a++)
+                if (clo[a] != INFINITY || chi[a] != -INFINITY || ref != 0) {
+                    snprintf(msg, n_msg, "node %d slot %d: empty slot not inverted", i, k);
+                    return -1;
+                }
             continue;
         }
         used++;
-        for (a = 0; a < 3; a++) { clo[a] = INFINITY; chi[a] = -INFINITY; }
-        if (ref < 0) {                             /* leaf */
-            const int first = (~ref) >> 1, n = ((~ref) & 1) + 1;
-            int q, j, v;
-            if (first + n > b->n_packs) {
-                snprintf(msg, n_msg, "node %d slot %d: bad leaf %d+%d", i, k, first, n);
+        for (a = 0; a < 3; a++)
+            if (!(clo[a] <= chi[a]) || clo[a] < lo[a] || chi[a] > hi[a]) {
+                snprintf(msg, n_msg, "node %d slot %d: box empty or sticking out", i, k);
                 return -1;
             }
-            for (q = first; q < first + n; q++)
-                for (j = 0; j < BVH_PACK; j++) {
-                    const BvhPrim4 *r = &b->prims[q];
-                    const int p = r->prim[j];
-                    if (p < 0 || p >= s->n_tris + s->n_spheres) {
-                        snprintf(msg, n_msg, "pack %d lane %d: bad primitive id %d", q, j, p);
-                        return -1;
-                    }
-                    if (j > 0 && p == r->prim[j - 1]) {
-                        for (v = 0; v < 9; v++)
-                            if (r->v[v][j] != r->v[v][j - 1]) break;
-                        if (v < 9) {
-                            snprintf(msg, n_msg, "pack %d lane %d: repeat differs", q, j);
-                            return -1;
-                        }
-                        if (j + 1 < BVH_PACK && r->prim[j + 1] != p) {
-                            snprintf(msg, n_msg, "pack %d lane %d: padding not at the end", q, j);
-                            return -1;
-                        }
-                        continue;                  /* padding: counted once */
-                    }
-                    seen[p]++;
-                    for (v = 0; v < 3; v++)
-                        for (a = 0; a < 3; a++) {
-                            float x, rec, xl, xh;
-                            if (p < s->n_tris) {
-                                x = v3_get(s->P[s->tris[p].v[v]], a);
-                                rec = r->v[3 * v + a][j];
-                                xl = xh = x;
-                            } else {       /* the sphere's extreme points, exactly */
-                                const Shape *sh = &s->shapes[s->sphere_shape[p - s->n_tris]];
-                                x = v3_get(sh->center, a);
-                                rec = r->v[a][j];
-                                xl = nextafterf(x - sh->radius, -INFINITY);
-                                xh = nextafterf(x + sh->radius, INFINITY);
-                                if (v == 0 && r->v[3][j] != sh->radius) rec = NAN;
-                            }
-                            if (rec != x) {
-                                snprintf(msg, n_msg, "pack %d lane %d: primitive %d not copied",
-                                         q, j, p);
-                                return -1;
-                            }
-                            if (xl < clo[a]) clo[a] = xl;
-                            if (xh > chi[a]) chi[a] = xh;
-                        }
+        if (ref < 0) {                             /* leaf */
+            const int first = (~ref) >> 3, count = ((~ref) & 7) + 1;
+            int q, v;
+            if (count > BVH_WIDE_LEAF_MAX || first + count > b->n_prims) {
+                snprintf(msg, n_msg, "node %d slot %d: bad leaf %d+%d", i, k, first, count);
+                return -1;
+            }
+            for (q = first; q < first + count; q++) {
+                const BvhPrim *r = &b->prims[q];
+                const int p = r->prim;
+                if (p < 0 || p >= s->n_tris + s->n_spheres) {
+                    snprintf(msg, n_msg, "leaf record %d: bad primitive id %d", q, p);
+                    return -1;
                 }
+                seen[p]++;
+                for (v = 0; v < 3; v++)
+                    for (a = 0; a < 3; a++) {
+                        float x, rec;
+                        if (p < s->n_tris) {
+                            x = v3_get(s->P[s->tris[p].v[v]], a);
+                            rec = r->v[3 * v + a];
+                        } else {           /* the sphere's extreme points, exactly */
+                            const Shape *sh = &s->shapes[s->sphere_shape[p - s->n_tris]];
+                            double c = v3_get(sh->center, a), e = v == 0 ? -sh->radius : sh->radius;
+                            x = (float)c;
+                            rec = r->v[a];
+                            if (c + e < clo[a] || c + e > chi[a]) x = NAN;
+                        }
+                        if (!(x >= clo[a] && x <= chi[a]) || rec != x) {
+                            snprintf(msg, n_msg, "leaf record %d: primitive %d outside its box "
+                                     "or not copied", q, p);
+                            return -1;
+                        }
+                    }
+            }
         } else {                                   /* inner node: after its parent */
             int d;
             if (ref <= i || ref >= b->n_nodes) {
@@ -608,25 +580,6 @@ static int check_node(const Bvh *b, const Scene *s, int i, float *lo, float *hi,
             }
             if ((d = check_node(b, s, ref, clo, chi, seen, msg, n_msg)) < 0) return -1;
             if (d + 1 > depth) depth = d + 1;
-        }
-        for (a = 0; a < 3; a++) {
-            const float ql = plane_of(nd, a, k), qh = plane_of(nd, 3 + a, k);
-            /* outwards, but by less than one step (the rounding was not too coarse) */
-            if (!(ql <= clo[a] && qh >= chi[a])) {
-                snprintf(msg, n_msg, "node %d slot %d axis %d: quantised box [%a, %a] does "
-                         "not hold [%a, %a]", i, k, a, ql, qh, clo[a], chi[a]);
-                return -1;
-            }
-            if ((nd->q[a][k] < 255 && !(nd->org[a] + (float)(nd->q[a][k] + 1) * nd->step[a] > clo[a] ||
-                                       nd->step[a] == 0.0f)) ||
-                (nd->q[3 + a][k] > 0 && !(nd->org[a] + (float)(nd->q[3 + a][k] - 1) * nd->step[a] < chi[a] ||
-                                         nd->step[a] == 0.0f))) {
-                snprintf(msg, n_msg, "node %d slot %d axis %d: quantised box a step too loose",
-                         i, k, a);
-                return -1;
-            }
-            if (clo[a] < lo[a]) lo[a] = clo[a];
-            if (chi[a] > hi[a]) hi[a] = chi[a];
         }
     }
     if (used == 0) {
@@ -640,23 +593,19 @@ static void test_bvh_structure(T *t)
 {
     Scene s;
     Rng rng;
-    int *seen, depth, i, bad = 0, outside = 0;
-    float lo[3], hi[3];
+    int *seen, depth, i, bad = 0;
     char msg[256] = "";
     rng_seed(&rng, 14, 0);
     CHECK(t, make_soup(&s, &rng, 2000, 20), "out of memory");
     CHECK(t, bvh_build(&s.bvh, &s), "bvh_build failed");
     seen = (int *)calloc((size_t)s.bvh.n_prims, sizeof *seen);
     CHECK(t, seen != NULL, "out of memory");
-    depth = check_node(&s.bvh, &s, 0, lo, hi, seen, msg, sizeof msg);
+    depth = check_node(&s.bvh, &s, 0, s.bvh.bmin, s.bvh.bmax, seen, msg, sizeof msg);
     for (i = 0; i < s.bvh.n_prims; i++) bad += seen[i] != 1;
-    for (i = 0; depth >= 0 && i < 3; i++)
-        outside += !(s.bvh.bmin[i] <= lo[i] && s.bvh.bmax[i] >= hi[i]);
     free(seen);
     i = s.bvh.n_prims;
     scene_release(&s);
     CHECK(t, depth >= 0, "%s", msg);
-    CHECK(t, outside == 0, "the root box does not hold the geometry");
     CHECK(t, i == 2020 && bad == 0, "%d of %d primitives not in exactly one leaf", bad, i);
     CHECK(t, depth < 64, "depth %d", depth);
 }
@@ -672,8 +621,7 @@ static void test_bvh_deterministic(T *t)
     CHECK(t, bvh_build(&s.bvh, &s) && bvh_build(&b2, &s), "bvh_build failed");
     same = s.bvh.n_nodes == b2.n_nodes &&
            memcmp(s.bvh.nodes, b2.nodes, (size_t)b2.n_nodes * sizeof(BvhNode)) == 0 &&
-           s.bvh.n_packs == b2.n_packs &&
-           memcmp(s.bvh.prims, b2.prims, (size_t)b2.n_packs * sizeof(BvhPrim4)) == 0;
+           memcmp(s.bvh.prims, b2.prims, (size_t)b2.n_prims * sizeof(BvhPrim)) == 0;
     bvh_free(&b2);
     scene_release(&s);
     CHECK(t, same, "two builds of the same scene differ");

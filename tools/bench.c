@@ -204,10 +204,10 @@ static double bvh_stats(const Bvh *b, int *leaves, int *slots)
     int i, k;
     for (i = 0; i < b->n_nodes; i++)
         for (k = 0; k < BVH_WIDTH; k++) {
-            *leaves += (b->nodes[i].used >> k & 1u) && b->nodes[i].child[k] < 0;
-            *slots += (int)(b->nodes[i].used >> k & 1u);
+            *leaves += b->nodes[i].child[k] < 0;
+            *slots += b->nodes[i].box[0][k] != INFINITY;
         }
-    return (double)b->n_nodes * sizeof(BvhNode) + (double)b->n_packs * sizeof(BvhPrim4);
+    return (double)b->n_nodes * sizeof(BvhNode) + (double)b->n_prims * sizeof(BvhPrim);
 }
 
 /* One line "name: min / median / max Mrays/s" from the run times of n rays. */
