@@ -120,7 +120,8 @@
      Measured no faster, so not done: 4-wide nodes (128 bytes); building the bitmask
      with a SIMD OR of per-child bits (gcc made it slower); no sorting of the children;
      prefetching only a node's first line; C_trav = 1, 3 or 4, or leaves of up to 8.
-     Also measured slower, so not done (branch bvh3, commit 2d66708 keeps the code;
+     Also measured slower, so not done (the commit "BVH experiment (issue 18)" holds
+     the code and its figures;
      tools/bench level 6, 5 interleaved rounds, best Mrays/s on the box-hitting rays):
        - child boxes quantised to 8 bits a plane (Ylitie, Karras, Laine 2017): 128-byte
          nodes, a power-of-two grid per node, planes rounded outwards with the
