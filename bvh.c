@@ -121,7 +121,7 @@
      with a SIMD OR of per-child bits (gcc made it slower); no sorting of the children;
      prefetching only a node's first line; C_trav = 1, 3 or 4, or leaves of up to 8.
      Also measured slower, so not done (the commit "BVH experiment (issue 18)" holds
-     the code and its figures;
+     the code, the commit after it these figures;
      tools/bench level 6, 5 interleaved rounds, best Mrays/s on the box-hitting rays):
        - child boxes quantised to 8 bits a plane (Ylitie, Karras, Laine 2017): 128-byte
          nodes, a power-of-two grid per node, planes rounded outwards with the
@@ -131,8 +131,9 @@
          node memory saves: the whole tree (5 MB) fits in this machine's 32 MB L3;
        - leaves as packs of 4 primitives stored plane by plane, with a 4-lane pre-test
          doing tri_hit's operations in tri_hit's order (exact; 82% fewer scalar
-         triangle tests): no faster (1.59 with 320-byte nodes), and 15-30% more memory
-         a triangle, as most leaves hold 1 to 3 primitives and the packs are padded.
+         triangle tests): no faster (1.59 with 320-byte nodes), and 25% more memory
+         a triangle (leaf records 54 bytes a triangle, not 40): most leaves hold 1 to
+         3 primitives, and a pack is padded to 4.
      Culling on the dominant axis (ORDER INDEPENDENCE) visits about 7% more nodes than
      culling on the full entry distance would; that is the price of exactness.
      clang compiles the same source about 20% faster than gcc -O2; -ffast-math is never
