@@ -333,6 +333,22 @@ static void model_rgb(const Material *m, const Spectrum *Le, double a, double b,
     xyz_to_linear_srgb(xyz, rgb);
 }
 
+/* The line tests' scene: the 365 nm LED on a fluorescent furnace (rho 0.8, A on
+   345-390 nm, emission 330-520 nm, Phi 0.9) and their options (spp samples, one
+   thread, the wide 360-830 nm range, spd selection). */
+static int load_line_scene(T *t, Scene *s, RenderOptions *o, int spp)
+{
+    if (!load_furnace(t, s, "\"lamp-UVLED365\"",
+                      FL_MAT("[300 0.8 830 0.8]", "[300 0 345 0 350 1 380 1 390 0 830 0]", "[330 0 360 0.6 400 1 520 0]", "0.9")))
+        return 0;
+    render_options_default(o);
+    o->spp = spp;
+    o->threads = 1;
+    o->wl_wide = 1;
+    o->sel.strategy = SEL_SPD;
+    return 1;
+}
+
 /* Line test: a narrow UV source (the 365 nm LED, FWHM 9 nm) as the environment;
    the sphere shows only re-radiated light Phi A(365) e(lo) (365/lo) / N(365)
    (spread over the LED's band), and the render must match the quadrature of the
@@ -346,14 +362,7 @@ static void test_fluor_line(T *t)
     Tiles tl;
     double rgb[3], pin, pout, ein, eout;
     int c;
-    if (!load_furnace(t, &s, "\"lamp-UVLED365\"",
-                      FL_MAT("[300 0.8 830 0.8]", "[300 0 345 0 350 1 380 1 390 0 830 0]", "[330 0 360 0.6 400 1 520 0]", "0.9")))
-        return;
-    render_options_default(&o);
-    o.spp = test_scaled(2048, 256);
-    o.threads = 1;
-    o.wl_wide = 1;
-    o.sel.strategy = SEL_SPD;
+    if (!load_line_scene(t, &s, &o, test_scaled(2048, 256))) return;
     if (!test_render_tiles(t, &s, &o, 8, 1, &tl)) { scene_free(&s); return; }
     Le = le_of(&s, 0, 360.0f, 830.0f);
     model_rgb(&s.materials[s.n_materials - 1], &Le, 360.0, 830.0, rgb, &pin, &pout, &ein, &eout);
@@ -457,14 +466,7 @@ static void test_fluor_line_bins(T *t)
     Spectrum Le;
     RenderOptions o;
     double a;
-    if (!load_furnace(t, &s, "\"lamp-UVLED365\"",
-                      FL_MAT("[300 0.8 830 0.8]", "[300 0 345 0 350 1 380 1 390 0 830 0]", "[330 0 360 0.6 400 1 520 0]", "0.9")))
-        return;
-    render_options_default(&o);
-    o.spp = test_scaled(96, 32);
-    o.threads = 1;
-    o.wl_wide = 1;
-    o.sel.strategy = SEL_SPD;
+    if (!load_line_scene(t, &s, &o, test_scaled(96, 32))) return;
     Le = le_of(&s, 0, 360.0f, 830.0f);
     for (a = 360.0; a < 530.0; a += 10.0) {
         double rgb[3], pin, pout, ein, eout;
