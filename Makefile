@@ -5,6 +5,7 @@
 #   make run        build and render the default scene into out/
 #   make test       the whole test suite (unit tests, three compilers, sanitizers)
 #   make bench      benchmarks (not part of make test)
+#   make bench-embree  the BVH against Embree 3, where it is installed
 #   make fuzz       libFuzzer targets with clang, ASan + UBSan (not part of make test;
 #                   FUZZ_SECONDS per target, default 60; fuzz/run.sh)
 #   make references high-spp reference renders (docs/ref/; long: see tools/references.sh)
@@ -74,6 +75,15 @@ fuzz:
 bench: specnee tools/bench tools/bench_lights
 	sh tools/bench.sh
 
+# specnee's BVH against Embree 3 (issue 18): only where Embree is installed; the
+# renderer and its tests never need it (tools/bench_embree.c)
+bench-embree: $(LIBOBJ)
+	@if printf '#include <embree3/rtcore.h>\nint main(void){return 0;}\n' | \
+	    $(CC) -x c - -o /dev/null -lembree3 2>/dev/null; then \
+	    $(CC) $(OPT) -std=c99 -Wall -Wextra $(DETECTED) -Itools -o tools/bench_embree \
+	        tools/bench_embree.c $(LIBOBJ) -lembree3 $(LDLIBS) && ./tools/bench_embree; \
+	else echo "bench-embree: Embree 3 is not installed (Debian: apt-get install libembree-dev)"; fi
+
 references: specnee
 	sh tools/references.sh
 
@@ -90,8 +100,8 @@ golden: specnee
 	sh tests/golden.sh --update
 
 clean:
-	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench tools/bench_lights
+	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench tools/bench_lights tools/bench_embree
 	rm -f fuzz/*.o fuzz/replay
 	rm -rf build
 
-.PHONY: all run test bench references eval factorial golden mutants clean fuzz
+.PHONY: all run test bench bench-embree references eval factorial golden mutants clean fuzz

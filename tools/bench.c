@@ -198,6 +198,59 @@ static int ray_hits_box(const Ray *r, Vec3 lo, Vec3 hi)
     return t0 <= t1;
 }
 
+/* The Scene of one triangle mesh (vertices P[3 * n_verts], indices idx[3 * n_tris]),
+   filled by hand: bounds, one Shape, the triangles.  0 when out of memory. */
+static int mesh_scene(Scene *s, const float *P, int n_verts, const int32_t *idx, int n_tris)
+{
+    int i, k;
+    memset(s, 0, sizeof *s);
+    s->n_verts = n_verts;
+    s->n_tris = n_tris;
+    s->n_shapes = 1;
+    s->P = (Vec3 *)malloc((size_t)n_verts * sizeof *s->P);
+    s->tris = (Triangle *)malloc((size_t)n_tris * sizeof *s->tris);
+    s->shapes = (Shape *)calloc(1, sizeof *s->shapes);
+    if (!s->P || !s->tris || !s->shapes) return 0;
+    s->shapes[0].type = SHAPE_MESH;
+    s->shapes[0].emitter = -1;
+    s->shapes[0].tri_count = n_tris;
+    s->bmin = v3(1e30f, 1e30f, 1e30f);
+    s->bmax = v3(-1e30f, -1e30f, -1e30f);
+    for (i = 0; i < n_verts; i++) {
+        s->P[i] = v3(P[3 * i], P[3 * i + 1], P[3 * i + 2]);
+        s->bmin = v3_min(s->bmin, s->P[i]);
+        s->bmax = v3_max(s->bmax, s->P[i]);
+    }
+    for (i = 0; i < n_tris; i++) {
+        for (k = 0; k < 3; k++) s->tris[i].v[k] = idx[3 * i + k];
+        s->tris[i].shape = 0;
+    }
+    return 1;
+}
+
+/* The benchmark's n rays: origin uniform in the scene's bounds scaled x2 about the
+   centre, direction uniform on the sphere, fixed seed (a PCG32 stream per ray). */
+static void bench_rays(const Scene *s, Ray *rays, int n)
+{
+    const Vec3 c = v3_mul(v3_add(s->bmin, s->bmax), 0.5f);
+    const Vec3 half = v3_sub(s->bmax, c);           /* x2: the box spans c +- 2 half */
+    int i;
+    for (i = 0; i < n; i++) {
+        Rng rng;
+        float z, rxy, phi;
+        rng_seed(&rng, 20220701u, (uint64_t)i);
+        rays[i].o = v3(c.x + half.x * (4.0f * rng_float(&rng) - 2.0f),
+                       c.y + half.y * (4.0f * rng_float(&rng) - 2.0f),
+                       c.z + half.z * (4.0f * rng_float(&rng) - 2.0f));
+        z = 1.0f - 2.0f * rng_float(&rng);
+        rxy = sqrtf(1.0f - z * z > 0.0f ? 1.0f - z * z : 0.0f);
+        phi = 2.0f * PI_F * rng_float(&rng);
+        rays[i].d = v3(rxy * cosf(phi), rxy * sinf(phi), z);
+        rays[i].tmax = INFINITY;
+    }
+}
+
+#ifndef BENCH_NO_MAIN   /* tools/bench_embree.c includes this file for its mesh and rays */
 /* The BVH's leaves, used child slots and bytes. */
 static double bvh_stats(const Bvh *b, int *leaves, int *slots)
 {
@@ -235,7 +288,6 @@ int main(int argc, char **argv)
     Ray *rays, *rays_in, *rays_out;
     double t0, t_write, t_read, t_build[MAX_RUNS], bmn, bmed, bmx, mem;
     double sec[7][MAX_RUNS], med_c_in, med_a_in;
-    Vec3 c, half;
     CastResult res[7];
     struct rusage ru;
 
@@ -283,34 +335,13 @@ int main(int argc, char **argv)
     free(P); free(idx);
 
     /* 2. a Scene holding the one mesh, by hand */
-    memset(&s, 0, sizeof s);
-    s.n_verts = mesh.n_verts;
-    s.n_tris = mesh.n_tris;
-    s.n_shapes = 1;
-    s.P = (Vec3 *)malloc((size_t)s.n_verts * sizeof *s.P);
-    s.tris = (Triangle *)malloc((size_t)s.n_tris * sizeof *s.tris);
-    s.shapes = (Shape *)calloc(1, sizeof *s.shapes);
     rays = (Ray *)malloc(3 * (size_t)BENCH_RAYS * sizeof *rays);
-    if (!s.P || !s.tris || !s.shapes || !rays) {
+    if (!rays || !mesh_scene(&s, mesh.P, mesh.n_verts, mesh.idx, mesh.n_tris)) {
         fprintf(stderr, "bench: out of memory\n");
         return 1;
     }
     rays_in = rays + BENCH_RAYS;
     rays_out = rays + 2 * BENCH_RAYS;
-    s.shapes[0].type = SHAPE_MESH;
-    s.shapes[0].emitter = -1;
-    s.shapes[0].tri_count = s.n_tris;
-    s.bmin = v3(1e30f, 1e30f, 1e30f);
-    s.bmax = v3(-1e30f, -1e30f, -1e30f);
-    for (i = 0; i < s.n_verts; i++) {
-        s.P[i] = v3(mesh.P[3 * i], mesh.P[3 * i + 1], mesh.P[3 * i + 2]);
-        s.bmin = v3_min(s.bmin, s.P[i]);
-        s.bmax = v3_max(s.bmax, s.P[i]);
-    }
-    for (i = 0; i < s.n_tris; i++) {
-        for (k = 0; k < 3; k++) s.tris[i].v[k] = mesh.idx[3 * i + k];
-        s.tris[i].shape = 0;
-    }
     ply_free(&mesh);
 
     /* 3. BVH build, timed `runs` times */
@@ -328,20 +359,8 @@ int main(int argc, char **argv)
 
     /* 4. rays: origin uniform in the bounds scaled x2 about the centre, direction
           uniform on the sphere; then split by the mesh's bounding box */
-    c = v3_mul(v3_add(s.bmin, s.bmax), 0.5f);
-    half = v3_sub(s.bmax, c);                       /* x2: the box spans c +- 2 half */
+    bench_rays(&s, rays, BENCH_RAYS);
     for (i = 0; i < BENCH_RAYS; i++) {
-        Rng rng;
-        float z, rxy, phi;
-        rng_seed(&rng, 20220701u, (uint64_t)i);
-        rays[i].o = v3(c.x + half.x * (4.0f * rng_float(&rng) - 2.0f),
-                       c.y + half.y * (4.0f * rng_float(&rng) - 2.0f),
-                       c.z + half.z * (4.0f * rng_float(&rng) - 2.0f));
-        z = 1.0f - 2.0f * rng_float(&rng);
-        rxy = sqrtf(1.0f - z * z > 0.0f ? 1.0f - z * z : 0.0f);
-        phi = 2.0f * PI_F * rng_float(&rng);
-        rays[i].d = v3(rxy * cosf(phi), rxy * sinf(phi), z);
-        rays[i].tmax = INFINITY;
         if (ray_hits_box(&rays[i], s.bmin, s.bmax)) rays_in[n_in++] = rays[i];
         else rays_out[n_out++] = rays[i];
     }
@@ -404,3 +423,4 @@ int main(int argc, char **argv)
     free(s.P); free(s.tris); free(s.shapes); free(rays);
     return 0;
 }
+#endif /* BENCH_NO_MAIN */

@@ -1,0 +1,140 @@
+/* tools/bench_embree.c - specnee's BVH against Embree 3 on tools/bench's mesh and rays.
+
+   WHAT IT MEASURES
+     The closest-hit throughput (Mrays/s, one thread, CPU time) of bvh_intersect and
+     of Embree 3's rtcIntersect1 on the same triangles and the same rays: the
+     displaced icosphere and the 2^20 incoherent rays of tools/bench.c (that file is
+     included, so both programs build the very same mesh and rays), on all rays and
+     on the rays that hit the mesh's bounding box.  Each of `runs` rounds (default 5)
+     times the four casts once, in the same order, so a busy spell of the shared
+     machine slows them alike; the best and the median of the rounds are printed,
+     with Embree's speed over specnee's (issue 18's figure: "within 1.5x").  The hit
+     counts of the two must agree; they are printed.
+     Embree is built with its defaults (rtcNewDevice "threads=1", a scene of one
+     triangle geometry, RTC_BUILD_QUALITY_MEDIUM), and it picks its own SIMD width at
+     run time (AVX2 here); specnee is portable C99 at -O2 (SSE2 on x86-64).
+
+   NOT PART OF THE RENDERER
+     specnee depends on nothing; this program is the only file that uses Embree, and
+     only `make bench-embree` builds it, when the Embree 3 headers and library are
+     installed (Debian: apt-get install libembree-dev); otherwise it says so and
+     stops.  Neither `make`, `make test` nor `make bench` needs it.
+
+   USE
+     make bench-embree                  (level 6, 5 rounds)
+     tools/bench_embree [level [runs]]  level 1..8 as in tools/bench
+*/
+#define BENCH_NO_MAIN
+#include "bench.c"
+#include <embree3/rtcore.h>
+
+/* Cast rays[0..n) with Embree; returns the CPU time, sets the hit count. */
+static double embree_cast(RTCScene scene, const Ray *rays, int n, long *hits)
+{
+    struct RTCIntersectContext ctx;
+    const double t0 = cpu_s();
+    long h = 0;
+    int i;
+    rtcInitIntersectContext(&ctx);
+    for (i = 0; i < n; i++) {
+        struct RTCRayHit rh;
+        rh.ray.org_x = rays[i].o.x; rh.ray.org_y = rays[i].o.y; rh.ray.org_z = rays[i].o.z;
+        rh.ray.dir_x = rays[i].d.x; rh.ray.dir_y = rays[i].d.y; rh.ray.dir_z = rays[i].d.z;
+        rh.ray.tnear = 0.0f;
+        rh.ray.tfar = rays[i].tmax;
+        rh.ray.time = 0.0f;
+        rh.ray.mask = 0xFFFFFFFFu;
+        rh.ray.id = 0;
+        rh.ray.flags = 0;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene, &ctx, &rh);
+        h += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    }
+    *hits = h;
+    return cpu_s() - t0;
+}
+
+int main(int argc, char **argv)
+{
+    static const char *name[4] = {"specnee, all rays", "specnee, rays hitting the box",
+                                  "Embree 3, all rays", "Embree 3, rays hitting the box"};
+    const int level = argc > 1 ? atoi(argv[1]) : 6, runs = argc > 2 ? atoi(argv[2]) : 5;
+    int n_verts = 0, n_tris = 0, n_in = 0, i, k, q;
+    float *P = NULL, *vb;
+    int32_t *idx = NULL;
+    unsigned *ib;
+    Scene s;
+    Ray *rays, *rays_in;
+    double sec[4][MAX_RUNS], best[4], med[4], worst;
+    long hits[4];
+    RTCDevice dev;
+    RTCScene scene;
+    RTCGeometry geom;
+
+    if (level < 1 || level > 8 || runs < 1 || runs > MAX_RUNS) {
+        fprintf(stderr, "usage: %s [level 1..8, default 6] [runs 1..%d, default 5]\n", argv[0],
+                MAX_RUNS);
+        return 2;
+    }
+    rays = (Ray *)malloc(2 * (size_t)BENCH_RAYS * sizeof *rays);
+    if (!rays || !icosphere(level, &P, &n_verts, &idx, &n_tris) ||
+        !mesh_scene(&s, P, n_verts, idx, n_tris) || !bvh_build(&s.bvh, &s)) {
+        fprintf(stderr, "bench_embree: out of memory\n");
+        return 1;
+    }
+    rays_in = rays + BENCH_RAYS;
+    bench_rays(&s, rays, BENCH_RAYS);
+    for (i = 0; i < BENCH_RAYS; i++)
+        if (ray_hits_box(&rays[i], s.bmin, s.bmax)) rays_in[n_in++] = rays[i];
+
+    dev = rtcNewDevice("threads=1");
+    scene = rtcNewScene(dev);
+    geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    vb = (float *)rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                          3 * sizeof(float), (size_t)n_verts);
+    ib = (unsigned *)rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                             3 * sizeof(unsigned), (size_t)n_tris);
+    if (!dev || !scene || !vb || !ib) {
+        fprintf(stderr, "bench_embree: Embree could not be set up\n");
+        return 1;
+    }
+    memcpy(vb, P, 3 * (size_t)n_verts * sizeof *vb);
+    for (i = 0; i < 3 * n_tris; i++) ib[i] = (unsigned)idx[i];
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(scene, geom);
+    rtcReleaseGeometry(geom);
+    rtcCommitScene(scene);
+
+    printf("bench_embree: displaced icosphere level %d, %d triangles; %d rays (%d hit the "
+           "mesh's box), one thread, CPU time, %d interleaved rounds\n",
+           level, n_tris, BENCH_RAYS, n_in, runs);
+    for (k = 0; k < runs; k++)
+        for (q = 0; q < 4; q++) {
+            const Ray *set = q % 2 ? rays_in : rays;
+            const int n = q % 2 ? n_in : BENCH_RAYS;
+            if (q < 2) {
+                CastResult r = cast(&s, set, n, 1, 0);
+                sec[q][k] = r.seconds;
+                hits[q] = r.hits;
+            } else
+                sec[q][k] = embree_cast(scene, set, n, &hits[q]);
+        }
+    printf("  hits: specnee %ld, Embree %ld%s\n", hits[0], hits[2],
+           hits[0] == hits[2] ? "" : "  (DIFFER)");
+    printf("  %-32s %10s %10s\n", "", "best", "median");
+    for (q = 0; q < 4; q++) {
+        const double n = q % 2 ? n_in : BENCH_RAYS;
+        stats3(sec[q], runs, &best[q], &med[q], &worst);
+        printf("  %-32s %7.2f Mrays/s %7.2f Mrays/s\n", name[q], n / best[q] * 1e-6,
+               n / med[q] * 1e-6);
+    }
+    printf("  Embree / specnee: all rays x%.2f (best) x%.2f (median); "
+           "box-hitting rays x%.2f x%.2f\n", best[0] / best[2], med[0] / med[2],
+           best[1] / best[3], med[1] / med[3]);
+    rtcReleaseScene(scene);
+    rtcReleaseDevice(dev);
+    bvh_free(&s.bvh);
+    free(rays); free(P); free(idx);
+    return hits[0] == hits[2] ? 0 : 1;
+}
