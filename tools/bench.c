@@ -229,7 +229,11 @@ static int mesh_scene(Scene *s, const float *P, int n_verts, const int32_t *idx,
 }
 
 /* The benchmark's n rays: origin uniform in the scene's bounds scaled x2 about the
-   centre, direction uniform on the sphere, fixed seed (a PCG32 stream per ray). */
+   centre, direction uniform on the sphere, fixed seed (a PCG32 stream per ray).  The
+   random numbers are drawn into variables one statement at a time: C leaves the
+   order in which a call's arguments are evaluated open (gcc goes right to left, clang
+   left to right), and three rng_float calls inside v3(...) gave each compiler other
+   rays, hence other checksums. */
 static void bench_rays(const Scene *s, Ray *rays, int n)
 {
     const Vec3 c = v3_mul(v3_add(s->bmin, s->bmax), 0.5f);
@@ -237,11 +241,13 @@ static void bench_rays(const Scene *s, Ray *rays, int n)
     int i;
     for (i = 0; i < n; i++) {
         Rng rng;
-        float z, rxy, phi;
+        float ux, uy, uz, z, rxy, phi;
         rng_seed(&rng, 20220701u, (uint64_t)i);
-        rays[i].o = v3(c.x + half.x * (4.0f * rng_float(&rng) - 2.0f),
-                       c.y + half.y * (4.0f * rng_float(&rng) - 2.0f),
-                       c.z + half.z * (4.0f * rng_float(&rng) - 2.0f));
+        ux = rng_float(&rng);
+        uy = rng_float(&rng);
+        uz = rng_float(&rng);
+        rays[i].o = v3(c.x + half.x * (4.0f * ux - 2.0f), c.y + half.y * (4.0f * uy - 2.0f),
+                       c.z + half.z * (4.0f * uz - 2.0f));
         z = 1.0f - 2.0f * rng_float(&rng);
         rxy = sqrtf(1.0f - z * z > 0.0f ? 1.0f - z * z : 0.0f);
         phi = 2.0f * PI_F * rng_float(&rng);
