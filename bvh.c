@@ -285,25 +285,27 @@ HOT_INLINE int ray_prepare_rest(RayPre *rp)
     int a;
     /* kz: the dimension where |d| is largest, so the shear divides by the most (and
        the axis whose slab culls boxes beyond the closest hit: ORDER INDEPENDENCE) */
-    rp->kz = 0;
-    if (fabsf(rp->d[1]) > fabsf(rp->d[rp->kz])) rp->kz = 1;
-    if (fabsf(rp->d[2]) > fabsf(rp->d[rp->kz])) rp->kz = 2;
+    {   /* without branches: random directions would mispredict them (see SPEED) */
+        const float a0 = fabsf(rp->d[0]), a1 = fabsf(rp->d[1]), a2 = fabsf(rp->d[2]);
+        const int k1 = a1 > a0;                     /* the first largest wins ties */
+        const float m = a1 > a0 ? a1 : a0;
+        rp->kz = k1 + (a2 > m) * (2 - k1);
+    }
     /* a direction too short for 1/d_kz to be finite hits nothing (the same for the
        brute-force tests intersect_triangle and intersect_sphere); this includes 0 */
     if (!(fabsf(rp->d[rp->kz]) >= FLT_MIN)) return 0;
     for (a = 0; a < 3; a++) {
         const int ax = (rp->kz + 1 + a) % 3;       /* a = 2 gives kz itself */
         rp->axis[a] = ax;
-        rp->near[a] = rp->neg[ax] ? 3 + ax : ax;   /* hi for d < 0, lo for d >= 0 */
-        rp->far[a] = rp->neg[ax] ? ax : 3 + ax;
+        rp->near[a] = ax + 3 * rp->neg[ax];        /* hi for d < 0, lo for d >= 0 */
+        rp->far[a] = ax + 3 * (1 - rp->neg[ax]);
     }
     rp->far_scale = 1.0f + 2.0f * gamma_n(3);
     rp->cull_scale = 1.0f + 2.0f * gamma_n(8);
-    rp->kx = (rp->kz + 1) % 3;
-    rp->ky = (rp->kx + 1) % 3;
-    if (rp->d[rp->kz] < 0.0f) {        /* swap x and y to keep the triangles' winding */
-        int tmp = rp->kx; rp->kx = rp->ky; rp->ky = tmp;
-    }
+    /* kx, ky = the next two axes after kz, swapped when d_kz < 0 to keep the
+       triangles' winding (neg[kz] is exactly d_kz < 0 here: |d_kz| >= FLT_MIN) */
+    rp->kx = (rp->kz + 1 + rp->neg[rp->kz]) % 3;
+    rp->ky = (rp->kz + 2 - rp->neg[rp->kz]) % 3;
     rp->Sx = rp->d[rp->kx] / rp->d[rp->kz];
     rp->Sy = rp->d[rp->ky] / rp->d[rp->kz];
     rp->Sz = rp->inv_d[rp->kz];        /* = 1 / d_kz, the very float the slab test uses */
