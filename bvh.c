@@ -127,17 +127,23 @@
          of d rather than by ?:, which gcc compiled into branches that random
          directions mispredict (root_hit): rays that miss the mesh's box 1.6x faster
          (best of 5: 57.8 against 35.7 Mrays/s); on all rays within the noise.
-       - no branch that random rays mispredict in the loop (TRAVERSAL above): the
-         children by their set bits, placed by rank rather than by an insertion sort,
-         the node mask as an OR of hit[j] << j rather than a chain of shifts, the
-         triangle's sign tests with | and &, traverse() inlined into both queries.
-         Closest hit on all rays 9.26 -> 12.36 Mrays/s (gcc), on the box-hitting rays
-         2.91 -> 4.15 (tools/bench_embree, `make bench-embree`, best of 5 interleaved
-         rounds, the same session).  Against Embree 3.13.5 on the same rays
-         (AVX2, its default build): Embree is x1.40 faster on all rays with gcc,
-         x1.30 with clang (was x1.77 and x1.59), x1.69 on the box-hitting rays.
-         Still worth it there: ordering the children (unordered: x1.58), prefetching
-         the pushed children (without: x1.47).
+       - no branch that random rays mispredict (TRAVERSAL above): the children by
+         their set bits, placed by rank rather than by an insertion sort, the node
+         mask as an OR of hit[j] << j rather than a chain of shifts, the triangle's
+         sign tests with | and &, traverse() inlined into both queries, and the
+         dominant axis and plane order of ray_prepare_rest by arithmetic.  The
+         ratio hardly changes with the mesh's size (levels 3 to 6 within 5%), so the
+         time was spent computing, not waiting for memory.  tools/bench_embree
+         (`make bench-embree`: Embree 3.13.5, AVX2, its default build, on the same
+         rays; gcc -O2; best of 5 rounds, three alternated runs of each version):
+                                       all rays             box-hitting rays
+             before                    9.2 Mrays/s  x1.79   2.9 Mrays/s  x2.34
+             branch-free traversal    12.0         x1.38   4.1          x1.69
+             + ray_prepare_rest       12.8         x1.30   4.4          x1.60
+         (x = Embree's speed over specnee's; clang -O2 x1.33 on all rays; on 1.3 M
+         triangles, level 8, x1.30 with gcc).  Still worth it after the change:
+         ordering the children (unordered: x1.58), prefetching the pushed children
+         (without: x1.47).
      Measured no faster, so not done: 4-wide nodes (128 bytes); building the bitmask
      with a SIMD OR of per-child bits (gcc made it slower); prefetching only a node's
      first line, or a leaf's records by its count; C_trav = 1, 3 or 4, leaves of up to
