@@ -317,7 +317,8 @@ static const char *debug_pmf_source(const SelOptions *sel, const LightCtx *c, in
         return st == SEL_SPD ? "spectral table T_e(b) at the hero's bin"
              : st == SEL_PRODUCT ? "spectral table T_e(b) at the hero's bin x spatial table"
              : "spectral table T_e(b) at the hero's bin x unit-radiance spatial table";
-    if (sel->all_wavelengths) return "spectral table summed over the alive wavelengths' bins";
+    if (sel->all_wavelengths || c->shifted)
+        return "spectral table summed over the alive wavelengths' bins";
     return "spatial table of the voxel: several wavelengths alive, spectral tables act on hero-only paths";
 }
 
@@ -414,7 +415,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
                                   lambda_i; the film keeps wl (FLUORESCENCE 4) */
     unsigned alive = o->single_wavelength ? 1u : (1u << HERO_N) - 1u;
     PrevVertex prev;
-    int depth, j;
+    int depth, j, shifted = 0; /* shifted: a fluorescent vertex re-radiated (LightCtx) */
 
     for (j = 0; j < HERO_N; j++) {
         cie_xyz(wl->lambda[j], cmf[j]);
@@ -561,6 +562,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
                     r[j] = 0.0f;
                 }
                 alive = still;
+                shifted = 1;
                 for (j = 0; j < HERO_N; j++) lam[j] = li[j];
                 if (!(beta[0] > 0.0f) && alive == 1u) break;
                 mat = &R->white;
@@ -588,6 +590,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
         for (j = 0; j < HERO_N; j++) { ctx.lambda[j] = lam[j]; ctx.beta[j] = beta[j]; }
         ctx.alive = alive;
         ctx.hero_only = alive == 1u;
+        ctx.shifted = shifted;
         if (o->nee && !mat_is_delta(mat) && s->n_emitters > 0) {
             int e, e_first = 0, e_end = 1;
             if (is_all) { e_first = 0; e_end = light_n_pieces(R->ls); }

@@ -596,8 +596,8 @@ typedef enum {
    later to light_select_pmf for an emitter found by BSDF sampling (the
    consistency contract, item C1 of docs/THEORY.md section 5).  The thesis'
    spectral strategies (spd, product, spectral-spatial) use their spectral table
-   only where hero_only; the light trees and --all-wavelengths use every alive
-   wavelength. */
+   only where hero_only or shifted; the light trees and --all-wavelengths use every
+   alive wavelength. */
 typedef struct {
     Vec3 p;                    /* shading point (the light tree's distance and angles) */
     Vec3 n;                    /* its shading normal (the tree's receiver-cosine bound);
@@ -609,6 +609,13 @@ typedef struct {
                                   termination at dispersive glass, or from the start
                                   with --single-wavelength; 0 after rough glass with
                                   --rough-dispersion mis (THEORY section 7) */
+    int shifted;               /* 1 after a fluorescent shift that kept several
+                                  wavelengths (--fluor-lanes keep): they are absorbed
+                                  ones now, no longer spread over the film's range, so
+                                  the spatial table (weighted by visible light) says
+                                  nothing about them; the spectral strategies then sum
+                                  their table over the alive wavelengths' bins
+                                  (docs/FLUORESCENCE.md section 4b) */
     float beta[HERO_N];        /* path throughput per wavelength (optional weighting) */
 } LightCtx;
 
