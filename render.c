@@ -95,6 +95,8 @@ void render_options_default(RenderOptions *o)
     o->rough_mis = 1;                /* secondaries live through rough glass (docs/THEORY.md) */
     o->nee = 1;
     o->sampler = SAMPLER_SOBOL;      /* lowest equal-time error, progressive (docs/sampling.md) */
+    o->fluor_keep = 1;               /* fluorescence: all four wavelengths through a shift, */
+    o->fluor_li = FLUOR_LI_POWER;    /* lambda_i from A x power (docs/FLUORESCENCE.md sec. 9) */
     o->jitter = 1;
     o->debug_x = o->debug_y = -1;
 }
@@ -108,6 +110,8 @@ void render_options_thesis(RenderOptions *o)
     o->sel.all_wavelengths = o->sel.throughput_weighted = 0;
     o->rough_mis = 0;
     o->sampler = SAMPLER_INDEPENDENT;
+    o->fluor_keep = 0;               /* a shift terminates the secondaries, as dispersion */
+    o->fluor_li = FLUOR_LI_A;
 }
 
 /* ------------------------------------------------------------------ camera */

@@ -641,6 +641,8 @@ static void test_fluor_estimators_agree(T *t)
     o.spp = test_scaled(96, 16);
     o.threads = 1;
     o.sel.strategy = SEL_SPD;
+    o.fluor_keep = 0;          /* the baseline: secondaries terminated, lambda_i ~ A */
+    o.fluor_li = FLUOR_LI_A;
     o.sel.grid_res = 4;
     if (!test_render_tiles(t, &s, &o, K, 3, &ref)) { scene_free(&s); return; }
     for (i = 0; i <= sizeof strat / sizeof strat[0]; i++) {
@@ -695,6 +697,8 @@ static void test_fluor_mis_pmf_at_li(T *t)
     o.spp = test_scaled(64, 16);
     o.threads = 1;
     o.sel.strategy = SEL_UNIFORM;
+    o.fluor_keep = 0;          /* the baseline: secondaries terminated, lambda_i ~ A */
+    o.fluor_li = FLUOR_LI_A;
     if (!test_render_tiles(t, &s, &o, K, 1, &ref)) { scene_free(&s); return; }
     CHECK(t, ref.mean[0][2] > 0.01 && ref.se[0][2] < 0.06 * ref.mean[0][2],
           "the card glows blue with a small standard error: %g +- %g", ref.mean[0][2], ref.se[0][2]);
