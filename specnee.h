@@ -841,11 +841,12 @@ typedef struct {
     int rough_mis;             /* --rough-dispersion mis: secondaries survive rough glass */
     int nee;                   /* 1: NEE + BSDF sampling by MIS; 0: BSDF sampling only */
     FluorLi fluor_li;          /* --fluor-li: how a fluorescent vertex samples lambda_i
-                                  (FLUORESCENCE 3): from A (default), A x emitter power
-                                  mixed with A, or uniformly on [300, lambda_o] */
-    int fluor_keep;            /* --fluor-lanes keep: all four wavelengths go through a
-                                  shift, each with its own lambda_i (FLUORESCENCE 4b);
-                                  0: the secondaries are terminated (the baseline) */
+                                  (FLUORESCENCE 3): from A, A x emitter power mixed
+                                  with A (default), or uniformly on [300, lambda_o] */
+    int fluor_keep;            /* --fluor-lanes keep (default): all four wavelengths go
+                                  through a shift, each with its own lambda_i
+                                  (FLUORESCENCE 4b); 0: the secondaries are terminated
+                                  (the thesis' way with wavelength-dependent events) */
     float band_lo, band_hi;    /* band_hi > band_lo: the camera samples its wavelengths
                                   uniformly in [band_lo, band_hi] only, the emitters keep
                                   the film range's normalisation, so the image is the
