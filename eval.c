@@ -52,7 +52,8 @@
 /* "name[:modifier]...": modifiers power, all, tput, importance, visible, mixture,
    mixture=M (weight M of visible), uniform (the wavelength pdf), roughmis, single,
    wide, nonee, nosplit (light trees: a large emissive mesh stays one leaf), a
-   sampler (independent stratified sobol zsobol), and terminate, hero, unit that
+   sampler (independent stratified sobol zsobol), fluorescence (flpower fluniform
+   fla flkeep flterminate), and terminate, hero, unit that
    pin a setting to the thesis' value whatever the defaults (the factorial
    evaluation names every factor).  Returns 0 on an unknown name or modifier. */
 int eval_parse_variant(const char *spec, RenderOptions *o)
@@ -87,6 +88,7 @@ int eval_parse_variant(const char *spec, RenderOptions *o)
         else if (!strcmp(tok, "nonee")) o->nee = 0;
         else if (!strcmp(tok, "flpower")) o->fluor_li = FLUOR_LI_POWER;     /* --fluor-li power */
         else if (!strcmp(tok, "fluniform")) o->fluor_li = FLUOR_LI_UNIFORM; /* --fluor-li uniform */
+        else if (!strcmp(tok, "fla")) o->fluor_li = FLUOR_LI_A;             /* --fluor-li a */
         else if (!strcmp(tok, "flkeep")) o->fluor_keep = 1;                 /* --fluor-lanes keep */
         else if (!strcmp(tok, "flterminate")) o->fluor_keep = 0;
         else if (!strcmp(tok, "nosplit")) o->sel.no_split = 1;
@@ -254,8 +256,9 @@ static const char usage_converge[] =
     "  with modifiers, e.g. spd:power, product:all, product:tput, spatial:importance,\n"
     "  spatial:visible, spatial:mixture, spatial:mixture=0.1, spatial:roughmis,\n"
     "  spatial:single, spatial:nonee, spectral-tree:nosplit, product:flpower\n"
-    "  (--fluor-li power), product:fluniform (--fluor-li uniform), product:flkeep\n"
-    "  (--fluor-lanes keep), product:flterminate, and a sampler:\n"
+    "  (--fluor-li power), product:fluniform (--fluor-li uniform), product:fla\n"
+    "  (--fluor-li a), product:flkeep (--fluor-lanes keep), product:flterminate,\n"
+    "  and a sampler:\n"
     "  spatial:sobol, spatial:zsobol, spatial:stratified, spatial:independent\n"
     "  (stratified and zsobol are not progressive: their rungs are rendered one by\n"
     "  one).  The first is the baseline.\n"
@@ -263,7 +266,8 @@ static const char usage_converge[] =
     "  (default: not charged while other programs run) or wall time.\n"
     "  --base: what a variant's unnamed settings are: the defaults (default) or the\n"
     "  thesis' (--preset thesis: uniform wavelengths, terminate, unit, hero,\n"
-    "  independent sampler), so that a table keeps its meaning when defaults change.\n"
+    "  independent sampler, fluorescence terminate and a), so that a table keeps\n"
+    "  its meaning when defaults change.\n"
     "  --reuse: no rendering; the charts and tables are rebuilt from PREFIX.csv of an\n"
     "  earlier run with the same variants, ladder and seeds.\n";
 

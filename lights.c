@@ -49,7 +49,9 @@
       alone (LightCtx.hero_only, i.e. alive == 1: after a wavelength-dependent event
       terminated the secondaries, or with --single-wavelength); while several wavelengths are
       alive the thesis uses the spatial distribution.  Beyond the thesis
-      (all_wavelengths), the weight of emitter i is sum over alive j of
+      (all_wavelengths, and after a fluorescent shift that kept several wavelengths,
+      LightCtx.shifted: they are all absorbed ones then, and the spatial table,
+      built from visible light, knows nothing of them), the weight of emitter i is sum over alive j of
       c_j * e_i(lambda_j), with e_i the strategy's unnormalised weight and c_j = 1
       or the path throughput at lambda_j.  Either way P(i | c) is the same whichever
       alive wavelength is the hero: item C4 of the contract, which the single
@@ -1565,7 +1567,7 @@ static double context_weights(LightSampler *ls, const LightCtx *c, double *w, in
        table would otherwise give it the share earned by the voxel's receivers in
        front of it (section 5). */
     for (i = 0; i < n; i++) reach[i] = emitter_can_reach(ls->scene, i, c->p) ? 1.0 : 0.0;
-    if (st != SEL_SPATIAL && (c->hero_only || ls->opt.all_wavelengths)) {
+    if (st != SEL_SPATIAL && (c->hero_only || c->shifted || ls->opt.all_wavelengths)) {
         /* spectral weights, summed over the wavelengths that count here */
         for (i = 0; i < n; i++) w[i] = 0.0;
         for (j = 0; j < HERO_N; j++) {

@@ -95,6 +95,8 @@ void render_options_default(RenderOptions *o)
     o->rough_mis = 1;                /* secondaries live through rough glass (docs/THEORY.md) */
     o->nee = 1;
     o->sampler = SAMPLER_SOBOL;      /* lowest equal-time error, progressive (docs/sampling.md) */
+    o->fluor_keep = 1;               /* fluorescence: all four wavelengths through a shift, */
+    o->fluor_li = FLUOR_LI_POWER;    /* lambda_i from A x power (docs/FLUORESCENCE.md sec. 9) */
     o->jitter = 1;
     o->debug_x = o->debug_y = -1;
 }
@@ -108,6 +110,8 @@ void render_options_thesis(RenderOptions *o)
     o->sel.all_wavelengths = o->sel.throughput_weighted = 0;
     o->rough_mis = 0;
     o->sampler = SAMPLER_INDEPENDENT;
+    o->fluor_keep = 0;               /* a shift terminates the secondaries, as dispersion */
+    o->fluor_li = FLUOR_LI_A;
 }
 
 /* ------------------------------------------------------------------ camera */
@@ -317,7 +321,8 @@ static const char *debug_pmf_source(const SelOptions *sel, const LightCtx *c, in
         return st == SEL_SPD ? "spectral table T_e(b) at the hero's bin"
              : st == SEL_PRODUCT ? "spectral table T_e(b) at the hero's bin x spatial table"
              : "spectral table T_e(b) at the hero's bin x unit-radiance spatial table";
-    if (sel->all_wavelengths) return "spectral table summed over the alive wavelengths' bins";
+    if (sel->all_wavelengths || c->shifted)
+        return "spectral table summed over the alive wavelengths' bins";
     return "spatial table of the voxel: several wavelengths alive, spectral tables act on hero-only paths";
 }
 
@@ -414,7 +419,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
                                   lambda_i; the film keeps wl (FLUORESCENCE 4) */
     unsigned alive = o->single_wavelength ? 1u : (1u << HERO_N) - 1u;
     PrevVertex prev;
-    int depth, j;
+    int depth, j, shifted = 0; /* shifted: a fluorescent vertex re-radiated (LightCtx) */
 
     for (j = 0; j < HERO_N; j++) {
         cie_xyz(wl->lambda[j], cmf[j]);
@@ -561,6 +566,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
                     r[j] = 0.0f;
                 }
                 alive = still;
+                shifted = 1;
                 for (j = 0; j < HERO_N; j++) lam[j] = li[j];
                 if (!(beta[0] > 0.0f) && alive == 1u) break;
                 mat = &R->white;
@@ -588,6 +594,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
         for (j = 0; j < HERO_N; j++) { ctx.lambda[j] = lam[j]; ctx.beta[j] = beta[j]; }
         ctx.alive = alive;
         ctx.hero_only = alive == 1u;
+        ctx.shifted = shifted;
         if (o->nee && !mat_is_delta(mat) && s->n_emitters > 0) {
             int e, e_first = 0, e_end = 1;
             if (is_all) { e_first = 0; e_end = light_n_pieces(R->ls); }

@@ -77,12 +77,12 @@ static const char usage_options[] =
 "      --no-nee            BSDF sampling only (no next event estimation)\n";
 static const char usage_options2[] =
 "      --fluor-li M        a fluorescent vertex samples the absorbed wavelength from\n"
-"                          its excitation A (a, default), from A x the emitters'\n"
-"                          power with a share of A (power), or uniformly on\n"
+"                          A x the emitters' power with a share of A (power,\n"
+"                          default), from its excitation A (a), or uniformly on\n"
 "                          [300 nm, emitted wavelength] (uniform): docs/FLUORESCENCE.md\n"
-"      --fluor-lanes M     at a fluorescent shift, terminate the secondary wavelengths\n"
-"                          (terminate, default) or keep all four, each shifted with\n"
-"                          its own excitation wavelength (keep)\n"
+"      --fluor-lanes M     at a fluorescent shift, keep all four wavelengths, each\n"
+"                          shifted with its own excitation wavelength (keep, default),\n"
+"                          or terminate the secondary ones (terminate)\n"
 "      --exposure E        multiply by 2^E before writing .ppm/.png\n"
 "      --mark-insets       outline the scene's insets (\"# inset\" comments) in the\n"
 "                          .png: A yellow, B cyan, C magenta, ...\n"
@@ -109,7 +109,8 @@ static const char usage_notes[] =
    if its flags stood at its place on the command line, so a preset renders
    bit-identically to its flags spelled out, and a later flag overrides it.  Each
    preset pins every setting whose default may change (wavelength pdf, emitter
-   selection and its variants, rough dispersion, sampler), so that it keeps
+   selection and its variants, rough dispersion, sampler, fluorescence: the thesis
+   has none, and a shift terminates the secondaries there as dispersion does), so that it keeps
    meaning the same method when the defaults move.  The sampler is independent
    random numbers, the one specnee reproduced the thesis' figures with (the
    thesis itself rendered with pbrt-v3's default sampler, "halton", which a scene
@@ -121,11 +122,11 @@ typedef struct {
 static const char *const preset_thesis[] = {
     "--wavelengths", "uniform", "--lights", "spatial", "--spd-metric", "unit",
     "--spd-wavelengths", "hero", "--rough-dispersion", "terminate",
-    "--sampler", "independent", NULL };
+    "--sampler", "independent", "--fluor-lanes", "terminate", "--fluor-li", "a", NULL };
 static const char *const preset_thesis_spd[] = {
     "--wavelengths", "uniform", "--lights", "product", "--spd-metric", "unit",
     "--spd-wavelengths", "hero", "--rough-dispersion", "terminate",
-    "--sampler", "independent", NULL };
+    "--sampler", "independent", "--fluor-lanes", "terminate", "--fluor-li", "a", NULL };
 static const Preset presets[] = {
     { "thesis", "the thesis' baseline: HWSS with uniform wavelengths, pbrt-v3's spatial\n"
                 "          selection, termination at dispersive glass", preset_thesis },
@@ -438,11 +439,13 @@ static int render_main(int argc, char **argv)
         snprintf(wl_text, sizeof wl_text, "%s", wl_mode_name(a.ro.wl_mode));
     snprintf(settings, sizeof settings,
              "scene=%s seed=%d sampler=%s maxdepth=%d lights=%s spd-metric=%s all-wavelengths=%d "
-             "wavelengths=%s range=%s single=%d rough-dispersion=%s nee=%d",
+             "wavelengths=%s range=%s single=%d rough-dispersion=%s nee=%d fluor-lanes=%s fluor-li=%s",
              a.scene, a.ro.seed, sampler_name(a.ro.sampler), a.ro.maxdepth, sel_name(a.ro.sel.strategy),
              a.ro.sel.power_metric ? "power" : "unit", a.ro.sel.all_wavelengths,
              wl_text, a.ro.wl_wide ? "360-830" : "400-700",
-             a.ro.single_wavelength, a.ro.rough_mis ? "mis" : "terminate", a.ro.nee);
+             a.ro.single_wavelength, a.ro.rough_mis ? "mis" : "terminate", a.ro.nee,
+             a.ro.fluor_keep ? "keep" : "terminate",
+             a.ro.fluor_li == FLUOR_LI_A ? "a" : a.ro.fluor_li == FLUOR_LI_POWER ? "power" : "uniform");
     {
         /* the sample count travels with float images, for `specnee merge` */
         size_t len = strlen(out);

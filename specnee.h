@@ -596,8 +596,8 @@ typedef enum {
    later to light_select_pmf for an emitter found by BSDF sampling (the
    consistency contract, item C1 of docs/THEORY.md section 5).  The thesis'
    spectral strategies (spd, product, spectral-spatial) use their spectral table
-   only where hero_only; the light trees and --all-wavelengths use every alive
-   wavelength. */
+   only where hero_only or shifted; the light trees and --all-wavelengths use every
+   alive wavelength. */
 typedef struct {
     Vec3 p;                    /* shading point (the light tree's distance and angles) */
     Vec3 n;                    /* its shading normal (the tree's receiver-cosine bound);
@@ -609,6 +609,13 @@ typedef struct {
                                   termination at dispersive glass, or from the start
                                   with --single-wavelength; 0 after rough glass with
                                   --rough-dispersion mis (THEORY section 7) */
+    int shifted;               /* 1 after a fluorescent shift that kept several
+                                  wavelengths (--fluor-lanes keep): they are absorbed
+                                  ones now, no longer spread over the film's range, so
+                                  the spatial table (weighted by visible light) says
+                                  nothing about them; the spectral strategies then sum
+                                  their table over the alive wavelengths' bins
+                                  (docs/FLUORESCENCE.md section 4b) */
     float beta[HERO_N];        /* path throughput per wavelength (optional weighting) */
 } LightCtx;
 
@@ -834,11 +841,12 @@ typedef struct {
     int rough_mis;             /* --rough-dispersion mis: secondaries survive rough glass */
     int nee;                   /* 1: NEE + BSDF sampling by MIS; 0: BSDF sampling only */
     FluorLi fluor_li;          /* --fluor-li: how a fluorescent vertex samples lambda_i
-                                  (FLUORESCENCE 3): from A (default), A x emitter power
-                                  mixed with A, or uniformly on [300, lambda_o] */
-    int fluor_keep;            /* --fluor-lanes keep: all four wavelengths go through a
-                                  shift, each with its own lambda_i (FLUORESCENCE 4b);
-                                  0: the secondaries are terminated (the baseline) */
+                                  (FLUORESCENCE 3): from A, A x emitter power mixed
+                                  with A (default), or uniformly on [300, lambda_o] */
+    int fluor_keep;            /* --fluor-lanes keep (default): all four wavelengths go
+                                  through a shift, each with its own lambda_i
+                                  (FLUORESCENCE 4b); 0: the secondaries are terminated
+                                  (the thesis' way with wavelength-dependent events) */
     float band_lo, band_hi;    /* band_hi > band_lo: the camera samples its wavelengths
                                   uniformly in [band_lo, band_hi] only, the emitters keep
                                   the film range's normalisation, so the image is the

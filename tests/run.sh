@@ -182,13 +182,13 @@ same() {  # images bit-identical and the sidecars (spp, settings) equal
         cmp -s "tests/tmp/preset-$1.pfm.txt" "tests/tmp/preset-$2.pfm.txt"
 }
 preset_run thesis --preset thesis
-preset_run thesis-flags --wavelengths uniform --lights spatial --spd-metric unit --spd-wavelengths hero --rough-dispersion terminate --sampler independent
+preset_run thesis-flags --wavelengths uniform --lights spatial --spd-metric unit --spd-wavelengths hero --rough-dispersion terminate --sampler independent --fluor-lanes terminate --fluor-li a
 preset_run spd --preset thesis-spd
-preset_run spd-flags --wavelengths uniform --lights product --spd-metric unit --spd-wavelengths hero --rough-dispersion terminate --sampler independent
+preset_run spd-flags --wavelengths uniform --lights product --spd-metric unit --spd-wavelengths hero --rough-dispersion terminate --sampler independent --fluor-lanes terminate --fluor-li a
 preset_run thesis-then-product --preset thesis --lights product
 preset_run thesis-then-mis --preset thesis --rough-dispersion mis
-preset_run pinned --wavelengths importance --lights product --spd-metric power --all-wavelengths --rough-dispersion mis --sampler sobol --preset thesis
-preset_run pinned-spd --wavelengths visible --lights spatial --spd-metric power --throughput-weighted --rough-dispersion mis --sampler zsobol --preset thesis-spd
+preset_run pinned --wavelengths importance --lights product --spd-metric power --all-wavelengths --rough-dispersion mis --sampler sobol --fluor-lanes keep --fluor-li power --preset thesis
+preset_run pinned-spd --wavelengths visible --lights spatial --spd-metric power --throughput-weighted --rough-dispersion mis --sampler zsobol --fluor-lanes keep --fluor-li uniform --preset thesis-spd
 if same thesis thesis-flags; then ok "cli_preset_thesis_is_its_flags"; else fail "cli_preset_thesis_is_its_flags"; fi
 if same spd spd-flags; then ok "cli_preset_thesis_spd_is_its_flags"; else fail "cli_preset_thesis_spd_is_its_flags"; fi
 if same thesis-then-product spd && ! same thesis-then-mis thesis && ! same spd thesis; then ok "cli_preset_later_flags_override"

@@ -641,6 +641,8 @@ static void test_fluor_estimators_agree(T *t)
     o.spp = test_scaled(96, 16);
     o.threads = 1;
     o.sel.strategy = SEL_SPD;
+    o.fluor_keep = 0;          /* the baseline: secondaries terminated, lambda_i ~ A */
+    o.fluor_li = FLUOR_LI_A;
     o.sel.grid_res = 4;
     if (!test_render_tiles(t, &s, &o, K, 3, &ref)) { scene_free(&s); return; }
     for (i = 0; i <= sizeof strat / sizeof strat[0]; i++) {
@@ -695,10 +697,12 @@ static void test_fluor_mis_pmf_at_li(T *t)
     o.spp = test_scaled(64, 16);
     o.threads = 1;
     o.sel.strategy = SEL_UNIFORM;
+    o.fluor_keep = 0;          /* the baseline: secondaries terminated, lambda_i ~ A */
+    o.fluor_li = FLUOR_LI_A;
     if (!test_render_tiles(t, &s, &o, K, 1, &ref)) { scene_free(&s); return; }
     CHECK(t, ref.mean[0][2] > 0.01 && ref.se[0][2] < 0.06 * ref.mean[0][2],
           "the card glows blue with a small standard error: %g +- %g", ref.mean[0][2], ref.se[0][2]);
-    for (i = 0; i <= sizeof strat / sizeof strat[0] + 5; i++) {
+    for (i = 0; i <= sizeof strat / sizeof strat[0] + 6; i++) {
         RenderOptions oi = o;
         char what[64];
         size_t ns = sizeof strat / sizeof strat[0];
@@ -706,16 +710,122 @@ static void test_fluor_mis_pmf_at_li(T *t)
         else if (i == ns) { oi.nee = 0; oi.spp *= 4; oi.seed = 77; }   /* BSDF sampling only */
         else if (i <= ns + 2) { oi.sel.strategy = i == ns + 1 ? SEL_PRODUCT : SEL_UNIFORM; oi.fluor_li = FLUOR_LI_POWER; oi.seed = 55 + (int)i; }
         else if (i == ns + 3) { oi.sel.strategy = SEL_PRODUCT; oi.fluor_li = FLUOR_LI_UNIFORM; oi.spp *= 2; oi.seed = 61; }
-        else { oi.sel.strategy = i == ns + 4 ? SEL_SPECTRAL_TREE : SEL_UNIFORM; oi.fluor_keep = 1; oi.seed = 63 + (int)i; }
+        else {
+            oi.sel.strategy = i == ns + 4 ? SEL_SPECTRAL_TREE : i == ns + 5 ? SEL_UNIFORM : SEL_PRODUCT;
+            oi.fluor_keep = 1;
+            oi.seed = 63 + (int)i;
+        }
         if (!test_render_tiles(t, &s, &oi, K, 1, &other)) { scene_free(&s); return; }
         snprintf(what, sizeof what, "%s vs uniform", i < ns ? sel_name(strat[i]) : i == ns ? "BSDF only"
                  : i == ns + 1 ? "product, li ~ A x power" : i == ns + 2 ? "uniform, li ~ A x power"
                  : i == ns + 3 ? "product, li uniform" : i == ns + 4 ? "spectral-tree, lanes kept"
-                 : "uniform, lanes kept");
+                 : i == ns + 5 ? "uniform, lanes kept" : "product, lanes kept");
         if (getenv("FLUOR_VERBOSE"))
             printf("%s: %g +- %g (uniform %g +- %g)\n", what, other.mean[0][2], other.se[0][2],
                    ref.mean[0][2], ref.se[0][2]);
         if (!test_tiles_agree(t, &ref, &other, 1e-4, what)) { scene_free(&s); return; }
+    }
+    scene_free(&s);
+}
+
+/* After a fluorescent shift with the lanes kept (--fluor-lanes keep) every alive
+   wavelength is an absorbed one; the thesis' spectral strategies (spd, product,
+   spectral-spatial) must then weigh the emitters by the alive wavelengths' bins
+   (LightCtx.shifted), not fall back to the spatial table, which is built from
+   visible light and gives a UV lamp next to nothing.
+   (1) Unit: four UV wavelengths alive after a shift: P(UV LED) > 0.99 for each of
+       the three, the same whichever lane is the hero (C4), select agrees with pmf
+       (C1); the same context without `shifted` takes the spatial table, where the
+       UV LED's share is small (the failure the flag removes).
+   (2) Render: a card that only re-radiates (rho = 0, maxdepth 1: only the
+       vertex after a shift can light it), lit by a small UV LED beside a large
+       bright white LED, with the lanes kept: each strategy renders exactly the
+       image it renders with --all-wavelengths, seed for seed (the same choices
+       after a shift).  With the spatial table instead NEE picks the white LED,
+       which cannot excite the card, and the image differs (its standard error
+       is about 6x larger). */
+static void test_fluor_shift_selects_spectrally(T *t)
+{
+    static const SelStrategy strat[] = { SEL_SPD, SEL_PRODUCT, SEL_SPECTRAL_SPATIAL };
+    Scene s;
+    RenderOptions o;
+    static Tiles a, b;
+    size_t i;
+    int j, k;
+    if (!test_load_scene(t, &s, UV_CAMERA
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\"\n"
+            "Translate -2 0 0\nShape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\"\n"
+            "Translate 2 0 0\nShape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n")) return;
+    for (i = 0; i < sizeof strat / sizeof strat[0]; i++) {
+        SelOptions so;
+        LightSampler *ls;
+        LightCtx c;
+        Error e;
+        float P, p0, prot;
+        int fb;
+        memset(&so, 0, sizeof so);
+        so.strategy = strat[i];
+        so.grid_res = 4;
+        ls = light_sampler_build(&s, &so, &e);
+        CHECK(t, ls != NULL, "build: %s", e.msg);
+        if (!ls) break;
+        memset(&c, 0, sizeof c);
+        c.p = v3(0, 0.5f, 0);
+        c.voxel = light_voxel(ls, c.p);
+        c.alive = 15u;
+        c.shifted = 1;
+        for (j = 0; j < HERO_N; j++) { c.lambda[j] = 352.0f + 7.0f * j; c.beta[j] = 1.0f; }
+        p0 = light_select_pmf(ls, &c, 0);
+        CHECK(t, light_select(ls, &c, 0.5f, &P, &fb) == 0 && P == p0 && p0 > 0.99f && !fb,
+              "%s after a shift: UV LED P = %g (pmf %g), fell back %d", sel_name(strat[i]),
+              (double)P, (double)p0, fb);
+        for (k = 1; k < HERO_N; k++) {               /* another lane as the hero (C4) */
+            float tmp = c.lambda[0];
+            c.lambda[0] = c.lambda[k];
+            c.lambda[k] = tmp;
+            prot = light_select_pmf(ls, &c, 0);
+            CHECK(t, fabsf(prot - p0) <= 1e-6f * p0, "%s: hero %d gives P = %.9g, hero 0 %.9g",
+                  sel_name(strat[i]), k, (double)prot, (double)p0);
+            c.lambda[k] = c.lambda[0];
+            c.lambda[0] = tmp;
+        }
+        c.shifted = 0;
+        CHECK(t, light_select_pmf(ls, &c, 0) < 0.5f,
+              "%s without the shift flag: the spatial table should give the UV LED little, "
+              "not %g", sel_name(strat[i]), (double)light_select_pmf(ls, &c, 0));
+        light_sampler_free(ls);
+    }
+    scene_free(&s);
+
+    if (!test_load_scene(t, &s,
+            "LookAt 0 0 3  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 25\n"
+            "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16 \"string filename\" \"t.pfm\"\n"
+            "Integrator \"path\" \"integer maxdepth\" 1\n"
+            "WorldBegin\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\" \"float scale\" 1\n"
+            "Translate 1.5 0 0.9\nShape \"sphere\" \"float radius\" 0.15\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\" \"float scale\" 5\n"
+            "Translate -1.5 0 0.9\nShape \"sphere\" \"float radius\" 0.7\nAttributeEnd\n"
+            FL_MAT("[300 0 830 0]", "[300 0 345 0 350 1 380 1 385 0 830 0]", "[380 0 440 1 520 0]", "1")
+            "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point3 P\" [-3 -3 0  3 -3 0  3 3 0  -3 3 0]\n"))
+        return;
+    render_options_default(&o);
+    o.spp = test_scaled(32, 8);
+    o.threads = 1;
+    o.fluor_keep = 1;
+    o.fluor_li = FLUOR_LI_A;
+    for (i = 0; i < sizeof strat / sizeof strat[0]; i++) {
+        o.sel.strategy = strat[i];
+        o.sel.all_wavelengths = 0;
+        if (!test_render_tiles(t, &s, &o, 4, 2, &a)) break;
+        o.sel.all_wavelengths = 1;
+        if (!test_render_tiles(t, &s, &o, 4, 2, &b)) break;
+        for (k = 0; k < 4; k++)
+            CHECK(t, a.mean[k][2] == b.mean[k][2] && a.mean[k][2] > 0.0,
+                  "%s, lanes kept, tile %d: %.9g, with --all-wavelengths %.9g (after a shift "
+                  "both sum the spectral table over the alive bins: the same choices)",
+                  sel_name(strat[i]), k, a.mean[k][2], b.mean[k][2]);
     }
     scene_free(&s);
 }
@@ -941,5 +1051,6 @@ const TestCase tests_fluor[] = {
     { "fluor_estimators_agree", test_fluor_estimators_agree },
     { "fluor_mis_pmf_at_li", test_fluor_mis_pmf_at_li },
     { "fluor_tree_uv_bins", test_fluor_tree_uv_bins },
+    { "fluor_shift_selects_spectrally", test_fluor_shift_selects_spectrally },
     { NULL, NULL }
 };

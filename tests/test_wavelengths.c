@@ -316,9 +316,11 @@ static void test_thesis_options(T *t)
     RenderOptions a, b;
     render_options_thesis(&a);
     render_options_default(&b);
-    CHECK(t, eval_parse_variant("spatial:uniform:terminate:unit:hero:independent", &b), "pins refused");
+    CHECK(t, eval_parse_variant("spatial:uniform:terminate:unit:hero:independent:flterminate:fla", &b),
+          "pins refused");
     CHECK(t, a.wl_mode == WL_UNIFORM && a.sel.strategy == SEL_SPATIAL && !a.rough_mis &&
-          a.sampler == SAMPLER_INDEPENDENT && !a.sel.power_metric && !a.sel.all_wavelengths,
+          a.sampler == SAMPLER_INDEPENDENT && !a.sel.power_metric && !a.sel.all_wavelengths &&
+          !a.fluor_keep && a.fluor_li == FLUOR_LI_A,
           "render_options_thesis is not the thesis' baseline");
     CHECK(t, memcmp(&a, &b, sizeof a) == 0, "render_options_thesis differs from the defaults "
           "with the thesis' levels named");
