@@ -2,11 +2,12 @@
 
    WHAT IT MEASURES
      The closest-hit throughput (Mrays/s, one thread, CPU time) of bvh_intersect and
-     of Embree 3's rtcIntersect1 on the same triangles and the same rays: the
+     of Embree 3's rtcIntersect1, and the any-hit throughput of bvh_occluded and
+     rtcOccluded1 (shadow rays), on the same triangles and the same rays: the
      displaced icosphere and the 2^20 incoherent rays of tools/bench.c (that file is
      included, so both programs build the very same mesh and rays), on all rays and
      on the rays that hit the mesh's bounding box.  Each of `runs` rounds (default 5)
-     times the four casts once, in the same order, so a busy spell of the shared
+     times the eight casts once, in the same order, so a busy spell of the shared
      machine slows them alike; the best and the median of the rounds are printed,
      with Embree's speed over specnee's (issue 18's figure: "within 1.5x").  The hit
      counts of the two must agree; they are printed.
@@ -28,8 +29,9 @@
 #include "bench.c"
 #include <embree3/rtcore.h>
 
-/* Cast rays[0..n) with Embree; returns the CPU time, sets the hit count. */
-static double embree_cast(RTCScene scene, const Ray *rays, int n, long *hits)
+/* Cast rays[0..n) with Embree (any = 1: rtcOccluded1, the shadow-ray query);
+   returns the CPU time, sets the hit count. */
+static double embree_cast(RTCScene scene, const Ray *rays, int n, int any, long *hits)
 {
     struct RTCIntersectContext ctx;
     const double t0 = cpu_s();
@@ -37,6 +39,21 @@ static double embree_cast(RTCScene scene, const Ray *rays, int n, long *hits)
     int i;
     rtcInitIntersectContext(&ctx);
     for (i = 0; i < n; i++) {
+        if (any) {
+            struct RTCRay ray;
+            ray.org_x = rays[i].o.x; ray.org_y = rays[i].o.y; ray.org_z = rays[i].o.z;
+            ray.dir_x = rays[i].d.x; ray.dir_y = rays[i].d.y; ray.dir_z = rays[i].d.z;
+            ray.tnear = 0.0f;
+            ray.tfar = rays[i].tmax;
+            ray.time = 0.0f;
+            ray.mask = 0xFFFFFFFFu;
+            ray.id = 0;
+            ray.flags = 0;
+            rtcOccluded1(scene, &ctx, &ray);
+            h += ray.tfar < 0.0f;                  /* Embree sets tfar = -inf on a hit */
+            continue;
+        }
+        {
         struct RTCRayHit rh;
         rh.ray.org_x = rays[i].o.x; rh.ray.org_y = rays[i].o.y; rh.ray.org_z = rays[i].o.z;
         rh.ray.dir_x = rays[i].d.x; rh.ray.dir_y = rays[i].d.y; rh.ray.dir_z = rays[i].d.z;
@@ -50,6 +67,7 @@ static double embree_cast(RTCScene scene, const Ray *rays, int n, long *hits)
         rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(scene, &ctx, &rh);
         h += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        }
     }
     *hits = h;
     return cpu_s() - t0;
@@ -57,7 +75,9 @@ static double embree_cast(RTCScene scene, const Ray *rays, int n, long *hits)
 
 int main(int argc, char **argv)
 {
-    static const char *name[4] = {"specnee, all rays", "specnee, rays hitting the box",
+    static const char *name[8] = {"specnee, all rays", "specnee, rays hitting the box",
+                                  "Embree 3, all rays", "Embree 3, rays hitting the box",
+                                  "specnee, all rays", "specnee, rays hitting the box",
                                   "Embree 3, all rays", "Embree 3, rays hitting the box"};
     const int level = argc > 1 ? atoi(argv[1]) : 6, runs = argc > 2 ? atoi(argv[2]) : 5;
     int n_verts = 0, n_tris = 0, n_in = 0, i, k, q;
@@ -66,8 +86,8 @@ int main(int argc, char **argv)
     unsigned *ib;
     Scene s;
     Ray *rays, *rays_in;
-    double sec[4][MAX_RUNS], best[4], med[4], worst;
-    long hits[4];
+    double sec[8][MAX_RUNS], best[8], med[8], worst;
+    long hits[8];
     RTCDevice dev;
     RTCScene scene;
     RTCGeometry geom;
@@ -109,32 +129,36 @@ int main(int argc, char **argv)
     printf("bench_embree: displaced icosphere level %d, %d triangles; %d rays (%d hit the "
            "mesh's box), one thread, CPU time, %d interleaved rounds\n",
            level, n_tris, BENCH_RAYS, n_in, runs);
+    /* q = 0..3 closest hit, 4..7 any hit; in each: specnee all / box, Embree all / box */
     for (k = 0; k < runs; k++)
-        for (q = 0; q < 4; q++) {
+        for (q = 0; q < 8; q++) {
             const Ray *set = q % 2 ? rays_in : rays;
-            const int n = q % 2 ? n_in : BENCH_RAYS;
-            if (q < 2) {
-                CastResult r = cast(&s, set, n, 1, 0);
+            const int n = q % 2 ? n_in : BENCH_RAYS, any = q >= 4;
+            if (q % 4 < 2) {
+                CastResult r = cast(&s, set, n, 1, any);
                 sec[q][k] = r.seconds;
                 hits[q] = r.hits;
             } else
-                sec[q][k] = embree_cast(scene, set, n, &hits[q]);
+                sec[q][k] = embree_cast(scene, set, n, any, &hits[q]);
         }
     printf("  hits: specnee %ld, Embree %ld%s\n", hits[0], hits[2],
-           hits[0] == hits[2] ? "" : "  (DIFFER)");
-    printf("  %-32s %10s %10s\n", "", "best", "median");
-    for (q = 0; q < 4; q++) {
+           hits[0] == hits[2] && hits[4] == hits[6] ? "" : "  (DIFFER)");
+    for (q = 0; q < 8; q++) {
         const double n = q % 2 ? n_in : BENCH_RAYS;
+        if (q % 4 == 0)
+            printf("  %-32s %10s %10s\n", q ? "any hit (shadow rays)" : "closest hit", "best", "median");
         stats3(sec[q], runs, &best[q], &med[q], &worst);
         printf("  %-32s %7.2f Mrays/s %7.2f Mrays/s\n", name[q], n / best[q] * 1e-6,
                n / med[q] * 1e-6);
     }
-    printf("  Embree / specnee: all rays x%.2f (best) x%.2f (median); "
-           "box-hitting rays x%.2f x%.2f\n", best[0] / best[2], med[0] / med[2],
-           best[1] / best[3], med[1] / med[3]);
+    for (q = 0; q < 8; q += 4)
+        printf("  Embree / specnee, %s: all rays x%.2f (best) x%.2f (median); "
+               "box-hitting rays x%.2f x%.2f\n", q ? "any hit" : "closest hit",
+               best[q] / best[q + 2], med[q] / med[q + 2], best[q + 1] / best[q + 3],
+               med[q + 1] / med[q + 3]);
     rtcReleaseScene(scene);
     rtcReleaseDevice(dev);
     bvh_free(&s.bvh);
     free(rays); free(P); free(idx);
-    return hits[0] == hits[2] ? 0 : 1;
+    return hits[0] == hits[2] && hits[4] == hits[6] ? 0 : 1;
 }
