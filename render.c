@@ -395,6 +395,15 @@ static void debug_check_sum(FILE *dbg, double S)
                      "this contribution is weighted wrongly\n", S);
 }
 
+/* Does any material of s fluoresce?  (Only then are --fluor-li power's tables built.) */
+static int scene_has_fluorescence(const Scene *s)
+{
+    int mi;
+    for (mi = 0; mi < s->n_materials; mi++)
+        if (s->materials[mi].type == MAT_FLUORESCENT) return 1;
+    return 0;
+}
+
 /* lambda_i for a path at lo through fluorescent material mi (FLUORESCENCE 3), by
    --fluor-li; *pdf the density it was drawn from (0: none). */
 static float fluor_sample_lambda_i(const Renderer *R, const Material *mat, int mi, float lo,
@@ -920,10 +929,11 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
         for (e = 0; e < s->n_emitters; e++)
             if (s->emitters[e].inf) j->R.inf[j->R.n_inf++] = e;
     }
-    if (o->fluor_li == FLUOR_LI_POWER && s->n_emitters > 0) {
+    if (o->fluor_li == FLUOR_LI_POWER && s->n_emitters > 0 && scene_has_fluorescence(s)) {
         /* FLUORESCENCE 3: E = the scene's emitter power per nm, pi A (2 if two-sided)
            Le (an infinite light's area is 4 pi r^2), for this render's Le; a table
-           of A E for each fluorescent material */
+           of A E for each fluorescent material (none to build, and no O(n) pass over
+           the emitters, in a scene without fluorescent materials) */
         Spectrum E;
         int e, k, mi;
         spec_const(&E, 0.0f);
