@@ -391,6 +391,21 @@ static void point_on_triangle(const Scene *s, int tri, Vec3 ref, float u1, float
     out->n = sp.ng;
 }
 
+/* A point on a mesh by area: a triangle (the first of tri_count whose cdf entry
+   tri_cdf[t + 1] lies above u0, binary search), then a point on it; area: the
+   whole mesh's.  emitter_sample and light_sample share it. */
+static int sample_mesh(const Scene *s, const float *tri_cdf, int tri_begin, int tri_count, double area,
+                       Vec3 ref, float u0, float u1, float u2, EmitterSample *out)
+{
+    int lo = 0, hi = tri_count - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (tri_cdf[mid + 1] <= u0) lo = mid + 1; else hi = mid;
+    }
+    point_on_triangle(s, tri_begin + lo, ref, u1, u2, out);
+    return finish_sample(ref, area, out);
+}
+
 int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2,
                    EmitterSample *out)
 {
@@ -415,13 +430,7 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
         out->p = v3_add(sh->center, v3_mul(dir, sh->radius));
         out->n = sh->flip ? v3_neg(dir) : dir;
     } else {
-        /* pick a triangle by area: first cdf entry above u0 (binary search) */
-        int lo = 0, hi = sh->tri_count - 1;
-        while (lo < hi) {
-            int mid = (lo + hi) / 2;
-            if (em->tri_cdf[mid + 1] <= u0) lo = mid + 1; else hi = mid;
-        }
-        point_on_triangle(s, sh->tri_begin + lo, ref, u1, u2, out);
+        return sample_mesh(s, em->tri_cdf, sh->tri_begin, sh->tri_count, em->area, ref, u0, u1, u2, out);
     }
     return finish_sample(ref, em->area, out);
 }
@@ -457,7 +466,26 @@ typedef struct {
     uint64_t trail;            /* light trees: bit d = 1 if the path to the leaf takes
                                   the second child at depth d */
     int depth;                 /* number of branches from the root to the leaf */
+    /* a whole mesh emitter (count == 0): what sample_mesh reads, copied here so
+       that NEE does not read the scene's Emitter (2 KB, mostly its spectrum) and
+       Shape for every sample (a cache miss each with many emitters); NULL:
+       spheres and infinite lights, sampled by emitter_sample */
+    const float *tri_cdf;
+    int tri_begin, tri_count;
 } Piece;
+
+/* Piece pc is the whole emitter e. */
+static void piece_whole(const Scene *s, Piece *pc, int e)
+{
+    const Emitter *em = &s->emitters[e];
+    pc->emitter = e;
+    pc->area = em->area;
+    if (!em->inf && s->shapes[em->shape].type == SHAPE_MESH) {
+        pc->tri_cdf = em->tri_cdf;
+        pc->tri_begin = s->shapes[em->shape].tri_begin;
+        pc->tri_count = s->shapes[em->shape].tri_count;
+    }
+}
 
 /* A node of the light tree (section 4).  Depth-first order: the first child of
    an interior node i is node i + 1, the second is nodes[i].second. */
@@ -1290,9 +1318,7 @@ static int tree_setup(LightSampler *ls)
             ls->emitter_piece[e] = -1;
             cluster_mesh(ls, e, tris, sh->tri_count, tri_c, tmp, &next_tri);
         } else {
-            Piece *pc = &ls->pieces[ls->n_pieces];
-            pc->emitter = e;
-            pc->area = s->emitters[e].area;
+            piece_whole(s, &ls->pieces[ls->n_pieces], e);
             ls->emitter_piece[e] = ls->n_pieces++;
         }
     }
@@ -1439,8 +1465,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
         ls->emitter_piece = (int *)malloc(sizeof(int) * (size_t)n);
         if (!ls->pieces || !ls->emitter_piece) goto oom;
         for (i = 0; i < n; i++) {
-            ls->pieces[i].emitter = i;
-            ls->pieces[i].area = s->emitters[i].area;
+            piece_whole(s, &ls->pieces[i], i);
             ls->emitter_piece[i] = i;
         }
     }
@@ -1549,7 +1574,11 @@ int light_sample(const LightSampler *ls, int piece, Vec3 ref, float u0, float u1
 {
     const Piece *pc = &ls->pieces[piece];
     int lo = 0, hi;
-    if (pc->count == 0) return emitter_sample(ls->scene, pc->emitter, ref, u0, u1, u2, out);
+    if (pc->count == 0) {                        /* a whole emitter */
+        if (pc->tri_cdf)
+            return sample_mesh(ls->scene, pc->tri_cdf, pc->tri_begin, pc->tri_count, pc->area, ref, u0, u1, u2, out);
+        return emitter_sample(ls->scene, pc->emitter, ref, u0, u1, u2, out);
+    }
     /* a cluster: a triangle by area (first cdf entry above u0), then a point */
     hi = pc->count - 1;
     while (lo < hi) {
