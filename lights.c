@@ -100,7 +100,11 @@
       (no emitter below faces p); theta_i' = max(0, theta_i - theta_b) with
       theta_i the angle between n and the direction to the centre (|cos|: the
       surface may transmit).  Each bound only overestimates, so a node that can
-      light p never gets 0.  Phi_c is the power that counts in the context:
+      light p never gets 0.  node_importance computes it without normalising
+      the direction or taking an angle: each cosine is a ratio of dot products
+      and square roots of d, and I = Phi_c X Y / (d^2)^3 with X = d^2 cos theta',
+      Y = d^2 cos theta_i' (its comment derives them), so that a level of the
+      walk waits for as few square roots and divisions as possible.  Phi_c is the power that counts in the context:
           tree           Phi (all wavelengths together: pbrt-v4's sampler)
           spectral-tree  sum over alive j of c_j Phi(bin(lambda_j)), c_j = 1 or the
                          throughput (--throughput-weighted): the hero's bin alone
@@ -109,8 +113,8 @@
                          weights stay intact (like --all-wavelengths above).
       Selection walks from the root: at an interior node with children importances
       a, b it goes to the first with probability a / (a + b) (the path stops when
-      a + b = 0: nothing below can light p), rescales u into the chosen interval
-      and multiplies the branch probabilities.  The pmf of a given piece walks the
+      a + b = 0: nothing below can light p), narrows the interval of u that leads
+      to the chosen child and multiplies the branch probabilities.  The pmf of a given piece walks the
       same nodes along the piece's bit trail (bit d = branch taken at depth d),
       calling the same importance function: select and pmf cannot disagree.
       Build: top-down over the box centroids, LIGHT_TREE_BINS candidate planes per
@@ -389,6 +393,21 @@ static void point_on_triangle(const Scene *s, int tri, Vec3 ref, float u1, float
     out->n = sp.ng;
 }
 
+/* A point on a mesh by area: a triangle (the first of tri_count whose cdf entry
+   tri_cdf[t + 1] lies above u0, binary search), then a point on it; area: the
+   whole mesh's.  emitter_sample and light_sample share it. */
+static int sample_mesh(const Scene *s, const float *tri_cdf, int tri_begin, int tri_count, double area,
+                       Vec3 ref, float u0, float u1, float u2, EmitterSample *out)
+{
+    int lo = 0, hi = tri_count - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (tri_cdf[mid + 1] <= u0) lo = mid + 1; else hi = mid;
+    }
+    point_on_triangle(s, tri_begin + lo, ref, u1, u2, out);
+    return finish_sample(ref, area, out);
+}
+
 int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2,
                    EmitterSample *out)
 {
@@ -413,13 +432,7 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
         out->p = v3_add(sh->center, v3_mul(dir, sh->radius));
         out->n = sh->flip ? v3_neg(dir) : dir;
     } else {
-        /* pick a triangle by area: first cdf entry above u0 (binary search) */
-        int lo = 0, hi = sh->tri_count - 1;
-        while (lo < hi) {
-            int mid = (lo + hi) / 2;
-            if (em->tri_cdf[mid + 1] <= u0) lo = mid + 1; else hi = mid;
-        }
-        point_on_triangle(s, sh->tri_begin + lo, ref, u1, u2, out);
+        return sample_mesh(s, em->tri_cdf, sh->tri_begin, sh->tri_count, em->area, ref, u0, u1, u2, out);
     }
     return finish_sample(ref, em->area, out);
 }
@@ -455,7 +468,26 @@ typedef struct {
     uint64_t trail;            /* light trees: bit d = 1 if the path to the leaf takes
                                   the second child at depth d */
     int depth;                 /* number of branches from the root to the leaf */
+    /* a whole mesh emitter (count == 0): what sample_mesh reads, copied here so
+       that NEE does not read the scene's Emitter (2 KB, mostly its spectrum) and
+       Shape for every sample (a cache miss each with many emitters); NULL:
+       spheres and infinite lights, sampled by emitter_sample */
+    const float *tri_cdf;
+    int tri_begin, tri_count;
 } Piece;
+
+/* Piece pc is the whole emitter e. */
+static void piece_whole(const Scene *s, Piece *pc, int e)
+{
+    const Emitter *em = &s->emitters[e];
+    pc->emitter = e;
+    pc->area = em->area;
+    if (!em->inf && s->shapes[em->shape].type == SHAPE_MESH) {
+        pc->tri_cdf = em->tri_cdf;
+        pc->tri_begin = s->shapes[em->shape].tri_begin;
+        pc->tri_count = s->shapes[em->shape].tri_count;
+    }
+}
 
 /* A node of the light tree (section 4).  Depth-first order: the first child of
    an interior node i is node i + 1, the second is nodes[i].second. */
@@ -1055,53 +1087,80 @@ static float query_power(const TreeQuery *q, const float *bins, int stride)
 }
 
 /* The importance of node nd, whose power in the context is phi, at the query
-   (section 4): the one function that both tree_select and tree_pmf call (through
-   branch_first). */
-static float node_importance(const TreeNode *nd, const TreeQuery *q, float phi)
+   (section 4), as a ratio *num / *den: the one function that both tree_select
+   and tree_pmf call (through branch_at).  The walk waits for it at every
+   level, and a core has one unit for square roots and divisions, so it is
+   written with as few of them as the bound allows: with d = p - centre (not
+   normalised) and
+       S_b = sqrt(|d|^2 - r^2) = |d| cos theta_b,   r = |d| sin theta_b,
+       dw = d . w (|d . w| when two-sided) = |d| cos theta_w,
+       S_w = sqrt(|d|^2 - dw^2) = |d| sin theta_w,
+       dn = |d . n| = |d| cos theta_i,   S_i = sqrt(|d|^2 - dn^2) = |d| sin theta_i,
+   every cosine of section 4 is a ratio with |d| or |d|^2 below:
+       theta_w <= theta_o  <=>  dw |dw| >= cos_o |cos_o| |d|^2   (x |x| increases),
+       X = |d|^2 cos theta' = |d|^2, or (dw cos_o + S_w sin_o) S_b + (S_w cos_o - dw sin_o) r,
+       Y = |d|^2 cos theta_i' = |d|^2, or dn S_b + S_i r,
+   and I = Phi_c X Y / (|d|^2)^3: at most three square roots and no division
+   (the branch divides once for both children).  In double, where (|d|^2)^3
+   cannot overflow. */
+typedef struct { double num, den; } Importance;
+
+static Importance node_importance(const TreeNode *nd, const TreeQuery *q, float phi)
 {
-    float d2, r2, cos_x, imp;
-    Vec3 d;
-    if (!(phi > 0.0f)) return 0.0f;
-    d = v3(q->p.x - nd->c[0], q->p.y - nd->c[1], q->p.z - nd->c[2]);
-    d2 = v3_dot(d, d);
-    r2 = nd->r * nd->r;
+    Importance I = { 0.0, 1.0 };                     /* I = 0 */
+    float dx, dy, dz, d2, r, r2, Sb, dw, X, Y;
+    if (!(phi > 0.0f)) return I;
+    dx = q->p.x - nd->c[0];
+    dy = q->p.y - nd->c[1];
+    dz = q->p.z - nd->c[2];
+    d2 = dx * dx + dy * dy + dz * dz;
+    r = nd->r;
+    r2 = r * r;
     if (!(d2 > r2)) {
-        /* p inside the bounding sphere: no angle can be bounded */
-        imp = phi / (r2 > FLT_MIN ? r2 : FLT_MIN);
-    } else {
-        float inv = 1.0f / sqrtf(d2);
-        float sin_b = nd->r * inv, cos_b = sqrtf(pos_or_zero(1.0f - sin_b * sin_b));
-        Vec3 w = v3_mul(d, inv);                     /* from the centre towards p */
-        float cos_w = w.x * nd->axis[0] + w.y * nd->axis[1] + w.z * nd->axis[2];
-        if (nd->twosided) cos_w = fabsf(cos_w);
-        if (cos_w >= nd->cos_o) {
-            cos_x = 1.0f;                            /* p inside the normal cone */
-        } else {
-            /* theta_w - theta_o > 0, then minus theta_b, clamped at 0 */
-            float sin_w = sqrtf(pos_or_zero(1.0f - cos_w * cos_w));
-            float cos_wo = cos_w * nd->cos_o + sin_w * nd->sin_o;
-            float sin_wo = sin_w * nd->cos_o - cos_w * nd->sin_o;
-            cos_x = cos_wo >= cos_b ? 1.0f : cos_wo * cos_b + sin_wo * sin_b;
-        }
-        if (cos_x <= nd->cos_e) return 0.0f;
-        imp = phi * cos_x / d2;
-        if (q->has_n) {
-            float cos_i = fabsf(v3_dot(q->n, w));
-            if (cos_i < cos_b) imp *= cos_i * cos_b + sqrtf(pos_or_zero(1.0f - cos_i * cos_i)) * sin_b;
-        }
+        /* p inside the bounding sphere: no angle can be bounded; I = Phi_c / r^2 */
+        I.num = phi;
+        I.den = r2 > FLT_MIN ? r2 : FLT_MIN;
+        return I;
     }
-    if (!(imp >= 0.0f)) return 0.0f;                 /* NaN */
-    return imp < FLT_MAX ? imp : FLT_MAX;
+    if (!(d2 <= FLT_MAX)) return I;                  /* p at infinity (or NaN): I = 0 */
+    dw = dx * nd->axis[0] + dy * nd->axis[1] + dz * nd->axis[2];
+    if (nd->twosided) dw = fabsf(dw);
+    Sb = sqrtf(d2 - r2);
+    if (dw * fabsf(dw) >= nd->cos_o * fabsf(nd->cos_o) * d2) {
+        X = d2;                                      /* p inside the normal cone */
+    } else {
+        /* theta_w - theta_o > 0, then minus theta_b, clamped at 0 */
+        float Sw = sqrtf(pos_or_zero(d2 - dw * dw));
+        float A = dw * nd->cos_o + Sw * nd->sin_o;   /* |d| cos(theta_w - theta_o) */
+        float B = Sw * nd->cos_o - dw * nd->sin_o;   /* |d| sin(theta_w - theta_o) */
+        X = A >= Sb ? d2 : A * Sb + B * r;
+        if (X <= nd->cos_e * d2) return I;           /* theta' >= theta_e: I = 0 */
+    }
+    Y = d2;
+    if (q->has_n) {
+        float dn = fabsf(q->n.x * dx + q->n.y * dy + q->n.z * dz);
+        if (dn < Sb) Y = dn * Sb + sqrtf(pos_or_zero(d2 - dn * dn)) * r;
+    }
+    I.num = (double)phi * X * Y;
+    I.den = (double)d2 * d2 * d2;
+    if (!(I.num >= 0.0)) I.num = 0.0;                /* NaN */
+    return I;
 }
 
-/* Probability of the first child of interior node i: a / (a + b); 0 and *ok = 0
-   when neither child can light the point.  The spectral powers of both children
-   sit side by side in the parent's row of pair_bin, so one cache line serves both
-   (a row per node of every bin was one cache miss per child and bin). */
-static double branch_first(const LightSampler *ls, const TreeQuery *q, int i, int *ok)
+/* The branch at interior node i: with the children's importances a_num / a_den
+   and b_num / b_den, the first child's probability is A / S,
+       A = a_num b_den,   S = a_num b_den + b_num a_den,
+   and neither child can light the point when S = 0 (one division, by the
+   caller, for both children).  The spectral powers of both children sit side
+   by side in the parent's row of pair_bin, so one cache line serves both (a row
+   per node of every bin was one cache miss per child and bin). */
+typedef struct { double A, S; } Branch;
+
+static Branch branch_at(const LightSampler *ls, const TreeQuery *q, int i)
 {
     const TreeNode *n0 = &ls->nodes[i + 1], *n1 = &ls->nodes[ls->nodes[i].second];
-    double a, b;
+    Importance a, b;
+    Branch br;
     if (q->spectral) {
         const float *pb = ls->pair_bin + (size_t)i * 2 * (size_t)ls->nb;
         a = node_importance(n0, q, query_power(q, pb, 2));
@@ -1110,8 +1169,10 @@ static double branch_first(const LightSampler *ls, const TreeQuery *q, int i, in
         a = node_importance(n0, q, n0->power);
         b = node_importance(n1, q, n1->power);
     }
-    *ok = a + b > 0.0;
-    return *ok ? a / (a + b) : 0.0;
+    br.A = a.num * b.den;
+    br.S = br.A + b.num * a.den;
+    if (!(br.S > 0.0 && br.S <= DBL_MAX)) br.A = br.S = 0.0;   /* nothing to light p (or round-off) */
+    return br;
 }
 
 /* Does the tree get a share beside the infinite lights?  Only when it has pieces
@@ -1121,13 +1182,13 @@ static int tree_live(const LightSampler *ls, const TreeQuery *q)
 {
     return ls->n_tree_pieces > 0 &&
            node_importance(&ls->nodes[0], q, q->spectral ? query_power(q, ls->root_bin, 1)
-                                                          : ls->nodes[0].power) > 0.0f;
+                                                          : ls->nodes[0].power).num > 0.0;
 }
 
 static int tree_select(const LightSampler *ls, const LightCtx *c, float u, float *pmf)
 {
     TreeQuery q;
-    double uu = u, p = 1.0;
+    double uu = u, lo = 0.0, p = 1.0;
     int i = 0;
     tree_query(ls, c, &q);
     if (ls->n_inf > 0) {
@@ -1141,20 +1202,29 @@ static int tree_select(const LightSampler *ls, const LightCtx *c, float u, float
         uu -= slot;
         if (!(uu < 1.0)) uu = 1.0 - DBL_EPSILON;
     }
-    while (ls->nodes[i].second >= 0) {
-        int ok;
-        double pa = branch_first(ls, &q, i, &ok);
-        if (!ok) { *pmf = 0.0f; return -1; }
-        if (uu < pa) {
-            uu /= pa;
-            p *= pa;
-            i = i + 1;
-        } else {
-            uu = (uu - pa) / (1.0 - pa);
-            p *= 1.0 - pa;                       /* select: the second child */
-            i = ls->nodes[i].second;
+    /* [lo, lo + w) is the part of [0, 1) that leads to node i (w = p / the
+       tree's share): the first child gets [lo, lo + w A / S), the second the
+       rest.  The test is uu - lo < w A / S times S, so that the walk need not
+       wait for the division (pa below) before it goes on; a child that cannot
+       light p (A = 0 or A = S) is never taken, whatever the round-off. */
+    {
+        double w = 1.0;
+        while (ls->nodes[i].second >= 0) {
+            Branch br = branch_at(ls, &q, i);
+            double pa;
+            if (!(br.S > 0.0)) { *pmf = 0.0f; return -1; }
+            pa = br.A / br.S;
+            if (br.A >= br.S || (br.A > 0.0 && (uu - lo) * br.S < w * br.A)) {
+                p *= pa;
+                w *= pa;
+                i = i + 1;
+            } else {
+                p *= 1.0 - pa;                       /* select: the second child */
+                lo += w * pa;
+                w *= 1.0 - pa;
+                i = ls->nodes[i].second;
+            }
         }
-        if (!(uu < 1.0)) uu = 1.0 - DBL_EPSILON;     /* round-off */
     }
     *pmf = (float)p;
     return -1 - ls->nodes[i].second;
@@ -1174,11 +1244,12 @@ static float tree_pmf(const LightSampler *ls, const LightCtx *c, int piece)
         if (!live) return 0.0f;
     }
     for (d = 0; d < pc->depth; d++) {
-        int ok;
+        Branch br;
         double pa;
         if (ls->nodes[i].second < 0) return 0.0f;   /* a trail longer than the tree */
-        pa = branch_first(ls, &q, i, &ok);
-        if (!ok) return 0.0f;
+        br = branch_at(ls, &q, i);
+        if (!(br.S > 0.0)) return 0.0f;
+        pa = br.A / br.S;
         if ((pc->trail >> d) & 1u) {
             p *= 1.0 - pa;
             i = ls->nodes[i].second;
@@ -1249,9 +1320,7 @@ static int tree_setup(LightSampler *ls)
             ls->emitter_piece[e] = -1;
             cluster_mesh(ls, e, tris, sh->tri_count, tri_c, tmp, &next_tri);
         } else {
-            Piece *pc = &ls->pieces[ls->n_pieces];
-            pc->emitter = e;
-            pc->area = s->emitters[e].area;
+            piece_whole(s, &ls->pieces[ls->n_pieces], e);
             ls->emitter_piece[e] = ls->n_pieces++;
         }
     }
@@ -1282,7 +1351,7 @@ static int tree_setup(LightSampler *ls)
     ls->n_nodes = 0;
     tree_build(&B, items, ls->n_tree_pieces, 0, 0);
     free(B.centroids);
-    /* the children's bins side by side in their parent's row (branch_first) */
+    /* the children's bins side by side in their parent's row (branch_at) */
     ls->pair_bin = (float *)malloc(sizeof(float) * 2 * (size_t)ls->n_nodes * (size_t)ls->nb);
     ls->root_bin = (float *)malloc(sizeof(float) * (size_t)ls->nb);
     if (!ls->pair_bin || !ls->root_bin) goto done;
@@ -1398,8 +1467,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
         ls->emitter_piece = (int *)malloc(sizeof(int) * (size_t)n);
         if (!ls->pieces || !ls->emitter_piece) goto oom;
         for (i = 0; i < n; i++) {
-            ls->pieces[i].emitter = i;
-            ls->pieces[i].area = s->emitters[i].area;
+            piece_whole(s, &ls->pieces[i], i);
             ls->emitter_piece[i] = i;
         }
     }
@@ -1508,7 +1576,11 @@ int light_sample(const LightSampler *ls, int piece, Vec3 ref, float u0, float u1
 {
     const Piece *pc = &ls->pieces[piece];
     int lo = 0, hi;
-    if (pc->count == 0) return emitter_sample(ls->scene, pc->emitter, ref, u0, u1, u2, out);
+    if (pc->count == 0) {                        /* a whole emitter */
+        if (pc->tri_cdf)
+            return sample_mesh(ls->scene, pc->tri_cdf, pc->tri_begin, pc->tri_count, pc->area, ref, u0, u1, u2, out);
+        return emitter_sample(ls->scene, pc->emitter, ref, u0, u1, u2, out);
+    }
     /* a cluster: a triangle by area (first cdf entry above u0), then a point */
     hi = pc->count - 1;
     while (lo < hi) {
