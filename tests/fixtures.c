@@ -7,6 +7,27 @@
 
 
 
+void rng_fill(Rng *r, float *u, int n)
+{
+    int i;
+    for (i = 0; i < n; i++) u[i] = rng_float(r);
+}
+
+Vec3 rng_vec3(Rng *r)
+{
+    float u[3];
+    rng_fill(r, u, 3);
+    return v3(u[0], u[1], u[2]);
+}
+
+int test_bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float *lambda,
+                     unsigned alive, Rng *r, BsdfSample *out)
+{
+    float u[3];
+    rng_fill(r, u, 3);
+    return bsdf_sample(m, sp, wo, lambda, alive, u[0], u[1], u[2], out);
+}
+
 /* Load a scene from text; fails the test on a parse error. */
 int test_load_scene(T *t, Scene *s, const char *text)
 {

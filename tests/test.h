@@ -38,6 +38,20 @@ int test_scaled(int n, int lo);
 #define CHECK(t, cond, ...) do { if (!(cond)) { \
         test_failf((t), __FILE__, __LINE__, __VA_ARGS__); return; } } while (0)
 
+/* ---- fixtures.c: random numbers drawn in a fixed order ----
+   C leaves open the order in which a call's arguments are evaluated (gcc goes
+   right to left, clang and tcc may go left to right), so f(rng_float(r),
+   rng_float(r)) hands the two numbers to f in a compiler-dependent order, and a
+   test would draw other samples under each compiler: a failure seen under one
+   would not reproduce under another.  Draw them first, one statement each. */
+/* u[0 .. n) = the next n numbers of r, in order. */
+void rng_fill(Rng *r, float *u, int n);
+/* (u0, u1, u2), the next three numbers of r, in order. */
+Vec3 rng_vec3(Rng *r);
+/* bsdf_sample with its three numbers drawn from r in order. */
+int test_bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float *lambda,
+                     unsigned alive, Rng *r, BsdfSample *out);
+
 /* ---- fixtures.c: shared by the statistical image tests ---- */
 #define TEST_K_SIGMA 5.0     /* a mean is accepted within 5 standard errors */
 #define MAX_TILES 16

@@ -901,8 +901,8 @@ static void test_fluor_tree_uv_bins(T *t)
             double cnt[NP + 1], sum = 0.0, chi2 = 0.0;
             float pm[NP];
             int i, dof = -1;
-            c.p = v3(4.0f * rng_float(&r) - 2.0f, 4.0f * rng_float(&r) - 2.0f, 4.0f * rng_float(&r) - 2.0f);
-            c.n = v3_norm(v3(2 * rng_float(&r) - 1, 2 * rng_float(&r) - 1, 2 * rng_float(&r) - 1));
+            c.p = v3_sub(v3_mul(rng_vec3(&r), 4.0f), v3(2.0f, 2.0f, 2.0f));
+            c.n = v3_norm(v3_sub(v3_mul(rng_vec3(&r), 2.0f), v3(1.0f, 1.0f, 1.0f)));
             c.lambda[0] = 300.0f + 100.0f * rng_float(&r);
             for (i = 0; i < NP; i++) { pm[i] = light_select_pmf(spec, &c, i); sum += pm[i]; cnt[i] = 0.0; }
             cnt[NP] = 0.0;

@@ -177,14 +177,17 @@ static LightCtx random_ctx(const Scene *s, const LightSampler *ls, Rng *r)
     int j;
     Vec3 ext = v3_sub(s->bmax, s->bmin);
     memset(&c, 0, sizeof c);
-    c.p = v3_add(s->bmin, v3(ext.x * rng_float(r), ext.y * rng_float(r), ext.z * rng_float(r)));
+    {
+        const Vec3 u = rng_vec3(r);
+        c.p = v3_add(s->bmin, v3(ext.x * u.x, ext.y * u.y, ext.z * u.z));
+    }
     c.voxel = light_voxel(ls, c.p);
     /* half the contexts carry the hero alone (after a wavelength-dependent event) */
     c.alive = rng_float(r) < 0.5f ? 1u : (1u | ((rng_u32(r) & 7u) << 1));
     c.hero_only = c.alive == 1u;
     /* a receiver normal for the light trees (zero: none) */
     if (rng_float(r) < 0.75f)
-        c.n = v3_norm(v3(2 * rng_float(r) - 1, 2 * rng_float(r) - 1, 2 * rng_float(r) - 1));
+        c.n = v3_norm(v3_sub(v3_mul(rng_vec3(r), 2.0f), v3(1.0f, 1.0f, 1.0f)));
     for (j = 0; j < HERO_N; j++) {
         c.lambda[j] = 400.0f + 300.0f * rng_float(r);
         c.beta[j] = (c.alive & (1u << j)) ? 0.1f + rng_float(r) : 0.0f;

@@ -111,9 +111,12 @@ static LightCtx random_ctx(const Scene *s, Rng *r)
     int j;
     Vec3 ext = v3_sub(s->bmax, s->bmin);
     memset(&c, 0, sizeof c);
-    c.p = v3_add(s->bmin, v3(ext.x * rng_float(r), ext.y * rng_float(r), ext.z * rng_float(r)));
+    {
+        const Vec3 u = rng_vec3(r);
+        c.p = v3_add(s->bmin, v3(ext.x * u.x, ext.y * u.y, ext.z * u.z));
+    }
     if (rng_float(r) < 0.75f)
-        c.n = v3_norm(v3(2 * rng_float(r) - 1, 2 * rng_float(r) - 1, 2 * rng_float(r) - 1));
+        c.n = v3_norm(v3_sub(v3_mul(rng_vec3(r), 2.0f), v3(1.0f, 1.0f, 1.0f)));
     c.voxel = -1;
     c.alive = rng_float(r) < 0.5f ? 1u : (1u | ((rng_u32(r) & 7u) << 1));
     c.hero_only = c.alive == 1u;
@@ -403,9 +406,10 @@ static void test_mesh_split_pmf(T *t)
             Ray ray;
             HitRecord h;
             SurfacePoint sp;
-            Vec3 ref = v3(0.2f + 0.5f * rng_float(&r), -0.5f + rng_float(&r), -0.5f + rng_float(&r));
+            Vec3 u = rng_vec3(&r), ref = v3(0.2f + 0.5f * u.x, -0.5f + u.y, -0.5f + u.z);
             float pdf;
-            if (!light_sample(ls, i, ref, rng_float(&r), rng_float(&r), rng_float(&r), &es)) continue;
+            u = rng_vec3(&r);
+            if (!light_sample(ls, i, ref, u.x, u.y, u.z, &es)) continue;
             CHECK(t, light_piece_emitter(ls, i) == 0, "cluster %d belongs to emitter %d", i, light_piece_emitter(ls, i));
             ray.o = ref;
             ray.d = es.wi;
@@ -513,7 +517,7 @@ static void test_conservative(T *t)
         LightCtx c;
         int piece, j;
         memset(&c, 0, sizeof c);
-        c.p = v3(1.9f * rng_float(&r) - 0.95f, 1.9f * rng_float(&r) - 0.95f, 1.9f * rng_float(&r) - 0.95f);
+        c.p = v3_sub(v3_mul(rng_vec3(&r), 1.9f), v3(0.95f, 0.95f, 0.95f));
         c.voxel = -1;
         c.alive = 15u;
         for (j = 0; j < HERO_N; j++) { c.lambda[j] = 420.0f + 70.0f * j; c.beta[j] = 1.0f; }
@@ -523,7 +527,8 @@ static void test_conservative(T *t)
                 EmitterSample es;
                 Vec3 to_p;
                 float d;
-                if (!light_sample(ls, piece, c.p, rng_float(&r), rng_float(&r), rng_float(&r), &es)) continue;
+                const Vec3 u = rng_vec3(&r);
+                if (!light_sample(ls, piece, c.p, u.x, u.y, u.z, &es)) continue;
                 to_p = v3_mul(es.wi, -1.0f);
                 d = v3_dot(es.n, to_p);
                 faces = s.emitters[e].twosided ? fabsf(d) > 1e-3f : d > 1e-3f;

@@ -316,7 +316,8 @@ static void test_env_map_pdf_and_sampling(T *t)
                 Vec3 d;
                 float pdf, u, v;
                 int tx, ty;
-                CHECK(t, inf_sample(em, rng_float(&r), rng_float(&r), &d, &pdf), "no sample");
+                const float u1 = rng_float(&r), u2 = rng_float(&r);   /* in this order */
+                CHECK(t, inf_sample(em, u1, u2, &d, &pdf), "no sample");
                 CHECK(t, pdf == inf_pdf(em, d), "inf_sample's pdf %g != inf_pdf %g", pdf, inf_pdf(em, d));
                 equal_area_sphere_to_square(d, &u, &v);
                 tx = (int)(u * 16); ty = (int)(v * 16);

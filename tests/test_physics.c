@@ -257,7 +257,7 @@ static void test_rough_pointwise(T *t)
             D3 o = sphere_d3(&r);
             BsdfSample bs;
             if (fabs(o.z) < 0.05) continue;
-            if (!bsdf_sample(&m, &sp, to_v3(o), lam, 15u, rng_float(&r), rng_float(&r), rng_float(&r), &bs))
+            if (!test_bsdf_sample(&m, &sp, to_v3(o), lam, 15u, &r, &bs))
                 continue;
             if (fabsf(bs.wi.z) < 0.02f) continue;
             for (j = 0; j < HERO_N; j++) {
@@ -302,7 +302,7 @@ static void test_rough_albedo(T *t)
             for (i = 0; i < n; i++) {
                 BsdfSample bs;
                 double w;
-                if (!bsdf_sample(&m, &sp, wo, lam, 1u, rng_float(&r), rng_float(&r), rng_float(&r), &bs)) continue;
+                if (!test_bsdf_sample(&m, &sp, wo, lam, 1u, &r, &bs)) continue;
                 w = bs.f[0] * fabsf(bs.wi.z) / bs.pdf;
                 if (bs.wi.z * wo.z > 0) { sR += w; sR2 += w * w; }
                 else { sT += w; sT2 += w * w; }
@@ -373,7 +373,7 @@ static void test_rough_chi2(T *t)
             rng_seed(&r, 59, (uint64_t)(ia * 2 + io));
             for (i = 0; i < n; i++) {
                 BsdfSample bs;
-                if (!bsdf_sample(&m, &sp, wo, lam, 1u, rng_float(&r), rng_float(&r), rng_float(&r), &bs)) continue;
+                if (!test_bsdf_sample(&m, &sp, wo, lam, 1u, &r, &bs)) continue;
                 obs[test_dir_cell(bs.wi, NT, NP)] += 1;
             }
             for (it = 0; it < NT; it++)
@@ -644,8 +644,8 @@ static void test_spectral_mis_far(T *t)
         rng_seed(&r, 61, 0);
         for (i = 0; i < 2000; i++) {
             BsdfSample bs;
-            if (!bsdf_sample(g, &sp, v3_norm(v3(0.5f, 0.0f, 0.8f)), lam, 15u, rng_float(&r), rng_float(&r),
-                             rng_float(&r), &bs) || bs.wi.z > 0) continue;
+            if (!test_bsdf_sample(g, &sp, v3_norm(v3(0.5f, 0.0f, 0.8f)), lam, 15u, &r, &bs) ||
+                bs.wi.z > 0) continue;
             n++;
             if (bs.pdf_l[3] < 0.5f * bs.pdf || bs.pdf_l[3] > 2.0f * bs.pdf) far++;
         }
