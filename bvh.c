@@ -927,8 +927,8 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
 
     for (;;) {
         if (ref >= 0) {
-            /* inner node: test the children; go on with the nearest one entered, push
-               the others (sorted, so that the nearer ones are popped first) */
+            /* inner node: test the children; one entered: go on with it; several:
+               put them on the stack farthest first and go on with the nearest */
             const BvhNode *nd = &b->nodes[ref];
             const unsigned mask = node_hit_mask(nd, &rp, t_cull, t_enter, t_z, hit);
             if (mask != 0) {
