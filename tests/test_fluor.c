@@ -660,6 +660,28 @@ static void test_fluor_estimators_agree(T *t)
     scene_free(&s);
 }
 
+/* A card that only re-radiates (rho = 0, A = 1 over 350-380 nm, emission 380-520 nm)
+   facing the camera, maxdepth 1, lit by a UV LED sphere (its scale and radius given)
+   to the right and a white LED1 sphere of radius 0.7 (its scale given) to the left:
+   the scene of fluor_mis_pmf_at_li and fluor_shift_selects_spectrally. */
+static int load_uv_card(T *t, Scene *s, const char *uv_scale, const char *uv_radius,
+                        const char *led_scale)
+{
+    char text[2048];
+    snprintf(text, sizeof text,
+            "LookAt 0 0 3  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 25\n"
+            "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16 \"string filename\" \"t.pfm\"\n"
+            "Integrator \"path\" \"integer maxdepth\" 1\n"
+            "WorldBegin\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\" \"float scale\" %s\n"
+            "Translate 1.5 0 0.9\nShape \"sphere\" \"float radius\" %s\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\" \"float scale\" %s\n"
+            "Translate -1.5 0 0.9\nShape \"sphere\" \"float radius\" 0.7\nAttributeEnd\n"
+            FL_MAT("[300 0 830 0]", "[300 0 345 0 350 1 380 1 385 0 830 0]", "[380 0 440 1 520 0]", "1")
+            "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point3 P\" [-3 -3 0  3 -3 0  3 3 0  -3 3 0]\n", uv_scale, uv_radius, led_scale);
+    return test_load_scene(t, s, text);
+}
+
 /* The MIS weights after a shift use the selection pmf at lambda_i (FLUORESCENCE 5,
    contract C1).  A card that only re-radiates (rho = 0, A = 1 over 350-380 nm) lit
    by a UV LED (nothing in 400-700 nm) beside a white LED1 (nothing below 380 nm):
@@ -681,18 +703,7 @@ static void test_fluor_mis_pmf_at_li(T *t)
     static Tiles ref, other;
     size_t i;
     int K = 8;
-    if (!test_load_scene(t, &s,
-            "LookAt 0 0 3  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 25\n"
-            "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16 \"string filename\" \"t.pfm\"\n"
-            "Integrator \"path\" \"integer maxdepth\" 1\n"
-            "WorldBegin\n"
-            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\" \"float scale\" 0.05\n"
-            "Translate 1.5 0 0.9\nShape \"sphere\" \"float radius\" 0.7\nAttributeEnd\n"
-            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\" \"float scale\" 1\n"
-            "Translate -1.5 0 0.9\nShape \"sphere\" \"float radius\" 0.7\nAttributeEnd\n"
-            FL_MAT("[300 0 830 0]", "[300 0 345 0 350 1 380 1 385 0 830 0]", "[380 0 440 1 520 0]", "1")
-            "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point3 P\" [-3 -3 0  3 -3 0  3 3 0  -3 3 0]\n"))
-        return;
+    if (!load_uv_card(t, &s, "0.05", "0.7", "1")) return;
     render_options_default(&o);
     o.spp = test_scaled(64, 16);
     o.threads = 1;
@@ -798,18 +809,7 @@ static void test_fluor_shift_selects_spectrally(T *t)
     }
     scene_free(&s);
 
-    if (!test_load_scene(t, &s,
-            "LookAt 0 0 3  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 25\n"
-            "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16 \"string filename\" \"t.pfm\"\n"
-            "Integrator \"path\" \"integer maxdepth\" 1\n"
-            "WorldBegin\n"
-            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\" \"float scale\" 1\n"
-            "Translate 1.5 0 0.9\nShape \"sphere\" \"float radius\" 0.15\nAttributeEnd\n"
-            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\" \"float scale\" 5\n"
-            "Translate -1.5 0 0.9\nShape \"sphere\" \"float radius\" 0.7\nAttributeEnd\n"
-            FL_MAT("[300 0 830 0]", "[300 0 345 0 350 1 380 1 385 0 830 0]", "[380 0 440 1 520 0]", "1")
-            "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3] \"point3 P\" [-3 -3 0  3 -3 0  3 3 0  -3 3 0]\n"))
-        return;
+    if (!load_uv_card(t, &s, "1", "0.15", "5")) return;
     render_options_default(&o);
     o.spp = test_scaled(32, 8);
     o.threads = 1;
