@@ -167,6 +167,16 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
+/* The light tree evaluates a node's four children at once with SSE2 where the
+   compiler offers it (every x86-64 gcc and clang); elsewhere (tcc, other
+   processors, or -DSPECNEE_NO_SIMD) with the scalar code it mirrors, to the bit
+   (section 4; the test lighttree_simd_matches_scalar). */
+#if defined(__SSE2__) && !defined(__TINYC__) && !defined(SPECNEE_NO_SIMD)
+#define TREE_SIMD 1
+#include <emmintrin.h>
+#else
+#define TREE_SIMD 0
+#endif
 
 /* ------------------------------------------------------------------ emitters */
 
@@ -489,8 +499,9 @@ static void piece_whole(const Scene *s, Piece *pc, int e)
     }
 }
 
-/* A node of the light tree (section 4).  Depth-first order: the first child of
-   an interior node i is node i + 1, the second is nodes[i].second. */
+/* A node of the binary tree that the build makes (section 4), before it is
+   collapsed into 4-wide nodes.  Depth-first order: the first child of an
+   interior node i is node i + 1, the second is nodes[i].second. */
 typedef struct {
     float c[3], r;             /* centre and radius of the box's bounding sphere */
     float axis[3];             /* orientation cone: unit axis w ... */
@@ -499,6 +510,21 @@ typedef struct {
     int32_t second;            /* interior: index of the second child; leaf: -1 - piece */
     int32_t twosided;
 } TreeNode;
+
+/* A node of the light tree that the walk reads (section 4): up to four
+   children, each described in one lane of these arrays (structure of arrays,
+   so that the four importances are computed side by side).  A lane that holds
+   no child has power 0, so its importance is 0 and it is never taken. */
+typedef struct {
+    float cx[4], cy[4], cz[4], r[4];   /* each child's bounding sphere */
+    float ax[4], ay[4], az[4];         /* its orientation cone: unit axis w ... */
+    float cos_o[4], sin_o[4];          /* ... theta_o ... */
+    float cos_o_abs[4];                /* ... cos theta_o |cos theta_o| (the cone test) */
+    float cos_e[4];                    /* ... and cos theta_e */
+    float power[4];                    /* radiant power over the sampled range */
+    int32_t twosided[4];
+    int32_t child[4];                  /* >= 0: a node; < 0: -1 - piece */
+} TreeNode4;
 
 /* Per emitter, the little that every emitter hit and NEE sample reads (light_Le):
    its radiance's index in LightSampler.Le, and how it emits. */
@@ -535,16 +561,18 @@ struct LightSampler {
     int n_inf;                 /* infinite lights: chosen beside the tree (section 4) */
     int *inf_piece;            /* their pieces */
     int n_tree_pieces;         /* pieces in the tree (0: no tree) */
-    TreeNode *nodes;
+    TreeNode *nodes;           /* the binary tree (while building) */
     int n_nodes;
+    TreeNode4 *nodes4;         /* the 4-wide tree: node 0 is the root */
+    int n_nodes4;
+    TreeNode4 top;             /* lane 0: the bounds of everything (tree_live) */
     int nb;                    /* bins per node (5 nm each): nb_uv below the sampled
                                   range, from 300 nm, then those of the range */
     int nb_uv;                 /* bins over [lo_nm - 5 nb_uv, lo_nm): 20 for 400-700 nm,
                                   12 for 360-830 (fluorescence excitation, section 4) */
     float *node_bin;           /* n_nodes x nb: power per bin (while building) */
-    float *pair_bin;           /* n_nodes x nb x 2: row i holds, bin by bin, the power of
-                                  interior node i's first and second child (unused
-                                  rows: leaves) */
+    float *quad_bin;           /* n_nodes4 x nb x 4: row i holds, bin by bin, the power
+                                  of node i's four children side by side */
     float *root_bin;           /* nb: the root's power per bin */
     /* spatial grid */
     int res[3];
@@ -829,9 +857,9 @@ static int longest_axis(Vec3 d)
     return d.x >= d.y && d.x >= d.z ? 0 : d.y >= d.z ? 1 : 2;
 }
 
-/* Build the subtree over items[0..n) at `depth` with the given trail; returns
-   its node index.  Recursion depth <= 64 (section 4). */
-static int tree_build(Builder *B, int *items, int n, int depth, uint64_t trail)
+/* Build the binary subtree over items[0..n) at `depth`; returns its node
+   index.  Recursion depth <= 64 (section 4). */
+static int tree_build(Builder *B, int *items, int n, int depth)
 {
     LightSampler *ls = B->ls;
     int node = ls->n_nodes++, i, b, mid = -1;
@@ -854,8 +882,6 @@ static int tree_build(Builder *B, int *items, int n, int depth, uint64_t trail)
         Piece *pc = &ls->pieces[items[0]];
         double sum = 0.0;
         nd->second = -1 - items[0];
-        pc->trail = trail;
-        pc->depth = depth;
         /* power per bin: pi A (2 if two-sided) times the bin average of Le; the
            power Phi sums the bins of the sampled range only (b >= nb_uv) */
         for (b = 0; b < ls->nb; b++) {
@@ -932,9 +958,9 @@ static int tree_build(Builder *B, int *items, int n, int depth, uint64_t trail)
             sort_by_axis(items, n, B->centroids, longest_axis(cext), B->tmp);
         mid = n / 2;
     }
-    tree_build(B, items, mid, depth + 1, trail);
+    tree_build(B, items, mid, depth + 1);
     nd = &ls->nodes[node];
-    nd->second = tree_build(B, items + mid, n - mid, depth + 1, trail | ((uint64_t)1 << depth));
+    nd->second = tree_build(B, items + mid, n - mid, depth + 1);
     {
         const TreeNode *c0 = &ls->nodes[node + 1], *c1 = &ls->nodes[nd->second];
         size_t o = (size_t)node * ls->nb, o0 = (size_t)(node + 1) * ls->nb, o1 = (size_t)nd->second * ls->nb;
@@ -942,6 +968,65 @@ static int tree_build(Builder *B, int *items, int n, int depth, uint64_t trail)
         nd->power = c0->power + c1->power;
     }
     return node;
+}
+
+/* Lane k of the 4-wide node q describes the binary node b. */
+static void lane_from(TreeNode4 *q, int k, const TreeNode *b)
+{
+    q->cx[k] = b->c[0]; q->cy[k] = b->c[1]; q->cz[k] = b->c[2]; q->r[k] = b->r;
+    q->ax[k] = b->axis[0]; q->ay[k] = b->axis[1]; q->az[k] = b->axis[2];
+    q->cos_o[k] = b->cos_o;
+    q->sin_o[k] = b->sin_o;
+    q->cos_o_abs[k] = b->cos_o * fabsf(b->cos_o);
+    q->cos_e[k] = b->cos_e;
+    q->power[k] = b->power;
+    q->twosided[k] = b->twosided;
+}
+
+/* The lanes of the 4-wide node that stands for the binary interior node i: its
+   two children, each replaced by its own two children where it has them
+   (2 to 4 lanes).  Returns how many. */
+static int grandchildren(const TreeNode *bn, int i, int g[4])
+{
+    int kids[2], s, m = 0;
+    kids[0] = i + 1;
+    kids[1] = bn[i].second;
+    for (s = 0; s < 2; s++) {
+        if (bn[kids[s]].second < 0) g[m++] = kids[s];
+        else { g[m++] = kids[s] + 1; g[m++] = bn[kids[s]].second; }
+    }
+    return m;
+}
+
+/* Collapse the binary tree into the 4-wide one (section 4): a new node at
+   4-wide depth `depth` whose lanes are the binary nodes slots[0..m), m <= 4;
+   returns its index.  Each piece gets its trail (digit d, bits 2d and 2d + 1:
+   the lane taken at depth d) and its depth.  Every level takes two binary
+   levels (or ends at a leaf), so depth <= 32 and 64 bits hold the trail. */
+static int tree_collapse(LightSampler *ls, const int *slots, int m, int depth, uint64_t trail)
+{
+    const TreeNode *bn = ls->nodes;
+    int me = ls->n_nodes4++, k, b;
+    float *row = ls->quad_bin + (size_t)me * 4 * (size_t)ls->nb;
+    for (k = 0; k < m; k++) {
+        lane_from(&ls->nodes4[me], k, &bn[slots[k]]);
+        for (b = 0; b < ls->nb; b++) row[4 * b + k] = ls->node_bin[(size_t)slots[k] * ls->nb + b];
+    }
+    for (k = 0; k < m; k++) {                        /* lanes m..3 stay 0: no power */
+        const TreeNode *c = &bn[slots[k]];
+        uint64_t t = trail | ((uint64_t)k << (2 * depth));
+        if (c->second < 0) {
+            Piece *pc = &ls->pieces[-1 - c->second];
+            pc->trail = t;
+            pc->depth = depth + 1;
+            ls->nodes4[me].child[k] = c->second;
+        } else {
+            int g[4], n = grandchildren(bn, slots[k], g);
+            int child = tree_collapse(ls, g, n, depth + 1, t);
+            ls->nodes4[me].child[k] = child;
+        }
+    }
+    return me;
 }
 
 /* Split mesh emitter e's triangles tris[0..n) into clusters of at most
@@ -1086,11 +1171,12 @@ static float query_power(const TreeQuery *q, const float *bins, int stride)
     return phi;
 }
 
-/* The importance of node nd, whose power in the context is phi, at the query
-   (section 4), as a ratio *num / *den: the one function that both tree_select
-   and tree_pmf call (through branch_at).  The walk waits for it at every
-   level, and a core has one unit for square roots and divisions, so it is
-   written with as few of them as the bound allows: with d = p - centre (not
+/* The importance of the child in lane k of node nd, whose power in the
+   context is phi, at the query (section 4): the one function that both
+   tree_select and tree_pmf call (through node_importance4, which computes
+   four lanes at once exactly as this does one).  The walk waits for it at
+   every level, and a core has one unit for square roots and divisions, so it
+   is written with as few of them as the bound allows: with d = p - centre (not
    normalised) and
        S_b = sqrt(|d|^2 - r^2) = |d| cos theta_b,   r = |d| sin theta_b,
        dw = d . w (|d . w| when two-sided) = |d| cos theta_w,
@@ -1100,79 +1186,165 @@ static float query_power(const TreeQuery *q, const float *bins, int stride)
        theta_w <= theta_o  <=>  dw |dw| >= cos_o |cos_o| |d|^2   (x |x| increases),
        X = |d|^2 cos theta' = |d|^2, or (dw cos_o + S_w sin_o) S_b + (S_w cos_o - dw sin_o) r,
        Y = |d|^2 cos theta_i' = |d|^2, or dn S_b + S_i r,
-   and I = Phi_c X Y / (|d|^2)^3: at most three square roots and no division
-   (the branch divides once for both children).  In double, where (|d|^2)^3
-   cannot overflow. */
-typedef struct { double num, den; } Importance;
-
-static Importance node_importance(const TreeNode *nd, const TreeQuery *q, float phi)
+   and I = Phi_c X Y / (|d|^2)^3: three square roots and one division.  The
+   last step is in double, where (|d|^2)^3 cannot overflow nor a positive
+   importance round to 0. */
+static double lane_importance(const TreeNode4 *nd, int k, const TreeQuery *q, float phi)
 {
-    Importance I = { 0.0, 1.0 };                     /* I = 0 */
     float dx, dy, dz, d2, r, r2, Sb, dw, X, Y;
-    if (!(phi > 0.0f)) return I;
-    dx = q->p.x - nd->c[0];
-    dy = q->p.y - nd->c[1];
-    dz = q->p.z - nd->c[2];
+    double num;
+    if (!(phi > 0.0f)) return 0.0;                   /* also an empty lane */
+    dx = q->p.x - nd->cx[k];
+    dy = q->p.y - nd->cy[k];
+    dz = q->p.z - nd->cz[k];
     d2 = dx * dx + dy * dy + dz * dz;
-    r = nd->r;
+    r = nd->r[k];
     r2 = r * r;
-    if (!(d2 > r2)) {
-        /* p inside the bounding sphere: no angle can be bounded; I = Phi_c / r^2 */
-        I.num = phi;
-        I.den = r2 > FLT_MIN ? r2 : FLT_MIN;
-        return I;
-    }
-    if (!(d2 <= FLT_MAX)) return I;                  /* p at infinity (or NaN): I = 0 */
-    dw = dx * nd->axis[0] + dy * nd->axis[1] + dz * nd->axis[2];
-    if (nd->twosided) dw = fabsf(dw);
+    if (!(d2 > r2))   /* p inside the bounding sphere: no angle can be bounded; I = Phi_c / r^2 */
+        return (double)phi / (double)(r2 > FLT_MIN ? r2 : FLT_MIN);
+    if (!(d2 <= FLT_MAX)) return 0.0;                /* p at infinity: I = 0 */
+    dw = dx * nd->ax[k] + dy * nd->ay[k] + dz * nd->az[k];
+    if (nd->twosided[k]) dw = fabsf(dw);
     Sb = sqrtf(d2 - r2);
-    if (dw * fabsf(dw) >= nd->cos_o * fabsf(nd->cos_o) * d2) {
+    if (dw * fabsf(dw) >= nd->cos_o_abs[k] * d2) {
         X = d2;                                      /* p inside the normal cone */
     } else {
         /* theta_w - theta_o > 0, then minus theta_b, clamped at 0 */
         float Sw = sqrtf(pos_or_zero(d2 - dw * dw));
-        float A = dw * nd->cos_o + Sw * nd->sin_o;   /* |d| cos(theta_w - theta_o) */
-        float B = Sw * nd->cos_o - dw * nd->sin_o;   /* |d| sin(theta_w - theta_o) */
+        float A = dw * nd->cos_o[k] + Sw * nd->sin_o[k];   /* |d| cos(theta_w - theta_o) */
+        float B = Sw * nd->cos_o[k] - dw * nd->sin_o[k];   /* |d| sin(theta_w - theta_o) */
         X = A >= Sb ? d2 : A * Sb + B * r;
-        if (X <= nd->cos_e * d2) return I;           /* theta' >= theta_e: I = 0 */
+        if (X <= nd->cos_e[k] * d2) return 0.0;      /* theta' >= theta_e: I = 0 */
     }
     Y = d2;
     if (q->has_n) {
         float dn = fabsf(q->n.x * dx + q->n.y * dy + q->n.z * dz);
         if (dn < Sb) Y = dn * Sb + sqrtf(pos_or_zero(d2 - dn * dn)) * r;
     }
-    I.num = (double)phi * X * Y;
-    I.den = (double)d2 * d2 * d2;
-    if (!(I.num >= 0.0)) I.num = 0.0;                /* NaN */
-    return I;
+    num = (double)phi * X * Y;
+    if (!(num >= 0.0)) return 0.0;                   /* NaN */
+    return num / ((double)d2 * d2 * d2);
 }
 
-/* The branch at interior node i: with the children's importances a_num / a_den
-   and b_num / b_den, the first child's probability is A / S,
-       A = a_num b_den,   S = a_num b_den + b_num a_den,
-   and neither child can light the point when S = 0 (one division, by the
-   caller, for both children).  The spectral powers of both children sit side
-   by side in the parent's row of pair_bin, so one cache line serves both (a row
-   per node of every bin was one cache miss per child and bin). */
-typedef struct { double A, S; } Branch;
-
-static Branch branch_at(const LightSampler *ls, const TreeQuery *q, int i)
+/* The importances I[0..4) of the four lanes of nd, with powers phi[0..4):
+   lane_importance four times.  With SSE2 the four are computed side by side,
+   step for step the same operations in the same order (both sides of every
+   test computed, the right one kept by a mask), so the results are the same
+   to the bit; the test lighttree_simd_matches_scalar compares them. */
+static void node_importance4(const TreeNode4 *nd, const TreeQuery *q, const float phi[4], double I[4])
 {
-    const TreeNode *n0 = &ls->nodes[i + 1], *n1 = &ls->nodes[ls->nodes[i].second];
-    Importance a, b;
-    Branch br;
-    if (q->spectral) {
-        const float *pb = ls->pair_bin + (size_t)i * 2 * (size_t)ls->nb;
-        a = node_importance(n0, q, query_power(q, pb, 2));
-        b = node_importance(n1, q, query_power(q, pb + 1, 2));
-    } else {
-        a = node_importance(n0, q, n0->power);
-        b = node_importance(n1, q, n1->power);
+#if TREE_SIMD
+    const __m128 zero = _mm_setzero_ps();
+    const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    const __m128d zero_d = _mm_setzero_pd();
+    __m128 vphi = _mm_loadu_ps(phi);
+    __m128 dx = _mm_sub_ps(_mm_set1_ps(q->p.x), _mm_loadu_ps(nd->cx));
+    __m128 dy = _mm_sub_ps(_mm_set1_ps(q->p.y), _mm_loadu_ps(nd->cy));
+    __m128 dz = _mm_sub_ps(_mm_set1_ps(q->p.z), _mm_loadu_ps(nd->cz));
+    __m128 d2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
+    __m128 r = _mm_loadu_ps(nd->r), r2 = _mm_mul_ps(r, r);
+    __m128 cos_o = _mm_loadu_ps(nd->cos_o), sin_o = _mm_loadu_ps(nd->sin_o);
+    /* one-sided lanes keep dw's sign: their mask is all ones */
+    __m128 one_sided = _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)nd->twosided),
+                                                        _mm_setzero_si128()));
+    __m128 dw = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, _mm_loadu_ps(nd->ax)), _mm_mul_ps(dy, _mm_loadu_ps(nd->ay))),
+                           _mm_mul_ps(dz, _mm_loadu_ps(nd->az)));
+    __m128 Sb, in_cone, Sw, A, B, Xc, X, Y, dead, inside, ok, r2c;
+    __m128d num_lo, num_hi, den_lo, den_hi, I_lo, I_hi, in_lo, in_hi, m_lo, m_hi, d2_lo, d2_hi;
+    dw = _mm_and_ps(dw, _mm_or_ps(one_sided, abs_mask));
+    Sb = _mm_sqrt_ps(_mm_sub_ps(d2, r2));
+    in_cone = _mm_cmpge_ps(_mm_mul_ps(dw, _mm_and_ps(dw, abs_mask)), _mm_mul_ps(_mm_loadu_ps(nd->cos_o_abs), d2));
+    Sw = _mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(d2, _mm_mul_ps(dw, dw)), zero));   /* max: NaN gives 0 */
+    A = _mm_add_ps(_mm_mul_ps(dw, cos_o), _mm_mul_ps(Sw, sin_o));
+    B = _mm_sub_ps(_mm_mul_ps(Sw, cos_o), _mm_mul_ps(dw, sin_o));
+    Xc = _mm_add_ps(_mm_mul_ps(A, Sb), _mm_mul_ps(B, r));
+    {
+        __m128 a_ge = _mm_cmpge_ps(A, Sb);
+        Xc = _mm_or_ps(_mm_and_ps(a_ge, d2), _mm_andnot_ps(a_ge, Xc));
     }
-    br.A = a.num * b.den;
-    br.S = br.A + b.num * a.den;
-    if (!(br.S > 0.0 && br.S <= DBL_MAX)) br.A = br.S = 0.0;   /* nothing to light p (or round-off) */
-    return br;
+    X = _mm_or_ps(_mm_and_ps(in_cone, d2), _mm_andnot_ps(in_cone, Xc));
+    /* I = 0: no power, p at infinity, or theta' >= theta_e */
+    dead = _mm_or_ps(_mm_cmpnle_ps(d2, _mm_set1_ps(FLT_MAX)),
+                     _mm_andnot_ps(in_cone, _mm_cmple_ps(Xc, _mm_mul_ps(_mm_loadu_ps(nd->cos_e), d2))));
+    Y = d2;
+    if (q->has_n) {
+        __m128 dn = _mm_and_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(q->n.x), dx),
+                                                     _mm_mul_ps(_mm_set1_ps(q->n.y), dy)),
+                                          _mm_mul_ps(_mm_set1_ps(q->n.z), dz)), abs_mask);
+        __m128 Yc = _mm_add_ps(_mm_mul_ps(dn, Sb),
+                               _mm_mul_ps(_mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(d2, _mm_mul_ps(dn, dn)), zero)), r));
+        __m128 lt = _mm_cmplt_ps(dn, Sb);
+        Y = _mm_or_ps(_mm_and_ps(lt, Yc), _mm_andnot_ps(lt, d2));
+    }
+    inside = _mm_cmpngt_ps(d2, r2);
+    ok = _mm_cmpgt_ps(vphi, zero);
+    dead = _mm_andnot_ps(inside, dead);
+    /* the double part, two lanes per register: phi X Y / (d2 d2 d2), or phi / r^2 inside */
+    {
+        __m128 flt_min = _mm_set1_ps(FLT_MIN), gt = _mm_cmpgt_ps(r2, flt_min);
+        r2c = _mm_or_ps(_mm_and_ps(gt, r2), _mm_andnot_ps(gt, flt_min));
+    }
+#define TREE_LO(v) _mm_cvtps_pd(v)
+#define TREE_HI(v) _mm_cvtps_pd(_mm_movehl_ps(v, v))
+    num_lo = _mm_mul_pd(_mm_mul_pd(TREE_LO(vphi), TREE_LO(X)), TREE_LO(Y));
+    num_hi = _mm_mul_pd(_mm_mul_pd(TREE_HI(vphi), TREE_HI(X)), TREE_HI(Y));
+    num_lo = _mm_and_pd(num_lo, _mm_cmpge_pd(num_lo, zero_d));   /* NaN: 0 */
+    num_hi = _mm_and_pd(num_hi, _mm_cmpge_pd(num_hi, zero_d));
+    d2_lo = TREE_LO(d2);
+    d2_hi = TREE_HI(d2);
+    den_lo = _mm_mul_pd(_mm_mul_pd(d2_lo, d2_lo), d2_lo);
+    den_hi = _mm_mul_pd(_mm_mul_pd(d2_hi, d2_hi), d2_hi);
+    I_lo = _mm_div_pd(num_lo, den_lo);
+    I_hi = _mm_div_pd(num_hi, den_hi);
+    in_lo = _mm_div_pd(TREE_LO(vphi), TREE_LO(r2c));
+    in_hi = _mm_div_pd(TREE_HI(vphi), TREE_HI(r2c));
+#undef TREE_LO
+#undef TREE_HI
+    /* the lane masks widened to two doubles each */
+    m_lo = _mm_castps_pd(_mm_unpacklo_ps(inside, inside));
+    m_hi = _mm_castps_pd(_mm_unpackhi_ps(inside, inside));
+    I_lo = _mm_or_pd(_mm_and_pd(m_lo, in_lo), _mm_andnot_pd(m_lo, I_lo));
+    I_hi = _mm_or_pd(_mm_and_pd(m_hi, in_hi), _mm_andnot_pd(m_hi, I_hi));
+    ok = _mm_andnot_ps(dead, ok);
+    m_lo = _mm_castps_pd(_mm_unpacklo_ps(ok, ok));
+    m_hi = _mm_castps_pd(_mm_unpackhi_ps(ok, ok));
+    _mm_storeu_pd(I, _mm_and_pd(m_lo, I_lo));
+    _mm_storeu_pd(I + 2, _mm_and_pd(m_hi, I_hi));
+#else
+    int k;
+    for (k = 0; k < 4; k++) I[k] = lane_importance(nd, k, q, phi[k]);
+#endif
+}
+
+/* The four children's powers in the context: their total power (tree), or
+   query_power over their bins in row i of quad_bin (spectral-tree). */
+static void child_powers(const LightSampler *ls, const TreeQuery *q, int i, float phi[4])
+{
+    const float *row = ls->quad_bin + (size_t)i * 4 * (size_t)ls->nb;
+    int k;
+    if (!q->spectral) { memcpy(phi, ls->nodes4[i].power, 4 * sizeof(float)); return; }
+#if TREE_SIMD
+    {   /* query_power of the four lanes side by side: the same sums, in the same order */
+        __m128 acc = _mm_setzero_ps();
+        for (k = 0; k < q->nbins; k++)
+            acc = _mm_add_ps(acc, _mm_mul_ps(_mm_set1_ps(q->c[k]), _mm_loadu_ps(row + 4 * q->bin[k])));
+        _mm_storeu_ps(phi, acc);
+    }
+#else
+    for (k = 0; k < 4; k++) phi[k] = query_power(q, row + k, 4);
+#endif
+}
+
+/* The branch at node i: the children's importances I[0..4) and their sum *S
+   (in lane order, as the walk accumulates them); 0 when nothing below can
+   light the point (or round-off overflowed). */
+static void branch_at(const LightSampler *ls, const TreeQuery *q, int i, double I[4], double *S)
+{
+    float phi[4];
+    child_powers(ls, q, i, phi);
+    node_importance4(&ls->nodes4[i], q, phi, I);
+    *S = ((I[0] + I[1]) + I[2]) + I[3];
+    if (!(*S > 0.0 && *S <= DBL_MAX)) *S = 0.0;
 }
 
 /* Does the tree get a share beside the infinite lights?  Only when it has pieces
@@ -1181,14 +1353,14 @@ static Branch branch_at(const LightSampler *ls, const TreeQuery *q, int i)
 static int tree_live(const LightSampler *ls, const TreeQuery *q)
 {
     return ls->n_tree_pieces > 0 &&
-           node_importance(&ls->nodes[0], q, q->spectral ? query_power(q, ls->root_bin, 1)
-                                                          : ls->nodes[0].power).num > 0.0;
+           lane_importance(&ls->top, 0, q, q->spectral ? query_power(q, ls->root_bin, 1)
+                                                        : ls->top.power[0]) > 0.0;
 }
 
 static int tree_select(const LightSampler *ls, const LightCtx *c, float u, float *pmf)
 {
     TreeQuery q;
-    double uu = u, lo = 0.0, p = 1.0;
+    double uu = u, lo = 0.0, p = 1.0, w = 1.0;
     int i = 0;
     tree_query(ls, c, &q);
     if (ls->n_inf > 0) {
@@ -1203,31 +1375,32 @@ static int tree_select(const LightSampler *ls, const LightCtx *c, float u, float
         if (!(uu < 1.0)) uu = 1.0 - DBL_EPSILON;
     }
     /* [lo, lo + w) is the part of [0, 1) that leads to node i (w = p / the
-       tree's share): the first child gets [lo, lo + w A / S), the second the
-       rest.  The test is uu - lo < w A / S times S, so that the walk need not
-       wait for the division (pa below) before it goes on; a child that cannot
-       light p (A = 0 or A = S) is never taken, whatever the round-off. */
-    {
-        double w = 1.0;
-        while (ls->nodes[i].second >= 0) {
-            Branch br = branch_at(ls, &q, i);
-            double pa;
-            if (!(br.S > 0.0)) { *pmf = 0.0f; return -1; }
-            pa = br.A / br.S;
-            if (br.A >= br.S || (br.A > 0.0 && (uu - lo) * br.S < w * br.A)) {
-                p *= pa;
-                w *= pa;
-                i = i + 1;
-            } else {
-                p *= 1.0 - pa;                       /* select: the second child */
-                lo += w * pa;
-                w *= 1.0 - pa;
-                i = ls->nodes[i].second;
-            }
+       tree's share); child k gets the piece of it from lo + w C_(k-1) / S to
+       lo + w C_k / S, with C_k = I_0 + ... + I_k.  The test is uu - lo <
+       w C_k / S times S, so that the walk need not wait for the division
+       before it goes on; a child that cannot light p (I_k = 0) is never taken,
+       whatever the round-off (at the top, the last child with I_k > 0). */
+    for (;;) {
+        double I[4], S, x, cum = 0.0, prev = 0.0, pa;
+        int k, pick = -1, child;
+        branch_at(ls, &q, i, I, &S);
+        if (!(S > 0.0)) { *pmf = 0.0f; return -1; }
+        x = (uu - lo) * S;
+        for (k = 0; k < 4; k++) {
+            if (!(I[k] > 0.0)) continue;
+            prev = cum;
+            cum += I[k];
+            pick = k;
+            if (x < w * cum) break;
         }
+        pa = I[pick] / S;
+        p *= pa;
+        lo += w * (prev / S);
+        w *= pa;
+        child = ls->nodes4[i].child[pick];
+        if (child < 0) { *pmf = (float)p; return -1 - child; }
+        i = child;
     }
-    *pmf = (float)p;
-    return -1 - ls->nodes[i].second;
 }
 
 static float tree_pmf(const LightSampler *ls, const LightCtx *c, int piece)
@@ -1244,21 +1417,16 @@ static float tree_pmf(const LightSampler *ls, const LightCtx *c, int piece)
         if (!live) return 0.0f;
     }
     for (d = 0; d < pc->depth; d++) {
-        Branch br;
-        double pa;
-        if (ls->nodes[i].second < 0) return 0.0f;   /* a trail longer than the tree */
-        br = branch_at(ls, &q, i);
-        if (!(br.S > 0.0)) return 0.0f;
-        pa = br.A / br.S;
-        if ((pc->trail >> d) & 1u) {
-            p *= 1.0 - pa;
-            i = ls->nodes[i].second;
-        } else {
-            p *= pa;
-            i = i + 1;
-        }
+        double I[4], S;
+        int k = (int)((pc->trail >> (2 * d)) & 3u), child;
+        branch_at(ls, &q, i, I, &S);
+        if (!(S > 0.0) || !(I[k] > 0.0)) return 0.0f;
+        p *= I[k] / S;
+        child = ls->nodes4[i].child[k];
+        if (child < 0) return d == pc->depth - 1 && child == -1 - piece ? (float)p : 0.0f;
+        i = child;
     }
-    return ls->nodes[i].second == -1 - piece ? (float)p : 0.0f;   /* the trail ends at the piece */
+    return 0.0f;                                     /* a trail shorter than the tree */
 }
 
 /* Pieces and the tree (called by light_sampler_build for the tree strategies). */
@@ -1349,23 +1517,32 @@ static int tree_setup(LightSampler *ls)
     B.pb = pb;
     B.tmp = tmp;
     ls->n_nodes = 0;
-    tree_build(&B, items, ls->n_tree_pieces, 0, 0);
+    tree_build(&B, items, ls->n_tree_pieces, 0);
     free(B.centroids);
-    /* the children's bins side by side in their parent's row (branch_at) */
-    ls->pair_bin = (float *)malloc(sizeof(float) * 2 * (size_t)ls->n_nodes * (size_t)ls->nb);
-    ls->root_bin = (float *)malloc(sizeof(float) * (size_t)ls->nb);
-    if (!ls->pair_bin || !ls->root_bin) goto done;
-    memcpy(ls->root_bin, ls->node_bin, sizeof(float) * (size_t)ls->nb);
-    for (i = 0; i < ls->n_nodes; i++) {
-        const TreeNode *nd = &ls->nodes[i];
-        float *row = ls->pair_bin + (size_t)i * 2 * (size_t)ls->nb;
-        int b;
-        if (nd->second < 0) continue;
-        for (b = 0; b < ls->nb; b++) {
-            row[2 * b] = ls->node_bin[(size_t)(i + 1) * ls->nb + b];
-            row[2 * b + 1] = ls->node_bin[(size_t)nd->second * ls->nb + b];
+    /* collapse it into the 4-wide tree that the walk reads: at most one 4-wide
+       node per binary interior node (one for a lone leaf) */
+    {
+        int cap4 = ls->n_tree_pieces, slots[4], m;
+        ls->nodes4 = (TreeNode4 *)calloc((size_t)cap4, sizeof *ls->nodes4);
+        ls->quad_bin = (float *)calloc((size_t)cap4 * 4 * (size_t)ls->nb, sizeof(float));
+        ls->root_bin = (float *)malloc(sizeof(float) * (size_t)ls->nb);
+        if (!ls->nodes4 || !ls->quad_bin || !ls->root_bin) goto done;
+        memcpy(ls->root_bin, ls->node_bin, sizeof(float) * (size_t)ls->nb);
+        memset(&ls->top, 0, sizeof ls->top);
+        lane_from(&ls->top, 0, &ls->nodes[0]);
+        if (ls->nodes[0].second < 0) { slots[0] = 0; m = 1; }
+        else m = grandchildren(ls->nodes, 0, slots);
+        ls->n_nodes4 = 0;
+        tree_collapse(ls, slots, m, 0, 0);
+        {   /* give back what the collapse did not use (about two thirds) */
+            TreeNode4 *n4 = (TreeNode4 *)realloc(ls->nodes4, sizeof *n4 * (size_t)ls->n_nodes4);
+            float *qb = (float *)realloc(ls->quad_bin, sizeof(float) * (size_t)ls->n_nodes4 * 4 * (size_t)ls->nb);
+            if (n4) ls->nodes4 = n4;
+            if (qb) ls->quad_bin = qb;
         }
     }
+    free(ls->nodes);
+    ls->nodes = NULL;
     free(ls->node_bin);
     ls->node_bin = NULL;
     ok = 1;
@@ -1514,7 +1691,7 @@ void light_sampler_free(LightSampler *ls)
     free(ls->Y);
     free(ls->pieces); free(ls->emitter_piece);
     free(ls->piece_tri); free(ls->piece_cdf); free(ls->piece_of_tri);
-    free(ls->nodes); free(ls->node_bin); free(ls->pair_bin); free(ls->root_bin);
+    free(ls->nodes); free(ls->node_bin); free(ls->nodes4); free(ls->quad_bin); free(ls->root_bin);
     free(ls);
 }
 
@@ -1538,7 +1715,7 @@ size_t light_sampler_bytes(const LightSampler *ls)
         for (i = 0; i < ls->n_pieces; i++) k += (size_t)ls->pieces[i].count;
         bytes += k * (sizeof(int) + sizeof(float));
     }
-    bytes += (size_t)ls->n_nodes * (sizeof(TreeNode) + 2 * sizeof(float) * (size_t)ls->nb);
+    bytes += (size_t)ls->n_nodes4 * (sizeof(TreeNode4) + 4 * sizeof(float) * (size_t)ls->nb);
     if (ls->root_bin) bytes += sizeof(float) * (size_t)ls->nb;
     if (ls->voxel) {
         bytes += sizeof(float *) * (size_t)ls->n_voxels;
