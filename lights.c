@@ -571,8 +571,9 @@ struct LightSampler {
     int nb_uv;                 /* bins over [lo_nm - 5 nb_uv, lo_nm): 20 for 400-700 nm,
                                   12 for 360-830 (fluorescence excitation, section 4) */
     float *node_bin;           /* n_nodes x nb: power per bin (while building) */
-    float *quad_bin;           /* n_nodes4 x nb x 4: row i holds, bin by bin, the power
-                                  of node i's four children side by side */
+    float *quad_bin;           /* nb x n_nodes4 x 4: for bin b and node i, the power of
+                                  node i's four children side by side (bin-major: the
+                                  entries of one bin, which a walk reads, lie together) */
     float *root_bin;           /* nb: the root's power per bin */
     /* spatial grid */
     int res[3];
@@ -998,35 +999,51 @@ static int grandchildren(const TreeNode *bn, int i, int g[4])
     return m;
 }
 
-/* Collapse the binary tree into the 4-wide one (section 4): a new node at
-   4-wide depth `depth` whose lanes are the binary nodes slots[0..m), m <= 4;
-   returns its index.  Each piece gets its trail (digit d, bits 2d and 2d + 1:
-   the lane taken at depth d) and its depth.  Every level takes two binary
-   levels (or ends at a leaf), so depth <= 32 and 64 bits hold the trail. */
-static int tree_collapse(LightSampler *ls, const int *slots, int m, int depth, uint64_t trail)
+/* A 4-wide node still to be filled: its lanes are the binary nodes
+   slots[0..m), at 4-wide depth `depth`, reached along `trail`. */
+typedef struct {
+    int slots[4], m, depth;
+    uint64_t trail;
+} Pending;
+
+/* Collapse the binary tree into the 4-wide one (section 4), breadth first
+   (the upper levels, which every walk reads, lie together in memory).  The
+   root's lanes are root[0..m).  Each piece gets its trail (digit d, bits 2d
+   and 2d + 1: the lane taken at depth d) and its depth.  Every level takes
+   two binary levels (or ends at a leaf), so depth <= 32 and 64 bits hold the
+   trail.  queue: room for every node (ls->n_tree_pieces). */
+static void tree_collapse(LightSampler *ls, const int *root, int m, Pending *queue)
 {
     const TreeNode *bn = ls->nodes;
-    int me = ls->n_nodes4++, k, b;
-    float *row = ls->quad_bin + (size_t)me * 4 * (size_t)ls->nb;
-    for (k = 0; k < m; k++) {
-        lane_from(&ls->nodes4[me], k, &bn[slots[k]]);
-        for (b = 0; b < ls->nb; b++) row[4 * b + k] = ls->node_bin[(size_t)slots[k] * ls->nb + b];
-    }
-    for (k = 0; k < m; k++) {                        /* lanes m..3 stay 0: no power */
-        const TreeNode *c = &bn[slots[k]];
-        uint64_t t = trail | ((uint64_t)k << (2 * depth));
-        if (c->second < 0) {
-            Piece *pc = &ls->pieces[-1 - c->second];
-            pc->trail = t;
-            pc->depth = depth + 1;
-            ls->nodes4[me].child[k] = c->second;
-        } else {
-            int g[4], n = grandchildren(bn, slots[k], g);
-            int child = tree_collapse(ls, g, n, depth + 1, t);
-            ls->nodes4[me].child[k] = child;
+    int head = 0, tail = 1, k, b;
+    memcpy(queue[0].slots, root, sizeof(int) * (size_t)m);
+    queue[0].m = m;
+    queue[0].depth = 0;
+    queue[0].trail = 0;
+    for (head = 0; head < tail; head++) {
+        const Pending *pd = &queue[head];
+        TreeNode4 *nd = &ls->nodes4[head];
+        float *row = ls->quad_bin + (size_t)head * 4 * (size_t)ls->nb;
+        for (k = 0; k < pd->m; k++) {                /* lanes m..3 stay 0: no power */
+            const TreeNode *c = &bn[pd->slots[k]];
+            uint64_t t = pd->trail | ((uint64_t)k << (2 * pd->depth));
+            lane_from(nd, k, c);
+            for (b = 0; b < ls->nb; b++) row[4 * b + k] = ls->node_bin[(size_t)pd->slots[k] * ls->nb + b];
+            if (c->second < 0) {
+                Piece *pc = &ls->pieces[-1 - c->second];
+                pc->trail = t;
+                pc->depth = pd->depth + 1;
+                nd->child[k] = c->second;
+            } else {
+                Pending *q = &queue[tail];
+                q->m = grandchildren(bn, pd->slots[k], q->slots);
+                q->depth = pd->depth + 1;
+                q->trail = t;
+                nd->child[k] = tail++;
+            }
         }
     }
-    return me;
+    ls->n_nodes4 = tail;
 }
 
 /* Split mesh emitter e's triangles tris[0..n) into clusters of at most
@@ -1186,13 +1203,13 @@ static float query_power(const TreeQuery *q, const float *bins, int stride)
        theta_w <= theta_o  <=>  dw |dw| >= cos_o |cos_o| |d|^2   (x |x| increases),
        X = |d|^2 cos theta' = |d|^2, or (dw cos_o + S_w sin_o) S_b + (S_w cos_o - dw sin_o) r,
        Y = |d|^2 cos theta_i' = |d|^2, or dn S_b + S_i r,
-   and I = Phi_c X Y / (|d|^2)^3: three square roots and one division.  The
-   last step is in double, where (|d|^2)^3 cannot overflow nor a positive
-   importance round to 0. */
+   and I = Phi_c (1 / |d|^2) (X / |d|^2) (Y / |d|^2): three square roots and
+   one division (by |d|^2, at least FLT_MIN).  The product is taken in double,
+   where it can neither overflow nor round a positive importance to 0. */
 static double lane_importance(const TreeNode4 *nd, int k, const TreeQuery *q, float phi)
 {
-    float dx, dy, dz, d2, r, r2, Sb, dw, X, Y;
-    double num;
+    float dx, dy, dz, d2, r, r2, Sb, dw, X, Y, inv;
+    double I;
     if (!(phi > 0.0f)) return 0.0;                   /* also an empty lane */
     dx = q->p.x - nd->cx[k];
     dy = q->p.y - nd->cy[k];
@@ -1201,7 +1218,7 @@ static double lane_importance(const TreeNode4 *nd, int k, const TreeQuery *q, fl
     r = nd->r[k];
     r2 = r * r;
     if (!(d2 > r2))   /* p inside the bounding sphere: no angle can be bounded; I = Phi_c / r^2 */
-        return (double)phi / (double)(r2 > FLT_MIN ? r2 : FLT_MIN);
+        return (double)phi * (double)(1.0f / (r2 > FLT_MIN ? r2 : FLT_MIN));
     if (!(d2 <= FLT_MAX)) return 0.0;                /* p at infinity: I = 0 */
     dw = dx * nd->ax[k] + dy * nd->ay[k] + dz * nd->az[k];
     if (nd->twosided[k]) dw = fabsf(dw);
@@ -1221,9 +1238,9 @@ static double lane_importance(const TreeNode4 *nd, int k, const TreeQuery *q, fl
         float dn = fabsf(q->n.x * dx + q->n.y * dy + q->n.z * dz);
         if (dn < Sb) Y = dn * Sb + sqrtf(pos_or_zero(d2 - dn * dn)) * r;
     }
-    num = (double)phi * X * Y;
-    if (!(num >= 0.0)) return 0.0;                   /* NaN */
-    return num / ((double)d2 * d2 * d2);
+    inv = 1.0f / (d2 > FLT_MIN ? d2 : FLT_MIN);
+    I = (double)phi * (double)inv * (double)(X * inv) * (double)(Y * inv);
+    return I >= 0.0 ? I : 0.0;                       /* NaN: 0 */
 }
 
 /* The importances I[0..4) of the four lanes of nd, with powers phi[0..4):
@@ -1249,23 +1266,24 @@ static void node_importance4(const TreeNode4 *nd, const TreeQuery *q, const floa
                                                         _mm_setzero_si128()));
     __m128 dw = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, _mm_loadu_ps(nd->ax)), _mm_mul_ps(dy, _mm_loadu_ps(nd->ay))),
                            _mm_mul_ps(dz, _mm_loadu_ps(nd->az)));
-    __m128 Sb, in_cone, Sw, A, B, Xc, X, Y, dead, inside, ok, r2c;
-    __m128d num_lo, num_hi, den_lo, den_hi, I_lo, I_hi, in_lo, in_hi, m_lo, m_hi, d2_lo, d2_hi;
+    __m128 Sb, in_cone, X, Y, dead, inside, ok, inv, cX, cY;
+    __m128d p_lo, p_hi, I_lo, I_hi, m_lo, m_hi;
     dw = _mm_and_ps(dw, _mm_or_ps(one_sided, abs_mask));
     Sb = _mm_sqrt_ps(_mm_sub_ps(d2, r2));
     in_cone = _mm_cmpge_ps(_mm_mul_ps(dw, _mm_and_ps(dw, abs_mask)), _mm_mul_ps(_mm_loadu_ps(nd->cos_o_abs), d2));
-    Sw = _mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(d2, _mm_mul_ps(dw, dw)), zero));   /* max: NaN gives 0 */
-    A = _mm_add_ps(_mm_mul_ps(dw, cos_o), _mm_mul_ps(Sw, sin_o));
-    B = _mm_sub_ps(_mm_mul_ps(Sw, cos_o), _mm_mul_ps(dw, sin_o));
-    Xc = _mm_add_ps(_mm_mul_ps(A, Sb), _mm_mul_ps(B, r));
-    {
+    /* I = 0 where p is at infinity, or (below) where theta' >= theta_e */
+    dead = _mm_cmpnle_ps(d2, _mm_set1_ps(FLT_MAX));
+    X = d2;
+    if (_mm_movemask_ps(in_cone) != 15) {            /* some lane outside its normal cone */
+        __m128 Sw = _mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(d2, _mm_mul_ps(dw, dw)), zero));   /* max: NaN gives 0 */
+        __m128 A = _mm_add_ps(_mm_mul_ps(dw, cos_o), _mm_mul_ps(Sw, sin_o));
+        __m128 B = _mm_sub_ps(_mm_mul_ps(Sw, cos_o), _mm_mul_ps(dw, sin_o));
+        __m128 Xc = _mm_add_ps(_mm_mul_ps(A, Sb), _mm_mul_ps(B, r));
         __m128 a_ge = _mm_cmpge_ps(A, Sb);
         Xc = _mm_or_ps(_mm_and_ps(a_ge, d2), _mm_andnot_ps(a_ge, Xc));
+        X = _mm_or_ps(_mm_and_ps(in_cone, d2), _mm_andnot_ps(in_cone, Xc));
+        dead = _mm_or_ps(dead, _mm_andnot_ps(in_cone, _mm_cmple_ps(Xc, _mm_mul_ps(_mm_loadu_ps(nd->cos_e), d2))));
     }
-    X = _mm_or_ps(_mm_and_ps(in_cone, d2), _mm_andnot_ps(in_cone, Xc));
-    /* I = 0: no power, p at infinity, or theta' >= theta_e */
-    dead = _mm_or_ps(_mm_cmpnle_ps(d2, _mm_set1_ps(FLT_MAX)),
-                     _mm_andnot_ps(in_cone, _mm_cmple_ps(Xc, _mm_mul_ps(_mm_loadu_ps(nd->cos_e), d2))));
     Y = d2;
     if (q->has_n) {
         __m128 dn = _mm_and_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(q->n.x), dx),
@@ -1277,35 +1295,31 @@ static void node_importance4(const TreeNode4 *nd, const TreeQuery *q, const floa
         Y = _mm_or_ps(_mm_and_ps(lt, Yc), _mm_andnot_ps(lt, d2));
     }
     inside = _mm_cmpngt_ps(d2, r2);
-    ok = _mm_cmpgt_ps(vphi, zero);
-    dead = _mm_andnot_ps(inside, dead);
-    /* the double part, two lanes per register: phi X Y / (d2 d2 d2), or phi / r^2 inside */
-    {
-        __m128 flt_min = _mm_set1_ps(FLT_MIN), gt = _mm_cmpgt_ps(r2, flt_min);
-        r2c = _mm_or_ps(_mm_and_ps(gt, r2), _mm_andnot_ps(gt, flt_min));
+    ok = _mm_andnot_ps(_mm_andnot_ps(inside, dead), _mm_cmpgt_ps(vphi, zero));
+    {   /* one division: by r^2 inside the sphere, else by |d|^2, at least FLT_MIN */
+        __m128 den = _mm_or_ps(_mm_and_ps(inside, r2), _mm_andnot_ps(inside, d2));
+        __m128 flt_min = _mm_set1_ps(FLT_MIN), gt = _mm_cmpgt_ps(den, flt_min);
+        inv = _mm_div_ps(_mm_set1_ps(1.0f), _mm_or_ps(_mm_and_ps(gt, den), _mm_andnot_ps(gt, flt_min)));
     }
+    cX = _mm_mul_ps(X, inv);
+    cY = _mm_mul_ps(Y, inv);
+    /* the product in double, two lanes per register: Phi_c inv, times cX cY
+       outside the sphere */
 #define TREE_LO(v) _mm_cvtps_pd(v)
 #define TREE_HI(v) _mm_cvtps_pd(_mm_movehl_ps(v, v))
-    num_lo = _mm_mul_pd(_mm_mul_pd(TREE_LO(vphi), TREE_LO(X)), TREE_LO(Y));
-    num_hi = _mm_mul_pd(_mm_mul_pd(TREE_HI(vphi), TREE_HI(X)), TREE_HI(Y));
-    num_lo = _mm_and_pd(num_lo, _mm_cmpge_pd(num_lo, zero_d));   /* NaN: 0 */
-    num_hi = _mm_and_pd(num_hi, _mm_cmpge_pd(num_hi, zero_d));
-    d2_lo = TREE_LO(d2);
-    d2_hi = TREE_HI(d2);
-    den_lo = _mm_mul_pd(_mm_mul_pd(d2_lo, d2_lo), d2_lo);
-    den_hi = _mm_mul_pd(_mm_mul_pd(d2_hi, d2_hi), d2_hi);
-    I_lo = _mm_div_pd(num_lo, den_lo);
-    I_hi = _mm_div_pd(num_hi, den_hi);
-    in_lo = _mm_div_pd(TREE_LO(vphi), TREE_LO(r2c));
-    in_hi = _mm_div_pd(TREE_HI(vphi), TREE_HI(r2c));
+    p_lo = _mm_mul_pd(TREE_LO(vphi), TREE_LO(inv));
+    p_hi = _mm_mul_pd(TREE_HI(vphi), TREE_HI(inv));
+    I_lo = _mm_mul_pd(_mm_mul_pd(p_lo, TREE_LO(cX)), TREE_LO(cY));
+    I_hi = _mm_mul_pd(_mm_mul_pd(p_hi, TREE_HI(cX)), TREE_HI(cY));
 #undef TREE_LO
 #undef TREE_HI
     /* the lane masks widened to two doubles each */
     m_lo = _mm_castps_pd(_mm_unpacklo_ps(inside, inside));
     m_hi = _mm_castps_pd(_mm_unpackhi_ps(inside, inside));
-    I_lo = _mm_or_pd(_mm_and_pd(m_lo, in_lo), _mm_andnot_pd(m_lo, I_lo));
-    I_hi = _mm_or_pd(_mm_and_pd(m_hi, in_hi), _mm_andnot_pd(m_hi, I_hi));
-    ok = _mm_andnot_ps(dead, ok);
+    I_lo = _mm_or_pd(_mm_and_pd(m_lo, p_lo), _mm_andnot_pd(m_lo, I_lo));
+    I_hi = _mm_or_pd(_mm_and_pd(m_hi, p_hi), _mm_andnot_pd(m_hi, I_hi));
+    I_lo = _mm_and_pd(I_lo, _mm_cmpge_pd(I_lo, zero_d));   /* NaN: 0 */
+    I_hi = _mm_and_pd(I_hi, _mm_cmpge_pd(I_hi, zero_d));
     m_lo = _mm_castps_pd(_mm_unpacklo_ps(ok, ok));
     m_hi = _mm_castps_pd(_mm_unpackhi_ps(ok, ok));
     _mm_storeu_pd(I, _mm_and_pd(m_lo, I_lo));
@@ -1317,21 +1331,21 @@ static void node_importance4(const TreeNode4 *nd, const TreeQuery *q, const floa
 }
 
 /* The four children's powers in the context: their total power (tree), or
-   query_power over their bins in row i of quad_bin (spectral-tree). */
+   query_power over their bins in quad_bin (spectral-tree). */
 static void child_powers(const LightSampler *ls, const TreeQuery *q, int i, float phi[4])
 {
-    const float *row = ls->quad_bin + (size_t)i * 4 * (size_t)ls->nb;
-    int k;
+    const float *col = ls->quad_bin + (size_t)i * 4;   /* bin b: col[stride b] */
+    int k, stride = 4 * ls->n_nodes4;
     if (!q->spectral) { memcpy(phi, ls->nodes4[i].power, 4 * sizeof(float)); return; }
 #if TREE_SIMD
     {   /* query_power of the four lanes side by side: the same sums, in the same order */
         __m128 acc = _mm_setzero_ps();
         for (k = 0; k < q->nbins; k++)
-            acc = _mm_add_ps(acc, _mm_mul_ps(_mm_set1_ps(q->c[k]), _mm_loadu_ps(row + 4 * q->bin[k])));
+            acc = _mm_add_ps(acc, _mm_mul_ps(_mm_set1_ps(q->c[k]), _mm_loadu_ps(col + (size_t)stride * q->bin[k])));
         _mm_storeu_ps(phi, acc);
     }
 #else
-    for (k = 0; k < 4; k++) phi[k] = query_power(q, row + k, 4);
+    for (k = 0; k < 4; k++) phi[k] = query_power(q, col + k, stride);
 #endif
 }
 
@@ -1381,7 +1395,7 @@ static int tree_select(const LightSampler *ls, const LightCtx *c, float u, float
        before it goes on; a child that cannot light p (I_k = 0) is never taken,
        whatever the round-off (at the top, the last child with I_k > 0). */
     for (;;) {
-        double I[4], S, x, cum = 0.0, prev = 0.0, pa;
+        double I[4], S, x, cum = 0.0, prev = 0.0, pa, invS;
         int k, pick = -1, child;
         branch_at(ls, &q, i, I, &S);
         if (!(S > 0.0)) { *pmf = 0.0f; return -1; }
@@ -1393,9 +1407,10 @@ static int tree_select(const LightSampler *ls, const LightCtx *c, float u, float
             pick = k;
             if (x < w * cum) break;
         }
-        pa = I[pick] / S;
+        invS = 1.0 / S;
+        pa = I[pick] * invS;
         p *= pa;
-        lo += w * (prev / S);
+        lo += w * (prev * invS);
         w *= pa;
         child = ls->nodes4[i].child[pick];
         if (child < 0) { *pmf = (float)p; return -1 - child; }
@@ -1421,7 +1436,7 @@ static float tree_pmf(const LightSampler *ls, const LightCtx *c, int piece)
         int k = (int)((pc->trail >> (2 * d)) & 3u), child;
         branch_at(ls, &q, i, I, &S);
         if (!(S > 0.0) || !(I[k] > 0.0)) return 0.0f;
-        p *= I[k] / S;
+        p *= I[k] * (1.0 / S);
         child = ls->nodes4[i].child[k];
         if (child < 0) return d == pc->depth - 1 && child == -1 - piece ? (float)p : 0.0f;
         i = child;
@@ -1532,13 +1547,25 @@ static int tree_setup(LightSampler *ls)
         lane_from(&ls->top, 0, &ls->nodes[0]);
         if (ls->nodes[0].second < 0) { slots[0] = 0; m = 1; }
         else m = grandchildren(ls->nodes, 0, slots);
-        ls->n_nodes4 = 0;
-        tree_collapse(ls, slots, m, 0, 0);
-        {   /* give back what the collapse did not use (about two thirds) */
+        {
+            Pending *queue = (Pending *)malloc(sizeof *queue * (size_t)cap4);
+            if (!queue) goto done;
+            tree_collapse(ls, slots, m, queue);
+            free(queue);
+        }
+        {   /* give back what the collapse did not use (about two thirds), and
+               turn the bins bin-major */
             TreeNode4 *n4 = (TreeNode4 *)realloc(ls->nodes4, sizeof *n4 * (size_t)ls->n_nodes4);
-            float *qb = (float *)realloc(ls->quad_bin, sizeof(float) * (size_t)ls->n_nodes4 * 4 * (size_t)ls->nb);
+            size_t nn = (size_t)ls->n_nodes4, nbz = (size_t)ls->nb, b, k;
+            float *qb = (float *)malloc(sizeof(float) * nn * 4 * nbz);
             if (n4) ls->nodes4 = n4;
-            if (qb) ls->quad_bin = qb;
+            if (!qb) goto done;
+            for (i = 0; i < ls->n_nodes4; i++)
+                for (b = 0; b < nbz; b++)
+                    for (k = 0; k < 4; k++)
+                        qb[(b * nn + (size_t)i) * 4 + k] = ls->quad_bin[((size_t)i * nbz + b) * 4 + k];
+            free(ls->quad_bin);
+            ls->quad_bin = qb;
         }
     }
     free(ls->nodes);
