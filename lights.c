@@ -519,12 +519,10 @@ typedef struct {
     float cx[4], cy[4], cz[4], r[4];   /* each child's bounding sphere */
     float ax[4], ay[4], az[4];         /* its orientation cone: unit axis w ... */
     float cos_o[4], sin_o[4];          /* ... theta_o ... */
-    float cos_o_abs[4];                /* ... cos theta_o |cos theta_o| (the cone test) */
     float cos_e[4];                    /* ... and cos theta_e */
-    float power[4];                    /* radiant power over the sampled range */
     int32_t twosided[4];
     int32_t child[4];                  /* >= 0: a node; < 0: -1 - piece */
-} TreeNode4;
+} TreeNode4;                           /* 192 bytes: three cache lines (aligned) */
 
 /* Per emitter, the little that every emitter hit and NEE sample reads (light_Le):
    its radiance's index in LightSampler.Le, and how it emits. */
@@ -563,9 +561,14 @@ struct LightSampler {
     int n_tree_pieces;         /* pieces in the tree (0: no tree) */
     TreeNode *nodes;           /* the binary tree (while building) */
     int n_nodes;
-    TreeNode4 *nodes4;         /* the 4-wide tree: node 0 is the root */
+    TreeNode4 *nodes4;         /* the 4-wide tree: node 0 is the root (64-byte aligned
+                                  inside nodes4_mem) */
+    void *nodes4_mem;
     int n_nodes4;
+    float *quad_power;         /* n_nodes4 x 4: the radiant power of node i's children
+                                  over the sampled range (tree) */
     TreeNode4 top;             /* lane 0: the bounds of everything (tree_live) */
+    float top_power;           /* and their power */
     int nb;                    /* bins per node (5 nm each): nb_uv below the sampled
                                   range, from 300 nm, then those of the range */
     int nb_uv;                 /* bins over [lo_nm - 5 nb_uv, lo_nm): 20 for 400-700 nm,
@@ -978,9 +981,7 @@ static void lane_from(TreeNode4 *q, int k, const TreeNode *b)
     q->ax[k] = b->axis[0]; q->ay[k] = b->axis[1]; q->az[k] = b->axis[2];
     q->cos_o[k] = b->cos_o;
     q->sin_o[k] = b->sin_o;
-    q->cos_o_abs[k] = b->cos_o * fabsf(b->cos_o);
     q->cos_e[k] = b->cos_e;
-    q->power[k] = b->power;
     q->twosided[k] = b->twosided;
 }
 
@@ -1028,6 +1029,7 @@ static void tree_collapse(LightSampler *ls, const int *root, int m, Pending *que
             const TreeNode *c = &bn[pd->slots[k]];
             uint64_t t = pd->trail | ((uint64_t)k << (2 * pd->depth));
             lane_from(nd, k, c);
+            ls->quad_power[(size_t)head * 4 + k] = c->power;
             for (b = 0; b < ls->nb; b++) row[4 * b + k] = ls->node_bin[(size_t)pd->slots[k] * ls->nb + b];
             if (c->second < 0) {
                 Piece *pc = &ls->pieces[-1 - c->second];
@@ -1223,7 +1225,7 @@ static double lane_importance(const TreeNode4 *nd, int k, const TreeQuery *q, fl
     dw = dx * nd->ax[k] + dy * nd->ay[k] + dz * nd->az[k];
     if (nd->twosided[k]) dw = fabsf(dw);
     Sb = sqrtf(d2 - r2);
-    if (dw * fabsf(dw) >= nd->cos_o_abs[k] * d2) {
+    if (dw * fabsf(dw) >= nd->cos_o[k] * fabsf(nd->cos_o[k]) * d2) {
         X = d2;                                      /* p inside the normal cone */
     } else {
         /* theta_w - theta_o > 0, then minus theta_b, clamped at 0 */
@@ -1270,7 +1272,8 @@ static void node_importance4(const TreeNode4 *nd, const TreeQuery *q, const floa
     __m128d p_lo, p_hi, I_lo, I_hi, m_lo, m_hi;
     dw = _mm_and_ps(dw, _mm_or_ps(one_sided, abs_mask));
     Sb = _mm_sqrt_ps(_mm_sub_ps(d2, r2));
-    in_cone = _mm_cmpge_ps(_mm_mul_ps(dw, _mm_and_ps(dw, abs_mask)), _mm_mul_ps(_mm_loadu_ps(nd->cos_o_abs), d2));
+    in_cone = _mm_cmpge_ps(_mm_mul_ps(dw, _mm_and_ps(dw, abs_mask)),
+                           _mm_mul_ps(_mm_mul_ps(cos_o, _mm_and_ps(cos_o, abs_mask)), d2));
     /* I = 0 where p is at infinity, or (below) where theta' >= theta_e */
     dead = _mm_cmpnle_ps(d2, _mm_set1_ps(FLT_MAX));
     X = d2;
@@ -1336,7 +1339,7 @@ static void child_powers(const LightSampler *ls, const TreeQuery *q, int i, floa
 {
     const float *col = ls->quad_bin + (size_t)i * 4;   /* bin b: col[stride b] */
     int k, stride = 4 * ls->n_nodes4;
-    if (!q->spectral) { memcpy(phi, ls->nodes4[i].power, 4 * sizeof(float)); return; }
+    if (!q->spectral) { memcpy(phi, ls->quad_power + (size_t)i * 4, 4 * sizeof(float)); return; }
 #if TREE_SIMD
     {   /* query_power of the four lanes side by side: the same sums, in the same order */
         __m128 acc = _mm_setzero_ps();
@@ -1368,7 +1371,7 @@ static int tree_live(const LightSampler *ls, const TreeQuery *q)
 {
     return ls->n_tree_pieces > 0 &&
            lane_importance(&ls->top, 0, q, q->spectral ? query_power(q, ls->root_bin, 1)
-                                                        : ls->top.power[0]) > 0.0;
+                                                        : ls->top_power) > 0.0;
 }
 
 static int tree_select(const LightSampler *ls, const LightCtx *c, float u, float *pmf)
@@ -1538,28 +1541,36 @@ static int tree_setup(LightSampler *ls)
        node per binary interior node (one for a lone leaf) */
     {
         int cap4 = ls->n_tree_pieces, slots[4], m;
-        ls->nodes4 = (TreeNode4 *)calloc((size_t)cap4, sizeof *ls->nodes4);
+        TreeNode4 *tmp4 = (TreeNode4 *)calloc((size_t)cap4, sizeof *tmp4);
+        Pending *queue = (Pending *)malloc(sizeof *queue * (size_t)cap4);
+        ls->nodes4 = tmp4;
+        ls->quad_power = (float *)calloc((size_t)cap4 * 4, sizeof(float));
         ls->quad_bin = (float *)calloc((size_t)cap4 * 4 * (size_t)ls->nb, sizeof(float));
         ls->root_bin = (float *)malloc(sizeof(float) * (size_t)ls->nb);
-        if (!ls->nodes4 || !ls->quad_bin || !ls->root_bin) goto done;
+        if (!tmp4 || !queue || !ls->quad_power || !ls->quad_bin || !ls->root_bin) {
+            ls->nodes4 = NULL;
+            free(tmp4);
+            free(queue);
+            goto done;
+        }
         memcpy(ls->root_bin, ls->node_bin, sizeof(float) * (size_t)ls->nb);
         memset(&ls->top, 0, sizeof ls->top);
         lane_from(&ls->top, 0, &ls->nodes[0]);
+        ls->top_power = ls->nodes[0].power;
         if (ls->nodes[0].second < 0) { slots[0] = 0; m = 1; }
         else m = grandchildren(ls->nodes, 0, slots);
-        {
-            Pending *queue = (Pending *)malloc(sizeof *queue * (size_t)cap4);
-            if (!queue) goto done;
-            tree_collapse(ls, slots, m, queue);
-            free(queue);
-        }
-        {   /* give back what the collapse did not use (about two thirds), and
-               turn the bins bin-major */
-            TreeNode4 *n4 = (TreeNode4 *)realloc(ls->nodes4, sizeof *n4 * (size_t)ls->n_nodes4);
+        tree_collapse(ls, slots, m, queue);
+        free(queue);
+        ls->nodes4 = NULL;
+        {   /* the nodes into 64-byte aligned memory, a node in three cache lines;
+               the bins bin-major */
             size_t nn = (size_t)ls->n_nodes4, nbz = (size_t)ls->nb, b, k;
             float *qb = (float *)malloc(sizeof(float) * nn * 4 * nbz);
-            if (n4) ls->nodes4 = n4;
-            if (!qb) goto done;
+            ls->nodes4_mem = malloc(sizeof(TreeNode4) * nn + 63);
+            if (!qb || !ls->nodes4_mem) { free(qb); free(tmp4); goto done; }
+            ls->nodes4 = (TreeNode4 *)((char *)ls->nodes4_mem + (64 - (size_t)((uintptr_t)ls->nodes4_mem % 64)) % 64);
+            memcpy(ls->nodes4, tmp4, sizeof(TreeNode4) * nn);
+            free(tmp4);
             for (i = 0; i < ls->n_nodes4; i++)
                 for (b = 0; b < nbz; b++)
                     for (k = 0; k < 4; k++)
@@ -1718,7 +1729,7 @@ void light_sampler_free(LightSampler *ls)
     free(ls->Y);
     free(ls->pieces); free(ls->emitter_piece);
     free(ls->piece_tri); free(ls->piece_cdf); free(ls->piece_of_tri);
-    free(ls->nodes); free(ls->node_bin); free(ls->nodes4); free(ls->quad_bin); free(ls->root_bin);
+    free(ls->nodes); free(ls->node_bin); free(ls->nodes4_mem); free(ls->quad_power); free(ls->quad_bin); free(ls->root_bin);
     free(ls);
 }
 
@@ -1742,7 +1753,7 @@ size_t light_sampler_bytes(const LightSampler *ls)
         for (i = 0; i < ls->n_pieces; i++) k += (size_t)ls->pieces[i].count;
         bytes += k * (sizeof(int) + sizeof(float));
     }
-    bytes += (size_t)ls->n_nodes4 * (sizeof(TreeNode4) + 4 * sizeof(float) * (size_t)ls->nb);
+    bytes += (size_t)ls->n_nodes4 * (sizeof(TreeNode4) + 4 * sizeof(float) * (size_t)(ls->nb + 1));
     if (ls->root_bin) bytes += sizeof(float) * (size_t)ls->nb;
     if (ls->voxel) {
         bytes += sizeof(float *) * (size_t)ls->n_voxels;
