@@ -854,6 +854,8 @@ typedef struct {
     const PieceBounds *pb;
     Vec3 *centroids;
     KeyIdx *tmp;
+    double *le_avg;            /* per distinct radiance (LightSampler.Le), its nb bin
+                                  averages: computed once, not once per piece */
 } Builder;
 
 static int longest_axis(Vec3 d)
@@ -889,14 +891,8 @@ static int tree_build(Builder *B, int *items, int n, int depth)
         /* power per bin: pi A (2 if two-sided) times the bin average of Le; the
            power Phi sums the bins of the sampled range only (b >= nb_uv) */
         for (b = 0; b < ls->nb; b++) {
-            const Spectrum *Le = &ls->Le[ls->ref[pc->emitter].le];
-            const int width = (int)SPD_BIN_NM;
-            int nm0 = (int)ls->opt.lo_nm + width * (b - ls->nb_uv), k;
-            double avg = 0.5 * (spec_get(Le, nm0) + spec_get(Le, nm0 + width));
-            float v;
-            for (k = 1; k < width; k++) avg += spec_get(Le, nm0 + k);
-            avg /= width;
-            v = (float)(SPECNEE_PI * pc->area * (ls->scene->emitters[pc->emitter].twosided ? 2.0 : 1.0) * avg);
+            double avg = B->le_avg[(size_t)ls->ref[pc->emitter].le * ls->nb + b];
+            float v = (float)(SPECNEE_PI * pc->area * (ls->scene->emitters[pc->emitter].twosided ? 2.0 : 1.0) * avg);
             ls->node_bin[(size_t)node * ls->nb + b] = v;
             if (b >= ls->nb_uv) sum += (double)v * SPD_BIN_NM;
         }
@@ -1012,7 +1008,7 @@ typedef struct {
    root's lanes are root[0..m).  Each piece gets its trail (digit d, bits 2d
    and 2d + 1: the lane taken at depth d) and its depth.  Every level takes
    two binary levels (or ends at a leaf), so depth <= 32 and 64 bits hold the
-   trail.  queue: room for every node (ls->n_tree_pieces). */
+   trail.  queue: room for every node (ls->n_nodes4, counted by count4). */
 static void tree_collapse(LightSampler *ls, const int *root, int m, Pending *queue)
 {
     const TreeNode *bn = ls->nodes;
@@ -1024,13 +1020,14 @@ static void tree_collapse(LightSampler *ls, const int *root, int m, Pending *que
     for (head = 0; head < tail; head++) {
         const Pending *pd = &queue[head];
         TreeNode4 *nd = &ls->nodes4[head];
-        float *row = ls->quad_bin + (size_t)head * 4 * (size_t)ls->nb;
+        float *col = ls->quad_bin + (size_t)head * 4;   /* bin b: col[4 n_nodes4 b] */
         for (k = 0; k < pd->m; k++) {                /* lanes m..3 stay 0: no power */
             const TreeNode *c = &bn[pd->slots[k]];
             uint64_t t = pd->trail | ((uint64_t)k << (2 * pd->depth));
             lane_from(nd, k, c);
             ls->quad_power[(size_t)head * 4 + k] = c->power;
-            for (b = 0; b < ls->nb; b++) row[4 * b + k] = ls->node_bin[(size_t)pd->slots[k] * ls->nb + b];
+            for (b = 0; b < ls->nb; b++)
+                col[(size_t)4 * ls->n_nodes4 * b + k] = ls->node_bin[(size_t)pd->slots[k] * ls->nb + b];
             if (c->second < 0) {
                 Piece *pc = &ls->pieces[-1 - c->second];
                 pc->trail = t;
@@ -1045,7 +1042,19 @@ static void tree_collapse(LightSampler *ls, const int *root, int m, Pending *que
             }
         }
     }
-    ls->n_nodes4 = tail;
+}
+
+/* How many 4-wide nodes the collapse makes of the binary subtree whose
+   grandchildren g[0..m) are a 4-wide node's lanes. */
+static int count4(const TreeNode *bn, const int *g, int m)
+{
+    int k, n = 1;
+    for (k = 0; k < m; k++)
+        if (bn[g[k]].second >= 0) {
+            int gg[4], mm = grandchildren(bn, g[k], gg);
+            n += count4(bn, gg, mm);
+        }
+    return n;
 }
 
 /* Split mesh emitter e's triangles tris[0..n) into clusters of at most
@@ -1534,50 +1543,47 @@ static int tree_setup(LightSampler *ls)
     B.ls = ls;
     B.pb = pb;
     B.tmp = tmp;
+    B.le_avg = (double *)malloc(sizeof(double) * (size_t)ls->n_le * (size_t)ls->nb);
+    if (!B.le_avg) { free(B.centroids); goto done; }
+    for (i = 0; i < ls->n_le; i++) {
+        int b;
+        for (b = 0; b < ls->nb; b++) {             /* the 5 nm bin's average of Le (trapezoids) */
+            const Spectrum *Le = &ls->Le[i];
+            const int width = (int)SPD_BIN_NM;
+            int nm0 = (int)ls->opt.lo_nm + width * (b - ls->nb_uv), k;
+            double avg = 0.5 * (spec_get(Le, nm0) + spec_get(Le, nm0 + width));
+            for (k = 1; k < width; k++) avg += spec_get(Le, nm0 + k);
+            B.le_avg[(size_t)i * ls->nb + b] = avg / width;
+        }
+    }
     ls->n_nodes = 0;
     tree_build(&B, items, ls->n_tree_pieces, 0);
     free(B.centroids);
-    /* collapse it into the 4-wide tree that the walk reads: at most one 4-wide
-       node per binary interior node (one for a lone leaf) */
+    free(B.le_avg);
+    /* collapse it into the 4-wide tree that the walk reads: count its nodes,
+       then fill them breadth first */
     {
-        int cap4 = ls->n_tree_pieces, slots[4], m;
-        TreeNode4 *tmp4 = (TreeNode4 *)calloc((size_t)cap4, sizeof *tmp4);
-        Pending *queue = (Pending *)malloc(sizeof *queue * (size_t)cap4);
-        ls->nodes4 = tmp4;
-        ls->quad_power = (float *)calloc((size_t)cap4 * 4, sizeof(float));
-        ls->quad_bin = (float *)calloc((size_t)cap4 * 4 * (size_t)ls->nb, sizeof(float));
+        int slots[4], m;
+        Pending *queue;
+        if (ls->nodes[0].second < 0) { slots[0] = 0; m = 1; }
+        else m = grandchildren(ls->nodes, 0, slots);
+        ls->n_nodes4 = count4(ls->nodes, slots, m);
+        queue = (Pending *)malloc(sizeof *queue * (size_t)ls->n_nodes4);
+        /* the nodes in 64-byte aligned memory, a node in three cache lines */
+        ls->nodes4_mem = calloc(1, sizeof(TreeNode4) * (size_t)ls->n_nodes4 + 63);
+        ls->quad_power = (float *)calloc((size_t)ls->n_nodes4 * 4, sizeof(float));
+        ls->quad_bin = (float *)calloc((size_t)ls->n_nodes4 * 4 * (size_t)ls->nb, sizeof(float));
         ls->root_bin = (float *)malloc(sizeof(float) * (size_t)ls->nb);
-        if (!tmp4 || !queue || !ls->quad_power || !ls->quad_bin || !ls->root_bin) {
-            ls->nodes4 = NULL;
-            free(tmp4);
+        if (!queue || !ls->nodes4_mem || !ls->quad_power || !ls->quad_bin || !ls->root_bin) {
             free(queue);
             goto done;
         }
+        ls->nodes4 = (TreeNode4 *)((char *)ls->nodes4_mem + (64 - (size_t)((uintptr_t)ls->nodes4_mem % 64)) % 64);
         memcpy(ls->root_bin, ls->node_bin, sizeof(float) * (size_t)ls->nb);
-        memset(&ls->top, 0, sizeof ls->top);
         lane_from(&ls->top, 0, &ls->nodes[0]);
         ls->top_power = ls->nodes[0].power;
-        if (ls->nodes[0].second < 0) { slots[0] = 0; m = 1; }
-        else m = grandchildren(ls->nodes, 0, slots);
         tree_collapse(ls, slots, m, queue);
         free(queue);
-        ls->nodes4 = NULL;
-        {   /* the nodes into 64-byte aligned memory, a node in three cache lines;
-               the bins bin-major */
-            size_t nn = (size_t)ls->n_nodes4, nbz = (size_t)ls->nb, b, k;
-            float *qb = (float *)malloc(sizeof(float) * nn * 4 * nbz);
-            ls->nodes4_mem = malloc(sizeof(TreeNode4) * nn + 63);
-            if (!qb || !ls->nodes4_mem) { free(qb); free(tmp4); goto done; }
-            ls->nodes4 = (TreeNode4 *)((char *)ls->nodes4_mem + (64 - (size_t)((uintptr_t)ls->nodes4_mem % 64)) % 64);
-            memcpy(ls->nodes4, tmp4, sizeof(TreeNode4) * nn);
-            free(tmp4);
-            for (i = 0; i < ls->n_nodes4; i++)
-                for (b = 0; b < nbz; b++)
-                    for (k = 0; k < 4; k++)
-                        qb[(b * nn + (size_t)i) * 4 + k] = ls->quad_bin[((size_t)i * nbz + b) * 4 + k];
-            free(ls->quad_bin);
-            ls->quad_bin = qb;
-        }
     }
     free(ls->nodes);
     ls->nodes = NULL;
@@ -1658,20 +1664,32 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
         ls->power_cdf[i + 1] = ls->power_cdf[i] + ls->power_pmf[i];
         if (ls->power_pmf[i] > 0.0f) ls->power_last = i;
     }
-    for (i = 0; i < n; i++) {
-        const Emitter *em = &s->emitters[i];
-        float m = o->power_metric ? (float)(em->area * (em->twosided ? 2.0 : 1.0)) : 1.0f;
-        /* Y: luminance over the range, = scale for area lights (pbrt-v4's
-           normalisation); an image map's stand-in spectrum has its own */
-        ls->Y[i] = em->inf ? (float)luminance_sum(&ls->Le[ls->ref[i].le], ls->opt.lo_nm, ls->opt.hi_nm)
-                           : em->scale;
+    {
+        /* the UV band averages once per distinct radiance, not per emitter */
+        float *uv = (float *)malloc(sizeof(float) * (size_t)ls->n_le * SPD_UV_BINS);
+        if (!uv) goto oom;
+        for (i = 0; i < ls->n_le; i++)
+            for (b = 0; b < SPD_UV_BINS; b++)
+                uv[(size_t)i * SPD_UV_BINS + b] = spec_band_average(&ls->Le[i], SPEC_UV_MIN + (int)SPD_BIN_NM * b,
+                                                                    (int)SPD_BIN_NM);
+        for (i = 0; i < n; i++) {
+            const Emitter *em = &s->emitters[i];
+            /* Y: luminance over the range, = scale for area lights (pbrt-v4's
+               normalisation); an image map's stand-in spectrum has its own */
+            ls->Y[i] = em->inf ? (float)luminance_sum(&ls->Le[ls->ref[i].le], ls->opt.lo_nm, ls->opt.hi_nm)
+                               : em->scale;
+        }
         /* T rows 0..19: 300-400 nm (fluorescence excitation), rows 20..79: the
-           thesis' 60 bins over 400-700 nm (spd_bin) */
-        for (b = 0; b < SPD_UV_BINS; b++)
-            ls->T[b * n + i] = spec_band_average(&ls->Le[ls->ref[i].le], SPEC_UV_MIN + (int)SPD_BIN_NM * b,
-                                                 (int)SPD_BIN_NM) * m;
-        for (b = 0; b < SPD_BINS; b++)
-            ls->T[(SPD_UV_BINS + b) * n + i] = ls->bin[(size_t)i * SPD_BINS + b] * m;
+           thesis' 60 bins over 400-700 nm (spd_bin); row by row, so that the
+           writes go in order */
+        for (b = 0; b < SPD_UV_BINS + SPD_BINS; b++)
+            for (i = 0; i < n; i++) {
+                const Emitter *em = &s->emitters[i];
+                float m = o->power_metric ? (float)(em->area * (em->twosided ? 2.0 : 1.0)) : 1.0f;
+                ls->T[b * n + i] = (b < SPD_UV_BINS ? uv[(size_t)ls->ref[i].le * SPD_UV_BINS + b]
+                                                    : ls->bin[(size_t)i * SPD_BINS + (b - SPD_UV_BINS)]) * m;
+            }
+        free(uv);
     }
     if (is_tree(o->strategy)) {
         if (!tree_setup(ls)) goto oom;
