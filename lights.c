@@ -547,7 +547,8 @@ struct LightSampler {
     float *T;                  /* (SPD_UV_BINS + SPD_BINS) x n spectral table (unit or power
                                   metric): rows 0..19 are 300-400 nm, rows 20..79 the
                                   thesis' 60 bins over 400-700 nm */
-    float *Y;                  /* luminance (= scale) per emitter */
+    float *Y;                  /* luminance (= scale) per emitter (T and Y: only the
+                                  strategies of context_weights, uses_grid) */
     /* pieces (section 4): without splitting piece i is emitter i */
     int n_pieces;
     Piece *pieces;
@@ -820,14 +821,23 @@ static void acc_merge(Acc *a, const Acc *b)
     acc_add(a, &pb);
 }
 
+/* cone_measure of the last cone asked (a build evaluates the same cone over
+   and over: lamps that face one way), so that its trigonometry runs once. */
+typedef struct { float cos_o, cos_e; double m; int valid; } MeasureMemo;
+
 /* The split cost of one side: Phi * area(box) * M_omega (section 4). */
-static double acc_cost(const Acc *a)
+static double acc_cost(const Acc *a, MeasureMemo *memo)
 {
     Vec3 d;
     if (!a->any) return 0.0;
     d = v3_sub(a->bmax, a->bmin);
-    return a->power * 2.0 * ((double)d.x * d.y + (double)d.y * d.z + (double)d.z * d.x) *
-           cone_measure(&a->cone);
+    if (!memo->valid || memo->cos_o != a->cone.cos_o || memo->cos_e != a->cone.cos_e) {
+        memo->cos_o = a->cone.cos_o;
+        memo->cos_e = a->cone.cos_e;
+        memo->m = cone_measure(&a->cone);
+        memo->valid = 1;
+    }
+    return a->power * 2.0 * ((double)d.x * d.y + (double)d.y * d.z + (double)d.z * d.x) * memo->m;
 }
 
 typedef struct { float key; int idx; } KeyIdx;
@@ -856,6 +866,7 @@ typedef struct {
     KeyIdx *tmp;
     double *le_avg;            /* per distinct radiance (LightSampler.Le), its nb bin
                                   averages: computed once, not once per piece */
+    MeasureMemo memo;
 } Builder;
 
 static int longest_axis(Vec3 d)
@@ -934,7 +945,7 @@ static int tree_build(Builder *B, int *items, int n, int depth)
                 acc_merge(&right, &bins[b]);
                 /* plane between bin b - 1 and bin b */
                 if (!left[b - 1].any || !right.any) continue;
-                cost = kr * (acc_cost(&left[b - 1]) + acc_cost(&right));
+                cost = kr * (acc_cost(&left[b - 1], &B->memo) + acc_cost(&right, &B->memo));
                 if (cost < best) { best = cost; best_axis = a; best_plane = b; }
             }
         }
@@ -1456,6 +1467,31 @@ static float tree_pmf(const LightSampler *ls, const LightCtx *c, int piece)
     return 0.0f;                                     /* a trail shorter than the tree */
 }
 
+/* For the test lighttree_simd_matches_scalar: at context c, every child of
+   every node evaluated both ways, power and importance compared bit for bit. */
+int light_tree_simd_mismatches(const LightSampler *ls, const LightCtx *c, int *lanes)
+{
+    TreeQuery q;
+    int i, k, bad = 0;
+    *lanes = 0;
+    if (!is_tree(ls->opt.strategy) || ls->n_tree_pieces == 0) return 0;
+    tree_query(ls, c, &q);
+    for (i = 0; i < ls->n_nodes4; i++) {
+        float phi[4];
+        double I[4];
+        child_powers(ls, &q, i, phi);
+        node_importance4(&ls->nodes4[i], &q, phi, I);
+        for (k = 0; k < 4; k++) {
+            float ps = q.spectral ? query_power(&q, ls->quad_bin + (size_t)i * 4 + k, 4 * ls->n_nodes4)
+                                  : ls->quad_power[(size_t)i * 4 + k];
+            double Is = lane_importance(&ls->nodes4[i], k, &q, ps);
+            bad += memcmp(&ps, &phi[k], sizeof ps) != 0 || memcmp(&Is, &I[k], sizeof Is) != 0;
+            (*lanes)++;
+        }
+    }
+    return bad;
+}
+
 /* Pieces and the tree (called by light_sampler_build for the tree strategies). */
 static int tree_setup(LightSampler *ls)
 {
@@ -1543,6 +1579,7 @@ static int tree_setup(LightSampler *ls)
     B.ls = ls;
     B.pb = pb;
     B.tmp = tmp;
+    B.memo.valid = 0;
     B.le_avg = (double *)malloc(sizeof(double) * (size_t)ls->n_le * (size_t)ls->nb);
     if (!B.le_avg) { free(B.centroids); goto done; }
     for (i = 0; i < ls->n_le; i++) {
@@ -1615,9 +1652,12 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     ls->power = (double *)malloc(sizeof(double) * (size_t)n);
     ls->power_pmf = (float *)malloc(sizeof(float) * (size_t)n);
     ls->power_cdf = (double *)malloc(sizeof(double) * (size_t)(n + 1));
-    ls->T = (float *)malloc(sizeof(float) * (size_t)n * (SPD_UV_BINS + SPD_BINS));
-    ls->Y = (float *)malloc(sizeof(float) * (size_t)n);
-    if (!ls->Le || !ls->ref || !ls->k || !ls->bin || !ls->power || !ls->power_pmf || !ls->power_cdf || !ls->T || !ls->Y)
+    if (uses_grid(o->strategy)) {              /* the tables of context_weights */
+        ls->T = (float *)malloc(sizeof(float) * (size_t)n * (SPD_UV_BINS + SPD_BINS));
+        ls->Y = (float *)malloc(sizeof(float) * (size_t)n);
+        if (!ls->T || !ls->Y) goto oom;
+    }
+    if (!ls->Le || !ls->ref || !ls->k || !ls->bin || !ls->power || !ls->power_pmf || !ls->power_cdf)
         goto oom;
     /* the emitters' radiance for this render's range, bin table and power */
     for (i = 0; i < n; i++) {
@@ -1664,7 +1704,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
         ls->power_cdf[i + 1] = ls->power_cdf[i] + ls->power_pmf[i];
         if (ls->power_pmf[i] > 0.0f) ls->power_last = i;
     }
-    {
+    if (ls->T) {
         /* the UV band averages once per distinct radiance, not per emitter */
         float *uv = (float *)malloc(sizeof(float) * (size_t)ls->n_le * SPD_UV_BINS);
         if (!uv) goto oom;
@@ -1761,8 +1801,8 @@ size_t light_sampler_bytes(const LightSampler *ls)
     size_t n = (size_t)ls->n, bytes = sizeof *ls;
     long v;
     bytes += (size_t)ls->n_le * sizeof(Spectrum);
-    bytes += n * (sizeof(EmitterRef) + sizeof(float) * (2 * SPD_BINS + SPD_UV_BINS + 2)
-                  + sizeof(double) * 3 + sizeof(int));
+    bytes += n * (sizeof(EmitterRef) + sizeof(float) * (SPD_BINS + 1) + sizeof(double) * 3 + sizeof(int));
+    if (ls->T) bytes += n * sizeof(float) * (SPD_UV_BINS + SPD_BINS + 1);   /* T and Y */
     bytes += sizeof(Piece) * (size_t)ls->n_pieces;
     if (ls->piece_of_tri) bytes += sizeof(int) * (size_t)ls->scene->n_tris;
     if (ls->piece_tri) {

@@ -822,6 +822,13 @@ int   light_voxel(const LightSampler *ls, Vec3 p);       /* -1 when not spatial 
 int   light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int *fell_back);
 /* The probability light_select gives piece i in context c (for MIS weights). */
 float light_select_pmf(LightSampler *ls, const LightCtx *c, int piece);
+/* The light tree computes the importances of a node's four children side by
+   side (SSE2, where the compiler has it) and keeps the scalar code that this
+   mirrors (lights.c section 4).  At context c: how many children, over the
+   whole tree, get a power or an importance that differs in any bit between
+   the two (0 without SSE2 or without a tree); *lanes: how many were compared.
+   For tests. */
+int   light_tree_simd_mismatches(const LightSampler *ls, const LightCtx *c, int *lanes);
 size_t light_sampler_bytes(const LightSampler *ls);      /* memory held by its tables */
 /* Seconds spent so far building voxel tables on first use (eager builds excluded). */
 double light_sampler_lazy_seconds(const LightSampler *ls);

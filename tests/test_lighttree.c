@@ -13,6 +13,9 @@
                   picks the emitter that is dark there, the total-power tree does
      lighttree_conservative  every piece with a point facing a random point has
                   P > 0 (one- and two-sided lamps facing every way, a split panel)
+     lighttree_simd_matches_scalar  the four children's importances computed
+                  side by side (SSE2) equal the scalar code's, bit for bit, at
+                  random contexts on both trees
      lighttree_prefers_near  two identical emitters: the near one is preferred,
                   and an emitter facing away from the point is never chosen
      lighttree_degenerate  all emitters at one point, all coplanar, one emitter,
@@ -483,22 +486,16 @@ static void test_per_render_radiance(T *t)
     scene_free(&s);
 }
 
-/* The bounds are conservative: at random points, every piece with a point that
-   faces the point (one-sided: on its front side; two-sided: either side) has
-   P > 0 under the total-power tree, so no merged cone or box loses an emitter.
-   Lamps face every way; a third of them are two-sided; the panel is split. */
-static void test_conservative(T *t)
+/* 48 small lamps facing every way, a third of them two-sided (16), and a
+   4 x 4 panel that the trees split. */
+static int load_mixed_lamps(T *t, Scene *s, char *buf, size_t cap)
 {
-    static char buf[1 << 16];
-    Scene s;
-    LightSampler *ls;
-    Rng r;
-    int i, k, checked = 0;
-    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    int i, k;
+    snprintf(buf, cap, "%s%s", camera16, test_box_walls);
     for (i = 0; i < 48; i++) {
         size_t n;
         Vec3 c = v3(-0.8f + 0.3f * (i % 6), -0.7f + 0.2f * (float)(i / 6), 0.35f * (float)(i % 5) - 0.7f);
-        add_quad(buf, sizeof buf, i % 2 ? SPIKY : BLUEISH, 1, c, i % 3, (i / 3) % 2 ? 1 : -1, 0.04f);
+        add_quad(buf, cap, i % 2 ? SPIKY : BLUEISH, 1, c, i % 3, (i / 3) % 2 ? 1 : -1, 0.04f);
         if (i % 3 == 0) {                            /* make it two-sided */
             n = strlen(buf);
             while (n > 0 && strncmp(buf + n, "\"diffuse\"", 9) != 0) n--;
@@ -506,13 +503,28 @@ static void test_conservative(T *t)
             memcpy(buf + n + 9, " \"bool twosided\" [ true ]", 25);
         }
     }
-    add_panel(buf, sizeof buf, LOW_HALF, 1.0f, 4);
-    if (!test_load_scene(t, &s, buf)) return;
-    for (i = 0, k = 0; i < s.n_emitters; i++) k += s.emitters[i].twosided;
-    if (k != 16) { scene_free(&s); CHECK(t, 0, "%d two-sided lamps, want 16", k); }
-    ls = build(t, &s, SEL_TREE, 0, 0);
-    if (!ls) { scene_free(&s); return; }
-    rng_seed(&r, 21, 4);
+    add_panel(buf, cap, LOW_HALF, 1.0f, 4);
+    if (!test_load_scene(t, s, buf)) return 0;
+    for (i = 0, k = 0; i < s->n_emitters; i++) k += s->emitters[i].twosided;
+    if (k != 16) {
+        scene_free(s);
+        test_failf(t, __FILE__, __LINE__, "%d two-sided lamps, want 16", k);
+        return 0;
+    }
+    return 1;
+}
+
+/* Every piece with a point that faces the point (one-sided: on its front
+   side; two-sided: either side) has P > 0 under the total-power tree, at 300
+   random points in the box; adds to *checked the facing pieces seen. */
+static void check_conservative(T *t, const Scene *s, uint64_t seed, int *checked)
+{
+    LightSampler *ls;
+    Rng r;
+    int k;
+    ls = build(t, s, SEL_TREE, 0, 0);
+    if (!ls) return;
+    rng_seed(&r, seed, 4);
     for (k = 0; k < 300; k++) {
         LightCtx c;
         int piece, j;
@@ -531,22 +543,102 @@ static void test_conservative(T *t)
                 if (!light_sample(ls, piece, c.p, u.x, u.y, u.z, &es)) continue;
                 to_p = v3_mul(es.wi, -1.0f);
                 d = v3_dot(es.n, to_p);
-                faces = s.emitters[e].twosided ? fabsf(d) > 1e-3f : d > 1e-3f;
+                faces = s->emitters[e].twosided ? fabsf(d) > 1e-3f : d > 1e-3f;
             }
             if (!faces) continue;
-            checked++;
+            (*checked)++;
             CHECK(t, light_select_pmf(ls, &c, piece) > 0.0f,
                   "piece %d (emitter %d%s) faces (%g %g %g) but has P = 0", piece, e,
-                  s.emitters[e].twosided ? ", two-sided" : "", c.p.x, c.p.y, c.p.z);
+                  s->emitters[e].twosided ? ", two-sided" : "", c.p.x, c.p.y, c.p.z);
         }
     }
     light_sampler_free(ls);
+}
+
+/* The bounds are conservative: no merged cone or box loses an emitter.  On
+   the mixed lamps (facing every way, a third two-sided, a split panel), and
+   on 36 lamps in a grid under the ceiling, all facing down, every other one
+   two-sided: those light the points above them through their backs, so a
+   node that merges one-sided and two-sided lamps must be two-sided. */
+static void test_conservative(T *t)
+{
+    static char buf[1 << 16];
+    Scene s;
+    int i, checked = 0;
+    if (!load_mixed_lamps(t, &s, buf, sizeof buf)) return;
+    check_conservative(t, &s, 21, &checked);
     scene_free(&s);
     CHECK(t, checked > 1000, "only %d facing pieces checked", checked);
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    for (i = 0; i < 36; i++) {
+        size_t n;
+        add_quad(buf, sizeof buf, SPIKY, 1, v3(-0.75f + 0.3f * (i % 6), 0.2f, -0.75f + 0.3f * (float)(i / 6)), 1, -1,
+                 0.04f);
+        if (i % 2 == 0) continue;                    /* one-sided and two-sided in turn */
+        n = strlen(buf);
+        while (n > 0 && strncmp(buf + n, "\"diffuse\"", 9) != 0) n--;
+        memmove(buf + n + 9 + 25, buf + n + 9, strlen(buf + n + 9) + 1);
+        memcpy(buf + n + 9, " \"bool twosided\" [ true ]", 25);
+    }
+    if (!test_load_scene(t, &s, buf)) return;
+    checked = 0;
+    check_conservative(t, &s, 22, &checked);
+    scene_free(&s);
+    CHECK(t, checked > 1000, "two-sided grid: only %d facing pieces checked", checked);
+}
+
+/* The four children of a node are evaluated side by side (SSE2) by code that
+   mirrors the scalar importance step for step: at random contexts - points in
+   and around the box, inside the nodes' bounding spheres and far outside, on
+   a lamp's centre, with and without a normal, wavelengths from 300 to 700 nm
+   (the UV bins too), one or four alive, throughput-weighted or not - both
+   give the same bits for every child of every node, under both trees, on the
+   mixed lamps (one- and two-sided, facing every way, a split panel) and on
+   40 lamps at one point. */
+static void test_simd_matches_scalar(T *t)
+{
+    static char buf[1 << 16];
+    Scene s[2];
+    int sc, v, k, lanes = 0, bad = 0, positive = 0;
+    Rng r;
+    if (!load_mixed_lamps(t, &s[0], buf, sizeof buf)) return;
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    for (k = 0; k < 40; k++) add_quad(buf, sizeof buf, k % 2 ? SPIKY : BLUEISH, 1, v3(0, 0, 0), k % 3, k % 2 ? 1 : -1, 1e-3f);
+    if (!test_load_scene(t, &s[1], buf)) { scene_free(&s[0]); return; }
+    rng_seed(&r, 77, 3);
+    for (sc = 0; sc < 2; sc++)
+        for (v = 0; v < 3; v++) {
+            LightSampler *ls = build(t, &s[sc], v == 0 ? SEL_TREE : SEL_SPECTRAL_TREE, v == 2, 0);
+            if (!ls) continue;
+            for (k = 0; k < 400; k++) {
+                LightCtx c = random_ctx(&s[sc], &r);
+                int n, j, m;
+                if (k % 4 == 1) c.p = v3_mul(c.p, 1e-4f);                /* near the centre */
+                if (k % 8 == 2) c.p = v3_mul(c.p, 1e6f);                 /* far away */
+                if (k % 8 == 3) c.p = v3(0.0f, 0.0f, 0.0f);              /* on a centre */
+                for (j = 0; j < HERO_N; j++)
+                    if (k % 3 == 0) c.lambda[j] = 300.0f + 400.0f * rng_float(&r);   /* UV bins */
+                n = light_tree_simd_mismatches(ls, &c, &m);
+                bad += n;
+                lanes += m;
+                if (light_select_pmf(ls, &c, 0) > 0.0f) positive++;
+                if (n) {
+                    test_failf(t, __FILE__, __LINE__, "scene %d, %s: %d of %d children differ at (%g %g %g)",
+                               sc, v == 0 ? "tree" : "spectral-tree", n, m, c.p.x, c.p.y, c.p.z);
+                    break;
+                }
+            }
+            light_sampler_free(ls);
+        }
+    scene_free(&s[0]);
+    scene_free(&s[1]);
+    CHECK(t, bad == 0 && lanes > 10000 && positive > 100, "%d of %d children differ (%d contexts light piece 0)",
+          bad, lanes, positive);
 }
 
 const TestCase tests_lighttree[] = {
     { "lighttree_conservative", test_conservative },
+    { "lighttree_simd_matches_scalar", test_simd_matches_scalar },
     { "lighttree_per_render_radiance", test_per_render_radiance },
     { "lighttree_select_matches_pmf", test_select_matches_pmf },
     { "lighttree_spectral_preference", test_spectral_preference },
