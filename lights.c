@@ -1478,9 +1478,9 @@ int light_tree_simd_mismatches(const LightSampler *ls, const LightCtx *c, int *l
     tree_query(ls, c, &q);
     for (i = 0; i < ls->n_nodes4; i++) {
         float phi[4];
-        double I[4];
+        double I[4], S;
         child_powers(ls, &q, i, phi);
-        node_importance4(&ls->nodes4[i], &q, phi, I);
+        branch_at(ls, &q, i, I, &S);                 /* what the walk computes */
         for (k = 0; k < 4; k++) {
             float ps = q.spectral ? query_power(&q, ls->quad_bin + (size_t)i * 4 + k, 4 * ls->n_nodes4)
                                   : ls->quad_power[(size_t)i * 4 + k];
