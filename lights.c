@@ -79,7 +79,8 @@
    4. The light tree (Conty Estevez and Kulla, "Importance Sampling of Many Lights
       with Adaptive Tree Splitting", HPG 2018; pbrt-v4's BVHLightSampler and
       LightBounds, pbrt book 4th ed. section 12.6.3; written here from the
-      equations).  A binary tree over the pieces, built once per render.  Every
+      equations).  A tree over the pieces, built once per render as a binary
+      tree and collapsed into a 4-wide one for the walk (below).  Every binary
       node stores the box of its pieces, an orientation cone (axis w; theta_o,
       the spread of the emitting normals around w; theta_e = pi/2, how far past
       a normal a diffuse emitter still emits), a two-sided flag, its radiant power
@@ -100,23 +101,35 @@
       (no emitter below faces p); theta_i' = max(0, theta_i - theta_b) with
       theta_i the angle between n and the direction to the centre (|cos|: the
       surface may transmit).  Each bound only overestimates, so a node that can
-      light p never gets 0.  node_importance computes it without normalising
+      light p never gets 0.  lane_importance computes it without normalising
       the direction or taking an angle: each cosine is a ratio of dot products
-      and square roots of d, and I = Phi_c X Y / (d^2)^3 with X = d^2 cos theta',
-      Y = d^2 cos theta_i' (its comment derives them), so that a level of the
-      walk waits for as few square roots and divisions as possible.  Phi_c is the power that counts in the context:
+      and square roots of d, and I = Phi_c (1/d^2) (X/d^2) (Y/d^2) with
+      X = d^2 cos theta', Y = d^2 cos theta_i' (its comment derives them): three
+      square roots and one division.  node_importance4 computes the four
+      children of a 4-wide node side by side with SSE2 (every x86-64 gcc and
+      clang), the same operations in the same order, so the results are the
+      same to the bit (tested); elsewhere (tcc, other processors) it calls
+      lane_importance four times.  Phi_c is the power that counts in the context:
           tree           Phi (all wavelengths together: pbrt-v4's sampler)
           spectral-tree  sum over alive j of c_j Phi(bin(lambda_j)), c_j = 1 or the
                          throughput (--throughput-weighted): the hero's bin alone
                          after a wavelength-dependent event (a UV bin after a
                          fluorescent shift), the thesis' spectral preference; symmetric in the alive set, so the spectral MIS
                          weights stay intact (like --all-wavelengths above).
-      Selection walks from the root: at an interior node with children importances
-      a, b it goes to the first with probability a / (a + b) (the path stops when
-      a + b = 0: nothing below can light p), narrows the interval of u that leads
-      to the chosen child and multiplies the branch probabilities.  The pmf of a given piece walks the
-      same nodes along the piece's bit trail (bit d = branch taken at depth d),
-      calling the same importance function: select and pmf cannot disagree.
+      The walk reads a 4-wide tree: the binary tree collapsed so that a node's
+      children are the binary node's grandchildren (a binary child that is a
+      leaf stays one child: 2 to 4 children), breadth first (the upper levels,
+      which every walk reads, lie together), each node's children described in
+      four lanes of one 192-byte record, their bin powers bin-major (the four
+      children's powers in one bin side by side).  Selection walks from the
+      root: at a node with children importances I_0..I_3 it goes to child k
+      with probability I_k / sum I (the path stops when the sum is 0: nothing
+      below can light p), narrows the interval of u that leads to the chosen
+      child and multiplies the probabilities.  A walk makes half the levels
+      of the binary tree's, each at about the cost of one scalar importance.
+      The pmf of a given piece walks the same nodes along the piece's trail
+      (digit d, two bits: the child taken at depth d), calling the same
+      importance function: select and pmf cannot disagree.
       Build: top-down over the box centroids, LIGHT_TREE_BINS candidate planes per
       axis scored by the surface-area-orientation cost of both sides,
           M = Phi * area(box) * M_omega(theta_o, theta_e) * (longest extent / extent on the axis)
@@ -125,8 +138,9 @@
       (M_omega is the solid-angle measure of the cone of emitted directions: the
       integral of cos(theta - theta_o) sin theta from theta_o to t, our derivation).
       When all centroids coincide, or below depth 32, the middle of the list (in
-      centroid order) is taken: depth <= 32 + log2 n <= 63, so a 64-bit trail holds it.
-      O(n log n) time (n log^2 n for the median fallbacks), 2n - 1 nodes.
+      centroid order) is taken: binary depth <= 32 + log2 n <= 63, so the 4-wide
+      depth is at most 32 and a 64-bit trail holds it.  O(n log n) time (n log^2 n
+      for the median fallbacks), 2n - 1 binary nodes, at most n - 1 4-wide ones.
       Large emissive meshes (more than LIGHT_CLUSTER_TRIS triangles) are split into
       clusters of at most LIGHT_CLUSTER_TRIS nearby triangles (recursive median cuts
       of their centroids); each cluster is a leaf with its own box, cone and area,
