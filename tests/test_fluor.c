@@ -9,6 +9,13 @@
     "Film \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8 \"string filename\" \"t.pfm\"\n" \
     "WorldBegin\n"
 
+/* A UV LED sphere at x = -2 and a white LED sphere at x = 2, seen by UV_CAMERA. */
+#define UV_AND_LED_SPHERES UV_CAMERA \
+    "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\"\n" \
+    "Translate -2 0 0\nShape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n" \
+    "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\"\n" \
+    "Translate 2 0 0\nShape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n"
+
 /* Emitter e's radiance for a film that integrates [lo, hi] nm (the render's,
    lights.c emitter_radiance); zero if it has none there. */
 static Spectrum le_of(const Scene *s, int e, float lo, float hi)
@@ -87,11 +94,7 @@ static void test_uv_bins_select(T *t)
     Error e;
     float P;
     int fb, j;
-    if (!test_load_scene(t, &s, UV_CAMERA
-            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\"\n"
-            "Translate -2 0 0\nShape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n"
-            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\"\n"
-            "Translate 2 0 0\nShape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n")) return;
+    if (!test_load_scene(t, &s, UV_AND_LED_SPHERES)) return;
     memset(&so, 0, sizeof so);
     so.strategy = SEL_SPD;
     ls = light_sampler_build(&s, &so, &e);
@@ -763,11 +766,7 @@ static void test_fluor_shift_selects_spectrally(T *t)
     static Tiles a, b;
     size_t i;
     int j, k;
-    if (!test_load_scene(t, &s, UV_CAMERA
-            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\"\n"
-            "Translate -2 0 0\nShape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n"
-            "AttributeBegin\nAreaLightSource \"diffuse\" \"spectrum L\" \"lamp-LED1\"\n"
-            "Translate 2 0 0\nShape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n")) return;
+    if (!test_load_scene(t, &s, UV_AND_LED_SPHERES)) return;
     for (i = 0; i < sizeof strat / sizeof strat[0]; i++) {
         SelOptions so;
         LightSampler *ls;
