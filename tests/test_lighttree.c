@@ -25,7 +25,10 @@
      lighttree_mesh_split_pmf  the cluster hit by a ray is the one light_piece_of
                   names, with the pdf NEE sampled it with
      lighttree_per_render_radiance  the emitters' radiance for two wavelength
-                  ranges from one const Scene (the render owns it) */
+                  ranges from one const Scene (the render owns it)
+     lighttree_behind_the_box  points just above a plane of down-facing lamps,
+                  inside their bounding spheres: nothing is sampled (I = 0 at
+                  the root); from below every lamp keeps P > 0 */
 #include "test.h"
 #include <stdlib.h>
 #include <string.h>
@@ -64,6 +67,29 @@ static void add_quad(char *buf, size_t cap, const char *spectrum, float scale, V
              spectrum, scale, sgn > 0 ? "0 1 2 0 2 3" : "0 2 1 0 3 2",
              p[0][0], p[0][1], p[0][2], p[1][0], p[1][1], p[1][2],
              p[2][0], p[2][1], p[2][2], p[3][0], p[3][1], p[3][2]);
+}
+
+/* A one-sided "tent" lamp: one mesh of two quads of half-size h meeting at a
+   right angle, one facing down (-y) centred on c, one facing +x standing on
+   its +x edge.  Its normals span 90 degrees, so its cone (theta_o = 45,
+   theta_e = 90) emits behind the plane that bounds its box on the side its
+   axis points away from. */
+static void add_tent(char *buf, size_t cap, Vec3 c, float h)
+{
+    size_t n = strlen(buf);
+    static const float su[4] = { -1, 1, 1, -1 }, sv[4] = { -1, -1, 1, 1 };
+    float p[8][3];
+    int k;
+    for (k = 0; k < 4; k++) {                        /* as add_quad: axis 1, then axis 0 */
+        p[k][1] = c.y; p[k][2] = c.z + h * su[k]; p[k][0] = c.x + h * sv[k];
+        p[4 + k][0] = c.x + h; p[4 + k][1] = c.y + h + h * su[k]; p[4 + k][2] = c.z + h * sv[k];
+    }
+    n += (size_t)snprintf(buf + n, cap - n,
+                          "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" %s \"float scale\" [ 1 ]\n"
+                          " Shape \"trianglemesh\" \"integer indices\" [ 0 2 1 0 3 2  4 5 6 4 6 7 ]\n  \"point3 P\" [",
+                          SPIKY);
+    for (k = 0; k < 8; k++) n += (size_t)snprintf(buf + n, cap - n, " %g %g %g", p[k][0], p[k][1], p[k][2]);
+    snprintf(buf + n, cap - n, " ]\nAttributeEnd\n");
 }
 
 /* A tessellated emissive panel (k x k quads, 2 k^2 triangles) on the plane
@@ -559,7 +585,9 @@ static void check_conservative(T *t, const Scene *s, uint64_t seed, int *checked
    the mixed lamps (facing every way, a third two-sided, a split panel), and
    on 36 lamps in a grid under the ceiling, all facing down, every other one
    two-sided: those light the points above them through their backs, so a
-   node that merges one-sided and two-sided lamps must be two-sided. */
+   node that merges one-sided and two-sided lamps must be two-sided; and on 16
+   tents (two faces at a right angle) whose light also goes behind the plane
+   that bounds their box on their axis' far side. */
 static void test_conservative(T *t)
 {
     static char buf[1 << 16];
@@ -585,6 +613,15 @@ static void test_conservative(T *t)
     check_conservative(t, &s, 22, &checked);
     scene_free(&s);
     CHECK(t, checked > 1000, "two-sided grid: only %d facing pieces checked", checked);
+    /* 16 tents, whose cones are wider than 90 degrees: no plane bounds where
+       their light goes, so "behind the box" must not apply to them */
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    for (i = 0; i < 16; i++) add_tent(buf, sizeof buf, v3(-0.7f + 0.4f * (i % 4), -0.5f + 0.3f * (float)(i / 4), -0.6f + 0.4f * (float)(i / 4)), 0.05f);
+    if (!test_load_scene(t, &s, buf)) return;
+    checked = 0;
+    check_conservative(t, &s, 23, &checked);
+    scene_free(&s);
+    CHECK(t, checked > 1000, "tents: only %d facing pieces checked", checked);
 }
 
 /* The four children of a node are evaluated side by side (SSE2) by code that
@@ -636,6 +673,63 @@ static void test_simd_matches_scalar(T *t)
           bad, lanes, positive);
 }
 
+/* A context at p, no normal, four alive wavelengths. */
+static LightCtx ctx_at(Vec3 p)
+{
+    LightCtx c;
+    int j;
+    memset(&c, 0, sizeof c);
+    c.p = p;
+    c.voxel = -1;
+    c.alive = 15u;
+    for (j = 0; j < HERO_N; j++) { c.lambda[j] = 430.0f + 70.0f * j; c.beta[j] = 1.0f; }
+    return c;
+}
+
+/* Behind the box: 16 small lamps in a plane, all facing down.  A point just
+   above the plane is inside the bounding sphere of the lamps (and of most
+   nodes), where no angle can be bounded, yet nothing can light it: the walk
+   must find I = 0 at the root (light_select -1, every pmf 0) instead of
+   sampling a lamp that sends nothing there.  Below the plane every lamp
+   keeps P > 0.  Both trees. */
+static void test_behind(T *t)
+{
+    static char buf[1 << 15];
+    Scene s;
+    int i, st, above = 0, below = 0;
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    for (i = 0; i < 16; i++)
+        add_quad(buf, sizeof buf, SPIKY, 1, v3(-0.45f + 0.3f * (i % 4), 0.2f, -0.45f + 0.3f * (float)(i / 4)), 1, -1,
+                 0.04f);
+    if (!test_load_scene(t, &s, buf)) return;
+    for (st = 0; st < 2; st++) {
+        LightSampler *ls = build(t, &s, st ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
+        Rng r;
+        int k;
+        if (!ls) continue;
+        rng_seed(&r, 31, (uint64_t)st);
+        for (k = 0; k < 200; k++) {
+            const Vec3 u = rng_vec3(&r);
+            LightCtx c = ctx_at(v3(-0.4f + 0.8f * u.x, 0.2001f + 0.1f * u.y, -0.4f + 0.8f * u.z));
+            float pmf = 1.0f, sum = 0.0f;
+            int piece = light_select(ls, &c, rng_float(&r), &pmf, NULL), j;
+            for (j = 0; j < light_n_pieces(ls); j++) sum += light_select_pmf(ls, &c, j);
+            above += piece < 0 && pmf == 0.0f && sum == 0.0f;
+            c.p.y = 0.2f - (c.p.y - 0.2f);           /* the mirror point below the lamps */
+            for (j = 0, sum = 0.0f; j < light_n_pieces(ls); j++) {
+                float pj = light_select_pmf(ls, &c, j);
+                below += pj > 0.0f;
+                sum += pj;
+            }
+            CHECK(t, fabsf(sum - 1.0f) < 1e-4f, "%s: pmfs below the lamps sum to %g", st ? "spectral-tree" : "tree", sum);
+        }
+        light_sampler_free(ls);
+    }
+    scene_free(&s);
+    CHECK(t, above == 400, "%d of 400 points above down-facing lamps found nothing to sample", above);
+    CHECK(t, below == 400 * 16, "%d of %d lamps had P > 0 from below", below, 400 * 16);
+}
+
 const TestCase tests_lighttree[] = {
     { "lighttree_conservative", test_conservative },
     { "lighttree_simd_matches_scalar", test_simd_matches_scalar },
@@ -646,5 +740,6 @@ const TestCase tests_lighttree[] = {
     { "lighttree_degenerate", test_degenerate },
     { "lighttree_mesh_split_pmf", test_mesh_split_pmf },
     { "lighttree_mesh_split_unbiased", test_mesh_split_unbiased },
+    { "lighttree_behind_the_box", test_behind },
     { NULL, NULL }
 };
