@@ -100,14 +100,16 @@
       theta' = max(0, theta_w - theta_o - theta_b), and I = 0 when theta' >= theta_e
       (no emitter below faces p); theta_i' = max(0, theta_i - theta_b) with
       theta_i the angle between n and the direction to the centre (|cos|: the
-      surface may transmit).  Behind the box: where the cone is one-sided and
-      theta_o + theta_e <= pi/2, every emitted direction omega has w . omega >= 0,
-      so a point with w . p <= min over the box of w . x (behind the box's
-      support plane on w's far side) gets I = 0 even inside the bounding
-      sphere, where theta_b = pi bounds nothing (node_behind; a flat group of
-      ceiling lamps seen from the ceiling just above them: on suzanne the MSE
-      of spectral-tree against product at 64 spp went from +5.5% to -7.3%,
-      docs/lighttree.md).  Each bound only overestimates, so a node that can
+      surface may transmit).  Behind the box: a one-sided node with
+      theta_t = theta_o + theta_e < pi emits only into directions within
+      theta_t of w, so a point with w . p - h <= -sin(theta_t - pi/2)+ (|d| + r),
+      h = min of w . x over its pieces' vertices (behind the plane that
+      bounds them on the side their light cannot reach, by a slack that
+      grows with the spread of their normals), gets I = 0 even inside the
+      bounding sphere, where theta_b = pi bounds nothing (node_behind; a
+      flat group of ceiling lamps seen from the ceiling just above them: on
+      suzanne the MSE of spectral-tree against product at 64 spp went from
+      +5.5% to -7.4%, docs/lighttree.md).  Each bound only overestimates, so a node that can
       light p never gets 0.  lane_importance computes it without normalising
       the direction or taking an angle: each cosine is a ratio of dot products
       and square roots of d, and I = Phi_c (1/d^2) (X/d^2) (Y/d^2) with
@@ -127,7 +129,7 @@
       children are the binary node's grandchildren (a binary child that is a
       leaf stays one child: 2 to 4 children), breadth first (the upper levels,
       which every walk reads, lie together), each node's children described in
-      four lanes of one 208-byte record, their bin powers bin-major (the four
+      four lanes of one 224-byte record, their bin powers bin-major (the four
       children's powers in one bin side by side).  Selection walks from the
       root: at a node with children importances I_0..I_3 it goes to child k
       with probability I_k / sum I (the path stops when the sum is 0: nothing
@@ -528,10 +530,10 @@ typedef struct {
     float axis[3];             /* orientation cone: unit axis w ... */
     float cos_o, sin_o, cos_e; /* ... theta_o, cos theta_e (cos_o = -1: every direction) */
     float power;               /* radiant power over the sampled range */
-    float behind;              /* nothing below lights p when (p - c) . axis <= behind
-                                  (p behind the plane that bounds the box on the side
-                                  its light cannot go); -inf where that plane does
-                                  not exist (node_behind) */
+    float behind, slack;       /* nothing below lights p when (p - c) . axis <=
+                                  behind - slack L (p behind the plane that bounds the
+                                  box on the side its light cannot reach); behind =
+                                  -inf where there is no such plane (node_behind) */
     int32_t second;            /* interior: index of the second child; leaf: -1 - piece */
     int32_t twosided;
 } TreeNode;
@@ -545,10 +547,10 @@ typedef struct {
     float ax[4], ay[4], az[4];         /* its orientation cone: unit axis w ... */
     float cos_o[4], sin_o[4];          /* ... theta_o ... */
     float cos_e[4];                    /* ... and cos theta_e */
-    float behind[4];                   /* TreeNode.behind */
+    float behind[4], slack[4];         /* TreeNode.behind and .slack */
     int32_t twosided[4];
     int32_t child[4];                  /* >= 0: a node; < 0: -1 - piece */
-} TreeNode4;                           /* 208 bytes */
+} TreeNode4;                           /* 224 bytes */
 
 /* Per emitter, the little that every emitter hit and NEE sample reads (light_Le):
    its radiance's index in LightSampler.Le, and how it emits. */
@@ -902,30 +904,57 @@ static int longest_axis(Vec3 d)
     return d.x >= d.y && d.x >= d.z ? 0 : d.y >= d.z ? 1 : 2;
 }
 
-/* Build the binary subtree over items[0..n) at `depth`; returns its node
-   index.  Recursion depth <= 64 (section 4). */
-/* TreeNode.behind of a node with bounds a (section 4, "behind the box").  A
-   one-sided node whose cone has theta_o + theta_e <= 90 degrees emits only
-   into directions omega with w . omega >= 0, so light from a point x of its
-   box reaches p only if w . (p - x) > 0: p is lit by nothing below when
-   w . p <= h = min over the box of w . x.  In the walk's terms, with
-   d = p - c: nothing when d . w <= h - w . c.  The margin (behind_margin,
-   larger than the round-off of d . w for points in the scene) and rounding
-   down keep the float test on the safe side. */
-static float node_behind(const LightSampler *ls, const Acc *a, const TreeNode *nd)
+/* TreeNode.behind and .slack of a node with bounds a (section 4, "behind the
+   box").  Every emitted direction omega of the node lies within theta_t =
+   theta_o + theta_e of its axis w.  Light from a point x of the box reaches p
+   only along omega = (p - x) / |p - x|, so only if
+       w . (p - x) > cos(theta_t) |p - x| = -sin(delta) |p - x|,
+   delta = theta_t - pi/2 (slack = sin(delta), 0 where theta_t <= pi/2; no
+   plane at all where theta_t >= pi, where sin(delta) would shrink again, or
+   for two-sided nodes).  With h = min of w . x over the vertices of the
+   pieces' triangles (every emitting point is a convex combination of them;
+   the box's corners would put the plane far behind a tilted panel),
+   w . (p - x) <= w . p - h, and |p - x| <= |d| + r (d = p - c), so nothing
+   below lights p when
+       w . p - h <= -slack (|d| + r),
+   i.e. in the walk's terms d . w <= behind - slack L, behind = h - w . c,
+   L = sqrt(|d|^2 - r^2) + 2 r >= |d| + r outside the bounding sphere and
+   L = 2 r >= |d| + r inside it.  The margin (behind_margin, larger than the
+   round-off of d . w for points in the scene) and rounding behind down and
+   slack up keep the float test on the safe side. */
+static float node_behind(const LightSampler *ls, const int *items, int n, const Acc *a, const TreeNode *nd,
+                         float *slack)
 {
-    double h = 0.0, wc = 0.0, lo[3], hi[3], v;
+    const Scene *s = ls->scene;
+    double h = INFINITY, wc = 0.0, w[3], v, t;
     float f;
-    int i;
-    if (a->twosided || a->cone.cos_o <= -1.0f ||
-        acos((double)a->cone.cos_o) + acos((double)a->cone.cos_e) > 0.5 * SPECNEE_PI)
-        return -INFINITY;
-    lo[0] = a->bmin.x; lo[1] = a->bmin.y; lo[2] = a->bmin.z;
-    hi[0] = a->bmax.x; hi[1] = a->bmax.y; hi[2] = a->bmax.z;
-    for (i = 0; i < 3; i++) {
-        double w = nd->axis[i];
-        h += w * lo[i] < w * hi[i] ? w * lo[i] : w * hi[i];
-        wc += w * nd->c[i];
+    int i, j, k;
+    *slack = 0.0f;
+    if (a->twosided || a->cone.cos_o <= -1.0f) return -INFINITY;
+    t = acos((double)a->cone.cos_o) + acos((double)a->cone.cos_e);
+    if (!(t < SPECNEE_PI)) return -INFINITY;
+    if (t > 0.5 * SPECNEE_PI) {
+        double sd = sin(t - 0.5 * SPECNEE_PI);
+        *slack = (float)sd;
+        if ((double)*slack < sd) *slack = nextafterf(*slack, INFINITY);
+    }
+    for (k = 0; k < 3; k++) {
+        w[k] = nd->axis[k];
+        wc += w[k] * nd->c[k];
+    }
+    for (i = 0; i < n; i++) {
+        const Piece *pc = &ls->pieces[items[i]];
+        const Shape *sh = &s->shapes[s->emitters[pc->emitter].shape];
+        int count = pc->count ? pc->count : sh->tri_count;
+        if (sh->type != SHAPE_MESH) return -INFINITY;   /* (a sphere's cone is full anyway) */
+        for (j = 0; j < count; j++) {
+            const Triangle *tr = &s->tris[pc->count ? ls->piece_tri[pc->first + j] : sh->tri_begin + j];
+            for (k = 0; k < 3; k++) {
+                const Vec3 x = s->P[tr->v[k]];
+                double d = w[0] * x.x + w[1] * x.y + w[2] * x.z;
+                if (d < h) h = d;
+            }
+        }
     }
     v = h - wc - ls->behind_margin;
     f = (float)v;
@@ -933,6 +962,8 @@ static float node_behind(const LightSampler *ls, const Acc *a, const TreeNode *n
     return f;
 }
 
+/* Build the binary subtree over items[0..n) at `depth`; returns its node
+   index.  Recursion depth <= 64 (section 4). */
 static int tree_build(Builder *B, int *items, int n, int depth)
 {
     LightSampler *ls = B->ls;
@@ -952,7 +983,7 @@ static int tree_build(Builder *B, int *items, int n, int depth)
     nd->sin_o = sqrtf(fmaxf(0.0f, 1.0f - nd->cos_o * nd->cos_o));
     nd->cos_e = all.cone.cos_e;
     nd->twosided = all.twosided;
-    nd->behind = node_behind(ls, &all, nd);
+    nd->behind = node_behind(ls, items, n, &all, nd, &nd->slack);
     if (n == 1) {
         Piece *pc = &ls->pieces[items[0]];
         double sum = 0.0;
@@ -1048,6 +1079,7 @@ static void lane_from(TreeNode4 *q, int k, const TreeNode *b)
     q->sin_o[k] = b->sin_o;
     q->cos_e[k] = b->cos_e;
     q->behind[k] = b->behind;
+    q->slack[k] = b->slack;
     q->twosided[k] = b->twosided;
 }
 
@@ -1299,12 +1331,13 @@ static double lane_importance(const TreeNode4 *nd, int k, const TreeQuery *q, fl
     r = nd->r[k];
     r2 = r * r;
     dw = dx * nd->ax[k] + dy * nd->ay[k] + dz * nd->az[k];
-    if (dw <= nd->behind[k]) return 0.0;             /* p behind the box: I = 0 */
+    Sb = d2 > r2 ? sqrtf(d2 - r2) : 0.0f;
+    if (dw <= nd->behind[k] - nd->slack[k] * (Sb + 2.0f * r))
+        return 0.0;                                  /* p behind the box: I = 0 (node_behind) */
     if (!(d2 > r2))   /* p inside the bounding sphere: no angle can be bounded; I = Phi_c / r^2 */
         return (double)phi * (double)(1.0f / (r2 > FLT_MIN ? r2 : FLT_MIN));
     if (!(d2 <= FLT_MAX)) return 0.0;                /* p at infinity: I = 0 */
     if (nd->twosided[k]) dw = fabsf(dw);
-    Sb = sqrtf(d2 - r2);
     if (dw * fabsf(dw) >= nd->cos_o[k] * fabsf(nd->cos_o[k]) * d2) {
         X = d2;                                      /* p inside the normal cone */
     } else {
@@ -1350,10 +1383,14 @@ static void node_importance4(const TreeNode4 *nd, const TreeQuery *q, const floa
                            _mm_mul_ps(dz, _mm_loadu_ps(nd->az)));
     __m128 Sb, in_cone, X, Y, dead, inside, ok, inv, cX, cY;
     __m128d p_lo, p_hi, I_lo, I_hi, m_lo, m_hi;
-    /* p behind the box: I = 0, inside the bounding sphere too */
-    __m128 behind = _mm_cmple_ps(dw, _mm_loadu_ps(nd->behind));
-    dw = _mm_and_ps(dw, _mm_or_ps(one_sided, abs_mask));
+    __m128 behind;
+    inside = _mm_cmpngt_ps(d2, r2);
     Sb = _mm_sqrt_ps(_mm_sub_ps(d2, r2));
+    /* p behind the box: I = 0, inside the bounding sphere too (L: Sb, 0 inside, + 2 r) */
+    behind = _mm_cmple_ps(dw, _mm_sub_ps(_mm_loadu_ps(nd->behind),
+                                         _mm_mul_ps(_mm_loadu_ps(nd->slack),
+                                                    _mm_add_ps(_mm_andnot_ps(inside, Sb), _mm_add_ps(r, r)))));
+    dw = _mm_and_ps(dw, _mm_or_ps(one_sided, abs_mask));
     in_cone = _mm_cmpge_ps(_mm_mul_ps(dw, _mm_and_ps(dw, abs_mask)),
                            _mm_mul_ps(_mm_mul_ps(cos_o, _mm_and_ps(cos_o, abs_mask)), d2));
     /* I = 0 where p is at infinity, or (below) where theta' >= theta_e */
@@ -1379,7 +1416,6 @@ static void node_importance4(const TreeNode4 *nd, const TreeQuery *q, const floa
         __m128 lt = _mm_cmplt_ps(dn, Sb);
         Y = _mm_or_ps(_mm_and_ps(lt, Yc), _mm_andnot_ps(lt, d2));
     }
-    inside = _mm_cmpngt_ps(d2, r2);
     ok = _mm_andnot_ps(_mm_or_ps(_mm_andnot_ps(inside, dead), behind), _mm_cmpgt_ps(vphi, zero));
     {   /* one division: by r^2 inside the sphere, else by |d|^2, at least FLT_MIN */
         __m128 den = _mm_or_ps(_mm_and_ps(inside, r2), _mm_andnot_ps(inside, d2));

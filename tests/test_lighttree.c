@@ -28,7 +28,8 @@
                   ranges from one const Scene (the render owns it)
      lighttree_behind_the_box  points just above a plane of down-facing lamps,
                   inside their bounding spheres: nothing is sampled (I = 0 at
-                  the root); from below every lamp keeps P > 0 */
+                  the root); from below every lamp keeps P > 0; axis-aligned
+                  and turned lamps */
 #include "test.h"
 #include <stdlib.h>
 #include <string.h>
@@ -90,6 +91,71 @@ static void add_tent(char *buf, size_t cap, Vec3 c, float h)
                           SPIKY);
     for (k = 0; k < 8; k++) n += (size_t)snprintf(buf + n, cap - n, " %g %g %g", p[k][0], p[k][1], p[k][2]);
     snprintf(buf + n, cap - n, " ]\nAttributeEnd\n");
+}
+
+/* One one-sided emissive mesh of n triangles tri[i][0..3), each wound so
+   that its normal (pbrt-v4's cross(p0 - p2, p1 - p2)) points along facing[i],
+   and turned (a cyclic turn keeps the winding) so that its highest vertex
+   comes first. */
+static void add_oriented(char *buf, size_t cap, Vec3 (*tri)[3], const Vec3 *facing, int n)
+{
+    size_t len = strlen(buf);
+    int i, k;
+    len += (size_t)snprintf(buf + len, cap - len,
+                            "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" %s \"float scale\" [ 1 ]\n"
+                            " Shape \"trianglemesh\" \"integer indices\" [", SPIKY);
+    for (i = 0; i < 3 * n; i++) len += (size_t)snprintf(buf + len, cap - len, " %d", i);
+    len += (size_t)snprintf(buf + len, cap - len, " ]\n  \"point3 P\" [");
+    for (i = 0; i < n; i++) {
+        Vec3 nrm = v3_cross(v3_sub(tri[i][0], tri[i][2]), v3_sub(tri[i][1], tri[i][2]));
+        if (v3_dot(nrm, facing[i]) < 0.0f) { Vec3 x = tri[i][0]; tri[i][0] = tri[i][1]; tri[i][1] = x; }
+        while (tri[i][1].y > tri[i][0].y || tri[i][2].y > tri[i][0].y) {
+            Vec3 x = tri[i][0];
+            tri[i][0] = tri[i][1]; tri[i][1] = tri[i][2]; tri[i][2] = x;
+        }
+        for (k = 0; k < 3; k++)
+            len += (size_t)snprintf(buf + len, cap - len, " %g %g %g", tri[i][k].x, tri[i][k].y, tri[i][k].z);
+    }
+    snprintf(buf + len, cap - len, " ]\nAttributeEnd\n");
+}
+
+/* A roof at c: two rectangles of half-size h leaning 40 degrees either way
+   from a ridge along z, facing up and outwards (axis +y, theta_o = 40
+   degrees).  The piece's lowest points, where the plane of node_behind must
+   lie, are the eaves; every triangle lists a ridge vertex first. */
+static void add_roof(char *buf, size_t cap, Vec3 c, float h)
+{
+    Vec3 tri[4][3], facing[4];
+    const float cs = (float)cos(40.0 * SPECNEE_PI / 180.0), sn = (float)sin(40.0 * SPECNEE_PI / 180.0);
+    int side;
+    for (side = 0; side < 2; side++) {
+        float sx = side ? 1.0f : -1.0f;
+        Vec3 r1 = v3(c.x, c.y, c.z - h), r2 = v3(c.x, c.y, c.z + h);
+        Vec3 o1 = v3(c.x + sx * 2 * h * cs, c.y - 2 * h * sn, c.z - h), o2 = v3(o1.x, o1.y, c.z + h);
+        tri[2 * side][0] = r1; tri[2 * side][1] = r2; tri[2 * side][2] = o2;
+        tri[2 * side + 1][0] = r1; tri[2 * side + 1][1] = o2; tri[2 * side + 1][2] = o1;
+        facing[2 * side] = facing[2 * side + 1] = v3(sx * sn, cs, 0.0f);
+    }
+    add_oriented(buf, cap, tri, facing, 4);
+}
+
+/* Three upright triangles at c facing the horizontal directions 0, 110 and 250
+   degrees around y: a piece whose cone (theta_o = 110, theta_e = 90 degrees)
+   spans more than 180 degrees, so that no plane bounds where its light goes. */
+static void add_three_faced(char *buf, size_t cap, Vec3 c, float h)
+{
+    Vec3 tri[3][3], facing[3];
+    int i;
+    for (i = 0; i < 3; i++) {
+        double phi = (i == 0 ? 0.0 : i == 1 ? 110.0 : 250.0) * SPECNEE_PI / 180.0;
+        Vec3 n = v3((float)cos(phi), 0.0f, (float)sin(phi)), tg = v3(-(float)sin(phi), 0.0f, (float)cos(phi));
+        Vec3 o = v3_add(c, v3_mul(n, h));
+        tri[i][0] = v3_sub(o, v3_mul(tg, h));
+        tri[i][1] = v3_add(o, v3_mul(tg, h));
+        tri[i][2] = v3_add(o, v3(0.0f, 2.0f * h, 0.0f));
+        facing[i] = n;
+    }
+    add_oriented(buf, cap, tri, facing, 3);
 }
 
 /* A tessellated emissive panel (k x k quads, 2 k^2 triangles) on the plane
@@ -585,9 +651,11 @@ static void check_conservative(T *t, const Scene *s, uint64_t seed, int *checked
    the mixed lamps (facing every way, a third two-sided, a split panel), and
    on 36 lamps in a grid under the ceiling, all facing down, every other one
    two-sided: those light the points above them through their backs, so a
-   node that merges one-sided and two-sided lamps must be two-sided; and on 16
+   node that merges one-sided and two-sided lamps must be two-sided; on 16
    tents (two faces at a right angle) whose light also goes behind the plane
-   that bounds their box on their axis' far side. */
+   that bounds their box on their axis' far side; and on roofs and
+   three-faced pieces (node_behind's plane from every vertex, and none for
+   cones over 180 degrees). */
 static void test_conservative(T *t)
 {
     static char buf[1 << 16];
@@ -622,6 +690,20 @@ static void test_conservative(T *t)
     check_conservative(t, &s, 23, &checked);
     scene_free(&s);
     CHECK(t, checked > 1000, "tents: only %d facing pieces checked", checked);
+    /* 8 roofs (the plane must come from every vertex) and 8 small
+       three-faced pieces by the +x wall (cones over 180 degrees: no plane at
+       all; points far along -x, which their 110 and 250 degree faces light,
+       would be behind one) */
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    for (i = 0; i < 8; i++) {
+        add_roof(buf, sizeof buf, v3(-0.6f + 0.4f * (float)(i % 4), -0.3f + 0.4f * (float)(i / 4), -0.5f + 0.3f * (float)(i % 3)), 0.05f);
+        add_three_faced(buf, sizeof buf, v3(0.8f, -0.6f + 0.4f * (float)(i % 4), -0.5f + 0.3f * (float)(i / 2)), 0.005f);
+    }
+    if (!test_load_scene(t, &s, buf)) return;
+    checked = 0;
+    check_conservative(t, &s, 24, &checked);
+    scene_free(&s);
+    CHECK(t, checked > 1000, "roofs and three-faced pieces: only %d facing pieces checked", checked);
 }
 
 /* The four children of a node are evaluated side by side (SSE2) by code that
@@ -686,48 +768,75 @@ static LightCtx ctx_at(Vec3 p)
     return c;
 }
 
+/* p rotated by 33 degrees about the axis (1, 2, 3) through the origin, as the
+   scene directive "Rotate 33 1 2 3" turns a point (Rodrigues' formula); rot = 0:
+   p itself. */
+static Vec3 rotate33(Vec3 p, int rot)
+{
+    const double a = 33.0 * SPECNEE_PI / 180.0, c = cos(a), sn = sin(a), l = sqrt(14.0);
+    const double k[3] = { 1.0 / l, 2.0 / l, 3.0 / l };
+    double v[3], kv, x[3];
+    int i;
+    if (!rot) return p;
+    v[0] = p.x; v[1] = p.y; v[2] = p.z;
+    kv = k[0] * v[0] + k[1] * v[1] + k[2] * v[2];
+    x[0] = k[1] * v[2] - k[2] * v[1];                  /* k x v */
+    x[1] = k[2] * v[0] - k[0] * v[2];
+    x[2] = k[0] * v[1] - k[1] * v[0];
+    for (i = 0; i < 3; i++) x[i] = v[i] * c + x[i] * sn + k[i] * kv * (1.0 - c);
+    return v3((float)x[0], (float)x[1], (float)x[2]);
+}
+
 /* Behind the box: 16 small lamps in a plane, all facing down.  A point just
    above the plane is inside the bounding sphere of the lamps (and of most
    nodes), where no angle can be bounded, yet nothing can light it: the walk
    must find I = 0 at the root (light_select -1, every pmf 0) instead of
    sampling a lamp that sends nothing there.  Below the plane every lamp
-   keeps P > 0.  Both trees. */
+   keeps P > 0.  Both trees; the lamps axis-aligned, and turned by 33 degrees
+   about (1, 2, 3), where the normals of their triangles differ in the last
+   bits (theta_o > 0, so the plane needs its slack, node_behind). */
 static void test_behind(T *t)
 {
     static char buf[1 << 15];
     Scene s;
-    int i, st, above = 0, below = 0;
-    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
-    for (i = 0; i < 16; i++)
-        add_quad(buf, sizeof buf, SPIKY, 1, v3(-0.45f + 0.3f * (i % 4), 0.2f, -0.45f + 0.3f * (float)(i / 4)), 1, -1,
-                 0.04f);
-    if (!test_load_scene(t, &s, buf)) return;
-    for (st = 0; st < 2; st++) {
-        LightSampler *ls = build(t, &s, st ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
-        Rng r;
-        int k;
-        if (!ls) continue;
-        rng_seed(&r, 31, (uint64_t)st);
-        for (k = 0; k < 200; k++) {
-            const Vec3 u = rng_vec3(&r);
-            LightCtx c = ctx_at(v3(-0.4f + 0.8f * u.x, 0.2001f + 0.1f * u.y, -0.4f + 0.8f * u.z));
-            float pmf = 1.0f, sum = 0.0f;
-            int piece = light_select(ls, &c, rng_float(&r), &pmf, NULL), j;
-            for (j = 0; j < light_n_pieces(ls); j++) sum += light_select_pmf(ls, &c, j);
-            above += piece < 0 && pmf == 0.0f && sum == 0.0f;
-            c.p.y = 0.2f - (c.p.y - 0.2f);           /* the mirror point below the lamps */
-            for (j = 0, sum = 0.0f; j < light_n_pieces(ls); j++) {
-                float pj = light_select_pmf(ls, &c, j);
-                below += pj > 0.0f;
-                sum += pj;
+    int i, st, rot, above = 0, below = 0;
+    for (rot = 0; rot < 2; rot++) {
+        snprintf(buf, sizeof buf, "%s%s%s", camera16, test_box_walls, rot ? "AttributeBegin\nRotate 33 1 2 3\n" : "");
+        for (i = 0; i < 16; i++)
+            add_quad(buf, sizeof buf, SPIKY, 1, v3(-0.45f + 0.3f * (i % 4), 0.2f, -0.45f + 0.3f * (float)(i / 4)), 1,
+                     -1, 0.04f);
+        if (rot) strncat(buf, "AttributeEnd\n", sizeof buf - strlen(buf) - 1);
+        if (!test_load_scene(t, &s, buf)) return;
+        for (st = 0; st < 2; st++) {
+            LightSampler *ls = build(t, &s, st ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
+            Rng r;
+            int k;
+            if (!ls) continue;
+            rng_seed(&r, 31, (uint64_t)(2 * rot + st));
+            for (k = 0; k < 200; k++) {
+                const Vec3 u = rng_vec3(&r);
+                Vec3 q = v3(-0.4f + 0.8f * u.x, 0.2f + (rot ? 0.01f : 0.0001f) + 0.1f * u.y, -0.4f + 0.8f * u.z);
+                LightCtx c = ctx_at(rotate33(q, rot));
+                float pmf = 1.0f, sum = 0.0f;
+                int piece = light_select(ls, &c, rng_float(&r), &pmf, NULL), j;
+                for (j = 0; j < light_n_pieces(ls); j++) sum += light_select_pmf(ls, &c, j);
+                above += piece < 0 && pmf == 0.0f && sum == 0.0f;
+                q.y = 0.2f - (q.y - 0.2f);               /* the mirror point below the lamps */
+                c.p = rotate33(q, rot);
+                for (j = 0, sum = 0.0f; j < light_n_pieces(ls); j++) {
+                    float pj = light_select_pmf(ls, &c, j);
+                    below += pj > 0.0f;
+                    sum += pj;
+                }
+                CHECK(t, fabsf(sum - 1.0f) < 1e-4f, "%s%s: pmfs below the lamps sum to %g",
+                      st ? "spectral-tree" : "tree", rot ? ", turned" : "", sum);
             }
-            CHECK(t, fabsf(sum - 1.0f) < 1e-4f, "%s: pmfs below the lamps sum to %g", st ? "spectral-tree" : "tree", sum);
+            light_sampler_free(ls);
         }
-        light_sampler_free(ls);
+        scene_free(&s);
     }
-    scene_free(&s);
-    CHECK(t, above == 400, "%d of 400 points above down-facing lamps found nothing to sample", above);
-    CHECK(t, below == 400 * 16, "%d of %d lamps had P > 0 from below", below, 400 * 16);
+    CHECK(t, above == 800, "%d of 800 points above down-facing lamps found nothing to sample", above);
+    CHECK(t, below == 800 * 16, "%d of %d lamps had P > 0 from below", below, 800 * 16);
 }
 
 const TestCase tests_lighttree[] = {
