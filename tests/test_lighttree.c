@@ -17,7 +17,9 @@
                   side by side (SSE2) equal the scalar code's, bit for bit, at
                   random contexts on both trees
      lighttree_prefers_near  two identical emitters: the near one is preferred,
-                  and an emitter facing away from the point is never chosen
+                  and an emitter facing away from the point is never chosen;
+                  of two at one distance, the one facing the point about 4:1
+                  over one seen at 80 degrees
      lighttree_degenerate  all emitters at one point, all coplanar, one emitter,
                   10,000 emitters: the build works, pmfs sum to 1, no NaN
      lighttree_mesh_split_unbiased  a large emissive mesh split into clusters
@@ -390,6 +392,27 @@ static void test_prefers_near(T *t)
         CHECK(t, near_ > 0.9f && far_ > 0.0f && far_ < 0.1f,
               "%s: near emitter P = %g, far one %g", v ? "spectral-tree" : "tree", near_, far_);
         CHECK(t, away == 0.0f, "%s: an emitter facing away has P = %g", v ? "spectral-tree" : "tree", away);
+    }
+    scene_free(&s);
+    /* two identical small lamps 0.6 from the origin, both facing down: the
+       origin lies straight below the first and 80 degrees off the second's
+       normal, so the orientation bound (cos 80 = 0.17, widened by the lamps'
+       2.7-degree bounding spheres) must prefer the first about 4:1 */
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    add_quad(buf, sizeof buf, BLUEISH, 4, v3(0.0f, 0.6f, 0.0f), 1, -1, 0.02f);
+    add_quad(buf, sizeof buf, BLUEISH, 4, v3(0.6f * (float)sin(80.0 * SPECNEE_PI / 180.0),
+                                             0.6f * (float)cos(80.0 * SPECNEE_PI / 180.0), 0.0f), 1, -1, 0.02f);
+    if (!test_load_scene(t, &s, buf)) return;
+    for (v = 0; v < 2; v++) {
+        LightSampler *ls = build(t, &s, v ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
+        float facing, grazing;
+        if (!ls) break;
+        facing = pmf_of(ls, v3(0, 0, 0), v3(0, 0, 0), 500.0f, 15u, 0);
+        grazing = pmf_of(ls, v3(0, 0, 0), v3(0, 0, 0), 500.0f, 15u, 1);
+        light_sampler_free(ls);
+        CHECK(t, grazing > 0.0f && facing > 3.0f * grazing && facing < 6.0f * grazing,
+              "%s: the lamp above P = %g, the one seen at 80 degrees %g (want about 4:1)",
+              v ? "spectral-tree" : "tree", facing, grazing);
     }
     scene_free(&s);
 }
