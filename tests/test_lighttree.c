@@ -13,6 +13,8 @@
                   picks the emitter that is dark there, the total-power tree does
      lighttree_conservative  every piece with a point facing a random point has
                   P > 0 (one- and two-sided lamps facing every way, a split panel)
+     lighttree_conservative_random  the same on 24 random scenes of quads in
+                  groups facing random ways (equal, close or far-apart normals)
      lighttree_simd_matches_scalar  the four children's importances computed
                   side by side (SSE2) equal the scalar code's, bit for bit, at
                   random contexts on both trees
@@ -729,6 +731,93 @@ static void test_conservative(T *t)
     CHECK(t, checked > 1000, "roofs and three-faced pieces: only %d facing pieces checked", checked);
 }
 
+/* A context at p, no normal, four alive wavelengths. */
+static LightCtx ctx_at(Vec3 p)
+{
+    LightCtx c;
+    int j;
+    memset(&c, 0, sizeof c);
+    c.p = p;
+    c.voxel = -1;
+    c.alive = 15u;
+    for (j = 0; j < HERO_N; j++) { c.lambda[j] = 430.0f + 70.0f * j; c.beta[j] = 1.0f; }
+    return c;
+}
+
+/* The bounds stay conservative for lamps facing any way: 24 random scenes of
+   4 to 63 one-sided quads in groups of four around a random direction (the
+   normals of a group equal, 0.05 apart, or 0.8 apart; the quads spread
+   through the box or crowded into a slab), 300 random points each in and
+   around them: every piece with a point that faces the point has P > 0,
+   under both trees (behind the box, with and without its slack, and the
+   cone bound). */
+static void test_conservative_random(T *t)
+{
+    static char buf[1 << 16];
+    int trial, bad = 0, checked = 0;
+    for (trial = 0; trial < 24; trial++) {
+        Rng r;
+        Scene s;
+        size_t len;
+        int i, nq, st;
+        Vec3 base = v3(0, 1, 0);
+        const float spread = trial % 3 == 0 ? 0.0f : trial % 3 == 1 ? 0.05f : 0.8f;
+        rng_seed(&r, 4000 + (uint64_t)trial, 7);
+        len = (size_t)snprintf(buf, sizeof buf, "%s", camera16);
+        nq = 4 + (int)(rng_float(&r) * 60);
+        for (i = 0; i < nq; i++) {
+            Vec3 n, t1, t2, c, d;
+            float h = 0.02f + 0.08f * rng_float(&r);
+            int k;
+            if (i % 4 == 0) {
+                d = v3_sub(v3_mul(rng_vec3(&r), 2.0f), v3(1.0f, 1.0f, 1.0f));
+                base = v3_dot(d, d) > 1e-4f ? v3_norm(d) : v3(0, 1, 0);
+            }
+            d = v3_sub(v3_mul(rng_vec3(&r), 2.0f), v3(1.0f, 1.0f, 1.0f));
+            n = v3_norm(v3_add(base, v3_mul(d, spread)));
+            t1 = v3_norm(v3_cross(n, fabsf(n.x) < 0.9f ? v3(1, 0, 0) : v3(0, 1, 0)));
+            t2 = v3_cross(n, t1);
+            c = v3_sub(v3_mul(rng_vec3(&r), 1.6f), v3(0.8f, 0.8f, 0.8f));
+            if (trial % 2) c.x *= 0.2f;                  /* crowded into a slab */
+            len += (size_t)snprintf(buf + len, sizeof buf - len,
+                                    "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" %s \"float scale\" [ 1 ]\n"
+                                    " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [", SPIKY);
+            for (k = 0; k < 4; k++) {                   /* counter-clockwise about n */
+                Vec3 p = v3_add(c, v3_add(v3_mul(t1, k == 0 || k == 3 ? -h : h), v3_mul(t2, k < 2 ? -h : h)));
+                len += (size_t)snprintf(buf + len, sizeof buf - len, " %.9g %.9g %.9g", p.x, p.y, p.z);
+            }
+            len += (size_t)snprintf(buf + len, sizeof buf - len, " ]\nAttributeEnd\n");
+        }
+        if (!test_load_scene(t, &s, buf)) return;
+        for (st = 0; st < 2; st++) {
+            LightSampler *ls = build(t, &s, st ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
+            int k;
+            if (!ls) break;
+            for (k = 0; k < 300; k++) {
+                LightCtx c = ctx_at(v3_sub(v3_mul(rng_vec3(&r), 2.4f), v3(1.2f, 1.2f, 1.2f)));
+                int piece, j;
+                for (piece = 0; piece < light_n_pieces(ls); piece++) {
+                    int faces = 0;
+                    for (j = 0; j < 8 && !faces; j++) {
+                        EmitterSample es;
+                        const Vec3 u = rng_vec3(&r);
+                        if (!light_sample(ls, piece, c.p, u.x, u.y, u.z, &es)) continue;
+                        faces = v3_dot(es.n, v3_mul(es.wi, -1.0f)) > 1e-3f;
+                    }
+                    if (!faces) continue;
+                    checked++;
+                    if (!(light_select_pmf(ls, &c, piece) > 0.0f) && bad++ < 3)
+                        test_failf(t, __FILE__, __LINE__, "scene %d, %s: piece %d faces (%g %g %g) but has P = 0",
+                                   trial, st ? "spectral-tree" : "tree", piece, c.p.x, c.p.y, c.p.z);
+                }
+            }
+            light_sampler_free(ls);
+        }
+        scene_free(&s);
+    }
+    CHECK(t, bad == 0 && checked > 100000, "%d of %d facing pieces had P = 0", bad, checked);
+}
+
 /* The four children of a node are evaluated side by side (SSE2) by code that
    mirrors the scalar importance step for step: at random contexts - points in
    and around the box, inside the nodes' bounding spheres and far outside, on
@@ -776,19 +865,6 @@ static void test_simd_matches_scalar(T *t)
     scene_free(&s[1]);
     CHECK(t, bad == 0 && lanes > 10000 && positive > 100, "%d of %d children differ (%d contexts light piece 0)",
           bad, lanes, positive);
-}
-
-/* A context at p, no normal, four alive wavelengths. */
-static LightCtx ctx_at(Vec3 p)
-{
-    LightCtx c;
-    int j;
-    memset(&c, 0, sizeof c);
-    c.p = p;
-    c.voxel = -1;
-    c.alive = 15u;
-    for (j = 0; j < HERO_N; j++) { c.lambda[j] = 430.0f + 70.0f * j; c.beta[j] = 1.0f; }
-    return c;
 }
 
 /* p rotated by 33 degrees about the axis (1, 2, 3) through the origin, as the
@@ -864,6 +940,7 @@ static void test_behind(T *t)
 
 const TestCase tests_lighttree[] = {
     { "lighttree_conservative", test_conservative },
+    { "lighttree_conservative_random", test_conservative_random },
     { "lighttree_simd_matches_scalar", test_simd_matches_scalar },
     { "lighttree_per_render_radiance", test_per_render_radiance },
     { "lighttree_select_matches_pmf", test_select_matches_pmf },
