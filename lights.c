@@ -904,6 +904,14 @@ static int longest_axis(Vec3 d)
     return d.x >= d.y && d.x >= d.z ? 0 : d.y >= d.z ? 1 : 2;
 }
 
+/* The scene triangle that is triangle j (0 <= j < piece_tri_count) of piece pc,
+   a mesh piece whose emitter's shape is sh. */
+static int piece_tri_count(const Piece *pc, const Shape *sh) { return pc->count ? pc->count : sh->tri_count; }
+static int piece_triangle(const LightSampler *ls, const Piece *pc, const Shape *sh, int j)
+{
+    return pc->count ? ls->piece_tri[pc->first + j] : sh->tri_begin + j;
+}
+
 /* TreeNode.behind and .slack of a node with bounds a (section 4, "behind the
    box").  Every emitted direction omega of the node lies within theta_t =
    theta_o + theta_e of its axis w.  Light from a point x of the box reaches p
@@ -945,10 +953,9 @@ static float node_behind(const LightSampler *ls, const int *items, int n, const 
     for (i = 0; i < n; i++) {
         const Piece *pc = &ls->pieces[items[i]];
         const Shape *sh = &s->shapes[s->emitters[pc->emitter].shape];
-        int count = pc->count ? pc->count : sh->tri_count;
         if (sh->type != SHAPE_MESH) return -INFINITY;   /* (a sphere's cone is full anyway) */
-        for (j = 0; j < count; j++) {
-            const Triangle *tr = &s->tris[pc->count ? ls->piece_tri[pc->first + j] : sh->tri_begin + j];
+        for (j = 0; j < piece_tri_count(pc, sh); j++) {
+            const Triangle *tr = &s->tris[piece_triangle(ls, pc, sh, j)];
             for (k = 0; k < 3; k++) {
                 const Vec3 x = s->P[tr->v[k]];
                 double d = w[0] * x.x + w[1] * x.y + w[2] * x.z;
@@ -1219,11 +1226,11 @@ static void piece_bounds(const LightSampler *ls, const Piece *pc, PieceBounds *o
         out->bmax = v3_add(sh->center, r);
         out->cone = cone_full(0.0f);
     } else {
-        int first = pc->count ? pc->first : 0, count = pc->count ? pc->count : sh->tri_count, i, k;
+        int count = piece_tri_count(pc, sh), i, k;
         Vec3 nsum = v3(0, 0, 0);
         float cos_o = 1.0f;
         for (i = 0; i < count; i++) {
-            int t = pc->count ? ls->piece_tri[first + i] : sh->tri_begin + i;
+            int t = piece_triangle(ls, pc, sh, i);
             const Triangle *tr = &s->tris[t];
             for (k = 0; k < 3; k++) {
                 Vec3 p = s->P[tr->v[k]];
@@ -1238,7 +1245,7 @@ static void piece_bounds(const LightSampler *ls, const Piece *pc, PieceBounds *o
         } else {
             out->cone.w = v3_norm(nsum);
             for (i = 0; i < count; i++) {
-                int t = pc->count ? ls->piece_tri[first + i] : sh->tri_begin + i;
+                int t = piece_triangle(ls, pc, sh, i);
                 if (tri_area(s, t) > 0.0) cos_o = fminf(cos_o, v3_dot(out->cone.w, tri_normal(s, t)));
             }
             out->cone.cos_o = fmaxf(-1.0f, fminf(1.0f, cos_o));
@@ -1687,14 +1694,9 @@ static int tree_setup(LightSampler *ls)
     if (!B.le_avg) { free(B.centroids); goto done; }
     for (i = 0; i < ls->n_le; i++) {
         int b;
-        for (b = 0; b < ls->nb; b++) {             /* the 5 nm bin's average of Le (trapezoids) */
-            const Spectrum *Le = &ls->Le[i];
-            const int width = (int)SPD_BIN_NM;
-            int nm0 = (int)ls->opt.lo_nm + width * (b - ls->nb_uv), k;
-            double avg = 0.5 * (spec_get(Le, nm0) + spec_get(Le, nm0 + width));
-            for (k = 1; k < width; k++) avg += spec_get(Le, nm0 + k);
-            B.le_avg[(size_t)i * ls->nb + b] = avg / width;
-        }
+        for (b = 0; b < ls->nb; b++)               /* the 5 nm bin's mean of Le, in double */
+            B.le_avg[(size_t)i * ls->nb + b] =
+                spec_band_mean(&ls->Le[i], (int)ls->opt.lo_nm + (int)SPD_BIN_NM * (b - ls->nb_uv), (int)SPD_BIN_NM);
     }
     ls->n_nodes = 0;
     tree_build(&B, items, ls->n_tree_pieces, 0);

@@ -324,7 +324,9 @@ double cct_from_xy(double x, double y, double *duv);
 double spec_bin_sum(const Spectrum *s);
 float spec_bin_average(const Spectrum *s, int bin);  /* mean over [400+5b, 405+5b] nm */
 /* Exact mean of the piecewise-linear spectrum over [lo, lo + width] nm (integers,
-   inside SPEC_UV_MIN..SPEC_MAX); spec_bin_average is this over a thesis bin. */
+   inside SPEC_UV_MIN..SPEC_MAX, else 0), in double and rounded to float;
+   spec_bin_average is this over a thesis bin. */
+double spec_band_mean(const Spectrum *s, int lo_nm, int width_nm);
 float spec_band_average(const Spectrum *s, int lo_nm, int width_nm);
 
 /* Cauchy's law n(lambda) = A + B / lambda^2, lambda in micrometres. */

@@ -602,29 +602,29 @@ double cct_from_xy(double x, double y, double *duv)
    6. Thesis Eq. 6: bins of 5 nm over 400..700 nm
    ====================================================================== */
 
-/* The exact mean of the piecewise-linear table over [400 + 5b, 405 + 5b] nm: the
-   trapezoid rule is exact for a piecewise-linear function with knots at integers,
+/* The exact mean of the piecewise-linear table over [lo, lo + width] nm, in
+   double (0 outside the table): the trapezoid rule is exact for a
+   piecewise-linear function with knots at integers; for a 5 nm bin
        mean = (v0/2 + v1 + v2 + v3 + v4 + v5/2) / 5. */
-float spec_band_average(const Spectrum *s, int lo_nm, int width_nm)
+double spec_band_mean(const Spectrum *s, int lo_nm, int width_nm)
 {
     int k;
     double sum;
-    if (width_nm < 1 || lo_nm < SPEC_UV_MIN || lo_nm + width_nm > SPEC_MAX) return 0.0f;
+    if (width_nm < 1 || lo_nm < SPEC_UV_MIN || lo_nm + width_nm > SPEC_MAX) return 0.0;
     sum = 0.5 * (spec_get(s, lo_nm) + spec_get(s, lo_nm + width_nm));
     for (k = 1; k < width_nm; k++) sum += spec_get(s, lo_nm + k);
-    return (float)(sum / width_nm);
+    return sum / width_nm;
+}
+
+float spec_band_average(const Spectrum *s, int lo_nm, int width_nm)
+{
+    return (float)spec_band_mean(s, lo_nm, width_nm);
 }
 
 float spec_bin_average(const Spectrum *s, int bin)
 {
-    const int width = (int)SPD_BIN_NM;
-    int i0, k;
-    double sum;
     if (bin < 0 || bin >= SPD_BINS) return 0.0f;
-    i0 = (int)LAMBDA_LO + width * bin - SPEC_MIN;
-    sum = 0.5 * (s->v[i0] + s->v[i0 + width]);
-    for (k = 1; k < width; k++) sum += s->v[i0 + k];
-    return (float)(sum / width);
+    return spec_band_average(s, (int)LAMBDA_LO + (int)SPD_BIN_NM * bin, (int)SPD_BIN_NM);
 }
 
 double spec_bin_sum(const Spectrum *s)
