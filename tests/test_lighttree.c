@@ -74,29 +74,6 @@ static void add_quad(char *buf, size_t cap, const char *spectrum, float scale, V
              p[2][0], p[2][1], p[2][2], p[3][0], p[3][1], p[3][2]);
 }
 
-/* A one-sided "tent" lamp: one mesh of two quads of half-size h meeting at a
-   right angle, one facing down (-y) centred on c, one facing +x standing on
-   its +x edge.  Its normals span 90 degrees, so its cone (theta_o = 45,
-   theta_e = 90) emits behind the plane that bounds its box on the side its
-   axis points away from. */
-static void add_tent(char *buf, size_t cap, Vec3 c, float h)
-{
-    size_t n = strlen(buf);
-    static const float su[4] = { -1, 1, 1, -1 }, sv[4] = { -1, -1, 1, 1 };
-    float p[8][3];
-    int k;
-    for (k = 0; k < 4; k++) {                        /* as add_quad: axis 1, then axis 0 */
-        p[k][1] = c.y; p[k][2] = c.z + h * su[k]; p[k][0] = c.x + h * sv[k];
-        p[4 + k][0] = c.x + h; p[4 + k][1] = c.y + h + h * su[k]; p[4 + k][2] = c.z + h * sv[k];
-    }
-    n += (size_t)snprintf(buf + n, cap - n,
-                          "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" %s \"float scale\" [ 1 ]\n"
-                          " Shape \"trianglemesh\" \"integer indices\" [ 0 2 1 0 3 2  4 5 6 4 6 7 ]\n  \"point3 P\" [",
-                          SPIKY);
-    for (k = 0; k < 8; k++) n += (size_t)snprintf(buf + n, cap - n, " %g %g %g", p[k][0], p[k][1], p[k][2]);
-    snprintf(buf + n, cap - n, " ]\nAttributeEnd\n");
-}
-
 /* One one-sided emissive mesh of n triangles tri[i][0..3), each wound so
    that its normal (pbrt-v4's cross(p0 - p2, p1 - p2)) points along facing[i],
    and turned (a cyclic turn keeps the winding) so that its highest vertex
@@ -121,6 +98,26 @@ static void add_oriented(char *buf, size_t cap, Vec3 (*tri)[3], const Vec3 *faci
             len += (size_t)snprintf(buf + len, cap - len, " %g %g %g", tri[i][k].x, tri[i][k].y, tri[i][k].z);
     }
     snprintf(buf + len, cap - len, " ]\nAttributeEnd\n");
+}
+
+/* A one-sided "tent" lamp: one mesh of two quads of half-size h meeting at a
+   right angle, one facing down (-y) centred on c, one facing +x standing on
+   its +x edge.  Its normals span 90 degrees, so its cone (theta_o = 45,
+   theta_e = 90) emits behind the plane that bounds its box on the side its
+   axis points away from. */
+static void add_tent(char *buf, size_t cap, Vec3 c, float h)
+{
+    Vec3 tri[4][3], facing[4];
+    const Vec3 a = v3(c.x - h, c.y, c.z - h), b = v3(c.x + h, c.y, c.z - h), d = v3(c.x + h, c.y, c.z + h),
+               e = v3(c.x - h, c.y, c.z + h), ta = v3(c.x + h, c.y + 2 * h, c.z - h),
+               tb = v3(c.x + h, c.y + 2 * h, c.z + h);
+    tri[0][0] = a; tri[0][1] = b; tri[0][2] = d;
+    tri[1][0] = a; tri[1][1] = d; tri[1][2] = e;
+    tri[2][0] = b; tri[2][1] = d; tri[2][2] = tb;
+    tri[3][0] = b; tri[3][1] = tb; tri[3][2] = ta;
+    facing[0] = facing[1] = v3(0, -1, 0);
+    facing[2] = facing[3] = v3(1, 0, 0);
+    add_oriented(buf, cap, tri, facing, 4);
 }
 
 /* A roof at c: two rectangles of half-size h leaning 40 degrees either way
