@@ -21,7 +21,8 @@
      lighttree_prefers_near  two identical emitters: the near one is preferred,
                   and an emitter facing away from the point is never chosen;
                   of two at one distance, the one facing the point about 4:1
-                  over one seen at 80 degrees
+                  over one seen at 80 degrees; inside a node's bounding sphere
+                  the node whose centre is near wins
      lighttree_degenerate  all emitters at one point, all coplanar, one emitter,
                   10,000 emitters: the build works, pmfs sum to 1, no NaN
      lighttree_mesh_split_unbiased  a large emissive mesh split into clusters
@@ -412,6 +413,28 @@ static void test_prefers_near(T *t)
         CHECK(t, grazing > 0.0f && facing > 3.0f * grazing && facing < 6.0f * grazing,
               "%s: the lamp above P = %g, the one seen at 80 degrees %g (want about 4:1)",
               v ? "spectral-tree" : "tree", facing, grazing);
+    }
+    scene_free(&s);
+    /* inside a bounding sphere: a 1.8 m panel under the ceiling facing down
+       (A, r = 1.27) and a 1 m panel on the left wall facing +x (B, r = 0.71),
+       of equal power.  4 cm below A's centre (inside A's sphere, 1.24 m from
+       B's centre) A must win clearly (I = Phi / max(d, r/4)^2: P(A) = 0.94;
+       Phi / r^2 inside, as before session 7, gave 0.49); 4 cm in front of B's
+       centre (inside both spheres) B must (0.98; Phi / r^2 gave 0.76) */
+    snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+    add_quad(buf, sizeof buf, BLUEISH, 1.0f, v3(0.0f, 0.99f, 0.0f), 1, -1, 0.9f);
+    add_quad(buf, sizeof buf, BLUEISH, 3.24f, v3(-0.99f, 0.2f, 0.0f), 0, 1, 0.5f);
+    if (!test_load_scene(t, &s, buf)) return;
+    for (v = 0; v < 2; v++) {
+        LightSampler *ls = build(t, &s, v ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
+        float a, b;
+        if (!ls) break;
+        a = pmf_of(ls, v3(0.0f, 0.95f, 0.0f), v3(0, 0, 0), 500.0f, 15u, 0);
+        b = pmf_of(ls, v3(-0.95f, 0.2f, 0.0f), v3(0, 0, 0), 500.0f, 15u, 1);
+        light_sampler_free(ls);
+        CHECK(t, a > 0.85f && a < 1.0f && b > 0.9f && b < 1.0f,
+              "%s: inside the bounding spheres: P(ceiling panel) = %g below its centre (want > 0.85), "
+              "P(wall panel) = %g in front of its centre (want > 0.9)", v ? "spectral-tree" : "tree", a, b);
     }
     scene_free(&s);
 }
