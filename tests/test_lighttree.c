@@ -371,27 +371,42 @@ static void test_spectral_preference(T *t)
     scene_free(&s);
 }
 
+/* A pmf query: piece `piece` at point p with normal n (500 nm, all four
+   wavelengths alive). */
+typedef struct { Vec3 p, n; int piece; } PmfQuery;
+
+/* The pmfs of the queries q[0..m) under tree (v = 0) or spectral-tree (v = 1);
+   0 when the build fails. */
+static int tree_pmfs(T *t, const Scene *s, int v, const PmfQuery *q, int m, float *out)
+{
+    LightSampler *ls = build(t, s, v ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
+    int i;
+    if (!ls) return 0;
+    for (i = 0; i < m; i++) out[i] = pmf_of(ls, q[i].p, q[i].n, 500.0f, 15u, q[i].piece);
+    light_sampler_free(ls);
+    return 1;
+}
+
 static void test_prefers_near(T *t)
 {
     static char buf[1 << 14];
     Scene s;
     int v;
+    float P[3];
     snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
     add_quad(buf, sizeof buf, BLUEISH, 4, v3(-0.7f, 0.99f, 0.0f), 1, -1, 0.1f);   /* faces down */
     add_quad(buf, sizeof buf, BLUEISH, 4, v3(0.7f, 0.99f, 0.0f), 1, -1, 0.1f);    /* faces down */
     add_quad(buf, sizeof buf, BLUEISH, 40, v3(0.0f, 0.0f, 0.9f), 2, 1, 0.1f);     /* faces the back wall */
     if (!test_load_scene(t, &s, buf)) return;
-    for (v = 0; v < 2; v++) {
-        LightSampler *ls = build(t, &s, v ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
-        float near_, far_, away;
-        if (!ls) break;
-        near_ = pmf_of(ls, v3(-0.7f, 0.5f, 0.0f), v3(0, 1, 0), 500.0f, 15u, 0);
-        far_ = pmf_of(ls, v3(-0.7f, 0.5f, 0.0f), v3(0, 1, 0), 500.0f, 15u, 1);
-        away = pmf_of(ls, v3(0.0f, 0.0f, 0.0f), v3(0, 0, 0), 500.0f, 15u, 2);
-        light_sampler_free(ls);
-        CHECK(t, near_ > 0.9f && far_ > 0.0f && far_ < 0.1f,
-              "%s: near emitter P = %g, far one %g", v ? "spectral-tree" : "tree", near_, far_);
-        CHECK(t, away == 0.0f, "%s: an emitter facing away has P = %g", v ? "spectral-tree" : "tree", away);
+    {   /* near, far, facing away */
+        const PmfQuery q[3] = { { { -0.7f, 0.5f, 0.0f }, { 0, 1, 0 }, 0 },
+                                { { -0.7f, 0.5f, 0.0f }, { 0, 1, 0 }, 1 },
+                                { { 0, 0, 0 }, { 0, 0, 0 }, 2 } };
+        for (v = 0; v < 2 && tree_pmfs(t, &s, v, q, 3, P); v++) {
+            CHECK(t, P[0] > 0.9f && P[1] > 0.0f && P[1] < 0.1f,
+                  "%s: near emitter P = %g, far one %g", v ? "spectral-tree" : "tree", P[0], P[1]);
+            CHECK(t, P[2] == 0.0f, "%s: an emitter facing away has P = %g", v ? "spectral-tree" : "tree", P[2]);
+        }
     }
     scene_free(&s);
     /* two identical small lamps 0.6 from the origin, both facing down: the
@@ -403,16 +418,12 @@ static void test_prefers_near(T *t)
     add_quad(buf, sizeof buf, BLUEISH, 4, v3(0.6f * (float)sin(80.0 * SPECNEE_PI / 180.0),
                                              0.6f * (float)cos(80.0 * SPECNEE_PI / 180.0), 0.0f), 1, -1, 0.02f);
     if (!test_load_scene(t, &s, buf)) return;
-    for (v = 0; v < 2; v++) {
-        LightSampler *ls = build(t, &s, v ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
-        float facing, grazing;
-        if (!ls) break;
-        facing = pmf_of(ls, v3(0, 0, 0), v3(0, 0, 0), 500.0f, 15u, 0);
-        grazing = pmf_of(ls, v3(0, 0, 0), v3(0, 0, 0), 500.0f, 15u, 1);
-        light_sampler_free(ls);
-        CHECK(t, grazing > 0.0f && facing > 3.0f * grazing && facing < 6.0f * grazing,
-              "%s: the lamp above P = %g, the one seen at 80 degrees %g (want about 4:1)",
-              v ? "spectral-tree" : "tree", facing, grazing);
+    {
+        const PmfQuery q[2] = { { { 0, 0, 0 }, { 0, 0, 0 }, 0 }, { { 0, 0, 0 }, { 0, 0, 0 }, 1 } };
+        for (v = 0; v < 2 && tree_pmfs(t, &s, v, q, 2, P); v++)
+            CHECK(t, P[1] > 0.0f && P[0] > 3.0f * P[1] && P[0] < 6.0f * P[1],
+                  "%s: the lamp above P = %g, the one seen at 80 degrees %g (want about 4:1)",
+                  v ? "spectral-tree" : "tree", P[0], P[1]);
     }
     scene_free(&s);
     /* inside a bounding sphere: a 1.8 m panel under the ceiling facing down
@@ -425,16 +436,13 @@ static void test_prefers_near(T *t)
     add_quad(buf, sizeof buf, BLUEISH, 1.0f, v3(0.0f, 0.99f, 0.0f), 1, -1, 0.9f);
     add_quad(buf, sizeof buf, BLUEISH, 3.24f, v3(-0.99f, 0.2f, 0.0f), 0, 1, 0.5f);
     if (!test_load_scene(t, &s, buf)) return;
-    for (v = 0; v < 2; v++) {
-        LightSampler *ls = build(t, &s, v ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
-        float a, b;
-        if (!ls) break;
-        a = pmf_of(ls, v3(0.0f, 0.95f, 0.0f), v3(0, 0, 0), 500.0f, 15u, 0);
-        b = pmf_of(ls, v3(-0.95f, 0.2f, 0.0f), v3(0, 0, 0), 500.0f, 15u, 1);
-        light_sampler_free(ls);
-        CHECK(t, a > 0.85f && a < 1.0f && b > 0.9f && b < 1.0f,
-              "%s: inside the bounding spheres: P(ceiling panel) = %g below its centre (want > 0.85), "
-              "P(wall panel) = %g in front of its centre (want > 0.9)", v ? "spectral-tree" : "tree", a, b);
+    {
+        const PmfQuery q[2] = { { { 0.0f, 0.95f, 0.0f }, { 0, 0, 0 }, 0 },
+                                { { -0.95f, 0.2f, 0.0f }, { 0, 0, 0 }, 1 } };
+        for (v = 0; v < 2 && tree_pmfs(t, &s, v, q, 2, P); v++)
+            CHECK(t, P[0] > 0.85f && P[0] < 1.0f && P[1] > 0.9f && P[1] < 1.0f,
+                  "%s: inside the bounding spheres: P(ceiling panel) = %g below its centre (want > 0.85), "
+                  "P(wall panel) = %g in front of its centre (want > 0.9)", v ? "spectral-tree" : "tree", P[0], P[1]);
     }
     scene_free(&s);
 }
