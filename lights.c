@@ -144,20 +144,15 @@
       The pmf of a given piece walks the same nodes along the piece's trail
       (digit d, two bits: the child taken at depth d), calling the same
       importance function: select and pmf cannot disagree.
-      Build: top-down, LIGHT_TREE_BINS candidate cuts along each of six keys (the
-      pieces' box centroids x, y, z and the components of their emission axes
-      w: lamps that lie together but face apart, a checkerboard of down- and
-      up-lights, no plane across space can separate; session 7: the 1024-lamp
-      hall -3.0% MSE, many-lamps -1.2%, docs/lighttree.md), each scored by the
-      surface-area-orientation cost of both sides,
-          M = Phi * area(box) * M_omega(theta_o, theta_e) * (longest extent / extent on the axis;
-                                                             1 for the axes' keys)
+      Build: top-down over the box centroids, LIGHT_TREE_BINS candidate planes per
+      axis scored by the surface-area-orientation cost of both sides,
+          M = Phi * area(box) * M_omega(theta_o, theta_e) * (longest extent / extent on the axis)
           M_omega = 2 pi (1 - cos theta_o) + pi/2 (2 t sin theta_o - cos(theta_o - 2 t)
                     - 2 theta_o sin theta_o + cos theta_o),   t = min(theta_o + theta_e, pi)
       (M_omega is the solid-angle measure of the cone of emitted directions: the
       integral of cos(theta - theta_o) sin theta from theta_o to t, our derivation).
-      When no key varies (all centroids and axes coincide), or below depth 32,
-      the middle of the list (in centroid order) is taken: binary depth <= 32 + log2 n <= 63, so the 4-wide
+      When all centroids coincide, or below depth 32, the middle of the list (in
+      centroid order) is taken: binary depth <= 32 + log2 n <= 63, so the 4-wide
       depth is at most 32 and a 64-bit trail holds it.  O(n log n) time (n log^2 n
       for the median fallbacks), 2n - 1 binary nodes, at most n - 1 4-wide ones.
       Large emissive meshes (more than LIGHT_CLUSTER_TRIS triangles) are split into
@@ -979,24 +974,15 @@ static float node_behind(const LightSampler *ls, const int *items, int n, const 
     return f;
 }
 
-/* The six keys a split may cut along (section 4): 0-2 the piece's box
-   centroid, 3-5 the components of its emission axis w (so that lamps that lie
-   together but face apart, a ceiling's down- and up-lights, can be separated). */
-#define SPLIT_KEYS 6
-static float split_key(const Builder *B, int item, int a)
-{
-    return a < 3 ? v3_get(B->centroids[item], a) : v3_get(B->pb[item].cone.w, a - 3);
-}
-
 /* Build the binary subtree over items[0..n) at `depth`; returns its node
    index.  Recursion depth <= 64 (section 4). */
 static int tree_build(Builder *B, int *items, int n, int depth)
 {
     LightSampler *ls = B->ls;
-    int node = ls->n_nodes++, i, b, mid = -1, a, splittable = 0;
+    int node = ls->n_nodes++, i, b, mid = -1;
     TreeNode *nd = &ls->nodes[node];
     Acc all;
-    float klo[SPLIT_KEYS], kw[SPLIT_KEYS];
+    Vec3 cmin, cmax, cext;
     acc_init(&all);
     for (i = 0; i < n; i++) acc_add(&all, &B->pb[items[i]]);
     {
@@ -1025,39 +1011,28 @@ static int tree_build(Builder *B, int *items, int n, int depth)
         nd->power = (float)sum;
         return node;
     }
-    /* each key's range over the items; a key is worth cutting along when its
-       range is positive (centroids) or above 1e-3 (axes: not round-off) */
-    for (a = 0; a < SPLIT_KEYS; a++) {
-        float lo = split_key(B, items[0], a), hi = lo;
-        for (i = 1; i < n; i++) {
-            float x = split_key(B, items[i], a);
-            if (x < lo) lo = x;
-            if (x > hi) hi = x;
-        }
-        klo[a] = lo;
-        kw[a] = hi - lo;
-        if (!(kw[a] > (a < 3 ? 0.0f : 1e-3f))) kw[a] = 0.0f;
-        if (kw[a] > 0.0f) splittable = 1;
+    cmin = cmax = B->centroids[items[0]];
+    for (i = 1; i < n; i++) {
+        cmin = v3_min(cmin, B->centroids[items[i]]);
+        cmax = v3_max(cmax, B->centroids[items[i]]);
     }
-    if (depth < 32 && splittable) {
+    cext = v3_sub(cmax, cmin);
+    if (depth < 32 && (cext.x > 0.0f || cext.y > 0.0f || cext.z > 0.0f)) {
         /* binned surface-area-orientation heuristic */
         double best = INFINITY;
-        int best_axis = -1, best_plane = -1;
+        int best_axis = -1, best_plane = -1, a;
         Vec3 ext = v3_sub(all.bmax, all.bmin);
         float emax = fmaxf(ext.x, fmaxf(ext.y, ext.z));
-        for (a = 0; a < SPLIT_KEYS; a++) {
+        for (a = 0; a < 3; a++) {
             Acc bins[LIGHT_TREE_BINS], left[LIGHT_TREE_BINS];
-            float lo = klo[a], w = kw[a];
-            double kr = 1.0;                         /* the axes' keys: no box regularisation */
+            float lo = v3_get(cmin, a), w = v3_get(cext, a), ea = v3_get(ext, a);
+            double kr;
             Acc right;
             if (!(w > 0.0f)) continue;
-            if (a < 3) {
-                float ea = v3_get(ext, a);
-                kr = ea > 0.0f ? (double)emax / ea : 1.0;
-            }
+            kr = ea > 0.0f ? (double)emax / ea : 1.0;
             for (b = 0; b < LIGHT_TREE_BINS; b++) acc_init(&bins[b]);
             for (i = 0; i < n; i++) {
-                int k = (int)((split_key(B, items[i], a) - lo) / w * LIGHT_TREE_BINS);
+                int k = (int)((v3_get(B->centroids[items[i]], a) - lo) / w * LIGHT_TREE_BINS);
                 if (k < 0) k = 0;
                 if (k >= LIGHT_TREE_BINS) k = LIGHT_TREE_BINS - 1;
                 acc_add(&bins[k], &B->pb[items[i]]);
@@ -1077,10 +1052,10 @@ static int tree_build(Builder *B, int *items, int n, int depth)
         }
         if (best_axis >= 0) {
             /* partition in place: bin < best_plane first */
-            float lo = klo[best_axis], w = kw[best_axis];
+            float lo = v3_get(cmin, best_axis), w = v3_get(cext, best_axis);
             int l = 0, r = n - 1;
             while (l <= r) {
-                int k = (int)((split_key(B, items[l], best_axis) - lo) / w * LIGHT_TREE_BINS);
+                int k = (int)((v3_get(B->centroids[items[l]], best_axis) - lo) / w * LIGHT_TREE_BINS);
                 if (k < 0) k = 0;
                 if (k >= LIGHT_TREE_BINS) k = LIGHT_TREE_BINS - 1;
                 if (k < best_plane) l++;
@@ -1090,9 +1065,9 @@ static int tree_build(Builder *B, int *items, int n, int depth)
         }
     }
     if (mid < 0) {
-        /* nothing to cut along, or deep: the middle of the list in centroid order */
-        if (kw[0] > 0.0f || kw[1] > 0.0f || kw[2] > 0.0f)
-            sort_by_axis(items, n, B->centroids, longest_axis(v3(kw[0], kw[1], kw[2])), B->tmp);
+        /* all centroids coincide, or deep: the middle of the list in centroid order */
+        if (cext.x > 0.0f || cext.y > 0.0f || cext.z > 0.0f)
+            sort_by_axis(items, n, B->centroids, longest_axis(cext), B->tmp);
         mid = n / 2;
     }
     tree_build(B, items, mid, depth + 1);
