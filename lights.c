@@ -100,8 +100,9 @@
       near p is preferred (equal to the outside's value at d = r; the clamp
       keeps it finite at the centre; before session 7 it was Phi_c / r^2
       everywhere inside, which on the 1024-lamp hall of tools/bench_lights
-      cost 6% more MSE at equal spp, docs/lighttree.md); theta_w = angle between w and the
-      direction from the centre to p (folded into [0, pi/2] when two-sided);
+      cost 8% more MSE at equal spp, docs/lighttree.md); theta_w = angle
+      between w and the direction from the centre to p (folded into [0, pi/2]
+      when two-sided);
       theta' = max(0, theta_w - theta_o - theta_b), and I = 0 when theta' >= theta_e
       (no emitter below faces p); theta_i' = max(0, theta_i - theta_b) with
       theta_i the angle between n and the direction to the centre (|cos|: the
