@@ -1059,12 +1059,14 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
     }
 }
 
+float offset_eps(float m) { return 1e-5f * (1.0f + m); }   /* the policy at the top of this file */
+
 Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w)
 {
     float m = fabsf(p.x), eps;
     if (fabsf(p.y) > m) m = fabsf(p.y);
     if (fabsf(p.z) > m) m = fabsf(p.z);
-    eps = 1e-5f * (1.0f + m);                      /* the policy at the top of this file */
+    eps = offset_eps(m);
     if (v3_dot(ng, w) < 0.0f) eps = -eps;          /* to w's side of the surface */
     return v3_add(p, v3_mul(ng, eps));
 }

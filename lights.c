@@ -1314,6 +1314,11 @@ static float query_power(const TreeQuery *q, const float *bins, int stride)
     return phi;
 }
 
+/* Inside a node's bounding sphere the walk divides by |d|^2, but by no less
+   than (r/4)^2 = TREE_INSIDE r^2 (section 4; 1/4 measured: 1/2 to 1/10 gave
+   the same MSE within 0.5% on the hall and many-lamps, docs/lighttree.md). */
+#define TREE_INSIDE 0.0625f
+
 /* The importance of the child in lane k of node nd, whose power in the
    context is phi, at the query (section 4): the one function that both
    tree_select and tree_pmf call (through node_importance4, which computes
@@ -1330,13 +1335,9 @@ static float query_power(const TreeQuery *q, const float *bins, int stride)
        X = |d|^2 cos theta' = |d|^2, or (dw cos_o + S_w sin_o) S_b + (S_w cos_o - dw sin_o) r,
        Y = |d|^2 cos theta_i' = |d|^2, or dn S_b + S_i r,
    and I = Phi_c (1 / |d|^2) (X / |d|^2) (Y / |d|^2): three square roots and
-   one division (by |d|^2, at least FLT_MIN).  The product is taken in double,
-   where it can neither overflow nor round a positive importance to 0. */
-/* Inside a node's bounding sphere the walk divides by |d|^2, but by no less
-   than (r/4)^2 = TREE_INSIDE r^2 (section 4; 1/4 measured: 1/2 to 1/10 gave
-   the same MSE within 0.5% on the hall and many-lamps, docs/lighttree.md). */
-#define TREE_INSIDE 0.0625f
-
+   one division (by |d|^2, at least FLT_MIN).  Inside the bounding sphere
+   I = Phi_c / max(|d|^2, TREE_INSIDE r^2), no angle.  The product is taken in
+   double, where it can neither overflow nor round a positive importance to 0. */
 static double lane_importance(const TreeNode4 *nd, int k, const TreeQuery *q, float phi)
 {
     float dx, dy, dz, d2, r, r2, Sb, dw, X, Y, inv;
@@ -1439,8 +1440,8 @@ static void node_importance4(const TreeNode4 *nd, const TreeQuery *q, const floa
     ok = _mm_andnot_ps(_mm_or_ps(_mm_andnot_ps(inside, dead), behind), _mm_cmpgt_ps(vphi, zero));
     {   /* one division: by max(|d|^2, r^2 / 16) inside the sphere, else by |d|^2,
            at least FLT_MIN */
-        __m128 rin = _mm_mul_ps(_mm_set1_ps(TREE_INSIDE), r2);
-        __m128 inner = _mm_or_ps(_mm_and_ps(_mm_cmpgt_ps(d2, rin), d2), _mm_andnot_ps(_mm_cmpgt_ps(d2, rin), rin));
+        /* maxps is (d2 > rin ? d2 : rin), NaN included: the scalar test exactly */
+        __m128 inner = _mm_max_ps(d2, _mm_mul_ps(_mm_set1_ps(TREE_INSIDE), r2));
         __m128 den = _mm_or_ps(_mm_and_ps(inside, inner), _mm_andnot_ps(inside, d2));
         __m128 flt_min = _mm_set1_ps(FLT_MIN), gt = _mm_cmpgt_ps(den, flt_min);
         inv = _mm_div_ps(_mm_set1_ps(1.0f), _mm_or_ps(_mm_and_ps(gt, den), _mm_andnot_ps(gt, flt_min)));
@@ -1680,10 +1681,10 @@ static int tree_setup(LightSampler *ls)
     free(tmp);
     tmp = NULL;
     ls->n_tree_pieces = ls->n_pieces - ls->n_inf;
-    {   /* 1e-5 (1 + largest |coordinate|), as offset_ray_origin's policy */
+    {   /* offset_ray_origin's policy at the scene's largest |coordinate| */
         float m = fmaxf(fmaxf(fabsf(s->bmin.x), fabsf(s->bmax.x)),
                         fmaxf(fmaxf(fabsf(s->bmin.y), fabsf(s->bmax.y)), fmaxf(fabsf(s->bmin.z), fabsf(s->bmax.z))));
-        ls->behind_margin = 1e-5f * (1.0f + m);
+        ls->behind_margin = offset_eps(m);
     }
     ls->nb_uv = (int)((ls->opt.lo_nm - (float)SPEC_UV_MIN) / SPD_BIN_NM);
     if (ls->nb_uv < 0) ls->nb_uv = 0;

@@ -454,6 +454,9 @@ void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h
 /* Origin for a ray leaving p towards w: p moved along ng to w's side by
    1e-5 (1 + max|p_i|) (the self-intersection policy at the top of bvh.c). */
 Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w);
+/* That policy's distance for coordinates up to m in magnitude: 1e-5 (1 + m)
+   (also the light tree's round-off margin for "behind the box"). */
+float offset_eps(float m);
 
 /* ======================================================================
    6. Materials (material.c): only what the scenes need
