@@ -1780,11 +1780,170 @@ static int area_light_directive(Parser *P, const char *type, ParamList *pl, cons
    point (+z of the light's frame) without it: pi for a constant light, and for a
    map pbrt-v4's sum over the upper hemisphere's texels of Y(rgb) cos(theta) 2 pi
    / res^2 (pbrt-v4 lights.cpp, reproduced as it is). */
+/* The one point "point3 name" [x y z] (def when absent). */
+static int get_point3(Parser *P, ParamList *pl, const char *name, const double def[3], double out[3])
+{
+    Param *p = param_find(pl, PT_POINT3, name);
+    int k;
+    for (k = 0; k < 3; k++) out[k] = def[k];
+    if (!p) return 1;
+    if (p->n_num != 3)
+        return fail(P, p->file, p->line, "\"point3 %s\": expected 3 values, got %d", name, p->n_num);
+    for (k = 0; k < 3; k++) {
+        if (!isfinite(p->num[k]))
+            return fail(P, p->file, p->line, "\"point3 %s\": not a finite number", name);
+        out[k] = p->num[k];
+    }
+    return 1;
+}
+
+/* A number that must be finite: a file:line error naming it otherwise. */
+static int check_finite(Parser *P, ParamList *pl, const char *what, const char *name, float v,
+                        const char *file, int line)
+{
+    Param *p = param_find(pl, PT_FLOAT, name);
+    if (isfinite(v)) return 1;
+    return fail(P, p ? p->file : file, p ? p->line : line, "%s: \"float %s\" must be a finite "
+                "number", what, name);
+}
+
+/* LightSource "point", "spot" and "distant" (delta.c), with pbrt-v4's meaning
+   (lights.cpp, PointLight/SpotLight/DistantLight::Create).  The spectrum (I for
+   point and spot, L for distant; D65 when absent) is normalised as an area
+   light's is: lights.c divides it by its luminance (an rgb one by D65's), so that
+   a point light of scale 1 has luminous intensity 1 and a distant light of scale
+   1 gives illuminance 1 to a surface facing it.  Then
+     point    "power" Phi (> 0): scale *= Phi / (4 pi)
+     spot     "power" Phi: scale *= Phi / (2 pi ((1 - cos_start) + (cos_start - cos_end) / 2))
+     distant  "illuminance" E (> 0): scale *= E
+   (a power or illuminance <= 0 is pbrt-v4's "not given").  Positions and
+   directions are in the light's frame, the CTM at the LightSource: a point light
+   sits at CTM(from), a spot's axis is CTM(to - from), a distant light arrives
+   from CTM(from - to).  A spot light's cone must stay round in the world: its
+   CTM may rotate, translate and scale uniformly, not shear or stretch. */
+static int delta_light_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    static const double zero[3] = { 0, 0, 0 }, zplus[3] = { 0, 0, 1 };
+    Scene *s = P->s;
+    Emitter *em;
+    DeltaLight d;
+    Param *p;
+    Spectrum L;
+    double from[3], to[3];
+    float scale, power = -1.0f, cone = 30.0f, cdelta = 5.0f;
+    int rgb_illum = 0, i;
+    const char *sname = !strcmp(type, "distant") ? "L" : "I";
+    char what[64];
+    snprintf(what, sizeof what, "LightSource \"%s\"", type);
+    memset(&d, 0, sizeof d);
+    d.type = !strcmp(type, "point") ? DELTA_POINT : !strcmp(type, "spot") ? DELTA_SPOT : DELTA_DISTANT;
+    d.file = file;
+    d.line = line;
+    p = find_spectrum_param(pl, sname);
+    if (p) {
+        if (!param_spectrum(P, p, SPEC_ILLUMINANT, &L, &rgb_illum)) return 0;
+    } else if (!spec_named(&L, "stdillum-D65")) {
+        return fail(P, file, line, "LightSource: the built-in spectrum stdillum-D65 is missing");
+    }
+    if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
+    if (!get_point3(P, pl, "from", zero, from)) return 0;
+    if (d.type != DELTA_POINT && !get_point3(P, pl, "to", zplus, to)) return 0;
+    if (d.type == DELTA_DISTANT) {
+        if (!get_float(P, pl, "illuminance", -1.0f, &power)) return 0;
+        if (!params_check_unused(P, pl, what, "spectrum L, rgb L, blackbody L, float scale, "
+                                 "float illuminance, point3 from, point3 to", NULL))
+            return 0;
+    } else {
+        if (!get_float(P, pl, "power", -1.0f, &power)) return 0;
+        if (d.type == DELTA_SPOT) {
+            if (!get_float(P, pl, "coneangle", 30.0f, &cone)) return 0;
+            if (!get_float(P, pl, "conedeltaangle", 5.0f, &cdelta)) return 0;
+            if (!params_check_unused(P, pl, what, "spectrum I, rgb I, blackbody I, float scale, "
+                                     "float power, float coneangle, float conedeltaangle, "
+                                     "point3 from, point3 to", NULL))
+                return 0;
+        } else if (!params_check_unused(P, pl, what, "spectrum I, rgb I, blackbody I, float scale, "
+                                        "float power, point3 from", NULL)) {
+            return 0;
+        }
+    }
+    if (!check_finite(P, pl, what, "scale", scale, file, line) ||
+        !check_finite(P, pl, what, d.type == DELTA_DISTANT ? "illuminance" : "power", power, file, line) ||
+        !check_finite(P, pl, what, "coneangle", cone, file, line) ||
+        !check_finite(P, pl, what, "conedeltaangle", cdelta, file, line))
+        return 0;
+    if (!(scale >= 0.0f)) return fail(P, file, line, "%s: \"float scale\" must be >= 0", what);
+    for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
+        if (!(spec_get(&L, i) >= 0.0f))
+            return fail(P, p ? p->file : file, p ? p->line : line, "%s: %s is negative at %d nm",
+                        what, sname, i);
+    if (rgb_illum) {       /* as for AreaLightSource: normalised by D65, not by the rgb's spectrum */
+        Spectrum d65;
+        double xyz_l[3], xyz_d[3];
+        spec_named(&d65, "stdillum-D65");
+        spec_to_xyz(&L, (float)SPEC_MIN, (float)SPEC_MAX, xyz_l);
+        spec_to_xyz(&d65, (float)SPEC_MIN, (float)SPEC_MAX, xyz_d);
+        if (xyz_d[1] > 0.0) scale = (float)(scale * (xyz_l[1] / xyz_d[1]));
+    }
+    d.p = xf_point(&P->gs.ctm, v3((float)from[0], (float)from[1], (float)from[2]));  /* point, spot */
+    if (d.type == DELTA_POINT) {
+        if (power > 0.0f) scale = (float)(scale * power / (4.0 * SPECNEE_PI));
+    } else {
+        Vec3 dir = v3((float)(to[0] - from[0]), (float)(to[1] - from[1]), (float)(to[2] - from[2]));
+        if (!(v3_dot(dir, dir) > 0.0f))
+            return fail(P, file, line, "%s: \"from\" and \"to\" are the same point: no direction", what);
+        dir = v3_norm(xf_vector(&P->gs.ctm, dir));
+        if (!(v3_dot(dir, dir) > 0.0f) || !isfinite(dir.x + dir.y + dir.z))
+            return fail(P, file, line, "%s: the transform leaves no direction", what);
+        if (d.type == DELTA_DISTANT) {
+            d.w = v3_neg(dir);                           /* towards the light */
+            if (power > 0.0f) scale *= power;
+        } else {
+            /* uniform scale: the three transformed axes equally long and at right angles */
+            Vec3 ax = xf_vector(&P->gs.ctm, v3(1, 0, 0)), ay = xf_vector(&P->gs.ctm, v3(0, 1, 0));
+            Vec3 az = xf_vector(&P->gs.ctm, v3(0, 0, 1));
+            float lx = v3_len(ax), ly = v3_len(ay), lz = v3_len(az), tol = 1e-4f * lx;
+            double ts, tc;
+            if (fabsf(lx - ly) > tol || fabsf(lx - lz) > tol || fabsf(v3_dot(ax, ay)) > tol * lx ||
+                fabsf(v3_dot(ax, az)) > tol * lx || fabsf(v3_dot(ay, az)) > tol * lx)
+                return fail(P, file, line, "%s: the transform stretches or shears the cone; "
+                            "specnee's spot lights take rotations, translations and uniform "
+                            "scales only", what);
+            if (!(cone > 0.0f && cone <= 180.0f))
+                return fail(P, file, line, "%s: \"float coneangle\" %g must be in (0, 180] degrees",
+                            what, cone);
+            if (!(cdelta >= 0.0f))
+                return fail(P, file, line, "%s: \"float conedeltaangle\" %g must be >= 0", what, cdelta);
+            if (cdelta > cone)
+                fprintf(stderr, "%s:%d: note: %s: conedeltaangle %g > coneangle %g; as in pbrt-v4 "
+                        "the falloff starts at |coneangle - conedeltaangle| = %g degrees\n",
+                        file, line, what, cdelta, cone, fabs((double)cone - cdelta));
+            d.w = dir;
+            tc = (double)cone * SPECNEE_PI / 180.0;
+            ts = ((double)cone - cdelta) * SPECNEE_PI / 180.0;
+            d.cos_end = (float)cos(tc);
+            d.cos_start = (float)cos(ts);
+            if (power > 0.0f)
+                scale = (float)(scale * power / (2.0 * SPECNEE_PI * ((1.0 - d.cos_start) +
+                                                                    (d.cos_start - d.cos_end) / 2.0)));
+        }
+    }
+    if (!isfinite(scale))
+        return fail(P, file, line, "%s: scale x power is not a finite number", what);
+    if (!grow((void **)&s->emitters, &P->cap_emit, s->n_emitters + 1, sizeof(Emitter)))
+        return oom(P, file, line);
+    em = &s->emitters[s->n_emitters++];
+    memset(em, 0, sizeof *em);
+    em->shape = -1;
+    em->delta = d;
+    em->L = L;
+    em->scale = scale;
+    return 1;
+}
+
 static int light_source_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
-    static const char *const pbrt_types[] = {
-        "point", "spot", "goniometric", "projection", "distant", NULL
-    };
+    static const char *const pbrt_types[] = { "goniometric", "projection", NULL };
     Scene *s = P->s;
     Emitter *em;
     InfiniteLight *inf;
@@ -1793,11 +1952,13 @@ static int light_source_directive(Parser *P, const char *type, ParamList *pl, co
     float scale, ev;
     int rgb_illum = 0, i;
     Spectrum L;
+    if (!strcmp(type, "point") || !strcmp(type, "spot") || !strcmp(type, "distant"))
+        return delta_light_directive(P, type, pl, file, line);
     if (strcmp(type, "infinite") != 0) {
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
                 return fail(P, file, line, "LightSource \"%s\" is valid pbrt-v4 but not in the "
-                            "specnee subset (only \"infinite\")", type);
+                            "specnee subset (infinite, point, spot, distant)", type);
         return fail(P, file, line, "LightSource \"%s\": unknown light type", type);
     }
     p = find_spectrum_param(pl, "L");
@@ -2744,6 +2905,15 @@ void scene_dump(const Scene *s, FILE *f)
         if (e->inf)
             fprintf(f, "  [%d] infinite light, %s, scale %g, Y(Le) %.4g over %g-%g nm (mean), "
                     "power %.4g\n", i, e->inf->res ? "image map" : "constant", e->scale, Y,
+                    LAMBDA_LO, LAMBDA_HI, SPECNEE_PI * e->area * bins);
+        else if (e->delta.type == DELTA_DISTANT)
+            fprintf(f, "  [%d] distant light towards (%g, %g, %g), scale %g, Y(L) %.4g over %g-%g nm, "
+                    "power %.4g\n", i, e->delta.w.x, e->delta.w.y, e->delta.w.z, e->scale, Y,
+                    LAMBDA_LO, LAMBDA_HI, SPECNEE_PI * e->area * bins);
+        else if (e->delta.type != DELTA_NONE)
+            fprintf(f, "  [%d] %s light at (%g, %g, %g), scale %g, Y(I) %.4g over %g-%g nm, "
+                    "power %.4g\n", i, e->delta.type == DELTA_SPOT ? "spot" : "point",
+                    e->delta.p.x, e->delta.p.y, e->delta.p.z, e->scale, Y,
                     LAMBDA_LO, LAMBDA_HI, SPECNEE_PI * e->area * bins);
         else
         fprintf(f, "  [%d] shape %d, scale %g, %s, Y(Le) %.4g over %g-%g nm, area %g, power %.4g\n",

@@ -559,9 +559,30 @@ typedef struct {
     const char *file; int line;/* the LightSource directive, for messages */
 } InfiniteLight;
 
+/* A delta light (delta.c): pbrt-v4's LightSource "point", "spot" and "distant".
+   A point or spot light sits at one point and radiates intensity I(lambda)
+   (W/sr/nm), a spot only into a cone with a smooth falloff; a distant light sends
+   radiance from one direction, as from infinitely far away.  No ray can hit one:
+   NEE alone finds them (docs/THEORY.md section 11). */
+typedef enum { DELTA_NONE = 0, DELTA_POINT, DELTA_SPOT, DELTA_DISTANT } DeltaType;
 typedef struct {
-    int shape;                 /* the Shape that emits; -1 for an infinite light */
+    DeltaType type;            /* DELTA_NONE: not a delta light */
+    Vec3 p;                    /* point, spot: the position, in world space */
+    Vec3 w;                    /* spot: unit axis of the cone (from -> to); distant:
+                                  unit direction TOWARDS the light (from - to) */
+    float cos_start, cos_end;  /* spot: cos(coneangle - conedeltaangle), cos(coneangle):
+                                  full intensity inside the first, none outside the second */
+    Vec3 center; double radius;/* distant: the scene's bounding sphere (its power
+                                  pi R^2 L, and how far a shadow ray must go) */
+    const char *file; int line;/* the LightSource directive, for messages */
+} DeltaLight;
+
+typedef struct {
+    int shape;                 /* the Shape that emits; -1 for an infinite or delta light */
     InfiniteLight *inf;        /* NULL for an area light */
+    DeltaLight delta;          /* delta.type != DELTA_NONE: a point, spot or distant
+                                  light (shape -1, inf NULL); L is then its intensity
+                                  (point, spot) or radiance (distant) spectrum */
     Spectrum L;                /* the spectrum as given in the file (its shape matters) */
     float scale;               /* "float scale" */
     int twosided;
@@ -570,7 +591,9 @@ typedef struct {
        light_sampler_build and light_Le) */
     double area;               /* total area (sampling picks a triangle by area); infinite:
                                   4 pi radius^2, so that its power pi area int Le is
-                                  pbrt-v4's Phi = 4 pi^2 R^2 int Le */
+                                  pbrt-v4's Phi = 4 pi^2 R^2 int Le; a delta light: the
+                                  same "power area" (delta_power_area), so that
+                                  pi area int Le is its power too */
     float *tri_cdf;            /* tri_count + 1 entries for meshes */
     /* which side it lights (emitter_can_reach): a point p can receive light from
        a one-sided triangle only if it lies in front of the triangle's plane (off
@@ -589,7 +612,14 @@ typedef struct {
     Vec3 p, n;                 /* point on the emitter, its (oriented) normal */
     Vec3 wi;                   /* unit direction from the reference point to p */
     float dist;                /* distance to p */
-    float pdf_sa;              /* solid-angle pdf (given this emitter) */
+    float pdf_sa;              /* solid-angle pdf (given this emitter); for a delta
+                                  light, which has no density, 1 / G with G the factor
+                                  its incident radiance gets (falloff / dist^2 for a
+                                  point or spot, 1 for a distant light), so that Le /
+                                  pdf_sa is the estimate of the incident light for
+                                  every kind of emitter */
+    int delta;                 /* 1: a delta light's sample (no BSDF direction can
+                                  find it: its MIS weight against BSDF sampling is 1) */
 } EmitterSample;
 
 typedef enum {
@@ -786,6 +816,19 @@ void  inf_free(InfiniteLight *inf);
    itself -, or on the dark side of a sphere); 1 when it may.  Conservative: never
    0 where light could arrive from farther than reach_eps off a triangle's plane. */
 int   emitter_can_reach(const Scene *s, int e, Vec3 p);
+
+/* Delta lights (delta.c).  delta_falloff: a spot light's smoothstep falloff for
+   the unit direction w leaving it (1 for point and distant lights).
+   delta_sample: the one point (or direction) that lights ref, with pdf_sa = 1/G
+   (EmitterSample); 0 when it sends nothing to ref (outside a spot's cone, or ref
+   at the light).  delta_power_area: the "area" A with pi A int Le = the light's
+   power (pbrt-v4's Phi): 4 for a point light, 2 ((1 - cos_start) + (cos_start -
+   cos_end) / 2) for a spot, R^2 for a distant light.  delta_can_reach: 0 only
+   where the light sends nothing (outside a spot's cone). */
+float  delta_falloff(const DeltaLight *d, Vec3 w);
+int    delta_sample(const DeltaLight *d, Vec3 ref, EmitterSample *out);
+double delta_power_area(const DeltaLight *d);
+int    delta_can_reach(const DeltaLight *d, Vec3 p);
 
 typedef struct {
     SelStrategy strategy;

@@ -1800,6 +1800,9 @@ static int spectrum_table(const char *path, int power_metric, int svg)
             if (em->inf)
                 printf("# emitter %d: %s:%d, infinite light, area 4 pi R^2 = %.6g\n", e,
                        em->inf->file, em->inf->line, em->area);
+            else if (em->delta.type != DELTA_NONE)
+                printf("# emitter %d: %s:%d, delta light, power area %.6g\n", e,
+                       em->delta.file, em->delta.line, em->area);
             else
                 printf("# emitter %d: %s:%d, area %.6g\n", e, scene.shapes[em->shape].file,
                        scene.shapes[em->shape].line, em->area);
