@@ -310,6 +310,13 @@ void  spec_blackbody(Spectrum *s, float kelvin);  /* normalised to a peak of 1 (
 /* The sigmoid fit behind spec_from_rgb, for infinite.c's image maps: coefficients for a
    colour whose largest component is 1/2, and the shape sigmoid(poly(lambda)). */
 void  spec_rgb_coeffs(const double target[3], double c[3]);
+/* Fitting many colours (image textures, texture.c): the table the fit integrates
+   against, built once, and Newton's method from a nearby colour's coefficients
+   (0 when it does not converge: then use spec_rgb_coeffs). */
+typedef struct { double cmf_w[3][SPEC_N]; } RgbFitTable;
+void  spec_rgb_fit_table(RgbFitTable *t);
+int   spec_rgb_coeffs_from(const RgbFitTable *t, const double target[3], const double start[3],
+                           double c[3]);
 float spec_sigmoid_eval(const float c[3], float lambda_nm);
 /* CIE 1931 2-degree colour matching functions at lambda (nm), linear in the 5 nm CIE table. */
 void  cie_xyz(float lambda_nm, float xyz[3]);
@@ -393,6 +400,7 @@ typedef struct {
     int emitter;               /* index into Scene.emitters, -1 if not emissive */
     int flip;                  /* ReverseOrientation XOR a handedness-swapping transform */
     int has_normals;           /* mesh carries per-vertex shading normals */
+    int has_uv;                /* mesh carries per-vertex (u, v) in Scene.UV */
     int tri_begin, tri_count;  /* triangles [tri_begin, tri_begin + tri_count) */
     Vec3 center; float radius; /* sphere, in world space */
     double area;               /* world-space surface area */
@@ -449,6 +457,9 @@ typedef struct {
     Vec3 ns;                   /* shading normal (= ng without vertex normals) */
     int shape;                 /* index into Scene.shapes */
     int prim;
+    float u, v;                /* the shape's (u, v) parameters (pbrt-v4): a mesh's "uv"
+                                  interpolated, else (0,0), (1,0), (1,1) at its corners
+                                  (texture.c's "uv" mapping reads them) */
 } SurfacePoint;
 void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
 /* Origin for a ray leaving p towards w: p moved along ng to w's side by
@@ -478,6 +489,10 @@ typedef struct {
     float cauchy_a, cauchy_b;  /* the Cauchy coefficients when given (for --dump-scene) */
     int dispersive;            /* eta varies with lambda: terminates the secondaries */
     float alpha;               /* GGX roughness alpha (0 = smooth), after remaproughness */
+    int reflectance_tex;       /* diffuse: "texture reflectance", 1 + its index into
+                                  Scene.textures (0, as a zeroed Material has it: the
+                                  spectrum above) */
+    const struct Texture *textures;  /* the scene's textures (set when loading ends) */
 } Material;
 
 float mat_eta(const Material *m, float lambda_nm);
@@ -505,6 +520,46 @@ float fluor_pdf_li_uniform(float lo, float li);
 typedef enum { FLUOR_LI_A, FLUOR_LI_POWER, FLUOR_LI_UNIFORM } FluorLi;
 /* The diffuse albedo of the reflect lobe: rho (diffuse) or rho (1 - A) (fluorescent). */
 float mat_albedo(const Material *m, float lambda_nm);
+/* The same at a surface point: a textured reflectance evaluated there, clamped to
+   [0, 1] (pbrt-v4's DiffuseMaterial), else mat_albedo. */
+float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm);
+
+/* ---- Textures (texture.c): pbrt-v4's Texture directive ----
+   A texture is a function of the surface point evaluated at one wavelength (a
+   "spectrum" texture) or a number (a "float" texture).  2-D textures first map
+   the point to (s, t): "uv" (s = uscale u + udelta, t = vscale v + vdelta),
+   "spherical", "cylindrical" or "planar" (in the texture's frame, the CTM at the
+   Texture directive).  An argument (tex1, tex2, amount, tex, scale) is a
+   constant or another texture. */
+typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP } TexType;
+typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR } TexMapType;
+typedef enum { TEXWRAP_REPEAT, TEXWRAP_BLACK, TEXWRAP_CLAMP } TexWrap;
+#define TEX_ARGS 2
+typedef struct Texture {
+    TexType type;
+    int is_float;              /* a "float" texture, else a "spectrum" one */
+    TexMapType map;
+    float su, sv, du, dv;      /* uv: scales and offsets; planar: du, dv the offsets */
+    Vec3 vs, vt;               /* planar: the s and t axes ("v1", "v2") */
+    Xform tex_from_world;      /* spherical, cylindrical, planar: the inverse CTM */
+    /* arguments: checkerboard tex1, tex2; mix tex1, tex2 (and amount); scale tex, scale */
+    int arg_tex[TEX_ARGS];     /* a texture index, or -1: the constant below */
+    Spectrum arg_s[TEX_ARGS];  /* spectrum constants */
+    float arg_f[TEX_ARGS];     /* float constants (also scale's "scale") */
+    int amount_tex; float amount;  /* mix: a float texture or constant (0.5) */
+    int scale_tex;             /* scale: "scale" as a float texture (-1: arg_f[1]) */
+    /* imagemap: w x h texels, row 0 at the top of the image; a spectrum texture
+       keeps 4 floats per texel (m and the sigmoid's 3 coefficients: the texel's
+       reflectance is m sigmoid(c, lambda), spectrum.c), a float one 1 (the mean of
+       R, G, B); bilinear lookup (pbrt-v4's default filter) */
+    int w, h;
+    float *texel;
+    TexWrap wrap;
+    const char *file; int line;
+} Texture;
+/* Texture t of the table tex at the surface point (lambda ignored by float textures). */
+float tex_eval(const Texture *tex, int t, const SurfacePoint *sp, float lambda_nm);
+void  tex_free(Texture *t);   /* (tex_set_image, which reads an Image, is in section 10) */
 /* Smooth dielectrics scatter into discrete (delta) directions: no NEE there. */
 int   mat_is_delta(const Material *m);
 
@@ -701,6 +756,8 @@ typedef struct Scene {
     Shape *shapes; int n_shapes;
     Material *materials; int n_materials;
     Emitter *emitters; int n_emitters;
+    Texture *textures; int n_textures;   /* texture.c; materials refer to them by index */
+    float *UV;                           /* per vertex (u, v), NULL when no mesh has "uv" */
     int n_spheres; int *sphere_shape;    /* sphere j is shapes[sphere_shape[j]] */
     Vec3 bmin, bmax;                     /* world bounds of all geometry */
     Bvh bvh;
@@ -731,6 +788,8 @@ int  scene_insets_rendered(const Scene *s, int rect[8][4], const char *names[8])
    ====================================================================== */
 typedef struct {
     float *P; float *N; int n_verts;     /* xyz per vertex, optional normals */
+    float *UV;                           /* optional (u, v) per vertex (u v, s t,
+                                            texture_u texture_v, texture_s texture_t) */
     int32_t *idx; int n_tris;            /* quads are split into two triangles */
 } PlyMesh;
 int  ply_read(const char *path, PlyMesh *m, Error *err);
@@ -741,6 +800,9 @@ int  ply_write_binary(const char *path, const float *P, int n_verts, const int32
    10. Images (image.c)
    ====================================================================== */
 typedef struct { int w, h; float *rgb; } Image;   /* top row first, 3 floats a pixel */
+/* An image texture's texels from an RGB image (rows top to bottom), after pbrt-v4's
+   scale and invert (texture.c): 0 and a message when out of memory. */
+int   tex_set_image(Texture *t, const Image *im, float scale, int invert, Error *err);
 #define IMG_MAX_PIXELS (1L << 28)  /* @@ largest w*h accepted (guards against absurd headers) */
 #define IMG_RELMSE_EPS 1e-2        /* relMSE = mean (a-b)^2/(b^2 + eps) (Rousselle et al. 2011) */
 int  img_alloc(Image *im, int w, int h);  /* zero-filled; 0 on bad size or no memory */
