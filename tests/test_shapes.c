@@ -14,7 +14,8 @@
      shapes_sphere_part_hits     a sphere cut by zmax and phimax: through the hole
                                  the inside of the far wall; below zmax the near
                                  wall; a whole sphere under a non-uniform scale is
-                                 the ellipsoid
+                                 the ellipsoid; the defaults written out keep the
+                                 world-space sphere (SHAPE_SPHERE)
      shapes_area                 Shape.area against the closed forms: annulus
                                  sector, ellipse (disk under Scale), cylinder
                                  patch, sphere zone, prolate spheroid (sphere under
@@ -200,6 +201,13 @@ static void test_sphere_part_hits(T *t)
           (double)th, V3A(sp.ng));
     /* at object z = 0.7 > zmax: a ray along -y misses */
     CHECK(t, !trace(&s, v3(0, 5, 1.7f), v3(0, -1, 0), &th, &sp), "hit above zmax");
+    scene_free(&s);
+    /* the defaults written out (or a z range beyond the sphere, clamped): still the
+       whole sphere of bvh.c's world-space test, so existing images do not move */
+    if (!load(t, &s, "WorldBegin\nScale 2 2 2\nShape \"sphere\" \"float zmin\" -3 \"float zmax\" 1 "
+                     "\"float phimax\" 360\n")) return;
+    CHECK(t, s.n_spheres == 1 && s.n_quadrics == 0 && s.shapes[0].type == SHAPE_SPHERE,
+          "a whole sphere became a quadric");
     scene_free(&s);
     /* a whole sphere under Scale 1 1 2: the ellipsoid; its top at z = 2, normal there +z;
        at (x, 0, z) the normal is proportional to (x, 0, z / 4) */
