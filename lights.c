@@ -6,7 +6,8 @@
    light_sample, light_pdf_sa, light_voxel, light_select, light_select_pmf,
    light_sampler_bytes, sel_from_name, sel_name.
 
-   1. Emitters.  An emitter is one AreaLightSource shape: a whole mesh (or sphere).
+   1. Emitters.  An emitter is one AreaLightSource shape: a whole mesh, a sphere, or
+      another quadric (disk, cylinder, cut sphere: shapes.c, sampled uniformly by area).
       Its radiance follows pbrt-v4's normalisation (DiffuseAreaLight::Create):
           Le(lambda) = scale * L(lambda) / sum_{lambda = lo..hi, 1 nm} ybar(lambda) L(lambda)
       over the range the film integrates, so a directly seen emitter has Y = scale.
@@ -179,6 +180,8 @@
         mesh, one-sided    reach = [some triangle t has n_t . p - d_t > eps]
         mesh, two-sided    reach = [some triangle t has |n_t . p - d_t| > eps]
         sphere             outside of an outward one, inside of a flipped one
+        disk               its plane, as a one-triangle mesh (shapes.c)
+        cylinder, cut sphere  reach = 1 (not exact: "may reach")
         bigger meshes      reach = 1 (over REACH_MAX_TRIS triangles, or shading
                            normals against the geometry: a limit of the voxel
                            tables; the light tree's orientation cones cover it)
@@ -232,6 +235,26 @@ static int emitter_find_planes(const Scene *s, Emitter *em)
     if (sh->type == SHAPE_SPHERE) {
         big = fabs(sh->center.x) + fabs(sh->center.y) + fabs(sh->center.z) + sh->radius;
         em->reach_eps = 1e-5 * (1.0 + big);
+        return 1;
+    }
+    if (shape_is_quadric(sh->type)) {
+        /* a disk is one plane: through a point of it, with its oriented normal (the
+           same at every point); a cylinder or cut sphere gets no test */
+        float lo[3], hi[3];
+        Vec3 c, n;
+        quadric_bounds(sh, lo, hi);
+        for (a = 0; a < 3; a++) {
+            if (fabs((double)lo[a]) > big) big = fabs((double)lo[a]);
+            if (fabs((double)hi[a]) > big) big = fabs((double)hi[a]);
+        }
+        em->reach_eps = 1e-5 * (1.0 + big);
+        if (sh->type != SHAPE_DISK) return 1;
+        em->planes = (double *)malloc(sizeof(double) * 4);
+        if (!em->planes) return 0;
+        quadric_sample(sh, 0.0f, 0.0f, &c, &n);        /* a point of the disk, its normal */
+        em->planes[0] = n.x; em->planes[1] = n.y; em->planes[2] = n.z;
+        em->planes[3] = (double)n.x * c.x + (double)n.y * c.y + (double)n.z * c.z;
+        em->n_planes = 1;
         return 1;
     }
     for (t = sh->tri_begin; t < sh->tri_begin + sh->tri_count; t++)
@@ -393,6 +416,8 @@ int emitters_prepare(Scene *s, Error *err)
         em->tri_cdf = NULL;
         if (sh->type == SHAPE_SPHERE) {
             em->area = 4.0 * SPECNEE_PI * sh->radius * sh->radius;
+        } else if (shape_is_quadric(sh->type)) {
+            em->area = sh->area;                    /* world area (shapes.c) */
         } else {
             double acc = 0.0;
             em->tri_cdf = (float *)malloc(sizeof(float) * (size_t)(sh->tri_count + 1));
@@ -491,6 +516,10 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
         (void)u0;
         out->p = v3_add(sh->center, v3_mul(dir, sh->radius));
         out->n = sh->flip ? v3_neg(dir) : dir;
+    } else if (shape_is_quadric(sh->type)) {
+        /* uniform by world area (scene.c refuses an emitter where it would not be) */
+        (void)u0;
+        quadric_sample(sh, u1, u2, &out->p, &out->n);
     } else {
         return sample_mesh(s, em->tri_cdf, sh->tri_begin, sh->tri_count, em->area, ref, u0, u1, u2, out);
     }
@@ -1284,6 +1313,19 @@ static void piece_bounds(const LightSampler *ls, const Piece *pc, PieceBounds *o
         out->bmin = v3_sub(sh->center, r);
         out->bmax = v3_add(sh->center, r);
         out->cone = cone_full(0.0f);
+    } else if (shape_is_quadric(sh->type)) {
+        float lo[3], hi[3];
+        quadric_bounds(sh, lo, hi);
+        out->bmin = v3(lo[0], lo[1], lo[2]);
+        out->bmax = v3(hi[0], hi[1], hi[2]);
+        if (sh->type == SHAPE_DISK) {              /* one normal: a cone of angle 0 */
+            Vec3 p;
+            quadric_sample(sh, 0.0f, 0.0f, &p, &out->cone.w);
+            out->cone.cos_o = 1.0f;
+            out->cone.cos_e = 0.0f;
+        } else {
+            out->cone = cone_full(0.0f);           /* cylinder, cut sphere: every way */
+        }
     } else {
         int count = piece_tri_count(pc, sh), i, k;
         Vec3 nsum = v3(0, 0, 0);

@@ -193,7 +193,7 @@ typedef struct {
     int cap_textures;
     int default_material;      /* -1 until a shape needs it */
     /* capacities of the growing Scene arrays */
-    int cap_verts, cap_tris, cap_shapes, cap_mats, cap_emit, cap_spheres, cap_strings;
+    int cap_verts, cap_tris, cap_shapes, cap_mats, cap_emit, cap_spheres, cap_quadrics, cap_strings;
     int any_normals;
     int any_uv;                /* some mesh has "uv": Scene.UV is kept parallel to P */
     int inset_line[8];         /* where each inset comment was (for messages) */
@@ -2436,18 +2436,125 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
     return ok;
 }
 
+/* A quadric (shapes.c) with the given object-space parameters under the CTM: a
+   new Shape and an entry of Scene.quadric_shape.  what: "Shape \"disk\"" etc. */
+static int add_quadric(Parser *P, ShapeType type, const Quadric *params, const char *what,
+                       const char *file, int line)
+{
+    Scene *s = P->s;
+    Shape *shp;
+    float lo[3], hi[3];
+    int sh, a;
+    if (!grow((void **)&s->quadric_shape, &P->cap_quadrics, s->n_quadrics + 1, sizeof(int)))
+        return oom(P, file, line);
+    sh = add_shape(P, type, 0, 0, 0.0, 0, file, line);
+    if (sh < 0) return 0;
+    shp = &s->shapes[sh];
+    shp->q = *params;
+    if (!quadric_set_transform(&shp->q, &P->gs.ctm))
+        return fail(P, file, line, "%s: projective transform not supported", what);
+    /* an area light is sampled uniformly by object area: that must be uniform by
+       world area, or emitter_pdf_sa's 1 / area would not be its density (shapes.c) */
+    if (shp->emitter >= 0 && !quadric_uniform_sampling(shp))
+        return fail(P, file, line, "%s: an area light under a non-uniform scale or shear "
+                    "is not in the specnee subset (its area sampling would not be uniform)", what);
+    shp->area = quadric_area(shp);
+    quadric_bounds(shp, lo, hi);
+    for (a = 0; a < 3; a++)
+        if (!isfinite(lo[a]) || !isfinite(hi[a]) || !(hi[a] - lo[a] <= FLT_MAX))
+            return fail(P, file, line, "%s: not finite after the transform", what);
+    if (!(shp->area > 0.0) || !isfinite(shp->area))
+        return fail(P, file, line, "%s: zero or non-finite area after the transform", what);
+    s->quadric_shape[s->n_quadrics++] = sh;
+    return 1;
+}
+
+/* Read "float NAME" (default def) into *out; fails on a value that is not finite
+   as a float (the token was finite, but e.g. 1e300 is not a float). */
+static int get_finite(Parser *P, ParamList *pl, const char *what, const char *name, float def,
+                      double *out, const char *file, int line)
+{
+    float v;
+    if (!get_float(P, pl, name, def, &v)) return 0;
+    if (!isfinite(v)) return fail(P, file, line, "%s: \"float %s\" is not finite", what, name);
+    *out = v;
+    return 1;
+}
+
+/* phimax in degrees, as the file gives it, checked and turned into radians. */
+static int check_phimax(Parser *P, const char *what, double deg, double *rad, const char *file, int line)
+{
+    if (!(deg > 0.0 && deg <= 360.0))
+        return fail(P, file, line, "%s: phimax %g must lie in (0, 360] degrees", what, deg);
+    *rad = deg >= 360.0 ? 2.0 * SPECNEE_PI : deg * (SPECNEE_PI / 180.0);
+    return 1;
+}
+
+/* Shape "disk" (pbrt-v4 Disk::Create): float height 0, radius 1, innerradius 0,
+   phimax 360. */
+static int disk_shape(Parser *P, ParamList *pl, const char *file, int line)
+{
+    const char *what = "Shape \"disk\"";
+    Quadric q;
+    double deg = 360.0;
+    memset(&q, 0, sizeof q);
+    if (!get_finite(P, pl, what, "height", 0.0f, &q.height, file, line) ||
+        !get_finite(P, pl, what, "radius", 1.0f, &q.radius, file, line) ||
+        !get_finite(P, pl, what, "innerradius", 0.0f, &q.inner, file, line) ||
+        !get_finite(P, pl, what, "phimax", 360.0f, &deg, file, line))
+        return 0;
+    if (!params_check_unused(P, pl, what, "float height, float radius, float innerradius, "
+                             "float phimax", "alpha emissionfilename"))
+        return 0;
+    if (!(q.radius > 0.0)) return fail(P, file, line, "%s: radius %g must be > 0", what, q.radius);
+    if (!(q.inner >= 0.0 && q.inner < q.radius))
+        return fail(P, file, line, "%s: innerradius %g must lie in [0, radius %g)", what, q.inner,
+                    q.radius);
+    if (!check_phimax(P, what, deg, &q.phimax, file, line)) return 0;
+    return add_quadric(P, SHAPE_DISK, &q, what, file, line);
+}
+
+/* Shape "cylinder" (pbrt-v4 Cylinder::Create): float radius 1, zmin -1, zmax 1,
+   phimax 360; open at both ends. */
+static int cylinder_shape(Parser *P, ParamList *pl, const char *file, int line)
+{
+    const char *what = "Shape \"cylinder\"";
+    Quadric q;
+    double deg = 360.0;
+    memset(&q, 0, sizeof q);
+    if (!get_finite(P, pl, what, "radius", 1.0f, &q.radius, file, line) ||
+        !get_finite(P, pl, what, "zmin", -1.0f, &q.zmin, file, line) ||
+        !get_finite(P, pl, what, "zmax", 1.0f, &q.zmax, file, line) ||
+        !get_finite(P, pl, what, "phimax", 360.0f, &deg, file, line))
+        return 0;
+    if (!params_check_unused(P, pl, what, "float radius, float zmin, float zmax, float phimax",
+                             "alpha emissionfilename"))
+        return 0;
+    if (!(q.radius > 0.0)) return fail(P, file, line, "%s: radius %g must be > 0", what, q.radius);
+    /* pbrt-v4 swaps a reversed pair; specnee asks the file to say what it means */
+    if (!(q.zmin < q.zmax))
+        return fail(P, file, line, "%s: zmin %g must be < zmax %g", what, q.zmin, q.zmax);
+    if (!check_phimax(P, what, deg, &q.phimax, file, line)) return 0;
+    return add_quadric(P, SHAPE_CYLINDER, &q, what, file, line);
+}
+
 static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
 {
     Scene *s = P->s;
     const double (*m)[4] = (const double (*)[4])P->gs.ctm.m;
+    const char *what = "Shape \"sphere\"";
     float radius;
-    double col[3][3], len[3], scale;
-    int i, j, sh;
+    double col[3][3], len[3], scale, zmin = 0.0, zmax = 0.0, deg = 360.0;
+    int i, j, sh, uniform = 1;
     if (!get_float(P, pl, "radius", 1.0f, &radius)) return 0;
-    if (!params_check_unused(P, pl, "Shape \"sphere\"", "float radius",
-                             "zmin zmax phimax alpha emissionfilename"))
+    if (!get_finite(P, pl, what, "zmin", -radius, &zmin, file, line) ||
+        !get_finite(P, pl, what, "zmax", radius, &zmax, file, line) ||
+        !get_finite(P, pl, what, "phimax", 360.0f, &deg, file, line))
         return 0;
-    if (!(radius > 0.0f))
+    if (!params_check_unused(P, pl, what, "float radius, float zmin, float zmax, float phimax",
+                             "alpha emissionfilename"))
+        return 0;
+    if (!(radius > 0.0f) || !isfinite(radius))
         return fail(P, file, line, "Shape \"sphere\": radius %g must be > 0", radius);
     /* The CTM's 3x3 part must be a uniform scale times a rotation (or mirror):
        its columns are orthogonal and equally long. */
@@ -2462,8 +2569,25 @@ static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
         int k = (j + 1) % 3;
         double dot = col[j][0] * col[k][0] + col[j][1] * col[k][1] + col[j][2] * col[k][2];
         if (fabs(len[j] - scale) > 1e-5 * scale || fabs(dot) > 1e-5 * scale * scale)
-            return fail(P, file, line, "Shape \"sphere\": non-uniform scale in the transform "
-                        "is not in the specnee subset");
+            uniform = 0;
+    }
+    if (!(zmin < zmax))
+        return fail(P, file, line, "%s: zmin %g must be < zmax %g", what, zmin, zmax);
+    if (!(zmax > -radius && zmin < radius))
+        return fail(P, file, line, "%s: zmin %g .. zmax %g misses the sphere of radius %g", what,
+                    zmin, zmax, radius);
+    {
+        Quadric q;
+        memset(&q, 0, sizeof q);
+        if (!check_phimax(P, what, deg, &q.phimax, file, line)) return 0;
+        if (zmin > -radius || zmax < radius || q.phimax < 2.0 * SPECNEE_PI || !uniform) {
+            /* cut, or under a non-uniform scale: intersected in object space (shapes.c);
+               pbrt-v4 clamps zmin and zmax to the sphere */
+            q.radius = radius;
+            q.zmin = zmin > -radius ? zmin : -(double)radius;
+            q.zmax = zmax < radius ? zmax : (double)radius;
+            return add_quadric(P, SHAPE_SPHERE_PART, &q, what, file, line);
+        }
     }
     if (!grow((void **)&s->sphere_shape, &P->cap_spheres, s->n_spheres + 1, sizeof(int)))
         return oom(P, file, line);
@@ -2511,9 +2635,10 @@ static int shape_directive(Parser *P, const char *type, ParamList *pl, const cha
     if (!strcmp(type, "trianglemesh")) return mesh_shape(P, 0, pl, file, line);
     if (!strcmp(type, "bilinearmesh")) return mesh_shape(P, 1, pl, file, line);
     if (!strcmp(type, "sphere")) return sphere_shape(P, pl, file, line);
+    if (!strcmp(type, "disk")) return disk_shape(P, pl, file, line);
+    if (!strcmp(type, "cylinder")) return cylinder_shape(P, pl, file, line);
     if (!strcmp(type, "plymesh")) return ply_shape(P, pl, file, line);
-    if (!strcmp(type, "cylinder") || !strcmp(type, "disk") || !strcmp(type, "curve")
-        || !strcmp(type, "loopsubdiv"))
+    if (!strcmp(type, "curve") || !strcmp(type, "loopsubdiv"))
         return fail(P, file, line, "Shape \"%s\" is valid pbrt-v4 but not in the specnee subset",
                     type);
     return fail(P, file, line, "Shape \"%s\": unknown shape type", type);
@@ -3010,10 +3135,19 @@ static int finish(Parser *P, const char *file)
                 if (c + sh->radius > hi[a]) hi[a] = c + sh->radius;
             }
         }
+        for (i = 0; i < s->n_quadrics; i++) {
+            float qlo[3], qhi[3];
+            int a;
+            quadric_bounds(&s->shapes[s->quadric_shape[i]], qlo, qhi);
+            for (a = 0; a < 3; a++) {
+                if (qlo[a] < lo[a]) lo[a] = qlo[a];
+                if (qhi[a] > hi[a]) hi[a] = qhi[a];
+            }
+        }
         s->bmin = v3(lo[0], lo[1], lo[2]);
         s->bmax = v3(hi[0], hi[1], hi[2]);
     }
-    if (s->n_tris == 0 && s->n_spheres == 0) s->bmin = s->bmax = v3(0, 0, 0);
+    if (s->n_tris == 0 && s->n_spheres == 0 && s->n_quadrics == 0) s->bmin = s->bmax = v3(0, 0, 0);
     if (!P->any_normals) { free(s->N); s->N = NULL; }
     if (!P->any_uv) { free(s->UV); s->UV = NULL; }
     if (s->n_emitters > 0 && !emitters_prepare(s, P->err)) return 0;
@@ -3101,6 +3235,7 @@ void scene_free(Scene *s)
     free(s->materials);
     free(s->emitters);
     free(s->sphere_shape);
+    free(s->quadric_shape);
     for (i = 0; i < s->n_textures; i++) tex_free(&s->textures[i]);
     free(s->textures);
     free(s->UV);
@@ -3179,13 +3314,20 @@ void scene_dump(const Scene *s, FILE *f)
                     spec_eval(&m->eta, 656.3f));
         }
     }
-    fprintf(f, "shapes: %d (%d triangles, %d vertices, %d spheres)\n", s->n_shapes, s->n_tris,
-            s->n_verts, s->n_spheres);
+    fprintf(f, "shapes: %d (%d triangles, %d vertices, %d spheres, %d other quadrics)\n",
+            s->n_shapes, s->n_tris, s->n_verts, s->n_spheres, s->n_quadrics);
     for (i = 0; i < s->n_shapes; i++) {
         const Shape *sh = &s->shapes[i];
         if (sh->type == SHAPE_SPHERE)
             fprintf(f, "  [%d] sphere c (%g, %g, %g) r %g", i, sh->center.x, sh->center.y,
                     sh->center.z, sh->radius);
+        else if (sh->type == SHAPE_DISK)
+            fprintf(f, "  [%d] disk (object space) height %g radius %g innerradius %g phimax %g",
+                    i, sh->q.height, sh->q.radius, sh->q.inner, sh->q.phimax * 180.0 / SPECNEE_PI);
+        else if (shape_is_quadric(sh->type))
+            fprintf(f, "  [%d] %s (object space) radius %g z %g..%g phimax %g", i,
+                    sh->type == SHAPE_CYLINDER ? "cylinder" : "sphere", sh->q.radius, sh->q.zmin,
+                    sh->q.zmax, sh->q.phimax * 180.0 / SPECNEE_PI);
         else
             fprintf(f, "  [%d] mesh %d triangles%s", i, sh->tri_count,
                     sh->has_normals ? " with normals" : "");

@@ -390,10 +390,32 @@ const char *wl_mode_name(WlMode m);
 /* ======================================================================
    5. Geometry (scene.c builds it, bvh.c intersects it)
    ====================================================================== */
-typedef enum { SHAPE_MESH, SHAPE_SPHERE } ShapeType;
+typedef enum {
+    SHAPE_MESH,                /* triangles (trianglemesh, bilinearmesh, plymesh) */
+    SHAPE_SPHERE,              /* a whole sphere under a rigid + uniform-scale CTM, in world space */
+    SHAPE_DISK,                /* the quadrics of shapes.c, intersected in object space: */
+    SHAPE_CYLINDER,            /*   a disk (annulus sector), an open cylinder, and a sphere */
+    SHAPE_SPHERE_PART          /*   cut by zmin/zmax/phimax or under a non-uniform CTM */
+} ShapeType;
+static inline int shape_is_quadric(ShapeType t) { return t >= SHAPE_DISK; }
 
-/* One Shape directive: a triangle mesh or a sphere, with its material and, when it
-   sits inside an AreaLightSource, the emitter it belongs to. */
+/* A quadric's object-space description (shapes.c): pbrt-v4's parameters, and the
+   CTM that puts it in the world. */
+typedef struct {
+    Xform world_from_obj;      /* m: world from object; inv: object from world */
+    double radius;             /* disk: outer radius; cylinder, sphere: radius */
+    double inner;              /* disk: innerradius (0) */
+    double height;             /* disk: the plane z = height (0) */
+    double zmin, zmax;         /* cylinder, sphere: the z range kept (sphere: clamped to
+                                  [-radius, radius], as pbrt-v4 does) */
+    double phimax;             /* radians in (0, 2 pi]: the sector 0 <= phi <= phimax kept */
+    int similarity;            /* the CTM's 3x3 part is a rotation (or mirror) times a
+                                  uniform scale: object areas scale by sim_scale^2 */
+    double sim_scale;
+} Quadric;
+
+/* One Shape directive: a triangle mesh, a sphere or another quadric, with its
+   material and, when it sits inside an AreaLightSource, the emitter it belongs to. */
 typedef struct {
     ShapeType type;
     int material;              /* index into Scene.materials */
@@ -403,6 +425,7 @@ typedef struct {
     int has_uv;                /* mesh carries per-vertex (u, v) in Scene.UV */
     int tri_begin, tri_count;  /* triangles [tri_begin, tri_begin + tri_count) */
     Vec3 center; float radius; /* sphere, in world space */
+    Quadric q;                 /* disk, cylinder, partial sphere: in object space */
     double area;               /* world-space surface area */
     const char *file; int line;/* where it was declared, for messages */
 } Shape;
@@ -411,7 +434,8 @@ typedef struct { int32_t v[3]; int32_t shape; } Triangle;   /* indices into Scen
 
 typedef struct {
     float t;                   /* ray parameter of the hit */
-    int prim;                  /* triangle index, or n_tris + sphere index */
+    int prim;                  /* triangle index, n_tris + sphere index, or
+                               n_tris + n_spheres + quadric index */
     float b1, b2;              /* barycentrics of v[1], v[2] (triangles) */
 } HitRecord;
 
@@ -428,8 +452,10 @@ typedef struct {
 } BvhNode;
 
 typedef struct {
-    float v[9];                /* triangle: p0, p1, p2; sphere: centre, radius */
-    int32_t prim;              /* primitive id: triangle i, or n_tris + sphere j */
+    float v[9];                /* triangle: p0, p1, p2; sphere: centre, radius; quadric:
+                                  unused (its Shape holds transform and parameters) */
+    int32_t prim;              /* primitive id: triangle i, n_tris + sphere j, or
+                                  n_tris + n_spheres + quadric k */
 } BvhPrim;
 
 typedef struct {
@@ -468,6 +494,28 @@ Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w);
 /* That policy's distance for coordinates up to m in magnitude: 1e-5 (1 + m)
    (also the light tree's round-off margin for "behind the box"). */
 float offset_eps(float m);
+
+/* The quadrics (shapes.c): disk, cylinder and partial sphere, each intersected
+   analytically in its object space (docs/conventions.md section 3 for their
+   orientation).  sh->type must be one of them. */
+/* Set q's CTM (and whether it is a similarity); 0 for a projective CTM. */
+int    quadric_set_transform(Quadric *q, const Xform *ctm);
+/* Closest hit of the world-space ray r with 0 < t <= tmax; 1 and *t on a hit. */
+int    quadric_intersect(const Shape *sh, const Ray *r, float tmax, float *t);
+/* Position and oriented normals of the hit of r at t (sp->shape, prim left alone). */
+void   quadric_surface_point(const Shape *sh, const Ray *r, float t, SurfacePoint *sp);
+/* World-space box holding the shape, rounded outwards. */
+void   quadric_bounds(const Shape *sh, float lo[3], float hi[3]);
+/* World-space area: closed form under a similarity CTM (and for a disk under any
+   affine CTM, whose area scale is constant), a quadrature otherwise. */
+double quadric_area(const Shape *sh);
+/* 1 when a point uniform by object-space area is uniform by world-space area
+   (a disk always; a cylinder or sphere under a similarity CTM), so that
+   quadric_sample's density is 1 / area. */
+int    quadric_uniform_sampling(const Shape *sh);
+/* A point uniform by area (given quadric_uniform_sampling) for (u1, u2) in
+   [0,1)^2, with the oriented geometric normal a hit there would get. */
+void   quadric_sample(const Shape *sh, float u1, float u2, Vec3 *p, Vec3 *n);
 
 /* ======================================================================
    6. Materials (material.c): only what the scenes need
@@ -765,6 +813,8 @@ typedef struct Scene {
     Texture *textures; int n_textures;   /* texture.c; materials refer to them by index */
     float *UV;                           /* per vertex (u, v), NULL when no mesh has "uv" */
     int n_spheres; int *sphere_shape;    /* sphere j is shapes[sphere_shape[j]] */
+    int n_quadrics; int *quadric_shape;  /* quadric k (disk, cylinder, partial sphere)
+                                            is shapes[quadric_shape[k]] */
     Vec3 bmin, bmax;                     /* world bounds of all geometry */
     Bvh bvh;
     char **strings; int n_strings;       /* owned file names referenced by shapes */
