@@ -1,7 +1,7 @@
 /* scene.c - the scene parser: a strict subset of the pbrt-v4 scene format.
 
-   Implements (specnee.h section 8): scene_load, scene_load_string, scene_free,
-   scene_dump.
+   Implements (specnee.h section 8): scene_load, scene_load_as, scene_load_string,
+   scene_free, scene_dump.
 
    WHAT IT READS
      A pbrt-v4 file is a stream of whitespace-separated tokens: words, quoted
@@ -196,6 +196,7 @@ typedef struct {
     int end_line;              /* line of the top-level file's last token */
     const char *camera_file; int camera_line;   /* the Camera directive, if any */
     float iso, exposure_time;  /* Film "iso", Camera shutter interval: the imaging ratio */
+    const char *output;        /* the command line's output file (-o), NULL: none */
 } Parser;
 
 /* ===========================================================================
@@ -1346,6 +1347,20 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
                         "(x %d..%d, y %d..%d)", crop ? "cropwindow" : "pixelbounds",
                         xres, yres, b[0], b[1], b[2], b[3]);
     }
+    if (P->output) {
+        /* pbrt-v4 (FilmBaseParameters): a file named on the command line wins over
+           the scene's; the scene's name is then never used, so it is not checked
+           (placeholders such as "__OUTPUT_PNG__" are common in shared scenes).
+           pbrt-v4 warns whenever the scene names a file; specnee notes it only
+           where the name is not one it writes as given (a placeholder, .exr, another
+           format), so the shipped scenes' usual `-o` renders stay quiet */
+        if (fn && !ends_with_ci(fn, ".pfm") && !ends_with_ci(fn, ".ppm") && !ends_with_ci(fn, ".png"))
+            fprintf(stderr, "%s:%d: note: the output file \"%s\" of the command line "
+                    "overrides Film \"string filename\" \"%s\" (as pbrt-v4 --outfile does)\n",
+                    file, line, P->output, fn);
+        snprintf(st->filename, sizeof st->filename, "%s", P->output);
+        return 1;
+    }
     if (!fn) fn = "pbrt.exr";                         /* pbrt-v4's default */
     if (strlen(fn) + 1 > sizeof st->filename)
         return fail(P, file, line, "Film: filename longer than %d characters",
@@ -1392,6 +1407,42 @@ static int filter_directive(Parser *P, const char *type, ParamList *pl, const ch
     st->filter = gaussian ? FILTER_GAUSSIAN : FILTER_BOX;
     st->filter_radius = xr;
     st->filter_sigma = sigma;
+    return 1;
+}
+
+/* Accelerator: pbrt-v4's choice of ray-intersection structure ("bvh" with
+   splitmethod/maxnodeprims, or "kdtree").  It changes how fast rays are traced,
+   never what they hit, so the image does not depend on it: specnee reads the
+   parameters pbrt-v4 reads (an unknown one is an error, as there), ignores them
+   and says so; its own BVH (bvh.c) is always built. */
+static int accelerator_directive(Parser *P, const char *type, ParamList *pl, const char *file,
+                                 int line)
+{
+    const char *split;
+    int n;
+    float f;
+    if (!strcmp(type, "bvh")) {
+        if (!get_string(P, pl, "splitmethod", &split)) return 0;
+        if (!get_int(P, pl, "maxnodeprims", 4, &n, NULL)) return 0;
+        if (!params_check_unused(P, pl, "Accelerator \"bvh\"",
+                                 "string splitmethod, integer maxnodeprims", NULL))
+            return 0;
+    } else if (!strcmp(type, "kdtree")) {
+        if (!get_int(P, pl, "intersectcost", 5, &n, NULL)) return 0;
+        if (!get_int(P, pl, "traversalcost", 1, &n, NULL)) return 0;
+        if (!get_float(P, pl, "emptybonus", 0.5f, &f)) return 0;
+        if (!get_int(P, pl, "maxprims", 1, &n, NULL)) return 0;
+        if (!get_int(P, pl, "maxdepth", -1, &n, NULL)) return 0;
+        if (!params_check_unused(P, pl, "Accelerator \"kdtree\"",
+                                 "integer intersectcost, integer traversalcost, float emptybonus, "
+                                 "integer maxprims, integer maxdepth", NULL))
+            return 0;
+    } else {
+        return fail(P, file, line, "Accelerator \"%s\": unknown accelerator type (pbrt-v4 "
+                    "knows \"bvh\" and \"kdtree\")", type);
+    }
+    fprintf(stderr, "%s:%d: note: Accelerator \"%s\" is read and ignored: specnee always "
+            "builds its own BVH, and the accelerator does not change the image\n", file, line, type);
     return 1;
 }
 
@@ -2211,7 +2262,8 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     char type[128];
     int ok = 0, world_only, options_only;
     options_only = !strcmp(d, "Camera") || !strcmp(d, "Film") || !strcmp(d, "Sampler")
-                || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter");
+                || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter")
+                || !strcmp(d, "Accelerator");
     world_only = !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
               || !strcmp(d, "AreaLightSource") || !strcmp(d, "Shape") || !strcmp(d, "LightSource");
     if (options_only && P->in_world)
@@ -2229,6 +2281,7 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     else if (!strcmp(d, "Sampler")) ok = sampler_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Integrator")) ok = integrator_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "PixelFilter")) ok = filter_directive(P, type, &pl, t->file, t->line);
+    else if (!strcmp(d, "Accelerator")) ok = accelerator_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Shape")) ok = shape_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "AreaLightSource")) ok = area_light_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "LightSource")) ok = light_source_directive(P, type, &pl, t->file, t->line);
@@ -2293,7 +2346,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     if (handled) return 1;
     if (!strcmp(d, "Camera") || !strcmp(d, "Film") || !strcmp(d, "Sampler")
         || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter") || !strcmp(d, "Shape")
-        || !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
+        || !strcmp(d, "Accelerator") || !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
         || !strcmp(d, "AreaLightSource") || !strcmp(d, "LightSource"))
         return typed_directive(P, L, t);
     if (!strcmp(d, "WorldBegin")) {
@@ -2381,7 +2434,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     }
     {
         static const char *const pbrt_only[] = {
-            "Accelerator", "ActiveTransform", "Attribute", "MakeNamedMedium",
+            "ActiveTransform", "Attribute", "MakeNamedMedium",
             "MediumInterface", "ObjectBegin", "ObjectEnd", "ObjectInstance", "Option",
             "Texture", "TransformTimes", NULL
         };
@@ -2560,7 +2613,8 @@ static int finish(Parser *P, const char *file)
     return 1;
 }
 
-static int load(Scene *s, char *buf, size_t len, const char *name, Error *err)
+static int load(Scene *s, char *buf, size_t len, const char *name, const char *output,
+                Error *err)
 {
     Parser P;
     const char *file;
@@ -2575,6 +2629,8 @@ static int load(Scene *s, char *buf, size_t len, const char *name, Error *err)
     P.end_line = 1;
     P.iso = 100.0f;                          /* pbrt-v4: imaging ratio 1 by default */
     P.exposure_time = 1.0f;
+    P.output = output;
+    if (output) snprintf(s->settings.filename, sizeof s->settings.filename, "%s", output);
     dir_of(name, P.main_dir, sizeof P.main_dir);
     file = intern(&P, name);
     if (!file) { parser_free(&P); return fail(&P, name, 0, "out of memory"); }
@@ -2594,13 +2650,13 @@ int scene_load_string(Scene *s, const char *text, const char *name, Error *err)
     if (!name) name = "<string>";
     if (!buf) { error_set(err, name, 0, "out of memory"); return 0; }
     memcpy(buf, text, len + 1);
-    ok = load(s, buf, len, name, err);
+    ok = load(s, buf, len, name, NULL, err);
     free(buf);
     if (!ok) scene_free(s);
     return ok;
 }
 
-int scene_load(Scene *s, const char *path, Error *err)
+int scene_load_as(Scene *s, const char *path, const char *output, Error *err)
 {
     size_t len;
     ReadStatus rs;
@@ -2614,10 +2670,15 @@ int scene_load(Scene *s, const char *path, Error *err)
                   : read_status_text(rs));
         return 0;
     }
-    ok = load(s, buf, len, path, err);
+    ok = load(s, buf, len, path, output, err);
     free(buf);
     if (!ok) scene_free(s);
     return ok;
+}
+
+int scene_load(Scene *s, const char *path, Error *err)
+{
+    return scene_load_as(s, path, NULL, err);
 }
 
 void scene_free(Scene *s)

@@ -682,6 +682,11 @@ typedef struct Scene {
 /* Parse a pbrt-v4 subset file (with Include/Import) and build the BVH.
    Returns 0 and a "file:line: problem" message on any error. */
 int  scene_load(Scene *s, const char *path, Error *err);
+/* The same for a render whose output file the command line names (-o; NULL: none):
+   it overrides Film's "string filename", as pbrt-v4's --outfile does, and the
+   file's name is then not checked (a note on stderr when that name is not a
+   .pfm/.ppm/.png: a placeholder, .exr). */
+int  scene_load_as(Scene *s, const char *path, const char *output, Error *err);
 /* Same from a string in memory (tests); name is used in messages. */
 int  scene_load_string(Scene *s, const char *text, const char *name, Error *err);
 void scene_free(Scene *s);

@@ -122,6 +122,21 @@ expect "cli_render_tiny" 0 "samples/s" ./specnee scenes/cornell.pbrt --spp 2 -o 
 if [ -f tests/tmp/tiny.pfm ] && [ -f tests/tmp/tiny.pfm.txt ]; then ok "cli_render_writes_pfm_and_sidecar"
 else fail "cli_render_writes_pfm_and_sidecar"; fi
 expect "cli_render_png" 0 "" ./specnee -q scenes/cornell.pbrt --spp 1 -o tests/tmp/tiny.png
+# issue 29: Accelerator is read and ignored with a note; -o overrides Film's
+# "string filename" with a note (a placeholder name then loads), and no note about
+# the scene's own name (".exr becomes .pfm") appears when -o names the output
+printf 'Accelerator "bvh" "integer maxnodeprims" 2\nFilm "rgb" "integer xresolution" 4 "integer yresolution" 4 "string filename" "__OUTPUT_PNG__"\nWorldBegin\nAttributeBegin\nAreaLightSource "diffuse"\nShape "sphere" "float radius" 0.5\nAttributeEnd\n' > tests/tmp/accel.pbrt
+expect "cli_output_placeholder_needs_o" 1 "accel.pbrt:2: .*__OUTPUT_PNG__" ./specnee -q tests/tmp/accel.pbrt
+expect "cli_accelerator_note" 0 "accel.pbrt:1: note: Accelerator \"bvh\" is read and ignored" ./specnee -q tests/tmp/accel.pbrt -o tests/tmp/accel.png
+if grep -q 'accel.pbrt:2: note: the output file "tests/tmp/accel.png" of the command line overrides Film "string filename" "__OUTPUT_PNG__"' tests/tmp/err.txt &&
+   [ "$(wc -l < tests/tmp/err.txt)" -eq 2 ] && [ -s tests/tmp/accel.png ]; then ok "cli_output_overrides_film_filename"
+else fail "cli_output_overrides_film_filename"; cat tests/tmp/err.txt; fi
+sed 's/__OUTPUT_PNG__/scene.exr/' tests/tmp/accel.pbrt > tests/tmp/exr.pbrt
+expect "cli_output_no_exr_note" 0 "overrides Film" ./specnee -q tests/tmp/exr.pbrt -o tests/tmp/exr.ppm
+if grep -q 'EXR' tests/tmp/err.txt; then fail "cli_output_no_exr_note: an EXR note with -o"; else ok "cli_output_no_exr_note_absent"; fi
+# a scene naming an ordinary .pfm/.ppm/.png stays quiet under -o
+./specnee -q scenes/cornell.pbrt --spp 1 --res 4x4 -o tests/tmp/quiet.png 2> tests/tmp/quiet.txt
+if [ ! -s tests/tmp/quiet.txt ]; then ok "cli_output_ordinary_name_quiet"; else fail "cli_output_ordinary_name_quiet"; cat tests/tmp/quiet.txt; fi
 expect "cli_bad_sampler" 2 "independent, stratified, sobol or zsobol" ./specnee --sampler halton scenes/cornell.pbrt
 expect "cli_render_sampler" 0 "samples/s" ./specnee scenes/cornell.pbrt --res 16x16 --spp 2 --sampler zsobol -o tests/tmp/zs.pfm
 if grep -q 'sampler=zsobol' tests/tmp/zs.pfm.txt 2>/dev/null; then ok "cli_sidecar_records_sampler"
