@@ -1380,33 +1380,48 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
     return 1;
 }
 
+/* PixelFilter: pbrt-v4's five filters with its parameter names and defaults
+   (filters.cpp; their formulas and how samples are drawn: filter.c). */
 static int filter_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
+    static const struct { const char *name; FilterType t; float radius; const char *reads; }
+    kinds[] = {
+        { "box", FILTER_BOX, 0.5f, "float xradius, float yradius" },
+        { "gaussian", FILTER_GAUSSIAN, 1.5f, "float xradius, float yradius, float sigma" },
+        { "triangle", FILTER_TRIANGLE, 2.0f, "float xradius, float yradius" },
+        { "mitchell", FILTER_MITCHELL, 2.0f, "float xradius, float yradius, float B, float C" },
+        { "sinc", FILTER_SINC, 4.0f, "float xradius, float yradius, float tau" },
+    };
     SceneSettings *st = &P->s->settings;
-    float xr, yr, sigma = 0.5f;
-    int gaussian = strcmp(type, "gaussian") == 0;
-    if (!gaussian && strcmp(type, "box") != 0) {
-        if (!strcmp(type, "mitchell") || !strcmp(type, "sinc") || !strcmp(type, "triangle"))
-            return fail(P, file, line, "PixelFilter \"%s\" is valid pbrt-v4 but not in the "
-                        "specnee subset (use \"box\" or \"gaussian\")", type);
-        return fail(P, file, line, "PixelFilter \"%s\": unknown filter type", type);
-    }
-    /* pbrt-v4 names the radii xradius/yradius (box 0.5, gaussian 1.5) */
-    if (!get_float(P, pl, "xradius", gaussian ? 1.5f : 0.5f, &xr)) return 0;
-    if (!get_float(P, pl, "yradius", gaussian ? 1.5f : 0.5f, &yr)) return 0;
-    if (gaussian && !get_float(P, pl, "sigma", 0.5f, &sigma)) return 0;
-    if (!params_check_unused(P, pl, gaussian ? "PixelFilter \"gaussian\"" : "PixelFilter \"box\"",
-                             gaussian ? "float xradius, float yradius, float sigma"
-                                      : "float xradius, float yradius", NULL))
+    float xr, yr, sigma = 0.5f, B = 1.0f / 3.0f, C = 1.0f / 3.0f, tau = 3.0f;
+    char what[64];
+    int k;
+    for (k = 0; k < 5 && strcmp(type, kinds[k].name) != 0; k++) {}
+    if (k == 5)
+        return fail(P, file, line, "PixelFilter \"%s\": unknown filter type (pbrt-v4 knows "
+                    "box, gaussian, mitchell, sinc, triangle)", type);
+    /* pbrt-v4 names the radii xradius/yradius */
+    if (!get_float(P, pl, "xradius", kinds[k].radius, &xr)) return 0;
+    if (!get_float(P, pl, "yradius", kinds[k].radius, &yr)) return 0;
+    if (kinds[k].t == FILTER_GAUSSIAN && !get_float(P, pl, "sigma", 0.5f, &sigma)) return 0;
+    if (kinds[k].t == FILTER_MITCHELL && (!get_float(P, pl, "B", B, &B) || !get_float(P, pl, "C", C, &C)))
         return 0;
+    if (kinds[k].t == FILTER_SINC && !get_float(P, pl, "tau", 3.0f, &tau)) return 0;
+    snprintf(what, sizeof what, "PixelFilter \"%s\"", type);
+    if (!params_check_unused(P, pl, what, kinds[k].reads, NULL)) return 0;
     if (xr != yr)
         return fail(P, file, line, "PixelFilter: xradius %g != yradius %g is valid pbrt-v4 "
                     "but not in the specnee subset", xr, yr);
     if (!(xr > 0.0f && xr <= 16.0f) || !(sigma > 0.0f && sigma <= 16.0f))
         return fail(P, file, line, "PixelFilter: radius and sigma must be within (0, 16]");
-    st->filter = gaussian ? FILTER_GAUSSIAN : FILTER_BOX;
+    if (!(tau > 0.0f))
+        return fail(P, file, line, "PixelFilter \"sinc\": \"float tau\" %g must be > 0", tau);
+    st->filter = kinds[k].t;
     st->filter_radius = xr;
     st->filter_sigma = sigma;
+    st->filter_b = B;
+    st->filter_c = C;
+    st->filter_tau = tau;
     return 1;
 }
 
@@ -2526,6 +2541,8 @@ static void settings_default(SceneSettings *st)
     st->filter = FILTER_GAUSSIAN;            /* pbrt-v4's default pixel filter */
     st->filter_radius = 1.5f;
     st->filter_sigma = 0.5f;
+    st->filter_b = st->filter_c = 1.0f / 3.0f; /* mitchell's, sinc's defaults (unused here) */
+    st->filter_tau = 3.0f;
     st->spp = DEFAULT_SPP;                   /* pbrt-v4's default zsobol: 16 */
     st->seed = 0;
     st->maxdepth = DEFAULT_MAXDEPTH;
@@ -2736,8 +2753,10 @@ void scene_dump(const Scene *s, FILE *f)
             eye.z, dir.x, dir.y, dir.z, up.x, up.y, up.z,
             xf_swaps_handedness(&st->camera_from_world) ? "  [mirrored: right-handed view]" : "");
     fprintf(f, "film: %d x %d -> %s, filter %s radius %g", st->xres, st->yres, st->filename,
-            st->filter == FILTER_BOX ? "box" : "gaussian", st->filter_radius);
+            filter_name(st->filter), st->filter_radius);
     if (st->filter == FILTER_GAUSSIAN) fprintf(f, " sigma %g", st->filter_sigma);
+    if (st->filter == FILTER_MITCHELL) fprintf(f, " B %g C %g", st->filter_b, st->filter_c);
+    if (st->filter == FILTER_SINC) fprintf(f, " tau %g", st->filter_tau);
     {   /* the sensor: imaging ratio (iso, shutter, pbrt-v3 scale), clamp, white balance */
         int b[4];
         fprintf(f, "\n  sensor cie1931, imaging ratio %g (iso x exposure / 100), "
