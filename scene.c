@@ -1394,7 +1394,7 @@ static int filter_directive(Parser *P, const char *type, ParamList *pl, const ch
     };
     SceneSettings *st = &P->s->settings;
     float xr, yr, sigma = 0.5f, B = 1.0f / 3.0f, C = 1.0f / 3.0f, tau = 3.0f;
-    char what[64];
+    char what[160];
     int k;
     for (k = 0; k < 5 && strcmp(type, kinds[k].name) != 0; k++) {}
     if (k == 5)

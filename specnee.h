@@ -759,6 +759,13 @@ int  pfm_read(Image *im, const char *path, Error *err);
 int  ppm_write(const Image *im, const char *path, float exposure);
 int  png_write(const Image *im, const char *path, float exposure);
 int  png_write_rgb8(const char *path, int w, int h, const unsigned char *rgb);
+/* PNG reader (png.c, its own inflate): colour types 0 2 3 4 6, bit depths 1 2 4 8 16,
+   no interlace; alpha and tRNS are dropped.  Samples / (2^depth - 1), then decoded
+   from the sRGB curve unless linear (data textures).  0 and "name: PNG: problem"
+   on any malformed input; the image must fit IMG_MAX_PIXELS and MEM_BUDGET_MIB. */
+int  png_read_memory(const unsigned char *data, size_t n, const char *name, int linear, Image *im,
+                Error *err);
+int  png_read(Image *im, const char *path, int linear, Error *err);
 /* png_write with the outlines of n pixel rectangles, rect[4i..4i+3] = x0, y0, x1,
    y1 (x1, y1 exclusive), drawn in, rectangle i in colour i mod 8 of: yellow, cyan, magenta,
    orange, white, green, blue, red (the insets of docs/RESULTS.md). */

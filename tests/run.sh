@@ -307,7 +307,7 @@ else
 fi
 expect "robust_res_budget" 2 "memory budget" ./specnee --res 16384x16384 scenes/cornell.pbrt
 # every input that ever crashed a fuzz target (fuzz/regress) and the fuzz seeds
-for t in scene ply pfm spectrum; do
+for t in scene ply pfm spectrum png; do
     mkdir -p tests/tmp/replay-$t
     counted replay-$t fuzz/replay $t tests/tmp/replay-$t fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)
 done
@@ -334,7 +334,7 @@ counted walkthrough sh tests/walkthrough.sh
 
 if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
     # ---- 3. three compilers, warnings are errors (each one that is installed)
-    LIBSRC="util.c sampler.c bvh.c spectrum.c lights.c infinite.c filter.c scene.c ply.c material.c render.c image.c svg.c eval.c"
+    LIBSRC="util.c sampler.c bvh.c spectrum.c lights.c infinite.c filter.c scene.c ply.c material.c render.c image.c png.c svg.c eval.c"
     proven=""
     for cc in gcc clang tcc; do
         if ! have_cc $cc; then skip "build_$cc: $cc not installed (CI proves it)"; continue; fi
@@ -377,7 +377,7 @@ if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
         if $acc -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
                -fno-omit-frame-pointer -I. -o build/replay-asan fuzz/replay.c fuzz/targets.c \
                $LIBSRC -lm >> "$log" 2>&1; then
-            for t in scene ply pfm spectrum; do
+            for t in scene ply pfm spectrum png; do
                 counted replay-asan-$t env ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
                     UBSAN_OPTIONS=print_stacktrace=1 build/replay-asan $t tests/tmp/replay-$t \
                     fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)
