@@ -1,7 +1,7 @@
 /* scene.c - the scene parser: a strict subset of the pbrt-v4 scene format.
 
-   Implements (specnee.h section 8): scene_load, scene_load_string, scene_free,
-   scene_dump.
+   Implements (specnee.h section 8): scene_load, scene_load_as, scene_load_string,
+   scene_free, scene_dump.
 
    WHAT IT READS
      A pbrt-v4 file is a stream of whitespace-separated tokens: words, quoted
@@ -201,6 +201,7 @@ typedef struct {
     int end_line;              /* line of the top-level file's last token */
     const char *camera_file; int camera_line;   /* the Camera directive, if any */
     float iso, exposure_time;  /* Film "iso", Camera shutter interval: the imaging ratio */
+    const char *output;        /* the command line's output file (-o), NULL: none */
 } Parser;
 
 /* ===========================================================================
@@ -1373,6 +1374,20 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
                         "(x %d..%d, y %d..%d)", crop ? "cropwindow" : "pixelbounds",
                         xres, yres, b[0], b[1], b[2], b[3]);
     }
+    if (P->output) {
+        /* pbrt-v4 (FilmBaseParameters): a file named on the command line wins over
+           the scene's; the scene's name is then never used, so it is not checked
+           (placeholders such as "__OUTPUT_PNG__" are common in shared scenes).
+           pbrt-v4 warns whenever the scene names a file; specnee notes it only
+           where the name is not one it writes as given (a placeholder, .exr, another
+           format), so the shipped scenes' usual `-o` renders stay quiet */
+        if (fn && !ends_with_ci(fn, ".pfm") && !ends_with_ci(fn, ".ppm") && !ends_with_ci(fn, ".png"))
+            fprintf(stderr, "%s:%d: note: the output file \"%s\" of the command line "
+                    "overrides Film \"string filename\" \"%s\" (as pbrt-v4 --outfile does)\n",
+                    file, line, P->output, fn);
+        snprintf(st->filename, sizeof st->filename, "%s", P->output);
+        return 1;
+    }
     if (!fn) fn = "pbrt.exr";                         /* pbrt-v4's default */
     if (strlen(fn) + 1 > sizeof st->filename)
         return fail(P, file, line, "Film: filename longer than %d characters",
@@ -1392,33 +1407,84 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
     return 1;
 }
 
+/* PixelFilter: pbrt-v4's five filters with its parameter names and defaults
+   (filters.cpp; their formulas and how samples are drawn: filter.c). */
 static int filter_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
+    static const struct { const char *name; FilterType t; float radius; const char *reads; }
+    kinds[] = {
+        { "box", FILTER_BOX, 0.5f, "float xradius, float yradius" },
+        { "gaussian", FILTER_GAUSSIAN, 1.5f, "float xradius, float yradius, float sigma" },
+        { "triangle", FILTER_TRIANGLE, 2.0f, "float xradius, float yradius" },
+        { "mitchell", FILTER_MITCHELL, 2.0f, "float xradius, float yradius, float B, float C" },
+        { "sinc", FILTER_SINC, 4.0f, "float xradius, float yradius, float tau" },
+    };
     SceneSettings *st = &P->s->settings;
-    float xr, yr, sigma = 0.5f;
-    int gaussian = strcmp(type, "gaussian") == 0;
-    if (!gaussian && strcmp(type, "box") != 0) {
-        if (!strcmp(type, "mitchell") || !strcmp(type, "sinc") || !strcmp(type, "triangle"))
-            return fail(P, file, line, "PixelFilter \"%s\" is valid pbrt-v4 but not in the "
-                        "specnee subset (use \"box\" or \"gaussian\")", type);
-        return fail(P, file, line, "PixelFilter \"%s\": unknown filter type", type);
-    }
-    /* pbrt-v4 names the radii xradius/yradius (box 0.5, gaussian 1.5) */
-    if (!get_float(P, pl, "xradius", gaussian ? 1.5f : 0.5f, &xr)) return 0;
-    if (!get_float(P, pl, "yradius", gaussian ? 1.5f : 0.5f, &yr)) return 0;
-    if (gaussian && !get_float(P, pl, "sigma", 0.5f, &sigma)) return 0;
-    if (!params_check_unused(P, pl, gaussian ? "PixelFilter \"gaussian\"" : "PixelFilter \"box\"",
-                             gaussian ? "float xradius, float yradius, float sigma"
-                                      : "float xradius, float yradius", NULL))
+    float xr, yr, sigma = 0.5f, B = 1.0f / 3.0f, C = 1.0f / 3.0f, tau = 3.0f;
+    char what[160];
+    int k;
+    for (k = 0; k < 5 && strcmp(type, kinds[k].name) != 0; k++) {}
+    if (k == 5)
+        return fail(P, file, line, "PixelFilter \"%s\": unknown filter type (pbrt-v4 knows "
+                    "box, gaussian, mitchell, sinc, triangle)", type);
+    /* pbrt-v4 names the radii xradius/yradius */
+    if (!get_float(P, pl, "xradius", kinds[k].radius, &xr)) return 0;
+    if (!get_float(P, pl, "yradius", kinds[k].radius, &yr)) return 0;
+    if (kinds[k].t == FILTER_GAUSSIAN && !get_float(P, pl, "sigma", 0.5f, &sigma)) return 0;
+    if (kinds[k].t == FILTER_MITCHELL && (!get_float(P, pl, "B", B, &B) || !get_float(P, pl, "C", C, &C)))
         return 0;
+    if (kinds[k].t == FILTER_SINC && !get_float(P, pl, "tau", 3.0f, &tau)) return 0;
+    snprintf(what, sizeof what, "PixelFilter \"%s\"", type);
+    if (!params_check_unused(P, pl, what, kinds[k].reads, NULL)) return 0;
     if (xr != yr)
         return fail(P, file, line, "PixelFilter: xradius %g != yradius %g is valid pbrt-v4 "
                     "but not in the specnee subset", xr, yr);
     if (!(xr > 0.0f && xr <= 16.0f) || !(sigma > 0.0f && sigma <= 16.0f))
         return fail(P, file, line, "PixelFilter: radius and sigma must be within (0, 16]");
-    st->filter = gaussian ? FILTER_GAUSSIAN : FILTER_BOX;
+    if (!(tau > 0.0f))
+        return fail(P, file, line, "PixelFilter \"sinc\": \"float tau\" %g must be > 0", tau);
+    st->filter = kinds[k].t;
     st->filter_radius = xr;
     st->filter_sigma = sigma;
+    st->filter_b = B;
+    st->filter_c = C;
+    st->filter_tau = tau;
+    return 1;
+}
+
+/* Accelerator: pbrt-v4's choice of ray-intersection structure ("bvh" with
+   splitmethod/maxnodeprims, or "kdtree").  It changes how fast rays are traced,
+   never what they hit, so the image does not depend on it: specnee reads the
+   parameters pbrt-v4 reads (an unknown one is an error, as there), ignores them
+   and says so; its own BVH (bvh.c) is always built. */
+static int accelerator_directive(Parser *P, const char *type, ParamList *pl, const char *file,
+                                 int line)
+{
+    const char *split;
+    int n;
+    float f;
+    if (!strcmp(type, "bvh")) {
+        if (!get_string(P, pl, "splitmethod", &split)) return 0;
+        if (!get_int(P, pl, "maxnodeprims", 4, &n, NULL)) return 0;
+        if (!params_check_unused(P, pl, "Accelerator \"bvh\"",
+                                 "string splitmethod, integer maxnodeprims", NULL))
+            return 0;
+    } else if (!strcmp(type, "kdtree")) {
+        if (!get_int(P, pl, "intersectcost", 5, &n, NULL)) return 0;
+        if (!get_int(P, pl, "traversalcost", 1, &n, NULL)) return 0;
+        if (!get_float(P, pl, "emptybonus", 0.5f, &f)) return 0;
+        if (!get_int(P, pl, "maxprims", 1, &n, NULL)) return 0;
+        if (!get_int(P, pl, "maxdepth", -1, &n, NULL)) return 0;
+        if (!params_check_unused(P, pl, "Accelerator \"kdtree\"",
+                                 "integer intersectcost, integer traversalcost, float emptybonus, "
+                                 "integer maxprims, integer maxdepth", NULL))
+            return 0;
+    } else {
+        return fail(P, file, line, "Accelerator \"%s\": unknown accelerator type (pbrt-v4 "
+                    "knows \"bvh\" and \"kdtree\")", type);
+    }
+    fprintf(stderr, "%s:%d: note: Accelerator \"%s\" is read and ignored: specnee always "
+            "builds its own BVH, and the accelerator does not change the image\n", file, line, type);
     return 1;
 }
 
@@ -1704,9 +1770,22 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
         fprintf(stderr, "%s:%d: note: Texture \"imagemap\": reading %s for \"%s\"\n", T->file,
                 T->line, alt, fn);
         snprintf(path, sizeof path, "%s", alt);
+    } else if (ends_with_ci(fn, ".png")) {
+        /* 8- and 16-bit PNG (png.c): sRGB-encoded unless "encoding" says "linear",
+           as pbrt-v4 reads them; "gamma g" is refused by name */
+        int linear = 0;
+        if (enc && !strcmp(enc, "linear")) linear = 1;
+        else if (enc && strcmp(enc, "sRGB") != 0)
+            return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": encoding \"%s\" is valid "
+                        "pbrt-v4 but not in the specnee subset (sRGB, linear)", name, enc);
+        if (!png_read(&im, path, linear, &ierr))
+            return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
+        ok = tex_set_image(T, &im, scale, invert, P->err);
+        img_free(&im);
+        return ok;
     } else if (!ends_with_ci(fn, ".pfm")) {
         return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": \"%s\": specnee reads image "
-                    "textures as PFM (convert with ImageMagick's `convert`)", name, fn);
+                    "textures as PNG or PFM (convert others with ImageMagick's `convert`)", name, fn);
     }
     (void)enc;                                 /* PFM holds linear values */
     if (!pfm_read(&im, path, &ierr))
@@ -2793,7 +2872,8 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     char type[128];
     int ok = 0, world_only, options_only;
     options_only = !strcmp(d, "Camera") || !strcmp(d, "Film") || !strcmp(d, "Sampler")
-                || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter");
+                || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter")
+                || !strcmp(d, "Accelerator");
     world_only = !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
               || !strcmp(d, "AreaLightSource") || !strcmp(d, "Shape") || !strcmp(d, "LightSource");
     if (options_only && P->in_world)
@@ -2811,6 +2891,7 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     else if (!strcmp(d, "Sampler")) ok = sampler_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Integrator")) ok = integrator_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "PixelFilter")) ok = filter_directive(P, type, &pl, t->file, t->line);
+    else if (!strcmp(d, "Accelerator")) ok = accelerator_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Shape")) ok = shape_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "AreaLightSource")) ok = area_light_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "LightSource")) ok = light_source_directive(P, type, &pl, t->file, t->line);
@@ -2875,7 +2956,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     if (handled) return 1;
     if (!strcmp(d, "Camera") || !strcmp(d, "Film") || !strcmp(d, "Sampler")
         || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter") || !strcmp(d, "Shape")
-        || !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
+        || !strcmp(d, "Accelerator") || !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
         || !strcmp(d, "AreaLightSource") || !strcmp(d, "LightSource"))
         return typed_directive(P, L, t);
     if (!strcmp(d, "WorldBegin")) {
@@ -2964,7 +3045,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     }
     {
         static const char *const pbrt_only[] = {
-            "Accelerator", "ActiveTransform", "Attribute", "MakeNamedMedium",
+            "ActiveTransform", "Attribute", "MakeNamedMedium",
             "MediumInterface", "ObjectBegin", "ObjectEnd", "ObjectInstance", "Option",
             "TransformTimes", NULL
         };
@@ -3056,6 +3137,8 @@ static void settings_default(SceneSettings *st)
     st->filter = FILTER_GAUSSIAN;            /* pbrt-v4's default pixel filter */
     st->filter_radius = 1.5f;
     st->filter_sigma = 0.5f;
+    st->filter_b = st->filter_c = 1.0f / 3.0f; /* mitchell's, sinc's defaults (unused here) */
+    st->filter_tau = 3.0f;
     st->spp = DEFAULT_SPP;                   /* pbrt-v4's default zsobol: 16 */
     st->seed = 0;
     st->maxdepth = DEFAULT_MAXDEPTH;
@@ -3156,7 +3239,8 @@ static int finish(Parser *P, const char *file)
     return 1;
 }
 
-static int load(Scene *s, char *buf, size_t len, const char *name, Error *err)
+static int load(Scene *s, char *buf, size_t len, const char *name, const char *output,
+                Error *err)
 {
     Parser P;
     const char *file;
@@ -3171,6 +3255,8 @@ static int load(Scene *s, char *buf, size_t len, const char *name, Error *err)
     P.end_line = 1;
     P.iso = 100.0f;                          /* pbrt-v4: imaging ratio 1 by default */
     P.exposure_time = 1.0f;
+    P.output = output;
+    if (output) snprintf(s->settings.filename, sizeof s->settings.filename, "%s", output);
     dir_of(name, P.main_dir, sizeof P.main_dir);
     file = intern(&P, name);
     if (!file) { parser_free(&P); return fail(&P, name, 0, "out of memory"); }
@@ -3190,13 +3276,13 @@ int scene_load_string(Scene *s, const char *text, const char *name, Error *err)
     if (!name) name = "<string>";
     if (!buf) { error_set(err, name, 0, "out of memory"); return 0; }
     memcpy(buf, text, len + 1);
-    ok = load(s, buf, len, name, err);
+    ok = load(s, buf, len, name, NULL, err);
     free(buf);
     if (!ok) scene_free(s);
     return ok;
 }
 
-int scene_load(Scene *s, const char *path, Error *err)
+int scene_load_as(Scene *s, const char *path, const char *output, Error *err)
 {
     size_t len;
     ReadStatus rs;
@@ -3210,10 +3296,15 @@ int scene_load(Scene *s, const char *path, Error *err)
                   : read_status_text(rs));
         return 0;
     }
-    ok = load(s, buf, len, path, err);
+    ok = load(s, buf, len, path, output, err);
     free(buf);
     if (!ok) scene_free(s);
     return ok;
+}
+
+int scene_load(Scene *s, const char *path, Error *err)
+{
+    return scene_load_as(s, path, NULL, err);
 }
 
 void scene_free(Scene *s)
@@ -3275,8 +3366,10 @@ void scene_dump(const Scene *s, FILE *f)
             eye.z, dir.x, dir.y, dir.z, up.x, up.y, up.z,
             xf_swaps_handedness(&st->camera_from_world) ? "  [mirrored: right-handed view]" : "");
     fprintf(f, "film: %d x %d -> %s, filter %s radius %g", st->xres, st->yres, st->filename,
-            st->filter == FILTER_BOX ? "box" : "gaussian", st->filter_radius);
+            filter_name(st->filter), st->filter_radius);
     if (st->filter == FILTER_GAUSSIAN) fprintf(f, " sigma %g", st->filter_sigma);
+    if (st->filter == FILTER_MITCHELL) fprintf(f, " B %g C %g", st->filter_b, st->filter_c);
+    if (st->filter == FILTER_SINC) fprintf(f, " tau %g", st->filter_tau);
     {   /* the sensor: imaging ratio (iso, shutter, pbrt-v3 scale), clamp, white balance */
         int b[4];
         fprintf(f, "\n  sensor cie1931, imaging ratio %g (iso x exposure / 100), "

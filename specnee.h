@@ -89,8 +89,13 @@
 #define DEFAULT_MAXDEPTH 5  /* pbrt-v4's default for Integrator "path" */
 #define MEM_BUDGET_MIB 4096  /* @@ memory budget of one input-sized allocation (film,
                                 mesh, image): a bigger claim is an error naming the need */
-#define FILM_BYTES_PER_PIXEL 40  /* render buffers a film pixel costs: 3 doubles of sums,
-                                3 floats of image, 4 bytes of writer output */
+#define FILM_BYTES_PER_PIXEL 48  /* render buffers a film pixel costs: 3 doubles of sums,
+                                1 double of filter weights (mitchell, sinc), 3 floats of
+                                image, 4 bytes of writer output */
+#define FILTER_CELLS 256    /* @@ cells of the Gaussian pixel filter's sampling table
+                               (1/85 pixel for radius 1.5): accuracy vs. table size */
+#define FILTER_TABLE_MAX 512 /* cells of a filter table: pbrt-v4's 32 per unit of radius
+                               (mitchell, sinc) at the largest radius, 16 */
 #define SPECNEE_PI 3.14159265358979323846
 #define PI_F 3.14159265358979323846f
 
@@ -769,7 +774,8 @@ typedef struct LightSampler LightSampler;
 /* ======================================================================
    8. The scene (scene.c parses the pbrt-v4 subset)
    ====================================================================== */
-typedef enum { FILTER_BOX, FILTER_GAUSSIAN } FilterType;
+/* pbrt-v4's pixel filters (filter.c has their formulas and defaults) */
+typedef enum { FILTER_BOX, FILTER_GAUSSIAN, FILTER_TRIANGLE, FILTER_MITCHELL, FILTER_SINC } FilterType;
 
 typedef struct {
     Xform camera_from_world;   /* CTM at the Camera directive */
@@ -778,6 +784,8 @@ typedef struct {
     char filename[256];
     FilterType filter;
     float filter_radius, filter_sigma;   /* gaussian: radius 1.5, sigma 0.5 */
+    float filter_b, filter_c;            /* mitchell: B = C = 1/3 */
+    float filter_tau;                    /* sinc: tau = 3 */
     int spp, seed, maxdepth;
     int spp_set, seed_set, maxdepth_set; /* given in the file */
     char lightsampler[32];     /* Integrator "string lightsampler", "" if unset */
@@ -825,6 +833,11 @@ typedef struct Scene {
 /* Parse a pbrt-v4 subset file (with Include/Import) and build the BVH.
    Returns 0 and a "file:line: problem" message on any error. */
 int  scene_load(Scene *s, const char *path, Error *err);
+/* The same for a render whose output file the command line names (-o; NULL: none):
+   it overrides Film's "string filename", as pbrt-v4's --outfile does, and the
+   file's name is then not checked (a note on stderr when that name is not a
+   .pfm/.ppm/.png: a placeholder, .exr). */
+int  scene_load_as(Scene *s, const char *path, const char *output, Error *err);
 /* Same from a string in memory (tests); name is used in messages. */
 int  scene_load_string(Scene *s, const char *text, const char *name, Error *err);
 void scene_free(Scene *s);
@@ -838,6 +851,31 @@ int  film_bounds(const SceneSettings *st, int b[4]);
    film_bounds() and moved to its origin (x0 y0 x1 y1, end exclusive), with its
    name; an inset outside a crop is left out.  Returns how many. */
 int  scene_insets_rendered(const Scene *s, int rect[8][4], const char *names[8]);
+
+/* Pixel filters (filter.c): pbrt-v4's filter importance sampling.  A camera
+   sample's position in its pixel is drawn from the filter f (mitchell, sinc: from
+   a table of |f|) with the weight w = f/q, and the pixel is sum w L / sum w. */
+typedef struct {
+    FilterType type;
+    float radius, sigma, b, c, tau;      /* as in SceneSettings (one radius: x = y) */
+    int n;                               /* cells of the table over [-radius, radius]
+                                            (gaussian, mitchell, sinc; else 0) */
+    float f[FILTER_TABLE_MAX];           /* f1 at the cells' centres */
+    float cdf[FILTER_TABLE_MAX + 1];     /* CDF of |f1| over the cells */
+    double abs_integral;                 /* integral of |f1_tab| over [-radius, radius] */
+} PixelFilter;
+void  filter_init(PixelFilter *pf, const SceneSettings *st);
+/* f1(x), and f(x, y) = f1(x) f1(y); x, y in pixels from the pixel's centre. */
+double filter_eval_1d(const PixelFilter *pf, double x);
+double filter_eval(const PixelFilter *pf, double x, double y);
+/* The sample's position in its pixel (0.5, 0.5 is the centre) from two uniform
+   numbers, and its weight f/q (1 for box, gaussian, triangle). */
+float filter_sample(const PixelFilter *pf, float u0, float u1, float *px, float *py);
+/* 1 if the weights are not constant (mitchell, sinc): the film must keep sum w. */
+int   filter_weighted(const PixelFilter *pf);
+/* One Gaussian offset by rejection from the independent sampler's stream. */
+float filter_gaussian_reject(Rng *rng, float radius, float sigma);
+const char *filter_name(FilterType t);
 
 /* ======================================================================
    9. PLY meshes (ply.c)
@@ -869,6 +907,13 @@ int  pfm_read(Image *im, const char *path, Error *err);
 int  ppm_write(const Image *im, const char *path, float exposure);
 int  png_write(const Image *im, const char *path, float exposure);
 int  png_write_rgb8(const char *path, int w, int h, const unsigned char *rgb);
+/* PNG reader (png.c, its own inflate): colour types 0 2 3 4 6, bit depths 1 2 4 8 16,
+   no interlace; alpha and tRNS are dropped.  Samples / (2^depth - 1), then decoded
+   from the sRGB curve unless linear (data textures).  0 and "name: PNG: problem"
+   on any malformed input; the image must fit IMG_MAX_PIXELS and MEM_BUDGET_MIB. */
+int  png_read_memory(const unsigned char *data, size_t n, const char *name, int linear, Image *im,
+                Error *err);
+int  png_read(Image *im, const char *path, int linear, Error *err);
 /* png_write with the outlines of n pixel rectangles, rect[4i..4i+3] = x0, y0, x1,
    y1 (x1, y1 exclusive), drawn in, rectangle i in colour i mod 8 of: yellow, cyan, magenta,
    orange, white, green, blue, red (the insets of docs/RESULTS.md). */

@@ -1,4 +1,4 @@
-/* fuzz/targets.c - the four input readers of specnee as fuzz targets.
+/* fuzz/targets.c - the input readers of specnee as fuzz targets.
 
    Each target takes arbitrary bytes and must come back with either a result or a
    one-line error: no crash, no hang, no leak, no undefined behaviour, and no
@@ -19,6 +19,8 @@
                read, its sidecar spp is read, and `specnee merge` combines the image
                with itself
      spectrum  a spectrum file (.spd text or CSV)
+     png       a PNG file, decoded from memory twice (sRGB and linear): every value
+               of a decoded image must lie in [0, 1]
 
    Files go to the directory tmpdir (the drivers give each process its own). */
 #include "../specnee.h"
@@ -152,6 +154,25 @@ static int fuzz_spectrum(const unsigned char *data, size_t n, const char *tmpdir
     return 0;
 }
 
+static int fuzz_png(const unsigned char *data, size_t n, Error *e)
+{
+    int linear, ok = 0;
+    for (linear = 0; linear < 2; linear++) {
+        Image im;
+        if (png_read_memory(data, n, "fuzz-input.png", linear, &im, e)) {
+            size_t i;
+            for (i = 0; i < (size_t)im.w * (size_t)im.h * 3; i++)
+                if (!(im.rgb[i] >= 0.0f && im.rgb[i] <= 1.0f)) abort();
+            img_free(&im);
+            ok = 1;
+        } else {
+            check_message(e);
+            if (ok) abort();                     /* refused only as linear */
+        }
+    }
+    return ok;
+}
+
 /* Returns 1 when the input was accepted, 0 when it was refused (e->msg says why),
    -1 for an unknown target. */
 int fuzz_run(const char *target, const unsigned char *data, size_t n, const char *tmpdir,
@@ -162,5 +183,6 @@ int fuzz_run(const char *target, const unsigned char *data, size_t n, const char
     if (!strcmp(target, "ply")) return fuzz_ply(data, n, tmpdir, e);
     if (!strcmp(target, "pfm")) return fuzz_pfm(data, n, tmpdir, e);
     if (!strcmp(target, "spectrum")) return fuzz_spectrum(data, n, tmpdir, e);
+    if (!strcmp(target, "png")) return fuzz_png(data, n, e);
     return -1;
 }

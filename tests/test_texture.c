@@ -180,6 +180,32 @@ static void test_imagemap(T *t)
     scene_free(&s);
 }
 
+/* A PNG image texture (png.c): 8-bit values decoded from sRGB by default, read
+   as they are with "encoding" "linear" (pbrt-v4). */
+static void test_imagemap_png(T *t)
+{
+    static const unsigned char px[4 * 3] = { 128, 128, 128, 255, 255, 255, 0, 0, 0, 64, 64, 64 };
+    Scene s;
+    SurfacePoint sp;
+    char body[1024];
+    const char *path = test_path(t, "tex.png");
+    double srgb128 = pow((128.0 / 255.0 + 0.055) / 1.055, 2.4);   /* IEC 61966-2-1 */
+    CHECK(t, png_write_rgb8(path, 2, 2, px), "cannot write %s", path);
+    snprintf(body, sizeof body,
+             "Texture \"a\" \"float\" \"imagemap\" \"string filename\" \"%s\"\n"
+             "Texture \"b\" \"float\" \"imagemap\" \"string filename\" \"%s\" \"string encoding\" \"linear\"\n",
+             path, path);
+    if (!load(t, &s, body)) return;
+    sp = at_uv(0.25f, 0.75f);                        /* texel (0, 0): 128 */
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), srgb128, 1e-4), "sRGB 128: %g, expected %g",
+          tex_eval(s.textures, 0, &sp, 500), srgb128);
+    CHECK(t, NEAR(tex_eval(s.textures, 1, &sp, 500), 128.0 / 255.0, 1e-5), "linear 128: %g",
+          tex_eval(s.textures, 1, &sp, 500));
+    sp = at_uv(0.75f, 0.75f);                        /* texel (1, 0): 255 */
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 1.0, 1e-5), "sRGB 255: %g", tex_eval(s.textures, 0, &sp, 500));
+    scene_free(&s);
+}
+
 /* A coloured texel's spectrum is spec_from_rgb's for its RGB (Newton from the
    previous texel's coefficients finds the same fit as the homotopy). */
 static void test_imagemap_colour(T *t)
@@ -354,6 +380,10 @@ static void test_bad_input(T *t)
     expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"string mapping\" \"cubic\"", "unknown mapping", NULL);
     expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"none.pfm\"", "imagemap", NULL);
     expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"sky.exr\"", "convert", "sky.pfm");
+    expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"w.jpg\"", "PNG or PFM", NULL);
+    expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"w.png\" "
+                 "\"string encoding\" \"gamma 2.2\"", "gamma 2.2", "not in the specnee subset");
+    expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"missing.png\"", "missing.png", NULL);
     expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\"", "filename", "required");
     expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"float uscale\" [ 1e39 ]", "finite", NULL);
     expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"float radius\" [ 1 ]", "radius", "unused");
@@ -365,6 +395,7 @@ const TestCase tests_texture[] = {
     { "texture_mappings", test_mappings },
     { "texture_imagemap", test_imagemap },
     { "texture_imagemap_colour", test_imagemap_colour },
+    { "texture_imagemap_png", test_imagemap_png },
     { "texture_mesh_uv", test_mesh_uv },
     { "texture_ply_uv", test_ply_uv },
     { "texture_quadric_uv", test_quadric_uv },
