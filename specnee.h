@@ -925,7 +925,10 @@ int  img_write_sidecar(const char *path, long spp, const char *settings);
 long img_read_sidecar_spp(const char *path);   /* -1 if missing or no valid spp line */
 /* Error of a against ref over the pixels [x0, x1) x [y0, y1) (top-left origin), means
    over pixels and the 3 channels; 0 on a size mismatch or an empty/out-of-range rect. */
-typedef struct { double mse, relmse, mae; long n; } ImgErr;   /* n: pixels */
+typedef struct {
+    double mse, relmse, mae; long n;   /* n: pixels */
+    double y_test, y_ref;              /* luminance means (sRGB's Y row) of a and ref */
+} ImgErr;
 int  img_error(const Image *a, const Image *ref, int x0, int y0, int x1, int y1, ImgErr *out);
 /* out = sum_i w_i in_i / sum_i w_i (weights NULL: equal); allocates out; 0 on a size
    mismatch, a negative/NaN weight, a zero weight sum or no memory. */
