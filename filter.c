@@ -155,6 +155,14 @@ void filter_init(PixelFilter *pf, const SceneSettings *st)
         sum += fabs(f[i]);
         acc[i + 1] = sum;
     }
+    if (!(sum > 0.0 && sum < HUGE_VAL)) {
+        /* f_tab is zero everywhere (mitchell with B = 3 and a tiny radius, say) or
+           overflows: as pbrt-v4's PiecewiseConstant1D, a uniform table; the
+           weights are then 0 (filter_sample), and so is the image */
+        for (i = 0; i <= pf->n; i++) pf->cdf[i] = (float)i / (float)pf->n;
+        pf->abs_integral = 0.0;
+        return;
+    }
     for (i = 0; i <= pf->n; i++) pf->cdf[i] = (float)(acc[i] / sum);
     pf->cdf[pf->n] = 1.0f;
     pf->abs_integral = sum * 2.0 * pf->radius / pf->n;
@@ -214,6 +222,7 @@ float filter_sample(const PixelFilter *pf, float u0, float u1, float *px, float 
         /* w = f_tab / q with q = |f_tab| / integral |f_tab| per axis: the sign of
            the lobe times the integral (the fallback 0 cannot happen: a chosen cell
            has |f_tab| > 0) */
+        if (!(pf->abs_integral > 0.0)) return 0.0f;  /* a filter that is zero everywhere */
         qx = fabs((double)pf->f[cx]) / pf->abs_integral;
         qy = fabs((double)pf->f[cy]) / pf->abs_integral;
         if (!(qx > 0.0 && qy > 0.0)) return 0.0f;

@@ -84,6 +84,15 @@ static void test_filter_values(T *t)
         CHECK(t, fabs(filter_eval_1d(&pf, 0.0) - 2.0 / 3.0) < 1e-7 &&
               fabs(filter_eval_1d(&pf, 1.0) - 1.0 / 6.0) < 1e-7, "B-spline: %g %g",
               filter_eval_1d(&pf, 0.0), filter_eval_1d(&pf, 1.0));
+        /* B = 3 with a radius below one cell: the table is zero everywhere; the
+           samples stay in the filter's square and weigh 0 (no NaN) */
+        st.filter_b = 3.0f; st.filter_radius = 0.01f;
+        filter_init(&pf, &st);
+        {
+            float px, py, w = filter_sample(&pf, 0.3f, 0.7f, &px, &py);
+            CHECK(t, w == 0.0f && fabsf(px - 0.5f) <= 0.01f && fabsf(py - 0.5f) <= 0.01f,
+                  "zero filter: weight %g at (%g, %g)", w, px, py);
+        }
     }
 }
 

@@ -14,17 +14,13 @@
 /* ---- an independent CRC-32 (table driven) and PNG assembly for crafted files */
 static uint32_t t_crc(const unsigned char *p, size_t n)
 {
-    static uint32_t table[256];
-    uint32_t c = 0xffffffffu;
+    uint32_t table[256], c = 0xffffffffu, k;
     size_t i;
-    if (!table[1]) {
-        uint32_t k;
-        for (k = 0; k < 256; k++) {
-            uint32_t v = k;
-            int b;
-            for (b = 0; b < 8; b++) v = (v >> 1) ^ (0xedb88320u & (0u - (v & 1u)));
-            table[k] = v;
-        }
+    for (k = 0; k < 256; k++) {                 /* the CRC of each byte value */
+        uint32_t v = k;
+        int b;
+        for (b = 0; b < 8; b++) v = (v >> 1) ^ (0xedb88320u & (0u - (v & 1u)));
+        table[k] = v;
     }
     for (i = 0; i < n; i++) c = table[(c ^ p[i]) & 0xff] ^ (c >> 8);
     return c ^ 0xffffffffu;
