@@ -1054,6 +1054,16 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
                 if (v3_dot(sp->ng, sp->ns) < 0.0f) sp->ng = v3_neg(sp->ng);
             }
         }
+        /* (u, v): the mesh's "uv" interpolated, else pbrt-v4's default corners
+           (0,0), (1,0), (1,1), i.e. u = b1 + b2, v = b2 */
+        if (sh->has_uv && s->UV) {
+            const float *t0 = s->UV + 2 * tri->v[0], *t1 = s->UV + 2 * tri->v[1], *t2 = s->UV + 2 * tri->v[2];
+            sp->u = (float)(b0 * t0[0] + b1 * t1[0] + b2 * t2[0]);
+            sp->v = (float)(b0 * t0[1] + b1 * t1[1] + b2 * t2[1]);
+        } else {
+            sp->u = (float)(b1 + b2);
+            sp->v = (float)b2;
+        }
         sp->shape = tri->shape;
     } else if (h->prim >= s->n_tris + s->n_spheres) {
         int shape = s->quadric_shape[h->prim - s->n_tris - s->n_spheres];
@@ -1080,6 +1090,18 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
         if (sh->flip) sp->ng = v3_neg(sp->ng);
         sp->ns = sp->ng;
         sp->shape = shape;
+        /* pbrt-v4's sphere parameters, about the world axes through the centre
+           (a sphere keeps no rotation): u = phi / 2 pi, v = 1 - theta / pi; only
+           a textured material reads them (two inverse trigonometric calls) */
+        sp->u = sp->v = 0.0f;
+        if (sh->material >= 0 && sh->material < s->n_materials &&
+            s->materials[sh->material].reflectance_tex > 0) {
+            double phi = atan2(q[1], q[0]), ct = len > 0.0 ? q[2] / len : 1.0;
+            if (phi < 0.0) phi += 2.0 * SPECNEE_PI;
+            ct = ct < -1.0 ? -1.0 : ct > 1.0 ? 1.0 : ct;
+            sp->u = (float)(phi / (2.0 * SPECNEE_PI));
+            sp->v = (float)(1.0 - acos(ct) / SPECNEE_PI);
+        }
     }
 }
 

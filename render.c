@@ -612,6 +612,8 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
             sampler_2d(ps, dim_bounce(depth, BD_POINT), &u1, &u2);
             for (e = e_first; e < e_end; e++) {
                 float P = 1.0f, f[HERO_N], pdf_l[HERO_N], cos_i, q_nee;
+                const float *q_b;             /* the BSDF's pdfs in the MIS weight */
+                static const float no_bsdf[HERO_N] = { 0 };
                 int chosen = e, fb = 0, any = 0, em;
                 EmitterSample es;
                 double value[HERO_N], den;
@@ -664,15 +666,20 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
                         continue;
                     }
                 }
+                /* A delta light (point, spot, distant: delta.c) cannot be found
+                   by a BSDF direction: its weight against BSDF sampling is 1, so
+                   the BSDF's pdfs leave the denominator (es.pdf_sa = 1 / G there,
+                   and q_nee / den = 1 / (P (1/G) sum_m r_m^2): THEORY section 11) */
+                q_b = es.delta ? no_bsdf : pdf_l;
                 q_nee = P * es.pdf_sa;
-                den = mis_denominator(r, pdf_l, q_nee, alive);
+                den = mis_denominator(r, q_b, q_nee, alive);
                 if (den > 0.0) {
                     film_add(xyz, cmf, wl, value, (double)q_nee / den, alive);
                     if (dbg) {
                         debug_weight(dbg, "NEE: visible emitter", em, (double)q_nee * q_nee / den,
-                                     r, pdf_l, q_nee, alive, 1);
+                                     r, q_b, q_nee, alive, 1);
                         if (alive != 1u)
-                            debug_check_sum(dbg, debug_weight_sum(R, &ctx, chosen, es.pdf_sa, r, pdf_l, alive));
+                            debug_check_sum(dbg, debug_weight_sum(R, &ctx, chosen, es.pdf_sa, r, q_b, alive));
                     }
                 } else if (dbg) {
                     fprintf(dbg, "  NEE: emitter %d: MIS denominator 0 (no technique has a density here)\n", em);

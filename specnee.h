@@ -310,6 +310,13 @@ void  spec_blackbody(Spectrum *s, float kelvin);  /* normalised to a peak of 1 (
 /* The sigmoid fit behind spec_from_rgb, for infinite.c's image maps: coefficients for a
    colour whose largest component is 1/2, and the shape sigmoid(poly(lambda)). */
 void  spec_rgb_coeffs(const double target[3], double c[3]);
+/* Fitting many colours (image textures, texture.c): the table the fit integrates
+   against, built once, and Newton's method from a nearby colour's coefficients
+   (0 when it does not converge: then use spec_rgb_coeffs). */
+typedef struct { double cmf_w[3][SPEC_N]; } RgbFitTable;
+void  spec_rgb_fit_table(RgbFitTable *t);
+int   spec_rgb_coeffs_from(const RgbFitTable *t, const double target[3], const double start[3],
+                           double c[3]);
 float spec_sigmoid_eval(const float c[3], float lambda_nm);
 /* CIE 1931 2-degree colour matching functions at lambda (nm), linear in the 5 nm CIE table. */
 void  cie_xyz(float lambda_nm, float xyz[3]);
@@ -415,6 +422,7 @@ typedef struct {
     int emitter;               /* index into Scene.emitters, -1 if not emissive */
     int flip;                  /* ReverseOrientation XOR a handedness-swapping transform */
     int has_normals;           /* mesh carries per-vertex shading normals */
+    int has_uv;                /* mesh carries per-vertex (u, v) in Scene.UV */
     int tri_begin, tri_count;  /* triangles [tri_begin, tri_begin + tri_count) */
     Vec3 center; float radius; /* sphere, in world space */
     Quadric q;                 /* disk, cylinder, partial sphere: in object space */
@@ -475,6 +483,10 @@ typedef struct {
     Vec3 ns;                   /* shading normal (= ng without vertex normals) */
     int shape;                 /* index into Scene.shapes */
     int prim;
+    float u, v;                /* the shape's (u, v) parameters (pbrt-v4): a mesh's "uv"
+                                  interpolated, else (0,0), (1,0), (1,1) at its corners;
+                                  quadrics: pbrt-v4's (phi / phimax, ...) (shapes.c)
+                                  (texture.c's "uv" mapping reads them) */
 } SurfacePoint;
 void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
 /* Origin for a ray leaving p towards w: p moved along ng to w's side by
@@ -491,7 +503,8 @@ float offset_eps(float m);
 int    quadric_set_transform(Quadric *q, const Xform *ctm);
 /* Closest hit of the world-space ray r with 0 < t <= tmax; 1 and *t on a hit. */
 int    quadric_intersect(const Shape *sh, const Ray *r, float tmax, float *t);
-/* Position and oriented normals of the hit of r at t (sp->shape, prim left alone). */
+/* Position, oriented normals and pbrt-v4's (u, v) of the hit of r at t (sp->shape,
+   prim left alone). */
 void   quadric_surface_point(const Shape *sh, const Ray *r, float t, SurfacePoint *sp);
 /* World-space box holding the shape, rounded outwards. */
 void   quadric_bounds(const Shape *sh, float lo[3], float hi[3]);
@@ -526,6 +539,10 @@ typedef struct {
     float cauchy_a, cauchy_b;  /* the Cauchy coefficients when given (for --dump-scene) */
     int dispersive;            /* eta varies with lambda: terminates the secondaries */
     float alpha;               /* GGX roughness alpha (0 = smooth), after remaproughness */
+    int reflectance_tex;       /* diffuse: "texture reflectance", 1 + its index into
+                                  Scene.textures (0, as a zeroed Material has it: the
+                                  spectrum above) */
+    const struct Texture *textures;  /* the scene's textures (set when loading ends) */
 } Material;
 
 float mat_eta(const Material *m, float lambda_nm);
@@ -553,6 +570,46 @@ float fluor_pdf_li_uniform(float lo, float li);
 typedef enum { FLUOR_LI_A, FLUOR_LI_POWER, FLUOR_LI_UNIFORM } FluorLi;
 /* The diffuse albedo of the reflect lobe: rho (diffuse) or rho (1 - A) (fluorescent). */
 float mat_albedo(const Material *m, float lambda_nm);
+/* The same at a surface point: a textured reflectance evaluated there, clamped to
+   [0, 1] (pbrt-v4's DiffuseMaterial), else mat_albedo. */
+float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm);
+
+/* ---- Textures (texture.c): pbrt-v4's Texture directive ----
+   A texture is a function of the surface point evaluated at one wavelength (a
+   "spectrum" texture) or a number (a "float" texture).  2-D textures first map
+   the point to (s, t): "uv" (s = uscale u + udelta, t = vscale v + vdelta),
+   "spherical", "cylindrical" or "planar" (in the texture's frame, the CTM at the
+   Texture directive).  An argument (tex1, tex2, amount, tex, scale) is a
+   constant or another texture. */
+typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP } TexType;
+typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR } TexMapType;
+typedef enum { TEXWRAP_REPEAT, TEXWRAP_BLACK, TEXWRAP_CLAMP } TexWrap;
+#define TEX_ARGS 2
+typedef struct Texture {
+    TexType type;
+    int is_float;              /* a "float" texture, else a "spectrum" one */
+    TexMapType map;
+    float su, sv, du, dv;      /* uv: scales and offsets; planar: du, dv the offsets */
+    Vec3 vs, vt;               /* planar: the s and t axes ("v1", "v2") */
+    Xform tex_from_world;      /* spherical, cylindrical, planar: the inverse CTM */
+    /* arguments: checkerboard tex1, tex2; mix tex1, tex2 (and amount); scale tex, scale */
+    int arg_tex[TEX_ARGS];     /* a texture index, or -1: the constant below */
+    Spectrum arg_s[TEX_ARGS];  /* spectrum constants */
+    float arg_f[TEX_ARGS];     /* float constants (also scale's "scale") */
+    int amount_tex; float amount;  /* mix: a float texture or constant (0.5) */
+    int scale_tex;             /* scale: "scale" as a float texture (-1: arg_f[1]) */
+    /* imagemap: w x h texels, row 0 at the top of the image; a spectrum texture
+       keeps 4 floats per texel (m and the sigmoid's 3 coefficients: the texel's
+       reflectance is m sigmoid(c, lambda), spectrum.c), a float one 1 (the mean of
+       R, G, B); bilinear lookup (pbrt-v4's default filter) */
+    int w, h;
+    float *texel;
+    TexWrap wrap;
+    const char *file; int line;
+} Texture;
+/* Texture t of the table tex at the surface point (lambda ignored by float textures). */
+float tex_eval(const Texture *tex, int t, const SurfacePoint *sp, float lambda_nm);
+void  tex_free(Texture *t);   /* (tex_set_image, which reads an Image, is in section 10) */
 /* Smooth dielectrics scatter into discrete (delta) directions: no NEE there. */
 int   mat_is_delta(const Material *m);
 
@@ -607,9 +664,30 @@ typedef struct {
     const char *file; int line;/* the LightSource directive, for messages */
 } InfiniteLight;
 
+/* A delta light (delta.c): pbrt-v4's LightSource "point", "spot" and "distant".
+   A point or spot light sits at one point and radiates intensity I(lambda)
+   (W/sr/nm), a spot only into a cone with a smooth falloff; a distant light sends
+   radiance from one direction, as from infinitely far away.  No ray can hit one:
+   NEE alone finds them (docs/THEORY.md section 11). */
+typedef enum { DELTA_NONE = 0, DELTA_POINT, DELTA_SPOT, DELTA_DISTANT } DeltaType;
 typedef struct {
-    int shape;                 /* the Shape that emits; -1 for an infinite light */
+    DeltaType type;            /* DELTA_NONE: not a delta light */
+    Vec3 p;                    /* point, spot: the position, in world space */
+    Vec3 w;                    /* spot: unit axis of the cone (from -> to); distant:
+                                  unit direction TOWARDS the light (from - to) */
+    float cos_start, cos_end;  /* spot: cos(coneangle - conedeltaangle), cos(coneangle):
+                                  full intensity inside the first, none outside the second */
+    Vec3 center; double radius;/* distant: the scene's bounding sphere (its power
+                                  pi R^2 L, and how far a shadow ray must go) */
+    const char *file; int line;/* the LightSource directive, for messages */
+} DeltaLight;
+
+typedef struct {
+    int shape;                 /* the Shape that emits; -1 for an infinite or delta light */
     InfiniteLight *inf;        /* NULL for an area light */
+    DeltaLight delta;          /* delta.type != DELTA_NONE: a point, spot or distant
+                                  light (shape -1, inf NULL); L is then its intensity
+                                  (point, spot) or radiance (distant) spectrum */
     Spectrum L;                /* the spectrum as given in the file (its shape matters) */
     float scale;               /* "float scale" */
     int twosided;
@@ -618,7 +696,9 @@ typedef struct {
        light_sampler_build and light_Le) */
     double area;               /* total area (sampling picks a triangle by area); infinite:
                                   4 pi radius^2, so that its power pi area int Le is
-                                  pbrt-v4's Phi = 4 pi^2 R^2 int Le */
+                                  pbrt-v4's Phi = 4 pi^2 R^2 int Le; a delta light: the
+                                  same "power area" (delta_power_area), so that
+                                  pi area int Le is its power too */
     float *tri_cdf;            /* tri_count + 1 entries for meshes */
     /* which side it lights (emitter_can_reach): a point p can receive light from
        a one-sided triangle only if it lies in front of the triangle's plane (off
@@ -637,7 +717,14 @@ typedef struct {
     Vec3 p, n;                 /* point on the emitter, its (oriented) normal */
     Vec3 wi;                   /* unit direction from the reference point to p */
     float dist;                /* distance to p */
-    float pdf_sa;              /* solid-angle pdf (given this emitter) */
+    float pdf_sa;              /* solid-angle pdf (given this emitter); for a delta
+                                  light, which has no density, 1 / G with G the factor
+                                  its incident radiance gets (falloff / dist^2 for a
+                                  point or spot, 1 for a distant light), so that Le /
+                                  pdf_sa is the estimate of the incident light for
+                                  every kind of emitter */
+    int delta;                 /* 1: a delta light's sample (no BSDF direction can
+                                  find it: its MIS weight against BSDF sampling is 1) */
 } EmitterSample;
 
 typedef enum {
@@ -719,6 +806,8 @@ typedef struct Scene {
     Shape *shapes; int n_shapes;
     Material *materials; int n_materials;
     Emitter *emitters; int n_emitters;
+    Texture *textures; int n_textures;   /* texture.c; materials refer to them by index */
+    float *UV;                           /* per vertex (u, v), NULL when no mesh has "uv" */
     int n_spheres; int *sphere_shape;    /* sphere j is shapes[sphere_shape[j]] */
     int n_quadrics; int *quadric_shape;  /* quadric k (disk, cylinder, partial sphere)
                                             is shapes[quadric_shape[k]] */
@@ -751,6 +840,8 @@ int  scene_insets_rendered(const Scene *s, int rect[8][4], const char *names[8])
    ====================================================================== */
 typedef struct {
     float *P; float *N; int n_verts;     /* xyz per vertex, optional normals */
+    float *UV;                           /* optional (u, v) per vertex (u v, s t,
+                                            texture_u texture_v, texture_s texture_t) */
     int32_t *idx; int n_tris;            /* quads are split into two triangles */
 } PlyMesh;
 int  ply_read(const char *path, PlyMesh *m, Error *err);
@@ -761,6 +852,9 @@ int  ply_write_binary(const char *path, const float *P, int n_verts, const int32
    10. Images (image.c)
    ====================================================================== */
 typedef struct { int w, h; float *rgb; } Image;   /* top row first, 3 floats a pixel */
+/* An image texture's texels from an RGB image (rows top to bottom), after pbrt-v4's
+   scale and invert (texture.c): 0 and a message when out of memory. */
+int   tex_set_image(Texture *t, const Image *im, float scale, int invert, Error *err);
 #define IMG_MAX_PIXELS (1L << 28)  /* @@ largest w*h accepted (guards against absurd headers) */
 #define IMG_RELMSE_EPS 1e-2        /* relMSE = mean (a-b)^2/(b^2 + eps) (Rousselle et al. 2011) */
 int  img_alloc(Image *im, int w, int h);  /* zero-filled; 0 on bad size or no memory */
@@ -836,6 +930,19 @@ void  inf_free(InfiniteLight *inf);
    itself -, or on the dark side of a sphere); 1 when it may.  Conservative: never
    0 where light could arrive from farther than reach_eps off a triangle's plane. */
 int   emitter_can_reach(const Scene *s, int e, Vec3 p);
+
+/* Delta lights (delta.c).  delta_falloff: a spot light's smoothstep falloff for
+   the unit direction w leaving it (1 for point and distant lights).
+   delta_sample: the one point (or direction) that lights ref, with pdf_sa = 1/G
+   (EmitterSample); 0 when it sends nothing to ref (outside a spot's cone, or ref
+   at the light).  delta_power_area: the "area" A with pi A int Le = the light's
+   power (pbrt-v4's Phi): 4 for a point light, 2 ((1 - cos_start) + (cos_start -
+   cos_end) / 2) for a spot, R^2 for a distant light.  delta_can_reach: 0 only
+   where the light sends nothing (outside a spot's cone). */
+float  delta_falloff(const DeltaLight *d, Vec3 w);
+int    delta_sample(const DeltaLight *d, Vec3 ref, EmitterSample *out);
+double delta_power_area(const DeltaLight *d);
+int    delta_can_reach(const DeltaLight *d, Vec3 p);
 
 typedef struct {
     SelStrategy strategy;

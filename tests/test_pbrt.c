@@ -402,7 +402,7 @@ static void test_env_rejections(T *t)
     static const char *const bad[][2] = {
         { "LightSource \"infinite\" \"string filename\" \"sky.exr\"", "imgtool convert --outfile sky.pfm sky.exr" },
         { "LightSource \"infinite\" \"point3 portal\" [ 0 0 0 1 0 0 1 1 0 0 1 0 ]", "portal" },
-        { "LightSource \"point\"", "valid pbrt-v4 but not in the specnee subset" },
+        { "LightSource \"goniometric\"", "valid pbrt-v4 but not in the specnee subset" },
         { "LightSource \"infinite\" \"string filename\" \"NONSQUARE\"", "not square" },
         { "LightSource \"infinite\" \"rgb L\" [ 1 1 1 ] \"string filename\" \"x.pfm\"", "both" },
     };
