@@ -18,7 +18,9 @@
       with cos_end = cos(coneangle) (nothing outside) and cos_start =
       cos(coneangle - conedeltaangle) (full intensity inside); when the two are
       equal the falloff is a step, 0 below a and 1 from a on (pbrt-v4's
-      SmoothStep).  A distant light sends the radiance L(lambda) from the one
+      SmoothStep).  The angle is measured in the light's frame (the CTM at the
+      LightSource): a CTM that stretches the cone makes it elliptic in the world,
+      as in pbrt-v4.  A distant light sends the radiance L(lambda) from the one
       direction w (towards the light), as the sun does:
           E(p) = L |cos theta_p|.
 
@@ -58,10 +60,22 @@ static float smoothstep(float x, float a, float b)
     return t * t * (3.0f - 2.0f * t);
 }
 
+/* cos theta of the direction w (world, unit) leaving a spot light, measured in
+   the light's frame (pbrt-v4's SpotLight works in light space): w taken back by
+   the inverse CTM, against the cone's axis there. */
+static float spot_cos(const DeltaLight *d, Vec3 w)
+{
+    const float *m = d->obj_from_world;
+    Vec3 v = v3(m[0] * w.x + m[1] * w.y + m[2] * w.z, m[3] * w.x + m[4] * w.y + m[5] * w.z,
+                m[6] * w.x + m[7] * w.y + m[8] * w.z);
+    float len = v3_len(v);
+    return len > 0.0f ? v3_dot(v, d->axis_obj) / len : 1.0f;
+}
+
 float delta_falloff(const DeltaLight *d, Vec3 w)
 {
     if (d->type != DELTA_SPOT) return 1.0f;
-    return smoothstep(v3_dot(w, d->w), d->cos_end, d->cos_start);
+    return smoothstep(spot_cos(d, w), d->cos_end, d->cos_start);
 }
 
 int delta_sample(const DeltaLight *d, Vec3 ref, EmitterSample *out)
@@ -113,5 +127,5 @@ int delta_can_reach(const DeltaLight *d, Vec3 p)
     v = v3_sub(p, d->p);
     len = v3_len(v);
     if (!(len > 0.0f)) return 1;
-    return v3_dot(v, d->w) >= (d->cos_end - 1e-5f) * len;
+    return spot_cos(d, v3_mul(v, 1.0f / len)) >= d->cos_end - 1e-5f;
 }

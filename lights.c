@@ -1293,12 +1293,13 @@ static void piece_bounds(const LightSampler *ls, const Piece *pc, PieceBounds *o
         /* a point or spot light (delta.c): a box that is one point; a point light
            emits every way (theta_o = pi, theta_e = pi/2, as pbrt-v4's bounds), a
            spot light within theta_o = its full-intensity cone and theta_e = the
-           falloff band beyond it.  A band of less than a milliradian is widened
+           falloff band beyond it (every direction when its CTM stretches the
+           cone out of round).  A band of less than a milliradian is widened
            to one: "I = 0 when theta' >= theta_e" must not cut off a point just
            inside the cone by round-off (pbrt-v4 keeps a similar slop) */
         const DeltaLight *d = &em->delta;
         out->bmin = out->bmax = d->p;
-        if (d->type == DELTA_SPOT) {
+        if (d->type == DELTA_SPOT && !d->stretched) {
             double to = acos(fmax(-1.0, fmin(1.0, (double)d->cos_start)));
             double te = acos(fmax(-1.0, fmin(1.0, (double)d->cos_end))) - to;
             out->cone.w = d->w;

@@ -2105,8 +2105,8 @@ static int check_finite(Parser *P, ParamList *pl, const char *what, const char *
    (a power or illuminance <= 0 is pbrt-v4's "not given").  Positions and
    directions are in the light's frame, the CTM at the LightSource: a point light
    sits at CTM(from), a spot's axis is CTM(to - from), a distant light arrives
-   from CTM(from - to).  A spot light's cone must stay round in the world: its
-   CTM may rotate, translate and scale uniformly, not shear or stretch. */
+   from CTM(from - to).  A spot's cone is round in its own frame: under a CTM
+   that stretches it, it is elliptic in the world, as in pbrt-v4. */
 static int delta_light_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     static const double zero[3] = { 0, 0, 0 }, zplus[3] = { 0, 0, 1 };
@@ -2185,16 +2185,20 @@ static int delta_light_directive(Parser *P, const char *type, ParamList *pl, con
             d.w = v3_neg(dir);                           /* towards the light */
             if (power > 0.0f) scale *= power;
         } else {
-            /* uniform scale: the three transformed axes equally long and at right angles */
+            /* the cone is round in the light's frame (pbrt-v4): keep the inverse
+               CTM for directions and the axis there; "stretched" unless the CTM is a
+               rotation times a uniform scale (three axes equally long, at right angles) */
             Vec3 ax = xf_vector(&P->gs.ctm, v3(1, 0, 0)), ay = xf_vector(&P->gs.ctm, v3(0, 1, 0));
             Vec3 az = xf_vector(&P->gs.ctm, v3(0, 0, 1));
             float lx = v3_len(ax), ly = v3_len(ay), lz = v3_len(az), tol = 1e-4f * lx;
             double ts, tc;
-            if (fabsf(lx - ly) > tol || fabsf(lx - lz) > tol || fabsf(v3_dot(ax, ay)) > tol * lx ||
-                fabsf(v3_dot(ax, az)) > tol * lx || fabsf(v3_dot(ay, az)) > tol * lx)
-                return fail(P, file, line, "%s: the transform stretches or shears the cone; "
-                            "specnee's spot lights take rotations, translations and uniform "
-                            "scales only", what);
+            int a, b;
+            d.stretched = fabsf(lx - ly) > tol || fabsf(lx - lz) > tol || fabsf(v3_dot(ax, ay)) > tol * lx ||
+                          fabsf(v3_dot(ax, az)) > tol * lx || fabsf(v3_dot(ay, az)) > tol * lx;
+            for (a = 0; a < 3; a++)
+                for (b = 0; b < 3; b++) d.obj_from_world[3 * a + b] = (float)P->gs.ctm.inv[a][b];
+            d.axis_obj = v3_norm(v3((float)(to[0] - from[0]), (float)(to[1] - from[1]),
+                                    (float)(to[2] - from[2])));
             if (!(cone > 0.0f && cone <= 180.0f))
                 return fail(P, file, line, "%s: \"float coneangle\" %g must be in (0, 180] degrees",
                             what, cone);

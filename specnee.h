@@ -677,6 +677,12 @@ typedef struct {
                                   unit direction TOWARDS the light (from - to) */
     float cos_start, cos_end;  /* spot: cos(coneangle - conedeltaangle), cos(coneangle):
                                   full intensity inside the first, none outside the second */
+    float obj_from_world[9];   /* spot: the inverse CTM's 3x3 part (row-major): the cone is
+                                  round in the light's own frame, as in pbrt-v4 ... */
+    Vec3 axis_obj;             /* ... around this unit axis, to - from in that frame */
+    int stretched;             /* spot: the CTM stretches or shears, so the cone is not
+                                  round in the world (the light trees then bound it by
+                                  the whole sphere of directions) */
     Vec3 center; double radius;/* distant: the scene's bounding sphere (its power
                                   pi R^2 L, and how far a shadow ray must go) */
     const char *file; int line;/* the LightSource directive, for messages */

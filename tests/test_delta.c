@@ -176,6 +176,66 @@ static void test_spot_falloff(T *t)
     }
 }
 
+/* par: I, h, cos_end, cos_start, k: a spot at (0, 0, h) aiming down under Scale k 1 1,
+   so that in its frame the direction (x, y, -h) is (x / k, y, -h) (pbrt-v4 measures
+   the cone there: an elliptic cone in the world) */
+static double spot_stretched_E(const double *par, double x, double y)
+{
+    double h = par[1], k = par[4], d2 = h * h + x * x + y * y;
+    double co = h / sqrt(x * x / (k * k) + y * y + h * h), a = par[2], b = par[3], u, f;
+    u = (co - a) / (b - a);
+    u = u < 0 ? 0 : u > 1 ? 1 : u;
+    f = u * u * (3.0 - 2.0 * u);
+    return par[0] * f * (h / sqrt(d2)) / d2;
+}
+
+/* A spot under a CTM that stretches x by 2: the cone is twice as wide along x
+   as along y.  Points across the stretched band along x (at x = 2, 45 degrees off
+   the axis in the world, still inside the band in the light's frame), and one
+   along y, where the stretch does not act. */
+static void test_spot_stretched(T *t)
+{
+    static const double xy[][2] = { { 1.0, 0.0 }, { 1.6, 0.0 }, { 2.0, 0.0 }, { 2.4, 0.0 }, { 0.0, 0.95 } };
+    SelStrategy strategies[3] = { SEL_SPECTRAL_TREE, SEL_SPATIAL, SEL_UNIFORM };
+    double par[5];
+    int i, k;
+    par[0] = 2.0;
+    par[1] = 2.0;
+    par[2] = cos(30.0 * SPECNEE_PI / 180.0);
+    par[3] = cos(20.0 * SPECNEE_PI / 180.0);
+    par[4] = 2.0;
+    for (i = 0; i < (int)(sizeof xy / sizeof xy[0]); i++) {
+        char text[4096], light[512], what[64];
+        double E;
+        /* the camera looks down at (x, y): plane_scene puts it over (x0, 0), so
+           move the whole scene by -y instead (a Translate before everything) */
+        snprintf(light, sizeof light,
+                 "AttributeBegin\nTranslate 0 %g 0\nScale 2 1 1\n"
+                 "LightSource \"spot\" \"float scale\" [ 2 ] \"point3 from\" [ 0 0 2 ] \"point3 to\" [ 0 0 0 ] "
+                 "\"float coneangle\" [ 30 ] \"float conedeltaangle\" [ 10 ]\nAttributeEnd", -xy[i][1]);
+        plane_scene(text, sizeof text, xy[i][0], 0.5, light);
+        {
+            /* footprint around (x, y) relative to the light: shift the closed form */
+            double q[5];
+            int j;
+            for (j = 0; j < 5; j++) q[j] = par[j];
+            E = 0.0;
+            {
+                double a = 5.0 * tan(0.25 * SPECNEE_PI / 180.0), sum = 0.0;
+                int u, v, n = 64;
+                for (u = 0; u < n; u++)
+                    for (v = 0; v < n; v++)
+                        sum += spot_stretched_E(q, xy[i][0] + a * (2.0 * (u + 0.5) / n - 1.0),
+                                                xy[i][1] + a * (2.0 * (v + 0.5) / n - 1.0));
+                E = sum / ((double)n * n);
+            }
+        }
+        snprintf(what, sizeof what, "stretched spot at (%g, %g)", xy[i][0], xy[i][1]);
+        for (k = 0; k < 3; k++)
+            if (!check_render(t, text, strategies[k], E, what)) return;
+    }
+}
+
 /* ------------------------------------------------------------------ distant */
 static double distant_E(const double *par, double x, double y)
 {
@@ -348,7 +408,6 @@ static void test_bad_input(T *t)
     expect_error(t, "LightSource \"point\" \"point3 from\" [ 1 2 ]", "from", "3 values");
     expect_error(t, "LightSource \"point\" \"float coneangle\" [ 20 ]", "coneangle", "unused");
     expect_error(t, "LightSource \"distant\" \"float power\" [ 20 ]", "power", "unused");
-    expect_error(t, "Scale 1 2 1\nLightSource \"spot\"", "spot", "stretches");
     expect_error(t, "LightSource \"goniometric\"", "goniometric", "not in the specnee subset");
     expect_error(t, "LightSource \"point\" \"float scale\" [ 1e39 ]", "scale", "finite");
 }
@@ -356,6 +415,7 @@ static void test_bad_input(T *t)
 const TestCase tests_delta[] = {
     { "delta_point_irradiance", test_point_irradiance },
     { "delta_spot_falloff", test_spot_falloff },
+    { "delta_spot_stretched", test_spot_stretched },
     { "delta_distant_cosine", test_distant_cosine },
     { "delta_power_pmf", test_power_pmf },
     { "delta_distant_beside_tree", test_distant_beside_tree },
