@@ -60,7 +60,6 @@
    SURFACE POINT.  p = o + t d in double, moved onto the surface (z = height for a
    disk; scaled to the radius from the axis / centre otherwise), then to the world.
    The shading normal is the geometric one (no per-vertex normals on quadrics).
-   (u, v) are pbrt-v4's parameters (quadric_uv), which textures read.
 
    AREA.  An affine map L (M's 3x3 part) takes a surface element of area dA and unit
    normal n to one of area |det L| |L^-T n| dA (from cross(L a, L b) = det(L) L^-T
@@ -252,32 +251,6 @@ int quadric_intersect(const Shape *sh, const Ray *r, float tmax, float *t_out)
     return 0;
 }
 
-/* pbrt-v4's (u, v) of object point p (on the surface), for textures:
-   u = phi / phimax for all three, and
-     disk      v = (radius - r) / (radius - innerradius)   (1 at the inner edge)
-     cylinder  v = (z - zmin) / (zmax - zmin)
-     sphere    v = (theta - theta_zmin) / (theta_zmax - theta_zmin), theta = acos(z / r)
-               (theta_zmin = acos(zmin / r): v runs from zmin up to zmax) */
-static void quadric_uv(const Shape *sh, const double p[3], float *u, float *v)
-{
-    const Quadric *q = &sh->q;
-    double phi = atan2(p[1], p[0]), vv;
-    if (phi < 0.0) phi += TWO_PI;
-    if (sh->type == SHAPE_DISK) {
-        vv = (q->radius - sqrt(p[0] * p[0] + p[1] * p[1])) / (q->radius - q->inner);
-    } else if (sh->type == SHAPE_CYLINDER) {
-        vv = (p[2] - q->zmin) / (q->zmax - q->zmin);
-    } else {
-        const double R = q->radius;
-        double th = acos(fmax(-1.0, fmin(1.0, p[2] / R)));
-        double t0 = acos(fmax(-1.0, fmin(1.0, q->zmin / R)));
-        double t1 = acos(fmax(-1.0, fmin(1.0, q->zmax / R)));
-        vv = (th - t0) / (t1 - t0);
-    }
-    *u = (float)(phi / q->phimax);
-    *v = (float)vv;
-}
-
 void quadric_surface_point(const Shape *sh, const Ray *r, float t, SurfacePoint *sp)
 {
     const Quadric *q = &sh->q;
@@ -297,7 +270,25 @@ void quadric_surface_point(const Shape *sh, const Ray *r, float t, SurfacePoint 
     }
     to_world(sh, p, &sp->p, &sp->ng);
     sp->ns = sp->ng;
-    quadric_uv(sh, p, &sp->u, &sp->v);
+    /* pbrt-v4's (u, v) parameters (texture.c's "uv" mapping): u = phi / phimax;
+       v: disk (radius - r) / (radius - innerradius), cylinder (z - zmin) / (zmax -
+       zmin), sphere (theta - theta(zmin)) / (theta(zmax) - theta(zmin)) */
+    {
+        double phi = atan2(p[1], p[0]), v;
+        if (phi < 0.0) phi += 2.0 * SPECNEE_PI;
+        sp->u = (float)(phi / q->phimax);
+        if (sh->type == SHAPE_DISK) {
+            v = (q->radius - sqrt(p[0] * p[0] + p[1] * p[1])) / (q->radius - q->inner);
+        } else if (sh->type == SHAPE_CYLINDER) {
+            v = (p[2] - q->zmin) / (q->zmax - q->zmin);
+        } else {
+            double r = q->radius, c = p[2] / r, c0 = q->zmin / r, c1 = q->zmax / r;
+            double t0 = acos(c0 < -1.0 ? -1.0 : c0 > 1.0 ? 1.0 : c0);
+            double t1 = acos(c1 < -1.0 ? -1.0 : c1 > 1.0 ? 1.0 : c1);
+            v = (acos(c < -1.0 ? -1.0 : c > 1.0 ? 1.0 : c) - t0) / (t1 - t0);
+        }
+        sp->v = (float)v;
+    }
 }
 
 /* ------------------------------------------------------------------ bounds and area */

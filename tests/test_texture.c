@@ -268,6 +268,30 @@ static void test_ply_uv(T *t)
     }
 }
 
+/* The quadrics' (u, v) (shapes.c), pbrt-v4's: u = phi / phimax; a disk's
+   v = (radius - r) / (radius - innerradius), a cylinder's (z - zmin) / (zmax - zmin). */
+static void test_quadric_uv(T *t)
+{
+    Scene s;
+    Ray r;
+    HitRecord h;
+    SurfacePoint sp;
+    if (!load(t, &s,
+              "Shape \"disk\" \"float radius\" [ 2 ] \"float innerradius\" [ 0.5 ] \"float phimax\" [ 180 ]\n"
+              "AttributeBegin\nTranslate 10 0 0\nShape \"cylinder\" \"float radius\" [ 1 ] \"float zmin\" [ -1 ] "
+              "\"float zmax\" [ 3 ]\nAttributeEnd\n"))
+        return;
+    r.o = v3(0.0f, 1.0f, 5.0f); r.d = v3(0, 0, -1); r.tmax = INFINITY;   /* phi = 90 deg, r = 1 */
+    CHECK(t, bvh_intersect(&s.bvh, &s, &r, &h), "no hit on the disk");
+    scene_surface_point(&s, &r, &h, &sp);
+    CHECK(t, NEAR(sp.u, 0.5, 1e-5) && NEAR(sp.v, (2.0 - 1.0) / 1.5, 1e-5), "disk uv (%g, %g)", sp.u, sp.v);
+    r.o = v3(10.0f, -5.0f, 2.0f); r.d = v3(0, 1, 0);                    /* phi = 270 deg, z = 2 */
+    CHECK(t, bvh_intersect(&s.bvh, &s, &r, &h), "no hit on the cylinder");
+    scene_surface_point(&s, &r, &h, &sp);
+    CHECK(t, NEAR(sp.u, 0.75, 1e-5) && NEAR(sp.v, 0.75, 1e-5), "cylinder uv (%g, %g)", sp.u, sp.v);
+    scene_free(&s);
+}
+
 /* A textured plane lit straight on by a distant light of illuminance pi: its
    radiance is the reflectance, and a narrow camera on one check sees it. */
 static void test_render_checks(T *t)
@@ -343,6 +367,7 @@ const TestCase tests_texture[] = {
     { "texture_imagemap_colour", test_imagemap_colour },
     { "texture_mesh_uv", test_mesh_uv },
     { "texture_ply_uv", test_ply_uv },
+    { "texture_quadric_uv", test_quadric_uv },
     { "texture_render_checks", test_render_checks },
     { "texture_bad_input", test_bad_input },
     { NULL, NULL }
