@@ -489,7 +489,8 @@ typedef struct {
     int shape;                 /* index into Scene.shapes */
     int prim;
     float u, v;                /* the shape's (u, v) parameters (pbrt-v4): a mesh's "uv"
-                                  interpolated, else (0,0), (1,0), (1,1) at its corners
+                                  interpolated, else (0,0), (1,0), (1,1) at its corners;
+                                  quadrics: pbrt-v4's (phi / phimax, ...) (shapes.c)
                                   (texture.c's "uv" mapping reads them) */
 } SurfacePoint;
 void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
@@ -507,7 +508,8 @@ float offset_eps(float m);
 int    quadric_set_transform(Quadric *q, const Xform *ctm);
 /* Closest hit of the world-space ray r with 0 < t <= tmax; 1 and *t on a hit. */
 int    quadric_intersect(const Shape *sh, const Ray *r, float tmax, float *t);
-/* Position and oriented normals of the hit of r at t (sp->shape, prim left alone). */
+/* Position, oriented normals and pbrt-v4's (u, v) of the hit of r at t (sp->shape,
+   prim left alone). */
 void   quadric_surface_point(const Shape *sh, const Ray *r, float t, SurfacePoint *sp);
 /* World-space box holding the shape, rounded outwards. */
 void   quadric_bounds(const Shape *sh, float lo[3], float hi[3]);

@@ -2,7 +2,7 @@
    against closed forms computed here, not by shapes.c.
 
      shapes_disk_hits            rays at known points of a transformed annulus
-                                 sector: hit point and t, misses inside innerradius,
+                                 sector: hit point, t and pbrt-v4's (u, v), misses inside innerradius,
                                  outside radius and beyond phimax; normal +z under
                                  the CTM (a non-uniform scale tilts it as M^-T
                                  does), negated by ReverseOrientation and by a
@@ -95,6 +95,10 @@ static void test_disk_hits(T *t)
           ", expected t 3 at (1, 1, 4)", (double)th, V3A(sp.p));
     CHECK(t, near3(sp.ng, v3(0, 0, 1), 1e-6f) && near3(sp.ns, sp.ng, 0.0f), "normal " V3F
           " is not +z", V3A(sp.ng));
+    /* pbrt-v4's (u, v): phi / phimax = 45 / 90, (radius - r) / (radius - innerradius) */
+    CHECK(t, fabsf(sp.u - 0.5f) < 1e-6f && fabsf(sp.v - (2.0f - sqrtf(2.0f)) / 1.5f) < 1e-6f,
+          "disk (u, v) = (%g, %g), expected (0.5, %g)", (double)sp.u, (double)sp.v,
+          (2.0 - sqrt(2.0)) / 1.5);
     CHECK(t, trace(&s, v3(1.9f, 0.1f, 0), v3(0, 0, 1), &th, &sp) && fabsf(th - 4.0f) < 1e-6f,
           "a ray up at (1.9, 0.1) misses: both sides of a disk are hit");
     CHECK(t, !trace(&s, v3(0.3f, 0.3f, 10), v3(0, 0, -1), &th, &sp), "hit inside innerradius");
@@ -150,6 +154,9 @@ static void test_cylinder_hits(T *t)
     CHECK(t, near3(sp.p, v3(1, sqrtf(3.0f), 0.5f), 1e-5f) &&
           near3(sp.ng, v3(0.5f, sqrtf(3.0f) / 2, 0), 1e-6f), "outside hit p " V3F " n " V3F,
           V3A(sp.p), V3A(sp.ng));
+    /* (u, v) = (60 / 270, (z - zmin) / (zmax - zmin)) */
+    CHECK(t, fabsf(sp.u - 60.0f / 270.0f) < 1e-6f && fabsf(sp.v - 0.375f) < 1e-6f,
+          "cylinder (u, v) = (%g, %g), expected (%g, 0.375)", (double)sp.u, (double)sp.v, 60.0 / 270.0);
     /* from inside (the axis) towards -x: the wall at x = -2, normal still outward (-x) */
     CHECK(t, trace(&s, v3(0, 0, 0), v3(-1, 0, 0), &th, &sp), "missed from inside");
     CHECK(t, fabsf(th - 2.0f) < 1e-6f && near3(sp.ng, v3(-1, 0, 0), 1e-6f),
@@ -195,6 +202,10 @@ static void test_sphere_part_hits(T *t)
     /* horizontal at z = 1 (object z = 0) from +y: the near wall at y = 1 */
     CHECK(t, trace(&s, v3(0, 5, 1), v3(0, -1, 0), &th, &sp) && fabsf(th - 4.0f) < 1e-5f &&
           near3(sp.ng, v3(0, 1, 0), 1e-5f), "near wall: t %g n " V3F, (double)th, V3A(sp.ng));
+    /* (u, v) = (90 / 180, (theta - theta_zmin) / (theta_zmax - theta_zmin)) with theta 90,
+       theta_zmin 180, theta_zmax 60 degrees */
+    CHECK(t, fabsf(sp.u - 0.5f) < 1e-6f && fabsf(sp.v - 0.75f) < 1e-5f,
+          "sphere (u, v) = (%g, %g), expected (0.5, 0.75)", (double)sp.u, (double)sp.v);
     /* from -y: the half y < 0 is gone, so the far wall from inside at y = 1 */
     CHECK(t, trace(&s, v3(0, -5, 1), v3(0, 1, 0), &th, &sp) && fabsf(th - 6.0f) < 1e-5f &&
           near3(sp.ng, v3(0, 1, 0), 1e-5f), "through the phi cut: t %g n " V3F ", expected t 6",
