@@ -59,5 +59,6 @@ for scene in "$@"; do
           if ($1 == "image") { Yt = yt; Yr = yr; R = r }
           else { d = r - 1; if (d < 0) d = -d; if (d >= worstd) { worstd = d; worst = r } } }
         END { st = (R > 0.98 && R < 1.02 && worstd < 0.05) ? "ok" : "differs"
+              if (Yr == 0 && Yt == 0) st = "ok (both black)"
               printf "%-40s %12.6g %12.6g %8.4f %8.4f  %s\n", name, Yr, Yt, R, worst, st }' "$out/$name-diff.csv"
 done
