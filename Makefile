@@ -29,13 +29,14 @@ DETECTED != sh tools/ccflags.sh "$(CC)"
 CFLAGS = $(OPT) $(WARN) $(DETECTED)
 LDLIBS = -lm
 
-LIBOBJ = util.o sampler.o bvh.o spectrum.o lights.o infinite.o scene.o ply.o material.o render.o image.o \
+LIBOBJ = util.o sampler.o bvh.o spectrum.o metals.o lights.o infinite.o scene.o ply.o material.o conductor.o \
+         render.o image.o \
          svg.o eval.o
 TESTOBJ = tests/runner.o tests/fixtures.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
           tests/test_scene.o tests/test_image.o tests/test_material.o \
           tests/test_render.o tests/test_lights.o tests/test_scenes.o tests/test_physics.o \
           tests/test_robust.o tests/test_lighttree.o tests/test_pbrt.o tests/test_wavelengths.o \
-          tests/test_sampler.o tests/test_fluor.o
+          tests/test_sampler.o tests/test_fluor.o tests/test_conductor.o
 
 all: specnee
 

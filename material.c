@@ -1,5 +1,6 @@
-/* material.c - the materials the scenes need: diffuse, (dispersive) glass, and a
-   diffuse fluorescent layer.
+/* material.c - the materials the scenes need: diffuse, (dispersive) glass, a
+   diffuse fluorescent layer, pbrt-v4's thindielectric and diffusetransmission, and
+   the dispatch to conductors (conductor.c).
 
    Exported: mat_eta, mat_is_delta, bsdf_sample, bsdf_eval, fresnel_dielectric,
    refract_dir, mat_albedo, fluor_* (specnee.h section 6).  Every sampler has its
@@ -252,6 +253,8 @@ float fluor_pdf_li_uniform(float lo, float li)
 
 int mat_is_delta(const Material *m)
 {
+    if (m->type == MAT_CONDUCTOR) return fmaxf(m->alpha, m->alpha_t) < 1e-3f;  /* conductor.c */
+    if (m->type == MAT_THIN_DIELECTRIC) return 1;
     return m->type == MAT_DIELECTRIC && m->alpha == 0.0f;
 }
 
@@ -371,6 +374,76 @@ static void rough_eval(float alpha, float eta, Vec3 wo, Vec3 wi, float *f, float
     }
 }
 
+/* ---------------------------------------------------------------- thin dielectric */
+
+/* pbrt-v4's ThinDielectricBxDF: a thin slab (a window pane, a soap film without
+   interference) whose two parallel faces reflect F each.  Light bounces between
+   the faces; summing the geometric series of the bounces (pbrt 4th ed. section
+   9.5.1)
+       R' = R + T^2 R (1 + R^2 + R^4 + ...) = R + T^2 R / (1 - R^2),  T = 1 - R,
+       T' = 1 - R'                       (no absorption: nothing else is lost)
+   with R = F(|cos o|, eta) of one face.  Everything leaves along two directions:
+   the mirror direction (R') or straight on, wi = -wo (T': the two refractions
+   cancel).  Both are delta lobes; the hero's R'/(R'+T') picks one, and every
+   wavelength keeps its own R' or T' (its own probability of that lobe in pdf_l,
+   so the spectral MIS ratios see the lobe choice; with a constant eta they are
+   all equal).  No 1/eta^2: the light leaves into the medium it came from. */
+static float thin_reflectance(float cos_o, float eta)
+{
+    float R = fresnel_dielectric(fabsf(cos_o), eta), T = 1.0f - R;
+    if (R < 1.0f) R += T * T * R / (1.0f - R * R);
+    return R;
+}
+
+static int thin_sample(const Material *m, Vec3 lo, const float *lambda, unsigned alive,
+                       float u0, BsdfSample *out, Vec3 *li)
+{
+    float R0 = thin_reflectance(lo.z, mat_eta(m, lambda[0]));
+    int reflect = u0 < R0, j;
+    out->delta = 1;
+    *li = reflect ? v3(-lo.x, -lo.y, lo.z) : v3_neg(lo);
+    for (j = 0; j < HERO_N; j++) {
+        float Rj = j == 0 ? R0 : thin_reflectance(lo.z, mat_eta(m, lambda[j]));
+        float pj = reflect ? Rj : 1.0f - Rj;    /* lobe probability with hero j */
+        out->pdf_l[j] = pj;
+        if (alive & (1u << j)) out->f[j] = pj / fabsf(lo.z);   /* |cos i| = |cos o| */
+    }
+    out->pdf = out->pdf_l[0];
+    return out->pdf > 0.0f;
+}
+
+/* ---------------------------------------------------------------- diffuse transmission */
+
+/* pbrt-v4's DiffuseTransmissionBxDF: Lambertian reflection R/pi on wo's side and
+   Lambertian transmission T/pi on the other (paper, leaves, lamp shades).
+   Sampling picks the side with the constant probability p_reflect (max R over
+   max R + max T, fixed at load time: pbrt-v4 uses the maxima over the four
+   sampled wavelengths instead; any fixed choice is unbiased), then a cosine
+   direction on it:  p(wi) = p_side |cos i| / pi.  The lobes must not leak
+   through the geometric surface: reflection stays on wo's side of ng,
+   transmission crosses it. */
+static float dt_side_pdf(const Material *m, int reflect)
+{
+    return reflect ? m->p_reflect : 1.0f - m->p_reflect;
+}
+
+static int dt_pair(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi, Vec3 lo, Vec3 li,
+                   const float *lambda, unsigned alive, float f[HERO_N], float pdf_l[HERO_N])
+{
+    int reflect = lo.z * li.z > 0.0f, j;
+    float gside = v3_dot(wi, sp->ng) * v3_dot(wo, sp->ng), pdf;
+    for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
+    if (lo.z * li.z == 0.0f) return 0;
+    if (reflect ? gside <= 0.0f : gside >= 0.0f) return 0;   /* no leaks */
+    pdf = dt_side_pdf(m, reflect) * fabsf(li.z) / PI_F;
+    for (j = 0; j < HERO_N; j++) {
+        pdf_l[j] = pdf;
+        if (alive & (1u << j))
+            f[j] = spec_eval(reflect ? &m->reflectance : &m->transmittance, lambda[j]) / PI_F;
+    }
+    return pdf > 0.0f;
+}
+
 /* ---------------------------------------------------------------- sampling */
 
 /* The shading frame; for diffuse it is turned to wo's side of the surface. */
@@ -388,6 +461,29 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
     for (j = 0; j < HERO_N; j++) { out->f[j] = 0.0f; out->pdf_l[j] = 0.0f; }
     out->delta = 0;
     if (lo.z == 0.0f) return 0;
+
+    if (m->type == MAT_CONDUCTOR) {
+        if (!conductor_sample(m, lo, lambda, alive, u1, u2, out, &li)) return 0;
+        out->wi = frame_to_world(&fr, li);
+        /* a rough lobe must not leak through the geometric surface (as diffuse) */
+        if (!out->delta && v3_dot(out->wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return 0;
+        return 1;
+    }
+    if (m->type == MAT_THIN_DIELECTRIC) {
+        if (!thin_sample(m, lo, lambda, alive, u0, out, &li)) return 0;
+        out->wi = frame_to_world(&fr, li);
+        return 1;
+    }
+    if (m->type == MAT_DIFFUSE_TRANSMISSION) {
+        int reflect = u0 < m->p_reflect;
+        float r = sqrtf(u1), phi = 2.0f * PI_F * u2;   /* cosine-weighted, as diffuse */
+        li = v3(r * cosf(phi), r * sinf(phi), sqrtf(fmaxf(0.0f, 1.0f - u1)));
+        if ((lo.z < 0.0f) == reflect) li.z = -li.z;     /* reflect: wo's side */
+        out->wi = frame_to_world(&fr, li);
+        if (!dt_pair(m, sp, wo, out->wi, lo, li, lambda, alive, out->f, out->pdf_l)) return 0;
+        out->pdf = out->pdf_l[0];
+        return 1;
+    }
 
     if (m->type != MAT_DIELECTRIC) {    /* diffuse, or the fluorescent reflect lobe */
         /* cosine-weighted hemisphere (Malley's method: a uniform disk lifted up) */
@@ -468,6 +564,16 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
     Vec3 lo = frame_to_local(&fr, wo), li = frame_to_local(&fr, wi);
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
+    if (m->type == MAT_CONDUCTOR) {
+        if (v3_dot(wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return;   /* no leaks */
+        conductor_eval(m, lo, li, lambda, alive, f, pdf_l);
+        return;
+    }
+    if (m->type == MAT_THIN_DIELECTRIC) return;                    /* delta: f = 0 */
+    if (m->type == MAT_DIFFUSE_TRANSMISSION) {
+        dt_pair(m, sp, wo, wi, lo, li, lambda, alive, f, pdf_l);
+        return;
+    }
     if (m->type != MAT_DIELECTRIC) {    /* diffuse, or the fluorescent reflect lobe */
         float pdf;
         if (lo.z * li.z <= 0.0f) return;                           /* other side */

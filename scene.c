@@ -1551,6 +1551,46 @@ static int check_unit_spectrum(Parser *P, const Param *p, Spectrum *sp)
     return 1;
 }
 
+/* pbrt-v4's roughness parameters of a microfacet material: u/vroughness default
+   to "roughness", which defaults to 0; remaproughness (default true) maps them to
+   alpha = sqrt(roughness) (TrowbridgeReitzDistribution::RoughnessToAlpha). */
+static int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
+                             const char *what, float *alpha_u, float *alpha_v)
+{
+    float u, v, r;
+    int remap, have_u = param_find(pl, PT_FLOAT, "uroughness") != NULL;
+    int have_v = param_find(pl, PT_FLOAT, "vroughness") != NULL;
+    if (!get_float(P, pl, "uroughness", 0, &u) || !get_float(P, pl, "vroughness", 0, &v))
+        return 0;
+    if (!have_u || !have_v) {
+        if (!get_float(P, pl, "roughness", 0, &r)) return 0;
+        if (!have_u) u = r;
+        if (!have_v) v = r;
+    }
+    if (!get_bool(P, pl, "remaproughness", 1, &remap)) return 0;
+    if (!(u >= 0.0f && u <= 1e4f) || !(v >= 0.0f && v <= 1e4f))
+        return fail(P, file, line, "%s: roughness (%g, %g) must be within [0, 1e4]", what, u, v);
+    *alpha_u = remap ? sqrtf(u) : u;
+    *alpha_v = remap ? sqrtf(v) : v;
+    return 1;
+}
+
+/* Every value of a spectrum over 300-830 nm must satisfy lo < v (strict) or
+   lo <= v (strict = 0), and be finite: else "file:line: ..." naming the first
+   wavelength that fails.  p may be NULL (a default spectrum: the directive's line). */
+static int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
+                                const char *what, const Spectrum *sp, float lo, int strict)
+{
+    int nm;
+    for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+        float v = spec_get(sp, nm);
+        if (!(strict ? v > lo : v >= lo) || !(v < 1e30f))
+            return fail(P, p ? p->file : file, p ? p->line : line, "%s: value %g at %d nm "
+                        "(need a finite value %s %g)", what, v, nm, strict ? ">" : ">=", lo);
+    }
+    return 1;
+}
+
 static int material_from_params(Parser *P, const char *type, ParamList *pl, const char *file,
                                 int line, Material *m, const char *dir)
 {
@@ -1682,10 +1722,120 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         m->dispersive = !spec_is_constant(&m->eta);
         return 1;
     }
+    if (!strcmp(type, "conductor")) {
+        /* pbrt-v4 ConductorMaterial (conductor.c): eta and k, or a reflectance that
+           stands for them; Cu by default */
+        Param *pe = find_spectrum_param(pl, "eta"), *pk = find_spectrum_param(pl, "k");
+        Param *pr = find_spectrum_param(pl, "reflectance");
+        int nm;
+        m->type = MAT_CONDUCTOR;
+        if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t)) return 0;
+        if (!params_check_unused(P, pl, what, "spectrum eta, spectrum k, spectrum reflectance, "
+                                 "float roughness, float uroughness, float vroughness, "
+                                 "bool remaproughness", "displacement normalmap"))
+            return 0;
+        if (pr && (pe || pk))
+            return fail(P, file, line, "%s: give either \"reflectance\" or \"eta\" and \"k\", "
+                        "not both (pbrt-v4 refuses it too)", what);
+        if (pr) {
+            /* pbrt-v4: r clamped to [0, 0.9999], eta = 1, k = 2 sqrt(r) / sqrt(1 - r),
+               which makes the normal-incidence reflectance ((eta-1)^2 + k^2) /
+               ((eta+1)^2 + k^2) = k^2 / (4 + k^2) exactly r */
+            if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
+            if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
+            spec_const(&m->eta, 1.0f);
+            for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+                double r = spec_get(&m->reflectance, nm);
+                if (r > 0.9999) r = 0.9999;
+                *spec_at(&m->k, nm) = (float)(2.0 * sqrt(r) / sqrt(1.0 - r));
+            }
+        } else {
+            if (pe) { if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->eta, NULL)) return 0; }
+            else spec_named(&m->eta, "metal-Cu-eta");
+            if (pk) { if (!param_spectrum(P, pk, SPEC_UNBOUNDED, &m->k, NULL)) return 0; }
+            else spec_named(&m->k, "metal-Cu-k");
+            if (!check_spectrum_above(P, pe, file, line, "\"spectrum eta\" of a conductor",
+                                      &m->eta, 0.0f, 1) ||
+                !check_spectrum_above(P, pk, file, line, "\"spectrum k\" of a conductor",
+                                      &m->k, 0.0f, 0))
+                return 0;
+        }
+        if (m->alpha != m->alpha_t)
+            return fail(P, file, line, "%s: anisotropic roughness (u %g, v %g after the remap) "
+                        "is valid pbrt-v4 but not in the specnee subset (its axes follow the "
+                        "surface's dp/du, which specnee does not have)", what, m->alpha,
+                        m->alpha_t);
+        return 1;
+    }
+    if (!strcmp(type, "thindielectric")) {
+        /* pbrt-v4 ThinDielectricMaterial (material.c): "float eta" or "spectrum eta",
+           1.5 by default; no roughness */
+        Param *pf = param_find(pl, PT_FLOAT, "eta"), *ps = find_spectrum_param(pl, "eta");
+        m->type = MAT_THIN_DIELECTRIC;
+        if (!params_check_unused(P, pl, what, "float eta, spectrum eta", "displacement normalmap"))
+            return 0;
+        if (pf) {
+            float eta;
+            if (!get_float(P, pl, "eta", 1.5f, &eta)) return 0;
+            spec_const(&m->eta, eta);
+        } else if (ps) {
+            if (!param_spectrum(P, ps, SPEC_UNBOUNDED, &m->eta, NULL)) return 0;
+        } else {
+            spec_const(&m->eta, 1.5f);                /* pbrt-v4's default */
+        }
+        /* pbrt-v4 reads an eta of 0 as 1 (no interface); negative is meaningless */
+        if (!check_spectrum_above(P, pf ? pf : ps, file, line, "\"eta\" of a thindielectric",
+                                  &m->eta, 0.0f, 0))
+            return 0;
+        {
+            int nm;
+            for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
+                if (spec_get(&m->eta, nm) == 0.0f) *spec_at(&m->eta, nm) = 1.0f;
+        }
+        return 1;
+    }
+    if (!strcmp(type, "diffusetransmission")) {
+        /* pbrt-v4 DiffuseTransmissionMaterial (material.c): R and T (0.25 each by
+           default), both times "scale" and clamped to [0, 1] */
+        Param *pr = find_spectrum_param(pl, "reflectance"), *pt = find_spectrum_param(pl, "transmittance");
+        Param *psc = param_find(pl, PT_FLOAT, "scale");
+        float scale, maxr = 0.0f, maxt = 0.0f;
+        int nm;
+        m->type = MAT_DIFFUSE_TRANSMISSION;
+        if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
+        if (!params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
+                                 "spectrum transmittance, rgb transmittance, float scale",
+                                 "displacement normalmap"))
+            return 0;
+        if (pr) {
+            if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
+            if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
+        } else {
+            spec_const(&m->reflectance, 0.25f);
+        }
+        if (pt) {
+            if (!param_spectrum(P, pt, SPEC_ALBEDO, &m->transmittance, NULL)) return 0;
+            if (!check_unit_spectrum(P, pt, &m->transmittance)) return 0;
+        } else {
+            spec_const(&m->transmittance, 0.25f);
+        }
+        if (!(scale >= 0.0f))
+            return fail(P, psc ? psc->file : file, psc ? psc->line : line,
+                        "\"float scale\": %g must be >= 0", scale);
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+            float *r = spec_at(&m->reflectance, nm), *t = spec_at(&m->transmittance, nm);
+            *r = fminf(1.0f, scale * *r);
+            *t = fminf(1.0f, scale * *t);
+            if (*r > maxr) maxr = *r;
+            if (*t > maxt) maxt = *t;
+        }
+        m->p_reflect = maxr + maxt > 0.0f ? maxr / (maxr + maxt) : 0.5f;
+        return 1;
+    }
     {
         static const char *const pbrt_types[] = {
-            "coateddiffuse", "coatedconductor", "conductor", "diffusetransmission", "hair",
-            "interface", "measured", "mix", "subsurface", "thindielectric", NULL
+            "coateddiffuse", "coatedconductor", "hair",
+            "interface", "measured", "mix", "subsurface", NULL
         };
         int i;
         if (!type[0] || !strcmp(type, "none"))      /* pbrt-v4 materials.cpp */
@@ -1695,7 +1845,8 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
                 return fail(P, file, line, "%s \"%s\" is valid pbrt-v4 but not in the "
-                            "specnee subset (use \"diffuse\" or \"dielectric\")", dir, type);
+                            "specnee subset (use \"diffuse\", \"dielectric\", \"conductor\", "
+                            "\"thindielectric\" or \"diffusetransmission\")", dir, type);
         return fail(P, file, line, "%s \"%s\": unknown material type", dir, type);
     }
 }
@@ -2705,6 +2856,17 @@ void scene_dump(const Scene *s, FILE *f)
             dump_spectrum(f, "reflectance", &m->reflectance);
             dump_spectrum(f, "excitation", &m->excitation);
             dump_spectrum(f, "emission", &m->emission);
+        } else if (m->type == MAT_CONDUCTOR) {
+            fprintf(f, "  [%d] conductor, alpha %g\n", i, m->alpha);
+            dump_spectrum(f, "eta", &m->eta);
+            dump_spectrum(f, "k", &m->k);
+        } else if (m->type == MAT_THIN_DIELECTRIC) {
+            fprintf(f, "  [%d] thindielectric\n", i);
+            dump_spectrum(f, "eta", &m->eta);
+        } else if (m->type == MAT_DIFFUSE_TRANSMISSION) {
+            fprintf(f, "  [%d] diffusetransmission, P(reflect lobe) %g\n", i, m->p_reflect);
+            dump_spectrum(f, "reflectance", &m->reflectance);
+            dump_spectrum(f, "transmittance", &m->transmittance);
         } else {
             fprintf(f, "  [%d] dielectric, alpha %g, %s", i, m->alpha,
                     m->dispersive ? "dispersive" : "constant eta");

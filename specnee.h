@@ -300,6 +300,9 @@ int   spec_from_pairs(Spectrum *s, const float *lambda, const float *value, int 
    (lamp-CFL1, lamp-LED1, lamp-LED2), glass-* indices, ...  Returns 0 if unknown. */
 int   spec_named(Spectrum *s, const char *name);
 const char *const *spec_named_list(void);   /* NULL-terminated list of the names */
+/* The metals' optical constants by pbrt-v4's names, metal-Ag-eta, metal-Ag-k, ...
+   (metals.c: the data and their sources); spec_named asks it.  0 if unknown. */
+int   metal_named(Spectrum *s, const char *name);
 /* A file of wavelength/value pairs: pbrt .spd text or CSV (optional header). */
 int   spec_from_file(Spectrum *s, const char *path, Error *err);
 /* RGB reflectance (0..1) or illuminant RGB upsampled to a smooth spectrum. */
@@ -461,7 +464,12 @@ float offset_eps(float m);
 /* ======================================================================
    6. Materials (material.c): only what the scenes need
    ====================================================================== */
-typedef enum { MAT_DIFFUSE, MAT_DIELECTRIC, MAT_FLUORESCENT } MaterialType;
+typedef enum {
+    MAT_DIFFUSE, MAT_DIELECTRIC, MAT_FLUORESCENT,
+    MAT_CONDUCTOR,             /* pbrt-v4 "conductor": complex Fresnel, smooth or GGX (conductor.c) */
+    MAT_THIN_DIELECTRIC,       /* pbrt-v4 "thindielectric": reflect or pass straight through */
+    MAT_DIFFUSE_TRANSMISSION   /* pbrt-v4 "diffusetransmission": Lambert both sides */
+} MaterialType;
 #define FL_N (SPEC_MAX - SPEC_UV_MIN + 1)   /* 1 nm knots of the fluorescence tables */
 typedef struct {
     MaterialType type;
@@ -477,7 +485,13 @@ typedef struct {
                                   (A + B/lambda^2) is tabulated into it at load time */
     float cauchy_a, cauchy_b;  /* the Cauchy coefficients when given (for --dump-scene) */
     int dispersive;            /* eta varies with lambda: terminates the secondaries */
-    float alpha;               /* GGX roughness alpha (0 = smooth), after remaproughness */
+    float alpha;               /* GGX roughness alpha (0 = smooth), after remaproughness;
+                                  conductor: alpha along the shading frame's s axis */
+    float alpha_t;             /* conductor: alpha along the t axis (anisotropic GGX) */
+    Spectrum k;                /* conductor: extinction coefficient (eta holds n) */
+    Spectrum transmittance;    /* diffusetransmission: T (reflectance holds R), scaled */
+    float p_reflect;           /* diffusetransmission: probability of sampling the
+                                  reflect lobe, max R / (max R + max T) over 300-830 nm */
 } Material;
 
 float mat_eta(const Material *m, float lambda_nm);
@@ -526,6 +540,24 @@ int  bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float
 /* Evaluate f and the pdfs for a given pair (for NEE); delta materials give 0. */
 void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
                const float *lambda, unsigned alive, float f[HERO_N], float pdf_l[HERO_N]);
+/* Fresnel reflectance of a conductor (complex index eta + i k) seen from a medium
+   of index 1, unpolarised; cos_i in [0, 1] (conductor.c). */
+float fresnel_conductor(float cos_i, float eta, float k);
+/* The conductor's sampler, value and pdf, called by bsdf_sample and bsdf_eval in
+   the shading frame (local directions, n = +z).  pdf_l[j] = pdf for every j: the
+   direction does not depend on the wavelength. */
+int   conductor_sample(const Material *m, Vec3 wo, const float *lambda, unsigned alive,
+                       float u1, float u2, BsdfSample *out, Vec3 *wi_local);
+void  conductor_eval(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
+                     float f[HERO_N], float pdf_l[HERO_N]);
+/* Anisotropic Trowbridge-Reitz (GGX) with alpha_x, alpha_y, in the local frame
+   (exposed for tests): the normal distribution D(wm), the height-correlated
+   masking-shadowing G(wo, wi), and the visible-normal sampler with its density
+   D_wo(wm) = G1(wo) max(0, wo.wm) D(wm) / |cos wo|. */
+float tr_D(float ax, float ay, Vec3 wm);
+float tr_G(float ax, float ay, Vec3 wo, Vec3 wi);
+Vec3  tr_sample_wm(float ax, float ay, Vec3 wo, float u1, float u2);
+float tr_pdf_wm(float ax, float ay, Vec3 wo, Vec3 wm);
 /* Fresnel reflectance of a dielectric interface, unpolarised (cos_i may be < 0:
    then the ray is inside and eta is inverted). */
 float fresnel_dielectric(float cos_i, float eta);

@@ -885,6 +885,9 @@ static const char *const named_spectra[] = {
     "lamp-CFL1", "lamp-LED1", "lamp-LED2", "lamp-UVLED365", "lamp-BLB",
     "fluor-brightener-ex", "fluor-brightener-em", "fluor-fluorescein-ex",
     "fluor-fluorescein-em", "fluor-pyranine-ex", "fluor-pyranine-em",
+    "metal-Ag-eta", "metal-Ag-k", "metal-Al-eta", "metal-Al-k", "metal-Au-eta", "metal-Au-k",
+    "metal-Cu-eta", "metal-Cu-k", "metal-CuZn-eta", "metal-CuZn-k", "metal-MgO-eta",
+    "metal-MgO-k", "metal-TiO2-eta", "metal-TiO2-k",         /* metals.c */
     NULL
 };
 
@@ -963,6 +966,7 @@ int spec_named(Spectrum *s, const char *name)
     if (name_eq(name, "fluor-fluorescein-em")) { fluor_band(s, FL_BANDS(fl_fluorescein_em)); return 1; }
     if (name_eq(name, "fluor-pyranine-ex")) { fluor_band(s, FL_BANDS(fl_pyranine_ex)); return 1; }
     if (name_eq(name, "fluor-pyranine-em")) { fluor_band(s, FL_BANDS(fl_pyranine_em)); return 1; }
+    if (metal_named(s, name)) return 1;          /* metal-*-eta, metal-*-k (metals.c) */
     return 0;
 }
 

@@ -677,7 +677,7 @@ REJECT(rej_sphere_nonuniform, "WorldBegin\nScale 1 2 1\nShape \"sphere\"\n", 3, 
 REJECT(rej_shape_curve, "WorldBegin\nShape \"curve\"\n", 2,
        "Shape \"curve\" is valid pbrt-v4 but not in the specnee subset", NULL)
 REJECT(rej_shape_unknown, "WorldBegin\nShape \"blob\"\n", 2, "unknown shape type", NULL)
-REJECT(rej_material_conductor, "WorldBegin\nMaterial \"conductor\"\n", 2, "conductor",
+REJECT(rej_material_conductor, "WorldBegin\nMaterial \"coatedconductor\"\n", 2, "coatedconductor",
        "valid pbrt-v4 but not in the specnee subset")
 REJECT(rej_unknown_named_spectrum, "WorldBegin\nMaterial \"dielectric\" \"spectrum eta\" \"glass-XYZ\"\n",
        2, "unknown named spectrum", "glass-XYZ")

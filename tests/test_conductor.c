@@ -1,0 +1,763 @@
+/* tests/test_conductor.c - pbrt-v4's conductor, thindielectric and
+   diffusetransmission materials (conductor.c, material.c, metals.c, scene.c).
+
+   conductor_fresnel_values      the complex Fresnel against the real-arithmetic
+                                 formula (Born & Wolf 14.2), normal incidence,
+                                 k = 0 against fresnel_dielectric, grazing = 1
+   conductor_named_metals        the 14 named spectra load, eta > 0, k >= 0, the
+                                 1 nm resampling at a table row, gold is yellow
+   conductor_reflectance_param   "reflectance" r: F at normal incidence is r; r = 1
+                                 reflects nearly all at every angle (a furnace)
+   conductor_smooth              delta mirror, weight F per wavelength, f = 0 in eval
+   conductor_ggx_normalised      anisotropic D projects to 1; the visible-normal
+                                 density integrates to 1 (checks Lambda and G1)
+   conductor_rough_pdf_and_energy  int p = success rate; E[f cos/p] = int f cos;
+                                 sampled f, pdf = evaluated ones; anisotropic
+   conductor_rough_chi2          sampled directions against the pdf (chi-square)
+   conductor_reciprocity         f(wo, wi) = f(wi, wo)
+   conductor_rough_value         f against isotropic GGX written out independently
+   thindielectric_values         R' = 2R/(1+R) (the closed form of the series),
+                                 reflect fraction, weights, straight-through direction
+   difftrans_albedo              the lobes carry R and T, pdf sampled = evaluated,
+                                 int p = 1, scale and clamp of the parser
+   conductor_parse_*             the parser: defaults and every rejection file:line
+   conductor_furnace_*           renders in a closed emitting box (radiance 1):
+                                 thin dielectric Y = 1; diffuse transmission
+                                 Y = R + T^2/(1 - R); a rough conductor renders the
+                                 same with and without NEE (the MIS pdfs agree) */
+#include "test.h"
+#include <stdlib.h>
+#include <string.h>
+
+static void make_conductor(Material *m, float eta, float k, float ax, float ay)
+{
+    memset(m, 0, sizeof *m);
+    m->type = MAT_CONDUCTOR;
+    spec_const(&m->eta, eta);
+    spec_const(&m->k, k);
+    m->alpha = ax;
+    m->alpha_t = ay;
+}
+
+/* The conductor Fresnel reflectance in real arithmetic (Born & Wolf, "Principles
+   of Optics", 14.2; the form of pbrt-v3's FrConductor for a medium of index 1):
+       a^2 + b^2 = sqrt((n^2 - k^2 - sin^2)^2 + 4 n^2 k^2),  a = sqrt((a^2+b^2 + n^2-k^2-sin^2)/2)
+       Rs = (a^2+b^2 - 2a cos + cos^2) / (a^2+b^2 + 2a cos + cos^2)
+       Rp = Rs (cos^2 (a^2+b^2) - 2a cos sin^2 + sin^4) / (cos^2 (a^2+b^2) + 2a cos sin^2 + sin^4)
+   an independent route to the complex-number code of conductor.c. */
+static double fr_conductor_ref(double c, double n, double k)
+{
+    double s2 = 1.0 - c * c, t = n * n - k * k - s2;
+    double ab2 = sqrt(t * t + 4.0 * n * n * k * k), a = sqrt(0.5 * (ab2 + t));
+    double rs = (ab2 - 2.0 * a * c + c * c) / (ab2 + 2.0 * a * c + c * c);
+    double rp = rs * (c * c * ab2 - 2.0 * a * c * s2 + s2 * s2) / (c * c * ab2 + 2.0 * a * c * s2 + s2 * s2);
+    return 0.5 * (rs + rp);
+}
+
+static void test_fresnel_values(T *t)
+{
+    const float ns[4] = { 0.2f, 1.0f, 1.5f, 2.9f }, ks[4] = { 0.0f, 0.5f, 3.3f, 8.0f };
+    const float cs[6] = { 1.0f, 0.9f, 0.5f, 0.2f, 0.05f, 0.01f };
+    int a, b, c;
+    for (a = 0; a < 4; a++)
+        for (b = 0; b < 4; b++)
+            for (c = 0; c < 6; c++) {
+                float F = fresnel_conductor(cs[c], ns[a], ks[b]);
+                double ref;
+                if (ns[a] == 1.0f && ks[b] == 0.0f) { CHECK(t, F < 1e-7f, "no interface: F %g", F); continue; }
+                ref = fr_conductor_ref(cs[c], ns[a], ks[b]);
+                CHECK(t, fabs(F - ref) < 2e-6 + 1e-5 * ref, "n %g k %g cos %g: F %.7f, Born & Wolf %.7f",
+                      ns[a], ks[b], cs[c], F, ref);
+            }
+    for (a = 0; a < 4; a++)
+        for (b = 0; b < 4; b++) {
+            double n = ns[a], k = ks[b];
+            double r0 = ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k);
+            CHECK(t, fabs(fresnel_conductor(1.0f, ns[a], ks[b]) - r0) < 1e-6,
+                  "normal incidence n %g k %g: %g vs %g", n, k, fresnel_conductor(1.0f, ns[a], ks[b]), r0);
+            CHECK(t, fabsf(fresnel_conductor(0.0f, ns[a], ks[b]) - 1.0f) < 1e-6f || (a == 1 && b == 0),
+                  "grazing incidence reflects all (n %g k %g)", n, k);
+        }
+    for (c = 0; c < 6; c++)      /* k = 0, n > 1: an ordinary dielectric */
+        CHECK(t, fabsf(fresnel_conductor(cs[c], 1.5f, 0.0f) - fresnel_dielectric(cs[c], 1.5f)) < 1e-6f,
+              "k = 0 at cos %g: %g vs dielectric %g", cs[c], fresnel_conductor(cs[c], 1.5f, 0.0f),
+              fresnel_dielectric(cs[c], 1.5f));
+    /* k large: a perfect mirror at every angle */
+    for (c = 0; c < 5; c++)
+        CHECK(t, fresnel_conductor(cs[c], 1.0f, 1000.0f) > 0.998f, "k = 1000 at cos %g: F %g",
+              cs[c], fresnel_conductor(cs[c], 1.0f, 1000.0f));
+}
+
+static double r_normal(const Spectrum *eta, const Spectrum *k, float nm)
+{
+    double n = spec_eval(eta, nm), kk = spec_eval(k, nm);
+    return ((n - 1) * (n - 1) + kk * kk) / ((n + 1) * (n + 1) + kk * kk);
+}
+
+static void test_named_metals(T *t)
+{
+    static const char *const m[7] = { "Ag", "Al", "Au", "Cu", "CuZn", "MgO", "TiO2" };
+    const char *const *list = spec_named_list();
+    Spectrum eta, k;
+    int i, nm;
+    for (i = 0; i < 7; i++) {
+        char ne[32], nk[32];
+        int listed = 0, j;
+        snprintf(ne, sizeof ne, "metal-%s-eta", m[i]);
+        snprintf(nk, sizeof nk, "metal-%s-k", m[i]);
+        CHECK(t, spec_named(&eta, ne) && spec_named(&k, nk), "%s / %s unknown", ne, nk);
+        for (j = 0; list[j]; j++) listed += !strcmp(list[j], ne) + !strcmp(list[j], nk);
+        CHECK(t, listed == 2, "%s and %s not both in spec_named_list", ne, nk);
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
+            CHECK(t, spec_get(&eta, nm) > 0.0f && spec_get(&k, nm) >= 0.0f,
+                  "%s at %d nm: eta %g k %g", m[i], nm, spec_get(&eta, nm), spec_get(&k, nm));
+    }
+    CHECK(t, spec_named(&eta, "METAL-cu-ETA"), "names compare without case");
+    CHECK(t, !spec_named(&eta, "metal-Xx-eta"), "an unknown metal is not found");
+    /* Cu's table row at 2.00 eV (619.92 nm): n 0.272, k 3.24; 620 nm lies 0.08 nm on */
+    spec_named(&eta, "metal-Cu-eta");
+    spec_named(&k, "metal-Cu-k");
+    CHECK(t, fabsf(spec_eval(&eta, 620) - 0.2718f) < 2e-4f && fabsf(spec_eval(&k, 620) - 3.2411f) < 2e-3f,
+          "Cu at 620 nm: n %g k %g, the table (619.92 nm) 0.272 3.24", spec_eval(&eta, 620), spec_eval(&k, 620));
+    /* held flat beyond the table: CuZn's last row is 890 nm, 0.515 */
+    spec_named(&eta, "metal-CuZn-eta");
+    CHECK(t, fabsf(spec_eval(&eta, 830) - 0.4830f) < 1e-4f, "CuZn at 830 nm: %g", spec_eval(&eta, 830));
+    spec_named(&eta, "metal-MgO-eta");
+    CHECK(t, spec_get(&eta, 830) == spec_get(&eta, 800) && fabsf(spec_get(&eta, 830) - 1.72872f) < 1e-5f,
+          "MgO beyond its last row (767.7 nm) is held at 1.72872: %g", spec_get(&eta, 830));
+    /* gold reflects red and absorbs blue; silver reflects evenly and most */
+    spec_named(&eta, "metal-Au-eta");
+    spec_named(&k, "metal-Au-k");
+    CHECK(t, r_normal(&eta, &k, 450) < 0.45 && r_normal(&eta, &k, 650) > 0.9,
+          "gold: R(450) %g, R(650) %g", r_normal(&eta, &k, 450), r_normal(&eta, &k, 650));
+    spec_named(&eta, "metal-Ag-eta");
+    spec_named(&k, "metal-Ag-k");
+    CHECK(t, r_normal(&eta, &k, 450) > 0.9 && r_normal(&eta, &k, 650) > 0.95,
+          "silver: R(450) %g, R(650) %g", r_normal(&eta, &k, 450), r_normal(&eta, &k, 650));
+}
+
+static int load_text(T *t, Scene *s, const char *text)
+{
+    return test_load_scene(t, s, text);
+}
+
+static void test_reflectance_param(T *t)
+{
+    Scene s;
+    const Material *m;
+    float nm;
+    if (!load_text(t, &s, "WorldBegin\nMaterial \"conductor\" \"spectrum reflectance\" [ 360 0.2 830 0.8 ]\n"
+                    "Shape \"sphere\"\n")) return;
+    m = &s.materials[0];
+    CHECK(t, m->type == MAT_CONDUCTOR && m->alpha == 0.0f && mat_is_delta(m), "a smooth conductor");
+    for (nm = 400; nm <= 700; nm += 50) {
+        float r = spec_eval(&m->reflectance, nm);
+        float F = fresnel_conductor(1.0f, spec_eval(&m->eta, nm), spec_eval(&m->k, nm));
+        CHECK(t, spec_eval(&m->eta, nm) == 1.0f, "eta = 1");
+        CHECK(t, fabsf(F - r) < 1e-5f, "%g nm: F(normal) %g, reflectance %g", nm, F, r);
+    }
+    scene_free(&s);
+    /* r = 1 is clamped to 0.9999 (pbrt-v4): k = 2 sqrt(r)/sqrt(1 - r) = 200, a mirror */
+    if (!load_text(t, &s, "WorldBegin\nMaterial \"conductor\" \"spectrum reflectance\" [ 360 1 830 1 ]\n"
+                    "Shape \"sphere\"\n")) return;
+    m = &s.materials[0];
+    {
+        float c;
+        for (c = 0.02f; c <= 1.0f; c += 0.049f) {      /* 0.9977 at cos 0.02 */
+            float F = fresnel_conductor(c, spec_eval(&m->eta, 550), spec_eval(&m->k, 550));
+            CHECK(t, F > (c < 0.1f ? 0.997f : 0.999f) && F <= 1.0f, "reflectance 1 at cos %g: F %g", c, F);
+        }
+        CHECK(t, fabsf(fresnel_conductor(1.0f, spec_eval(&m->eta, 550), spec_eval(&m->k, 550)) - 0.9999f) < 1e-6f,
+              "normal incidence: the clamped 0.9999");
+        CHECK(t, fabsf(spec_eval(&m->k, 550) - 199.99f) < 0.01f, "k %g", spec_eval(&m->k, 550));
+    }
+    scene_free(&s);
+}
+
+static void test_smooth(T *t)
+{
+    Material m;
+    SurfacePoint sp = test_flat_point();
+    float lam[HERO_N] = { 450, 520, 600, 680 };
+    Rng r;
+    int i, j;
+    memset(&m, 0, sizeof m);
+    m.type = MAT_CONDUCTOR;
+    spec_named(&m.eta, "metal-Au-eta");
+    spec_named(&m.k, "metal-Au-k");
+    CHECK(t, mat_is_delta(&m), "alpha 0 is a delta lobe");
+    rng_seed(&r, 21, 1);
+    for (i = 0; i < 200; i++) {
+        BsdfSample bs;
+        float f[HERO_N], p[HERO_N], u[2];
+        Vec3 wo;
+        rng_fill(&r, u, 2);
+        wo = v3_norm(v3(u[0] - 0.5f, u[1] - 0.5f, i % 2 ? 0.7f : -0.7f));   /* both sides */
+        CHECK(t, test_bsdf_sample(&m, &sp, wo, lam, 15u, &r, &bs), "smooth conductor failed to sample");
+        CHECK(t, bs.delta && bs.pdf == 1.0f, "delta %d pdf %g", bs.delta, bs.pdf);
+        CHECK(t, fabsf(bs.wi.x + wo.x) < 1e-6f && fabsf(bs.wi.y + wo.y) < 1e-6f && fabsf(bs.wi.z - wo.z) < 1e-6f,
+              "not the mirror direction");
+        for (j = 0; j < HERO_N; j++) {
+            float w = bs.f[j] * fabsf(bs.wi.z) / bs.pdf;
+            float F = fresnel_conductor(fabsf(wo.z), spec_eval(&m.eta, lam[j]), spec_eval(&m.k, lam[j]));
+            CHECK(t, fabsf(w - F) < 1e-5f && bs.pdf_l[j] == 1.0f, "wavelength %d: weight %g, F %g", j, w, F);
+        }
+        bsdf_eval(&m, &sp, wo, bs.wi, lam, 15u, f, p);
+        CHECK(t, f[0] == 0.0f && p[0] == 0.0f, "a delta lobe evaluates to 0");
+    }
+}
+
+/* Uniform sphere direction from two numbers. */
+static Vec3 sphere_dir(float u1, float u2)
+{
+    float z = 1 - 2 * u1, r = sqrtf(fmaxf(0, 1 - z * z)), phi = 2 * PI_F * u2;
+    return v3(r * cosf(phi), r * sinf(phi), z);
+}
+
+/* Over the hemisphere, by uniform-sphere Monte Carlo:
+     int D(wm) cos(wm) dwm = 1                 (the projected microfacet area is 1)
+     int D_wo(wm) dwm = 1 over the normals wo sees (wo.wm > 0): the visible normals'
+                                               density, normalised only with the right
+                                               Lambda for this wo */
+static void test_ggx_normalised(T *t)
+{
+    const float ax[3] = { 0.1f, 0.3f, 0.6f }, ay[3] = { 0.4f, 0.3f, 0.15f };
+    Vec3 wo = v3_norm(v3(0.6f, 0.5f, 0.4f));
+    int ia, i, n = test_scaled(400000, 40000);
+    Rng r;
+    rng_seed(&r, 22, 0);
+    for (ia = 0; ia < 3; ia++) {
+        double s1 = 0, s1q = 0, s2 = 0, s2q = 0, m1, m2, e1, e2;
+        for (i = 0; i < n; i++) {
+            float u[2];
+            Vec3 wm;
+            double a, b;
+            rng_fill(&r, u, 2);
+            /* the hemisphere, cosine-weighted: p = cos / pi */
+            wm = v3(sqrtf(u[0]) * cosf(2 * PI_F * u[1]), sqrtf(u[0]) * sinf(2 * PI_F * u[1]),
+                    sqrtf(fmaxf(1e-12f, 1 - u[0])));
+            a = tr_D(ax[ia], ay[ia], wm) * SPECNEE_PI;                      /* D cos / p */
+            b = v3_dot(wo, wm) > 0.0f ?                                     /* D_wo / p */
+                tr_pdf_wm(ax[ia], ay[ia], wo, wm) * SPECNEE_PI / wm.z : 0.0;
+            s1 += a; s1q += a * a; s2 += b; s2q += b * b;
+        }
+        m1 = s1 / n; m2 = s2 / n;
+        e1 = sqrt((s1q / n - m1 * m1) / n); e2 = sqrt((s2q / n - m2 * m2) / n);
+        CHECK(t, fabs(m1 - 1) < 4 * e1 + 2e-3, "alpha (%g, %g): int D cos = %g +- %g", ax[ia], ay[ia], m1, e1);
+        CHECK(t, fabs(m2 - 1) < 4 * e2 + 2e-3, "alpha (%g, %g): int D_wo = %g +- %g", ax[ia], ay[ia], m2, e2);
+    }
+}
+
+/* As material_rough_pdf_and_energy for glass, for anisotropic conductors and wo
+   on both sides: int p dw = the success rate; E[f cos/p] = int f cos dw (both by
+   uniform-sphere MC); the sampler's f and pdf equal bsdf_eval's. */
+static void test_rough_pdf_and_energy(T *t)
+{
+    const float ax[3] = { 0.08f, 0.2f, 0.5f }, ay[3] = { 0.3f, 0.2f, 0.5f };
+    float lam[HERO_N] = { 450, 520, 600, 680 };
+    Vec3 wos[2];
+    int ia, io, i;
+    wos[0] = v3_norm(v3(0.5f, 0.3f, 0.8f));
+    wos[1] = v3_norm(v3(-0.7f, 0.2f, -0.4f));
+    for (ia = 0; ia < 3; ia++)
+        for (io = 0; io < 2; io++) {
+            Material m;
+            SurfacePoint sp = test_flat_point();
+            Rng r;
+            int n_s = test_scaled(200000, 20000), n_u = test_scaled(400000, 40000), ok = 0;
+            double sw = 0, sw2 = 0, ip = 0, ip2 = 0, fi = 0, fi2 = 0, mean, se, frac;
+            Vec3 wo = wos[io];
+            make_conductor(&m, 0.3f, 2.5f, ax[ia], ay[ia]);
+            spec_named(&m.eta, "metal-Cu-eta");      /* F varies with the wavelength */
+            spec_named(&m.k, "metal-Cu-k");
+            rng_seed(&r, 23, (uint64_t)(ia * 2 + io));
+            for (i = 0; i < n_s; i++) {
+                BsdfSample bs;
+                if (!test_bsdf_sample(&m, &sp, wo, lam, 15u, &r, &bs)) continue;
+                ok++;
+                {
+                    double w = bs.f[2] * fabsf(bs.wi.z) / bs.pdf;
+                    sw += w; sw2 += w * w;
+                }
+                CHECK(t, !bs.delta && bs.wi.z * wo.z > 0, "a rough BRDF sample on wo's side");
+                if (i < 2000) {
+                    float f[HERO_N], p[HERO_N];
+                    int j;
+                    bsdf_eval(&m, &sp, wo, bs.wi, lam, 15u, f, p);
+                    for (j = 0; j < HERO_N; j++)
+                        CHECK(t, fabsf(p[j] - bs.pdf) <= 1e-3f * bs.pdf + 1e-6f && bs.pdf_l[j] == bs.pdf &&
+                              fabsf(f[j] - bs.f[j]) <= 1e-3f * f[j] + 1e-6f,
+                              "wavelength %d: sampled f %g pdf %g, evaluated %g %g", j, bs.f[j], bs.pdf, f[j], p[j]);
+                }
+            }
+            for (i = 0; i < n_u; i++) {
+                float u[2], f[HERO_N], p[HERO_N];
+                Vec3 wi;
+                double a, b;
+                rng_fill(&r, u, 2);
+                wi = sphere_dir(u[0], u[1]);
+                bsdf_eval(&m, &sp, wo, wi, lam, 15u, f, p);
+                a = p[0] * 4 * SPECNEE_PI;
+                b = f[2] * fabsf(wi.z) * 4 * SPECNEE_PI;
+                ip += a; ip2 += a * a; fi += b; fi2 += b * b;
+            }
+            frac = (double)ok / n_s;
+            mean = ip / n_u;
+            se = sqrt((ip2 / n_u - mean * mean) / n_u);
+            CHECK(t, fabs(mean - frac) < 4 * se + 0.01, "alpha (%g, %g) wo %d: int p = %g +- %g, but %g "
+                  "of the samples succeed", ax[ia], ay[ia], io, mean, se, frac);
+            {
+                double est = sw / n_s, est_se = sqrt((sw2 / n_s - est * est) / n_s);
+                double q = fi / n_u, q_se = sqrt((fi2 / n_u - q * q) / n_u);
+                CHECK(t, fabs(est - q) < 4 * sqrt(est_se * est_se + q_se * q_se) + 0.01 * q,
+                      "alpha (%g, %g) wo %d: E[f cos/p] = %g +- %g, quadrature %g +- %g",
+                      ax[ia], ay[ia], io, est, est_se, q, q_se);
+                CHECK(t, est < 1.0, "energy created: albedo %g", est);
+            }
+        }
+}
+
+/* Chi-square of the sampled directions against the evaluated pdf on a 16 x 32
+   (cos theta, phi) grid (as material_rough_chi2). */
+static void test_rough_chi2(T *t)
+{
+    enum { NT = 16, NP = 32, SUB = 12 };
+    const float ax[2] = { 0.25f, 0.6f }, ay[2] = { 0.6f, 0.6f };
+    float lam[HERO_N] = { 550, 550, 550, 550 };
+    int ia;
+    for (ia = 0; ia < 2; ia++) {
+        Material m;
+        SurfacePoint sp = test_flat_point();
+        Rng r;
+        static double obs[NT * NP], expct[NT * NP];
+        int n = test_scaled(200000, 50000), i, it, ip, dof = -1;
+        double chi2 = 0, pool_o = 0, pool_e = 0;
+        Vec3 wo = v3_norm(v3(0.4f, 0.3f, 0.6f));
+        make_conductor(&m, 0.2f, 3.0f, ax[ia], ay[ia]);
+        memset(obs, 0, sizeof obs);
+        memset(expct, 0, sizeof expct);
+        rng_seed(&r, 24, (uint64_t)ia);
+        for (i = 0; i < n; i++) {
+            BsdfSample bs;
+            if (!test_bsdf_sample(&m, &sp, wo, lam, 1u, &r, &bs)) continue;
+            obs[test_dir_cell(bs.wi, NT, NP)] += 1;
+        }
+        for (it = 0; it < NT; it++)
+            for (ip = 0; ip < NP; ip++) {
+                int a, b;
+                double acc = 0;
+                for (a = 0; a < SUB; a++)
+                    for (b = 0; b < SUB; b++) {
+                        float z = -1 + 2 * (it + (a + 0.5f) / SUB) / NT;
+                        float phi = 2 * PI_F * (ip + (b + 0.5f) / SUB) / NP;
+                        float s = sqrtf(fmaxf(0, 1 - z * z)), f[HERO_N], p[HERO_N];
+                        bsdf_eval(&m, &sp, wo, v3(s * cosf(phi), s * sinf(phi), z), lam, 1u, f, p);
+                        acc += p[0];
+                    }
+                expct[it * NP + ip] = acc / (SUB * SUB) * (2.0 / NT) * (2 * SPECNEE_PI / NP) * n;
+            }
+        for (i = 0; i < NT * NP; i++) {
+            if (expct[i] < 5) { pool_o += obs[i]; pool_e += expct[i]; continue; }
+            chi2 += (obs[i] - expct[i]) * (obs[i] - expct[i]) / expct[i];
+            dof++;
+        }
+        if (pool_e >= 5) { chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e; dof++; }
+        CHECK(t, chi2 < 1.5 * (dof + 5 * sqrt(2.0 * dof)), "alpha (%g, %g): chi2 %g with %d dof",
+              ax[ia], ay[ia], chi2, dof);
+    }
+}
+
+static void test_reciprocity(T *t)
+{
+    Material m;
+    SurfacePoint sp = test_flat_point();
+    float lam[HERO_N] = { 450, 520, 600, 680 };
+    Rng r;
+    int i, j, tested = 0;
+    make_conductor(&m, 0.2f, 3.0f, 0.15f, 0.45f);
+    spec_named(&m.eta, "metal-Au-eta");
+    spec_named(&m.k, "metal-Au-k");
+    rng_seed(&r, 25, 0);
+    for (i = 0; i < 2000; i++) {
+        float u[4], f1[HERO_N], f2[HERO_N], p[HERO_N];
+        Vec3 a, b;
+        rng_fill(&r, u, 4);
+        a = sphere_dir(u[0], u[1]);
+        b = sphere_dir(u[2], u[3]);
+        bsdf_eval(&m, &sp, a, b, lam, 15u, f1, p);
+        bsdf_eval(&m, &sp, b, a, lam, 15u, f2, p);
+        for (j = 0; j < HERO_N; j++)
+            CHECK(t, fabsf(f1[j] - f2[j]) <= 1e-4f * f1[j] + 1e-7f, "f(a, b) %g != f(b, a) %g", f1[j], f2[j]);
+        tested += f1[0] > 0.0f;
+    }
+    CHECK(t, tested > 500, "only %d pairs with f > 0", tested);
+}
+
+/* The rough conductor's value against the isotropic GGX BRDF written out
+   independently in double (Walter et al. 2007, eqs. 20, 33, 34 with the
+   height-correlated G of Heitz 2014): f = D G F / (4 |cos i cos o|),
+   D = a^2 / (pi cos^4 (a^2 + tan^2)^2), Lambda = (sqrt(1 + a^2 tan^2) - 1) / 2,
+   with each wavelength's own F. */
+static double ggx_lambda_ref(double a, double c)
+{
+    double t2 = (1 - c * c) / (c * c);
+    return 0.5 * (sqrt(1 + a * a * t2) - 1);
+}
+
+static void test_rough_value(T *t)
+{
+    Material m;
+    SurfacePoint sp = test_flat_point();
+    float lam[HERO_N] = { 450, 520, 600, 680 };
+    const double a = 0.35;
+    Rng r;
+    int i, j, tested = 0;
+    make_conductor(&m, 0.2f, 3.0f, (float)a, (float)a);
+    spec_named(&m.eta, "metal-Cu-eta");
+    spec_named(&m.k, "metal-Cu-k");
+    rng_seed(&r, 28, 0);
+    for (i = 0; i < 500; i++) {
+        float u[4], f[HERO_N], p[HERO_N];
+        Vec3 wo, wi;
+        double hx, hy, hz, hl, ch, t2, D, G, co, ci;
+        rng_fill(&r, u, 4);
+        wo = sphere_dir(0.5f * u[0], u[1]);          /* the upper hemisphere */
+        wi = sphere_dir(0.5f * u[2], u[3]);
+        if (wo.z < 0.05f || wi.z < 0.05f) continue;
+        bsdf_eval(&m, &sp, wo, wi, lam, 15u, f, p);
+        co = wo.z; ci = wi.z;
+        hx = (double)wo.x + wi.x; hy = (double)wo.y + wi.y; hz = (double)wo.z + wi.z;
+        hl = sqrt(hx * hx + hy * hy + hz * hz);
+        ch = hz / hl;
+        t2 = (1 - ch * ch) / (ch * ch);
+        D = a * a / (SPECNEE_PI * ch * ch * ch * ch * (a * a + t2) * (a * a + t2));
+        G = 1 / (1 + ggx_lambda_ref(a, co) + ggx_lambda_ref(a, ci));
+        for (j = 0; j < HERO_N; j++) {
+            double cd = ((double)wo.x * hx + (double)wo.y * hy + (double)wo.z * hz) / hl;
+            double F = fr_conductor_ref(cd, spec_eval(&m.eta, lam[j]), spec_eval(&m.k, lam[j]));
+            double fr = D * G * F / (4 * ci * co);
+            CHECK(t, fabs(f[j] - fr) < 1e-4 * fr + 1e-7, "wavelength %d: f %g, Walter's GGX %g", j, f[j], fr);
+        }
+        tested++;
+    }
+    CHECK(t, tested > 100, "only %d pairs", tested);
+}
+
+/* R' = R + T^2 R / (1 - R^2) with T = 1 - R simplifies to 2R / (1 + R). */
+static void test_thin_values(T *t)
+{
+    Material m;
+    SurfacePoint sp = test_flat_point();
+    float lam[HERO_N] = { 550, 600, 650, 450 };
+    Rng r;
+    int i, nr = 0, n = test_scaled(20000, 5000);
+    const float cs[4] = { 1.0f, 0.7f, 0.3f, 0.05f };
+    double F, Rp, sigma;
+    Vec3 wo = v3_norm(v3(0.6f, 0.2f, -0.5f));
+    memset(&m, 0, sizeof m);
+    m.type = MAT_THIN_DIELECTRIC;
+    spec_const(&m.eta, 1.5f);
+    CHECK(t, mat_is_delta(&m), "thin dielectric is a delta material");
+    rng_seed(&r, 26, 0);
+    for (i = 0; i < 4; i++) {
+        BsdfSample bs;
+        Vec3 w = v3(sqrtf(1 - cs[i] * cs[i]), 0, cs[i]);
+        double R = fresnel_dielectric(cs[i], 1.5f), expect = 2 * R / (1 + R);
+        int k;
+        for (k = 0; k < 2; k++) {      /* u0 just below and above R': both lobes */
+            int got = bsdf_sample(&m, &sp, w, lam, 15u, k ? 0.999f : 0.0f, 0.5f, 0.5f, &bs);
+            CHECK(t, got, "no sample");
+            if (k == 0) CHECK(t, fabs(bs.pdf - expect) < 1e-6, "cos %g: R' %g, 2R/(1+R) %g", cs[i], bs.pdf, expect);
+            else CHECK(t, fabs(bs.pdf - (1 - expect)) < 1e-6, "cos %g: T' %g, 1 - R' %g", cs[i], bs.pdf, 1 - expect);
+        }
+    }
+    F = fresnel_dielectric(fabsf(wo.z), 1.5f);
+    Rp = 2 * F / (1 + F);
+    for (i = 0; i < n; i++) {
+        BsdfSample bs;
+        float f[HERO_N], p[HERO_N];
+        double w;
+        CHECK(t, test_bsdf_sample(&m, &sp, wo, lam, 15u, &r, &bs), "thin dielectric failed to sample");
+        w = bs.f[0] * fabsf(bs.wi.z) / bs.pdf;
+        CHECK(t, bs.delta && fabs(w - 1.0) < 1e-5 && bs.f[3] == bs.f[0], "lossless: weight %g", w);
+        if (bs.wi.z * wo.z > 0) {
+            nr++;
+            CHECK(t, fabsf(bs.wi.x + wo.x) < 1e-6f && fabsf(bs.wi.z - wo.z) < 1e-6f, "not the mirror direction");
+        } else {
+            CHECK(t, fabsf(bs.wi.x + wo.x) < 1e-6f && fabsf(bs.wi.y + wo.y) < 1e-6f &&
+                  fabsf(bs.wi.z + wo.z) < 1e-6f, "transmission must go straight through");
+        }
+        if (i < 10) {
+            bsdf_eval(&m, &sp, wo, bs.wi, lam, 15u, f, p);
+            CHECK(t, f[0] == 0 && p[0] == 0, "delta: eval gives 0");
+        }
+    }
+    sigma = sqrt(Rp * (1 - Rp) / n);
+    CHECK(t, fabs((double)nr / n - Rp) < 4 * sigma, "reflect fraction %g vs R' %g", (double)nr / n, Rp);
+    /* a dispersive eta: every wavelength keeps its own R' (or T') */
+    for (i = 0; i < SPEC_N; i++) m.eta.v[i] = cauchy_eta(1.5f, 0.02f, (float)(SPEC_MIN + i));
+    for (i = 0; i < 200; i++) {
+        BsdfSample bs;
+        int j;
+        CHECK(t, test_bsdf_sample(&m, &sp, wo, lam, 15u, &r, &bs), "no sample");
+        for (j = 0; j < HERO_N; j++) {
+            double Rj = fresnel_dielectric(fabsf(wo.z), cauchy_eta(1.5f, 0.02f, lam[j]));
+            double pj = bs.wi.z * wo.z > 0 ? 2 * Rj / (1 + Rj) : 1 - 2 * Rj / (1 + Rj);
+            CHECK(t, fabs(bs.pdf_l[j] - pj) < 1e-5 && fabs(bs.f[j] * fabsf(bs.wi.z) - pj) < 1e-5,
+                  "wavelength %d: lobe weight %g, expected %g", j, bs.f[j] * fabsf(bs.wi.z), pj);
+        }
+    }
+}
+
+static void test_difftrans_albedo(T *t)
+{
+    Scene s;
+    Material *m;
+    SurfacePoint sp = test_flat_point();
+    float lam[HERO_N] = { 450, 520, 600, 680 };
+    Rng r;
+    int i, n = test_scaled(100000, 20000), ok = 0;
+    double sr[HERO_N] = { 0 }, st[HERO_N] = { 0 }, ip = 0, ip2 = 0;
+    Vec3 wo = v3_norm(v3(0.3f, -0.4f, 0.5f));
+    if (!load_text(t, &s, "WorldBegin\nMaterial \"diffusetransmission\" \"spectrum reflectance\" "
+                    "[ 360 0.1 830 0.5 ] \"spectrum transmittance\" [ 360 0.6 830 0.2 ] \"float scale\" 1.5\n"
+                    "Shape \"sphere\"\n")) return;
+    m = &s.materials[0];
+    CHECK(t, m->type == MAT_DIFFUSE_TRANSMISSION && !mat_is_delta(m), "type");
+    /* scale 1.5 then clamped to 1: T(360) = 0.9, R(830) = 0.75 */
+    CHECK(t, fabsf(spec_eval(&m->transmittance, 360) - 0.9f) < 1e-6f &&
+          fabsf(spec_eval(&m->reflectance, 830) - 0.75f) < 1e-6f, "scale");
+    CHECK(t, fabsf(m->p_reflect - 0.75f / (0.75f + 0.9f)) < 1e-6f, "p_reflect %g", m->p_reflect);
+    rng_seed(&r, 27, 0);
+    for (i = 0; i < n; i++) {
+        BsdfSample bs;
+        int j;
+        if (!test_bsdf_sample(m, &sp, wo, lam, 15u, &r, &bs)) continue;
+        ok++;
+        for (j = 0; j < HERO_N; j++) {
+            double w = bs.f[j] * fabsf(bs.wi.z) / bs.pdf;
+            if (bs.wi.z * wo.z > 0) sr[j] += w; else st[j] += w;
+        }
+        if (i < 1000) {
+            float f[HERO_N], p[HERO_N];
+            bsdf_eval(m, &sp, wo, bs.wi, lam, 15u, f, p);
+            CHECK(t, fabsf(p[0] - bs.pdf) <= 1e-5f * bs.pdf && fabsf(f[3] - bs.f[3]) <= 1e-6f, "sample != eval");
+            CHECK(t, fabsf(f[1] - spec_eval(bs.wi.z > 0 ? &m->reflectance : &m->transmittance, lam[1]) / PI_F) < 1e-6f,
+                  "f is R/pi or T/pi");
+        }
+    }
+    CHECK(t, ok == n, "every sample succeeds on a flat surface (%d of %d)", ok, n);
+    for (i = 0; i < HERO_N; i++) {
+        double R = spec_eval(&m->reflectance, lam[i]), Tt = spec_eval(&m->transmittance, lam[i]);
+        double pr = m->p_reflect;
+        /* each sample weighs R/pr or T/(1-pr): a binomial count times a constant */
+        double se_r = R / pr * sqrt(pr * (1 - pr) / n), se_t = Tt / (1 - pr) * sqrt(pr * (1 - pr) / n);
+        CHECK(t, fabs(sr[i] / n - R) < 4 * se_r + 1e-6, "wavelength %d: reflected %g, R %g", i, sr[i] / n, R);
+        CHECK(t, fabs(st[i] / n - Tt) < 4 * se_t + 1e-6, "wavelength %d: transmitted %g, T %g", i, st[i] / n, Tt);
+    }
+    for (i = 0; i < n; i++) {        /* int p dw = 1 over the sphere */
+        float u[2], f[HERO_N], p[HERO_N];
+        double a;
+        rng_fill(&r, u, 2);
+        bsdf_eval(m, &sp, wo, sphere_dir(u[0], u[1]), lam, 15u, f, p);
+        a = p[0] * 4 * SPECNEE_PI;
+        ip += a; ip2 += a * a;
+    }
+    {
+        double mean = ip / n, se = sqrt((ip2 / n - mean * mean) / n);
+        CHECK(t, fabs(mean - 1) < 4 * se, "int p = %g +- %g", mean, se);
+    }
+    scene_free(&s);
+}
+
+/* ---------------------------------------------------------------- the parser */
+
+/* Load must fail with "t.pbrt:LINE: ..." containing k1 (and k2 when given). */
+static void expect_reject(T *t, const char *text, int line, const char *k1, const char *k2)
+{
+    Scene s;
+    Error e;
+    char prefix[64];
+    int ok;
+    e.msg[0] = '\0';
+    ok = scene_load_string(&s, text, "t.pbrt", &e);
+    if (ok) scene_free(&s);
+    CHECK(t, !ok, "accepted bad input, expected an error with \"%s\"", k1);
+    snprintf(prefix, sizeof prefix, "t.pbrt:%d:", line);
+    CHECK(t, strncmp(e.msg, prefix, strlen(prefix)) == 0, "message \"%s\" does not start with \"%s\"",
+          e.msg, prefix);
+    CHECK(t, strchr(e.msg, '\n') == NULL, "message \"%s\" is not one line", e.msg);
+    CHECK(t, strstr(e.msg, k1) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k1);
+    CHECK(t, !k2 || strstr(e.msg, k2) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k2);
+    scene_free(&s);
+}
+
+static void test_parse_defaults(T *t)
+{
+    Scene s;
+    Spectrum cu;
+    const Material *m;
+    if (!load_text(t, &s, "WorldBegin\nMaterial \"conductor\"\nShape \"sphere\"\n"
+                    "Material \"conductor\" \"float roughness\" 0.09\nShape \"sphere\"\n"
+                    "Material \"conductor\" \"float roughness\" 0.09 \"bool remaproughness\" false "
+                    "\"spectrum eta\" \"metal-Ag-eta\" \"spectrum k\" [ 300 4 830 4 ]\nShape \"sphere\"\n"
+                    "Material \"thindielectric\"\nShape \"sphere\"\n"
+                    "Material \"thindielectric\" \"float eta\" 1.33\nShape \"sphere\"\n"
+                    "Material \"diffusetransmission\"\nShape \"sphere\"\n")) return;
+    CHECK(t, s.n_materials == 6, "%d materials", s.n_materials);
+    m = s.materials;
+    spec_named(&cu, "metal-Cu-eta");
+    CHECK(t, m[0].type == MAT_CONDUCTOR && !memcmp(&m[0].eta, &cu, sizeof cu) && m[0].alpha == 0.0f,
+          "the default conductor is smooth copper");
+    spec_named(&cu, "metal-Cu-k");
+    CHECK(t, !memcmp(&m[0].k, &cu, sizeof cu), "Cu's k");
+    CHECK(t, fabsf(m[1].alpha - 0.3f) < 1e-6f && m[1].alpha_t == m[1].alpha && !mat_is_delta(&m[1]),
+          "roughness 0.09 remaps to alpha 0.3: %g", m[1].alpha);
+    CHECK(t, fabsf(m[2].alpha - 0.09f) < 1e-7f && spec_eval(&m[2].k, 550) == 4.0f, "no remap; k given");
+    CHECK(t, m[3].type == MAT_THIN_DIELECTRIC && spec_eval(&m[3].eta, 500) == 1.5f, "thin eta 1.5 by default");
+    CHECK(t, spec_eval(&m[4].eta, 500) == 1.33f, "float eta");
+    CHECK(t, m[5].type == MAT_DIFFUSE_TRANSMISSION && spec_eval(&m[5].reflectance, 500) == 0.25f &&
+          spec_eval(&m[5].transmittance, 500) == 0.25f && m[5].p_reflect == 0.5f, "0.25 and 0.25");
+    scene_free(&s);
+}
+
+static void test_parse_rejects(T *t)
+{
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"spectrum k\" [ 400 1 700 -0.5 ]\n", 3,
+                  "\"spectrum k\" of a conductor", ">= 0");
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"spectrum eta\" [ 400 0 700 1 ]\n", 2,
+                  "\"spectrum eta\" of a conductor", "> 0");
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"spectrum reflectance\" [ 400 0.5 700 0.5 ]\n"
+                  " \"spectrum eta\" \"metal-Au-eta\"\n", 2, "either \"reflectance\"", NULL);
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"spectrum reflectance\" [ 400 0.5 700 1.5 ]\n",
+                  2, "reflectance", "[0,1]");
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"float uroughness\" 0.1 \"float vroughness\" 0.2\n",
+                  2, "anisotropic", "dp/du");
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"float roughness\" -1\n", 2, "roughness", NULL);
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"texture roughness\" \"bumps\"\n", 3,
+                  "textures are valid pbrt-v4", NULL);
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"spectrum eta\" \"metal-Xx-eta\"\n", 2,
+                  "unknown named spectrum", "metal-Xx-eta");
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"float eta\" 1.5\n", 2, "eta", "conductor");
+    expect_reject(t, "WorldBegin\nMaterial \"thindielectric\" \"spectrum eta\" [ 400 1.5 700 -1 ]\n", 2,
+                  "\"eta\" of a thindielectric", NULL);
+    expect_reject(t, "WorldBegin\nMaterial \"thindielectric\" \"float roughness\" 0.1\n", 2,
+                  "roughness", NULL);
+    expect_reject(t, "WorldBegin\nMaterial \"diffusetransmission\" \"spectrum transmittance\" [ 400 0.5 700 1.2 ]\n",
+                  2, "transmittance", "[0,1]");
+    expect_reject(t, "WorldBegin\nMaterial \"diffusetransmission\"\n \"float scale\" -1\n", 3, "scale", ">= 0");
+    expect_reject(t, "WorldBegin\nMaterial \"diffusetransmission\" \"texture reflectance\" \"t\"\n", 2,
+                  "textures are valid pbrt-v4", NULL);
+}
+
+/* ---------------------------------------------------------------- renders */
+
+/* A closed cube [-2, 2]^3 whose walls emit L = 1 on both sides (the
+   physics_furnace_off_centre setup: the walls are seen at every angle), and a
+   unit sphere of the given material near one edge. */
+static void furnace_scene(char *text, size_t n, const char *material)
+{
+    snprintf(text, n,
+             "LookAt 0 0 -1.9  0.8 0.8 0  0 1 0\n"
+             "Camera \"perspective\" \"float fov\" [ 20 ]\n"
+             "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ] \"string filename\" \"t.pfm\"\n"
+             "WorldBegin\n"
+             "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" [ 360 1 830 1 ] \"bool twosided\" true\n"
+             " Material \"diffuse\" \"spectrum reflectance\" [ 360 0 830 0 ]\n"
+             " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3  4 5 6 4 6 7  0 1 5 0 5 4  "
+             "3 2 6 3 6 7  0 3 7 0 7 4  1 2 6 1 6 5 ]\n"
+             "  \"point3 P\" [ -2 -2 -2  2 -2 -2  2 2 -2  -2 2 -2  -2 -2 2  2 -2 2  2 2 2  -2 2 2 ]\n"
+             "AttributeEnd\n"
+             "AttributeBegin\n Translate 0.8 0.8 0\n %s\n"
+             " Shape \"sphere\" \"float radius\" [ 1 ]\nAttributeEnd\n", material);
+}
+
+static double luminance(const double rgb[3])
+{
+    return 0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2];
+}
+
+/* Every tile's Y must be `expect` within 5 standard errors + slack. */
+static void furnace_expect(T *t, const char *material, int maxdepth, double expect, double slack)
+{
+    char text[2048];
+    Scene s;
+    RenderOptions o;
+    Tiles tl;
+    int i;
+    furnace_scene(text, sizeof text, material);
+    if (!test_load_scene(t, &s, text)) return;
+    render_options_default(&o);
+    o.sel.grid_res = 8;
+    o.maxdepth = maxdepth;
+    o.spp = test_scaled(256, 16);
+    if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
+    for (i = 0; i < 4; i++) {
+        double Y = luminance(tl.mean[i]), se = tl.se[i][1];
+        if (getenv("DBG")) fprintf(stderr, "%s: tile %d Y %.5f se %.2g expect %.5f\n", material, i, Y, se, expect);
+        CHECK(t, fabs(Y - expect) < TEST_K_SIGMA * se + slack, "%s: tile %d: Y = %.5f +- %.2g, expected %.5f",
+              material, i, Y, se, expect);
+    }
+    scene_free(&s);
+}
+
+/* A thin dielectric loses nothing: Y = 1, dispersive or not. */
+static void test_furnace_thin(T *t)
+{
+    furnace_expect(t, "Material \"thindielectric\" \"spectrum eta\" \"glass-BK7\"", 40, 1.0, 2e-3);
+}
+
+/* Diffuse transmission: outside, R of the walls' 1 plus T of the inside's radiance
+   L_in = T / (1 - R) (the inside sees only the sphere: L_in = R L_in + T 1), so
+   Y = R + T^2 / (1 - R) = 0.3 + 0.25 / 0.7 = 0.657143 for R = 0.3, T = 0.5. */
+static void test_furnace_difftrans(T *t)
+{
+    furnace_expect(t, "Material \"diffusetransmission\" \"spectrum reflectance\" [ 360 0.3 830 0.3 ] "
+                   "\"spectrum transmittance\" [ 360 0.5 830 0.5 ]", 40, 0.3 + 0.25 / 0.7, 3e-3);
+}
+
+/* A rough gold sphere: the same image with NEE + MIS as with BSDF sampling alone
+   (the MIS weights use bsdf_eval's pdf, BSDF sampling its own: they must agree),
+   and below 1 (a conductor absorbs). */
+static void test_furnace_rough_conductor(T *t)
+{
+    char text[2048];
+    Scene s;
+    RenderOptions o;
+    Tiles a, b;
+    int i;
+    furnace_scene(text, sizeof text, "Material \"conductor\" \"spectrum eta\" \"metal-Au-eta\" "
+                  "\"spectrum k\" \"metal-Au-k\" \"float roughness\" 0.05");
+    if (!test_load_scene(t, &s, text)) return;
+    render_options_default(&o);
+    o.sel.grid_res = 8;
+    o.maxdepth = 20;
+    o.spp = test_scaled(32, 8);
+    if (!test_render_tiles(t, &s, &o, 8, 2, &a)) { scene_free(&s); return; }
+    o.nee = 0;
+    if (!test_render_tiles(t, &s, &o, 8, 2, &b)) { scene_free(&s); return; }
+    if (!test_tiles_agree(t, &a, &b, 2e-3, "rough gold, NEE on vs off")) { scene_free(&s); return; }
+    for (i = 0; i < 4; i++)
+        CHECK(t, luminance(a.mean[i]) < 1.0 && luminance(a.mean[i]) > 0.3, "tile %d: Y %g", i, luminance(a.mean[i]));
+    scene_free(&s);
+}
+
+const TestCase tests_conductor[] = {
+    { "conductor_fresnel_values", test_fresnel_values },
+    { "conductor_named_metals", test_named_metals },
+    { "conductor_reflectance_param", test_reflectance_param },
+    { "conductor_smooth", test_smooth },
+    { "conductor_ggx_normalised", test_ggx_normalised },
+    { "conductor_rough_pdf_and_energy", test_rough_pdf_and_energy },
+    { "conductor_rough_chi2", test_rough_chi2 },
+    { "conductor_reciprocity", test_reciprocity },
+    { "conductor_rough_value", test_rough_value },
+    { "thindielectric_values", test_thin_values },
+    { "difftrans_albedo", test_difftrans_albedo },
+    { "conductor_parse_defaults", test_parse_defaults },
+    { "conductor_parse_rejects", test_parse_rejects },
+    { "conductor_furnace_thin", test_furnace_thin },
+    { "conductor_furnace_difftrans", test_furnace_difftrans },
+    { "conductor_furnace_rough_conductor", test_furnace_rough_conductor },
+    { NULL, NULL }
+};
