@@ -1,7 +1,8 @@
 /* bvh.c - the bounding volume hierarchy: builds it, and answers ray queries with it.
 
    WHAT IT IMPLEMENTS
-     bvh_build / bvh_free       binned-SAH BVH over every triangle and sphere of a Scene,
+     bvh_build / bvh_free       binned-SAH BVH over every triangle, sphere and quadric
+                                (disk, cylinder, partial sphere: shapes.c) of a Scene,
                                 collapsed into 8-wide nodes
      bvh_intersect              closest hit along a ray segment 0 < t < tmax
      bvh_occluded               any hit (shadow rays): stops at the first one found
@@ -12,7 +13,9 @@
 
    PRIMITIVES
      Primitive id k < n_tris is triangle k (vertices s->P[tris[k].v[0..2]]);
-     id n_tris + j is sphere j, i.e. shape s->shapes[s->sphere_shape[j]].
+     id n_tris + j is sphere j, i.e. shape s->shapes[s->sphere_shape[j]];
+     id n_tris + n_spheres + k is quadric k, shape s->shapes[s->quadric_shape[k]]
+     (intersected by shapes.c in its object space).
      At most 2^28 - 1 primitives (a leaf packs its first primitive into 28 bits).
 
    BUILD: binned surface area heuristic (Wald 2007, "On fast construction of SAH-based
@@ -53,6 +56,9 @@
      prims[first .. first + count), count <= BVH_WIDE_LEAF_MAX:
 
          BvhPrim   v[0..8] = p0 p1 p2 (a sphere: centre, radius)   prim = its id
+
+     A quadric's transform and parameters do not fit in 9 floats: its record keeps
+     only the id, and the leaf reads its Shape (quadrics are few).
 
      the vertices copied next to the primitive id, so a leaf is one contiguous run of
      memory and needs no second indirection.  bmin/bmax in Bvh is the root's own box.
@@ -104,8 +110,8 @@
      (1 - gamma(7)) below their minimum (Higham 2002, ch. 3).  So every triangle in the
      box has t >= (1 - gamma(7)) tz, and the box may be culled when
          tz > t_best * (1 + 2 gamma(8))           (the margin: 16 ulps, relative)
-     since fl(t_best (1 + 2 gamma(8))) >= t_best / (1 - gamma(7)).  A sphere's t is
-     solved in double and rounded once, and its box is rounded outwards, so the same
+     since fl(t_best (1 + 2 gamma(8))) >= t_best / (1 - gamma(7)).  A sphere's (and a
+     quadric's) t is solved in double and rounded once, and its box is rounded outwards, so the same
      bound holds up to the error of the double solve (far below a float ulp, except
      for rays within about 1e-8 r of tangency).  tests/test_bvh.c (bvh_exact_adversarial) checks the
      result against brute force bit for bit on rays through shared edges and vertices,
@@ -550,7 +556,12 @@ static int prim_infos(const Scene *s, PrimInfo *info)
             b->hi[a] = nextafterf(c + sh->radius, FLT_MAX);
         }
     }
-    for (i = 0; i < s->n_tris + s->n_spheres; i++) {
+    for (j = 0; j < s->n_quadrics; j++) {
+        if (s->quadric_shape[j] < 0 || s->quadric_shape[j] >= s->n_shapes) return 0;
+        quadric_bounds(&s->shapes[s->quadric_shape[j]], info[s->n_tris + s->n_spheres + j].box.lo,
+                       info[s->n_tris + s->n_spheres + j].box.hi);
+    }
+    for (i = 0; i < s->n_tris + s->n_spheres + s->n_quadrics; i++) {
         for (a = 0; a < 3; a++) {
             const Box *b = &info[i].box;
             if (!isfinite(b->lo[a]) || !isfinite(b->hi[a])) return 0;
@@ -706,7 +717,7 @@ static void collapse(Bvh *b, const BinNode *bin, int32_t *todo_bin, int32_t *tod
 
 int bvh_build(Bvh *b, const Scene *s)
 {
-    const int n = s->n_tris + s->n_spheres;
+    const int n = s->n_tris + s->n_spheres + s->n_quadrics;
     PrimInfo *info = NULL;
     BuildTask *stack = NULL;
     BinNode *bin = NULL;
@@ -715,7 +726,7 @@ int bvh_build(Bvh *b, const Scene *s)
     size_t n_wide;
 
     memset(b, 0, sizeof *b);
-    if (s->n_tris < 0 || s->n_spheres < 0 || n < 0) return 0;
+    if (s->n_tris < 0 || s->n_spheres < 0 || s->n_quadrics < 0 || n < 0) return 0;
     if (n == 0) return 1;                          /* empty scene: no nodes, no hits */
     if (n >= (1 << 28)) return 0;                  /* a leaf packs first << 3 in 31 bits */
     info = (PrimInfo *)malloc((size_t)n * sizeof *info);
@@ -800,7 +811,8 @@ int bvh_build(Bvh *b, const Scene *s)
     } else
         collapse(b, bin, todo, todo + n_wide + 1);
 
-    /* 3. The primitives' data in leaf order: 9 floats a triangle, 4 a sphere. */
+    /* 3. The primitives' data in leaf order: 9 floats a triangle, 4 a sphere, none
+       a quadric. */
     for (i = 0; i < n; i++) {
         BvhPrim *q = &b->prims[i];
         int p = prims[i], k;
@@ -810,6 +822,8 @@ int bvh_build(Bvh *b, const Scene *s)
                 Vec3 v = s->P[s->tris[p].v[k]];
                 q->v[3 * k] = v.x; q->v[3 * k + 1] = v.y; q->v[3 * k + 2] = v.z;
             }
+        } else if (p >= s->n_tris + s->n_spheres) {
+            for (k = 0; k < 9; k++) q->v[k] = 0.0f;
         } else {
             const Shape *sh = &s->shapes[s->sphere_shape[p - s->n_tris]];
             q->v[0] = sh->center.x; q->v[1] = sh->center.y; q->v[2] = sh->center.z;
@@ -967,7 +981,13 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 const int p = q->prim;
                 int ok;
                 if (p < s->n_tris) ok = tri_hit(&rp, q->v, t_best, &t, &b1, &b2);
-                else { ok = sphere_hit(&rp, q->v, t_best, &t); b1 = b2 = 0.0f; }
+                else if (p < s->n_tris + s->n_spheres) {
+                    ok = sphere_hit(&rp, q->v, t_best, &t); b1 = b2 = 0.0f;
+                } else {
+                    ok = quadric_intersect(&s->shapes[s->quadric_shape[p - s->n_tris - s->n_spheres]],
+                                           r, t_best, &t);
+                    b1 = b2 = 0.0f;
+                }
                 if (!ok) continue;
                 if (any_hit) {
                     if (t < r->tmax) return 1;
@@ -1034,7 +1054,21 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
                 if (v3_dot(sp->ng, sp->ns) < 0.0f) sp->ng = v3_neg(sp->ng);
             }
         }
+        /* (u, v): the mesh's "uv" interpolated, else pbrt-v4's default corners
+           (0,0), (1,0), (1,1), i.e. u = b1 + b2, v = b2 */
+        if (sh->has_uv && s->UV) {
+            const float *t0 = s->UV + 2 * tri->v[0], *t1 = s->UV + 2 * tri->v[1], *t2 = s->UV + 2 * tri->v[2];
+            sp->u = (float)(b0 * t0[0] + b1 * t1[0] + b2 * t2[0]);
+            sp->v = (float)(b0 * t0[1] + b1 * t1[1] + b2 * t2[1]);
+        } else {
+            sp->u = (float)(b1 + b2);
+            sp->v = (float)b2;
+        }
         sp->shape = tri->shape;
+    } else if (h->prim >= s->n_tris + s->n_spheres) {
+        int shape = s->quadric_shape[h->prim - s->n_tris - s->n_spheres];
+        quadric_surface_point(&s->shapes[shape], r, h->t, sp);
+        sp->shape = shape;
     } else {
         int shape = s->sphere_shape[h->prim - s->n_tris];
         const Shape *sh = &s->shapes[shape];
@@ -1056,6 +1090,18 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
         if (sh->flip) sp->ng = v3_neg(sp->ng);
         sp->ns = sp->ng;
         sp->shape = shape;
+        /* pbrt-v4's sphere parameters, about the world axes through the centre
+           (a sphere keeps no rotation): u = phi / 2 pi, v = 1 - theta / pi; only
+           a textured material reads them (two inverse trigonometric calls) */
+        sp->u = sp->v = 0.0f;
+        if (sh->material >= 0 && sh->material < s->n_materials &&
+            s->materials[sh->material].reflectance_tex > 0) {
+            double phi = atan2(q[1], q[0]), ct = len > 0.0 ? q[2] / len : 1.0;
+            if (phi < 0.0) phi += 2.0 * SPECNEE_PI;
+            ct = ct < -1.0 ? -1.0 : ct > 1.0 ? 1.0 : ct;
+            sp->u = (float)(phi / (2.0 * SPECNEE_PI));
+            sp->v = (float)(1.0 - acos(ct) / SPECNEE_PI);
+        }
     }
 }
 

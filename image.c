@@ -702,7 +702,8 @@ int img_merge(const Image *in, const double *weights, int n, Image *out)
 
 int img_error(const Image *a, const Image *ref, int x0, int y0, int x1, int y1, ImgErr *out)
 {
-    double se = 0.0, rel = 0.0, ae = 0.0, m;
+    double se = 0.0, rel = 0.0, ae = 0.0, m, ya = 0.0, yr = 0.0;
+    static const double yrow[3] = { 0.212671, 0.715160, 0.072169 };   /* sRGB's Y row */
     int x, y, c;
     if (!img_valid(a) || !img_valid(ref) || !out) return 0;
     if (a->w != ref->w || a->h != ref->h) return 0;
@@ -715,12 +716,16 @@ int img_error(const Image *a, const Image *ref, int x0, int y0, int x1, int y1, 
                 se += d * d;
                 rel += d * d / (b * b + IMG_RELMSE_EPS);
                 ae += fabs(d);
+                ya += yrow[c] * a->rgb[i];
+                yr += yrow[c] * b;
             }
     out->n = (long)(x1 - x0) * (long)(y1 - y0);
     m = 3.0 * (double)out->n;
     out->mse = se / m;
     out->relmse = rel / m;
     out->mae = ae / m;
+    out->y_test = ya / (double)out->n;
+    out->y_ref = yr / (double)out->n;
     return 1;
 }
 
@@ -922,7 +927,7 @@ int cmd_merge(int argc, char **argv)
 static const char diff_usage[] =
     "usage: specnee diff test.pfm ref.pfm [--region NAME:x0,y0,x1,y1 ...] "
     "[--error-image err.png]\n"
-    "                    [--max-mse X] [--max-relmse Y] [--csv]\n";
+    "                    [--max-mse X] [--max-relmse Y] [--csv] [--means]\n";
 
 static const char diff_help[] =
     "Compares a test image with a reference, over the whole image and each region:\n"
@@ -938,6 +943,8 @@ static const char diff_help[] =
     "                 NaN magenta\n"
     "  --max-mse X, --max-relmse Y  exit 1 when the whole image's value exceeds them\n"
     "  --csv          print region,x0,y0,x1,y1,pixels,mse,relmse,mae as CSV\n"
+    "  --means        also the luminance means Y_test, Y_ref (sRGB's Y row) and their\n"
+    "                 ratio: how bright each image is (tools/pbrt_compare.sh)\n"
     "Exit status: 0 ok, 1 bad input or a threshold exceeded, 2 bad usage.\n";
 
 typedef struct {
@@ -984,20 +991,23 @@ static int parse_threshold(const char *s, double *out)
     return 1;
 }
 
-static void diff_print(FILE *out, int csv, const DiffRegion *r, const ImgErr *e)
+static void diff_print(FILE *out, int csv, int means, const DiffRegion *r, const ImgErr *e)
 {
+    double ratio = e->y_ref != 0.0 ? e->y_test / e->y_ref : 0.0;
     if (csv)
-        fprintf(out, "%s,%d,%d,%d,%d,%ld,%.9g,%.9g,%.9g\n", r->name, r->x0, r->y0, r->x1,
+        fprintf(out, "%s,%d,%d,%d,%d,%ld,%.9g,%.9g,%.9g", r->name, r->x0, r->y0, r->x1,
                 r->y1, e->n, e->mse, e->relmse, e->mae);
     else
-        fprintf(out, "%-12s %5d %5d %5d %5d %9ld %13.6e %13.6e %13.6e\n", r->name, r->x0,
+        fprintf(out, "%-12s %5d %5d %5d %5d %9ld %13.6e %13.6e %13.6e", r->name, r->x0,
                 r->y0, r->x1, r->y1, e->n, e->mse, e->relmse, e->mae);
+    if (means) fprintf(out, csv ? ",%.9g,%.9g,%.9g" : " %13.6e %13.6e %9.6f", e->y_test, e->y_ref, ratio);
+    fprintf(out, "\n");
 }
 
 int img_cmd_diff(int argc, char **argv, FILE *out, FILE *errf)
 {
     const char *paths[2] = { NULL, NULL }, *err_image = NULL;
-    int n_paths = 0, n_regions = 0, csv = 0, has_max_mse = 0, has_max_rel = 0;
+    int n_paths = 0, n_regions = 0, csv = 0, means = 0, has_max_mse = 0, has_max_rel = 0;
     int i, k, status = 1;
     double max_mse = 0.0, max_rel = 0.0;
     DiffRegion *regions, whole;
@@ -1018,6 +1028,8 @@ int img_cmd_diff(int argc, char **argv, FILE *out, FILE *errf)
             return 0;
         } else if (strcmp(a, "--csv") == 0) {
             csv = 1;
+        } else if (strcmp(a, "--means") == 0) {
+            means = 1;
         } else if (strcmp(a, "--region") == 0 || strcmp(a, "--error-image") == 0 ||
                    strcmp(a, "--max-mse") == 0 || strcmp(a, "--max-relmse") == 0) {
             int ok = val != NULL;
@@ -1087,15 +1099,16 @@ int img_cmd_diff(int argc, char **argv, FILE *out, FILE *errf)
     /* 4. Metrics: the whole image, then each region. */
     strcpy(whole.name, "image");
     whole.x0 = 0; whole.y0 = 0; whole.x1 = test.w; whole.y1 = test.h;
-    if (csv) fprintf(out, "region,x0,y0,x1,y1,pixels,mse,relmse,mae\n");
-    else fprintf(out, "%-12s %5s %5s %5s %5s %9s %13s %13s %13s\n", "region", "x0", "y0",
-                 "x1", "y1", "pixels", "MSE", "relMSE", "MAE");
+    if (csv) fprintf(out, "region,x0,y0,x1,y1,pixels,mse,relmse,mae%s\n", means ? ",y_test,y_ref,ratio" : "");
+    else fprintf(out, "%-12s %5s %5s %5s %5s %9s %13s %13s %13s%s\n", "region", "x0", "y0",
+                 "x1", "y1", "pixels", "MSE", "relMSE", "MAE",
+                 means ? "        Y_test         Y_ref     ratio" : "");
     img_error(&test, &ref, 0, 0, test.w, test.h, &e);
-    diff_print(out, csv, &whole, &e);
+    diff_print(out, csv, means, &whole, &e);
     for (k = 0; k < n_regions; k++) {
         ImgErr er;
         img_error(&test, &ref, regions[k].x0, regions[k].y0, regions[k].x1, regions[k].y1, &er);
-        diff_print(out, csv, &regions[k], &er);
+        diff_print(out, csv, means, &regions[k], &er);
     }
 
     errno = 0;

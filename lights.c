@@ -6,7 +6,8 @@
    light_sample, light_pdf_sa, light_voxel, light_select, light_select_pmf,
    light_sampler_bytes, sel_from_name, sel_name.
 
-   1. Emitters.  An emitter is one AreaLightSource shape: a whole mesh (or sphere).
+   1. Emitters.  An emitter is one AreaLightSource shape: a whole mesh, a sphere, or
+      another quadric (disk, cylinder, cut sphere: shapes.c, sampled uniformly by area).
       Its radiance follows pbrt-v4's normalisation (DiffuseAreaLight::Create):
           Le(lambda) = scale * L(lambda) / sum_{lambda = lo..hi, 1 nm} ybar(lambda) L(lambda)
       over the range the film integrates, so a directly seen emitter has Y = scale.
@@ -179,6 +180,8 @@
         mesh, one-sided    reach = [some triangle t has n_t . p - d_t > eps]
         mesh, two-sided    reach = [some triangle t has |n_t . p - d_t| > eps]
         sphere             outside of an outward one, inside of a flipped one
+        disk               its plane, as a one-triangle mesh (shapes.c)
+        cylinder, cut sphere  reach = 1 (not exact: "may reach")
         bigger meshes      reach = 1 (over REACH_MAX_TRIS triangles, or shading
                            normals against the geometry: a limit of the voxel
                            tables; the light tree's orientation cones cover it)
@@ -234,6 +237,26 @@ static int emitter_find_planes(const Scene *s, Emitter *em)
         em->reach_eps = 1e-5 * (1.0 + big);
         return 1;
     }
+    if (shape_is_quadric(sh->type)) {
+        /* a disk is one plane: through a point of it, with its oriented normal (the
+           same at every point); a cylinder or cut sphere gets no test */
+        float lo[3], hi[3];
+        Vec3 c, n;
+        quadric_bounds(sh, lo, hi);
+        for (a = 0; a < 3; a++) {
+            if (fabs((double)lo[a]) > big) big = fabs((double)lo[a]);
+            if (fabs((double)hi[a]) > big) big = fabs((double)hi[a]);
+        }
+        em->reach_eps = 1e-5 * (1.0 + big);
+        if (sh->type != SHAPE_DISK) return 1;
+        em->planes = (double *)malloc(sizeof(double) * 4);
+        if (!em->planes) return 0;
+        quadric_sample(sh, 0.0f, 0.0f, &c, &n);        /* a point of the disk, its normal */
+        em->planes[0] = n.x; em->planes[1] = n.y; em->planes[2] = n.z;
+        em->planes[3] = (double)n.x * c.x + (double)n.y * c.y + (double)n.z * c.z;
+        em->n_planes = 1;
+        return 1;
+    }
     for (t = sh->tri_begin; t < sh->tri_begin + sh->tri_count; t++)
         for (k = 0; k < 3; k++)
             for (a = 0; a < 3; a++) {
@@ -280,6 +303,7 @@ int emitter_can_reach(const Scene *s, int e, Vec3 p)
     const Shape *sh;
     int t;
     if (em->inf) return 1;                       /* light from every direction */
+    if (em->delta.type != DELTA_NONE) return delta_can_reach(&em->delta, p);
     sh = &s->shapes[em->shape];
     if (sh->type == SHAPE_SPHERE) {
         double dx = (double)p.x - sh->center.x, dy = (double)p.y - sh->center.y;
@@ -326,6 +350,9 @@ static int radiance_and_k(const Scene *s, int e, float lo_nm, float hi_nm, Spect
         if (em->inf)
             error_set(err, em->inf->file, em->inf->line, "LightSource \"infinite\": spectrum L "
                       "emits nothing visible in %g-%g nm", lo_nm, hi_nm);
+        else if (em->delta.type != DELTA_NONE)
+            error_set(err, em->delta.file, em->delta.line, "LightSource: its spectrum "
+                      "emits nothing visible in %g-%g nm", lo_nm, hi_nm);
         else
             error_set(err, s->shapes[em->shape].file, s->shapes[em->shape].line,
                       "AreaLightSource: spectrum L emits nothing visible in %g-%g nm", lo_nm, hi_nm);
@@ -368,12 +395,29 @@ int emitters_prepare(Scene *s, Error *err)
             em->twosided = 0;
             continue;
         }
+        if (em->delta.type != DELTA_NONE) {
+            /* delta.c: a distant light's power needs the scene's bounding sphere,
+               as an infinite light's does */
+            DeltaLight *d = &em->delta;
+            d->center = v3_mul(v3_add(s->bmin, s->bmax), 0.5f);
+            d->radius = 0.5 * v3_len(v3_sub(s->bmax, s->bmin));
+            if (!(d->radius > 0.0) || !isfinite(d->radius)) d->radius = 1.0;
+            em->area = delta_power_area(d);
+            em->twosided = 0;
+            if (!(em->area > 0.0)) {
+                error_set(err, d->file, d->line, "LightSource \"spot\": the cone is empty");
+                return 0;
+            }
+            continue;
+        }
         sh = &s->shapes[em->shape];
         /* area and the triangle CDF */
         free(em->tri_cdf);
         em->tri_cdf = NULL;
         if (sh->type == SHAPE_SPHERE) {
             em->area = 4.0 * SPECNEE_PI * sh->radius * sh->radius;
+        } else if (shape_is_quadric(sh->type)) {
+            em->area = sh->area;                    /* world area (shapes.c) */
         } else {
             double acc = 0.0;
             em->tri_cdf = (float *)malloc(sizeof(float) * (size_t)(sh->tri_count + 1));
@@ -452,6 +496,8 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
 {
     const Emitter *em = &s->emitters[e];
     const Shape *sh;
+    out->delta = 0;
+    if (em->delta.type != DELTA_NONE) return delta_sample(&em->delta, ref, out);
     if (em->inf) {
         /* a direction; the "point" lies beyond the scene's bounding sphere, so a
            shadow ray to it tests the whole way out */
@@ -470,6 +516,10 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
         (void)u0;
         out->p = v3_add(sh->center, v3_mul(dir, sh->radius));
         out->n = sh->flip ? v3_neg(dir) : dir;
+    } else if (shape_is_quadric(sh->type)) {
+        /* uniform by world area (scene.c refuses an emitter where it would not be) */
+        (void)u0;
+        quadric_sample(sh, u1, u2, &out->p, &out->n);
     } else {
         return sample_mesh(s, em->tri_cdf, sh->tri_begin, sh->tri_count, em->area, ref, u0, u1, u2, out);
     }
@@ -488,6 +538,7 @@ static float pdf_sa_area(double area, Vec3 ref, Vec3 p, Vec3 n)
 
 float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n)
 {
+    if (s->emitters[e].delta.type != DELTA_NONE) return 0.0f;   /* no direction finds it */
     if (s->emitters[e].inf) {
         Vec3 d = v3_sub(p, ref);
         if (!(v3_dot(d, d) > 0.0f)) return 0.0f;
@@ -521,7 +572,7 @@ static void piece_whole(const Scene *s, Piece *pc, int e)
     const Emitter *em = &s->emitters[e];
     pc->emitter = e;
     pc->area = em->area;
-    if (!em->inf && s->shapes[em->shape].type == SHAPE_MESH) {
+    if (em->shape >= 0 && s->shapes[em->shape].type == SHAPE_MESH) {
         pc->tri_cdf = em->tri_cdf;
         pc->tri_begin = s->shapes[em->shape].tri_begin;
         pc->tri_count = s->shapes[em->shape].tri_count;
@@ -560,7 +611,7 @@ typedef struct {
 
 /* Per emitter, the little that every emitter hit and NEE sample reads (light_Le):
    its radiance's index in LightSampler.Le, and how it emits. */
-typedef struct { int le, twosided, inf; } EmitterRef;
+typedef struct { int le, twosided, inf, delta; } EmitterRef;
 
 struct LightSampler {
     const Scene *scene;
@@ -653,6 +704,10 @@ SelStrategy sel_from_name(const char *name)
 }
 
 static int is_tree(SelStrategy st) { return st == SEL_TREE || st == SEL_SPECTRAL_TREE; }
+
+/* Lights without a position - infinite and distant lights - stand beside the
+   light tree, each with a share of its own (section 4). */
+static int beside_tree(const Emitter *em) { return em->inf || em->delta.type == DELTA_DISTANT; }
 
 static int uses_grid(SelStrategy st)
 {
@@ -958,7 +1013,15 @@ static float node_behind(const LightSampler *ls, const int *items, int n, const 
     }
     for (i = 0; i < n; i++) {
         const Piece *pc = &ls->pieces[items[i]];
-        const Shape *sh = &s->shapes[s->emitters[pc->emitter].shape];
+        const Emitter *em = &s->emitters[pc->emitter];
+        const Shape *sh;
+        if (em->shape < 0) {                            /* a spot light: its one point */
+            const Vec3 x = em->delta.p;
+            double d = w[0] * x.x + w[1] * x.y + w[2] * x.z;
+            if (d < h) h = d;                           /* (its only "vertex") */
+            continue;
+        }
+        sh = &s->shapes[em->shape];
         if (sh->type != SHAPE_MESH) return -INFINITY;   /* (a sphere's cone is full anyway) */
         for (j = 0; j < piece_tri_count(pc, sh); j++) {
             const Triangle *tr = &s->tris[piece_triangle(ls, pc, sh, j)];
@@ -1222,15 +1285,47 @@ static void piece_bounds(const LightSampler *ls, const Piece *pc, PieceBounds *o
 {
     const Scene *s = ls->scene;
     const Emitter *em = &s->emitters[pc->emitter];
-    const Shape *sh = &s->shapes[em->shape];
+    const Shape *sh = em->shape >= 0 ? &s->shapes[em->shape] : NULL;
     double sum = 0.0;
     int b;
     out->twosided = em->twosided;
-    if (sh->type == SHAPE_SPHERE) {
+    if (!sh) {
+        /* a point or spot light (delta.c): a box that is one point; a point light
+           emits every way (theta_o = pi, theta_e = pi/2, as pbrt-v4's bounds), a
+           spot light within theta_o = its full-intensity cone and theta_e = the
+           falloff band beyond it (every direction when its CTM stretches the
+           cone out of round).  A band of less than a milliradian is widened
+           to one: "I = 0 when theta' >= theta_e" must not cut off a point just
+           inside the cone by round-off (pbrt-v4 keeps a similar slop) */
+        const DeltaLight *d = &em->delta;
+        out->bmin = out->bmax = d->p;
+        if (d->type == DELTA_SPOT && !d->stretched) {
+            double to = acos(fmax(-1.0, fmin(1.0, (double)d->cos_start)));
+            double te = acos(fmax(-1.0, fmin(1.0, (double)d->cos_end))) - to;
+            out->cone.w = d->w;
+            out->cone.cos_o = d->cos_start;
+            out->cone.cos_e = (float)cos(te > 1e-3 ? te : 1e-3);
+        } else {
+            out->cone = cone_full(0.0f);
+        }
+    } else if (sh->type == SHAPE_SPHERE) {
         Vec3 r = v3(sh->radius, sh->radius, sh->radius);
         out->bmin = v3_sub(sh->center, r);
         out->bmax = v3_add(sh->center, r);
         out->cone = cone_full(0.0f);
+    } else if (shape_is_quadric(sh->type)) {
+        float lo[3], hi[3];
+        quadric_bounds(sh, lo, hi);
+        out->bmin = v3(lo[0], lo[1], lo[2]);
+        out->bmax = v3(hi[0], hi[1], hi[2]);
+        if (sh->type == SHAPE_DISK) {              /* one normal: a cone of angle 0 */
+            Vec3 p;
+            quadric_sample(sh, 0.0f, 0.0f, &p, &out->cone.w);
+            out->cone.cos_o = 1.0f;
+            out->cone.cos_e = 0.0f;
+        } else {
+            out->cone = cone_full(0.0f);           /* cylinder, cut sphere: every way */
+        }
     } else {
         int count = piece_tri_count(pc, sh), i, k;
         Vec3 nsum = v3(0, 0, 0);
@@ -1573,7 +1668,7 @@ static float tree_pmf(const LightSampler *ls, const LightCtx *c, int piece)
     if (ls->n_inf > 0) {
         int live = tree_live(ls, &q);
         p = 1.0 / (ls->n_inf + live);
-        if (ls->scene->emitters[pc->emitter].inf) return (float)p;
+        if (beside_tree(&ls->scene->emitters[pc->emitter])) return (float)p;
         if (!live) return 0.0f;
     }
     for (d = 0; d < pc->depth; d++) {
@@ -1627,7 +1722,8 @@ static int tree_setup(LightSampler *ls)
     size_t cap = (size_t)ls->n;
     for (e = 0; e < ls->n; e++) {
         const Shape *sh;
-        if (s->emitters[e].inf) { ls->n_inf++; continue; }
+        if (beside_tree(&s->emitters[e])) { ls->n_inf++; continue; }
+        if (s->emitters[e].shape < 0) continue;       /* a point or spot light: one piece */
         sh = &s->shapes[s->emitters[e].shape];
         if (!ls->opt.no_split && sh->type == SHAPE_MESH && sh->tri_count > LIGHT_CLUSTER_TRIS) {
             n_split_tris += sh->tri_count;
@@ -1653,7 +1749,7 @@ static int tree_setup(LightSampler *ls)
     ls->n_inf = 0;
     for (e = 0; e < ls->n; e++) {
         const Shape *sh;
-        if (s->emitters[e].inf) {                    /* beside the tree (section 4) */
+        if (beside_tree(&s->emitters[e])) {          /* beside the tree (section 4) */
             Piece *pc = &ls->pieces[ls->n_pieces];
             pc->emitter = e;
             pc->area = s->emitters[e].area;
@@ -1661,8 +1757,8 @@ static int tree_setup(LightSampler *ls)
             ls->emitter_piece[e] = ls->n_pieces++;
             continue;
         }
-        sh = &s->shapes[s->emitters[e].shape];
-        if (ls->piece_of_tri && !ls->opt.no_split && sh->type == SHAPE_MESH &&
+        sh = s->emitters[e].shape >= 0 ? &s->shapes[s->emitters[e].shape] : NULL;
+        if (sh && ls->piece_of_tri && !ls->opt.no_split && sh->type == SHAPE_MESH &&
             sh->tri_count > LIGHT_CLUSTER_TRIS) {
             for (i = 0; i < sh->tri_count; i++) {
                 const Triangle *tr = &s->tris[sh->tri_begin + i];
@@ -1698,7 +1794,7 @@ static int tree_setup(LightSampler *ls)
     ls->node_bin = (float *)malloc(sizeof(float) * (size_t)(2 * ls->n_tree_pieces - 1) * (size_t)ls->nb);
     if (!pb || !items || !tmp || !B.centroids || !ls->nodes || !ls->node_bin) { free(B.centroids); goto done; }
     for (i = 0, e = 0; i < ls->n_pieces; i++) {
-        if (ls->scene->emitters[ls->pieces[i].emitter].inf) continue;
+        if (beside_tree(&ls->scene->emitters[ls->pieces[i].emitter])) continue;
         piece_bounds(ls, &ls->pieces[i], &pb[i]);
         B.centroids[i] = pb[i].centroid;
         items[e++] = i;
@@ -1788,6 +1884,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
         int same = -1;
         ls->ref[i].twosided = em->twosided;
         ls->ref[i].inf = em->inf != NULL;
+        ls->ref[i].delta = em->delta.type != DELTA_NONE;
         /* the same radiance as an earlier area light (same L, scale, kind)?  The
            previous emitter is checked first, then a few before it: lamps of one
            kind are usually declared together (O(n), never O(n^2)) */
@@ -1951,6 +2048,7 @@ float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm)
     const EmitterRef *r = &ls->ref[e];
     if (r->inf)                                                    /* along w */
         return inf_Le(&ls->scene->emitters[e], &ls->Le[r->le], ls->k[e], v3_neg(w), lambda_nm);
+    if (r->delta) return spec_eval(&ls->Le[r->le], lambda_nm);    /* I or L: G is in pdf_sa */
     if (!r->twosided && v3_dot(n, w) <= 0.0f) return 0.0f;
     return spec_eval(&ls->Le[r->le], lambda_nm);
 }
@@ -1971,6 +2069,7 @@ int light_sample(const LightSampler *ls, int piece, Vec3 ref, float u0, float u1
 {
     const Piece *pc = &ls->pieces[piece];
     int lo = 0, hi;
+    out->delta = 0;
     if (pc->count == 0) {                        /* a whole emitter */
         if (pc->tri_cdf)
             return sample_mesh(ls->scene, pc->tri_cdf, pc->tri_begin, pc->tri_count, pc->area, ref, u0, u1, u2, out);

@@ -65,6 +65,14 @@ float mat_albedo(const Material *m, float lambda_nm)
     return rho;
 }
 
+float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm)
+{
+    float rho;
+    if (m->reflectance_tex <= 0 || !m->textures) return mat_albedo(m, lambda_nm);
+    rho = tex_eval(m->textures, m->reflectance_tex - 1, sp, lambda_nm);   /* texture.c */
+    return rho > 0.0f ? (rho < 1.0f ? rho : 1.0f) : 0.0f;               /* NaN: 0 */
+}
+
 /* ---- fluorescence: tables at the 1 nm knots 300..830 nm (k = nm - 300) ---- */
 
 int fluor_prepare(Material *m)
@@ -499,7 +507,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         if (!(out->pdf > 0.0f)) return 0;
         for (j = 0; j < HERO_N; j++) {
             out->pdf_l[j] = out->pdf;
-            if (alive & (1u << j)) out->f[j] = mat_albedo(m, lambda[j]) / PI_F;
+            if (alive & (1u << j)) out->f[j] = mat_albedo_at(m, sp, lambda[j]) / PI_F;
         }
         return 1;
     }
@@ -581,7 +589,7 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
         pdf = fabsf(li.z) / PI_F;
         for (j = 0; j < HERO_N; j++) {
             pdf_l[j] = pdf;
-            if (alive & (1u << j)) f[j] = mat_albedo(m, lambda[j]) / PI_F;
+            if (alive & (1u << j)) f[j] = mat_albedo_at(m, sp, lambda[j]) / PI_F;
         }
         return;
     }

@@ -19,8 +19,9 @@
      <data: elements in header order, properties in declared order>
 
    WHAT IS READ (the subset pbrt-v4 reads, docs/conventions.md)
-     - element vertex: x y z (required), nx ny nz (optional, all three or none); any
-       other property (u v, colours, lists, ...) is read and skipped by its type.
+     - element vertex: x y z (required), nx ny nz (optional, all three or none), u v
+       (or s t, texture_u texture_v, texture_s texture_t: optional, both or none); any
+       other property (colours, lists, ...) is read and skipped by its type.
      - element face: list vertex_indices (or vertex_index) with an integer count and
        integer indices; a triangle gives one triangle, a quad (0,1,2,3) gives the two
        triangles (0,1,2) and (0,2,3); any other vertex count is an error.  pbrt-v4
@@ -447,7 +448,17 @@ static int read_vertices(Reader *rd, const PlyElement *e, PlyMesh *m)
 {
     int ix = find_prop(e, "x"), iy = find_prop(e, "y"), iz = find_prop(e, "z");
     int inx = find_prop(e, "nx"), iny = find_prop(e, "ny"), inz = find_prop(e, "nz");
+    int iu = -1, iv = -1, has_uv, names;
     int has_n, slot[PLY_MAX_PROPS], i, k;
+    /* texture coordinates under any of the names pbrt-v4's reader accepts */
+    static const char *const uv_names[4][2] = {
+        { "u", "v" }, { "s", "t" }, { "texture_u", "texture_v" }, { "texture_s", "texture_t" }
+    };
+    for (names = 0; names < 4 && (iu < 0 || iv < 0); names++) {
+        iu = find_prop(e, uv_names[names][0]);
+        iv = find_prop(e, uv_names[names][1]);
+    }
+    has_uv = iu >= 0 && iv >= 0;
     long v;
     if (ix < 0 || iy < 0 || iz < 0) {
         error_set(rd->err, rd->path, e->line, "element vertex lacks property %s",
@@ -463,6 +474,7 @@ static int read_vertices(Reader *rd, const PlyElement *e, PlyMesh *m)
     for (i = 0; i < e->n_props; i++) slot[i] = -1;
     slot[ix] = 0; slot[iy] = 1; slot[iz] = 2;
     if (has_n) { slot[inx] = 3; slot[iny] = 4; slot[inz] = 5; }
+    if (has_uv) { slot[iu] = 6; slot[iv] = 7; }
     for (i = 0; i < e->n_props; i++)
         if (slot[i] >= 0 && e->props[i].count_type != T_NONE) {
             error_set(rd->err, rd->path, e->line, "vertex property %s must not be a list",
@@ -476,7 +488,8 @@ static int read_vertices(Reader *rd, const PlyElement *e, PlyMesh *m)
     m->n_verts = (int)e->count;
     m->P = (float *)malloc(3 * (size_t)e->count * sizeof(float) + 1);
     m->N = has_n ? (float *)malloc(3 * (size_t)e->count * sizeof(float) + 1) : NULL;
-    if (!m->P || (has_n && !m->N)) {
+    m->UV = has_uv ? (float *)malloc(2 * (size_t)e->count * sizeof(float) + 1) : NULL;
+    if (!m->P || (has_n && !m->N) || (has_uv && !m->UV)) {
         error_set(rd->err, rd->path, e->line, "out of memory for %ld vertices", e->count);
         return 0;
     }
@@ -496,7 +509,8 @@ static int read_vertices(Reader *rd, const PlyElement *e, PlyMesh *m)
             }
             k = slot[i];
             if (k < 3) m->P[3 * v + k] = (float)val;
-            else m->N[3 * v + k - 3] = (float)val;
+            else if (k < 6) m->N[3 * v + k - 3] = (float)val;
+            else m->UV[2 * v + k - 6] = (float)val;
         }
     }
     return 1;
@@ -573,6 +587,7 @@ void ply_free(PlyMesh *m)
 {
     free(m->P);
     free(m->N);
+    free(m->UV);
     free(m->idx);
     memset(m, 0, sizeof *m);
 }

@@ -184,59 +184,6 @@ static Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1)
     return r;
 }
 
-/* One axis of pbrt-v4's Gaussian filter, g(x) - g(radius), by rejection: the
-   independent sampler's way (a variable count of numbers from its stream). */
-static float gaussian_offset(Rng *rng, float radius, float sigma)
-{
-    float g_r = expf(-radius * radius / (2.0f * sigma * sigma));
-    int tries;
-    for (tries = 0; tries < 64; tries++) {
-        float x = (2.0f * rng_float(rng) - 1.0f) * radius;
-        float g = expf(-x * x / (2.0f * sigma * sigma)) - g_r;
-        if (rng_float(rng) * (1.0f - g_r) < g) return x;
-    }
-    return 0.0f;
-}
-
-/* The same filter for the other samplers, which need a fixed number of
-   dimensions: one axis of g(x) - g(radius) over [-radius, radius] tabulated in
-   FILTER_CELLS cells (the value at each cell's centre: 1/85 pixel wide for the
-   default radius 1.5), its CDF, and x = P^-1(u) by binary search, uniform within
-   the cell (pbrt-v4 samples filters from a table too).  One number per axis. */
-#define FILTER_CELLS 256
-typedef struct {
-    float radius;
-    float cdf[FILTER_CELLS + 1];     /* cdf[0] = 0, cdf[FILTER_CELLS] = 1 */
-} FilterTable;
-
-static void filter_table_init(FilterTable *ft, float radius, float sigma)
-{
-    double g_r = exp(-(double)radius * radius / (2.0 * sigma * sigma)), sum = 0.0, acc[FILTER_CELLS + 1];
-    int i;
-    ft->radius = radius;
-    acc[0] = 0.0;
-    for (i = 0; i < FILTER_CELLS; i++) {
-        double x = -radius + 2.0 * radius * (i + 0.5) / FILTER_CELLS;
-        double g = exp(-x * x / (2.0 * sigma * sigma)) - g_r;
-        sum += g > 0.0 ? g : 0.0;
-        acc[i + 1] = sum;
-    }
-    for (i = 0; i <= FILTER_CELLS; i++) ft->cdf[i] = (float)(acc[i] / sum);
-    ft->cdf[FILTER_CELLS] = 1.0f;
-}
-
-static float filter_table_sample(const FilterTable *ft, float u)
-{
-    int lo = 0, hi = FILTER_CELLS;          /* cdf[lo] <= u < cdf[hi] */
-    float t;
-    while (hi - lo > 1) {
-        int mid = (lo + hi) / 2;
-        if (ft->cdf[mid] <= u) lo = mid; else hi = mid;
-    }
-    t = ft->cdf[lo + 1] > ft->cdf[lo] ? (u - ft->cdf[lo]) / (ft->cdf[lo + 1] - ft->cdf[lo]) : 0.5f;
-    return ft->radius * (-1.0f + 2.0f * ((float)lo + t) / (float)FILTER_CELLS);
-}
-
 /* ------------------------------------------------------------------ the path */
 
 typedef struct {
@@ -247,7 +194,7 @@ typedef struct {
     Camera cam;
     int *inf; int n_inf;             /* the emitters that are infinite lights */
     Sampler sampler;                 /* the numbers (sampler.c); its spp is the pass's target */
-    FilterTable filter;              /* the Gaussian filter for the non-independent samplers */
+    PixelFilter filter;              /* the pixel filter's sampler (filter.c) */
     Material white;                  /* Lambertian of albedo 1: a fluorescent vertex after a
                                         shift re-radiates like this at lambda_i (FLUORESCENCE 3) */
     double *fl_power;                /* --fluor-li power: per material FL_N entries, the
@@ -612,6 +559,8 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
             sampler_2d(ps, dim_bounce(depth, BD_POINT), &u1, &u2);
             for (e = e_first; e < e_end; e++) {
                 float P = 1.0f, f[HERO_N], pdf_l[HERO_N], cos_i, q_nee;
+                const float *q_b;             /* the BSDF's pdfs in the MIS weight */
+                static const float no_bsdf[HERO_N] = { 0 };
                 int chosen = e, fb = 0, any = 0, em;
                 EmitterSample es;
                 double value[HERO_N], den;
@@ -664,15 +613,20 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
                         continue;
                     }
                 }
+                /* A delta light (point, spot, distant: delta.c) cannot be found
+                   by a BSDF direction: its weight against BSDF sampling is 1, so
+                   the BSDF's pdfs leave the denominator (es.pdf_sa = 1 / G there,
+                   and q_nee / den = 1 / (P (1/G) sum_m r_m^2): THEORY section 11) */
+                q_b = es.delta ? no_bsdf : pdf_l;
                 q_nee = P * es.pdf_sa;
-                den = mis_denominator(r, pdf_l, q_nee, alive);
+                den = mis_denominator(r, q_b, q_nee, alive);
                 if (den > 0.0) {
                     film_add(xyz, cmf, wl, value, (double)q_nee / den, alive);
                     if (dbg) {
                         debug_weight(dbg, "NEE: visible emitter", em, (double)q_nee * q_nee / den,
-                                     r, pdf_l, q_nee, alive, 1);
+                                     r, q_b, q_nee, alive, 1);
                         if (alive != 1u)
-                            debug_check_sum(dbg, debug_weight_sum(R, &ctx, chosen, es.pdf_sa, r, pdf_l, alive));
+                            debug_check_sum(dbg, debug_weight_sum(R, &ctx, chosen, es.pdf_sa, r, q_b, alive));
                     }
                 } else if (dbg) {
                     fprintf(dbg, "  NEE: emitter %d: MIS denominator 0 (no technique has a density here)\n", em);
@@ -746,11 +700,13 @@ static double wall_seconds(void)
 
 /* One pass of the progressive render: samples [k0, k1) of every pixel are added,
    in sample order, to acc (3 doubles per pixel, XYZ sums), and img receives
-   acc / k1 in linear sRGB.  Summing in sample order makes a render that stops at
+   acc / k1 in linear sRGB (with mitchell or sinc, acc holds sum w XYZ and wsum
+   sum w, and img receives acc / wsum: filter.c).  Summing in sample order makes a render that stops at
    k1 after any sequence of passes bit-identical to one pass of k1 samples. */
 typedef struct {
     const Renderer *R;
     double *acc;
+    double *wsum;              /* per pixel sum of filter weights (mitchell, sinc), else NULL */
     Image *img;
     uint64_t *row_rays;
     long *row_nonfinite, *row_fallbacks, *row_dims_reused;
@@ -774,6 +730,7 @@ static void render_pass(Pass *P)
         memset(&cnt, 0, sizeof cnt);
         for (x = 0; x < w; x++) {
             double *sum = P->acc + 3 * ((size_t)y * w + x), avg[3], rgb[3];
+            double *wsum = P->wsum ? P->wsum + (size_t)y * w + x : NULL;  /* sum of weights */
             /* (fx0, fy0): this image pixel on the film (a crop window shifts it) */
             int fx0 = x + P->x0, fy0 = y + P->y0;
             FILE *dbg = (fx0 == o->debug_x && fy0 == o->debug_y) ? stderr : NULL;
@@ -783,19 +740,18 @@ static void render_pass(Pass *P)
                 Rng *stream;
                 Wavelengths wl;
                 double xyz[3] = { 0.0, 0.0, 0.0 }, m;
-                float fx, fy, ul0 = 0.5f, ul1 = 0.5f;
+                float fx, fy, ul0 = 0.5f, ul1 = 0.5f, fw = 1.0f;
                 sampler_start(&R->sampler, fx0, fy0, k, &ps);
                 stream = sampler_stream(&ps);
+                /* the position in the pixel and its filter weight fw (filter.c) */
                 if (set->filter == FILTER_GAUSSIAN && stream) {
                     /* independent: rejection from the stream (bit-identical to before) */
-                    fx = 0.5f + gaussian_offset(stream, set->filter_radius, set->filter_sigma);
-                    fy = 0.5f + gaussian_offset(stream, set->filter_radius, set->filter_sigma);
-                } else if (set->filter == FILTER_GAUSSIAN) {
-                    sampler_2d(&ps, DIM_FILM, &fx, &fy);
-                    fx = 0.5f + filter_table_sample(&R->filter, fx);
-                    fy = 0.5f + filter_table_sample(&R->filter, fy);
+                    fx = 0.5f + filter_gaussian_reject(stream, set->filter_radius, set->filter_sigma);
+                    fy = 0.5f + filter_gaussian_reject(stream, set->filter_radius, set->filter_sigma);
                 } else {
-                    sampler_2d(&ps, DIM_FILM, &fx, &fy);
+                    float u0, u1;
+                    sampler_2d(&ps, DIM_FILM, &u0, &u1);
+                    fw = filter_sample(&R->filter, u0, u1, &fx, &fy);
                 }
                 wl_sample(&R->wl, sampler_1d(&ps, DIM_WAVELENGTH), &wl);
                 /* the lens dimensions, requested only with a lens: the independent
@@ -816,12 +772,23 @@ static void render_pass(Pass *P)
                         double f = set->max_component / m;
                         xyz[0] *= f; xyz[1] *= f; xyz[2] *= f;
                     }
-                    sum[0] += xyz[0]; sum[1] += xyz[1]; sum[2] += xyz[2];
+                    if (wsum) {          /* mitchell, sinc: sum w L and sum w */
+                        sum[0] += fw * xyz[0]; sum[1] += fw * xyz[1]; sum[2] += fw * xyz[2];
+                    } else {             /* constant weights: the mean */
+                        sum[0] += xyz[0]; sum[1] += xyz[1]; sum[2] += xyz[2];
+                    }
                 } else {
-                    cnt.nonfinite++;
+                    cnt.nonfinite++;     /* dropped: it counts as L = 0 */
                 }
+                if (wsum) *wsum += fw;
             }
-            avg[0] = sum[0] / P->k1; avg[1] = sum[1] / P->k1; avg[2] = sum[2] / P->k1;
+            if (!wsum) {
+                avg[0] = sum[0] / P->k1; avg[1] = sum[1] / P->k1; avg[2] = sum[2] / P->k1;
+            } else if (*wsum != 0.0) {   /* pbrt-v4: sum w L / sum w, 0 when sum w = 0 */
+                avg[0] = sum[0] / *wsum; avg[1] = sum[1] / *wsum; avg[2] = sum[2] / *wsum;
+            } else {
+                avg[0] = avg[1] = avg[2] = 0.0;
+            }
             if (set->white_balance > 0.0f) {
                 /* pbrt-v4's white balance (Film "whitebalance"): a 3x3 map of the
                    sensor's XYZ after the clamp, linear, so applied to the mean */
@@ -898,7 +865,7 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     j->R.white.type = MAT_DIFFUSE;
     spec_const(&j->R.white.reflectance, 1.0f);
     camera_init(&j->R.cam, set);
-    filter_table_init(&j->R.filter, set->filter_radius, set->filter_sigma);
+    filter_init(&j->R.filter, set);
     sampler_init(&j->R.sampler, o->sampler, o->seed, o->spp, o->xsamples, o->ysamples, o->jitter);
     /* the emitters for this range and their selection tables */
     j->R.ls = light_sampler_build(s, &j->sel, err);
@@ -952,6 +919,10 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     j->P.R = &j->R;
     j->P.img = &j->img;
     j->P.acc = (double *)calloc(3 * (size_t)w * (size_t)h, sizeof *j->P.acc);
+    if (filter_weighted(&j->R.filter)) {
+        j->P.wsum = (double *)calloc((size_t)w * (size_t)h, sizeof *j->P.wsum);
+        if (!j->P.wsum) { error_set(err, NULL, 0, "out of memory for a %dx%d image", w, h); render_end(j); return NULL; }
+    }
     j->P.row_rays = (uint64_t *)calloc((size_t)h, sizeof *j->P.row_rays);
     j->P.row_nonfinite = (long *)calloc((size_t)h, sizeof *j->P.row_nonfinite);
     j->P.row_fallbacks = (long *)calloc((size_t)h, sizeof *j->P.row_fallbacks);
@@ -1016,7 +987,7 @@ const RenderStats *render_stats(const RenderJob *j) { return &j->st; }
 void render_end(RenderJob *j)
 {
     if (!j) return;
-    free(j->P.acc); free(j->P.row_rays); free(j->P.row_nonfinite); free(j->P.row_fallbacks);
+    free(j->P.acc); free(j->P.wsum); free(j->P.row_rays); free(j->P.row_nonfinite); free(j->P.row_fallbacks);
     free(j->P.row_dims_reused);
     img_free(&j->img);
     if (j->R.ls) light_sampler_free(j->R.ls);

@@ -1,7 +1,7 @@
 /* scene.c - the scene parser: a strict subset of the pbrt-v4 scene format.
 
-   Implements (specnee.h section 8): scene_load, scene_load_string, scene_free,
-   scene_dump.
+   Implements (specnee.h section 8): scene_load, scene_load_as, scene_load_string,
+   scene_free, scene_dump.
 
    WHAT IT READS
      A pbrt-v4 file is a stream of whitespace-separated tokens: words, quoted
@@ -171,6 +171,8 @@ typedef struct {
    then recorded with material -1 and the NamedMaterial's place, and shapes made
    under it carry the code -2 - (its index) until finish() resolves them. */
 typedef struct { char name[64]; int material; const char *file; int line; } NamedMaterial;
+/* A named texture: pbrt-v4 keeps float and spectrum textures in two namespaces. */
+typedef struct { char name[64]; int is_float; int index; } NamedTexture;
 typedef struct { char name[64]; Xform xf; } NamedCoordSys;
 
 typedef struct {
@@ -187,15 +189,19 @@ typedef struct {
     AreaLightDesc *lights; int n_lights, cap_lights;
     NamedMaterial *named; int n_named, cap_named;
     NamedCoordSys *coords; int n_coords, cap_coords;
+    NamedTexture *texnames; int n_texnames, cap_texnames;
+    int cap_textures;
     int default_material;      /* -1 until a shape needs it */
     /* capacities of the growing Scene arrays */
-    int cap_verts, cap_tris, cap_shapes, cap_mats, cap_emit, cap_spheres, cap_strings;
+    int cap_verts, cap_tris, cap_shapes, cap_mats, cap_emit, cap_spheres, cap_quadrics, cap_strings;
     int any_normals;
+    int any_uv;                /* some mesh has "uv": Scene.UV is kept parallel to P */
     int inset_line[8];         /* where each inset comment was (for messages) */
     const char *inset_file[8];
     int end_line;              /* line of the top-level file's last token */
     const char *camera_file; int camera_line;   /* the Camera directive, if any */
     float iso, exposure_time;  /* Film "iso", Camera shutter interval: the imaging ratio */
+    const char *output;        /* the command line's output file (-o), NULL: none */
 } Parser;
 
 /* ===========================================================================
@@ -956,8 +962,8 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
 
 /* Append a triangle mesh given in object space (P: 3 floats a vertex, N: the
    same or NULL, idx: 3 ints a triangle, already range-checked). */
-static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, int nv, const int32_t *idx,
-                    int ntri, const char *file, int line)
+static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, const float *UVobj, int nv,
+                    const int32_t *idx, int ntri, const char *file, int line)
 {
     Scene *s = P->s;
     int v0 = s->n_verts, t0 = s->n_tris, i;
@@ -980,6 +986,18 @@ static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, int nv, con
                 s->N = nn;
             }
         }
+        /* UV likewise: 2 floats a vertex once the first mesh with "uv" appears */
+        if (UVobj || P->any_uv) {
+            if (!P->any_uv) {
+                s->UV = (float *)calloc((size_t)cap * 2, sizeof(float));
+                if (!s->UV) return oom(P, file, line);
+                P->any_uv = 1;
+            } else {
+                float *nu = (float *)realloc(s->UV, (size_t)cap * 2 * sizeof(float));
+                if (!nu) return oom(P, file, line);
+                s->UV = nu;
+            }
+        }
     }
     if (!grow((void **)&s->tris, &P->cap_tris, s->n_tris + ntri, sizeof(Triangle)))
         return oom(P, file, line);
@@ -999,6 +1017,12 @@ static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, int nv, con
             }
             s->N[v0 + i] = n;
         }
+        if (s->UV) {
+            if (UVobj && !(isfinite(UVobj[2 * i]) && isfinite(UVobj[2 * i + 1])))
+                return fail(P, file, line, "uv %d is not finite", i);
+            s->UV[2 * (v0 + i)] = UVobj ? UVobj[2 * i] : 0.0f;
+            s->UV[2 * (v0 + i) + 1] = UVobj ? UVobj[2 * i + 1] : 0.0f;
+        }
     }
     for (i = 0; i < ntri; i++) {
         Triangle *t = &s->tris[t0 + i];
@@ -1012,7 +1036,11 @@ static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, int nv, con
     }
     s->n_verts += nv;
     s->n_tris += ntri;
-    if (add_shape(P, SHAPE_MESH, t0, ntri, area, Nobj != NULL, file, line) < 0) return 0;
+    {
+        int sh = add_shape(P, SHAPE_MESH, t0, ntri, area, Nobj != NULL, file, line);
+        if (sh < 0) return 0;
+        s->shapes[sh].has_uv = UVobj != NULL;
+    }
     return 1;
 }
 
@@ -1346,6 +1374,20 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
                         "(x %d..%d, y %d..%d)", crop ? "cropwindow" : "pixelbounds",
                         xres, yres, b[0], b[1], b[2], b[3]);
     }
+    if (P->output) {
+        /* pbrt-v4 (FilmBaseParameters): a file named on the command line wins over
+           the scene's; the scene's name is then never used, so it is not checked
+           (placeholders such as "__OUTPUT_PNG__" are common in shared scenes).
+           pbrt-v4 warns whenever the scene names a file; specnee notes it only
+           where the name is not one it writes as given (a placeholder, .exr, another
+           format), so the shipped scenes' usual `-o` renders stay quiet */
+        if (fn && !ends_with_ci(fn, ".pfm") && !ends_with_ci(fn, ".ppm") && !ends_with_ci(fn, ".png"))
+            fprintf(stderr, "%s:%d: note: the output file \"%s\" of the command line "
+                    "overrides Film \"string filename\" \"%s\" (as pbrt-v4 --outfile does)\n",
+                    file, line, P->output, fn);
+        snprintf(st->filename, sizeof st->filename, "%s", P->output);
+        return 1;
+    }
     if (!fn) fn = "pbrt.exr";                         /* pbrt-v4's default */
     if (strlen(fn) + 1 > sizeof st->filename)
         return fail(P, file, line, "Film: filename longer than %d characters",
@@ -1365,33 +1407,84 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
     return 1;
 }
 
+/* PixelFilter: pbrt-v4's five filters with its parameter names and defaults
+   (filters.cpp; their formulas and how samples are drawn: filter.c). */
 static int filter_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
+    static const struct { const char *name; FilterType t; float radius; const char *reads; }
+    kinds[] = {
+        { "box", FILTER_BOX, 0.5f, "float xradius, float yradius" },
+        { "gaussian", FILTER_GAUSSIAN, 1.5f, "float xradius, float yradius, float sigma" },
+        { "triangle", FILTER_TRIANGLE, 2.0f, "float xradius, float yradius" },
+        { "mitchell", FILTER_MITCHELL, 2.0f, "float xradius, float yradius, float B, float C" },
+        { "sinc", FILTER_SINC, 4.0f, "float xradius, float yradius, float tau" },
+    };
     SceneSettings *st = &P->s->settings;
-    float xr, yr, sigma = 0.5f;
-    int gaussian = strcmp(type, "gaussian") == 0;
-    if (!gaussian && strcmp(type, "box") != 0) {
-        if (!strcmp(type, "mitchell") || !strcmp(type, "sinc") || !strcmp(type, "triangle"))
-            return fail(P, file, line, "PixelFilter \"%s\" is valid pbrt-v4 but not in the "
-                        "specnee subset (use \"box\" or \"gaussian\")", type);
-        return fail(P, file, line, "PixelFilter \"%s\": unknown filter type", type);
-    }
-    /* pbrt-v4 names the radii xradius/yradius (box 0.5, gaussian 1.5) */
-    if (!get_float(P, pl, "xradius", gaussian ? 1.5f : 0.5f, &xr)) return 0;
-    if (!get_float(P, pl, "yradius", gaussian ? 1.5f : 0.5f, &yr)) return 0;
-    if (gaussian && !get_float(P, pl, "sigma", 0.5f, &sigma)) return 0;
-    if (!params_check_unused(P, pl, gaussian ? "PixelFilter \"gaussian\"" : "PixelFilter \"box\"",
-                             gaussian ? "float xradius, float yradius, float sigma"
-                                      : "float xradius, float yradius", NULL))
+    float xr, yr, sigma = 0.5f, B = 1.0f / 3.0f, C = 1.0f / 3.0f, tau = 3.0f;
+    char what[160];
+    int k;
+    for (k = 0; k < 5 && strcmp(type, kinds[k].name) != 0; k++) {}
+    if (k == 5)
+        return fail(P, file, line, "PixelFilter \"%s\": unknown filter type (pbrt-v4 knows "
+                    "box, gaussian, mitchell, sinc, triangle)", type);
+    /* pbrt-v4 names the radii xradius/yradius */
+    if (!get_float(P, pl, "xradius", kinds[k].radius, &xr)) return 0;
+    if (!get_float(P, pl, "yradius", kinds[k].radius, &yr)) return 0;
+    if (kinds[k].t == FILTER_GAUSSIAN && !get_float(P, pl, "sigma", 0.5f, &sigma)) return 0;
+    if (kinds[k].t == FILTER_MITCHELL && (!get_float(P, pl, "B", B, &B) || !get_float(P, pl, "C", C, &C)))
         return 0;
+    if (kinds[k].t == FILTER_SINC && !get_float(P, pl, "tau", 3.0f, &tau)) return 0;
+    snprintf(what, sizeof what, "PixelFilter \"%s\"", type);
+    if (!params_check_unused(P, pl, what, kinds[k].reads, NULL)) return 0;
     if (xr != yr)
         return fail(P, file, line, "PixelFilter: xradius %g != yradius %g is valid pbrt-v4 "
                     "but not in the specnee subset", xr, yr);
     if (!(xr > 0.0f && xr <= 16.0f) || !(sigma > 0.0f && sigma <= 16.0f))
         return fail(P, file, line, "PixelFilter: radius and sigma must be within (0, 16]");
-    st->filter = gaussian ? FILTER_GAUSSIAN : FILTER_BOX;
+    if (!(tau > 0.0f))
+        return fail(P, file, line, "PixelFilter \"sinc\": \"float tau\" %g must be > 0", tau);
+    st->filter = kinds[k].t;
     st->filter_radius = xr;
     st->filter_sigma = sigma;
+    st->filter_b = B;
+    st->filter_c = C;
+    st->filter_tau = tau;
+    return 1;
+}
+
+/* Accelerator: pbrt-v4's choice of ray-intersection structure ("bvh" with
+   splitmethod/maxnodeprims, or "kdtree").  It changes how fast rays are traced,
+   never what they hit, so the image does not depend on it: specnee reads the
+   parameters pbrt-v4 reads (an unknown one is an error, as there), ignores them
+   and says so; its own BVH (bvh.c) is always built. */
+static int accelerator_directive(Parser *P, const char *type, ParamList *pl, const char *file,
+                                 int line)
+{
+    const char *split;
+    int n;
+    float f;
+    if (!strcmp(type, "bvh")) {
+        if (!get_string(P, pl, "splitmethod", &split)) return 0;
+        if (!get_int(P, pl, "maxnodeprims", 4, &n, NULL)) return 0;
+        if (!params_check_unused(P, pl, "Accelerator \"bvh\"",
+                                 "string splitmethod, integer maxnodeprims", NULL))
+            return 0;
+    } else if (!strcmp(type, "kdtree")) {
+        if (!get_int(P, pl, "intersectcost", 5, &n, NULL)) return 0;
+        if (!get_int(P, pl, "traversalcost", 1, &n, NULL)) return 0;
+        if (!get_float(P, pl, "emptybonus", 0.5f, &f)) return 0;
+        if (!get_int(P, pl, "maxprims", 1, &n, NULL)) return 0;
+        if (!get_int(P, pl, "maxdepth", -1, &n, NULL)) return 0;
+        if (!params_check_unused(P, pl, "Accelerator \"kdtree\"",
+                                 "integer intersectcost, integer traversalcost, float emptybonus, "
+                                 "integer maxprims, integer maxdepth", NULL))
+            return 0;
+    } else {
+        return fail(P, file, line, "Accelerator \"%s\": unknown accelerator type (pbrt-v4 "
+                    "knows \"bvh\" and \"kdtree\")", type);
+    }
+    fprintf(stderr, "%s:%d: note: Accelerator \"%s\" is read and ignored: specnee always "
+            "builds its own BVH, and the accelerator does not change the image\n", file, line, type);
     return 1;
 }
 
@@ -1591,6 +1684,271 @@ static int check_spectrum_above(Parser *P, const Param *p, const char *file, int
     return 1;
 }
 
+/* ===========================================================================
+   Textures (texture.c): the Texture directive
+   =========================================================================== */
+/* The texture a "texture name" parameter names, in the float or spectrum
+   namespace; -1 and an error when there is none. */
+static int texture_lookup(Parser *P, const Param *p, int is_float)
+{
+    int i;
+    if (p->n_str != 1)
+        return fail(P, p->file, p->line, "\"texture %s\": expected one texture name", p->name) - 1;
+    for (i = P->n_texnames - 1; i >= 0; i--)
+        if (P->texnames[i].is_float == is_float && !strcmp(P->texnames[i].name, p->str[0]))
+            return P->texnames[i].index;
+    for (i = 0; i < P->n_texnames; i++)
+        if (!strcmp(P->texnames[i].name, p->str[0]))
+            return fail(P, p->file, p->line, "\"texture %s\": \"%s\" is a %s texture; a %s "
+                        "one is needed here", p->name, p->str[0], is_float ? "spectrum" : "float",
+                        is_float ? "float" : "spectrum") - 1;
+    return fail(P, p->file, p->line, "\"texture %s\": no texture named \"%s\"", p->name,
+                p->str[0]) - 1;
+}
+
+/* Argument k of texture T from parameter `name`: a texture, or a constant (def
+   when absent). */
+static int texture_arg(Parser *P, ParamList *pl, Texture *T, int k, const char *name, float def)
+{
+    Param *pt = param_find(pl, PT_TEXTURE, name);
+    T->arg_tex[k] = -1;
+    if (pt) {
+        T->arg_tex[k] = texture_lookup(P, pt, T->is_float);
+        return T->arg_tex[k] >= 0;
+    }
+    if (T->is_float) {
+        if (!get_float(P, pl, name, def, &T->arg_f[k])) return 0;
+        if (!isfinite(T->arg_f[k]))
+            return fail(P, T->file, T->line, "Texture: \"float %s\" is not finite", name);
+        return 1;
+    } else {
+        Param *p = find_spectrum_param(pl, name);
+        if (!p) { spec_const(&T->arg_s[k], def); return 1; }
+        return param_spectrum(P, p, SPEC_ALBEDO, &T->arg_s[k], NULL);
+    }
+}
+
+/* The 2-D mapping parameters (pbrt-v4 TextureMapping2D::Create). */
+static int texture_mapping(Parser *P, ParamList *pl, Texture *T)
+{
+    const char *map = NULL;
+    double v1[3] = { 1, 0, 0 }, v2[3] = { 0, 1, 0 };
+    Param *pv;
+    int k;
+    if (!get_string(P, pl, "mapping", &map)) return 0;
+    if (!get_float(P, pl, "uscale", 1.0f, &T->su) || !get_float(P, pl, "vscale", 1.0f, &T->sv) ||
+        !get_float(P, pl, "udelta", 0.0f, &T->du) || !get_float(P, pl, "vdelta", 0.0f, &T->dv))
+        return 0;
+    if (!isfinite(T->su) || !isfinite(T->sv) || !isfinite(T->du) || !isfinite(T->dv))
+        return fail(P, T->file, T->line, "Texture: uscale, vscale, udelta, vdelta must be finite");
+    if (!map || !strcmp(map, "uv")) T->map = TEXMAP_UV;
+    else if (!strcmp(map, "spherical")) T->map = TEXMAP_SPHERICAL;
+    else if (!strcmp(map, "cylindrical")) T->map = TEXMAP_CYLINDRICAL;
+    else if (!strcmp(map, "planar")) T->map = TEXMAP_PLANAR;
+    else return fail(P, T->file, T->line, "Texture: unknown mapping \"%s\" (pbrt-v4: uv, "
+                     "spherical, cylindrical, planar)", map);
+    for (k = 0; k < 2; k++) {
+        double *v = k ? v2 : v1;
+        pv = param_find(pl, PT_VECTOR3, k ? "v2" : "v1");
+        if (pv) {
+            int a;
+            if (pv->n_num != 3)
+                return fail(P, pv->file, pv->line, "\"vector3 %s\": expected 3 values", pv->name);
+            for (a = 0; a < 3; a++) {
+                if (!isfinite(pv->num[a]))
+                    return fail(P, pv->file, pv->line, "\"vector3 %s\": not finite", pv->name);
+                v[a] = pv->num[a];
+            }
+        }
+    }
+    T->vs = v3((float)v1[0], (float)v1[1], (float)v1[2]);
+    T->vt = v3((float)v2[0], (float)v2[1], (float)v2[2]);
+    {   /* the texture's frame: the inverse of the CTM at the directive */
+        Xform inv;
+        int a, b;
+        for (a = 0; a < 4; a++)
+            for (b = 0; b < 4; b++) { inv.m[a][b] = P->gs.ctm.inv[a][b]; inv.inv[a][b] = P->gs.ctm.m[a][b]; }
+        T->tex_from_world = inv;
+    }
+    return 1;
+}
+
+/* An imagemap's image: PFM, or an .exr whose .pfm sits beside it. */
+static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
+{
+    const char *fn = NULL, *wrap = NULL, *filter = NULL, *enc = NULL;
+    char path[1024], alt[1024];
+    float scale;
+    int invert, ok;
+    Image im;
+    Error ierr;
+    FILE *f;
+    if (!get_string(P, pl, "filename", &fn) || !get_string(P, pl, "wrap", &wrap) ||
+        !get_string(P, pl, "filter", &filter) || !get_string(P, pl, "encoding", &enc) ||
+        !get_float(P, pl, "scale", 1.0f, &scale) || !get_bool(P, pl, "invert", 0, &invert))
+        return 0;
+    (void)param_find(pl, PT_FLOAT, "maxanisotropy");   /* (only for the "ewa" filter) */
+    if (!fn) return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": \"string filename\" is required", name);
+    if (!isfinite(scale)) return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": scale is not finite", name);
+    if (!wrap || !strcmp(wrap, "repeat")) T->wrap = TEXWRAP_REPEAT;
+    else if (!strcmp(wrap, "black")) T->wrap = TEXWRAP_BLACK;
+    else if (!strcmp(wrap, "clamp")) T->wrap = TEXWRAP_CLAMP;
+    else return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": unknown wrap \"%s\" (repeat, "
+                     "black, clamp)", name, wrap);
+    if (filter && strcmp(filter, "bilinear") != 0 && strcmp(filter, "point") != 0)
+        fprintf(stderr, "%s:%d: note: Texture \"imagemap\": filter \"%s\" is read as "
+                "\"bilinear\" (specnee has no MIP maps)\n", T->file, T->line, filter);
+    resolve_path(P, T->file, fn, path, sizeof path);
+    if (ends_with_ci(fn, ".exr")) {
+        snprintf(alt, sizeof alt, "%.*s.pfm", (int)strlen(path) - 4, path);
+        f = fopen(alt, "rb");
+        if (!f)
+            return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": \"%s\": EXR images are not "
+                        "in the specnee subset; convert it beside it to PFM (e.g. ImageMagick's "
+                        "`convert %s %.*s.pfm`)", name, fn, fn, (int)strlen(fn) - 4, fn);
+        fclose(f);
+        fprintf(stderr, "%s:%d: note: Texture \"imagemap\": reading %s for \"%s\"\n", T->file,
+                T->line, alt, fn);
+        snprintf(path, sizeof path, "%s", alt);
+    } else if (ends_with_ci(fn, ".png")) {
+        /* 8- and 16-bit PNG (png.c): sRGB-encoded unless "encoding" says "linear",
+           as pbrt-v4 reads them; "gamma g" is refused by name */
+        int linear = 0;
+        if (enc && !strcmp(enc, "linear")) linear = 1;
+        else if (enc && strcmp(enc, "sRGB") != 0)
+            return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": encoding \"%s\" is valid "
+                        "pbrt-v4 but not in the specnee subset (sRGB, linear)", name, enc);
+        if (!png_read(&im, path, linear, &ierr))
+            return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
+        ok = tex_set_image(T, &im, scale, invert, P->err);
+        img_free(&im);
+        return ok;
+    } else if (!ends_with_ci(fn, ".pfm")) {
+        return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": \"%s\": specnee reads image "
+                    "textures as PNG or PFM (convert others with ImageMagick's `convert`)", name, fn);
+    }
+    (void)enc;                                 /* PFM holds linear values */
+    if (!pfm_read(&im, path, &ierr))
+        return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
+    ok = tex_set_image(T, &im, scale, invert, P->err);
+    img_free(&im);
+    return ok;
+}
+
+/* Texture "name" "spectrum"|"float" "class" params (pbrt-v4's Texture). */
+static int texture_directive(Parser *P, Lexer *L, const Token *t)
+{
+    static const char *const pbrt_classes[] = {
+        "bilerp", "directionmix", "dots", "fbm", "marble", "ptex", "wrinkled", "windy", NULL
+    };
+    Scene *s = P->s;
+    Token a[3];
+    ParamList pl;
+    Texture T;
+    int k, ok = 0, dim = 2;
+    if (!P->in_world)
+        return fail(P, t->file, t->line, "Scene description must be inside world block; "
+                    "\"Texture\" not allowed before WorldBegin");
+    if (!expect_string(P, L, "Texture", "texture name", &a[0]) ||
+        !expect_string(P, L, "Texture", "\"spectrum\" or \"float\"", &a[1]) ||
+        !expect_string(P, L, "Texture", "texture class", &a[2]))
+        return 0;
+    memset(&pl, 0, sizeof pl);
+    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    memset(&T, 0, sizeof T);
+    T.file = t->file;
+    T.line = t->line;
+    T.amount_tex = T.scale_tex = -1;
+    T.arg_tex[0] = T.arg_tex[1] = -1;
+    if (strlen(a[0].text) >= sizeof P->texnames[0].name) {
+        ok = fail(P, t->file, t->line, "Texture: name too long");
+        goto done;
+    }
+    if (!strcmp(a[1].text, "float")) T.is_float = 1;
+    else if (strcmp(a[1].text, "spectrum") != 0) {
+        ok = fail(P, t->file, t->line, "Texture \"%s\": type \"%s\" must be \"spectrum\" or "
+                  "\"float\"", a[0].text, a[1].text);
+        goto done;
+    }
+    if (!strcmp(a[2].text, "constant")) {
+        T.type = TEX_CONSTANT;
+        ok = texture_arg(P, &pl, &T, 0, "value", 1.0f);
+    } else if (!strcmp(a[2].text, "checkerboard")) {
+        T.type = TEX_CHECKERBOARD;
+        ok = get_int(P, &pl, "dimension", 2, &dim, NULL);
+        if (ok && dim != 2)
+            ok = fail(P, t->file, t->line, "Texture \"checkerboard\": dimension %d: the 3-D "
+                      "checkerboard is valid pbrt-v4 but not in the specnee subset", dim);
+        ok = ok && texture_mapping(P, &pl, &T) && texture_arg(P, &pl, &T, 0, "tex1", 1.0f) &&
+             texture_arg(P, &pl, &T, 1, "tex2", 0.0f);
+    } else if (!strcmp(a[2].text, "scale")) {
+        Param *ps = param_find(&pl, PT_TEXTURE, "scale");
+        T.type = TEX_SCALE;
+        ok = texture_arg(P, &pl, &T, 0, "tex", 1.0f);
+        if (ok && ps) {
+            T.scale_tex = texture_lookup(P, ps, 1);
+            ok = T.scale_tex >= 0;
+        } else if (ok) {
+            ok = get_float(P, &pl, "scale", 1.0f, &T.arg_f[1]);
+            if (ok && !isfinite(T.arg_f[1])) ok = fail(P, t->file, t->line, "Texture \"scale\": scale is not finite");
+        }
+    } else if (!strcmp(a[2].text, "mix")) {
+        Param *pa = param_find(&pl, PT_TEXTURE, "amount");
+        T.type = TEX_MIX;
+        ok = texture_arg(P, &pl, &T, 0, "tex1", 0.0f) && texture_arg(P, &pl, &T, 1, "tex2", 1.0f);
+        if (ok && pa) {
+            T.amount_tex = texture_lookup(P, pa, 1);
+            ok = T.amount_tex >= 0;
+        } else if (ok) {
+            ok = get_float(P, &pl, "amount", 0.5f, &T.amount);
+            if (ok && !isfinite(T.amount)) ok = fail(P, t->file, t->line, "Texture \"mix\": amount is not finite");
+        }
+    } else if (!strcmp(a[2].text, "imagemap")) {
+        T.type = TEX_IMAGEMAP;
+        ok = texture_mapping(P, &pl, &T) && texture_image(P, &pl, &T, a[0].text);
+    } else {
+        for (k = 0; pbrt_classes[k]; k++)
+            if (!strcmp(a[2].text, pbrt_classes[k])) break;
+        ok = fail(P, t->file, t->line, pbrt_classes[k] ? "Texture \"%s\": class \"%s\" is valid "
+                  "pbrt-v4 but not in the specnee subset" : "Texture \"%s\": unknown class \"%s\"",
+                  a[0].text, a[2].text);
+    }
+    if (ok) {
+        static const char *const reads[] = {
+            /* TEX_CONSTANT */ "spectrum value, rgb value, float value, texture value",
+            /* TEX_CHECKERBOARD */ "integer dimension, string mapping, float uscale, float vscale, "
+                "float udelta, float vdelta, vector3 v1, vector3 v2, spectrum tex1, rgb tex1, "
+                "float tex1, texture tex1, spectrum tex2, rgb tex2, float tex2, texture tex2",
+            /* TEX_SCALE */ "spectrum tex, rgb tex, float tex, texture tex, float scale, texture scale",
+            /* TEX_MIX */ "spectrum tex1, rgb tex1, float tex1, texture tex1, spectrum tex2, rgb tex2, "
+                "float tex2, texture tex2, float amount, texture amount",
+            /* TEX_IMAGEMAP */ "string filename, string wrap, string filter, string encoding, "
+                "float scale, bool invert, float maxanisotropy, string mapping, float uscale, "
+                "float vscale, float udelta, float vdelta, vector3 v1, vector3 v2"
+        };
+        char what[96];
+        snprintf(what, sizeof what, "Texture \"%s\"", a[2].text);
+        ok = params_check_unused(P, &pl, what, reads[T.type], NULL);
+    }
+    if (ok) {
+        if (!grow((void **)&s->textures, &P->cap_textures, s->n_textures + 1, sizeof(Texture)) ||
+            !grow((void **)&P->texnames, &P->cap_texnames, P->n_texnames + 1, sizeof(NamedTexture))) {
+            ok = oom(P, t->file, t->line);
+        } else {
+            NamedTexture *nt = &P->texnames[P->n_texnames++];
+            snprintf(nt->name, sizeof nt->name, "%s", a[0].text);
+            nt->is_float = T.is_float;
+            nt->index = s->n_textures;
+            s->textures[s->n_textures++] = T;
+            T.texel = NULL;                    /* owned by the scene now */
+        }
+    }
+done:
+    tex_free(&T);
+    params_free(&pl);
+    return ok;
+}
+
 static int material_from_params(Parser *P, const char *type, ParamList *pl, const char *file,
                                 int line, Material *m, const char *dir)
 {
@@ -1600,8 +1958,15 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
     snprintf(what, sizeof what, "%s \"%s\"", dir, type);
     if (!strcmp(type, "diffuse")) {
         Param *p = find_spectrum_param(pl, "reflectance");
+        Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
         m->type = MAT_DIFFUSE;
-        if (p) {
+        if (pt) {
+            /* "texture reflectance": evaluated at each hit (texture.c), clamped to [0, 1] */
+            int ti = texture_lookup(P, pt, 0);
+            if (ti < 0) return 0;
+            m->reflectance_tex = ti + 1;
+            spec_const(&m->reflectance, 0.5f);        /* (not read) */
+        } else if (p) {
             if (!param_spectrum(P, p, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
             /* a reflectance must lie in [0,1]; 1e-4 of slack absorbs the rounding of
                an RGB upsampling of (1,1,1) */
@@ -1609,8 +1974,8 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         } else {
             spec_const(&m->reflectance, 0.5f);        /* pbrt-v4's default */
         }
-        return params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance",
-                                   "displacement normalmap");
+        return params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
+                                   "texture reflectance", "displacement normalmap");
     }
     if (!strcmp(type, "fluorescent")) {
         /* specnee extension (docs/FLUORESCENCE.md, docs/conventions.md section 6):
@@ -1931,11 +2296,174 @@ static int area_light_directive(Parser *P, const char *type, ParamList *pl, cons
    point (+z of the light's frame) without it: pi for a constant light, and for a
    map pbrt-v4's sum over the upper hemisphere's texels of Y(rgb) cos(theta) 2 pi
    / res^2 (pbrt-v4 lights.cpp, reproduced as it is). */
+/* The one point "point3 name" [x y z] (def when absent). */
+static int get_point3(Parser *P, ParamList *pl, const char *name, const double def[3], double out[3])
+{
+    Param *p = param_find(pl, PT_POINT3, name);
+    int k;
+    for (k = 0; k < 3; k++) out[k] = def[k];
+    if (!p) return 1;
+    if (p->n_num != 3)
+        return fail(P, p->file, p->line, "\"point3 %s\": expected 3 values, got %d", name, p->n_num);
+    for (k = 0; k < 3; k++) {
+        if (!isfinite(p->num[k]))
+            return fail(P, p->file, p->line, "\"point3 %s\": not a finite number", name);
+        out[k] = p->num[k];
+    }
+    return 1;
+}
+
+/* A number that must be finite: a file:line error naming it otherwise. */
+static int check_finite(Parser *P, ParamList *pl, const char *what, const char *name, float v,
+                        const char *file, int line)
+{
+    Param *p = param_find(pl, PT_FLOAT, name);
+    if (isfinite(v)) return 1;
+    return fail(P, p ? p->file : file, p ? p->line : line, "%s: \"float %s\" must be a finite "
+                "number", what, name);
+}
+
+/* LightSource "point", "spot" and "distant" (delta.c), with pbrt-v4's meaning
+   (lights.cpp, PointLight/SpotLight/DistantLight::Create).  The spectrum (I for
+   point and spot, L for distant; D65 when absent) is normalised as an area
+   light's is: lights.c divides it by its luminance (an rgb one by D65's), so that
+   a point light of scale 1 has luminous intensity 1 and a distant light of scale
+   1 gives illuminance 1 to a surface facing it.  Then
+     point    "power" Phi (> 0): scale *= Phi / (4 pi)
+     spot     "power" Phi: scale *= Phi / (2 pi ((1 - cos_start) + (cos_start - cos_end) / 2))
+     distant  "illuminance" E (> 0): scale *= E
+   (a power or illuminance <= 0 is pbrt-v4's "not given").  Positions and
+   directions are in the light's frame, the CTM at the LightSource: a point light
+   sits at CTM(from), a spot's axis is CTM(to - from), a distant light arrives
+   from CTM(from - to).  A spot's cone is round in its own frame: under a CTM
+   that stretches it, it is elliptic in the world, as in pbrt-v4. */
+static int delta_light_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    static const double zero[3] = { 0, 0, 0 }, zplus[3] = { 0, 0, 1 };
+    Scene *s = P->s;
+    Emitter *em;
+    DeltaLight d;
+    Param *p;
+    Spectrum L;
+    double from[3], to[3];
+    float scale, power = -1.0f, cone = 30.0f, cdelta = 5.0f;
+    int rgb_illum = 0, i;
+    const char *sname = !strcmp(type, "distant") ? "L" : "I";
+    char what[64];
+    snprintf(what, sizeof what, "LightSource \"%s\"", type);
+    memset(&d, 0, sizeof d);
+    d.type = !strcmp(type, "point") ? DELTA_POINT : !strcmp(type, "spot") ? DELTA_SPOT : DELTA_DISTANT;
+    d.file = file;
+    d.line = line;
+    p = find_spectrum_param(pl, sname);
+    if (p) {
+        if (!param_spectrum(P, p, SPEC_ILLUMINANT, &L, &rgb_illum)) return 0;
+    } else if (!spec_named(&L, "stdillum-D65")) {
+        return fail(P, file, line, "LightSource: the built-in spectrum stdillum-D65 is missing");
+    }
+    if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
+    if (!get_point3(P, pl, "from", zero, from)) return 0;
+    if (d.type != DELTA_POINT && !get_point3(P, pl, "to", zplus, to)) return 0;
+    if (d.type == DELTA_DISTANT) {
+        if (!get_float(P, pl, "illuminance", -1.0f, &power)) return 0;
+        if (!params_check_unused(P, pl, what, "spectrum L, rgb L, blackbody L, float scale, "
+                                 "float illuminance, point3 from, point3 to", NULL))
+            return 0;
+    } else {
+        if (!get_float(P, pl, "power", -1.0f, &power)) return 0;
+        if (d.type == DELTA_SPOT) {
+            if (!get_float(P, pl, "coneangle", 30.0f, &cone)) return 0;
+            if (!get_float(P, pl, "conedeltaangle", 5.0f, &cdelta)) return 0;
+            if (!params_check_unused(P, pl, what, "spectrum I, rgb I, blackbody I, float scale, "
+                                     "float power, float coneangle, float conedeltaangle, "
+                                     "point3 from, point3 to", NULL))
+                return 0;
+        } else if (!params_check_unused(P, pl, what, "spectrum I, rgb I, blackbody I, float scale, "
+                                        "float power, point3 from", NULL)) {
+            return 0;
+        }
+    }
+    if (!check_finite(P, pl, what, "scale", scale, file, line) ||
+        !check_finite(P, pl, what, d.type == DELTA_DISTANT ? "illuminance" : "power", power, file, line) ||
+        !check_finite(P, pl, what, "coneangle", cone, file, line) ||
+        !check_finite(P, pl, what, "conedeltaangle", cdelta, file, line))
+        return 0;
+    if (!(scale >= 0.0f)) return fail(P, file, line, "%s: \"float scale\" must be >= 0", what);
+    for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
+        if (!(spec_get(&L, i) >= 0.0f))
+            return fail(P, p ? p->file : file, p ? p->line : line, "%s: %s is negative at %d nm",
+                        what, sname, i);
+    if (rgb_illum) {       /* as for AreaLightSource: normalised by D65, not by the rgb's spectrum */
+        Spectrum d65;
+        double xyz_l[3], xyz_d[3];
+        spec_named(&d65, "stdillum-D65");
+        spec_to_xyz(&L, (float)SPEC_MIN, (float)SPEC_MAX, xyz_l);
+        spec_to_xyz(&d65, (float)SPEC_MIN, (float)SPEC_MAX, xyz_d);
+        if (xyz_d[1] > 0.0) scale = (float)(scale * (xyz_l[1] / xyz_d[1]));
+    }
+    d.p = xf_point(&P->gs.ctm, v3((float)from[0], (float)from[1], (float)from[2]));  /* point, spot */
+    if (d.type == DELTA_POINT) {
+        if (power > 0.0f) scale = (float)(scale * power / (4.0 * SPECNEE_PI));
+    } else {
+        Vec3 dir = v3((float)(to[0] - from[0]), (float)(to[1] - from[1]), (float)(to[2] - from[2]));
+        if (!(v3_dot(dir, dir) > 0.0f))
+            return fail(P, file, line, "%s: \"from\" and \"to\" are the same point: no direction", what);
+        dir = v3_norm(xf_vector(&P->gs.ctm, dir));
+        if (!(v3_dot(dir, dir) > 0.0f) || !isfinite(dir.x + dir.y + dir.z))
+            return fail(P, file, line, "%s: the transform leaves no direction", what);
+        if (d.type == DELTA_DISTANT) {
+            d.w = v3_neg(dir);                           /* towards the light */
+            if (power > 0.0f) scale *= power;
+        } else {
+            /* the cone is round in the light's frame (pbrt-v4): keep the inverse
+               CTM for directions and the axis there; "stretched" unless the CTM is a
+               rotation times a uniform scale (three axes equally long, at right angles) */
+            Vec3 ax = xf_vector(&P->gs.ctm, v3(1, 0, 0)), ay = xf_vector(&P->gs.ctm, v3(0, 1, 0));
+            Vec3 az = xf_vector(&P->gs.ctm, v3(0, 0, 1));
+            float lx = v3_len(ax), ly = v3_len(ay), lz = v3_len(az), tol = 1e-4f * lx;
+            double ts, tc;
+            int a, b;
+            d.stretched = fabsf(lx - ly) > tol || fabsf(lx - lz) > tol || fabsf(v3_dot(ax, ay)) > tol * lx ||
+                          fabsf(v3_dot(ax, az)) > tol * lx || fabsf(v3_dot(ay, az)) > tol * lx;
+            for (a = 0; a < 3; a++)
+                for (b = 0; b < 3; b++) d.obj_from_world[3 * a + b] = (float)P->gs.ctm.inv[a][b];
+            d.axis_obj = v3_norm(v3((float)(to[0] - from[0]), (float)(to[1] - from[1]),
+                                    (float)(to[2] - from[2])));
+            if (!(cone > 0.0f && cone <= 180.0f))
+                return fail(P, file, line, "%s: \"float coneangle\" %g must be in (0, 180] degrees",
+                            what, cone);
+            if (!(cdelta >= 0.0f))
+                return fail(P, file, line, "%s: \"float conedeltaangle\" %g must be >= 0", what, cdelta);
+            if (cdelta > cone)
+                fprintf(stderr, "%s:%d: note: %s: conedeltaangle %g > coneangle %g; as in pbrt-v4 "
+                        "the falloff starts at |coneangle - conedeltaangle| = %g degrees\n",
+                        file, line, what, cdelta, cone, fabs((double)cone - cdelta));
+            d.w = dir;
+            tc = (double)cone * SPECNEE_PI / 180.0;
+            ts = ((double)cone - cdelta) * SPECNEE_PI / 180.0;
+            d.cos_end = (float)cos(tc);
+            d.cos_start = (float)cos(ts);
+            if (power > 0.0f)
+                scale = (float)(scale * power / (2.0 * SPECNEE_PI * ((1.0 - d.cos_start) +
+                                                                    (d.cos_start - d.cos_end) / 2.0)));
+        }
+    }
+    if (!isfinite(scale))
+        return fail(P, file, line, "%s: scale x power is not a finite number", what);
+    if (!grow((void **)&s->emitters, &P->cap_emit, s->n_emitters + 1, sizeof(Emitter)))
+        return oom(P, file, line);
+    em = &s->emitters[s->n_emitters++];
+    memset(em, 0, sizeof *em);
+    em->shape = -1;
+    em->delta = d;
+    em->L = L;
+    em->scale = scale;
+    return 1;
+}
+
 static int light_source_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
-    static const char *const pbrt_types[] = {
-        "point", "spot", "goniometric", "projection", "distant", NULL
-    };
+    static const char *const pbrt_types[] = { "goniometric", "projection", NULL };
     Scene *s = P->s;
     Emitter *em;
     InfiniteLight *inf;
@@ -1944,11 +2472,13 @@ static int light_source_directive(Parser *P, const char *type, ParamList *pl, co
     float scale, ev;
     int rgb_illum = 0, i;
     Spectrum L;
+    if (!strcmp(type, "point") || !strcmp(type, "spot") || !strcmp(type, "distant"))
+        return delta_light_directive(P, type, pl, file, line);
     if (strcmp(type, "infinite") != 0) {
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
                 return fail(P, file, line, "LightSource \"%s\" is valid pbrt-v4 but not in the "
-                            "specnee subset (only \"infinite\")", type);
+                            "specnee subset (infinite, point, spot, distant)", type);
         return fail(P, file, line, "LightSource \"%s\": unknown light type", type);
     }
     p = find_spectrum_param(pl, "L");
@@ -2077,13 +2607,13 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
     const double *Pd, *Nd, *UV, *Id;
     int nv, nn, nuv, ni, per = bilinear ? 4 : 3, i, ok, ntri;
     const char *what = bilinear ? "Shape \"bilinearmesh\"" : "Shape \"trianglemesh\"";
-    float *Pf = NULL, *Nf = NULL;
+    float *Pf = NULL, *Nf = NULL, *UVf = NULL;
     int32_t *idx = NULL;
     int32_t deflt[4] = { 0, 1, 2, 3 };
     if (!get_points(P, pl, PT_INTEGER, "indices", 1, &Id, &ni)) return 0;
     if (!get_points(P, pl, PT_POINT3, "P", 3, &Pd, &nv)) return 0;
     if (!get_points(P, pl, PT_NORMAL, "N", 3, &Nd, &nn)) return 0;
-    if (!get_points(P, pl, PT_POINT2, "uv", 2, &UV, &nuv)) return 0;    /* accepted, unused */
+    if (!get_points(P, pl, PT_POINT2, "uv", 2, &UV, &nuv)) return 0;
     if (!params_check_unused(P, pl, what, "integer indices, point3 P, normal N, point2 uv",
                              "S faceIndices alpha emissionfilename displacement"))
         return 0;
@@ -2125,23 +2655,136 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
             idx[6 * i + 3] = q[0]; idx[6 * i + 4] = q[3]; idx[6 * i + 5] = q[2];
         }
     }
-    ok = add_mesh(P, Pf, Nf, nv, idx, ntri, file, line);
-    free(Pf); free(Nf); free(idx);
+    ok = 1;
+    if (nuv) {
+        UVf = (float *)malloc(sizeof(float) * 2 * (size_t)nv);
+        if (!UVf) { free(Pf); free(Nf); free(idx); return oom(P, file, line); }
+        for (i = 0; i < 2 * nv; i++) UVf[i] = (float)UV[i];
+    }
+    ok = ok && add_mesh(P, Pf, Nf, UVf, nv, idx, ntri, file, line);
+    free(Pf); free(Nf); free(UVf); free(idx);
     return ok;
+}
+
+/* A quadric (shapes.c) with the given object-space parameters under the CTM: a
+   new Shape and an entry of Scene.quadric_shape.  what: "Shape \"disk\"" etc. */
+static int add_quadric(Parser *P, ShapeType type, const Quadric *params, const char *what,
+                       const char *file, int line)
+{
+    Scene *s = P->s;
+    Shape *shp;
+    float lo[3], hi[3];
+    int sh, a;
+    if (!grow((void **)&s->quadric_shape, &P->cap_quadrics, s->n_quadrics + 1, sizeof(int)))
+        return oom(P, file, line);
+    sh = add_shape(P, type, 0, 0, 0.0, 0, file, line);
+    if (sh < 0) return 0;
+    shp = &s->shapes[sh];
+    shp->q = *params;
+    if (!quadric_set_transform(&shp->q, &P->gs.ctm))
+        return fail(P, file, line, "%s: projective transform not supported", what);
+    /* an area light is sampled uniformly by object area: that must be uniform by
+       world area, or emitter_pdf_sa's 1 / area would not be its density (shapes.c) */
+    if (shp->emitter >= 0 && !quadric_uniform_sampling(shp))
+        return fail(P, file, line, "%s: an area light under a non-uniform scale or shear "
+                    "is not in the specnee subset (its area sampling would not be uniform)", what);
+    shp->area = quadric_area(shp);
+    quadric_bounds(shp, lo, hi);
+    for (a = 0; a < 3; a++)
+        if (!isfinite(lo[a]) || !isfinite(hi[a]) || !(hi[a] - lo[a] <= FLT_MAX))
+            return fail(P, file, line, "%s: not finite after the transform", what);
+    if (!(shp->area > 0.0) || !isfinite(shp->area))
+        return fail(P, file, line, "%s: zero or non-finite area after the transform", what);
+    s->quadric_shape[s->n_quadrics++] = sh;
+    return 1;
+}
+
+/* Read "float NAME" (default def) into *out; fails on a value that is not finite
+   as a float (the token was finite, but e.g. 1e300 is not a float). */
+static int get_finite(Parser *P, ParamList *pl, const char *what, const char *name, float def,
+                      double *out, const char *file, int line)
+{
+    float v;
+    if (!get_float(P, pl, name, def, &v)) return 0;
+    if (!isfinite(v)) return fail(P, file, line, "%s: \"float %s\" is not finite", what, name);
+    *out = v;
+    return 1;
+}
+
+/* phimax in degrees, as the file gives it, checked and turned into radians. */
+static int check_phimax(Parser *P, const char *what, double deg, double *rad, const char *file, int line)
+{
+    if (!(deg > 0.0 && deg <= 360.0))
+        return fail(P, file, line, "%s: phimax %g must lie in (0, 360] degrees", what, deg);
+    *rad = deg >= 360.0 ? 2.0 * SPECNEE_PI : deg * (SPECNEE_PI / 180.0);
+    return 1;
+}
+
+/* Shape "disk" (pbrt-v4 Disk::Create): float height 0, radius 1, innerradius 0,
+   phimax 360. */
+static int disk_shape(Parser *P, ParamList *pl, const char *file, int line)
+{
+    const char *what = "Shape \"disk\"";
+    Quadric q;
+    double deg = 360.0;
+    memset(&q, 0, sizeof q);
+    if (!get_finite(P, pl, what, "height", 0.0f, &q.height, file, line) ||
+        !get_finite(P, pl, what, "radius", 1.0f, &q.radius, file, line) ||
+        !get_finite(P, pl, what, "innerradius", 0.0f, &q.inner, file, line) ||
+        !get_finite(P, pl, what, "phimax", 360.0f, &deg, file, line))
+        return 0;
+    if (!params_check_unused(P, pl, what, "float height, float radius, float innerradius, "
+                             "float phimax", "alpha emissionfilename"))
+        return 0;
+    if (!(q.radius > 0.0)) return fail(P, file, line, "%s: radius %g must be > 0", what, q.radius);
+    if (!(q.inner >= 0.0 && q.inner < q.radius))
+        return fail(P, file, line, "%s: innerradius %g must lie in [0, radius %g)", what, q.inner,
+                    q.radius);
+    if (!check_phimax(P, what, deg, &q.phimax, file, line)) return 0;
+    return add_quadric(P, SHAPE_DISK, &q, what, file, line);
+}
+
+/* Shape "cylinder" (pbrt-v4 Cylinder::Create): float radius 1, zmin -1, zmax 1,
+   phimax 360; open at both ends. */
+static int cylinder_shape(Parser *P, ParamList *pl, const char *file, int line)
+{
+    const char *what = "Shape \"cylinder\"";
+    Quadric q;
+    double deg = 360.0;
+    memset(&q, 0, sizeof q);
+    if (!get_finite(P, pl, what, "radius", 1.0f, &q.radius, file, line) ||
+        !get_finite(P, pl, what, "zmin", -1.0f, &q.zmin, file, line) ||
+        !get_finite(P, pl, what, "zmax", 1.0f, &q.zmax, file, line) ||
+        !get_finite(P, pl, what, "phimax", 360.0f, &deg, file, line))
+        return 0;
+    if (!params_check_unused(P, pl, what, "float radius, float zmin, float zmax, float phimax",
+                             "alpha emissionfilename"))
+        return 0;
+    if (!(q.radius > 0.0)) return fail(P, file, line, "%s: radius %g must be > 0", what, q.radius);
+    /* pbrt-v4 swaps a reversed pair; specnee asks the file to say what it means */
+    if (!(q.zmin < q.zmax))
+        return fail(P, file, line, "%s: zmin %g must be < zmax %g", what, q.zmin, q.zmax);
+    if (!check_phimax(P, what, deg, &q.phimax, file, line)) return 0;
+    return add_quadric(P, SHAPE_CYLINDER, &q, what, file, line);
 }
 
 static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
 {
     Scene *s = P->s;
     const double (*m)[4] = (const double (*)[4])P->gs.ctm.m;
+    const char *what = "Shape \"sphere\"";
     float radius;
-    double col[3][3], len[3], scale;
-    int i, j, sh;
+    double col[3][3], len[3], scale, zmin = 0.0, zmax = 0.0, deg = 360.0;
+    int i, j, sh, uniform = 1;
     if (!get_float(P, pl, "radius", 1.0f, &radius)) return 0;
-    if (!params_check_unused(P, pl, "Shape \"sphere\"", "float radius",
-                             "zmin zmax phimax alpha emissionfilename"))
+    if (!get_finite(P, pl, what, "zmin", -radius, &zmin, file, line) ||
+        !get_finite(P, pl, what, "zmax", radius, &zmax, file, line) ||
+        !get_finite(P, pl, what, "phimax", 360.0f, &deg, file, line))
         return 0;
-    if (!(radius > 0.0f))
+    if (!params_check_unused(P, pl, what, "float radius, float zmin, float zmax, float phimax",
+                             "alpha emissionfilename"))
+        return 0;
+    if (!(radius > 0.0f) || !isfinite(radius))
         return fail(P, file, line, "Shape \"sphere\": radius %g must be > 0", radius);
     /* The CTM's 3x3 part must be a uniform scale times a rotation (or mirror):
        its columns are orthogonal and equally long. */
@@ -2156,8 +2799,25 @@ static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
         int k = (j + 1) % 3;
         double dot = col[j][0] * col[k][0] + col[j][1] * col[k][1] + col[j][2] * col[k][2];
         if (fabs(len[j] - scale) > 1e-5 * scale || fabs(dot) > 1e-5 * scale * scale)
-            return fail(P, file, line, "Shape \"sphere\": non-uniform scale in the transform "
-                        "is not in the specnee subset");
+            uniform = 0;
+    }
+    if (!(zmin < zmax))
+        return fail(P, file, line, "%s: zmin %g must be < zmax %g", what, zmin, zmax);
+    if (!(zmax > -radius && zmin < radius))
+        return fail(P, file, line, "%s: zmin %g .. zmax %g misses the sphere of radius %g", what,
+                    zmin, zmax, radius);
+    {
+        Quadric q;
+        memset(&q, 0, sizeof q);
+        if (!check_phimax(P, what, deg, &q.phimax, file, line)) return 0;
+        if (zmin > -radius || zmax < radius || q.phimax < 2.0 * SPECNEE_PI || !uniform) {
+            /* cut, or under a non-uniform scale: intersected in object space (shapes.c);
+               pbrt-v4 clamps zmin and zmax to the sphere */
+            q.radius = radius;
+            q.zmin = zmin > -radius ? zmin : -(double)radius;
+            q.zmax = zmax < radius ? zmax : (double)radius;
+            return add_quadric(P, SHAPE_SPHERE_PART, &q, what, file, line);
+        }
     }
     if (!grow((void **)&s->sphere_shape, &P->cap_spheres, s->n_spheres + 1, sizeof(int)))
         return oom(P, file, line);
@@ -2195,7 +2855,7 @@ static int ply_shape(Parser *P, ParamList *pl, const char *file, int line)
             ply_free(&mesh);
             return fail(P, file, line, "Shape \"plymesh\" \"%s\": vertex index out of range", fn);
         }
-    ok = add_mesh(P, mesh.P, mesh.N, mesh.n_verts, mesh.idx, mesh.n_tris, file, line);
+    ok = add_mesh(P, mesh.P, mesh.N, mesh.UV, mesh.n_verts, mesh.idx, mesh.n_tris, file, line);
     ply_free(&mesh);
     return ok;
 }
@@ -2205,9 +2865,10 @@ static int shape_directive(Parser *P, const char *type, ParamList *pl, const cha
     if (!strcmp(type, "trianglemesh")) return mesh_shape(P, 0, pl, file, line);
     if (!strcmp(type, "bilinearmesh")) return mesh_shape(P, 1, pl, file, line);
     if (!strcmp(type, "sphere")) return sphere_shape(P, pl, file, line);
+    if (!strcmp(type, "disk")) return disk_shape(P, pl, file, line);
+    if (!strcmp(type, "cylinder")) return cylinder_shape(P, pl, file, line);
     if (!strcmp(type, "plymesh")) return ply_shape(P, pl, file, line);
-    if (!strcmp(type, "cylinder") || !strcmp(type, "disk") || !strcmp(type, "curve")
-        || !strcmp(type, "loopsubdiv"))
+    if (!strcmp(type, "curve") || !strcmp(type, "loopsubdiv"))
         return fail(P, file, line, "Shape \"%s\" is valid pbrt-v4 but not in the specnee subset",
                     type);
     return fail(P, file, line, "Shape \"%s\": unknown shape type", type);
@@ -2362,7 +3023,8 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     char type[128];
     int ok = 0, world_only, options_only;
     options_only = !strcmp(d, "Camera") || !strcmp(d, "Film") || !strcmp(d, "Sampler")
-                || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter");
+                || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter")
+                || !strcmp(d, "Accelerator");
     world_only = !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
               || !strcmp(d, "AreaLightSource") || !strcmp(d, "Shape") || !strcmp(d, "LightSource");
     if (options_only && P->in_world)
@@ -2380,6 +3042,7 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     else if (!strcmp(d, "Sampler")) ok = sampler_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Integrator")) ok = integrator_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "PixelFilter")) ok = filter_directive(P, type, &pl, t->file, t->line);
+    else if (!strcmp(d, "Accelerator")) ok = accelerator_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Shape")) ok = shape_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "AreaLightSource")) ok = area_light_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "LightSource")) ok = light_source_directive(P, type, &pl, t->file, t->line);
@@ -2444,7 +3107,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     if (handled) return 1;
     if (!strcmp(d, "Camera") || !strcmp(d, "Film") || !strcmp(d, "Sampler")
         || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter") || !strcmp(d, "Shape")
-        || !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
+        || !strcmp(d, "Accelerator") || !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial")
         || !strcmp(d, "AreaLightSource") || !strcmp(d, "LightSource"))
         return typed_directive(P, L, t);
     if (!strcmp(d, "WorldBegin")) {
@@ -2520,6 +3183,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
         P->gs.material = -2 - i;
         return 1;
     }
+    if (!strcmp(d, "Texture")) return texture_directive(P, L, t);
     if (!strcmp(d, "Include")) return include_directive(P, L, t, 0);
     if (!strcmp(d, "Import")) return include_directive(P, L, t, 1);
     if (!strcmp(d, "ColorSpace")) {
@@ -2532,9 +3196,9 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     }
     {
         static const char *const pbrt_only[] = {
-            "Accelerator", "ActiveTransform", "Attribute", "MakeNamedMedium",
+            "ActiveTransform", "Attribute", "MakeNamedMedium",
             "MediumInterface", "ObjectBegin", "ObjectEnd", "ObjectInstance", "Option",
-            "Texture", "TransformTimes", NULL
+            "TransformTimes", NULL
         };
         int i;
         for (i = 0; pbrt_only[i]; i++)
@@ -2624,6 +3288,8 @@ static void settings_default(SceneSettings *st)
     st->filter = FILTER_GAUSSIAN;            /* pbrt-v4's default pixel filter */
     st->filter_radius = 1.5f;
     st->filter_sigma = 0.5f;
+    st->filter_b = st->filter_c = 1.0f / 3.0f; /* mitchell's, sinc's defaults (unused here) */
+    st->filter_tau = 3.0f;
     st->spp = DEFAULT_SPP;                   /* pbrt-v4's default zsobol: 16 */
     st->seed = 0;
     st->maxdepth = DEFAULT_MAXDEPTH;
@@ -2637,6 +3303,7 @@ static void parser_free(Parser *P)
     free(P->stack);
     free(P->lights);
     free(P->named);
+    free(P->texnames);
     free(P->coords);
 }
 
@@ -2651,6 +3318,8 @@ static int finish(Parser *P, const char *file)
     }
     if (!P->world_seen)
         return fail(P, file, P->end_line, "no WorldBegin: the file describes no world");
+    /* materials read their textures from the final table (it moved while growing) */
+    for (i = 0; i < s->n_materials; i++) s->materials[i].textures = s->textures;
     /* shapes under a NamedMaterial that came before its MakeNamedMaterial (pbrt-v4
        looks every shape's name up now); a name never made is an error at the
        NamedMaterial that named it, as in pbrt-v4 only if a shape uses it */
@@ -2700,18 +3369,29 @@ static int finish(Parser *P, const char *file)
                 if (c + sh->radius > hi[a]) hi[a] = c + sh->radius;
             }
         }
+        for (i = 0; i < s->n_quadrics; i++) {
+            float qlo[3], qhi[3];
+            int a;
+            quadric_bounds(&s->shapes[s->quadric_shape[i]], qlo, qhi);
+            for (a = 0; a < 3; a++) {
+                if (qlo[a] < lo[a]) lo[a] = qlo[a];
+                if (qhi[a] > hi[a]) hi[a] = qhi[a];
+            }
+        }
         s->bmin = v3(lo[0], lo[1], lo[2]);
         s->bmax = v3(hi[0], hi[1], hi[2]);
     }
-    if (s->n_tris == 0 && s->n_spheres == 0) s->bmin = s->bmax = v3(0, 0, 0);
+    if (s->n_tris == 0 && s->n_spheres == 0 && s->n_quadrics == 0) s->bmin = s->bmax = v3(0, 0, 0);
     if (!P->any_normals) { free(s->N); s->N = NULL; }
+    if (!P->any_uv) { free(s->UV); s->UV = NULL; }
     if (s->n_emitters > 0 && !emitters_prepare(s, P->err)) return 0;
     if (!bvh_build(&s->bvh, s))
         return fail(P, file, P->end_line, "out of memory building the BVH");
     return 1;
 }
 
-static int load(Scene *s, char *buf, size_t len, const char *name, Error *err)
+static int load(Scene *s, char *buf, size_t len, const char *name, const char *output,
+                Error *err)
 {
     Parser P;
     const char *file;
@@ -2726,6 +3406,8 @@ static int load(Scene *s, char *buf, size_t len, const char *name, Error *err)
     P.end_line = 1;
     P.iso = 100.0f;                          /* pbrt-v4: imaging ratio 1 by default */
     P.exposure_time = 1.0f;
+    P.output = output;
+    if (output) snprintf(s->settings.filename, sizeof s->settings.filename, "%s", output);
     dir_of(name, P.main_dir, sizeof P.main_dir);
     file = intern(&P, name);
     if (!file) { parser_free(&P); return fail(&P, name, 0, "out of memory"); }
@@ -2745,13 +3427,13 @@ int scene_load_string(Scene *s, const char *text, const char *name, Error *err)
     if (!name) name = "<string>";
     if (!buf) { error_set(err, name, 0, "out of memory"); return 0; }
     memcpy(buf, text, len + 1);
-    ok = load(s, buf, len, name, err);
+    ok = load(s, buf, len, name, NULL, err);
     free(buf);
     if (!ok) scene_free(s);
     return ok;
 }
 
-int scene_load(Scene *s, const char *path, Error *err)
+int scene_load_as(Scene *s, const char *path, const char *output, Error *err)
 {
     size_t len;
     ReadStatus rs;
@@ -2765,10 +3447,15 @@ int scene_load(Scene *s, const char *path, Error *err)
                   : read_status_text(rs));
         return 0;
     }
-    ok = load(s, buf, len, path, err);
+    ok = load(s, buf, len, path, output, err);
     free(buf);
     if (!ok) scene_free(s);
     return ok;
+}
+
+int scene_load(Scene *s, const char *path, Error *err)
+{
+    return scene_load_as(s, path, NULL, err);
 }
 
 void scene_free(Scene *s)
@@ -2790,6 +3477,10 @@ void scene_free(Scene *s)
     free(s->materials);
     free(s->emitters);
     free(s->sphere_shape);
+    free(s->quadric_shape);
+    for (i = 0; i < s->n_textures; i++) tex_free(&s->textures[i]);
+    free(s->textures);
+    free(s->UV);
     memset(s, 0, sizeof *s);
 }
 
@@ -2826,8 +3517,10 @@ void scene_dump(const Scene *s, FILE *f)
             eye.z, dir.x, dir.y, dir.z, up.x, up.y, up.z,
             xf_swaps_handedness(&st->camera_from_world) ? "  [mirrored: right-handed view]" : "");
     fprintf(f, "film: %d x %d -> %s, filter %s radius %g", st->xres, st->yres, st->filename,
-            st->filter == FILTER_BOX ? "box" : "gaussian", st->filter_radius);
+            filter_name(st->filter), st->filter_radius);
     if (st->filter == FILTER_GAUSSIAN) fprintf(f, " sigma %g", st->filter_sigma);
+    if (st->filter == FILTER_MITCHELL) fprintf(f, " B %g C %g", st->filter_b, st->filter_c);
+    if (st->filter == FILTER_SINC) fprintf(f, " tau %g", st->filter_tau);
     {   /* the sensor: imaging ratio (iso, shutter, pbrt-v3 scale), clamp, white balance */
         int b[4];
         fprintf(f, "\n  sensor cie1931, imaging ratio %g (iso x exposure / 100), "
@@ -2876,13 +3569,20 @@ void scene_dump(const Scene *s, FILE *f)
                     spec_eval(&m->eta, 656.3f));
         }
     }
-    fprintf(f, "shapes: %d (%d triangles, %d vertices, %d spheres)\n", s->n_shapes, s->n_tris,
-            s->n_verts, s->n_spheres);
+    fprintf(f, "shapes: %d (%d triangles, %d vertices, %d spheres, %d other quadrics)\n",
+            s->n_shapes, s->n_tris, s->n_verts, s->n_spheres, s->n_quadrics);
     for (i = 0; i < s->n_shapes; i++) {
         const Shape *sh = &s->shapes[i];
         if (sh->type == SHAPE_SPHERE)
             fprintf(f, "  [%d] sphere c (%g, %g, %g) r %g", i, sh->center.x, sh->center.y,
                     sh->center.z, sh->radius);
+        else if (sh->type == SHAPE_DISK)
+            fprintf(f, "  [%d] disk (object space) height %g radius %g innerradius %g phimax %g",
+                    i, sh->q.height, sh->q.radius, sh->q.inner, sh->q.phimax * 180.0 / SPECNEE_PI);
+        else if (shape_is_quadric(sh->type))
+            fprintf(f, "  [%d] %s (object space) radius %g z %g..%g phimax %g", i,
+                    sh->type == SHAPE_CYLINDER ? "cylinder" : "sphere", sh->q.radius, sh->q.zmin,
+                    sh->q.zmax, sh->q.phimax * 180.0 / SPECNEE_PI);
         else
             fprintf(f, "  [%d] mesh %d triangles%s", i, sh->tri_count,
                     sh->has_normals ? " with normals" : "");
@@ -2906,6 +3606,15 @@ void scene_dump(const Scene *s, FILE *f)
         if (e->inf)
             fprintf(f, "  [%d] infinite light, %s, scale %g, Y(Le) %.4g over %g-%g nm (mean), "
                     "power %.4g\n", i, e->inf->res ? "image map" : "constant", e->scale, Y,
+                    LAMBDA_LO, LAMBDA_HI, SPECNEE_PI * e->area * bins);
+        else if (e->delta.type == DELTA_DISTANT)
+            fprintf(f, "  [%d] distant light towards (%g, %g, %g), scale %g, Y(L) %.4g over %g-%g nm, "
+                    "power %.4g\n", i, e->delta.w.x, e->delta.w.y, e->delta.w.z, e->scale, Y,
+                    LAMBDA_LO, LAMBDA_HI, SPECNEE_PI * e->area * bins);
+        else if (e->delta.type != DELTA_NONE)
+            fprintf(f, "  [%d] %s light at (%g, %g, %g), scale %g, Y(I) %.4g over %g-%g nm, "
+                    "power %.4g\n", i, e->delta.type == DELTA_SPOT ? "spot" : "point",
+                    e->delta.p.x, e->delta.p.y, e->delta.p.z, e->scale, Y,
                     LAMBDA_LO, LAMBDA_HI, SPECNEE_PI * e->area * bins);
         else
         fprintf(f, "  [%d] shape %d, scale %g, %s, Y(Le) %.4g over %g-%g nm, area %g, power %.4g\n",

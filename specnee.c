@@ -42,7 +42,8 @@ static const char usage_text[] =
 static const char usage_options[] =
 "options (a command-line value overrides the scene file's):\n"
 "  -o, --out FILE          output image: .pfm (linear float), .ppm or .png (8-bit sRGB);\n"
-"                          its directory must exist\n"
+"                          its directory must exist; it overrides the scene's Film\n"
+"                          \"string filename\", as pbrt-v4 --outfile does\n"
 "      --spp N             samples per pixel (file: Sampler pixelsamples; default 16)\n"
 "      --seed N            random seed (file: Sampler seed; default 0)\n"
 "      --sampler NAME      independent, stratified, sobol or zsobol (file: Sampler;\n"
@@ -384,7 +385,7 @@ static int render_main(int argc, char **argv)
     if (rc) return rc;
     memset(&scene, 0, sizeof scene);
     err.msg[0] = '\0';
-    if (!scene_load(&scene, a.scene, &err)) {
+    if (!scene_load_as(&scene, a.scene, a.out, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         return 1;
     }

@@ -89,8 +89,13 @@
 #define DEFAULT_MAXDEPTH 5  /* pbrt-v4's default for Integrator "path" */
 #define MEM_BUDGET_MIB 4096  /* @@ memory budget of one input-sized allocation (film,
                                 mesh, image): a bigger claim is an error naming the need */
-#define FILM_BYTES_PER_PIXEL 40  /* render buffers a film pixel costs: 3 doubles of sums,
-                                3 floats of image, 4 bytes of writer output */
+#define FILM_BYTES_PER_PIXEL 48  /* render buffers a film pixel costs: 3 doubles of sums,
+                                1 double of filter weights (mitchell, sinc), 3 floats of
+                                image, 4 bytes of writer output */
+#define FILTER_CELLS 256    /* @@ cells of the Gaussian pixel filter's sampling table
+                               (1/85 pixel for radius 1.5): accuracy vs. table size */
+#define FILTER_TABLE_MAX 512 /* cells of a filter table: pbrt-v4's 32 per unit of radius
+                               (mitchell, sinc) at the largest radius, 16 */
 #define SPECNEE_PI 3.14159265358979323846
 #define PI_F 3.14159265358979323846f
 
@@ -313,6 +318,13 @@ void  spec_blackbody(Spectrum *s, float kelvin);  /* normalised to a peak of 1 (
 /* The sigmoid fit behind spec_from_rgb, for infinite.c's image maps: coefficients for a
    colour whose largest component is 1/2, and the shape sigmoid(poly(lambda)). */
 void  spec_rgb_coeffs(const double target[3], double c[3]);
+/* Fitting many colours (image textures, texture.c): the table the fit integrates
+   against, built once, and Newton's method from a nearby colour's coefficients
+   (0 when it does not converge: then use spec_rgb_coeffs). */
+typedef struct { double cmf_w[3][SPEC_N]; } RgbFitTable;
+void  spec_rgb_fit_table(RgbFitTable *t);
+int   spec_rgb_coeffs_from(const RgbFitTable *t, const double target[3], const double start[3],
+                           double c[3]);
 float spec_sigmoid_eval(const float c[3], float lambda_nm);
 /* CIE 1931 2-degree colour matching functions at lambda (nm), linear in the 5 nm CIE table. */
 void  cie_xyz(float lambda_nm, float xyz[3]);
@@ -386,18 +398,42 @@ const char *wl_mode_name(WlMode m);
 /* ======================================================================
    5. Geometry (scene.c builds it, bvh.c intersects it)
    ====================================================================== */
-typedef enum { SHAPE_MESH, SHAPE_SPHERE } ShapeType;
+typedef enum {
+    SHAPE_MESH,                /* triangles (trianglemesh, bilinearmesh, plymesh) */
+    SHAPE_SPHERE,              /* a whole sphere under a rigid + uniform-scale CTM, in world space */
+    SHAPE_DISK,                /* the quadrics of shapes.c, intersected in object space: */
+    SHAPE_CYLINDER,            /*   a disk (annulus sector), an open cylinder, and a sphere */
+    SHAPE_SPHERE_PART          /*   cut by zmin/zmax/phimax or under a non-uniform CTM */
+} ShapeType;
+static inline int shape_is_quadric(ShapeType t) { return t >= SHAPE_DISK; }
 
-/* One Shape directive: a triangle mesh or a sphere, with its material and, when it
-   sits inside an AreaLightSource, the emitter it belongs to. */
+/* A quadric's object-space description (shapes.c): pbrt-v4's parameters, and the
+   CTM that puts it in the world. */
+typedef struct {
+    Xform world_from_obj;      /* m: world from object; inv: object from world */
+    double radius;             /* disk: outer radius; cylinder, sphere: radius */
+    double inner;              /* disk: innerradius (0) */
+    double height;             /* disk: the plane z = height (0) */
+    double zmin, zmax;         /* cylinder, sphere: the z range kept (sphere: clamped to
+                                  [-radius, radius], as pbrt-v4 does) */
+    double phimax;             /* radians in (0, 2 pi]: the sector 0 <= phi <= phimax kept */
+    int similarity;            /* the CTM's 3x3 part is a rotation (or mirror) times a
+                                  uniform scale: object areas scale by sim_scale^2 */
+    double sim_scale;
+} Quadric;
+
+/* One Shape directive: a triangle mesh, a sphere or another quadric, with its
+   material and, when it sits inside an AreaLightSource, the emitter it belongs to. */
 typedef struct {
     ShapeType type;
     int material;              /* index into Scene.materials */
     int emitter;               /* index into Scene.emitters, -1 if not emissive */
     int flip;                  /* ReverseOrientation XOR a handedness-swapping transform */
     int has_normals;           /* mesh carries per-vertex shading normals */
+    int has_uv;                /* mesh carries per-vertex (u, v) in Scene.UV */
     int tri_begin, tri_count;  /* triangles [tri_begin, tri_begin + tri_count) */
     Vec3 center; float radius; /* sphere, in world space */
+    Quadric q;                 /* disk, cylinder, partial sphere: in object space */
     double area;               /* world-space surface area */
     const char *file; int line;/* where it was declared, for messages */
 } Shape;
@@ -406,7 +442,8 @@ typedef struct { int32_t v[3]; int32_t shape; } Triangle;   /* indices into Scen
 
 typedef struct {
     float t;                   /* ray parameter of the hit */
-    int prim;                  /* triangle index, or n_tris + sphere index */
+    int prim;                  /* triangle index, n_tris + sphere index, or
+                               n_tris + n_spheres + quadric index */
     float b1, b2;              /* barycentrics of v[1], v[2] (triangles) */
 } HitRecord;
 
@@ -423,8 +460,10 @@ typedef struct {
 } BvhNode;
 
 typedef struct {
-    float v[9];                /* triangle: p0, p1, p2; sphere: centre, radius */
-    int32_t prim;              /* primitive id: triangle i, or n_tris + sphere j */
+    float v[9];                /* triangle: p0, p1, p2; sphere: centre, radius; quadric:
+                                  unused (its Shape holds transform and parameters) */
+    int32_t prim;              /* primitive id: triangle i, n_tris + sphere j, or
+                                  n_tris + n_spheres + quadric k */
 } BvhPrim;
 
 typedef struct {
@@ -452,6 +491,10 @@ typedef struct {
     Vec3 ns;                   /* shading normal (= ng without vertex normals) */
     int shape;                 /* index into Scene.shapes */
     int prim;
+    float u, v;                /* the shape's (u, v) parameters (pbrt-v4): a mesh's "uv"
+                                  interpolated, else (0,0), (1,0), (1,1) at its corners;
+                                  quadrics: pbrt-v4's (phi / phimax, ...) (shapes.c)
+                                  (texture.c's "uv" mapping reads them) */
 } SurfacePoint;
 void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
 /* Origin for a ray leaving p towards w: p moved along ng to w's side by
@@ -460,6 +503,29 @@ Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w);
 /* That policy's distance for coordinates up to m in magnitude: 1e-5 (1 + m)
    (also the light tree's round-off margin for "behind the box"). */
 float offset_eps(float m);
+
+/* The quadrics (shapes.c): disk, cylinder and partial sphere, each intersected
+   analytically in its object space (docs/conventions.md section 3 for their
+   orientation).  sh->type must be one of them. */
+/* Set q's CTM (and whether it is a similarity); 0 for a projective CTM. */
+int    quadric_set_transform(Quadric *q, const Xform *ctm);
+/* Closest hit of the world-space ray r with 0 < t <= tmax; 1 and *t on a hit. */
+int    quadric_intersect(const Shape *sh, const Ray *r, float tmax, float *t);
+/* Position, oriented normals and pbrt-v4's (u, v) of the hit of r at t (sp->shape,
+   prim left alone). */
+void   quadric_surface_point(const Shape *sh, const Ray *r, float t, SurfacePoint *sp);
+/* World-space box holding the shape, rounded outwards. */
+void   quadric_bounds(const Shape *sh, float lo[3], float hi[3]);
+/* World-space area: closed form under a similarity CTM (and for a disk under any
+   affine CTM, whose area scale is constant), a quadrature otherwise. */
+double quadric_area(const Shape *sh);
+/* 1 when a point uniform by object-space area is uniform by world-space area
+   (a disk always; a cylinder or sphere under a similarity CTM), so that
+   quadric_sample's density is 1 / area. */
+int    quadric_uniform_sampling(const Shape *sh);
+/* A point uniform by area (given quadric_uniform_sampling) for (u1, u2) in
+   [0,1)^2, with the oriented geometric normal a hit there would get. */
+void   quadric_sample(const Shape *sh, float u1, float u2, Vec3 *p, Vec3 *n);
 
 /* ======================================================================
    6. Materials (material.c): only what the scenes need
@@ -492,6 +558,10 @@ typedef struct {
     Spectrum transmittance;    /* diffusetransmission: T (reflectance holds R), scaled */
     float p_reflect;           /* diffusetransmission: probability of sampling the
                                   reflect lobe, max R / (max R + max T) over 300-830 nm */
+    int reflectance_tex;       /* diffuse: "texture reflectance", 1 + its index into
+                                  Scene.textures (0, as a zeroed Material has it: the
+                                  spectrum above) */
+    const struct Texture *textures;  /* the scene's textures (set when loading ends) */
 } Material;
 
 float mat_eta(const Material *m, float lambda_nm);
@@ -519,6 +589,46 @@ float fluor_pdf_li_uniform(float lo, float li);
 typedef enum { FLUOR_LI_A, FLUOR_LI_POWER, FLUOR_LI_UNIFORM } FluorLi;
 /* The diffuse albedo of the reflect lobe: rho (diffuse) or rho (1 - A) (fluorescent). */
 float mat_albedo(const Material *m, float lambda_nm);
+/* The same at a surface point: a textured reflectance evaluated there, clamped to
+   [0, 1] (pbrt-v4's DiffuseMaterial), else mat_albedo. */
+float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm);
+
+/* ---- Textures (texture.c): pbrt-v4's Texture directive ----
+   A texture is a function of the surface point evaluated at one wavelength (a
+   "spectrum" texture) or a number (a "float" texture).  2-D textures first map
+   the point to (s, t): "uv" (s = uscale u + udelta, t = vscale v + vdelta),
+   "spherical", "cylindrical" or "planar" (in the texture's frame, the CTM at the
+   Texture directive).  An argument (tex1, tex2, amount, tex, scale) is a
+   constant or another texture. */
+typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP } TexType;
+typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR } TexMapType;
+typedef enum { TEXWRAP_REPEAT, TEXWRAP_BLACK, TEXWRAP_CLAMP } TexWrap;
+#define TEX_ARGS 2
+typedef struct Texture {
+    TexType type;
+    int is_float;              /* a "float" texture, else a "spectrum" one */
+    TexMapType map;
+    float su, sv, du, dv;      /* uv: scales and offsets; planar: du, dv the offsets */
+    Vec3 vs, vt;               /* planar: the s and t axes ("v1", "v2") */
+    Xform tex_from_world;      /* spherical, cylindrical, planar: the inverse CTM */
+    /* arguments: checkerboard tex1, tex2; mix tex1, tex2 (and amount); scale tex, scale */
+    int arg_tex[TEX_ARGS];     /* a texture index, or -1: the constant below */
+    Spectrum arg_s[TEX_ARGS];  /* spectrum constants */
+    float arg_f[TEX_ARGS];     /* float constants (also scale's "scale") */
+    int amount_tex; float amount;  /* mix: a float texture or constant (0.5) */
+    int scale_tex;             /* scale: "scale" as a float texture (-1: arg_f[1]) */
+    /* imagemap: w x h texels, row 0 at the top of the image; a spectrum texture
+       keeps 4 floats per texel (m and the sigmoid's 3 coefficients: the texel's
+       reflectance is m sigmoid(c, lambda), spectrum.c), a float one 1 (the mean of
+       R, G, B); bilinear lookup (pbrt-v4's default filter) */
+    int w, h;
+    float *texel;
+    TexWrap wrap;
+    const char *file; int line;
+} Texture;
+/* Texture t of the table tex at the surface point (lambda ignored by float textures). */
+float tex_eval(const Texture *tex, int t, const SurfacePoint *sp, float lambda_nm);
+void  tex_free(Texture *t);   /* (tex_set_image, which reads an Image, is in section 10) */
 /* Smooth dielectrics scatter into discrete (delta) directions: no NEE there. */
 int   mat_is_delta(const Material *m);
 
@@ -591,9 +701,36 @@ typedef struct {
     const char *file; int line;/* the LightSource directive, for messages */
 } InfiniteLight;
 
+/* A delta light (delta.c): pbrt-v4's LightSource "point", "spot" and "distant".
+   A point or spot light sits at one point and radiates intensity I(lambda)
+   (W/sr/nm), a spot only into a cone with a smooth falloff; a distant light sends
+   radiance from one direction, as from infinitely far away.  No ray can hit one:
+   NEE alone finds them (docs/THEORY.md section 11). */
+typedef enum { DELTA_NONE = 0, DELTA_POINT, DELTA_SPOT, DELTA_DISTANT } DeltaType;
 typedef struct {
-    int shape;                 /* the Shape that emits; -1 for an infinite light */
+    DeltaType type;            /* DELTA_NONE: not a delta light */
+    Vec3 p;                    /* point, spot: the position, in world space */
+    Vec3 w;                    /* spot: unit axis of the cone (from -> to); distant:
+                                  unit direction TOWARDS the light (from - to) */
+    float cos_start, cos_end;  /* spot: cos(coneangle - conedeltaangle), cos(coneangle):
+                                  full intensity inside the first, none outside the second */
+    float obj_from_world[9];   /* spot: the inverse CTM's 3x3 part (row-major): the cone is
+                                  round in the light's own frame, as in pbrt-v4 ... */
+    Vec3 axis_obj;             /* ... around this unit axis, to - from in that frame */
+    int stretched;             /* spot: the CTM stretches or shears, so the cone is not
+                                  round in the world (the light trees then bound it by
+                                  the whole sphere of directions) */
+    Vec3 center; double radius;/* distant: the scene's bounding sphere (its power
+                                  pi R^2 L, and how far a shadow ray must go) */
+    const char *file; int line;/* the LightSource directive, for messages */
+} DeltaLight;
+
+typedef struct {
+    int shape;                 /* the Shape that emits; -1 for an infinite or delta light */
     InfiniteLight *inf;        /* NULL for an area light */
+    DeltaLight delta;          /* delta.type != DELTA_NONE: a point, spot or distant
+                                  light (shape -1, inf NULL); L is then its intensity
+                                  (point, spot) or radiance (distant) spectrum */
     Spectrum L;                /* the spectrum as given in the file (its shape matters) */
     float scale;               /* "float scale" */
     int twosided;
@@ -602,7 +739,9 @@ typedef struct {
        light_sampler_build and light_Le) */
     double area;               /* total area (sampling picks a triangle by area); infinite:
                                   4 pi radius^2, so that its power pi area int Le is
-                                  pbrt-v4's Phi = 4 pi^2 R^2 int Le */
+                                  pbrt-v4's Phi = 4 pi^2 R^2 int Le; a delta light: the
+                                  same "power area" (delta_power_area), so that
+                                  pi area int Le is its power too */
     float *tri_cdf;            /* tri_count + 1 entries for meshes */
     /* which side it lights (emitter_can_reach): a point p can receive light from
        a one-sided triangle only if it lies in front of the triangle's plane (off
@@ -621,7 +760,14 @@ typedef struct {
     Vec3 p, n;                 /* point on the emitter, its (oriented) normal */
     Vec3 wi;                   /* unit direction from the reference point to p */
     float dist;                /* distance to p */
-    float pdf_sa;              /* solid-angle pdf (given this emitter) */
+    float pdf_sa;              /* solid-angle pdf (given this emitter); for a delta
+                                  light, which has no density, 1 / G with G the factor
+                                  its incident radiance gets (falloff / dist^2 for a
+                                  point or spot, 1 for a distant light), so that Le /
+                                  pdf_sa is the estimate of the incident light for
+                                  every kind of emitter */
+    int delta;                 /* 1: a delta light's sample (no BSDF direction can
+                                  find it: its MIS weight against BSDF sampling is 1) */
 } EmitterSample;
 
 typedef enum {
@@ -662,7 +808,8 @@ typedef struct LightSampler LightSampler;
 /* ======================================================================
    8. The scene (scene.c parses the pbrt-v4 subset)
    ====================================================================== */
-typedef enum { FILTER_BOX, FILTER_GAUSSIAN } FilterType;
+/* pbrt-v4's pixel filters (filter.c has their formulas and defaults) */
+typedef enum { FILTER_BOX, FILTER_GAUSSIAN, FILTER_TRIANGLE, FILTER_MITCHELL, FILTER_SINC } FilterType;
 
 typedef struct {
     Xform camera_from_world;   /* CTM at the Camera directive */
@@ -671,6 +818,8 @@ typedef struct {
     char filename[256];
     FilterType filter;
     float filter_radius, filter_sigma;   /* gaussian: radius 1.5, sigma 0.5 */
+    float filter_b, filter_c;            /* mitchell: B = C = 1/3 */
+    float filter_tau;                    /* sinc: tau = 3 */
     int spp, seed, maxdepth;
     int spp_set, seed_set, maxdepth_set; /* given in the file */
     char lightsampler[32];     /* Integrator "string lightsampler", "" if unset */
@@ -703,7 +852,11 @@ typedef struct Scene {
     Shape *shapes; int n_shapes;
     Material *materials; int n_materials;
     Emitter *emitters; int n_emitters;
+    Texture *textures; int n_textures;   /* texture.c; materials refer to them by index */
+    float *UV;                           /* per vertex (u, v), NULL when no mesh has "uv" */
     int n_spheres; int *sphere_shape;    /* sphere j is shapes[sphere_shape[j]] */
+    int n_quadrics; int *quadric_shape;  /* quadric k (disk, cylinder, partial sphere)
+                                            is shapes[quadric_shape[k]] */
     Vec3 bmin, bmax;                     /* world bounds of all geometry */
     Bvh bvh;
     char **strings; int n_strings;       /* owned file names referenced by shapes */
@@ -714,6 +867,11 @@ typedef struct Scene {
 /* Parse a pbrt-v4 subset file (with Include/Import) and build the BVH.
    Returns 0 and a "file:line: problem" message on any error. */
 int  scene_load(Scene *s, const char *path, Error *err);
+/* The same for a render whose output file the command line names (-o; NULL: none):
+   it overrides Film's "string filename", as pbrt-v4's --outfile does, and the
+   file's name is then not checked (a note on stderr when that name is not a
+   .pfm/.ppm/.png: a placeholder, .exr). */
+int  scene_load_as(Scene *s, const char *path, const char *output, Error *err);
 /* Same from a string in memory (tests); name is used in messages. */
 int  scene_load_string(Scene *s, const char *text, const char *name, Error *err);
 void scene_free(Scene *s);
@@ -728,11 +886,38 @@ int  film_bounds(const SceneSettings *st, int b[4]);
    name; an inset outside a crop is left out.  Returns how many. */
 int  scene_insets_rendered(const Scene *s, int rect[8][4], const char *names[8]);
 
+/* Pixel filters (filter.c): pbrt-v4's filter importance sampling.  A camera
+   sample's position in its pixel is drawn from the filter f (mitchell, sinc: from
+   a table of |f|) with the weight w = f/q, and the pixel is sum w L / sum w. */
+typedef struct {
+    FilterType type;
+    float radius, sigma, b, c, tau;      /* as in SceneSettings (one radius: x = y) */
+    int n;                               /* cells of the table over [-radius, radius]
+                                            (gaussian, mitchell, sinc; else 0) */
+    float f[FILTER_TABLE_MAX];           /* f1 at the cells' centres */
+    float cdf[FILTER_TABLE_MAX + 1];     /* CDF of |f1| over the cells */
+    double abs_integral;                 /* integral of |f1_tab| over [-radius, radius] */
+} PixelFilter;
+void  filter_init(PixelFilter *pf, const SceneSettings *st);
+/* f1(x), and f(x, y) = f1(x) f1(y); x, y in pixels from the pixel's centre. */
+double filter_eval_1d(const PixelFilter *pf, double x);
+double filter_eval(const PixelFilter *pf, double x, double y);
+/* The sample's position in its pixel (0.5, 0.5 is the centre) from two uniform
+   numbers, and its weight f/q (1 for box, gaussian, triangle). */
+float filter_sample(const PixelFilter *pf, float u0, float u1, float *px, float *py);
+/* 1 if the weights are not constant (mitchell, sinc): the film must keep sum w. */
+int   filter_weighted(const PixelFilter *pf);
+/* One Gaussian offset by rejection from the independent sampler's stream. */
+float filter_gaussian_reject(Rng *rng, float radius, float sigma);
+const char *filter_name(FilterType t);
+
 /* ======================================================================
    9. PLY meshes (ply.c)
    ====================================================================== */
 typedef struct {
     float *P; float *N; int n_verts;     /* xyz per vertex, optional normals */
+    float *UV;                           /* optional (u, v) per vertex (u v, s t,
+                                            texture_u texture_v, texture_s texture_t) */
     int32_t *idx; int n_tris;            /* quads are split into two triangles */
 } PlyMesh;
 int  ply_read(const char *path, PlyMesh *m, Error *err);
@@ -743,6 +928,9 @@ int  ply_write_binary(const char *path, const float *P, int n_verts, const int32
    10. Images (image.c)
    ====================================================================== */
 typedef struct { int w, h; float *rgb; } Image;   /* top row first, 3 floats a pixel */
+/* An image texture's texels from an RGB image (rows top to bottom), after pbrt-v4's
+   scale and invert (texture.c): 0 and a message when out of memory. */
+int   tex_set_image(Texture *t, const Image *im, float scale, int invert, Error *err);
 #define IMG_MAX_PIXELS (1L << 28)  /* @@ largest w*h accepted (guards against absurd headers) */
 #define IMG_RELMSE_EPS 1e-2        /* relMSE = mean (a-b)^2/(b^2 + eps) (Rousselle et al. 2011) */
 int  img_alloc(Image *im, int w, int h);  /* zero-filled; 0 on bad size or no memory */
@@ -753,6 +941,13 @@ int  pfm_read(Image *im, const char *path, Error *err);
 int  ppm_write(const Image *im, const char *path, float exposure);
 int  png_write(const Image *im, const char *path, float exposure);
 int  png_write_rgb8(const char *path, int w, int h, const unsigned char *rgb);
+/* PNG reader (png.c, its own inflate): colour types 0 2 3 4 6, bit depths 1 2 4 8 16,
+   no interlace; alpha and tRNS are dropped.  Samples / (2^depth - 1), then decoded
+   from the sRGB curve unless linear (data textures).  0 and "name: PNG: problem"
+   on any malformed input; the image must fit IMG_MAX_PIXELS and MEM_BUDGET_MIB. */
+int  png_read_memory(const unsigned char *data, size_t n, const char *name, int linear, Image *im,
+                Error *err);
+int  png_read(Image *im, const char *path, int linear, Error *err);
 /* png_write with the outlines of n pixel rectangles, rect[4i..4i+3] = x0, y0, x1,
    y1 (x1, y1 exclusive), drawn in, rectangle i in colour i mod 8 of: yellow, cyan, magenta,
    orange, white, green, blue, red (the insets of docs/RESULTS.md). */
@@ -764,7 +959,10 @@ int  img_write_sidecar(const char *path, long spp, const char *settings);
 long img_read_sidecar_spp(const char *path);   /* -1 if missing or no valid spp line */
 /* Error of a against ref over the pixels [x0, x1) x [y0, y1) (top-left origin), means
    over pixels and the 3 channels; 0 on a size mismatch or an empty/out-of-range rect. */
-typedef struct { double mse, relmse, mae; long n; } ImgErr;   /* n: pixels */
+typedef struct {
+    double mse, relmse, mae; long n;   /* n: pixels */
+    double y_test, y_ref;              /* luminance means (sRGB's Y row) of a and ref */
+} ImgErr;
 int  img_error(const Image *a, const Image *ref, int x0, int y0, int x1, int y1, ImgErr *out);
 /* out = sum_i w_i in_i / sum_i w_i (weights NULL: equal); allocates out; 0 on a size
    mismatch, a negative/NaN weight, a zero weight sum or no memory. */
@@ -818,6 +1016,19 @@ void  inf_free(InfiniteLight *inf);
    itself -, or on the dark side of a sphere); 1 when it may.  Conservative: never
    0 where light could arrive from farther than reach_eps off a triangle's plane. */
 int   emitter_can_reach(const Scene *s, int e, Vec3 p);
+
+/* Delta lights (delta.c).  delta_falloff: a spot light's smoothstep falloff for
+   the unit direction w leaving it (1 for point and distant lights).
+   delta_sample: the one point (or direction) that lights ref, with pdf_sa = 1/G
+   (EmitterSample); 0 when it sends nothing to ref (outside a spot's cone, or ref
+   at the light).  delta_power_area: the "area" A with pi A int Le = the light's
+   power (pbrt-v4's Phi): 4 for a point light, 2 ((1 - cos_start) + (cos_start -
+   cos_end) / 2) for a spot, R^2 for a distant light.  delta_can_reach: 0 only
+   where the light sends nothing (outside a spot's cone). */
+float  delta_falloff(const DeltaLight *d, Vec3 w);
+int    delta_sample(const DeltaLight *d, Vec3 ref, EmitterSample *out);
+double delta_power_area(const DeltaLight *d);
+int    delta_can_reach(const DeltaLight *d, Vec3 p);
 
 typedef struct {
     SelStrategy strategy;

@@ -1196,7 +1196,7 @@ done:
    CMFs (D65 itself maps to (1.00007, 0.99999, 0.99984)).
    ====================================================================== */
 
-typedef struct { double cmf_w[3][SPEC_N]; } RgbFit;   /* cmf(lambda) * w(lambda) */
+typedef RgbFitTable RgbFit;   /* cmf(lambda) * w(lambda) (specnee.h) */
 
 static void rgb_fit_init(RgbFit *f)
 {
@@ -1302,6 +1302,38 @@ static void rgb_fit(const RgbFit *f, const double target[3], double c[3])
             for (k = 0; k < 3; k++) c[k] = trial[k];
         }
     }
+}
+
+void spec_rgb_fit_table(RgbFitTable *t) { rgb_fit_init(t); }
+
+/* Newton's method from start straight at target (no homotopy from grey): a few
+   steps when start fits a nearby colour.  1 when the fit's error is below 1e-10
+   (squared, in rgb), else 0 (c holds the last iterate). */
+int spec_rgb_coeffs_from(const RgbFitTable *f, const double target[3], const double start[3], double c[3])
+{
+    double rgb[3], J[3][3], rhs[3], dc[3], trial[3], trial_rgb[3], err0 = 1.0;
+    int it, k, h;
+    for (k = 0; k < 3; k++) c[k] = start[k];
+    for (it = 0; it < 12; it++) {
+        double len;
+        rgb_fit_eval(f, c, rgb, J);
+        err0 = norm2_diff(rgb, target);
+        if (err0 < 1e-14) break;
+        for (k = 0; k < 3; k++) rhs[k] = target[k] - rgb[k];
+        if (!solve3(J, rhs, dc)) break;
+        len = sqrt(dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2]);
+        if (len > 50.0) for (k = 0; k < 3; k++) dc[k] *= 50.0 / len;
+        for (h = 0; h < 12; h++) {
+            for (k = 0; k < 3; k++) trial[k] = c[k] + dc[k];
+            rgb_fit_eval(f, trial, trial_rgb, NULL);
+            if (norm2_diff(trial_rgb, target) < err0) break;
+            for (k = 0; k < 3; k++) dc[k] *= 0.5;
+        }
+        if (h == 12) break;
+        for (k = 0; k < 3; k++) c[k] = trial[k];
+        err0 = norm2_diff(trial_rgb, target);
+    }
+    return err0 < 1e-10;
 }
 
 int spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
@@ -1804,6 +1836,9 @@ static int spectrum_table(const char *path, int power_metric, int svg)
             if (em->inf)
                 printf("# emitter %d: %s:%d, infinite light, area 4 pi R^2 = %.6g\n", e,
                        em->inf->file, em->inf->line, em->area);
+            else if (em->delta.type != DELTA_NONE)
+                printf("# emitter %d: %s:%d, delta light, power area %.6g\n", e,
+                       em->delta.file, em->delta.line, em->area);
             else
                 printf("# emitter %d: %s:%d, area %.6g\n", e, scene.shapes[em->shape].file,
                        scene.shapes[em->shape].line, em->area);

@@ -1,4 +1,4 @@
-/* fuzz/targets.c - the four input readers of specnee as fuzz targets.
+/* fuzz/targets.c - the input readers of specnee as fuzz targets.
 
    Each target takes arbitrary bytes and must come back with either a result or a
    one-line error: no crash, no hang, no leak, no undefined behaviour, and no
@@ -19,6 +19,9 @@
                read, its sidecar spp is read, and `specnee merge` combines the image
                with itself
      spectrum  a spectrum file (.spd text or CSV)
+     png       a PNG file, decoded from memory as sRGB and as linear, then once more
+               with every chunk's CRC recomputed (so that mutations reach inflate);
+               every value of a decoded image must lie in [0, 1]
 
    Files go to the directory tmpdir (the drivers give each process its own). */
 #include "../specnee.h"
@@ -152,6 +155,52 @@ static int fuzz_spectrum(const unsigned char *data, size_t n, const char *tmpdir
     return 0;
 }
 
+/* The bytes with every chunk's CRC recomputed, so that mutated data reaches
+   inflate and the filters instead of stopping at the CRC check. */
+static void png_fix_crcs(unsigned char *d, size_t n)
+{
+    size_t pos = 8;
+    while (n >= 12 && pos <= n - 12) {
+        size_t len = (size_t)d[pos] << 24 | (size_t)d[pos + 1] << 16 | (size_t)d[pos + 2] << 8 | d[pos + 3];
+        uint32_t c = 0xffffffffu;
+        size_t i;
+        int k;
+        if (len > n - pos - 12) return;
+        for (i = pos + 4; i < pos + 8 + len; i++) {
+            c ^= d[i];
+            for (k = 0; k < 8; k++) c = (c & 1u) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+        }
+        c ^= 0xffffffffu;
+        d[pos + 8 + len] = (unsigned char)(c >> 24); d[pos + 9 + len] = (unsigned char)(c >> 16);
+        d[pos + 10 + len] = (unsigned char)(c >> 8); d[pos + 11 + len] = (unsigned char)c;
+        pos += len + 12;
+    }
+}
+
+static int fuzz_png(const unsigned char *data, size_t n, Error *e)
+{
+    unsigned char *fixed = (unsigned char *)malloc(n > 0 ? n : 1);
+    int pass, ok = 0;
+    if (!fixed) return 0;
+    memcpy(fixed, data, n);
+    png_fix_crcs(fixed, n);
+    for (pass = 0; pass < 3; pass++) {          /* as given (sRGB, linear), CRCs fixed */
+        Image im;
+        if (png_read_memory(pass < 2 ? data : fixed, n, "fuzz-input.png", pass == 1, &im, e)) {
+            size_t i;
+            for (i = 0; i < (size_t)im.w * (size_t)im.h * 3; i++)
+                if (!(im.rgb[i] >= 0.0f && im.rgb[i] <= 1.0f)) abort();
+            img_free(&im);
+            if (pass < 2) ok = 1;
+        } else {
+            check_message(e);
+            if (pass == 1 && ok) abort();        /* refused only as linear */
+        }
+    }
+    free(fixed);
+    return ok;
+}
+
 /* Returns 1 when the input was accepted, 0 when it was refused (e->msg says why),
    -1 for an unknown target. */
 int fuzz_run(const char *target, const unsigned char *data, size_t n, const char *tmpdir,
@@ -162,5 +211,6 @@ int fuzz_run(const char *target, const unsigned char *data, size_t n, const char
     if (!strcmp(target, "ply")) return fuzz_ply(data, n, tmpdir, e);
     if (!strcmp(target, "pfm")) return fuzz_pfm(data, n, tmpdir, e);
     if (!strcmp(target, "spectrum")) return fuzz_spectrum(data, n, tmpdir, e);
+    if (!strcmp(target, "png")) return fuzz_png(data, n, e);
     return -1;
 }

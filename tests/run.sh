@@ -122,6 +122,21 @@ expect "cli_render_tiny" 0 "samples/s" ./specnee scenes/cornell.pbrt --spp 2 -o 
 if [ -f tests/tmp/tiny.pfm ] && [ -f tests/tmp/tiny.pfm.txt ]; then ok "cli_render_writes_pfm_and_sidecar"
 else fail "cli_render_writes_pfm_and_sidecar"; fi
 expect "cli_render_png" 0 "" ./specnee -q scenes/cornell.pbrt --spp 1 -o tests/tmp/tiny.png
+# issue 29: Accelerator is read and ignored with a note; -o overrides Film's
+# "string filename" with a note (a placeholder name then loads), and no note about
+# the scene's own name (".exr becomes .pfm") appears when -o names the output
+printf 'Accelerator "bvh" "integer maxnodeprims" 2\nFilm "rgb" "integer xresolution" 4 "integer yresolution" 4 "string filename" "__OUTPUT_PNG__"\nWorldBegin\nAttributeBegin\nAreaLightSource "diffuse"\nShape "sphere" "float radius" 0.5\nAttributeEnd\n' > tests/tmp/accel.pbrt
+expect "cli_output_placeholder_needs_o" 1 "accel.pbrt:2: .*__OUTPUT_PNG__" ./specnee -q tests/tmp/accel.pbrt
+expect "cli_accelerator_note" 0 "accel.pbrt:1: note: Accelerator \"bvh\" is read and ignored" ./specnee -q tests/tmp/accel.pbrt -o tests/tmp/accel.png
+if grep -q 'accel.pbrt:2: note: the output file "tests/tmp/accel.png" of the command line overrides Film "string filename" "__OUTPUT_PNG__"' tests/tmp/err.txt &&
+   [ "$(wc -l < tests/tmp/err.txt)" -eq 2 ] && [ -s tests/tmp/accel.png ]; then ok "cli_output_overrides_film_filename"
+else fail "cli_output_overrides_film_filename"; cat tests/tmp/err.txt; fi
+sed 's/__OUTPUT_PNG__/scene.exr/' tests/tmp/accel.pbrt > tests/tmp/exr.pbrt
+expect "cli_output_no_exr_note" 0 "overrides Film" ./specnee -q tests/tmp/exr.pbrt -o tests/tmp/exr.ppm
+if grep -q 'EXR' tests/tmp/err.txt; then fail "cli_output_no_exr_note: an EXR note with -o"; else ok "cli_output_no_exr_note_absent"; fi
+# a scene naming an ordinary .pfm/.ppm/.png stays quiet under -o
+./specnee -q scenes/cornell.pbrt --spp 1 --res 4x4 -o tests/tmp/quiet.png 2> tests/tmp/quiet.txt
+if [ ! -s tests/tmp/quiet.txt ]; then ok "cli_output_ordinary_name_quiet"; else fail "cli_output_ordinary_name_quiet"; cat tests/tmp/quiet.txt; fi
 expect "cli_bad_sampler" 2 "independent, stratified, sobol or zsobol" ./specnee --sampler halton scenes/cornell.pbrt
 expect "cli_render_sampler" 0 "samples/s" ./specnee scenes/cornell.pbrt --res 16x16 --spp 2 --sampler zsobol -o tests/tmp/zs.pfm
 if grep -q 'sampler=zsobol' tests/tmp/zs.pfm.txt 2>/dev/null; then ok "cli_sidecar_records_sampler"
@@ -292,7 +307,7 @@ else
 fi
 expect "robust_res_budget" 2 "memory budget" ./specnee --res 16384x16384 scenes/cornell.pbrt
 # every input that ever crashed a fuzz target (fuzz/regress) and the fuzz seeds
-for t in scene ply pfm spectrum; do
+for t in scene ply pfm spectrum png; do
     mkdir -p tests/tmp/replay-$t
     counted replay-$t fuzz/replay $t tests/tmp/replay-$t fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)
 done
@@ -319,7 +334,7 @@ counted walkthrough sh tests/walkthrough.sh
 
 if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
     # ---- 3. three compilers, warnings are errors (each one that is installed)
-    LIBSRC="util.c sampler.c bvh.c spectrum.c metals.c lights.c infinite.c scene.c ply.c material.c conductor.c render.c image.c svg.c eval.c"
+    LIBSRC="util.c sampler.c bvh.c shapes.c spectrum.c metals.c lights.c infinite.c delta.c texture.c filter.c scene.c ply.c material.c conductor.c render.c image.c png.c svg.c eval.c"
     proven=""
     for cc in gcc clang tcc; do
         if ! have_cc $cc; then skip "build_$cc: $cc not installed (CI proves it)"; continue; fi
@@ -362,7 +377,7 @@ if [ "${SPECNEE_QUICK:-0}" != 1 ]; then
         if $acc -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
                -fno-omit-frame-pointer -I. -o build/replay-asan fuzz/replay.c fuzz/targets.c \
                $LIBSRC -lm >> "$log" 2>&1; then
-            for t in scene ply pfm spectrum; do
+            for t in scene ply pfm spectrum png; do
                 counted replay-asan-$t env ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
                     UBSAN_OPTIONS=print_stacktrace=1 build/replay-asan $t tests/tmp/replay-$t \
                     fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)

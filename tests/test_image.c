@@ -754,6 +754,10 @@ static void test_diff_metrics(T *t)
           "error-free region not zero");
     CHECK(t, !img_error(&a, &b, 2, 0, 2, 2, &e) && !img_error(&a, &b, 0, 0, 5, 2, &e),
           "empty/out-of-range rectangle accepted");
+    /* the luminance means (--means): pixel (0,0) of a is (1.5, 0.5, 0.5) */
+    CHECK(t, img_error(&a, &b, 0, 0, 4, 2, &e) && near(e.y_ref, 0.5, 1e-6) &&
+          near(e.y_test, 0.5 + 0.212671 / 8.0, 1e-6), "Y means %g %g", e.y_test, e.y_ref);
+    CHECK(t, img_error(&a, &b, 1, 0, 4, 2, &e) && near(e.y_test, 0.5, 1e-6), "Y mean of a region %g", e.y_test);
     img_free(&b);
     CHECK(t, fill(&b, 2, 4, 0.5f), "alloc");
     CHECK(t, !img_error(&a, &b, 0, 0, 1, 1, &e), "size mismatch accepted");

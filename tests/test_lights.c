@@ -43,12 +43,13 @@ static void add_light(char *buf, size_t cap, const char *spectrum, float scale, 
 #define HIGH_HALF "[ 400 0 549 0 550 1 700 1 ]"
 
 enum { SC_DISPERSIVE, SC_FACING_AWAY, SC_HALVES, SC_ONE, SC_IDENTICAL, SC_MANY, SC_THROUGH_GLASS,
-       SC_LARGE_HALVES, SC_ENV, SC_N };
+       SC_LARGE_HALVES, SC_ENV, SC_DELTA, SC_N };
 static const char *const scene_names[SC_N] = {
     "two lamps + dispersive glass", "bright emitter facing away", "complementary half spectra",
     "one emitter", "two identical emitters", "64 small emitters", "emitter seen only through glass",
     "large complementary emitters, one wavelength per path",
-    "two lamps, glass and a constant environment through the open front"
+    "two lamps, glass and a constant environment through the open front",
+    "a lamp, glass, a point, a spot and a distant light through the open front"
 };
 
 static void build_scene(int which, char *buf, size_t cap)
@@ -117,6 +118,22 @@ static void build_scene(int which, char *buf, size_t cap)
         add_light(buf, cap, LOW_HALF, 3, 0.5f, 0.0f, 0.25f);
         strcat(buf, glass_sphere);
         strcat(buf, "LightSource \"infinite\" \"spectrum L\" " BLUEISH " \"float scale\" [ 0.7 ]\n");
+        break;
+    case SC_DELTA:
+        /* delta lights (delta.c) beside an area lamp: a point light of given
+           power, a narrow spot with a falloff band aimed at the glass, and a
+           distant light through the open front (beside the light trees, as an
+           infinite light) */
+        add_light(buf, cap, SPIKY, 3, -0.5f, 0.0f, 0.2f);
+        strcat(buf, glass_sphere);
+        strcat(buf, "LightSource \"point\" \"spectrum I\" " BLUEISH " \"float power\" [ 6 ] "
+                    "\"point3 from\" [ 0.5 0.7 0.3 ]\n"
+                    "AttributeBegin\n Translate 0 0.8 0\n"
+                    " LightSource \"spot\" \"spectrum I\" " HIGH_HALF " \"float scale\" [ 2 ] "
+                    "\"point3 from\" [ 0 0 0 ] \"point3 to\" [ 0.1 -1 0 ] \"float coneangle\" [ 25 ] "
+                    "\"float conedeltaangle\" [ 10 ]\nAttributeEnd\n"
+                    "LightSource \"distant\" \"spectrum L\" " LOW_HALF " \"float scale\" [ 0.6 ] "
+                    "\"point3 from\" [ 0.3 0.4 -1 ] \"point3 to\" [ 0 0 0 ]\n");
         break;
     case SC_THROUGH_GLASS: {
         size_t n = strlen(buf);
@@ -274,6 +291,7 @@ static void test_select_matches_pmf(T *t)
 {
     select_matches_pmf_on(t, SC_MANY);
     select_matches_pmf_on(t, SC_ENV);
+    select_matches_pmf_on(t, SC_DELTA);
 }
 
 /* Positivity (item C3 of the consistency contract, docs/THEORY.md section 5): an
@@ -625,6 +643,13 @@ static void test_unbiased_identical(T *t) { strategies_on_scene(t, SC_IDENTICAL)
 static void test_unbiased_many(T *t) { strategies_on_scene(t, SC_MANY); }
 static void test_unbiased_through_glass(T *t) { strategies_on_scene(t, SC_THROUGH_GLASS); }
 static void test_unbiased_environment(T *t) { strategies_on_scene(t, SC_ENV); }
+/* point, spot and distant lights with a lamp: HWSS (the trees' and spatial
+   tables' case) and one wavelength per path (the spectral tables' case) */
+static void test_unbiased_delta(T *t)
+{
+    strategies_on_scene(t, SC_DELTA);
+    if (!t->failed) strategies_on_scene_opt(t, SC_DELTA, 1);
+}
 
 /* An image map (16 x 16, one texel 200 times brighter and coloured, the rest a
    dim gradient) rotated so the bright texel shines into the box, with two lamps:
@@ -678,5 +703,6 @@ const TestCase tests_lights[] = {
     { "lights_unbiased_large_single", test_unbiased_large_single },
     { "lights_unbiased_environment", test_unbiased_environment },
     { "lights_unbiased_environment_map", test_unbiased_environment_map },
+    { "lights_unbiased_delta", test_unbiased_delta },
     { NULL, NULL }
 };

@@ -2,6 +2,8 @@
    film's imaging ratio (iso, shutter interval) and clamp (maxcomponentvalue), the
    gbuffer film read as rgb, the volpath/bdpt/sppm integrators rendered by path,
    the thin-lens camera; each checked against pbrt-v4's documented formula.
+   Issue 29: Accelerator read and ignored, the command line's output file over
+   Film's "string filename".
 
    The scenes are a square emitter facing a camera at the origin that looks down
    +z (no LookAt: camera space is world space), on a black background, so every
@@ -402,7 +404,7 @@ static void test_env_rejections(T *t)
     static const char *const bad[][2] = {
         { "LightSource \"infinite\" \"string filename\" \"sky.exr\"", "imgtool convert --outfile sky.pfm sky.exr" },
         { "LightSource \"infinite\" \"point3 portal\" [ 0 0 0 1 0 0 1 1 0 0 1 0 ]", "portal" },
-        { "LightSource \"point\"", "valid pbrt-v4 but not in the specnee subset" },
+        { "LightSource \"goniometric\"", "valid pbrt-v4 but not in the specnee subset" },
         { "LightSource \"infinite\" \"string filename\" \"NONSQUARE\"", "not square" },
         { "LightSource \"infinite\" \"rgb L\" [ 1 1 1 ] \"string filename\" \"x.pfm\"", "both" },
     };
@@ -706,6 +708,73 @@ static void test_dump_settings(T *t)
     scene_free(&s);
 }
 
+/* Accelerator (issue 29): pbrt-v4 reads it before WorldBegin and checks its
+   parameters; the image cannot depend on it.  specnee reads the parameters pbrt-v4
+   reads for "bvh" and "kdtree" and renders bit for bit the image without it;
+   unknown types and parameters, and the directive after WorldBegin, are errors
+   at their line. */
+static void test_accelerator(T *t)
+{
+    static char a_txt[4096], b_txt[8192];
+    static const char *const bad[][2] = {      /* text, what the message names */
+        { "Accelerator \"octree\"\nWorldBegin\n", "unknown accelerator type" },
+        { "Accelerator \"bvh\" \"integer maxprims\" 3\nWorldBegin\n", "maxprims" },
+        { "Accelerator \"bvh\" \"float maxnodeprims\" 3\nWorldBegin\n", "wrong type" },
+        { "Accelerator \"kdtree\" \"integer emptybonus\" 1\nWorldBegin\n", "wrong type" },
+        { "WorldBegin\nAccelerator \"bvh\"\n", "Options cannot be set inside world block" },
+    };
+    Image a, b;
+    Scene s;
+    Error e;
+    int i;
+    square_scene(a_txt, sizeof a_txt, "", "", 1.0f);
+    snprintf(b_txt, sizeof b_txt, "Accelerator \"bvh\" \"string splitmethod\" \"middle\" "
+             "\"integer maxnodeprims\" 1\n%s", a_txt);
+    if (!render_pair(t, a_txt, b_txt, 2, &a, &b)) return;
+    i = memcmp(a.rgb, b.rgb, sizeof(float) * 3 * (size_t)a.w * a.h);
+    img_free(&a); img_free(&b);
+    CHECK(t, i == 0, "Accelerator \"bvh\" changed the image");
+    snprintf(b_txt, sizeof b_txt, "Accelerator \"kdtree\" \"integer intersectcost\" 80 "
+             "\"integer traversalcost\" 1 \"float emptybonus\" 0.2 \"integer maxprims\" 2 "
+             "\"integer maxdepth\" 9\n%s", a_txt);
+    CHECK(t, scene_load_string(&s, b_txt, "t.pbrt", &e), "kdtree refused: %s", e.msg);
+    scene_free(&s);
+    for (i = 0; i < (int)(sizeof bad / sizeof bad[0]); i++) {
+        char where[16];
+        snprintf(b_txt, sizeof b_txt, "%s", bad[i][0]);
+        snprintf(where, sizeof where, "t.pbrt:%d:", i == 4 ? 2 : 1);
+        CHECK(t, !scene_load_string(&s, b_txt, "t.pbrt", &e) && strstr(e.msg, where)
+              && strstr(e.msg, bad[i][1]), "accepted, or not at %s naming \"%s\": %s -> %s",
+              where, bad[i][1], bad[i][0], e.msg);
+    }
+}
+
+/* The command line's output file (-o) overrides Film's "string filename", as
+   pbrt-v4 --outfile does: the scene's name is then not checked, so a placeholder
+   such as "__OUTPUT_PNG__" (or an .exr name) loads; without -o the same file is
+   refused, naming the line. */
+static void test_film_output_override(T *t)
+{
+    static char buf[4096];
+    const char *path;
+    Scene s;
+    Error e;
+    square_scene(buf, sizeof buf, "", "\"string filename\" \"__OUTPUT_PNG__\"", 1.0f);
+    path = test_write_file(t, "placeholder.pbrt", buf);
+    CHECK(t, !scene_load(&s, path, &e) && strstr(e.msg, "placeholder.pbrt:1:")
+          && strstr(e.msg, "__OUTPUT_PNG__"), "placeholder accepted without -o: %s", e.msg);
+    CHECK(t, scene_load_as(&s, path, "out/x.png", &e), "placeholder refused with -o: %s", e.msg);
+    CHECK(t, !strcmp(s.settings.filename, "out/x.png"), "filename %s", s.settings.filename);
+    scene_free(&s);
+    square_scene(buf, sizeof buf, "", "\"string filename\" \"a.exr\"", 1.0f);
+    path = test_write_file(t, "exr.pbrt", buf);
+    CHECK(t, scene_load(&s, path, &e) && !strcmp(s.settings.filename, "a.pfm"), "%s", e.msg);
+    scene_free(&s);
+    CHECK(t, scene_load_as(&s, path, "b.ppm", &e) && !strcmp(s.settings.filename, "b.ppm"),
+          "%s", e.msg);
+    scene_free(&s);
+}
+
 const TestCase tests_pbrt[] = {
     { "pbrt_iso_exposure", test_iso_exposure },
     { "pbrt_maxcomponentvalue", test_maxcomponentvalue },
@@ -722,5 +791,7 @@ const TestCase tests_pbrt[] = {
     { "pbrt_film_whitebalance", test_film_whitebalance },
     { "pbrt_named_material_forward", test_named_material_forward },
     { "pbrt_dump_settings", test_dump_settings },
+    { "pbrt_accelerator", test_accelerator },
+    { "pbrt_film_output_override", test_film_output_override },
     { NULL, NULL }
 };

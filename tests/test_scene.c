@@ -671,9 +671,10 @@ REJECT(rej_integrator_type, "Integrator \"mlt\"\nWorldBegin\n", 1,
        "valid pbrt-v4 but not in the specnee subset", "mlt")
 REJECT(rej_regularize, "Integrator \"path\" \"bool regularize\" true\nWorldBegin\n", 1, "regularize", NULL)
 REJECT(rej_negative_radius, "WorldBegin\nShape \"sphere\" \"float radius\" -2\n", 2, "radius", NULL)
-REJECT(rej_sphere_zmin, "WorldBegin\nShape \"sphere\" \"float zmin\" 0\n", 2, "zmin",
-       "not in the specnee subset")
-REJECT(rej_sphere_nonuniform, "WorldBegin\nScale 1 2 1\nShape \"sphere\"\n", 3, "non-uniform", NULL)
+REJECT(rej_sphere_zmin, "WorldBegin\nShape \"sphere\" \"float zmin\" 0.5 \"float zmax\" 0.5\n", 2,
+       "zmin 0.5 must be < zmax 0.5", NULL)
+REJECT(rej_sphere_nonuniform, "WorldBegin\nScale 1 2 1\nAreaLightSource \"diffuse\"\nShape \"sphere\"\n",
+       4, "non-uniform", "area light")
 REJECT(rej_shape_curve, "WorldBegin\nShape \"curve\"\n", 2,
        "Shape \"curve\" is valid pbrt-v4 but not in the specnee subset", NULL)
 REJECT(rej_shape_unknown, "WorldBegin\nShape \"blob\"\n", 2, "unknown shape type", NULL)
@@ -687,7 +688,7 @@ REJECT(rej_reflectance_above_one, "WorldBegin\nMaterial \"diffuse\" \"spectrum r
        2, "reflectance", "[0,1]")
 REJECT(rej_rgb_reflectance_above_one, "WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ 0.5 2 0.5 ]\n",
        2, "reflectance", "[0,1]")
-REJECT(rej_texture_param, "WorldBegin\nMaterial \"diffuse\" \"texture reflectance\" \"checks\"\n", 2,
+REJECT(rej_texture_param, "WorldBegin\nMaterial \"dielectric\" \"texture roughness\" \"checks\"\n", 2,
        "texture", "not in the specnee subset")
 REJECT(rej_light_power, "WorldBegin\nAreaLightSource \"diffuse\" \"float power\" 100\n", 2, "power",
        "not in the specnee subset")

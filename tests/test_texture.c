@@ -1,0 +1,405 @@
+/* tests/test_texture.c - textures (texture.c): values at chosen points against
+   pbrt-v4's definitions, the (u, v) of meshes, image lookups, a rendered plane
+   against E/pi times its texture, and bad input. */
+#include "test.h"
+#include <stdlib.h>
+#include <string.h>
+
+static const char *head =
+    "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 30 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ] \"string filename\" \"t.pfm\"\n"
+    "PixelFilter \"box\"\n"
+    "WorldBegin\n";
+
+/* Load head + body; the test fails (0) on a parse error. */
+static int load(T *t, Scene *s, const char *body)
+{
+    static char text[8192];
+    snprintf(text, sizeof text, "%s%s", head, body);
+    return test_load_scene(t, s, text);
+}
+
+static SurfacePoint at_uv(float u, float v)
+{
+    SurfacePoint sp = test_flat_point();
+    sp.u = u;
+    sp.v = v;
+    return sp;
+}
+
+static SurfacePoint at_p(float x, float y, float z)
+{
+    SurfacePoint sp = test_flat_point();
+    sp.p = v3(x, y, z);
+    return sp;
+}
+
+#define NEAR(a, b, tol) (fabs((double)(a) - (double)(b)) <= (tol))
+
+/* Checkerboard (tex1 where floor(s) + floor(t) is even), scale, mix and the uv
+   mapping's scales and offsets. */
+static void test_values(T *t)
+{
+    Scene s;
+    SurfacePoint sp;
+    if (!load(t, &s,
+              "Texture \"c\" \"float\" \"checkerboard\" \"float uscale\" [ 4 ] \"float vscale\" [ 2 ] "
+              "\"float udelta\" [ 0.5 ] \"float tex1\" [ 0.9 ] \"float tex2\" [ 0.1 ]\n"
+              "Texture \"k\" \"float\" \"constant\" \"float value\" [ 0.25 ]\n"
+              "Texture \"s\" \"float\" \"scale\" \"texture tex\" \"c\" \"float scale\" [ 0.5 ]\n"
+              "Texture \"m\" \"float\" \"mix\" \"texture tex1\" \"c\" \"float tex2\" [ 0.7 ] "
+              "\"texture amount\" \"k\"\n"
+              "Texture \"sc\" \"spectrum\" \"checkerboard\" \"spectrum tex1\" [ 400 0.2 700 0.8 ] "
+              "\"rgb tex2\" [ 0.5 0.5 0.5 ]\n"))
+        return;
+    /* s = 4u + 0.5, t = 2v: u = 0.05 -> s = 0.7, v = 0.2 -> t = 0.4: even -> tex1 */
+    sp = at_uv(0.05f, 0.2f);
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 0.9, 1e-6), "checkerboard at (0.7, 0.4): %g",
+          tex_eval(s.textures, 0, &sp, 500));
+    sp = at_uv(0.15f, 0.2f);                          /* s = 1.1: odd -> tex2 */
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 0.1, 1e-6), "checkerboard at (1.1, 0.4)");
+    sp = at_uv(0.15f, 0.6f);                          /* s = 1.1, t = 1.2: even */
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 0.9, 1e-6), "checkerboard at (1.1, 1.2)");
+    sp = at_uv(-0.2f, 0.2f);                          /* s = -0.3: floor -1, odd */
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 0.1, 1e-6), "checkerboard at (-0.3, 0.4)");
+    sp = at_uv(0.15f, 0.2f);
+    CHECK(t, NEAR(tex_eval(s.textures, 2, &sp, 500), 0.05, 1e-6), "scale: %g", tex_eval(s.textures, 2, &sp, 500));
+    /* mix: (1 - 0.25) 0.1 + 0.25 0.7 = 0.25 */
+    CHECK(t, NEAR(tex_eval(s.textures, 3, &sp, 500), 0.75 * 0.1 + 0.25 * 0.7, 1e-6), "mix: %g",
+          tex_eval(s.textures, 3, &sp, 500));
+    /* a spectrum checkerboard: tex1's spectrum at 550 nm, tex2 grey */
+    sp = at_uv(0.5f, 0.5f);
+    CHECK(t, NEAR(tex_eval(s.textures, 4, &sp, 550), 0.5, 1e-5), "spectrum checkerboard tex1 at 550 nm: %g",
+          tex_eval(s.textures, 4, &sp, 550));
+    sp = at_uv(1.5f, 0.5f);
+    CHECK(t, NEAR(tex_eval(s.textures, 4, &sp, 550), 0.5, 1e-5), "spectrum checkerboard tex2: %g",
+          tex_eval(s.textures, 4, &sp, 550));
+    sp = at_uv(0.5f, 0.5f);
+    CHECK(t, NEAR(tex_eval(s.textures, 4, &sp, 450), 0.3, 1e-5), "spectrum checkerboard tex1 at 450 nm: %g",
+          tex_eval(s.textures, 4, &sp, 450));
+    scene_free(&s);
+    /* a diffuse reflectance texture is clamped to [0, 1] (pbrt-v4's DiffuseMaterial) */
+    if (!load(t, &s, "Texture \"k\" \"spectrum\" \"constant\" \"spectrum value\" [ 400 1.7 700 1.7 ]\n"
+                     "Texture \"z\" \"spectrum\" \"scale\" \"texture tex\" \"k\" \"float scale\" [ -1 ]\n"
+                     "Material \"diffuse\" \"texture reflectance\" \"k\"\n"
+                     "Shape \"sphere\"\nMaterial \"diffuse\" \"texture reflectance\" \"z\"\nShape \"sphere\"\n"))
+        return;
+    sp = at_uv(0.5f, 0.5f);
+    CHECK(t, mat_albedo_at(&s.materials[s.shapes[0].material], &sp, 500.0f) == 1.0f, "reflectance 1.7 not clamped to 1");
+    CHECK(t, mat_albedo_at(&s.materials[s.shapes[1].material], &sp, 500.0f) == 0.0f, "reflectance -1.7 not clamped to 0");
+    scene_free(&s);
+}
+
+/* The 3-D mappings in the texture's frame (the CTM at the Texture directive). */
+static void test_mappings(T *t)
+{
+    Scene s;
+    SurfacePoint sp;
+    if (!load(t, &s,
+              "AttributeBegin\nTranslate 10 0 0\n"
+              "Texture \"pl\" \"float\" \"checkerboard\" \"string mapping\" \"planar\" "
+              "\"vector3 v1\" [ 0 1 0 ] \"vector3 v2\" [ 0 0 1 ] \"float udelta\" [ 0.5 ] \"float tex1\" [ 1 ] \"float tex2\" [ 0 ]\n"
+              "Texture \"sph\" \"float\" \"checkerboard\" \"string mapping\" \"spherical\" "
+              "\"float tex1\" [ 1 ] \"float tex2\" [ 0 ]\n"
+              "AttributeEnd\n"
+              "Texture \"cyl\" \"float\" \"checkerboard\" \"string mapping\" \"cylindrical\" "
+              "\"float tex1\" [ 1 ] \"float tex2\" [ 0 ]\n"))
+        return;
+    /* planar: q = p - (10, 0, 0); s = 0.5 + q.y, t = q.z */
+    sp = at_p(10.0f, 0.2f, 0.3f);                    /* s = 0.7, t = 0.3: even */
+    CHECK(t, tex_eval(s.textures, 0, &sp, 500) == 1.0f, "planar at s 0.7 t 0.3");
+    sp = at_p(10.0f, 0.6f, 0.3f);                    /* s = 1.1: odd */
+    CHECK(t, tex_eval(s.textures, 0, &sp, 500) == 0.0f, "planar at s 1.1 t 0.3");
+    sp = at_p(-5.0f, 0.6f, 0.3f);                    /* q.x does not count */
+    CHECK(t, tex_eval(s.textures, 0, &sp, 500) == 0.0f, "planar: x moved the point");
+    /* spherical: s = theta / pi in [0, 1], t = phi / 2 pi in [0, 1): every point
+       has floor(s) = floor(t) = 0 except the pole theta = pi (s = 1) */
+    sp = at_p(11.0f, 0.0f, 0.5f);
+    CHECK(t, tex_eval(s.textures, 1, &sp, 500) == 1.0f, "spherical inside the cell");
+    sp = at_p(10.0f, 0.0f, -1.0f);                   /* the -z pole: s = 1 */
+    CHECK(t, tex_eval(s.textures, 1, &sp, 500) == 0.0f, "spherical at the -z pole");
+    /* cylindrical (world frame): s in [0, 1], t = z */
+    sp = at_p(1.0f, 0.0f, 0.5f);
+    CHECK(t, tex_eval(s.textures, 2, &sp, 500) == 1.0f, "cylindrical at z 0.5");
+    sp = at_p(1.0f, 0.0f, 1.5f);
+    CHECK(t, tex_eval(s.textures, 2, &sp, 500) == 0.0f, "cylindrical at z 1.5");
+    scene_free(&s);
+}
+
+/* An image texture from a 2 x 2 PFM (values 0.1 0.3 / 0.5 0.9, row 0 at the top):
+   texel centres, bilinear between them, t flipped, the wrap modes, scale, invert. */
+static void test_imagemap(T *t)
+{
+    Image im;
+    Scene s;
+    SurfacePoint sp;
+    char body[2048];
+    const char *path = test_path(t, "tex2x2.pfm");
+    static const float v[4] = { 0.1f, 0.3f, 0.5f, 0.9f };  /* (x, y): (0,0) (1,0) (0,1) (1,1) */
+    int i, c;
+    CHECK(t, img_alloc(&im, 2, 2), "out of memory");
+    for (i = 0; i < 4; i++)
+        for (c = 0; c < 3; c++) im.rgb[3 * i + c] = v[i];
+    CHECK(t, pfm_write(&im, path), "cannot write %s", path);
+    img_free(&im);
+    snprintf(body, sizeof body,
+             "Texture \"r\" \"float\" \"imagemap\" \"string filename\" \"%s\"\n"
+             "Texture \"b\" \"float\" \"imagemap\" \"string filename\" \"%s\" \"string wrap\" \"black\"\n"
+             "Texture \"c\" \"float\" \"imagemap\" \"string filename\" \"%s\" \"string wrap\" \"clamp\" "
+             "\"float scale\" [ 2 ] \"bool invert\" true\n"
+             "Texture \"g\" \"spectrum\" \"imagemap\" \"string filename\" \"%s\"\n", path, path, path, path);
+    if (!load(t, &s, body)) return;
+    /* texel (x, y) has its centre at s = (x + 0.5) / 2, 1 - t = (y + 0.5) / 2 */
+    sp = at_uv(0.25f, 0.75f);                         /* texel (0, 0): the top left */
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 0.1, 1e-6), "texel (0,0): %g", tex_eval(s.textures, 0, &sp, 500));
+    sp = at_uv(0.75f, 0.25f);                         /* texel (1, 1): bottom right */
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 0.9, 1e-6), "texel (1,1): %g", tex_eval(s.textures, 0, &sp, 500));
+    sp = at_uv(0.5f, 0.5f);                           /* the mean of the four */
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 0.45, 1e-6), "centre: %g", tex_eval(s.textures, 0, &sp, 500));
+    sp = at_uv(0.375f, 0.75f);                        /* a quarter of the way to texel (1, 0) */
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 0.75 * 0.1 + 0.25 * 0.3, 1e-6), "bilinear in x: %g",
+          tex_eval(s.textures, 0, &sp, 500));
+    sp = at_uv(0.25f, 0.625f);                        /* a quarter of the way to texel (0, 1) */
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 0.75 * 0.1 + 0.25 * 0.5, 1e-6), "bilinear in y: %g",
+          tex_eval(s.textures, 0, &sp, 500));
+    /* repeat: s = 0 lies between texel 1 (wrapped from -1) and texel 0 */
+    sp = at_uv(0.0f, 0.75f);
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 0.5 * 0.3 + 0.5 * 0.1, 1e-6), "repeat: %g",
+          tex_eval(s.textures, 0, &sp, 500));
+    CHECK(t, NEAR(tex_eval(s.textures, 1, &sp, 500), 0.5 * 0.1, 1e-6), "black: %g",
+          tex_eval(s.textures, 1, &sp, 500));
+    /* clamp, with scale 2 and invert: 1 - 2 v, clamped at 0 */
+    CHECK(t, NEAR(tex_eval(s.textures, 2, &sp, 500), 1.0 - 2.0 * 0.1, 1e-6), "clamp, scale, invert: %g",
+          tex_eval(s.textures, 2, &sp, 500));
+    sp = at_uv(0.75f, 0.25f);
+    CHECK(t, tex_eval(s.textures, 2, &sp, 500) == 0.0f, "invert of 1.8 not clamped at 0");
+    /* a grey spectrum texel is exactly flat */
+    sp = at_uv(0.75f, 0.75f);
+    CHECK(t, NEAR(tex_eval(s.textures, 3, &sp, 430), 0.3, 1e-6) && NEAR(tex_eval(s.textures, 3, &sp, 680), 0.3, 1e-6),
+          "grey texel: %g, %g", tex_eval(s.textures, 3, &sp, 430), tex_eval(s.textures, 3, &sp, 680));
+    scene_free(&s);
+}
+
+/* A PNG image texture (png.c): 8-bit values decoded from sRGB by default, read
+   as they are with "encoding" "linear" (pbrt-v4). */
+static void test_imagemap_png(T *t)
+{
+    static const unsigned char px[4 * 3] = { 128, 128, 128, 255, 255, 255, 0, 0, 0, 64, 64, 64 };
+    Scene s;
+    SurfacePoint sp;
+    char body[1024];
+    const char *path = test_path(t, "tex.png");
+    double srgb128 = pow((128.0 / 255.0 + 0.055) / 1.055, 2.4);   /* IEC 61966-2-1 */
+    CHECK(t, png_write_rgb8(path, 2, 2, px), "cannot write %s", path);
+    snprintf(body, sizeof body,
+             "Texture \"a\" \"float\" \"imagemap\" \"string filename\" \"%s\"\n"
+             "Texture \"b\" \"float\" \"imagemap\" \"string filename\" \"%s\" \"string encoding\" \"linear\"\n",
+             path, path);
+    if (!load(t, &s, body)) return;
+    sp = at_uv(0.25f, 0.75f);                        /* texel (0, 0): 128 */
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), srgb128, 1e-4), "sRGB 128: %g, expected %g",
+          tex_eval(s.textures, 0, &sp, 500), srgb128);
+    CHECK(t, NEAR(tex_eval(s.textures, 1, &sp, 500), 128.0 / 255.0, 1e-5), "linear 128: %g",
+          tex_eval(s.textures, 1, &sp, 500));
+    sp = at_uv(0.75f, 0.75f);                        /* texel (1, 0): 255 */
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 1.0, 1e-5), "sRGB 255: %g", tex_eval(s.textures, 0, &sp, 500));
+    scene_free(&s);
+}
+
+/* A coloured texel's spectrum is spec_from_rgb's for its RGB (Newton from the
+   previous texel's coefficients finds the same fit as the homotopy). */
+static void test_imagemap_colour(T *t)
+{
+    Image im;
+    Scene s;
+    SurfacePoint sp;
+    char body[1024];
+    const char *path = test_path(t, "texcol.pfm");
+    static const float rgb[4][3] = { { 0.8f, 0.2f, 0.1f }, { 0.1f, 0.6f, 0.3f },
+                                     { 0.2f, 0.3f, 0.9f }, { 0.95f, 0.9f, 0.05f } };
+    int i, c, l;
+    CHECK(t, img_alloc(&im, 2, 2), "out of memory");
+    for (i = 0; i < 4; i++)
+        for (c = 0; c < 3; c++) im.rgb[3 * i + c] = rgb[i][c];
+    CHECK(t, pfm_write(&im, path), "cannot write %s", path);
+    img_free(&im);
+    snprintf(body, sizeof body, "Texture \"g\" \"spectrum\" \"imagemap\" \"string filename\" \"%s\"\n", path);
+    if (!load(t, &s, body)) return;
+    for (i = 0; i < 4; i++) {
+        Spectrum ref;
+        Error err;
+        CHECK(t, spec_from_rgb(&ref, rgb[i], 0, &err, "t", 1), "%s", err.msg);
+        sp = at_uv((i % 2 + 0.5f) / 2.0f, 1.0f - (i / 2 + 0.5f) / 2.0f);
+        for (l = 400; l <= 700; l += 25) {
+            float a = tex_eval(s.textures, 0, &sp, (float)l), b = spec_eval(&ref, (float)l);
+            CHECK(t, NEAR(a, b, 2e-3), "texel %d at %d nm: %g, spec_from_rgb %g", i, l, a, b);
+        }
+    }
+    scene_free(&s);
+}
+
+/* A mesh's "uv" is interpolated at the hit; without it pbrt-v4's corners
+   (0,0), (1,0), (1,1). */
+static void test_mesh_uv(T *t)
+{
+    Scene s;
+    Ray r;
+    HitRecord h;
+    SurfacePoint sp;
+    if (!load(t, &s,
+              "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ] \"point3 P\" [ 0 0 0  2 0 0  0 2 0 ] "
+              "\"point2 uv\" [ 0.1 0.2  0.5 0.2  0.1 0.9 ]\n"
+              "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ] \"point3 P\" [ 0 0 -3  2 0 -3  2 2 -3 ]\n"))
+        return;
+    r.o = v3(0.5f, 1.0f, 5.0f); r.d = v3(0, 0, -1); r.tmax = INFINITY;
+    CHECK(t, bvh_intersect(&s.bvh, &s, &r, &h), "no hit");
+    scene_surface_point(&s, &r, &h, &sp);
+    /* barycentrics (b1, b2) = (0.25, 0.5): uv = 0.25 (0.1,0.2) + 0.25 (0.5,0.2) + 0.5 (0.1,0.9) */
+    CHECK(t, NEAR(sp.u, 0.25 * 0.1 + 0.25 * 0.5 + 0.5 * 0.1, 1e-5) && NEAR(sp.v, 0.25 * 0.2 + 0.25 * 0.2 + 0.5 * 0.9, 1e-5),
+          "uv (%g, %g)", sp.u, sp.v);
+    r.o = v3(1.8f, 0.5f, 5.0f);                      /* past the first triangle's edge */
+    CHECK(t, bvh_intersect(&s.bvh, &s, &r, &h), "no hit on the second mesh");
+    scene_surface_point(&s, &r, &h, &sp);
+    /* (1.8, 0.5) = b1 (2,0) + b2 (2,2): b2 = 0.25, b1 = 0.65: u = b1 + b2, v = b2 */
+    CHECK(t, NEAR(sp.u, 0.9, 1e-5) && NEAR(sp.v, 0.25, 1e-5), "default uv (%g, %g)", sp.u, sp.v);
+    scene_free(&s);
+}
+
+/* A PLY mesh's "u v" (or "s t", "texture_u texture_v") become the hit's (u, v). */
+static void test_ply_uv(T *t)
+{
+    static const char *const names[3][2] = { { "u", "v" }, { "s", "t" }, { "texture_u", "texture_v" } };
+    int k;
+    for (k = 0; k < 3; k++) {
+        char ply[512], body[1024];
+        const char *path;
+        Scene s;
+        Ray r;
+        HitRecord h;
+        SurfacePoint sp;
+        snprintf(ply, sizeof ply, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                 "property float y\nproperty float z\nproperty float %s\nproperty float %s\n"
+                 "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                 "0 0 0 0.1 0.2\n2 0 0 0.5 0.2\n0 2 0 0.1 0.9\n3 0 1 2\n", names[k][0], names[k][1]);
+        path = test_write_file(t, "uv.ply", ply);
+        snprintf(body, sizeof body, "Shape \"plymesh\" \"string filename\" \"%s\"\n", path);
+        if (!load(t, &s, body)) return;
+        r.o = v3(0.5f, 1.0f, 5.0f); r.d = v3(0, 0, -1); r.tmax = INFINITY;
+        CHECK(t, bvh_intersect(&s.bvh, &s, &r, &h), "no hit");
+        scene_surface_point(&s, &r, &h, &sp);
+        CHECK(t, NEAR(sp.u, 0.25 * 0.1 + 0.25 * 0.5 + 0.5 * 0.1, 1e-5) &&
+                 NEAR(sp.v, 0.25 * 0.2 + 0.25 * 0.2 + 0.5 * 0.9, 1e-5),
+              "PLY %s %s: uv (%g, %g)", names[k][0], names[k][1], sp.u, sp.v);
+        scene_free(&s);
+    }
+}
+
+/* The quadrics' (u, v) (shapes.c), pbrt-v4's: u = phi / phimax; a disk's
+   v = (radius - r) / (radius - innerradius), a cylinder's (z - zmin) / (zmax - zmin). */
+static void test_quadric_uv(T *t)
+{
+    Scene s;
+    Ray r;
+    HitRecord h;
+    SurfacePoint sp;
+    if (!load(t, &s,
+              "Shape \"disk\" \"float radius\" [ 2 ] \"float innerradius\" [ 0.5 ] \"float phimax\" [ 180 ]\n"
+              "AttributeBegin\nTranslate 10 0 0\nShape \"cylinder\" \"float radius\" [ 1 ] \"float zmin\" [ -1 ] "
+              "\"float zmax\" [ 3 ]\nAttributeEnd\n"))
+        return;
+    r.o = v3(0.0f, 1.0f, 5.0f); r.d = v3(0, 0, -1); r.tmax = INFINITY;   /* phi = 90 deg, r = 1 */
+    CHECK(t, bvh_intersect(&s.bvh, &s, &r, &h), "no hit on the disk");
+    scene_surface_point(&s, &r, &h, &sp);
+    CHECK(t, NEAR(sp.u, 0.5, 1e-5) && NEAR(sp.v, (2.0 - 1.0) / 1.5, 1e-5), "disk uv (%g, %g)", sp.u, sp.v);
+    r.o = v3(10.0f, -5.0f, 2.0f); r.d = v3(0, 1, 0);                    /* phi = 270 deg, z = 2 */
+    CHECK(t, bvh_intersect(&s.bvh, &s, &r, &h), "no hit on the cylinder");
+    scene_surface_point(&s, &r, &h, &sp);
+    CHECK(t, NEAR(sp.u, 0.75, 1e-5) && NEAR(sp.v, 0.75, 1e-5), "cylinder uv (%g, %g)", sp.u, sp.v);
+    scene_free(&s);
+}
+
+/* A textured plane lit straight on by a distant light of illuminance pi: its
+   radiance is the reflectance, and a narrow camera on one check sees it. */
+static void test_render_checks(T *t)
+{
+    /* s = 2u = 2x, t = 2y: (0.25, 0.25) is in cell (0, 0), (0.75, 0.25) in cell (1, 0) */
+    static const struct { float x; double expect; } at[2] = { { 0.25f, 0.8 }, { 0.75f, 0.2 } };
+    int i;
+    for (i = 0; i < 2; i++) {
+        char text[4096];
+        Scene s;
+        RenderOptions o;
+        Tiles tl;
+        double Y;
+        snprintf(text, sizeof text,
+                 "LookAt %g 0.25 5  %g 0.25 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 2 ]\n"
+                 "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ] \"string filename\" \"t.pfm\"\n"
+                 "PixelFilter \"box\"\nIntegrator \"path\" \"integer maxdepth\" [ 1 ]\nWorldBegin\n"
+                 "LightSource \"distant\" \"float scale\" [ 3.14159265358979 ] \"point3 from\" [ 0 0 1 ] \"point3 to\" [ 0 0 0 ]\n"
+                 "Texture \"ch\" \"spectrum\" \"checkerboard\" \"float uscale\" [ 2 ] \"float vscale\" [ 2 ] "
+                 "\"spectrum tex1\" [ 300 0.8 830 0.8 ] \"spectrum tex2\" [ 300 0.2 830 0.2 ]\n"
+                 "Material \"diffuse\" \"texture reflectance\" \"ch\"\n"
+                 "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ 0 0 0  4 0 0  4 4 0  0 4 0 ] "
+                 "\"point2 uv\" [ 0 0  4 0  4 4  0 4 ]\n", at[i].x, at[i].x);
+        if (!test_load_scene(t, &s, text)) return;
+        render_options_default(&o);
+        o.spp = test_scaled(8, 2);
+        if (!test_render_tiles(t, &s, &o, 4, 1, &tl)) { scene_free(&s); return; }
+        scene_free(&s);
+        Y = 0.212671 * tl.mean[0][0] + 0.715160 * tl.mean[0][1] + 0.072169 * tl.mean[0][2];
+        CHECK(t, NEAR(Y, at[i].expect, TEST_K_SIGMA * tl.se[0][1] + 2e-3),
+              "check at x %g: Y = %.5f +- %.2g, expected %g", at[i].x, Y, tl.se[0][1], at[i].expect);
+    }
+}
+
+static void expect_error(T *t, const char *body, const char *k1, const char *k2)
+{
+    char text[4096];
+    Scene s;
+    Error e;
+    int ok;
+    snprintf(text, sizeof text, "%s%s\n", head, body);
+    e.msg[0] = '\0';
+    ok = scene_load_string(&s, text, "x.pbrt", &e);
+    if (ok) scene_free(&s);
+    CHECK(t, !ok, "accepted \"%s\"", body);
+    CHECK(t, strncmp(e.msg, "x.pbrt:", 7) == 0, "message \"%s\" names no file:line", e.msg);
+    CHECK(t, strstr(e.msg, k1) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k1);
+    CHECK(t, !k2 || strstr(e.msg, k2) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k2);
+}
+
+static void test_bad_input(T *t)
+{
+    expect_error(t, "Material \"diffuse\" \"texture reflectance\" \"nope\"", "no texture named", "nope");
+    expect_error(t, "Texture \"f\" \"float\" \"constant\"\nMaterial \"diffuse\" \"texture reflectance\" \"f\"",
+                 "is a float texture", NULL);
+    expect_error(t, "Texture \"m\" \"spectrum\" \"marble\"", "marble", "not in the specnee subset");
+    expect_error(t, "Texture \"m\" \"spectrum\" \"bogus\"", "unknown class", NULL);
+    expect_error(t, "Texture \"m\" \"color\" \"constant\"", "must be \"spectrum\" or \"float\"", NULL);
+    expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" [ 3 ]", "3-D", NULL);
+    expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"string mapping\" \"cubic\"", "unknown mapping", NULL);
+    expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"none.pfm\"", "imagemap", NULL);
+    expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"sky.exr\"", "convert", "sky.pfm");
+    expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"w.jpg\"", "PNG or PFM", NULL);
+    expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"w.png\" "
+                 "\"string encoding\" \"gamma 2.2\"", "gamma 2.2", "not in the specnee subset");
+    expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"missing.png\"", "missing.png", NULL);
+    expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\"", "filename", "required");
+    expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"float uscale\" [ 1e39 ]", "finite", NULL);
+    expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"float radius\" [ 1 ]", "radius", "unused");
+    expect_error(t, "Texture \"c\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [ 2 0 0 ]", "within", NULL);
+}
+
+const TestCase tests_texture[] = {
+    { "texture_values", test_values },
+    { "texture_mappings", test_mappings },
+    { "texture_imagemap", test_imagemap },
+    { "texture_imagemap_colour", test_imagemap_colour },
+    { "texture_imagemap_png", test_imagemap_png },
+    { "texture_mesh_uv", test_mesh_uv },
+    { "texture_ply_uv", test_ply_uv },
+    { "texture_quadric_uv", test_quadric_uv },
+    { "texture_render_checks", test_render_checks },
+    { "texture_bad_input", test_bad_input },
+    { NULL, NULL }
+};
