@@ -1547,7 +1547,7 @@ static int sampler_directive(Parser *P, const char *type, ParamList *pl, const c
 static int integrator_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     static const char *const pbrt_types[] = {
-        "ambientocclusion", "bdpt", "lightpath", "mlt", "randomwalk", "simplepath",
+        "ambientocclusion", "bdpt", "lightpath", "mlt", "randomwalk",
         "simplevolpath", "sppm", "volpath", NULL
     };
     SceneSettings *st = &P->s->settings;
@@ -1556,8 +1556,11 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
     const char *ls = NULL;
     char what[64];
     /* volpath (pbrt-v4's default), bdpt and sppm converge to the same image as path
-       in a scene without participating media, which the subset has none of */
-    int as_path = !strcmp(type, "volpath") || !strcmp(type, "bdpt") || !strcmp(type, "sppm");
+       in a scene without participating media, which the subset has none of; so does
+       simplepath (pbrt-v4's unidirectional path tracer without MIS: uniform light
+       choice, lights and/or BSDF sampled, every variant unbiased) */
+    int as_path = !strcmp(type, "volpath") || !strcmp(type, "bdpt") || !strcmp(type, "sppm") ||
+                  !strcmp(type, "simplepath");
     if (strcmp(type, "path") != 0 && !as_path) {
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
@@ -1567,10 +1570,14 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
     }
     snprintf(what, sizeof what, "Integrator \"%s\"", type);
     if (!get_int(P, pl, "maxdepth", DEFAULT_MAXDEPTH, &maxdepth, &given)) return 0;
-    if (strcmp(type, "bdpt") != 0 && strcmp(type, "sppm") != 0 &&
+    if (strcmp(type, "bdpt") != 0 && strcmp(type, "sppm") != 0 && strcmp(type, "simplepath") != 0 &&
         !get_string(P, pl, "lightsampler", &ls)) return 0;
-    if (strcmp(type, "sppm") != 0 && !get_bool(P, pl, "regularize", 0, &regularize)) return 0;
-    if (!strcmp(type, "sppm")) regularize = 0;
+    if (strcmp(type, "sppm") != 0 && strcmp(type, "simplepath") != 0 &&
+        !get_bool(P, pl, "regularize", 0, &regularize)) return 0;
+    if (!strcmp(type, "sppm") || !strcmp(type, "simplepath")) regularize = 0;
+    if (!strcmp(type, "simplepath") &&
+        (!get_bool(P, pl, "samplelights", 1, &dummy_i) || !get_bool(P, pl, "samplebsdf", 1, &dummy_i)))
+        return 0;
     {   /* pbrt-v3's Russian-roulette threshold, which pbrt-v4 read only in 2020
            (until its commit 56ee5e8c): current pbrt-v4 starts the roulette when the
            throughput's largest component falls below 1 after the second bounce,
@@ -1602,6 +1609,8 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
                                  "bool visualizestrategies, bool visualizeweights"
                              : !strcmp(type, "sppm") ? "integer maxdepth, integer "
                                  "photonsperiteration, float radius, integer seed"
+                             : !strcmp(type, "simplepath") ? "integer maxdepth, bool samplelights, "
+                                 "bool samplebsdf"
                              : "integer maxdepth, string lightsampler, bool regularize", NULL))
         return 0;
     if (as_path)

@@ -145,11 +145,11 @@ static void test_maxcomponentvalue(T *t)
 }
 
 /* Film "gbuffer" is read as "rgb" (same settings, same image), Integrator
-   volpath, bdpt and sppm render as path with their maxdepth; parameters those
+   volpath, bdpt, sppm and simplepath render as path with their maxdepth; parameters those
    integrators do not read stay errors, as in pbrt-v4. */
 static void test_film_and_integrator_aliases(T *t)
 {
-    static const char *const integ[] = { "volpath", "bdpt", "sppm" };
+    static const char *const integ[] = { "volpath", "bdpt", "sppm", "simplepath" };
     static char buf[4096], text[8192];
     Image ref, im;
     Scene s;
@@ -158,9 +158,9 @@ static void test_film_and_integrator_aliases(T *t)
     square_scene(buf, sizeof buf, "", "", 1.0f);
     snprintf(text, sizeof text, "Integrator \"path\" \"integer maxdepth\" 3\n%s", buf);
     if (!render_text(t, text, 2, &ref)) return;
-    for (i = 0; i < 4; i++) {
+    for (i = 0; i < 5; i++) {
         int same;
-        if (i < 3) snprintf(text, sizeof text, "Integrator \"%s\" \"integer maxdepth\" 3\n%s", integ[i], buf);
+        if (i < 4) snprintf(text, sizeof text, "Integrator \"%s\" \"integer maxdepth\" 3\n%s", integ[i], buf);
         else {
             char g[4096];
             square_scene_film(g, sizeof g, "gbuffer", "", "\"string filename\" \"g.exr\"", 1.0f);
@@ -168,12 +168,12 @@ static void test_film_and_integrator_aliases(T *t)
         }
         CHECK(t, test_load_scene(t, &s, text), "(load)");
         CHECK(t, s.settings.maxdepth == 3 && s.settings.maxdepth_set, "%s: maxdepth not read",
-              i < 3 ? integ[i] : "gbuffer");
+              i < 4 ? integ[i] : "gbuffer");
         scene_free(&s);
         if (!render_text(t, text, 2, &im)) { img_free(&ref); return; }
         same = memcmp(im.rgb, ref.rgb, sizeof(float) * 3 * (size_t)im.w * im.h) == 0;
         img_free(&im);
-        if (!same) { img_free(&ref); CHECK(t, 0, "%s: not the path image", i < 3 ? integ[i] : "gbuffer"); }
+        if (!same) { img_free(&ref); CHECK(t, 0, "%s: not the path image", i < 4 ? integ[i] : "gbuffer"); }
     }
     img_free(&ref);
     CHECK(t, !scene_load_string(&s, "Integrator \"bdpt\" \"string lightsampler\" \"bvh\"\nWorldBegin\n",
@@ -183,6 +183,15 @@ static void test_film_and_integrator_aliases(T *t)
     CHECK(t, !scene_load_string(&s, "Integrator \"bdpt\" \"bool visualizestrategies\" true\nWorldBegin\n",
                                 "t.pbrt", &e) && strstr(e.msg, "visualizestrategies"),
           "bdpt's visualizestrategies accepted: %s", e.msg);
+    scene_free(&s);
+    /* simplepath reads samplelights and samplebsdf (any value: every variant is
+       unbiased), not a lightsampler */
+    CHECK(t, scene_load_string(&s, "Integrator \"simplepath\" \"bool samplelights\" false "
+                               "\"bool samplebsdf\" true\nWorldBegin\n", "t.pbrt", &e), "%s", e.msg);
+    scene_free(&s);
+    CHECK(t, !scene_load_string(&s, "Integrator \"simplepath\" \"string lightsampler\" \"bvh\"\nWorldBegin\n",
+                                "t.pbrt", &e) && strstr(e.msg, "lightsampler"),
+          "simplepath accepted a lightsampler (pbrt-v4 does not read one): %s", e.msg);
     scene_free(&s);
 }
 

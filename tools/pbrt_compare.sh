@@ -1,11 +1,12 @@
 #!/bin/sh
 # tools/pbrt_compare.sh - does a scene mean the same to specnee as to pbrt-v4?
 #
-#   PBRT=/path/to/pbrt sh tools/pbrt_compare.sh [--spp N] [--res WxH] scene.pbrt ...
+#   PBRT=/path/to/pbrt sh tools/pbrt_compare.sh [--spp N] scene.pbrt ...
 #
 # Renders each scene with pbrt-v4 (the oracle: ../shared/tools/build-pbrt-v4.sh
 # builds one; specnee never depends on it) and with specnee, both at N samples per
-# pixel (default 256) and the scene's own resolution or WxH, into PFM files under
+# pixel (default 256) and the scene's own resolution (pbrt-v4 has no flag that
+# changes it: edit a copy of the file to render a big scene smaller), into PFM files under
 # build/compare/, and prints one line per scene:
 #
 #   scene  Y(pbrt)  Y(specnee)  ratio  worst quadrant ratio  status
@@ -21,11 +22,9 @@
 # --outfile names.  Run from the repository root after `make`.
 set -u
 spp=256
-res=""
 while [ $# -gt 0 ]; do
     case "$1" in
         --spp) spp=$2; shift 2 ;;
-        --res) res=$2; shift 2 ;;
         --) shift; break ;;
         -*) echo "pbrt_compare: unknown option $1" >&2; exit 2 ;;
         *) break ;;
@@ -39,8 +38,7 @@ printf '%-40s %12s %12s %8s %8s  %s\n' scene "Y(pbrt)" "Y(specnee)" ratio quadra
 for scene in "$@"; do
     name=$(basename "$scene" .pbrt)
     a="$out/$name-pbrt.pfm"; b="$out/$name-specnee.pfm"
-    ropt=""; [ -n "$res" ] && ropt="--res $res"
-    if ! ./specnee -q --spp "$spp" $ropt -o "$b" "$scene" > "$out/$name-specnee.log" 2>&1; then
+    if ! ./specnee -q --spp "$spp" -o "$b" "$scene" > "$out/$name-specnee.log" 2>&1; then
         printf '%-40s %12s %12s %8s %8s  refused: %s\n' "$name" - - - - \
             "$(grep -v ': note:' "$out/$name-specnee.log" | head -n 1)"
         continue
