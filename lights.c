@@ -102,22 +102,12 @@
       light_select_pmf agree; if it zeroes every emitter NEE is skipped, which is
       unbiased because no emitter can light the point. */
 #include "specnee.h"
-#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
-#include "specnee.h"
-#include <float.h>
-#include <stdlib.h>
-#include <string.h>
-#include <time.h>
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 
 /* ------------------------------------------------------------------ emitters */
 
@@ -655,6 +645,8 @@ static const float *voxel_table(LightSampler *ls, int v)
 }
 
 
+
+/* ------------------------------------------------------------------ pieces of the tree strategies */
 
 /* Sorting by one coordinate, for cluster_mesh's median cuts. */
 typedef struct { float key; int idx; } KeyIdx;

@@ -44,6 +44,8 @@
 #define TREE_SIMD 0
 #endif
 
+/* ------------------------------------------------------------------ nodes */
+
 /* A node of the binary tree that the build makes before it is
    collapsed into 4-wide nodes.  Depth-first order: the first child of an
    interior node i is node i + 1, the second is nodes[i].second. */
@@ -120,6 +122,8 @@ static double tri_area(const Scene *s, int t)
     Vec3 e2 = v3_sub(s->P[tr->v[2]], s->P[tr->v[0]]);
     return 0.5 * (double)v3_len(v3_cross(e1, e2));
 }
+
+/* ------------------------------------------------------------------ bounds: cones, boxes, the split cost */
 
 /* An orientation cone: unit axis w, cos theta_o, cos theta_e. */
 typedef struct { Vec3 w; float cos_o, cos_e; } Cone;
@@ -627,6 +631,8 @@ static void piece_bounds(const LightTreeInput *in, const LightPiece *pc, PieceBo
     out->power = SPECNEE_PI * pc->area * (em->twosided ? 2.0 : 1.0) * sum;
 }
 
+/* ------------------------------------------------------------------ the walk: importance, select, pmf */
+
 /* The context as the tree reads it: point, normal, and the bins that count. */
 typedef struct {
     Vec3 p, n;
@@ -977,7 +983,7 @@ int light_tree_simd_check(const LightTree *lt, const LightCtx *c, int *lanes)
     return bad;
 }
 
-/* ------------------------------------------------------------------ build */
+/* ------------------------------------------------------------------ build, free, size */
 
 LightTree *light_tree_build(const LightTreeInput *in)
 {
