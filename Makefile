@@ -29,7 +29,7 @@ DETECTED != sh tools/ccflags.sh "$(CC)"
 CFLAGS = $(OPT) $(WARN) $(DETECTED)
 LDLIBS = -lm
 
-LIBOBJ = util.o sampler.o bvh.o shapes.o spectrum.o metals.o lights.o infinite.o delta.o texture.o filter.o scene.o ply.o \
+LIBOBJ = util.o sampler.o bvh.o shapes.o spectrum.o metals.o lights.o lighttree.o infinite.o delta.o texture.o filter.o scene.o ply.o \
          material.o conductor.o render.o image.o png.o svg.o eval.o
 TESTOBJ = tests/runner.o tests/fixtures.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
           tests/test_scene.o tests/test_image.o tests/test_material.o \

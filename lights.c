@@ -4,7 +4,8 @@
    emitter_sample, emitter_pdf_sa, emitter_can_reach, light_sampler_build/free,
    light_Le, light_spectrum, light_n_pieces, light_piece_emitter, light_piece_of,
    light_sample, light_pdf_sa, light_voxel, light_select, light_select_pmf,
-   light_sampler_bytes, sel_from_name, sel_name.
+   light_sampler_bytes, sel_from_name, sel_name.  The light tree that the
+   strategies tree and spectral-tree use has its own file, lighttree.c.
 
    1. Emitters.  An emitter is one AreaLightSource shape: a whole mesh, a sphere, or
       another quadric (disk, cylinder, cut sphere: shapes.c, sampled uniformly by area).
@@ -22,7 +23,8 @@
           p_sigma(y) = |x - y|^2 / (A |cos theta_y|).
 
    2. Selection.  light_select picks a piece i (an emitter, or with the light trees
-      a cluster of triangles of a large emissive mesh, section 4) with probability
+      a cluster of at most LIGHT_CLUSTER_TRIS triangles of a large emissive mesh,
+      sampled by area inside the cluster: tree_setup, cluster_mesh) with probability
       P(i | c), where the context c = (point, normal, voxel, wavelengths, alive set)
       is fixed at the vertex and stored by the integrator; light_select_pmf(c, i)
       returns the same number for a piece hit by BSDF sampling (the consistency
@@ -40,9 +42,9 @@
                           is counted once (the thesis' argument for the unit
                           metric, thesis Sec. 2 "Combining PDFs")
         tree              a light BVH (pbrt-v4's BVHLightSampler; Conty Estevez and
-                          Kulla 2018), importance from total power (section 4)
+                          Kulla 2018), importance from total power (lighttree.c)
         spectral-tree     the same tree, importance from the power in the bins of
-                          the alive wavelengths (section 4)
+                          the alive wavelengths (lighttree.c)
       T_i(b) with the unit metric (the default) is the bin average of the emitted
       radiance Le_i, the thesis' "unit emission"; the power metric multiplies it by
       the area (x 2 if two-sided), the thesis' "power".
@@ -77,99 +79,7 @@
       the computation is deterministic.  Cost: 128 n evaluations per voxel touched
       and 2n floats per voxel.
 
-   4. The light tree (Conty Estevez and Kulla, "Importance Sampling of Many Lights
-      with Adaptive Tree Splitting", HPG 2018; pbrt-v4's BVHLightSampler and
-      LightBounds, pbrt book 4th ed. section 12.6.3; written here from the
-      equations).  A tree over the pieces, built once per render as a binary
-      tree and collapsed into a 4-wide one for the walk (below).  Every binary
-      node stores the box of its pieces, an orientation cone (axis w; theta_o,
-      the spread of the emitting normals around w; theta_e = pi/2, how far past
-      a normal a diffuse emitter still emits), a two-sided flag, its radiant power
-      Phi = sum over pieces of pi A (2 if two-sided) int Le, and its power in each
-      5 nm bin of the sampled range (60 bins over 400-700 nm, 94 over 360-830),
-      preceded by the bins from 300 nm up to the sampled range (20 over 300-400,
-      12 over 300-360): a fluorescent vertex moves the path to an excitation
-      wavelength lambda_i < 400 nm (docs/FLUORESCENCE.md section 5), and the thesis'
-      future work is that the spectral table "can be extended to store additional
-      bins" there.  Phi itself stays the power over the sampled range.
-      Importance of a node at a shading point p with normal n:
-          I = Phi_c * cos(theta') * cos(theta_i') / d^2
-      d = distance from p to the box centre; theta_b = the half-angle under
-      which the box's bounding sphere (radius r) is seen from p.  Inside that
-      sphere (theta_b = pi) no angle is bounded and I = Phi_c / max(d, r/4)^2:
-      still 1/d^2, so that of two overlapping nodes the one whose centre is
-      near p is preferred (equal to the outside's value at d = r; the clamp
-      keeps it finite at the centre; before session 7 it was Phi_c / r^2
-      everywhere inside, which on the 1024-lamp hall of tools/bench_lights
-      cost 8% more MSE at equal spp, docs/lighttree.md); theta_w = angle
-      between w and the direction from the centre to p (folded into [0, pi/2]
-      when two-sided);
-      theta' = max(0, theta_w - theta_o - theta_b), and I = 0 when theta' >= theta_e
-      (no emitter below faces p); theta_i' = max(0, theta_i - theta_b) with
-      theta_i the angle between n and the direction to the centre (|cos|: the
-      surface may transmit).  Behind the box: a one-sided node with
-      theta_t = theta_o + theta_e < pi emits only into directions within
-      theta_t of w, so a point with w . p - h <= -sin(theta_t - pi/2)+ (|d| + r),
-      h = min of w . x over its pieces' vertices (behind the plane that
-      bounds them on the side their light cannot reach, by a slack that
-      grows with the spread of their normals), gets I = 0 even inside the
-      bounding sphere, where theta_b = pi bounds nothing (node_behind; a
-      flat group of ceiling lamps seen from the ceiling just above them: on
-      suzanne the MSE of spectral-tree against product at 64 spp went from
-      +5.5% to -7.4%, docs/lighttree.md).  Each bound only overestimates, so a node that can
-      light p never gets 0.  lane_importance computes it without normalising
-      the direction or taking an angle: each cosine is a ratio of dot products
-      and square roots of d, and I = Phi_c (1/d^2) (X/d^2) (Y/d^2) with
-      X = d^2 cos theta', Y = d^2 cos theta_i' (its comment derives them): three
-      square roots and one division.  node_importance4 computes the four
-      children of a 4-wide node side by side with SSE2 (every x86-64 gcc and
-      clang), the same operations in the same order, so the results are the
-      same to the bit (tested); elsewhere (tcc, other processors) it calls
-      lane_importance four times.  Phi_c is the power that counts in the context:
-          tree           Phi (all wavelengths together: pbrt-v4's sampler)
-          spectral-tree  sum over alive j of c_j Phi(bin(lambda_j)), c_j = 1 or the
-                         throughput (--throughput-weighted): the hero's bin alone
-                         after a wavelength-dependent event (a UV bin after a
-                         fluorescent shift), the thesis' spectral preference; symmetric in the alive set, so the spectral MIS
-                         weights stay intact (like --all-wavelengths above).
-      The walk reads a 4-wide tree: the binary tree collapsed so that a node's
-      children are the binary node's grandchildren (a binary child that is a
-      leaf stays one child: 2 to 4 children), breadth first (the upper levels,
-      which every walk reads, lie together), each node's children described in
-      four lanes of one 224-byte record, their bin powers bin-major (the four
-      children's powers in one bin side by side).  Selection walks from the
-      root: at a node with children importances I_0..I_3 it goes to child k
-      with probability I_k / sum I (the path stops when the sum is 0: nothing
-      below can light p), narrows the interval of u that leads to the chosen
-      child and multiplies the probabilities.  A walk makes half the levels
-      of the binary tree's, each at about the cost of one scalar importance.
-      The pmf of a given piece walks the same nodes along the piece's trail
-      (digit d, two bits: the child taken at depth d), calling the same
-      importance function: select and pmf cannot disagree.
-      Build: top-down over the box centroids, LIGHT_TREE_BINS candidate planes per
-      axis scored by the surface-area-orientation cost of both sides,
-          M = Phi * area(box) * M_omega(theta_o, theta_e) * (longest extent / extent on the axis)
-          M_omega = 2 pi (1 - cos theta_o) + pi/2 (2 t sin theta_o - cos(theta_o - 2 t)
-                    - 2 theta_o sin theta_o + cos theta_o),   t = min(theta_o + theta_e, pi)
-      (M_omega is the solid-angle measure of the cone of emitted directions: the
-      integral of cos(theta - theta_o) sin theta from theta_o to t, our derivation).
-      When all centroids coincide, or below depth 32, the middle of the list (in
-      centroid order) is taken: binary depth <= 32 + log2 n <= 63, so the 4-wide
-      depth is at most 32 and a 64-bit trail holds it.  O(n log n) time (n log^2 n
-      for the median fallbacks), 2n - 1 binary nodes, at most n - 1 4-wide ones.
-      Large emissive meshes (more than LIGHT_CLUSTER_TRIS triangles) are split into
-      clusters of at most LIGHT_CLUSTER_TRIS nearby triangles (recursive median cuts
-      of their centroids); each cluster is a leaf with its own box, cone and area,
-      and the mesh's spectrum.  A point is then sampled by area inside the chosen
-      cluster, so p_sigma uses the cluster's area.
-      Infinite lights have no position, so they are not in the tree: as in
-      pbrt-v4's BVHLightSampler, each of the n_inf infinite lights is chosen with
-      probability 1 / (n_inf + 1) and the tree with the rest; the pmf of a tree
-      piece is that share times its branch probabilities.  Where the tree cannot
-      light p (no piece, or the root's importance is 0) the infinite lights share
-      everything, 1 / n_inf each.
-
-   5. Which side an emitter lights (emitter_can_reach).  The voxel table is an
+   4. Which side an emitter lights (emitter_can_reach).  The voxel table is an
       average over receivers spread through the whole voxel, so a voxel cut by a
       one-sided emitter credits it with the light its front receivers get - also
       at shading points behind it or on it (the emitter's own back face, lit by
@@ -192,22 +102,11 @@
       light_select_pmf agree; if it zeroes every emitter NEE is skipped, which is
       unbiased because no emitter can light the point. */
 #include "specnee.h"
-#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #ifdef _OPENMP
 #include <omp.h>
-#endif
-/* The light tree evaluates a node's four children at once with SSE2 where the
-   compiler offers it (every x86-64 gcc and clang); elsewhere (tcc, other
-   processors, or -DSPECNEE_NO_SIMD) with the scalar code it mirrors, to the bit
-   (section 4; the test lighttree_simd_matches_scalar). */
-#if defined(__SSE2__) && !defined(__TINYC__) && !defined(SPECNEE_NO_SIMD)
-#define TREE_SIMD 1
-#include <emmintrin.h>
-#else
-#define TREE_SIMD 0
 #endif
 
 /* ------------------------------------------------------------------ emitters */
@@ -220,7 +119,7 @@ static double tri_area(const Scene *s, int t)
     return 0.5 * (double)v3_len(v3_cross(e1, e2));
 }
 
-/* The planes of a small emitter mesh, for emitter_can_reach (section 5): per
+/* The planes of a small emitter mesh, for emitter_can_reach (section 4): per
    triangle its unit normal with the orientation scene_surface_point gives it, and
    the offset d = n . v0.  With shading normals (which decide the orientation at a
    point) that disagree with a triangle's normal the mesh gets no planes. */
@@ -549,25 +448,11 @@ float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n)
 
 /* ------------------------------------------------------------------ the sampler */
 
-/* A piece: what NEE chooses.  A whole emitter (count == 0, sampled by
-   emitter_sample), or a cluster of triangles of a split mesh. */
-typedef struct {
-    int emitter;
-    int first, count;          /* triangles ls->piece_tri[first .. first + count) */
-    double area;
-    uint64_t trail;            /* light trees: bit d = 1 if the path to the leaf takes
-                                  the second child at depth d */
-    int depth;                 /* number of branches from the root to the leaf */
-    /* a whole mesh emitter (count == 0): what sample_mesh reads, copied here so
-       that NEE does not read the scene's Emitter (2 KB, mostly its spectrum) and
-       Shape for every sample (a cache miss each with many emitters); NULL:
-       spheres and infinite lights, sampled by emitter_sample */
-    const float *tri_cdf;
-    int tri_begin, tri_count;
-} Piece;
+/* A piece (LightPiece, specnee.h section 11) is what NEE chooses: a whole emitter
+   (count == 0, sampled by emitter_sample), or a cluster of triangles of a split mesh. */
 
 /* Piece pc is the whole emitter e. */
-static void piece_whole(const Scene *s, Piece *pc, int e)
+static void piece_whole(const Scene *s, LightPiece *pc, int e)
 {
     const Emitter *em = &s->emitters[e];
     pc->emitter = e;
@@ -578,36 +463,6 @@ static void piece_whole(const Scene *s, Piece *pc, int e)
         pc->tri_count = s->shapes[em->shape].tri_count;
     }
 }
-
-/* A node of the binary tree that the build makes (section 4), before it is
-   collapsed into 4-wide nodes.  Depth-first order: the first child of an
-   interior node i is node i + 1, the second is nodes[i].second. */
-typedef struct {
-    float c[3], r;             /* centre and radius of the box's bounding sphere */
-    float axis[3];             /* orientation cone: unit axis w ... */
-    float cos_o, sin_o, cos_e; /* ... theta_o, cos theta_e (cos_o = -1: every direction) */
-    float power;               /* radiant power over the sampled range */
-    float behind, slack;       /* nothing below lights p when (p - c) . axis <=
-                                  behind - slack L (p behind the plane that bounds the
-                                  box on the side its light cannot reach); behind =
-                                  -inf where there is no such plane (node_behind) */
-    int32_t second;            /* interior: index of the second child; leaf: -1 - piece */
-    int32_t twosided;
-} TreeNode;
-
-/* A node of the light tree that the walk reads (section 4): up to four
-   children, each described in one lane of these arrays (structure of arrays,
-   so that the four importances are computed side by side).  A lane that holds
-   no child has power 0, so its importance is 0 and it is never taken. */
-typedef struct {
-    float cx[4], cy[4], cz[4], r[4];   /* each child's bounding sphere */
-    float ax[4], ay[4], az[4];         /* its orientation cone: unit axis w ... */
-    float cos_o[4], sin_o[4];          /* ... theta_o ... */
-    float cos_e[4];                    /* ... and cos theta_e */
-    float behind[4], slack[4];         /* TreeNode.behind and .slack */
-    int32_t twosided[4];
-    int32_t child[4];                  /* >= 0: a node; < 0: -1 - piece */
-} TreeNode4;                           /* 224 bytes */
 
 /* Per emitter, the little that every emitter hit and NEE sample reads (light_Le):
    its radiance's index in LightSampler.Le, and how it emits. */
@@ -634,38 +489,14 @@ struct LightSampler {
                                   thesis' 60 bins over 400-700 nm */
     float *Y;                  /* luminance (= scale) per emitter (T and Y: only the
                                   strategies of context_weights, uses_grid) */
-    /* pieces (section 4): without splitting piece i is emitter i */
+    /* pieces: without splitting piece i is emitter i */
     int n_pieces;
-    Piece *pieces;
+    LightPiece *pieces;
     int *emitter_piece;        /* per emitter: its piece, -1 when split */
     int *piece_tri;            /* triangles of the split meshes' clusters */
     float *piece_cdf;          /* parallel: cumulative area fraction within the cluster */
     int *piece_of_tri;         /* per scene triangle: its cluster, -1 (NULL: no splits) */
-    /* light tree */
-    int n_inf;                 /* infinite lights: chosen beside the tree (section 4) */
-    int *inf_piece;            /* their pieces */
-    int n_tree_pieces;         /* pieces in the tree (0: no tree) */
-    TreeNode *nodes;           /* the binary tree (while building) */
-    int n_nodes;
-    TreeNode4 *nodes4;         /* the 4-wide tree: node 0 is the root (64-byte aligned
-                                  inside nodes4_mem) */
-    void *nodes4_mem;
-    int n_nodes4;
-    float *quad_power;         /* n_nodes4 x 4: the radiant power of node i's children
-                                  over the sampled range (tree) */
-    TreeNode4 top;             /* lane 0: the bounds of everything (tree_live) */
-    float top_power;           /* and their power */
-    int nb;                    /* bins per node (5 nm each): nb_uv below the sampled
-                                  range, from 300 nm, then those of the range */
-    int nb_uv;                 /* bins over [lo_nm - 5 nb_uv, lo_nm): 20 for 400-700 nm,
-                                  12 for 360-830 (fluorescence excitation, section 4) */
-    float *node_bin;           /* n_nodes x nb: power per bin (while building) */
-    float *quad_bin;           /* nb x n_nodes4 x 4: for bin b and node i, the power of
-                                  node i's four children side by side (bin-major: the
-                                  entries of one bin, which a walk reads, lie together) */
-    float *root_bin;           /* nb: the root's power per bin */
-    float behind_margin;       /* 1e-5 (1 + the scene's largest |coordinate|): what
-                                  TreeNode.behind gives away for round-off */
+    LightTree *tree;           /* the tree strategies: the light tree (lighttree.c) */
     /* spatial grid */
     int res[3];
     Vec3 bmin, bmax;
@@ -704,10 +535,6 @@ SelStrategy sel_from_name(const char *name)
 }
 
 static int is_tree(SelStrategy st) { return st == SEL_TREE || st == SEL_SPECTRAL_TREE; }
-
-/* Lights without a position - infinite and distant lights - stand beside the
-   light tree, each with a share of its own (section 4). */
-static int beside_tree(const Emitter *em) { return em->inf || em->delta.type == DELTA_DISTANT; }
 
 static int uses_grid(SelStrategy st)
 {
@@ -818,119 +645,10 @@ static const float *voxel_table(LightSampler *ls, int v)
 }
 
 
-/* ------------------------------------------------------------------ light tree */
 
-/* An orientation cone: unit axis w, cos theta_o, cos theta_e. */
-typedef struct { Vec3 w; float cos_o, cos_e; } Cone;
+/* ------------------------------------------------------------------ pieces of the tree strategies */
 
-static Cone cone_full(float cos_e)
-{
-    Cone c;
-    c.w = v3(0.0f, 0.0f, 1.0f);
-    c.cos_o = -1.0f;
-    c.cos_e = cos_e;
-    return c;
-}
-
-/* The smallest cone holding both a and b (the cone of normals; theta_e: the
-   larger of the two).  Where the two axes are opposite, the whole sphere. */
-static Cone cone_union(Cone a, Cone b)
-{
-    double ta, tb, td, to, rot, len, cd;
-    Vec3 perp;
-    Cone c;
-    float cos_e = fminf(a.cos_e, b.cos_e);
-    if (a.cos_o <= -1.0f || b.cos_o <= -1.0f) return cone_full(cos_e);
-    ta = acos(a.cos_o);
-    tb = acos(b.cos_o);
-    cd = v3_dot(a.w, b.w);
-    td = acos(cd > 1.0 ? 1.0 : cd < -1.0 ? -1.0 : cd);
-    if (td + tb <= ta) { a.cos_e = cos_e; return a; }          /* b inside a */
-    if (td + ta <= tb) { b.cos_e = cos_e; return b; }          /* a inside b */
-    to = 0.5 * (ta + td + tb);
-    if (to >= SPECNEE_PI) return cone_full(cos_e);
-    /* turn a's axis towards b's by to - ta, in the plane of the two axes */
-    perp = v3_sub(b.w, v3_mul(a.w, (float)cd));
-    len = v3_len(perp);
-    if (!(len > 1e-7)) return cone_full(cos_e);
-    rot = to - ta;
-    c.w = v3_norm(v3_add(v3_mul(a.w, (float)cos(rot)), v3_mul(perp, (float)(sin(rot) / len))));
-    c.cos_o = (float)cos(to);
-    c.cos_e = cos_e;
-    return c;
-}
-
-/* Solid-angle measure of the directions a cone emits into (section 4). */
-static double cone_measure(const Cone *c)
-{
-    double to = acos(c->cos_o < -1.0f ? -1.0 : c->cos_o > 1.0f ? 1.0 : c->cos_o);
-    double te = acos(c->cos_e < -1.0f ? -1.0 : c->cos_e > 1.0f ? 1.0 : c->cos_e);
-    double t = to + te < SPECNEE_PI ? to + te : SPECNEE_PI;
-    double so = sin(to);
-    return 2.0 * SPECNEE_PI * (1.0 - cos(to)) +
-           0.5 * SPECNEE_PI * (2.0 * t * so - cos(to - 2.0 * t) - 2.0 * to * so + cos(to));
-}
-
-/* What the build knows of each piece. */
-typedef struct {
-    Vec3 bmin, bmax, centroid;
-    Cone cone;
-    int twosided;
-    double power;
-} PieceBounds;
-
-/* The bounds of a set of pieces, accumulated one at a time. */
-typedef struct {
-    Vec3 bmin, bmax;
-    Cone cone;
-    int twosided, any;
-    double power;
-} Acc;
-
-static void acc_init(Acc *a) { memset(a, 0, sizeof *a); }
-
-static void acc_add(Acc *a, const PieceBounds *b)
-{
-    if (!a->any) {
-        a->bmin = b->bmin; a->bmax = b->bmax; a->cone = b->cone;
-        a->twosided = b->twosided; a->power = b->power; a->any = 1;
-        return;
-    }
-    a->bmin = v3_min(a->bmin, b->bmin);
-    a->bmax = v3_max(a->bmax, b->bmax);
-    a->cone = cone_union(a->cone, b->cone);
-    a->twosided |= b->twosided;
-    a->power += b->power;
-}
-
-static void acc_merge(Acc *a, const Acc *b)
-{
-    PieceBounds pb;
-    if (!b->any) return;
-    pb.bmin = b->bmin; pb.bmax = b->bmax; pb.cone = b->cone;
-    pb.twosided = b->twosided; pb.power = b->power;
-    acc_add(a, &pb);
-}
-
-/* cone_measure of the last cone asked (a build evaluates the same cone over
-   and over: lamps that face one way), so that its trigonometry runs once. */
-typedef struct { float cos_o, cos_e; double m; int valid; } MeasureMemo;
-
-/* The split cost of one side: Phi * area(box) * M_omega (section 4). */
-static double acc_cost(const Acc *a, MeasureMemo *memo)
-{
-    Vec3 d;
-    if (!a->any) return 0.0;
-    d = v3_sub(a->bmax, a->bmin);
-    if (!memo->valid || memo->cos_o != a->cone.cos_o || memo->cos_e != a->cone.cos_e) {
-        memo->cos_o = a->cone.cos_o;
-        memo->cos_e = a->cone.cos_e;
-        memo->m = cone_measure(&a->cone);
-        memo->valid = 1;
-    }
-    return a->power * 2.0 * ((double)d.x * d.y + (double)d.y * d.z + (double)d.z * d.x) * memo->m;
-}
-
+/* Sorting by one coordinate, for cluster_mesh's median cuts. */
 typedef struct { float key; int idx; } KeyIdx;
 
 static int cmp_key(const void *pa, const void *pb)
@@ -950,289 +668,9 @@ static void sort_by_axis(int *items, int n, const Vec3 *pts, int axis, KeyIdx *t
     for (i = 0; i < n; i++) items[i] = tmp[i].idx;
 }
 
-typedef struct {
-    LightSampler *ls;
-    const PieceBounds *pb;
-    Vec3 *centroids;
-    KeyIdx *tmp;
-    double *le_avg;            /* per distinct radiance (LightSampler.Le), its nb bin
-                                  averages: computed once, not once per piece */
-    MeasureMemo memo;
-} Builder;
-
 static int longest_axis(Vec3 d)
 {
     return d.x >= d.y && d.x >= d.z ? 0 : d.y >= d.z ? 1 : 2;
-}
-
-/* The scene triangle that is triangle j (0 <= j < piece_tri_count) of piece pc,
-   a mesh piece whose emitter's shape is sh. */
-static int piece_tri_count(const Piece *pc, const Shape *sh) { return pc->count ? pc->count : sh->tri_count; }
-static int piece_triangle(const LightSampler *ls, const Piece *pc, const Shape *sh, int j)
-{
-    return pc->count ? ls->piece_tri[pc->first + j] : sh->tri_begin + j;
-}
-
-/* TreeNode.behind and .slack of a node with bounds a (section 4, "behind the
-   box").  Every emitted direction omega of the node lies within theta_t =
-   theta_o + theta_e of its axis w.  Light from a point x of the box reaches p
-   only along omega = (p - x) / |p - x|, so only if
-       w . (p - x) > cos(theta_t) |p - x| = -sin(delta) |p - x|,
-   delta = theta_t - pi/2 (slack = sin(delta), 0 where theta_t <= pi/2; no
-   plane at all where theta_t >= pi, where sin(delta) would shrink again, or
-   for two-sided nodes).  With h = min of w . x over the vertices of the
-   pieces' triangles (every emitting point is a convex combination of them;
-   the box's corners would put the plane far behind a tilted panel),
-   w . (p - x) <= w . p - h, and |p - x| <= |d| + r (d = p - c), so nothing
-   below lights p when
-       w . p - h <= -slack (|d| + r),
-   i.e. in the walk's terms d . w <= behind - slack L, behind = h - w . c,
-   L = sqrt(|d|^2 - r^2) + 2 r >= |d| + r outside the bounding sphere and
-   L = 2 r >= |d| + r inside it.  The margin (behind_margin, larger than the
-   round-off of d . w for points in the scene) and rounding behind down and
-   slack up keep the float test on the safe side. */
-static float node_behind(const LightSampler *ls, const int *items, int n, const Acc *a, const TreeNode *nd,
-                         float *slack)
-{
-    const Scene *s = ls->scene;
-    double h = INFINITY, wc = 0.0, w[3], v, t;
-    float f;
-    int i, j, k;
-    *slack = 0.0f;
-    if (a->twosided || a->cone.cos_o <= -1.0f) return -INFINITY;
-    t = acos((double)a->cone.cos_o) + acos((double)a->cone.cos_e);
-    if (!(t < SPECNEE_PI)) return -INFINITY;
-    if (t > 0.5 * SPECNEE_PI) {
-        double sd = sin(t - 0.5 * SPECNEE_PI);
-        *slack = (float)sd;
-        if ((double)*slack < sd) *slack = nextafterf(*slack, INFINITY);
-    }
-    for (k = 0; k < 3; k++) {
-        w[k] = nd->axis[k];
-        wc += w[k] * nd->c[k];
-    }
-    for (i = 0; i < n; i++) {
-        const Piece *pc = &ls->pieces[items[i]];
-        const Emitter *em = &s->emitters[pc->emitter];
-        const Shape *sh;
-        if (em->shape < 0) {                            /* a spot light: its one point */
-            const Vec3 x = em->delta.p;
-            double d = w[0] * x.x + w[1] * x.y + w[2] * x.z;
-            if (d < h) h = d;                           /* (its only "vertex") */
-            continue;
-        }
-        sh = &s->shapes[em->shape];
-        if (sh->type != SHAPE_MESH) return -INFINITY;   /* (a sphere's cone is full anyway) */
-        for (j = 0; j < piece_tri_count(pc, sh); j++) {
-            const Triangle *tr = &s->tris[piece_triangle(ls, pc, sh, j)];
-            for (k = 0; k < 3; k++) {
-                const Vec3 x = s->P[tr->v[k]];
-                double d = w[0] * x.x + w[1] * x.y + w[2] * x.z;
-                if (d < h) h = d;
-            }
-        }
-    }
-    v = h - wc - ls->behind_margin;
-    f = (float)v;
-    if ((double)f > v) f = nextafterf(f, -INFINITY);
-    return f;
-}
-
-/* Build the binary subtree over items[0..n) at `depth`; returns its node
-   index.  Recursion depth <= 64 (section 4). */
-static int tree_build(Builder *B, int *items, int n, int depth)
-{
-    LightSampler *ls = B->ls;
-    int node = ls->n_nodes++, i, b, mid = -1;
-    TreeNode *nd = &ls->nodes[node];
-    Acc all;
-    Vec3 cmin, cmax, cext;
-    acc_init(&all);
-    for (i = 0; i < n; i++) acc_add(&all, &B->pb[items[i]]);
-    {
-        Vec3 c = v3_mul(v3_add(all.bmin, all.bmax), 0.5f), half = v3_mul(v3_sub(all.bmax, all.bmin), 0.5f);
-        nd->c[0] = c.x; nd->c[1] = c.y; nd->c[2] = c.z;
-        nd->r = v3_len(half);
-    }
-    nd->axis[0] = all.cone.w.x; nd->axis[1] = all.cone.w.y; nd->axis[2] = all.cone.w.z;
-    nd->cos_o = all.cone.cos_o;
-    nd->sin_o = sqrtf(fmaxf(0.0f, 1.0f - nd->cos_o * nd->cos_o));
-    nd->cos_e = all.cone.cos_e;
-    nd->twosided = all.twosided;
-    nd->behind = node_behind(ls, items, n, &all, nd, &nd->slack);
-    if (n == 1) {
-        Piece *pc = &ls->pieces[items[0]];
-        double sum = 0.0;
-        nd->second = -1 - items[0];
-        /* power per bin: pi A (2 if two-sided) times the bin average of Le; the
-           power Phi sums the bins of the sampled range only (b >= nb_uv) */
-        for (b = 0; b < ls->nb; b++) {
-            double avg = B->le_avg[(size_t)ls->ref[pc->emitter].le * ls->nb + b];
-            float v = (float)(SPECNEE_PI * pc->area * (ls->scene->emitters[pc->emitter].twosided ? 2.0 : 1.0) * avg);
-            ls->node_bin[(size_t)node * ls->nb + b] = v;
-            if (b >= ls->nb_uv) sum += (double)v * SPD_BIN_NM;
-        }
-        nd->power = (float)sum;
-        return node;
-    }
-    cmin = cmax = B->centroids[items[0]];
-    for (i = 1; i < n; i++) {
-        cmin = v3_min(cmin, B->centroids[items[i]]);
-        cmax = v3_max(cmax, B->centroids[items[i]]);
-    }
-    cext = v3_sub(cmax, cmin);
-    if (depth < 32 && (cext.x > 0.0f || cext.y > 0.0f || cext.z > 0.0f)) {
-        /* binned surface-area-orientation heuristic */
-        double best = INFINITY;
-        int best_axis = -1, best_plane = -1, a;
-        Vec3 ext = v3_sub(all.bmax, all.bmin);
-        float emax = fmaxf(ext.x, fmaxf(ext.y, ext.z));
-        for (a = 0; a < 3; a++) {
-            Acc bins[LIGHT_TREE_BINS], left[LIGHT_TREE_BINS];
-            float lo = v3_get(cmin, a), w = v3_get(cext, a), ea = v3_get(ext, a);
-            double kr;
-            Acc right;
-            if (!(w > 0.0f)) continue;
-            kr = ea > 0.0f ? (double)emax / ea : 1.0;
-            for (b = 0; b < LIGHT_TREE_BINS; b++) acc_init(&bins[b]);
-            for (i = 0; i < n; i++) {
-                int k = (int)((v3_get(B->centroids[items[i]], a) - lo) / w * LIGHT_TREE_BINS);
-                if (k < 0) k = 0;
-                if (k >= LIGHT_TREE_BINS) k = LIGHT_TREE_BINS - 1;
-                acc_add(&bins[k], &B->pb[items[i]]);
-            }
-            acc_init(&left[0]);
-            acc_merge(&left[0], &bins[0]);
-            for (b = 1; b < LIGHT_TREE_BINS; b++) { left[b] = left[b - 1]; acc_merge(&left[b], &bins[b]); }
-            acc_init(&right);
-            for (b = LIGHT_TREE_BINS - 1; b >= 1; b--) {
-                double cost;
-                acc_merge(&right, &bins[b]);
-                /* plane between bin b - 1 and bin b */
-                if (!left[b - 1].any || !right.any) continue;
-                cost = kr * (acc_cost(&left[b - 1], &B->memo) + acc_cost(&right, &B->memo));
-                if (cost < best) { best = cost; best_axis = a; best_plane = b; }
-            }
-        }
-        if (best_axis >= 0) {
-            /* partition in place: bin < best_plane first */
-            float lo = v3_get(cmin, best_axis), w = v3_get(cext, best_axis);
-            int l = 0, r = n - 1;
-            while (l <= r) {
-                int k = (int)((v3_get(B->centroids[items[l]], best_axis) - lo) / w * LIGHT_TREE_BINS);
-                if (k < 0) k = 0;
-                if (k >= LIGHT_TREE_BINS) k = LIGHT_TREE_BINS - 1;
-                if (k < best_plane) l++;
-                else { int t = items[l]; items[l] = items[r]; items[r] = t; r--; }
-            }
-            if (l > 0 && l < n) mid = l;
-        }
-    }
-    if (mid < 0) {
-        /* all centroids coincide, or deep: the middle of the list in centroid order */
-        if (cext.x > 0.0f || cext.y > 0.0f || cext.z > 0.0f)
-            sort_by_axis(items, n, B->centroids, longest_axis(cext), B->tmp);
-        mid = n / 2;
-    }
-    tree_build(B, items, mid, depth + 1);
-    nd = &ls->nodes[node];
-    nd->second = tree_build(B, items + mid, n - mid, depth + 1);
-    {
-        const TreeNode *c0 = &ls->nodes[node + 1], *c1 = &ls->nodes[nd->second];
-        size_t o = (size_t)node * ls->nb, o0 = (size_t)(node + 1) * ls->nb, o1 = (size_t)nd->second * ls->nb;
-        for (b = 0; b < ls->nb; b++) ls->node_bin[o + b] = ls->node_bin[o0 + b] + ls->node_bin[o1 + b];
-        nd->power = c0->power + c1->power;
-    }
-    return node;
-}
-
-/* Lane k of the 4-wide node q describes the binary node b. */
-static void lane_from(TreeNode4 *q, int k, const TreeNode *b)
-{
-    q->cx[k] = b->c[0]; q->cy[k] = b->c[1]; q->cz[k] = b->c[2]; q->r[k] = b->r;
-    q->ax[k] = b->axis[0]; q->ay[k] = b->axis[1]; q->az[k] = b->axis[2];
-    q->cos_o[k] = b->cos_o;
-    q->sin_o[k] = b->sin_o;
-    q->cos_e[k] = b->cos_e;
-    q->behind[k] = b->behind;
-    q->slack[k] = b->slack;
-    q->twosided[k] = b->twosided;
-}
-
-/* The lanes of the 4-wide node that stands for the binary interior node i: its
-   two children, each replaced by its own two children where it has them
-   (2 to 4 lanes).  Returns how many. */
-static int grandchildren(const TreeNode *bn, int i, int g[4])
-{
-    int kids[2], s, m = 0;
-    kids[0] = i + 1;
-    kids[1] = bn[i].second;
-    for (s = 0; s < 2; s++) {
-        if (bn[kids[s]].second < 0) g[m++] = kids[s];
-        else { g[m++] = kids[s] + 1; g[m++] = bn[kids[s]].second; }
-    }
-    return m;
-}
-
-/* A 4-wide node still to be filled: its lanes are the binary nodes
-   slots[0..m), at 4-wide depth `depth`, reached along `trail`. */
-typedef struct {
-    int slots[4], m, depth;
-    uint64_t trail;
-} Pending;
-
-/* Collapse the binary tree into the 4-wide one (section 4), breadth first
-   (the upper levels, which every walk reads, lie together in memory).  The
-   root's lanes are root[0..m).  Each piece gets its trail (digit d, bits 2d
-   and 2d + 1: the lane taken at depth d) and its depth.  Every level takes
-   two binary levels (or ends at a leaf), so depth <= 32 and 64 bits hold the
-   trail.  queue: room for every node (ls->n_nodes4, counted by count4). */
-static void tree_collapse(LightSampler *ls, const int *root, int m, Pending *queue)
-{
-    const TreeNode *bn = ls->nodes;
-    int head = 0, tail = 1, k, b;
-    memcpy(queue[0].slots, root, sizeof(int) * (size_t)m);
-    queue[0].m = m;
-    queue[0].depth = 0;
-    queue[0].trail = 0;
-    for (head = 0; head < tail; head++) {
-        const Pending *pd = &queue[head];
-        TreeNode4 *nd = &ls->nodes4[head];
-        float *col = ls->quad_bin + (size_t)head * 4;   /* bin b: col[4 n_nodes4 b] */
-        for (k = 0; k < pd->m; k++) {                /* lanes m..3 stay 0: no power */
-            const TreeNode *c = &bn[pd->slots[k]];
-            uint64_t t = pd->trail | ((uint64_t)k << (2 * pd->depth));
-            lane_from(nd, k, c);
-            ls->quad_power[(size_t)head * 4 + k] = c->power;
-            for (b = 0; b < ls->nb; b++)
-                col[(size_t)4 * ls->n_nodes4 * b + k] = ls->node_bin[(size_t)pd->slots[k] * ls->nb + b];
-            if (c->second < 0) {
-                Piece *pc = &ls->pieces[-1 - c->second];
-                pc->trail = t;
-                pc->depth = pd->depth + 1;
-                nd->child[k] = c->second;
-            } else {
-                Pending *q = &queue[tail];
-                q->m = grandchildren(bn, pd->slots[k], q->slots);
-                q->depth = pd->depth + 1;
-                q->trail = t;
-                nd->child[k] = tail++;
-            }
-        }
-    }
-}
-
-/* How many 4-wide nodes the collapse makes of the binary subtree whose
-   grandchildren g[0..m) are a 4-wide node's lanes. */
-static int count4(const TreeNode *bn, const int *g, int m)
-{
-    int k, n = 1;
-    for (k = 0; k < m; k++)
-        if (bn[g[k]].second >= 0) {
-            int gg[4], mm = grandchildren(bn, g[k], gg);
-            n += count4(bn, gg, mm);
-        }
-    return n;
 }
 
 /* Split mesh emitter e's triangles tris[0..n) into clusters of at most
@@ -1249,7 +687,7 @@ static void cluster_mesh(LightSampler *ls, int e, int *tris, int n, const Vec3 *
         cluster_mesh(ls, e, tris, mid, tri_c, tmp, next_tri);
         cluster_mesh(ls, e, tris + mid, n - mid, tri_c, tmp, next_tri);
     } else {
-        Piece *pc = &ls->pieces[ls->n_pieces];
+        LightPiece *pc = &ls->pieces[ls->n_pieces];
         double acc = 0.0;
         int i;
         pc->emitter = e;
@@ -1271,459 +709,20 @@ static void cluster_mesh(LightSampler *ls, int e, int *tris, int n, const Vec3 *
     }
 }
 
-/* The oriented geometric normal of triangle t, as scene_surface_point sees it. */
-static Vec3 tri_normal(const Scene *s, int t)
-{
-    const Triangle *tr = &s->tris[t];
-    Vec3 p0 = s->P[tr->v[0]], p1 = s->P[tr->v[1]], p2 = s->P[tr->v[2]];
-    Vec3 n = v3_norm(v3_cross(v3_sub(p0, p2), v3_sub(p1, p2)));
-    return s->shapes[tr->shape].flip ? v3_neg(n) : n;
-}
 
-/* Box, cone and power of a piece. */
-static void piece_bounds(const LightSampler *ls, const Piece *pc, PieceBounds *out)
-{
-    const Scene *s = ls->scene;
-    const Emitter *em = &s->emitters[pc->emitter];
-    const Shape *sh = em->shape >= 0 ? &s->shapes[em->shape] : NULL;
-    double sum = 0.0;
-    int b;
-    out->twosided = em->twosided;
-    if (!sh) {
-        /* a point or spot light (delta.c): a box that is one point; a point light
-           emits every way (theta_o = pi, theta_e = pi/2, as pbrt-v4's bounds), a
-           spot light within theta_o = its full-intensity cone and theta_e = the
-           falloff band beyond it (every direction when its CTM stretches the
-           cone out of round).  A band of less than a milliradian is widened
-           to one: "I = 0 when theta' >= theta_e" must not cut off a point just
-           inside the cone by round-off (pbrt-v4 keeps a similar slop) */
-        const DeltaLight *d = &em->delta;
-        out->bmin = out->bmax = d->p;
-        if (d->type == DELTA_SPOT && !d->stretched) {
-            double to = acos(fmax(-1.0, fmin(1.0, (double)d->cos_start)));
-            double te = acos(fmax(-1.0, fmin(1.0, (double)d->cos_end))) - to;
-            out->cone.w = d->w;
-            out->cone.cos_o = d->cos_start;
-            out->cone.cos_e = (float)cos(te > 1e-3 ? te : 1e-3);
-        } else {
-            out->cone = cone_full(0.0f);
-        }
-    } else if (sh->type == SHAPE_SPHERE) {
-        Vec3 r = v3(sh->radius, sh->radius, sh->radius);
-        out->bmin = v3_sub(sh->center, r);
-        out->bmax = v3_add(sh->center, r);
-        out->cone = cone_full(0.0f);
-    } else if (shape_is_quadric(sh->type)) {
-        float lo[3], hi[3];
-        quadric_bounds(sh, lo, hi);
-        out->bmin = v3(lo[0], lo[1], lo[2]);
-        out->bmax = v3(hi[0], hi[1], hi[2]);
-        if (sh->type == SHAPE_DISK) {              /* one normal: a cone of angle 0 */
-            Vec3 p;
-            quadric_sample(sh, 0.0f, 0.0f, &p, &out->cone.w);
-            out->cone.cos_o = 1.0f;
-            out->cone.cos_e = 0.0f;
-        } else {
-            out->cone = cone_full(0.0f);           /* cylinder, cut sphere: every way */
-        }
-    } else {
-        int count = piece_tri_count(pc, sh), i, k;
-        Vec3 nsum = v3(0, 0, 0);
-        float cos_o = 1.0f;
-        for (i = 0; i < count; i++) {
-            int t = piece_triangle(ls, pc, sh, i);
-            const Triangle *tr = &s->tris[t];
-            for (k = 0; k < 3; k++) {
-                Vec3 p = s->P[tr->v[k]];
-                if (i == 0 && k == 0) out->bmin = out->bmax = p;
-                out->bmin = v3_min(out->bmin, p);
-                out->bmax = v3_max(out->bmax, p);
-            }
-            nsum = v3_add(nsum, v3_mul(tri_normal(s, t), (float)tri_area(s, t)));
-        }
-        if (sh->has_normals || !(v3_len(nsum) > 0.0f)) {
-            out->cone = cone_full(0.0f);   /* shading normals may flip a point's side */
-        } else {
-            out->cone.w = v3_norm(nsum);
-            for (i = 0; i < count; i++) {
-                int t = piece_triangle(ls, pc, sh, i);
-                if (tri_area(s, t) > 0.0) cos_o = fminf(cos_o, v3_dot(out->cone.w, tri_normal(s, t)));
-            }
-            out->cone.cos_o = fmaxf(-1.0f, fminf(1.0f, cos_o));
-            out->cone.cos_e = 0.0f;
-        }
-    }
-    out->centroid = v3_mul(v3_add(out->bmin, out->bmax), 0.5f);
-    for (b = 0; b < SPD_BINS; b++) sum += ls->bin[(size_t)pc->emitter * SPD_BINS + b];
-    out->power = SPECNEE_PI * pc->area * (em->twosided ? 2.0 : 1.0) * sum;
-}
-
-/* The context as the tree reads it: point, normal, and the bins that count. */
-typedef struct {
-    Vec3 p, n;
-    int has_n;
-    int spectral, nbins;
-    int bin[HERO_N];
-    float c[HERO_N];
-} TreeQuery;
-
-static void tree_query(const LightSampler *ls, const LightCtx *c, TreeQuery *q)
-{
-    int j;
-    q->p = c->p;
-    q->n = c->n;
-    q->has_n = v3_dot(c->n, c->n) > 0.0f;
-    q->spectral = ls->opt.strategy == SEL_SPECTRAL_TREE;
-    q->nbins = 0;
-    if (!q->spectral) return;
-    for (j = 0; j < HERO_N; j++) {
-        float cj = ls->opt.throughput_weighted ? c->beta[j] : 1.0f;
-        float x = (c->lambda[j] - ls->opt.lo_nm) / SPD_BIN_NM;
-        int b;
-        if (!(c->alive & (1u << j)) || !(cj > 0.0f)) continue;
-        if (x >= 0.0f) {
-            b = ls->nb_uv + (int)x;                  /* the sampled range */
-        } else {                                     /* below it: a UV bin, from 300 nm */
-            float xu = (c->lambda[j] - (ls->opt.lo_nm - SPD_BIN_NM * ls->nb_uv)) / SPD_BIN_NM;
-            b = xu >= 0.0f ? (int)xu : 0;            /* also catches NaN */
-            if (b >= ls->nb_uv) b = ls->nb_uv - 1;
-        }
-        if (b >= ls->nb) b = ls->nb - 1;
-        q->bin[q->nbins] = b;
-        q->c[q->nbins] = cj;
-        q->nbins++;
-    }
-}
-
-/* max(x, 0) without libm's fmaxf (a call per use in this, the hottest loop of the
-   tree; a NaN gives 0 as fmaxf(0, NaN) does). */
-static float pos_or_zero(float x) { return x > 0.0f ? x : 0.0f; }
-
-/* The power that counts at the query (section 4): sum over the query's bins of
-   c_j times the power in bin b_j, read from bins[stride * b_j]. */
-static float query_power(const TreeQuery *q, const float *bins, int stride)
-{
-    float phi = 0.0f;
-    int k;
-    for (k = 0; k < q->nbins; k++) phi += q->c[k] * bins[stride * q->bin[k]];
-    return phi;
-}
-
-/* Inside a node's bounding sphere the walk divides by |d|^2, but by no less
-   than (r/4)^2 = TREE_INSIDE r^2 (section 4; 1/4 measured: 1/2 to 1/10 gave
-   the same MSE within 0.5% on the hall and many-lamps, docs/lighttree.md). */
-#define TREE_INSIDE 0.0625f
-
-/* The importance of the child in lane k of node nd, whose power in the
-   context is phi, at the query (section 4): the one function that both
-   tree_select and tree_pmf call (through node_importance4, which computes
-   four lanes at once exactly as this does one).  The walk waits for it at
-   every level, and a core has one unit for square roots and divisions, so it
-   is written with as few of them as the bound allows: with d = p - centre (not
-   normalised) and
-       S_b = sqrt(|d|^2 - r^2) = |d| cos theta_b,   r = |d| sin theta_b,
-       dw = d . w (|d . w| when two-sided) = |d| cos theta_w,
-       S_w = sqrt(|d|^2 - dw^2) = |d| sin theta_w,
-       dn = |d . n| = |d| cos theta_i,   S_i = sqrt(|d|^2 - dn^2) = |d| sin theta_i,
-   every cosine of section 4 is a ratio with |d| or |d|^2 below:
-       theta_w <= theta_o  <=>  dw |dw| >= cos_o |cos_o| |d|^2   (x |x| increases),
-       X = |d|^2 cos theta' = |d|^2, or (dw cos_o + S_w sin_o) S_b + (S_w cos_o - dw sin_o) r,
-       Y = |d|^2 cos theta_i' = |d|^2, or dn S_b + S_i r,
-   and I = Phi_c (1 / |d|^2) (X / |d|^2) (Y / |d|^2): three square roots and
-   one division (by |d|^2, at least FLT_MIN).  Inside the bounding sphere
-   I = Phi_c / max(|d|^2, TREE_INSIDE r^2), no angle.  The product is taken in
-   double, where it can neither overflow nor round a positive importance to 0. */
-static double lane_importance(const TreeNode4 *nd, int k, const TreeQuery *q, float phi)
-{
-    float dx, dy, dz, d2, r, r2, Sb, dw, X, Y, inv;
-    double I;
-    if (!(phi > 0.0f)) return 0.0;                   /* also an empty lane */
-    dx = q->p.x - nd->cx[k];
-    dy = q->p.y - nd->cy[k];
-    dz = q->p.z - nd->cz[k];
-    d2 = dx * dx + dy * dy + dz * dz;
-    r = nd->r[k];
-    r2 = r * r;
-    dw = dx * nd->ax[k] + dy * nd->ay[k] + dz * nd->az[k];
-    Sb = d2 > r2 ? sqrtf(d2 - r2) : 0.0f;
-    if (dw <= nd->behind[k] - nd->slack[k] * (Sb + 2.0f * r))
-        return 0.0;                                  /* p behind the box: I = 0 (node_behind) */
-    if (!(d2 > r2)) { /* p inside the bounding sphere: no angle can be bounded; */
-        float den = d2 > TREE_INSIDE * r2 ? d2 : TREE_INSIDE * r2;   /* I = Phi_c / max(|d|, r/4)^2 */
-        return (double)phi * (double)(1.0f / (den > FLT_MIN ? den : FLT_MIN));
-    }
-    if (!(d2 <= FLT_MAX)) return 0.0;                /* p at infinity: I = 0 */
-    if (nd->twosided[k]) dw = fabsf(dw);
-    if (dw * fabsf(dw) >= nd->cos_o[k] * fabsf(nd->cos_o[k]) * d2) {
-        X = d2;                                      /* p inside the normal cone */
-    } else {
-        /* theta_w - theta_o > 0, then minus theta_b, clamped at 0 */
-        float Sw = sqrtf(pos_or_zero(d2 - dw * dw));
-        float A = dw * nd->cos_o[k] + Sw * nd->sin_o[k];   /* |d| cos(theta_w - theta_o) */
-        float B = Sw * nd->cos_o[k] - dw * nd->sin_o[k];   /* |d| sin(theta_w - theta_o) */
-        X = A >= Sb ? d2 : A * Sb + B * r;
-        if (X <= nd->cos_e[k] * d2) return 0.0;      /* theta' >= theta_e: I = 0 */
-    }
-    Y = d2;
-    if (q->has_n) {
-        float dn = fabsf(q->n.x * dx + q->n.y * dy + q->n.z * dz);
-        if (dn < Sb) Y = dn * Sb + sqrtf(pos_or_zero(d2 - dn * dn)) * r;
-    }
-    inv = 1.0f / (d2 > FLT_MIN ? d2 : FLT_MIN);
-    I = (double)phi * (double)inv * (double)(X * inv) * (double)(Y * inv);
-    return I >= 0.0 ? I : 0.0;                       /* NaN: 0 */
-}
-
-/* The importances I[0..4) of the four lanes of nd, with powers phi[0..4):
-   lane_importance four times.  With SSE2 the four are computed side by side,
-   step for step the same operations in the same order (both sides of every
-   test computed, the right one kept by a mask), so the results are the same
-   to the bit; the test lighttree_simd_matches_scalar compares them. */
-static void node_importance4(const TreeNode4 *nd, const TreeQuery *q, const float phi[4], double I[4])
-{
-#if TREE_SIMD
-    const __m128 zero = _mm_setzero_ps();
-    const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
-    const __m128d zero_d = _mm_setzero_pd();
-    __m128 vphi = _mm_loadu_ps(phi);
-    __m128 dx = _mm_sub_ps(_mm_set1_ps(q->p.x), _mm_loadu_ps(nd->cx));
-    __m128 dy = _mm_sub_ps(_mm_set1_ps(q->p.y), _mm_loadu_ps(nd->cy));
-    __m128 dz = _mm_sub_ps(_mm_set1_ps(q->p.z), _mm_loadu_ps(nd->cz));
-    __m128 d2 = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz));
-    __m128 r = _mm_loadu_ps(nd->r), r2 = _mm_mul_ps(r, r);
-    __m128 cos_o = _mm_loadu_ps(nd->cos_o), sin_o = _mm_loadu_ps(nd->sin_o);
-    /* one-sided lanes keep dw's sign: their mask is all ones */
-    __m128 one_sided = _mm_castsi128_ps(_mm_cmpeq_epi32(_mm_loadu_si128((const __m128i *)nd->twosided),
-                                                        _mm_setzero_si128()));
-    __m128 dw = _mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, _mm_loadu_ps(nd->ax)), _mm_mul_ps(dy, _mm_loadu_ps(nd->ay))),
-                           _mm_mul_ps(dz, _mm_loadu_ps(nd->az)));
-    __m128 Sb, in_cone, X, Y, dead, inside, ok, inv, cX, cY;
-    __m128d p_lo, p_hi, I_lo, I_hi, m_lo, m_hi;
-    __m128 behind;
-    inside = _mm_cmpngt_ps(d2, r2);
-    Sb = _mm_sqrt_ps(_mm_sub_ps(d2, r2));
-    /* p behind the box: I = 0, inside the bounding sphere too (L: Sb, 0 inside, + 2 r) */
-    behind = _mm_cmple_ps(dw, _mm_sub_ps(_mm_loadu_ps(nd->behind),
-                                         _mm_mul_ps(_mm_loadu_ps(nd->slack),
-                                                    _mm_add_ps(_mm_andnot_ps(inside, Sb), _mm_add_ps(r, r)))));
-    dw = _mm_and_ps(dw, _mm_or_ps(one_sided, abs_mask));
-    in_cone = _mm_cmpge_ps(_mm_mul_ps(dw, _mm_and_ps(dw, abs_mask)),
-                           _mm_mul_ps(_mm_mul_ps(cos_o, _mm_and_ps(cos_o, abs_mask)), d2));
-    /* I = 0 where p is at infinity, or (below) where theta' >= theta_e */
-    dead = _mm_cmpnle_ps(d2, _mm_set1_ps(FLT_MAX));
-    X = d2;
-    if (_mm_movemask_ps(in_cone) != 15) {            /* some lane outside its normal cone */
-        __m128 Sw = _mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(d2, _mm_mul_ps(dw, dw)), zero));   /* max: NaN gives 0 */
-        __m128 A = _mm_add_ps(_mm_mul_ps(dw, cos_o), _mm_mul_ps(Sw, sin_o));
-        __m128 B = _mm_sub_ps(_mm_mul_ps(Sw, cos_o), _mm_mul_ps(dw, sin_o));
-        __m128 Xc = _mm_add_ps(_mm_mul_ps(A, Sb), _mm_mul_ps(B, r));
-        __m128 a_ge = _mm_cmpge_ps(A, Sb);
-        Xc = _mm_or_ps(_mm_and_ps(a_ge, d2), _mm_andnot_ps(a_ge, Xc));
-        X = _mm_or_ps(_mm_and_ps(in_cone, d2), _mm_andnot_ps(in_cone, Xc));
-        dead = _mm_or_ps(dead, _mm_andnot_ps(in_cone, _mm_cmple_ps(Xc, _mm_mul_ps(_mm_loadu_ps(nd->cos_e), d2))));
-    }
-    Y = d2;
-    if (q->has_n) {
-        __m128 dn = _mm_and_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(q->n.x), dx),
-                                                     _mm_mul_ps(_mm_set1_ps(q->n.y), dy)),
-                                          _mm_mul_ps(_mm_set1_ps(q->n.z), dz)), abs_mask);
-        __m128 Yc = _mm_add_ps(_mm_mul_ps(dn, Sb),
-                               _mm_mul_ps(_mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(d2, _mm_mul_ps(dn, dn)), zero)), r));
-        __m128 lt = _mm_cmplt_ps(dn, Sb);
-        Y = _mm_or_ps(_mm_and_ps(lt, Yc), _mm_andnot_ps(lt, d2));
-    }
-    ok = _mm_andnot_ps(_mm_or_ps(_mm_andnot_ps(inside, dead), behind), _mm_cmpgt_ps(vphi, zero));
-    {   /* one division: by max(|d|^2, r^2 / 16) inside the sphere, else by |d|^2,
-           at least FLT_MIN */
-        /* maxps is (d2 > rin ? d2 : rin), NaN included: the scalar test exactly */
-        __m128 inner = _mm_max_ps(d2, _mm_mul_ps(_mm_set1_ps(TREE_INSIDE), r2));
-        __m128 den = _mm_or_ps(_mm_and_ps(inside, inner), _mm_andnot_ps(inside, d2));
-        __m128 flt_min = _mm_set1_ps(FLT_MIN), gt = _mm_cmpgt_ps(den, flt_min);
-        inv = _mm_div_ps(_mm_set1_ps(1.0f), _mm_or_ps(_mm_and_ps(gt, den), _mm_andnot_ps(gt, flt_min)));
-    }
-    cX = _mm_mul_ps(X, inv);
-    cY = _mm_mul_ps(Y, inv);
-    /* the product in double, two lanes per register: Phi_c inv, times cX cY
-       outside the sphere */
-#define TREE_LO(v) _mm_cvtps_pd(v)
-#define TREE_HI(v) _mm_cvtps_pd(_mm_movehl_ps(v, v))
-    p_lo = _mm_mul_pd(TREE_LO(vphi), TREE_LO(inv));
-    p_hi = _mm_mul_pd(TREE_HI(vphi), TREE_HI(inv));
-    I_lo = _mm_mul_pd(_mm_mul_pd(p_lo, TREE_LO(cX)), TREE_LO(cY));
-    I_hi = _mm_mul_pd(_mm_mul_pd(p_hi, TREE_HI(cX)), TREE_HI(cY));
-#undef TREE_LO
-#undef TREE_HI
-    /* the lane masks widened to two doubles each */
-    m_lo = _mm_castps_pd(_mm_unpacklo_ps(inside, inside));
-    m_hi = _mm_castps_pd(_mm_unpackhi_ps(inside, inside));
-    I_lo = _mm_or_pd(_mm_and_pd(m_lo, p_lo), _mm_andnot_pd(m_lo, I_lo));
-    I_hi = _mm_or_pd(_mm_and_pd(m_hi, p_hi), _mm_andnot_pd(m_hi, I_hi));
-    I_lo = _mm_and_pd(I_lo, _mm_cmpge_pd(I_lo, zero_d));   /* NaN: 0 */
-    I_hi = _mm_and_pd(I_hi, _mm_cmpge_pd(I_hi, zero_d));
-    m_lo = _mm_castps_pd(_mm_unpacklo_ps(ok, ok));
-    m_hi = _mm_castps_pd(_mm_unpackhi_ps(ok, ok));
-    _mm_storeu_pd(I, _mm_and_pd(m_lo, I_lo));
-    _mm_storeu_pd(I + 2, _mm_and_pd(m_hi, I_hi));
-#else
-    int k;
-    for (k = 0; k < 4; k++) I[k] = lane_importance(nd, k, q, phi[k]);
-#endif
-}
-
-/* The four children's powers in the context: their total power (tree), or
-   query_power over their bins in quad_bin (spectral-tree). */
-static void child_powers(const LightSampler *ls, const TreeQuery *q, int i, float phi[4])
-{
-    const float *col = ls->quad_bin + (size_t)i * 4;   /* bin b: col[stride b] */
-    int k, stride = 4 * ls->n_nodes4;
-    if (!q->spectral) { memcpy(phi, ls->quad_power + (size_t)i * 4, 4 * sizeof(float)); return; }
-#if TREE_SIMD
-    {   /* query_power of the four lanes side by side: the same sums, in the same order */
-        __m128 acc = _mm_setzero_ps();
-        for (k = 0; k < q->nbins; k++)
-            acc = _mm_add_ps(acc, _mm_mul_ps(_mm_set1_ps(q->c[k]), _mm_loadu_ps(col + (size_t)stride * q->bin[k])));
-        _mm_storeu_ps(phi, acc);
-    }
-#else
-    for (k = 0; k < 4; k++) phi[k] = query_power(q, col + k, stride);
-#endif
-}
-
-/* The branch at node i: the children's importances I[0..4) and their sum *S
-   (in lane order, as the walk accumulates them); 0 when nothing below can
-   light the point (or round-off overflowed). */
-static void branch_at(const LightSampler *ls, const TreeQuery *q, int i, double I[4], double *S)
-{
-    float phi[4];
-    child_powers(ls, q, i, phi);
-    node_importance4(&ls->nodes4[i], q, phi, I);
-    *S = ((I[0] + I[1]) + I[2]) + I[3];
-    if (!(*S > 0.0 && *S <= DBL_MAX)) *S = 0.0;
-}
-
-/* Does the tree get a share beside the infinite lights?  Only when it has pieces
-   and its root can light the point (else every share goes to the infinite
-   lights).  A function of the context alone, so select and pmf agree. */
-static int tree_live(const LightSampler *ls, const TreeQuery *q)
-{
-    return ls->n_tree_pieces > 0 &&
-           lane_importance(&ls->top, 0, q, q->spectral ? query_power(q, ls->root_bin, 1)
-                                                        : ls->top_power) > 0.0;
-}
-
-static int tree_select(const LightSampler *ls, const LightCtx *c, float u, float *pmf)
-{
-    TreeQuery q;
-    double uu = u, lo = 0.0, p = 1.0, w = 1.0;
-    int i = 0;
-    tree_query(ls, c, &q);
-    if (ls->n_inf > 0) {
-        /* one share for each infinite light, one for the tree (section 4) */
-        int k = ls->n_inf + tree_live(ls, &q), slot;
-        uu = (double)u * k;
-        slot = (int)uu;
-        if (slot >= k) slot = k - 1;
-        p = 1.0 / k;
-        if (slot < ls->n_inf) { *pmf = (float)p; return ls->inf_piece[slot]; }
-        uu -= slot;
-        if (!(uu < 1.0)) uu = 1.0 - DBL_EPSILON;
-    }
-    /* [lo, lo + w) is the part of [0, 1) that leads to node i (w = p / the
-       tree's share); child k gets the piece of it from lo + w C_(k-1) / S to
-       lo + w C_k / S, with C_k = I_0 + ... + I_k.  The test is uu - lo <
-       w C_k / S times S, so that the walk need not wait for the division
-       before it goes on; a child that cannot light p (I_k = 0) is never taken,
-       whatever the round-off (at the top, the last child with I_k > 0). */
-    for (;;) {
-        double I[4], S, x, cum = 0.0, prev = 0.0, pa, invS;
-        int k, pick = -1, child;
-        branch_at(ls, &q, i, I, &S);
-        if (!(S > 0.0)) { *pmf = 0.0f; return -1; }
-        x = (uu - lo) * S;
-        for (k = 0; k < 4; k++) {
-            if (!(I[k] > 0.0)) continue;
-            prev = cum;
-            cum += I[k];
-            pick = k;
-            if (x < w * cum) break;
-        }
-        invS = 1.0 / S;
-        pa = I[pick] * invS;
-        p *= pa;
-        lo += w * (prev * invS);
-        w *= pa;
-        child = ls->nodes4[i].child[pick];
-        if (child < 0) { *pmf = (float)p; return -1 - child; }
-        i = child;
-    }
-}
-
-static float tree_pmf(const LightSampler *ls, const LightCtx *c, int piece)
-{
-    const Piece *pc = &ls->pieces[piece];
-    TreeQuery q;
-    double p = 1.0;
-    int i = 0, d;
-    tree_query(ls, c, &q);
-    if (ls->n_inf > 0) {
-        int live = tree_live(ls, &q);
-        p = 1.0 / (ls->n_inf + live);
-        if (beside_tree(&ls->scene->emitters[pc->emitter])) return (float)p;
-        if (!live) return 0.0f;
-    }
-    for (d = 0; d < pc->depth; d++) {
-        double I[4], S;
-        int k = (int)((pc->trail >> (2 * d)) & 3u), child;
-        branch_at(ls, &q, i, I, &S);
-        if (!(S > 0.0) || !(I[k] > 0.0)) return 0.0f;
-        p *= I[k] * (1.0 / S);
-        child = ls->nodes4[i].child[k];
-        if (child < 0) return d == pc->depth - 1 && child == -1 - piece ? (float)p : 0.0f;
-        i = child;
-    }
-    return 0.0f;                                     /* a trail shorter than the tree */
-}
-
-/* For the test lighttree_simd_matches_scalar: at context c, every child of
-   every node evaluated both ways, power and importance compared bit for bit. */
-int light_tree_simd_mismatches(const LightSampler *ls, const LightCtx *c, int *lanes)
-{
-    TreeQuery q;
-    int i, k, bad = 0;
-    *lanes = 0;
-    if (!is_tree(ls->opt.strategy) || ls->n_tree_pieces == 0) return 0;
-    tree_query(ls, c, &q);
-    for (i = 0; i < ls->n_nodes4; i++) {
-        float phi[4];
-        double I[4], S;
-        child_powers(ls, &q, i, phi);
-        branch_at(ls, &q, i, I, &S);                 /* what the walk computes */
-        for (k = 0; k < 4; k++) {
-            float ps = q.spectral ? query_power(&q, ls->quad_bin + (size_t)i * 4 + k, 4 * ls->n_nodes4)
-                                  : ls->quad_power[(size_t)i * 4 + k];
-            double Is = lane_importance(&ls->nodes4[i], k, &q, ps);
-            bad += memcmp(&ps, &phi[k], sizeof ps) != 0 || memcmp(&Is, &I[k], sizeof Is) != 0;
-            (*lanes)++;
-        }
-    }
-    return bad;
-}
-
-/* Pieces and the tree (called by light_sampler_build for the tree strategies). */
+/* The pieces - whole emitters, and clusters of the large emissive meshes - and
+   the tree over them (called by light_sampler_build for the tree strategies). */
 static int tree_setup(LightSampler *ls)
 {
     const Scene *s = ls->scene;
     int e, i, n_split_tris = 0, next_tri = 0, max_tris = 1, ok = 0;
-    int *items = NULL, *tris = NULL;
+    int *tris = NULL;
     Vec3 *tri_c = NULL;
-    PieceBounds *pb = NULL;
     KeyIdx *tmp = NULL;
-    Builder B;
     size_t cap = (size_t)ls->n;
     for (e = 0; e < ls->n; e++) {
         const Shape *sh;
-        if (beside_tree(&s->emitters[e])) { ls->n_inf++; continue; }
-        if (s->emitters[e].shape < 0) continue;       /* a point or spot light: one piece */
+        if (s->emitters[e].shape < 0) continue;       /* infinite or delta light: one piece */
         sh = &s->shapes[s->emitters[e].shape];
         if (!ls->opt.no_split && sh->type == SHAPE_MESH && sh->tri_count > LIGHT_CLUSTER_TRIS) {
             n_split_tris += sh->tri_count;
@@ -1731,10 +730,9 @@ static int tree_setup(LightSampler *ls)
             if (sh->tri_count > max_tris) max_tris = sh->tri_count;
         }
     }
-    ls->pieces = (Piece *)calloc(cap, sizeof *ls->pieces);
+    ls->pieces = (LightPiece *)calloc(cap, sizeof *ls->pieces);
     ls->emitter_piece = (int *)malloc(sizeof(int) * (size_t)ls->n);
-    ls->inf_piece = (int *)malloc(sizeof(int) * (size_t)(ls->n_inf + 1));
-    if (!ls->pieces || !ls->emitter_piece || !ls->inf_piece) goto done;
+    if (!ls->pieces || !ls->emitter_piece) goto done;
     if (n_split_tris > 0) {
         ls->piece_tri = (int *)malloc(sizeof(int) * (size_t)n_split_tris);
         ls->piece_cdf = (float *)malloc(sizeof(float) * (size_t)n_split_tris);
@@ -1746,17 +744,8 @@ static int tree_setup(LightSampler *ls)
         for (i = 0; i < s->n_tris; i++) ls->piece_of_tri[i] = -1;
     }
     ls->n_pieces = 0;
-    ls->n_inf = 0;
     for (e = 0; e < ls->n; e++) {
         const Shape *sh;
-        if (beside_tree(&s->emitters[e])) {          /* beside the tree (section 4) */
-            Piece *pc = &ls->pieces[ls->n_pieces];
-            pc->emitter = e;
-            pc->area = s->emitters[e].area;
-            ls->inf_piece[ls->n_inf++] = ls->n_pieces;
-            ls->emitter_piece[e] = ls->n_pieces++;
-            continue;
-        }
         sh = s->emitters[e].shape >= 0 ? &s->shapes[s->emitters[e].shape] : NULL;
         if (sh && ls->piece_of_tri && !ls->opt.no_split && sh->type == SHAPE_MESH &&
             sh->tri_count > LIGHT_CLUSTER_TRIS) {
@@ -1773,80 +762,28 @@ static int tree_setup(LightSampler *ls)
             ls->emitter_piece[e] = ls->n_pieces++;
         }
     }
-    /* the tree over the pieces that have a position (all but the infinite lights) */
-    free(tmp);
-    tmp = NULL;
-    ls->n_tree_pieces = ls->n_pieces - ls->n_inf;
-    {   /* offset_ray_origin's policy at the scene's largest |coordinate| */
-        float m = fmaxf(fmaxf(fabsf(s->bmin.x), fabsf(s->bmax.x)),
-                        fmaxf(fmaxf(fabsf(s->bmin.y), fabsf(s->bmax.y)), fmaxf(fabsf(s->bmin.z), fabsf(s->bmax.z))));
-        ls->behind_margin = offset_eps(m);
-    }
-    ls->nb_uv = (int)((ls->opt.lo_nm - (float)SPEC_UV_MIN) / SPD_BIN_NM);
-    if (ls->nb_uv < 0) ls->nb_uv = 0;
-    ls->nb = ls->nb_uv + (int)((ls->opt.hi_nm - ls->opt.lo_nm) / SPD_BIN_NM + 0.5f);
-    if (ls->n_tree_pieces == 0) { ok = 1; goto done; }
-    pb = (PieceBounds *)malloc(sizeof *pb * (size_t)ls->n_pieces);
-    items = (int *)malloc(sizeof(int) * (size_t)ls->n_pieces);
-    tmp = (KeyIdx *)malloc(sizeof(KeyIdx) * (size_t)ls->n_pieces);
-    B.centroids = (Vec3 *)malloc(sizeof(Vec3) * (size_t)ls->n_pieces);
-    ls->nodes = (TreeNode *)calloc((size_t)(2 * ls->n_tree_pieces - 1), sizeof *ls->nodes);
-    ls->node_bin = (float *)malloc(sizeof(float) * (size_t)(2 * ls->n_tree_pieces - 1) * (size_t)ls->nb);
-    if (!pb || !items || !tmp || !B.centroids || !ls->nodes || !ls->node_bin) { free(B.centroids); goto done; }
-    for (i = 0, e = 0; i < ls->n_pieces; i++) {
-        if (beside_tree(&ls->scene->emitters[ls->pieces[i].emitter])) continue;
-        piece_bounds(ls, &ls->pieces[i], &pb[i]);
-        B.centroids[i] = pb[i].centroid;
-        items[e++] = i;
-    }
-    B.ls = ls;
-    B.pb = pb;
-    B.tmp = tmp;
-    B.memo.valid = 0;
-    B.le_avg = (double *)malloc(sizeof(double) * (size_t)ls->n_le * (size_t)ls->nb);
-    if (!B.le_avg) { free(B.centroids); goto done; }
-    for (i = 0; i < ls->n_le; i++) {
-        int b;
-        for (b = 0; b < ls->nb; b++)               /* the 5 nm bin's mean of Le, in double */
-            B.le_avg[(size_t)i * ls->nb + b] =
-                spec_band_mean(&ls->Le[i], (int)ls->opt.lo_nm + (int)SPD_BIN_NM * (b - ls->nb_uv), (int)SPD_BIN_NM);
-    }
-    ls->n_nodes = 0;
-    tree_build(&B, items, ls->n_tree_pieces, 0);
-    free(B.centroids);
-    free(B.le_avg);
-    /* collapse it into the 4-wide tree that the walk reads: count its nodes,
-       then fill them breadth first */
+    /* the tree over the pieces (lighttree.c) */
     {
-        int slots[4], m;
-        Pending *queue;
-        if (ls->nodes[0].second < 0) { slots[0] = 0; m = 1; }
-        else m = grandchildren(ls->nodes, 0, slots);
-        ls->n_nodes4 = count4(ls->nodes, slots, m);
-        queue = (Pending *)malloc(sizeof *queue * (size_t)ls->n_nodes4);
-        /* the nodes in 64-byte aligned memory (the root in its first cache lines) */
-        ls->nodes4_mem = calloc(1, sizeof(TreeNode4) * (size_t)ls->n_nodes4 + 63);
-        ls->quad_power = (float *)calloc((size_t)ls->n_nodes4 * 4, sizeof(float));
-        ls->quad_bin = (float *)calloc((size_t)ls->n_nodes4 * 4 * (size_t)ls->nb, sizeof(float));
-        ls->root_bin = (float *)malloc(sizeof(float) * (size_t)ls->nb);
-        if (!queue || !ls->nodes4_mem || !ls->quad_power || !ls->quad_bin || !ls->root_bin) {
-            free(queue);
-            goto done;
-        }
-        ls->nodes4 = (TreeNode4 *)((char *)ls->nodes4_mem + (64 - (size_t)((uintptr_t)ls->nodes4_mem % 64)) % 64);
-        memcpy(ls->root_bin, ls->node_bin, sizeof(float) * (size_t)ls->nb);
-        lane_from(&ls->top, 0, &ls->nodes[0]);
-        ls->top_power = ls->nodes[0].power;
-        tree_collapse(ls, slots, m, queue);
-        free(queue);
+        LightTreeInput in;
+        int *le_of = (int *)malloc(sizeof(int) * (size_t)ls->n);
+        if (!le_of) goto done;
+        for (e = 0; e < ls->n; e++) le_of[e] = ls->ref[e].le;
+        in.scene = s;
+        in.opt = &ls->opt;
+        in.pieces = ls->pieces;
+        in.n_pieces = ls->n_pieces;
+        in.piece_tri = ls->piece_tri;
+        in.Le = ls->Le;
+        in.n_le = ls->n_le;
+        in.le_of = le_of;
+        in.bin = ls->bin;
+        ls->tree = light_tree_build(&in);
+        free(le_of);
+        if (!ls->tree) goto done;
     }
-    free(ls->nodes);
-    ls->nodes = NULL;
-    free(ls->node_bin);
-    ls->node_bin = NULL;
     ok = 1;
 done:
-    free(items); free(tris); free(tri_c); free(pb); free(tmp);
+    free(tris); free(tri_c); free(tmp);
     return ok;
 }
 
@@ -1955,7 +892,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     } else {
         /* one piece per emitter */
         ls->n_pieces = n;
-        ls->pieces = (Piece *)calloc((size_t)n, sizeof *ls->pieces);
+        ls->pieces = (LightPiece *)calloc((size_t)n, sizeof *ls->pieces);
         ls->emitter_piece = (int *)malloc(sizeof(int) * (size_t)n);
         if (!ls->pieces || !ls->emitter_piece) goto oom;
         for (i = 0; i < n; i++) {
@@ -2000,14 +937,22 @@ void light_sampler_free(LightSampler *ls)
         for (v = 0; v < ls->n_voxels; v++)
             if (ls->voxel[v] != VOXEL_FAILED) free(ls->voxel[v]);
     free(ls->voxel);
-    free(ls->Le); free(ls->ref); free(ls->k); free(ls->bin); free(ls->inf_piece); free(ls->power);
+    free(ls->Le); free(ls->ref); free(ls->k); free(ls->bin); free(ls->power);
     free(ls->power_pmf); free(ls->power_cdf);
     free(ls->T);
     free(ls->Y);
     free(ls->pieces); free(ls->emitter_piece);
     free(ls->piece_tri); free(ls->piece_cdf); free(ls->piece_of_tri);
-    free(ls->nodes); free(ls->node_bin); free(ls->nodes4_mem); free(ls->quad_power); free(ls->quad_bin); free(ls->root_bin);
+    light_tree_free(ls->tree);
     free(ls);
+}
+
+/* For the test lighttree_simd_matches_scalar (lighttree.c). */
+int light_tree_simd_mismatches(const LightSampler *ls, const LightCtx *c, int *lanes)
+{
+    *lanes = 0;
+    if (!is_tree(ls->opt.strategy) || !ls->tree) return 0;
+    return light_tree_simd_check(ls->tree, c, lanes);
 }
 
 double light_sampler_lazy_seconds(const LightSampler *ls)
@@ -2022,7 +967,7 @@ size_t light_sampler_bytes(const LightSampler *ls)
     bytes += (size_t)ls->n_le * sizeof(Spectrum);
     bytes += n * (sizeof(EmitterRef) + sizeof(float) * (SPD_BINS + 1) + sizeof(double) * 3 + sizeof(int));
     if (ls->T) bytes += n * sizeof(float) * (SPD_UV_BINS + SPD_BINS + 1);   /* T and Y */
-    bytes += sizeof(Piece) * (size_t)ls->n_pieces;
+    bytes += sizeof(LightPiece) * (size_t)ls->n_pieces;
     if (ls->piece_of_tri) bytes += sizeof(int) * (size_t)ls->scene->n_tris;
     if (ls->piece_tri) {
         size_t k = 0;
@@ -2030,8 +975,7 @@ size_t light_sampler_bytes(const LightSampler *ls)
         for (i = 0; i < ls->n_pieces; i++) k += (size_t)ls->pieces[i].count;
         bytes += k * (sizeof(int) + sizeof(float));
     }
-    bytes += (size_t)ls->n_nodes4 * (sizeof(TreeNode4) + 4 * sizeof(float) * (size_t)(ls->nb + 1));
-    if (ls->root_bin) bytes += sizeof(float) * (size_t)ls->nb;
+    if (ls->tree) bytes += light_tree_bytes(ls->tree);
     if (ls->voxel) {
         bytes += sizeof(float *) * (size_t)ls->n_voxels;
         for (v = 0; v < ls->n_voxels; v++)
@@ -2067,7 +1011,7 @@ int light_piece_of(const LightSampler *ls, int e, int prim)
 int light_sample(const LightSampler *ls, int piece, Vec3 ref, float u0, float u1, float u2,
                  EmitterSample *out)
 {
-    const Piece *pc = &ls->pieces[piece];
+    const LightPiece *pc = &ls->pieces[piece];
     int lo = 0, hi;
     out->delta = 0;
     if (pc->count == 0) {                        /* a whole emitter */
@@ -2131,7 +1075,7 @@ static double context_weights(LightSampler *ls, const LightCtx *c, double *w, in
        point is on one.  An emitter that cannot reach p (p behind a flat one-sided
        emitter, or on it) gets weight 0 wherever the spatial table is used: the
        table would otherwise give it the share earned by the voxel's receivers in
-       front of it (section 5). */
+       front of it (section 4). */
     for (i = 0; i < n; i++) reach[i] = emitter_can_reach(ls->scene, i, c->p) ? 1.0 : 0.0;
     if (st != SEL_SPATIAL && (c->hero_only || c->shifted || ls->opt.all_wavelengths)) {
         /* spectral weights, summed over the wavelengths that count here */
@@ -2192,7 +1136,7 @@ int light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int *
         if (chosen >= 0) *pmf = ls->power_pmf[chosen];
         return chosen;
     }
-    if (is_tree(st)) return tree_select(ls, c, u, pmf);
+    if (is_tree(st)) return light_tree_select(ls->tree, c, u, pmf);
     if (n > SEL_STACK && !(w = (double *)malloc(sizeof(double) * 2 * (size_t)n))) return -1;
     sum = context_weights(ls, c, w, &fb);
     if (fell_back) *fell_back = fb;
@@ -2220,7 +1164,7 @@ float light_select_pmf(LightSampler *ls, const LightCtx *c, int piece)
     if (piece < 0 || piece >= ls->n_pieces) return 0.0f;
     if (st == SEL_UNIFORM || st == SEL_ALL) return (float)(1.0 / n);
     if (st == SEL_POWER) return ls->power_pmf[piece];
-    if (is_tree(st)) return tree_pmf(ls, c, piece);
+    if (is_tree(st)) return light_tree_pmf(ls->tree, c, piece);
     if (n > SEL_STACK && !(w = (double *)malloc(sizeof(double) * 2 * (size_t)n))) return 0.0f;
     sum = context_weights(ls, c, w, &fb);
     if (sum > 0.0) p = (float)(w[piece] / sum);

@@ -974,7 +974,7 @@ int  img_cmd_merge(int argc, char **argv, FILE *out, FILE *err);
 int  img_cmd_diff(int argc, char **argv, FILE *out, FILE *err);
 
 /* ======================================================================
-   11. Emitters and their selection: the API (lights.c)
+   11. Emitters and their selection: the API (lights.c, lighttree.c)
    ====================================================================== */
 /* Check each emitter (its spectrum emits in 400-700 nm, its area is positive) and
    fill its area and triangle CDF.  scene_load calls it; nothing here depends on
@@ -1072,7 +1072,7 @@ int   light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int
 float light_select_pmf(LightSampler *ls, const LightCtx *c, int piece);
 /* The light tree computes the importances of a node's four children side by
    side (SSE2, where the compiler has it) and keeps the scalar code that this
-   mirrors (lights.c section 4).  At context c: how many children, over the
+   mirrors (lighttree.c).  At context c: how many children, over the
    whole tree, get a power or an importance that differs in any bit between
    the two (0 without SSE2 or without a tree); *lanes: how many were compared.
    For tests. */
@@ -1082,6 +1082,46 @@ size_t light_sampler_bytes(const LightSampler *ls);      /* memory held by its t
 double light_sampler_lazy_seconds(const LightSampler *ls);
 SelStrategy sel_from_name(const char *name);             /* SEL_COUNT if unknown */
 const char *sel_name(SelStrategy s);
+
+/* The light tree (lighttree.c): what lights.c asks of it for the strategies tree
+   and spectral-tree.  Not for callers of the API above: light_sampler_build
+   builds the tree over its pieces (a LightSampler owns its LightTree), and
+   light_select / light_select_pmf hand the tree strategies' contexts to it.
+   A piece as lights.c makes it and the tree reads it: */
+typedef struct {
+    int emitter;
+    int first, count;          /* a cluster: triangles piece_tri[first .. first + count)
+                                  (LightTreeInput.piece_tri); 0: a whole emitter */
+    double area;               /* m^2 (a delta light's: 0) */
+    /* a whole mesh emitter (count == 0): what light_sample reads, copied here so
+       that NEE does not read the scene's Emitter (2 KB, mostly its spectrum) and
+       Shape for every sample (a cache miss each with many emitters); NULL:
+       spheres, quadrics, infinite and delta lights, sampled by emitter_sample */
+    const float *tri_cdf;
+    int tri_begin, tri_count;
+} LightPiece;
+/* What the tree is built from; read during light_tree_build only. */
+typedef struct {
+    const Scene *scene;
+    const SelOptions *opt;     /* strategy (spectral-tree: bin powers), throughput
+                                  weighting, lo_nm..hi_nm (resolved: hi > lo) */
+    const LightPiece *pieces;  /* every piece, those beside the tree included */
+    int n_pieces;
+    const int *piece_tri;      /* the clusters' scene triangles */
+    const Spectrum *Le;        /* the distinct radiances for the sampled range */
+    int n_le;
+    const int *le_of;          /* per emitter: its radiance, an index into Le */
+    const float *bin;          /* per emitter: SPD_BINS bin averages of Le, 400-700 nm */
+} LightTreeInput;
+typedef struct LightTree LightTree;
+LightTree *light_tree_build(const LightTreeInput *in);   /* NULL: out of memory */
+void   light_tree_free(LightTree *t);
+/* Choose a piece (-1: none) and its probability in context c; the probability of
+   a given piece.  Select and pmf walk the same nodes with the same importance. */
+int    light_tree_select(const LightTree *t, const LightCtx *c, float u, float *pmf);
+float  light_tree_pmf(const LightTree *t, const LightCtx *c, int piece);
+int    light_tree_simd_check(const LightTree *t, const LightCtx *c, int *lanes);  /* as above */
+size_t light_tree_bytes(const LightTree *t);
 
 /* ======================================================================
    12. The integrator (render.c) and its options

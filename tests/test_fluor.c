@@ -829,7 +829,7 @@ static void test_fluor_shift_selects_spectrally(T *t)
     scene_free(&s);
 }
 
-/* The spectral light tree's UV bins (lights.c section 4): each node stores its power
+/* The spectral light tree's UV bins (lighttree.c): each node stores its power
    per 5 nm bin from 300 nm, so after a fluorescent shift to lambda_i < 400 nm
    `spectral-tree` picks the UV lamp; select and pmf agree bit for bit and in
    frequency (chi^2) at UV wavelengths; `tree` keeps the power of the sampled range

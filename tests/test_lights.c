@@ -286,7 +286,7 @@ static void select_matches_pmf_on(T *t, int sc)
 }
 
 /* 64 lamps; and two lamps with an infinite light, which the light trees choose
-   beside the tree (lights.c section 4) */
+   beside the tree (lighttree.c) */
 static void test_select_matches_pmf(T *t)
 {
     select_matches_pmf_on(t, SC_MANY);

@@ -1,4 +1,4 @@
-/* tests/test_lighttree.c - the light tree of lights.c section 4 (--lights tree and
+/* tests/test_lighttree.c - the light tree of lighttree.c (--lights tree and
    spectral-tree), beyond what tests/test_lights.c checks for every strategy (there
    both trees are compared with `uniform` on one emitter, two identical emitters,
    64 small emitters of four spectra, complementary half spectra, a bright emitter
