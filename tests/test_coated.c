@@ -25,7 +25,9 @@ static void coated(Material *m, float r_short, float r_long, float alpha, float 
     m->alpha = m->alpha_t = alpha;
     m->thickness = thick;
     m->hg_g = g;
-    m->maxdepth = 10;
+    m->maxdepth = 100;    /* f and the sampled walks truncate differently (pbrt-v4's
+                             design: f's next-event estimates see one vertex more);
+                             with the medium at 10 the two differ by 1% */
     m->nsamples = nsamples;
 }
 
@@ -40,7 +42,7 @@ static void cases(Material *m, int nsamples)
 {
     coated(&m[0], 0.8f, 0.3f, 0.0f, 1.5f, 0.01f, 0.0f, 0.0f, nsamples);   /* smooth */
     coated(&m[1], 0.8f, 0.3f, 0.4f, 1.5f, 0.2f, 0.0f, 0.0f, nsamples);    /* rough, absorbing */
-    coated(&m[2], 0.6f, 0.9f, 0.2f, 1.33f, 0.3f, 0.7f, 0.4f, nsamples);   /* a medium */
+    coated(&m[2], 0.6f, 0.9f, 1.0f, 1.33f, 1.0f, 0.9f, 0.0f, nsamples);   /* a medium */
 }
 
 /* The mean of single-walk f over many seeds equals one 8192-walk estimate, and a
