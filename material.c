@@ -1,6 +1,6 @@
 /* material.c - the materials the scenes need: diffuse, (dispersive) glass, a
    diffuse fluorescent layer, pbrt-v4's thindielectric and diffusetransmission, and
-   the dispatch to conductors (conductor.c).
+   the dispatch to conductors (conductor.c) and coateddiffuse (layered.c).
 
    Exported: mat_eta, mat_is_delta, bsdf_sample, bsdf_eval, fresnel_dielectric,
    refract_dir, mat_albedo, fluor_* (specnee.h section 6).  Every sampler has its
@@ -477,6 +477,11 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         if (!out->delta && v3_dot(out->wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return 0;
         return 1;
     }
+    if (m->type == MAT_COATED_DIFFUSE) {                 /* layered.c */
+        if (!layered_sample(m, &fr, wo, lambda, alive, u0, u1, u2, 0, out)) return 0;
+        if (v3_dot(out->wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return 0;   /* no leaks */
+        return 1;
+    }
     if (m->type == MAT_THIN_DIELECTRIC) {
         if (!thin_sample(m, lo, lambda, alive, u0, out, &li)) return 0;
         out->wi = frame_to_world(&fr, li);
@@ -575,6 +580,11 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
     if (m->type == MAT_CONDUCTOR) {
         if (v3_dot(wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return;   /* no leaks */
         conductor_eval(m, lo, li, lambda, alive, f, pdf_l);
+        return;
+    }
+    if (m->type == MAT_COATED_DIFFUSE) {                           /* layered.c */
+        if (v3_dot(wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return;   /* no leaks */
+        layered_eval(m, lo, li, lambda, alive, layered_seed(wo, wi, 0), f, pdf_l);
         return;
     }
     if (m->type == MAT_THIN_DIELECTRIC) return;                    /* delta: f = 0 */

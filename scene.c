@@ -2142,6 +2142,75 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
                         m->alpha_t);
         return 1;
     }
+    if (!strcmp(type, "coateddiffuse")) {
+        /* pbrt-v4 CoatedDiffuseMaterial (layered.c): a dielectric coat (float eta,
+           roughness) over a Lambertian base (reflectance 0.5), a slab of thickness
+           0.01 between them with a medium of albedo 0 and HG g 0; maxdepth 10 and
+           nsamples 1 random walks */
+        Param *pr = find_spectrum_param(pl, "reflectance"), *pa = find_spectrum_param(pl, "albedo");
+        Param *pe = find_spectrum_param(pl, "eta"), *pf = param_find(pl, PT_FLOAT, "eta");
+        Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
+        Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
+        float eta, th, g;
+        int md, ns, given, nm;
+        m->type = MAT_COATED_DIFFUSE;
+        if (pe && !pf)
+            return fail(P, pe->file, pe->line, "%s: a spectral \"eta\" is valid pbrt-v4 (it "
+                        "terminates the secondary wavelengths) but not in the specnee subset: "
+                        "give \"float eta\"", what);
+        if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t)) return 0;
+        if (!get_float(P, pl, "eta", 1.5f, &eta) || !get_float(P, pl, "thickness", 0.01f, &th) ||
+            !get_float(P, pl, "g", 0.0f, &g) || !get_int(P, pl, "maxdepth", 10, &md, &given) ||
+            !get_int(P, pl, "nsamples", 1, &ns, &given))
+            return 0;
+        if (!params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, float eta, "
+                                 "float roughness, float uroughness, float vroughness, "
+                                 "bool remaproughness, float thickness, spectrum albedo, "
+                                 "rgb albedo, float g, integer maxdepth, integer nsamples",
+                                 "displacement normalmap"))
+            return 0;
+        if (m->alpha != m->alpha_t)
+            return fail(P, file, line, "%s: anisotropic roughness (u %g, v %g after the remap) "
+                        "is valid pbrt-v4 but not in the specnee subset", what, m->alpha, m->alpha_t);
+        if (!(eta > 0.0f && eta < 100.0f))
+            return fail(P, pf ? pf->file : file, pf ? pf->line : line,
+                        "%s: \"float eta\" %g is not an index of refraction", what, eta);
+        spec_const(&m->eta, eta);
+        if (!(th > 0.0f && th < 1e30f))
+            return fail(P, pth ? pth->file : file, pth ? pth->line : line,
+                        "%s: \"float thickness\" %g must be finite and > 0", what, th);
+        if (!(g > -1.0f && g < 1.0f))
+            return fail(P, pg ? pg->file : file, pg ? pg->line : line,
+                        "%s: \"float g\" %g must be within (-1, 1)", what, g);
+        if (md < 1)
+            return fail(P, pd ? pd->file : file, pd ? pd->line : line,
+                        "%s: \"integer maxdepth\" %d must be >= 1", what, md);
+        if (ns < 1)
+            return fail(P, pn ? pn->file : file, pn ? pn->line : line,
+                        "%s: \"integer nsamples\" %d must be >= 1", what, ns);
+        if (pr) {
+            if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
+            if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
+        } else {
+            spec_const(&m->reflectance, 0.5f);
+        }
+        if (pa) {
+            if (!param_spectrum(P, pa, SPEC_ALBEDO, &m->albedo, NULL)) return 0;
+            if (!check_unit_spectrum(P, pa, &m->albedo)) return 0;
+        } else {
+            spec_const(&m->albedo, 0.0f);
+        }
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
+            if (!(spec_get(&m->albedo, nm) >= 0.0f && spec_get(&m->albedo, nm) <= 1.0f))
+                return fail(P, pa ? pa->file : file, pa ? pa->line : line,
+                            "%s: \"albedo\" %g at %d nm must be within [0, 1]", what,
+                            spec_get(&m->albedo, nm), nm);
+        m->thickness = th;
+        m->hg_g = g;
+        m->maxdepth = md;
+        m->nsamples = ns;
+        return 1;
+    }
     if (!strcmp(type, "thindielectric")) {
         /* pbrt-v4 ThinDielectricMaterial (material.c): "float eta" or "spectrum eta",
            1.5 by default; no roughness */
@@ -2209,7 +2278,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
     }
     {
         static const char *const pbrt_types[] = {
-            "coateddiffuse", "coatedconductor", "hair",
+            "coatedconductor", "hair",
             "interface", "measured", "mix", "subsurface", NULL
         };
         int i;
@@ -3566,6 +3635,12 @@ void scene_dump(const Scene *s, FILE *f)
         } else if (m->type == MAT_THIN_DIELECTRIC) {
             fprintf(f, "  [%d] thindielectric\n", i);
             dump_spectrum(f, "eta", &m->eta);
+        } else if (m->type == MAT_COATED_DIFFUSE) {
+            fprintf(f, "  [%d] coateddiffuse, alpha %g, eta %g, thickness %g, g %g, maxdepth %d, "
+                    "nsamples %d\n", i, m->alpha, spec_eval(&m->eta, 550.0f), m->thickness,
+                    m->hg_g, m->maxdepth, m->nsamples);
+            dump_spectrum(f, "reflectance", &m->reflectance);
+            dump_spectrum(f, "albedo", &m->albedo);
         } else if (m->type == MAT_DIFFUSE_TRANSMISSION) {
             fprintf(f, "  [%d] diffusetransmission, P(reflect lobe) %g\n", i, m->p_reflect);
             dump_spectrum(f, "reflectance", &m->reflectance);

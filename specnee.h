@@ -534,7 +534,8 @@ typedef enum {
     MAT_DIFFUSE, MAT_DIELECTRIC, MAT_FLUORESCENT,
     MAT_CONDUCTOR,             /* pbrt-v4 "conductor": complex Fresnel, smooth or GGX (conductor.c) */
     MAT_THIN_DIELECTRIC,       /* pbrt-v4 "thindielectric": reflect or pass straight through */
-    MAT_DIFFUSE_TRANSMISSION   /* pbrt-v4 "diffusetransmission": Lambert both sides */
+    MAT_DIFFUSE_TRANSMISSION,  /* pbrt-v4 "diffusetransmission": Lambert both sides */
+    MAT_COATED_DIFFUSE         /* pbrt-v4 "coateddiffuse": dielectric coat over Lambert (layered.c) */
 } MaterialType;
 #define FL_N (SPEC_MAX - SPEC_UV_MIN + 1)   /* 1 nm knots of the fluorescence tables */
 typedef struct {
@@ -562,6 +563,11 @@ typedef struct {
                                   Scene.textures (0, as a zeroed Material has it: the
                                   spectrum above) */
     const struct Texture *textures;  /* the scene's textures (set when loading ends) */
+    /* coateddiffuse (layered.c): reflectance is the base's R, eta (a constant) and
+       alpha the coat's */
+    Spectrum albedo;           /* single-scattering albedo of the medium between the layers */
+    float thickness, hg_g;     /* the slab's height (sigma_t = 1) and HG asymmetry */
+    int maxdepth, nsamples;    /* the random walks' vertex limit and count */
 } Material;
 
 float mat_eta(const Material *m, float lambda_nm);
@@ -660,6 +666,19 @@ int   conductor_sample(const Material *m, Vec3 wo, const float *lambda, unsigned
                        float u1, float u2, BsdfSample *out, Vec3 *wi_local);
 void  conductor_eval(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
                      float f[HERO_N], float pdf_l[HERO_N]);
+/* coateddiffuse (layered.c), in the shading frame: f and the pdf are stochastic
+   estimates by random walks, deterministic for a given seed; bsdf_eval seeds them
+   with layered_seed(world wo, world wi, 0), and layered_sample (which takes the
+   frame and the world wo, and sets out->wi in world space) reports that same pdf
+   with f scaled so that f cos / pdf is the walk's weight.  key (0 in renders)
+   varies the random streams (the tests average over it). */
+uint64_t layered_seed(Vec3 wo_world, Vec3 wi_world, uint64_t key);
+float layered_pdf(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
+                  uint64_t seed);
+void  layered_eval(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
+                   uint64_t seed, float f[HERO_N], float pdf_l[HERO_N]);
+int   layered_sample(const Material *m, const Frame *fr, Vec3 wo_world, const float *lambda,
+                     unsigned alive, float u0, float u1, float u2, uint64_t key, BsdfSample *out);
 /* Anisotropic Trowbridge-Reitz (GGX) with alpha_x, alpha_y, in the local frame
    (exposed for tests): the normal distribution D(wm), the height-correlated
    masking-shadowing G(wo, wi), and the visible-normal sampler with its density

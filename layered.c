@@ -1,0 +1,567 @@
+/* layered.c - pbrt-v4's "coateddiffuse": a dielectric coat over a Lambertian base,
+   with an optional scattering medium between the two, evaluated by stochastic
+   random walks between the interfaces.
+
+   Exported: layered_sample, layered_eval, layered_pdf (specnee.h section 6),
+   called by material.c's bsdf_sample / bsdf_eval in the shading frame (n = +z,
+   directions pointing away from the surface, f without the cosine).
+
+   1. The model (Guo, Hasan, Zhao 2018, "Position-free Monte Carlo simulation
+      for arbitrary layered BSDFs", ACM TOG 37(6); pbrt 4th ed. section 14.3,
+      LayeredBxDF<DielectricBxDF, DiffuseBxDF, twoSided = true>).  Two parallel
+      interfaces at heights z = thickness (the coat: smooth or GGX dielectric of
+      index eta) and z = 0 (the base: Lambert, f = R/pi, no transmission), with
+      between them a medium of extinction sigma_t = 1 per unit height and single
+      scattering albedo `albedo` (Henyey-Greenstein phase function, asymmetry g).
+      With albedo 0 the slab only absorbs: a straight crossing along w keeps
+      Tr = exp(-thickness / |w.z|).  "Position-free": only the height z of a
+      vertex matters, never its (x, y), so a walk is a sequence of directions and
+      heights.  Two-sided: a wo below the surface is handled by mirroring wo and
+      wi (the coat faces both ways, as pbrt-v4's twoSided = true).
+
+   2. f(wo, wi) is an integral over all paths between the interfaces; one random
+      walk gives an unbiased estimate (Guo et al. section 5):
+        - the coat's reflection f_top(wo, wi) (GGX; 0 when smooth: a delta lobe);
+        - a walk entering through the coat along wos (sampled transmission of
+          wo), with throughput beta = f_t |cos| / p; at each vertex a
+          next-event estimate connects towards wis, the inside direction of a
+          sampled transmission of wi ("importance" mode: the adjoint; its weight
+          f_t(wi -> wis) / p equals the radiance BTDF of the exit, Veach 1997
+          section 5.2), combined by the power heuristic with the walk reaching
+          the coat and leaving through it (the exit BTDF evaluated directly) when
+          the coat is rough (both weights in the measure of the inside
+          direction: the exit's competitor is p(v | wi), the density with which
+          wi's transmission samples the inside direction v; pbrt-v4 (commit
+          5f7a6068, LayeredBxDF::f) uses the exit's own p(wi | v) there, so its
+          two weights do not sum to 1 and its f is biased high for rough coats:
+          directional albedo 0.638 instead of 0.585 at alpha 0.4, R = 1, wo at
+          34 deg (0.585: its Sample_f, specnee's f, and f without MIS all agree);
+          a white rough-coated sphere under a distant light, where only f is
+          seen, renders 8.5% brighter in pbrt-v4 than in specnee);  at the base: beta R/pi |cos wis| Tr(wis) f_t/p,
+          in the medium: beta albedo p_HG Tr f_t/p;
+        - the walk continues by sampling the base (cosine), the coat's internal
+          reflection (total internal reflection included), or the medium
+          (exponential free flight z += dz, dz = -ln(1 - u) |w.z|; a flight that
+          ends beyond an interface reaches it with weight 1);
+        - Russian roulette after depth 3 when max beta < 1/4, and at most
+          `maxdepth` vertices (a truncation: pbrt-v4's bias, reproduced).
+      The mean of `nsamples` walks is returned.
+   3. Sampling: the coat is sampled at wo; a reflection is returned as it is (a
+      delta lobe when smooth); a transmission starts a walk that multiplies f
+      and pdf of every vertex until it leaves through the coat.  The walk's
+      f/p is an unbiased estimate of the weight f cos / p, but its p is not the
+      density of the returned direction (which has no closed form).
+   4. pdf(wo, wi) is an approximation (pbrt-v4's LayeredBxDF::PDF): the coat's
+      reflection pdf plus the TRT paths of one bounce at the base (exact for the
+      smooth coat's refracted pair, MIS of the two one-bounce strategies when
+      rough), mixed with the uniform sphere: pdf = 0.1/(4 pi) + 0.9 estimate.
+
+   Integration with specnee's estimator (render.c): the MIS weights of a
+   direction must come from ONE function whether NEE (bsdf_eval) or BSDF
+   sampling found it.  That function is layered_pdf(wo, wi): a stochastic
+   estimate made deterministic by seeding its random stream from (wo, wi) (as
+   pbrt-v4 hashes its --seed, wo and wi).  bsdf_sample therefore reports pdf =
+   pdf_l[j] = layered_pdf(wo, wi) and f[j] = f_walk[j] pdf / p_walk, so that
+   render.c's update beta *= f cos / pdf multiplies by f_walk cos / p_walk, the
+   walk's unbiased weight, while the emitter hit's MIS weight uses pdf, the
+   same number NEE's bsdf_eval reports for that pair (pbrt-v4's path.cpp:
+   p_b = pdfIsProportional ? bsdf.PDF(wo, wi) : pdf).  Any positive function
+   used consistently by both strategies keeps the MIS weights summing to 1,
+   so the estimate stays unbiased; pdf's quality only affects variance.
+   bsdf_eval's f is a random-walk estimate seeded from (wo, wi) too: unbiased
+   over the seeds, deterministic for a given pair, independent of threads.
+   The index is a number (specnee refuses a spectral eta here), so every
+   wavelength shares the directions: pdf_l[j] = pdf, and only R and the albedo
+   differ per wavelength. */
+#include "specnee.h"
+#include <float.h>
+#include <string.h>
+
+/* ---------------------------------------------------------------- the coat */
+
+#define LOBE_R 1
+#define LOBE_T 2
+
+typedef struct { float eta, alpha; } Coat;
+typedef struct { Vec3 wi; float f, pdf; int reflect, specular; } Lobe;
+
+/* pbrt-v4: index 1 or EffectivelySmooth (alpha < 1e-3) scatter in delta lobes. */
+static int coat_smooth(const Coat *c) { return c->eta == 1.0f || c->alpha < 1e-3f; }
+
+/* Sample the coat from w (either side), restricted to the lobes in `lobes`;
+   radiance = 0 is the adjoint ("importance"): no 1/eta'^2 on transmission. */
+static int coat_sample(const Coat *c, Vec3 w, float uc, float u1, float u2, int lobes,
+                       int radiance, Lobe *s)
+{
+    float R, T, pr, pt, etap = 1.0f;
+    if (w.z == 0.0f) return 0;
+    if (coat_smooth(c)) {
+        R = fresnel_dielectric(w.z, c->eta);
+        T = 1.0f - R;
+        pr = (lobes & LOBE_R) ? R : 0.0f;
+        pt = (lobes & LOBE_T) ? T : 0.0f;
+        if (!(pr + pt > 0.0f)) return 0;
+        s->specular = 1;
+        if (uc < pr / (pr + pt)) {
+            s->wi = v3(-w.x, -w.y, w.z);
+            s->reflect = 1;
+            s->f = R / fabsf(s->wi.z);
+            s->pdf = pr / (pr + pt);
+        } else {
+            if (!refract_dir(w, v3(0, 0, 1), c->eta, &etap, &s->wi) || s->wi.z == 0.0f) return 0;
+            s->reflect = 0;
+            s->f = T / fabsf(s->wi.z);
+            if (radiance) s->f /= etap * etap;
+            s->pdf = pt / (pr + pt);
+        }
+        return s->f > 0.0f && s->pdf > 0.0f;
+    } else {
+        float a = c->alpha;
+        Vec3 wm = tr_sample_wm(a, a, w, u1, u2);
+        float dwm = v3_dot(w, wm);
+        R = fresnel_dielectric(dwm, c->eta);
+        T = 1.0f - R;
+        pr = (lobes & LOBE_R) ? R : 0.0f;
+        pt = (lobes & LOBE_T) ? T : 0.0f;
+        if (!(pr + pt > 0.0f) || dwm == 0.0f) return 0;
+        s->specular = 0;
+        if (uc < pr / (pr + pt)) {
+            s->wi = v3_sub(v3_mul(wm, 2.0f * dwm), w);
+            if (s->wi.z * w.z <= 0.0f) return 0;
+            s->reflect = 1;
+            s->pdf = tr_pdf_wm(a, a, w, wm) / (4.0f * fabsf(dwm)) * pr / (pr + pt);
+            s->f = tr_D(a, a, wm) * tr_G(a, a, w, s->wi) * R / fabsf(4.0f * s->wi.z * w.z);
+        } else {
+            float d, denom;
+            if (!refract_dir(w, wm, c->eta, &etap, &s->wi)) return 0;
+            if (s->wi.z * w.z >= 0.0f || s->wi.z == 0.0f) return 0;
+            s->reflect = 0;
+            d = v3_dot(s->wi, wm) + dwm / etap;
+            denom = d * d;
+            if (denom == 0.0f) return 0;
+            s->pdf = tr_pdf_wm(a, a, w, wm) * fabsf(v3_dot(s->wi, wm)) / denom * pt / (pr + pt);
+            s->f = T * tr_D(a, a, wm) * tr_G(a, a, w, s->wi) *
+                   fabsf(v3_dot(s->wi, wm) * dwm / (s->wi.z * w.z * denom));
+            if (radiance) s->f /= etap * etap;
+        }
+        return s->f > 0.0f && s->pdf > 0.0f && isfinite(s->f);
+    }
+}
+
+/* The rough coat's value (radiance mode) and pdf for a pair; 0 when smooth. */
+static void coat_pair(const Coat *c, Vec3 wo, Vec3 wi, int lobes, float *f, float *pdf)
+{
+    float co = wo.z, ci = wi.z, etap = 1.0f, F, pr, pt, a = c->alpha;
+    int reflect = ci * co > 0.0f;
+    Vec3 wm;
+    *f = 0.0f; *pdf = 0.0f;
+    if (coat_smooth(c) || ci == 0.0f || co == 0.0f) return;
+    if (!reflect) etap = co > 0.0f ? c->eta : 1.0f / c->eta;
+    wm = v3_add(v3_mul(wi, etap), wo);                 /* generalised half vector */
+    if (v3_dot(wm, wm) == 0.0f) return;
+    wm = v3_norm(wm);
+    if (wm.z < 0.0f) wm = v3_neg(wm);
+    if (v3_dot(wm, wi) * ci < 0.0f || v3_dot(wm, wo) * co < 0.0f) return;   /* back-facing */
+    F = fresnel_dielectric(v3_dot(wo, wm), c->eta);
+    pr = (lobes & LOBE_R) ? F : 0.0f;
+    pt = (lobes & LOBE_T) ? 1.0f - F : 0.0f;
+    if (reflect) {
+        *f = tr_D(a, a, wm) * tr_G(a, a, wo, wi) * F / fabsf(4.0f * ci * co);
+        if (pr + pt > 0.0f)
+            *pdf = tr_pdf_wm(a, a, wo, wm) / (4.0f * fabsf(v3_dot(wo, wm))) * pr / (pr + pt);
+    } else {
+        float d = v3_dot(wi, wm) + v3_dot(wo, wm) / etap, denom = d * d;
+        if (denom == 0.0f) return;
+        *f = tr_D(a, a, wm) * tr_G(a, a, wo, wi) * (1.0f - F) *
+             fabsf(v3_dot(wi, wm) * v3_dot(wo, wm) / (ci * co * denom)) / (etap * etap);
+        if (pr + pt > 0.0f)
+            *pdf = tr_pdf_wm(a, a, wo, wm) * fabsf(v3_dot(wi, wm)) / denom * pt / (pr + pt);
+    }
+    if (!isfinite(*f) || !isfinite(*pdf)) { *f = 0.0f; *pdf = 0.0f; }
+}
+
+/* ---------------------------------------------------------------- base and medium */
+
+static float base_pdf(Vec3 wo, Vec3 wi)
+{
+    return wo.z * wi.z > 0.0f ? fabsf(wi.z) / PI_F : 0.0f;
+}
+
+/* Cosine-weighted on w's side. */
+static Vec3 base_sample(Vec3 w, float u1, float u2)
+{
+    float r = sqrtf(u1), phi = 2.0f * PI_F * u2;
+    Vec3 d = v3(r * cosf(phi), r * sinf(phi), sqrtf(fmaxf(0.0f, 1.0f - u1)));
+    if (w.z < 0.0f) d.z = -d.z;
+    return d;
+}
+
+/* Henyey-Greenstein with pbrt-v4's convention: wo and wi both point away from
+   the scattering point, so forward scattering is wi = -wo. */
+static float hg_p(float g, Vec3 wo, Vec3 wi)
+{
+    float c = v3_dot(wo, wi), d = 1.0f + g * g + 2.0f * g * c;
+    return (1.0f - g * g) / (4.0f * PI_F * d * sqrtf(fmaxf(d, 1e-12f)));
+}
+
+/* Sample wi with density hg_p (the cosine about the propagation direction -wo
+   by inverting HG's cdf); the density is returned. */
+static Vec3 hg_sample(float g, Vec3 wo, float u1, float u2, float *pdf)
+{
+    float ct, st, phi;
+    Frame fr = frame_from_normal(v3_neg(wo));
+    if (fabsf(g) < 1e-3f) ct = 1.0f - 2.0f * u1;
+    else {
+        float q = (1.0f - g * g) / (1.0f - g + 2.0f * g * u1);
+        ct = (1.0f + g * g - q * q) / (2.0f * g);
+    }
+    ct = fminf(1.0f, fmaxf(-1.0f, ct));
+    st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct));
+    phi = 2.0f * PI_F * u2;
+    {
+        Vec3 wi = v3_norm(frame_to_world(&fr, v3(st * cosf(phi), st * sinf(phi), ct)));
+        *pdf = hg_p(g, wo, wi);
+        return wi;
+    }
+}
+
+/* Transmittance of a vertical distance dz along w (sigma_t = 1). */
+static float slab_tr(float dz, Vec3 w)
+{
+    if (fabsf(dz) <= FLT_MIN) return 1.0f;
+    return expf(-fabsf(dz / w.z));
+}
+
+static float power_h(float a, float b)
+{
+    if (isinf(a)) return 1.0f;
+    if (!(a * a + b * b > 0.0f)) return 0.0f;
+    return a * a / (a * a + b * b);
+}
+
+/* ---------------------------------------------------------------- the layered BSDF */
+
+typedef struct {
+    Coat top;
+    float thick, g;
+    int maxdepth, nsamples, has_albedo;
+    float R[HERO_N], A[HERO_N];
+} Layer;
+
+static void layer_init(const Material *m, const float *lambda, unsigned alive, Layer *L)
+{
+    int j;
+    L->top.eta = mat_eta(m, lambda[0]);
+    L->top.alpha = m->alpha;
+    L->thick = m->thickness;
+    L->g = m->hg_g;
+    L->maxdepth = m->maxdepth;
+    L->nsamples = m->nsamples;
+    L->has_albedo = 0;
+    for (j = 0; j < HERO_N; j++) {
+        int on = (alive & (1u << j)) != 0;
+        L->R[j] = on ? spec_eval(&m->reflectance, lambda[j]) : 0.0f;
+        L->A[j] = on ? spec_eval(&m->albedo, lambda[j]) : 0.0f;
+        if (L->A[j] > 0.0f) L->has_albedo = 1;
+    }
+}
+
+static float rng_u(Rng *r) { return rng_float(r); }
+
+static uint64_t dir_key(Vec3 v)
+{
+    uint32_t x, y, z;
+    memcpy(&x, &v.x, 4); memcpy(&y, &v.y, 4); memcpy(&z, &v.z, 4);
+    return hash_u64(((uint64_t)x << 32) | y, z);
+}
+
+/* One estimate of f (section 2), mean of nsamples walks; wo.z > 0. */
+static void walk_f(const Layer *L, Vec3 wo, Vec3 wi, Rng *rng, float f[HERO_N])
+{
+    int s, j, depth, smooth = coat_smooth(&L->top);
+    float ftop, ptop;
+    for (j = 0; j < HERO_N; j++) f[j] = 0.0f;
+    if (wi.z <= 0.0f) return;                     /* the base transmits nothing */
+    coat_pair(&L->top, wo, wi, LOBE_R | LOBE_T, &ftop, &ptop);
+    for (j = 0; j < HERO_N; j++) f[j] = (float)L->nsamples * ftop;
+    for (s = 0; s < L->nsamples; s++) {
+        Lobe wos, wis;
+        float beta[HERO_N], z, a, b, c;
+        Vec3 w;
+        a = rng_u(rng); b = rng_u(rng); c = rng_u(rng);
+        if (!coat_sample(&L->top, wo, a, b, c, LOBE_T, 1, &wos)) continue;
+        a = rng_u(rng); b = rng_u(rng); c = rng_u(rng);
+        if (!coat_sample(&L->top, wi, a, b, c, LOBE_T, 0, &wis)) continue;   /* adjoint */
+        for (j = 0; j < HERO_N; j++) beta[j] = wos.f * fabsf(wos.wi.z) / wos.pdf;
+        z = L->thick;
+        w = wos.wi;
+        for (depth = 0; depth < L->maxdepth; depth++) {
+            float bmax = 0.0f;
+            for (j = 0; j < HERO_N; j++) bmax = fmaxf(bmax, beta[j]);
+            if (depth > 3 && bmax < 0.25f) {
+                float q = fmaxf(0.0f, 1.0f - bmax);
+                if (rng_u(rng) < q) break;
+                for (j = 0; j < HERO_N; j++) beta[j] /= 1.0f - q;
+            }
+            if (L->has_albedo) {
+                float dz = -logf(1.0f - rng_u(rng)) * fabsf(w.z);
+                float zp = w.z > 0.0f ? z + dz : z - dz;
+                if (zp == z) continue;
+                if (zp > 0.0f && zp < L->thick) {   /* scattering inside the slab */
+                    float ph = hg_p(L->g, v3_neg(w), v3_neg(wis.wi)), pp, wt;
+                    float tr = slab_tr(zp - L->thick, wis.wi);
+                    Vec3 wn;
+                    wt = smooth ? 1.0f : power_h(wis.pdf, ph);
+                    for (j = 0; j < HERO_N; j++)
+                        f[j] += beta[j] * L->A[j] * ph * wt * tr * wis.f / wis.pdf;
+                    a = rng_u(rng); b = rng_u(rng);
+                    wn = hg_sample(L->g, v3_neg(w), a, b, &pp);
+                    if (!(pp > 0.0f) || wn.z == 0.0f) continue;
+                    for (j = 0; j < HERO_N; j++) beta[j] *= L->A[j];   /* p / pdf = 1 */
+                    w = wn;
+                    z = zp;
+                    if (w.z > 0.0f && !smooth) {    /* towards the coat: leave through it */
+                        float fe, pe;
+                        coat_pair(&L->top, v3_neg(w), wi, LOBE_T, &fe, &pe);
+                        coat_pair(&L->top, wi, v3_neg(w), LOBE_T, &pe, &pe);   /* p(-w | wi) */
+                        if (fe > 0.0f) {
+                            float wt2 = power_h(pp, pe), t2 = slab_tr(zp - L->thick, w);
+                            for (j = 0; j < HERO_N; j++) f[j] += beta[j] * t2 * fe * wt2;
+                        }
+                    }
+                    continue;
+                }
+                z = zp <= 0.0f ? 0.0f : L->thick;
+            } else {
+                z = z == L->thick ? 0.0f : L->thick;
+                for (j = 0; j < HERO_N; j++) beta[j] *= slab_tr(L->thick, w);
+            }
+            if (z == L->thick) {                    /* the coat from inside: reflect */
+                Lobe r;
+                a = rng_u(rng); b = rng_u(rng); c = rng_u(rng);
+                if (!coat_sample(&L->top, v3_neg(w), a, b, c, LOBE_R, 1, &r)) break;
+                for (j = 0; j < HERO_N; j++) beta[j] *= r.f * fabsf(r.wi.z) / r.pdf;
+                w = r.wi;
+            } else {                                /* the base */
+                float wt = 1.0f, tr = slab_tr(L->thick, wis.wi), pb;
+                Vec3 wn;
+                float fb_on = base_pdf(v3_neg(w), v3_neg(wis.wi)) > 0.0f ? 1.0f : 0.0f;
+                if (!smooth) wt = power_h(wis.pdf, base_pdf(v3_neg(w), v3_neg(wis.wi)));
+                for (j = 0; j < HERO_N; j++)
+                    f[j] += beta[j] * fb_on * L->R[j] / PI_F * fabsf(wis.wi.z) * wt * tr *
+                            wis.f / wis.pdf;
+                a = rng_u(rng); b = rng_u(rng);
+                wn = base_sample(v3_neg(w), a, b);
+                pb = base_pdf(v3_neg(w), wn);
+                if (!(pb > 0.0f)) break;
+                for (j = 0; j < HERO_N; j++) beta[j] *= L->R[j];   /* (R/pi) cos / (cos/pi) */
+                w = wn;
+                if (!smooth) {
+                    float fe, pe;
+                    coat_pair(&L->top, v3_neg(w), wi, LOBE_T, &fe, &pe);
+                    coat_pair(&L->top, wi, v3_neg(w), LOBE_T, &pe, &pe);       /* p(-w | wi) */
+                    if (fe > 0.0f) {
+                        float wt2 = power_h(pb, pe), t2 = slab_tr(L->thick, w);
+                        for (j = 0; j < HERO_N; j++) f[j] += beta[j] * t2 * fe * wt2;
+                    }
+                }
+            }
+        }
+    }
+    for (j = 0; j < HERO_N; j++) f[j] /= (float)L->nsamples;
+}
+
+/* The pdf approximation of section 4; wo.z > 0. */
+static float walk_pdf(const Layer *L, Vec3 wo, Vec3 wi, Rng *rng)
+{
+    int s, j, smooth = coat_smooth(&L->top), base_on = 0;
+    float sum = 0.0f, ftop, ptop;
+    for (j = 0; j < HERO_N; j++) if (L->R[j] > 0.0f) base_on = 1;
+    if (wi.z > 0.0f) {
+        coat_pair(&L->top, wo, wi, LOBE_R | LOBE_T, &ftop, &ptop);
+        sum += (float)L->nsamples * ptop;
+        for (s = 0; s < L->nsamples; s++) {
+            Lobe wos, wis;
+            float a, b, c;
+            a = rng_u(rng); b = rng_u(rng); c = rng_u(rng);
+            if (!coat_sample(&L->top, wo, a, b, c, LOBE_T, 1, &wos)) continue;
+            a = rng_u(rng); b = rng_u(rng); c = rng_u(rng);
+            if (!coat_sample(&L->top, wi, a, b, c, LOBE_T, 0, &wis)) continue;
+            if (smooth) sum += base_pdf(v3_neg(wos.wi), v3_neg(wis.wi));
+            else if (base_on) {
+                Vec3 rs;
+                float rp, rpdf, tf, tpdf;
+                a = rng_u(rng); b = rng_u(rng);
+                rs = base_sample(v3_neg(wos.wi), a, b);
+                rp = base_pdf(v3_neg(wos.wi), rs);
+                if (!(rp > 0.0f)) continue;
+                rpdf = base_pdf(v3_neg(wos.wi), v3_neg(wis.wi));
+                sum += power_h(wis.pdf, rpdf) * rpdf;
+                coat_pair(&L->top, v3_neg(rs), wi, LOBE_R | LOBE_T, &tf, &tpdf);
+                sum += power_h(rp, tpdf) * tpdf;
+            }
+        }
+    }
+    sum /= (float)L->nsamples;
+    return 0.1f / (4.0f * PI_F) + 0.9f * sum;
+}
+
+uint64_t layered_seed(Vec3 wo, Vec3 wi, uint64_t key)
+{
+    return hash_u64(hash_u64(dir_key(wo), dir_key(wi)), key);
+}
+
+float layered_pdf(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
+                  uint64_t seed)
+{
+    Layer L;
+    Rng rng;
+    if (wo.z == 0.0f) return 0.0f;
+    if (wo.z < 0.0f) { wo = v3_neg(wo); wi = v3_neg(wi); }   /* two-sided */
+    layer_init(m, lambda, alive, &L);
+    rng_seed(&rng, seed, 0x9dfULL);
+    return walk_pdf(&L, wo, wi, &rng);
+}
+
+void layered_eval(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
+                  uint64_t seed, float f[HERO_N], float pdf_l[HERO_N])
+{
+    Layer L;
+    Rng rng;
+    int j;
+    float pdf;
+    for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
+    if (wo.z == 0.0f || wi.z == 0.0f) return;
+    pdf = layered_pdf(m, wo, wi, lambda, alive, seed);
+    if (wo.z < 0.0f) { wo = v3_neg(wo); wi = v3_neg(wi); }   /* mirrored, as in the pdf */
+    layer_init(m, lambda, alive, &L);
+    rng_seed(&rng, seed, 0xf1ULL);
+    walk_f(&L, wo, wi, &rng, f);
+    for (j = 0; j < HERO_N; j++) {
+        pdf_l[j] = pdf;
+        if (!(alive & (1u << j)) || !isfinite(f[j]) || f[j] < 0.0f) f[j] = 0.0f;
+    }
+}
+
+/* Section 3: a walk from wo; *fw is its f (without the exit cosine), *pw its p. */
+static int walk_sample(const Layer *L, Vec3 wo, float uc, float u1, float u2, Rng *rng,
+                       Vec3 *wi, float fw[HERO_N], float *pw, int *specular)
+{
+    Lobe bs;
+    Vec3 w;
+    float pdf, z = L->thick;
+    int j, depth, spec;
+    if (!coat_sample(&L->top, wo, uc, u1, u2, LOBE_R | LOBE_T, 1, &bs)) return 0;
+    if (bs.reflect) {
+        *wi = bs.wi;
+        for (j = 0; j < HERO_N; j++) fw[j] = bs.f;
+        *pw = bs.pdf;
+        *specular = bs.specular;
+        return 1;
+    }
+    w = bs.wi;
+    spec = bs.specular;
+    for (j = 0; j < HERO_N; j++) fw[j] = bs.f * fabsf(w.z);
+    pdf = bs.pdf;
+    for (depth = 0; depth < L->maxdepth; depth++) {
+        float fmax = 0.0f, a, b, c;
+        for (j = 0; j < HERO_N; j++) fmax = fmaxf(fmax, fw[j]);
+        if (depth > 3 && fmax / pdf < 0.25f) {
+            float q = fmaxf(0.0f, 1.0f - fmax / pdf);
+            if (rng_u(rng) < q) return 0;
+            pdf *= 1.0f - q;
+        }
+        if (w.z == 0.0f) return 0;
+        if (L->has_albedo) {
+            float dz = -logf(1.0f - rng_u(rng)) * fabsf(w.z);
+            float zp = w.z > 0.0f ? z + dz : z - dz;
+            if (zp == z) return 0;
+            if (zp > 0.0f && zp < L->thick) {
+                float pp;
+                Vec3 wn;
+                a = rng_u(rng); b = rng_u(rng);
+                wn = hg_sample(L->g, v3_neg(w), a, b, &pp);
+                if (!(pp > 0.0f) || wn.z == 0.0f) return 0;
+                for (j = 0; j < HERO_N; j++) fw[j] *= L->A[j] * pp;
+                pdf *= pp;
+                spec = 0;
+                w = wn;
+                z = zp;
+                continue;
+            }
+            z = zp <= 0.0f ? 0.0f : L->thick;
+        } else {
+            z = z == L->thick ? 0.0f : L->thick;
+            for (j = 0; j < HERO_N; j++) fw[j] *= slab_tr(L->thick, w);
+        }
+        if (z == 0.0f) {                            /* the base */
+            Vec3 wn;
+            float pb;
+            a = rng_u(rng); b = rng_u(rng);
+            wn = base_sample(v3_neg(w), a, b);
+            pb = base_pdf(v3_neg(w), wn);
+            fmax = 0.0f;
+            for (j = 0; j < HERO_N; j++) fmax = fmaxf(fmax, L->R[j]);
+            if (!(pb > 0.0f) || !(fmax > 0.0f)) return 0;
+            for (j = 0; j < HERO_N; j++) fw[j] *= L->R[j] / PI_F * fabsf(wn.z);
+            pdf *= pb;
+            spec = 0;
+            w = wn;
+        } else {                                    /* the coat from inside */
+            a = rng_u(rng); b = rng_u(rng); c = rng_u(rng);
+            if (!coat_sample(&L->top, v3_neg(w), a, b, c, LOBE_R | LOBE_T, 1, &bs)) return 0;
+            for (j = 0; j < HERO_N; j++) fw[j] *= bs.f;
+            pdf *= bs.pdf;
+            spec = spec && bs.specular;
+            w = bs.wi;
+            if (!bs.reflect) {
+                *wi = w;
+                *pw = pdf;
+                *specular = spec;
+                return pdf > 0.0f;
+            }
+            for (j = 0; j < HERO_N; j++) fw[j] *= fabsf(w.z);
+        }
+    }
+    return 0;
+}
+
+int layered_sample(const Material *m, const Frame *fr, Vec3 wo_world, const float *lambda,
+                   unsigned alive, float u0, float u1, float u2, uint64_t key, BsdfSample *out)
+{
+    Layer L;
+    Rng rng;
+    Vec3 wo = frame_to_local(fr, wo_world), wi;
+    int j, flip = wo.z < 0.0f, specular = 0;
+    float fw[HERO_N], pw = 0.0f, pdf;
+    uint32_t b0, b1, b2;
+    for (j = 0; j < HERO_N; j++) { out->f[j] = 0.0f; out->pdf_l[j] = 0.0f; }
+    out->delta = 0;
+    if (wo.z == 0.0f) return 0;
+    if (flip) wo = v3_neg(wo);
+    layer_init(m, lambda, alive, &L);
+    memcpy(&b0, &u0, 4); memcpy(&b1, &u1, 4); memcpy(&b2, &u2, 4);
+    rng_seed(&rng, hash_u64(((uint64_t)b0 << 32) | b1, b2), hash_u64(key, 0x5aULL));
+    if (!walk_sample(&L, wo, u0, u1, u2, &rng, &wi, fw, &pw, &specular)) return 0;
+    if (!(pw > 0.0f) || wi.z <= 0.0f) return 0;
+    out->wi = frame_to_world(fr, flip ? v3_neg(wi) : wi);
+    if (specular) {
+        /* the smooth coat's mirror reflection: a delta lobe, f holds R/|cos| and
+           pdf the lobe's probability, as a smooth dielectric's */
+        out->delta = 1;
+        pdf = pw;
+    } else {
+        /* MIS needs the deterministic pdf estimate, seeded from the WORLD
+           directions exactly as bsdf_eval seeds it (see the top); f is scaled
+           so that f cos / pdf is the walk's f_walk cos / p_walk */
+        rng_seed(&rng, layered_seed(wo_world, out->wi, key), 0x9dfULL);
+        pdf = walk_pdf(&L, wo, wi, &rng);
+    }
+    for (j = 0; j < HERO_N; j++) {
+        float fj = specular ? fw[j] : fw[j] * pdf / pw;
+        out->pdf_l[j] = pdf;
+        out->f[j] = (alive & (1u << j)) && isfinite(fj) ? fj : 0.0f;
+    }
+    out->pdf = pdf;
+    return pdf > 0.0f;
+}
