@@ -93,7 +93,8 @@ static const char usage_options2[] =
 "      --eager-tables      build every voxel of the spatial tables before rendering\n"
 "                          (default: each voxel on first use; the image is the same)\n"
 "      --dump-scene        print the scene as understood, then exit\n"
-"      --preset NAME       a named list of flags, expanded where it stands (later\n"
+"      --print-defaults    print the render settings, one \"name value\" a line, then\n"
+"                          exit: the defaults, or those the other flags give\n""      --preset NAME       a named list of flags, expanded where it stands (later\n"
 "                          flags override it); the presets are listed below\n"
 "  -q, --quiet             no progress bar and no closing line\n"
 "  -h, --help              this text\n";
@@ -188,6 +189,7 @@ typedef struct {
     int spp_cli, seed_cli, maxdepth_cli, lights_cli, sampler_cli;
     float exposure;
     int dump, quiet, mark_insets;
+    int print_defaults;        /* --print-defaults: print the settings, then exit */
     int res_w, res_h;          /* --res: override the film resolution (0: the file's) */
 } Args;
 
@@ -314,6 +316,8 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
             a->ro.sel.eager = 1;
         } else if (!strcmp(o, "--dump-scene")) {
             a->dump = 1;
+        } else if (!strcmp(o, "--print-defaults")) {
+            a->print_defaults = 1;
         } else if (!strcmp(o, "-q") || !strcmp(o, "--quiet")) {
             a->quiet = 1;
         } else if (o[0] == '-' && o[1]) {
@@ -328,6 +332,29 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
     return 0;
 }
 
+/* --print-defaults: the render settings, one "name value" line each, from the
+   RenderOptions the command line gave (render_options_default when no flag
+   precedes it, so the binary itself says what it does by default: the docs' test
+   tests/docs_defaults.sh compares every "(default)" in docs/ with these lines).
+   Each name is an option; an option that takes a value prints that value (so
+   "--NAME VALUE" sets it), a switch prints on or off.  A scene file's Sampler and
+   Integrator may still set spp, seed, maxdepth, sampler and lights. */
+static void print_settings(const RenderOptions *o)
+{
+    printf("spp %d\nseed %d\nmaxdepth %d\nsampler %s\n", o->spp, o->seed, o->maxdepth,
+           sampler_name(o->sampler));
+    printf("wavelengths %s\nmix-weight %g\nwide %s\nsingle-wavelength %s\n", wl_mode_name(o->wl_mode),
+           (double)(o->wl_mix > 0.0f ? o->wl_mix : WL_MIX_DEFAULT), o->wl_wide ? "on" : "off",
+           o->single_wavelength ? "on" : "off");
+    printf("lights %s\nspd-metric %s\nspd-wavelengths %s\n", sel_name(o->sel.strategy),
+           o->sel.power_metric ? "power" : "unit",
+           o->sel.throughput_weighted ? "throughput" : o->sel.all_wavelengths ? "all" : "hero");
+    printf("rough-dispersion %s\nno-nee %s\n", o->rough_mis ? "mis" : "terminate", o->nee ? "off" : "on");
+    printf("fluor-li %s\nfluor-lanes %s\n",
+           o->fluor_li == FLUOR_LI_A ? "a" : o->fluor_li == FLUOR_LI_POWER ? "power" : "uniform",
+           o->fluor_keep ? "keep" : "terminate");
+}
+
 /* Returns 0 on success, else the exit code. */
 static int parse_args(int argc, char **argv, Args *a)
 {
@@ -335,6 +362,10 @@ static int parse_args(int argc, char **argv, Args *a)
     memset(a, 0, sizeof *a);
     render_options_default(&a->ro);
     if ((rc = parse_flags(argc - 1, (const char *const *)(argv + 1), a, 0)) != 0) return rc;
+    if (a->print_defaults) {
+        print_settings(&a->ro);
+        exit(0);
+    }
     if (!a->scene) return usage_error("%s", "no scene file given");
     return 0;
 }

@@ -328,6 +328,13 @@ else fail "factorial_smoke"; tail -n 5 tests/tmp/factorial.txt; fi
 # a sampler that is not progressive (zsobol): converge renders its rungs one by one and says so
 expect "eval_converge_not_progressive" 0 "zsobol sampler is not progressive" ./specnee converge scenes/cornell-glass.pbrt \
     --ref docs/ref/cornell-glass.pfm --lights spatial,spatial:zsobol --spp 1,2 --seeds 2 --out tests/tmp/smoke-z
+# the docs call nothing the default that the binary does not do by default
+# (--print-defaults; the script plants stale claims first and must report them)
+expect "cli_print_defaults" 0 "" ./specnee --print-defaults
+if grep -qx "lights spectral-tree" tests/tmp/out.txt && grep -qx "wavelengths mixture" tests/tmp/out.txt &&
+   ./specnee --preset thesis --print-defaults | grep -qx "rough-dispersion terminate"; then ok "cli_print_defaults_lines"
+else fail "cli_print_defaults_lines"; fi
+counted docs-defaults sh tests/docs_defaults.sh
 # golden images (bit-exact with this binary) and every command of the walkthrough
 counted golden sh tests/golden.sh
 counted walkthrough sh tests/walkthrough.sh
