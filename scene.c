@@ -755,11 +755,11 @@ static int word_in(const char *list, const char *name)
    is an error, as in pbrt-v4 (ReportUnused).  `reads` lists what the directive
    reads ("integer xresolution, ..."), `pbrt_only` names the pbrt-v4 parameters
    of this directive that specnee does not support. */
-static int params_check_unused(Parser *P, ParamList *pl, const char *what,
-                               const char *reads, const char *pbrt_only)
+static int params_check_unused_before(Parser *P, ParamList *pl, const char *what,
+                                      const char *reads, const char *pbrt_only, int before)
 {
     int i;
-    for (i = 0; i < pl->n; i++) {
+    for (i = 0; i < before && i < pl->n; i++) {
         const Param *p = &pl->p[i];
         const char *tn = param_type_names[p->type];
         char key[80];
@@ -788,6 +788,25 @@ static int params_check_unused(Parser *P, ParamList *pl, const char *what,
                     tn, p->name, what, reads[0] ? reads : "nothing");
     }
     return 1;
+}
+
+/* Every parameter, in the order of the file (the parameter list keeps it): the
+   first one left over is named. */
+static int params_check_unused(Parser *P, ParamList *pl, const char *what,
+                               const char *reads, const char *pbrt_only)
+{
+    return params_check_unused_before(P, pl, what, reads, pbrt_only, pl->n);
+}
+
+/* A parameter p that was read but whose value specnee refuses: a statement's
+   first problem in the file is the one named, so a parameter left over before p
+   is reported instead; else msg, at p's own line (file:line when p is NULL).
+   Call it after the directive has read all its parameters. */
+static int refuse_param(Parser *P, ParamList *pl, const char *what, const char *reads,
+                        const Param *p, const char *file, int line, const char *msg)
+{
+    if (p && !params_check_unused_before(P, pl, what, reads, NULL, (int)(p - pl->p))) return 0;
+    return fail(P, p ? p->file : file, p ? p->line : line, "%s", msg);
 }
 
 /* ===========================================================================
@@ -1496,6 +1515,7 @@ static int sampler_directive(Parser *P, const char *type, ParamList *pl, const c
     SceneSettings *st = &P->s->settings;
     int i, spp, seed, given = 0, seed_given = 0, jitter = 1, xs = 0, ys = 0;
     const char *rnd;
+    char what[48];
     for (i = 0; known[i]; i++)
         if (!strcmp(type, known[i])) break;
     if (!known[i]) return fail(P, file, line, "Sampler \"%s\": unknown sampler type", type);
@@ -1514,14 +1534,21 @@ static int sampler_directive(Parser *P, const char *type, ParamList *pl, const c
         /* pbrt-v4 defaults: 4 for independent, 16 for the others */
         if (!get_int(P, pl, "pixelsamples", strcmp(type, "independent") ? 16 : 4, &spp, &given))
             return 0;
-        if (strcmp(type, "independent") != 0 && !get_string(P, pl, "randomization", &rnd))
+        /* pbrt-v4 reads "string randomization" for halton, paddedsobol, sobol and
+           zsobol only (samplers.cpp, each Create) */
+        if (strcmp(type, "independent") != 0 && strcmp(type, "pmj02bn") != 0 &&
+            !get_string(P, pl, "randomization", &rnd))
             return 0;
     }
     if (!get_int(P, pl, "seed", 0, &seed, &seed_given)) return 0;
-    if (!params_check_unused(P, pl, "Sampler",
-                             strcmp(type, "stratified") ? "integer pixelsamples, integer seed"
-                             : "integer xsamples, integer ysamples, bool jitter, integer seed",
-                             "pixelsamples xsamples ysamples jitter randomization"))
+    /* specnee reads every parameter pbrt-v4's sampler of this type reads
+       (samplers.cpp): any other is an unused parameter there too, e.g. "integer
+       pixelsamples" of "stratified", which pbrt-v4 takes from --spp only */
+    snprintf(what, sizeof what, "Sampler \"%s\"", type);
+    if (!params_check_unused(P, pl, what,
+                             !strcmp(type, "stratified") ? "integer xsamples, integer ysamples, bool jitter, integer seed"
+                             : !strcmp(type, "independent") || !strcmp(type, "pmj02bn") ? "integer pixelsamples, integer seed"
+                             : "integer pixelsamples, integer seed, string randomization", NULL))
         return 0;
     if (spp < 1 || spp > MAX_SPP)
         return fail(P, file, line, "Sampler: %d samples per pixel outside 1..%d", spp, MAX_SPP);
@@ -1553,7 +1580,7 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
     SceneSettings *st = &P->s->settings;
     int i, maxdepth, given, regularize, dummy_i;
     float dummy_f;
-    const char *ls = NULL;
+    const char *ls = NULL, *reads;
     char what[64];
     /* volpath (pbrt-v4's default), bdpt and sppm converge to the same image as path
        in a scene without participating media, which the subset has none of; so does
@@ -1604,21 +1631,23 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
         if (!get_float(P, pl, "radius", 1.0f, &dummy_f)) return 0;
         if (!get_int(P, pl, "seed", 0, &dummy_i, NULL)) return 0;
     }
-    if (!params_check_unused(P, pl, what,
-                             !strcmp(type, "bdpt") ? "integer maxdepth, bool regularize, "
-                                 "bool visualizestrategies, bool visualizeweights"
-                             : !strcmp(type, "sppm") ? "integer maxdepth, integer "
-                                 "photonsperiteration, float radius, integer seed"
-                             : !strcmp(type, "simplepath") ? "integer maxdepth, bool samplelights, "
-                                 "bool samplebsdf"
-                             : "integer maxdepth, string lightsampler, bool regularize", NULL))
+    reads = !strcmp(type, "bdpt") ? "integer maxdepth, bool regularize, "
+                "bool visualizestrategies, bool visualizeweights"
+            : !strcmp(type, "sppm") ? "integer maxdepth, integer "
+                "photonsperiteration, float radius, integer seed"
+            : !strcmp(type, "simplepath") ? "integer maxdepth, bool samplelights, bool samplebsdf"
+            : "integer maxdepth, string lightsampler, bool regularize";
+    /* the first problem in the file is named: a parameter left over before
+       "bool regularize" true, else regularize, else one after it */
+    if (regularize)
+        return refuse_param(P, pl, what, reads, param_find(pl, PT_BOOL, "regularize"), file, line,
+                            "Integrator: \"bool regularize\" true is valid pbrt-v4 but "
+                            "not supported by specnee");
+    if (!params_check_unused(P, pl, what, reads, NULL))
         return 0;
     if (as_path)
         fprintf(stderr, "%s:%d: note: Integrator \"%s\" is rendered by \"path\" (the same "
                 "image without participating media)\n", file, line, type);
-    if (regularize)
-        return fail(P, file, line, "Integrator: \"bool regularize\" true is valid pbrt-v4 but "
-                    "not supported by specnee");
     if (maxdepth < 0 || maxdepth > MAX_MAXDEPTH)
         return fail(P, file, line, "Integrator: maxdepth %d outside 0..%d", maxdepth, MAX_MAXDEPTH);
     st->maxdepth = maxdepth;

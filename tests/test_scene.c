@@ -659,6 +659,17 @@ REJECT(rej_resolution_zero, "Film \"rgb\" \"integer xresolution\" 0\nWorldBegin\
 REJECT(rej_resolution_negative, "Film \"rgb\" \"integer yresolution\" -4\nWorldBegin\n", 1, "resolution", NULL)
 REJECT(rej_resolution_huge, "Film \"rgb\" \"integer xresolution\" 100000\nWorldBegin\n", 1, "resolution", NULL)
 REJECT(rej_film_extension, "Film \"rgb\" \"string filename\" \"x.jpg\"\nWorldBegin\n", 1, "x.jpg", ".pfm")
+/* pbrt-v4's stratified sampler reads xsamples/ysamples, never pixelsamples (its
+   samplers.cpp; --spp only): a leftover there too, not "valid pbrt-v4" */
+REJECT(rej_stratified_pixelsamples, "Sampler \"stratified\"\n  \"integer pixelsamples\" 8\nWorldBegin\n", 2,
+       "\"integer pixelsamples\": unused parameter (Sampler \"stratified\" reads: integer xsamples", NULL)
+REJECT(rej_pmj02bn_randomization, "Sampler \"pmj02bn\" \"string randomization\" \"owen\"\nWorldBegin\n", 1,
+       "\"string randomization\": unused parameter (Sampler \"pmj02bn\"", NULL)
+/* two problems in one statement: the first in the file is named, at its own line */
+REJECT(rej_first_problem_refused, "Integrator \"path\"\n \"bool regularize\" true\n \"bool foo\" true\nWorldBegin\n", 2,
+       "\"bool regularize\" true is valid pbrt-v4", NULL)
+REJECT(rej_first_problem_unused, "Integrator \"path\"\n \"bool foo\" true\n \"bool regularize\" true\nWorldBegin\n", 2,
+       "\"bool foo\": unused parameter", NULL)
 REJECT(rej_spp_zero, "Sampler \"independent\" \"integer pixelsamples\" 0\nWorldBegin\n", 1,
        "samples per pixel", NULL)
 REJECT(rej_spp_negative, "Sampler \"sobol\" \"integer pixelsamples\" -16\nWorldBegin\n", 1,
@@ -768,6 +779,10 @@ const TestCase tests_scene[] = {
     {"scene_reject_resolution_huge", rej_resolution_huge},
     {"scene_reject_film_extension", rej_film_extension},
     {"scene_reject_spp_zero", rej_spp_zero},
+    {"scene_reject_stratified_pixelsamples", rej_stratified_pixelsamples},
+    {"scene_reject_pmj02bn_randomization", rej_pmj02bn_randomization},
+    {"scene_reject_first_problem_refused", rej_first_problem_refused},
+    {"scene_reject_first_problem_unused", rej_first_problem_unused},
     {"scene_reject_spp_negative", rej_spp_negative},
     {"scene_reject_fov_zero", rej_fov_zero},
     {"scene_reject_fov_180", rej_fov_180},
