@@ -1682,6 +1682,14 @@ static int check_unit_spectrum(Parser *P, const Param *p, Spectrum *sp)
     return 1;
 }
 
+/* A reflectance-like parameter p (may be NULL: the constant def): read, and
+   checked to lie in [0, 1] (check_unit_spectrum). */
+static int unit_spectrum_param(Parser *P, Param *p, Spectrum *out, float def)
+{
+    if (!p) { spec_const(out, def); return 1; }
+    return param_spectrum(P, p, SPEC_ALBEDO, out, NULL) && check_unit_spectrum(P, p, out);
+}
+
 /* ====================================================================}
 
    Textures (texture.c): the Texture directive
@@ -2027,12 +2035,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         if (!pa || !pe)
             return fail(P, file, line, "%s \"fluorescent\": needs \"spectrum excitation\" "
                         "and \"spectrum emission\"", dir);
-        if (pr) {
-            if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
-            if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
-        } else {
-            spec_const(&m->reflectance, 0.5f);
-        }
+        if (!unit_spectrum_param(P, pr, &m->reflectance, 0.5f)) return 0;
         if (!param_spectrum(P, pa, SPEC_UNBOUNDED, &m->excitation, NULL)) return 0;
         if (!check_unit_spectrum(P, pa, &m->excitation)) return 0;
         if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->emission, NULL)) return 0;
@@ -2217,18 +2220,8 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         if (ns < 1)
             return fail(P, pn ? pn->file : file, pn ? pn->line : line,
                         "%s: \"integer nsamples\" %d must be >= 1", what, ns);
-        if (pr) {
-            if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
-            if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
-        } else {
-            spec_const(&m->reflectance, 0.5f);
-        }
-        if (pa) {
-            if (!param_spectrum(P, pa, SPEC_ALBEDO, &m->albedo, NULL)) return 0;
-            if (!check_unit_spectrum(P, pa, &m->albedo)) return 0;
-        } else {
-            spec_const(&m->albedo, 0.0f);
-        }
+        if (!unit_spectrum_param(P, pr, &m->reflectance, 0.5f)) return 0;
+        if (!unit_spectrum_param(P, pa, &m->albedo, 0.0f)) return 0;
         for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
             if (!(spec_get(&m->albedo, nm) >= 0.0f && spec_get(&m->albedo, nm) <= 1.0f))
                 return fail(P, pa ? pa->file : file, pa ? pa->line : line,
@@ -2280,18 +2273,8 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
                                  "spectrum transmittance, rgb transmittance, float scale",
                                  "displacement normalmap"))
             return 0;
-        if (pr) {
-            if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
-            if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
-        } else {
-            spec_const(&m->reflectance, 0.25f);
-        }
-        if (pt) {
-            if (!param_spectrum(P, pt, SPEC_ALBEDO, &m->transmittance, NULL)) return 0;
-            if (!check_unit_spectrum(P, pt, &m->transmittance)) return 0;
-        } else {
-            spec_const(&m->transmittance, 0.25f);
-        }
+        if (!unit_spectrum_param(P, pr, &m->reflectance, 0.25f)) return 0;
+        if (!unit_spectrum_param(P, pt, &m->transmittance, 0.25f)) return 0;
         if (!(scale >= 0.0f))
             return fail(P, psc ? psc->file : file, psc ? psc->line : line,
                         "\"float scale\": %g must be >= 0", scale);
@@ -2322,6 +2305,20 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
                             "\"thindielectric\" or \"diffusetransmission\")", dir, type);
         return fail(P, file, line, "%s \"%s\": unknown material type", dir, type);
     }
+}
+
+/* pbrt-v4 normalises an RGB illuminant by its colour space's illuminant:
+   Le = scale * L / sum ybar D65.  lights.c divides by sum ybar L, so every light
+   with an rgb spectrum gets scale * sum ybar L / sum ybar D65 (area, infinite
+   and delta lights alike). */
+static float rgb_illuminant_scale(const Spectrum *L, float scale)
+{
+    Spectrum d65;
+    double xyz_l[3], xyz_d[3];
+    if (!spec_named(&d65, "stdillum-D65")) return scale;
+    spec_to_xyz(L, (float)SPEC_MIN, (float)SPEC_MAX, xyz_l);
+    spec_to_xyz(&d65, (float)SPEC_MIN, (float)SPEC_MAX, xyz_d);
+    return xyz_d[1] > 0.0 ? (float)(scale * (xyz_l[1] / xyz_d[1])) : scale;
 }
 
 static int area_light_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
@@ -2376,18 +2373,7 @@ static int area_light_directive(Parser *P, const char *type, ParamList *pl, cons
                     "read as absolute spectral radiance times scale (docs/conventions.md)\n",
                     p ? p->file : file, p ? p->line : line);
     }
-    if (rgb_illum) {
-        /* pbrt-v4 normalises an RGB illuminant by its colour space's illuminant:
-           Le = scale * L / sum ybar D65.  lights.c divides by sum ybar L, so we
-           multiply scale by sum ybar L / sum ybar D65. */
-        Spectrum d65;
-        double xyz_l[3], xyz_d[3];
-        if (!spec_named(&d65, "stdillum-D65"))
-            return fail(P, file, line, "AreaLightSource: the built-in spectrum stdillum-D65 is missing");
-        spec_to_xyz(&al.L, (float)SPEC_MIN, (float)SPEC_MAX, xyz_l);
-        spec_to_xyz(&d65, (float)SPEC_MIN, (float)SPEC_MAX, xyz_d);
-        if (xyz_d[1] > 0.0) al.scale = (float)(al.scale * (xyz_l[1] / xyz_d[1]));
-    }
+    if (rgb_illum) al.scale = rgb_illuminant_scale(&al.L, al.scale);
     if (!grow((void **)&P->lights, &P->cap_lights, P->n_lights + 1, sizeof(AreaLightDesc)))
         return oom(P, file, line);
     P->lights[P->n_lights] = al;
@@ -2501,14 +2487,7 @@ static int delta_light_directive(Parser *P, const char *type, ParamList *pl, con
         if (!(spec_get(&L, i) >= 0.0f))
             return fail(P, p ? p->file : file, p ? p->line : line, "%s: %s is negative at %d nm",
                         what, sname, i);
-    if (rgb_illum) {       /* as for AreaLightSource: normalised by D65, not by the rgb's spectrum */
-        Spectrum d65;
-        double xyz_l[3], xyz_d[3];
-        spec_named(&d65, "stdillum-D65");
-        spec_to_xyz(&L, (float)SPEC_MIN, (float)SPEC_MAX, xyz_l);
-        spec_to_xyz(&d65, (float)SPEC_MIN, (float)SPEC_MAX, xyz_d);
-        if (xyz_d[1] > 0.0) scale = (float)(scale * (xyz_l[1] / xyz_d[1]));
-    }
+    if (rgb_illum) scale = rgb_illuminant_scale(&L, scale);
     d.p = xf_point(&P->gs.ctm, v3((float)from[0], (float)from[1], (float)from[2]));  /* point, spot */
     if (d.type == DELTA_POINT) {
         if (power > 0.0f) scale = (float)(scale * power / (4.0 * SPECNEE_PI));
@@ -2615,14 +2594,7 @@ static int light_source_directive(Parser *P, const char *type, ParamList *pl, co
         if (!(L.v[i] >= 0.0f))
             return fail(P, p ? p->file : file, p ? p->line : line,
                         "LightSource \"infinite\": L is negative at %d nm", SPEC_MIN + i);
-    if (rgb_illum) {       /* as for AreaLightSource: normalised by D65, not by L */
-        Spectrum d65;
-        double xyz_l[3], xyz_d[3];
-        spec_named(&d65, "stdillum-D65");
-        spec_to_xyz(&L, (float)SPEC_MIN, (float)SPEC_MAX, xyz_l);
-        spec_to_xyz(&d65, (float)SPEC_MIN, (float)SPEC_MAX, xyz_d);
-        if (xyz_d[1] > 0.0) scale = (float)(scale * (xyz_l[1] / xyz_d[1]));
-    }
+    if (rgb_illum) scale = rgb_illuminant_scale(&L, scale);
     inf = (InfiniteLight *)calloc(1, sizeof *inf);
     if (!inf) return oom(P, file, line);
     inf->world_from_light = P->gs.ctm;

@@ -103,14 +103,14 @@ if [ "$committed" = 1 ]; then
 else
     mkdir -p "$clone"
     if ! git -C "$root" ls-files --cached --others --exclude-standard > "$scratch/files.all" 2> "$scratch/copy.log"; then
-        # not a git work tree (a source archive, or no git at all): every file
+        # outside git (a source archive, or no git installed): every file
         # but what .gitignore names - build products, out/, tests/tmp/, build/
         (cd "$root" && find . -type f ! -name '*.o' ! -name 'a.out' ! -name '*.exe' \
             ! -path './specnee' ! -path './tests/runner' ! -path './fuzz/replay' \
             ! -path './tools/bench' ! -path './tools/bench_lights' ! -path './tools/bench_embree' \
             ! -path './tests/tmp/*' ! -path './out/*' ! -path './build/*' ! -path '*.dSYM/*' \
             ! -path './.git/*' | sed 's|^\./||' | LC_ALL=C sort) > "$scratch/files.all"
-        echo "note: not a git work tree: copying the files .gitignore does not name"
+        echo "note: no git checkout here: copying the files .gitignore does not name"
     fi
     while IFS= read -r f; do [ -f "$f" ] && printf '%s\n' "$f"; done < "$scratch/files.all" > "$scratch/files"
     if ! tar -cf - -T "$scratch/files" | tar -xf - -C "$clone"; then fail "copy: tar failed"; finish; fi

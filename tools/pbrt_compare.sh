@@ -3,8 +3,8 @@
 #
 #   PBRT=/path/to/pbrt sh tools/pbrt_compare.sh [--spp N] scene.pbrt ...
 #
-# Renders each scene with pbrt-v4 (the oracle: ../shared/tools/build-pbrt-v4.sh
-# builds one; specnee never depends on it) and with specnee, both at N samples per
+# Renders each scene with pbrt-v4 (the oracle: docs/real-scenes.md says how to
+# build one; specnee never depends on it) and with specnee, both at N samples per
 # pixel (default 256) and the scene's own resolution (pbrt-v4 has no flag that
 # changes it: edit a copy of the file to render a big scene smaller), into PFM files under
 # build/compare/, and prints one line per scene:
