@@ -196,34 +196,9 @@ static Vec3 base_sample(Vec3 w, float u1, float u2)
     return d;
 }
 
-/* Henyey-Greenstein with pbrt-v4's convention: wo and wi both point away from
-   the scattering point, so forward scattering is wi = -wo. */
-static float hg_p(float g, Vec3 wo, Vec3 wi)
-{
-    float c = v3_dot(wo, wi), d = 1.0f + g * g + 2.0f * g * c;
-    return (1.0f - g * g) / (4.0f * PI_F * d * sqrtf(fmaxf(d, 1e-12f)));
-}
-
-/* Sample wi with density hg_p (the cosine about the propagation direction -wo
-   by inverting HG's cdf); the density is returned. */
-static Vec3 hg_sample(float g, Vec3 wo, float u1, float u2, float *pdf)
-{
-    float ct, st, phi;
-    Frame fr = frame_from_normal(v3_neg(wo));
-    if (fabsf(g) < 1e-3f) ct = 1.0f - 2.0f * u1;
-    else {
-        float q = (1.0f - g * g) / (1.0f - g + 2.0f * g * u1);
-        ct = (1.0f + g * g - q * q) / (2.0f * g);
-    }
-    ct = fminf(1.0f, fmaxf(-1.0f, ct));
-    st = sqrtf(fmaxf(0.0f, 1.0f - ct * ct));
-    phi = 2.0f * PI_F * u2;
-    {
-        Vec3 wi = v3_norm(frame_to_world(&fr, v3(st * cosf(phi), st * sinf(phi), ct)));
-        *pdf = hg_p(g, wo, wi);
-        return wi;
-    }
-}
+/* Henyey-Greenstein: hg_phase and hg_sample (medium.c), whose cosine is
+   measured from the direction the light travels: at a walk vertex reached along
+   w, the phase of leaving along wn is hg_phase(g, w . wn). */
 
 /* Transmittance of a vertical distance dz along w (sigma_t = 1). */
 static float slab_tr(float dz, Vec3 w)
@@ -308,14 +283,14 @@ static void walk_f(const Layer *L, Vec3 wo, Vec3 wi, Rng *rng, float f[HERO_N])
                 float zp = w.z > 0.0f ? z + dz : z - dz;
                 if (zp == z) continue;
                 if (zp > 0.0f && zp < L->thick) {   /* scattering inside the slab */
-                    float ph = hg_p(L->g, v3_neg(w), v3_neg(wis.wi)), pp, wt;
+                    float ph = hg_phase(L->g, v3_dot(w, v3_neg(wis.wi))), pp, wt;
                     float tr = slab_tr(zp - L->thick, wis.wi);
                     Vec3 wn;
                     wt = smooth ? 1.0f : power_h(wis.pdf, ph);
                     for (j = 0; j < HERO_N; j++)
                         f[j] += beta[j] * L->A[j] * ph * wt * tr * wis.f / wis.pdf;
                     a = rng_u(rng); b = rng_u(rng);
-                    wn = hg_sample(L->g, v3_neg(w), a, b, &pp);
+                    wn = hg_sample(L->g, w, a, b, &pp);
                     if (!(pp > 0.0f) || wn.z == 0.0f) continue;
                     for (j = 0; j < HERO_N; j++) beta[j] *= L->A[j];   /* p / pdf = 1 */
                     w = wn;
@@ -480,7 +455,7 @@ static int walk_sample(const Layer *L, Vec3 wo, float uc, float u1, float u2, Rn
                 float pp;
                 Vec3 wn;
                 a = rng_u(rng); b = rng_u(rng);
-                wn = hg_sample(L->g, v3_neg(w), a, b, &pp);
+                wn = hg_sample(L->g, w, a, b, &pp);
                 if (!(pp > 0.0f) || wn.z == 0.0f) return 0;
                 for (j = 0; j < HERO_N; j++) fw[j] *= L->A[j] * pp;
                 pdf *= pp;

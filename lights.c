@@ -223,7 +223,7 @@ int emitter_can_reach(const Scene *s, int e, Vec3 p)
 
 /* sum_{1 nm over [lo, hi]} ybar(lambda) S(lambda): the luminance that normalises
    an emitter's spectrum S (for an image map, S = D65, held in L). */
-static double luminance_sum(const Spectrum *S, float lo_nm, float hi_nm)
+double luminance_sum(const Spectrum *S, float lo_nm, float hi_nm)
 {
     double norm = 0.0;
     int lam;

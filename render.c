@@ -197,6 +197,10 @@ typedef struct {
     PixelFilter filter;              /* the pixel filter's sampler (filter.c) */
     Material white;                  /* Lambertian of albedo 1: a fluorescent vertex after a
                                         shift re-radiates like this at lambda_i (FLUORESCENCE 3) */
+    int vol;                         /* the media are rendered ("volpath", not "path") */
+    double *med_le;                  /* per medium: Lescale / its Le's luminance over the
+                                        sampled range (0: not emissive), as lights.c
+                                        normalises an emitter */
     double *fl_power;                /* --fluor-li power: per material FL_N entries, the
                                         running integral of A x the emitters' power
                                         (fluor_power_cdf); NULL: lambda_i from A alone */
@@ -215,17 +219,23 @@ typedef struct {
     Vec3 p;                          /* its position */
     float q_bsdf[HERO_N];            /* pdf of the sampled direction per wavelength */
     float r[HERO_N];                 /* pdf ratios of the prefix before that vertex */
+    double T[HERO_N];                /* transmittance of the media since that vertex, per
+                                        wavelength (1 without media): the BSDF technique's
+                                        pdf of the segment is q_bsdf(m) T_m (docs/media.md) */
     unsigned alive;                  /* wavelengths alive at that vertex */
 } PrevVertex;
 
-/* sum_m r_m^2 (q_nee^2 + q_bsdf(m)^2) over the alive wavelengths */
-static double mis_denominator(const float *r, const float *q_bsdf, float q_nee, unsigned alive)
+/* sum_m r_m^2 (q_nee^2 + (q_bsdf(m) T_m)^2) over the alive wavelengths */
+static double mis_denominator(const float *r, const float *q_bsdf, const double *T, float q_nee,
+                              unsigned alive)
 {
     double d = 0.0;
     int m;
     for (m = 0; m < HERO_N; m++)
-        if (alive & (1u << m))
-            d += (double)r[m] * r[m] * ((double)q_nee * q_nee + (double)q_bsdf[m] * q_bsdf[m]);
+        if (alive & (1u << m)) {
+            double qb = (double)q_bsdf[m] * T[m];
+            d += (double)r[m] * r[m] * ((double)q_nee * q_nee + qb * qb);
+        }
     return d;
 }
 
@@ -362,6 +372,345 @@ static float fluor_sample_lambda_i(const Renderer *R, const Material *mat, int m
     return fluor_sample_li(mat, lo, u, pdf);
 }
 
+/* ------------------------------------------------------------------ media */
+
+/* What next event estimation needs to know of the vertex it starts from. */
+typedef struct {
+    const Material *mat;       /* the surface's material; NULL: a point in a medium */
+    const SurfacePoint *sp;    /* the surface point (NULL in a medium) */
+    Vec3 p, wo;                /* position; unit direction back along the path */
+    float g;                   /* in a medium: its Henyey-Greenstein asymmetry */
+    int medium;                /* the medium the path reached it through (-1: none) */
+} Scatter;
+
+/* The transmittance T_j along a shadow ray (tmax 1: it ends at its target) that
+   starts in medium med: the product of exp(-sigma_t(lambda_j) l) over the media it
+   crosses (medium.c, M1), passing surfaces of Material "interface" (pbrt-v4's
+   volpath does the same); 0 when any other surface blocks it.  T_j is left alone
+   for wavelengths that are not alive. */
+static int shadow_transmittance(const Renderer *R, Ray sh, int med, const float *lam,
+                                unsigned alive, double T[HERO_N], Counters *cnt)
+{
+    const Scene *s = R->s;
+    int seg, j;
+    for (seg = 0; seg < MEDIUM_SEGMENTS; seg++) {
+        HitRecord hit;
+        SurfacePoint sp;
+        int found;
+        double len;
+        cnt->rays++;
+        found = bvh_intersect(&s->bvh, s, &sh, &hit);
+        len = (double)(found ? hit.t : 1.0f) * v3_len(sh.d);
+        if (med >= 0)
+            for (j = 0; j < HERO_N; j++)
+                if (alive & (1u << j))
+                    T[j] *= exp(-(double)medium_sigma_t(&s->media[med], lam[j]) * len);
+        if (!found) return 1;
+        scene_surface_point(s, &sh, &hit, &sp);
+        if (s->materials[s->shapes[sp.shape].material].type != MAT_INTERFACE) return 0;
+        med = medium_after(s, sp.shape, med, sh.d, sp.ng);
+        {
+            Vec3 target = v3_add(sh.o, sh.d);
+            sh.o = offset_ray_origin(sp.p, sp.ng, sh.d);
+            sh.d = v3_sub(target, sh.o);
+        }
+    }
+    return 0;                  /* more boundaries than MEDIUM_SEGMENTS: treated as blocked */
+}
+
+/* One straight stretch of the path through medium med, from the ray's origin to
+   distance tmax (the next surface; INFINITY: none), with the hero's free-flight
+   sampling (docs/media.md, eq. M4): t = -ln(1 - u) / sigma_t(lambda_0).
+   Collision (t < tmax): returns 1 with *t and the extinctions st[] of the alive
+   wavelengths; nothing is updated yet.  Pass: returns 0 after multiplying each
+   alive lane's throughput and ratio by T_j / T_0 (the pass probability of the
+   hero with lambda_j's coefficient over the hero's own), and prev->T by T_j
+   (the BSDF/phase technique's pdf for the segment, M6).  With --chromatic-media
+   terminate, an event in a medium whose sigma_t differs between the alive
+   wavelengths first terminates the secondaries. */
+static int medium_flight(const Renderer *R, PixelSample *ps, int dim, int med, float tmax,
+                         const float *lam, unsigned *alive, float *beta, float *r,
+                         PrevVertex *prev, float *t_out, float st[HERO_N], FILE *dbg)
+{
+    const Medium *M = &R->s->media[med];
+    double s0, t, u;
+    int j, chromatic = 0;
+    for (j = 0; j < HERO_N; j++) {
+        st[j] = (*alive & (1u << j)) ? medium_sigma_t(M, lam[j]) : 0.0f;
+        if (j > 0 && (*alive & (1u << j)) && st[j] != st[0]) chromatic = 1;
+    }
+    if (chromatic && R->o->media_terminate) {
+        *alive = 1u;
+        prev->alive = 1u;
+        for (j = 1; j < HERO_N; j++) { beta[j] = 0.0f; r[j] = 0.0f; }
+        if (dbg) fprintf(dbg, "  medium \"%s\": chromatic, secondaries terminated\n", M->name);
+    }
+    s0 = st[0];
+    u = sampler_1d(ps, dim);
+    t = s0 > 0.0 ? -log1p(-u) / s0 : INFINITY;
+    if (t < (double)tmax) {
+        *t_out = (float)t;
+        return 1;
+    }
+    {
+        unsigned still = 1u;
+        for (j = 0; j < HERO_N; j++) {
+            double ratio, Tj;
+            if (!(*alive & (1u << j))) continue;
+            ratio = st[j] == st[0] ? 1.0 : exp(-((double)st[j] - s0) * tmax);
+            Tj = st[j] == 0.0f ? 1.0 : exp(-(double)st[j] * tmax);
+            prev->T[j] *= Tj;
+            beta[j] = (float)(beta[j] * ratio);
+            if (j == 0) continue;
+            r[j] = (float)(r[j] * ratio);
+            if (r[j] > 0.0f && isfinite(r[j])) still |= 1u << j;
+            else { r[j] = 0.0f; beta[j] = 0.0f; }
+        }
+        *alive = still;
+        if (dbg) fprintf(dbg, "  medium \"%s\": passed %.4g, T=(%.4g %.4g %.4g %.4g)\n", M->name,
+                         (double)tmax, prev->T[0], prev->T[1], prev->T[2], prev->T[3]);
+    }
+    return 0;
+}
+
+/* 4. Next event estimation at vertex v: choose an emitter (piece) with light_select
+   in context ctx, sample a point on it, and add its contribution weighted against
+   the BSDF's (or phase function's) sampling of the same direction (eq. 6).  Along
+   the shadow ray the light is attenuated by the media it crosses, T_j; the BSDF
+   technique would have had to cross them too, so its pdf for wavelength m is
+   q_bsdf(m) T_m in the denominator (docs/media.md, M6). */
+static void next_event(const Renderer *R, PixelSample *ps, int depth, const Scatter *v,
+                       const LightCtx *ctx, const float *lam, const float *beta,
+                       const float *r, unsigned alive, const Wavelengths *wl,
+                       float cmf[HERO_N][3], double xyz[3], Counters *cnt, FILE *dbg)
+{
+    const Scene *s = R->s;
+    const RenderOptions *o = R->o;
+    int is_all = o->sel.strategy == SEL_ALL;
+    int e, e_first = 0, e_end = 1, j;
+    float u0, u1, u2;
+    if (is_all) { e_first = 0; e_end = light_n_pieces(R->ls); }
+    /* (the order of these requests is the independent sampler's stream order) */
+    u0 = sampler_1d(ps, dim_bounce(depth, BD_TRIANGLE));
+    sampler_2d(ps, dim_bounce(depth, BD_POINT), &u1, &u2);
+    for (e = e_first; e < e_end; e++) {
+        float P = 1.0f, f[HERO_N], pdf_l[HERO_N], cos_i, q_nee;
+        const float *q_b;             /* the BSDF's pdfs in the MIS weight */
+        static const float no_bsdf[HERO_N] = { 0 };
+        int chosen = e, fb = 0, any = 0, em;
+        EmitterSample es;
+        double value[HERO_N], den, T[HERO_N] = { 1.0, 1.0, 1.0, 1.0 };
+        if (!is_all) {
+            chosen = light_select(R->ls, ctx, sampler_1d(ps, dim_bounce(depth, BD_LIGHT)), &P, &fb);
+            if (fb) cnt->fallbacks++;
+            if (dbg) fprintf(dbg, "  NEE: chose emitter %d with P=%.4g (%s)\n",
+                             chosen >= 0 ? light_piece_emitter(R->ls, chosen) : -1, P,
+                             debug_pmf_source(&o->sel, ctx, fb));
+            if (chosen < 0) {
+                if (dbg) fprintf(dbg, "  NEE: no emitter can be chosen here (every P is 0)\n");
+                break;
+            }
+        }
+        em = light_piece_emitter(R->ls, chosen);
+        if (!light_sample(R->ls, chosen, v->p, u0, u1, u2, &es)) {
+            if (dbg) fprintf(dbg, "  NEE: no usable point on emitter %d (seen edge-on or at distance 0)\n", em);
+            continue;
+        }
+        for (j = 0; j < HERO_N; j++) {
+            value[j] = 0.0;
+            if (alive & (1u << j))
+                value[j] = light_Le(R->ls, em, es.n, v3_neg(es.wi), lam[j]);
+            if (value[j] != 0.0) any = 1;
+        }
+        if (!any) {
+            if (dbg) fprintf(dbg, "  NEE: emitter %d sends nothing here (its back faces this point, or Le = 0 at the alive wavelengths)\n", em);
+            continue;
+        }
+        if (v->mat) {
+            bsdf_eval(v->mat, v->sp, v->wo, es.wi, lam, alive, f, pdf_l);
+            cos_i = fabsf(v3_dot(es.wi, v->sp->ns));
+        } else {                      /* in a medium: the phase function is f and pdf */
+            float ph = hg_phase(v->g, v3_dot(v3_neg(v->wo), es.wi));
+            for (j = 0; j < HERO_N; j++) f[j] = pdf_l[j] = (alive & (1u << j)) ? ph : 0.0f;
+            cos_i = 1.0f;
+        }
+        any = 0;
+        for (j = 0; j < HERO_N; j++) {
+            value[j] *= (double)beta[j] * f[j] * cos_i;
+            if (value[j] != 0.0) any = 1;
+        }
+        if (!any) {
+            if (dbg) fprintf(dbg, "  NEE: emitter %d: f |cos| = 0 (the sampled point is below this surface, or the BSDF has no lobe there)\n", em);
+            continue;
+        }
+        {
+            Ray shadow;
+            Vec3 target = offset_ray_origin(es.p, es.n, v3_neg(es.wi));
+            shadow.o = v->mat ? offset_ray_origin(v->sp->p, v->sp->ng, es.wi) : v->p;
+            shadow.d = v3_sub(target, shadow.o);
+            shadow.tmax = 1.0f;
+            if (R->vol) {
+                /* through media and "interface" surfaces (the medium it starts in:
+                   a surface's own MediumInterface decides by the side of es.wi) */
+                int med = v->mat ? medium_after(s, v->sp->shape, v->medium, es.wi, v->sp->ng)
+                                 : v->medium;
+                if (!shadow_transmittance(R, shadow, med, lam, alive, T, cnt)) {
+                    if (dbg) fprintf(dbg, "  NEE: occluded\n");
+                    continue;
+                }
+                for (j = 0; j < HERO_N; j++) value[j] *= T[j];
+            } else {
+                cnt->rays++;
+                if (bvh_occluded(&s->bvh, s, &shadow)) {
+                    if (dbg) fprintf(dbg, "  NEE: occluded\n");
+                    continue;
+                }
+            }
+        }
+        /* A delta light (point, spot, distant: delta.c) cannot be found
+           by a BSDF direction: its weight against BSDF sampling is 1, so
+           the BSDF's pdfs leave the denominator (es.pdf_sa = 1 / G there,
+           and q_nee / den = 1 / (P (1/G) sum_m r_m^2): THEORY section 11) */
+        q_b = es.delta ? no_bsdf : pdf_l;
+        q_nee = P * es.pdf_sa;
+        den = mis_denominator(r, q_b, T, q_nee, alive);
+        if (den > 0.0) {
+            film_add(xyz, cmf, wl, value, (double)q_nee / den, alive);
+            if (dbg) {
+                float qT[HERO_N];
+                for (j = 0; j < HERO_N; j++) qT[j] = (float)(q_b[j] * T[j]);
+                debug_weight(dbg, "NEE: visible emitter", em, (double)q_nee * q_nee / den,
+                             r, qT, q_nee, alive, 1);
+                if (alive != 1u)
+                    debug_check_sum(dbg, debug_weight_sum(R, ctx, chosen, es.pdf_sa, r, qT, alive));
+            }
+        } else if (dbg) {
+            fprintf(dbg, "  NEE: emitter %d: MIS denominator 0 (no technique has a density here)\n", em);
+        }
+    }
+}
+
+/* 6. Russian roulette on a hero-independent throughput: survival probability
+   q = min(1, 4 max_j beta_j / sum_m r_m) (8), from RR_START_DEPTH on.  Returns 0
+   when the path ends (also when only the hero is left and carries nothing). */
+static int russian_roulette(PixelSample *ps, int depth, float *beta, const float *r,
+                            unsigned alive, FILE *dbg)
+{
+    int j;
+    if (depth >= RR_START_DEPTH) {
+        float sum_r = 0.0f, bmax = 0.0f, q;
+        for (j = 0; j < HERO_N; j++)
+            if (alive & (1u << j)) {
+                sum_r += r[j];
+                if (beta[j] > bmax) bmax = beta[j];
+            }
+        q = sum_r > 0.0f ? (float)HERO_N * bmax / sum_r : 0.0f;
+        if (q < 1.0f) {
+            int dies = sampler_1d(ps, dim_bounce(depth, BD_ROULETTE)) >= q;
+            if (dbg) fprintf(dbg, "  roulette: survival q = min(1, %d max_j beta_j / sum_m r_m) = %.4g: %s\n",
+                             HERO_N, q, dies ? "path ends" : "survives, beta /= q");
+            if (dies) return 0;
+            for (j = 0; j < HERO_N; j++) beta[j] /= q;
+        }
+    }
+    return !(!(beta[0] > 0.0f) && alive == 1u);
+}
+
+/* A collision at distance t along the ray in medium med (medium_flight gave t and
+   the extinctions st).  docs/media.md derives each factor:
+   - the collision's density for hero m is sigma_t(lambda_m) T_m(t), so every ratio
+     r_m gains (sigma_t,m / sigma_t,0) T_m / T_0 (M5);
+   - emission (an emissive medium, below maxdepth): the medium's sigma_a Le along
+     the ray, estimated at this point with weight 1 / sum_m r_m^2 (no other
+     technique makes this point);
+   - scattering: beta_j gains sigma_s,j T_j / (sigma_t,0 T_0): the path does not
+     stop at an absorption (it goes on with the albedo as weight, and the
+     roulette ends it), then NEE with the phase function, and the next direction
+     from the phase function (f / pdf = 1, the same pdf for every wavelength).
+   Returns 0 when the path ends. */
+static int medium_vertex(const Renderer *R, PixelSample *ps, int depth, int med, Ray *ray,
+                         float t, const float *st, const float *lam, const Wavelengths *wl,
+                         float cmf[HERO_N][3], double xyz[3], float *beta, float *r,
+                         unsigned *alive, PrevVertex *prev, int shifted, Counters *cnt, FILE *dbg)
+{
+    const Scene *s = R->s;
+    const RenderOptions *o = R->o;
+    const Medium *M = &s->media[med];
+    double s0 = st[0], ratio[HERO_N];
+    float rc[HERO_N], u1, u2, pdf;
+    Vec3 p = v3_add(ray->o, v3_mul(ray->d, t)), d = ray->d, wi;
+    LightCtx ctx;
+    unsigned still = 1u;
+    int j, any = 0;
+    if (dbg) fprintf(dbg, "  vertex %d: in medium \"%s\" at p=(%.4g %.4g %.4g), t=%.4g, sigma_t(hero)=%.4g\n",
+                     depth, M->name, p.x, p.y, p.z, (double)t, s0);
+    if (depth >= o->maxdepth) return 0;   /* pbrt-v4: neither emission nor scattering there */
+    for (j = 0; j < HERO_N; j++) {
+        ratio[j] = rc[j] = 0.0f;
+        if (!(*alive & (1u << j))) continue;
+        ratio[j] = st[j] == st[0] ? 1.0 : exp(-((double)st[j] - s0) * t);
+        rc[j] = j == 0 ? 1.0f : (float)(r[j] * ((double)st[j] / s0) * ratio[j]);
+    }
+    if (R->med_le[med] > 0.0) {
+        double value[HERO_N], den = 0.0;
+        for (j = 0; j < HERO_N; j++) {
+            value[j] = 0.0;
+            if (!(*alive & (1u << j)) || !(rc[j] > 0.0f) || !isfinite(rc[j])) continue;
+            value[j] = beta[j] * ratio[j] * medium_sigma_a(M, lam[j]) *
+                       (R->med_le[med] * spec_eval(&M->Le, lam[j])) / s0;
+            den += (double)rc[j] * rc[j];
+        }
+        if (den > 0.0) film_add(xyz, cmf, wl, value, 1.0 / den, *alive);
+        if (dbg) fprintf(dbg, "  medium emission: weight 1 / sum_m r_m^2 = %.4g\n", den > 0.0 ? 1.0 / den : 0.0);
+    }
+    for (j = 0; j < HERO_N; j++) {
+        if (!(*alive & (1u << j))) continue;
+        beta[j] = (float)(beta[j] * (double)medium_sigma_s(M, lam[j]) * ratio[j] / s0);
+        if (beta[j] > 0.0f) any = 1;
+        if (j == 0) continue;
+        r[j] = rc[j];
+        if (r[j] > 0.0f && isfinite(r[j])) still |= 1u << j;
+        else { r[j] = 0.0f; beta[j] = 0.0f; }
+    }
+    *alive = still;
+    if (!any) return 0;                   /* absorbed at every wavelength */
+    /* NEE: the context has no normal (every strategy's pmf is exact without one) */
+    ctx.p = p;
+    ctx.n = v3(0.0f, 0.0f, 0.0f);
+    ctx.voxel = light_voxel(R->ls, p);
+    for (j = 0; j < HERO_N; j++) { ctx.lambda[j] = lam[j]; ctx.beta[j] = beta[j]; }
+    ctx.alive = *alive;
+    ctx.hero_only = *alive == 1u;
+    ctx.shifted = shifted;
+    if (o->nee && s->n_emitters > 0) {
+        Scatter v;
+        v.mat = NULL;
+        v.sp = NULL;
+        v.p = p;
+        v.wo = v3_neg(d);
+        v.g = M->g;
+        v.medium = med;
+        next_event(R, ps, depth, &v, &ctx, lam, beta, r, *alive, wl, cmf, xyz, cnt, dbg);
+    }
+    /* the phase function's direction */
+    sampler_2d(ps, dim_bounce(depth, BD_DIR), &u1, &u2);
+    wi = hg_sample(M->g, d, u1, u2, &pdf);
+    if (!(pdf > 0.0f)) return 0;
+    prev->can_nee = o->nee && s->n_emitters > 0;
+    prev->ctx = ctx;
+    prev->p = p;
+    prev->alive = *alive;
+    for (j = 0; j < HERO_N; j++) {
+        prev->r[j] = r[j];
+        prev->q_bsdf[j] = pdf;
+        prev->T[j] = 1.0;
+    }
+    ray->o = p;
+    ray->d = wi;
+    ray->tmax = INFINITY;
+    return 1;
+}
+
 /* Trace one camera sample; adds its XYZ estimate to xyz. */
 static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelSample *ps,
                        double xyz[3], Counters *cnt, FILE *dbg)
@@ -376,6 +725,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
     unsigned alive = o->single_wavelength ? 1u : (1u << HERO_N) - 1u;
     PrevVertex prev;
     int depth, j, shifted = 0; /* shifted: a fluorescent vertex re-radiated (LightCtx) */
+    int med = R->vol ? s->settings.camera_medium : -1;   /* the medium the ray is in */
 
     for (j = 0; j < HERO_N; j++) {
         cie_xyz(wl->lambda[j], cmf[j]);
@@ -384,7 +734,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
         r[j] = (alive & (1u << j)) ? 1.0f : 0.0f;
     }
     memset(&prev, 0, sizeof prev);
-    for (j = 0; j < HERO_N; j++) { prev.q_bsdf[j] = 1.0f; prev.r[j] = r[j]; }
+    for (j = 0; j < HERO_N; j++) { prev.q_bsdf[j] = 1.0f; prev.r[j] = r[j]; prev.T[j] = 1.0; }
     prev.alive = alive;
     if (dbg) fprintf(dbg, "sample: lambda=(%.1f %.1f %.1f %.1f) nm pdf=(%.4g %.4g %.4g %.4g)\n",
                      wl->lambda[0], wl->lambda[1], wl->lambda[2], wl->lambda[3],
@@ -399,11 +749,41 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
         LightCtx ctx;
         BsdfSample bs;
         float u0, u1, u2;
+        int found, seg;
 
-        /* 1. Intersection; a ray that escapes gathers the infinite lights,
-              weighted against NEE from prev like an emitter hit (step 2) */
-        cnt->rays++;
-        if (!bvh_intersect(&s->bvh, s, &ray, &hit)) {
+        /* 1. The next vertex: the closest surface, unless the ray collides in its
+              medium first (docs/media.md); surfaces of Material "interface" only
+              bound media: the ray crosses them (pbrt-v4's SkipIntersection), in
+              "volpath" into the medium on their other side, in "path" as a
+              specular bounce (no MIS weight at the emitter it may then find) */
+        found = 0;
+        for (seg = 0;; seg++) {
+            float t_coll, st[HERO_N];
+            cnt->rays++;
+            found = bvh_intersect(&s->bvh, s, &ray, &hit);
+            if (med >= 0 && medium_flight(R, ps, dim_medium(depth, seg),
+                                          med, found ? hit.t : INFINITY, lam, &alive, beta, r,
+                                          &prev, &t_coll, st, dbg)) {
+                if (!medium_vertex(R, ps, depth, med, &ray, t_coll, st, lam, wl, cmf, xyz, beta,
+                                   r, &alive, &prev, shifted, cnt, dbg) ||
+                    !russian_roulette(ps, depth, beta, r, alive, dbg))
+                    return;
+                found = -1;            /* scattered: ray holds the new direction */
+                break;
+            }
+            if (!found) break;
+            scene_surface_point(s, &ray, &hit, &sp);
+            if (s->materials[s->shapes[sp.shape].material].type != MAT_INTERFACE) break;
+            if (seg + 1 >= MEDIUM_SEGMENTS) return;   /* (a path through too many boundaries) */
+            if (med >= 0 || R->vol) med = medium_after(s, sp.shape, med, ray.d, sp.ng);
+            else prev.can_nee = 0;
+            if (dbg) fprintf(dbg, "  crossed a medium boundary (shape %d)%s\n", sp.shape,
+                             R->vol ? "" : ": media are ignored by this integrator");
+            ray.o = offset_ray_origin(sp.p, sp.ng, ray.d);
+            ray.tmax = INFINITY;
+        }
+        if (found < 0) continue;
+        if (!found) {
             Vec3 dir = v3_norm(ray.d);
             int i;
             for (i = 0; i < R->n_inf; i++) {
@@ -422,8 +802,8 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
                                      : light_select_pmf(R->ls, &prev.ctx, light_piece_of(R->ls, e, -1));
                     q_nee = P * inf_pdf(&s->emitters[e], dir);
                 }
-                den = mis_denominator(prev.r, prev.q_bsdf, q_nee, prev.alive);
-                w = den > 0.0 ? (double)prev.q_bsdf[0] * prev.q_bsdf[0] / den : 0.0;
+                den = mis_denominator(prev.r, prev.q_bsdf, prev.T, q_nee, prev.alive);
+                w = den > 0.0 ? ((double)prev.q_bsdf[0] * prev.T[0]) * ((double)prev.q_bsdf[0] * prev.T[0]) / den : 0.0;
                 film_add(xyz, cmf, wl, value, w, alive);
                 if (dbg) fprintf(dbg, "  escaped: infinite light %d, mis weight %.4g (q_nee %.4g)\n",
                                  e, w, q_nee);
@@ -431,7 +811,6 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
             if (dbg && R->n_inf == 0) fprintf(dbg, "  escaped\n");
             break;
         }
-        scene_surface_point(s, &ray, &hit, &sp);
         shape = &s->shapes[sp.shape];
         mat = &s->materials[shape->material];
         wo = v3_neg(v3_norm(ray.d));
@@ -455,9 +834,10 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
                     float P = is_all ? 1.0f : light_select_pmf(R->ls, &prev.ctx, piece);
                     q_nee = P * light_pdf_sa(R->ls, piece, prev.p, sp.p, sp.ng);
                 }
-                den = mis_denominator(prev.r, prev.q_bsdf, q_nee, prev.alive);
-                /* beta already holds 1/q_bsdf(0): weight = q_bsdf(0)^2 / den */
-                w = den > 0.0 ? (double)prev.q_bsdf[0] * prev.q_bsdf[0] / den : 0.0;
+                den = mis_denominator(prev.r, prev.q_bsdf, prev.T, q_nee, prev.alive);
+                /* beta already holds 1/q_bsdf(0) and T_m / T_0 of the media on the way:
+                   weight = (q_bsdf(0) T_0)^2 / den (docs/media.md, M6) */
+                w = den > 0.0 ? ((double)prev.q_bsdf[0] * prev.T[0]) * ((double)prev.q_bsdf[0] * prev.T[0]) / den : 0.0;
                 film_add(xyz, cmf, wl, value, w, alive);
                 if (dbg) {
                     debug_weight(dbg, "emission from emitter", shape->emitter, w, prev.r,
@@ -552,86 +932,14 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
         ctx.hero_only = alive == 1u;
         ctx.shifted = shifted;
         if (o->nee && !mat_is_delta(mat) && s->n_emitters > 0) {
-            int e, e_first = 0, e_end = 1;
-            if (is_all) { e_first = 0; e_end = light_n_pieces(R->ls); }
-            /* (the order of these requests is the independent sampler's stream order) */
-            u0 = sampler_1d(ps, dim_bounce(depth, BD_TRIANGLE));
-            sampler_2d(ps, dim_bounce(depth, BD_POINT), &u1, &u2);
-            for (e = e_first; e < e_end; e++) {
-                float P = 1.0f, f[HERO_N], pdf_l[HERO_N], cos_i, q_nee;
-                const float *q_b;             /* the BSDF's pdfs in the MIS weight */
-                static const float no_bsdf[HERO_N] = { 0 };
-                int chosen = e, fb = 0, any = 0, em;
-                EmitterSample es;
-                double value[HERO_N], den;
-                if (!is_all) {
-                    chosen = light_select(R->ls, &ctx, sampler_1d(ps, dim_bounce(depth, BD_LIGHT)), &P, &fb);
-                    if (fb) cnt->fallbacks++;
-                    if (dbg) fprintf(dbg, "  NEE: chose emitter %d with P=%.4g (%s)\n",
-                                     chosen >= 0 ? light_piece_emitter(R->ls, chosen) : -1, P,
-                                     debug_pmf_source(&o->sel, &ctx, fb));
-                    if (chosen < 0) {
-                        if (dbg) fprintf(dbg, "  NEE: no emitter can be chosen here (every P is 0)\n");
-                        break;
-                    }
-                }
-                em = light_piece_emitter(R->ls, chosen);
-                if (!light_sample(R->ls, chosen, sp.p, u0, u1, u2, &es)) {
-                    if (dbg) fprintf(dbg, "  NEE: no usable point on emitter %d (seen edge-on or at distance 0)\n", em);
-                    continue;
-                }
-                for (j = 0; j < HERO_N; j++) {
-                    value[j] = 0.0;
-                    if (alive & (1u << j))
-                        value[j] = light_Le(R->ls, em, es.n, v3_neg(es.wi), lam[j]);
-                    if (value[j] != 0.0) any = 1;
-                }
-                if (!any) {
-                    if (dbg) fprintf(dbg, "  NEE: emitter %d sends nothing here (its back faces this point, or Le = 0 at the alive wavelengths)\n", em);
-                    continue;
-                }
-                bsdf_eval(mat, &sp, wo, es.wi, lam, alive, f, pdf_l);
-                cos_i = fabsf(v3_dot(es.wi, sp.ns));
-                any = 0;
-                for (j = 0; j < HERO_N; j++) {
-                    value[j] *= (double)beta[j] * f[j] * cos_i;
-                    if (value[j] != 0.0) any = 1;
-                }
-                if (!any) {
-                    if (dbg) fprintf(dbg, "  NEE: emitter %d: f |cos| = 0 (the sampled point is below this surface, or the BSDF has no lobe there)\n", em);
-                    continue;
-                }
-                {
-                    Ray shadow;
-                    Vec3 target = offset_ray_origin(es.p, es.n, v3_neg(es.wi));
-                    shadow.o = offset_ray_origin(sp.p, sp.ng, es.wi);
-                    shadow.d = v3_sub(target, shadow.o);
-                    shadow.tmax = 1.0f;
-                    cnt->rays++;
-                    if (bvh_occluded(&s->bvh, s, &shadow)) {
-                        if (dbg) fprintf(dbg, "  NEE: occluded\n");
-                        continue;
-                    }
-                }
-                /* A delta light (point, spot, distant: delta.c) cannot be found
-                   by a BSDF direction: its weight against BSDF sampling is 1, so
-                   the BSDF's pdfs leave the denominator (es.pdf_sa = 1 / G there,
-                   and q_nee / den = 1 / (P (1/G) sum_m r_m^2): THEORY section 11) */
-                q_b = es.delta ? no_bsdf : pdf_l;
-                q_nee = P * es.pdf_sa;
-                den = mis_denominator(r, q_b, q_nee, alive);
-                if (den > 0.0) {
-                    film_add(xyz, cmf, wl, value, (double)q_nee / den, alive);
-                    if (dbg) {
-                        debug_weight(dbg, "NEE: visible emitter", em, (double)q_nee * q_nee / den,
-                                     r, q_b, q_nee, alive, 1);
-                        if (alive != 1u)
-                            debug_check_sum(dbg, debug_weight_sum(R, &ctx, chosen, es.pdf_sa, r, q_b, alive));
-                    }
-                } else if (dbg) {
-                    fprintf(dbg, "  NEE: emitter %d: MIS denominator 0 (no technique has a density here)\n", em);
-                }
-            }
+            Scatter v;
+            v.mat = mat;
+            v.sp = &sp;
+            v.p = sp.p;
+            v.wo = wo;
+            v.g = 0.0f;
+            v.medium = med;
+            next_event(R, ps, depth, &v, &ctx, lam, beta, r, alive, wl, cmf, xyz, cnt, dbg);
         }
 
         /* 5. BSDF sampling: the next direction, with the hero's index */
@@ -645,6 +953,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
         for (j = 0; j < HERO_N; j++) {
             prev.r[j] = r[j];
             prev.q_bsdf[j] = bs.pdf_l[j];
+            prev.T[j] = 1.0;
         }
         {
             float cos_i = fabsf(v3_dot(bs.wi, sp.ns));
@@ -661,24 +970,9 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
         }
 
         /* 6. Russian roulette on a hero-independent throughput */
-        if (depth >= RR_START_DEPTH) {
-            float sum_r = 0.0f, bmax = 0.0f, q;
-            for (j = 0; j < HERO_N; j++)
-                if (alive & (1u << j)) {
-                    sum_r += r[j];
-                    if (beta[j] > bmax) bmax = beta[j];
-                }
-            q = sum_r > 0.0f ? (float)HERO_N * bmax / sum_r : 0.0f;
-            if (q < 1.0f) {
-                int dies = sampler_1d(ps, dim_bounce(depth, BD_ROULETTE)) >= q;
-                if (dbg) fprintf(dbg, "  roulette: survival q = min(1, %d max_j beta_j / sum_m r_m) = %.4g: %s\n",
-                                 HERO_N, q, dies ? "path ends" : "survives, beta /= q");
-                if (dies) break;
-                for (j = 0; j < HERO_N; j++) beta[j] /= q;
-            }
-        }
-        if (!(beta[0] > 0.0f) && alive == 1u) break;
+        if (!russian_roulette(ps, depth, beta, r, alive, dbg)) break;
 
+        if (R->vol) med = medium_after(s, sp.shape, med, bs.wi, sp.ng);
         ray.o = offset_ray_origin(sp.p, sp.ng, bs.wi);
         ray.d = bs.wi;
         ray.tmax = INFINITY;
@@ -889,6 +1183,27 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
             return NULL;
         }
     }
+    {   /* the media (medium.c): rendered unless the integrator ignores them; an
+           emissive one's Le normalised for this range as an emitter's is */
+        int m;
+        j->R.vol = s->n_media > 0 && !set->media_ignored;
+        j->R.med_le = (double *)calloc((size_t)s->n_media + 1, sizeof(double));
+        if (!j->R.med_le) { error_set(err, NULL, 0, "out of memory"); render_end(j); return NULL; }
+        for (m = 0; m < s->n_media; m++) {
+            const Medium *M = &s->media[m];
+            double y;
+            if (!(M->Le_scale > 0.0f)) continue;
+            y = luminance_sum(&M->Le, LAMBDA_LO, LAMBDA_HI) > 0.0
+                ? luminance_sum(&M->Le, j->sel.lo_nm, j->sel.hi_nm) : 1.0;   /* UV: absolute */
+            if (!(y > 0.0)) {
+                error_set(err, M->file, M->line, "MakeNamedMedium \"%s\": Le emits nothing "
+                          "visible in %g-%g nm", M->name, j->sel.lo_nm, j->sel.hi_nm);
+                render_end(j);
+                return NULL;
+            }
+            j->R.med_le[m] = M->Le_scale / y;
+        }
+    }
     {   /* the infinite lights, which rays that escape the scene see */
         int e;
         j->R.inf = (int *)malloc(sizeof(int) * (size_t)(s->n_emitters + 1));
@@ -993,6 +1308,7 @@ void render_end(RenderJob *j)
     if (j->R.ls) light_sampler_free(j->R.ls);
     free(j->R.inf);
     free(j->R.fl_power);
+    free(j->R.med_le);
     wl_pdf_free(&j->R.wl);
     free(j);
 }

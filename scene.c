@@ -163,8 +163,16 @@ typedef struct {
                                   <= -2: named material -2 - material, not yet made */
     int reverse;               /* ReverseOrientation seen in this block */
     int area_light;            /* index into Parser.lights, -1: none */
+    int medium_inside, medium_outside;   /* MediumInterface: Scene.media indices, -1: none */
     const char *file; int line;/* where the block was opened (for messages) */
 } GState;
+
+/* A medium named by MakeNamedMedium or MediumInterface.  As in pbrt-v4, which
+   creates the media when the file has been read, a MediumInterface may name a
+   medium defined further down: its Scene.media entry is made at the first
+   mention and filled by the MakeNamedMedium; finish() fails at the first mention
+   of a name that none defines. */
+typedef struct { int defined; const char *file; int line; } MediumRef;
 
 /* A named material.  As in pbrt-v4 a NamedMaterial may come before its
    MakeNamedMaterial (pbrt-v4 looks names up when it builds the scene): the name is
@@ -202,6 +210,8 @@ typedef struct {
     const char *camera_file; int camera_line;   /* the Camera directive, if any */
     float iso, exposure_time;  /* Film "iso", Camera shutter interval: the imaging ratio */
     const char *output;        /* the command line's output file (-o), NULL: none */
+    MediumRef *mrefs; int cap_media, cap_mrefs;   /* parallel to Scene.media */
+    const char *integ_file; int integ_line; char integ_type[32];  /* the Integrator */
 } Parser;
 
 /* ===========================================================================
@@ -812,7 +822,9 @@ static int refuse_param(Parser *P, ParamList *pl, const char *what, const char *
 /* ===========================================================================
    6. Spectrum-valued parameters
    =========================================================================== */
-typedef enum { SPEC_ALBEDO, SPEC_UNBOUNDED, SPEC_ILLUMINANT } SpecUse;
+/* SPEC_COEFF: a medium's coefficients, pbrt-v4's "unbounded" spectra with rgb
+   (RGBUnboundedSpectrum) and blackbody (peak 1) allowed */
+typedef enum { SPEC_ALBEDO, SPEC_UNBOUNDED, SPEC_ILLUMINANT, SPEC_COEFF } SpecUse;
 
 /* The last "spectrum/rgb/blackbody name" parameter (pbrt-v4 GetOneSpectrum). */
 static Param *find_spectrum_param(ParamList *pl, const char *name)
@@ -850,7 +862,8 @@ static int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *
         if (use == SPEC_UNBOUNDED)
             return fail(P, p->file, p->line, "\"rgb %s\": valid pbrt-v4 but not in the "
                         "specnee subset (give a spectrum)", p->name);
-        if (!spec_from_rgb(out, rgb, use == SPEC_ILLUMINANT, P->err, p->file, p->line))
+        if (!spec_from_rgb(out, rgb, use == SPEC_ILLUMINANT ? 1 : use == SPEC_COEFF ? 2 : 0,
+                           P->err, p->file, p->line))
             return 0;
         if (rgb_illum) *rgb_illum = use == SPEC_ILLUMINANT;
         return 1;
@@ -859,7 +872,7 @@ static int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *
         if (p->n_num != 1)
             return fail(P, p->file, p->line, "\"blackbody %s\": expected one temperature "
                         "(K), got %d values", p->name, p->n_num);
-        if (use != SPEC_ILLUMINANT)
+        if (use != SPEC_ILLUMINANT && use != SPEC_COEFF)
             return fail(P, p->file, p->line, "\"blackbody %s\": valid pbrt-v4 but not in "
                         "the specnee subset here", p->name);
         if (!(p->num[0] > 0))
@@ -959,6 +972,8 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
     sh->tri_begin = tri_begin;
     sh->tri_count = tri_count;
     sh->area = area;
+    sh->medium_inside = P->gs.medium_inside;
+    sh->medium_outside = P->gs.medium_outside;
     sh->file = file;
     sh->line = line;
     if (P->gs.area_light >= 0) {
@@ -1133,6 +1148,7 @@ static int camera_directive(Parser *P, const char *type, ParamList *pl, const ch
     st->focal_distance = focus;
     P->exposure_time = close - open;
     st->camera_from_world = P->gs.ctm;
+    st->camera_medium = P->gs.medium_outside;   /* pbrt-v4: the current outside medium */
     P->camera_file = file;
     P->camera_line = line;
     {   /* the named coordinate system "camera" is world_from_camera (pbrt-v4) */
@@ -1582,10 +1598,11 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
     float dummy_f;
     const char *ls = NULL, *reads;
     char what[64];
-    /* volpath (pbrt-v4's default), bdpt and sppm converge to the same image as path
-       in a scene without participating media, which the subset has none of; so does
-       simplepath (pbrt-v4's unidirectional path tracer without MIS: uniform light
-       choice, lights and/or BSDF sampled, every variant unbiased) */
+    /* volpath (pbrt-v4's default) is specnee's path tracer with its media
+       (render.c, docs/media.md); bdpt converges to the same image (pbrt-v4's bdpt
+       renders media too); sppm and simplepath (pbrt-v4's unidirectional path tracer
+       without MIS: uniform light choice, lights and/or BSDF sampled, every variant
+       unbiased) to the image of "path", which ignores media (settings.media_ignored) */
     int as_path = !strcmp(type, "volpath") || !strcmp(type, "bdpt") || !strcmp(type, "sppm") ||
                   !strcmp(type, "simplepath");
     if (strcmp(type, "path") != 0 && !as_path) {
@@ -1645,9 +1662,14 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
                             "not supported by specnee");
     if (!params_check_unused(P, pl, what, reads, NULL))
         return 0;
-    if (as_path)
-        fprintf(stderr, "%s:%d: note: Integrator \"%s\" is rendered by \"path\" (the same "
-                "image without participating media)\n", file, line, type);
+    if (as_path && strcmp(type, "volpath") != 0)
+        fprintf(stderr, "%s:%d: note: Integrator \"%s\" is rendered by specnee's path tracer "
+                "(the same expected image%s)\n", file, line, type,
+                !strcmp(type, "bdpt") ? ", media included" : "; media are ignored, as by pbrt-v4's");
+    st->media_ignored = !strcmp(type, "path") || !strcmp(type, "simplepath") || !strcmp(type, "sppm");
+    P->integ_file = file;
+    P->integ_line = line;
+    snprintf(P->integ_type, sizeof P->integ_type, "%s", type);
     if (maxdepth < 0 || maxdepth > MAX_MAXDEPTH)
         return fail(P, file, line, "Integrator: maxdepth %d outside 0..%d", maxdepth, MAX_MAXDEPTH);
     st->maxdepth = maxdepth;
@@ -2003,6 +2025,12 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
     memset(m, 0, sizeof *m);
     spec_const(&m->eta, 1.0f);
     snprintf(what, sizeof what, "%s \"%s\"", dir, type);
+    if (!strcmp(type, "interface") || !type[0] || !strcmp(type, "none")) {
+        /* pbrt-v4 (materials.cpp): no material, only the boundary between two media;
+           "" and "none" are its deprecated spellings.  Rays cross it (render.c) */
+        m->type = MAT_INTERFACE;
+        return params_check_unused(P, pl, what, "", NULL);
+    }
     if (!strcmp(type, "diffuse")) {
         Param *p = find_spectrum_param(pl, "reflectance");
         Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
@@ -2291,13 +2319,9 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
     {
         static const char *const pbrt_types[] = {
             "coatedconductor", "hair",
-            "interface", "measured", "mix", "subsurface", NULL
+            "measured", "mix", "subsurface", NULL
         };
         int i;
-        if (!type[0] || !strcmp(type, "none"))      /* pbrt-v4 materials.cpp */
-            return fail(P, file, line, "%s \"%s\" is pbrt-v4's deprecated spelling of "
-                        "\"interface\" (a surface that only bounds a medium), which is valid "
-                        "pbrt-v4 but not in the specnee subset", dir, type);
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
                 return fail(P, file, line, "%s \"%s\" is valid pbrt-v4 but not in the "
@@ -3095,6 +3119,182 @@ static int transform_directive(Parser *P, Lexer *L, const Token *t, int *handled
 }
 
 /* Directives with a quoted type name and a parameter list. */
+/* ===========================================================================
+   Participating media (medium.c): MakeNamedMedium and MediumInterface
+   =========================================================================== */
+/* The Scene.media index of `name` ("" is no medium: -1), made at its first
+   mention (MediumRef); -2 on out of memory. */
+static int medium_ref(Parser *P, const char *name, const char *file, int line)
+{
+    Scene *s = P->s;
+    int i;
+    if (!name[0]) return -1;
+    for (i = 0; i < s->n_media; i++)
+        if (!strcmp(s->media[i].name, name)) return i;
+    if (strlen(name) >= sizeof s->media[0].name) {
+        fail(P, file, line, "medium name \"%.40s...\" too long", name);
+        return -2;
+    }
+    if (!grow((void **)&s->media, &P->cap_media, s->n_media + 1, sizeof(Medium))) {
+        oom(P, file, line);
+        return -2;
+    }
+    if (!grow((void **)&P->mrefs, &P->cap_mrefs, s->n_media + 1, sizeof(MediumRef))) {
+        oom(P, file, line);
+        return -2;
+    }
+    memset(&s->media[s->n_media], 0, sizeof(Medium));
+    snprintf(s->media[s->n_media].name, sizeof s->media[0].name, "%s", name);
+    P->mrefs[s->n_media].defined = 0;
+    P->mrefs[s->n_media].file = file;
+    P->mrefs[s->n_media].line = line;
+    return s->n_media++;
+}
+
+/* A medium coefficient (sigma_a, sigma_s): absent -> def (pbrt-v4: 1), else a
+   spectrum with finite values >= 0 */
+static int medium_coeff(Parser *P, ParamList *pl, const char *what, const char *name,
+                        float def, Spectrum *out, const char *file, int line)
+{
+    Param *p = find_spectrum_param(pl, name);
+    char w[192];
+    if (!p) { spec_const(out, def); return 1; }
+    snprintf(w, sizeof w, "%s: \"%s\"", what, name);
+    return param_spectrum(P, p, SPEC_COEFF, out, NULL) &&
+           check_spectrum_above(P, p, file, line, w, out, 0.0f, 0);
+}
+
+/* MakeNamedMedium "name" "string type" "homogeneous" ... with pbrt-v4's meaning
+   (media.cpp, HomogeneousMedium::Create): sigma_a, sigma_s (default 1 each, per
+   scene unit), or a "string preset" of measured coefficients (medium.c; they are
+   in mm^-1, used as they are, as pbrt-v4 does), both times "float scale" (1);
+   "float g" (0) the Henyey-Greenstein asymmetry; emission "spectrum Le" (0)
+   times "float Lescale" (1), normalised as an area light's L is (lights.c: an rgb
+   Le through D65).  Only homogeneous media: the others are refused by name. */
+static int make_named_medium(Parser *P, Lexer *L, const Token *t)
+{
+    static const char *const pbrt_types[] = { "grid", "rgbgrid", "cloud", "nanovdb", NULL };
+    Token nm;
+    ParamList pl;
+    const char *type = NULL, *preset = NULL;
+    char what[160];
+    Medium m;
+    float scale, g, lescale;
+    int ok = 0, idx, i, rgb_illum = 0;
+    Param *ple;
+    if (!expect_string(P, L, "MakeNamedMedium", "medium name", &nm)) return 0;
+    memset(&pl, 0, sizeof pl);
+    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    memset(&m, 0, sizeof m);
+    snprintf(what, sizeof what, "MakeNamedMedium \"%.100s\"", nm.text);
+    if (!get_string(P, &pl, "type", &type)) goto done;
+    if (!type) { fail(P, t->file, t->line, "%s: \"string type\" is required", what); goto done; }
+    if (strcmp(type, "homogeneous") != 0) {
+        for (i = 0; pbrt_types[i]; i++)
+            if (!strcmp(type, pbrt_types[i])) {
+                fail(P, t->file, t->line, "%s: medium type \"%s\" is valid pbrt-v4 but not in "
+                     "the specnee subset (only \"homogeneous\")", what, type);
+                goto done;
+            }
+        fail(P, t->file, t->line, "%s: unknown medium type \"%s\"", what, type);
+        goto done;
+    }
+    if (!get_string(P, &pl, "preset", &preset)) goto done;
+    if (preset && preset[0]) {
+        float sa[3], ss[3];
+        Param *pp = param_find(&pl, PT_STRING, "preset");
+        if (!medium_preset(preset, sa, ss)) {
+            fail(P, pp->file, pp->line, "%s: unknown preset \"%s\" (pbrt-v4's names, e.g. "
+                 "\"Wholemilk\", \"Skin1\", \"Ketchup\")", what, preset);
+            goto done;
+        }
+        if (!spec_from_rgb(&m.sigma_a, sa, 2, P->err, pp->file, pp->line) ||
+            !spec_from_rgb(&m.sigma_s, ss, 2, P->err, pp->file, pp->line)) goto done;
+    } else if (!medium_coeff(P, &pl, what, "sigma_a", 1.0f, &m.sigma_a, t->file, t->line) ||
+               !medium_coeff(P, &pl, what, "sigma_s", 1.0f, &m.sigma_s, t->file, t->line))
+        goto done;
+    if (!get_float(P, &pl, "scale", 1.0f, &scale) || !get_float(P, &pl, "g", 0.0f, &g) ||
+        !get_float(P, &pl, "Lescale", 1.0f, &lescale)) goto done;
+    ple = find_spectrum_param(&pl, "Le");
+    if (ple) {
+        char w[192];
+        snprintf(w, sizeof w, "%s: \"Le\"", what);
+        if (!param_spectrum(P, ple, SPEC_ILLUMINANT, &m.Le, &rgb_illum) ||
+            !check_spectrum_above(P, ple, t->file, t->line, w, &m.Le, 0.0f, 0)) goto done;
+    }
+    if (!params_check_unused(P, &pl, what, "string type, string preset, spectrum sigma_a, "
+                             "spectrum sigma_s, float scale, float g, spectrum Le, "
+                             "float Lescale", NULL))
+        goto done;
+    if (!(scale >= 0.0f) || !(scale < 1e30f)) {
+        Param *p = param_find(&pl, PT_FLOAT, "scale");
+        fail(P, p->file, p->line, "%s: \"float scale\" %g must be a finite number >= 0", what, scale);
+        goto done;
+    }
+    if (!(g > -1.0f && g < 1.0f)) {
+        Param *p = param_find(&pl, PT_FLOAT, "g");
+        fail(P, p->file, p->line, "%s: \"float g\" %g must lie in (-1, 1) (Henyey-Greenstein)",
+             what, g);
+        goto done;
+    }
+    if (!(lescale >= 0.0f) || !(lescale < 1e30f)) {
+        Param *p = param_find(&pl, PT_FLOAT, "Lescale");
+        fail(P, p->file, p->line, "%s: \"float Lescale\" %g must be a finite number >= 0", what,
+             lescale);
+        goto done;
+    }
+    for (i = 0; i < SPEC_N; i++) {
+        m.sigma_a.v[i] *= scale;
+        m.sigma_s.v[i] *= scale;
+    }
+    for (i = 0; i < SPEC_UV_N; i++) {
+        m.sigma_a.uv[i] *= scale;
+        m.sigma_s.uv[i] *= scale;
+    }
+    m.g = g;
+    m.Le_scale = 0.0f;
+    if (ple) {
+        float mx = 0.0f;
+        for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
+            if (spec_get(&m.Le, i) > mx) mx = spec_get(&m.Le, i);
+        if (mx > 0.0f) m.Le_scale = rgb_illum ? rgb_illuminant_scale(&m.Le, lescale) : lescale;
+    }
+    m.file = t->file;
+    m.line = t->line;
+    idx = medium_ref(P, nm.text, t->file, t->line);
+    if (idx == -2) goto done;
+    if (idx == -1) { fail(P, t->file, t->line, "MakeNamedMedium: the name \"\" is no medium"); goto done; }
+    if (P->mrefs[idx].defined) {
+        fail(P, t->file, t->line, "MakeNamedMedium: medium \"%s\" redefined (first at %s:%d)",
+             nm.text, P->s->media[idx].file, P->s->media[idx].line);
+        goto done;
+    }
+    snprintf(m.name, sizeof m.name, "%s", nm.text);
+    P->s->media[idx] = m;
+    P->mrefs[idx].defined = 1;
+    ok = 1;
+done:
+    params_free(&pl);
+    return ok;
+}
+
+/* MediumInterface "inside" "outside" (one name: both); "" is no medium */
+static int medium_interface(Parser *P, Lexer *L, const Token *t)
+{
+    Token a, b;
+    int in, out;
+    if (!expect_string(P, L, "MediumInterface", "inside medium name", &a)) return 0;
+    if (!lex_next(P, L, &b)) return 0;
+    if (b.kind != TK_STRING) { lex_unget(L, &b); b = a; }
+    in = medium_ref(P, a.text, t->file, t->line);
+    if (in == -2) return 0;
+    out = medium_ref(P, b.text, t->file, t->line);
+    if (out == -2) return 0;
+    P->gs.medium_inside = in;
+    P->gs.medium_outside = out;
+    return 1;
+}
+
 static int typed_directive(Parser *P, Lexer *L, const Token *t)
 {
     const char *d = t->text;
@@ -3264,6 +3464,8 @@ static int directive(Parser *P, Lexer *L, const Token *t)
         return 1;
     }
     if (!strcmp(d, "Texture")) return texture_directive(P, L, t);
+    if (!strcmp(d, "MakeNamedMedium")) return make_named_medium(P, L, t);
+    if (!strcmp(d, "MediumInterface")) return medium_interface(P, L, t);
     if (!strcmp(d, "Include")) return include_directive(P, L, t, 0);
     if (!strcmp(d, "Import")) return include_directive(P, L, t, 1);
     if (!strcmp(d, "ColorSpace")) {
@@ -3276,8 +3478,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     }
     {
         static const char *const pbrt_only[] = {
-            "ActiveTransform", "Attribute", "MakeNamedMedium",
-            "MediumInterface", "ObjectBegin", "ObjectEnd", "ObjectInstance", "Option",
+            "ActiveTransform", "Attribute", "ObjectBegin", "ObjectEnd", "ObjectInstance", "Option",
             "TransformTimes", NULL
         };
         int i;
@@ -3362,6 +3563,7 @@ static void settings_default(SceneSettings *st)
     memset(st, 0, sizeof *st);
     st->camera_from_world = xf_identity();   /* pbrt-v4: no Camera -> identity */
     st->fov_deg = 90.0f;
+    st->camera_medium = -1;
     st->xres = 1280;
     st->yres = 720;
     snprintf(st->filename, sizeof st->filename, "pbrt.pfm");  /* pbrt.exr -> .pfm */
@@ -3385,6 +3587,7 @@ static void parser_free(Parser *P)
     free(P->named);
     free(P->texnames);
     free(P->coords);
+    free(P->mrefs);
 }
 
 /* Everything after the last token: checks, bounds, emitters, BVH. */
@@ -3411,6 +3614,19 @@ static int finish(Parser *P, const char *file)
                             "MakeNamedMaterial defines it", nm->name);
             s->shapes[i].material = nm->material;
         }
+    /* media: every name mentioned is defined; emitters are real surfaces */
+    for (i = 0; i < s->n_media; i++)
+        if (!P->mrefs[i].defined)
+            return fail(P, P->mrefs[i].file, P->mrefs[i].line, "MediumInterface: no "
+                        "MakeNamedMedium defines the medium \"%s\"", s->media[i].name);
+    for (i = 0; i < s->n_shapes; i++)
+        if (s->shapes[i].emitter >= 0 && s->materials[s->shapes[i].material].type == MAT_INTERFACE)
+            return fail(P, s->shapes[i].file, s->shapes[i].line, "AreaLightSource on a shape "
+                        "with Material \"interface\" (no surface) is not in the specnee subset");
+    if (s->n_media > 0 && s->settings.media_ignored)
+        fprintf(stderr, "%s:%d: note: Integrator \"%s\" ignores the participating media, as "
+                "pbrt-v4's does (\"volpath\" renders them)\n", P->integ_file, P->integ_line,
+                P->integ_type);
     if (P->camera_file && !camera_transform_ok(&s->settings.camera_from_world,
                                                s->settings.fov_deg, s->settings.xres,
                                                s->settings.yres))
@@ -3483,6 +3699,7 @@ static int load(Scene *s, char *buf, size_t len, const char *name, const char *o
     P.gs.ctm = xf_identity();
     P.gs.material = -1;
     P.gs.area_light = -1;
+    P.gs.medium_inside = P.gs.medium_outside = -1;
     P.end_line = 1;
     P.iso = 100.0f;                          /* pbrt-v4: imaging ratio 1 by default */
     P.exposure_time = 1.0f;
@@ -3554,6 +3771,7 @@ void scene_free(Scene *s)
     free(s->N);
     free(s->tris);
     free(s->shapes);
+    free(s->media);
     free(s->materials);
     free(s->emitters);
     free(s->sphere_shape);

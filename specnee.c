@@ -75,7 +75,10 @@ static const char usage_options[] =
 "      --single-wavelength one wavelength per path instead of four\n"
 "      --rough-dispersion M  mis (default: keep the secondary wavelengths alive\n"
 "                          through rough dispersive glass) or terminate (the thesis)\n"
-"      --no-nee            BSDF sampling only (no next event estimation)\n";
+"      --no-nee            BSDF sampling only (no next event estimation)\n"
+"      --chromatic-media M mis (default: spectral MIS keeps the four wavelengths\n"
+"                          through media whose sigma_t depends on the wavelength)\n"
+"                          or terminate (the secondaries end there): docs/media.md\n";
 static const char usage_options2[] =
 "      --fluor-li M        a fluorescent vertex samples the absorbed wavelength from\n"
 "                          A x the emitters' power with a share of A (power,\n"
@@ -280,6 +283,11 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
             a->ro.wl_wide = 1;
         } else if (!strcmp(o, "--single-wavelength")) {
             a->ro.single_wavelength = 1;
+        } else if (!strcmp(o, "--chromatic-media")) {
+            NEEDS_VALUE();
+            if (!strcmp(v, "mis")) a->ro.media_terminate = 0;
+            else if (!strcmp(v, "terminate")) a->ro.media_terminate = 1;
+            else return usage_error("--chromatic-media is mis or terminate, not '%s'", v);
         } else if (!strcmp(o, "--rough-dispersion")) {
             NEEDS_VALUE();
             if (!strcmp(v, "mis")) a->ro.rough_mis = 1;
@@ -350,6 +358,7 @@ static void print_settings(const RenderOptions *o)
            o->sel.power_metric ? "power" : "unit",
            o->sel.throughput_weighted ? "throughput" : o->sel.all_wavelengths ? "all" : "hero");
     printf("rough-dispersion %s\nno-nee %s\n", o->rough_mis ? "mis" : "terminate", o->nee ? "off" : "on");
+    printf("chromatic-media %s\n", o->media_terminate ? "terminate" : "mis");
     printf("fluor-li %s\nfluor-lanes %s\n",
            o->fluor_li == FLUOR_LI_A ? "a" : o->fluor_li == FLUOR_LI_POWER ? "power" : "uniform",
            o->fluor_keep ? "keep" : "terminate");

@@ -191,6 +191,11 @@ double radical_inverse(int base, uint64_t i);
      DIM_FLUOR0 + 2d  2-D    re-radiate or reflect, and the absorbed wavelength (with
                              --fluor-li power the second number also picks the
                              mixture's component, rescaled: no extra dimension)
+     and in a participating medium (docs/media.md), for segment s of bounce d:
+     DIM_MEDIUM0 + 64d + s  1-D  the free-flight distance (a scatter vertex then
+                             uses the bounce's BD_LIGHT..BD_POINT for NEE and
+                             BD_DIR for the phase function's direction)
+     so a scene without media asks for exactly the numbers it asked for before.
 
    A GROUP is one request: the two numbers of a 2-D group map together onto a 2-D
    domain (pixel, triangle, hemisphere), so they must be spread as a 2-D point
@@ -208,6 +213,10 @@ enum { BD_LIGHT = 0, BD_TRIANGLE = 1, BD_POINT = 2, BD_LOBE = 4, BD_DIR = 5, BD_
 static inline int dim_bounce(int depth, int slot) { return DIM_BOUNCE0 + depth * DIMS_PER_BOUNCE + slot; }
 #define DIM_FLUOR0 (1 << 20)
 static inline int dim_fluor(int depth) { return DIM_FLUOR0 + 2 * depth; }
+#define DIM_MEDIUM0 (1 << 21)
+#define MEDIUM_SEGMENTS 64  /* @@ ray segments one bounce may cross (Material "interface"
+                               boundaries of media); a path that needs more ends there */
+static inline int dim_medium(int depth, int seg) { return DIM_MEDIUM0 + MEDIUM_SEGMENTS * depth + seg; }
 #define SAMPLER_CHECKED_DIMS 256   /* dimensions whose reuse is counted (31 bounces) */
 
 typedef enum {
@@ -310,7 +319,8 @@ const char *const *spec_named_list(void);   /* NULL-terminated list of the names
 int   metal_named(Spectrum *s, const char *name);
 /* A file of wavelength/value pairs: pbrt .spd text or CSV (optional header). */
 int   spec_from_file(Spectrum *s, const char *path, Error *err);
-/* RGB reflectance (0..1) or illuminant RGB upsampled to a smooth spectrum. */
+/* RGB upsampled to a smooth spectrum, pbrt-v4's way: illuminant 0, a reflectance
+   (0..1); 1, an illuminant (times D65); 2, unbounded (a medium's coefficients). */
 int   spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
                     const char *file, int line);
 void  spec_blackbody(Spectrum *s, float kelvin);  /* normalised to a peak of 1 (pbrt-v4) */
@@ -435,6 +445,10 @@ typedef struct {
     Vec3 center; float radius; /* sphere, in world space */
     Quadric q;                 /* disk, cylinder, partial sphere: in object space */
     double area;               /* world-space surface area */
+    int medium_inside;         /* MediumInterface at the Shape: indices into Scene.media,
+                                  -1 for none (vacuum).  Where they differ the shape is a */
+    int medium_outside;        /* transition: a ray leaving it along w is in the outside
+                                  medium if w . ng > 0, else in the inside one (pbrt-v4) */
     const char *file; int line;/* where it was declared, for messages */
 } Shape;
 
@@ -535,7 +549,9 @@ typedef enum {
     MAT_CONDUCTOR,             /* pbrt-v4 "conductor": complex Fresnel, smooth or GGX (conductor.c) */
     MAT_THIN_DIELECTRIC,       /* pbrt-v4 "thindielectric": reflect or pass straight through */
     MAT_DIFFUSE_TRANSMISSION,  /* pbrt-v4 "diffusetransmission": Lambert both sides */
-    MAT_COATED_DIFFUSE         /* pbrt-v4 "coateddiffuse": dielectric coat over Lambert (layered.c) */
+    MAT_COATED_DIFFUSE,        /* pbrt-v4 "coateddiffuse": dielectric coat over Lambert (layered.c) */
+    MAT_INTERFACE              /* pbrt-v4 "interface": no surface, only the boundary of a medium
+                                  (rays pass it; medium.c, docs/media.md) */
 } MaterialType;
 #define FL_N (SPEC_MAX - SPEC_UV_MIN + 1)   /* 1 nm knots of the fluorescence tables */
 typedef struct {
@@ -693,6 +709,42 @@ float fresnel_dielectric(float cos_i, float eta);
 /* Refract w about n (unit, any side) with relative index eta; 0 on total internal
    reflection.  *etap receives the index ratio along the path. */
 int   refract_dir(Vec3 w, Vec3 n, float eta, float *etap, Vec3 *wt);
+
+/* ======================================================================
+   6b. Participating media (medium.c; docs/media.md derives the estimator)
+   ====================================================================== */
+/* pbrt-v4's MakeNamedMedium "homogeneous": a medium that fills the space between
+   the surfaces whose MediumInterface names it, with the same coefficients
+   everywhere.  Light travelling a distance t in it keeps the fraction
+   T(t) = exp(-sigma_t t), sigma_t = sigma_a + sigma_s (per scene unit, per
+   wavelength: a chromatic medium when sigma_t depends on lambda); a collision
+   scatters with probability sigma_s / sigma_t into the Henyey-Greenstein lobe of
+   asymmetry g; the medium emits radiance sigma_a Le per unit length. */
+typedef struct {
+    char name[64];             /* the MakeNamedMedium name */
+    Spectrum sigma_a, sigma_s; /* absorption, scattering (1/scene unit), "scale" applied */
+    Spectrum Le;               /* emission as given (its shape; radiance per Lescale) */
+    float Le_scale;            /* "Lescale" (an rgb Le: with the D65 normalisation of rgb
+                                  illuminants); 0: the medium does not emit */
+    float g;                   /* HG asymmetry in (-1, 1) */
+    const char *file; int line;/* the MakeNamedMedium directive */
+} Medium;
+
+float medium_sigma_t(const Medium *m, float lambda_nm);
+float medium_sigma_s(const Medium *m, float lambda_nm);
+float medium_sigma_a(const Medium *m, float lambda_nm);
+/* The Henyey-Greenstein phase function for the cosine between the direction the
+   light travelled (d) and the one it leaves in (wi): forward scattering for g > 0;
+   it integrates to 1 over the sphere. */
+float hg_phase(float g, float cos_d_wi);
+/* Sample wi from it around the unit travel direction d; *pdf = hg_phase(...). */
+Vec3  hg_sample(float g, Vec3 d, float u1, float u2, float *pdf);
+/* pbrt-v4's named scattering coefficients (MakeNamedMedium "string preset"):
+   sigma_a and sigma_s' as RGB in mm^-1; 0 if the name is unknown. */
+int   medium_preset(const char *name, float sigma_a[3], float sigma_s[3]);
+/* The medium a ray leaving shape sh along w is in, for a ray that was in `cur`:
+   the shape's inside or outside medium if it is a transition, else cur. */
+int   medium_after(const struct Scene *s, int shape, int cur, Vec3 w, Vec3 ng);
 
 /* ======================================================================
    7. Emitters and emitter selection (lights.c)
@@ -861,6 +913,10 @@ typedef struct {
     float crop[4];
     int pixel_bounds[4];
     char sampler[16];          /* Sampler: the specnee sampler it maps to, "" if none */
+    int camera_medium;         /* the outside medium at the Camera directive (-1: none) */
+    int media_ignored;         /* Integrator "path" (or simplepath, sppm): as in pbrt-v4
+                                  the media are not rendered; "volpath" (pbrt-v4's
+                                  default), "bdpt" render them (medium.c) */
     int xsamples, ysamples, jitter;      /* Sampler "stratified" */
 } SceneSettings;
 
@@ -872,6 +928,7 @@ typedef struct Scene {
     Material *materials; int n_materials;
     Emitter *emitters; int n_emitters;
     Texture *textures; int n_textures;   /* texture.c; materials refer to them by index */
+    Medium *media; int n_media;          /* medium.c; shapes and the camera refer to them */
     float *UV;                           /* per vertex (u, v), NULL when no mesh has "uv" */
     int n_spheres; int *sphere_shape;    /* sphere j is shapes[sphere_shape[j]] */
     int n_quadrics; int *quadric_shape;  /* quadric k (disk, cylinder, partial sphere)
@@ -1070,6 +1127,9 @@ void  light_sampler_free(LightSampler *ls);
 /* Radiance leaving emitter e at a point with oriented normal n towards w (unit):
    zero from the back of a one-sided emitter. */
 float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm);
+/* sum over 1 nm steps in [lo, hi] of ybar S: the luminance that normalises an
+   emitter's spectrum (and an emissive medium's Le, render.c). */
+double luminance_sum(const Spectrum *S, float lo_nm, float hi_nm);
 const Spectrum *light_spectrum(const LightSampler *ls, int e);   /* e's Le */
 /* What NEE chooses is a PIECE: a whole emitter, or (light trees only) a cluster of
    at most LIGHT_CLUSTER_TRIS triangles of a large emissive mesh.  Without
@@ -1169,6 +1229,10 @@ typedef struct {
     SamplerType sampler;       /* --sampler (file: Sampler); sobol by default */
     int xsamples, ysamples;    /* stratified strata (0: from spp) */
     int jitter;                /* stratified: jitter in the strata (default 1) */
+    int media_terminate;       /* --chromatic-media terminate: the secondaries end at the
+                                  first event in a medium whose sigma_t depends on the
+                                  wavelength; 0 (default): spectral MIS carries all four
+                                  through it (docs/media.md) */
     int progress;              /* progress bar on stderr */
     int debug_x, debug_y;      /* --debug-pixel: print that pixel's paths (-1: off) */
 } RenderOptions;

@@ -1355,9 +1355,12 @@ int spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
     }
     if (illuminant) {
         /* pbrt-v4 RGBIlluminantSpectrum: m = 2 max(rgb), fit rgb / m (max 1/2),
-           multiply by m and by the colour space's illuminant (D65, Y = 1). */
+           multiply by m and by the colour space's illuminant (D65, Y = 1).
+           illuminant == 2: pbrt-v4's RGBUnboundedSpectrum, the same without D65
+           (the coefficients of a medium). */
         Spectrum d65;
-        spec_named(&d65, "stdillum-D65");
+        if (illuminant == 2) spec_const(&d65, 1.0f);
+        else spec_named(&d65, "stdillum-D65");
         if (m == 0.0) { spec_const(s, 0.0f); return 1; }
         m *= 2.0;
         for (k = 0; k < 3; k++) target[k] /= m;

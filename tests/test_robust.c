@@ -225,17 +225,19 @@ static void test_param_count(T *t)
     scene_free(&s);
 }
 
-/* #20: "" and "none" are pbrt-v4's deprecated names of "interface". */
+/* #20: "" and "none" are pbrt-v4's deprecated names of "interface" (medium.c):
+   they load as it, and take no parameters. */
 static void test_material_none(T *t)
 {
     Error e;
-    const char *p = test_write_file(t, "mat_empty.pbrt", "WorldBegin\nMaterial \"\"\n");
-    if (!expect_fail(t, p, "mat_empty.pbrt:2:", "deprecated spelling of \"interface\"", &e)) return;
-    p = test_write_file(t, "mat_none.pbrt", "WorldBegin\n\nMaterial \"none\"\n");
-    if (!expect_fail(t, p, "mat_none.pbrt:3:", "Material \"none\" is pbrt-v4's deprecated", &e)) return;
+    const char *p = test_write_file(t, "mat_empty.pbrt", "WorldBegin\nMaterial \"\"\nShape \"sphere\"\n");
+    expect_loads(t, p, "Material \"\"");
+    if (t->failed) return;
+    p = test_write_file(t, "mat_none.pbrt", "WorldBegin\n\nMaterial \"none\" \"float roughness\" 0\n");
+    if (!expect_fail(t, p, "mat_none.pbrt:3:", "unused parameter", &e)) return;
     p = test_write_file(t, "mat_named_none.pbrt",
                         "WorldBegin\nMakeNamedMaterial \"x\" \"string type\" \"none\"\n");
-    if (!expect_fail(t, p, "mat_named_none.pbrt:2:", "deprecated spelling", &e)) return;
+    expect_loads(t, p, "MakeNamedMaterial \"none\"");
 }
 
 /* #20: the "valid pbrt-v4 but" messages name the type (the texture's class). */
@@ -249,8 +251,8 @@ static void test_unsupported_named(T *t)
     if (!expect_fail(t, p, "tex.pbrt:2:", "Texture \"imagemap\"", &e)) return;
     CHECK(t, strstr(e.msg, "\"wood\"") != NULL, "%s", e.msg);
     /* the other unsupported directives name their first string */
-    p = test_write_file(t, "medium.pbrt", "WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\n");
-    if (!expect_fail(t, p, "medium.pbrt:2:", "MakeNamedMedium \"fog\" is valid pbrt-v4", &e)) return;
+    p = test_write_file(t, "medium.pbrt", "WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"cloud\"\n");
+    if (!expect_fail(t, p, "medium.pbrt:2:", "MakeNamedMedium \"fog\": medium type \"cloud\" is valid pbrt-v4", &e)) return;
 }
 
 /* #20: a spectrum file with CR-only line endings is three lines, not one. */
