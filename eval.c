@@ -53,7 +53,8 @@
    mixture=M (weight M of visible), uniform (the wavelength pdf), roughmis, single,
    wide, nonee, nosplit (light trees: a large emissive mesh stays one leaf), a
    sampler (independent stratified sobol zsobol), fluorescence (flpower fluniform
-   fla flkeep flterminate), and terminate, hero, unit that
+   fla flkeep flterminate), media (medterminate medmis: --chromatic-media), and
+   terminate, hero, unit that
    pin a setting to the thesis' value whatever the defaults (the factorial
    evaluation names every factor).  Returns 0 on an unknown name or modifier. */
 int eval_parse_variant(const char *spec, RenderOptions *o)
@@ -92,6 +93,8 @@ int eval_parse_variant(const char *spec, RenderOptions *o)
         else if (!strcmp(tok, "flkeep")) o->fluor_keep = 1;                 /* --fluor-lanes keep */
         else if (!strcmp(tok, "flterminate")) o->fluor_keep = 0;
         else if (!strcmp(tok, "nosplit")) o->sel.no_split = 1;
+        else if (!strcmp(tok, "medterminate")) o->media_terminate = 1;   /* --chromatic-media terminate */
+        else if (!strcmp(tok, "medmis")) o->media_terminate = 0;
         else if (sampler_from_name(tok) != SAMPLER_COUNT) o->sampler = sampler_from_name(tok);
         else return 0;
     }
@@ -258,6 +261,7 @@ static const char usage_converge[] =
     "  spatial:single, spatial:nonee, spectral-tree:nosplit, product:flpower\n"
     "  (--fluor-li power), product:fluniform (--fluor-li uniform), product:fla\n"
     "  (--fluor-li a), product:flkeep (--fluor-lanes keep), product:flterminate,\n"
+    "  spectral-tree:medterminate (--chromatic-media terminate), spectral-tree:medmis,\n"
     "  and a sampler:\n"
     "  spatial:sobol, spatial:zsobol, spatial:stratified, spatial:independent\n"
     "  (stratified and zsobol are not progressive: their rungs are rendered one by\n"
