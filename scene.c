@@ -1735,6 +1735,18 @@ static int texture_arg(Parser *P, ParamList *pl, Texture *T, int k, const char *
     }
 }
 
+/* The texture's frame: the inverse of the CTM at the directive (pbrt-v4's
+   textureFromRender). */
+static void texture_frame(Parser *P, Texture *T)
+{
+    int a, b;
+    for (a = 0; a < 4; a++)
+        for (b = 0; b < 4; b++) {
+            T->tex_from_world.m[a][b] = P->gs.ctm.inv[a][b];
+            T->tex_from_world.inv[a][b] = P->gs.ctm.m[a][b];
+        }
+}
+
 /* The 2-D mapping parameters (pbrt-v4 TextureMapping2D::Create). */
 static int texture_mapping(Parser *P, ParamList *pl, Texture *T)
 {
@@ -1770,13 +1782,7 @@ static int texture_mapping(Parser *P, ParamList *pl, Texture *T)
     }
     T->vs = v3((float)v1[0], (float)v1[1], (float)v1[2]);
     T->vt = v3((float)v2[0], (float)v2[1], (float)v2[2]);
-    {   /* the texture's frame: the inverse of the CTM at the directive */
-        Xform inv;
-        int a, b;
-        for (a = 0; a < 4; a++)
-            for (b = 0; b < 4; b++) { inv.m[a][b] = P->gs.ctm.inv[a][b]; inv.inv[a][b] = P->gs.ctm.m[a][b]; }
-        T->tex_from_world = inv;
-    }
+    texture_frame(P, T);
     return 1;
 }
 
@@ -1846,7 +1852,7 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
 static int texture_directive(Parser *P, Lexer *L, const Token *t)
 {
     static const char *const pbrt_classes[] = {
-        "bilerp", "directionmix", "dots", "fbm", "marble", "ptex", "wrinkled", "windy", NULL
+        "bilerp", "directionmix", "fbm", "ptex", "wrinkled", "windy", NULL
     };
     Scene *s = P->s;
     Token a[3];
@@ -1913,6 +1919,36 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
     } else if (!strcmp(a[2].text, "imagemap")) {
         T.type = TEX_IMAGEMAP;
         ok = texture_mapping(P, &pl, &T) && texture_image(P, &pl, &T, a[0].text);
+    } else if (!strcmp(a[2].text, "dots")) {
+        /* pbrt-v4 DotsTexture: "outside" (0) in a dot, "inside" (1) elsewhere (sic:
+           pbrt-v4's Create passes "inside" as the constructor's outsideDot, since
+           pbrt-v3; texture.c section 4) */
+        T.type = TEX_DOTS;
+        ok = texture_mapping(P, &pl, &T) && texture_arg(P, &pl, &T, 0, "inside", 1.0f) &&
+             texture_arg(P, &pl, &T, 1, "outside", 0.0f);
+    } else if (!strcmp(a[2].text, "marble")) {
+        /* pbrt-v4 MarbleTexture (spectrum only): a 3-D texture in the frame of the
+           CTM at the directive (TextureMapping3D, which reads no parameters) */
+        T.type = TEX_MARBLE;
+        if (T.is_float) {
+            ok = fail(P, t->file, t->line, "Texture \"%s\": \"marble\" is a spectrum texture "
+                      "(pbrt-v4 has no float marble)", a[0].text);
+            goto done;
+        }
+        ok = get_int(P, &pl, "octaves", 8, &T.octaves, NULL) &&
+             get_float(P, &pl, "roughness", 0.5f, &T.omega) &&
+             get_float(P, &pl, "scale", 1.0f, &T.mscale) &&
+             get_float(P, &pl, "variation", 0.2f, &T.variation);
+        if (ok && !(isfinite(T.omega) && isfinite(T.mscale) && isfinite(T.variation)))
+            ok = fail(P, t->file, t->line, "Texture \"marble\": roughness, scale and variation "
+                      "must be finite");
+        if (ok && !(T.octaves >= 0 && T.octaves <= 64))
+            ok = fail(P, t->file, t->line, "Texture \"marble\": octaves %d must be within [0, 64]",
+                      T.octaves);
+        if (ok) {
+            texture_frame(P, &T);
+            ok = tex_marble_init(&T, P->err);
+        }
     } else {
         for (k = 0; pbrt_classes[k]; k++)
             if (!strcmp(a[2].text, pbrt_classes[k])) break;
@@ -1931,7 +1967,11 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
                 "float tex2, texture tex2, float amount, texture amount",
             /* TEX_IMAGEMAP */ "string filename, string wrap, string filter, string encoding, "
                 "float scale, bool invert, float maxanisotropy, string mapping, float uscale, "
-                "float vscale, float udelta, float vdelta, vector3 v1, vector3 v2"
+                "float vscale, float udelta, float vdelta, vector3 v1, vector3 v2",
+            /* TEX_DOTS */ "string mapping, float uscale, float vscale, float udelta, float vdelta, "
+                "vector3 v1, vector3 v2, spectrum inside, rgb inside, float inside, texture inside, "
+                "spectrum outside, rgb outside, float outside, texture outside",
+            /* TEX_MARBLE */ "integer octaves, float roughness, float scale, float variation"
         };
         char what[96];
         snprintf(what, sizeof what, "Texture \"%s\"", a[2].text);

@@ -604,9 +604,11 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm);
    "spectrum" texture) or a number (a "float" texture).  2-D textures first map
    the point to (s, t): "uv" (s = uscale u + udelta, t = vscale v + vdelta),
    "spherical", "cylindrical" or "planar" (in the texture's frame, the CTM at the
-   Texture directive).  An argument (tex1, tex2, amount, tex, scale) is a
-   constant or another texture. */
-typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP } TexType;
+   Texture directive).  3-D textures (marble) use the point in that frame.  An
+   argument (tex1, tex2, amount, tex, scale, inside, outside) is a constant or
+   another texture. */
+typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP,
+               TEX_DOTS, TEX_MARBLE } TexType;
 typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR } TexMapType;
 typedef enum { TEXWRAP_REPEAT, TEXWRAP_BLACK, TEXWRAP_CLAMP } TexWrap;
 #define TEX_ARGS 2
@@ -616,17 +618,21 @@ typedef struct Texture {
     TexMapType map;
     float su, sv, du, dv;      /* uv: scales and offsets; planar: du, dv the offsets */
     Vec3 vs, vt;               /* planar: the s and t axes ("v1", "v2") */
-    Xform tex_from_world;      /* spherical, cylindrical, planar: the inverse CTM */
-    /* arguments: checkerboard tex1, tex2; mix tex1, tex2 (and amount); scale tex, scale */
+    Xform tex_from_world;      /* spherical, cylindrical, planar, marble: the inverse CTM */
+    /* arguments: checkerboard tex1, tex2; mix tex1, tex2 (and amount); scale tex, scale;
+       dots "inside" (shown outside the dots, as in pbrt-v4), "outside" (in them) */
     int arg_tex[TEX_ARGS];     /* a texture index, or -1: the constant below */
     Spectrum arg_s[TEX_ARGS];  /* spectrum constants */
     float arg_f[TEX_ARGS];     /* float constants (also scale's "scale") */
     int amount_tex; float amount;  /* mix: a float texture or constant (0.5) */
     int scale_tex;             /* scale: "scale" as a float texture (-1: arg_f[1]) */
+    int octaves;               /* marble: octaves of noise in the FBm (8) */
+    float omega, mscale, variation;  /* marble: "roughness" (0.5), "scale" (1), "variation" (0.2) */
     /* imagemap: w x h texels, row 0 at the top of the image; a spectrum texture
        keeps 4 floats per texel (m and the sigmoid's 3 coefficients: the texel's
        reflectance is m sigmoid(c, lambda), spectrum.c), a float one 1 (the mean of
-       R, G, B); bilinear lookup (pbrt-v4's default filter) */
+       R, G, B); bilinear lookup (pbrt-v4's default filter).  marble: its colour spline
+       tabulated the same way, w knots in one row (texture.c section 4) */
     int w, h;
     float *texel;
     TexWrap wrap;
@@ -635,6 +641,14 @@ typedef struct Texture {
 /* Texture t of the table tex at the surface point (lambda ignored by float textures). */
 float tex_eval(const Texture *tex, int t, const SurfacePoint *sp, float lambda_nm);
 void  tex_free(Texture *t);   /* (tex_set_image, which reads an Image, is in section 10) */
+/* pbrt-v4's Perlin noise at (x, y, z) (Perlin 2002's gradients and permutation), in
+   about [-1, 1], 0 at integer points; dots call it with z = 0.5. */
+float tex_noise(float x, float y, float z);
+/* Fractional Brownian motion: sum over i < octaves of omega^i noise(1.99^i p), pbrt-v4's
+   FBm for a footprint of zero (texture.c section 4). */
+float tex_fbm(Vec3 p, float omega, int octaves);
+/* A marble texture's colour table (texture.c section 4): 0 and a message when out of memory. */
+int   tex_marble_init(Texture *t, Error *err);
 /* Smooth dielectrics scatter into discrete (delta) directions: no NEE there. */
 int   mat_is_delta(const Material *m);
 

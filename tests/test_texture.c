@@ -1,6 +1,7 @@
 /* tests/test_texture.c - textures (texture.c): values at chosen points against
    pbrt-v4's definitions, the (u, v) of meshes, image lookups, a rendered plane
-   against E/pi times its texture, and bad input. */
+   against E/pi times its texture, and bad input.  Noise, dots and marble against
+   numbers frozen from pbrt-v4 (its functions at chosen points, and renders). */
 #include "test.h"
 #include <stdlib.h>
 #include <string.h>
@@ -352,6 +353,190 @@ static void test_render_checks(T *t)
     }
 }
 
+/* pbrt-v4's own Noise and FBm (util/noise.cpp, commit 5f7a606806a4ac7b939131ded9d7a30ebd02416e)
+   printed by a small C++ program linked with its libpbrt_lib.a: Noise(x, y, z) and
+   FBm(p, dpdx = dpdy = 0, omega, octaves) for (omega, octaves) = (0.5, 8) and (0.7, 3). */
+static const float NOISE_AT[8][6] = {
+    /* x, y, z, Noise, FBm(0.5, 8), FBm(0.7, 3) */
+    { 0.5f, 0.5f, 0.5f, -0.125f, -0.11803776f, -0.137513295f },
+    { 1.25f, 2.5f, 0.75f, 0.472781658f, 0.463357776f, 0.456339926f },
+    { -3.7f, 0.2f, 5.1f, 0.151658028f, 0.407572746f, 0.560678303f },
+    { 10.3f, -7.9f, 2.2f, 0.373561889f, 0.465203583f, 0.480144233f },
+    { 0.1f, 0.9f, 0.3f, 0.0940399617f, 0.324288011f, 0.448794901f },
+    { 100.77f, 33.3f, -12.6f, 0.340050459f, 0.354269385f, 0.337502658f },
+    { 1.5f, 2.8f, 0.5f, 0.56959188f, 0.564189136f, 0.528325379f },
+    { -0.3f, -0.7f, -0.5f, 0.0295332149f, -0.036878489f, -0.109459117f },
+};
+
+static void test_noise(T *t)
+{
+    int i;
+    for (i = 0; i < 8; i++) {
+        const float *q = NOISE_AT[i];
+        float n = tex_noise(q[0], q[1], q[2]);
+        float f8 = tex_fbm(v3(q[0], q[1], q[2]), 0.5f, 8), f3 = tex_fbm(v3(q[0], q[1], q[2]), 0.7f, 3);
+        CHECK(t, NEAR(n, q[3], 2e-6), "noise(%g, %g, %g) = %.9g, pbrt-v4 %.9g", q[0], q[1], q[2], n, q[3]);
+        CHECK(t, NEAR(f8, q[4], 1e-5) && NEAR(f3, q[5], 1e-5), "FBm at (%g, %g, %g): %.9g %.9g, "
+              "pbrt-v4 %.9g %.9g", q[0], q[1], q[2], f8, f3, q[4], q[5]);
+    }
+    /* 0 at every lattice point (each corner's offset is 0 there) */
+    CHECK(t, tex_noise(3.0f, -7.0f, 12.0f) == 0.0f, "noise at a lattice point: %g", tex_noise(3.0f, -7.0f, 12.0f));
+}
+
+/* Dots with the uv mapping (s = u, t = v): pbrt-v4's InsidePolkaDot (textures.cpp,
+   same program as NOISE_AT) at 8 points, and the count of points inside a dot on
+   the grid s = -3 + 0.173 i, t = -2 + 0.191 j, i, j < 40: 260.  In a dot the texture
+   is "outside" (0.25 here), elsewhere "inside" (0.75): pbrt-v4's meaning (texture.c
+   section 4). */
+static void test_dots(T *t)
+{
+    static const float at[8][3] = {
+        { 0.1f, 0.1f, 0 }, { 1.05f, -0.02f, 0 }, { 2.2f, 3.1f, 1 }, { -1.6f, 0.4f, 0 },
+        { 5.5f, 7.25f, 0 }, { 3.0f, 1.0f, 0 }, { 0.9f, 2.1f, 1 }, { -2.3f, -4.4f, 0 },
+    };
+    Scene s;
+    SurfacePoint sp;
+    int i, j, n = 0;
+    if (!load(t, &s, "Texture \"d\" \"float\" \"dots\" \"float inside\" [ 0.75 ] \"float outside\" [ 0.25 ]\n"
+              "Texture \"e\" \"float\" \"dots\" \"float uscale\" [ 2 ] \"float udelta\" [ 0.3 ]\n"))
+        return;
+    for (i = 0; i < 8; i++) {
+        float want = at[i][2] != 0.0f ? 0.25f : 0.75f, got;
+        sp = at_uv(at[i][0], at[i][1]);
+        got = tex_eval(s.textures, 0, &sp, 550);
+        CHECK(t, got == want, "dots at (%g, %g): %g, pbrt-v4 %g", at[i][0], at[i][1], got, want);
+        /* the mapping: s = 2u + 0.3; default inside 1, outside 0 */
+        sp = at_uv((at[i][0] - 0.3f) / 2.0f, at[i][1]);
+        got = tex_eval(s.textures, 1, &sp, 550);
+        CHECK(t, NEAR(got, at[i][2] != 0.0f ? 0.0 : 1.0, 0), "dots through uscale/udelta at (%g, %g): %g",
+              at[i][0], at[i][1], got);
+    }
+    for (i = 0; i < 40; i++)
+        for (j = 0; j < 40; j++) {
+            sp = at_uv(-3.0f + (float)i * 0.173f, -2.0f + (float)j * 0.191f);
+            n += tex_eval(s.textures, 0, &sp, 550) == 0.25f;
+        }
+    CHECK(t, n == 260, "%d grid points in a dot, pbrt-v4 260", n);
+    scene_free(&s);
+}
+
+/* The linear sRGB colour (under D65, pbrt-v4's RGBAlbedoSpectrum) of texture i at sp. */
+static void texture_rgb(const Scene *s, int i, const SurfacePoint *sp, double rgb[3])
+{
+    static Spectrum S, d65;
+    double xyz[3], yd65[3];
+    int nm;
+    spec_named(&d65, "stdillum-D65");
+    spec_to_xyz(&d65, SPEC_MIN, SPEC_MAX, yd65);
+    spec_const(&S, 0.0f);
+    for (nm = SPEC_MIN; nm <= SPEC_MAX; nm++)
+        *spec_at(&S, nm) = tex_eval(s->textures, i, sp, (float)nm) * spec_get(&d65, nm) / (float)yd65[1];
+    spec_to_xyz(&S, SPEC_MIN, SPEC_MAX, xyz);
+    xyz_to_linear_srgb(xyz, rgb);
+}
+
+/* Marble: at points of its frame (Translate 1 2 3, scale 2, variation 0.7,
+   roughness 0.6, 5 octaves) its colour is pbrt-v4's spline, 1.5 B(x), within 1e-3
+   (the fit's and the knots' error), x from the definition in texture.c section 4
+   with tex_fbm (tested above). */
+static void test_marble(T *t)
+{
+    static const float C[9][3] = {
+        { .58f, .58f, .6f }, { .58f, .58f, .6f }, { .58f, .58f, .6f }, { .5f, .5f, .5f }, { .6f, .59f, .58f },
+        { .58f, .58f, .6f }, { .58f, .58f, .6f }, { .2f, .2f, .33f }, { .58f, .58f, .6f },
+    };
+    Scene s;
+    SurfacePoint sp;
+    int i, c;
+    if (!load(t, &s, "AttributeBegin\nTranslate 1 2 3\nTexture \"m\" \"spectrum\" \"marble\" \"float scale\" [ 2 ] "
+              "\"float variation\" [ 0.7 ] \"float roughness\" [ 0.6 ] \"integer octaves\" [ 5 ]\nAttributeEnd\n"))
+        return;
+    for (i = 0; i < 24; i++) {
+        Vec3 p = v3(0.37f * (float)i - 3.0f, 0.29f * (float)i - 2.5f, 0.11f * (float)i);
+        Vec3 q = v3_mul(v3(p.x - 1.0f, p.y - 2.0f, p.z - 3.0f), 2.0f);
+        double x = 0.5 + 0.5 * sin(q.y + 0.7 * tex_fbm(q, 0.6f, 5)), rgb[3], want[3], a, b;
+        int k = (int)floor(x * 6.0);
+        if (k > 5) k = 5;
+        x = x * 6.0 - k;
+        a = 1.0 - x;
+        for (c = 0; c < 3; c++)
+            want[c] = 1.5 * (a * a * a * C[k][c] + 3 * a * a * x * C[k + 1][c] + 3 * a * x * x * C[k + 2][c] +
+                             x * x * x * C[k + 3][c]);
+        sp = at_p(p.x, p.y, p.z);
+        texture_rgb(&s, 0, &sp, rgb);
+        b = 0.0;
+        for (c = 0; c < 3; c++) b = fmax(b, fabs(rgb[c] - want[c]));
+        CHECK(t, b < 1e-3, "marble at (%g, %g, %g): rgb (%.4f %.4f %.4f), the spline (%.4f %.4f %.4f)",
+              p.x, p.y, p.z, rgb[0], rgb[1], rgb[2], want[0], want[1], want[2]);
+    }
+    scene_free(&s);
+}
+
+/* A 4 x 4 square, uv [0, 1]^2, lit straight on by a distant light of illuminance
+   pi (radiance = the reflectance), its texture declared under Translate 0.3 0.1 0,
+   Rotate 20 0 0 1 (which moves marble; dots use uv).  pbrt-v4 (commit 5f7a6068)
+   rendered this text, with "Sampler \"independent\"" added, 8 times: pbrt --spp 256
+   --seed S --outfile x_S.pfm x.pbrt, S = 1..8.  Per 4 x 4 tile (12 x 12 pixels,
+   row-major from the top left): the mean over the 8 images of the tile's luminance
+   (0.212671 R + 0.715160 G + 0.072169 B) and its standard error. */
+static void pbrt_square_text(char *buf, size_t cap, const char *texture)
+{
+    snprintf(buf, cap,
+             "LookAt 2 2 8  2 2 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 28 ]\n"
+             "Film \"rgb\" \"integer xresolution\" [ 48 ] \"integer yresolution\" [ 48 ] \"string filename\" \"x.pfm\"\n"
+             "PixelFilter \"box\"\nIntegrator \"path\" \"integer maxdepth\" [ 1 ]\nWorldBegin\n"
+             "LightSource \"distant\" \"float scale\" [ 3.14159265358979 ] \"point3 from\" [ 0 0 1 ] \"point3 to\" [ 0 0 0 ]\n"
+             "AttributeBegin\nTranslate 0.3 0.1 0\nRotate 20 0 0 1\n%s\nAttributeEnd\n"
+             "Material \"diffuse\" \"texture reflectance\" \"tx\"\n"
+             "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ 0 0 0  4 0 0  4 4 0  0 4 0 ] "
+             "\"point2 uv\" [ 0 0  1 0  1 1  0 1 ]\n", texture);
+}
+
+static const char *const PBRT_TEX[2] = {
+    "Texture \"tx\" \"spectrum\" \"dots\" \"float uscale\" [ 3 ] \"float vscale\" [ 3 ] "
+    "\"rgb inside\" [ 0.9 0.8 0.6 ] \"rgb outside\" [ 0.05 0.1 0.3 ]",
+    "Texture \"tx\" \"spectrum\" \"marble\" \"float scale\" [ 1.5 ] \"float variation\" [ 1.5 ] "
+    "\"integer octaves\" [ 6 ]",
+};
+static const double PBRT_TEX_TILES[2][16][2] = {
+    { { 0.59739, 0.00022 }, { 0.49551, 0.00017 }, { 0.51690, 0.00015 }, { 0.65243, 0.00022 },
+      { 0.52437, 0.00028 }, { 0.44313, 0.00016 }, { 0.37436, 0.00011 }, { 0.56805, 0.00017 },
+      { 0.80693, 0.00003 }, { 0.80705, 0.00002 }, { 0.80702, 0.00006 }, { 0.59500, 0.00018 },
+      { 0.80694, 0.00004 }, { 0.80685, 0.00007 }, { 0.80701, 0.00003 }, { 0.75811, 0.00019 } },
+    { { 0.82932, 0.00014 }, { 0.84224, 0.00006 }, { 0.85117, 0.00010 }, { 0.85468, 0.00004 },
+      { 0.73979, 0.00012 }, { 0.76927, 0.00019 }, { 0.81551, 0.00007 }, { 0.82716, 0.00008 },
+      { 0.77980, 0.00018 }, { 0.75974, 0.00015 }, { 0.74531, 0.00010 }, { 0.75431, 0.00012 },
+      { 0.85458, 0.00008 }, { 0.84610, 0.00008 }, { 0.79948, 0.00013 }, { 0.79847, 0.00011 } },
+};
+
+/* specnee's tiles within 5 standard errors + 0.5 % of pbrt-v4's (the colour fits
+   of the two renderers differ by about 0.2 %). */
+static void test_against_pbrt(T *t)
+{
+    int c, i;
+    for (c = 0; c < 2; c++) {
+        char text[4096];
+        Scene s;
+        RenderOptions o;
+        Tiles tl;
+        pbrt_square_text(text, sizeof text, PBRT_TEX[c]);
+        if (!test_load_scene(t, &s, text)) return;
+        render_options_default(&o);
+        o.spp = test_scaled(64, 16);
+        if (!test_render_tiles(t, &s, &o, 4, 4, &tl)) { scene_free(&s); return; }
+        scene_free(&s);
+        for (i = 0; i < 16; i++) {
+            double Y = 0.212671 * tl.mean[i][0] + 0.715160 * tl.mean[i][1] + 0.072169 * tl.mean[i][2];
+            double Yp = PBRT_TEX_TILES[c][i][0], se = tl.se[i][1], sep = PBRT_TEX_TILES[c][i][1];
+            if (getenv("DBG")) fprintf(stderr, "%s tile %d: specnee %.5f +- %.2g, pbrt %.5f\n",
+                                       c ? "marble" : "dots", i, Y, se, Yp);
+            CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + sep * sep) + 5e-3 * Yp,
+                  "%s: tile %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f +- %.2g", c ? "marble" : "dots",
+                  i, Y, se, Yp, sep);
+        }
+    }
+}
+
 static void expect_error(T *t, const char *body, const char *k1, const char *k2)
 {
     char text[4096];
@@ -373,7 +558,12 @@ static void test_bad_input(T *t)
     expect_error(t, "Material \"diffuse\" \"texture reflectance\" \"nope\"", "no texture named", "nope");
     expect_error(t, "Texture \"f\" \"float\" \"constant\"\nMaterial \"diffuse\" \"texture reflectance\" \"f\"",
                  "is a float texture", NULL);
-    expect_error(t, "Texture \"m\" \"spectrum\" \"marble\"", "marble", "not in the specnee subset");
+    expect_error(t, "Texture \"m\" \"spectrum\" \"wrinkled\"", "wrinkled", "not in the specnee subset");
+    expect_error(t, "Texture \"m\" \"float\" \"marble\"", "marble", "spectrum texture");
+    expect_error(t, "Texture \"m\" \"spectrum\" \"marble\" \"integer octaves\" [ 100 ]", "octaves", NULL);
+    expect_error(t, "Texture \"m\" \"spectrum\" \"marble\" \"float variation\" [ 1e39 ]", "finite", NULL);
+    expect_error(t, "Texture \"m\" \"spectrum\" \"marble\" \"string mapping\" \"uv\"", "mapping", "unused");
+    expect_error(t, "Texture \"d\" \"float\" \"dots\" \"texture inside\" \"zz\"", "no texture named", NULL);
     expect_error(t, "Texture \"m\" \"spectrum\" \"bogus\"", "unknown class", NULL);
     expect_error(t, "Texture \"m\" \"color\" \"constant\"", "must be \"spectrum\" or \"float\"", NULL);
     expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" [ 3 ]", "3-D", NULL);
@@ -401,5 +591,9 @@ const TestCase tests_texture[] = {
     { "texture_quadric_uv", test_quadric_uv },
     { "texture_render_checks", test_render_checks },
     { "texture_bad_input", test_bad_input },
+    { "texture_noise", test_noise },
+    { "texture_dots", test_dots },
+    { "texture_marble", test_marble },
+    { "texture_against_pbrt", test_against_pbrt },
     { NULL, NULL }
 };
