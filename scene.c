@@ -1996,23 +1996,53 @@ done:
     return ok;
 }
 
+/* One roughness parameter: a float texture (*tex its index, *have 1), a float
+   (*v, *have 1), or absent (*have 0, *tex -1). */
+static int rough_param(Parser *P, ParamList *pl, const char *name, int *have, float *v, int *tex)
+{
+    Param *pt = param_find(pl, PT_TEXTURE, name);
+    *tex = -1;
+    if (pt) {
+        *have = 1;
+        *tex = texture_lookup(P, pt, 1);
+        return *tex >= 0;
+    }
+    *have = param_find(pl, PT_FLOAT, name) != NULL;
+    return get_float(P, pl, name, 0, v);
+}
+
 /* pbrt-v4's roughness parameters of a microfacet material: u/vroughness default
    to "roughness", which defaults to 0; remaproughness (default true) maps them to
-   alpha = sqrt(roughness) (TrowbridgeReitzDistribution::RoughnessToAlpha). */
+   alpha = sqrt(roughness) (TrowbridgeReitzDistribution::RoughnessToAlpha).  Each
+   may be a float texture: then *alpha_tex = 1 + its index, the alphas are 0, and
+   material.c's mat_point reads the texture at each hit (the same texture for u
+   and v; anything else with a texture is anisotropic, refused by name). */
 static int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
-                             const char *what, float *alpha_u, float *alpha_v)
+                             const char *what, float *alpha_u, float *alpha_v, int *alpha_tex,
+                             int *remap_out)
 {
-    float u, v, r;
-    int remap, have_u = param_find(pl, PT_FLOAT, "uroughness") != NULL;
-    int have_v = param_find(pl, PT_FLOAT, "vroughness") != NULL;
-    if (!get_float(P, pl, "uroughness", 0, &u) || !get_float(P, pl, "vroughness", 0, &v))
+    float u = 0, v = 0, r = 0;
+    int remap, have_u, have_v, have_r, tu, tv, tr;
+    if (!rough_param(P, pl, "uroughness", &have_u, &u, &tu) ||
+        !rough_param(P, pl, "vroughness", &have_v, &v, &tv))
         return 0;
     if (!have_u || !have_v) {
-        if (!get_float(P, pl, "roughness", 0, &r)) return 0;
-        if (!have_u) u = r;
-        if (!have_v) v = r;
+        if (!rough_param(P, pl, "roughness", &have_r, &r, &tr)) return 0;
+        if (!have_u) { u = r; tu = tr; }
+        if (!have_v) { v = r; tv = tr; }
     }
     if (!get_bool(P, pl, "remaproughness", 1, &remap)) return 0;
+    *remap_out = remap;
+    *alpha_tex = 0;
+    if (tu >= 0 || tv >= 0) {
+        if (tu != tv)
+            return fail(P, file, line, "%s: u and v roughness from different sources (a texture "
+                        "and a number, or two textures) is anisotropic roughness, valid pbrt-v4 "
+                        "but not in the specnee subset", what);
+        *alpha_tex = tu + 1;
+        *alpha_u = *alpha_v = 0.0f;
+        return 1;
+    }
     if (!(u >= 0.0f && u <= 1e4f) || !(v >= 0.0f && v <= 1e4f))
         return fail(P, file, line, "%s: roughness (%g, %g) must be within [0, 1e4]", what, u, v);
     *alpha_u = remap ? sqrtf(u) : u;
@@ -2174,17 +2204,30 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
            stands for them; Cu by default */
         Param *pe = find_spectrum_param(pl, "eta"), *pk = find_spectrum_param(pl, "k");
         Param *pr = find_spectrum_param(pl, "reflectance");
+        Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
         int nm;
         m->type = MAT_CONDUCTOR;
-        if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t)) return 0;
-        if (!params_check_unused(P, pl, what, "spectrum eta, spectrum k, spectrum reflectance, "
-                                 "float roughness, float uroughness, float vroughness, "
-                                 "bool remaproughness", "displacement normalmap"))
+        if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
+                               &m->remap))
             return 0;
-        if (pr && (pe || pk))
+        if (!params_check_unused(P, pl, what, "spectrum eta, spectrum k, spectrum reflectance, "
+                                 "rgb reflectance, texture reflectance, float roughness, "
+                                 "float uroughness, float vroughness, texture roughness, "
+                                 "texture uroughness, texture vroughness, bool remaproughness",
+                                 "displacement normalmap"))
+            return 0;
+        if ((pr || pt) && (pe || pk))
             return fail(P, file, line, "%s: give either \"reflectance\" or \"eta\" and \"k\", "
                         "not both (pbrt-v4 refuses it too)", what);
-        if (pr) {
+        if (pt) {
+            /* "texture reflectance": r read at each hit (material.c mat_point), eta = 1
+               and k from r there (conductor.c) */
+            int ti = texture_lookup(P, pt, 0);
+            if (ti < 0) return 0;
+            m->reflectance_tex = ti + 1;
+            spec_const(&m->eta, 1.0f);
+            spec_const(&m->k, 0.0f);                  /* (not read) */
+        } else if (pr) {
             /* pbrt-v4: r clamped to [0, 0.9999], eta = 1, k = 2 sqrt(r) / sqrt(1 - r),
                which makes the normal-incidence reflectance ((eta-1)^2 + k^2) /
                ((eta+1)^2 + k^2) = k^2 / (4 + k^2) exactly r */
@@ -2220,6 +2263,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
            0.01 between them with a medium of albedo 0 and HG g 0; maxdepth 10 and
            nsamples 1 random walks */
         Param *pr = find_spectrum_param(pl, "reflectance"), *pa = find_spectrum_param(pl, "albedo");
+        Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
         Param *pe = find_spectrum_param(pl, "eta"), *pf = param_find(pl, PT_FLOAT, "eta");
         Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
         Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
@@ -2230,13 +2274,23 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
             return fail(P, pe->file, pe->line, "%s: a spectral \"eta\" is valid pbrt-v4 (it "
                         "terminates the secondary wavelengths) but not in the specnee subset: "
                         "give \"float eta\"", what);
-        if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t)) return 0;
+        if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
+                               &m->remap))
+            return 0;
+        if (pt) {
+            /* "texture reflectance": the base's R read at each hit (mat_point) */
+            int ti = texture_lookup(P, pt, 0);
+            if (ti < 0) return 0;
+            m->reflectance_tex = ti + 1;
+        }
         if (!get_float(P, pl, "eta", 1.5f, &eta) || !get_float(P, pl, "thickness", 0.01f, &th) ||
             !get_float(P, pl, "g", 0.0f, &g) || !get_int(P, pl, "maxdepth", 10, &md, &given) ||
             !get_int(P, pl, "nsamples", 1, &ns, &given))
             return 0;
-        if (!params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, float eta, "
-                                 "float roughness, float uroughness, float vroughness, "
+        if (!params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
+                                 "texture reflectance, float eta, float roughness, "
+                                 "float uroughness, float vroughness, texture roughness, "
+                                 "texture uroughness, texture vroughness, "
                                  "bool remaproughness, float thickness, spectrum albedo, "
                                  "rgb albedo, float g, integer maxdepth, integer nsamples",
                                  "displacement normalmap"))
@@ -2260,7 +2314,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         if (ns < 1)
             return fail(P, pn ? pn->file : file, pn ? pn->line : line,
                         "%s: \"integer nsamples\" %d must be >= 1", what, ns);
-        if (!unit_spectrum_param(P, pr, &m->reflectance, 0.5f)) return 0;
+        if (!unit_spectrum_param(P, pt ? NULL : pr, &m->reflectance, 0.5f)) return 0;
         if (!unit_spectrum_param(P, pa, &m->albedo, 0.0f)) return 0;
         for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
             if (!(spec_get(&m->albedo, nm) >= 0.0f && spec_get(&m->albedo, nm) <= 1.0f))

@@ -559,9 +559,13 @@ typedef struct {
     Spectrum transmittance;    /* diffusetransmission: T (reflectance holds R), scaled */
     float p_reflect;           /* diffusetransmission: probability of sampling the
                                   reflect lobe, max R / (max R + max T) over 300-830 nm */
-    int reflectance_tex;       /* diffuse: "texture reflectance", 1 + its index into
-                                  Scene.textures (0, as a zeroed Material has it: the
-                                  spectrum above) */
+    int reflectance_tex;       /* diffuse, conductor, coateddiffuse: "texture reflectance",
+                                  1 + its index into Scene.textures (0, as a zeroed
+                                  Material has it: the spectrum above) */
+    int alpha_tex;             /* conductor, coateddiffuse: "texture roughness" (or the
+                                  same texture as u- and vroughness), 1 + its index
+                                  (0: alpha, alpha_t above); read through mat_point */
+    int remap;                 /* with alpha_tex: remaproughness (alpha = sqrt(value)) */
     const struct Texture *textures;  /* the scene's textures (set when loading ends) */
     /* coateddiffuse (layered.c): reflectance is the base's R, eta (a constant) and
        alpha the coat's */
@@ -649,8 +653,20 @@ float tex_noise(float x, float y, float z);
 float tex_fbm(Vec3 p, float omega, int octaves);
 /* A marble texture's colour table (texture.c section 4): 0 and a message when out of memory. */
 int   tex_marble_init(Texture *t, Error *err);
-/* Smooth dielectrics scatter into discrete (delta) directions: no NEE there. */
+/* Smooth dielectrics scatter into discrete (delta) directions: no NEE there.  A
+   conductor with a roughness texture is not: it may be smooth at some points, where
+   bsdf_eval gives 0 and bsdf_sample a delta lobe. */
 int   mat_is_delta(const Material *m);
+/* A conductor's or coateddiffuse's texture-valued parameters at one surface point
+   (pbrt-v4 evaluates them in GetBxDF): the alphas, and when has_r the reflectance at
+   the path's wavelengths, clamped to [0, 1]; without textures the Material's own. */
+typedef struct {
+    float alpha, alpha_t;
+    int has_r;
+    float r[HERO_N];
+} MatPoint;
+void  mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, unsigned alive,
+                MatPoint *mp);
 
 /* A direction sampled from the BSDF with the hero wavelength lambda[0]. */
 typedef struct {
@@ -676,23 +692,25 @@ float fresnel_conductor(float cos_i, float eta, float k);
 /* The conductor's sampler, value and pdf, called by bsdf_sample and bsdf_eval in
    the shading frame (local directions, n = +z).  pdf_l[j] = pdf for every j: the
    direction does not depend on the wavelength. */
-int   conductor_sample(const Material *m, Vec3 wo, const float *lambda, unsigned alive,
-                       float u1, float u2, BsdfSample *out, Vec3 *wi_local);
-void  conductor_eval(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
-                     float f[HERO_N], float pdf_l[HERO_N]);
+int   conductor_sample(const Material *m, const MatPoint *mp, Vec3 wo, const float *lambda,
+                       unsigned alive, float u1, float u2, BsdfSample *out, Vec3 *wi_local);
+void  conductor_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, const float *lambda,
+                     unsigned alive, float f[HERO_N], float pdf_l[HERO_N]);
 /* coateddiffuse (layered.c), in the shading frame: f and the pdf are stochastic
    estimates by random walks, deterministic for a given seed; bsdf_eval seeds them
    with layered_seed(world wo, world wi, 0), and layered_sample (which takes the
    frame and the world wo, and sets out->wi in world space) reports that same pdf
    with f scaled so that f cos / pdf is the walk's weight.  key (0 in renders)
-   varies the random streams (the tests average over it). */
+   varies the random streams (the tests average over it).  mp: the textured
+   parameters at the point (mat_point), or NULL for the Material's own. */
 uint64_t layered_seed(Vec3 wo_world, Vec3 wi_world, uint64_t key);
-float layered_pdf(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
-                  uint64_t seed);
-void  layered_eval(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
-                   uint64_t seed, float f[HERO_N], float pdf_l[HERO_N]);
-int   layered_sample(const Material *m, const Frame *fr, Vec3 wo_world, const float *lambda,
-                     unsigned alive, float u0, float u1, float u2, uint64_t key, BsdfSample *out);
+float layered_pdf(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, const float *lambda,
+                  unsigned alive, uint64_t seed);
+void  layered_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, const float *lambda,
+                   unsigned alive, uint64_t seed, float f[HERO_N], float pdf_l[HERO_N]);
+int   layered_sample(const Material *m, const MatPoint *mp, const Frame *fr, Vec3 wo_world,
+                     const float *lambda, unsigned alive, float u0, float u1, float u2, uint64_t key,
+                     BsdfSample *out);
 /* Anisotropic Trowbridge-Reitz (GGX) with alpha_x, alpha_y, in the local frame
    (exposed for tests): the normal distribution D(wm), the height-correlated
    masking-shadowing G(wo, wi), and the visible-normal sampler with its density

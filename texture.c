@@ -4,8 +4,9 @@
    Exported (specnee.h sections 6 and 10): tex_eval, tex_set_image, tex_free,
    tex_noise, tex_fbm, tex_marble_init.
    scene.c parses the Texture directive into Scene.textures; a material whose
-   "reflectance" names a texture (today: diffuse) reads it through mat_albedo_at
-   (material.c) at every hit, at each of the path's wavelengths.
+   "reflectance" names a texture (diffuse) reads it through mat_albedo_at
+   (material.c) at every hit, at each of the path's wavelengths; conductor and
+   coateddiffuse read a textured reflectance and roughness through mat_point.
 
    1. Mapping (pbrt-v4 textures.h, the pbrt book 4th ed. section 10.2).  A 2-D
       texture maps the surface point to (s, t):
