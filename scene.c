@@ -2935,9 +2935,13 @@ static int cylinder_shape(Parser *P, ParamList *pl, const char *file, int line)
                              "alpha emissionfilename"))
         return 0;
     if (!(q.radius > 0.0)) return fail(P, file, line, "%s: radius %g must be > 0", what, q.radius);
-    /* pbrt-v4 swaps a reversed pair; specnee asks the file to say what it means */
+    if (q.zmin > q.zmax) {                    /* pbrt-v4 Cylinder: min and max of the pair */
+        double z = q.zmin;
+        q.zmin = q.zmax;
+        q.zmax = z;
+    }
     if (!(q.zmin < q.zmax))
-        return fail(P, file, line, "%s: zmin %g must be < zmax %g", what, q.zmin, q.zmax);
+        return fail(P, file, line, "%s: zmin = zmax = %g: the cylinder has no height", what, q.zmin);
     if (!check_phimax(P, what, deg, &q.phimax, file, line)) return 0;
     return add_quadric(P, SHAPE_CYLINDER, &q, what, file, line);
 }
@@ -2975,8 +2979,13 @@ static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
         if (fabs(len[j] - scale) > 1e-5 * scale || fabs(dot) > 1e-5 * scale * scale)
             uniform = 0;
     }
+    if (zmin > zmax) {                        /* pbrt-v4 Sphere: min and max of the pair */
+        double z = zmin;
+        zmin = zmax;
+        zmax = z;
+    }
     if (!(zmin < zmax))
-        return fail(P, file, line, "%s: zmin %g must be < zmax %g", what, zmin, zmax);
+        return fail(P, file, line, "%s: zmin = zmax = %g: the sphere has no height", what, zmin);
     if (!(zmax > -radius && zmin < radius))
         return fail(P, file, line, "%s: zmin %g .. zmax %g misses the sphere of radius %g", what,
                     zmin, zmax, radius);
@@ -3000,6 +3009,7 @@ static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
         sh = add_shape(P, SHAPE_SPHERE, 0, 0, 4.0 * SPECNEE_PI * r * r, 0, file, line);
         if (sh < 0) return 0;
         s->shapes[sh].center = xf_point(&P->gs.ctm, v3(0, 0, 0));
+        s->shapes[sh].q.world_from_obj = P->gs.ctm;   /* bvh.c: (u, v) in object space */
         s->shapes[sh].radius = (float)r;
         if (!(s->shapes[sh].radius > 0.0f && s->shapes[sh].radius <= FLT_MAX))
             return fail(P, file, line, "Shape \"sphere\": radius not finite after the transform");

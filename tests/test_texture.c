@@ -680,6 +680,50 @@ static void test_conductor_against_pbrt(T *t)
     }
 }
 
+/* A whole sphere's (u, v) are pbrt-v4's, in object space: u = phi / 2 pi, v = 1 -
+   theta / pi of the hit point mapped by the inverse CTM.  Under Rotate 90 1 0 0
+   (object (x, y, z) -> world (x, -z, y)) the world's +z pole is the object's +y
+   axis: (u, v) = (0.25, 0.5); world +x is object +x: (0, 0.5); world -y is object
+   +z: v = 1.  Under Scale -2 2 2 (a mirror and a scale) world +y is object +y:
+   (0.25, 0.5), world -x is object +x: u = 0.  A textured roughness reads them too. */
+static void test_sphere_object_uv(T *t)
+{
+    static const struct { int scene; float ox, oy, oz, dx, dy, dz, u, v; } c[] = {
+        { 0, 0, 0, 5, 0, 0, -1, 0.25f, 0.5f },
+        { 0, 5, 0, 0, -1, 0, 0, 0.0f, 0.5f },
+        { 0, 0, -5, 0, 0, 1, 0, -1.0f, 1.0f },      /* u undefined at the pole (not checked) */
+        { 0, 0, 0.6f, 5, 0, 0, -1, 0.25f, (float)(0.9272952180016122 / SPECNEE_PI) },  /* object (0, .8, -.6) */
+        { 1, 0, 5, 0, 0, -1, 0, 0.25f, 0.5f },
+        { 1, -5, 0, 0, 1, 0, 0, 0.0f, 0.5f },
+        { 2, 0, 0, 5, 0, 0, -1, 0.25f, 0.5f },
+    };
+    static const char *const body[3] = {
+        "Texture \"k\" \"spectrum\" \"constant\"\nMaterial \"diffuse\" \"texture reflectance\" \"k\"\n"
+        "Rotate 90 1 0 0\nShape \"sphere\"\n",
+        "Texture \"k\" \"spectrum\" \"constant\"\nMaterial \"diffuse\" \"texture reflectance\" \"k\"\n"
+        "Scale -2 2 2\nShape \"sphere\"\n",
+        "Texture \"g\" \"float\" \"constant\"\nMaterial \"conductor\" \"texture roughness\" \"g\"\n"
+        "Rotate 90 1 0 0\nShape \"sphere\"\n",
+    };
+    int i;
+    for (i = 0; i < (int)(sizeof c / sizeof c[0]); i++) {
+        Scene s;
+        Ray r;
+        HitRecord h;
+        SurfacePoint sp;
+        if (!load(t, &s, body[c[i].scene])) return;
+        CHECK(t, s.n_spheres == 1, "not a whole sphere");
+        r.o = v3(c[i].ox, c[i].oy, c[i].oz);
+        r.d = v3(c[i].dx, c[i].dy, c[i].dz);
+        r.tmax = INFINITY;
+        CHECK(t, bvh_intersect(&s.bvh, &s, &r, &h), "case %d: no hit", i);
+        scene_surface_point(&s, &r, &h, &sp);
+        CHECK(t, (c[i].u < 0.0f || NEAR(sp.u, c[i].u, 1e-5)) && NEAR(sp.v, c[i].v, 1e-5),
+              "case %d: (u, v) = (%g, %g), object space gives (%g, %g)", i, sp.u, sp.v, c[i].u, c[i].v);
+        scene_free(&s);
+    }
+}
+
 static void expect_error(T *t, const char *body, const char *k1, const char *k2)
 {
     char text[4096];
@@ -740,6 +784,7 @@ const TestCase tests_texture[] = {
     { "texture_mesh_uv", test_mesh_uv },
     { "texture_ply_uv", test_ply_uv },
     { "texture_quadric_uv", test_quadric_uv },
+    { "texture_sphere_object_uv", test_sphere_object_uv },
     { "texture_render_checks", test_render_checks },
     { "texture_bad_input", test_bad_input },
     { "texture_noise", test_noise },
