@@ -1090,13 +1090,22 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
         if (sh->flip) sp->ng = v3_neg(sp->ng);
         sp->ns = sp->ng;
         sp->shape = shape;
-        /* pbrt-v4's sphere parameters, about the world axes through the centre
-           (a sphere keeps no rotation): u = phi / 2 pi, v = 1 - theta / pi; only
-           a textured material reads them (two inverse trigonometric calls) */
+        /* pbrt-v4's sphere parameters in object space: u = phi / 2 pi, v = 1 -
+           theta / pi of the direction o = (object from world) q, the CTM's 3x3 part
+           being a rotation (or mirror) times a scale (scene.c); only a textured
+           material reads them (two inverse trigonometric calls) */
         sp->u = sp->v = 0.0f;
         if (sh->material >= 0 && sh->material < s->n_materials &&
-            s->materials[sh->material].reflectance_tex > 0) {
-            double phi = atan2(q[1], q[0]), ct = len > 0.0 ? q[2] / len : 1.0;
+            (s->materials[sh->material].reflectance_tex > 0 || s->materials[sh->material].alpha_tex > 0)) {
+            const double (*oi)[4] = (const double (*)[4])sh->q.world_from_obj.inv;
+            double o[3], olen = 0.0, phi, ct;
+            for (a = 0; a < 3; a++) {
+                o[a] = oi[a][0] * q[0] + oi[a][1] * q[1] + oi[a][2] * q[2];
+                olen += o[a] * o[a];
+            }
+            olen = sqrt(olen);
+            phi = atan2(o[1], o[0]);
+            ct = olen > 0.0 ? o[2] / olen : 1.0;
             if (phi < 0.0) phi += 2.0 * SPECNEE_PI;
             ct = ct < -1.0 ? -1.0 : ct > 1.0 ? 1.0 : ct;
             sp->u = (float)(phi / (2.0 * SPECNEE_PI));

@@ -44,6 +44,10 @@
       differs.  A wo below the surface (a back face) is handled by symmetry: the
       visible normals of -wo are sampled and wi stays on wo's side.
 
+   4. Textures (pbrt-v4 evaluates a material's textures at the hit, in GetBxDF):
+      the alphas and a "texture reflectance" come in a MatPoint (material.c's
+      mat_point), so one conductor can be smooth at one point and rough at another.
+
    The anisotropy's axes are the shading frame's s and t; pbrt-v4 puts them on
    the surface's dp/du, which specnee does not have, so the parser accepts
    isotropic roughness only (the functions here take both alphas; the tests use
@@ -143,23 +147,29 @@ Vec3 tr_sample_wm(float ax, float ay, Vec3 wo, float u1, float u2)
 /* ---------------------------------------------------------------- the BRDF */
 
 /* pbrt-v4's TrowbridgeReitzDistribution::EffectivelySmooth. */
-static int conductor_smooth(const Material *m)
+static int conductor_smooth(const MatPoint *mp)
 {
-    return fmaxf(m->alpha, m->alpha_t) < 1e-3f;
+    return fmaxf(mp->alpha, mp->alpha_t) < 1e-3f;
 }
 
-/* F of wavelength lambda at the microfacet cosine c. */
-static float conductor_F(const Material *m, float c, float lambda_nm)
+/* F of wavelength j (lambda) at the microfacet cosine c.  A textured reflectance r
+   stands for eta = 1, k = 2 sqrt(r) / sqrt(1 - r), r clamped to [0, 0.9999]
+   (pbrt-v4 ConductorMaterial::GetBxDF; scene.c does the same for a constant r). */
+static float conductor_F(const Material *m, const MatPoint *mp, int j, float c, float lambda_nm)
 {
+    if (mp->has_r) {
+        double r = mp->r[j] < 0.9999f ? mp->r[j] : 0.9999;
+        return fresnel_conductor(c, 1.0f, (float)(2.0 * sqrt(r) / sqrt(1.0 - r)));
+    }
     return fresnel_conductor(c, spec_eval(&m->eta, lambda_nm), spec_eval(&m->k, lambda_nm));
 }
 
 /* f and pdf of the rough conductor for a pair of local directions (0 when they
    lie on different sides or the pair has no half vector). */
-static void rough_pair(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
-                       float f[HERO_N], float pdf_l[HERO_N])
+static void rough_pair(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, const float *lambda,
+                       unsigned alive, float f[HERO_N], float pdf_l[HERO_N])
 {
-    float ax = m->alpha, ay = m->alpha_t, cos_o = fabsf(wo.z), cos_i = fabsf(wi.z), D, G, pdf, c;
+    float ax = mp->alpha, ay = mp->alpha_t, cos_o = fabsf(wo.z), cos_i = fabsf(wi.z), D, G, pdf, c;
     Vec3 wm;
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
@@ -176,47 +186,47 @@ static void rough_pair(const Material *m, Vec3 wo, Vec3 wi, const float *lambda,
     for (j = 0; j < HERO_N; j++) {
         pdf_l[j] = pdf;                      /* the same direction for every wavelength */
         if (alive & (1u << j))
-            f[j] = D * G * conductor_F(m, c, lambda[j]) / (4.0f * cos_i * cos_o);
+            f[j] = D * G * conductor_F(m, mp, j, c, lambda[j]) / (4.0f * cos_i * cos_o);
     }
 }
 
-int conductor_sample(const Material *m, Vec3 wo, const float *lambda, unsigned alive,
-                     float u1, float u2, BsdfSample *out, Vec3 *wi_local)
+int conductor_sample(const Material *m, const MatPoint *mp, Vec3 wo, const float *lambda,
+                     unsigned alive, float u1, float u2, BsdfSample *out, Vec3 *wi_local)
 {
     Vec3 wi, wm;
     int j;
     for (j = 0; j < HERO_N; j++) { out->f[j] = 0.0f; out->pdf_l[j] = 0.0f; }
     out->delta = 0;
     if (wo.z == 0.0f) return 0;
-    if (conductor_smooth(m)) {
+    if (conductor_smooth(mp)) {
         wi = v3(-wo.x, -wo.y, wo.z);         /* the mirror direction */
         out->delta = 1;
         out->pdf = 1.0f;
         for (j = 0; j < HERO_N; j++) {
             out->pdf_l[j] = 1.0f;
             if (alive & (1u << j))
-                out->f[j] = conductor_F(m, fabsf(wi.z), lambda[j]) / fabsf(wi.z);
+                out->f[j] = conductor_F(m, mp, j, fabsf(wi.z), lambda[j]) / fabsf(wi.z);
         }
         *wi_local = wi;
         return 1;
     }
-    wm = tr_sample_wm(m->alpha, m->alpha_t, wo, u1, u2);
+    wm = tr_sample_wm(mp->alpha, mp->alpha_t, wo, u1, u2);
     wi = v3_sub(v3_mul(wm, 2.0f * v3_dot(wo, wm)), wo);     /* reflect wo about wm */
     if (wi.z * wo.z <= 0.0f) return 0;       /* reflected below the surface: no sample */
     wi = v3_norm(wi);
-    rough_pair(m, wo, wi, lambda, alive, out->f, out->pdf_l);
+    rough_pair(m, mp, wo, wi, lambda, alive, out->f, out->pdf_l);
     out->pdf = out->pdf_l[0];
     *wi_local = wi;
     return out->pdf > 0.0f;
 }
 
-void conductor_eval(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
-                    float f[HERO_N], float pdf_l[HERO_N])
+void conductor_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, const float *lambda,
+                    unsigned alive, float f[HERO_N], float pdf_l[HERO_N])
 {
     int j;
-    if (conductor_smooth(m)) {               /* delta: f = 0 for any given pair */
+    if (conductor_smooth(mp)) {               /* delta: f = 0 for any given pair */
         for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
         return;
     }
-    rough_pair(m, wo, wi, lambda, alive, f, pdf_l);
+    rough_pair(m, mp, wo, wi, lambda, alive, f, pdf_l);
 }

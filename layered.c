@@ -223,11 +223,12 @@ typedef struct {
     float R[HERO_N], A[HERO_N];
 } Layer;
 
-static void layer_init(const Material *m, const float *lambda, unsigned alive, Layer *L)
+static void layer_init(const Material *m, const MatPoint *mp, const float *lambda, unsigned alive,
+                       Layer *L)
 {
     int j;
     L->top.eta = mat_eta(m, lambda[0]);
-    L->top.alpha = m->alpha;
+    L->top.alpha = mp ? mp->alpha : m->alpha;
     L->thick = m->thickness;
     L->g = m->hg_g;
     L->maxdepth = m->maxdepth;
@@ -235,7 +236,7 @@ static void layer_init(const Material *m, const float *lambda, unsigned alive, L
     L->has_albedo = 0;
     for (j = 0; j < HERO_N; j++) {
         int on = (alive & (1u << j)) != 0;
-        L->R[j] = on ? spec_eval(&m->reflectance, lambda[j]) : 0.0f;
+        L->R[j] = !on ? 0.0f : mp && mp->has_r ? mp->r[j] : spec_eval(&m->reflectance, lambda[j]);
         L->A[j] = on ? spec_eval(&m->albedo, lambda[j]) : 0.0f;
         if (L->A[j] > 0.0f) L->has_albedo = 1;
     }
@@ -386,20 +387,20 @@ uint64_t layered_seed(Vec3 wo, Vec3 wi, uint64_t key)
     return hash_u64(hash_u64(dir_key(wo), dir_key(wi)), key);
 }
 
-float layered_pdf(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
-                  uint64_t seed)
+float layered_pdf(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, const float *lambda,
+                  unsigned alive, uint64_t seed)
 {
     Layer L;
     Rng rng;
     if (wo.z == 0.0f) return 0.0f;
     if (wo.z < 0.0f) { wo = v3_neg(wo); wi = v3_neg(wi); }   /* two-sided */
-    layer_init(m, lambda, alive, &L);
+    layer_init(m, mp, lambda, alive, &L);
     rng_seed(&rng, seed, 0x9dfULL);
     return walk_pdf(&L, wo, wi, &rng);
 }
 
-void layered_eval(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
-                  uint64_t seed, float f[HERO_N], float pdf_l[HERO_N])
+void layered_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, const float *lambda,
+                  unsigned alive, uint64_t seed, float f[HERO_N], float pdf_l[HERO_N])
 {
     Layer L;
     Rng rng;
@@ -407,9 +408,9 @@ void layered_eval(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsi
     float pdf;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
     if (wo.z == 0.0f || wi.z == 0.0f) return;
-    pdf = layered_pdf(m, wo, wi, lambda, alive, seed);
+    pdf = layered_pdf(m, mp, wo, wi, lambda, alive, seed);
     if (wo.z < 0.0f) { wo = v3_neg(wo); wi = v3_neg(wi); }   /* mirrored, as in the pdf */
-    layer_init(m, lambda, alive, &L);
+    layer_init(m, mp, lambda, alive, &L);
     rng_seed(&rng, seed, 0xf1ULL);
     walk_f(&L, wo, wi, &rng, f);
     for (j = 0; j < HERO_N; j++) {
@@ -501,8 +502,9 @@ static int walk_sample(const Layer *L, Vec3 wo, float uc, float u1, float u2, Rn
     return 0;
 }
 
-int layered_sample(const Material *m, const Frame *fr, Vec3 wo_world, const float *lambda,
-                   unsigned alive, float u0, float u1, float u2, uint64_t key, BsdfSample *out)
+int layered_sample(const Material *m, const MatPoint *mp, const Frame *fr, Vec3 wo_world,
+                   const float *lambda, unsigned alive, float u0, float u1, float u2, uint64_t key,
+                   BsdfSample *out)
 {
     Layer L;
     Rng rng;
@@ -514,7 +516,7 @@ int layered_sample(const Material *m, const Frame *fr, Vec3 wo_world, const floa
     out->delta = 0;
     if (wo.z == 0.0f) return 0;
     if (flip) wo = v3_neg(wo);
-    layer_init(m, lambda, alive, &L);
+    layer_init(m, mp, lambda, alive, &L);
     memcpy(&b0, &u0, 4); memcpy(&b1, &u1, 4); memcpy(&b2, &u2, 4);
     rng_seed(&rng, hash_u64(((uint64_t)b0 << 32) | b1, b2), hash_u64(key, 0x5aULL));
     if (!walk_sample(&L, wo, u0, u1, u2, &rng, &wi, fw, &pw, &specular)) return 0;

@@ -2,7 +2,7 @@
    diffuse fluorescent layer, pbrt-v4's thindielectric and diffusetransmission, and
    the dispatch to conductors (conductor.c) and coateddiffuse (layered.c).
 
-   Exported: mat_eta, mat_is_delta, bsdf_sample, bsdf_eval, fresnel_dielectric,
+   Exported: mat_eta, mat_is_delta, mat_point, bsdf_sample, bsdf_eval, fresnel_dielectric,
    refract_dir, mat_albedo, fluor_* (specnee.h section 6).  Every sampler has its
    pdf beside it.
 
@@ -71,6 +71,30 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm)
     if (m->reflectance_tex <= 0 || !m->textures) return mat_albedo(m, lambda_nm);
     rho = tex_eval(m->textures, m->reflectance_tex - 1, sp, lambda_nm);   /* texture.c */
     return rho > 0.0f ? (rho < 1.0f ? rho : 1.0f) : 0.0f;               /* NaN: 0 */
+}
+
+void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, unsigned alive,
+               MatPoint *mp)
+{
+    int j;
+    mp->alpha = m->alpha;
+    mp->alpha_t = m->alpha_t;
+    mp->has_r = 0;
+    if (!m->textures) return;
+    if (m->alpha_tex > 0) {
+        /* pbrt-v4: the roughness texture's value, then RoughnessToAlpha (sqrt) when
+           remapped; a negative value (or NaN) counts as 0, a smooth point */
+        float v = tex_eval(m->textures, m->alpha_tex - 1, sp, lambda[0]);
+        v = v > 0.0f ? (v < 1e4f ? v : 1e4f) : 0.0f;
+        mp->alpha = mp->alpha_t = m->remap ? sqrtf(v) : v;
+    }
+    if (m->reflectance_tex > 0) {
+        mp->has_r = 1;
+        for (j = 0; j < HERO_N; j++) {
+            float r = (alive & (1u << j)) ? tex_eval(m->textures, m->reflectance_tex - 1, sp, lambda[j]) : 0.0f;
+            mp->r[j] = r > 0.0f ? (r < 1.0f ? r : 1.0f) : 0.0f;            /* NaN: 0 */
+        }
+    }
 }
 
 /* ---- fluorescence: tables at the 1 nm knots 300..830 nm (k = nm - 300) ---- */
@@ -261,7 +285,8 @@ float fluor_pdf_li_uniform(float lo, float li)
 
 int mat_is_delta(const Material *m)
 {
-    if (m->type == MAT_CONDUCTOR) return fmaxf(m->alpha, m->alpha_t) < 1e-3f;  /* conductor.c */
+    if (m->type == MAT_CONDUCTOR)                            /* conductor.c */
+        return m->alpha_tex <= 0 && fmaxf(m->alpha, m->alpha_t) < 1e-3f;
     if (m->type == MAT_THIN_DIELECTRIC) return 1;
     return m->type == MAT_DIELECTRIC && m->alpha == 0.0f;
 }
@@ -471,14 +496,18 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
     if (lo.z == 0.0f) return 0;
 
     if (m->type == MAT_CONDUCTOR) {
-        if (!conductor_sample(m, lo, lambda, alive, u1, u2, out, &li)) return 0;
+        MatPoint mp;
+        mat_point(m, sp, lambda, alive, &mp);
+        if (!conductor_sample(m, &mp, lo, lambda, alive, u1, u2, out, &li)) return 0;
         out->wi = frame_to_world(&fr, li);
         /* a rough lobe must not leak through the geometric surface (as diffuse) */
         if (!out->delta && v3_dot(out->wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return 0;
         return 1;
     }
     if (m->type == MAT_COATED_DIFFUSE) {                 /* layered.c */
-        if (!layered_sample(m, &fr, wo, lambda, alive, u0, u1, u2, 0, out)) return 0;
+        MatPoint mp;
+        mat_point(m, sp, lambda, alive, &mp);
+        if (!layered_sample(m, &mp, &fr, wo, lambda, alive, u0, u1, u2, 0, out)) return 0;
         if (v3_dot(out->wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return 0;   /* no leaks */
         return 1;
     }
@@ -577,14 +606,12 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
     Vec3 lo = frame_to_local(&fr, wo), li = frame_to_local(&fr, wi);
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
-    if (m->type == MAT_CONDUCTOR) {
+    if (m->type == MAT_CONDUCTOR || m->type == MAT_COATED_DIFFUSE) {
+        MatPoint mp;
         if (v3_dot(wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return;   /* no leaks */
-        conductor_eval(m, lo, li, lambda, alive, f, pdf_l);
-        return;
-    }
-    if (m->type == MAT_COATED_DIFFUSE) {                           /* layered.c */
-        if (v3_dot(wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return;   /* no leaks */
-        layered_eval(m, lo, li, lambda, alive, layered_seed(wo, wi, 0), f, pdf_l);
+        mat_point(m, sp, lambda, alive, &mp);
+        if (m->type == MAT_CONDUCTOR) conductor_eval(m, &mp, lo, li, lambda, alive, f, pdf_l);
+        else layered_eval(m, &mp, lo, li, lambda, alive, layered_seed(wo, wi, 0), f, pdf_l);  /* layered.c */
         return;
     }
     if (m->type == MAT_THIN_DIELECTRIC) return;                    /* delta: f = 0 */

@@ -1757,6 +1757,18 @@ static int texture_arg(Parser *P, ParamList *pl, Texture *T, int k, const char *
     }
 }
 
+/* The texture's frame: the inverse of the CTM at the directive (pbrt-v4's
+   textureFromRender). */
+static void texture_frame(Parser *P, Texture *T)
+{
+    int a, b;
+    for (a = 0; a < 4; a++)
+        for (b = 0; b < 4; b++) {
+            T->tex_from_world.m[a][b] = P->gs.ctm.inv[a][b];
+            T->tex_from_world.inv[a][b] = P->gs.ctm.m[a][b];
+        }
+}
+
 /* The 2-D mapping parameters (pbrt-v4 TextureMapping2D::Create). */
 static int texture_mapping(Parser *P, ParamList *pl, Texture *T)
 {
@@ -1792,13 +1804,7 @@ static int texture_mapping(Parser *P, ParamList *pl, Texture *T)
     }
     T->vs = v3((float)v1[0], (float)v1[1], (float)v1[2]);
     T->vt = v3((float)v2[0], (float)v2[1], (float)v2[2]);
-    {   /* the texture's frame: the inverse of the CTM at the directive */
-        Xform inv;
-        int a, b;
-        for (a = 0; a < 4; a++)
-            for (b = 0; b < 4; b++) { inv.m[a][b] = P->gs.ctm.inv[a][b]; inv.inv[a][b] = P->gs.ctm.m[a][b]; }
-        T->tex_from_world = inv;
-    }
+    texture_frame(P, T);
     return 1;
 }
 
@@ -1868,7 +1874,7 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
 static int texture_directive(Parser *P, Lexer *L, const Token *t)
 {
     static const char *const pbrt_classes[] = {
-        "bilerp", "directionmix", "dots", "fbm", "marble", "ptex", "wrinkled", "windy", NULL
+        "bilerp", "directionmix", "fbm", "ptex", "wrinkled", "windy", NULL
     };
     Scene *s = P->s;
     Token a[3];
@@ -1935,6 +1941,36 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
     } else if (!strcmp(a[2].text, "imagemap")) {
         T.type = TEX_IMAGEMAP;
         ok = texture_mapping(P, &pl, &T) && texture_image(P, &pl, &T, a[0].text);
+    } else if (!strcmp(a[2].text, "dots")) {
+        /* pbrt-v4 DotsTexture: "outside" (0) in a dot, "inside" (1) elsewhere (sic:
+           pbrt-v4's Create passes "inside" as the constructor's outsideDot, since
+           pbrt-v3; texture.c section 4) */
+        T.type = TEX_DOTS;
+        ok = texture_mapping(P, &pl, &T) && texture_arg(P, &pl, &T, 0, "inside", 1.0f) &&
+             texture_arg(P, &pl, &T, 1, "outside", 0.0f);
+    } else if (!strcmp(a[2].text, "marble")) {
+        /* pbrt-v4 MarbleTexture (spectrum only): a 3-D texture in the frame of the
+           CTM at the directive (TextureMapping3D, which reads no parameters) */
+        T.type = TEX_MARBLE;
+        if (T.is_float) {
+            ok = fail(P, t->file, t->line, "Texture \"%s\": \"marble\" is a spectrum texture "
+                      "(pbrt-v4 has no float marble)", a[0].text);
+            goto done;
+        }
+        ok = get_int(P, &pl, "octaves", 8, &T.octaves, NULL) &&
+             get_float(P, &pl, "roughness", 0.5f, &T.omega) &&
+             get_float(P, &pl, "scale", 1.0f, &T.mscale) &&
+             get_float(P, &pl, "variation", 0.2f, &T.variation);
+        if (ok && !(isfinite(T.omega) && isfinite(T.mscale) && isfinite(T.variation)))
+            ok = fail(P, t->file, t->line, "Texture \"marble\": roughness, scale and variation "
+                      "must be finite");
+        if (ok && !(T.octaves >= 0 && T.octaves <= 64))
+            ok = fail(P, t->file, t->line, "Texture \"marble\": octaves %d must be within [0, 64]",
+                      T.octaves);
+        if (ok) {
+            texture_frame(P, &T);
+            ok = tex_marble_init(&T, P->err);
+        }
     } else {
         for (k = 0; pbrt_classes[k]; k++)
             if (!strcmp(a[2].text, pbrt_classes[k])) break;
@@ -1953,7 +1989,11 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
                 "float tex2, texture tex2, float amount, texture amount",
             /* TEX_IMAGEMAP */ "string filename, string wrap, string filter, string encoding, "
                 "float scale, bool invert, float maxanisotropy, string mapping, float uscale, "
-                "float vscale, float udelta, float vdelta, vector3 v1, vector3 v2"
+                "float vscale, float udelta, float vdelta, vector3 v1, vector3 v2",
+            /* TEX_DOTS */ "string mapping, float uscale, float vscale, float udelta, float vdelta, "
+                "vector3 v1, vector3 v2, spectrum inside, rgb inside, float inside, texture inside, "
+                "spectrum outside, rgb outside, float outside, texture outside",
+            /* TEX_MARBLE */ "integer octaves, float roughness, float scale, float variation"
         };
         char what[96];
         snprintf(what, sizeof what, "Texture \"%s\"", a[2].text);
@@ -1978,23 +2018,53 @@ done:
     return ok;
 }
 
+/* One roughness parameter: a float texture (*tex its index, *have 1), a float
+   (*v, *have 1), or absent (*have 0, *tex -1). */
+static int rough_param(Parser *P, ParamList *pl, const char *name, int *have, float *v, int *tex)
+{
+    Param *pt = param_find(pl, PT_TEXTURE, name);
+    *tex = -1;
+    if (pt) {
+        *have = 1;
+        *tex = texture_lookup(P, pt, 1);
+        return *tex >= 0;
+    }
+    *have = param_find(pl, PT_FLOAT, name) != NULL;
+    return get_float(P, pl, name, 0, v);
+}
+
 /* pbrt-v4's roughness parameters of a microfacet material: u/vroughness default
    to "roughness", which defaults to 0; remaproughness (default true) maps them to
-   alpha = sqrt(roughness) (TrowbridgeReitzDistribution::RoughnessToAlpha). */
+   alpha = sqrt(roughness) (TrowbridgeReitzDistribution::RoughnessToAlpha).  Each
+   may be a float texture: then *alpha_tex = 1 + its index, the alphas are 0, and
+   material.c's mat_point reads the texture at each hit (the same texture for u
+   and v; anything else with a texture is anisotropic, refused by name). */
 static int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
-                             const char *what, float *alpha_u, float *alpha_v)
+                             const char *what, float *alpha_u, float *alpha_v, int *alpha_tex,
+                             int *remap_out)
 {
-    float u, v, r;
-    int remap, have_u = param_find(pl, PT_FLOAT, "uroughness") != NULL;
-    int have_v = param_find(pl, PT_FLOAT, "vroughness") != NULL;
-    if (!get_float(P, pl, "uroughness", 0, &u) || !get_float(P, pl, "vroughness", 0, &v))
+    float u = 0, v = 0, r = 0;
+    int remap, have_u, have_v, have_r, tu, tv, tr;
+    if (!rough_param(P, pl, "uroughness", &have_u, &u, &tu) ||
+        !rough_param(P, pl, "vroughness", &have_v, &v, &tv))
         return 0;
     if (!have_u || !have_v) {
-        if (!get_float(P, pl, "roughness", 0, &r)) return 0;
-        if (!have_u) u = r;
-        if (!have_v) v = r;
+        if (!rough_param(P, pl, "roughness", &have_r, &r, &tr)) return 0;
+        if (!have_u) { u = r; tu = tr; }
+        if (!have_v) { v = r; tv = tr; }
     }
     if (!get_bool(P, pl, "remaproughness", 1, &remap)) return 0;
+    *remap_out = remap;
+    *alpha_tex = 0;
+    if (tu >= 0 || tv >= 0) {
+        if (tu != tv)
+            return fail(P, file, line, "%s: u and v roughness from different sources (a texture "
+                        "and a number, or two textures) is anisotropic roughness, valid pbrt-v4 "
+                        "but not in the specnee subset", what);
+        *alpha_tex = tu + 1;
+        *alpha_u = *alpha_v = 0.0f;
+        return 1;
+    }
     if (!(u >= 0.0f && u <= 1e4f) || !(v >= 0.0f && v <= 1e4f))
         return fail(P, file, line, "%s: roughness (%g, %g) must be within [0, 1e4]", what, u, v);
     *alpha_u = remap ? sqrtf(u) : u;
@@ -2162,17 +2232,30 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
            stands for them; Cu by default */
         Param *pe = find_spectrum_param(pl, "eta"), *pk = find_spectrum_param(pl, "k");
         Param *pr = find_spectrum_param(pl, "reflectance");
+        Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
         int nm;
         m->type = MAT_CONDUCTOR;
-        if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t)) return 0;
-        if (!params_check_unused(P, pl, what, "spectrum eta, spectrum k, spectrum reflectance, "
-                                 "float roughness, float uroughness, float vroughness, "
-                                 "bool remaproughness", "displacement normalmap"))
+        if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
+                               &m->remap))
             return 0;
-        if (pr && (pe || pk))
+        if (!params_check_unused(P, pl, what, "spectrum eta, spectrum k, spectrum reflectance, "
+                                 "rgb reflectance, texture reflectance, float roughness, "
+                                 "float uroughness, float vroughness, texture roughness, "
+                                 "texture uroughness, texture vroughness, bool remaproughness",
+                                 "displacement normalmap"))
+            return 0;
+        if ((pr || pt) && (pe || pk))
             return fail(P, file, line, "%s: give either \"reflectance\" or \"eta\" and \"k\", "
                         "not both (pbrt-v4 refuses it too)", what);
-        if (pr) {
+        if (pt) {
+            /* "texture reflectance": r read at each hit (material.c mat_point), eta = 1
+               and k from r there (conductor.c) */
+            int ti = texture_lookup(P, pt, 0);
+            if (ti < 0) return 0;
+            m->reflectance_tex = ti + 1;
+            spec_const(&m->eta, 1.0f);
+            spec_const(&m->k, 0.0f);                  /* (not read) */
+        } else if (pr) {
             /* pbrt-v4: r clamped to [0, 0.9999], eta = 1, k = 2 sqrt(r) / sqrt(1 - r),
                which makes the normal-incidence reflectance ((eta-1)^2 + k^2) /
                ((eta+1)^2 + k^2) = k^2 / (4 + k^2) exactly r */
@@ -2208,6 +2291,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
            0.01 between them with a medium of albedo 0 and HG g 0; maxdepth 10 and
            nsamples 1 random walks */
         Param *pr = find_spectrum_param(pl, "reflectance"), *pa = find_spectrum_param(pl, "albedo");
+        Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
         Param *pe = find_spectrum_param(pl, "eta"), *pf = param_find(pl, PT_FLOAT, "eta");
         Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
         Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
@@ -2218,13 +2302,23 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
             return fail(P, pe->file, pe->line, "%s: a spectral \"eta\" is valid pbrt-v4 (it "
                         "terminates the secondary wavelengths) but not in the specnee subset: "
                         "give \"float eta\"", what);
-        if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t)) return 0;
+        if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
+                               &m->remap))
+            return 0;
+        if (pt) {
+            /* "texture reflectance": the base's R read at each hit (mat_point) */
+            int ti = texture_lookup(P, pt, 0);
+            if (ti < 0) return 0;
+            m->reflectance_tex = ti + 1;
+        }
         if (!get_float(P, pl, "eta", 1.5f, &eta) || !get_float(P, pl, "thickness", 0.01f, &th) ||
             !get_float(P, pl, "g", 0.0f, &g) || !get_int(P, pl, "maxdepth", 10, &md, &given) ||
             !get_int(P, pl, "nsamples", 1, &ns, &given))
             return 0;
-        if (!params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, float eta, "
-                                 "float roughness, float uroughness, float vroughness, "
+        if (!params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
+                                 "texture reflectance, float eta, float roughness, "
+                                 "float uroughness, float vroughness, texture roughness, "
+                                 "texture uroughness, texture vroughness, "
                                  "bool remaproughness, float thickness, spectrum albedo, "
                                  "rgb albedo, float g, integer maxdepth, integer nsamples",
                                  "displacement normalmap"))
@@ -2248,7 +2342,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         if (ns < 1)
             return fail(P, pn ? pn->file : file, pn ? pn->line : line,
                         "%s: \"integer nsamples\" %d must be >= 1", what, ns);
-        if (!unit_spectrum_param(P, pr, &m->reflectance, 0.5f)) return 0;
+        if (!unit_spectrum_param(P, pt ? NULL : pr, &m->reflectance, 0.5f)) return 0;
         if (!unit_spectrum_param(P, pa, &m->albedo, 0.0f)) return 0;
         for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
             if (!(spec_get(&m->albedo, nm) >= 0.0f && spec_get(&m->albedo, nm) <= 1.0f))
@@ -2865,9 +2959,13 @@ static int cylinder_shape(Parser *P, ParamList *pl, const char *file, int line)
                              "alpha emissionfilename"))
         return 0;
     if (!(q.radius > 0.0)) return fail(P, file, line, "%s: radius %g must be > 0", what, q.radius);
-    /* pbrt-v4 swaps a reversed pair; specnee asks the file to say what it means */
+    if (q.zmin > q.zmax) {                    /* pbrt-v4 Cylinder: min and max of the pair */
+        double z = q.zmin;
+        q.zmin = q.zmax;
+        q.zmax = z;
+    }
     if (!(q.zmin < q.zmax))
-        return fail(P, file, line, "%s: zmin %g must be < zmax %g", what, q.zmin, q.zmax);
+        return fail(P, file, line, "%s: zmin = zmax = %g: the cylinder has no height", what, q.zmin);
     if (!check_phimax(P, what, deg, &q.phimax, file, line)) return 0;
     return add_quadric(P, SHAPE_CYLINDER, &q, what, file, line);
 }
@@ -2905,8 +3003,13 @@ static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
         if (fabs(len[j] - scale) > 1e-5 * scale || fabs(dot) > 1e-5 * scale * scale)
             uniform = 0;
     }
+    if (zmin > zmax) {                        /* pbrt-v4 Sphere: min and max of the pair */
+        double z = zmin;
+        zmin = zmax;
+        zmax = z;
+    }
     if (!(zmin < zmax))
-        return fail(P, file, line, "%s: zmin %g must be < zmax %g", what, zmin, zmax);
+        return fail(P, file, line, "%s: zmin = zmax = %g: the sphere has no height", what, zmin);
     if (!(zmax > -radius && zmin < radius))
         return fail(P, file, line, "%s: zmin %g .. zmax %g misses the sphere of radius %g", what,
                     zmin, zmax, radius);
@@ -2930,6 +3033,7 @@ static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
         sh = add_shape(P, SHAPE_SPHERE, 0, 0, 4.0 * SPECNEE_PI * r * r, 0, file, line);
         if (sh < 0) return 0;
         s->shapes[sh].center = xf_point(&P->gs.ctm, v3(0, 0, 0));
+        s->shapes[sh].q.world_from_obj = P->gs.ctm;   /* bvh.c: (u, v) in object space */
         s->shapes[sh].radius = (float)r;
         if (!(s->shapes[sh].radius > 0.0f && s->shapes[sh].radius <= FLT_MAX))
             return fail(P, file, line, "Shape \"sphere\": radius not finite after the transform");

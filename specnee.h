@@ -575,9 +575,13 @@ typedef struct {
     Spectrum transmittance;    /* diffusetransmission: T (reflectance holds R), scaled */
     float p_reflect;           /* diffusetransmission: probability of sampling the
                                   reflect lobe, max R / (max R + max T) over 300-830 nm */
-    int reflectance_tex;       /* diffuse: "texture reflectance", 1 + its index into
-                                  Scene.textures (0, as a zeroed Material has it: the
-                                  spectrum above) */
+    int reflectance_tex;       /* diffuse, conductor, coateddiffuse: "texture reflectance",
+                                  1 + its index into Scene.textures (0, as a zeroed
+                                  Material has it: the spectrum above) */
+    int alpha_tex;             /* conductor, coateddiffuse: "texture roughness" (or the
+                                  same texture as u- and vroughness), 1 + its index
+                                  (0: alpha, alpha_t above); read through mat_point */
+    int remap;                 /* with alpha_tex: remaproughness (alpha = sqrt(value)) */
     const struct Texture *textures;  /* the scene's textures (set when loading ends) */
     /* coateddiffuse (layered.c): reflectance is the base's R, eta (a constant) and
        alpha the coat's */
@@ -620,9 +624,11 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm);
    "spectrum" texture) or a number (a "float" texture).  2-D textures first map
    the point to (s, t): "uv" (s = uscale u + udelta, t = vscale v + vdelta),
    "spherical", "cylindrical" or "planar" (in the texture's frame, the CTM at the
-   Texture directive).  An argument (tex1, tex2, amount, tex, scale) is a
-   constant or another texture. */
-typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP } TexType;
+   Texture directive).  3-D textures (marble) use the point in that frame.  An
+   argument (tex1, tex2, amount, tex, scale, inside, outside) is a constant or
+   another texture. */
+typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP,
+               TEX_DOTS, TEX_MARBLE } TexType;
 typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR } TexMapType;
 typedef enum { TEXWRAP_REPEAT, TEXWRAP_BLACK, TEXWRAP_CLAMP } TexWrap;
 #define TEX_ARGS 2
@@ -632,17 +638,21 @@ typedef struct Texture {
     TexMapType map;
     float su, sv, du, dv;      /* uv: scales and offsets; planar: du, dv the offsets */
     Vec3 vs, vt;               /* planar: the s and t axes ("v1", "v2") */
-    Xform tex_from_world;      /* spherical, cylindrical, planar: the inverse CTM */
-    /* arguments: checkerboard tex1, tex2; mix tex1, tex2 (and amount); scale tex, scale */
+    Xform tex_from_world;      /* spherical, cylindrical, planar, marble: the inverse CTM */
+    /* arguments: checkerboard tex1, tex2; mix tex1, tex2 (and amount); scale tex, scale;
+       dots "inside" (shown outside the dots, as in pbrt-v4), "outside" (in them) */
     int arg_tex[TEX_ARGS];     /* a texture index, or -1: the constant below */
     Spectrum arg_s[TEX_ARGS];  /* spectrum constants */
     float arg_f[TEX_ARGS];     /* float constants (also scale's "scale") */
     int amount_tex; float amount;  /* mix: a float texture or constant (0.5) */
     int scale_tex;             /* scale: "scale" as a float texture (-1: arg_f[1]) */
+    int octaves;               /* marble: octaves of noise in the FBm (8) */
+    float omega, mscale, variation;  /* marble: "roughness" (0.5), "scale" (1), "variation" (0.2) */
     /* imagemap: w x h texels, row 0 at the top of the image; a spectrum texture
        keeps 4 floats per texel (m and the sigmoid's 3 coefficients: the texel's
        reflectance is m sigmoid(c, lambda), spectrum.c), a float one 1 (the mean of
-       R, G, B); bilinear lookup (pbrt-v4's default filter) */
+       R, G, B); bilinear lookup (pbrt-v4's default filter).  marble: its colour spline
+       tabulated the same way, w knots in one row (texture.c section 4) */
     int w, h;
     float *texel;
     TexWrap wrap;
@@ -651,8 +661,28 @@ typedef struct Texture {
 /* Texture t of the table tex at the surface point (lambda ignored by float textures). */
 float tex_eval(const Texture *tex, int t, const SurfacePoint *sp, float lambda_nm);
 void  tex_free(Texture *t);   /* (tex_set_image, which reads an Image, is in section 10) */
-/* Smooth dielectrics scatter into discrete (delta) directions: no NEE there. */
+/* pbrt-v4's Perlin noise at (x, y, z) (Perlin 2002's gradients and permutation), in
+   about [-1, 1], 0 at integer points; dots call it with z = 0.5. */
+float tex_noise(float x, float y, float z);
+/* Fractional Brownian motion: sum over i < octaves of omega^i noise(1.99^i p), pbrt-v4's
+   FBm for a footprint of zero (texture.c section 4). */
+float tex_fbm(Vec3 p, float omega, int octaves);
+/* A marble texture's colour table (texture.c section 4): 0 and a message when out of memory. */
+int   tex_marble_init(Texture *t, Error *err);
+/* Smooth dielectrics scatter into discrete (delta) directions: no NEE there.  A
+   conductor with a roughness texture is not: it may be smooth at some points, where
+   bsdf_eval gives 0 and bsdf_sample a delta lobe. */
 int   mat_is_delta(const Material *m);
+/* A conductor's or coateddiffuse's texture-valued parameters at one surface point
+   (pbrt-v4 evaluates them in GetBxDF): the alphas, and when has_r the reflectance at
+   the path's wavelengths, clamped to [0, 1]; without textures the Material's own. */
+typedef struct {
+    float alpha, alpha_t;
+    int has_r;
+    float r[HERO_N];
+} MatPoint;
+void  mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, unsigned alive,
+                MatPoint *mp);
 
 /* A direction sampled from the BSDF with the hero wavelength lambda[0]. */
 typedef struct {
@@ -678,23 +708,25 @@ float fresnel_conductor(float cos_i, float eta, float k);
 /* The conductor's sampler, value and pdf, called by bsdf_sample and bsdf_eval in
    the shading frame (local directions, n = +z).  pdf_l[j] = pdf for every j: the
    direction does not depend on the wavelength. */
-int   conductor_sample(const Material *m, Vec3 wo, const float *lambda, unsigned alive,
-                       float u1, float u2, BsdfSample *out, Vec3 *wi_local);
-void  conductor_eval(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
-                     float f[HERO_N], float pdf_l[HERO_N]);
+int   conductor_sample(const Material *m, const MatPoint *mp, Vec3 wo, const float *lambda,
+                       unsigned alive, float u1, float u2, BsdfSample *out, Vec3 *wi_local);
+void  conductor_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, const float *lambda,
+                     unsigned alive, float f[HERO_N], float pdf_l[HERO_N]);
 /* coateddiffuse (layered.c), in the shading frame: f and the pdf are stochastic
    estimates by random walks, deterministic for a given seed; bsdf_eval seeds them
    with layered_seed(world wo, world wi, 0), and layered_sample (which takes the
    frame and the world wo, and sets out->wi in world space) reports that same pdf
    with f scaled so that f cos / pdf is the walk's weight.  key (0 in renders)
-   varies the random streams (the tests average over it). */
+   varies the random streams (the tests average over it).  mp: the textured
+   parameters at the point (mat_point), or NULL for the Material's own. */
 uint64_t layered_seed(Vec3 wo_world, Vec3 wi_world, uint64_t key);
-float layered_pdf(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
-                  uint64_t seed);
-void  layered_eval(const Material *m, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
-                   uint64_t seed, float f[HERO_N], float pdf_l[HERO_N]);
-int   layered_sample(const Material *m, const Frame *fr, Vec3 wo_world, const float *lambda,
-                     unsigned alive, float u0, float u1, float u2, uint64_t key, BsdfSample *out);
+float layered_pdf(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, const float *lambda,
+                  unsigned alive, uint64_t seed);
+void  layered_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, const float *lambda,
+                   unsigned alive, uint64_t seed, float f[HERO_N], float pdf_l[HERO_N]);
+int   layered_sample(const Material *m, const MatPoint *mp, const Frame *fr, Vec3 wo_world,
+                     const float *lambda, unsigned alive, float u0, float u1, float u2, uint64_t key,
+                     BsdfSample *out);
 /* Anisotropic Trowbridge-Reitz (GGX) with alpha_x, alpha_y, in the local frame
    (exposed for tests): the normal distribution D(wm), the height-correlated
    masking-shadowing G(wo, wi), and the visible-normal sampler with its density

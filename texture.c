@@ -1,9 +1,12 @@
-/* texture.c - pbrt-v4's textures: constant, checkerboard, scale, mix, imagemap.
+/* texture.c - pbrt-v4's textures: constant, checkerboard, scale, mix, imagemap,
+   dots, marble.
 
-   Exported (specnee.h sections 6 and 10): tex_eval, tex_set_image, tex_free.
+   Exported (specnee.h sections 6 and 10): tex_eval, tex_set_image, tex_free,
+   tex_noise, tex_fbm, tex_marble_init.
    scene.c parses the Texture directive into Scene.textures; a material whose
-   "reflectance" names a texture (today: diffuse) reads it through mat_albedo_at
-   (material.c) at every hit, at each of the path's wavelengths.
+   "reflectance" names a texture (diffuse) reads it through mat_albedo_at
+   (material.c) at every hit, at each of the path's wavelengths; conductor and
+   coateddiffuse read a textured reflectance and roughness through mat_point.
 
    1. Mapping (pbrt-v4 textures.h, the pbrt book 4th ed. section 10.2).  A 2-D
       texture maps the surface point to (s, t):
@@ -27,6 +30,9 @@
                       bilinear between the four nearest texel centres (pbrt-v4's
                       default "bilinear" filter, which reads the full-resolution
                       level only), wrapped by "repeat", "black" or "clamp"
+        dots          "outside" in a polka dot, "inside" elsewhere (sic, section 4)
+        marble        a 3-D texture: a colour spline of a noise-perturbed sine
+                      (section 4)
    3. RGB to spectrum.  A spectrum image texture holds reflectances: each texel's
       RGB, after pbrt-v4's scale and invert, is clamped to [0, 1] and turned into
       the smooth spectrum of spec_from_rgb (Jakob and Hanika 2019's sigmoid of a
@@ -38,10 +44,172 @@
       texel centres they differ by the fit's non-linearity, which the film's XYZ,
       linear in the spectrum, sees only in the second order.  Fitting is Newton's
       method from the previous texel's coefficients (spec_rgb_coeffs_from), with
-      the full homotopy fit when that does not converge. */
+      the full homotopy fit when that does not converge.
+   4. Noise (pbrt-v4 util/noise.cpp, textures.cpp; the pbrt book 4th ed. section
+      10.6, after Perlin 2002, "Improving Noise").  noise(p): p's lattice cell
+      (ix, iy, iz) = floor(p) and offsets d = p - floor(p); each of the cell's 8
+      corners c gets a gradient chosen by h = perm[perm[perm[cx] + cy] + cz] mod 16
+      (indices mod 256) and contributes g_h . (d - c), with pbrt-v4's choice
+      u = dx if h < 8 or h = 12, 13, else dy;  v = dy if h < 4 or h = 12, 13, else dz;
+      g_h . x = (h & 1 ? -u : u) + (h & 2 ? -v : v); the 8 values are blended
+      trilinearly with the weight w(t) = 6t^5 - 15t^4 + 10t^3 of each offset.
+      Coordinates are first reduced mod 2^30 (pbrt-v4: no int overflow).
+        FBm(p) = sum_{i < octaves} omega^i noise(1.99^i p).  pbrt-v4 drops the
+          octaves finer than the ray's footprint (n = clamp(-1 - log2(|dp|^2)/2,
+          0, octaves), fading the last one in); specnee has no ray differentials
+          and sums all of them, pbrt-v4's value for a footprint of zero.  The
+          dropped octaves are finer than a pixel and weigh omega^i (0.5^i by
+          default), so a pixel's mean moves little.
+        dots: the cell (sc, tc) = floor((s, t) + 1/2) has a dot when
+          noise(sc + .5, tc + .5, .5) > 0, of radius 0.35 centred at
+          (sc + 0.15 noise(sc + 1.5, tc + 2.8, .5), tc + 0.15 noise(sc + 4.5, tc + 9.8, .5));
+          inside it the texture is the parameter "outside" (0 by default),
+          elsewhere "inside" (1): pbrt-v4's DotsTexture::Create passes "inside" to
+          the constructor's outsideDot and "outside" to its insideDot (as pbrt-v3
+          did), so that is what pbrt-v4 files mean; with the defaults, black dots
+          on white.
+        marble: q = scale (the point in the texture's frame), m = q_y + variation
+          FBm(q, roughness, octaves), x = 1/2 + sin(m)/2, and the RGB colour
+          1.5 B(x) of pbrt-v4's spline: 9 colours c_0..c_8, segment k = min(floor(6x),
+          5) is the cubic Bezier curve with control points c_k..c_{k+3} at 6x - k (the
+          segments do not join: each starts at c_k and ends at c_{k+3}).  The
+          colour is a reflectance (pbrt-v4's RGBAlbedoSpectrum); specnee fits the
+          spline once, at MARBLE_KNOTS + 1 points of each segment (section 3), and
+          interpolates the fitted spectra linearly between them: a colour within
+          1e-3 of the spline's everywhere (tests/test_texture.c). */
 #include "specnee.h"
 #include <stdlib.h>
 #include <string.h>
+
+/* Ken Perlin's reference permutation of 0..255 ("Improving Noise", SIGGRAPH 2002,
+   and its reference implementation), the table pbrt-v4's noise.cpp holds twice;
+   section 4 indexes it mod 256. */
+static const unsigned char PERM[256] = {
+    151, 160, 137,  91,  90,  15, 131,  13, 201,  95,  96,  53, 194, 233,   7, 225,
+    140,  36, 103,  30,  69, 142,   8,  99,  37, 240,  21,  10,  23, 190,   6, 148,
+    247, 120, 234,  75,   0,  26, 197,  62,  94, 252, 219, 203, 117,  35,  11,  32,
+     57, 177,  33,  88, 237, 149,  56,  87, 174,  20, 125, 136, 171, 168,  68, 175,
+     74, 165,  71, 134, 139,  48,  27, 166,  77, 146, 158, 231,  83, 111, 229, 122,
+     60, 211, 133, 230, 220, 105,  92,  41,  55,  46, 245,  40, 244, 102, 143,  54,
+     65,  25,  63, 161,   1, 216,  80,  73, 209,  76, 132, 187, 208,  89,  18, 169,
+    200, 196, 135, 130, 116, 188, 159,  86, 164, 100, 109, 198, 173, 186,   3,  64,
+     52, 217, 226, 250, 124, 123,   5, 202,  38, 147, 118, 126, 255,  82,  85, 212,
+    207, 206,  59, 227,  47,  16,  58,  17, 182, 189,  28,  42, 223, 183, 170, 213,
+    119, 248, 152,   2,  44, 154, 163,  70, 221, 153, 101, 155, 167,  43, 172,   9,
+    129,  22,  39, 253,  19,  98, 108, 110,  79, 113, 224, 232, 178, 185, 112, 104,
+    218, 246,  97, 228, 251,  34, 242, 193, 238, 210, 144,  12, 191, 179, 162, 241,
+     81,  51, 145, 235, 249,  14, 239, 107,  49, 192, 214,  31, 181, 199, 106, 157,
+    184,  84, 204, 176, 115, 121,  50,  45, 127,   4, 150, 254, 138, 236, 205,  93,
+    222, 114,  67,  29,  24,  72, 243, 141, 128, 195,  78,  66, 215,  61, 156, 180
+};
+
+/* perm[i mod 256] for any int i. */
+static int perm_at(int i)
+{
+    return PERM[((i % 256) + 256) % 256];
+}
+
+/* The gradient of corner (x, y, z) dotted with the offset (dx, dy, dz) (section 4). */
+static float grad(int x, int y, int z, float dx, float dy, float dz)
+{
+    int h = perm_at(perm_at(perm_at(x) + y) + z) & 15;
+    float u = (h < 8 || h == 12 || h == 13) ? dx : dy;
+    float v = (h < 4 || h == 12 || h == 13) ? dy : dz;
+    return ((h & 1) ? -u : u) + ((h & 2) ? -v : v);
+}
+
+static float noise_weight(float t)
+{
+    return t * t * t * (t * (6.0f * t - 15.0f) + 10.0f);
+}
+
+static float lerpf(float t, float a, float b) { return (1.0f - t) * a + t * b; }
+
+float tex_noise(float x, float y, float z)
+{
+    float dx, dy, dz, wx, wy, wz, c[8];
+    int ix, iy, iz, k;
+    if (!(fabsf(x) < 1e30f && fabsf(y) < 1e30f && fabsf(z) < 1e30f)) return 0.0f;  /* NaN, inf */
+    x = fmodf(x, 1073741824.0f);                /* 2^30 */
+    y = fmodf(y, 1073741824.0f);
+    z = fmodf(z, 1073741824.0f);
+    ix = (int)floorf(x); iy = (int)floorf(y); iz = (int)floorf(z);
+    dx = x - (float)ix; dy = y - (float)iy; dz = z - (float)iz;
+    for (k = 0; k < 8; k++) {                   /* corner k = (k & 1, k >> 1 & 1, k >> 2) */
+        int cx = k & 1, cy = (k >> 1) & 1, cz = k >> 2;
+        c[k] = grad(ix + cx, iy + cy, iz + cz, dx - (float)cx, dy - (float)cy, dz - (float)cz);
+    }
+    wx = noise_weight(dx); wy = noise_weight(dy); wz = noise_weight(dz);
+    return lerpf(wz, lerpf(wy, lerpf(wx, c[0], c[1]), lerpf(wx, c[2], c[3])),
+                 lerpf(wy, lerpf(wx, c[4], c[5]), lerpf(wx, c[6], c[7])));
+}
+
+float tex_fbm(Vec3 p, float omega, int octaves)
+{
+    float sum = 0.0f, scale = 1.0f, o = 1.0f;
+    int i;
+    for (i = 0; i < octaves; i++) {
+        sum += o * tex_noise(scale * p.x, scale * p.y, scale * p.z);
+        scale *= 1.99f;
+        o *= omega;
+    }
+    return sum;
+}
+
+/* pbrt-v4's InsidePolkaDot (section 4). */
+static int inside_dot(float s, float t)
+{
+    float sc = floorf(s + 0.5f), tc = floorf(t + 0.5f), cs, ct, ds, dt;
+    if (!(tex_noise(sc + 0.5f, tc + 0.5f, 0.5f) > 0.0f)) return 0;
+    cs = sc + 0.15f * tex_noise(sc + 1.5f, tc + 2.8f, 0.5f);
+    ct = tc + 0.15f * tex_noise(sc + 4.5f, tc + 9.8f, 0.5f);
+    ds = s - cs;
+    dt = t - ct;
+    return ds * ds + dt * dt < 0.35f * 0.35f;
+}
+
+/* The marble spline's colours (pbrt-v4 MarbleTexture::Evaluate). */
+static const float MARBLE_RGB[9][3] = {
+    { .58f, .58f, .6f }, { .58f, .58f, .6f }, { .58f, .58f, .6f },
+    { .5f, .5f, .5f },   { .6f, .59f, .58f }, { .58f, .58f, .6f },
+    { .58f, .58f, .6f }, { .2f, .2f, .33f },  { .58f, .58f, .6f },
+};
+#define MARBLE_SEGS 6
+#define MARBLE_KNOTS 64          /* @@ fitted spectra per segment: memory vs. the spline's fidelity */
+
+/* The spline's RGB in segment k at x in [0, 1] (1.5 times a cubic Bezier curve). */
+static void marble_rgb(int k, float x, double rgb[3])
+{
+    float a = 1.0f - x, b0 = a * a * a, b1 = 3.0f * a * a * x, b2 = 3.0f * a * x * x, b3 = x * x * x;
+    int c;
+    for (c = 0; c < 3; c++)
+        rgb[c] = 1.5 * (double)(b0 * MARBLE_RGB[k][c] + b1 * MARBLE_RGB[k + 1][c] +
+                                b2 * MARBLE_RGB[k + 2][c] + b3 * MARBLE_RGB[k + 3][c]);
+}
+
+int tex_marble_init(Texture *t, Error *err)
+{
+    Image im;
+    int k, i, ok;
+    im.w = MARBLE_SEGS * (MARBLE_KNOTS + 1);
+    im.h = 1;
+    im.rgb = (float *)malloc(sizeof(float) * 3 * (size_t)im.w);
+    if (!im.rgb) {
+        error_set(err, t->file, t->line, "Texture \"marble\": out of memory");
+        return 0;
+    }
+    for (k = 0; k < MARBLE_SEGS; k++)
+        for (i = 0; i <= MARBLE_KNOTS; i++) {
+            double rgb[3];
+            int c;
+            marble_rgb(k, (float)i / MARBLE_KNOTS, rgb);
+            for (c = 0; c < 3; c++) im.rgb[3 * (k * (MARBLE_KNOTS + 1) + i) + c] = (float)rgb[c];
+        }
+    t->is_float = 0;
+    ok = tex_set_image(t, &im, 1.0f, 0, err);
+    free(im.rgb);
+    return ok;
+}
 
 /* (s, t) of a 2-D texture at sp (section 1). */
 static void tex_map(const Texture *t, const SurfacePoint *sp, float *s, float *tt)
@@ -110,6 +278,24 @@ static float image_lookup(const Texture *t, float s, float tt, float lambda)
            fx * fy * texel_at(t, x0 + 1, y0 + 1, lambda);
 }
 
+/* A marble at p (section 4): the fitted spline at x, linear between knots. */
+static float marble_eval(const Texture *t, Vec3 p, float lambda_nm)
+{
+    Vec3 q = v3_mul(xf_point(&t->tex_from_world, p), t->mscale);
+    float m = q.y + t->variation * tex_fbm(q, t->omega, t->octaves);
+    float x = 0.5f + 0.5f * sinf(m), f;
+    int k, i;
+    if (!(x >= 0.0f && x <= 1.0f)) x = 0.5f;         /* NaN (a point at infinity) */
+    k = (int)floorf(x * MARBLE_SEGS);
+    if (k > MARBLE_SEGS - 1) k = MARBLE_SEGS - 1;
+    x = (x * MARBLE_SEGS - (float)k) * MARBLE_KNOTS;  /* in knots, 0..MARBLE_KNOTS */
+    i = (int)floorf(x);
+    if (i > MARBLE_KNOTS - 1) i = MARBLE_KNOTS - 1;
+    f = x - (float)i;
+    i += k * (MARBLE_KNOTS + 1);
+    return (1.0f - f) * texel_at(t, i, 0, lambda_nm) + f * texel_at(t, i + 1, 0, lambda_nm);
+}
+
 float tex_eval(const Texture *tex, int i, const SurfacePoint *sp, float lambda_nm)
 {
     const Texture *t = &tex[i];
@@ -132,6 +318,11 @@ float tex_eval(const Texture *tex, int i, const SurfacePoint *sp, float lambda_n
     case TEX_IMAGEMAP:
         tex_map(t, sp, &s, &tt);
         return image_lookup(t, s, tt, lambda_nm);
+    case TEX_DOTS:
+        tex_map(t, sp, &s, &tt);
+        return tex_arg(tex, t, inside_dot(s, tt) ? 1 : 0, sp, lambda_nm);
+    case TEX_MARBLE:
+        return marble_eval(t, sp->p, lambda_nm);
     }
     return 0.0f;
 }

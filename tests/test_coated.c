@@ -58,10 +58,10 @@ static void test_eval_unbiased(T *t)
         double s[HERO_N] = { 0 }, s2[HERO_N] = { 0 };
         float ref[HERO_N], f[HERO_N], f2[HERO_N], p[HERO_N], p2[HERO_N];
         for (k = 0; k < n; k++) {
-            layered_eval(&m1[c], wo, wi, LAM, 15u, layered_seed(wo, wi, (uint64_t)k + 1), f, p);
+            layered_eval(&m1[c], NULL, wo, wi, LAM, 15u, layered_seed(wo, wi, (uint64_t)k + 1), f, p);
             for (j = 0; j < HERO_N; j++) { s[j] += f[j]; s2[j] += (double)f[j] * f[j]; }
         }
-        layered_eval(&m256[c], wo, wi, LAM, 15u, layered_seed(wo, wi, 777), ref, p);   /* 8192 walks */
+        layered_eval(&m256[c], NULL, wo, wi, LAM, 15u, layered_seed(wo, wi, 777), ref, p);   /* 8192 walks */
         for (j = 0; j < HERO_N; j++) {
             double mu = s[j] / n, var = s2[j] / n - mu * mu, se = sqrt(fmax(var, 0.0) / n);
             double se_ref = sqrt(fmax(var, 0.0) / 8192.0);
@@ -71,17 +71,17 @@ static void test_eval_unbiased(T *t)
             CHECK(t, fabs(mu - ref[j]) < TEST_K_SIGMA * sqrt(se * se + se_ref * se_ref) + 1e-4,
                   "case %d wavelength %d: mean f %.5f +- %.2g, 8192 walks %.5f", c, j, mu, se, ref[j]);
         }
-        layered_eval(&m1[c], wo, wi, LAM, 15u, layered_seed(wo, wi, 5), f, p);
-        layered_eval(&m1[c], wo, wi, LAM, 15u, layered_seed(wo, wi, 5), f2, p2);
+        layered_eval(&m1[c], NULL, wo, wi, LAM, 15u, layered_seed(wo, wi, 5), f, p);
+        layered_eval(&m1[c], NULL, wo, wi, LAM, 15u, layered_seed(wo, wi, 5), f2, p2);
         for (j = 0; j < HERO_N; j++)
             CHECK(t, f[j] == f2[j] && p[j] == p2[j], "case %d: a seed is not deterministic", c);
         /* two-sided: seen from below (both mirrored) the same value */
-        layered_eval(&m1[c], v3_neg(wo), v3_neg(wi), LAM, 15u, layered_seed(wo, wi, 5), f2, p2);
+        layered_eval(&m1[c], NULL, v3_neg(wo), v3_neg(wi), LAM, 15u, layered_seed(wo, wi, 5), f2, p2);
         for (j = 0; j < HERO_N; j++)
             CHECK(t, f[j] == f2[j] && f[j] > 0.0f && p[j] == p2[j], "case %d: from below f %g, "
                   "from above %g", c, f2[j], f[j]);
         /* wi below: the base transmits nothing */
-        layered_eval(&m1[c], wo, v3(wi.x, wi.y, -wi.z), LAM, 15u, 1, f, p);
+        layered_eval(&m1[c], NULL, wo, v3(wi.x, wi.y, -wi.z), LAM, 15u, 1, f, p);
         CHECK(t, f[0] == 0.0f && p[0] > 0.0f, "case %d: transmission f %g pdf %g", c, f[0], p[0]);
     }
 }
@@ -117,7 +117,7 @@ static void test_sample_weight_albedo(T *t)
             li = v3(r * cosf(ph), r * sinf(ph), sqrtf(fmaxf(0.0f, 1.0f - u[0])));
             if (li.z <= 0.0f) continue;
             wi = li;
-            layered_eval(&m[c], wo, wi, LAM, 15u, layered_seed(wo, wi, (uint64_t)k), f, p);
+            layered_eval(&m[c], NULL, wo, wi, LAM, 15u, layered_seed(wo, wi, (uint64_t)k), f, p);
             for (j = 0; j < HERO_N; j++) {
                 double w = f[j] * PI_F;           /* f cos / (cos / pi) */
                 b[j] += w; b2[j] += w * w;
@@ -160,7 +160,7 @@ static void test_pdf(T *t)
             rng_fill(&rng, u, 2);
             z = 1.0f - 2.0f * u[0]; r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
             wi = v3(r * cosf(2.0f * PI_F * u[1]), r * sinf(2.0f * PI_F * u[1]), z);
-            s += layered_pdf(&m[c], wo, wi, LAM, 15u, layered_seed(wo, wi, 0)) * 4.0 * SPECNEE_PI;
+            s += layered_pdf(&m[c], NULL, wo, wi, LAM, 15u, layered_seed(wo, wi, 0)) * 4.0 * SPECNEE_PI;
         }
         s /= n;
         if (getenv("DBG")) fprintf(stderr, "case %d: integral of pdf %.4f\n", c, s);
@@ -335,8 +335,10 @@ static void test_parse(T *t)
     expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\"\n \"spectrum eta\" [ 400 1.5 700 1.4 ]\n", 3,
                   "spectral \"eta\"", "float eta");
     expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float eta\" 0\n", 2, "eta", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"texture reflectance\" \"t\"\n", 2,
+    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"texture albedo\" \"t\"\n", 2,
                   "textures are valid pbrt-v4", NULL);
+    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"texture reflectance\" \"t\"\n", 2,
+                  "no texture named", NULL);
     expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float uroughness\" 0.1\n", 2,
                   "anisotropic", NULL);
 }

@@ -634,8 +634,10 @@ static void test_parse_rejects(T *t)
     expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"float uroughness\" 0.1 \"float vroughness\" 0.2\n",
                   2, "anisotropic", "dp/du");
     expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"float roughness\" -1\n", 2, "roughness", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"texture roughness\" \"bumps\"\n", 3,
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"texture eta\" \"bumps\"\n", 3,
                   "textures are valid pbrt-v4", NULL);
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"texture roughness\" \"bumps\"\n", 3,
+                  "no texture named", "bumps");
     expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"spectrum eta\" \"metal-Xx-eta\"\n", 2,
                   "unknown named spectrum", "metal-Xx-eta");
     expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"float eta\" 1.5\n", 2, "eta", "conductor");

@@ -683,7 +683,7 @@ REJECT(rej_integrator_type, "Integrator \"mlt\"\nWorldBegin\n", 1,
 REJECT(rej_regularize, "Integrator \"path\" \"bool regularize\" true\nWorldBegin\n", 1, "regularize", NULL)
 REJECT(rej_negative_radius, "WorldBegin\nShape \"sphere\" \"float radius\" -2\n", 2, "radius", NULL)
 REJECT(rej_sphere_zmin, "WorldBegin\nShape \"sphere\" \"float zmin\" 0.5 \"float zmax\" 0.5\n", 2,
-       "zmin 0.5 must be < zmax 0.5", NULL)
+       "zmin = zmax = 0.5", "no height")
 REJECT(rej_sphere_nonuniform, "WorldBegin\nScale 1 2 1\nAreaLightSource \"diffuse\"\nShape \"sphere\"\n",
        4, "non-uniform", "area light")
 REJECT(rej_shape_curve, "WorldBegin\nShape \"curve\"\n", 2,
