@@ -345,7 +345,7 @@ void  xyz_to_linear_srgb(const double xyz[3], double rgb[3]);  /* pbrt-v4's matr
 /* CIE colorimetry of a spectrum: chromaticity, CCT (exact, Planckian locus), Duv. */
 void  spec_chromaticity(const Spectrum *s, double *x, double *y);
 double cct_from_xy(double x, double y, double *duv);
-/* Thesis Eq. 6: sum of the 60 bin averages over 400-700 nm. */
+/* thesis eq. 6: sum of the 60 bin averages over 400-700 nm. */
 double spec_bin_sum(const Spectrum *s);
 float spec_bin_average(const Spectrum *s, int bin);  /* mean over [400+5b, 405+5b] nm */
 /* Exact mean of the piecewise-linear spectrum over [lo, lo + width] nm (integers,

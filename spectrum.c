@@ -17,7 +17,7 @@
             u = 4x / (-2x + 12y + 3),  v = 6y / (-2x + 12y + 3),
         Planck's law B(lambda, T) ~ lambda^-5 / (exp(c2 / (lambda T)) - 1),
         c2 = 1.438777e-2 m K; Duv = signed distance, > 0 above the locus.
-     4. Thesis Eq. 6: sum_{w in W} Emm(w, e) = c, W = the 60 bins of 5 nm over
+     4. thesis eq. 6: sum_{w in W} Emm(w, e) = c, W = the 60 bins of 5 nm over
         400..700 nm.  A bin's value is the exact mean of the piecewise-linear table over
         the bin (never a point sample, so a 1 nm line is never lost).
      5. Cauchy's law n(lambda) = A + B / lambda^2 (lambda in um) and the Sellmeier
@@ -50,7 +50,7 @@
      wavelengths with wl_sample and converts to colour with cie_xyz and
      xyz_to_linear_srgb.  `specnee spectrum NAME|FILE` (cmd_spectrum, at the end of
      this file) prints a spectrum, its colorimetry and the pbrt "scale" that realises
-     the thesis' Eq. 6 normalisation; `--svg` plots spectra (svg.c). */
+     thesis eq. 6 normalisation; `--svg` plots spectra (svg.c). */
 #include "specnee.h"
 #include <ctype.h>
 #include <errno.h>
@@ -599,7 +599,7 @@ double cct_from_xy(double x, double y, double *duv)
 }
 
 /* ======================================================================
-   6. Thesis Eq. 6: bins of 5 nm over 400..700 nm
+   6. thesis eq. 6: bins of 5 nm over 400..700 nm
    ====================================================================== */
 
 /* The exact mean of the piecewise-linear table over [lo, lo + width] nm, in
@@ -720,7 +720,7 @@ static double sellmeier_eta(const SellmeierGlass *g, double lambda_nm)
    (sigma = w / 2.3548) and peak 1.  Each table value is the Gaussian's MEAN over the
    1 nm cell [lambda - 1/2, lambda + 1/2] (an erf difference), not a point sample, so
    a 2 nm wide mercury line keeps its energy on the 1 nm grid.  Finally each lamp is
-   scaled so that its Eq. 6 sum over the 60 bins is 1.
+   scaled so that its thesis eq. 6 sum over the 60 bins is 1.
    ====================================================================== */
 
 typedef struct { double mu, fwhm, peak; } GaussLine;
@@ -806,7 +806,7 @@ static void lamp_led(Spectrum *s, double r, double phosphor_nm, double phosphor_
    ---------------------------------------------------------------------- */
 
 /* Peak 1 (the sample at the peak's nearest nm): the UV lamps have no luminance, so
-   they cannot be scaled to Eq. 6 or to Y; scene files read them as absolute
+   they cannot be scaled to thesis eq. 6 or to Y; scene files read them as absolute
    radiance times "scale" (docs/conventions.md section 4). */
 static void normalise_peak(Spectrum *s)
 {
@@ -1658,8 +1658,8 @@ static const char spectrum_usage[] =
     "       specnee spectrum --table [--spd-metric unit|power] [--svg] scene.pbrt\n"
     "       specnee spectrum --list\n"
     "Prints the spectrum as a pbrt .spd table at 1 nm steps (360-830 nm) followed by\n"
-    "'#' lines with its chromaticity xy, CCT, Duv, luminance, thesis Eq. 6 bin sum and\n"
-    "the pbrt \"float scale\" that normalises it to Eq. 6 with c = 1.  --svg plots one\n"
+    "'#' lines with its chromaticity xy, CCT, Duv, luminance, thesis eq. 6 bin sum and\n"
+    "the pbrt \"float scale\" that normalises it to thesis eq. 6 with c = 1.  --svg plots one\n"
     "or more emission spectra, each divided by its maximum, or refractive indices\n"
     "(glass-*) as they are; --list prints the built-in names.\n"
     "--table prints the scene's emitter x 60-bin table of the spectral strategies\n"
@@ -1711,15 +1711,15 @@ static int spectrum_print(const char *arg, const Spectrum *s)
     if (cct > 0.0) printf("# CCT = %.1f K, Duv = %+.5f (exact, nearest point of the Planckian locus in CIE 1960 uv)\n", cct, duv);
     else printf("# CCT = (undefined)\n");
     printf("# luminance sum_{360-830, 1 nm} ybar S = %.9g (pbrt-v4 named illuminants: 106.856895)\n", lum);
-    printf("# Eq. 6 bin sum (60 bins of 5 nm over 400-700 nm) = %.9g\n", binsum);
+    printf("# thesis eq. 6 bin sum (60 bins of 5 nm over 400-700 nm) = %.9g\n", binsum);
     if (binsum > 0.0 && ysum_specnee > 0.0) {
-        printf("# AreaLightSource \"diffuse\" \"spectrum L\" with this spectrum emits the Eq. 6\n"
+        printf("# AreaLightSource \"diffuse\" \"spectrum L\" with this spectrum emits the thesis eq. 6\n"
                "# normalised spectrum (bin sum c = 1) with:\n");
         printf("#   \"float scale\" [ %.9g ]   specnee (Le = scale L / sum_{400-700 nm} ybar L)\n",
                ysum_specnee / binsum);
         printf("#   \"float scale\" [ %.9g ]   pbrt-v4 (Le = scale L / sum_{360-830 nm} ybar L)\n",
                ysum_pbrt / binsum);
-        printf("# (multiply by c for another Eq. 6 constant, e.g. c = 2)\n");
+        printf("# (multiply by c for another thesis eq. 6 constant, e.g. c = 2)\n");
     }
     return ferror(stdout) ? 1 : 0;
 }

@@ -241,7 +241,7 @@ static void select_matches_pmf_on(T *t, int sc)
             }
             if (sum == 0.0) {
                 /* allowed only where no emitter can light p (the reach mask of
-                   lights.c section 5: p above the ceiling lamps); then none is chosen */
+                   lights.c section 4: p above the ceiling lamps); then none is chosen */
                 float p;
                 for (i = 0; i < s.n_emitters; i++)
                     CHECK(t, !emitter_can_reach(&s, i, c.p), "%s: pmfs sum to 0 but emitter %d reaches p",

@@ -12,7 +12,7 @@
        normals; with the shape's flip flag the sign is reversed).  The Cornell
        glass boxes are closed (0 open edges); the Suzanne mesh has 3936 triangles,
        2012 vertices with normals and 84 open edges (around the eyes);
-     - the lamps are normalised by the thesis' Eq. 6 (Deshmukh et al. 2022, Section
+     - the lamps are normalised by thesis eq. 6 (Deshmukh et al. 2022, Section
        2): after scene_load (400-700 nm normalisation, pbrt-v4's rule Le = scale L /
        sum ybar L) the sum of the 60 bin averages of Le is c +- 1e-3, with c = 1 for
        every lamp except the Suzanne scene's LED1 (c = 2).  This holds only if the
@@ -217,7 +217,7 @@ static void test_suzanne_mesh(T *t)
     check_glass(t, "scenes/suzanne.pbrt", 1, 84, 3936);
 }
 
-/* ---- 3. Eq. 6 normalisation of the lamps ----------------------------------- */
+/* ---- 3. thesis eq. 6 normalisation of the lamps ----------------------------------- */
 typedef struct { const char *scene, *lamp; double c; } LampClaim;
 static const LampClaim lamp_claims[] = {
     { "scenes/cornell1.pbrt", "lamp-CFL1", 1.0 },
@@ -278,7 +278,7 @@ static void test_eq6_normalisation(T *t)
                     strcmp(lamp_claims[i].lamp, lamp) == 0) c = lamp_claims[i].c;
             if (c < 0.0 || fabs(sum - c) > 1e-3) {
                 test_failf(t, __FILE__, __LINE__,
-                           "%s: emitter %d (%s): Eq. 6 bin sum %.6f, want c = %g +- 1e-3 "
+                           "%s: emitter %d (%s): thesis eq. 6 bin sum %.6f, want c = %g +- 1e-3 "
                            "(use the scale `specnee spectrum` prints, times c)",
                            scenes[si], e, lamp ? lamp : "not a thesis lamp", sum, c);
                 scene_free(&s);

@@ -1,5 +1,5 @@
 /* tests/test_spectrum.c - tests of spectrum.c (spectra, CIE colorimetry, named
-   spectra, files, rgb upsampling, Eq. 6 bins, wavelength sampling) and svg.c.
+   spectra, files, rgb upsampling, thesis eq. 6 bins, wavelength sampling) and svg.c.
 
    Reference values: CIE 015:2018 tables (ybar(555) = 1, xbar(600) = 1.0622,
    zbar(445) = 1.7826, integral of ybar = 106.857 nm); D65 white xy = (0.3127,
@@ -205,7 +205,7 @@ static void test_lamps(T *t)
         /* |Duv| < 0.006: the ANSI C78.377 tolerance for "white" solid-state light */
         CHECK(t, fabs(duv) < 0.006, "%s: Duv %g is not white", names[k], duv);
         sum = spec_bin_sum(&s);
-        CHECK(t, fabs(sum - 1.0) < 1e-5, "%s: Eq. 6 bin sum %.8f, want 1", names[k], sum);
+        CHECK(t, fabs(sum - 1.0) < 1e-5, "%s: thesis eq. 6 bin sum %.8f, want 1", names[k], sum);
     }
     /* the CFL's 435.8 nm mercury line: its 2 nm FWHM Gaussian, cell-averaged, keeps
        its area: sum of the 1 nm cells near the line ~ peak * 1.0645 * FWHM */
@@ -327,7 +327,7 @@ static void test_file_errors(T *t)
           "a missing file must fail with its name: '%s'", e.msg);
 }
 
-/* ---------- Eq. 6 bins ---------- */
+/* ---------- thesis eq. 6 bins ---------- */
 
 static void test_bins(T *t)
 {
