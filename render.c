@@ -27,9 +27,9 @@
         C_j = beta_j g_j q_t(0) / (p(lambda_j) D),
         D   = sum_m r_m^2 (q_nee^2 + q_bsdf(m)^2)                          (6)
 
-   In the code the factor q_t(0)/D (NEE) or q_bsdf(0)^2/D (a BSDF-sampled hit,
-   whose beta already holds 1/q_bsdf(0)) is `w`, and film_add divides by
-   p(lambda_j) once (9).
+   In the code `w` = q_nee(0)/D multiplies an NEE contribution; a BSDF-sampled hit,
+   whose beta already holds 1/q_bsdf(0), is multiplied by the MIS weight
+   `W` = q_bsdf(0)^2/D (= q_bsdf(0) w); film_add divides by p(lambda_j) once (9).
    Special cases that make this readable:
    - No wavelength-dependent event so far: r_m = 1 and q_bsdf(m) = q_bsdf(0), so
      C_j is the usual power-heuristic NEE/BSDF weight times 1/(4 p(lambda_j)):
@@ -283,10 +283,10 @@ static const char *debug_pmf_source(const SelOptions *sel, const LightCtx *c, in
     return "spatial table of the voxel: several wavelengths alive, spectral tables act on hero-only paths";
 }
 
-/* --debug-pixel: a contribution's MIS weight w (the film receives w / (q_t(0) p(lambda_j))
-   times the sample's value, docs/THEORY.md eq. (6)) split into the share of the
-   technique t, summed over every hero m, and the share of hero 0 within t:
-       w = [sum_m r_m^2 q_t(m)^2 / D] x [q_t(0)^2 / sum_m r_m^2 q_t(m)^2]. */
+/* --debug-pixel: a contribution's MIS weight W = q_t(0)^2 / D (the film receives
+   W / (q_t(0) p(lambda_j)) times the integrand, THEORY (6)) split into the share of
+   the technique t, summed over every hero m, and the share of hero 0 within t:
+       W = [sum_m r_m^2 q_t(m)^2 / D] x [q_t(0)^2 / sum_m r_m^2 q_t(m)^2]. */
 static void debug_weight(FILE *dbg, const char *what, int e, double w, const float *r,
                          const float *q_bsdf, float q_nee, unsigned alive, int nee)
 {
@@ -420,12 +420,12 @@ static int shadow_transmittance(const Renderer *R, Ray sh, int med, const float 
 
 /* One straight stretch of the path through medium med, from the ray's origin to
    distance tmax (the next surface; INFINITY: none), with the hero's free-flight
-   sampling (docs/media.md, eq. M4): t = -ln(1 - u) / sigma_t(lambda_0).
+   sampling (THEORY (16)): t = -ln(1 - u) / sigma_t(lambda_0).
    Collision (t < tmax): returns 1 with *t and the extinctions st[] of the alive
    wavelengths; nothing is updated yet.  Pass: returns 0 after multiplying each
    alive lane's throughput and ratio by T_j / T_0 (the pass probability of the
    hero with lambda_j's coefficient over the hero's own), and prev->T by T_j
-   (the BSDF/phase technique's pdf for the segment, M6).  With --chromatic-media
+   (the BSDF/phase technique's pdf for the segment, THEORY (19)).  With --chromatic-media
    terminate, an event in a medium whose sigma_t differs between the alive
    wavelengths first terminates the secondaries. */
 static int medium_flight(const Renderer *R, PixelSample *ps, int dim, int med, float tmax,
@@ -478,7 +478,7 @@ static int medium_flight(const Renderer *R, PixelSample *ps, int dim, int med, f
    the BSDF's (or phase function's) sampling of the same direction (eq. 6).  Along
    the shadow ray the light is attenuated by the media it crosses, T_j; the BSDF
    technique would have had to cross them too, so its pdf for wavelength m is
-   q_bsdf(m) T_m in the denominator (docs/media.md, M6). */
+   q_bsdf(m) T_m in the denominator (THEORY (19)). */
 static void next_event(const Renderer *R, PixelSample *ps, int depth, const Scatter *v,
                        const LightCtx *ctx, const float *lam, const float *beta,
                        const float *r, unsigned alive, const Wavelengths *wl,
@@ -619,7 +619,7 @@ static int russian_roulette(PixelSample *ps, int depth, float *beta, const float
 /* A collision at distance t along the ray in medium med (medium_flight gave t and
    the extinctions st).  docs/media.md derives each factor:
    - the collision's density for hero m is sigma_t(lambda_m) T_m(t), so every ratio
-     r_m gains (sigma_t,m / sigma_t,0) T_m / T_0 (M5);
+     r_m gains (sigma_t,m / sigma_t,0) T_m / T_0 (THEORY (17));
    - emission (an emissive medium, below maxdepth): the medium's sigma_a Le along
      the ray, estimated at this point with weight 1 / sum_m r_m^2 (no other
      technique makes this point);
@@ -788,7 +788,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
             int i;
             for (i = 0; i < R->n_inf; i++) {
                 int e = R->inf[i], any = 0;
-                double value[HERO_N], w, den;
+                double value[HERO_N], W, den;
                 float q_nee = 0.0f;
                 for (j = 0; j < HERO_N; j++) {
                     value[j] = 0.0;
@@ -803,10 +803,10 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
                     q_nee = P * inf_pdf(&s->emitters[e], dir);
                 }
                 den = mis_denominator(prev.r, prev.q_bsdf, prev.T, q_nee, prev.alive);
-                w = den > 0.0 ? ((double)prev.q_bsdf[0] * prev.T[0]) * ((double)prev.q_bsdf[0] * prev.T[0]) / den : 0.0;
-                film_add(xyz, cmf, wl, value, w, alive);
-                if (dbg) fprintf(dbg, "  escaped: infinite light %d, mis weight %.4g (q_nee %.4g)\n",
-                                 e, w, q_nee);
+                W = den > 0.0 ? ((double)prev.q_bsdf[0] * prev.T[0]) * ((double)prev.q_bsdf[0] * prev.T[0]) / den : 0.0;
+                film_add(xyz, cmf, wl, value, W, alive);
+                if (dbg) fprintf(dbg, "  escaped: infinite light %d, MIS weight %.4g (q_nee %.4g)\n",
+                                 e, W, q_nee);
             }
             if (dbg && R->n_inf == 0) fprintf(dbg, "  escaped\n");
             break;
@@ -818,7 +818,7 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
 
         /* 2. Emission found by the path, weighted against NEE from prev */
         if (shape->emitter >= 0) {
-            double value[HERO_N], w, den;
+            double value[HERO_N], W, den;
             float q_nee = 0.0f;
             int any = 0;
             for (j = 0; j < HERO_N; j++) {
@@ -836,11 +836,11 @@ static void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelS
                 }
                 den = mis_denominator(prev.r, prev.q_bsdf, prev.T, q_nee, prev.alive);
                 /* beta already holds 1/q_bsdf(0) and T_m / T_0 of the media on the way:
-                   weight = (q_bsdf(0) T_0)^2 / den (docs/media.md, M6) */
-                w = den > 0.0 ? ((double)prev.q_bsdf[0] * prev.T[0]) * ((double)prev.q_bsdf[0] * prev.T[0]) / den : 0.0;
-                film_add(xyz, cmf, wl, value, w, alive);
+                   the MIS weight W = (q_bsdf(0) T_0)^2 / den (THEORY (19)) */
+                W = den > 0.0 ? ((double)prev.q_bsdf[0] * prev.T[0]) * ((double)prev.q_bsdf[0] * prev.T[0]) / den : 0.0;
+                film_add(xyz, cmf, wl, value, W, alive);
                 if (dbg) {
-                    debug_weight(dbg, "emission from emitter", shape->emitter, w, prev.r,
+                    debug_weight(dbg, "emission from emitter", shape->emitter, W, prev.r,
                                  prev.q_bsdf, q_nee, prev.alive, 0);
                     if (prev.can_nee && prev.alive != 1u)
                         debug_check_sum(dbg, debug_weight_sum(R, &prev.ctx, piece,
