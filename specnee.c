@@ -480,13 +480,15 @@ static int render_main(int argc, char **argv)
         snprintf(wl_text, sizeof wl_text, "%s", wl_mode_name(a.ro.wl_mode));
     snprintf(settings, sizeof settings,
              "scene=%s seed=%d sampler=%s maxdepth=%d lights=%s spd-metric=%s all-wavelengths=%d "
-             "wavelengths=%s range=%s single=%d rough-dispersion=%s nee=%d fluor-lanes=%s fluor-li=%s",
+             "wavelengths=%s range=%s single=%d rough-dispersion=%s nee=%d fluor-lanes=%s fluor-li=%s "
+             "chromatic-media=%s",
              a.scene, a.ro.seed, sampler_name(a.ro.sampler), a.ro.maxdepth, sel_name(a.ro.sel.strategy),
              a.ro.sel.power_metric ? "power" : "unit", a.ro.sel.all_wavelengths,
              wl_text, a.ro.wl_wide ? "360-830" : "400-700",
              a.ro.single_wavelength, a.ro.rough_mis ? "mis" : "terminate", a.ro.nee,
              a.ro.fluor_keep ? "keep" : "terminate",
-             a.ro.fluor_li == FLUOR_LI_A ? "a" : a.ro.fluor_li == FLUOR_LI_POWER ? "power" : "uniform");
+             a.ro.fluor_li == FLUOR_LI_A ? "a" : a.ro.fluor_li == FLUOR_LI_POWER ? "power" : "uniform",
+             a.ro.media_terminate ? "terminate" : "mis");
     {
         /* the sample count travels with float images, for `specnee merge` */
         size_t len = strlen(out);
