@@ -3964,6 +3964,8 @@ void scene_dump(const Scene *s, FILE *f)
                     m->hg_g, m->maxdepth, m->nsamples);
             dump_spectrum(f, "reflectance", &m->reflectance);
             dump_spectrum(f, "albedo", &m->albedo);
+        } else if (m->type == MAT_INTERFACE) {
+            fprintf(f, "  [%d] interface (no surface: the boundary of a medium)\n", i);
         } else if (m->type == MAT_DIFFUSE_TRANSMISSION) {
             fprintf(f, "  [%d] diffusetransmission, P(reflect lobe) %g\n", i, m->p_reflect);
             dump_spectrum(f, "reflectance", &m->reflectance);
@@ -3994,8 +3996,21 @@ void scene_dump(const Scene *s, FILE *f)
         else
             fprintf(f, "  [%d] mesh %d triangles%s", i, sh->tri_count,
                     sh->has_normals ? " with normals" : "");
-        fprintf(f, ", area %g, material %d, emitter %d%s  (%s:%d)\n", sh->area, sh->material,
-                sh->emitter, sh->flip ? ", flipped" : "", sh->file ? sh->file : "?", sh->line);
+        fprintf(f, ", area %g, material %d, emitter %d%s", sh->area, sh->material,
+                sh->emitter, sh->flip ? ", flipped" : "");
+        if (sh->medium_inside != sh->medium_outside)
+            fprintf(f, ", media inside %d outside %d", sh->medium_inside, sh->medium_outside);
+        fprintf(f, "  (%s:%d)\n", sh->file ? sh->file : "?", sh->line);
+    }
+    fprintf(f, "media: %d, the camera in %d%s\n", s->n_media, st->camera_medium,
+            s->n_media > 0 && st->media_ignored ? " (ignored by this Integrator)" : "");
+    for (i = 0; i < s->n_media; i++) {
+        const Medium *m = &s->media[i];
+        fprintf(f, "  [%d] \"%s\" homogeneous, g %g, sigma_t at 450/550/650 nm: %g %g %g, "
+                "albedo at 550 nm %g%s\n", i, m->name, m->g, medium_sigma_t(m, 450.0f),
+                medium_sigma_t(m, 550.0f), medium_sigma_t(m, 650.0f),
+                medium_sigma_t(m, 550.0f) > 0.0f ? medium_sigma_s(m, 550.0f) / medium_sigma_t(m, 550.0f) : 0.0f,
+                m->Le_scale > 0.0f ? ", emissive" : "");
     }
     fprintf(f, "emitters: %d\n", s->n_emitters);
     for (i = 0; i < s->n_emitters; i++) {
