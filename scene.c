@@ -781,7 +781,7 @@ static int params_check_unused_before(Parser *P, ParamList *pl, const char *what
             return fail(P, p->file, p->line, "%s: \"%s %s\" is valid pbrt-v4 but not in the "
                         "specnee subset", what, tn, p->name);
         {
-            char padded[512];
+            char padded[1024];
             snprintf(padded, sizeof padded, " %s,", reads);
             /* read with exactly this type: another parameter took precedence */
             snprintf(key, sizeof key, " %s %s,", tn, p->name);
@@ -1874,7 +1874,7 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
 static int texture_directive(Parser *P, Lexer *L, const Token *t)
 {
     static const char *const pbrt_classes[] = {
-        "bilerp", "directionmix", "fbm", "ptex", "wrinkled", "windy", NULL
+        "bilerp", "directionmix", "ptex", NULL
     };
     Scene *s = P->s;
     Token a[3];
@@ -1971,6 +1971,27 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
             texture_frame(P, &T);
             ok = tex_marble_init(&T, P->err);
         }
+    } else if (!strcmp(a[2].text, "fbm") || !strcmp(a[2].text, "wrinkled") ||
+               !strcmp(a[2].text, "windy")) {
+        /* pbrt-v4 FBmTexture, WrinkledTexture, WindyTexture (float only): 3-D noise
+           in the frame of the CTM at the directive (texture.c section 4) */
+        T.type = a[2].text[0] == 'f' ? TEX_FBM : a[2].text[1] == 'r' ? TEX_WRINKLED : TEX_WINDY;
+        if (!T.is_float) {
+            ok = fail(P, t->file, t->line, "Texture \"%s\": \"%s\" is a float texture "
+                      "(pbrt-v4 has no spectrum %s)", a[0].text, a[2].text, a[2].text);
+            goto done;
+        }
+        ok = 1;
+        if (T.type != TEX_WINDY) {
+            ok = get_int(P, &pl, "octaves", 8, &T.octaves, NULL) &&
+                 get_float(P, &pl, "roughness", 0.5f, &T.omega);
+            if (ok && !isfinite(T.omega))
+                ok = fail(P, t->file, t->line, "Texture \"%s\": roughness must be finite", a[2].text);
+            if (ok && !(T.octaves >= 0 && T.octaves <= 64))
+                ok = fail(P, t->file, t->line, "Texture \"%s\": octaves %d must be within [0, 64]",
+                          a[2].text, T.octaves);
+        }
+        if (ok) texture_frame(P, &T);
     } else {
         for (k = 0; pbrt_classes[k]; k++)
             if (!strcmp(a[2].text, pbrt_classes[k])) break;
@@ -1993,7 +2014,10 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
             /* TEX_DOTS */ "string mapping, float uscale, float vscale, float udelta, float vdelta, "
                 "vector3 v1, vector3 v2, spectrum inside, rgb inside, float inside, texture inside, "
                 "spectrum outside, rgb outside, float outside, texture outside",
-            /* TEX_MARBLE */ "integer octaves, float roughness, float scale, float variation"
+            /* TEX_MARBLE */ "integer octaves, float roughness, float scale, float variation",
+            /* TEX_FBM */ "integer octaves, float roughness",
+            /* TEX_WRINKLED */ "integer octaves, float roughness",
+            /* TEX_WINDY */ ""
         };
         char what[96];
         snprintf(what, sizeof what, "Texture \"%s\"", a[2].text);

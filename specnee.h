@@ -633,11 +633,12 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm);
    "spectrum" texture) or a number (a "float" texture).  2-D textures first map
    the point to (s, t): "uv" (s = uscale u + udelta, t = vscale v + vdelta),
    "spherical", "cylindrical" or "planar" (in the texture's frame, the CTM at the
-   Texture directive).  3-D textures (marble) use the point in that frame.  An
+   Texture directive).  3-D textures (marble, fbm, wrinkled, windy) use the point
+   in that frame.  An
    argument (tex1, tex2, amount, tex, scale, inside, outside) is a constant or
    another texture. */
 typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP,
-               TEX_DOTS, TEX_MARBLE } TexType;
+               TEX_DOTS, TEX_MARBLE, TEX_FBM, TEX_WRINKLED, TEX_WINDY } TexType;
 typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR } TexMapType;
 typedef enum { TEXWRAP_REPEAT, TEXWRAP_BLACK, TEXWRAP_CLAMP } TexWrap;
 #define TEX_ARGS 2
@@ -647,7 +648,8 @@ typedef struct Texture {
     TexMapType map;
     float su, sv, du, dv;      /* uv: scales and offsets; planar: du, dv the offsets */
     Vec3 vs, vt;               /* planar: the s and t axes ("v1", "v2") */
-    Xform tex_from_world;      /* spherical, cylindrical, planar, marble: the inverse CTM */
+    Xform tex_from_world;      /* spherical, cylindrical, planar and the 3-D textures: the
+                                  inverse CTM */
     /* arguments: checkerboard tex1, tex2; mix tex1, tex2 (and amount); scale tex, scale;
        dots "inside" (shown outside the dots, as in pbrt-v4), "outside" (in them) */
     int arg_tex[TEX_ARGS];     /* a texture index, or -1: the constant below */
@@ -655,8 +657,9 @@ typedef struct Texture {
     float arg_f[TEX_ARGS];     /* float constants (also scale's "scale") */
     int amount_tex; float amount;  /* mix: a float texture or constant (0.5) */
     int scale_tex;             /* scale: "scale" as a float texture (-1: arg_f[1]) */
-    int octaves;               /* marble: octaves of noise in the FBm (8) */
-    float omega, mscale, variation;  /* marble: "roughness" (0.5), "scale" (1), "variation" (0.2) */
+    int octaves;               /* marble, fbm, wrinkled: octaves of noise (8) */
+    float omega, mscale, variation;  /* marble: "roughness" (0.5), "scale" (1), "variation" (0.2);
+                                        fbm, wrinkled: omega = "roughness" (0.5) */
     /* imagemap: w x h texels, row 0 at the top of the image; a spectrum texture
        keeps 4 floats per texel (m and the sigmoid's 3 coefficients: the texel's
        reflectance is m sigmoid(c, lambda), spectrum.c), a float one 1 (the mean of
@@ -676,6 +679,9 @@ float tex_noise(float x, float y, float z);
 /* Fractional Brownian motion: sum over i < octaves of omega^i noise(1.99^i p), pbrt-v4's
    FBm for a footprint of zero (texture.c section 4). */
 float tex_fbm(Vec3 p, float omega, int octaves);
+/* pbrt-v4's Turbulence for a footprint of zero: sum over i < octaves of omega^i
+   |noise(1.99^i p)|, plus 0.2 omega^octaves (texture.c section 4). */
+float tex_turbulence(Vec3 p, float omega, int octaves);
 /* A marble texture's colour table (texture.c section 4): 0 and a message when out of memory. */
 int   tex_marble_init(Texture *t, Error *err);
 /* Smooth dielectrics scatter into discrete (delta) directions: no NEE there.  A
