@@ -1,6 +1,6 @@
-/* layered.c - pbrt-v4's "coateddiffuse": a dielectric coat over a Lambertian base,
-   with an optional scattering medium between the two, evaluated by stochastic
-   random walks between the interfaces.
+/* layered.c - pbrt-v4's "coateddiffuse" and "coatedconductor": a dielectric coat
+   over a Lambertian or a conductor base, with an optional scattering medium between
+   the two, evaluated by stochastic random walks between the interfaces.
 
    Exported: layered_sample, layered_eval, layered_pdf (specnee.h section 6),
    called by material.c's bsdf_sample / bsdf_eval in the shading frame (n = +z,
@@ -71,8 +71,21 @@
    bsdf_eval's f is a random-walk estimate seeded from (wo, wi) too: unbiased
    over the seeds, deterministic for a given pair, independent of threads.
    The index is a number (specnee refuses a spectral eta here), so every
-   wavelength shares the directions: pdf_l[j] = pdf, and only R and the albedo
-   differ per wavelength. */
+   wavelength shares the directions: pdf_l[j] = pdf, and only the base's
+   reflectance (R, or the conductor's Fresnel) and the albedo differ per wavelength.
+
+   5. coatedconductor (pbrt-v4's CoatedConductorBxDF = LayeredBxDF<DielectricBxDF,
+      ConductorBxDF, true>, CoatedConductorMaterial::GetBxDF): the same walks with
+      conductor.c's BRDF as the base (complex Fresnel; smooth: a delta lobe, rough:
+      GGX with visible-normal sampling).  The conductor sits under the coat, so its
+      index is taken relative to the coat's: n / eta and k / eta ("reflectance" r
+      first stands for n = 1, k = 2 sqrt(r) / sqrt(1 - r), r <= 0.9999, as for the
+      bare conductor, then is divided too: r is NOT the reflectance under the
+      coat).  Delta lobes change the MIS of section 2 as in pbrt-v4: a smooth base
+      gets no next-event estimate (its f is 0) and its sampled exits weight 1; in
+      the pdf estimate a smooth base's sampled direction adds the coat's pdf alone.
+      A smooth coat over a smooth base without albedo is a purely specular BSDF:
+      bsdf_eval gives 0 and every sample is a delta (a specular path). */
 #include "specnee.h"
 #include <float.h>
 #include <string.h>
@@ -182,18 +195,97 @@ static void coat_pair(const Coat *c, Vec3 wo, Vec3 wi, int lobes, float *f, floa
 
 /* ---------------------------------------------------------------- base and medium */
 
-static float base_pdf(Vec3 wo, Vec3 wi)
+/* The base at z = 0, seen from inside the slab (directions with z > 0): Lambert
+   (coateddiffuse) or a conductor (coatedconductor, section 5). */
+typedef struct {
+    int cond;                  /* 0: Lambert of reflectance R; 1: conductor */
+    float alpha;               /* conductor: GGX alpha (smooth below 1e-3) */
+    float R[HERO_N];           /* Lambert: the reflectance */
+    float ce[HERO_N], ck[HERO_N];   /* conductor: n and k relative to the coat's index */
+} Base;
+
+/* pbrt-v4's TrowbridgeReitzDistribution::EffectivelySmooth: a delta lobe. */
+static int base_specular(const Base *b) { return b->cond && b->alpha < 1e-3f; }
+
+/* The base's pdf of wi given wo (0 for a delta lobe). */
+static float base_pdf(const Base *b, Vec3 wo, Vec3 wi)
 {
-    return wo.z * wi.z > 0.0f ? fabsf(wi.z) / PI_F : 0.0f;
+    Vec3 wm;
+    if (wo.z * wi.z <= 0.0f) return 0.0f;
+    if (!b->cond) return fabsf(wi.z) / PI_F;
+    if (base_specular(b)) return 0.0f;
+    wm = v3_add(wo, wi);
+    if (v3_dot(wm, wm) == 0.0f) return 0.0f;
+    wm = v3_norm(wm);
+    if (wm.z < 0.0f) wm = v3_neg(wm);
+    return tr_pdf_wm(b->alpha, b->alpha, wo, wm) / (4.0f * fabsf(v3_dot(wo, wm)));
 }
 
-/* Cosine-weighted on w's side. */
-static Vec3 base_sample(Vec3 w, float u1, float u2)
+/* The base's f (without the cosine) for a pair, per wavelength (0 for a delta lobe). */
+static void base_f(const Base *b, Vec3 wo, Vec3 wi, float f[HERO_N])
 {
-    float r = sqrtf(u1), phi = 2.0f * PI_F * u2;
-    Vec3 d = v3(r * cosf(phi), r * sinf(phi), sqrtf(fmaxf(0.0f, 1.0f - u1)));
-    if (w.z < 0.0f) d.z = -d.z;
-    return d;
+    int j;
+    for (j = 0; j < HERO_N; j++) f[j] = 0.0f;
+    if (wo.z * wi.z <= 0.0f) return;
+    if (!b->cond) {
+        for (j = 0; j < HERO_N; j++) f[j] = b->R[j] / PI_F;
+    } else if (!base_specular(b)) {
+        float a = b->alpha, c, dg;
+        Vec3 wm = v3_add(wo, wi);
+        if (v3_dot(wm, wm) == 0.0f) return;
+        wm = v3_norm(wm);
+        if (wm.z < 0.0f) wm = v3_neg(wm);
+        c = fabsf(v3_dot(wo, wm));
+        dg = tr_D(a, a, wm) * tr_G(a, a, wo, wi) / (4.0f * fabsf(wo.z * wi.z));
+        for (j = 0; j < HERO_N; j++) f[j] = dg * fresnel_conductor(c, b->ce[j], b->ck[j]);
+    }
+}
+
+/* Sample the base from w (z > 0 side): the direction, f (without the cosine), the
+   weight f |cos| / pdf per wavelength, the pdf (1 for the smooth conductor's delta
+   lobe, whose f is F / |cos|).  0 when no direction (or all f = 0). */
+static int base_sample(const Base *b, Vec3 w, float u1, float u2, Vec3 *wn, float f[HERO_N],
+                       float wt[HERO_N], float *pdf, int *specular)
+{
+    int j, any = 0;
+    *specular = 0;
+    if (!b->cond) {                   /* cosine-weighted on w's side */
+        float r = sqrtf(u1), phi = 2.0f * PI_F * u2;
+        Vec3 d = v3(r * cosf(phi), r * sinf(phi), sqrtf(fmaxf(0.0f, 1.0f - u1)));
+        if (w.z < 0.0f) d.z = -d.z;
+        *wn = d;
+        *pdf = base_pdf(b, w, d);
+        for (j = 0; j < HERO_N; j++) {
+            f[j] = b->R[j] / PI_F;
+            wt[j] = b->R[j];          /* (R/pi) cos / (cos/pi) */
+            if (f[j] > 0.0f) any = 1;
+        }
+        return *pdf > 0.0f && any;
+    }
+    if (base_specular(b)) {           /* the mirror direction, probability 1 */
+        *wn = v3(-w.x, -w.y, w.z);
+        *pdf = 1.0f;
+        *specular = 1;
+        for (j = 0; j < HERO_N; j++) {
+            wt[j] = fresnel_conductor(fabsf(w.z), b->ce[j], b->ck[j]);
+            f[j] = wt[j] / fabsf(w.z);
+            if (f[j] > 0.0f) any = 1;
+        }
+        return any && w.z != 0.0f;
+    } else {                          /* GGX visible normals, as conductor.c */
+        Vec3 wm = tr_sample_wm(b->alpha, b->alpha, w, u1, u2);
+        *wn = v3_sub(v3_mul(wm, 2.0f * v3_dot(w, wm)), w);
+        if (wn->z * w.z <= 0.0f) return 0;
+        *wn = v3_norm(*wn);
+        *pdf = base_pdf(b, w, *wn);
+        if (!(*pdf > 0.0f)) return 0;
+        base_f(b, w, *wn, f);
+        for (j = 0; j < HERO_N; j++) {
+            wt[j] = f[j] * fabsf(wn->z) / *pdf;
+            if (f[j] > 0.0f) any = 1;
+        }
+        return any;
+    }
 }
 
 /* Henyey-Greenstein: hg_phase and hg_sample (medium.c), whose cosine is
@@ -220,7 +312,8 @@ typedef struct {
     Coat top;
     float thick, g;
     int maxdepth, nsamples, has_albedo;
-    float R[HERO_N], A[HERO_N];
+    Base base;
+    float A[HERO_N];
 } Layer;
 
 static void layer_init(const Material *m, const MatPoint *mp, const float *lambda, unsigned alive,
@@ -234,11 +327,30 @@ static void layer_init(const Material *m, const MatPoint *mp, const float *lambd
     L->maxdepth = m->maxdepth;
     L->nsamples = m->nsamples;
     L->has_albedo = 0;
+    L->base.cond = m->type == MAT_COATED_CONDUCTOR;
+    L->base.alpha = mp ? mp->cond_alpha : m->cond_alpha;
     for (j = 0; j < HERO_N; j++) {
         int on = (alive & (1u << j)) != 0;
-        L->R[j] = !on ? 0.0f : mp && mp->has_r ? mp->r[j] : spec_eval(&m->reflectance, lambda[j]);
         L->A[j] = on ? spec_eval(&m->albedo, lambda[j]) : 0.0f;
         if (L->A[j] > 0.0f) L->has_albedo = 1;
+        L->base.R[j] = 0.0f;
+        L->base.ce[j] = 1.0f;                 /* n = 1, k = 0: F = 0 (dead wavelengths) */
+        L->base.ck[j] = 0.0f;
+        if (!on) continue;
+        if (!L->base.cond) {
+            L->base.R[j] = mp && mp->has_r ? mp->r[j] : spec_eval(&m->reflectance, lambda[j]);
+        } else {
+            /* section 5: the conductor's index relative to the coat's */
+            if (mp && mp->has_r) {
+                double r = mp->r[j] < 0.9999f ? mp->r[j] : 0.9999;
+                L->base.ck[j] = (float)(2.0 * sqrt(r) / sqrt(1.0 - r));
+            } else {
+                L->base.ce[j] = spec_eval(&m->cond_eta, lambda[j]);
+                L->base.ck[j] = spec_eval(&m->k, lambda[j]);
+            }
+            L->base.ce[j] /= L->top.eta;
+            L->base.ck[j] /= L->top.eta;
+        }
     }
 }
 
@@ -319,25 +431,26 @@ static void walk_f(const Layer *L, Vec3 wo, Vec3 wi, Rng *rng, float f[HERO_N])
                 for (j = 0; j < HERO_N; j++) beta[j] *= r.f * fabsf(r.wi.z) / r.pdf;
                 w = r.wi;
             } else {                                /* the base */
-                float wt = 1.0f, tr = slab_tr(L->thick, wis.wi), pb;
+                float tr = slab_tr(L->thick, wis.wi), pb, bf[HERO_N], bw[HERO_N];
+                int bspec;
                 Vec3 wn;
-                float fb_on = base_pdf(v3_neg(w), v3_neg(wis.wi)) > 0.0f ? 1.0f : 0.0f;
-                if (!smooth) wt = power_h(wis.pdf, base_pdf(v3_neg(w), v3_neg(wis.wi)));
-                for (j = 0; j < HERO_N; j++)
-                    f[j] += beta[j] * fb_on * L->R[j] / PI_F * fabsf(wis.wi.z) * wt * tr *
-                            wis.f / wis.pdf;
+                if (!base_specular(&L->base)) {
+                    float wt = smooth ? 1.0f
+                                      : power_h(wis.pdf, base_pdf(&L->base, v3_neg(w), v3_neg(wis.wi)));
+                    base_f(&L->base, v3_neg(w), v3_neg(wis.wi), bf);
+                    for (j = 0; j < HERO_N; j++)
+                        f[j] += beta[j] * bf[j] * fabsf(wis.wi.z) * wt * tr * wis.f / wis.pdf;
+                }
                 a = rng_u(rng); b = rng_u(rng);
-                wn = base_sample(v3_neg(w), a, b);
-                pb = base_pdf(v3_neg(w), wn);
-                if (!(pb > 0.0f)) break;
-                for (j = 0; j < HERO_N; j++) beta[j] *= L->R[j];   /* (R/pi) cos / (cos/pi) */
+                if (!base_sample(&L->base, v3_neg(w), a, b, &wn, bf, bw, &pb, &bspec)) break;
+                for (j = 0; j < HERO_N; j++) beta[j] *= bw[j];
                 w = wn;
                 if (!smooth) {
                     float fe, pe;
                     coat_pair(&L->top, v3_neg(w), wi, LOBE_T, &fe, &pe);
                     coat_pair(&L->top, wi, v3_neg(w), LOBE_T, &pe, &pe);       /* p(-w | wi) */
                     if (fe > 0.0f) {
-                        float wt2 = power_h(pb, pe), t2 = slab_tr(L->thick, w);
+                        float wt2 = bspec ? 1.0f : power_h(pb, pe), t2 = slab_tr(L->thick, w);
                         for (j = 0; j < HERO_N; j++) f[j] += beta[j] * t2 * fe * wt2;
                     }
                 }
@@ -350,9 +463,9 @@ static void walk_f(const Layer *L, Vec3 wo, Vec3 wi, Rng *rng, float f[HERO_N])
 /* The pdf approximation of section 4; wo.z > 0. */
 static float walk_pdf(const Layer *L, Vec3 wo, Vec3 wi, Rng *rng)
 {
-    int s, j, smooth = coat_smooth(&L->top), base_on = 0;
+    int s, j, smooth = coat_smooth(&L->top), base_on = L->base.cond;
     float sum = 0.0f, ftop, ptop;
-    for (j = 0; j < HERO_N; j++) if (L->R[j] > 0.0f) base_on = 1;
+    for (j = 0; j < HERO_N; j++) if (L->base.R[j] > 0.0f) base_on = 1;
     if (wi.z > 0.0f) {
         coat_pair(&L->top, wo, wi, LOBE_R | LOBE_T, &ftop, &ptop);
         sum += (float)L->nsamples * ptop;
@@ -363,17 +476,17 @@ static float walk_pdf(const Layer *L, Vec3 wo, Vec3 wi, Rng *rng)
             if (!coat_sample(&L->top, wo, a, b, c, LOBE_T, 1, &wos)) continue;
             a = rng_u(rng); b = rng_u(rng); c = rng_u(rng);
             if (!coat_sample(&L->top, wi, a, b, c, LOBE_T, 0, &wis)) continue;
-            if (smooth) sum += base_pdf(v3_neg(wos.wi), v3_neg(wis.wi));
+            if (smooth) sum += base_pdf(&L->base, v3_neg(wos.wi), v3_neg(wis.wi));
             else if (base_on) {
                 Vec3 rs;
-                float rp, rpdf, tf, tpdf;
+                float rp, rpdf, tf, tpdf, bf[HERO_N], bw[HERO_N];
+                int bspec;
                 a = rng_u(rng); b = rng_u(rng);
-                rs = base_sample(v3_neg(wos.wi), a, b);
-                rp = base_pdf(v3_neg(wos.wi), rs);
-                if (!(rp > 0.0f)) continue;
-                rpdf = base_pdf(v3_neg(wos.wi), v3_neg(wis.wi));
-                sum += power_h(wis.pdf, rpdf) * rpdf;
+                if (!base_sample(&L->base, v3_neg(wos.wi), a, b, &rs, bf, bw, &rp, &bspec)) continue;
                 coat_pair(&L->top, v3_neg(rs), wi, LOBE_R | LOBE_T, &tf, &tpdf);
+                if (bspec) { sum += tpdf; continue; }  /* the base's delta lobe */
+                rpdf = base_pdf(&L->base, v3_neg(wos.wi), v3_neg(wis.wi));
+                sum += power_h(wis.pdf, rpdf) * rpdf;
                 sum += power_h(rp, tpdf) * tpdf;
             }
         }
@@ -472,16 +585,13 @@ static int walk_sample(const Layer *L, Vec3 wo, float uc, float u1, float u2, Rn
         }
         if (z == 0.0f) {                            /* the base */
             Vec3 wn;
-            float pb;
+            float pb, bf[HERO_N], bw[HERO_N];
+            int bspec;
             a = rng_u(rng); b = rng_u(rng);
-            wn = base_sample(v3_neg(w), a, b);
-            pb = base_pdf(v3_neg(w), wn);
-            fmax = 0.0f;
-            for (j = 0; j < HERO_N; j++) fmax = fmaxf(fmax, L->R[j]);
-            if (!(pb > 0.0f) || !(fmax > 0.0f)) return 0;
-            for (j = 0; j < HERO_N; j++) fw[j] *= L->R[j] / PI_F * fabsf(wn.z);
+            if (!base_sample(&L->base, v3_neg(w), a, b, &wn, bf, bw, &pb, &bspec)) return 0;
+            for (j = 0; j < HERO_N; j++) fw[j] *= bf[j] * fabsf(wn.z);
             pdf *= pb;
-            spec = 0;
+            spec = spec && bspec;
             w = wn;
         } else {                                    /* the coat from inside */
             a = rng_u(rng); b = rng_u(rng); c = rng_u(rng);

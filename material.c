@@ -1,6 +1,7 @@
 /* material.c - the materials the scenes need: diffuse, (dispersive) glass, a
    diffuse fluorescent layer, pbrt-v4's thindielectric and diffusetransmission, and
-   the dispatch to conductors (conductor.c) and coateddiffuse (layered.c).
+   the dispatch to conductors (conductor.c), coateddiffuse and coatedconductor
+   (layered.c).
 
    Exported: mat_eta, mat_is_delta, mat_point, bsdf_sample, bsdf_eval, fresnel_dielectric,
    refract_dir, mat_albedo, fluor_* (specnee.h section 6).  Every sampler has its
@@ -80,6 +81,7 @@ void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, u
     mp->alpha = m->alpha;
     mp->alpha_t = m->alpha_t;
     mp->has_r = 0;
+    mp->cond_alpha = m->cond_alpha;
     if (!m->textures) return;
     if (m->alpha_tex > 0) {
         /* pbrt-v4: the roughness texture's value, then RoughnessToAlpha (sqrt) when
@@ -87,6 +89,11 @@ void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, u
         float v = tex_eval(m->textures, m->alpha_tex - 1, sp, lambda[0]);
         v = v > 0.0f ? (v < 1e4f ? v : 1e4f) : 0.0f;
         mp->alpha = mp->alpha_t = m->remap ? sqrtf(v) : v;
+    }
+    if (m->cond_alpha_tex > 0) {                 /* coatedconductor's base, the same rule */
+        float v = tex_eval(m->textures, m->cond_alpha_tex - 1, sp, lambda[0]);
+        v = v > 0.0f ? (v < 1e4f ? v : 1e4f) : 0.0f;
+        mp->cond_alpha = m->remap ? sqrtf(v) : v;
     }
     if (m->reflectance_tex > 0) {
         mp->has_r = 1;
@@ -504,7 +511,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         if (!out->delta && v3_dot(out->wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return 0;
         return 1;
     }
-    if (m->type == MAT_COATED_DIFFUSE) {                 /* layered.c */
+    if (m->type == MAT_COATED_DIFFUSE || m->type == MAT_COATED_CONDUCTOR) {   /* layered.c */
         MatPoint mp;
         mat_point(m, sp, lambda, alive, &mp);
         if (!layered_sample(m, &mp, &fr, wo, lambda, alive, u0, u1, u2, 0, out)) return 0;
@@ -606,7 +613,8 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
     Vec3 lo = frame_to_local(&fr, wo), li = frame_to_local(&fr, wi);
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
-    if (m->type == MAT_CONDUCTOR || m->type == MAT_COATED_DIFFUSE) {
+    if (m->type == MAT_CONDUCTOR || m->type == MAT_COATED_DIFFUSE ||
+        m->type == MAT_COATED_CONDUCTOR) {
         MatPoint mp;
         if (v3_dot(wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return;   /* no leaks */
         mat_point(m, sp, lambda, alive, &mp);

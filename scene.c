@@ -781,7 +781,7 @@ static int params_check_unused_before(Parser *P, ParamList *pl, const char *what
             return fail(P, p->file, p->line, "%s: \"%s %s\" is valid pbrt-v4 but not in the "
                         "specnee subset", what, tn, p->name);
         {
-            char padded[512];
+            char padded[1024];
             snprintf(padded, sizeof padded, " %s,", reads);
             /* read with exactly this type: another parameter took precedence */
             snprintf(key, sizeof key, " %s %s,", tn, p->name);
@@ -1874,7 +1874,7 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
 static int texture_directive(Parser *P, Lexer *L, const Token *t)
 {
     static const char *const pbrt_classes[] = {
-        "bilerp", "directionmix", "fbm", "ptex", "wrinkled", "windy", NULL
+        "bilerp", "directionmix", "ptex", NULL
     };
     Scene *s = P->s;
     Token a[3];
@@ -1971,6 +1971,27 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
             texture_frame(P, &T);
             ok = tex_marble_init(&T, P->err);
         }
+    } else if (!strcmp(a[2].text, "fbm") || !strcmp(a[2].text, "wrinkled") ||
+               !strcmp(a[2].text, "windy")) {
+        /* pbrt-v4 FBmTexture, WrinkledTexture, WindyTexture (float only): 3-D noise
+           in the frame of the CTM at the directive (texture.c section 4) */
+        T.type = a[2].text[0] == 'f' ? TEX_FBM : a[2].text[1] == 'r' ? TEX_WRINKLED : TEX_WINDY;
+        if (!T.is_float) {
+            ok = fail(P, t->file, t->line, "Texture \"%s\": \"%s\" is a float texture "
+                      "(pbrt-v4 has no spectrum %s)", a[0].text, a[2].text, a[2].text);
+            goto done;
+        }
+        ok = 1;
+        if (T.type != TEX_WINDY) {
+            ok = get_int(P, &pl, "octaves", 8, &T.octaves, NULL) &&
+                 get_float(P, &pl, "roughness", 0.5f, &T.omega);
+            if (ok && !isfinite(T.omega))
+                ok = fail(P, t->file, t->line, "Texture \"%s\": roughness must be finite", a[2].text);
+            if (ok && !(T.octaves >= 0 && T.octaves <= 64))
+                ok = fail(P, t->file, t->line, "Texture \"%s\": octaves %d must be within [0, 64]",
+                          a[2].text, T.octaves);
+        }
+        if (ok) texture_frame(P, &T);
     } else {
         for (k = 0; pbrt_classes[k]; k++)
             if (!strcmp(a[2].text, pbrt_classes[k])) break;
@@ -1993,7 +2014,10 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
             /* TEX_DOTS */ "string mapping, float uscale, float vscale, float udelta, float vdelta, "
                 "vector3 v1, vector3 v2, spectrum inside, rgb inside, float inside, texture inside, "
                 "spectrum outside, rgb outside, float outside, texture outside",
-            /* TEX_MARBLE */ "integer octaves, float roughness, float scale, float variation"
+            /* TEX_MARBLE */ "integer octaves, float roughness, float scale, float variation",
+            /* TEX_FBM */ "integer octaves, float roughness",
+            /* TEX_WRINKLED */ "integer octaves, float roughness",
+            /* TEX_WINDY */ ""
         };
         char what[96];
         snprintf(what, sizeof what, "Texture \"%s\"", a[2].text);
@@ -2038,18 +2062,22 @@ static int rough_param(Parser *P, ParamList *pl, const char *name, int *have, fl
    alpha = sqrt(roughness) (TrowbridgeReitzDistribution::RoughnessToAlpha).  Each
    may be a float texture: then *alpha_tex = 1 + its index, the alphas are 0, and
    material.c's mat_point reads the texture at each hit (the same texture for u
-   and v; anything else with a texture is anisotropic, refused by name). */
-static int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
-                             const char *what, float *alpha_u, float *alpha_v, int *alpha_tex,
-                             int *remap_out)
+   and v; anything else with a texture is anisotropic, refused by name).  prefix
+   names a layer's parameters ("interface.", "conductor." of coatedconductor). */
+static int microfacet_alphas_of(Parser *P, ParamList *pl, const char *file, int line,
+                                const char *what, const char *prefix, float *alpha_u,
+                                float *alpha_v, int *alpha_tex, int *remap_out)
 {
     float u = 0, v = 0, r = 0;
     int remap, have_u, have_v, have_r, tu, tv, tr;
-    if (!rough_param(P, pl, "uroughness", &have_u, &u, &tu) ||
-        !rough_param(P, pl, "vroughness", &have_v, &v, &tv))
+    char nu[48], nv[48], nr[48];
+    snprintf(nu, sizeof nu, "%suroughness", prefix);
+    snprintf(nv, sizeof nv, "%svroughness", prefix);
+    snprintf(nr, sizeof nr, "%sroughness", prefix);
+    if (!rough_param(P, pl, nu, &have_u, &u, &tu) || !rough_param(P, pl, nv, &have_v, &v, &tv))
         return 0;
     if (!have_u || !have_v) {
-        if (!rough_param(P, pl, "roughness", &have_r, &r, &tr)) return 0;
+        if (!rough_param(P, pl, nr, &have_r, &r, &tr)) return 0;
         if (!have_u) { u = r; tu = tr; }
         if (!have_v) { v = r; tv = tr; }
     }
@@ -2066,10 +2094,19 @@ static int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int lin
         return 1;
     }
     if (!(u >= 0.0f && u <= 1e4f) || !(v >= 0.0f && v <= 1e4f))
-        return fail(P, file, line, "%s: roughness (%g, %g) must be within [0, 1e4]", what, u, v);
+        return fail(P, file, line, "%s: %s (%g, %g) must be within [0, 1e4]", what, nr, u, v);
     *alpha_u = remap ? sqrtf(u) : u;
     *alpha_v = remap ? sqrtf(v) : v;
     return 1;
+}
+
+/* The same for the unprefixed names ("roughness", "uroughness", "vroughness"). */
+static int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
+                             const char *what, float *alpha_u, float *alpha_v, int *alpha_tex,
+                             int *remap_out)
+{
+    return microfacet_alphas_of(P, pl, file, line, what, "", alpha_u, alpha_v, alpha_tex,
+                                remap_out);
 }
 
 /* Every value of a spectrum over 300-830 nm must satisfy lo < v (strict) or
@@ -2355,6 +2392,110 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         m->nsamples = ns;
         return 1;
     }
+    if (!strcmp(type, "coatedconductor")) {
+        /* pbrt-v4 CoatedConductorMaterial (layered.c section 5): a dielectric coat
+           ("interface." eta 1.5, roughness 0) over a conductor ("conductor." eta and
+           k, Cu by default, or a "reflectance"; roughness 0), a slab of thickness
+           0.01 with a medium of albedo 0 and HG g 0; maxdepth 10, nsamples 1 */
+        Param *pe = find_spectrum_param(pl, "conductor.eta"), *pk = find_spectrum_param(pl, "conductor.k");
+        Param *pr = find_spectrum_param(pl, "reflectance"), *pa = find_spectrum_param(pl, "albedo");
+        Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
+        Param *pie = find_spectrum_param(pl, "interface.eta");
+        Param *pf = param_find(pl, PT_FLOAT, "interface.eta");
+        Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
+        Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
+        float eta, th, g, cat;
+        int md, ns, given, nm, remap2;
+        m->type = MAT_COATED_CONDUCTOR;
+        if (pie && !pf)
+            return fail(P, pie->file, pie->line, "%s: a spectral \"interface.eta\" is valid "
+                        "pbrt-v4 (it terminates the secondary wavelengths) but not in the specnee "
+                        "subset: give \"float interface.eta\"", what);
+        if (!microfacet_alphas_of(P, pl, file, line, what, "interface.", &m->alpha, &m->alpha_t,
+                                  &m->alpha_tex, &m->remap) ||
+            !microfacet_alphas_of(P, pl, file, line, what, "conductor.", &m->cond_alpha, &cat,
+                                  &m->cond_alpha_tex, &remap2))
+            return 0;
+        if (!get_float(P, pl, "interface.eta", 1.5f, &eta) ||
+            !get_float(P, pl, "thickness", 0.01f, &th) || !get_float(P, pl, "g", 0.0f, &g) ||
+            !get_int(P, pl, "maxdepth", 10, &md, &given) || !get_int(P, pl, "nsamples", 1, &ns, &given))
+            return 0;
+        if (!params_check_unused(P, pl, what, "float interface.eta, float interface.roughness, "
+                                 "float interface.uroughness, float interface.vroughness, "
+                                 "texture interface.roughness, texture interface.uroughness, "
+                                 "texture interface.vroughness, spectrum conductor.eta, "
+                                 "spectrum conductor.k, spectrum reflectance, rgb reflectance, "
+                                 "texture reflectance, float conductor.roughness, "
+                                 "float conductor.uroughness, float conductor.vroughness, "
+                                 "texture conductor.roughness, texture conductor.uroughness, "
+                                 "texture conductor.vroughness, bool remaproughness, "
+                                 "float thickness, spectrum albedo, rgb albedo, float g, "
+                                 "integer maxdepth, integer nsamples", "displacement normalmap"))
+            return 0;
+        if (m->alpha != m->alpha_t || m->cond_alpha != cat)
+            return fail(P, file, line, "%s: anisotropic roughness (interface u %g v %g, conductor "
+                        "u %g v %g after the remap) is valid pbrt-v4 but not in the specnee subset",
+                        what, m->alpha, m->alpha_t, m->cond_alpha, cat);
+        if ((pr || pt) && (pe || pk))
+            return fail(P, file, line, "%s: give either \"reflectance\" or \"conductor.eta\" and "
+                        "\"conductor.k\", not both (pbrt-v4 refuses it too)", what);
+        if (!(eta > 0.0f && eta < 100.0f))
+            return fail(P, pf ? pf->file : file, pf ? pf->line : line,
+                        "%s: \"float interface.eta\" %g is not an index of refraction", what, eta);
+        spec_const(&m->eta, eta);
+        if (!(th > 0.0f && th < 1e30f))
+            return fail(P, pth ? pth->file : file, pth ? pth->line : line,
+                        "%s: \"float thickness\" %g must be finite and > 0", what, th);
+        if (!(g > -1.0f && g < 1.0f))
+            return fail(P, pg ? pg->file : file, pg ? pg->line : line,
+                        "%s: \"float g\" %g must be within (-1, 1)", what, g);
+        if (md < 1)
+            return fail(P, pd ? pd->file : file, pd ? pd->line : line,
+                        "%s: \"integer maxdepth\" %d must be >= 1", what, md);
+        if (ns < 1)
+            return fail(P, pn ? pn->file : file, pn ? pn->line : line,
+                        "%s: \"integer nsamples\" %d must be >= 1", what, ns);
+        if (!unit_spectrum_param(P, pa, &m->albedo, 0.0f)) return 0;
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
+            if (!(spec_get(&m->albedo, nm) >= 0.0f && spec_get(&m->albedo, nm) <= 1.0f))
+                return fail(P, pa ? pa->file : file, pa ? pa->line : line,
+                            "%s: \"albedo\" %g at %d nm must be within [0, 1]", what,
+                            spec_get(&m->albedo, nm), nm);
+        if (pt) {
+            /* "texture reflectance": r read at each hit (mat_point), n and k from it
+               there (layered.c layer_init) */
+            int ti = texture_lookup(P, pt, 0);
+            if (ti < 0) return 0;
+            m->reflectance_tex = ti + 1;
+            spec_const(&m->cond_eta, 1.0f);
+            spec_const(&m->k, 0.0f);                  /* (not read) */
+        } else if (pr) {
+            /* as the conductor's: r clamped to [0, 0.9999], n = 1, k = 2 sqrt(r) / sqrt(1 - r) */
+            if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
+            if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
+            spec_const(&m->cond_eta, 1.0f);
+            for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+                double r = spec_get(&m->reflectance, nm);
+                if (r > 0.9999) r = 0.9999;
+                *spec_at(&m->k, nm) = (float)(2.0 * sqrt(r) / sqrt(1.0 - r));
+            }
+        } else {
+            if (pe) { if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->cond_eta, NULL)) return 0; }
+            else spec_named(&m->cond_eta, "metal-Cu-eta");
+            if (pk) { if (!param_spectrum(P, pk, SPEC_UNBOUNDED, &m->k, NULL)) return 0; }
+            else spec_named(&m->k, "metal-Cu-k");
+            if (!check_spectrum_above(P, pe, file, line, "\"spectrum conductor.eta\" of a "
+                                      "coatedconductor", &m->cond_eta, 0.0f, 1) ||
+                !check_spectrum_above(P, pk, file, line, "\"spectrum conductor.k\" of a "
+                                      "coatedconductor", &m->k, 0.0f, 0))
+                return 0;
+        }
+        m->thickness = th;
+        m->hg_g = g;
+        m->maxdepth = md;
+        m->nsamples = ns;
+        return 1;
+    }
     if (!strcmp(type, "thindielectric")) {
         /* pbrt-v4 ThinDielectricMaterial (material.c): "float eta" or "spectrum eta",
            1.5 by default; no roughness */
@@ -2412,15 +2553,15 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
     }
     {
         static const char *const pbrt_types[] = {
-            "coatedconductor", "hair",
-            "measured", "mix", "subsurface", NULL
+            "hair", "measured", "mix", "subsurface", NULL
         };
         int i;
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
                 return fail(P, file, line, "%s \"%s\" is valid pbrt-v4 but not in the "
                             "specnee subset (use \"diffuse\", \"dielectric\", \"conductor\", "
-                            "\"thindielectric\" or \"diffusetransmission\")", dir, type);
+                            "\"coateddiffuse\", \"coatedconductor\", \"thindielectric\" or "
+                            "\"diffusetransmission\")", dir, type);
         return fail(P, file, line, "%s \"%s\": unknown material type", dir, type);
     }
 }
@@ -3966,6 +4107,14 @@ void scene_dump(const Scene *s, FILE *f)
             dump_spectrum(f, "albedo", &m->albedo);
         } else if (m->type == MAT_INTERFACE) {
             fprintf(f, "  [%d] interface (no surface: the boundary of a medium)\n", i);
+        } else if (m->type == MAT_COATED_CONDUCTOR) {
+            fprintf(f, "  [%d] coatedconductor, interface alpha %g, eta %g, conductor alpha %g, "
+                    "thickness %g, g %g, maxdepth %d, nsamples %d\n", i, m->alpha,
+                    spec_eval(&m->eta, 550.0f), m->cond_alpha, m->thickness, m->hg_g, m->maxdepth,
+                    m->nsamples);
+            dump_spectrum(f, "conductor eta", &m->cond_eta);
+            dump_spectrum(f, "conductor k", &m->k);
+            dump_spectrum(f, "albedo", &m->albedo);
         } else if (m->type == MAT_DIFFUSE_TRANSMISSION) {
             fprintf(f, "  [%d] diffusetransmission, P(reflect lobe) %g\n", i, m->p_reflect);
             dump_spectrum(f, "reflectance", &m->reflectance);

@@ -550,6 +550,8 @@ typedef enum {
     MAT_THIN_DIELECTRIC,       /* pbrt-v4 "thindielectric": reflect or pass straight through */
     MAT_DIFFUSE_TRANSMISSION,  /* pbrt-v4 "diffusetransmission": Lambert both sides */
     MAT_COATED_DIFFUSE,        /* pbrt-v4 "coateddiffuse": dielectric coat over Lambert (layered.c) */
+    MAT_COATED_CONDUCTOR,      /* pbrt-v4 "coatedconductor": dielectric coat over a conductor
+                                  (layered.c) */
     MAT_INTERFACE              /* pbrt-v4 "interface": no surface, only the boundary of a medium
                                   (rays pass it; medium.c, docs/media.md) */
 } MaterialType;
@@ -571,7 +573,8 @@ typedef struct {
     float alpha;               /* GGX roughness alpha (0 = smooth), after remaproughness;
                                   conductor: alpha along the shading frame's s axis */
     float alpha_t;             /* conductor: alpha along the t axis (anisotropic GGX) */
-    Spectrum k;                /* conductor: extinction coefficient (eta holds n) */
+    Spectrum k;                /* conductor: extinction coefficient (eta holds n);
+                                  coatedconductor: the base's k (cond_eta holds its n) */
     Spectrum transmittance;    /* diffusetransmission: T (reflectance holds R), scaled */
     float p_reflect;           /* diffusetransmission: probability of sampling the
                                   reflect lobe, max R / (max R + max T) over 300-830 nm */
@@ -583,11 +586,17 @@ typedef struct {
                                   (0: alpha, alpha_t above); read through mat_point */
     int remap;                 /* with alpha_tex: remaproughness (alpha = sqrt(value)) */
     const struct Texture *textures;  /* the scene's textures (set when loading ends) */
-    /* coateddiffuse (layered.c): reflectance is the base's R, eta (a constant) and
-       alpha the coat's */
+    /* coateddiffuse, coatedconductor (layered.c): eta (a constant) and alpha (alpha_tex)
+       are the coat's; coateddiffuse: reflectance is the base's R */
     Spectrum albedo;           /* single-scattering albedo of the medium between the layers */
     float thickness, hg_g;     /* the slab's height (sigma_t = 1) and HG asymmetry */
     int maxdepth, nsamples;    /* the random walks' vertex limit and count */
+    /* coatedconductor: the base conductor's n (k above) in vacuum, or its "reflectance"
+       (then reflectance_tex or reflectance, cond_eta = 1 and k from it as for the
+       conductor); its GGX alpha (cond_alpha_tex: 1 + a roughness texture's index) */
+    Spectrum cond_eta;
+    float cond_alpha;
+    int cond_alpha_tex;
 } Material;
 
 float mat_eta(const Material *m, float lambda_nm);
@@ -624,11 +633,12 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm);
    "spectrum" texture) or a number (a "float" texture).  2-D textures first map
    the point to (s, t): "uv" (s = uscale u + udelta, t = vscale v + vdelta),
    "spherical", "cylindrical" or "planar" (in the texture's frame, the CTM at the
-   Texture directive).  3-D textures (marble) use the point in that frame.  An
+   Texture directive).  3-D textures (marble, fbm, wrinkled, windy) use the point
+   in that frame.  An
    argument (tex1, tex2, amount, tex, scale, inside, outside) is a constant or
    another texture. */
 typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP,
-               TEX_DOTS, TEX_MARBLE } TexType;
+               TEX_DOTS, TEX_MARBLE, TEX_FBM, TEX_WRINKLED, TEX_WINDY } TexType;
 typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR } TexMapType;
 typedef enum { TEXWRAP_REPEAT, TEXWRAP_BLACK, TEXWRAP_CLAMP } TexWrap;
 #define TEX_ARGS 2
@@ -638,7 +648,8 @@ typedef struct Texture {
     TexMapType map;
     float su, sv, du, dv;      /* uv: scales and offsets; planar: du, dv the offsets */
     Vec3 vs, vt;               /* planar: the s and t axes ("v1", "v2") */
-    Xform tex_from_world;      /* spherical, cylindrical, planar, marble: the inverse CTM */
+    Xform tex_from_world;      /* spherical, cylindrical, planar and the 3-D textures: the
+                                  inverse CTM */
     /* arguments: checkerboard tex1, tex2; mix tex1, tex2 (and amount); scale tex, scale;
        dots "inside" (shown outside the dots, as in pbrt-v4), "outside" (in them) */
     int arg_tex[TEX_ARGS];     /* a texture index, or -1: the constant below */
@@ -646,8 +657,9 @@ typedef struct Texture {
     float arg_f[TEX_ARGS];     /* float constants (also scale's "scale") */
     int amount_tex; float amount;  /* mix: a float texture or constant (0.5) */
     int scale_tex;             /* scale: "scale" as a float texture (-1: arg_f[1]) */
-    int octaves;               /* marble: octaves of noise in the FBm (8) */
-    float omega, mscale, variation;  /* marble: "roughness" (0.5), "scale" (1), "variation" (0.2) */
+    int octaves;               /* marble, fbm, wrinkled: octaves of noise (8) */
+    float omega, mscale, variation;  /* marble: "roughness" (0.5), "scale" (1), "variation" (0.2);
+                                        fbm, wrinkled: omega = "roughness" (0.5) */
     /* imagemap: w x h texels, row 0 at the top of the image; a spectrum texture
        keeps 4 floats per texel (m and the sigmoid's 3 coefficients: the texel's
        reflectance is m sigmoid(c, lambda), spectrum.c), a float one 1 (the mean of
@@ -667,19 +679,23 @@ float tex_noise(float x, float y, float z);
 /* Fractional Brownian motion: sum over i < octaves of omega^i noise(1.99^i p), pbrt-v4's
    FBm for a footprint of zero (texture.c section 4). */
 float tex_fbm(Vec3 p, float omega, int octaves);
+/* pbrt-v4's Turbulence for a footprint of zero: sum over i < octaves of omega^i
+   |noise(1.99^i p)|, plus 0.2 omega^octaves (texture.c section 4). */
+float tex_turbulence(Vec3 p, float omega, int octaves);
 /* A marble texture's colour table (texture.c section 4): 0 and a message when out of memory. */
 int   tex_marble_init(Texture *t, Error *err);
 /* Smooth dielectrics scatter into discrete (delta) directions: no NEE there.  A
    conductor with a roughness texture is not: it may be smooth at some points, where
    bsdf_eval gives 0 and bsdf_sample a delta lobe. */
 int   mat_is_delta(const Material *m);
-/* A conductor's or coateddiffuse's texture-valued parameters at one surface point
+/* A conductor's, coateddiffuse's or coatedconductor's texture-valued parameters at one surface point
    (pbrt-v4 evaluates them in GetBxDF): the alphas, and when has_r the reflectance at
    the path's wavelengths, clamped to [0, 1]; without textures the Material's own. */
 typedef struct {
     float alpha, alpha_t;
     int has_r;
     float r[HERO_N];
+    float cond_alpha;          /* coatedconductor: the base's alpha */
 } MatPoint;
 void  mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, unsigned alive,
                 MatPoint *mp);
@@ -712,7 +728,7 @@ int   conductor_sample(const Material *m, const MatPoint *mp, Vec3 wo, const flo
                        unsigned alive, float u1, float u2, BsdfSample *out, Vec3 *wi_local);
 void  conductor_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, const float *lambda,
                      unsigned alive, float f[HERO_N], float pdf_l[HERO_N]);
-/* coateddiffuse (layered.c), in the shading frame: f and the pdf are stochastic
+/* coateddiffuse and coatedconductor (layered.c), in the shading frame: f and the pdf are stochastic
    estimates by random walks, deterministic for a given seed; bsdf_eval seeds them
    with layered_seed(world wo, world wi, 0), and layered_sample (which takes the
    frame and the world wo, and sets out->wi in world space) reports that same pdf

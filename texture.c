@@ -1,8 +1,8 @@
 /* texture.c - pbrt-v4's textures: constant, checkerboard, scale, mix, imagemap,
-   dots, marble.
+   dots, marble, fbm, wrinkled, windy.
 
    Exported (specnee.h sections 6 and 10): tex_eval, tex_set_image, tex_free,
-   tex_noise, tex_fbm, tex_marble_init.
+   tex_noise, tex_fbm, tex_turbulence, tex_marble_init.
    scene.c parses the Texture directive into Scene.textures; a material whose
    "reflectance" names a texture (diffuse) reads it through mat_albedo_at
    (material.c) at every hit, at each of the path's wavelengths; conductor and
@@ -33,6 +33,11 @@
         dots          "outside" in a polka dot, "inside" elsewhere (sic, section 4)
         marble        a 3-D texture: a colour spline of a noise-perturbed sine
                       (section 4)
+        fbm           (float, 3-D) FBm(q, roughness, octaves) (section 4)
+        wrinkled      (float, 3-D) Turbulence(q, roughness, octaves)
+        windy         (float, 3-D) |FBm(q / 10, 0.5, 3)| FBm(q, 0.5, 6)
+                      (q: the point in the texture's frame; pbrt-v4 has these three
+                      as float textures only)
    3. RGB to spectrum.  A spectrum image texture holds reflectances: each texel's
       RGB, after pbrt-v4's scale and invert, is clamped to [0, 1] and turned into
       the smooth spectrum of spec_from_rgb (Jakob and Hanika 2019's sigmoid of a
@@ -60,6 +65,13 @@
           and sums all of them, pbrt-v4's value for a footprint of zero.  The
           dropped octaves are finer than a pixel and weigh omega^i (0.5^i by
           default), so a pixel's mean moves little.
+        Turbulence(p) = sum_{i < octaves} omega^i |noise(1.99^i p)| + 0.2 omega^octaves:
+          pbrt-v4 fades the octave at the footprint from 0.2 (the mean of |noise|,
+          its stand-in for unresolved octaves) to |noise| and adds 0.2 omega^i for
+          each dropped octave; at a footprint of zero that leaves the octaves'
+          sum and one 0.2 omega^octaves (pbrt-v4's Lerp(0, 0.2, .)).  As for FBm,
+          pbrt-v4's value at a pixel's footprint differs in the octaves finer than
+          the pixel: with the defaults at most 0.2 omega^n per dropped octave n.
         dots: the cell (sc, tc) = floor((s, t) + 1/2) has a dot when
           noise(sc + .5, tc + .5, .5) > 0, of radius 0.35 centred at
           (sc + 0.15 noise(sc + 1.5, tc + 2.8, .5), tc + 0.15 noise(sc + 4.5, tc + 9.8, .5));
@@ -154,6 +166,18 @@ float tex_fbm(Vec3 p, float omega, int octaves)
         o *= omega;
     }
     return sum;
+}
+
+float tex_turbulence(Vec3 p, float omega, int octaves)
+{
+    float sum = 0.0f, scale = 1.0f, o = 1.0f;
+    int i;
+    for (i = 0; i < octaves; i++) {
+        sum += o * fabsf(tex_noise(scale * p.x, scale * p.y, scale * p.z));
+        scale *= 1.99f;
+        o *= omega;
+    }
+    return sum + o * 0.2f;
 }
 
 /* pbrt-v4's InsidePolkaDot (section 4). */
@@ -323,6 +347,14 @@ float tex_eval(const Texture *tex, int i, const SurfacePoint *sp, float lambda_n
         return tex_arg(tex, t, inside_dot(s, tt) ? 1 : 0, sp, lambda_nm);
     case TEX_MARBLE:
         return marble_eval(t, sp->p, lambda_nm);
+    case TEX_FBM:
+        return tex_fbm(xf_point(&t->tex_from_world, sp->p), t->omega, t->octaves);
+    case TEX_WRINKLED:
+        return tex_turbulence(xf_point(&t->tex_from_world, sp->p), t->omega, t->octaves);
+    case TEX_WINDY: {
+        Vec3 q = xf_point(&t->tex_from_world, sp->p);
+        return fabsf(tex_fbm(v3_mul(q, 0.1f), 0.5f, 3)) * tex_fbm(q, 0.5f, 6);
+    }
     }
     return 0.0f;
 }

@@ -689,7 +689,7 @@ REJECT(rej_sphere_nonuniform, "WorldBegin\nScale 1 2 1\nAreaLightSource \"diffus
 REJECT(rej_shape_curve, "WorldBegin\nShape \"curve\"\n", 2,
        "Shape \"curve\" is valid pbrt-v4 but not in the specnee subset", NULL)
 REJECT(rej_shape_unknown, "WorldBegin\nShape \"blob\"\n", 2, "unknown shape type", NULL)
-REJECT(rej_material_conductor, "WorldBegin\nMaterial \"coatedconductor\"\n", 2, "coatedconductor",
+REJECT(rej_material_conductor, "WorldBegin\nMaterial \"hair\"\n", 2, "hair",
        "valid pbrt-v4 but not in the specnee subset")
 REJECT(rej_unknown_named_spectrum, "WorldBegin\nMaterial \"dielectric\" \"spectrum eta\" \"glass-XYZ\"\n",
        2, "unknown named spectrum", "glass-XYZ")

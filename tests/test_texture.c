@@ -383,6 +383,49 @@ static void test_noise(T *t)
     CHECK(t, tex_noise(3.0f, -7.0f, 12.0f) == 0.0f, "noise at a lattice point: %g", tex_noise(3.0f, -7.0f, 12.0f));
 }
 
+/* pbrt-v4's fbm, wrinkled and windy textures (textures.h: FBmTexture, WrinkledTexture,
+   WindyTexture over util/noise.cpp's FBm and Turbulence, commit 5f7a6068) for a
+   footprint of zero, printed by a small C++ program linked with its libpbrt_lib.a
+   (as NOISE_AT; windy built from its FBm as WindyTexture::Evaluate does):
+   x, y, z, FBm(0.5, 8), FBm(0.7, 3), Turbulence(0.5, 8), Turbulence(0.7, 3), windy. */
+static const float NOISE_TEX_AT[8][8] = {
+    { 0.5f, 0.5f, 0.5f, -0.11803776f, -0.137513295f, 0.188431874f, 0.220113203f, -0.0308829248f },
+    { 1.25f, 2.5f, 0.75f, 0.463357776f, 0.456339926f, 0.511341631f, 0.565620601f, 0.0490797982f },
+    { 0.3f, 0.7f, 0.1f, 0.213505715f, 0.325000674f, 0.42389828f, 0.5879637f, 0.0168855321f },
+    { 1.37f, -2.21f, 0.58f, -0.0345556103f, -0.1507743f, 0.304409564f, 0.423674226f, -0.0102710705f },
+    { -4.6f, 3.3f, 7.9f, 0.75934124f, 1.00281954f, 0.84801656f, 1.0714196f, 0.0435810015f },
+    { 12.25f, 0.125f, -5.5f, 0.0760946274f, 0.127891555f, 0.284320146f, 0.425775677f, 0.00915860757f },
+    { 0.01f, 0.02f, 0.03f, 0.17639631f, 0.176211223f, 0.186261669f, 0.244811222f, 0.00208752719f },
+    { -0.77f, -0.31f, 2.45f, -0.44443813f, -0.308501154f, 0.764672279f, 0.863881767f, -0.221569315f },
+};
+
+static void test_noise_textures(T *t)
+{
+    Scene s;
+    int i, k;
+    if (!load(t, &s, "Texture \"f8\" \"float\" \"fbm\"\n"
+              "Texture \"f3\" \"float\" \"fbm\" \"float roughness\" [ 0.7 ] \"integer octaves\" [ 3 ]\n"
+              "Texture \"w8\" \"float\" \"wrinkled\"\n"
+              "Texture \"w3\" \"float\" \"wrinkled\" \"float roughness\" [ 0.7 ] \"integer octaves\" [ 3 ]\n"
+              "Texture \"y\" \"float\" \"windy\"\n"
+              "AttributeBegin\nTranslate 1 -2 0.5\nTexture \"wt\" \"float\" \"wrinkled\"\nAttributeEnd\n"))
+        return;
+    for (i = 0; i < 8; i++) {
+        const float *q = NOISE_TEX_AT[i];
+        SurfacePoint sp = at_p(q[0], q[1], q[2]);
+        for (k = 0; k < 5; k++) {
+            float got = tex_eval(s.textures, k, &sp, 550);
+            CHECK(t, NEAR(got, q[3 + k], 1e-5), "%s at (%g, %g, %g): %.9g, pbrt-v4 %.9g",
+                  k < 2 ? "fbm" : k < 4 ? "wrinkled" : "windy", q[0], q[1], q[2], got, q[3 + k]);
+        }
+        /* the texture's frame: the CTM at the directive */
+        sp = at_p(q[0] + 1.0f, q[1] - 2.0f, q[2] + 0.5f);
+        CHECK(t, NEAR(tex_eval(s.textures, 5, &sp, 550), q[5], 2e-4), "translated wrinkled at "
+              "(%g, %g, %g): %.9g, pbrt-v4 %.9g", q[0], q[1], q[2], tex_eval(s.textures, 5, &sp, 550), q[5]);
+    }
+    scene_free(&s);
+}
+
 /* Dots with the uv mapping (s = u, t = v): pbrt-v4's InsidePolkaDot (textures.cpp,
    same program as NOISE_AT) at 8 points, and the count of points inside a dot on
    the grid s = -3 + 0.173 i, t = -2 + 0.191 j, i, j < 40: 260.  In a dot the texture
@@ -745,7 +788,12 @@ static void test_bad_input(T *t)
     expect_error(t, "Material \"diffuse\" \"texture reflectance\" \"nope\"", "no texture named", "nope");
     expect_error(t, "Texture \"f\" \"float\" \"constant\"\nMaterial \"diffuse\" \"texture reflectance\" \"f\"",
                  "is a float texture", NULL);
-    expect_error(t, "Texture \"m\" \"spectrum\" \"wrinkled\"", "wrinkled", "not in the specnee subset");
+    expect_error(t, "Texture \"m\" \"spectrum\" \"wrinkled\"", "wrinkled", "is a float texture");
+    expect_error(t, "Texture \"m\" \"spectrum\" \"fbm\"", "fbm", "is a float texture");
+    expect_error(t, "Texture \"m\" \"float\" \"ptex\"", "ptex", "not in the specnee subset");
+    expect_error(t, "Texture \"m\" \"float\" \"fbm\" \"integer octaves\" [ -1 ]", "octaves", NULL);
+    expect_error(t, "Texture \"m\" \"float\" \"wrinkled\" \"float roughness\" [ 1e39 ]", "finite", NULL);
+    expect_error(t, "Texture \"m\" \"float\" \"windy\" \"integer octaves\" [ 3 ]", "octaves", "unused");
     expect_error(t, "Texture \"m\" \"float\" \"marble\"", "marble", "spectrum texture");
     expect_error(t, "Texture \"m\" \"spectrum\" \"marble\" \"integer octaves\" [ 100 ]", "octaves", NULL);
     expect_error(t, "Texture \"m\" \"spectrum\" \"marble\" \"float variation\" [ 1e39 ]", "finite", NULL);
@@ -788,6 +836,7 @@ const TestCase tests_texture[] = {
     { "texture_render_checks", test_render_checks },
     { "texture_bad_input", test_bad_input },
     { "texture_noise", test_noise },
+    { "texture_noise_textures", test_noise_textures },
     { "texture_material_params", test_material_params },
     { "texture_conductor_against_pbrt", test_conductor_against_pbrt },
     { "texture_dots", test_dots },
