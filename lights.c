@@ -4,103 +4,45 @@
    emitter_sample, emitter_pdf_sa, emitter_can_reach, light_sampler_build/free,
    light_Le, light_spectrum, light_n_pieces, light_piece_emitter, light_piece_of,
    light_sample, light_pdf_sa, light_voxel, light_select, light_select_pmf,
-   light_sampler_bytes, sel_from_name, sel_name.  The light tree that the
-   strategies tree and spectral-tree use has its own file, lighttree.c.
+   light_sampler_bytes, sel_from_name, sel_name.  The light tree of the strategies
+   tree and spectral-tree has its own file, lighttree.c.  docs/THEORY.md section 5
+   derives everything below; this comment says where it lives.
 
-   1. Emitters.  An emitter is one AreaLightSource shape: a whole mesh, a sphere, or
-      another quadric (disk, cylinder, cut sphere: shapes.c, sampled uniformly by area).
-      Its radiance follows pbrt-v4's normalisation (DiffuseAreaLight::Create):
-          Le(lambda) = scale * L(lambda) / sum_{lambda = lo..hi, 1 nm} ybar(lambda) L(lambda)
-      over the range the film integrates, so a directly seen emitter has Y = scale.
-      The range belongs to a render (--wide samples 360-830 nm), so Le is computed
-      by light_sampler_build and kept in the LightSampler, which the render owns
-      (once per distinct (L, scale, kind): emitters of one lamp type share it);
-      the Scene keeps only what the file says and the geometry (area, triangle CDF).
-      A one-sided emitter emits only to the side its oriented normal points to.
-      Points are sampled by area: a triangle with probability area_t / A, then a
-      uniform point on it (u = 1 - sqrt(u1), v = u2 sqrt(u1)).  Converted to solid
-      angle at the reference point x (pbrt-v3/v4 Shape::Sample):
-          p_sigma(y) = |x - y|^2 / (A |cos theta_y|).
+   1. Emitters.  An emitter is one AreaLightSource shape (mesh, sphere, quadric), an
+      infinite light (infinite.c) or a delta light (delta.c).  Its radiance is
+      pbrt-v4's Le = scale L / sum_{1 nm over the film's range} ybar L, so a directly
+      seen emitter has luminance scale; the range belongs to a render, so Le lives in
+      the LightSampler (light_sampler_build), not in the Scene.  Points are sampled
+      by area (a triangle by area, then uniformly on it), with the solid-angle
+      density p_sigma(y) = |x - y|^2 / (A |cos theta_y|) (THEORY section 4).
 
    2. Selection.  light_select picks a piece i (an emitter, or with the light trees
-      a cluster of at most LIGHT_CLUSTER_TRIS triangles of a large emissive mesh,
-      sampled by area inside the cluster: tree_setup, cluster_mesh) with probability
-      P(i | c), where the context c = (point, normal, voxel, wavelengths, alive set)
-      is fixed at the vertex and stored by the integrator; light_select_pmf(c, i)
-      returns the same number for a piece hit by BSDF sampling (the consistency
-      contract, items C1-C4 of docs/THEORY.md section 5).
-      Strategies (T_i(b) = bin average of Le_i over bin b, times area x sides with
-      the power metric):
-        uniform           1/n                                   (O(1): a lookup)
-        power             proportional to pi * A_i * (2 if two-sided) * int_400^700 Le_i
-                                      (O(log n): binary search in a CDF; pmf a lookup)
-        spatial           s_i(v): pbrt-v3's SpatialLightDistribution (see below)
-        spd               thesis Sec. 2: T_i(b(lambda_h)) / sum_k T_k(b(lambda_h))
-        product           thesis Sec. 2 ("combined PDF"): s_i(v) T_i(b) / sum_k s_k(v) T_k(b)
-        spectral-spatial  beyond the thesis: g_i(v) T_i(b) / sum_k g_k(v) T_k(b), with
-                          g_i(v) the spatial estimate for UNIT radiance, so brightness
-                          is counted once (the thesis' argument for the unit
-                          metric, thesis Sec. 2 "Combining PDFs")
-        tree              a light BVH (pbrt-v4's BVHLightSampler; Conty Estevez and
-                          Kulla 2018), importance from total power (lighttree.c)
-        spectral-tree     the same tree, importance from the power in the bins of
-                          the alive wavelengths (lighttree.c)
-      T_i(b) with the unit metric (the default) is the bin average of the emitted
-      radiance Le_i, the thesis' "unit emission"; the power metric multiplies it by
-      the area (x 2 if two-sided), the thesis' "power".
-      The thesis' spectral strategies act only where the path carries the hero
-      alone (LightCtx.hero_only, i.e. alive == 1: after a wavelength-dependent event
-      terminated the secondaries, or with --single-wavelength); while several wavelengths are
-      alive the thesis uses the spatial distribution.  Beyond the thesis
-      (all_wavelengths, and after a fluorescent shift that kept several wavelengths,
-      LightCtx.shifted: they are all absorbed ones then, and the spatial table,
-      built from visible light, knows nothing of them), the weight of emitter i is sum over alive j of
-      c_j * e_i(lambda_j), with e_i the strategy's unnormalised weight and c_j = 1
-      or the path throughput at lambda_j.  Either way P(i | c) is the same whichever
-      alive wavelength is the hero: item C4 of the contract, which the single
-      q_nee of render.c's MIS weights needs (docs/THEORY.md section 6 derives why).
-      When every emitter has weight 0 for the hero's bin (or the hero lies outside
-      400-700 nm) the spatial distribution is used (counted as a fallback); the same
-      rule runs in light_select_pmf.  spatial, spd, product and spectral-spatial
-      cost O(n) per vertex; uniform O(1), power O(log n), the trees O(log n).
+      a cluster of at most LIGHT_CLUSTER_TRIS triangles of a big emissive mesh:
+      THEORY 5.1) with probability P(i | c) in the context c stored at the vertex;
+      light_select_pmf(c, i) returns the same number for a piece that BSDF sampling
+      hits (the contract C1-C4, THEORY 5.5).  The strategies and their pmfs are the
+      table of THEORY 5.2: uniform, power, spatial, the thesis' spd and product,
+      spectral-spatial, and the trees (lighttree.c, THEORY 5.4).  The spectral ones
+      use the hero's bin on hero-only paths and the sum over the alive wavelengths'
+      bins with --all-wavelengths or after a fluorescent shift, so P is the same
+      whichever alive wavelength is the hero (C4, THEORY 6); no emitter in those
+      bins falls back to spatial (counted).  Costs: uniform O(1), power and the
+      trees O(log n), the table strategies O(n) per vertex.
 
-   3. The spatial distribution (pbrt-v3 lightdistrib.cpp; docs/THEORY.md section 5): a grid
-      over the scene bounds with SPATIAL_RES cells on the longest axis; per voxel,
-      for k = 0..127, a receiver point at Halton(2,3,5)(k) in the voxel and an
-      emitter sample at Halton(7,11,13)(k); each emitter j accumulates
-          g_j += [emitter faces the receiver] / p_sigma,   s_j = Y_j g_j,
-      an estimate of the unoccluded scalar irradiance (no cosine, no visibility).
-      Y_j = scale_j is the emitter's luminance.  An infinite light (infinite.c)
-      fills the whole sphere: g_j = 4 pi per receiver, Y_j = the luminance of its
-      (mean) radiance; its power is pbrt-v4's Phi = 4 pi^2 R^2 int Le (R: the
-      scene's bounding-sphere radius) and its spectral table is its (mean) Le.  A floor of 1e-3 of the mean weight
-      keeps every emitter possible.  Voxels are built lazily on first use (under an
-      OpenMP critical section) or all up front; both give identical tables because
-      the computation is deterministic.  Cost: 128 n evaluations per voxel touched
-      and 2n floats per voxel.
+   3. The spatial table (pbrt-v3's SpatialLightDistribution, THEORY 5.2): per voxel
+      of a SPATIAL_RES grid, SPATIAL_SAMPLES Halton receivers and emitter points give
+      each emitter g_j = sum [faces the receiver] / p_sigma and s_j = Y_j g_j,
+      floored at 1e-3 of the mean.  Voxels are built lazily (an OpenMP critical
+      section) or all up front; both give the same tables.
 
-   4. Which side an emitter lights (emitter_can_reach).  The voxel table is an
-      average over receivers spread through the whole voxel, so a voxel cut by a
-      one-sided emitter credits it with the light its front receivers get - also
-      at shading points behind it or on it (the emitter's own back face, lit by
-      another lamp, was a band of noise: NEE chose the emitter that could not
-      reach the point most of the time).  So where the spatial table is used
-      (spatial, product, spectral-spatial, and spd while every wavelength is
-      alive), emitter i's weight is multiplied by reach_i(p) in {0, 1}:
-        mesh, one-sided    reach = [some triangle t has n_t . p - d_t > eps]
-        mesh, two-sided    reach = [some triangle t has |n_t . p - d_t| > eps]
-        sphere             outside of an outward one, inside of a flipped one
-        disk               its plane, as a one-triangle mesh (shapes.c)
-        cylinder, cut sphere  reach = 1 (not exact: "may reach")
-        bigger meshes      reach = 1 (over REACH_MAX_TRIS triangles, or shading
-                           normals against the geometry: a limit of the voxel
-                           tables; the light tree's orientation cones cover it)
-      eps = 1e-5 (1 + the largest coordinate), the ray-offset scale of bvh.c, so
-      a point on the emitter (within round-off of its plane) is excluded.  The
-      mask is exact for the shapes it tests, never 0 where light can arrive from
-      more than eps away, and it is part of context_weights, so light_select and
-      light_select_pmf agree; if it zeroes every emitter NEE is skipped, which is
-      unbiased because no emitter can light the point. */
+   4. Which side an emitter lights (emitter_can_reach, THEORY 5.3): where the
+      spatial table is used, emitter i's weight is multiplied by reach_i(x) in
+      {0, 1}, 0 only where no point of i can light x (the planes of a one-sided mesh
+      of at most REACH_MAX_TRIS triangles, a sphere's surface, a disk's plane, a
+      spot's cone; others "may reach"), with the ray-offset margin of bvh.c.  It is
+      part of context_weights, so light_select and light_select_pmf see the same
+      zeros; if every weight is 0, NEE takes no sample (unbiased: nothing can
+      light x). */
 #include "specnee.h"
 #include <stdlib.h>
 #include <string.h>
