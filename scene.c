@@ -228,6 +228,28 @@ static int fail(Parser *P, const char *file, int line, const char *fmt, ...)
     return 0;
 }
 
+/* The same for a problem with the value of parameter `name`: the message points to
+   that parameter's own file:line when the statement gives it (it may sit lines
+   below the statement's first), else to the statement's (file, line). */
+static int fail_param(Parser *P, const ParamList *pl, const char *name, const char *file,
+                      int line, const char *fmt, ...)
+{
+    char buf[448];
+    va_list ap;
+    int i;
+    for (i = pl->n - 1; i >= 0; i--)
+        if (strcmp(pl->p[i].name, name) == 0) {
+            file = pl->p[i].file;
+            line = pl->p[i].line;
+            break;
+        }
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    error_set(P->err, file, line, "%s", buf);
+    return 0;
+}
+
 /* Grow *arr so that it holds at least `need` elements of size elsz. */
 static int grow(void **arr, int *cap, int need, size_t elsz)
 {
@@ -1128,7 +1150,7 @@ static int camera_directive(Parser *P, const char *type, ParamList *pl, const ch
                              "frameaspectratio screenwindow"))
         return 0;
     if (!(fov > 0.0f && fov < 180.0f))
-        return fail(P, file, line, "Camera: \"float fov\" %g must be within (0, 180) degrees", fov);
+        return fail_param(P, pl, "fov", file, line, "Camera: \"float fov\" %g must be within (0, 180) degrees", fov);
     /* the film may come later: checked with the largest aspect ratio allowed here
        and again with the film's own in finish() */
     if (!camera_transform_ok(&P->gs.ctm, fov, 1, 1))
@@ -1136,12 +1158,12 @@ static int camera_directive(Parser *P, const char *type, ParamList *pl, const ch
                     "viewing directions are not finite, non-zero float vectors (look at "
                     "the Scale/Transform/LookAt before Camera)");
     if (!(lens >= 0.0f) || !(focus > 0.0f))
-        return fail(P, file, line, "Camera: \"float lensradius\" %g must be >= 0 and "
+        return fail_param(P, pl, lens < 0.0f ? "lensradius" : "focaldistance", file, line, "Camera: \"float lensradius\" %g must be >= 0 and "
                     "\"float focaldistance\" %g > 0", lens, focus);
     /* pbrt-v4 (scene.cpp): the exposure time is the shutter interval; the scene is
        static, so it only scales the image (the imaging ratio, Film "iso") */
     if (!(close - open > 0.0f))
-        return fail(P, file, line, "Camera: shutterclose %g <= shutteropen %g: the shutter "
+        return fail_param(P, pl, "shutterclose", file, line, "Camera: shutterclose %g <= shutteropen %g: the shutter "
                     "never opens", close, open);
     st->fov_deg = fov;
     st->lens_radius = lens;
@@ -1345,10 +1367,10 @@ static int film_directive(Parser *P, const char *type, ParamList *pl, const char
                     "(pbrt-v4 knows \"cie1931\" and 17 named cameras)", sensor);
     }
     if (!(wb == 0.0f || (wb >= 1000.0f && wb <= 100000.0f)))
-        return fail(P, file, line, "Film: \"float whitebalance\" %g: a colour temperature "
+        return fail_param(P, pl, "whitebalance", file, line, "Film: \"float whitebalance\" %g: a colour temperature "
                     "within 1000..100000 K, or 0 for none", wb);
     if (!(scale > 0.0f))
-        return fail(P, file, line, "Film: \"float scale\" %g must be > 0", scale);
+        return fail_param(P, pl, "scale", file, line, "Film: \"float scale\" %g must be > 0", scale);
     if (crop && crop->n_num != 4)
         return fail(P, crop->file, crop->line, "Film: \"float cropwindow\": %d values, "
                     "expected 4 (x0 x1 y0 y1, fractions of the film)", crop->n_num);
@@ -1477,7 +1499,7 @@ static int filter_directive(Parser *P, const char *type, ParamList *pl, const ch
     if (!(xr > 0.0f && xr <= 16.0f) || !(sigma > 0.0f && sigma <= 16.0f))
         return fail(P, file, line, "PixelFilter: radius and sigma must be within (0, 16]");
     if (!(tau > 0.0f))
-        return fail(P, file, line, "PixelFilter \"sinc\": \"float tau\" %g must be > 0", tau);
+        return fail_param(P, pl, "tau", file, line, "PixelFilter \"sinc\": \"float tau\" %g must be > 0", tau);
     st->filter = kinds[k].t;
     st->filter_radius = xr;
     st->filter_sigma = sigma;
@@ -1567,7 +1589,7 @@ static int sampler_directive(Parser *P, const char *type, ParamList *pl, const c
                              : "integer pixelsamples, integer seed, string randomization", NULL))
         return 0;
     if (spp < 1 || spp > MAX_SPP)
-        return fail(P, file, line, "Sampler: %d samples per pixel outside 1..%d", spp, MAX_SPP);
+        return fail_param(P, pl, "pixelsamples", file, line, "Sampler: %d samples per pixel outside 1..%d", spp, MAX_SPP);
     st->spp = spp;
     st->spp_set = given;
     st->seed = seed;
@@ -1671,7 +1693,7 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
     P->integ_line = line;
     snprintf(P->integ_type, sizeof P->integ_type, "%s", type);
     if (maxdepth < 0 || maxdepth > MAX_MAXDEPTH)
-        return fail(P, file, line, "Integrator: maxdepth %d outside 0..%d", maxdepth, MAX_MAXDEPTH);
+        return fail_param(P, pl, "maxdepth", file, line, "Integrator: maxdepth %d outside 0..%d", maxdepth, MAX_MAXDEPTH);
     st->maxdepth = maxdepth;
     st->maxdepth_set = given;
     if (ls) {
@@ -2776,10 +2798,10 @@ static int delta_light_directive(Parser *P, const char *type, ParamList *pl, con
             d.axis_obj = v3_norm(v3((float)(to[0] - from[0]), (float)(to[1] - from[1]),
                                     (float)(to[2] - from[2])));
             if (!(cone > 0.0f && cone <= 180.0f))
-                return fail(P, file, line, "%s: \"float coneangle\" %g must be in (0, 180] degrees",
+                return fail_param(P, pl, "coneangle", file, line, "%s: \"float coneangle\" %g must be in (0, 180] degrees",
                             what, cone);
             if (!(cdelta >= 0.0f))
-                return fail(P, file, line, "%s: \"float conedeltaangle\" %g must be >= 0", what, cdelta);
+                return fail_param(P, pl, "conedeltaangle", file, line, "%s: \"float conedeltaangle\" %g must be >= 0", what, cdelta);
             if (cdelta > cone)
                 fprintf(stderr, "%s:%d: note: %s: conedeltaangle %g > coneangle %g; as in pbrt-v4 "
                         "the falloff starts at |coneangle - conedeltaangle| = %g degrees\n",
@@ -3075,9 +3097,9 @@ static int disk_shape(Parser *P, ParamList *pl, const char *file, int line)
     if (!params_check_unused(P, pl, what, "float height, float radius, float innerradius, "
                              "float phimax", "alpha emissionfilename"))
         return 0;
-    if (!(q.radius > 0.0)) return fail(P, file, line, "%s: radius %g must be > 0", what, q.radius);
+    if (!(q.radius > 0.0)) return fail_param(P, pl, "radius", file, line, "%s: radius %g must be > 0", what, q.radius);
     if (!(q.inner >= 0.0 && q.inner < q.radius))
-        return fail(P, file, line, "%s: innerradius %g must lie in [0, radius %g)", what, q.inner,
+        return fail_param(P, pl, "innerradius", file, line, "%s: innerradius %g must lie in [0, radius %g)", what, q.inner,
                     q.radius);
     if (!check_phimax(P, what, deg, &q.phimax, file, line)) return 0;
     return add_quadric(P, SHAPE_DISK, &q, what, file, line);
@@ -3099,7 +3121,7 @@ static int cylinder_shape(Parser *P, ParamList *pl, const char *file, int line)
     if (!params_check_unused(P, pl, what, "float radius, float zmin, float zmax, float phimax",
                              "alpha emissionfilename"))
         return 0;
-    if (!(q.radius > 0.0)) return fail(P, file, line, "%s: radius %g must be > 0", what, q.radius);
+    if (!(q.radius > 0.0)) return fail_param(P, pl, "radius", file, line, "%s: radius %g must be > 0", what, q.radius);
     if (q.zmin > q.zmax) {                    /* pbrt-v4 Cylinder: min and max of the pair */
         double z = q.zmin;
         q.zmin = q.zmax;
@@ -3128,7 +3150,7 @@ static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
                              "alpha emissionfilename"))
         return 0;
     if (!(radius > 0.0f) || !isfinite(radius))
-        return fail(P, file, line, "Shape \"sphere\": radius %g must be > 0", radius);
+        return fail_param(P, pl, "radius", file, line, "Shape \"sphere\": radius %g must be > 0", radius);
     /* The CTM's 3x3 part must be a uniform scale times a rotation (or mirror):
        its columns are orthogonal and equally long. */
     for (j = 0; j < 3; j++) {

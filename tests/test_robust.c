@@ -317,7 +317,25 @@ static void test_merge_spp_overflow(T *t)
     CHECK(t, rc == 0, "rc %d: %s", rc, msg);
 }
 
+/* #31: a bad value is reported at its parameter's line, which may lie below the
+   statement's first line. */
+static void test_error_at_param_line(T *t)
+{
+    Error e;
+    const char *p = test_write_file(t, "pl_sphere.pbrt", "WorldBegin\nShape \"sphere\"\n  \"float radius\" [ -1 ]\n");
+    if (!expect_fail(t, p, "pl_sphere.pbrt:3:", "radius -1 must be > 0", &e)) return;
+    p = test_write_file(t, "pl_disk.pbrt", "WorldBegin\nShape \"disk\"\n \"float radius\" 1\n \"float innerradius\" 2\n");
+    if (!expect_fail(t, p, "pl_disk.pbrt:4:", "innerradius 2", &e)) return;
+    p = test_write_file(t, "pl_fov.pbrt", "Camera \"perspective\"\n\n \"float fov\" [ 200 ]\nWorldBegin\n");
+    if (!expect_fail(t, p, "pl_fov.pbrt:3:", "\"float fov\" 200", &e)) return;
+    p = test_write_file(t, "pl_depth.pbrt", "Integrator \"path\"\n \"integer maxdepth\" [ -3 ]\nWorldBegin\n");
+    if (!expect_fail(t, p, "pl_depth.pbrt:2:", "maxdepth -3", &e)) return;
+    p = test_write_file(t, "pl_same.pbrt", "Camera \"perspective\" \"float fov\" [ 0 ]\nWorldBegin\n");
+    expect_fail(t, p, "pl_same.pbrt:1:", "\"float fov\" 0", &e);
+}
+
 const TestCase tests_robust[] = {
+    { "robust_error_at_param_line", test_error_at_param_line },
     {"robust_include_fanout", test_include_fanout},
     {"robust_include_params_continue", test_include_params_continue},
     {"robust_include_paths", test_include_paths},
