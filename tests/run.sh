@@ -341,6 +341,11 @@ if grep -qx "lights spectral-tree" tests/tmp/out.txt && grep -qx "wavelengths mi
    ./specnee --preset thesis --print-defaults | grep -qx "rough-dispersion terminate"; then ok "cli_print_defaults_lines"
 else fail "cli_print_defaults_lines"; fi
 counted docs-defaults sh tests/docs_defaults.sh
+# no doc tells which session measured what: the docs state the design and the
+# current figures, history lives in git log (issue 31)
+if grep -n -i "session" README.md docs/*.md > tests/tmp/sessions.txt; then
+    fail "docs_no_sessions: $(head -n 3 tests/tmp/sessions.txt | tr '\n' ' ')"
+else ok "docs_no_sessions"; fi
 # golden images (bit-exact with this binary) and every command of the walkthrough
 counted golden sh tests/golden.sh
 counted walkthrough sh tests/walkthrough.sh
