@@ -47,6 +47,15 @@
    Emission reached at depth 0 or after a specular bounce has q_nee = 0: no NEE
    could have produced it.
 
+   PARTICIPATING MEDIA (THEORY section 12, docs/media.md).  In a medium the next
+   vertex may be a collision: medium_flight draws the distance with the hero's
+   sigma_t (16) and multiplies the ratios r_m by the other wavelengths' densities
+   of the same collision or passage (17); medium_vertex adds the medium's emission
+   (20) and scatters with the phase function; next_event multiplies NEE by the
+   shadow ray's transmittance and every BSDF/phase density in D by T_m (19), as
+   PrevVertex.T does for an emitter that a sampled direction finds.  Surfaces of
+   Material "interface" only hand the ray from one medium to the next.
+
    Russian roulette (from depth RR_START_DEPTH) survives with probability
    q = min(1, 4 max_j beta_j / sum_m r_m)  (8).  beta_j / sum_m r_m =
    f_j / sum_m p(prefix | lambda_m) does not depend on which wavelength was the
