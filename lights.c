@@ -14,7 +14,8 @@
       seen emitter has luminance scale; the range belongs to a render, so Le lives in
       the LightSampler (light_sampler_build), not in the Scene.  Points are sampled
       by area (a triangle by area, then uniformly on it), with the solid-angle
-      density p_sigma(y) = |x - y|^2 / (A |cos theta_y|) (THEORY section 4).
+      density p_sigma(y) = |x - y|^2 / (A |cos theta_y|) (THEORY section 4); a
+      sphere seen from outside in the cone it subtends (sphere_cone).
 
    2. Selection.  light_select picks a piece i (an emitter, or with the light trees
       a cluster of at most LIGHT_CLUSTER_TRIS triangles of a big emissive mesh:
@@ -332,6 +333,27 @@ static int sample_mesh(const Scene *s, const float *tri_cdf, int tri_begin, int 
     return finish_sample(ref, area, out);
 }
 
+/* A sphere lamp seen from outside (not flipped, the reference point more than
+   1e-3 of its radius beyond its surface) is sampled in the cone of directions it
+   subtends, uniformly by solid angle (pbrt-v4's Sphere::Sample with a reference
+   point): with d the distance to the centre and x = r^2 / d^2,
+       cos theta_max = sqrt(1 - x),   p_sigma = 1 / (2 pi (1 - cos theta_max)),
+   1 - cos theta_max = x / (1 + sqrt(1 - x)) without cancellation.  Every sample
+   lies on the cap that faces the point, which uniform area sampling reaches only
+   half the time, and p_sigma is constant: in a fog, where every medium vertex sees
+   the lamp, that is what makes NEE to it cheap.  *omc = 1 - cos theta_max; 0 when
+   area sampling applies (inside, flipped, or too close). */
+static int sphere_cone(const Shape *sh, Vec3 ref, double *omc)
+{
+    double dx = (double)sh->center.x - ref.x, dy = (double)sh->center.y - ref.y;
+    double dz = (double)sh->center.z - ref.z, d2 = dx * dx + dy * dy + dz * dz;
+    double r = sh->radius, x;
+    if (sh->flip || !(d2 > (r * 1.001) * (r * 1.001))) return 0;
+    x = r * r / d2;
+    *omc = x / (1.0 + sqrt(1.0 - x));
+    return *omc > 0.0;
+}
+
 int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2,
                    EmitterSample *out)
 {
@@ -351,12 +373,42 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
     }
     sh = &s->shapes[em->shape];
     if (sh->type == SHAPE_SPHERE) {
-        float z = 1.0f - 2.0f * u1, r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
-        float phi = 2.0f * PI_F * u2;
-        Vec3 dir = v3(r * cosf(phi), r * sinf(phi), z);
-        (void)u0;
-        out->p = v3_add(sh->center, v3_mul(dir, sh->radius));
-        out->n = sh->flip ? v3_neg(dir) : dir;
+        double omc;
+        if (sphere_cone(sh, ref, &omc)) {
+            /* a direction in the cone around the centre, then the sphere's near
+               point along it (the ray ref + t w enters the sphere at
+               t = d cos theta - sqrt(r^2 - d^2 sin^2 theta)) */
+            Vec3 wc = v3_sub(sh->center, ref);
+            double d = v3_len(wc), om = (double)u1 * omc, cos_t = 1.0 - om;
+            double sin2 = om * (2.0 - om), phi = 2.0 * SPECNEE_PI * u2, disc, t;
+            double r = sh->radius, sin_t = sqrt(sin2 > 0.0 ? sin2 : 0.0);
+            Frame fr = frame_from_normal(v3_mul(wc, (float)(1.0 / d)));
+            Vec3 w = v3_norm(frame_to_world(&fr, v3((float)(sin_t * cos(phi)), (float)(sin_t * sin(phi)),
+                                                    (float)cos_t)));
+            (void)u0;
+            disc = r * r - d * d * sin2;
+            t = d * cos_t - sqrt(disc > 0.0 ? disc : 0.0);
+            out->p = v3_add(ref, v3_mul(w, (float)t));
+            out->n = v3_norm(v3_sub(out->p, sh->center));
+            out->p = v3_add(sh->center, v3_mul(out->n, sh->radius));   /* on the sphere */
+            {
+                Vec3 dv = v3_sub(out->p, ref);
+                float dist2 = v3_dot(dv, dv);
+                if (!(dist2 > 0.0f)) return 0;
+                out->dist = sqrtf(dist2);
+                out->wi = v3_mul(dv, 1.0f / out->dist);
+            }
+            out->pdf_sa = (float)(1.0 / (2.0 * SPECNEE_PI * omc));
+            return isfinite(out->pdf_sa) && out->pdf_sa > 0.0f && v3_dot(out->n, out->wi) < 0.0f;
+        }
+        {   /* inside, or a flipped sphere: uniformly by area */
+            float z = 1.0f - 2.0f * u1, r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
+            float phi = 2.0f * PI_F * u2;
+            Vec3 dir = v3(r * cosf(phi), r * sinf(phi), z);
+            (void)u0;
+            out->p = v3_add(sh->center, v3_mul(dir, sh->radius));
+            out->n = sh->flip ? v3_neg(dir) : dir;
+        }
     } else if (shape_is_quadric(sh->type)) {
         /* uniform by world area (scene.c refuses an emitter where it would not be) */
         (void)u0;
@@ -384,6 +436,13 @@ float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n)
         Vec3 d = v3_sub(p, ref);
         if (!(v3_dot(d, d) > 0.0f)) return 0.0f;
         return inf_pdf(&s->emitters[e], v3_norm(d));
+    }
+    if (s->emitters[e].shape >= 0 && s->shapes[s->emitters[e].shape].type == SHAPE_SPHERE) {
+        double omc;
+        /* a direction from ref reaches the cap that faces it, where the cone
+           sampler puts all its points, with this density */
+        if (sphere_cone(&s->shapes[s->emitters[e].shape], ref, &omc))
+            return v3_dot(n, v3_sub(p, ref)) < 0.0f ? (float)(1.0 / (2.0 * SPECNEE_PI * omc)) : 0.0f;
     }
     return pdf_sa_area(s->emitters[e].area, ref, p, n);
 }

@@ -685,7 +685,68 @@ static void test_unbiased_environment_map(T *t)
    different bin or mode): checked by breaking lights.c on purpose. */
 static void test_unbiased_large_single(T *t) { strategies_on_scene_opt(t, SC_LARGE_HALVES, 1); }
 
+/* A sphere lamp seen from outside is sampled in the cone it subtends (lights.c,
+   sphere_cone).  For a receiver facing the centre at distance d the irradiance per
+   unit radiance is pi sin^2 theta_max = pi r^2 / d^2: the estimate
+   mean(cos theta / p_sigma) must match it, every sample must lie on the sphere on
+   the cap facing the receiver, and emitter_pdf_sa must give the sampler's density
+   there; inside a flipped sphere the area sampler is kept (its density too). */
+static void test_sphere_cone_sampling(T *t)
+{
+    static const char text[] =
+        "WorldBegin\n"
+        "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" [ 400 1 700 1 ]\n"
+        " Translate 1 2 3\n Shape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n"
+        "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" [ 400 1 700 1 ]\n"
+        " ReverseOrientation\n Shape \"sphere\" \"float radius\" 20\nAttributeEnd\n";
+    static const double dists[] = { 0.52, 0.8, 2.0, 30.0 };
+    Scene s;
+    Vec3 c = v3(1, 2, 3);
+    int di;
+    if (!test_load_scene(t, &s, text)) return;
+    for (di = 0; di < 4; di++) {
+        double d = dists[di], sum = 0.0, sum2 = 0.0, mean, se, expect = SPECNEE_PI * 0.25 / (d * d);
+        Vec3 axis = v3_norm(v3(0.3f, -0.8f, 0.5f)), ref = v3_add(c, v3_mul(axis, (float)d));
+        Rng rng;
+        int k, n = 200000;
+        rng_seed(&rng, 11 + di, 5);
+        for (k = 0; k < n; k++) {
+            float u[3], pdf2, cos_r;
+            EmitterSample es;
+            double v = 0.0;
+            rng_fill(&rng, u, 3);
+            if (emitter_sample(&s, 0, ref, u[0], u[1], u[2], &es)) {
+                float off = fabsf(v3_len(v3_sub(es.p, c)) - 0.5f);
+                CHECK(t, off < 1e-4f, "d %g: a sample %g off the sphere", d, off);
+                CHECK(t, v3_dot(es.n, es.wi) < 0.0f, "d %g: a sample on the far side", d);
+                pdf2 = emitter_pdf_sa(&s, 0, ref, es.p, es.n);
+                CHECK(t, fabsf(pdf2 - es.pdf_sa) <= 1e-4f * es.pdf_sa, "d %g: pdf %g at the sample, "
+                      "emitter_pdf_sa %g", d, es.pdf_sa, pdf2);
+                cos_r = v3_dot(es.wi, v3_neg(axis));     /* receiver normal towards the centre */
+                v = cos_r > 0.0f ? cos_r / es.pdf_sa : 0.0;
+            }
+            sum += v;
+            sum2 += v * v;
+        }
+        mean = sum / n;
+        se = sqrt((sum2 / n - mean * mean) / n);
+        CHECK(t, fabs(mean - expect) < 5.0 * se + 1e-4 * expect, "d %g: irradiance %.6g +- %.2g, "
+              "expected pi r^2/d^2 = %.6g", d, mean, se, expect);
+    }
+    {   /* inside the flipped sphere: the area density */
+        EmitterSample es;
+        Vec3 ref = v3(0.5f, -1.0f, 2.0f);
+        CHECK(t, emitter_sample(&s, 1, ref, 0.3f, 0.6f, 0.2f, &es), "no sample inside the big sphere");
+        CHECK(t, fabsf(es.pdf_sa - emitter_pdf_sa(&s, 1, ref, es.p, es.n)) <= 1e-4f * es.pdf_sa &&
+              fabsf(es.pdf_sa - (float)(es.dist * es.dist / (4.0 * SPECNEE_PI * 400.0 *
+                    fabs(v3_dot(es.n, es.wi))))) <= 1e-3f * es.pdf_sa,
+              "inside: pdf %g is not the area density", es.pdf_sa);
+    }
+    scene_free(&s);
+}
+
 const TestCase tests_lights[] = {
+    { "lights_sphere_cone_sampling", test_sphere_cone_sampling },
     { "lights_select_matches_pmf", test_select_matches_pmf },
     { "lights_positive_where_emitting", test_positive_where_emitting },
     { "lights_pmf_same_for_every_hero", test_pmf_same_for_every_hero },
