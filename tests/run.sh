@@ -365,8 +365,15 @@ if [ "$full" = 1 ]; then
         if ! have_cc $cc; then skip "build_$cc: $cc not installed (CI proves it)"; continue; fi
         flags="-std=c99 -pedantic -Wall -Wextra -Werror -O2 $(sh tools/ccflags.sh $cc)"
         [ $cc = tcc ] && flags="-std=c99 -Wall -Werror -O2"
-        if $cc $flags -I. -o build/specnee-$cc specnee.c $LIBSRC -lm >> "$log" 2>&1 &&
-           $cc $flags -I. -o build/runner-$cc tests/*.c $LIBSRC -lm >> "$log" 2>&1; then
+        # the binary and the runner compile at once, one on each of two cores
+        $cc $flags -I. -o build/specnee-$cc specnee.c $LIBSRC -lm > "$log.$cc-bin" 2>&1 &
+        bin_pid=$!
+        $cc $flags -I. -o build/runner-$cc tests/*.c $LIBSRC -lm > "$log.$cc-runner" 2>&1
+        runner_rc=$?
+        wait $bin_pid
+        bin_rc=$?
+        cat "$log.$cc-bin" "$log.$cc-runner" >> "$log"
+        if [ $bin_rc -eq 0 ] && [ $runner_rc -eq 0 ]; then
             ok "build_$cc (no warnings)"
             proven="$proven $cc"
             [ $cc = gcc ] || counted $cc env SPECNEE_TEST_SCALE=0.25 build/runner-$cc
@@ -387,6 +394,14 @@ if [ "$full" = 1 ]; then
     [ $second = 1 ] || echo "note: no second compiler was available: only cc ($cckind) was proven (CI installs clang and tcc)"
     # ---- 4. sanitizers (gcc or clang, whichever links them)
     acc=$(asan_cc)
+    replay_rc=1
+    if [ -n "$acc" ]; then
+        # the fuzz replayer compiles on the second core while the runner compiles
+        $acc -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
+            -fno-omit-frame-pointer -I. -o build/replay-asan fuzz/replay.c fuzz/targets.c \
+            $LIBSRC -lm > "$log.replay-asan" 2>&1 &
+        replay_pid=$!
+    fi
     if [ -z "$acc" ]; then
         skip "build_asan: no compiler here links -fsanitize=address,undefined (CI proves it)"
     elif $acc -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer \
@@ -399,9 +414,10 @@ if [ "$full" = 1 ]; then
     fi
     # the fuzz inputs (fuzz/regress, fuzz/seeds) under the same sanitizers
     if [ -n "$acc" ]; then
-        if $acc -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
-               -fno-omit-frame-pointer -I. -o build/replay-asan fuzz/replay.c fuzz/targets.c \
-               $LIBSRC -lm >> "$log" 2>&1; then
+        wait $replay_pid
+        replay_rc=$?
+        cat "$log.replay-asan" >> "$log"
+        if [ $replay_rc -eq 0 ]; then
             for t in scene ply pfm spectrum png; do
                 counted replay-asan-$t env ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
                     UBSAN_OPTIONS=print_stacktrace=1 build/replay-asan $t tests/tmp/replay-$t \
