@@ -2147,6 +2147,46 @@ static int check_spectrum_above(Parser *P, const Param *p, const char *file, int
     return 1;
 }
 
+/* The slab between a layered material's coat and base (coateddiffuse,
+   coatedconductor; layered.c): thickness, HG g, the walks' maxdepth and nsamples,
+   each checked and reported at its own parameter's line, then stored in m. */
+static int layer_slab(Parser *P, const char *what, const char *file, int line, float th,
+                      const Param *pth, float g, const Param *pg, int md, const Param *pd,
+                      int ns, const Param *pn, Material *m)
+{
+    if (!(th > 0.0f && th < 1e30f))
+        return fail(P, pth ? pth->file : file, pth ? pth->line : line,
+                    "%s: \"float thickness\" %g must be finite and > 0", what, th);
+    if (!(g > -1.0f && g < 1.0f))
+        return fail(P, pg ? pg->file : file, pg ? pg->line : line,
+                    "%s: \"float g\" %g must be within (-1, 1)", what, g);
+    if (md < 1)
+        return fail(P, pd ? pd->file : file, pd ? pd->line : line,
+                    "%s: \"integer maxdepth\" %d must be >= 1", what, md);
+    if (ns < 1)
+        return fail(P, pn ? pn->file : file, pn ? pn->line : line,
+                    "%s: \"integer nsamples\" %d must be >= 1", what, ns);
+    m->thickness = th;
+    m->hg_g = g;
+    m->maxdepth = md;
+    m->nsamples = ns;
+    return 1;
+}
+
+/* The slab's single-scattering albedo (0 by default), within [0, 1] at every nm. */
+static int layer_albedo(Parser *P, Param *pa, const char *what, const char *file, int line,
+                        Material *m)
+{
+    int nm;
+    if (!unit_spectrum_param(P, pa, &m->albedo, 0.0f)) return 0;
+    for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
+        if (!(spec_get(&m->albedo, nm) >= 0.0f && spec_get(&m->albedo, nm) <= 1.0f))
+            return fail(P, pa ? pa->file : file, pa ? pa->line : line,
+                        "%s: \"albedo\" %g at %d nm must be within [0, 1]", what,
+                        spec_get(&m->albedo, nm), nm);
+    return 1;
+}
+
 static int material_from_params(Parser *P, const char *type, ParamList *pl, const char *file,
                                 int line, Material *m, const char *dir)
 {
@@ -2355,7 +2395,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
         Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
         float eta, th, g;
-        int md, ns, given, nm;
+        int md, ns, given;
         m->type = MAT_COATED_DIFFUSE;
         if (pe && !pf)
             return fail(P, pe->file, pe->line, "%s: a spectral \"eta\" is valid pbrt-v4 (it "
@@ -2389,29 +2429,9 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
             return fail(P, pf ? pf->file : file, pf ? pf->line : line,
                         "%s: \"float eta\" %g is not an index of refraction", what, eta);
         spec_const(&m->eta, eta);
-        if (!(th > 0.0f && th < 1e30f))
-            return fail(P, pth ? pth->file : file, pth ? pth->line : line,
-                        "%s: \"float thickness\" %g must be finite and > 0", what, th);
-        if (!(g > -1.0f && g < 1.0f))
-            return fail(P, pg ? pg->file : file, pg ? pg->line : line,
-                        "%s: \"float g\" %g must be within (-1, 1)", what, g);
-        if (md < 1)
-            return fail(P, pd ? pd->file : file, pd ? pd->line : line,
-                        "%s: \"integer maxdepth\" %d must be >= 1", what, md);
-        if (ns < 1)
-            return fail(P, pn ? pn->file : file, pn ? pn->line : line,
-                        "%s: \"integer nsamples\" %d must be >= 1", what, ns);
+        if (!layer_slab(P, what, file, line, th, pth, g, pg, md, pd, ns, pn, m)) return 0;
         if (!unit_spectrum_param(P, pt ? NULL : pr, &m->reflectance, 0.5f)) return 0;
-        if (!unit_spectrum_param(P, pa, &m->albedo, 0.0f)) return 0;
-        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
-            if (!(spec_get(&m->albedo, nm) >= 0.0f && spec_get(&m->albedo, nm) <= 1.0f))
-                return fail(P, pa ? pa->file : file, pa ? pa->line : line,
-                            "%s: \"albedo\" %g at %d nm must be within [0, 1]", what,
-                            spec_get(&m->albedo, nm), nm);
-        m->thickness = th;
-        m->hg_g = g;
-        m->maxdepth = md;
-        m->nsamples = ns;
+        if (!layer_albedo(P, pa, what, file, line, m)) return 0;
         return 1;
     }
     if (!strcmp(type, "coatedconductor")) {
@@ -2465,24 +2485,8 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
             return fail(P, pf ? pf->file : file, pf ? pf->line : line,
                         "%s: \"float interface.eta\" %g is not an index of refraction", what, eta);
         spec_const(&m->eta, eta);
-        if (!(th > 0.0f && th < 1e30f))
-            return fail(P, pth ? pth->file : file, pth ? pth->line : line,
-                        "%s: \"float thickness\" %g must be finite and > 0", what, th);
-        if (!(g > -1.0f && g < 1.0f))
-            return fail(P, pg ? pg->file : file, pg ? pg->line : line,
-                        "%s: \"float g\" %g must be within (-1, 1)", what, g);
-        if (md < 1)
-            return fail(P, pd ? pd->file : file, pd ? pd->line : line,
-                        "%s: \"integer maxdepth\" %d must be >= 1", what, md);
-        if (ns < 1)
-            return fail(P, pn ? pn->file : file, pn ? pn->line : line,
-                        "%s: \"integer nsamples\" %d must be >= 1", what, ns);
-        if (!unit_spectrum_param(P, pa, &m->albedo, 0.0f)) return 0;
-        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
-            if (!(spec_get(&m->albedo, nm) >= 0.0f && spec_get(&m->albedo, nm) <= 1.0f))
-                return fail(P, pa ? pa->file : file, pa ? pa->line : line,
-                            "%s: \"albedo\" %g at %d nm must be within [0, 1]", what,
-                            spec_get(&m->albedo, nm), nm);
+        if (!layer_slab(P, what, file, line, th, pth, g, pg, md, pd, ns, pn, m)) return 0;
+        if (!layer_albedo(P, pa, what, file, line, m)) return 0;
         if (pt) {
             /* "texture reflectance": r read at each hit (mat_point), n and k from it
                there (layered.c layer_init) */
@@ -2512,10 +2516,6 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
                                       "coatedconductor", &m->k, 0.0f, 0))
                 return 0;
         }
-        m->thickness = th;
-        m->hg_g = g;
-        m->maxdepth = md;
-        m->nsamples = ns;
         return 1;
     }
     if (!strcmp(type, "thindielectric")) {
@@ -3498,7 +3498,7 @@ static int make_named_medium(Parser *P, Lexer *L, const Token *t)
         fail(P, p->file, p->line, "%s: \"float scale\" %g must be a finite number >= 0", what, scale);
         goto done;
     }
-    if (!(g > -1.0f && g < 1.0f)) {
+    if (!(g > -1.0f) || !(g < 1.0f)) {
         Param *p = param_find(&pl, PT_FLOAT, "g");
         fail(P, p->file, p->line, "%s: \"float g\" %g must lie in (-1, 1) (Henyey-Greenstein)",
              what, g);
