@@ -155,11 +155,16 @@ static int conductor_smooth(const MatPoint *mp)
 /* F of wavelength j (lambda) at the microfacet cosine c.  A textured reflectance r
    stands for eta = 1, k = 2 sqrt(r) / sqrt(1 - r), r clamped to [0, 0.9999]
    (pbrt-v4 ConductorMaterial::GetBxDF; scene.c does the same for a constant r). */
+float conductor_k_of_reflectance(double r)
+{
+    return (float)(2.0 * sqrt(r) / sqrt(1.0 - r));
+}
+
 static float conductor_F(const Material *m, const MatPoint *mp, int j, float c, float lambda_nm)
 {
     if (mp->has_r) {
         double r = mp->r[j] < 0.9999f ? mp->r[j] : 0.9999;
-        return fresnel_conductor(c, 1.0f, (float)(2.0 * sqrt(r) / sqrt(1.0 - r)));
+        return fresnel_conductor(c, 1.0f, conductor_k_of_reflectance(r));
     }
     return fresnel_conductor(c, spec_eval(&m->eta, lambda_nm), spec_eval(&m->k, lambda_nm));
 }

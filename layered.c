@@ -343,7 +343,7 @@ static void layer_init(const Material *m, const MatPoint *mp, const float *lambd
             /* section 5: the conductor's index relative to the coat's */
             if (mp && mp->has_r) {
                 double r = mp->r[j] < 0.9999f ? mp->r[j] : 0.9999;
-                L->base.ck[j] = (float)(2.0 * sqrt(r) / sqrt(1.0 - r));
+                L->base.ck[j] = conductor_k_of_reflectance(r);
             } else {
                 L->base.ce[j] = spec_eval(&m->cond_eta, lambda[j]);
                 L->base.ck[j] = spec_eval(&m->k, lambda[j]);

@@ -1990,7 +1990,7 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
             ok = fail(P, t->file, t->line, "Texture \"marble\": octaves %d must be within [0, 64]",
                       T.octaves);
         if (ok) {
-            texture_frame(P, &T);
+            texture_frame(P, &T);   /* marble */
             ok = tex_marble_init(&T, P->err);
         }
     } else if (!strcmp(a[2].text, "fbm") || !strcmp(a[2].text, "wrinkled") ||
@@ -2364,7 +2364,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
             for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
                 double r = spec_get(&m->reflectance, nm);
                 if (r > 0.9999) r = 0.9999;
-                *spec_at(&m->k, nm) = (float)(2.0 * sqrt(r) / sqrt(1.0 - r));
+                *spec_at(&m->k, nm) = conductor_k_of_reflectance(r);
             }
         } else {
             if (pe) { if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->eta, NULL)) return 0; }
@@ -2503,7 +2503,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
             for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
                 double r = spec_get(&m->reflectance, nm);
                 if (r > 0.9999) r = 0.9999;
-                *spec_at(&m->k, nm) = (float)(2.0 * sqrt(r) / sqrt(1.0 - r));
+                *spec_at(&m->k, nm) = conductor_k_of_reflectance(r);
             }
         } else {
             if (pe) { if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->cond_eta, NULL)) return 0; }

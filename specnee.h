@@ -721,6 +721,10 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
 /* Fresnel reflectance of a conductor (complex index eta + i k) seen from a medium
    of index 1, unpolarised; cos_i in [0, 1] (conductor.c). */
 float fresnel_conductor(float cos_i, float eta, float k);
+/* pbrt-v4's conductor "reflectance" r as an absorption index over eta = 1:
+   k = 2 sqrt(r) / sqrt(1 - r), whose normal-incidence Fresnel is exactly r
+   (the caller clamps r below 1) */
+float conductor_k_of_reflectance(double r);
 /* The conductor's sampler, value and pdf, called by bsdf_sample and bsdf_eval in
    the shading frame (local directions, n = +z).  pdf_l[j] = pdf for every j: the
    direction does not depend on the wavelength. */

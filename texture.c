@@ -156,13 +156,16 @@ float tex_noise(float x, float y, float z)
                  lerpf(wy, lerpf(wx, c[4], c[5]), lerpf(wx, c[6], c[7])));
 }
 
+/* pbrt-v4's octave frequency step (slightly off 2 so that octaves' lattices do not align) */
+#define NOISE_LACUNARITY 1.99f
+
 float tex_fbm(Vec3 p, float omega, int octaves)
 {
     float sum = 0.0f, scale = 1.0f, o = 1.0f;
     int i;
     for (i = 0; i < octaves; i++) {
         sum += o * tex_noise(scale * p.x, scale * p.y, scale * p.z);
-        scale *= 1.99f;
+        scale *= NOISE_LACUNARITY;
         o *= omega;
     }
     return sum;
@@ -174,7 +177,7 @@ float tex_turbulence(Vec3 p, float omega, int octaves)
     int i;
     for (i = 0; i < octaves; i++) {
         sum += o * fabsf(tex_noise(scale * p.x, scale * p.y, scale * p.z));
-        scale *= 1.99f;
+        scale *= NOISE_LACUNARITY;
         o *= omega;
     }
     return sum + o * 0.2f;

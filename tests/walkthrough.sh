@@ -67,6 +67,9 @@
 #   on failure.
 set -u
 cd "$(dirname "$0")/.." || exit 2
+# the pages' commands run as a reader types them: not inside a parent make's
+# jobserver (`make -j2 test` would make their own `make` print a warning)
+unset MAKEFLAGS MFLAGS MAKELEVEL
 root=$(pwd)
 LIMIT=${WALKTHROUGH_TIMEOUT:-120}
 FRAC=${WALKTHROUGH_IMG_FRAC:-0.05}
