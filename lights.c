@@ -54,14 +54,6 @@
 
 /* ------------------------------------------------------------------ emitters */
 
-static double tri_area(const Scene *s, int t)
-{
-    const Triangle *tr = &s->tris[t];
-    Vec3 e1 = v3_sub(s->P[tr->v[1]], s->P[tr->v[0]]);
-    Vec3 e2 = v3_sub(s->P[tr->v[2]], s->P[tr->v[0]]);
-    return 0.5 * (double)v3_len(v3_cross(e1, e2));
-}
-
 /* The planes of a small emitter mesh, for emitter_can_reach (section 4): per
    triangle its unit normal with the orientation scene_surface_point gives it, and
    the offset d = n . v0.  With shading normals (which decide the orientation at a
@@ -648,31 +640,6 @@ static const float *voxel_table(LightSampler *ls, int v)
 
 
 /* ------------------------------------------------------------------ pieces of the tree strategies */
-
-/* Sorting by one coordinate, for cluster_mesh's median cuts. */
-typedef struct { float key; int idx; } KeyIdx;
-
-static int cmp_key(const void *pa, const void *pb)
-{
-    const KeyIdx *a = (const KeyIdx *)pa, *b = (const KeyIdx *)pb;
-    if (a->key < b->key) return -1;
-    if (a->key > b->key) return 1;
-    return a->idx < b->idx ? -1 : a->idx > b->idx;   /* ties: a deterministic order */
-}
-
-/* Sort items[0..n) by coordinate `axis` of their points (pts[item]). */
-static void sort_by_axis(int *items, int n, const Vec3 *pts, int axis, KeyIdx *tmp)
-{
-    int i;
-    for (i = 0; i < n; i++) { tmp[i].key = v3_get(pts[items[i]], axis); tmp[i].idx = items[i]; }
-    qsort(tmp, (size_t)n, sizeof *tmp, cmp_key);
-    for (i = 0; i < n; i++) items[i] = tmp[i].idx;
-}
-
-static int longest_axis(Vec3 d)
-{
-    return d.x >= d.y && d.x >= d.z ? 0 : d.y >= d.z ? 1 : 2;
-}
 
 /* Split mesh emitter e's triangles tris[0..n) into clusters of at most
    LIGHT_CLUSTER_TRIS by median cuts along the longest axis of their centroids. */

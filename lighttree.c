@@ -114,13 +114,38 @@ struct LightTree {
    light tree, each with a share of its own. */
 static int beside_tree(const Emitter *em) { return em->inf || em->delta.type == DELTA_DISTANT; }
 
-/* The area of scene triangle t (as lights.c computes it for the emitters). */
-static double tri_area(const Scene *s, int t)
+/* ------------------------------------------------------------------ shared with lights.c */
+
+/* The area of scene triangle t: lights.c weighs an emitter's triangles by it,
+   the build here bounds the clusters' normals with it. */
+double tri_area(const Scene *s, int t)
 {
     const Triangle *tr = &s->tris[t];
     Vec3 e1 = v3_sub(s->P[tr->v[1]], s->P[tr->v[0]]);
     Vec3 e2 = v3_sub(s->P[tr->v[2]], s->P[tr->v[0]]);
     return 0.5 * (double)v3_len(v3_cross(e1, e2));
+}
+
+static int cmp_key(const void *pa, const void *pb)
+{
+    const KeyIdx *a = (const KeyIdx *)pa, *b = (const KeyIdx *)pb;
+    if (a->key < b->key) return -1;
+    if (a->key > b->key) return 1;
+    return a->idx < b->idx ? -1 : a->idx > b->idx;   /* ties: a deterministic order */
+}
+
+/* Sort items[0..n) by coordinate `axis` of their points (pts[item]). */
+void sort_by_axis(int *items, int n, const Vec3 *pts, int axis, KeyIdx *tmp)
+{
+    int i;
+    for (i = 0; i < n; i++) { tmp[i].key = v3_get(pts[items[i]], axis); tmp[i].idx = items[i]; }
+    qsort(tmp, (size_t)n, sizeof *tmp, cmp_key);
+    for (i = 0; i < n; i++) items[i] = tmp[i].idx;
+}
+
+int longest_axis(Vec3 d)
+{
+    return d.x >= d.y && d.x >= d.z ? 0 : d.y >= d.z ? 1 : 2;
 }
 
 /* ------------------------------------------------------------------ bounds: cones, boxes, the split cost */
@@ -239,25 +264,6 @@ static double acc_cost(const Acc *a, MeasureMemo *memo)
     return a->power * 2.0 * ((double)d.x * d.y + (double)d.y * d.z + (double)d.z * d.x) * memo->m;
 }
 
-typedef struct { float key; int idx; } KeyIdx;
-
-static int cmp_key(const void *pa, const void *pb)
-{
-    const KeyIdx *a = (const KeyIdx *)pa, *b = (const KeyIdx *)pb;
-    if (a->key < b->key) return -1;
-    if (a->key > b->key) return 1;
-    return a->idx < b->idx ? -1 : a->idx > b->idx;   /* ties: a deterministic order */
-}
-
-/* Sort items[0..n) by coordinate `axis` of their points (pts[item]). */
-static void sort_by_axis(int *items, int n, const Vec3 *pts, int axis, KeyIdx *tmp)
-{
-    int i;
-    for (i = 0; i < n; i++) { tmp[i].key = v3_get(pts[items[i]], axis); tmp[i].idx = items[i]; }
-    qsort(tmp, (size_t)n, sizeof *tmp, cmp_key);
-    for (i = 0; i < n; i++) items[i] = tmp[i].idx;
-}
-
 typedef struct {
     const LightTreeInput *in;
     LightTree *lt;
@@ -268,11 +274,6 @@ typedef struct {
                                   averages: computed once, not once per piece */
     MeasureMemo memo;
 } Builder;
-
-static int longest_axis(Vec3 d)
-{
-    return d.x >= d.y && d.x >= d.z ? 0 : d.y >= d.z ? 1 : 2;
-}
 
 /* The scene triangle that is triangle j (0 <= j < piece_tri_count) of piece pc,
    a mesh piece whose emitter's shape is sh. */

@@ -1253,6 +1253,14 @@ int    light_tree_select(const LightTree *t, const LightCtx *c, float u, float *
 float  light_tree_pmf(const LightTree *t, const LightCtx *c, int piece);
 int    light_tree_simd_check(const LightTree *t, const LightCtx *c, int *lanes);  /* as above */
 size_t light_tree_bytes(const LightTree *t);
+/* Shared by lights.c (its mesh clusters) and the tree's build (lighttree.c): the
+   area of scene triangle t; items[0..n) sorted by coordinate `axis` of their
+   points pts[item] (ties by item, so the order is deterministic; tmp holds n);
+   the axis (0, 1, 2) along which the extent d is longest. */
+typedef struct { float key; int idx; } KeyIdx;
+double tri_area(const Scene *s, int t);
+void   sort_by_axis(int *items, int n, const Vec3 *pts, int axis, KeyIdx *tmp);
+int    longest_axis(Vec3 d);
 
 /* ======================================================================
    12. The integrator (render.c) and its options
