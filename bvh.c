@@ -1,221 +1,63 @@
 /* bvh.c - the bounding volume hierarchy: builds it, and answers ray queries with it.
 
-   WHAT IT IMPLEMENTS
-     bvh_build / bvh_free       binned-SAH BVH over every triangle, sphere and quadric
-                                (disk, cylinder, partial sphere: shapes.c) of a Scene,
-                                collapsed into 8-wide nodes
-     bvh_intersect              closest hit along a ray segment 0 < t < tmax
-     bvh_occluded               any hit (shadow rays): stops at the first one found
-     intersect_triangle         watertight ray/triangle test (Woop, Benthin, Wald 2013)
-     intersect_sphere           numerically careful ray/sphere test (Haines et al. 2019)
-     scene_surface_point        position and normals at a hit (pbrt-v4 conventions)
-     offset_ray_origin          where a secondary ray starts (self-intersection policy)
+   WHAT IT IMPLEMENTS (specnee.h section 5)
+     bvh_build / bvh_free   binned-SAH BVH over every triangle, sphere and quadric (disk,
+                            cylinder, cut sphere: shapes.c) of a Scene, in 8-wide nodes
+     bvh_intersect          closest hit along a ray segment 0 < t < tmax
+     bvh_occluded           any hit (shadow rays): stops at the first one found
+     intersect_triangle     watertight ray/triangle test (Woop, Benthin, Wald 2013)
+     intersect_sphere       ray/sphere in double (Haines et al. 2019)
+     scene_surface_point    position, normals and (u, v) at a hit (pbrt-v4 conventions)
+     offset_ray_origin      where a secondary ray starts (the policy below)
+   USE: scene_load calls bvh_build(&s->bvh, s) once.  The integrator calls
+   bvh_intersect, then scene_surface_point, and bvh_occluded for the shadow rays of
+   next event estimation (through media it follows them with bvh_intersect instead).
+   Primitive id k < n_tris is triangle k, n_tris + j sphere j (s->sphere_shape[j]),
+   n_tris + n_spheres + k quadric k (s->quadric_shape[k], intersected by shapes.c);
+   at most 2^28 - 1 of them (a leaf packs its first primitive into 28 bits).
 
-   PRIMITIVES
-     Primitive id k < n_tris is triangle k (vertices s->P[tris[k].v[0..2]]);
-     id n_tris + j is sphere j, i.e. shape s->shapes[s->sphere_shape[j]];
-     id n_tris + n_spheres + k is quadric k, shape s->shapes[s->quadric_shape[k]]
-     (intersected by shapes.c in its object space).
-     At most 2^28 - 1 primitives (a leaf packs its first primitive into 28 bits).
-
-   BUILD: binned surface area heuristic (Wald 2007, "On fast construction of SAH-based
-   bounding volume hierarchies"; pbrt-v4 section 7.3.2)
-     Splitting a node of area A holding N primitives into (L, R) is estimated to cost
-         C_split = C_trav + (A_L N_L + A_R N_R) / A          (C_trav = 2, see below)
-     against C_leaf = N for a leaf.  The primitive centroids are sorted into BVH_BINS
-     equal bins along each axis, and the BVH_BINS - 1 planes between bins are scored by
-     two sweeps (one from each side).  A node with more than BVH_LEAF_MAX primitives is
-     always split; a smaller one is split only when C_split < C_leaf.  When every
-     centroid coincides (nothing to bin) or the tree gets deeper than SAH_DEPTH_MAX,
-     the node is cut in the middle of its primitive list instead, which bounds the depth
-     (see BVH_STACK).  Nothing depends on threads or timing: the build is deterministic.
-     This binary tree (BinNode, depth first: the left child of node i is node i + 1)
-     is only a step: it is then collapsed into 8-wide nodes.  Each wide node starts
-     from a binary node's two children and repeatedly replaces the inner child of
-     largest surface area (the one most rays enter) by its two children, until it has
-     8 (Wald, Benthin, Boulos 2008, "Getting rid of packets"; pbrt-v4 and Embree build
-     wide BVHs this way).  A wide node replaces up to 7 binary nodes, and a ray visits
-     about a third as many nodes, each a few steps of straight-line SIMD work.
+   BUILD (bvh_build): a binary tree by the binned surface area heuristic (Wald 2007;
+   pbrt-v4 section 7.3.2), then collapsed into 8-wide nodes (Wald, Benthin, Boulos
+   2008): a wide node opens its inner child of largest area until it has 8.  A wide
+   node replaces up to 7 binary ones and tests its 8 children's boxes in one loop
+   without branches, which gcc and clang turn into SIMD code; a ray visits about a
+   third as many nodes.  The build is deterministic (no threads, no timing).
 
    LAYOUT (specnee.h: BvhNode, BvhPrim; 256-byte nodes aligned to 64 bytes)
-     A node holds the boxes of its (up to) 8 children, not its own, grouped by plane,
-     so that one plane of all 8 children is 8 consecutive floats:
+         BvhNode          child 0   child 1   ...   child 7
+         box[0]  lo x     [ f32 ]   [ f32 ]         [ f32 ]   one plane of all 8
+           ...   lo y, lo z, hi x, hi y                       children: 32 bytes, so
+         box[5]  hi z     [ f32 ]   [ f32 ]         [ f32 ]   the slab test reads 8 at once
+         child[] >= 0: node index;  < 0: leaf ~(first << 3 | count - 1)
+         pad[]   to 256 bytes: four whole cache lines
+     An empty slot is the box lo = +inf, hi = -inf, which every ray misses.  A leaf is
+     the records prims[first .. first + count), count <= BVH_WIDE_LEAF_MAX, each the
+     primitive's id and its vertices (a sphere: centre, radius; a quadric: only the id),
+     so a leaf is one contiguous run of memory.
 
-         BvhNode                 child 0   child 1   ...   child 7
-         box[0]  lo x            [ f32 ]   [ f32 ]         [ f32 ]   \
-         box[1]  lo y              ...                                |  6 x 32 bytes:
-         box[2]  lo z                                                 |  the slab test
-         box[3]  hi x                                                 |  reads 8 children
-         box[4]  hi y                                                 |  at once
-         box[5]  hi z                                                /
-         child[] >= 0: node index   < 0: leaf = ~(first << 3 | count - 1)
-         pad[]   (to 256 bytes: four whole cache lines)
-
-     An empty slot is the box lo = +inf, hi = -inf, which every ray misses, so the
-     loop over the 8 slots needs no test for it.  A leaf's primitives are the records
-     prims[first .. first + count), count <= BVH_WIDE_LEAF_MAX:
-
-         BvhPrim   v[0..8] = p0 p1 p2 (a sphere: centre, radius)   prim = its id
-
-     A quadric's transform and parameters do not fit in 9 floats: its record keeps
-     only the id, and the leaf reads its Shape (quadrics are few).
-
-     the vertices copied next to the primitive id, so a leaf is one contiguous run of
-     memory and needs no second indirection.  bmin/bmax in Bvh is the root's own box.
-
-   TRAVERSAL (the loop is traverse(), below)
-     Iterative, with a stack of (child, culling distance).  Per ray: 1/d, the signs of
-     d and the dominant axis kz are computed once; rays that miss the root box stop
-     there (ray_prepare, root_hit).  At an inner node node_hit_mask tests the 8 child
-     boxes and returns a bitmask of those entered.  No child: pop.  One child: go to it
-     directly.  Several: push them so that the nearest (smallest entry distance) is on
-     top, and go on with it.  At a leaf the primitives are tested.  Shadow rays (any
-     hit) use the same loop, skip the ordering and return at the first hit.
-     Random rays make every data-dependent branch a coin toss that the processor
-     mispredicts about half the time (~15 cycles each), so the loop avoids them: the
-     children entered are visited by their set bits (lowest_bit), each is put straight
-     into its place on the stack by its rank (how many of the others entered are
-     farther, counted without branches), and the triangle test combines its sign tests
-     with | and & instead of || and &&.
-
-         node_hit_mask:  mask = 0b00101100  t_enter = [ .  .  4.0  1.5  .  2.0  .  . ]
-         children 2, 3, 5 entered; ranks (farther ones) 0, 2, 1:
-         stack  ... | child 2 (4.0) | child 5 (2.0) | child 3 (1.5) | <- popped next
-     Slab test (Kay & Kajiya 1986) with the precomputed inverse direction: on each axis
-     the ray enters through the plane the sign of d points away from (lo for d >= 0, hi
-     for d < 0), so near and far planes are picked once per ray (RayPre.near/far).  A
-     zero component of d gives 1/d = +-infinity; (b - o) * inf is then +-infinity, or
-     NaN when the origin lies exactly on the plane, and the near/far distances are
-     accumulated with "x > acc ? x : acc", which skips a NaN: a ray in the plane of a
-     flat box (an axis-aligned wall seen edge-on) still enters it.  The far distance
-     is enlarged by 1 + 2 gamma(3) (Ize 2013, "Robust BVH ray traversal"; pbrt-v3
-     section 3.9.2) so that rounding never culls a box the ray really touches.
-
-   ORDER INDEPENDENCE (the closest hit is a function of the ray, not of the traversal)
-     The closest hit is defined as brute force over all primitives would find it: the
-     smallest computed t with 0 < t < tmax, and among equal t the smallest primitive
-     id.  Whatever order the leaves are visited in, the traversal returns exactly that,
-     because (1) a leaf accepts t <= t_best and breaks a tie by the id, and (2) a box is
-     culled only when no primitive inside it can have a computed t <= t_best.
-     (2) needs care: the computed t of a triangle and the computed entry distance of
-     its box round differently, so "entry > t_best" alone can cull the box of a hit
-     1 ulp closer; and for a grazing ray the barycentrics, hence t, can be off by far
-     more than an ulp, so no small margin on the full entry distance is safe.  One axis
-     is safe: the ray's dominant axis kz, the triangle test's z.  There the test
-     computes each vertex's distance as  Az = (v_kz - o_kz) * Sz  and the slab test the
-     box's near plane as  tz = (b_kz - o_kz) * inv_d_kz,  with Sz == inv_d_kz (both
-     1.0f / d_kz) and b_kz beyond no vertex; rounding is monotonic, so tz <= Az, Bz, Cz
-     exactly.  The test's t = (U Az + V Bz + W Cz) / (U + V + W) with U, V, W of one
-     sign is a convex combination of them, which 7 roundings take at most a factor
-     (1 - gamma(7)) below their minimum (Higham 2002, ch. 3).  So every triangle in the
-     box has t >= (1 - gamma(7)) tz, and the box may be culled when
-         tz > t_best * (1 + 2 gamma(8))           (the margin: 16 ulps, relative)
-     since fl(t_best (1 + 2 gamma(8))) >= t_best / (1 - gamma(7)).  A sphere's (and a
-     quadric's) t is solved in double and rounded once, and its box is rounded outwards, so the same
-     bound holds up to the error of the double solve (far below a float ulp, except
-     for rays within about 1e-8 r of tangency).  tests/test_bvh.c (bvh_exact_adversarial) checks the
-     result against brute force bit for bit on rays through shared edges and vertices,
-     along the normals of axis-aligned faces (where every vertex has the same Az and
-     the 1-ulp cases live), grazing, and on duplicated and coplanar triangles.
-
-   SPEED (tools/bench, `make bench`: 82k triangles, 1M incoherent rays, one thread)
-     A ray's cost is dominated by memory: loading a node, then the next, then the leaf
-     records; the loads deep in the tree miss the caches (tree and records ~5 MB).  The
-     8-wide layout cuts the chain of dependent loads (about 6 node visits a ray that
-     enters the mesh's box, against 17 binary ones), and the slab test of 8 children
-     is a branch-free loop that gcc and clang turn into SIMD instructions.  Also:
-       - the triangle test's shear (3 divisions) and the per-ray axis order are
-         computed only once the ray has hit the root box; 73% of the benchmark's rays
-         miss it (ray_prepare_rest);
-       - the children pushed are prefetched, all four lines of a node (PREFETCH);
-       - one child entered goes straight on, without the stack;
-       - the root box test picks its near and far planes by indexing with the signs
-         of d rather than by ?:, which gcc compiled into branches that random
-         directions mispredict (root_hit): rays that miss the mesh's box 1.6x faster
-         (best of 5: 57.8 against 35.7 Mrays/s); on all rays within the noise.
-       - no branch that random rays mispredict (TRAVERSAL above): the children by
-         their set bits, placed by rank rather than by an insertion sort, the node
-         mask as an OR of hit[j] << j rather than a chain of shifts, the triangle's
-         sign tests with | and &, traverse() inlined into both queries, and the
-         dominant axis and plane order of ray_prepare_rest by arithmetic.  The
-         ratio hardly changes with the mesh's size (levels 3 to 6 within 5%), so the
-         time was spent computing, not waiting for memory.  tools/bench_embree
-         (`make bench-embree`: Embree 3.13.5, AVX2, its default build, on the same
-         rays; gcc -O2; best of 5 rounds, three alternated runs of each version):
-                                       all rays             box-hitting rays
-             before                    9.2 Mrays/s  x1.79   2.9 Mrays/s  x2.34
-             branch-free traversal    12.0         x1.38   4.1          x1.69
-             + ray_prepare_rest       12.8         x1.30   4.4          x1.60
-         (x = Embree's speed over specnee's; clang -O2 x1.33 on all rays; on 1.3 M
-         triangles, level 8, x1.30 with gcc).  Still worth it after the change:
-         ordering the children (unordered: x1.58), prefetching the pushed children
-         (without: x1.47).
-     Measured no faster, so not done: 4-wide nodes (128 bytes); building the bitmask
-     with a SIMD OR of per-child bits (gcc made it slower); prefetching only a node's
-     first line, or a leaf's records by its count; C_trav = 1, 3 or 4, leaves of up to
-     8, wide leaves of at most 4 or 6 (all within noise after the change above); -O3
-     (gcc slower, x1.49).
-     Also measured slower, so not done (the commit "BVH experiment (issue 18)" holds
-     the code, the commit after it these figures;
-     tools/bench level 6, 5 interleaved rounds, best Mrays/s on the box-hitting rays):
-       - child boxes quantised to 8 bits a plane (Ylitie, Karras, Laine 2017): 128-byte
-         nodes, a power-of-two grid per node, planes rounded outwards with the
-         traversal's own dequantisation, so every image stays the same.  gcc 1.33
-         against 1.77, clang 1.63 against 1.93.  Node and leaf visits grow only 2%,
-         but turning 48 bytes into floats at every node costs more than halving the
-         node memory saves: the whole tree (5 MB) fits in this machine's 32 MB L3;
-       - leaves as packs of 4 primitives stored plane by plane, with a 4-lane pre-test
-         doing tri_hit's operations in tri_hit's order (exact; 82% fewer scalar
-         triangle tests): no faster (1.59 with 320-byte nodes), and 25% more memory
-         a triangle (leaf records 54 bytes a triangle, not 40): most leaves hold 1 to
-         3 primitives, and a pack is padded to 4.
-     Culling on the dominant axis (ORDER INDEPENDENCE) visits about 7% more nodes than
-     culling on the full entry distance would; that is the price of exactness.
-     clang compiles the same source about 20% faster than gcc -O2; -ffast-math is never
-     used.  Figures: the commit message of the wide layout and `make bench`.
-
-   RAY/TRIANGLE (Woop, Benthin, Wald, "Watertight Ray/Triangle Intersection", JCGT 2013)
-     Translate the vertices to the ray origin, permute the axes so that the largest
-     direction component is z, and shear so the ray becomes the +z axis:
-         A' = (A_x - S_x A_z, A_y - S_y A_z, S_z A_z)   with S_x = d_x/d_z, S_y = d_y/d_z,
-                                                             S_z = 1/d_z   (same for B, C)
-     In that 2D frame the ray is the origin, and the scaled barycentrics are the edge
-     functions  U = C'_x B'_y - C'_y B'_x,  V = A'_x C'_y - A'_y C'_x,
-                W = B'_x A'_y - B'_y A'_x    (U is the weight of A, V of B, W of C).
-     The ray hits iff U, V, W all have the same sign (both faces are hit).  When one of
-     them is exactly 0 it is recomputed in double, where the products of two floats are
-     exact, so the sign is right: a ray through a shared edge or vertex is accepted by at
-     least one of the triangles around it - the mesh is watertight.  With
-     det = U + V + W and T = U A'_z + V B'_z + W C'_z the hit is at
-         t = T / det,  b1 = V / det,  b2 = W / det.
-     Finally t must exceed a bound on its own rounding error (pbrt-v3 section 3.9.6,
-     "Conservative ray-triangle intersection"): a ray starting on the triangle's plane
-     never hits that triangle at a t that is only rounding noise.
-
-   RAY/SPHERE (Haines, Guenther, Akenine-Moller, "Precision Improvements for Ray/Sphere
-   Intersection", Ray Tracing Gems ch. 7, 2019)
-     With f = o - c, solve |f + t d|^2 = r^2, i.e. a t^2 + 2 b t + c = 0 with a = d.d,
-     b = f.d, c = f.f - r^2.  The discriminant is formed as a (r^2 - |f - (b/a) d|^2),
-     which does not cancel catastrophically for a far sphere, and the roots as
-         q = -(b + sign(b) sqrt(disc)),   t0 = q / a,   t1 = c / q,
-     which avoids subtracting nearly equal numbers.  Everything is in double (spheres
-     are few).  The nearest root in (0, tmax) is returned.
+   TRAVERSAL (traverse): iterative, with a stack of (child, near plane on the dominant
+   axis).  The nearest child entered is visited first; shadow rays skip the ordering
+   and return at the first hit.  Random rays make every data-dependent branch a coin
+   toss, so the loop has as few as it can (the children by their set bits, placed on
+   the stack by rank).  The closest hit does not depend on the order: it is exactly
+   what brute force finds, the smallest computed t in (0, tmax), ties to the smallest
+   id (the proof opens the traversal section; tests/test_bvh.c checks it bit for bit).
+   Speed: docs/bvh.md has the figures (about 1.3 times slower than Embree 3 on
+   tools/bench's incoherent rays), what each choice gains and what was tried.
 
    SELF-INTERSECTION POLICY (how secondary rays avoid hitting their own surface)
      1. scene_surface_point computes p from the barycentrics in double, so p lies within
         half an ulp of the triangle's plane (for spheres: reprojected onto the sphere).
      2. offset_ray_origin(p, ng, w) moves p along ng, to the side of w, by
-            eps = 1e-5 (1 + max_i |p_i|)      (about 80 float ulps of the largest coordinate)
+            eps = 1e-5 (1 + max_i |p_i|)    (about 80 float ulps of the largest coordinate)
         so the new origin is certainly on w's side of the surface it left.
-     3. The triangle test rejects t below its error bound (above), so a ray leaving a
-        triangle cannot re-hit it, even when that triangle's vertices are far larger
-        than p; for spheres the double-precision roots do the same.
-     Shadow rays towards a point q on an emitter should run from offset_ray_origin(...)
-     to q with tmax = 1 - 1e-4 (d = q - o), so that the emitter itself does not occlude.
-
-   USE
-     scene_load calls bvh_build(&s->bvh, s) once; the integrator calls bvh_intersect,
-     then scene_surface_point, and bvh_occluded for next event estimation.
+     3. The triangle test rejects t below its error bound, so a ray leaving a triangle
+        cannot re-hit it, even when that triangle's vertices are far larger than p; for
+        spheres the double-precision roots do the same.
+     The shadow rays of next event estimation run from o = offset_ray_origin(p, ng, w)
+     (in a medium: o = p) to q' = offset_ray_origin(q, n_q, -w), the emitter point q
+     moved off the emitter towards p, with d = q' - o and tmax = 1: the segment ends
+     short of the emitter, so the emitter does not occlude itself.
 */
 #include "specnee.h"
 #include <float.h>
@@ -297,7 +139,7 @@ HOT_INLINE int ray_prepare_rest(RayPre *rp)
     int a;
     /* kz: the dimension where |d| is largest, so the shear divides by the most (and
        the axis whose slab culls boxes beyond the closest hit: ORDER INDEPENDENCE) */
-    {   /* without branches: random directions would mispredict them (see SPEED) */
+    {   /* without branches: random directions would mispredict them (docs/bvh.md) */
         const float a0 = fabsf(rp->d[0]), a1 = fabsf(rp->d[1]), a2 = fabsf(rp->d[2]);
         const int k1 = a1 > a0;                     /* the first largest wins ties */
         const float m = a1 > a0 ? a1 : a0;
@@ -364,7 +206,24 @@ static float t_error_bound(float Ax, float Ay, float Az, float Bx, float By, flo
            fabsf(inv_det);
 }
 
-/* Watertight test of the triangle v[0..8] = (p0, p1, p2); see the header comment. */
+/* Watertight test of the triangle v[0..8] = (p0, p1, p2) (Woop, Benthin, Wald,
+   "Watertight Ray/Triangle Intersection", JCGT 2013).  Translate the vertices to the
+   ray origin, permute the axes so that the largest direction component is z, and
+   shear so the ray becomes the +z axis:
+       A' = (A_x - S_x A_z, A_y - S_y A_z, S_z A_z)   with S_x = d_x/d_z, S_y = d_y/d_z,
+                                                           S_z = 1/d_z   (same for B, C)
+   In that 2D frame the ray is the origin, and the scaled barycentrics are the edge
+   functions  U = C'_x B'_y - C'_y B'_x,  V = A'_x C'_y - A'_y C'_x,
+              W = B'_x A'_y - B'_y A'_x    (U is the weight of A, V of B, W of C).
+   The ray hits iff U, V, W all have the same sign (both faces are hit).  When one of
+   them is exactly 0 it is recomputed in double, where the products of two floats are
+   exact, so the sign is right: a ray through a shared edge or vertex is accepted by at
+   least one of the triangles around it - the mesh is watertight.  With
+   det = U + V + W and T = U A'_z + V B'_z + W C'_z the hit is at
+       t = T / det,  b1 = V / det,  b2 = W / det.
+   Finally t must exceed a bound on its own rounding error (pbrt-v3 section 3.9.6): a
+   ray starting on the triangle's plane never hits that triangle at a t that is only
+   rounding noise (the self-intersection policy at the top of this file). */
 HOT_INLINE int tri_hit(const RayPre *rp, const float *v, float tmax,
                        float *t_out, float *b1_out, float *b2_out)
 {
@@ -412,7 +271,14 @@ HOT_INLINE int tri_hit(const RayPre *rp, const float *v, float tmax,
     return 1;
 }
 
-/* Ray/sphere in double (see the header comment).  s[0..3] = (cx, cy, cz, radius). */
+/* Ray/sphere in double (Haines, Guenther, Akenine-Moller, "Precision Improvements for
+   Ray/Sphere Intersection", Ray Tracing Gems ch. 7, 2019).  s[0..3] = (cx, cy, cz,
+   radius).  With f = o - c, solve |f + t d|^2 = r^2, i.e. a t^2 + 2 b t + c = 0 with
+   a = d.d, b = f.d, c = f.f - r^2.  The discriminant is formed as
+   a (r^2 - |f - (b/a) d|^2), which does not cancel catastrophically for a far sphere,
+   and the roots as  q = -(b + sign(b) sqrt(disc)),  t0 = q / a,  t1 = c / q,  which
+   avoids subtracting nearly equal numbers.  Everything is in double (spheres are
+   few).  The nearest root in (0, tmax] is returned. */
 static int sphere_hit(const RayPre *rp, const float *s, float tmax, float *t_out)
 {
     double f[3], d[3], l[3], a = 0, b = 0, c = 0, ll = 0, r = s[3], disc, q, t0, t1, tmp;
@@ -571,8 +437,16 @@ static int prim_infos(const Scene *s, PrimInfo *info)
     return 1;
 }
 
-/* Choose a split of prims[begin, end) by the binned SAH.  Returns 1 and sets
-   *axis_out and *mid_out (after partitioning prims) to split, 0 to make a leaf. */
+/* Choose a split of prims[begin, end) by the binned SAH (Wald 2007, "On fast
+   construction of SAH-based bounding volume hierarchies").  Splitting a node of area A
+   holding N primitives into (L, R) is estimated to cost
+       C_split = C_trav + (A_L N_L + A_R N_R) / A
+   against C_leaf = N for a leaf.  The centroids are sorted into BVH_BINS equal bins
+   along each axis, and the BVH_BINS - 1 planes between bins are scored by two sweeps
+   (one from each side).  A node with more than BVH_LEAF_MAX primitives is always
+   split (bvh_build cuts it in the middle of its list when the SAH finds no plane); a
+   smaller one only when C_split < C_leaf.  Returns 1 and sets *axis_out and *mid_out
+   (after partitioning prims) to split, 0 to make a leaf. */
 static int sah_split(const PrimInfo *info, int32_t *prims, int begin, int end,
                      const Box *node_box, const Box *cbox, int *axis_out, int *mid_out)
 {
@@ -841,6 +715,44 @@ int bvh_build(Bvh *b, const Scene *s)
 /* ======================================================================
    Traversal
    ====================================================================== */
+/* ORDER INDEPENDENCE (the closest hit is a function of the ray, not of the traversal)
+   The closest hit is defined as brute force over all primitives would find it: the
+   smallest computed t with 0 < t < tmax, and among equal t the smallest primitive id.
+   Whatever order the leaves are visited in, the traversal returns exactly that,
+   because (1) a leaf accepts t <= t_best and breaks a tie by the id, and (2) a box is
+   culled only when no primitive inside it can have a computed t <= t_best.
+   (2) needs care: the computed t of a triangle and the computed entry distance of its
+   box round differently, so "entry > t_best" alone can cull the box of a hit 1 ulp
+   closer; and for a grazing ray the barycentrics, hence t, can be off by far more
+   than an ulp, so no small margin on the full entry distance is safe.  One axis is
+   safe: the ray's dominant axis kz, the triangle test's z.  There the test computes
+   each vertex's distance as  Az = (v_kz - o_kz) * Sz  and the slab test the box's
+   near plane as  tz = (b_kz - o_kz) * inv_d_kz,  with Sz == inv_d_kz (both
+   1.0f / d_kz) and b_kz beyond no vertex; rounding is monotonic, so tz <= Az, Bz, Cz
+   exactly.  The test's t = (U Az + V Bz + W Cz) / (U + V + W) with U, V, W of one sign
+   is a convex combination of them, which 7 roundings take at most a factor
+   (1 - gamma(7)) below their minimum (Higham 2002, ch. 3).  So every triangle in the
+   box has t >= (1 - gamma(7)) tz, and the box may be culled when
+       tz > t_best * (1 + 2 gamma(8))           (the margin: 16 ulps, relative)
+   since fl(t_best (1 + 2 gamma(8))) >= t_best / (1 - gamma(7)).  A sphere's (and a
+   quadric's) t is solved in double and rounded once, and its box is rounded outwards,
+   so the same bound holds up to the error of the double solve (far below a float ulp,
+   except for rays within about 1e-8 r of tangency).  tests/test_bvh.c
+   (bvh_exact_adversarial) checks the result against brute force bit for bit on rays
+   through shared edges and vertices, along the normals of axis-aligned faces (where
+   every vertex has the same Az and the 1-ulp cases live), grazing, and on duplicated
+   and coplanar triangles.  Culling on the dominant axis visits about 7 % more nodes
+   than culling on the full entry distance would: the price of exactness.
+
+   THE SLAB TEST (Kay & Kajiya 1986) uses the precomputed inverse direction: on each
+   axis the ray enters through the plane the sign of d points away from (lo for
+   d >= 0, hi for d < 0), so near and far planes are picked once per ray
+   (RayPre.near/far).  A zero component of d gives 1/d = +-infinity; (b - o) * inf is
+   then +-infinity, or NaN when the origin lies exactly on the plane, and the near/far
+   distances are accumulated with "x > acc ? x : acc", which skips a NaN: a ray in the
+   plane of a flat box (an axis-aligned wall seen edge-on) still enters it.  The far
+   distance is enlarged by 1 + 2 gamma(3) (Ize 2013, "Robust BVH ray traversal";
+   pbrt-v3 section 3.9.2) so that rounding never culls a box the ray really touches. */
 /* The slab test of the root's box (as in node_hit_mask, but without the culling by
    tmax: for a ray that misses it, nothing else needs computing). */
 HOT_INLINE int root_hit(const Bvh *b, const RayPre *rp)
@@ -927,7 +839,14 @@ HOT_INLINE unsigned node_hit_mask(const BvhNode *nd, const RayPre *rp, float t_c
    A stack holds the children still to visit.  At an inner node, the children the ray
    enters are pushed, the nearest last, so that it is popped next (the order only
    saves time: ORDER INDEPENDENCE); a child is dropped when popped if a hit closer
-   than its dominant-axis near plane (with the margin) has been found meanwhile. */
+   than its dominant-axis near plane (with the margin) has been found meanwhile.
+   Random rays make every data-dependent branch a coin toss that the processor
+   mispredicts about half the time, so the children entered are visited by their set
+   bits (lowest_bit) and each is put straight into its place by its rank (how many of
+   the others entered are farther, counted without branches):
+       node_hit_mask:  mask = 0b00101100  t_enter = [ .  .  4.0  1.5  .  2.0  .  . ]
+       children 2, 3, 5 entered; ranks (farther ones) 0, 2, 1:
+       stack  ... | child 2 (4.0) | child 5 (2.0) | child 3 (1.5) | <- popped next */
 HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h, int any_hit)
 {
     RayPre rp;
@@ -935,7 +854,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
     float t_enter[BVH_WIDTH], t_z[BVH_WIDTH], t_best = r->tmax, t_cull, t, b1, b2;
     int hit[BVH_WIDTH], sp = 0, best_p = -1, ref = 0, j;
     if (b->n_nodes == 0 || !(t_best > 0.0f) || !ray_prepare(r, &rp) || !root_hit(b, &rp) ||
-        !ray_prepare_rest(&rp))                    /* only now: see "SPEED" above */
+        !ray_prepare_rest(&rp))                    /* only now: most rays miss the root */
         return 0;
     t_cull = t_best * rp.cull_scale;
 
