@@ -4,7 +4,7 @@
    delta_can_reach.  scene.c builds a DeltaLight from a LightSource directive;
    lights.c treats it as one more emitter (a piece of its own) for every
    selection strategy; render.c's NEE gives its sample MIS weight 1 against BSDF
-   sampling (docs/THEORY.md section 11 derives the estimator).
+   sampling (THEORY §11 derives the estimator).
 
    1. What they emit (pbrt-v4 lights.cpp, the pbrt book 4th ed. section 12.1-12.4).
       A point light at x radiates the intensity I(lambda) (W/sr/nm) equally into

@@ -19,7 +19,7 @@
    every pixel it reaches would write a pixel from several threads.)
    - box, gaussian, triangle: q is proportional to f, so w is a constant, which
      cancels in the ratio: specnee gives them w = 1 and the pixel is the mean of
-     its samples (bit for bit specnee's film before these filters existed).
+     its samples.
    - mitchell and sinc have negative lobes, so no density is proportional to f.
      pbrt-v4's FilterSampler tabulates f at the centres of int(32 r) cells per
      axis over [-r, r], draws the cell from |f_tab| and the point uniformly in it,
@@ -43,7 +43,7 @@
                Lanczos' windowed sinc                              r = 4, tau = 3
    The samplers per axis: box x = (2u - 1) r; triangle the inverse CDF of the tent;
    gaussian a table of FILTER_CELLS cells (or, with the independent sampler,
-   rejection from its stream: specnee's original code, kept bit for bit);
+   rejection from that sampler's own stream: filter_gaussian_reject);
    mitchell and sinc pbrt-v4's table of int(32 r) cells.
 
    USE.  render.c: filter_init once per render from the SceneSettings, then per
@@ -129,8 +129,8 @@ void filter_init(PixelFilter *pf, const SceneSettings *st)
     pf->n = 0;
     pf->abs_integral = 0.0;
     if (pf->type == FILTER_GAUSSIAN) {
-        /* specnee's Gaussian table (as it was in render.c, to the bit): FILTER_CELLS
-           cells whatever the radius, g(x) - g(r) at each centre */
+        /* specnee's Gaussian table: FILTER_CELLS cells whatever the radius (mitchell
+           and sinc take int(32 r)), g(x) - g(r) at each centre */
         double g_r = exp(-(double)pf->radius * pf->radius / (2.0 * pf->sigma * pf->sigma));
         pf->n = FILTER_CELLS;
         for (i = 0; i < FILTER_CELLS; i++) {
@@ -233,8 +233,8 @@ float filter_sample(const PixelFilter *pf, float u0, float u1, float *px, float 
 }
 
 /* One axis of the Gaussian, g(x) - g(radius), by rejection: the independent
-   sampler's way (a variable count of numbers from its stream), specnee's first
-   Gaussian, kept so that those images stay bit-identical.  An offset in [-r, r]. */
+   sampler's way (a variable count of numbers from its stream; at most 64 tries,
+   then 0).  An offset in [-r, r]. */
 float filter_gaussian_reject(Rng *rng, float radius, float sigma)
 {
     float g_r = expf(-radius * radius / (2.0f * sigma * sigma));

@@ -9,7 +9,7 @@
      on the rays that hit the mesh's bounding box.  Each of `runs` rounds (default 5)
      times the eight casts once, in the same order, so a busy spell of the shared
      machine slows them alike; the best and the median of the rounds are printed,
-     with Embree's speed over specnee's (issue 18's figure: "within 1.5x").  The hit
+     with Embree's speed over specnee's (docs/bvh.md has the figures).  The hit
      counts of the two must agree; they are printed.
      Embree is built with its defaults (rtcNewDevice "threads=1", a scene of one
      triangle geometry, RTC_BUILD_QUALITY_MEDIUM), and it picks its own SIMD width at

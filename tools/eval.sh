@@ -7,7 +7,7 @@
 # is rebuilt from docs/RESULTS.in.md, whose lines "@@include docs/eval/X.md@@"
 # are replaced by the generated tables: no number in RESULTS.md is typed by hand.
 #
-#   SEEDS   seeds per (variant, spp) (default 8, as the evaluation issue asks)
+#   SEEDS   seeds per (variant, spp) (default 8)
 #   LADDER  spp ladder (default 16,32,64,128,256,512, the thesis' ladder)
 #   SCENES  which runs (default all: cornell1 cornell2 suzanne cornell-glass); a
 #           subset keeps each call short, e.g. on a lent machine with a per-command

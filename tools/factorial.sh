@@ -1,6 +1,6 @@
 #!/bin/sh
-# tools/factorial.sh - the factorial evaluation of issue 12 (`make factorial`):
-# which factor of the configuration matters, by how much, at equal time.
+# tools/factorial.sh - the factorial evaluation (`make factorial`): which factor
+# of the configuration matters, by how much, at equal time.
 #
 # Factors and levels (every combination is one `specnee converge` variant, named
 # SELECTION:WAVELENGTHS:terminate|roughmis, e.g. product:mixture:roughmis; every

@@ -1,6 +1,6 @@
 #!/bin/sh
-# tools/factorial_pilot.sh - the pilot of the factorial evaluation (issue 12) that
-# chose specnee's defaults (docs/RESULTS.md, "What to use").  Two stages, each a
+# tools/factorial_pilot.sh - the pilot of the factorial evaluation that chose
+# specnee's defaults (docs/RESULTS.md, "What to use").  Two stages, each a
 # `specnee converge` run per scene against docs/ref/<scene>.pfm, every variant
 # against the thesis' baseline (spatial:uniform:terminate:independent, what
 # `--preset thesis` renders):
@@ -13,7 +13,7 @@
 # The full grid (tools/factorial.sh: 4 x 4 x 2 = 32 variants x 6 rungs up to 512 spp
 # x 8 seeds) costs hours per scene on 2 cores; the pilot prunes it to a fractional
 # design (one factor at a time around the best level, 9 + 6 variants), LADDER
-# 16,64 (64 spp is the issue's target) and 4 seeds.  What that cannot show:
+# 16,64 (64 spp: the budget the defaults were chosen for) and 4 seeds.  What that cannot show:
 # interactions between selection and the wavelength pdf away from the chosen levels.
 #   SCENES  (default: the evaluation scenes and the two stress scenes of
 #           docs/wavelengths.md)   SEEDS (4)   LADDER (16,64)   THREADS (1)

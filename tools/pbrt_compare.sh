@@ -14,7 +14,7 @@
 # Y is the luminance mean of the image (specnee diff --means), "ratio" specnee /
 # pbrt-v4 over the whole image, "worst quadrant" the quadrant ratio farthest from
 # 1.  status is "ok" when the image is within 2 % and every quadrant within 5 %
-# (issue 29's bar), "differs" otherwise, and "refused: <message>" or
+# (the bar of docs/real-scenes.md), "differs" otherwise, and "refused: <message>" or
 # "pbrt failed" when a renderer does not render it.  Both renderers use their
 # default samplers, so the figures carry Monte Carlo noise: raise --spp until a
 # repeat with another seed moves the ratio by much less than the bar.
