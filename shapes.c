@@ -30,7 +30,7 @@
    These are the directions of dp/du x dp/dv in pbrt-v4 (u = phi / phimax, v along
    z or the radius), so they match pbrt-v4's normals.  As for every shape, the
    world normal is then negated when Shape.flip (ReverseOrientation XOR a
-   handedness-swapping CTM) is set (docs/conventions.md section 3).
+   handedness-swapping CTM) is set (docs/conventions.md §3).
 
    TRANSFORMS.  Points go to the world by M (Quadric.world_from_obj.m), normals by
    M^-T (pbrt book section 3.10.3).  A world ray (o, d) becomes the object ray
