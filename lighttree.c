@@ -1,7 +1,9 @@
 /* lighttree.c - the light tree: NEE's choice among many emitters in O(log n).
 
    Exported (specnee.h section 11, for lights.c only): light_tree_build/free,
-   light_tree_select, light_tree_pmf, light_tree_simd_check, light_tree_bytes.
+   light_tree_select, light_tree_pmf, light_tree_simd_check, light_tree_bytes;
+   and the build's helpers that lights.c shares: tri_area, sort_by_axis,
+   longest_axis.
 
    Conty Estevez and Kulla, "Importance Sampling of Many Lights with Adaptive
    Tree Splitting", HPG 2018; pbrt-v4's BVHLightSampler and LightBounds (pbrt

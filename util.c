@@ -23,7 +23,8 @@
    - error_set: formats the one-line "file:line: problem" messages (bytes that
      are not printable text are escaped as \xNN).
    - read_whole_file: a whole file into memory, at most READ_MAX_BYTES, refusing
-     gzip data and (for text) NUL bytes as soon as they are read. */
+     gzip data and (for text) NUL bytes as soon as they are read; read_status_text
+     says why it refused. */
 #include "specnee.h"
 #include <stdarg.h>
 #include <stdlib.h>
