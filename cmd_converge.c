@@ -1,4 +1,4 @@
-/* eval.c - speed against accuracy: `specnee converge`, the evaluation driver.
+/* cmd_converge.c - speed against accuracy: `specnee converge`, the evaluation driver.
 
    Exported: cmd_converge, eval_parse_variant (specnee.h section 14).
 
