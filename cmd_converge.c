@@ -275,310 +275,406 @@ static const char usage_converge[] =
     "  --reuse: no rendering; the charts and tables are rebuilt from PREFIX.csv of an\n"
     "  earlier run with the same variants, ladder and seeds.\n";
 
-int cmd_converge(int argc, char **argv)
+/* The command line of converge. */
+typedef struct {
+    const char *scene_path, *ref_path, *prefix, *baseline;
+    char var_names[MAX_VARIANTS][64];
+    char spp_s[MAX_SPP][64];   /* the --spp list as given */
+    int n_var, n_spp, spp[MAX_SPP];
+    int K, threads, maxdepth;  /* seeds; --threads; --maxdepth (-1: the scene's) */
+    int b;                     /* the baseline's index in var_names */
+    int use_cpu, reuse, base_thesis;
+} ConvergeArgs;
+
+/* The regions the errors are measured over: the whole image, then the scene's insets. */
+typedef struct {
+    int n;
+    int rect[MAX_REGIONS][4];
+    char name[MAX_REGIONS][16];
+} Regions;
+
+/* The measurements: errors at RIDX(variant, rung, seed, region), times at
+   IDX(variant, rung, seed). */
+typedef struct { double *mse, *relmse, *mae, *wall, *cpu, *build; } Measures;
+
+/* The options into A.  Returns -1 to go on, else the exit code (0 after --help). */
+static int converge_options(int argc, char **argv, ConvergeArgs *A)
 {
-    const char *scene_path = NULL, *ref_path = NULL, *prefix = "converge", *baseline = NULL;
-    char var_names[MAX_VARIANTS][64], spp_s[MAX_SPP][64], path[1024], png_path[1024];
-    float exposure;
-    int n_var = 1, n_spp = 0, K = 4, threads = 0, maxdepth = -1, i, v, s, k, r, b = 0;
-    int spp[MAX_SPP];
-    Scene scene;
-    Image ref;
-    Error err;
-    int n_reg, reg[MAX_REGIONS][4];
-    char reg_name[MAX_REGIONS][16];
-    double *mse, *relmse, *mae, *wall, *cpu, *build, *tb;
-    int use_cpu = 1, reuse = 0, base_thesis = 0;
-    FILE *csv;
-    strcpy(var_names[0], "spatial");
-    n_spp = split_list("16,32,64,128", spp_s, MAX_SPP);
+    int i;
+    memset(A, 0, sizeof *A);
+    A->prefix = "converge";
+    A->n_var = 1;
+    A->K = 4;
+    A->maxdepth = -1;
+    A->use_cpu = 1;
+    strcpy(A->var_names[0], "spatial");
+    A->n_spp = split_list("16,32,64,128", A->spp_s, MAX_SPP);
     for (i = 1; i < argc; i++) {
         const char *a = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "-h") || !strcmp(a, "--help")) { fputs(usage_converge, stdout); return 0; }
-        if (!strcmp(a, "--reuse")) { reuse = 1; continue; }
+        if (!strcmp(a, "--reuse")) { A->reuse = 1; continue; }
         if (a[0] == '-' && !val) { fprintf(stderr, "converge: %s needs a value\n%s", a, usage_converge); return 2; }
-        if (!strcmp(a, "--ref")) ref_path = argv[++i];
+        if (!strcmp(a, "--ref")) A->ref_path = argv[++i];
         else if (!strcmp(a, "--lights")) {
-            n_var = split_list(argv[++i], var_names, MAX_VARIANTS);
-            if (!n_var) { fprintf(stderr, "converge: bad --lights list\n"); return 2; }
+            A->n_var = split_list(argv[++i], A->var_names, MAX_VARIANTS);
+            if (!A->n_var) { fprintf(stderr, "converge: bad --lights list\n"); return 2; }
         } else if (!strcmp(a, "--spp")) {
-            n_spp = split_list(argv[++i], spp_s, MAX_SPP);
-            if (!n_spp) { fprintf(stderr, "converge: bad --spp list\n"); return 2; }
+            A->n_spp = split_list(argv[++i], A->spp_s, MAX_SPP);
+            if (!A->n_spp) { fprintf(stderr, "converge: bad --spp list\n"); return 2; }
         } else if (!strcmp(a, "--seeds")) {
-            K = atoi(argv[++i]);
-            if (K < 2 || K > MAX_SEEDS) { fprintf(stderr, "converge: --seeds must be 2..%d\n", MAX_SEEDS); return 2; }
-        } else if (!strcmp(a, "--out")) prefix = argv[++i];
-        else if (!strcmp(a, "--baseline")) baseline = argv[++i];
+            A->K = atoi(argv[++i]);
+            if (A->K < 2 || A->K > MAX_SEEDS) { fprintf(stderr, "converge: --seeds must be 2..%d\n", MAX_SEEDS); return 2; }
+        } else if (!strcmp(a, "--out")) A->prefix = argv[++i];
+        else if (!strcmp(a, "--baseline")) A->baseline = argv[++i];
         else if (!strcmp(a, "--base")) {
             const char *bv = argv[++i];
-            if (!strcmp(bv, "thesis")) base_thesis = 1;
-            else if (!strcmp(bv, "defaults")) base_thesis = 0;
+            if (!strcmp(bv, "thesis")) A->base_thesis = 1;
+            else if (!strcmp(bv, "defaults")) A->base_thesis = 0;
             else { fprintf(stderr, "converge: --base must be defaults or thesis, not '%s'\n", bv); return 2; }
         }
-        else if (!strcmp(a, "--threads")) threads = atoi(argv[++i]);
-        else if (!strcmp(a, "--maxdepth")) maxdepth = atoi(argv[++i]);
+        else if (!strcmp(a, "--threads")) A->threads = atoi(argv[++i]);
+        else if (!strcmp(a, "--maxdepth")) A->maxdepth = atoi(argv[++i]);
         else if (!strcmp(a, "--time")) {
             const char *tv = argv[++i];
-            if (!strcmp(tv, "cpu")) use_cpu = 1;
-            else if (!strcmp(tv, "wall")) use_cpu = 0;
+            if (!strcmp(tv, "cpu")) A->use_cpu = 1;
+            else if (!strcmp(tv, "wall")) A->use_cpu = 0;
             else { fprintf(stderr, "converge: --time must be cpu or wall, not '%s'\n", tv); return 2; }
         }
         else if (a[0] == '-') { fprintf(stderr, "converge: unknown option '%s'\n%s", a, usage_converge); return 2; }
-        else if (!scene_path) scene_path = a;
+        else if (!A->scene_path) A->scene_path = a;
         else { fprintf(stderr, "converge: more than one scene\n"); return 2; }
     }
-    if (!scene_path || !ref_path) { fputs(usage_converge, stderr); return 2; }
-    for (s = 0; s < n_spp; s++) {
-        spp[s] = atoi(spp_s[s]);
-        if (spp[s] <= 0) { fprintf(stderr, "converge: bad spp '%s'\n", spp_s[s]); return 2; }
-        if (s > 0 && spp[s] <= spp[s - 1]) {
-            fprintf(stderr, "converge: the --spp ladder must increase ('%s' after '%s')\n", spp_s[s], spp_s[s - 1]);
+    if (!A->scene_path || !A->ref_path) { fputs(usage_converge, stderr); return 2; }
+    return -1;
+}
+
+/* The spp ladder (positive, increasing) and the variants (known names; the
+   baseline's index).  Returns -1 to go on, else the exit code 2. */
+static int converge_ladder(ConvergeArgs *A)
+{
+    int s, v;
+    for (s = 0; s < A->n_spp; s++) {
+        A->spp[s] = atoi(A->spp_s[s]);
+        if (A->spp[s] <= 0) { fprintf(stderr, "converge: bad spp '%s'\n", A->spp_s[s]); return 2; }
+        if (s > 0 && A->spp[s] <= A->spp[s - 1]) {
+            fprintf(stderr, "converge: the --spp ladder must increase ('%s' after '%s')\n", A->spp_s[s],
+                    A->spp_s[s - 1]);
             return 2;
         }
     }
-    for (v = 0; v < n_var; v++) {
+    for (v = 0; v < A->n_var; v++) {
         RenderOptions o;
-        if (base_thesis) render_options_thesis(&o); else render_options_default(&o);
-        if (!eval_parse_variant(var_names[v], &o)) {
-            fprintf(stderr, "converge: unknown variant '%s'\n", var_names[v]);
+        if (A->base_thesis) render_options_thesis(&o); else render_options_default(&o);
+        if (!eval_parse_variant(A->var_names[v], &o)) {
+            fprintf(stderr, "converge: unknown variant '%s'\n", A->var_names[v]);
             return 2;
         }
-        if (baseline && !strcmp(baseline, var_names[v])) b = v;
-        if (!sampler_progressive(o.sampler) && !reuse)
+        if (A->baseline && !strcmp(A->baseline, A->var_names[v])) A->b = v;
+        if (!sampler_progressive(o.sampler) && !A->reuse)
             fprintf(stderr, "converge: %s: the %s sampler is not progressive (its samples depend on "
                     "the total spp): every rung is a separate render, timed alone\n",
-                    var_names[v], sampler_name(o.sampler));
+                    A->var_names[v], sampler_name(o.sampler));
     }
-    memset(&scene, 0, sizeof scene);
-    if (!scene_load(&scene, scene_path, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
-    if (!pfm_read(&ref, ref_path, &err)) { fprintf(stderr, "%s\n", err.msg); scene_free(&scene); return 1; }
-    {
-        /* the image render() makes: the film, or its crop (Film cropwindow) */
-        int fb[4];
-        film_bounds(&scene.settings, fb);
-        if (ref.w != fb[1] - fb[0] || ref.h != fb[3] - fb[2]) {
-            fprintf(stderr, "%s: reference is %dx%d, the scene renders %dx%d\n", ref_path, ref.w, ref.h,
-                    fb[1] - fb[0], fb[3] - fb[2]);
-            img_free(&ref); scene_free(&scene);
-            return 1;
-        }
-    }
-    /* regions: the whole image, then the scene's insets (in the rendered part) */
-    n_reg = 1;
-    strcpy(reg_name[0], "image");
-    reg[0][0] = 0; reg[0][1] = 0; reg[0][2] = ref.w; reg[0][3] = ref.h;
-    {
-        int rect[8][4], n_rect;
-        const char *names[8];
-        n_rect = scene_insets_rendered(&scene, rect, names);
-        for (i = 0; i < n_rect && n_reg < MAX_REGIONS; i++, n_reg++) {
-            snprintf(reg_name[n_reg], sizeof reg_name[n_reg], "%s", names[i]);
-            memcpy(reg[n_reg], rect[i], sizeof reg[n_reg]);
-        }
-    }
-    /* the picture for docs/RESULTS.md: the baseline's seed-0 render at the largest
-       spp, insets outlined, at the power-of-two exposure that brings the
-       reference's mean luminance nearest to middle grey (0.18) */
-    {
-        double Y = 0.0;
-        size_t p, np = (size_t)ref.w * (size_t)ref.h;
-        for (p = 0; p < np; p++)
-            Y += 0.212671 * ref.rgb[3 * p] + 0.715160 * ref.rgb[3 * p + 1] + 0.072169 * ref.rgb[3 * p + 2];
-        Y /= (double)np;
-        exposure = Y > 0.0 ? (float)floor(log2(0.18 / Y) + 0.5) : 0.0f;
-        if (exposure < -8.0f) exposure = -8.0f;
-        if (exposure > 8.0f) exposure = 8.0f;
-        snprintf(png_path, sizeof png_path, "%s.png", prefix);
-    }
-    mse = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, sizeof(double));
-    relmse = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, sizeof(double));
-    mae = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS, sizeof(double));
-    wall = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS, sizeof(double));
-    cpu = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS, sizeof(double));
-    build = (double *)calloc((size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS, sizeof(double));
-    snprintf(path, sizeof path, "%s.csv", prefix);
-    csv = NULL;
-    if (!mse || !relmse || !mae || !wall || !cpu || !build ||
-        (reuse ? !read_csv(path, var_names, n_var, spp, n_spp, K, reg_name, n_reg, mse, relmse, mae, wall, cpu, build)
-               : (csv = fopen(path, "w")) == NULL)) {
-        if (!reuse) fprintf(stderr, "%s: cannot write (or out of memory)\n", path);
-        free(mse); free(relmse); free(mae); free(wall); free(cpu); free(build);
-        img_free(&ref); scene_free(&scene);
-        return 1;
-    }
-    if (csv) fprintf(csv, "scene,variant,spp,seed,wall_s,cpu_s,build_s,region,mse,relmse,mae\n");
+    return -1;
+}
 
-    /* the renders: seeds outermost so an interrupted run has every variant.  For
-       each seed every variant is one progressive render (a RenderJob) up the whole
-       ladder, and the variants take turns rung by rung: variant 1 to 16 spp,
-       variant 2 to 16 spp, ..., variant 1 to 32 spp, ...  Each rung's image is
-       bit-identical to a separate render with that spp; taking turns puts the
-       variants' passes seconds apart, so a slow spell of the machine slows them
-       alike and their time ratios stay paired. */
-    for (k = 0; k < K && csv; k++) {
+/* The scene, the reference (the size of the image render() makes: the film, or its
+   crop, Film cropwindow) and the regions: the whole image, then the scene's insets
+   in the rendered part.  0 after a message (nothing left to free). */
+static int converge_inputs(const ConvergeArgs *A, Scene *scene, Image *ref, Regions *R)
+{
+    Error err;
+    int fb[4], rect[8][4], n_rect, i;
+    const char *names[8];
+    memset(scene, 0, sizeof *scene);
+    if (!scene_load(scene, A->scene_path, &err)) { fprintf(stderr, "%s\n", err.msg); return 0; }
+    if (!pfm_read(ref, A->ref_path, &err)) { fprintf(stderr, "%s\n", err.msg); scene_free(scene); return 0; }
+    film_bounds(&scene->settings, fb);
+    if (ref->w != fb[1] - fb[0] || ref->h != fb[3] - fb[2]) {
+        fprintf(stderr, "%s: reference is %dx%d, the scene renders %dx%d\n", A->ref_path, ref->w, ref->h,
+                fb[1] - fb[0], fb[3] - fb[2]);
+        img_free(ref); scene_free(scene);
+        return 0;
+    }
+    R->n = 1;
+    strcpy(R->name[0], "image");
+    R->rect[0][0] = 0; R->rect[0][1] = 0; R->rect[0][2] = ref->w; R->rect[0][3] = ref->h;
+    n_rect = scene_insets_rendered(scene, rect, names);
+    for (i = 0; i < n_rect && R->n < MAX_REGIONS; i++, R->n++) {
+        snprintf(R->name[R->n], sizeof R->name[R->n], "%s", names[i]);
+        memcpy(R->rect[R->n], rect[i], sizeof R->rect[R->n]);
+    }
+    return 1;
+}
+
+/* The exposure of the picture for docs/RESULTS.md: the power of two that brings the
+   reference's mean luminance nearest to middle grey (0.18), within -8..8. */
+static float converge_exposure(const Image *ref)
+{
+    double Y = 0.0;
+    float exposure;
+    size_t p, np = (size_t)ref->w * (size_t)ref->h;
+    for (p = 0; p < np; p++)
+        Y += 0.212671 * ref->rgb[3 * p] + 0.715160 * ref->rgb[3 * p + 1] + 0.072169 * ref->rgb[3 * p + 2];
+    Y /= (double)np;
+    exposure = Y > 0.0 ? (float)floor(log2(0.18 / Y) + 0.5) : 0.0f;
+    if (exposure < -8.0f) exposure = -8.0f;
+    if (exposure > 8.0f) exposure = 8.0f;
+    return exposure;
+}
+
+static void measures_free(Measures *M)
+{
+    free(M->mse); free(M->relmse); free(M->mae); free(M->wall); free(M->cpu); free(M->build);
+}
+
+/* Every array zeroed; 0 when one is out of memory (free them with measures_free). */
+static int measures_alloc(Measures *M)
+{
+    size_t n_err = (size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS * MAX_REGIONS;
+    size_t n_time = (size_t)MAX_VARIANTS * MAX_SPP * MAX_SEEDS;
+    M->mse = (double *)calloc(n_err, sizeof(double));
+    M->relmse = (double *)calloc(n_err, sizeof(double));
+    M->mae = (double *)calloc(n_err, sizeof(double));
+    M->wall = (double *)calloc(n_time, sizeof(double));
+    M->cpu = (double *)calloc(n_time, sizeof(double));
+    M->build = (double *)calloc(n_time, sizeof(double));
+    return M->mse && M->relmse && M->mae && M->wall && M->cpu && M->build;
+}
+
+/* The renders: seeds outermost so an interrupted run has every variant.  For
+   each seed every variant is one progressive render (a RenderJob) up the whole
+   ladder, and the variants take turns rung by rung: variant 1 to 16 spp,
+   variant 2 to 16 spp, ..., variant 1 to 32 spp, ...  Each rung's image is
+   bit-identical to a separate render with that spp; taking turns puts the
+   variants' passes seconds apart, so a slow spell of the machine slows them
+   alike and their time ratios stay paired.  Returns 0 after a message when a
+   render fails. */
+static int converge_render(const ConvergeArgs *A, const Scene *scene, const Image *ref, Regions *R,
+                           Measures *M, FILE *csv, const char *png_path, float exposure)
+{
+    int k, v, s;
+    Error err;
+    for (k = 0; k < A->K; k++) {
         RenderOptions o[MAX_VARIANTS];
         RenderJob *job[MAX_VARIANTS];
-        Rung R[MAX_VARIANTS];
+        Rung rung[MAX_VARIANTS];
         int failed = 0;
-        for (v = 0; v < n_var; v++) job[v] = NULL;
-        for (v = 0; v < n_var && !failed; v++) {
-            if (base_thesis) render_options_thesis(&o[v]); else render_options_default(&o[v]);
-            eval_parse_variant(var_names[v], &o[v]);
+        for (v = 0; v < A->n_var; v++) job[v] = NULL;
+        for (v = 0; v < A->n_var && !failed; v++) {
+            Rung *g = &rung[v];
+            if (A->base_thesis) render_options_thesis(&o[v]); else render_options_default(&o[v]);
+            eval_parse_variant(A->var_names[v], &o[v]);
             o[v].seed = 1000003 * (k + 1);
-            o[v].threads = threads;
-            o[v].maxdepth = maxdepth >= 0 ? maxdepth
-                            : scene.settings.maxdepth_set ? scene.settings.maxdepth : DEFAULT_MAXDEPTH;
-            R[v].scene_path = scene_path; R[v].variant = var_names[v]; R[v].v = v; R[v].k = k;
-            R[v].spp = spp; R[v].ref = &ref; R[v].n_reg = n_reg; R[v].reg = reg; R[v].reg_name = reg_name;
-            R[v].mse = mse; R[v].relmse = relmse; R[v].mae = mae;
-            R[v].wall = wall; R[v].cpu = cpu; R[v].build = build;
-            R[v].csv = csv;
-            R[v].png = v == b && k == 0 ? png_path : NULL;
-            R[v].last = n_spp - 1;
-            R[v].exposure = exposure;
-            job[v] = render_begin(&scene, &o[v], &err);
+            o[v].threads = A->threads;
+            o[v].maxdepth = A->maxdepth >= 0 ? A->maxdepth
+                            : scene->settings.maxdepth_set ? scene->settings.maxdepth : DEFAULT_MAXDEPTH;
+            g->scene_path = A->scene_path; g->variant = A->var_names[v]; g->v = v; g->k = k;
+            g->spp = A->spp; g->ref = ref; g->n_reg = R->n; g->reg = R->rect; g->reg_name = R->name;
+            g->mse = M->mse; g->relmse = M->relmse; g->mae = M->mae;
+            g->wall = M->wall; g->cpu = M->cpu; g->build = M->build;
+            g->csv = csv;
+            g->png = v == A->b && k == 0 ? png_path : NULL;
+            g->last = A->n_spp - 1;
+            g->exposure = exposure;
+            job[v] = render_begin(scene, &o[v], &err);
             if (!job[v]) failed = 1;
         }
-        for (s = 0; s < n_spp && !failed; s++)
-            for (v = 0; v < n_var && !failed; v++) {
+        for (s = 0; s < A->n_spp && !failed; s++)
+            for (v = 0; v < A->n_var && !failed; v++) {
                 if (s > 0 && !sampler_progressive(o[v].sampler)) {
                     /* a fresh render for this rung: its samples depend on the spp */
                     render_end(job[v]);
-                    job[v] = render_begin(&scene, &o[v], &err);
+                    job[v] = render_begin(scene, &o[v], &err);
                     if (!job[v]) { failed = 1; break; }
                 }
-                if (!render_advance(job[v], spp[s], spp[n_spp - 1], &err)) failed = 1;
-                else record_rung(&R[v], s, render_image(job[v]), render_stats(job[v]));
+                if (!render_advance(job[v], A->spp[s], A->spp[A->n_spp - 1], &err)) failed = 1;
+                else record_rung(&rung[v], s, render_image(job[v]), render_stats(job[v]));
             }
-        for (v = 0; v < n_var; v++) render_end(job[v]);
-        if (failed) {
-            fprintf(stderr, "%s\n", err.msg);
-            fclose(csv);
+        for (v = 0; v < A->n_var; v++) render_end(job[v]);
+        if (failed) { fprintf(stderr, "%s\n", err.msg); return 0; }
+    }
+    return 1;
+}
+
+/* The charts of the whole image: MSE against spp and against time (CPU or wall time,
+   --time), band = min..max over seeds, and the efficiency 1/(MSE x time) relative to
+   the baseline. */
+static void converge_charts(const ConvergeArgs *A, const Measures *M)
+{
+    double x[MAX_VARIANTS][MAX_SPP], y[MAX_VARIANTS][MAX_SPP], lo[MAX_VARIANTS][MAX_SPP],
+        hi[MAX_VARIANTS][MAX_SPP], tx[MAX_VARIANTS][MAX_SPP], eff[MAX_VARIANTS][MAX_SPP];
+    const double *tb = A->use_cpu ? M->cpu : M->wall;
+    SvgSeries ser[MAX_VARIANTS];
+    SvgChart ch;
+    char path[1024];
+    int chart, v, s, k, b = A->b;
+    for (v = 0; v < A->n_var; v++)
+        for (s = 0; s < A->n_spp; s++) {
+            double sm = 0, st = 0, mn = INFINITY, mx = 0;
+            for (k = 0; k < A->K; k++) {
+                double m = M->mse[RIDX(v, s, k, 0)];
+                sm += m; st += tb[IDX(v, s, k)];
+                if (m < mn) mn = m;
+                if (m > mx) mx = m;
+            }
+            x[v][s] = A->spp[s];
+            y[v][s] = sm / A->K;
+            lo[v][s] = mn;
+            hi[v][s] = mx;
+            tx[v][s] = st / A->K;
+        }
+    for (v = 0; v < A->n_var; v++)
+        for (s = 0; s < A->n_spp; s++)
+            eff[v][s] = (y[b][s] * tx[b][s]) / (y[v][s] * tx[v][s]);
+    for (chart = 0; chart < 3; chart++) {
+        FILE *f;
+        const char *suffix[3] = { "mse_spp", "mse_time", "efficiency" };
+        memset(&ch, 0, sizeof ch);
+        for (v = 0; v < A->n_var; v++) {
+            memset(&ser[v], 0, sizeof ser[v]);
+            ser[v].name = A->var_names[v];
+            ser[v].n = A->n_spp;
+            ser[v].x = chart == 1 ? tx[v] : x[v];
+            ser[v].y = chart == 2 ? eff[v] : y[v];
+            ser[v].ylo = chart == 2 ? NULL : lo[v];
+            ser[v].yhi = chart == 2 ? NULL : hi[v];
+            ser[v].dashed = v == b;
+        }
+        ch.title = chart == 0 ? "MSE against samples per pixel (band: min..max over seeds)"
+                 : chart == 1 ? "MSE against render time (equal time: read across)"
+                              : "efficiency 1/(MSE x time) relative to the baseline";
+        ch.xlabel = chart == 1 ? (A->use_cpu ? "CPU time (s)" : "wall time (s)") : "samples per pixel";
+        ch.ylabel = chart == 2 ? "relative efficiency" : "MSE (whole image)";
+        ch.logx = 1;
+        ch.logy = chart != 2;
+        snprintf(path, sizeof path, "%s_%s.svg", A->prefix, suffix[chart]);
+        f = fopen(path, "w");
+        if (!f || !svg_line_chart(f, &ch, ser, A->n_var)) fprintf(stderr, "%s: cannot write\n", path);
+        if (f) fclose(f);
+    }
+}
+
+/* One row of region r's table: variant v's MSE and change against the baseline at
+   the largest spp, its time and time ratio, and its change at equal time (the
+   statistics of the head comment).  tmean: time per (variant, rung), mean over seeds. */
+static void converge_table_row(FILE *md, const ConvergeArgs *A, const Measures *M,
+                               double tmean[][MAX_SPP], int v, int r)
+{
+    const double *tb = A->use_cpu ? M->cpu : M->wall;
+    double c_spp[MAX_SEEDS], c_time[MAX_SEEDS], mm[MAX_SEEDS], tt[MAX_SEEDS], tr[MAX_SEEDS];
+    double tv[MAX_SPP], m1, h1, m2, h2, m0, h0, tm, th, rm, rh;
+    int s, k, b = A->b, last = A->n_spp - 1;
+    for (s = 0; s < A->n_spp; s++) tv[s] = tmean[v][s];
+    for (k = 0; k < A->K; k++) {
+        double mv[MAX_SPP];
+        mm[k] = M->mse[RIDX(v, last, k, r)];
+        tt[k] = tb[IDX(v, last, k)];
+        tr[k] = log(tb[IDX(v, last, k)] / tb[IDX(b, last, k)]);
+        c_spp[k] = M->mse[RIDX(v, last, k, r)] / M->mse[RIDX(b, last, k, r)] - 1.0;
+        for (s = 0; s < A->n_spp; s++) mv[s] = M->mse[RIDX(v, s, k, r)];
+        c_time[k] = log(mse_at_time(tv, mv, A->n_spp, tmean[b][last]) / M->mse[RIDX(b, last, k, r)]);
+    }
+    mean_ci(mm, A->K, &m0, &h0);
+    mean_ci(c_spp, A->K, &m1, &h1);
+    mean_ci(c_time, A->K, &m2, &h2);
+    mean_ci(tt, A->K, &tm, &th);
+    mean_ci(tr, A->K, &rm, &rh);
+    h2 = sqrt(h2 * h2 + rh * rh);   /* sampling and timing noise, independent */
+    fprintf(md, "| %s%s | %.4g | %+.1f%% [%+.1f, %+.1f] | %.2f | %+.1f%% [%+.1f, %+.1f] | %+.1f%% [%+.1f, %+.1f] |\n",
+            A->var_names[v], v == b ? " (baseline)" : "", m0, 100 * m1, 100 * (m1 - h1),
+            100 * (m1 + h1), tm, 100 * (exp(rm) - 1), 100 * (exp(rm - rh) - 1), 100 * (exp(rm + rh) - 1),
+            100 * (exp(m2) - 1), 100 * (exp(m2 - h2) - 1), 100 * (exp(m2 + h2) - 1));
+}
+
+/* PREFIX.md: what was compared, the picture's caption, and one table per region. */
+static void converge_tables(const ConvergeArgs *A, const Measures *M, const Regions *R,
+                            const char *png_path, float exposure)
+{
+    static const char *cname[8] = { "yellow", "cyan", "magenta", "orange", "white", "green", "blue", "red" };
+    const double *tb = A->use_cpu ? M->cpu : M->wall;
+    double tmean[MAX_VARIANTS][MAX_SPP];   /* time per (variant, rung), mean over seeds */
+    char path[1024];
+    FILE *md;
+    int last = A->n_spp - 1, v, s, k, r;
+    snprintf(path, sizeof path, "%s.md", A->prefix);
+    md = fopen(path, "w");
+    for (v = 0; v < A->n_var; v++)
+        for (s = 0; s < A->n_spp; s++) {
+            tmean[v][s] = 0.0;
+            for (k = 0; k < A->K; k++) tmean[v][s] += tb[IDX(v, s, k)] / A->K;
+        }
+    if (!md) { fprintf(stderr, "%s: cannot write\n", path); return; }
+    fprintf(md, "Scene `%s`, reference `%s`, %d seeds, spp ladder", A->scene_path, A->ref_path, A->K);
+    for (s = 0; s < A->n_spp; s++) fprintf(md, " %d", A->spp[s]);
+    if (A->base_thesis) fprintf(md, "; every variant on the thesis' settings (`--base thesis`)");
+    fprintf(md, "; baseline `%s`. Changes are MSE ratios minus 1 (negative = better), "
+                "mean [95%% CI] over seeds. Time: %s time at %d spp, mean over seeds, and its "
+                "ratio to the baseline's (per seed, geometric mean [95%% CI]). Equal time: each "
+                "variant's MSE at the baseline's mean time for %d spp, along its own ladder of "
+                "mean times (geometric mean over seeds; the interval adds the timing noise of the "
+                "time ratio to the sampling noise).\n\n", A->var_names[A->b], A->use_cpu ? "CPU" : "wall",
+            A->spp[last], A->spp[last]);
+    fprintf(md, "Picture `%s`: `%s`, seed 0, %d spp, exposure %+g; insets outlined:", png_path,
+            A->var_names[A->b], A->spp[last], exposure);
+    for (r = 1; r < R->n; r++)
+        fprintf(md, "%s %s %s", r > 1 ? "," : "", R->name[r], cname[(r - 1) % 8]);
+    fprintf(md, ".\n\n");
+    for (r = 0; r < R->n; r++) {
+        fprintf(md, "**%s** (%d,%d)-(%d,%d)\n\n", R->name[r], R->rect[r][0], R->rect[r][1], R->rect[r][2],
+                R->rect[r][3]);
+        fprintf(md, "| variant | MSE at %d spp | change at %d spp | %s time (s) | time vs baseline | change at equal time |\n",
+                A->spp[last], A->spp[last], A->use_cpu ? "CPU" : "wall");
+        fprintf(md, "|---|---|---|---|---|---|\n");
+        for (v = 0; v < A->n_var; v++) converge_table_row(md, A, M, tmean, v, r);
+        fprintf(md, "\n");
+    }
+    fclose(md);
+}
+
+/* specnee converge: the options, the inputs, the renders (or --reuse's CSV), then
+   the charts and the tables. */
+int cmd_converge(int argc, char **argv)
+{
+    ConvergeArgs A;
+    Scene scene;
+    Image ref;
+    Regions R;
+    Measures M;
+    char path[1024], png_path[1024];
+    float exposure;
+    FILE *csv = NULL;
+    int status = converge_options(argc, argv, &A);
+    if (status < 0) status = converge_ladder(&A);
+    if (status >= 0) return status;
+    if (!converge_inputs(&A, &scene, &ref, &R)) return 1;
+    /* the picture for docs/RESULTS.md: the baseline's seed-0 render at the largest
+       spp, insets outlined */
+    exposure = converge_exposure(&ref);
+    snprintf(png_path, sizeof png_path, "%s.png", A.prefix);
+    snprintf(path, sizeof path, "%s.csv", A.prefix);
+    if (!measures_alloc(&M) ||
+        (A.reuse ? !read_csv(path, A.var_names, A.n_var, A.spp, A.n_spp, A.K, R.name, R.n, M.mse, M.relmse,
+                             M.mae, M.wall, M.cpu, M.build)
+                 : (csv = fopen(path, "w")) == NULL)) {
+        if (!A.reuse) fprintf(stderr, "%s: cannot write (or out of memory)\n", path);
+        measures_free(&M);
+        img_free(&ref); scene_free(&scene);
+        return 1;
+    }
+    if (csv) {
+        fprintf(csv, "scene,variant,spp,seed,wall_s,cpu_s,build_s,region,mse,relmse,mae\n");
+        status = converge_render(&A, &scene, &ref, &R, &M, csv, png_path, exposure);
+        fclose(csv);
+        if (!status) {
+            measures_free(&M);
             img_free(&ref); scene_free(&scene);
-            free(mse); free(relmse); free(mae); free(wall); free(cpu); free(build);
             return 1;
         }
     }
-    if (csv) fclose(csv);
-
-    /* ---- charts (whole image); time is CPU or wall time (--time) */
-    tb = use_cpu ? cpu : wall;
-    {
-        double x[MAX_VARIANTS][MAX_SPP], y[MAX_VARIANTS][MAX_SPP], lo[MAX_VARIANTS][MAX_SPP],
-            hi[MAX_VARIANTS][MAX_SPP], tx[MAX_VARIANTS][MAX_SPP], eff[MAX_VARIANTS][MAX_SPP];
-        SvgSeries ser[MAX_VARIANTS];
-        SvgChart ch;
-        int chart;
-        for (v = 0; v < n_var; v++)
-            for (s = 0; s < n_spp; s++) {
-                double sm = 0, st = 0, mn = INFINITY, mx = 0;
-                for (k = 0; k < K; k++) {
-                    double m = mse[RIDX(v, s, k, 0)];
-                    sm += m; st += tb[IDX(v, s, k)];
-                    if (m < mn) mn = m;
-                    if (m > mx) mx = m;
-                }
-                x[v][s] = spp[s];
-                y[v][s] = sm / K;
-                lo[v][s] = mn;
-                hi[v][s] = mx;
-                tx[v][s] = st / K;
-            }
-        for (v = 0; v < n_var; v++)
-            for (s = 0; s < n_spp; s++)
-                eff[v][s] = (y[b][s] * tx[b][s]) / (y[v][s] * tx[v][s]);
-        for (chart = 0; chart < 3; chart++) {
-            FILE *f;
-            const char *suffix[3] = { "mse_spp", "mse_time", "efficiency" };
-            memset(&ch, 0, sizeof ch);
-            for (v = 0; v < n_var; v++) {
-                memset(&ser[v], 0, sizeof ser[v]);
-                ser[v].name = var_names[v];
-                ser[v].n = n_spp;
-                ser[v].x = chart == 1 ? tx[v] : x[v];
-                ser[v].y = chart == 2 ? eff[v] : y[v];
-                ser[v].ylo = chart == 2 ? NULL : lo[v];
-                ser[v].yhi = chart == 2 ? NULL : hi[v];
-                ser[v].dashed = v == b;
-            }
-            ch.title = chart == 0 ? "MSE against samples per pixel (band: min..max over seeds)"
-                     : chart == 1 ? "MSE against render time (equal time: read across)"
-                                  : "efficiency 1/(MSE x time) relative to the baseline";
-            ch.xlabel = chart == 1 ? (use_cpu ? "CPU time (s)" : "wall time (s)") : "samples per pixel";
-            ch.ylabel = chart == 2 ? "relative efficiency" : "MSE (whole image)";
-            ch.logx = 1;
-            ch.logy = chart != 2;
-            snprintf(path, sizeof path, "%s_%s.svg", prefix, suffix[chart]);
-            f = fopen(path, "w");
-            if (!f || !svg_line_chart(f, &ch, ser, n_var)) fprintf(stderr, "%s: cannot write\n", path);
-            if (f) fclose(f);
-        }
-    }
-
-    /* ---- tables */
-    snprintf(path, sizeof path, "%s.md", prefix);
-    {
-        FILE *md = fopen(path, "w");
-        int last = n_spp - 1;
-        double tmean[MAX_VARIANTS][MAX_SPP];   /* time per (variant, rung), mean over seeds */
-        for (v = 0; v < n_var; v++)
-            for (s = 0; s < n_spp; s++) {
-                tmean[v][s] = 0.0;
-                for (k = 0; k < K; k++) tmean[v][s] += tb[IDX(v, s, k)] / K;
-            }
-        if (!md) { fprintf(stderr, "%s: cannot write\n", path); }
-        else {
-            fprintf(md, "Scene `%s`, reference `%s`, %d seeds, spp ladder", scene_path, ref_path, K);
-            for (s = 0; s < n_spp; s++) fprintf(md, " %d", spp[s]);
-            if (base_thesis) fprintf(md, "; every variant on the thesis' settings (`--base thesis`)");
-            fprintf(md, "; baseline `%s`. Changes are MSE ratios minus 1 (negative = better), "
-                        "mean [95%% CI] over seeds. Time: %s time at %d spp, mean over seeds, and its "
-                        "ratio to the baseline's (per seed, geometric mean [95%% CI]). Equal time: each "
-                        "variant's MSE at the baseline's mean time for %d spp, along its own ladder of "
-                        "mean times (geometric mean over seeds; the interval adds the timing noise of the "
-                        "time ratio to the sampling noise).\n\n", var_names[b], use_cpu ? "CPU" : "wall", spp[n_spp - 1], spp[n_spp - 1]);
-            fprintf(md, "Picture `%s`: `%s`, seed 0, %d spp, exposure %+g; insets outlined:", png_path,
-                    var_names[b], spp[last], exposure);
-            for (r = 1; r < n_reg; r++) {
-                static const char *cname[8] = { "yellow", "cyan", "magenta", "orange", "white", "green", "blue", "red" };
-                fprintf(md, "%s %s %s", r > 1 ? "," : "", reg_name[r], cname[(r - 1) % 8]);
-            }
-            fprintf(md, ".\n\n");
-            for (r = 0; r < n_reg; r++) {
-                fprintf(md, "**%s** (%d,%d)-(%d,%d)\n\n", reg_name[r], reg[r][0], reg[r][1], reg[r][2], reg[r][3]);
-                fprintf(md, "| variant | MSE at %d spp | change at %d spp | %s time (s) | time vs baseline | change at equal time |\n",
-                        spp[last], spp[last], use_cpu ? "CPU" : "wall");
-                fprintf(md, "|---|---|---|---|---|---|\n");
-                for (v = 0; v < n_var; v++) {
-                    double c_spp[MAX_SEEDS], c_time[MAX_SEEDS], mm[MAX_SEEDS], tt[MAX_SEEDS], tr[MAX_SEEDS];
-                    double tv[MAX_SPP], m1, h1, m2, h2, m0, h0, tm, th, rm, rh;
-                    for (s = 0; s < n_spp; s++) tv[s] = tmean[v][s];
-                    for (k = 0; k < K; k++) {
-                        double mv[MAX_SPP];
-                        mm[k] = mse[RIDX(v, last, k, r)];
-                        tt[k] = tb[IDX(v, last, k)];
-                        tr[k] = log(tb[IDX(v, last, k)] / tb[IDX(b, last, k)]);
-                        c_spp[k] = mse[RIDX(v, last, k, r)] / mse[RIDX(b, last, k, r)] - 1.0;
-                        for (s = 0; s < n_spp; s++) mv[s] = mse[RIDX(v, s, k, r)];
-                        c_time[k] = log(mse_at_time(tv, mv, n_spp, tmean[b][last]) / mse[RIDX(b, last, k, r)]);
-                    }
-                    mean_ci(mm, K, &m0, &h0);
-                    mean_ci(c_spp, K, &m1, &h1);
-                    mean_ci(c_time, K, &m2, &h2);
-                    mean_ci(tt, K, &tm, &th);
-                    mean_ci(tr, K, &rm, &rh);
-                    h2 = sqrt(h2 * h2 + rh * rh);   /* sampling and timing noise, independent */
-                    fprintf(md, "| %s%s | %.4g | %+.1f%% [%+.1f, %+.1f] | %.2f | %+.1f%% [%+.1f, %+.1f] | %+.1f%% [%+.1f, %+.1f] |\n",
-                            var_names[v], v == b ? " (baseline)" : "", m0, 100 * m1, 100 * (m1 - h1),
-                            100 * (m1 + h1), tm, 100 * (exp(rm) - 1), 100 * (exp(rm - rh) - 1), 100 * (exp(rm + rh) - 1),
-                            100 * (exp(m2) - 1), 100 * (exp(m2 - h2) - 1), 100 * (exp(m2 + h2) - 1));
-                }
-                fprintf(md, "\n");
-            }
-            fclose(md);
-        }
-    }
-    free(mse); free(relmse); free(mae); free(wall); free(cpu); free(build);
+    converge_charts(&A, &M);
+    converge_tables(&A, &M, &R, png_path, exposure);
+    measures_free(&M);
     img_free(&ref);
     scene_free(&scene);
     return 0;
