@@ -1,6 +1,8 @@
 /* cmd_converge.c - speed against accuracy: `specnee converge`, the evaluation driver.
 
-   Exported: cmd_converge, eval_parse_variant (specnee.h section 14).
+   Exported: cmd_converge, eval_parse_variant (specnee.h section 14).  A command
+   room: it parses its command line, loads the scene and drives render.c's
+   RenderJob; specnee.c dispatches `specnee converge` to it.
 
    For every variant (an emitter-selection strategy plus modifiers), every spp of
    a ladder and K seeds, render the scene, time it (wall and CPU time; lazily
