@@ -4,8 +4,10 @@
        main -> parse_args -> scene_load (scene.c: parser, PLY, BVH build)
             -> render (render.c: wavelengths, the path loop, NEE, the film)
             -> img_write (image.c) -> the closing line with the timings.
-   Subcommands (merge, diff, spectrum) are dispatched first; each lives with the
-   module it belongs to.  Exit codes: 0 success, 1 bad input, 2 bad usage. */
+   Subcommands (merge, diff, spectrum, converge) are dispatched first; each lives in
+   a command room of its own (cmd_image.c, cmd_spectrum.c, cmd_converge.c), apart
+   from the library rooms it calls.  Exit codes: 0 success, 1 bad input, 2 bad
+   usage. */
 #define _POSIX_C_SOURCE 200809L
 #include "specnee.h"
 #include <stdlib.h>

@@ -338,6 +338,7 @@ int   spec_rgb_coeffs_from(const RgbFitTable *t, const double target[3], const d
 float spec_sigmoid_eval(const float c[3], float lambda_nm);
 /* CIE 1931 2-degree colour matching functions at lambda (nm), linear in the 5 nm CIE table. */
 void  cie_xyz(float lambda_nm, float xyz[3]);
+void  cie_cmf(double lambda_nm, double xyz[3]);  /* the same in double precision */
 double cie_y_integral(float lo_nm, float hi_nm); /* sum of ybar at 1 nm steps over [lo, hi] */
 void  spec_to_xyz(const Spectrum *s, float lo_nm, float hi_nm, double xyz[3]); /* 1-nm sums / sum ybar:
                                                an equal-energy spectrum has Y = 1 */
@@ -361,10 +362,10 @@ static inline float cauchy_eta(float A, float B, float lambda_nm)
    teaching, teaching-strong (case-insensitive, optional "cauchy-" prefix). */
 int   cauchy_named(const char *name, float *A, float *B);
 
-/* ---- Wavelength sampling: lambda_j = P^-1(frac(u + j/4)) (HWSS rotated in the CDF
-   of p as in West et al. 2020; docs/THEORY.md section 2).  p is uniform, an
-   importance pdf, the visible pdf or a mixture (docs/wavelengths.md); the four
-   are combined by spectral MIS (THEORY section 3). ---- */
+/* ---- Wavelength sampling (wavelengths.c): lambda_j = P^-1(frac(u + j/4)) (HWSS
+   rotated in the CDF of p as in West et al. 2020; docs/THEORY.md section 2).  p is
+   uniform, an importance pdf, the visible pdf or a mixture (docs/wavelengths.md);
+   the four are combined by spectral MIS (THEORY section 3). ---- */
 /* Which pdf the wavelengths are drawn from (--wavelengths). */
 typedef enum {
     WL_UNIFORM,                /* uniform over the range: plain HWSS, the thesis */
@@ -382,7 +383,7 @@ typedef struct {
     float *pdf;                /* per-nm pdf (n cells) for importance sampling */
     float *cdf;                /* n + 1 entries, cdf[0] = 0, cdf[n] = 1 */
     int   visible;             /* n == 0: 1 = the visible sech^2 pdf, 0 = uniform */
-    double vis_t_lo, vis_t_span; /* visible: tanh at lo and its span to hi (spectrum.c) */
+    double vis_t_lo, vis_t_span; /* visible: tanh at lo and its span to hi (wavelengths.c) */
 } WavelengthPdf;
 typedef struct {
     float lambda[HERO_N];      /* nm; lambda[0] is the hero */
@@ -1097,7 +1098,7 @@ int  img_error(const Image *a, const Image *ref, int x0, int y0, int x1, int y1,
 int  img_merge(const Image *in, const double *weights, int n, Image *out);
 /* False-colour PNG of the per-pixel relative squared error (log scale, viridis). */
 int  img_write_error_png(const Image *a, const Image *ref, const char *path);
-/* cmd_merge/cmd_diff writing to the given streams (for tests). */
+/* cmd_merge/cmd_diff writing to the given streams (cmd_image.c; for tests). */
 int  img_cmd_merge(int argc, char **argv, FILE *out, FILE *err);
 int  img_cmd_diff(int argc, char **argv, FILE *out, FILE *err);
 
@@ -1373,10 +1374,10 @@ int svg_line_chart(FILE *f, const SvgChart *c, const SvgSeries *s, int n_series)
    14. Subcommands (each returns the process exit code: 0 ok, 1 bad input,
        2 bad usage); argv[0] is the subcommand's name
    ====================================================================== */
-int cmd_spectrum(int argc, char **argv);   /* spectrum.c */
-int cmd_merge(int argc, char **argv);      /* image.c */
-int cmd_diff(int argc, char **argv);       /* image.c */
-int cmd_converge(int argc, char **argv);   /* eval.c: error against time, charts, tables */
+int cmd_spectrum(int argc, char **argv);   /* cmd_spectrum.c */
+int cmd_merge(int argc, char **argv);      /* cmd_image.c */
+int cmd_diff(int argc, char **argv);       /* cmd_image.c */
+int cmd_converge(int argc, char **argv);   /* cmd_converge.c: error against time, charts, tables */
 /* "strategy[:modifier]..." (modifiers: power all tput importance visible mixture
    mixture=M uniform roughmis terminate hero unit single wide nonee nosplit flpower
    fluniform flkeep flterminate) into

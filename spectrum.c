@@ -1,4 +1,4 @@
-/* spectrum.c - spectra, CIE colorimetry, named illuminants/lamps/glasses, wavelength sampling.
+/* spectrum.c - spectra, CIE colorimetry, named illuminants/lamps/glasses.
 
    WHAT IT IMPLEMENTS
      Every spectrum in specnee is a dense table at 1 nm over SPEC_MIN..SPEC_MAX
@@ -26,31 +26,24 @@
         Efficient Spectral Upsampling", Eurographics): s(lambda) = S(c0 x^2 + c1 x + c2),
         S(p) = 1/2 + p / (2 sqrt(1 + p^2)), x = (lambda - 360) / 470, with (c0, c1, c2)
         found by Newton steps so that s(lambda) D65(lambda) maps back to the rgb.
-     7. Wavelength sampling for hero wavelength spectral sampling (Wilkie et al. 2014)
-        with the rotation done in CDF space (continuous MIS, West et al. 2020; the
-        same as pbrt-v4's SampleVisible):
-            lambda_j = P^-1(frac(u + j / HERO_N)),  pdf_j = p(lambda_j),  j = 0..3,
-        so each lambda_j is distributed as p and the four are stratified in P.
-        p is uniform, tabulated ~ (xbar + ybar + zbar) x the emitters' spectra
-        (importance), the scene-independent sech^2 "visible" pdf of Radziszewski
-        et al. 2009 (pbrt-v4's), or a defensive mixture of the last two.
 
-   EXPORTS (specnee.h section 4, and cmd_spectrum)
+     The wavelength sampling that draws the four wavelengths of a path is in
+     wavelengths.c; `specnee spectrum` is in cmd_spectrum.c.
+
+   EXPORTS (specnee.h section 4)
      spec_eval spec_const spec_is_constant spec_from_pairs spec_named spec_named_list
-     spec_from_file spec_from_rgb spec_blackbody cie_xyz cie_y_integral spec_to_xyz
-     xyz_to_linear_srgb spec_chromaticity cct_from_xy spec_bin_average spec_bin_sum
-     cauchy_named wl_pdf_uniform wl_pdf_importance wl_pdf_visible wl_pdf_mixture
-     wl_pdf_build wl_pdf_free wl_sample wl_pdf_eval wl_cdf wl_mode_from_name wl_mode_name
-     cmd_spectrum
+     spec_from_file spec_from_rgb spec_blackbody cie_xyz cie_cmf cie_y_integral
+     spec_to_xyz xyz_to_linear_srgb spec_chromaticity cct_from_xy spec_bin_average
+     spec_bin_sum cauchy_named
 
    HOW IT IS USED
      scene.c turns "spectrum"/"rgb"/"blackbody" parameters into Spectrum tables with
      spec_from_pairs, spec_named, spec_from_file, spec_from_rgb and spec_blackbody;
-     lights.c uses spec_bin_average for the emitter tables; render.c samples
-     wavelengths with wl_sample and converts to colour with cie_xyz and
-     xyz_to_linear_srgb.  `specnee spectrum NAME|FILE` (cmd_spectrum, at the end of
-     this file) prints a spectrum, its colorimetry and the pbrt "scale" that realises
-     thesis eq. 6 normalisation; `--svg` plots spectra (svg.c). */
+     lights.c uses spec_bin_average for the emitter tables; render.c converts to
+     colour with cie_xyz and xyz_to_linear_srgb; wavelengths.c weights its
+     importance pdf with cie_cmf.  `specnee spectrum NAME|FILE` (cmd_spectrum.c)
+     prints a spectrum, its colorimetry and the pbrt "scale" that realises thesis
+     eq. 6 normalisation; `--svg` plots spectra (svg.c). */
 #include "specnee.h"
 #include <ctype.h>
 #include <errno.h>
@@ -321,7 +314,7 @@ static double table_lerp(const float *tab, int n, double start, double step, dou
 }
 
 /* The colour-matching functions at an exact wavelength, in double precision. */
-static void cmf_at(double lambda_nm, double xyz[3])
+void cie_cmf(double lambda_nm, double xyz[3])
 {
     xyz[0] = table_lerp(cie_xbar_5nm, CIE_N5, CIE_START, CIE_STEP, lambda_nm);
     xyz[1] = table_lerp(cie_ybar_5nm, CIE_N5, CIE_START, CIE_STEP, lambda_nm);
@@ -361,7 +354,7 @@ static void table_range(float lo_nm, float hi_nm, int *i0, int *i1)
 void cie_xyz(float lambda_nm, float xyz[3])
 {
     double d[3];
-    cmf_at(lambda_nm, d);
+    cie_cmf(lambda_nm, d);
     xyz[0] = (float)d[0];
     xyz[1] = (float)d[1];
     xyz[2] = (float)d[2];
@@ -506,7 +499,7 @@ void spec_to_xyz(const Spectrum *s, float lo_nm, float hi_nm, double xyz[3])
     xyz[0] = xyz[1] = xyz[2] = 0.0;
     table_range(lo_nm, hi_nm, &i0, &i1);
     for (i = i0; i <= i1; i++) {
-        cmf_at((double)(SPEC_MIN + i), c);
+        cie_cmf((double)(SPEC_MIN + i), c);
         xyz[0] += c[0] * s->v[i];
         xyz[1] += c[1] * s->v[i];
         xyz[2] += c[2] * s->v[i];
@@ -544,7 +537,7 @@ static void planck_uv(double kelvin, double *u, double *v)
     double xyz[3] = { 0.0, 0.0, 0.0 }, c[3], b, d;
     int l;
     for (l = SPEC_MIN; l <= SPEC_MAX; l++) {
-        cmf_at((double)l, c);
+        cie_cmf((double)l, c);
         b = planck_shape((double)l, kelvin);
         xyz[0] += c[0] * b; xyz[1] += c[1] * b; xyz[2] += c[2] * b;
     }
@@ -1205,7 +1198,7 @@ static void rgb_fit_init(RgbFit *f)
     int i, k;
     spec_named(&d65, "stdillum-D65");
     for (i = 0; i < SPEC_N; i++) {
-        cmf_at((double)(SPEC_MIN + i), c);
+        cie_cmf((double)(SPEC_MIN + i), c);
         norm += c[1] * d65.v[i];
         for (k = 0; k < 3; k++) f->cmf_w[k][i] = c[k] * d65.v[i];
     }
@@ -1402,558 +1395,4 @@ float spec_sigmoid_eval(const float c[3], float lambda_nm)
 {
     double x = ((double)lambda_nm - SPEC_MIN) / (double)(SPEC_N - 1);
     return (float)sigmoid(((double)c[0] * x + c[1]) * x + c[2]);
-}
-
-/* ======================================================================
-   12. Wavelength sampling: uniform, visible, tabulated importance or a mixture,
-       rotated in CDF space
-   ====================================================================== */
-
-/* The scene-independent "visible wavelengths" pdf, a squared hyperbolic secant
-   fitted to the CIE luminous efficiency curve:
-       p(lambda) ~ sech^2(a (lambda - c)),   a = 0.0072 / nm,  c = 538 nm.
-   Shape and constants: Radziszewski, Boryczko & Alda 2009, "An improved technique
-   for full spectral rendering", Journal of WSCG 17, as used by pbrt-v4
-   (src/pbrt/util/sampling.h, VisibleWavelengthsPDF / SampleVisibleWavelengths,
-   over 360-830 nm).  Since d/dx tanh(x) = sech^2(x), on the sampled range
-   [lo, hi] (specnee renormalises to its own range instead of pbrt's 360-830):
-       p(lambda) = a sech^2(a (lambda - c)) / (T(hi) - T(lo)),  T(x) = tanh(a (x - c))
-       P(lambda) = (T(lambda) - T(lo)) / (T(hi) - T(lo))
-       P^-1(u)   = c + atanh(T(lo) + u (T(hi) - T(lo))) / a          (exact) */
-#define WL_VIS_A 0.0072
-#define WL_VIS_C 538.0
-static double vis_T(double lambda) { return tanh(WL_VIS_A * (lambda - WL_VIS_C)); }
-
-WlMode wl_mode_from_name(const char *name)
-{
-    static const char *const names[WL_MODE_COUNT] = { "uniform", "importance", "visible", "mixture" };
-    int i;
-    for (i = 0; i < WL_MODE_COUNT; i++)
-        if (name && !strcmp(name, names[i])) return (WlMode)i;
-    return WL_MODE_COUNT;
-}
-
-const char *wl_mode_name(WlMode m)
-{
-    switch (m) {
-    case WL_UNIFORM: return "uniform";
-    case WL_IMPORTANCE: return "importance";
-    case WL_VISIBLE: return "visible";
-    case WL_MIXTURE: return "mixture";
-    default: return "?";
-    }
-}
-
-void wl_pdf_uniform(WavelengthPdf *w, float lo, float hi)
-{
-    w->lo = lo;
-    w->hi = hi;
-    w->n = 0;
-    w->pdf = NULL;
-    w->cdf = NULL;
-    w->visible = 0;
-    w->vis_t_lo = w->vis_t_span = 0.0;
-}
-
-int wl_pdf_visible(WavelengthPdf *w, float lo, float hi)
-{
-    wl_pdf_uniform(w, lo, hi);
-    if (!isfinite(lo) || !isfinite(hi) || !(hi > lo)) return 0;
-    w->visible = 1;
-    w->vis_t_lo = vis_T(lo);                      /* computed once: wl_sample and */
-    w->vis_t_span = vis_T(hi) - w->vis_t_lo;      /* wl_pdf_eval run per sample */
-    return 1;
-}
-
-/* The importance weights of n cells of width h from lo:
-       f_k = mean over cell k of (xbar + ybar + zbar)(lambda) * emission(lambda)
-   (Simpson's rule, exact here: on 1 nm cells both factors are linear, so their
-   product is a quadratic), then f_k = max(f_k, 0.01 * mean f).  The floor keeps the
-   pdf positive wherever the CMFs are (everywhere in 360..830 nm), so the estimator
-   stays unbiased for any scene, at the price of at most 1 % of the samples.
-   emission == NULL means 1.  An all-zero product gives equal cells. */
-static void importance_cells(double lo, double h, int n, const Spectrum *emission, double *f)
-{
-    double sum = 0.0, mean, floor_f;
-    int k;
-    for (k = 0; k < n; k++) {
-        double a = lo + k * h, b = a + h, m = 0.5 * (a + b), fa, fm, fb, c[3];
-        cmf_at(a, c); fa = c[0] + c[1] + c[2];
-        cmf_at(m, c); fm = c[0] + c[1] + c[2];
-        cmf_at(b, c); fb = c[0] + c[1] + c[2];
-        if (emission) {
-            fa *= spec_eval(emission, (float)a);
-            fm *= spec_eval(emission, (float)m);
-            fb *= spec_eval(emission, (float)b);
-        }
-        f[k] = (fa + 4.0 * fm + fb) / 6.0;
-        if (!(f[k] > 0.0)) f[k] = 0.0;           /* negative or NaN emission */
-        sum += f[k];
-    }
-    mean = sum / n;
-    floor_f = (mean > 0.0 && isfinite(mean)) ? 0.01 * mean : 1.0;
-    for (k = 0; k < n; k++) {
-        if (!(mean > 0.0) || !isfinite(mean)) f[k] = 1.0;
-        else if (f[k] < floor_f) f[k] = floor_f;
-    }
-}
-
-/* A piecewise-constant pdf on cells of (about) 1 nm over [lo, hi] with cell
-   weights from importance_cells, optionally mixed with the visible pdf:
-       prob_k = (1 - mix) f_k / sum f + mix (T(b_k) - T(a_k)) / (T(hi) - T(lo))
-   (the visible pdf's exact mass on the cell [a_k, b_k], so the visible part enters
-   cell-averaged: its inverse CDF within a cell becomes linear, the table's).
-   The density per nm is prob_k / h; cdf[] accumulates prob_k. */
-static int wl_pdf_table(WavelengthPdf *w, float lo, float hi, const Spectrum *emission, double mix)
-{
-    double h, sum = 0.0, acc = 0.0, *f, t_lo, t_span;
-    int n, k;
-    wl_pdf_uniform(w, lo, hi);
-    if (!isfinite(lo) || !isfinite(hi) || !(hi > lo) || !(mix >= 0.0 && mix <= 1.0)) return 0;
-    n = (int)ceil((double)hi - lo - 1e-4);
-    if (n < 1) n = 1;
-    if (n > 100000) return 0;
-    h = ((double)hi - lo) / n;
-    f = (double *)malloc((size_t)n * sizeof *f);
-    w->pdf = (float *)malloc((size_t)n * sizeof *w->pdf);
-    w->cdf = (float *)malloc((size_t)(n + 1) * sizeof *w->cdf);
-    if (!f || !w->pdf || !w->cdf) { free(f); wl_pdf_free(w); wl_pdf_uniform(w, lo, hi); return 0; }
-    importance_cells(lo, h, n, emission, f);
-    for (k = 0; k < n; k++) sum += f[k];
-    if (mix > 0.0) {                              /* f_k becomes prob_k, summing to 1 */
-        t_lo = vis_T(lo);
-        t_span = vis_T(hi) - t_lo;
-        for (k = 0; k < n; k++) {
-            double a = lo + k * h, b = (k == n - 1) ? (double)hi : a + h;
-            f[k] = (1.0 - mix) * f[k] / sum + mix * (vis_T(b) - vis_T(a)) / t_span;
-        }
-        sum = 1.0;
-    }
-    w->n = n;
-    w->cdf[0] = 0.0f;
-    for (k = 0; k < n; k++) {
-        w->pdf[k] = (float)(f[k] / (sum * h));    /* density per nm */
-        acc += f[k];
-        w->cdf[k + 1] = (float)(acc / sum);
-    }
-    w->cdf[n] = 1.0f;
-    free(f);
-    return 1;
-}
-
-int wl_pdf_importance(WavelengthPdf *w, float lo, float hi, const Spectrum *emission)
-{
-    return wl_pdf_table(w, lo, hi, emission, 0.0);
-}
-
-/* The defensive mixture (Hesterberg 1995, "Weighted average importance sampling
-   and defensive mixture distributions", Technometrics 37): wherever the emitters'
-   spectra mislead the importance pdf, p >= mix x p_visible still holds, which
-   bounds the second moment of every estimate by 1 / mix times that of the visible
-   pdf (docs/wavelengths.md). */
-int wl_pdf_mixture(WavelengthPdf *w, float lo, float hi, const Spectrum *emission, float mix)
-{
-    return wl_pdf_table(w, lo, hi, emission, (double)mix);
-}
-
-int wl_pdf_build(WavelengthPdf *w, WlMode mode, float lo, float hi, const Spectrum *emission,
-                 float mix)
-{
-    switch (mode) {
-    case WL_UNIFORM:
-        wl_pdf_uniform(w, lo, hi);
-        return isfinite(lo) && isfinite(hi) && hi > lo;
-    case WL_IMPORTANCE: return wl_pdf_importance(w, lo, hi, emission);
-    case WL_VISIBLE: return wl_pdf_visible(w, lo, hi);
-    case WL_MIXTURE: return wl_pdf_mixture(w, lo, hi, emission, mix > 0.0f ? mix : WL_MIX_DEFAULT);
-    default: wl_pdf_uniform(w, lo, hi); return 0;
-    }
-}
-
-void wl_pdf_free(WavelengthPdf *w)
-{
-    free(w->pdf);
-    free(w->cdf);
-    w->pdf = NULL;
-    w->cdf = NULL;
-    w->n = 0;
-}
-
-/* p(lambda): 0 outside [lo, hi]; inside the uniform density, the visible formula or
-   the cell's density (the last cell is closed). */
-float wl_pdf_eval(const WavelengthPdf *w, float lambda_nm)
-{
-    double h;
-    int k;
-    if (!(lambda_nm >= w->lo) || !(lambda_nm <= w->hi) || !(w->hi > w->lo)) return 0.0f;
-    if (w->n == 0 && w->visible) {
-        double ch = cosh(WL_VIS_A * ((double)lambda_nm - WL_VIS_C));
-        return (float)(WL_VIS_A / (ch * ch) / w->vis_t_span);
-    }
-    if (w->n == 0) return (float)(1.0 / ((double)w->hi - w->lo));
-    h = ((double)w->hi - w->lo) / w->n;
-    k = (int)(((double)lambda_nm - w->lo) / h);
-    if (k >= w->n) k = w->n - 1;
-    if (k < 0) k = 0;
-    return w->pdf[k];
-}
-
-/* P(lambda) = the probability of a wavelength below lambda. */
-double wl_cdf(const WavelengthPdf *w, float lambda_nm)
-{
-    double x = lambda_nm, range = (double)w->hi - w->lo, h, cell;
-    int k;
-    if (!(x > w->lo)) return 0.0;
-    if (!(x < w->hi)) return 1.0;
-    if (w->n == 0 && w->visible) return (vis_T(x) - w->vis_t_lo) / w->vis_t_span;
-    if (w->n == 0) return (x - w->lo) / range;
-    h = range / w->n;
-    cell = (x - w->lo) / h;
-    k = (int)cell;
-    if (k >= w->n) k = w->n - 1;
-    return w->cdf[k] + (cell - k) * ((double)w->cdf[k + 1] - w->cdf[k]);
-}
-
-/* lambda_j = P^-1(frac(u + j / HERO_N)): the hero j = 0 and HERO_N - 1 companions
-   rotated in CDF space, so each is distributed as p and the set is stratified.
-   The inverse of the piecewise-linear CDF is found by binary search over cdf[];
-   the visible pdf's is the closed form above.
-   pdf[j] is wl_pdf_eval(lambda_j), the same function the integrator evaluates. */
-void wl_sample(const WavelengthPdf *w, float u, Wavelengths *out)
-{
-    double u0 = (double)u, range = (double)w->hi - w->lo;
-    int j;
-    if (!isfinite(u0)) u0 = 0.0;
-    u0 -= floor(u0);                              /* into [0, 1) */
-    for (j = 0; j < HERO_N; j++) {
-        double uj = u0 + (double)j / HERO_N, lambda;
-        if (uj >= 1.0) uj -= 1.0;
-        if (w->n == 0 && w->visible) lambda = WL_VIS_C + atanh(w->vis_t_lo + uj * w->vis_t_span) / WL_VIS_A;
-        else if (w->n == 0) lambda = w->lo + uj * range;
-        else {
-            int lo = 0, hi = w->n;                /* invariant: cdf[lo] <= uj < cdf[hi] */
-            double c0, c1, h = range / w->n;
-            while (hi - lo > 1) {
-                int mid = (lo + hi) / 2;
-                if ((double)w->cdf[mid] <= uj) lo = mid; else hi = mid;
-            }
-            c0 = w->cdf[lo];
-            c1 = w->cdf[lo + 1];
-            lambda = w->lo + h * (lo + (c1 > c0 ? (uj - c0) / (c1 - c0) : 0.5));
-        }
-        if (lambda < w->lo) lambda = w->lo;
-        if (lambda > w->hi) lambda = w->hi;
-        out->lambda[j] = (float)lambda;
-        out->pdf[j] = wl_pdf_eval(w, out->lambda[j]);
-    }
-}
-
-/* ======================================================================
-   13. `specnee spectrum`: print or plot spectra
-   ====================================================================== */
-
-static const char spectrum_usage[] =
-    "usage: specnee spectrum NAME|FILE\n"
-    "       specnee spectrum --svg [--range LO HI] NAME|FILE ... > plot.svg\n"
-    "       specnee spectrum --table [--spd-metric unit|power] [--svg] scene.pbrt\n"
-    "       specnee spectrum --list\n"
-    "Prints the spectrum as a pbrt .spd table at 1 nm steps (360-830 nm) followed by\n"
-    "'#' lines with its chromaticity xy, CCT, Duv, luminance, thesis eq. 6 bin sum and\n"
-    "the pbrt \"float scale\" that normalises it to thesis eq. 6 with c = 1.  --svg plots one\n"
-    "or more emission spectra, each divided by its maximum, or refractive indices\n"
-    "(glass-*) as they are; --list prints the built-in names.\n"
-    "--table prints the scene's emitter x 60-bin table of the spectral strategies\n"
-    "(thesis Sec. 2; docs/THEORY.md): T_e(b), the bin average of emitter e's radiance\n"
-    "Le over bin b (x area x sides with --spd-metric power), and P(e | b) =\n"
-    "T_e(b) / sum_k T_k(b), the probability that `--lights spd` chooses e for a hero in\n"
-    "bin b; with --svg, the same as a heat map.\n";
-
-/* A built-in name, else a file.  Prints a one-line message and returns 0 on failure. */
-static int spectrum_arg(const char *arg, Spectrum *s)
-{
-    Error err;
-    FILE *probe;
-    if (spec_named(s, arg)) return 1;
-    probe = fopen(arg, "rb");
-    if (!probe) {
-        fprintf(stderr, "specnee spectrum: '%s' is neither a built-in spectrum (see --list) "
-                "nor a readable file\n", arg);
-        return 0;
-    }
-    fclose(probe);
-    err.msg[0] = '\0';
-    if (!spec_from_file(s, arg, &err)) {
-        fprintf(stderr, "%s\n", err.msg);
-        return 0;
-    }
-    return 1;
-}
-
-static int spectrum_print(const char *arg, const Spectrum *s)
-{
-    double x, y, cct = 0.0, duv = 0.0, lum, binsum, ysum_specnee, ysum_pbrt, xyz[3];
-    int i;
-    printf("# specnee spectrum %s\n", arg);
-    printf("# pbrt .spd: wavelength (nm) and value, 1 nm steps over %d-%d nm\n", SPEC_MIN, SPEC_MAX);
-    for (i = 0; i < SPEC_N; i++) printf("%d %.9g\n", SPEC_MIN + i, (double)s->v[i]);
-
-    spec_to_xyz(s, (float)SPEC_MIN, (float)SPEC_MAX, xyz);
-    lum = xyz[1] * cie_y_integral((float)SPEC_MIN, (float)SPEC_MAX);   /* sum ybar S */
-    spec_to_xyz(s, LAMBDA_LO, LAMBDA_HI, xyz);
-    ysum_specnee = xyz[1] * cie_y_integral(LAMBDA_LO, LAMBDA_HI);
-    ysum_pbrt = lum;
-    binsum = spec_bin_sum(s);
-    spec_chromaticity(s, &x, &y);
-    if (x > 0.0 && y > 0.0) cct = cct_from_xy(x, y, &duv);
-
-    printf("# colorimetry: CIE 1931 2-degree observer, 1 nm sums over %d-%d nm\n", SPEC_MIN, SPEC_MAX);
-    printf("# xy = %.5f %.5f\n", x, y);
-    if (cct > 0.0) printf("# CCT = %.1f K, Duv = %+.5f (exact, nearest point of the Planckian locus in CIE 1960 uv)\n", cct, duv);
-    else printf("# CCT = (undefined)\n");
-    printf("# luminance sum_{360-830, 1 nm} ybar S = %.9g (pbrt-v4 named illuminants: 106.856895)\n", lum);
-    printf("# thesis eq. 6 bin sum (60 bins of 5 nm over 400-700 nm) = %.9g\n", binsum);
-    if (binsum > 0.0 && ysum_specnee > 0.0) {
-        printf("# AreaLightSource \"diffuse\" \"spectrum L\" with this spectrum emits the thesis eq. 6\n"
-               "# normalised spectrum (bin sum c = 1) with:\n");
-        printf("#   \"float scale\" [ %.9g ]   specnee (Le = scale L / sum_{400-700 nm} ybar L)\n",
-               ysum_specnee / binsum);
-        printf("#   \"float scale\" [ %.9g ]   pbrt-v4 (Le = scale L / sum_{360-830 nm} ybar L)\n",
-               ysum_pbrt / binsum);
-        printf("# (multiply by c for another thesis eq. 6 constant, e.g. c = 2)\n");
-    }
-    return ferror(stdout) ? 1 : 0;
-}
-
-static int spectrum_svg(char **names, int n, double lo, double hi)
-{
-    SvgChart chart;
-    SvgSeries *series;
-    double *x, *y;
-    Spectrum s;
-    int i, k, n_pts, i0, ok, index;
-    i0 = (int)ceil(lo) - SPEC_MIN;
-    n_pts = (int)floor(hi) - (int)ceil(lo) + 1;
-    series = (SvgSeries *)calloc((size_t)n, sizeof *series);
-    x = (double *)malloc((size_t)n_pts * sizeof *x);
-    y = (double *)malloc((size_t)n * (size_t)n_pts * sizeof *y);
-    if (!series || !x || !y) {
-        free(series); free(x); free(y);
-        fprintf(stderr, "specnee spectrum: out of memory\n");
-        return 1;
-    }
-    for (i = 0; i < n_pts; i++) x[i] = SPEC_MIN + i0 + i;
-    /* Refractive indices (the built-in glass-* names) are plotted as they are, on
-       their own axis: divided by the maximum, n = 1.51..1.53 would look flat. */
-    for (k = 0; k < n; k++)
-        if ((strncmp(names[k], "glass-", 6) == 0) != (strncmp(names[0], "glass-", 6) == 0)) {
-            fprintf(stderr, "specnee spectrum: cannot plot refractive indices (glass-*) and "
-                            "emission spectra in one chart\n");
-            free(series); free(x); free(y);
-            return 2;
-        }
-    index = strncmp(names[0], "glass-", 6) == 0;
-    for (k = 0; k < n; k++) {
-        double peak = 0.0;
-        if (!spectrum_arg(names[k], &s)) { free(series); free(x); free(y); return 1; }
-        for (i = 0; i < n_pts; i++) if (s.v[i0 + i] > peak) peak = s.v[i0 + i];
-        if (index) peak = 1.0;
-        for (i = 0; i < n_pts; i++) y[k * n_pts + i] = peak > 0.0 ? s.v[i0 + i] / peak : s.v[i0 + i];
-        series[k].name = names[k];
-        series[k].color = NULL;                   /* svg.c's palette */
-        series[k].n = n_pts;
-        series[k].x = x;
-        series[k].y = y + k * n_pts;
-    }
-    memset(&chart, 0, sizeof chart);
-    chart.xlabel = "wavelength (nm)";
-    chart.xmin = lo; chart.xmax = hi;
-    if (index) {
-        chart.title = "Refractive index";
-        chart.ylabel = "refractive index n";
-        chart.ymin = chart.ymax = 0.0;            /* from the data */
-    } else {
-        chart.title = "Emission spectra (each divided by its maximum)";
-        chart.ylabel = "relative spectral power";
-        chart.ymin = 0.0; chart.ymax = 1.05;
-    }
-    ok = svg_line_chart(stdout, &chart, series, n);
-    free(series); free(x); free(y);
-    if (!ok) { fprintf(stderr, "specnee spectrum: cannot write the SVG\n"); return 1; }
-    return 0;
-}
-
-/* `specnee spectrum --table scene.pbrt`: the emitter x bin table of the spectral
-   strategies (lights.c, section 2; docs/THEORY.md section 5), as text or as an SVG
-   heat map with two panels: T_e(b) divided by its largest entry, and P(e | b). */
-static void heat_colour(double t, char out[8])
-{
-    /* white (0) to dark blue (1), linear in sRGB: readable in grey and by
-       colour-blind viewers; NaN (no emitter in the bin) grey */
-    int r, g, b;
-    if (t != t) { strcpy(out, "#bbbbbb"); return; }
-    if (t < 0.0) t = 0.0;
-    if (t > 1.0) t = 1.0;
-    r = (int)(255.0 + t * (8.0 - 255.0) + 0.5);
-    g = (int)(255.0 + t * (48.0 - 255.0) + 0.5);
-    b = (int)(255.0 + t * (107.0 - 255.0) + 0.5);
-    sprintf(out, "#%02x%02x%02x", r, g, b);
-}
-
-static int spectrum_table(const char *path, int power_metric, int svg)
-{
-    Scene scene;
-    Error err;
-    int e, b, n, panel;
-    double tmax = 0.0;
-    float *bins;
-    memset(&scene, 0, sizeof scene);
-    err.msg[0] = '\0';
-    if (!scene_load(&scene, path, &err)) { fprintf(stderr, "%s\n", err.msg); return 1; }
-    n = scene.n_emitters;
-    if (n == 0) {
-        fprintf(stderr, "%s: the scene has no emitters (AreaLightSource)\n", path);
-        scene_free(&scene);
-        return 1;
-    }
-    /* T_e(b): as light_sampler_build fills its table (the emitters normalised over
-       400-700 nm, the range of the bins) */
-    bins = (float *)malloc(sizeof(float) * (size_t)n * SPD_BINS);
-    if (!bins) { fprintf(stderr, "out of memory\n"); scene_free(&scene); return 1; }
-    for (e = 0; e < n; e++) {
-        Spectrum Le;
-        if (!emitter_radiance(&scene, e, LAMBDA_LO, LAMBDA_HI, &Le, &err)) spec_const(&Le, 0.0f);
-        for (b = 0; b < SPD_BINS; b++) bins[(size_t)e * SPD_BINS + b] = spec_bin_average(&Le, b);
-    }
-#define TABLE_T(e, b) ((double)bins[(size_t)(e) * SPD_BINS + (b)] * (power_metric ? \
-        scene.emitters[e].area * (scene.emitters[e].twosided ? 2.0 : 1.0) : 1.0))
-    for (e = 0; e < n; e++)
-        for (b = 0; b < SPD_BINS; b++)
-            if (TABLE_T(e, b) > tmax) tmax = TABLE_T(e, b);
-    if (!svg) {
-        printf("# specnee spectrum --table %s (--spd-metric %s)\n", path, power_metric ? "power" : "unit");
-        printf("# T_e(b) = bin average of emitter e's Le over bin b%s; P(e|b) = T_e(b) / sum_k T_k(b)\n",
-               power_metric ? " x area x sides" : "");
-        printf("# (P is '-' where no emitter emits: there the spectral strategies fall back to spatial)\n");
-        for (e = 0; e < n; e++) {
-            const Emitter *em = &scene.emitters[e];
-            if (em->inf)
-                printf("# emitter %d: %s:%d, infinite light, area 4 pi R^2 = %.6g\n", e,
-                       em->inf->file, em->inf->line, em->area);
-            else if (em->delta.type != DELTA_NONE)
-                printf("# emitter %d: %s:%d, delta light, power area %.6g\n", e,
-                       em->delta.file, em->delta.line, em->area);
-            else
-                printf("# emitter %d: %s:%d, area %.6g\n", e, scene.shapes[em->shape].file,
-                       scene.shapes[em->shape].line, em->area);
-        }
-        printf("# bin       nm");
-        for (e = 0; e < n; e++) printf("     T_%-4d", e);
-        for (e = 0; e < n; e++) printf("  P_%-4d", e);
-        printf("\n");
-        for (b = 0; b < SPD_BINS; b++) {
-            double sum = 0.0;
-            float lo = LAMBDA_LO + b * SPD_BIN_NM;
-            for (e = 0; e < n; e++) sum += TABLE_T(e, b);
-            printf("%5d  %3.0f-%3.0f", b, lo, lo + SPD_BIN_NM);
-            for (e = 0; e < n; e++) printf(" %10.4g", TABLE_T(e, b));
-            for (e = 0; e < n; e++)
-                if (sum > 0.0) printf("  %6.4f", TABLE_T(e, b) / sum);
-                else printf("  %6s", "-");
-            printf("\n");
-        }
-    } else {
-        const int cw = 11, ch = 22, x0 = 110, top = 50, gap = 60;
-        int W = x0 + SPD_BINS * cw + 30, H = top + 2 * (n * ch + gap) + 40;
-        printf("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" "
-               "font-family=\"sans-serif\" font-size=\"12\">\n", W, H);
-        printf("<rect width=\"%d\" height=\"%d\" fill=\"white\"/>\n", W, H);
-        printf("<text x=\"%d\" y=\"22\" font-size=\"14\">Emitter x bin table (--spd-metric %s)</text>\n",
-               x0, power_metric ? "power" : "unit");
-        for (panel = 0; panel < 2; panel++) {
-            int y0 = top + panel * (n * ch + gap);
-            printf("<text x=\"%d\" y=\"%d\">%s</text>\n", x0, y0 - 8,
-                   panel == 0 ? "T_e(b) / max T (bin average of Le; white 0, dark 1)"
-                              : "P(e | b) = T_e(b) / sum_k T_k(b) (white 0, dark 1; grey: no emitter)");
-            for (e = 0; e < n; e++) {
-                printf("<text x=\"%d\" y=\"%d\" text-anchor=\"end\">emitter %d</text>\n",
-                       x0 - 6, y0 + e * ch + ch / 2 + 4, e);
-                for (b = 0; b < SPD_BINS; b++) {
-                    double sum = 0.0, t;
-                    char col[8];
-                    int k;
-                    for (k = 0; k < n; k++) sum += TABLE_T(k, b);
-                    if (panel == 0) t = tmax > 0.0 ? TABLE_T(e, b) / tmax : 0.0;
-                    else t = sum > 0.0 ? TABLE_T(e, b) / sum : (double)NAN;
-                    heat_colour(t, col);
-                    printf("<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"%s\">"
-                           "<title>emitter %d, %.0f-%.0f nm: %.4g</title></rect>\n",
-                           x0 + b * cw, y0 + e * ch, cw, ch, col, e,
-                           LAMBDA_LO + b * SPD_BIN_NM, LAMBDA_LO + (b + 1) * SPD_BIN_NM, t);
-                }
-            }
-            printf("<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"none\" stroke=\"black\"/>\n",
-                   x0, y0, SPD_BINS * cw, n * ch);
-            for (b = 0; b <= SPD_BINS; b += 10)
-                printf("<text x=\"%d\" y=\"%d\" text-anchor=\"middle\">%.0f</text>\n",
-                       x0 + b * cw, y0 + n * ch + 15, LAMBDA_LO + b * SPD_BIN_NM);
-        }
-        printf("<text x=\"%d\" y=\"%d\" text-anchor=\"middle\">wavelength (nm), 60 bins of 5 nm</text>\n",
-               x0 + SPD_BINS * cw / 2, H - 8);
-        printf("</svg>\n");
-    }
-#undef TABLE_T
-    free(bins);
-    scene_free(&scene);
-    return ferror(stdout) ? 1 : 0;
-}
-
-int cmd_spectrum(int argc, char **argv)
-{
-    int i = 1, svg = 0, table = 0, power_metric = 0;
-    double lo = SPEC_MIN, hi = SPEC_MAX;
-    Spectrum s;
-    while (i < argc && argv[i][0] == '-' && argv[i][1] == '-') {
-        if (strcmp(argv[i], "--svg") == 0) { svg = 1; i++; }
-        else if (strcmp(argv[i], "--table") == 0) { table = 1; i++; }
-        else if (strcmp(argv[i], "--spd-metric") == 0 && i + 1 < argc) {
-            if (strcmp(argv[i + 1], "unit") == 0) power_metric = 0;
-            else if (strcmp(argv[i + 1], "power") == 0) power_metric = 1;
-            else {
-                fprintf(stderr, "specnee spectrum: --spd-metric is unit or power, not '%s'\n", argv[i + 1]);
-                return 2;
-            }
-            i += 2;
-        }
-        else if (strcmp(argv[i], "--list") == 0) {
-            const char *const *names = spec_named_list();
-            if (i + 1 != argc) { fputs(spectrum_usage, stderr); return 2; }
-            for (; *names; names++) printf("%s\n", *names);
-            return 0;
-        } else if (strcmp(argv[i], "--help") == 0) { fputs(spectrum_usage, stdout); return 0; }
-        else if (strcmp(argv[i], "--range") == 0 && i + 2 < argc) {
-            char *e1, *e2;
-            lo = strtod(argv[i + 1], &e1);
-            hi = strtod(argv[i + 2], &e2);
-            if (*e1 || *e2 || !(lo >= SPEC_MIN) || !(hi <= SPEC_MAX) || !(hi - lo >= 1.0)) {
-                fprintf(stderr, "specnee spectrum: --range needs %d <= LO < HI <= %d\n", SPEC_MIN, SPEC_MAX);
-                return 2;
-            }
-            i += 3;
-        } else {
-            fprintf(stderr, "specnee spectrum: unknown option '%s'\n", argv[i]);
-            fputs(spectrum_usage, stderr);
-            return 2;
-        }
-    }
-    if (table) {
-        if (argc - i != 1) { fputs(spectrum_usage, stderr); return 2; }
-        return spectrum_table(argv[i], power_metric, svg);
-    }
-    if (svg) {
-        if (i >= argc) { fputs(spectrum_usage, stderr); return 2; }
-        return spectrum_svg(argv + i, argc - i, lo, hi);
-    }
-    if (argc - i != 1) { fputs(spectrum_usage, stderr); return 2; }
-    if (!spectrum_arg(argv[i], &s)) return 1;
-    return spectrum_print(argv[i], &s);
 }

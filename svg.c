@@ -20,7 +20,7 @@
      a dot at every point (so an isolated point stays visible).  Text is XML-escaped.
 
    HOW IT IS USED
-     spectrum.c: `specnee spectrum --svg NAME ...` (docs/spectra.svg).  The
+     cmd_spectrum.c: `specnee spectrum --svg NAME ...` (docs/spectra.svg).  The
      benchmark tools: MSE vs spp and MSE vs time, log-log, one series per strategy.
        SvgSeries s = { "uniform", NULL, n, spp, mse, mse_min, mse_max, 0 };
        SvgChart c = { "Cornell", "samples per pixel", "MSE", 1, 1, 0, 0, 0, 0, 0, 0 };

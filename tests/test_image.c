@@ -1,4 +1,5 @@
-/* tests/test_image.c - tests of image.c: PFM/PPM/PNG files, sidecars, merge and diff.
+/* tests/test_image.c - tests of image.c and cmd_image.c: PFM/PPM/PNG files, sidecars,
+   merge and diff.
 
    The fixture is a 7x5 red 'F' on blue (stb's trick): asymmetric in x and y, so a
    flipped row order or mirrored columns cannot pass, and red/blue differ in every

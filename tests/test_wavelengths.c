@@ -1,5 +1,5 @@
 /* tests/test_wavelengths.c - the wavelength pdfs beyond uniform and importance: the
-   scene-independent "visible" pdf and the defensive mixture (spectrum.c section 12),
+   scene-independent "visible" pdf and the defensive mixture (wavelengths.c),
    and the unbiasedness of every pdf on the scenes where importance sampling by the
    emitters' spectra fails (scenes/wl-hidden-lamp.pbrt, scenes/wl-filter.pbrt;
    docs/wavelengths.md).

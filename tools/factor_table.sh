@@ -10,7 +10,7 @@
 # variants to be compared.  The first variant of a CSV is the baseline;
 # its levels are each factor's reference level.  Only the "image" region is used.
 #
-# Equal time, as converge computes it (eval.c): the time of a (variant, spp) is its
+# Equal time, as converge computes it (cmd_converge.c): the time of a (variant, spp) is its
 # mean over seeds; per seed, a variant's MSE at the baseline's time for the largest
 # spp, T0, is interpolated in log-log along its ladder of (mean time, MSE), and
 # extrapolated as MSE ~ 1/time beyond it.
@@ -41,7 +41,7 @@ function t975(dof,   t) {
     if (dof < 1) return 0
     return dof <= 30 ? t[dof] + 0 : 1.96
 }
-# MSE at time T along n points (tt[i], mm[i]), i = 1..n, log-log (eval.c mse_at_time)
+# MSE at time T along n points (tt[i], mm[i]), i = 1..n, log-log (cmd_converge.c mse_at_time)
 function mse_at(n, T,   i, a) {
     if (T <= tt[1]) return mm[1] * tt[1] / T
     for (i = 1; i < n; i++) {
