@@ -78,7 +78,7 @@ fuzz:
 bench: specnee tools/bench tools/bench_lights
 	sh tools/bench.sh
 
-# specnee's BVH against Embree 3 (issue 18): only where Embree is installed; the
+# specnee's BVH against Embree 3 (docs/bvh.md): only where Embree is installed; the
 # renderer and its tests never need it (tools/bench_embree.c)
 bench-embree: $(LIBOBJ)
 	@if printf '#include <embree3/rtcore.h>\nint main(void){return 0;}\n' | \
