@@ -1064,6 +1064,7 @@ int   tex_set_image(Texture *t, const Image *im, float scale, int invert, Error 
 int  img_alloc(Image *im, int w, int h);  /* zero-filled; 0 on bad size or no memory */
 void img_free(Image *im);
 int  img_write(const Image *im, const char *path, float exposure, Error *err); /* by extension */
+int  img_format_check(const char *path, Error *err);  /* .pfm .ppm .png, else 0 and a message */
 int  pfm_write(const Image *im, const char *path);
 int  pfm_read(Image *im, const char *path, Error *err);
 int  ppm_write(const Image *im, const char *path, float exposure);
