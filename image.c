@@ -586,21 +586,25 @@ static int ext_is(const char *ext, const char *want)
     return *ext == '\0' && *want == '\0';
 }
 
+int img_format_check(const char *path, Error *err)
+{
+    const char *ext = path_ext(path);
+    if (ext_is(ext, ".pfm") || ext_is(ext, ".ppm") || ext_is(ext, ".png")) return 1;
+    if (!*ext) error_set(err, path, 0, "no file extension (use .pfm, .ppm or .png)");
+    else error_set(err, path, 0, "unsupported output format '%s' (use .pfm, .ppm or .png)", ext);
+    return 0;
+}
+
 int img_write(const Image *im, const char *path, float exposure, Error *err)
 {
     const char *ext = path_ext(path);
     int ok;
     if (!img_valid(im)) { error_set(err, path, 0, "no image to write"); return 0; }
+    if (!img_format_check(path, err)) return 0;
     errno = 0;                        /* so a failure below reports its own cause */
     if (ext_is(ext, ".pfm")) ok = pfm_write(im, path);
     else if (ext_is(ext, ".ppm")) ok = ppm_write(im, path, exposure);
-    else if (ext_is(ext, ".png")) ok = png_write(im, path, exposure);
-    else {
-        if (!*ext) error_set(err, path, 0, "no file extension (use .pfm, .ppm or .png)");
-        else error_set(err, path, 0, "unsupported output format '%s' (use .pfm, .ppm or .png)",
-                       ext);
-        return 0;
-    }
+    else ok = png_write(im, path, exposure);
     if (!ok) {
         error_set(err, path, 0, "cannot write: %s", errno ? strerror(errno) : "I/O error");
         return 0;

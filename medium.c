@@ -5,27 +5,28 @@
    Exported (specnee.h section 6b): medium_sigma_t, medium_sigma_s, medium_sigma_a,
    hg_phase, hg_sample, medium_preset, medium_after.
 
-   THE MODEL (pbrt-v4 MakeNamedMedium "homogeneous"; docs/media.md derives the
-   estimator that uses it).  Between surfaces a ray travels through at most one
+   THE MODEL (pbrt-v4 MakeNamedMedium "homogeneous"; THEORY section 12 derives the
+   estimator that uses it, docs/media.md summarises the format and the
+   measurements).  Equation numbers are THEORY's.  Between surfaces a ray travels through at most one
    medium, with coefficients per unit length
        sigma_a(lambda)  absorption,   sigma_s(lambda)  scattering,
        sigma_t = sigma_a + sigma_s    extinction,
    the same at every point.  Over a distance t the light keeps the fraction
-       T(t) = exp(-sigma_t t)                                         (M1)
+       Tr(t) = exp(-sigma_t t)                                        (15)
    (Beer-Lambert).  At a collision a fraction sigma_s / sigma_t of the light is
-   scattered into the direction wi with the phase function p(d, wi) (a density
+   scattered into the direction wi with the phase function p_HG(d, wi) (a density
    over the sphere of directions), and the medium itself emits sigma_a Le per unit
    length (pbrt-v4's volpath adds the emission weighted by sigma_a).
 
    HENYEY-GREENSTEIN (Henyey and Greenstein 1941).  With c the cosine between the
    direction d the light travelled and wi,
-       p(c) = (1 - g^2) / (4 pi (1 + g^2 - 2 g c)^(3/2)),             (M2)
+       p_HG(c) = (1 - g^2) / (4 pi (1 + g^2 - 2 g c)^(3/2)),          (18a)
    g in (-1, 1) the mean cosine: g > 0 scatters forward, g = 0 is isotropic.  Its
-   CDF over c inverts in closed form (integrate (M2) times 2 pi over c): for a
+   CDF over c inverts in closed form (integrate (18a) times 2 pi over c): for a
    uniform u,
-       c = (1 + g^2 - ((1 - g^2) / (1 - g + 2 g u))^2) / (2 g),       (M3)
+       c = (1 + g^2 - ((1 - g^2) / (1 - g + 2 g u))^2) / (2 g),       (18b)
    c = 1 - 2u when g is 0; the azimuth is uniform.  So the sampled direction has
-   exactly the density (M2), and the pdf the MIS weights need is (M2) itself.
+   exactly the density (18a), and the pdf the MIS weights need is (18a) itself.
 
    WHICH MEDIUM.  pbrt-v4's rule (Interaction::GetMedium): a shape whose
    MediumInterface has different inside and outside media is a transition; a ray
@@ -45,14 +46,14 @@ float medium_sigma_t(const Medium *m, float lambda_nm)
     return spec_eval(&m->sigma_a, lambda_nm) + spec_eval(&m->sigma_s, lambda_nm);
 }
 
-/* (M2), with the denominator kept away from 0 (g -> +-1) */
+/* (18a), with the denominator kept away from 0 (g -> +-1) */
 float hg_phase(float g, float cos_d_wi)
 {
     float d = 1.0f + g * g - 2.0f * g * cos_d_wi;
     return (1.0f - g * g) / (4.0f * PI_F * d * sqrtf(fmaxf(d, 1e-12f)));
 }
 
-/* (M3), then wi = c d + sqrt(1 - c^2) (cos phi s + sin phi t) in a frame around d.
+/* (18b), then wi = c d + sqrt(1 - c^2) (cos phi s + sin phi t) in a frame around d.
    (layered.c's coat medium samples with it too.) */
 Vec3 hg_sample(float g, Vec3 d, float u1, float u2, float *pdf)
 {

@@ -266,7 +266,7 @@ static void film_add(double xyz[3], float cmf[HERO_N][3], const Wavelengths *wl,
 static void debug_vertex(FILE *dbg, int depth, const SurfacePoint *sp, const float *beta,
                          unsigned alive, const float *r)
 {
-    fprintf(dbg, "  vertex %d: p=(%.4g %.4g %.4g) shape=%d alive=%c%c%c%c beta=(%.4g %.4g %.4g %.4g) r=(%.3g %.3g %.3g %.3g)\n",
+    fprintf(dbg, "  vertex %d: x=(%.4g %.4g %.4g) shape=%d alive=%c%c%c%c beta=(%.4g %.4g %.4g %.4g) r=(%.3g %.3g %.3g %.3g)\n",
             depth, sp->p.x, sp->p.y, sp->p.z, sp->shape,
             alive & 1 ? 'h' : '-', alive & 2 ? '1' : '-', alive & 4 ? '2' : '-', alive & 8 ? '3' : '-',
             beta[0], beta[1], beta[2], beta[3], r[0], r[1], r[2], r[3]);
@@ -476,7 +476,7 @@ static int medium_flight(const Renderer *R, PixelSample *ps, int dim, int med, f
             else { r[j] = 0.0f; beta[j] = 0.0f; }
         }
         *alive = still;
-        if (dbg) fprintf(dbg, "  medium \"%s\": passed %.4g, T=(%.4g %.4g %.4g %.4g)\n", M->name,
+        if (dbg) fprintf(dbg, "  medium \"%s\": passed %.4g, Tr=(%.4g %.4g %.4g %.4g)\n", M->name,
                          (double)tmax, prev->T[0], prev->T[1], prev->T[2], prev->T[3]);
     }
     return 0;
@@ -616,8 +616,8 @@ static int russian_roulette(PixelSample *ps, int depth, float *beta, const float
         q = sum_r > 0.0f ? (float)HERO_N * bmax / sum_r : 0.0f;
         if (q < 1.0f) {
             int dies = sampler_1d(ps, dim_bounce(depth, BD_ROULETTE)) >= q;
-            if (dbg) fprintf(dbg, "  roulette: survival q = min(1, %d max_j beta_j / sum_m r_m) = %.4g: %s\n",
-                             HERO_N, q, dies ? "path ends" : "survives, beta /= q");
+            if (dbg) fprintf(dbg, "  roulette: survival P_survive = min(1, %d max_j beta_j / sum_m r_m) = %.4g: %s\n",
+                             HERO_N, q, dies ? "path ends" : "survives, beta /= P_survive");
             if (dies) return 0;
             for (j = 0; j < HERO_N; j++) beta[j] /= q;
         }
@@ -651,7 +651,7 @@ static int medium_vertex(const Renderer *R, PixelSample *ps, int depth, int med,
     LightCtx ctx;
     unsigned still = 1u;
     int j, any = 0;
-    if (dbg) fprintf(dbg, "  vertex %d: in medium \"%s\" at p=(%.4g %.4g %.4g), t=%.4g, sigma_t(hero)=%.4g\n",
+    if (dbg) fprintf(dbg, "  vertex %d: in medium \"%s\" at x=(%.4g %.4g %.4g), t=%.4g, sigma_t(hero)=%.4g\n",
                      depth, M->name, p.x, p.y, p.z, (double)t, s0);
     if (depth >= o->maxdepth) return 0;   /* pbrt-v4: neither emission nor scattering there */
     for (j = 0; j < HERO_N; j++) {

@@ -10,8 +10,10 @@
    usage. */
 #define _POSIX_C_SOURCE 200809L
 #include "specnee.h"
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static const char usage_text[] =
@@ -62,11 +64,15 @@ static const char usage_options[] =
 "                                         tables: few emitters (each vertex O(n))\n"
 "                          uniform power spd all  baselines (docs/lighttree.md)\n"
 "      --spd-metric M      what the spectral table T_e(b) holds: unit (the bin average\n"
-"                          of the emitted radiance Le, default) or power (that x area)\n"
+"                          of the emitted radiance Le, default) or power (that x area);\n"
+"                          read by spd, product and spectral-spatial only (the trees\n"
+"                          weigh power per bin always)\n"
 "      --all-wavelengths   spectral strategies weigh every alive wavelength\n"
 "      --throughput-weighted  ... each by the path throughput at that wavelength\n"
 "      --spd-wavelengths W hero (the thesis, default), all or throughput: the same\n"
-"                          as the two flags above, and the way to switch them off\n"
+"                          as the two flags above, and the way to switch them off;\n"
+"                          read by spd, product and spectral-spatial; spectral-tree\n"
+"                          always sums the alive wavelengths, so only throughput acts\n"
 "      --wavelengths P     the wavelength pdf: mixture (default: importance with a\n"
 "                          share of visible that bounds its worst case), uniform\n"
 "                          (plain HWSS, the thesis), importance (~ (xbar+ybar+zbar)\n"
@@ -99,7 +105,10 @@ static const char usage_options2[] =
 "                          (default: each voxel on first use; the image is the same)\n"
 "      --dump-scene        print the scene as understood, then exit\n"
 "      --print-defaults    print the render settings, one \"name value\" a line, then\n"
-"                          exit: the defaults, or those the other flags give\n""      --preset NAME       a named list of flags, expanded where it stands (later\n"
+"                          exit: the defaults, or those the other flags give; with\n"
+"                          a scene, those its render uses (its Film, Sampler and\n"
+"                          Integrator under the flags)\n"
+"      --preset NAME       a named list of flags, expanded where it stands (later\n"
 "                          flags override it); the presets are listed below\n"
 "  -q, --quiet             no progress bar and no closing line\n"
 "  -h, --help              this text\n";
@@ -347,23 +356,94 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
    precedes it, so the binary itself says what it does by default: the docs' test
    tests/docs_defaults.sh compares every "(default)" in docs/ with these lines).
    Each name is an option; an option that takes a value prints that value (so
-   "--NAME VALUE" sets it), a switch prints on or off.  A scene file's Sampler and
-   Integrator may still set spp, seed, maxdepth, sampler and lights. */
-static void print_settings(const RenderOptions *o)
+   "--NAME VALUE" sets it), a switch prints on or off.  With a scene (s not NULL)
+   the settings are those the render of that scene uses: its Film, Sampler and
+   Integrator as apply_scene_settings applies them, under the command line's
+   flags, and the film's resolution.
+   spd-metric and spd-wavelengths say after a '#' which --lights strategies read
+   them (sel_reads_metric, sel_reads_wavelengths): the thesis' spectral tables
+   (spd, product, spectral-spatial) read both; the light trees use power per bin
+   and sum over the alive wavelengths always (THEORY section 5.4), so the metric
+   and "hero"/"all" leave them as they are, and spectral-tree reads "throughput"
+   only. */
+static int sel_reads_metric(SelStrategy st)
 {
+    return st == SEL_SPD || st == SEL_PRODUCT || st == SEL_SPECTRAL_SPATIAL;
+}
+
+static void print_settings(const RenderOptions *o, const Scene *s)
+{
+    SelStrategy st = o->sel.strategy;
     printf("spp %d\nseed %d\nmaxdepth %d\nsampler %s\n", o->spp, o->seed, o->maxdepth,
            sampler_name(o->sampler));
+    if (s) printf("res %dx%d\n", s->settings.xres, s->settings.yres);
     printf("wavelengths %s\nmix-weight %g\nwide %s\nsingle-wavelength %s\n", wl_mode_name(o->wl_mode),
            (double)(o->wl_mix > 0.0f ? o->wl_mix : WL_MIX_DEFAULT), o->wl_wide ? "on" : "off",
            o->single_wavelength ? "on" : "off");
-    printf("lights %s\nspd-metric %s\nspd-wavelengths %s\n", sel_name(o->sel.strategy),
-           o->sel.power_metric ? "power" : "unit",
-           o->sel.throughput_weighted ? "throughput" : o->sel.all_wavelengths ? "all" : "hero");
+    printf("lights %s\n", sel_name(st));
+    printf("spd-metric %s  # read by --lights spd, product, spectral-spatial%s%s\n",
+           o->sel.power_metric ? "power" : "unit", sel_reads_metric(st) ? "" : "; ignored by ",
+           sel_reads_metric(st) ? "" : sel_name(st));
+    printf("spd-wavelengths %s  # read by --lights spd, product, spectral-spatial; spectral-tree "
+           "reads throughput only (it always sums over the alive wavelengths)%s%s\n",
+           o->sel.throughput_weighted ? "throughput" : o->sel.all_wavelengths ? "all" : "hero",
+           sel_reads_metric(st) || st == SEL_SPECTRAL_TREE ? "" : "; ignored by ",
+           sel_reads_metric(st) || st == SEL_SPECTRAL_TREE ? "" : sel_name(st));
     printf("rough-dispersion %s\nno-nee %s\n", o->rough_mis ? "mis" : "terminate", o->nee ? "off" : "on");
     printf("chromatic-media %s\n", o->media_terminate ? "terminate" : "mis");
     printf("fluor-li %s\nfluor-lanes %s\n",
            o->fluor_li == FLUOR_LI_A ? "a" : o->fluor_li == FLUOR_LI_POWER ? "power" : "uniform",
            o->fluor_keep ? "keep" : "terminate");
+}
+
+/* The output is checked before any sample is traced, so that a render cannot run
+   for minutes and then fail to write: a known extension (img_format_check, the
+   same message img_write would give), an existing directory (specnee does not
+   create directories), and a file there that can be opened for writing.
+   Returns 0, or 1 after a one-line message naming the path. */
+static int check_output(const char *out)
+{
+    Error err;
+    struct stat sb;
+    FILE *f;
+    int existed;
+    char dir[1024];
+    const char *slash = strrchr(out, '/');
+    size_t n = slash ? (size_t)(slash - out) : 0;
+    err.msg[0] = '\0';
+    if (!img_format_check(out, &err)) {
+        fprintf(stderr, "%s\n", err.msg);
+        return 1;
+    }
+    if (!slash) strcpy(dir, ".");
+    else if (n >= sizeof dir) {
+        fprintf(stderr, "%s: cannot write: the path is too long\n", out);
+        return 1;
+    } else {
+        if (n == 0) n = 1;                         /* "/x.png": the root */
+        memcpy(dir, out, n);
+        dir[n] = '\0';
+    }
+    if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode)) {
+        fprintf(stderr, "%s: cannot write: the directory %s does not exist "
+                        "(specnee does not create directories)\n", out, dir);
+        return 1;
+    }
+    if (stat(out, &sb) == 0 && S_ISDIR(sb.st_mode)) {
+        fprintf(stderr, "%s: cannot write: it is a directory\n", out);
+        return 1;
+    }
+    /* the one test that also holds for root and read-only file systems: open the
+       file to append (which changes nothing), and remove it again if it is new */
+    existed = stat(out, &sb) == 0;
+    errno = 0;
+    if (!(f = fopen(out, "ab"))) {
+        fprintf(stderr, "%s: cannot write: %s\n", out, errno ? strerror(errno) : "I/O error");
+        return 1;
+    }
+    fclose(f);
+    if (!existed) remove(out);
+    return 0;
 }
 
 /* Returns 0 on success, else the exit code. */
@@ -373,8 +453,8 @@ static int parse_args(int argc, char **argv, Args *a)
     memset(a, 0, sizeof *a);
     render_options_default(&a->ro);
     if ((rc = parse_flags(argc - 1, (const char *const *)(argv + 1), a, 0)) != 0) return rc;
-    if (a->print_defaults) {
-        print_settings(&a->ro);
+    if (a->print_defaults && !a->scene) {
+        print_settings(&a->ro, NULL);
         exit(0);
     }
     if (!a->scene) return usage_error("%s", "no scene file given");
@@ -425,6 +505,7 @@ static int render_main(int argc, char **argv)
     int rc = parse_args(argc, argv, &a);
     char settings[512], wl_text[32];
     if (rc) return rc;
+    if (a.out && !a.dump && !a.print_defaults && check_output(a.out)) return 1;
     memset(&scene, 0, sizeof scene);
     err.msg[0] = '\0';
     if (!scene_load_as(&scene, a.scene, a.out, &err)) {
@@ -437,6 +518,11 @@ static int render_main(int argc, char **argv)
         return 0;
     }
     if (apply_scene_settings(&a, &scene)) { scene_free(&scene); return 1; }
+    if (a.print_defaults) {
+        print_settings(&a.ro, &scene);
+        scene_free(&scene);
+        return 0;
+    }
     if (a.ro.debug_x >= 0 && (a.ro.debug_x >= scene.settings.xres || a.ro.debug_y >= scene.settings.yres)) {
         fprintf(stderr, "specnee: --debug-pixel %d,%d is outside the %dx%d film (X 0..%d from the left, "
                         "Y 0..%d from the top)\n(see specnee --help)\n", a.ro.debug_x, a.ro.debug_y,
@@ -454,6 +540,10 @@ static int render_main(int argc, char **argv)
         fprintf(stderr, "specnee: --mark-insets needs a .png output at the file's own resolution (no --res)\n");
         scene_free(&scene);
         return 2;
+    }
+    if (check_output(out)) {
+        scene_free(&scene);
+        return 1;
     }
     if (!render(&scene, &a.ro, &img, &st, &err)) {
         fprintf(stderr, "%s\n", err.msg);

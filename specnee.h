@@ -402,7 +402,7 @@ int   wl_pdf_build(WavelengthPdf *w, WlMode mode, float lo, float hi, const Spec
 void  wl_pdf_free(WavelengthPdf *w);
 void  wl_sample(const WavelengthPdf *w, float u, Wavelengths *out);
 float wl_pdf_eval(const WavelengthPdf *w, float lambda_nm);
-double wl_cdf(const WavelengthPdf *w, float lambda_nm);   /* P(lambda), exact (tests) */
+double wl_cdf(const WavelengthPdf *w, float lambda_nm);   /* cdf(lambda), exact (tests) */
 WlMode wl_mode_from_name(const char *name);               /* WL_MODE_COUNT if unknown */
 const char *wl_mode_name(WlMode m);
 
@@ -764,15 +764,15 @@ float fresnel_dielectric(float cos_i, float eta);
 int   refract_dir(Vec3 w, Vec3 n, float eta, float *etap, Vec3 *wt);
 
 /* ======================================================================
-   6b. Participating media (medium.c; docs/media.md derives the estimator)
+   6b. Participating media (medium.c; THEORY section 12 derives the estimator)
    ====================================================================== */
 /* pbrt-v4's MakeNamedMedium "homogeneous": a medium that fills the space between
    the surfaces whose MediumInterface names it, with the same coefficients
    everywhere.  Light travelling a distance t in it keeps the fraction
-   T(t) = exp(-sigma_t t), sigma_t = sigma_a + sigma_s (per scene unit, per
+   Tr(t) = exp(-sigma_t t) (THEORY (15)), sigma_t = sigma_a + sigma_s (per scene unit, per
    wavelength: a chromatic medium when sigma_t depends on lambda); a collision
    scatters with probability sigma_s / sigma_t into the Henyey-Greenstein lobe of
-   asymmetry g; the medium emits radiance sigma_a Le per unit length. */
+   asymmetry g (THEORY (18a)); the medium emits radiance sigma_a Le per unit length. */
 typedef struct {
     char name[64];             /* the MakeNamedMedium name */
     Spectrum sigma_a, sigma_s; /* absorption, scattering (1/scene unit), "scale" applied */
@@ -788,9 +788,10 @@ float medium_sigma_s(const Medium *m, float lambda_nm);
 float medium_sigma_a(const Medium *m, float lambda_nm);
 /* The Henyey-Greenstein phase function for the cosine between the direction the
    light travelled (d) and the one it leaves in (wi): forward scattering for g > 0;
-   it integrates to 1 over the sphere. */
+   it integrates to 1 over the sphere (THEORY (18a)). */
 float hg_phase(float g, float cos_d_wi);
-/* Sample wi from it around the unit travel direction d; *pdf = hg_phase(...). */
+/* Sample wi from it around the unit travel direction d (THEORY (18b));
+   *pdf = hg_phase(...). */
 Vec3  hg_sample(float g, Vec3 d, float u1, float u2, float *pdf);
 /* pbrt-v4's named scattering coefficients (MakeNamedMedium "string preset"):
    sigma_a and sigma_s' as RGB in mm^-1; 0 if the name is unknown. */
@@ -1065,6 +1066,7 @@ int   tex_set_image(Texture *t, const Image *im, float scale, int invert, Error 
 int  img_alloc(Image *im, int w, int h);  /* zero-filled; 0 on bad size or no memory */
 void img_free(Image *im);
 int  img_write(const Image *im, const char *path, float exposure, Error *err); /* by extension */
+int  img_format_check(const char *path, Error *err);  /* .pfm .ppm .png, else 0 and a message */
 int  pfm_write(const Image *im, const char *path);
 int  pfm_read(Image *im, const char *path, Error *err);
 int  ppm_write(const Image *im, const char *path, float exposure);

@@ -360,6 +360,39 @@ if grep -qx "lights spectral-tree" tests/tmp/out.txt && grep -qx "wavelengths mi
    ./specnee --preset thesis --print-defaults | grep -qx "rough-dispersion terminate"; then ok "cli_print_defaults_lines"
 else fail "cli_print_defaults_lines"; fi
 counted docs-defaults sh tests/docs_defaults.sh
+# with a scene, --print-defaults prints what that scene renders with: its Film,
+# Sampler and Integrator (cornell.pbrt: 256x256, 64 spp, maxdepth 8) under the flags
+expect "cli_print_defaults_scene" 0 "" ./specnee scenes/cornell.pbrt --maxdepth 3 --print-defaults
+if grep -qx "spp 64" tests/tmp/out.txt && grep -qx "maxdepth 3" tests/tmp/out.txt &&
+   grep -qx "res 256x256" tests/tmp/out.txt && ! grep -q "^spp 16$" tests/tmp/out.txt; then ok "cli_print_defaults_scene_lines"
+else fail "cli_print_defaults_scene_lines: $(tr '\n' ' ' < tests/tmp/out.txt)"; fi
+# --spd-metric and --spd-wavelengths hero/all act on the thesis' spectral tables
+# only: --print-defaults says so for the strategy in use, and under the default
+# spectral-tree a render with them changed is the same image
+./specnee --print-defaults > tests/tmp/pd-tree.txt
+./specnee --lights product --print-defaults > tests/tmp/pd-product.txt
+./specnee -q scenes/cornell1.pbrt --spp 2 --res 16x16 -o tests/tmp/spd-a.pfm
+./specnee -q scenes/cornell1.pbrt --spp 2 --res 16x16 --spd-metric power --spd-wavelengths all -o tests/tmp/spd-b.pfm
+if grep -q "^spd-metric unit .*ignored by spectral-tree" tests/tmp/pd-tree.txt &&
+   grep -q "^spd-metric unit  # read by --lights spd, product, spectral-spatial$" tests/tmp/pd-product.txt &&
+   cmp -s tests/tmp/spd-a.pfm tests/tmp/spd-b.pfm; then ok "cli_spd_flags_marked_where_ignored"
+else fail "cli_spd_flags_marked_where_ignored"; fi
+# the output path is checked before any sample is traced: 10^6 spp would take
+# hours, the error comes at once (exit 1, one line naming the path); `timeout`
+# (where installed) ends a binary that renders first after 60 s
+rm -rf tests/tmp/no-such-dir
+tmo=""; command -v timeout > /dev/null 2>&1 && tmo="timeout 60"
+t0=$(date +%s)
+expect "cli_output_dir_missing" 1 "^tests/tmp/no-such-dir/out.png: cannot write: the directory tests/tmp/no-such-dir does not exist" \
+    $tmo ./specnee -q scenes/cornell.pbrt --spp 1000000 -o tests/tmp/no-such-dir/out.png
+if [ $(($(date +%s) - t0)) -le 5 ] && [ "$(wc -l < tests/tmp/err.txt)" -eq 1 ]; then ok "cli_output_dir_missing_at_once"
+else fail "cli_output_dir_missing_at_once: $(($(date +%s) - t0)) s, $(wc -l < tests/tmp/err.txt) lines"; fi
+expect "cli_output_bad_format_at_once" 1 "tests/tmp/out.jpg: unsupported output format '.jpg'" \
+    $tmo ./specnee -q scenes/cornell.pbrt --spp 1000000 -o tests/tmp/out.jpg
+printf 'Film "rgb" "integer xresolution" 4 "integer yresolution" 4 "string filename" "tests/tmp/no-such-dir/film.pfm"\nSampler "independent" "integer pixelsamples" 1000000\nWorldBegin\nShape "sphere"\n' > tests/tmp/filmdir.pbrt
+expect "cli_output_film_dir_missing" 1 "^tests/tmp/no-such-dir/film.pfm: cannot write: the directory" $tmo ./specnee -q tests/tmp/filmdir.pbrt
+mkdir -p tests/tmp/a-dir.png
+expect "cli_output_is_directory" 1 "^tests/tmp/a-dir.png: cannot write: it is a directory" $tmo ./specnee -q scenes/cornell.pbrt --spp 1000000 -o tests/tmp/a-dir.png
 # the code, the tests and the docs describe the program as it is; history lives
 # in git log (tests/history-allow.txt: the files not cleaned yet)
 counted docs-history sh tests/docs_history.sh
