@@ -1,7 +1,29 @@
-/* render.c - the spectral path tracer: camera, wavelengths, the path loop, the film.
+/* render.c - a render: its options, its state, and the film the samples go to.
 
-   Exported (specnee.h section 12): render_options_default, render, render_ladder,
-   render_begin, render_advance, render_image, render_stats, render_end.
+   Exported (specnee.h section 12): render_options_default, render_options_thesis,
+   render, render_ladder, render_begin, render_advance, render_image, render_stats,
+   render_end.  The camera is in camera.c, the path estimator in path.c; render.h
+   holds what the three share (Renderer, FilmSample, Counters).
+
+   A RENDER.  render_begin builds the Renderer: the emitters' radiance for the
+   sampled wavelength range and their selection tables (lights.c), the wavelength
+   pdf p (spectrum.c, THEORY §2), the camera, the pixel filter, the samplers and
+   the normalised emission of emissive media.  The Scene is only read.
+
+   THE FILM (THEORY (9)).  For each sample of a pixel, render_pass picks the
+   position in the pixel and its filter weight (filter.c), the wavelengths
+   lambda_j (wl_sample) and the lens point, and path.c's trace_path fills a
+   FilmSample with sum_j (xbar, ybar, zbar)(lambda_j) C_j: an estimate of the
+   integrals of xbar L, ybar L, zbar L over the sampled range, not divided by the
+   integral of ybar (emitters are normalised instead, as in pbrt-v4).  The sensor
+   then scales it by the imaging ratio and clamps its largest component (pbrt-v4's
+   RGBFilm::AddSample); a pixel is the mean of its samples (with mitchell or sinc,
+   sum w XYZ / sum w), white-balanced, converted to linear sRGB with pbrt-v4's
+   matrix.  A sample whose XYZ is not finite is dropped (counted; it counts as 0).
+
+   DETERMINISM.  Every (pixel, sample) owns its random numbers (sampler.c) and
+   every pixel is written by one thread (rows are handed out one at a time): the
+   image is identical for any number of threads.
 
    PROGRESSIVE RENDERING.  render_ladder renders in passes up a ladder of sample
    counts (16, 32, ..., 512) and hands the image at each rung to a callback:
@@ -63,7 +85,7 @@ static int scene_has_fluorescence(const Scene *s)
     return 0;
 }
 
-/* ------------------------------------------------------------------ driver */
+/* ------------------------------------------------------------------ the film and its passes */
 
 static double wall_seconds(void)
 {
@@ -116,14 +138,14 @@ static void render_pass(Pass *P)
             for (k = P->k0; k < P->k1; k++) {
                 PixelSample ps;
                 Rng *stream;
-                Wavelengths wl;
-                double xyz[3] = { 0.0, 0.0, 0.0 }, m;
+                FilmSample fs;
+                double *xyz = fs.xyz, m;
                 float fx, fy, ul0 = 0.5f, ul1 = 0.5f, fw = 1.0f;
                 sampler_start(&R->sampler, fx0, fy0, k, &ps);
                 stream = sampler_stream(&ps);
                 /* the position in the pixel and its filter weight fw (filter.c) */
                 if (set->filter == FILTER_GAUSSIAN && stream) {
-                    /* independent: rejection from the stream (bit-identical to before) */
+                    /* the independent sampler: the Gaussian by rejection from its stream (filter.c) */
                     fx = 0.5f + filter_gaussian_reject(stream, set->filter_radius, set->filter_sigma);
                     fy = 0.5f + filter_gaussian_reject(stream, set->filter_radius, set->filter_sigma);
                 } else {
@@ -131,14 +153,14 @@ static void render_pass(Pass *P)
                     sampler_2d(&ps, DIM_FILM, &u0, &u1);
                     fw = filter_sample(&R->filter, u0, u1, &fx, &fy);
                 }
-                wl_sample(&R->wl, sampler_1d(&ps, DIM_WAVELENGTH), &wl);
+                wl_sample(&R->wl, sampler_1d(&ps, DIM_WAVELENGTH), &fs.wl);
                 /* the lens dimensions, requested only with a lens: the independent
                    sampler's stream then has them after the wavelength, and pinhole
                    images keep their random numbers */
                 if (R->cam.lens_radius > 0.0f) sampler_2d(&ps, DIM_LENS, &ul0, &ul1);
                 if (dbg) fprintf(dbg, "pixel (%d, %d) sample %d\n", fx0, fy0, k);
-                trace_path(R, camera_ray(&R->cam, (float)fx0 + fx, (float)fy0 + fy, ul0, ul1), &wl,
-                           &ps, xyz, &cnt, dbg);
+                trace_path(R, camera_ray(&R->cam, (float)fx0 + fx, (float)fy0 + fy, ul0, ul1), &fs,
+                           &ps, &cnt, dbg);
                 cnt.dims_reused += ps.reused;
                 if (isfinite(xyz[0]) && isfinite(xyz[1]) && isfinite(xyz[2])) {
                     /* pbrt-v4's sensor (RGBFilm::AddSample, cie1931 sensor: sensor

@@ -58,9 +58,18 @@ typedef struct {
 
 /* ------------------------------------------------------------------ path.c */
 
-/* Trace one camera sample with the wavelengths wl; adds its XYZ estimate to xyz.
-   dbg: --debug-pixel's stream (NULL: silent). */
-void trace_path(const Renderer *R, Ray ray, const Wavelengths *wl, PixelSample *ps,
-                double xyz[3], Counters *cnt, FILE *dbg);
+/* One camera sample on its way to the film: the wavelengths it carries and the
+   XYZ the path estimator adds for them (THEORY (9)). */
+typedef struct {
+    Wavelengths wl;                  /* the camera's wavelengths and their pdf p(lambda_j):
+                                        set by render.c; the film keeps them through a
+                                        fluorescent shift */
+    float cmf[HERO_N][3];            /* xbar, ybar, zbar at wl.lambda */
+    double xyz[3];                   /* sum_j cmf_j C_j over the path's contributions */
+} FilmSample;
+
+/* Trace one camera sample with the wavelengths fs->wl: fills fs->cmf and sets
+   fs->xyz to the sample's XYZ estimate.  dbg: --debug-pixel's stream (NULL: silent). */
+void trace_path(const Renderer *R, Ray ray, FilmSample *fs, PixelSample *ps, Counters *cnt, FILE *dbg);
 
 #endif
