@@ -52,7 +52,9 @@
    (emission found there, NEE, the next direction) and the roulette.  A surface
    vertex may first terminate the secondaries (dispersive glass) and take the
    fluorescent branch (fluor_vertex: reflect, or re-radiate at a sampled lambda_i,
-   docs/FLUORESCENCE.md §3-§5).
+   docs/FLUORESCENCE.md §3-§5).  The comments number these steps 1-6 as the
+   walkthrough does.  C wants helpers first, so the file reads bottom-up:
+   trace_path is its last function.
 
    PARTICIPATING MEDIA (THEORY §12, docs/media.md).  medium_flight draws the
    distance with the hero's sigma_t (16) and multiplies the ratios r_m by the other
