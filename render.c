@@ -114,6 +114,55 @@ typedef struct {
     int x0, y0;                /* the image's first pixel on the film (crop window) */
 } Pass;
 
+/* A pixel of the image from its sums: the mean of its samples' XYZ (with mitchell
+   or sinc, sum w XYZ / sum w), white-balanced, in linear sRGB. */
+static void film_pixel(const Pass *P, const double *sum, const double *wsum, float *out)
+{
+    const SceneSettings *set = &P->R->s->settings;
+    double avg[3], rgb[3];
+    if (!wsum) {
+        avg[0] = sum[0] / P->k1; avg[1] = sum[1] / P->k1; avg[2] = sum[2] / P->k1;
+    } else if (*wsum != 0.0) {   /* pbrt-v4: sum w L / sum w, 0 when sum w = 0 */
+        avg[0] = sum[0] / *wsum; avg[1] = sum[1] / *wsum; avg[2] = sum[2] / *wsum;
+    } else {
+        avg[0] = avg[1] = avg[2] = 0.0;
+    }
+    if (set->white_balance > 0.0f) {
+        /* pbrt-v4's white balance (Film "whitebalance"): a 3x3 map of the
+           sensor's XYZ after the clamp, linear, so applied to the mean */
+        const double *m = set->white_balance_m;
+        double a0 = avg[0], a1 = avg[1], a2 = avg[2];
+        avg[0] = m[0] * a0 + m[1] * a1 + m[2] * a2;
+        avg[1] = m[3] * a0 + m[4] * a1 + m[5] * a2;
+        avg[2] = m[6] * a0 + m[7] * a1 + m[8] * a2;
+    }
+    xyz_to_linear_srgb(avg, rgb);
+    out[0] = (float)rgb[0];
+    out[1] = (float)rgb[1];
+    out[2] = (float)rgb[2];
+}
+
+/* The progress bar after a row, over all passes (rows weighted by their samples). */
+static void progress_row(Pass *P)
+{
+    int h = P->img->h;
+#ifdef _OPENMP
+#pragma omp critical(specnee_progress)
+#endif
+    {
+        double done;
+        int bar, i;
+        P->rows_done++;
+        done = ((double)P->k0 * h + (double)P->rows_done * (P->k1 - P->k0)) / ((double)P->spp_final * h);
+        bar = (int)(40.0 * done);
+        fprintf(stderr, "\r[");
+        for (i = 0; i < 40; i++) fputc(i < bar ? '#' : ' ', stderr);
+        fprintf(stderr, "] %3d%%", (int)(100.0 * done));
+        if (P->rows_done == h && P->k1 == P->spp_final) fputc('\n', stderr);
+        fflush(stderr);
+    }
+}
+
 static void render_pass(Pass *P)
 {
     const Renderer *R = P->R;
@@ -129,7 +178,7 @@ static void render_pass(Pass *P)
         Counters cnt;
         memset(&cnt, 0, sizeof cnt);
         for (x = 0; x < w; x++) {
-            double *sum = P->acc + 3 * ((size_t)y * w + x), avg[3], rgb[3];
+            double *sum = P->acc + 3 * ((size_t)y * w + x);
             double *wsum = P->wsum ? P->wsum + (size_t)y * w + x : NULL;  /* sum of weights */
             /* (fx0, fy0): this image pixel on the film (a crop window shifts it) */
             int fx0 = x + P->x0, fy0 = y + P->y0;
@@ -182,49 +231,13 @@ static void render_pass(Pass *P)
                 }
                 if (wsum) *wsum += fw;
             }
-            if (!wsum) {
-                avg[0] = sum[0] / P->k1; avg[1] = sum[1] / P->k1; avg[2] = sum[2] / P->k1;
-            } else if (*wsum != 0.0) {   /* pbrt-v4: sum w L / sum w, 0 when sum w = 0 */
-                avg[0] = sum[0] / *wsum; avg[1] = sum[1] / *wsum; avg[2] = sum[2] / *wsum;
-            } else {
-                avg[0] = avg[1] = avg[2] = 0.0;
-            }
-            if (set->white_balance > 0.0f) {
-                /* pbrt-v4's white balance (Film "whitebalance"): a 3x3 map of the
-                   sensor's XYZ after the clamp, linear, so applied to the mean */
-                const double *m = set->white_balance_m;
-                double a0 = avg[0], a1 = avg[1], a2 = avg[2];
-                avg[0] = m[0] * a0 + m[1] * a1 + m[2] * a2;
-                avg[1] = m[3] * a0 + m[4] * a1 + m[5] * a2;
-                avg[2] = m[6] * a0 + m[7] * a1 + m[8] * a2;
-            }
-            xyz_to_linear_srgb(avg, rgb);
-            P->img->rgb[3 * ((size_t)y * w + x) + 0] = (float)rgb[0];
-            P->img->rgb[3 * ((size_t)y * w + x) + 1] = (float)rgb[1];
-            P->img->rgb[3 * ((size_t)y * w + x) + 2] = (float)rgb[2];
+            film_pixel(P, sum, wsum, P->img->rgb + 3 * ((size_t)y * w + x));
         }
         P->row_rays[y] += cnt.rays;
         P->row_nonfinite[y] += cnt.nonfinite;
         P->row_fallbacks[y] += cnt.fallbacks;
         P->row_dims_reused[y] += cnt.dims_reused;
-        if (o->progress) {
-#ifdef _OPENMP
-#pragma omp critical(specnee_progress)
-#endif
-            {
-                /* progress over all passes: rows weighted by their samples */
-                double done;
-                int bar, i;
-                P->rows_done++;
-                done = ((double)P->k0 * h + (double)P->rows_done * (P->k1 - P->k0)) / ((double)P->spp_final * h);
-                bar = (int)(40.0 * done);
-                fprintf(stderr, "\r[");
-                for (i = 0; i < 40; i++) fputc(i < bar ? '#' : ' ', stderr);
-                fprintf(stderr, "] %3d%%", (int)(100.0 * done));
-                if (P->rows_done == h && P->k1 == P->spp_final) fputc('\n', stderr);
-                fflush(stderr);
-            }
-        }
+        if (o->progress) progress_row(P);
     }
 }
 
