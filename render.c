@@ -251,6 +251,57 @@ struct RenderJob {
     RenderStats st;            /* cumulative: build + every pass, nothing in between */
 };
 
+/* The media (medium.c): rendered unless the integrator ignores them; an emissive
+   one's Le normalised for this range as an emitter's is.  0 and a message on
+   failure. */
+static int setup_media(RenderJob *j, Error *err)
+{
+    const Scene *s = j->R.s;
+    int m;
+    j->R.vol = s->n_media > 0 && !s->settings.media_ignored;
+    j->R.med_le = (double *)calloc((size_t)s->n_media + 1, sizeof(double));
+    if (!j->R.med_le) { error_set(err, NULL, 0, "out of memory"); return 0; }
+    for (m = 0; m < s->n_media; m++) {
+        const Medium *M = &s->media[m];
+        double y;
+        if (!(M->Le_scale > 0.0f)) continue;
+        y = luminance_sum(&M->Le, LAMBDA_LO, LAMBDA_HI) > 0.0
+            ? luminance_sum(&M->Le, j->sel.lo_nm, j->sel.hi_nm) : 1.0;   /* UV: absolute */
+        if (!(y > 0.0)) {
+            error_set(err, M->file, M->line, "MakeNamedMedium \"%s\": Le emits nothing "
+                      "visible in %g-%g nm", M->name, j->sel.lo_nm, j->sel.hi_nm);
+            return 0;
+        }
+        j->R.med_le[m] = M->Le_scale / y;
+    }
+    return 1;
+}
+
+/* --fluor-li power (FLUORESCENCE 3): E = the scene's emitter power per nm, pi A
+   (2 if two-sided) Le (an infinite light's area is 4 pi r^2), for this render's
+   Le; a table of A E for each fluorescent material.  render_begin calls it only
+   for a scene with fluorescent materials (none to build, and no O(n) pass over the
+   emitters, without them).  0 and a message when out of memory. */
+static int setup_fluor_power(RenderJob *j, Error *err)
+{
+    const Scene *s = j->R.s;
+    Spectrum E;
+    int e, k, mi;
+    spec_const(&E, 0.0f);
+    for (e = 0; e < s->n_emitters; e++) {
+        const Spectrum *Le = light_spectrum(j->R.ls, e);
+        float f = (float)(SPECNEE_PI * s->emitters[e].area * (s->emitters[e].twosided ? 2.0 : 1.0));
+        for (k = 0; k < SPEC_N; k++) E.v[k] += f * Le->v[k];
+        for (k = 0; k < SPEC_UV_N; k++) E.uv[k] += f * Le->uv[k];
+    }
+    j->R.fl_power = (double *)calloc((size_t)s->n_materials * FL_N, sizeof(double));
+    if (!j->R.fl_power) { error_set(err, NULL, 0, "out of memory"); return 0; }
+    for (mi = 0; mi < s->n_materials; mi++)
+        if (s->materials[mi].type == MAT_FLUORESCENT)
+            fluor_power_cdf(&s->materials[mi], &E, j->R.fl_power + (size_t)mi * FL_N);
+    return 1;
+}
+
 RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
 {
     RenderJob *j;
@@ -302,27 +353,7 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
             return NULL;
         }
     }
-    {   /* the media (medium.c): rendered unless the integrator ignores them; an
-           emissive one's Le normalised for this range as an emitter's is */
-        int m;
-        j->R.vol = s->n_media > 0 && !set->media_ignored;
-        j->R.med_le = (double *)calloc((size_t)s->n_media + 1, sizeof(double));
-        if (!j->R.med_le) { error_set(err, NULL, 0, "out of memory"); render_end(j); return NULL; }
-        for (m = 0; m < s->n_media; m++) {
-            const Medium *M = &s->media[m];
-            double y;
-            if (!(M->Le_scale > 0.0f)) continue;
-            y = luminance_sum(&M->Le, LAMBDA_LO, LAMBDA_HI) > 0.0
-                ? luminance_sum(&M->Le, j->sel.lo_nm, j->sel.hi_nm) : 1.0;   /* UV: absolute */
-            if (!(y > 0.0)) {
-                error_set(err, M->file, M->line, "MakeNamedMedium \"%s\": Le emits nothing "
-                          "visible in %g-%g nm", M->name, j->sel.lo_nm, j->sel.hi_nm);
-                render_end(j);
-                return NULL;
-            }
-            j->R.med_le[m] = M->Le_scale / y;
-        }
-    }
+    if (!setup_media(j, err)) { render_end(j); return NULL; }
     {   /* the infinite lights, which rays that escape the scene see */
         int e;
         j->R.inf = (int *)malloc(sizeof(int) * (size_t)(s->n_emitters + 1));
@@ -330,25 +361,10 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
         for (e = 0; e < s->n_emitters; e++)
             if (s->emitters[e].inf) j->R.inf[j->R.n_inf++] = e;
     }
-    if (o->fluor_li == FLUOR_LI_POWER && s->n_emitters > 0 && scene_has_fluorescence(s)) {
-        /* FLUORESCENCE 3: E = the scene's emitter power per nm, pi A (2 if two-sided)
-           Le (an infinite light's area is 4 pi r^2), for this render's Le; a table
-           of A E for each fluorescent material (none to build, and no O(n) pass over
-           the emitters, in a scene without fluorescent materials) */
-        Spectrum E;
-        int e, k, mi;
-        spec_const(&E, 0.0f);
-        for (e = 0; e < s->n_emitters; e++) {
-            const Spectrum *Le = light_spectrum(j->R.ls, e);
-            float f = (float)(SPECNEE_PI * s->emitters[e].area * (s->emitters[e].twosided ? 2.0 : 1.0));
-            for (k = 0; k < SPEC_N; k++) E.v[k] += f * Le->v[k];
-            for (k = 0; k < SPEC_UV_N; k++) E.uv[k] += f * Le->uv[k];
-        }
-        j->R.fl_power = (double *)calloc((size_t)s->n_materials * FL_N, sizeof(double));
-        if (!j->R.fl_power) { error_set(err, NULL, 0, "out of memory"); render_end(j); return NULL; }
-        for (mi = 0; mi < s->n_materials; mi++)
-            if (s->materials[mi].type == MAT_FLUORESCENT)
-                fluor_power_cdf(&s->materials[mi], &E, j->R.fl_power + (size_t)mi * FL_N);
+    if (o->fluor_li == FLUOR_LI_POWER && s->n_emitters > 0 && scene_has_fluorescence(s) &&
+        !setup_fluor_power(j, err)) {
+        render_end(j);
+        return NULL;
     }
     j->P.R = &j->R;
     j->P.img = &j->img;
