@@ -30,7 +30,7 @@ CFLAGS = $(OPT) $(WARN) $(DETECTED)
 LDLIBS = -lm
 
 LIBOBJ = util.o sampler.o bvh.o shapes.o spectrum.o wavelengths.o metals.o lights.o lighttree.o infinite.o delta.o texture.o filter.o scene.o ply.o medium.o \
-         material.o conductor.o layered.o render.o image.o png.o svg.o \
+         material.o conductor.o layered.o camera.o path.o render.o image.o png.o svg.o \
          cmd_converge.o cmd_image.o cmd_spectrum.o
 TESTOBJ = tests/runner.o tests/fixtures.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
           tests/test_scene.o tests/test_image.o tests/test_material.o \
@@ -63,6 +63,7 @@ tools/bench_lights: tools/bench_lights.o $(LIBOBJ)
 $(LIBOBJ) specnee.o $(TESTOBJ) tools/bench.o tools/bench_lights.o fuzz/replay.o fuzz/targets.o: specnee.h
 $(TESTOBJ): tests/test.h
 tests/test_png.o: tests/png_fixtures.h
+camera.o path.o render.o: render.h
 
 run: specnee
 	mkdir -p out

@@ -1139,3 +1139,49 @@ float light_select_pmf(LightSampler *ls, const LightCtx *c, int piece)
     if (w != wbuf) free(w);
     return p;
 }
+
+/* ------------------------------------------------------------------ what NEE asks */
+
+/* The integrator (path.c) asks here, not of the strategy, how NEE takes its
+   pieces: every strategy chooses one piece with one uniform number, while "all"
+   takes every piece, each with probability 1 (a sum over the pieces, not a
+   choice), and needs no number. */
+int light_nee_count(const LightSampler *ls, int *needs_u)
+{
+    int all = ls->opt.strategy == SEL_ALL;
+    *needs_u = !all;
+    return all ? ls->n_pieces : 1;
+}
+
+int light_nee_piece(LightSampler *ls, const LightCtx *c, int k, float u, float *P, int *fell_back)
+{
+    if (ls->opt.strategy != SEL_ALL) return light_select(ls, c, u, P, fell_back);
+    *P = 1.0f;
+    if (fell_back) *fell_back = 0;
+    return k;
+}
+
+float light_nee_pmf(LightSampler *ls, const LightCtx *c, int piece)
+{
+    return ls->opt.strategy == SEL_ALL ? 1.0f : light_select_pmf(ls, c, piece);
+}
+
+/* Where P(e | c) comes from, in words: the rule of context_weights (section 2). */
+const char *light_nee_source(const LightSampler *ls, const LightCtx *c, int fell_back)
+{
+    SelStrategy st = ls->opt.strategy;
+    if (st == SEL_UNIFORM) return "uniform";
+    if (st == SEL_POWER) return "power table";
+    if (st == SEL_SPATIAL) return "spatial table of the voxel";
+    if (st == SEL_TREE) return "light tree, total power";
+    if (st == SEL_SPECTRAL_TREE) return "light tree, power in the alive wavelengths' bins";
+    if (st == SEL_ALL) return "every emitter";
+    if (fell_back) return "spatial table: no emitter emits in the bins of these wavelengths (fallback)";
+    if (c->hero_only)
+        return st == SEL_SPD ? "spectral table T_e(b) at the hero's bin"
+             : st == SEL_PRODUCT ? "spectral table T_e(b) at the hero's bin x spatial table"
+             : "spectral table T_e(b) at the hero's bin x unit-radiance spatial table";
+    if (ls->opt.all_wavelengths || c->shifted)
+        return "spectral table summed over the alive wavelengths' bins";
+    return "spatial table of the voxel: several wavelengths alive, spectral tables act on hero-only paths";
+}

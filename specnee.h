@@ -1204,6 +1204,18 @@ int   light_voxel(const LightSampler *ls, Vec3 p);       /* -1 when not spatial 
 int   light_select(LightSampler *ls, const LightCtx *c, float u, float *pmf, int *fell_back);
 /* The probability light_select gives piece i in context c (for MIS weights). */
 float light_select_pmf(LightSampler *ls, const LightCtx *c, int piece);
+/* What next event estimation asks (path.c), so that no strategy is special-cased
+   there.  One NEE estimate at a vertex takes light_nee_count pieces: one, chosen
+   with one uniform number (*needs_u = 1), or for the strategy "all" every piece
+   with probability 1 and no number (a sum, not a choice).  light_nee_piece: the
+   k-th of them and its *P (-1: none can be chosen), u read only when needed;
+   light_nee_pmf: the P it gives piece in context c (for the MIS weight of an
+   emitter that BSDF sampling finds); light_nee_source: where P came from, in
+   words (--debug-pixel). */
+int   light_nee_count(const LightSampler *ls, int *needs_u);
+int   light_nee_piece(LightSampler *ls, const LightCtx *c, int k, float u, float *P, int *fell_back);
+float light_nee_pmf(LightSampler *ls, const LightCtx *c, int piece);
+const char *light_nee_source(const LightSampler *ls, const LightCtx *c, int fell_back);
 /* The light tree computes the importances of a node's four children side by
    side (SSE2, where the compiler has it) and keeps the scalar code that this
    mirrors (lighttree.c).  At context c: how many children, over the
@@ -1266,7 +1278,8 @@ void   sort_by_axis(int *items, int n, const Vec3 *pts, int axis, KeyIdx *tmp);
 int    longest_axis(Vec3 d);
 
 /* ======================================================================
-   12. The integrator (render.c) and its options
+   12. The integrator (render.c; its camera in camera.c, its path estimator in
+       path.c) and its options
    ====================================================================== */
 typedef struct {
     int spp, seed, threads, maxdepth;

@@ -1,0 +1,74 @@
+/* camera.c - pbrt-v4's perspective camera: a raster point to a world-space ray.
+
+   Exported (render.h, for render.c): camera_init, camera_ray.
+
+   The screen window follows pbrt-v4: the shorter image axis spans [-1, 1], the
+   field of view "fov" belongs to that axis, and a raster point (x, y) (y down,
+   pixel units of the full film) maps to the camera-space direction
+   (sx tan(fov/2), sy tan(fov/2), 1).  The camera frame is left-handed, as pbrt's
+   (docs/conventions.md).  With "lensradius" > 0 the camera is a thin lens focused
+   at "focaldistance" (camera_ray says how); otherwise a pinhole.  Every call is a
+   pure function of its arguments: the numbers for the lens come from the caller's
+   sampler (render.c asks for them only when there is a lens). */
+#include "render.h"
+#include <string.h>
+
+void camera_init(Camera *c, const SceneSettings *st)
+{
+    float aspect = (float)st->xres / (float)st->yres;
+    {
+        Xform t = st->camera_from_world;
+        memcpy(c->world_from_camera.m, t.inv, sizeof t.inv);
+        memcpy(c->world_from_camera.inv, t.m, sizeof t.m);
+    }
+    c->tan_half = tanf(st->fov_deg * 0.5f * PI_F / 180.0f);
+    /* pbrt: the shorter image axis spans [-1, 1] of the screen window */
+    if (aspect > 1.0f) { c->sx0 = -aspect; c->sx1 = aspect; c->sy0 = -1; c->sy1 = 1; }
+    else { c->sx0 = -1; c->sx1 = 1; c->sy0 = -1.0f / aspect; c->sy1 = 1.0f / aspect; }
+    c->w = st->xres;
+    c->h = st->yres;
+    c->lens_radius = st->lens_radius;
+    c->focal_distance = st->focal_distance;
+}
+
+/* Shirley and Chiu's concentric map from the unit square to the unit disk (1997):
+   squares around the centre go to circles, so strata stay compact and the map
+   keeps area ratios (uniform in, uniform out). */
+static void concentric_disk(float u0, float u1, float *dx, float *dy)
+{
+    float a = 2.0f * u0 - 1.0f, b = 2.0f * u1 - 1.0f, r, phi;
+    if (a == 0.0f && b == 0.0f) { *dx = *dy = 0.0f; return; }
+    if (fabsf(a) > fabsf(b)) { r = a; phi = (PI_F / 4.0f) * (b / a); }
+    else { r = b; phi = PI_F / 2.0f - (PI_F / 4.0f) * (a / b); }
+    *dx = r * cosf(phi);
+    *dy = r * sinf(phi);
+}
+
+/* Raster (x, y), y down, to a world-space ray.  (ul0, ul1) pick the point on the
+   lens (unused for a pinhole).
+
+   THIN LENS (pbrt-v4 PerspectiveCamera).  The pinhole ray of the raster point has
+   the camera-space direction d = (sx tan, sy tan, 1).  A lens of radius r at z = 0
+   focused at distance f sends every ray of that raster point through the point
+   where the pinhole ray meets the plane of focus, q = f d (z = f), from a point
+   (r l, 0) with l uniform on the unit disk.  Points on that plane are sharp; a
+   point at depth z spreads into a disk of radius r |1/f - 1/z| in the screen's
+   tan units (the circle of confusion; tested by render_thin_lens). */
+Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1)
+{
+    Ray r;
+    float sx = c->sx0 + (x / (float)c->w) * (c->sx1 - c->sx0);
+    float sy = c->sy1 - (y / (float)c->h) * (c->sy1 - c->sy0);
+    Vec3 d = v3(sx * c->tan_half, sy * c->tan_half, 1.0f), o = v3(0, 0, 0);
+    if (c->lens_radius > 0.0f) {
+        float lx, ly;
+        Vec3 q = v3_mul(d, c->focal_distance);
+        concentric_disk(ul0, ul1, &lx, &ly);
+        o = v3(c->lens_radius * lx, c->lens_radius * ly, 0.0f);
+        d = v3_sub(q, o);
+    }
+    r.o = xf_point(&c->world_from_camera, o);
+    r.d = v3_norm(xf_vector(&c->world_from_camera, d));
+    r.tmax = INFINITY;
+    return r;
+}

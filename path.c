@@ -1,0 +1,912 @@
+/* path.c - the path estimator: what one camera sample adds to the film.
+
+   Exported (render.h, for render.c): trace_path.
+
+   THE ESTIMATOR (THEORY §2-§9; the numbers below are THEORY's equations, the
+   symbols those of its §0).  render.c draws four wavelengths lambda_j by rotation
+   in the CDF of the wavelength pdf p (2).  The path X is sampled with the hero
+   lambda_0 only.  For a path ended by technique t (NEE or BSDF sampling) the film
+   receives, for each wavelength j,
+
+                      f(X, lambda_j) p_t(X | lambda_0)
+        C_j = --------------------------------------------------        (4)
+               p(lambda_j) * sum_{t', m} p_t'(X | lambda_m)^2
+
+   the power heuristic over every (technique, hero) pair that could have made X
+   (THEORY §4).  A path carries four lanes (PathState): the throughput
+   beta_j = f(prefix, lambda_j)/p(prefix | lambda_0), the pdf ratio
+   r_m = p(prefix | lambda_m)/p(prefix | lambda_0) (r_0 = 1), and an alive bit.
+   With g_j = f_s Le_j |cos| for the last segment and the technique densities
+   q_nee = P(e | c) p_sigma (selection pmf x solid-angle pdf; one value for every
+   m, THEORY §6) and q_bsdf(m) (the BSDF pdf of the last direction with
+   wavelength m's index), a contribution at the last vertex is
+
+        C_j = beta_j g_j q_t(0) / (p(lambda_j) D),
+        D   = sum_m r_m^2 (q_nee^2 + q_bsdf(m)^2)                          (6)
+
+   Each step returns its Contribution (beta_j g_j times its weight) and the caller
+   adds it to the FilmSample; film_add divides by p(lambda_j) (9).  NEE's weight
+   is q_nee/D (nee_sample); an emitter that the sampled direction finds, whose
+   beta already holds 1/q_bsdf(0), gets W = q_bsdf(0)^2/D (emitter_found, for
+   emitters hit and for infinite lights seen by escaped rays alike).
+   Special cases that make this readable:
+   - No wavelength-dependent event so far: r_m = 1 and q_bsdf(m) = q_bsdf(0), so
+     C_j is the usual power-heuristic NEE/BSDF weight times 1/(4 p(lambda_j)):
+     pbrt-v4's film average.
+   - Termination at a dispersive dielectric (thesis baseline, pbrt-v4
+     TerminateSecondary; THEORY §7): r = (1, 0, 0, 0) and beta_1..3 = 0, so the
+     hero gets weight 1/p(lambda_0) - the "divide the hero pdf by 4" bookkeeping.
+   - Single-wavelength mode: r = (1, 0, 0, 0) from the start.
+   - Rough spectral MIS (--rough-dispersion mis): at a rough dispersive interface
+     the secondaries survive; every later direction pdf is evaluated with each
+     wavelength's own index and the ratios r_m carry them.  Smooth dispersive
+     interfaces still terminate: their pdf for any other wavelength is zero.
+   Emission reached at depth 0 or after a specular bounce has q_nee = 0: no NEE
+   could have produced it.  Every event that changes the lanes hands their new
+   values to lanes_update, the one place of the rule "a secondary lane whose
+   ratio is not positive and finite leaves the path" (its technique cannot make
+   this path).
+
+   THE LOOP.  trace_path alternates next_vertex (the closest surface, or a
+   collision in the medium the ray is in) with surface_vertex or medium_vertex
+   (emission found there, NEE, the next direction) and the roulette.  A surface
+   vertex may first terminate the secondaries (dispersive glass) and take the
+   fluorescent branch (fluor_vertex: reflect, or re-radiate at a sampled lambda_i,
+   docs/FLUORESCENCE.md §3-§5).  The comments number these steps 1-6 as the
+   walkthrough does.  C wants helpers first, so the file reads bottom-up:
+   trace_path is its last function.
+
+   PARTICIPATING MEDIA (THEORY §12, docs/media.md).  medium_flight draws the
+   distance with the hero's sigma_t (16) and multiplies the ratios r_m by the other
+   wavelengths' densities of the same collision or passage (17); medium_vertex adds
+   the medium's emission (20) and scatters with the phase function; nee_sample
+   multiplies NEE by the shadow ray's transmittance and every BSDF/phase density in
+   D by T_m (19), as PrevVertex.T does for an emitter that a sampled direction
+   finds.  Surfaces of Material "interface" only hand the ray from one medium to
+   the next.
+
+   Russian roulette (from depth RR_START_DEPTH) survives with probability
+   q = min(1, 4 max_j beta_j / sum_m r_m)  (8).  beta_j / sum_m r_m =
+   f_j / sum_m p(prefix | lambda_m) does not depend on which wavelength was the
+   hero, so the roulette is the same for every technique and needs no place in (4).
+
+   NEE asks lights.c which pieces to take (light_nee_count, light_nee_piece: one
+   chosen piece, or every piece for the strategy "all") in a context stored with
+   the vertex, so that an emitter that BSDF sampling finds is weighted with the
+   same selection probability (light_nee_pmf; the consistency contract, item C1,
+   THEORY §5).
+
+   Every random number comes from the sample's PixelSample by its dimension
+   (sampler.c), so a path is a pure function of (pixel, sample, seed): the image is
+   identical for any number of threads. */
+#include "render.h"
+#include <string.h>
+
+/* ------------------------------------------------------------------ the path's state */
+
+/* What the integrator remembers of the previous vertex for the MIS weight of an
+   emitter found by BSDF (or phase function) sampling. */
+typedef struct {
+    int can_nee;                     /* NEE was possible there (non-delta, NEE on) */
+    LightCtx ctx;                    /* the selection context used there */
+    Vec3 p;                          /* its position */
+    float q_bsdf[HERO_N];            /* pdf of the sampled direction per wavelength */
+    float r[HERO_N];                 /* pdf ratios of the prefix before that vertex */
+    double T[HERO_N];                /* transmittance of the media since that vertex, per
+                                        wavelength (1 without media): the BSDF technique's
+                                        pdf of the segment is q_bsdf(m) T_m (docs/media.md) */
+    unsigned alive;                  /* wavelengths alive at that vertex */
+} PrevVertex;
+
+/* One path: its four lanes and where it is. */
+typedef struct {
+    float lam[HERO_N];               /* the wavelengths light is transported at: the
+                                        camera's until a fluorescent shift moves them to
+                                        lambda_i; the film keeps the camera's (FLUORESCENCE 4) */
+    float beta[HERO_N];              /* throughput beta_j */
+    float r[HERO_N];                 /* pdf ratios r_m (r_0 = 1) */
+    unsigned alive;                  /* bit j: lane j is carried (bit 0, the hero, always) */
+    int shifted;                     /* a fluorescent vertex re-radiated (LightCtx.shifted) */
+    int medium;                      /* the medium the ray is in (-1: none) */
+    PrevVertex prev;
+} PathState;
+
+/* What every step of one camera sample works with besides its PathState. */
+typedef struct {
+    const Renderer *R;
+    PixelSample *ps;                 /* the sample's random numbers (sampler.c) */
+    FilmSample *fs;                  /* where its contributions go */
+    Counters *cnt;                   /* its row's counters */
+    FILE *dbg;                       /* --debug-pixel's stream; NULL: silent */
+} Tracer;
+
+/* What one step adds to the film: per lane, beta_j g_j times its MIS weight, that
+   is C_j p(lambda_j) of (6).  Lanes that are not alive hold 0. */
+typedef struct {
+    double c[HERO_N];
+} Contribution;
+
+/* fs->xyz += sum_j cmf(lambda_j) C_j, C_j = c_j / p(lambda_j)  (9) */
+static void film_add(FilmSample *fs, Contribution k)
+{
+    int j;
+    for (j = 0; j < HERO_N; j++) {
+        double v;
+        if (k.c[j] == 0.0) continue;
+        v = k.c[j] / fs->wl.pdf[j];
+        fs->xyz[0] += fs->cmf[j][0] * v;
+        fs->xyz[1] += fs->cmf[j][1] * v;
+        fs->xyz[2] += fs->cmf[j][2] * v;
+    }
+}
+
+/* c_j *= w where c_j is not 0 (a lane that carries nothing stays 0 whatever w). */
+static Contribution weighted(Contribution k, double w)
+{
+    int j;
+    for (j = 0; j < HERO_N; j++)
+        if (k.c[j] != 0.0) k.c[j] *= w;
+    return k;
+}
+
+/* The lanes after an event: beta_j and r_j take the new values the event computed
+   (in double; rounded to float here).  A secondary lane whose ratio is then not
+   positive and finite leaves the path: no technique with that hero can make it
+   (beta_j = r_j = 0, its alive bit cleared).  The hero always stays; r[0] is not
+   read.  Lanes that are not alive are not read either. */
+static void lanes_update(PathState *p, const double *beta, const double *r)
+{
+    unsigned still = 1u;
+    int j;
+    for (j = 0; j < HERO_N; j++) {
+        if (!(p->alive & (1u << j))) continue;
+        p->beta[j] = (float)beta[j];
+        if (j == 0) continue;
+        p->r[j] = (float)r[j];
+        if (p->r[j] > 0.0f && isfinite(p->r[j])) still |= 1u << j;
+        else { p->r[j] = 0.0f; p->beta[j] = 0.0f; }
+    }
+    p->alive = still;
+}
+
+/* Only the hero goes on (pbrt-v4's TerminateSecondary, THEORY §7). */
+static void lanes_hero_only(PathState *p)
+{
+    int j;
+    p->alive = 1u;
+    for (j = 1; j < HERO_N; j++) { p->beta[j] = 0.0f; p->r[j] = 0.0f; }
+}
+
+/* The selection context of a vertex at p with shading normal n (the zero vector
+   in a medium: every strategy's pmf is exact without one). */
+static void vertex_ctx(const Renderer *R, const PathState *path, Vec3 p, Vec3 n, LightCtx *ctx)
+{
+    int j;
+    ctx->p = p;
+    ctx->n = n;
+    ctx->voxel = light_voxel(R->ls, p);
+    for (j = 0; j < HERO_N; j++) { ctx->lambda[j] = path->lam[j]; ctx->beta[j] = path->beta[j]; }
+    ctx->alive = path->alive;
+    ctx->hero_only = path->alive == 1u;
+    ctx->shifted = path->shifted;
+}
+
+/* Remember the vertex at p that sampled the next direction with the densities
+   q_bsdf (one per wavelength), before its lanes are updated. */
+static void prev_set(PathState *path, int can_nee, const LightCtx *ctx, Vec3 p, const float *q_bsdf)
+{
+    int j;
+    path->prev.can_nee = can_nee;
+    path->prev.ctx = *ctx;
+    path->prev.p = p;
+    path->prev.alive = path->alive;
+    for (j = 0; j < HERO_N; j++) {
+        path->prev.r[j] = path->r[j];
+        path->prev.q_bsdf[j] = q_bsdf[j];
+        path->prev.T[j] = 1.0;
+    }
+}
+
+/* sum_m r_m^2 (q_nee^2 + (q_bsdf(m) T_m)^2) over the alive wavelengths */
+static double mis_denominator(const float *r, const float *q_bsdf, const double *T, float q_nee,
+                              unsigned alive)
+{
+    double d = 0.0;
+    int m;
+    for (m = 0; m < HERO_N; m++)
+        if (alive & (1u << m)) {
+            double qb = (double)q_bsdf[m] * T[m];
+            d += (double)r[m] * r[m] * ((double)q_nee * q_nee + qb * qb);
+        }
+    return d;
+}
+/* ------------------------------------------------------------------ --debug-pixel */
+
+static void debug_vertex(FILE *dbg, int depth, const SurfacePoint *sp, const float *beta,
+                         unsigned alive, const float *r)
+{
+    fprintf(dbg, "  vertex %d: x=(%.4g %.4g %.4g) shape=%d alive=%c%c%c%c beta=(%.4g %.4g %.4g %.4g) r=(%.3g %.3g %.3g %.3g)\n",
+            depth, sp->p.x, sp->p.y, sp->p.z, sp->shape,
+            alive & 1 ? 'h' : '-', alive & 2 ? '1' : '-', alive & 4 ? '2' : '-', alive & 8 ? '3' : '-',
+            beta[0], beta[1], beta[2], beta[3], r[0], r[1], r[2], r[3]);
+}
+
+/* --debug-pixel: a contribution's MIS weight W = q_t(0)^2 / D (the film receives
+   W / (q_t(0) p(lambda_j)) times the integrand, THEORY (6)) split into the share of
+   the technique t, summed over every hero m, and the share of hero 0 within t:
+       W = [sum_m r_m^2 q_t(m)^2 / D] x [q_t(0)^2 / sum_m r_m^2 q_t(m)^2]. */
+static void debug_weight(FILE *dbg, const char *what, int e, double w, const float *r,
+                         const float *q_bsdf, float q_nee, unsigned alive, int nee)
+{
+    double tech = 0.0, den = 0.0, q0;
+    int m, n = 0;
+    for (m = 0; m < HERO_N; m++)
+        if (alive & (1u << m)) {
+            double qn = (double)r[m] * r[m] * q_nee * q_nee;
+            double qb = (double)r[m] * r[m] * q_bsdf[m] * q_bsdf[m];
+            tech += nee ? qn : qb;
+            den += qn + qb;
+            n++;
+        }
+    q0 = nee ? (double)q_nee * q_nee : (double)q_bsdf[0] * q_bsdf[0];
+    fprintf(dbg, "  %s %d: MIS weight %.4g = %s share %.4g x hero share %.4g (%d wavelength%s alive)\n",
+            what, e, w, nee ? "NEE" : "BSDF", den > 0.0 ? tech / den : 0.0,
+            tech > 0.0 ? q0 / tech : 0.0, n, n == 1 ? "" : "s");
+}
+
+/* --debug-pixel: the sum over every (technique, hero h) pair of the MIS weight that
+   pair would give this path (THEORY §6).  Pair (t, h) evaluates its
+   weight with its OWN selection probability P_h = P(e | c with lambda_h as the
+   hero) for every term of its denominator:
+       S = sum_h r_h^2 (a_h + q_bsdf(h)^2) / sum_m r_m^2 (a_h + q_bsdf(m)^2),
+       a_h = (P_h p_sigma)^2.
+   S = 1 whenever P_h is the same for every h (the reason the renderer may use one
+   q_nee for every m); a hero-dependent P leaves S = 1 only while the densities do
+   not depend on the wavelength (r_m = 1, equal q_bsdf).  The context for hero h is
+   the stored one with the wavelengths (and their alive bits and throughputs)
+   rotated so that lambda_h is in slot 0. */
+static double debug_weight_sum(const Renderer *R, const LightCtx *c, int piece, float p_sigma,
+                               const float *r, const float *q_bsdf, unsigned alive)
+{
+    double S = 0.0;
+    int h, m, k;
+    for (h = 0; h < HERO_N; h++) {
+        LightCtx ch = *c;
+        double a, num, den = 0.0;
+        float P;
+        if (!(alive & (1u << h))) continue;
+        ch.alive = 0u;
+        for (k = 0; k < HERO_N; k++) {
+            int from = (h + k) % HERO_N;
+            ch.lambda[k] = c->lambda[from];
+            ch.beta[k] = c->beta[from];
+            if (c->alive & (1u << from)) ch.alive |= 1u << k;
+        }
+        P = light_nee_pmf(R->ls, &ch, piece);
+        a = (double)P * p_sigma * P * p_sigma;
+        num = (double)r[h] * r[h] * (a + (double)q_bsdf[h] * q_bsdf[h]);
+        for (m = 0; m < HERO_N; m++)
+            if (alive & (1u << m)) den += (double)r[m] * r[m] * (a + (double)q_bsdf[m] * q_bsdf[m]);
+        if (den > 0.0) S += num / den;
+    }
+    return S;
+}
+
+/* Silence means S = 1 (to 1e-4): said once in docs/WALKTHROUGH.md. */
+static void debug_check_sum(FILE *dbg, double S)
+{
+    if (fabs(S - 1.0) > 1e-4)
+        fprintf(dbg, "  WARNING: the MIS weights of all (technique, hero) pairs sum to %.4g, not 1: "
+                     "this contribution is weighted wrongly\n", S);
+}
+
+/* lambda_i for a path at lo through fluorescent material mi (FLUORESCENCE 3), by
+   --fluor-li; *pdf the density it was drawn from (0: none). */
+static float fluor_sample_lambda_i(const Renderer *R, const Material *mat, int mi, float lo,
+                                   float u, float *pdf)
+{
+    if (R->o->fluor_li == FLUOR_LI_UNIFORM) return fluor_sample_li_uniform(lo, u, pdf);
+    if (R->fl_power)
+        return fluor_sample_li_mix(mat, R->fl_power + (size_t)mi * FL_N, FLUOR_LI_DEFENSIVE, lo, u, pdf);
+    return fluor_sample_li(mat, lo, u, pdf);
+}
+
+/* ------------------------------------------------------------------ media */
+
+/* A collision that medium_flight found: its distance along the ray and the
+   extinctions sigma_t(lambda_j) of the alive lanes there. */
+typedef struct {
+    float t;
+    float st[HERO_N];
+} Collision;
+
+/* The transmittance T_j along a shadow ray (tmax 1: it ends at its target) that
+   starts in medium med: the product of exp(-sigma_t(lambda_j) l) over the media it
+   crosses (THEORY (15)), passing surfaces of Material "interface" (pbrt-v4's
+   volpath does the same); 0 when any other surface blocks it.  T_j is left alone
+   for wavelengths that are not alive. */
+static int shadow_transmittance(Tracer *tr, Ray sh, int med, const PathState *path, double T[HERO_N])
+{
+    const Scene *s = tr->R->s;
+    int seg, j;
+    for (seg = 0; seg < MEDIUM_SEGMENTS; seg++) {
+        HitRecord hit;
+        SurfacePoint sp;
+        int found;
+        double len;
+        tr->cnt->rays++;
+        found = bvh_intersect(&s->bvh, s, &sh, &hit);
+        len = (double)(found ? hit.t : 1.0f) * v3_len(sh.d);
+        if (med >= 0)
+            for (j = 0; j < HERO_N; j++)
+                if (path->alive & (1u << j))
+                    T[j] *= exp(-(double)medium_sigma_t(&s->media[med], path->lam[j]) * len);
+        if (!found) return 1;
+        scene_surface_point(s, &sh, &hit, &sp);
+        if (s->materials[s->shapes[sp.shape].material].type != MAT_INTERFACE) return 0;
+        med = medium_after(s, sp.shape, med, sh.d, sp.ng);
+        {
+            Vec3 target = v3_add(sh.o, sh.d);
+            sh.o = offset_ray_origin(sp.p, sp.ng, sh.d);
+            sh.d = v3_sub(target, sh.o);
+        }
+    }
+    return 0;                  /* more boundaries than MEDIUM_SEGMENTS: treated as blocked */
+}
+
+/* One straight stretch of the path through its medium, from the ray's origin to
+   distance tmax (the next surface; INFINITY: none), with the hero's free-flight
+   sampling (THEORY (16)): t = -ln(1 - u) / sigma_t(lambda_0).
+   Collision (t < tmax): returns 1 with *c; the lanes are not updated yet.  Pass:
+   returns 0 after multiplying each alive lane's throughput and ratio by T_j / T_0
+   (the pass probability of the hero with lambda_j's coefficient over the hero's
+   own), and prev.T by T_j (the BSDF/phase technique's pdf for the segment, THEORY
+   (19)).  With --chromatic-media terminate, an event in a medium whose sigma_t
+   differs between the alive wavelengths first terminates the secondaries. */
+static int medium_flight(Tracer *tr, int dim, float tmax, PathState *path, Collision *c)
+{
+    const Medium *M = &tr->R->s->media[path->medium];
+    float *st = c->st;
+    double s0, t, u, nb[HERO_N] = { 0 }, nr[HERO_N] = { 0 };
+    int j, chromatic = 0;
+    for (j = 0; j < HERO_N; j++) {
+        st[j] = (path->alive & (1u << j)) ? medium_sigma_t(M, path->lam[j]) : 0.0f;
+        if (j > 0 && (path->alive & (1u << j)) && st[j] != st[0]) chromatic = 1;
+    }
+    if (chromatic && tr->R->o->media_terminate) {
+        lanes_hero_only(path);
+        path->prev.alive = 1u;
+        if (tr->dbg) fprintf(tr->dbg, "  medium \"%s\": chromatic, secondaries terminated\n", M->name);
+    }
+    s0 = st[0];
+    u = sampler_1d(tr->ps, dim);
+    t = s0 > 0.0 ? -log1p(-u) / s0 : INFINITY;
+    if (t < (double)tmax) {
+        c->t = (float)t;
+        return 1;
+    }
+    for (j = 0; j < HERO_N; j++) {
+        double ratio, Tj;
+        if (!(path->alive & (1u << j))) continue;
+        ratio = st[j] == st[0] ? 1.0 : exp(-((double)st[j] - s0) * tmax);
+        Tj = st[j] == 0.0f ? 1.0 : exp(-(double)st[j] * tmax);
+        path->prev.T[j] *= Tj;
+        nb[j] = path->beta[j] * ratio;
+        nr[j] = path->r[j] * ratio;
+    }
+    lanes_update(path, nb, nr);
+    if (tr->dbg) fprintf(tr->dbg, "  medium \"%s\": passed %.4g, Tr=(%.4g %.4g %.4g %.4g)\n", M->name,
+                         (double)tmax, path->prev.T[0], path->prev.T[1], path->prev.T[2], path->prev.T[3]);
+    return 0;
+}
+
+/* ------------------------------------------------------------------ emitters */
+
+/* What next event estimation needs to know of the vertex it starts from. */
+typedef struct {
+    const Material *mat;       /* the surface's material; NULL: a point in a medium */
+    const SurfacePoint *sp;    /* the surface point (NULL in a medium) */
+    Vec3 p, wo;                /* position; unit direction back along the path */
+    float g;                   /* in a medium: its Henyey-Greenstein asymmetry */
+    int medium;                /* the medium the path reached it through (-1: none) */
+    const LightCtx *ctx;       /* the selection context there */
+} Scatter;
+
+/* One NEE sample from vertex v (THEORY (6)): a point on the piece that NEE took
+   with probability P, drawn with the numbers u, weighted against the BSDF's (or
+   phase function's) sampling of the same direction.  Along the shadow ray the
+   light is attenuated by the media it crosses, T_j; the BSDF technique would have
+   had to cross them too, so its pdf for wavelength m is q_bsdf(m) T_m in the
+   denominator (THEORY (19)).  A delta light (point, spot, distant: delta.c) cannot
+   be found by a BSDF direction: its weight against BSDF sampling is 1, so the
+   BSDF's pdfs leave the denominator (es.pdf_sa = 1 / G there, and
+   q_nee / den = 1 / (P (1/G) sum_m r_m^2): THEORY §11). */
+static Contribution nee_sample(Tracer *tr, const Scatter *v, const PathState *path, int piece,
+                               float P, const float u[3])
+{
+    const Renderer *R = tr->R;
+    const Scene *s = R->s;
+    FILE *dbg = tr->dbg;
+    static const float no_bsdf[HERO_N] = { 0 };
+    Contribution none = { { 0.0 } }, k;
+    float f[HERO_N], pdf_l[HERO_N], cos_i, q_nee;
+    const float *q_b;                 /* the BSDF's pdfs in the MIS weight */
+    int em = light_piece_emitter(R->ls, piece), any = 0, j;
+    EmitterSample es;
+    double value[HERO_N], den, T[HERO_N] = { 1.0, 1.0, 1.0, 1.0 };
+    if (!light_sample(R->ls, piece, v->p, u[0], u[1], u[2], &es)) {
+        if (dbg) fprintf(dbg, "  NEE: no usable point on emitter %d (seen edge-on or at distance 0)\n", em);
+        return none;
+    }
+    for (j = 0; j < HERO_N; j++) {
+        value[j] = 0.0;
+        if (path->alive & (1u << j))
+            value[j] = light_Le(R->ls, em, es.n, v3_neg(es.wi), path->lam[j]);
+        if (value[j] != 0.0) any = 1;
+    }
+    if (!any) {
+        if (dbg) fprintf(dbg, "  NEE: emitter %d sends nothing here (its back faces this point, or Le = 0 at the alive wavelengths)\n", em);
+        return none;
+    }
+    if (v->mat) {
+        bsdf_eval(v->mat, v->sp, v->wo, es.wi, path->lam, path->alive, f, pdf_l);
+        cos_i = fabsf(v3_dot(es.wi, v->sp->ns));
+    } else {                      /* in a medium: the phase function is f and pdf */
+        float ph = hg_phase(v->g, v3_dot(v3_neg(v->wo), es.wi));
+        for (j = 0; j < HERO_N; j++) f[j] = pdf_l[j] = (path->alive & (1u << j)) ? ph : 0.0f;
+        cos_i = 1.0f;
+    }
+    any = 0;
+    for (j = 0; j < HERO_N; j++) {
+        value[j] *= (double)path->beta[j] * f[j] * cos_i;
+        if (value[j] != 0.0) any = 1;
+    }
+    if (!any) {
+        if (dbg) fprintf(dbg, "  NEE: emitter %d: f |cos| = 0 (the sampled point is below this surface, or the BSDF has no lobe there)\n", em);
+        return none;
+    }
+    {
+        Ray shadow;
+        Vec3 target = offset_ray_origin(es.p, es.n, v3_neg(es.wi));
+        shadow.o = v->mat ? offset_ray_origin(v->sp->p, v->sp->ng, es.wi) : v->p;
+        shadow.d = v3_sub(target, shadow.o);
+        shadow.tmax = 1.0f;
+        if (R->vol) {
+            /* through media and "interface" surfaces (the medium it starts in:
+               a surface's own MediumInterface decides by the side of es.wi) */
+            int med = v->mat ? medium_after(s, v->sp->shape, v->medium, es.wi, v->sp->ng)
+                             : v->medium;
+            if (!shadow_transmittance(tr, shadow, med, path, T)) {
+                if (dbg) fprintf(dbg, "  NEE: occluded\n");
+                return none;
+            }
+            for (j = 0; j < HERO_N; j++) value[j] *= T[j];
+        } else {
+            tr->cnt->rays++;
+            if (bvh_occluded(&s->bvh, s, &shadow)) {
+                if (dbg) fprintf(dbg, "  NEE: occluded\n");
+                return none;
+            }
+        }
+    }
+    q_b = es.delta ? no_bsdf : pdf_l;
+    q_nee = P * es.pdf_sa;
+    den = mis_denominator(path->r, q_b, T, q_nee, path->alive);
+    if (!(den > 0.0)) {
+        if (dbg) fprintf(dbg, "  NEE: emitter %d: MIS denominator 0 (no technique has a density here)\n", em);
+        return none;
+    }
+    if (dbg) {
+        float qT[HERO_N];
+        for (j = 0; j < HERO_N; j++) qT[j] = (float)(q_b[j] * T[j]);
+        debug_weight(dbg, "NEE: visible emitter", em, (double)q_nee * q_nee / den,
+                     path->r, qT, q_nee, path->alive, 1);
+        if (path->alive != 1u)
+            debug_check_sum(dbg, debug_weight_sum(R, v->ctx, piece, es.pdf_sa, path->r, qT, path->alive));
+    }
+    for (j = 0; j < HERO_N; j++) k.c[j] = value[j];
+    return weighted(k, (double)q_nee / den);
+}
+
+/* 4. Next event estimation at vertex v: the pieces lights.c offers (one chosen
+   piece; every piece for the strategy "all"), one sample each, added to the film.
+   The numbers for the point on the piece are drawn once for all of them (the
+   order of these requests is the independent sampler's stream order). */
+static void next_event(Tracer *tr, int depth, const Scatter *v, const PathState *path)
+{
+    const Renderer *R = tr->R;
+    FILE *dbg = tr->dbg;
+    float u[3];
+    int k, n, needs_u;
+    u[0] = sampler_1d(tr->ps, dim_bounce(depth, BD_TRIANGLE));
+    sampler_2d(tr->ps, dim_bounce(depth, BD_POINT), &u[1], &u[2]);
+    n = light_nee_count(R->ls, &needs_u);
+    for (k = 0; k < n; k++) {
+        float ul = needs_u ? sampler_1d(tr->ps, dim_bounce(depth, BD_LIGHT)) : 0.0f, P;
+        int fb, piece = light_nee_piece(R->ls, v->ctx, k, ul, &P, &fb);
+        if (fb) tr->cnt->fallbacks++;
+        if (dbg) fprintf(dbg, "  NEE: chose emitter %d with P=%.4g (%s)\n",
+                         piece >= 0 ? light_piece_emitter(R->ls, piece) : -1, P,
+                         light_nee_source(R->ls, v->ctx, fb));
+        if (piece < 0) {
+            if (dbg) fprintf(dbg, "  NEE: no emitter can be chosen here (every P is 0)\n");
+            break;
+        }
+        film_add(tr->fs, nee_sample(tr, v, path, piece, P, u));
+    }
+}
+
+/* Emitter e, found by the sampled direction dir (unit) from the previous vertex:
+   at the surface point sp, or (sp NULL) an infinite light that the escaped ray
+   sees.  Its radiance times beta, weighted against NEE from there:
+   W = (q_bsdf(0) T_0)^2 / D, with q_nee = P(piece | prev's context) p_sigma
+   (0 where NEE was not possible); beta already holds 1/q_bsdf(0) and T_m / T_0
+   of the media on the way (THEORY (6), (19)). */
+static Contribution emitter_found(Tracer *tr, const PathState *path, int e, const SurfacePoint *sp,
+                                  Vec3 dir)
+{
+    const Renderer *R = tr->R;
+    const PrevVertex *prev = &path->prev;
+    Contribution k;
+    Vec3 n = sp ? sp->ng : dir, wo = v3_neg(dir);
+    double den, W;
+    float q_nee = 0.0f, pdf_sa = 0.0f;
+    int j, any = 0, piece;
+    for (j = 0; j < HERO_N; j++) {
+        k.c[j] = 0.0;
+        if (!(path->alive & (1u << j))) continue;
+        k.c[j] = (double)path->beta[j] * light_Le(R->ls, e, n, wo, path->lam[j]);
+        if (k.c[j] != 0.0) any = 1;
+    }
+    if (!any) return k;
+    /* the piece NEE would have had to choose to sample this point */
+    piece = light_piece_of(R->ls, e, sp ? sp->prim : -1);
+    if (prev->can_nee) {
+        pdf_sa = sp ? light_pdf_sa(R->ls, piece, prev->p, sp->p, sp->ng) : inf_pdf(&R->s->emitters[e], dir);
+        q_nee = light_nee_pmf(R->ls, &prev->ctx, piece) * pdf_sa;
+    }
+    den = mis_denominator(prev->r, prev->q_bsdf, prev->T, q_nee, prev->alive);
+    W = den > 0.0 ? ((double)prev->q_bsdf[0] * prev->T[0]) * ((double)prev->q_bsdf[0] * prev->T[0]) / den : 0.0;
+    if (tr->dbg && !sp)
+        fprintf(tr->dbg, "  escaped: infinite light %d, MIS weight %.4g (q_nee %.4g)\n", e, W, q_nee);
+    if (tr->dbg && sp) {
+        debug_weight(tr->dbg, "emission from emitter", e, W, prev->r, prev->q_bsdf, q_nee, prev->alive, 0);
+        if (prev->can_nee && prev->alive != 1u)
+            debug_check_sum(tr->dbg, debug_weight_sum(R, &prev->ctx, piece, pdf_sa, prev->r,
+                                                      prev->q_bsdf, prev->alive));
+    }
+    return weighted(k, W);
+}
+
+/* 6. Russian roulette on a hero-independent throughput: survival probability
+   q = min(1, 4 max_j beta_j / sum_m r_m) (8), from RR_START_DEPTH on.  Returns 0
+   when the path ends (also when only the hero is left and carries nothing). */
+static int russian_roulette(Tracer *tr, int depth, PathState *path)
+{
+    int j;
+    if (depth >= RR_START_DEPTH) {
+        float sum_r = 0.0f, bmax = 0.0f, q;
+        for (j = 0; j < HERO_N; j++)
+            if (path->alive & (1u << j)) {
+                sum_r += path->r[j];
+                if (path->beta[j] > bmax) bmax = path->beta[j];
+            }
+        q = sum_r > 0.0f ? (float)HERO_N * bmax / sum_r : 0.0f;
+        if (q < 1.0f) {
+            int dies = sampler_1d(tr->ps, dim_bounce(depth, BD_ROULETTE)) >= q;
+            if (tr->dbg) fprintf(tr->dbg, "  roulette: survival P_survive = min(1, %d max_j beta_j / sum_m r_m) = %.4g: %s\n",
+                                 HERO_N, q, dies ? "path ends" : "survives, beta /= P_survive");
+            if (dies) return 0;
+            for (j = 0; j < HERO_N; j++) path->beta[j] /= q;
+        }
+    }
+    return !(!(path->beta[0] > 0.0f) && path->alive == 1u);
+}
+/* ------------------------------------------------------------------ vertices */
+
+/* The emission of medium med along the ray, estimated at a collision (THEORY
+   (20)): its sigma_a Le, with weight 1 / sum_m r'_m^2 (no other technique makes
+   this point); ratio[j] = T_j / T_0 at the collision, rc the ratios r'_m after it. */
+static Contribution medium_emission(Tracer *tr, const PathState *path, int med, const double *ratio,
+                                    const float *rc, double s0)
+{
+    const Renderer *R = tr->R;
+    const Medium *M = &R->s->media[med];
+    Contribution k;
+    double den = 0.0;
+    int j;
+    for (j = 0; j < HERO_N; j++) {
+        k.c[j] = 0.0;
+        if (!(path->alive & (1u << j)) || !(rc[j] > 0.0f) || !isfinite(rc[j])) continue;
+        k.c[j] = path->beta[j] * ratio[j] * medium_sigma_a(M, path->lam[j]) *
+                 (R->med_le[med] * spec_eval(&M->Le, path->lam[j])) / s0;
+        den += (double)rc[j] * rc[j];
+    }
+    if (tr->dbg) fprintf(tr->dbg, "  medium emission: weight 1 / sum_m r_m^2 = %.4g\n", den > 0.0 ? 1.0 / den : 0.0);
+    if (!(den > 0.0)) { for (j = 0; j < HERO_N; j++) k.c[j] = 0.0; return k; }
+    return weighted(k, 1.0 / den);
+}
+
+/* A collision c along the ray in the path's medium (medium_flight found it).
+   docs/media.md derives each factor:
+   - the collision's density for hero m is sigma_t(lambda_m) T_m(t), so every ratio
+     r_m gains (sigma_t,m / sigma_t,0) T_m / T_0 (THEORY (17));
+   - emission (an emissive medium, below maxdepth): medium_emission;
+   - scattering: beta_j gains sigma_s,j T_j / (sigma_t,0 T_0): the path does not
+     stop at an absorption (it goes on with the albedo as weight, and the
+     roulette ends it), then NEE with the phase function, and the next direction
+     from the phase function (f / pdf = 1, the same pdf for every wavelength).
+   Returns 0 when the path ends; otherwise ray leaves the collision. */
+static int medium_vertex(Tracer *tr, int depth, Ray *ray, const Collision *c, PathState *path)
+{
+    const Renderer *R = tr->R;
+    const Scene *s = R->s;
+    const RenderOptions *o = R->o;
+    int med = path->medium;
+    const Medium *M = &s->media[med];
+    const float *st = c->st;
+    double s0 = st[0], ratio[HERO_N], nb[HERO_N], nr[HERO_N];
+    float rc[HERO_N], q[HERO_N], u1, u2, pdf;
+    Vec3 p = v3_add(ray->o, v3_mul(ray->d, c->t)), d = ray->d, wi;
+    LightCtx ctx;
+    int j, any = 0;
+    if (tr->dbg) fprintf(tr->dbg, "  vertex %d: in medium \"%s\" at x=(%.4g %.4g %.4g), t=%.4g, sigma_t(hero)=%.4g\n",
+                         depth, M->name, p.x, p.y, p.z, (double)c->t, s0);
+    if (depth >= o->maxdepth) return 0;   /* pbrt-v4: neither emission nor scattering there */
+    for (j = 0; j < HERO_N; j++) {
+        ratio[j] = rc[j] = 0.0f;
+        if (!(path->alive & (1u << j))) continue;
+        ratio[j] = st[j] == st[0] ? 1.0 : exp(-((double)st[j] - s0) * c->t);
+        rc[j] = j == 0 ? 1.0f : (float)(path->r[j] * ((double)st[j] / s0) * ratio[j]);
+    }
+    if (R->med_le[med] > 0.0) film_add(tr->fs, medium_emission(tr, path, med, ratio, rc, s0));
+    for (j = 0; j < HERO_N; j++) {
+        nb[j] = nr[j] = 0.0;
+        if (!(path->alive & (1u << j))) continue;
+        nb[j] = path->beta[j] * (double)medium_sigma_s(M, path->lam[j]) * ratio[j] / s0;
+        nr[j] = rc[j];
+        if ((float)nb[j] > 0.0f) any = 1;
+    }
+    lanes_update(path, nb, nr);
+    if (!any) return 0;                   /* absorbed at every wavelength */
+    vertex_ctx(R, path, p, v3(0.0f, 0.0f, 0.0f), &ctx);
+    if (o->nee && s->n_emitters > 0) {
+        Scatter v;
+        v.mat = NULL;
+        v.sp = NULL;
+        v.p = p;
+        v.wo = v3_neg(d);
+        v.g = M->g;
+        v.medium = med;
+        v.ctx = &ctx;
+        next_event(tr, depth, &v, path);
+    }
+    /* the phase function's direction */
+    sampler_2d(tr->ps, dim_bounce(depth, BD_DIR), &u1, &u2);
+    wi = hg_sample(M->g, d, u1, u2, &pdf);
+    if (!(pdf > 0.0f)) return 0;
+    for (j = 0; j < HERO_N; j++) q[j] = pdf;
+    prev_set(path, o->nee && s->n_emitters > 0, &ctx, p, q);
+    ray->o = p;
+    ray->d = wi;
+    ray->tmax = INFINITY;
+    return 1;
+}
+
+/* 3b. A fluorescent vertex reflects or re-radiates (FLUORESCENCE 3-5); mi is the
+   material's index.  To re-radiate: sample lambda_i on [300, lambda_o] (from A,
+   A x power or uniformly), weight by (F4), and from here on transport at lambda_i
+   through a Lambertian of albedo 1: NEE, emitter selection (ctx.lambda) and every
+   MIS pdf below use it.  The baseline terminates the secondaries (as at dispersive
+   glass); --fluor-lanes keep shifts every alive wavelength with the SAME number ul
+   through its own p(li | lo_j) and carries the branch probability in the ratios r
+   (FLUORESCENCE 4b).  To reflect: a Lambertian of albedo rho (1 - A); the choice
+   depends on lambda_o, so the pdf ratios carry it (THEORY (5)).  Returns the
+   material the vertex scatters with (R->white after a shift, mat after a
+   reflection); NULL: the path ends. */
+static const Material *fluor_vertex(Tracer *tr, int depth, const Material *mat, int mi, PathState *path)
+{
+    const Renderer *R = tr->R;
+    const RenderOptions *o = R->o;
+    FILE *dbg = tr->dbg;
+    float pf = fluor_branch_pf(mat, path->lam[0]), ub, ul;
+    double nb[HERO_N], nr[HERO_N];
+    int j;
+    sampler_2d(tr->ps, dim_fluor(depth), &ub, &ul);
+    if (ub >= pf) {
+        for (j = 0; j < HERO_N; j++) {
+            nb[j] = (double)path->beta[j] / (1.0f - pf);
+            nr[j] = (double)path->r[j] * ((1.0f - fluor_branch_pf(mat, path->lam[j])) / (1.0f - pf));
+        }
+        lanes_update(path, nb, nr);
+        if (dbg) fprintf(dbg, "  fluorescent: reflects (P_r %.3g)\n", 1.0f - pf);
+        return mat;
+    }
+    {
+        float li[HERO_N], pli[HERO_N], wgt[HERO_N];
+        for (j = 0; j < HERO_N; j++) {
+            li[j] = path->lam[j];
+            pli[j] = wgt[j] = 0.0f;
+            if (!(path->alive & (1u << j)) || (j > 0 && !o->fluor_keep)) continue;
+            li[j] = fluor_sample_lambda_i(R, mat, mi, path->lam[j], ul, &pli[j]);
+            wgt[j] = pli[j] > 0.0f ? fluor_weight(mat, li[j], path->lam[j]) : 0.0f;
+        }
+        if (dbg) fprintf(dbg, "  fluorescent: re-radiates, %.1f nm absorbed at %.1f nm "
+                         "(P_f %.3g, p(li|lo) %.4g, weight %.4g); secondaries %s\n",
+                         path->lam[0], li[0], pf, pli[0], wgt[0],
+                         o->fluor_keep ? "shifted with the same number" : "terminated");
+        if (!o->fluor_keep && (!(pli[0] > 0.0f) || !(wgt[0] > 0.0f))) return NULL;
+        /* lane j: f_j / (P_f(lambda_0) p(li_j | lo_j)); the technique with hero j
+           would have re-radiated with P_f(lo_j): r_j *= P_f(lo_j) / P_f(lo_0).
+           A lane whose weight is 0 stays in the MIS sums while r_j > 0 (its
+           technique could have made this path), with beta_j = 0.  Without
+           --fluor-lanes keep the secondaries end here (r_j = 0). */
+        for (j = 0; j < HERO_N; j++) {
+            nb[j] = pli[j] > 0.0f ? path->beta[j] * (wgt[j] / (pf * pli[j])) : 0.0f;
+            nr[j] = o->fluor_keep ? path->r[j] * (fluor_branch_pf(mat, path->lam[j]) / pf) : 0.0f;
+        }
+        lanes_update(path, nb, nr);
+        path->shifted = 1;
+        for (j = 0; j < HERO_N; j++) path->lam[j] = li[j];
+        if (!(path->beta[0] > 0.0f) && path->alive == 1u) return NULL;
+        return &R->white;
+    }
+}
+/* A surface vertex at sp, reached along ray: the emission the path found there,
+   then below maxdepth the termination of the secondaries at dispersive glass
+   (3), the fluorescent branch (3b), NEE (4) and the next direction from the BSDF
+   with the hero's index (5).  Returns 0 when the path ends; otherwise ray leaves
+   the vertex (the counterpart of medium_vertex). */
+static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *sp, PathState *path)
+{
+    const Renderer *R = tr->R;
+    const Scene *s = R->s;
+    const RenderOptions *o = R->o;
+    const Shape *shape = &s->shapes[sp->shape];
+    const Material *mat = &s->materials[shape->material];
+    Vec3 dir = v3_norm(ray->d), wo = v3_neg(dir);
+    double nb[HERO_N], nr[HERO_N];
+    LightCtx ctx;
+    BsdfSample bs;
+    float u0, u1, u2, cos_i;
+    int j;
+    if (tr->dbg) debug_vertex(tr->dbg, depth, sp, path->beta, path->alive, path->r);
+
+    /* 2. Emission found by the path, weighted against NEE from prev */
+    if (shape->emitter >= 0) film_add(tr->fs, emitter_found(tr, path, shape->emitter, sp, dir));
+    if (depth >= o->maxdepth) return 0;
+
+    /* 3. Termination of the secondary wavelengths at a dispersive dielectric,
+          before NEE at this vertex (pbrt-v4 TerminateSecondary; THEORY §7) */
+    if (mat->type == MAT_DIELECTRIC && mat->dispersive && path->alive != 1u &&
+        (mat->alpha == 0.0f || !o->rough_mis)) {
+        lanes_hero_only(path);
+        if (tr->dbg) fprintf(tr->dbg, "  dispersive: secondaries terminated, hero %.1f nm continues\n",
+                             tr->fs->wl.lambda[0]);
+    }
+    if (mat->type == MAT_FLUORESCENT && !(mat = fluor_vertex(tr, depth, mat, shape->material, path)))
+        return 0;
+
+    /* 4. Next event estimation: choose an emitter, sample a point on it */
+    vertex_ctx(R, path, sp->p, sp->ns, &ctx);
+    if (o->nee && !mat_is_delta(mat) && s->n_emitters > 0) {
+        Scatter v;
+        v.mat = mat;
+        v.sp = sp;
+        v.p = sp->p;
+        v.wo = wo;
+        v.g = 0.0f;
+        v.medium = path->medium;
+        v.ctx = &ctx;
+        next_event(tr, depth, &v, path);
+    }
+
+    /* 5. BSDF sampling: the next direction, with the hero's index; every lane's
+          throughput gains f_j |cos| / q_bsdf(0) (delta lobes: f holds 1/|cos|),
+          its ratio q_bsdf(j) / q_bsdf(0) (THEORY (5)) */
+    u0 = sampler_1d(tr->ps, dim_bounce(depth, BD_LOBE));
+    sampler_2d(tr->ps, dim_bounce(depth, BD_DIR), &u1, &u2);
+    if (!bsdf_sample(mat, sp, wo, path->lam, path->alive, u0, u1, u2, &bs)) return 0;
+    prev_set(path, o->nee && !bs.delta && s->n_emitters > 0, &ctx, sp->p, bs.pdf_l);
+    cos_i = fabsf(v3_dot(bs.wi, sp->ns));
+    for (j = 0; j < HERO_N; j++) {
+        nb[j] = (double)path->beta[j] * (bs.f[j] * cos_i / bs.pdf);
+        nr[j] = (double)path->r[j] * (bs.pdf_l[j] / bs.pdf);
+    }
+    lanes_update(path, nb, nr);
+    if (R->vol) path->medium = medium_after(s, sp->shape, path->medium, bs.wi, sp->ng);
+    ray->o = offset_ray_origin(sp->p, sp->ng, bs.wi);
+    ray->d = bs.wi;
+    ray->tmax = INFINITY;
+    return 1;
+}
+
+/* ------------------------------------------------------------------ the loop */
+
+/* Where the next stretch of the path ends (next_vertex). */
+enum { AT_SURFACE, AT_COLLISION, ESCAPED, LOST };
+
+/* 1. The next vertex along ray: the closest surface (*sp), unless the ray collides
+      in its medium first (*c; THEORY (16)).  Surfaces of Material "interface"
+      only bound media: the ray crosses them (pbrt-v4's SkipIntersection), in
+      "volpath" into the medium on their other side, in "path" as a specular
+      bounce (no MIS weight at the emitter it may then find).  LOST: more
+      boundaries than MEDIUM_SEGMENTS in a row. */
+static int next_vertex(Tracer *tr, int depth, Ray *ray, PathState *path, SurfacePoint *sp, Collision *c)
+{
+    const Renderer *R = tr->R;
+    const Scene *s = R->s;
+    int seg;
+    for (seg = 0;; seg++) {
+        HitRecord hit;
+        int found;
+        tr->cnt->rays++;
+        found = bvh_intersect(&s->bvh, s, ray, &hit);
+        if (path->medium >= 0 && medium_flight(tr, dim_medium(depth, seg), found ? hit.t : INFINITY, path, c))
+            return AT_COLLISION;
+        if (!found) return ESCAPED;
+        scene_surface_point(s, ray, &hit, sp);
+        if (s->materials[s->shapes[sp->shape].material].type != MAT_INTERFACE) return AT_SURFACE;
+        if (seg + 1 >= MEDIUM_SEGMENTS) return LOST;
+        if (path->medium >= 0 || R->vol) path->medium = medium_after(s, sp->shape, path->medium, ray->d, sp->ng);
+        else path->prev.can_nee = 0;
+        if (tr->dbg) fprintf(tr->dbg, "  crossed a medium boundary (shape %d)%s\n", sp->shape,
+                             R->vol ? "" : ": media are ignored by this integrator");
+        ray->o = offset_ray_origin(sp->p, sp->ng, ray->d);
+        ray->tmax = INFINITY;
+    }
+}
+
+/* The lanes of a new camera path, and the film's colour matching at its
+   wavelengths. */
+static void path_start(const Renderer *R, FilmSample *fs, PathState *path)
+{
+    int j;
+    memset(path, 0, sizeof *path);
+    path->alive = R->o->single_wavelength ? 1u : (1u << HERO_N) - 1u;
+    path->medium = R->vol ? R->s->settings.camera_medium : -1;
+    for (j = 0; j < HERO_N; j++) {
+        cie_xyz(fs->wl.lambda[j], fs->cmf[j]);
+        path->lam[j] = fs->wl.lambda[j];
+        path->beta[j] = (path->alive & (1u << j)) ? 1.0f : 0.0f;
+        path->r[j] = (path->alive & (1u << j)) ? 1.0f : 0.0f;
+        path->prev.q_bsdf[j] = 1.0f;
+        path->prev.r[j] = path->r[j];
+        path->prev.T[j] = 1.0;
+    }
+    path->prev.alive = path->alive;
+    fs->xyz[0] = fs->xyz[1] = fs->xyz[2] = 0.0;
+}
+
+void trace_path(const Renderer *R, Ray ray, FilmSample *fs, PixelSample *ps, Counters *cnt, FILE *dbg)
+{
+    Tracer tr;
+    PathState path;
+    int depth;
+    tr.R = R;
+    tr.ps = ps;
+    tr.fs = fs;
+    tr.cnt = cnt;
+    tr.dbg = dbg;
+    path_start(R, fs, &path);
+    if (dbg) fprintf(dbg, "sample: lambda=(%.1f %.1f %.1f %.1f) nm pdf=(%.4g %.4g %.4g %.4g)\n",
+                     fs->wl.lambda[0], fs->wl.lambda[1], fs->wl.lambda[2], fs->wl.lambda[3],
+                     fs->wl.pdf[0], fs->wl.pdf[1], fs->wl.pdf[2], fs->wl.pdf[3]);
+    for (depth = 0;; depth++) {
+        SurfacePoint sp;
+        Collision c;
+        int i, at = next_vertex(&tr, depth, &ray, &path, &sp, &c);
+        if (at == ESCAPED) {          /* the infinite lights the ray sees */
+            Vec3 dir = v3_norm(ray.d);
+            for (i = 0; i < R->n_inf; i++) film_add(fs, emitter_found(&tr, &path, R->inf[i], NULL, dir));
+            if (dbg && R->n_inf == 0) fprintf(dbg, "  escaped\n");
+            return;
+        }
+        if (at == LOST) return;
+        if (at == AT_COLLISION ? !medium_vertex(&tr, depth, &ray, &c, &path)
+                               : !surface_vertex(&tr, depth, &ray, &sp, &path))
+            return;
+        /* 6. Russian roulette on a hero-independent throughput */
+        if (!russian_roulette(&tr, depth, &path)) return;
+    }
+}
