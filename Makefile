@@ -30,7 +30,7 @@ CFLAGS = $(OPT) $(WARN) $(DETECTED)
 LDLIBS = -lm
 
 LIBOBJ = util.o sampler.o bvh.o shapes.o spectrum.o metals.o lights.o lighttree.o infinite.o delta.o texture.o filter.o scene.o ply.o medium.o \
-         material.o conductor.o layered.o render.o image.o png.o svg.o eval.o
+         material.o microfacet.o conductor.o layered.o render.o image.o png.o svg.o eval.o
 TESTOBJ = tests/runner.o tests/fixtures.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
           tests/test_scene.o tests/test_image.o tests/test_material.o \
           tests/test_render.o tests/test_lights.o tests/test_scenes.o tests/test_physics.o \

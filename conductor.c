@@ -2,24 +2,17 @@
    a complex index of refraction over a smooth (delta) or rough (anisotropic
    Trowbridge-Reitz / GGX) surface.
 
-   Exported: fresnel_conductor, conductor_sample, conductor_eval, and the
-   anisotropic microfacet distribution tr_D, tr_G, tr_sample_wm, tr_pdf_wm
-   (specnee.h section 6).  material.c's bsdf_sample and bsdf_eval call
-   conductor_sample / conductor_eval in the shading frame (n = +z, directions
-   pointing away from the surface, f without the cosine, as everywhere).
+   Exported: conductor_sample, conductor_eval (specnee.h section 6).  material.c's
+   bsdf_sample and bsdf_eval call them in the shading frame (n = +z, directions
+   pointing away from the surface, f without the cosine, as everywhere).  The
+   pieces come from the scattering room, microfacet.c: fresnel_conductor,
+   conductor_k_of_reflectance, reflect_dir and the distribution tr_D, tr_G,
+   tr_sample_wm, tr_pdf_wm; this room calls no other.
 
-   1. Fresnel for a conductor (Born & Wolf, "Principles of Optics", section 14.2;
-      pbrt-v4 FrComplex, pbrt 4th ed. section 9.3.6).  The metal's index is complex,
-      eta_c = n + i k (n: the "eta" spectrum, k: the extinction coefficient).
-      Snell's law and the Fresnel amplitudes hold unchanged with complex numbers:
-          sin^2 t = sin^2 i / eta_c^2,   cos t = sqrt(1 - sin^2 t)   (principal root)
-          r_par  = (eta_c cos i - cos t) / (eta_c cos i + cos t)
-          r_perp = (cos i - eta_c cos t) / (cos i + eta_c cos t)
-          F = (|r_par|^2 + |r_perp|^2) / 2          (unpolarised light)
-      At normal incidence F = ((n - 1)^2 + k^2) / ((n + 1)^2 + k^2).  No light is
-      transmitted (it is absorbed within a skin depth), so 1 - F is lost.  The
-      arithmetic is done in double with a small complex type of our own (C99's
-      complex.h is optional and missing in some compilers).
+   1. Fresnel for a conductor (microfacet.c section 2): the metal's index is
+      complex, eta_c = n + i k (n: the "eta" spectrum, k: the extinction
+      coefficient), and F(cos) is the unpolarised Fresnel reflectance of it.  No
+      light is transmitted (it is absorbed within a skin depth), so 1 - F is lost.
 
    2. Smooth (max(alpha_x, alpha_y) < 1e-3, pbrt-v4's EffectivelySmooth): the
       mirror direction wi = (-wo.x, -wo.y, wo.z) with probability 1; as a delta
@@ -54,98 +47,6 @@
    anisotropic ones). */
 #include "specnee.h"
 
-/* ---------------------------------------------------------------- complex Fresnel */
-
-typedef struct { double re, im; } Cplx;
-
-static Cplx cx(double re, double im) { Cplx z; z.re = re; z.im = im; return z; }
-static Cplx cx_add(Cplx a, Cplx b) { return cx(a.re + b.re, a.im + b.im); }
-static Cplx cx_sub(Cplx a, Cplx b) { return cx(a.re - b.re, a.im - b.im); }
-static Cplx cx_mul(Cplx a, Cplx b) { return cx(a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re); }
-static double cx_norm2(Cplx a) { return a.re * a.re + a.im * a.im; }   /* |a|^2 */
-static Cplx cx_div(Cplx a, Cplx b)
-{
-    double d = cx_norm2(b);
-    return cx((a.re * b.re + a.im * b.im) / d, (a.im * b.re - a.re * b.im) / d);
-}
-/* The principal square root (real part >= 0):
-   sqrt(z) = sqrt((|z| + re)/2) + i sign(im) sqrt((|z| - re)/2). */
-static Cplx cx_sqrt(Cplx z)
-{
-    double r = sqrt(cx_norm2(z));
-    double a = sqrt(fmax(0.0, 0.5 * (r + z.re))), b = sqrt(fmax(0.0, 0.5 * (r - z.re)));
-    return cx(a, z.im < 0.0 ? -b : b);
-}
-
-float fresnel_conductor(float cos_i_f, float eta, float k)
-{
-    double cos_i = cos_i_f < 0.0f ? 0.0 : cos_i_f > 1.0f ? 1.0 : (double)cos_i_f;
-    Cplx n = cx(eta, k), ci = cx(cos_i, 0.0);
-    Cplx sin2_t = cx_div(cx(1.0 - cos_i * cos_i, 0.0), cx_mul(n, n));
-    Cplx cos_t = cx_sqrt(cx_sub(cx(1.0, 0.0), sin2_t));
-    Cplx r_par = cx_div(cx_sub(cx_mul(n, ci), cos_t), cx_add(cx_mul(n, ci), cos_t));
-    Cplx r_perp = cx_div(cx_sub(ci, cx_mul(n, cos_t)), cx_add(ci, cx_mul(n, cos_t)));
-    return (float)(0.5 * (cx_norm2(r_par) + cx_norm2(r_perp)));
-}
-
-/* ---------------------------------------------------------------- anisotropic GGX */
-
-float tr_D(float ax, float ay, Vec3 wm)
-{
-    double x = wm.x / ax, y = wm.y / ay, z = wm.z, e = x * x + y * y + z * z;
-    if (wm.z <= 0.0f) return 0.0f;           /* grazing or back-facing microfacet */
-    return (float)(1.0 / (SPECNEE_PI * ax * ay * e * e));
-}
-
-/* Smith's Lambda: the projected area of the microfacets wo cannot see, per unit
-   projected area of the macrosurface. */
-static float tr_lambda(float ax, float ay, Vec3 w)
-{
-    double z2 = (double)w.z * w.z, a2t2;
-    if (z2 == 0.0) return 1e30f;             /* grazing: everything masked */
-    a2t2 = ((double)ax * ax * w.x * w.x + (double)ay * ay * w.y * w.y) / z2;
-    return (float)(0.5 * (sqrt(1.0 + a2t2) - 1.0));
-}
-
-static float tr_G1(float ax, float ay, Vec3 w) { return 1.0f / (1.0f + tr_lambda(ax, ay, w)); }
-
-float tr_G(float ax, float ay, Vec3 wo, Vec3 wi)
-{
-    return 1.0f / (1.0f + tr_lambda(ax, ay, wo) + tr_lambda(ax, ay, wi));
-}
-
-float tr_pdf_wm(float ax, float ay, Vec3 wo, Vec3 wm)
-{
-    float c = fabsf(wo.z);
-    if (c == 0.0f) return 0.0f;
-    return tr_G1(ax, ay, wo) * fabsf(v3_dot(wo, wm)) * tr_D(ax, ay, wm) / c;
-}
-
-/* Heitz 2018: (1) stretch wo into the configuration where the roughness is 1,
-   (2) sample a point on the projection of the hemisphere seen from there (a disk
-   whose lower half is squashed by (1 + cos)/2), (3) lift it onto the hemisphere
-   and unstretch the normal.  wo below the surface is mirrored first. */
-Vec3 tr_sample_wm(float ax, float ay, Vec3 wo, float u1, float u2)
-{
-    Vec3 vh = v3_norm(v3(ax * wo.x, ay * wo.y, wo.z)), t1, t2, nh;
-    float lensq, r, phi, p1, p2, s;
-    if (vh.z < 0.0f) vh = v3_neg(vh);
-    lensq = vh.x * vh.x + vh.y * vh.y;
-    t1 = lensq > 1e-14f ? v3_mul(v3(-vh.y, vh.x, 0.0f), 1.0f / sqrtf(lensq)) : v3(1, 0, 0);
-    t2 = v3_cross(vh, t1);
-    r = sqrtf(u1);                           /* a uniform point on the unit disk */
-    phi = 2.0f * PI_F * u2;
-    p1 = r * cosf(phi);
-    p2 = r * sinf(phi);
-    s = 0.5f * (1.0f + vh.z);                /* the visible part of the disk's lower half */
-    p2 = (1.0f - s) * sqrtf(fmaxf(0.0f, 1.0f - p1 * p1)) + s * p2;
-    nh = v3_add(v3_add(v3_mul(t1, p1), v3_mul(t2, p2)),
-                v3_mul(vh, sqrtf(fmaxf(0.0f, 1.0f - p1 * p1 - p2 * p2))));
-    return v3_norm(v3(ax * nh.x, ay * nh.y, fmaxf(1e-6f, nh.z)));
-}
-
-/* ---------------------------------------------------------------- the BRDF */
-
 /* pbrt-v4's TrowbridgeReitzDistribution::EffectivelySmooth. */
 static int conductor_smooth(const MatPoint *mp)
 {
@@ -153,13 +54,8 @@ static int conductor_smooth(const MatPoint *mp)
 }
 
 /* F of wavelength j (lambda) at the microfacet cosine c.  A textured reflectance r
-   stands for eta = 1, k = 2 sqrt(r) / sqrt(1 - r), r clamped to [0, 0.9999]
-   (pbrt-v4 ConductorMaterial::GetBxDF; scene.c does the same for a constant r). */
-float conductor_k_of_reflectance(double r)
-{
-    return (float)(2.0 * sqrt(r) / sqrt(1.0 - r));
-}
-
+   stands for eta = 1, k = conductor_k_of_reflectance(r), r clamped to [0, 0.9999]
+   (scene.c does the same for a constant r). */
 static float conductor_F(const Material *m, const MatPoint *mp, int j, float c, float lambda_nm)
 {
     if (mp->has_r) {

@@ -4,7 +4,10 @@
 
    Exported: layered_sample, layered_eval, layered_pdf (specnee.h section 6),
    called by material.c's bsdf_sample / bsdf_eval in the shading frame (n = +z,
-   directions pointing away from the surface, f without the cosine).
+   directions pointing away from the surface, f without the cosine).  The coat's
+   and the base's Fresnel terms and GGX come from the scattering room
+   (microfacet.c), the phase function from medium.c; this room calls neither
+   material.c nor conductor.c.
 
    1. The model (Guo, Hasan, Zhao 2018, "Position-free Monte Carlo simulation
       for arbitrary layered BSDFs", ACM TOG 37(6); pbrt 4th ed. section 14.3,

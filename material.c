@@ -3,9 +3,11 @@
    the dispatch to conductors (conductor.c), coateddiffuse and coatedconductor
    (layered.c).
 
-   Exported: mat_eta, mat_is_delta, mat_point, bsdf_sample, bsdf_eval, fresnel_dielectric,
-   refract_dir, mat_albedo, fluor_* (specnee.h section 6).  Every sampler has its
-   pdf beside it.
+   Exported: mat_is_delta, mat_point, bsdf_sample, bsdf_eval, mat_albedo, fluor_*
+   (specnee.h section 6).  Every sampler has its pdf beside it.  The Fresnel terms,
+   reflect_dir, refract_dir, mat_eta and the GGX distribution come from the
+   scattering room (microfacet.c); this room calls it, conductor.c and layered.c,
+   and none of them calls back.
 
    Fluorescent (docs/FLUORESCENCE.md, F2-F4): f(li -> lo) = (1/pi) [rho(lo)(1 -
    A(lo)) delta(li - lo) + Phi A(li) e(lo) (li/lo) H(lo - li) / N(li)].  bsdf_sample
@@ -52,12 +54,6 @@
    directions with their own index (needed only by the rough spectral MIS of
    render.c; at smooth dispersive interfaces the other wavelengths have pdf 0). */
 #include "specnee.h"
-
-float mat_eta(const Material *m, float lambda_nm)
-{
-    float eta = spec_eval(&m->eta, lambda_nm);
-    return eta > 0.0f ? eta : 1.0f;           /* pbrt-v4: a sampled eta of 0 means 1 */
-}
 
 float mat_albedo(const Material *m, float lambda_nm)
 {
@@ -296,39 +292,6 @@ int mat_is_delta(const Material *m)
         return m->alpha_tex <= 0 && fmaxf(m->alpha, m->alpha_t) < 1e-3f;
     if (m->type == MAT_THIN_DIELECTRIC) return 1;
     return m->type == MAT_DIELECTRIC && m->alpha == 0.0f;
-}
-
-float fresnel_dielectric(float cos_i, float eta)
-{
-    float sin2_t, cos_t, r_par, r_perp;
-    if (cos_i < 0.0f) { eta = 1.0f / eta; cos_i = -cos_i; }   /* inside: swap media */
-    if (cos_i > 1.0f) cos_i = 1.0f;
-    sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
-    if (sin2_t >= 1.0f) return 1.0f;                          /* total internal reflection */
-    cos_t = sqrtf(1.0f - sin2_t);
-    r_par = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    return 0.5f * (r_par * r_par + r_perp * r_perp);
-}
-
-/* wt = -w/eta + (cos_i/eta - cos_t) n, with n and eta flipped when w is inside. */
-int refract_dir(Vec3 w, Vec3 n, float eta, float *etap, Vec3 *wt)
-{
-    float cos_i = v3_dot(n, w), sin2_i, sin2_t, cos_t;
-    if (cos_i < 0.0f) { eta = 1.0f / eta; cos_i = -cos_i; n = v3_neg(n); }
-    sin2_i = 1.0f - cos_i * cos_i;
-    if (sin2_i < 0.0f) sin2_i = 0.0f;
-    sin2_t = sin2_i / (eta * eta);
-    if (sin2_t >= 1.0f) return 0;
-    cos_t = sqrtf(1.0f - sin2_t);
-    *wt = v3_add(v3_mul(v3_neg(w), 1.0f / eta), v3_mul(n, cos_i / eta - cos_t));
-    if (etap) *etap = eta;
-    return 1;
-}
-
-static Vec3 reflect_dir(Vec3 w, Vec3 n)
-{
-    return v3_sub(v3_mul(n, 2.0f * v3_dot(w, n)), w);
 }
 
 /* ---------------------------------------------------------------- GGX */
