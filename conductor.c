@@ -14,27 +14,22 @@
       coefficient), and F(cos) is the unpolarised Fresnel reflectance of it.  No
       light is transmitted (it is absorbed within a skin depth), so 1 - F is lost.
 
-   2. Smooth (max(alpha_x, alpha_y) < 1e-3, pbrt-v4's EffectivelySmooth): the
+   2. Smooth (max(alpha_x, alpha_y) < 1e-3, pbrt-v4's EffectivelySmooth, tr_smooth): the
       mirror direction wi = (-wo.x, -wo.y, wo.z) with probability 1; as a delta
       lobe its "f" is F(|cos i|) / |cos i| and its pdf 1, so the path weight
       f |cos| / pdf is F: each wavelength keeps F of its own.
 
    3. Rough: the Torrance-Sparrow microfacet BRDF with the anisotropic
-      Trowbridge-Reitz distribution (Trowbridge & Reitz 1975; Walter et al. 2007
-      for GGX; the anisotropic form as in Heitz 2014, "Understanding the
-      Masking-Shadowing Function in Microfacet-Based BRDFs", JCGT 3(2)), in the
-      local frame, wm = normalize(wo + wi) turned to +z:
-          D(wm) = 1 / (pi ax ay (x^2/ax^2 + y^2/ay^2 + z^2)^2)        (wm = (x, y, z))
-          Lambda(w) = (sqrt(1 + (ax^2 w.x^2 + ay^2 w.y^2) / w.z^2) - 1) / 2
-          G(wo, wi) = 1 / (1 + Lambda(wo) + Lambda(wi))   (height-correlated Smith)
+      Trowbridge-Reitz distribution D and the height-correlated Smith G
+      (microfacet.c section 3), in the local frame, wm = normalize(wo + wi)
+      turned to +z:
           f(wo, wi) = D(wm) F(|wo.wm|) G(wo, wi) / (4 |cos i| |cos o|)
       Directions: a visible normal wm ~ D_wo(wm) = G1(wo) |wo.wm| D(wm) / |cos o|
-      (Heitz 2018, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4):
-      stretch wo by (ax, ay), sample the projected hemisphere, unstretch), then
-      wi = reflect(wo, wm); the Jacobian of the reflection, dwm/dwi = 1/(4 |wo.wm|),
-      gives p(wi) = D_wo(wm) / (4 |wo.wm|).  The direction does not depend on the
-      wavelength, so every wavelength has the same pdf (pdf_l[j] = pdf) and only F
-      differs.  A wo below the surface (a back face) is handled by symmetry: the
+      (Heitz 2018: stretch wo by (ax, ay), sample the projected hemisphere,
+      unstretch), then wi = reflect(wo, wm); the Jacobian of the reflection,
+      dwm/dwi = 1/(4 |wo.wm|), gives p(wi) = D_wo(wm) / (4 |wo.wm|).  The
+      direction does not depend on the wavelength, so every wavelength has the
+      same pdf (pdf_l[j] = pdf) and only F differs.  A wo below the surface (a back face) is handled by symmetry: the
       visible normals of -wo are sampled and wi stays on wo's side.
 
    4. Textures (pbrt-v4 evaluates a material's textures at the hit, in GetBxDF):
@@ -46,12 +41,6 @@
    isotropic roughness only (the functions here take both alphas; the tests use
    anisotropic ones). */
 #include "specnee.h"
-
-/* pbrt-v4's TrowbridgeReitzDistribution::EffectivelySmooth. */
-static int conductor_smooth(const MatPoint *mp)
-{
-    return fmaxf(mp->alpha, mp->alpha_t) < 1e-3f;
-}
 
 /* F of wavelength j (lambda) at the microfacet cosine c.  A textured reflectance r
    stands for eta = 1, k = conductor_k_of_reflectance(r), r clamped to [0, 0.9999]
@@ -75,15 +64,12 @@ static void rough_pair(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, 
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
     if (wo.z * wi.z <= 0.0f) return;         /* a BRDF: both on one side */
-    wm = v3_add(wo, wi);
-    if (v3_dot(wm, wm) == 0.0f) return;
-    wm = v3_norm(wm);
-    if (wm.z < 0.0f) wm = v3_neg(wm);        /* the microfacet normal faces +z */
+    if (!tr_half_vector(wo, wi, &wm)) return;
     c = fabsf(v3_dot(wo, wm));
     if (c == 0.0f) return;
     D = tr_D(ax, ay, wm);
     G = tr_G(ax, ay, wo, wi);
-    pdf = tr_pdf_wm(ax, ay, wo, wm) / (4.0f * c);
+    pdf = tr_pdf_reflect(ax, ay, wo, wm);
     for (j = 0; j < HERO_N; j++) {
         pdf_l[j] = pdf;                      /* the same direction for every wavelength */
         if (alive & (1u << j))
@@ -99,7 +85,7 @@ int conductor_sample(const Material *m, const MatPoint *mp, Vec3 wo, const float
     for (j = 0; j < HERO_N; j++) { out->f[j] = 0.0f; out->pdf_l[j] = 0.0f; }
     out->delta = 0;
     if (wo.z == 0.0f) return 0;
-    if (conductor_smooth(mp)) {
+    if (tr_smooth(mp->alpha, mp->alpha_t)) {
         wi = v3(-wo.x, -wo.y, wo.z);         /* the mirror direction */
         out->delta = 1;
         out->pdf = 1.0f;
@@ -112,7 +98,7 @@ int conductor_sample(const Material *m, const MatPoint *mp, Vec3 wo, const float
         return 1;
     }
     wm = tr_sample_wm(mp->alpha, mp->alpha_t, wo, u1, u2);
-    wi = v3_sub(v3_mul(wm, 2.0f * v3_dot(wo, wm)), wo);     /* reflect wo about wm */
+    wi = reflect_dir(wo, wm);
     if (wi.z * wo.z <= 0.0f) return 0;       /* reflected below the surface: no sample */
     wi = v3_norm(wi);
     rough_pair(m, mp, wo, wi, lambda, alive, out->f, out->pdf_l);
@@ -125,7 +111,7 @@ void conductor_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, con
                     unsigned alive, float f[HERO_N], float pdf_l[HERO_N])
 {
     int j;
-    if (conductor_smooth(mp)) {               /* delta: f = 0 for any given pair */
+    if (tr_smooth(mp->alpha, mp->alpha_t)) {               /* delta: f = 0 for any given pair */
         for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
         return;
     }

@@ -46,7 +46,27 @@
       tr_sample_wm draws wm from D_wo (Heitz 2018, "Sampling the GGX
       Distribution of Visible Normals", JCGT 7(4)); tr_pdf_wm is D_wo.  With
       ax = ay = alpha, D = alpha^2 / (pi (z^2 (alpha^2 - 1) + 1)^2) and
-      Lambda = (sqrt(1 + alpha^2 tan^2 theta) - 1) / 2, THEORY §10's (10). */
+      Lambda = (sqrt(1 + alpha^2 tan^2 theta) - 1) / 2, THEORY §10's (10).
+      A reflection wi = reflect_dir(wo, wm) has the density
+      D_wo(wm) / (4 |wo.wm|) (tr_pdf_reflect; the half vector: tr_half_vector).
+      Both alphas below 1e-3 count as a smooth surface (tr_smooth, pbrt-v4's
+      EffectivelySmooth); the scene's "roughness" becomes alpha = sqrt(roughness)
+      when remapped (tr_alpha_of_roughness, pbrt-v4's RoughnessToAlpha).
+
+   4. The rough dielectric interface (Walter et al. 2007; THEORY §10, (11) and
+      (12)), isotropic alpha, index eta, for a pair (wo, wi): tr_dielectric_pair
+      gives f in radiance mode and the pdf of sampling wi by a visible normal wm
+      followed by the choice of reflection (probability F) or refraction (1 - F),
+      restricted to the lobes asked for (LOBE_R, LOBE_T: the pdf of the chosen
+      lobes renormalised to 1).  eta' is eta entering (cos o > 0), 1/eta leaving:
+        reflection:   wm = normalize(wo + wi) turned to +z
+          f = D G F / (4 |cos i cos o|),   p = D_wo(wm) / (4 |wo.wm|) * F
+        transmission: wm = normalize(eta' wi + wo) turned to +z,
+                      d = (wi.wm + wo.wm/eta')^2
+          f = D G (1 - F) |wi.wm| |wo.wm| / (|cos i cos o| d) / eta'^2
+          p = D_wo(wm) |wi.wm| / d * (1 - F)
+      A microfacet seen from behind by wo or wi contributes nothing.  material.c's
+      rough dielectric and layered.c's rough coat both call it. */
 #include "specnee.h"
 
 /* ---------------------------------------------------------------- directions */
@@ -186,4 +206,68 @@ Vec3 tr_sample_wm(float ax, float ay, Vec3 wo, float u1, float u2)
     nh = v3_add(v3_add(v3_mul(t1, p1), v3_mul(t2, p2)),
                 v3_mul(vh, sqrtf(fmaxf(0.0f, 1.0f - p1 * p1 - p2 * p2))));
     return v3_norm(v3(ax * nh.x, ay * nh.y, fmaxf(1e-6f, nh.z)));
+}
+
+/* pbrt-v4's TrowbridgeReitzDistribution::EffectivelySmooth: with both alphas
+   below 1e-3 the surface scatters into a delta lobe. */
+int tr_smooth(float ax, float ay)
+{
+    return fmaxf(ax, ay) < 1e-3f;
+}
+
+/* pbrt-v4's RoughnessToAlpha ("remaproughness"): alpha = sqrt(roughness). */
+float tr_alpha_of_roughness(float roughness)
+{
+    return sqrtf(roughness);
+}
+
+/* The reflection half vector wm = normalize(wo + wi), turned to +z (the
+   microfacet normals face up); 0 when wo = -wi, where it has none. */
+int tr_half_vector(Vec3 wo, Vec3 wi, Vec3 *wm)
+{
+    Vec3 h = v3_add(wo, wi);
+    if (v3_dot(h, h) == 0.0f) return 0;
+    h = v3_norm(h);
+    *wm = h.z < 0.0f ? v3_neg(h) : h;
+    return 1;
+}
+
+/* The density of wi = reflect_dir(wo, wm) for wm ~ D_wo: the Jacobian of the
+   reflection, dwm/dwi = 1 / (4 |wo.wm|), times D_wo(wm). */
+float tr_pdf_reflect(float ax, float ay, Vec3 wo, Vec3 wm)
+{
+    return tr_pdf_wm(ax, ay, wo, wm) / (4.0f * fabsf(v3_dot(wo, wm)));
+}
+
+/* ---------------------------------------------------------------- the rough dielectric */
+
+void tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, float *f, float *pdf)
+{
+    float co = wo.z, ci = wi.z, etap = 1.0f, F, pr, pt, a = alpha;
+    int reflect = ci * co > 0.0f;
+    Vec3 wm;
+    *f = 0.0f; *pdf = 0.0f;
+    if (ci == 0.0f || co == 0.0f) return;
+    if (!reflect) etap = co > 0.0f ? eta : 1.0f / eta;
+    wm = v3_add(v3_mul(wi, etap), wo);                 /* generalised half vector */
+    if (v3_dot(wm, wm) == 0.0f) return;
+    wm = v3_norm(wm);
+    if (wm.z < 0.0f) wm = v3_neg(wm);
+    if (v3_dot(wm, wi) * ci < 0.0f || v3_dot(wm, wo) * co < 0.0f) return;   /* back-facing */
+    F = fresnel_dielectric(v3_dot(wo, wm), eta);
+    pr = (lobes & LOBE_R) ? F : 0.0f;
+    pt = (lobes & LOBE_T) ? 1.0f - F : 0.0f;
+    if (reflect) {
+        *f = tr_D(a, a, wm) * tr_G(a, a, wo, wi) * F / fabsf(4.0f * ci * co);
+        if (pr + pt > 0.0f)
+            *pdf = tr_pdf_reflect(a, a, wo, wm) * pr / (pr + pt);
+    } else {
+        float d = v3_dot(wi, wm) + v3_dot(wo, wm) / etap, denom = d * d;
+        if (denom == 0.0f) return;
+        *f = tr_D(a, a, wm) * tr_G(a, a, wo, wi) * (1.0f - F) *
+             fabsf(v3_dot(wi, wm) * v3_dot(wo, wm) / (ci * co * denom)) / (etap * etap);
+        if (pr + pt > 0.0f)
+            *pdf = tr_pdf_wm(a, a, wo, wm) * fabsf(v3_dot(wi, wm)) / denom * pt / (pr + pt);
+    }
+    if (!isfinite(*f) || !isfinite(*pdf)) { *f = 0.0f; *pdf = 0.0f; }
 }

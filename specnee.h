@@ -767,6 +767,20 @@ float tr_D(float ax, float ay, Vec3 wm);
 float tr_G(float ax, float ay, Vec3 wo, Vec3 wi);
 Vec3  tr_sample_wm(float ax, float ay, Vec3 wo, float u1, float u2);
 float tr_pdf_wm(float ax, float ay, Vec3 wo, Vec3 wm);
+/* Reflection: the half vector normalize(wo + wi) turned to +z (0: none), and the
+   density D_wo(wm) / (4 |wo.wm|) of wi = reflect_dir(wo, wm). */
+int   tr_half_vector(Vec3 wo, Vec3 wi, Vec3 *wm);
+float tr_pdf_reflect(float ax, float ay, Vec3 wo, Vec3 wm);
+/* Both alphas below 1e-3: a smooth (delta) surface.  remaproughness: alpha = sqrt(r). */
+int   tr_smooth(float ax, float ay);
+float tr_alpha_of_roughness(float roughness);
+/* The rough dielectric interface (GGX alpha, index eta) for a local pair: f in
+   radiance mode (with 1/eta'^2 on transmission) and the pdf of sampling wi from wo
+   by a visible normal and the lobe choice F : 1 - F, restricted to `lobes`
+   (LOBE_R | LOBE_T: both); 0 for a pair no microfacet connects. */
+#define LOBE_R 1
+#define LOBE_T 2
+void  tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, float *f, float *pdf);
 
 /* ======================================================================
    6b. Participating media (medium.c; docs/media.md derives the estimator)
