@@ -29,8 +29,9 @@
       unstretch), then wi = reflect(wo, wm); the Jacobian of the reflection,
       dwm/dwi = 1/(4 |wo.wm|), gives p(wi) = D_wo(wm) / (4 |wo.wm|).  The
       direction does not depend on the wavelength, so every wavelength has the
-      same pdf (pdf_l[j] = pdf) and only F differs.  A wo below the surface (a back face) is handled by symmetry: the
-      visible normals of -wo are sampled and wi stays on wo's side.
+      same pdf (pdf_l[j] = pdf) and only F differs.  A wo below the surface (a
+      back face) is handled by symmetry: the visible normals of -wo are sampled
+      and wi stays on wo's side.
 
    4. Textures (pbrt-v4 evaluates a material's textures at the hit, in GetBxDF):
       the alphas and a "texture reflectance" come in a MatPoint (material.c's

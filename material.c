@@ -464,9 +464,9 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         /* f and pdf per wavelength along the hero's directions (pdf_l[0] is the
            hero's own pdf: evaluating it reproduces the sampling density) */
         for (j = 0; j < HERO_N; j++) {
-            float fj, pj;
+            float etaj = j == 0 ? eta : mat_eta(m, lambda[j]), fj, pj;
             if (j > 0 && !(alive & (1u << j))) continue;
-            tr_dielectric_pair(alpha, j == 0 ? eta : mat_eta(m, lambda[j]), lo, li, LOBE_R | LOBE_T, &fj, &pj);
+            tr_dielectric_pair(alpha, etaj, lo, li, LOBE_R | LOBE_T, &fj, &pj);
             out->pdf_l[j] = pj;
             if (alive & (1u << j)) out->f[j] = fj;
         }
