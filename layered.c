@@ -4,7 +4,10 @@
 
    Exported: layered_sample, layered_eval, layered_pdf (specnee.h section 6),
    called by material.c's bsdf_sample / bsdf_eval in the shading frame (n = +z,
-   directions pointing away from the surface, f without the cosine).
+   directions pointing away from the surface, f without the cosine).  The coat's
+   and the base's Fresnel terms and GGX come from the scattering room
+   (microfacet.c), the phase function from medium.c; this room calls neither
+   material.c nor conductor.c.
 
    1. The model (Guo, Hasan, Zhao 2018, "Position-free Monte Carlo simulation
       for arbitrary layered BSDFs", ACM TOG 37(6); pbrt 4th ed. section 14.3,
@@ -92,14 +95,11 @@
 
 /* ---------------------------------------------------------------- the coat */
 
-#define LOBE_R 1
-#define LOBE_T 2
-
 typedef struct { float eta, alpha; } Coat;
 typedef struct { Vec3 wi; float f, pdf; int reflect, specular; } Lobe;
 
 /* pbrt-v4: index 1 or EffectivelySmooth (alpha < 1e-3) scatter in delta lobes. */
-static int coat_smooth(const Coat *c) { return c->eta == 1.0f || c->alpha < 1e-3f; }
+static int coat_smooth(const Coat *c) { return c->eta == 1.0f || tr_smooth(c->alpha, c->alpha); }
 
 /* Sample the coat from w (either side), restricted to the lobes in `lobes`;
    radiance = 0 is the adjoint ("importance"): no 1/eta'^2 on transmission. */
@@ -139,10 +139,10 @@ static int coat_sample(const Coat *c, Vec3 w, float uc, float u1, float u2, int 
         if (!(pr + pt > 0.0f) || dwm == 0.0f) return 0;
         s->specular = 0;
         if (uc < pr / (pr + pt)) {
-            s->wi = v3_sub(v3_mul(wm, 2.0f * dwm), w);
+            s->wi = reflect_dir(w, wm);
             if (s->wi.z * w.z <= 0.0f) return 0;
             s->reflect = 1;
-            s->pdf = tr_pdf_wm(a, a, w, wm) / (4.0f * fabsf(dwm)) * pr / (pr + pt);
+            s->pdf = tr_pdf_reflect(a, a, w, wm) * pr / (pr + pt);
             s->f = tr_D(a, a, wm) * tr_G(a, a, w, s->wi) * R / fabsf(4.0f * s->wi.z * w.z);
         } else {
             float d, denom;
@@ -164,33 +164,9 @@ static int coat_sample(const Coat *c, Vec3 w, float uc, float u1, float u2, int 
 /* The rough coat's value (radiance mode) and pdf for a pair; 0 when smooth. */
 static void coat_pair(const Coat *c, Vec3 wo, Vec3 wi, int lobes, float *f, float *pdf)
 {
-    float co = wo.z, ci = wi.z, etap = 1.0f, F, pr, pt, a = c->alpha;
-    int reflect = ci * co > 0.0f;
-    Vec3 wm;
     *f = 0.0f; *pdf = 0.0f;
-    if (coat_smooth(c) || ci == 0.0f || co == 0.0f) return;
-    if (!reflect) etap = co > 0.0f ? c->eta : 1.0f / c->eta;
-    wm = v3_add(v3_mul(wi, etap), wo);                 /* generalised half vector */
-    if (v3_dot(wm, wm) == 0.0f) return;
-    wm = v3_norm(wm);
-    if (wm.z < 0.0f) wm = v3_neg(wm);
-    if (v3_dot(wm, wi) * ci < 0.0f || v3_dot(wm, wo) * co < 0.0f) return;   /* back-facing */
-    F = fresnel_dielectric(v3_dot(wo, wm), c->eta);
-    pr = (lobes & LOBE_R) ? F : 0.0f;
-    pt = (lobes & LOBE_T) ? 1.0f - F : 0.0f;
-    if (reflect) {
-        *f = tr_D(a, a, wm) * tr_G(a, a, wo, wi) * F / fabsf(4.0f * ci * co);
-        if (pr + pt > 0.0f)
-            *pdf = tr_pdf_wm(a, a, wo, wm) / (4.0f * fabsf(v3_dot(wo, wm))) * pr / (pr + pt);
-    } else {
-        float d = v3_dot(wi, wm) + v3_dot(wo, wm) / etap, denom = d * d;
-        if (denom == 0.0f) return;
-        *f = tr_D(a, a, wm) * tr_G(a, a, wo, wi) * (1.0f - F) *
-             fabsf(v3_dot(wi, wm) * v3_dot(wo, wm) / (ci * co * denom)) / (etap * etap);
-        if (pr + pt > 0.0f)
-            *pdf = tr_pdf_wm(a, a, wo, wm) * fabsf(v3_dot(wi, wm)) / denom * pt / (pr + pt);
-    }
-    if (!isfinite(*f) || !isfinite(*pdf)) { *f = 0.0f; *pdf = 0.0f; }
+    if (coat_smooth(c)) return;
+    tr_dielectric_pair(c->alpha, c->eta, wo, wi, lobes, f, pdf);
 }
 
 /* ---------------------------------------------------------------- base and medium */
@@ -205,7 +181,7 @@ typedef struct {
 } Base;
 
 /* pbrt-v4's TrowbridgeReitzDistribution::EffectivelySmooth: a delta lobe. */
-static int base_specular(const Base *b) { return b->cond && b->alpha < 1e-3f; }
+static int base_specular(const Base *b) { return b->cond && tr_smooth(b->alpha, b->alpha); }
 
 /* The base's pdf of wi given wo (0 for a delta lobe). */
 static float base_pdf(const Base *b, Vec3 wo, Vec3 wi)
@@ -214,11 +190,8 @@ static float base_pdf(const Base *b, Vec3 wo, Vec3 wi)
     if (wo.z * wi.z <= 0.0f) return 0.0f;
     if (!b->cond) return fabsf(wi.z) / PI_F;
     if (base_specular(b)) return 0.0f;
-    wm = v3_add(wo, wi);
-    if (v3_dot(wm, wm) == 0.0f) return 0.0f;
-    wm = v3_norm(wm);
-    if (wm.z < 0.0f) wm = v3_neg(wm);
-    return tr_pdf_wm(b->alpha, b->alpha, wo, wm) / (4.0f * fabsf(v3_dot(wo, wm)));
+    if (!tr_half_vector(wo, wi, &wm)) return 0.0f;
+    return tr_pdf_reflect(b->alpha, b->alpha, wo, wm);
 }
 
 /* The base's f (without the cosine) for a pair, per wavelength (0 for a delta lobe). */
@@ -231,10 +204,8 @@ static void base_f(const Base *b, Vec3 wo, Vec3 wi, float f[HERO_N])
         for (j = 0; j < HERO_N; j++) f[j] = b->R[j] / PI_F;
     } else if (!base_specular(b)) {
         float a = b->alpha, c, dg;
-        Vec3 wm = v3_add(wo, wi);
-        if (v3_dot(wm, wm) == 0.0f) return;
-        wm = v3_norm(wm);
-        if (wm.z < 0.0f) wm = v3_neg(wm);
+        Vec3 wm;
+        if (!tr_half_vector(wo, wi, &wm)) return;
         c = fabsf(v3_dot(wo, wm));
         dg = tr_D(a, a, wm) * tr_G(a, a, wo, wi) / (4.0f * fabsf(wo.z * wi.z));
         for (j = 0; j < HERO_N; j++) f[j] = dg * fresnel_conductor(c, b->ce[j], b->ck[j]);
@@ -274,7 +245,7 @@ static int base_sample(const Base *b, Vec3 w, float u1, float u2, Vec3 *wn, floa
         return any && w.z != 0.0f;
     } else {                          /* GGX visible normals, as conductor.c */
         Vec3 wm = tr_sample_wm(b->alpha, b->alpha, w, u1, u2);
-        *wn = v3_sub(v3_mul(wm, 2.0f * v3_dot(w, wm)), w);
+        *wn = reflect_dir(w, wm);
         if (wn->z * w.z <= 0.0f) return 0;
         *wn = v3_norm(*wn);
         *pdf = base_pdf(b, w, *wn);

@@ -3,9 +3,11 @@
    the dispatch to conductors (conductor.c), coateddiffuse and coatedconductor
    (layered.c).
 
-   Exported: mat_eta, mat_is_delta, mat_point, bsdf_sample, bsdf_eval, fresnel_dielectric,
-   refract_dir, mat_albedo, fluor_* (specnee.h section 6).  Every sampler has its
-   pdf beside it.
+   Exported: mat_is_delta, mat_point, bsdf_sample, bsdf_eval, mat_albedo, fluor_*
+   (specnee.h section 6).  Every sampler has its pdf beside it.  The Fresnel terms,
+   reflect_dir, refract_dir, mat_eta and the GGX distribution come from the
+   scattering room (microfacet.c); this room calls it, conductor.c and layered.c,
+   and none of them calls back.
 
    Fluorescent (docs/FLUORESCENCE.md, F2-F4): f(li -> lo) = (1/pi) [rho(lo)(1 -
    A(lo)) delta(li - lo) + Phi A(li) e(lo) (li/lo) H(lo - li) / N(li)].  bsdf_sample
@@ -22,11 +24,8 @@
    Diffuse (Lambert):  f = R(lambda)/pi,  wi ~ cos(theta)/pi on wo's side.
 
    Dielectric, index from Cauchy's law n(lambda) = A + B/lambda^2 (tabulated into
-   Material.eta) or any eta spectrum.  Fresnel for unpolarised light (Born & Wolf;
-   pbrt-v4 FrDielectric):
-       sin^2 t = (1 - cos^2 i)/eta^2,  TIR if >= 1,
-       r_par = (eta cos i - cos t)/(eta cos i + cos t),
-       r_perp = (cos i - eta cos t)/(cos i + eta cos t),  F = (r_par^2 + r_perp^2)/2.
+   Material.eta) or any eta spectrum, with the unpolarised Fresnel reflectance F
+   of microfacet.c section 2 (fresnel_dielectric).
    Smooth (alpha = 0): reflect with probability F, else refract (Snell); the
    sample's weight f|cos|/p is 1 for reflection and 1/eta'^2 for transmission
    (radiance is compressed by eta'^2 entering a denser medium; eta' is the index
@@ -34,30 +33,16 @@
 
    Rough (GGX / Trowbridge-Reitz, Walter et al. 2007, "Microfacet Models for
    Refraction through Rough Surfaces", EGSR), isotropic alpha, local frame n = +z:
-       D(m)   = alpha^2 / (pi ((cos^2 m)(alpha^2 - 1) + 1)^2)
-       Lambda(w) = (sqrt(1 + alpha^2 tan^2 w) - 1)/2,  G = 1/(1 + Lambda(wo) + Lambda(wi))
-       D_wo(m) = G1(wo) max(0, wo.m) D(m) / |cos wo|       (visible normals)
-     reflection:   m = normalize(wo + wi)
-       f = D G F / (4 |cos i cos o|),   p = D_wo(m) / (4 |wo.m|) * F
-     transmission: m = normalize(eta' wi + wo) turned to +z,  d = (wi.m + wo.m/eta')^2
-       f = D G (1-F) |wi.m| |wo.m| / (|cos i cos o| d) / eta'^2
-       p = D_wo(m) |wi.m| / d * (1-F)
-   Visible normals are sampled with Heitz 2018, "Sampling the GGX Distribution of
-   Visible Normals", JCGT 7(4); G is the height-correlated Smith term (Heitz 2014).
-   docs/THEORY.md section 10 states these equations with their sources; they were
-   checked against pbrt-v4's DielectricBxDF.
+   a visible normal m ~ D_wo (tr_sample_wm with alpha_x = alpha_y = alpha), then
+   reflection about m with probability F(wo.m), else refraction through it; f and
+   pdf of the pair are microfacet.c's tr_dielectric_pair (section 4: THEORY §10,
+   (10)-(12), checked against pbrt-v4's DielectricBxDF).
 
    Dispersion: with a wavelength-dependent index, the hero's index picks the
    direction.  For other wavelengths f and pdf are evaluated along the SAME
    directions with their own index (needed only by the rough spectral MIS of
    render.c; at smooth dispersive interfaces the other wavelengths have pdf 0). */
 #include "specnee.h"
-
-float mat_eta(const Material *m, float lambda_nm)
-{
-    float eta = spec_eval(&m->eta, lambda_nm);
-    return eta > 0.0f ? eta : 1.0f;           /* pbrt-v4: a sampled eta of 0 means 1 */
-}
 
 float mat_albedo(const Material *m, float lambda_nm)
 {
@@ -88,12 +73,12 @@ void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, u
            remapped; a negative value (or NaN) counts as 0, a smooth point */
         float v = tex_eval(m->textures, m->alpha_tex - 1, sp, lambda[0]);
         v = v > 0.0f ? (v < 1e4f ? v : 1e4f) : 0.0f;
-        mp->alpha = mp->alpha_t = m->remap ? sqrtf(v) : v;
+        mp->alpha = mp->alpha_t = m->remap ? tr_alpha_of_roughness(v) : v;
     }
     if (m->cond_alpha_tex > 0) {                 /* coatedconductor's base, the same rule */
         float v = tex_eval(m->textures, m->cond_alpha_tex - 1, sp, lambda[0]);
         v = v > 0.0f ? (v < 1e4f ? v : 1e4f) : 0.0f;
-        mp->cond_alpha = m->remap ? sqrtf(v) : v;
+        mp->cond_alpha = m->remap ? tr_alpha_of_roughness(v) : v;
     }
     if (m->reflectance_tex > 0) {
         mp->has_r = 1;
@@ -293,125 +278,9 @@ float fluor_pdf_li_uniform(float lo, float li)
 int mat_is_delta(const Material *m)
 {
     if (m->type == MAT_CONDUCTOR)                            /* conductor.c */
-        return m->alpha_tex <= 0 && fmaxf(m->alpha, m->alpha_t) < 1e-3f;
+        return m->alpha_tex <= 0 && tr_smooth(m->alpha, m->alpha_t);
     if (m->type == MAT_THIN_DIELECTRIC) return 1;
     return m->type == MAT_DIELECTRIC && m->alpha == 0.0f;
-}
-
-float fresnel_dielectric(float cos_i, float eta)
-{
-    float sin2_t, cos_t, r_par, r_perp;
-    if (cos_i < 0.0f) { eta = 1.0f / eta; cos_i = -cos_i; }   /* inside: swap media */
-    if (cos_i > 1.0f) cos_i = 1.0f;
-    sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
-    if (sin2_t >= 1.0f) return 1.0f;                          /* total internal reflection */
-    cos_t = sqrtf(1.0f - sin2_t);
-    r_par = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    return 0.5f * (r_par * r_par + r_perp * r_perp);
-}
-
-/* wt = -w/eta + (cos_i/eta - cos_t) n, with n and eta flipped when w is inside. */
-int refract_dir(Vec3 w, Vec3 n, float eta, float *etap, Vec3 *wt)
-{
-    float cos_i = v3_dot(n, w), sin2_i, sin2_t, cos_t;
-    if (cos_i < 0.0f) { eta = 1.0f / eta; cos_i = -cos_i; n = v3_neg(n); }
-    sin2_i = 1.0f - cos_i * cos_i;
-    if (sin2_i < 0.0f) sin2_i = 0.0f;
-    sin2_t = sin2_i / (eta * eta);
-    if (sin2_t >= 1.0f) return 0;
-    cos_t = sqrtf(1.0f - sin2_t);
-    *wt = v3_add(v3_mul(v3_neg(w), 1.0f / eta), v3_mul(n, cos_i / eta - cos_t));
-    if (etap) *etap = eta;
-    return 1;
-}
-
-static Vec3 reflect_dir(Vec3 w, Vec3 n)
-{
-    return v3_sub(v3_mul(n, 2.0f * v3_dot(w, n)), w);
-}
-
-/* ---------------------------------------------------------------- GGX */
-
-static float ggx_D(float alpha, Vec3 m)
-{
-    float c2 = m.z * m.z, a2 = alpha * alpha, d;
-    if (m.z <= 0.0f) return 0.0f;
-    d = c2 * (a2 - 1.0f) + 1.0f;
-    return a2 / (PI_F * d * d);
-}
-
-static float ggx_lambda(float alpha, Vec3 w)
-{
-    float c2 = w.z * w.z, s2 = 1.0f - c2, tan2;
-    if (c2 <= 0.0f) return 1e30f;
-    tan2 = s2 > 0.0f ? s2 / c2 : 0.0f;
-    return 0.5f * (sqrtf(1.0f + alpha * alpha * tan2) - 1.0f);
-}
-
-static float ggx_G1(float alpha, Vec3 w) { return 1.0f / (1.0f + ggx_lambda(alpha, w)); }
-static float ggx_G(float alpha, Vec3 wo, Vec3 wi)
-{
-    return 1.0f / (1.0f + ggx_lambda(alpha, wo) + ggx_lambda(alpha, wi));
-}
-
-/* Density of visible normals m seen from wo. */
-static float ggx_Dwo(float alpha, Vec3 wo, Vec3 m)
-{
-    float c = fabsf(wo.z), dot = v3_dot(wo, m);
-    if (c == 0.0f) return 0.0f;
-    return ggx_G1(alpha, wo) * fabsf(dot) * ggx_D(alpha, m) / c;
-}
-
-/* Heitz 2018: sample a visible normal; wo may be below the surface (it is
-   mirrored to +z first, as the visible normals of the macrosurface face up). */
-static Vec3 ggx_sample_wm(float alpha, Vec3 wo, float u1, float u2)
-{
-    Vec3 vh = v3_norm(v3(alpha * wo.x, alpha * wo.y, wo.z)), t1, t2, nh;
-    float lensq, r, phi, p1, p2, s;
-    if (vh.z < 0.0f) vh = v3_neg(vh);
-    lensq = vh.x * vh.x + vh.y * vh.y;
-    t1 = lensq > 1e-14f ? v3_mul(v3(-vh.y, vh.x, 0.0f), 1.0f / sqrtf(lensq)) : v3(1, 0, 0);
-    t2 = v3_cross(vh, t1);
-    r = sqrtf(u1);
-    phi = 2.0f * PI_F * u2;
-    p1 = r * cosf(phi);
-    p2 = r * sinf(phi);
-    s = 0.5f * (1.0f + vh.z);
-    p2 = (1.0f - s) * sqrtf(fmaxf(0.0f, 1.0f - p1 * p1)) + s * p2;
-    nh = v3_add(v3_add(v3_mul(t1, p1), v3_mul(t2, p2)),
-                v3_mul(vh, sqrtf(fmaxf(0.0f, 1.0f - p1 * p1 - p2 * p2))));
-    return v3_norm(v3(alpha * nh.x, alpha * nh.y, fmaxf(1e-6f, nh.z)));
-}
-
-/* f and pdf of the rough dielectric for a pair in the local frame, index eta. */
-static void rough_eval(float alpha, float eta, Vec3 wo, Vec3 wi, float *f, float *pdf)
-{
-    float cos_o = wo.z, cos_i = wi.z, etap = 1.0f, F;
-    int reflect = cos_i * cos_o > 0.0f;
-    Vec3 wm;
-    *f = 0.0f; *pdf = 0.0f;
-    if (cos_i == 0.0f || cos_o == 0.0f) return;
-    if (!reflect) etap = cos_o > 0.0f ? eta : 1.0f / eta;
-    wm = v3_add(v3_mul(wi, etap), wo);                 /* generalised half vector */
-    if (v3_dot(wm, wm) == 0.0f) return;
-    wm = v3_norm(wm);
-    if (wm.z < 0.0f) wm = v3_neg(wm);
-    /* microfacets seen from behind contribute nothing */
-    if (v3_dot(wm, wi) * cos_i < 0.0f || v3_dot(wm, wo) * cos_o < 0.0f) return;
-    F = fresnel_dielectric(v3_dot(wo, wm), eta);
-    if (reflect) {
-        *f = ggx_D(alpha, wm) * ggx_G(alpha, wo, wi) * F / fabsf(4.0f * cos_i * cos_o);
-        *pdf = ggx_Dwo(alpha, wo, wm) / (4.0f * fabsf(v3_dot(wo, wm))) * F;
-    } else {
-        float d = v3_dot(wi, wm) + v3_dot(wo, wm) / etap, denom = d * d;
-        float dwm_dwi;
-        if (denom == 0.0f) return;
-        dwm_dwi = fabsf(v3_dot(wi, wm)) / denom;
-        *f = ggx_D(alpha, wm) * ggx_G(alpha, wo, wi) * (1.0f - F) *
-             fabsf(v3_dot(wi, wm) * v3_dot(wo, wm) / (denom * cos_i * cos_o)) / (etap * etap);
-        *pdf = ggx_Dwo(alpha, wo, wm) * dwm_dwi * (1.0f - F);
-    }
 }
 
 /* ---------------------------------------------------------------- thin dielectric */
@@ -581,7 +450,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         return 1;
     } else {
         float alpha = m->alpha, eta = mat_eta(m, lambda[0]);
-        Vec3 wm = ggx_sample_wm(alpha, lo, u1, u2);
+        Vec3 wm = tr_sample_wm(alpha, alpha, lo, u1, u2);
         float F = fresnel_dielectric(v3_dot(lo, wm), eta), etap;
         if (u0 < F) {
             li = reflect_dir(lo, wm);
@@ -595,9 +464,9 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         /* f and pdf per wavelength along the hero's directions (pdf_l[0] is the
            hero's own pdf: evaluating it reproduces the sampling density) */
         for (j = 0; j < HERO_N; j++) {
-            float fj, pj;
+            float etaj = j == 0 ? eta : mat_eta(m, lambda[j]), fj, pj;
             if (j > 0 && !(alive & (1u << j))) continue;
-            rough_eval(alpha, j == 0 ? eta : mat_eta(m, lambda[j]), lo, li, &fj, &pj);
+            tr_dielectric_pair(alpha, etaj, lo, li, LOBE_R | LOBE_T, &fj, &pj);
             out->pdf_l[j] = pj;
             if (alive & (1u << j)) out->f[j] = fj;
         }
@@ -642,7 +511,7 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
     for (j = 0; j < HERO_N; j++) {
         float fj, pj;
         if (j > 0 && !(alive & (1u << j))) continue;
-        rough_eval(m->alpha, mat_eta(m, lambda[j]), lo, li, &fj, &pj);
+        tr_dielectric_pair(m->alpha, mat_eta(m, lambda[j]), lo, li, LOBE_R | LOBE_T, &fj, &pj);
         pdf_l[j] = pj;
         if (alive & (1u << j)) f[j] = fj;
     }

@@ -600,7 +600,6 @@ typedef struct {
     int cond_alpha_tex;
 } Material;
 
-float mat_eta(const Material *m, float lambda_nm);
 /* Fluorescence (docs/FLUORESCENCE.md sections 1-3).  fluor_prepare fills the tables
    of a MAT_FLUORESCENT material; returns 0 if the emission is zero everywhere. */
 int   fluor_prepare(Material *m);
@@ -719,13 +718,6 @@ int  bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float
 /* Evaluate f and the pdfs for a given pair (for NEE); delta materials give 0. */
 void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
                const float *lambda, unsigned alive, float f[HERO_N], float pdf_l[HERO_N]);
-/* Fresnel reflectance of a conductor (complex index eta + i k) seen from a medium
-   of index 1, unpolarised; cos_i in [0, 1] (conductor.c). */
-float fresnel_conductor(float cos_i, float eta, float k);
-/* pbrt-v4's conductor "reflectance" r as an absorption index over eta = 1:
-   k = 2 sqrt(r) / sqrt(1 - r), whose normal-incidence Fresnel is exactly r
-   (the caller clamps r below 1) */
-float conductor_k_of_reflectance(double r);
 /* The conductor's sampler, value and pdf, called by bsdf_sample and bsdf_eval in
    the shading frame (local directions, n = +z).  pdf_l[j] = pdf for every j: the
    direction does not depend on the wavelength. */
@@ -748,20 +740,48 @@ void  layered_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, cons
 int   layered_sample(const Material *m, const MatPoint *mp, const Frame *fr, Vec3 wo_world,
                      const float *lambda, unsigned alive, float u0, float u1, float u2, uint64_t key,
                      BsdfSample *out);
-/* Anisotropic Trowbridge-Reitz (GGX) with alpha_x, alpha_y, in the local frame
-   (exposed for tests): the normal distribution D(wm), the height-correlated
-   masking-shadowing G(wo, wi), and the visible-normal sampler with its density
+/* ---- The scattering room (microfacet.c): what the BSDFs above are built from ----
+   Local shading frame (n = +z), directions pointing away from the surface.
+   material.c, conductor.c and layered.c call it; it calls none of them. */
+/* Mirror w about n: 2 (w.n) n - w. */
+Vec3  reflect_dir(Vec3 w, Vec3 n);
+/* Refract w about n (unit, any side) with relative index eta; 0 on total internal
+   reflection.  *etap receives the index ratio along the path. */
+int   refract_dir(Vec3 w, Vec3 n, float eta, float *etap, Vec3 *wt);
+/* A material's real index of refraction at one wavelength (a sampled 0 means 1). */
+float mat_eta(const Material *m, float lambda_nm);
+/* Fresnel reflectance of a dielectric interface, unpolarised (cos_i may be < 0:
+   then the ray is inside and eta is inverted). */
+float fresnel_dielectric(float cos_i, float eta);
+/* Fresnel reflectance of a conductor (complex index eta + i k) seen from a medium
+   of index 1, unpolarised; cos_i in [0, 1]. */
+float fresnel_conductor(float cos_i, float eta, float k);
+/* pbrt-v4's conductor "reflectance" r as an absorption index over eta = 1:
+   k = 2 sqrt(r) / sqrt(1 - r), whose normal-incidence Fresnel is exactly r
+   (the caller clamps r below 1) */
+float conductor_k_of_reflectance(double r);
+/* Anisotropic Trowbridge-Reitz (GGX) with alpha_x, alpha_y (isotropic: equal): the
+   normal distribution D(wm), the height-correlated masking-shadowing G(wo, wi),
+   and the visible-normal sampler with its density
    D_wo(wm) = G1(wo) max(0, wo.wm) D(wm) / |cos wo|. */
 float tr_D(float ax, float ay, Vec3 wm);
 float tr_G(float ax, float ay, Vec3 wo, Vec3 wi);
 Vec3  tr_sample_wm(float ax, float ay, Vec3 wo, float u1, float u2);
 float tr_pdf_wm(float ax, float ay, Vec3 wo, Vec3 wm);
-/* Fresnel reflectance of a dielectric interface, unpolarised (cos_i may be < 0:
-   then the ray is inside and eta is inverted). */
-float fresnel_dielectric(float cos_i, float eta);
-/* Refract w about n (unit, any side) with relative index eta; 0 on total internal
-   reflection.  *etap receives the index ratio along the path. */
-int   refract_dir(Vec3 w, Vec3 n, float eta, float *etap, Vec3 *wt);
+/* Reflection: the half vector normalize(wo + wi) turned to +z (0: none), and the
+   density D_wo(wm) / (4 |wo.wm|) of wi = reflect_dir(wo, wm). */
+int   tr_half_vector(Vec3 wo, Vec3 wi, Vec3 *wm);
+float tr_pdf_reflect(float ax, float ay, Vec3 wo, Vec3 wm);
+/* Both alphas below 1e-3: a smooth (delta) surface.  remaproughness: alpha = sqrt(r). */
+int   tr_smooth(float ax, float ay);
+float tr_alpha_of_roughness(float roughness);
+/* The rough dielectric interface (GGX alpha, index eta) for a local pair: f in
+   radiance mode (with 1/eta'^2 on transmission) and the pdf of sampling wi from wo
+   by a visible normal and the lobe choice F : 1 - F, restricted to `lobes`
+   (LOBE_R | LOBE_T: both); 0 for a pair no microfacet connects. */
+#define LOBE_R 1
+#define LOBE_T 2
+void  tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, float *f, float *pdf);
 
 /* ======================================================================
    6b. Participating media (medium.c; THEORY section 12 derives the estimator)

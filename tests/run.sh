@@ -300,10 +300,7 @@ for f in tests/run.sh fuzz/run.sh; do
 done
 # the call graph of the rooms (tools/callgraph.sh): no library room calls a command
 # room (specnee.c, cmd_*.c) and the library rooms call each other without a cycle.
-# Allowed: material.c <-> layered.c, the one cycle left (material.c dispatches the
-# layered BSDFs, which use its dielectric Fresnel and refraction); it goes when one
-# microfacet and Fresnel room serves both.  A stale allowance is a note on the ok line.
-if sh tools/callgraph.sh --allow layered.c:material.c > tests/tmp/callgraph.txt 2>&1; then
+if sh tools/callgraph.sh > tests/tmp/callgraph.txt 2>&1; then
     ok "repo_no_library_cycle$(sed -n 's/^note: \(.*\)/ (\1)/p' tests/tmp/callgraph.txt | tr -d '\n')"
 else fail "repo_no_library_cycle: $(grep -v ' -> \| includes ' tests/tmp/callgraph.txt | tr '\n' ' ')"; fi
 # ... and the script finds a ring of three rooms and a call into a command room
@@ -413,7 +410,7 @@ if [ "$full" != 1 ]; then
 fi
 if [ "$full" = 1 ]; then
     # ---- 3. three compilers, warnings are errors (each one that is installed)
-    LIBSRC="util.c sampler.c bvh.c shapes.c spectrum.c wavelengths.c metals.c lights.c lighttree.c infinite.c delta.c texture.c filter.c scene.c ply.c medium.c material.c conductor.c layered.c camera.c path.c render.c image.c png.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c"
+    LIBSRC="util.c sampler.c bvh.c shapes.c spectrum.c wavelengths.c metals.c lights.c lighttree.c infinite.c delta.c texture.c filter.c scene.c ply.c medium.c material.c microfacet.c conductor.c layered.c camera.c path.c render.c image.c png.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c"
     proven=""
     for cc in gcc clang tcc; do
         if ! have_cc $cc; then skip "build_$cc: $cc not installed (CI proves it)"; continue; fi

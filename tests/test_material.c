@@ -1,5 +1,6 @@
 /* tests/test_material.c - Fresnel, Cauchy, the prism, and the rough dielectric's
-   sampler against its pdf (normalisation, chi-square, energy estimates). */
+   sampler against its pdf (normalisation, chi-square, energy estimates, the pdf
+   of one lobe). */
 #include "test.h"
 #include <stdlib.h>
 #include <string.h>
@@ -240,6 +241,41 @@ static void test_rough_dispersion_per_wavelength(T *t)
     CHECK(t, differ > 10, "dispersive rough glass: per-wavelength pdfs should differ (%d)", differ);
 }
 
+/* microfacet.c's tr_dielectric_pair restricted to one lobe (layered.c asks for the
+   transmission alone when it weights a walk's exit): f does not depend on the
+   lobes, and the pdf is the two-lobe pdf divided by that lobe's probability, F for
+   a reflection pair and 1 - F for a transmission pair (0 for the other lobe). */
+static void test_dielectric_lobes(T *t)
+{
+    Rng rng;
+    int k, n = 0;
+    rng_seed(&rng, 11, 3);
+    for (k = 0; k < 2000; k++) {
+        float a = 0.05f + 0.6f * rng_float(&rng), eta = 1.2f + rng_float(&rng), etap, F;
+        float fb, pb, fr, pr, ft, pt;
+        Vec3 wo = equal_area_square_to_sphere(rng_float(&rng), rng_float(&rng));
+        Vec3 wi = equal_area_square_to_sphere(rng_float(&rng), rng_float(&rng)), wm;
+        int reflect = wo.z * wi.z > 0.0f;
+        tr_dielectric_pair(a, eta, wo, wi, LOBE_R | LOBE_T, &fb, &pb);
+        tr_dielectric_pair(a, eta, wo, wi, LOBE_R, &fr, &pr);
+        tr_dielectric_pair(a, eta, wo, wi, LOBE_T, &ft, &pt);
+        CHECK(t, fr == fb && ft == fb, "f depends on the lobes: %g %g %g", fb, fr, ft);
+        if (!(pb > 0.0f)) continue;
+        etap = reflect ? 1.0f : wo.z > 0.0f ? eta : 1.0f / eta;
+        wm = v3_norm(v3_add(v3_mul(wi, etap), wo));
+        if (wm.z < 0.0f) wm = v3_neg(wm);                 /* as the pair turns it */
+        F = fresnel_dielectric(v3_dot(wo, wm), eta);
+        if (reflect)
+            CHECK(t, fabsf(pr * F - pb) <= 1e-4f * pb && pt == 0.0f,
+                  "reflection pair: p_R %g F %g p %g p_T %g", pr, F, pb, pt);
+        else
+            CHECK(t, fabsf(pt * (1.0f - F) - pb) <= 1e-4f * pb && pr == 0.0f,
+                  "transmission pair: p_T %g 1-F %g p %g p_R %g", pt, 1.0f - F, pb, pr);
+        n++;
+    }
+    CHECK(t, n > 500, "only %d pairs with a pdf", n);
+}
+
 const TestCase tests_material[] = {
     { "material_cauchy_bk7", test_cauchy_bk7 },
     { "material_fresnel_values", test_fresnel_values },
@@ -248,5 +284,6 @@ const TestCase tests_material[] = {
     { "material_rough_pdf_and_energy", test_rough_pdf_and_energy },
     { "material_rough_chi2", test_rough_chi2 },
     { "material_rough_dispersion_per_wavelength", test_rough_dispersion_per_wavelength },
+    { "material_dielectric_lobes", test_dielectric_lobes },
     { NULL, NULL }
 };
