@@ -60,7 +60,7 @@ tools/bench_lights: tools/bench_lights.o $(LIBOBJ)
 	$(CC) $(CFLAGS) -I. -c -o $@ $<
 
 $(LIBOBJ) specnee.o $(TESTOBJ) tools/bench.o tools/bench_lights.o fuzz/replay.o fuzz/targets.o: specnee.h
-parser.o scene.o: parser.h
+parser.o scene.o material.o conductor.o layered.o texture.o lights.o delta.o infinite.o medium.o: parser.h
 $(TESTOBJ): tests/test.h
 tests/test_png.o: tests/png_fixtures.h
 

@@ -65,6 +65,12 @@ int fail_param(Parser *P, const ParamList *pl, const char *name, const char *fil
     return 0;
 }
 
+/* The error for a failed allocation (or a grow past MAX_ELEMENTS). */
+int oom(Parser *P, const char *file, int line)
+{
+    return fail(P, file, line, "out of memory (or more than %d elements)", MAX_ELEMENTS);
+}
+
 /* Grow *arr so that it holds at least `need` elements of size elsz. */
 int grow(void **arr, int *cap, int need, size_t elsz)
 {
@@ -747,4 +753,149 @@ int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_ill
             return fail(P, p->file, p->line, "\"spectrum %s\": %s", p->name, e.msg);
     }
     return 1;
+}
+
+/* ===========================================================================
+   4. Parameters that several builders read (materials, textures, lights, media)
+   =========================================================================== */
+/* A reflectance or absorptance must lie in [0, 1] at every nm, the UV extension
+   included; 1e-4 of slack absorbs the rounding of an RGB upsampling of (1,1,1),
+   and values in the slack are clamped to 1. */
+int check_unit_spectrum(Parser *P, const Param *p, Spectrum *sp)
+{
+    int k;
+    for (k = 0; k < SPEC_N + SPEC_UV_N; k++) {
+        /* 360..830 nm first (the first error names the visible value), then 300..359 */
+        int nm = k < SPEC_N ? SPEC_MIN + k : SPEC_UV_MIN + (k - SPEC_N);
+        float *v = spec_at(sp, nm);
+        if (!(*v >= 0.0f && *v <= 1.0001f))
+            return fail(P, p->file, p->line, "\"%s %s\": value %g at %d nm outside [0,1]",
+                        param_type_names[p->type], p->name, *v, nm);
+        if (*v > 1.0f) *v = 1.0f;
+    }
+    return 1;
+}
+
+/* A reflectance-like parameter p (may be NULL: the constant def): read, and
+   checked to lie in [0, 1] (check_unit_spectrum). */
+int unit_spectrum_param(Parser *P, Param *p, Spectrum *out, float def)
+{
+    if (!p) { spec_const(out, def); return 1; }
+    return param_spectrum(P, p, SPEC_ALBEDO, out, NULL) && check_unit_spectrum(P, p, out);
+}
+
+/* The texture a "texture name" parameter names, in the float or spectrum
+   namespace; -1 and an error when there is none. */
+int texture_lookup(Parser *P, const Param *p, int is_float)
+{
+    int i;
+    if (p->n_str != 1)
+        return fail(P, p->file, p->line, "\"texture %s\": expected one texture name", p->name) - 1;
+    for (i = P->n_texnames - 1; i >= 0; i--)
+        if (P->texnames[i].is_float == is_float && !strcmp(P->texnames[i].name, p->str[0]))
+            return P->texnames[i].index;
+    for (i = 0; i < P->n_texnames; i++)
+        if (!strcmp(P->texnames[i].name, p->str[0]))
+            return fail(P, p->file, p->line, "\"texture %s\": \"%s\" is a %s texture; a %s "
+                        "one is needed here", p->name, p->str[0], is_float ? "spectrum" : "float",
+                        is_float ? "float" : "spectrum") - 1;
+    return fail(P, p->file, p->line, "\"texture %s\": no texture named \"%s\"", p->name,
+                p->str[0]) - 1;
+}
+
+/* One roughness parameter: a float texture (*tex its index, *have 1), a float
+   (*v, *have 1), or absent (*have 0, *tex -1). */
+static int rough_param(Parser *P, ParamList *pl, const char *name, int *have, float *v, int *tex)
+{
+    Param *pt = param_find(pl, PT_TEXTURE, name);
+    *tex = -1;
+    if (pt) {
+        *have = 1;
+        *tex = texture_lookup(P, pt, 1);
+        return *tex >= 0;
+    }
+    *have = param_find(pl, PT_FLOAT, name) != NULL;
+    return get_float(P, pl, name, 0, v);
+}
+
+/* pbrt-v4's roughness parameters of a microfacet material: u/vroughness default
+   to "roughness", which defaults to 0; remaproughness (default true) maps them to
+   alpha = sqrt(roughness) (TrowbridgeReitzDistribution::RoughnessToAlpha).  Each
+   may be a float texture: then *alpha_tex = 1 + its index, the alphas are 0, and
+   material.c's mat_point reads the texture at each hit (the same texture for u
+   and v; anything else with a texture is anisotropic, refused by name).  prefix
+   names a layer's parameters ("interface.", "conductor." of coatedconductor). */
+int microfacet_alphas_of(Parser *P, ParamList *pl, const char *file, int line,
+                         const char *what, const char *prefix, float *alpha_u,
+                         float *alpha_v, int *alpha_tex, int *remap_out)
+{
+    float u = 0, v = 0, r = 0;
+    int remap, have_u, have_v, have_r, tu, tv, tr;
+    char nu[48], nv[48], nr[48];
+    snprintf(nu, sizeof nu, "%suroughness", prefix);
+    snprintf(nv, sizeof nv, "%svroughness", prefix);
+    snprintf(nr, sizeof nr, "%sroughness", prefix);
+    if (!rough_param(P, pl, nu, &have_u, &u, &tu) || !rough_param(P, pl, nv, &have_v, &v, &tv))
+        return 0;
+    if (!have_u || !have_v) {
+        if (!rough_param(P, pl, nr, &have_r, &r, &tr)) return 0;
+        if (!have_u) { u = r; tu = tr; }
+        if (!have_v) { v = r; tv = tr; }
+    }
+    if (!get_bool(P, pl, "remaproughness", 1, &remap)) return 0;
+    *remap_out = remap;
+    *alpha_tex = 0;
+    if (tu >= 0 || tv >= 0) {
+        if (tu != tv)
+            return fail(P, file, line, "%s: u and v roughness from different sources (a texture "
+                        "and a number, or two textures) is anisotropic roughness, valid pbrt-v4 "
+                        "but not in the specnee subset", what);
+        *alpha_tex = tu + 1;
+        *alpha_u = *alpha_v = 0.0f;
+        return 1;
+    }
+    if (!(u >= 0.0f && u <= 1e4f) || !(v >= 0.0f && v <= 1e4f))
+        return fail(P, file, line, "%s: %s (%g, %g) must be within [0, 1e4]", what, nr, u, v);
+    *alpha_u = remap ? sqrtf(u) : u;
+    *alpha_v = remap ? sqrtf(v) : v;
+    return 1;
+}
+
+/* The same for the unprefixed names ("roughness", "uroughness", "vroughness"). */
+int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
+                      const char *what, float *alpha_u, float *alpha_v, int *alpha_tex,
+                      int *remap_out)
+{
+    return microfacet_alphas_of(P, pl, file, line, what, "", alpha_u, alpha_v, alpha_tex,
+                                remap_out);
+}
+
+/* Every value of a spectrum over 300-830 nm must satisfy lo < v (strict) or
+   lo <= v (strict = 0), and be finite: else "file:line: ..." naming the first
+   wavelength that fails.  p may be NULL (a default spectrum: the directive's line). */
+int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
+                         const char *what, const Spectrum *sp, float lo, int strict)
+{
+    int nm;
+    for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+        float v = spec_get(sp, nm);
+        if (!(strict ? v > lo : v >= lo) || !(v < 1e30f))
+            return fail(P, p ? p->file : file, p ? p->line : line, "%s: value %g at %d nm "
+                        "(need a finite value %s %g)", what, v, nm, strict ? ">" : ">=", lo);
+    }
+    return 1;
+}
+
+/* pbrt-v4 normalises an RGB illuminant by its colour space's illuminant:
+   Le = scale * L / sum ybar D65.  lights.c divides by sum ybar L, so every light
+   with an rgb spectrum gets scale * sum ybar L / sum ybar D65 (area, infinite
+   and delta lights alike). */
+float rgb_illuminant_scale(const Spectrum *L, float scale)
+{
+    Spectrum d65;
+    double xyz_l[3], xyz_d[3];
+    if (!spec_named(&d65, "stdillum-D65")) return scale;
+    spec_to_xyz(L, (float)SPEC_MIN, (float)SPEC_MAX, xyz_l);
+    spec_to_xyz(&d65, (float)SPEC_MIN, (float)SPEC_MAX, xyz_d);
+    return xyz_d[1] > 0.0 ? (float)(scale * (xyz_l[1] / xyz_d[1])) : scale;
 }

@@ -170,6 +170,7 @@ int fail_param(Parser *P, const ParamList *pl, const char *name, const char *fil
    kept in Scene.strings.  dir_of: the directory part of path, '/' included.
    resolve_path: a file named in from_file, found as pbrt-v4 finds it.  */
 int grow(void **arr, int *cap, int need, size_t elsz);
+int oom(Parser *P, const char *file, int line);   /* "out of memory": fail, 0 */
 const char *intern(Parser *P, const char *name);
 void dir_of(const char *path, char *out, size_t cap);
 void resolve_path(const Parser *P, const char *from_file, const char *name,
@@ -220,5 +221,75 @@ int refuse_param(Parser *P, ParamList *pl, const char *what, const char *reads,
 typedef enum { SPEC_ALBEDO, SPEC_UNBOUNDED, SPEC_ILLUMINANT, SPEC_COEFF } SpecUse;
 Param *find_spectrum_param(ParamList *pl, const char *name);
 int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_illum);
+
+/* Parameters that several builders read (parser.c section 4).
+   check_unit_spectrum: every value of sp within [0, 1] (1e-4 of slack, clamped);
+   unit_spectrum_param: p (NULL: the constant def) read and so checked.
+   texture_lookup: the Scene.textures index a "texture name" parameter names in
+   the float or spectrum namespace (-1 and an error when none).
+   microfacet_alphas(_of): pbrt-v4's roughness parameters (prefix: a layer's,
+   "interface." or "conductor.") as GGX alphas, or a float texture
+   (*alpha_tex = 1 + its index).  check_spectrum_above: every value over
+   300-830 nm finite and > lo (strict) or >= lo (p NULL: the statement's line).
+   rgb_illuminant_scale: the scale that gives an "rgb L" illuminant pbrt-v4's
+   D65 normalisation. */
+int check_unit_spectrum(Parser *P, const Param *p, Spectrum *sp);
+int unit_spectrum_param(Parser *P, Param *p, Spectrum *out, float def);
+int texture_lookup(Parser *P, const Param *p, int is_float);
+int microfacet_alphas_of(Parser *P, ParamList *pl, const char *file, int line,
+                         const char *what, const char *prefix, float *alpha_u,
+                         float *alpha_v, int *alpha_tex, int *remap_out);
+int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
+                      const char *what, float *alpha_u, float *alpha_v, int *alpha_tex,
+                      int *remap_out);
+int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
+                         const char *what, const Spectrum *sp, float lo, int strict);
+float rgb_illuminant_scale(const Spectrum *L, float scale);
+
+/* ===========================================================================
+   5. Each concept built from its parameters (the end of each concept's room)
+   =========================================================================== */
+/* Materials: m (zeroed, eta 1) of one type, from a Material or MakeNamedMaterial
+   statement at file:line; dir names the directive, what the directive and type
+   in messages.  material.c: */
+int interface_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                          const char *dir, const char *what, Material *m);
+int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                        const char *dir, const char *what, Material *m);
+int fluorescent_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                            const char *dir, const char *what, Material *m);
+int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                           const char *dir, const char *what, Material *m);
+int thindielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                               const char *dir, const char *what, Material *m);
+int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                                    const char *dir, const char *what, Material *m);
+/* conductor.c: */
+int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                          const char *dir, const char *what, Material *m);
+/* layered.c: */
+int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                              const char *dir, const char *what, Material *m);
+int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                                const char *dir, const char *what, Material *m);
+/* Textures (texture.c): T (zeroed, its kind, file and line set, no texture
+   arguments yet) of class `cls` for a Texture statement naming `name`. */
+int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *cls,
+                        Texture *T);
+/* Lights.  lights.c: an AreaLightSource of `type` (only "diffuse") into *out.
+   delta.c: LightSource "point", "spot" or "distant" into *em, in the frame of
+   the CTM.  infinite.c: LightSource "infinite" (constant or an image map) into
+   *em, which then owns em->inf.  The caller adds *em to Scene.emitters. */
+int area_light_from_params(Parser *P, const char *type, ParamList *pl, const char *file, int line,
+                           AreaLightDesc *out);
+int delta_light_from_params(Parser *P, const char *type, ParamList *pl, const char *file,
+                            int line, Emitter *em);
+int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                               Emitter *em);
+
+/* Media (medium.c): a MakeNamedMedium's medium (what: the statement, for
+   messages) into *m; the caller names it and adds it to Scene.media. */
+int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *file, int line,
+                       Medium *m);
 
 #endif

@@ -47,9 +47,10 @@
    EMISSION (pbrt-v4 DiffuseAreaLight::Create)
      Le(lambda) = scale * L(lambda) / sum_lambda ybar(lambda) L(lambda), so a
      light seen directly has luminance Y = scale; lights.c's emitter_radiance
-     does the division (per render), this file records L, scale and twosided.  For "rgb L"
-     pbrt-v4 divides by the colour space's illuminant (D65) instead of by L;
-     we emulate that by multiplying scale by  sum ybar L / sum ybar D65.
+     does the division (per render), its area_light_from_params records L, scale
+     and twosided.  For "rgb L" pbrt-v4 divides by the colour space's illuminant
+     (D65) instead of by L; we emulate that by multiplying scale by
+     sum ybar L / sum ybar D65 (rgb_illuminant_scale, parser.c).
 
    ERRORS
      Every problem gives one line "file:line: problem" in the Error and a 0
@@ -75,11 +76,6 @@
 /* ===========================================================================
    1. Growing the Scene
    =========================================================================== */
-static int oom(Parser *P, const char *file, int line)
-{
-    return fail(P, file, line, "out of memory (or more than %d elements)", MAX_ELEMENTS);
-}
-
 static int add_material(Parser *P, const Material *m, const char *file, int line)
 {
     Scene *s = P->s;
@@ -843,201 +839,17 @@ static int integrator_directive(Parser *P, const char *type, ParamList *pl, cons
    3. Directives of the world block: materials, lights, shapes
    =========================================================================== */
 
-/* A reflectance or absorptance must lie in [0, 1] at every nm, the UV extension
-   included; 1e-4 of slack absorbs the rounding of an RGB upsampling of (1,1,1),
-   and values in the slack are clamped to 1. */
-static int check_unit_spectrum(Parser *P, const Param *p, Spectrum *sp)
-{
-    int k;
-    for (k = 0; k < SPEC_N + SPEC_UV_N; k++) {
-        /* 360..830 nm first (the first error names the visible value), then 300..359 */
-        int nm = k < SPEC_N ? SPEC_MIN + k : SPEC_UV_MIN + (k - SPEC_N);
-        float *v = spec_at(sp, nm);
-        if (!(*v >= 0.0f && *v <= 1.0001f))
-            return fail(P, p->file, p->line, "\"%s %s\": value %g at %d nm outside [0,1]",
-                        param_type_names[p->type], p->name, *v, nm);
-        if (*v > 1.0f) *v = 1.0f;
-    }
-    return 1;
-}
-
-/* A reflectance-like parameter p (may be NULL: the constant def): read, and
-   checked to lie in [0, 1] (check_unit_spectrum). */
-static int unit_spectrum_param(Parser *P, Param *p, Spectrum *out, float def)
-{
-    if (!p) { spec_const(out, def); return 1; }
-    return param_spectrum(P, p, SPEC_ALBEDO, out, NULL) && check_unit_spectrum(P, p, out);
-}
-
-/* ====================================================================}
-
-   Textures (texture.c): the Texture directive
-   =========================================================================== */
-/* The texture a "texture name" parameter names, in the float or spectrum
-   namespace; -1 and an error when there is none. */
-static int texture_lookup(Parser *P, const Param *p, int is_float)
-{
-    int i;
-    if (p->n_str != 1)
-        return fail(P, p->file, p->line, "\"texture %s\": expected one texture name", p->name) - 1;
-    for (i = P->n_texnames - 1; i >= 0; i--)
-        if (P->texnames[i].is_float == is_float && !strcmp(P->texnames[i].name, p->str[0]))
-            return P->texnames[i].index;
-    for (i = 0; i < P->n_texnames; i++)
-        if (!strcmp(P->texnames[i].name, p->str[0]))
-            return fail(P, p->file, p->line, "\"texture %s\": \"%s\" is a %s texture; a %s "
-                        "one is needed here", p->name, p->str[0], is_float ? "spectrum" : "float",
-                        is_float ? "float" : "spectrum") - 1;
-    return fail(P, p->file, p->line, "\"texture %s\": no texture named \"%s\"", p->name,
-                p->str[0]) - 1;
-}
-
-/* Argument k of texture T from parameter `name`: a texture, or a constant (def
-   when absent). */
-static int texture_arg(Parser *P, ParamList *pl, Texture *T, int k, const char *name, float def)
-{
-    Param *pt = param_find(pl, PT_TEXTURE, name);
-    T->arg_tex[k] = -1;
-    if (pt) {
-        T->arg_tex[k] = texture_lookup(P, pt, T->is_float);
-        return T->arg_tex[k] >= 0;
-    }
-    if (T->is_float) {
-        if (!get_float(P, pl, name, def, &T->arg_f[k])) return 0;
-        if (!isfinite(T->arg_f[k]))
-            return fail(P, T->file, T->line, "Texture: \"float %s\" is not finite", name);
-        return 1;
-    } else {
-        Param *p = find_spectrum_param(pl, name);
-        if (!p) { spec_const(&T->arg_s[k], def); return 1; }
-        return param_spectrum(P, p, SPEC_ALBEDO, &T->arg_s[k], NULL);
-    }
-}
-
-/* The texture's frame: the inverse of the CTM at the directive (pbrt-v4's
-   textureFromRender). */
-static void texture_frame(Parser *P, Texture *T)
-{
-    int a, b;
-    for (a = 0; a < 4; a++)
-        for (b = 0; b < 4; b++) {
-            T->tex_from_world.m[a][b] = P->gs.ctm.inv[a][b];
-            T->tex_from_world.inv[a][b] = P->gs.ctm.m[a][b];
-        }
-}
-
-/* The 2-D mapping parameters (pbrt-v4 TextureMapping2D::Create). */
-static int texture_mapping(Parser *P, ParamList *pl, Texture *T)
-{
-    const char *map = NULL;
-    double v1[3] = { 1, 0, 0 }, v2[3] = { 0, 1, 0 };
-    Param *pv;
-    int k;
-    if (!get_string(P, pl, "mapping", &map)) return 0;
-    if (!get_float(P, pl, "uscale", 1.0f, &T->su) || !get_float(P, pl, "vscale", 1.0f, &T->sv) ||
-        !get_float(P, pl, "udelta", 0.0f, &T->du) || !get_float(P, pl, "vdelta", 0.0f, &T->dv))
-        return 0;
-    if (!isfinite(T->su) || !isfinite(T->sv) || !isfinite(T->du) || !isfinite(T->dv))
-        return fail(P, T->file, T->line, "Texture: uscale, vscale, udelta, vdelta must be finite");
-    if (!map || !strcmp(map, "uv")) T->map = TEXMAP_UV;
-    else if (!strcmp(map, "spherical")) T->map = TEXMAP_SPHERICAL;
-    else if (!strcmp(map, "cylindrical")) T->map = TEXMAP_CYLINDRICAL;
-    else if (!strcmp(map, "planar")) T->map = TEXMAP_PLANAR;
-    else return fail(P, T->file, T->line, "Texture: unknown mapping \"%s\" (pbrt-v4: uv, "
-                     "spherical, cylindrical, planar)", map);
-    for (k = 0; k < 2; k++) {
-        double *v = k ? v2 : v1;
-        pv = param_find(pl, PT_VECTOR3, k ? "v2" : "v1");
-        if (pv) {
-            int a;
-            if (pv->n_num != 3)
-                return fail(P, pv->file, pv->line, "\"vector3 %s\": expected 3 values", pv->name);
-            for (a = 0; a < 3; a++) {
-                if (!isfinite(pv->num[a]))
-                    return fail(P, pv->file, pv->line, "\"vector3 %s\": not finite", pv->name);
-                v[a] = pv->num[a];
-            }
-        }
-    }
-    T->vs = v3((float)v1[0], (float)v1[1], (float)v1[2]);
-    T->vt = v3((float)v2[0], (float)v2[1], (float)v2[2]);
-    texture_frame(P, T);
-    return 1;
-}
-
-/* An imagemap's image: PFM, or an .exr whose .pfm sits beside it. */
-static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
-{
-    const char *fn = NULL, *wrap = NULL, *filter = NULL, *enc = NULL;
-    char path[1024], alt[1024];
-    float scale;
-    int invert, ok;
-    Image im;
-    Error ierr;
-    FILE *f;
-    if (!get_string(P, pl, "filename", &fn) || !get_string(P, pl, "wrap", &wrap) ||
-        !get_string(P, pl, "filter", &filter) || !get_string(P, pl, "encoding", &enc) ||
-        !get_float(P, pl, "scale", 1.0f, &scale) || !get_bool(P, pl, "invert", 0, &invert))
-        return 0;
-    (void)param_find(pl, PT_FLOAT, "maxanisotropy");   /* (only for the "ewa" filter) */
-    if (!fn) return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": \"string filename\" is required", name);
-    if (!isfinite(scale)) return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": scale is not finite", name);
-    if (!wrap || !strcmp(wrap, "repeat")) T->wrap = TEXWRAP_REPEAT;
-    else if (!strcmp(wrap, "black")) T->wrap = TEXWRAP_BLACK;
-    else if (!strcmp(wrap, "clamp")) T->wrap = TEXWRAP_CLAMP;
-    else return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": unknown wrap \"%s\" (repeat, "
-                     "black, clamp)", name, wrap);
-    if (filter && strcmp(filter, "bilinear") != 0 && strcmp(filter, "point") != 0)
-        fprintf(stderr, "%s:%d: note: Texture \"imagemap\": filter \"%s\" is read as "
-                "\"bilinear\" (specnee has no MIP maps)\n", T->file, T->line, filter);
-    resolve_path(P, T->file, fn, path, sizeof path);
-    if (ends_with_ci(fn, ".exr")) {
-        snprintf(alt, sizeof alt, "%.*s.pfm", (int)strlen(path) - 4, path);
-        f = fopen(alt, "rb");
-        if (!f)
-            return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": \"%s\": EXR images are not "
-                        "in the specnee subset; convert it beside it to PFM (e.g. ImageMagick's "
-                        "`convert %s %.*s.pfm`)", name, fn, fn, (int)strlen(fn) - 4, fn);
-        fclose(f);
-        fprintf(stderr, "%s:%d: note: Texture \"imagemap\": reading %s for \"%s\"\n", T->file,
-                T->line, alt, fn);
-        snprintf(path, sizeof path, "%s", alt);
-    } else if (ends_with_ci(fn, ".png")) {
-        /* 8- and 16-bit PNG (png.c): sRGB-encoded unless "encoding" says "linear",
-           as pbrt-v4 reads them; "gamma g" is refused by name */
-        int linear = 0;
-        if (enc && !strcmp(enc, "linear")) linear = 1;
-        else if (enc && strcmp(enc, "sRGB") != 0)
-            return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": encoding \"%s\" is valid "
-                        "pbrt-v4 but not in the specnee subset (sRGB, linear)", name, enc);
-        if (!png_read(&im, path, linear, &ierr))
-            return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
-        ok = tex_set_image(T, &im, scale, invert, P->err);
-        img_free(&im);
-        return ok;
-    } else if (!ends_with_ci(fn, ".pfm")) {
-        return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": \"%s\": specnee reads image "
-                    "textures as PNG or PFM (convert others with ImageMagick's `convert`)", name, fn);
-    }
-    (void)enc;                                 /* PFM holds linear values */
-    if (!pfm_read(&im, path, &ierr))
-        return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
-    ok = tex_set_image(T, &im, scale, invert, P->err);
-    img_free(&im);
-    return ok;
-}
-
+/* ---------------------------------------------------------------------------
+   Textures: the Texture directive (texture.c builds each class)
+   --------------------------------------------------------------------------- */
 /* Texture "name" "spectrum"|"float" "class" params (pbrt-v4's Texture). */
 static int texture_directive(Parser *P, Lexer *L, const Token *t)
 {
-    static const char *const pbrt_classes[] = {
-        "bilerp", "directionmix", "ptex", NULL
-    };
     Scene *s = P->s;
     Token a[3];
     ParamList pl;
     Texture T;
-    int k, ok = 0, dim = 2;
+    int ok = 0;
     if (!P->in_world)
         return fail(P, t->file, t->line, "Scene description must be inside world block; "
                     "\"Texture\" not allowed before WorldBegin");
@@ -1062,124 +874,7 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
                   "\"float\"", a[0].text, a[1].text);
         goto done;
     }
-    if (!strcmp(a[2].text, "constant")) {
-        T.type = TEX_CONSTANT;
-        ok = texture_arg(P, &pl, &T, 0, "value", 1.0f);
-    } else if (!strcmp(a[2].text, "checkerboard")) {
-        T.type = TEX_CHECKERBOARD;
-        ok = get_int(P, &pl, "dimension", 2, &dim, NULL);
-        if (ok && dim != 2)
-            ok = fail(P, t->file, t->line, "Texture \"checkerboard\": dimension %d: the 3-D "
-                      "checkerboard is valid pbrt-v4 but not in the specnee subset", dim);
-        ok = ok && texture_mapping(P, &pl, &T) && texture_arg(P, &pl, &T, 0, "tex1", 1.0f) &&
-             texture_arg(P, &pl, &T, 1, "tex2", 0.0f);
-    } else if (!strcmp(a[2].text, "scale")) {
-        Param *ps = param_find(&pl, PT_TEXTURE, "scale");
-        T.type = TEX_SCALE;
-        ok = texture_arg(P, &pl, &T, 0, "tex", 1.0f);
-        if (ok && ps) {
-            T.scale_tex = texture_lookup(P, ps, 1);
-            ok = T.scale_tex >= 0;
-        } else if (ok) {
-            ok = get_float(P, &pl, "scale", 1.0f, &T.arg_f[1]);
-            if (ok && !isfinite(T.arg_f[1])) ok = fail(P, t->file, t->line, "Texture \"scale\": scale is not finite");
-        }
-    } else if (!strcmp(a[2].text, "mix")) {
-        Param *pa = param_find(&pl, PT_TEXTURE, "amount");
-        T.type = TEX_MIX;
-        ok = texture_arg(P, &pl, &T, 0, "tex1", 0.0f) && texture_arg(P, &pl, &T, 1, "tex2", 1.0f);
-        if (ok && pa) {
-            T.amount_tex = texture_lookup(P, pa, 1);
-            ok = T.amount_tex >= 0;
-        } else if (ok) {
-            ok = get_float(P, &pl, "amount", 0.5f, &T.amount);
-            if (ok && !isfinite(T.amount)) ok = fail(P, t->file, t->line, "Texture \"mix\": amount is not finite");
-        }
-    } else if (!strcmp(a[2].text, "imagemap")) {
-        T.type = TEX_IMAGEMAP;
-        ok = texture_mapping(P, &pl, &T) && texture_image(P, &pl, &T, a[0].text);
-    } else if (!strcmp(a[2].text, "dots")) {
-        /* pbrt-v4 DotsTexture: "outside" (0) in a dot, "inside" (1) elsewhere (sic:
-           pbrt-v4's Create passes "inside" as the constructor's outsideDot, since
-           pbrt-v3; texture.c section 4) */
-        T.type = TEX_DOTS;
-        ok = texture_mapping(P, &pl, &T) && texture_arg(P, &pl, &T, 0, "inside", 1.0f) &&
-             texture_arg(P, &pl, &T, 1, "outside", 0.0f);
-    } else if (!strcmp(a[2].text, "marble")) {
-        /* pbrt-v4 MarbleTexture (spectrum only): a 3-D texture in the frame of the
-           CTM at the directive (TextureMapping3D, which reads no parameters) */
-        T.type = TEX_MARBLE;
-        if (T.is_float) {
-            ok = fail(P, t->file, t->line, "Texture \"%s\": \"marble\" is a spectrum texture "
-                      "(pbrt-v4 has no float marble)", a[0].text);
-            goto done;
-        }
-        ok = get_int(P, &pl, "octaves", 8, &T.octaves, NULL) &&
-             get_float(P, &pl, "roughness", 0.5f, &T.omega) &&
-             get_float(P, &pl, "scale", 1.0f, &T.mscale) &&
-             get_float(P, &pl, "variation", 0.2f, &T.variation);
-        if (ok && !(isfinite(T.omega) && isfinite(T.mscale) && isfinite(T.variation)))
-            ok = fail(P, t->file, t->line, "Texture \"marble\": roughness, scale and variation "
-                      "must be finite");
-        if (ok && !(T.octaves >= 0 && T.octaves <= 64))
-            ok = fail(P, t->file, t->line, "Texture \"marble\": octaves %d must be within [0, 64]",
-                      T.octaves);
-        if (ok) {
-            texture_frame(P, &T);   /* marble */
-            ok = tex_marble_init(&T, P->err);
-        }
-    } else if (!strcmp(a[2].text, "fbm") || !strcmp(a[2].text, "wrinkled") ||
-               !strcmp(a[2].text, "windy")) {
-        /* pbrt-v4 FBmTexture, WrinkledTexture, WindyTexture (float only): 3-D noise
-           in the frame of the CTM at the directive (texture.c section 4) */
-        T.type = a[2].text[0] == 'f' ? TEX_FBM : a[2].text[1] == 'r' ? TEX_WRINKLED : TEX_WINDY;
-        if (!T.is_float) {
-            ok = fail(P, t->file, t->line, "Texture \"%s\": \"%s\" is a float texture "
-                      "(pbrt-v4 has no spectrum %s)", a[0].text, a[2].text, a[2].text);
-            goto done;
-        }
-        ok = 1;
-        if (T.type != TEX_WINDY) {
-            ok = get_int(P, &pl, "octaves", 8, &T.octaves, NULL) &&
-                 get_float(P, &pl, "roughness", 0.5f, &T.omega);
-            if (ok && !isfinite(T.omega))
-                ok = fail(P, t->file, t->line, "Texture \"%s\": roughness must be finite", a[2].text);
-            if (ok && !(T.octaves >= 0 && T.octaves <= 64))
-                ok = fail(P, t->file, t->line, "Texture \"%s\": octaves %d must be within [0, 64]",
-                          a[2].text, T.octaves);
-        }
-        if (ok) texture_frame(P, &T);
-    } else {
-        for (k = 0; pbrt_classes[k]; k++)
-            if (!strcmp(a[2].text, pbrt_classes[k])) break;
-        ok = fail(P, t->file, t->line, pbrt_classes[k] ? "Texture \"%s\": class \"%s\" is valid "
-                  "pbrt-v4 but not in the specnee subset" : "Texture \"%s\": unknown class \"%s\"",
-                  a[0].text, a[2].text);
-    }
-    if (ok) {
-        static const char *const reads[] = {
-            /* TEX_CONSTANT */ "spectrum value, rgb value, float value, texture value",
-            /* TEX_CHECKERBOARD */ "integer dimension, string mapping, float uscale, float vscale, "
-                "float udelta, float vdelta, vector3 v1, vector3 v2, spectrum tex1, rgb tex1, "
-                "float tex1, texture tex1, spectrum tex2, rgb tex2, float tex2, texture tex2",
-            /* TEX_SCALE */ "spectrum tex, rgb tex, float tex, texture tex, float scale, texture scale",
-            /* TEX_MIX */ "spectrum tex1, rgb tex1, float tex1, texture tex1, spectrum tex2, rgb tex2, "
-                "float tex2, texture tex2, float amount, texture amount",
-            /* TEX_IMAGEMAP */ "string filename, string wrap, string filter, string encoding, "
-                "float scale, bool invert, float maxanisotropy, string mapping, float uscale, "
-                "float vscale, float udelta, float vdelta, vector3 v1, vector3 v2",
-            /* TEX_DOTS */ "string mapping, float uscale, float vscale, float udelta, float vdelta, "
-                "vector3 v1, vector3 v2, spectrum inside, rgb inside, float inside, texture inside, "
-                "spectrum outside, rgb outside, float outside, texture outside",
-            /* TEX_MARBLE */ "integer octaves, float roughness, float scale, float variation",
-            /* TEX_FBM */ "integer octaves, float roughness",
-            /* TEX_WRINKLED */ "integer octaves, float roughness",
-            /* TEX_WINDY */ ""
-        };
-        char what[96];
-        snprintf(what, sizeof what, "Texture \"%s\"", a[2].text);
-        ok = params_check_unused(P, &pl, what, reads[T.type], NULL);
-    }
+    ok = texture_from_params(P, &pl, a[0].text, a[2].text, &T);
     if (ok) {
         if (!grow((void **)&s->textures, &P->cap_textures, s->n_textures + 1, sizeof(Texture)) ||
             !grow((void **)&P->texnames, &P->cap_texnames, P->n_texnames + 1, sizeof(NamedTexture))) {
@@ -1199,515 +894,35 @@ done:
     return ok;
 }
 
-/* One roughness parameter: a float texture (*tex its index, *have 1), a float
-   (*v, *have 1), or absent (*have 0, *tex -1). */
-static int rough_param(Parser *P, ParamList *pl, const char *name, int *have, float *v, int *tex)
-{
-    Param *pt = param_find(pl, PT_TEXTURE, name);
-    *tex = -1;
-    if (pt) {
-        *have = 1;
-        *tex = texture_lookup(P, pt, 1);
-        return *tex >= 0;
-    }
-    *have = param_find(pl, PT_FLOAT, name) != NULL;
-    return get_float(P, pl, name, 0, v);
-}
+/* The material types and the rooms that build them from their parameters
+   (pbrt-v4's per-type Create): material.c, conductor.c, layered.c. */
+static const struct {
+    const char *type;
+    int (*build)(Parser *P, ParamList *pl, const char *file, int line, const char *dir,
+                 const char *what, Material *m);
+} material_types[] = {
+    { "interface", interface_from_params }, { "", interface_from_params },
+    { "none", interface_from_params },      /* pbrt-v4's deprecated spellings */
+    { "diffuse", diffuse_from_params }, { "fluorescent", fluorescent_from_params },
+    { "dielectric", dielectric_from_params }, { "conductor", conductor_from_params },
+    { "coateddiffuse", coateddiffuse_from_params },
+    { "coatedconductor", coatedconductor_from_params },
+    { "thindielectric", thindielectric_from_params },
+    { "diffusetransmission", diffusetransmission_from_params }
+};
 
-/* pbrt-v4's roughness parameters of a microfacet material: u/vroughness default
-   to "roughness", which defaults to 0; remaproughness (default true) maps them to
-   alpha = sqrt(roughness) (TrowbridgeReitzDistribution::RoughnessToAlpha).  Each
-   may be a float texture: then *alpha_tex = 1 + its index, the alphas are 0, and
-   material.c's mat_point reads the texture at each hit (the same texture for u
-   and v; anything else with a texture is anisotropic, refused by name).  prefix
-   names a layer's parameters ("interface.", "conductor." of coatedconductor). */
-static int microfacet_alphas_of(Parser *P, ParamList *pl, const char *file, int line,
-                                const char *what, const char *prefix, float *alpha_u,
-                                float *alpha_v, int *alpha_tex, int *remap_out)
-{
-    float u = 0, v = 0, r = 0;
-    int remap, have_u, have_v, have_r, tu, tv, tr;
-    char nu[48], nv[48], nr[48];
-    snprintf(nu, sizeof nu, "%suroughness", prefix);
-    snprintf(nv, sizeof nv, "%svroughness", prefix);
-    snprintf(nr, sizeof nr, "%sroughness", prefix);
-    if (!rough_param(P, pl, nu, &have_u, &u, &tu) || !rough_param(P, pl, nv, &have_v, &v, &tv))
-        return 0;
-    if (!have_u || !have_v) {
-        if (!rough_param(P, pl, nr, &have_r, &r, &tr)) return 0;
-        if (!have_u) { u = r; tu = tr; }
-        if (!have_v) { v = r; tv = tr; }
-    }
-    if (!get_bool(P, pl, "remaproughness", 1, &remap)) return 0;
-    *remap_out = remap;
-    *alpha_tex = 0;
-    if (tu >= 0 || tv >= 0) {
-        if (tu != tv)
-            return fail(P, file, line, "%s: u and v roughness from different sources (a texture "
-                        "and a number, or two textures) is anisotropic roughness, valid pbrt-v4 "
-                        "but not in the specnee subset", what);
-        *alpha_tex = tu + 1;
-        *alpha_u = *alpha_v = 0.0f;
-        return 1;
-    }
-    if (!(u >= 0.0f && u <= 1e4f) || !(v >= 0.0f && v <= 1e4f))
-        return fail(P, file, line, "%s: %s (%g, %g) must be within [0, 1e4]", what, nr, u, v);
-    *alpha_u = remap ? sqrtf(u) : u;
-    *alpha_v = remap ? sqrtf(v) : v;
-    return 1;
-}
-
-/* The same for the unprefixed names ("roughness", "uroughness", "vroughness"). */
-static int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
-                             const char *what, float *alpha_u, float *alpha_v, int *alpha_tex,
-                             int *remap_out)
-{
-    return microfacet_alphas_of(P, pl, file, line, what, "", alpha_u, alpha_v, alpha_tex,
-                                remap_out);
-}
-
-/* Every value of a spectrum over 300-830 nm must satisfy lo < v (strict) or
-   lo <= v (strict = 0), and be finite: else "file:line: ..." naming the first
-   wavelength that fails.  p may be NULL (a default spectrum: the directive's line). */
-static int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
-                                const char *what, const Spectrum *sp, float lo, int strict)
-{
-    int nm;
-    for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
-        float v = spec_get(sp, nm);
-        if (!(strict ? v > lo : v >= lo) || !(v < 1e30f))
-            return fail(P, p ? p->file : file, p ? p->line : line, "%s: value %g at %d nm "
-                        "(need a finite value %s %g)", what, v, nm, strict ? ">" : ">=", lo);
-    }
-    return 1;
-}
-
-/* The slab between a layered material's coat and base (coateddiffuse,
-   coatedconductor; layered.c): thickness, HG g, the walks' maxdepth and nsamples,
-   each checked and reported at its own parameter's line, then stored in m. */
-static int layer_slab(Parser *P, const char *what, const char *file, int line, float th,
-                      const Param *pth, float g, const Param *pg, int md, const Param *pd,
-                      int ns, const Param *pn, Material *m)
-{
-    if (!(th > 0.0f && th < 1e30f))
-        return fail(P, pth ? pth->file : file, pth ? pth->line : line,
-                    "%s: \"float thickness\" %g must be finite and > 0", what, th);
-    if (!(g > -1.0f && g < 1.0f))
-        return fail(P, pg ? pg->file : file, pg ? pg->line : line,
-                    "%s: \"float g\" %g must be within (-1, 1)", what, g);
-    if (md < 1)
-        return fail(P, pd ? pd->file : file, pd ? pd->line : line,
-                    "%s: \"integer maxdepth\" %d must be >= 1", what, md);
-    if (ns < 1)
-        return fail(P, pn ? pn->file : file, pn ? pn->line : line,
-                    "%s: \"integer nsamples\" %d must be >= 1", what, ns);
-    m->thickness = th;
-    m->hg_g = g;
-    m->maxdepth = md;
-    m->nsamples = ns;
-    return 1;
-}
-
-/* The slab's single-scattering albedo (0 by default), within [0, 1] at every nm. */
-static int layer_albedo(Parser *P, Param *pa, const char *what, const char *file, int line,
-                        Material *m)
-{
-    int nm;
-    if (!unit_spectrum_param(P, pa, &m->albedo, 0.0f)) return 0;
-    for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
-        if (!(spec_get(&m->albedo, nm) >= 0.0f && spec_get(&m->albedo, nm) <= 1.0f))
-            return fail(P, pa ? pa->file : file, pa ? pa->line : line,
-                        "%s: \"albedo\" %g at %d nm must be within [0, 1]", what,
-                        spec_get(&m->albedo, nm), nm);
-    return 1;
-}
-
+/* Material m of `type` (a Material or MakeNamedMaterial directive `dir`). */
 static int material_from_params(Parser *P, const char *type, ParamList *pl, const char *file,
                                 int line, Material *m, const char *dir)
 {
     char what[192];
+    int k;
     memset(m, 0, sizeof *m);
     spec_const(&m->eta, 1.0f);
     snprintf(what, sizeof what, "%s \"%s\"", dir, type);
-    if (!strcmp(type, "interface") || !type[0] || !strcmp(type, "none")) {
-        /* pbrt-v4 (materials.cpp): no material, only the boundary between two media;
-           "" and "none" are its deprecated spellings.  Rays cross it (render.c) */
-        m->type = MAT_INTERFACE;
-        return params_check_unused(P, pl, what, "", NULL);
-    }
-    if (!strcmp(type, "diffuse")) {
-        Param *p = find_spectrum_param(pl, "reflectance");
-        Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
-        m->type = MAT_DIFFUSE;
-        if (pt) {
-            /* "texture reflectance": evaluated at each hit (texture.c), clamped to [0, 1] */
-            int ti = texture_lookup(P, pt, 0);
-            if (ti < 0) return 0;
-            m->reflectance_tex = ti + 1;
-            spec_const(&m->reflectance, 0.5f);        /* (not read) */
-        } else if (p) {
-            if (!param_spectrum(P, p, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
-            /* a reflectance must lie in [0,1]; 1e-4 of slack absorbs the rounding of
-               an RGB upsampling of (1,1,1) */
-            if (!check_unit_spectrum(P, p, &m->reflectance)) return 0;
-        } else {
-            spec_const(&m->reflectance, 0.5f);        /* pbrt-v4's default */
-        }
-        return params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
-                                   "texture reflectance", "displacement normalmap");
-    }
-    if (!strcmp(type, "fluorescent")) {
-        /* specnee extension (docs/FLUORESCENCE.md, docs/conventions.md section 6):
-           a diffuse fluorescent layer, F2 */
-        Param *pr = find_spectrum_param(pl, "reflectance");
-        Param *pa = find_spectrum_param(pl, "excitation"), *pe = find_spectrum_param(pl, "emission");
-        Param *pq = param_find(pl, PT_FLOAT, "quantumyield");
-        int nm;
-        m->type = MAT_FLUORESCENT;
-        if (!pa || !pe)
-            return fail(P, file, line, "%s \"fluorescent\": needs \"spectrum excitation\" "
-                        "and \"spectrum emission\"", dir);
-        if (!unit_spectrum_param(P, pr, &m->reflectance, 0.5f)) return 0;
-        if (!param_spectrum(P, pa, SPEC_UNBOUNDED, &m->excitation, NULL)) return 0;
-        if (!check_unit_spectrum(P, pa, &m->excitation)) return 0;
-        if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->emission, NULL)) return 0;
-        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
-            if (!(spec_get(&m->emission, nm) >= 0.0f))
-                return fail(P, pe->file, pe->line, "\"spectrum emission\": negative (%g) at %d nm",
-                            spec_get(&m->emission, nm), nm);
-        if (!get_float(P, pl, "quantumyield", 1.0f, &m->qyield)) return 0;
-        if (!(m->qyield >= 0.0f && m->qyield <= 1.0f))
-            return fail(P, pq ? pq->file : file, pq ? pq->line : line,
-                        "\"float quantumyield\": %g is outside [0,1] (photons re-emitted per "
-                        "photon absorbed)", m->qyield);
-        if (!fluor_prepare(m))
-            return fail(P, pe->file, pe->line, "\"spectrum emission\": zero everywhere in %d-%d nm",
-                        SPEC_UV_MIN, SPEC_MAX);
-        return params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
-                                   "spectrum excitation, spectrum emission, float quantumyield", "");
-    }
-    if (!strcmp(type, "dielectric")) {
-        Param *pf = param_find(pl, PT_FLOAT, "eta");
-        Param *pa = param_find(pl, PT_FLOAT, "cauchyA"), *pb = param_find(pl, PT_FLOAT, "cauchyB");
-        float u, v, r, A = 0, B = 0;
-        int remap, i, have_u, have_v;
-        m->type = MAT_DIELECTRIC;
-        if ((pa != NULL) != (pb != NULL))
-            return fail(P, file, line, "%s \"dielectric\": \"float cauchyA\" and "
-                        "\"float cauchyB\" must be given together", dir);
-        if (pa) {
-            /* specnee extension: n(lambda) = A + B / lambda^2, lambda in um */
-            Param *ps = find_spectrum_param(pl, "eta");
-            if (pf || ps)
-                return fail(P, file, line, "%s \"dielectric\": give either eta or "
-                            "cauchyA/cauchyB, not both", dir);
-            if (!get_float(P, pl, "cauchyA", 0, &A) || !get_float(P, pl, "cauchyB", 0, &B))
-                return 0;
-            if (!(A > 0.0f) || !(B >= 0.0f) || !(B < 1.0f))
-                return fail(P, file, line, "%s \"dielectric\": need cauchyA > 0 and "
-                            "0 <= cauchyB < 1 um^2", dir);
-            for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++) *spec_at(&m->eta, i) = cauchy_eta(A, B, (float)i);
-            m->cauchy_a = A;
-            m->cauchy_b = B;
-        } else if (pf) {
-            /* pbrt-v4: a float eta is a constant index (no dispersion) */
-            float eta;
-            if (!get_float(P, pl, "eta", 1.5f, &eta)) return 0;
-            if (!(eta > 0.0f))
-                return fail(P, pf->file, pf->line, "\"float eta\": must be > 0");
-            spec_const(&m->eta, eta);
-        } else {
-            Param *ps = find_spectrum_param(pl, "eta");
-            if (ps) {
-                if (!param_spectrum(P, ps, SPEC_UNBOUNDED, &m->eta, NULL)) return 0;
-                for (i = 0; i < SPEC_N; i++) {
-                    if (!(m->eta.v[i] >= 0.0f && m->eta.v[i] < 100.0f))
-                        return fail(P, ps->file, ps->line, "\"spectrum eta\": value %g at %d "
-                                    "nm is not an index of refraction", m->eta.v[i], SPEC_MIN + i);
-                    if (m->eta.v[i] == 0.0f) m->eta.v[i] = 1.0f;   /* pbrt: eta 0 means 1 */
-                }
-                for (i = 0; i < SPEC_UV_N; i++) {          /* the UV extension, same rule */
-                    if (!(m->eta.uv[i] >= 0.0f && m->eta.uv[i] < 100.0f))
-                        return fail(P, ps->file, ps->line, "\"spectrum eta\": value %g at %d "
-                                    "nm is not an index of refraction", m->eta.uv[i], SPEC_UV_MIN + i);
-                    if (m->eta.uv[i] == 0.0f) m->eta.uv[i] = 1.0f;
-                }
-            } else {
-                spec_const(&m->eta, 1.5f);            /* pbrt-v4's default */
-            }
-        }
-        /* pbrt-v4: u/vroughness default to "roughness", which defaults to 0 */
-        have_u = param_find(pl, PT_FLOAT, "uroughness") != NULL;
-        have_v = param_find(pl, PT_FLOAT, "vroughness") != NULL;
-        if (!get_float(P, pl, "uroughness", 0, &u) || !get_float(P, pl, "vroughness", 0, &v))
-            return 0;
-        if (!have_u || !have_v) {
-            if (!get_float(P, pl, "roughness", 0, &r)) return 0;
-            if (!have_u) u = r;
-            if (!have_v) v = r;
-        }
-        if (!get_bool(P, pl, "remaproughness", 1, &remap)) return 0;
-        if (!params_check_unused(P, pl, what, "float eta, spectrum eta, float roughness, "
-                                 "float uroughness, float vroughness, bool remaproughness, "
-                                 "float cauchyA, float cauchyB", "displacement normalmap"))
-            return 0;
-        if (u != v)
-            return fail(P, file, line, "%s \"dielectric\": anisotropic roughness (%g, %g) "
-                        "is valid pbrt-v4 but not in the specnee subset", dir, u, v);
-        if (!(u >= 0.0f && u <= 1e4f))
-            return fail(P, file, line, "%s \"dielectric\": roughness must be >= 0", dir);
-        /* pbrt-v4 TrowbridgeReitzDistribution::RoughnessToAlpha: alpha = sqrt(roughness) */
-        m->alpha = remap ? sqrtf(u) : u;
-        m->dispersive = !spec_is_constant(&m->eta);
-        return 1;
-    }
-    if (!strcmp(type, "conductor")) {
-        /* pbrt-v4 ConductorMaterial (conductor.c): eta and k, or a reflectance that
-           stands for them; Cu by default */
-        Param *pe = find_spectrum_param(pl, "eta"), *pk = find_spectrum_param(pl, "k");
-        Param *pr = find_spectrum_param(pl, "reflectance");
-        Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
-        int nm;
-        m->type = MAT_CONDUCTOR;
-        if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
-                               &m->remap))
-            return 0;
-        if (!params_check_unused(P, pl, what, "spectrum eta, spectrum k, spectrum reflectance, "
-                                 "rgb reflectance, texture reflectance, float roughness, "
-                                 "float uroughness, float vroughness, texture roughness, "
-                                 "texture uroughness, texture vroughness, bool remaproughness",
-                                 "displacement normalmap"))
-            return 0;
-        if ((pr || pt) && (pe || pk))
-            return fail(P, file, line, "%s: give either \"reflectance\" or \"eta\" and \"k\", "
-                        "not both (pbrt-v4 refuses it too)", what);
-        if (pt) {
-            /* "texture reflectance": r read at each hit (material.c mat_point), eta = 1
-               and k from r there (conductor.c) */
-            int ti = texture_lookup(P, pt, 0);
-            if (ti < 0) return 0;
-            m->reflectance_tex = ti + 1;
-            spec_const(&m->eta, 1.0f);
-            spec_const(&m->k, 0.0f);                  /* (not read) */
-        } else if (pr) {
-            /* pbrt-v4: r clamped to [0, 0.9999], eta = 1, k = 2 sqrt(r) / sqrt(1 - r),
-               which makes the normal-incidence reflectance ((eta-1)^2 + k^2) /
-               ((eta+1)^2 + k^2) = k^2 / (4 + k^2) exactly r */
-            if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
-            if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
-            spec_const(&m->eta, 1.0f);
-            for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
-                double r = spec_get(&m->reflectance, nm);
-                if (r > 0.9999) r = 0.9999;
-                *spec_at(&m->k, nm) = conductor_k_of_reflectance(r);
-            }
-        } else {
-            if (pe) { if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->eta, NULL)) return 0; }
-            else spec_named(&m->eta, "metal-Cu-eta");
-            if (pk) { if (!param_spectrum(P, pk, SPEC_UNBOUNDED, &m->k, NULL)) return 0; }
-            else spec_named(&m->k, "metal-Cu-k");
-            if (!check_spectrum_above(P, pe, file, line, "\"spectrum eta\" of a conductor",
-                                      &m->eta, 0.0f, 1) ||
-                !check_spectrum_above(P, pk, file, line, "\"spectrum k\" of a conductor",
-                                      &m->k, 0.0f, 0))
-                return 0;
-        }
-        if (m->alpha != m->alpha_t)
-            return fail(P, file, line, "%s: anisotropic roughness (u %g, v %g after the remap) "
-                        "is valid pbrt-v4 but not in the specnee subset (its axes follow the "
-                        "surface's dp/du, which specnee does not have)", what, m->alpha,
-                        m->alpha_t);
-        return 1;
-    }
-    if (!strcmp(type, "coateddiffuse")) {
-        /* pbrt-v4 CoatedDiffuseMaterial (layered.c): a dielectric coat (float eta,
-           roughness) over a Lambertian base (reflectance 0.5), a slab of thickness
-           0.01 between them with a medium of albedo 0 and HG g 0; maxdepth 10 and
-           nsamples 1 random walks */
-        Param *pr = find_spectrum_param(pl, "reflectance"), *pa = find_spectrum_param(pl, "albedo");
-        Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
-        Param *pe = find_spectrum_param(pl, "eta"), *pf = param_find(pl, PT_FLOAT, "eta");
-        Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
-        Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
-        float eta, th, g;
-        int md, ns, given;
-        m->type = MAT_COATED_DIFFUSE;
-        if (pe && !pf)
-            return fail(P, pe->file, pe->line, "%s: a spectral \"eta\" is valid pbrt-v4 (it "
-                        "terminates the secondary wavelengths) but not in the specnee subset: "
-                        "give \"float eta\"", what);
-        if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
-                               &m->remap))
-            return 0;
-        if (pt) {
-            /* "texture reflectance": the base's R read at each hit (mat_point) */
-            int ti = texture_lookup(P, pt, 0);
-            if (ti < 0) return 0;
-            m->reflectance_tex = ti + 1;
-        }
-        if (!get_float(P, pl, "eta", 1.5f, &eta) || !get_float(P, pl, "thickness", 0.01f, &th) ||
-            !get_float(P, pl, "g", 0.0f, &g) || !get_int(P, pl, "maxdepth", 10, &md, &given) ||
-            !get_int(P, pl, "nsamples", 1, &ns, &given))
-            return 0;
-        if (!params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
-                                 "texture reflectance, float eta, float roughness, "
-                                 "float uroughness, float vroughness, texture roughness, "
-                                 "texture uroughness, texture vroughness, "
-                                 "bool remaproughness, float thickness, spectrum albedo, "
-                                 "rgb albedo, float g, integer maxdepth, integer nsamples",
-                                 "displacement normalmap"))
-            return 0;
-        if (m->alpha != m->alpha_t)
-            return fail(P, file, line, "%s: anisotropic roughness (u %g, v %g after the remap) "
-                        "is valid pbrt-v4 but not in the specnee subset", what, m->alpha, m->alpha_t);
-        if (!(eta > 0.0f && eta < 100.0f))
-            return fail(P, pf ? pf->file : file, pf ? pf->line : line,
-                        "%s: \"float eta\" %g is not an index of refraction", what, eta);
-        spec_const(&m->eta, eta);
-        if (!layer_slab(P, what, file, line, th, pth, g, pg, md, pd, ns, pn, m)) return 0;
-        if (!unit_spectrum_param(P, pt ? NULL : pr, &m->reflectance, 0.5f)) return 0;
-        if (!layer_albedo(P, pa, what, file, line, m)) return 0;
-        return 1;
-    }
-    if (!strcmp(type, "coatedconductor")) {
-        /* pbrt-v4 CoatedConductorMaterial (layered.c section 5): a dielectric coat
-           ("interface." eta 1.5, roughness 0) over a conductor ("conductor." eta and
-           k, Cu by default, or a "reflectance"; roughness 0), a slab of thickness
-           0.01 with a medium of albedo 0 and HG g 0; maxdepth 10, nsamples 1 */
-        Param *pe = find_spectrum_param(pl, "conductor.eta"), *pk = find_spectrum_param(pl, "conductor.k");
-        Param *pr = find_spectrum_param(pl, "reflectance"), *pa = find_spectrum_param(pl, "albedo");
-        Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
-        Param *pie = find_spectrum_param(pl, "interface.eta");
-        Param *pf = param_find(pl, PT_FLOAT, "interface.eta");
-        Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
-        Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
-        float eta, th, g, cat;
-        int md, ns, given, nm, remap2;
-        m->type = MAT_COATED_CONDUCTOR;
-        if (pie && !pf)
-            return fail(P, pie->file, pie->line, "%s: a spectral \"interface.eta\" is valid "
-                        "pbrt-v4 (it terminates the secondary wavelengths) but not in the specnee "
-                        "subset: give \"float interface.eta\"", what);
-        if (!microfacet_alphas_of(P, pl, file, line, what, "interface.", &m->alpha, &m->alpha_t,
-                                  &m->alpha_tex, &m->remap) ||
-            !microfacet_alphas_of(P, pl, file, line, what, "conductor.", &m->cond_alpha, &cat,
-                                  &m->cond_alpha_tex, &remap2))
-            return 0;
-        if (!get_float(P, pl, "interface.eta", 1.5f, &eta) ||
-            !get_float(P, pl, "thickness", 0.01f, &th) || !get_float(P, pl, "g", 0.0f, &g) ||
-            !get_int(P, pl, "maxdepth", 10, &md, &given) || !get_int(P, pl, "nsamples", 1, &ns, &given))
-            return 0;
-        if (!params_check_unused(P, pl, what, "float interface.eta, float interface.roughness, "
-                                 "float interface.uroughness, float interface.vroughness, "
-                                 "texture interface.roughness, texture interface.uroughness, "
-                                 "texture interface.vroughness, spectrum conductor.eta, "
-                                 "spectrum conductor.k, spectrum reflectance, rgb reflectance, "
-                                 "texture reflectance, float conductor.roughness, "
-                                 "float conductor.uroughness, float conductor.vroughness, "
-                                 "texture conductor.roughness, texture conductor.uroughness, "
-                                 "texture conductor.vroughness, bool remaproughness, "
-                                 "float thickness, spectrum albedo, rgb albedo, float g, "
-                                 "integer maxdepth, integer nsamples", "displacement normalmap"))
-            return 0;
-        if (m->alpha != m->alpha_t || m->cond_alpha != cat)
-            return fail(P, file, line, "%s: anisotropic roughness (interface u %g v %g, conductor "
-                        "u %g v %g after the remap) is valid pbrt-v4 but not in the specnee subset",
-                        what, m->alpha, m->alpha_t, m->cond_alpha, cat);
-        if ((pr || pt) && (pe || pk))
-            return fail(P, file, line, "%s: give either \"reflectance\" or \"conductor.eta\" and "
-                        "\"conductor.k\", not both (pbrt-v4 refuses it too)", what);
-        if (!(eta > 0.0f && eta < 100.0f))
-            return fail(P, pf ? pf->file : file, pf ? pf->line : line,
-                        "%s: \"float interface.eta\" %g is not an index of refraction", what, eta);
-        spec_const(&m->eta, eta);
-        if (!layer_slab(P, what, file, line, th, pth, g, pg, md, pd, ns, pn, m)) return 0;
-        if (!layer_albedo(P, pa, what, file, line, m)) return 0;
-        if (pt) {
-            /* "texture reflectance": r read at each hit (mat_point), n and k from it
-               there (layered.c layer_init) */
-            int ti = texture_lookup(P, pt, 0);
-            if (ti < 0) return 0;
-            m->reflectance_tex = ti + 1;
-            spec_const(&m->cond_eta, 1.0f);
-            spec_const(&m->k, 0.0f);                  /* (not read) */
-        } else if (pr) {
-            /* as the conductor's: r clamped to [0, 0.9999], n = 1, k = 2 sqrt(r) / sqrt(1 - r) */
-            if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
-            if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
-            spec_const(&m->cond_eta, 1.0f);
-            for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
-                double r = spec_get(&m->reflectance, nm);
-                if (r > 0.9999) r = 0.9999;
-                *spec_at(&m->k, nm) = conductor_k_of_reflectance(r);
-            }
-        } else {
-            if (pe) { if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->cond_eta, NULL)) return 0; }
-            else spec_named(&m->cond_eta, "metal-Cu-eta");
-            if (pk) { if (!param_spectrum(P, pk, SPEC_UNBOUNDED, &m->k, NULL)) return 0; }
-            else spec_named(&m->k, "metal-Cu-k");
-            if (!check_spectrum_above(P, pe, file, line, "\"spectrum conductor.eta\" of a "
-                                      "coatedconductor", &m->cond_eta, 0.0f, 1) ||
-                !check_spectrum_above(P, pk, file, line, "\"spectrum conductor.k\" of a "
-                                      "coatedconductor", &m->k, 0.0f, 0))
-                return 0;
-        }
-        return 1;
-    }
-    if (!strcmp(type, "thindielectric")) {
-        /* pbrt-v4 ThinDielectricMaterial (material.c): "float eta" or "spectrum eta",
-           1.5 by default; no roughness */
-        Param *pf = param_find(pl, PT_FLOAT, "eta"), *ps = find_spectrum_param(pl, "eta");
-        m->type = MAT_THIN_DIELECTRIC;
-        if (!params_check_unused(P, pl, what, "float eta, spectrum eta", "displacement normalmap"))
-            return 0;
-        if (pf) {
-            float eta;
-            if (!get_float(P, pl, "eta", 1.5f, &eta)) return 0;
-            spec_const(&m->eta, eta);
-        } else if (ps) {
-            if (!param_spectrum(P, ps, SPEC_UNBOUNDED, &m->eta, NULL)) return 0;
-        } else {
-            spec_const(&m->eta, 1.5f);                /* pbrt-v4's default */
-        }
-        /* pbrt-v4 reads an eta of 0 as 1 (no interface); negative is meaningless */
-        if (!check_spectrum_above(P, pf ? pf : ps, file, line, "\"eta\" of a thindielectric",
-                                  &m->eta, 0.0f, 0))
-            return 0;
-        {
-            int nm;
-            for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
-                if (spec_get(&m->eta, nm) == 0.0f) *spec_at(&m->eta, nm) = 1.0f;
-        }
-        return 1;
-    }
-    if (!strcmp(type, "diffusetransmission")) {
-        /* pbrt-v4 DiffuseTransmissionMaterial (material.c): R and T (0.25 each by
-           default), both times "scale" and clamped to [0, 1] */
-        Param *pr = find_spectrum_param(pl, "reflectance"), *pt = find_spectrum_param(pl, "transmittance");
-        Param *psc = param_find(pl, PT_FLOAT, "scale");
-        float scale, maxr = 0.0f, maxt = 0.0f;
-        int nm;
-        m->type = MAT_DIFFUSE_TRANSMISSION;
-        if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
-        if (!params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
-                                 "spectrum transmittance, rgb transmittance, float scale",
-                                 "displacement normalmap"))
-            return 0;
-        if (!unit_spectrum_param(P, pr, &m->reflectance, 0.25f)) return 0;
-        if (!unit_spectrum_param(P, pt, &m->transmittance, 0.25f)) return 0;
-        if (!(scale >= 0.0f))
-            return fail(P, psc ? psc->file : file, psc ? psc->line : line,
-                        "\"float scale\": %g must be >= 0", scale);
-        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
-            float *r = spec_at(&m->reflectance, nm), *t = spec_at(&m->transmittance, nm);
-            *r = fminf(1.0f, scale * *r);
-            *t = fminf(1.0f, scale * *t);
-            if (*r > maxr) maxr = *r;
-            if (*t > maxt) maxt = *t;
-        }
-        m->p_reflect = maxr + maxt > 0.0f ? maxr / (maxr + maxt) : 0.5f;
-        return 1;
-    }
+    for (k = 0; k < (int)(sizeof material_types / sizeof material_types[0]); k++)
+        if (!strcmp(type, material_types[k].type))
+            return material_types[k].build(P, pl, file, line, dir, what, m);
     {
         static const char *const pbrt_types[] = {
             "hair", "measured", "mix", "subsurface", NULL
@@ -1723,73 +938,10 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
     }
 }
 
-/* pbrt-v4 normalises an RGB illuminant by its colour space's illuminant:
-   Le = scale * L / sum ybar D65.  lights.c divides by sum ybar L, so every light
-   with an rgb spectrum gets scale * sum ybar L / sum ybar D65 (area, infinite
-   and delta lights alike). */
-static float rgb_illuminant_scale(const Spectrum *L, float scale)
-{
-    Spectrum d65;
-    double xyz_l[3], xyz_d[3];
-    if (!spec_named(&d65, "stdillum-D65")) return scale;
-    spec_to_xyz(L, (float)SPEC_MIN, (float)SPEC_MAX, xyz_l);
-    spec_to_xyz(&d65, (float)SPEC_MIN, (float)SPEC_MAX, xyz_d);
-    return xyz_d[1] > 0.0 ? (float)(scale * (xyz_l[1] / xyz_d[1])) : scale;
-}
-
 static int area_light_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     AreaLightDesc al;
-    Param *p;
-    int rgb_illum = 0;
-    if (strcmp(type, "diffuse") != 0)
-        return fail(P, file, line, "AreaLightSource \"%s\": unknown area light type "
-                    "(pbrt-v4 has only \"diffuse\")", type);
-    memset(&al, 0, sizeof al);
-    p = find_spectrum_param(pl, "L");
-    if (p) {
-        if (!param_spectrum(P, p, SPEC_ILLUMINANT, &al.L, &rgb_illum)) return 0;
-    } else if (!spec_named(&al.L, "stdillum-D65")) {  /* the colour space's illuminant */
-        return fail(P, file, line, "AreaLightSource: the built-in spectrum stdillum-D65 is missing");
-    }
-    if (!get_float(P, pl, "scale", 1.0f, &al.scale)) return 0;
-    if (!get_bool(P, pl, "twosided", 0, &al.twosided)) return 0;
-    if (!params_check_unused(P, pl, "AreaLightSource \"diffuse\"",
-                             "spectrum L, rgb L, blackbody L, float scale, bool twosided",
-                             "power filename alpha"))
-        return 0;
-    if (!(al.scale >= 0.0f))
-        return fail(P, file, line, "AreaLightSource: \"float scale\" must be >= 0");
-    {
-        int i;
-        for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
-            if (!(spec_get(&al.L, i) >= 0.0f))
-                return fail(P, p ? p->file : file, p ? p->line : line,
-                            "AreaLightSource: L is negative at %d nm", i);
-    }
-    {
-        /* A spectrum with no luminance in 400-700 nm (an ultraviolet lamp) cannot be
-           normalised to Y = scale: lights.c reads it as absolute spectral radiance
-           times scale (docs/conventions.md section 4, docs/FLUORESCENCE.md section 6). */
-        double vis = 0.0, any = 0.0;
-        int nm;
-        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
-            float xyz[3];
-            any += spec_get(&al.L, nm);
-            if (nm < (int)LAMBDA_LO || nm > (int)LAMBDA_HI) continue;
-            cie_xyz((float)nm, xyz);
-            vis += (double)xyz[1] * spec_get(&al.L, nm);
-        }
-        if (!(any > 0.0))
-            return fail(P, p ? p->file : file, p ? p->line : line,
-                        "AreaLightSource: spectrum L is zero everywhere in %d-%d nm",
-                        SPEC_UV_MIN, SPEC_MAX);
-        if (!(vis > 0.0))
-            fprintf(stderr, "%s:%d: note: AreaLightSource: L has no luminance in 400-700 nm; "
-                    "read as absolute spectral radiance times scale (docs/conventions.md)\n",
-                    p ? p->file : file, p ? p->line : line);
-    }
-    if (rgb_illum) al.scale = rgb_illuminant_scale(&al.L, al.scale);
+    if (!area_light_from_params(P, type, pl, file, line, &al)) return 0;
     if (!grow((void **)&P->lights, &P->cap_lights, P->n_lights + 1, sizeof(AreaLightDesc)))
         return oom(P, file, line);
     P->lights[P->n_lights] = al;
@@ -1797,288 +949,31 @@ static int area_light_directive(Parser *P, const char *type, ParamList *pl, cons
     return 1;
 }
 
-/* LightSource "infinite" (infinite.c): constant (L, scale, illuminance) or an
-   image map (filename: a PFM in pbrt-v4's equal-area octahedral layout).  The
-   CTM is the light's frame.  pbrt-v4's normalisation: L is divided by its
-   luminance (an rgb L by D65's), a map's texels by D65's, so a constant light or
-   a white texel has luminance scale; "illuminance" E_v (lux) then multiplies
-   scale by E_v / k_e, k_e the illuminance the light would give an upward-facing
-   point (+z of the light's frame) without it: pi for a constant light, and for a
-   map pbrt-v4's sum over the upper hemisphere's texels of Y(rgb) cos(theta) 2 pi
-   / res^2 (pbrt-v4 lights.cpp, reproduced as it is). */
-/* The one point "point3 name" [x y z] (def when absent). */
-static int get_point3(Parser *P, ParamList *pl, const char *name, const double def[3], double out[3])
-{
-    Param *p = param_find(pl, PT_POINT3, name);
-    int k;
-    for (k = 0; k < 3; k++) out[k] = def[k];
-    if (!p) return 1;
-    if (p->n_num != 3)
-        return fail(P, p->file, p->line, "\"point3 %s\": expected 3 values, got %d", name, p->n_num);
-    for (k = 0; k < 3; k++) {
-        if (!isfinite(p->num[k]))
-            return fail(P, p->file, p->line, "\"point3 %s\": not a finite number", name);
-        out[k] = p->num[k];
-    }
-    return 1;
-}
-
-/* A number that must be finite: a file:line error naming it otherwise. */
-static int check_finite(Parser *P, ParamList *pl, const char *what, const char *name, float v,
-                        const char *file, int line)
-{
-    Param *p = param_find(pl, PT_FLOAT, name);
-    if (isfinite(v)) return 1;
-    return fail(P, p ? p->file : file, p ? p->line : line, "%s: \"float %s\" must be a finite "
-                "number", what, name);
-}
-
-/* LightSource "point", "spot" and "distant" (delta.c), with pbrt-v4's meaning
-   (lights.cpp, PointLight/SpotLight/DistantLight::Create).  The spectrum (I for
-   point and spot, L for distant; D65 when absent) is normalised as an area
-   light's is: lights.c divides it by its luminance (an rgb one by D65's), so that
-   a point light of scale 1 has luminous intensity 1 and a distant light of scale
-   1 gives illuminance 1 to a surface facing it.  Then
-     point    "power" Phi (> 0): scale *= Phi / (4 pi)
-     spot     "power" Phi: scale *= Phi / (2 pi ((1 - cos_start) + (cos_start - cos_end) / 2))
-     distant  "illuminance" E (> 0): scale *= E
-   (a power or illuminance <= 0 is pbrt-v4's "not given").  Positions and
-   directions are in the light's frame, the CTM at the LightSource: a point light
-   sits at CTM(from), a spot's axis is CTM(to - from), a distant light arrives
-   from CTM(from - to).  A spot's cone is round in its own frame: under a CTM
-   that stretches it, it is elliptic in the world, as in pbrt-v4. */
-static int delta_light_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
-{
-    static const double zero[3] = { 0, 0, 0 }, zplus[3] = { 0, 0, 1 };
-    Scene *s = P->s;
-    Emitter *em;
-    DeltaLight d;
-    Param *p;
-    Spectrum L;
-    double from[3], to[3];
-    float scale, power = -1.0f, cone = 30.0f, cdelta = 5.0f;
-    int rgb_illum = 0, i;
-    const char *sname = !strcmp(type, "distant") ? "L" : "I";
-    char what[64];
-    snprintf(what, sizeof what, "LightSource \"%s\"", type);
-    memset(&d, 0, sizeof d);
-    d.type = !strcmp(type, "point") ? DELTA_POINT : !strcmp(type, "spot") ? DELTA_SPOT : DELTA_DISTANT;
-    d.file = file;
-    d.line = line;
-    p = find_spectrum_param(pl, sname);
-    if (p) {
-        if (!param_spectrum(P, p, SPEC_ILLUMINANT, &L, &rgb_illum)) return 0;
-    } else if (!spec_named(&L, "stdillum-D65")) {
-        return fail(P, file, line, "LightSource: the built-in spectrum stdillum-D65 is missing");
-    }
-    if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
-    if (!get_point3(P, pl, "from", zero, from)) return 0;
-    if (d.type != DELTA_POINT && !get_point3(P, pl, "to", zplus, to)) return 0;
-    if (d.type == DELTA_DISTANT) {
-        if (!get_float(P, pl, "illuminance", -1.0f, &power)) return 0;
-        if (!params_check_unused(P, pl, what, "spectrum L, rgb L, blackbody L, float scale, "
-                                 "float illuminance, point3 from, point3 to", NULL))
-            return 0;
-    } else {
-        if (!get_float(P, pl, "power", -1.0f, &power)) return 0;
-        if (d.type == DELTA_SPOT) {
-            if (!get_float(P, pl, "coneangle", 30.0f, &cone)) return 0;
-            if (!get_float(P, pl, "conedeltaangle", 5.0f, &cdelta)) return 0;
-            if (!params_check_unused(P, pl, what, "spectrum I, rgb I, blackbody I, float scale, "
-                                     "float power, float coneangle, float conedeltaangle, "
-                                     "point3 from, point3 to", NULL))
-                return 0;
-        } else if (!params_check_unused(P, pl, what, "spectrum I, rgb I, blackbody I, float scale, "
-                                        "float power, point3 from", NULL)) {
-            return 0;
-        }
-    }
-    if (!check_finite(P, pl, what, "scale", scale, file, line) ||
-        !check_finite(P, pl, what, d.type == DELTA_DISTANT ? "illuminance" : "power", power, file, line) ||
-        !check_finite(P, pl, what, "coneangle", cone, file, line) ||
-        !check_finite(P, pl, what, "conedeltaangle", cdelta, file, line))
-        return 0;
-    if (!(scale >= 0.0f)) return fail(P, file, line, "%s: \"float scale\" must be >= 0", what);
-    for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
-        if (!(spec_get(&L, i) >= 0.0f))
-            return fail(P, p ? p->file : file, p ? p->line : line, "%s: %s is negative at %d nm",
-                        what, sname, i);
-    if (rgb_illum) scale = rgb_illuminant_scale(&L, scale);
-    d.p = xf_point(&P->gs.ctm, v3((float)from[0], (float)from[1], (float)from[2]));  /* point, spot */
-    if (d.type == DELTA_POINT) {
-        if (power > 0.0f) scale = (float)(scale * power / (4.0 * SPECNEE_PI));
-    } else {
-        Vec3 dir = v3((float)(to[0] - from[0]), (float)(to[1] - from[1]), (float)(to[2] - from[2]));
-        if (!(v3_dot(dir, dir) > 0.0f))
-            return fail(P, file, line, "%s: \"from\" and \"to\" are the same point: no direction", what);
-        dir = v3_norm(xf_vector(&P->gs.ctm, dir));
-        if (!(v3_dot(dir, dir) > 0.0f) || !isfinite(dir.x + dir.y + dir.z))
-            return fail(P, file, line, "%s: the transform leaves no direction", what);
-        if (d.type == DELTA_DISTANT) {
-            d.w = v3_neg(dir);                           /* towards the light */
-            if (power > 0.0f) scale *= power;
-        } else {
-            /* the cone is round in the light's frame (pbrt-v4): keep the inverse
-               CTM for directions and the axis there; "stretched" unless the CTM is a
-               rotation times a uniform scale (three axes equally long, at right angles) */
-            Vec3 ax = xf_vector(&P->gs.ctm, v3(1, 0, 0)), ay = xf_vector(&P->gs.ctm, v3(0, 1, 0));
-            Vec3 az = xf_vector(&P->gs.ctm, v3(0, 0, 1));
-            float lx = v3_len(ax), ly = v3_len(ay), lz = v3_len(az), tol = 1e-4f * lx;
-            double ts, tc;
-            int a, b;
-            d.stretched = fabsf(lx - ly) > tol || fabsf(lx - lz) > tol || fabsf(v3_dot(ax, ay)) > tol * lx ||
-                          fabsf(v3_dot(ax, az)) > tol * lx || fabsf(v3_dot(ay, az)) > tol * lx;
-            for (a = 0; a < 3; a++)
-                for (b = 0; b < 3; b++) d.obj_from_world[3 * a + b] = (float)P->gs.ctm.inv[a][b];
-            d.axis_obj = v3_norm(v3((float)(to[0] - from[0]), (float)(to[1] - from[1]),
-                                    (float)(to[2] - from[2])));
-            if (!(cone > 0.0f && cone <= 180.0f))
-                return fail_param(P, pl, "coneangle", file, line, "%s: \"float coneangle\" %g must be in (0, 180] degrees",
-                            what, cone);
-            if (!(cdelta >= 0.0f))
-                return fail_param(P, pl, "conedeltaangle", file, line, "%s: \"float conedeltaangle\" %g must be >= 0", what, cdelta);
-            if (cdelta > cone)
-                fprintf(stderr, "%s:%d: note: %s: conedeltaangle %g > coneangle %g; as in pbrt-v4 "
-                        "the falloff starts at |coneangle - conedeltaangle| = %g degrees\n",
-                        file, line, what, cdelta, cone, fabs((double)cone - cdelta));
-            d.w = dir;
-            tc = (double)cone * SPECNEE_PI / 180.0;
-            ts = ((double)cone - cdelta) * SPECNEE_PI / 180.0;
-            d.cos_end = (float)cos(tc);
-            d.cos_start = (float)cos(ts);
-            if (power > 0.0f)
-                scale = (float)(scale * power / (2.0 * SPECNEE_PI * ((1.0 - d.cos_start) +
-                                                                    (d.cos_start - d.cos_end) / 2.0)));
-        }
-    }
-    if (!isfinite(scale))
-        return fail(P, file, line, "%s: scale x power is not a finite number", what);
-    if (!grow((void **)&s->emitters, &P->cap_emit, s->n_emitters + 1, sizeof(Emitter)))
-        return oom(P, file, line);
-    em = &s->emitters[s->n_emitters++];
-    memset(em, 0, sizeof *em);
-    em->shape = -1;
-    em->delta = d;
-    em->L = L;
-    em->scale = scale;
-    return 1;
-}
-
+/* LightSource: the delta lights (delta.c) and the infinite light (infinite.c)
+   build the Emitter from the parameters; it joins Scene.emitters here. */
 static int light_source_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     static const char *const pbrt_types[] = { "goniometric", "projection", NULL };
     Scene *s = P->s;
-    Emitter *em;
-    InfiniteLight *inf;
-    Param *p, *portal;
-    const char *fn = NULL;
-    float scale, ev;
-    int rgb_illum = 0, i;
-    Spectrum L;
+    Emitter em;
+    int i, ok;
     if (!strcmp(type, "point") || !strcmp(type, "spot") || !strcmp(type, "distant"))
-        return delta_light_directive(P, type, pl, file, line);
-    if (strcmp(type, "infinite") != 0) {
+        ok = delta_light_from_params(P, type, pl, file, line, &em);
+    else if (!strcmp(type, "infinite"))
+        ok = infinite_light_from_params(P, pl, file, line, &em);
+    else {
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
                 return fail(P, file, line, "LightSource \"%s\" is valid pbrt-v4 but not in the "
                             "specnee subset (infinite, point, spot, distant)", type);
         return fail(P, file, line, "LightSource \"%s\": unknown light type", type);
     }
-    p = find_spectrum_param(pl, "L");
-    if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
-    if (!get_float(P, pl, "illuminance", -1.0f, &ev)) return 0;
-    if (!get_string(P, pl, "filename", &fn)) return 0;
-    portal = param_find(pl, PT_POINT3, "portal");
-    if (portal)
-        return fail(P, portal->file, portal->line, "LightSource \"infinite\": \"point3 portal\" "
-                    "is valid pbrt-v4 but not in the specnee subset");
-    if (p && fn)
-        return fail(P, file, line, "LightSource \"infinite\": cannot have both \"L\" and "
-                    "\"filename\" (pbrt-v4)");
-    if (p) {
-        if (!param_spectrum(P, p, SPEC_ILLUMINANT, &L, &rgb_illum)) return 0;
-    } else if (!spec_named(&L, "stdillum-D65")) {
-        return fail(P, file, line, "LightSource: the built-in spectrum stdillum-D65 is missing");
-    }
-    if (!params_check_unused(P, pl, "LightSource \"infinite\"",
-                             "spectrum L, rgb L, blackbody L, float scale, float illuminance, "
-                             "string filename", "portal"))
-        return 0;
-    if (!(scale >= 0.0f))
-        return fail(P, file, line, "LightSource \"infinite\": \"float scale\" must be >= 0");
-    for (i = 0; i < SPEC_N; i++)
-        if (!(L.v[i] >= 0.0f))
-            return fail(P, p ? p->file : file, p ? p->line : line,
-                        "LightSource \"infinite\": L is negative at %d nm", SPEC_MIN + i);
-    if (rgb_illum) scale = rgb_illuminant_scale(&L, scale);
-    inf = (InfiniteLight *)calloc(1, sizeof *inf);
-    if (!inf) return oom(P, file, line);
-    inf->world_from_light = P->gs.ctm;
-    inf->file = file;
-    inf->line = line;
-    if (fn) {
-        char path[1024];
-        Image im;
-        Error ierr;
-        double mean[3] = { 0, 0, 0 }, k_e = 0.0;
-        float mrgb[3];
-        int x, y, c;
-        if (ends_with_ci(fn, ".exr")) {
-            free(inf);
-            return fail(P, file, line, "LightSource \"infinite\": \"%s\": EXR images are not in "
-                        "the specnee subset; convert it to PFM (e.g. pbrt-v4's `imgtool convert "
-                        "--outfile %.*s.pfm %s`) and name the .pfm", fn, (int)strlen(fn) - 4, fn, fn);
-        }
-        if (!ends_with_ci(fn, ".pfm")) {
-            free(inf);
-            return fail(P, file, line, "LightSource \"infinite\": \"%s\": specnee reads image "
-                        "maps only as PFM (convert with pbrt-v4's `imgtool convert`)", fn);
-        }
-        resolve_path(P, file, fn, path, sizeof path);
-        if (!pfm_read(&im, path, &ierr)) {
-            free(inf);
-            return fail(P, file, line, "LightSource \"infinite\": %s", ierr.msg);
-        }
-        if (!inf_set_image(inf, &im, file, line, P->err)) {
-            img_free(&im);
-            inf_free(inf);
-            return 0;
-        }
-        for (y = 0; y < im.h; y++)
-            for (x = 0; x < im.w; x++) {
-                const float *px = im.rgb + 3 * ((size_t)y * im.w + x);
-                for (c = 0; c < 3; c++) mean[c] += px[c] > 0.0f ? px[c] : 0.0f;
-                if (ev > 0.0f) {
-                    Vec3 w = equal_area_square_to_sphere((x + 0.5f) / im.w, (y + 0.5f) / im.h);
-                    if (w.z > 0.0f)                      /* sRGB's luminance row */
-                        k_e += (0.2126 * px[0] + 0.7152 * px[1] + 0.0722 * px[2]) * w.z;
-                }
-            }
-        for (c = 0; c < 3; c++) mrgb[c] = (float)(mean[c] / ((double)im.w * im.h));
-        k_e *= 2.0 * SPECNEE_PI / ((double)im.w * im.h);
-        img_free(&im);
-        if (!spec_from_rgb(&inf->mean, mrgb, 1, P->err, file, line)) { inf_free(inf); return 0; }
-        if (ev > 0.0f) {
-            if (!(k_e > 0.0)) {
-                inf_free(inf);
-                return fail(P, file, line, "LightSource \"infinite\": \"illuminance\" given, but "
-                            "the map sends no light to the upper hemisphere");
-            }
-            scale = (float)(scale * ev / k_e);
-        }
-    } else if (ev > 0.0f) {
-        scale = (float)(scale * ev / SPECNEE_PI);
-    }
+    if (!ok) return 0;
     if (!grow((void **)&s->emitters, &P->cap_emit, s->n_emitters + 1, sizeof(Emitter))) {
-        inf_free(inf);
+        inf_free(em.inf);
         return oom(P, file, line);
     }
-    em = &s->emitters[s->n_emitters++];
-    memset(em, 0, sizeof *em);
-    em->shape = -1;
-    em->inf = inf;
-    em->L = L;                   /* an image map: D65, the texels' illuminant */
-    em->scale = scale;
+    s->emitters[s->n_emitters++] = em;
     return 1;
 }
 
@@ -2553,116 +1448,19 @@ static int medium_ref(Parser *P, const char *name, const char *file, int line)
     return s->n_media++;
 }
 
-/* A medium coefficient (sigma_a, sigma_s): absent -> def (pbrt-v4: 1), else a
-   spectrum with finite values >= 0 */
-static int medium_coeff(Parser *P, ParamList *pl, const char *what, const char *name,
-                        float def, Spectrum *out, const char *file, int line)
-{
-    Param *p = find_spectrum_param(pl, name);
-    char w[192];
-    if (!p) { spec_const(out, def); return 1; }
-    snprintf(w, sizeof w, "%s: \"%s\"", what, name);
-    return param_spectrum(P, p, SPEC_COEFF, out, NULL) &&
-           check_spectrum_above(P, p, file, line, w, out, 0.0f, 0);
-}
-
-/* MakeNamedMedium "name" "string type" "homogeneous" ... with pbrt-v4's meaning
-   (media.cpp, HomogeneousMedium::Create): sigma_a, sigma_s (default 1 each, per
-   scene unit), or a "string preset" of measured coefficients (medium.c; they are
-   in mm^-1, used as they are, as pbrt-v4 does), both times "float scale" (1);
-   "float g" (0) the Henyey-Greenstein asymmetry; emission "spectrum Le" (0)
-   times "float Lescale" (1), normalised as an area light's L is (lights.c: an rgb
-   Le through D65).  Only homogeneous media: the others are refused by name. */
+/* MakeNamedMedium "name" params: medium.c builds the medium, named here. */
 static int make_named_medium(Parser *P, Lexer *L, const Token *t)
 {
-    static const char *const pbrt_types[] = { "grid", "rgbgrid", "cloud", "nanovdb", NULL };
     Token nm;
     ParamList pl;
-    const char *type = NULL, *preset = NULL;
     char what[160];
     Medium m;
-    float scale, g, lescale;
-    int ok = 0, idx, i, rgb_illum = 0;
-    Param *ple;
+    int ok = 0, idx;
     if (!expect_string(P, L, "MakeNamedMedium", "medium name", &nm)) return 0;
     memset(&pl, 0, sizeof pl);
     if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
-    memset(&m, 0, sizeof m);
     snprintf(what, sizeof what, "MakeNamedMedium \"%.100s\"", nm.text);
-    if (!get_string(P, &pl, "type", &type)) goto done;
-    if (!type) { fail(P, t->file, t->line, "%s: \"string type\" is required", what); goto done; }
-    if (strcmp(type, "homogeneous") != 0) {
-        for (i = 0; pbrt_types[i]; i++)
-            if (!strcmp(type, pbrt_types[i])) {
-                fail(P, t->file, t->line, "%s: medium type \"%s\" is valid pbrt-v4 but not in "
-                     "the specnee subset (only \"homogeneous\")", what, type);
-                goto done;
-            }
-        fail(P, t->file, t->line, "%s: unknown medium type \"%s\"", what, type);
-        goto done;
-    }
-    if (!get_string(P, &pl, "preset", &preset)) goto done;
-    if (preset && preset[0]) {
-        float sa[3], ss[3];
-        Param *pp = param_find(&pl, PT_STRING, "preset");
-        if (!medium_preset(preset, sa, ss)) {
-            fail(P, pp->file, pp->line, "%s: unknown preset \"%s\" (pbrt-v4's names, e.g. "
-                 "\"Wholemilk\", \"Skin1\", \"Ketchup\")", what, preset);
-            goto done;
-        }
-        if (!spec_from_rgb(&m.sigma_a, sa, 2, P->err, pp->file, pp->line) ||
-            !spec_from_rgb(&m.sigma_s, ss, 2, P->err, pp->file, pp->line)) goto done;
-    } else if (!medium_coeff(P, &pl, what, "sigma_a", 1.0f, &m.sigma_a, t->file, t->line) ||
-               !medium_coeff(P, &pl, what, "sigma_s", 1.0f, &m.sigma_s, t->file, t->line))
-        goto done;
-    if (!get_float(P, &pl, "scale", 1.0f, &scale) || !get_float(P, &pl, "g", 0.0f, &g) ||
-        !get_float(P, &pl, "Lescale", 1.0f, &lescale)) goto done;
-    ple = find_spectrum_param(&pl, "Le");
-    if (ple) {
-        char w[192];
-        snprintf(w, sizeof w, "%s: \"Le\"", what);
-        if (!param_spectrum(P, ple, SPEC_ILLUMINANT, &m.Le, &rgb_illum) ||
-            !check_spectrum_above(P, ple, t->file, t->line, w, &m.Le, 0.0f, 0)) goto done;
-    }
-    if (!params_check_unused(P, &pl, what, "string type, string preset, spectrum sigma_a, "
-                             "spectrum sigma_s, float scale, float g, spectrum Le, "
-                             "float Lescale", NULL))
-        goto done;
-    if (!(scale >= 0.0f) || !(scale < 1e30f)) {
-        Param *p = param_find(&pl, PT_FLOAT, "scale");
-        fail(P, p->file, p->line, "%s: \"float scale\" %g must be a finite number >= 0", what, scale);
-        goto done;
-    }
-    if (!(g > -1.0f) || !(g < 1.0f)) {
-        Param *p = param_find(&pl, PT_FLOAT, "g");
-        fail(P, p->file, p->line, "%s: \"float g\" %g must lie in (-1, 1) (Henyey-Greenstein)",
-             what, g);
-        goto done;
-    }
-    if (!(lescale >= 0.0f) || !(lescale < 1e30f)) {
-        Param *p = param_find(&pl, PT_FLOAT, "Lescale");
-        fail(P, p->file, p->line, "%s: \"float Lescale\" %g must be a finite number >= 0", what,
-             lescale);
-        goto done;
-    }
-    for (i = 0; i < SPEC_N; i++) {
-        m.sigma_a.v[i] *= scale;
-        m.sigma_s.v[i] *= scale;
-    }
-    for (i = 0; i < SPEC_UV_N; i++) {
-        m.sigma_a.uv[i] *= scale;
-        m.sigma_s.uv[i] *= scale;
-    }
-    m.g = g;
-    m.Le_scale = 0.0f;
-    if (ple) {
-        float mx = 0.0f;
-        for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
-            if (spec_get(&m.Le, i) > mx) mx = spec_get(&m.Le, i);
-        if (mx > 0.0f) m.Le_scale = rgb_illum ? rgb_illuminant_scale(&m.Le, lescale) : lescale;
-    }
-    m.file = t->file;
-    m.line = t->line;
+    if (!medium_from_params(P, &pl, what, t->file, t->line, &m)) goto done;
     idx = medium_ref(P, nm.text, t->file, t->line);
     if (idx == -2) goto done;
     if (idx == -1) { fail(P, t->file, t->line, "MakeNamedMedium: the name \"\" is no medium"); goto done; }
