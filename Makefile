@@ -29,7 +29,7 @@ DETECTED != sh tools/ccflags.sh "$(CC)"
 CFLAGS = $(OPT) $(WARN) $(DETECTED)
 LDLIBS = -lm
 
-LIBOBJ = util.o sampler.o bvh.o shapes.o spectrum.o metals.o lights.o lighttree.o infinite.o delta.o texture.o filter.o parser.o scene.o ply.o medium.o \
+LIBOBJ = util.o sampler.o bvh.o shapes.o spectrum.o metals.o lights.o lighttree.o infinite.o delta.o texture.o filter.o parser.o options.o scene.o dump.o ply.o medium.o \
          material.o conductor.o layered.o render.o image.o png.o svg.o eval.o
 TESTOBJ = tests/runner.o tests/fixtures.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
           tests/test_scene.o tests/test_image.o tests/test_material.o \
@@ -60,7 +60,7 @@ tools/bench_lights: tools/bench_lights.o $(LIBOBJ)
 	$(CC) $(CFLAGS) -I. -c -o $@ $<
 
 $(LIBOBJ) specnee.o $(TESTOBJ) tools/bench.o tools/bench_lights.o fuzz/replay.o fuzz/targets.o: specnee.h
-parser.o scene.o material.o conductor.o layered.o texture.o lights.o delta.o infinite.o medium.o: parser.h
+parser.o options.o scene.o material.o conductor.o layered.o texture.o lights.o delta.o infinite.o medium.o: parser.h
 $(TESTOBJ): tests/test.h
 tests/test_png.o: tests/png_fixtures.h
 

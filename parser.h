@@ -249,6 +249,18 @@ float rgb_illuminant_scale(const Spectrum *L, float scale);
 /* ===========================================================================
    5. Each concept built from its parameters (the end of each concept's room)
    =========================================================================== */
+/* The options block (options.c): a Camera, Film, PixelFilter, Accelerator,
+   Sampler or Integrator statement of `type` at file:line into Scene.settings. */
+int camera_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
+/* 1 when the camera transform gives the renderer finite eye and corner rays */
+int camera_transform_ok(const Xform *camera_from_world, float fov_deg, int xres, int yres);
+int film_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
+int filter_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
+int accelerator_directive(Parser *P, const char *type, ParamList *pl, const char *file,
+                          int line);
+int sampler_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
+int integrator_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
+
 /* Materials: m (zeroed, eta 1) of one type, from a Material or MakeNamedMaterial
    statement at file:line; dir names the directive, what the directive and type
    in messages.  material.c: */
