@@ -243,7 +243,7 @@ void conductor_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, con
    --------------------------------------------------------------------------- */
 #include "parser.h"
 
-/* pbrt-v4 ConductorMaterial (conductor.c): eta and k, or a reflectance that
+/* pbrt-v4 ConductorMaterial: eta and k, or a reflectance that
    stands for them; Cu by default */
 int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
                           const char *dir, const char *what, Material *m)
@@ -268,7 +268,7 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
                     "not both (pbrt-v4 refuses it too)", what);
     if (pt) {
         /* "texture reflectance": r read at each hit (material.c mat_point), eta = 1
-           and k from r there (conductor.c) */
+           and k from r there (conductor_k_of_reflectance) */
         int ti = texture_lookup(P, pt, 0);
         if (ti < 0) return 0;
         m->reflectance_tex = ti + 1;

@@ -168,7 +168,7 @@ static int check_finite(Parser *P, ParamList *pl, const char *what, const char *
                 "number", what, name);
 }
 
-/* LightSource "point", "spot" and "distant" (delta.c), with pbrt-v4's meaning
+/* LightSource "point", "spot" and "distant", with pbrt-v4's meaning
    (lights.cpp, PointLight/SpotLight/DistantLight::Create).  The spectrum (I for
    point and spot, L for distant; D65 when absent) is normalised as an area
    light's is: lights.c divides it by its luminance (an rgb one by D65's), so that

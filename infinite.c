@@ -289,7 +289,7 @@ int inf_sample(const Emitter *em, float u1, float u2, Vec3 *dir, float *pdf)
    --------------------------------------------------------------------------- */
 #include "parser.h"
 
-/* LightSource "infinite" (infinite.c): constant (L, scale, illuminance) or an
+/* LightSource "infinite": constant (L, scale, illuminance) or an
    image map (filename: a PFM in pbrt-v4's equal-area octahedral layout).  The
    CTM is the light's frame.  pbrt-v4's normalisation: L is divided by its
    luminance (an rgb L by D65's), a map's texels by D65's, so a constant light or

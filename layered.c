@@ -700,7 +700,7 @@ static int layer_albedo(Parser *P, Param *pa, const char *what, const char *file
     return 1;
 }
 
-/* pbrt-v4 CoatedDiffuseMaterial (layered.c): a dielectric coat (float eta,
+/* pbrt-v4 CoatedDiffuseMaterial: a dielectric coat (float eta,
    roughness) over a Lambertian base (reflectance 0.5), a slab of thickness
    0.01 between them with a medium of albedo 0 and HG g 0; maxdepth 10 and
    nsamples 1 random walks */
@@ -754,7 +754,7 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
     return 1;
 }
 
-/* pbrt-v4 CoatedConductorMaterial (layered.c section 5): a dielectric coat
+/* pbrt-v4 CoatedConductorMaterial (section 5): a dielectric coat
    ("interface." eta 1.5, roughness 0) over a conductor ("conductor." eta and
    k, Cu by default, or a "reflectance"; roughness 0), a slab of thickness
    0.01 with a medium of albedo 0 and HG g 0; maxdepth 10, nsamples 1 */

@@ -809,7 +809,7 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
     return 1;
 }
 
-/* pbrt-v4 ThinDielectricMaterial (material.c): "float eta" or "spectrum eta",
+/* pbrt-v4 ThinDielectricMaterial: "float eta" or "spectrum eta",
    1.5 by default; no roughness */
 int thindielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
                                const char *dir, const char *what, Material *m)
@@ -840,7 +840,7 @@ int thindielectric_from_params(Parser *P, ParamList *pl, const char *file, int l
     return 1;
 }
 
-/* pbrt-v4 DiffuseTransmissionMaterial (material.c): R and T (0.25 each by
+/* pbrt-v4 DiffuseTransmissionMaterial: R and T (0.25 each by
    default), both times "scale" and clamped to [0, 1] */
 int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, int line,
                                     const char *dir, const char *what, Material *m)

@@ -1,13 +1,14 @@
 /* parser.h - the pbrt-v4 front end, private to the rooms that build a scene.
 
    Not part of specnee's public interface (that is specnee.h): only the files
-   that build something from a scene file's parameters include it (scene.c, and
-   the "building from scene parameters" sections of the concept rooms).  It
-   declares the tokens and the token stream (the Lexer), a statement's parameter
-   list with its typed getters, the "file:line: problem" errors, and the
-   builder's state (the Parser: pbrt's graphics state and what the directives
-   built so far), which every builder receives.  parser.c implements the
-   functions declared here; scene.c runs the directive loop.
+   that build something from a scene file's parameters include it (scene.c,
+   options.c, and the "building from scene parameters" sections at the end of
+   the concept rooms).  It declares the tokens and the token stream (the Lexer),
+   a statement's parameter list with its typed getters, the "file:line: problem"
+   errors, and the builder's state (the Parser: pbrt's graphics state and what
+   the directives built so far), which every builder receives.  parser.c
+   implements sections 1-4; section 5 lists each concept's builder (pbrt-v4's
+   per-concept Create), which scene.c's directive loop calls.
 
    Every getter and check returns 1 on success and 0 after it has set P->err to
    one "file:line: problem" line (fail); the caller returns 0 in turn. */

@@ -628,7 +628,7 @@ int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *
     } else if (!strcmp(cls, "dots")) {
         /* pbrt-v4 DotsTexture: "outside" (0) in a dot, "inside" (1) elsewhere (sic:
            pbrt-v4's Create passes "inside" as the constructor's outsideDot, since
-           pbrt-v3; texture.c section 4) */
+           pbrt-v3; section 4) */
         T->type = TEX_DOTS;
         ok = texture_mapping(P, pl, T) && texture_arg(P, pl, T, 0, "inside", 1.0f) &&
              texture_arg(P, pl, T, 1, "outside", 0.0f);
@@ -658,7 +658,7 @@ int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *
     } else if (!strcmp(cls, "fbm") || !strcmp(cls, "wrinkled") ||
                !strcmp(cls, "windy")) {
         /* pbrt-v4 FBmTexture, WrinkledTexture, WindyTexture (float only): 3-D noise
-           in the frame of the CTM at the directive (texture.c section 4) */
+           in the frame of the CTM at the directive (section 4) */
         T->type = cls[0] == 'f' ? TEX_FBM : cls[1] == 'r' ? TEX_WRINKLED : TEX_WINDY;
         if (!T->is_float) {
             ok = fail(P, T->file, T->line, "Texture \"%s\": \"%s\" is a float texture "
