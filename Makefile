@@ -30,8 +30,8 @@ CFLAGS = $(OPT) $(WARN) $(DETECTED)
 LDLIBS = -lm
 
 LIBOBJ = util.o sampler.o bvh.o shapes.o spectrum.o wavelengths.o metals.o lights.o lighttree.o infinite.o \
-         delta.o texture.o filter.o scene.o ply.o medium.o material.o microfacet.o conductor.o layered.o camera.o \
-         path.o render.o image.o png.o svg.o cmd_converge.o cmd_image.o cmd_spectrum.o
+         delta.o texture.o filter.o parser.o options.o scene.o dump.o ply.o medium.o material.o microfacet.o \
+         conductor.o layered.o camera.o path.o render.o image.o png.o svg.o cmd_converge.o cmd_image.o cmd_spectrum.o
 TESTOBJ = tests/runner.o tests/fixtures.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
           tests/test_scene.o tests/test_image.o tests/test_material.o \
           tests/test_render.o tests/test_lights.o tests/test_scenes.o tests/test_physics.o \
@@ -61,6 +61,7 @@ tools/bench_lights: tools/bench_lights.o $(LIBOBJ)
 	$(CC) $(CFLAGS) -I. -c -o $@ $<
 
 $(LIBOBJ) specnee.o $(TESTOBJ) tools/bench.o tools/bench_lights.o fuzz/replay.o fuzz/targets.o: specnee.h
+parser.o options.o scene.o material.o conductor.o layered.o texture.o lights.o delta.o infinite.o medium.o: parser.h
 $(TESTOBJ): tests/test.h
 tests/test_png.o: tests/png_fixtures.h
 camera.o path.o render.o: render.h

@@ -118,3 +118,72 @@ void conductor_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, con
     }
     rough_pair(m, mp, wo, wi, lambda, alive, f, pdf_l);
 }
+
+/* ---------------------------------------------------------------------------
+   ---- building from scene parameters
+   conductor_from_params: the scene builder's (scene.c) "conductor" material,
+   read from its parameters (parser.h).
+   --------------------------------------------------------------------------- */
+#include "parser.h"
+
+/* pbrt-v4 ConductorMaterial: eta and k, or a reflectance that
+   stands for them; Cu by default */
+int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                          const char *dir, const char *what, Material *m)
+{
+    Param *pe = find_spectrum_param(pl, "eta"), *pk = find_spectrum_param(pl, "k");
+    Param *pr = find_spectrum_param(pl, "reflectance");
+    Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
+    int nm;
+    (void)dir;
+    m->type = MAT_CONDUCTOR;
+    if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
+                           &m->remap))
+        return 0;
+    if (!params_check_unused(P, pl, what, "spectrum eta, spectrum k, spectrum reflectance, "
+                             "rgb reflectance, texture reflectance, float roughness, "
+                             "float uroughness, float vroughness, texture roughness, "
+                             "texture uroughness, texture vroughness, bool remaproughness",
+                             "displacement normalmap"))
+        return 0;
+    if ((pr || pt) && (pe || pk))
+        return fail(P, file, line, "%s: give either \"reflectance\" or \"eta\" and \"k\", "
+                    "not both (pbrt-v4 refuses it too)", what);
+    if (pt) {
+        /* "texture reflectance": r read at each hit (material.c mat_point), eta = 1
+           and k from r there (conductor_k_of_reflectance) */
+        int ti = texture_lookup(P, pt, 0);
+        if (ti < 0) return 0;
+        m->reflectance_tex = ti + 1;
+        spec_const(&m->eta, 1.0f);
+        spec_const(&m->k, 0.0f);                  /* (not read) */
+    } else if (pr) {
+        /* pbrt-v4: r clamped to [0, 0.9999], eta = 1, k = 2 sqrt(r) / sqrt(1 - r),
+           which makes the normal-incidence reflectance ((eta-1)^2 + k^2) /
+           ((eta+1)^2 + k^2) = k^2 / (4 + k^2) exactly r */
+        if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
+        if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
+        spec_const(&m->eta, 1.0f);
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+            double r = spec_get(&m->reflectance, nm);
+            if (r > 0.9999) r = 0.9999;
+            *spec_at(&m->k, nm) = conductor_k_of_reflectance(r);
+        }
+    } else {
+        if (pe) { if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->eta, NULL)) return 0; }
+        else spec_named(&m->eta, "metal-Cu-eta");
+        if (pk) { if (!param_spectrum(P, pk, SPEC_UNBOUNDED, &m->k, NULL)) return 0; }
+        else spec_named(&m->k, "metal-Cu-k");
+        if (!check_spectrum_above(P, pe, file, line, "\"spectrum eta\" of a conductor",
+                                  &m->eta, 0.0f, 1) ||
+            !check_spectrum_above(P, pk, file, line, "\"spectrum k\" of a conductor",
+                                  &m->k, 0.0f, 0))
+            return 0;
+    }
+    if (m->alpha != m->alpha_t)
+        return fail(P, file, line, "%s: anisotropic roughness (u %g, v %g after the remap) "
+                    "is valid pbrt-v4 but not in the specnee subset (its axes follow the "
+                    "surface's dp/du, which specnee does not have)", what, m->alpha,
+                    m->alpha_t);
+    return 1;
+}

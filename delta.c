@@ -45,7 +45,10 @@
       of radius R.  The selection tables write every emitter's power as
       pi A int Le (A: area, x 2 if two-sided), so a delta light gets the "power
       area" A = Phi / (pi int Le): 4, 2 ((1 - cos_start) + (cos_start -
-      cos_end) / 2), and R^2. */
+      cos_end) / 2), and R^2.
+
+   The last section builds these lights from a scene's LightSource parameters
+   for the scene builder (delta_light_from_params, parser.h). */
 #include "specnee.h"
 
 /* pbrt-v4's SmoothStep(x, a, b): 0 at x <= a, 1 at x >= b, the cubic between;
@@ -128,4 +131,166 @@ int delta_can_reach(const DeltaLight *d, Vec3 p)
     len = v3_len(v);
     if (!(len > 0.0f)) return 1;
     return spot_cos(d, v3_mul(v, 1.0f / len)) >= d->cos_end - 1e-5f;
+}
+
+/* ---------------------------------------------------------------------------
+   ---- building from scene parameters
+   delta_light_from_params: the scene builder's (scene.c) LightSource "point",
+   "spot" and "distant", read from their parameters (parser.h).
+   --------------------------------------------------------------------------- */
+#include "parser.h"
+#include <string.h>
+
+/* The one point "point3 name" [x y z] (def when absent). */
+static int get_point3(Parser *P, ParamList *pl, const char *name, const double def[3], double out[3])
+{
+    Param *p = param_find(pl, PT_POINT3, name);
+    int k;
+    for (k = 0; k < 3; k++) out[k] = def[k];
+    if (!p) return 1;
+    if (p->n_num != 3)
+        return fail(P, p->file, p->line, "\"point3 %s\": expected 3 values, got %d", name, p->n_num);
+    for (k = 0; k < 3; k++) {
+        if (!isfinite(p->num[k]))
+            return fail(P, p->file, p->line, "\"point3 %s\": not a finite number", name);
+        out[k] = p->num[k];
+    }
+    return 1;
+}
+
+/* A number that must be finite: a file:line error naming it otherwise. */
+static int check_finite(Parser *P, ParamList *pl, const char *what, const char *name, float v,
+                        const char *file, int line)
+{
+    Param *p = param_find(pl, PT_FLOAT, name);
+    if (isfinite(v)) return 1;
+    return fail(P, p ? p->file : file, p ? p->line : line, "%s: \"float %s\" must be a finite "
+                "number", what, name);
+}
+
+/* LightSource "point", "spot" and "distant", with pbrt-v4's meaning
+   (lights.cpp, PointLight/SpotLight/DistantLight::Create).  The spectrum (I for
+   point and spot, L for distant; D65 when absent) is normalised as an area
+   light's is: lights.c divides it by its luminance (an rgb one by D65's), so that
+   a point light of scale 1 has luminous intensity 1 and a distant light of scale
+   1 gives illuminance 1 to a surface facing it.  Then
+     point    "power" Phi (> 0): scale *= Phi / (4 pi)
+     spot     "power" Phi: scale *= Phi / (2 pi ((1 - cos_start) + (cos_start - cos_end) / 2))
+     distant  "illuminance" E (> 0): scale *= E
+   (a power or illuminance <= 0 is pbrt-v4's "not given").  Positions and
+   directions are in the light's frame, the CTM at the LightSource: a point light
+   sits at CTM(from), a spot's axis is CTM(to - from), a distant light arrives
+   from CTM(from - to).  A spot's cone is round in its own frame: under a CTM
+   that stretches it, it is elliptic in the world, as in pbrt-v4. */
+int delta_light_from_params(Parser *P, const char *type, ParamList *pl, const char *file,
+                            int line, Emitter *em)
+{
+    static const double zero[3] = { 0, 0, 0 }, zplus[3] = { 0, 0, 1 };
+    DeltaLight d;
+    Param *p;
+    Spectrum L;
+    double from[3], to[3];
+    float scale, power = -1.0f, cone = 30.0f, cdelta = 5.0f;
+    int rgb_illum = 0, i;
+    const char *sname = !strcmp(type, "distant") ? "L" : "I";
+    char what[64];
+    snprintf(what, sizeof what, "LightSource \"%s\"", type);
+    memset(&d, 0, sizeof d);
+    d.type = !strcmp(type, "point") ? DELTA_POINT : !strcmp(type, "spot") ? DELTA_SPOT : DELTA_DISTANT;
+    d.file = file;
+    d.line = line;
+    p = find_spectrum_param(pl, sname);
+    if (p) {
+        if (!param_spectrum(P, p, SPEC_ILLUMINANT, &L, &rgb_illum)) return 0;
+    } else if (!spec_named(&L, "stdillum-D65")) {
+        return fail(P, file, line, "LightSource: the built-in spectrum stdillum-D65 is missing");
+    }
+    if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
+    if (!get_point3(P, pl, "from", zero, from)) return 0;
+    if (d.type != DELTA_POINT && !get_point3(P, pl, "to", zplus, to)) return 0;
+    if (d.type == DELTA_DISTANT) {
+        if (!get_float(P, pl, "illuminance", -1.0f, &power)) return 0;
+        if (!params_check_unused(P, pl, what, "spectrum L, rgb L, blackbody L, float scale, "
+                                 "float illuminance, point3 from, point3 to", NULL))
+            return 0;
+    } else {
+        if (!get_float(P, pl, "power", -1.0f, &power)) return 0;
+        if (d.type == DELTA_SPOT) {
+            if (!get_float(P, pl, "coneangle", 30.0f, &cone)) return 0;
+            if (!get_float(P, pl, "conedeltaangle", 5.0f, &cdelta)) return 0;
+            if (!params_check_unused(P, pl, what, "spectrum I, rgb I, blackbody I, float scale, "
+                                     "float power, float coneangle, float conedeltaangle, "
+                                     "point3 from, point3 to", NULL))
+                return 0;
+        } else if (!params_check_unused(P, pl, what, "spectrum I, rgb I, blackbody I, float scale, "
+                                        "float power, point3 from", NULL)) {
+            return 0;
+        }
+    }
+    if (!check_finite(P, pl, what, "scale", scale, file, line) ||
+        !check_finite(P, pl, what, d.type == DELTA_DISTANT ? "illuminance" : "power", power, file, line) ||
+        !check_finite(P, pl, what, "coneangle", cone, file, line) ||
+        !check_finite(P, pl, what, "conedeltaangle", cdelta, file, line))
+        return 0;
+    if (!(scale >= 0.0f)) return fail(P, file, line, "%s: \"float scale\" must be >= 0", what);
+    for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
+        if (!(spec_get(&L, i) >= 0.0f))
+            return fail(P, p ? p->file : file, p ? p->line : line, "%s: %s is negative at %d nm",
+                        what, sname, i);
+    if (rgb_illum) scale = rgb_illuminant_scale(&L, scale);
+    d.p = xf_point(&P->gs.ctm, v3((float)from[0], (float)from[1], (float)from[2]));  /* point, spot */
+    if (d.type == DELTA_POINT) {
+        if (power > 0.0f) scale = (float)(scale * power / (4.0 * SPECNEE_PI));
+    } else {
+        Vec3 dir = v3((float)(to[0] - from[0]), (float)(to[1] - from[1]), (float)(to[2] - from[2]));
+        if (!(v3_dot(dir, dir) > 0.0f))
+            return fail(P, file, line, "%s: \"from\" and \"to\" are the same point: no direction", what);
+        dir = v3_norm(xf_vector(&P->gs.ctm, dir));
+        if (!(v3_dot(dir, dir) > 0.0f) || !isfinite(dir.x + dir.y + dir.z))
+            return fail(P, file, line, "%s: the transform leaves no direction", what);
+        if (d.type == DELTA_DISTANT) {
+            d.w = v3_neg(dir);                           /* towards the light */
+            if (power > 0.0f) scale *= power;
+        } else {
+            /* the cone is round in the light's frame (pbrt-v4): keep the inverse
+               CTM for directions and the axis there; "stretched" unless the CTM is a
+               rotation times a uniform scale (three axes equally long, at right angles) */
+            Vec3 ax = xf_vector(&P->gs.ctm, v3(1, 0, 0)), ay = xf_vector(&P->gs.ctm, v3(0, 1, 0));
+            Vec3 az = xf_vector(&P->gs.ctm, v3(0, 0, 1));
+            float lx = v3_len(ax), ly = v3_len(ay), lz = v3_len(az), tol = 1e-4f * lx;
+            double ts, tc;
+            int a, b;
+            d.stretched = fabsf(lx - ly) > tol || fabsf(lx - lz) > tol || fabsf(v3_dot(ax, ay)) > tol * lx ||
+                          fabsf(v3_dot(ax, az)) > tol * lx || fabsf(v3_dot(ay, az)) > tol * lx;
+            for (a = 0; a < 3; a++)
+                for (b = 0; b < 3; b++) d.obj_from_world[3 * a + b] = (float)P->gs.ctm.inv[a][b];
+            d.axis_obj = v3_norm(v3((float)(to[0] - from[0]), (float)(to[1] - from[1]),
+                                    (float)(to[2] - from[2])));
+            if (!(cone > 0.0f && cone <= 180.0f))
+                return fail_param(P, pl, "coneangle", file, line, "%s: \"float coneangle\" %g must be in (0, 180] degrees",
+                            what, cone);
+            if (!(cdelta >= 0.0f))
+                return fail_param(P, pl, "conedeltaangle", file, line, "%s: \"float conedeltaangle\" %g must be >= 0", what, cdelta);
+            if (cdelta > cone)
+                fprintf(stderr, "%s:%d: note: %s: conedeltaangle %g > coneangle %g; as in pbrt-v4 "
+                        "the falloff starts at |coneangle - conedeltaangle| = %g degrees\n",
+                        file, line, what, cdelta, cone, fabs((double)cone - cdelta));
+            d.w = dir;
+            tc = (double)cone * SPECNEE_PI / 180.0;
+            ts = ((double)cone - cdelta) * SPECNEE_PI / 180.0;
+            d.cos_end = (float)cos(tc);
+            d.cos_start = (float)cos(ts);
+            if (power > 0.0f)
+                scale = (float)(scale * power / (2.0 * SPECNEE_PI * ((1.0 - d.cos_start) +
+                                                                    (d.cos_start - d.cos_end) / 2.0)));
+        }
+    }
+    if (!isfinite(scale))
+        return fail(P, file, line, "%s: scale x power is not a finite number", what);
+    memset(em, 0, sizeof *em);
+    em->shape = -1;
+    em->delta = d;
+    em->L = L;
+    em->scale = scale;
+    return 1;
 }

@@ -39,7 +39,10 @@
       over 4 pi.  A map whose weights are all 0 (and a constant light) is sampled
       uniformly: pdf 1 / (4 pi).  The same numbers serve inf_pdf, so NEE and the
       MIS weight of an escaped ray agree (tested: the pdf integrates to 1 and the
-      samples follow it, chi-square). */
+      samples follow it, chi-square).
+
+   The last section builds an infinite light from a scene's LightSource
+   parameters for the scene builder (infinite_light_from_params, parser.h). */
 #include "specnee.h"
 #include <stdlib.h>
 #include <string.h>
@@ -277,4 +280,122 @@ int inf_sample(const Emitter *em, float u1, float u2, Vec3 *dir, float *pdf)
     *dir = v3_norm(xf_vector(&inf->world_from_light, equal_area_square_to_sphere(u, v)));
     *pdf = inf_pdf(em, *dir);
     return *pdf > 0.0f && isfinite(*pdf);
+}
+
+/* ---------------------------------------------------------------------------
+   ---- building from scene parameters
+   infinite_light_from_params: the scene builder's (scene.c) LightSource
+   "infinite", read from its parameters (parser.h).
+   --------------------------------------------------------------------------- */
+#include "parser.h"
+
+/* LightSource "infinite": constant (L, scale, illuminance) or an
+   image map (filename: a PFM in pbrt-v4's equal-area octahedral layout).  The
+   CTM is the light's frame.  pbrt-v4's normalisation: L is divided by its
+   luminance (an rgb L by D65's), a map's texels by D65's, so a constant light or
+   a white texel has luminance scale; "illuminance" E_v (lux) then multiplies
+   scale by E_v / k_e, k_e the illuminance the light would give an upward-facing
+   point (+z of the light's frame) without it: pi for a constant light, and for a
+   map pbrt-v4's sum over the upper hemisphere's texels of Y(rgb) cos(theta) 2 pi
+   / res^2 (pbrt-v4 lights.cpp, reproduced as it is). */
+int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                               Emitter *em)
+{
+    InfiniteLight *inf;
+    Param *p, *portal;
+    const char *fn = NULL;
+    float scale, ev;
+    int rgb_illum = 0, i;
+    Spectrum L;
+    p = find_spectrum_param(pl, "L");
+    if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
+    if (!get_float(P, pl, "illuminance", -1.0f, &ev)) return 0;
+    if (!get_string(P, pl, "filename", &fn)) return 0;
+    portal = param_find(pl, PT_POINT3, "portal");
+    if (portal)
+        return fail(P, portal->file, portal->line, "LightSource \"infinite\": \"point3 portal\" "
+                    "is valid pbrt-v4 but not in the specnee subset");
+    if (p && fn)
+        return fail(P, file, line, "LightSource \"infinite\": cannot have both \"L\" and "
+                    "\"filename\" (pbrt-v4)");
+    if (p) {
+        if (!param_spectrum(P, p, SPEC_ILLUMINANT, &L, &rgb_illum)) return 0;
+    } else if (!spec_named(&L, "stdillum-D65")) {
+        return fail(P, file, line, "LightSource: the built-in spectrum stdillum-D65 is missing");
+    }
+    if (!params_check_unused(P, pl, "LightSource \"infinite\"",
+                             "spectrum L, rgb L, blackbody L, float scale, float illuminance, "
+                             "string filename", "portal"))
+        return 0;
+    if (!(scale >= 0.0f))
+        return fail(P, file, line, "LightSource \"infinite\": \"float scale\" must be >= 0");
+    for (i = 0; i < SPEC_N; i++)
+        if (!(L.v[i] >= 0.0f))
+            return fail(P, p ? p->file : file, p ? p->line : line,
+                        "LightSource \"infinite\": L is negative at %d nm", SPEC_MIN + i);
+    if (rgb_illum) scale = rgb_illuminant_scale(&L, scale);
+    inf = (InfiniteLight *)calloc(1, sizeof *inf);
+    if (!inf) return oom(P, file, line);
+    inf->world_from_light = P->gs.ctm;
+    inf->file = file;
+    inf->line = line;
+    if (fn) {
+        char path[1024];
+        Image im;
+        Error ierr;
+        double mean[3] = { 0, 0, 0 }, k_e = 0.0;
+        float mrgb[3];
+        int x, y, c;
+        if (ends_with_ci(fn, ".exr")) {
+            free(inf);
+            return fail(P, file, line, "LightSource \"infinite\": \"%s\": EXR images are not in "
+                        "the specnee subset; convert it to PFM (e.g. pbrt-v4's `imgtool convert "
+                        "--outfile %.*s.pfm %s`) and name the .pfm", fn, (int)strlen(fn) - 4, fn, fn);
+        }
+        if (!ends_with_ci(fn, ".pfm")) {
+            free(inf);
+            return fail(P, file, line, "LightSource \"infinite\": \"%s\": specnee reads image "
+                        "maps only as PFM (convert with pbrt-v4's `imgtool convert`)", fn);
+        }
+        resolve_path(P, file, fn, path, sizeof path);
+        if (!pfm_read(&im, path, &ierr)) {
+            free(inf);
+            return fail(P, file, line, "LightSource \"infinite\": %s", ierr.msg);
+        }
+        if (!inf_set_image(inf, &im, file, line, P->err)) {
+            img_free(&im);
+            inf_free(inf);
+            return 0;
+        }
+        for (y = 0; y < im.h; y++)
+            for (x = 0; x < im.w; x++) {
+                const float *px = im.rgb + 3 * ((size_t)y * im.w + x);
+                for (c = 0; c < 3; c++) mean[c] += px[c] > 0.0f ? px[c] : 0.0f;
+                if (ev > 0.0f) {
+                    Vec3 w = equal_area_square_to_sphere((x + 0.5f) / im.w, (y + 0.5f) / im.h);
+                    if (w.z > 0.0f)                      /* sRGB's luminance row */
+                        k_e += (0.2126 * px[0] + 0.7152 * px[1] + 0.0722 * px[2]) * w.z;
+                }
+            }
+        for (c = 0; c < 3; c++) mrgb[c] = (float)(mean[c] / ((double)im.w * im.h));
+        k_e *= 2.0 * SPECNEE_PI / ((double)im.w * im.h);
+        img_free(&im);
+        if (!spec_from_rgb(&inf->mean, mrgb, 1, P->err, file, line)) { inf_free(inf); return 0; }
+        if (ev > 0.0f) {
+            if (!(k_e > 0.0)) {
+                inf_free(inf);
+                return fail(P, file, line, "LightSource \"infinite\": \"illuminance\" given, but "
+                            "the map sends no light to the upper hemisphere");
+            }
+            scale = (float)(scale * ev / k_e);
+        }
+    } else if (ev > 0.0f) {
+        scale = (float)(scale * ev / SPECNEE_PI);
+    }
+    memset(em, 0, sizeof *em);
+    em->shape = -1;
+    em->inf = inf;
+    em->L = L;                   /* an image map: D65, the texels' illuminant */
+    em->scale = scale;
+    return 1;
 }

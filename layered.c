@@ -623,3 +623,192 @@ int layered_sample(const Material *m, const MatPoint *mp, const Frame *fr, Vec3 
     out->pdf = pdf;
     return pdf > 0.0f;
 }
+
+/* ---------------------------------------------------------------------------
+   ---- building from scene parameters
+   coateddiffuse_from_params, coatedconductor_from_params: the scene builder's
+   (scene.c) layered materials, read from their parameters (parser.h).
+   --------------------------------------------------------------------------- */
+#include "parser.h"
+
+/* The slab between a layered material's coat and base (coateddiffuse,
+   coatedconductor; layered.c): thickness, HG g, the walks' maxdepth and nsamples,
+   each checked and reported at its own parameter's line, then stored in m. */
+static int layer_slab(Parser *P, const char *what, const char *file, int line, float th,
+                      const Param *pth, float g, const Param *pg, int md, const Param *pd,
+                      int ns, const Param *pn, Material *m)
+{
+    if (!(th > 0.0f && th < 1e30f))
+        return fail(P, pth ? pth->file : file, pth ? pth->line : line,
+                    "%s: \"float thickness\" %g must be finite and > 0", what, th);
+    if (!(g > -1.0f && g < 1.0f))
+        return fail(P, pg ? pg->file : file, pg ? pg->line : line,
+                    "%s: \"float g\" %g must be within (-1, 1)", what, g);
+    if (md < 1)
+        return fail(P, pd ? pd->file : file, pd ? pd->line : line,
+                    "%s: \"integer maxdepth\" %d must be >= 1", what, md);
+    if (ns < 1)
+        return fail(P, pn ? pn->file : file, pn ? pn->line : line,
+                    "%s: \"integer nsamples\" %d must be >= 1", what, ns);
+    m->thickness = th;
+    m->hg_g = g;
+    m->maxdepth = md;
+    m->nsamples = ns;
+    return 1;
+}
+
+/* The slab's single-scattering albedo (0 by default), within [0, 1] at every nm. */
+static int layer_albedo(Parser *P, Param *pa, const char *what, const char *file, int line,
+                        Material *m)
+{
+    int nm;
+    if (!unit_spectrum_param(P, pa, &m->albedo, 0.0f)) return 0;
+    for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
+        if (!(spec_get(&m->albedo, nm) >= 0.0f && spec_get(&m->albedo, nm) <= 1.0f))
+            return fail(P, pa ? pa->file : file, pa ? pa->line : line,
+                        "%s: \"albedo\" %g at %d nm must be within [0, 1]", what,
+                        spec_get(&m->albedo, nm), nm);
+    return 1;
+}
+
+/* pbrt-v4 CoatedDiffuseMaterial: a dielectric coat (float eta,
+   roughness) over a Lambertian base (reflectance 0.5), a slab of thickness
+   0.01 between them with a medium of albedo 0 and HG g 0; maxdepth 10 and
+   nsamples 1 random walks */
+int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                              const char *dir, const char *what, Material *m)
+{
+    Param *pr = find_spectrum_param(pl, "reflectance"), *pa = find_spectrum_param(pl, "albedo");
+    Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
+    Param *pe = find_spectrum_param(pl, "eta"), *pf = param_find(pl, PT_FLOAT, "eta");
+    Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
+    Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
+    float eta, th, g;
+    int md, ns, given;
+    (void)dir;
+    m->type = MAT_COATED_DIFFUSE;
+    if (pe && !pf)
+        return fail(P, pe->file, pe->line, "%s: a spectral \"eta\" is valid pbrt-v4 (it "
+                    "terminates the secondary wavelengths) but not in the specnee subset: "
+                    "give \"float eta\"", what);
+    if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
+                           &m->remap))
+        return 0;
+    if (pt) {
+        /* "texture reflectance": the base's R read at each hit (mat_point) */
+        int ti = texture_lookup(P, pt, 0);
+        if (ti < 0) return 0;
+        m->reflectance_tex = ti + 1;
+    }
+    if (!get_float(P, pl, "eta", 1.5f, &eta) || !get_float(P, pl, "thickness", 0.01f, &th) ||
+        !get_float(P, pl, "g", 0.0f, &g) || !get_int(P, pl, "maxdepth", 10, &md, &given) ||
+        !get_int(P, pl, "nsamples", 1, &ns, &given))
+        return 0;
+    if (!params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
+                             "texture reflectance, float eta, float roughness, "
+                             "float uroughness, float vroughness, texture roughness, "
+                             "texture uroughness, texture vroughness, "
+                             "bool remaproughness, float thickness, spectrum albedo, "
+                             "rgb albedo, float g, integer maxdepth, integer nsamples",
+                             "displacement normalmap"))
+        return 0;
+    if (m->alpha != m->alpha_t)
+        return fail(P, file, line, "%s: anisotropic roughness (u %g, v %g after the remap) "
+                    "is valid pbrt-v4 but not in the specnee subset", what, m->alpha, m->alpha_t);
+    if (!(eta > 0.0f && eta < 100.0f))
+        return fail(P, pf ? pf->file : file, pf ? pf->line : line,
+                    "%s: \"float eta\" %g is not an index of refraction", what, eta);
+    spec_const(&m->eta, eta);
+    if (!layer_slab(P, what, file, line, th, pth, g, pg, md, pd, ns, pn, m)) return 0;
+    if (!unit_spectrum_param(P, pt ? NULL : pr, &m->reflectance, 0.5f)) return 0;
+    if (!layer_albedo(P, pa, what, file, line, m)) return 0;
+    return 1;
+}
+
+/* pbrt-v4 CoatedConductorMaterial (section 5): a dielectric coat
+   ("interface." eta 1.5, roughness 0) over a conductor ("conductor." eta and
+   k, Cu by default, or a "reflectance"; roughness 0), a slab of thickness
+   0.01 with a medium of albedo 0 and HG g 0; maxdepth 10, nsamples 1 */
+int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                                const char *dir, const char *what, Material *m)
+{
+    Param *pe = find_spectrum_param(pl, "conductor.eta"), *pk = find_spectrum_param(pl, "conductor.k");
+    Param *pr = find_spectrum_param(pl, "reflectance"), *pa = find_spectrum_param(pl, "albedo");
+    Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
+    Param *pie = find_spectrum_param(pl, "interface.eta");
+    Param *pf = param_find(pl, PT_FLOAT, "interface.eta");
+    Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
+    Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
+    float eta, th, g, cat;
+    int md, ns, given, nm, remap2;
+    (void)dir;
+    m->type = MAT_COATED_CONDUCTOR;
+    if (pie && !pf)
+        return fail(P, pie->file, pie->line, "%s: a spectral \"interface.eta\" is valid "
+                    "pbrt-v4 (it terminates the secondary wavelengths) but not in the specnee "
+                    "subset: give \"float interface.eta\"", what);
+    if (!microfacet_alphas_of(P, pl, file, line, what, "interface.", &m->alpha, &m->alpha_t,
+                              &m->alpha_tex, &m->remap) ||
+        !microfacet_alphas_of(P, pl, file, line, what, "conductor.", &m->cond_alpha, &cat,
+                              &m->cond_alpha_tex, &remap2))
+        return 0;
+    if (!get_float(P, pl, "interface.eta", 1.5f, &eta) ||
+        !get_float(P, pl, "thickness", 0.01f, &th) || !get_float(P, pl, "g", 0.0f, &g) ||
+        !get_int(P, pl, "maxdepth", 10, &md, &given) || !get_int(P, pl, "nsamples", 1, &ns, &given))
+        return 0;
+    if (!params_check_unused(P, pl, what, "float interface.eta, float interface.roughness, "
+                             "float interface.uroughness, float interface.vroughness, "
+                             "texture interface.roughness, texture interface.uroughness, "
+                             "texture interface.vroughness, spectrum conductor.eta, "
+                             "spectrum conductor.k, spectrum reflectance, rgb reflectance, "
+                             "texture reflectance, float conductor.roughness, "
+                             "float conductor.uroughness, float conductor.vroughness, "
+                             "texture conductor.roughness, texture conductor.uroughness, "
+                             "texture conductor.vroughness, bool remaproughness, "
+                             "float thickness, spectrum albedo, rgb albedo, float g, "
+                             "integer maxdepth, integer nsamples", "displacement normalmap"))
+        return 0;
+    if (m->alpha != m->alpha_t || m->cond_alpha != cat)
+        return fail(P, file, line, "%s: anisotropic roughness (interface u %g v %g, conductor "
+                    "u %g v %g after the remap) is valid pbrt-v4 but not in the specnee subset",
+                    what, m->alpha, m->alpha_t, m->cond_alpha, cat);
+    if ((pr || pt) && (pe || pk))
+        return fail(P, file, line, "%s: give either \"reflectance\" or \"conductor.eta\" and "
+                    "\"conductor.k\", not both (pbrt-v4 refuses it too)", what);
+    if (!(eta > 0.0f && eta < 100.0f))
+        return fail(P, pf ? pf->file : file, pf ? pf->line : line,
+                    "%s: \"float interface.eta\" %g is not an index of refraction", what, eta);
+    spec_const(&m->eta, eta);
+    if (!layer_slab(P, what, file, line, th, pth, g, pg, md, pd, ns, pn, m)) return 0;
+    if (!layer_albedo(P, pa, what, file, line, m)) return 0;
+    if (pt) {
+        /* "texture reflectance": r read at each hit (mat_point), n and k from it
+           there (layered.c layer_init) */
+        int ti = texture_lookup(P, pt, 0);
+        if (ti < 0) return 0;
+        m->reflectance_tex = ti + 1;
+        spec_const(&m->cond_eta, 1.0f);
+        spec_const(&m->k, 0.0f);                  /* (not read) */
+    } else if (pr) {
+        /* as the conductor's: r clamped to [0, 0.9999], n = 1, k = 2 sqrt(r) / sqrt(1 - r) */
+        if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
+        if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
+        spec_const(&m->cond_eta, 1.0f);
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+            double r = spec_get(&m->reflectance, nm);
+            if (r > 0.9999) r = 0.9999;
+            *spec_at(&m->k, nm) = conductor_k_of_reflectance(r);
+        }
+    } else {
+        if (pe) { if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->cond_eta, NULL)) return 0; }
+        else spec_named(&m->cond_eta, "metal-Cu-eta");
+        if (pk) { if (!param_spectrum(P, pk, SPEC_UNBOUNDED, &m->k, NULL)) return 0; }
+        else spec_named(&m->k, "metal-Cu-k");
+        if (!check_spectrum_above(P, pe, file, line, "\"spectrum conductor.eta\" of a "
+                                  "coatedconductor", &m->cond_eta, 0.0f, 1) ||
+            !check_spectrum_above(P, pk, file, line, "\"spectrum conductor.k\" of a "
+                                  "coatedconductor", &m->k, 0.0f, 0))
+            return 0;
+    }
+    return 1;
+}

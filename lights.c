@@ -43,7 +43,10 @@
       spot's cone; others "may reach"), with the ray-offset margin of bvh.c.  It is
       part of context_weights, so light_select and light_select_pmf see the same
       zeros; if every weight is 0, NEE takes no sample (unbiased: nothing can
-      light x). */
+      light x).
+
+   The last section reads an AreaLightSource from a scene's parameters for the
+   scene builder (area_light_from_params, parser.h). */
 #include "specnee.h"
 #include <stdlib.h>
 #include <string.h>
@@ -1184,4 +1187,72 @@ const char *light_nee_source(const LightSampler *ls, const LightCtx *c, int fell
     if (ls->opt.all_wavelengths || c->shifted)
         return "spectral table summed over the alive wavelengths' bins";
     return "spatial table of the voxel: several wavelengths alive, spectral tables act on hero-only paths";
+}
+
+/* ---------------------------------------------------------------------------
+   ---- building from scene parameters
+   area_light_from_params: the scene builder's (scene.c) AreaLightSource,
+   read from its parameters (parser.h).
+   --------------------------------------------------------------------------- */
+#include "parser.h"
+
+/* AreaLightSource "diffuse" (pbrt-v4 DiffuseAreaLight::Create): L (D65 when
+   absent), scale, twosided, checked; an "rgb L" gets pbrt-v4's D65 normalisation
+   (rgb_illuminant_scale).  The shapes that follow carry it (scene.c). */
+int area_light_from_params(Parser *P, const char *type, ParamList *pl, const char *file, int line,
+                           AreaLightDesc *out)
+{
+    AreaLightDesc al;
+    Param *p;
+    int rgb_illum = 0;
+    if (strcmp(type, "diffuse") != 0)
+        return fail(P, file, line, "AreaLightSource \"%s\": unknown area light type "
+                    "(pbrt-v4 has only \"diffuse\")", type);
+    memset(&al, 0, sizeof al);
+    p = find_spectrum_param(pl, "L");
+    if (p) {
+        if (!param_spectrum(P, p, SPEC_ILLUMINANT, &al.L, &rgb_illum)) return 0;
+    } else if (!spec_named(&al.L, "stdillum-D65")) {  /* the colour space's illuminant */
+        return fail(P, file, line, "AreaLightSource: the built-in spectrum stdillum-D65 is missing");
+    }
+    if (!get_float(P, pl, "scale", 1.0f, &al.scale)) return 0;
+    if (!get_bool(P, pl, "twosided", 0, &al.twosided)) return 0;
+    if (!params_check_unused(P, pl, "AreaLightSource \"diffuse\"",
+                             "spectrum L, rgb L, blackbody L, float scale, bool twosided",
+                             "power filename alpha"))
+        return 0;
+    if (!(al.scale >= 0.0f))
+        return fail(P, file, line, "AreaLightSource: \"float scale\" must be >= 0");
+    {
+        int i;
+        for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
+            if (!(spec_get(&al.L, i) >= 0.0f))
+                return fail(P, p ? p->file : file, p ? p->line : line,
+                            "AreaLightSource: L is negative at %d nm", i);
+    }
+    {
+        /* A spectrum with no luminance in 400-700 nm (an ultraviolet lamp) cannot be
+           normalised to Y = scale: lights.c reads it as absolute spectral radiance
+           times scale (docs/conventions.md section 4, docs/FLUORESCENCE.md section 6). */
+        double vis = 0.0, any = 0.0;
+        int nm;
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+            float xyz[3];
+            any += spec_get(&al.L, nm);
+            if (nm < (int)LAMBDA_LO || nm > (int)LAMBDA_HI) continue;
+            cie_xyz((float)nm, xyz);
+            vis += (double)xyz[1] * spec_get(&al.L, nm);
+        }
+        if (!(any > 0.0))
+            return fail(P, p ? p->file : file, p ? p->line : line,
+                        "AreaLightSource: spectrum L is zero everywhere in %d-%d nm",
+                        SPEC_UV_MIN, SPEC_MAX);
+        if (!(vis > 0.0))
+            fprintf(stderr, "%s:%d: note: AreaLightSource: L has no luminance in 400-700 nm; "
+                    "read as absolute spectral radiance times scale (docs/conventions.md)\n",
+                    p ? p->file : file, p ? p->line : line);
+    }
+    if (rgb_illum) al.scale = rgb_illuminant_scale(&al.L, al.scale);
+    *out = al;
+    return 1;
 }

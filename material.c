@@ -41,7 +41,10 @@
    Dispersion: with a wavelength-dependent index, the hero's index picks the
    direction.  For other wavelengths f and pdf are evaluated along the SAME
    directions with their own index (needed only by the rough spectral MIS of
-   render.c; at smooth dispersive interfaces the other wavelengths have pdf 0). */
+   render.c; at smooth dispersive interfaces the other wavelengths have pdf 0).
+
+   The last section builds these materials from a scene's parameters for the
+   scene builder (*_from_params, parser.h). */
 #include "specnee.h"
 
 float mat_albedo(const Material *m, float lambda_nm)
@@ -515,4 +518,225 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
         pdf_l[j] = pj;
         if (alive & (1u << j)) f[j] = fj;
     }
+}
+
+/* ---------------------------------------------------------------------------
+   ---- building from scene parameters
+   The scene builder (scene.c) calls these for a Material or MakeNamedMaterial
+   of their type (pbrt-v4's per-type Create): each reads its parameters
+   (parser.h), checks them and fills the Material.
+   --------------------------------------------------------------------------- */
+#include "parser.h"
+
+/* pbrt-v4 (materials.cpp): no material, only the boundary between two media;
+   "" and "none" are its deprecated spellings.  Rays cross it (render.c) */
+int interface_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                          const char *dir, const char *what, Material *m)
+{
+    (void)dir; (void)file; (void)line;
+    m->type = MAT_INTERFACE;
+    return params_check_unused(P, pl, what, "", NULL);
+}
+
+/* pbrt-v4 DiffuseMaterial: "reflectance" (0.5 by default), a spectrum within
+   [0, 1] or a spectrum texture. */
+int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                        const char *dir, const char *what, Material *m)
+{
+    Param *p = find_spectrum_param(pl, "reflectance");
+    Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
+    (void)dir; (void)file; (void)line;
+    m->type = MAT_DIFFUSE;
+    if (pt) {
+        /* "texture reflectance": evaluated at each hit (texture.c), clamped to [0, 1] */
+        int ti = texture_lookup(P, pt, 0);
+        if (ti < 0) return 0;
+        m->reflectance_tex = ti + 1;
+        spec_const(&m->reflectance, 0.5f);        /* (not read) */
+    } else if (p) {
+        if (!param_spectrum(P, p, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
+        /* a reflectance must lie in [0,1]; 1e-4 of slack absorbs the rounding of
+           an RGB upsampling of (1,1,1) */
+        if (!check_unit_spectrum(P, p, &m->reflectance)) return 0;
+    } else {
+        spec_const(&m->reflectance, 0.5f);        /* pbrt-v4's default */
+    }
+    return params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
+                               "texture reflectance", "displacement normalmap");
+}
+
+/* specnee extension (docs/FLUORESCENCE.md, docs/conventions.md section 6):
+   a diffuse fluorescent layer, F2 */
+int fluorescent_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                            const char *dir, const char *what, Material *m)
+{
+    Param *pr = find_spectrum_param(pl, "reflectance");
+    Param *pa = find_spectrum_param(pl, "excitation"), *pe = find_spectrum_param(pl, "emission");
+    Param *pq = param_find(pl, PT_FLOAT, "quantumyield");
+    int nm;
+    m->type = MAT_FLUORESCENT;
+    if (!pa || !pe)
+        return fail(P, file, line, "%s \"fluorescent\": needs \"spectrum excitation\" "
+                    "and \"spectrum emission\"", dir);
+    if (!unit_spectrum_param(P, pr, &m->reflectance, 0.5f)) return 0;
+    if (!param_spectrum(P, pa, SPEC_UNBOUNDED, &m->excitation, NULL)) return 0;
+    if (!check_unit_spectrum(P, pa, &m->excitation)) return 0;
+    if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->emission, NULL)) return 0;
+    for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
+        if (!(spec_get(&m->emission, nm) >= 0.0f))
+            return fail(P, pe->file, pe->line, "\"spectrum emission\": negative (%g) at %d nm",
+                        spec_get(&m->emission, nm), nm);
+    if (!get_float(P, pl, "quantumyield", 1.0f, &m->qyield)) return 0;
+    if (!(m->qyield >= 0.0f && m->qyield <= 1.0f))
+        return fail(P, pq ? pq->file : file, pq ? pq->line : line,
+                    "\"float quantumyield\": %g is outside [0,1] (photons re-emitted per "
+                    "photon absorbed)", m->qyield);
+    if (!fluor_prepare(m))
+        return fail(P, pe->file, pe->line, "\"spectrum emission\": zero everywhere in %d-%d nm",
+                    SPEC_UV_MIN, SPEC_MAX);
+    return params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
+                               "spectrum excitation, spectrum emission, float quantumyield", "");
+}
+
+/* pbrt-v4 DielectricMaterial: "float eta" (no dispersion), "spectrum eta", or
+   specnee's Cauchy coefficients; isotropic roughness. */
+int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                           const char *dir, const char *what, Material *m)
+{
+    Param *pf = param_find(pl, PT_FLOAT, "eta");
+    Param *pa = param_find(pl, PT_FLOAT, "cauchyA"), *pb = param_find(pl, PT_FLOAT, "cauchyB");
+    float u, v, r, A = 0, B = 0;
+    int remap, i, have_u, have_v;
+    m->type = MAT_DIELECTRIC;
+    if ((pa != NULL) != (pb != NULL))
+        return fail(P, file, line, "%s \"dielectric\": \"float cauchyA\" and "
+                    "\"float cauchyB\" must be given together", dir);
+    if (pa) {
+        /* specnee extension: n(lambda) = A + B / lambda^2, lambda in um */
+        Param *ps = find_spectrum_param(pl, "eta");
+        if (pf || ps)
+            return fail(P, file, line, "%s \"dielectric\": give either eta or "
+                        "cauchyA/cauchyB, not both", dir);
+        if (!get_float(P, pl, "cauchyA", 0, &A) || !get_float(P, pl, "cauchyB", 0, &B))
+            return 0;
+        if (!(A > 0.0f) || !(B >= 0.0f) || !(B < 1.0f))
+            return fail(P, file, line, "%s \"dielectric\": need cauchyA > 0 and "
+                        "0 <= cauchyB < 1 um^2", dir);
+        for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++) *spec_at(&m->eta, i) = cauchy_eta(A, B, (float)i);
+        m->cauchy_a = A;
+        m->cauchy_b = B;
+    } else if (pf) {
+        /* pbrt-v4: a float eta is a constant index (no dispersion) */
+        float eta;
+        if (!get_float(P, pl, "eta", 1.5f, &eta)) return 0;
+        if (!(eta > 0.0f))
+            return fail(P, pf->file, pf->line, "\"float eta\": must be > 0");
+        spec_const(&m->eta, eta);
+    } else {
+        Param *ps = find_spectrum_param(pl, "eta");
+        if (ps) {
+            if (!param_spectrum(P, ps, SPEC_UNBOUNDED, &m->eta, NULL)) return 0;
+            for (i = 0; i < SPEC_N; i++) {
+                if (!(m->eta.v[i] >= 0.0f && m->eta.v[i] < 100.0f))
+                    return fail(P, ps->file, ps->line, "\"spectrum eta\": value %g at %d "
+                                "nm is not an index of refraction", m->eta.v[i], SPEC_MIN + i);
+                if (m->eta.v[i] == 0.0f) m->eta.v[i] = 1.0f;   /* pbrt: eta 0 means 1 */
+            }
+            for (i = 0; i < SPEC_UV_N; i++) {          /* the UV extension, same rule */
+                if (!(m->eta.uv[i] >= 0.0f && m->eta.uv[i] < 100.0f))
+                    return fail(P, ps->file, ps->line, "\"spectrum eta\": value %g at %d "
+                                "nm is not an index of refraction", m->eta.uv[i], SPEC_UV_MIN + i);
+                if (m->eta.uv[i] == 0.0f) m->eta.uv[i] = 1.0f;
+            }
+        } else {
+            spec_const(&m->eta, 1.5f);            /* pbrt-v4's default */
+        }
+    }
+    /* pbrt-v4: u/vroughness default to "roughness", which defaults to 0 */
+    have_u = param_find(pl, PT_FLOAT, "uroughness") != NULL;
+    have_v = param_find(pl, PT_FLOAT, "vroughness") != NULL;
+    if (!get_float(P, pl, "uroughness", 0, &u) || !get_float(P, pl, "vroughness", 0, &v))
+        return 0;
+    if (!have_u || !have_v) {
+        if (!get_float(P, pl, "roughness", 0, &r)) return 0;
+        if (!have_u) u = r;
+        if (!have_v) v = r;
+    }
+    if (!get_bool(P, pl, "remaproughness", 1, &remap)) return 0;
+    if (!params_check_unused(P, pl, what, "float eta, spectrum eta, float roughness, "
+                             "float uroughness, float vroughness, bool remaproughness, "
+                             "float cauchyA, float cauchyB", "displacement normalmap"))
+        return 0;
+    if (u != v)
+        return fail(P, file, line, "%s \"dielectric\": anisotropic roughness (%g, %g) "
+                    "is valid pbrt-v4 but not in the specnee subset", dir, u, v);
+    if (!(u >= 0.0f && u <= 1e4f))
+        return fail(P, file, line, "%s \"dielectric\": roughness must be >= 0", dir);
+    /* pbrt-v4 TrowbridgeReitzDistribution::RoughnessToAlpha: alpha = sqrt(roughness) */
+    m->alpha = remap ? sqrtf(u) : u;
+    m->dispersive = !spec_is_constant(&m->eta);
+    return 1;
+}
+
+/* pbrt-v4 ThinDielectricMaterial: "float eta" or "spectrum eta",
+   1.5 by default; no roughness */
+int thindielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                               const char *dir, const char *what, Material *m)
+{
+    Param *pf = param_find(pl, PT_FLOAT, "eta"), *ps = find_spectrum_param(pl, "eta");
+    (void)dir;
+    m->type = MAT_THIN_DIELECTRIC;
+    if (!params_check_unused(P, pl, what, "float eta, spectrum eta", "displacement normalmap"))
+        return 0;
+    if (pf) {
+        float eta;
+        if (!get_float(P, pl, "eta", 1.5f, &eta)) return 0;
+        spec_const(&m->eta, eta);
+    } else if (ps) {
+        if (!param_spectrum(P, ps, SPEC_UNBOUNDED, &m->eta, NULL)) return 0;
+    } else {
+        spec_const(&m->eta, 1.5f);                /* pbrt-v4's default */
+    }
+    /* pbrt-v4 reads an eta of 0 as 1 (no interface); negative is meaningless */
+    if (!check_spectrum_above(P, pf ? pf : ps, file, line, "\"eta\" of a thindielectric",
+                              &m->eta, 0.0f, 0))
+        return 0;
+    {
+        int nm;
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
+            if (spec_get(&m->eta, nm) == 0.0f) *spec_at(&m->eta, nm) = 1.0f;
+    }
+    return 1;
+}
+
+/* pbrt-v4 DiffuseTransmissionMaterial: R and T (0.25 each by
+   default), both times "scale" and clamped to [0, 1] */
+int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                                    const char *dir, const char *what, Material *m)
+{
+    Param *pr = find_spectrum_param(pl, "reflectance"), *pt = find_spectrum_param(pl, "transmittance");
+    Param *psc = param_find(pl, PT_FLOAT, "scale");
+    float scale, maxr = 0.0f, maxt = 0.0f;
+    int nm;
+    (void)dir;
+    m->type = MAT_DIFFUSE_TRANSMISSION;
+    if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
+    if (!params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
+                             "spectrum transmittance, rgb transmittance, float scale",
+                             "displacement normalmap"))
+        return 0;
+    if (!unit_spectrum_param(P, pr, &m->reflectance, 0.25f)) return 0;
+    if (!unit_spectrum_param(P, pt, &m->transmittance, 0.25f)) return 0;
+    if (!(scale >= 0.0f))
+        return fail(P, psc ? psc->file : file, psc ? psc->line : line,
+                    "\"float scale\": %g must be >= 0", scale);
+    for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+        float *r = spec_at(&m->reflectance, nm), *t = spec_at(&m->transmittance, nm);
+        *r = fminf(1.0f, scale * *r);
+        *t = fminf(1.0f, scale * *t);
+        if (*r > maxr) maxr = *r;
+        if (*t > maxt) maxt = *t;
+    }
+    m->p_reflect = maxr + maxt > 0.0f ? maxr / (maxr + maxt) : 0.5f;
+    return 1;
 }

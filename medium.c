@@ -35,7 +35,10 @@
    surface leaves the ray in the medium it came through (a diffuse floor in fog
    sends its rays back into the fog).  The camera is in the outside medium of the
    MediumInterface in force at the Camera directive.  A surface with Material
-   "interface" is no surface at all: rays cross it (render.c), shadow rays too. */
+   "interface" is no surface at all: rays cross it (render.c), shadow rays too.
+
+   The last section builds a medium from a MakeNamedMedium's parameters for the
+   scene builder (medium_from_params, parser.h). */
 #include "specnee.h"
 #include <string.h>
 
@@ -149,4 +152,109 @@ int medium_after(const Scene *s, int shape, int cur, Vec3 w, Vec3 ng)
     const Shape *sh = &s->shapes[shape];
     if (sh->medium_inside == sh->medium_outside) return cur;
     return v3_dot(w, ng) > 0.0f ? sh->medium_outside : sh->medium_inside;
+}
+
+/* ---------------------------------------------------------------------------
+   ---- building from scene parameters
+   medium_from_params: the scene builder's (scene.c) MakeNamedMedium, read from
+   its parameters (parser.h).
+   --------------------------------------------------------------------------- */
+#include "parser.h"
+
+/* A medium coefficient (sigma_a, sigma_s): absent -> def (pbrt-v4: 1), else a
+   spectrum with finite values >= 0 */
+static int medium_coeff(Parser *P, ParamList *pl, const char *what, const char *name,
+                        float def, Spectrum *out, const char *file, int line)
+{
+    Param *p = find_spectrum_param(pl, name);
+    char w[192];
+    if (!p) { spec_const(out, def); return 1; }
+    snprintf(w, sizeof w, "%s: \"%s\"", what, name);
+    return param_spectrum(P, p, SPEC_COEFF, out, NULL) &&
+           check_spectrum_above(P, p, file, line, w, out, 0.0f, 0);
+}
+
+/* MakeNamedMedium "name" "string type" "homogeneous" ... with pbrt-v4's meaning
+   (media.cpp, HomogeneousMedium::Create): sigma_a, sigma_s (default 1 each, per
+   scene unit), or a "string preset" of measured coefficients (medium.c; they are
+   in mm^-1, used as they are, as pbrt-v4 does), both times "float scale" (1);
+   "float g" (0) the Henyey-Greenstein asymmetry; emission "spectrum Le" (0)
+   times "float Lescale" (1), normalised as an area light's L is (lights.c: an rgb
+   Le through D65).  Only homogeneous media: the others are refused by name. */
+int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *file, int line,
+                       Medium *m)
+{
+    static const char *const pbrt_types[] = { "grid", "rgbgrid", "cloud", "nanovdb", NULL };
+    const char *type = NULL, *preset = NULL;
+    float scale, g, lescale;
+    int i, rgb_illum = 0;
+    Param *ple;
+    memset(m, 0, sizeof *m);
+    if (!get_string(P, pl, "type", &type)) return 0;
+    if (!type) return fail(P, file, line, "%s: \"string type\" is required", what);
+    if (strcmp(type, "homogeneous") != 0) {
+        for (i = 0; pbrt_types[i]; i++)
+            if (!strcmp(type, pbrt_types[i]))
+                return fail(P, file, line, "%s: medium type \"%s\" is valid pbrt-v4 but not in "
+                            "the specnee subset (only \"homogeneous\")", what, type);
+        return fail(P, file, line, "%s: unknown medium type \"%s\"", what, type);
+    }
+    if (!get_string(P, pl, "preset", &preset)) return 0;
+    if (preset && preset[0]) {
+        float sa[3], ss[3];
+        Param *pp = param_find(pl, PT_STRING, "preset");
+        if (!medium_preset(preset, sa, ss))
+            return fail(P, pp->file, pp->line, "%s: unknown preset \"%s\" (pbrt-v4's names, e.g. "
+                        "\"Wholemilk\", \"Skin1\", \"Ketchup\")", what, preset);
+        if (!spec_from_rgb(&m->sigma_a, sa, 2, P->err, pp->file, pp->line) ||
+            !spec_from_rgb(&m->sigma_s, ss, 2, P->err, pp->file, pp->line)) return 0;
+    } else if (!medium_coeff(P, pl, what, "sigma_a", 1.0f, &m->sigma_a, file, line) ||
+               !medium_coeff(P, pl, what, "sigma_s", 1.0f, &m->sigma_s, file, line))
+        return 0;
+    if (!get_float(P, pl, "scale", 1.0f, &scale) || !get_float(P, pl, "g", 0.0f, &g) ||
+        !get_float(P, pl, "Lescale", 1.0f, &lescale)) return 0;
+    ple = find_spectrum_param(pl, "Le");
+    if (ple) {
+        char w[192];
+        snprintf(w, sizeof w, "%s: \"Le\"", what);
+        if (!param_spectrum(P, ple, SPEC_ILLUMINANT, &m->Le, &rgb_illum) ||
+            !check_spectrum_above(P, ple, file, line, w, &m->Le, 0.0f, 0)) return 0;
+    }
+    if (!params_check_unused(P, pl, what, "string type, string preset, spectrum sigma_a, "
+                             "spectrum sigma_s, float scale, float g, spectrum Le, "
+                             "float Lescale", NULL))
+        return 0;
+    if (!(scale >= 0.0f) || !(scale < 1e30f)) {
+        Param *p = param_find(pl, PT_FLOAT, "scale");
+        return fail(P, p->file, p->line, "%s: \"float scale\" %g must be a finite number >= 0", what, scale);
+    }
+    if (!(g > -1.0f) || !(g < 1.0f)) {
+        Param *p = param_find(pl, PT_FLOAT, "g");
+        return fail(P, p->file, p->line, "%s: \"float g\" %g must lie in (-1, 1) (Henyey-Greenstein)",
+                    what, g);
+    }
+    if (!(lescale >= 0.0f) || !(lescale < 1e30f)) {
+        Param *p = param_find(pl, PT_FLOAT, "Lescale");
+        return fail(P, p->file, p->line, "%s: \"float Lescale\" %g must be a finite number >= 0", what,
+                    lescale);
+    }
+    for (i = 0; i < SPEC_N; i++) {
+        m->sigma_a.v[i] *= scale;
+        m->sigma_s.v[i] *= scale;
+    }
+    for (i = 0; i < SPEC_UV_N; i++) {
+        m->sigma_a.uv[i] *= scale;
+        m->sigma_s.uv[i] *= scale;
+    }
+    m->g = g;
+    m->Le_scale = 0.0f;
+    if (ple) {
+        float mx = 0.0f;
+        for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
+            if (spec_get(&m->Le, i) > mx) mx = spec_get(&m->Le, i);
+        if (mx > 0.0f) m->Le_scale = rgb_illum ? rgb_illuminant_scale(&m->Le, lescale) : lescale;
+    }
+    m->file = file;
+    m->line = line;
+    return 1;
 }

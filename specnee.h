@@ -951,7 +951,7 @@ struct LightSampler;           /* opaque: tables built by light_sampler_build */
 typedef struct LightSampler LightSampler;
 
 /* ======================================================================
-   8. The scene (scene.c parses the pbrt-v4 subset)
+   8. The scene (scene.c parses the pbrt-v4 subset; options.c, dump.c)
    ====================================================================== */
 /* pbrt-v4's pixel filters (filter.c has their formulas and defaults) */
 typedef enum { FILTER_BOX, FILTER_GAUSSIAN, FILTER_TRIANGLE, FILTER_MITCHELL, FILTER_SINC } FilterType;
@@ -1025,11 +1025,11 @@ int  scene_load_as(Scene *s, const char *path, const char *output, Error *err);
 /* Same from a string in memory (tests); name is used in messages. */
 int  scene_load_string(Scene *s, const char *text, const char *name, Error *err);
 void scene_free(Scene *s);
-void scene_dump(const Scene *s, FILE *f);      /* --dump-scene */
+void scene_dump(const Scene *s, FILE *f);      /* --dump-scene (dump.c) */
 /* The film's part to render, in pixels [b[0], b[1]) x [b[2], b[3]) of the
    xres x yres film (pbrt-v4 FilmBaseParameters: cropwindow scaled with ceil,
    pixelbounds clipped to the film); the whole film when neither is given.
-   Returns 0 when the part is empty. */
+   Returns 0 when the part is empty.  (options.c, with scene_insets_rendered) */
 int  film_bounds(const SceneSettings *st, int b[4]);
 /* The scene's insets in the pixels of the image render() makes: each clipped to
    film_bounds() and moved to its origin (x0 y0 x1 y1, end exclusive), with its

@@ -414,3 +414,276 @@ void tex_free(Texture *t)
     free(t->texel);
     t->texel = NULL;
 }
+
+/* ---------------------------------------------------------------------------
+   ---- building from scene parameters
+   texture_from_params: the scene builder's (scene.c) Texture directive, one
+   class read from its parameters (parser.h), with pbrt-v4's 2-D mappings.
+   --------------------------------------------------------------------------- */
+#include "parser.h"
+#include <stdio.h>
+
+/* Argument k of texture T from parameter `name`: a texture, or a constant (def
+   when absent). */
+static int texture_arg(Parser *P, ParamList *pl, Texture *T, int k, const char *name, float def)
+{
+    Param *pt = param_find(pl, PT_TEXTURE, name);
+    T->arg_tex[k] = -1;
+    if (pt) {
+        T->arg_tex[k] = texture_lookup(P, pt, T->is_float);
+        return T->arg_tex[k] >= 0;
+    }
+    if (T->is_float) {
+        if (!get_float(P, pl, name, def, &T->arg_f[k])) return 0;
+        if (!isfinite(T->arg_f[k]))
+            return fail(P, T->file, T->line, "Texture: \"float %s\" is not finite", name);
+        return 1;
+    } else {
+        Param *p = find_spectrum_param(pl, name);
+        if (!p) { spec_const(&T->arg_s[k], def); return 1; }
+        return param_spectrum(P, p, SPEC_ALBEDO, &T->arg_s[k], NULL);
+    }
+}
+
+/* The texture's frame: the inverse of the CTM at the directive (pbrt-v4's
+   textureFromRender). */
+static void texture_frame(Parser *P, Texture *T)
+{
+    int a, b;
+    for (a = 0; a < 4; a++)
+        for (b = 0; b < 4; b++) {
+            T->tex_from_world.m[a][b] = P->gs.ctm.inv[a][b];
+            T->tex_from_world.inv[a][b] = P->gs.ctm.m[a][b];
+        }
+}
+
+/* The 2-D mapping parameters (pbrt-v4 TextureMapping2D::Create). */
+static int texture_mapping(Parser *P, ParamList *pl, Texture *T)
+{
+    const char *map = NULL;
+    double v1[3] = { 1, 0, 0 }, v2[3] = { 0, 1, 0 };
+    Param *pv;
+    int k;
+    if (!get_string(P, pl, "mapping", &map)) return 0;
+    if (!get_float(P, pl, "uscale", 1.0f, &T->su) || !get_float(P, pl, "vscale", 1.0f, &T->sv) ||
+        !get_float(P, pl, "udelta", 0.0f, &T->du) || !get_float(P, pl, "vdelta", 0.0f, &T->dv))
+        return 0;
+    if (!isfinite(T->su) || !isfinite(T->sv) || !isfinite(T->du) || !isfinite(T->dv))
+        return fail(P, T->file, T->line, "Texture: uscale, vscale, udelta, vdelta must be finite");
+    if (!map || !strcmp(map, "uv")) T->map = TEXMAP_UV;
+    else if (!strcmp(map, "spherical")) T->map = TEXMAP_SPHERICAL;
+    else if (!strcmp(map, "cylindrical")) T->map = TEXMAP_CYLINDRICAL;
+    else if (!strcmp(map, "planar")) T->map = TEXMAP_PLANAR;
+    else return fail(P, T->file, T->line, "Texture: unknown mapping \"%s\" (pbrt-v4: uv, "
+                     "spherical, cylindrical, planar)", map);
+    for (k = 0; k < 2; k++) {
+        double *v = k ? v2 : v1;
+        pv = param_find(pl, PT_VECTOR3, k ? "v2" : "v1");
+        if (pv) {
+            int a;
+            if (pv->n_num != 3)
+                return fail(P, pv->file, pv->line, "\"vector3 %s\": expected 3 values", pv->name);
+            for (a = 0; a < 3; a++) {
+                if (!isfinite(pv->num[a]))
+                    return fail(P, pv->file, pv->line, "\"vector3 %s\": not finite", pv->name);
+                v[a] = pv->num[a];
+            }
+        }
+    }
+    T->vs = v3((float)v1[0], (float)v1[1], (float)v1[2]);
+    T->vt = v3((float)v2[0], (float)v2[1], (float)v2[2]);
+    texture_frame(P, T);
+    return 1;
+}
+
+/* An imagemap's image: PFM, or an .exr whose .pfm sits beside it. */
+static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
+{
+    const char *fn = NULL, *wrap = NULL, *filter = NULL, *enc = NULL;
+    char path[1024], alt[1024];
+    float scale;
+    int invert, ok;
+    Image im;
+    Error ierr;
+    FILE *f;
+    if (!get_string(P, pl, "filename", &fn) || !get_string(P, pl, "wrap", &wrap) ||
+        !get_string(P, pl, "filter", &filter) || !get_string(P, pl, "encoding", &enc) ||
+        !get_float(P, pl, "scale", 1.0f, &scale) || !get_bool(P, pl, "invert", 0, &invert))
+        return 0;
+    (void)param_find(pl, PT_FLOAT, "maxanisotropy");   /* (only for the "ewa" filter) */
+    if (!fn) return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": \"string filename\" is required", name);
+    if (!isfinite(scale)) return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": scale is not finite", name);
+    if (!wrap || !strcmp(wrap, "repeat")) T->wrap = TEXWRAP_REPEAT;
+    else if (!strcmp(wrap, "black")) T->wrap = TEXWRAP_BLACK;
+    else if (!strcmp(wrap, "clamp")) T->wrap = TEXWRAP_CLAMP;
+    else return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": unknown wrap \"%s\" (repeat, "
+                     "black, clamp)", name, wrap);
+    if (filter && strcmp(filter, "bilinear") != 0 && strcmp(filter, "point") != 0)
+        fprintf(stderr, "%s:%d: note: Texture \"imagemap\": filter \"%s\" is read as "
+                "\"bilinear\" (specnee has no MIP maps)\n", T->file, T->line, filter);
+    resolve_path(P, T->file, fn, path, sizeof path);
+    if (ends_with_ci(fn, ".exr")) {
+        snprintf(alt, sizeof alt, "%.*s.pfm", (int)strlen(path) - 4, path);
+        f = fopen(alt, "rb");
+        if (!f)
+            return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": \"%s\": EXR images are not "
+                        "in the specnee subset; convert it beside it to PFM (e.g. ImageMagick's "
+                        "`convert %s %.*s.pfm`)", name, fn, fn, (int)strlen(fn) - 4, fn);
+        fclose(f);
+        fprintf(stderr, "%s:%d: note: Texture \"imagemap\": reading %s for \"%s\"\n", T->file,
+                T->line, alt, fn);
+        snprintf(path, sizeof path, "%s", alt);
+    } else if (ends_with_ci(fn, ".png")) {
+        /* 8- and 16-bit PNG (png.c): sRGB-encoded unless "encoding" says "linear",
+           as pbrt-v4 reads them; "gamma g" is refused by name */
+        int linear = 0;
+        if (enc && !strcmp(enc, "linear")) linear = 1;
+        else if (enc && strcmp(enc, "sRGB") != 0)
+            return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": encoding \"%s\" is valid "
+                        "pbrt-v4 but not in the specnee subset (sRGB, linear)", name, enc);
+        if (!png_read(&im, path, linear, &ierr))
+            return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
+        ok = tex_set_image(T, &im, scale, invert, P->err);
+        img_free(&im);
+        return ok;
+    } else if (!ends_with_ci(fn, ".pfm")) {
+        return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": \"%s\": specnee reads image "
+                    "textures as PNG or PFM (convert others with ImageMagick's `convert`)", name, fn);
+    }
+    (void)enc;                                 /* PFM holds linear values */
+    if (!pfm_read(&im, path, &ierr))
+        return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
+    ok = tex_set_image(T, &im, scale, invert, P->err);
+    img_free(&im);
+    return ok;
+}
+
+/* What each class reads (the parameters' "type name" list, by TexType). */
+static const char *const texture_reads[] = {
+    /* TEX_CONSTANT */ "spectrum value, rgb value, float value, texture value",
+    /* TEX_CHECKERBOARD */ "integer dimension, string mapping, float uscale, float vscale, "
+        "float udelta, float vdelta, vector3 v1, vector3 v2, spectrum tex1, rgb tex1, "
+        "float tex1, texture tex1, spectrum tex2, rgb tex2, float tex2, texture tex2",
+    /* TEX_SCALE */ "spectrum tex, rgb tex, float tex, texture tex, float scale, texture scale",
+    /* TEX_MIX */ "spectrum tex1, rgb tex1, float tex1, texture tex1, spectrum tex2, rgb tex2, "
+        "float tex2, texture tex2, float amount, texture amount",
+    /* TEX_IMAGEMAP */ "string filename, string wrap, string filter, string encoding, "
+        "float scale, bool invert, float maxanisotropy, string mapping, float uscale, "
+        "float vscale, float udelta, float vdelta, vector3 v1, vector3 v2",
+    /* TEX_DOTS */ "string mapping, float uscale, float vscale, float udelta, float vdelta, "
+        "vector3 v1, vector3 v2, spectrum inside, rgb inside, float inside, texture inside, "
+        "spectrum outside, rgb outside, float outside, texture outside",
+    /* TEX_MARBLE */ "integer octaves, float roughness, float scale, float variation",
+    /* TEX_FBM */ "integer octaves, float roughness",
+    /* TEX_WRINKLED */ "integer octaves, float roughness",
+    /* TEX_WINDY */ ""
+};
+
+/* Texture T of class `cls`, the texture named `name` (T's kind, float or
+   spectrum, its file and line already set): pbrt-v4's per-class Create. */
+int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *cls,
+                        Texture *T)
+{
+    static const char *const pbrt_classes[] = {
+        "bilerp", "directionmix", "ptex", NULL
+    };
+    char what[96];
+    int k, ok = 0, dim = 2;
+    if (!strcmp(cls, "constant")) {
+        T->type = TEX_CONSTANT;
+        ok = texture_arg(P, pl, T, 0, "value", 1.0f);
+    } else if (!strcmp(cls, "checkerboard")) {
+        T->type = TEX_CHECKERBOARD;
+        ok = get_int(P, pl, "dimension", 2, &dim, NULL);
+        if (ok && dim != 2)
+            ok = fail(P, T->file, T->line, "Texture \"checkerboard\": dimension %d: the 3-D "
+                      "checkerboard is valid pbrt-v4 but not in the specnee subset", dim);
+        ok = ok && texture_mapping(P, pl, T) && texture_arg(P, pl, T, 0, "tex1", 1.0f) &&
+             texture_arg(P, pl, T, 1, "tex2", 0.0f);
+    } else if (!strcmp(cls, "scale")) {
+        Param *ps = param_find(pl, PT_TEXTURE, "scale");
+        T->type = TEX_SCALE;
+        ok = texture_arg(P, pl, T, 0, "tex", 1.0f);
+        if (ok && ps) {
+            T->scale_tex = texture_lookup(P, ps, 1);
+            ok = T->scale_tex >= 0;
+        } else if (ok) {
+            ok = get_float(P, pl, "scale", 1.0f, &T->arg_f[1]);
+            if (ok && !isfinite(T->arg_f[1])) ok = fail(P, T->file, T->line, "Texture \"scale\": scale is not finite");
+        }
+    } else if (!strcmp(cls, "mix")) {
+        Param *pa = param_find(pl, PT_TEXTURE, "amount");
+        T->type = TEX_MIX;
+        ok = texture_arg(P, pl, T, 0, "tex1", 0.0f) && texture_arg(P, pl, T, 1, "tex2", 1.0f);
+        if (ok && pa) {
+            T->amount_tex = texture_lookup(P, pa, 1);
+            ok = T->amount_tex >= 0;
+        } else if (ok) {
+            ok = get_float(P, pl, "amount", 0.5f, &T->amount);
+            if (ok && !isfinite(T->amount)) ok = fail(P, T->file, T->line, "Texture \"mix\": amount is not finite");
+        }
+    } else if (!strcmp(cls, "imagemap")) {
+        T->type = TEX_IMAGEMAP;
+        ok = texture_mapping(P, pl, T) && texture_image(P, pl, T, name);
+    } else if (!strcmp(cls, "dots")) {
+        /* pbrt-v4 DotsTexture: "outside" (0) in a dot, "inside" (1) elsewhere (sic:
+           pbrt-v4's Create passes "inside" as the constructor's outsideDot, since
+           pbrt-v3; section 4) */
+        T->type = TEX_DOTS;
+        ok = texture_mapping(P, pl, T) && texture_arg(P, pl, T, 0, "inside", 1.0f) &&
+             texture_arg(P, pl, T, 1, "outside", 0.0f);
+    } else if (!strcmp(cls, "marble")) {
+        /* pbrt-v4 MarbleTexture (spectrum only): a 3-D texture in the frame of the
+           CTM at the directive (TextureMapping3D, which reads no parameters) */
+        T->type = TEX_MARBLE;
+        if (T->is_float) {
+            ok = fail(P, T->file, T->line, "Texture \"%s\": \"marble\" is a spectrum texture "
+                      "(pbrt-v4 has no float marble)", name);
+            return 0;
+        }
+        ok = get_int(P, pl, "octaves", 8, &T->octaves, NULL) &&
+             get_float(P, pl, "roughness", 0.5f, &T->omega) &&
+             get_float(P, pl, "scale", 1.0f, &T->mscale) &&
+             get_float(P, pl, "variation", 0.2f, &T->variation);
+        if (ok && !(isfinite(T->omega) && isfinite(T->mscale) && isfinite(T->variation)))
+            ok = fail(P, T->file, T->line, "Texture \"marble\": roughness, scale and variation "
+                      "must be finite");
+        if (ok && !(T->octaves >= 0 && T->octaves <= 64))
+            ok = fail(P, T->file, T->line, "Texture \"marble\": octaves %d must be within [0, 64]",
+                      T->octaves);
+        if (ok) {
+            texture_frame(P, T);   /* marble */
+            ok = tex_marble_init(T, P->err);
+        }
+    } else if (!strcmp(cls, "fbm") || !strcmp(cls, "wrinkled") ||
+               !strcmp(cls, "windy")) {
+        /* pbrt-v4 FBmTexture, WrinkledTexture, WindyTexture (float only): 3-D noise
+           in the frame of the CTM at the directive (section 4) */
+        T->type = cls[0] == 'f' ? TEX_FBM : cls[1] == 'r' ? TEX_WRINKLED : TEX_WINDY;
+        if (!T->is_float) {
+            ok = fail(P, T->file, T->line, "Texture \"%s\": \"%s\" is a float texture "
+                      "(pbrt-v4 has no spectrum %s)", name, cls, cls);
+            return 0;
+        }
+        ok = 1;
+        if (T->type != TEX_WINDY) {
+            ok = get_int(P, pl, "octaves", 8, &T->octaves, NULL) &&
+                 get_float(P, pl, "roughness", 0.5f, &T->omega);
+            if (ok && !isfinite(T->omega))
+                ok = fail(P, T->file, T->line, "Texture \"%s\": roughness must be finite", cls);
+            if (ok && !(T->octaves >= 0 && T->octaves <= 64))
+                ok = fail(P, T->file, T->line, "Texture \"%s\": octaves %d must be within [0, 64]",
+                          cls, T->octaves);
+        }
+        if (ok) texture_frame(P, T);
+    } else {
+        for (k = 0; pbrt_classes[k]; k++)
+            if (!strcmp(cls, pbrt_classes[k])) break;
+        ok = fail(P, T->file, T->line, pbrt_classes[k] ? "Texture \"%s\": class \"%s\" is valid "
+                  "pbrt-v4 but not in the specnee subset" : "Texture \"%s\": unknown class \"%s\"",
+                  name, cls);
+    }
+    if (!ok) return 0;
+    snprintf(what, sizeof what, "Texture \"%s\"", cls);
+    return params_check_unused(P, pl, what, texture_reads[T->type], NULL);
+}

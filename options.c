@@ -1,0 +1,620 @@
+/* options.c - the options block of a pbrt-v4 scene: Camera, Film, PixelFilter,
+   Sampler, Integrator and Accelerator, read into Scene.settings.
+
+   Implements, for the scene builder (scene.c's directive loop calls them before
+   WorldBegin, parser.h): camera_directive, film_directive, filter_directive,
+   sampler_directive, integrator_directive, accelerator_directive; and, for the
+   renderer and the commands (specnee.h section 8), film_bounds and
+   scene_insets_rendered.  Each reads its statement's parameters with parser.h's
+   typed getters, checks them (every problem is a "file:line: problem" line) and
+   fills SceneSettings; pbrt-v4's parameters that specnee does not support are
+   refused by name.  The subset and its defaults: docs/conventions.md.
+
+   USE (scene.c)
+     if (!strcmp(d, "Film")) ok = film_directive(P, type, &pl, t->file, t->line); */
+#include "parser.h"
+#include <float.h>
+#include <limits.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The camera transform must give the renderer finite numbers, as mesh vertices
+   must: the eye and the world-space directions through the image's corners and
+   centre, in float, with a length that neither overflows nor underflows when
+   squared (render.c normalises them).  A transform such as `Scale 1e-30 ...`
+   before Camera is invertible in double precision but fails here. */
+int camera_transform_ok(const Xform *camera_from_world, float fov_deg, int xres, int yres)
+{
+    Xform wfc;
+    double t = tan(fov_deg * 0.5 * SPECNEE_PI / 180.0);
+    double ax = xres >= yres ? (double)xres / yres : 1.0, ay = xres >= yres ? 1.0 : (double)yres / xres;
+    Vec3 eye;
+    int i;
+    memcpy(wfc.m, camera_from_world->inv, sizeof wfc.m);     /* world_from_camera */
+    memcpy(wfc.inv, camera_from_world->m, sizeof wfc.inv);
+    eye = xf_point(&wfc, v3(0, 0, 0));
+    if (!(fabsf(eye.x) <= FLT_MAX && fabsf(eye.y) <= FLT_MAX && fabsf(eye.z) <= FLT_MAX))
+        return 0;
+    for (i = 0; i < 5; i++) {
+        double sx = i == 4 ? 0.0 : (i & 1 ? ax : -ax), sy = i == 4 ? 0.0 : (i & 2 ? ay : -ay);
+        Vec3 d = xf_vector(&wfc, v3((float)(sx * t), (float)(sy * t), 1.0f));
+        float l2 = v3_dot(d, d);
+        if (!(l2 >= FLT_MIN && l2 <= FLT_MAX)) return 0;
+    }
+    return 1;
+}
+
+int camera_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    SceneSettings *st = &P->s->settings;
+    float fov, lens, focus, open, close;
+    if (strcmp(type, "perspective") != 0) {
+        if (!strcmp(type, "orthographic") || !strcmp(type, "realistic") || !strcmp(type, "spherical"))
+            return fail(P, file, line, "Camera \"%s\" is valid pbrt-v4 but not in the specnee "
+                        "subset (use \"perspective\")", type);
+        return fail(P, file, line, "Camera \"%s\": unknown camera type", type);
+    }
+    if (!get_float(P, pl, "fov", 90.0f, &fov)) return 0;
+    if (!get_float(P, pl, "lensradius", 0.0f, &lens)) return 0;
+    if (!get_float(P, pl, "focaldistance", 1e6f, &focus)) return 0;
+    if (!get_float(P, pl, "shutteropen", 0.0f, &open)) return 0;
+    if (!get_float(P, pl, "shutterclose", 1.0f, &close)) return 0;
+    if (!params_check_unused(P, pl, "Camera \"perspective\"",
+                             "float fov, float lensradius, float focaldistance, "
+                             "float shutteropen, float shutterclose",
+                             "frameaspectratio screenwindow"))
+        return 0;
+    if (!(fov > 0.0f && fov < 180.0f))
+        return fail_param(P, pl, "fov", file, line, "Camera: \"float fov\" %g must be within (0, 180) degrees", fov);
+    /* the film may come later: checked with the largest aspect ratio allowed here
+       and again with the film's own in finish() */
+    if (!camera_transform_ok(&P->gs.ctm, fov, 1, 1))
+        return fail(P, file, line, "Camera: degenerate camera transform: the eye or the "
+                    "viewing directions are not finite, non-zero float vectors (look at "
+                    "the Scale/Transform/LookAt before Camera)");
+    if (!(lens >= 0.0f) || !(focus > 0.0f))
+        return fail_param(P, pl, lens < 0.0f ? "lensradius" : "focaldistance", file, line, "Camera: \"float lensradius\" %g must be >= 0 and "
+                    "\"float focaldistance\" %g > 0", lens, focus);
+    /* pbrt-v4 (scene.cpp): the exposure time is the shutter interval; the scene is
+       static, so it only scales the image (the imaging ratio, Film "iso") */
+    if (!(close - open > 0.0f))
+        return fail_param(P, pl, "shutterclose", file, line, "Camera: shutterclose %g <= shutteropen %g: the shutter "
+                    "never opens", close, open);
+    st->fov_deg = fov;
+    st->lens_radius = lens;
+    st->focal_distance = focus;
+    P->exposure_time = close - open;
+    st->camera_from_world = P->gs.ctm;
+    st->camera_medium = P->gs.medium_outside;   /* pbrt-v4: the current outside medium */
+    P->camera_file = file;
+    P->camera_line = line;
+    {   /* the named coordinate system "camera" is world_from_camera (pbrt-v4) */
+        int i;
+        for (i = 0; i < P->n_coords; i++)
+            if (!strcmp(P->coords[i].name, "camera")) break;
+        if (i == P->n_coords) {
+            if (!grow((void **)&P->coords, &P->cap_coords, P->n_coords + 1, sizeof(NamedCoordSys)))
+                return oom(P, file, line);
+            snprintf(P->coords[i].name, sizeof P->coords[i].name, "camera");
+            P->n_coords++;
+        }
+        memcpy(P->coords[i].xf.m, P->gs.ctm.inv, sizeof P->gs.ctm.inv);
+        memcpy(P->coords[i].xf.inv, P->gs.ctm.m, sizeof P->gs.ctm.m);
+    }
+    return 1;
+}
+
+/* The chromaticity of the white of pbrt-v4's Film "whitebalance" temperature T:
+   pbrt-v4 (Spectra::D) first turns T into a CCT with today's second radiation
+   constant, T * 1.4388 / 1.4380, then takes the CIE daylight locus (CIE 015:2004,
+   eq. 3.3 and 3.4: x_D as a cubic in 1/T, valid 4000..25000 K, and
+   y_D = -3 x_D^2 + 2.870 x_D - 0.275) at 4000 K and above, and a Planckian
+   (blackbody) radiator below.  pbrt-v4 rebuilds the daylight spectrum from the
+   S0, S1, S2 basis and integrates it; the locus gives its chromaticity directly
+   (the two agree to about 1e-4 in x and y). */
+static void white_balance_xy(double kelvin, double *x, double *y)
+{
+    double cct = kelvin * 1.4388 / 1.4380, t = 1.0 / cct;
+    if (cct < 4000.0) {
+        Spectrum bb;
+        spec_blackbody(&bb, (float)cct);
+        spec_chromaticity(&bb, x, y);
+        return;
+    }
+    if (cct <= 7000.0)
+        *x = -4.6070e9 * t * t * t + 2.9678e6 * t * t + 0.09911e3 * t + 0.244063;
+    else
+        *x = -2.0064e9 * t * t * t + 1.9018e6 * t * t + 0.24748e3 * t + 0.237040;
+    *y = -3.000 * *x * *x + 2.870 * *x - 0.275;
+}
+
+static void mat3_mul(const double a[9], const double b[9], double out[9])
+{
+    int i, j;
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            out[3 * i + j] = a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] + a[3 * i + 2] * b[6 + j];
+}
+
+/* von Kries adaptation in the Bradford cone space (K. M. Lam, "Metamerism and
+   colour constancy", PhD thesis, University of Bradford, 1985; the matrix as
+   published by CIE 159:2004 and in pbrt-v4's WhiteBalance): XYZ -> LMS, each cone
+   signal scaled by target white / source white, LMS -> XYZ (the inverse is
+   computed here, not tabulated).  The source white is the temperature's
+   (white_balance_xy), the target sRGB's own white: the xy of specnee's D65, as
+   pbrt-v4 takes its colour space's white from its illuminant spectrum. */
+static void white_balance_matrix(double kelvin, double m[9])
+{
+    static const double lms[9] = {  0.8951,  0.2664, -0.1614,
+                                   -0.7502,  1.7135,  0.0367,
+                                    0.0389, -0.0685,  1.0296 };
+    double inv[9], det, src[3], dst[3], sx, sy, tx, ty, d[9], tmp[9];
+    Spectrum d65;
+    int i;
+    white_balance_xy(kelvin, &sx, &sy);
+    spec_named(&d65, "stdillum-D65");
+    spec_chromaticity(&d65, &tx, &ty);
+    /* inverse of lms by cofactors */
+    det = lms[0] * (lms[4] * lms[8] - lms[5] * lms[7]) - lms[1] * (lms[3] * lms[8] - lms[5] * lms[6])
+        + lms[2] * (lms[3] * lms[7] - lms[4] * lms[6]);
+    inv[0] = (lms[4] * lms[8] - lms[5] * lms[7]) / det;
+    inv[1] = (lms[2] * lms[7] - lms[1] * lms[8]) / det;
+    inv[2] = (lms[1] * lms[5] - lms[2] * lms[4]) / det;
+    inv[3] = (lms[5] * lms[6] - lms[3] * lms[8]) / det;
+    inv[4] = (lms[0] * lms[8] - lms[2] * lms[6]) / det;
+    inv[5] = (lms[2] * lms[3] - lms[0] * lms[5]) / det;
+    inv[6] = (lms[3] * lms[7] - lms[4] * lms[6]) / det;
+    inv[7] = (lms[1] * lms[6] - lms[0] * lms[7]) / det;
+    inv[8] = (lms[0] * lms[4] - lms[1] * lms[3]) / det;
+    for (i = 0; i < 3; i++) {   /* LMS of the whites at Y = 1: XYZ = (x/y, 1, (1-x-y)/y) */
+        src[i] = lms[3 * i] * (sx / sy) + lms[3 * i + 1] + lms[3 * i + 2] * ((1.0 - sx - sy) / sy);
+        dst[i] = lms[3 * i] * (tx / ty) + lms[3 * i + 1] + lms[3 * i + 2] * ((1.0 - tx - ty) / ty);
+    }
+    memset(d, 0, sizeof d);
+    for (i = 0; i < 3; i++) d[4 * i] = dst[i] / src[i];
+    mat3_mul(d, lms, tmp);
+    mat3_mul(inv, tmp, m);
+}
+
+int film_bounds(const SceneSettings *st, int b[4])
+{
+    b[0] = 0; b[1] = st->xres; b[2] = 0; b[3] = st->yres;
+    if (st->crop_set) {
+        /* pbrt-v4: ceil(resolution * fraction), the product in float (20 * 0.1f
+           rounds to 2 in float, to 2.0000000298 in double) */
+        float v[4];
+        int a;
+        v[0] = (float)st->xres * st->crop[0];
+        v[1] = (float)st->xres * st->crop[1];
+        v[2] = (float)st->yres * st->crop[2];
+        v[3] = (float)st->yres * st->crop[3];
+        for (a = 0; a < 4; a++) b[a] = (int)ceilf(v[a]);
+    } else if (st->pixel_bounds_set) {   /* clipped to the film */
+        b[0] = st->pixel_bounds[0] > 0 ? st->pixel_bounds[0] : 0;
+        b[1] = st->pixel_bounds[1] < st->xres ? st->pixel_bounds[1] : st->xres;
+        b[2] = st->pixel_bounds[2] > 0 ? st->pixel_bounds[2] : 0;
+        b[3] = st->pixel_bounds[3] < st->yres ? st->pixel_bounds[3] : st->yres;
+    }
+    return b[1] > b[0] && b[3] > b[2];
+}
+
+int scene_insets_rendered(const Scene *s, int rect[8][4], const char *names[8])
+{
+    int b[4], i, n = 0;
+    if (!film_bounds(&s->settings, b)) return 0;
+    for (i = 0; i < s->n_insets; i++) {
+        int x0 = s->inset[i][0] > b[0] ? s->inset[i][0] : b[0];
+        int y0 = s->inset[i][1] > b[2] ? s->inset[i][1] : b[2];
+        int x1 = s->inset[i][2] < b[1] ? s->inset[i][2] : b[1];
+        int y1 = s->inset[i][3] < b[3] ? s->inset[i][3] : b[3];
+        if (x1 <= x0 || y1 <= y0) continue;          /* outside the rendered part */
+        rect[n][0] = x0 - b[0]; rect[n][1] = y0 - b[2];
+        rect[n][2] = x1 - b[0]; rect[n][3] = y1 - b[2];
+        names[n] = s->inset_name[i];
+        n++;
+    }
+    return n;
+}
+
+/* The named camera sensors of pbrt-v4 (their r, g, b curves are its named
+   spectra "<name>_r/_g/_b"), which specnee does not have. */
+static int pbrt_sensor_name(const char *n)
+{
+    static const char *const names[] = {
+        "canon_eos_100d", "canon_eos_1dx_mkii", "canon_eos_200d", "canon_eos_200d_mkii",
+        "canon_eos_5d", "canon_eos_5d_mkii", "canon_eos_5d_mkiii", "canon_eos_5d_mkiv",
+        "canon_eos_5ds", "canon_eos_m", "hasselblad_l1d_20c", "nikon_d810", "nikon_d850",
+        "sony_ilce_6400", "sony_ilce_7m3", "sony_ilce_7rm3", "sony_ilce_9", NULL
+    };
+    int i;
+    for (i = 0; names[i]; i++)
+        if (!strcmp(n, names[i])) return 1;
+    return 0;
+}
+
+int film_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    SceneSettings *st = &P->s->settings;
+    int xres, yres, fp16;
+    const char *fn;
+    int gbuffer = !strcmp(type, "gbuffer");
+    float iso, maxcomp, scale, wb;
+    const char *coordsys = NULL, *sensor;
+    Param *crop, *pb;
+    if (strcmp(type, "rgb") != 0 && !gbuffer) {
+        if (!strcmp(type, "spectral"))
+            return fail(P, file, line, "Film \"%s\" is valid pbrt-v4 but not in the specnee "
+                        "subset (use \"rgb\")", type);
+        return fail(P, file, line, "Film \"%s\": unknown film type", type);
+    }
+    if (!get_int(P, pl, "xresolution", 1280, &xres, NULL)) return 0;
+    if (!get_int(P, pl, "yresolution", 720, &yres, NULL)) return 0;
+    if (!get_string(P, pl, "filename", &fn)) return 0;
+    if (!get_bool(P, pl, "savefp16", 1, &fp16)) return 0;    /* PFM is float32 anyway */
+    if (!get_float(P, pl, "iso", 100.0f, &iso)) return 0;
+    if (!get_float(P, pl, "maxcomponentvalue", INFINITY, &maxcomp)) return 0;
+    if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
+    if (!get_float(P, pl, "whitebalance", 0.0f, &wb)) return 0;
+    if (!get_string(P, pl, "sensor", &sensor)) return 0;
+    crop = param_find(pl, PT_FLOAT, "cropwindow");
+    pb = param_find(pl, PT_INTEGER, "pixelbounds");
+    if (gbuffer && !get_string(P, pl, "coordinatesystem", &coordsys)) return 0;
+    if (!params_check_unused(P, pl, gbuffer ? "Film \"gbuffer\"" : "Film \"rgb\"",
+                             gbuffer ? "integer xresolution, integer yresolution, string filename, "
+                                       "bool savefp16, float iso, float maxcomponentvalue, "
+                                       "float whitebalance, string sensor, float cropwindow, "
+                                       "integer pixelbounds, float scale, "
+                                       "string coordinatesystem"
+                                     : "integer xresolution, integer yresolution, string filename, "
+                                       "bool savefp16, float iso, float maxcomponentvalue, "
+                                       "float whitebalance, string sensor, float cropwindow, "
+                                       "integer pixelbounds, float scale",
+                             "exposuretime diagonal writefp16"))
+        return 0;
+    /* pbrt-v4's sensor "cie1931" (the default) records XYZ, which is what specnee
+       does; its named camera sensors need their measured r, g, b curves */
+    if (sensor && strcmp(sensor, "cie1931") != 0) {
+        if (pbrt_sensor_name(sensor))
+            return fail(P, file, line, "Film: \"string sensor\" \"%s\" is valid pbrt-v4 but "
+                        "not in the specnee subset (only \"cie1931\", the CIE 1931 observer; "
+                        "specnee has no camera sensitivity curves)", sensor);
+        return fail(P, file, line, "Film: \"string sensor\" \"%s\": unknown sensor type "
+                    "(pbrt-v4 knows \"cie1931\" and 17 named cameras)", sensor);
+    }
+    if (!(wb == 0.0f || (wb >= 1000.0f && wb <= 100000.0f)))
+        return fail_param(P, pl, "whitebalance", file, line, "Film: \"float whitebalance\" %g: a colour temperature "
+                    "within 1000..100000 K, or 0 for none", wb);
+    if (!(scale > 0.0f))
+        return fail_param(P, pl, "scale", file, line, "Film: \"float scale\" %g must be > 0", scale);
+    if (crop && crop->n_num != 4)
+        return fail(P, crop->file, crop->line, "Film: \"float cropwindow\": %d values, "
+                    "expected 4 (x0 x1 y0 y1, fractions of the film)", crop->n_num);
+    if (pb && pb->n_num != 4)
+        return fail(P, pb->file, pb->line, "Film: \"integer pixelbounds\": %d values, "
+                    "expected 4 (x0 x1 y0 y1, pixels)", pb->n_num);
+    if (xres < 1 || xres > MAX_RESOLUTION || yres < 1 || yres > MAX_RESOLUTION)
+        return fail(P, file, line, "Film: resolution %d x %d outside 1..%d per axis",
+                    xres, yres, MAX_RESOLUTION);
+    {   /* what the render's buffers would take, against the stated budget */
+        double need = (double)xres * yres * FILM_BYTES_PER_PIXEL;
+        if (need > (double)MEM_BUDGET_MIB * 1048576.0)
+            return fail(P, file, line, "Film: %d x %d pixels would need %.1f GiB for the "
+                        "render's buffers, more than specnee's memory budget of %.0f GiB "
+                        "(MEM_BUDGET_MIB in specnee.h)", xres, yres, need / 1073741824.0,
+                        MEM_BUDGET_MIB / 1024.0);
+    }
+    if (!(iso > 0.0f) || !(maxcomp > 0.0f))
+        return fail(P, file, line, "Film: \"float iso\" %g and \"float maxcomponentvalue\" %g "
+                    "must be > 0", iso, maxcomp);
+    if (gbuffer)
+        fprintf(stderr, "%s:%d: note: Film \"gbuffer\" is read as \"rgb\": specnee writes "
+                "the colour image only, without the geometry channels\n", file, line);
+    P->iso = iso;
+    if (scale != 1.0f) {
+        /* pbrt-v3's film scale: current pbrt-v4 refuses it as unused, and its
+           --upgrade rewrites it as "float iso" 100 * scale; specnee reads it so */
+        fprintf(stderr, "%s:%d: note: Film \"float scale\" %g is pbrt-v3 syntax (pbrt-v4 "
+                "reads \"float iso\" %g instead, as its --upgrade writes): the image is "
+                "scaled by %g\n", file, line, scale, 100.0 * scale, scale);
+        P->iso = iso * scale;
+    }
+    st->max_component = maxcomp;
+    st->xres = xres;
+    st->yres = yres;
+    st->white_balance = wb;
+    if (wb > 0.0f) white_balance_matrix(wb, st->white_balance_m);
+    st->crop_set = crop != NULL;
+    st->pixel_bounds_set = pb != NULL && !crop;   /* pbrt-v4: the crop window wins */
+    if (crop) {
+        /* pbrt-v4: each pair sorted, clamped to [0, 1] */
+        int a;
+        for (a = 0; a < 2; a++) {
+            double lo = crop->num[2 * a] < crop->num[2 * a + 1] ? crop->num[2 * a] : crop->num[2 * a + 1];
+            double hi = crop->num[2 * a] < crop->num[2 * a + 1] ? crop->num[2 * a + 1] : crop->num[2 * a];
+            st->crop[2 * a] = (float)(lo < 0.0 ? 0.0 : lo > 1.0 ? 1.0 : lo);
+            st->crop[2 * a + 1] = (float)(hi < 0.0 ? 0.0 : hi > 1.0 ? 1.0 : hi);
+        }
+    }
+    if (pb) {
+        int a;
+        for (a = 0; a < 4; a++) st->pixel_bounds[a] = (int)pb->num[a];
+    }
+    {
+        int b[4];
+        if (!film_bounds(st, b))
+            return fail(P, file, line, "Film: the %s selects no pixel of the %d x %d film "
+                        "(x %d..%d, y %d..%d)", crop ? "cropwindow" : "pixelbounds",
+                        xres, yres, b[0], b[1], b[2], b[3]);
+    }
+    if (P->output) {
+        /* pbrt-v4 (FilmBaseParameters): a file named on the command line wins over
+           the scene's; the scene's name is then never used, so it is not checked
+           (placeholders such as "__OUTPUT_PNG__" are common in shared scenes).
+           pbrt-v4 warns whenever the scene names a file; specnee notes it only
+           where the name is not one it writes as given (a placeholder, .exr, another
+           format), so the shipped scenes' usual `-o` renders stay quiet */
+        if (fn && !ends_with_ci(fn, ".pfm") && !ends_with_ci(fn, ".ppm") && !ends_with_ci(fn, ".png"))
+            fprintf(stderr, "%s:%d: note: the output file \"%s\" of the command line "
+                    "overrides Film \"string filename\" \"%s\" (as pbrt-v4 --outfile does)\n",
+                    file, line, P->output, fn);
+        snprintf(st->filename, sizeof st->filename, "%s", P->output);
+        return 1;
+    }
+    if (!fn) fn = "pbrt.exr";                         /* pbrt-v4's default */
+    if (strlen(fn) + 1 > sizeof st->filename)
+        return fail(P, file, line, "Film: filename longer than %d characters",
+                    (int)sizeof st->filename - 1);
+    if (ends_with_ci(fn, ".exr")) {
+        /* specnee has no EXR writer: the same name with .pfm (float32 too) */
+        size_t n = strlen(fn);
+        snprintf(st->filename, sizeof st->filename, "%.*s.pfm", (int)(n - 4), fn);
+        fprintf(stderr, "%s:%d: note: specnee writes no EXR; \"%s\" becomes \"%s\"\n",
+                file, line, fn, st->filename);
+    } else if (ends_with_ci(fn, ".pfm") || ends_with_ci(fn, ".ppm") || ends_with_ci(fn, ".png")) {
+        snprintf(st->filename, sizeof st->filename, "%s", fn);
+    } else {
+        return fail(P, file, line, "Film: \"string filename\" \"%s\": specnee writes .pfm, "
+                    ".ppm or .png (.exr becomes .pfm)", fn);
+    }
+    return 1;
+}
+
+/* PixelFilter: pbrt-v4's five filters with its parameter names and defaults
+   (filters.cpp; their formulas and how samples are drawn: filter.c). */
+int filter_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    static const struct { const char *name; FilterType t; float radius; const char *reads; }
+    kinds[] = {
+        { "box", FILTER_BOX, 0.5f, "float xradius, float yradius" },
+        { "gaussian", FILTER_GAUSSIAN, 1.5f, "float xradius, float yradius, float sigma" },
+        { "triangle", FILTER_TRIANGLE, 2.0f, "float xradius, float yradius" },
+        { "mitchell", FILTER_MITCHELL, 2.0f, "float xradius, float yradius, float B, float C" },
+        { "sinc", FILTER_SINC, 4.0f, "float xradius, float yradius, float tau" },
+    };
+    SceneSettings *st = &P->s->settings;
+    float xr, yr, sigma = 0.5f, B = 1.0f / 3.0f, C = 1.0f / 3.0f, tau = 3.0f;
+    char what[160];
+    int k;
+    for (k = 0; k < 5 && strcmp(type, kinds[k].name) != 0; k++) {}
+    if (k == 5)
+        return fail(P, file, line, "PixelFilter \"%s\": unknown filter type (pbrt-v4 knows "
+                    "box, gaussian, mitchell, sinc, triangle)", type);
+    /* pbrt-v4 names the radii xradius/yradius */
+    if (!get_float(P, pl, "xradius", kinds[k].radius, &xr)) return 0;
+    if (!get_float(P, pl, "yradius", kinds[k].radius, &yr)) return 0;
+    if (kinds[k].t == FILTER_GAUSSIAN && !get_float(P, pl, "sigma", 0.5f, &sigma)) return 0;
+    if (kinds[k].t == FILTER_MITCHELL && (!get_float(P, pl, "B", B, &B) || !get_float(P, pl, "C", C, &C)))
+        return 0;
+    if (kinds[k].t == FILTER_SINC && !get_float(P, pl, "tau", 3.0f, &tau)) return 0;
+    snprintf(what, sizeof what, "PixelFilter \"%s\"", type);
+    if (!params_check_unused(P, pl, what, kinds[k].reads, NULL)) return 0;
+    if (xr != yr)
+        return fail(P, file, line, "PixelFilter: xradius %g != yradius %g is valid pbrt-v4 "
+                    "but not in the specnee subset", xr, yr);
+    if (!(xr > 0.0f && xr <= 16.0f) || !(sigma > 0.0f && sigma <= 16.0f))
+        return fail(P, file, line, "PixelFilter: radius and sigma must be within (0, 16]");
+    if (!(tau > 0.0f))
+        return fail_param(P, pl, "tau", file, line, "PixelFilter \"sinc\": \"float tau\" %g must be > 0", tau);
+    st->filter = kinds[k].t;
+    st->filter_radius = xr;
+    st->filter_sigma = sigma;
+    st->filter_b = B;
+    st->filter_c = C;
+    st->filter_tau = tau;
+    return 1;
+}
+
+/* Accelerator: pbrt-v4's choice of ray-intersection structure ("bvh" with
+   splitmethod/maxnodeprims, or "kdtree").  It changes how fast rays are traced,
+   never what they hit, so the image does not depend on it: specnee reads the
+   parameters pbrt-v4 reads (an unknown one is an error, as there), ignores them
+   and says so; its own BVH (bvh.c) is always built. */
+int accelerator_directive(Parser *P, const char *type, ParamList *pl, const char *file,
+                          int line)
+{
+    const char *split;
+    int n;
+    float f;
+    if (!strcmp(type, "bvh")) {
+        if (!get_string(P, pl, "splitmethod", &split)) return 0;
+        if (!get_int(P, pl, "maxnodeprims", 4, &n, NULL)) return 0;
+        if (!params_check_unused(P, pl, "Accelerator \"bvh\"",
+                                 "string splitmethod, integer maxnodeprims", NULL))
+            return 0;
+    } else if (!strcmp(type, "kdtree")) {
+        if (!get_int(P, pl, "intersectcost", 5, &n, NULL)) return 0;
+        if (!get_int(P, pl, "traversalcost", 1, &n, NULL)) return 0;
+        if (!get_float(P, pl, "emptybonus", 0.5f, &f)) return 0;
+        if (!get_int(P, pl, "maxprims", 1, &n, NULL)) return 0;
+        if (!get_int(P, pl, "maxdepth", -1, &n, NULL)) return 0;
+        if (!params_check_unused(P, pl, "Accelerator \"kdtree\"",
+                                 "integer intersectcost, integer traversalcost, float emptybonus, "
+                                 "integer maxprims, integer maxdepth", NULL))
+            return 0;
+    } else {
+        return fail(P, file, line, "Accelerator \"%s\": unknown accelerator type (pbrt-v4 "
+                    "knows \"bvh\" and \"kdtree\")", type);
+    }
+    fprintf(stderr, "%s:%d: note: Accelerator \"%s\" is read and ignored: specnee always "
+            "builds its own BVH, and the accelerator does not change the image\n", file, line, type);
+    return 1;
+}
+
+int sampler_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    static const char *const known[] = {
+        "halton", "independent", "paddedsobol", "pmj02bn", "sobol", "stratified", "zsobol", NULL
+    };
+    SceneSettings *st = &P->s->settings;
+    int i, spp, seed, given = 0, seed_given = 0, jitter = 1, xs = 0, ys = 0;
+    const char *rnd;
+    char what[48];
+    for (i = 0; known[i]; i++)
+        if (!strcmp(type, known[i])) break;
+    if (!known[i]) return fail(P, file, line, "Sampler \"%s\": unknown sampler type", type);
+    if (!strcmp(type, "stratified")) {
+        /* pbrt-v4: xsamples * ysamples (4 x 4 by default), no pixelsamples */
+        int gx, gy;
+        if (!get_int(P, pl, "xsamples", 4, &xs, &gx)) return 0;
+        if (!get_int(P, pl, "ysamples", 4, &ys, &gy)) return 0;
+        if (!get_bool(P, pl, "jitter", 1, &jitter)) return 0;
+        if (xs < 1 || ys < 1 || xs > 4096 || ys > 4096)
+            return fail(P, file, line, "Sampler \"stratified\": xsamples/ysamples must be "
+                        "within 1..4096");
+        spp = xs * ys;
+        given = gx || gy;
+    } else {
+        /* pbrt-v4 defaults: 4 for independent, 16 for the others */
+        if (!get_int(P, pl, "pixelsamples", strcmp(type, "independent") ? 16 : 4, &spp, &given))
+            return 0;
+        /* pbrt-v4 reads "string randomization" for halton, paddedsobol, sobol and
+           zsobol only (samplers.cpp, each Create) */
+        if (strcmp(type, "independent") != 0 && strcmp(type, "pmj02bn") != 0 &&
+            !get_string(P, pl, "randomization", &rnd))
+            return 0;
+    }
+    if (!get_int(P, pl, "seed", 0, &seed, &seed_given)) return 0;
+    /* specnee reads every parameter pbrt-v4's sampler of this type reads
+       (samplers.cpp): any other is an unused parameter there too, e.g. "integer
+       pixelsamples" of "stratified", which pbrt-v4 takes from --spp only */
+    snprintf(what, sizeof what, "Sampler \"%s\"", type);
+    if (!params_check_unused(P, pl, what,
+                             !strcmp(type, "stratified") ? "integer xsamples, integer ysamples, bool jitter, integer seed"
+                             : !strcmp(type, "independent") || !strcmp(type, "pmj02bn") ? "integer pixelsamples, integer seed"
+                             : "integer pixelsamples, integer seed, string randomization", NULL))
+        return 0;
+    if (spp < 1 || spp > MAX_SPP)
+        return fail_param(P, pl, "pixelsamples", file, line, "Sampler: %d samples per pixel outside 1..%d", spp, MAX_SPP);
+    st->spp = spp;
+    st->spp_set = given;
+    st->seed = seed;
+    st->seed_set = seed_given;
+    st->xsamples = xs;
+    st->ysamples = ys;
+    st->jitter = jitter;
+    /* pbrt-v4's samplers specnee does not have map to the nearest it has
+       (docs/sampling.md): halton, pmj02bn and paddedsobol are per-pixel
+       stratified low-discrepancy points like specnee's padded Owen-scrambled sobol */
+    if (!strcmp(type, "halton") || !strcmp(type, "pmj02bn") || !strcmp(type, "paddedsobol")) {
+        fprintf(stderr, "%s:%d: note: Sampler \"%s\": specnee uses its nearest, \"sobol\" "
+                "(padded, Owen-scrambled), with the same sample count\n", file, line, type);
+        type = "sobol";
+    }
+    snprintf(st->sampler, sizeof st->sampler, "%s", type);
+    return 1;
+}
+
+int integrator_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    static const char *const pbrt_types[] = {
+        "ambientocclusion", "bdpt", "lightpath", "mlt", "randomwalk",
+        "simplevolpath", "sppm", "volpath", NULL
+    };
+    SceneSettings *st = &P->s->settings;
+    int i, maxdepth, given, regularize, dummy_i;
+    float dummy_f;
+    const char *ls = NULL, *reads;
+    char what[64];
+    /* volpath (pbrt-v4's default) is specnee's path tracer with its media
+       (render.c, docs/media.md); bdpt converges to the same image (pbrt-v4's bdpt
+       renders media too); sppm and simplepath (pbrt-v4's unidirectional path tracer
+       without MIS: uniform light choice, lights and/or BSDF sampled, every variant
+       unbiased) to the image of "path", which ignores media (settings.media_ignored) */
+    int as_path = !strcmp(type, "volpath") || !strcmp(type, "bdpt") || !strcmp(type, "sppm") ||
+                  !strcmp(type, "simplepath");
+    if (strcmp(type, "path") != 0 && !as_path) {
+        for (i = 0; pbrt_types[i]; i++)
+            if (!strcmp(type, pbrt_types[i]))
+                return fail(P, file, line, "Integrator \"%s\" is valid pbrt-v4 but not in the "
+                            "specnee subset (use \"path\")", type);
+        return fail(P, file, line, "Integrator \"%s\": unknown integrator type", type);
+    }
+    snprintf(what, sizeof what, "Integrator \"%s\"", type);
+    if (!get_int(P, pl, "maxdepth", DEFAULT_MAXDEPTH, &maxdepth, &given)) return 0;
+    if (strcmp(type, "bdpt") != 0 && strcmp(type, "sppm") != 0 && strcmp(type, "simplepath") != 0 &&
+        !get_string(P, pl, "lightsampler", &ls)) return 0;
+    if (strcmp(type, "sppm") != 0 && strcmp(type, "simplepath") != 0 &&
+        !get_bool(P, pl, "regularize", 0, &regularize)) return 0;
+    if (!strcmp(type, "sppm") || !strcmp(type, "simplepath")) regularize = 0;
+    if (!strcmp(type, "simplepath") &&
+        (!get_bool(P, pl, "samplelights", 1, &dummy_i) || !get_bool(P, pl, "samplebsdf", 1, &dummy_i)))
+        return 0;
+    {   /* pbrt-v3's Russian-roulette threshold, which pbrt-v4 read only in 2020
+           (until its commit 56ee5e8c): current pbrt-v4 starts the roulette when the
+           throughput's largest component falls below 1 after the second bounce,
+           its --upgrade drops the parameter and a plain pbrt-v4 refuses it as
+           unused.  The roulette is unbiased, so ignoring it changes noise only,
+           never the expected image */
+        Param *rr = param_find(pl, PT_FLOAT, "rrthreshold");
+        if (rr)
+            fprintf(stderr, "%s:%d: note: Integrator \"float rrthreshold\" is pbrt-v3 syntax "
+                    "that pbrt-v4 no longer reads (its --upgrade drops it): ignored\n",
+                    rr->file, rr->line);
+    }
+    if (!strcmp(type, "bdpt")) {
+        /* debugging images of bdpt's strategies: nothing to show for path */
+        if (!get_bool(P, pl, "visualizestrategies", 0, &dummy_i)) return 0;
+        if (dummy_i) return fail(P, file, line, "Integrator \"bdpt\": visualizestrategies is "
+                                 "not in the specnee subset");
+        if (!get_bool(P, pl, "visualizeweights", 0, &dummy_i)) return 0;
+        if (dummy_i) return fail(P, file, line, "Integrator \"bdpt\": visualizeweights is "
+                                 "not in the specnee subset");
+    }
+    if (!strcmp(type, "sppm")) {              /* photon-map settings: no meaning for path */
+        if (!get_int(P, pl, "photonsperiteration", -1, &dummy_i, NULL)) return 0;
+        if (!get_float(P, pl, "radius", 1.0f, &dummy_f)) return 0;
+        if (!get_int(P, pl, "seed", 0, &dummy_i, NULL)) return 0;
+    }
+    reads = !strcmp(type, "bdpt") ? "integer maxdepth, bool regularize, "
+                "bool visualizestrategies, bool visualizeweights"
+            : !strcmp(type, "sppm") ? "integer maxdepth, integer "
+                "photonsperiteration, float radius, integer seed"
+            : !strcmp(type, "simplepath") ? "integer maxdepth, bool samplelights, bool samplebsdf"
+            : "integer maxdepth, string lightsampler, bool regularize";
+    /* the first problem in the file is named: a parameter left over before
+       "bool regularize" true, else regularize, else one after it */
+    if (regularize)
+        return refuse_param(P, pl, what, reads, param_find(pl, PT_BOOL, "regularize"), file, line,
+                            "Integrator: \"bool regularize\" true is valid pbrt-v4 but "
+                            "not supported by specnee");
+    if (!params_check_unused(P, pl, what, reads, NULL))
+        return 0;
+    if (as_path && strcmp(type, "volpath") != 0)
+        fprintf(stderr, "%s:%d: note: Integrator \"%s\" is rendered by specnee's path tracer "
+                "(the same expected image%s)\n", file, line, type,
+                !strcmp(type, "bdpt") ? ", media included" : "; media are ignored, as by pbrt-v4's");
+    st->media_ignored = !strcmp(type, "path") || !strcmp(type, "simplepath") || !strcmp(type, "sppm");
+    P->integ_file = file;
+    P->integ_line = line;
+    snprintf(P->integ_type, sizeof P->integ_type, "%s", type);
+    if (maxdepth < 0 || maxdepth > MAX_MAXDEPTH)
+        return fail_param(P, pl, "maxdepth", file, line, "Integrator: maxdepth %d outside 0..%d", maxdepth, MAX_MAXDEPTH);
+    st->maxdepth = maxdepth;
+    st->maxdepth_set = given;
+    if (ls) {
+        if (strlen(ls) + 1 > sizeof st->lightsampler)
+            return fail(P, file, line, "Integrator: lightsampler name \"%s\" too long", ls);
+        snprintf(st->lightsampler, sizeof st->lightsampler, "%s", ls);
+    }
+    return 1;
+}

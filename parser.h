@@ -1,0 +1,308 @@
+/* parser.h - the pbrt-v4 front end, private to the rooms that build a scene.
+
+   Not part of specnee's public interface (that is specnee.h): only the files
+   that build something from a scene file's parameters include it (scene.c,
+   options.c, and the "building from scene parameters" sections at the end of
+   the concept rooms).  It declares the tokens and the token stream (the Lexer),
+   a statement's parameter list with its typed getters, the "file:line: problem"
+   errors, and the builder's state (the Parser: pbrt's graphics state and what
+   the directives built so far), which every builder receives.  parser.c
+   implements sections 1-4; section 5 lists each concept's builder (pbrt-v4's
+   per-concept Create), which scene.c's directive loop calls.
+
+   Every getter and check returns 1 on success and 0 after it has set P->err to
+   one "file:line: problem" line (fail); the caller returns 0 in turn. */
+#ifndef SPECNEE_PARSER_H
+#define SPECNEE_PARSER_H
+#include "specnee.h"
+
+/* ---------------------------------------------------------------------------
+   Limits that keep hostile input finite.
+   --------------------------------------------------------------------------- */
+#define MAX_INCLUDE_DEPTH 32        /* Include/Import nesting (catches cycles) */
+#define MAX_INCLUDES 10000          /* Include/Import directives run in one scene
+                                       (with the byte budget below: catches fan-out,
+                                       files that include the next one twice) */
+#define MAX_RESOLUTION 16384        /* pixels per film axis */
+#define MAX_SPP (1 << 24)           /* samples per pixel */
+#define MAX_MAXDEPTH 10000          /* path length */
+#define MAX_ELEMENTS (1 << 27)      /* vertices, indices, triangles of one scene */
+#define MAX_WORD 255                /* longest unquoted token */
+/* the scene text, all its included files together, is at most READ_MAX_BYTES */
+
+/* ===========================================================================
+   1. Tokens
+   =========================================================================== */
+typedef enum { TK_EOF, TK_WORD, TK_STRING, TK_LBRACKET, TK_RBRACKET } TokKind;
+
+typedef struct {
+    TokKind kind;
+    const char *text;          /* word or (unescaped) string, NUL-terminated */
+    const char *file; int line;/* where it was read */
+} Token;
+
+/* A file being read: its text and the cursor. */
+typedef struct {
+    const char *file;          /* interned name used in messages */
+    char *buf; size_t len, pos;
+    int line;
+} Source;
+
+/* The token stream of one file and the files it Includes.  As in pbrt-v4, Include
+   is textual: the included file's tokens come next, and when it ends the stream
+   goes on in the including file, so a statement may begin in one file and take
+   parameters from the next.  Strings are unescaped in place inside the buffer,
+   words are copied into `word` (their terminator is the next token's first
+   character).  An included buffer that has been read to its end stays alive
+   until the statement being read is done (parameters point into it). */
+typedef struct {
+    Source cur;                /* the file being read */
+    Source parent[MAX_INCLUDE_DEPTH];  /* the files that included it, innermost last */
+    int n_parent;
+    char *finished[MAX_INCLUDE_DEPTH + 1]; int n_finished;  /* included, read to the end */
+    const char *file;          /* = cur.file: the file of the last token read */
+    char word[2][MAX_WORD + 1];/* two slots: a peeked word survives the next one */
+    int word_slot;
+    Token peeked; int has_peeked;
+    const char *dir_file; int dir_line;  /* the directive being read */
+} Lexer;
+
+/* ===========================================================================
+   2. Parameters:  "type name" value(s)
+   =========================================================================== */
+typedef enum {
+    PT_FLOAT, PT_INTEGER, PT_BOOL, PT_STRING, PT_POINT2, PT_VECTOR2, PT_POINT3,
+    PT_VECTOR3, PT_NORMAL, PT_SPECTRUM, PT_RGB, PT_BLACKBODY, PT_TEXTURE
+} ParamType;
+
+typedef enum { V_NONE, V_NUM, V_STR, V_BOOL } ValueKind;
+
+typedef struct {
+    ParamType type;
+    char name[64];
+    ValueKind kind;            /* what the values are (one kind per parameter) */
+    double *num; int n_num;    /* numbers, or bools as 0/1 */
+    const char **str; int n_str;  /* strings (point into the lexer's buffer) */
+    const char *file; int line;
+    int used;                  /* looked up by the directive (pbrt's lookedUp) */
+} Param;
+
+typedef struct { Param *p; int n, cap; } ParamList;
+/* the names of ParamType, in its order ("float", "integer", ...) */
+extern const char *const param_type_names[];
+
+/* ===========================================================================
+   3. The parser state: pbrt's graphics state and what the directives built
+   =========================================================================== */
+typedef struct {
+    Spectrum L;
+    float scale;
+    int twosided;
+} AreaLightDesc;
+
+typedef struct {
+    Xform ctm;                 /* current transformation matrix */
+    int material;              /* index into Scene.materials, -1: the default,
+                                  <= -2: named material -2 - material, not yet made */
+    int reverse;               /* ReverseOrientation seen in this block */
+    int area_light;            /* index into Parser.lights, -1: none */
+    int medium_inside, medium_outside;   /* MediumInterface: Scene.media indices, -1: none */
+    const char *file; int line;/* where the block was opened (for messages) */
+} GState;
+
+/* A medium named by MakeNamedMedium or MediumInterface.  As in pbrt-v4, which
+   creates the media when the file has been read, a MediumInterface may name a
+   medium defined further down: its Scene.media entry is made at the first
+   mention and filled by the MakeNamedMedium; finish() fails at the first mention
+   of a name that none defines. */
+typedef struct { int defined; const char *file; int line; } MediumRef;
+
+/* A named material.  As in pbrt-v4 a NamedMaterial may come before its
+   MakeNamedMaterial (pbrt-v4 looks names up when it builds the scene): the name is
+   then recorded with material -1 and the NamedMaterial's place, and shapes made
+   under it carry the code -2 - (its index) until finish() resolves them. */
+typedef struct { char name[64]; int material; const char *file; int line; } NamedMaterial;
+/* A named texture: pbrt-v4 keeps float and spectrum textures in two namespaces. */
+typedef struct { char name[64]; int is_float; int index; } NamedTexture;
+typedef struct { char name[64]; Xform xf; } NamedCoordSys;
+
+typedef struct {
+    Scene *s;
+    Error *err;
+    char main_dir[1024];       /* directory of the top-level file (pbrt's search dir) */
+    int in_world;              /* after WorldBegin */
+    int world_seen, include_depth;   /* include_depth: Import nesting */
+    int nest;                  /* files open now inside the top-level one (Include+Import) */
+    long n_includes;           /* Include/Import directives run so far */
+    size_t text_bytes;         /* scene text read so far, included files included */
+    GState gs;
+    GState *stack; int depth, stack_cap;
+    AreaLightDesc *lights; int n_lights, cap_lights;
+    NamedMaterial *named; int n_named, cap_named;
+    NamedCoordSys *coords; int n_coords, cap_coords;
+    NamedTexture *texnames; int n_texnames, cap_texnames;
+    int cap_textures;
+    int default_material;      /* -1 until a shape needs it */
+    /* capacities of the growing Scene arrays */
+    int cap_verts, cap_tris, cap_shapes, cap_mats, cap_emit, cap_spheres, cap_quadrics, cap_strings;
+    int any_normals;
+    int any_uv;                /* some mesh has "uv": Scene.UV is kept parallel to P */
+    int inset_line[8];         /* where each inset comment was (for messages) */
+    const char *inset_file[8];
+    int end_line;              /* line of the top-level file's last token */
+    const char *camera_file; int camera_line;   /* the Camera directive, if any */
+    float iso, exposure_time;  /* Film "iso", Camera shutter interval: the imaging ratio */
+    const char *output;        /* the command line's output file (-o), NULL: none */
+    MediumRef *mrefs; int cap_media, cap_mrefs;   /* parallel to Scene.media */
+    const char *integ_file; int integ_line; char integ_type[32];  /* the Integrator */
+} Parser;
+
+/* ===========================================================================
+   4. The interface (parser.c)
+   =========================================================================== */
+/* Errors: set P->err to "file:line: message" (printf-style) and return 0.
+   fail_param points at parameter `name`'s own line when the statement gives it. */
+int fail(Parser *P, const char *file, int line, const char *fmt, ...);
+int fail_param(Parser *P, const ParamList *pl, const char *name, const char *file,
+               int line, const char *fmt, ...);
+
+/* Memory, strings, paths.  grow: *arr holds at least `need` elements of elsz
+   bytes (0: out of memory or more than MAX_ELEMENTS).  intern: a copy of `name`
+   kept in Scene.strings.  dir_of: the directory part of path, '/' included.
+   resolve_path: a file named in from_file, found as pbrt-v4 finds it.  */
+int grow(void **arr, int *cap, int need, size_t elsz);
+int oom(Parser *P, const char *file, int line);   /* "out of memory": fail, 0 */
+const char *intern(Parser *P, const char *name);
+void dir_of(const char *path, char *out, size_t cap);
+void resolve_path(const Parser *P, const char *from_file, const char *name,
+                  char *out, size_t cap);
+int ends_with_ci(const char *s, const char *suffix);   /* case-insensitive suffix */
+
+/* The token stream.  lex_next: the next token (comments skipped, structured
+   "# inset" comments recorded; an included file's end goes on in its parent);
+   lex_unget: push one token back; tok_desc: a token for messages.
+   expect_*: a directive's bare arguments (numbers, a bracketed 4x4 matrix, a
+   quoted string), with the directive's name in the messages. */
+int lex_next(Parser *P, Lexer *L, Token *t);
+void lex_unget(Lexer *L, const Token *t);
+const char *tok_desc(const Token *t);
+int expect_number(Parser *P, Lexer *L, const char *directive, int count, double *out);
+int expect_matrix(Parser *P, Lexer *L, const char *directive, double m[16]);
+int expect_string(Parser *P, Lexer *L, const char *directive, const char *what,
+                  Token *t);
+
+/* Parameter lists.  parse_params reads "type name" value(s) pairs up to the next
+   directive; params_free releases them.  param_find: the last parameter of that
+   type and name (NULL: absent), marked used with its shadows.  get_*: one value,
+   or `def` when absent (get_int's *given, when not NULL, says which). */
+void params_free(ParamList *pl);
+int parse_params(Parser *P, Lexer *L, ParamList *pl);
+Param *param_find(ParamList *pl, ParamType type, const char *name);
+int get_float(Parser *P, ParamList *pl, const char *name, float def, float *out);
+int get_int(Parser *P, ParamList *pl, const char *name, int def, int *out, int *given);
+int get_bool(Parser *P, ParamList *pl, const char *name, int def, int *out);
+int get_string(Parser *P, ParamList *pl, const char *name, const char **out);
+
+/* After a directive has read what it understands: a parameter left over is an
+   error (pbrt-v4's ReportUnused).  `what` names the directive in messages,
+   `reads` lists what it reads ("float radius, ..."), `pbrt_only` the pbrt-v4
+   parameters specnee does not support (NULL: none).  refuse_param: a parameter p
+   that was read but whose value is refused (msg), unless one left over comes
+   first in the file. */
+int params_check_unused(Parser *P, ParamList *pl, const char *what,
+                        const char *reads, const char *pbrt_only);
+int refuse_param(Parser *P, ParamList *pl, const char *what, const char *reads,
+                 const Param *p, const char *file, int line, const char *msg);
+
+/* Spectrum-valued parameters ("spectrum", "rgb", "blackbody").
+   find_spectrum_param: the last one named `name` (NULL: absent), marked used;
+   param_spectrum: its dense table, checked for `use`. */
+/* SPEC_COEFF: a medium's coefficients, pbrt-v4's "unbounded" spectra with rgb
+   (RGBUnboundedSpectrum) and blackbody (peak 1) allowed */
+typedef enum { SPEC_ALBEDO, SPEC_UNBOUNDED, SPEC_ILLUMINANT, SPEC_COEFF } SpecUse;
+Param *find_spectrum_param(ParamList *pl, const char *name);
+int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_illum);
+
+/* Parameters that several builders read (parser.c section 4).
+   check_unit_spectrum: every value of sp within [0, 1] (1e-4 of slack, clamped);
+   unit_spectrum_param: p (NULL: the constant def) read and so checked.
+   texture_lookup: the Scene.textures index a "texture name" parameter names in
+   the float or spectrum namespace (-1 and an error when none).
+   microfacet_alphas(_of): pbrt-v4's roughness parameters (prefix: a layer's,
+   "interface." or "conductor.") as GGX alphas, or a float texture
+   (*alpha_tex = 1 + its index).  check_spectrum_above: every value over
+   300-830 nm finite and > lo (strict) or >= lo (p NULL: the statement's line).
+   rgb_illuminant_scale: the scale that gives an "rgb L" illuminant pbrt-v4's
+   D65 normalisation. */
+int check_unit_spectrum(Parser *P, const Param *p, Spectrum *sp);
+int unit_spectrum_param(Parser *P, Param *p, Spectrum *out, float def);
+int texture_lookup(Parser *P, const Param *p, int is_float);
+int microfacet_alphas_of(Parser *P, ParamList *pl, const char *file, int line,
+                         const char *what, const char *prefix, float *alpha_u,
+                         float *alpha_v, int *alpha_tex, int *remap_out);
+int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
+                      const char *what, float *alpha_u, float *alpha_v, int *alpha_tex,
+                      int *remap_out);
+int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
+                         const char *what, const Spectrum *sp, float lo, int strict);
+float rgb_illuminant_scale(const Spectrum *L, float scale);
+
+/* ===========================================================================
+   5. Each concept built from its parameters (the end of each concept's room)
+   =========================================================================== */
+/* The options block (options.c): a Camera, Film, PixelFilter, Accelerator,
+   Sampler or Integrator statement of `type` at file:line into Scene.settings. */
+int camera_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
+/* 1 when the camera transform gives the renderer finite eye and corner rays */
+int camera_transform_ok(const Xform *camera_from_world, float fov_deg, int xres, int yres);
+int film_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
+int filter_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
+int accelerator_directive(Parser *P, const char *type, ParamList *pl, const char *file,
+                          int line);
+int sampler_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
+int integrator_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
+
+/* Materials: m (zeroed, eta 1) of one type, from a Material or MakeNamedMaterial
+   statement at file:line; dir names the directive, what the directive and type
+   in messages.  material.c: */
+int interface_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                          const char *dir, const char *what, Material *m);
+int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                        const char *dir, const char *what, Material *m);
+int fluorescent_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                            const char *dir, const char *what, Material *m);
+int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                           const char *dir, const char *what, Material *m);
+int thindielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                               const char *dir, const char *what, Material *m);
+int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                                    const char *dir, const char *what, Material *m);
+/* conductor.c: */
+int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                          const char *dir, const char *what, Material *m);
+/* layered.c: */
+int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                              const char *dir, const char *what, Material *m);
+int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                                const char *dir, const char *what, Material *m);
+/* Textures (texture.c): T (zeroed, its kind, file and line set, no texture
+   arguments yet) of class `cls` for a Texture statement naming `name`. */
+int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *cls,
+                        Texture *T);
+/* Lights.  lights.c: an AreaLightSource of `type` (only "diffuse") into *out.
+   delta.c: LightSource "point", "spot" or "distant" into *em, in the frame of
+   the CTM.  infinite.c: LightSource "infinite" (constant or an image map) into
+   *em, which then owns em->inf.  The caller adds *em to Scene.emitters. */
+int area_light_from_params(Parser *P, const char *type, ParamList *pl, const char *file, int line,
+                           AreaLightDesc *out);
+int delta_light_from_params(Parser *P, const char *type, ParamList *pl, const char *file,
+                            int line, Emitter *em);
+int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                               Emitter *em);
+
+/* Media (medium.c): a MakeNamedMedium's medium (what: the statement, for
+   messages) into *m; the caller names it and adds it to Scene.media. */
+int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *file, int line,
+                       Medium *m);
+
+#endif
