@@ -1830,7 +1830,7 @@ static int texture_mapping(Parser *P, ParamList *pl, Texture *T)
     return 1;
 }
 
-/* An imagemap's image: PFM, or an .exr whose .pfm sits beside it. */
+/* An imagemap's image: PNG, PFM, or EXR (the .pfm of the same name beside it, if any). */
 static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
 {
     const char *fn = NULL, *wrap = NULL, *filter = NULL, *enc = NULL;
@@ -1859,10 +1859,13 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
     if (ends_with_ci(fn, ".exr")) {
         snprintf(alt, sizeof alt, "%.*s.pfm", (int)strlen(path) - 4, path);
         f = fopen(alt, "rb");
-        if (!f)
-            return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": \"%s\": EXR images are not "
-                        "in the specnee subset; convert it beside it to PFM (e.g. ImageMagick's "
-                        "`convert %s %.*s.pfm`)", name, fn, fn, (int)strlen(fn) - 4, fn);
+        if (!f) {                              /* no .pfm beside it: the EXR (exr.c) */
+            if (!exr_read(&im, path, &ierr))
+                return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
+            ok = tex_set_image(T, &im, scale, invert, P->err);
+            img_free(&im);
+            return ok;
+        }
         fclose(f);
         fprintf(stderr, "%s:%d: note: Texture \"imagemap\": reading %s for \"%s\"\n", T->file,
                 T->line, alt, fn);
@@ -2888,19 +2891,13 @@ static int light_source_directive(Parser *P, const char *type, ParamList *pl, co
         double mean[3] = { 0, 0, 0 }, k_e = 0.0;
         float mrgb[3];
         int x, y, c;
-        if (ends_with_ci(fn, ".exr")) {
-            free(inf);
-            return fail(P, file, line, "LightSource \"infinite\": \"%s\": EXR images are not in "
-                        "the specnee subset; convert it to PFM (e.g. pbrt-v4's `imgtool convert "
-                        "--outfile %.*s.pfm %s`) and name the .pfm", fn, (int)strlen(fn) - 4, fn, fn);
-        }
-        if (!ends_with_ci(fn, ".pfm")) {
+        if (!ends_with_ci(fn, ".pfm") && !ends_with_ci(fn, ".exr")) {
             free(inf);
             return fail(P, file, line, "LightSource \"infinite\": \"%s\": specnee reads image "
-                        "maps only as PFM (convert with pbrt-v4's `imgtool convert`)", fn);
+                        "maps only as PFM or EXR (convert with pbrt-v4's `imgtool convert`)", fn);
         }
         resolve_path(P, file, fn, path, sizeof path);
-        if (!pfm_read(&im, path, &ierr)) {
+        if (ends_with_ci(fn, ".exr") ? !exr_read(&im, path, &ierr) : !pfm_read(&im, path, &ierr)) {
             free(inf);
             return fail(P, file, line, "LightSource \"infinite\": %s", ierr.msg);
         }
