@@ -3,7 +3,7 @@
 
    Exported (specnee.h section 11): inf_Le, inf_pdf, inf_sample,
    equal_area_square_to_sphere, equal_area_sphere_to_square, inf_set_image, inf_free.
-   scene.c builds an InfiniteLight for `LightSource "infinite"` (and reads the PFM
+   scene.c builds an InfiniteLight for `LightSource "infinite"` (and reads the PFM or EXR
    image), lights.c treats it as one more emitter for every selection strategy,
    render.c adds its radiance to rays that escape the scene.
 
