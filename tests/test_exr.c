@@ -586,7 +586,8 @@ static void test_exr_corruption_sweep(T *t)
     CHECK(t, refused_n > 0 && decoded > 0, "sweep: %ld refused, %ld decoded", refused_n, decoded);
 }
 
-/* A scene reads an .exr texture (without a .pfm beside it) and an .exr environment. */
+/* A scene reads an .exr texture (without a .pfm beside it) and an .exr environment;
+   a .pfm beside an .exr texture wins. */
 static void test_exr_scene(T *t)
 {
     static const TChan rgb[] = { { "B", 2 }, { "G", 2 }, { "R", 2 } };
@@ -607,6 +608,20 @@ static void test_exr_scene(T *t)
              "LightSource \"infinite\" \"string filename\" \"%s\"\nShape \"sphere\"\n", path, path);
     CHECK(t, scene_load_string(&s, text, "exr.pbrt", &e), "%s", e.msg);
     scene_free(&s);
+    /* a .pfm beside the .exr is read instead (the .exr here is not even an EXR) */
+    {
+        const char *bogus = test_write_file(t, "exr_scene_beside.exr", "not an EXR file\n");
+        const char *pfm = test_path(t, "exr_scene_beside.pfm");
+        Image im;
+        CHECK(t, img_alloc(&im, 2, 2), "out of memory");
+        wrote = pfm_write(&im, pfm);
+        img_free(&im);
+        CHECK(t, wrote, "cannot write %s", pfm);
+        snprintf(text, sizeof text, "WorldBegin\nTexture \"i\" \"spectrum\" \"imagemap\" \"string filename\" "
+                 "\"%s\"\n", bogus);
+        CHECK(t, scene_load_string(&s, text, "exr.pbrt", &e), "the .pfm beside it was not read: %s", e.msg);
+        scene_free(&s);
+    }
     snprintf(text, sizeof text, "WorldBegin\nTexture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"%s\"\n",
              DIR "rgb-piz.exr");
     CHECK(t, !scene_load_string(&s, text, "exr.pbrt", &e) &&
