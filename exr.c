@@ -82,6 +82,10 @@ typedef struct {
     ExrChannel ch[EXR_MAX_CHANNELS];
     int n_ch, compression, have_channels, have_window;
     long long x0, y0, x1, y1;     /* the data window */
+    /* from plan(): */
+    int w, h, grey;               /* the image; grey: Y read, not R G B */
+    int lpb;                      /* scan lines a block */
+    size_t line_bytes, block_bytes, n_blocks;
 } Exr;
 
 static int exr_fail(Exr *x, const char *what)
@@ -286,136 +290,137 @@ static float sample(const unsigned char *line, const ExrChannel *c, size_t i)
 }
 
 /* The lines of raw (lines x line_bytes) into rows row0 .. of im. */
-static void put_lines(const Exr *x, const unsigned char *raw, size_t line_bytes, int lines,
-                      int row0, int grey, Image *im)
+static void put_lines(const Exr *x, const unsigned char *raw, int lines, int row0, Image *im)
 {
     int l, k;
     size_t i;
     for (l = 0; l < lines; l++) {
-        const unsigned char *line = raw + (size_t)l * line_bytes;
+        const unsigned char *line = raw + (size_t)l * x->line_bytes;
         float *out = im->rgb + 3 * (size_t)(row0 + l) * (size_t)im->w;
         for (k = 0; k < x->n_ch; k++) {
             const ExrChannel *c = &x->ch[k];
-            if (c->role < 0 || (grey ? c->role != 3 : c->role > 2)) continue;
+            if (c->role < 0 || (x->grey ? c->role != 3 : c->role > 2)) continue;
             for (i = 0; i < (size_t)im->w; i++) {
                 float v = sample(line, c, i);
-                if (grey) out[3 * i] = out[3 * i + 1] = out[3 * i + 2] = v;
+                if (x->grey) out[3 * i] = out[3 * i + 1] = out[3 * i + 2] = v;
                 else out[3 * i + (size_t)c->role] = v;
             }
         }
     }
 }
 
+/* After the header: the channels to read, the image's size, the block layout, and
+   every check that must pass before anything is allocated.  x->pos stays at the
+   offset table. */
+static int plan(Exr *x)
+{
+    int k, have[4] = { 0, 0, 0, 0 };
+    long long w, h;
+    double raw_total, expansion, line_bytes_d = 0.0, memory;
+    for (k = 0; k < x->n_ch; k++) if (x->ch[k].role >= 0) have[x->ch[k].role] = 1;
+    x->grey = !(have[0] && have[1] && have[2]);
+    if (x->grey && !have[3])
+        return exr_fail(x, "no R, G, B channels and no Y channel (specnee reads RGB or luminance images)");
+    w = x->x1 - x->x0 + 1;
+    h = x->y1 - x->y0 + 1;
+    if (w < 1 || h < 1) return exr_fail(x, "an empty data window (xMax < xMin or yMax < yMin)");
+    if ((double)w * (double)h > (double)IMG_MAX_PIXELS) return exr_fail(x, "more pixels than IMG_MAX_PIXELS");
+    x->w = (int)w;
+    x->h = (int)h;
+    x->lpb = x->compression == 3 ? 16 : 1;
+    for (k = 0; k < x->n_ch; k++) line_bytes_d += (double)w * (x->ch[k].type == 1 ? 2.0 : 4.0);
+    memory = 2.0 * line_bytes_d * (double)(h < x->lpb ? h : x->lpb) + 12.0 * (double)w * (double)h;
+    if (memory > (double)MEM_BUDGET_MIB * 1048576.0) {
+        char msg[160];
+        snprintf(msg, sizeof msg, "%lld x %lld pixels need %.1f GiB, more than specnee's memory "
+                 "budget (MEM_BUDGET_MIB in specnee.h)", w, h, memory / 1073741824.0);
+        return exr_fail(x, msg);
+    }
+    x->line_bytes = 0;
+    for (k = 0; k < x->n_ch; k++) {
+        x->ch[k].offset = x->line_bytes;
+        x->line_bytes += (size_t)w * (x->ch[k].type == 1 ? 2u : 4u);
+    }
+    x->block_bytes = x->line_bytes * (size_t)(h < x->lpb ? h : x->lpb);
+    x->n_blocks = (size_t)((h + x->lpb - 1) / x->lpb);
+    if (x->n_blocks > (x->n - x->pos) / 8) return exr_fail(x, "truncated (the line offset table is longer than the file)");
+    raw_total = (double)x->line_bytes * (double)h;
+    expansion = x->compression == 0 ? 1.0 : x->compression == 1 ? EXR_RLE_EXPANSION : EXR_DEFLATE_EXPANSION;
+    if ((double)(x->n - x->pos - 8 * x->n_blocks) * expansion < raw_total)
+        return exr_fail(x, "truncated (the pixel data is too short for the data window)");
+    return 1;
+}
+
+/* Block b of the offset table, decoded (through raw and tmp, block_bytes each) into
+   its rows of im; seen[] marks the blocks read. */
+static int read_block(Exr *x, size_t b, unsigned char *raw, unsigned char *tmp, unsigned char *seen,
+                      Image *im)
+{
+    const unsigned char *e = x->d + x->pos + 8 * b, *body;
+    uint32_t lo = le32(e), hi = le32(e + 4);
+    long long y, size, first;
+    size_t off, need;
+    int lines;
+    const char *why = NULL;
+    char msg[96];
+    if (hi != 0 || lo > x->n || x->n - lo < 8) {
+        snprintf(msg, sizeof msg, "truncated (block %lu's offset is past the end of the file)", (unsigned long)b);
+        return exr_fail(x, msg);
+    }
+    off = lo;
+    y = le32s(x->d + off);
+    size = le32s(x->d + off + 4);
+    body = x->d + off + 8;
+    first = y - x->y0;
+    if (first < 0 || first >= x->h || first % x->lpb != 0) {
+        snprintf(msg, sizeof msg, "block %lu starts at line y = %lld, not a block of the data window",
+                 (unsigned long)b, y);
+        return exr_fail(x, msg);
+    }
+    if (seen[first / x->lpb]++) {
+        snprintf(msg, sizeof msg, "two blocks for line y = %lld", y);
+        return exr_fail(x, msg);
+    }
+    lines = (int)(x->h - first < x->lpb ? x->h - first : x->lpb);
+    need = x->line_bytes * (size_t)lines;
+    if (size < 0 || (unsigned long long)size > x->n - off - 8) {
+        snprintf(msg, sizeof msg, "truncated (block %lu is longer than the file)", (unsigned long)b);
+        return exr_fail(x, msg);
+    }
+    if ((size_t)size == need) memcpy(raw, body, need);          /* stored raw */
+    else if (x->compression == 0 || (size_t)size > need) why = "a block's size does not match its lines";
+    else {
+        why = x->compression == 1 ? rle_decode(body, (size_t)size, tmp, need)
+                                  : zlib_inflate(body, (size_t)size, tmp, need);
+        if (!why) unpredict(tmp, raw, need);
+    }
+    if (why) {
+        snprintf(msg, sizeof msg, "block at line y = %lld: %s", y, why);
+        return exr_fail(x, msg);
+    }
+    put_lines(x, raw, lines, (int)first, im);
+    return 1;
+}
+
 int exr_read_memory(const unsigned char *data, size_t n, const char *name, Image *im, Error *err)
 {
     Exr *x;
-    long long w, h;
-    int k, grey, lpb, ok = 0;
-    int have[4] = { 0, 0, 0, 0 };
-    size_t line_bytes = 0, block_bytes, n_blocks, b, table;
-    double raw_total, expansion, line_bytes_d = 0.0, memory;
+    int ok = 0;
+    size_t b;
     unsigned char *raw = NULL, *tmp = NULL, *seen = NULL;
     memset(im, 0, sizeof *im);
     x = (Exr *)calloc(1, sizeof *x);
     if (!x) { error_set(err, name ? name : "<exr>", 0, "EXR: out of memory"); return 0; }
     x->d = data; x->n = n; x->name = name ? name : "<exr>"; x->err = err;
-    if (!read_header(x)) goto done;
-
-    /* the channels: R, G, B, else Y */
-    for (k = 0; k < x->n_ch; k++) if (x->ch[k].role >= 0) have[x->ch[k].role] = 1;
-    grey = !(have[0] && have[1] && have[2]);
-    if (grey && !have[3]) {
-        exr_fail(x, "no R, G, B channels and no Y channel (specnee reads RGB or luminance images)");
-        goto done;
+    if (read_header(x) && plan(x)) {
+        raw = (unsigned char *)malloc(x->block_bytes);
+        tmp = (unsigned char *)malloc(x->block_bytes);
+        seen = (unsigned char *)calloc(x->n_blocks, 1);
+        if (!raw || !tmp || !seen || !img_alloc(im, x->w, x->h)) exr_fail(x, "out of memory");
+        else
+            /* the blocks, in the order of the offset table, each placed by its own y */
+            for (ok = 1, b = 0; ok && b < x->n_blocks; b++) ok = read_block(x, b, raw, tmp, seen, im);
     }
-
-    /* the sizes, before anything is allocated */
-    w = x->x1 - x->x0 + 1;
-    h = x->y1 - x->y0 + 1;
-    if (w < 1 || h < 1) { exr_fail(x, "an empty data window (xMax < xMin or yMax < yMin)"); goto done; }
-    if ((double)w * (double)h > (double)IMG_MAX_PIXELS) { exr_fail(x, "more pixels than IMG_MAX_PIXELS"); goto done; }
-    lpb = x->compression == 3 ? 16 : 1;
-    for (k = 0; k < x->n_ch; k++) line_bytes_d += (double)w * (x->ch[k].type == 1 ? 2.0 : 4.0);
-    memory = 2.0 * line_bytes_d * (double)(h < lpb ? h : lpb) + 12.0 * (double)w * (double)h;
-    if (memory > (double)MEM_BUDGET_MIB * 1048576.0) {
-        char msg[160];
-        snprintf(msg, sizeof msg, "%lld x %lld pixels need %.1f GiB, more than specnee's memory "
-                 "budget (MEM_BUDGET_MIB in specnee.h)", w, h, memory / 1073741824.0);
-        exr_fail(x, msg);
-        goto done;
-    }
-    for (k = 0; k < x->n_ch; k++) {
-        x->ch[k].offset = line_bytes;
-        line_bytes += (size_t)w * (x->ch[k].type == 1 ? 2u : 4u);
-    }
-    block_bytes = line_bytes * (size_t)(h < lpb ? h : lpb);
-    n_blocks = (size_t)((h + lpb - 1) / lpb);
-    if (n_blocks > (x->n - x->pos) / 8) { exr_fail(x, "truncated (the line offset table is longer than the file)"); goto done; }
-    table = x->pos;
-    raw_total = (double)line_bytes * (double)h;
-    expansion = x->compression == 0 ? 1.0 : x->compression == 1 ? EXR_RLE_EXPANSION : EXR_DEFLATE_EXPANSION;
-    if ((double)(x->n - table - 8 * n_blocks) * expansion < raw_total) {
-        exr_fail(x, "truncated (the pixel data is too short for the data window)");
-        goto done;
-    }
-    raw = (unsigned char *)malloc(block_bytes);
-    tmp = (unsigned char *)malloc(block_bytes);
-    seen = (unsigned char *)calloc(n_blocks, 1);
-    if (!raw || !tmp || !seen || !img_alloc(im, (int)w, (int)h)) { exr_fail(x, "out of memory"); goto done; }
-
-    /* the blocks, in the order of the offset table, each placed by its own y */
-    for (b = 0; b < n_blocks; b++) {
-        const unsigned char *e = data + table + 8 * b, *body;
-        uint32_t lo = le32(e), hi = le32(e + 4);
-        long long y, size, first;
-        size_t off, need;
-        int lines;
-        const char *why = NULL;
-        char msg[96];
-        if (hi != 0 || lo > x->n || x->n - lo < 8) {
-            snprintf(msg, sizeof msg, "truncated (block %lu's offset is past the end of the file)", (unsigned long)b);
-            exr_fail(x, msg);
-            goto done;
-        }
-        off = lo;
-        y = le32s(data + off);
-        size = le32s(data + off + 4);
-        body = data + off + 8;
-        first = y - x->y0;
-        if (first < 0 || first >= h || first % lpb != 0) {
-            snprintf(msg, sizeof msg, "block %lu starts at line y = %lld, not a block of the data window",
-                     (unsigned long)b, y);
-            exr_fail(x, msg);
-            goto done;
-        }
-        if (seen[first / lpb]++) {
-            snprintf(msg, sizeof msg, "two blocks for line y = %lld", y);
-            exr_fail(x, msg);
-            goto done;
-        }
-        lines = (int)(h - first < lpb ? h - first : lpb);
-        need = line_bytes * (size_t)lines;
-        if (size < 0 || (unsigned long long)size > x->n - off - 8) {
-            snprintf(msg, sizeof msg, "truncated (block %lu is longer than the file)", (unsigned long)b);
-            exr_fail(x, msg);
-            goto done;
-        }
-        if ((size_t)size == need) memcpy(raw, body, need);          /* stored raw */
-        else if (x->compression == 0 || (size_t)size > need) why = "a block's size does not match its lines";
-        else {
-            why = x->compression == 1 ? rle_decode(body, (size_t)size, tmp, need)
-                                      : zlib_inflate(body, (size_t)size, tmp, need);
-            if (!why) unpredict(tmp, raw, need);
-        }
-        if (why) {
-            snprintf(msg, sizeof msg, "block at line y = %lld: %s", y, why);
-            exr_fail(x, msg);
-            goto done;
-        }
-        put_lines(x, raw, line_bytes, lines, (int)first, grey, im);
-    }
-    ok = 1;
-done:
     if (!ok) img_free(im);
     free(raw);
     free(tmp);
