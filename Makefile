@@ -31,13 +31,14 @@ LDLIBS = -lm
 
 LIBOBJ = util.o sampler.o bvh.o shapes.o spectrum.o wavelengths.o metals.o lights.o lighttree.o infinite.o \
          delta.o texture.o filter.o parser.o options.o scene.o dump.o ply.o medium.o material.o microfacet.o \
-         conductor.o layered.o camera.o path.o render.o image.o png.o svg.o cmd_converge.o cmd_image.o cmd_spectrum.o
+         conductor.o layered.o camera.o path.o render.o image.o png.o exr.o svg.o cmd_converge.o cmd_image.o \
+         cmd_spectrum.o
 TESTOBJ = tests/runner.o tests/fixtures.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
           tests/test_scene.o tests/test_image.o tests/test_material.o \
           tests/test_render.o tests/test_lights.o tests/test_scenes.o tests/test_physics.o \
           tests/test_robust.o tests/test_lighttree.o tests/test_pbrt.o tests/test_wavelengths.o \
           tests/test_sampler.o tests/test_fluor.o tests/test_delta.o tests/test_texture.o tests/test_shapes.o \
-          tests/test_filter.o tests/test_png.o tests/test_conductor.o tests/test_coated.o tests/test_medium.o
+          tests/test_filter.o tests/test_png.o tests/test_exr.o tests/test_conductor.o tests/test_coated.o tests/test_medium.o
 
 all: specnee
 

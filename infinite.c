@@ -3,7 +3,7 @@
 
    Exported (specnee.h section 11): inf_Le, inf_pdf, inf_sample,
    equal_area_square_to_sphere, equal_area_sphere_to_square, inf_set_image, inf_free.
-   scene.c builds an InfiniteLight for `LightSource "infinite"` (and reads the PFM
+   scene.c builds an InfiniteLight for `LightSource "infinite"` (and reads the PFM or EXR
    image), lights.c treats it as one more emitter for every selection strategy,
    render.c adds its radiance to rays that escape the scene.
 
@@ -346,19 +346,13 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
         double mean[3] = { 0, 0, 0 }, k_e = 0.0;
         float mrgb[3];
         int x, y, c;
-        if (ends_with_ci(fn, ".exr")) {
-            free(inf);
-            return fail(P, file, line, "LightSource \"infinite\": \"%s\": EXR images are not in "
-                        "the specnee subset; convert it to PFM (e.g. pbrt-v4's `imgtool convert "
-                        "--outfile %.*s.pfm %s`) and name the .pfm", fn, (int)strlen(fn) - 4, fn, fn);
-        }
-        if (!ends_with_ci(fn, ".pfm")) {
+        if (!ends_with_ci(fn, ".pfm") && !ends_with_ci(fn, ".exr")) {
             free(inf);
             return fail(P, file, line, "LightSource \"infinite\": \"%s\": specnee reads image "
-                        "maps only as PFM (convert with pbrt-v4's `imgtool convert`)", fn);
+                        "maps only as PFM or EXR (convert with pbrt-v4's `imgtool convert`)", fn);
         }
         resolve_path(P, file, fn, path, sizeof path);
-        if (!pfm_read(&im, path, &ierr)) {
+        if (ends_with_ci(fn, ".exr") ? !exr_read(&im, path, &ierr) : !pfm_read(&im, path, &ierr)) {
             free(inf);
             return fail(P, file, line, "LightSource \"infinite\": %s", ierr.msg);
         }

@@ -1,6 +1,7 @@
 /* png.c - a small PNG reader with its own inflate, for image textures.
 
-   Exported (specnee.h section 10): png_read_memory, png_read.
+   Exported (specnee.h section 10): png_read_memory, png_read, zlib_inflate (the
+   inflate below, which exr.c also reads its ZIP blocks with).
 
    WHAT IT READS (the PNG specification, W3C 2003 / RFC 2083)
      The 8-byte signature, then chunks: length (4 bytes, big-endian, < 2^31),
@@ -254,9 +255,8 @@ static int inflate_dynamic(Inflate *z)
 }
 
 /* The zlib stream in[0 .. n_in) into out[0 .. n_out), which it must fill exactly.
-   NULL on success, else what is wrong. */
-static const char *zlib_inflate(const unsigned char *in, size_t n_in, unsigned char *out,
-                                size_t n_out)
+   NULL on success, else what is wrong.  Also exr.c's, for ZIP blocks. */
+const char *zlib_inflate(const unsigned char *in, size_t n_in, unsigned char *out, size_t n_out)
 {
     Inflate z;
     uint32_t s1 = 1, s2 = 0, adler;

@@ -1099,6 +1099,16 @@ int  png_write_rgb8(const char *path, int w, int h, const unsigned char *rgb);
 int  png_read_memory(const unsigned char *data, size_t n, const char *name, int linear, Image *im,
                 Error *err);
 int  png_read(Image *im, const char *path, int linear, Error *err);
+/* The zlib stream (RFC 1950, 1951) in[0 .. n_in) inflated into out[0 .. n_out), which
+   it must fill exactly (png.c): NULL, or what is wrong. */
+const char *zlib_inflate(const unsigned char *in, size_t n_in, unsigned char *out, size_t n_out);
+/* OpenEXR reader (exr.c): single-part scanline images, compression NONE, RLE, ZIPS,
+   ZIP; channels HALF, FLOAT or UINT; R, G, B (or Y: grey) of the data window, rows
+   top to bottom, linear values as stored.  0 and "name: EXR: problem" on malformed
+   input, and on what it does not read (tiled, multi-part, deep, PIZ, PXR24, B44,
+   DWA...), with the command that converts the file to a PFM. */
+int  exr_read_memory(const unsigned char *data, size_t n, const char *name, Image *im, Error *err);
+int  exr_read(Image *im, const char *path, Error *err);
 /* png_write with the outlines of n pixel rectangles, rect[4i..4i+3] = x0, y0, x1,
    y1 (x1, y1 exclusive), drawn in, rectangle i in colour i mod 8 of: yellow, cyan, magenta,
    orange, white, green, blue, red (the insets of docs/RESULTS.md). */

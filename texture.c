@@ -496,7 +496,7 @@ static int texture_mapping(Parser *P, ParamList *pl, Texture *T)
     return 1;
 }
 
-/* An imagemap's image: PFM, or an .exr whose .pfm sits beside it. */
+/* An imagemap's image: PNG, PFM, or EXR (the .pfm of the same name beside it, if any). */
 static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
 {
     const char *fn = NULL, *wrap = NULL, *filter = NULL, *enc = NULL;
@@ -525,10 +525,13 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
     if (ends_with_ci(fn, ".exr")) {
         snprintf(alt, sizeof alt, "%.*s.pfm", (int)strlen(path) - 4, path);
         f = fopen(alt, "rb");
-        if (!f)
-            return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": \"%s\": EXR images are not "
-                        "in the specnee subset; convert it beside it to PFM (e.g. ImageMagick's "
-                        "`convert %s %.*s.pfm`)", name, fn, fn, (int)strlen(fn) - 4, fn);
+        if (!f) {                              /* no .pfm beside it: the EXR (exr.c) */
+            if (!exr_read(&im, path, &ierr))
+                return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
+            ok = tex_set_image(T, &im, scale, invert, P->err);
+            img_free(&im);
+            return ok;
+        }
         fclose(f);
         fprintf(stderr, "%s:%d: note: Texture \"imagemap\": reading %s for \"%s\"\n", T->file,
                 T->line, alt, fn);

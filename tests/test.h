@@ -88,6 +88,6 @@ extern const TestCase tests_util[], tests_bvh[], tests_spectrum[], tests_scene[]
     tests_image[], tests_material[], tests_render[], tests_lights[], tests_scenes[],
     tests_physics[], tests_robust[], tests_lighttree[], tests_pbrt[], tests_wavelengths[],
     tests_sampler[], tests_fluor[], tests_delta[], tests_texture[], tests_shapes[], tests_filter[],
-    tests_png[], tests_conductor[], tests_coated[], tests_medium[];
+    tests_png[], tests_exr[], tests_conductor[], tests_coated[], tests_medium[];
 
 #endif

@@ -812,7 +812,7 @@ static void test_bad_input(T *t)
     expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" [ 3 ]", "3-D", NULL);
     expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"string mapping\" \"cubic\"", "unknown mapping", NULL);
     expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"none.pfm\"", "imagemap", NULL);
-    expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"sky.exr\"", "convert", "sky.pfm");
+    expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"sky.exr\"", "sky.exr", "cannot read the EXR file");
     expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"w.jpg\"", "PNG or PFM", NULL);
     expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"w.png\" "
                  "\"string encoding\" \"gamma 2.2\"", "gamma 2.2", "not in the specnee subset");

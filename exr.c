@@ -1,0 +1,448 @@
+/* exr.c - a small OpenEXR reader, for image textures and environment maps.
+
+   Exported (specnee.h section 10): exr_read_memory, exr_read.  scene.c reads an
+   imagemap texture's or an infinite light's .exr with exr_read (a .pfm of the same
+   name beside it is read instead, when there is one).
+
+   WHAT IT READS (the OpenEXR file layout, openexr.com "OpenEXR File Layout")
+     All numbers little-endian.  The magic number 76 2f 31 01, then the version
+     field: version 2 in the low byte, and flags: 0x200 tiled, 0x400 long names
+     (names up to 255 bytes, read either way), 0x800 deep data, 0x1000 multi-part.
+     Tiled, deep and multi-part files are refused by name.  Then the header:
+     attributes, each a name (NUL-terminated), a type name (NUL-terminated), a size
+     (int32) and that many bytes of value, up to an empty name (one NUL byte).
+     Read here:
+       channels     chlist: per channel its name, the pixel type (int32: 0 UINT,
+                    1 HALF, 2 FLOAT), pLinear (1 byte), 3 reserved bytes, x and y
+                    sampling (int32, must be 1), up to an empty name
+       compression  1 byte: 0 NONE, 1 RLE, 2 ZIPS, 3 ZIP are read; 4 PIZ, 5 PXR24,
+                    6 B44, 7 B44A, 8 DWAA, 9 DWAB and any other are refused by name
+       dataWindow   box2i (xMin, yMin, xMax, yMax, int32): the pixels the file holds
+       type         (multi-part headers) anything but "scanlineimage" is refused
+     and every other attribute is skipped (displayWindow, lineOrder, ...).
+     After the header, the line offset table: one uint64 file offset per block of
+     scan lines (1 line a block for NONE, RLE, ZIPS; 16 for ZIP), then the blocks:
+     y of its first line (int32), the size of its data (int32), the data.  A block's
+     data holds its lines in turn, and each line the samples of every channel in
+     the order of the channel list (which writers sort by name): all of R's, then
+     all of G's, ...  A block is read at the offset the table gives, and placed by
+     its own y, so the line order (increasing or decreasing y in the file) does not
+     matter; every block must come exactly once.
+
+   COMPRESSION.  A block whose data is as long as its raw lines is stored raw,
+   whatever the compression (writers do so when compressing does not pay).  Else:
+     ZIP, ZIPS  the data is a zlib stream (png.c's zlib_inflate);
+     RLE        runs: a byte c < 128 then one byte b gives c + 1 copies of b; a byte
+                c >= 128 gives the next 256 - c bytes as they are.
+   Both then undo two steps the writer took to make the bytes compress better:
+     predictor   t[i] = t[i - 1] + t[i] - 128 (mod 256), for i = 1 .. n - 1
+     interleave  the raw bytes are out[2k] = t[k], out[2k + 1] = t[(n + 1) / 2 + k]
+                 (the writer put the even-numbered bytes first, then the odd ones).
+
+   PIXELS.  HALF is IEEE 754 binary16: sign s, exponent e (5 bits), mantissa m
+   (10 bits); (-1)^s (1024 + m) 2^(e - 25) for e = 1 .. 30, (-1)^s m 2^-24 for e = 0
+   (zero and subnormals), infinity (m = 0) or NaN for e = 31: exact in a float.
+   FLOAT is IEEE binary32; UINT an unsigned 32-bit integer, converted to the
+   nearest float.  Non-finite values are kept, as pfm_read keeps them: the
+   infinite light refuses them, an image texture clamps them (texture.c).
+
+   THE RESULT.  An Image of the data window, rows top to bottom (EXR's y grows
+   downwards), 3 floats a pixel: R, G, B when the file has all three, else Y
+   repeated (a luminance image), else an error.  Other channels (A, layers such as
+   "diffuse.R") are skipped.  The display window is not read: pbrt-v4 also makes
+   its image of the data window.
+
+   HOSTILE INPUT.  Every read is bounds-checked against the file's length; sizes
+   are checked before anything is allocated: the pixel count against
+   IMG_MAX_PIXELS, the memory against MEM_BUDGET_MIB, the offset table against the
+   file, and the pixel data against what the rest of the file can hold at the
+   compression's greatest expansion (RLE 64: 2 bytes give 128; deflate 1032).
+   Every loop consumes input or output, so nothing hangs. */
+#include "specnee.h"
+#include <stdlib.h>
+#include <string.h>
+
+#define EXR_MAX_CHANNELS 64
+#define EXR_MAX_NAME 256          /* a name with its NUL (long names: 255 bytes) */
+#define EXR_DEFLATE_EXPANSION 1032.0   /* a 258-byte copy coded in 2 bits */
+#define EXR_RLE_EXPANSION 64.0         /* a 2-byte run gives 128 bytes */
+
+typedef struct {
+    char name[EXR_MAX_NAME];
+    int type;                     /* 0 UINT, 1 HALF, 2 FLOAT */
+    int role;                     /* 0 R, 1 G, 2 B, 3 Y, -1 skipped */
+    size_t offset;                /* of its samples within a line */
+} ExrChannel;
+
+typedef struct {
+    const unsigned char *d;       /* the file */
+    size_t n, pos;                /* its length, the next byte */
+    const char *name;             /* for messages */
+    Error *err;
+    ExrChannel ch[EXR_MAX_CHANNELS];
+    int n_ch, compression, have_channels, have_window;
+    long long x0, y0, x1, y1;     /* the data window */
+    /* from plan(): */
+    int w, h, grey;               /* the image; grey: Y read, not R G B */
+    int lpb;                      /* scan lines a block */
+    size_t line_bytes, block_bytes, n_blocks;
+} Exr;
+
+static int exr_fail(Exr *x, const char *what)
+{
+    error_set(x->err, x->name, 0, "EXR: %s", what);
+    return 0;
+}
+
+/* A refusal of something this reader does not read, with the commands that
+   convert the file to a PFM of the same name beside it (scene.c reads that one). */
+static int exr_refuse(Exr *x, const char *what)
+{
+    const char *base = strrchr(x->name, '/');
+    int stem;
+    base = base ? base + 1 : x->name;
+    stem = (int)strlen(base);
+    if (stem > 4 && base[stem - 4] == '.' && (base[stem - 3] | 32) == 'e' &&
+        (base[stem - 2] | 32) == 'x' && (base[stem - 1] | 32) == 'r') stem -= 4;
+    if (stem > 64) stem = 64;
+    error_set(x->err, x->name, 0, "EXR: %s is not supported (specnee reads scan-line images "
+              "compressed NONE, RLE, ZIPS or ZIP); convert it to a .pfm beside it: `imgtool convert "
+              "--outfile %.*s.pfm %s` (pbrt-v4) or `oiiotool %s -o %.*s.pfm`", what, stem, base,
+              base, base, stem, base);
+    return 0;
+}
+
+static uint32_t le32(const unsigned char *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+static long long le32s(const unsigned char *p)   /* a signed int32 */
+{
+    uint32_t u = le32(p);
+    return u >= 0x80000000u ? (long long)u - 4294967296LL : (long long)u;
+}
+
+/* A NUL-terminated name at x->pos, at most EXR_MAX_NAME - 1 bytes, into out. */
+static int read_name(Exr *x, char *out)
+{
+    size_t k;
+    for (k = 0; k < EXR_MAX_NAME; k++) {
+        if (x->pos + k >= x->n) return exr_fail(x, "truncated header (a name runs past the end)");
+        out[k] = (char)x->d[x->pos + k];
+        if (!out[k]) { x->pos += k + 1; return 1; }
+    }
+    return exr_fail(x, "a name in the header longer than 255 bytes");
+}
+
+/* The channel list: value bytes v[0 .. size). */
+static int read_channels(Exr *x, const unsigned char *v, size_t size)
+{
+    size_t p = 0;
+    x->n_ch = 0;
+    for (;;) {
+        size_t len;
+        ExrChannel *c;
+        if (p >= size) return exr_fail(x, "truncated channel list");
+        if (v[p] == 0) break;
+        for (len = 0; p + len < size && v[p + len]; len++) {}
+        if (p + len >= size || len >= EXR_MAX_NAME || size - p - len - 1 < 16)
+            return exr_fail(x, "truncated channel list");
+        if (x->n_ch == EXR_MAX_CHANNELS) return exr_fail(x, "more than 64 channels");
+        c = &x->ch[x->n_ch++];
+        memcpy(c->name, v + p, len + 1);
+        p += len + 1;
+        c->type = (int)le32s(v + p);
+        if (c->type < 0 || c->type > 2) return exr_fail(x, "a channel of unknown pixel type (EXR has 0 UINT, 1 HALF, 2 FLOAT)");
+        if (le32s(v + p + 8) != 1 || le32s(v + p + 12) != 1) {
+            char what[EXR_MAX_NAME + 64];
+            snprintf(what, sizeof what, "channel \"%s\" subsampled (x or y sampling not 1)", c->name);
+            return exr_refuse(x, what);
+        }
+        c->role = !strcmp(c->name, "R") ? 0 : !strcmp(c->name, "G") ? 1 : !strcmp(c->name, "B") ? 2
+                : !strcmp(c->name, "Y") ? 3 : -1;
+        p += 16;
+    }
+    if (x->n_ch == 0) return exr_fail(x, "no channels");
+    x->have_channels = 1;
+    return 1;
+}
+
+/* Magic, version, and the header's attributes; x->pos ends at the offset table. */
+static int read_header(Exr *x)
+{
+    static const char *const names[] = { "NONE", "RLE", "ZIPS", "ZIP", "PIZ", "PXR24", "B44",
+                                         "B44A", "DWAA", "DWAB" };
+    uint32_t version;
+    x->compression = -1;
+    if (x->n < 8 || le32(x->d) != 20000630u) return exr_fail(x, "not an OpenEXR file (no magic number 76 2f 31 01)");
+    version = le32(x->d + 4);
+    if ((version & 0xff) != 2) return exr_fail(x, "unknown version (specnee reads version 2)");
+    if (version & 0x1000) return exr_refuse(x, "a multi-part file");
+    if (version & 0x800) return exr_refuse(x, "deep data");
+    if (version & 0x200) return exr_refuse(x, "a tiled image");
+    if (version & ~(uint32_t)0x4ff) return exr_fail(x, "unknown flags in the version field");
+    x->pos = 8;
+    for (;;) {
+        char name[EXR_MAX_NAME], type[EXR_MAX_NAME];
+        const unsigned char *v;
+        long long size;
+        if (x->pos >= x->n) return exr_fail(x, "truncated header (no end of header)");
+        if (x->d[x->pos] == 0) { x->pos++; break; }
+        if (!read_name(x, name) || !read_name(x, type)) return 0;
+        if (x->n - x->pos < 4) return exr_fail(x, "truncated header (an attribute's size)");
+        size = le32s(x->d + x->pos);
+        x->pos += 4;
+        if (size < 0 || (unsigned long long)size > x->n - x->pos)
+            return exr_fail(x, "truncated header (an attribute is longer than the file)");
+        v = x->d + x->pos;
+        x->pos += (size_t)size;
+        if (!strcmp(name, "channels")) {
+            if (strcmp(type, "chlist") != 0) return exr_fail(x, "\"channels\" is not a chlist");
+            if (!read_channels(x, v, (size_t)size)) return 0;
+        } else if (!strcmp(name, "compression")) {
+            if (strcmp(type, "compression") != 0 || size != 1) return exr_fail(x, "bad \"compression\" attribute");
+            x->compression = v[0];
+        } else if (!strcmp(name, "dataWindow")) {
+            if (strcmp(type, "box2i") != 0 || size != 16) return exr_fail(x, "bad \"dataWindow\" attribute");
+            x->x0 = le32s(v); x->y0 = le32s(v + 4); x->x1 = le32s(v + 8); x->y1 = le32s(v + 12);
+            x->have_window = 1;
+        } else if (!strcmp(name, "type")) {
+            if (strcmp(type, "string") != 0 || size != 13 || memcmp(v, "scanlineimage", 13) != 0) {
+                char what[64];
+                snprintf(what, sizeof what, "a part of type \"%.*s\"", size < 20 ? (int)size : 20, (const char *)v);
+                return exr_refuse(x, what);
+            }
+        }
+    }
+    if (!x->have_channels) return exr_fail(x, "no \"channels\" attribute");
+    if (x->compression < 0) return exr_fail(x, "no \"compression\" attribute");
+    if (!x->have_window) return exr_fail(x, "no \"dataWindow\" attribute");
+    if (x->compression > 3) {
+        char what[64];
+        if (x->compression < 10) snprintf(what, sizeof what, "%s compression", names[x->compression]);
+        else snprintf(what, sizeof what, "compression %d", x->compression);
+        return exr_refuse(x, what);
+    }
+    return 1;
+}
+
+/* RLE runs in[0 .. n_in) into out[0 .. n_out), which they must fill exactly. */
+static const char *rle_decode(const unsigned char *in, size_t n_in, unsigned char *out, size_t n_out)
+{
+    size_t i = 0, o = 0;
+    while (i < n_in) {
+        unsigned c = in[i++];
+        if (c < 128) {                          /* c + 1 copies of the next byte */
+            size_t k = (size_t)c + 1;
+            if (i >= n_in) return "RLE data: a run without its byte";
+            if (k > n_out - o) return "RLE data: more bytes than the lines hold";
+            memset(out + o, in[i++], k);
+            o += k;
+        } else {                                /* 256 - c bytes as they are */
+            size_t k = 256 - (size_t)c;
+            if (k > n_in - i) return "RLE data: a literal run past the end of the block";
+            if (k > n_out - o) return "RLE data: more bytes than the lines hold";
+            memcpy(out + o, in + i, k);
+            i += k;
+            o += k;
+        }
+    }
+    return o == n_out ? NULL : "RLE data: fewer bytes than the lines hold";
+}
+
+/* Undo the predictor and the interleave: t[0 .. n) into out[0 .. n). */
+static void unpredict(unsigned char *t, unsigned char *out, size_t n)
+{
+    size_t i, half = (n + 1) / 2;
+    for (i = 1; i < n; i++) t[i] = (unsigned char)(t[i - 1] + t[i] - 128);
+    for (i = 0; i < half; i++) {
+        out[2 * i] = t[i];
+        if (2 * i + 1 < n) out[2 * i + 1] = t[half + i];
+    }
+}
+
+/* A binary16 number as a float (exact). */
+static float half_to_float(unsigned h)
+{
+    unsigned e = (h >> 10) & 31u, m = h & 1023u;
+    float v;
+    if (e == 0) v = ldexpf((float)m, -24);
+    else if (e == 31) v = m ? NAN : INFINITY;
+    else v = ldexpf((float)(m + 1024u), (int)e - 25);
+    return (h & 0x8000u) ? -v : v;
+}
+
+/* One sample of channel c, pixel i of a line's bytes. */
+static float sample(const unsigned char *line, const ExrChannel *c, size_t i)
+{
+    float f;
+    if (c->type == 1) {
+        const unsigned char *p = line + c->offset + 2 * i;
+        return half_to_float((unsigned)p[0] | (unsigned)p[1] << 8);
+    }
+    if (c->type == 0) return (float)le32(line + c->offset + 4 * i);
+    {
+        uint32_t u = le32(line + c->offset + 4 * i);
+        memcpy(&f, &u, sizeof f);
+    }
+    return f;
+}
+
+/* The lines of raw (lines x line_bytes) into rows row0 .. of im. */
+static void put_lines(const Exr *x, const unsigned char *raw, int lines, int row0, Image *im)
+{
+    int l, k;
+    size_t i;
+    for (l = 0; l < lines; l++) {
+        const unsigned char *line = raw + (size_t)l * x->line_bytes;
+        float *out = im->rgb + 3 * (size_t)(row0 + l) * (size_t)im->w;
+        for (k = 0; k < x->n_ch; k++) {
+            const ExrChannel *c = &x->ch[k];
+            if (c->role < 0 || (x->grey ? c->role != 3 : c->role > 2)) continue;
+            for (i = 0; i < (size_t)im->w; i++) {
+                float v = sample(line, c, i);
+                if (x->grey) out[3 * i] = out[3 * i + 1] = out[3 * i + 2] = v;
+                else out[3 * i + (size_t)c->role] = v;
+            }
+        }
+    }
+}
+
+/* After the header: the channels to read, the image's size, the block layout, and
+   every check that must pass before anything is allocated.  x->pos stays at the
+   offset table. */
+static int plan(Exr *x)
+{
+    int k, have[4] = { 0, 0, 0, 0 };
+    long long w, h;
+    double raw_total, expansion, line_bytes_d = 0.0, memory;
+    for (k = 0; k < x->n_ch; k++) if (x->ch[k].role >= 0) have[x->ch[k].role] = 1;
+    x->grey = !(have[0] && have[1] && have[2]);
+    if (x->grey && !have[3])
+        return exr_fail(x, "no R, G, B channels and no Y channel (specnee reads RGB or luminance images)");
+    w = x->x1 - x->x0 + 1;
+    h = x->y1 - x->y0 + 1;
+    if (w < 1 || h < 1) return exr_fail(x, "an empty data window (xMax < xMin or yMax < yMin)");
+    if ((double)w * (double)h > (double)IMG_MAX_PIXELS) return exr_fail(x, "more pixels than IMG_MAX_PIXELS");
+    x->w = (int)w;
+    x->h = (int)h;
+    x->lpb = x->compression == 3 ? 16 : 1;
+    for (k = 0; k < x->n_ch; k++) line_bytes_d += (double)w * (x->ch[k].type == 1 ? 2.0 : 4.0);
+    memory = 2.0 * line_bytes_d * (double)(h < x->lpb ? h : x->lpb) + 12.0 * (double)w * (double)h;
+    if (memory > (double)MEM_BUDGET_MIB * 1048576.0) {
+        char msg[160];
+        snprintf(msg, sizeof msg, "%lld x %lld pixels need %.1f GiB, more than specnee's memory "
+                 "budget (MEM_BUDGET_MIB in specnee.h)", w, h, memory / 1073741824.0);
+        return exr_fail(x, msg);
+    }
+    x->line_bytes = 0;
+    for (k = 0; k < x->n_ch; k++) {
+        x->ch[k].offset = x->line_bytes;
+        x->line_bytes += (size_t)w * (x->ch[k].type == 1 ? 2u : 4u);
+    }
+    x->block_bytes = x->line_bytes * (size_t)(h < x->lpb ? h : x->lpb);
+    x->n_blocks = (size_t)((h + x->lpb - 1) / x->lpb);
+    if (x->n_blocks > (x->n - x->pos) / 8) return exr_fail(x, "truncated (the line offset table is longer than the file)");
+    raw_total = (double)x->line_bytes * (double)h;
+    expansion = x->compression == 0 ? 1.0 : x->compression == 1 ? EXR_RLE_EXPANSION : EXR_DEFLATE_EXPANSION;
+    if ((double)(x->n - x->pos - 8 * x->n_blocks) * expansion < raw_total)
+        return exr_fail(x, "truncated (the pixel data is too short for the data window)");
+    return 1;
+}
+
+/* Block b of the offset table, decoded (through raw and tmp, block_bytes each) into
+   its rows of im; seen[] marks the blocks read. */
+static int read_block(Exr *x, size_t b, unsigned char *raw, unsigned char *tmp, unsigned char *seen,
+                      Image *im)
+{
+    const unsigned char *e = x->d + x->pos + 8 * b, *body;
+    uint32_t lo = le32(e), hi = le32(e + 4);
+    long long y, size, first;
+    size_t off, need;
+    int lines;
+    const char *why = NULL;
+    char msg[96];
+    if (hi != 0 || lo > x->n || x->n - lo < 8) {
+        snprintf(msg, sizeof msg, "truncated (block %lu's offset is past the end of the file)", (unsigned long)b);
+        return exr_fail(x, msg);
+    }
+    off = lo;
+    y = le32s(x->d + off);
+    size = le32s(x->d + off + 4);
+    body = x->d + off + 8;
+    first = y - x->y0;
+    if (first < 0 || first >= x->h || first % x->lpb != 0) {
+        snprintf(msg, sizeof msg, "block %lu starts at line y = %lld, not a block of the data window",
+                 (unsigned long)b, y);
+        return exr_fail(x, msg);
+    }
+    if (seen[first / x->lpb]++) {
+        snprintf(msg, sizeof msg, "two blocks for line y = %lld", y);
+        return exr_fail(x, msg);
+    }
+    lines = (int)(x->h - first < x->lpb ? x->h - first : x->lpb);
+    need = x->line_bytes * (size_t)lines;
+    if (size < 0 || (unsigned long long)size > x->n - off - 8) {
+        snprintf(msg, sizeof msg, "truncated (block %lu is longer than the file)", (unsigned long)b);
+        return exr_fail(x, msg);
+    }
+    if ((size_t)size == need) memcpy(raw, body, need);          /* stored raw */
+    else if (x->compression == 0 || (size_t)size > need) why = "a block's size does not match its lines";
+    else {
+        why = x->compression == 1 ? rle_decode(body, (size_t)size, tmp, need)
+                                  : zlib_inflate(body, (size_t)size, tmp, need);
+        if (!why) unpredict(tmp, raw, need);
+    }
+    if (why) {
+        snprintf(msg, sizeof msg, "block at line y = %lld: %s", y, why);
+        return exr_fail(x, msg);
+    }
+    put_lines(x, raw, lines, (int)first, im);
+    return 1;
+}
+
+int exr_read_memory(const unsigned char *data, size_t n, const char *name, Image *im, Error *err)
+{
+    Exr *x;
+    int ok = 0;
+    size_t b;
+    unsigned char *raw = NULL, *tmp = NULL, *seen = NULL;
+    memset(im, 0, sizeof *im);
+    x = (Exr *)calloc(1, sizeof *x);
+    if (!x) { error_set(err, name ? name : "<exr>", 0, "EXR: out of memory"); return 0; }
+    x->d = data; x->n = n; x->name = name ? name : "<exr>"; x->err = err;
+    if (read_header(x) && plan(x)) {
+        raw = (unsigned char *)malloc(x->block_bytes);
+        tmp = (unsigned char *)malloc(x->block_bytes);
+        seen = (unsigned char *)calloc(x->n_blocks, 1);
+        if (!raw || !tmp || !seen || !img_alloc(im, x->w, x->h)) exr_fail(x, "out of memory");
+        else
+            /* the blocks, in the order of the offset table, each placed by its own y */
+            for (ok = 1, b = 0; ok && b < x->n_blocks; b++) ok = read_block(x, b, raw, tmp, seen, im);
+    }
+    if (!ok) img_free(im);
+    free(raw);
+    free(tmp);
+    free(seen);
+    free(x);
+    return ok;
+}
+
+int exr_read(Image *im, const char *path, Error *err)
+{
+    size_t len;
+    ReadStatus rs;
+    char *buf = read_whole_file(path, 0, "\x76\x2f\x31\x01", &len, &rs);
+    int ok;
+    memset(im, 0, sizeof *im);
+    if (!buf) {
+        error_set(err, path, 0, "%s", rs == READ_OPEN ? "cannot read the EXR file"
+                  : rs == READ_MAGIC ? "EXR: not an OpenEXR file (no magic number 76 2f 31 01)"
+                  : read_status_text(rs));
+        return 0;
+    }
+    ok = exr_read_memory((const unsigned char *)buf, len, path, im, err);
+    free(buf);
+    return ok;
+}
