@@ -25,7 +25,9 @@
      6. RGB -> spectrum (Jakob & Hanika 2019, "A Low-Dimensional Function Space for
         Efficient Spectral Upsampling", Eurographics): s(lambda) = S(c0 x^2 + c1 x + c2),
         S(p) = 1/2 + p / (2 sqrt(1 + p^2)), x = (lambda - 360) / 470, with (c0, c1, c2)
-        found by Newton steps so that s(lambda) D65(lambda) maps back to the rgb.
+        found by Newton steps so that s(lambda) D65(lambda) maps back to the rgb,
+        started from a coefficient table over rgb (Jakob & Hanika's parametrisation)
+        that is filled on first use; docs/loading.md measures the load time.
 
      The wavelength sampling that draws the four wavelengths of a path is in
      wavelengths.c; `specnee spectrum` is in cmd_spectrum.c.
@@ -1183,6 +1185,8 @@ done:
    target in 8 steps, which keeps Newton inside its basin for saturated colours (the
    same idea as Jakob & Hanika's table optimisation, done here at load time).
    Grey (r = g = b) gives an exactly constant spectrum, as in pbrt-v4.
+   The fit of each colour starts from the coefficient table below and polishes it
+   with the same Newton steps; the continuation is the fallback and builds the table.
    Accuracy (tests/test_spectrum.c): the round trip rgb -> s -> rgb is within 1.3e-6
    (float rounding of the table) over a 5^3 grid of components 0.1..0.9, and within
    1e-4 for the sRGB primaries (steep sigmoids); greys are off by up to 1.5e-4, the
@@ -1348,6 +1352,7 @@ typedef struct {
     int ready;                                 /* fit and z filled */
     int built[3][RGB_TAB_N];                   /* slice (m, z_k) filled */
     RgbFit fit;
+    Spectrum d65;                              /* stdillum-D65 (Y = 1), for illuminants */
     double z[RGB_TAB_N];
     double c[3][RGB_TAB_N][RGB_TAB_N][RGB_TAB_N][3];  /* [m][z][b][a][coefficient] */
 } RgbCoeffTable;
@@ -1395,6 +1400,7 @@ static RgbCoeffTable *rgb_table_get(void)
     int zi;
     if (!table.ready) {
         rgb_fit_init(&table.fit);
+        spec_named(&table.d65, "stdillum-D65");
         for (zi = 0; zi < RGB_TAB_N; zi++)
             table.z[zi] = smoothstep(smoothstep((double)zi / (RGB_TAB_N - 1)));
         table.ready = 1;
@@ -1460,17 +1466,18 @@ int spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
            multiply by m and by the colour space's illuminant (D65, Y = 1).
            illuminant == 2: pbrt-v4's RGBUnboundedSpectrum, the same without D65
            (the coefficients of a medium). */
-        Spectrum d65;
-        if (illuminant == 2) spec_const(&d65, 1.0f);
-        else spec_named(&d65, "stdillum-D65");
+        Spectrum one;
+        const Spectrum *d65 = &one;
         if (m == 0.0) { spec_const(s, 0.0f); return 1; }
+        if (illuminant == 2) spec_const(&one, 1.0f);
+        else d65 = &rgb_table_get()->d65;
         m *= 2.0;
         for (k = 0; k < 3; k++) target[k] /= m;
         if (target[0] == target[1] && target[1] == target[2]) c[0] = c[1] = c[2] = 0.0;  /* s = 1/2 */
         else rgb_coeffs(target, c);
         for (i = 0; i < SPEC_N; i++) {
             double x = (double)i / (SPEC_N - 1);
-            s->v[i] = (float)(m * sigmoid((c[0] * x + c[1]) * x + c[2]) * d65.v[i]);
+            s->v[i] = (float)(m * sigmoid((c[0] * x + c[1]) * x + c[2]) * d65->v[i]);
         }
         return 1;
     }

@@ -4,23 +4,27 @@
 # the load-time and memory benchmark of docs/loading.md (many distinct RGB
 # emitters, the case where RGB -> spectrum upsampling dominates loading).
 #
-# Usage: sh tools/gen_spheres.sh N [SEED] > spheres.pbrt
-# Deterministic: the same N and SEED (default 1) give the same file (a linear
+# Usage: sh tools/gen_spheres.sh N [SEED [material]] > spheres.pbrt
+# With "material" every sphere also gets its own Material "diffuse" with its own
+# "rgb reflectance" (a Material directive per object, as exporters write them).
+# Deterministic: the same arguments (SEED default 1) give the same file (a linear
 # congruential generator in awk, no rand()), so specnee and pbrt-v4 read the
 # same bytes.  Both renderers read the output.
 set -eu
-n=${1:?usage: sh tools/gen_spheres.sh N [SEED]}
+n=${1:?usage: sh tools/gen_spheres.sh N [SEED [material]]}
 seed=${2:-1}
+mat=0
+case ${3:-} in material) mat=1;; '') ;; *) echo "gen_spheres.sh: the third argument can only be 'material'" >&2; exit 2;; esac
 case $n in *[!0-9]*|'') echo "gen_spheres.sh: N must be a non-negative integer" >&2; exit 2;; esac
 case $seed in *[!0-9]*|'') echo "gen_spheres.sh: SEED must be a non-negative integer" >&2; exit 2;; esac
-awk -v n="$n" -v seed="$seed" '
+awk -v n="$n" -v seed="$seed" -v mat="$mat" '
 function rnd() {                      # LCG mod 2^31 (exact in doubles), in [0, 1)
     state = (state * 1103515245 + 12345) % 2147483648
     return state / 2147483648
 }
 BEGIN {
     state = seed % 2147483648
-    printf "# %d emissive spheres in a fog room (tools/gen_spheres.sh %d %d)\n", n, n, seed
+    printf "# %d emissive spheres in a fog room (tools/gen_spheres.sh %d %d%s)\n", n, n, seed, mat ? " material" : ""
     print "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\""
     print "    \"rgb sigma_a\" [ 0.01 0.01 0.01 ] \"rgb sigma_s\" [ 0.05 0.06 0.08 ]"
     print "    \"float g\" [ 0.2 ]"
@@ -43,6 +47,8 @@ BEGIN {
         x = -8 + 16 * rnd(); y = -8 + 16 * rnd(); z = -8 + 16 * rnd()
         r = 0.02 + 0.08 * rnd()
         printf "AttributeBegin\n"
+        if (mat)
+            printf "  Material \"diffuse\" \"rgb reflectance\" [ %.4f %.4f %.4f ]\n", rnd(), rnd(), rnd()
         printf "  AreaLightSource \"diffuse\" \"rgb L\" [ %.4f %.4f %.4f ]\n", 4 * rnd(), 4 * rnd(), 4 * rnd()
         printf "  Translate %.4f %.4f %.4f\n", x, y, z
         printf "  Shape \"sphere\" \"float radius\" [ %.4f ]\n", r
