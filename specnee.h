@@ -336,6 +336,10 @@ void  spec_rgb_fit_table(RgbFitTable *t);
 int   spec_rgb_coeffs_from(const RgbFitTable *t, const double target[3], const double start[3],
                            double c[3]);
 float spec_sigmoid_eval(const float c[3], float lambda_nm);
+/* For tests: the coefficient table's interpolated start for target (before the
+   Newton polish), and the full continuation fit from grey (no table). */
+void  spec_rgb_table_start(const double target[3], double c[3]);
+void  spec_rgb_coeffs_fit(const double target[3], double c[3]);
 /* CIE 1931 2-degree colour matching functions at lambda (nm), linear in the 5 nm CIE table. */
 void  cie_xyz(float lambda_nm, float xyz[3]);
 void  cie_cmf(double lambda_nm, double xyz[3]);  /* the same in double precision */

@@ -25,7 +25,9 @@
      6. RGB -> spectrum (Jakob & Hanika 2019, "A Low-Dimensional Function Space for
         Efficient Spectral Upsampling", Eurographics): s(lambda) = S(c0 x^2 + c1 x + c2),
         S(p) = 1/2 + p / (2 sqrt(1 + p^2)), x = (lambda - 360) / 470, with (c0, c1, c2)
-        found by Newton steps so that s(lambda) D65(lambda) maps back to the rgb.
+        found by Newton steps so that s(lambda) D65(lambda) maps back to the rgb,
+        started from a coefficient table over rgb (Jakob & Hanika's parametrisation)
+        that is filled on first use; docs/loading.md measures the load time.
 
      The wavelength sampling that draws the four wavelengths of a path is in
      wavelengths.c; `specnee spectrum` is in cmd_spectrum.c.
@@ -34,7 +36,8 @@
      spec_eval spec_const spec_is_constant spec_from_pairs spec_named spec_named_list
      spec_from_file spec_from_rgb spec_blackbody cie_xyz cie_cmf cie_y_integral
      spec_to_xyz xyz_to_linear_srgb spec_chromaticity cct_from_xy spec_bin_average
-     spec_bin_sum cauchy_named
+     spec_bin_sum cauchy_named spec_rgb_coeffs spec_rgb_fit_table spec_rgb_coeffs_from
+     spec_sigmoid_eval spec_rgb_table_start spec_rgb_coeffs_fit
 
    HOW IT IS USED
      scene.c turns "spectrum"/"rgb"/"blackbody" parameters into Spectrum tables with
@@ -1182,6 +1185,8 @@ done:
    target in 8 steps, which keeps Newton inside its basin for saturated colours (the
    same idea as Jakob & Hanika's table optimisation, done here at load time).
    Grey (r = g = b) gives an exactly constant spectrum, as in pbrt-v4.
+   The fit of each colour starts from the coefficient table below and polishes it
+   with the same Newton steps; the continuation is the fallback and builds the table.
    Accuracy (tests/test_spectrum.c): the round trip rgb -> s -> rgb is within 1.3e-6
    (float rounding of the table) over a 5^3 grid of components 0.1..0.9, and within
    1e-4 for the sRGB primaries (steep sigmoids); greys are off by up to 1.5e-4, the
@@ -1215,7 +1220,7 @@ static void rgb_fit_eval(const RgbFit *f, const double c[3], double rgb[3], doub
     int i, k, r;
     for (i = 0; i < SPEC_N; i++) {
         double x = (double)i / (SPEC_N - 1), p = (c[0] * x + c[1]) * x + c[2];
-        double q = hypot(1.0, p), S = 0.5 + 0.5 * p / q, dS = 0.5 / (q * q * q);
+        double q = sqrt(1.0 + p * p), S = 0.5 + 0.5 * p / q, dS = 0.5 / (q * q * q);
         double basis[3];
         basis[0] = x * x; basis[1] = x; basis[2] = 1.0;
         for (k = 0; k < 3; k++) {
@@ -1266,34 +1271,47 @@ static double norm2_diff(const double a[3], const double b[3])
     return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
 }
 
-/* Fit c so that rgb(c) ~ target (each component in [0, 1]). */
+/* Newton's method on rgb(c) = target from the c given, at most max_it steps, each
+   with the analytic Jacobian, a trust region of length 50 and a backtracking line
+   search.  Returns the squared rgb error of the final c. */
+static double rgb_newton(const RgbFit *f, const double target[3], double c[3], int max_it)
+{
+    double rgb[3], J[3][3], rhs[3], dc[3], trial[3], trial_rgb[3], err0 = 1.0;
+    int it, k, h;
+    for (it = 0; it < max_it; it++) {
+        double len;
+        rgb_fit_eval(f, c, rgb, J);
+        err0 = norm2_diff(rgb, target);
+        if (err0 < 1e-14) break;
+        for (k = 0; k < 3; k++) rhs[k] = target[k] - rgb[k];
+        if (!solve3(J, rhs, dc)) break;
+        len = sqrt(dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2]);
+        if (len > 50.0) for (k = 0; k < 3; k++) dc[k] *= 50.0 / len;  /* trust region */
+        for (h = 0; h < 12; h++) {                /* backtracking: halve until better */
+            for (k = 0; k < 3; k++) trial[k] = c[k] + dc[k];
+            rgb_fit_eval(f, trial, trial_rgb, NULL);
+            if (norm2_diff(trial_rgb, target) < err0) break;
+            for (k = 0; k < 3; k++) dc[k] *= 0.5;
+        }
+        if (h == 12) break;                       /* no progress: best we can do */
+        for (k = 0; k < 3; k++) c[k] = trial[k];
+        err0 = norm2_diff(trial_rgb, target);
+    }
+    return err0;
+}
+
+/* Fit c so that rgb(c) ~ target (each component in [0, 1]): continuation from grey
+   (c = 0) to the target in 8 steps of up to 25 Newton steps each. */
 static void rgb_fit(const RgbFit *f, const double target[3], double c[3])
 {
-    const int n_steps = 8, n_newton = 25;
-    double grey[3], t[3], rgb[3], J[3][3], step_rhs[3], dc[3], trial[3], trial_rgb[3];
-    int s, it, k, h;
+    const int n_steps = 8;
+    double grey[3], t[3];
+    int s, k;
     c[0] = c[1] = c[2] = 0.0;
     rgb_fit_eval(f, c, grey, NULL);
     for (s = 1; s <= n_steps; s++) {
         for (k = 0; k < 3; k++) t[k] = grey[k] + (target[k] - grey[k]) * s / n_steps;
-        for (it = 0; it < n_newton; it++) {
-            double err0, len;
-            rgb_fit_eval(f, c, rgb, J);
-            err0 = norm2_diff(rgb, t);
-            if (err0 < 1e-14) break;
-            for (k = 0; k < 3; k++) step_rhs[k] = t[k] - rgb[k];
-            if (!solve3(J, step_rhs, dc)) break;
-            len = sqrt(dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2]);
-            if (len > 50.0) for (k = 0; k < 3; k++) dc[k] *= 50.0 / len;  /* trust region */
-            for (h = 0; h < 12; h++) {                /* backtracking: halve until better */
-                for (k = 0; k < 3; k++) trial[k] = c[k] + dc[k];
-                rgb_fit_eval(f, trial, trial_rgb, NULL);
-                if (norm2_diff(trial_rgb, t) < err0) break;
-                for (k = 0; k < 3; k++) dc[k] *= 0.5;
-            }
-            if (h == 12) break;                       /* no progress: best we can do */
-            for (k = 0; k < 3; k++) c[k] = trial[k];
-        }
+        rgb_newton(f, t, c, 25);
     }
 }
 
@@ -1304,35 +1322,132 @@ void spec_rgb_fit_table(RgbFitTable *t) { rgb_fit_init(t); }
    (squared, in rgb), else 0 (c holds the last iterate). */
 int spec_rgb_coeffs_from(const RgbFitTable *f, const double target[3], const double start[3], double c[3])
 {
-    double rgb[3], J[3][3], rhs[3], dc[3], trial[3], trial_rgb[3], err0 = 1.0;
-    int it, k, h;
+    int k;
     for (k = 0; k < 3; k++) c[k] = start[k];
-    for (it = 0; it < 12; it++) {
-        double len;
-        rgb_fit_eval(f, c, rgb, J);
-        err0 = norm2_diff(rgb, target);
-        if (err0 < 1e-14) break;
-        for (k = 0; k < 3; k++) rhs[k] = target[k] - rgb[k];
-        if (!solve3(J, rhs, dc)) break;
-        len = sqrt(dc[0] * dc[0] + dc[1] * dc[1] + dc[2] * dc[2]);
-        if (len > 50.0) for (k = 0; k < 3; k++) dc[k] *= 50.0 / len;
-        for (h = 0; h < 12; h++) {
-            for (k = 0; k < 3; k++) trial[k] = c[k] + dc[k];
-            rgb_fit_eval(f, trial, trial_rgb, NULL);
-            if (norm2_diff(trial_rgb, target) < err0) break;
-            for (k = 0; k < 3; k++) dc[k] *= 0.5;
-        }
-        if (h == 12) break;
-        for (k = 0; k < 3; k++) c[k] = trial[k];
-        err0 = norm2_diff(trial_rgb, target);
+    return rgb_newton(f, target, c, 12) < 1e-10;
+}
+
+/* The coefficient table: the fit at the corners of a grid over rgb, built once in a
+   fixed order (so its content never depends on who asks first), and looked up by
+   trilinear interpolation of the coefficients, then polished by Newton steps.
+   Grid (Jakob & Hanika's parametrisation): the largest component m (which of the
+   three, ties to the first), z = rgb[m] in [0, 1] at RGB_TAB_N knots
+   z_k = smoothstep(smoothstep(k / (RGB_TAB_N - 1))) (dense near 0 and 1, where the
+   coefficients grow fastest; the middle knot is z = 1/2, every rgb illuminant's),
+   and the two other components divided by z, a = rgb[m+1] / z, b = rgb[m+2] / z in
+   [0, 1] at equal steps.  A corner is fitted by Newton from its fitted neighbour
+   (a sweep from the grey corner a = b = 1, where c = 0 exactly), by the continuation
+   from grey where that fails.  Each slice (m, z_k) is built by its own sweep, on
+   the first lookup that needs it, so a scene builds only the slices its colours
+   use (every rgb illuminant lies on the z = 1/2 slices), and a slice's content does
+   not depend on which lookup asked first.  Below z_1 the z_1 slice is used alone.
+   Accuracy: the polish stops where the full fit does (squared rgb error 1e-14), so
+   a spectrum matches the full fit's to the fit's own precision; a colour whose
+   polish does not converge within RGB_POLISH steps (saturated colours that the
+   sigmoid cannot reach, near the gamut boundary) takes the full continuation:
+   tests/test_spectrum.c (spectrum_rgb_table) measures both. */
+#define RGB_TAB_N 9
+#define RGB_POLISH 8
+typedef struct {
+    int ready;                                 /* fit and z filled */
+    int built[3][RGB_TAB_N];                   /* slice (m, z_k) filled */
+    RgbFit fit;
+    Spectrum d65;                              /* stdillum-D65 (Y = 1), for illuminants */
+    double z[RGB_TAB_N];
+    double c[3][RGB_TAB_N][RGB_TAB_N][RGB_TAB_N][3];  /* [m][z][b][a][coefficient] */
+} RgbCoeffTable;
+
+static double smoothstep(double x) { return x * x * (3.0 - 2.0 * x); }
+
+/* The rgb of corner (m, zi, bi, ai). */
+static void rgb_table_corner(const RgbCoeffTable *T, int m, int zi, int bi, int ai, double rgb[3])
+{
+    double z = T->z[zi];
+    rgb[m] = z;
+    rgb[(m + 1) % 3] = z * ai / (RGB_TAB_N - 1);
+    rgb[(m + 2) % 3] = z * bi / (RGB_TAB_N - 1);
+}
+
+static void rgb_table_fit_corner(RgbCoeffTable *T, int m, int zi, int bi, int ai, const double start[3])
+{
+    double rgb[3], *c = T->c[m][zi][bi][ai];
+    int k;
+    rgb_table_corner(T, m, zi, bi, ai, rgb);
+    for (k = 0; k < 3; k++) c[k] = start[k];
+    if (rgb_newton(&T->fit, rgb, c, 25) >= 1e-10) rgb_fit(&T->fit, rgb, c);
+}
+
+/* Fill slice (m, zi >= 1) by a sweep from its grey corner. */
+static void rgb_table_build_slice(RgbCoeffTable *T, int m, int zi)
+{
+    static const double zero[3] = { 0.0, 0.0, 0.0 };
+    const int top = RGB_TAB_N - 1;
+    int ai, bi;
+    rgb_table_fit_corner(T, m, zi, top, top, zero);                       /* grey */
+    for (bi = top - 1; bi >= 0; bi--)                                      /* a = 1 */
+        rgb_table_fit_corner(T, m, zi, bi, top, T->c[m][zi][bi + 1][top]);
+    for (bi = top; bi >= 0; bi--)                                          /* rows */
+        for (ai = top - 1; ai >= 0; ai--)
+            rgb_table_fit_corner(T, m, zi, bi, ai, T->c[m][zi][bi][ai + 1]);
+    T->built[m][zi] = 1;
+}
+
+/* The one table of the process: a cache of a pure function of the grid, filled
+   at scene load, which is single-threaded. */
+static RgbCoeffTable *rgb_table_get(void)
+{
+    static RgbCoeffTable table;
+    int zi;
+    if (!table.ready) {
+        rgb_fit_init(&table.fit);
+        spec_named(&table.d65, "stdillum-D65");
+        for (zi = 0; zi < RGB_TAB_N; zi++)
+            table.z[zi] = smoothstep(smoothstep((double)zi / (RGB_TAB_N - 1)));
+        table.ready = 1;
     }
-    return err0 < 1e-10;
+    return &table;
+}
+
+/* Trilinear interpolation of the table's coefficients at target (not all zero),
+   filling the slices it needs. */
+static void rgb_table_lookup(RgbCoeffTable *T, const double target[3], double c[3])
+{
+    double z, a, b, fz, fa, fb;
+    int m = 0, zi, ai, bi, k, dz, da, db;
+    if (target[1] > target[m]) m = 1;
+    if (target[2] > target[m]) m = 2;
+    z = target[m];
+    a = target[(m + 1) % 3] / z * (RGB_TAB_N - 1);
+    b = target[(m + 2) % 3] / z * (RGB_TAB_N - 1);
+    for (zi = 1; zi < RGB_TAB_N - 2 && T->z[zi + 1] < z; zi++) {}
+    fz = z <= T->z[zi] ? 0.0 : (z - T->z[zi]) / (T->z[zi + 1] - T->z[zi]);
+    ai = a >= RGB_TAB_N - 1 ? RGB_TAB_N - 2 : (int)a;
+    bi = b >= RGB_TAB_N - 1 ? RGB_TAB_N - 2 : (int)b;
+    fa = a - ai; fb = b - bi;
+    for (k = 0; k < 3; k++) c[k] = 0.0;
+    for (dz = 0; dz < 2; dz++) {
+        if (dz == 1 && fz == 0.0) break;          /* on a knot: one slice */
+        if (!T->built[m][zi + dz]) rgb_table_build_slice(T, m, zi + dz);
+        for (db = 0; db < 2; db++)
+            for (da = 0; da < 2; da++) {
+                double w = (dz ? fz : 1.0 - fz) * (db ? fb : 1.0 - fb) * (da ? fa : 1.0 - fa);
+                for (k = 0; k < 3; k++) c[k] += w * T->c[m][zi + dz][bi + db][ai + da][k];
+            }
+    }
+}
+
+/* c for target (components in [0, 1], not grey): the table's start, polished by
+   Newton; the full continuation where the polish does not converge. */
+static void rgb_coeffs(const double target[3], double c[3])
+{
+    RgbCoeffTable *T = rgb_table_get();
+    rgb_table_lookup(T, target, c);
+    if (rgb_newton(&T->fit, target, c, RGB_POLISH) >= 1e-14) rgb_fit(&T->fit, target, c);
 }
 
 int spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
                   const char *file, int line)
 {
-    RgbFit fit;
     double target[3], c[3], m = 0.0;
     int i, k;
     for (i = 0; i < SPEC_UV_N; i++) s->uv[i] = 0.0f;   /* rgb spectra have no UV */
@@ -1351,17 +1466,18 @@ int spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
            multiply by m and by the colour space's illuminant (D65, Y = 1).
            illuminant == 2: pbrt-v4's RGBUnboundedSpectrum, the same without D65
            (the coefficients of a medium). */
-        Spectrum d65;
-        if (illuminant == 2) spec_const(&d65, 1.0f);
-        else spec_named(&d65, "stdillum-D65");
+        Spectrum one;
+        const Spectrum *d65 = &one;
         if (m == 0.0) { spec_const(s, 0.0f); return 1; }
+        if (illuminant == 2) spec_const(&one, 1.0f);
+        else d65 = &rgb_table_get()->d65;
         m *= 2.0;
         for (k = 0; k < 3; k++) target[k] /= m;
         if (target[0] == target[1] && target[1] == target[2]) c[0] = c[1] = c[2] = 0.0;  /* s = 1/2 */
-        else { rgb_fit_init(&fit); rgb_fit(&fit, target, c); }
+        else rgb_coeffs(target, c);
         for (i = 0; i < SPEC_N; i++) {
             double x = (double)i / (SPEC_N - 1);
-            s->v[i] = (float)(m * sigmoid((c[0] * x + c[1]) * x + c[2]) * d65.v[i]);
+            s->v[i] = (float)(m * sigmoid((c[0] * x + c[1]) * x + c[2]) * d65->v[i]);
         }
         return 1;
     }
@@ -1369,8 +1485,7 @@ int spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
         spec_const(s, (float)target[0]);
         return 1;
     }
-    rgb_fit_init(&fit);
-    rgb_fit(&fit, target, c);
+    rgb_coeffs(target, c);
     for (i = 0; i < SPEC_N; i++) {
         double x = (double)i / (SPEC_N - 1), v = sigmoid((c[0] * x + c[1]) * x + c[2]);
         s->v[i] = (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
@@ -1383,8 +1498,18 @@ int spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
    infinite.c, which tabulates it for image maps.  A grey target gives c = 0. */
 void spec_rgb_coeffs(const double target[3], double c[3])
 {
-    RgbFit fit;
     if (target[0] == target[1] && target[1] == target[2]) { c[0] = c[1] = c[2] = 0.0; return; }
+    rgb_coeffs(target, c);
+}
+
+void spec_rgb_table_start(const double target[3], double c[3])
+{
+    rgb_table_lookup(rgb_table_get(), target, c);
+}
+
+void spec_rgb_coeffs_fit(const double target[3], double c[3])
+{
+    RgbFit fit;
     rgb_fit_init(&fit);
     rgb_fit(&fit, target, c);
 }
