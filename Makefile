@@ -33,12 +33,8 @@ LIBOBJ = util.o sampler.o bvh.o shapes.o spectrum.o wavelengths.o metals.o light
          delta.o texture.o filter.o parser.o options.o scene.o dump.o ply.o medium.o material.o microfacet.o \
          conductor.o layered.o camera.o path.o render.o image.o png.o exr.o svg.o cmd_converge.o cmd_image.o \
          cmd_spectrum.o
-TESTOBJ = tests/runner.o tests/fixtures.o tests/test_util.o tests/test_bvh.o tests/test_spectrum.o \
-          tests/test_scene.o tests/test_image.o tests/test_material.o \
-          tests/test_render.o tests/test_lights.o tests/test_scenes.o tests/test_physics.o \
-          tests/test_robust.o tests/test_lighttree.o tests/test_pbrt.o tests/test_wavelengths.o \
-          tests/test_sampler.o tests/test_fluor.o tests/test_delta.o tests/test_texture.o tests/test_shapes.o \
-          tests/test_filter.o tests/test_png.o tests/test_exr.o tests/test_conductor.o tests/test_coated.o tests/test_medium.o
+# every tests/*.c (a new test file is registered in tests/tables.h alone)
+TESTOBJ != ls tests/*.c | sed 's/\.c$$/.o/'
 
 all: specnee
 
@@ -63,7 +59,7 @@ tools/bench_lights: tools/bench_lights.o $(LIBOBJ)
 
 $(LIBOBJ) specnee.o $(TESTOBJ) tools/bench.o tools/bench_lights.o fuzz/replay.o fuzz/targets.o: specnee.h
 parser.o options.o scene.o material.o conductor.o layered.o texture.o lights.o delta.o infinite.o medium.o: parser.h
-$(TESTOBJ): tests/test.h
+$(TESTOBJ): tests/test.h tests/tables.h
 tests/test_png.o: tests/png_fixtures.h
 camera.o path.o render.o: render.h
 

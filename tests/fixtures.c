@@ -1,6 +1,9 @@
-/* tests/fixtures.c - what the statistical image tests share: loading a scene from
-   text, rendering K seeds into per-tile means with standard errors, comparing two
-   such tile sets, and the walls of a small test box. */
+/* tests/fixtures.c - what the tests share: random numbers drawn in a fixed order;
+   for the statistical image tests, loading a scene from text, rendering K seeds
+   into per-tile means with standard errors, comparing two such tile sets, and the
+   walls of a small test box; for the tests of samplers, Pearson's chi-square of
+   counts against expectations and of sampled directions against a density
+   (test.h says how they judge). */
 #include "test.h"
 #include <stdlib.h>
 #include <string.h>
@@ -150,6 +153,163 @@ int test_dir_cell(Vec3 w, int nt, int np)
     if (ct < 0) ct = 0;
     if (cp >= np) cp = np - 1;
     return ct * np + cp;
+}
+
+/* ---- chi-square tests (test.h) */
+
+double chi2_tail(int k, double x)
+{
+    double a = 0.5 * k, y = 0.5 * x, front;
+    int i;
+    if (k < 1 || !(y > 0.0)) return 1.0;
+    front = exp(a * log(y) - y - lgamma(a));      /* y^a e^-y / Gamma(a) */
+    if (y < a + 1.0) {
+        /* the lower function P(a, y) = front * sum_n y^n / (a (a+1) ... (a+n)) */
+        double term = 1.0 / a, sum = term;
+        for (i = 1; i < 100000 && term > 1e-17 * sum; i++) {
+            term *= y / (a + i);
+            sum += term;
+        }
+        return 1.0 - front * sum;
+    } else {
+        /* Q(a, y) = front / (y + 1 - a - 1 (1 - a) / (y + 3 - a - 2 (2 - a) / (y + 5 - a - ...))),
+           the continued fraction evaluated forwards (modified Lentz) */
+        double b = y + 1.0 - a, c = 1e300, d = 1.0 / b, h = d;
+        for (i = 1; i < 100000; i++) {
+            double an = -i * (i - a), del;
+            b += 2.0;
+            d = an * d + b;
+            if (fabs(d) < 1e-300) d = 1e-300;
+            c = b + an / c;
+            if (fabs(c) < 1e-300) c = 1e-300;
+            d = 1.0 / d;
+            del = d * c;
+            h *= del;
+            if (fabs(del - 1.0) < 1e-15) break;
+        }
+        return front * h;
+    }
+}
+
+/* The statistic with the low cells merged, and the verdict against the Sidak-
+   corrected level; the message says what failed. */
+static int chi2_judge(T *t, const char *file, int line, const double *obs, const double *ex, int n,
+                      int n_tests, Chi2 *out, const char *what, va_list ap)
+{
+    double pool_o = 0.0, pool_e = 0.0, level;
+    Chi2 c;
+    int i, cells = 0;
+    char msg[512];
+    c.stat = 0.0;
+    c.total = 0.0;
+    for (i = 0; i < n; i++) {
+        c.total += ex[i];
+        if (ex[i] < TEST_CHI2_MIN_EXPECTED) { pool_o += obs[i]; pool_e += ex[i]; continue; }
+        c.stat += (obs[i] - ex[i]) * (obs[i] - ex[i]) / ex[i];
+        cells++;
+    }
+    if (pool_e >= TEST_CHI2_MIN_EXPECTED) {
+        c.stat += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
+        cells++;
+    }
+    c.dof = cells > 1 ? cells - 1 : 0;
+    c.p = c.dof ? chi2_tail(c.dof, c.stat) : 1.0;
+    if (out) *out = c;
+    level = -expm1(log1p(-TEST_CHI2_ALPHA) / (n_tests > 1 ? n_tests : 1));
+    if (c.p >= level) return 1;
+    vsnprintf(msg, sizeof msg, what, ap);
+    test_failf(t, file, line, "%s: chi-square %.1f with %d dof, p = %.3g < %.3g (%g over %d checks)",
+               msg, c.stat, c.dof, c.p, level, TEST_CHI2_ALPHA, n_tests);
+    return 0;
+}
+
+int test_chi2_at(T *t, const char *file, int line, const double *obs, const double *ex, int n,
+                 int n_tests, Chi2 *out, const char *what, ...)
+{
+    va_list ap;
+    int ok;
+    va_start(ap, what);
+    ok = chi2_judge(t, file, line, obs, ex, n, n_tests, out, what, ap);
+    va_end(ap);
+    return ok;
+}
+
+/* The k-th of the 2 sub nodes in [0, 1) of the composite two-point Gauss-Legendre
+   rule on sub equal intervals: (i + 1/2 -+ 1/(2 sqrt 3)) / sub for interval i = k / 2;
+   exact for cubics on each interval, and never on an interval's edge. */
+static double gauss2(int k, int sub)
+{
+    return (k / 2 + 0.5 + (k % 2 ? 0.5 : -0.5) / sqrt(3.0)) / sub;
+}
+
+int test_chi2_dirs_at(T *t, const char *file, int line, const DirTest *d, Rng *r, int n_tests,
+                      Chi2 *out, const char *what, ...)
+{
+    int cells = d->nt * d->np, i, it, ip, a, b, ok;
+    double *obs = (double *)calloc((size_t)cells, sizeof(double));
+    double *ex = (double *)calloc((size_t)cells, sizeof(double));
+    va_list ap;
+    if (!obs || !ex) {
+        free(obs);
+        free(ex);
+        test_failf(t, file, line, "out of memory");
+        return 0;
+    }
+    for (i = 0; i < d->n; i++) {
+        Vec3 w;
+        if (d->sample(d->ctx, r, &w)) obs[test_dir_cell(w, d->nt, d->np)] += 1.0;
+    }
+    for (it = 0; it < d->nt; it++)
+        for (ip = 0; ip < d->np; ip++) {
+            double acc = 0.0;
+            for (a = 0; a < 2 * d->sub; a++)
+                for (b = 0; b < 2 * d->sub; b++) {
+                    double z = -1.0 + 2.0 * (it + gauss2(a, d->sub)) / d->nt;
+                    double phi = 2.0 * SPECNEE_PI * (ip + gauss2(b, d->sub)) / d->np;
+                    double s = sqrt(fmax(0.0, 1.0 - z * z)), w[3];
+                    w[0] = s * cos(phi);
+                    w[1] = s * sin(phi);
+                    w[2] = z;
+                    acc += d->pdf(d->ctx, w);
+                }
+            ex[it * d->np + ip] = acc / (4 * d->sub * d->sub) * (2.0 / d->nt) * (2.0 * SPECNEE_PI / d->np) * d->n;
+        }
+    va_start(ap, what);
+    ok = chi2_judge(t, file, line, obs, ex, cells, n_tests, out, what, ap);
+    va_end(ap);
+    free(obs);
+    free(ex);
+    return ok;
+}
+
+int test_bsdf_dir_sample(void *ctx, Rng *r, Vec3 *w)
+{
+    const BsdfDirs *b = (const BsdfDirs *)ctx;
+    BsdfSample bs;
+    if (!test_bsdf_sample(b->m, &b->sp, b->wo, b->lambda, 1u, r, &bs)) return 0;
+    *w = bs.wi;
+    return 1;
+}
+
+double test_bsdf_dir_pdf(void *ctx, const double w[3])
+{
+    const BsdfDirs *b = (const BsdfDirs *)ctx;
+    float f[HERO_N], p[HERO_N];
+    bsdf_eval(b->m, &b->sp, b->wo, v3((float)w[0], (float)w[1], (float)w[2]), b->lambda, 1u, f, p);
+    return p[0];
+}
+
+DirTest test_bsdf_dirs(BsdfDirs *b, int n)
+{
+    DirTest d;
+    d.sample = test_bsdf_dir_sample;
+    d.pdf = test_bsdf_dir_pdf;
+    d.ctx = b;
+    d.n = n;
+    d.nt = 16;
+    d.np = 32;
+    d.sub = 8;
+    return d;
 }
 
 SurfacePoint test_flat_point(void)

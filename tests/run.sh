@@ -314,6 +314,12 @@ if ! sh tools/callgraph.sh tests/tmp/cg/*.c > tests/tmp/cg/out.txt 2>&1 &&
    grep -q '^library room tests/tmp/cg/c.c calls the command room tests/tmp/cg/cmd_x.c: cmd_x$' tests/tmp/cg/out.txt
 then ok "repo_callgraph_selftest"
 else fail "repo_callgraph_selftest: $(tr '\n' ' ' < tests/tmp/cg/out.txt)"; fi
+# every tests/test_X.c is registered in tests/tables.h: the runner runs its table X
+reg=$(tests/runner --tables 2>/dev/null | sort)
+unreg=$(for f in tests/test_*.c; do x=${f#tests/test_}; x=${x%.c}
+            echo "$reg" | grep -qx "$x" || printf ' %s' "$f"; done)
+if [ -n "$reg" ] && [ -z "$unreg" ]; then ok "repo_test_tables"
+else fail "repo_test_tables: not in tests/tables.h (their tests never run):${unreg:- (tests/runner --tables printed nothing)}"; fi
 # hostile input end to end (tests/test_robust.c has the unit cases)
 # a PFM read from a pipe: the header claims 16384 x 16384 (3 GiB); 18 bytes arrive.
 # Within 1 GiB of address space the reader must report the truncation, not try to

@@ -1,6 +1,9 @@
-/* tests/runner.c - runs every test table; `tests/runner [substring ...]` runs only the
-   tests whose names contain one of the substrings (tools/mutants.sh passes a list).
-   Ends with the line "unit: N passed, N failed" and exits non-zero on failure. */
+/* tests/runner.c - runs every test table of tests/tables.h; `tests/runner
+   [substring ...]` runs only the tests whose names contain one of the substrings
+   (tools/mutants.sh passes a list); `tests/runner --tables` prints the tables'
+   names, one a line, and runs nothing (tests/run.sh checks that every
+   tests/test_*.c is among them).  Ends with the line "unit: N passed, N failed"
+   and exits non-zero on failure. */
 #define _POSIX_C_SOURCE 200809L
 #include "test.h"
 #include <stdlib.h>
@@ -50,11 +53,11 @@ int test_scaled(int n, int lo)
     return v < lo ? lo : v;
 }
 
-static const TestCase *const tables[] = {
-    tests_util, tests_bvh, tests_spectrum, tests_scene, tests_image,
-    tests_material, tests_render, tests_lights, tests_scenes, tests_physics,
-    tests_robust, tests_lighttree, tests_pbrt, tests_wavelengths, tests_sampler, tests_fluor,
-    tests_delta, tests_texture, tests_shapes, tests_filter, tests_png, tests_exr, tests_conductor, tests_coated, tests_medium, NULL
+static const struct { const char *name; const TestCase *cases; } tables[] = {
+#define TEST_TABLE(x) { #x, tests_##x },
+#include "tables.h"
+#undef TEST_TABLE
+    { NULL, NULL }
 };
 
 int main(int argc, char **argv)
@@ -62,24 +65,28 @@ int main(int argc, char **argv)
     const char *tmp = getenv("SPECNEE_TEST_TMP");
     int passed = 0, failed = 0, i, j;
     char cmd[512];
+    if (argc == 2 && strcmp(argv[1], "--tables") == 0) {
+        for (i = 0; tables[i].name; i++) printf("%s\n", tables[i].name);
+        return 0;
+    }
     if (!tmp) tmp = "tests/tmp";
     snprintf(cmd, sizeof cmd, "mkdir -p %s", tmp);
     if (system(cmd) != 0) { fprintf(stderr, "cannot create %s\n", tmp); return 2; }
-    for (i = 0; tables[i]; i++) {
-        for (j = 0; tables[i][j].name; j++) {
+    for (i = 0; tables[i].cases; i++) {
+        for (j = 0; tables[i].cases[j].name; j++) {
             T t;
             clock_t c0 = clock();
             int k, wanted = argc < 2;
-            for (k = 1; k < argc && !wanted; k++) wanted = strstr(tables[i][j].name, argv[k]) != NULL;
+            for (k = 1; k < argc && !wanted; k++) wanted = strstr(tables[i].cases[j].name, argv[k]) != NULL;
             if (!wanted) continue;
             memset(&t, 0, sizeof t);
             t.tmpdir = tmp;
-            tables[i][j].fn(&t);
+            tables[i].cases[j].fn(&t);
             if (t.failed) {
-                printf("FAIL %s: %s\n", tables[i][j].name, t.msg);
+                printf("FAIL %s: %s\n", tables[i].cases[j].name, t.msg);
                 failed++;
             } else {
-                printf("ok   %s (%.2fs)\n", tables[i][j].name,
+                printf("ok   %s (%.2fs)\n", tables[i].cases[j].name,
                        (double)(clock() - c0) / CLOCKS_PER_SEC);
                 passed++;
             }

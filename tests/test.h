@@ -2,8 +2,8 @@
 
    A test is a function void test_xxx(T *t).  CHECK(t, cond, fmt, ...) records a
    failure with file:line and a message and returns from the test.  Each test file
-   exports one NULL-terminated table, e.g. `const TestCase tests_bvh[]`, listed in
-   tests/runner.c.  The runner prints one line per test and ends with
+   exports one NULL-terminated table, e.g. `const TestCase tests_bvh[]`, listed
+   once in tests/tables.h.  The runner prints one line per test and ends with
    "unit: N passed, N failed".
 
    Statistical tests state their confidence bound in the message: a mean is
@@ -76,6 +76,71 @@ void test_glass(Material *m, float A, float B, float alpha);
 /* The cell of direction w in an nt x np grid over (cos theta in [-1,1], phi in
    [0, 2 pi)), row-major in cos theta: the chi-square tests of sampled directions. */
 int test_dir_cell(Vec3 w, int nt, int np);
+
+/* ---- fixtures.c: chi-square tests of samplers (Pearson's statistic, its p-value) ----
+   Draw n samples, count them in cells, and compare the counts O_i with the
+   expectations E_i = n x (the probability of cell i): X^2 = sum (O_i - E_i)^2 / E_i
+   follows a chi-square distribution with (cells - 1) degrees of freedom when the
+   sampler follows the density.  Cells expecting fewer than TEST_CHI2_MIN_EXPECTED
+   are merged into one cell (it counts when its expectation reaches the minimum).
+   The counts are rejected when the p-value P(chi^2_dof >= X^2) falls below the
+   significance level: TEST_CHI2_ALPHA for the test as a whole, divided among its
+   n_tests checks by the Sidak correction 1 - (1 - alpha)^(1/n_tests), so that a
+   correct sampler fails a test with probability TEST_CHI2_ALPHA however many
+   checks it makes. */
+#define TEST_CHI2_ALPHA 1e-4
+#define TEST_CHI2_MIN_EXPECTED 5.0
+typedef struct {
+    double stat;             /* Pearson's X^2 */
+    int dof;                 /* cells counted - 1 (0: nothing to test) */
+    double p;                /* P(chi^2_dof >= stat) */
+    double total;            /* sum of the expected counts */
+} Chi2;
+/* P(chi^2_k >= x), the regularised upper incomplete gamma function Q(k/2, x/2). */
+double chi2_tail(int k, double x);
+/* X^2 of counts obs[0 .. n) against expected counts ex[0 .. n); fails the test
+   (the message starts with the caller's file:line and the printf-style what) and
+   returns 0 when p < the corrected significance level; *out (if not NULL) gets
+   the statistic. */
+int test_chi2_at(T *t, const char *file, int line, const double *obs, const double *ex, int n,
+                 int n_tests, Chi2 *out, const char *what, ...);
+#define CHECK_CHI2(t, obs, ex, n, n_tests, out, ...) do { \
+        if (!test_chi2_at((t), __FILE__, __LINE__, (obs), (ex), (n), (n_tests), (out), __VA_ARGS__)) \
+            return; } while (0)
+
+/* Directions (pbrt-v4's Chi2Test, Nori's ChiSquareTest): n samples of a direction
+   sampler on an nt x np grid over (cos theta in [-1, 1], phi in [0, 2 pi)), against
+   its density integrated over each cell (a solid angle of (2 / nt)(2 pi / np)) by
+   the two-point Gauss-Legendre rule on sub x sub sub-cells: 2 sub x 2 sub
+   evaluations, none on a cell's edge (the horizon, where a BSDF's density jumps,
+   is one).  A sampler that returns 0 made no sample (the
+   density then integrates to less than 1). */
+typedef struct {
+    int (*sample)(void *ctx, Rng *r, Vec3 *w);
+    double (*pdf)(void *ctx, const double w[3]);    /* per steradian */
+    void *ctx;
+    int n;                   /* samples */
+    int nt, np, sub;         /* the grid and the sub-cells per axis */
+} DirTest;
+int test_chi2_dirs_at(T *t, const char *file, int line, const DirTest *d, Rng *r, int n_tests,
+                      Chi2 *out, const char *what, ...);
+#define CHECK_CHI2_DIRS(t, d, r, n_tests, out, ...) do { \
+        if (!test_chi2_dirs_at((t), __FILE__, __LINE__, (d), (r), (n_tests), (out), __VA_ARGS__)) \
+            return; } while (0)
+
+/* The BSDF as a direction sampler: test_bsdf_sample of the hero lane (alive = 1)
+   at the point sp, seen from wo, and bsdf_eval's pdf of the hero lane.  The
+   chi-square BSDF test is test_bsdf_dirs(&b, n) under CHECK_CHI2_DIRS: a 16 x 32
+   grid, 8 x 8 sub-cells per cell. */
+typedef struct {
+    const Material *m;
+    SurfacePoint sp;
+    Vec3 wo;
+    float lambda[HERO_N];
+} BsdfDirs;
+int test_bsdf_dir_sample(void *ctx, Rng *r, Vec3 *w);
+double test_bsdf_dir_pdf(void *ctx, const double w[3]);
+DirTest test_bsdf_dirs(BsdfDirs *b, int n);
 /* A surface point at the origin with normal +z. */
 SurfacePoint test_flat_point(void);
 /* The walls of a small open box [-1,1]^3, as scene text after WorldBegin. */
@@ -84,10 +149,9 @@ extern const char test_box_walls[];
 /* test_spectrum.c: chi-square of wl_sample against wl_pdf_eval, stratification in wl_cdf. */
 void check_wl_sampling(T *t, const WavelengthPdf *w, const char *what);
 
-extern const TestCase tests_util[], tests_bvh[], tests_spectrum[], tests_scene[],
-    tests_image[], tests_material[], tests_render[], tests_lights[], tests_scenes[],
-    tests_physics[], tests_robust[], tests_lighttree[], tests_pbrt[], tests_wavelengths[],
-    tests_sampler[], tests_fluor[], tests_delta[], tests_texture[], tests_shapes[], tests_filter[],
-    tests_png[], tests_exr[], tests_conductor[], tests_coated[], tests_medium[];
+/* the tables of tests/tables.h: extern const TestCase tests_util[]; ... */
+#define TEST_TABLE(x) extern const TestCase tests_##x[];
+#include "tables.h"
+#undef TEST_TABLE
 
 #endif

@@ -318,52 +318,25 @@ static void test_rough_pdf_and_energy(T *t)
 }
 
 /* Chi-square of the sampled directions against the evaluated pdf on a 16 x 32
-   (cos theta, phi) grid (as material_rough_chi2). */
+   (cos theta, phi) grid (test_bsdf_dirs, as material_rough_chi2). */
 static void test_rough_chi2(T *t)
 {
-    enum { NT = 16, NP = 32, SUB = 12 };
     const float ax[2] = { 0.25f, 0.6f }, ay[2] = { 0.6f, 0.6f };
-    float lam[HERO_N] = { 550, 550, 550, 550 };
     int ia;
     for (ia = 0; ia < 2; ia++) {
         Material m;
-        SurfacePoint sp = test_flat_point();
+        BsdfDirs b = { 0 };
+        DirTest d;
         Rng r;
-        static double obs[NT * NP], expct[NT * NP];
-        int n = test_scaled(200000, 50000), i, it, ip, dof = -1;
-        double chi2 = 0, pool_o = 0, pool_e = 0;
-        Vec3 wo = v3_norm(v3(0.4f, 0.3f, 0.6f));
+        Chi2 c;
+        b.m = &m;
+        b.sp = test_flat_point();
+        b.wo = v3_norm(v3(0.4f, 0.3f, 0.6f));
+        b.lambda[0] = b.lambda[1] = b.lambda[2] = b.lambda[3] = 550;
         make_conductor(&m, 0.2f, 3.0f, ax[ia], ay[ia]);
-        memset(obs, 0, sizeof obs);
-        memset(expct, 0, sizeof expct);
         rng_seed(&r, 24, (uint64_t)ia);
-        for (i = 0; i < n; i++) {
-            BsdfSample bs;
-            if (!test_bsdf_sample(&m, &sp, wo, lam, 1u, &r, &bs)) continue;
-            obs[test_dir_cell(bs.wi, NT, NP)] += 1;
-        }
-        for (it = 0; it < NT; it++)
-            for (ip = 0; ip < NP; ip++) {
-                int a, b;
-                double acc = 0;
-                for (a = 0; a < SUB; a++)
-                    for (b = 0; b < SUB; b++) {
-                        float z = -1 + 2 * (it + (a + 0.5f) / SUB) / NT;
-                        float phi = 2 * PI_F * (ip + (b + 0.5f) / SUB) / NP;
-                        float s = sqrtf(fmaxf(0, 1 - z * z)), f[HERO_N], p[HERO_N];
-                        bsdf_eval(&m, &sp, wo, v3(s * cosf(phi), s * sinf(phi), z), lam, 1u, f, p);
-                        acc += p[0];
-                    }
-                expct[it * NP + ip] = acc / (SUB * SUB) * (2.0 / NT) * (2 * SPECNEE_PI / NP) * n;
-            }
-        for (i = 0; i < NT * NP; i++) {
-            if (expct[i] < 5) { pool_o += obs[i]; pool_e += expct[i]; continue; }
-            chi2 += (obs[i] - expct[i]) * (obs[i] - expct[i]) / expct[i];
-            dof++;
-        }
-        if (pool_e >= 5) { chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e; dof++; }
-        CHECK(t, chi2 < 1.5 * (dof + 5 * sqrt(2.0 * dof)), "alpha (%g, %g): chi2 %g with %d dof",
-              ax[ia], ay[ia], chi2, dof);
+        d = test_bsdf_dirs(&b, test_scaled(200000, 50000));
+        CHECK_CHI2_DIRS(t, &d, &r, 2, &c, "alpha (%g, %g)", ax[ia], ay[ia]);
     }
 }
 

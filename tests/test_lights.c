@@ -214,7 +214,7 @@ static LightCtx random_ctx(const Scene *s, const LightSampler *ls, Rng *r)
 
 /* Both pmfs against what the sampler does (neither against the other: both go
    through context_weights, so comparing them could not fail): the frequencies
-   match light_select_pmf (chi-square, bound dof + 5 sqrt(2 dof)) and the pmf that
+   match light_select_pmf (chi-square, CHECK_CHI2) and the pmf that
    light_select reports (binomial bound per emitter); the pmfs sum to 1; uniform
    selection has the closed form 1/n. */
 static void select_matches_pmf_on(T *t, int sc)
@@ -231,9 +231,9 @@ static void select_matches_pmf_on(T *t, int sc)
         rng_seed(&r, 77, (uint64_t)v);
         for (trial = 0; trial < 6; trial++) {
             LightCtx c = random_ctx(&s, ls, &r);
-            static double count[64], pmf[64], rep[64];
-            double sum = 0, chi2 = 0;
-            int i, n = 20000, dof = -1;
+            static double count[64], pmf[64], rep[64], ex[64];
+            double sum = 0;
+            int i, n = 20000;
             for (i = 0; i < s.n_emitters; i++) {
                 count[i] = 0; rep[i] = -1; pmf[i] = light_select_pmf(ls, &c, i); sum += pmf[i];
                 if (variants[v].st == SEL_UNIFORM)          /* closed form */
@@ -261,14 +261,8 @@ static void select_matches_pmf_on(T *t, int sc)
                 count[e] += 1;
             }
             /* light_select_pmf (used for the MIS weight of hits) against the frequencies */
-            for (i = 0; i < s.n_emitters; i++) {
-                double ex = pmf[i] * n;
-                if (ex < 5) continue;
-                chi2 += (count[i] - ex) * (count[i] - ex) / ex;
-                dof++;
-            }
-            if (dof > 0)
-                CHECK(t, chi2 < dof + 5 * sqrt(2.0 * dof), "%s: chi2 %g with %d dof", variants[v].name, chi2, dof);
+            for (i = 0; i < s.n_emitters; i++) ex[i] = pmf[i] * n;
+            CHECK_CHI2(t, count, ex, s.n_emitters, 3 * N_VARIANTS * 6, NULL, "%s", variants[v].name);
             /* the pmf light_select reports (used by NEE) against the frequencies, on
                its own: each chosen emitter's count within 5 binomial standard
                deviations of n times its reported pmf */

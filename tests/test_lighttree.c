@@ -224,23 +224,25 @@ static LightCtx random_ctx(const Scene *s, Rng *r)
     return c;
 }
 
-/* select == pmf, chi-square (with "none" as one more outcome), the pmfs sum to at
-   most 1, zero-pmf pieces never chosen.  Counts in *zero_seen the contexts where
+/* select == pmf, chi-square (with "none" as one more outcome; the significance
+   level divided among the trials), the pmfs sum to at most 1, zero-pmf pieces
+   never chosen.  Counts in *zero_seen the contexts where
    some piece had pmf 0, in *partial those where "none" had probability > 0.1. */
 static int check_consistency(T *t, const Scene *s, LightSampler *ls, const char *what, int trials,
                              int draws, uint64_t seed, int *zero_seen, int *partial)
 {
     int np = light_n_pieces(ls), trial;
     double *pmf = (double *)malloc(sizeof(double) * (size_t)np);
-    double *count = (double *)malloc(sizeof(double) * (size_t)np);
+    double *count = (double *)malloc(sizeof(double) * (size_t)(np + 1));
+    double *ex = (double *)malloc(sizeof(double) * (size_t)(np + 1));
     Rng r;
     int ok = 0;
-    if (!pmf || !count) { test_failf(t, __FILE__, __LINE__, "out of memory"); goto done; }
+    if (!pmf || !count || !ex) { test_failf(t, __FILE__, __LINE__, "out of memory"); goto done; }
     rng_seed(&r, seed, 3);
     for (trial = 0; trial < trials; trial++) {
         LightCtx c = random_ctx(s, &r);
-        double sum = 0.0, chi2 = 0.0;
-        int i, dof = -1, zeros = 0, none = 0;
+        double sum = 0.0;
+        int i, zeros = 0, none = 0;
         for (i = 0; i < np; i++) {
             float p = light_select_pmf(ls, &c, i);
             if (!(p >= 0.0f && p <= 1.0f)) {
@@ -275,28 +277,22 @@ static int check_consistency(T *t, const Scene *s, LightSampler *ls, const char 
             if (none != draws) { test_failf(t, __FILE__, __LINE__, "%s: chose with pmf 0", what); goto done; }
             continue;
         }
-        for (i = 0; i <= np; i++) {                  /* i == np: "none", 1 - sum */
-            double ex = (i < np ? pmf[i] : 1.0 - sum) * draws, got = i < np ? count[i] : none;
-            if (ex < 5) {
-                if (ex == 0.0 && got > 0) {
-                    test_failf(t, __FILE__, __LINE__, "%s: %s chosen %g times with probability 0", what,
-                               i < np ? "a piece" : "none", got);
-                    goto done;
-                }
-                continue;
+        count[np] = none;                            /* i == np: "none", 1 - sum */
+        for (i = 0; i <= np; i++) {
+            ex[i] = (i < np ? pmf[i] : 1.0 - sum) * draws;
+            if (ex[i] == 0.0 && count[i] > 0) {
+                test_failf(t, __FILE__, __LINE__, "%s: %s chosen %g times with probability 0", what,
+                           i < np ? "a piece" : "none", count[i]);
+                goto done;
             }
-            chi2 += (got - ex) * (got - ex) / ex;
-            dof++;
         }
-        if (dof > 0 && !(chi2 < dof + 5 * sqrt(2.0 * dof))) {
-            test_failf(t, __FILE__, __LINE__, "%s: chi2 %g with %d dof", what, chi2, dof);
-            goto done;
-        }
+        if (!test_chi2_at(t, __FILE__, __LINE__, count, ex, np + 1, trials, NULL, "%s", what)) goto done;
     }
     ok = 1;
 done:
     free(pmf);
     free(count);
+    free(ex);
     return ok;
 }
 

@@ -351,53 +351,50 @@ static void test_rough_reciprocity(T *t)
     CHECK(t, n_t > 1000 && n_r > 1000, "too few pairs compared (%d transmission, %d reflection)", n_t, n_r);
 }
 
-/* Pearson's chi-square of bsdf_sample's directions on a (cos theta, phi) grid of
-   the sphere against the independent pdf integrated over each cell (SUB x SUB
-   midpoints); cells expecting < 5 are pooled.  Bound: dof + 5 sqrt(2 dof). */
+/* The independent density of walter() for the glass of a BsdfDirs (index 1.5). */
+typedef struct { BsdfDirs b; double alpha; } WalterDirs;
+
+static double walter_dir_pdf(void *ctx, const double w[3])
+{
+    const WalterDirs *c = (const WalterDirs *)ctx;
+    double f, p;
+    walter(c->alpha, 1.5, from_v3(c->b.wo), d3(w[0], w[1], w[2]), &f, &p);
+    return p;
+}
+
+static int walter_dir_sample(void *ctx, Rng *r, Vec3 *w)
+{
+    return test_bsdf_dir_sample(&((WalterDirs *)ctx)->b, r, w);
+}
+
+/* Pearson's chi-square of bsdf_sample's directions on a 24 x 32 (cos theta, phi)
+   grid of the sphere against the independent pdf integrated over each cell
+   (8 x 8 sub-cells); cells expecting < 5 merged; at least 20 dof. */
 static void test_rough_chi2(T *t)
 {
-    enum { NT = 24, NP = 32, SUB = 16 };
-    float alphas[2] = { 0.2f, 0.5f }, cos_o[2] = { 0.6f, -0.8f }, lam[HERO_N] = { 550, 550, 550, 550 };
+    float alphas[2] = { 0.2f, 0.5f }, cos_o[2] = { 0.6f, -0.8f };
     int ia, io;
     for (ia = 0; ia < 2; ia++)
         for (io = 0; io < 2; io++) {
             Material m;
-            SurfacePoint sp = test_flat_point();
+            WalterDirs c = { { 0 }, 0 };
+            DirTest d;
             Rng r;
-            static double obs[NT * NP], ex[NT * NP];
-            int n = test_scaled(200000, 50000), i, it, ip, dof = -1;
-            double chi2 = 0, pool_o = 0, pool_e = 0;
-            Vec3 wo = v3(sqrtf(1.0f - cos_o[io] * cos_o[io]), 0.0f, cos_o[io]);
+            Chi2 x;
+            c.b.m = &m;
+            c.b.sp = test_flat_point();
+            c.b.wo = v3(sqrtf(1.0f - cos_o[io] * cos_o[io]), 0.0f, cos_o[io]);
+            c.b.lambda[0] = c.b.lambda[1] = c.b.lambda[2] = c.b.lambda[3] = 550;
+            c.alpha = alphas[ia];
             test_glass(&m, 1.5f, 0.0f, alphas[ia]);
-            memset(obs, 0, sizeof obs);
             rng_seed(&r, 59, (uint64_t)(ia * 2 + io));
-            for (i = 0; i < n; i++) {
-                BsdfSample bs;
-                if (!test_bsdf_sample(&m, &sp, wo, lam, 1u, &r, &bs)) continue;
-                obs[test_dir_cell(bs.wi, NT, NP)] += 1;
-            }
-            for (it = 0; it < NT; it++)
-                for (ip = 0; ip < NP; ip++) {
-                    int a, b;
-                    double acc = 0;
-                    for (a = 0; a < SUB; a++)
-                        for (b = 0; b < SUB; b++) {
-                            double z = -1 + 2 * (it + (a + 0.5) / SUB) / NT;
-                            double phi = 2 * SPECNEE_PI * (ip + (b + 0.5) / SUB) / NP, f, p;
-                            double s = sqrt(fmax(0, 1 - z * z));
-                            walter(alphas[ia], 1.5, from_v3(wo), d3(s * cos(phi), s * sin(phi), z), &f, &p);
-                            acc += p;
-                        }
-                    ex[it * NP + ip] = acc / (SUB * SUB) * (2.0 / NT) * (2 * SPECNEE_PI / NP) * n;
-                }
-            for (i = 0; i < NT * NP; i++) {
-                if (ex[i] < 5) { pool_o += obs[i]; pool_e += ex[i]; continue; }
-                chi2 += (obs[i] - ex[i]) * (obs[i] - ex[i]) / ex[i];
-                dof++;
-            }
-            if (pool_e >= 5) { chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e; dof++; }
-            CHECK(t, dof > 20 && chi2 < dof + 5 * sqrt(2.0 * dof),
-                  "alpha %g cos %g: chi2 %.1f with %d dof", alphas[ia], cos_o[io], chi2, dof);
+            d = test_bsdf_dirs(&c.b, test_scaled(200000, 50000));
+            d.sample = walter_dir_sample;
+            d.pdf = walter_dir_pdf;
+            d.ctx = &c;
+            d.nt = 24;
+            CHECK_CHI2_DIRS(t, &d, &r, 4, &x, "alpha %g cos %g", alphas[ia], cos_o[io]);
+            CHECK(t, x.dof > 20, "alpha %g cos %g: only %d dof", alphas[ia], cos_o[io], x.dof);
         }
 }
 

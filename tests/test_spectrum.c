@@ -5,8 +5,8 @@
    zbar(445) = 1.7826, integral of ybar = 106.857 nm); D65 white xy = (0.3127,
    0.3290), CCT 6504 K; CIE A = 2856 K; SCHOTT catalogue n_d of N-BK7 = 1.5168,
    SF10 = 1.72825; the thesis' lamp CCTs 4404 K, 5832 K, 7600 K (its Table 1).
-   Statistical tests state their bound: chi-square at a false-alarm rate of 1e-4
-   (Wilson-Hilferty approximation of the critical value). */
+   Statistical tests state their bound: chi-square by its p-value (CHECK_CHI2,
+   tests/test.h). */
 #include "test.h"
 #include <string.h>
 #include <stdlib.h>
@@ -45,14 +45,6 @@ static int msg_at(const Error *e, const char *path, int line)
     char want[1100];
     snprintf(want, sizeof want, "%s:%d:", path, line);
     return strncmp(e->msg, want, strlen(want)) == 0;
-}
-
-/* chi-square critical value for k degrees of freedom at p = 1e-4 (z = 3.719),
-   Wilson-Hilferty: k (1 - 2/(9k) + z sqrt(2/(9k)))^3 */
-static double chi2_crit(int k)
-{
-    double a = 2.0 / (9.0 * k);
-    return k * pow(1.0 - a + 3.719 * sqrt(a), 3.0);
 }
 
 /* ---------- CIE tables and colorimetry ---------- */
@@ -490,15 +482,15 @@ static void test_rgb_table(T *t)
 /* ---------- wavelength sampling ---------- */
 
 /* For a pdf w: draw n_draw sets of HERO_N wavelengths, and check with chi-square
-   (p = 1e-4) that each lambda_j follows the pdf w claims (1 nm bins = the cells, expected
-   counts from w->pdf, bins with < 5 expected pooled), that pdf[j] = p(lambda_j),
+   (CHECK_CHI2) that each lambda_j follows the pdf w claims (1 nm bins = the cells,
+   expected counts from w->pdf), that pdf[j] = p(lambda_j),
    and that the set is stratified: the CDF positions are u + j/4 (mod 1). */
 void check_wl_sampling(T *t, const WavelengthPdf *w, const char *what)
 {
     enum { N_DRAW = 40000, BIN_NM = 1, MAX_BINS = 512 };
     int n_bins = (int)((w->hi - w->lo) / BIN_NM + 0.5), j, b, k, i;
     double expected[MAX_BINS], total = 0.0;
-    long count[HERO_N][MAX_BINS];
+    double count[HERO_N][MAX_BINS];
     Rng rng;
     memset(count, 0, sizeof count);
     CHECK(t, n_bins > 1 && n_bins <= MAX_BINS, "%s: bad range", what);
@@ -561,18 +553,11 @@ void check_wl_sampling(T *t, const WavelengthPdf *w, const char *what)
         }
         CHECK(t, near_edge || quarter_seen == (1 << HERO_N) - 1, "%s: not one per quarter", what);
     }
+    for (b = 0; b < n_bins; b++) expected[b] *= N_DRAW;
     for (j = 0; j < HERO_N; j++) {
-        double chi2 = 0.0, pool_e = 0.0, pool_o = 0.0;
-        int dof = -1;
-        for (b = 0; b < n_bins; b++) {
-            double e = expected[b] * N_DRAW;
-            if (e < 5.0) { pool_e += e; pool_o += count[j][b]; continue; }
-            chi2 += (count[j][b] - e) * (count[j][b] - e) / e;
-            dof++;
-        }
-        if (pool_e >= 5.0) { chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e; dof++; }
-        CHECK(t, dof > 5 && chi2 < chi2_crit(dof), "%s: lambda_%d chi2 = %.1f > %.1f (dof %d, p = 1e-4)",
-              what, j, chi2, chi2_crit(dof), dof);
+        Chi2 c;
+        CHECK_CHI2(t, count[j], expected, n_bins, HERO_N, &c, "%s: lambda_%d", what, j);
+        CHECK(t, c.dof > 5, "%s: lambda_%d: only %d dof", what, j, c.dof);
     }
 }
 

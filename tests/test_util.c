@@ -1,4 +1,5 @@
-/* tests/test_util.c - transforms, frames, the RNG and radical inverses. */
+/* tests/test_util.c - transforms, frames, the RNG and radical inverses; the
+   chi-square helpers of tests/fixtures.c. */
 #include "test.h"
 #include <string.h>
 
@@ -61,13 +62,12 @@ static void test_frame_orthonormal(T *t)
     }
 }
 
-/* Deterministic streams; uniformity by a chi-square test on 64 cells
-   (1e5 draws; the 99.99% point of chi-square with 63 dof is about 112). */
+/* Deterministic streams; uniformity by a chi-square test on 64 cells (1e5 draws). */
 static void test_rng_streams(T *t)
 {
     Rng a, b;
-    int i, cells[64];
-    double chi2 = 0, expect = 100000.0 / 64;
+    int i;
+    double cells[64], ex[64];
     rng_seed(&a, 7, 3);
     rng_seed(&b, 7, 3);
     for (i = 0; i < 100; i++) CHECK(t, rng_u32(&a) == rng_u32(&b), "same key, different numbers");
@@ -77,10 +77,10 @@ static void test_rng_streams(T *t)
     for (i = 0; i < 100000; i++) {
         float u = rng_float(&a);
         CHECK(t, u >= 0.0f && u < 1.0f, "rng_float out of [0,1): %g", u);
-        cells[(int)(u * 64)]++;
+        cells[(int)(u * 64)] += 1.0;
     }
-    for (i = 0; i < 64; i++) chi2 += (cells[i] - expect) * (cells[i] - expect) / expect;
-    CHECK(t, chi2 < 112.0, "chi-square %g over 63 dof (bound 112)", chi2);
+    for (i = 0; i < 64; i++) ex[i] = 100000.0 / 64;
+    CHECK_CHI2(t, cells, ex, 64, 1, NULL, "rng_float");
 }
 
 static void test_radical_inverse(T *t)
@@ -88,6 +88,56 @@ static void test_radical_inverse(T *t)
     CHECK(t, near(radical_inverse(2, 1), 0.5, 1e-15), "base 2, i=1");
     CHECK(t, near(radical_inverse(2, 6), 0.375, 1e-15), "base 2, i=6 (110 -> .011)");
     CHECK(t, near(radical_inverse(3, 5), 7.0 / 9.0, 1e-15), "base 3, i=5 (12 -> .21)");
+}
+
+static int rel_near(double a, double b, double tol) { return fabs(a - b) <= tol * fabs(b); }
+
+/* The chi-square helpers of tests/fixtures.c.  The tail against closed forms:
+   k = 2: e^(-x/2); k = 4: e^(-x/2) (1 + x/2); k = 1: erfc(sqrt(x/2)); k = 3:
+   erfc(sqrt(x/2)) + sqrt(2x/pi) e^(-x/2); and Q(63 dof, 112), Q(400 dof, 300)
+   and Q(400 dof, 500) (both branches of chi2_tail; the regularised gamma function of
+   mpmath, 15 digits).  The verdict: exact counts
+   pass; a deviation in the cells expecting < 5 (merged into one) fails; with one
+   dof, X^2 = 16.56 (p = 4.7e-5) fails one check (level 1e-4) and passes one of
+   four (level 2.5e-5). */
+static void test_chi2_helpers(T *t)
+{
+    static const double xs[] = { 0.1, 1.0, 3.0, 10.0, 40.0 };
+    double obs[12], ex[12];
+    Chi2 c;
+    T scratch;
+    int i;
+    for (i = 0; i < 5; i++) {
+        double x = xs[i], e = exp(-x / 2), q3 = erfc(sqrt(x / 2)) + sqrt(2 * x / SPECNEE_PI) * e;
+        CHECK(t, rel_near(chi2_tail(2, x), e, 1e-9), "Q(2 dof, %g) = %.12g, want %.12g", x, chi2_tail(2, x), e);
+        CHECK(t, rel_near(chi2_tail(4, x), e * (1 + x / 2), 1e-9), "Q(4 dof, %g) = %.12g, want %.12g", x,
+              chi2_tail(4, x), e * (1 + x / 2));
+        CHECK(t, rel_near(chi2_tail(1, x), erfc(sqrt(x / 2)), 1e-9), "Q(1 dof, %g) = %.12g, want %.12g", x,
+              chi2_tail(1, x), erfc(sqrt(x / 2)));
+        CHECK(t, rel_near(chi2_tail(3, x), q3, 1e-9), "Q(3 dof, %g) = %.12g, want %.12g", x, chi2_tail(3, x), q3);
+    }
+    CHECK(t, rel_near(chi2_tail(63, 112.0), 1.43202822868971e-4, 1e-9), "Q(63 dof, 112) = %.12g",
+          chi2_tail(63, 112.0));
+    CHECK(t, rel_near(chi2_tail(400, 300.0), 0.999942903114258, 1e-9), "Q(400 dof, 300) = %.12g",
+          chi2_tail(400, 300.0));
+    CHECK(t, rel_near(chi2_tail(400, 500.0), 4.82212759593434e-4, 1e-9), "Q(400 dof, 500) = %.12g",
+          chi2_tail(400, 500.0));
+    for (i = 0; i < 12; i++) obs[i] = ex[i] = i < 10 ? 1000.0 : 3.0;
+    memset(&scratch, 0, sizeof scratch);
+    CHECK(t, test_chi2_at(&scratch, __FILE__, __LINE__, obs, ex, 12, 1, &c, "exact") && c.stat == 0.0 &&
+          c.dof == 10 && c.p == 1.0 && c.total == 10006.0,
+          "exact counts: X^2 %g, %d dof, p %g, total %g (%s)", c.stat, c.dof, c.p, c.total, scratch.msg);
+    obs[10] = obs[11] = 30.0;
+    CHECK(t, !test_chi2_at(&scratch, __FILE__, __LINE__, obs, ex, 12, 1, &c, "merged") &&
+          fabs(c.stat - 54.0 * 54.0 / 6.0) < 1e-9, "60 samples where 6 are expected pass: X^2 %g", c.stat);
+    obs[0] = 1091.0;
+    obs[1] = 909.0;
+    memset(&scratch, 0, sizeof scratch);
+    CHECK(t, !test_chi2_at(&scratch, __FILE__, __LINE__, obs, ex, 2, 1, &c, "one check") && c.dof == 1 &&
+          strstr(scratch.msg, "one check: chi-square 16.6 with 1 dof") != NULL,
+          "X^2 %g with %d dof (p %g) passes one check (%s)", c.stat, c.dof, c.p, scratch.msg);
+    CHECK(t, test_chi2_at(&scratch, __FILE__, __LINE__, obs, ex, 2, 4, &c, "one of four"),
+          "X^2 %g with %d dof (p %g) fails one of four checks", c.stat, c.dof, c.p);
 }
 
 static void test_error_format(T *t)
@@ -105,5 +155,6 @@ const TestCase tests_util[] = {
     { "util_rng_streams", test_rng_streams },
     { "util_radical_inverse", test_radical_inverse },
     { "util_error_format", test_error_format },
+    { "util_chi2_helpers", test_chi2_helpers },
     { NULL, NULL }
 };
