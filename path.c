@@ -570,10 +570,13 @@ static Contribution emitter_found(Tracer *tr, const PathState *path, int e, cons
     if (tr->dbg && !sp)
         fprintf(tr->dbg, "  escaped: infinite light %d, MIS weight %.4g (q_nee %.4g)\n", e, W, q_nee);
     if (tr->dbg && sp) {
-        debug_weight(tr->dbg, "emission from emitter", e, W, prev->r, prev->q_bsdf, q_nee, prev->alive, 0);
+        /* the printed shares use the densities of W's denominator: q_bsdf(m) Tr_m */
+        float qT[HERO_N];
+        for (j = 0; j < HERO_N; j++) qT[j] = (float)(prev->q_bsdf[j] * prev->T[j]);
+        debug_weight(tr->dbg, "emission from emitter", e, W, prev->r, qT, q_nee, prev->alive, 0);
         if (prev->can_nee && prev->alive != 1u)
             debug_check_sum(tr->dbg, debug_weight_sum(R, &prev->ctx, piece, pdf_sa, prev->r,
-                                                      prev->q_bsdf, prev->alive));
+                                                      qT, prev->alive));
     }
     return weighted(k, W);
 }

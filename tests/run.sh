@@ -171,6 +171,24 @@ sed 's/^LookAt .*/LookAt 200 20 170   230 548 280   0 0 1/' scenes/cornell1.pbrt
     --debug-pixel 16,16 -o tests/tmp/d.pfm > tests/tmp/up.txt 2>&1
 if grep -q 'MIS weight' tests/tmp/up.txt && ! grep -q WARNING tests/tmp/up.txt; then ok "cli_debug_pixel_weights_sum_to_one"
 else fail "cli_debug_pixel_weights_sum_to_one"; fi
+# --debug-pixel's shares multiply to the MIS weight it prints, also for an emitter
+# found by a BSDF or phase sample through a chromatic medium, where W's densities
+# are q_bsdf(m) Tr_m (THEORY (19))
+printf '%s\n' 'MakeNamedMedium "fog" "string type" "homogeneous" "rgb sigma_a" [0.02 0.05 0.1] "rgb sigma_s" [0.3 0.1 0.05]' \
+    'MediumInterface "" "fog"' 'LookAt 0 0 5  0 0 0  0 1 0' 'Camera "perspective" "float fov" [ 50 ]' \
+    'Film "rgb" "integer xresolution" 16 "integer yresolution" 16' 'WorldBegin' 'MediumInterface "" ""' \
+    'Shape "trianglemesh" "point3 P" [ -5 -5 -1  5 -5 -1  5 5 -1  -5 5 -1 ] "integer indices" [ 0 1 2 0 2 3 ]' \
+    'AttributeBegin' 'AreaLightSource "diffuse" "blackbody L" [ 4000 ] "float scale" 4' \
+    'Shape "trianglemesh" "point3 P" [ -1 3 -1  1 3 -1  1 3 1  -1 3 1 ] "integer indices" [ 0 1 2 0 2 3 ]' \
+    'AttributeEnd' > tests/tmp/fogarea.pbrt
+shares=$(./specnee -q tests/tmp/fogarea.pbrt --spp 64 --debug-pixel 8,2 -o tests/tmp/d.pfm 2>&1 |
+    awk '/emission from emitter .* MIS weight .* = .* share .* x hero share/ {
+             for (i = 1; i <= NF; i++) { if ($i == "weight") w = $(i + 1)
+                 if ($i == "share" && $(i - 1) != "hero") a = $(i + 1); if ($i == "share" && $(i - 1) == "hero") b = $(i + 1) }
+             n++; if (w > 0 && (a * b / w > 1.002 || a * b / w < 0.998)) bad++ }
+         END { print n + 0, bad + 0 }')
+if [ "${shares% *}" -gt 0 ] && [ "${shares#* }" -eq 0 ]; then ok "cli_debug_pixel_shares_through_medium ($shares)"
+else fail "cli_debug_pixel_shares_through_medium: emission lines, mismatched: $shares"; fi
 # the emitter x bin table: cornell1's bin 29 (545-550 nm), P(CFL) = 0.1771/(0.1771 + 0.02754)
 if ./specnee spectrum --table scenes/cornell1.pbrt | grep -Eq '^ +29 +545-550 +0\.1771 +0\.02754 +0\.8654 +0\.1346$'
 then ok "cli_spectrum_table"; else fail "cli_spectrum_table"; fi
