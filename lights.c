@@ -2,11 +2,16 @@
 
    Exported (specnee.h section 11): emitters_prepare, emitter_radiance,
    emitter_sample, emitter_pdf_sa, emitter_can_reach, light_sampler_build/free,
-   light_Le, light_spectrum, light_n_pieces, light_piece_emitter, light_piece_of,
-   light_sample, light_pdf_sa, light_voxel, light_select, light_select_pmf,
-   light_sampler_bytes, sel_from_name, sel_name.  The light tree of the strategies
-   tree and spectral-tree has its own file, lighttree.c.  docs/THEORY.md section 5
-   derives everything below; this comment says where it lives.
+   light_Le, luminance_sum, light_spectrum, light_n_pieces, light_piece_emitter,
+   light_piece_of, light_sample, light_pdf_sa, light_voxel, light_select,
+   light_select_pmf, light_tree_simd_mismatches, light_sampler_bytes,
+   light_sampler_lazy_seconds, sel_from_name, sel_name; what path.c's NEE asks
+   ("what NEE asks", near the end): light_nee_count, light_nee_piece,
+   light_nee_pmf, light_nee_source; for the scene builder (parser.h, the last
+   section): area_light_from_params.
+   The light tree of the strategies tree and spectral-tree has its own file,
+   lighttree.c.  THEORY §5 derives everything below; this comment says where it
+   lives.
 
    1. Emitters.  An emitter is one AreaLightSource shape (mesh, sphere, quadric), an
       infinite light (infinite.c) or a delta light (delta.c).  Its radiance is

@@ -12,7 +12,7 @@
    Fluorescent (docs/FLUORESCENCE.md, F2-F4): f(li -> lo) = (1/pi) [rho(lo)(1 -
    A(lo)) delta(li - lo) + Phi A(li) e(lo) (li/lo) H(lo - li) / N(li)].  bsdf_sample
    and bsdf_eval give its reflect lobe, a Lambertian of albedo rho (1 - A); the
-   re-radiate lobe is chosen and weighted by render.c with fluor_branch_pf,
+   re-radiate lobe is chosen and weighted by path.c with fluor_branch_pf,
    fluor_sample_li and fluor_weight, after which the vertex is a Lambertian of
    albedo 1 at the excitation wavelength li.
 
@@ -41,7 +41,7 @@
    Dispersion: with a wavelength-dependent index, the hero's index picks the
    direction.  For other wavelengths f and pdf are evaluated along the SAME
    directions with their own index (needed only by the rough spectral MIS of
-   render.c; at smooth dispersive interfaces the other wavelengths have pdf 0).
+   path.c; at smooth dispersive interfaces the other wavelengths have pdf 0).
 
    The last section builds these materials from a scene's parameters for the
    scene builder (*_from_params, parser.h). */
@@ -529,7 +529,7 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
 #include "parser.h"
 
 /* pbrt-v4 (materials.cpp): no material, only the boundary between two media;
-   "" and "none" are its deprecated spellings.  Rays cross it (render.c) */
+   "" and "none" are its deprecated spellings.  Rays cross it (path.c) */
 int interface_from_params(Parser *P, ParamList *pl, const char *file, int line,
                           const char *dir, const char *what, Material *m)
 {

@@ -35,7 +35,7 @@
    surface leaves the ray in the medium it came through (a diffuse floor in fog
    sends its rays back into the fog).  The camera is in the outside medium of the
    MediumInterface in force at the Camera directive.  A surface with Material
-   "interface" is no surface at all: rays cross it (render.c), shadow rays too.
+   "interface" is no surface at all: rays cross it (path.c), shadow rays too.
 
    The last section builds a medium from a MakeNamedMedium's parameters for the
    scene builder (medium_from_params, parser.h). */

@@ -7,7 +7,7 @@
 
    A RENDER.  render_begin builds the Renderer: the emitters' radiance for the
    sampled wavelength range and their selection tables (lights.c), the wavelength
-   pdf p (spectrum.c, THEORY §2), the camera, the pixel filter, the samplers and
+   pdf p (wavelengths.c, THEORY §2), the camera, the pixel filter, the samplers and
    the normalised emission of emissive media.  The Scene is only read.
 
    THE FILM (THEORY (9)).  For each sample of a pixel, render_pass picks the
@@ -335,7 +335,7 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     j->R.ls = light_sampler_build(s, &j->sel, err);
     if (!j->R.ls) { free(j); return NULL; }
     {
-        /* the wavelength pdf (spectrum.c); importance and mixture follow the
+        /* the wavelength pdf (wavelengths.c); importance and mixture follow the
            emitters' summed spectrum (none: the importance part is flat) */
         Spectrum sum;
         int e, k;

@@ -6,7 +6,7 @@
 
    A path tracer is a Monte Carlo integrator over a space of many dimensions: the
    position in the pixel, the hero wavelength, then per bounce the emitter, the
-   point on it, the BSDF lobe, the direction, the roulette.  render.c asks for the
+   point on it, the BSDF lobe, the direction, the roulette.  path.c asks for the
    number of each decision by its DIMENSION (the table in specnee.h, DIM_*): a
    sampler decides how the numbers of one dimension are spread over the samples
    of a pixel.  Every sampler hands out numbers that are uniform on [0, 1) one at

@@ -1,8 +1,8 @@
 /* specnee.c - main: the command line, from arguments to a written image.
 
    The flow a student follows (docs/WALKTHROUGH.md walks through it):
-       main -> parse_args -> scene_load (scene.c: parser, PLY, BVH build)
-            -> render (render.c: wavelengths, the path loop, NEE, the film)
+       main -> parse_args -> scene_load (scene.c: parser.c, the builders, PLY, BVH)
+            -> render (render.c: wavelengths, the film; path.c: the path, NEE)
             -> img_write (image.c) -> the closing line with the timings.
    Subcommands (merge, diff, spectrum, converge) are dispatched first; each lives in
    a command room of its own (cmd_image.c, cmd_spectrum.c, cmd_converge.c), apart

@@ -100,7 +100,8 @@
 #define PI_F 3.14159265358979323846f
 
 /* ======================================================================
-   2. Small math: vectors, rays, 4x4 transforms, a counter-based RNG, samplers
+   2. Small math: vectors, rays, 4x4 transforms, a counter-based RNG (util.c),
+      samplers (sampler.c)
    ====================================================================== */
 typedef struct {
     float x, y, z;
@@ -266,7 +267,7 @@ uint32_t sobol_u32(uint32_t i, int dim);            /* Sobol dimension 0 or 1, 3
 uint32_t owen_scramble(uint32_t x, uint32_t seed);  /* nested uniform scramble of x's digits */
 
 /* ======================================================================
-   3. Errors: libraries return, only main exits
+   3. Errors: libraries return, only main exits (util.c)
    ====================================================================== */
 /* Every loader writes one line "file:line: problem" into an Error and returns 0. */
 typedef struct { char msg[512]; } Error;
@@ -285,7 +286,8 @@ char *read_whole_file(const char *path, int text, const char *magic, size_t *len
 const char *read_status_text(ReadStatus st);   /* "not a text file (...)", ... */
 
 /* ======================================================================
-   4. Spectra (spectrum.c)
+   4. Spectra (spectrum.c; the metals' data in metals.c, wavelength sampling in
+      wavelengths.c)
    A spectrum is a dense table at 1 nm over SPEC_MIN..SPEC_MAX (pbrt-v4's range),
    evaluated by linear interpolation; zero outside.  A UV extension uv[] holds
    SPEC_UV_MIN..SPEC_MIN-1 (300-359 nm): zero unless the spectrum's source defines it
@@ -411,7 +413,7 @@ WlMode wl_mode_from_name(const char *name);               /* WL_MODE_COUNT if un
 const char *wl_mode_name(WlMode m);
 
 /* ======================================================================
-   5. Geometry (scene.c builds it, bvh.c intersects it)
+   5. Geometry (scene.c builds it, bvh.c intersects it, shapes.c holds the quadrics)
    ====================================================================== */
 typedef enum {
     SHAPE_MESH,                /* triangles (trianglemesh, bilinearmesh, plymesh) */
@@ -547,7 +549,8 @@ int    quadric_uniform_sampling(const Shape *sh);
 void   quadric_sample(const Shape *sh, float u1, float u2, Vec3 *p, Vec3 *n);
 
 /* ======================================================================
-   6. Materials (material.c): only what the scenes need
+   6. Materials: only what the scenes need (material.c; microfacet.c, conductor.c,
+      layered.c; textures in texture.c; media in medium.c, 6b)
    ====================================================================== */
 typedef enum {
     MAT_DIFFUSE, MAT_DIELECTRIC, MAT_FLUORESCENT,
@@ -825,7 +828,8 @@ int   medium_preset(const char *name, float sigma_a[3], float sigma_s[3]);
 int   medium_after(const struct Scene *s, int shape, int cur, Vec3 w, Vec3 ng);
 
 /* ======================================================================
-   7. Emitters and emitter selection (lights.c)
+   7. Emitters and emitter selection: the types (lights.c; infinite.c, delta.c,
+      lighttree.c)
    ====================================================================== */
 /* An infinite light (LightSource "infinite", infinite.c): light arriving from every
    direction, from infinitely far away.  Constant (one spectrum) or an image map in
@@ -955,7 +959,9 @@ struct LightSampler;           /* opaque: tables built by light_sampler_build */
 typedef struct LightSampler LightSampler;
 
 /* ======================================================================
-   8. The scene (scene.c parses the pbrt-v4 subset; options.c, dump.c)
+   8. The scene (scene.c builds it from the pbrt-v4 subset that parser.c reads;
+      the options block in options.c, --dump-scene in dump.c, the pixel filters
+      in filter.c)
    ====================================================================== */
 /* pbrt-v4's pixel filters (filter.c has their formulas and defaults) */
 typedef enum { FILTER_BOX, FILTER_GAUSSIAN, FILTER_TRIANGLE, FILTER_MITCHELL, FILTER_SINC } FilterType;
@@ -1079,7 +1085,7 @@ void ply_free(PlyMesh *m);
 int  ply_write_binary(const char *path, const float *P, int n_verts, const int32_t *idx, int n_tris);
 
 /* ======================================================================
-   10. Images (image.c)
+   10. Images (image.c; the readers png.c and exr.c; merge and diff in cmd_image.c)
    ====================================================================== */
 typedef struct { int w, h; float *rgb; } Image;   /* top row first, 3 floats a pixel */
 /* An image texture's texels from an RGB image (rows top to bottom), after pbrt-v4's
@@ -1139,7 +1145,8 @@ int  img_cmd_merge(int argc, char **argv, FILE *out, FILE *err);
 int  img_cmd_diff(int argc, char **argv, FILE *out, FILE *err);
 
 /* ======================================================================
-   11. Emitters and their selection: the API (lights.c, lighttree.c)
+   11. Emitters and their selection: the API (lights.c, lighttree.c, infinite.c,
+       delta.c)
    ====================================================================== */
 /* Check each emitter (its spectrum emits in 400-700 nm, its area is positive) and
    fill its area and triangle CDF.  scene_load calls it; nothing here depends on

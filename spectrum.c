@@ -37,13 +37,14 @@
      spec_from_file spec_from_rgb spec_blackbody cie_xyz cie_cmf cie_y_integral
      spec_to_xyz xyz_to_linear_srgb spec_chromaticity cct_from_xy spec_bin_average
      spec_bin_sum cauchy_named spec_rgb_coeffs spec_rgb_fit_table spec_rgb_coeffs_from
-     spec_sigmoid_eval spec_rgb_table_start spec_rgb_coeffs_fit
+     spec_sigmoid_eval spec_rgb_table_start spec_rgb_coeffs_fit spec_band_mean
+     spec_band_average
 
    HOW IT IS USED
-     scene.c turns "spectrum"/"rgb"/"blackbody" parameters into Spectrum tables with
+     parser.c turns "spectrum"/"rgb"/"blackbody" parameters into Spectrum tables with
      spec_from_pairs, spec_named, spec_from_file, spec_from_rgb and spec_blackbody;
-     lights.c uses spec_bin_average for the emitter tables; render.c converts to
-     colour with cie_xyz and xyz_to_linear_srgb; wavelengths.c weights its
+     lights.c uses spec_bin_average for the emitter tables; path.c and render.c
+     convert to colour with cie_xyz and xyz_to_linear_srgb; wavelengths.c weights its
      importance pdf with cie_cmf.  `specnee spectrum NAME|FILE` (cmd_spectrum.c)
      prints a spectrum, its colorimetry and the pbrt "scale" that realises thesis
      eq. 6 normalisation; `--svg` plots spectra (svg.c). */

@@ -20,8 +20,8 @@
 
    HOW IT IS USED
      render.c builds one WavelengthPdf per render with wl_pdf_build (the emitters'
-     summed spectrum for importance and mixture), draws the four wavelengths of each
-     path with wl_sample and evaluates p with wl_pdf_eval for spectral MIS;
+     summed spectrum for importance and mixture) and draws the four wavelengths of
+     each sample with wl_sample; wl_pdf_eval evaluates p;
      specnee.c and converge's variants (cmd_converge.c) name the modes with
      wl_mode_from_name.  The colour-matching functions come from spectrum.c
      (cie_cmf).  Tests: tests/test_wavelengths.c and tests/test_spectrum.c. */

@@ -333,7 +333,7 @@ static void test_positive_where_emitting(T *t)
 
 /* Item C4 of the consistency contract (docs/THEORY.md section 6): while several
    wavelengths are alive, P(e | c) must not depend on which of them is the hero,
-   because render.c uses one q_nee for every hero m in the MIS denominator.  The
+   because path.c uses one q_nee for every hero m in the MIS denominator.  The
    context is rotated so that each alive wavelength in turn sits in slot 0 (with
    its alive bit, and its throughput divided by an arbitrary common factor, as the
    throughput relative to another hero's pdf would be); every emitter's P must stay
