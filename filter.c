@@ -203,8 +203,8 @@ float filter_sample(const PixelFilter *pf, float u0, float u1, float *px, float 
     double qx, qy;
     switch (pf->type) {
     case FILTER_BOX:
-        if (pf->radius == 0.5f) { *px = u0; *py = u1; }    /* the pixel itself (bit for bit
-                                                              specnee's original box) */
+        if (pf->radius == 0.5f) { *px = u0; *py = u1; }    /* the pixel itself, u unchanged
+                                                              (no rounding of 0.5 + (2u - 1) r) */
         else { *px = 0.5f + (2.0f * u0 - 1.0f) * pf->radius; *py = 0.5f + (2.0f * u1 - 1.0f) * pf->radius; }
         return 1.0f;
     case FILTER_GAUSSIAN:

@@ -13,9 +13,9 @@
    a time, so every estimator stays unbiased; they differ in how evenly the N
    samples of a pixel cover each dimension (docs/sampling.md).
 
-   independent  PCG32 (util.c), one stream per (pixel, seed, sample): specnee's
-                original sampler, bit for bit.  It ignores the dimension and hands
-                out the stream's numbers in the order they are asked for.
+   independent  PCG32 (util.c), one stream per (pixel, seed, sample).  It ignores
+                the dimension and hands out the stream's numbers in the order they
+                are asked for.
    stratified   pbrt-v4's jittered strata: a 2-D request falls into one of
                 xsamples x ysamples cells, a 1-D request into one of spp cells; a
                 hashed permutation per (pixel, dimension) decides which sample takes

@@ -196,7 +196,8 @@ double radical_inverse(int base, uint64_t i);
      DIM_MEDIUM0 + 64d + s  1-D  the free-flight distance (a scatter vertex then
                              uses the bounce's BD_LIGHT..BD_POINT for NEE and
                              BD_DIR for the phase function's direction)
-     so a scene without media asks for exactly the numbers it asked for before.
+     so a scene without media asks for no number beyond the bounces' and the
+     fluorescent vertices'.
 
    A GROUP is one request: the two numbers of a 2-D group map together onto a 2-D
    domain (pixel, triangle, hemisphere), so they must be spread as a 2-D point
@@ -221,7 +222,7 @@ static inline int dim_medium(int depth, int seg) { return DIM_MEDIUM0 + MEDIUM_S
 #define SAMPLER_CHECKED_DIMS 256   /* dimensions whose reuse is counted (31 bounces) */
 
 typedef enum {
-    SAMPLER_INDEPENDENT,       /* PCG32 per (pixel, sample): specnee's original, bit for bit */
+    SAMPLER_INDEPENDENT,       /* PCG32 per (pixel, sample), dimensions drawn in request order */
     SAMPLER_STRATIFIED,        /* jittered strata (pbrt-v4 xsamples, ysamples, jitter) */
     SAMPLER_SOBOL,             /* padded Owen-scrambled Sobol per pixel (Burley 2020) */
     SAMPLER_ZSOBOL,            /* one Sobol sequence over the film in Morton order (pbrt-v4) */
@@ -256,8 +257,8 @@ void  sampler_start(const Sampler *s, int x, int y, int k, PixelSample *ps);
 float sampler_1d(PixelSample *ps, int dim);                     /* in [0, 1) */
 void  sampler_2d(PixelSample *ps, int dim, float *u0, float *u1);  /* dims dim, dim + 1 */
 /* The independent sampler's raw stream, for the one consumer that needs a
-   variable count of numbers (the Gaussian filter's rejection loop, kept so that
-   independent images stay bit-identical); NULL for the other samplers. */
+   variable count of numbers (the Gaussian filter's rejection loop, the independent
+   sampler's way of drawing the Gaussian: filter.c); NULL for the other samplers. */
 Rng  *sampler_stream(PixelSample *ps);
 /* 1 if sample k does not depend on spp (a progressive render equals separate ones). */
 int   sampler_progressive(SamplerType t);
@@ -293,8 +294,9 @@ const char *read_status_text(ReadStatus st);   /* "not a text file (...)", ... *
    SPEC_UV_MIN..SPEC_MIN-1 (300-359 nm): zero unless the spectrum's source defines it
    there (constants, blackbody, Cauchy/Sellmeier indices, wavelength pairs or files
    that list UV wavelengths, the named UV lamps and fluorophores); spectra from rgb
-   have none.  Only fluorescence ever evaluates a spectrum below SPEC_MIN, so scenes
-   without it render exactly as before (docs/FLUORESCENCE.md section 6).  Every source of a spectrum
+   have none.  Only fluorescence ever evaluates a spectrum below SPEC_MIN, so the UV
+   extension changes no render of a scene without it (docs/FLUORESCENCE.md §6).  Every
+   source of a spectrum
    (inline pairs, named spectra, files, rgb) is resampled into this table once at
    load time, so rendering never searches a list.
    ====================================================================== */

@@ -1,4 +1,4 @@
-/* tests/test_fluor.c - fluorescence (issue #17, docs/FLUORESCENCE.md): the UV
+/* tests/test_fluor.c - fluorescence (docs/FLUORESCENCE.md): the UV
    extension of the spectra (300-359 nm), UV lamps read as absolute radiance, the
    20 UV bins of emitter selection, and the named UV lamps and fluorophores. */
 #include "test.h"
@@ -447,7 +447,7 @@ static int band_matches(T *t, Scene *s, const RenderOptions *o, double a, double
     return ok;
 }
 
-/* Line test per 10 nm bin (issue #17): the 365 nm LED scene of fluor_line, each
+/* Line test per 10 nm bin: the 365 nm LED scene of fluor_line, each
    10 nm bin of 360-530 nm rendered alone and compared with the quadrature of the
    model over that bin, Phi A e(lo) (li/lo) / N(li) integrated over the LED's band:
    the output spectrum, not only its colour. */
@@ -467,7 +467,7 @@ static void test_fluor_line_bins(T *t)
     scene_free(&s);
 }
 
-/* The closed sphere (issue #17; FLUORESCENCE section 7b).  Inside a closed sphere
+/* The closed sphere (docs/FLUORESCENCE.md §7b).  Inside a closed sphere
    whose wall is the fluorescent material and emits Le uniformly, the radiance is
    the same everywhere and in every direction, and (F1)-(F2) with the wall's own
    1/pi cos integrating to 1 give the wavelength equation L = Le + P L:

@@ -502,11 +502,12 @@ static void test_emitter_can_reach(T *t)
     scene_free(&s);
 }
 
-/* Issue 20: the back of a one-sided lamp, lit by a second lamp.  The voxels cut by
-   the far lamp hold receivers in front of it, so the spatial table gave it most of
-   the probability also at points on its own back, where it sends nothing: banded
-   noise, the mean difference of horizontally neighbouring pixels 3.5 times
-   uniform's (spatial, spd, product and spectral-spatial alike; 100x140, 64 spp).
+/* The back of a one-sided lamp, lit by a second lamp.  The voxels cut by the far
+   lamp hold receivers in front of it, so a spatial table without the reach mask
+   gives it most of the probability also at points on its own back, where it sends
+   nothing: banded noise, the mean difference of horizontally neighbouring pixels
+   3.5 times uniform's (spatial, spd, product and spectral-spatial alike; 100x140,
+   64 spp).
    With the reach mask (lights.c section 4) the spatial strategies choose the near
    lamp there: their noise must not exceed uniform's, which spends half its
    samples on the far lamp (measured 0.42 x uniform).  A test on noise, not on the
