@@ -21,7 +21,7 @@
       SmoothStep).  The angle is measured in the light's frame (the CTM at the
       LightSource): a CTM that stretches the cone makes it elliptic in the world,
       as in pbrt-v4.  A distant light sends the radiance L(lambda) from the one
-      direction w (towards the light), as the sun does:
+      direction omega_d (towards the light; DeltaLight.w), as the sun does:
           E(p) = L |cos theta_p|.
 
    2. Sampling.  The light has no density over directions: for a shading point

@@ -37,8 +37,9 @@
 
    3. The spatial table (pbrt-v3's SpatialLightDistribution, THEORY 5.2): per voxel
       of a SPATIAL_RES grid, SPATIAL_SAMPLES Halton receivers and emitter points give
-      each emitter g_j = sum [faces the receiver] / p_sigma and s_j = Y_j g_j,
-      floored at 1e-3 of the mean.  Voxels are built lazily (an OpenMP critical
+      each emitter e gamma_e = sum [faces the receiver] / p_sigma and s_e = Y_e
+      gamma_e (THEORY's gamma_e(v), s_e(v)), floored at 1e-3 of the mean.  Voxels
+      are built lazily (an OpenMP critical
       section) or all up front; both give the same tables.
 
    4. Which side an emitter lights (emitter_can_reach, THEORY 5.3): where the
@@ -164,23 +165,23 @@ int emitter_can_reach(const Scene *s, int e, Vec3 p)
     return 0;
 }
 
-/* sum_{1 nm over [lo, hi]} ybar(lambda) S(lambda): the luminance that normalises
-   an emitter's spectrum S (for an image map, S = D65, held in L). */
-double luminance_sum(const Spectrum *S, float lo_nm, float hi_nm)
+/* sum_{1 nm over [lo, hi]} ybar(lambda) L(lambda): the luminance that normalises
+   an emitter's spectrum L (for an image map, L = D65). */
+double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm)
 {
     double norm = 0.0;
     int lam;
     for (lam = (int)ceilf(lo_nm); lam <= (int)floorf(hi_nm); lam++) {
         float xyz[3];
         cie_xyz((float)lam, xyz);
-        norm += (double)xyz[1] * spec_eval(S, (float)lam);
+        norm += (double)xyz[1] * spec_eval(L, (float)lam);
     }
     return norm;
 }
 
-/* Le = scale * S / luminance_sum(L) with S = L (S = the mean colour's spectrum
-   for an image map), and k = scale / luminance_sum(L), which infinite.c applies
-   to an image map's texels. */
+/* Le = scale * L_shape / luminance_sum(L) with L_shape = L (L_shape = the mean
+   colour's spectrum for an image map; `shape` below), and k = scale /
+   luminance_sum(L), which infinite.c applies to an image map's texels. */
 static int radiance_and_k(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *Le,
                           double *k, Error *err)
 {
@@ -376,8 +377,9 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
         double omc;
         if (sphere_cone(sh, ref, &omc)) {
             /* a direction in the cone around the centre, then the sphere's near
-               point along it (the ray ref + t w enters the sphere at
-               t = d cos theta - sqrt(r^2 - d^2 sin^2 theta)) */
+               point along it (the ray ref + t w, w the sampled direction, enters
+               the sphere of radius rho, r below, at
+               t = d cos theta - sqrt(rho^2 - d^2 sin^2 theta)) */
             Vec3 wc = v3_sub(sh->center, ref);
             double d = v3_len(wc), om = (double)u1 * omc, cos_t = 1.0 - om;
             double sin2 = om * (2.0 - om), phi = 2.0 * SPECNEE_PI * u2, disc, t;
@@ -549,8 +551,9 @@ static int uses_grid(SelStrategy st)
 static const float voxel_failed[1] = { 0.0f };
 #define VOXEL_FAILED ((float *)voxel_failed)
 
-/* The per-voxel estimate of section 3 above: fills s[n] (a pmf) and g[n].
-   Returns 0 (out[] untouched) when out of memory. */
+/* The per-voxel estimate of section 3 above: fills out[0..n) with s_e and
+   out[n..2n) with gamma_e (g[] accumulates gamma_e).  Returns 0 (out[] untouched)
+   when out of memory. */
 static int build_voxel(const LightSampler *ls, long v, float *out)
 {
     const Scene *s = ls->scene;

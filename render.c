@@ -18,7 +18,7 @@
    integral of ybar (emitters are normalised instead, as in pbrt-v4).  The sensor
    then scales it by the imaging ratio and clamps its largest component (pbrt-v4's
    RGBFilm::AddSample); a pixel is the mean of its samples (with mitchell or sinc,
-   sum w XYZ / sum w), white-balanced, converted to linear sRGB with pbrt-v4's
+   sum fw XYZ / sum fw), white-balanced, converted to linear sRGB with pbrt-v4's
    matrix.  A sample whose XYZ is not finite is dropped (counted; it counts as 0).
 
    DETERMINISM.  Every (pixel, sample) owns its random numbers (sampler.c) and
@@ -100,8 +100,8 @@ static double wall_seconds(void)
 
 /* One pass of the progressive render: samples [k0, k1) of every pixel are added,
    in sample order, to acc (3 doubles per pixel, XYZ sums), and img receives
-   acc / k1 in linear sRGB (with mitchell or sinc, acc holds sum w XYZ and wsum
-   sum w, and img receives acc / wsum: filter.c).  Summing in sample order makes a render that stops at
+   acc / k1 in linear sRGB (with mitchell or sinc, acc holds sum fw XYZ and wsum
+   sum fw, and img receives acc / wsum: filter.c).  Summing in sample order makes a render that stops at
    k1 after any sequence of passes bit-identical to one pass of k1 samples. */
 typedef struct {
     const Renderer *R;
@@ -115,14 +115,14 @@ typedef struct {
 } Pass;
 
 /* A pixel of the image from its sums: the mean of its samples' XYZ (with mitchell
-   or sinc, sum w XYZ / sum w), white-balanced, in linear sRGB. */
+   or sinc, sum fw XYZ / sum fw), white-balanced, in linear sRGB. */
 static void film_pixel(const Pass *P, const double *sum, const double *wsum, float *out)
 {
     const SceneSettings *set = &P->R->s->settings;
     double avg[3], rgb[3];
     if (!wsum) {
         avg[0] = sum[0] / P->k1; avg[1] = sum[1] / P->k1; avg[2] = sum[2] / P->k1;
-    } else if (*wsum != 0.0) {   /* pbrt-v4: sum w L / sum w, 0 when sum w = 0 */
+    } else if (*wsum != 0.0) {   /* pbrt-v4: sum fw L / sum fw, 0 when sum fw = 0 */
         avg[0] = sum[0] / *wsum; avg[1] = sum[1] / *wsum; avg[2] = sum[2] / *wsum;
     } else {
         avg[0] = avg[1] = avg[2] = 0.0;
@@ -221,7 +221,7 @@ static void render_pass(Pass *P)
                         double f = set->max_component / m;
                         xyz[0] *= f; xyz[1] *= f; xyz[2] *= f;
                     }
-                    if (wsum) {          /* mitchell, sinc: sum w L and sum w */
+                    if (wsum) {          /* mitchell, sinc: sum fw L and sum fw */
                         sum[0] += fw * xyz[0]; sum[1] += fw * xyz[1]; sum[2] += fw * xyz[2];
                     } else {             /* constant weights: the mean */
                         sum[0] += xyz[0]; sum[1] += xyz[1]; sum[2] += xyz[2];

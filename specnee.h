@@ -370,7 +370,7 @@ static inline float cauchy_eta(float A, float B, float lambda_nm)
    teaching, teaching-strong (case-insensitive, optional "cauchy-" prefix). */
 int   cauchy_named(const char *name, float *A, float *B);
 
-/* ---- Wavelength sampling (wavelengths.c): lambda_j = P^-1(frac(u + j/4)) (HWSS
+/* ---- Wavelength sampling (wavelengths.c): lambda_j = cdf^-1(frac(u + j/4)) (HWSS
    rotated in the CDF of p as in West et al. 2020; docs/THEORY.md section 2).  p is
    uniform, an importance pdf, the visible pdf or a mixture (docs/wavelengths.md);
    the four are combined by spectral MIS (THEORY section 3). ---- */
@@ -380,10 +380,10 @@ typedef enum {
     WL_IMPORTANCE,             /* ~ (xbar + ybar + zbar) x the sum of the emitters' spectra */
     WL_VISIBLE,                /* scene-independent: sech^2 around 538 nm (pbrt-v4's
                                   "visible wavelengths" pdf, Radziszewski et al. 2009) */
-    WL_MIXTURE,                /* (1 - m) importance + m visible: a defensive mixture */
+    WL_MIXTURE,                /* (1 - mu) importance + mu visible: a defensive mixture */
     WL_MODE_COUNT
 } WlMode;
-#define WL_MIX_DEFAULT 0.5f    /* @@ m of WL_MIXTURE: robustness vs. the gain of importance
+#define WL_MIX_DEFAULT 0.5f    /* @@ mu of WL_MIXTURE: robustness vs. the gain of importance
                                   (chosen by the sweep in docs/wavelengths.md) */
 typedef struct {
     float lo, hi;              /* sampled range in nm (400-700 default, 360-830 wide) */
@@ -391,7 +391,8 @@ typedef struct {
     float *pdf;                /* per-nm pdf (n cells) for importance sampling */
     float *cdf;                /* n + 1 entries, cdf[0] = 0, cdf[n] = 1 */
     int   visible;             /* n == 0: 1 = the visible sech^2 pdf, 0 = uniform */
-    double vis_t_lo, vis_t_span; /* visible: tanh at lo and its span to hi (wavelengths.c) */
+    double vis_t_lo, vis_t_span; /* visible: th(lo) = tanh(kappa (lo - c)) and th(hi) - th(lo)
+                                    (wavelengths.c) */
 } WavelengthPdf;
 typedef struct {
     float lambda[HERO_N];      /* nm; lambda[0] is the hero */
@@ -1050,7 +1051,8 @@ int  scene_insets_rendered(const Scene *s, int rect[8][4], const char *names[8])
 
 /* Pixel filters (filter.c): pbrt-v4's filter importance sampling.  A camera
    sample's position in its pixel is drawn from the filter f (mitchell, sinc: from
-   a table of |f|) with the weight w = f/q, and the pixel is sum w L / sum w. */
+   a table of |f|) with the density p_f and the weight fw = f/p_f, and the pixel is
+   sum fw L / sum fw. */
 typedef struct {
     FilterType type;
     float radius, sigma, b, c, tau;      /* as in SceneSettings (one radius: x = y) */
@@ -1065,9 +1067,9 @@ void  filter_init(PixelFilter *pf, const SceneSettings *st);
 double filter_eval_1d(const PixelFilter *pf, double x);
 double filter_eval(const PixelFilter *pf, double x, double y);
 /* The sample's position in its pixel (0.5, 0.5 is the centre) from two uniform
-   numbers, and its weight f/q (1 for box, gaussian, triangle). */
+   numbers, and its weight fw = f/p_f (1 for box, gaussian, triangle). */
 float filter_sample(const PixelFilter *pf, float u0, float u1, float *px, float *py);
-/* 1 if the weights are not constant (mitchell, sinc): the film must keep sum w. */
+/* 1 if the weights are not constant (mitchell, sinc): the film must keep sum fw. */
 int   filter_weighted(const PixelFilter *pf);
 /* One Gaussian offset by rejection from the independent sampler's stream. */
 float filter_gaussian_reject(Rng *rng, float radius, float sigma);
@@ -1225,9 +1227,9 @@ void  light_sampler_free(LightSampler *ls);
 /* Radiance leaving emitter e at a point with oriented normal n towards w (unit):
    zero from the back of a one-sided emitter. */
 float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm);
-/* sum over 1 nm steps in [lo, hi] of ybar S: the luminance that normalises an
-   emitter's spectrum (and an emissive medium's Le, render.c). */
-double luminance_sum(const Spectrum *S, float lo_nm, float hi_nm);
+/* sum over 1 nm steps in [lo, hi] of ybar L: the luminance that normalises an
+   emitter's spectrum L (and an emissive medium's Le, render.c). */
+double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm);
 const Spectrum *light_spectrum(const LightSampler *ls, int e);   /* e's Le */
 /* What NEE chooses is a PIECE: a whole emitter, or (light trees only) a cluster of
    at most LIGHT_CLUSTER_TRIS triangles of a large emissive mesh.  Without
@@ -1328,7 +1330,7 @@ typedef struct {
     int spp, seed, threads, maxdepth;
     SelOptions sel;
     WlMode wl_mode;            /* --wavelengths: uniform importance visible mixture */
-    float wl_mix;              /* --mix-weight: m of WL_MIXTURE (0: WL_MIX_DEFAULT) */
+    float wl_mix;              /* --mix-weight: mu of WL_MIXTURE (0: WL_MIX_DEFAULT) */
     int wl_wide;               /* sample 360-830 nm instead of 400-700 */
     int single_wavelength;     /* 1 wavelength per path instead of HWSS */
     int rough_mis;             /* --rough-dispersion mis: secondaries survive rough glass */
