@@ -19,30 +19,30 @@
       seen emitter has luminance scale; the range belongs to a render, so Le lives in
       the LightSampler (light_sampler_build), not in the Scene.  Points are sampled
       by area (a triangle by area, then uniformly on it), with the solid-angle
-      density p_sigma(y) = |x - y|^2 / (A |cos theta_y|) (THEORY section 4); a
+      density p_sigma(y) = |x - y|^2 / (A |cos theta_y|) (THEORY §4); a
       sphere seen from outside in the cone it subtends (sphere_cone).
 
    2. Selection.  light_select picks a piece i (an emitter, or with the light trees
       a cluster of at most LIGHT_CLUSTER_TRIS triangles of a big emissive mesh:
-      THEORY 5.1) with probability P(i | c) in the context c stored at the vertex;
+      THEORY §5.1) with probability P(i | c) in the context c stored at the vertex;
       light_select_pmf(c, i) returns the same number for a piece that BSDF sampling
-      hits (the contract C1-C4, THEORY 5.5).  The strategies and their pmfs are the
-      table of THEORY 5.2: uniform, power, spatial, the thesis' spd and product,
-      spectral-spatial, and the trees (lighttree.c, THEORY 5.4).  The spectral ones
+      hits (the contract C1-C4, THEORY §5.5).  The strategies and their pmfs are the
+      table of THEORY §5.2: uniform, power, spatial, the thesis' spd and product,
+      spectral-spatial, and the trees (lighttree.c, THEORY §5.4).  The spectral ones
       use the hero's bin on hero-only paths and the sum over the alive wavelengths'
       bins with --all-wavelengths or after a fluorescent shift, so P is the same
-      whichever alive wavelength is the hero (C4, THEORY 6); no emitter in those
+      whichever alive wavelength is the hero (C4, THEORY §6); no emitter in those
       bins falls back to spatial (counted).  Costs: uniform O(1), power and the
       trees O(log n), the table strategies O(n) per vertex.
 
-   3. The spatial table (pbrt-v3's SpatialLightDistribution, THEORY 5.2): per voxel
+   3. The spatial table (pbrt-v3's SpatialLightDistribution, THEORY §5.2): per voxel
       of a SPATIAL_RES grid, SPATIAL_SAMPLES Halton receivers and emitter points give
       each emitter e gamma_e = sum [faces the receiver] / p_sigma and s_e = Y_e
       gamma_e (THEORY's gamma_e(v), s_e(v)), floored at 1e-3 of the mean.  Voxels
       are built lazily (an OpenMP critical
       section) or all up front; both give the same tables.
 
-   4. Which side an emitter lights (emitter_can_reach, THEORY 5.3): where the
+   4. Which side an emitter lights (emitter_can_reach, THEORY §5.3): where the
       spatial table is used, emitter i's weight is multiplied by reach_i(x) in
       {0, 1}, 0 only where no point of i can light x (the planes of a one-sided mesh
       of at most REACH_MAX_TRIS triangles, a sphere's surface, a disk's plane, a
@@ -1020,7 +1020,7 @@ float light_pdf_sa(const LightSampler *ls, int piece, Vec3 ref, Vec3 p, Vec3 n)
 
 /* Row of a wavelength in the spectral table T: the thesis' 60 bins over 400-700 nm
    are rows SPD_UV_BINS.., the 20 UV bins over 300-400 nm (fluorescence excitation,
-   docs/FLUORESCENCE.md section 5) rows 0..19; -1 outside 300-700 nm. */
+   docs/FLUORESCENCE.md §5) rows 0..19; -1 outside 300-700 nm. */
 static int spd_bin(float lambda)
 {
     int b;
@@ -1241,7 +1241,7 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
     {
         /* A spectrum with no luminance in 400-700 nm (an ultraviolet lamp) cannot be
            normalised to Y = scale: lights.c reads it as absolute spectral radiance
-           times scale (docs/conventions.md section 4, docs/FLUORESCENCE.md section 6). */
+           times scale (docs/conventions.md §4, docs/FLUORESCENCE.md §6). */
         double vis = 0.0, any = 0.0;
         int nm;
         for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {

@@ -5,7 +5,7 @@
    Exported (specnee.h section 6b): medium_sigma_t, medium_sigma_s, medium_sigma_a,
    hg_phase, hg_sample, medium_preset, medium_after.
 
-   THE MODEL (pbrt-v4 MakeNamedMedium "homogeneous"; THEORY section 12 derives the
+   THE MODEL (pbrt-v4 MakeNamedMedium "homogeneous"; THEORY §12 derives the
    estimator that uses it, docs/media.md summarises the format and the
    measurements).  Equation numbers are THEORY's.  Between surfaces a ray travels through at most one
    medium, with coefficients per unit length

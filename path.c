@@ -104,7 +104,8 @@ typedef struct {
 typedef struct {
     float lam[HERO_N];               /* the wavelengths light is transported at: the
                                         camera's until a fluorescent shift moves them to
-                                        lambda_i; the film keeps the camera's (FLUORESCENCE 4) */
+                                        lambda_i; the film keeps the camera's
+                                        (docs/FLUORESCENCE.md §4) */
     float beta[HERO_N];              /* throughput beta_j */
     float r[HERO_N];                 /* pdf ratios r_m (r_0 = 1) */
     unsigned alive;                  /* bit j: lane j is carried (bit 0, the hero, always) */
@@ -303,7 +304,7 @@ static void debug_check_sum(FILE *dbg, double w_sum)
                      "this contribution is weighted wrongly\n", w_sum);
 }
 
-/* lambda_i for a path at lo through fluorescent material mi (FLUORESCENCE 3), by
+/* lambda_i for a path at lo through fluorescent material mi (docs/FLUORESCENCE.md §3), by
    --fluor-li; *pdf the density it was drawn from (0: none). */
 static float fluor_sample_lambda_i(const Renderer *R, const Material *mat, int mi, float lo,
                                    float u, float *pdf)
@@ -697,14 +698,14 @@ static int medium_vertex(Tracer *tr, int depth, Ray *ray, const Collision *c, Pa
     return 1;
 }
 
-/* 3b. A fluorescent vertex reflects or re-radiates (FLUORESCENCE 3-5); mi is the
+/* 3b. A fluorescent vertex reflects or re-radiates (docs/FLUORESCENCE.md §3-§5); mi is the
    material's index.  To re-radiate: sample lambda_i on [300, lambda_o] (from A,
    A x power or uniformly), weight by (F4), and from here on transport at lambda_i
    through a Lambertian of albedo 1: NEE, emitter selection (ctx.lambda) and every
    MIS pdf below use it.  The baseline terminates the secondaries (as at dispersive
    glass); --fluor-lanes keep shifts every alive wavelength with the SAME number ul
    through its own p(li | lo_j) and carries the branch probability in the ratios r
-   (FLUORESCENCE 4b).  To reflect: a Lambertian of albedo rho (1 - A); the choice
+   (docs/FLUORESCENCE.md §4b).  To reflect: a Lambertian of albedo rho (1 - A); the choice
    depends on lambda_o, so the pdf ratios carry it (THEORY (5)).  Returns the
    material the vertex scatters with (R->white after a shift, mat after a
    reflection); NULL: the path ends. */

@@ -54,7 +54,7 @@ void render_options_default(RenderOptions *o)
        the thesis' baseline (--preset thesis) on any of them. */
     o->sel.strategy = SEL_SPECTRAL_TREE;  /* O(log n) per vertex, the thesis spectral preference */
     o->wl_mode = WL_MIXTURE;         /* importance + visible: 3-5x at equal time (docs/wavelengths.md) */
-    o->rough_mis = 1;                /* secondaries live through rough glass (docs/THEORY.md) */
+    o->rough_mis = 1;                /* secondaries live through rough glass (THEORY §7) */
     o->nee = 1;
     o->sampler = SAMPLER_SOBOL;      /* lowest equal-time error, progressive (docs/sampling.md) */
     o->fluor_keep = 1;               /* fluorescence: all four wavelengths through a shift, */
@@ -277,7 +277,7 @@ static int setup_media(RenderJob *j, Error *err)
     return 1;
 }
 
-/* --fluor-li power (FLUORESCENCE 3): E = the scene's emitter power per nm, pi A
+/* --fluor-li power (docs/FLUORESCENCE.md §3): E = the scene's emitter power per nm, pi A
    (2 if two-sided) Le (an infinite light's area is 4 pi r^2), for this render's
    Le; a table of A E for each fluorescent material.  render_begin calls it only
    for a scene with fluorescent materials (none to build, and no O(n) pass over the

@@ -363,7 +363,7 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
    spd-metric and spd-wavelengths say after a '#' which --lights strategies read
    them (sel_reads_metric, sel_reads_wavelengths): the thesis' spectral tables
    (spd, product, spectral-spatial) read both; the light trees use power per bin
-   and sum over the alive wavelengths always (THEORY section 5.4), so the metric
+   and sum over the alive wavelengths always (THEORY §5.4), so the metric
    and "hero"/"all" leave them as they are, and spectral-tree reads "throughput"
    only. */
 static int sel_reads_metric(SelStrategy st)

@@ -371,9 +371,9 @@ static inline float cauchy_eta(float A, float B, float lambda_nm)
 int   cauchy_named(const char *name, float *A, float *B);
 
 /* ---- Wavelength sampling (wavelengths.c): lambda_j = cdf^-1(frac(u + j/4)) (HWSS
-   rotated in the CDF of p as in West et al. 2020; docs/THEORY.md section 2).  p is
+   rotated in the CDF of p as in West et al. 2020; THEORY §2).  p is
    uniform, an importance pdf, the visible pdf or a mixture (docs/wavelengths.md);
-   the four are combined by spectral MIS (THEORY section 3). ---- */
+   the four are combined by spectral MIS (THEORY §3). ---- */
 /* Which pdf the wavelengths are drawn from (--wavelengths). */
 typedef enum {
     WL_UNIFORM,                /* uniform over the range: plain HWSS, the thesis */
@@ -529,7 +529,7 @@ Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w);
 float offset_eps(float m);
 
 /* The quadrics (shapes.c): disk, cylinder and partial sphere, each intersected
-   analytically in its object space (docs/conventions.md section 3 for their
+   analytically in its object space (docs/conventions.md §3 for their
    orientation).  sh->type must be one of them. */
 /* Set q's CTM (and whether it is a similarity); 0 for a projective CTM. */
 int    quadric_set_transform(Quadric *q, const Xform *ctm);
@@ -610,7 +610,7 @@ typedef struct {
     int cond_alpha_tex;
 } Material;
 
-/* Fluorescence (docs/FLUORESCENCE.md sections 1-3).  fluor_prepare fills the tables
+/* Fluorescence (docs/FLUORESCENCE.md §1-§3).  fluor_prepare fills the tables
    of a MAT_FLUORESCENT material; returns 0 if the emission is zero everywhere. */
 int   fluor_prepare(Material *m);
 float fluor_branch_pf(const Material *m, float lo);      /* P_f(lo): re-radiate */
@@ -619,7 +619,7 @@ float fluor_weight(const Material *m, float li, float lo);
 /* Sample li on [300, lo] from A (F3); *pdf = p(li | lo), 0 when A is 0 there. */
 float fluor_sample_li(const Material *m, float lo, float u, float *pdf);
 float fluor_pdf_li(const Material *m, float lo, float li);
-/* Beyond sampling from A (FLUORESCENCE 3): li on [300, lo] with the density
+/* Beyond sampling from A (docs/FLUORESCENCE.md §3): li on [300, lo] with the density
    a p_A + (1 - a) p_AE, p_AE proportional to A(li) E(li), E the scene's emitter power
    per nm; fluor_power_cdf fills pcdf[FL_N] (its running integral, 1 nm cells) for a
    render; where A E has no mass below lo the density is p_A alone. */
@@ -794,7 +794,7 @@ float tr_alpha_of_roughness(float roughness);
 void  tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, float *f, float *pdf);
 
 /* ======================================================================
-   6b. Participating media (medium.c; THEORY section 12 derives the estimator)
+   6b. Participating media (medium.c; THEORY §12 derives the estimator)
    ====================================================================== */
 /* pbrt-v4's MakeNamedMedium "homogeneous": a medium that fills the space between
    the surfaces whose MediumInterface names it, with the same coefficients
@@ -861,7 +861,7 @@ typedef struct {
    A point or spot light sits at one point and radiates intensity I(lambda)
    (W/sr/nm), a spot only into a cone with a smooth falloff; a distant light sends
    radiance from one direction, as from infinitely far away.  No ray can hit one:
-   NEE alone finds them (docs/THEORY.md section 11). */
+   NEE alone finds them (THEORY §11). */
 typedef enum { DELTA_NONE = 0, DELTA_POINT, DELTA_SPOT, DELTA_DISTANT } DeltaType;
 typedef struct {
     DeltaType type;            /* DELTA_NONE: not a delta light */
@@ -908,7 +908,7 @@ typedef struct {
     double *planes;            /* 4 per triangle: oriented unit normal n, offset d = n . v0 */
     double reach_eps;          /* distance below which a point counts as in the plane */
     int absolute;              /* L has no luminance in 400-700 nm (a UV lamp): Le = scale * L,
-                                  absolute spectral radiance (docs/conventions.md section 4) */
+                                  absolute spectral radiance (docs/conventions.md §4) */
 } Emitter;
 
 /* A point sampled on an emitter, as seen from a reference point. */
@@ -933,7 +933,7 @@ typedef enum {
 
 /* Context of one selection: the same context must be passed to light_select and
    later to light_select_pmf for an emitter found by BSDF sampling (the
-   consistency contract, item C1 of docs/THEORY.md section 5).  The thesis'
+   consistency contract, item C1 of THEORY §5).  The thesis'
    spectral strategies (spd, product, spectral-spatial) use their spectral table
    only where hero_only or shifted; the light trees and --all-wavelengths use every
    alive wavelength. */
@@ -947,14 +947,14 @@ typedef struct {
     int hero_only;             /* 1 when only the hero is alive (alive == 1): after
                                   termination at dispersive glass, or from the start
                                   with --single-wavelength; 0 after rough glass with
-                                  --rough-dispersion mis (THEORY section 7) */
+                                  --rough-dispersion mis (THEORY §7) */
     int shifted;               /* 1 after a fluorescent shift that kept several
                                   wavelengths (--fluor-lanes keep): they are absorbed
                                   ones now, no longer spread over the film's range, so
                                   the spatial table (weighted by visible light) says
                                   nothing about them; the spectral strategies then sum
                                   their table over the alive wavelengths' bins
-                                  (docs/FLUORESCENCE.md section 4b) */
+                                  (docs/FLUORESCENCE.md §4b) */
     float beta[HERO_N];        /* path throughput per wavelength (optional weighting) */
 } LightCtx;
 
@@ -1336,11 +1336,11 @@ typedef struct {
     int rough_mis;             /* --rough-dispersion mis: secondaries survive rough glass */
     int nee;                   /* 1: NEE + BSDF sampling by MIS; 0: BSDF sampling only */
     FluorLi fluor_li;          /* --fluor-li: how a fluorescent vertex samples lambda_i
-                                  (FLUORESCENCE 3): from A, A x emitter power mixed
+                                  (docs/FLUORESCENCE.md §3): from A, A x emitter power mixed
                                   with A (default), or uniformly on [300, lambda_o] */
     int fluor_keep;            /* --fluor-lanes keep (default): all four wavelengths go
                                   through a shift, each with its own lambda_i
-                                  (FLUORESCENCE 4b); 0: the secondaries are terminated
+                                  (docs/FLUORESCENCE.md §4b); 0: the secondaries are terminated
                                   (the thesis' way with wavelength-dependent events) */
     float band_lo, band_hi;    /* band_hi > band_lo: the camera samples its wavelengths
                                   uniformly in [band_lo, band_hi] only, the emitters keep

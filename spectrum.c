@@ -513,7 +513,7 @@ void spec_to_xyz(const Spectrum *s, float lo_nm, float hi_nm, double xyz[3])
 }
 
 /* pbrt-v4's XYZ -> linear sRGB matrix (its RGBColorSpace::sRGB, D65 white
-   xy = (0.312727, 0.329023)), docs/conventions.md and docs/THEORY.md section 1. */
+   xy = (0.312727, 0.329023)), docs/conventions.md and THEORY §1. */
 void xyz_to_linear_srgb(const double xyz[3], double rgb[3])
 {
     static const double M[3][3] = {
@@ -796,7 +796,7 @@ static void lamp_led(Spectrum *s, double r, double phosphor_nm, double phosphor_
 }
 
 /* ----------------------------------------------------------------------
-   Ultraviolet lamps and fluorophores (fluorescence, docs/FLUORESCENCE.md section 6).
+   Ultraviolet lamps and fluorophores (fluorescence, docs/FLUORESCENCE.md §6).
    Modelled as Gaussian bands (the add_gaussian cell means above) from published
    peak positions and widths; they are not copied from measured tables.  Where a
    width is not given by the source it is marked "chosen".
@@ -804,7 +804,7 @@ static void lamp_led(Spectrum *s, double r, double phosphor_nm, double phosphor_
 
 /* Peak 1 (the sample at the peak's nearest nm): the UV lamps have no luminance, so
    they cannot be scaled to thesis eq. 6 or to Y; scene files read them as absolute
-   radiance times "scale" (docs/conventions.md section 4). */
+   radiance times "scale" (docs/conventions.md §4). */
 static void normalise_peak(Spectrum *s)
 {
     float m = 0.0f;

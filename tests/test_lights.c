@@ -288,7 +288,7 @@ static void test_select_matches_pmf(T *t)
     select_matches_pmf_on(t, SC_DELTA);
 }
 
-/* Positivity (item C3 of the consistency contract, docs/THEORY.md section 5): an
+/* Positivity (item C3 of the consistency contract, THEORY §5): an
    emitter that emits at the hero wavelength always has P > 0 in hero-only mode,
    for spectra with a 1 nm line at a bin edge too. */
 static void test_positive_where_emitting(T *t)
@@ -331,7 +331,7 @@ static void test_positive_where_emitting(T *t)
     scene_free(&s);
 }
 
-/* Item C4 of the consistency contract (docs/THEORY.md section 6): while several
+/* Item C4 of the consistency contract (THEORY §6): while several
    wavelengths are alive, P(e | c) must not depend on which of them is the hero,
    because path.c uses one q_nee for every hero m in the MIS denominator.  The
    context is rotated so that each alive wavelength in turn sits in slot 0 (with
