@@ -698,7 +698,8 @@ static int medium_vertex(Tracer *tr, int depth, Ray *ray, const Collision *c, Pa
     return 1;
 }
 
-/* 3b. A fluorescent vertex reflects or re-radiates (docs/FLUORESCENCE.md §3-§5); mi is the
+/* The fluorescent branch (surface_vertex, between steps 3 and 4): a fluorescent
+   vertex reflects or re-radiates (docs/FLUORESCENCE.md §3-§5); mi is the
    material's index.  To re-radiate: sample lambda_i on [300, lambda_o] (from A,
    A x power or uniformly), weight by (F4), and from here on transport at lambda_i
    through a Lambertian of albedo 1: NEE, emitter selection (ctx.lambda) and every
@@ -759,9 +760,9 @@ static const Material *fluor_vertex(Tracer *tr, int depth, const Material *mat, 
 }
 /* A surface vertex at sp, reached along ray: the emission the path found there,
    then below maxdepth the termination of the secondaries at dispersive glass
-   (3), the fluorescent branch (3b), NEE (4) and the next direction from the BSDF
-   with the hero's index (5).  Returns 0 when the path ends; otherwise ray leaves
-   the vertex (the counterpart of medium_vertex). */
+   (3), the fluorescent branch (fluor_vertex), NEE (4) and the next direction
+   from the BSDF with the hero's index (5).  Returns 0 when the path ends;
+   otherwise ray leaves the vertex (the counterpart of medium_vertex). */
 static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *sp, PathState *path)
 {
     const Renderer *R = tr->R;
