@@ -48,12 +48,12 @@ static void concentric_disk(float u0, float u1, float *dx, float *dy)
    lens (unused for a pinhole).
 
    THIN LENS (pbrt-v4 PerspectiveCamera).  The pinhole ray of the raster point has
-   the camera-space direction d = (sx tan, sy tan, 1).  A lens of radius r at z = 0
-   focused at distance f sends every ray of that raster point through the point
-   where the pinhole ray meets the plane of focus, q = f d (z = f), from a point
-   (r l, 0) with l uniform on the unit disk.  Points on that plane are sharp; a
-   point at depth z spreads into a disk of radius r |1/f - 1/z| in the screen's
-   tan units (the circle of confusion; tested by render_thin_lens). */
+   the camera-space direction d = (sx tan, sy tan, 1).  A lens of radius rho_l at
+   z = 0 focused at distance z_f sends every ray of that raster point through the
+   point where the pinhole ray meets the plane of focus, x_f = z_f d (z = z_f), from
+   a point (rho_l e_l, 0) with e_l uniform on the unit disk.  Points on that plane
+   are sharp; a point at depth z spreads into a disk of radius rho_l |1/z_f - 1/z|
+   in the screen's tan units (the circle of confusion; tested by render_thin_lens). */
 Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1)
 {
     Ray r;
@@ -62,7 +62,7 @@ Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1)
     Vec3 d = v3(sx * c->tan_half, sy * c->tan_half, 1.0f), o = v3(0, 0, 0);
     if (c->lens_radius > 0.0f) {
         float lx, ly;
-        Vec3 q = v3_mul(d, c->focal_distance);
+        Vec3 q = v3_mul(d, c->focal_distance);     /* x_f, the point of focus */
         concentric_disk(ul0, ul1, &lx, &ly);
         o = v3(c->lens_radius * lx, c->lens_radius * ly, 0.0f);
         d = v3_sub(q, o);

@@ -153,7 +153,7 @@ static int spectrum_svg(char **names, int n, double lo, double hi)
 }
 
 /* `specnee spectrum --table scene.pbrt`: the emitter x bin table of the spectral
-   strategies (lights.c, section 2; docs/THEORY.md section 5), as text or as an SVG
+   strategies (lights.c, section 2; THEORY §5), as text or as an SVG
    heat map with two panels: T_e(b) divided by its largest entry, and P(e | b). */
 static void heat_colour(double t, char out[8])
 {

@@ -45,7 +45,7 @@
 
 /* F of wavelength j (lambda) at the microfacet cosine c.  A textured reflectance r
    stands for eta = 1, k = conductor_k_of_reflectance(r), r clamped to [0, 0.9999]
-   (scene.c does the same for a constant r). */
+   (conductor_from_params does the same for a constant r). */
 static float conductor_F(const Material *m, const MatPoint *mp, int j, float c, float lambda_nm)
 {
     if (mp->has_r) {

@@ -1,9 +1,9 @@
 /* delta.c - delta lights: pbrt-v4's point, spot and distant lights.
 
    Exported (specnee.h section 11): delta_falloff, delta_sample, delta_power_area,
-   delta_can_reach.  scene.c builds a DeltaLight from a LightSource directive;
-   lights.c treats it as one more emitter (a piece of its own) for every
-   selection strategy; render.c's NEE gives its sample MIS weight 1 against BSDF
+   delta_can_reach.  The last section builds a DeltaLight from a LightSource
+   directive; lights.c treats it as one more emitter (a piece of its own) for every
+   selection strategy; path.c's NEE gives its sample MIS weight 1 against BSDF
    sampling (THEORY §11 derives the estimator).
 
    1. What they emit (pbrt-v4 lights.cpp, the pbrt book 4th ed. section 12.1-12.4).
@@ -21,7 +21,7 @@
       SmoothStep).  The angle is measured in the light's frame (the CTM at the
       LightSource): a CTM that stretches the cone makes it elliptic in the world,
       as in pbrt-v4.  A distant light sends the radiance L(lambda) from the one
-      direction w (towards the light), as the sun does:
+      direction omega_d (towards the light; DeltaLight.w), as the sun does:
           E(p) = L |cos theta_p|.
 
    2. Sampling.  The light has no density over directions: for a shading point
@@ -32,7 +32,7 @@
       so that Le / pdf_sa = I G is the incident radiance's estimate, as Le /
       pdf_sa is for an area sample, and sets EmitterSample.delta: no BSDF sample
       can find a delta light, so its MIS weight against BSDF sampling is 1
-      (render.c leaves the BSDF's pdfs out of its denominator).  The spatial
+      (path.c leaves the BSDF's pdfs out of its denominator).  The spatial
       selection tables (lights.c section 3) accumulate 1 / pdf_sa over receiver
       points: for a delta light that is G, its irradiance per unit intensity
       without the receiver's cosine - the same quantity they estimate for an

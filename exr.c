@@ -1,8 +1,8 @@
 /* exr.c - a small OpenEXR reader, for image textures and environment maps.
 
-   Exported (specnee.h section 10): exr_read_memory, exr_read.  scene.c reads an
-   imagemap texture's or an infinite light's .exr with exr_read (a .pfm of the same
-   name beside it is read instead, when there is one).
+   Exported (specnee.h section 10): exr_read_memory, exr_read.  texture.c and
+   infinite.c read an imagemap texture's or an infinite light's .exr with exr_read
+   (a .pfm of the same name beside it is read instead, when there is one).
 
    WHAT IT READS (the OpenEXR file layout, openexr.com "OpenEXR File Layout")
      All numbers little-endian.  The magic number 76 2f 31 01, then the version
@@ -95,7 +95,7 @@ static int exr_fail(Exr *x, const char *what)
 }
 
 /* A refusal of something this reader does not read, with the commands that
-   convert the file to a PFM of the same name beside it (scene.c reads that one). */
+   convert the file to a PFM of the same name beside it (the builders read that one). */
 static int exr_refuse(Exr *x, const char *what)
 {
     const char *base = strrchr(x->name, '/');

@@ -6,26 +6,26 @@
    WHAT A PIXEL FILTER MEANS.  A pixel's value is the image L seen through the
    filter f centred on the pixel:
 
-       I = integral f(x) L(c + x) dx  /  integral f(x) dx
+       pixel = integral f(x) L(c + x) dx  /  integral f(x) dx
 
    pbrt-v4 estimates it by FILTER IMPORTANCE SAMPLING (Ernst et al. 2006): each
-   camera sample of the pixel takes its offset x from a density q, carries the
-   weight w = f(x) / q(x), goes to its own pixel only, and the film keeps
+   camera sample of the pixel takes its offset x from a density p_f, carries the
+   filter weight fw = f(x) / p_f(x), goes to its own pixel only, and the film keeps
 
-       pixel = sum_k w_k L_k / sum_k w_k          (RGBFilm::AddSample, GetPixelRGB)
+       pixel = sum_k fw_k L_k / sum_k fw_k        (RGBFilm::AddSample, GetPixelRGB)
 
    a ratio of an estimate of the numerator and one of the denominator: consistent,
    and a flat image stays flat whatever the weights.  (Splatting each sample into
    every pixel it reaches would write a pixel from several threads.)
-   - box, gaussian, triangle: q is proportional to f, so w is a constant, which
-     cancels in the ratio: specnee gives them w = 1 and the pixel is the mean of
+   - box, gaussian, triangle: p_f is proportional to f, so fw is a constant, which
+     cancels in the ratio: specnee gives them fw = 1 and the pixel is the mean of
      its samples.
    - mitchell and sinc have negative lobes, so no density is proportional to f.
      pbrt-v4's FilterSampler tabulates f at the centres of int(32 r) cells per
      axis over [-r, r], draws the cell from |f_tab| and the point uniformly in it,
-     and weights by w = f_tab(cell) / q = sign(f_tab(cell)) * integral |f_tab|.  The
+     and weights by fw = f_tab(cell) / p_f = sign(f_tab(cell)) * integral |f_tab|.  The
      sign survives: a sample in a negative lobe counts against the pixel, which is
-     what makes these filters sharpen (and ring at edges), and E[w] = integral f_tab
+     what makes these filters sharpen (and ring at edges), and E[fw] = integral f_tab
      (the midpoint rule for integral f).
 
    THE FILTERS (x, y: offsets in pixels from the pixel centre; every filter is
@@ -48,7 +48,7 @@
 
    USE.  render.c: filter_init once per render from the SceneSettings, then per
    sample px, py = the sample's position in its pixel ([0, 1)^2 for box r = 1/2)
-   and weight w = filter_sample(pf, u0, u1, &px, &py); the film adds w L and w
+   and weight fw = filter_sample(pf, u0, u1, &px, &py); the film adds fw L and fw
    when filter_weighted(pf), else L (and divides by the sample count). */
 #include "specnee.h"
 #include <stdlib.h>
@@ -168,7 +168,7 @@ void filter_init(PixelFilter *pf, const SceneSettings *st)
     pf->abs_integral = sum * 2.0 * pf->radius / pf->n;
 }
 
-/* x = P^-1(u) in the table's CDF: the cell by binary search (cdf[lo] <= u <
+/* x = cdf^-1(u) in the table's CDF: the cell by binary search (cdf[lo] <= u <
    cdf[lo + 1], so cells of zero |f| are never chosen), uniform within it.  The
    offset in [-r, r]; *cell: the cell. */
 static float table_sample(const PixelFilter *pf, float u, int *cell)
@@ -203,14 +203,14 @@ float filter_sample(const PixelFilter *pf, float u0, float u1, float *px, float 
     double qx, qy;
     switch (pf->type) {
     case FILTER_BOX:
-        if (pf->radius == 0.5f) { *px = u0; *py = u1; }    /* the pixel itself (bit for bit
-                                                              specnee's original box) */
+        if (pf->radius == 0.5f) { *px = u0; *py = u1; }    /* the pixel itself, u unchanged
+                                                              (no rounding of 0.5 + (2u - 1) r) */
         else { *px = 0.5f + (2.0f * u0 - 1.0f) * pf->radius; *py = 0.5f + (2.0f * u1 - 1.0f) * pf->radius; }
         return 1.0f;
     case FILTER_GAUSSIAN:
         *px = 0.5f + table_sample(pf, u0, &cx);
         *py = 0.5f + table_sample(pf, u1, &cy);
-        return 1.0f;                     /* q ~ f_tab: a constant weight, cancelled */
+        return 1.0f;                     /* p_f ~ f_tab: a constant weight, cancelled */
     case FILTER_TRIANGLE:
         *px = 0.5f + tent_sample(u0, pf->radius);
         *py = 0.5f + tent_sample(u1, pf->radius);
@@ -219,9 +219,9 @@ float filter_sample(const PixelFilter *pf, float u0, float u1, float *px, float 
     case FILTER_SINC:
         *px = 0.5f + table_sample(pf, u0, &cx);
         *py = 0.5f + table_sample(pf, u1, &cy);
-        /* w = f_tab / q with q = |f_tab| / integral |f_tab| per axis: the sign of
-           the lobe times the integral (the fallback 0 cannot happen: a chosen cell
-           has |f_tab| > 0) */
+        /* fw = f_tab / p_f with p_f = |f_tab| / integral |f_tab| per axis (qx, qy):
+           the sign of the lobe times the integral (the fallback 0 cannot happen: a
+           chosen cell has |f_tab| > 0) */
         if (!(pf->abs_integral > 0.0)) return 0.0f;  /* a filter that is zero everywhere */
         qx = fabs((double)pf->f[cx]) / pf->abs_integral;
         qy = fabs((double)pf->f[cy]) / pf->abs_integral;

@@ -3,9 +3,9 @@
 
    Exported (specnee.h section 11): inf_Le, inf_pdf, inf_sample,
    equal_area_square_to_sphere, equal_area_sphere_to_square, inf_set_image, inf_free.
-   scene.c builds an InfiniteLight for `LightSource "infinite"` (and reads the PFM or EXR
-   image), lights.c treats it as one more emitter for every selection strategy,
-   render.c adds its radiance to rays that escape the scene.
+   The last section builds an InfiniteLight for `LightSource "infinite"` (and reads the
+   PFM or EXR image), lights.c treats it as one more emitter for every selection
+   strategy, path.c adds its radiance to rays that escape the scene.
 
    1. THE MAP (Clarberg, "Fast equal-area mapping of the (hemi)sphere using SIMD",
       JGT 2008; pbrt-v4's EqualAreaSquareToSphere).  With (a, b) = 2 (u, v) - 1 in

@@ -2,9 +2,9 @@
    over a Lambertian or a conductor base, with an optional scattering medium between
    the two, evaluated by stochastic random walks between the interfaces.
 
-   Exported: layered_sample, layered_eval, layered_pdf (specnee.h section 6),
-   called by material.c's bsdf_sample / bsdf_eval in the shading frame (n = +z,
-   directions pointing away from the surface, f without the cosine).  The coat's
+   Exported: layered_sample, layered_eval, layered_pdf, layered_seed (specnee.h
+   section 6), called by material.c's bsdf_sample / bsdf_eval in the shading frame
+   (n = +z, directions pointing away from the surface, f without the cosine).  The coat's
    and the base's Fresnel terms and GGX come from the scattering room
    (microfacet.c), the phase function from medium.c; this room calls neither
    material.c nor conductor.c.
@@ -59,13 +59,13 @@
       smooth coat's refracted pair, MIS of the two one-bounce strategies when
       rough), mixed with the uniform sphere: pdf = 0.1/(4 pi) + 0.9 estimate.
 
-   Integration with specnee's estimator (render.c): the MIS weights of a
+   Integration with specnee's estimator (path.c): the MIS weights of a
    direction must come from ONE function whether NEE (bsdf_eval) or BSDF
    sampling found it.  That function is layered_pdf(wo, wi): a stochastic
    estimate made deterministic by seeding its random stream from (wo, wi) (as
    pbrt-v4 hashes its --seed, wo and wi).  bsdf_sample therefore reports pdf =
    pdf_l[j] = layered_pdf(wo, wi) and f[j] = f_walk[j] pdf / p_walk, so that
-   render.c's update beta *= f cos / pdf multiplies by f_walk cos / p_walk, the
+   path.c's update beta *= f cos / pdf multiplies by f_walk cos / p_walk, the
    walk's unbiased weight, while the emitter hit's MIS weight uses pdf, the
    same number NEE's bsdf_eval reports for that pair (pbrt-v4's path.cpp:
    p_b = pdfIsProportional ? bsdf.PDF(wo, wi) : pdf).  Any positive function

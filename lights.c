@@ -2,11 +2,16 @@
 
    Exported (specnee.h section 11): emitters_prepare, emitter_radiance,
    emitter_sample, emitter_pdf_sa, emitter_can_reach, light_sampler_build/free,
-   light_Le, light_spectrum, light_n_pieces, light_piece_emitter, light_piece_of,
-   light_sample, light_pdf_sa, light_voxel, light_select, light_select_pmf,
-   light_sampler_bytes, sel_from_name, sel_name.  The light tree of the strategies
-   tree and spectral-tree has its own file, lighttree.c.  docs/THEORY.md section 5
-   derives everything below; this comment says where it lives.
+   light_Le, luminance_sum, light_spectrum, light_n_pieces, light_piece_emitter,
+   light_piece_of, light_sample, light_pdf_sa, light_voxel, light_select,
+   light_select_pmf, light_tree_simd_mismatches, light_sampler_bytes,
+   light_sampler_lazy_seconds, sel_from_name, sel_name; what path.c's NEE asks
+   ("what NEE asks", near the end): light_nee_count, light_nee_piece,
+   light_nee_pmf, light_nee_source; for the scene builder (parser.h, the last
+   section): area_light_from_params.
+   The light tree of the strategies tree and spectral-tree has its own file,
+   lighttree.c.  THEORY §5 derives everything below; this comment says where it
+   lives.
 
    1. Emitters.  An emitter is one AreaLightSource shape (mesh, sphere, quadric), an
       infinite light (infinite.c) or a delta light (delta.c).  Its radiance is
@@ -14,29 +19,30 @@
       seen emitter has luminance scale; the range belongs to a render, so Le lives in
       the LightSampler (light_sampler_build), not in the Scene.  Points are sampled
       by area (a triangle by area, then uniformly on it), with the solid-angle
-      density p_sigma(y) = |x - y|^2 / (A |cos theta_y|) (THEORY section 4); a
+      density p_sigma(y) = |x - y|^2 / (A |cos theta_y|) (THEORY §4); a
       sphere seen from outside in the cone it subtends (sphere_cone).
 
    2. Selection.  light_select picks a piece i (an emitter, or with the light trees
       a cluster of at most LIGHT_CLUSTER_TRIS triangles of a big emissive mesh:
-      THEORY 5.1) with probability P(i | c) in the context c stored at the vertex;
+      THEORY §5.1) with probability P(i | c) in the context c stored at the vertex;
       light_select_pmf(c, i) returns the same number for a piece that BSDF sampling
-      hits (the contract C1-C4, THEORY 5.5).  The strategies and their pmfs are the
-      table of THEORY 5.2: uniform, power, spatial, the thesis' spd and product,
-      spectral-spatial, and the trees (lighttree.c, THEORY 5.4).  The spectral ones
+      hits (the contract C1-C4, THEORY §5.5).  The strategies and their pmfs are the
+      table of THEORY §5.2: uniform, power, spatial, the thesis' spd and product,
+      spectral-spatial, and the trees (lighttree.c, THEORY §5.4).  The spectral ones
       use the hero's bin on hero-only paths and the sum over the alive wavelengths'
       bins with --all-wavelengths or after a fluorescent shift, so P is the same
-      whichever alive wavelength is the hero (C4, THEORY 6); no emitter in those
+      whichever alive wavelength is the hero (C4, THEORY §6); no emitter in those
       bins falls back to spatial (counted).  Costs: uniform O(1), power and the
       trees O(log n), the table strategies O(n) per vertex.
 
-   3. The spatial table (pbrt-v3's SpatialLightDistribution, THEORY 5.2): per voxel
+   3. The spatial table (pbrt-v3's SpatialLightDistribution, THEORY §5.2): per voxel
       of a SPATIAL_RES grid, SPATIAL_SAMPLES Halton receivers and emitter points give
-      each emitter g_j = sum [faces the receiver] / p_sigma and s_j = Y_j g_j,
-      floored at 1e-3 of the mean.  Voxels are built lazily (an OpenMP critical
+      each emitter e gamma_e = sum [faces the receiver] / p_sigma and s_e = Y_e
+      gamma_e (THEORY's gamma_e(v), s_e(v)), floored at 1e-3 of the mean.  Voxels
+      are built lazily (an OpenMP critical
       section) or all up front; both give the same tables.
 
-   4. Which side an emitter lights (emitter_can_reach, THEORY 5.3): where the
+   4. Which side an emitter lights (emitter_can_reach, THEORY §5.3): where the
       spatial table is used, emitter i's weight is multiplied by reach_i(x) in
       {0, 1}, 0 only where no point of i can light x (the planes of a one-sided mesh
       of at most REACH_MAX_TRIS triangles, a sphere's surface, a disk's plane, a
@@ -159,23 +165,23 @@ int emitter_can_reach(const Scene *s, int e, Vec3 p)
     return 0;
 }
 
-/* sum_{1 nm over [lo, hi]} ybar(lambda) S(lambda): the luminance that normalises
-   an emitter's spectrum S (for an image map, S = D65, held in L). */
-double luminance_sum(const Spectrum *S, float lo_nm, float hi_nm)
+/* sum_{1 nm over [lo, hi]} ybar(lambda) L(lambda): the luminance that normalises
+   an emitter's spectrum L (for an image map, L = D65). */
+double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm)
 {
     double norm = 0.0;
     int lam;
     for (lam = (int)ceilf(lo_nm); lam <= (int)floorf(hi_nm); lam++) {
         float xyz[3];
         cie_xyz((float)lam, xyz);
-        norm += (double)xyz[1] * spec_eval(S, (float)lam);
+        norm += (double)xyz[1] * spec_eval(L, (float)lam);
     }
     return norm;
 }
 
-/* Le = scale * S / luminance_sum(L) with S = L (S = the mean colour's spectrum
-   for an image map), and k = scale / luminance_sum(L), which infinite.c applies
-   to an image map's texels. */
+/* Le = scale * L_shape / luminance_sum(L) with L_shape = L (L_shape = the mean
+   colour's spectrum for an image map; `shape` below), and k = scale /
+   luminance_sum(L), which infinite.c applies to an image map's texels. */
 static int radiance_and_k(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *Le,
                           double *k, Error *err)
 {
@@ -371,8 +377,9 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
         double omc;
         if (sphere_cone(sh, ref, &omc)) {
             /* a direction in the cone around the centre, then the sphere's near
-               point along it (the ray ref + t w enters the sphere at
-               t = d cos theta - sqrt(r^2 - d^2 sin^2 theta)) */
+               point along it (the ray ref + t w, w the sampled direction, enters
+               the sphere of radius rho, r below, at
+               t = d cos theta - sqrt(rho^2 - d^2 sin^2 theta)) */
             Vec3 wc = v3_sub(sh->center, ref);
             double d = v3_len(wc), om = (double)u1 * omc, cos_t = 1.0 - om;
             double sin2 = om * (2.0 - om), phi = 2.0 * SPECNEE_PI * u2, disc, t;
@@ -544,8 +551,9 @@ static int uses_grid(SelStrategy st)
 static const float voxel_failed[1] = { 0.0f };
 #define VOXEL_FAILED ((float *)voxel_failed)
 
-/* The per-voxel estimate of section 3 above: fills s[n] (a pmf) and g[n].
-   Returns 0 (out[] untouched) when out of memory. */
+/* The per-voxel estimate of section 3 above: fills out[0..n) with s_e and
+   out[n..2n) with gamma_e (g[] accumulates gamma_e).  Returns 0 (out[] untouched)
+   when out of memory. */
 static int build_voxel(const LightSampler *ls, long v, float *out)
 {
     const Scene *s = ls->scene;
@@ -1012,7 +1020,7 @@ float light_pdf_sa(const LightSampler *ls, int piece, Vec3 ref, Vec3 p, Vec3 n)
 
 /* Row of a wavelength in the spectral table T: the thesis' 60 bins over 400-700 nm
    are rows SPD_UV_BINS.., the 20 UV bins over 300-400 nm (fluorescence excitation,
-   docs/FLUORESCENCE.md section 5) rows 0..19; -1 outside 300-700 nm. */
+   docs/FLUORESCENCE.md §5) rows 0..19; -1 outside 300-700 nm. */
 static int spd_bin(float lambda)
 {
     int b;
@@ -1233,7 +1241,7 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
     {
         /* A spectrum with no luminance in 400-700 nm (an ultraviolet lamp) cannot be
            normalised to Y = scale: lights.c reads it as absolute spectral radiance
-           times scale (docs/conventions.md section 4, docs/FLUORESCENCE.md section 6). */
+           times scale (docs/conventions.md §4, docs/FLUORESCENCE.md §6). */
         double vis = 0.0, any = 0.0;
         int nm;
         for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {

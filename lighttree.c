@@ -15,14 +15,16 @@
    A binary tree over the pieces' boxes, built top-down by the surface-area-
    orientation cost, then collapsed into a 4-wide tree (a node's children are
    the binary node's grandchildren) that the walk reads.  Each child stores a
-   bounding sphere, an orientation cone (axis w, theta_o, theta_e), its power
-   Phi and its power per 5 nm bin (from 300 nm up: fluorescence excites below
-   the sampled range).  Importance at a shading point p with normal n:
-       I = Phi_c cos(theta') cos(theta_i') / d^2
+   bounding sphere (radius rho_k), an orientation cone (axis a_k, theta_o,
+   theta_e), its power Phi and its power per 5 nm bin (from 300 nm up:
+   fluorescence excites below the sampled range).  The importance (THEORY (5a))
+   of child k at a shading point p with normal n:
+       imp_k = Phi_c cos(theta') cos(theta_i') / d^2
    with Phi_c = Phi (tree) or the power in the alive wavelengths' bins
-   (spectral-tree); inside the bounding sphere I = Phi_c / max(d, r/4)^2, and
-   I = 0 "behind the box" (node_behind).  The walk goes to child k with
-   probability I_k / sum I; the pmf of a piece follows its trail (the children
+   (spectral-tree); inside the bounding sphere imp_k = Phi_c / max(d, rho_k/4)^2,
+   and imp_k = 0 "behind the box" (node_behind).  The walk goes to child k with
+   probability imp_k / sum_k' imp_k' (the code's arrays I[] hold imp_k, S their
+   sum); the pmf of a piece follows its trail (the children
    taken, two bits a level) through the same function, so select and pmf cannot
    disagree.  Lights without a position (infinite, distant) stand beside the
    tree: each has probability 1 / (n_beside + 1), the tree the last share.
@@ -52,8 +54,8 @@
    collapsed into 4-wide nodes.  Depth-first order: the first child of an
    interior node i is node i + 1, the second is nodes[i].second. */
 typedef struct {
-    float c[3], r;             /* centre and radius of the box's bounding sphere */
-    float axis[3];             /* orientation cone: unit axis w ... */
+    float c[3], r;             /* centre and radius rho of the box's bounding sphere */
+    float axis[3];             /* orientation cone: unit axis a ... */
     float cos_o, sin_o, cos_e; /* ... theta_o, cos theta_e (cos_o = -1: every direction) */
     float power;               /* radiant power over the sampled range */
     float behind, slack;       /* nothing below lights p when (p - c) . axis <=
@@ -69,8 +71,8 @@ typedef struct {
    so that the four importances are computed side by side).  A lane that holds
    no child has power 0, so its importance is 0 and it is never taken. */
 typedef struct {
-    float cx[4], cy[4], cz[4], r[4];   /* each child's bounding sphere */
-    float ax[4], ay[4], az[4];         /* its orientation cone: unit axis w ... */
+    float cx[4], cy[4], cz[4], r[4];   /* each child's bounding sphere (r: rho_k) */
+    float ax[4], ay[4], az[4];         /* its orientation cone: unit axis a_k ... */
     float cos_o[4], sin_o[4];          /* ... theta_o ... */
     float cos_e[4];                    /* ... and cos theta_e */
     float behind[4], slack[4];         /* TreeNode.behind and .slack */
@@ -152,7 +154,7 @@ int longest_axis(Vec3 d)
 
 /* ------------------------------------------------------------------ bounds: cones, boxes, the split cost */
 
-/* An orientation cone: unit axis w, cos theta_o, cos theta_e. */
+/* An orientation cone: unit axis a (the field w), cos theta_o, cos theta_e. */
 typedef struct { Vec3 w; float cos_o, cos_e; } Cone;
 
 static Cone cone_full(float cos_e)
@@ -287,21 +289,21 @@ static int piece_triangle(const LightTreeInput *in, const LightPiece *pc, const 
 
 /* TreeNode.behind and .slack of a node with bounds a ("behind the box",
    docs/lighttree.md).  Every emitted direction omega of the node lies within theta_t =
-   theta_o + theta_e of its axis w.  Light from a point x of the box reaches p
+   theta_o + theta_e of its axis a.  Light from a point x of the box reaches p
    only along omega = (p - x) / |p - x|, so only if
-       w . (p - x) > cos(theta_t) |p - x| = -sin(delta) |p - x|,
+       a . (p - x) > cos(theta_t) |p - x| = -sin(delta) |p - x|,
    delta = theta_t - pi/2 (slack = sin(delta), 0 where theta_t <= pi/2; no
    plane at all where theta_t >= pi, where sin(delta) would shrink again, or
-   for two-sided nodes).  With h = min of w . x over the vertices of the
+   for two-sided nodes).  With h = min of a . x over the vertices of the
    pieces' triangles (every emitting point is a convex combination of them;
    the box's corners would put the plane far behind a tilted panel),
-   w . (p - x) <= w . p - h, and |p - x| <= |d| + r (d = p - c), so nothing
-   below lights p when
-       w . p - h <= -slack (|d| + r),
-   i.e. in the walk's terms d . w <= behind - slack L, behind = h - w . c,
-   L = sqrt(|d|^2 - r^2) + 2 r >= |d| + r outside the bounding sphere and
-   L = 2 r >= |d| + r inside it.  The margin (behind_margin, larger than the
-   round-off of d . w for points in the scene) and rounding behind down and
+   a . (p - x) <= a . p - h, and |p - x| <= |d| + rho (d = p - c, rho the
+   bounding sphere's radius), so nothing below lights p when
+       a . p - h <= -slack (|d| + rho),
+   i.e. in the walk's terms d . a <= behind - slack L, behind = h - a . c,
+   L = sqrt(|d|^2 - rho^2) + 2 rho >= |d| + rho outside the bounding sphere and
+   L = 2 rho >= |d| + rho inside it.  The margin (behind_margin, larger than the
+   round-off of d . a for points in the scene) and rounding behind down and
    slack up keep the float test on the safe side. */
 static float node_behind(const Builder *B, const int *items, int n, const Acc *a, const TreeNode *nd,
                          float *slack)
@@ -571,7 +573,7 @@ static void piece_bounds(const LightTreeInput *in, const LightPiece *pc, PieceBo
            spot light within theta_o = its full-intensity cone and theta_e = the
            falloff band beyond it (every direction when its CTM stretches the
            cone out of round).  A band of less than a milliradian is widened
-           to one: "I = 0 when theta' >= theta_e" must not cut off a point just
+           to one: "imp_k = 0 when theta' >= theta_e" must not cut off a point just
            inside the cone by round-off (pbrt-v4 keeps a similar slop) */
         const DeltaLight *d = &em->delta;
         out->bmin = out->bmax = d->p;
@@ -688,7 +690,7 @@ static float query_power(const TreeQuery *q, const float *bins, int stride)
 }
 
 /* Inside a node's bounding sphere the walk divides by |d|^2, but by no less
-   than (r/4)^2 = TREE_INSIDE r^2 (1/4 measured: 1/2 to 1/10 gave
+   than (rho/4)^2 = TREE_INSIDE rho^2 (1/4 measured: 1/2 to 1/10 gave
    the same MSE within 0.5% on the hall and many-lamps, docs/lighttree.md). */
 #define TREE_INSIDE 0.0625f
 
@@ -698,18 +700,19 @@ static float query_power(const TreeQuery *q, const float *bins, int stride)
    four lanes at once exactly as this does one).  The walk waits for it at
    every level, and a core has one unit for square roots and divisions, so it
    is written with as few of them as the bound allows: with d = p - centre (not
-   normalised) and
-       S_b = sqrt(|d|^2 - r^2) = |d| cos theta_b,   r = |d| sin theta_b,
-       dw = d . w (|d . w| when two-sided) = |d| cos theta_w,
+   normalised), rho the bounding sphere's radius (r in the code), a the cone's
+   axis, and
+       S_b = sqrt(|d|^2 - rho^2) = |d| cos theta_b,   rho = |d| sin theta_b,
+       dw = d . a (|d . a| when two-sided) = |d| cos theta_w,
        S_w = sqrt(|d|^2 - dw^2) = |d| sin theta_w,
        dn = |d . n| = |d| cos theta_i,   S_i = sqrt(|d|^2 - dn^2) = |d| sin theta_i,
    every cosine of the bound is a ratio with |d| or |d|^2 below:
        theta_w <= theta_o  <=>  dw |dw| >= cos_o |cos_o| |d|^2   (x |x| increases),
-       X = |d|^2 cos theta' = |d|^2, or (dw cos_o + S_w sin_o) S_b + (S_w cos_o - dw sin_o) r,
-       Y = |d|^2 cos theta_i' = |d|^2, or dn S_b + S_i r,
-   and I = Phi_c (1 / |d|^2) (X / |d|^2) (Y / |d|^2): three square roots and
-   one division (by |d|^2, at least FLT_MIN).  Inside the bounding sphere
-   I = Phi_c / max(|d|^2, TREE_INSIDE r^2), no angle.  The product is taken in
+       X = |d|^2 cos theta' = |d|^2, or (dw cos_o + S_w sin_o) S_b + (S_w cos_o - dw sin_o) rho,
+       Y = |d|^2 cos theta_i' = |d|^2, or dn S_b + S_i rho,
+   and imp_k = Phi_c (1 / |d|^2) (X / |d|^2) (Y / |d|^2) (I below): three square
+   roots and one division (by |d|^2, at least FLT_MIN).  Inside the bounding
+   sphere imp_k = Phi_c / max(|d|^2, TREE_INSIDE rho^2), no angle.  The product is taken in
    double, where it can neither overflow nor round a positive importance to 0. */
 static double lane_importance(const TreeNode4 *nd, int k, const TreeQuery *q, float phi)
 {
@@ -725,12 +728,12 @@ static double lane_importance(const TreeNode4 *nd, int k, const TreeQuery *q, fl
     dw = dx * nd->ax[k] + dy * nd->ay[k] + dz * nd->az[k];
     Sb = d2 > r2 ? sqrtf(d2 - r2) : 0.0f;
     if (dw <= nd->behind[k] - nd->slack[k] * (Sb + 2.0f * r))
-        return 0.0;                                  /* p behind the box: I = 0 (node_behind) */
+        return 0.0;                                  /* p behind the box: imp_k = 0 (node_behind) */
     if (!(d2 > r2)) { /* p inside the bounding sphere: no angle can be bounded; */
-        float den = d2 > TREE_INSIDE * r2 ? d2 : TREE_INSIDE * r2;   /* I = Phi_c / max(|d|, r/4)^2 */
+        float den = d2 > TREE_INSIDE * r2 ? d2 : TREE_INSIDE * r2;   /* imp_k = Phi_c / max(|d|, rho/4)^2 */
         return (double)phi * (double)(1.0f / (den > FLT_MIN ? den : FLT_MIN));
     }
-    if (!(d2 <= FLT_MAX)) return 0.0;                /* p at infinity: I = 0 */
+    if (!(d2 <= FLT_MAX)) return 0.0;                /* p at infinity: imp_k = 0 */
     if (nd->twosided[k]) dw = fabsf(dw);
     if (dw * fabsf(dw) >= nd->cos_o[k] * fabsf(nd->cos_o[k]) * d2) {
         X = d2;                                      /* p inside the normal cone */
@@ -740,7 +743,7 @@ static double lane_importance(const TreeNode4 *nd, int k, const TreeQuery *q, fl
         float A = dw * nd->cos_o[k] + Sw * nd->sin_o[k];   /* |d| cos(theta_w - theta_o) */
         float B = Sw * nd->cos_o[k] - dw * nd->sin_o[k];   /* |d| sin(theta_w - theta_o) */
         X = A >= Sb ? d2 : A * Sb + B * r;
-        if (X <= nd->cos_e[k] * d2) return 0.0;      /* theta' >= theta_e: I = 0 */
+        if (X <= nd->cos_e[k] * d2) return 0.0;      /* theta' >= theta_e: imp_k = 0 */
     }
     Y = d2;
     if (q->has_n) {
@@ -752,7 +755,7 @@ static double lane_importance(const TreeNode4 *nd, int k, const TreeQuery *q, fl
     return I >= 0.0 ? I : 0.0;                       /* NaN: 0 */
 }
 
-/* The importances I[0..4) of the four lanes of nd, with powers phi[0..4):
+/* The importances imp_k of the four lanes of nd, into I[0..4), with powers phi[0..4):
    lane_importance four times.  With SSE2 the four are computed side by side,
    step for step the same operations in the same order (both sides of every
    test computed, the right one kept by a mask), so the results are the same
@@ -780,14 +783,14 @@ static void node_importance4(const TreeNode4 *nd, const TreeQuery *q, const floa
     __m128 behind;
     inside = _mm_cmpngt_ps(d2, r2);
     Sb = _mm_sqrt_ps(_mm_sub_ps(d2, r2));
-    /* p behind the box: I = 0, inside the bounding sphere too (L: Sb, 0 inside, + 2 r) */
+    /* p behind the box: imp_k = 0, inside the bounding sphere too (L: Sb, 0 inside, + 2 rho) */
     behind = _mm_cmple_ps(dw, _mm_sub_ps(_mm_loadu_ps(nd->behind),
                                          _mm_mul_ps(_mm_loadu_ps(nd->slack),
                                                     _mm_add_ps(_mm_andnot_ps(inside, Sb), _mm_add_ps(r, r)))));
     dw = _mm_and_ps(dw, _mm_or_ps(one_sided, abs_mask));
     in_cone = _mm_cmpge_ps(_mm_mul_ps(dw, _mm_and_ps(dw, abs_mask)),
                            _mm_mul_ps(_mm_mul_ps(cos_o, _mm_and_ps(cos_o, abs_mask)), d2));
-    /* I = 0 where p is at infinity, or (below) where theta' >= theta_e */
+    /* imp_k = 0 where p is at infinity, or (below) where theta' >= theta_e */
     dead = _mm_cmpnle_ps(d2, _mm_set1_ps(FLT_MAX));
     X = d2;
     if (_mm_movemask_ps(in_cone) != 15) {            /* some lane outside its normal cone */
@@ -867,7 +870,7 @@ static void child_powers(const LightTree *lt, const TreeQuery *q, int i, float p
 #endif
 }
 
-/* The branch at node i: the children's importances I[0..4) and their sum *S
+/* The branch at node i: the children's importances imp_k in I[0..4) and their sum *S
    (in lane order, as the walk accumulates them); 0 when nothing below can
    light the point (or round-off overflowed). */
 static void branch_at(const LightTree *lt, const TreeQuery *q, int i, double I[4], double *S)
@@ -906,12 +909,13 @@ int light_tree_select(const LightTree *lt, const LightCtx *c, float u, float *pm
         uu -= slot;
         if (!(uu < 1.0)) uu = 1.0 - DBL_EPSILON;
     }
-    /* [lo, lo + w) is the part of [0, 1) that leads to node i (w = p / the
-       tree's share); child k gets the piece of it from lo + w C_(k-1) / S to
-       lo + w C_k / S, with C_k = I_0 + ... + I_k.  The test is uu - lo <
-       w C_k / S times S, so that the walk need not wait for the division
-       before it goes on; a child that cannot light p (I_k = 0) is never taken,
-       whatever the round-off (at the top, the last child with I_k > 0). */
+    /* [lo, lo + len) is the part of [0, 1) that leads to node i (len = p / the
+       tree's share; the variable w); child k gets the piece of it from
+       lo + len C_(k-1) / S to lo + len C_k / S, with C_k = imp_0 + ... + imp_k
+       and S = C_3.  The test is uu - lo < len C_k / S times S, so that the walk
+       need not wait for the division before it goes on; a child that cannot
+       light p (imp_k = 0) is never taken, whatever the round-off (at the top,
+       the last child with imp_k > 0). */
     for (;;) {
         double I[4], S, x, cum = 0.0, prev = 0.0, pa, invS;
         int k, pick = -1, child;

@@ -12,7 +12,7 @@
    Fluorescent (docs/FLUORESCENCE.md, F2-F4): f(li -> lo) = (1/pi) [rho(lo)(1 -
    A(lo)) delta(li - lo) + Phi A(li) e(lo) (li/lo) H(lo - li) / N(li)].  bsdf_sample
    and bsdf_eval give its reflect lobe, a Lambertian of albedo rho (1 - A); the
-   re-radiate lobe is chosen and weighted by render.c with fluor_branch_pf,
+   re-radiate lobe is chosen and weighted by path.c with fluor_branch_pf,
    fluor_sample_li and fluor_weight, after which the vertex is a Lambertian of
    albedo 1 at the excitation wavelength li.
 
@@ -41,7 +41,7 @@
    Dispersion: with a wavelength-dependent index, the hero's index picks the
    direction.  For other wavelengths f and pdf are evaluated along the SAME
    directions with their own index (needed only by the rough spectral MIS of
-   render.c; at smooth dispersive interfaces the other wavelengths have pdf 0).
+   path.c; at smooth dispersive interfaces the other wavelengths have pdf 0).
 
    The last section builds these materials from a scene's parameters for the
    scene builder (*_from_params, parser.h). */
@@ -151,7 +151,7 @@ static double fluor_tail_at(const Material *m, float li)
 float fluor_branch_pf(const Material *m, float lo)
 {
     /* Any P_f > 0 wherever re-radiation can contribute is unbiased; specnee uses 1/2
-       where both lobes can contribute, else the one that can (FLUORESCENCE 3). */
+       where both lobes can contribute, else the one that can (docs/FLUORESCENCE.md §3). */
     int can_f = m->type == MAT_FLUORESCENT && fluor_cdf_at(m, stokes_limit(lo)) > 0.0 &&
                 spec_eval(&m->emission, lo) > 0.0f && m->qyield > 0.0f;
     int can_r = mat_albedo(m, lo) > 0.0f;
@@ -215,7 +215,7 @@ float fluor_pdf_li(const Material *m, float lo, float li)
 }
 
 /* ---- li in proportion to A x the scene's emitter power, with a defensive share
-   of A alone (FLUORESCENCE 3, "Excitation wavelength from A x power") ---- */
+   of A alone (docs/FLUORESCENCE.md §3, "Excitation wavelength from A x power") ---- */
 
 void fluor_power_cdf(const Material *m, const Spectrum *E, double *cdf)
 {
@@ -257,7 +257,7 @@ float fluor_sample_li_mix(const Material *m, const double *pcdf, float a, float 
     return li;
 }
 
-/* ---- li uniformly on [300, lo] (--fluor-li uniform; FLUORESCENCE 3): blind to A,
+/* ---- li uniformly on [300, lo] (--fluor-li uniform; docs/FLUORESCENCE.md §3): blind to A,
    the reference the other two samplers must agree with ---- */
 
 float fluor_sample_li_uniform(float lo, float u, float *pdf)
@@ -529,7 +529,7 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
 #include "parser.h"
 
 /* pbrt-v4 (materials.cpp): no material, only the boundary between two media;
-   "" and "none" are its deprecated spellings.  Rays cross it (render.c) */
+   "" and "none" are its deprecated spellings.  Rays cross it (path.c) */
 int interface_from_params(Parser *P, ParamList *pl, const char *file, int line,
                           const char *dir, const char *what, Material *m)
 {
@@ -565,7 +565,7 @@ int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
                                "texture reflectance", "displacement normalmap");
 }
 
-/* specnee extension (docs/FLUORESCENCE.md, docs/conventions.md section 6):
+/* specnee extension (docs/FLUORESCENCE.md, docs/conventions.md §6):
    a diffuse fluorescent layer, F2 */
 int fluorescent_from_params(Parser *P, ParamList *pl, const char *file, int line,
                             const char *dir, const char *what, Material *m)

@@ -5,7 +5,7 @@
    Exported (specnee.h section 6b): medium_sigma_t, medium_sigma_s, medium_sigma_a,
    hg_phase, hg_sample, medium_preset, medium_after.
 
-   THE MODEL (pbrt-v4 MakeNamedMedium "homogeneous"; THEORY section 12 derives the
+   THE MODEL (pbrt-v4 MakeNamedMedium "homogeneous"; THEORY §12 derives the
    estimator that uses it, docs/media.md summarises the format and the
    measurements).  Equation numbers are THEORY's.  Between surfaces a ray travels through at most one
    medium, with coefficients per unit length
@@ -35,7 +35,7 @@
    surface leaves the ray in the medium it came through (a diffuse floor in fog
    sends its rays back into the fog).  The camera is in the outside medium of the
    MediumInterface in force at the Camera directive.  A surface with Material
-   "interface" is no surface at all: rays cross it (render.c), shadow rays too.
+   "interface" is no surface at all: rays cross it (path.c), shadow rays too.
 
    The last section builds a medium from a MakeNamedMedium's parameters for the
    scene builder (medium_from_params, parser.h). */

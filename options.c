@@ -3,7 +3,8 @@
 
    Implements, for the scene builder (scene.c's directive loop calls them before
    WorldBegin, parser.h): camera_directive, film_directive, filter_directive,
-   sampler_directive, integrator_directive, accelerator_directive; and, for the
+   sampler_directive, integrator_directive, accelerator_directive,
+   camera_transform_ok (also scene_load's last check); and, for the
    renderer and the commands (specnee.h section 8), film_bounds and
    scene_insets_rendered.  Each reads its statement's parameters with parser.h's
    typed getters, checks them (every problem is a "file:line: problem" line) and
@@ -21,7 +22,7 @@
 /* The camera transform must give the renderer finite numbers, as mesh vertices
    must: the eye and the world-space directions through the image's corners and
    centre, in float, with a length that neither overflows nor underflows when
-   squared (render.c normalises them).  A transform such as `Scale 1e-30 ...`
+   squared (camera.c normalises them).  A transform such as `Scale 1e-30 ...`
    before Camera is invertible in double precision but fails here. */
 int camera_transform_ok(const Xform *camera_from_world, float fov_deg, int xres, int yres)
 {
@@ -536,7 +537,7 @@ int integrator_directive(Parser *P, const char *type, ParamList *pl, const char 
     const char *ls = NULL, *reads;
     char what[64];
     /* volpath (pbrt-v4's default) is specnee's path tracer with its media
-       (render.c, docs/media.md); bdpt converges to the same image (pbrt-v4's bdpt
+       (path.c, docs/media.md); bdpt converges to the same image (pbrt-v4's bdpt
        renders media too); sppm and simplepath (pbrt-v4's unidirectional path tracer
        without MIS: uniform light choice, lights and/or BSDF sampled, every variant
        unbiased) to the image of "path", which ignores media (settings.media_ignored) */

@@ -5,26 +5,27 @@
    THE ESTIMATOR (THEORY §2-§9; the numbers below are THEORY's equations, the
    symbols those of its §0).  render.c draws four wavelengths lambda_j by rotation
    in the CDF of the wavelength pdf p (2).  The path X is sampled with the hero
-   lambda_0 only.  For a path ended by technique t (NEE or BSDF sampling) the film
+   lambda_0 only.  For a path ended by technique tau (NEE or BSDF sampling) the film
    receives, for each wavelength j,
 
-                      f(X, lambda_j) p_t(X | lambda_0)
-        C_j = --------------------------------------------------        (4)
-               p(lambda_j) * sum_{t', m} p_t'(X | lambda_m)^2
+                      f(X, lambda_j) p_tau(X | lambda_0)
+        C_j = ------------------------------------------------------    (4)
+               p(lambda_j) * sum_{tau', m} p_tau'(X | lambda_m)^2
 
    the power heuristic over every (technique, hero) pair that could have made X
    (THEORY §4).  A path carries four lanes (PathState): the throughput
    beta_j = f(prefix, lambda_j)/p(prefix | lambda_0), the pdf ratio
    r_m = p(prefix | lambda_m)/p(prefix | lambda_0) (r_0 = 1), and an alive bit.
-   With g_j = f_s Le_j |cos| for the last segment and the technique densities
+   With l_j = f_s Le_j |cos| the last segment's integrand (THEORY's ell_j) and the
+   technique densities
    q_nee = P(e | c) p_sigma (selection pmf x solid-angle pdf; one value for every
    m, THEORY §6) and q_bsdf(m) (the BSDF pdf of the last direction with
    wavelength m's index), a contribution at the last vertex is
 
-        C_j = beta_j g_j q_t(0) / (p(lambda_j) D),
+        C_j = beta_j l_j q_tau(0) / (p(lambda_j) D),
         D   = sum_m r_m^2 (q_nee^2 + q_bsdf(m)^2)                          (6)
 
-   Each step returns its Contribution (beta_j g_j times its weight) and the caller
+   Each step returns its Contribution (beta_j l_j times its weight) and the caller
    adds it to the FilmSample; film_add divides by p(lambda_j) (9).  NEE's weight
    is q_nee/D (nee_sample); an emitter that the sampled direction finds, whose
    beta already holds 1/q_bsdf(0), gets W = q_bsdf(0)^2/D (emitter_found, for
@@ -56,17 +57,17 @@
    walkthrough does.  C wants helpers first, so the file reads bottom-up:
    trace_path is its last function.
 
-   PARTICIPATING MEDIA (THEORY §12, docs/media.md).  medium_flight draws the
+   PARTICIPATING MEDIA (THEORY §12; docs/media.md summarises).  medium_flight draws the
    distance with the hero's sigma_t (16) and multiplies the ratios r_m by the other
    wavelengths' densities of the same collision or passage (17); medium_vertex adds
    the medium's emission (20) and scatters with the phase function; nee_sample
    multiplies NEE by the shadow ray's transmittance and every BSDF/phase density in
-   D by T_m (19), as PrevVertex.T does for an emitter that a sampled direction
+   D by Tr_m (19), as PrevVertex.T (Tr) does for an emitter that a sampled direction
    finds.  Surfaces of Material "interface" only hand the ray from one medium to
    the next.
 
    Russian roulette (from depth RR_START_DEPTH) survives with probability
-   q = min(1, 4 max_j beta_j / sum_m r_m)  (8).  beta_j / sum_m r_m =
+   P_survive = min(1, 4 max_j beta_j / sum_m r_m)  (8).  beta_j / sum_m r_m =
    f_j / sum_m p(prefix | lambda_m) does not depend on which wavelength was the
    hero, so the roulette is the same for every technique and needs no place in (4).
 
@@ -92,9 +93,10 @@ typedef struct {
     Vec3 p;                          /* its position */
     float q_bsdf[HERO_N];            /* pdf of the sampled direction per wavelength */
     float r[HERO_N];                 /* pdf ratios of the prefix before that vertex */
-    double T[HERO_N];                /* transmittance of the media since that vertex, per
-                                        wavelength (1 without media): the BSDF technique's
-                                        pdf of the segment is q_bsdf(m) T_m (docs/media.md) */
+    double T[HERO_N];                /* Tr, the transmittance of the media since that
+                                        vertex, per wavelength (1 without media): the BSDF
+                                        technique's pdf of the segment is q_bsdf(m) Tr_m
+                                        (THEORY (19)) */
     unsigned alive;                  /* wavelengths alive at that vertex */
 } PrevVertex;
 
@@ -102,7 +104,8 @@ typedef struct {
 typedef struct {
     float lam[HERO_N];               /* the wavelengths light is transported at: the
                                         camera's until a fluorescent shift moves them to
-                                        lambda_i; the film keeps the camera's (FLUORESCENCE 4) */
+                                        lambda_i; the film keeps the camera's
+                                        (docs/FLUORESCENCE.md §4) */
     float beta[HERO_N];              /* throughput beta_j */
     float r[HERO_N];                 /* pdf ratios r_m (r_0 = 1) */
     unsigned alive;                  /* bit j: lane j is carried (bit 0, the hero, always) */
@@ -120,7 +123,7 @@ typedef struct {
     FILE *dbg;                       /* --debug-pixel's stream; NULL: silent */
 } Tracer;
 
-/* What one step adds to the film: per lane, beta_j g_j times its MIS weight, that
+/* What one step adds to the film: per lane, beta_j l_j times its MIS weight, that
    is C_j p(lambda_j) of (6).  Lanes that are not alive hold 0. */
 typedef struct {
     double c[HERO_N];
@@ -207,7 +210,7 @@ static void prev_set(PathState *path, int can_nee, const LightCtx *ctx, Vec3 p, 
     }
 }
 
-/* sum_m r_m^2 (q_nee^2 + (q_bsdf(m) T_m)^2) over the alive wavelengths */
+/* sum_m r_m^2 (q_nee^2 + (q_bsdf(m) Tr_m)^2) over the alive wavelengths */
 static double mis_denominator(const float *r, const float *q_bsdf, const double *T, float q_nee,
                               unsigned alive)
 {
@@ -231,10 +234,11 @@ static void debug_vertex(FILE *dbg, int depth, const SurfacePoint *sp, const flo
             beta[0], beta[1], beta[2], beta[3], r[0], r[1], r[2], r[3]);
 }
 
-/* --debug-pixel: a contribution's MIS weight W = q_t(0)^2 / D (the film receives
-   W / (q_t(0) p(lambda_j)) times the integrand, THEORY (6)) split into the share of
-   the technique t, summed over every hero m, and the share of hero 0 within t:
-       W = [sum_m r_m^2 q_t(m)^2 / D] x [q_t(0)^2 / sum_m r_m^2 q_t(m)^2]. */
+/* --debug-pixel: a contribution's MIS weight W = q_tau(0)^2 / D (the film receives
+   W / (q_tau(0) p(lambda_j)) times the integrand, THEORY (6)) split into the share
+   of the technique tau, summed over every hero m, and the share of hero 0 within
+   tau:
+       W = [sum_m r_m^2 q_tau(m)^2 / D] x [q_tau(0)^2 / sum_m r_m^2 q_tau(m)^2]. */
 static void debug_weight(FILE *dbg, const char *what, int e, double w, const float *r,
                          const float *q_bsdf, float q_nee, unsigned alive, int nee)
 {
@@ -255,24 +259,24 @@ static void debug_weight(FILE *dbg, const char *what, int e, double w, const flo
 }
 
 /* --debug-pixel: the sum over every (technique, hero h) pair of the MIS weight that
-   pair would give this path (THEORY §6).  Pair (t, h) evaluates its
+   pair would give this path, W_sum of THEORY (7) (§6).  Pair (tau, h) evaluates its
    weight with its OWN selection probability P_h = P(e | c with lambda_h as the
-   hero) for every term of its denominator:
-       S = sum_h r_h^2 (a_h + q_bsdf(h)^2) / sum_m r_m^2 (a_h + q_bsdf(m)^2),
-       a_h = (P_h p_sigma)^2.
-   S = 1 whenever P_h is the same for every h (the reason the renderer may use one
-   q_nee for every m); a hero-dependent P leaves S = 1 only while the densities do
-   not depend on the wavelength (r_m = 1, equal q_bsdf).  The context for hero h is
-   the stored one with the wavelengths (and their alive bits and throughputs)
-   rotated so that lambda_h is in slot 0. */
+   hero) for every term of its denominator, that is with q_nee(h) = P_h p_sigma:
+       W_sum = sum_h r_h^2 (q_nee(h)^2 + q_bsdf(h)^2)
+                     / sum_m r_m^2 (q_nee(h)^2 + q_bsdf(m)^2).
+   W_sum = 1 whenever P_h is the same for every h (the reason the renderer may use
+   one q_nee for every m); a hero-dependent P leaves W_sum = 1 only while the
+   densities do not depend on the wavelength (r_m = 1, equal q_bsdf).  The context
+   for hero h is the stored one with the wavelengths (and their alive bits and
+   throughputs) rotated so that lambda_h is in slot 0. */
 static double debug_weight_sum(const Renderer *R, const LightCtx *c, int piece, float p_sigma,
                                const float *r, const float *q_bsdf, unsigned alive)
 {
-    double S = 0.0;
+    double w_sum = 0.0;
     int h, m, k;
     for (h = 0; h < HERO_N; h++) {
         LightCtx ch = *c;
-        double a, num, den = 0.0;
+        double qn2, num, den = 0.0;       /* qn2 = q_nee(h)^2 */
         float P;
         if (!(alive & (1u << h))) continue;
         ch.alive = 0u;
@@ -283,24 +287,24 @@ static double debug_weight_sum(const Renderer *R, const LightCtx *c, int piece, 
             if (c->alive & (1u << from)) ch.alive |= 1u << k;
         }
         P = light_nee_pmf(R->ls, &ch, piece);
-        a = (double)P * p_sigma * P * p_sigma;
-        num = (double)r[h] * r[h] * (a + (double)q_bsdf[h] * q_bsdf[h]);
+        qn2 = (double)P * p_sigma * P * p_sigma;
+        num = (double)r[h] * r[h] * (qn2 + (double)q_bsdf[h] * q_bsdf[h]);
         for (m = 0; m < HERO_N; m++)
-            if (alive & (1u << m)) den += (double)r[m] * r[m] * (a + (double)q_bsdf[m] * q_bsdf[m]);
-        if (den > 0.0) S += num / den;
+            if (alive & (1u << m)) den += (double)r[m] * r[m] * (qn2 + (double)q_bsdf[m] * q_bsdf[m]);
+        if (den > 0.0) w_sum += num / den;
     }
-    return S;
+    return w_sum;
 }
 
-/* Silence means S = 1 (to 1e-4): said once in docs/WALKTHROUGH.md. */
-static void debug_check_sum(FILE *dbg, double S)
+/* Silence means W_sum = 1 (to 1e-4): said once in docs/WALKTHROUGH.md. */
+static void debug_check_sum(FILE *dbg, double w_sum)
 {
-    if (fabs(S - 1.0) > 1e-4)
+    if (fabs(w_sum - 1.0) > 1e-4)
         fprintf(dbg, "  WARNING: the MIS weights of all (technique, hero) pairs sum to %.4g, not 1: "
-                     "this contribution is weighted wrongly\n", S);
+                     "this contribution is weighted wrongly\n", w_sum);
 }
 
-/* lambda_i for a path at lo through fluorescent material mi (FLUORESCENCE 3), by
+/* lambda_i for a path at lo through fluorescent material mi (docs/FLUORESCENCE.md §3), by
    --fluor-li; *pdf the density it was drawn from (0: none). */
 static float fluor_sample_lambda_i(const Renderer *R, const Material *mat, int mi, float lo,
                                    float u, float *pdf)
@@ -320,10 +324,10 @@ typedef struct {
     float st[HERO_N];
 } Collision;
 
-/* The transmittance T_j along a shadow ray (tmax 1: it ends at its target) that
-   starts in medium med: the product of exp(-sigma_t(lambda_j) l) over the media it
-   crosses (THEORY (15)), passing surfaces of Material "interface" (pbrt-v4's
-   volpath does the same); 0 when any other surface blocks it.  T_j is left alone
+/* The transmittance Tr_j along a shadow ray (tmax 1: it ends at its target) that
+   starts in medium med: the product of exp(-sigma_t(lambda_j) t) over the lengths t
+   of the media it crosses (THEORY (15)), passing surfaces of Material "interface" (pbrt-v4's
+   volpath does the same); 0 when any other surface blocks it.  Tr_j is left alone
    for wavelengths that are not alive. */
 static int shadow_transmittance(Tracer *tr, Ray sh, int med, const PathState *path, double T[HERO_N])
 {
@@ -358,9 +362,9 @@ static int shadow_transmittance(Tracer *tr, Ray sh, int med, const PathState *pa
    distance tmax (the next surface; INFINITY: none), with the hero's free-flight
    sampling (THEORY (16)): t = -ln(1 - u) / sigma_t(lambda_0).
    Collision (t < tmax): returns 1 with *c; the lanes are not updated yet.  Pass:
-   returns 0 after multiplying each alive lane's throughput and ratio by T_j / T_0
+   returns 0 after multiplying each alive lane's throughput and ratio by Tr_j / Tr_0
    (the pass probability of the hero with lambda_j's coefficient over the hero's
-   own), and prev.T by T_j (the BSDF/phase technique's pdf for the segment, THEORY
+   own), and prev.T (Tr) by Tr_j (the BSDF/phase technique's pdf for the segment, THEORY
    (19)).  With --chromatic-media terminate, an event in a medium whose sigma_t
    differs between the alive wavelengths first terminates the secondaries. */
 static int medium_flight(Tracer *tr, int dim, float tmax, PathState *path, Collision *c)
@@ -415,8 +419,8 @@ typedef struct {
 /* One NEE sample from vertex v (THEORY (6)): a point on the piece that NEE took
    with probability P, drawn with the numbers u, weighted against the BSDF's (or
    phase function's) sampling of the same direction.  Along the shadow ray the
-   light is attenuated by the media it crosses, T_j; the BSDF technique would have
-   had to cross them too, so its pdf for wavelength m is q_bsdf(m) T_m in the
+   light is attenuated by the media it crosses, Tr_j; the BSDF technique would have
+   had to cross them too, so its pdf for wavelength m is q_bsdf(m) Tr_m in the
    denominator (THEORY (19)).  A delta light (point, spot, distant: delta.c) cannot
    be found by a BSDF direction: its weight against BSDF sampling is 1, so the
    BSDF's pdfs leave the denominator (es.pdf_sa = 1 / G there, and
@@ -539,8 +543,8 @@ static void next_event(Tracer *tr, int depth, const Scatter *v, const PathState 
 /* Emitter e, found by the sampled direction dir (unit) from the previous vertex:
    at the surface point sp, or (sp NULL) an infinite light that the escaped ray
    sees.  Its radiance times beta, weighted against NEE from there:
-   W = (q_bsdf(0) T_0)^2 / D, with q_nee = P(piece | prev's context) p_sigma
-   (0 where NEE was not possible); beta already holds 1/q_bsdf(0) and T_m / T_0
+   W = (q_bsdf(0) Tr_0)^2 / D, with q_nee = P(piece | prev's context) p_sigma
+   (0 where NEE was not possible); beta already holds 1/q_bsdf(0) and Tr_m / Tr_0
    of the media on the way (THEORY (6), (19)). */
 static Contribution emitter_found(Tracer *tr, const PathState *path, int e, const SurfacePoint *sp,
                                   Vec3 dir)
@@ -582,13 +586,14 @@ static Contribution emitter_found(Tracer *tr, const PathState *path, int e, cons
 }
 
 /* 6. Russian roulette on a hero-independent throughput: survival probability
-   q = min(1, 4 max_j beta_j / sum_m r_m) (8), from RR_START_DEPTH on.  Returns 0
-   when the path ends (also when only the hero is left and carries nothing). */
+   P_survive = min(1, 4 max_j beta_j / sum_m r_m) (8), from RR_START_DEPTH on (q in
+   the code below).  Returns 0 when the path ends (also when only the hero is left
+   and carries nothing). */
 static int russian_roulette(Tracer *tr, int depth, PathState *path)
 {
     int j;
     if (depth >= RR_START_DEPTH) {
-        float sum_r = 0.0f, bmax = 0.0f, q;
+        float sum_r = 0.0f, bmax = 0.0f, q;    /* q: P_survive */
         for (j = 0; j < HERO_N; j++)
             if (path->alive & (1u << j)) {
                 sum_r += path->r[j];
@@ -609,7 +614,7 @@ static int russian_roulette(Tracer *tr, int depth, PathState *path)
 
 /* The emission of medium med along the ray, estimated at a collision (THEORY
    (20)): its sigma_a Le, with weight 1 / sum_m r'_m^2 (no other technique makes
-   this point); ratio[j] = T_j / T_0 at the collision, rc the ratios r'_m after it. */
+   this point); ratio[j] = Tr_j / Tr_0 at the collision, rc the ratios r'_m after it. */
 static Contribution medium_emission(Tracer *tr, const PathState *path, int med, const double *ratio,
                                     const float *rc, double s0)
 {
@@ -631,11 +636,11 @@ static Contribution medium_emission(Tracer *tr, const PathState *path, int med, 
 }
 
 /* A collision c along the ray in the path's medium (medium_flight found it).
-   docs/media.md derives each factor:
-   - the collision's density for hero m is sigma_t(lambda_m) T_m(t), so every ratio
-     r_m gains (sigma_t,m / sigma_t,0) T_m / T_0 (THEORY (17));
+   THEORY §12 derives each factor:
+   - the collision's density for hero m is sigma_t(lambda_m) Tr_m(t), so every ratio
+     r_m gains (sigma_t,m / sigma_t,0) Tr_m / Tr_0 (THEORY (17));
    - emission (an emissive medium, below maxdepth): medium_emission;
-   - scattering: beta_j gains sigma_s,j T_j / (sigma_t,0 T_0): the path does not
+   - scattering: beta_j gains sigma_s,j Tr_j / (sigma_t,0 Tr_0): the path does not
      stop at an absorption (it goes on with the albedo as weight, and the
      roulette ends it), then NEE with the phase function, and the next direction
      from the phase function (f / pdf = 1, the same pdf for every wavelength).
@@ -696,14 +701,15 @@ static int medium_vertex(Tracer *tr, int depth, Ray *ray, const Collision *c, Pa
     return 1;
 }
 
-/* 3b. A fluorescent vertex reflects or re-radiates (FLUORESCENCE 3-5); mi is the
+/* The fluorescent branch (surface_vertex, between steps 3 and 4): a fluorescent
+   vertex reflects or re-radiates (docs/FLUORESCENCE.md §3-§5); mi is the
    material's index.  To re-radiate: sample lambda_i on [300, lambda_o] (from A,
    A x power or uniformly), weight by (F4), and from here on transport at lambda_i
    through a Lambertian of albedo 1: NEE, emitter selection (ctx.lambda) and every
    MIS pdf below use it.  The baseline terminates the secondaries (as at dispersive
    glass); --fluor-lanes keep shifts every alive wavelength with the SAME number ul
    through its own p(li | lo_j) and carries the branch probability in the ratios r
-   (FLUORESCENCE 4b).  To reflect: a Lambertian of albedo rho (1 - A); the choice
+   (docs/FLUORESCENCE.md §4b).  To reflect: a Lambertian of albedo rho (1 - A); the choice
    depends on lambda_o, so the pdf ratios carry it (THEORY (5)).  Returns the
    material the vertex scatters with (R->white after a shift, mat after a
    reflection); NULL: the path ends. */
@@ -757,9 +763,9 @@ static const Material *fluor_vertex(Tracer *tr, int depth, const Material *mat, 
 }
 /* A surface vertex at sp, reached along ray: the emission the path found there,
    then below maxdepth the termination of the secondaries at dispersive glass
-   (3), the fluorescent branch (3b), NEE (4) and the next direction from the BSDF
-   with the hero's index (5).  Returns 0 when the path ends; otherwise ray leaves
-   the vertex (the counterpart of medium_vertex). */
+   (3), the fluorescent branch (fluor_vertex), NEE (4) and the next direction
+   from the BSDF with the hero's index (5).  Returns 0 when the path ends;
+   otherwise ray leaves the vertex (the counterpart of medium_vertex). */
 static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *sp, PathState *path)
 {
     const Renderer *R = tr->R;

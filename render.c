@@ -7,7 +7,7 @@
 
    A RENDER.  render_begin builds the Renderer: the emitters' radiance for the
    sampled wavelength range and their selection tables (lights.c), the wavelength
-   pdf p (spectrum.c, THEORY §2), the camera, the pixel filter, the samplers and
+   pdf p (wavelengths.c, THEORY §2), the camera, the pixel filter, the samplers and
    the normalised emission of emissive media.  The Scene is only read.
 
    THE FILM (THEORY (9)).  For each sample of a pixel, render_pass picks the
@@ -18,7 +18,7 @@
    integral of ybar (emitters are normalised instead, as in pbrt-v4).  The sensor
    then scales it by the imaging ratio and clamps its largest component (pbrt-v4's
    RGBFilm::AddSample); a pixel is the mean of its samples (with mitchell or sinc,
-   sum w XYZ / sum w), white-balanced, converted to linear sRGB with pbrt-v4's
+   sum fw XYZ / sum fw), white-balanced, converted to linear sRGB with pbrt-v4's
    matrix.  A sample whose XYZ is not finite is dropped (counted; it counts as 0).
 
    DETERMINISM.  Every (pixel, sample) owns its random numbers (sampler.c) and
@@ -54,7 +54,7 @@ void render_options_default(RenderOptions *o)
        the thesis' baseline (--preset thesis) on any of them. */
     o->sel.strategy = SEL_SPECTRAL_TREE;  /* O(log n) per vertex, the thesis spectral preference */
     o->wl_mode = WL_MIXTURE;         /* importance + visible: 3-5x at equal time (docs/wavelengths.md) */
-    o->rough_mis = 1;                /* secondaries live through rough glass (docs/THEORY.md) */
+    o->rough_mis = 1;                /* secondaries live through rough glass (THEORY §7) */
     o->nee = 1;
     o->sampler = SAMPLER_SOBOL;      /* lowest equal-time error, progressive (docs/sampling.md) */
     o->fluor_keep = 1;               /* fluorescence: all four wavelengths through a shift, */
@@ -100,8 +100,8 @@ static double wall_seconds(void)
 
 /* One pass of the progressive render: samples [k0, k1) of every pixel are added,
    in sample order, to acc (3 doubles per pixel, XYZ sums), and img receives
-   acc / k1 in linear sRGB (with mitchell or sinc, acc holds sum w XYZ and wsum
-   sum w, and img receives acc / wsum: filter.c).  Summing in sample order makes a render that stops at
+   acc / k1 in linear sRGB (with mitchell or sinc, acc holds sum fw XYZ and wsum
+   sum fw, and img receives acc / wsum: filter.c).  Summing in sample order makes a render that stops at
    k1 after any sequence of passes bit-identical to one pass of k1 samples. */
 typedef struct {
     const Renderer *R;
@@ -115,14 +115,14 @@ typedef struct {
 } Pass;
 
 /* A pixel of the image from its sums: the mean of its samples' XYZ (with mitchell
-   or sinc, sum w XYZ / sum w), white-balanced, in linear sRGB. */
+   or sinc, sum fw XYZ / sum fw), white-balanced, in linear sRGB. */
 static void film_pixel(const Pass *P, const double *sum, const double *wsum, float *out)
 {
     const SceneSettings *set = &P->R->s->settings;
     double avg[3], rgb[3];
     if (!wsum) {
         avg[0] = sum[0] / P->k1; avg[1] = sum[1] / P->k1; avg[2] = sum[2] / P->k1;
-    } else if (*wsum != 0.0) {   /* pbrt-v4: sum w L / sum w, 0 when sum w = 0 */
+    } else if (*wsum != 0.0) {   /* pbrt-v4: sum fw L / sum fw, 0 when sum fw = 0 */
         avg[0] = sum[0] / *wsum; avg[1] = sum[1] / *wsum; avg[2] = sum[2] / *wsum;
     } else {
         avg[0] = avg[1] = avg[2] = 0.0;
@@ -221,7 +221,7 @@ static void render_pass(Pass *P)
                         double f = set->max_component / m;
                         xyz[0] *= f; xyz[1] *= f; xyz[2] *= f;
                     }
-                    if (wsum) {          /* mitchell, sinc: sum w L and sum w */
+                    if (wsum) {          /* mitchell, sinc: sum fw L and sum fw */
                         sum[0] += fw * xyz[0]; sum[1] += fw * xyz[1]; sum[2] += fw * xyz[2];
                     } else {             /* constant weights: the mean */
                         sum[0] += xyz[0]; sum[1] += xyz[1]; sum[2] += xyz[2];
@@ -277,7 +277,7 @@ static int setup_media(RenderJob *j, Error *err)
     return 1;
 }
 
-/* --fluor-li power (FLUORESCENCE 3): E = the scene's emitter power per nm, pi A
+/* --fluor-li power (docs/FLUORESCENCE.md §3): E = the scene's emitter power per nm, pi A
    (2 if two-sided) Le (an infinite light's area is 4 pi r^2), for this render's
    Le; a table of A E for each fluorescent material.  render_begin calls it only
    for a scene with fluorescent materials (none to build, and no O(n) pass over the
@@ -335,7 +335,7 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     j->R.ls = light_sampler_build(s, &j->sel, err);
     if (!j->R.ls) { free(j); return NULL; }
     {
-        /* the wavelength pdf (spectrum.c); importance and mixture follow the
+        /* the wavelength pdf (wavelengths.c); importance and mixture follow the
            emitters' summed spectrum (none: the importance part is flat) */
         Spectrum sum;
         int e, k;

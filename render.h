@@ -40,7 +40,8 @@ typedef struct {
     Sampler sampler;                 /* the numbers (sampler.c); its spp is the pass's target */
     PixelFilter filter;              /* the pixel filter's sampler (filter.c) */
     Material white;                  /* Lambertian of albedo 1: a fluorescent vertex after a
-                                        shift re-radiates like this at lambda_i (FLUORESCENCE 3) */
+                                        shift re-radiates like this at lambda_i
+                                        (docs/FLUORESCENCE.md §3) */
     int vol;                         /* the media are rendered ("volpath", not "path") */
     double *med_le;                  /* per medium: Lescale / its Le's luminance over the
                                         sampled range (0: not emissive), as lights.c

@@ -6,16 +6,16 @@
 
    A path tracer is a Monte Carlo integrator over a space of many dimensions: the
    position in the pixel, the hero wavelength, then per bounce the emitter, the
-   point on it, the BSDF lobe, the direction, the roulette.  render.c asks for the
+   point on it, the BSDF lobe, the direction, the roulette.  path.c asks for the
    number of each decision by its DIMENSION (the table in specnee.h, DIM_*): a
    sampler decides how the numbers of one dimension are spread over the samples
    of a pixel.  Every sampler hands out numbers that are uniform on [0, 1) one at
    a time, so every estimator stays unbiased; they differ in how evenly the N
    samples of a pixel cover each dimension (docs/sampling.md).
 
-   independent  PCG32 (util.c), one stream per (pixel, seed, sample): specnee's
-                original sampler, bit for bit.  It ignores the dimension and hands
-                out the stream's numbers in the order they are asked for.
+   independent  PCG32 (util.c), one stream per (pixel, seed, sample).  It ignores
+                the dimension and hands out the stream's numbers in the order they
+                are asked for.
    stratified   pbrt-v4's jittered strata: a 2-D request falls into one of
                 xsamples x ysamples cells, a 1-D request into one of spp cells; a
                 hashed permutation per (pixel, dimension) decides which sample takes

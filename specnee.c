@@ -1,8 +1,8 @@
 /* specnee.c - main: the command line, from arguments to a written image.
 
    The flow a student follows (docs/WALKTHROUGH.md walks through it):
-       main -> parse_args -> scene_load (scene.c: parser, PLY, BVH build)
-            -> render (render.c: wavelengths, the path loop, NEE, the film)
+       main -> parse_args -> scene_load (scene.c: parser.c, the builders, PLY, BVH)
+            -> render (render.c: wavelengths, the film; path.c: the path, NEE)
             -> img_write (image.c) -> the closing line with the timings.
    Subcommands (merge, diff, spectrum, converge) are dispatched first; each lives in
    a command room of its own (cmd_image.c, cmd_spectrum.c, cmd_converge.c), apart
@@ -363,7 +363,7 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
    spd-metric and spd-wavelengths say after a '#' which --lights strategies read
    them (sel_reads_metric, sel_reads_wavelengths): the thesis' spectral tables
    (spd, product, spectral-spatial) read both; the light trees use power per bin
-   and sum over the alive wavelengths always (THEORY section 5.4), so the metric
+   and sum over the alive wavelengths always (THEORY §5.4), so the metric
    and "hero"/"all" leave them as they are, and spectral-tree reads "throughput"
    only. */
 static int sel_reads_metric(SelStrategy st)

@@ -100,7 +100,8 @@
 #define PI_F 3.14159265358979323846f
 
 /* ======================================================================
-   2. Small math: vectors, rays, 4x4 transforms, a counter-based RNG, samplers
+   2. Small math: vectors, rays, 4x4 transforms, a counter-based RNG (util.c),
+      samplers (sampler.c)
    ====================================================================== */
 typedef struct {
     float x, y, z;
@@ -195,7 +196,8 @@ double radical_inverse(int base, uint64_t i);
      DIM_MEDIUM0 + 64d + s  1-D  the free-flight distance (a scatter vertex then
                              uses the bounce's BD_LIGHT..BD_POINT for NEE and
                              BD_DIR for the phase function's direction)
-     so a scene without media asks for exactly the numbers it asked for before.
+     so a scene without media asks for no number beyond the bounces' and the
+     fluorescent vertices'.
 
    A GROUP is one request: the two numbers of a 2-D group map together onto a 2-D
    domain (pixel, triangle, hemisphere), so they must be spread as a 2-D point
@@ -220,7 +222,7 @@ static inline int dim_medium(int depth, int seg) { return DIM_MEDIUM0 + MEDIUM_S
 #define SAMPLER_CHECKED_DIMS 256   /* dimensions whose reuse is counted (31 bounces) */
 
 typedef enum {
-    SAMPLER_INDEPENDENT,       /* PCG32 per (pixel, sample): specnee's original, bit for bit */
+    SAMPLER_INDEPENDENT,       /* PCG32 per (pixel, sample), dimensions drawn in request order */
     SAMPLER_STRATIFIED,        /* jittered strata (pbrt-v4 xsamples, ysamples, jitter) */
     SAMPLER_SOBOL,             /* padded Owen-scrambled Sobol per pixel (Burley 2020) */
     SAMPLER_ZSOBOL,            /* one Sobol sequence over the film in Morton order (pbrt-v4) */
@@ -255,8 +257,8 @@ void  sampler_start(const Sampler *s, int x, int y, int k, PixelSample *ps);
 float sampler_1d(PixelSample *ps, int dim);                     /* in [0, 1) */
 void  sampler_2d(PixelSample *ps, int dim, float *u0, float *u1);  /* dims dim, dim + 1 */
 /* The independent sampler's raw stream, for the one consumer that needs a
-   variable count of numbers (the Gaussian filter's rejection loop, kept so that
-   independent images stay bit-identical); NULL for the other samplers. */
+   variable count of numbers (the Gaussian filter's rejection loop, the independent
+   sampler's way of drawing the Gaussian: filter.c); NULL for the other samplers. */
 Rng  *sampler_stream(PixelSample *ps);
 /* 1 if sample k does not depend on spp (a progressive render equals separate ones). */
 int   sampler_progressive(SamplerType t);
@@ -266,7 +268,7 @@ uint32_t sobol_u32(uint32_t i, int dim);            /* Sobol dimension 0 or 1, 3
 uint32_t owen_scramble(uint32_t x, uint32_t seed);  /* nested uniform scramble of x's digits */
 
 /* ======================================================================
-   3. Errors: libraries return, only main exits
+   3. Errors: libraries return, only main exits (util.c)
    ====================================================================== */
 /* Every loader writes one line "file:line: problem" into an Error and returns 0. */
 typedef struct { char msg[512]; } Error;
@@ -285,14 +287,16 @@ char *read_whole_file(const char *path, int text, const char *magic, size_t *len
 const char *read_status_text(ReadStatus st);   /* "not a text file (...)", ... */
 
 /* ======================================================================
-   4. Spectra (spectrum.c)
+   4. Spectra (spectrum.c; the metals' data in metals.c, wavelength sampling in
+      wavelengths.c)
    A spectrum is a dense table at 1 nm over SPEC_MIN..SPEC_MAX (pbrt-v4's range),
    evaluated by linear interpolation; zero outside.  A UV extension uv[] holds
    SPEC_UV_MIN..SPEC_MIN-1 (300-359 nm): zero unless the spectrum's source defines it
    there (constants, blackbody, Cauchy/Sellmeier indices, wavelength pairs or files
    that list UV wavelengths, the named UV lamps and fluorophores); spectra from rgb
-   have none.  Only fluorescence ever evaluates a spectrum below SPEC_MIN, so scenes
-   without it render exactly as before (docs/FLUORESCENCE.md section 6).  Every source of a spectrum
+   have none.  Only fluorescence ever evaluates a spectrum below SPEC_MIN, so the UV
+   extension changes no render of a scene without it (docs/FLUORESCENCE.md §6).  Every
+   source of a spectrum
    (inline pairs, named spectra, files, rgb) is resampled into this table once at
    load time, so rendering never searches a list.
    ====================================================================== */
@@ -366,20 +370,20 @@ static inline float cauchy_eta(float A, float B, float lambda_nm)
    teaching, teaching-strong (case-insensitive, optional "cauchy-" prefix). */
 int   cauchy_named(const char *name, float *A, float *B);
 
-/* ---- Wavelength sampling (wavelengths.c): lambda_j = P^-1(frac(u + j/4)) (HWSS
-   rotated in the CDF of p as in West et al. 2020; docs/THEORY.md section 2).  p is
+/* ---- Wavelength sampling (wavelengths.c): lambda_j = cdf^-1(frac(u + j/4)) (HWSS
+   rotated in the CDF of p as in West et al. 2020; THEORY §2).  p is
    uniform, an importance pdf, the visible pdf or a mixture (docs/wavelengths.md);
-   the four are combined by spectral MIS (THEORY section 3). ---- */
+   the four are combined by spectral MIS (THEORY §3). ---- */
 /* Which pdf the wavelengths are drawn from (--wavelengths). */
 typedef enum {
     WL_UNIFORM,                /* uniform over the range: plain HWSS, the thesis */
     WL_IMPORTANCE,             /* ~ (xbar + ybar + zbar) x the sum of the emitters' spectra */
     WL_VISIBLE,                /* scene-independent: sech^2 around 538 nm (pbrt-v4's
                                   "visible wavelengths" pdf, Radziszewski et al. 2009) */
-    WL_MIXTURE,                /* (1 - m) importance + m visible: a defensive mixture */
+    WL_MIXTURE,                /* (1 - mu) importance + mu visible: a defensive mixture */
     WL_MODE_COUNT
 } WlMode;
-#define WL_MIX_DEFAULT 0.5f    /* @@ m of WL_MIXTURE: robustness vs. the gain of importance
+#define WL_MIX_DEFAULT 0.5f    /* @@ mu of WL_MIXTURE: robustness vs. the gain of importance
                                   (chosen by the sweep in docs/wavelengths.md) */
 typedef struct {
     float lo, hi;              /* sampled range in nm (400-700 default, 360-830 wide) */
@@ -387,7 +391,8 @@ typedef struct {
     float *pdf;                /* per-nm pdf (n cells) for importance sampling */
     float *cdf;                /* n + 1 entries, cdf[0] = 0, cdf[n] = 1 */
     int   visible;             /* n == 0: 1 = the visible sech^2 pdf, 0 = uniform */
-    double vis_t_lo, vis_t_span; /* visible: tanh at lo and its span to hi (wavelengths.c) */
+    double vis_t_lo, vis_t_span; /* visible: th(lo) = tanh(kappa (lo - c)) and th(hi) - th(lo)
+                                    (wavelengths.c) */
 } WavelengthPdf;
 typedef struct {
     float lambda[HERO_N];      /* nm; lambda[0] is the hero */
@@ -411,7 +416,7 @@ WlMode wl_mode_from_name(const char *name);               /* WL_MODE_COUNT if un
 const char *wl_mode_name(WlMode m);
 
 /* ======================================================================
-   5. Geometry (scene.c builds it, bvh.c intersects it)
+   5. Geometry (scene.c builds it, bvh.c intersects it, shapes.c holds the quadrics)
    ====================================================================== */
 typedef enum {
     SHAPE_MESH,                /* triangles (trianglemesh, bilinearmesh, plymesh) */
@@ -524,7 +529,7 @@ Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w);
 float offset_eps(float m);
 
 /* The quadrics (shapes.c): disk, cylinder and partial sphere, each intersected
-   analytically in its object space (docs/conventions.md section 3 for their
+   analytically in its object space (docs/conventions.md §3 for their
    orientation).  sh->type must be one of them. */
 /* Set q's CTM (and whether it is a similarity); 0 for a projective CTM. */
 int    quadric_set_transform(Quadric *q, const Xform *ctm);
@@ -547,7 +552,8 @@ int    quadric_uniform_sampling(const Shape *sh);
 void   quadric_sample(const Shape *sh, float u1, float u2, Vec3 *p, Vec3 *n);
 
 /* ======================================================================
-   6. Materials (material.c): only what the scenes need
+   6. Materials: only what the scenes need (material.c; microfacet.c, conductor.c,
+      layered.c; textures in texture.c; media in medium.c, 6b)
    ====================================================================== */
 typedef enum {
     MAT_DIFFUSE, MAT_DIELECTRIC, MAT_FLUORESCENT,
@@ -604,7 +610,7 @@ typedef struct {
     int cond_alpha_tex;
 } Material;
 
-/* Fluorescence (docs/FLUORESCENCE.md sections 1-3).  fluor_prepare fills the tables
+/* Fluorescence (docs/FLUORESCENCE.md §1-§3).  fluor_prepare fills the tables
    of a MAT_FLUORESCENT material; returns 0 if the emission is zero everywhere. */
 int   fluor_prepare(Material *m);
 float fluor_branch_pf(const Material *m, float lo);      /* P_f(lo): re-radiate */
@@ -613,7 +619,7 @@ float fluor_weight(const Material *m, float li, float lo);
 /* Sample li on [300, lo] from A (F3); *pdf = p(li | lo), 0 when A is 0 there. */
 float fluor_sample_li(const Material *m, float lo, float u, float *pdf);
 float fluor_pdf_li(const Material *m, float lo, float li);
-/* Beyond sampling from A (FLUORESCENCE 3): li on [300, lo] with the density
+/* Beyond sampling from A (docs/FLUORESCENCE.md §3): li on [300, lo] with the density
    a p_A + (1 - a) p_AE, p_AE proportional to A(li) E(li), E the scene's emitter power
    per nm; fluor_power_cdf fills pcdf[FL_N] (its running integral, 1 nm cells) for a
    render; where A E has no mass below lo the density is p_A alone. */
@@ -788,7 +794,7 @@ float tr_alpha_of_roughness(float roughness);
 void  tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, float *f, float *pdf);
 
 /* ======================================================================
-   6b. Participating media (medium.c; THEORY section 12 derives the estimator)
+   6b. Participating media (medium.c; THEORY §12 derives the estimator)
    ====================================================================== */
 /* pbrt-v4's MakeNamedMedium "homogeneous": a medium that fills the space between
    the surfaces whose MediumInterface names it, with the same coefficients
@@ -825,7 +831,8 @@ int   medium_preset(const char *name, float sigma_a[3], float sigma_s[3]);
 int   medium_after(const struct Scene *s, int shape, int cur, Vec3 w, Vec3 ng);
 
 /* ======================================================================
-   7. Emitters and emitter selection (lights.c)
+   7. Emitters and emitter selection: the types (lights.c; infinite.c, delta.c,
+      lighttree.c)
    ====================================================================== */
 /* An infinite light (LightSource "infinite", infinite.c): light arriving from every
    direction, from infinitely far away.  Constant (one spectrum) or an image map in
@@ -854,7 +861,7 @@ typedef struct {
    A point or spot light sits at one point and radiates intensity I(lambda)
    (W/sr/nm), a spot only into a cone with a smooth falloff; a distant light sends
    radiance from one direction, as from infinitely far away.  No ray can hit one:
-   NEE alone finds them (docs/THEORY.md section 11). */
+   NEE alone finds them (THEORY §11). */
 typedef enum { DELTA_NONE = 0, DELTA_POINT, DELTA_SPOT, DELTA_DISTANT } DeltaType;
 typedef struct {
     DeltaType type;            /* DELTA_NONE: not a delta light */
@@ -901,7 +908,7 @@ typedef struct {
     double *planes;            /* 4 per triangle: oriented unit normal n, offset d = n . v0 */
     double reach_eps;          /* distance below which a point counts as in the plane */
     int absolute;              /* L has no luminance in 400-700 nm (a UV lamp): Le = scale * L,
-                                  absolute spectral radiance (docs/conventions.md section 4) */
+                                  absolute spectral radiance (docs/conventions.md §4) */
 } Emitter;
 
 /* A point sampled on an emitter, as seen from a reference point. */
@@ -926,7 +933,7 @@ typedef enum {
 
 /* Context of one selection: the same context must be passed to light_select and
    later to light_select_pmf for an emitter found by BSDF sampling (the
-   consistency contract, item C1 of docs/THEORY.md section 5).  The thesis'
+   consistency contract, item C1 of THEORY §5).  The thesis'
    spectral strategies (spd, product, spectral-spatial) use their spectral table
    only where hero_only or shifted; the light trees and --all-wavelengths use every
    alive wavelength. */
@@ -940,14 +947,14 @@ typedef struct {
     int hero_only;             /* 1 when only the hero is alive (alive == 1): after
                                   termination at dispersive glass, or from the start
                                   with --single-wavelength; 0 after rough glass with
-                                  --rough-dispersion mis (THEORY section 7) */
+                                  --rough-dispersion mis (THEORY §7) */
     int shifted;               /* 1 after a fluorescent shift that kept several
                                   wavelengths (--fluor-lanes keep): they are absorbed
                                   ones now, no longer spread over the film's range, so
                                   the spatial table (weighted by visible light) says
                                   nothing about them; the spectral strategies then sum
                                   their table over the alive wavelengths' bins
-                                  (docs/FLUORESCENCE.md section 4b) */
+                                  (docs/FLUORESCENCE.md §4b) */
     float beta[HERO_N];        /* path throughput per wavelength (optional weighting) */
 } LightCtx;
 
@@ -955,7 +962,9 @@ struct LightSampler;           /* opaque: tables built by light_sampler_build */
 typedef struct LightSampler LightSampler;
 
 /* ======================================================================
-   8. The scene (scene.c parses the pbrt-v4 subset; options.c, dump.c)
+   8. The scene (scene.c builds it from the pbrt-v4 subset that parser.c reads;
+      the options block in options.c, --dump-scene in dump.c, the pixel filters
+      in filter.c)
    ====================================================================== */
 /* pbrt-v4's pixel filters (filter.c has their formulas and defaults) */
 typedef enum { FILTER_BOX, FILTER_GAUSSIAN, FILTER_TRIANGLE, FILTER_MITCHELL, FILTER_SINC } FilterType;
@@ -1042,7 +1051,8 @@ int  scene_insets_rendered(const Scene *s, int rect[8][4], const char *names[8])
 
 /* Pixel filters (filter.c): pbrt-v4's filter importance sampling.  A camera
    sample's position in its pixel is drawn from the filter f (mitchell, sinc: from
-   a table of |f|) with the weight w = f/q, and the pixel is sum w L / sum w. */
+   a table of |f|) with the density p_f and the weight fw = f/p_f, and the pixel is
+   sum fw L / sum fw. */
 typedef struct {
     FilterType type;
     float radius, sigma, b, c, tau;      /* as in SceneSettings (one radius: x = y) */
@@ -1057,9 +1067,9 @@ void  filter_init(PixelFilter *pf, const SceneSettings *st);
 double filter_eval_1d(const PixelFilter *pf, double x);
 double filter_eval(const PixelFilter *pf, double x, double y);
 /* The sample's position in its pixel (0.5, 0.5 is the centre) from two uniform
-   numbers, and its weight f/q (1 for box, gaussian, triangle). */
+   numbers, and its weight fw = f/p_f (1 for box, gaussian, triangle). */
 float filter_sample(const PixelFilter *pf, float u0, float u1, float *px, float *py);
-/* 1 if the weights are not constant (mitchell, sinc): the film must keep sum w. */
+/* 1 if the weights are not constant (mitchell, sinc): the film must keep sum fw. */
 int   filter_weighted(const PixelFilter *pf);
 /* One Gaussian offset by rejection from the independent sampler's stream. */
 float filter_gaussian_reject(Rng *rng, float radius, float sigma);
@@ -1079,7 +1089,7 @@ void ply_free(PlyMesh *m);
 int  ply_write_binary(const char *path, const float *P, int n_verts, const int32_t *idx, int n_tris);
 
 /* ======================================================================
-   10. Images (image.c)
+   10. Images (image.c; the readers png.c and exr.c; merge and diff in cmd_image.c)
    ====================================================================== */
 typedef struct { int w, h; float *rgb; } Image;   /* top row first, 3 floats a pixel */
 /* An image texture's texels from an RGB image (rows top to bottom), after pbrt-v4's
@@ -1139,7 +1149,8 @@ int  img_cmd_merge(int argc, char **argv, FILE *out, FILE *err);
 int  img_cmd_diff(int argc, char **argv, FILE *out, FILE *err);
 
 /* ======================================================================
-   11. Emitters and their selection: the API (lights.c, lighttree.c)
+   11. Emitters and their selection: the API (lights.c, lighttree.c, infinite.c,
+       delta.c)
    ====================================================================== */
 /* Check each emitter (its spectrum emits in 400-700 nm, its area is positive) and
    fill its area and triangle CDF.  scene_load calls it; nothing here depends on
@@ -1216,9 +1227,9 @@ void  light_sampler_free(LightSampler *ls);
 /* Radiance leaving emitter e at a point with oriented normal n towards w (unit):
    zero from the back of a one-sided emitter. */
 float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm);
-/* sum over 1 nm steps in [lo, hi] of ybar S: the luminance that normalises an
-   emitter's spectrum (and an emissive medium's Le, render.c). */
-double luminance_sum(const Spectrum *S, float lo_nm, float hi_nm);
+/* sum over 1 nm steps in [lo, hi] of ybar L: the luminance that normalises an
+   emitter's spectrum L (and an emissive medium's Le, render.c). */
+double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm);
 const Spectrum *light_spectrum(const LightSampler *ls, int e);   /* e's Le */
 /* What NEE chooses is a PIECE: a whole emitter, or (light trees only) a cluster of
    at most LIGHT_CLUSTER_TRIS triangles of a large emissive mesh.  Without
@@ -1319,17 +1330,17 @@ typedef struct {
     int spp, seed, threads, maxdepth;
     SelOptions sel;
     WlMode wl_mode;            /* --wavelengths: uniform importance visible mixture */
-    float wl_mix;              /* --mix-weight: m of WL_MIXTURE (0: WL_MIX_DEFAULT) */
+    float wl_mix;              /* --mix-weight: mu of WL_MIXTURE (0: WL_MIX_DEFAULT) */
     int wl_wide;               /* sample 360-830 nm instead of 400-700 */
     int single_wavelength;     /* 1 wavelength per path instead of HWSS */
     int rough_mis;             /* --rough-dispersion mis: secondaries survive rough glass */
     int nee;                   /* 1: NEE + BSDF sampling by MIS; 0: BSDF sampling only */
     FluorLi fluor_li;          /* --fluor-li: how a fluorescent vertex samples lambda_i
-                                  (FLUORESCENCE 3): from A, A x emitter power mixed
+                                  (docs/FLUORESCENCE.md §3): from A, A x emitter power mixed
                                   with A (default), or uniformly on [300, lambda_o] */
     int fluor_keep;            /* --fluor-lanes keep (default): all four wavelengths go
                                   through a shift, each with its own lambda_i
-                                  (FLUORESCENCE 4b); 0: the secondaries are terminated
+                                  (docs/FLUORESCENCE.md §4b); 0: the secondaries are terminated
                                   (the thesis' way with wavelength-dependent events) */
     float band_lo, band_hi;    /* band_hi > band_lo: the camera samples its wavelengths
                                   uniformly in [band_lo, band_hi] only, the emitters keep

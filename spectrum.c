@@ -37,13 +37,14 @@
      spec_from_file spec_from_rgb spec_blackbody cie_xyz cie_cmf cie_y_integral
      spec_to_xyz xyz_to_linear_srgb spec_chromaticity cct_from_xy spec_bin_average
      spec_bin_sum cauchy_named spec_rgb_coeffs spec_rgb_fit_table spec_rgb_coeffs_from
-     spec_sigmoid_eval spec_rgb_table_start spec_rgb_coeffs_fit
+     spec_sigmoid_eval spec_rgb_table_start spec_rgb_coeffs_fit spec_band_mean
+     spec_band_average
 
    HOW IT IS USED
-     scene.c turns "spectrum"/"rgb"/"blackbody" parameters into Spectrum tables with
+     parser.c turns "spectrum"/"rgb"/"blackbody" parameters into Spectrum tables with
      spec_from_pairs, spec_named, spec_from_file, spec_from_rgb and spec_blackbody;
-     lights.c uses spec_bin_average for the emitter tables; render.c converts to
-     colour with cie_xyz and xyz_to_linear_srgb; wavelengths.c weights its
+     lights.c uses spec_bin_average for the emitter tables; path.c and render.c
+     convert to colour with cie_xyz and xyz_to_linear_srgb; wavelengths.c weights its
      importance pdf with cie_cmf.  `specnee spectrum NAME|FILE` (cmd_spectrum.c)
      prints a spectrum, its colorimetry and the pbrt "scale" that realises thesis
      eq. 6 normalisation; `--svg` plots spectra (svg.c). */
@@ -512,7 +513,7 @@ void spec_to_xyz(const Spectrum *s, float lo_nm, float hi_nm, double xyz[3])
 }
 
 /* pbrt-v4's XYZ -> linear sRGB matrix (its RGBColorSpace::sRGB, D65 white
-   xy = (0.312727, 0.329023)), docs/conventions.md and docs/THEORY.md section 1. */
+   xy = (0.312727, 0.329023)), docs/conventions.md and THEORY §1. */
 void xyz_to_linear_srgb(const double xyz[3], double rgb[3])
 {
     static const double M[3][3] = {
@@ -795,7 +796,7 @@ static void lamp_led(Spectrum *s, double r, double phosphor_nm, double phosphor_
 }
 
 /* ----------------------------------------------------------------------
-   Ultraviolet lamps and fluorophores (fluorescence, docs/FLUORESCENCE.md section 6).
+   Ultraviolet lamps and fluorophores (fluorescence, docs/FLUORESCENCE.md §6).
    Modelled as Gaussian bands (the add_gaussian cell means above) from published
    peak positions and widths; they are not copied from measured tables.  Where a
    width is not given by the source it is marked "chosen".
@@ -803,7 +804,7 @@ static void lamp_led(Spectrum *s, double r, double phosphor_nm, double phosphor_
 
 /* Peak 1 (the sample at the peak's nearest nm): the UV lamps have no luminance, so
    they cannot be scaled to thesis eq. 6 or to Y; scene files read them as absolute
-   radiance times "scale" (docs/conventions.md section 4). */
+   radiance times "scale" (docs/conventions.md §4). */
 static void normalise_peak(Spectrum *s)
 {
     float m = 0.0f;

@@ -3,7 +3,8 @@
 
    Exported (specnee.h sections 6 and 10): tex_eval, tex_set_image, tex_free,
    tex_noise, tex_fbm, tex_turbulence, tex_marble_init.
-   scene.c parses the Texture directive into Scene.textures; a material whose
+   scene.c's directive loop hands a Texture directive to texture_from_params (the
+   last section), which fills Scene.textures; a material whose
    "reflectance" names a texture (diffuse) reads it through mat_albedo_at
    (material.c) at every hit, at each of the path's wavelengths; conductor and
    coateddiffuse read a textured reflectance and roughness through mat_point.

@@ -4,15 +4,15 @@
      The four wavelengths of a path (Wilkie et al. 2014) with the rotation done in
      CDF space (continuous MIS, West et al. 2020; the same as pbrt-v4's
      SampleVisible):
-         lambda_j = P^-1(frac(u + j / HERO_N)),  pdf_j = p(lambda_j),  j = 0..3,
-     so each lambda_j is distributed as p and the four are stratified in P
+         lambda_j = cdf^-1(frac(u + j / HERO_N)),  pdf_j = p(lambda_j),  j = 0..3,
+     so each lambda_j is distributed as p and the four are stratified in cdf
      (THEORY §2, docs/wavelengths.md).  p is one of
        uniform     over the sampled range (plain HWSS, the thesis);
        importance  tabulated per 1 nm cell ~ (xbar + ybar + zbar) x the emitters'
                    spectra, with a floor of 1 % of the mean cell;
        visible     the scene-independent sech^2 pdf of Radziszewski et al. 2009
                    (pbrt-v4's), with an exact inverse CDF;
-       mixture     the defensive mixture (1 - m) importance + m visible.
+       mixture     the defensive mixture (1 - mu) importance + mu visible.
 
    EXPORTS (specnee.h section 4, "Wavelength sampling")
      wl_pdf_uniform wl_pdf_importance wl_pdf_visible wl_pdf_mixture wl_pdf_build
@@ -20,8 +20,8 @@
 
    HOW IT IS USED
      render.c builds one WavelengthPdf per render with wl_pdf_build (the emitters'
-     summed spectrum for importance and mixture), draws the four wavelengths of each
-     path with wl_sample and evaluates p with wl_pdf_eval for spectral MIS;
+     summed spectrum for importance and mixture) and draws the four wavelengths of
+     each sample with wl_sample; wl_pdf_eval evaluates p;
      specnee.c and converge's variants (cmd_converge.c) name the modes with
      wl_mode_from_name.  The colour-matching functions come from spectrum.c
      (cie_cmf).  Tests: tests/test_wavelengths.c and tests/test_spectrum.c. */
@@ -31,15 +31,16 @@
 
 /* The scene-independent "visible wavelengths" pdf, a squared hyperbolic secant
    fitted to the CIE luminous efficiency curve:
-       p(lambda) ~ sech^2(a (lambda - c)),   a = 0.0072 / nm,  c = 538 nm.
+       p(lambda) ~ sech^2(kappa (lambda - c)),   kappa = 0.0072 / nm,  c = 538 nm.
    Shape and constants: Radziszewski, Boryczko & Alda 2009, "An improved technique
    for full spectral rendering", Journal of WSCG 17, as used by pbrt-v4
    (src/pbrt/util/sampling.h, VisibleWavelengthsPDF / SampleVisibleWavelengths,
    over 360-830 nm).  Since d/dx tanh(x) = sech^2(x), on the sampled range
    [lo, hi] (specnee renormalises to its own range instead of pbrt's 360-830):
-       p(lambda) = a sech^2(a (lambda - c)) / (T(hi) - T(lo)),  T(x) = tanh(a (x - c))
-       P(lambda) = (T(lambda) - T(lo)) / (T(hi) - T(lo))
-       P^-1(u)   = c + atanh(T(lo) + u (T(hi) - T(lo))) / a          (exact) */
+       p(lambda)   = kappa sech^2(kappa (lambda - c)) / (th(hi) - th(lo)),
+                     th(x) = tanh(kappa (x - c))   (vis_T; kappa is WL_VIS_A)
+       cdf(lambda) = (th(lambda) - th(lo)) / (th(hi) - th(lo))
+       cdf^-1(u)   = c + atanh(th(lo) + u (th(hi) - th(lo))) / kappa      (exact) */
 #define WL_VIS_A 0.0072
 #define WL_VIS_C 538.0
 static double vis_T(double lambda) { return tanh(WL_VIS_A * (lambda - WL_VIS_C)); }
@@ -120,7 +121,7 @@ static void importance_cells(double lo, double h, int n, const Spectrum *emissio
 
 /* A piecewise-constant pdf on cells of (about) 1 nm over [lo, hi] with cell
    weights from importance_cells, optionally mixed with the visible pdf:
-       prob_k = (1 - mix) f_k / sum f + mix (T(b_k) - T(a_k)) / (T(hi) - T(lo))
+       prob_k = (1 - mu) f_k / sum f + mu (th(b_k) - th(a_k)) / (th(hi) - th(lo)),  mu = mix
    (the visible pdf's exact mass on the cell [a_k, b_k], so the visible part enters
    cell-averaged: its inverse CDF within a cell becomes linear, the table's).
    The density per nm is prob_k / h; cdf[] accumulates prob_k. */
@@ -218,7 +219,7 @@ float wl_pdf_eval(const WavelengthPdf *w, float lambda_nm)
     return w->pdf[k];
 }
 
-/* P(lambda) = the probability of a wavelength below lambda. */
+/* cdf(lambda) = the probability of a wavelength below lambda. */
 double wl_cdf(const WavelengthPdf *w, float lambda_nm)
 {
     double x = lambda_nm, range = (double)w->hi - w->lo, h, cell;
@@ -234,7 +235,7 @@ double wl_cdf(const WavelengthPdf *w, float lambda_nm)
     return w->cdf[k] + (cell - k) * ((double)w->cdf[k + 1] - w->cdf[k]);
 }
 
-/* lambda_j = P^-1(frac(u + j / HERO_N)): the hero j = 0 and HERO_N - 1 companions
+/* lambda_j = cdf^-1(frac(u + j / HERO_N)): the hero j = 0 and HERO_N - 1 companions
    rotated in CDF space, so each is distributed as p and the set is stratified.
    The inverse of the piecewise-linear CDF is found by binary search over cdf[];
    the visible pdf's is the closed form above.

@@ -11,7 +11,8 @@
 #   picks it with P = 1, so that render would repeat the first).  Every render uses the same flags:
 #       --res 64x64 --spp 16 --seed 1 --threads 2 -q
 #   (the scene's own maxdepth, filter and camera).  The image does not depend on
-#   the thread count (every pixel sample owns its random stream, render.c).
+#   the thread count (every pixel sample draws its numbers from its pixel, sample
+#   index and seed alone: sampler.c).
 #
 # TWO WAYS TO COMPARE
 #   exact     (default) the PFM must be bit-identical to the golden (`cmp`).  Right

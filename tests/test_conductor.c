@@ -1,5 +1,6 @@
 /* tests/test_conductor.c - pbrt-v4's conductor, thindielectric and
-   diffusetransmission materials (conductor.c, material.c, metals.c, scene.c).
+   diffusetransmission materials (conductor.c, material.c, metals.c, and their
+   builders at the end of conductor.c and material.c).
 
    conductor_fresnel_values      the complex Fresnel against the real-arithmetic
                                  formula (Born & Wolf 14.2), normal incidence,

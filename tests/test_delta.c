@@ -14,7 +14,7 @@
    check passes within TEST_K_SIGMA standard errors plus 0.2% (the film integrates
    400-700 nm, the normalisation too, so the luminance is exact up to the CIE
    table's interpolation).  The light selection strategies and the MIS weight of
-   a delta sample (render.c) are in the estimator under test; the unbiasedness of
+   a delta sample (path.c) are in the estimator under test; the unbiasedness of
    every strategy with delta lights mixed among area lights is in test_lights.c
    (lights_unbiased_delta, lights_select_matches_pmf). */
 #include "test.h"

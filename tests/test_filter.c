@@ -1,4 +1,4 @@
-/* tests/test_filter.c - pbrt-v4's pixel filters (filter.c, issue 29): the filter
+/* tests/test_filter.c - pbrt-v4's pixel filters (filter.c): the filter
    values against their closed forms, the sampler's distribution against |f|
    (chi-square), the weights' mean against the filter's integral, a flat image
    that stays flat through every filter (the negative lobes must not bias it), the

@@ -1,4 +1,4 @@
-/* tests/test_fluor.c - fluorescence (issue #17, docs/FLUORESCENCE.md): the UV
+/* tests/test_fluor.c - fluorescence (docs/FLUORESCENCE.md): the UV
    extension of the spectra (300-359 nm), UV lamps read as absolute radiance, the
    20 UV bins of emitter selection, and the named UV lamps and fluorophores. */
 #include "test.h"
@@ -161,7 +161,7 @@ static void test_named_fluor_spectra(T *t)
     CHECK(t, spec_eval(&sp, 340.0f) > 0.5f && spec_eval(&sp, 420.0f) < 0.01f, "brightener absorbs UV only");
 }
 
-/* ---- the material and its transport (docs/FLUORESCENCE.md sections 1-5) ---- */
+/* ---- the material and its transport (docs/FLUORESCENCE.md §1-§5) ---- */
 
 #define FL_MAT(refl, ex, em, qy) "Material \"fluorescent\" \"spectrum reflectance\" " refl \
     " \"spectrum excitation\" " ex " \"spectrum emission\" " em " \"float quantumyield\" " qy "\n"
@@ -447,7 +447,7 @@ static int band_matches(T *t, Scene *s, const RenderOptions *o, double a, double
     return ok;
 }
 
-/* Line test per 10 nm bin (issue #17): the 365 nm LED scene of fluor_line, each
+/* Line test per 10 nm bin: the 365 nm LED scene of fluor_line, each
    10 nm bin of 360-530 nm rendered alone and compared with the quadrature of the
    model over that bin, Phi A e(lo) (li/lo) / N(li) integrated over the LED's band:
    the output spectrum, not only its colour. */
@@ -467,7 +467,7 @@ static void test_fluor_line_bins(T *t)
     scene_free(&s);
 }
 
-/* The closed sphere (issue #17; FLUORESCENCE section 7b).  Inside a closed sphere
+/* The closed sphere (docs/FLUORESCENCE.md §7b).  Inside a closed sphere
    whose wall is the fluorescent material and emits Le uniformly, the radiance is
    the same everywhere and in every direction, and (F1)-(F2) with the wall's own
    1/pi cos integrating to 1 give the wavelength equation L = Le + P L:
@@ -673,7 +673,7 @@ static int load_uv_card(T *t, Scene *s, const char *uv_scale, const char *uv_rad
     return test_load_scene(t, s, text);
 }
 
-/* The MIS weights after a shift use the selection pmf at lambda_i (FLUORESCENCE 5,
+/* The MIS weights after a shift use the selection pmf at lambda_i (docs/FLUORESCENCE.md §5,
    contract C1).  A card that only re-radiates (rho = 0, A = 1 over 350-380 nm) lit
    by a UV LED (nothing in 400-700 nm) beside a white LED1 (nothing below 380 nm):
    at lambda_i the spectral strategies choose the UV LED with P = 1, at lambda_o they
@@ -914,7 +914,7 @@ static void test_fluor_tree_uv_bins(T *t)
     scene_free(&s);
 }
 
-/* --fluor-li power (FLUORESCENCE 3): the mixture a p_A + (1 - a) p_AE.  The sampler
+/* --fluor-li power (docs/FLUORESCENCE.md §3): the mixture a p_A + (1 - a) p_AE.  The sampler
    returns the density fluor_pdf_li_mix gives, its samples follow that density
    (chi^2 against expected counts from the pdf integrated on a fine grid), the
    density integrates to 1 over [300, lo], vanishes above lo, and is p_A alone
@@ -979,7 +979,7 @@ static void test_fluor_li_mix_sampler(T *t)
     scene_free(&s);
 }
 
-/* --fluor-li uniform (FLUORESCENCE 3): samples uniform on [300, lo] by chi^2 over 5 nm
+/* --fluor-li uniform (docs/FLUORESCENCE.md §3): samples uniform on [300, lo] by chi^2 over 5 nm
    bins, the density 1 / (lo - 300) where it claims, nothing above lo. */
 static void test_fluor_li_uniform_sampler(T *t)
 {

@@ -288,7 +288,7 @@ static void test_select_matches_pmf(T *t)
     select_matches_pmf_on(t, SC_DELTA);
 }
 
-/* Positivity (item C3 of the consistency contract, docs/THEORY.md section 5): an
+/* Positivity (item C3 of the consistency contract, THEORY §5): an
    emitter that emits at the hero wavelength always has P > 0 in hero-only mode,
    for spectra with a 1 nm line at a bin edge too. */
 static void test_positive_where_emitting(T *t)
@@ -331,9 +331,9 @@ static void test_positive_where_emitting(T *t)
     scene_free(&s);
 }
 
-/* Item C4 of the consistency contract (docs/THEORY.md section 6): while several
+/* Item C4 of the consistency contract (THEORY §6): while several
    wavelengths are alive, P(e | c) must not depend on which of them is the hero,
-   because render.c uses one q_nee for every hero m in the MIS denominator.  The
+   because path.c uses one q_nee for every hero m in the MIS denominator.  The
    context is rotated so that each alive wavelength in turn sits in slot 0 (with
    its alive bit, and its throughput divided by an arbitrary common factor, as the
    throughput relative to another hero's pdf would be); every emitter's P must stay
@@ -502,11 +502,12 @@ static void test_emitter_can_reach(T *t)
     scene_free(&s);
 }
 
-/* Issue 20: the back of a one-sided lamp, lit by a second lamp.  The voxels cut by
-   the far lamp hold receivers in front of it, so the spatial table gave it most of
-   the probability also at points on its own back, where it sends nothing: banded
-   noise, the mean difference of horizontally neighbouring pixels 3.5 times
-   uniform's (spatial, spd, product and spectral-spatial alike; 100x140, 64 spp).
+/* The back of a one-sided lamp, lit by a second lamp.  The voxels cut by the far
+   lamp hold receivers in front of it, so a spatial table without the reach mask
+   gives it most of the probability also at points on its own back, where it sends
+   nothing: banded noise, the mean difference of horizontally neighbouring pixels
+   3.5 times uniform's (spatial, spd, product and spectral-spatial alike; 100x140,
+   64 spp).
    With the reach mask (lights.c section 4) the spatial strategies choose the near
    lamp there: their noise must not exceed uniform's, which spends half its
    samples on the far lamp (measured 0.42 x uniform).  A test on noise, not on the

@@ -423,11 +423,11 @@ static void test_prefers_near(T *t)
     }
     scene_free(&s);
     /* inside a bounding sphere: a 1.8 m panel under the ceiling facing down
-       (A, r = 1.27) and a 1 m panel on the left wall facing +x (B, r = 0.71),
+       (A, rho = 1.27) and a 1 m panel on the left wall facing +x (B, rho = 0.71),
        of equal power.  4 cm below A's centre (inside A's sphere, 1.24 m from
-       B's centre) A must win clearly (I = Phi / max(d, r/4)^2: P(A) = 0.94;
-       Phi / r^2 inside, as before session 7, gave 0.49); 4 cm in front of B's
-       centre (inside both spheres) B must (0.98; Phi / r^2 gave 0.76) */
+       B's centre) A must win clearly (imp = Phi / max(d, rho/4)^2: P(A) = 0.94;
+       Phi / rho^2 inside would give 0.49); 4 cm in front of B's
+       centre (inside both spheres) B must (0.98; Phi / rho^2 would give 0.76) */
     snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
     add_quad(buf, sizeof buf, BLUEISH, 1.0f, v3(0.0f, 0.99f, 0.0f), 1, -1, 0.9f);
     add_quad(buf, sizeof buf, BLUEISH, 3.24f, v3(-0.99f, 0.2f, 0.0f), 0, 1, 0.5f);
@@ -572,7 +572,7 @@ static void test_mesh_split_pmf(T *t)
     scene_free(&s);
 }
 
-/* The emitters' radiance belongs to the render (issue 13): two samplers over one
+/* The emitters' radiance belongs to the render: two samplers over one
    const Scene, for 400-700 and 360-830 nm, each normalise every emitter so that
    sum_{1 nm over its own range} ybar Le = scale (pbrt-v4), light_Le returns that
    radiance towards the front (0 behind a one-sided emitter), and the Scene's

@@ -1,4 +1,4 @@
-/* tests/test_medium.c - homogeneous participating media (medium.c, render.c's
+/* tests/test_medium.c - homogeneous participating media (medium.c, path.c's
    medium vertex, docs/media.md) against closed forms.
 
    Every check renders small images over K seeds and accepts a mean within

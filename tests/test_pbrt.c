@@ -1,8 +1,8 @@
-/* tests/test_pbrt.c - pbrt-v4 settings that real scene files use (issue 20): the
+/* tests/test_pbrt.c - pbrt-v4 settings that real scene files use: the
    film's imaging ratio (iso, shutter interval) and clamp (maxcomponentvalue), the
    gbuffer film read as rgb, the volpath/bdpt/sppm integrators rendered by path,
    the thin-lens camera; each checked against pbrt-v4's documented formula.
-   Issue 29: Accelerator read and ignored, the command line's output file over
+   Also: Accelerator read and ignored, the command line's output file over
    Film's "string filename".
 
    The scenes are a square emitter facing a camera at the origin that looks down
@@ -437,7 +437,7 @@ static void test_env_rejections(T *t)
 }
 
 
-/* ---- issue 20, second round: the remaining film and integrator settings ---- */
+/* ---- the remaining film and integrator settings ---- */
 
 /* Render a scene and a variant; 1 if both rendered. */
 static int render_pair(T *t, const char *ta, const char *tb, int spp, Image *a, Image *b)
@@ -714,7 +714,7 @@ static void test_dump_settings(T *t)
     scene_free(&s);
 }
 
-/* Accelerator (issue 29): pbrt-v4 reads it before WorldBegin and checks its
+/* Accelerator: pbrt-v4 reads it before WorldBegin and checks its
    parameters; the image cannot depend on it.  specnee reads the parameters pbrt-v4
    reads for "bvh" and "kdtree" and renders bit for bit the image without it;
    unknown types and parameters, and the directive after WorldBegin, are errors

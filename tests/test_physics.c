@@ -1,5 +1,5 @@
 /* tests/test_physics.c - the rough dielectric and the spectral MIS estimator checked
-   against values derived INDEPENDENTLY of material.c and render.c.
+   against values derived INDEPENDENTLY of material.c, microfacet.c and path.c.
 
    Why a separate file: the older tests compare material.c with itself (the sampled
    pdf with the evaluated pdf, which bsdf_sample computes by calling the same

@@ -1,4 +1,4 @@
-/* tests/test_png.c - the PNG reader (png.c, issue 29): PNGs made by another
+/* tests/test_png.c - the PNG reader (png.c): PNGs made by another
    encoder (Python's zlib: tests/png_fixtures.h, every colour type, bit depths 1 2
    4 8 16, all five row filters, stored, fixed and dynamic Huffman blocks) decode
    to the samples they were made from; specnee's own writer round-trips; malformed

@@ -56,7 +56,7 @@ static void test_colour_direct_emitter(T *t)
                       "spectrum %d pdf %d wide %d: Y = %.5f +- %.2g, expected 1", sp, pdf, wide, Y, seY);
                 if (sp == 1) {
                     /* D65 maps to white; over 400-700 nm X and Z lose 0.25% and 0.5% of
-                       their integrals (docs/THEORY.md section 1): allow 1.5% there, 0.5% over 360-830 */
+                       their integrals (THEORY §1): allow 1.5% there, 0.5% over 360-830 */
                     double tol = wide ? 5e-3 : 1.5e-2;
                     int c;
                     for (c = 0; c < 3; c++)
@@ -200,7 +200,7 @@ done:
     scene_free(&s);
 }
 
-/* Termination bookkeeping (docs/THEORY.md section 7): the same non-dispersive glass, once
+/* Termination bookkeeping (THEORY §7): the same non-dispersive glass, once
    flagged dispersive (forcing termination), must converge to the same image. */
 static void test_termination_bookkeeping(T *t)
 {

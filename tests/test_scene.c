@@ -1,4 +1,5 @@
-/* tests/test_scene.c - tests of the pbrt-v4 subset parser (scene.c).
+/* tests/test_scene.c - tests of the pbrt-v4 subset parser (parser.c, scene.c and
+   the builders in each concept's room).
 
    Every parser feature is loaded from a small text and checked for what it
    must mean in pbrt-v4 (transform order and matrix layout, the camera frame,

@@ -10,7 +10,7 @@
      the sech^2 shape when restricted to 400-700 nm;
    - sampler against pdf: chi-square per 1 nm bin (check_wl_sampling, test_spectrum.c)
      and a Kolmogorov-Smirnov test of the hero wavelength against the exact CDF
-     wl_cdf; the inverse CDF is exact: P(P^-1(u)) = u;
+     wl_cdf; the inverse CDF is exact: cdf(cdf^-1(u)) = u;
    - the mixture is (1 - m) importance + m visible, so it is never below m x visible
      (the worst-case bound of docs/wavelengths.md);
    - renders: furnaces with an analytic answer, and per-tile agreement with
@@ -61,7 +61,7 @@ static void check_ks(T *t, const WavelengthPdf *w, const char *what)
     CHECK(t, d < crit, "%s: KS D = %.5f > %.5f (N = %d, p = 1e-4)", what, d, crit, (int)N);
 }
 
-/* P(P^-1(u)) = u, and P agrees with the integral of p (midpoint rule, 0.1 nm). */
+/* cdf(cdf^-1(u)) = u, and cdf agrees with the integral of p (midpoint rule, 0.1 nm). */
 static void check_cdf(T *t, const WavelengthPdf *w, const char *what)
 {
     int i;
