@@ -329,6 +329,7 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
         return 0;
     if (!(scale >= 0.0f))
         return fail(P, file, line, "LightSource \"infinite\": \"float scale\" must be >= 0");
+    note_not_positive(pl, "LightSource \"infinite\"", "illuminance", ev);
     for (i = 0; i < SPEC_N; i++)
         if (!(L.v[i] >= 0.0f))
             return fail(P, p ? p->file : file, p ? p->line : line,
