@@ -856,8 +856,8 @@ int microfacet_alphas_of(Parser *P, ParamList *pl, const char *file, int line,
     }
     if (!(u >= 0.0f && u <= 1e4f) || !(v >= 0.0f && v <= 1e4f))
         return fail(P, file, line, "%s: %s (%g, %g) must be within [0, 1e4]", what, nr, u, v);
-    *alpha_u = remap ? sqrtf(u) : u;
-    *alpha_v = remap ? sqrtf(v) : v;
+    *alpha_u = remap ? tr_alpha_of_roughness(u) : u;
+    *alpha_v = remap ? tr_alpha_of_roughness(v) : v;
     return 1;
 }
 
