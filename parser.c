@@ -702,8 +702,8 @@ int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_ill
         if (use == SPEC_UNBOUNDED)
             return fail(P, p->file, p->line, "\"rgb %s\": valid pbrt-v4 but not in the "
                         "specnee subset (give a spectrum)", p->name);
-        if (!spec_from_rgb(out, rgb, use == SPEC_ILLUMINANT ? 1 : use == SPEC_COEFF ? 2 : 0,
-                           P->err, p->file, p->line))
+        if (!spec_from_rgb_t(P->rgb, out, rgb, use == SPEC_ILLUMINANT ? 1 : use == SPEC_COEFF ? 2 : 0,
+                             P->err, p->file, p->line))
             return 0;
         if (rgb_illum) *rgb_illum = use == SPEC_ILLUMINANT;
         return 1;

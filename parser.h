@@ -156,6 +156,7 @@ typedef struct {
     const char *output;        /* the command line's output file (-o), NULL: none */
     MediumRef *mrefs; int cap_media, cap_mrefs;   /* parallel to Scene.media */
     const char *integ_file; int integ_line; char integ_type[32];  /* the Integrator */
+    RgbTable *rgb;             /* the load's RGB -> spectrum coefficient table (spectrum.c) */
 } Parser;
 
 /* ===========================================================================

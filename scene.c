@@ -1189,6 +1189,7 @@ static void parser_free(Parser *P)
     free(P->texnames);
     free(P->coords);
     free(P->mrefs);
+    rgb_table_free(P->rgb);
 }
 
 /* Everything after the last token: checks, bounds, emitters, BVH. */
@@ -1321,7 +1322,8 @@ static int load(Scene *s, char *buf, size_t len, const char *name, const char *o
     if (output) snprintf(s->settings.filename, sizeof s->settings.filename, "%s", output);
     dir_of(name, P.main_dir, sizeof P.main_dir);
     file = intern(&P, name);
-    if (!file) { parser_free(&P); return fail(&P, name, 0, "out of memory"); }
+    P.rgb = rgb_table_new();
+    if (!file || !P.rgb) { parser_free(&P); return fail(&P, name, 0, "out of memory"); }
     P.text_bytes = len;
     ok = parse_text(&P, file, buf, len) && finish(&P, file);
     parser_free(&P);
