@@ -233,6 +233,7 @@ int delta_light_from_params(Parser *P, const char *type, ParamList *pl, const ch
         !check_finite(P, pl, what, "conedeltaangle", cdelta, file, line))
         return 0;
     if (!(scale >= 0.0f)) return fail(P, file, line, "%s: \"float scale\" must be >= 0", what);
+    note_not_positive(pl, what, d.type == DELTA_DISTANT ? "illuminance" : "power", power);
     for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
         if (!(spec_get(&L, i) >= 0.0f))
             return fail(P, p ? p->file : file, p ? p->line : line, "%s: %s is negative at %d nm",

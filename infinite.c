@@ -84,6 +84,7 @@ void equal_area_sphere_to_square(Vec3 d, float *u, float *v)
 typedef struct {
     float c[3][COEF_GRID + 1][COEF_GRID + 1][3];
     unsigned char done[3][COEF_GRID + 1][COEF_GRID + 1];
+    RgbTable *rgb;                       /* the fit's start (spec_rgb_coeffs) */
 } CoefTable;
 
 /* Coefficients at node (i, j) of the table for largest channel k. */
@@ -95,7 +96,7 @@ static const float *coef_node(CoefTable *t, int k, int i, int j)
         target[k] = 0.5;
         target[(k + 1) % 3] = 0.5 * i / COEF_GRID;
         target[(k + 2) % 3] = 0.5 * j / COEF_GRID;
-        spec_rgb_coeffs(target, c);
+        spec_rgb_coeffs(t->rgb, target, c);
         for (m = 0; m < 3; m++) t->c[k][i][j][m] = (float)c[m];
         t->done[k][i][j] = 1;
     }
@@ -137,7 +138,8 @@ void inf_free(InfiniteLight *inf)
     free(inf);
 }
 
-int inf_set_image(InfiniteLight *inf, const Image *im, const char *file, int line, Error *err)
+int inf_set_image(InfiniteLight *inf, const Image *im, RgbTable *rgb, const char *file, int line,
+                  Error *err)
 {
     int n = im->w, x, y, c;
     CoefTable *tab;
@@ -164,6 +166,7 @@ int inf_set_image(InfiniteLight *inf, const Image *im, const char *file, int lin
         error_set(err, file, line, "out of memory for a %d x %d image map", n, n);
         return 0;
     }
+    tab->rgb = rgb;
     inf->weight_sum = 0.0;
     for (y = 0; y < n; y++) {
         float *cdf = inf->cdf_cols + (size_t)y * (n + 1);
@@ -329,6 +332,7 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
         return 0;
     if (!(scale >= 0.0f))
         return fail(P, file, line, "LightSource \"infinite\": \"float scale\" must be >= 0");
+    note_not_positive(pl, "LightSource \"infinite\"", "illuminance", ev);
     for (i = 0; i < SPEC_N; i++)
         if (!(L.v[i] >= 0.0f))
             return fail(P, p ? p->file : file, p ? p->line : line,
@@ -356,7 +360,7 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
             free(inf);
             return fail(P, file, line, "LightSource \"infinite\": %s", ierr.msg);
         }
-        if (!inf_set_image(inf, &im, file, line, P->err)) {
+        if (!inf_set_image(inf, &im, P->rgb, file, line, P->err)) {
             img_free(&im);
             inf_free(inf);
             return 0;
@@ -374,7 +378,10 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
         for (c = 0; c < 3; c++) mrgb[c] = (float)(mean[c] / ((double)im.w * im.h));
         k_e *= 2.0 * SPECNEE_PI / ((double)im.w * im.h);
         img_free(&im);
-        if (!spec_from_rgb(&inf->mean, mrgb, 1, P->err, file, line)) { inf_free(inf); return 0; }
+        if (!spec_from_rgb_t(P->rgb, &inf->mean, mrgb, 1, P->err, file, line)) {
+            inf_free(inf);
+            return 0;
+        }
         if (ev > 0.0f) {
             if (!(k_e > 0.0)) {
                 inf_free(inf);

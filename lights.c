@@ -1225,6 +1225,7 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
     }
     if (!get_float(P, pl, "scale", 1.0f, &al.scale)) return 0;
     if (!get_bool(P, pl, "twosided", 0, &al.twosided)) return 0;
+    accept_not_positive(pl, "AreaLightSource \"diffuse\"", "power");
     if (!params_check_unused(P, pl, "AreaLightSource \"diffuse\"",
                              "spectrum L, rgb L, blackbody L, float scale, bool twosided",
                              "power filename alpha"))

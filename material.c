@@ -673,7 +673,7 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
     if (!(u >= 0.0f && u <= 1e4f))
         return fail(P, file, line, "%s \"dielectric\": roughness must be >= 0", dir);
     /* pbrt-v4 TrowbridgeReitzDistribution::RoughnessToAlpha: alpha = sqrt(roughness) */
-    m->alpha = remap ? sqrtf(u) : u;
+    m->alpha = remap ? tr_alpha_of_roughness(u) : u;
     m->dispersive = !spec_is_constant(&m->eta);
     return 1;
 }

@@ -206,8 +206,8 @@ int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *f
         if (!medium_preset(preset, sa, ss))
             return fail(P, pp->file, pp->line, "%s: unknown preset \"%s\" (pbrt-v4's names, e.g. "
                         "\"Wholemilk\", \"Skin1\", \"Ketchup\")", what, preset);
-        if (!spec_from_rgb(&m->sigma_a, sa, 2, P->err, pp->file, pp->line) ||
-            !spec_from_rgb(&m->sigma_s, ss, 2, P->err, pp->file, pp->line)) return 0;
+        if (!spec_from_rgb_t(P->rgb, &m->sigma_a, sa, 2, P->err, pp->file, pp->line) ||
+            !spec_from_rgb_t(P->rgb, &m->sigma_s, ss, 2, P->err, pp->file, pp->line)) return 0;
     } else if (!medium_coeff(P, pl, what, "sigma_a", 1.0f, &m->sigma_a, file, line) ||
                !medium_coeff(P, pl, what, "sigma_s", 1.0f, &m->sigma_s, file, line))
         return 0;

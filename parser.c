@@ -702,8 +702,8 @@ int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_ill
         if (use == SPEC_UNBOUNDED)
             return fail(P, p->file, p->line, "\"rgb %s\": valid pbrt-v4 but not in the "
                         "specnee subset (give a spectrum)", p->name);
-        if (!spec_from_rgb(out, rgb, use == SPEC_ILLUMINANT ? 1 : use == SPEC_COEFF ? 2 : 0,
-                           P->err, p->file, p->line))
+        if (!spec_from_rgb_t(P->rgb, out, rgb, use == SPEC_ILLUMINANT ? 1 : use == SPEC_COEFF ? 2 : 0,
+                             P->err, p->file, p->line))
             return 0;
         if (rgb_illum) *rgb_illum = use == SPEC_ILLUMINANT;
         return 1;
@@ -856,8 +856,8 @@ int microfacet_alphas_of(Parser *P, ParamList *pl, const char *file, int line,
     }
     if (!(u >= 0.0f && u <= 1e4f) || !(v >= 0.0f && v <= 1e4f))
         return fail(P, file, line, "%s: %s (%g, %g) must be within [0, 1e4]", what, nr, u, v);
-    *alpha_u = remap ? sqrtf(u) : u;
-    *alpha_v = remap ? sqrtf(v) : v;
+    *alpha_u = remap ? tr_alpha_of_roughness(u) : u;
+    *alpha_v = remap ? tr_alpha_of_roughness(v) : v;
     return 1;
 }
 
@@ -898,4 +898,28 @@ float rgb_illuminant_scale(const Spectrum *L, float scale)
     spec_to_xyz(L, (float)SPEC_MIN, (float)SPEC_MAX, xyz_l);
     spec_to_xyz(&d65, (float)SPEC_MIN, (float)SPEC_MAX, xyz_d);
     return xyz_d[1] > 0.0 ? (float)(scale * (xyz_l[1] / xyz_d[1])) : scale;
+}
+
+/* pbrt-v4 reads a light's "power" or "illuminance" only when it is > 0 and
+   leaves the light's scale alone otherwise: a given value <= 0 changes nothing,
+   so it gets a note at its own line. */
+void note_not_positive(ParamList *pl, const char *what, const char *name, float v)
+{
+    Param *p = param_find(pl, PT_FLOAT, name);
+    if (p && v <= 0.0f)
+        fprintf(stderr, "%s:%d: note: %s: \"float %s\" %g is not positive and is ignored, "
+                "as in pbrt-v4 (the light keeps its scale)\n", p->file, p->line, what, name,
+                (double)v);
+}
+
+/* A light that does not support "float name" (specnee's area light and
+   "power"): a last value <= 0, which pbrt-v4 ignores, is read and noted; any
+   other stays unread, for params_check_unused to refuse. */
+void accept_not_positive(ParamList *pl, const char *what, const char *name)
+{
+    int i;
+    for (i = pl->n - 1; i >= 0; i--)
+        if (pl->p[i].type == PT_FLOAT && strcmp(pl->p[i].name, name) == 0) break;
+    if (i < 0 || pl->p[i].n_num != 1 || !(pl->p[i].num[0] <= 0.0)) return;
+    note_not_positive(pl, what, name, (float)pl->p[i].num[0]);
 }

@@ -114,8 +114,9 @@ typedef struct {
    creates the media when the file has been read, a MediumInterface may name a
    medium defined further down: its Scene.media entry is made at the first
    mention and filled by the MakeNamedMedium; finish() fails at the first mention
-   of a name that none defines. */
-typedef struct { int defined; const char *file; int line; } MediumRef;
+   of a name that none defines.  used: the camera starts in it or a shape's
+   transition leads into it (finish() notes a medium that none does). */
+typedef struct { int defined, used; const char *file; int line; } MediumRef;
 
 /* A named material.  As in pbrt-v4 a NamedMaterial may come before its
    MakeNamedMaterial (pbrt-v4 looks names up when it builds the scene): the name is
@@ -155,6 +156,7 @@ typedef struct {
     const char *output;        /* the command line's output file (-o), NULL: none */
     MediumRef *mrefs; int cap_media, cap_mrefs;   /* parallel to Scene.media */
     const char *integ_file; int integ_line; char integ_type[32];  /* the Integrator */
+    RgbTable *rgb;             /* the load's RGB -> spectrum coefficient table (spectrum.c) */
 } Parser;
 
 /* ===========================================================================
@@ -246,6 +248,14 @@ int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
 int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
                          const char *what, const Spectrum *sp, float lo, int strict);
 float rgb_illuminant_scale(const Spectrum *L, float scale);
+/* note_not_positive: a note at the line of "float name" when it is given and
+   v <= 0 (a light's "power" or "illuminance", which pbrt-v4 then ignores); it
+   marks the parameter read. */
+void note_not_positive(ParamList *pl, const char *what, const char *name, float v);
+/* accept_not_positive: for a light that does not read "float name": a last
+   single value <= 0 is marked read and noted, any other is left for
+   params_check_unused to refuse. */
+void accept_not_positive(ParamList *pl, const char *what, const char *name);
 
 /* ===========================================================================
    5. Each concept built from its parameters (the end of each concept's room)

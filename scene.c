@@ -842,7 +842,7 @@ static int medium_ref(Parser *P, const char *name, const char *file, int line)
     }
     memset(&s->media[s->n_media], 0, sizeof(Medium));
     snprintf(s->media[s->n_media].name, sizeof s->media[0].name, "%s", name);
-    P->mrefs[s->n_media].defined = 0;
+    P->mrefs[s->n_media].defined = P->mrefs[s->n_media].used = 0;
     P->mrefs[s->n_media].file = file;
     P->mrefs[s->n_media].line = line;
     return s->n_media++;
@@ -1189,6 +1189,7 @@ static void parser_free(Parser *P)
     free(P->texnames);
     free(P->coords);
     free(P->mrefs);
+    rgb_table_free(P->rgb);
 }
 
 /* Everything after the last token: checks, bounds, emitters, BVH. */
@@ -1224,6 +1225,19 @@ static int finish(Parser *P, const char *file)
         if (s->shapes[i].emitter >= 0 && s->materials[s->shapes[i].material].type == MAT_INTERFACE)
             return fail(P, s->shapes[i].file, s->shapes[i].line, "AreaLightSource on a shape "
                         "with Material \"interface\" (no surface) is not in the specnee subset");
+    /* a medium that neither the camera nor a shape's transition (medium_after)
+       leads into changes nothing: a note at its MakeNamedMedium */
+    if (s->settings.camera_medium >= 0) P->mrefs[s->settings.camera_medium].used = 1;
+    for (i = 0; i < s->n_shapes; i++) {
+        const Shape *sh = &s->shapes[i];
+        if (sh->medium_inside == sh->medium_outside) continue;
+        if (sh->medium_inside >= 0) P->mrefs[sh->medium_inside].used = 1;
+        if (sh->medium_outside >= 0) P->mrefs[sh->medium_outside].used = 1;
+    }
+    for (i = 0; i < s->n_media; i++)
+        if (!P->mrefs[i].used)
+            fprintf(stderr, "%s:%d: note: medium \"%s\" is defined but never used\n",
+                    s->media[i].file, s->media[i].line, s->media[i].name);
     if (s->n_media > 0 && s->settings.media_ignored)
         fprintf(stderr, "%s:%d: note: Integrator \"%s\" ignores the participating media, as "
                 "pbrt-v4's does (\"volpath\" renders them)\n", P->integ_file, P->integ_line,
@@ -1308,7 +1322,8 @@ static int load(Scene *s, char *buf, size_t len, const char *name, const char *o
     if (output) snprintf(s->settings.filename, sizeof s->settings.filename, "%s", output);
     dir_of(name, P.main_dir, sizeof P.main_dir);
     file = intern(&P, name);
-    if (!file) { parser_free(&P); return fail(&P, name, 0, "out of memory"); }
+    P.rgb = rgb_table_new();
+    if (!file || !P.rgb) { parser_free(&P); return fail(&P, name, 0, "out of memory"); }
     P.text_bytes = len;
     ok = parse_text(&P, file, buf, len) && finish(&P, file);
     parser_free(&P);

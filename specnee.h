@@ -324,14 +324,25 @@ int   metal_named(Spectrum *s, const char *name);
 /* A file of wavelength/value pairs: pbrt .spd text or CSV (optional header). */
 int   spec_from_file(Spectrum *s, const char *path, Error *err);
 /* RGB upsampled to a smooth spectrum, pbrt-v4's way: illuminant 0, a reflectance
-   (0..1); 1, an illuminant (times D65); 2, unbounded (a medium's coefficients). */
+   (0..1); 1, an illuminant (times D65); 2, unbounded (a medium's coefficients).
+   spec_from_rgb_t starts each fit from the coefficient table T, which its owner
+   (a scene load: parser.h's Parser) makes with rgb_table_new and frees with
+   rgb_table_free; slices are filled on first use, each by a fixed sweep, so the
+   spectra do not depend on the order of the colours.  T NULL, and spec_from_rgb:
+   the full fit from grey, without a table. */
+typedef struct RgbTable RgbTable;
+RgbTable *rgb_table_new(void);      /* NULL: out of memory */
+void  rgb_table_free(RgbTable *T);
 int   spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
                     const char *file, int line);
+int   spec_from_rgb_t(RgbTable *T, Spectrum *s, const float rgb[3], int illuminant,
+                      Error *err, const char *file, int line);
 void  spec_blackbody(Spectrum *s, float kelvin);  /* normalised to a peak of 1 (pbrt-v4) */
 
-/* The sigmoid fit behind spec_from_rgb, for infinite.c's image maps: coefficients for a
-   colour whose largest component is 1/2, and the shape sigmoid(poly(lambda)). */
-void  spec_rgb_coeffs(const double target[3], double c[3]);
+/* The sigmoid fit behind spec_from_rgb(_t), for infinite.c's image maps: coefficients for a
+   colour whose largest component is 1/2 (from the table T, or the full fit when T is
+   NULL), and the shape sigmoid(poly(lambda)). */
+void  spec_rgb_coeffs(RgbTable *T, const double target[3], double c[3]);
 /* Fitting many colours (image textures, texture.c): the table the fit integrates
    against, built once, and Newton's method from a nearby colour's coefficients
    (0 when it does not converge: then use spec_rgb_coeffs). */
@@ -342,7 +353,7 @@ int   spec_rgb_coeffs_from(const RgbFitTable *t, const double target[3], const d
 float spec_sigmoid_eval(const float c[3], float lambda_nm);
 /* For tests: the coefficient table's interpolated start for target (before the
    Newton polish), and the full continuation fit from grey (no table). */
-void  spec_rgb_table_start(const double target[3], double c[3]);
+void  spec_rgb_table_start(RgbTable *T, const double target[3], double c[3]);
 void  spec_rgb_coeffs_fit(const double target[3], double c[3]);
 /* CIE 1931 2-degree colour matching functions at lambda (nm), linear in the 5 nm CIE table. */
 void  cie_xyz(float lambda_nm, float xyz[3]);
@@ -693,7 +704,7 @@ float tex_fbm(Vec3 p, float omega, int octaves);
    |noise(1.99^i p)|, plus 0.2 omega^octaves (texture.c section 4). */
 float tex_turbulence(Vec3 p, float omega, int octaves);
 /* A marble texture's colour table (texture.c section 4): 0 and a message when out of memory. */
-int   tex_marble_init(Texture *t, Error *err);
+int   tex_marble_init(Texture *t, RgbTable *rgb, Error *err);
 /* Smooth dielectrics scatter into discrete (delta) directions: no NEE there.  A
    conductor with a roughness texture is not: it may be smooth at some points, where
    bsdf_eval gives 0 and bsdf_sample a delta lobe. */
@@ -1094,7 +1105,8 @@ int  ply_write_binary(const char *path, const float *P, int n_verts, const int32
 typedef struct { int w, h; float *rgb; } Image;   /* top row first, 3 floats a pixel */
 /* An image texture's texels from an RGB image (rows top to bottom), after pbrt-v4's
    scale and invert (texture.c): 0 and a message when out of memory. */
-int   tex_set_image(Texture *t, const Image *im, float scale, int invert, Error *err);
+int   tex_set_image(Texture *t, const Image *im, float scale, int invert, RgbTable *rgb,
+                    Error *err);
 #define IMG_MAX_PIXELS (1L << 28)  /* @@ largest w*h accepted (guards against absurd headers) */
 #define IMG_RELMSE_EPS 1e-2        /* relMSE = mean (a-b)^2/(b^2 + eps) (Rousselle et al. 2011) */
 int  img_alloc(Image *im, int w, int h);  /* zero-filled; 0 on bad size or no memory */
@@ -1185,7 +1197,8 @@ Vec3  equal_area_square_to_sphere(float u, float v);
 void  equal_area_sphere_to_square(Vec3 d, float *u, float *v);
 /* Build an image map's texels and distribution from an RGB image (rows top to
    bottom); 0 and a message on a non-square or non-finite image. */
-int   inf_set_image(InfiniteLight *inf, const Image *im, const char *file, int line, Error *err);
+int   inf_set_image(InfiniteLight *inf, const Image *im, RgbTable *rgb, const char *file,
+                    int line, Error *err);
 void  inf_free(InfiniteLight *inf);
 /* 0 when emitter e certainly sends no light to the point p (p behind every
    triangle of a one-sided emitter, or in their planes - e.g. on the emitter

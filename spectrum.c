@@ -37,8 +37,8 @@
      spec_from_file spec_from_rgb spec_blackbody cie_xyz cie_cmf cie_y_integral
      spec_to_xyz xyz_to_linear_srgb spec_chromaticity cct_from_xy spec_bin_average
      spec_bin_sum cauchy_named spec_rgb_coeffs spec_rgb_fit_table spec_rgb_coeffs_from
-     spec_sigmoid_eval spec_rgb_table_start spec_rgb_coeffs_fit spec_band_mean
-     spec_band_average
+     spec_sigmoid_eval spec_rgb_table_start spec_rgb_coeffs_fit rgb_table_new
+     rgb_table_free spec_from_rgb_t spec_band_mean spec_band_average
 
    HOW IT IS USED
      parser.c turns "spectrum"/"rgb"/"blackbody" parameters into Spectrum tables with
@@ -1349,19 +1349,19 @@ int spec_rgb_coeffs_from(const RgbFitTable *f, const double target[3], const dou
    tests/test_spectrum.c (spectrum_rgb_table) measures both. */
 #define RGB_TAB_N 9
 #define RGB_POLISH 8
-typedef struct {
+struct RgbTable {                              /* specnee.h: owned by a scene load */
     int ready;                                 /* fit and z filled */
     int built[3][RGB_TAB_N];                   /* slice (m, z_k) filled */
     RgbFit fit;
     Spectrum d65;                              /* stdillum-D65 (Y = 1), for illuminants */
     double z[RGB_TAB_N];
     double c[3][RGB_TAB_N][RGB_TAB_N][RGB_TAB_N][3];  /* [m][z][b][a][coefficient] */
-} RgbCoeffTable;
+};
 
 static double smoothstep(double x) { return x * x * (3.0 - 2.0 * x); }
 
 /* The rgb of corner (m, zi, bi, ai). */
-static void rgb_table_corner(const RgbCoeffTable *T, int m, int zi, int bi, int ai, double rgb[3])
+static void rgb_table_corner(const RgbTable *T, int m, int zi, int bi, int ai, double rgb[3])
 {
     double z = T->z[zi];
     rgb[m] = z;
@@ -1369,7 +1369,7 @@ static void rgb_table_corner(const RgbCoeffTable *T, int m, int zi, int bi, int 
     rgb[(m + 2) % 3] = z * bi / (RGB_TAB_N - 1);
 }
 
-static void rgb_table_fit_corner(RgbCoeffTable *T, int m, int zi, int bi, int ai, const double start[3])
+static void rgb_table_fit_corner(RgbTable *T, int m, int zi, int bi, int ai, const double start[3])
 {
     double rgb[3], *c = T->c[m][zi][bi][ai];
     int k;
@@ -1379,7 +1379,7 @@ static void rgb_table_fit_corner(RgbCoeffTable *T, int m, int zi, int bi, int ai
 }
 
 /* Fill slice (m, zi >= 1) by a sweep from its grey corner. */
-static void rgb_table_build_slice(RgbCoeffTable *T, int m, int zi)
+static void rgb_table_build_slice(RgbTable *T, int m, int zi)
 {
     static const double zero[3] = { 0.0, 0.0, 0.0 };
     const int top = RGB_TAB_N - 1;
@@ -1393,25 +1393,35 @@ static void rgb_table_build_slice(RgbCoeffTable *T, int m, int zi)
     T->built[m][zi] = 1;
 }
 
-/* The one table of the process: a cache of a pure function of the grid, filled
-   at scene load, which is single-threaded. */
-static RgbCoeffTable *rgb_table_get(void)
+/* A cache of a pure function of the grid, owned by whoever loads (scene.c's
+   Parser): empty when made, its fit and knots set on the first lookup, its
+   slices filled as lookups need them.  Not for concurrent use. */
+RgbTable *rgb_table_new(void)
 {
-    static RgbCoeffTable table;
+    return (RgbTable *)calloc(1, sizeof(RgbTable));
+}
+
+void rgb_table_free(RgbTable *T)
+{
+    free(T);
+}
+
+static RgbTable *rgb_table_get(RgbTable *T)
+{
     int zi;
-    if (!table.ready) {
-        rgb_fit_init(&table.fit);
-        spec_named(&table.d65, "stdillum-D65");
+    if (!T->ready) {
+        rgb_fit_init(&T->fit);
+        spec_named(&T->d65, "stdillum-D65");
         for (zi = 0; zi < RGB_TAB_N; zi++)
-            table.z[zi] = smoothstep(smoothstep((double)zi / (RGB_TAB_N - 1)));
-        table.ready = 1;
+            T->z[zi] = smoothstep(smoothstep((double)zi / (RGB_TAB_N - 1)));
+        T->ready = 1;
     }
-    return &table;
+    return T;
 }
 
 /* Trilinear interpolation of the table's coefficients at target (not all zero),
    filling the slices it needs. */
-static void rgb_table_lookup(RgbCoeffTable *T, const double target[3], double c[3])
+static void rgb_table_lookup(RgbTable *T, const double target[3], double c[3])
 {
     double z, a, b, fz, fa, fb;
     int m = 0, zi, ai, bi, k, dz, da, db;
@@ -1438,16 +1448,29 @@ static void rgb_table_lookup(RgbCoeffTable *T, const double target[3], double c[
 }
 
 /* c for target (components in [0, 1], not grey): the table's start, polished by
-   Newton; the full continuation where the polish does not converge. */
-static void rgb_coeffs(const double target[3], double c[3])
+   Newton; the full continuation where the polish does not converge, or where
+   there is no table (T NULL). */
+static void rgb_coeffs(RgbTable *T, const double target[3], double c[3])
 {
-    RgbCoeffTable *T = rgb_table_get();
+    if (!T) {
+        RgbFit fit;
+        rgb_fit_init(&fit);
+        rgb_fit(&fit, target, c);
+        return;
+    }
+    rgb_table_get(T);
     rgb_table_lookup(T, target, c);
     if (rgb_newton(&T->fit, target, c, RGB_POLISH) >= 1e-14) rgb_fit(&T->fit, target, c);
 }
 
 int spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
                   const char *file, int line)
+{
+    return spec_from_rgb_t(NULL, s, rgb, illuminant, err, file, line);
+}
+
+int spec_from_rgb_t(RgbTable *T, Spectrum *s, const float rgb[3], int illuminant, Error *err,
+                    const char *file, int line)
 {
     double target[3], c[3], m = 0.0;
     int i, k;
@@ -1471,11 +1494,12 @@ int spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
         const Spectrum *d65 = &one;
         if (m == 0.0) { spec_const(s, 0.0f); return 1; }
         if (illuminant == 2) spec_const(&one, 1.0f);
-        else d65 = &rgb_table_get()->d65;
+        else if (T) d65 = &rgb_table_get(T)->d65;
+        else spec_named(&one, "stdillum-D65");
         m *= 2.0;
         for (k = 0; k < 3; k++) target[k] /= m;
         if (target[0] == target[1] && target[1] == target[2]) c[0] = c[1] = c[2] = 0.0;  /* s = 1/2 */
-        else rgb_coeffs(target, c);
+        else rgb_coeffs(T, target, c);
         for (i = 0; i < SPEC_N; i++) {
             double x = (double)i / (SPEC_N - 1);
             s->v[i] = (float)(m * sigmoid((c[0] * x + c[1]) * x + c[2]) * d65->v[i]);
@@ -1486,7 +1510,7 @@ int spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
         spec_const(s, (float)target[0]);
         return 1;
     }
-    rgb_coeffs(target, c);
+    rgb_coeffs(T, target, c);
     for (i = 0; i < SPEC_N; i++) {
         double x = (double)i / (SPEC_N - 1), v = sigmoid((c[0] * x + c[1]) * x + c[2]);
         s->v[i] = (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
@@ -1497,15 +1521,15 @@ int spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
 /* The sigmoid-polynomial fit of spec_from_rgb for one colour whose largest
    component is 1/2 (an RGB illuminant divided by twice its maximum): used by
    infinite.c, which tabulates it for image maps.  A grey target gives c = 0. */
-void spec_rgb_coeffs(const double target[3], double c[3])
+void spec_rgb_coeffs(RgbTable *T, const double target[3], double c[3])
 {
     if (target[0] == target[1] && target[1] == target[2]) { c[0] = c[1] = c[2] = 0.0; return; }
-    rgb_coeffs(target, c);
+    rgb_coeffs(T, target, c);
 }
 
-void spec_rgb_table_start(const double target[3], double c[3])
+void spec_rgb_table_start(RgbTable *T, const double target[3], double c[3])
 {
-    rgb_table_lookup(rgb_table_get(), target, c);
+    rgb_table_lookup(rgb_table_get(T), target, c);
 }
 
 void spec_rgb_coeffs_fit(const double target[3], double c[3])

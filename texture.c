@@ -215,7 +215,7 @@ static void marble_rgb(int k, float x, double rgb[3])
                                 b2 * MARBLE_RGB[k + 2][c] + b3 * MARBLE_RGB[k + 3][c]);
 }
 
-int tex_marble_init(Texture *t, Error *err)
+int tex_marble_init(Texture *t, RgbTable *rgb, Error *err)
 {
     Image im;
     int k, i, ok;
@@ -234,7 +234,7 @@ int tex_marble_init(Texture *t, Error *err)
             for (c = 0; c < 3; c++) im.rgb[3 * (k * (MARBLE_KNOTS + 1) + i) + c] = (float)rgb[c];
         }
     t->is_float = 0;
-    ok = tex_set_image(t, &im, 1.0f, 0, err);
+    ok = tex_set_image(t, &im, 1.0f, 0, rgb, err);
     free(im.rgb);
     return ok;
 }
@@ -363,7 +363,7 @@ float tex_eval(const Texture *tex, int i, const SurfacePoint *sp, float lambda_n
     return 0.0f;
 }
 
-int tex_set_image(Texture *t, const Image *im, float scale, int invert, Error *err)
+int tex_set_image(Texture *t, const Image *im, float scale, int invert, RgbTable *rgbt, Error *err)
 {
     size_t n = (size_t)im->w * (size_t)im->h, i;
     RgbFitTable *fit = NULL;
@@ -401,7 +401,7 @@ int tex_set_image(Texture *t, const Image *im, float scale, int invert, Error *e
             t->texel[4 * i + 1] = t->texel[4 * i + 2] = t->texel[4 * i + 3] = 0.0f;
             continue;
         }
-        if (!spec_rgb_coeffs_from(fit, rgb, prev, c)) spec_rgb_coeffs(rgb, c);
+        if (!spec_rgb_coeffs_from(fit, rgb, prev, c)) spec_rgb_coeffs(rgbt, rgb, c);
         for (k = 0; k < 3; k++) prev[k] = c[k];
         t->texel[4 * i] = 1.0f;
         for (k = 0; k < 3; k++) t->texel[4 * i + 1 + k] = (float)c[k];
@@ -529,7 +529,7 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
         if (!f) {                              /* no .pfm beside it: the EXR (exr.c) */
             if (!exr_read(&im, path, &ierr))
                 return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
-            ok = tex_set_image(T, &im, scale, invert, P->err);
+            ok = tex_set_image(T, &im, scale, invert, P->rgb, P->err);
             img_free(&im);
             return ok;
         }
@@ -547,7 +547,7 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
                         "pbrt-v4 but not in the specnee subset (sRGB, linear)", name, enc);
         if (!png_read(&im, path, linear, &ierr))
             return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
-        ok = tex_set_image(T, &im, scale, invert, P->err);
+        ok = tex_set_image(T, &im, scale, invert, P->rgb, P->err);
         img_free(&im);
         return ok;
     } else if (!ends_with_ci(fn, ".pfm")) {
@@ -557,7 +557,7 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
     (void)enc;                                 /* PFM holds linear values */
     if (!pfm_read(&im, path, &ierr))
         return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
-    ok = tex_set_image(T, &im, scale, invert, P->err);
+    ok = tex_set_image(T, &im, scale, invert, P->rgb, P->err);
     img_free(&im);
     return ok;
 }
@@ -657,7 +657,7 @@ int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *
                       T->octaves);
         if (ok) {
             texture_frame(P, T);   /* marble */
-            ok = tex_marble_init(T, P->err);
+            ok = tex_marble_init(T, P->rgb, P->err);
         }
     } else if (!strcmp(cls, "fbm") || !strcmp(cls, "wrinkled") ||
                !strcmp(cls, "windy")) {

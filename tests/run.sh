@@ -143,6 +143,26 @@ if grep -q 'EXR' tests/tmp/err.txt; then fail "cli_output_no_exr_note: an EXR no
 # a scene naming an ordinary .pfm/.ppm/.png stays quiet under -o
 ./specnee -q scenes/cornell.pbrt --spp 1 --res 4x4 -o tests/tmp/quiet.png 2> tests/tmp/quiet.txt
 if [ ! -s tests/tmp/quiet.txt ]; then ok "cli_output_ordinary_name_quiet"; else fail "cli_output_ordinary_name_quiet"; cat tests/tmp/quiet.txt; fi
+# what changes nothing gets a note and leaves the image as it is: a medium that no
+# shape's transition nor the camera leads into, a light's "power" or "illuminance"
+# <= 0 (pbrt-v4 ignores it; an area light's too, whose positive "power" specnee
+# refuses); a medium that a shape leads into gets no note
+printf 'Film "rgb" "integer xresolution" 8 "integer yresolution" 8\nSampler "sobol" "integer pixelsamples" 2\nIntegrator "volpath"\nWorldBegin\nLightSource "point" "point3 from" [ 1 1 1 ]\nAttributeBegin\nAreaLightSource "diffuse"\nTranslate 0 0 3\nShape "sphere" "float radius" 0.5\nAttributeEnd\nShape "bilinearmesh" "point3 P" [ -9 -9 6  9 -9 6  -9 9 6  9 9 6 ]\n' > tests/tmp/used.pbrt
+expect "cli_used_quiet" 0 "" ./specnee -q tests/tmp/used.pbrt -o tests/tmp/used.pfm
+if [ ! -s tests/tmp/err.txt ]; then ok "cli_used_quiet_no_note"; else fail "cli_used_quiet_no_note"; cat tests/tmp/err.txt; fi
+sed -e 's/^WorldBegin$/WorldBegin\nMakeNamedMedium "fog" "string type" "homogeneous"/' \
+    -e 's/^LightSource "point"/& "float power" [ -60 ]/' -e 's/^AreaLightSource "diffuse"/& "float power" 0/' \
+    tests/tmp/used.pbrt > tests/tmp/unused.pbrt
+expect "cli_note_unused_medium" 0 'unused.pbrt:5: note: medium "fog" is defined but never used' ./specnee -q tests/tmp/unused.pbrt -o tests/tmp/unused.pfm
+if grep -q 'unused.pbrt:6: note: LightSource "point": "float power" -60 is not positive and is ignored' tests/tmp/err.txt &&
+   grep -q 'unused.pbrt:8: note: AreaLightSource "diffuse": "float power" 0 is not positive and is ignored' tests/tmp/err.txt &&
+   [ "$(wc -l < tests/tmp/err.txt)" -eq 3 ]; then ok "cli_note_power_ignored"; else fail "cli_note_power_ignored"; cat tests/tmp/err.txt; fi
+if cmp -s tests/tmp/used.pfm tests/tmp/unused.pfm; then ok "cli_ignored_image_unchanged"; else fail "cli_ignored_image_unchanged"; fi
+printf 'WorldBegin\nMakeNamedMedium "fog" "string type" "homogeneous"\nAttributeBegin\nMediumInterface "fog" ""\nMaterial "interface"\nShape "sphere"\nAttributeEnd\nLightSource "distant" "float illuminance" -1\n' > tests/tmp/fog.pbrt
+./specnee -q tests/tmp/fog.pbrt --res 4x4 --spp 1 -o tests/tmp/fog.pfm 2> tests/tmp/fog.txt
+if ! grep -q 'never used' tests/tmp/fog.txt &&
+   grep -q 'fog.pbrt:8: note: LightSource "distant": "float illuminance" -1 is not positive' tests/tmp/fog.txt
+then ok "cli_note_medium_used_distant"; else fail "cli_note_medium_used_distant"; cat tests/tmp/fog.txt; fi
 expect "cli_bad_sampler" 2 "independent, stratified, sobol or zsobol" ./specnee --sampler halton scenes/cornell.pbrt
 expect "cli_render_sampler" 0 "samples/s" ./specnee scenes/cornell.pbrt --res 16x16 --spp 2 --sampler zsobol -o tests/tmp/zs.pfm
 if grep -q 'sampler=zsobol' tests/tmp/zs.pfm.txt 2>/dev/null; then ok "cli_sidecar_records_sampler"

@@ -436,26 +436,39 @@ static double sigmoid_rgb_err(const double c[3], const double target[3])
     return d;
 }
 
+static void rgb_table_target(int a, int b, int c, double target[3])
+{
+    if (c < 9) {                                  /* reflectance grid */
+        target[0] = 0.02 + 0.12 * a; target[1] = 0.02 + 0.12 * b;
+        target[2] = 0.02 + 0.12 * c;
+    } else {                                      /* illuminant: max 1/2 */
+        target[a % 3] = 0.5; target[(a + 1) % 3] = 0.06 * b;
+        target[(a + 2) % 3] = 0.5 * (a / 3) / 2.0;
+    }
+}
+
 static void test_rgb_table(T *t)
 {
+    static double first[9][9][10][3];             /* ct of each colour, in grid order */
     double worst_s = 0.0, sum_s = 0.0, worst_rgb = 0.0, worst_start = 0.0, sum_start = 0.0;
-    long n_s = 0, n_c = 0;
+    long n_s = 0, n_c = 0, n_differ = 0;
     int a, b, c, i, k;
+    RgbTable *tab = rgb_table_new(), *rev = rgb_table_new();
+    if (!tab || !rev) {
+        rgb_table_free(tab);
+        rgb_table_free(rev);
+        CHECK(t, 0, "rgb_table_new: out of memory");
+    }
     for (a = 0; a < 9; a++)
         for (b = 0; b < 9; b++)
             for (c = 0; c < 10; c++) {
                 double target[3], ct[3], cf[3], cs[3], d;
-                if (c < 9) {                      /* reflectance grid */
-                    target[0] = 0.02 + 0.12 * a; target[1] = 0.02 + 0.12 * b;
-                    target[2] = 0.02 + 0.12 * c;
-                } else {                          /* illuminant: max 1/2 */
-                    target[a % 3] = 0.5; target[(a + 1) % 3] = 0.06 * b;
-                    target[(a + 2) % 3] = 0.5 * (a / 3) / 2.0;
-                }
+                rgb_table_target(a, b, c, target);
                 if (target[0] == target[1] && target[1] == target[2]) continue;
-                spec_rgb_coeffs(target, ct);
+                spec_rgb_coeffs(tab, target, ct);
+                for (k = 0; k < 3; k++) first[a][b][c][k] = ct[k];
                 spec_rgb_coeffs_fit(target, cf);
-                spec_rgb_table_start(target, cs);
+                spec_rgb_table_start(tab, target, cs);
                 for (i = 0; i < SPEC_N; i++) {
                     float lam = (float)(SPEC_MIN + i), ft[3], ff[3];
                     for (k = 0; k < 3; k++) { ft[k] = (float)ct[k]; ff[k] = (float)cf[k]; }
@@ -469,6 +482,20 @@ static void test_rgb_table(T *t)
                 if (d > worst_start) worst_start = d;
                 sum_start += d; n_c++;
             }
+    /* a second table asked in the reverse order fills its slices in another order:
+       every colour gets the same coefficients, bit for bit */
+    for (a = 8; a >= 0; a--)
+        for (b = 8; b >= 0; b--)
+            for (c = 9; c >= 0; c--) {
+                double target[3], ct[3];
+                rgb_table_target(a, b, c, target);
+                if (target[0] == target[1] && target[1] == target[2]) continue;
+                spec_rgb_coeffs(rev, target, ct);
+                for (k = 0; k < 3; k++) n_differ += ct[k] != first[a][b][c][k];
+            }
+    rgb_table_free(tab);
+    rgb_table_free(rev);
+    CHECK(t, n_differ == 0, "%ld coefficients depend on the order of the lookups", n_differ);
     printf("    rgb table vs fit over %ld colours: spectrum max %.2e mean %.2e, rgb error "
            "difference max %.2e; table start alone: rgb error max %.2e mean %.2e\n",
            n_c, worst_s, sum_s / (double)n_s, worst_rgb, worst_start, sum_start / (double)n_c);
