@@ -2,10 +2,12 @@
 
    Exported (render.h, for render.c): camera_init, camera_ray.
 
-   The screen window follows pbrt-v4: the shorter image axis spans [-1, 1], the
-   field of view "fov" belongs to that axis, and a raster point (x, y) (y down,
-   pixel units of the full film) maps to the camera-space direction
-   (sx tan(fov/2), sy tan(fov/2), 1).  The camera frame is left-handed, as pbrt's
+   The screen window follows pbrt-v4 (camera_screen_window in options.c): by
+   default the shorter image axis spans [-1, 1], and the field of view "fov"
+   belongs to that axis; "screenwindow" [x0 x1 y0 y1] replaces it.  A raster point
+   (x, y) (y down, pixel units of the full film) maps linearly onto the window,
+   sx = x0 + (x / w)(x1 - x0), sy = y1 - (y / h)(y1 - y0), and then to the
+   camera-space direction (sx tan(fov/2), sy tan(fov/2), 1).  The camera frame is left-handed, as pbrt's
    (docs/conventions.md).  With "lensradius" > 0 the camera is a thin lens focused
    at "focaldistance" (camera_ray says how); otherwise a pinhole.  Every call is a
    pure function of its arguments: the numbers for the lens come from the caller's
@@ -15,16 +17,15 @@
 
 void camera_init(Camera *c, const SceneSettings *st)
 {
-    float aspect = (float)st->xres / (float)st->yres;
+    float sw[4];
     {
         Xform t = st->camera_from_world;
         memcpy(c->world_from_camera.m, t.inv, sizeof t.inv);
         memcpy(c->world_from_camera.inv, t.m, sizeof t.m);
     }
     c->tan_half = tanf(st->fov_deg * 0.5f * PI_F / 180.0f);
-    /* pbrt: the shorter image axis spans [-1, 1] of the screen window */
-    if (aspect > 1.0f) { c->sx0 = -aspect; c->sx1 = aspect; c->sy0 = -1; c->sy1 = 1; }
-    else { c->sx0 = -1; c->sx1 = 1; c->sy0 = -1.0f / aspect; c->sy1 = 1.0f / aspect; }
+    camera_screen_window(st, sw);            /* options.c: pbrt-v4's screen window */
+    c->sx0 = sw[0]; c->sx1 = sw[1]; c->sy0 = sw[2]; c->sy1 = sw[3];
     c->w = st->xres;
     c->h = st->yres;
     c->lens_radius = st->lens_radius;

@@ -527,6 +527,7 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
    (parser.h), checks them and fills the Material.
    --------------------------------------------------------------------------- */
 #include "parser.h"
+#include <float.h>
 
 /* pbrt-v4 (materials.cpp): no material, only the boundary between two media;
    "" and "none" are its deprecated spellings.  Rays cross it (path.c) */
@@ -538,8 +539,8 @@ int interface_from_params(Parser *P, ParamList *pl, const char *file, int line,
     return params_check_unused(P, pl, what, "", NULL);
 }
 
-/* pbrt-v4 DiffuseMaterial: "reflectance" (0.5 by default), a spectrum within
-   [0, 1] or a spectrum texture. */
+/* pbrt-v4 DiffuseMaterial: "reflectance" (0.5 by default), a spectrum (clamped
+   to [0, 1]) or a spectrum texture. */
 int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
                         const char *dir, const char *what, Material *m)
 {
@@ -554,10 +555,26 @@ int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
         m->reflectance_tex = ti + 1;
         spec_const(&m->reflectance, 0.5f);        /* (not read) */
     } else if (p) {
+        /* pbrt-v4 clamps a spectrum's values to [0, 1] where it uses them
+           (DiffuseMaterial::GetBxDF, src/pbrt/materials.h:467): done once here,
+           the spectrum being constant; past 1e-4 of slack (an RGB upsampling of
+           (1,1,1) rounds) with a note.  An "rgb" above 1 stays refused, as there. */
+        float lo = FLT_MAX, hi = -FLT_MAX;
+        int nm;
         if (!param_spectrum(P, p, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
-        /* a reflectance must lie in [0,1]; 1e-4 of slack absorbs the rounding of
-           an RGB upsampling of (1,1,1) */
-        if (!check_unit_spectrum(P, p, &m->reflectance)) return 0;
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+            float *v = spec_at(&m->reflectance, nm);
+            if (!(fabsf(*v) <= FLT_MAX))
+                return fail(P, p->file, p->line, "\"%s reflectance\": value %g at %d nm is "
+                            "not finite", param_type_names[p->type], *v, nm);
+            lo = fminf(lo, *v);
+            hi = fmaxf(hi, *v);
+            *v = fminf(1.0f, fmaxf(0.0f, *v));
+        }
+        if (lo < 0.0f || hi > 1.0001f)
+            fprintf(stderr, "%s:%d: note: \"%s reflectance\" goes from %g to %g: clamped "
+                    "to [0, 1], as pbrt-v4's diffuse material does\n", p->file, p->line,
+                    param_type_names[p->type], lo, hi);
     } else {
         spec_const(&m->reflectance, 0.5f);        /* pbrt-v4's default */
     }
@@ -598,8 +615,8 @@ int fluorescent_from_params(Parser *P, ParamList *pl, const char *file, int line
                                "spectrum excitation, spectrum emission, float quantumyield", "");
 }
 
-/* pbrt-v4 DielectricMaterial: "float eta" (no dispersion), "spectrum eta", or
-   specnee's Cauchy coefficients; isotropic roughness. */
+/* pbrt-v4 DielectricMaterial: "float eta" (no dispersion), "spectrum eta" or
+   "rgb eta", or specnee's Cauchy coefficients; isotropic roughness. */
 int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
                            const char *dir, const char *what, Material *m)
 {
@@ -635,7 +652,11 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
     } else {
         Param *ps = find_spectrum_param(pl, "eta");
         if (ps) {
-            if (!param_spectrum(P, ps, SPEC_UNBOUNDED, &m->eta, NULL)) return 0;
+            /* pbrt-v4 reads "rgb eta" as an RGBUnboundedSpectrum (SPEC_COEFF); it
+               has no UV, which keeps the 360 nm value here */
+            int rgb = ps->type == PT_RGB;
+            if (!param_spectrum(P, ps, rgb ? SPEC_COEFF : SPEC_UNBOUNDED, &m->eta, NULL)) return 0;
+            for (i = 0; rgb && i < SPEC_UV_N; i++) m->eta.uv[i] = m->eta.v[0];
             for (i = 0; i < SPEC_N; i++) {
                 if (!(m->eta.v[i] >= 0.0f && m->eta.v[i] < 100.0f))
                     return fail(P, ps->file, ps->line, "\"spectrum eta\": value %g at %d "
@@ -663,9 +684,10 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
         if (!have_v) v = r;
     }
     if (!get_bool(P, pl, "remaproughness", 1, &remap)) return 0;
-    if (!params_check_unused(P, pl, what, "float eta, spectrum eta, float roughness, "
-                             "float uroughness, float vroughness, bool remaproughness, "
-                             "float cauchyA, float cauchyB", "displacement normalmap"))
+    if (!params_check_unused(P, pl, what, "float eta, spectrum eta, rgb eta, "
+                             "float roughness, float uroughness, float vroughness, "
+                             "bool remaproughness, float cauchyA, float cauchyB",
+                             "displacement normalmap"))
         return 0;
     if (u != v)
         return fail(P, file, line, "%s \"dielectric\": anisotropic roughness (%g, %g) "
@@ -678,7 +700,7 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
     return 1;
 }
 
-/* pbrt-v4 ThinDielectricMaterial: "float eta" or "spectrum eta",
+/* pbrt-v4 ThinDielectricMaterial: "float eta", "spectrum eta" or "rgb eta",
    1.5 by default; no roughness */
 int thindielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
                                const char *dir, const char *what, Material *m)
@@ -686,14 +708,17 @@ int thindielectric_from_params(Parser *P, ParamList *pl, const char *file, int l
     Param *pf = param_find(pl, PT_FLOAT, "eta"), *ps = find_spectrum_param(pl, "eta");
     (void)dir;
     m->type = MAT_THIN_DIELECTRIC;
-    if (!params_check_unused(P, pl, what, "float eta, spectrum eta", "displacement normalmap"))
+    if (!params_check_unused(P, pl, what, "float eta, spectrum eta, rgb eta",
+                             "displacement normalmap"))
         return 0;
     if (pf) {
         float eta;
         if (!get_float(P, pl, "eta", 1.5f, &eta)) return 0;
         spec_const(&m->eta, eta);
     } else if (ps) {
-        if (!param_spectrum(P, ps, SPEC_UNBOUNDED, &m->eta, NULL)) return 0;
+        int nm, is_rgb = ps->type == PT_RGB;    /* as the dielectric's */
+        if (!param_spectrum(P, ps, is_rgb ? SPEC_COEFF : SPEC_UNBOUNDED, &m->eta, NULL)) return 0;
+        for (nm = SPEC_UV_MIN; is_rgb && nm < SPEC_MIN; nm++) *spec_at(&m->eta, nm) = m->eta.v[0];
     } else {
         spec_const(&m->eta, 1.5f);                /* pbrt-v4's default */
     }

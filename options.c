@@ -5,8 +5,8 @@
    WorldBegin, parser.h): camera_directive, film_directive, filter_directive,
    sampler_directive, integrator_directive, accelerator_directive,
    camera_transform_ok (also scene_load's last check); and, for the
-   renderer and the commands (specnee.h section 8), film_bounds and
-   scene_insets_rendered.  Each reads its statement's parameters with parser.h's
+   renderer and the commands (specnee.h section 8), film_bounds,
+   scene_insets_rendered and camera_screen_window.  Each reads its statement's parameters with parser.h's
    typed getters, checks them (every problem is a "file:line: problem" line) and
    fills SceneSettings; pbrt-v4's parameters that specnee does not support are
    refused by name.  The subset and its defaults: docs/conventions.md.
@@ -19,16 +19,32 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* pbrt-v4 PerspectiveCamera's screen window: "screenwindow" (x0 x1 y0 y1) when
+   given; else the shorter axis of a frame of aspect ratio `frame` spans [-1, 1]
+   and the longer one [-frame, frame] (the fov belongs to the shorter axis). */
+static void screen_window(int set, const float screen[4], float frame, float sw[4])
+{
+    if (set) memcpy(sw, screen, 4 * sizeof *sw);
+    else if (frame > 1.0f) { sw[0] = -frame; sw[1] = frame; sw[2] = -1.0f; sw[3] = 1.0f; }
+    else { sw[0] = -1.0f; sw[1] = 1.0f; sw[2] = -1.0f / frame; sw[3] = 1.0f / frame; }
+}
+
+void camera_screen_window(const SceneSettings *st, float sw[4])
+{
+    float frame = st->frame_aspect > 0.0f ? st->frame_aspect : (float)st->xres / (float)st->yres;
+    screen_window(st->screen_set, st->screen, frame, sw);
+}
+
 /* The camera transform must give the renderer finite numbers, as mesh vertices
-   must: the eye and the world-space directions through the image's corners and
-   centre, in float, with a length that neither overflows nor underflows when
-   squared (camera.c normalises them).  A transform such as `Scale 1e-30 ...`
-   before Camera is invertible in double precision but fails here. */
-int camera_transform_ok(const Xform *camera_from_world, float fov_deg, int xres, int yres)
+   must: the eye and the world-space directions through the screen window's
+   corners and the screen's centre, in float, with a length that neither
+   overflows nor underflows when squared (camera.c normalises them).  A transform
+   such as `Scale 1e-30 ...` before Camera is invertible in double precision but
+   fails here. */
+int camera_transform_ok(const Xform *camera_from_world, float fov_deg, const float sw[4])
 {
     Xform wfc;
     double t = tan(fov_deg * 0.5 * SPECNEE_PI / 180.0);
-    double ax = xres >= yres ? (double)xres / yres : 1.0, ay = xres >= yres ? 1.0 : (double)yres / xres;
     Vec3 eye;
     int i;
     memcpy(wfc.m, camera_from_world->inv, sizeof wfc.m);     /* world_from_camera */
@@ -37,7 +53,7 @@ int camera_transform_ok(const Xform *camera_from_world, float fov_deg, int xres,
     if (!(fabsf(eye.x) <= FLT_MAX && fabsf(eye.y) <= FLT_MAX && fabsf(eye.z) <= FLT_MAX))
         return 0;
     for (i = 0; i < 5; i++) {
-        double sx = i == 4 ? 0.0 : (i & 1 ? ax : -ax), sy = i == 4 ? 0.0 : (i & 2 ? ay : -ay);
+        double sx = i == 4 ? 0.0 : sw[i & 1], sy = i == 4 ? 0.0 : sw[2 + (i >> 1)];
         Vec3 d = xf_vector(&wfc, v3((float)(sx * t), (float)(sy * t), 1.0f));
         float l2 = v3_dot(d, d);
         if (!(l2 >= FLT_MIN && l2 <= FLT_MAX)) return 0;
@@ -48,7 +64,8 @@ int camera_transform_ok(const Xform *camera_from_world, float fov_deg, int xres,
 int camera_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     SceneSettings *st = &P->s->settings;
-    float fov, lens, focus, open, close;
+    float fov, lens, focus, open, close, frame = 0.0f, scr[4] = { 0, 0, 0, 0 }, sw[4];
+    Param *psw, *pfr;
     if (strcmp(type, "perspective") != 0) {
         if (!strcmp(type, "orthographic") || !strcmp(type, "realistic") || !strcmp(type, "spherical"))
             return fail(P, file, line, "Camera \"%s\" is valid pbrt-v4 but not in the specnee "
@@ -60,16 +77,34 @@ int camera_directive(Parser *P, const char *type, ParamList *pl, const char *fil
     if (!get_float(P, pl, "focaldistance", 1e6f, &focus)) return 0;
     if (!get_float(P, pl, "shutteropen", 0.0f, &open)) return 0;
     if (!get_float(P, pl, "shutterclose", 1.0f, &close)) return 0;
+    pfr = param_find(pl, PT_FLOAT, "frameaspectratio");
+    if (pfr && !get_float(P, pl, "frameaspectratio", 0.0f, &frame)) return 0;
+    psw = param_find(pl, PT_FLOAT, "screenwindow");
     if (!params_check_unused(P, pl, "Camera \"perspective\"",
                              "float fov, float lensradius, float focaldistance, "
-                             "float shutteropen, float shutterclose",
-                             "frameaspectratio screenwindow"))
+                             "float shutteropen, float shutterclose, "
+                             "float frameaspectratio, float screenwindow", NULL))
         return 0;
     if (!(fov > 0.0f && fov < 180.0f))
         return fail_param(P, pl, "fov", file, line, "Camera: \"float fov\" %g must be within (0, 180) degrees", fov);
-    /* the film may come later: checked with the largest aspect ratio allowed here
-       and again with the film's own in finish() */
-    if (!camera_transform_ok(&P->gs.ctm, fov, 1, 1))
+    if (pfr && !(frame > 0.0f && frame <= FLT_MAX))
+        return fail(P, pfr->file, pfr->line, "Camera: \"float frameaspectratio\" %g must be "
+                    "finite and > 0", frame);
+    if (psw) {   /* pbrt-v4: x0 x1 y0 y1 of the screen, replacing the default */
+        int k;
+        if (psw->n_num != 4)
+            return fail(P, psw->file, psw->line, "Camera: \"float screenwindow\": %d values, "
+                        "expected 4 (x0 x1 y0 y1 of the screen)", psw->n_num);
+        for (k = 0; k < 4; k++) scr[k] = (float)psw->num[k];
+        for (k = 0; k < 4; k++)
+            if (!(fabsf(scr[k]) <= FLT_MAX) || (k & 1 && scr[k] == scr[k - 1]))
+                return fail(P, psw->file, psw->line, "Camera: \"float screenwindow\" [%g %g %g %g] "
+                            "must be finite with x0 != x1 and y0 != y1", scr[0], scr[1], scr[2], scr[3]);
+    }
+    /* the film may come later: checked with this window (the square frame's
+       unless given) here and again with the film's own in finish() */
+    screen_window(psw != NULL, scr, pfr ? frame : 1.0f, sw);
+    if (!camera_transform_ok(&P->gs.ctm, fov, sw))
         return fail(P, file, line, "Camera: degenerate camera transform: the eye or the "
                     "viewing directions are not finite, non-zero float vectors (look at "
                     "the Scale/Transform/LookAt before Camera)");
@@ -82,6 +117,9 @@ int camera_directive(Parser *P, const char *type, ParamList *pl, const char *fil
         return fail_param(P, pl, "shutterclose", file, line, "Camera: shutterclose %g <= shutteropen %g: the shutter "
                     "never opens", close, open);
     st->fov_deg = fov;
+    st->frame_aspect = frame;
+    st->screen_set = psw != NULL;
+    memcpy(st->screen, scr, sizeof st->screen);
     st->lens_radius = lens;
     st->focal_distance = focus;
     P->exposure_time = close - open;

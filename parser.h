@@ -219,8 +219,8 @@ int refuse_param(Parser *P, ParamList *pl, const char *what, const char *reads,
 /* Spectrum-valued parameters ("spectrum", "rgb", "blackbody").
    find_spectrum_param: the last one named `name` (NULL: absent), marked used;
    param_spectrum: its dense table, checked for `use`. */
-/* SPEC_COEFF: a medium's coefficients, pbrt-v4's "unbounded" spectra with rgb
-   (RGBUnboundedSpectrum) and blackbody (peak 1) allowed */
+/* SPEC_COEFF: a medium's coefficients, a dielectric's "rgb eta": pbrt-v4's
+   "unbounded" spectra with rgb (RGBUnboundedSpectrum) and blackbody (peak 1) allowed */
 typedef enum { SPEC_ALBEDO, SPEC_UNBOUNDED, SPEC_ILLUMINANT, SPEC_COEFF } SpecUse;
 Param *find_spectrum_param(ParamList *pl, const char *name);
 int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_illum);
@@ -263,8 +263,9 @@ void accept_not_positive(ParamList *pl, const char *what, const char *name);
 /* The options block (options.c): a Camera, Film, PixelFilter, Accelerator,
    Sampler or Integrator statement of `type` at file:line into Scene.settings. */
 int camera_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
-/* 1 when the camera transform gives the renderer finite eye and corner rays */
-int camera_transform_ok(const Xform *camera_from_world, float fov_deg, int xres, int yres);
+/* 1 when the camera transform gives the renderer finite eye and corner rays for
+   the screen window sw (x0 x1 y0 y1) */
+int camera_transform_ok(const Xform *camera_from_world, float fov_deg, const float sw[4]);
 int film_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
 int filter_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
 int accelerator_directive(Parser *P, const char *type, ParamList *pl, const char *file,

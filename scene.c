@@ -1196,6 +1196,7 @@ static void parser_free(Parser *P)
 static int finish(Parser *P, const char *file)
 {
     Scene *s = P->s;
+    float sw[4];
     int i;
     if (P->depth > 0) {
         const GState *g = &P->stack[P->depth - 1];
@@ -1242,9 +1243,9 @@ static int finish(Parser *P, const char *file)
         fprintf(stderr, "%s:%d: note: Integrator \"%s\" ignores the participating media, as "
                 "pbrt-v4's does (\"volpath\" renders them)\n", P->integ_file, P->integ_line,
                 P->integ_type);
+    camera_screen_window(&s->settings, sw);
     if (P->camera_file && !camera_transform_ok(&s->settings.camera_from_world,
-                                               s->settings.fov_deg, s->settings.xres,
-                                               s->settings.yres))
+                                               s->settings.fov_deg, sw))
         return fail(P, P->camera_file, P->camera_line, "Camera: degenerate camera transform "
                     "for the %d x %d film: the viewing directions are not finite, non-zero "
                     "float vectors", s->settings.xres, s->settings.yres);

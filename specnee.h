@@ -994,6 +994,10 @@ typedef struct {
     char lightsampler[32];     /* Integrator "string lightsampler", "" if unset */
     /* thin lens (pbrt-v4 PerspectiveCamera): 0 = pinhole */
     float lens_radius, focal_distance;   /* "lensradius" = 0, "focaldistance" = 1e6 */
+    /* pbrt-v4 PerspectiveCamera "screenwindow" x0 x1 y0 y1 (screen_set 0: the
+       default, from "frameaspectratio"; frame_aspect 0: the film's xres / yres) */
+    int screen_set;
+    float screen[4], frame_aspect;
     /* pbrt-v4's sensor: every sample's XYZ is multiplied by the imaging ratio
        (shutterclose - shutteropen) * iso / 100, then scaled down so that its largest
        component is at most max_component (Film "maxcomponentvalue", default inf) */
@@ -1055,6 +1059,10 @@ void scene_dump(const Scene *s, FILE *f);      /* --dump-scene (dump.c) */
    pixelbounds clipped to the film); the whole film when neither is given.
    Returns 0 when the part is empty.  (options.c, with scene_insets_rendered) */
 int  film_bounds(const SceneSettings *st, int b[4]);
+/* The camera's screen window x0 x1 y0 y1 for the xres x yres film (pbrt-v4
+   PerspectiveCamera): "screenwindow" when given, else the shorter axis of the
+   frame spans [-1, 1].  (options.c; camera.c maps the raster onto it) */
+void camera_screen_window(const SceneSettings *st, float sw[4]);
 /* The scene's insets in the pixels of the image render() makes: each clipped to
    film_bounds() and moved to its origin (x0 y0 x1 y1, end exclusive), with its
    name; an inset outside a crop is left out.  Returns how many. */

@@ -254,6 +254,206 @@ static void test_thin_lens(T *t)
     }
 }
 
+/* Camera "screenwindow" and "frameaspectratio" (pbrt-v4 PerspectiveCamera): two
+   small square emitters (0.4 wide at depth 10, centres (2, -1) and (4, -3), the
+   second twice as bright) on a 40 x 24 film with a 50 degree fov, box filter.
+   The luminance centroid and total of each (left of column `split`, right of it)
+   are pbrt-v4's, frozen from the oracle at 16384 spp (Sampler "independent"):
+     pbrt --outfile sw.pfm sw.pbrt   (screenwindow [-0.3 1.1 -0.9 0.2], split 26)
+     pbrt --outfile fa.pfm fa.pbrt   (frameaspectratio 0.8, split 32)
+   with each pixel's G channel as the luminance, pixel centres at x + 0.5.
+   The centroids agree with the window's map, sx = x0 + (x / w)(x1 - x0), to the
+   box filter's discretisation (emitter A: 20.83, 9.04 analytic). */
+static void screen_centroids(const Image *im, int split, double tot[2], double cx[2], double cy[2])
+{
+    int x, y, k;
+    for (k = 0; k < 2; k++) tot[k] = cx[k] = cy[k] = 0.0;
+    for (y = 0; y < im->h; y++)
+        for (x = 0; x < im->w; x++) {
+            double v = im->rgb[3 * (y * im->w + x) + 1];
+            k = x >= split;                    /* 0: emitter A, 1: B */
+            tot[k] += v; cx[k] += v * (x + 0.5); cy[k] += v * (y + 0.5);
+        }
+    for (k = 0; k < 2; k++)
+        if (tot[k] > 0.0) { cx[k] /= tot[k]; cy[k] /= tot[k]; }
+}
+
+static void test_screen_window(T *t)
+{
+    static const struct {
+        const char *camera;
+        int split;
+        double tot[2], cx[2], cy[2];           /* pbrt-v4, 16384 spp */
+    } c[] = {
+        { "\"float screenwindow\" [ -0.3 1.1 -0.9 0.2 ]", 26,
+          { 4.588409, 9.185547 }, { 20.7915, 33.0963 }, { 9.0223, 18.3957 } },
+        { "\"float frameaspectratio\" 0.8", 32,
+          { 1.404846, 2.840012 }, { 28.5922, 37.1011 }, { 14.0731, 18.2121 } },
+    };
+    static char buf[4096];
+    int i, k, spp = test_scaled(512, 128);
+    for (i = 0; i < 2; i++) {
+        Image im;
+        double tot[2], cx[2], cy[2];
+        snprintf(buf, sizeof buf,
+                 "Film \"rgb\" \"integer xresolution\" 40 \"integer yresolution\" 24\n"
+                 "PixelFilter \"box\"\n"
+                 "Camera \"perspective\" \"float fov\" 50 %s\n"
+                 "WorldBegin\n"
+                 "AttributeBegin\n"
+                 " AreaLightSource \"diffuse\" \"bool twosided\" true\n"
+                 " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+                 "  \"point3 P\" [ 1.8 -1.2 10  2.2 -1.2 10  2.2 -0.8 10  1.8 -0.8 10 ]\n"
+                 "AttributeEnd\n"
+                 "AttributeBegin\n"
+                 " AreaLightSource \"diffuse\" \"bool twosided\" true \"float scale\" 2\n"
+                 " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+                 "  \"point3 P\" [ 3.8 -3.2 10  4.2 -3.2 10  4.2 -2.8 10  3.8 -2.8 10 ]\n"
+                 "AttributeEnd\n", c[i].camera);
+        if (!render_text(t, buf, spp, &im)) return;
+        screen_centroids(&im, c[i].split, tot, cx, cy);
+        img_free(&im);
+        for (k = 0; k < 2; k++) {
+            CHECK(t, fabs(cx[k] - c[i].cx[k]) < 0.1 && fabs(cy[k] - c[i].cy[k]) < 0.1,
+                  "%s: emitter %c at (%.3f, %.3f) pixels, pbrt-v4 (%.3f, %.3f)", c[i].camera,
+                  'A' + k, cx[k], cy[k], c[i].cx[k], c[i].cy[k]);
+            CHECK(t, fabs(tot[k] - c[i].tot[k]) < 0.05 * c[i].tot[k],
+                  "%s: emitter %c's total %.4f, pbrt-v4 %.4f", c[i].camera, 'A' + k, tot[k],
+                  c[i].tot[k]);
+        }
+    }
+    {   /* what pbrt-v4 cannot give a meaning (it reports a wrong count and goes on) */
+        static const char *bad[][2] = {
+            { "\"float screenwindow\" [ -1 1 -1 ]", "\"float screenwindow\": 3 values, expected 4" },
+            { "\"float screenwindow\" [ -1 -1 -1 1 ]", "must be finite with x0 != x1 and y0 != y1" },
+            { "\"float frameaspectratio\" 0", "\"float frameaspectratio\" 0 must be finite and > 0" },
+        };
+        for (i = 0; i < 3; i++) {
+            Scene s;
+            Error e;
+            snprintf(buf, sizeof buf, "Camera \"perspective\" %s\nWorldBegin\n", bad[i][0]);
+            CHECK(t, !scene_load_string(&s, buf, "t.pbrt", &e) && strstr(e.msg, bad[i][1]),
+                  "%s: want \"%s\", got: %s", bad[i][0], bad[i][1], e.msg);
+            scene_free(&s);
+        }
+    }
+}
+
+/* "rgb eta" on a dielectric: pbrt-v4 reads it as an RGBUnboundedSpectrum.  A
+   glass sphere (radius 1.2 at depth 5) before an emitter that fills the left
+   half of the background (x < 0.3 at depth 10), 32 x 32, 30 degree fov, box
+   filter.  Grey (1.5, 1.5, 1.5) is the constant 1.5 (pbrt-v4's sigmoid of 0
+   times 2 max = 3): the image of "float eta" 1.5, bit for bit (a dielectric's
+   and a thindielectric's).  The coloured
+   index (1.2, 1.5, 1.9): the mean R, G, B of the left and right halves are
+   pbrt-v4's at 16384 spp, frozen from the oracle (Sampler "independent"):
+     pbrt --outfile eta_c.pfm eta_c.pbrt
+   (its "float eta" 1.5 render gives 0.5154 and 0.5653 in every channel). */
+static void test_rgb_eta(T *t)
+{
+    static const double want[2][3] = { { 0.816935, 0.512795, 0.429795 },
+                                       { 0.610085, 0.567645, 0.478295 } };
+    static const char *eta[5] = { "\"float eta\" 1.5", "\"rgb eta\" [ 1.5 1.5 1.5 ]",
+                                  "\"rgb eta\" [ 1.2 1.5 1.9 ]", "\"float eta\" 1.5",
+                                  "\"rgb eta\" [ 1.5 1.5 1.5 ]" };
+    static char buf[4096];
+    Image im[5];
+    int i, h, c, x, y, spp = test_scaled(512, 128);
+    for (i = 0; i < 5; i++) {
+        snprintf(buf, sizeof buf,
+                 "Film \"rgb\" \"integer xresolution\" 32 \"integer yresolution\" 32\n"
+                 "PixelFilter \"box\"\n"
+                 "Camera \"perspective\" \"float fov\" 30\n"
+                 "WorldBegin\n"
+                 "AttributeBegin\n"
+                 " AreaLightSource \"diffuse\" \"bool twosided\" true\n"
+                 " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+                 "  \"point3 P\" [ -10 -10 10  0.3 -10 10  0.3 10 10  -10 10 10 ]\n"
+                 "AttributeEnd\n"
+                 "AttributeBegin\n"
+                 " Material \"%s\" %s\n"
+                 " Translate 0 0 5\n"
+                 " Shape \"sphere\" \"float radius\" 1.2\n"
+                 "AttributeEnd\n", i < 3 ? "dielectric" : "thindielectric", eta[i]);
+        if (!render_text(t, buf, i == 2 ? spp : 4, &im[i])) {
+            while (i-- > 0) img_free(&im[i]);
+            return;
+        }
+    }
+    CHECK(t, memcmp(im[0].rgb, im[1].rgb, sizeof(float) * 3 * 32 * 32) == 0,
+          "\"rgb eta\" [1.5 1.5 1.5] renders unlike \"float eta\" 1.5");
+    CHECK(t, memcmp(im[3].rgb, im[4].rgb, sizeof(float) * 3 * 32 * 32) == 0,
+          "thindielectric: \"rgb eta\" [1.5 1.5 1.5] renders unlike \"float eta\" 1.5");
+    for (h = 0; h < 2; h++)
+        for (c = 0; c < 3; c++) {
+            double m = 0.0;
+            for (y = 0; y < 32; y++)
+                for (x = 16 * h; x < 16 * h + 16; x++) m += im[2].rgb[3 * (y * 32 + x) + c];
+            m /= 16.0 * 32.0;
+            CHECK(t, fabs(m - want[h][c]) < 0.02 * want[h][c],
+                  "\"rgb eta\" [1.2 1.5 1.9]: %s half, %c = %.4f, pbrt-v4 %.4f",
+                  h ? "right" : "left", "RGB"[c], m, want[h][c]);
+        }
+    for (i = 0; i < 5; i++) img_free(&im[i]);
+}
+
+/* A diffuse "spectrum reflectance" outside [0, 1]: pbrt-v4 reads it and clamps
+   each value to [0, 1] where it uses it (DiffuseMaterial::GetBxDF); an "rgb"
+   above 1 it refuses, and so does specnee.  An 8 x 8 view (fov 10) filled by a
+   diffuse sphere (radius 1 at depth 5) under LightSource "infinite" "rgb L"
+   [1 1 1]: a convex surface in a uniform sky shows its reflectance times the
+   sky.  1.5 everywhere is 1 everywhere, bit for bit; two ramps crossing 1 and 0
+   between 550 and 560 nm give pbrt-v4's mean R, G, B at 65536 spp, frozen from
+   the oracle (Sampler "independent"):  pbrt --outfile refl_mix.pfm refl_mix.pbrt
+   (the sphere at 1.5: 1.00003 0.99999 0.99970). */
+static void test_reflectance_clamp(T *t)
+{
+    static const struct { const char *refl; double rgb[3]; } c[] = {
+        { "[ 300 1.5 800 1.5 ]", { 0, 0, 0 } },
+        { "[ 300 1 800 1 ]", { 0, 0, 0 } },
+        { "[ 300 0.2 550 0.2 560 1.6 800 1.6 ]", { 1.32860, 0.45687, 0.14568 } },
+        { "[ 300 -0.5 550 -0.5 560 0.7 800 0.7 ]", { 0.98412, 0.18538, -0.04265 } },
+    };
+    static char buf[2048];
+    Image im[4];
+    int i, k, n = 0, spp = test_scaled(1024, 256);
+    for (i = 0; i < 4; i++, n++) {
+        snprintf(buf, sizeof buf,
+                 "Film \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8\n"
+                 "PixelFilter \"box\"\n"
+                 "Camera \"perspective\" \"float fov\" 10\n"
+                 "WorldBegin\n"
+                 "LightSource \"infinite\" \"rgb L\" [ 1 1 1 ]\n"
+                 "Material \"diffuse\" \"spectrum reflectance\" %s\n"
+                 "Translate 0 0 5\n"
+                 "Shape \"sphere\" \"float radius\" 1\n", c[i].refl);
+        if (!render_text(t, buf, i < 2 ? 16 : spp, &im[i])) break;
+    }
+    if (n == 4) {
+        CHECK(t, memcmp(im[0].rgb, im[1].rgb, sizeof(float) * 3 * 64) == 0,
+              "a reflectance of 1.5 renders unlike 1: not clamped");
+        for (i = 2; i < 4; i++)
+            for (k = 0; k < 3; k++) {
+                double m = 0.0;
+                int j;
+                for (j = 0; j < 64; j++) m += im[i].rgb[3 * j + k];
+                m /= 64.0;
+                CHECK(t, fabs(m - c[i].rgb[k]) < 0.01, "%s: mean %c %.4f, pbrt-v4 %.4f",
+                      c[i].refl, "RGB"[k], m, c[i].rgb[k]);
+            }
+    }
+    while (n-- > 0) img_free(&im[n]);
+    {
+        Scene s;
+        Error e;
+        snprintf(buf, sizeof buf, "WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ 1.5 1 1 ]\n");
+        CHECK(t, !scene_load_string(&s, buf, "t.pbrt", &e) && strstr(e.msg, "t.pbrt:2:") &&
+              strstr(e.msg, "a reflectance must be within [0,1]"),
+              "an rgb reflectance above 1 (pbrt-v4 refuses it) is accepted: %s", e.msg);
+        scene_free(&s);
+    }
+}
+
 /* ---------------------------------------------------------------- infinite lights */
 
 /* pbrt-v4's equal-area octahedral map: the inverse undoes it, +z is the centre,
@@ -786,6 +986,9 @@ const TestCase tests_pbrt[] = {
     { "pbrt_maxcomponentvalue", test_maxcomponentvalue },
     { "pbrt_film_and_integrator_aliases", test_film_and_integrator_aliases },
     { "pbrt_thin_lens", test_thin_lens },
+    { "pbrt_screen_window", test_screen_window },
+    { "pbrt_rgb_eta", test_rgb_eta },
+    { "pbrt_reflectance_clamp", test_reflectance_clamp },
     { "pbrt_equal_area_map", test_equal_area_map },
     { "pbrt_env_map_pdf_and_sampling", test_env_map_pdf_and_sampling },
     { "pbrt_env_furnace", test_env_furnace },

@@ -696,8 +696,6 @@ REJECT(rej_unknown_named_spectrum, "WorldBegin\nMaterial \"dielectric\" \"spectr
        2, "unknown named spectrum", "glass-XYZ")
 REJECT(rej_odd_spectrum, "WorldBegin\nAreaLightSource \"diffuse\" \"spectrum L\" [ 400 1 500 ]\n", 2,
        "odd number", NULL)
-REJECT(rej_reflectance_above_one, "WorldBegin\nMaterial \"diffuse\" \"spectrum reflectance\" [ 400 0.5 700 1.5 ]\n",
-       2, "reflectance", "[0,1]")
 REJECT(rej_rgb_reflectance_above_one, "WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ 0.5 2 0.5 ]\n",
        2, "reflectance", "[0,1]")
 REJECT(rej_texture_param, "WorldBegin\nMaterial \"dielectric\" \"texture roughness\" \"checks\"\n", 2,
@@ -798,7 +796,6 @@ const TestCase tests_scene[] = {
     {"scene_reject_material_conductor", rej_material_conductor},
     {"scene_reject_unknown_named_spectrum", rej_unknown_named_spectrum},
     {"scene_reject_odd_spectrum", rej_odd_spectrum},
-    {"scene_reject_reflectance_above_one", rej_reflectance_above_one},
     {"scene_reject_rgb_reflectance_above_one", rej_rgb_reflectance_above_one},
     {"scene_reject_texture_param", rej_texture_param},
     {"scene_reject_light_power", rej_light_power},
