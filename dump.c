@@ -115,6 +115,11 @@ void scene_dump(const Scene *s, FILE *f)
     dir = v3_norm(xf_vector(&wfc, v3(0, 0, 1)));
     up = v3_norm(xf_vector(&wfc, v3(0, 1, 0)));
     fprintf(f, "camera: perspective, fov %g deg (shorter image axis)", st->fov_deg);
+    if (st->screen_set || st->frame_aspect > 0.0f) {   /* pbrt-v4's window, as camera.c uses it */
+        float sw[4];
+        camera_screen_window(st, sw);
+        fprintf(f, ", screen window [%g %g %g %g]", sw[0], sw[1], sw[2], sw[3]);
+    }
     if (st->lens_radius > 0.0f)
         fprintf(f, ", thin lens: lensradius %g focaldistance %g", st->lens_radius,
                 st->focal_distance);

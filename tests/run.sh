@@ -209,6 +209,11 @@ shares=$(./specnee -q tests/tmp/fogarea.pbrt --spp 64 --debug-pixel 8,2 -o tests
          END { print n + 0, bad + 0 }')
 if [ "${shares% *}" -gt 0 ] && [ "${shares#* }" -eq 0 ]; then ok "cli_debug_pixel_shares_through_medium ($shares)"
 else fail "cli_debug_pixel_shares_through_medium: emission lines, mismatched: $shares"; fi
+# --dump-scene shows a Camera's screen window (pbrt-v4's screenwindow / frameaspectratio)
+sed 's/^Camera "perspective"/Camera "perspective" "float screenwindow" [ -0.5 1 -1 0.25 ]/' scenes/cornell.pbrt > tests/tmp/sw.pbrt
+if ./specnee --dump-scene tests/tmp/sw.pbrt 2>/dev/null | grep -q '^camera: perspective, .*, screen window \[-0.5 1 -1 0.25\]' &&
+   ! ./specnee --dump-scene scenes/cornell.pbrt 2>/dev/null | grep -q 'screen window'; then ok "cli_dump_screen_window"
+else fail "cli_dump_screen_window"; fi
 # the emitter x bin table: cornell1's bin 29 (545-550 nm), P(CFL) = 0.1771/(0.1771 + 0.02754)
 if ./specnee spectrum --table scenes/cornell1.pbrt | grep -Eq '^ +29 +545-550 +0\.1771 +0\.02754 +0\.8654 +0\.1346$'
 then ok "cli_spectrum_table"; else fail "cli_spectrum_table"; fi
