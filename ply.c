@@ -257,6 +257,105 @@ static int split_words(char *s, char **w, int max)
     }
 }
 
+/* Header line "element NAME COUNT" (w[0..nw-1]): a new element. */
+static int header_element(Reader *rd, PlyElement *el, int *n_el, char **w, int nw, int line)
+{
+    PlyElement *e;
+    char *end;
+    long count;
+    int i;
+    if (nw != 3) {
+        error_set(rd->err, rd->path, line, "corrupt header: expected 'element <name> <count>'");
+        return 0;
+    }
+    if (*n_el == PLY_MAX_ELEMENTS) {
+        error_set(rd->err, rd->path, line, "too many elements (at most %d)", PLY_MAX_ELEMENTS);
+        return 0;
+    }
+    count = strtol(w[2], &end, 10);
+    if (end == w[2] || *end != '\0') {
+        error_set(rd->err, rd->path, line, "bad element count '%s'", w[2]);
+        return 0;
+    }
+    if (count < 0) {
+        error_set(rd->err, rd->path, line, "negative element count %ld", count);
+        return 0;
+    }
+    if (strlen(w[1]) >= PLY_NAME) {
+        error_set(rd->err, rd->path, line, "element name too long");
+        return 0;
+    }
+    for (i = 0; i < *n_el; i++)
+        if (strcmp(el[i].name, w[1]) == 0) {
+            error_set(rd->err, rd->path, line, "duplicate element '%s'", w[1]);
+            return 0;
+        }
+    e = &el[(*n_el)++];
+    memset(e, 0, sizeof *e);
+    strcpy(e->name, w[1]);
+    e->count = count;
+    e->line = line;
+    return 1;
+}
+
+/* Header line "property TYPE NAME" or "property list CTYPE TYPE NAME": a
+   property of the last element. */
+static int header_property(Reader *rd, PlyElement *el, int n_el, char **w, int nw, int line)
+{
+    PlyElement *e;
+    PlyProp *pr;
+    const char *name;
+    int i;
+    if (n_el == 0) {
+        error_set(rd->err, rd->path, line, "corrupt header: property before any element");
+        return 0;
+    }
+    e = &el[n_el - 1];
+    if (e->n_props == PLY_MAX_PROPS) {
+        error_set(rd->err, rd->path, line, "too many properties (at most %d)", PLY_MAX_PROPS);
+        return 0;
+    }
+    pr = &e->props[e->n_props];
+    if (nw == 3 && strcmp(w[1], "list") != 0) {
+        pr->count_type = T_NONE;
+        pr->type = type_from_name(w[1]);
+        name = w[2];
+        if (pr->type == T_NONE) {
+            error_set(rd->err, rd->path, line, "unknown property type '%s'", w[1]);
+            return 0;
+        }
+    } else if (nw == 5 && strcmp(w[1], "list") == 0) {
+        pr->count_type = type_from_name(w[2]);
+        pr->type = type_from_name(w[3]);
+        name = w[4];
+        if (pr->type == T_NONE || pr->count_type == T_NONE) {
+            error_set(rd->err, rd->path, line, "unknown property type in list '%s'", w[4]);
+            return 0;
+        }
+        if (!type_is_int(pr->count_type)) {
+            error_set(rd->err, rd->path, line, "list count type of '%s' must be an integer", w[4]);
+            return 0;
+        }
+    } else {
+        error_set(rd->err, rd->path, line,
+                  "corrupt header: expected 'property <type> <name>' or "
+                  "'property list <type> <type> <name>'");
+        return 0;
+    }
+    if (strlen(name) >= PLY_NAME) {
+        error_set(rd->err, rd->path, line, "property name too long");
+        return 0;
+    }
+    for (i = 0; i < e->n_props; i++)
+        if (strcmp(e->props[i].name, name) == 0) {
+            error_set(rd->err, rd->path, line, "duplicate property '%s'", name);
+            return 0;
+        }
+    strcpy(pr->name, name);
+    e->n_props++;
+    return 1;
+}
+
 /* Parse the header; fills elements and leaves rd->pos at the first data byte. */
 static int parse_header(Reader *rd, PlyElement *el, int *n_el, int *end_line)
 {
@@ -313,93 +412,9 @@ static int parse_header(Reader *rd, PlyElement *el, int *n_el, int *end_line)
             }
             have_format = 1;
         } else if (strcmp(w[0], "element") == 0) {
-            PlyElement *e;
-            char *end;
-            long count;
-            int i;
-            if (nw != 3) {
-                error_set(rd->err, rd->path, line, "corrupt header: expected 'element <name> <count>'");
-                return 0;
-            }
-            if (*n_el == PLY_MAX_ELEMENTS) {
-                error_set(rd->err, rd->path, line, "too many elements (at most %d)", PLY_MAX_ELEMENTS);
-                return 0;
-            }
-            count = strtol(w[2], &end, 10);
-            if (end == w[2] || *end != '\0') {
-                error_set(rd->err, rd->path, line, "bad element count '%s'", w[2]);
-                return 0;
-            }
-            if (count < 0) {
-                error_set(rd->err, rd->path, line, "negative element count %ld", count);
-                return 0;
-            }
-            if (strlen(w[1]) >= PLY_NAME) {
-                error_set(rd->err, rd->path, line, "element name too long");
-                return 0;
-            }
-            for (i = 0; i < *n_el; i++)
-                if (strcmp(el[i].name, w[1]) == 0) {
-                    error_set(rd->err, rd->path, line, "duplicate element '%s'", w[1]);
-                    return 0;
-                }
-            e = &el[(*n_el)++];
-            memset(e, 0, sizeof *e);
-            strcpy(e->name, w[1]);
-            e->count = count;
-            e->line = line;
+            if (!header_element(rd, el, n_el, w, nw, line)) return 0;
         } else if (strcmp(w[0], "property") == 0) {
-            PlyElement *e;
-            PlyProp *pr;
-            const char *name;
-            int i;
-            if (*n_el == 0) {
-                error_set(rd->err, rd->path, line, "corrupt header: property before any element");
-                return 0;
-            }
-            e = &el[*n_el - 1];
-            if (e->n_props == PLY_MAX_PROPS) {
-                error_set(rd->err, rd->path, line, "too many properties (at most %d)", PLY_MAX_PROPS);
-                return 0;
-            }
-            pr = &e->props[e->n_props];
-            if (nw == 3 && strcmp(w[1], "list") != 0) {
-                pr->count_type = T_NONE;
-                pr->type = type_from_name(w[1]);
-                name = w[2];
-                if (pr->type == T_NONE) {
-                    error_set(rd->err, rd->path, line, "unknown property type '%s'", w[1]);
-                    return 0;
-                }
-            } else if (nw == 5 && strcmp(w[1], "list") == 0) {
-                pr->count_type = type_from_name(w[2]);
-                pr->type = type_from_name(w[3]);
-                name = w[4];
-                if (pr->type == T_NONE || pr->count_type == T_NONE) {
-                    error_set(rd->err, rd->path, line, "unknown property type in list '%s'", w[4]);
-                    return 0;
-                }
-                if (!type_is_int(pr->count_type)) {
-                    error_set(rd->err, rd->path, line, "list count type of '%s' must be an integer", w[4]);
-                    return 0;
-                }
-            } else {
-                error_set(rd->err, rd->path, line,
-                          "corrupt header: expected 'property <type> <name>' or "
-                          "'property list <type> <type> <name>'");
-                return 0;
-            }
-            if (strlen(name) >= PLY_NAME) {
-                error_set(rd->err, rd->path, line, "property name too long");
-                return 0;
-            }
-            for (i = 0; i < e->n_props; i++)
-                if (strcmp(e->props[i].name, name) == 0) {
-                    error_set(rd->err, rd->path, line, "duplicate property '%s'", name);
-                    return 0;
-                }
-            strcpy(pr->name, name);
-            e->n_props++;
+            if (!header_property(rd, el, *n_el, w, nw, line)) return 0;
         } else if (strcmp(w[0], "end_header") == 0 && nw == 1) {
             if (!have_format) {
                 error_set(rd->err, rd->path, line, "corrupt header: no format line");

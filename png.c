@@ -325,6 +325,27 @@ static int png_fail(Error *err, const char *name, const char *what)
     return 0;
 }
 
+/* The IHDR chunk's body (len bytes): the size, bit depth, colour type and
+   channel count, checked; NULL, or why the header is refused. */
+static const char *png_ihdr(const unsigned char *body, uint32_t len, uint32_t *w, uint32_t *h,
+                            int *depth, int *ctype, int *channels)
+{
+    if (len != 13) return "IHDR is not 13 bytes";
+    *w = be32(body); *h = be32(body + 4);
+    *depth = body[8]; *ctype = body[9];
+    if (*w == 0 || *h == 0 || *w > 0x7fffffffu || *h > 0x7fffffffu)
+        return "width and height must be 1 .. 2^31 - 1";
+    *channels = *ctype == 0 ? 1 : *ctype == 2 ? 3 : *ctype == 3 ? 1 : *ctype == 4 ? 2 : *ctype == 6 ? 4 : 0;
+    if (!*channels) return "unknown colour type (PNG has 0, 2, 3, 4, 6)";
+    if (!((*depth == 8) || (*depth == 16 && *ctype != 3) ||
+          ((*depth == 1 || *depth == 2 || *depth == 4) && (*ctype == 0 || *ctype == 3))))
+        return "a bit depth this colour type does not allow";
+    if (body[10] != 0 || body[11] != 0) return "unknown compression or filter method";
+    if (body[12] == 1) return "Adam7 interlaced images are not supported (save the PNG without interlacing)";
+    if (body[12] != 0) return "unknown interlace method";
+    return NULL;
+}
+
 /* Undo the row filters in place: raw holds h rows of 1 + rowbytes bytes. */
 static const char *unfilter(unsigned char *raw, int h, size_t rowbytes, size_t bpp)
 {
@@ -400,20 +421,8 @@ int png_read_memory(const unsigned char *data, size_t n, const char *name, int l
                 if (pos == 8 && memcmp(type, "IHDR", 4) != 0) return png_fail(err, name, "the first chunk is not IHDR");
                 if (!memcmp(type, "IHDR", 4)) {
                     if (pos != 8) return png_fail(err, name, "a second IHDR");
-                    if (len != 13) return png_fail(err, name, "IHDR is not 13 bytes");
-                    w = be32(body); h = be32(body + 4);
-                    depth = body[8]; ctype = body[9];
-                    if (w == 0 || h == 0 || w > 0x7fffffffu || h > 0x7fffffffu)
-                        return png_fail(err, name, "width and height must be 1 .. 2^31 - 1");
-                    channels = ctype == 0 ? 1 : ctype == 2 ? 3 : ctype == 3 ? 1 : ctype == 4 ? 2 : ctype == 6 ? 4 : 0;
-                    if (!channels) return png_fail(err, name, "unknown colour type (PNG has 0, 2, 3, 4, 6)");
-                    if (!((depth == 8) || (depth == 16 && ctype != 3) ||
-                          ((depth == 1 || depth == 2 || depth == 4) && (ctype == 0 || ctype == 3))))
-                        return png_fail(err, name, "a bit depth this colour type does not allow");
-                    if (body[10] != 0 || body[11] != 0) return png_fail(err, name, "unknown compression or filter method");
-                    if (body[12] == 1) return png_fail(err, name, "Adam7 interlaced images are not supported "
-                                                       "(save the PNG without interlacing)");
-                    if (body[12] != 0) return png_fail(err, name, "unknown interlace method");
+                    why = png_ihdr(body, len, &w, &h, &depth, &ctype, &channels);
+                    if (why) return png_fail(err, name, why);
                 } else if (!memcmp(type, "PLTE", 4)) {
                     if (ctype == 0 || ctype == 4) return png_fail(err, name, "a palette in a grey image");
                     if (len % 3 != 0 || len == 0 || len > 768 || seen_idat || n_pal > 0)
