@@ -126,6 +126,24 @@ void conductor_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, con
    --------------------------------------------------------------------------- */
 #include "parser.h"
 
+/* pbrt-v4's conductor "reflectance" r (conductor and coatedconductor): read as
+   an albedo in [0, 1]; then eta = 1 and k = 2 sqrt(r) / sqrt(1 - r) with r
+   clamped to 0.9999, which makes the normal-incidence reflectance
+   ((eta-1)^2 + k^2) / ((eta+1)^2 + k^2) = k^2 / (4 + k^2) exactly r. */
+int conductor_reflectance_param(Parser *P, Param *pr, Spectrum *refl, Spectrum *eta, Spectrum *k)
+{
+    int nm;
+    if (!param_spectrum(P, pr, SPEC_ALBEDO, refl, NULL)) return 0;
+    if (!check_unit_spectrum(P, pr, refl)) return 0;
+    spec_const(eta, 1.0f);
+    for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+        double r = spec_get(refl, nm);
+        if (r > 0.9999) r = 0.9999;
+        *spec_at(k, nm) = conductor_k_of_reflectance(r);
+    }
+    return 1;
+}
+
 /* pbrt-v4 ConductorMaterial: eta and k, or a reflectance that
    stands for them; Cu by default */
 int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
@@ -134,7 +152,6 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
     Param *pe = find_spectrum_param(pl, "eta"), *pk = find_spectrum_param(pl, "k");
     Param *pr = find_spectrum_param(pl, "reflectance");
     Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
-    int nm;
     (void)dir;
     m->type = MAT_CONDUCTOR;
     if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
@@ -158,17 +175,7 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
         spec_const(&m->eta, 1.0f);
         spec_const(&m->k, 0.0f);                  /* (not read) */
     } else if (pr) {
-        /* pbrt-v4: r clamped to [0, 0.9999], eta = 1, k = 2 sqrt(r) / sqrt(1 - r),
-           which makes the normal-incidence reflectance ((eta-1)^2 + k^2) /
-           ((eta+1)^2 + k^2) = k^2 / (4 + k^2) exactly r */
-        if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
-        if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
-        spec_const(&m->eta, 1.0f);
-        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
-            double r = spec_get(&m->reflectance, nm);
-            if (r > 0.9999) r = 0.9999;
-            *spec_at(&m->k, nm) = conductor_k_of_reflectance(r);
-        }
+        if (!conductor_reflectance_param(P, pr, &m->reflectance, &m->eta, &m->k)) return 0;
     } else {
         if (pe) { if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->eta, NULL)) return 0; }
         else spec_named(&m->eta, "metal-Cu-eta");

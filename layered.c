@@ -740,7 +740,7 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
     Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
     Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
     float eta, th, g, cat;
-    int md, ns, given, nm, remap2;
+    int md, ns, given, remap2;
     (void)dir;
     m->type = MAT_COATED_CONDUCTOR;
     if (pie && !pf)
@@ -790,15 +790,7 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
         spec_const(&m->cond_eta, 1.0f);
         spec_const(&m->k, 0.0f);                  /* (not read) */
     } else if (pr) {
-        /* as the conductor's: r clamped to [0, 0.9999], n = 1, k = 2 sqrt(r) / sqrt(1 - r) */
-        if (!param_spectrum(P, pr, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
-        if (!check_unit_spectrum(P, pr, &m->reflectance)) return 0;
-        spec_const(&m->cond_eta, 1.0f);
-        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
-            double r = spec_get(&m->reflectance, nm);
-            if (r > 0.9999) r = 0.9999;
-            *spec_at(&m->k, nm) = conductor_k_of_reflectance(r);
-        }
+        if (!conductor_reflectance_param(P, pr, &m->reflectance, &m->cond_eta, &m->k)) return 0;
     } else {
         if (pe) { if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->cond_eta, NULL)) return 0; }
         else spec_named(&m->cond_eta, "metal-Cu-eta");

@@ -289,6 +289,9 @@ int thindielectric_from_params(Parser *P, ParamList *pl, const char *file, int l
 int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, int line,
                                     const char *dir, const char *what, Material *m);
 /* conductor.c: */
+/* A conductor's "reflectance" parameter pr as pbrt-v4's eta = 1 and k (conductor.c;
+   also read by coatedconductor in layered.c). */
+int conductor_reflectance_param(Parser *P, Param *pr, Spectrum *refl, Spectrum *eta, Spectrum *k);
 int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
                           const char *dir, const char *what, Material *m);
 /* layered.c: */
