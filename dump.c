@@ -26,10 +26,10 @@ static void dump_material(FILE *f, int i, const Material *m)
         fprintf(f, "  [%d] diffuse\n", i);
         dump_spectrum(f, "reflectance", &m->reflectance);
     } else if (m->type == MAT_FLUORESCENT) {
-        fprintf(f, "  [%d] fluorescent, quantum yield %g\n", i, m->qyield);
+        fprintf(f, "  [%d] fluorescent, quantum yield %g\n", i, m->fl->qyield);
         dump_spectrum(f, "reflectance", &m->reflectance);
-        dump_spectrum(f, "excitation", &m->excitation);
-        dump_spectrum(f, "emission", &m->emission);
+        dump_spectrum(f, "excitation", &m->fl->excitation);
+        dump_spectrum(f, "emission", &m->fl->emission);
     } else if (m->type == MAT_CONDUCTOR) {
         fprintf(f, "  [%d] conductor, alpha %g\n", i, m->alpha);
         dump_spectrum(f, "eta", &m->eta);

@@ -46,11 +46,12 @@
    The last section builds these materials from a scene's parameters for the
    scene builder (*_from_params, parser.h). */
 #include "specnee.h"
+#include <stdlib.h>
 
 float mat_albedo(const Material *m, float lambda_nm)
 {
     float rho = spec_eval(&m->reflectance, lambda_nm);
-    if (m->type == MAT_FLUORESCENT) return rho * (1.0f - spec_eval(&m->excitation, lambda_nm));
+    if (m->type == MAT_FLUORESCENT) return rho * (1.0f - spec_eval(&m->fl->excitation, lambda_nm));
     return rho;
 }
 
@@ -92,26 +93,32 @@ void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, u
     }
 }
 
+void material_release(Material *m)
+{
+    free(m->fl);
+    m->fl = NULL;
+}
+
 /* ---- fluorescence: tables at the 1 nm knots 300..830 nm (k = nm - 300) ---- */
 
 int fluor_prepare(Material *m)
 {
     int k;
     double acc = 0.0;
-    m->fl_cdf[0] = 0.0;
+    m->fl->cdf[0] = 0.0;
     for (k = 0; k + 1 < FL_N; k++) {      /* exact integral of the linear A per cell */
-        acc += 0.5 * ((double)spec_get(&m->excitation, SPEC_UV_MIN + k) +
-                      spec_get(&m->excitation, SPEC_UV_MIN + k + 1));
-        m->fl_cdf[k + 1] = acc;
+        acc += 0.5 * ((double)spec_get(&m->fl->excitation, SPEC_UV_MIN + k) +
+                      spec_get(&m->fl->excitation, SPEC_UV_MIN + k + 1));
+        m->fl->cdf[k + 1] = acc;
     }
     acc = 0.0;
-    m->fl_tail[FL_N - 1] = 0.0;
+    m->fl->tail[FL_N - 1] = 0.0;
     for (k = FL_N - 2; k >= 0; k--) {      /* N at the knots, from the top down */
-        acc += 0.5 * ((double)spec_get(&m->emission, SPEC_UV_MIN + k) +
-                      spec_get(&m->emission, SPEC_UV_MIN + k + 1));
-        m->fl_tail[k] = acc;
+        acc += 0.5 * ((double)spec_get(&m->fl->emission, SPEC_UV_MIN + k) +
+                      spec_get(&m->fl->emission, SPEC_UV_MIN + k + 1));
+        m->fl->tail[k] = acc;
     }
-    return m->fl_tail[0] > 0.0;
+    return m->fl->tail[0] > 0.0;
 }
 
 /* The Stokes rule: light absorbed at li leaves at lo >= li only. */
@@ -132,7 +139,7 @@ static double cdf_at(const double *cdf, float x)
 /* C(x) = integral of A over [300, x] (x clamped to the table). */
 static double fluor_cdf_at(const Material *m, float x)
 {
-    return cdf_at(m->fl_cdf, x);
+    return cdf_at(m->fl->cdf, x);
 }
 
 /* N(li) = integral of e over [li, 830]: the tail at the next knot plus the exact
@@ -141,11 +148,11 @@ static double fluor_tail_at(const Material *m, float li)
 {
     double t = (double)li - SPEC_UV_MIN;
     int k;
-    if (!(t >= 0.0)) return m->fl_tail[0];
+    if (!(t >= 0.0)) return m->fl->tail[0];
     if (t >= FL_N - 1) return 0.0;
     k = (int)t;
-    return m->fl_tail[k + 1] + (k + 1 - t) * 0.5 * ((double)spec_eval(&m->emission, li) +
-                                                    spec_get(&m->emission, SPEC_UV_MIN + k + 1));
+    return m->fl->tail[k + 1] + (k + 1 - t) * 0.5 * ((double)spec_eval(&m->fl->emission, li) +
+                                                    spec_get(&m->fl->emission, SPEC_UV_MIN + k + 1));
 }
 
 float fluor_branch_pf(const Material *m, float lo)
@@ -153,7 +160,7 @@ float fluor_branch_pf(const Material *m, float lo)
     /* Any P_f > 0 wherever re-radiation can contribute is unbiased; specnee uses 1/2
        where both lobes can contribute, else the one that can (docs/FLUORESCENCE.md §3). */
     int can_f = m->type == MAT_FLUORESCENT && fluor_cdf_at(m, stokes_limit(lo)) > 0.0 &&
-                spec_eval(&m->emission, lo) > 0.0f && m->qyield > 0.0f;
+                spec_eval(&m->fl->emission, lo) > 0.0f && m->fl->qyield > 0.0f;
     int can_r = mat_albedo(m, lo) > 0.0f;
     if (!can_f) return 0.0f;
     return can_r ? 0.5f : 1.0f;
@@ -165,7 +172,7 @@ float fluor_weight(const Material *m, float li, float lo)
     if (!(li <= stokes_limit(lo)) || li < (float)SPEC_UV_MIN) return 0.0f;
     n = fluor_tail_at(m, li);
     if (!(n > 0.0)) return 0.0f;
-    return (float)((double)m->qyield * spec_eval(&m->excitation, li) * spec_eval(&m->emission, lo)
+    return (float)((double)m->fl->qyield * spec_eval(&m->fl->excitation, li) * spec_eval(&m->fl->emission, lo)
                    * ((double)li / lo) / n);
 }
 
@@ -206,12 +213,12 @@ static float cdf_pdf(const double *cdf, float lo, float li)
 
 float fluor_sample_li(const Material *m, float lo, float u, float *pdf)
 {
-    return cdf_sample(m->fl_cdf, lo, u, pdf);
+    return cdf_sample(m->fl->cdf, lo, u, pdf);
 }
 
 float fluor_pdf_li(const Material *m, float lo, float li)
 {
-    return cdf_pdf(m->fl_cdf, lo, li);
+    return cdf_pdf(m->fl->cdf, lo, li);
 }
 
 /* ---- li in proportion to A x the scene's emitter power, with a defensive share
@@ -223,8 +230,8 @@ void fluor_power_cdf(const Material *m, const Spectrum *E, double *cdf)
     double acc = 0.0;
     cdf[0] = 0.0;
     for (k = 0; k + 1 < FL_N; k++) {      /* the trapezoid of A E over each cell */
-        acc += 0.5 * ((double)spec_get(&m->excitation, SPEC_UV_MIN + k) * spec_get(E, SPEC_UV_MIN + k) +
-                      (double)spec_get(&m->excitation, SPEC_UV_MIN + k + 1) * spec_get(E, SPEC_UV_MIN + k + 1));
+        acc += 0.5 * ((double)spec_get(&m->fl->excitation, SPEC_UV_MIN + k) * spec_get(E, SPEC_UV_MIN + k) +
+                      (double)spec_get(&m->fl->excitation, SPEC_UV_MIN + k + 1) * spec_get(E, SPEC_UV_MIN + k + 1));
         cdf[k + 1] = acc;
     }
 }
@@ -238,7 +245,7 @@ static float mix_share(const double *pcdf, float a, float lo)
 float fluor_pdf_li_mix(const Material *m, const double *pcdf, float a, float lo, float li)
 {
     float s = mix_share(pcdf, a, lo);
-    float p = s * cdf_pdf(m->fl_cdf, lo, li);
+    float p = s * cdf_pdf(m->fl->cdf, lo, li);
     if (s < 1.0f) p += (1.0f - s) * cdf_pdf(pcdf, lo, li);
     return p;
 }
@@ -248,7 +255,7 @@ float fluor_sample_li_mix(const Material *m, const double *pcdf, float a, float 
     float s = mix_share(pcdf, a, lo), li, pc;
     /* one number picks the component and, rescaled, samples inside it */
     if (u < s) {
-        li = cdf_sample(m->fl_cdf, lo, u / s, &pc);
+        li = cdf_sample(m->fl->cdf, lo, u / s, &pc);
     } else {
         float v = (u - s) / (1.0f - s);
         li = cdf_sample(pcdf, lo, v < 1.0f ? v : 0.99999994f, &pc);
@@ -592,22 +599,24 @@ int fluorescent_from_params(Parser *P, ParamList *pl, const char *file, int line
     Param *pq = param_find(pl, PT_FLOAT, "quantumyield");
     int nm;
     m->type = MAT_FLUORESCENT;
+    m->fl = (Fluorescence *)calloc(1, sizeof *m->fl);   /* freed by material_release */
+    if (!m->fl) return oom(P, file, line);
     if (!pa || !pe)
         return fail(P, file, line, "%s \"fluorescent\": needs \"spectrum excitation\" "
                     "and \"spectrum emission\"", dir);
     if (!unit_spectrum_param(P, pr, &m->reflectance, 0.5f)) return 0;
-    if (!param_spectrum(P, pa, SPEC_UNBOUNDED, &m->excitation, NULL)) return 0;
-    if (!check_unit_spectrum(P, pa, &m->excitation)) return 0;
-    if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->emission, NULL)) return 0;
+    if (!param_spectrum(P, pa, SPEC_UNBOUNDED, &m->fl->excitation, NULL)) return 0;
+    if (!check_unit_spectrum(P, pa, &m->fl->excitation)) return 0;
+    if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->fl->emission, NULL)) return 0;
     for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
-        if (!(spec_get(&m->emission, nm) >= 0.0f))
+        if (!(spec_get(&m->fl->emission, nm) >= 0.0f))
             return fail(P, pe->file, pe->line, "\"spectrum emission\": negative (%g) at %d nm",
-                        spec_get(&m->emission, nm), nm);
-    if (!get_float(P, pl, "quantumyield", 1.0f, &m->qyield)) return 0;
-    if (!(m->qyield >= 0.0f && m->qyield <= 1.0f))
+                        spec_get(&m->fl->emission, nm), nm);
+    if (!get_float(P, pl, "quantumyield", 1.0f, &m->fl->qyield)) return 0;
+    if (!(m->fl->qyield >= 0.0f && m->fl->qyield <= 1.0f))
         return fail(P, pq ? pq->file : file, pq ? pq->line : line,
                     "\"float quantumyield\": %g is outside [0,1] (photons re-emitted per "
-                    "photon absorbed)", m->qyield);
+                    "photon absorbed)", m->fl->qyield);
     if (!fluor_prepare(m))
         return fail(P, pe->file, pe->line, "\"spectrum emission\": zero everywhere in %d-%d nm",
                     SPEC_UV_MIN, SPEC_MAX);

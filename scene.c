@@ -81,10 +81,11 @@
 /* ===========================================================================
    1. Growing the Scene
    =========================================================================== */
-static int add_material(Parser *P, const Material *m, const char *file, int line)
+static int add_material(Parser *P, Material *m, const char *file, int line)
 {
     Scene *s = P->s;
     if (!grow((void **)&s->materials, &P->cap_mats, s->n_materials + 1, sizeof(Material))) {
+        material_release(m);           /* the Scene did not take what m owns */
         oom(P, file, line);
         return -1;
     }
@@ -322,8 +323,11 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
     spec_const(&m->eta, 1.0f);
     snprintf(what, sizeof what, "%s \"%s\"", dir, type);
     for (k = 0; k < (int)(sizeof material_types / sizeof material_types[0]); k++)
-        if (!strcmp(type, material_types[k].type))
-            return material_types[k].build(P, pl, file, line, dir, what, m);
+        if (!strcmp(type, material_types[k].type)) {
+            int ok = material_types[k].build(P, pl, file, line, dir, what, m);
+            if (!ok) material_release(m);       /* what a failed build had allocated */
+            return ok;
+        }
     {
         static const char *const pbrt_types[] = {
             "hair", "measured", "mix", "subsurface", NULL
@@ -1389,6 +1393,7 @@ void scene_free(Scene *s)
     free(s->tris);
     free(s->shapes);
     free(s->media);
+    for (i = 0; i < s->n_materials; i++) material_release(&s->materials[i]);
     free(s->materials);
     free(s->emitters);
     free(s->sphere_shape);

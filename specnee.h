@@ -578,16 +578,22 @@ typedef enum {
                                   (rays pass it; medium.c, docs/media.md) */
 } MaterialType;
 #define FL_N (SPEC_MAX - SPEC_UV_MIN + 1)   /* 1 nm knots of the fluorescence tables */
+/* A fluorescent layer (docs/FLUORESCENCE.md, F2): f = (1/pi) [rho (1 - A) delta(li - lo)
+   + Phi A(li) e(lo) (li/lo) H(lo - li) / N(li)], rho being the Material's reflectance.
+   Its own record, held by pointer, so that the other materials do not carry its
+   12.7 KB (docs/loading.md, memory per emitter). */
 typedef struct {
-    MaterialType type;
-    Spectrum reflectance;      /* diffuse albedo; fluorescent: rho, of the light not absorbed */
-    /* fluorescent (docs/FLUORESCENCE.md, F2): f = (1/pi) [rho (1 - A) delta(li - lo)
-       + Phi A(li) e(lo) (li/lo) H(lo - li) / N(li)] */
     Spectrum excitation;       /* A, the absorptance, in [0, 1] */
     Spectrum emission;         /* e, the emission shape in photon units */
     float qyield;              /* Phi, the photon quantum yield, in [0, 1] */
-    double fl_cdf[FL_N];       /* C at each knot: integral of A from 300 nm (F3) */
-    double fl_tail[FL_N];      /* N at each knot: integral of e from the knot to 830 nm */
+    double cdf[FL_N];          /* C at each knot: integral of A from 300 nm (F3) */
+    double tail[FL_N];         /* N at each knot: integral of e from the knot to 830 nm */
+} Fluorescence;
+typedef struct {
+    MaterialType type;
+    Spectrum reflectance;      /* diffuse albedo; fluorescent: rho, of the light not absorbed */
+    Fluorescence *fl;          /* fluorescent: A, e, Phi and their tables (owned, freed by
+                                  material_release); NULL for every other type */
     Spectrum eta;              /* dielectric index of refraction n(lambda); a Cauchy glass
                                   (A + B/lambda^2) is tabulated into it at load time */
     float cauchy_a, cauchy_b;  /* the Cauchy coefficients when given (for --dump-scene) */
@@ -621,8 +627,10 @@ typedef struct {
     int cond_alpha_tex;
 } Material;
 
+/* Free what a Material owns (its Fluorescence); the record itself is the caller's. */
+void  material_release(Material *m);
 /* Fluorescence (docs/FLUORESCENCE.md §1-§3).  fluor_prepare fills the tables
-   of a MAT_FLUORESCENT material; returns 0 if the emission is zero everywhere. */
+   of a MAT_FLUORESCENT material (m->fl set); returns 0 if the emission is zero everywhere. */
 int   fluor_prepare(Material *m);
 float fluor_branch_pf(const Material *m, float lo);      /* P_f(lo): re-radiate */
 /* Phi A(li) e(lo) (li/lo) H(lo - li) / N(li): (F2)'s second term without 1/pi. */

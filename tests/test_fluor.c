@@ -208,7 +208,7 @@ static int load_fluor(T *t, Scene *s, const char *mat)
 static double quad_A(const Material *m, double a, double b)
 {
     double sum = 0.0, h = 0.01, x;
-    for (x = a + 0.5 * h; x < b; x += h) sum += spec_eval(&m->excitation, (float)x) * h;
+    for (x = a + 0.5 * h; x < b; x += h) sum += spec_eval(&m->fl->excitation, (float)x) * h;
     return sum;
 }
 
@@ -273,14 +273,14 @@ static int load_furnace(T *t, Scene *s, const char *env_L, const char *mat)
 static double model_Lo(const Material *m, const Spectrum *Le, double lo, const double *Ntab)
 {
     double sum = 0.0, h = 0.25, li;
-    double e = spec_eval(&m->emission, (float)lo);
+    double e = spec_eval(&m->fl->emission, (float)lo);
     for (li = 300.0 + 0.5 * h; li < lo; li += h) {
         int k = (int)((li - 300.0) / h);
         if (Ntab[k] > 0.0)
-            sum += m->qyield * spec_eval(&m->excitation, (float)li) * e * (li / lo) / Ntab[k]
+            sum += m->fl->qyield * spec_eval(&m->fl->excitation, (float)li) * e * (li / lo) / Ntab[k]
                    * spec_eval(Le, (float)li) * h;
     }
-    return spec_eval(&m->reflectance, (float)lo) * (1.0 - spec_eval(&m->excitation, (float)lo))
+    return spec_eval(&m->reflectance, (float)lo) * (1.0 - spec_eval(&m->fl->excitation, (float)lo))
            * spec_eval(Le, (float)lo) + sum;
 }
 
@@ -293,7 +293,7 @@ static double *model_N(const Material *m)
     double *N = (double *)malloc(sizeof(double) * (size_t)nk), above = 0.0;
     if (!N) return NULL;
     for (k = nk - 1; k >= 0; k--) {
-        double x = 300.0 + (k + 0.5) * h, e = spec_eval(&m->emission, (float)x);
+        double x = 300.0 + (k + 0.5) * h, e = spec_eval(&m->fl->emission, (float)x);
         N[k] = above + 0.5 * h * e;
         above += h * e;
     }
@@ -495,17 +495,17 @@ static int closed_sphere_solve(const Material *m, const Spectrum *Le, SphereMode
     if (!N || !A || !sm->L) { free(N); free(A); free(sm->L); sm->L = NULL; return 0; }
     N[n - 1] = 0.0;
     for (k = n - 2; k >= 0; k--)      /* N(x_k) = int_{x_k}^{830} e, trapezoid */
-        N[k] = N[k + 1] + 0.5 * h * (spec_eval(&m->emission, (float)(300.0 + k * h)) +
-                                     spec_eval(&m->emission, (float)(300.0 + (k + 1) * h)));
-    for (k = 0; k < n; k++) A[k] = spec_eval(&m->excitation, (float)(300.0 + k * h));
+        N[k] = N[k + 1] + 0.5 * h * (spec_eval(&m->fl->emission, (float)(300.0 + k * h)) +
+                                     spec_eval(&m->fl->emission, (float)(300.0 + (k + 1) * h)));
+    for (k = 0; k < n; k++) A[k] = spec_eval(&m->fl->excitation, (float)(300.0 + k * h));
     for (k = 0; k < n; k++) {
-        double lo = 300.0 + k * h, e = spec_eval(&m->emission, (float)lo);
+        double lo = 300.0 + k * h, e = spec_eval(&m->fl->emission, (float)lo);
         double ar = spec_eval(&m->reflectance, (float)lo) * (1.0 - A[k]);
         double rhs = spec_eval(Le, (float)lo), diag = 1.0 - ar;
         for (i = 0; i <= k; i++) {
             double li = 300.0 + i * h, w = (i == 0 || i == k) ? 0.5 * h : h, K;
             if (!(N[i] > 0.0) || k == 0) continue;
-            K = m->qyield * A[i] * e * (li / lo) / N[i];
+            K = m->fl->qyield * A[i] * e * (li / lo) / N[i];
             if (i < k) rhs += w * K * sm->L[i];
             else diag -= w * K;
         }
@@ -1009,12 +1009,32 @@ static void test_fluor_li_uniform_sampler(T *t)
     }
 }
 
+/* The fluorescence tables (12.7 KB) live in their own record, held only by
+   fluorescent materials: a scene of many plain materials does not carry them
+   (docs/loading.md, memory per emitter). */
+static void test_fluor_record_owned(T *t)
+{
+    Scene s;
+    memset(&s, 0, sizeof s);
+    /* six spectra (reflectance, eta, k, transmittance, albedo, cond_eta) and scalars;
+       with A, e and the two tables inside it would be 25 KB */
+    CHECK(t, sizeof(Material) < 7 * sizeof(Spectrum), "Material %d B holds more than its spectra",
+          (int)sizeof(Material));
+    if (!load_fluor(t, &s, "Material \"diffuse\"\n" FL_MAT("[300 1 830 1]", "\"fluor-brightener-ex\"",
+                                                     "\"fluor-brightener-em\"", "0.9"))) return;
+    CHECK(t, s.n_materials == 2 && s.materials[0].type == MAT_DIFFUSE && !s.materials[0].fl &&
+          s.materials[1].fl && s.materials[1].fl->qyield == 0.9f,
+          "diffuse owns no tables, fluorescent owns its own (n %d)", s.n_materials);
+    scene_free(&s);
+}
+
 const TestCase tests_fluor[] = {
     { "fluor_uv_lamp_absolute", test_uv_lamp_absolute },
     { "fluor_uv_lamp_rules", test_uv_lamp_rules },
     { "fluor_uv_bins_select", test_uv_bins_select },
     { "fluor_named_spectra", test_named_fluor_spectra },
     { "fluor_parse_errors", test_fluor_parse_errors },
+    { "fluor_record_owned", test_fluor_record_owned },
     { "fluor_li_sampler_chi2", test_fluor_li_sampler },
     { "fluor_li_mix_sampler_chi2", test_fluor_li_mix_sampler },
     { "fluor_li_uniform_sampler_chi2", test_fluor_li_uniform_sampler },
