@@ -5,6 +5,7 @@
 #
 #   sh tests/coverage.sh            check the table (self-test first)
 #   sh tests/coverage.sh --totals   print the totals block the table must hold
+#   sh tests/coverage.sh --write-totals   write that block into the table
 #   sh tests/coverage.sh --observe  print, per row, what specnee answers
 #
 # The table is the machine-readable source: every "| type | parameter | ... |"
@@ -40,9 +41,10 @@ table=docs/coverage.md
 mode=check
 case ${1:-} in
     --totals) mode=totals ;;
+    --write-totals) mode=write ;;
     --observe) mode=observe ;;
     "") ;;
-    *) echo "usage: sh tests/coverage.sh [--totals | --observe]" >&2; exit 2 ;;
+    *) echo "usage: sh tests/coverage.sh [--totals | --write-totals | --observe]" >&2; exit 2 ;;
 esac
 rm -rf "$tmp"
 mkdir -p "$tmp/run"
@@ -292,6 +294,13 @@ builders="scene.c options.c material.c conductor.c layered.c parser.c texture.c 
 
 rows "$table" > "$tmp/rows.tsv"
 if [ "$mode" = totals ]; then totals < "$tmp/rows.tsv"; exit 0; fi
+if [ "$mode" = write ]; then
+    totals < "$tmp/rows.tsv" > "$tmp/totals.md"
+    awk -v f="$tmp/totals.md" '/<!-- \/totals -->/ { on = 0 } !on { print }
+        /<!-- totals -->/ { on = 1; while ((getline l < f) > 0) print l }' "$table" > "$tmp/table.md" &&
+        cp "$tmp/table.md" "$table"
+    exit
+fi
 scenes < "$tmp/rows.tsv" > "$tmp/runs.tsv"
 run_all
 if [ "$mode" = observe ]; then
