@@ -543,7 +543,7 @@ int interface_from_params(Parser *P, ParamList *pl, const char *file, int line,
 {
     (void)dir; (void)file; (void)line;
     m->type = MAT_INTERFACE;
-    return params_check_unused(P, pl, what, "", NULL);
+    return params_check_unused(P, pl, what, "", "normalmap");
 }
 
 /* pbrt-v4 DiffuseMaterial: "reflectance" (0.5 by default), a spectrum (clamped

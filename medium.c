@@ -184,7 +184,7 @@ static int medium_coeff(Parser *P, ParamList *pl, const char *what, const char *
 int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *file, int line,
                        Medium *m)
 {
-    static const char *const pbrt_types[] = { "grid", "rgbgrid", "cloud", "nanovdb", NULL };
+    static const char *const pbrt_types[] = { "uniformgrid", "rgbgrid", "cloud", "nanovdb", NULL };
     const char *type = NULL, *preset = NULL;
     float scale, g, lescale;
     int i, rgb_illum = 0;

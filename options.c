@@ -566,7 +566,7 @@ int sampler_directive(Parser *P, const char *type, ParamList *pl, const char *fi
 int integrator_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     static const char *const pbrt_types[] = {
-        "ambientocclusion", "bdpt", "lightpath", "mlt", "randomwalk",
+        "ambientocclusion", "bdpt", "function", "lightpath", "mlt", "randomwalk",
         "simplevolpath", "sppm", "volpath", NULL
     };
     SceneSettings *st = &P->s->settings;

@@ -406,6 +406,9 @@ if grep -qx "lights spectral-tree" tests/tmp/out.txt && grep -qx "wavelengths mi
    ./specnee --preset thesis --print-defaults | grep -qx "rough-dispersion terminate"; then ok "cli_print_defaults_lines"
 else fail "cli_print_defaults_lines"; fi
 counted docs-defaults sh tests/docs_defaults.sh
+# docs/coverage.md, the table of pbrt-v4's whole format, says what the binary and the
+# builders do: each row tried on a tiny scene, each type's reads and each getter listed
+counted coverage sh tests/coverage.sh
 # with a scene, --print-defaults prints what that scene renders with: its Film,
 # Sampler and Integrator (cornell.pbrt: 256x256, 64 spp, maxdepth 8) under the flags
 expect "cli_print_defaults_scene" 0 "" ./specnee scenes/cornell.pbrt --maxdepth 3 --print-defaults
