@@ -412,9 +412,10 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
             out->n = sh->flip ? v3_neg(dir) : dir;
         }
     } else if (shape_is_quadric(sh->type)) {
-        /* uniform by world area (scene.c refuses an emitter where it would not be) */
+        /* uniform by object area: density 1 / quadric_area_at(p) per world area */
         (void)u0;
         quadric_sample(sh, u1, u2, &out->p, &out->n);
+        return finish_sample(ref, quadric_area_at(sh, out->p), out);
     } else {
         return sample_mesh(s, em->tri_cdf, sh->tri_begin, sh->tri_count, em->area, ref, u0, u1, u2, out);
     }
@@ -446,6 +447,8 @@ float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n)
         if (sphere_cone(&s->shapes[s->emitters[e].shape], ref, &omc))
             return v3_dot(n, v3_sub(p, ref)) < 0.0f ? (float)(1.0 / (2.0 * SPECNEE_PI * omc)) : 0.0f;
     }
+    if (s->emitters[e].shape >= 0 && shape_is_quadric(s->shapes[s->emitters[e].shape].type))
+        return pdf_sa_area(quadric_area_at(&s->shapes[s->emitters[e].shape], p), ref, p, n);
     return pdf_sa_area(s->emitters[e].area, ref, p, n);
 }
 

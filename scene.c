@@ -479,11 +479,6 @@ static int add_quadric(Parser *P, ShapeType type, const Quadric *params, const c
     shp->q = *params;
     if (!quadric_set_transform(&shp->q, &P->gs.ctm))
         return fail(P, file, line, "%s: projective transform not supported", what);
-    /* an area light is sampled uniformly by object area: that must be uniform by
-       world area, or emitter_pdf_sa's 1 / area would not be its density (shapes.c) */
-    if (shp->emitter >= 0 && !quadric_uniform_sampling(shp))
-        return fail(P, file, line, "%s: an area light under a non-uniform scale or shear "
-                    "is not in the specnee subset (its area sampling would not be uniform)", what);
     shp->area = quadric_area(shp);
     quadric_bounds(shp, lo, hi);
     for (a = 0; a < 3; a++)

@@ -78,9 +78,10 @@
      sphere    z = zmin + u1 (zmax - zmin), phi = u2 phimax (Archimedes again)
    This is uniform by WORLD area wherever the factor above is constant: a disk under
    any affine CTM, a cylinder or sphere under a similarity.  A cylinder or sphere
-   under any other CTM would be sampled with a density that varies over it, which
-   emitter_pdf_sa's 1 / area would not match: scene.c refuses such a shape as an
-   area light (file:line), and keeps it as plain geometry.  (pbrt-v4's Disk::Sample
+   under any other CTM (an ellipsoid, an elliptic cylinder) is sampled with a density
+   that varies over it, 1 / (a_obj |det L| |L^-T n|) per world area at the point
+   (quadric_area_at), which lights.c uses for such an area light instead of
+   1 / area: still exact, only less even than uniform.  (pbrt-v4's Disk::Sample
    draws the whole disk whatever innerradius and phimax say, and its Sphere::Sample
    the whole sphere whatever zmin, zmax and phimax say, while their areas count
    only the part; specnee samples exactly the part that exists.)
@@ -89,7 +90,7 @@
    (quadric_area) and Scene.quadric_shape; bvh.c bounds (quadric_bounds) and
    intersects (quadric_intersect) quadric k as primitive n_tris + n_spheres + k,
    and scene_surface_point calls quadric_surface_point; lights.c samples an emitting
-   quadric (quadric_sample, density 1 / Shape.area), gives a disk its plane for
+   quadric (quadric_sample, density 1 / quadric_area_at), gives a disk its plane for
    emitter_can_reach and the light tree a box and a normal cone.
 */
 #include "specnee.h"
@@ -356,15 +357,21 @@ static void object_point(const Shape *sh, double u1, double u2, double p[3])
     p[2] = z;
 }
 
-double quadric_area(const Shape *sh)
+/* The object-space area of the part kept. */
+static double object_area(const Shape *sh)
 {
     const Quadric *q = &sh->q;
     const double R = q->radius;
-    double a_obj, det = det3(q), n[3], w[3], len, sum = 0.0;
+    if (sh->type == SHAPE_DISK) return 0.5 * q->phimax * (R * R - q->inner * q->inner);
+    return q->phimax * R * (q->zmax - q->zmin);
+}
+
+double quadric_area(const Shape *sh)
+{
+    const Quadric *q = &sh->q;
+    double a_obj = object_area(sh), det = det3(q), n[3], w[3], len, sum = 0.0;
     int i, j;
     const int N = 64;
-    if (sh->type == SHAPE_DISK) a_obj = 0.5 * q->phimax * (R * R - q->inner * q->inner);
-    else a_obj = q->phimax * R * (q->zmax - q->zmin);
     if (q->similarity) return a_obj * q->sim_scale * q->sim_scale;
     if (sh->type == SHAPE_DISK) {                  /* one normal: a constant factor */
         n[0] = 0.0; n[1] = 0.0; n[2] = 1.0;
@@ -381,6 +388,29 @@ double quadric_area(const Shape *sh)
             sum += len;
         }
     return a_obj * det * sum / ((double)N * N);
+}
+
+/* quadric_sample draws object points with density 1 / a_obj per object area; a
+   world element is |det L| |L^-T n| times its object element (AREA above), so the
+   density per world area at p is 1 / (a_obj |det L| |L^-T n(p)|).  This returns
+   that denominator: Shape.area where the factor is constant (the same double as
+   before any sampling), and at the object point under p otherwise (an ellipsoid,
+   an elliptic cylinder). */
+double quadric_area_at(const Shape *sh, Vec3 p)
+{
+    const Quadric *q = &sh->q;
+    const double (*inv)[4] = (const double (*)[4])q->world_from_obj.inv;
+    double po[3], n[3], w[3], len, nn;
+    int i;
+    if (quadric_uniform_sampling(sh)) return sh->area;
+    for (i = 0; i < 3; i++)
+        po[i] = inv[i][0] * p.x + inv[i][1] * p.y + inv[i][2] * p.z + inv[i][3];
+    object_normal(sh, po, n);
+    nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);   /* p may sit a rounding off */
+    if (!(nn > 0.0)) return sh->area;
+    for (i = 0; i < 3; i++) n[i] /= nn;
+    normal_to_world(q, n, w, &len);
+    return object_area(sh) * det3(q) * len;
 }
 
 void quadric_sample(const Shape *sh, float u1, float u2, Vec3 *p, Vec3 *n)

@@ -558,9 +558,13 @@ double quadric_area(const Shape *sh);
    (a disk always; a cylinder or sphere under a similarity CTM), so that
    quadric_sample's density is 1 / area. */
 int    quadric_uniform_sampling(const Shape *sh);
-/* A point uniform by area (given quadric_uniform_sampling) for (u1, u2) in
-   [0,1)^2, with the oriented geometric normal a hit there would get. */
+/* A point uniform by object area for (u1, u2) in [0,1)^2 (uniform by world area
+   given quadric_uniform_sampling), with the oriented geometric normal a hit there
+   would get. */
 void   quadric_sample(const Shape *sh, float u1, float u2, Vec3 *p, Vec3 *n);
+/* 1 / (quadric_sample's density per world area) at world point p on the shape:
+   Shape.area when quadric_uniform_sampling, else a_obj |det L| |L^-T n(p)|. */
+double quadric_area_at(const Shape *sh, Vec3 p);
 
 /* ======================================================================
    6. Materials: only what the scenes need (material.c; microfacet.c, conductor.c,

@@ -685,8 +685,6 @@ REJECT(rej_regularize, "Integrator \"path\" \"bool regularize\" true\nWorldBegin
 REJECT(rej_negative_radius, "WorldBegin\nShape \"sphere\" \"float radius\" -2\n", 2, "radius", NULL)
 REJECT(rej_sphere_zmin, "WorldBegin\nShape \"sphere\" \"float zmin\" 0.5 \"float zmax\" 0.5\n", 2,
        "zmin = zmax = 0.5", "no height")
-REJECT(rej_sphere_nonuniform, "WorldBegin\nScale 1 2 1\nAreaLightSource \"diffuse\"\nShape \"sphere\"\n",
-       4, "non-uniform", "area light")
 REJECT(rej_shape_curve, "WorldBegin\nShape \"curve\"\n", 2,
        "Shape \"curve\" is valid pbrt-v4 but not in the specnee subset", NULL)
 REJECT(rej_shape_unknown, "WorldBegin\nShape \"blob\"\n", 2, "unknown shape type", NULL)
@@ -790,7 +788,6 @@ const TestCase tests_scene[] = {
     {"scene_reject_regularize", rej_regularize},
     {"scene_reject_negative_radius", rej_negative_radius},
     {"scene_reject_sphere_zmin", rej_sphere_zmin},
-    {"scene_reject_sphere_nonuniform", rej_sphere_nonuniform},
     {"scene_reject_shape_curve", rej_shape_curve},
     {"scene_reject_shape_unknown", rej_shape_unknown},
     {"scene_reject_material_conductor", rej_material_conductor},
