@@ -1,9 +1,11 @@
-/* medium.c - homogeneous participating media: their coefficients, the
-   Henyey-Greenstein phase function, pbrt-v4's named presets, and which medium a
-   ray is in after it leaves a surface.
+/* medium.c - participating media: homogeneous and uniformgrid media, their
+   coefficients, the Henyey-Greenstein phase function, pbrt-v4's named presets,
+   which medium a ray is in after it leaves a surface, and the free flight through
+   a grid (the majorant grid, its DDA, delta tracking).
 
    Exported (specnee.h section 6b): medium_sigma_t, medium_sigma_s, medium_sigma_a,
-   hg_phase, hg_sample, medium_preset, medium_after.
+   hg_phase, hg_sample, medium_preset, medium_after, medium_grid_lookup,
+   medium_point, medium_track, medium_free.
 
    THE MODEL (pbrt-v4 MakeNamedMedium "homogeneous"; THEORY §12 derives the
    estimator that uses it, docs/media.md summarises the format and the
@@ -36,6 +38,19 @@
    sends its rays back into the fog).  The camera is in the outside medium of the
    MediumInterface in force at the Camera directive.  A surface with Material
    "interface" is no surface at all: rays cross it (path.c), shadow rays too.
+
+   UNIFORMGRID (pbrt-v4's GridMedium; THEORY §13).  The spectra are scaled by a
+   density d(x) interpolated trilinearly from nx ny nz samples at the centres of
+   the cells of the bounds p0..p1 (0 beyond them), in the frame of the CTM at the
+   MakeNamedMedium.  A majorant grid of MAJORANT_RES^3 cells holds each cell's
+   largest reachable sample d_max, so sigma_bar(lambda) = d_max sigma_t(lambda)
+   bounds sigma_t(x, lambda) in the cell.  medium_track walks a ray through the
+   cells with a 3-D DDA and draws tentative collisions at the hero's majorant
+       t = t_cell - ln(1 - u) / sigma_bar_0     (a fresh u in each cell),
+   handing each to the caller (path.c decides real or null and weights the lanes,
+   THEORY (21)-(25)) with the ratios Tbar_j / Tbar_0 = exp(-(sigma_bar_j -
+   sigma_bar_0) t) since the previous one.  The emission there is sigma_a Le times
+   the Lescale grid, or a blackbody of the temperature grid (medium_point).
 
    The last section builds a medium from a MakeNamedMedium's parameters for the
    scene builder (medium_from_params, parser.h). */
@@ -335,6 +350,7 @@ int medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigne
                 lo[3] = { m->p0.x, m->p0.y, m->p0.z }, hi[3] = { m->p1.x, m->p1.y, m->p1.z };
     MediumEvent ev;
     Dda w;
+    long events = 0;
     int j, k, inside = 1;
     for (j = 0; j < HERO_N; j++) {
         tm_end[j] = 1.0;
@@ -355,6 +371,10 @@ int medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigne
             double tc = t - log1p(-(double)u) / ev.smaj[0];
             u = rng_float(rng);
             if (!(tc < t_exit)) break;
+            if (++events > MEDIUM_MAX_EVENTS || !isfinite(ev.smaj[0])) {
+                for (j = 0; j < HERO_N; j++) tm_end[j] = 0.0;    /* opaque: nothing passes */
+                return 0;
+            }
             for (j = 0; j < HERO_N; j++) ev.tm[j] = tm_end[j] * exp(-(ev.smaj[j] - ev.smaj[0]) * (tc - t));
             ev.t = (float)(tc / len);
             ev.p = v3_add(ray.o, v3_mul(dn, (float)tc));

@@ -64,7 +64,13 @@
    multiplies NEE by the shadow ray's transmittance and every BSDF/phase density in
    D by Tr_m (19), as PrevVertex.T (Tr) does for an emitter that a sampled direction
    finds.  Surfaces of Material "interface" only hand the ray from one medium to
-   the next.
+   the next.  In a uniformgrid (THEORY §13) medium_flight hands the flight to
+   grid_flight: medium.c's medium_track draws tentative collisions at the hero's
+   majorant and grid_event estimates the emission at each (25) and makes it real
+   or null, the lanes gaining the null or real densities of every hero (21), (22);
+   shadow rays ratio-track (ratio_event, (23)), and NEE's own density of their
+   null collisions, A_m, joins the MIS denominator (24) (PrevVertex.A for an
+   emitter a sampled direction finds).
 
    Russian roulette (from depth RR_START_DEPTH) survives with probability
    P_survive = min(1, 4 max_j beta_j / sum_m r_m)  (8).  beta_j / sum_m r_m =

@@ -828,6 +828,9 @@ void  tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, fl
 typedef enum { MEDIUM_HOMOGENEOUS, MEDIUM_UNIFORMGRID } MediumType;
 typedef struct { int nx, ny, nz; float *v; } MediumGrid;
 #define MAJORANT_RES 16            /* @@ majorant cells per axis (pbrt-v4: 16) */
+#define MEDIUM_MAX_EVENTS 1000000L /* @@ tentative collisions one tracking may meet; a ray
+                                      that needs more (an optical depth of about 10^6)
+                                      is taken as blocked */
 
 typedef struct {
     char name[64];             /* the MakeNamedMedium name */
