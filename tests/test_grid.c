@@ -213,6 +213,78 @@ static void test_nee(T *t)
           "a point light over a grid slab: Y = %.6g +- %.2g, expected E/pi = %.6g", Y, se, expect);
 }
 
+/* ---- NEE and BSDF sampling together through a grid: a white floor beside a
+   4 x 4 lamp at height 2 (1 < x < 5, out of the camera's view), a strongly chromatic absorbing checker slab 0.5 < z <
+   1.5 between them, the camera above looking down (maxdepth 1: direct light
+   only, both techniques weighted by THEORY (24)).  The floor's radiance is
+   (1/pi) integral over the lamp of Le cos cos' / r^2 exp(-sigma_a(lambda) D r / 2),
+   seen through exp(-sigma_a(lambda) D r_c / 5), D the slab's integral of d. */
+static void test_area_light(T *t)
+{
+    static const double d[6] = { 0.2, 2.0, 0.2, 2.0, 0.2, 2.0 };
+    static char text[16384], vals[4096];
+    static const char fmt[] =
+        "MakeNamedMedium \"g\" \"string type\" \"uniformgrid\" "
+        "\"spectrum sigma_a\" [ 400 0.1 700 3.0 ] \"spectrum sigma_s\" [ 400 0 700 0 ] "
+        "\"integer nx\" 2 \"integer ny\" 2 \"integer nz\" 6 %s "
+        "\"point3 p0\" [ -200 -200 0.5 ] \"point3 p1\" [ 200 200 1.5 ]\n"
+        "MediumInterface \"\" \"g\"\n"
+        "LookAt 0 0 5  0 0 0  0 1 0\n"
+        "Camera \"perspective\" \"float fov\" [ 5 ]\n"
+        "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ] "
+        "\"string filename\" \"t.pfm\"\n"
+        "PixelFilter \"box\"\n"
+        "Integrator \"volpath\" \"integer maxdepth\" [ 1 ]\n"
+        "WorldBegin\n"
+        "MediumInterface \"\" \"\"\n"
+        "AttributeBegin\n"
+        " AreaLightSource \"diffuse\" \"spectrum L\" [ 400 1 700 1 ]\n"
+        " Shape \"trianglemesh\" \"integer indices\" [ 0 2 1 0 3 2 ]\n"
+        "  \"point3 P\" [ 1 -2 2  5 -2 2  5 2 2  1 2 2 ]\n"
+        "AttributeEnd\n"
+        "Material \"diffuse\" \"spectrum reflectance\" [ 360 1 830 1 ]\n"
+        "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+        "  \"point3 P\" [ -40 -40 0  40 -40 0  40 40 0  -40 40 0 ]\n";
+    Scene s;
+    RenderOptions o;
+    Tiles tl;
+    Spectrum one;
+    double se, Y, expect = 0.0, D = profile_int(d, 6), a = 5.0 * tan(2.5 * SPECNEE_PI / 180.0), norm;
+    int l, i, j, u, v;
+    const int nf = 6, nl = 40;
+    grid_values(vals, sizeof vals, "density", d, 6);
+    snprintf(text, sizeof text, fmt, vals);
+    if (!test_load_scene(t, &s, text)) return;
+    spec_const(&one, 1.0f);
+    norm = luminance_sum(&one, LAMBDA_LO, LAMBDA_HI);
+    for (l = 400; l <= 700; l += 2) {
+        float xyz[3];
+        double sa = 0.1 + 2.9 * (l - 400.0) / 300.0, L = 0.0;
+        cie_xyz((float)l, xyz);
+        for (i = 0; i < nf; i++)
+            for (j = 0; j < nf; j++) {
+                double x = a * (2.0 * (i + 0.5) / nf - 1.0), y = a * (2.0 * (j + 0.5) / nf - 1.0), e = 0.0,
+                       rc = sqrt(25.0 + x * x + y * y);
+                for (u = 0; u < nl; u++)
+                    for (v = 0; v < nl; v++) {
+                        double lx = 1.0 + 4.0 * (u + 0.5) / nl - x, ly = 4.0 * (v + 0.5) / nl - 2.0 - y,
+                               r2 = lx * lx + ly * ly + 4.0, r = sqrt(r2);
+                        e += (16.0 / ((double)nl * nl)) * 4.0 / (r2 * r2) * exp(-sa * D * r / 2.0);
+                    }
+                L += e / SPECNEE_PI * exp(-sa * D * rc / 5.0) / ((double)nf * nf);
+            }
+        expect += (l == 400 || l == 700 ? 1.0 : 2.0) * xyz[1] * (1.0 / norm) * L;   /* trapezoids */
+    }
+    render_options_default(&o);
+    o.spp = test_scaled(2048, 256);
+    o.maxdepth = 1;
+    if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
+    scene_free(&s);
+    Y = tile_y(&tl, &se);
+    CHECK(t, fabs(Y - expect) < TEST_K_SIGMA * se + 3e-3 * expect,
+          "a lamp over a floor through a chromatic grid: Y = %.6g +- %.2g, expected %.6g", Y, se, expect);
+}
+
 /* ---- furnace: albedo 1, chromatic sigma_s, a 24^3 grid of densities 0..4 (finer
    than the 16^3 majorant cells, so most tentative collisions are null) around the
    camera in a constant environment of Y = 1: every path carries exactly 1 (NEE
@@ -654,6 +726,7 @@ const TestCase tests_grid[] = {
     { "grid_ramp_transmittance", test_ramp },
     { "grid_checker_transmittance", test_checker },
     { "grid_nee", test_nee },
+    { "grid_area_light", test_area_light },
     { "grid_furnace", test_furnace },
     { "grid_emission", test_emission },
     { "grid_threads", test_threads },
