@@ -180,8 +180,10 @@ void scene_dump(const Scene *s, FILE *f)
             s->n_media > 0 && st->media_ignored ? " (ignored by this Integrator)" : "");
     for (i = 0; i < s->n_media; i++) {
         const Medium *m = &s->media[i];
-        fprintf(f, "  [%d] \"%s\" homogeneous, g %g, sigma_t at 450/550/650 nm: %g %g %g, "
-                "albedo at 550 nm %g%s\n", i, m->name, m->g, medium_sigma_t(m, 450.0f),
+        fprintf(f, "  [%d] \"%s\" %s, g %g, sigma_t at 450/550/650 nm: %g %g %g, "
+                "albedo at 550 nm %g%s\n", i, m->name,
+                m->type == MEDIUM_UNIFORMGRID ? "uniformgrid (times its density)" : "homogeneous",
+                m->g, medium_sigma_t(m, 450.0f),
                 medium_sigma_t(m, 550.0f), medium_sigma_t(m, 650.0f),
                 medium_sigma_t(m, 550.0f) > 0.0f ? medium_sigma_s(m, 550.0f) / medium_sigma_t(m, 550.0f) : 0.0f,
                 m->Le_scale > 0.0f ? ", emissive" : "");

@@ -1,9 +1,11 @@
-/* medium.c - homogeneous participating media: their coefficients, the
-   Henyey-Greenstein phase function, pbrt-v4's named presets, and which medium a
-   ray is in after it leaves a surface.
+/* medium.c - participating media: homogeneous and uniformgrid media, their
+   coefficients, the Henyey-Greenstein phase function, pbrt-v4's named presets,
+   which medium a ray is in after it leaves a surface, and the free flight through
+   a grid (the majorant grid, its DDA, delta tracking).
 
    Exported (specnee.h section 6b): medium_sigma_t, medium_sigma_s, medium_sigma_a,
-   hg_phase, hg_sample, medium_preset, medium_after.
+   hg_phase, hg_sample, medium_preset, medium_after, medium_grid_lookup,
+   medium_point, medium_track, medium_free.
 
    THE MODEL (pbrt-v4 MakeNamedMedium "homogeneous"; THEORY §12 derives the
    estimator that uses it, docs/media.md summarises the format and the
@@ -37,9 +39,23 @@
    MediumInterface in force at the Camera directive.  A surface with Material
    "interface" is no surface at all: rays cross it (path.c), shadow rays too.
 
+   UNIFORMGRID (pbrt-v4's GridMedium; THEORY §13).  The spectra are scaled by a
+   density d(x) interpolated trilinearly from nx ny nz samples at the centres of
+   the cells of the bounds p0..p1 (0 beyond them), in the frame of the CTM at the
+   MakeNamedMedium.  A majorant grid of MAJORANT_RES^3 cells holds each cell's
+   largest reachable sample d_max, so sigma_bar(lambda) = d_max sigma_t(lambda)
+   bounds sigma_t(x, lambda) in the cell.  medium_track walks a ray through the
+   cells with a 3-D DDA and draws tentative collisions at the hero's majorant
+       t = t_cell - ln(1 - u) / sigma_bar_0     (a fresh u in each cell),
+   handing each to the caller (path.c decides real or null and weights the lanes,
+   THEORY (21)-(25)) with the ratios Tbar_j / Tbar_0 = exp(-(sigma_bar_j -
+   sigma_bar_0) t) since the previous one.  The emission there is sigma_a Le times
+   the Lescale grid, or a blackbody of the temperature grid (medium_point).
+
    The last section builds a medium from a MakeNamedMedium's parameters for the
    scene builder (medium_from_params, parser.h). */
 #include "specnee.h"
+#include <stdlib.h>
 #include <string.h>
 
 float medium_sigma_a(const Medium *m, float lambda_nm) { return spec_eval(&m->sigma_a, lambda_nm); }
@@ -155,6 +171,225 @@ int medium_after(const Scene *s, int shape, int cur, Vec3 w, Vec3 ng)
 }
 
 /* ---------------------------------------------------------------------------
+   ---- uniformgrid: lookups, the majorant grid, delta tracking (THEORY §13)
+   --------------------------------------------------------------------------- */
+
+/* Sample (x, y, z) of g; 0 beyond the outermost samples (pbrt-v4's SampledGrid). */
+static double grid_at(const MediumGrid *g, int x, int y, int z)
+{
+    if (x < 0 || y < 0 || z < 0 || x >= g->nx || y >= g->ny || z >= g->nz) return 0.0;
+    return g->v[((size_t)z * (size_t)g->ny + (size_t)y) * (size_t)g->nx + (size_t)x];
+}
+
+static double lerp_d(double f, double a, double b) { return (1.0 - f) * a + f * b; }
+
+/* Trilinear interpolation at u in the unit cube: sample i sits at (i + 1/2) / n. */
+double medium_grid_lookup(const MediumGrid *g, Vec3 u)
+{
+    double s[3], f[3];
+    int i[3], k;
+    const int n[3] = { g->nx, g->ny, g->nz };
+    const float uu[3] = { u.x, u.y, u.z };
+    for (k = 0; k < 3; k++) {
+        s[k] = (double)uu[k] * n[k] - 0.5;
+        if (!(s[k] > -1.0)) s[k] = -1.0;          /* beyond the grid: reads zeros */
+        if (!(s[k] < (double)n[k])) s[k] = n[k];
+        i[k] = (int)floor(s[k]);
+        f[k] = s[k] - i[k];
+    }
+    return lerp_d(f[2],
+                  lerp_d(f[1], lerp_d(f[0], grid_at(g, i[0], i[1], i[2]), grid_at(g, i[0] + 1, i[1], i[2])),
+                               lerp_d(f[0], grid_at(g, i[0], i[1] + 1, i[2]), grid_at(g, i[0] + 1, i[1] + 1, i[2]))),
+                  lerp_d(f[1], lerp_d(f[0], grid_at(g, i[0], i[1], i[2] + 1), grid_at(g, i[0] + 1, i[1], i[2] + 1)),
+                               lerp_d(f[0], grid_at(g, i[0], i[1] + 1, i[2] + 1),
+                                      grid_at(g, i[0] + 1, i[1] + 1, i[2] + 1))));
+}
+
+/* The samples a lookup in [lo, hi] (unit-cube coordinates, one axis, n samples)
+   can read: floor(lo n - 1/2) .. floor(hi n - 1/2) + 1, clamped to the grid. */
+static void cell_samples(double lo, double hi, int n, int *i0, int *i1)
+{
+    *i0 = (int)floor(lo * n - 0.5);
+    *i1 = (int)floor(hi * n - 0.5) + 1;
+    if (*i0 < 0) *i0 = 0;
+    if (*i1 > n - 1) *i1 = n - 1;
+}
+
+/* dmax of every majorant cell: the largest density sample that a lookup inside it
+   can interpolate (an interpolation never exceeds its samples). 0: out of memory. */
+static int build_majorant(Medium *m)
+{
+    const MediumGrid *g = &m->density;
+    int c[3], lo[3], hi[3], x, y, z;
+    m->majorant = (float *)malloc(sizeof(float) * MAJORANT_RES * MAJORANT_RES * MAJORANT_RES);
+    if (!m->majorant) return 0;
+    for (c[2] = 0; c[2] < MAJORANT_RES; c[2]++)
+        for (c[1] = 0; c[1] < MAJORANT_RES; c[1]++)
+            for (c[0] = 0; c[0] < MAJORANT_RES; c[0]++) {
+                float mx = 0.0f;
+                cell_samples((double)c[0] / MAJORANT_RES, (double)(c[0] + 1) / MAJORANT_RES, g->nx, &lo[0], &hi[0]);
+                cell_samples((double)c[1] / MAJORANT_RES, (double)(c[1] + 1) / MAJORANT_RES, g->ny, &lo[1], &hi[1]);
+                cell_samples((double)c[2] / MAJORANT_RES, (double)(c[2] + 1) / MAJORANT_RES, g->nz, &lo[2], &hi[2]);
+                for (z = lo[2]; z <= hi[2]; z++)
+                    for (y = lo[1]; y <= hi[1]; y++)
+                        for (x = lo[0]; x <= hi[0]; x++)
+                            if (grid_at(g, x, y, z) > mx) mx = (float)grid_at(g, x, y, z);
+                m->majorant[(c[2] * MAJORANT_RES + c[1]) * MAJORANT_RES + c[0]] = mx;
+            }
+    return 1;
+}
+
+/* World point p in the unit cube of the medium's bounds. */
+static Vec3 unit_coords(const Medium *m, Vec3 p)
+{
+    Vec3 q = xf_point(&m->medium_from_world, p);
+    return v3((q.x - m->p0.x) / (m->p1.x - m->p0.x), (q.y - m->p0.y) / (m->p1.y - m->p0.y),
+              (q.z - m->p0.z) / (m->p1.z - m->p0.z));
+}
+
+void medium_point(const Medium *m, Vec3 p, const float *lam, unsigned alive, MediumPoint *out)
+{
+    Vec3 u = unit_coords(m, p);
+    double d = medium_grid_lookup(&m->density, u), ls = 0.0, kelvin = 0.0;
+    int j;
+    if (m->Le_scale > 0.0f) {
+        ls = medium_grid_lookup(&m->lescale, u);
+        if (m->temperature.v) {
+            kelvin = (medium_grid_lookup(&m->temperature, u) - m->temp_offset) * m->temp_scale;
+            if (!(kelvin > 100.0)) ls = 0.0;      /* pbrt-v4: no emission at or below 100 K */
+        }
+    }
+    for (j = 0; j < HERO_N; j++) {
+        out->sa[j] = out->ss[j] = out->le[j] = 0.0;
+        if (!(alive & (1u << j))) continue;
+        out->sa[j] = d * medium_sigma_a(m, lam[j]);
+        out->ss[j] = d * medium_sigma_s(m, lam[j]);
+        if (ls > 0.0)
+            out->le[j] = ls * (m->temperature.v ? blackbody_eval((float)kelvin, lam[j])
+                                                 : spec_eval(&m->Le, lam[j]));
+    }
+}
+
+void medium_free(Medium *m)
+{
+    free(m->density.v);
+    free(m->lescale.v);
+    free(m->temperature.v);
+    free(m->majorant);
+    m->density.v = m->lescale.v = m->temperature.v = m->majorant = NULL;
+}
+
+/* The ray o + t dn (dn unit, world) against the unit cube of the bounds, in the
+   medium's grid coordinates g(t) = go + t gd: the overlap [*t0, *t1] of [0, tmax]. */
+static int cube_overlap(const double go[3], const double gd[3], double tmax, double *t0, double *t1)
+{
+    int k;
+    *t0 = 0.0;
+    *t1 = tmax;
+    for (k = 0; k < 3; k++) {
+        double a, b;
+        if (gd[k] == 0.0) {
+            if (!(go[k] >= 0.0 && go[k] <= 1.0)) return 0;
+            continue;
+        }
+        a = (0.0 - go[k]) / gd[k];
+        b = (1.0 - go[k]) / gd[k];
+        if (a > b) { double x = a; a = b; b = x; }
+        if (a > *t0) *t0 = a;
+        if (b < *t1) *t1 = b;
+    }
+    return *t0 < *t1;
+}
+
+/* A 3-D DDA over the MAJORANT_RES^3 cells (Amanatides and Woo 1987): the cell the
+   ray is in, and the distances at which it crosses into the next one per axis. */
+typedef struct {
+    int cell[3], step[3];
+    double next[3], delta[3];
+} Dda;
+
+static void dda_start(Dda *w, const double go[3], const double gd[3], double t0)
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        double pos = (go[k] + gd[k] * t0) * MAJORANT_RES;
+        int c = (int)floor(pos);
+        w->cell[k] = c < 0 ? 0 : c > MAJORANT_RES - 1 ? MAJORANT_RES - 1 : c;
+        if (gd[k] > 0.0) {
+            w->step[k] = 1;
+            w->next[k] = ((double)(w->cell[k] + 1) / MAJORANT_RES - go[k]) / gd[k];
+            w->delta[k] = 1.0 / (MAJORANT_RES * gd[k]);
+        } else if (gd[k] < 0.0) {
+            w->step[k] = -1;
+            w->next[k] = ((double)w->cell[k] / MAJORANT_RES - go[k]) / gd[k];
+            w->delta[k] = -1.0 / (MAJORANT_RES * gd[k]);
+        } else {
+            w->step[k] = 0;
+            w->next[k] = w->delta[k] = INFINITY;
+        }
+    }
+}
+
+/* The exit distance of the current cell; steps into the next (0: left the grid). */
+static int dda_step(Dda *w, double *t_exit)
+{
+    int a = w->next[0] < w->next[1] ? (w->next[0] < w->next[2] ? 0 : 2) : (w->next[1] < w->next[2] ? 1 : 2);
+    *t_exit = w->next[a];
+    w->cell[a] += w->step[a];
+    w->next[a] += w->delta[a];
+    return w->cell[a] >= 0 && w->cell[a] < MAJORANT_RES;
+}
+
+int medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigned alive,
+                 float u, Rng *rng, MediumEventFn fn, void *ctx, double tm_end[HERO_N])
+{
+    double len = v3_len(ray.d), go[3], gd[3], t, t1, st[HERO_N];
+    Vec3 dn = v3_mul(ray.d, 1.0f / (float)len), o = xf_point(&m->medium_from_world, ray.o),
+         dm = xf_vector(&m->medium_from_world, dn);
+    const float oo[3] = { o.x, o.y, o.z }, dd[3] = { dm.x, dm.y, dm.z },
+                lo[3] = { m->p0.x, m->p0.y, m->p0.z }, hi[3] = { m->p1.x, m->p1.y, m->p1.z };
+    MediumEvent ev;
+    Dda w;
+    long events = 0;
+    int j, k, inside = 1;
+    for (j = 0; j < HERO_N; j++) {
+        tm_end[j] = 1.0;
+        st[j] = (alive & (1u << j)) ? medium_sigma_t(m, lam[j]) : 0.0;
+    }
+    for (k = 0; k < 3; k++) {
+        go[k] = (oo[k] - lo[k]) / (hi[k] - lo[k]);
+        gd[k] = dd[k] / (hi[k] - lo[k]);
+    }
+    if (!(len > 0.0) || !cube_overlap(go, gd, (double)tmax * len, &t, &t1)) return 0;
+    dda_start(&w, go, gd, t);
+    while (inside && t < t1) {
+        double t_exit, dmax = m->majorant[(w.cell[2] * MAJORANT_RES + w.cell[1]) * MAJORANT_RES + w.cell[0]];
+        inside = dda_step(&w, &t_exit);
+        if (t_exit > t1 || !inside) t_exit = t1;
+        for (j = 0; j < HERO_N; j++) ev.smaj[j] = st[j] * dmax;
+        while (ev.smaj[0] > 0.0) {          /* tentative collisions at the hero's majorant */
+            double tc = t - log1p(-(double)u) / ev.smaj[0];
+            u = rng_float(rng);
+            if (!(tc < t_exit)) break;
+            if (++events > MEDIUM_MAX_EVENTS || !isfinite(ev.smaj[0])) {
+                for (j = 0; j < HERO_N; j++) tm_end[j] = 0.0;    /* opaque: nothing passes */
+                return 0;
+            }
+            for (j = 0; j < HERO_N; j++) ev.tm[j] = tm_end[j] * exp(-(ev.smaj[j] - ev.smaj[0]) * (tc - t));
+            ev.t = (float)(tc / len);
+            ev.p = v3_add(ray.o, v3_mul(dn, (float)tc));
+            medium_point(m, ev.p, lam, alive, &ev.mp);
+            if (!fn(ctx, &ev)) return 1;
+            for (j = 0; j < HERO_N; j++) tm_end[j] = 1.0;
+            t = tc;
+        }
+        for (j = 0; j < HERO_N; j++) tm_end[j] *= exp(-(ev.smaj[j] - ev.smaj[0]) * (t_exit - t));
+        t = t_exit;
+    }
+    return 0;
+}
+
+/* ---------------------------------------------------------------------------
    ---- building from scene parameters
    medium_from_params: the scene builder's (scene.c) MakeNamedMedium, read from
    its parameters (parser.h).
@@ -174,6 +409,159 @@ static int medium_coeff(Parser *P, ParamList *pl, const char *what, const char *
            check_spectrum_above(P, p, file, line, w, out, 0.0f, 0);
 }
 
+/* A float-array parameter of a uniformgrid as an nx ny nz grid (g->v NULL when
+   absent and not required): count nx ny nz, every value finite and >= 0 unless
+   `any_sign` (a temperature may have any offset). */
+static int grid_param(Parser *P, ParamList *pl, const char *what, const char *name, const int n[3],
+                      int required, int any_sign, const char *file, int line, MediumGrid *g)
+{
+    Param *p = param_find(pl, PT_FLOAT, name);
+    size_t count = (size_t)n[0] * (size_t)n[1] * (size_t)n[2], i;
+    g->nx = n[0]; g->ny = n[1]; g->nz = n[2];
+    g->v = NULL;
+    if (!p) return required ? fail(P, file, line, "%s: \"float %s\" is required (nx*ny*nz values)",
+                                   what, name) : 1;
+    if ((size_t)p->n_num != count)
+        return fail(P, p->file, p->line, "%s: %d \"%s\" values; expected nx*ny*nz = %d*%d*%d = %lu",
+                    what, p->n_num, name, n[0], n[1], n[2], (unsigned long)count);
+    for (i = 0; i < count; i++)
+        if (!isfinite(p->num[i]) || fabs(p->num[i]) > 1e30 || (!any_sign && p->num[i] < 0.0))
+            return fail(P, p->file, p->line, "%s: \"%s\" value %lu is %g; need a finite value%s",
+                        what, name, (unsigned long)i, p->num[i], any_sign ? "" : " >= 0");
+    g->v = (float *)malloc(sizeof(float) * count);
+    if (!g->v) return oom(P, p->file, p->line);
+    for (i = 0; i < count; i++) g->v[i] = (float)p->num[i];
+    return 1;
+}
+
+/* "point3 p0"/"p1" (defaults (0,0,0), (1,1,1)); p0 < p1 on every axis. */
+static int grid_bounds(Parser *P, ParamList *pl, const char *what, const char *file, int line, Medium *m)
+{
+    Param *b[2];
+    double v[2][3] = { { 0, 0, 0 }, { 1, 1, 1 } };
+    int i, k;
+    b[0] = param_find(pl, PT_POINT3, "p0");
+    b[1] = param_find(pl, PT_POINT3, "p1");
+    for (i = 0; i < 2; i++) {
+        if (!b[i]) continue;
+        if (b[i]->n_num != 3)
+            return fail(P, b[i]->file, b[i]->line, "%s: \"point3 %s\" needs 3 values, got %d", what,
+                        i ? "p1" : "p0", b[i]->n_num);
+        for (k = 0; k < 3; k++) v[i][k] = b[i]->num[k];
+    }
+    for (k = 0; k < 3; k++)
+        if (!isfinite(v[0][k]) || !isfinite(v[1][k]) || !(v[0][k] < v[1][k]) ||
+            fabs(v[0][k]) > 1e30 || fabs(v[1][k]) > 1e30)
+            return fail(P, b[1] ? b[1]->file : file, b[1] ? b[1]->line : line,
+                        "%s: bounds \"point3 p0\" [ %g %g %g ] and \"point3 p1\" [ %g %g %g ] need "
+                        "finite p0 < p1 on every axis", what, v[0][0], v[0][1], v[0][2],
+                        v[1][0], v[1][1], v[1][2]);
+    m->p0 = v3((float)v[0][0], (float)v[0][1], (float)v[0][2]);
+    m->p1 = v3((float)v[1][0], (float)v[1][1], (float)v[1][2]);
+    if (!(m->p0.x < m->p1.x && m->p0.y < m->p1.y && m->p0.z < m->p1.z))
+        return fail(P, file, line, "%s: bounds p0 and p1 are too close for float precision", what);
+    return 1;
+}
+
+/* The grids of a uniformgrid: density, temperature, Lescale (pbrt-v4 GridMedium::Create). */
+static int grid_arrays(Parser *P, ParamList *pl, const char *what, const char *file, int line,
+                       int has_le, Medium *m)
+{
+    int n[3], k;
+    static const char *const axis[3] = { "nx", "ny", "nz" };
+    static const int one[3] = { 1, 1, 1 };
+    for (k = 0; k < 3; k++) {
+        if (!get_int(P, pl, axis[k], 1, &n[k], NULL)) return 0;
+        if (n[k] < 1 || n[k] > 4096) {
+            Param *p = param_find(pl, PT_INTEGER, axis[k]);
+            return fail(P, p->file, p->line, "%s: \"integer %s\" %d must lie in 1..4096", what,
+                        axis[k], n[k]);
+        }
+    }
+    if (!grid_param(P, pl, what, "density", n, 1, 0, file, line, &m->density) ||
+        !grid_param(P, pl, what, "temperature", n, 0, 1, file, line, &m->temperature))
+        return 0;
+    if (m->temperature.v && has_le)
+        return fail(P, file, line, "%s: both \"Le\" and \"temperature\" are given (pbrt-v4 "
+                    "takes one of them)", what);
+    if (param_find(pl, PT_FLOAT, "Lescale")) {
+        if (!grid_param(P, pl, what, "Lescale", n, 1, 0, file, line, &m->lescale)) return 0;
+    } else {
+        if (!grid_param(P, pl, what, "Lescale", one, 0, 0, file, line, &m->lescale)) return 0;
+        m->lescale.v = (float *)malloc(sizeof(float));
+        if (!m->lescale.v) return oom(P, file, line);
+        m->lescale.v[0] = 1.0f;                   /* pbrt-v4: a 1x1x1 grid of 1 */
+    }
+    if (!build_majorant(m)) return oom(P, file, line);
+    return 1;
+}
+
+/* MakeNamedMedium ... "string type" "uniformgrid" with pbrt-v4's meaning
+   (media.cpp, GridMedium::Create): sigma_a, sigma_s (1 each) times "float scale"
+   (1) times the interpolated "float density" grid (nx ny nz values, x fastest,
+   over the bounds "point3 p0" (0 0 0) .. "point3 p1" (1 1 1) in the frame of the
+   CTM at the directive); "float g" (0); emission "spectrum Le" normalised as the
+   homogeneous medium's, or a "float temperature" grid as a blackbody (peak 1) of
+   (T - "float temperaturecutoff" (alias temperatureoffset, 0)) *
+   "float temperaturescale" (1) kelvin; both times the "float Lescale" grid
+   (default: one sample of 1). */
+static int grid_from_params(Parser *P, ParamList *pl, const char *what, const char *file, int line,
+                            Medium *m)
+{
+    float scale, g, off, tscale;
+    int i, rgb_illum = 0, ok;
+    Param *ple;
+    m->type = MEDIUM_UNIFORMGRID;
+    m->medium_from_world = P->gs.ctm;
+    memcpy(m->medium_from_world.m, P->gs.ctm.inv, sizeof m->medium_from_world.m);
+    memcpy(m->medium_from_world.inv, P->gs.ctm.m, sizeof m->medium_from_world.inv);
+    if (!medium_coeff(P, pl, what, "sigma_a", 1.0f, &m->sigma_a, file, line) ||
+        !medium_coeff(P, pl, what, "sigma_s", 1.0f, &m->sigma_s, file, line) ||
+        !get_float(P, pl, "scale", 1.0f, &scale) || !get_float(P, pl, "g", 0.0f, &g) ||
+        !get_float(P, pl, "temperatureoffset", 0.0f, &off) ||
+        !get_float(P, pl, "temperaturecutoff", off, &off) ||
+        !get_float(P, pl, "temperaturescale", 1.0f, &tscale))
+        return 0;
+    ple = find_spectrum_param(pl, "Le");
+    if (ple) {
+        char w[192];
+        snprintf(w, sizeof w, "%s: \"Le\"", what);
+        if (!param_spectrum(P, ple, SPEC_ILLUMINANT, &m->Le, &rgb_illum) ||
+            !check_spectrum_above(P, ple, file, line, w, &m->Le, 0.0f, 0)) return 0;
+    }
+    ok = grid_arrays(P, pl, what, file, line, ple != NULL, m) && grid_bounds(P, pl, what, file, line, m) &&
+         params_check_unused(P, pl, what, "string type, spectrum sigma_a, spectrum sigma_s, "
+                             "float scale, float g, float density, integer nx, integer ny, "
+                             "integer nz, point3 p0, point3 p1, spectrum Le, float Lescale, "
+                             "float temperature, float temperaturecutoff, "
+                             "float temperatureoffset, float temperaturescale", NULL);
+    if (ok && (!(scale >= 0.0f) || !(scale < 1e30f)))
+        ok = fail_param(P, pl, "scale", file, line, "%s: \"float scale\" %g must be a finite number >= 0",
+                        what, scale);
+    if (ok && (!(g > -1.0f) || !(g < 1.0f)))
+        ok = fail_param(P, pl, "g", file, line, "%s: \"float g\" %g must lie in (-1, 1) (Henyey-Greenstein)",
+                        what, g);
+    if (ok && (!isfinite(off) || !isfinite(tscale)))
+        ok = fail(P, file, line, "%s: \"float temperaturecutoff\" and \"float temperaturescale\" "
+                  "must be finite", what);
+    if (!ok) { medium_free(m); return 0; }
+    for (i = 0; i < SPEC_N; i++) { m->sigma_a.v[i] *= scale; m->sigma_s.v[i] *= scale; }
+    for (i = 0; i < SPEC_UV_N; i++) { m->sigma_a.uv[i] *= scale; m->sigma_s.uv[i] *= scale; }
+    m->g = g;
+    m->temp_offset = off;
+    m->temp_scale = tscale;
+    if (m->temperature.v) m->Le_scale = 1.0f;   /* absolute: render.c keeps it */
+    else if (ple) {
+        float mx = 0.0f;
+        for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
+            if (spec_get(&m->Le, i) > mx) mx = spec_get(&m->Le, i);
+        if (mx > 0.0f) m->Le_scale = rgb_illum ? rgb_illuminant_scale(&m->Le, 1.0f) : 1.0f;
+    }
+    m->file = file;
+    m->line = line;
+    return 1;
+}
+
 /* MakeNamedMedium "name" "string type" "homogeneous" ... with pbrt-v4's meaning
    (media.cpp, HomogeneousMedium::Create): sigma_a, sigma_s (default 1 each, per
    scene unit), or a "string preset" of measured coefficients (medium.c; they are
@@ -184,7 +572,7 @@ static int medium_coeff(Parser *P, ParamList *pl, const char *what, const char *
 int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *file, int line,
                        Medium *m)
 {
-    static const char *const pbrt_types[] = { "uniformgrid", "rgbgrid", "cloud", "nanovdb", NULL };
+    static const char *const pbrt_types[] = { "rgbgrid", "cloud", "nanovdb", NULL };
     const char *type = NULL, *preset = NULL;
     float scale, g, lescale;
     int i, rgb_illum = 0;
@@ -192,11 +580,12 @@ int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *f
     memset(m, 0, sizeof *m);
     if (!get_string(P, pl, "type", &type)) return 0;
     if (!type) return fail(P, file, line, "%s: \"string type\" is required", what);
+    if (!strcmp(type, "uniformgrid")) return grid_from_params(P, pl, what, file, line, m);
     if (strcmp(type, "homogeneous") != 0) {
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
                 return fail(P, file, line, "%s: medium type \"%s\" is valid pbrt-v4 but not in "
-                            "the specnee subset (only \"homogeneous\")", what, type);
+                            "the specnee subset (only \"homogeneous\" and \"uniformgrid\")", what, type);
         return fail(P, file, line, "%s: unknown medium type \"%s\"", what, type);
     }
     if (!get_string(P, pl, "preset", &preset)) return 0;

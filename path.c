@@ -64,7 +64,13 @@
    multiplies NEE by the shadow ray's transmittance and every BSDF/phase density in
    D by Tr_m (19), as PrevVertex.T (Tr) does for an emitter that a sampled direction
    finds.  Surfaces of Material "interface" only hand the ray from one medium to
-   the next.
+   the next.  In a uniformgrid (THEORY §13) medium_flight hands the flight to
+   grid_flight: medium.c's medium_track draws tentative collisions at the hero's
+   majorant and grid_event estimates the emission at each (25) and makes it real
+   or null, the lanes gaining the null or real densities of every hero (21), (22);
+   shadow rays ratio-track (ratio_event, (23)), and NEE's own density of their
+   null collisions, A_m, joins the MIS denominator (24) (PrevVertex.A for an
+   emitter a sampled direction finds).
 
    Russian roulette (from depth RR_START_DEPTH) survives with probability
    P_survive = min(1, 4 max_j beta_j / sum_m r_m)  (8).  beta_j / sum_m r_m =
@@ -96,7 +102,10 @@ typedef struct {
     double T[HERO_N];                /* Tr, the transmittance of the media since that
                                         vertex, per wavelength (1 without media): the BSDF
                                         technique's pdf of the segment is q_bsdf(m) Tr_m
-                                        (THEORY (19)) */
+                                        (THEORY (19)); through a uniformgrid the density
+                                        of its null collisions, THEORY (24) */
+    double A[HERO_N];                /* NEE's density of those null collisions, in the
+                                        same normalisation (1 without grids: THEORY (24)) */
     unsigned alive;                  /* wavelengths alive at that vertex */
 } PrevVertex;
 
@@ -206,20 +215,21 @@ static void prev_set(PathState *path, int can_nee, const LightCtx *ctx, Vec3 p, 
     for (j = 0; j < HERO_N; j++) {
         path->prev.r[j] = path->r[j];
         path->prev.q_bsdf[j] = q_bsdf[j];
-        path->prev.T[j] = 1.0;
+        path->prev.T[j] = path->prev.A[j] = 1.0;
     }
 }
 
-/* sum_m r_m^2 (q_nee^2 + (q_bsdf(m) Tr_m)^2) over the alive wavelengths */
-static double mis_denominator(const float *r, const float *q_bsdf, const double *T, float q_nee,
-                              unsigned alive)
+/* sum_m r_m^2 ((q_nee A_m)^2 + (q_bsdf(m) Tr_m)^2) over the alive wavelengths
+   (A_m = 1 unless the segment crossed a uniformgrid: THEORY (24)) */
+static double mis_denominator(const float *r, const float *q_bsdf, const double *T, const double *A,
+                              float q_nee, unsigned alive)
 {
     double d = 0.0;
     int m;
     for (m = 0; m < HERO_N; m++)
         if (alive & (1u << m)) {
-            double qb = (double)q_bsdf[m] * T[m];
-            d += (double)r[m] * r[m] * ((double)q_nee * q_nee + qb * qb);
+            double qb = (double)q_bsdf[m] * T[m], qn = (double)q_nee * A[m];
+            d += (double)r[m] * r[m] * (qn * qn + qb * qb);
         }
     return d;
 }
@@ -318,18 +328,53 @@ static float fluor_sample_lambda_i(const Renderer *R, const Material *mat, int m
 /* ------------------------------------------------------------------ media */
 
 /* A collision that medium_flight found: its distance along the ray and the
-   extinctions sigma_t(lambda_j) of the alive lanes there. */
+   extinctions sigma_t(lambda_j) of the alive lanes there.  In a uniformgrid
+   (grid 1) also the scattering there and Tbar_j / Tbar_0 since the last
+   tentative collision; its emission is already on the film (grid_event). */
 typedef struct {
     float t;
     float st[HERO_N];
+    int grid;
+    double tm[HERO_N], ss[HERO_N];
 } Collision;
+
+/* The stream of a medium's further random numbers (delta and ratio tracking draw
+   as many as they meet collisions): a PCG32 keyed by the camera sample and `tag`,
+   so a path stays a pure function of (pixel, sample, seed). */
+static void medium_rng(const Tracer *tr, uint64_t tag, Rng *rng)
+{
+    rng_seed(rng, hash_u64(tr->ps->key, tr->ps->k), tag);
+}
+
+/* Ratio tracking along a shadow ray in a uniformgrid (THEORY (23)): at each
+   tentative collision Tr_j gains Tbar_j sigma_n,j / (Tbar_0 sigma_bar_0), A_m
+   (NEE's own density of the collision, had lambda_m been the hero) Tbar_m
+   sigma_bar_m / (Tbar_0 sigma_bar_0). */
+typedef struct { unsigned alive; double *T, *A; } RatioWalk;
+
+static int ratio_event(void *ctx, const MediumEvent *ev)
+{
+    RatioWalk *w = (RatioWalk *)ctx;
+    double s0 = ev->smaj[0];
+    int j, any = 0;
+    for (j = 0; j < HERO_N; j++) {
+        double sn;
+        if (!(w->alive & (1u << j))) continue;
+        sn = fmax(ev->smaj[j] - (ev->mp.sa[j] + ev->mp.ss[j]), 0.0);
+        w->T[j] *= ev->tm[j] * sn / s0;
+        w->A[j] *= ev->tm[j] * ev->smaj[j] / s0;
+        if (w->T[j] != 0.0) any = 1;
+    }
+    return any;                  /* every Tr_j is 0: stop, the light is blocked */
+}
 
 /* The transmittance Tr_j along a shadow ray (tmax 1: it ends at its target) that
    starts in medium med: the product of exp(-sigma_t(lambda_j) t) over the lengths t
    of the media it crosses (THEORY (15)), passing surfaces of Material "interface" (pbrt-v4's
    volpath does the same); 0 when any other surface blocks it.  Tr_j is left alone
    for wavelengths that are not alive. */
-static int shadow_transmittance(Tracer *tr, Ray sh, int med, const PathState *path, double T[HERO_N])
+static int shadow_transmittance(Tracer *tr, int depth, Ray sh, int med, const PathState *path,
+                                double T[HERO_N], double A[HERO_N])
 {
     const Scene *s = tr->R->s;
     int seg, j;
@@ -341,7 +386,20 @@ static int shadow_transmittance(Tracer *tr, Ray sh, int med, const PathState *pa
         tr->cnt->rays++;
         found = bvh_intersect(&s->bvh, s, &sh, &hit);
         len = (double)(found ? hit.t : 1.0f) * v3_len(sh.d);
-        if (med >= 0)
+        if (med >= 0 && s->media[med].type == MEDIUM_UNIFORMGRID) {
+            RatioWalk w;
+            Rng rng;
+            double tm[HERO_N];
+            w.alive = path->alive;
+            w.T = T;
+            w.A = A;
+            medium_rng(tr, ((uint64_t)1 << 40) + (uint64_t)depth * MEDIUM_SEGMENTS + (uint64_t)seg, &rng);
+            if (medium_track(&s->media[med], sh, found ? hit.t : 1.0f, path->lam, path->alive,
+                             rng_float(&rng), &rng, ratio_event, &w, tm))
+                return 0;
+            for (j = 0; j < HERO_N; j++)
+                if (path->alive & (1u << j)) { T[j] *= tm[j]; A[j] *= tm[j]; }
+        } else if (med >= 0)
             for (j = 0; j < HERO_N; j++)
                 if (path->alive & (1u << j))
                     T[j] *= exp(-(double)medium_sigma_t(&s->media[med], path->lam[j]) * len);
@@ -367,7 +425,11 @@ static int shadow_transmittance(Tracer *tr, Ray sh, int med, const PathState *pa
    own), and prev.T (Tr) by Tr_j (the BSDF/phase technique's pdf for the segment, THEORY
    (19)).  With --chromatic-media terminate, an event in a medium whose sigma_t
    differs between the alive wavelengths first terminates the secondaries. */
-static int medium_flight(Tracer *tr, int dim, float tmax, PathState *path, Collision *c)
+static int grid_flight(Tracer *tr, int dim, int depth, const Ray *ray, float tmax, PathState *path,
+                       Collision *c);
+
+static int medium_flight(Tracer *tr, int dim, int depth, const Ray *ray, float tmax, PathState *path,
+                         Collision *c)
 {
     const Medium *M = &tr->R->s->media[path->medium];
     float *st = c->st;
@@ -382,6 +444,8 @@ static int medium_flight(Tracer *tr, int dim, float tmax, PathState *path, Colli
         path->prev.alive = 1u;
         if (tr->dbg) fprintf(tr->dbg, "  medium \"%s\": chromatic, secondaries terminated\n", M->name);
     }
+    c->grid = 0;
+    if (M->type == MEDIUM_UNIFORMGRID) return grid_flight(tr, dim, depth, ray, tmax, path, c);
     s0 = st[0];
     u = sampler_1d(tr->ps, dim);
     t = s0 > 0.0 ? -log1p(-u) / s0 : INFINITY;
@@ -425,7 +489,7 @@ typedef struct {
    be found by a BSDF direction: its weight against BSDF sampling is 1, so the
    BSDF's pdfs leave the denominator (es.pdf_sa = 1 / G there, and
    q_nee / den = 1 / (P (1/G) sum_m r_m^2): THEORY §11). */
-static Contribution nee_sample(Tracer *tr, const Scatter *v, const PathState *path, int piece,
+static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const PathState *path, int piece,
                                float P, const float u[3])
 {
     const Renderer *R = tr->R;
@@ -437,7 +501,7 @@ static Contribution nee_sample(Tracer *tr, const Scatter *v, const PathState *pa
     const float *q_b;                 /* the BSDF's pdfs in the MIS weight */
     int em = light_piece_emitter(R->ls, piece), any = 0, j;
     EmitterSample es;
-    double value[HERO_N], den, T[HERO_N] = { 1.0, 1.0, 1.0, 1.0 };
+    double value[HERO_N], den, T[HERO_N] = { 1.0, 1.0, 1.0, 1.0 }, A[HERO_N] = { 1.0, 1.0, 1.0, 1.0 };
     if (!light_sample(R->ls, piece, v->p, u[0], u[1], u[2], &es)) {
         if (dbg) fprintf(dbg, "  NEE: no usable point on emitter %d (seen edge-on or at distance 0)\n", em);
         return none;
@@ -480,7 +544,7 @@ static Contribution nee_sample(Tracer *tr, const Scatter *v, const PathState *pa
                a surface's own MediumInterface decides by the side of es.wi) */
             int med = v->mat ? medium_after(s, v->sp->shape, v->medium, es.wi, v->sp->ng)
                              : v->medium;
-            if (!shadow_transmittance(tr, shadow, med, path, T)) {
+            if (!shadow_transmittance(tr, depth, shadow, med, path, T, A)) {
                 if (dbg) fprintf(dbg, "  NEE: occluded\n");
                 return none;
             }
@@ -495,7 +559,7 @@ static Contribution nee_sample(Tracer *tr, const Scatter *v, const PathState *pa
     }
     q_b = es.delta ? no_bsdf : pdf_l;
     q_nee = P * es.pdf_sa;
-    den = mis_denominator(path->r, q_b, T, q_nee, path->alive);
+    den = mis_denominator(path->r, q_b, T, A, q_nee, path->alive);
     if (!(den > 0.0)) {
         if (dbg) fprintf(dbg, "  NEE: emitter %d: MIS denominator 0 (no technique has a density here)\n", em);
         return none;
@@ -536,7 +600,7 @@ static void next_event(Tracer *tr, int depth, const Scatter *v, const PathState 
             if (dbg) fprintf(dbg, "  NEE: no emitter can be chosen here (every P is 0)\n");
             break;
         }
-        film_add(tr->fs, nee_sample(tr, v, path, piece, P, u));
+        film_add(tr->fs, nee_sample(tr, depth, v, path, piece, P, u));
     }
 }
 
@@ -569,7 +633,7 @@ static Contribution emitter_found(Tracer *tr, const PathState *path, int e, cons
         pdf_sa = sp ? light_pdf_sa(R->ls, piece, prev->p, sp->p, sp->ng) : inf_pdf(&R->s->emitters[e], dir);
         q_nee = light_nee_pmf(R->ls, &prev->ctx, piece) * pdf_sa;
     }
-    den = mis_denominator(prev->r, prev->q_bsdf, prev->T, q_nee, prev->alive);
+    den = mis_denominator(prev->r, prev->q_bsdf, prev->T, prev->A, q_nee, prev->alive);
     W = den > 0.0 ? ((double)prev->q_bsdf[0] * prev->T[0]) * ((double)prev->q_bsdf[0] * prev->T[0]) / den : 0.0;
     if (tr->dbg && !sp)
         fprintf(tr->dbg, "  escaped: infinite light %d, MIS weight %.4g (q_nee %.4g)\n", e, W, q_nee);
@@ -613,26 +677,114 @@ static int russian_roulette(Tracer *tr, int depth, PathState *path)
 /* ------------------------------------------------------------------ vertices */
 
 /* The emission of medium med along the ray, estimated at a collision (THEORY
-   (20)): its sigma_a Le, with weight 1 / sum_m r'_m^2 (no other technique makes
-   this point); ratio[j] = Tr_j / Tr_0 at the collision, rc the ratios r'_m after it. */
+   (20), (25)): its sigma_a Le (sa[j], le[j] at the point), with weight
+   1 / sum_m r'_m^2 (no other technique makes this point); ratio[j] = Tr_j / Tr_0
+   at the collision, rc the ratios r'_m after it. */
 static Contribution medium_emission(Tracer *tr, const PathState *path, int med, const double *ratio,
-                                    const float *rc, double s0)
+                                    const double *sa, const double *le, const float *rc, double s0)
 {
     const Renderer *R = tr->R;
-    const Medium *M = &R->s->media[med];
     Contribution k;
     double den = 0.0;
     int j;
     for (j = 0; j < HERO_N; j++) {
         k.c[j] = 0.0;
         if (!(path->alive & (1u << j)) || !(rc[j] > 0.0f) || !isfinite(rc[j])) continue;
-        k.c[j] = path->beta[j] * ratio[j] * medium_sigma_a(M, path->lam[j]) *
-                 (R->med_le[med] * spec_eval(&M->Le, path->lam[j])) / s0;
+        k.c[j] = path->beta[j] * ratio[j] * sa[j] * (R->med_le[med] * le[j]) / s0;
         den += (double)rc[j] * rc[j];
     }
     if (tr->dbg) fprintf(tr->dbg, "  medium emission: weight 1 / sum_m r_m^2 = %.4g\n", den > 0.0 ? 1.0 / den : 0.0);
     if (!(den > 0.0)) { for (j = 0; j < HERO_N; j++) k.c[j] = 0.0; return k; }
     return weighted(k, 1.0 / den);
+}
+
+/* Delta tracking through a uniformgrid (THEORY §13): medium_track (medium.c)
+   draws tentative collisions at the hero's majorant sigma_bar_0; grid_event
+   decides each.  Every tentative collision first estimates the medium's emission
+   (THEORY (25)); then with the hero's probability sigma_t,0 / sigma_bar_0 it is
+   real (the collision medium_vertex continues from, THEORY (22)), else null:
+       beta_j, r_j  *= Tbar_j sigma_n,j / (Tbar_0 sigma_n,0)             (21)
+       T_m (PrevVertex) *= Tbar_m sigma_n,m / (Tbar_0 sigma_bar_0)
+       A_m (PrevVertex) *= Tbar_m sigma_bar_m / (Tbar_0 sigma_bar_0)      (24)
+   with sigma_n = sigma_bar - sigma_t >= 0. */
+typedef struct {
+    Tracer *tr;
+    PathState *path;
+    int depth, med;
+    Rng rng;                   /* the real-or-null choices */
+    Collision *c;
+} GridWalk;
+
+static int grid_event(void *ctx, const MediumEvent *ev)
+{
+    GridWalk *w = (GridWalk *)ctx;
+    PathState *path = w->path;
+    const Renderer *R = w->tr->R;
+    double s0 = ev->smaj[0], st0 = ev->mp.sa[0] + ev->mp.ss[0], sn0, nb[HERO_N], nr[HERO_N];
+    int j;
+    if (w->depth < R->o->maxdepth && R->med_le[w->med] > 0.0) {
+        float rc[HERO_N];
+        for (j = 0; j < HERO_N; j++)
+            rc[j] = (path->alive & (1u << j)) ? (j == 0 ? 1.0f : (float)(path->r[j] * ev->tm[j] * (ev->smaj[j] / s0)))
+                                             : 0.0f;
+        film_add(w->tr->fs, medium_emission(w->tr, path, w->med, ev->tm, ev->mp.sa, ev->mp.le, rc, s0));
+    }
+    if (rng_float(&w->rng) * s0 < st0) {          /* real: medium_vertex goes on */
+        w->c->t = ev->t;
+        w->c->grid = 1;
+        for (j = 0; j < HERO_N; j++) {
+            w->c->st[j] = (float)(ev->mp.sa[j] + ev->mp.ss[j]);
+            w->c->ss[j] = ev->mp.ss[j];
+            w->c->tm[j] = ev->tm[j];
+        }
+        return 0;
+    }
+    sn0 = s0 - st0;
+    for (j = 0; j < HERO_N; j++) {
+        double sn, f;
+        nb[j] = nr[j] = 0.0;
+        if (!(path->alive & (1u << j))) continue;
+        sn = fmax(ev->smaj[j] - (ev->mp.sa[j] + ev->mp.ss[j]), 0.0);
+        f = ev->tm[j] * sn / sn0;
+        nb[j] = path->beta[j] * f;
+        nr[j] = path->r[j] * f;
+        path->prev.T[j] *= ev->tm[j] * sn / s0;
+        path->prev.A[j] *= ev->tm[j] * ev->smaj[j] / s0;
+    }
+    lanes_update(path, nb, nr);
+    return 1;
+}
+
+/* medium_flight for a uniformgrid: the first distance from the sampler's
+   dimension dim, the rest from a stream of its own (medium_rng).  Returns 1 with
+   *c at a real collision; 0 after the pass factors Tbar_j / Tbar_0 of the rest. */
+static int grid_flight(Tracer *tr, int dim, int depth, const Ray *ray, float tmax, PathState *path,
+                       Collision *c)
+{
+    GridWalk w;
+    double tm[HERO_N], nb[HERO_N] = { 0 }, nr[HERO_N] = { 0 };
+    float u = sampler_1d(tr->ps, dim);
+    int j;
+    w.tr = tr;
+    w.path = path;
+    w.depth = depth;
+    w.med = path->medium;
+    w.c = c;
+    medium_rng(tr, (uint64_t)dim, &w.rng);
+    if (medium_track(&tr->R->s->media[path->medium], *ray, tmax, path->lam, path->alive, u, &w.rng,
+                     grid_event, &w, tm))
+        return 1;
+    for (j = 0; j < HERO_N; j++) {
+        if (!(path->alive & (1u << j))) continue;
+        path->prev.T[j] *= tm[j];
+        path->prev.A[j] *= tm[j];
+        nb[j] = path->beta[j] * tm[j];
+        nr[j] = path->r[j] * tm[j];
+    }
+    lanes_update(path, nb, nr);
+    if (tr->dbg) fprintf(tr->dbg, "  medium \"%s\": passed %.4g\n", tr->R->s->media[path->medium].name,
+                         (double)tmax);
+    return 0;
 }
 
 /* A collision c along the ray in the path's medium (medium_flight found it).
@@ -653,7 +805,7 @@ static int medium_vertex(Tracer *tr, int depth, Ray *ray, const Collision *c, Pa
     int med = path->medium;
     const Medium *M = &s->media[med];
     const float *st = c->st;
-    double s0 = st[0], ratio[HERO_N], nb[HERO_N], nr[HERO_N];
+    double s0 = st[0], ratio[HERO_N], nb[HERO_N], nr[HERO_N], sa[HERO_N], le[HERO_N];
     float rc[HERO_N], q[HERO_N], u1, u2, pdf;
     Vec3 p = v3_add(ray->o, v3_mul(ray->d, c->t)), d = ray->d, wi;
     LightCtx ctx;
@@ -663,15 +815,19 @@ static int medium_vertex(Tracer *tr, int depth, Ray *ray, const Collision *c, Pa
     if (depth >= o->maxdepth) return 0;   /* pbrt-v4: neither emission nor scattering there */
     for (j = 0; j < HERO_N; j++) {
         ratio[j] = rc[j] = 0.0f;
+        sa[j] = le[j] = 0.0;
         if (!(path->alive & (1u << j))) continue;
-        ratio[j] = st[j] == st[0] ? 1.0 : exp(-((double)st[j] - s0) * c->t);
+        ratio[j] = c->grid ? c->tm[j] : st[j] == st[0] ? 1.0 : exp(-((double)st[j] - s0) * c->t);
         rc[j] = j == 0 ? 1.0f : (float)(path->r[j] * ((double)st[j] / s0) * ratio[j]);
+        sa[j] = medium_sigma_a(M, path->lam[j]);
+        le[j] = spec_eval(&M->Le, path->lam[j]);
     }
-    if (R->med_le[med] > 0.0) film_add(tr->fs, medium_emission(tr, path, med, ratio, rc, s0));
+    if (R->med_le[med] > 0.0 && !c->grid)
+        film_add(tr->fs, medium_emission(tr, path, med, ratio, sa, le, rc, s0));
     for (j = 0; j < HERO_N; j++) {
         nb[j] = nr[j] = 0.0;
         if (!(path->alive & (1u << j))) continue;
-        nb[j] = path->beta[j] * (double)medium_sigma_s(M, path->lam[j]) * ratio[j] / s0;
+        nb[j] = path->beta[j] * (c->grid ? c->ss[j] : (double)medium_sigma_s(M, path->lam[j])) * ratio[j] / s0;
         nr[j] = rc[j];
         if ((float)nb[j] > 0.0f) any = 1;
     }
@@ -851,7 +1007,7 @@ static int next_vertex(Tracer *tr, int depth, Ray *ray, PathState *path, Surface
         int found;
         tr->cnt->rays++;
         found = bvh_intersect(&s->bvh, s, ray, &hit);
-        if (path->medium >= 0 && medium_flight(tr, dim_medium(depth, seg), found ? hit.t : INFINITY, path, c))
+        if (path->medium >= 0 && medium_flight(tr, dim_medium(depth, seg), depth, ray, found ? hit.t : INFINITY, path, c))
             return AT_COLLISION;
         if (!found) return ESCAPED;
         scene_surface_point(s, ray, &hit, sp);
@@ -881,7 +1037,7 @@ static void path_start(const Renderer *R, FilmSample *fs, PathState *path)
         path->r[j] = (path->alive & (1u << j)) ? 1.0f : 0.0f;
         path->prev.q_bsdf[j] = 1.0f;
         path->prev.r[j] = path->r[j];
-        path->prev.T[j] = 1.0;
+        path->prev.T[j] = path->prev.A[j] = 1.0;
     }
     path->prev.alive = path->alive;
     fs->xyz[0] = fs->xyz[1] = fs->xyz[2] = 0.0;

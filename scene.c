@@ -861,11 +861,12 @@ static int make_named_medium(Parser *P, Lexer *L, const Token *t)
     snprintf(what, sizeof what, "MakeNamedMedium \"%.100s\"", nm.text);
     if (!medium_from_params(P, &pl, what, t->file, t->line, &m)) goto done;
     idx = medium_ref(P, nm.text, t->file, t->line);
-    if (idx == -2) goto done;
-    if (idx == -1) { fail(P, t->file, t->line, "MakeNamedMedium: the name \"\" is no medium"); goto done; }
+    if (idx == -2) { medium_free(&m); goto done; }
+    if (idx == -1) { fail(P, t->file, t->line, "MakeNamedMedium: the name \"\" is no medium"); medium_free(&m); goto done; }
     if (P->mrefs[idx].defined) {
         fail(P, t->file, t->line, "MakeNamedMedium: medium \"%s\" redefined (first at %s:%d)",
              nm.text, P->s->media[idx].file, P->s->media[idx].line);
+        medium_free(&m);
         goto done;
     }
     snprintf(m.name, sizeof m.name, "%s", nm.text);
@@ -1387,6 +1388,7 @@ void scene_free(Scene *s)
     free(s->N);
     free(s->tris);
     free(s->shapes);
+    for (i = 0; i < s->n_media; i++) medium_free(&s->media[i]);
     free(s->media);
     for (i = 0; i < s->n_materials; i++) material_release(&s->materials[i]);
     free(s->materials);

@@ -502,7 +502,7 @@ static int render_main(int argc, char **argv)
     RenderStats st;
     Error err;
     const char *out;
-    int rc = parse_args(argc, argv, &a);
+    int rc = parse_args(argc, argv, &a), i, glow = 0;
     char settings[512], wl_text[32];
     if (rc) return rc;
     if (a.out && !a.dump && !a.print_defaults && check_output(a.out)) return 1;
@@ -530,8 +530,10 @@ static int render_main(int argc, char **argv)
         scene_free(&scene);
         return 2;
     }
-    if (scene.n_emitters == 0)
-        /* pbrt-v4 warns and renders; so does specnee (exit 0, docs/conventions.md 1) */
+    for (i = 0; i < scene.n_media && !glow; i++) glow = scene.media[i].Le_scale > 0.0f;
+    if (scene.n_emitters == 0 && !glow)
+        /* pbrt-v4 warns and renders; so does specnee (exit 0, docs/conventions.md 1);
+           an emissive medium is a light of its own */
         fprintf(stderr, "%s: warning: no light sources (AreaLightSource or LightSource) in the "
                         "scene: the image is black\n", a.scene);
     a.ro.progress = !a.quiet && isatty(fileno(stderr));

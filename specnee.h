@@ -338,6 +338,7 @@ int   spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
 int   spec_from_rgb_t(RgbTable *T, Spectrum *s, const float rgb[3], int illuminant,
                       Error *err, const char *file, int line);
 void  spec_blackbody(Spectrum *s, float kelvin);  /* normalised to a peak of 1 (pbrt-v4) */
+float blackbody_eval(float kelvin, float lambda_nm); /* spec_blackbody's value at one wavelength */
 
 /* The sigmoid fit behind spec_from_rgb(_t), for infinite.c's image maps: coefficients for a
    colour whose largest component is 1/2 (from the table T, or the full fit when T is
@@ -826,15 +827,68 @@ void  tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, fl
    wavelength: a chromatic medium when sigma_t depends on lambda); a collision
    scatters with probability sigma_s / sigma_t into the Henyey-Greenstein lobe of
    asymmetry g (THEORY (18a)); the medium emits radiance sigma_a Le per unit length. */
+/* pbrt-v4's MakeNamedMedium "uniformgrid" (docs/media.md, THEORY §13): the same
+   spectra scaled at each point by a density d(x) >= 0, sigma_t(x, lambda) =
+   d(x) sigma_t(lambda), and an emission scaled by a grid too.  A MediumGrid holds
+   nx ny nz samples over the unit cube of the medium's bounds p0..p1, x fastest;
+   sample (i, j, k) sits at the centre of its cell ((i + 1/2)/nx, ...), a lookup
+   interpolates trilinearly between the eight nearest and reads 0 beyond the
+   outermost samples (pbrt-v4's SampledGrid).  The majorant grid holds, for each
+   of MAJORANT_RES^3 cells of the unit cube, the largest sample any lookup in the
+   cell can interpolate: d(x) <= dmax(cell) there, so sigma_bar(lambda) =
+   dmax sigma_t(lambda) bounds sigma_t(x, lambda) (delta tracking, medium.c). */
+typedef enum { MEDIUM_HOMOGENEOUS, MEDIUM_UNIFORMGRID } MediumType;
+typedef struct { int nx, ny, nz; float *v; } MediumGrid;
+#define MAJORANT_RES 16            /* @@ majorant cells per axis (pbrt-v4: 16) */
+#define MEDIUM_MAX_EVENTS 1000000L /* @@ tentative collisions one tracking may meet; a ray
+                                      that needs more (an optical depth of about 10^6)
+                                      is taken as blocked */
+
 typedef struct {
     char name[64];             /* the MakeNamedMedium name */
+    MediumType type;
     Spectrum sigma_a, sigma_s; /* absorption, scattering (1/scene unit), "scale" applied */
     Spectrum Le;               /* emission as given (its shape; radiance per Lescale) */
     float Le_scale;            /* "Lescale" (an rgb Le: with the D65 normalisation of rgb
                                   illuminants); 0: the medium does not emit */
     float g;                   /* HG asymmetry in (-1, 1) */
+    /* uniformgrid only (all zero for homogeneous): */
+    Xform medium_from_world;   /* the inverse of the CTM at MakeNamedMedium */
+    Vec3 p0, p1;               /* the grids' bounds in the medium's space */
+    MediumGrid density;        /* d(x) */
+    MediumGrid lescale;        /* the emission's scale grid ("Lescale"; default 1x1x1 of 1) */
+    MediumGrid temperature;    /* kelvin (v NULL: none): blackbody emission instead of Le */
+    float temp_offset, temp_scale;  /* T = (T_grid - offset) scale; no emission below 100 K */
+    float *majorant;           /* MAJORANT_RES^3 maxima of d, x fastest */
     const char *file; int line;/* the MakeNamedMedium directive */
 } Medium;
+
+/* What a uniformgrid holds at world point p for wavelengths lam[j] (lanes not in
+   `alive` get 0): sigma_a, sigma_s and the emitted radiance before the render's
+   normalisation (render.c: R.med_le; a temperature grid's blackbody is absolute,
+   peak 1). */
+typedef struct { double sa[HERO_N], ss[HERO_N], le[HERO_N]; } MediumPoint;
+void  medium_point(const Medium *m, Vec3 p, const float *lam, unsigned alive, MediumPoint *out);
+double medium_grid_lookup(const MediumGrid *g, Vec3 u);   /* u in the unit cube */
+void  medium_free(Medium *m);                              /* its grids */
+
+/* Delta tracking (medium.c, THEORY §13).  medium_track walks the ray o + t d
+   (d unit) from t = 0 to tmax through the majorant cells of medium m and draws
+   tentative collisions at the hero's majorant sigma_bar_0 (the first distance
+   from u, later ones from rng).  At each it calls fn(ctx, ev): fn returns 0 to
+   stop there (a real collision), 1 to go on (a null one).  Returns 1 when fn
+   stopped it, 0 when the ray reached tmax with tm_end[j] = Tbar_j / Tbar_0 of the
+   stretch after the last tentative collision. */
+typedef struct {
+    float t;                   /* distance along the ray */
+    Vec3 p;                    /* the point */
+    double smaj[HERO_N];       /* the majorant sigma_bar(lambda_j) of its cell */
+    double tm[HERO_N];         /* Tbar_j / Tbar_0 since the previous tentative collision */
+    MediumPoint mp;            /* the medium there */
+} MediumEvent;
+typedef int (*MediumEventFn)(void *ctx, const MediumEvent *ev);
+int   medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigned alive,
+                   float u, Rng *rng, MediumEventFn fn, void *ctx, double tm_end[HERO_N]);
 
 float medium_sigma_t(const Medium *m, float lambda_nm);
 float medium_sigma_s(const Medium *m, float lambda_nm);

@@ -34,7 +34,7 @@
 
    EXPORTS (specnee.h section 4)
      spec_eval spec_const spec_is_constant spec_from_pairs spec_named spec_named_list
-     spec_from_file spec_from_rgb spec_blackbody cie_xyz cie_cmf cie_y_integral
+     spec_from_file spec_from_rgb spec_blackbody blackbody_eval cie_xyz cie_cmf cie_y_integral
      spec_to_xyz xyz_to_linear_srgb spec_chromaticity cct_from_xy spec_bin_average
      spec_bin_sum cauchy_named spec_rgb_coeffs spec_rgb_fit_table spec_rgb_coeffs_from
      spec_sigmoid_eval spec_rgb_table_start spec_rgb_coeffs_fit rgb_table_new
@@ -489,6 +489,16 @@ void spec_blackbody(Spectrum *s, float kelvin)
     peak = planck_shape(WIEN_B / kelvin * 1e9, kelvin);
     for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
         *spec_at(s, i) = peak > 0.0 ? (float)(planck_shape(i, kelvin) / peak) : 0.0f;
+}
+
+/* The same normalised blackbody at one wavelength (a temperature grid's emission
+   is evaluated at each collision, medium.c). */
+float blackbody_eval(float kelvin, float lambda_nm)
+{
+    double peak;
+    if (!(kelvin > 0.0f) || !isfinite(kelvin)) return 0.0f;
+    peak = planck_shape(WIEN_B / kelvin * 1e9, kelvin);
+    return peak > 0.0 ? (float)(planck_shape(lambda_nm, kelvin) / peak) : 0.0f;
 }
 
 /* ======================================================================

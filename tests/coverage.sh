@@ -116,6 +116,8 @@ scenes() {
         ex["plymesh"] = "\"string filename\" " ov["plymesh|string filename"]
         ex["float imagemap"] = "\"string filename\" " ov["float imagemap|string filename"]
         ex["spectrum imagemap"] = ex["float imagemap"]
+        ex["uniformgrid"] = "\"float density\" [ 0.5 ]"
+        ov["uniformgrid|point3 p1"] = "[ 1 1 1 ]"
         ex["fluorescent"] = "\"spectrum excitation\" [ 300 1 400 0 ];\"spectrum emission\" [ 400 0 500 1 ]"
         ov["dielectric|float cauchyA"] = "1.5 \"float cauchyB\" 0.004"
         ov["dielectric|float cauchyB"] = "0.004 \"float cauchyA\" 1.5"
@@ -159,7 +161,7 @@ scenes() {
         if (c == "samplers") return "Sampler \"" t "\" " p "\nWorldBegin\n"
         if (c == "filters") return "PixelFilter \"" t "\" " p "\nWorldBegin\n"
         if (c == "films") return "Film \"" t "\" " p "\nWorldBegin\n"
-        if (c == "media") return "MakeNamedMedium \"m\" \"string type\" \"" t "\" " p "\nWorldBegin\n"
+        if (c == "media") return "MakeNamedMedium \"m\" \"string type\" \"" t "\" " p e "\nWorldBegin\n"
         if (c == "integrators") return "Integrator \"" t "\" " p "\nWorldBegin\n"
         if (c == "accelerators") return "Accelerator \"" t "\" " p "\nWorldBegin\n"
         if (c == "directives") return (index(p, "WorldBegin") ? "" : "WorldBegin\n") p "\n"
