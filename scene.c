@@ -309,7 +309,8 @@ static const struct {
     { "coateddiffuse", coateddiffuse_from_params },
     { "coatedconductor", coatedconductor_from_params },
     { "thindielectric", thindielectric_from_params },
-    { "diffusetransmission", diffusetransmission_from_params }
+    { "diffusetransmission", diffusetransmission_from_params },
+    { "mix", mix_from_params }
 };
 
 /* Material m of `type` (a Material or MakeNamedMaterial directive `dir`). */
@@ -326,7 +327,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
             return material_types[k].build(P, pl, file, line, dir, what, m);
     {
         static const char *const pbrt_types[] = {
-            "hair", "measured", "mix", "subsurface", NULL
+            "hair", "measured", "subsurface", NULL
         };
         int i;
         for (i = 0; pbrt_types[i]; i++)
@@ -1193,6 +1194,28 @@ static void parser_free(Parser *P)
 }
 
 /* Everything after the last token: checks, bounds, emitters, BVH. */
+/* A Material "mix" that named a material made further down the file (mix_from_params,
+   material.c): the name resolved now, as pbrt-v4 does after reading the file. */
+static int resolve_mix_names(Parser *P)
+{
+    Scene *s = P->s;
+    int i, k;
+    for (i = 0; i < s->n_materials; i++)
+        for (k = 0; k < 2 && s->materials[i].type == MAT_MIX; k++)
+            if (s->materials[i].mix[k] <= -2) {
+                const NamedMaterial *nm = &P->named[-2 - s->materials[i].mix[k]];
+                if (nm->material < 0)
+                    return fail(P, nm->file, nm->line, "Material \"mix\": named material "
+                                "\"%s\" not found", nm->name);
+                if (s->materials[nm->material].type == MAT_INTERFACE)
+                    return fail(P, nm->file, nm->line, "Material \"mix\": \"%s\": an "
+                                "\"interface\" material cannot be used as an element of the "
+                                "\"mix\" material", nm->name);
+                s->materials[i].mix[k] = nm->material;
+            }
+    return 1;
+}
+
 static int finish(Parser *P, const char *file)
 {
     Scene *s = P->s;
@@ -1217,6 +1240,7 @@ static int finish(Parser *P, const char *file)
                             "MakeNamedMaterial defines it", nm->name);
             s->shapes[i].material = nm->material;
         }
+    if (!resolve_mix_names(P)) return 0;
     /* media: every name mentioned is defined; emitters are real surfaces */
     for (i = 0; i < s->n_media; i++)
         if (!P->mrefs[i].defined)

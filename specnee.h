@@ -574,8 +574,10 @@ typedef enum {
     MAT_COATED_DIFFUSE,        /* pbrt-v4 "coateddiffuse": dielectric coat over Lambert (layered.c) */
     MAT_COATED_CONDUCTOR,      /* pbrt-v4 "coatedconductor": dielectric coat over a conductor
                                   (layered.c) */
-    MAT_INTERFACE              /* pbrt-v4 "interface": no surface, only the boundary of a medium
+    MAT_INTERFACE,             /* pbrt-v4 "interface": no surface, only the boundary of a medium
                                   (rays pass it; medium.c, docs/media.md) */
+    MAT_MIX                    /* pbrt-v4 "mix": at each hit one of two materials, chosen by
+                                  a hash of the point and wo (mat_choose) */
 } MaterialType;
 #define FL_N (SPEC_MAX - SPEC_UV_MIN + 1)   /* 1 nm knots of the fluorescence tables */
 typedef struct {
@@ -619,6 +621,12 @@ typedef struct {
     Spectrum cond_eta;
     float cond_alpha;
     int cond_alpha_tex;
+    /* mix: the two materials (indices into Scene.materials, neither an interface) and
+       the probability "amount" of the second, a constant or (amount_tex: 1 + its
+       index) a float texture */
+    int mix[2];
+    float amount;
+    int amount_tex;
 } Material;
 
 /* Fluorescence (docs/FLUORESCENCE.md §1-§3).  fluor_prepare fills the tables
@@ -643,6 +651,13 @@ float fluor_sample_li_uniform(float lo, float u, float *pdf);
 float fluor_pdf_li_uniform(float lo, float li);
 /* --fluor-li: lambda_i from A, from A x the emitters' power mixed with A, uniformly. */
 typedef enum { FLUOR_LI_A, FLUOR_LI_POWER, FLUOR_LI_UNIFORM } FluorLi;
+/* The material a hit on a surface of material mi (an index into materials) scatters
+   with: mi itself, or for a mix (pbrt-v4's MixMaterial::ChooseMaterial) the first
+   of its two when the amount a at sp is <= 0, the second when a >= 1, else the
+   second when u <= a, u in [0, 1) a hash of (sp->p, wo, the two indices): the
+   same hit always chooses the same, whatever the thread count.  A mix of mixes
+   is resolved down to a material that is not one. */
+int   mat_choose(const Material *materials, int mi, const SurfacePoint *sp, Vec3 wo);
 /* The diffuse albedo of the reflect lobe: rho (diffuse) or rho (1 - A) (fluorescent). */
 float mat_albedo(const Material *m, float lambda_nm);
 /* The same at a surface point: a textured reflectance evaluated there, clamped to
