@@ -1123,6 +1123,24 @@ void ply_free(PlyMesh *m);
 int  ply_write_binary(const char *path, const float *P, int n_verts, const int32_t *idx, int n_tris);
 
 /* ======================================================================
+   9b. Loop subdivision surfaces (subdiv.c)
+   ====================================================================== */
+/* Shape "loopsubdiv": `levels` steps of Loop's scheme on the control mesh (P: 3
+   doubles a vertex, idx: 3 indices a triangle), every vertex then moved to the
+   limit surface, with pbrt-v4's limit normal (unnormalised).  The control mesh must
+   be a manifold with consistently oriented triangles (subdiv.c says what is
+   refused); 0 and a message in err (no file:line) otherwise. */
+typedef struct {
+    float *P; float *N; int n_verts;     /* limit positions and normals, 3 floats each */
+    int32_t *idx; int n_tris;
+} SubdivMesh;
+int  loop_subdivide(const double *P, int nv, const int32_t *idx, int nt, int levels,
+                    SubdivMesh *out, Error *err);
+#define SUBDIV_BYTES_PER_TRI 128.0   /* loop_subdivide's peak memory per triangle it makes
+                                        (about 117 bytes), checked against MEM_BUDGET_MIB */
+void subdiv_free(SubdivMesh *m);
+
+/* ======================================================================
    10. Images (image.c; the readers png.c and exr.c; merge and diff in cmd_image.c)
    ====================================================================== */
 typedef struct { int w, h; float *rgb; } Image;   /* top row first, 3 floats a pixel */
