@@ -53,6 +53,10 @@ static void dump_material(FILE *f, int i, const Material *m)
         dump_spectrum(f, "conductor eta", &m->cond_eta);
         dump_spectrum(f, "conductor k", &m->k);
         dump_spectrum(f, "albedo", &m->albedo);
+    } else if (m->type == MAT_MIX) {
+        fprintf(f, "  [%d] mix of [%d] and [%d], amount ", i, m->mix[0], m->mix[1]);
+        if (m->amount_tex > 0) fprintf(f, "texture %d\n", m->amount_tex - 1);
+        else fprintf(f, "%g\n", m->amount);
     } else if (m->type == MAT_DIFFUSE_TRANSMISSION) {
         fprintf(f, "  [%d] diffusetransmission, P(reflect lobe) %g\n", i, m->p_reflect);
         dump_spectrum(f, "reflectance", &m->reflectance);

@@ -43,10 +43,17 @@
    directions with their own index (needed only by the rough spectral MIS of
    path.c; at smooth dispersive interfaces the other wavelengths have pdf 0).
 
+   Mix (pbrt-v4's MixMaterial): no BSDF of its own; at each hit mat_choose picks
+   one of its two materials, the second with probability "amount", by a hash of
+   the hit point and wo, so the image is that of a surface whose material varies
+   from point to point (and direction to direction) and is the same for any
+   thread count.
+
    The last section builds these materials from a scene's parameters for the
    scene builder (*_from_params, parser.h). */
 #include "specnee.h"
 #include <stdlib.h>
+#include <string.h>
 
 float mat_albedo(const Material *m, float lambda_nm)
 {
@@ -61,6 +68,37 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm)
     if (m->reflectance_tex <= 0 || !m->textures) return mat_albedo(m, lambda_nm);
     rho = tex_eval(m->textures, m->reflectance_tex - 1, sp, lambda_nm);   /* texture.c */
     return rho > 0.0f ? (rho < 1.0f ? rho : 1.0f) : 0.0f;               /* NaN: 0 */
+}
+
+/* The bits of a float, for hashing (equal floats of equal sign hash alike). */
+static uint64_t float_bits(float x)
+{
+    uint32_t b;
+    memcpy(&b, &x, sizeof b);
+    return b;
+}
+
+/* pbrt-v4 hashes the bytes of (p, wo, the two material pointers); specnee hashes
+   the same point and direction with the two materials' indices (hash_u64, util.c),
+   so the choice is as deterministic, though not the same number as pbrt-v4's. */
+int mat_choose(const Material *materials, int mi, const SurfacePoint *sp, Vec3 wo)
+{
+    while (materials[mi].type == MAT_MIX) {
+        const Material *m = &materials[mi];
+        float a = m->amount;
+        uint64_t h;
+        double u;
+        if (m->amount_tex > 0) a = tex_eval(m->textures, m->amount_tex - 1, sp, 550.0f);
+        if (a <= 0.0f) { mi = m->mix[0]; continue; }
+        if (a >= 1.0f) { mi = m->mix[1]; continue; }
+        h = hash_u64(float_bits(sp->p.x) << 32 | float_bits(sp->p.y),
+                     float_bits(sp->p.z) << 32 | float_bits(wo.x));
+        h = hash_u64(h, float_bits(wo.y) << 32 | float_bits(wo.z));
+        h = hash_u64(h, (uint64_t)(uint32_t)m->mix[0] << 32 | (uint32_t)m->mix[1]);
+        u = (double)(uint32_t)h * (1.0 / 4294967296.0);      /* in [0, 1) */
+        mi = (double)a < u ? m->mix[0] : m->mix[1];
+    }
+    return mi;
 }
 
 void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, unsigned alive,
@@ -773,4 +811,66 @@ int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, 
     }
     m->p_reflect = maxr + maxt > 0.0f ? maxr / (maxr + maxt) : 0.5f;
     return 1;
+}
+
+/* One of a mix's "string materials": the named material `name`, which must exist
+   and not be an interface (pbrt-v4 resolves the names when it makes the mix).  A
+   MakeNamedMaterial "mix" sees the named materials made before it; a Material
+   "mix" is made, as in pbrt-v4, after them all, so a name made further down the
+   file is recorded (-2 - its NamedMaterial entry) for finish() (scene.c). */
+static int mix_member(Parser *P, const char *name, int anonymous, const char *file, int line,
+                      const char *what, int *out)
+{
+    int i;
+    for (i = 0; i < P->n_named; i++)
+        if (!strcmp(P->named[i].name, name)) break;
+    if (i < P->n_named && P->named[i].material >= 0) {
+        if (P->s->materials[P->named[i].material].type == MAT_INTERFACE)
+            return fail(P, file, line, "%s: \"%s\": an \"interface\" material cannot be used "
+                        "as an element of the \"mix\" material", what, name);
+        *out = P->named[i].material;
+        return 1;
+    }
+    if (!anonymous)
+        return fail(P, file, line, "%s: named material \"%s\" not found (a named \"mix\" can "
+                    "only use materials made before it)", what, name);
+    if (i == P->n_named) {
+        if (strlen(name) >= sizeof P->named[0].name)
+            return fail(P, file, line, "%s: named material \"%s\" not found", what, name);
+        if (!grow((void **)&P->named, &P->cap_named, P->n_named + 1, sizeof(NamedMaterial)))
+            return oom(P, file, line);
+        snprintf(P->named[i].name, sizeof P->named[0].name, "%s", name);
+        P->named[i].material = -1;
+        P->named[i].file = file;
+        P->named[i].line = line;
+        P->n_named++;
+    }
+    *out = -2 - i;
+    return 1;
+}
+
+/* pbrt-v4 MixMaterial: "string materials" (two named materials) and "amount"
+   (0.5 by default), a float or a float texture: the probability of the second. */
+int mix_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                    const char *dir, const char *what, Material *m)
+{
+    Param *pm = param_find(pl, PT_STRING, "materials"), *pt = param_find(pl, PT_TEXTURE, "amount");
+    int k;
+    m->type = MAT_MIX;
+    if (!pm || pm->n_str != 2)
+        return fail(P, pm ? pm->file : file, pm ? pm->line : line, "%s: \"string materials\" "
+                    "must name two materials (%d given)", what, pm ? pm->n_str : 0);
+    for (k = 0; k < 2; k++)
+        if (!mix_member(P, pm->str[k], !strcmp(dir, "Material"), pm->file, pm->line, what, &m->mix[k]))
+            return 0;
+    if (pt) {
+        int ti = texture_lookup(P, pt, 1);
+        if (ti < 0) return 0;
+        m->amount_tex = ti + 1;
+        m->amount = 0.5f;                          /* (not read) */
+    } else if (!get_float(P, pl, "amount", 0.5f, &m->amount)) {
+        return 0;
+    }
+    return params_check_unused(P, pl, what, "string materials, float amount, texture amount",
+                               "normalmap");
 }

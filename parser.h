@@ -288,6 +288,10 @@ int thindielectric_from_params(Parser *P, ParamList *pl, const char *file, int l
                                const char *dir, const char *what, Material *m);
 int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, int line,
                                     const char *dir, const char *what, Material *m);
+/* A Material "mix" may name materials made further down the file: its mix[k] is then
+   -2 - (the NamedMaterial entry), resolved by finish() (scene.c). */
+int mix_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                    const char *dir, const char *what, Material *m);
 /* conductor.c: */
 /* A conductor's "reflectance" parameter pr as pbrt-v4's eta = 1 and k (conductor.c;
    also read by coatedconductor in layered.c). */

@@ -928,8 +928,9 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     const Scene *s = R->s;
     const RenderOptions *o = R->o;
     const Shape *shape = &s->shapes[sp->shape];
-    const Material *mat = &s->materials[shape->material];
     Vec3 dir = v3_norm(ray->d), wo = v3_neg(dir);
+    int mi = mat_choose(s->materials, shape->material, sp, wo);   /* a mix: one of its two */
+    const Material *mat = &s->materials[mi];
     double nb[HERO_N], nr[HERO_N];
     LightCtx ctx;
     BsdfSample bs;
@@ -949,7 +950,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
         if (tr->dbg) fprintf(tr->dbg, "  dispersive: secondaries terminated, hero %.1f nm continues\n",
                              tr->fs->wl.lambda[0]);
     }
-    if (mat->type == MAT_FLUORESCENT && !(mat = fluor_vertex(tr, depth, mat, shape->material, path)))
+    if (mat->type == MAT_FLUORESCENT && !(mat = fluor_vertex(tr, depth, mat, mi, path)))
         return 0;
 
     /* 4. Next event estimation: choose an emitter, sample a point on it */

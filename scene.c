@@ -310,7 +310,8 @@ static const struct {
     { "coateddiffuse", coateddiffuse_from_params },
     { "coatedconductor", coatedconductor_from_params },
     { "thindielectric", thindielectric_from_params },
-    { "diffusetransmission", diffusetransmission_from_params }
+    { "diffusetransmission", diffusetransmission_from_params },
+    { "mix", mix_from_params }
 };
 
 /* Material m of `type` (a Material or MakeNamedMaterial directive `dir`). */
@@ -330,7 +331,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         }
     {
         static const char *const pbrt_types[] = {
-            "hair", "measured", "mix", "subsurface", NULL
+            "hair", "measured", "subsurface", NULL
         };
         int i;
         for (i = 0; pbrt_types[i]; i++)
@@ -661,6 +662,59 @@ static int ply_shape(Parser *P, ParamList *pl, const char *file, int line)
     return ok;
 }
 
+/* pbrt-v4 "loopsubdiv": a control mesh of triangles ("integer indices", "point3 P")
+   refined by "integer levels" (3) steps of Loop's scheme at load time (subdiv.c),
+   then added as a triangle mesh with its limit normals.  "string scheme" is read
+   and ignored, as pbrt-v4 does; a negative levels is 0, as there. */
+static int loopsubdiv_shape(Parser *P, ParamList *pl, const char *file, int line)
+{
+    const char *what = "Shape \"loopsubdiv\"", *scheme;
+    const double *Pd, *Id;
+    int nv, ni, levels, i, ok;
+    double ntri;
+    int32_t *idx;
+    SubdivMesh m;
+    Error e;
+    if (!get_points(P, pl, PT_INTEGER, "indices", 1, &Id, &ni)) return 0;
+    if (!get_points(P, pl, PT_POINT3, "P", 3, &Pd, &nv)) return 0;
+    if (!get_int(P, pl, "levels", 3, &levels, NULL) || !get_string(P, pl, "scheme", &scheme))
+        return 0;
+    {
+        const Param *v3 = param_find(pl, PT_INTEGER, "nlevels");
+        if (v3)
+            return fail(P, v3->file, v3->line, "%s: \"integer nlevels\" is pbrt-v3's name; pbrt-v4 "
+                        "reads \"integer levels\" (pbrt --upgrade renames it)", what);
+    }
+    if (!params_check_unused(P, pl, what, "integer levels, integer indices, point3 P, string scheme",
+                             "alpha emissionfilename"))
+        return 0;
+    if (ni == 0) return fail(P, file, line, "%s: \"integer indices\" is required", what);
+    if (nv == 0) return fail(P, file, line, "%s: \"point3 P\" is required", what);
+    if (ni % 3 != 0)
+        return fail(P, file, line, "%s: %d indices is not a multiple of 3", what, ni);
+    if (levels < 0) levels = 0;
+    for (i = 0, ntri = ni / 3; i < levels; i++) ntri *= 4.0;
+    if (ntri > MAX_ELEMENTS || ntri * SUBDIV_BYTES_PER_TRI > MEM_BUDGET_MIB * 1048576.0)
+        return fail(P, file, line, "%s: %d levels make %.0f triangles (at most %d, and %.0f within "
+                    "the memory budget MEM_BUDGET_MIB in specnee.h)", what, levels, ntri, MAX_ELEMENTS,
+                    floor(MEM_BUDGET_MIB * 1048576.0 / SUBDIV_BYTES_PER_TRI));
+    idx = (int32_t *)malloc(sizeof(int32_t) * (size_t)ni);
+    if (!idx) return oom(P, file, line);
+    for (i = 0; i < ni; i++) {
+        if (!(Id[i] >= 0 && Id[i] < nv)) {
+            free(idx);
+            return fail(P, file, line, "%s: vertex index %.0f out of range [0, %d)", what, Id[i], nv);
+        }
+        idx[i] = (int32_t)Id[i];
+    }
+    ok = loop_subdivide(Pd, nv, idx, ni / 3, levels, &m, &e);
+    free(idx);
+    if (!ok) return fail(P, file, line, "%s: %s", what, e.msg);
+    ok = add_mesh(P, m.P, m.N, NULL, m.n_verts, m.idx, m.n_tris, file, line);
+    subdiv_free(&m);
+    return ok;
+}
+
 static int shape_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     if (!strcmp(type, "trianglemesh")) return mesh_shape(P, 0, pl, file, line);
@@ -669,7 +723,8 @@ static int shape_directive(Parser *P, const char *type, ParamList *pl, const cha
     if (!strcmp(type, "disk")) return disk_shape(P, pl, file, line);
     if (!strcmp(type, "cylinder")) return cylinder_shape(P, pl, file, line);
     if (!strcmp(type, "plymesh")) return ply_shape(P, pl, file, line);
-    if (!strcmp(type, "curve") || !strcmp(type, "loopsubdiv"))
+    if (!strcmp(type, "loopsubdiv")) return loopsubdiv_shape(P, pl, file, line);
+    if (!strcmp(type, "curve"))
         return fail(P, file, line, "Shape \"%s\" is valid pbrt-v4 but not in the specnee subset",
                     type);
     return fail(P, file, line, "Shape \"%s\": unknown shape type", type);
@@ -1193,6 +1248,28 @@ static void parser_free(Parser *P)
 }
 
 /* Everything after the last token: checks, bounds, emitters, BVH. */
+/* A Material "mix" that named a material made further down the file (mix_from_params,
+   material.c): the name resolved now, as pbrt-v4 does after reading the file. */
+static int resolve_mix_names(Parser *P)
+{
+    Scene *s = P->s;
+    int i, k;
+    for (i = 0; i < s->n_materials; i++)
+        for (k = 0; k < 2 && s->materials[i].type == MAT_MIX; k++)
+            if (s->materials[i].mix[k] <= -2) {
+                const NamedMaterial *nm = &P->named[-2 - s->materials[i].mix[k]];
+                if (nm->material < 0)
+                    return fail(P, nm->file, nm->line, "Material \"mix\": named material "
+                                "\"%s\" not found", nm->name);
+                if (s->materials[nm->material].type == MAT_INTERFACE)
+                    return fail(P, nm->file, nm->line, "Material \"mix\": \"%s\": an "
+                                "\"interface\" material cannot be used as an element of the "
+                                "\"mix\" material", nm->name);
+                s->materials[i].mix[k] = nm->material;
+            }
+    return 1;
+}
+
 static int finish(Parser *P, const char *file)
 {
     Scene *s = P->s;
@@ -1217,6 +1294,7 @@ static int finish(Parser *P, const char *file)
                             "MakeNamedMaterial defines it", nm->name);
             s->shapes[i].material = nm->material;
         }
+    if (!resolve_mix_names(P)) return 0;
     /* media: every name mentioned is defined; emitters are real surfaces */
     for (i = 0; i < s->n_media; i++)
         if (!P->mrefs[i].defined)

@@ -579,8 +579,10 @@ typedef enum {
     MAT_COATED_DIFFUSE,        /* pbrt-v4 "coateddiffuse": dielectric coat over Lambert (layered.c) */
     MAT_COATED_CONDUCTOR,      /* pbrt-v4 "coatedconductor": dielectric coat over a conductor
                                   (layered.c) */
-    MAT_INTERFACE              /* pbrt-v4 "interface": no surface, only the boundary of a medium
+    MAT_INTERFACE,             /* pbrt-v4 "interface": no surface, only the boundary of a medium
                                   (rays pass it; medium.c, docs/media.md) */
+    MAT_MIX                    /* pbrt-v4 "mix": at each hit one of two materials, chosen by
+                                  a hash of the point and wo (mat_choose) */
 } MaterialType;
 #define FL_N (SPEC_MAX - SPEC_UV_MIN + 1)   /* 1 nm knots of the fluorescence tables */
 /* A fluorescent layer (docs/FLUORESCENCE.md, F2): f = (1/pi) [rho (1 - A) delta(li - lo)
@@ -630,6 +632,12 @@ typedef struct {
     Spectrum cond_eta;
     float cond_alpha;
     int cond_alpha_tex;
+    /* mix: the two materials (indices into Scene.materials, neither an interface) and
+       the probability "amount" of the second, a constant or (amount_tex: 1 + its
+       index) a float texture */
+    int mix[2];
+    float amount;
+    int amount_tex;
 } Material;
 
 /* Free what a Material owns (its Fluorescence); the record itself is the caller's. */
@@ -656,6 +664,13 @@ float fluor_sample_li_uniform(float lo, float u, float *pdf);
 float fluor_pdf_li_uniform(float lo, float li);
 /* --fluor-li: lambda_i from A, from A x the emitters' power mixed with A, uniformly. */
 typedef enum { FLUOR_LI_A, FLUOR_LI_POWER, FLUOR_LI_UNIFORM } FluorLi;
+/* The material a hit on a surface of material mi (an index into materials) scatters
+   with: mi itself, or for a mix (pbrt-v4's MixMaterial::ChooseMaterial) the first
+   of its two when the amount a at sp is <= 0, the second when a >= 1, else the
+   second when u <= a, u in [0, 1) a hash of (sp->p, wo, the two indices): the
+   same hit always chooses the same, whatever the thread count.  A mix of mixes
+   is resolved down to a material that is not one. */
+int   mat_choose(const Material *materials, int mi, const SurfacePoint *sp, Vec3 wo);
 /* The diffuse albedo of the reflect lobe: rho (diffuse) or rho (1 - A) (fluorescent). */
 float mat_albedo(const Material *m, float lambda_nm);
 /* The same at a surface point: a textured reflectance evaluated there, clamped to
@@ -1172,6 +1187,24 @@ typedef struct {
 int  ply_read(const char *path, PlyMesh *m, Error *err);
 void ply_free(PlyMesh *m);
 int  ply_write_binary(const char *path, const float *P, int n_verts, const int32_t *idx, int n_tris);
+
+/* ======================================================================
+   9b. Loop subdivision surfaces (subdiv.c)
+   ====================================================================== */
+/* Shape "loopsubdiv": `levels` steps of Loop's scheme on the control mesh (P: 3
+   doubles a vertex, idx: 3 indices a triangle), every vertex then moved to the
+   limit surface, with pbrt-v4's limit normal (unnormalised).  The control mesh must
+   be a manifold with consistently oriented triangles (subdiv.c says what is
+   refused); 0 and a message in err (no file:line) otherwise. */
+typedef struct {
+    float *P; float *N; int n_verts;     /* limit positions and normals, 3 floats each */
+    int32_t *idx; int n_tris;
+} SubdivMesh;
+int  loop_subdivide(const double *P, int nv, const int32_t *idx, int nt, int levels,
+                    SubdivMesh *out, Error *err);
+#define SUBDIV_BYTES_PER_TRI 128.0   /* loop_subdivide's peak memory per triangle it makes
+                                        (about 117 bytes), checked against MEM_BUDGET_MIB */
+void subdiv_free(SubdivMesh *m);
 
 /* ======================================================================
    10. Images (image.c; the readers png.c and exr.c; merge and diff in cmd_image.c)

@@ -93,6 +93,8 @@ scenes() {
     BEGIN {
         texdefs = "Texture \"tex\" \"float\" \"constant\" \"float value\" 0.5\n" \
                   "Texture \"tex\" \"spectrum\" \"constant\" \"rgb value\" [ 0.5 0.5 0.5 ]\n"
+        mixdefs = "MakeNamedMaterial \"a\" \"string type\" \"diffuse\"\n" \
+                  "MakeNamedMaterial \"b\" \"string type\" \"conductor\"\n"
         tri = "[ 0 0 0  1 0 0  0 1 0 ]"; quad = "[ 0 0 0  1 0 0  0 1 0  1 1 0 ]"
         # values a parameter needs where one number or the default will not do
         ov["trianglemesh|point3 P"] = tri;  ov["trianglemesh|normal N"] = "[ 0 0 1  0 0 1  0 0 1 ]"
@@ -117,6 +119,10 @@ scenes() {
         ex["float imagemap"] = "\"string filename\" " ov["float imagemap|string filename"]
         ex["spectrum imagemap"] = ex["float imagemap"]
         ex["uniformgrid"] = "\"float density\" [ 0.5 ]"
+        ex["loopsubdiv"] = "\"integer indices\" [ 0 1 2 ];\"point3 P\" " tri
+        ov["loopsubdiv|integer indices"] = "[ 0 1 2 ]"; ov["loopsubdiv|point3 P"] = tri
+        ex["mix"] = "\"string materials\" [ \"a\" \"b\" ]"
+        ov["mix|string materials"] = "[ \"a\" \"b\" ]"
         ov["uniformgrid|point3 p1"] = "[ 1 1 1 ]"
         ex["fluorescent"] = "\"spectrum excitation\" [ 300 1 400 0 ];\"spectrum emission\" [ 400 0 500 1 ]"
         ov["dielectric|float cauchyA"] = "1.5 \"float cauchyB\" 0.004"
@@ -152,7 +158,7 @@ scenes() {
             for (j = 1; j <= m; j++) if (p == "" || index(it[j], " " k "\"") == 0) e = e " " it[j]
         }
         if (c == "shapes") return "WorldBegin\n" texdefs "Shape \"" t "\" " p e "\n"
-        if (c == "materials") return "WorldBegin\n" texdefs "Material \"" t "\" " p e "\nShape \"sphere\"\n"
+        if (c == "materials") return "WorldBegin\n" texdefs (t == "mix" ? mixdefs : "") "Material \"" t "\" " p e "\nShape \"sphere\"\n"
         if (c == "textures") { cls = t; sub(/^[a-z]+ /, "", cls)
             return "WorldBegin\n" texdefs "Texture \"t\" \"" substr(t, 1, index(t, " ") - 1) "\" \"" cls "\" " p e "\n" }
         if (c == "lights") return "WorldBegin\nLightSource \"" t "\" " p "\n"
@@ -263,6 +269,9 @@ sources() {
         cats["material.c"] = "materials"; cats["conductor.c"] = "materials"; cats["layered.c"] = "materials"
         cats["parser.c"] = "materials"; cats["texture.c"] = "textures"; cats["medium.c"] = "media,directives"
         cats["lights.c"] = "area lights"; cats["delta.c"] = "lights"; cats["infinite.c"] = "lights"
+        # pbrt-v3 names that a builder looks up only to refuse them with the pbrt-v4 name
+        # (pbrt-v4 has no such parameter, so no row lists them)
+        v3only["nlevels"] = 1
     }
     FILENAME == ARGV[1] { nm = $3; sub(/^[a-z0-9]+ /, "", nm); if ($1 == "directives") nm = $3
                           has[$1 "|" nm] = 1; next }
@@ -281,6 +290,7 @@ sources() {
             while (match(rest, /"([^"\\]|\\.)*"/)) {
                 s = substr(rest, RSTART + 1, RLENGTH - 2); rest = substr(rest, RSTART + RLENGTH)
                 if (s !~ /^[A-Za-z][A-Za-z0-9_.]*$/) continue
+                if (s in v3only) continue
                 found++; ok = 0; m = split(cats[f], cl, ",")
                 for (j = 1; j <= m; j++) {
                     if ((cl[j] "|" s) in has) ok = 1
