@@ -394,6 +394,49 @@ static int get_points(Parser *P, ParamList *pl, ParamType type, const char *name
     return 1;
 }
 
+/* Patch i of a bilinearmesh (object-space points Pf, indices Id or 0 1 2 3) in q;
+   returns whether it is flat (patch.c), i.e. stored as two triangles. */
+static int patch_of(const float *Pf, const double *Id, int i, int32_t q[4])
+{
+    Vec3 c[4];
+    int k;
+    for (k = 0; k < 4; k++) {
+        q[k] = Id ? (int32_t)Id[4 * i + k] : (int32_t)k;
+        c[k] = v3(Pf[3 * q[k]], Pf[3 * q[k] + 1], Pf[3 * q[k] + 2]);
+    }
+    return patch_is_flat(c);
+}
+
+/* The patches of the bilinearmesh just added (its vertices from v0 on) that are not
+   flat: Scene.patches of the last shape, their areas added to its area. */
+static int bilinear_patches(Parser *P, const float *Pf, const double *Id, int n, int v0,
+                            const char *file, int line)
+{
+    Scene *s = P->s;
+    Shape *sh = &s->shapes[s->n_shapes - 1];
+    int i, k;
+    sh->bilinear = 1;
+    sh->patch_begin = s->n_patches;
+    for (i = 0; i < n; i++) {
+        int32_t q[4];
+        Patch *pa;
+        Vec3 c[4];
+        if (patch_of(Pf, Id, i, q)) continue;
+        if (!grow((void **)&s->patches, &P->cap_patches, s->n_patches + 1, sizeof(Patch)))
+            return oom(P, file, line);
+        pa = &s->patches[s->n_patches++];
+        for (k = 0; k < 4; k++) pa->v[k] = v0 + q[k];
+        pa->shape = s->n_shapes - 1;
+        patch_corners(s, pa->v, c);
+        sh->area += patch_area(c);
+        sh->patch_count++;
+    }
+    if (sh->patch_count > 0 && sh->emitter >= 0)
+        return fail(P, file, line, "Shape \"bilinearmesh\": an area light on a patch that is not "
+                    "planar is not in the specnee subset");
+    return 1;
+}
+
 static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, int line)
 {
     const double *Pd, *Nd, *UV, *Id;
@@ -437,14 +480,17 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
     if (!bilinear) {
         for (i = 0; i < ni; i++) idx[i] = Id ? (int32_t)Id[i] : deflt[i];
     } else {
-        /* pbrt's patch order p00 p10 p01 p11 -> (p00,p10,p11), (p00,p11,p01): the
-           first edge pair (p10 - p00, p11 - p00) keeps the patch's dp/du x dp/dv side */
+        /* pbrt's patch order p00 p10 p01 p11.  A flat patch (patch.c) is the two
+           triangles (p00,p10,p11), (p00,p11,p01): the first edge pair (p10 - p00,
+           p11 - p00) keeps the patch's dp/du x dp/dv side.  The others follow the
+           mesh as patches of their own (bilinear_patches). */
+        ntri = 0;
         for (i = 0; i < ni / 4; i++) {
             int32_t q[4];
-            int k;
-            for (k = 0; k < 4; k++) q[k] = Id ? (int32_t)Id[4 * i + k] : deflt[k];
-            idx[6 * i + 0] = q[0]; idx[6 * i + 1] = q[1]; idx[6 * i + 2] = q[3];
-            idx[6 * i + 3] = q[0]; idx[6 * i + 4] = q[3]; idx[6 * i + 5] = q[2];
+            if (!patch_of(Pf, Id, i, q)) continue;
+            idx[3 * ntri + 0] = q[0]; idx[3 * ntri + 1] = q[1]; idx[3 * ntri + 2] = q[3];
+            idx[3 * ntri + 3] = q[0]; idx[3 * ntri + 4] = q[3]; idx[3 * ntri + 5] = q[2];
+            ntri += 2;
         }
     }
     ok = 1;
@@ -453,7 +499,11 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
         if (!UVf) { free(Pf); free(Nf); free(idx); return oom(P, file, line); }
         for (i = 0; i < 2 * nv; i++) UVf[i] = (float)UV[i];
     }
-    ok = ok && add_mesh(P, Pf, Nf, UVf, nv, idx, ntri, file, line);
+    {
+        const int v0 = P->s->n_verts;
+        ok = ok && add_mesh(P, Pf, Nf, UVf, nv, idx, ntri, file, line);
+        ok = ok && (!bilinear || bilinear_patches(P, Pf, Id, ni / 4, v0, file, line));
+    }
     free(Pf); free(Nf); free(UVf); free(idx);
     return ok;
 }
@@ -1290,10 +1340,21 @@ static int finish(Parser *P, const char *file)
                 if (qhi[a] > hi[a]) hi[a] = qhi[a];
             }
         }
+        for (i = 0; i < s->n_patches; i++) {
+            int k, a;
+            for (k = 0; k < 4; k++) {
+                Vec3 p = s->P[s->patches[i].v[k]];
+                for (a = 0; a < 3; a++) {
+                    float x = v3_get(p, a);
+                    if (x < lo[a]) lo[a] = x;
+                    if (x > hi[a]) hi[a] = x;
+                }
+            }
+        }
         s->bmin = v3(lo[0], lo[1], lo[2]);
         s->bmax = v3(hi[0], hi[1], hi[2]);
     }
-    if (s->n_tris == 0 && s->n_spheres == 0 && s->n_quadrics == 0) s->bmin = s->bmax = v3(0, 0, 0);
+    if (s->n_tris == 0 && s->n_spheres == 0 && s->n_quadrics == 0 && s->n_patches == 0) s->bmin = s->bmax = v3(0, 0, 0);
     if (!P->any_normals) { free(s->N); s->N = NULL; }
     if (!P->any_uv) { free(s->UV); s->UV = NULL; }
     if (s->n_emitters > 0 && !emitters_prepare(s, P->err)) return 0;
@@ -1393,6 +1454,7 @@ void scene_free(Scene *s)
     free(s->emitters);
     free(s->sphere_shape);
     free(s->quadric_shape);
+    free(s->patches);
     for (i = 0; i < s->n_textures; i++) tex_free(&s->textures[i]);
     free(s->textures);
     free(s->UV);
