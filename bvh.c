@@ -980,7 +980,7 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
             sp->ng = v3_norm(v3_neg(r->d));
         if (sh->flip) sp->ng = v3_neg(sp->ng);
         sp->ns = sp->ng;
-        if (sh->has_normals && s->N) {
+        if (sh->has_normals && s->N && !sh->bilinear) {     /* (a patch: patch_shading) */
             Vec3 n0 = s->N[tri->v[0]], n1 = s->N[tri->v[1]], n2 = s->N[tri->v[2]];
             Vec3 ns = v3((float)(b0 * n0.x + b1 * n1.x + b2 * n2.x),
                          (float)(b0 * n0.y + b1 * n1.y + b2 * n2.y),
@@ -1002,9 +1002,6 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
             q[0] = t0[0].v[0]; q[1] = t0[0].v[1]; q[2] = t0[1].v[2]; q[3] = t0[0].v[2];
             patch_corners(s, q, c);
             patch_uv_of_point(c, sp->p, &pu, &pv);
-            sp->ng = v3_norm(v3_cross(v3_sub(p0, p2), v3_sub(p1, p2)));
-            if (v3_dot(sp->ng, sp->ng) == 0.0f) sp->ng = v3_norm(v3_neg(r->d));
-            if (sh->flip) sp->ng = v3_neg(sp->ng);
             patch_shading(s, sh, q, pu, pv, sp);
         } else if (sh->has_uv && s->UV) {
             const float *t0 = s->UV + 2 * tri->v[0], *t1 = s->UV + 2 * tri->v[1], *t2 = s->UV + 2 * tri->v[2];

@@ -54,29 +54,38 @@ static int hit_point(const Scene *s, Ray r, float *t, SurfacePoint *sp)
 static void test_planar_hits(T *t)
 {
     static const double uv[3][2] = { { 0.25, 0.75 }, { 0.8, 0.1 }, { 0.5, 0.5 } };
+    /* the trapezoid, and a convex quad with no parallel sides in the plane z = 0.1 x + 0.05 y */
+    static const float quad[2][4][3] = {
+        { { -1.4f, -1.2f, 0.0f }, { 1.4f, -1.2f, 0.0f }, { -0.2f, 1.2f, 0.0f }, { 0.2f, 1.2f, 0.0f } },
+        { { -1.0f, -1.0f, -0.15f }, { 1.2f, -0.6f, 0.09f }, { -0.7f, 1.1f, -0.015f }, { 1.5f, 1.9f, 0.245f } },
+    };
     Vec3 c[4];
     Scene s;
-    int i;
-    c[0] = v3(-1.4f, -1.2f, 0.0f); c[1] = v3(1.4f, -1.2f, 0.0f);
-    c[2] = v3(-0.2f, 1.2f, 0.0f);  c[3] = v3(0.2f, 1.2f, 0.0f);
-    CHECK(t, patch_is_flat(c), "a planar trapezoid is flat");
-    for (i = 0; i < 3; i++) {
-        const double u = uv[i][0], v = uv[i][1];
-        /* p(u, v) by hand: x between the bottom edge (-1.4 .. 1.4) and the top (-0.2 .. 0.2) */
-        const double x = (1 - v) * (-1.4 + 2.8 * u) + v * (-0.2 + 0.4 * u), y = -1.2 + 2.4 * v;
-        const double d[3] = { 0.1, -0.2, -1.0 };
-        Ray r = ray_of(x - 3 * d[0], y - 3 * d[1], 3.0, d[0], d[1], d[2]);
-        float th, uh, vh, ui, vi;
-        CHECK(t, patch_intersect(c, &r, INFINITY, &th, &uh, &vh), "no hit at (u, v) = (%g, %g)", u, v);
-        CHECK(t, fabs(th - 3.0) < 1e-5 && fabs(uh - u) < 1e-5 && fabs(vh - v) < 1e-5,
-              "hit at t %.7g (u, v) (%.7g, %.7g), expected 3 (%g, %g)", th, uh, vh, u, v);
-        patch_uv_of_point(c, v3((float)x, (float)y, 0.0f), &ui, &vi);
-        CHECK(t, fabs(ui - u) < 1e-5 && fabs(vi - v) < 1e-5, "inverted (%.7g, %.7g), expected (%g, %g)",
-              ui, vi, u, v);
+    int i, k, q;
+    for (q = 0; q < 2; q++) {
+        for (k = 0; k < 4; k++) c[k] = v3(quad[q][k][0], quad[q][k][1], quad[q][k][2]);
+        CHECK(t, patch_is_flat(c), "quad %d is flat", q);
+        for (i = 0; i < 3; i++) {
+            const double u = uv[i][0], v = uv[i][1], d[3] = { 0.1, -0.2, -1.0 };
+            double x[3];
+            Ray r;
+            float th, uh, vh, ui, vi;
+            for (k = 0; k < 3; k++)        /* p(u, v) by hand */
+                x[k] = (1 - u) * (1 - v) * quad[q][0][k] + u * (1 - v) * quad[q][1][k] +
+                       (1 - u) * v * quad[q][2][k] + u * v * quad[q][3][k];
+            r = ray_of(x[0] - 3 * d[0], x[1] - 3 * d[1], x[2] - 3 * d[2], d[0], d[1], d[2]);
+            CHECK(t, patch_intersect(c, &r, INFINITY, &th, &uh, &vh), "quad %d: no hit at (%g, %g)", q, u, v);
+            CHECK(t, fabs(th - 3.0) < 1e-5 && fabs(uh - u) < 1e-5 && fabs(vh - v) < 1e-5,
+                  "quad %d: hit at t %.7g (u, v) (%.7g, %.7g), expected 3 (%g, %g)", q, th, uh, vh, u, v);
+            patch_uv_of_point(c, v3((float)x[0], (float)x[1], (float)x[2]), &ui, &vi);
+            CHECK(t, fabs(ui - u) < 1e-5 && fabs(vi - v) < 1e-5, "quad %d: inverted (%.7g, %.7g), "
+                  "expected (%g, %g)", q, ui, vi, u, v);
+        }
     }
-    {   /* beside the slanted edge (inside the bounding box): a miss */
+    {   /* beside the trapezoid's slanted edge (inside its bounding box): a miss */
         Ray r = ray_of(-1.0, 1.0, 3.0, 0.0, 0.0, -1.0);
         float th, uh, vh;
+        for (k = 0; k < 4; k++) c[k] = v3(quad[0][k][0], quad[0][k][1], quad[0][k][2]);
         CHECK(t, !patch_intersect(c, &r, INFINITY, &th, &uh, &vh), "hit outside the trapezoid");
     }
     /* through the scene: two triangles, the patch's (u, v) and a bilinear "uv" and "N" */
@@ -123,19 +132,20 @@ static double saddle_t(const double o[3], const double d[3])
 
 static void test_twisted_hits(T *t)
 {
-    static const double ray[6][6] = {
+    static const double ray[7][6] = {
         { 0.3, -0.6, 5, 0, 0, -1 },          /* vertical */
         { -0.9, 0.8, 5, 0, 0, -1 },
         { -2, 0.4, 3, 1, 0.1, -1.2 },        /* oblique */
         { 0.5, 2, -2, -0.2, -1, 0.9 },       /* from below */
         { -1.5, -1.5, 0.25, 1, 1, 0 },       /* along the diagonal: hits at x = y = -0.5 and 0.5 */
         { 0, 0, 0.25, 1, 1, 0 },             /* from between them: only the far one */
+        { 1.5, 1.5, 0.25, -1, -1, 0 },       /* the diagonal the other way */
     };
     Scene s;
     int i;
     CHECK(t, test_load_scene(t, &s, "WorldBegin\nShape \"bilinearmesh\" \"point3 P\" " SADDLE "\n"), "load");
     CHECK(t, s.n_tris == 0 && s.n_patches == 1 && s.shapes[0].patch_count == 1, "a twisted patch of its own");
-    for (i = 0; i < 6; i++) {
+    for (i = 0; i < 7; i++) {
         const double *o = ray[i], *d = ray[i] + 3, te = saddle_t(o, d);
         const double x = o[0] + te * d[0], y = o[1] + te * d[1], nl = sqrt(x * x + y * y + 1);
         SurfacePoint sp;
