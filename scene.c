@@ -152,6 +152,49 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
     return s->n_shapes++;
 }
 
+/* Same three corner positions, in any order. */
+static int same_corners(const Scene *s, const Triangle *a, const Triangle *b)
+{
+    int i, j, found;
+    for (i = 0; i < 3; i++) {
+        Vec3 p = s->P[a->v[i]];
+        for (found = 0, j = 0; j < 3 && !found; j++) {
+            Vec3 q = s->P[b->v[j]];
+            found = p.x == q.x && p.y == q.y && p.z == q.z;
+        }
+        if (!found) return 0;
+    }
+    return 1;
+}
+
+/* An emitting mesh with two triangles on the same three corners but opposite
+   windings (an exporter's way to light both sides) gets a note: rays meet both at
+   the same t, and which one is seen is a tie, broken in specnee by the smaller
+   index (the earlier in the file) and in pbrt-v4 by the order its BVH build gives
+   them.  In both renderers next event estimation reaches the emitting side
+   through its twin while BSDF sampling may stop at the twin's back, so the image
+   means no definite surface (docs/conventions.md §3).  Meshes of at most 4096
+   triangles are checked (pairs: at most 8.4 million comparisons). */
+static void coincident_note(const Scene *s, int t0, int ntri, const char *file, int line)
+{
+    int i, j;
+    if (ntri > 4096) return;
+    for (i = t0; i < t0 + ntri; i++)
+        for (j = i + 1; j < t0 + ntri; j++) {
+            const Triangle *a = &s->tris[i], *b = &s->tris[j];
+            Vec3 na, nb;
+            if (!same_corners(s, a, b)) continue;
+            na = v3_cross(v3_sub(s->P[a->v[1]], s->P[a->v[0]]), v3_sub(s->P[a->v[2]], s->P[a->v[0]]));
+            nb = v3_cross(v3_sub(s->P[b->v[1]], s->P[b->v[0]]), v3_sub(s->P[b->v[2]], s->P[b->v[0]]));
+            if (!(v3_dot(na, nb) < 0.0f)) continue;
+            fprintf(stderr, "%s:%d: note: area light: triangles %d and %d of this mesh lie on each "
+                    "other with opposite windings; the earlier one is seen where both are hit "
+                    "(pbrt-v4: the one its BVH tests first), so the light's two sides do not add up\n",
+                    file, line, i - t0, j - t0);
+            return;
+        }
+}
+
 /* Append a triangle mesh given in object space (P: 3 floats a vertex, N: the
    same or NULL, idx: 3 ints a triangle, already range-checked). */
 static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, const float *UVobj, int nv,
@@ -232,6 +275,7 @@ static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, const float
         int sh = add_shape(P, SHAPE_MESH, t0, ntri, area, Nobj != NULL, file, line);
         if (sh < 0) return 0;
         s->shapes[sh].has_uv = UVobj != NULL;
+        if (s->shapes[sh].emitter >= 0) coincident_note(s, t0, ntri, file, line);
     }
     return 1;
 }

@@ -158,6 +158,8 @@ if grep -q 'unused.pbrt:6: note: LightSource "point": "float power" -60 is not p
    grep -q 'unused.pbrt:8: note: AreaLightSource "diffuse": "float power" 0 is not positive and is ignored' tests/tmp/err.txt &&
    [ "$(wc -l < tests/tmp/err.txt)" -eq 3 ]; then ok "cli_note_power_ignored"; else fail "cli_note_power_ignored"; cat tests/tmp/err.txt; fi
 if cmp -s tests/tmp/used.pfm tests/tmp/unused.pfm; then ok "cli_ignored_image_unchanged"; else fail "cli_ignored_image_unchanged"; fi
+printf 'Film "rgb" "integer xresolution" 4 "integer yresolution" 4\nWorldBegin\nAttributeBegin\nAreaLightSource "diffuse"\nShape "trianglemesh" "point3 P" [ 0 0 0  1 0 0  1 1 0  0 1 0 ] "integer indices" [ 0 1 2  0 2 3  0 3 2 ]\nAttributeEnd\n' > tests/tmp/twins.pbrt
+expect "cli_note_coincident_lamp" 0 'twins.pbrt:5: note: area light: triangles 1 and 2 of this mesh lie on each other with opposite windings' ./specnee -q --spp 1 tests/tmp/twins.pbrt -o tests/tmp/twins.pfm
 printf 'WorldBegin\nMakeNamedMedium "fog" "string type" "homogeneous"\nAttributeBegin\nMediumInterface "fog" ""\nMaterial "interface"\nShape "sphere"\nAttributeEnd\nLightSource "distant" "float illuminance" -1\n' > tests/tmp/fog.pbrt
 ./specnee -q tests/tmp/fog.pbrt --res 4x4 --spp 1 -o tests/tmp/fog.pfm 2> tests/tmp/fog.txt
 if ! grep -q 'never used' tests/tmp/fog.txt &&
