@@ -475,9 +475,6 @@ static int bilinear_patches(Parser *P, const float *Pf, const double *Id, int n,
         sh->area += patch_area(c);
         sh->patch_count++;
     }
-    if (sh->patch_count > 0 && sh->emitter >= 0)
-        return fail(P, file, line, "Shape \"bilinearmesh\": an area light on a patch that is not "
-                    "planar is not in the specnee subset");
     return 1;
 }
 
