@@ -83,7 +83,10 @@
    Scene.patches, sums patch_area into Shape.area; bvh.c bounds them by their
    corners, intersects (patch_intersect; HitRecord b1, b2 hold (u, v)) and fills
    hit points (patch_surface_point, and patch_uv_of_point + patch_shading for the
-   triangles of flat patches). */
+   triangles of flat patches); lights.c samples an emitting bilinearmesh's
+   triangles and twisted patches by one area cdf (patch_area, patch_sample), so
+   its density stays 1 / A, and lighttree.c bounds the patches by their corners
+   with a full normal cone. */
 #include "specnee.h"
 #include <string.h>
 
