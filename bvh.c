@@ -1,8 +1,9 @@
 /* bvh.c - the bounding volume hierarchy: builds it, and answers ray queries with it.
 
    WHAT IT IMPLEMENTS (specnee.h section 5)
-     bvh_build / bvh_free   binned-SAH BVH over every triangle, sphere and quadric (disk,
-                            cylinder, cut sphere: shapes.c) of a Scene, in 8-wide nodes
+     bvh_build / bvh_free   binned-SAH BVH over every triangle, sphere, quadric (disk,
+                            cylinder, cut sphere: shapes.c) and bilinear patch
+                            (patch.c) of a Scene, in 8-wide nodes
      bvh_intersect          closest hit along a ray segment 0 < t < tmax
      bvh_occluded           any hit (shadow rays): stops at the first one found
      intersect_triangle     watertight ray/triangle test (Woop, Benthin, Wald 2013)
@@ -13,8 +14,9 @@
    bvh_intersect, then scene_surface_point, and bvh_occluded for the shadow rays of
    next event estimation (through media it follows them with bvh_intersect instead).
    Primitive id k < n_tris is triangle k, n_tris + j sphere j (s->sphere_shape[j]),
-   n_tris + n_spheres + k quadric k (s->quadric_shape[k], intersected by shapes.c);
-   at most 2^28 - 1 of them (a leaf packs its first primitive into 28 bits).
+   n_tris + n_spheres + k quadric k (s->quadric_shape[k], intersected by shapes.c),
+   n_tris + n_spheres + n_quadrics + k patch k (s->patches[k], a bilinear patch that
+   is not flat, intersected by patch.c; flat ones are two triangles); at most 2^28 - 1 of them (a leaf packs its first primitive into 28 bits).
 
    BUILD (bvh_build): a binary tree by the binned surface area heuristic (Wald 2007;
    pbrt-v4 section 7.3.2), then collapsed into 8-wide nodes (Wald, Benthin, Boulos
@@ -427,7 +429,18 @@ static int prim_infos(const Scene *s, PrimInfo *info)
         quadric_bounds(&s->shapes[s->quadric_shape[j]], info[s->n_tris + s->n_spheres + j].box.lo,
                        info[s->n_tris + s->n_spheres + j].box.hi);
     }
-    for (i = 0; i < s->n_tris + s->n_spheres + s->n_quadrics; i++) {
+    for (j = 0; j < s->n_patches; j++) {           /* a patch lies in its corners' box */
+        Box *b = &info[s->n_tris + s->n_spheres + s->n_quadrics + j].box;
+        box_empty(b);
+        for (k = 0; k < 4; k++) {
+            int vi = s->patches[j].v[k];
+            float p[3];
+            if (vi < 0 || vi >= s->n_verts) return 0;
+            p[0] = s->P[vi].x; p[1] = s->P[vi].y; p[2] = s->P[vi].z;
+            box_grow_point(b, p);
+        }
+    }
+    for (i = 0; i < s->n_tris + s->n_spheres + s->n_quadrics + s->n_patches; i++) {
         for (a = 0; a < 3; a++) {
             const Box *b = &info[i].box;
             if (!isfinite(b->lo[a]) || !isfinite(b->hi[a])) return 0;
@@ -591,7 +604,7 @@ static void collapse(Bvh *b, const BinNode *bin, int32_t *todo_bin, int32_t *tod
 
 int bvh_build(Bvh *b, const Scene *s)
 {
-    const int n = s->n_tris + s->n_spheres + s->n_quadrics;
+    const int n = s->n_tris + s->n_spheres + s->n_quadrics + s->n_patches;
     PrimInfo *info = NULL;
     BuildTask *stack = NULL;
     BinNode *bin = NULL;
@@ -600,7 +613,8 @@ int bvh_build(Bvh *b, const Scene *s)
     size_t n_wide;
 
     memset(b, 0, sizeof *b);
-    if (s->n_tris < 0 || s->n_spheres < 0 || s->n_quadrics < 0 || n < 0) return 0;
+    if (s->n_tris < 0 || s->n_spheres < 0 || s->n_quadrics < 0 || s->n_patches < 0 || n < 0)
+        return 0;
     if (n == 0) return 1;                          /* empty scene: no nodes, no hits */
     if (n >= (1 << 28)) return 0;                  /* a leaf packs first << 3 in 31 bits */
     info = (PrimInfo *)malloc((size_t)n * sizeof *info);
@@ -686,7 +700,7 @@ int bvh_build(Bvh *b, const Scene *s)
         collapse(b, bin, todo, todo + n_wide + 1);
 
     /* 3. The primitives' data in leaf order: 9 floats a triangle, 4 a sphere, none
-       a quadric. */
+       a quadric or a patch. */
     for (i = 0; i < n; i++) {
         BvhPrim *q = &b->prims[i];
         int p = prims[i], k;
@@ -902,10 +916,14 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 if (p < s->n_tris) ok = tri_hit(&rp, q->v, t_best, &t, &b1, &b2);
                 else if (p < s->n_tris + s->n_spheres) {
                     ok = sphere_hit(&rp, q->v, t_best, &t); b1 = b2 = 0.0f;
-                } else {
+                } else if (p < s->n_tris + s->n_spheres + s->n_quadrics) {
                     ok = quadric_intersect(&s->shapes[s->quadric_shape[p - s->n_tris - s->n_spheres]],
                                            r, t_best, &t);
                     b1 = b2 = 0.0f;
+                } else {
+                    Vec3 c[4];             /* a patch: b1, b2 carry its (u, v) */
+                    patch_corners(s, s->patches[p - s->n_tris - s->n_spheres - s->n_quadrics].v, c);
+                    ok = patch_intersect(c, r, t_best, &t, &b1, &b2);
                 }
                 if (!ok) continue;
                 if (any_hit) {
@@ -962,7 +980,7 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
             sp->ng = v3_norm(v3_neg(r->d));
         if (sh->flip) sp->ng = v3_neg(sp->ng);
         sp->ns = sp->ng;
-        if (sh->has_normals && s->N) {
+        if (sh->has_normals && s->N && !sh->bilinear) {     /* (a patch: patch_shading) */
             Vec3 n0 = s->N[tri->v[0]], n1 = s->N[tri->v[1]], n2 = s->N[tri->v[2]];
             Vec3 ns = v3((float)(b0 * n0.x + b1 * n1.x + b2 * n2.x),
                          (float)(b0 * n0.y + b1 * n1.y + b2 * n2.y),
@@ -974,8 +992,18 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
             }
         }
         /* (u, v): the mesh's "uv" interpolated, else pbrt-v4's default corners
-           (0,0), (1,0), (1,1), i.e. u = b1 + b2, v = b2 */
-        if (sh->has_uv && s->UV) {
+           (0,0), (1,0), (1,1), i.e. u = b1 + b2, v = b2; a flat bilinear patch's
+           triangle: the patch's own (u, v) at p, "uv" and "N" bilinear (patch.c) */
+        if (sh->bilinear) {
+            const Triangle *t0 = &s->tris[sh->tri_begin + 2 * ((h->prim - sh->tri_begin) / 2)];
+            int32_t q[4];
+            Vec3 c[4];
+            float pu, pv;
+            q[0] = t0[0].v[0]; q[1] = t0[0].v[1]; q[2] = t0[1].v[2]; q[3] = t0[0].v[2];
+            patch_corners(s, q, c);
+            patch_uv_of_point(c, sp->p, &pu, &pv);
+            patch_shading(s, sh, q, pu, pv, sp);
+        } else if (sh->has_uv && s->UV) {
             const float *t0 = s->UV + 2 * tri->v[0], *t1 = s->UV + 2 * tri->v[1], *t2 = s->UV + 2 * tri->v[2];
             sp->u = (float)(b0 * t0[0] + b1 * t1[0] + b2 * t2[0]);
             sp->v = (float)(b0 * t0[1] + b1 * t1[1] + b2 * t2[1]);
@@ -984,6 +1012,10 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
             sp->v = (float)b2;
         }
         sp->shape = tri->shape;
+    } else if (h->prim >= s->n_tris + s->n_spheres + s->n_quadrics) {
+        const Patch *pa = &s->patches[h->prim - s->n_tris - s->n_spheres - s->n_quadrics];
+        patch_surface_point(s, &s->shapes[pa->shape], pa->v, h->b1, h->b2, r, sp);
+        sp->shape = pa->shape;
     } else if (h->prim >= s->n_tris + s->n_spheres) {
         int shape = s->quadric_shape[h->prim - s->n_tris - s->n_spheres];
         quadric_surface_point(&s->shapes[shape], r, h->t, sp);

@@ -145,7 +145,8 @@ typedef struct {
     int cap_textures;
     int default_material;      /* -1 until a shape needs it */
     /* capacities of the growing Scene arrays */
-    int cap_verts, cap_tris, cap_shapes, cap_mats, cap_emit, cap_spheres, cap_quadrics, cap_strings;
+    int cap_verts, cap_tris, cap_shapes, cap_mats, cap_emit, cap_spheres, cap_quadrics, cap_strings,
+        cap_patches;
     int any_normals;
     int any_uv;                /* some mesh has "uv": Scene.UV is kept parallel to P */
     int inset_line[8];         /* where each inset comment was (for messages) */

@@ -153,6 +153,49 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
     return s->n_shapes++;
 }
 
+/* Same three corner positions, in any order. */
+static int same_corners(const Scene *s, const Triangle *a, const Triangle *b)
+{
+    int i, j, found;
+    for (i = 0; i < 3; i++) {
+        Vec3 p = s->P[a->v[i]];
+        for (found = 0, j = 0; j < 3 && !found; j++) {
+            Vec3 q = s->P[b->v[j]];
+            found = p.x == q.x && p.y == q.y && p.z == q.z;
+        }
+        if (!found) return 0;
+    }
+    return 1;
+}
+
+/* An emitting mesh with two triangles on the same three corners but opposite
+   windings (an exporter's way to light both sides) gets a note: rays meet both at
+   the same t, and which one is seen is a tie, broken in specnee by the smaller
+   index (the earlier in the file) and in pbrt-v4 by the order its BVH build gives
+   them.  In both renderers next event estimation reaches the emitting side
+   through its twin while BSDF sampling may stop at the twin's back, so the image
+   means no definite surface (docs/conventions.md §3).  Meshes of at most 4096
+   triangles are checked (pairs: at most 8.4 million comparisons). */
+static void coincident_note(const Scene *s, int t0, int ntri, const char *file, int line)
+{
+    int i, j;
+    if (ntri > 4096) return;
+    for (i = t0; i < t0 + ntri; i++)
+        for (j = i + 1; j < t0 + ntri; j++) {
+            const Triangle *a = &s->tris[i], *b = &s->tris[j];
+            Vec3 na, nb;
+            if (!same_corners(s, a, b)) continue;
+            na = v3_cross(v3_sub(s->P[a->v[1]], s->P[a->v[0]]), v3_sub(s->P[a->v[2]], s->P[a->v[0]]));
+            nb = v3_cross(v3_sub(s->P[b->v[1]], s->P[b->v[0]]), v3_sub(s->P[b->v[2]], s->P[b->v[0]]));
+            if (!(v3_dot(na, nb) < 0.0f)) continue;
+            fprintf(stderr, "%s:%d: note: area light: triangles %d and %d of this mesh lie on each "
+                    "other with opposite windings; the earlier one is seen where both are hit "
+                    "(pbrt-v4: the one its BVH tests first), so the light's two sides do not add up\n",
+                    file, line, i - t0, j - t0);
+            return;
+        }
+}
+
 /* Append a triangle mesh given in object space (P: 3 floats a vertex, N: the
    same or NULL, idx: 3 ints a triangle, already range-checked). */
 static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, const float *UVobj, int nv,
@@ -233,6 +276,7 @@ static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, const float
         int sh = add_shape(P, SHAPE_MESH, t0, ntri, area, Nobj != NULL, file, line);
         if (sh < 0) return 0;
         s->shapes[sh].has_uv = UVobj != NULL;
+        if (s->shapes[sh].emitter >= 0) coincident_note(s, t0, ntri, file, line);
     }
     return 1;
 }
@@ -399,6 +443,46 @@ static int get_points(Parser *P, ParamList *pl, ParamType type, const char *name
     return 1;
 }
 
+/* Patch i of a bilinearmesh (object-space points Pf, indices Id or 0 1 2 3) in q;
+   returns whether it is flat (patch.c), i.e. stored as two triangles. */
+static int patch_of(const float *Pf, const double *Id, int i, int32_t q[4])
+{
+    Vec3 c[4];
+    int k;
+    for (k = 0; k < 4; k++) {
+        q[k] = Id ? (int32_t)Id[4 * i + k] : (int32_t)k;
+        c[k] = v3(Pf[3 * q[k]], Pf[3 * q[k] + 1], Pf[3 * q[k] + 2]);
+    }
+    return patch_is_flat(c);
+}
+
+/* The patches of the bilinearmesh just added (its vertices from v0 on) that are not
+   flat: Scene.patches of the last shape, their areas added to its area. */
+static int bilinear_patches(Parser *P, const float *Pf, const double *Id, int n, int v0,
+                            const char *file, int line)
+{
+    Scene *s = P->s;
+    Shape *sh = &s->shapes[s->n_shapes - 1];
+    int i, k;
+    sh->bilinear = 1;
+    sh->patch_begin = s->n_patches;
+    for (i = 0; i < n; i++) {
+        int32_t q[4];
+        Patch *pa;
+        Vec3 c[4];
+        if (patch_of(Pf, Id, i, q)) continue;
+        if (!grow((void **)&s->patches, &P->cap_patches, s->n_patches + 1, sizeof(Patch)))
+            return oom(P, file, line);
+        pa = &s->patches[s->n_patches++];
+        for (k = 0; k < 4; k++) pa->v[k] = v0 + q[k];
+        pa->shape = s->n_shapes - 1;
+        patch_corners(s, pa->v, c);
+        sh->area += patch_area(c);
+        sh->patch_count++;
+    }
+    return 1;
+}
+
 static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, int line)
 {
     const double *Pd, *Nd, *UV, *Id;
@@ -442,14 +526,17 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
     if (!bilinear) {
         for (i = 0; i < ni; i++) idx[i] = Id ? (int32_t)Id[i] : deflt[i];
     } else {
-        /* pbrt's patch order p00 p10 p01 p11 -> (p00,p10,p11), (p00,p11,p01): the
-           first edge pair (p10 - p00, p11 - p00) keeps the patch's dp/du x dp/dv side */
+        /* pbrt's patch order p00 p10 p01 p11.  A flat patch (patch.c) is the two
+           triangles (p00,p10,p11), (p00,p11,p01): the first edge pair (p10 - p00,
+           p11 - p00) keeps the patch's dp/du x dp/dv side.  The others follow the
+           mesh as patches of their own (bilinear_patches). */
+        ntri = 0;
         for (i = 0; i < ni / 4; i++) {
             int32_t q[4];
-            int k;
-            for (k = 0; k < 4; k++) q[k] = Id ? (int32_t)Id[4 * i + k] : deflt[k];
-            idx[6 * i + 0] = q[0]; idx[6 * i + 1] = q[1]; idx[6 * i + 2] = q[3];
-            idx[6 * i + 3] = q[0]; idx[6 * i + 4] = q[3]; idx[6 * i + 5] = q[2];
+            if (!patch_of(Pf, Id, i, q)) continue;
+            idx[3 * ntri + 0] = q[0]; idx[3 * ntri + 1] = q[1]; idx[3 * ntri + 2] = q[3];
+            idx[3 * ntri + 3] = q[0]; idx[3 * ntri + 4] = q[3]; idx[3 * ntri + 5] = q[2];
+            ntri += 2;
         }
     }
     ok = 1;
@@ -458,7 +545,11 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
         if (!UVf) { free(Pf); free(Nf); free(idx); return oom(P, file, line); }
         for (i = 0; i < 2 * nv; i++) UVf[i] = (float)UV[i];
     }
-    ok = ok && add_mesh(P, Pf, Nf, UVf, nv, idx, ntri, file, line);
+    {
+        const int v0 = P->s->n_verts;
+        ok = ok && add_mesh(P, Pf, Nf, UVf, nv, idx, ntri, file, line);
+        ok = ok && (!bilinear || bilinear_patches(P, Pf, Id, ni / 4, v0, file, line));
+    }
     free(Pf); free(Nf); free(UVf); free(idx);
     return ok;
 }
@@ -1368,10 +1459,21 @@ static int finish(Parser *P, const char *file)
                 if (qhi[a] > hi[a]) hi[a] = qhi[a];
             }
         }
+        for (i = 0; i < s->n_patches; i++) {
+            int k, a;
+            for (k = 0; k < 4; k++) {
+                Vec3 p = s->P[s->patches[i].v[k]];
+                for (a = 0; a < 3; a++) {
+                    float x = v3_get(p, a);
+                    if (x < lo[a]) lo[a] = x;
+                    if (x > hi[a]) hi[a] = x;
+                }
+            }
+        }
         s->bmin = v3(lo[0], lo[1], lo[2]);
         s->bmax = v3(hi[0], hi[1], hi[2]);
     }
-    if (s->n_tris == 0 && s->n_spheres == 0 && s->n_quadrics == 0) s->bmin = s->bmax = v3(0, 0, 0);
+    if (s->n_tris == 0 && s->n_spheres == 0 && s->n_quadrics == 0 && s->n_patches == 0) s->bmin = s->bmax = v3(0, 0, 0);
     if (!P->any_normals) { free(s->N); s->N = NULL; }
     if (!P->any_uv) { free(s->UV); s->UV = NULL; }
     if (s->n_emitters > 0 && !emitters_prepare(s, P->err)) return 0;
@@ -1473,6 +1575,7 @@ void scene_free(Scene *s)
     free(s->emitters);
     free(s->sphere_shape);
     free(s->quadric_shape);
+    free(s->patches);
     for (i = 0; i < s->n_textures; i++) tex_free(&s->textures[i]);
     free(s->textures);
     free(s->UV);

@@ -464,6 +464,9 @@ typedef struct {
     int has_normals;           /* mesh carries per-vertex shading normals */
     int has_uv;                /* mesh carries per-vertex (u, v) in Scene.UV */
     int tri_begin, tri_count;  /* triangles [tri_begin, tri_begin + tri_count) */
+    int bilinear;              /* bilinearmesh: its triangles come in pairs, each a flat
+                                  patch whose (u, v), "uv" and "N" are the patch's (patch.c) */
+    int patch_begin, patch_count;  /* its other patches: Scene.patches[patch_begin ..) */
     Vec3 center; float radius; /* sphere, in world space */
     Quadric q;                 /* disk, cylinder, partial sphere: in object space */
     double area;               /* world-space surface area */
@@ -475,12 +478,15 @@ typedef struct {
 } Shape;
 
 typedef struct { int32_t v[3]; int32_t shape; } Triangle;   /* indices into Scene.P / N */
+/* A bilinear patch that is not flat (patch.c): corners p00 p10 p01 p11, pbrt-v4's order. */
+typedef struct { int32_t v[4]; int32_t shape; } Patch;
 
 typedef struct {
     float t;                   /* ray parameter of the hit */
-    int prim;                  /* triangle index, n_tris + sphere index, or
-                               n_tris + n_spheres + quadric index */
-    float b1, b2;              /* barycentrics of v[1], v[2] (triangles) */
+    int prim;                  /* triangle index, n_tris + sphere index,
+                               n_tris + n_spheres + quadric index, or
+                               n_tris + n_spheres + n_quadrics + patch index */
+    float b1, b2;              /* barycentrics of v[1], v[2] (triangles); a patch's (u, v) */
 } HitRecord;
 
 /* The BVH (bvh.c; the node layout is drawn at the top of that file): 8-wide nodes
@@ -566,6 +572,29 @@ void   quadric_sample(const Shape *sh, float u1, float u2, Vec3 *p, Vec3 *n);
 /* 1 / (quadric_sample's density per world area) at world point p on the shape:
    Shape.area when quadric_uniform_sampling, else a_obj |det L| |L^-T n(p)|. */
 double quadric_area_at(const Shape *sh, Vec3 p);
+
+/* Bilinear patches (patch.c): p(u, v) = lerp(u, lerp(v, p00, p01), lerp(v, p10, p11))
+   with corners c = (p00, p10, p01, p11); pbrt-v4's (u, v), normal dp/du x dp/dv. */
+void   patch_corners(const struct Scene *s, const int32_t v[4], Vec3 c[4]);
+/* 1 when the patch is planar and not folded: then it is exactly the triangles
+   (p00, p10, p11) and (p00, p11, p01), and scene.c stores it so. */
+int    patch_is_flat(const Vec3 c[4]);
+/* Closest hit with 0 < t <= tmax; 1 and *t, the patch's (*u, *v) on a hit. */
+int    patch_intersect(const Vec3 c[4], const Ray *r, float tmax, float *t, float *u, float *v);
+/* (u, v) of a point p of a flat patch (the bilinear map inverted, clamped). */
+void   patch_uv_of_point(const Vec3 c[4], Vec3 p, float *u, float *v);
+/* Position, oriented normals, texture (s, t) at (u, v) of the patch v of shape sh
+   (r: its direction is the normal of a degenerate patch). */
+void   patch_surface_point(const struct Scene *s, const Shape *sh, const int32_t v[4], double u,
+                           double w, const Ray *r, SurfacePoint *sp);
+/* Only the shading normal (from "N", reorienting sp->ng) and the texture (s, t)
+   ("uv" bilinear, else (u, v)), given sp->ng. */
+void   patch_shading(const struct Scene *s, const Shape *sh, const int32_t v[4], double u, double w,
+                     SurfacePoint *sp);
+/* World area, integral of |dp/du x dp/dv| (exact for flat patches). */
+double patch_area(const Vec3 c[4]);
+/* (u, v) whose point is uniform by area (density 1 / patch_area), from (u1, u2). */
+void   patch_sample(const Vec3 c[4], float u1, float u2, float *u, float *v);
 
 /* ======================================================================
    6. Materials: only what the scenes need (material.c; microfacet.c, conductor.c,
@@ -1116,6 +1145,7 @@ typedef struct Scene {
     int n_spheres; int *sphere_shape;    /* sphere j is shapes[sphere_shape[j]] */
     int n_quadrics; int *quadric_shape;  /* quadric k (disk, cylinder, partial sphere)
                                             is shapes[quadric_shape[k]] */
+    Patch *patches; int n_patches;       /* bilinear patches that are not flat (patch.c) */
     Vec3 bmin, bmax;                     /* world bounds of all geometry */
     Bvh bvh;
     char **strings; int n_strings;       /* owned file names referenced by shapes */
