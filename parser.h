@@ -85,6 +85,8 @@ typedef struct {
     const char **str; int n_str;  /* strings (point into the lexer's buffer) */
     const char *file; int line;
     int used;                  /* looked up by the directive (pbrt's lookedUp) */
+    int attr;                  /* from an Attribute directive: a default that the
+                                  directive may leave unread (pbrt's mayBeUnused) */
 } Param;
 
 typedef struct { Param *p; int n, cap; } ParamList;
@@ -109,6 +111,8 @@ typedef struct {
     int medium_inside, medium_outside;   /* MediumInterface: Scene.media indices, -1: none */
     const char *file; int line;/* where the block was opened (for messages) */
     int by_object;             /* that block is an ObjectBegin's, not an AttributeBegin's */
+    int attr[5];               /* Attribute "shape", "light", "material", "medium",
+                                  "texture": 1 + the newest entry of Parser.attrs, 0: none */
 } GState;
 
 /* A medium named by MakeNamedMedium or MediumInterface.  As in pbrt-v4, which
@@ -164,6 +168,11 @@ typedef struct {
     int cur_object;            /* inside ObjectBegin: 1 + its Scene.objects index; else 0 */
     int cap_objects;
     InstanceUse *uses; int n_uses, cap_uses;   /* the ObjectInstance directives */
+    /* every parameter an Attribute directive gave, copied (strings interned); each
+       entry's prev links to the older ones of its target (1 + index, 0: none), so a
+       GState names its defaults by one index per target and AttributeEnd restores
+       them by restoring the GState */
+    Param *attrs; int *attr_prev; int n_attrs, cap_attrs, cap_attr_prev;
 } Parser;
 
 /* ===========================================================================

@@ -249,6 +249,86 @@ static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, const float
    =========================================================================== */
 
 /* ---------------------------------------------------------------------------
+   Attribute "target" params (pbrt-v4 BasicSceneBuilder::Attribute)
+   --------------------------------------------------------------------------- */
+/* The targets, in the order of GState.attr. */
+static const char *const attr_targets[5] = { "shape", "light", "material", "medium", "texture" };
+enum { ATTR_SHAPE, ATTR_LIGHT, ATTR_MATERIAL, ATTR_MEDIUM, ATTR_TEXTURE };
+
+/* Attribute: every parameter becomes a default of its target's directives in the
+   current graphics state (so AttributeEnd drops it).  pbrt-v4's rule
+   (ParameterDictionary with the attributes appended): a directive's own parameter
+   wins, then the newest Attribute; a default the directive does not read is no
+   error. */
+static int attribute_directive(Parser *P, Lexer *L, const Token *t)
+{
+    Token ty;
+    ParamList pl;
+    int k, i, ok = 1;
+    if (!expect_string(P, L, "Attribute", "target", &ty)) return 0;
+    for (k = 0; k < 5; k++)
+        if (!strcmp(ty.text, attr_targets[k])) break;
+    if (k == 5)
+        return fail(P, t->file, t->line, "Unknown attribute target \"%s\". Must be \"shape\", "
+                    "\"light\", \"material\", \"medium\", or \"texture\".", ty.text);
+    memset(&pl, 0, sizeof pl);
+    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    for (i = 0; ok && i < pl.n; i++) {
+        Param *c;
+        int j;
+        if (!grow((void **)&P->attrs, &P->cap_attrs, P->n_attrs + 1, sizeof(Param)) ||
+            !grow((void **)&P->attr_prev, &P->cap_attr_prev, P->n_attrs + 1, sizeof(int))) {
+            ok = oom(P, t->file, t->line);
+            break;
+        }
+        c = &P->attrs[P->n_attrs];
+        *c = pl.p[i];                               /* the values move to the copy */
+        pl.p[i].num = NULL;
+        pl.p[i].str = NULL;
+        c->used = 0;
+        c->attr = 1;
+        for (j = 0; j < c->n_str; j++)              /* the lexer's buffer goes away */
+            if (!(c->str[j] = intern(P, c->str[j]))) ok = oom(P, t->file, t->line);
+        P->attr_prev[P->n_attrs] = P->gs.attr[k];
+        P->gs.attr[k] = ++P->n_attrs;
+    }
+    params_free(&pl);
+    return ok;
+}
+
+/* Put the defaults of `target` in front of a directive's own parameters, oldest
+   first: the getters search from the end, so the directive's own parameters come
+   first and then the newest default (pbrt-v4's order). */
+static int attributes_apply(Parser *P, ParamList *pl, int target, const char *file, int line)
+{
+    int e, n = 0, i;
+    for (e = P->gs.attr[target]; e > 0; e = P->attr_prev[e - 1]) n++;
+    if (n == 0) return 1;
+    if (!grow((void **)&pl->p, &pl->cap, pl->n + n, sizeof(Param))) return oom(P, file, line);
+    memmove(pl->p + n, pl->p, (size_t)pl->n * sizeof(Param));
+    memset(pl->p, 0, (size_t)n * sizeof(Param));
+    pl->n += n;
+    for (e = P->gs.attr[target], i = n - 1; e > 0; e = P->attr_prev[e - 1], i--) {
+        const Param *a = &P->attrs[e - 1];
+        Param *c = &pl->p[i];
+        *c = *a;                                    /* owned copies: params_free frees them */
+        c->num = NULL;
+        c->str = NULL;
+        if (a->n_num > 0) {
+            c->num = (double *)malloc((size_t)a->n_num * sizeof(double));
+            if (!c->num) { c->n_num = c->n_str = 0; return oom(P, file, line); }
+            memcpy(c->num, a->num, (size_t)a->n_num * sizeof(double));
+        }
+        if (a->n_str > 0) {
+            c->str = (const char **)malloc((size_t)a->n_str * sizeof(const char *));
+            if (!c->str) { c->n_str = 0; return oom(P, file, line); }
+            memcpy((void *)c->str, a->str, (size_t)a->n_str * sizeof(const char *));
+        }
+    }
+    return 1;
+}
+
+/* ---------------------------------------------------------------------------
    Textures: the Texture directive (texture.c builds each class)
    --------------------------------------------------------------------------- */
 /* Texture "name" "spectrum"|"float" "class" params (pbrt-v4's Texture). */
@@ -267,7 +347,10 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
         !expect_string(P, L, "Texture", "texture class", &a[2]))
         return 0;
     memset(&pl, 0, sizeof pl);
-    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    if (!parse_params(P, L, &pl) || !attributes_apply(P, &pl, ATTR_TEXTURE, t->file, t->line)) {
+        params_free(&pl);
+        return 0;
+    }
     memset(&T, 0, sizeof T);
     T.file = t->file;
     T.line = t->line;
@@ -866,7 +949,10 @@ static int make_named_medium(Parser *P, Lexer *L, const Token *t)
     int ok = 0, idx;
     if (!expect_string(P, L, "MakeNamedMedium", "medium name", &nm)) return 0;
     memset(&pl, 0, sizeof pl);
-    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    if (!parse_params(P, L, &pl) || !attributes_apply(P, &pl, ATTR_MEDIUM, t->file, t->line)) {
+        params_free(&pl);
+        return 0;
+    }
     snprintf(what, sizeof what, "MakeNamedMedium \"%.100s\"", nm.text);
     if (!medium_from_params(P, &pl, what, t->file, t->line, &m)) goto done;
     idx = medium_ref(P, nm.text, t->file, t->line);
@@ -1029,6 +1115,16 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     snprintf(type, sizeof type, "%s", ty.text);
     memset(&pl, 0, sizeof pl);
     if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    {
+        const int target = !strcmp(d, "Shape") ? ATTR_SHAPE
+                         : !strcmp(d, "LightSource") || !strcmp(d, "AreaLightSource") ? ATTR_LIGHT
+                         : !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial") ? ATTR_MATERIAL
+                         : -1;
+        if (target >= 0 && !attributes_apply(P, &pl, target, t->file, t->line)) {
+            params_free(&pl);
+            return 0;
+        }
+    }
     if (!strcmp(d, "Camera")) ok = camera_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Film")) ok = film_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Sampler")) ok = sampler_directive(P, type, &pl, t->file, t->line);
@@ -1149,6 +1245,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     }
     if (!strcmp(d, "ObjectBegin") || !strcmp(d, "ObjectEnd") || !strcmp(d, "ObjectInstance"))
         return object_directive(P, L, t);
+    if (!strcmp(d, "Attribute")) return attribute_directive(P, L, t);
     if (!strcmp(d, "ReverseOrientation")) {
         if (!P->in_world)
             return fail(P, t->file, t->line, "Scene description must be inside world block; "
@@ -1196,7 +1293,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     }
     {
         static const char *const pbrt_only[] = {
-            "ActiveTransform", "Attribute", "Option", "TransformTimes", NULL
+            "ActiveTransform", "Option", "TransformTimes", NULL
         };
         int i;
         for (i = 0; pbrt_only[i]; i++)
@@ -1306,6 +1403,12 @@ static void parser_free(Parser *P)
     free(P->coords);
     free(P->mrefs);
     free(P->uses);
+    {
+        int i;
+        for (i = 0; i < P->n_attrs; i++) { free(P->attrs[i].num); free((void *)P->attrs[i].str); }
+    }
+    free(P->attrs);
+    free(P->attr_prev);
     rgb_table_free(P->rgb);
 }
 
