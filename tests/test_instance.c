@@ -43,12 +43,11 @@ static void expect_reject(T *t, const char *text, int line, const char *k1)
     "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" 4 \"float vscale\" 4\n" \
     "  \"rgb tex1\" [ 0.9 0.9 0.2 ] \"rgb tex2\" [ 0.1 0.2 0.7 ]\n" \
     "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ -6 0 -6  6 0 -6  6 0 6  -6 0 6 ]\n"
-/* the object: a sphere, a textured quad with uv and vertex normals, a disk */
+/* the object: a textured sphere and quad (uv and vertex normals), a metal disk */
 #define THING \
-    " Material \"diffuse\" \"rgb reflectance\" [ 0.8 0.25 0.2 ]\n" \
+    " Material \"diffuse\" \"texture reflectance\" \"checks\"\n" \
     " Translate 0 0.5 0\n" \
     " Shape \"sphere\" \"float radius\" 0.5\n" \
-    " Material \"diffuse\" \"texture reflectance\" \"checks\"\n" \
     " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n" \
     "  \"point3 P\" [ -0.6 -0.5 0.6  0.6 -0.5 0.6  0.6 0.6 0.6  -0.6 0.6 0.6 ]\n" \
     "  \"normal N\" [ -0.3 0 1  0.3 0 1  0.3 0.2 1  -0.3 0.2 1 ]\n" \
@@ -79,6 +78,15 @@ static float rel(float a, float b)
     return fabsf(a - b) / (fabsf(a) + fabsf(b) + 1e-6f);
 }
 
+/* The same material (each written-out copy has its own Material record). */
+static int same_material(const Scene *a, int sa, const Scene *b, int sb)
+{
+    const Material *ma = &a->materials[a->shapes[sa].material];
+    const Material *mb = &b->materials[b->shapes[sb].material];
+    return ma->type == mb->type && (ma->reflectance_tex > 0) == (mb->reflectance_tex > 0) &&
+           spec_eval(&ma->reflectance, 550.0f) == spec_eval(&mb->reflectance, 550.0f);
+}
+
 /* Random rays from the camera's side at the three objects: every hit of the
    instanced scene is the written-out scene's hit, to float rounding. */
 static void test_instance_hits_written_out(T *t)
@@ -86,7 +94,7 @@ static void test_instance_hits_written_out(T *t)
     static char ta[8192], tb[8192];
     Scene a, b;
     Rng rng;
-    int i, hits = 0, n = 4000;
+    int i, hits = 0, other = 0, n = 4000;
     scene_text(ta, sizeof ta, 1);
     scene_text(tb, sizeof tb, 0);
     if (!test_load_scene(t, &a, ta)) return;
@@ -99,6 +107,7 @@ static void test_instance_hits_written_out(T *t)
         HitRecord ha, hb;
         SurfacePoint pa, pb;
         Vec3 u = rng_vec3(&rng);
+        float sign;
         int fa, fb;
         r.o = v3(-3.0f + 6.0f * u.x, 0.2f + 2.5f * u.y, 5.0f);
         u = rng_vec3(&rng);
@@ -111,22 +120,34 @@ static void test_instance_hits_written_out(T *t)
         if (!fa) continue;
         scene_surface_point(&a, &r, &ha, &pa);
         scene_surface_point(&b, &r, &hb, &pb);
-        /* a grazing hit on an edge may land on the neighbour: compare the rest */
-        if (a.shapes[pa.shape].material != b.shapes[pb.shape].material || rel(ha.t, hb.t) > 1e-4f)
+        /* a grazing hit on an edge may land on the neighbour, rarely */
+        if (!same_material(&a, pa.shape, &b, pb.shape) || rel(ha.t, hb.t) > 1e-4f) {
+            other++;
             continue;
+        }
         hits++;
         CHECK(t, v3_len(v3_sub(pa.p, pb.p)) < 1e-4f, "ray %d: p differs", i);
-        CHECK(t, v3_dot(pa.ng, pb.ng) > 0.9999f, "ray %d: ng (%g %g %g) vs (%g %g %g)", i,
+        /* pbrt-v4 orients a quadric written out under a mirroring CTM by its
+           handedness flag, but a TransformedPrimitive carries the object's normal by
+           M^-T alone: under the mirroring placement 2 the two are opposite (as in
+           pbrt-v4); a triangle's normal comes out the same either way */
+        sign = ha.inst == 2 && a.shapes[pa.shape].type != SHAPE_MESH ? -1.0f : 1.0f;
+        CHECK(t, sign * v3_dot(pa.ng, pb.ng) > 0.9999f, "ray %d (instance %d, shape type %d): "
+              "ng (%g %g %g) vs (%g %g %g)", i, ha.inst, a.shapes[pa.shape].type,
               pa.ng.x, pa.ng.y, pa.ng.z, pb.ng.x, pb.ng.y, pb.ng.z);
-        CHECK(t, v3_dot(pa.ns, pb.ns) > 0.9999f, "ray %d: ns differs", i);
-        CHECK(t, fabsf(pa.u - pb.u) < 1e-4f && fabsf(pa.v - pb.v) < 1e-4f,
+        CHECK(t, sign * v3_dot(pa.ns, pb.ns) > 0.9999f, "ray %d: ns differs", i);
+        /* (u, v): where a texture reads them (bvh.c skips a whole sphere's when
+           nothing does) */
+        CHECK(t, a.materials[a.shapes[pa.shape].material].reflectance_tex <= 0 ||
+              (fabsf(pa.u - pb.u) < 1e-4f && fabsf(pa.v - pb.v) < 1e-4f),
               "ray %d: uv (%g %g) vs (%g %g)", i, pa.u, pa.v, pb.u, pb.v);
         CHECK(t, a.shapes[pa.shape].medium_inside == b.shapes[pb.shape].medium_inside,
               "ray %d: medium differs", i);
     }
     scene_free(&a);
     scene_free(&b);
-    CHECK(t, hits > n / 4, "only %d of %d rays hit the same surface", hits, n);
+    CHECK(t, hits > n / 4 && other <= hits / 200, "%d of %d rays hit the same surface, %d "
+          "another", hits, n, other);
 }
 
 /* The images agree tile for tile (same seed: the same paths up to rounding). */
@@ -251,41 +272,57 @@ static void test_instance_analytic(T *t)
     CHECK(t, n_ball > 1500 && n_tri > 1000, "only %d ellipsoid and %d triangle hits checked", n_ball, n_tri);
 }
 
-/* ---- ties: coincident instances and a coincident world triangle --------------- */
+/* ---- ties: coincident instances ------------------------------------------------
+   Instance 1 (object p, a quad at z = 0) and instance 2 (object q: the same quad
+   and a triangle far to the side at z = 1.2, so its box reaches nearer the camera)
+   coincide: every ray hits both at the same t, and the smaller id, 1, must win
+   however the tree orders them; instance 0 (q moved back to z = -1, its box still
+   reaching z = 0.2) lies behind both and must never win.  A row of world triangles
+   far above makes the tree deep enough to put the instances in different leaves. */
 static void test_instance_ties(T *t)
 {
-    static const char text[] =
+    static char text[8192];
+    Scene s;
+    Rng rng;
+    size_t n;
+    int i, k;
+    n = (size_t)snprintf(text, sizeof text,
         "WorldBegin\n"
-        "ObjectInstance \"q\"\n"                   /* used before it is defined */
+        "AttributeBegin\n Translate 0 0 -1\n ObjectInstance \"q\"\nAttributeEnd\n"  /* before its ObjectBegin */
+        "ObjectBegin \"p\"\n"
+        " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]\n"
+        "ObjectEnd\n"
         "ObjectBegin \"q\"\n"
         " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]\n"
+        " Shape \"trianglemesh\" \"point3 P\" [ 5 0 1.2  6 0 1.2  5 1 1.2 ]\n"
         "ObjectEnd\n"
         "ObjectBegin \"empty\"\nObjectEnd\n"
         "ObjectInstance \"empty\"\n"
-        "AttributeBegin\n Translate 0.5 0 0\n ObjectInstance \"q\"\n ObjectInstance \"q\"\nAttributeEnd\n"
-        "ObjectInstance \"q\"\n";
-    Scene s;
-    Rng rng;
-    int i, n_first = 0, n_second = 0;
+        "ObjectInstance \"p\"\n"
+        "ObjectInstance \"q\"\n"
+        "Shape \"trianglemesh\" \"point3 P\" [");
+    for (k = 0; k < 64; k++)
+        n += (size_t)snprintf(text + n, sizeof text - n, " %d 10 %d  %d.5 10 %d  %d 11 %d",
+                              k - 32, k % 5, k - 32, k % 5, k - 32, k % 5);
+    n += (size_t)snprintf(text + n, sizeof text - n, " ] \"integer indices\" [");
+    for (k = 0; k < 3 * 64; k++) n += (size_t)snprintf(text + n, sizeof text - n, " %d", k);
+    snprintf(text + n, sizeof text - n, " ]\n");
     if (!test_load_scene(t, &s, text)) return;
-    /* the empty object's instance is dropped: q, q (shifted), q (shifted), q */
-    CHECK(t, s.n_instances == 4, "%d instances (the empty one must be dropped)", s.n_instances);
+    CHECK(t, s.n_instances == 3, "%d instances (the empty one must be dropped)", s.n_instances);
     rng_seed(&rng, 36, 2);
-    for (i = 0; i < 2000; i++) {
-        Vec3 u = rng_vec3(&rng);
+    for (i = 0; i < 4000; i++) {
+        Vec3 u = rng_vec3(&rng), aim;
         Ray r;
         HitRecord h;
-        r.o = v3(-1.4f + 2.8f * u.x, -0.9f + 1.8f * u.y, 3.0f);
-        r.d = v3(0.1f * (u.z - 0.5f), 0.0f, -1.0f);
+        aim = v3(-0.95f + 1.9f * u.x, -0.95f + 1.9f * u.y, 0.0f);   /* on the quad */
+        u = rng_vec3(&rng);
+        r.o = v3(-2.0f + 4.0f * u.x, -2.0f + 4.0f * u.y, 2.0f + u.z);
+        r.d = v3_sub(aim, r.o);
         r.tmax = INFINITY;
-        if (!bvh_intersect(&s.bvh, &s, &r, &h)) continue;
-        /* at equal t the smallest top-level id wins: instance 0 where it is hit,
-           else instance 1 (1 and 2 coincide), never 2 or 3 */
-        CHECK(t, h.inst == 0 || h.inst == 1, "ray %d: instance %d won a tie", i, h.inst);
-        if (h.inst == 0) n_first++; else n_second++;
+        CHECK(t, bvh_intersect(&s.bvh, &s, &r, &h), "ray %d missed", i);
+        CHECK(t, h.inst == 1, "ray %d: instance %d won, not instance 1", i, h.inst);
     }
     scene_free(&s);
-    CHECK(t, n_first > 100 && n_second > 100, "rays hit %d, %d", n_first, n_second);
 }
 
 /* ---- a frozen pbrt-v4 image ----------------------------------------------------
@@ -388,6 +425,7 @@ static void test_attribute_precedence(T *t)
         " Shape \"sphere\" \"float radius\" 0.75\n" /* 1: its own parameter wins */
         " Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ]\n"  /* 2: radius unread: fine */
         " Attribute \"light\" \"float scale\" 3\n"
+        " Attribute \"light\" \"bool twosided\" true\n"   /* keeps the scale */
         " AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n"
         " Translate 5 0 0\n"
         " Shape \"sphere\"\n"                       /* 3: emitter with scale 3 */
@@ -410,11 +448,31 @@ static void test_attribute_precedence(T *t)
     {   /* the lamp's scale, against the same lamp with "float scale" 3 given directly */
         Scene d;
         if (!test_load_scene(t, &d, "WorldBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ] "
-                             "\"float scale\" 3\nShape \"sphere\"\n")) { scene_free(&s); return; }
-        l = s.shapes[3].emitter >= 0 && s.emitters[s.shapes[3].emitter].scale == d.emitters[0].scale;
+                             "\"float scale\" 3 \"bool twosided\" true\nShape \"sphere\"\n")) { scene_free(&s); return; }
+        l = s.shapes[3].emitter >= 0 && s.emitters[s.shapes[3].emitter].scale == d.emitters[0].scale &&
+            s.emitters[s.shapes[3].emitter].twosided == 1 && d.emitters[0].twosided == 1;
         scene_free(&d);
-        CHECK(t, l, "Attribute \"light\" \"float scale\" not applied");
+        CHECK(t, l, "Attribute \"light\" \"float scale\" and \"bool twosided\" not both applied");
     }
+    scene_free(&s);
+    {   /* "texture" and "medium" defaults reach Texture and MakeNamedMedium */
+        static const char tm[] =
+            "Attribute \"medium\" \"float g\" 0.5 \"rgb sigma_a\" [ 0.1 0.2 0.3 ]\n"
+            "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\" \"rgb sigma_a\" [ 1 1 1 ]\n"
+            "WorldBegin\n"
+            "Attribute \"texture\" \"float uscale\" 4\n"
+            "Texture \"c\" \"spectrum\" \"checkerboard\"\n"
+            "Texture \"d\" \"spectrum\" \"checkerboard\" \"float uscale\" 2\n"
+            "MediumInterface \"fog\" \"\"\nMaterial \"interface\"\nShape \"sphere\"\n";
+        if (!test_load_scene(t, &s, tm)) return;
+        CHECK(t, s.n_textures == 2 && s.textures[0].su == 4.0f && s.textures[1].su == 2.0f,
+              "Attribute \"texture\": uscale %g and %g", s.textures[0].su, s.textures[1].su);
+        CHECK(t, s.n_media == 1 && s.media[0].g == 0.5f, "Attribute \"medium\": g %g", s.media[0].g);
+        CHECK(t, medium_sigma_a(&s.media[0], 550.0f) > 0.9f,
+              "the medium's own sigma_a lost to the Attribute: %g", medium_sigma_a(&s.media[0], 550.0f));
+        scene_free(&s);
+    }
+    if (!test_load_scene(t, &s, text)) return;
     for (l = 400; l <= 700; l += 50) {
         const float a = spec_eval(&s.materials[s.shapes[5].material].reflectance, (float)l);
         const float b = spec_eval(&s.materials[s.shapes[6].material].reflectance, (float)l);
