@@ -13,8 +13,20 @@
    bvh_intersect, then scene_surface_point, and bvh_occluded for the shadow rays of
    next event estimation (through media it follows them with bvh_intersect instead).
    Primitive id k < n_tris is triangle k, n_tris + j sphere j (s->sphere_shape[j]),
-   n_tris + n_spheres + k quadric k (s->quadric_shape[k], intersected by shapes.c);
+   n_tris + n_spheres + k quadric k (s->quadric_shape[k], intersected by shapes.c),
+   and n_tris + n_spheres + n_quadrics + i instance i (instance.c: a second level);
    at most 2^28 - 1 of them (a leaf packs its first primitive into 28 bits).
+
+   INSTANCES (the second level; instance.c has the transforms): bvh_build's tree
+   holds the primitives in the world (Shape.in_object == 0) and one primitive per
+   instance, boxed by its world box; bvh_build_object builds each object's tree over
+   its primitives in the object's space.  A leaf that meets an instance traces the
+   ray, carried into object space with the same t, through the object's tree with
+   tmax = the closest hit so far (instance_hit), and a hit there counts as the
+   instance's: ties with it go by the instance's top-level id, ties inside the
+   object by the object's ids, so the result stays independent of the order.  The
+   hit record names the object's primitive and the instance (HitRecord.inst), and
+   scene_surface_point computes the point in object space and carries it back.
 
    BUILD (bvh_build): a binary tree by the binned surface area heuristic (Wald 2007;
    pbrt-v4 section 7.3.2), then collapsed into 8-wide nodes (Wald, Benthin, Boulos
@@ -888,6 +900,9 @@ static int instance_hit(const Scene *s, int i, const Ray *r, float t_best, int a
                         int any_hit, HitRecord *h);
 
 /* Walk the tree; any_hit = 1 returns at the first hit (h may be NULL then).
+   at_tmax = 1 (the trace of an instance's object, instance_hit) also accepts a hit
+   at r->tmax itself, which the caller then weighs by the instance's id; the
+   world's trace (at_tmax = 0) excludes the ray's own tmax.
    A stack holds the children still to visit.  At an inner node, the children the ray
    enters are pushed, the nearest last, so that it is popped next (the order only
    saves time: ORDER INDEPENDENCE); a child is dropped when popped if a hit closer
