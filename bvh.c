@@ -979,7 +979,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 } else {                            /* an instance: its object's closest hit */
                     if (!instance_hit(s, p - n_base, r, t_best, best_p != no_hit, any_hit, &hi))
                         continue;
-                    if (any_hit) return 1;          /* it was before r->tmax */
+                    if (any_hit) return 1;          /* at t < r->tmax */
                     ok = 1; t = hi.t; b1 = hi.b1; b2 = hi.b2;
                 }
                 if (!ok) continue;
