@@ -893,6 +893,43 @@ HOT_INLINE unsigned node_hit_mask(const BvhNode *nd, const RayPre *rp, float t_c
     return mask;
 }
 
+/* The world ray r in instance in's object space: o' = M^-1 o, d' = M^-1 d, the same
+   t (d' is not normalised), tmax kept (instance.c: RAYS AND HITS). */
+static Ray instance_ray(const Instance *in, const Ray *r)
+{
+    const double (*inv)[4] = (const double (*)[4])in->world_from_obj.inv;
+    const double o[3] = { r->o.x, r->o.y, r->o.z }, d[3] = { r->d.x, r->d.y, r->d.z };
+    float oo[3], dd[3];
+    Ray ro;
+    int a;
+    for (a = 0; a < 3; a++) {
+        oo[a] = (float)(inv[a][0] * o[0] + inv[a][1] * o[1] + inv[a][2] * o[2] + inv[a][3]);
+        dd[a] = (float)(inv[a][0] * d[0] + inv[a][1] * d[1] + inv[a][2] * d[2]);
+    }
+    ro.o = v3(oo[0], oo[1], oo[2]);
+    ro.d = v3(dd[0], dd[1], dd[2]);
+    ro.tmax = r->tmax;
+    return ro;
+}
+
+/* n by M's inverse transpose, normalised (n itself when the result has no length). */
+static Vec3 normal_to_world(const Xform *m, Vec3 n)
+{
+    Vec3 w = xf_normal(m, n);
+    return v3_dot(w, w) > 0.0f ? v3_norm(w) : n;
+}
+
+/* A hit point computed in instance in's object space, put into the world: p by M,
+   the normals by M^-T, the shading normal turned to the geometric one's side
+   (pbrt-v4's Transform of a SurfaceInteraction; instance.c: RAYS AND HITS). */
+static void instance_point(const Instance *in, SurfacePoint *sp)
+{
+    sp->p = xf_point(&in->world_from_obj, sp->p);
+    sp->ng = normal_to_world(&in->world_from_obj, sp->ng);
+    sp->ns = normal_to_world(&in->world_from_obj, sp->ns);
+    if (v3_dot(sp->ns, sp->ng) < 0.0f) sp->ns = v3_neg(sp->ns);   /* pbrt-v4: FaceForward */
+}
+
 /* The closest hit (any_hit: any hit) of the world ray r with instance i's object,
    traced in object space with tmax = t_best; at_tmax: a hit at t_best itself counts
    (the caller breaks that tie by the instance's id).  Defined after traverse. */
@@ -1037,7 +1074,7 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
         HitRecord ho = *h;
         ho.inst = -1;
         scene_surface_point(s, &ro, &ho, sp);
-        instance_surface_point(in, sp);
+        instance_point(in, sp);
         return;
     }
     sp->prim = h->prim;

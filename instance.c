@@ -4,15 +4,14 @@
    WHAT IT IMPLEMENTS (specnee.h section 5)
      instances_prepare        one BVH per object definition, over its primitives in
                               the object's own space, and each instance's world box
-     instance_ray             a world ray in an instance's object space
-     instance_surface_point   a hit point found in object space, put into the world
    USE: scene.c's ObjectBegin marks the shapes it makes (Shape.in_object) and
    ObjectInstance records an Instance; scene_load calls instances_prepare before
    bvh_build, whose top level then holds the world's primitives and one primitive
    per instance.  bvh.c's traversal meets an instance's primitive in a leaf and
-   traces the ray, carried into object space, through the object's BVH; scene.c never
-   copies an object's geometry: a thousand instances of a mesh cost a thousand
-   Instance records.
+   traces the ray, carried into object space (bvh.c's instance_ray), through the
+   object's BVH, and puts the hit point back into the world (instance_point); this
+   room only prepares what those read.  No object's geometry is ever copied: a
+   thousand instances of a mesh cost a thousand Instance records.
 
    THE TRANSFORMS (pbrt-v4 BasicSceneBuilder::Shape and ::ObjectInstance)
      A shape inside ObjectBegin is put into the object's space by the CTM at its own
@@ -58,38 +57,6 @@
 #include <float.h>
 #include <stdlib.h>
 #include <string.h>
-
-Ray instance_ray(const Instance *in, const Ray *r)
-{
-    const double (*inv)[4] = (const double (*)[4])in->world_from_obj.inv;
-    const double o[3] = { r->o.x, r->o.y, r->o.z }, d[3] = { r->d.x, r->d.y, r->d.z };
-    float oo[3], dd[3];
-    Ray ro;
-    int a;
-    for (a = 0; a < 3; a++) {
-        oo[a] = (float)(inv[a][0] * o[0] + inv[a][1] * o[1] + inv[a][2] * o[2] + inv[a][3]);
-        dd[a] = (float)(inv[a][0] * d[0] + inv[a][1] * d[1] + inv[a][2] * d[2]);
-    }
-    ro.o = v3(oo[0], oo[1], oo[2]);
-    ro.d = v3(dd[0], dd[1], dd[2]);
-    ro.tmax = r->tmax;
-    return ro;
-}
-
-/* n by M's inverse transpose, normalised (n itself when the result has no length). */
-static Vec3 normal_to_world(const Xform *m, Vec3 n)
-{
-    Vec3 w = xf_normal(m, n);
-    return v3_dot(w, w) > 0.0f ? v3_norm(w) : n;
-}
-
-void instance_surface_point(const Instance *in, SurfacePoint *sp)
-{
-    sp->p = xf_point(&in->world_from_obj, sp->p);
-    sp->ng = normal_to_world(&in->world_from_obj, sp->ng);
-    sp->ns = normal_to_world(&in->world_from_obj, sp->ns);
-    if (v3_dot(sp->ns, sp->ng) < 0.0f) sp->ns = v3_neg(sp->ns);   /* pbrt-v4: FaceForward */
-}
 
 /* The shape of primitive id (< n_tris + n_spheres + n_quadrics), -1 if invalid. */
 static int prim_shape_of(const Scene *s, int id)

@@ -547,9 +547,6 @@ typedef struct {
 /* Build every object's BVH and every instance's world box, dropping the instances
    of empty objects (scene_load); 0 and a "file:line: problem" on failure. */
 int  instances_prepare(struct Scene *s, Error *err);
-/* The world ray r in instance in's object space: the same t parameter (the direction
-   is transformed, not normalised), tmax kept. */
-Ray  instance_ray(const Instance *in, const Ray *r);
 
 /* Everything the integrator needs at a hit point. */
 typedef struct {
@@ -564,9 +561,6 @@ typedef struct {
                                   (texture.c's "uv" mapping reads them) */
 } SurfacePoint;
 void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
-/* A hit point computed in instance in's object space, put into the world
-   (instance.c; scene_surface_point calls it for a hit with h->inst >= 0). */
-void instance_surface_point(const Instance *in, SurfacePoint *sp);
 /* Origin for a ray leaving p towards w: p moved along ng to w's side by
    1e-5 (1 + max|p_i|) (the self-intersection policy at the top of bvh.c). */
 Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w);
