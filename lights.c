@@ -325,6 +325,7 @@ static void point_on_triangle(const Scene *s, int tri, Vec3 ref, float u1, float
     float su = sqrtf(u1);
     h.t = 0.0f;
     h.prim = tri;
+    h.inst = -1;                       /* emitters are never inside instances */
     h.b1 = u2 * su;                    /* barycentric of v1 */
     h.b2 = 1.0f - su;                  /* barycentric of v2 */
     dummy.o = ref; dummy.d = v3(0, 0, 1); dummy.tmax = 0.0f;

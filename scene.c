@@ -114,7 +114,14 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
 {
     Scene *s = P->s;
     Shape *sh;
-    int mat = P->gs.material != -1 ? P->gs.material : default_material(P, file, line);
+    int mat;
+    if (P->gs.area_light >= 0 && P->cur_object > 0) {
+        fail(P, file, line, "Shape inside ObjectBegin \"%s\" under an AreaLightSource: area "
+             "lights are not supported with object instancing (pbrt-v4 warns so and makes "
+             "no light of it)", s->objects[P->cur_object - 1].name);
+        return -1;
+    }
+    mat = P->gs.material != -1 ? P->gs.material : default_material(P, file, line);
     if (mat == -1) return -1;
     if (!grow((void **)&s->shapes, &P->cap_shapes, s->n_shapes + 1, sizeof(Shape))) {
         oom(P, file, line);
@@ -133,6 +140,7 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
     sh->area = area;
     sh->medium_inside = P->gs.medium_inside;
     sh->medium_outside = P->gs.medium_outside;
+    sh->in_object = P->cur_object;      /* in an object's space (instance.c) */
     sh->file = file;
     sh->line = line;
     if (P->gs.area_light >= 0) {
@@ -286,6 +294,86 @@ static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, const float
    =========================================================================== */
 
 /* ---------------------------------------------------------------------------
+   Attribute "target" params (pbrt-v4 BasicSceneBuilder::Attribute)
+   --------------------------------------------------------------------------- */
+/* The targets, in the order of GState.attr. */
+static const char *const attr_targets[5] = { "shape", "light", "material", "medium", "texture" };
+enum { ATTR_SHAPE, ATTR_LIGHT, ATTR_MATERIAL, ATTR_MEDIUM, ATTR_TEXTURE };
+
+/* Attribute: every parameter becomes a default of its target's directives in the
+   current graphics state (so AttributeEnd drops it).  pbrt-v4's rule
+   (ParameterDictionary with the attributes appended): a directive's own parameter
+   wins, then the newest Attribute; a default the directive does not read is no
+   error. */
+static int attribute_directive(Parser *P, Lexer *L, const Token *t)
+{
+    Token ty;
+    ParamList pl;
+    int k, i, ok = 1;
+    if (!expect_string(P, L, "Attribute", "target", &ty)) return 0;
+    for (k = 0; k < 5; k++)
+        if (!strcmp(ty.text, attr_targets[k])) break;
+    if (k == 5)
+        return fail(P, t->file, t->line, "Unknown attribute target \"%s\". Must be \"shape\", "
+                    "\"light\", \"material\", \"medium\", or \"texture\".", ty.text);
+    memset(&pl, 0, sizeof pl);
+    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    for (i = 0; ok && i < pl.n; i++) {
+        Param *c;
+        int j;
+        if (!grow((void **)&P->attrs, &P->cap_attrs, P->n_attrs + 1, sizeof(Param)) ||
+            !grow((void **)&P->attr_prev, &P->cap_attr_prev, P->n_attrs + 1, sizeof(int))) {
+            ok = oom(P, t->file, t->line);
+            break;
+        }
+        c = &P->attrs[P->n_attrs];
+        *c = pl.p[i];                               /* the values move to the copy */
+        pl.p[i].num = NULL;
+        pl.p[i].str = NULL;
+        c->used = 0;
+        c->attr = 1;
+        for (j = 0; j < c->n_str; j++)              /* the lexer's buffer goes away */
+            if (!(c->str[j] = intern(P, c->str[j]))) ok = oom(P, t->file, t->line);
+        P->attr_prev[P->n_attrs] = P->gs.attr[k];
+        P->gs.attr[k] = ++P->n_attrs;
+    }
+    params_free(&pl);
+    return ok;
+}
+
+/* Put the defaults of `target` in front of a directive's own parameters, oldest
+   first: the getters search from the end, so the directive's own parameters come
+   first and then the newest default (pbrt-v4's order). */
+static int attributes_apply(Parser *P, ParamList *pl, int target, const char *file, int line)
+{
+    int e, n = 0, i;
+    for (e = P->gs.attr[target]; e > 0; e = P->attr_prev[e - 1]) n++;
+    if (n == 0) return 1;
+    if (!grow((void **)&pl->p, &pl->cap, pl->n + n, sizeof(Param))) return oom(P, file, line);
+    memmove(pl->p + n, pl->p, (size_t)pl->n * sizeof(Param));
+    memset(pl->p, 0, (size_t)n * sizeof(Param));
+    pl->n += n;
+    for (e = P->gs.attr[target], i = n - 1; e > 0; e = P->attr_prev[e - 1], i--) {
+        const Param *a = &P->attrs[e - 1];
+        Param *c = &pl->p[i];
+        *c = *a;                                    /* owned copies: params_free frees them */
+        c->num = NULL;
+        c->str = NULL;
+        if (a->n_num > 0) {
+            c->num = (double *)malloc((size_t)a->n_num * sizeof(double));
+            if (!c->num) { c->n_num = c->n_str = 0; return oom(P, file, line); }
+            memcpy(c->num, a->num, (size_t)a->n_num * sizeof(double));
+        }
+        if (a->n_str > 0) {
+            c->str = (const char **)malloc((size_t)a->n_str * sizeof(const char *));
+            if (!c->str) { c->n_str = 0; return oom(P, file, line); }
+            memcpy((void *)c->str, a->str, (size_t)a->n_str * sizeof(const char *));
+        }
+    }
+    return 1;
+}
+
+/* ---------------------------------------------------------------------------
    Textures: the Texture directive (texture.c builds each class)
    --------------------------------------------------------------------------- */
 /* Texture "name" "spectrum"|"float" "class" params (pbrt-v4's Texture). */
@@ -304,7 +392,10 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
         !expect_string(P, L, "Texture", "texture class", &a[2]))
         return 0;
     memset(&pl, 0, sizeof pl);
-    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    if (!parse_params(P, L, &pl) || !attributes_apply(P, &pl, ATTR_TEXTURE, t->file, t->line)) {
+        params_free(&pl);
+        return 0;
+    }
     memset(&T, 0, sizeof T);
     T.file = t->file;
     T.line = t->line;
@@ -1003,7 +1094,10 @@ static int make_named_medium(Parser *P, Lexer *L, const Token *t)
     int ok = 0, idx;
     if (!expect_string(P, L, "MakeNamedMedium", "medium name", &nm)) return 0;
     memset(&pl, 0, sizeof pl);
-    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    if (!parse_params(P, L, &pl) || !attributes_apply(P, &pl, ATTR_MEDIUM, t->file, t->line)) {
+        params_free(&pl);
+        return 0;
+    }
     snprintf(what, sizeof what, "MakeNamedMedium \"%.100s\"", nm.text);
     if (!medium_from_params(P, &pl, what, t->file, t->line, &m)) goto done;
     idx = medium_ref(P, nm.text, t->file, t->line);
@@ -1041,6 +1135,109 @@ static int medium_interface(Parser *P, Lexer *L, const Token *t)
     return 1;
 }
 
+/* ===========================================================================
+   Object instancing (instance.c): ObjectBegin, ObjectEnd, ObjectInstance
+   =========================================================================== */
+/* ObjectBegin "name": a new object definition, opened like AttributeBegin (pbrt-v4
+   pushes the graphics state); the shapes up to ObjectEnd belong to it. */
+static int object_begin(Parser *P, const Token *t, const char *name)
+{
+    Scene *s = P->s;
+    Object *o;
+    int i;
+    if (P->cur_object > 0)
+        return fail(P, t->file, t->line, "ObjectBegin \"%s\" called inside of instance "
+                    "definition \"%s\"", name, s->objects[P->cur_object - 1].name);
+    for (i = 0; i < s->n_objects; i++)
+        if (!strcmp(s->objects[i].name, name))
+            return fail(P, t->file, t->line, "ObjectBegin \"%s\": trying to redefine an object "
+                        "instance (first at %s:%d)", name, s->objects[i].file, s->objects[i].line);
+    if (strlen(name) >= sizeof s->objects[0].name)
+        return fail(P, t->file, t->line, "ObjectBegin: name too long");
+    if (!grow((void **)&P->stack, &P->stack_cap, P->depth + 1, sizeof(GState)) ||
+        !grow((void **)&s->objects, &P->cap_objects, s->n_objects + 1, sizeof(Object)))
+        return oom(P, t->file, t->line);
+    P->gs.file = t->file;
+    P->gs.line = t->line;
+    P->gs.by_object = 1;
+    P->stack[P->depth++] = P->gs;
+    o = &s->objects[s->n_objects];
+    memset(o, 0, sizeof *o);
+    snprintf(o->name, sizeof o->name, "%s", name);
+    o->file = t->file;
+    o->line = t->line;
+    P->cur_object = ++s->n_objects;
+    return 1;
+}
+
+static int object_directive(Parser *P, Lexer *L, const Token *t)
+{
+    const char *d = t->text;
+    Token n;
+    if (!P->in_world)
+        return fail(P, t->file, t->line, "Scene description must be inside world block; "
+                    "\"%s\" not allowed before WorldBegin", d);
+    if (!strcmp(d, "ObjectEnd")) {
+        if (P->cur_object == 0)
+            return fail(P, t->file, t->line, "ObjectEnd called outside of instance definition");
+        if (!P->stack[P->depth - 1].by_object)
+            return fail(P, t->file, t->line, "Mismatched nesting: open AttributeBegin from "
+                        "%s:%d at ObjectEnd", P->stack[P->depth - 1].file,
+                        P->stack[P->depth - 1].line);
+        P->gs = P->stack[--P->depth];
+        P->cur_object = 0;
+        return 1;
+    }
+    if (!expect_string(P, L, d, "object name", &n)) return 0;
+    if (!strcmp(d, "ObjectBegin")) return object_begin(P, t, n.text);
+    {   /* ObjectInstance "name" */
+        const double (*m)[4] = (const double (*)[4])P->gs.ctm.m;
+        InstanceUse *u;
+        if (P->cur_object > 0)
+            return fail(P, t->file, t->line, "ObjectInstance \"%s\" can't be called inside "
+                        "instance definition \"%s\"", n.text, P->s->objects[P->cur_object - 1].name);
+        if (m[3][0] != 0.0 || m[3][1] != 0.0 || m[3][2] != 0.0 || m[3][3] != 1.0)
+            return fail(P, t->file, t->line, "ObjectInstance \"%s\": projective transform not "
+                        "supported", n.text);
+        if (strlen(n.text) >= sizeof u->name)
+            return fail(P, t->file, t->line, "ObjectInstance: name too long");
+        if (!grow((void **)&P->uses, &P->cap_uses, P->n_uses + 1, sizeof(InstanceUse)))
+            return oom(P, t->file, t->line);
+        u = &P->uses[P->n_uses++];
+        snprintf(u->name, sizeof u->name, "%s", n.text);
+        u->xf = P->gs.ctm;
+        u->file = t->file;
+        u->line = t->line;
+        return 1;
+    }
+}
+
+/* The instances, their names looked up now that every ObjectBegin has been read
+   (pbrt-v4: "object instance not defined" at the ObjectInstance). */
+static int resolve_instances(Parser *P)
+{
+    Scene *s = P->s;
+    int i, k;
+    if (P->n_uses == 0) return 1;
+    s->instances = (Instance *)calloc((size_t)P->n_uses, sizeof(Instance));
+    if (!s->instances) return oom(P, P->uses[0].file, P->uses[0].line);
+    for (i = 0; i < P->n_uses; i++) {
+        const InstanceUse *u = &P->uses[i];
+        Instance *in = &s->instances[i];
+        for (k = 0; k < s->n_objects; k++)
+            if (!strcmp(s->objects[k].name, u->name)) break;
+        if (k == s->n_objects)
+            return fail(P, u->file, u->line, "ObjectInstance \"%s\": object instance not "
+                        "defined", u->name);
+        in->object = k;
+        in->world_from_obj = u->xf;
+        in->file = u->file;
+        in->line = u->line;
+        s->n_instances++;
+    }
+    return 1;
+}
+
 /* Directives with a quoted type name and a parameter list. */
 static int typed_directive(Parser *P, Lexer *L, const Token *t)
 {
@@ -1064,6 +1261,16 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     snprintf(type, sizeof type, "%s", ty.text);
     memset(&pl, 0, sizeof pl);
     if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    {
+        const int target = !strcmp(d, "Shape") ? ATTR_SHAPE
+                         : !strcmp(d, "LightSource") || !strcmp(d, "AreaLightSource") ? ATTR_LIGHT
+                         : !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial") ? ATTR_MATERIAL
+                         : -1;
+        if (target >= 0 && !attributes_apply(P, &pl, target, t->file, t->line)) {
+            params_free(&pl);
+            return 0;
+        }
+    }
     if (!strcmp(d, "Camera")) ok = camera_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Film")) ok = film_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Sampler")) ok = sampler_directive(P, type, &pl, t->file, t->line);
@@ -1166,6 +1373,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
             return oom(P, t->file, t->line);
         P->gs.file = t->file;
         P->gs.line = t->line;
+        P->gs.by_object = 0;
         P->stack[P->depth++] = P->gs;
         return 1;
     }
@@ -1175,9 +1383,15 @@ static int directive(Parser *P, Lexer *L, const Token *t)
                         "\"%s\" not allowed before WorldBegin", d);
         if (P->depth == 0)
             return fail(P, t->file, t->line, "unmatched %s (no AttributeBegin open)", d);
+        if (P->stack[P->depth - 1].by_object)
+            return fail(P, t->file, t->line, "Mismatched nesting: open ObjectBegin from %s:%d "
+                        "at %s", P->stack[P->depth - 1].file, P->stack[P->depth - 1].line, d);
         P->gs = P->stack[--P->depth];
         return 1;
     }
+    if (!strcmp(d, "ObjectBegin") || !strcmp(d, "ObjectEnd") || !strcmp(d, "ObjectInstance"))
+        return object_directive(P, L, t);
+    if (!strcmp(d, "Attribute")) return attribute_directive(P, L, t);
     if (!strcmp(d, "ReverseOrientation")) {
         if (!P->in_world)
             return fail(P, t->file, t->line, "Scene description must be inside world block; "
@@ -1225,8 +1439,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     }
     {
         static const char *const pbrt_only[] = {
-            "ActiveTransform", "Attribute", "ObjectBegin", "ObjectEnd", "ObjectInstance", "Option",
-            "TransformTimes", NULL
+            "ActiveTransform", "Option", "TransformTimes", NULL
         };
         int i;
         for (i = 0; pbrt_only[i]; i++)
@@ -1335,6 +1548,13 @@ static void parser_free(Parser *P)
     free(P->texnames);
     free(P->coords);
     free(P->mrefs);
+    free(P->uses);
+    {
+        int i;
+        for (i = 0; i < P->n_attrs; i++) { free(P->attrs[i].num); free((void *)P->attrs[i].str); }
+    }
+    free(P->attrs);
+    free(P->attr_prev);
     rgb_table_free(P->rgb);
 }
 
@@ -1368,6 +1588,8 @@ static int finish(Parser *P, const char *file)
     int i;
     if (P->depth > 0) {
         const GState *g = &P->stack[P->depth - 1];
+        if (g->by_object)
+            return fail(P, g->file, g->line, "ObjectBegin without a matching ObjectEnd");
         return fail(P, g->file, g->line, "AttributeBegin without a matching AttributeEnd");
     }
     if (!P->world_seen)
@@ -1425,13 +1647,15 @@ static int finish(Parser *P, const char *file)
             return fail(P, P->inset_file[i], P->inset_line[i], "inset %s (%d %d %d %d) lies outside the %d x %d film",
                         s->inset_name[i], s->inset[i][0], s->inset[i][1], s->inset[i][2],
                         s->inset[i][3], s->settings.xres, s->settings.yres);
-    /* world bounds of all geometry (vertices, spheres), component by component
+    if (!resolve_instances(P) || !instances_prepare(s, P->err)) return 0;
+    /* world bounds of all geometry (vertices, spheres, instances), component by component
        (plain floats: tcc 0.9.27 miscompiles a struct-returning call whose result
        is assigned to one of its own arguments inside this loop) */
     {
         float lo[3] = { FLT_MAX, FLT_MAX, FLT_MAX }, hi[3] = { -FLT_MAX, -FLT_MAX, -FLT_MAX };
         for (i = 0; i < s->n_tris; i++) {
             int k, a;
+            if (s->shapes[s->tris[i].shape].in_object) continue;   /* in object space */
             for (k = 0; k < 3; k++) {
                 Vec3 p = s->P[s->tris[i].v[k]];
                 for (a = 0; a < 3; a++) {
@@ -1444,6 +1668,7 @@ static int finish(Parser *P, const char *file)
         for (i = 0; i < s->n_spheres; i++) {
             const Shape *sh = &s->shapes[s->sphere_shape[i]];
             int a;
+            if (sh->in_object) continue;
             for (a = 0; a < 3; a++) {
                 float c = v3_get(sh->center, a);
                 if (c - sh->radius < lo[a]) lo[a] = c - sh->radius;
@@ -1453,6 +1678,7 @@ static int finish(Parser *P, const char *file)
         for (i = 0; i < s->n_quadrics; i++) {
             float qlo[3], qhi[3];
             int a;
+            if (s->shapes[s->quadric_shape[i]].in_object) continue;
             quadric_bounds(&s->shapes[s->quadric_shape[i]], qlo, qhi);
             for (a = 0; a < 3; a++) {
                 if (qlo[a] < lo[a]) lo[a] = qlo[a];
@@ -1461,6 +1687,7 @@ static int finish(Parser *P, const char *file)
         }
         for (i = 0; i < s->n_patches; i++) {
             int k, a;
+            if (s->shapes[s->patches[i].shape].in_object) continue;
             for (k = 0; k < 4; k++) {
                 Vec3 p = s->P[s->patches[i].v[k]];
                 for (a = 0; a < 3; a++) {
@@ -1470,10 +1697,17 @@ static int finish(Parser *P, const char *file)
                 }
             }
         }
+        for (i = 0; i < s->n_instances; i++) {
+            int a;
+            for (a = 0; a < 3; a++) {
+                if (s->instances[i].lo[a] < lo[a]) lo[a] = s->instances[i].lo[a];
+                if (s->instances[i].hi[a] > hi[a]) hi[a] = s->instances[i].hi[a];
+            }
+        }
         s->bmin = v3(lo[0], lo[1], lo[2]);
         s->bmax = v3(hi[0], hi[1], hi[2]);
     }
-    if (s->n_tris == 0 && s->n_spheres == 0 && s->n_quadrics == 0 && s->n_patches == 0) s->bmin = s->bmax = v3(0, 0, 0);
+    if (s->bmin.x > s->bmax.x) s->bmin = s->bmax = v3(0, 0, 0);   /* nothing in the world */
     if (!P->any_normals) { free(s->N); s->N = NULL; }
     if (!P->any_uv) { free(s->UV); s->UV = NULL; }
     if (s->n_emitters > 0 && !emitters_prepare(s, P->err)) return 0;
@@ -1576,6 +1810,9 @@ void scene_free(Scene *s)
     free(s->sphere_shape);
     free(s->quadric_shape);
     free(s->patches);
+    for (i = 0; i < s->n_objects; i++) bvh_free(&s->objects[i].bvh);
+    free(s->objects);
+    free(s->instances);
     for (i = 0; i < s->n_textures; i++) tex_free(&s->textures[i]);
     free(s->textures);
     free(s->UV);

@@ -474,6 +474,9 @@ typedef struct {
                                   -1 for none (vacuum).  Where they differ the shape is a */
     int medium_outside;        /* transition: a ray leaving it along w is in the outside
                                   medium if w . ng > 0, else in the inside one (pbrt-v4) */
+    int in_object;             /* 0: in the world; k > 0: part of object definition
+                                  k - 1 (Scene.objects), its coordinates in the
+                                  object's space (instance.c) */
     const char *file; int line;/* where it was declared, for messages */
 } Shape;
 
@@ -487,6 +490,8 @@ typedef struct {
                                n_tris + n_spheres + quadric index, or
                                n_tris + n_spheres + n_quadrics + patch index */
     float b1, b2;              /* barycentrics of v[1], v[2] (triangles); a patch's (u, v) */
+    int inst;                  /* -1: prim is in the world; else the index of the
+                                  instance (Scene.instances) whose object holds prim */
 } HitRecord;
 
 /* The BVH (bvh.c; the node layout is drawn at the top of that file): 8-wide nodes
@@ -522,9 +527,33 @@ void bvh_free(Bvh *b);
 int  bvh_intersect(const Bvh *b, const struct Scene *s, const Ray *r, HitRecord *h);
 /* Any hit along r: the shadow-ray query. */
 int  bvh_occluded(const Bvh *b, const struct Scene *s, const Ray *r);
+/* The BVH over the given primitives only (an object definition's: instance.c). */
+int  bvh_build_object(Bvh *b, const struct Scene *s, const int32_t *ids, int n);
 /* The two primitive tests, exposed for tests and the brute-force reference. */
 int  intersect_triangle(Vec3 p0, Vec3 p1, Vec3 p2, const Ray *r, float *t, float *b1, float *b2);
 int  intersect_sphere(Vec3 c, float radius, const Ray *r, float *t);
+
+/* Object instancing (instance.c; pbrt-v4's ObjectBegin / ObjectEnd / ObjectInstance).
+   The shapes between ObjectBegin and ObjectEnd are stored once, in the object's own
+   space (the CTM at each Shape directive), with a BVH of their own; ObjectInstance
+   places the object in the world by the CTM at that directive.  The scene's BVH
+   holds the world's primitives and one primitive per instance, with the id
+   n_tris + n_spheres + n_quadrics + its index; a ray that enters an instance's box
+   is carried into object space and traced through the object's BVH. */
+typedef struct {
+    char name[64];
+    Bvh bvh;                   /* over the object's primitives, in its space */
+    const char *file; int line;/* its ObjectBegin */
+} Object;
+typedef struct {
+    int object;                /* index into Scene.objects */
+    Xform world_from_obj;      /* the CTM at ObjectInstance (inv: object from world) */
+    float lo[3], hi[3];        /* world box of the placed object, rounded outwards */
+    const char *file; int line;/* its ObjectInstance */
+} Instance;
+/* Build every object's BVH and every instance's world box, dropping the instances
+   of empty objects (scene_load); 0 and a "file:line: problem" on failure. */
+int  instances_prepare(struct Scene *s, Error *err);
 
 /* Everything the integrator needs at a hit point. */
 typedef struct {
@@ -1146,6 +1175,8 @@ typedef struct Scene {
     int n_quadrics; int *quadric_shape;  /* quadric k (disk, cylinder, partial sphere)
                                             is shapes[quadric_shape[k]] */
     Patch *patches; int n_patches;       /* bilinear patches that are not flat (patch.c) */
+    Object *objects; int n_objects;      /* ObjectBegin definitions (instance.c) */
+    Instance *instances; int n_instances;/* ObjectInstance placements */
     Vec3 bmin, bmax;                     /* world bounds of all geometry */
     Bvh bvh;
     char **strings; int n_strings;       /* owned file names referenced by shapes */
