@@ -133,9 +133,12 @@ static void test_white_furnace_dispersive_glass(T *t)
    scales beta by 1/9 and the way out by 9; the roulette reads beta eta2 = 1, so
    every path survives and every sample returns what the emitter seen directly
    returns: the tiles' standard errors equal those of the empty furnace (the same
-   wavelengths per sample).  A roulette on beta alone ends 8 of 9 paths inside and
-   sends the rest out with 9x the weight: its standard errors are several times
-   larger (material_eta2_of_refractions checks eta2 itself). */
+   wavelengths per sample), but for a rare path whose beta eta2 rounds just below 1
+   (a survival probability 1 - 1e-7): one such sample ended raises a tile's
+   standard error about 1.7x, hence the bound 3x.  A roulette on beta alone ends 8
+   of 9 paths inside and sends the rest out with 9x the weight: its standard errors
+   are about 80x those of the empty furnace (material_eta2_of_refractions checks
+   eta2 itself). */
 static void test_roulette_through_dense_glass(T *t)
 {
     char text[2048];
@@ -159,8 +162,8 @@ static void test_roulette_through_dense_glass(T *t)
         double Y = luminance(tl.mean[i]);
         CHECK(t, fabs(Y - 1.0) < K_SIGMA * tl.se[i][1] + 1e-3,
               "tile %d: Y = %.5f +- %.2g, expected 1", i, Y, tl.se[i][1]);
-        CHECK(t, tl.se[i][1] <= 1.01 * empty.se[i][1] + 1e-6,
-              "tile %d: standard error %.3g, the empty furnace's %.3g (at most 1.01x)",
+        CHECK(t, tl.se[i][1] <= 3.0 * empty.se[i][1] + 1e-6,
+              "tile %d: standard error %.3g, the empty furnace's %.3g (at most 3x)",
               i, tl.se[i][1], empty.se[i][1]);
     }
     scene_free(&s);
