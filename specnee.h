@@ -816,6 +816,9 @@ typedef struct {
     float pdf_l[HERO_N];       /* the pdf the same wi has with each wavelength's own
                                   index (rough spectral MIS); pdf_l[0] == pdf */
     int delta;                 /* 1 for a specular (Dirac) sample */
+    float eta2[HERO_N];        /* etap_j^2 when wi refracts through a dielectric (f holds
+                                  its 1/etap_j^2: radiance is squeezed into the denser
+                                  side), else 1; the roulette undoes it (THEORY §8) */
 } BsdfSample;
 
 /* Sample wi given wo (unit, pointing away from the surface).  Wavelengths whose
