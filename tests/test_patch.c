@@ -41,6 +41,9 @@
      patch_ply_pbrt          the checkerboard scenes as PLY files (a trapezoid with
                              "u v", a saddle without, faces starting at other
                              corners): quadrant means against pbrt-v4's, frozen
+     patch_ply_lamp          patch_lamp_strategies' lamp (a twisted and a flat
+                             patch) as a PLY file renders the bilinearmesh's image
+                             to the last bit (emission, sampling, light selection)
    Each was watched failing on a one-line mutant (tests/mutants.txt, patch.c). */
 #include "test.h"
 #include <stdlib.h>
@@ -332,15 +335,21 @@ static void test_checkerboard_pbrt(T *t)
    floor and a wall (pbrt-v4 renders it within 0.3 %, every quadrant within 0.7 %,
    tools/pbrt_compare.sh at 1024 samples): every selection strategy and BSDF sampling alone (which does not use the
    emitter's pdf) render the same tile means as uniform selection. */
+/* The room and the lamp's attributes (a patch lamp facing down follows). */
+#define LAMP_ROOM \
+        "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16\n" \
+        "LookAt 0 -4 1.2  0 0 1  0 0 1\nCamera \"perspective\" \"float fov\" 50\n" \
+        "Integrator \"path\" \"integer maxdepth\" 3\nWorldBegin\n" \
+        "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n" \
+        "  \"point3 P\" [-2 -2 0 2 -2 0 2 2 0 -2 2 0   -2 2 0 2 2 0 2 2 3 -2 2 3]\n"
+#define LAMP_BEGIN \
+        "AttributeBegin\nReverseOrientation\nAreaLightSource \"diffuse\" \"rgb L\" [1 0.6 0.3] \"float scale\" 3\n"
+
 static void test_lamp_strategies(T *t)
 {
     static const char text[] =
-        "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16\n"
-        "LookAt 0 -4 1.2  0 0 1  0 0 1\nCamera \"perspective\" \"float fov\" 50\n"
-        "Integrator \"path\" \"integer maxdepth\" 3\nWorldBegin\n"
-        "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n"
-        "  \"point3 P\" [-2 -2 0 2 -2 0 2 2 0 -2 2 0   -2 2 0 2 2 0 2 2 3 -2 2 3]\n"
-        "AttributeBegin\nReverseOrientation\nAreaLightSource \"diffuse\" \"rgb L\" [1 0.6 0.3] \"float scale\" 3\n"
+        LAMP_ROOM
+        LAMP_BEGIN
         "Shape \"bilinearmesh\" \"integer indices\" [0 1 2 3  4 5 6 7]\n"
         "  \"point3 P\" [-1.2 -0.5 2.9  0.2 -0.5 1.5  -1.2 0.9 1.5  0.2 0.9 2.9"
         "   0.5 -0.3 2.2  1.5 -0.3 2.2  0.6 0.8 2.4  1.4 0.8 2.4]\n"
@@ -611,6 +620,44 @@ static void test_ply_pbrt(T *t)
     }
 }
 
+/* The lamp of patch_lamp_strategies as a PLY file (each face round its patch's
+   boundary, p00 p10 p11 p01): the same scene, so the same image to the last bit. */
+static void test_ply_lamp(T *t)
+{
+    static const char bilin[] =
+        LAMP_ROOM LAMP_BEGIN
+        "Shape \"bilinearmesh\" \"integer indices\" [0 1 2 3  4 5 6 7]\n"
+        "  \"point3 P\" [-1.2 -0.5 2.9  0.2 -0.5 1.5  -1.2 0.9 1.5  0.2 0.9 2.9"
+        "   0.5 -0.3 2.2  1.5 -0.3 2.2  0.6 0.8 2.4  1.4 0.8 2.4]\n"
+        "AttributeEnd\n";
+    static Tiles a, b;
+    char text[2048];
+    Scene s;
+    RenderOptions o;
+    int ok, c, i;
+    snprintf(text, sizeof text, "%s%sShape \"plymesh\" \"string filename\" \"%s\"\nAttributeEnd\n",
+             LAMP_ROOM, LAMP_BEGIN,
+             ply_file(t, "lamp.ply", "", 8, "-1.2 -0.5 2.9\n0.2 -0.5 1.5\n-1.2 0.9 1.5\n0.2 0.9 2.9\n"
+                      "0.5 -0.3 2.2\n1.5 -0.3 2.2\n0.6 0.8 2.4\n1.4 0.8 2.4\n", 2, "4 0 1 3 2\n4 4 5 7 6\n"));
+    render_options_default(&o);
+    o.spp = test_scaled(8, 4);
+    o.seed = 1;
+    o.sel.strategy = SEL_POWER;
+    if (!test_load_scene(t, &s, bilin)) return;
+    ok = test_render_tiles(t, &s, &o, 2, 2, &a);
+    scene_free(&s);
+    if (!ok || !test_load_scene(t, &s, text)) return;
+    CHECK(t, s.n_patches == 1 && s.n_tris == 6 && s.n_emitters == 1 && s.shapes[1].bilinear,
+          "PLY lamp: one twisted patch, one flat (%d patches, %d triangles)", s.n_patches, s.n_tris);
+    ok = test_render_tiles(t, &s, &o, 2, 2, &b);
+    scene_free(&s);
+    if (!ok) return;
+    for (i = 0; i < 4; i++)
+        for (c = 0; c < 3; c++)
+            CHECK(t, a.mean[i][c] == b.mean[i][c], "tile %d channel %d: PLY %.9g, bilinearmesh %.9g", i, c,
+                  b.mean[i][c], a.mean[i][c]);
+}
+
 const TestCase tests_patch[] = {
     { "patch_planar_hits", test_planar_hits },
     { "patch_twisted_hits", test_twisted_hits },
@@ -623,5 +670,6 @@ const TestCase tests_patch[] = {
     { "patch_ply_twisted", test_ply_twisted },
     { "patch_ply_mixed", test_ply_mixed },
     { "patch_ply_pbrt", test_ply_pbrt },
+    { "patch_ply_lamp", test_ply_lamp },
     { NULL, NULL }
 };
