@@ -1,6 +1,6 @@
-/* patch.c - bilinear patches (Shape "bilinearmesh"; pbrt-v4's BilinearPatch, pbrt
-   book 4th ed. section 6.6): the surface, its (u, v), ray hits, area and area
-   sampling.
+/* patch.c - bilinear patches (Shape "bilinearmesh", a PLY file's quads; pbrt-v4's
+   BilinearPatch, pbrt book 4th ed. section 6.6): the surface, its (u, v), ray hits,
+   area and area sampling.
 
    WHAT IT IMPLEMENTS (specnee.h section 5)
      patch_corners        the four world corners of a Patch

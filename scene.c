@@ -46,8 +46,9 @@
      when flip is set, which makes one-sided emitters face the side that the
      object-space winding (mapped by the normal transform) gives them.  Vertex
      normals N are negated by ReverseOrientation only, as in pbrt-v4.
-     Bilinear patches (p00 p10 p01 p11) become two triangles (p00,p10,p11) and
-     (p00,p11,p01): exact for planar patches, an approximation otherwise.
+     Bilinear patches (p00 p10 p01 p11: bilinearmesh, and a PLY file's quads) are
+     patch.c's: a flat one is the two triangles (p00,p10,p11) and (p00,p11,p01)
+     with the patch's (u, v), the others are patches of their own.
 
    EMISSION (pbrt-v4 DiffuseAreaLight::Create)
      Le(lambda) = scale * L(lambda) / sum_lambda ybar(lambda) L(lambda), so a
@@ -534,22 +535,20 @@ static int get_points(Parser *P, ParamList *pl, ParamType type, const char *name
     return 1;
 }
 
-/* Patch i of a bilinearmesh (object-space points Pf, indices Id or 0 1 2 3) in q;
-   returns whether it is flat (patch.c), i.e. stored as two triangles. */
-static int patch_of(const float *Pf, const double *Id, int i, int32_t q[4])
+/* Whether the patch q (4 indices into the object-space points Pf) is flat
+   (patch.c), i.e. stored as two triangles. */
+static int patch_flat_at(const float *Pf, const int32_t q[4])
 {
     Vec3 c[4];
     int k;
-    for (k = 0; k < 4; k++) {
-        q[k] = Id ? (int32_t)Id[4 * i + k] : (int32_t)k;
-        c[k] = v3(Pf[3 * q[k]], Pf[3 * q[k] + 1], Pf[3 * q[k] + 2]);
-    }
+    for (k = 0; k < 4; k++) c[k] = v3(Pf[3 * q[k]], Pf[3 * q[k] + 1], Pf[3 * q[k] + 2]);
     return patch_is_flat(c);
 }
 
-/* The patches of the bilinearmesh just added (its vertices from v0 on) that are not
-   flat: Scene.patches of the last shape, their areas added to its area. */
-static int bilinear_patches(Parser *P, const float *Pf, const double *Id, int n, int v0,
+/* The patches q (4 indices each) of the bilinear mesh just added (its vertices from
+   v0 on) that are not flat: Scene.patches of the last shape, their areas added to
+   its area. */
+static int bilinear_patches(Parser *P, const float *Pf, const int32_t *q, int n, int v0,
                             const char *file, int line)
 {
     Scene *s = P->s;
@@ -558,14 +557,13 @@ static int bilinear_patches(Parser *P, const float *Pf, const double *Id, int n,
     sh->bilinear = 1;
     sh->patch_begin = s->n_patches;
     for (i = 0; i < n; i++) {
-        int32_t q[4];
         Patch *pa;
         Vec3 c[4];
-        if (patch_of(Pf, Id, i, q)) continue;
+        if (patch_flat_at(Pf, q + 4 * i)) continue;
         if (!grow((void **)&s->patches, &P->cap_patches, s->n_patches + 1, sizeof(Patch)))
             return oom(P, file, line);
         pa = &s->patches[s->n_patches++];
-        for (k = 0; k < 4; k++) pa->v[k] = v0 + q[k];
+        for (k = 0; k < 4; k++) pa->v[k] = v0 + q[4 * i + k];
         pa->shape = s->n_shapes - 1;
         patch_corners(s, pa->v, c);
         sh->area += patch_area(c);
@@ -574,10 +572,35 @@ static int bilinear_patches(Parser *P, const float *Pf, const double *Id, int n,
     return 1;
 }
 
+/* Append a bilinear patch mesh given in object space (P, N, UV as for add_mesh;
+   q: 4 indices a patch in pbrt's order p00 p10 p01 p11, range-checked) as one
+   Shape.  A flat patch (patch.c) is the two triangles (p00,p10,p11), (p00,p11,p01):
+   the first edge pair (p10 - p00, p11 - p00) keeps the patch's dp/du x dp/dv side.
+   The others follow the mesh as patches of their own (bilinear_patches). */
+static int add_patch_mesh(Parser *P, const float *Pf, const float *Nf, const float *UVf, int nv,
+                          const int32_t *q, int nq, const char *file, int line)
+{
+    const int v0 = P->s->n_verts;
+    int32_t *idx = (int32_t *)calloc(6 * (size_t)nq + 1, sizeof(int32_t));
+    int i, ntri = 0, ok;
+    if (!idx) return oom(P, file, line);
+    for (i = 0; i < nq; i++) {
+        const int32_t *c = q + 4 * i;
+        if (!patch_flat_at(Pf, c)) continue;
+        idx[3 * ntri + 0] = c[0]; idx[3 * ntri + 1] = c[1]; idx[3 * ntri + 2] = c[3];
+        idx[3 * ntri + 3] = c[0]; idx[3 * ntri + 4] = c[3]; idx[3 * ntri + 5] = c[2];
+        ntri += 2;
+    }
+    ok = add_mesh(P, Pf, Nf, UVf, nv, idx, ntri, file, line) &&
+         bilinear_patches(P, Pf, q, nq, v0, file, line);
+    free(idx);
+    return ok;
+}
+
 static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, int line)
 {
     const double *Pd, *Nd, *UV, *Id;
-    int nv, nn, nuv, ni, per = bilinear ? 4 : 3, i, ok, ntri;
+    int nv, nn, nuv, ni, per = bilinear ? 4 : 3, i, ok;
     const char *what = bilinear ? "Shape \"bilinearmesh\"" : "Shape \"trianglemesh\"";
     float *Pf = NULL, *Nf = NULL, *UVf = NULL;
     int32_t *idx = NULL;
@@ -605,42 +628,22 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
         if (k < 0 || k >= nv)
             return fail(P, file, line, "%s: vertex index %d out of range [0, %d)", what, k, nv);
     }
-    ntri = bilinear ? ni / 2 : ni / 3;                /* a patch is two triangles */
     Pf = (float *)malloc(sizeof(float) * 3 * (size_t)nv);
     Nf = nn ? (float *)malloc(sizeof(float) * 3 * (size_t)nv) : NULL;
-    idx = (int32_t *)malloc(sizeof(int32_t) * 3 * (size_t)ntri);
-    if (!Pf || !idx || (nn && !Nf)) { free(Pf); free(Nf); free(idx); return oom(P, file, line); }
+    idx = (int32_t *)malloc(sizeof(int32_t) * (size_t)ni);
+    UVf = nuv ? (float *)malloc(sizeof(float) * 2 * (size_t)nv) : NULL;
+    if (!Pf || !idx || (nn && !Nf) || (nuv && !UVf)) {
+        free(Pf); free(Nf); free(UVf); free(idx);
+        return oom(P, file, line);
+    }
     for (i = 0; i < 3 * nv; i++) {
         Pf[i] = (float)Pd[i];
         if (Nf) Nf[i] = (float)Nd[i];
     }
-    if (!bilinear) {
-        for (i = 0; i < ni; i++) idx[i] = Id ? (int32_t)Id[i] : deflt[i];
-    } else {
-        /* pbrt's patch order p00 p10 p01 p11.  A flat patch (patch.c) is the two
-           triangles (p00,p10,p11), (p00,p11,p01): the first edge pair (p10 - p00,
-           p11 - p00) keeps the patch's dp/du x dp/dv side.  The others follow the
-           mesh as patches of their own (bilinear_patches). */
-        ntri = 0;
-        for (i = 0; i < ni / 4; i++) {
-            int32_t q[4];
-            if (!patch_of(Pf, Id, i, q)) continue;
-            idx[3 * ntri + 0] = q[0]; idx[3 * ntri + 1] = q[1]; idx[3 * ntri + 2] = q[3];
-            idx[3 * ntri + 3] = q[0]; idx[3 * ntri + 4] = q[3]; idx[3 * ntri + 5] = q[2];
-            ntri += 2;
-        }
-    }
-    ok = 1;
-    if (nuv) {
-        UVf = (float *)malloc(sizeof(float) * 2 * (size_t)nv);
-        if (!UVf) { free(Pf); free(Nf); free(idx); return oom(P, file, line); }
-        for (i = 0; i < 2 * nv; i++) UVf[i] = (float)UV[i];
-    }
-    {
-        const int v0 = P->s->n_verts;
-        ok = ok && add_mesh(P, Pf, Nf, UVf, nv, idx, ntri, file, line);
-        ok = ok && (!bilinear || bilinear_patches(P, Pf, Id, ni / 4, v0, file, line));
-    }
+    for (i = 0; i < 2 * nv && UVf; i++) UVf[i] = (float)UV[i];
+    for (i = 0; i < ni; i++) idx[i] = Id ? (int32_t)Id[i] : deflt[i];
+    ok = bilinear ? add_patch_mesh(P, Pf, Nf, UVf, nv, idx, ni / 4, file, line)
+                  : add_mesh(P, Pf, Nf, UVf, nv, idx, ni / 3, file, line);
     free(Pf); free(Nf); free(UVf); free(idx);
     return ok;
 }
@@ -818,6 +821,9 @@ static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
     return 1;
 }
 
+/* Shape "plymesh" (pbrt-v4's plymesh): the file's triangles make a triangle mesh
+   and its quads a bilinear patch mesh (ply.c gives them in the patch's order), two
+   Shapes with the same material, light and media when the file has both. */
 static int ply_shape(Parser *P, ParamList *pl, const char *file, int line)
 {
     const char *fn;
@@ -834,12 +840,19 @@ static int ply_shape(Parser *P, ParamList *pl, const char *file, int line)
     memset(&mesh, 0, sizeof mesh);
     if (!ply_read(path, &mesh, &e))
         return fail(P, file, line, "Shape \"plymesh\": %s", e.msg);
-    for (i = 0; i < 3 * mesh.n_tris; i++)
-        if (mesh.idx[i] < 0 || mesh.idx[i] >= mesh.n_verts) {
+    for (i = 0; i < 3 * mesh.n_tris + 4 * mesh.n_quads; i++) {
+        int32_t k = i < 3 * mesh.n_tris ? mesh.idx[i] : mesh.quads[i - 3 * mesh.n_tris];
+        if (k < 0 || k >= mesh.n_verts) {
             ply_free(&mesh);
             return fail(P, file, line, "Shape \"plymesh\" \"%s\": vertex index out of range", fn);
         }
-    ok = add_mesh(P, mesh.P, mesh.N, mesh.UV, mesh.n_verts, mesh.idx, mesh.n_tris, file, line);
+    }
+    ok = 1;
+    if (mesh.n_tris > 0 || mesh.n_quads == 0)
+        ok = add_mesh(P, mesh.P, mesh.N, mesh.UV, mesh.n_verts, mesh.idx, mesh.n_tris, file, line);
+    if (ok && mesh.n_quads > 0)
+        ok = add_patch_mesh(P, mesh.P, mesh.N, mesh.UV, mesh.n_verts, mesh.quads, mesh.n_quads,
+                            file, line);
     ply_free(&mesh);
     return ok;
 }

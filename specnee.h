@@ -464,8 +464,9 @@ typedef struct {
     int has_normals;           /* mesh carries per-vertex shading normals */
     int has_uv;                /* mesh carries per-vertex (u, v) in Scene.UV */
     int tri_begin, tri_count;  /* triangles [tri_begin, tri_begin + tri_count) */
-    int bilinear;              /* bilinearmesh: its triangles come in pairs, each a flat
-                                  patch whose (u, v), "uv" and "N" are the patch's (patch.c) */
+    int bilinear;              /* bilinearmesh or a PLY file's quads: its triangles come in
+                                  pairs, each a flat patch whose (u, v), "uv" and "N" are
+                                  the patch's (patch.c) */
     int patch_begin, patch_count;  /* its other patches: Scene.patches[patch_begin ..) */
     Vec3 center; float radius; /* sphere, in world space */
     Quadric q;                 /* disk, cylinder, partial sphere: in object space */
@@ -1246,7 +1247,9 @@ typedef struct {
     float *P; float *N; int n_verts;     /* xyz per vertex, optional normals */
     float *UV;                           /* optional (u, v) per vertex (u v, s t,
                                             texture_u texture_v, texture_s texture_t) */
-    int32_t *idx; int n_tris;            /* quads are split into two triangles */
+    int32_t *idx; int n_tris;            /* the triangles: 3 indices each */
+    int32_t *quads; int n_quads;         /* the quads: 4 indices each, a bilinear patch's
+                                            p00 p10 p01 p11 = the face's 0 1 3 2 (pbrt-v4) */
 } PlyMesh;
 int  ply_read(const char *path, PlyMesh *m, Error *err);
 void ply_free(PlyMesh *m);

@@ -28,6 +28,22 @@
                              the same tile means as uniform selection
      patch_lamp_solid_angle  E[1 / pdf_sa] of a twisted lamp's samples seen from
                              close by: the solid angle by ray casting
+     patch_ply_uv            a PLY quad face (a planar trapezoid, its face starting
+                             at another corner) is a flat patch: "u v" and "nx ny nz"
+                             at a hit are the bilinear interpolation at the (u, v)
+                             the map's inverse gives (closed form here)
+     patch_ply_twisted       a twisted PLY quad (z = x y) is a patch: hits at
+                             t = 5 - x y, its (u, v) from pbrt-v4's corner order
+                             p00 p10 p01 p11 = the face's 0 1 3 2
+     patch_ply_mixed         a PLY of a triangle and a quad makes a triangle mesh
+                             and a patch mesh (two Shapes, each an emitter under
+                             AreaLightSource), also inside ObjectBegin
+     patch_ply_pbrt          the checkerboard scenes as PLY files (a trapezoid with
+                             "u v", a saddle without, faces starting at other
+                             corners): quadrant means against pbrt-v4's, frozen
+     patch_ply_lamp          patch_lamp_strategies' lamp (a twisted and a flat
+                             patch) as a PLY file renders the bilinearmesh's image
+                             to the last bit (emission, sampling, light selection)
    Each was watched failing on a one-line mutant (tests/mutants.txt, patch.c). */
 #include "test.h"
 #include <stdlib.h>
@@ -270,39 +286,48 @@ static const double PBRT_PATCH_Y[2][5][2] = {
       { 0.22487, 0.00003 } },
 };
 
+static const char *const CHECKER_WORLD =
+    "Film \"rgb\" \"integer xresolution\" [ 32 ] \"integer yresolution\" [ 32 ] \"string filename\" \"x.pfm\"\n"
+    "PixelFilter \"box\"\nIntegrator \"path\" \"integer maxdepth\" [ 1 ]\nWorldBegin\n"
+    "LightSource \"distant\" \"float scale\" [ 3.14159265358979 ] \"point3 from\" [ 0 0 1 ] \"point3 to\" [ 0 0 0 ]\n"
+    "Texture \"ch\" \"spectrum\" \"checkerboard\" \"float uscale\" [ 2 ] \"float vscale\" [ 2 ] "
+    "\"rgb tex1\" [ 0.8 0.8 0.8 ] \"rgb tex2\" [ 0.1 0.1 0.1 ]\n"
+    "Material \"diffuse\" \"texture reflectance\" \"ch\"\n";
+
+/* Renders text (direct light only) and compares its quadrant and image luminance
+   means with pbrt-v4's Yp (mean, standard error), with the slack explained above. */
+static void checker_vs_pbrt(T *t, const char *text, const double Yp[5][2], const char *name)
+{
+    Scene s;
+    RenderOptions o;
+    Tiles tl;
+    double all = 0.0;
+    int i;
+    if (!test_load_scene(t, &s, text)) return;
+    render_options_default(&o);
+    o.spp = test_scaled(16, 4);
+    o.maxdepth = 1;                                /* the text's Integrator (direct light only) */
+    if (!test_render_tiles(t, &s, &o, 4, 2, &tl)) { scene_free(&s); return; }
+    scene_free(&s);
+    for (i = 0; i < 4; i++) {
+        double Y = 0.212671 * tl.mean[i][0] + 0.715160 * tl.mean[i][1] + 0.072169 * tl.mean[i][2];
+        double se = tl.se[i][1];
+        all += Y / 4;
+        if (getenv("DBG")) fprintf(stderr, "%s %d %.5f %.5f\n", name, i, Y, Yp[i][0]);
+        CHECK(t, fabs(Y - Yp[i][0]) < TEST_K_SIGMA * sqrt(se * se + Yp[i][1] * Yp[i][1]) + 5e-3,
+              "%s: quadrant %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f", name, i, Y, se, Yp[i][0]);
+    }
+    CHECK(t, fabs(all - Yp[4][0]) < 2e-3 * Yp[4][0] + 1e-3, "%s: image Y %.5f, pbrt-v4 %.5f", name,
+          all, Yp[4][0]);
+}
+
 static void test_checkerboard_pbrt(T *t)
 {
-    static const char *const world =
-        "Film \"rgb\" \"integer xresolution\" [ 32 ] \"integer yresolution\" [ 32 ] \"string filename\" \"x.pfm\"\n"
-        "PixelFilter \"box\"\nIntegrator \"path\" \"integer maxdepth\" [ 1 ]\nWorldBegin\n"
-        "LightSource \"distant\" \"float scale\" [ 3.14159265358979 ] \"point3 from\" [ 0 0 1 ] \"point3 to\" [ 0 0 0 ]\n"
-        "Texture \"ch\" \"spectrum\" \"checkerboard\" \"float uscale\" [ 2 ] \"float vscale\" [ 2 ] "
-        "\"rgb tex1\" [ 0.8 0.8 0.8 ] \"rgb tex2\" [ 0.1 0.1 0.1 ]\n"
-        "Material \"diffuse\" \"texture reflectance\" \"ch\"\n";
-    int c, i;
+    int c;
     for (c = 0; c < 2; c++) {
         char text[4096];
-        Scene s;
-        RenderOptions o;
-        Tiles tl;
-        double all = 0.0;
-        snprintf(text, sizeof text, PBRT_PATCH[c], world);
-        if (!test_load_scene(t, &s, text)) return;
-        render_options_default(&o);
-        o.spp = test_scaled(16, 4);
-        o.maxdepth = 1;                            /* the text's Integrator (direct light only) */
-        if (!test_render_tiles(t, &s, &o, 4, 2, &tl)) { scene_free(&s); return; }
-        scene_free(&s);
-        for (i = 0; i < 4; i++) {
-            double Y = 0.212671 * tl.mean[i][0] + 0.715160 * tl.mean[i][1] + 0.072169 * tl.mean[i][2];
-            double Yp = PBRT_PATCH_Y[c][i][0], se = tl.se[i][1];
-            all += Y / 4;
-            if (getenv("DBG")) fprintf(stderr, "%d %d %.5f %.5f\n", c, i, Y, Yp);
-            CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + PBRT_PATCH_Y[c][i][1] * PBRT_PATCH_Y[c][i][1]) + 5e-3,
-                  "%s: quadrant %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f", c ? "saddle" : "trapezoid", i, Y, se, Yp);
-        }
-        CHECK(t, fabs(all - PBRT_PATCH_Y[c][4][0]) < 2e-3 * PBRT_PATCH_Y[c][4][0] + 1e-3,
-              "%s: image Y %.5f, pbrt-v4 %.5f", c ? "saddle" : "trapezoid", all, PBRT_PATCH_Y[c][4][0]);
+        snprintf(text, sizeof text, PBRT_PATCH[c], CHECKER_WORLD);
+        checker_vs_pbrt(t, text, PBRT_PATCH_Y[c], c ? "saddle" : "trapezoid");
     }
 }
 
@@ -310,15 +335,21 @@ static void test_checkerboard_pbrt(T *t)
    floor and a wall (pbrt-v4 renders it within 0.3 %, every quadrant within 0.7 %,
    tools/pbrt_compare.sh at 1024 samples): every selection strategy and BSDF sampling alone (which does not use the
    emitter's pdf) render the same tile means as uniform selection. */
+/* The room and the lamp's attributes (a patch lamp facing down follows). */
+#define LAMP_ROOM \
+        "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16\n" \
+        "LookAt 0 -4 1.2  0 0 1  0 0 1\nCamera \"perspective\" \"float fov\" 50\n" \
+        "Integrator \"path\" \"integer maxdepth\" 3\nWorldBegin\n" \
+        "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n" \
+        "  \"point3 P\" [-2 -2 0 2 -2 0 2 2 0 -2 2 0   -2 2 0 2 2 0 2 2 3 -2 2 3]\n"
+#define LAMP_BEGIN \
+        "AttributeBegin\nReverseOrientation\nAreaLightSource \"diffuse\" \"rgb L\" [1 0.6 0.3] \"float scale\" 3\n"
+
 static void test_lamp_strategies(T *t)
 {
     static const char text[] =
-        "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16\n"
-        "LookAt 0 -4 1.2  0 0 1  0 0 1\nCamera \"perspective\" \"float fov\" 50\n"
-        "Integrator \"path\" \"integer maxdepth\" 3\nWorldBegin\n"
-        "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3  4 5 6 4 6 7]\n"
-        "  \"point3 P\" [-2 -2 0 2 -2 0 2 2 0 -2 2 0   -2 2 0 2 2 0 2 2 3 -2 2 3]\n"
-        "AttributeBegin\nReverseOrientation\nAreaLightSource \"diffuse\" \"rgb L\" [1 0.6 0.3] \"float scale\" 3\n"
+        LAMP_ROOM
+        LAMP_BEGIN
         "Shape \"bilinearmesh\" \"integer indices\" [0 1 2 3  4 5 6 7]\n"
         "  \"point3 P\" [-1.2 -0.5 2.9  0.2 -0.5 1.5  -1.2 0.9 1.5  0.2 0.9 2.9"
         "   0.5 -0.3 2.2  1.5 -0.3 2.2  0.6 0.8 2.4  1.4 0.8 2.4]\n"
@@ -414,6 +445,219 @@ static void test_lamp_solid_angle(T *t)
           "E[1/pdf] %.5f +- %.2g, solid angle by ray casting %.5f +- %.2g", mean, se, omega, se_o);
 }
 
+/* ---- PLY quads: pbrt-v4 makes each a bilinear patch ------------------------ */
+
+/* An ascii PLY of the given vertex rows ("x y z [props]") and face rows; extra: the
+   vertex properties after x y z (header lines). */
+static const char *ply_file(T *t, const char *name, const char *extra, int nv, const char *verts,
+                            int nf, const char *faces)
+{
+    char text[2048];
+    snprintf(text, sizeof text, "ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\n"
+             "property float y\nproperty float z\n%selement face %d\n"
+             "property list uchar int vertex_indices\nend_header\n%s%s", nv, extra, nf, verts, faces);
+    return test_write_file(t, name, text);
+}
+
+/* The trapezoid TRAP's corners in boundary order p00 p10 p11 p01, with "u v" (not an
+   affine image of the trapezoid) and "nx ny nz" (tilted at p10). */
+#define TRAP_PLY_VERTS "-1.4 -1.2 0  0 0  0 0 1\n1.4 -1.2 0  1 0  0.6 0 0.8\n" \
+                       "0.2 1.2 0  1 1.5  0 0 1\n-0.2 1.2 0  0 1  0 0 1\n"
+#define UVN_PROPS "property float u\nproperty float v\nproperty float nx\nproperty float ny\n" \
+                  "property float nz\n"
+
+static void test_ply_uv(T *t)
+{
+    /* a face may start at any corner and still go round the trapezoid */
+    static const char *const faces[2] = { "4 0 1 2 3\n", "4 2 3 0 1\n" };
+    static const double at[4][2] = { { 0.3, -0.5 }, { -0.9, -1.0 }, { 0.1, 1.0 }, { 0.9, -0.4 } };
+    /* per corner p00 p10 p01 p11: "u v" and the normal's x, z */
+    static const double tex[4][2] = { { 0, 0 }, { 1, 0 }, { 0, 1 }, { 1, 1.5 } };
+    static const double nrm[4][2] = { { 0, 1 }, { 0.6, 0.8 }, { 0, 1 }, { 0, 1 } };
+    int f, i, k;
+    for (f = 0; f < 2; f++) {
+        char body[1200];
+        Scene s;
+        snprintf(body, sizeof body, "WorldBegin\nShape \"plymesh\" \"string filename\" \"%s\"\n",
+                 ply_file(t, "trap_uv.ply", UVN_PROPS, 4, TRAP_PLY_VERTS, 1, faces[f]));
+        if (!test_load_scene(t, &s, body)) return;
+        CHECK(t, s.n_tris == 2 && s.n_patches == 0 && s.n_shapes == 1 && s.shapes[0].bilinear &&
+                 fabs(s.shapes[0].area - 3.84) < 1e-5, "face %d: a flat patch of area 3.84 "
+                 "(%d triangles, %d patches, area %g)", f, s.n_tris, s.n_patches, s.n_shapes ? s.shapes[0].area : 0.0);
+        for (i = 0; i < 4; i++) {
+            /* the inverse of the trapezoid's map: v from y, then u along the row */
+            const double x = at[i][0], y = at[i][1], v = (y + 1.2) / 2.4;
+            const double x0 = -1.4 + 1.2 * v, u = (x - x0) / (2.0 * -x0);
+            const double w[4] = { (1 - u) * (1 - v), u * (1 - v), (1 - u) * v, u * v };
+            double su = 0, sv = 0, nx = 0, nz = 0, nl;
+            SurfacePoint sp;
+            float th;
+            for (k = 0; k < 4; k++) {
+                su += w[k] * tex[k][0]; sv += w[k] * tex[k][1];
+                nx += w[k] * nrm[k][0]; nz += w[k] * nrm[k][1];
+            }
+            nl = sqrt(nx * nx + nz * nz);
+            CHECK(t, hit_point(&s, ray_of(x, y, 2.0, 0.0, 0.0, -1.0), &th, &sp), "face %d: miss at (%g, %g)",
+                  f, x, y);
+            CHECK(t, fabs(sp.u - su) < 1e-5 && fabs(sp.v - sv) < 1e-5, "face %d at (%g, %g): uv (%.7g, %.7g), "
+                  "bilinear (%.7g, %.7g)", f, x, y, sp.u, sp.v, su, sv);
+            CHECK(t, fabs(sp.ns.x - nx / nl) < 1e-5 && fabs(sp.ns.z - nz / nl) < 1e-5,
+                  "face %d at (%g, %g): N (%g %g %g), bilinear (%g 0 %g)", f, x, y, sp.ns.x, sp.ns.y,
+                  sp.ns.z, nx / nl, nz / nl);
+        }
+        scene_free(&s);
+    }
+}
+
+/* z = x y: corners (-1,-1,1) (1,-1,-1) (1,1,1) (-1,1,-1) round the boundary; the
+   face "4 1 2 3 0" makes p00 = (1,-1,-1), p10 = (1,1,1), p01 = (-1,-1,1): the
+   patch's u = (y + 1) / 2, v = (1 - x) / 2, which are the texture (s, t). */
+static void test_ply_twisted(T *t)
+{
+    static const double at[4][2] = { { 0.5, 0.5 }, { -0.7, 0.2 }, { 0.9, -0.95 }, { -0.3, -0.6 } };
+    char body[1200];
+    Scene s;
+    int i;
+    snprintf(body, sizeof body, "WorldBegin\nShape \"plymesh\" \"string filename\" \"%s\"\n",
+             ply_file(t, "saddle.ply", "", 4, "-1 -1 1\n1 -1 -1\n1 1 1\n-1 1 -1\n", 1, "4 1 2 3 0\n"));
+    if (!test_load_scene(t, &s, body)) return;
+    CHECK(t, s.n_tris == 0 && s.n_patches == 1 && s.shapes[0].bilinear, "a twisted patch "
+          "(%d triangles, %d patches)", s.n_tris, s.n_patches);
+    for (i = 0; i < 4; i++) {
+        const double x = at[i][0], y = at[i][1];
+        SurfacePoint sp;
+        float th;
+        CHECK(t, hit_point(&s, ray_of(x, y, 5.0, 0.0, 0.0, -1.0), &th, &sp), "miss at (%g, %g)", x, y);
+        CHECK(t, fabs(th - (5.0 - x * y)) < 1e-5, "at (%g, %g): t %.7g, the saddle's %.7g", x, y, th,
+              5.0 - x * y);
+        CHECK(t, fabs(sp.u - (y + 1) / 2) < 1e-5 && fabs(sp.v - (1 - x) / 2) < 1e-5,
+              "at (%g, %g): (u, v) (%.7g, %.7g), pbrt-v4's order gives (%.7g, %.7g)", x, y, sp.u, sp.v,
+              (y + 1) / 2, (1 - x) / 2);
+    }
+    scene_free(&s);
+}
+
+/* One triangle (x in [2, 4]) and the trapezoid quad in one PLY file. */
+static void test_ply_mixed(T *t)
+{
+    const char *ply = ply_file(t, "mixed.ply", "property float u\nproperty float v\n", 7,
+                               "-1.4 -1.2 0 0 0\n1.4 -1.2 0 1 0\n0.2 1.2 0 1 1\n-0.2 1.2 0 0 1\n"
+                               "2 0 0 0.5 0.5\n4 0 0 0.7 0.5\n2 2 0 0.5 0.9\n", 2, "3 4 5 6\n4 0 1 2 3\n");
+    char body[1600];
+    Scene s;
+    SurfacePoint sp;
+    float th = 0.0f;
+    int inst;
+    for (inst = 0; inst < 2; inst++) {
+        if (inst)
+            snprintf(body, sizeof body, "WorldBegin\nObjectBegin \"m\"\nShape \"plymesh\" \"string "
+                     "filename\" \"%s\"\nObjectEnd\nTranslate 0 0 -1\nObjectInstance \"m\"\n", ply);
+        else
+            snprintf(body, sizeof body, "WorldBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n"
+                     "Shape \"plymesh\" \"string filename\" \"%s\"\n", ply);
+        if (!test_load_scene(t, &s, body)) return;
+        CHECK(t, s.n_shapes == 2 && !s.shapes[0].bilinear && s.shapes[0].tri_count == 1 &&
+                 s.shapes[1].bilinear && s.shapes[1].tri_count == 2 && fabs(s.shapes[0].area - 2.0) < 1e-6 &&
+                 fabs(s.shapes[1].area - 3.84) < 1e-5, "%s: a triangle mesh and a patch mesh",
+              inst ? "instanced" : "emitting");
+        if (!inst)
+            CHECK(t, s.n_emitters == 2 && s.shapes[0].emitter >= 0 && s.shapes[1].emitter >= 0,
+                  "both meshes emit (%d emitters)", s.n_emitters);
+        else
+            CHECK(t, s.n_instances == 1 && s.shapes[0].in_object && s.shapes[1].in_object,
+                  "both meshes in the object");
+        /* the triangle's uv by barycentrics: (3, 0.5) = b1 (2,0) + b2 (0,2) at b1 = 0.5 */
+        CHECK(t, hit_point(&s, ray_of(3.0, 0.5, 2.0, 0.0, 0.0, -1.0), &th, &sp) &&
+                 fabs(sp.u - 0.6) < 1e-5 && fabs(sp.v - 0.6) < 1e-5 && fabs(th - 2.0 - inst) < 1e-5,
+              "%s: triangle uv (%g, %g) at t %g", inst ? "instanced" : "emitting", sp.u, sp.v, th);
+        /* the quad's: the patch's (u, v) at (0.3, -0.5): v = 0.7 / 2.4, u = (0.3 - x0) / (-2 x0) */
+        {
+            const double v = 0.7 / 2.4, x0 = -1.4 + 1.2 * v, u = (0.3 - x0) / (-2.0 * x0);
+            CHECK(t, hit_point(&s, ray_of(0.3, -0.5, 2.0, 0.0, 0.0, -1.0), &th, &sp) &&
+                     fabs(sp.u - u) < 1e-5 && fabs(sp.v - v) < 1e-5,
+                  "%s: quad uv (%.7g, %.7g), bilinear (%.7g, %.7g)", inst ? "instanced" : "emitting",
+                  sp.u, sp.v, u, v);
+        }
+        scene_free(&s);
+    }
+}
+
+/* pbrt-v4 (commit 5f7a6068) rendered the checkerboard scenes above with the shape
+   replaced by Shape "plymesh" "string filename" naming an ascii PLY of the vertex and
+   face rows below (the trapezoid with "u v" (0,0) (1,0) (1,1) (0,1) round it, its
+   face starting at p11; the saddle of PBRT_PATCH[1] without "u v", its face starting
+   at p10, which turns the patch's (u, v) and so its checks by 90 degrees), as above:
+   8 seeds, 256 spp, "Sampler \"independent\"", luminance means and standard errors
+   per quadrant and image.  The trapezoid's equal the bilinearmesh's to the last
+   digit.  (Two triangles a quad, as specnee read PLY quads before, give 0.334 0.217
+   0.089 0.536 for the trapezoid and 0.048 0.118 0.264 0.201 for the saddle.) */
+static const char *const PLY_ROWS[2][2] = {
+    { "-1.4 -1.2 0 0 0\n1.4 -1.2 0 1 0\n0.2 1.2 0 1 1\n-0.2 1.2 0 0 1\n", "4 2 3 0 1\n" },
+    { "-1 -1 0.8\n1 -1 -0.8\n1 1 0.8\n-1 1 -0.8\n", "4 1 2 3 0\n" },
+};
+static const double PBRT_PLY_Y[2][5][2] = {
+    { { 0.32909, 0.00006 }, { 0.04548, 0.00003 }, { 0.09337, 0.00004 }, { 0.70626, 0.00013 },
+      { 0.29355, 0.00003 } },
+    { { 0.05828, 0.00006 }, { 0.24743, 0.00012 }, { 0.36448, 0.00006 }, { 0.05721, 0.00005 },
+      { 0.18185, 0.00003 } },
+};
+
+static void test_ply_pbrt(T *t)
+{
+    static const char *const camera[2] = {
+        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 27 ]\n",
+        "LookAt 0.5 -1 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 30 ]\n",
+    };
+    int c;
+    for (c = 0; c < 2; c++) {
+        char text[4096];
+        const char *ply = ply_file(t, c ? "pbrt_saddle.ply" : "pbrt_trap.ply",
+                                   c ? "" : "property float u\nproperty float v\n", 4, PLY_ROWS[c][0],
+                                   1, PLY_ROWS[c][1]);
+        snprintf(text, sizeof text, "%s%sShape \"plymesh\" \"string filename\" \"%s\"\n", camera[c],
+                 CHECKER_WORLD, ply);
+        checker_vs_pbrt(t, text, PBRT_PLY_Y[c], c ? "PLY saddle" : "PLY trapezoid");
+    }
+}
+
+/* The lamp of patch_lamp_strategies as a PLY file (each face round its patch's
+   boundary, p00 p10 p11 p01): the same scene, so the same image to the last bit. */
+static void test_ply_lamp(T *t)
+{
+    static const char bilin[] =
+        LAMP_ROOM LAMP_BEGIN
+        "Shape \"bilinearmesh\" \"integer indices\" [0 1 2 3  4 5 6 7]\n"
+        "  \"point3 P\" [-1.2 -0.5 2.9  0.2 -0.5 1.5  -1.2 0.9 1.5  0.2 0.9 2.9"
+        "   0.5 -0.3 2.2  1.5 -0.3 2.2  0.6 0.8 2.4  1.4 0.8 2.4]\n"
+        "AttributeEnd\n";
+    static Tiles a, b;
+    char text[2048];
+    Scene s;
+    RenderOptions o;
+    int ok, c, i;
+    snprintf(text, sizeof text, "%s%sShape \"plymesh\" \"string filename\" \"%s\"\nAttributeEnd\n",
+             LAMP_ROOM, LAMP_BEGIN,
+             ply_file(t, "lamp.ply", "", 8, "-1.2 -0.5 2.9\n0.2 -0.5 1.5\n-1.2 0.9 1.5\n0.2 0.9 2.9\n"
+                      "0.5 -0.3 2.2\n1.5 -0.3 2.2\n0.6 0.8 2.4\n1.4 0.8 2.4\n", 2, "4 0 1 3 2\n4 4 5 7 6\n"));
+    render_options_default(&o);
+    o.spp = test_scaled(8, 4);
+    o.seed = 1;
+    o.sel.strategy = SEL_POWER;
+    if (!test_load_scene(t, &s, bilin)) return;
+    ok = test_render_tiles(t, &s, &o, 2, 2, &a);
+    scene_free(&s);
+    if (!ok || !test_load_scene(t, &s, text)) return;
+    CHECK(t, s.n_patches == 1 && s.n_tris == 6 && s.n_emitters == 1 && s.shapes[1].bilinear,
+          "PLY lamp: one twisted patch, one flat (%d patches, %d triangles)", s.n_patches, s.n_tris);
+    ok = test_render_tiles(t, &s, &o, 2, 2, &b);
+    scene_free(&s);
+    if (!ok) return;
+    for (i = 0; i < 4; i++)
+        for (c = 0; c < 3; c++)
+            CHECK(t, a.mean[i][c] == b.mean[i][c], "tile %d channel %d: PLY %.9g, bilinearmesh %.9g", i, c,
+                  b.mean[i][c], a.mean[i][c]);
+}
+
 const TestCase tests_patch[] = {
     { "patch_planar_hits", test_planar_hits },
     { "patch_twisted_hits", test_twisted_hits },
@@ -422,5 +666,10 @@ const TestCase tests_patch[] = {
     { "patch_checkerboard_pbrt", test_checkerboard_pbrt },
     { "patch_lamp_strategies", test_lamp_strategies },
     { "patch_lamp_solid_angle", test_lamp_solid_angle },
+    { "patch_ply_uv", test_ply_uv },
+    { "patch_ply_twisted", test_ply_twisted },
+    { "patch_ply_mixed", test_ply_mixed },
+    { "patch_ply_pbrt", test_ply_pbrt },
+    { "patch_ply_lamp", test_ply_lamp },
     { NULL, NULL }
 };
