@@ -66,7 +66,8 @@ static long count_hits(const Scene *s, float x0, float w, long n, Rng *rg, long 
    checkerboard alpha (0 and 0.8, 2 x 2 cells over uv) stops none in a 0 cell and
    80 % in a 0.8 cell; a sphere of alpha 0.5, met twice by each ray through its
    middle, stops 1 - 0.5 x 0.5 = 75 % (the far side is tested by the ray spawned
-   at the near one, its own hash); alpha 1 stops all.  Shadow rays agree with
+   at the near one, its own hash); alpha 1 stops all; a sphere's checkerboard
+   alpha (0 for u < 0.5, 1 beyond) reads pbrt-v4's sphere (u, v).  Shadow rays agree with
    closest-hit rays on every ray.  The same ray always gives the same answer. */
 static void test_alpha_frequencies(T *t)
 {
@@ -81,9 +82,13 @@ static void test_alpha_frequencies(T *t)
                     ALPHA_SQUARE("-4", "-2", "0") "\"texture alpha\" \"cut\"\n"
                     "AttributeBegin\nTranslate 1 0 0\nShape \"sphere\" \"float radius\" 1.5 \"float alpha\" 0.5\n"
                     "AttributeEnd\n"
-                    ALPHA_SQUARE("4", "6", "0") "\"float alpha\" 1\n"))
+                    ALPHA_SQUARE("4", "6", "0") "\"float alpha\" 1\n"
+                    "Texture \"half\" \"float\" \"checkerboard\" \"float uscale\" 2 \"float vscale\" 1 "
+                    "\"float tex1\" 0 \"float tex2\" 1\n"
+                    "AttributeBegin\nTranslate 10 0 0\nShape \"sphere\" \"float radius\" 1.5 "
+                    "\"texture alpha\" \"half\"\nAttributeEnd\n"))
         return;
-    CHECK(t, s.n_alpha == 2 + !!s.shapes[1].alpha_tex, "%d shapes test alpha, want 3", s.n_alpha);
+    CHECK(t, s.n_alpha == 4 && s.shapes[1].alpha_tex > 0, "%d shapes test alpha, want 4", s.n_alpha);
     CHECK(t, !s.shapes[3].alpha_on, "alpha 1 is tested");
     rng_seed(&r, 5, 1);
     h = count_hits(&s, -7.5f, 1.0f, n, &r, &bad);
@@ -96,6 +101,9 @@ static void test_alpha_frequencies(T *t)
     CHECK(t, binomial_ok(h, n, 0.75), "sphere of alpha 0.5: %ld hits of %ld, want 75 %%", h, n);
     h = count_hits(&s, 4.5f, 1.0f, n, &r, &bad);
     CHECK(t, h == n, "alpha 1: %ld hits of %ld", h, n);
+    /* the sphere's u = phi / 2 pi: alpha 0 where y > 0 (u < 0.5), 1 where y < 0 */
+    h = count_hits(&s, 9.6f, 0.8f, n, &r, &bad);
+    CHECK(t, binomial_ok(h, n, 0.5), "sphere of a textured alpha: %ld hits of %ld, want 50 %%", h, n);
     CHECK(t, bad == 0, "shadow rays and closest-hit rays disagree on %ld rays", bad);
     {
         Ray ray;
