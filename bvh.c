@@ -70,7 +70,7 @@
    intersected again beyond it, by the ray spawned there (its own hash).  The
    answer is a function of the ray and the primitive alone, so ORDER INDEPENDENCE
    holds as before, and shadow rays (any hit) see exactly the hits that closest-hit
-   rays see.  Shapes without alpha cost one test of Scene.n_alpha per hit.
+   rays see.  Without alpha shapes (Scene.n_alpha = 0) a hit costs one compare more.
 
    SELF-INTERSECTION POLICY (how secondary rays avoid hitting their own surface)
      1. scene_surface_point computes p from the barycentrics in double, so p lies within
@@ -1047,6 +1047,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
     float t_enter[BVH_WIDTH], t_z[BVH_WIDTH], t_best = r->tmax, t_cull, t, b1, b2;
     const int no_hit = at_tmax ? INT32_MAX : -1;
     const int n_quad_end = s->n_tris + s->n_spheres + s->n_quadrics, n_base = n_quad_end + s->n_patches;
+    const int n_alpha_base = s->n_alpha > 0 ? n_base : 0;   /* ALPHA: ids below it are tested */
     int hit[BVH_WIDTH], sp = 0, best_p = no_hit, ref = 0, j;
     HitRecord hi;
     if (b->n_nodes == 0 || !(t_best > 0.0f) || !ray_prepare(r, &rp) || !root_hit(b, &rp) ||
@@ -1113,7 +1114,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                     ok = 1; t = hi.t; b1 = hi.b1; b2 = hi.b2;
                 }
                 if (!ok) continue;
-                if (s->n_alpha > 0 && p < n_base && !alpha_keep(s, r, p, t_best, &t, &b1, &b2))
+                if (p < n_alpha_base && !alpha_keep(s, r, p, t_best, &t, &b1, &b2))
                     continue;                       /* ALPHA: the ray goes on */
                 if (any_hit) {
                     if (t < r->tmax) return 1;
