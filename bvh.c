@@ -69,7 +69,7 @@
    hit that does not count lets the ray go on: a sphere, quadric or patch is
    intersected again beyond it, by the ray spawned there (its own hash).  The
    answer is a function of the ray and the primitive alone, so ORDER INDEPENDENCE
-   holds as before, and shadow rays (any hit) see exactly the hits that closest-hit
+   still holds, and shadow rays (any hit) see exactly the hits that closest-hit
    rays see.  Without alpha shapes (Scene.n_alpha = 0) a hit costs one compare more.
 
    SELF-INTERSECTION POLICY (how secondary rays avoid hitting their own surface)
