@@ -61,6 +61,17 @@
    Speed: docs/bvh.md has the figures (about 1.3 times slower than Embree 3 on
    tools/bench's incoherent rays), what each choice gains and what was tried.
 
+   ALPHA (pbrt-v4's "alpha" of a shape; alpha_keep): a hit on a shape with
+   alpha_on counts only when u <= a, with a the shape's "float alpha" or its float
+   texture at the hit's (u, v) (the SurfacePoint texture.c reads) and u in [0, 1) a
+   hash of the bits of the ray's origin and direction: a deterministic stochastic
+   test, the same for every thread count.  a <= 0 never counts, a >= 1 always.  A
+   hit that does not count lets the ray go on: a sphere, quadric or patch is
+   intersected again beyond it, by the ray spawned there (its own hash).  The
+   answer is a function of the ray and the primitive alone, so ORDER INDEPENDENCE
+   still holds, and shadow rays (any hit) see exactly the hits that closest-hit
+   rays see.  Without alpha shapes (Scene.n_alpha = 0) a hit costs one compare more.
+
    SELF-INTERSECTION POLICY (how secondary rays avoid hitting their own surface)
      1. scene_surface_point computes p from the barycentrics in double, so p lies within
         half an ulp of the triangle's plane (for spheres: reprojected onto the sphere).
@@ -946,6 +957,67 @@ static void instance_point(const Instance *in, SurfacePoint *sp)
     if (v3_dot(sp->ns, sp->ng) < 0.0f) sp->ns = v3_neg(sp->ns);   /* pbrt-v4: FaceForward */
 }
 
+/* A number in [0, 1) hashed from the bits of r's origin and direction (ALPHA). */
+static double ray_hash01(const Ray *r)
+{
+    uint32_t b[6];
+    uint64_t h;
+    memcpy(&b[0], &r->o.x, 4); memcpy(&b[1], &r->o.y, 4); memcpy(&b[2], &r->o.z, 4);
+    memcpy(&b[3], &r->d.x, 4); memcpy(&b[4], &r->d.y, 4); memcpy(&b[5], &r->d.z, 4);
+    h = hash_u64((uint64_t)b[0] << 32 | b[1], (uint64_t)b[2] << 32 | b[3]);
+    h = hash_u64(h, (uint64_t)b[4] << 32 | b[5]);
+    return (double)(uint32_t)(h >> 32) * (1.0 / 4294967296.0);
+}
+
+/* Primitive p (not an instance) along r again, for 0 < t < r->tmax: its further
+   hit past one that alpha ignored; a triangle, being flat, has none. */
+static int prim_hit_again(const Scene *s, int p, const Ray *r, float *t, float *b1, float *b2)
+{
+    const int n_sph = s->n_tris + s->n_spheres, n_quad = n_sph + s->n_quadrics;
+    if (p < s->n_tris) return 0;
+    if (p < n_sph) {
+        const Shape *sh = &s->shapes[s->sphere_shape[p - s->n_tris]];
+        *b1 = *b2 = 0.0f;
+        return intersect_sphere(sh->center, sh->radius, r, t);
+    }
+    if (p < n_quad) {
+        *b1 = *b2 = 0.0f;
+        return quadric_intersect(&s->shapes[s->quadric_shape[p - n_sph]], r, r->tmax, t);
+    } else {
+        Vec3 c[4];
+        patch_corners(s, s->patches[p - n_quad].v, c);
+        return patch_intersect(c, r, r->tmax, t, b1, b2);
+    }
+}
+
+/* ALPHA: whether the hit (t, b1, b2) of r with primitive p counts; when it does
+   not, the ray spawned at the hit looks for a further hit on p before tmax, and
+   (t, b1, b2) become the first one that counts.  0: none counts. */
+static int alpha_keep(const Scene *s, const Ray *r, int p, float tmax, float *t, float *b1, float *b2)
+{
+    const Shape *sh = &s->shapes[prim_shape(s, p)];
+    Ray ri = *r;
+    float t0 = 0.0f;                           /* ri starts at r's t0 */
+    int k;
+    if (!sh->alpha_on) return 1;
+    for (k = 0; k < 4; k++) {                  /* a quadric or patch meets a line at most twice */
+        HitRecord h;
+        SurfacePoint sp;
+        float a = sh->alpha, ti;
+        h.t = *t - t0; h.prim = p; h.b1 = *b1; h.b2 = *b2; h.inst = -1;
+        if (sh->alpha_tex > 0 || p >= s->n_tris) scene_surface_point(s, &ri, &h, &sp);
+        if (sh->alpha_tex > 0) a = tex_eval(s->textures, sh->alpha_tex - 1, &sp, 550.0f);
+        if (a >= 1.0f || (a > 0.0f && ray_hash01(&ri) <= (double)a)) return *t <= tmax;
+        if (p < s->n_tris) return 0;
+        ri.o = offset_ray_origin(sp.p, sp.ng, r->d);   /* pbrt-v4: SpawnRay(d) */
+        t0 = *t;
+        ri.tmax = tmax - t0;
+        if (!(ri.tmax > 0.0f) || !prim_hit_again(s, p, &ri, &ti, b1, b2)) return 0;
+        *t = t0 + ti;
+    }
+    return 0;
+}
+
 /* The closest hit (any_hit: any hit) of the world ray r with instance i's object,
    traced in object space with tmax = t_best; at_tmax: a hit at t_best itself counts
    (the caller breaks that tie by the instance's id).  Defined after traverse. */
@@ -975,6 +1047,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
     float t_enter[BVH_WIDTH], t_z[BVH_WIDTH], t_best = r->tmax, t_cull, t, b1, b2;
     const int no_hit = at_tmax ? INT32_MAX : -1;
     const int n_quad_end = s->n_tris + s->n_spheres + s->n_quadrics, n_base = n_quad_end + s->n_patches;
+    const int n_alpha_base = s->n_alpha > 0 ? n_base : 0;   /* ALPHA: ids below it are tested */
     int hit[BVH_WIDTH], sp = 0, best_p = no_hit, ref = 0, j;
     HitRecord hi;
     if (b->n_nodes == 0 || !(t_best > 0.0f) || !ray_prepare(r, &rp) || !root_hit(b, &rp) ||
@@ -1041,6 +1114,8 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                     ok = 1; t = hi.t; b1 = hi.b1; b2 = hi.b2;
                 }
                 if (!ok) continue;
+                if (p < n_alpha_base && !alpha_keep(s, r, p, t_best, &t, &b1, &b2))
+                    continue;                       /* ALPHA: the ray goes on */
                 if (any_hit) {
                     if (t < r->tmax) return 1;
                     continue;
@@ -1182,7 +1257,7 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
            material or a mix reads them (two inverse trigonometric calls) */
         sp->u = sp->v = 0.0f;
         if (sh->material >= 0 && sh->material < s->n_materials &&
-            (s->materials[sh->material].reflectance_tex > 0 || s->materials[sh->material].alpha_tex > 0 ||
+            (sh->alpha_tex > 0 || s->materials[sh->material].reflectance_tex > 0 || s->materials[sh->material].alpha_tex > 0 ||
              s->materials[sh->material].type == MAT_MIX)) {
             const double (*oi)[4] = (const double (*)[4])sh->q.world_from_obj.inv;
             double o[3], olen = 0.0, phi, ct;

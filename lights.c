@@ -466,6 +466,19 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
     return finish_sample(ref, em->area, out);
 }
 
+/* pbrt-v4 masks an area light's emission where its alpha test fails; a ray that
+   finds the shape does so with probability alpha already (bvh.c ALPHA), so the
+   points NEE samples, which no ray tests, carry the expected value alpha L.
+   Both estimators then see alpha L, and MIS between them stays unbiased. */
+float emitter_alpha(const Scene *s, int e)
+{
+    const Emitter *em = &s->emitters[e];
+    float a;
+    if (em->inf || em->delta.type != DELTA_NONE || em->shape < 0) return 1.0f;
+    a = s->shapes[em->shape].alpha;
+    return a < 1.0f ? (a > 0.0f ? a : 0.0f) : 1.0f;
+}
+
 static float pdf_sa_area(double area, Vec3 ref, Vec3 p, Vec3 n)
 {
     Vec3 d = v3_sub(p, ref);

@@ -167,6 +167,7 @@ typedef struct {
     const char *integ_file; int integ_line; char integ_type[32];  /* the Integrator */
     RgbTable *rgb;             /* the load's RGB -> spectrum coefficient table (spectrum.c) */
     int cur_object;            /* inside ObjectBegin: 1 + its Scene.objects index; else 0 */
+    float shape_alpha; int shape_alpha_tex;   /* the Shape being read: its "alpha" (Shape) */
     int cap_objects;
     InstanceUse *uses; int n_uses, cap_uses;   /* the ObjectInstance directives */
     /* every parameter an Attribute directive gave, copied (strings interned); each

@@ -142,6 +142,10 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
     sh->medium_inside = P->gs.medium_inside;
     sh->medium_outside = P->gs.medium_outside;
     sh->in_object = P->cur_object;      /* in an object's space (instance.c) */
+    sh->alpha = P->shape_alpha;
+    sh->alpha_tex = P->shape_alpha_tex;
+    sh->alpha_on = sh->alpha_tex > 0 || sh->alpha < 1.0f;
+    s->n_alpha += sh->alpha_on;
     sh->file = file;
     sh->line = line;
     if (P->gs.area_light >= 0) {
@@ -610,7 +614,7 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
     if (!get_points(P, pl, PT_NORMAL, "N", 3, &Nd, &nn)) return 0;
     if (!get_points(P, pl, PT_POINT2, "uv", 2, &UV, &nuv)) return 0;
     if (!params_check_unused(P, pl, what, "integer indices, point3 P, normal N, point2 uv",
-                             "S faceIndices alpha emissionfilename displacement"))
+                             "S faceIndices emissionfilename displacement"))
         return 0;
     if (nv == 0) return fail(P, file, line, "%s: \"point3 P\" is required", what);
     if (ni == 0 && nv != per)
@@ -711,7 +715,7 @@ static int disk_shape(Parser *P, ParamList *pl, const char *file, int line)
         !get_finite(P, pl, what, "phimax", 360.0f, &deg, file, line))
         return 0;
     if (!params_check_unused(P, pl, what, "float height, float radius, float innerradius, "
-                             "float phimax", "alpha emissionfilename"))
+                             "float phimax", "emissionfilename"))
         return 0;
     if (!(q.radius > 0.0)) return fail_param(P, pl, "radius", file, line, "%s: radius %g must be > 0", what, q.radius);
     if (!(q.inner >= 0.0 && q.inner < q.radius))
@@ -735,7 +739,7 @@ static int cylinder_shape(Parser *P, ParamList *pl, const char *file, int line)
         !get_finite(P, pl, what, "phimax", 360.0f, &deg, file, line))
         return 0;
     if (!params_check_unused(P, pl, what, "float radius, float zmin, float zmax, float phimax",
-                             "alpha emissionfilename"))
+                             "emissionfilename"))
         return 0;
     if (!(q.radius > 0.0)) return fail_param(P, pl, "radius", file, line, "%s: radius %g must be > 0", what, q.radius);
     if (q.zmin > q.zmax) {                    /* pbrt-v4 Cylinder: min and max of the pair */
@@ -763,7 +767,7 @@ static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
         !get_finite(P, pl, what, "phimax", 360.0f, &deg, file, line))
         return 0;
     if (!params_check_unused(P, pl, what, "float radius, float zmin, float zmax, float phimax",
-                             "alpha emissionfilename"))
+                             "emissionfilename"))
         return 0;
     if (!(radius > 0.0f) || !isfinite(radius))
         return fail_param(P, pl, "radius", file, line, "Shape \"sphere\": radius %g must be > 0", radius);
@@ -833,7 +837,7 @@ static int ply_shape(Parser *P, ParamList *pl, const char *file, int line)
     int ok, i;
     if (!get_string(P, pl, "filename", &fn)) return 0;
     if (!params_check_unused(P, pl, "Shape \"plymesh\"", "string filename",
-                             "displacement edgelength alpha emissionfilename"))
+                             "displacement edgelength emissionfilename"))
         return 0;
     if (!fn) return fail(P, file, line, "Shape \"plymesh\": \"string filename\" is required");
     resolve_path(P, file, fn, path, sizeof path);
@@ -881,7 +885,7 @@ static int loopsubdiv_shape(Parser *P, ParamList *pl, const char *file, int line
                         "reads \"integer levels\" (pbrt --upgrade renames it)", what);
     }
     if (!params_check_unused(P, pl, what, "integer levels, integer indices, point3 P, string scheme",
-                             "alpha emissionfilename"))
+                             "emissionfilename"))
         return 0;
     if (ni == 0) return fail(P, file, line, "%s: \"integer indices\" is required", what);
     if (nv == 0) return fail(P, file, line, "%s: \"point3 P\" is required", what);
@@ -910,7 +914,45 @@ static int loopsubdiv_shape(Parser *P, ParamList *pl, const char *file, int line
     return ok;
 }
 
-static int shape_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+/* pbrt-v4's "alpha" of every shape: "texture alpha" (a float texture) or "float
+   alpha" (1).  A texture on an AreaLightSource shape is refused: its emission would
+   need the texture at the points NEE samples.  Sets P->shape_alpha(_tex). */
+static int shape_alpha(Parser *P, ParamList *pl, const char *type)
+{
+    Param *pt = param_find(pl, PT_TEXTURE, "alpha");
+    P->shape_alpha = 1.0f;
+    P->shape_alpha_tex = 0;
+    if (pt) {
+        int k = texture_lookup(P, pt, 1);
+        if (k < 0) return 0;
+        if (P->gs.area_light >= 0)
+            return fail(P, pt->file, pt->line, "Shape \"%s\": \"texture alpha\" on an "
+                        "AreaLightSource shape is valid pbrt-v4 but not in the specnee subset "
+                        "(a \"float alpha\" is)", type);
+        P->shape_alpha_tex = k + 1;
+        return 1;
+    }
+    return get_float(P, pl, "alpha", 1.0f, &P->shape_alpha);
+}
+
+/* A shape pbrt-v4 can never hit ("float alpha" <= 0, no texture): its light sends
+   nothing either (DiffuseAreaLight's alpha mask), so it is read, checked, and then
+   dropped with everything it appended, as if the file did not have it. */
+static int shape_drop(Parser *P, const Scene *before)
+{
+    Scene *s = P->s;
+    s->n_verts = before->n_verts;
+    s->n_tris = before->n_tris;
+    s->n_shapes = before->n_shapes;
+    s->n_emitters = before->n_emitters;
+    s->n_spheres = before->n_spheres;
+    s->n_quadrics = before->n_quadrics;
+    s->n_patches = before->n_patches;
+    s->n_alpha = before->n_alpha;
+    return 1;
+}
+
+static int shape_build(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     if (!strcmp(type, "trianglemesh")) return mesh_shape(P, 0, pl, file, line);
     if (!strcmp(type, "bilinearmesh")) return mesh_shape(P, 1, pl, file, line);
@@ -923,6 +965,17 @@ static int shape_directive(Parser *P, const char *type, ParamList *pl, const cha
         return fail(P, file, line, "Shape \"%s\" is valid pbrt-v4 but not in the specnee subset",
                     type);
     return fail(P, file, line, "Shape \"%s\": unknown shape type", type);
+}
+
+/* Shape: its "alpha" first (every type reads it), then the shape itself. */
+static int shape_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    Scene before = *P->s;
+    int ok;
+    if (!shape_alpha(P, pl, type)) return 0;
+    ok = shape_build(P, type, pl, file, line);
+    if (ok && P->shape_alpha_tex == 0 && P->shape_alpha <= 0.0f) return shape_drop(P, &before);
+    return ok;
 }
 
 /* ===========================================================================

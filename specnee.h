@@ -478,6 +478,11 @@ typedef struct {
     int in_object;             /* 0: in the world; k > 0: part of object definition
                                   k - 1 (Scene.objects), its coordinates in the
                                   object's space (instance.c) */
+    float alpha;               /* pbrt-v4 "float alpha" (1: opaque): a hit is kept only when
+                                  a hash of the ray is <= alpha (bvh.c: ALPHA) */
+    int alpha_tex;             /* "texture alpha": 1 + its index in Scene.textures, read at
+                                  the hit's (u, v); 0: none */
+    int alpha_on;              /* alpha < 1 or a texture: the BVH tests the hits */
     const char *file; int line;/* where it was declared, for messages */
 } Shape;
 
@@ -1181,6 +1186,7 @@ typedef struct Scene {
     Patch *patches; int n_patches;       /* bilinear patches that are not flat (patch.c) */
     Object *objects; int n_objects;      /* ObjectBegin definitions (instance.c) */
     Instance *instances; int n_instances;/* ObjectInstance placements */
+    int n_alpha;                         /* shapes with alpha_on (0: no alpha test at all) */
     Vec3 bmin, bmax;                     /* world bounds of all geometry */
     Bvh bvh;
     char **strings; int n_strings;       /* owned file names referenced by shapes */
@@ -1354,6 +1360,10 @@ int   emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float 
 /* Solid-angle pdf of emitter_sample producing point p (normal n) from ref.  For an
    infinite light the direction p - ref counts. */
 float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n);
+/* The factor NEE gives emitter e's radiance at its sampled points: its shape's
+   "float alpha" clamped to [0, 1] (a hit found by a ray counts with that
+   probability, bvh.c ALPHA), 1 for every other emitter. */
+float emitter_alpha(const Scene *s, int e);
 
 /* Infinite lights (infinite.c).  dir: unit world direction towards the light (the
    direction of a ray that escapes).  Radiance and solid-angle pdf of inf_sample.

@@ -409,8 +409,8 @@ static void test_instance_errors(T *t)
     expect_reject(t, "WorldBegin\nAttribute \"camera\" \"float fov\" 3\n", 2,
                   "Unknown attribute target \"camera\"");
     /* an Attribute that pbrt-v4 would read and specnee cannot: refused by name */
-    expect_reject(t, "WorldBegin\nAttribute \"shape\" \"float alpha\" 0.5\n"
-                  "Shape \"sphere\"\n", 2, "\"float alpha\" is valid pbrt-v4 but not in the specnee subset");
+    expect_reject(t, "WorldBegin\nAttribute \"shape\" \"string emissionfilename\" \"e.exr\"\n"
+                  "Shape \"sphere\"\n", 2, "\"string emissionfilename\" is valid pbrt-v4 but not in the specnee subset");
 }
 
 /* ---- Attribute: precedence and scope ------------------------------------------- */

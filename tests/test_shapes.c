@@ -596,7 +596,7 @@ static void test_reject(T *t)
         { "Shape \"disk\" \"float phimax\" 361", 2, "phimax 361" },
         { "Shape \"disk\" \"float height\" 1e300", 2, "finite" },
         { "Shape \"disk\"\n\"float radius\" nan", 3, "finite" },
-        { "Shape \"disk\" \"float alpha\" 0.5", 2, "alpha" },
+        { "Shape \"disk\" \"texture alpha\" \"none\"", 2, "\"texture alpha\": no texture named \"none\"" },
         { "Shape \"cylinder\" \"float radius\" 0", 2, "radius 0 must be > 0" },
         { "Shape \"cylinder\" \"float zmin\" 1 \"float zmax\" 1", 2, "zmin = zmax = 1" },
         { "Shape \"cylinder\" \"float phimax\" -90", 2, "phimax -90" },
