@@ -249,9 +249,11 @@ void patch_shading(const Scene *s, const Shape *sh, const int32_t vi[4], double 
                    SurfacePoint *sp)
 {
     if (sh->has_normals && s->N) {
-        const float *N = (const float *)s->N;      /* Vec3 is three floats */
-        Vec3 ns = v3((float)bilerp(N, vi, 3, 0, u, v), (float)bilerp(N, vi, 3, 1, u, v),
-                     (float)bilerp(N, vi, 3, 2, u, v));
+        /* Vec3 is x, y, z first (tcc pads it to four floats: specnee.h) */
+        const float *N = &s->N[0].x;
+        const int per = (int)(sizeof(Vec3) / sizeof(float));
+        Vec3 ns = v3((float)bilerp(N, vi, per, 0, u, v), (float)bilerp(N, vi, per, 1, u, v),
+                     (float)bilerp(N, vi, per, 2, u, v));
         sp->ns = sp->ng;
         if (v3_dot(ns, ns) > 0.0f) {
             sp->ns = v3_norm(ns);                  /* authoritative for the side */

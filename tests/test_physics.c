@@ -494,7 +494,11 @@ static void test_rough_furnace(T *t)
         if (!test_load_scene(t, &s, text)) return;
         render_options_default(&o);
         o.sel.grid_res = 8;
-        o.spp = test_scaled(64, 8);
+        /* not fewer than 64: the renderer sits about 1 % above the prediction at
+           every sample count (0.779 +- 0.001 at 256 spp, with and without the
+           roulette on beta eta^2), inside this bound only with 64 spp's error bar
+           and the model's err; an open question, not a tolerance to lean on */
+        o.spp = test_scaled(64, 64);
         o.maxdepth = maxdepth;
         o.nee = nee;
         if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
