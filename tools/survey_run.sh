@@ -94,6 +94,7 @@ label() {
         -e 's/^Shape "plymesh": .*a gzip-compressed file.*/gzip-compressed PLY (.ply.gz)/' \
         -e 's/^Include "[^"]*": cannot read .*/included file not surveyed/' \
         -e 's/ is valid pbrt-v4 but not in the specnee subset//' \
+        -e 's/^Material "[a-z]+": "string normalmap"$/"string normalmap" (a normal map, any material)/' \
         -e 's/^Film: "string sensor" "[^"]*".*/Film: "string sensor" (a named camera)/' \
         -e 's/^MediumInterface: no MakeNamedMedium defines .*/(follows: a removed medium)/' \
         -e 's/[A-Za-z0-9_./-]+\.(pbrt|ply|exr|png|pfm|spd|bsdf|nvdb)/FILE/g'
@@ -136,11 +137,12 @@ scratch=$(mktemp -d)
 while read -r scene; do
     [ -n "$scene" ] || continue
     fam=${scene%%/*} file=${scene#*/}
-    rm -rf "$scratch/w"; cp -r "$root/$fam" "$scratch/w"
+    # the whole folder: a scene may name files of another family (../x/...)
+    rm -rf "$scratch/w"; mkdir "$scratch/w"; cp -r "$root/." "$scratch/w"
     round=0 status=blocked first="" all="" prev=""
     while :; do
         round=$((round + 1))
-        ( cd "$scratch/w" && timeout "$T" "$S" --res 8x8 --spp 1 --threads 1 -q \
+        ( cd "$scratch/w/$fam" && timeout "$T" "$S" --res 8x8 --spp 1 --threads 1 -q \
             -o /tmp/survey-out.pfm "$file" ) > /dev/null 2> "$scratch/err"
         rc=$?
         [ $rc -eq 0 ] && { [ -z "$first" ] && status=renders; break; }
@@ -155,7 +157,7 @@ while read -r scene; do
         prev=$msg
         ef=${msg%%:*} el=${msg#*:}; el=${el%%:*}
         case $el in *[!0-9]*|"") status=stuck; break ;; esac
-        fix "$scratch/w/$ef" "$el" "$msg"
+        fix "$scratch/w/$fam/$ef" "$el" "$msg"
     done
     printf '%s\t%s\t%s\n' "$scene" "$status" "${all:--}" >> "$out/raw.tsv"
 done < "$root/scenes.txt"
