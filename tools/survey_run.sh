@@ -39,7 +39,8 @@
 # 2x2 EXR (.exr), a flat two-point spectrum
 # (.spd), an empty file (.bsdf, .nvdb, others), those gzip-compressed for
 # .ply.gz and .pbrt.gz.  Included .pbrt files get none ("not surveyed").  It lists what it
-# wrote in SCENES/standins.txt.
+# wrote in SCENES/standins.txt.  A run writes them first when that file is
+# missing.
 
 set -u
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -131,6 +132,7 @@ while [ $# -gt 2 ]; do
 done
 [ $# -eq 2 ] || { echo "usage: sh tools/survey_run.sh [-s SPECNEE] [-t SECONDS] SCENES OUT" >&2; exit 2; }
 root=$(cd "$1" && pwd) out=$2
+[ -e "$root/standins.txt" ] || standins "$root"
 mkdir -p "$out"; out=$(cd "$out" && pwd)
 : > "$out/log.tsv"; : > "$out/raw.tsv"
 scratch=$(mktemp -d)
