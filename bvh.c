@@ -1,8 +1,9 @@
 /* bvh.c - the bounding volume hierarchy: builds it, and answers ray queries with it.
 
    WHAT IT IMPLEMENTS (specnee.h section 5)
-     bvh_build / bvh_free   binned-SAH BVH over every triangle, sphere and quadric (disk,
-                            cylinder, cut sphere: shapes.c) of a Scene, in 8-wide nodes
+     bvh_build / bvh_free   binned-SAH BVH over every triangle, sphere, quadric (disk,
+                            cylinder, cut sphere: shapes.c) and bilinear patch
+                            (patch.c) of a Scene, in 8-wide nodes
      bvh_intersect          closest hit along a ray segment 0 < t < tmax
      bvh_occluded           any hit (shadow rays): stops at the first one found
      intersect_triangle     watertight ray/triangle test (Woop, Benthin, Wald 2013)
@@ -13,8 +14,23 @@
    bvh_intersect, then scene_surface_point, and bvh_occluded for the shadow rays of
    next event estimation (through media it follows them with bvh_intersect instead).
    Primitive id k < n_tris is triangle k, n_tris + j sphere j (s->sphere_shape[j]),
-   n_tris + n_spheres + k quadric k (s->quadric_shape[k], intersected by shapes.c);
-   at most 2^28 - 1 of them (a leaf packs its first primitive into 28 bits).
+   n_tris + n_spheres + k quadric k (s->quadric_shape[k], intersected by shapes.c),
+   n_tris + n_spheres + n_quadrics + k patch k (s->patches[k], a bilinear patch that
+   is not flat, intersected by patch.c; flat ones are two triangles), and n_base + i
+   instance i (n_base = n_tris + n_spheres + n_quadrics + n_patches; instance.c: a
+   second level); at most 2^28 - 1 of them (a leaf packs its first primitive into 28
+   bits).
+
+   INSTANCES (the second level; instance.c has the transforms): bvh_build's tree
+   holds the primitives in the world (Shape.in_object == 0) and one primitive per
+   instance, boxed by its world box; bvh_build_object builds each object's tree over
+   its primitives in the object's space.  A leaf that meets an instance traces the
+   ray, carried into object space with the same t, through the object's tree with
+   tmax = the closest hit so far (instance_hit), and a hit there counts as the
+   instance's: ties with it go by the instance's top-level id, ties inside the
+   object by the object's ids, so the result stays independent of the order.  The
+   hit record names the object's primitive and the instance (HitRecord.inst), and
+   scene_surface_point computes the point in object space and carries it back.
 
    BUILD (bvh_build): a binary tree by the binned surface area heuristic (Wald 2007;
    pbrt-v4 section 7.3.2), then collapsed into 8-wide nodes (Wald, Benthin, Boulos
@@ -395,44 +411,67 @@ static int bin_of(float c, float lo, float k)
     return (int)f;
 }
 
-/* Fill the bounds and centroid of every primitive; 0 on invalid geometry. */
-static int prim_infos(const Scene *s, PrimInfo *info)
+/* The Shape of primitive id < n_tris + n_spheres + n_quadrics + n_patches, -1 for
+   an index out of range. */
+static int prim_shape(const Scene *s, int id)
 {
-    int i, j, k, a;
-    for (i = 0; i < s->n_tris; i++) {
-        Box *b = &info[i].box;
+    int sh;
+    if (id < s->n_tris) sh = s->tris[id].shape;
+    else if (id < s->n_tris + s->n_spheres) sh = s->sphere_shape[id - s->n_tris];
+    else if (id < s->n_tris + s->n_spheres + s->n_quadrics)
+        sh = s->quadric_shape[id - s->n_tris - s->n_spheres];
+    else sh = s->patches[id - s->n_tris - s->n_spheres - s->n_quadrics].shape;
+    return sh >= 0 && sh < s->n_shapes ? sh : -1;
+}
+
+/* The bounds and centroid of primitive id (a triangle, sphere, quadric, patch or
+   instance); 0 on invalid geometry. */
+static int prim_info(const Scene *s, int id, PrimInfo *info)
+{
+    const int n_quad_end = s->n_tris + s->n_spheres + s->n_quadrics;
+    const int n_base = n_quad_end + s->n_patches;
+    Box *b = &info->box;
+    int k, a;
+    if (id < s->n_tris) {
         box_empty(b);
         for (k = 0; k < 3; k++) {
-            int vi = s->tris[i].v[k];
+            int vi = s->tris[id].v[k];
             float p[3];
             if (vi < 0 || vi >= s->n_verts) return 0;
             p[0] = s->P[vi].x; p[1] = s->P[vi].y; p[2] = s->P[vi].z;
             if (!isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) return 0;
             box_grow_point(b, p);
         }
-    }
-    for (j = 0; j < s->n_spheres; j++) {
+    } else if (id < s->n_tris + s->n_spheres) {
+        const int j = s->sphere_shape[id - s->n_tris];
         const Shape *sh;
-        Box *b = &info[s->n_tris + j].box;
-        if (s->sphere_shape[j] < 0 || s->sphere_shape[j] >= s->n_shapes) return 0;
-        sh = &s->shapes[s->sphere_shape[j]];
+        if (j < 0 || j >= s->n_shapes) return 0;
+        sh = &s->shapes[j];
         for (a = 0; a < 3; a++) {         /* rounded outwards: the box holds the sphere */
             float c = v3_get(sh->center, a);
             b->lo[a] = nextafterf(c - sh->radius, -FLT_MAX);
             b->hi[a] = nextafterf(c + sh->radius, FLT_MAX);
         }
-    }
-    for (j = 0; j < s->n_quadrics; j++) {
-        if (s->quadric_shape[j] < 0 || s->quadric_shape[j] >= s->n_shapes) return 0;
-        quadric_bounds(&s->shapes[s->quadric_shape[j]], info[s->n_tris + s->n_spheres + j].box.lo,
-                       info[s->n_tris + s->n_spheres + j].box.hi);
-    }
-    for (i = 0; i < s->n_tris + s->n_spheres + s->n_quadrics; i++) {
-        for (a = 0; a < 3; a++) {
-            const Box *b = &info[i].box;
-            if (!isfinite(b->lo[a]) || !isfinite(b->hi[a])) return 0;
-            info[i].centroid[a] = 0.5f * b->lo[a] + 0.5f * b->hi[a];
+    } else if (id < n_quad_end) {
+        const int j = s->quadric_shape[id - s->n_tris - s->n_spheres];
+        if (j < 0 || j >= s->n_shapes) return 0;
+        quadric_bounds(&s->shapes[j], b->lo, b->hi);
+    } else if (id < n_base) {             /* a patch lies in its corners' box */
+        box_empty(b);
+        for (k = 0; k < 4; k++) {
+            int vi = s->patches[id - n_quad_end].v[k];
+            float p[3];
+            if (vi < 0 || vi >= s->n_verts) return 0;
+            p[0] = s->P[vi].x; p[1] = s->P[vi].y; p[2] = s->P[vi].z;
+            box_grow_point(b, p);
         }
+    } else {                              /* an instance: its world box (instance.c) */
+        const Instance *in = &s->instances[id - n_base];
+        for (a = 0; a < 3; a++) { b->lo[a] = in->lo[a]; b->hi[a] = in->hi[a]; }
+    }
+    for (a = 0; a < 3; a++) {
+        if (!isfinite(b->lo[a]) || !isfinite(b->hi[a])) return 0;
+        info->centroid[a] = 0.5f * b->lo[a] + 0.5f * b->hi[a];
     }
     return 1;
 }
@@ -589,9 +628,10 @@ static void collapse(Bvh *b, const BinNode *bin, int32_t *todo_bin, int32_t *tod
     }
 }
 
-int bvh_build(Bvh *b, const Scene *s)
+/* The BVH over the primitives ids[0 .. n): the build works on their positions
+   0 .. n - 1 in that list, and the leaves store the ids. */
+static int build_ids(Bvh *b, const Scene *s, const int32_t *ids, int n)
 {
-    const int n = s->n_tris + s->n_spheres + s->n_quadrics;
     PrimInfo *info = NULL;
     BuildTask *stack = NULL;
     BinNode *bin = NULL;
@@ -600,17 +640,22 @@ int bvh_build(Bvh *b, const Scene *s)
     size_t n_wide;
 
     memset(b, 0, sizeof *b);
-    if (s->n_tris < 0 || s->n_spheres < 0 || s->n_quadrics < 0 || n < 0) return 0;
+    if (n < 0) return 0;
     if (n == 0) return 1;                          /* empty scene: no nodes, no hits */
     if (n >= (1 << 28)) return 0;                  /* a leaf packs first << 3 in 31 bits */
     info = (PrimInfo *)malloc((size_t)n * sizeof *info);
     stack = (BuildTask *)malloc(((size_t)n + 1) * sizeof *stack);
     bin = (BinNode *)malloc(2 * (size_t)n * sizeof *bin);              /* <= 2n-1 nodes */
     prims = (int32_t *)malloc((size_t)n * sizeof *prims);
-    if (!info || !stack || !bin || !prims || !prim_infos(s, info)) {
+    if (!info || !stack || !bin || !prims) {
         free(info); free(stack); free(bin); free(prims);
         return 0;
     }
+    for (i = 0; i < n; i++)
+        if (!prim_info(s, ids[i], &info[i])) {
+            free(info); free(stack); free(bin); free(prims);
+            return 0;
+        }
     for (i = 0; i < n; i++) prims[i] = i;
 
     /* 1. The binary SAH tree, depth first with an explicit stack (no recursion, so no
@@ -686,17 +731,17 @@ int bvh_build(Bvh *b, const Scene *s)
         collapse(b, bin, todo, todo + n_wide + 1);
 
     /* 3. The primitives' data in leaf order: 9 floats a triangle, 4 a sphere, none
-       a quadric. */
+       a quadric or a patch. */
     for (i = 0; i < n; i++) {
         BvhPrim *q = &b->prims[i];
-        int p = prims[i], k;
+        int p = ids[prims[i]], k;
         q->prim = p;
         if (p < s->n_tris) {
             for (k = 0; k < 3; k++) {
                 Vec3 v = s->P[s->tris[p].v[k]];
                 q->v[3 * k] = v.x; q->v[3 * k + 1] = v.y; q->v[3 * k + 2] = v.z;
             }
-        } else if (p >= s->n_tris + s->n_spheres) {
+        } else if (p >= s->n_tris + s->n_spheres) {     /* quadric, instance */
             for (k = 0; k < 9; k++) q->v[k] = 0.0f;
         } else {
             const Shape *sh = &s->shapes[s->sphere_shape[p - s->n_tris]];
@@ -710,6 +755,35 @@ int bvh_build(Bvh *b, const Scene *s)
     free(prims);
     free(todo);
     return 1;
+}
+
+int bvh_build_object(Bvh *b, const Scene *s, const int32_t *ids, int n)
+{
+    return build_ids(b, s, ids, n);
+}
+
+/* The scene's BVH: every primitive in the world (Shape.in_object == 0) and one
+   primitive per instance (instance.c). */
+int bvh_build(Bvh *b, const Scene *s)
+{
+    const int n_base = s->n_tris + s->n_spheres + s->n_quadrics + s->n_patches;
+    int32_t *ids;
+    int n = 0, i, ok;
+    memset(b, 0, sizeof *b);
+    if (s->n_tris < 0 || s->n_spheres < 0 || s->n_quadrics < 0 || s->n_patches < 0 || n_base < 0 ||
+        s->n_instances < 0 || s->n_instances > INT32_MAX - n_base)
+        return 0;
+    if (n_base + s->n_instances >= (1 << 28)) return 0;   /* a leaf packs first << 3 in 31 bits */
+    ids = (int32_t *)malloc(((size_t)n_base + (size_t)s->n_instances + 1) * sizeof *ids);
+    if (!ids) return 0;
+    for (i = 0; i < n_base; i++) {    /* (prim_info checks the shape indices) */
+        const int sh = prim_shape(s, i);
+        if (sh < 0 || s->shapes[sh].in_object == 0) ids[n++] = i;
+    }
+    for (i = 0; i < s->n_instances; i++) ids[n++] = n_base + i;
+    ok = build_ids(b, s, ids, n);
+    free(ids);
+    return ok;
 }
 
 /* ======================================================================
@@ -835,7 +909,53 @@ HOT_INLINE unsigned node_hit_mask(const BvhNode *nd, const RayPre *rp, float t_c
     return mask;
 }
 
+/* The world ray r in instance in's object space: o' = M^-1 o, d' = M^-1 d, the same
+   t (d' is not normalised), tmax kept (instance.c: RAYS AND HITS). */
+static Ray instance_ray(const Instance *in, const Ray *r)
+{
+    const double (*inv)[4] = (const double (*)[4])in->world_from_obj.inv;
+    const double o[3] = { r->o.x, r->o.y, r->o.z }, d[3] = { r->d.x, r->d.y, r->d.z };
+    float oo[3], dd[3];
+    Ray ro;
+    int a;
+    for (a = 0; a < 3; a++) {
+        oo[a] = (float)(inv[a][0] * o[0] + inv[a][1] * o[1] + inv[a][2] * o[2] + inv[a][3]);
+        dd[a] = (float)(inv[a][0] * d[0] + inv[a][1] * d[1] + inv[a][2] * d[2]);
+    }
+    ro.o = v3(oo[0], oo[1], oo[2]);
+    ro.d = v3(dd[0], dd[1], dd[2]);
+    ro.tmax = r->tmax;
+    return ro;
+}
+
+/* n by M's inverse transpose, normalised (n itself when the result has no length). */
+static Vec3 normal_to_world(const Xform *m, Vec3 n)
+{
+    Vec3 w = xf_normal(m, n);
+    return v3_dot(w, w) > 0.0f ? v3_norm(w) : n;
+}
+
+/* A hit point computed in instance in's object space, put into the world: p by M,
+   the normals by M^-T, the shading normal turned to the geometric one's side
+   (pbrt-v4's Transform of a SurfaceInteraction; instance.c: RAYS AND HITS). */
+static void instance_point(const Instance *in, SurfacePoint *sp)
+{
+    sp->p = xf_point(&in->world_from_obj, sp->p);
+    sp->ng = normal_to_world(&in->world_from_obj, sp->ng);
+    sp->ns = normal_to_world(&in->world_from_obj, sp->ns);
+    if (v3_dot(sp->ns, sp->ng) < 0.0f) sp->ns = v3_neg(sp->ns);   /* pbrt-v4: FaceForward */
+}
+
+/* The closest hit (any_hit: any hit) of the world ray r with instance i's object,
+   traced in object space with tmax = t_best; at_tmax: a hit at t_best itself counts
+   (the caller breaks that tie by the instance's id).  Defined after traverse. */
+static int instance_hit(const Scene *s, int i, const Ray *r, float t_best, int at_tmax,
+                        int any_hit, HitRecord *h);
+
 /* Walk the tree; any_hit = 1 returns at the first hit (h may be NULL then).
+   at_tmax = 1 (the trace of an instance's object, instance_hit) also accepts a hit
+   at r->tmax itself, which the caller then weighs by the instance's id; the
+   world's trace (at_tmax = 0) excludes the ray's own tmax.
    A stack holds the children still to visit.  At an inner node, the children the ray
    enters are pushed, the nearest last, so that it is popped next (the order only
    saves time: ORDER INDEPENDENCE); a child is dropped when popped if a hit closer
@@ -847,12 +967,16 @@ HOT_INLINE unsigned node_hit_mask(const BvhNode *nd, const RayPre *rp, float t_c
        node_hit_mask:  mask = 0b00101100  t_enter = [ .  .  4.0  1.5  .  2.0  .  . ]
        children 2, 3, 5 entered; ranks (farther ones) 0, 2, 1:
        stack  ... | child 2 (4.0) | child 5 (2.0) | child 3 (1.5) | <- popped next */
-HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h, int any_hit)
+HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h, int any_hit,
+                        int at_tmax)
 {
     RayPre rp;
     StackEntry stack[BVH_STACK];
     float t_enter[BVH_WIDTH], t_z[BVH_WIDTH], t_best = r->tmax, t_cull, t, b1, b2;
-    int hit[BVH_WIDTH], sp = 0, best_p = -1, ref = 0, j;
+    const int no_hit = at_tmax ? INT32_MAX : -1;
+    const int n_quad_end = s->n_tris + s->n_spheres + s->n_quadrics, n_base = n_quad_end + s->n_patches;
+    int hit[BVH_WIDTH], sp = 0, best_p = no_hit, ref = 0, j;
+    HitRecord hi;
     if (b->n_nodes == 0 || !(t_best > 0.0f) || !ray_prepare(r, &rp) || !root_hit(b, &rp) ||
         !ray_prepare_rest(&rp))                    /* only now: most rays miss the root */
         return 0;
@@ -902,10 +1026,19 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 if (p < s->n_tris) ok = tri_hit(&rp, q->v, t_best, &t, &b1, &b2);
                 else if (p < s->n_tris + s->n_spheres) {
                     ok = sphere_hit(&rp, q->v, t_best, &t); b1 = b2 = 0.0f;
-                } else {
+                } else if (p < n_quad_end) {
                     ok = quadric_intersect(&s->shapes[s->quadric_shape[p - s->n_tris - s->n_spheres]],
                                            r, t_best, &t);
                     b1 = b2 = 0.0f;
+                } else if (p < n_base) {
+                    Vec3 c[4];             /* a patch: b1, b2 carry its (u, v) */
+                    patch_corners(s, s->patches[p - n_quad_end].v, c);
+                    ok = patch_intersect(c, r, t_best, &t, &b1, &b2);
+                } else {                            /* an instance: its object's closest hit */
+                    if (!instance_hit(s, p - n_base, r, t_best, best_p != no_hit, any_hit, &hi))
+                        continue;
+                    if (any_hit) return 1;          /* at t < r->tmax */
+                    ok = 1; t = hi.t; b1 = hi.b1; b2 = hi.b2;
                 }
                 if (!ok) continue;
                 if (any_hit) {
@@ -918,26 +1051,36 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 t_best = t;                         /* closer hits only from now on */
                 t_cull = t_best * rp.cull_scale;
                 best_p = p;
-                h->t = t; h->prim = p; h->b1 = b1; h->b2 = b2;
+                h->t = t; h->prim = p; h->b1 = b1; h->b2 = b2; h->inst = -1;
+                if (p >= n_base) { h->prim = hi.prim; h->inst = p - n_base; }
             }
         }
         /* pop the next child that may still hold a hit at t <= t_best */
         do {
-            if (sp == 0) return best_p >= 0;
+            if (sp == 0) return best_p != no_hit;
             sp--;
         } while (stack[sp].t_z > t_cull);
         ref = stack[sp].ref;
     }
 }
 
+static int instance_hit(const Scene *s, int i, const Ray *r, float t_best, int at_tmax,
+                        int any_hit, HitRecord *h)
+{
+    const Instance *in = &s->instances[i];
+    Ray ro = instance_ray(in, r);
+    ro.tmax = t_best;
+    return traverse(&s->objects[in->object].bvh, s, &ro, h, any_hit, at_tmax);
+}
+
 int bvh_intersect(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h)
 {
-    return traverse(b, s, r, h, 0);
+    return traverse(b, s, r, h, 0, 0);
 }
 
 int bvh_occluded(const Bvh *b, const Scene *s, const Ray *r)
 {
-    return traverse(b, s, r, NULL, 1);
+    return traverse(b, s, r, NULL, 1, 0);
 }
 
 /* ======================================================================
@@ -945,6 +1088,16 @@ int bvh_occluded(const Bvh *b, const Scene *s, const Ray *r)
    ====================================================================== */
 void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp)
 {
+    if (h->inst >= 0 && h->inst < s->n_instances) {
+        /* in an instance: the point in object space, then put into the world */
+        const Instance *in = &s->instances[h->inst];
+        const Ray ro = instance_ray(in, r);
+        HitRecord ho = *h;
+        ho.inst = -1;
+        scene_surface_point(s, &ro, &ho, sp);
+        instance_point(in, sp);
+        return;
+    }
     sp->prim = h->prim;
     if (h->prim < s->n_tris) {
         const Triangle *tri = &s->tris[h->prim];
@@ -962,7 +1115,7 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
             sp->ng = v3_norm(v3_neg(r->d));
         if (sh->flip) sp->ng = v3_neg(sp->ng);
         sp->ns = sp->ng;
-        if (sh->has_normals && s->N) {
+        if (sh->has_normals && s->N && !sh->bilinear) {     /* (a patch: patch_shading) */
             Vec3 n0 = s->N[tri->v[0]], n1 = s->N[tri->v[1]], n2 = s->N[tri->v[2]];
             Vec3 ns = v3((float)(b0 * n0.x + b1 * n1.x + b2 * n2.x),
                          (float)(b0 * n0.y + b1 * n1.y + b2 * n2.y),
@@ -974,8 +1127,18 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
             }
         }
         /* (u, v): the mesh's "uv" interpolated, else pbrt-v4's default corners
-           (0,0), (1,0), (1,1), i.e. u = b1 + b2, v = b2 */
-        if (sh->has_uv && s->UV) {
+           (0,0), (1,0), (1,1), i.e. u = b1 + b2, v = b2; a flat bilinear patch's
+           triangle: the patch's own (u, v) at p, "uv" and "N" bilinear (patch.c) */
+        if (sh->bilinear) {
+            const Triangle *t0 = &s->tris[sh->tri_begin + 2 * ((h->prim - sh->tri_begin) / 2)];
+            int32_t q[4];
+            Vec3 c[4];
+            float pu, pv;
+            q[0] = t0[0].v[0]; q[1] = t0[0].v[1]; q[2] = t0[1].v[2]; q[3] = t0[0].v[2];
+            patch_corners(s, q, c);
+            patch_uv_of_point(c, sp->p, &pu, &pv);
+            patch_shading(s, sh, q, pu, pv, sp);
+        } else if (sh->has_uv && s->UV) {
             const float *t0 = s->UV + 2 * tri->v[0], *t1 = s->UV + 2 * tri->v[1], *t2 = s->UV + 2 * tri->v[2];
             sp->u = (float)(b0 * t0[0] + b1 * t1[0] + b2 * t2[0]);
             sp->v = (float)(b0 * t0[1] + b1 * t1[1] + b2 * t2[1]);
@@ -984,6 +1147,10 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
             sp->v = (float)b2;
         }
         sp->shape = tri->shape;
+    } else if (h->prim >= s->n_tris + s->n_spheres + s->n_quadrics) {
+        const Patch *pa = &s->patches[h->prim - s->n_tris - s->n_spheres - s->n_quadrics];
+        patch_surface_point(s, &s->shapes[pa->shape], pa->v, h->b1, h->b2, r, sp);
+        sp->shape = pa->shape;
     } else if (h->prim >= s->n_tris + s->n_spheres) {
         int shape = s->quadric_shape[h->prim - s->n_tris - s->n_spheres];
         quadric_surface_point(&s->shapes[shape], r, h->t, sp);

@@ -106,8 +106,15 @@ static int emitter_find_planes(const Scene *s, Emitter *em)
                 double q = fabs((double)v3_get(s->P[s->tris[t].v[k]], a));
                 if (q > big) big = q;
             }
+    for (t = sh->patch_begin; t < sh->patch_begin + sh->patch_count; t++)
+        for (k = 0; k < 4; k++)
+            for (a = 0; a < 3; a++) {
+                double q = fabs((double)v3_get(s->P[s->patches[t].v[k]], a));
+                if (q > big) big = q;
+            }
     em->reach_eps = 1e-5 * (1.0 + big);
-    if (sh->tri_count > REACH_MAX_TRIS) return 1;
+    if (sh->tri_count > REACH_MAX_TRIS || sh->patch_count > 0) return 1;   /* (a twisted patch
+                                                       has no plane: "may reach") */
     em->planes = (double *)malloc(sizeof(double) * 4 * (size_t)sh->tri_count);
     if (!em->planes) return 0;
     for (t = 0; t < sh->tri_count; t++) {
@@ -262,17 +269,24 @@ int emitters_prepare(Scene *s, Error *err)
         } else if (shape_is_quadric(sh->type)) {
             em->area = sh->area;                    /* world area (shapes.c) */
         } else {
+            /* triangles, then the twisted patches of a bilinearmesh (patch.c) */
+            const int n = sh->tri_count + sh->patch_count;
             double acc = 0.0;
-            em->tri_cdf = (float *)malloc(sizeof(float) * (size_t)(sh->tri_count + 1));
+            em->tri_cdf = (float *)malloc(sizeof(float) * (size_t)(n + 1));
             if (!em->tri_cdf) { error_set(err, sh->file, sh->line, "out of memory"); return 0; }
             em->tri_cdf[0] = 0.0f;
-            for (t = 0; t < sh->tri_count; t++) {
-                acc += tri_area(s, sh->tri_begin + t);
+            for (t = 0; t < n; t++) {
+                if (t < sh->tri_count) acc += tri_area(s, sh->tri_begin + t);
+                else {
+                    Vec3 c[4];
+                    patch_corners(s, s->patches[sh->patch_begin + t - sh->tri_count].v, c);
+                    acc += patch_area(c);
+                }
                 em->tri_cdf[t + 1] = (float)acc;
             }
             em->area = acc;
-            for (t = 1; t <= sh->tri_count; t++) em->tri_cdf[t] = acc > 0 ? (float)(em->tri_cdf[t] / acc) : 1.0f;
-            em->tri_cdf[sh->tri_count] = 1.0f;
+            for (t = 1; t <= n; t++) em->tri_cdf[t] = acc > 0 ? (float)(em->tri_cdf[t] / acc) : 1.0f;
+            em->tri_cdf[n] = 1.0f;
         }
         if (!(em->area > 0.0)) {
             error_set(err, sh->file, sh->line, "AreaLightSource: emitting shape has zero area");
@@ -311,6 +325,7 @@ static void point_on_triangle(const Scene *s, int tri, Vec3 ref, float u1, float
     float su = sqrtf(u1);
     h.t = 0.0f;
     h.prim = tri;
+    h.inst = -1;                       /* emitters are never inside instances */
     h.b1 = u2 * su;                    /* barycentric of v1 */
     h.b2 = 1.0f - su;                  /* barycentric of v2 */
     dummy.o = ref; dummy.d = v3(0, 0, 1); dummy.tmax = 0.0f;
@@ -332,6 +347,33 @@ static int sample_mesh(const Scene *s, const float *tri_cdf, int tri_begin, int 
     }
     point_on_triangle(s, tri_begin + lo, ref, u1, u2, out);
     return finish_sample(ref, area, out);
+}
+
+/* A point on a bilinearmesh with twisted patches by area: a triangle or patch by
+   the cdf (triangles first), then a point uniform by area on it (patch_sample). */
+static int sample_patch_mesh(const Scene *s, const Emitter *em, const Shape *sh, Vec3 ref,
+                             float u0, float u1, float u2, EmitterSample *out)
+{
+    int lo = 0, hi = sh->tri_count + sh->patch_count - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (em->tri_cdf[mid + 1] <= u0) lo = mid + 1; else hi = mid;
+    }
+    if (lo < sh->tri_count) point_on_triangle(s, sh->tri_begin + lo, ref, u1, u2, out);
+    else {
+        const Patch *pa = &s->patches[sh->patch_begin + lo - sh->tri_count];
+        Vec3 c[4];
+        Ray dummy;
+        SurfacePoint sp;
+        float u, v;
+        patch_corners(s, pa->v, c);
+        patch_sample(c, u1, u2, &u, &v);
+        dummy.o = ref; dummy.d = v3(0, 0, 1); dummy.tmax = 0.0f;
+        patch_surface_point(s, sh, pa->v, u, v, &dummy, &sp);
+        out->p = sp.p;
+        out->n = sp.ng;
+    }
+    return finish_sample(ref, em->area, out);
 }
 
 /* A sphere lamp seen from outside (not flipped, the reference point more than
@@ -416,6 +458,8 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
         (void)u0;
         quadric_sample(sh, u1, u2, &out->p, &out->n);
         return finish_sample(ref, quadric_area_at(sh, out->p), out);
+    } else if (sh->patch_count > 0) {
+        return sample_patch_mesh(s, em, sh, ref, u0, u1, u2, out);
     } else {
         return sample_mesh(s, em->tri_cdf, sh->tri_begin, sh->tri_count, em->area, ref, u0, u1, u2, out);
     }
@@ -463,7 +507,8 @@ static void piece_whole(const Scene *s, LightPiece *pc, int e)
     const Emitter *em = &s->emitters[e];
     pc->emitter = e;
     pc->area = em->area;
-    if (em->shape >= 0 && s->shapes[em->shape].type == SHAPE_MESH) {
+    if (em->shape >= 0 && s->shapes[em->shape].type == SHAPE_MESH &&
+        s->shapes[em->shape].patch_count == 0) {   /* (with patches: emitter_sample) */
         pc->tri_cdf = em->tri_cdf;
         pc->tri_begin = s->shapes[em->shape].tri_begin;
         pc->tri_count = s->shapes[em->shape].tri_count;
@@ -706,7 +751,8 @@ static int tree_setup(LightSampler *ls)
         const Shape *sh;
         if (s->emitters[e].shape < 0) continue;       /* infinite or delta light: one piece */
         sh = &s->shapes[s->emitters[e].shape];
-        if (!ls->opt.no_split && sh->type == SHAPE_MESH && sh->tri_count > LIGHT_CLUSTER_TRIS) {
+        if (!ls->opt.no_split && sh->type == SHAPE_MESH && sh->tri_count > LIGHT_CLUSTER_TRIS &&
+            sh->patch_count == 0) {
             n_split_tris += sh->tri_count;
             cap += (size_t)(sh->tri_count + LIGHT_CLUSTER_TRIS - 1) / LIGHT_CLUSTER_TRIS * 2;
             if (sh->tri_count > max_tris) max_tris = sh->tri_count;
@@ -730,7 +776,7 @@ static int tree_setup(LightSampler *ls)
         const Shape *sh;
         sh = s->emitters[e].shape >= 0 ? &s->shapes[s->emitters[e].shape] : NULL;
         if (sh && ls->piece_of_tri && !ls->opt.no_split && sh->type == SHAPE_MESH &&
-            sh->tri_count > LIGHT_CLUSTER_TRIS) {
+            sh->tri_count > LIGHT_CLUSTER_TRIS && sh->patch_count == 0) {
             for (i = 0; i < sh->tri_count; i++) {
                 const Triangle *tr = &s->tris[sh->tri_begin + i];
                 tris[i] = sh->tri_begin + i;

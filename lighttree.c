@@ -336,7 +336,8 @@ static float node_behind(const Builder *B, const int *items, int n, const Acc *a
             continue;
         }
         sh = &s->shapes[em->shape];
-        if (sh->type != SHAPE_MESH) return -INFINITY;   /* (a sphere's cone is full anyway) */
+        if (sh->type != SHAPE_MESH || sh->patch_count > 0)   /* (their cones are full anyway) */
+            return -INFINITY;
         for (j = 0; j < piece_tri_count(pc, sh); j++) {
             const Triangle *tr = &s->tris[piece_triangle(B->in, pc, sh, j)];
             for (k = 0; k < 3; k++) {
@@ -619,8 +620,18 @@ static void piece_bounds(const LightTreeInput *in, const LightPiece *pc, PieceBo
             }
             nsum = v3_add(nsum, v3_mul(tri_normal(s, t), (float)tri_area(s, t)));
         }
-        if (sh->has_normals || !(v3_len(nsum) > 0.0f)) {
-            out->cone = cone_full(0.0f);   /* shading normals may flip a point's side */
+        for (i = 0; i < (pc->count ? 0 : sh->patch_count); i++) {
+            const Patch *pa = &s->patches[sh->patch_begin + i];   /* in its corners' box */
+            for (k = 0; k < 4; k++) {
+                Vec3 p = s->P[pa->v[k]];
+                if (count == 0 && i == 0 && k == 0) out->bmin = out->bmax = p;
+                out->bmin = v3_min(out->bmin, p);
+                out->bmax = v3_max(out->bmax, p);
+            }
+        }
+        if (sh->has_normals || !(v3_len(nsum) > 0.0f) || (!pc->count && sh->patch_count > 0)) {
+            out->cone = cone_full(0.0f);   /* shading normals may flip a point's side; a
+                                              twisted patch faces many ways */
         } else {
             out->cone.w = v3_norm(nsum);
             for (i = 0; i < count; i++) {

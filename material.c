@@ -415,7 +415,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
     Frame fr = shading_frame(sp);
     Vec3 lo = frame_to_local(&fr, wo), li;
     int j;
-    for (j = 0; j < HERO_N; j++) { out->f[j] = 0.0f; out->pdf_l[j] = 0.0f; }
+    for (j = 0; j < HERO_N; j++) { out->f[j] = 0.0f; out->pdf_l[j] = 0.0f; out->eta2[j] = 1.0f; }
     out->delta = 0;
     if (lo.z == 0.0f) return 0;
 
@@ -485,8 +485,10 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
             if (!refract_dir(lo, n, eta, &etap, &li)) return 0;
             out->pdf = 1.0f - F;
             for (j = 0; j < HERO_N; j++)
-                if (alive & (1u << j))
+                if (alive & (1u << j)) {
                     out->f[j] = (1.0f - F) / fabsf(li.z) / (etap * etap);
+                    out->eta2[j] = etap * etap;
+                }
         }
         if (!(out->pdf > 0.0f) || li.z == 0.0f) return 0;
         out->wi = frame_to_world(&fr, li);
@@ -517,6 +519,8 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
             tr_dielectric_pair(alpha, etaj, lo, li, LOBE_R | LOBE_T, &fj, &pj);
             out->pdf_l[j] = pj;
             if (alive & (1u << j)) out->f[j] = fj;
+            if (li.z * lo.z < 0.0f)            /* refracted: etap_j = eta_j entering */
+                out->eta2[j] = lo.z > 0.0f ? etaj * etaj : 1.0f / (etaj * etaj);
         }
         out->pdf = out->pdf_l[0];
         return out->pdf > 0.0f;

@@ -617,6 +617,9 @@ static int params_check_unused_before(Parser *P, ParamList *pl, const char *what
         const char *tn = param_type_names[p->type];
         char key[80];
         if (p->used) continue;
+        /* an Attribute default nobody reads is fine (pbrt-v4), unless pbrt-v4 would
+           read it and specnee cannot */
+        if (p->attr && !(pbrt_only && word_in(pbrt_only, p->name))) continue;
         if (p->type == PT_TEXTURE)
             return fail(P, p->file, p->line, "\"texture %s\": textures are valid pbrt-v4 "
                         "but not in the specnee subset", p->name);

@@ -85,6 +85,8 @@ typedef struct {
     const char **str; int n_str;  /* strings (point into the lexer's buffer) */
     const char *file; int line;
     int used;                  /* looked up by the directive (pbrt's lookedUp) */
+    int attr;                  /* from an Attribute directive: a default that the
+                                  directive may leave unread (pbrt's mayBeUnused) */
 } Param;
 
 typedef struct { Param *p; int n, cap; } ParamList;
@@ -108,6 +110,9 @@ typedef struct {
     int area_light;            /* index into Parser.lights, -1: none */
     int medium_inside, medium_outside;   /* MediumInterface: Scene.media indices, -1: none */
     const char *file; int line;/* where the block was opened (for messages) */
+    int by_object;             /* that block is an ObjectBegin's, not an AttributeBegin's */
+    int attr[5];               /* Attribute "shape", "light", "material", "medium",
+                                  "texture": 1 + the newest entry of Parser.attrs, 0: none */
 } GState;
 
 /* A medium named by MakeNamedMedium or MediumInterface.  As in pbrt-v4, which
@@ -126,6 +131,9 @@ typedef struct { char name[64]; int material; const char *file; int line; } Name
 /* A named texture: pbrt-v4 keeps float and spectrum textures in two namespaces. */
 typedef struct { char name[64]; int is_float; int index; } NamedTexture;
 typedef struct { char name[64]; Xform xf; } NamedCoordSys;
+/* An ObjectInstance: as in pbrt-v4 the name is looked up when the file has been
+   read (an instance may come before its ObjectBegin). */
+typedef struct { char name[64]; Xform xf; const char *file; int line; } InstanceUse;
 
 typedef struct {
     Scene *s;
@@ -145,7 +153,8 @@ typedef struct {
     int cap_textures;
     int default_material;      /* -1 until a shape needs it */
     /* capacities of the growing Scene arrays */
-    int cap_verts, cap_tris, cap_shapes, cap_mats, cap_emit, cap_spheres, cap_quadrics, cap_strings;
+    int cap_verts, cap_tris, cap_shapes, cap_mats, cap_emit, cap_spheres, cap_quadrics, cap_strings,
+        cap_patches;
     int any_normals;
     int any_uv;                /* some mesh has "uv": Scene.UV is kept parallel to P */
     int inset_line[8];         /* where each inset comment was (for messages) */
@@ -157,6 +166,14 @@ typedef struct {
     MediumRef *mrefs; int cap_media, cap_mrefs;   /* parallel to Scene.media */
     const char *integ_file; int integ_line; char integ_type[32];  /* the Integrator */
     RgbTable *rgb;             /* the load's RGB -> spectrum coefficient table (spectrum.c) */
+    int cur_object;            /* inside ObjectBegin: 1 + its Scene.objects index; else 0 */
+    int cap_objects;
+    InstanceUse *uses; int n_uses, cap_uses;   /* the ObjectInstance directives */
+    /* every parameter an Attribute directive gave, copied (strings interned); each
+       entry's prev links to the older ones of its target (1 + index, 0: none), so a
+       GState names its defaults by one index per target and AttributeEnd restores
+       them by restoring the GState */
+    Param *attrs; int *attr_prev; int n_attrs, cap_attrs, cap_attr_prev;
 } Parser;
 
 /* ===========================================================================

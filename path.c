@@ -73,9 +73,11 @@
    emitter a sampled direction finds).
 
    Russian roulette (from depth RR_START_DEPTH) survives with probability
-   P_survive = min(1, 4 max_j beta_j / sum_m r_m)  (8).  beta_j / sum_m r_m =
-   f_j / sum_m p(prefix | lambda_m) does not depend on which wavelength was the
-   hero, so the roulette is the same for every technique and needs no place in (4).
+   P_survive = min(1, 4 max_j beta_j eta2_j / sum_m r_m)  (8), eta2_j the product of
+   the refractions' etap_j^2 (radiance's 1/etap^2 taken back out of beta).
+   beta_j eta2_j / sum_m r_m = f_j eta2_j / sum_m p(prefix | lambda_m) does not
+   depend on which wavelength was the hero, so the roulette is the same for every
+   technique and needs no place in (4).
 
    NEE asks lights.c which pieces to take (light_nee_count, light_nee_piece: one
    chosen piece, or every piece for the strategy "all") in a context stored with
@@ -117,6 +119,9 @@ typedef struct {
                                         (docs/FLUORESCENCE.md §4) */
     float beta[HERO_N];              /* throughput beta_j */
     float r[HERO_N];                 /* pdf ratios r_m (r_0 = 1) */
+    float eta2[HERO_N];              /* the product of etap_j^2 over the refractions so far
+                                        (BsdfSample.eta2): beta_j eta2_j is the throughput
+                                        without radiance's 1/etap^2 (the roulette's, (8)) */
     unsigned alive;                  /* bit j: lane j is carried (bit 0, the hero, always) */
     int shifted;                     /* a fluorescent vertex re-radiated (LightCtx.shifted) */
     int medium;                      /* the medium the ray is in (-1: none) */
@@ -650,9 +655,12 @@ static Contribution emitter_found(Tracer *tr, const PathState *path, int e, cons
 }
 
 /* 6. Russian roulette on a hero-independent throughput: survival probability
-   P_survive = min(1, 4 max_j beta_j / sum_m r_m) (8), from RR_START_DEPTH on (q in
-   the code below).  Returns 0 when the path ends (also when only the hero is left
-   and carries nothing). */
+   P_survive = min(1, 4 max_j beta_j eta2_j / sum_m r_m) (8), from RR_START_DEPTH on
+   (q in the code below).  eta2_j takes out the 1/etap^2 of the refractions: inside
+   glass of index 3 beta is 1/9 of what the path will carry out again, and a
+   roulette on beta alone would end 8 of 9 paths there and send the rest out with
+   9x the weight (fireflies).  Returns 0 when the path ends (also when only the
+   hero is left and carries nothing). */
 static int russian_roulette(Tracer *tr, int depth, PathState *path)
 {
     int j;
@@ -660,13 +668,14 @@ static int russian_roulette(Tracer *tr, int depth, PathState *path)
         float sum_r = 0.0f, bmax = 0.0f, q;    /* q: P_survive */
         for (j = 0; j < HERO_N; j++)
             if (path->alive & (1u << j)) {
+                float b = path->beta[j] * path->eta2[j];
                 sum_r += path->r[j];
-                if (path->beta[j] > bmax) bmax = path->beta[j];
+                if (b > bmax) bmax = b;
             }
         q = sum_r > 0.0f ? (float)HERO_N * bmax / sum_r : 0.0f;
         if (q < 1.0f) {
             int dies = sampler_1d(tr->ps, dim_bounce(depth, BD_ROULETTE)) >= q;
-            if (tr->dbg) fprintf(tr->dbg, "  roulette: survival P_survive = min(1, %d max_j beta_j / sum_m r_m) = %.4g: %s\n",
+            if (tr->dbg) fprintf(tr->dbg, "  roulette: survival P_survive = min(1, %d max_j beta_j eta2_j / sum_m r_m) = %.4g: %s\n",
                                  HERO_N, q, dies ? "path ends" : "survives, beta /= P_survive");
             if (dies) return 0;
             for (j = 0; j < HERO_N; j++) path->beta[j] /= q;
@@ -978,6 +987,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     for (j = 0; j < HERO_N; j++) {
         nb[j] = (double)path->beta[j] * (bs.f[j] * cos_i / bs.pdf);
         nr[j] = (double)path->r[j] * (bs.pdf_l[j] / bs.pdf);
+        path->eta2[j] *= bs.eta2[j];
     }
     lanes_update(path, nb, nr);
     if (R->vol) path->medium = medium_after(s, sp->shape, path->medium, bs.wi, sp->ng);
@@ -1036,6 +1046,7 @@ static void path_start(const Renderer *R, FilmSample *fs, PathState *path)
         path->lam[j] = fs->wl.lambda[j];
         path->beta[j] = (path->alive & (1u << j)) ? 1.0f : 0.0f;
         path->r[j] = (path->alive & (1u << j)) ? 1.0f : 0.0f;
+        path->eta2[j] = 1.0f;
         path->prev.q_bsdf[j] = 1.0f;
         path->prev.r[j] = path->r[j];
         path->prev.T[j] = path->prev.A[j] = 1.0;

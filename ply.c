@@ -1,4 +1,4 @@
-/* ply.c - reads and writes PLY triangle meshes (Shape "plymesh").
+/* ply.c - reads and writes PLY meshes of triangles and quads (Shape "plymesh").
 
    WHAT IT IMPLEMENTS
      ply_read          ascii, binary_little_endian and binary_big_endian PLY files
@@ -23,10 +23,13 @@
        (or s t, texture_u texture_v, texture_s texture_t: optional, both or none); any
        other property (colours, lists, ...) is read and skipped by its type.
      - element face: list vertex_indices (or vertex_index) with an integer count and
-       integer indices; a triangle gives one triangle, a quad (0,1,2,3) gives the two
-       triangles (0,1,2) and (0,2,3); any other vertex count is an error.  pbrt-v4
-       makes a bilinear patch of a quad, which is the same surface when the quad is
-       planar.  Other face properties (face_indices, ...) are skipped.
+       integer indices; a triangle goes to PlyMesh.idx, a quad to PlyMesh.quads as
+       a bilinear patch (pbrt-v4's meaning, patch.c); any other vertex count is an
+       error.  A quad face (f0, f1, f2, f3) goes round its boundary, and a patch's
+       corners p00 p10 p01 p11 go p00 -> p10 -> p11 -> p01 round it, so the patch
+       is (p00, p10, p01, p11) = (f0, f1, f3, f2): the order pbrt-v4's reader
+       stores (TriQuadMesh::ReadPLY).  Other face properties (face_indices, ...)
+       are skipped.
      - any other element is skipped.
 
    ERRORS: "path:line: problem", and ply_read returns 0 (never exits, never crashes).
@@ -35,13 +38,15 @@
      being read (a binary file has no lines).  Element counts are checked against the
      bytes left in the file before anything is allocated, so a count of 10^12 is an
      error, not a huge malloc: with files of at most READ_MAX_BYTES (1 GiB) the mesh
-     then takes at most 3 GiB (24 bytes a face of at least 8 bytes), within
-     MEM_BUDGET_MIB.  The file is read whole (read_whole_file): a file that does not
+     then takes at most 3.5 GiB (12 bytes a face for the triangles' array, and 16
+     for the quads' array, made at the first quad: 28 bytes a face of at least 8
+     bytes), within MEM_BUDGET_MIB.  The file is read whole (read_whole_file): a file that does not
      start with "ply" (/dev/zero) or is gzip-compressed is refused at once.  Coordinates and normals must be finite; indices must lie
      in [0, vertex count).
 
    USE
-     scene.c: ply_read(path, &mesh, &err), copy mesh.P / mesh.N / mesh.idx into the
+     scene.c: ply_read(path, &mesh, &err), copy mesh.P / mesh.N / mesh.UV with
+     mesh.idx (a triangle mesh) and mesh.quads (a bilinear patch mesh) into the
      Scene (transforming them), ply_free(&mesh).  tools/bench.c writes its mesh with
      ply_write_binary.
 */
@@ -531,11 +536,32 @@ static int read_vertices(Reader *rd, const PlyElement *e, PlyMesh *m)
     return 1;
 }
 
+/* Face f's n = 3 or 4 indices q (in file order) into m: a triangle as it is, a quad
+   as the patch (q0, q1, q3, q2) (the header comment); quads has room for count quads. */
+static int store_face(Reader *rd, const PlyElement *e, const int32_t q[4], int n, PlyMesh *m)
+{
+    int32_t *d;
+    if (n == 3) {
+        d = m->idx + 3 * (size_t)m->n_tris++;
+        d[0] = q[0]; d[1] = q[1]; d[2] = q[2];
+        return 1;
+    }
+    if (!m->quads) {
+        m->quads = (int32_t *)malloc(4 * (size_t)e->count * sizeof(int32_t) + 1);
+        if (!m->quads) {
+            error_set(rd->err, rd->path, e->line, "out of memory for %ld faces", e->count);
+            return 0;
+        }
+    }
+    d = m->quads + 4 * (size_t)m->n_quads++;
+    d[0] = q[0]; d[1] = q[1]; d[2] = q[3]; d[3] = q[2];    /* p00 p10 p01 p11 */
+    return 1;
+}
+
 static int read_faces(Reader *rd, const PlyElement *e, long n_verts, PlyMesh *m)
 {
     int ilist = find_prop(e, "vertex_indices"), i, k;
     long f;
-    size_t cap;
     if (ilist < 0) ilist = find_prop(e, "vertex_index");
     if (ilist < 0) {
         error_set(rd->err, rd->path, e->line, "element face has no vertex_indices list");
@@ -549,13 +575,13 @@ static int read_faces(Reader *rd, const PlyElement *e, long n_verts, PlyMesh *m)
         error_set(rd->err, rd->path, e->line, "too many faces (%ld)", e->count);
         return 0;
     }
-    cap = 6 * (size_t)e->count;                /* at most two triangles a face */
-    m->idx = (int32_t *)malloc(cap * sizeof(int32_t) + 1);
+    m->idx = (int32_t *)malloc(3 * (size_t)e->count * sizeof(int32_t) + 1);
     if (!m->idx) {
         error_set(rd->err, rd->path, e->line, "out of memory for %ld faces", e->count);
         return 0;
     }
     m->n_tris = 0;
+    m->n_quads = 0;
     rd->elem_line = e->line;
     for (f = 0; f < e->count; f++) {
         for (i = 0; i < e->n_props; i++) {
@@ -583,16 +609,7 @@ static int read_faces(Reader *rd, const PlyElement *e, long n_verts, PlyMesh *m)
                 }
                 q[k] = (int32_t)val;
             }
-            m->idx[3 * m->n_tris] = q[0];     /* (0, 1, 2) */
-            m->idx[3 * m->n_tris + 1] = q[1];
-            m->idx[3 * m->n_tris + 2] = q[2];
-            m->n_tris++;
-            if (n == 4) {                      /* (0, 2, 3) */
-                m->idx[3 * m->n_tris] = q[0];
-                m->idx[3 * m->n_tris + 1] = q[2];
-                m->idx[3 * m->n_tris + 2] = q[3];
-                m->n_tris++;
-            }
+            if (!store_face(rd, e, q, n, m)) return 0;
         }
     }
     return 1;
@@ -604,6 +621,7 @@ void ply_free(PlyMesh *m)
     free(m->N);
     free(m->UV);
     free(m->idx);
+    free(m->quads);
     memset(m, 0, sizeof *m);
 }
 

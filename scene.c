@@ -46,8 +46,9 @@
      when flip is set, which makes one-sided emitters face the side that the
      object-space winding (mapped by the normal transform) gives them.  Vertex
      normals N are negated by ReverseOrientation only, as in pbrt-v4.
-     Bilinear patches (p00 p10 p01 p11) become two triangles (p00,p10,p11) and
-     (p00,p11,p01): exact for planar patches, an approximation otherwise.
+     Bilinear patches (p00 p10 p01 p11: bilinearmesh, and a PLY file's quads) are
+     patch.c's: a flat one is the two triangles (p00,p10,p11) and (p00,p11,p01)
+     with the patch's (u, v), the others are patches of their own.
 
    EMISSION (pbrt-v4 DiffuseAreaLight::Create)
      Le(lambda) = scale * L(lambda) / sum_lambda ybar(lambda) L(lambda), so a
@@ -114,7 +115,14 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
 {
     Scene *s = P->s;
     Shape *sh;
-    int mat = P->gs.material != -1 ? P->gs.material : default_material(P, file, line);
+    int mat;
+    if (P->gs.area_light >= 0 && P->cur_object > 0) {
+        fail(P, file, line, "Shape inside ObjectBegin \"%s\" under an AreaLightSource: area "
+             "lights are not supported with object instancing (pbrt-v4 warns so and makes "
+             "no light of it)", s->objects[P->cur_object - 1].name);
+        return -1;
+    }
+    mat = P->gs.material != -1 ? P->gs.material : default_material(P, file, line);
     if (mat == -1) return -1;
     if (!grow((void **)&s->shapes, &P->cap_shapes, s->n_shapes + 1, sizeof(Shape))) {
         oom(P, file, line);
@@ -133,6 +141,7 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
     sh->area = area;
     sh->medium_inside = P->gs.medium_inside;
     sh->medium_outside = P->gs.medium_outside;
+    sh->in_object = P->cur_object;      /* in an object's space (instance.c) */
     sh->file = file;
     sh->line = line;
     if (P->gs.area_light >= 0) {
@@ -151,6 +160,49 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
         sh->emitter = s->n_emitters++;
     }
     return s->n_shapes++;
+}
+
+/* Same three corner positions, in any order. */
+static int same_corners(const Scene *s, const Triangle *a, const Triangle *b)
+{
+    int i, j, found;
+    for (i = 0; i < 3; i++) {
+        Vec3 p = s->P[a->v[i]];
+        for (found = 0, j = 0; j < 3 && !found; j++) {
+            Vec3 q = s->P[b->v[j]];
+            found = p.x == q.x && p.y == q.y && p.z == q.z;
+        }
+        if (!found) return 0;
+    }
+    return 1;
+}
+
+/* An emitting mesh with two triangles on the same three corners but opposite
+   windings (an exporter's way to light both sides) gets a note: rays meet both at
+   the same t, and which one is seen is a tie, broken in specnee by the smaller
+   index (the earlier in the file) and in pbrt-v4 by the order its BVH build gives
+   them.  In both renderers next event estimation reaches the emitting side
+   through its twin while BSDF sampling may stop at the twin's back, so the image
+   means no definite surface (docs/conventions.md §3).  Meshes of at most 4096
+   triangles are checked (pairs: at most 8.4 million comparisons). */
+static void coincident_note(const Scene *s, int t0, int ntri, const char *file, int line)
+{
+    int i, j;
+    if (ntri > 4096) return;
+    for (i = t0; i < t0 + ntri; i++)
+        for (j = i + 1; j < t0 + ntri; j++) {
+            const Triangle *a = &s->tris[i], *b = &s->tris[j];
+            Vec3 na, nb;
+            if (!same_corners(s, a, b)) continue;
+            na = v3_cross(v3_sub(s->P[a->v[1]], s->P[a->v[0]]), v3_sub(s->P[a->v[2]], s->P[a->v[0]]));
+            nb = v3_cross(v3_sub(s->P[b->v[1]], s->P[b->v[0]]), v3_sub(s->P[b->v[2]], s->P[b->v[0]]));
+            if (!(v3_dot(na, nb) < 0.0f)) continue;
+            fprintf(stderr, "%s:%d: note: area light: triangles %d and %d of this mesh lie on each "
+                    "other with opposite windings; the earlier one is seen where both are hit "
+                    "(pbrt-v4: the one its BVH tests first), so the light's two sides do not add up\n",
+                    file, line, i - t0, j - t0);
+            return;
+        }
 }
 
 /* Append a triangle mesh given in object space (P: 3 floats a vertex, N: the
@@ -233,6 +285,7 @@ static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, const float
         int sh = add_shape(P, SHAPE_MESH, t0, ntri, area, Nobj != NULL, file, line);
         if (sh < 0) return 0;
         s->shapes[sh].has_uv = UVobj != NULL;
+        if (s->shapes[sh].emitter >= 0) coincident_note(s, t0, ntri, file, line);
     }
     return 1;
 }
@@ -240,6 +293,86 @@ static int add_mesh(Parser *P, const float *Pobj, const float *Nobj, const float
 /* ===========================================================================
    2. Directives of the world block: materials, lights, shapes
    =========================================================================== */
+
+/* ---------------------------------------------------------------------------
+   Attribute "target" params (pbrt-v4 BasicSceneBuilder::Attribute)
+   --------------------------------------------------------------------------- */
+/* The targets, in the order of GState.attr. */
+static const char *const attr_targets[5] = { "shape", "light", "material", "medium", "texture" };
+enum { ATTR_SHAPE, ATTR_LIGHT, ATTR_MATERIAL, ATTR_MEDIUM, ATTR_TEXTURE };
+
+/* Attribute: every parameter becomes a default of its target's directives in the
+   current graphics state (so AttributeEnd drops it).  pbrt-v4's rule
+   (ParameterDictionary with the attributes appended): a directive's own parameter
+   wins, then the newest Attribute; a default the directive does not read is no
+   error. */
+static int attribute_directive(Parser *P, Lexer *L, const Token *t)
+{
+    Token ty;
+    ParamList pl;
+    int k, i, ok = 1;
+    if (!expect_string(P, L, "Attribute", "target", &ty)) return 0;
+    for (k = 0; k < 5; k++)
+        if (!strcmp(ty.text, attr_targets[k])) break;
+    if (k == 5)
+        return fail(P, t->file, t->line, "Unknown attribute target \"%s\". Must be \"shape\", "
+                    "\"light\", \"material\", \"medium\", or \"texture\".", ty.text);
+    memset(&pl, 0, sizeof pl);
+    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    for (i = 0; ok && i < pl.n; i++) {
+        Param *c;
+        int j;
+        if (!grow((void **)&P->attrs, &P->cap_attrs, P->n_attrs + 1, sizeof(Param)) ||
+            !grow((void **)&P->attr_prev, &P->cap_attr_prev, P->n_attrs + 1, sizeof(int))) {
+            ok = oom(P, t->file, t->line);
+            break;
+        }
+        c = &P->attrs[P->n_attrs];
+        *c = pl.p[i];                               /* the values move to the copy */
+        pl.p[i].num = NULL;
+        pl.p[i].str = NULL;
+        c->used = 0;
+        c->attr = 1;
+        for (j = 0; j < c->n_str; j++)              /* the lexer's buffer goes away */
+            if (!(c->str[j] = intern(P, c->str[j]))) ok = oom(P, t->file, t->line);
+        P->attr_prev[P->n_attrs] = P->gs.attr[k];
+        P->gs.attr[k] = ++P->n_attrs;
+    }
+    params_free(&pl);
+    return ok;
+}
+
+/* Put the defaults of `target` in front of a directive's own parameters, oldest
+   first: the getters search from the end, so the directive's own parameters come
+   first and then the newest default (pbrt-v4's order). */
+static int attributes_apply(Parser *P, ParamList *pl, int target, const char *file, int line)
+{
+    int e, n = 0, i;
+    for (e = P->gs.attr[target]; e > 0; e = P->attr_prev[e - 1]) n++;
+    if (n == 0) return 1;
+    if (!grow((void **)&pl->p, &pl->cap, pl->n + n, sizeof(Param))) return oom(P, file, line);
+    memmove(pl->p + n, pl->p, (size_t)pl->n * sizeof(Param));
+    memset(pl->p, 0, (size_t)n * sizeof(Param));
+    pl->n += n;
+    for (e = P->gs.attr[target], i = n - 1; e > 0; e = P->attr_prev[e - 1], i--) {
+        const Param *a = &P->attrs[e - 1];
+        Param *c = &pl->p[i];
+        *c = *a;                                    /* owned copies: params_free frees them */
+        c->num = NULL;
+        c->str = NULL;
+        if (a->n_num > 0) {
+            c->num = (double *)malloc((size_t)a->n_num * sizeof(double));
+            if (!c->num) { c->n_num = c->n_str = 0; return oom(P, file, line); }
+            memcpy(c->num, a->num, (size_t)a->n_num * sizeof(double));
+        }
+        if (a->n_str > 0) {
+            c->str = (const char **)malloc((size_t)a->n_str * sizeof(const char *));
+            if (!c->str) { c->n_str = 0; return oom(P, file, line); }
+            memcpy((void *)c->str, a->str, (size_t)a->n_str * sizeof(const char *));
+        }
+    }
+    return 1;
+}
 
 /* ---------------------------------------------------------------------------
    Textures: the Texture directive (texture.c builds each class)
@@ -260,7 +393,10 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
         !expect_string(P, L, "Texture", "texture class", &a[2]))
         return 0;
     memset(&pl, 0, sizeof pl);
-    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    if (!parse_params(P, L, &pl) || !attributes_apply(P, &pl, ATTR_TEXTURE, t->file, t->line)) {
+        params_free(&pl);
+        return 0;
+    }
     memset(&T, 0, sizeof T);
     T.file = t->file;
     T.line = t->line;
@@ -399,10 +535,72 @@ static int get_points(Parser *P, ParamList *pl, ParamType type, const char *name
     return 1;
 }
 
+/* Whether the patch q (4 indices into the object-space points Pf) is flat
+   (patch.c), i.e. stored as two triangles. */
+static int patch_flat_at(const float *Pf, const int32_t q[4])
+{
+    Vec3 c[4];
+    int k;
+    for (k = 0; k < 4; k++) c[k] = v3(Pf[3 * q[k]], Pf[3 * q[k] + 1], Pf[3 * q[k] + 2]);
+    return patch_is_flat(c);
+}
+
+/* The patches q (4 indices each) of the bilinear mesh just added (its vertices from
+   v0 on) that are not flat: Scene.patches of the last shape, their areas added to
+   its area. */
+static int bilinear_patches(Parser *P, const float *Pf, const int32_t *q, int n, int v0,
+                            const char *file, int line)
+{
+    Scene *s = P->s;
+    Shape *sh = &s->shapes[s->n_shapes - 1];
+    int i, k;
+    sh->bilinear = 1;
+    sh->patch_begin = s->n_patches;
+    for (i = 0; i < n; i++) {
+        Patch *pa;
+        Vec3 c[4];
+        if (patch_flat_at(Pf, q + 4 * i)) continue;
+        if (!grow((void **)&s->patches, &P->cap_patches, s->n_patches + 1, sizeof(Patch)))
+            return oom(P, file, line);
+        pa = &s->patches[s->n_patches++];
+        for (k = 0; k < 4; k++) pa->v[k] = v0 + q[4 * i + k];
+        pa->shape = s->n_shapes - 1;
+        patch_corners(s, pa->v, c);
+        sh->area += patch_area(c);
+        sh->patch_count++;
+    }
+    return 1;
+}
+
+/* Append a bilinear patch mesh given in object space (P, N, UV as for add_mesh;
+   q: 4 indices a patch in pbrt's order p00 p10 p01 p11, range-checked) as one
+   Shape.  A flat patch (patch.c) is the two triangles (p00,p10,p11), (p00,p11,p01):
+   the first edge pair (p10 - p00, p11 - p00) keeps the patch's dp/du x dp/dv side.
+   The others follow the mesh as patches of their own (bilinear_patches). */
+static int add_patch_mesh(Parser *P, const float *Pf, const float *Nf, const float *UVf, int nv,
+                          const int32_t *q, int nq, const char *file, int line)
+{
+    const int v0 = P->s->n_verts;
+    int32_t *idx = (int32_t *)calloc(6 * (size_t)nq + 1, sizeof(int32_t));
+    int i, ntri = 0, ok;
+    if (!idx) return oom(P, file, line);
+    for (i = 0; i < nq; i++) {
+        const int32_t *c = q + 4 * i;
+        if (!patch_flat_at(Pf, c)) continue;
+        idx[3 * ntri + 0] = c[0]; idx[3 * ntri + 1] = c[1]; idx[3 * ntri + 2] = c[3];
+        idx[3 * ntri + 3] = c[0]; idx[3 * ntri + 4] = c[3]; idx[3 * ntri + 5] = c[2];
+        ntri += 2;
+    }
+    ok = add_mesh(P, Pf, Nf, UVf, nv, idx, ntri, file, line) &&
+         bilinear_patches(P, Pf, q, nq, v0, file, line);
+    free(idx);
+    return ok;
+}
+
 static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, int line)
 {
     const double *Pd, *Nd, *UV, *Id;
-    int nv, nn, nuv, ni, per = bilinear ? 4 : 3, i, ok, ntri;
+    int nv, nn, nuv, ni, per = bilinear ? 4 : 3, i, ok;
     const char *what = bilinear ? "Shape \"bilinearmesh\"" : "Shape \"trianglemesh\"";
     float *Pf = NULL, *Nf = NULL, *UVf = NULL;
     int32_t *idx = NULL;
@@ -430,35 +628,22 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
         if (k < 0 || k >= nv)
             return fail(P, file, line, "%s: vertex index %d out of range [0, %d)", what, k, nv);
     }
-    ntri = bilinear ? ni / 2 : ni / 3;                /* a patch is two triangles */
     Pf = (float *)malloc(sizeof(float) * 3 * (size_t)nv);
     Nf = nn ? (float *)malloc(sizeof(float) * 3 * (size_t)nv) : NULL;
-    idx = (int32_t *)malloc(sizeof(int32_t) * 3 * (size_t)ntri);
-    if (!Pf || !idx || (nn && !Nf)) { free(Pf); free(Nf); free(idx); return oom(P, file, line); }
+    idx = (int32_t *)malloc(sizeof(int32_t) * (size_t)ni);
+    UVf = nuv ? (float *)malloc(sizeof(float) * 2 * (size_t)nv) : NULL;
+    if (!Pf || !idx || (nn && !Nf) || (nuv && !UVf)) {
+        free(Pf); free(Nf); free(UVf); free(idx);
+        return oom(P, file, line);
+    }
     for (i = 0; i < 3 * nv; i++) {
         Pf[i] = (float)Pd[i];
         if (Nf) Nf[i] = (float)Nd[i];
     }
-    if (!bilinear) {
-        for (i = 0; i < ni; i++) idx[i] = Id ? (int32_t)Id[i] : deflt[i];
-    } else {
-        /* pbrt's patch order p00 p10 p01 p11 -> (p00,p10,p11), (p00,p11,p01): the
-           first edge pair (p10 - p00, p11 - p00) keeps the patch's dp/du x dp/dv side */
-        for (i = 0; i < ni / 4; i++) {
-            int32_t q[4];
-            int k;
-            for (k = 0; k < 4; k++) q[k] = Id ? (int32_t)Id[4 * i + k] : deflt[k];
-            idx[6 * i + 0] = q[0]; idx[6 * i + 1] = q[1]; idx[6 * i + 2] = q[3];
-            idx[6 * i + 3] = q[0]; idx[6 * i + 4] = q[3]; idx[6 * i + 5] = q[2];
-        }
-    }
-    ok = 1;
-    if (nuv) {
-        UVf = (float *)malloc(sizeof(float) * 2 * (size_t)nv);
-        if (!UVf) { free(Pf); free(Nf); free(idx); return oom(P, file, line); }
-        for (i = 0; i < 2 * nv; i++) UVf[i] = (float)UV[i];
-    }
-    ok = ok && add_mesh(P, Pf, Nf, UVf, nv, idx, ntri, file, line);
+    for (i = 0; i < 2 * nv && UVf; i++) UVf[i] = (float)UV[i];
+    for (i = 0; i < ni; i++) idx[i] = Id ? (int32_t)Id[i] : deflt[i];
+    ok = bilinear ? add_patch_mesh(P, Pf, Nf, UVf, nv, idx, ni / 4, file, line)
+                  : add_mesh(P, Pf, Nf, UVf, nv, idx, ni / 3, file, line);
     free(Pf); free(Nf); free(UVf); free(idx);
     return ok;
 }
@@ -636,6 +821,9 @@ static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
     return 1;
 }
 
+/* Shape "plymesh" (pbrt-v4's plymesh): the file's triangles make a triangle mesh
+   and its quads a bilinear patch mesh (ply.c gives them in the patch's order), two
+   Shapes with the same material, light and media when the file has both. */
 static int ply_shape(Parser *P, ParamList *pl, const char *file, int line)
 {
     const char *fn;
@@ -652,12 +840,19 @@ static int ply_shape(Parser *P, ParamList *pl, const char *file, int line)
     memset(&mesh, 0, sizeof mesh);
     if (!ply_read(path, &mesh, &e))
         return fail(P, file, line, "Shape \"plymesh\": %s", e.msg);
-    for (i = 0; i < 3 * mesh.n_tris; i++)
-        if (mesh.idx[i] < 0 || mesh.idx[i] >= mesh.n_verts) {
+    for (i = 0; i < 3 * mesh.n_tris + 4 * mesh.n_quads; i++) {
+        int32_t k = i < 3 * mesh.n_tris ? mesh.idx[i] : mesh.quads[i - 3 * mesh.n_tris];
+        if (k < 0 || k >= mesh.n_verts) {
             ply_free(&mesh);
             return fail(P, file, line, "Shape \"plymesh\" \"%s\": vertex index out of range", fn);
         }
-    ok = add_mesh(P, mesh.P, mesh.N, mesh.UV, mesh.n_verts, mesh.idx, mesh.n_tris, file, line);
+    }
+    ok = 1;
+    if (mesh.n_tris > 0 || mesh.n_quads == 0)
+        ok = add_mesh(P, mesh.P, mesh.N, mesh.UV, mesh.n_verts, mesh.idx, mesh.n_tris, file, line);
+    if (ok && mesh.n_quads > 0)
+        ok = add_patch_mesh(P, mesh.P, mesh.N, mesh.UV, mesh.n_verts, mesh.quads, mesh.n_quads,
+                            file, line);
     ply_free(&mesh);
     return ok;
 }
@@ -912,7 +1107,10 @@ static int make_named_medium(Parser *P, Lexer *L, const Token *t)
     int ok = 0, idx;
     if (!expect_string(P, L, "MakeNamedMedium", "medium name", &nm)) return 0;
     memset(&pl, 0, sizeof pl);
-    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    if (!parse_params(P, L, &pl) || !attributes_apply(P, &pl, ATTR_MEDIUM, t->file, t->line)) {
+        params_free(&pl);
+        return 0;
+    }
     snprintf(what, sizeof what, "MakeNamedMedium \"%.100s\"", nm.text);
     if (!medium_from_params(P, &pl, what, t->file, t->line, &m)) goto done;
     idx = medium_ref(P, nm.text, t->file, t->line);
@@ -950,6 +1148,109 @@ static int medium_interface(Parser *P, Lexer *L, const Token *t)
     return 1;
 }
 
+/* ===========================================================================
+   Object instancing (instance.c): ObjectBegin, ObjectEnd, ObjectInstance
+   =========================================================================== */
+/* ObjectBegin "name": a new object definition, opened like AttributeBegin (pbrt-v4
+   pushes the graphics state); the shapes up to ObjectEnd belong to it. */
+static int object_begin(Parser *P, const Token *t, const char *name)
+{
+    Scene *s = P->s;
+    Object *o;
+    int i;
+    if (P->cur_object > 0)
+        return fail(P, t->file, t->line, "ObjectBegin \"%s\" called inside of instance "
+                    "definition \"%s\"", name, s->objects[P->cur_object - 1].name);
+    for (i = 0; i < s->n_objects; i++)
+        if (!strcmp(s->objects[i].name, name))
+            return fail(P, t->file, t->line, "ObjectBegin \"%s\": trying to redefine an object "
+                        "instance (first at %s:%d)", name, s->objects[i].file, s->objects[i].line);
+    if (strlen(name) >= sizeof s->objects[0].name)
+        return fail(P, t->file, t->line, "ObjectBegin: name too long");
+    if (!grow((void **)&P->stack, &P->stack_cap, P->depth + 1, sizeof(GState)) ||
+        !grow((void **)&s->objects, &P->cap_objects, s->n_objects + 1, sizeof(Object)))
+        return oom(P, t->file, t->line);
+    P->gs.file = t->file;
+    P->gs.line = t->line;
+    P->gs.by_object = 1;
+    P->stack[P->depth++] = P->gs;
+    o = &s->objects[s->n_objects];
+    memset(o, 0, sizeof *o);
+    snprintf(o->name, sizeof o->name, "%s", name);
+    o->file = t->file;
+    o->line = t->line;
+    P->cur_object = ++s->n_objects;
+    return 1;
+}
+
+static int object_directive(Parser *P, Lexer *L, const Token *t)
+{
+    const char *d = t->text;
+    Token n;
+    if (!P->in_world)
+        return fail(P, t->file, t->line, "Scene description must be inside world block; "
+                    "\"%s\" not allowed before WorldBegin", d);
+    if (!strcmp(d, "ObjectEnd")) {
+        if (P->cur_object == 0)
+            return fail(P, t->file, t->line, "ObjectEnd called outside of instance definition");
+        if (!P->stack[P->depth - 1].by_object)
+            return fail(P, t->file, t->line, "Mismatched nesting: open AttributeBegin from "
+                        "%s:%d at ObjectEnd", P->stack[P->depth - 1].file,
+                        P->stack[P->depth - 1].line);
+        P->gs = P->stack[--P->depth];
+        P->cur_object = 0;
+        return 1;
+    }
+    if (!expect_string(P, L, d, "object name", &n)) return 0;
+    if (!strcmp(d, "ObjectBegin")) return object_begin(P, t, n.text);
+    {   /* ObjectInstance "name" */
+        const double (*m)[4] = (const double (*)[4])P->gs.ctm.m;
+        InstanceUse *u;
+        if (P->cur_object > 0)
+            return fail(P, t->file, t->line, "ObjectInstance \"%s\" can't be called inside "
+                        "instance definition \"%s\"", n.text, P->s->objects[P->cur_object - 1].name);
+        if (m[3][0] != 0.0 || m[3][1] != 0.0 || m[3][2] != 0.0 || m[3][3] != 1.0)
+            return fail(P, t->file, t->line, "ObjectInstance \"%s\": projective transform not "
+                        "supported", n.text);
+        if (strlen(n.text) >= sizeof u->name)
+            return fail(P, t->file, t->line, "ObjectInstance: name too long");
+        if (!grow((void **)&P->uses, &P->cap_uses, P->n_uses + 1, sizeof(InstanceUse)))
+            return oom(P, t->file, t->line);
+        u = &P->uses[P->n_uses++];
+        snprintf(u->name, sizeof u->name, "%s", n.text);
+        u->xf = P->gs.ctm;
+        u->file = t->file;
+        u->line = t->line;
+        return 1;
+    }
+}
+
+/* The instances, their names looked up now that every ObjectBegin has been read
+   (pbrt-v4: "object instance not defined" at the ObjectInstance). */
+static int resolve_instances(Parser *P)
+{
+    Scene *s = P->s;
+    int i, k;
+    if (P->n_uses == 0) return 1;
+    s->instances = (Instance *)calloc((size_t)P->n_uses, sizeof(Instance));
+    if (!s->instances) return oom(P, P->uses[0].file, P->uses[0].line);
+    for (i = 0; i < P->n_uses; i++) {
+        const InstanceUse *u = &P->uses[i];
+        Instance *in = &s->instances[i];
+        for (k = 0; k < s->n_objects; k++)
+            if (!strcmp(s->objects[k].name, u->name)) break;
+        if (k == s->n_objects)
+            return fail(P, u->file, u->line, "ObjectInstance \"%s\": object instance not "
+                        "defined", u->name);
+        in->object = k;
+        in->world_from_obj = u->xf;
+        in->file = u->file;
+        in->line = u->line;
+        s->n_instances++;
+    }
+    return 1;
+}
+
 /* Directives with a quoted type name and a parameter list. */
 static int typed_directive(Parser *P, Lexer *L, const Token *t)
 {
@@ -973,6 +1274,16 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     snprintf(type, sizeof type, "%s", ty.text);
     memset(&pl, 0, sizeof pl);
     if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    {
+        const int target = !strcmp(d, "Shape") ? ATTR_SHAPE
+                         : !strcmp(d, "LightSource") || !strcmp(d, "AreaLightSource") ? ATTR_LIGHT
+                         : !strcmp(d, "Material") || !strcmp(d, "MakeNamedMaterial") ? ATTR_MATERIAL
+                         : -1;
+        if (target >= 0 && !attributes_apply(P, &pl, target, t->file, t->line)) {
+            params_free(&pl);
+            return 0;
+        }
+    }
     if (!strcmp(d, "Camera")) ok = camera_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Film")) ok = film_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Sampler")) ok = sampler_directive(P, type, &pl, t->file, t->line);
@@ -1075,6 +1386,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
             return oom(P, t->file, t->line);
         P->gs.file = t->file;
         P->gs.line = t->line;
+        P->gs.by_object = 0;
         P->stack[P->depth++] = P->gs;
         return 1;
     }
@@ -1084,9 +1396,15 @@ static int directive(Parser *P, Lexer *L, const Token *t)
                         "\"%s\" not allowed before WorldBegin", d);
         if (P->depth == 0)
             return fail(P, t->file, t->line, "unmatched %s (no AttributeBegin open)", d);
+        if (P->stack[P->depth - 1].by_object)
+            return fail(P, t->file, t->line, "Mismatched nesting: open ObjectBegin from %s:%d "
+                        "at %s", P->stack[P->depth - 1].file, P->stack[P->depth - 1].line, d);
         P->gs = P->stack[--P->depth];
         return 1;
     }
+    if (!strcmp(d, "ObjectBegin") || !strcmp(d, "ObjectEnd") || !strcmp(d, "ObjectInstance"))
+        return object_directive(P, L, t);
+    if (!strcmp(d, "Attribute")) return attribute_directive(P, L, t);
     if (!strcmp(d, "ReverseOrientation")) {
         if (!P->in_world)
             return fail(P, t->file, t->line, "Scene description must be inside world block; "
@@ -1134,8 +1452,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     }
     {
         static const char *const pbrt_only[] = {
-            "ActiveTransform", "Attribute", "ObjectBegin", "ObjectEnd", "ObjectInstance", "Option",
-            "TransformTimes", NULL
+            "ActiveTransform", "Option", "TransformTimes", NULL
         };
         int i;
         for (i = 0; pbrt_only[i]; i++)
@@ -1244,6 +1561,13 @@ static void parser_free(Parser *P)
     free(P->texnames);
     free(P->coords);
     free(P->mrefs);
+    free(P->uses);
+    {
+        int i;
+        for (i = 0; i < P->n_attrs; i++) { free(P->attrs[i].num); free((void *)P->attrs[i].str); }
+    }
+    free(P->attrs);
+    free(P->attr_prev);
     rgb_table_free(P->rgb);
 }
 
@@ -1277,6 +1601,8 @@ static int finish(Parser *P, const char *file)
     int i;
     if (P->depth > 0) {
         const GState *g = &P->stack[P->depth - 1];
+        if (g->by_object)
+            return fail(P, g->file, g->line, "ObjectBegin without a matching ObjectEnd");
         return fail(P, g->file, g->line, "AttributeBegin without a matching AttributeEnd");
     }
     if (!P->world_seen)
@@ -1334,13 +1660,15 @@ static int finish(Parser *P, const char *file)
             return fail(P, P->inset_file[i], P->inset_line[i], "inset %s (%d %d %d %d) lies outside the %d x %d film",
                         s->inset_name[i], s->inset[i][0], s->inset[i][1], s->inset[i][2],
                         s->inset[i][3], s->settings.xres, s->settings.yres);
-    /* world bounds of all geometry (vertices, spheres), component by component
+    if (!resolve_instances(P) || !instances_prepare(s, P->err)) return 0;
+    /* world bounds of all geometry (vertices, spheres, instances), component by component
        (plain floats: tcc 0.9.27 miscompiles a struct-returning call whose result
        is assigned to one of its own arguments inside this loop) */
     {
         float lo[3] = { FLT_MAX, FLT_MAX, FLT_MAX }, hi[3] = { -FLT_MAX, -FLT_MAX, -FLT_MAX };
         for (i = 0; i < s->n_tris; i++) {
             int k, a;
+            if (s->shapes[s->tris[i].shape].in_object) continue;   /* in object space */
             for (k = 0; k < 3; k++) {
                 Vec3 p = s->P[s->tris[i].v[k]];
                 for (a = 0; a < 3; a++) {
@@ -1353,6 +1681,7 @@ static int finish(Parser *P, const char *file)
         for (i = 0; i < s->n_spheres; i++) {
             const Shape *sh = &s->shapes[s->sphere_shape[i]];
             int a;
+            if (sh->in_object) continue;
             for (a = 0; a < 3; a++) {
                 float c = v3_get(sh->center, a);
                 if (c - sh->radius < lo[a]) lo[a] = c - sh->radius;
@@ -1362,16 +1691,36 @@ static int finish(Parser *P, const char *file)
         for (i = 0; i < s->n_quadrics; i++) {
             float qlo[3], qhi[3];
             int a;
+            if (s->shapes[s->quadric_shape[i]].in_object) continue;
             quadric_bounds(&s->shapes[s->quadric_shape[i]], qlo, qhi);
             for (a = 0; a < 3; a++) {
                 if (qlo[a] < lo[a]) lo[a] = qlo[a];
                 if (qhi[a] > hi[a]) hi[a] = qhi[a];
             }
         }
+        for (i = 0; i < s->n_patches; i++) {
+            int k, a;
+            if (s->shapes[s->patches[i].shape].in_object) continue;
+            for (k = 0; k < 4; k++) {
+                Vec3 p = s->P[s->patches[i].v[k]];
+                for (a = 0; a < 3; a++) {
+                    float x = v3_get(p, a);
+                    if (x < lo[a]) lo[a] = x;
+                    if (x > hi[a]) hi[a] = x;
+                }
+            }
+        }
+        for (i = 0; i < s->n_instances; i++) {
+            int a;
+            for (a = 0; a < 3; a++) {
+                if (s->instances[i].lo[a] < lo[a]) lo[a] = s->instances[i].lo[a];
+                if (s->instances[i].hi[a] > hi[a]) hi[a] = s->instances[i].hi[a];
+            }
+        }
         s->bmin = v3(lo[0], lo[1], lo[2]);
         s->bmax = v3(hi[0], hi[1], hi[2]);
     }
-    if (s->n_tris == 0 && s->n_spheres == 0 && s->n_quadrics == 0) s->bmin = s->bmax = v3(0, 0, 0);
+    if (s->bmin.x > s->bmax.x) s->bmin = s->bmax = v3(0, 0, 0);   /* nothing in the world */
     if (!P->any_normals) { free(s->N); s->N = NULL; }
     if (!P->any_uv) { free(s->UV); s->UV = NULL; }
     if (s->n_emitters > 0 && !emitters_prepare(s, P->err)) return 0;
@@ -1473,6 +1822,10 @@ void scene_free(Scene *s)
     free(s->emitters);
     free(s->sphere_shape);
     free(s->quadric_shape);
+    free(s->patches);
+    for (i = 0; i < s->n_objects; i++) bvh_free(&s->objects[i].bvh);
+    free(s->objects);
+    free(s->instances);
     for (i = 0; i < s->n_textures; i++) tex_free(&s->textures[i]);
     free(s->textures);
     free(s->UV);

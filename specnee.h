@@ -464,6 +464,10 @@ typedef struct {
     int has_normals;           /* mesh carries per-vertex shading normals */
     int has_uv;                /* mesh carries per-vertex (u, v) in Scene.UV */
     int tri_begin, tri_count;  /* triangles [tri_begin, tri_begin + tri_count) */
+    int bilinear;              /* bilinearmesh or a PLY file's quads: its triangles come in
+                                  pairs, each a flat patch whose (u, v), "uv" and "N" are
+                                  the patch's (patch.c) */
+    int patch_begin, patch_count;  /* its other patches: Scene.patches[patch_begin ..) */
     Vec3 center; float radius; /* sphere, in world space */
     Quadric q;                 /* disk, cylinder, partial sphere: in object space */
     double area;               /* world-space surface area */
@@ -471,16 +475,24 @@ typedef struct {
                                   -1 for none (vacuum).  Where they differ the shape is a */
     int medium_outside;        /* transition: a ray leaving it along w is in the outside
                                   medium if w . ng > 0, else in the inside one (pbrt-v4) */
+    int in_object;             /* 0: in the world; k > 0: part of object definition
+                                  k - 1 (Scene.objects), its coordinates in the
+                                  object's space (instance.c) */
     const char *file; int line;/* where it was declared, for messages */
 } Shape;
 
 typedef struct { int32_t v[3]; int32_t shape; } Triangle;   /* indices into Scene.P / N */
+/* A bilinear patch that is not flat (patch.c): corners p00 p10 p01 p11, pbrt-v4's order. */
+typedef struct { int32_t v[4]; int32_t shape; } Patch;
 
 typedef struct {
     float t;                   /* ray parameter of the hit */
-    int prim;                  /* triangle index, n_tris + sphere index, or
-                               n_tris + n_spheres + quadric index */
-    float b1, b2;              /* barycentrics of v[1], v[2] (triangles) */
+    int prim;                  /* triangle index, n_tris + sphere index,
+                               n_tris + n_spheres + quadric index, or
+                               n_tris + n_spheres + n_quadrics + patch index */
+    float b1, b2;              /* barycentrics of v[1], v[2] (triangles); a patch's (u, v) */
+    int inst;                  /* -1: prim is in the world; else the index of the
+                                  instance (Scene.instances) whose object holds prim */
 } HitRecord;
 
 /* The BVH (bvh.c; the node layout is drawn at the top of that file): 8-wide nodes
@@ -516,9 +528,33 @@ void bvh_free(Bvh *b);
 int  bvh_intersect(const Bvh *b, const struct Scene *s, const Ray *r, HitRecord *h);
 /* Any hit along r: the shadow-ray query. */
 int  bvh_occluded(const Bvh *b, const struct Scene *s, const Ray *r);
+/* The BVH over the given primitives only (an object definition's: instance.c). */
+int  bvh_build_object(Bvh *b, const struct Scene *s, const int32_t *ids, int n);
 /* The two primitive tests, exposed for tests and the brute-force reference. */
 int  intersect_triangle(Vec3 p0, Vec3 p1, Vec3 p2, const Ray *r, float *t, float *b1, float *b2);
 int  intersect_sphere(Vec3 c, float radius, const Ray *r, float *t);
+
+/* Object instancing (instance.c; pbrt-v4's ObjectBegin / ObjectEnd / ObjectInstance).
+   The shapes between ObjectBegin and ObjectEnd are stored once, in the object's own
+   space (the CTM at each Shape directive), with a BVH of their own; ObjectInstance
+   places the object in the world by the CTM at that directive.  The scene's BVH
+   holds the world's primitives and one primitive per instance, with the id
+   n_tris + n_spheres + n_quadrics + its index; a ray that enters an instance's box
+   is carried into object space and traced through the object's BVH. */
+typedef struct {
+    char name[64];
+    Bvh bvh;                   /* over the object's primitives, in its space */
+    const char *file; int line;/* its ObjectBegin */
+} Object;
+typedef struct {
+    int object;                /* index into Scene.objects */
+    Xform world_from_obj;      /* the CTM at ObjectInstance (inv: object from world) */
+    float lo[3], hi[3];        /* world box of the placed object, rounded outwards */
+    const char *file; int line;/* its ObjectInstance */
+} Instance;
+/* Build every object's BVH and every instance's world box, dropping the instances
+   of empty objects (scene_load); 0 and a "file:line: problem" on failure. */
+int  instances_prepare(struct Scene *s, Error *err);
 
 /* Everything the integrator needs at a hit point. */
 typedef struct {
@@ -566,6 +602,29 @@ void   quadric_sample(const Shape *sh, float u1, float u2, Vec3 *p, Vec3 *n);
 /* 1 / (quadric_sample's density per world area) at world point p on the shape:
    Shape.area when quadric_uniform_sampling, else a_obj |det L| |L^-T n(p)|. */
 double quadric_area_at(const Shape *sh, Vec3 p);
+
+/* Bilinear patches (patch.c): p(u, v) = lerp(u, lerp(v, p00, p01), lerp(v, p10, p11))
+   with corners c = (p00, p10, p01, p11); pbrt-v4's (u, v), normal dp/du x dp/dv. */
+void   patch_corners(const struct Scene *s, const int32_t v[4], Vec3 c[4]);
+/* 1 when the patch is planar and not folded: then it is exactly the triangles
+   (p00, p10, p11) and (p00, p11, p01), and scene.c stores it so. */
+int    patch_is_flat(const Vec3 c[4]);
+/* Closest hit with 0 < t <= tmax; 1 and *t, the patch's (*u, *v) on a hit. */
+int    patch_intersect(const Vec3 c[4], const Ray *r, float tmax, float *t, float *u, float *v);
+/* (u, v) of a point p of a flat patch (the bilinear map inverted, clamped). */
+void   patch_uv_of_point(const Vec3 c[4], Vec3 p, float *u, float *v);
+/* Position, oriented normals, texture (s, t) at (u, v) of the patch v of shape sh
+   (r: its direction is the normal of a degenerate patch). */
+void   patch_surface_point(const struct Scene *s, const Shape *sh, const int32_t v[4], double u,
+                           double w, const Ray *r, SurfacePoint *sp);
+/* Only the shading normal (from "N", reorienting sp->ng) and the texture (s, t)
+   ("uv" bilinear, else (u, v)), given sp->ng. */
+void   patch_shading(const struct Scene *s, const Shape *sh, const int32_t v[4], double u, double w,
+                     SurfacePoint *sp);
+/* World area, integral of |dp/du x dp/dv| (exact for flat patches). */
+double patch_area(const Vec3 c[4]);
+/* (u, v) whose point is uniform by area (density 1 / patch_area), from (u1, u2). */
+void   patch_sample(const Vec3 c[4], float u1, float u2, float *u, float *v);
 
 /* ======================================================================
    6. Materials: only what the scenes need (material.c; microfacet.c, conductor.c,
@@ -758,6 +817,9 @@ typedef struct {
     float pdf_l[HERO_N];       /* the pdf the same wi has with each wavelength's own
                                   index (rough spectral MIS); pdf_l[0] == pdf */
     int delta;                 /* 1 for a specular (Dirac) sample */
+    float eta2[HERO_N];        /* etap_j^2 when wi refracts through a dielectric (f holds
+                                  its 1/etap_j^2: radiance is squeezed into the denser
+                                  side), else 1; the roulette undoes it (THEORY §8) */
 } BsdfSample;
 
 /* Sample wi given wo (unit, pointing away from the surface).  Wavelengths whose
@@ -1116,6 +1178,9 @@ typedef struct Scene {
     int n_spheres; int *sphere_shape;    /* sphere j is shapes[sphere_shape[j]] */
     int n_quadrics; int *quadric_shape;  /* quadric k (disk, cylinder, partial sphere)
                                             is shapes[quadric_shape[k]] */
+    Patch *patches; int n_patches;       /* bilinear patches that are not flat (patch.c) */
+    Object *objects; int n_objects;      /* ObjectBegin definitions (instance.c) */
+    Instance *instances; int n_instances;/* ObjectInstance placements */
     Vec3 bmin, bmax;                     /* world bounds of all geometry */
     Bvh bvh;
     char **strings; int n_strings;       /* owned file names referenced by shapes */
@@ -1182,7 +1247,9 @@ typedef struct {
     float *P; float *N; int n_verts;     /* xyz per vertex, optional normals */
     float *UV;                           /* optional (u, v) per vertex (u v, s t,
                                             texture_u texture_v, texture_s texture_t) */
-    int32_t *idx; int n_tris;            /* quads are split into two triangles */
+    int32_t *idx; int n_tris;            /* the triangles: 3 indices each */
+    int32_t *quads; int n_quads;         /* the quads: 4 indices each, a bilinear patch's
+                                            p00 p10 p01 p11 = the face's 0 1 3 2 (pbrt-v4) */
 } PlyMesh;
 int  ply_read(const char *path, PlyMesh *m, Error *err);
 void ply_free(PlyMesh *m);

@@ -106,6 +106,8 @@ static int fuzz_ply(const unsigned char *data, size_t n, const char *tmpdir, Err
     if (ply_read(path, &m, e)) {
         for (i = 0; i < 3 * m.n_tris; i++)
             if (m.idx[i] < 0 || m.idx[i] >= m.n_verts) abort();
+        for (i = 0; i < 4 * m.n_quads; i++)
+            if (m.quads[i] < 0 || m.quads[i] >= m.n_verts) abort();
         ply_free(&m);
         return 1;
     }

@@ -158,6 +158,8 @@ if grep -q 'unused.pbrt:6: note: LightSource "point": "float power" -60 is not p
    grep -q 'unused.pbrt:8: note: AreaLightSource "diffuse": "float power" 0 is not positive and is ignored' tests/tmp/err.txt &&
    [ "$(wc -l < tests/tmp/err.txt)" -eq 3 ]; then ok "cli_note_power_ignored"; else fail "cli_note_power_ignored"; cat tests/tmp/err.txt; fi
 if cmp -s tests/tmp/used.pfm tests/tmp/unused.pfm; then ok "cli_ignored_image_unchanged"; else fail "cli_ignored_image_unchanged"; fi
+printf 'Film "rgb" "integer xresolution" 4 "integer yresolution" 4\nWorldBegin\nAttributeBegin\nAreaLightSource "diffuse"\nShape "trianglemesh" "point3 P" [ 0 0 0  1 0 0  1 1 0  0 1 0 ] "integer indices" [ 0 1 2  0 2 3  0 3 2 ]\nAttributeEnd\n' > tests/tmp/twins.pbrt
+expect "cli_note_coincident_lamp" 0 'twins.pbrt:5: note: area light: triangles 1 and 2 of this mesh lie on each other with opposite windings' ./specnee -q --spp 1 tests/tmp/twins.pbrt -o tests/tmp/twins.pfm
 printf 'WorldBegin\nMakeNamedMedium "fog" "string type" "homogeneous"\nAttributeBegin\nMediumInterface "fog" ""\nMaterial "interface"\nShape "sphere"\nAttributeEnd\nLightSource "distant" "float illuminance" -1\n' > tests/tmp/fog.pbrt
 ./specnee -q tests/tmp/fog.pbrt --res 4x4 --spp 1 -o tests/tmp/fog.pfm 2> tests/tmp/fog.txt
 if ! grep -q 'never used' tests/tmp/fog.txt &&
@@ -462,7 +464,7 @@ if [ "$full" != 1 ]; then
 fi
 if [ "$full" = 1 ]; then
     # ---- 3. three compilers, warnings are errors (each one that is installed)
-    LIBSRC="util.c sampler.c bvh.c shapes.c spectrum.c wavelengths.c metals.c lights.c lighttree.c infinite.c delta.c texture.c filter.c parser.c options.c scene.c dump.c ply.c subdiv.c medium.c material.c microfacet.c conductor.c layered.c camera.c path.c render.c image.c png.c exr.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c"
+    LIBSRC="util.c sampler.c bvh.c instance.c shapes.c patch.c spectrum.c wavelengths.c metals.c lights.c lighttree.c infinite.c delta.c texture.c filter.c parser.c options.c scene.c dump.c ply.c subdiv.c medium.c material.c microfacet.c conductor.c layered.c camera.c path.c render.c image.c png.c exr.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c"
     proven=""
     for cc in gcc clang tcc; do
         if ! have_cc $cc; then skip "build_$cc: $cc not installed (CI proves it)"; continue; fi

@@ -932,14 +932,14 @@ static void test_ply_ascii(T *t)
         "3 0 1 4\r\n4 0 1 2 3\n");
     PlyMesh m;
     Error err;
-    static const int32_t want[9] = {0, 1, 4, 0, 1, 2, 0, 2, 3};
+    static const int32_t want[3] = {0, 1, 4}, want_q[4] = {0, 1, 3, 2};
     int ok = ply_read(p, &m, &err), same;
     CHECK(t, ok, "ply_read failed: %s", err.msg);
-    same = m.n_verts == 5 && m.n_tris == 3 && m.N == NULL &&
-           memcmp(m.idx, want, sizeof want) == 0 && m.P[12] == 0.5f && m.P[13] == 0.5f &&
-           m.P[14] == 1.0f && m.P[3] == 1.0f;
+    same = m.n_verts == 5 && m.n_tris == 1 && m.n_quads == 1 && m.N == NULL &&
+           memcmp(m.idx, want, sizeof want) == 0 && memcmp(m.quads, want_q, sizeof want_q) == 0 &&
+           m.P[12] == 0.5f && m.P[13] == 0.5f && m.P[14] == 1.0f && m.P[3] == 1.0f;
     ply_free(&m);
-    CHECK(t, same, "wrong mesh (quad must become (0,1,2) (0,2,3))");
+    CHECK(t, same, "wrong mesh (the quad 0 1 2 3 must become the patch 0 1 3 2)");
 }
 
 /* Binary file with normals, skipped properties of every kind and an extra element;
@@ -978,7 +978,7 @@ static void make_binary(Bytes *o, int big)
 
 static void test_ply_binary(T *t)
 {
-    static const int32_t want[9] = {0, 1, 2, 3, 2, 1, 3, 1, 0};
+    static const int32_t want[3] = {0, 1, 2}, want_q[4] = {3, 2, 0, 1};   /* face 3 2 1 0 */
     int big;
     for (big = 0; big < 2; big++) {
         Bytes o;
@@ -990,8 +990,8 @@ static void test_ply_binary(T *t)
         p = write_bytes(t, big ? "ply_be.ply" : "ply_le.ply", &o);
         ok = ply_read(p, &m, &err);
         CHECK(t, ok, "%s: ply_read failed: %s", big ? "big" : "little", err.msg);
-        same = m.n_verts == 4 && m.n_tris == 3 && m.N != NULL &&
-               memcmp(m.idx, want, sizeof want) == 0 &&
+        same = m.n_verts == 4 && m.n_tris == 1 && m.n_quads == 1 && m.N != NULL &&
+               memcmp(m.idx, want, sizeof want) == 0 && memcmp(m.quads, want_q, sizeof want_q) == 0 &&
                m.P[6] == 1.0f && m.P[7] == 1.0f && m.P[8] == 0.0f && m.N[11] == 4.0f && m.N[9] == 0.0f;
         ply_free(&m);
         CHECK(t, same, "%s-endian: wrong mesh", big ? "big" : "little");
@@ -1138,6 +1138,8 @@ static void test_ply_fuzz(T *t)
             accepted++;
             for (i = 0; i < 3 * m.n_tris; i++)
                 CHECK(t, m.idx[i] >= 0 && m.idx[i] < m.n_verts, "case %d: index out of range", k);
+            for (i = 0; i < 4 * m.n_quads; i++)
+                CHECK(t, m.quads[i] >= 0 && m.quads[i] < m.n_verts, "case %d: quad index out of range", k);
             for (i = 0; i < 3 * m.n_verts; i++)
                 CHECK(t, isfinite(m.P[i]), "case %d: non-finite vertex accepted", k);
             ply_free(&m);

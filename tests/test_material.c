@@ -55,6 +55,47 @@ static void test_smooth_energy(T *t)
     CHECK(t, fabs((double)nr / n - F) < 4 * sigma, "reflect fraction %g vs F %g", (double)nr / n, F);
 }
 
+/* BsdfSample.eta2, what the roulette multiplies beta by (THEORY §8): etap_j^2 for a
+   refraction (eta_j^2 entering, 1/eta_j^2 leaving), 1 for a reflection.  Smooth
+   glass of index 3, from outside and inside: f|cos|/p x eta2 is exactly 1 (no
+   loss), for every lane.  Rough dispersive glass: eta2 per lane with that lane's
+   index, and the hero's f|cos|/p x eta2 is the microfacet weight G2/G1, in (0, 1]. */
+static void test_eta2_of_refractions(T *t)
+{
+    static const float alphas[2] = { 0.0f, 0.3f };
+    float lam[HERO_N] = { 550, 600, 650, 450 };
+    SurfacePoint sp = test_flat_point();
+    Rng r;
+    int ia, side, i, j, nt = 0;
+    rng_seed(&r, 5, 3);
+    for (ia = 0; ia < 2; ia++)
+        for (side = 0; side < 2; side++) {
+            Material m;
+            Vec3 wo = v3_norm(v3(0.3f, 0.1f, side ? -0.9f : 0.9f));
+            test_glass(&m, 3.0f, ia ? 0.05f : 0.0f, alphas[ia]);
+            for (i = 0; i < 4000; i++) {
+                BsdfSample bs;
+                int refr;
+                if (!test_bsdf_sample(&m, &sp, wo, lam, 15u, &r, &bs)) continue;
+                refr = bs.wi.z * wo.z < 0.0f;
+                nt += refr;
+                for (j = 0; j < HERO_N; j++) {
+                    float eta = mat_eta(&m, lam[j]);
+                    float want = !refr ? 1.0f : side ? 1.0f / (eta * eta) : eta * eta;
+                    double w = bs.f[j] * fabsf(bs.wi.z) / bs.pdf * bs.eta2[j];
+                    CHECK(t, fabsf(bs.eta2[j] - want) <= 1e-5f * want,
+                          "alpha %g side %d lane %d: eta2 %g, expected %g", alphas[ia], side, j,
+                          bs.eta2[j], want);
+                    if (!ia) CHECK(t, fabs(w - 1.0) < 1e-5, "smooth side %d lane %d: f|cos|/p x eta2 = %g",
+                                   side, j, w);
+                    else if (j == 0) CHECK(t, w > 0.0 && w <= 1.0 + 1e-4, "rough side %d: f|cos|/p x eta2 = %g",
+                                           side, w);
+                }
+            }
+        }
+    CHECK(t, nt > 4000, "only %d refractions", nt);
+}
+
 /* A 60-degree prism in air: the deviation for a ray at incidence theta1 follows
    Snell twice.  Trace it with refract_dir and compare with the closed form. */
 static double prism_deviation(float eta, float theta1)
@@ -253,6 +294,7 @@ const TestCase tests_material[] = {
     { "material_cauchy_bk7", test_cauchy_bk7 },
     { "material_fresnel_values", test_fresnel_values },
     { "material_smooth_energy", test_smooth_energy },
+    { "material_eta2_of_refractions", test_eta2_of_refractions },
     { "material_prism_deviation", test_prism_deviation },
     { "material_rough_pdf_and_energy", test_rough_pdf_and_energy },
     { "material_rough_chi2", test_rough_chi2 },

@@ -128,6 +128,47 @@ static void test_white_furnace_dispersive_glass(T *t)
     scene_free(&s);
 }
 
+/* The roulette through dense glass (THEORY §8): a lossless smooth glass sphere of
+   index 3 fills the view inside the furnace's emitter.  A refraction into it
+   scales beta by 1/9 and the way out by 9; the roulette reads beta eta2 = 1, so
+   every path survives and every sample returns what the emitter seen directly
+   returns: the tiles' standard errors equal those of the empty furnace (the same
+   wavelengths per sample), but for a rare path whose beta eta2 rounds just below 1
+   (a survival probability 1 - 1e-7): one such sample ended raises a tile's
+   standard error about 1.7x, hence the bound 3x.  A roulette on beta alone ends 8
+   of 9 paths inside and sends the rest out with 9x the weight: its standard errors
+   are about 80x those of the empty furnace (material_eta2_of_refractions checks
+   eta2 itself). */
+static void test_roulette_through_dense_glass(T *t)
+{
+    char text[2048];
+    Scene s;
+    RenderOptions o;
+    Tiles empty, tl;
+    int i;
+    /* the empty furnace: the inner sphere is a medium boundary the ray crosses */
+    snprintf(text, sizeof text, furnace_fmt, camera_16, "Material \"interface\"");
+    if (!test_load_scene(t, &s, text)) return;
+    render_options_default(&o);
+    o.sel.grid_res = 8;
+    o.spp = test_scaled(16, 4);
+    o.maxdepth = 100;
+    if (!test_render_tiles(t, &s, &o, 8, 2, &empty)) { scene_free(&s); return; }
+    scene_free(&s);
+    snprintf(text, sizeof text, furnace_fmt, camera_16, "Material \"dielectric\" \"float eta\" [ 3 ]");
+    if (!test_load_scene(t, &s, text)) return;
+    if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
+    for (i = 0; i < 4; i++) {
+        double Y = luminance(tl.mean[i]);
+        CHECK(t, fabs(Y - 1.0) < K_SIGMA * tl.se[i][1] + 1e-3,
+              "tile %d: Y = %.5f +- %.2g, expected 1", i, Y, tl.se[i][1]);
+        CHECK(t, tl.se[i][1] <= 3.0 * empty.se[i][1] + 1e-6,
+              "tile %d: standard error %.3g, the empty furnace's %.3g (at most 3x)",
+              i, tl.se[i][1], empty.se[i][1]);
+    }
+    scene_free(&s);
+}
+
 /* A small open box (fixtures.c) with a ceiling light and a glass sphere; the
    arguments are the walls, the light and the glass material. */
 static const char *box_fmt =
@@ -394,6 +435,7 @@ const TestCase tests_render[] = {
     { "render_colour_direct_emitter", test_colour_direct_emitter },
     { "render_white_furnace", test_white_furnace },
     { "render_white_furnace_dispersive_glass", test_white_furnace_dispersive_glass },
+    { "render_roulette_through_dense_glass", test_roulette_through_dense_glass },
     { "render_estimators_agree", test_estimators_agree },
     { "render_termination_bookkeeping", test_termination_bookkeeping },
     { "render_determinism_threads", test_determinism_threads },

@@ -723,8 +723,8 @@ REJECT(rej_indices_multiple, "WorldBegin\nShape \"trianglemesh\" \"integer indic
        "  \"point3 P\" [ 0 0 0 1 0 0 0 1 0 ]\n", 2, "multiple of 3", NULL)
 REJECT(rej_indices_missing, "WorldBegin\nShape \"trianglemesh\" \"point3 P\" [ 0 0 0 1 0 0 0 1 0 1 1 0 ]\n",
        2, "indices", "required")
-REJECT(rej_attribute_directive, "WorldBegin\nAttribute \"shape\" \"float radius\" 2\n", 2,
-       "Attribute \"shape\" is valid pbrt-v4 but not in the specnee subset", NULL)
+REJECT(rej_attribute_directive, "WorldBegin\nAttribute \"shapes\" \"float radius\" 2\n", 2,
+       "Unknown attribute target \"shapes\"", NULL)
 REJECT(rej_import_before_world, "Import \"x.pbrt\"\nWorldBegin\n", 1, "Import", "WorldBegin")
 REJECT(rej_no_world, "Film \"rgb\"\n", 1, "WorldBegin", NULL)
 REJECT(rej_inset_outside, "Film \"rgb\" \"integer xresolution\" 10 \"integer yresolution\" 10\n"
