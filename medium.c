@@ -1,4 +1,4 @@
-/* medium.c - participating media: homogeneous and uniformgrid media, their
+/* medium.c - participating media: homogeneous, uniformgrid, rgbgrid and cloud media, their
    coefficients, the Henyey-Greenstein phase function, pbrt-v4's named presets,
    which medium a ray is in after it leaves a surface, and the free flight through
    a grid (the majorant grid, its DDA, delta tracking).
@@ -58,6 +58,10 @@
    lookup blends the eight samples' values at each wavelength.  Its majorant grid
    holds sigma_bar itself, the same for every wavelength: scale (max sigma_a + max
    sigma_s) over the cell's samples and over lambda (THEORY §13).
+
+   CLOUD (pbrt-v4's CloudMedium).  The uniformgrid's model with a procedural
+   density d(x) in [0, 1] (medium_cloud_density, texture.c's Perlin noise) instead of
+   a grid, and a majorant grid of 1 (pbrt-v4's one homogeneous majorant).
 
    The last section builds a medium from a MakeNamedMedium's parameters for the
    scene builder (medium_from_params, parser.h). */
@@ -298,6 +302,7 @@ static int build_majorant(Medium *m)
                 if (m->type == MEDIUM_RGBGRID)
                     mx = m->rgb_scale * ((m->rgb_sa.v ? cell_max(&m->rgb_sa, c, rgb_max) : 1.0f) +
                                          (m->rgb_ss.v ? cell_max(&m->rgb_ss, c, rgb_max) : 1.0f));
+                else if (m->type == MEDIUM_CLOUD) mx = 1.0f;      /* d <= 1 */
                 else mx = cell_max(&m->density, c, grid_at);
                 m->majorant[(c[2] * MAJORANT_RES + c[1]) * MAJORANT_RES + c[0]] = mx;
             }
@@ -326,13 +331,41 @@ static void rgb_point(const Medium *m, Vec3 u, const float *lam, unsigned alive,
     }
 }
 
+/* pbrt-v4's CloudMedium::Density at q (medium space): the lookup point
+   pp = frequency q is first pushed along the noise's finite-difference gradient
+   (two octaves, the "wisps"), then five octaves of noise (weights 1/2, 1/4, ...,
+   frequencies 1.99^i) are thinned with height; below y = 1/2 the cloud fills in. */
+float medium_cloud_density(const Medium *m, Vec3 q)
+{
+    Vec3 pp = v3_mul(q, m->frequency);
+    float d;
+    if (m->wispiness > 0.0f) {
+        float vomega = 0.05f * m->wispiness, vlambda = 10.0f;
+        int i;
+        for (i = 0; i < 2; i++) {
+            Vec3 a = v3_mul(pp, vlambda);
+            float n = tex_noise(a.x, a.y, a.z), h = 0.01f;
+            Vec3 dn = v3((tex_noise(a.x + h, a.y, a.z) - n) / h, (tex_noise(a.x, a.y + h, a.z) - n) / h,
+                         (tex_noise(a.x, a.y, a.z + h) - n) / h);
+            pp = v3_add(pp, v3_mul(dn, vomega));
+            vomega *= 0.5f;
+            vlambda *= 1.99f;
+        }
+    }
+    d = 0.5f * tex_fbm(pp, 0.5f, 5);
+    d = fminf(fmaxf((1.0f - q.y) * 4.5f * m->cloud_density * d, 0.0f), 1.0f);
+    d += 2.0f * fmaxf(0.0f, 0.5f - q.y);
+    return fminf(fmaxf(d, 0.0f), 1.0f);
+}
+
 void medium_point(const Medium *m, Vec3 p, const float *lam, unsigned alive, MediumPoint *out)
 {
     Vec3 u = unit_coords(m, p);
     double d, ls = 0.0, kelvin = 0.0;
     int j;
     if (m->type == MEDIUM_RGBGRID) { rgb_point(m, u, lam, alive, out); return; }
-    d = medium_grid_lookup(&m->density, u);
+    d = m->type == MEDIUM_CLOUD ? medium_cloud_density(m, xf_point(&m->medium_from_world, p))
+                                : medium_grid_lookup(&m->density, u);
     if (m->Le_scale > 0.0f) {
         ls = medium_grid_lookup(&m->lescale, u);
         if (m->temperature.v) {
@@ -763,6 +796,43 @@ static int rgbgrid_from_params(Parser *P, ParamList *pl, const char *what, const
     return 1;
 }
 
+/* MakeNamedMedium ... "string type" "cloud" with pbrt-v4's meaning (media.cpp,
+   CloudMedium::Create): "spectrum sigma_a", "sigma_s" (1 each, per scene unit;
+   pbrt-v4 reads no "scale" here) times medium_cloud_density, with "float density"
+   (1), "float wispiness" (1), "float frequency" (5), "float g" (0), inside the
+   bounds p0..p1 (0 0 0, 1 1 1) in the frame of the CTM.  No emission. */
+static int cloud_from_params(Parser *P, ParamList *pl, const char *what, const char *file, int line,
+                             Medium *m)
+{
+    float g;
+    int ok;
+    m->type = MEDIUM_CLOUD;
+    medium_frame(P, m);
+    if (!medium_coeff(P, pl, what, "sigma_a", 1.0f, &m->sigma_a, file, line) ||
+        !medium_coeff(P, pl, what, "sigma_s", 1.0f, &m->sigma_s, file, line) ||
+        !get_float(P, pl, "density", 1.0f, &m->cloud_density) || !get_float(P, pl, "g", 0.0f, &g) ||
+        !get_float(P, pl, "wispiness", 1.0f, &m->wispiness) ||
+        !get_float(P, pl, "frequency", 5.0f, &m->frequency))
+        return 0;
+    ok = grid_bounds(P, pl, what, file, line, m) &&
+         params_check_unused(P, pl, what, "string type, spectrum sigma_a, spectrum sigma_s, "
+                             "float density, float wispiness, float frequency, float g, "
+                             "point3 p0, point3 p1", NULL);
+    if (ok && (!isfinite(m->cloud_density) || !isfinite(m->wispiness) || !isfinite(m->frequency) ||
+               fabsf(m->frequency) > 1e20f))
+        ok = fail(P, file, line, "%s: \"float density\", \"wispiness\" and \"frequency\" must be "
+                  "finite", what);
+    if (ok && (!(g > -1.0f) || !(g < 1.0f)))
+        ok = fail_param(P, pl, "g", file, line, "%s: \"float g\" %g must lie in (-1, 1) (Henyey-Greenstein)",
+                        what, g);
+    if (ok && !build_majorant(m)) ok = oom(P, file, line);
+    if (!ok) { medium_free(m); return 0; }
+    m->g = g;
+    m->file = file;
+    m->line = line;
+    return 1;
+}
+
 /* MakeNamedMedium "name" "string type" "homogeneous" ... with pbrt-v4's meaning
    (media.cpp, HomogeneousMedium::Create): sigma_a, sigma_s (default 1 each, per
    scene unit), or a "string preset" of measured coefficients (medium.c; they are
@@ -770,11 +840,11 @@ static int rgbgrid_from_params(Parser *P, ParamList *pl, const char *what, const
    "float g" (0) the Henyey-Greenstein asymmetry; emission "spectrum Le" (0)
    times "float Lescale" (1), normalised as an area light's L is (lights.c: an rgb
    Le through D65).  "uniformgrid" and "rgbgrid" have builders of their own
-   (above); "cloud" and "nanovdb" are refused by name. */
+   (above), and so has "cloud"; "nanovdb" is refused by name. */
 int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *file, int line,
                        Medium *m)
 {
-    static const char *const pbrt_types[] = { "cloud", "nanovdb", NULL };
+    static const char *const pbrt_types[] = { "nanovdb", NULL };
     const char *type = NULL, *preset = NULL;
     float scale, g, lescale;
     int i, rgb_illum = 0;
@@ -784,11 +854,12 @@ int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *f
     if (!type) return fail(P, file, line, "%s: \"string type\" is required", what);
     if (!strcmp(type, "uniformgrid")) return grid_from_params(P, pl, what, file, line, m);
     if (!strcmp(type, "rgbgrid")) return rgbgrid_from_params(P, pl, what, file, line, m);
+    if (!strcmp(type, "cloud")) return cloud_from_params(P, pl, what, file, line, m);
     if (strcmp(type, "homogeneous") != 0) {
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
                 return fail(P, file, line, "%s: medium type \"%s\" is valid pbrt-v4 but not in "
-                            "the specnee subset (only \"homogeneous\", \"uniformgrid\" and \"rgbgrid\")", what, type);
+                            "the specnee subset (only \"homogeneous\", \"uniformgrid\", \"rgbgrid\" and \"cloud\")", what, type);
         return fail(P, file, line, "%s: unknown medium type \"%s\"", what, type);
     }
     if (!get_string(P, pl, "preset", &preset)) return 0;

@@ -920,7 +920,10 @@ void  tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, fl
    then interpolates), and the majorant grid holds scale x (the largest sigma_a
    over wavelengths + the largest sigma_s) of the cell's samples: the same for
    every wavelength. */
-typedef enum { MEDIUM_HOMOGENEOUS, MEDIUM_UNIFORMGRID, MEDIUM_RGBGRID } MediumType;
+/* pbrt-v4's "cloud" (CloudMedium): sigma_a(lambda) and sigma_s(lambda) scaled by a
+   procedural density in [0, 1] (medium_cloud_density: Perlin noise, tex_noise);
+   its majorant grid holds 1 everywhere (pbrt-v4's one homogeneous majorant). */
+typedef enum { MEDIUM_HOMOGENEOUS, MEDIUM_UNIFORMGRID, MEDIUM_RGBGRID, MEDIUM_CLOUD } MediumType;
 typedef struct { int nx, ny, nz; float *v; } MediumGrid;
 #define MAJORANT_RES 16            /* @@ majorant cells per axis (pbrt-v4: 16) */
 #define MEDIUM_MAX_EVENTS 1000000L /* @@ tentative collisions one tracking may meet; a ray
@@ -949,6 +952,7 @@ typedef struct {
     MediumGrid rgb_sa, rgb_ss, rgb_le;
     float rgb_scale;           /* "scale" of the rgb grids */
     int chromatic;             /* rgbgrid: some sigma sample is not grey */
+    float cloud_density, wispiness, frequency;  /* cloud: "density", "wispiness", "frequency" */
     const char *file; int line;/* the MakeNamedMedium directive */
 } Medium;
 
@@ -959,6 +963,7 @@ typedef struct {
 typedef struct { double sa[HERO_N], ss[HERO_N], le[HERO_N]; } MediumPoint;
 void  medium_point(const Medium *m, Vec3 p, const float *lam, unsigned alive, MediumPoint *out);
 double medium_grid_lookup(const MediumGrid *g, Vec3 u);   /* u in the unit cube */
+float medium_cloud_density(const Medium *m, Vec3 q);       /* a cloud's d at q, medium space */
 void  medium_free(Medium *m);                              /* its grids */
 
 /* Delta tracking (medium.c, THEORY §13).  medium_track walks the ray o + t d
