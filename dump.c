@@ -186,7 +186,9 @@ void scene_dump(const Scene *s, FILE *f)
         const Medium *m = &s->media[i];
         fprintf(f, "  [%d] \"%s\" %s, g %g, sigma_t at 450/550/650 nm: %g %g %g, "
                 "albedo at 550 nm %g%s\n", i, m->name,
-                m->type == MEDIUM_UNIFORMGRID ? "uniformgrid (times its density)" : "homogeneous",
+                m->type == MEDIUM_UNIFORMGRID ? "uniformgrid (times its density)"
+                : m->type == MEDIUM_RGBGRID ? "rgbgrid (sigma from its rgb grids)"
+                : m->type == MEDIUM_CLOUD ? "cloud (times its density)" : "homogeneous",
                 m->g, medium_sigma_t(m, 450.0f),
                 medium_sigma_t(m, 550.0f), medium_sigma_t(m, 650.0f),
                 medium_sigma_t(m, 550.0f) > 0.0f ? medium_sigma_s(m, 550.0f) / medium_sigma_t(m, 550.0f) : 0.0f,

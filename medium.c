@@ -1,4 +1,4 @@
-/* medium.c - participating media: homogeneous and uniformgrid media, their
+/* medium.c - participating media: homogeneous, uniformgrid, rgbgrid and cloud media, their
    coefficients, the Henyey-Greenstein phase function, pbrt-v4's named presets,
    which medium a ray is in after it leaves a surface, and the free flight through
    a grid (the majorant grid, its DDA, delta tracking).
@@ -51,6 +51,17 @@
    THEORY (21)-(25)) with the ratios Tbar_j / Tbar_0 = exp(-(sigma_bar_j -
    sigma_bar_0) t) since the previous one.  The emission there is sigma_a Le times
    the Lescale grid, or a blackbody of the temperature grid (medium_point).
+
+   RGBGRID (pbrt-v4's RGBGridMedium; docs/media.md).  sigma_a, sigma_s and Le are
+   grids of rgb triples; each sample is turned into a spectrum once, at load (four
+   floats: 2 max(rgb) and the sigmoid coefficients of rgb / (2 max(rgb))), and a
+   lookup blends the eight samples' values at each wavelength.  Its majorant grid
+   holds sigma_bar itself, the same for every wavelength: scale (max sigma_a + max
+   sigma_s) over the cell's samples and over lambda (THEORY §13).
+
+   CLOUD (pbrt-v4's CloudMedium).  The uniformgrid's model with a procedural
+   density d(x) in [0, 1] (medium_cloud_density, texture.c's Perlin noise) instead of
+   a grid, and a majorant grid of 1 (pbrt-v4's one homogeneous majorant).
 
    The last section builds a medium from a MakeNamedMedium's parameters for the
    scene builder (medium_from_params, parser.h). */
@@ -183,26 +194,57 @@ static double grid_at(const MediumGrid *g, int x, int y, int z)
 
 static double lerp_d(double f, double a, double b) { return (1.0 - f) * a + f * b; }
 
-/* Trilinear interpolation at u in the unit cube: sample i sits at (i + 1/2) / n. */
-double medium_grid_lookup(const MediumGrid *g, Vec3 u)
+/* The corner sample i[] and the fractions f[] of a trilinear lookup at u in the
+   unit cube: sample i sits at (i + 1/2) / n. */
+static void grid_corner(const MediumGrid *g, Vec3 u, int i[3], double f[3])
 {
-    double s[3], f[3];
-    int i[3], k;
+    double s;
+    int k;
     const int n[3] = { g->nx, g->ny, g->nz };
     const float uu[3] = { u.x, u.y, u.z };
     for (k = 0; k < 3; k++) {
-        s[k] = (double)uu[k] * n[k] - 0.5;
-        if (!(s[k] > -1.0)) s[k] = -1.0;          /* beyond the grid: reads zeros */
-        if (!(s[k] < (double)n[k])) s[k] = n[k];
-        i[k] = (int)floor(s[k]);
-        f[k] = s[k] - i[k];
+        s = (double)uu[k] * n[k] - 0.5;
+        if (!(s > -1.0)) s = -1.0;                /* beyond the grid: reads zeros */
+        if (!(s < (double)n[k])) s = n[k];
+        i[k] = (int)floor(s);
+        f[k] = s - i[k];
     }
-    return lerp_d(f[2],
-                  lerp_d(f[1], lerp_d(f[0], grid_at(g, i[0], i[1], i[2]), grid_at(g, i[0] + 1, i[1], i[2])),
-                               lerp_d(f[0], grid_at(g, i[0], i[1] + 1, i[2]), grid_at(g, i[0] + 1, i[1] + 1, i[2]))),
-                  lerp_d(f[1], lerp_d(f[0], grid_at(g, i[0], i[1], i[2] + 1), grid_at(g, i[0] + 1, i[1], i[2] + 1)),
-                               lerp_d(f[0], grid_at(g, i[0], i[1] + 1, i[2] + 1),
-                                      grid_at(g, i[0] + 1, i[1] + 1, i[2] + 1))));
+}
+
+/* The trilinear blend of the eight values v[x + 2y + 4z] around a corner. */
+static double blend8(const double v[8], const double f[3])
+{
+    return lerp_d(f[2], lerp_d(f[1], lerp_d(f[0], v[0], v[1]), lerp_d(f[0], v[2], v[3])),
+                        lerp_d(f[1], lerp_d(f[0], v[4], v[5]), lerp_d(f[0], v[6], v[7])));
+}
+
+double medium_grid_lookup(const MediumGrid *g, Vec3 u)
+{
+    double f[3], v[8];
+    int i[3], c;
+    grid_corner(g, u, i, f);
+    for (c = 0; c < 8; c++) v[c] = grid_at(g, i[0] + (c & 1), i[1] + ((c >> 1) & 1), i[2] + (c >> 2));
+    return blend8(v, f);
+}
+
+/* rgbgrid sample (x, y, z) of g at lambda: 2 max(rgb) x sigmoid; 0 beyond the grid. */
+static double rgb_at(const MediumGrid *g, int x, int y, int z, float lambda)
+{
+    const float *c;
+    if (x < 0 || y < 0 || z < 0 || x >= g->nx || y >= g->ny || z >= g->nz) return 0.0;
+    c = g->v + 4 * (((size_t)z * (size_t)g->ny + (size_t)y) * (size_t)g->nx + (size_t)x);
+    return (double)c[0] * spec_sigmoid_eval(c + 1, lambda);
+}
+
+/* An rgb grid at u for lambda: the samples' spectra first, then the trilinear
+   blend of their values (pbrt-v4's SampledGrid::Lookup with a conversion). */
+static double rgb_lookup(const MediumGrid *g, Vec3 u, float lambda)
+{
+    double f[3], v[8];
+    int i[3], c;
+    grid_corner(g, u, i, f);
+    for (c = 0; c < 8; c++) v[c] = rgb_at(g, i[0] + (c & 1), i[1] + ((c >> 1) & 1), i[2] + (c >> 2), lambda);
+    return blend8(v, f);
 }
 
 /* The samples a lookup in [lo, hi] (unit-cube coordinates, one axis, n samples)
@@ -215,25 +257,53 @@ static void cell_samples(double lo, double hi, int n, int *i0, int *i1)
     if (*i1 > n - 1) *i1 = n - 1;
 }
 
-/* dmax of every majorant cell: the largest density sample that a lookup inside it
-   can interpolate (an interpolation never exceeds its samples). 0: out of memory. */
+/* The largest val(g, x, y, z) over the samples a lookup in majorant cell c can
+   interpolate (an interpolation never exceeds its samples). */
+static float cell_max(const MediumGrid *g, const int c[3], double (*val)(const MediumGrid *, int, int, int))
+{
+    int lo[3], hi[3], x, y, z;
+    float mx = 0.0f;
+    cell_samples((double)c[0] / MAJORANT_RES, (double)(c[0] + 1) / MAJORANT_RES, g->nx, &lo[0], &hi[0]);
+    cell_samples((double)c[1] / MAJORANT_RES, (double)(c[1] + 1) / MAJORANT_RES, g->ny, &lo[1], &hi[1]);
+    cell_samples((double)c[2] / MAJORANT_RES, (double)(c[2] + 1) / MAJORANT_RES, g->nz, &lo[2], &hi[2]);
+    for (z = lo[2]; z <= hi[2]; z++)
+        for (y = lo[1]; y <= hi[1]; y++)
+            for (x = lo[0]; x <= hi[0]; x++)
+                if (val(g, x, y, z) > mx) mx = (float)val(g, x, y, z);
+    return mx;
+}
+
+/* An rgbgrid sample's largest value over SPEC_MIN..SPEC_MAX: the sigmoid is
+   monotone, so at an end or at the quadratic's vertex (pbrt-v4's MaxValue). */
+static double rgb_max(const MediumGrid *g, int x, int y, int z)
+{
+    const float *c = g->v + 4 * (((size_t)z * (size_t)g->ny + (size_t)y) * (size_t)g->nx + (size_t)x);
+    double mx = fmax(spec_sigmoid_eval(c + 1, (float)SPEC_MIN), spec_sigmoid_eval(c + 1, (float)SPEC_MAX));
+    if (c[1] != 0.0f) {
+        double xv = -(double)c[2] / (2.0 * c[1]);
+        if (xv > 0.0 && xv < 1.0)
+            mx = fmax(mx, spec_sigmoid_eval(c + 1, (float)(SPEC_MIN + xv * (SPEC_N - 1))));
+    }
+    return c[0] * mx;
+}
+
+/* The majorant of every cell: dmax of the density (uniformgrid), or scale x
+   (max sigma_a + max sigma_s) over wavelengths and the cell's samples (rgbgrid; an
+   absent grid counts 1).  0: out of memory. */
 static int build_majorant(Medium *m)
 {
-    const MediumGrid *g = &m->density;
-    int c[3], lo[3], hi[3], x, y, z;
+    int c[3];
     m->majorant = (float *)malloc(sizeof(float) * MAJORANT_RES * MAJORANT_RES * MAJORANT_RES);
     if (!m->majorant) return 0;
     for (c[2] = 0; c[2] < MAJORANT_RES; c[2]++)
         for (c[1] = 0; c[1] < MAJORANT_RES; c[1]++)
             for (c[0] = 0; c[0] < MAJORANT_RES; c[0]++) {
-                float mx = 0.0f;
-                cell_samples((double)c[0] / MAJORANT_RES, (double)(c[0] + 1) / MAJORANT_RES, g->nx, &lo[0], &hi[0]);
-                cell_samples((double)c[1] / MAJORANT_RES, (double)(c[1] + 1) / MAJORANT_RES, g->ny, &lo[1], &hi[1]);
-                cell_samples((double)c[2] / MAJORANT_RES, (double)(c[2] + 1) / MAJORANT_RES, g->nz, &lo[2], &hi[2]);
-                for (z = lo[2]; z <= hi[2]; z++)
-                    for (y = lo[1]; y <= hi[1]; y++)
-                        for (x = lo[0]; x <= hi[0]; x++)
-                            if (grid_at(g, x, y, z) > mx) mx = (float)grid_at(g, x, y, z);
+                float mx;
+                if (m->type == MEDIUM_RGBGRID)
+                    mx = m->rgb_scale * ((m->rgb_sa.v ? cell_max(&m->rgb_sa, c, rgb_max) : 1.0f) +
+                                         (m->rgb_ss.v ? cell_max(&m->rgb_ss, c, rgb_max) : 1.0f));
+                else if (m->type == MEDIUM_CLOUD) mx = 1.0f;      /* d <= 1 */
+                else mx = cell_max(&m->density, c, grid_at);
                 m->majorant[(c[2] * MAJORANT_RES + c[1]) * MAJORANT_RES + c[0]] = mx;
             }
     return 1;
@@ -247,11 +317,55 @@ static Vec3 unit_coords(const Medium *m, Vec3 p)
               (q.z - m->p0.z) / (m->p1.z - m->p0.z));
 }
 
+/* medium_point of an rgbgrid: each rgb grid at each alive wavelength, times scale;
+   Le times D65 (m->Le) and Lescale. */
+static void rgb_point(const Medium *m, Vec3 u, const float *lam, unsigned alive, MediumPoint *out)
+{
+    int j;
+    for (j = 0; j < HERO_N; j++) {
+        out->sa[j] = out->ss[j] = out->le[j] = 0.0;
+        if (!(alive & (1u << j))) continue;
+        out->sa[j] = m->rgb_scale * (m->rgb_sa.v ? rgb_lookup(&m->rgb_sa, u, lam[j]) : 1.0);
+        out->ss[j] = m->rgb_scale * (m->rgb_ss.v ? rgb_lookup(&m->rgb_ss, u, lam[j]) : 1.0);
+        if (m->Le_scale > 0.0f) out->le[j] = rgb_lookup(&m->rgb_le, u, lam[j]) * spec_eval(&m->Le, lam[j]);
+    }
+}
+
+/* pbrt-v4's CloudMedium::Density at q (medium space): the lookup point
+   pp = frequency q is first pushed along the noise's finite-difference gradient
+   (two octaves, the "wisps"), then five octaves of noise (weights 1/2, 1/4, ...,
+   frequencies 1.99^i) are thinned with height; below y = 1/2 the cloud fills in. */
+float medium_cloud_density(const Medium *m, Vec3 q)
+{
+    Vec3 pp = v3_mul(q, m->frequency);
+    float d;
+    if (m->wispiness > 0.0f) {
+        float vomega = 0.05f * m->wispiness, vlambda = 10.0f;
+        int i;
+        for (i = 0; i < 2; i++) {
+            Vec3 a = v3_mul(pp, vlambda);
+            float n = tex_noise(a.x, a.y, a.z), h = 0.01f;
+            Vec3 dn = v3((tex_noise(a.x + h, a.y, a.z) - n) / h, (tex_noise(a.x, a.y + h, a.z) - n) / h,
+                         (tex_noise(a.x, a.y, a.z + h) - n) / h);
+            pp = v3_add(pp, v3_mul(dn, vomega));
+            vomega *= 0.5f;
+            vlambda *= 1.99f;
+        }
+    }
+    d = 0.5f * tex_fbm(pp, 0.5f, 5);
+    d = fminf(fmaxf((1.0f - q.y) * 4.5f * m->cloud_density * d, 0.0f), 1.0f);
+    d += 2.0f * fmaxf(0.0f, 0.5f - q.y);
+    return fminf(fmaxf(d, 0.0f), 1.0f);
+}
+
 void medium_point(const Medium *m, Vec3 p, const float *lam, unsigned alive, MediumPoint *out)
 {
     Vec3 u = unit_coords(m, p);
-    double d = medium_grid_lookup(&m->density, u), ls = 0.0, kelvin = 0.0;
+    double d, ls = 0.0, kelvin = 0.0;
     int j;
+    if (m->type == MEDIUM_RGBGRID) { rgb_point(m, u, lam, alive, out); return; }
+    d = m->type == MEDIUM_CLOUD ? medium_cloud_density(m, xf_point(&m->medium_from_world, p))
+                                : medium_grid_lookup(&m->density, u);
     if (m->Le_scale > 0.0f) {
         ls = medium_grid_lookup(&m->lescale, u);
         if (m->temperature.v) {
@@ -276,7 +390,11 @@ void medium_free(Medium *m)
     free(m->lescale.v);
     free(m->temperature.v);
     free(m->majorant);
+    free(m->rgb_sa.v);
+    free(m->rgb_ss.v);
+    free(m->rgb_le.v);
     m->density.v = m->lescale.v = m->temperature.v = m->majorant = NULL;
+    m->rgb_sa.v = m->rgb_ss.v = m->rgb_le.v = NULL;
 }
 
 /* The ray o + t dn (dn unit, world) against the unit cube of the bounds, in the
@@ -354,7 +472,7 @@ int medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigne
     int j, k, inside = 1;
     for (j = 0; j < HERO_N; j++) {
         tm_end[j] = 1.0;
-        st[j] = (alive & (1u << j)) ? medium_sigma_t(m, lam[j]) : 0.0;
+        st[j] = !(alive & (1u << j)) ? 0.0 : m->type == MEDIUM_RGBGRID ? 1.0 : medium_sigma_t(m, lam[j]);
     }
     for (k = 0; k < 3; k++) {
         go[k] = (oo[k] - lo[k]) / (hi[k] - lo[k]);
@@ -463,6 +581,14 @@ static int grid_bounds(Parser *P, ParamList *pl, const char *what, const char *f
     return 1;
 }
 
+/* A grid medium's frame: the inverse of the CTM at its MakeNamedMedium. */
+static void medium_frame(const Parser *P, Medium *m)
+{
+    m->medium_from_world = P->gs.ctm;
+    memcpy(m->medium_from_world.m, P->gs.ctm.inv, sizeof m->medium_from_world.m);
+    memcpy(m->medium_from_world.inv, P->gs.ctm.m, sizeof m->medium_from_world.inv);
+}
+
 /* The grids of a uniformgrid: density, temperature, Lescale (pbrt-v4 GridMedium::Create). */
 static int grid_arrays(Parser *P, ParamList *pl, const char *what, const char *file, int line,
                        int has_le, Medium *m)
@@ -512,9 +638,7 @@ static int grid_from_params(Parser *P, ParamList *pl, const char *what, const ch
     int i, rgb_illum = 0, ok;
     Param *ple;
     m->type = MEDIUM_UNIFORMGRID;
-    m->medium_from_world = P->gs.ctm;
-    memcpy(m->medium_from_world.m, P->gs.ctm.inv, sizeof m->medium_from_world.m);
-    memcpy(m->medium_from_world.inv, P->gs.ctm.m, sizeof m->medium_from_world.inv);
+    medium_frame(P, m);
     if (!medium_coeff(P, pl, what, "sigma_a", 1.0f, &m->sigma_a, file, line) ||
         !medium_coeff(P, pl, what, "sigma_s", 1.0f, &m->sigma_s, file, line) ||
         !get_float(P, pl, "scale", 1.0f, &scale) || !get_float(P, pl, "g", 0.0f, &g) ||
@@ -562,17 +686,165 @@ static int grid_from_params(Parser *P, ParamList *pl, const char *what, const ch
     return 1;
 }
 
+/* An "rgb NAME" grid of an rgbgrid (g->v NULL when absent): count 3 nx ny nz, each
+   value finite and >= 0; each sample stored as 2 max(rgb) and the sigmoid fit of
+   rgb / (2 max(rgb)) (pbrt-v4's RGBUnboundedSpectrum; an illuminant's D65 is
+   applied at the lookup).  A run of equal samples is fitted once. */
+static int rgb_grid_param(Parser *P, ParamList *pl, const char *what, const char *name, const int n[3],
+                          Medium *m, MediumGrid *g)
+{
+    Param *p = param_find(pl, PT_RGB, name);
+    size_t count = (size_t)n[0] * (size_t)n[1] * (size_t)n[2], i;
+    int k;
+    g->nx = n[0]; g->ny = n[1]; g->nz = n[2];
+    g->v = NULL;
+    if (!p) return 1;
+    if ((size_t)p->n_num != 3 * count)
+        return fail(P, p->file, p->line, "%s: %d \"rgb %s\" values; expected 3*nx*ny*nz = 3*%d*%d*%d = %lu",
+                    what, p->n_num, name, n[0], n[1], n[2], (unsigned long)(3 * count));
+    for (i = 0; i < 3 * count; i++)
+        if (!isfinite(p->num[i]) || !(p->num[i] >= 0.0) || p->num[i] > 1e30)
+            return fail(P, p->file, p->line, "%s: \"rgb %s\" value %lu is %g; need a finite value >= 0",
+                        what, name, (unsigned long)i, p->num[i]);
+    g->v = (float *)malloc(sizeof(float) * 4 * count);
+    if (!g->v) return oom(P, p->file, p->line);
+    for (i = 0; i < count; i++) {
+        const double *rgb = p->num + 3 * i;
+        double mx = fmax(rgb[0], fmax(rgb[1], rgb[2])), target[3], c[3] = { 0.0, 0.0, 0.0 };
+        float *out = g->v + 4 * i;
+        if (i > 0 && rgb[0] == rgb[-3] && rgb[1] == rgb[-2] && rgb[2] == rgb[-1]) {
+            for (k = 0; k < 4; k++) out[k] = out[k - 4];
+            continue;
+        }
+        if (mx > 0.0) {
+            for (k = 0; k < 3; k++) target[k] = rgb[k] / (2.0 * mx);
+            spec_rgb_coeffs(P->rgb, target, c);
+        }
+        out[0] = (float)(2.0 * mx);
+        for (k = 0; k < 3; k++) out[k + 1] = (float)c[k];
+        if (name[0] == 's' && (c[0] != 0.0 || c[1] != 0.0 || c[2] != 0.0)) m->chromatic = 1;
+    }
+    return 1;
+}
+
+/* The rgb grids of an rgbgrid and their checks (pbrt-v4 RGBGridMedium::Create). */
+static int rgb_grids(Parser *P, ParamList *pl, const char *what, const char *file, int line, Medium *m)
+{
+    int n[3], k;
+    static const char *const axis[3] = { "nx", "ny", "nz" };
+    for (k = 0; k < 3; k++) {
+        if (!get_int(P, pl, axis[k], 1, &n[k], NULL)) return 0;
+        if (n[k] < 1 || n[k] > 4096) {
+            Param *p = param_find(pl, PT_INTEGER, axis[k]);
+            return fail(P, p->file, p->line, "%s: \"integer %s\" %d must lie in 1..4096", what,
+                        axis[k], n[k]);
+        }
+    }
+    if (!param_find(pl, PT_RGB, "sigma_a") && !param_find(pl, PT_RGB, "sigma_s"))
+        return fail(P, file, line, "%s: an rgbgrid needs \"rgb sigma_a\" and/or \"rgb sigma_s\" "
+                    "(nx*ny*nz rgb triples)", what);
+    if (param_find(pl, PT_RGB, "Le") && !param_find(pl, PT_RGB, "sigma_a"))
+        return fail(P, file, line, "%s: an rgbgrid with \"rgb Le\" needs \"rgb sigma_a\" (it emits "
+                    "sigma_a Le)", what);
+    return rgb_grid_param(P, pl, what, "sigma_a", n, m, &m->rgb_sa) &&
+           rgb_grid_param(P, pl, what, "sigma_s", n, m, &m->rgb_ss) &&
+           rgb_grid_param(P, pl, what, "Le", n, m, &m->rgb_le);
+}
+
+/* MakeNamedMedium ... "string type" "rgbgrid" with pbrt-v4's meaning (media.cpp,
+   RGBGridMedium::Create): "rgb sigma_a", "rgb sigma_s" (nx ny nz triples each,
+   x fastest; an absent one is 1 everywhere; at least one is given) times
+   "float scale" (1), over the bounds p0..p1 in the frame of the CTM; "float g"
+   (0); emission sigma_a Le with an "rgb Le" grid (an RGB illuminant: times D65)
+   times "float Lescale" (1).  pbrt-v4 does not divide this Le by its luminance
+   (its homogeneous and uniformgrid media and its lights do): an "rgb Le" [ 1 1 1 ]
+   is the integral of ybar (106.86) times as bright as an area light's "rgb L"
+   [ 1 1 1 ], and specnee keeps that meaning (Le_scale). */
+static int rgbgrid_from_params(Parser *P, ParamList *pl, const char *what, const char *file, int line,
+                               Medium *m)
+{
+    float g, lescale;
+    int ok;
+    m->type = MEDIUM_RGBGRID;
+    medium_frame(P, m);
+    if (!get_float(P, pl, "scale", 1.0f, &m->rgb_scale) || !get_float(P, pl, "g", 0.0f, &g) ||
+        !get_float(P, pl, "Lescale", 1.0f, &lescale))
+        return 0;
+    ok = rgb_grids(P, pl, what, file, line, m) && grid_bounds(P, pl, what, file, line, m) &&
+         params_check_unused(P, pl, what, "string type, rgb sigma_a, rgb sigma_s, rgb Le, "
+                             "float scale, float g, float Lescale, integer nx, integer ny, "
+                             "integer nz, point3 p0, point3 p1", NULL);
+    if (ok && (!(m->rgb_scale >= 0.0f) || !(m->rgb_scale < 1e30f)))
+        ok = fail_param(P, pl, "scale", file, line, "%s: \"float scale\" %g must be a finite number >= 0",
+                        what, m->rgb_scale);
+    if (ok && (!(g > -1.0f) || !(g < 1.0f)))
+        ok = fail_param(P, pl, "g", file, line, "%s: \"float g\" %g must lie in (-1, 1) (Henyey-Greenstein)",
+                        what, g);
+    if (ok && (!(lescale >= 0.0f) || !(lescale < 1e30f)))
+        ok = fail_param(P, pl, "Lescale", file, line, "%s: \"float Lescale\" %g must be a finite number >= 0",
+                        what, lescale);
+    if (ok && m->rgb_le.v && lescale > 0.0f) {
+        if (!spec_named(&m->Le, "stdillum-D65"))
+            ok = fail(P, file, line, "%s: the built-in spectrum stdillum-D65 is missing", what);
+        m->Le_scale = lescale * (float)cie_y_integral((float)SPEC_MIN, (float)SPEC_MAX);
+    }
+    if (ok && !build_majorant(m)) ok = oom(P, file, line);
+    if (!ok) { medium_free(m); return 0; }
+    m->g = g;
+    m->file = file;
+    m->line = line;
+    return 1;
+}
+
+/* MakeNamedMedium ... "string type" "cloud" with pbrt-v4's meaning (media.cpp,
+   CloudMedium::Create): "spectrum sigma_a", "sigma_s" (1 each, per scene unit;
+   pbrt-v4 reads no "scale" here) times medium_cloud_density, with "float density"
+   (1), "float wispiness" (1), "float frequency" (5), "float g" (0), inside the
+   bounds p0..p1 (0 0 0, 1 1 1) in the frame of the CTM.  No emission. */
+static int cloud_from_params(Parser *P, ParamList *pl, const char *what, const char *file, int line,
+                             Medium *m)
+{
+    float g;
+    int ok;
+    m->type = MEDIUM_CLOUD;
+    medium_frame(P, m);
+    if (!medium_coeff(P, pl, what, "sigma_a", 1.0f, &m->sigma_a, file, line) ||
+        !medium_coeff(P, pl, what, "sigma_s", 1.0f, &m->sigma_s, file, line) ||
+        !get_float(P, pl, "density", 1.0f, &m->cloud_density) || !get_float(P, pl, "g", 0.0f, &g) ||
+        !get_float(P, pl, "wispiness", 1.0f, &m->wispiness) ||
+        !get_float(P, pl, "frequency", 5.0f, &m->frequency))
+        return 0;
+    ok = grid_bounds(P, pl, what, file, line, m) &&
+         params_check_unused(P, pl, what, "string type, spectrum sigma_a, spectrum sigma_s, "
+                             "float density, float wispiness, float frequency, float g, "
+                             "point3 p0, point3 p1", NULL);
+    if (ok && (!isfinite(m->cloud_density) || !isfinite(m->wispiness) || !isfinite(m->frequency) ||
+               fabsf(m->frequency) > 1e20f))
+        ok = fail(P, file, line, "%s: \"float density\", \"wispiness\" and \"frequency\" must be "
+                  "finite", what);
+    if (ok && (!(g > -1.0f) || !(g < 1.0f)))
+        ok = fail_param(P, pl, "g", file, line, "%s: \"float g\" %g must lie in (-1, 1) (Henyey-Greenstein)",
+                        what, g);
+    if (ok && !build_majorant(m)) ok = oom(P, file, line);
+    if (!ok) { medium_free(m); return 0; }
+    m->g = g;
+    m->file = file;
+    m->line = line;
+    return 1;
+}
+
 /* MakeNamedMedium "name" "string type" "homogeneous" ... with pbrt-v4's meaning
    (media.cpp, HomogeneousMedium::Create): sigma_a, sigma_s (default 1 each, per
    scene unit), or a "string preset" of measured coefficients (medium.c; they are
    in mm^-1, used as they are, as pbrt-v4 does), both times "float scale" (1);
    "float g" (0) the Henyey-Greenstein asymmetry; emission "spectrum Le" (0)
    times "float Lescale" (1), normalised as an area light's L is (lights.c: an rgb
-   Le through D65).  Only homogeneous media: the others are refused by name. */
+   Le through D65).  "uniformgrid" and "rgbgrid" have builders of their own
+   (above), and so has "cloud"; "nanovdb" is refused by name. */
 int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *file, int line,
                        Medium *m)
 {
-    static const char *const pbrt_types[] = { "rgbgrid", "cloud", "nanovdb", NULL };
+    static const char *const pbrt_types[] = { "nanovdb", NULL };
     const char *type = NULL, *preset = NULL;
     float scale, g, lescale;
     int i, rgb_illum = 0;
@@ -581,11 +853,13 @@ int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *f
     if (!get_string(P, pl, "type", &type)) return 0;
     if (!type) return fail(P, file, line, "%s: \"string type\" is required", what);
     if (!strcmp(type, "uniformgrid")) return grid_from_params(P, pl, what, file, line, m);
+    if (!strcmp(type, "rgbgrid")) return rgbgrid_from_params(P, pl, what, file, line, m);
+    if (!strcmp(type, "cloud")) return cloud_from_params(P, pl, what, file, line, m);
     if (strcmp(type, "homogeneous") != 0) {
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
                 return fail(P, file, line, "%s: medium type \"%s\" is valid pbrt-v4 but not in "
-                            "the specnee subset (only \"homogeneous\" and \"uniformgrid\")", what, type);
+                            "the specnee subset (only \"homogeneous\", \"uniformgrid\", \"rgbgrid\" and \"cloud\")", what, type);
         return fail(P, file, line, "%s: unknown medium type \"%s\"", what, type);
     }
     if (!get_string(P, pl, "preset", &preset)) return 0;

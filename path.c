@@ -391,7 +391,7 @@ static int shadow_transmittance(Tracer *tr, int depth, Ray sh, int med, const Pa
         tr->cnt->rays++;
         found = bvh_intersect(&s->bvh, s, &sh, &hit);
         len = (double)(found ? hit.t : 1.0f) * v3_len(sh.d);
-        if (med >= 0 && s->media[med].type == MEDIUM_UNIFORMGRID) {
+        if (med >= 0 && s->media[med].type != MEDIUM_HOMOGENEOUS) {
             RatioWalk w;
             Rng rng;
             double tm[HERO_N];
@@ -442,7 +442,7 @@ static int medium_flight(Tracer *tr, int dim, int depth, const Ray *ray, float t
     int j, chromatic = 0;
     for (j = 0; j < HERO_N; j++) {
         st[j] = (path->alive & (1u << j)) ? medium_sigma_t(M, path->lam[j]) : 0.0f;
-        if (j > 0 && (path->alive & (1u << j)) && st[j] != st[0]) chromatic = 1;
+        if (j > 0 && (path->alive & (1u << j)) && (st[j] != st[0] || M->chromatic)) chromatic = 1;
     }
     if (chromatic && tr->R->o->media_terminate) {
         lanes_hero_only(path);
@@ -450,7 +450,7 @@ static int medium_flight(Tracer *tr, int dim, int depth, const Ray *ray, float t
         if (tr->dbg) fprintf(tr->dbg, "  medium \"%s\": chromatic, secondaries terminated\n", M->name);
     }
     c->grid = 0;
-    if (M->type == MEDIUM_UNIFORMGRID) return grid_flight(tr, dim, depth, ray, tmax, path, c);
+    if (M->type != MEDIUM_HOMOGENEOUS) return grid_flight(tr, dim, depth, ray, tmax, path, c);
     s0 = st[0];
     u = sampler_1d(tr->ps, dim);
     t = s0 > 0.0 ? -log1p(-u) / s0 : INFINITY;

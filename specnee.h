@@ -919,7 +919,17 @@ void  tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, fl
    of MAJORANT_RES^3 cells of the unit cube, the largest sample any lookup in the
    cell can interpolate: d(x) <= dmax(cell) there, so sigma_bar(lambda) =
    dmax sigma_t(lambda) bounds sigma_t(x, lambda) (delta tracking, medium.c). */
-typedef enum { MEDIUM_HOMOGENEOUS, MEDIUM_UNIFORMGRID } MediumType;
+/* pbrt-v4's "rgbgrid" (RGBGridMedium): sigma_a, sigma_s and Le themselves are
+   grids of rgb triples, so the medium is chromatic in space: each sample becomes a
+   spectrum at load (2 max(rgb) x sigmoid, RgbTable's fit; D65 for Le), a lookup
+   interpolates the eight samples' values at each wavelength (pbrt-v4 converts,
+   then interpolates), and the majorant grid holds scale x (the largest sigma_a
+   over wavelengths + the largest sigma_s) of the cell's samples: the same for
+   every wavelength. */
+/* pbrt-v4's "cloud" (CloudMedium): sigma_a(lambda) and sigma_s(lambda) scaled by a
+   procedural density in [0, 1] (medium_cloud_density: Perlin noise, tex_noise);
+   its majorant grid holds 1 everywhere (pbrt-v4's one homogeneous majorant). */
+typedef enum { MEDIUM_HOMOGENEOUS, MEDIUM_UNIFORMGRID, MEDIUM_RGBGRID, MEDIUM_CLOUD } MediumType;
 typedef struct { int nx, ny, nz; float *v; } MediumGrid;
 #define MAJORANT_RES 16            /* @@ majorant cells per axis (pbrt-v4: 16) */
 #define MEDIUM_MAX_EVENTS 1000000L /* @@ tentative collisions one tracking may meet; a ray
@@ -941,7 +951,14 @@ typedef struct {
     MediumGrid lescale;        /* the emission's scale grid ("Lescale"; default 1x1x1 of 1) */
     MediumGrid temperature;    /* kelvin (v NULL: none): blackbody emission instead of Le */
     float temp_offset, temp_scale;  /* T = (T_grid - offset) scale; no emission below 100 K */
-    float *majorant;           /* MAJORANT_RES^3 maxima of d, x fastest */
+    float *majorant;           /* MAJORANT_RES^3 maxima of d, x fastest (rgbgrid: of
+                                  sigma_t itself, per scene unit) */
+    /* rgbgrid only: 4 floats per sample, 2 max(rgb) and the sigmoid coefficients
+       (spec_sigmoid_eval); v NULL: absent (sigma_a, sigma_s: 1 everywhere) */
+    MediumGrid rgb_sa, rgb_ss, rgb_le;
+    float rgb_scale;           /* "scale" of the rgb grids */
+    int chromatic;             /* rgbgrid: some sigma sample is not grey */
+    float cloud_density, wispiness, frequency;  /* cloud: "density", "wispiness", "frequency" */
     const char *file; int line;/* the MakeNamedMedium directive */
 } Medium;
 
@@ -952,6 +969,7 @@ typedef struct {
 typedef struct { double sa[HERO_N], ss[HERO_N], le[HERO_N]; } MediumPoint;
 void  medium_point(const Medium *m, Vec3 p, const float *lam, unsigned alive, MediumPoint *out);
 double medium_grid_lookup(const MediumGrid *g, Vec3 u);   /* u in the unit cube */
+float medium_cloud_density(const Medium *m, Vec3 q);       /* a cloud's d at q, medium space */
 void  medium_free(Medium *m);                              /* its grids */
 
 /* Delta tracking (medium.c, THEORY §13).  medium_track walks the ray o + t d

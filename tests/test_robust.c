@@ -251,8 +251,8 @@ static void test_unsupported_named(T *t)
     if (!expect_fail(t, p, "tex.pbrt:2:", "Texture \"imagemap\"", &e)) return;
     CHECK(t, strstr(e.msg, "\"wood\"") != NULL, "%s", e.msg);
     /* the other unsupported directives name their first string */
-    p = test_write_file(t, "medium.pbrt", "WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"cloud\"\n");
-    if (!expect_fail(t, p, "medium.pbrt:2:", "MakeNamedMedium \"fog\": medium type \"cloud\" is valid pbrt-v4", &e)) return;
+    p = test_write_file(t, "medium.pbrt", "WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"nanovdb\"\n");
+    if (!expect_fail(t, p, "medium.pbrt:2:", "MakeNamedMedium \"fog\": medium type \"nanovdb\" is valid pbrt-v4", &e)) return;
 }
 
 /* #20: a spectrum file with CR-only line endings is three lines, not one. */
