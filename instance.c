@@ -36,7 +36,7 @@
      the geometric normal's side (pbrt-v4's Transform of a SurfaceInteraction).  The
      transformed normal has the orientation the same shape would get written out in
      the world: M^-T (a x b) = (M a x M b) / det M, so a mirroring M turns the normal
-     exactly as the handedness term of scene.c's flag does.  (u, v), the shape, its
+     exactly as the handedness term of geometry.c's flag does.  (u, v), the shape, its
      material and its media are those of the object's shape.
 
    THE INSTANCE'S BOX

@@ -1268,7 +1268,7 @@ const char *light_nee_source(const LightSampler *ls, const LightCtx *c, int fell
 
 /* AreaLightSource "diffuse" (pbrt-v4 DiffuseAreaLight::Create): L (D65 when
    absent), scale, twosided, checked; an "rgb L" gets pbrt-v4's D65 normalisation
-   (rgb_illuminant_scale).  The shapes that follow carry it (scene.c). */
+   (rgb_illuminant_scale).  The shapes that follow carry it (geometry.c). */
 int area_light_from_params(Parser *P, const char *type, ParamList *pl, const char *file, int line,
                            AreaLightDesc *out)
 {

@@ -878,3 +878,31 @@ int mix_from_params(Parser *P, ParamList *pl, const char *file, int line,
     return params_check_unused(P, pl, what, "string materials, float amount, texture amount",
                                "normalmap");
 }
+
+/* ---- the Scene's material records */
+
+int add_material(Parser *P, Material *m, const char *file, int line)
+{
+    Scene *s = P->s;
+    if (!grow((void **)&s->materials, &P->cap_mats, s->n_materials + 1, sizeof(Material))) {
+        material_release(m);           /* the Scene did not take what m owns */
+        oom(P, file, line);
+        return -1;
+    }
+    s->materials[s->n_materials] = *m;
+    return s->n_materials++;
+}
+
+/* pbrt-v4's default material: diffuse with reflectance 0.5. */
+int default_material(Parser *P, const char *file, int line)
+{
+    if (P->default_material < 0) {
+        Material m;
+        memset(&m, 0, sizeof m);
+        m.type = MAT_DIFFUSE;
+        spec_const(&m.reflectance, 0.5f);
+        spec_const(&m.eta, 1.0f);
+        P->default_material = add_material(P, &m, file, line);
+    }
+    return P->default_material;
+}

@@ -291,6 +291,16 @@ int accelerator_directive(Parser *P, const char *type, ParamList *pl, const char
 int sampler_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
 int integrator_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
 
+/* The Shape directive of `type` at file:line (geometry.c): the shape of the current
+   graphics state appended to the Scene. */
+int shape_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
+
+/* The Scene's material records (material.c): m appended (the Scene takes what it
+   owns; on failure it is released), its index or -1; pbrt-v4's default material
+   (diffuse, reflectance 0.5), made once. */
+int add_material(Parser *P, Material *m, const char *file, int line);
+int default_material(Parser *P, const char *file, int line);
+
 /* Materials: m (zeroed, eta 1) of one type, from a Material or MakeNamedMaterial
    statement at file:line; dir names the directive, what the directive and type
    in messages.  material.c: */

@@ -28,7 +28,7 @@
    FLAT PATCHES.  A patch with D in the plane of B and C is planar; when n(u, v)
    also keeps one side at the four corners (so everywhere: n is affine) the map is
    one to one onto the convex quad p00 p10 p11 p01, which the triangles (p00, p10,
-   p11) and (p00, p11, p01) tile exactly.  scene.c keeps such a patch as those two
+   p11) and (p00, p11, p01) tile exactly.  geometry.c keeps such a patch as those two
    triangles: the same surface, watertight with its neighbours, with the exact
    area and uniform area sampling of triangles (lights.c), and the light trees'
    bounds and cones.  Only its (u, v) is the patch's: bvh.c inverts the map at the
@@ -79,7 +79,7 @@
    proposal with its pdf (and samples a rectangle by solid angle): the same
    expected image; specnee's lights need 1 / A (lights.c).
 
-   USE.  scene.c decides flat or not (patch_is_flat), stores twisted patches in
+   USE.  geometry.c decides flat or not (patch_is_flat), stores twisted patches in
    Scene.patches, sums patch_area into Shape.area; bvh.c bounds them by their
    corners, intersects (patch_intersect; HitRecord b1, b2 hold (u, v)) and fills
    hit points (patch_surface_point, and patch_uv_of_point + patch_shading for the

@@ -45,7 +45,7 @@
      in [0, vertex count).
 
    USE
-     scene.c: ply_read(path, &mesh, &err), copy mesh.P / mesh.N / mesh.UV with
+     geometry.c: ply_read(path, &mesh, &err), copy mesh.P / mesh.N / mesh.UV with
      mesh.idx (a triangle mesh) and mesh.quads (a bilinear patch mesh) into the
      Scene (transforming them), ply_free(&mesh).  tools/bench.c writes its mesh with
      ply_write_binary.

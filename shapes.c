@@ -86,7 +86,7 @@
    the whole sphere whatever zmin, zmax and phimax say, while their areas count
    only the part; specnee samples exactly the part that exists.)
 
-   USE.  scene.c fills Shape.q (quadric_set_transform and the parameters), Shape.area
+   USE.  geometry.c fills Shape.q (quadric_set_transform and the parameters), Shape.area
    (quadric_area) and Scene.quadric_shape; bvh.c bounds (quadric_bounds) and
    intersects (quadric_intersect) quadric k as primitive n_tris + n_spheres + k,
    and scene_surface_point calls quadric_surface_point; lights.c samples an emitting
@@ -108,7 +108,7 @@ int quadric_set_transform(Quadric *q, const Xform *ctm)
     if (m[3][0] != 0.0 || m[3][1] != 0.0 || m[3][2] != 0.0 || m[3][3] != 1.0) return 0;
     q->world_from_obj = *ctm;
     /* a similarity: the 3x3 part's columns are orthogonal and equally long (the
-       same tolerance as scene.c's test for whole spheres) */
+       same tolerance as geometry.c's test for whole spheres) */
     for (j = 0; j < 3; j++) {
         for (i = 0; i < 3; i++) col[j][i] = m[i][j];
         len[j] = sqrt(col[j][0] * col[j][0] + col[j][1] * col[j][1] + col[j][2] * col[j][2]);
@@ -173,7 +173,7 @@ static void to_world(const Shape *sh, const double p[3], Vec3 *pw, Vec3 *nw)
     normal_to_world(&sh->q, n, w, &len);
     *pw = point_to_world(&sh->q, p);
     if (len > 0.0) *nw = v3((float)(w[0] / len), (float)(w[1] / len), (float)(w[2] / len));
-    else *nw = v3(0.0f, 0.0f, 1.0f);               /* (a singular CTM is refused by scene.c) */
+    else *nw = v3(0.0f, 0.0f, 1.0f);               /* (a singular CTM is refused by geometry.c) */
     if (sh->flip) *nw = v3_neg(*nw);
 }
 

@@ -1,5 +1,5 @@
 /* subdiv.c - Loop subdivision surfaces (Shape "loopsubdiv"): a control mesh of
-   triangles refined at load time into the triangle mesh that scene.c adds.
+   triangles refined at load time into the triangle mesh that geometry.c adds.
 
    WHAT IT IMPLEMENTS (specnee.h section 9b)
      loop_subdivide  `levels` steps of Loop's scheme, then every vertex moved to its
@@ -41,7 +41,7 @@
                 T = -[sin th (q_0 + q_{n-1}) + sum_{k=1}^{n-2} (2 cos th - 2) sin(k th) q_k],
                     th = pi / (n - 1)                      (n > 4)
 
-   N is left unnormalised, as pbrt-v4 leaves it (scene.c normalises shading normals).
+   N is left unnormalised, as pbrt-v4 leaves it (geometry.c normalises shading normals).
    The ring order: from the vertex that follows v in one of its triangles, across
    the edge (v, that vertex) into the next triangle, and so on, which turns
    clockwise when the triangles are seen counter-clockwise; so N points to the side

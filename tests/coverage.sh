@@ -266,7 +266,7 @@ sources() {
     r=$1; shift
     awk -F'\t' '
     BEGIN {
-        cats["scene.c"] = "shapes,directives"
+        cats["scene.c"] = "shapes,directives"; cats["geometry.c"] = "shapes"
         cats["options.c"] = "cameras,films,filters,samplers,integrators,accelerators"
         cats["material.c"] = "materials"; cats["conductor.c"] = "materials"; cats["layered.c"] = "materials"
         cats["parser.c"] = "materials"; cats["texture.c"] = "textures"; cats["medium.c"] = "media,directives"
@@ -304,7 +304,7 @@ sources() {
     }
     END { printf "names %d\n", found }' "$r" "$@"
 }
-builders="scene.c options.c material.c conductor.c layered.c parser.c texture.c medium.c lights.c delta.c infinite.c"
+builders="scene.c geometry.c options.c material.c conductor.c layered.c parser.c texture.c medium.c lights.c delta.c infinite.c"
 
 rows "$table" > "$tmp/rows.tsv"
 if [ "$mode" = totals ]; then totals < "$tmp/rows.tsv"; exit 0; fi

@@ -1,4 +1,4 @@
-/* tests/test_alpha.c - pbrt-v4's shape "alpha" (scene.c shape_alpha and
+/* tests/test_alpha.c - pbrt-v4's shape "alpha" (geometry.c shape_alpha and
    shape_drop; bvh.c ALPHA: alpha_keep; lights.c emitter_alpha).
 
    A hit on a shape with alpha a counts only when a hash u of the ray is <= a, and a
