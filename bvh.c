@@ -424,7 +424,7 @@ static int bin_of(float c, float lo, float k)
 
 /* The Shape of primitive id < n_tris + n_spheres + n_quadrics + n_patches, -1 for
    an index out of range. */
-static int prim_shape(const Scene *s, int id)
+int bvh_prim_shape(const Scene *s, int id)
 {
     int sh;
     if (id < s->n_tris) sh = s->tris[id].shape;
@@ -788,7 +788,7 @@ int bvh_build(Bvh *b, const Scene *s)
     ids = (int32_t *)malloc(((size_t)n_base + (size_t)s->n_instances + 1) * sizeof *ids);
     if (!ids) return 0;
     for (i = 0; i < n_base; i++) {    /* (prim_info checks the shape indices) */
-        const int sh = prim_shape(s, i);
+        const int sh = bvh_prim_shape(s, i);
         if (sh < 0 || s->shapes[sh].in_object == 0) ids[n++] = i;
     }
     for (i = 0; i < s->n_instances; i++) ids[n++] = n_base + i;
@@ -995,7 +995,7 @@ static int prim_hit_again(const Scene *s, int p, const Ray *r, float *t, float *
    (t, b1, b2) become the first one that counts.  0: none counts. */
 static int alpha_keep(const Scene *s, const Ray *r, int p, float tmax, float *t, float *b1, float *b2)
 {
-    const Shape *sh = &s->shapes[prim_shape(s, p)];
+    const Shape *sh = &s->shapes[bvh_prim_shape(s, p)];
     Ray ri = *r;
     float t0 = 0.0f;                           /* ri starts at r's t0 */
     int k;

@@ -58,19 +58,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The shape of primitive id (< n_tris + n_spheres + n_quadrics + n_patches), -1 if
-   invalid. */
-static int prim_shape_of(const Scene *s, int id)
-{
-    int sh;
-    if (id < s->n_tris) sh = s->tris[id].shape;
-    else if (id < s->n_tris + s->n_spheres) sh = s->sphere_shape[id - s->n_tris];
-    else if (id < s->n_tris + s->n_spheres + s->n_quadrics)
-        sh = s->quadric_shape[id - s->n_tris - s->n_spheres];
-    else sh = s->patches[id - s->n_tris - s->n_spheres - s->n_quadrics].shape;
-    return sh >= 0 && sh < s->n_shapes ? sh : -1;
-}
-
 /* Each object's BVH over its primitives, gathered by a counting sort on
    Shape.in_object: object k holds ids[off[k] .. off[k + 1]), ascending. */
 static int build_objects(Scene *s)
@@ -82,13 +69,13 @@ static int build_objects(Scene *s)
     int i, k, ok = 1;
     if (!off || !pos || !ids) { free(off); free(pos); free(ids); return 0; }
     for (i = 0; i < n_base; i++) {
-        const int sh = prim_shape_of(s, i);
+        const int sh = bvh_prim_shape(s, i);
         k = sh >= 0 ? s->shapes[sh].in_object : 0;
         if (k > 0 && k <= s->n_objects) off[k]++;        /* off[k + 1]: count of k */
     }
     for (k = 0; k < s->n_objects; k++) { off[k + 1] += off[k]; pos[k] = off[k]; }
     for (i = 0; i < n_base; i++) {
-        const int sh = prim_shape_of(s, i);
+        const int sh = bvh_prim_shape(s, i);
         k = sh >= 0 ? s->shapes[sh].in_object : 0;
         if (k > 0 && k <= s->n_objects) ids[pos[k - 1]++] = i;
     }

@@ -528,6 +528,9 @@ typedef struct {
 
 struct Scene;
 int  bvh_build(Bvh *b, const struct Scene *s);          /* 0 on out of memory */
+/* The Shape of primitive id below the instances (a triangle, sphere, quadric or
+   patch; bvh.c's numbering), -1 for an index out of range (also instance.c's). */
+int  bvh_prim_shape(const struct Scene *s, int id);
 void bvh_free(Bvh *b);
 /* Closest hit along r (0 < t < r->tmax); returns 1 and fills h on a hit. */
 int  bvh_intersect(const Bvh *b, const struct Scene *s, const Ray *r, HitRecord *h);
