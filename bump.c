@@ -29,8 +29,12 @@
                 with E, F, G = dp/du.dp/du, dp/du.dp/dv, dp/dv.dp/dv and e, f, g
                 = n.d2p/du2, n.d2p/dudv, n.d2p/dv2 (n unoriented).
      patches    dp/du = lerp(v, p10, p11) - lerp(v, p00, p01), dp/dv likewise,
-                re-expressed per (s, t) of "uv"; "N": the frame rotated from n to
-                ns (pbrt-v4's RotateFromTo) and dn from the vertex normals.
+                re-expressed per (s, t) of "uv" as pbrt-v4 does it, with the
+                reciprocals of the single partials (du/ds = 1 / (ds/du), 0 below
+                1e-8), not the inverse of the 2 x 2 Jacobian: a "uv" that is not
+                axis-aligned with the patch gives large tangents, in pbrt-v4 too;
+                "N": the frame rotated from n to ns (pbrt-v4's RotateFromTo) and
+                dn from the vertex normals.
      instances  computed in the object's space and carried to the world as above.
 
    BUMP MAP ("float displacement" or "texture displacement" d): the surface is
@@ -160,7 +164,8 @@ static void triangle_diff(const Scene *s, int prim, const SurfacePoint *sp, Shad
         if (!solve2(du02, dv02, du12, dv12, v3_sub(n0, n2), v3_sub(n1, n2), &d->dndu, &d->dndv)) {
             Vec3 dn = v3_cross(v3_sub(n2, n0), v3_sub(n1, n0));
             d->dndu = d->dndv = z3;
-            if (v3_dot(dn, dn) > 0.0f) coordinate_system(v3_norm(dn), &d->dndu, &d->dndv);
+            /* (pbrt-v4 hands CoordinateSystem the cross product unnormalised) */
+            if (v3_dot(dn, dn) > 0.0f) coordinate_system(dn, &d->dndu, &d->dndv);
         }
     }
 }
