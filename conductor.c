@@ -157,11 +157,12 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
     if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
                            &m->remap))
         return 0;
-    if (!params_check_unused(P, pl, what, "spectrum eta, spectrum k, spectrum reflectance, "
+    if (!bump_from_params(P, pl, what, m) ||
+        !params_check_unused(P, pl, what, "spectrum eta, spectrum k, spectrum reflectance, "
                              "rgb reflectance, texture reflectance, float roughness, "
                              "float uroughness, float vroughness, texture roughness, "
                              "texture uroughness, texture vroughness, bool remaproughness",
-                             "displacement normalmap"))
+                             NULL))
         return 0;
     if ((pr || pt) && (pe || pk))
         return fail(P, file, line, "%s: give either \"reflectance\" or \"eta\" and \"k\", "

@@ -704,13 +704,14 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
         !get_float(P, pl, "g", 0.0f, &g) || !get_int(P, pl, "maxdepth", 10, &md, &given) ||
         !get_int(P, pl, "nsamples", 1, &ns, &given))
         return 0;
-    if (!params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
+    if (!bump_from_params(P, pl, what, m) ||
+        !params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
                              "texture reflectance, float eta, float roughness, "
                              "float uroughness, float vroughness, texture roughness, "
                              "texture uroughness, texture vroughness, "
                              "bool remaproughness, float thickness, spectrum albedo, "
                              "rgb albedo, float g, integer maxdepth, integer nsamples",
-                             "displacement normalmap"))
+                             NULL))
         return 0;
     if (m->alpha != m->alpha_t)
         return fail(P, file, line, "%s: anisotropic roughness (u %g, v %g after the remap) "
@@ -756,7 +757,8 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
         !get_float(P, pl, "thickness", 0.01f, &th) || !get_float(P, pl, "g", 0.0f, &g) ||
         !get_int(P, pl, "maxdepth", 10, &md, &given) || !get_int(P, pl, "nsamples", 1, &ns, &given))
         return 0;
-    if (!params_check_unused(P, pl, what, "float interface.eta, float interface.roughness, "
+    if (!bump_from_params(P, pl, what, m) ||
+        !params_check_unused(P, pl, what, "float interface.eta, float interface.roughness, "
                              "float interface.uroughness, float interface.vroughness, "
                              "texture interface.roughness, texture interface.uroughness, "
                              "texture interface.vroughness, spectrum conductor.eta, "
@@ -766,7 +768,7 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
                              "texture conductor.roughness, texture conductor.uroughness, "
                              "texture conductor.vroughness, bool remaproughness, "
                              "float thickness, spectrum albedo, rgb albedo, float g, "
-                             "integer maxdepth, integer nsamples", "displacement normalmap"))
+                             "integer maxdepth, integer nsamples", NULL))
         return 0;
     if (m->alpha != m->alpha_t || m->cond_alpha != cat)
         return fail(P, file, line, "%s: anisotropic roughness (interface u %g v %g, conductor "

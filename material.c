@@ -135,6 +135,8 @@ void material_release(Material *m)
 {
     free(m->fl);
     m->fl = NULL;
+    bump_free(m->bump);
+    m->bump = NULL;
 }
 
 /* ---- fluorescence: tables at the 1 nm knots 300..830 nm (k = nm - 300) ---- */
@@ -627,8 +629,9 @@ int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
     } else {
         spec_const(&m->reflectance, 0.5f);        /* pbrt-v4's default */
     }
-    return params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
-                               "texture reflectance", "displacement normalmap");
+    return bump_from_params(P, pl, what, m) &&
+           params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
+                               "texture reflectance", NULL);
 }
 
 /* specnee extension (docs/FLUORESCENCE.md, docs/conventions.md §6):
@@ -735,10 +738,11 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
         if (!have_v) v = r;
     }
     if (!get_bool(P, pl, "remaproughness", 1, &remap)) return 0;
-    if (!params_check_unused(P, pl, what, "float eta, spectrum eta, rgb eta, "
+    if (!bump_from_params(P, pl, what, m) ||
+        !params_check_unused(P, pl, what, "float eta, spectrum eta, rgb eta, "
                              "float roughness, float uroughness, float vroughness, "
                              "bool remaproughness, float cauchyA, float cauchyB",
-                             "displacement normalmap"))
+                             NULL))
         return 0;
     if (u != v)
         return fail(P, file, line, "%s \"dielectric\": anisotropic roughness (%g, %g) "
@@ -759,8 +763,9 @@ int thindielectric_from_params(Parser *P, ParamList *pl, const char *file, int l
     Param *pf = param_find(pl, PT_FLOAT, "eta"), *ps = find_spectrum_param(pl, "eta");
     (void)dir;
     m->type = MAT_THIN_DIELECTRIC;
-    if (!params_check_unused(P, pl, what, "float eta, spectrum eta, rgb eta",
-                             "displacement normalmap"))
+    if (!bump_from_params(P, pl, what, m) ||
+        !params_check_unused(P, pl, what, "float eta, spectrum eta, rgb eta",
+                             NULL))
         return 0;
     if (pf) {
         float eta;
@@ -797,9 +802,10 @@ int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, 
     (void)dir;
     m->type = MAT_DIFFUSE_TRANSMISSION;
     if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
-    if (!params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
+    if (!bump_from_params(P, pl, what, m) ||
+        !params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
                              "spectrum transmittance, rgb transmittance, float scale",
-                             "displacement normalmap"))
+                             NULL))
         return 0;
     if (!unit_spectrum_param(P, pr, &m->reflectance, 0.25f)) return 0;
     if (!unit_spectrum_param(P, pt, &m->transmittance, 0.25f)) return 0;

@@ -331,6 +331,11 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
                               const char *dir, const char *what, Material *m);
 int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
                                 const char *dir, const char *what, Material *m);
+/* bump.c: "float displacement" or "texture displacement" (a float texture) and
+   "string normalmap" (an image) of every material but interface and mix, into
+   m->bump (left NULL without them); each builder calls it before its
+   params_check_unused. */
+int bump_from_params(Parser *P, ParamList *pl, const char *what, Material *m);
 /* Textures (texture.c): T (zeroed, its kind, file and line set, no texture
    arguments yet) of class `cls` for a Texture statement naming `name`. */
 int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *cls,

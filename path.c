@@ -932,7 +932,8 @@ static const Material *fluor_vertex(Tracer *tr, int depth, const Material *mat, 
    (3), the fluorescent branch (fluor_vertex), NEE (4) and the next direction
    from the BSDF with the hero's index (5).  Returns 0 when the path ends;
    otherwise ray leaves the vertex (the counterpart of medium_vertex). */
-static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *sp, PathState *path)
+static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *sp,
+                          const HitRecord *hit, PathState *path)
 {
     const Renderer *R = tr->R;
     const Scene *s = R->s;
@@ -944,6 +945,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     double nb[HERO_N], nr[HERO_N];
     LightCtx ctx;
     BsdfSample bs;
+    SurfacePoint bumped;
     float u0, u1, u2, cos_i;
     int j;
     if (tr->dbg) debug_vertex(tr->dbg, depth, sp, path->beta, path->alive, path->r);
@@ -951,6 +953,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     /* 2. Emission found by the path, weighted against NEE from prev */
     if (shape->emitter >= 0) film_add(tr->fs, emitter_found(tr, path, shape->emitter, sp, dir));
     if (depth >= o->maxdepth) return 0;
+    if (mat->bump) sp = bump_shade(s, mat, ray, hit, sp, &bumped);  /* bump.c: ns perturbed */
 
     /* 3. Termination of the secondary wavelengths at a dispersive dielectric,
           before NEE at this vertex (pbrt-v4 TerminateSecondary; THEORY §7) */
@@ -1009,20 +1012,20 @@ enum { AT_SURFACE, AT_COLLISION, ESCAPED, LOST };
       "volpath" into the medium on their other side, in "path" as a specular
       bounce (no MIS weight at the emitter it may then find).  LOST: more
       boundaries than MEDIUM_SEGMENTS in a row. */
-static int next_vertex(Tracer *tr, int depth, Ray *ray, PathState *path, SurfacePoint *sp, Collision *c)
+static int next_vertex(Tracer *tr, int depth, Ray *ray, PathState *path, SurfacePoint *sp,
+                       HitRecord *hit, Collision *c)
 {
     const Renderer *R = tr->R;
     const Scene *s = R->s;
     int seg;
     for (seg = 0;; seg++) {
-        HitRecord hit;
         int found;
         tr->cnt->rays++;
-        found = bvh_intersect(&s->bvh, s, ray, &hit);
-        if (path->medium >= 0 && medium_flight(tr, dim_medium(depth, seg), depth, ray, found ? hit.t : INFINITY, path, c))
+        found = bvh_intersect(&s->bvh, s, ray, hit);
+        if (path->medium >= 0 && medium_flight(tr, dim_medium(depth, seg), depth, ray, found ? hit->t : INFINITY, path, c))
             return AT_COLLISION;
         if (!found) return ESCAPED;
-        scene_surface_point(s, ray, &hit, sp);
+        scene_surface_point(s, ray, hit, sp);
         if (s->materials[s->shapes[sp->shape].material].type != MAT_INTERFACE) return AT_SURFACE;
         if (seg + 1 >= MEDIUM_SEGMENTS) return LOST;
         if (path->medium >= 0 || R->vol) path->medium = medium_after(s, sp->shape, path->medium, ray->d, sp->ng);
@@ -1072,8 +1075,9 @@ void trace_path(const Renderer *R, Ray ray, FilmSample *fs, PixelSample *ps, Cou
                      fs->wl.pdf[0], fs->wl.pdf[1], fs->wl.pdf[2], fs->wl.pdf[3]);
     for (depth = 0;; depth++) {
         SurfacePoint sp;
+        HitRecord hit;
         Collision c;
-        int i, at = next_vertex(&tr, depth, &ray, &path, &sp, &c);
+        int i, at = next_vertex(&tr, depth, &ray, &path, &sp, &hit, &c);
         if (at == ESCAPED) {          /* the infinite lights the ray sees */
             Vec3 dir = v3_norm(ray.d);
             for (i = 0; i < R->n_inf; i++) film_add(fs, emitter_found(&tr, &path, R->inf[i], NULL, dir));
@@ -1082,7 +1086,7 @@ void trace_path(const Renderer *R, Ray ray, FilmSample *fs, PixelSample *ps, Cou
         }
         if (at == LOST) return;
         if (at == AT_COLLISION ? !medium_vertex(&tr, depth, &ray, &c, &path)
-                               : !surface_vertex(&tr, depth, &ray, &sp, &path))
+                               : !surface_vertex(&tr, depth, &ray, &sp, &hit, &path))
             return;
         /* 6. Russian roulette on a hero-independent throughput */
         if (!russian_roulette(&tr, depth, &path)) return;

@@ -705,6 +705,8 @@ typedef struct {
     int mix[2];
     float amount;
     int amount_tex;
+    struct Bump *bump;         /* "displacement" or "normalmap" (bump.c), owned, freed by
+                                  material_release; NULL: the shape's shading normal */
 } Material;
 
 /* Free what a Material owns (its Fluorescence); the record itself is the caller's. */
@@ -800,6 +802,30 @@ float tex_fbm(Vec3 p, float omega, int octaves);
 float tex_turbulence(Vec3 p, float omega, int octaves);
 /* A marble texture's colour table (texture.c section 4): 0 and a message when out of memory. */
 int   tex_marble_init(Texture *t, RgbTable *rgb, Error *err);
+/* ---- Shading-normal perturbation (bump.c): pbrt-v4's bump and normal maps ----
+   A material's "displacement" d moves the surface to p + d ns, its "normalmap"
+   gives ns in the frame (dp/du, ns x dp/du, ns); either way the shading normal of
+   the hit becomes normalize(dp'/du x dp'/dv), on the geometric normal's side
+   (THEORY §14).  The derivatives are pbrt-v4's per shape (ShadingDiff). */
+typedef struct Bump {
+    int disp_tex;              /* "texture displacement": 1 + a float texture's index;
+                                  0: the constant disp */
+    float disp;                /* "float displacement" */
+    int nw, nh;                /* "normalmap": nw x nh texels (nw = 0: none) ... */
+    float *nrgb;               /* ... linear RGB, 3 floats each, top row first */
+} Bump;
+void bump_free(Bump *b);
+/* The shading frame's derivatives at a hit: dp/du, dp/dv (triangles with "N":
+   made tangent to ns) and dn/du, dn/dv, in world space. */
+typedef struct { Vec3 dpdu, dpdv, dndu, dndv; } ShadingDiff;
+/* At the hit h of ray r whose point is *sp (scene_surface_point); sets sp->u, sp->v
+   of a full sphere, which bvh.c leaves 0 unless a texture reads them. */
+void shading_differentials(const struct Scene *s, const Ray *r, const HitRecord *h,
+                           SurfacePoint *sp, ShadingDiff *d);
+/* *sp with the shading normal of m's Bump (m->bump not NULL), written to *out;
+   returns out. */
+const SurfacePoint *bump_shade(const struct Scene *s, const Material *m, const Ray *r,
+                               const HitRecord *h, const SurfacePoint *sp, SurfacePoint *out);
 /* Smooth dielectrics scatter into discrete (delta) directions: no NEE there.  A
    conductor with a roughness texture is not: it may be smooth at some points, where
    bsdf_eval gives 0 and bsdf_sample a delta lobe. */
@@ -912,7 +938,7 @@ void  tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, fl
    wavelength: a chromatic medium when sigma_t depends on lambda); a collision
    scatters with probability sigma_s / sigma_t into the Henyey-Greenstein lobe of
    asymmetry g (THEORY (18a)); the medium emits radiance sigma_a Le per unit length. */
-/* pbrt-v4's MakeNamedMedium "uniformgrid" (docs/media.md, THEORY §13): the same
+/* pbrt-v4's MakeNamedMedium "uniformgrid" (docs/media.md, THEORY §14): the same
    spectra scaled at each point by a density d(x) >= 0, sigma_t(x, lambda) =
    d(x) sigma_t(lambda), and an emission scaled by a grid too.  A MediumGrid holds
    nx ny nz samples over the unit cube of the medium's bounds p0..p1, x fastest;
@@ -975,7 +1001,7 @@ double medium_grid_lookup(const MediumGrid *g, Vec3 u);   /* u in the unit cube 
 float medium_cloud_density(const Medium *m, Vec3 q);       /* a cloud's d at q, medium space */
 void  medium_free(Medium *m);                              /* its grids */
 
-/* Delta tracking (medium.c, THEORY §13).  medium_track walks the ray o + t d
+/* Delta tracking (medium.c, THEORY §14).  medium_track walks the ray o + t d
    (d unit) from t = 0 to tmax through the majorant cells of medium m and draws
    tentative collisions at the hero's majorant sigma_bar_0 (the first distance
    from u, later ones from rng).  At each it calls fn(ctx, ev): fn returns 0 to

@@ -111,6 +111,7 @@ scenes() {
         ov["rgb|float whitebalance"] = 6500; ov["gbuffer|float whitebalance"] = 6500
         ov["rgb|string filename"] = "\"out.pfm\""; ov["gbuffer|string filename"] = "\"out.pfm\""
         ov["diffuse|float power"] = 10
+        nmap = "\"" root "/fuzz/seeds/pfm/rgb.pfm\""      # the "string normalmap" of every material
         ov["homogeneous|string preset"] = "\"Wholemilk\""
         ov["dielectric|spectrum eta"] = "\"glass-BK7\""; ov["thindielectric|spectrum eta"] = "\"glass-BK7\""
         # what a type needs besides the parameter
@@ -137,6 +138,7 @@ scenes() {
     function value(c, type, param, def,   pt, q) {
         if (c == "media" && param == "string type") return "\"" type "\""
         if ((type "|" param) in ov) return ov[type "|" param]
+        if (c == "materials" && param == "string normalmap") return nmap
         # u and v roughness given alone are anisotropic: give the pair, equal
         if (param ~ /[ .][uv]roughness$/) {
             pt = param; sub(/ .*/, "", pt)
@@ -268,7 +270,7 @@ sources() {
     BEGIN {
         cats["scene.c"] = "shapes,directives"; cats["geometry.c"] = "shapes"
         cats["options.c"] = "cameras,films,filters,samplers,integrators,accelerators"
-        cats["material.c"] = "materials"; cats["conductor.c"] = "materials"; cats["layered.c"] = "materials"
+        cats["material.c"] = "materials"; cats["conductor.c"] = "materials"; cats["layered.c"] = "materials"; cats["bump.c"] = "materials"
         cats["parser.c"] = "materials"; cats["texture.c"] = "textures"; cats["medium.c"] = "media,directives"
         cats["lights.c"] = "area lights"; cats["delta.c"] = "lights"; cats["infinite.c"] = "lights"
         # pbrt-v3 names that a builder looks up only to refuse them with the pbrt-v4 name
@@ -304,7 +306,7 @@ sources() {
     }
     END { printf "names %d\n", found }' "$r" "$@"
 }
-builders="scene.c geometry.c options.c material.c conductor.c layered.c parser.c texture.c medium.c lights.c delta.c infinite.c"
+builders="scene.c geometry.c options.c material.c conductor.c layered.c bump.c parser.c texture.c medium.c lights.c delta.c infinite.c"
 
 rows "$table" > "$tmp/rows.tsv"
 if [ "$mode" = totals ]; then totals < "$tmp/rows.tsv"; exit 0; fi
