@@ -22,6 +22,10 @@
    difftrans_albedo              the lobes carry R and T, pdf sampled = evaluated,
                                  int p = 1, scale and clamp of the parser
    conductor_parse_*             the parser: defaults and every rejection file:line
+   conductor_rgb_eta_k           rgb eta/k (and coatedconductor's) as pbrt-v4's
+                                 RGBUnboundedSpectrum: frozen pbrt-v4 means
+   conductor_spectrum_range      eta/k checked over 360-830 nm, continued below;
+                                 a spectrum from 340 nm against pbrt-v4
    conductor_furnace_*           renders in a closed emitting box (radiance 1):
                                  thin dielectric Y = 1; diffuse transmission
                                  Y = R + T^2/(1 - R); a rough conductor renders the
@@ -626,6 +630,113 @@ static void test_parse_rejects(T *t)
                   "textures are valid pbrt-v4", NULL);
 }
 
+/* A conductor sphere (radius 1 at depth 5, fov 10: it fills the 8 x 8 view)
+   under LightSource "infinite" "rgb L" [1 1 1]: the mean R, G, B of its image. */
+static int conductor_sky(T *t, const char *material, int spp, double mean[3])
+{
+    static char buf[2048];
+    Scene s;
+    RenderOptions o;
+    RenderStats st;
+    Error err;
+    Image im;
+    int j, k, ok;
+    snprintf(buf, sizeof buf,
+             "Film \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8\n"
+             "PixelFilter \"box\"\nCamera \"perspective\" \"float fov\" 10\nWorldBegin\n"
+             "LightSource \"infinite\" \"rgb L\" [ 1 1 1 ]\n%s\nTranslate 0 0 5\n"
+             "Shape \"sphere\" \"float radius\" 1\n", material);
+    if (!test_load_scene(t, &s, buf)) return 0;
+    render_options_default(&o);
+    o.spp = spp;
+    o.seed = 5;
+    o.threads = 2;
+    ok = render(&s, &o, &im, &st, &err);
+    scene_free(&s);
+    if (!ok) { test_failf(t, __FILE__, __LINE__, "render: %s", err.msg); return 0; }
+    for (k = 0; k < 3; k++) {
+        mean[k] = 0.0;
+        for (j = 0; j < 64; j++) mean[k] += im.rgb[3 * j + k];
+        mean[k] /= 64.0;
+    }
+    img_free(&im);
+    return 1;
+}
+
+/* "rgb eta"/"rgb k" of a conductor and "rgb conductor.eta"/"rgb conductor.k" of
+   a coatedconductor: pbrt-v4 reads them as RGBUnboundedSpectrum.  Grey rgb is
+   the constant (pbrt-v4's sigmoid of 0 times 2 max): the image of that constant
+   spectrum, bit for bit.  Coloured ones (gold-like eta 0.18 0.42 1.37, k 3.42
+   2.35 1.77) against pbrt-v4's mean R, G, B at 16384 spp in the conductor_sky
+   scene, frozen from the oracle (Sampler "independent"): pbrt --quiet a.pbrt. */
+static void test_rgb_eta_k(T *t)
+{
+    static const struct { const char *mat; double rgb[3]; } c[] = {
+        { "Material \"conductor\" \"rgb eta\" [ 0.18 0.42 1.37 ] \"rgb k\" [ 3.42 2.35 1.77 ]",
+          { 0.97820, 0.76578, 0.37614 } },
+        { "Material \"conductor\" \"rgb eta\" [ 0.18 0.42 1.37 ] \"rgb k\" [ 3.42 2.35 1.77 ] "
+          "\"float roughness\" 0.3", { 0.62653, 0.49073, 0.24205 } },
+        { "Material \"coatedconductor\" \"rgb conductor.eta\" [ 0.18 0.42 1.37 ] "
+          "\"rgb conductor.k\" [ 3.42 2.35 1.77 ] \"float interface.roughness\" 0.2",
+          { 0.66192, 0.49445, 0.20693 } },
+    };
+    double a[3], b[3];
+    int i, k;
+    for (i = 0; i < 3; i++) {
+        if (!conductor_sky(t, c[i].mat, test_scaled(512, 256), a)) return;
+        for (k = 0; k < 3; k++)
+            CHECK(t, fabs(a[k] - c[i].rgb[k]) < 0.02 * c[i].rgb[k], "%s: mean %c %.4f, pbrt-v4 %.4f",
+                  c[i].mat, "RGB"[k], a[k], c[i].rgb[k]);
+    }
+    if (!conductor_sky(t, "Material \"conductor\" \"rgb eta\" [ 0.7 0.7 0.7 ] \"rgb k\" [ 2.5 2.5 2.5 ]", 4, a) ||
+        !conductor_sky(t, "Material \"conductor\" \"spectrum eta\" [ 300 0.7 830 0.7 ] "
+                       "\"spectrum k\" [ 300 2.5 830 2.5 ]", 4, b)) return;
+    CHECK(t, memcmp(a, b, sizeof a) == 0, "grey rgb (0.7, 2.5) renders unlike the constant spectra");
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"rgb eta\" [ 0 0 0 ]\n", 3,
+                  "\"rgb eta\" of a conductor", "value 0 at 360 nm");
+    expect_reject(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"rgb conductor.k\" [ 1 -1 1 ]\n", 3,
+                  "\"rgb conductor.k\"", "negative");
+}
+
+/* Conductor spectra need only cover pbrt-v4's 360-830 nm (villa's Inox data
+   starts at 304.994 nm): below, the lowest value with data is continued to
+   300 nm (only fluorescence traces there).  A spectrum from 340 nm loads, its
+   UV extension is the 340 nm value, and the render matches pbrt-v4's (mean R,
+   G, B at 4096 spp in the conductor_sky scene, oracle as above); one from 365
+   nm is 0 at 360-364 nm, where pbrt-v4's Fresnel term is 0/0: refused. */
+static void test_spectrum_range(T *t)
+{
+    static const double want[3] = { 0.58533, 0.55534, 0.51314 };
+    static const char *mat = "Material \"conductor\" \"spectrum eta\" [ 340 1.2 500 1.5 830 2.5 ] "
+                             "\"spectrum k\" [ 340 2 600 3 830 4 ]";
+    Scene s;
+    double a[3];
+    int nm, k, ok = 1;
+    char buf[512];
+    snprintf(buf, sizeof buf, "WorldBegin\n%s\nShape \"sphere\"\n"
+             "Material \"coatedconductor\" \"spectrum conductor.eta\" [ 340 1.2 830 2.5 ] "
+             "\"spectrum conductor.k\" [ 345 2 830 4 ]\nShape \"sphere\"\n", mat);
+    if (!load_text(t, &s, buf)) return;
+    for (nm = SPEC_UV_MIN; nm < 340; nm++)
+        ok &= spec_get(&s.materials[0].eta, nm) == 1.2f && spec_get(&s.materials[0].k, nm) == 2.0f &&
+              spec_get(&s.materials[1].cond_eta, nm) == 1.2f;
+    for (nm = SPEC_UV_MIN; nm < 345; nm++) ok &= spec_get(&s.materials[1].k, nm) == 2.0f;
+    CHECK(t, ok, "below the data, eta and k do not continue the lowest value");
+    CHECK(t, fabsf(spec_get(&s.materials[0].eta, 420) - 1.35f) < 1e-6f, "the data is changed: eta(420) %g",
+          spec_get(&s.materials[0].eta, 420));
+    scene_free(&s);
+    if (!conductor_sky(t, mat, test_scaled(64, 16), a)) return;
+    for (k = 0; k < 3; k++)
+        CHECK(t, fabs(a[k] - want[k]) < 0.02 * want[k], "from 340 nm: mean %c %.4f, pbrt-v4 %.4f",
+              "RGB"[k], a[k], want[k]);
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"spectrum eta\" [ 365 1.2 830 2.5 ]\n", 3,
+                  "\"spectrum eta\" of a conductor", "value 0 at 360 nm");
+    expect_reject(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"spectrum conductor.eta\" [ 300 1 800 1 ]\n", 3,
+                  "\"spectrum conductor.eta\" of a coatedconductor", "value 0 at 801 nm");
+    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"spectrum k\" [ 360 -1 830 1 ]\n", 3,
+                  "\"spectrum k\" of a conductor", "value -1 at 360 nm");
+}
+
 /* ---------------------------------------------------------------- renders */
 
 /* A closed cube [-2, 2]^3 whose walls emit L = 1 on both sides (the
@@ -732,6 +843,8 @@ const TestCase tests_conductor[] = {
     { "difftrans_albedo", test_difftrans_albedo },
     { "conductor_parse_defaults", test_parse_defaults },
     { "conductor_parse_rejects", test_parse_rejects },
+    { "conductor_rgb_eta_k", test_rgb_eta_k },
+    { "conductor_spectrum_range", test_spectrum_range },
     { "conductor_furnace_thin", test_furnace_thin },
     { "conductor_furnace_difftrans", test_furnace_difftrans },
     { "conductor_furnace_rough_conductor", test_furnace_rough_conductor },
