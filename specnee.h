@@ -754,7 +754,7 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm);
    argument (tex1, tex2, amount, tex, scale, inside, outside) is a constant or
    another texture. */
 typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP,
-               TEX_DOTS, TEX_MARBLE, TEX_FBM, TEX_WRINKLED, TEX_WINDY } TexType;
+               TEX_DOTS, TEX_MARBLE, TEX_FBM, TEX_WRINKLED, TEX_WINDY, TEX_DIRECTIONMIX } TexType;
 typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR } TexMapType;
 typedef enum { TEXWRAP_REPEAT, TEXWRAP_BLACK, TEXWRAP_CLAMP } TexWrap;
 #define TEX_ARGS 2
@@ -764,9 +764,11 @@ typedef struct Texture {
     TexMapType map;
     float su, sv, du, dv;      /* uv: scales and offsets; planar: du, dv the offsets */
     Vec3 vs, vt;               /* planar: the s and t axes ("v1", "v2") */
+    Vec3 dir;                  /* directionmix: "dir" in world space, a unit vector */
     Xform tex_from_world;      /* spherical, cylindrical, planar and the 3-D textures: the
                                   inverse CTM */
-    /* arguments: checkerboard tex1, tex2; mix tex1, tex2 (and amount); scale tex, scale;
+    /* arguments: checkerboard tex1, tex2; mix and directionmix tex1, tex2 (and mix's
+       amount); scale tex, scale;
        dots "inside" (shown outside the dots, as in pbrt-v4), "outside" (in them) */
     int arg_tex[TEX_ARGS];     /* a texture index, or -1: the constant below */
     Spectrum arg_s[TEX_ARGS];  /* spectrum constants */
