@@ -705,6 +705,8 @@ typedef struct {
     int mix[2];
     float amount;
     int amount_tex;
+    int regularized;           /* a copy made by mat_regularized: mat_point regularizes
+                                  the alphas it reads from textures too */
 } Material;
 
 /* Free what a Material owns (its Fluorescence); the record itself is the caller's. */
@@ -806,6 +808,11 @@ int   tex_marble_init(Texture *t, RgbTable *rgb, Error *err);
    conductor with a roughness texture is not: it may be smooth at some points, where
    bsdf_eval gives 0 and bsdf_sample a delta lobe. */
 int   mat_is_delta(const Material *m);
+/* pbrt-v4's BSDF::Regularize (Integrator "bool regularize", path.c; THEORY §14):
+   *out = m with its microfacet alphas widened by tr_regularize (dielectric, conductor,
+   coateddiffuse's coat, coatedconductor's coat and base), 1; 0 and no copy for the
+   other types, which pbrt-v4 leaves as they are. */
+int   mat_regularized(const Material *m, Material *out);
 /* A conductor's, coateddiffuse's or coatedconductor's texture-valued parameters at one surface point
    (pbrt-v4 evaluates them in GetBxDF): the alphas, and when has_r the reflectance at
    the path's wavelengths, clamped to [0, 1]; without textures the Material's own. */
@@ -893,9 +900,11 @@ float tr_pdf_wm(float ax, float ay, Vec3 wo, Vec3 wm);
    density D_wo(wm) / (4 |wo.wm|) of wi = reflect_dir(wo, wm). */
 int   tr_half_vector(Vec3 wo, Vec3 wi, Vec3 *wm);
 float tr_pdf_reflect(float ax, float ay, Vec3 wo, Vec3 wm);
-/* Both alphas below 1e-3: a smooth (delta) surface.  remaproughness: alpha = sqrt(r). */
+/* Both alphas below 1e-3: a smooth (delta) surface.  remaproughness: alpha = sqrt(r).
+   tr_regularize: pbrt-v4's Regularize, alpha < 0.3 -> clamp(2 alpha, 0.1, 0.3). */
 int   tr_smooth(float ax, float ay);
 float tr_alpha_of_roughness(float roughness);
+float tr_regularize(float alpha);
 /* The rough dielectric interface (GGX alpha, index eta) for a local pair: f in
    radiance mode (with 1/eta'^2 on transmission) and the pdf of sampling wi from wo
    by a visible normal and the lobe choice F : 1 - F, restricted to `lobes`
@@ -1191,6 +1200,9 @@ typedef struct {
                                   the media are not rendered; "volpath" (pbrt-v4's
                                   default), "bdpt" render them (medium.c) */
     int xsamples, ysamples, jitter;      /* Sampler "stratified" */
+    int regularize;            /* Integrator "bool regularize" (path, volpath): pbrt-v4's
+                                  biased roughening of near-specular BSDFs after a
+                                  non-specular bounce (path.c, THEORY §14) */
 } SceneSettings;
 
 typedef struct Scene {
