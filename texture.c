@@ -595,13 +595,17 @@ static const char *const texture_reads[] = {
         "rgb tex2, float tex2, texture tex2, vector3 dir"
 };
 
-/* directionmix's "dir" (0 1 0 by default): in world space by the CTM at the
-   directive (a vector: pbrt-v4's renderFromTexture), then normalised. */
-static int texture_direction(Parser *P, ParamList *pl, Texture *T)
+/* pbrt-v4 DirectionMixTexture, float and spectrum (section 2): tex1 (0), tex2
+   (1) and "dir" (0 1 0), carried to world space by the CTM at the directive (a
+   vector: pbrt-v4's renderFromTexture), then normalised. */
+static int texture_directionmix(Parser *P, ParamList *pl, Texture *T)
 {
     Param *pv = param_find(pl, PT_VECTOR3, "dir");
     Vec3 d = v3(0.0f, 1.0f, 0.0f);
     float len;
+    T->type = TEX_DIRECTIONMIX;
+    if (!texture_arg(P, pl, T, 0, "tex1", 0.0f) || !texture_arg(P, pl, T, 1, "tex2", 1.0f))
+        return 0;
     if (pv) {
         if (pv->n_num != 3)
             return fail(P, pv->file, pv->line, "\"vector3 dir\": expected 3 values");
@@ -661,10 +665,7 @@ int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *
             if (ok && !isfinite(T->amount)) ok = fail(P, T->file, T->line, "Texture \"mix\": amount is not finite");
         }
     } else if (!strcmp(cls, "directionmix")) {
-        /* pbrt-v4 DirectionMixTexture, float and spectrum (section 2) */
-        T->type = TEX_DIRECTIONMIX;
-        ok = texture_arg(P, pl, T, 0, "tex1", 0.0f) && texture_arg(P, pl, T, 1, "tex2", 1.0f) &&
-             texture_direction(P, pl, T);
+        ok = texture_directionmix(P, pl, T);
     } else if (!strcmp(cls, "imagemap")) {
         T->type = TEX_IMAGEMAP;
         ok = texture_mapping(P, pl, T) && texture_image(P, pl, T, name);
