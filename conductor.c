@@ -37,6 +37,11 @@
       the alphas and a "texture reflectance" come in a MatPoint (material.c's
       mat_point), so one conductor can be smooth at one point and rough at another.
 
+   5. Parameters (conductor_eta_k, also coatedconductor's "conductor." base): eta
+      and k as spectra, or "rgb" as pbrt-v4's RGBUnboundedSpectrum; valid when
+      eta > 0 and k >= 0 over pbrt-v4's 360-830 nm, continued below 360 nm (which
+      only fluorescence traces) by their lowest value with data.
+
    The anisotropy's axes are the shading frame's s and t; pbrt-v4 puts them on
    the surface's dp/du, which specnee does not have, so the parser accepts
    isotropic roughness only (the functions here take both alphas; the tests use
@@ -144,6 +149,58 @@ int conductor_reflectance_param(Parser *P, Param *pr, Spectrum *refl, Spectrum *
     return 1;
 }
 
+/* The UV extension (300-359 nm) of a conductor's eta or k, where its data does
+   not reach: pbrt-v4 samples 360-830 nm only, so a spectrum is valid for it when
+   it is valid there; below, specnee (whose fluorescence may trace a UV
+   wavelength) continues the lowest value it has.  A run of zeros at the bottom of
+   the extension is read as "no data" (spec_from_pairs' zero outside the pairs;
+   an rgb spectrum has no UV at all) and takes the value of the first nm above it
+   that is not zero, or of 360 nm. */
+static void conductor_uv_continue(Spectrum *s)
+{
+    int n0 = SPEC_UV_MIN, nm;
+    while (n0 < SPEC_MIN && spec_get(s, n0) == 0.0f) n0++;
+    for (nm = SPEC_UV_MIN; nm < n0; nm++) *spec_at(s, nm) = spec_get(s, n0);
+}
+
+/* One of eta, k: pbrt-v4 reads "rgb" as an RGBUnboundedSpectrum (SPEC_COEFF),
+   a spectrum as it is; Cu's named spectrum when absent. */
+static int conductor_spectrum(Parser *P, Param *p, const char *cu, Spectrum *out)
+{
+    if (!p) return spec_named(out, cu);
+    return param_spectrum(P, p, p->type == PT_RGB ? SPEC_COEFF : SPEC_UNBOUNDED, out, NULL);
+}
+
+/* pbrt-v4 ConductorMaterial's (and CoatedConductorMaterial's "conductor.")
+   eta and k.  Checked over pbrt-v4's 360-830 nm (eta > 0: eta = k = 0 gives
+   pbrt-v4's Fresnel term 0/0; k >= 0), then continued into the UV extension
+   (conductor_uv_continue) and checked there too. */
+int conductor_eta_k(Parser *P, ParamList *pl, const char *file, int line,
+                    const char *prefix, Spectrum *eta, Spectrum *k)
+{
+    char ne[32], nk[32], we[96], wk[96];
+    const char *owner = prefix[0] ? "coatedconductor" : "conductor";
+    Param *pe, *pk;
+    snprintf(ne, sizeof ne, "%seta", prefix);
+    snprintf(nk, sizeof nk, "%sk", prefix);
+    pe = find_spectrum_param(pl, ne);
+    pk = find_spectrum_param(pl, nk);
+    if (!conductor_spectrum(P, pe, "metal-Cu-eta", eta) ||
+        !conductor_spectrum(P, pk, "metal-Cu-k", k))
+        return 0;
+    snprintf(we, sizeof we, "\"%s %s\" of a %s", pe && pe->type == PT_RGB ? "rgb" : "spectrum",
+             ne, owner);
+    snprintf(wk, sizeof wk, "\"%s %s\" of a %s", pk && pk->type == PT_RGB ? "rgb" : "spectrum",
+             nk, owner);
+    if (!check_spectrum_above_from(P, pe, file, line, we, eta, 0.0f, 1, SPEC_MIN) ||
+        !check_spectrum_above_from(P, pk, file, line, wk, k, 0.0f, 0, SPEC_MIN))
+        return 0;
+    conductor_uv_continue(eta);
+    conductor_uv_continue(k);
+    return check_spectrum_above(P, pe, file, line, we, eta, 0.0f, 1) &&
+           check_spectrum_above(P, pk, file, line, wk, k, 0.0f, 0);
+}
+
 /* pbrt-v4 ConductorMaterial: eta and k, or a reflectance that
    stands for them; Cu by default */
 int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
@@ -158,8 +215,8 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
                            &m->remap))
         return 0;
     if (!bump_from_params(P, pl, what, m) ||
-        !params_check_unused(P, pl, what, "spectrum eta, spectrum k, spectrum reflectance, "
-                             "rgb reflectance, texture reflectance, float roughness, "
+        !params_check_unused(P, pl, what, "spectrum eta, spectrum k, rgb eta, rgb k, "
+                             "spectrum reflectance, rgb reflectance, texture reflectance, float roughness, "
                              "float uroughness, float vroughness, texture roughness, "
                              "texture uroughness, texture vroughness, bool remaproughness",
                              NULL))
@@ -178,15 +235,7 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
     } else if (pr) {
         if (!conductor_reflectance_param(P, pr, &m->reflectance, &m->eta, &m->k)) return 0;
     } else {
-        if (pe) { if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->eta, NULL)) return 0; }
-        else spec_named(&m->eta, "metal-Cu-eta");
-        if (pk) { if (!param_spectrum(P, pk, SPEC_UNBOUNDED, &m->k, NULL)) return 0; }
-        else spec_named(&m->k, "metal-Cu-k");
-        if (!check_spectrum_above(P, pe, file, line, "\"spectrum eta\" of a conductor",
-                                  &m->eta, 0.0f, 1) ||
-            !check_spectrum_above(P, pk, file, line, "\"spectrum k\" of a conductor",
-                                  &m->k, 0.0f, 0))
-            return 0;
+        if (!conductor_eta_k(P, pl, file, line, "", &m->eta, &m->k)) return 0;
     }
     if (m->alpha != m->alpha_t)
         return fail(P, file, line, "%s: anisotropic roughness (u %g, v %g after the remap) "

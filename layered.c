@@ -762,7 +762,8 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
                              "float interface.uroughness, float interface.vroughness, "
                              "texture interface.roughness, texture interface.uroughness, "
                              "texture interface.vroughness, spectrum conductor.eta, "
-                             "spectrum conductor.k, spectrum reflectance, rgb reflectance, "
+                             "spectrum conductor.k, rgb conductor.eta, rgb conductor.k, "
+                             "spectrum reflectance, rgb reflectance, "
                              "texture reflectance, float conductor.roughness, "
                              "float conductor.uroughness, float conductor.vroughness, "
                              "texture conductor.roughness, texture conductor.uroughness, "
@@ -794,15 +795,7 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
     } else if (pr) {
         if (!conductor_reflectance_param(P, pr, &m->reflectance, &m->cond_eta, &m->k)) return 0;
     } else {
-        if (pe) { if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->cond_eta, NULL)) return 0; }
-        else spec_named(&m->cond_eta, "metal-Cu-eta");
-        if (pk) { if (!param_spectrum(P, pk, SPEC_UNBOUNDED, &m->k, NULL)) return 0; }
-        else spec_named(&m->k, "metal-Cu-k");
-        if (!check_spectrum_above(P, pe, file, line, "\"spectrum conductor.eta\" of a "
-                                  "coatedconductor", &m->cond_eta, 0.0f, 1) ||
-            !check_spectrum_above(P, pk, file, line, "\"spectrum conductor.k\" of a "
-                                  "coatedconductor", &m->k, 0.0f, 0))
-            return 0;
+        if (!conductor_eta_k(P, pl, file, line, "conductor.", &m->cond_eta, &m->k)) return 0;
     }
     return 1;
 }

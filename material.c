@@ -116,11 +116,13 @@ void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, u
         float v = tex_eval(m->textures, m->alpha_tex - 1, sp, lambda[0]);
         v = v > 0.0f ? (v < 1e4f ? v : 1e4f) : 0.0f;
         mp->alpha = mp->alpha_t = m->remap ? tr_alpha_of_roughness(v) : v;
+        if (m->regularized) mp->alpha = mp->alpha_t = tr_regularize(mp->alpha);
     }
     if (m->cond_alpha_tex > 0) {                 /* coatedconductor's base, the same rule */
         float v = tex_eval(m->textures, m->cond_alpha_tex - 1, sp, lambda[0]);
         v = v > 0.0f ? (v < 1e4f ? v : 1e4f) : 0.0f;
         mp->cond_alpha = m->remap ? tr_alpha_of_roughness(v) : v;
+        if (m->regularized) mp->cond_alpha = tr_regularize(mp->cond_alpha);
     }
     if (m->reflectance_tex > 0) {
         mp->has_r = 1;
@@ -331,6 +333,26 @@ int mat_is_delta(const Material *m)
         return m->alpha_tex <= 0 && tr_smooth(m->alpha, m->alpha_t);
     if (m->type == MAT_THIN_DIELECTRIC) return 1;
     return m->type == MAT_DIELECTRIC && m->alpha == 0.0f;
+}
+
+/* pbrt-v4's BxDF::Regularize: DielectricBxDF, ConductorBxDF and LayeredBxDF (its
+   top and bottom) widen their Trowbridge-Reitz alphas; diffuse, thindielectric
+   (a TODO in pbrt-v4), diffusetransmission keep theirs.  A dielectric of index 1
+   everywhere stays specular, as pbrt-v4's (it passes light straight through
+   whatever its alpha). */
+int mat_regularized(const Material *m, Material *out)
+{
+    if (m->type != MAT_DIELECTRIC && m->type != MAT_CONDUCTOR &&
+        m->type != MAT_COATED_DIFFUSE && m->type != MAT_COATED_CONDUCTOR)
+        return 0;
+    if (m->type == MAT_DIELECTRIC && spec_is_constant(&m->eta) && spec_get(&m->eta, SPEC_MIN) == 1.0f)
+        return 0;
+    *out = *m;
+    out->alpha = tr_regularize(m->alpha);
+    out->alpha_t = tr_regularize(m->alpha_t);
+    out->cond_alpha = tr_regularize(m->cond_alpha);
+    out->regularized = 1;
+    return 1;
 }
 
 /* ---------------------------------------------------------------- thin dielectric */

@@ -221,6 +221,16 @@ float tr_alpha_of_roughness(float roughness)
     return sqrtf(roughness);
 }
 
+/* pbrt-v4's TrowbridgeReitzDistribution::Regularize (the Integrator's "bool
+   regularize", THEORY §15): an alpha below 0.3 becomes clamp(2 alpha, 0.1, 0.3),
+   so a smooth surface turns glossy (alpha 0.1); 0.3 and above stay. */
+float tr_regularize(float alpha)
+{
+    if (!(alpha < 0.3f)) return alpha;
+    alpha *= 2.0f;
+    return alpha < 0.1f ? 0.1f : alpha > 0.3f ? 0.3f : alpha;
+}
+
 /* The reflection half vector wm = normalize(wo + wi), turned to +z (the
    microfacet normals face up); 0 when wo = -wi, where it has none. */
 int tr_half_vector(Vec3 wo, Vec3 wi, Vec3 *wm)

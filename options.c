@@ -631,8 +631,10 @@ int integrator_directive(Parser *P, const char *type, ParamList *pl, const char 
             : !strcmp(type, "simplepath") ? "integer maxdepth, bool samplelights, bool samplebsdf"
             : "integer maxdepth, string lightsampler, bool regularize";
     /* the first problem in the file is named: a parameter left over before
-       "bool regularize" true, else regularize, else one after it */
-    if (regularize)
+       "bool regularize" true, else regularize, else one after it.  path and volpath
+       regularize as pbrt-v4's (path.c); bdpt, which regularizes its light subpaths
+       too, is rendered by the path tracer: refused there */
+    if (regularize && !strcmp(type, "bdpt"))
         return refuse_param(P, pl, what, reads, param_find(pl, PT_BOOL, "regularize"), file, line,
                             "Integrator: \"bool regularize\" true is valid pbrt-v4 but "
                             "not supported by specnee");
@@ -650,6 +652,7 @@ int integrator_directive(Parser *P, const char *type, ParamList *pl, const char 
         return fail_param(P, pl, "maxdepth", file, line, "Integrator: maxdepth %d outside 0..%d", maxdepth, MAX_MAXDEPTH);
     st->maxdepth = maxdepth;
     st->maxdepth_set = given;
+    st->regularize = regularize;
     if (ls) {
         if (strlen(ls) + 1 > sizeof st->lightsampler)
             return fail(P, file, line, "Integrator: lightsampler name \"%s\" too long", ls);

@@ -873,20 +873,28 @@ int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
                                 remap_out);
 }
 
-/* Every value of a spectrum over 300-830 nm must satisfy lo < v (strict) or
+/* Every value of a spectrum over nm0-830 nm must satisfy lo < v (strict) or
    lo <= v (strict = 0), and be finite: else "file:line: ..." naming the first
-   wavelength that fails.  p may be NULL (a default spectrum: the directive's line). */
-int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
-                         const char *what, const Spectrum *sp, float lo, int strict)
+   wavelength that fails.  p may be NULL (a default spectrum: the directive's line).
+   check_spectrum_above checks from 300 nm, the UV extension included. */
+int check_spectrum_above_from(Parser *P, const Param *p, const char *file, int line,
+                              const char *what, const Spectrum *sp, float lo, int strict,
+                              int nm0)
 {
     int nm;
-    for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+    for (nm = nm0; nm <= SPEC_MAX; nm++) {
         float v = spec_get(sp, nm);
         if (!(strict ? v > lo : v >= lo) || !(v < 1e30f))
             return fail(P, p ? p->file : file, p ? p->line : line, "%s: value %g at %d nm "
                         "(need a finite value %s %g)", what, v, nm, strict ? ">" : ">=", lo);
     }
     return 1;
+}
+
+int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
+                         const char *what, const Spectrum *sp, float lo, int strict)
+{
+    return check_spectrum_above_from(P, p, file, line, what, sp, lo, strict, SPEC_UV_MIN);
 }
 
 /* pbrt-v4 normalises an RGB illuminant by its colour space's illuminant:

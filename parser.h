@@ -251,7 +251,8 @@ int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_ill
    microfacet_alphas(_of): pbrt-v4's roughness parameters (prefix: a layer's,
    "interface." or "conductor.") as GGX alphas, or a float texture
    (*alpha_tex = 1 + its index).  check_spectrum_above: every value over
-   300-830 nm finite and > lo (strict) or >= lo (p NULL: the statement's line).
+   300-830 nm finite and > lo (strict) or >= lo (p NULL: the statement's line);
+   check_spectrum_above_from: the same from nm0 on.
    rgb_illuminant_scale: the scale that gives an "rgb L" illuminant pbrt-v4's
    D65 normalisation. */
 int check_unit_spectrum(Parser *P, const Param *p, Spectrum *sp);
@@ -265,6 +266,9 @@ int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
                       int *remap_out);
 int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
                          const char *what, const Spectrum *sp, float lo, int strict);
+int check_spectrum_above_from(Parser *P, const Param *p, const char *file, int line,
+                              const char *what, const Spectrum *sp, float lo, int strict,
+                              int nm0);
 float rgb_illuminant_scale(const Spectrum *L, float scale);
 /* note_not_positive: a note at the line of "float name" when it is given and
    v <= 0 (a light's "power" or "illuminance", which pbrt-v4 then ignores); it
@@ -324,6 +328,10 @@ int mix_from_params(Parser *P, ParamList *pl, const char *file, int line,
 /* A conductor's "reflectance" parameter pr as pbrt-v4's eta = 1 and k (conductor.c;
    also read by coatedconductor in layered.c). */
 int conductor_reflectance_param(Parser *P, Param *pr, Spectrum *refl, Spectrum *eta, Spectrum *k);
+/* A conductor's "eta" and "k" (prefix "" or "conductor." of coatedconductor), or
+   Cu's when absent: pbrt-v4's meaning over 360-830 nm, continued below (conductor.c). */
+int conductor_eta_k(Parser *P, ParamList *pl, const char *file, int line,
+                    const char *prefix, Spectrum *eta, Spectrum *k);
 int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
                           const char *dir, const char *what, Material *m);
 /* layered.c: */

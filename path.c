@@ -125,6 +125,10 @@ typedef struct {
     unsigned alive;                  /* bit j: lane j is carried (bit 0, the hero, always) */
     int shifted;                     /* a fluorescent vertex re-radiated (LightCtx.shifted) */
     int medium;                      /* the medium the ray is in (-1: none) */
+    int any_nonspec;                 /* a bounce so far was not specular (a BSDF sample
+                                        that is not delta, or a medium scattering):
+                                        pbrt-v4's anyNonSpecularBounces, read by
+                                        "regularize" (THEORY §15) */
     PrevVertex prev;
 } PathState;
 
@@ -861,6 +865,7 @@ static int medium_vertex(Tracer *tr, int depth, Ray *ray, const Collision *c, Pa
     if (!(pdf > 0.0f)) return 0;
     for (j = 0; j < HERO_N; j++) q[j] = pdf;
     prev_set(path, o->nee && s->n_emitters > 0, &ctx, p, q);
+    path->any_nonspec = 1;               /* (pbrt-v4's volpath: a real scattering) */
     ray->o = p;
     ray->d = wi;
     ray->tmax = INFINITY;
@@ -942,6 +947,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     Vec3 dir = v3_norm(ray->d), wo = v3_neg(dir);
     int mi = mat_choose(s->materials, shape->material, sp, wo);   /* a mix: one of its two */
     const Material *mat = &s->materials[mi];
+    Material reg;
     double nb[HERO_N], nr[HERO_N];
     LightCtx ctx;
     BsdfSample bs;
@@ -949,6 +955,9 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     float u0, u1, u2, cos_i;
     int j;
     if (tr->dbg) debug_vertex(tr->dbg, depth, sp, path->beta, path->alive, path->r);
+    /* Integrator "bool regularize" (pbrt-v4's, biased by design; THEORY §15): after
+       a non-specular bounce the BSDF's microfacet alphas are widened */
+    if (s->settings.regularize && path->any_nonspec && mat_regularized(mat, &reg)) mat = &reg;
 
     /* 2. Emission found by the path, weighted against NEE from prev */
     if (shape->emitter >= 0) film_add(tr->fs, emitter_found(tr, path, shape->emitter, sp, dir));
@@ -987,6 +996,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     sampler_2d(tr->ps, dim_bounce(depth, BD_DIR), &u1, &u2);
     if (!bsdf_sample(mat, sp, wo, path->lam, path->alive, u0, u1, u2, &bs)) return 0;
     prev_set(path, o->nee && !bs.delta && s->n_emitters > 0, &ctx, sp->p, bs.pdf_l);
+    if (!bs.delta) path->any_nonspec = 1;
     cos_i = fabsf(v3_dot(bs.wi, sp->ns));
     for (j = 0; j < HERO_N; j++) {
         nb[j] = (double)path->beta[j] * (bs.f[j] * cos_i / bs.pdf);

@@ -707,6 +707,9 @@ typedef struct {
     int amount_tex;
     struct Bump *bump;         /* "displacement" or "normalmap" (bump.c), owned, freed by
                                   material_release; NULL: the shape's shading normal */
+
+    int regularized;           /* a copy made by mat_regularized: mat_point regularizes
+                                  the alphas it reads from textures too */
 } Material;
 
 /* Free what a Material owns (its Fluorescence); the record itself is the caller's. */
@@ -756,7 +759,7 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm);
    argument (tex1, tex2, amount, tex, scale, inside, outside) is a constant or
    another texture. */
 typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP,
-               TEX_DOTS, TEX_MARBLE, TEX_FBM, TEX_WRINKLED, TEX_WINDY } TexType;
+               TEX_DOTS, TEX_MARBLE, TEX_FBM, TEX_WRINKLED, TEX_WINDY, TEX_DIRECTIONMIX } TexType;
 typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR } TexMapType;
 typedef enum { TEXWRAP_REPEAT, TEXWRAP_BLACK, TEXWRAP_CLAMP } TexWrap;
 #define TEX_ARGS 2
@@ -766,9 +769,11 @@ typedef struct Texture {
     TexMapType map;
     float su, sv, du, dv;      /* uv: scales and offsets; planar: du, dv the offsets */
     Vec3 vs, vt;               /* planar: the s and t axes ("v1", "v2") */
+    Vec3 dir;                  /* directionmix: "dir" in world space, a unit vector */
     Xform tex_from_world;      /* spherical, cylindrical, planar and the 3-D textures: the
                                   inverse CTM */
-    /* arguments: checkerboard tex1, tex2; mix tex1, tex2 (and amount); scale tex, scale;
+    /* arguments: checkerboard tex1, tex2; mix and directionmix tex1, tex2 (and mix's
+       amount); scale tex, scale;
        dots "inside" (shown outside the dots, as in pbrt-v4), "outside" (in them) */
     int arg_tex[TEX_ARGS];     /* a texture index, or -1: the constant below */
     Spectrum arg_s[TEX_ARGS];  /* spectrum constants */
@@ -830,6 +835,11 @@ const SurfacePoint *bump_shade(const struct Scene *s, const Material *m, const R
    conductor with a roughness texture is not: it may be smooth at some points, where
    bsdf_eval gives 0 and bsdf_sample a delta lobe. */
 int   mat_is_delta(const Material *m);
+/* pbrt-v4's BSDF::Regularize (Integrator "bool regularize", path.c; THEORY §14):
+   *out = m with its microfacet alphas widened by tr_regularize (dielectric, conductor,
+   coateddiffuse's coat, coatedconductor's coat and base), 1; 0 and no copy for the
+   other types, which pbrt-v4 leaves as they are. */
+int   mat_regularized(const Material *m, Material *out);
 /* A conductor's, coateddiffuse's or coatedconductor's texture-valued parameters at one surface point
    (pbrt-v4 evaluates them in GetBxDF): the alphas, and when has_r the reflectance at
    the path's wavelengths, clamped to [0, 1]; without textures the Material's own. */
@@ -917,9 +927,11 @@ float tr_pdf_wm(float ax, float ay, Vec3 wo, Vec3 wm);
    density D_wo(wm) / (4 |wo.wm|) of wi = reflect_dir(wo, wm). */
 int   tr_half_vector(Vec3 wo, Vec3 wi, Vec3 *wm);
 float tr_pdf_reflect(float ax, float ay, Vec3 wo, Vec3 wm);
-/* Both alphas below 1e-3: a smooth (delta) surface.  remaproughness: alpha = sqrt(r). */
+/* Both alphas below 1e-3: a smooth (delta) surface.  remaproughness: alpha = sqrt(r).
+   tr_regularize: pbrt-v4's Regularize, alpha < 0.3 -> clamp(2 alpha, 0.1, 0.3). */
 int   tr_smooth(float ax, float ay);
 float tr_alpha_of_roughness(float roughness);
+float tr_regularize(float alpha);
 /* The rough dielectric interface (GGX alpha, index eta) for a local pair: f in
    radiance mode (with 1/eta'^2 on transmission) and the pdf of sampling wi from wo
    by a visible normal and the lobe choice F : 1 - F, restricted to `lobes`
@@ -1215,6 +1227,9 @@ typedef struct {
                                   the media are not rendered; "volpath" (pbrt-v4's
                                   default), "bdpt" render them (medium.c) */
     int xsamples, ysamples, jitter;      /* Sampler "stratified" */
+    int regularize;            /* Integrator "bool regularize" (path, volpath): pbrt-v4's
+                                  biased roughening of near-specular BSDFs after a
+                                  non-specular bounce (path.c, THEORY §14) */
 } SceneSettings;
 
 typedef struct Scene {

@@ -1,5 +1,5 @@
-/* texture.c - pbrt-v4's textures: constant, checkerboard, scale, mix, imagemap,
-   dots, marble, fbm, wrinkled, windy.
+/* texture.c - pbrt-v4's textures: constant, checkerboard, scale, mix,
+   directionmix, imagemap, dots, marble, fbm, wrinkled, windy.
 
    Exported (specnee.h sections 6 and 10): tex_eval, tex_set_image, tex_free,
    tex_noise, tex_fbm, tex_turbulence, tex_marble_init.
@@ -27,6 +27,11 @@
                       the pixel filter averages)
         scale         tex x scale
         mix           (1 - amount) tex1 + amount tex2
+        directionmix  a tex1 + (1 - a) tex2 with a = |ng . dir|: ng the geometric
+                      normal at the hit (pbrt-v4's TextureEvalContext n, not the
+                      shading normal), dir the "dir" parameter carried to world
+                      space by the CTM at the directive (as a vector) and
+                      normalised; a texture whose weight is 0 is not evaluated
         imagemap      the image at (s, 1 - t) (pbrt-v4 flips t: row 0 is the top),
                       bilinear between the four nearest texel centres (pbrt-v4's
                       default "bilinear" filter, which reads the full-resolution
@@ -343,6 +348,11 @@ float tex_eval(const Texture *tex, int i, const SurfacePoint *sp, float lambda_n
     case TEX_MIX:
         a = t->amount_tex >= 0 ? tex_eval(tex, t->amount_tex, sp, lambda_nm) : t->amount;
         return (1.0f - a) * tex_arg(tex, t, 0, sp, lambda_nm) + a * tex_arg(tex, t, 1, sp, lambda_nm);
+    case TEX_DIRECTIONMIX:
+        a = fabsf(v3_dot(sp->ng, t->dir));
+        s = a != 0.0f ? tex_arg(tex, t, 0, sp, lambda_nm) : 0.0f;   /* pbrt-v4 skips a */
+        tt = a != 1.0f ? tex_arg(tex, t, 1, sp, lambda_nm) : 0.0f;  /* weight of 0 */
+        return a * s + (1.0f - a) * tt;
     case TEX_IMAGEMAP:
         tex_map(t, sp, &s, &tt);
         return image_lookup(t, s, tt, lambda_nm);
@@ -580,8 +590,36 @@ static const char *const texture_reads[] = {
     /* TEX_MARBLE */ "integer octaves, float roughness, float scale, float variation",
     /* TEX_FBM */ "integer octaves, float roughness",
     /* TEX_WRINKLED */ "integer octaves, float roughness",
-    /* TEX_WINDY */ ""
+    /* TEX_WINDY */ "",
+    /* TEX_DIRECTIONMIX */ "spectrum tex1, rgb tex1, float tex1, texture tex1, spectrum tex2, "
+        "rgb tex2, float tex2, texture tex2, vector3 dir"
 };
+
+/* pbrt-v4 DirectionMixTexture, float and spectrum (section 2): tex1 (0), tex2
+   (1) and "dir" (0 1 0), carried to world space by the CTM at the directive (a
+   vector: pbrt-v4's renderFromTexture), then normalised. */
+static int texture_directionmix(Parser *P, ParamList *pl, Texture *T)
+{
+    Param *pv = param_find(pl, PT_VECTOR3, "dir");
+    Vec3 d = v3(0.0f, 1.0f, 0.0f);
+    float len;
+    T->type = TEX_DIRECTIONMIX;
+    if (!texture_arg(P, pl, T, 0, "tex1", 0.0f) || !texture_arg(P, pl, T, 1, "tex2", 1.0f))
+        return 0;
+    if (pv) {
+        if (pv->n_num != 3)
+            return fail(P, pv->file, pv->line, "\"vector3 dir\": expected 3 values");
+        d = v3((float)pv->num[0], (float)pv->num[1], (float)pv->num[2]);
+    }
+    d = xf_vector(&P->gs.ctm, d);
+    len = v3_len(d);
+    if (!(len > 0.0f && len < 1e30f))
+        return fail(P, pv ? pv->file : T->file, pv ? pv->line : T->line, "Texture "
+                    "\"directionmix\": \"vector3 dir\" (%g %g %g in world space) is not a "
+                    "direction", d.x, d.y, d.z);
+    T->dir = v3_mul(d, 1.0f / len);
+    return 1;
+}
 
 /* Texture T of class `cls`, the texture named `name` (T's kind, float or
    spectrum, its file and line already set): pbrt-v4's per-class Create. */
@@ -589,7 +627,7 @@ int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *
                         Texture *T)
 {
     static const char *const pbrt_classes[] = {
-        "bilerp", "directionmix", "ptex", NULL
+        "bilerp", "ptex", NULL
     };
     char what[96];
     int k, ok = 0, dim = 2;
@@ -626,6 +664,8 @@ int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *
             ok = get_float(P, pl, "amount", 0.5f, &T->amount);
             if (ok && !isfinite(T->amount)) ok = fail(P, T->file, T->line, "Texture \"mix\": amount is not finite");
         }
+    } else if (!strcmp(cls, "directionmix")) {
+        ok = texture_directionmix(P, pl, T);
     } else if (!strcmp(cls, "imagemap")) {
         T->type = TEX_IMAGEMAP;
         ok = texture_mapping(P, pl, T) && texture_image(P, pl, T, name);

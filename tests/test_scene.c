@@ -667,9 +667,9 @@ REJECT(rej_stratified_pixelsamples, "Sampler \"stratified\"\n  \"integer pixelsa
 REJECT(rej_pmj02bn_randomization, "Sampler \"pmj02bn\" \"string randomization\" \"owen\"\nWorldBegin\n", 1,
        "\"string randomization\": unused parameter (Sampler \"pmj02bn\"", NULL)
 /* two problems in one statement: the first in the file is named, at its own line */
-REJECT(rej_first_problem_refused, "Integrator \"path\"\n \"bool regularize\" true\n \"bool foo\" true\nWorldBegin\n", 2,
+REJECT(rej_first_problem_refused, "Integrator \"bdpt\"\n \"bool regularize\" true\n \"bool foo\" true\nWorldBegin\n", 2,
        "\"bool regularize\" true is valid pbrt-v4", NULL)
-REJECT(rej_first_problem_unused, "Integrator \"path\"\n \"bool foo\" true\n \"bool regularize\" true\nWorldBegin\n", 2,
+REJECT(rej_first_problem_unused, "Integrator \"bdpt\"\n \"bool foo\" true\n \"bool regularize\" true\nWorldBegin\n", 2,
        "\"bool foo\": unused parameter", NULL)
 REJECT(rej_spp_zero, "Sampler \"independent\" \"integer pixelsamples\" 0\nWorldBegin\n", 1,
        "samples per pixel", NULL)
@@ -681,7 +681,7 @@ REJECT(rej_camera_type, "Camera \"orthographic\"\nWorldBegin\n", 1,
        "valid pbrt-v4 but not in the specnee subset", "orthographic")
 REJECT(rej_integrator_type, "Integrator \"mlt\"\nWorldBegin\n", 1,
        "valid pbrt-v4 but not in the specnee subset", "mlt")
-REJECT(rej_regularize, "Integrator \"path\" \"bool regularize\" true\nWorldBegin\n", 1, "regularize", NULL)
+REJECT(rej_regularize, "Integrator \"bdpt\" \"bool regularize\" true\nWorldBegin\n", 1, "regularize", NULL)
 REJECT(rej_negative_radius, "WorldBegin\nShape \"sphere\" \"float radius\" -2\n", 2, "radius", NULL)
 REJECT(rej_sphere_zmin, "WorldBegin\nShape \"sphere\" \"float zmin\" 0.5 \"float zmax\" 0.5\n", 2,
        "zmin = zmax = 0.5", "no height")

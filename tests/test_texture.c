@@ -1,7 +1,8 @@
 /* tests/test_texture.c - textures (texture.c): values at chosen points against
    pbrt-v4's definitions, the (u, v) of meshes, image lookups, a rendered plane
    against E/pi times its texture, and bad input.  Noise, dots and marble against
-   numbers frozen from pbrt-v4 (its functions at chosen points, and renders). */
+   numbers frozen from pbrt-v4 (its functions at chosen points, and renders);
+   directionmix at chosen normals and against a pbrt-v4 render. */
 #include "test.h"
 #include <stdlib.h>
 #include <string.h>
@@ -783,6 +784,95 @@ static void expect_error(T *t, const char *body, const char *k1, const char *k2)
     CHECK(t, !k2 || strstr(e.msg, k2) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k2);
 }
 
+/* pbrt-v4's DirectionMixTexture: a tex1 + (1 - a) tex2 with a = |ng . dir|, ng
+   the geometric normal (not the shading one), dir carried by the CTM at the
+   directive as a vector and normalised.  Values at chosen points, then a render
+   against pbrt-v4: two diffuse spheres (radius 0.8 at x = -0.9 and 0.9, depth 5,
+   fov 30, 32 x 16) under LightSource "infinite" "rgb L" [1 1 1], one with a
+   float directionmix (dir 1 0 0 under Rotate 30 0 0 1) as the scale of a white
+   spectrum, one with a spectrum directionmix (dir 0 2 1, tex2 a texture).
+   pbrt-v4's mean R, G, B per tile (4 x 4 tiles of 8 x 4 pixels, row-major from
+   the top left; a PFM file stores the bottom row first) at 16384 spp, frozen from the oracle (Sampler "independent"):
+     pbrt --quiet --spp 16384 dm.pbrt */
+static const char *const DM_TEXT =
+    "Film \"rgb\" \"integer xresolution\" 32 \"integer yresolution\" 16\n"
+    "PixelFilter \"box\"\nCamera \"perspective\" \"float fov\" 30\nWorldBegin\n"
+    "LightSource \"infinite\" \"rgb L\" [ 1 1 1 ]\n"
+    "AttributeBegin\nRotate 30 0 0 1\n"
+    "Texture \"fdm\" \"float\" \"directionmix\" \"vector3 dir\" [ 1 0 0 ] \"float tex1\" 0.9 \"float tex2\" 0.2\n"
+    "AttributeEnd\n"
+    "Texture \"blue\" \"spectrum\" \"constant\" \"rgb value\" [ 0.1 0.2 0.9 ]\n"
+    "Texture \"sdm\" \"spectrum\" \"directionmix\" \"vector3 dir\" [ 0 2 1 ] \"rgb tex1\" [ 0.8 0.1 0.1 ] "
+    "\"texture tex2\" \"blue\"\n"
+    "AttributeBegin\nTranslate -0.9 0 5\n"
+    "Texture \"sc\" \"spectrum\" \"scale\" \"rgb tex\" [ 1 1 1 ] \"texture scale\" \"fdm\"\n"
+    "Material \"diffuse\" \"texture reflectance\" \"sc\"\nShape \"sphere\" \"float radius\" 0.8\n"
+    "AttributeEnd\n"
+    "AttributeBegin\nTranslate 0.9 0 5\nMaterial \"diffuse\" \"texture reflectance\" \"sdm\"\n"
+    "Shape \"sphere\" \"float radius\" 0.8\nAttributeEnd\n";
+static const double DM_TILES[16][3] = {
+    { 0.99936, 0.99934, 0.99916 }, { 0.95409, 0.95367, 0.95505 }, { 0.94930, 0.91646, 0.94637 }, { 0.99937, 0.99918, 1.00040 },
+    { 0.87025, 0.87038, 0.86967 }, { 0.55894, 0.55544, 0.57288 }, { 0.35679, 0.30199, 0.76447 }, { 0.82824, 0.81643, 0.94325 },
+    { 0.91809, 0.91788, 0.91871 }, { 0.47361, 0.46889, 0.47893 }, { 0.61637, 0.26368, 0.46065 }, { 0.89227, 0.80683, 0.86991 },
+    { 0.99988, 0.99973, 0.99950 }, { 0.94727, 0.94661, 0.94685 }, { 0.97755, 0.91254, 0.91537 }, { 0.99927, 0.99928, 0.99965 },
+};
+
+static void test_directionmix(T *t)
+{
+    Scene s;
+    SurfacePoint sp = test_flat_point();
+    RenderOptions o;
+    Tiles tl;
+    double a3 = 3.0 / sqrt(10.0);
+    int i, c;
+    if (!load(t, &s,
+              "Texture \"d\" \"float\" \"directionmix\" \"vector3 dir\" [ 0 0 1 ] \"float tex1\" [ 0.9 ] "
+              "\"float tex2\" [ 0.2 ]\n"
+              "Texture \"e\" \"float\" \"directionmix\"\n"
+              "Texture \"k\" \"spectrum\" \"constant\" \"rgb value\" [ 0.5 0.5 0.5 ]\n"
+              "Texture \"s\" \"spectrum\" \"directionmix\" \"spectrum tex1\" [ 400 0.2 700 0.8 ] "
+              "\"texture tex2\" \"k\"\n"
+              "AttributeBegin\nScale 1 3 1\n"
+              "Texture \"f\" \"float\" \"directionmix\" \"vector3 dir\" [ 1 1 0 ] \"float tex1\" [ 1 ] "
+              "\"float tex2\" [ 0 ]\nAttributeEnd\n"))
+        return;
+    sp.ns = v3(1, 0, 0);                               /* the shading normal is not read */
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 0.9, 1e-6), "ng = dir: tex1, got %g",
+          tex_eval(s.textures, 0, &sp, 500));
+    sp.ng = v3(0.6f, 0, 0.8f);
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 0.8 * 0.9 + 0.2 * 0.2, 1e-6), "a = 0.8: %g",
+          tex_eval(s.textures, 0, &sp, 500));
+    sp.ng = v3(0, 0, -1);
+    CHECK(t, NEAR(tex_eval(s.textures, 0, &sp, 500), 0.9, 1e-6), "|ng . dir|: a back face, got %g",
+          tex_eval(s.textures, 0, &sp, 500));
+    sp.ng = v3(0, 1, 0);                               /* defaults: dir 0 1 0, tex1 0, tex2 1 */
+    CHECK(t, tex_eval(s.textures, 1, &sp, 500) == 0.0f, "defaults at ng = +y: %g", tex_eval(s.textures, 1, &sp, 500));
+    sp.ng = v3(1, 0, 0);
+    CHECK(t, tex_eval(s.textures, 1, &sp, 500) == 1.0f, "defaults at ng = +x: %g", tex_eval(s.textures, 1, &sp, 500));
+    sp.ng = v3(0, 0.6f, 0.8f);                         /* spectrum: a = 0.6 */
+    CHECK(t, NEAR(tex_eval(s.textures, 3, &sp, 550), 0.5, 1e-5), "spectrum at 550 nm: %g",
+          tex_eval(s.textures, 3, &sp, 550));
+    CHECK(t, NEAR(tex_eval(s.textures, 3, &sp, 450), 0.6 * 0.3 + 0.4 * 0.5, 1e-5), "spectrum at 450 nm: %g",
+          tex_eval(s.textures, 3, &sp, 450));
+    /* Scale 1 3 1 carries dir (1 1 0) to (1 3 0) (a vector, not a normal) */
+    sp.ng = v3(0, 1, 0);
+    CHECK(t, NEAR(tex_eval(s.textures, 4, &sp, 500), a3, 1e-6), "dir under Scale 1 3 1: a %g, want %g",
+          tex_eval(s.textures, 4, &sp, 500), a3);
+    scene_free(&s);
+    expect_error(t, "Texture \"m\" \"float\" \"directionmix\" \"vector3 dir\" [ 0 0 0 ]", "dir",
+                 "not a direction");
+    if (!test_load_scene(t, &s, DM_TEXT)) return;
+    render_options_default(&o);
+    o.spp = test_scaled(128, 32);
+    if (!test_render_tiles(t, &s, &o, 2, 4, &tl)) { scene_free(&s); return; }
+    scene_free(&s);
+    for (i = 0; i < 16; i++)
+        for (c = 0; c < 3; c++)
+            CHECK(t, fabs(tl.mean[i][c] - DM_TILES[i][c]) < TEST_K_SIGMA * tl.se[i][c] + 0.01 * DM_TILES[i][c],
+                  "directionmix: tile %d %c: specnee %.5f +- %.2g, pbrt-v4 %.5f", i, "RGB"[c],
+                  tl.mean[i][c], tl.se[i][c], DM_TILES[i][c]);
+}
+
 static void test_bad_input(T *t)
 {
     expect_error(t, "Material \"diffuse\" \"texture reflectance\" \"nope\"", "no texture named", "nope");
@@ -842,5 +932,6 @@ const TestCase tests_texture[] = {
     { "texture_dots", test_dots },
     { "texture_marble", test_marble },
     { "texture_against_pbrt", test_against_pbrt },
+    { "texture_directionmix", test_directionmix },
     { NULL, NULL }
 };
