@@ -150,7 +150,7 @@ static void walter(double a, double eta, D3 o, D3 i, double *f, double *pdf)
    dw_i = |dw_i / dw_m| dw_m (the Jacobians of Walter et al. section 4).  D cancels,
    but 1 / cos theta_m stays: near grazing normals (u -> 1) cos theta_m ~ sqrt(1 - u)
    / a, an integrable singularity on which the midpoint rule in u converges only as
-   N^-1/2 (at N = 96 it lost 0.4 % of the furnace below).  So the rule runs in s
+   N^-1/2 (at N = 96 it lost 0.5 % of the furnace below).  So the rule runs in s
    with u = 1 - s^2 (du = 2 s ds): the integrand in s is bounded and the sum
    converges as 1/N.  The quadrature owes nothing to the visible-normal sampling of
    material.c. */
