@@ -47,6 +47,10 @@
                                  glass, where the pdf ratios r_m are far from 1: the
                                  same mean as the terminating estimator, and less than
                                  0.55 of its variance
+     physics_null_collision_mis  NEE and emitter hits through the null collisions of
+                                 a strongly chromatic grid slab: a floor under an
+                                 environment against its closed form, where the MIS
+                                 weights need A_m, the null collisions' NEE density
    Each was watched failing on a one-line mutant of the code it guards; the mutants
    are listed in tests/mutants.txt and checked by `make mutants`. */
 #include "test.h"
@@ -143,8 +147,12 @@ static void walter(double a, double eta, D3 o, D3 i, double *f, double *pdf)
    microfacet normals: m is parametrised by (u, v) with density D(m) cos theta_m
    (tan^2 theta_m = a^2 u / (1 - u), phi = 2 pi v), so dw_m = du dv / (D cos theta_m),
    and each m gives one reflected and one refracted direction with
-   dw_i = |dw_i / dw_m| dw_m (the Jacobians of Walter et al. section 4).  D cancels: the integrand is
-   smooth, and the quadrature owes nothing to the visible-normal sampling of
+   dw_i = |dw_i / dw_m| dw_m (the Jacobians of Walter et al. section 4).  D cancels,
+   but 1 / cos theta_m stays: near grazing normals (u -> 1) cos theta_m ~ sqrt(1 - u)
+   / a, an integrable singularity on which the midpoint rule in u converges only as
+   N^-1/2 (at N = 96 it lost 0.5 % of the furnace below).  So the rule runs in s
+   with u = 1 - s^2 (du = 2 s ds): the integrand in s is bounded and the sum
+   converges as 1/N.  The quadrature owes nothing to the visible-normal sampling of
    material.c. */
 static void walter_scatter(double a, double eta, D3 o, int N, int NB, double *Rb, double *Tb)
 {
@@ -153,11 +161,11 @@ static void walter_scatter(double a, double eta, D3 o, int N, int NB, double *Rb
     for (b = 0; b < NB; b++) Rb[b] = Tb[b] = 0.0;
     for (iu = 0; iu < N; iu++)
         for (iv = 0; iv < N; iv++) {
-            double u = (iu + 0.5) / N, v = (iv + 0.5) / N;
+            double q = (iu + 0.5) / N, u = 1.0 - q * q, v = (iv + 0.5) / N;
             double t2 = a * a * u / (1.0 - u), c = 1.0 / sqrt(1.0 + t2), s = sqrt(1.0 - c * c);
             double phi = 2.0 * SPECNEE_PI * v, dwm, om, f, p, k;
             D3 m = d3(s * cos(phi), s * sin(phi), c), mm, wi;
-            dwm = 1.0 / (w_D(a, m) * c * N * N);
+            dwm = 2.0 * q / (w_D(a, m) * c * N * N);
             om = dot3(o, m);
             /* reflection about m */
             wi = add3(mul3(m, 2.0 * om), mul3(o, -1.0));
@@ -417,15 +425,23 @@ static double luminance(const double rgb[3])
    (the furnace is 1 outside).  With the kernels binned in |cos| by walter_scatter
    this is iterated once per interaction, so the renderer's depth limit is
    modelled exactly (at most maxdepth interactions).  The camera is far away
-   (distance 100) and sees only the sphere through a box filter: each quadrant
-   tile averages V_out over the cosines of its rays, computed here from the same
-   geometry.  The discretisation error is measured (NB = 48 against 96 bins) and
-   added to the bound. */
+   (distance 100) and sees the sphere through a box filter: each quadrant tile
+   averages V_out over the cosines of its rays on a G x G grid (G = NB), computed
+   here from the same geometry; the corners of the view (impact parameter up to
+   1.06) miss the sphere and see the furnace, 1.  The discretisation error is
+   measured (NB, NM = 48, 32 against 96, 64) and added to the bound.
+   Measured, alpha 0.3, maxdepth 30 (the mean of the four tiles):
+     this prediction                               0.77780 (NB 96, NM 64)
+     specnee, 8 x 2048 spp                         0.77791 +- 0.00022
+     pbrt-v4 5f7a6068, "path", 6 x 65536 spp      0.77781 +- 0.00013
+   and for maxdepth 1 (reflection alone) 0.05007, 0.05015 +- 0.00016, 0.05014.
+   A quadrature singular at grazing normals (see walter_scatter) and the corners
+   counted as grazing hits had put the prediction 0.9 % low (0.7712). */
 static double furnace_predict(double a, double eta, int NB, int NM, int maxdepth, double tan_half, double dist)
 {
     double *Ko = (double *)calloc((size_t)NB * NB * 4, sizeof(double));
     double *Kt_out, *Kr_in, *Kt_in, *Kr_out, *vin, *nv, *vout, sum = 0.0;
-    int k, b, n, ix, iy, G = 64;
+    int k, b, n, ix, iy, G = NB;
     if (!Ko) return -1.0;
     vin = (double *)calloc((size_t)NB * 3, sizeof(double));
     if (!vin) { free(Ko); return -1.0; }
@@ -456,6 +472,7 @@ static double furnace_predict(double a, double eta, int NB, int NM, int maxdepth
             double b2 = dist * dist * (1.0 - d.z * d.z);   /* squared impact parameter */
             double c = sqrt(fmax(0.0, 1.0 - b2)), x = c * NB - 0.5, w;
             int k0 = (int)floor(x);
+            if (b2 >= 1.0) { sum += 1.0; continue; }       /* the ray misses: the furnace */
             if (k0 < 0) { k0 = 0; x = 0.0; }
             if (k0 > NB - 2) { k0 = NB - 2; x = NB - 1.0; }
             w = x - k0;
@@ -469,12 +486,16 @@ static double furnace_predict(double a, double eta, int NB, int NM, int maxdepth
 static void test_rough_furnace(T *t)
 {
     char text[2048];
-    double alpha = 0.3, dist = 100.0, tan_half = 0.75 / 100.0, pred, pred_c, err;
+    double alpha = 0.3, dist = 100.0, tan_half = 0.75 / 100.0, pred, pred_c, err, sum = 0.0, var = 0.0;
     int maxdepth = 30, nee, i;
-    pred = furnace_predict(alpha, 1.5, 96, 96, maxdepth, tan_half, dist);
-    pred_c = furnace_predict(alpha, 1.5, 48, 96, maxdepth, tan_half, dist);
-    err = 2.0 * fabs(pred - pred_c) + 1e-3;
+    pred = furnace_predict(alpha, 1.5, 96, 64, maxdepth, tan_half, dist);
+    pred_c = furnace_predict(alpha, 1.5, 48, 32, maxdepth, tan_half, dist);
+    err = 2.0 * fabs(pred - pred_c) + 1e-4;
     CHECK(t, pred > 0.5 && pred < 1.0, "predicted Y %g out of range", pred);
+    /* the reference must be sharper than the render it judges (a quadrature in u,
+       singular at grazing normals, moved by 1.4e-3 from 48 to 96 normals) */
+    CHECK(t, fabs(pred - pred_c) < 5e-4, "the furnace prediction is not converged: %.5f (coarse %.5f)",
+          pred, pred_c);
     snprintf(text, sizeof text,
              "LookAt 0 0 -%g  0 0 0  0 1 0\n"
              "Camera \"perspective\" \"float fov\" [ %.9g ]\n"
@@ -494,11 +515,7 @@ static void test_rough_furnace(T *t)
         if (!test_load_scene(t, &s, text)) return;
         render_options_default(&o);
         o.sel.grid_res = 8;
-        /* not fewer than 64: the renderer sits about 1 % above the prediction at
-           every sample count (0.779 +- 0.001 at 256 spp, with and without the
-           roulette on beta eta^2), inside this bound only with 64 spp's error bar
-           and the model's err; an open question, not a tolerance to lean on */
-        o.spp = test_scaled(64, 64);
+        o.spp = test_scaled(256, 16);
         o.maxdepth = maxdepth;
         o.nee = nee;
         if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
@@ -510,9 +527,17 @@ static void test_rough_furnace(T *t)
             CHECK(t, fabs(Y - pred) < TEST_K_SIGMA * se + err,
                   "nee %d tile %d: Y = %.5f +- %.2g, the single-scattering furnace predicts %.5f +- %.1g",
                   nee, i, Y, se, pred, err);
+            sum += Y / 8.0;
+            var += se * se / 64.0;
         }
         scene_free(&s);
     }
+    /* the eight tiles (four quadrants, with and without NEE) have one expectation:
+       their mean is judged with its own, smaller, error bar (4.5e-4 at 256 spp) */
+    if (getenv("DBG")) fprintf(stderr, "pred %g err %g, eight tiles Y %g se %g\n", pred, err, sum, sqrt(var));
+    CHECK(t, fabs(sum - pred) < TEST_K_SIGMA * sqrt(var) + err,
+          "eight tiles: Y = %.5f +- %.2g, the single-scattering furnace predicts %.5f +- %.1g",
+          sum, sqrt(var), pred, err);
 }
 
 /* The MIS weights of NEE and of emitter hits must sum to one everywhere, which a
@@ -677,6 +702,98 @@ done:
     scene_free(&s);
 }
 
+/* NEE and emitter hits through null collisions, where the null-collision densities
+   A_m of THEORY (23)-(24) decide the weights.  A white floor (z = 0) under a
+   constant environment (Y = 1), seen from above; between them a horizontal
+   uniformgrid slab 0.5 < z < 1.5, absorbing only, strongly chromatic (sigma_a =
+   0.1 at 400 nm to 3 at 700 nm), whose density is 0.005 with a spike of 1 in every
+   fourth sample along z (32 samples): every majorant cell holds d_max = 1, so
+   nearly every tentative collision is null, and the red heroes meet several on
+   each shadow ray and each sampled direction.  The environment's NEE density
+   (1/4 pi) and the floor's cosine density are alike, so both techniques count.
+   With D the slab's optical depth per unit sigma_a (the profile's integral, the
+   curve through the sample centres falling to half the outermost ones at the
+   bounds, exact by trapezoids), the floor's radiance is 2 E_3(sigma_a D) (the
+   cosine-weighted transmittance over the hemisphere, by the midpoint rule in mu),
+   and the camera sees it through exp(-sigma_a D / cos) averaged over its rays.
+   Both the spectral MIS estimator and termination must give it.  Without the
+   null-collision factors T_m sigma_bar_m / (T_0 sigma_bar_0) in a sampled
+   direction's A_m (path.c, grid_event) the MIS weights no longer sum to 1 and Y
+   is 6 % low (0.3273 +- 0.0010 against the closed form 0.3467, 19 standard
+   errors; the estimator gives 0.3478 +- 0.0012); the grid tests moved by 1 %. */
+static void test_null_collision_mis(T *t)
+{
+    static char text[8192];
+    const int nz = 32, nl = 151, nmu = 2000, G = 64;
+    double d[32], D, expect = 0.0, norm, tan_half = tan(2.5 * SPECNEE_PI / 180.0);
+    Spectrum one;
+    Scene s;
+    size_t len;
+    int k, l, q, mode;
+    for (k = 0; k < nz; k++) d[k] = k % 4 == 3 ? 1.0 : 0.005;
+    D = 0.5 / nz * 0.75 * (d[0] + d[nz - 1]);
+    for (k = 0; k + 1 < nz; k++) D += (d[k] + d[k + 1]) / (2.0 * nz);
+    len = (size_t)snprintf(text, sizeof text,
+                           "MakeNamedMedium \"g\" \"string type\" \"uniformgrid\" "
+                           "\"spectrum sigma_a\" [ 400 0.1 700 3.0 ] \"spectrum sigma_s\" [ 400 0 700 0 ] "
+                           "\"integer nx\" 2 \"integer ny\" 2 \"integer nz\" %d \"float density\" [", nz);
+    for (k = 0; k < nz; k++)
+        for (q = 0; q < 4; q++) len += (size_t)snprintf(text + len, sizeof text - len, " %g", d[k]);
+    snprintf(text + len, sizeof text - len,
+             " ] \"point3 p0\" [ -2000 -2000 0.5 ] \"point3 p1\" [ 2000 2000 1.5 ]\n"
+             "MediumInterface \"\" \"g\"\n"
+             "LookAt 0 0 5  0 0 0  0 1 0\n"
+             "Camera \"perspective\" \"float fov\" [ 5 ]\n"
+             "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ] \"string filename\" \"t.pfm\"\n"
+             "PixelFilter \"box\"\n"
+             "Integrator \"volpath\" \"integer maxdepth\" [ 1 ]\n"
+             "WorldBegin\n"
+             "MediumInterface \"\" \"\"\n"
+             "LightSource \"infinite\" \"spectrum L\" [ 400 1 700 1 ]\n"
+             "Material \"diffuse\" \"spectrum reflectance\" [ 360 1 830 1 ]\n"
+             "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+             "  \"point3 P\" [ -400 -400 0  400 -400 0  400 400 0  -400 400 0 ]\n");
+    spec_const(&one, 1.0f);
+    norm = luminance_sum(&one, LAMBDA_LO, LAMBDA_HI);
+    for (l = 0; l < nl; l++) {                     /* 400..700 nm, trapezoids of 2 nm */
+        float xyz[3];
+        double lam = 400.0 + 2.0 * l, tau = (0.1 + 2.9 * (lam - 400.0) / 300.0) * D, e3 = 0.0, cam = 0.0;
+        int i, j;
+        cie_xyz((float)lam, xyz);
+        for (i = 0; i < nmu; i++) {
+            double mu = (i + 0.5) / nmu;
+            e3 += 2.0 * mu * exp(-tau / mu) / nmu;
+        }
+        for (i = 0; i < G; i++)
+            for (j = 0; j < G; j++) {
+                double x = tan_half * (2.0 * (i + 0.5) / G - 1.0), y = tan_half * (2.0 * (j + 0.5) / G - 1.0);
+                cam += exp(-tau * sqrt(1.0 + x * x + y * y)) / ((double)G * G);
+            }
+        expect += (l == 0 || l == nl - 1 ? 1.0 : 2.0) * xyz[1] / norm * e3 * cam;
+    }
+    if (!test_load_scene(t, &s, text)) return;
+    for (mode = 0; mode < 2; mode++) {
+        RenderOptions o;
+        Tiles tl;
+        double Y, se;
+        render_options_default(&o);
+        o.spp = test_scaled(256, 128);
+        o.maxdepth = 1;
+        o.media_terminate = mode;
+        if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) break;
+        Y = luminance(tl.mean[0]);
+        se = sqrt(0.212671 * 0.212671 * tl.se[0][0] * tl.se[0][0] + 0.715160 * 0.715160 * tl.se[0][1] * tl.se[0][1] +
+                  0.072169 * 0.072169 * tl.se[0][2] * tl.se[0][2]);
+        if (getenv("DBG")) fprintf(stderr, "mode %d: Y %.6f +- %.2g, expected %.6f\n", mode, Y, se, expect);
+        if (!(fabs(Y - expect) < TEST_K_SIGMA * se + 2e-3 * expect)) {
+            test_failf(t, __FILE__, __LINE__, "%s through a null-rich chromatic grid: Y = %.5f +- %.2g, expected %.5f",
+                       mode ? "termination" : "spectral MIS", Y, se, expect);
+            break;
+        }
+    }
+    scene_free(&s);
+}
+
 const TestCase tests_physics[] = {
     { "physics_rough_pointwise", test_rough_pointwise },
     { "physics_rough_albedo", test_rough_albedo },
@@ -685,5 +802,6 @@ const TestCase tests_physics[] = {
     { "physics_rough_furnace", test_rough_furnace },
     { "physics_furnace_off_centre", test_furnace_off_centre },
     { "physics_spectral_mis_far", test_spectral_mis_far },
+    { "physics_null_collision_mis", test_null_collision_mis },
     { NULL, NULL }
 };
