@@ -120,8 +120,10 @@ typedef struct {
    medium defined further down: its Scene.media entry is made at the first
    mention and filled by the MakeNamedMedium; finish() fails at the first mention
    of a name that none defines.  used: the camera starts in it or a shape's
-   transition leads into it (finish() notes a medium that none does). */
-typedef struct { int defined, used; const char *file; int line; } MediumRef;
+   transition leads into it (finish() notes a medium that none does).
+   before_camera: made before the Camera directive, where pbrt-v4's CTM maps to its
+   render space, not to the world (finish() moves it; see media_before_camera). */
+typedef struct { int defined, used, before_camera; const char *file; int line; } MediumRef;
 
 /* A named material.  As in pbrt-v4 a NamedMaterial may come before its
    MakeNamedMaterial (pbrt-v4 looks names up when it builds the scene): the name is

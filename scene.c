@@ -491,10 +491,30 @@ static int make_named_medium(Parser *P, Lexer *L, const Token *t)
     snprintf(m.name, sizeof m.name, "%s", nm.text);
     P->s->media[idx] = m;
     P->mrefs[idx].defined = 1;
+    P->mrefs[idx].before_camera = P->camera_file == NULL;
     ok = 1;
 done:
     params_free(&pl);
     return ok;
+}
+
+/* A medium made before the Camera directive.  pbrt-v4 places every object by
+   render_from_world * CTM, and its render_from_world is set only at Camera (the
+   identity before it).  Its default render space ("cameraworld") is the world
+   moved so that the camera sits at the origin: world = T(p_camera) render.  So a
+   medium made before Camera lies at world_from_medium = T(p_camera) * CTM, offset
+   by the camera's position; specnee does the same, which changes only the media
+   that have a frame (the grids; a homogeneous medium is the same everywhere). */
+static void media_before_camera(Parser *P)
+{
+    const Xform *cfw = &P->s->settings.camera_from_world;
+    Xform back;
+    int i;
+    /* the camera's position in the world: world_from_camera applied to the origin */
+    back = xf_translate(-cfw->inv[0][3], -cfw->inv[1][3], -cfw->inv[2][3]);
+    for (i = 0; i < P->s->n_media; i++)
+        if (P->mrefs[i].before_camera)
+            P->s->media[i].medium_from_world = xf_mul(&P->s->media[i].medium_from_world, &back);
 }
 
 /* MediumInterface "inside" "outside" (one name: both); "" is no medium */
@@ -1013,6 +1033,7 @@ static int finish(Parser *P, const char *file)
         fprintf(stderr, "%s:%d: note: Integrator \"%s\" ignores the participating media, as "
                 "pbrt-v4's does (\"volpath\" renders them)\n", P->integ_file, P->integ_line,
                 P->integ_type);
+    media_before_camera(P);
     camera_screen_window(&s->settings, sw);
     if (P->camera_file && !camera_transform_ok(&s->settings.camera_from_world,
                                                s->settings.fov_deg, sw))

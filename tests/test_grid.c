@@ -642,6 +642,59 @@ static void test_bad_input(T *t)
 #undef G
 }
 
+/* A medium made before the Camera directive.  pbrt-v4 places it by its render
+   space (the world moved so that the camera sits at the origin), so a box made
+   there around the origin lies around the camera (scene.c media_before_camera).
+   A unit box of density 1 (one cell; pbrt-v4's cell-centred lookup fades it to 0.5
+   at the faces) and sigma_a 1, the camera at (0, 0, 4) looking at the origin under
+   a white sky.  Frozen pbrt-v4 5f7a6068 means (Sampler "independent", seed 0):
+   made before LookAt, 0.6887282 (8192 spp: the camera at the box's centre, tau
+   about 0.375); made after LookAt, 0.9974972 (64 spp: the box lands behind the
+   camera, the sky unoccluded).  Placed in the world, the first would be 0.498. */
+static void test_before_camera(T *t)
+{
+    static const char fmt[] =
+        "%s"
+        "MakeNamedMedium \"box\" \"string type\" \"uniformgrid\" \"rgb sigma_a\" [ 1 1 1 ]\n"
+        "  \"rgb sigma_s\" [ 0 0 0 ] \"integer nx\" 1 \"integer ny\" 1 \"integer nz\" 1\n"
+        "  \"float density\" [ 1 ] \"point3 p0\" [ -0.5 -0.5 -0.5 ] \"point3 p1\" [ 0.5 0.5 0.5 ]\n"
+        "MediumInterface \"\" \"box\"\n"
+        "%s"
+        "Camera \"perspective\" \"float fov\" 2\n"
+        "Film \"rgb\" \"integer xresolution\" 4 \"integer yresolution\" 4\n"
+        "Integrator \"volpath\" \"integer maxdepth\" 5\n"
+        "WorldBegin\nLightSource \"infinite\" \"rgb L\" [ 1 1 1 ]\n";
+    static const char look[] = "LookAt 0 0 4  0 0 0  0 1 0\n";
+    static const double pbrt[2] = { 0.6887282, 0.9974972 };
+    int k;
+    for (k = 0; k < 2; k++) {
+        char text[2048];
+        Scene s;
+        RenderOptions o;
+        Tiles tl;
+        double se, Y;
+        Vec3 c;
+        snprintf(text, sizeof text, fmt, k == 0 ? "" : look, k == 0 ? look : "");
+        if (!test_load_scene(t, &s, text)) return;
+        /* k = 0: the camera's position (0, 0, 4) is the box's centre */
+        c = xf_point(&s.media[0].medium_from_world, v3(0.0f, 0.0f, 4.0f));
+        if (k == 0 && !(fabsf(c.x) < 1e-6f && fabsf(c.y) < 1e-6f && fabsf(c.z) < 1e-6f)) {
+            test_failf(t, __FILE__, __LINE__, "the camera lies at (%g, %g, %g) in the medium's "
+                       "frame, expected its origin", c.x, c.y, c.z);
+            scene_free(&s);
+            return;
+        }
+        render_options_default(&o);
+        o.spp = test_scaled(64, 16);
+        if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
+        Y = tile_y(&tl, &se);
+        scene_free(&s);
+        CHECK(t, fabs(Y - pbrt[k]) < TEST_K_SIGMA * se + 0.01 * pbrt[k],
+              "medium made %s LookAt: Y = %.6g +- %.2g, pbrt-v4 %.7g", k == 0 ? "before" : "after",
+              Y, se, pbrt[k]);
+    }
+}
+
 /* ---- what loads: the parameters' values and the medium's frame */
 static void test_format(T *t)
 {
@@ -1157,6 +1210,7 @@ const TestCase tests_grid[] = {
     { "grid_emission", test_emission },
     { "grid_threads", test_threads },
     { "grid_against_pbrt", test_against_pbrt },
+    { "grid_medium_before_camera", test_before_camera },
     { "rgbgrid_lookup", test_rgb_lookup },
     { "rgbgrid_transmittance", test_rgb_transmittance },
     { "rgbgrid_furnace", test_rgb_furnace },
