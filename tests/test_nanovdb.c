@@ -615,6 +615,8 @@ static void test_bad_files(T *t)
     b.b[16 + 176 + 8 + 672 + 27] ^= 0x40;
     b.b[16 + 176 + 8 + 832 + 8256 + 7] ^= 0x10;                   /* an upper child offset */
     FAILS(write_buf(t, "child.nvdb", &b), "offset leaves the grid");
+    put_le(b.b + 200 + 832 + 8256, (b.n - 200) - 100 - 832, 8);     /* a lower node past the end */
+    FAILS(write_buf(t, "child-end.nvdb", &b), "offset leaves the grid");
     free(b.b);
     memset(&b, 0, sizeof b);
     CHECK(t, small_file(&b, 2, 2, 0), "out of memory");
