@@ -376,8 +376,8 @@ static void vdb_point(const Medium *m, Vec3 p, const float *lam, unsigned alive,
     for (j = 0; j < HERO_N; j++) {
         out->sa[j] = out->ss[j] = out->le[j] = 0.0;
         if (!(alive & (1u << j))) continue;
-        out->sa[j] = d * medium_sigma_a(m, lam[j]);
-        out->ss[j] = d * medium_sigma_s(m, lam[j]);
+        out->sa[j] = medium_sigma_a(m, lam[j]) * d;
+        out->ss[j] = medium_sigma_s(m, lam[j]) * d;
         if (kelvin > 100.0) out->le[j] = m->Le_scale * blackbody_eval((float)kelvin, lam[j]);
     }
 }
