@@ -635,12 +635,37 @@ static void test_bad_files(T *t)
     FAILS("tests/data/nanovdb/no-such-file.nvdb", "cannot read file");
 }
 
+/* fire.pbrt (emission, scattering, a rotated frame) with 1 and 2 threads. */
+static void test_threads(T *t)
+{
+    Scene s;
+    RenderOptions o;
+    Image a, b;
+    RenderStats st;
+    Error e;
+    CHECK(t, scene_load(&s, "tests/data/nanovdb/fire.pbrt", &e), "%s", e.msg);
+    render_options_default(&o);
+    o.spp = 4;
+    o.threads = 1;
+    memset(&a, 0, sizeof a);
+    memset(&b, 0, sizeof b);
+    if (!render(&s, &o, &a, &st, &e)) { scene_free(&s); CHECK(t, 0, "%s", e.msg); }
+    o.threads = 2;
+    if (!render(&s, &o, &b, &st, &e)) { img_free(&a); scene_free(&s); CHECK(t, 0, "%s", e.msg); }
+    scene_free(&s);
+    if (memcmp(a.rgb, b.rgb, sizeof(float) * 3 * (size_t)a.w * a.h) != 0)
+        test_failf(t, __FILE__, __LINE__, "1 and 2 threads differ");
+    img_free(&a);
+    img_free(&b);
+}
+
 const TestCase tests_nanovdb[] = {
     { "nanovdb_library_values", test_library_values },
     { "nanovdb_linear_map", test_linear_map },
     { "nanovdb_box_transmittance", test_box },
     { "nanovdb_majorant", test_majorant },
     { "nanovdb_bad_files", test_bad_files },
+    { "nanovdb_threads", test_threads },
     { "nanovdb_against_pbrt", test_against_pbrt },
     { NULL, NULL }
 };
