@@ -293,11 +293,12 @@ static double rgb_max(const MediumGrid *g, int x, int y, int z)
 static int build_majorant(Medium *m)
 {
     int c[3];
-    m->majorant = (float *)malloc(sizeof(float) * MAJORANT_RES * MAJORANT_RES * MAJORANT_RES);
+    m->maj_res = m->type == MEDIUM_NANOVDB ? NANOVDB_MAJORANT_RES : MAJORANT_RES;
+    m->majorant = (float *)malloc(sizeof(float) * m->maj_res * m->maj_res * m->maj_res);
     if (!m->majorant) return 0;
     if (m->type == MEDIUM_NANOVDB) {              /* the density grid's bound (nanovdb.c) */
         const double lo[3] = { m->p0.x, m->p0.y, m->p0.z }, hi[3] = { m->p1.x, m->p1.y, m->p1.z };
-        nanovdb_majorant(&m->vdb[0], lo, hi, MAJORANT_RES, m->majorant);
+        nanovdb_majorant(&m->vdb[0], lo, hi, m->maj_res, m->majorant);
         return 1;
     }
     for (c[2] = 0; c[2] < MAJORANT_RES; c[2]++)
@@ -446,28 +447,29 @@ static int cube_overlap(const double go[3], const double gd[3], double tmax, dou
     return *t0 < *t1;
 }
 
-/* A 3-D DDA over the MAJORANT_RES^3 cells (Amanatides and Woo 1987): the cell the
+/* A 3-D DDA over the res^3 majorant cells (Amanatides and Woo 1987): the cell the
    ray is in, and the distances at which it crosses into the next one per axis. */
 typedef struct {
-    int cell[3], step[3];
+    int cell[3], step[3], res;
     double next[3], delta[3];
 } Dda;
 
-static void dda_start(Dda *w, const double go[3], const double gd[3], double t0)
+static void dda_start(Dda *w, int res, const double go[3], const double gd[3], double t0)
 {
     int k;
+    w->res = res;
     for (k = 0; k < 3; k++) {
-        double pos = (go[k] + gd[k] * t0) * MAJORANT_RES;
+        double pos = (go[k] + gd[k] * t0) * w->res;
         int c = (int)floor(pos);
-        w->cell[k] = c < 0 ? 0 : c > MAJORANT_RES - 1 ? MAJORANT_RES - 1 : c;
+        w->cell[k] = c < 0 ? 0 : c > w->res - 1 ? w->res - 1 : c;
         if (gd[k] > 0.0) {
             w->step[k] = 1;
-            w->next[k] = ((double)(w->cell[k] + 1) / MAJORANT_RES - go[k]) / gd[k];
-            w->delta[k] = 1.0 / (MAJORANT_RES * gd[k]);
+            w->next[k] = ((double)(w->cell[k] + 1) / w->res - go[k]) / gd[k];
+            w->delta[k] = 1.0 / (w->res * gd[k]);
         } else if (gd[k] < 0.0) {
             w->step[k] = -1;
-            w->next[k] = ((double)w->cell[k] / MAJORANT_RES - go[k]) / gd[k];
-            w->delta[k] = -1.0 / (MAJORANT_RES * gd[k]);
+            w->next[k] = ((double)w->cell[k] / w->res - go[k]) / gd[k];
+            w->delta[k] = -1.0 / (w->res * gd[k]);
         } else {
             w->step[k] = 0;
             w->next[k] = w->delta[k] = INFINITY;
@@ -482,7 +484,7 @@ static int dda_step(Dda *w, double *t_exit)
     *t_exit = w->next[a];
     w->cell[a] += w->step[a];
     w->next[a] += w->delta[a];
-    return w->cell[a] >= 0 && w->cell[a] < MAJORANT_RES;
+    return w->cell[a] >= 0 && w->cell[a] < w->res;
 }
 
 int medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigned alive,
@@ -506,9 +508,9 @@ int medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigne
         gd[k] = dd[k] / (hi[k] - lo[k]);
     }
     if (!(len > 0.0) || !cube_overlap(go, gd, (double)tmax * len, &t, &t1)) return 0;
-    dda_start(&w, go, gd, t);
+    dda_start(&w, m->maj_res, go, gd, t);
     while (inside && t < t1) {
-        double t_exit, dmax = m->majorant[(w.cell[2] * MAJORANT_RES + w.cell[1]) * MAJORANT_RES + w.cell[0]];
+        double t_exit, dmax = m->majorant[((size_t)w.cell[2] * w.res + w.cell[1]) * w.res + w.cell[0]];
         inside = dda_step(&w, &t_exit);
         if (t_exit > t1 || !inside) t_exit = t1;
         for (j = 0; j < HERO_N; j++) ev.smaj[j] = st[j] * dmax;

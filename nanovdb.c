@@ -74,9 +74,10 @@
    box (i - 1, i + 1) in index space; nanovdb_majorant walks every leaf value and
    every tile once and raises each majorant cell that the box's image (through
    the map) overlaps to the value, so a cell's majorant bounds every lookup in
-   it.  pbrt-v4 instead reads, per cell, the voxels between the index images of
-   the cell's two corners, one voxel of slop, clipped to the index bbox; both are
-   bounds of the same density (a majorant changes the noise, not the mean). */
+   it (medium.c gives it NANOVDB_MAJORANT_RES^3 cells, pbrt-v4's 64^3).  pbrt-v4
+   instead reads, per cell, the voxels between the index images of the cell's two
+   corners, one voxel of slop, clipped to the index bbox; both are bounds of the
+   same density (a majorant changes the noise, not the mean). */
 #include "specnee.h"
 #include <stdlib.h>
 #include <string.h>

@@ -938,7 +938,8 @@ void  tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, fl
    point (i, j, k), an affine map from index space to the medium's space.  A
    NanoGrid is one grid's bytes as the file holds them; nanovdb_sample blends
    the eight voxels around a point of the medium's space trilinearly (background
-   where the tree has none). */
+   where the tree has none).  Its majorant grid has NANOVDB_MAJORANT_RES^3 cells
+   over the file's world bbox (pbrt-v4's 64^3). */
 typedef enum { MEDIUM_HOMOGENEOUS, MEDIUM_UNIFORMGRID, MEDIUM_RGBGRID, MEDIUM_CLOUD,
                MEDIUM_NANOVDB } MediumType;
 typedef struct { int nx, ny, nz; float *v; } MediumGrid;
@@ -963,6 +964,7 @@ void   nanovdb_majorant(const NanoGrid *g, const double lo[3], const double hi[3
                         float *maj);
 void   nanovdb_free(NanoGrid *g);
 #define MAJORANT_RES 16            /* @@ majorant cells per axis (pbrt-v4: 16) */
+#define NANOVDB_MAJORANT_RES 64    /* @@ a nanovdb medium's (pbrt-v4: 64) */
 #define MEDIUM_MAX_EVENTS 1000000L /* @@ tentative collisions one tracking may meet; a ray
                                       that needs more (an optical depth of about 10^6)
                                       is taken as blocked */
@@ -982,8 +984,9 @@ typedef struct {
     MediumGrid lescale;        /* the emission's scale grid ("Lescale"; default 1x1x1 of 1) */
     MediumGrid temperature;    /* kelvin (v NULL: none): blackbody emission instead of Le */
     float temp_offset, temp_scale;  /* T = (T_grid - offset) scale; no emission below 100 K */
-    float *majorant;           /* MAJORANT_RES^3 maxima of d, x fastest (rgbgrid: of
+    float *majorant;           /* maj_res^3 maxima of d, x fastest (rgbgrid: of
                                   sigma_t itself, per scene unit) */
+    int maj_res;               /* MAJORANT_RES; a nanovdb medium NANOVDB_MAJORANT_RES */
     /* rgbgrid only: 4 floats per sample, 2 max(rgb) and the sigmoid coefficients
        (spec_sigmoid_eval); v NULL: absent (sigma_a, sigma_s: 1 everywhere) */
     MediumGrid rgb_sa, rgb_ss, rgb_le;

@@ -476,18 +476,22 @@ static void test_majorant(T *t)
                m->p0.z + u[2] * (m->p1.z - m->p0.z));
         p = xf_point(&world, q);                  /* the medium's space to the world */
         medium_point(m, p, lam, 15u, &mp);
-        c[0] = (int)(u[0] * MAJORANT_RES); c[1] = (int)(u[1] * MAJORANT_RES); c[2] = (int)(u[2] * MAJORANT_RES);
-        for (k = 0; k < 3; k++) if (c[k] > MAJORANT_RES - 1) c[k] = MAJORANT_RES - 1;
+        for (k = 0; k < 3; k++) {
+            c[k] = (int)(u[k] * m->maj_res);
+            if (c[k] > m->maj_res - 1) c[k] = m->maj_res - 1;
+        }
         if (mp.sa[0] > 0.0) inside++;
         for (k = 0; k < HERO_N; k++)
             if (!(mp.sa[k] + mp.ss[k] <= medium_sigma_t(m, lam[k]) *
-                  m->majorant[(c[2] * MAJORANT_RES + c[1]) * MAJORANT_RES + c[0]] * 1.0001)) {
+                  m->majorant[(c[2] * m->maj_res + c[1]) * m->maj_res + c[0]] * 1.0001)) {
                 scene_free(&s);
                 CHECK(t, 0, "point %d: sigma_t %g above its majorant", i, mp.sa[k] + mp.ss[k]);
             }
     }
+    k = m->maj_res;
     scene_free(&s);
     CHECK(t, inside > 2000, "only %d of 20000 points in the density", inside);
+    CHECK(t, k == 64, "a %d^3 majorant grid; pbrt-v4's is 64^3", k);
 }
 
 /* ---- against pbrt-v4: the luminance of the whole image and of its quadrants
