@@ -497,15 +497,6 @@ static int segment_find(const unsigned char *d, size_t n, unsigned count, const 
     return 1;
 }
 
-/* The metadata's "file size" of grid i of the segment at d (its bytes on disk). */
-static uint64_t meta_file_size(const unsigned char *d, unsigned i)
-{
-    size_t at = NVDB_HEADER;
-    unsigned k;
-    for (k = 0; k < i; k++) at += NVDB_META + rd32(d + at + 136);
-    return rd64(d + at + 8);
-}
-
 static int read_memory(const unsigned char *d, size_t n, const char *gridname, NanoGrid *g, Error *e)
 {
     size_t pos = 0;
@@ -513,13 +504,14 @@ static int read_memory(const unsigned char *d, size_t n, const char *gridname, N
     while (pos < n) {
         unsigned codec, count, i;
         long gi;
-        size_t data;
+        size_t data, meta = NVDB_HEADER;
         uint64_t size = 0;
         if (!segment_header(d + pos, n - pos, &codec, &count, e) ||
             !segment_find(d + pos, n - pos, count, gridname, &gi, &data, &size, e))
             return 0;
         for (i = 0; i < count; i++) {
-            uint64_t fs = meta_file_size(d + pos, i);
+            uint64_t fs = rd64(d + pos + meta + 8);   /* the grid's bytes on disk */
+            meta += NVDB_META + rd32(d + pos + meta + 136);
             if (gi == (long)i) {
                 if (codec == 2)
                     return error_set(e, NULL, 0, "grid \"%s\" is BLOSC-compressed; only uncompressed "
