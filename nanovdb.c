@@ -463,6 +463,10 @@ static int segment_header(const unsigned char *d, size_t n, unsigned *codec, uns
     if (n < NVDB_HEADER) return error_set(e, NULL, 0, "truncated: a segment header needs 16 bytes"), 0;
     if (rd64(d) == 0x4E616E6F56444230ULL)
         return error_set(e, NULL, 0, "a NanoVDB file with reversed endianness"), 0;
+    if (n >= 8 && memcmp(d, "NanoVDB", 7) == 0 && d[7] != '0')
+        return error_set(e, NULL, 0, "a NanoVDB file of a later format (magic \"NanoVDB%c\"); only "
+                         "\"NanoVDB0\" files (NanoVDB 32.3, pbrt-v4's) are read", d[7] >= 0x20 &&
+                         d[7] < 0x7F ? d[7] : '?'), 0;
     if (rd64(d) != 0x304244566F6E614EULL)
         return error_set(e, NULL, 0, "not a NanoVDB file (no \"NanoVDB0\" magic number)"), 0;
     v = rd32(d + 8);

@@ -598,6 +598,9 @@ static void test_bad_files(T *t)
     b.b[0] ^= 1;                                                  /* the magic number */
     FAILS(write_buf(t, "magic.nvdb", &b), "not a NanoVDB file");
     b.b[0] ^= 1;
+    b.b[7] = '1';                                                 /* a later file format */
+    FAILS(write_buf(t, "later.nvdb", &b), "a NanoVDB file of a later format (magic \"NanoVDB1\")");
+    b.b[7] = '0';
     {
         unsigned char m[8];
         int k;
