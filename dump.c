@@ -188,7 +188,8 @@ void scene_dump(const Scene *s, FILE *f)
                 "albedo at 550 nm %g%s\n", i, m->name,
                 m->type == MEDIUM_UNIFORMGRID ? "uniformgrid (times its density)"
                 : m->type == MEDIUM_RGBGRID ? "rgbgrid (sigma from its rgb grids)"
-                : m->type == MEDIUM_CLOUD ? "cloud (times its density)" : "homogeneous",
+                : m->type == MEDIUM_CLOUD ? "cloud (times its density)"
+                : m->type == MEDIUM_NANOVDB ? "nanovdb (times its density grid)" : "homogeneous",
                 m->g, medium_sigma_t(m, 450.0f),
                 medium_sigma_t(m, 550.0f), medium_sigma_t(m, 650.0f),
                 medium_sigma_t(m, 550.0f) > 0.0f ? medium_sigma_s(m, 550.0f) / medium_sigma_t(m, 550.0f) : 0.0f,

@@ -293,8 +293,14 @@ static double rgb_max(const MediumGrid *g, int x, int y, int z)
 static int build_majorant(Medium *m)
 {
     int c[3];
-    m->majorant = (float *)malloc(sizeof(float) * MAJORANT_RES * MAJORANT_RES * MAJORANT_RES);
+    m->maj_res = m->type == MEDIUM_NANOVDB ? NANOVDB_MAJORANT_RES : MAJORANT_RES;
+    m->majorant = (float *)malloc(sizeof(float) * m->maj_res * m->maj_res * m->maj_res);
     if (!m->majorant) return 0;
+    if (m->type == MEDIUM_NANOVDB) {              /* the density grid's bound (nanovdb.c) */
+        const double lo[3] = { m->p0.x, m->p0.y, m->p0.z }, hi[3] = { m->p1.x, m->p1.y, m->p1.z };
+        nanovdb_majorant(&m->vdb[0], lo, hi, m->maj_res, m->majorant);
+        return 1;
+    }
     for (c[2] = 0; c[2] < MAJORANT_RES; c[2]++)
         for (c[1] = 0; c[1] < MAJORANT_RES; c[1]++)
             for (c[0] = 0; c[0] < MAJORANT_RES; c[0]++) {
@@ -358,12 +364,32 @@ float medium_cloud_density(const Medium *m, Vec3 q)
     return fminf(fmaxf(d, 0.0f), 1.0f);
 }
 
+/* medium_point of a nanovdb medium (pbrt-v4's NanoVDBMedium::SamplePoint): d from
+   the density grid (a negative blend reads 0), and where a temperature grid is,
+   Lescale times the blackbody (peak 1) of (T - offset) scale above 100 K. */
+static void vdb_point(const Medium *m, Vec3 p, const float *lam, unsigned alive, MediumPoint *out)
+{
+    Vec3 q = xf_point(&m->medium_from_world, p);
+    double d = fmax(0.0, nanovdb_sample(&m->vdb[0], q)), kelvin = 0.0;
+    int j;
+    if (m->vdb[1].buf && m->Le_scale > 0.0f)
+        kelvin = (nanovdb_sample(&m->vdb[1], q) - m->temp_offset) * m->temp_scale;
+    for (j = 0; j < HERO_N; j++) {
+        out->sa[j] = out->ss[j] = out->le[j] = 0.0;
+        if (!(alive & (1u << j))) continue;
+        out->sa[j] = medium_sigma_a(m, lam[j]) * d;
+        out->ss[j] = medium_sigma_s(m, lam[j]) * d;
+        if (kelvin > 100.0) out->le[j] = m->Le_scale * blackbody_eval((float)kelvin, lam[j]);
+    }
+}
+
 void medium_point(const Medium *m, Vec3 p, const float *lam, unsigned alive, MediumPoint *out)
 {
     Vec3 u = unit_coords(m, p);
     double d, ls = 0.0, kelvin = 0.0;
     int j;
     if (m->type == MEDIUM_RGBGRID) { rgb_point(m, u, lam, alive, out); return; }
+    if (m->type == MEDIUM_NANOVDB) { vdb_point(m, p, lam, alive, out); return; }
     d = m->type == MEDIUM_CLOUD ? medium_cloud_density(m, xf_point(&m->medium_from_world, p))
                                 : medium_grid_lookup(&m->density, u);
     if (m->Le_scale > 0.0f) {
@@ -393,6 +419,8 @@ void medium_free(Medium *m)
     free(m->rgb_sa.v);
     free(m->rgb_ss.v);
     free(m->rgb_le.v);
+    nanovdb_free(&m->vdb[0]);
+    nanovdb_free(&m->vdb[1]);
     m->density.v = m->lescale.v = m->temperature.v = m->majorant = NULL;
     m->rgb_sa.v = m->rgb_ss.v = m->rgb_le.v = NULL;
 }
@@ -419,28 +447,29 @@ static int cube_overlap(const double go[3], const double gd[3], double tmax, dou
     return *t0 < *t1;
 }
 
-/* A 3-D DDA over the MAJORANT_RES^3 cells (Amanatides and Woo 1987): the cell the
+/* A 3-D DDA over the res^3 majorant cells (Amanatides and Woo 1987): the cell the
    ray is in, and the distances at which it crosses into the next one per axis. */
 typedef struct {
-    int cell[3], step[3];
+    int cell[3], step[3], res;
     double next[3], delta[3];
 } Dda;
 
-static void dda_start(Dda *w, const double go[3], const double gd[3], double t0)
+static void dda_start(Dda *w, int res, const double go[3], const double gd[3], double t0)
 {
     int k;
+    w->res = res;
     for (k = 0; k < 3; k++) {
-        double pos = (go[k] + gd[k] * t0) * MAJORANT_RES;
+        double pos = (go[k] + gd[k] * t0) * w->res;
         int c = (int)floor(pos);
-        w->cell[k] = c < 0 ? 0 : c > MAJORANT_RES - 1 ? MAJORANT_RES - 1 : c;
+        w->cell[k] = c < 0 ? 0 : c > w->res - 1 ? w->res - 1 : c;
         if (gd[k] > 0.0) {
             w->step[k] = 1;
-            w->next[k] = ((double)(w->cell[k] + 1) / MAJORANT_RES - go[k]) / gd[k];
-            w->delta[k] = 1.0 / (MAJORANT_RES * gd[k]);
+            w->next[k] = ((double)(w->cell[k] + 1) / w->res - go[k]) / gd[k];
+            w->delta[k] = 1.0 / (w->res * gd[k]);
         } else if (gd[k] < 0.0) {
             w->step[k] = -1;
-            w->next[k] = ((double)w->cell[k] / MAJORANT_RES - go[k]) / gd[k];
-            w->delta[k] = -1.0 / (MAJORANT_RES * gd[k]);
+            w->next[k] = ((double)w->cell[k] / w->res - go[k]) / gd[k];
+            w->delta[k] = -1.0 / (w->res * gd[k]);
         } else {
             w->step[k] = 0;
             w->next[k] = w->delta[k] = INFINITY;
@@ -455,7 +484,7 @@ static int dda_step(Dda *w, double *t_exit)
     *t_exit = w->next[a];
     w->cell[a] += w->step[a];
     w->next[a] += w->delta[a];
-    return w->cell[a] >= 0 && w->cell[a] < MAJORANT_RES;
+    return w->cell[a] >= 0 && w->cell[a] < w->res;
 }
 
 int medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigned alive,
@@ -479,9 +508,9 @@ int medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigne
         gd[k] = dd[k] / (hi[k] - lo[k]);
     }
     if (!(len > 0.0) || !cube_overlap(go, gd, (double)tmax * len, &t, &t1)) return 0;
-    dda_start(&w, go, gd, t);
+    dda_start(&w, m->maj_res, go, gd, t);
     while (inside && t < t1) {
-        double t_exit, dmax = m->majorant[(w.cell[2] * MAJORANT_RES + w.cell[1]) * MAJORANT_RES + w.cell[0]];
+        double t_exit, dmax = m->majorant[((size_t)w.cell[2] * w.res + w.cell[1]) * w.res + w.cell[0]];
         inside = dda_step(&w, &t_exit);
         if (t_exit > t1 || !inside) t_exit = t1;
         for (j = 0; j < HERO_N; j++) ev.smaj[j] = st[j] * dmax;
@@ -833,6 +862,91 @@ static int cloud_from_params(Parser *P, ParamList *pl, const char *what, const c
     return 1;
 }
 
+/* The bounds of a nanovdb medium: the world bbox the file gives its density grid,
+   joined with the temperature grid's (pbrt-v4 NanoVDBMedium). */
+static int vdb_bounds(Parser *P, const char *what, const char *file, int line, Medium *m)
+{
+    double lo[3], hi[3];
+    int k, i;
+    for (k = 0; k < 3; k++) { lo[k] = m->vdb[0].wmin[k]; hi[k] = m->vdb[0].wmax[k]; }
+    for (i = 1; i < 2; i++)
+        for (k = 0; k < 3 && m->vdb[i].buf; k++) {
+            lo[k] = fmin(lo[k], m->vdb[i].wmin[k]);
+            hi[k] = fmax(hi[k], m->vdb[i].wmax[k]);
+        }
+    for (k = 0; k < 3; k++)
+        if (!(lo[k] < hi[k]) || !(fabs(lo[k]) < 1e30) || !(fabs(hi[k]) < 1e30) ||
+            !((float)lo[k] < (float)hi[k]))
+            return fail(P, file, line, "%s: the grids' world bounding box [ %g %g %g ] .. [ %g %g %g ] "
+                        "is empty or not finite", what, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    m->p0 = v3((float)lo[0], (float)lo[1], (float)lo[2]);
+    m->p1 = v3((float)hi[0], (float)hi[1], (float)hi[2]);
+    return 1;
+}
+
+/* MakeNamedMedium ... "string type" "nanovdb" with pbrt-v4's meaning (media.cpp,
+   NanoVDBMedium::Create): the grid "string gridname" ("density") of the NanoVDB
+   file "string filename" (required; nanovdb.c reads it) scales sigma_a and sigma_s
+   (1 each) times "float scale" (1); the grid "string temperaturename"
+   ("temperature"), when the file has one, emits "float Lescale" (1) times the
+   blackbody (peak 1) of (T - "float temperatureoffset" (default: "float
+   temperaturecutoff", 0)) * "float temperaturescale" (1) kelvin; "float g" (0).
+   The file's index-to-world map, then the CTM at the directive, place the grids. */
+static int nanovdb_from_params(Parser *P, ParamList *pl, const char *what, const char *file, int line,
+                               Medium *m)
+{
+    const char *fn = NULL, *names[2] = { NULL, NULL };
+    float scale, g, cut, off, tscale, lescale;
+    char path[1024];
+    Error e;
+    int i, ok;
+    m->type = MEDIUM_NANOVDB;
+    medium_frame(P, m);
+    if (!get_string(P, pl, "filename", &fn) || !get_string(P, pl, "gridname", &names[0]) ||
+        !get_string(P, pl, "temperaturename", &names[1]) ||
+        !medium_coeff(P, pl, what, "sigma_a", 1.0f, &m->sigma_a, file, line) ||
+        !medium_coeff(P, pl, what, "sigma_s", 1.0f, &m->sigma_s, file, line) ||
+        !get_float(P, pl, "scale", 1.0f, &scale) || !get_float(P, pl, "g", 0.0f, &g) ||
+        !get_float(P, pl, "Lescale", 1.0f, &lescale) ||
+        !get_float(P, pl, "temperaturecutoff", 0.0f, &cut) ||
+        !get_float(P, pl, "temperatureoffset", cut, &off) ||
+        !get_float(P, pl, "temperaturescale", 1.0f, &tscale) ||
+        !params_check_unused(P, pl, what, "string type, string filename, string gridname, "
+                             "string temperaturename, spectrum sigma_a, spectrum sigma_s, float scale, "
+                             "float g, float Lescale, float temperaturecutoff, float temperatureoffset, "
+                             "float temperaturescale", NULL))
+        return 0;
+    if (!fn || !fn[0]) return fail(P, file, line, "%s: \"string filename\" is required", what);
+    resolve_path(P, file, fn, path, sizeof path);
+    ok = 1;
+    for (i = 0; i < 2 && ok; i++)
+        if (!nanovdb_read(path, names[i] ? names[i] : i ? "temperature" : "density", &m->vdb[i], &e))
+            ok = fail(P, file, line, "%s: %s", what, e.msg);
+    if (ok && !m->vdb[0].buf)
+        ok = fail(P, file, line, "%s: %s: no grid named \"%s\"", what, fn, names[0] ? names[0] : "density");
+    if (ok && (!(scale >= 0.0f) || !(scale < 1e30f)))
+        ok = fail_param(P, pl, "scale", file, line, "%s: \"float scale\" %g must be a finite number >= 0",
+                        what, scale);
+    if (ok && (!(g > -1.0f) || !(g < 1.0f)))
+        ok = fail_param(P, pl, "g", file, line, "%s: \"float g\" %g must lie in (-1, 1) (Henyey-Greenstein)",
+                        what, g);
+    if (ok && (!(lescale >= 0.0f) || !(lescale < 1e30f) || !isfinite(off) || !isfinite(tscale)))
+        ok = fail(P, file, line, "%s: \"float Lescale\" must be finite and >= 0, \"temperatureoffset\" "
+                  "and \"temperaturescale\" finite", what);
+    ok = ok && vdb_bounds(P, what, file, line, m);
+    if (ok && !build_majorant(m)) ok = oom(P, file, line);
+    if (!ok) { medium_free(m); return 0; }
+    for (i = 0; i < SPEC_N; i++) { m->sigma_a.v[i] *= scale; m->sigma_s.v[i] *= scale; }
+    for (i = 0; i < SPEC_UV_N; i++) { m->sigma_a.uv[i] *= scale; m->sigma_s.uv[i] *= scale; }
+    m->g = g;
+    m->temp_offset = off;
+    m->temp_scale = tscale;
+    if (m->vdb[1].buf && lescale > 0.0f) m->Le_scale = lescale;   /* absolute (render.c) */
+    m->file = file;
+    m->line = line;
+    return 1;
+}
+
 /* MakeNamedMedium "name" "string type" "homogeneous" ... with pbrt-v4's meaning
    (media.cpp, HomogeneousMedium::Create): sigma_a, sigma_s (default 1 each, per
    scene unit), or a "string preset" of measured coefficients (medium.c; they are
@@ -840,11 +954,10 @@ static int cloud_from_params(Parser *P, ParamList *pl, const char *what, const c
    "float g" (0) the Henyey-Greenstein asymmetry; emission "spectrum Le" (0)
    times "float Lescale" (1), normalised as an area light's L is (lights.c: an rgb
    Le through D65).  "uniformgrid" and "rgbgrid" have builders of their own
-   (above), and so has "cloud"; "nanovdb" is refused by name. */
+   (above), and so have "cloud" and "nanovdb". */
 int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *file, int line,
                        Medium *m)
 {
-    static const char *const pbrt_types[] = { "nanovdb", NULL };
     const char *type = NULL, *preset = NULL;
     float scale, g, lescale;
     int i, rgb_illum = 0;
@@ -855,13 +968,9 @@ int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *f
     if (!strcmp(type, "uniformgrid")) return grid_from_params(P, pl, what, file, line, m);
     if (!strcmp(type, "rgbgrid")) return rgbgrid_from_params(P, pl, what, file, line, m);
     if (!strcmp(type, "cloud")) return cloud_from_params(P, pl, what, file, line, m);
-    if (strcmp(type, "homogeneous") != 0) {
-        for (i = 0; pbrt_types[i]; i++)
-            if (!strcmp(type, pbrt_types[i]))
-                return fail(P, file, line, "%s: medium type \"%s\" is valid pbrt-v4 but not in "
-                            "the specnee subset (only \"homogeneous\", \"uniformgrid\", \"rgbgrid\" and \"cloud\")", what, type);
+    if (!strcmp(type, "nanovdb")) return nanovdb_from_params(P, pl, what, file, line, m);
+    if (strcmp(type, "homogeneous") != 0)
         return fail(P, file, line, "%s: unknown medium type \"%s\"", what, type);
-    }
     if (!get_string(P, pl, "preset", &preset)) return 0;
     if (preset && preset[0]) {
         float sa[3], ss[3];

@@ -265,7 +265,7 @@ static int setup_media(RenderJob *j, Error *err)
         const Medium *M = &s->media[m];
         double y;
         if (!(M->Le_scale > 0.0f)) continue;
-        if (M->temperature.v) { j->R.med_le[m] = 1.0; continue; }   /* a blackbody grid: absolute */
+        if (M->temperature.v || M->type == MEDIUM_NANOVDB) { j->R.med_le[m] = 1.0; continue; }  /* blackbody: absolute */
         y = luminance_sum(&M->Le, LAMBDA_LO, LAMBDA_HI) > 0.0
             ? luminance_sum(&M->Le, j->sel.lo_nm, j->sel.hi_nm) : 1.0;   /* UV: absolute */
         if (!(y > 0.0)) {

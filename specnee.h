@@ -970,9 +970,39 @@ void  tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, fl
 /* pbrt-v4's "cloud" (CloudMedium): sigma_a(lambda) and sigma_s(lambda) scaled by a
    procedural density in [0, 1] (medium_cloud_density: Perlin noise, tex_noise);
    its majorant grid holds 1 everywhere (pbrt-v4's one homogeneous majorant). */
-typedef enum { MEDIUM_HOMOGENEOUS, MEDIUM_UNIFORMGRID, MEDIUM_RGBGRID, MEDIUM_CLOUD } MediumType;
+/* pbrt-v4's "nanovdb" (NanoVDBMedium): the uniformgrid's model with d(x) read
+   from a float grid of a NanoVDB file (nanovdb.c documents the layout): a sparse
+   tree of 8^3-voxel leaves under 16^3 and 32^3 nodes, voxel (i, j, k) at index
+   point (i, j, k), an affine map from index space to the medium's space.  A
+   NanoGrid is one grid's bytes as the file holds them; nanovdb_sample blends
+   the eight voxels around a point of the medium's space trilinearly (background
+   where the tree has none).  Its majorant grid has NANOVDB_MAJORANT_RES^3 cells
+   over the file's world bbox (pbrt-v4's 64^3). */
+typedef enum { MEDIUM_HOMOGENEOUS, MEDIUM_UNIFORMGRID, MEDIUM_RGBGRID, MEDIUM_CLOUD,
+               MEDIUM_NANOVDB } MediumType;
 typedef struct { int nx, ny, nz; float *v; } MediumGrid;
+typedef struct {
+    unsigned char *buf; size_t size;   /* the grid's memory image (NULL: none) */
+    size_t root;                       /* where its root node starts in buf */
+    uint32_t n_tiles;                  /* root tiles, */
+    uint64_t *keys; size_t *tiles;     /* sorted by key, with their offsets in buf */
+    float background;                  /* the value where no tile is */
+    float invf[9], vecf[3];            /* index = invf (p - vecf) (pbrt-v4's worldToIndexF) */
+    double mat[9], vec[3];             /* p = mat index + vec */
+    double wmin[3], wmax[3];           /* the file's world bbox of its active voxels */
+} NanoGrid;
+/* The first grid named gridname of the file (g->buf NULL when there is none: not
+   an error); 0 and "file: problem" for a file it refuses (nanovdb.c says which). */
+int    nanovdb_read(const char *path, const char *gridname, NanoGrid *g, Error *e);
+int    nanovdb_read_memory(const unsigned char *d, size_t n, const char *name,
+                           const char *gridname, NanoGrid *g, Error *e);
+double nanovdb_sample(const NanoGrid *g, Vec3 p);    /* p in the medium's space */
+/* maj[res^3] (x fastest) over lo..hi: each cell's bound of nanovdb_sample there */
+void   nanovdb_majorant(const NanoGrid *g, const double lo[3], const double hi[3], int res,
+                        float *maj);
+void   nanovdb_free(NanoGrid *g);
 #define MAJORANT_RES 16            /* @@ majorant cells per axis (pbrt-v4: 16) */
+#define NANOVDB_MAJORANT_RES 64    /* @@ a nanovdb medium's (pbrt-v4: 64) */
 #define MEDIUM_MAX_EVENTS 1000000L /* @@ tentative collisions one tracking may meet; a ray
                                       that needs more (an optical depth of about 10^6)
                                       is taken as blocked */
@@ -992,14 +1022,16 @@ typedef struct {
     MediumGrid lescale;        /* the emission's scale grid ("Lescale"; default 1x1x1 of 1) */
     MediumGrid temperature;    /* kelvin (v NULL: none): blackbody emission instead of Le */
     float temp_offset, temp_scale;  /* T = (T_grid - offset) scale; no emission below 100 K */
-    float *majorant;           /* MAJORANT_RES^3 maxima of d, x fastest (rgbgrid: of
+    float *majorant;           /* maj_res^3 maxima of d, x fastest (rgbgrid: of
                                   sigma_t itself, per scene unit) */
+    int maj_res;               /* MAJORANT_RES; a nanovdb medium NANOVDB_MAJORANT_RES */
     /* rgbgrid only: 4 floats per sample, 2 max(rgb) and the sigmoid coefficients
        (spec_sigmoid_eval); v NULL: absent (sigma_a, sigma_s: 1 everywhere) */
     MediumGrid rgb_sa, rgb_ss, rgb_le;
     float rgb_scale;           /* "scale" of the rgb grids */
     int chromatic;             /* rgbgrid: some sigma sample is not grey */
     float cloud_density, wispiness, frequency;  /* cloud: "density", "wispiness", "frequency" */
+    NanoGrid vdb[2];           /* nanovdb: density and temperature (buf NULL: none) */
     const char *file; int line;/* the MakeNamedMedium directive */
 } Medium;
 

@@ -25,6 +25,8 @@
      exr       an OpenEXR file, decoded from memory; a decoded image must have the
                size its pixels were allocated for (values may be anything a float
                holds: the reader keeps them as stored)
+     nvdb      a NanoVDB file, its "density" grid read from memory; a grid that
+               loads must give finite lookups and a finite majorant over its bounds
 
    Files go to the directory tmpdir (the drivers give each process its own). */
 #include "../specnee.h"
@@ -224,6 +226,35 @@ static int fuzz_exr(const unsigned char *data, size_t n, Error *e)
 
 /* Returns 1 when the input was accepted, 0 when it was refused (e->msg says why),
    -1 for an unknown target. */
+static int fuzz_nvdb(const unsigned char *data, size_t n, Error *e)
+{
+    NanoGrid g;
+    float maj[4 * 4 * 4];
+    int k, i;
+    if (!nanovdb_read_memory(data, n, "fuzz-input.nvdb", "density", &g, e)) {
+        check_message(e);
+        return 0;
+    }
+    if (!g.buf) return 1;                       /* no grid of that name */
+    for (i = 0; i < 27; i++) {                  /* the bbox's corners, centre, ... */
+        double f[3];
+        Vec3 p;
+        f[0] = 0.5 * (i % 3); f[1] = 0.5 * ((i / 3) % 3); f[2] = 0.5 * (i / 9);
+        p = v3((float)(g.wmin[0] + f[0] * (g.wmax[0] - g.wmin[0])), (float)(g.wmin[1] + f[1] * (g.wmax[1] - g.wmin[1])),
+               (float)(g.wmin[2] + f[2] * (g.wmax[2] - g.wmin[2])));
+        if (!isfinite(nanovdb_sample(&g, p))) abort();
+    }
+    for (k = 0; k < 3; k++)
+        if (!(g.wmin[k] < g.wmax[k]) || !(fabs(g.wmin[k]) < 1e30) || !(fabs(g.wmax[k]) < 1e30)) break;
+    if (k == 3) {
+        nanovdb_majorant(&g, g.wmin, g.wmax, 4, maj);
+        for (i = 0; i < 64; i++)
+            if (!isfinite(maj[i]) || maj[i] < 0.0f) abort();
+    }
+    nanovdb_free(&g);
+    return 1;
+}
+
 int fuzz_run(const char *target, const unsigned char *data, size_t n, const char *tmpdir,
              Error *e)
 {
@@ -234,5 +265,6 @@ int fuzz_run(const char *target, const unsigned char *data, size_t n, const char
     if (!strcmp(target, "spectrum")) return fuzz_spectrum(data, n, tmpdir, e);
     if (!strcmp(target, "png")) return fuzz_png(data, n, e);
     if (!strcmp(target, "exr")) return fuzz_exr(data, n, e);
+    if (!strcmp(target, "nvdb")) return fuzz_nvdb(data, n, e);
     return -1;
 }

@@ -380,7 +380,7 @@ else
 fi
 expect "robust_res_budget" 2 "memory budget" ./specnee --res 16384x16384 scenes/cornell.pbrt
 # every input that ever crashed a fuzz target (fuzz/regress) and the fuzz seeds
-for t in scene ply pfm spectrum png exr; do
+for t in scene ply pfm spectrum png exr nvdb; do
     mkdir -p tests/tmp/replay-$t
     counted replay-$t fuzz/replay $t tests/tmp/replay-$t fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)
 done
@@ -464,7 +464,7 @@ if [ "$full" != 1 ]; then
 fi
 if [ "$full" = 1 ]; then
     # ---- 3. three compilers, warnings are errors (each one that is installed)
-    LIBSRC="util.c sampler.c bvh.c instance.c shapes.c patch.c spectrum.c wavelengths.c metals.c lights.c lighttree.c infinite.c delta.c texture.c filter.c parser.c options.c scene.c geometry.c dump.c ply.c subdiv.c medium.c material.c microfacet.c conductor.c layered.c bump.c camera.c path.c render.c image.c png.c exr.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c"
+    LIBSRC="util.c sampler.c bvh.c instance.c shapes.c patch.c spectrum.c wavelengths.c metals.c lights.c lighttree.c infinite.c delta.c texture.c filter.c parser.c options.c scene.c geometry.c dump.c ply.c subdiv.c medium.c nanovdb.c material.c microfacet.c conductor.c layered.c bump.c camera.c path.c render.c image.c png.c exr.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c"
     proven=""
     for cc in gcc clang tcc; do
         if ! have_cc $cc; then skip "build_$cc: $cc not installed (CI proves it)"; continue; fi
@@ -523,7 +523,7 @@ if [ "$full" = 1 ]; then
         replay_rc=$?
         cat "$log.replay-asan" >> "$log"
         if [ $replay_rc -eq 0 ]; then
-            for t in scene ply pfm spectrum png exr; do
+            for t in scene ply pfm spectrum png exr nvdb; do
                 counted replay-asan-$t env ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
                     UBSAN_OPTIONS=print_stacktrace=1 build/replay-asan $t tests/tmp/replay-$t \
                     fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)

@@ -733,7 +733,16 @@ static void test_null_collision_mis(T *t)
     for (k = 0; k < nz; k++) d[k] = k % 4 == 3 ? 1.0 : 0.005;
     D = 0.5 / nz * 0.75 * (d[0] + d[nz - 1]);
     for (k = 0; k + 1 < nz; k++) D += (d[k] + d[k + 1]) / (2.0 * nz);
+    /* the medium is made after WorldBegin, in the world frame (one made before
+       Camera would lie around the camera: scene.c media_before_camera) */
     len = (size_t)snprintf(text, sizeof text,
+                           "MediumInterface \"\" \"g\"\n"
+                           "LookAt 0 0 5  0 0 0  0 1 0\n"
+                           "Camera \"perspective\" \"float fov\" [ 5 ]\n"
+                           "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ] \"string filename\" \"t.pfm\"\n"
+                           "PixelFilter \"box\"\n"
+                           "Integrator \"volpath\" \"integer maxdepth\" [ 1 ]\n"
+                           "WorldBegin\n"
                            "MakeNamedMedium \"g\" \"string type\" \"uniformgrid\" "
                            "\"spectrum sigma_a\" [ 400 0.1 700 3.0 ] \"spectrum sigma_s\" [ 400 0 700 0 ] "
                            "\"integer nx\" 2 \"integer ny\" 2 \"integer nz\" %d \"float density\" [", nz);
@@ -741,13 +750,6 @@ static void test_null_collision_mis(T *t)
         for (q = 0; q < 4; q++) len += (size_t)snprintf(text + len, sizeof text - len, " %g", d[k]);
     snprintf(text + len, sizeof text - len,
              " ] \"point3 p0\" [ -2000 -2000 0.5 ] \"point3 p1\" [ 2000 2000 1.5 ]\n"
-             "MediumInterface \"\" \"g\"\n"
-             "LookAt 0 0 5  0 0 0  0 1 0\n"
-             "Camera \"perspective\" \"float fov\" [ 5 ]\n"
-             "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ] \"string filename\" \"t.pfm\"\n"
-             "PixelFilter \"box\"\n"
-             "Integrator \"volpath\" \"integer maxdepth\" [ 1 ]\n"
-             "WorldBegin\n"
              "MediumInterface \"\" \"\"\n"
              "LightSource \"infinite\" \"spectrum L\" [ 400 1 700 1 ]\n"
              "Material \"diffuse\" \"spectrum reflectance\" [ 360 1 830 1 ]\n"

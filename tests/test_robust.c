@@ -252,7 +252,7 @@ static void test_unsupported_named(T *t)
     CHECK(t, strstr(e.msg, "\"wood\"") != NULL, "%s", e.msg);
     /* the other unsupported directives name their first string */
     p = test_write_file(t, "medium.pbrt", "WorldBegin\nMakeNamedMedium \"fog\" \"string type\" \"nanovdb\"\n");
-    if (!expect_fail(t, p, "medium.pbrt:2:", "MakeNamedMedium \"fog\": medium type \"nanovdb\" is valid pbrt-v4", &e)) return;
+    if (!expect_fail(t, p, "medium.pbrt:2:", "MakeNamedMedium \"fog\": \"string filename\" is required", &e)) return;
 }
 
 /* #20: a spectrum file with CR-only line endings is three lines, not one. */
