@@ -275,16 +275,26 @@ typedef struct { char msg[512]; } Error;
 /* Control bytes and bytes that are not UTF-8 are written as \xNN: one printable line. */
 void error_set(Error *e, const char *file, int line, const char *fmt, ...);
 
-/* A whole file in memory, NUL-terminated (scene text, PLY, spectrum files).  Reading
-   stops early at gzip data (pbrt-v4 reads .gz, the subset does not), when text is
-   set at a NUL byte, and when magic is not NULL at first bytes other than magic;
-   never more than READ_MAX_BYTES.  NULL and *st on failure. */
+/* A whole file in memory, NUL-terminated (scene text, PLY, spectrum files).  flags:
+   READ_TEXT refuses a NUL byte; READ_GUNZIP decompresses gzip data (first bytes
+   1F 8B: pbrt-v4's .pbrt.gz and .ply.gz), which is otherwise refused at once.
+   Reading stops early where magic is not NULL and the (decompressed) first bytes
+   are not magic; never more than READ_MAX_BYTES, read or decompressed.  NULL and
+   *st on failure. */
 #define READ_MAX_BYTES ((size_t)1 << 30)   /* @@ 1 GiB: largest input file read */
+#define READ_TEXT 1
+#define READ_GUNZIP 2
 typedef enum { READ_OK, READ_OPEN, READ_IO, READ_NOMEM, READ_TOO_BIG, READ_GZIP,
-               READ_NUL, READ_MAGIC } ReadStatus;
-char *read_whole_file(const char *path, int text, const char *magic, size_t *len,
+               READ_NUL, READ_MAGIC, READ_GZ_TRUNC, READ_GZ_HEADER, READ_GZ_DATA,
+               READ_GZ_CRC, READ_GZ_SIZE, READ_GZ_BIG } ReadStatus;
+char *read_whole_file(const char *path, int flags, const char *magic, size_t *len,
                       ReadStatus *st);
 const char *read_status_text(ReadStatus st);   /* "not a text file (...)", ... */
+/* A gzip file in[0 .. n) (RFC 1952: members with their CRC-32 and ISIZE checked)
+   inflated into a new buffer *out of *n_out bytes and a NUL, at most max_out bytes
+   (png.c, next to its inflate): READ_OK, or a READ_GZ_ status (or READ_NOMEM). */
+ReadStatus gzip_inflate(const unsigned char *in, size_t n, size_t max_out, unsigned char **out,
+                        size_t *n_out);
 
 /* ======================================================================
    4. Spectra (spectrum.c; the metals' data in metals.c, wavelength sampling in

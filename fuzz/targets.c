@@ -25,6 +25,8 @@
      exr       an OpenEXR file, decoded from memory; a decoded image must have the
                size its pixels were allocated for (values may be anything a float
                holds: the reader keeps them as stored)
+     gzip      a gzip file (the container of .pbrt.gz and .ply.gz), inflated from
+               memory with a 16 MiB limit; a result is NUL-terminated
 
    Files go to the directory tmpdir (the drivers give each process its own). */
 #include "../specnee.h"
@@ -222,6 +224,22 @@ static int fuzz_exr(const unsigned char *data, size_t n, Error *e)
     return 0;
 }
 
+static int fuzz_gzip(const unsigned char *data, size_t n, Error *e)
+{
+    unsigned char *out;
+    size_t n_out;
+    ReadStatus st = gzip_inflate(data, n, (size_t)1 << 24, &out, &n_out);
+    if (st != READ_OK) {
+        if (out) abort();
+        error_set(e, "fuzz-input.gz", 0, "%s", read_status_text(st));
+        check_message(e);
+        return 0;
+    }
+    if (n_out > ((size_t)1 << 24) || out[n_out] != '\0') abort();
+    free(out);
+    return 1;
+}
+
 /* Returns 1 when the input was accepted, 0 when it was refused (e->msg says why),
    -1 for an unknown target. */
 int fuzz_run(const char *target, const unsigned char *data, size_t n, const char *tmpdir,
@@ -234,5 +252,6 @@ int fuzz_run(const char *target, const unsigned char *data, size_t n, const char
     if (!strcmp(target, "spectrum")) return fuzz_spectrum(data, n, tmpdir, e);
     if (!strcmp(target, "png")) return fuzz_png(data, n, e);
     if (!strcmp(target, "exr")) return fuzz_exr(data, n, e);
+    if (!strcmp(target, "gzip")) return fuzz_gzip(data, n, e);
     return -1;
 }
