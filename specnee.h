@@ -1044,6 +1044,14 @@ typedef struct {
     Vec3 center; double radius;/* the scene's bounding sphere (power, NEE points) */
     Spectrum mean;             /* image map: the RGB illuminant spectrum of its mean colour
                                   (selection weights only) */
+    /* A portal (pbrt-v4's PortalImageInfiniteLight, infinite.c section 4): light
+       arrives only through the rectangle portal_p[0..3] (world space), and texel[]
+       holds the map resampled onto the portal's rectified directions (u, v). */
+    int portal;                /* 1: a portal light */
+    Vec3 portal_p[4];          /* its corners, as given */
+    Frame portal_frame;        /* s = p3 - p0, t = p1 - p0 (unit), n = s x t: towards the sky */
+    double *sat;               /* (res + 1)^2 summed-area table of the rectified sampling
+                                  weights (each texel's mean R, G, B times dw/d(u,v)) */
     const char *file; int line;/* the LightSource directive, for messages */
 } InfiniteLight;
 
@@ -1402,10 +1410,15 @@ float emitter_alpha(const Scene *s, int e);
    normalised radiance (constant light), k = scale / sum_{lo..hi} ybar L, the
    factor that turns an image map's texel spectrum into radiance. */
 float inf_Le(const Emitter *em, const Spectrum *Le, double k, Vec3 dir, float lambda_nm);
-float inf_pdf(const Emitter *em, Vec3 dir);
+/* ref: the point that looks (a portal light's pdf depends on where the portal is seen
+   from; other infinite lights ignore it). */
+float inf_pdf(const Emitter *em, Vec3 ref, Vec3 dir);
 /* A direction with density inf_pdf (piecewise constant over texels; uniform for a
-   constant light); 0 if none. */
-int   inf_sample(const Emitter *em, float u1, float u2, Vec3 *dir, float *pdf);
+   constant light; a portal light's inside the portal as seen from ref); 0 if none. */
+int   inf_sample(const Emitter *em, Vec3 ref, float u1, float u2, Vec3 *dir, float *pdf);
+/* 1 if a ray from o along dir can receive the light: always, except for a portal
+   light, whose radiance arrives only through its portal (inf_Le does not check). */
+int   inf_sees(const Emitter *em, Vec3 o, Vec3 dir);
 /* pbrt-v4's equal-area octahedral map (Clarberg 2008): the unit square <-> the
    unit sphere, +z at the centre, -z at the corners. */
 Vec3  equal_area_square_to_sphere(float u, float v);
