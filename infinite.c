@@ -425,6 +425,8 @@ static int portal_set_image(InfiniteLight *inf, const Image *im, RgbTable *rgb, 
             for (c = 0; c < 3; c++) rect.rgb[3 * ((size_t)y * n + x) + c] = octa_bilerp(im, eu, ev, c);
         }
     if (!inf_set_image(inf, &rect, rgb, file, line, err)) { img_free(&rect); return 0; }
+    free(inf->cdf_rows); free(inf->cdf_cols); free(inf->row_sum);   /* section 3's, unused here */
+    inf->cdf_rows = inf->cdf_cols = inf->row_sum = NULL;
     for (y = 0; y < n; y++) {
         double *S = inf->sat + (size_t)(y + 1) * (n + 1), row = 0.0;
         for (x = 0; x < n; x++) {
