@@ -2,8 +2,8 @@
 
    Exported (specnee.h section 10): png_read_memory, png_read, zlib_inflate (the
    inflate below, which exr.c also reads its ZIP blocks with); gzip_inflate
-   (specnee.h section 3: the gzip container around the same inflate, which
-   read_whole_file opens .pbrt.gz and .ply.gz files with).
+   and read_whole_file_gz (specnee.h section 3: the gzip container around the
+   same inflate, which scene.c and ply.c open .pbrt.gz and .ply.gz files with).
 
    WHAT IT READS (the PNG specification, W3C 2003 / RFC 2083)
      The 8-byte signature, then chunks: length (4 bytes, big-endian, < 2^31),
@@ -674,4 +674,33 @@ ReadStatus gzip_inflate(const unsigned char *in, size_t n, size_t max_out, unsig
     *out = z.out;
     *n_out = z.len;
     return READ_OK;
+}
+
+/* The gzip data buf[0 .. *n) replaced by what it holds, then checked as a file
+   read plainly would be: its first bytes against magic, and (text) for NUL bytes. */
+static ReadStatus gunzip_checked(char **buf, size_t *n, int text, const char *magic)
+{
+    unsigned char *out;
+    size_t n_out, nm = magic ? strlen(magic) : 0;
+    ReadStatus st = gzip_inflate((const unsigned char *)*buf, *n, READ_MAX_BYTES, &out, &n_out);
+    free(*buf);
+    *buf = (char *)out;
+    *n = n_out;
+    if (st != READ_OK) return st;
+    if (magic && (n_out < nm || memcmp(out, magic, nm) != 0)) return READ_MAGIC;
+    if (text && memchr(out, '\0', n_out)) return READ_NUL;
+    return READ_OK;
+}
+
+char *read_whole_file_gz(const char *path, int flags, const char *magic, size_t *len,
+                         ReadStatus *st)
+{
+    char *buf = read_whole_file(path, flags | READ_GUNZIP, magic, len, st);
+    if (!buf || *len < 2 || (unsigned char)buf[0] != 0x1F || (unsigned char)buf[1] != 0x8B)
+        return buf;
+    *st = gunzip_checked(&buf, len, flags & READ_TEXT, magic);
+    if (*st == READ_OK) return buf;
+    free(buf);
+    *len = 0;
+    return NULL;
 }

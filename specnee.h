@@ -276,11 +276,11 @@ typedef struct { char msg[512]; } Error;
 void error_set(Error *e, const char *file, int line, const char *fmt, ...);
 
 /* A whole file in memory, NUL-terminated (scene text, PLY, spectrum files).  flags:
-   READ_TEXT refuses a NUL byte; READ_GUNZIP decompresses gzip data (first bytes
-   1F 8B: pbrt-v4's .pbrt.gz and .ply.gz), which is otherwise refused at once.
-   Reading stops early where magic is not NULL and the (decompressed) first bytes
-   are not magic; never more than READ_MAX_BYTES, read or decompressed.  NULL and
-   *st on failure. */
+   READ_TEXT refuses a NUL byte; gzip data (first bytes 1F 8B) is refused at once,
+   unless READ_GUNZIP asks for it as it is (compressed; png.c's read_whole_file_gz
+   then inflates it: pbrt-v4's .pbrt.gz and .ply.gz).  Reading stops early where
+   magic is not NULL and the first bytes are not magic; never more than
+   READ_MAX_BYTES.  NULL and *st on failure. */
 #define READ_MAX_BYTES ((size_t)1 << 30)   /* @@ 1 GiB: largest input file read */
 #define READ_TEXT 1
 #define READ_GUNZIP 2
@@ -295,6 +295,11 @@ const char *read_status_text(ReadStatus st);   /* "not a text file (...)", ... *
    (png.c, next to its inflate): READ_OK, or a READ_GZ_ status (or READ_NOMEM). */
 ReadStatus gzip_inflate(const unsigned char *in, size_t n, size_t max_out, unsigned char **out,
                         size_t *n_out);
+/* read_whole_file for the files pbrt-v4 reads compressed (scene text, PLY): gzip
+   data is inflated (at most READ_MAX_BYTES), then checked against text and magic
+   as a plain file is (png.c). */
+char *read_whole_file_gz(const char *path, int flags, const char *magic, size_t *len,
+                         ReadStatus *st);
 
 /* ======================================================================
    4. Spectra (spectrum.c; the metals' data in metals.c, wavelength sampling in

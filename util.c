@@ -23,8 +23,9 @@
    - error_set: formats the one-line "file:line: problem" messages (bytes that
      are not printable text are escaped as \xNN).
    - read_whole_file: a whole file into memory, at most READ_MAX_BYTES, refusing
-     (for text) NUL bytes and gzip data as soon as they are read, unless told to
-     decompress gzip (png.c's gzip_inflate); read_status_text says why it refused. */
+     (for text) NUL bytes and gzip data as soon as they are read (gzip data is
+     returned compressed when asked for: png.c's read_whole_file_gz decompresses
+     it); read_status_text says why it refused. */
 #include "specnee.h"
 #include <stdarg.h>
 #include <stdlib.h>
@@ -350,22 +351,6 @@ const char *read_status_text(ReadStatus st)
     return "?";
 }
 
-/* The gzip file buf[0 .. *n) replaced by its data, then checked as a file read
-   plainly would be: its first bytes against magic, and (text) for NUL bytes. */
-static ReadStatus gunzip_checked(char **buf, size_t *n, int text, const char *magic)
-{
-    unsigned char *out;
-    size_t n_out, nm = magic ? strlen(magic) : 0;
-    ReadStatus st = gzip_inflate((const unsigned char *)*buf, *n, READ_MAX_BYTES, &out, &n_out);
-    free(*buf);
-    *buf = (char *)out;
-    *n = n_out;
-    if (st != READ_OK) return st;
-    if (magic && (n_out < nm || memcmp(out, magic, nm) != 0)) return READ_MAGIC;
-    if (text && memchr(out, '\0', n_out)) return READ_NUL;
-    return READ_OK;
-}
-
 char *read_whole_file(const char *path, int flags, const char *magic, size_t *len,
                       ReadStatus *st)
 {
@@ -396,7 +381,7 @@ char *read_whole_file(const char *path, int flags, const char *magic, size_t *le
         if (n < 2 && n + got >= 2 && (unsigned char)buf[0] == 0x1F
             && (unsigned char)buf[1] == 0x8B) {
             if (!(flags & READ_GUNZIP)) { *st = READ_GZIP; break; }
-            gz = 1;                    /* its data is checked once decompressed */
+            gz = 1;                    /* returned as it is: png.c decompresses and checks it */
         }
         if (!gz && n < nm && n + got >= nm && memcmp(buf, magic, nm) != 0) { *st = READ_MAGIC; break; }
         if (!gz && text && memchr(buf + n, '\0', got)) { *st = READ_NUL; break; }
@@ -408,7 +393,6 @@ char *read_whole_file(const char *path, int flags, const char *magic, size_t *le
         }
     }
     fclose(f);
-    if (*st == READ_OK && gz) *st = gunzip_checked(&buf, &n, text, magic);
     if (*st != READ_OK) { free(buf); return NULL; }
     if (!buf && !(buf = (char *)malloc(1))) { *st = READ_NOMEM; return NULL; }
     buf[n] = '\0';
