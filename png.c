@@ -228,7 +228,7 @@ static int inflate_stored(Inflate *z)
     if (len != (~nlen & 0xffffu)) { z->why = "stored block: LEN and NLEN disagree"; return 0; }
     if (z->n_in - z->pos < len) { z->why = "truncated deflate data"; return 0; }
     if (!room(z, len)) return 0;
-    memcpy(z->out + z->len, z->in + z->pos, len);
+    if (len > 0) memcpy(z->out + z->len, z->in + z->pos, len);   /* out may still be NULL */
     z->pos += len;
     z->len += len;
     return 1;
@@ -650,7 +650,7 @@ static ReadStatus gzip_member(Inflate *z)
     }
     if (z->n_in - z->pos < 8) return READ_GZ_TRUNC;
     size = z->len - z->base;
-    if (crc32_png(z->out + z->base, size) != le32(z->in + z->pos)) return READ_GZ_CRC;
+    if ((size ? crc32_png(z->out + z->base, size) : 0u) != le32(z->in + z->pos)) return READ_GZ_CRC;
     if ((uint32_t)size != le32(z->in + z->pos + 4)) return READ_GZ_SIZE;
     z->pos += 8;
     return READ_OK;
