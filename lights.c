@@ -407,7 +407,7 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
     if (em->inf) {
         /* a direction; the "point" lies beyond the scene's bounding sphere, so a
            shadow ray to it tests the whole way out */
-        if (!inf_sample(em, u1, u2, &out->wi, &out->pdf_sa)) return 0;
+        if (!inf_sample(em, ref, u1, u2, &out->wi, &out->pdf_sa)) return 0;
         (void)u0;
         out->dist = (float)(2.0 * em->inf->radius + v3_len(v3_sub(ref, em->inf->center)));
         out->p = v3_add(ref, v3_mul(out->wi, out->dist));
@@ -495,7 +495,7 @@ float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n)
     if (s->emitters[e].inf) {
         Vec3 d = v3_sub(p, ref);
         if (!(v3_dot(d, d) > 0.0f)) return 0.0f;
-        return inf_pdf(&s->emitters[e], v3_norm(d));
+        return inf_pdf(&s->emitters[e], ref, v3_norm(d));
     }
     if (s->emitters[e].shape >= 0 && s->shapes[s->emitters[e].shape].type == SHAPE_SPHERE) {
         double omc;

@@ -640,7 +640,8 @@ static Contribution emitter_found(Tracer *tr, const PathState *path, int e, cons
     /* the piece NEE would have had to choose to sample this point */
     piece = light_piece_of(R->ls, e, sp ? sp->prim : -1);
     if (prev->can_nee) {
-        pdf_sa = sp ? light_pdf_sa(R->ls, piece, prev->p, sp->p, sp->ng) : inf_pdf(&R->s->emitters[e], dir);
+        pdf_sa = sp ? light_pdf_sa(R->ls, piece, prev->p, sp->p, sp->ng)
+                    : inf_pdf(&R->s->emitters[e], prev->p, dir);
         q_nee = light_nee_pmf(R->ls, &prev->ctx, piece) * pdf_sa;
     }
     den = mis_denominator(prev->r, prev->q_bsdf, prev->T, prev->A, q_nee, prev->alive);
@@ -1088,9 +1089,11 @@ void trace_path(const Renderer *R, Ray ray, FilmSample *fs, PixelSample *ps, Cou
         HitRecord hit;
         Collision c;
         int i, at = next_vertex(&tr, depth, &ray, &path, &sp, &hit, &c);
-        if (at == ESCAPED) {          /* the infinite lights the ray sees */
+        if (at == ESCAPED) {          /* the infinite lights the ray sees (a portal light: through its portal) */
             Vec3 dir = v3_norm(ray.d);
-            for (i = 0; i < R->n_inf; i++) film_add(fs, emitter_found(&tr, &path, R->inf[i], NULL, dir));
+            for (i = 0; i < R->n_inf; i++)
+                if (inf_sees(&R->s->emitters[R->inf[i]], ray.o, dir))
+                    film_add(fs, emitter_found(&tr, &path, R->inf[i], NULL, dir));
             if (dbg && R->n_inf == 0) fprintf(dbg, "  escaped\n");
             return;
         }

@@ -40,8 +40,8 @@
      error, not a huge malloc: with files of at most READ_MAX_BYTES (1 GiB) the mesh
      then takes at most 3.5 GiB (12 bytes a face for the triangles' array, and 16
      for the quads' array, made at the first quad: 28 bytes a face of at least 8
-     bytes), within MEM_BUDGET_MIB.  The file is read whole (read_whole_file): a file that does not
-     start with "ply" (/dev/zero) or is gzip-compressed is refused at once.  Coordinates and normals must be finite; indices must lie
+     bytes), within MEM_BUDGET_MIB.  The file is read whole (read_whole_file_gz): a file that does not
+     start with "ply" (/dev/zero) is refused at once; gzip data (.ply.gz) is decompressed first.  Coordinates and normals must be finite; indices must lie
      in [0, vertex count).
 
    USE
@@ -636,7 +636,7 @@ int ply_read(const char *path, PlyMesh *m, Error *err)
     memset(&rd, 0, sizeof rd);
     rd.path = path;
     rd.err = err;
-    rd.data = (unsigned char *)read_whole_file(path, 0, "ply", &rd.size, &rs);
+    rd.data = (unsigned char *)read_whole_file_gz(path, 0, "ply", &rd.size, &rs);
     if (!rd.data) {
         if (rs == READ_MAGIC && rd.size == 0)
             error_set(err, path, 1, "not a PLY file (no 'ply' magic line)");

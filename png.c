@@ -1,7 +1,9 @@
 /* png.c - a small PNG reader with its own inflate, for image textures.
 
    Exported (specnee.h section 10): png_read_memory, png_read, zlib_inflate (the
-   inflate below, which exr.c also reads its ZIP blocks with).
+   inflate below, which exr.c also reads its ZIP blocks with); gzip_inflate
+   and read_whole_file_gz (specnee.h section 3: the gzip container around the
+   same inflate, which scene.c and ply.c open .pbrt.gz and .ply.gz files with).
 
    WHAT IT READS (the PNG specification, W3C 2003 / RFC 2083)
      The 8-byte signature, then chunks: length (4 bytes, big-endian, < 2^31),
@@ -47,6 +49,24 @@
      the lengths one bit at a time (count[len] codes of each length; as in Mark
      Adler's teaching decoder "puff", written here anew).
 
+   THE GZIP FILE (RFC 1952)
+     One or more members, back to back, their data concatenated.  A member is
+       1F 8B, CM = 8 (deflate), FLG, MTIME (4 bytes), XFL, OS,
+       if FLG & 4 (FEXTRA): XLEN (2 bytes) and XLEN bytes of extra fields,
+       if FLG & 8 (FNAME): the original name, zero-terminated,
+       if FLG & 16 (FCOMMENT): a comment, zero-terminated,
+       if FLG & 2 (FHCRC): the low 16 bits of the CRC-32 of the header so far,
+       the deflate blocks (as above, without zlib's header and Adler-32),
+       CRC-32 of the member's data and ISIZE, its length mod 2^32 (4 bytes each);
+     all numbers little-endian.  FLG bits 5-7 are reserved: set, they are an
+     error, as are bytes after a member that do not start a member, a wrong CRC-32
+     (of the data or of the header) and a wrong ISIZE.  Back-references stay
+     inside their member.  The output grows by doubling up to a limit (1 GiB for
+     files, READ_MAX_BYTES), which keeps a small "gzip bomb" from taking the
+     machine.  pbrt-v4 reads a .pbrt.gz scene, Include or Import, and a .ply.gz
+     mesh (chosen by the name); specnee decompresses where the first two bytes
+     are 1F 8B, whatever the name, in those two readers only.
+
    HOSTILE INPUT.  Every read is bounds-checked (running out of bytes is
    "truncated"); the output size is known from IHDR, and a stream that would write
    more (or less) is an error; over-subscribed codes, missing end-of-block codes,
@@ -75,6 +95,8 @@ typedef struct {
     const unsigned char *in; size_t n_in, pos;   /* the compressed bytes and the next one */
     uint32_t bitbuf; int bitcnt;                  /* bits read but not yet used */
     unsigned char *out; size_t n_out, len;        /* the output buffer, bytes written */
+    size_t base;                                  /* where this stream's output starts */
+    size_t max_out;                               /* > 0: out is malloc'd and grows to this */
     const char *why;                              /* the error, NULL while fine */
 } Inflate;
 
@@ -136,9 +158,26 @@ static int decode(Inflate *z, const Huffman *h)
     return -1;
 }
 
+/* Room for k more output bytes.  A fixed buffer (PNG, EXR: the size is known)
+   has it or the data is too long; a growing one (gzip) doubles, up to max_out. */
+static int room(Inflate *z, size_t k)
+{
+    size_t cap = z->n_out < 65536 ? 65536 : z->n_out;
+    unsigned char *nb;
+    if (k <= z->n_out - z->len) return 1;
+    if (z->max_out == 0) { z->why = "more data than the image needs"; return 0; }
+    if (k > z->max_out - z->len) { z->why = "uncompressed data larger than the limit"; return 0; }
+    while (cap - z->len < k) cap = cap > z->max_out / 2 ? z->max_out : 2 * cap;
+    nb = (unsigned char *)realloc(z->out, cap + 1);     /* + 1: room for a closing NUL */
+    if (!nb) { z->why = "out of memory"; return 0; }
+    z->out = nb;
+    z->n_out = cap;
+    return 1;
+}
+
 static int put_byte(Inflate *z, unsigned char b)
 {
-    if (z->len >= z->n_out) { z->why = "more data than the image needs"; return 0; }
+    if (z->len >= z->n_out && !room(z, 1)) return 0;
     z->out[z->len++] = b;
     return 1;
 }
@@ -169,8 +208,8 @@ static int inflate_codes(Inflate *z, const Huffman *lit, const Huffman *dist)
         if (sym >= 30) { z->why = "invalid distance symbol"; return 0; }
         distance = (size_t)dist_base[sym] + get_bits(z, dist_extra[sym]);
         if (z->why) return 0;
-        if (distance > z->len) { z->why = "distance beyond the start of the data"; return 0; }
-        if (length > z->n_out - z->len) { z->why = "more data than the image needs"; return 0; }
+        if (distance > z->len - z->base) { z->why = "distance beyond the start of the data"; return 0; }
+        if (!room(z, length)) return 0;
         while (length-- > 0) {           /* byte by byte: the copy may overlap itself */
             z->out[z->len] = z->out[z->len - distance];
             z->len++;
@@ -188,8 +227,8 @@ static int inflate_stored(Inflate *z)
     z->pos += 4;
     if (len != (~nlen & 0xffffu)) { z->why = "stored block: LEN and NLEN disagree"; return 0; }
     if (z->n_in - z->pos < len) { z->why = "truncated deflate data"; return 0; }
-    if (len > z->n_out - z->len) { z->why = "more data than the image needs"; return 0; }
-    memcpy(z->out + z->len, z->in + z->pos, len);
+    if (!room(z, len)) return 0;
+    if (len > 0) memcpy(z->out + z->len, z->in + z->pos, len);   /* out may still be NULL */
     z->pos += len;
     z->len += len;
     return 1;
@@ -254,6 +293,24 @@ static int inflate_dynamic(Inflate *z)
     return inflate_codes(z, &lit, &dist);
 }
 
+/* The deflate blocks from z->pos up to the one marked last; nonzero on error (z->why). */
+static int inflate_blocks(Inflate *z)
+{
+    int last;
+    do {
+        int type;
+        last = (int)get_bits(z, 1);
+        type = (int)get_bits(z, 2);
+        if (z->why) return 1;
+        if (type == 0) inflate_stored(z);
+        else if (type == 1) inflate_fixed(z);
+        else if (type == 2) inflate_dynamic(z);
+        else z->why = "invalid deflate block type 3";
+        if (z->why) return 1;
+    } while (!last);
+    return 0;
+}
+
 /* The zlib stream in[0 .. n_in) into out[0 .. n_out), which it must fill exactly.
    NULL on success, else what is wrong.  Also exr.c's, for ZIP blocks. */
 const char *zlib_inflate(const unsigned char *in, size_t n_in, unsigned char *out, size_t n_out)
@@ -261,7 +318,6 @@ const char *zlib_inflate(const unsigned char *in, size_t n_in, unsigned char *ou
     Inflate z;
     uint32_t s1 = 1, s2 = 0, adler;
     size_t i;
-    int last;
     memset(&z, 0, sizeof z);
     z.in = in; z.n_in = n_in; z.out = out; z.n_out = n_out;
     if (n_in < 2) return "truncated zlib stream";
@@ -269,17 +325,7 @@ const char *zlib_inflate(const unsigned char *in, size_t n_in, unsigned char *ou
     if (((unsigned)in[0] << 8 | in[1]) % 31 != 0) return "zlib stream: bad header check";
     if (in[1] & 0x20) return "zlib stream: a preset dictionary (not allowed in PNG)";
     z.pos = 2;
-    do {
-        int type;
-        last = (int)get_bits(&z, 1);
-        type = (int)get_bits(&z, 2);
-        if (z.why) return z.why;
-        if (type == 0) inflate_stored(&z);
-        else if (type == 1) inflate_fixed(&z);
-        else if (type == 2) inflate_dynamic(&z);
-        else z.why = "invalid deflate block type 3";
-        if (z.why) return z.why;
-    } while (!last);
+    if (inflate_blocks(&z)) return z.why;
     if (z.len != n_out) return "less data than the image needs";
     if (z.n_in - z.pos < 4) return "truncated zlib stream (no Adler-32)";
     for (i = 0; i < n_out; i++) {
@@ -299,17 +345,21 @@ static uint32_t be32(const unsigned char *p)
     return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
 }
 
-/* CRC-32 of the PNG spec (annex D), bit by bit: slow and short; PNG files for
-   textures are small next to a render. */
+/* CRC-32 of ISO 3309 (PNG annex D, RFC 1952 section 8), PNG's and gzip's: the
+   256-entry table of the reflected polynomial 0xEDB88320 is made on each call (2K
+   steps), then one lookup per byte. */
 static uint32_t crc32_png(const unsigned char *p, size_t n)
 {
-    uint32_t c = 0xffffffffu;
+    uint32_t table[256], c;
     size_t i;
     int k;
-    for (i = 0; i < n; i++) {
-        c ^= p[i];
+    for (i = 0; i < 256; i++) {
+        c = (uint32_t)i;
         for (k = 0; k < 8; k++) c = (c & 1u) ? 0xedb88320u ^ (c >> 1) : c >> 1;
+        table[i] = c;
     }
+    c = 0xffffffffu;
+    for (i = 0; i < n; i++) c = table[(c ^ p[i]) & 0xffu] ^ (c >> 8);
     return c ^ 0xffffffffu;
 }
 
@@ -536,4 +586,121 @@ int png_read(Image *im, const char *path, int linear, Error *err)
     ok = png_read_memory((const unsigned char *)buf, len, path, linear, im, err);
     free(buf);
     return ok;
+}
+
+/* ---------------------------------------------------------------- gzip */
+
+/* The header of the member at in[*pos] (RFC 1952 section 2.3); *pos moves to its
+   deflate data.  FLG bits: 1 FTEXT (a hint, ignored), 2 FHCRC, 4 FEXTRA, 8 FNAME,
+   16 FCOMMENT; bits 5-7 are reserved and must be zero. */
+static ReadStatus gzip_header(const unsigned char *in, size_t n, size_t *pos)
+{
+    size_t p = *pos, start = *pos;
+    unsigned flg;
+    int field;
+    if (n - p == 0) return READ_GZ_TRUNC;
+    if (in[p] != 0x1F || (n - p >= 2 && in[p + 1] != 0x8B)) return READ_GZ_HEADER;
+    if (n - p < 10) return READ_GZ_TRUNC;
+    if (in[p + 2] != 8) return READ_GZ_HEADER;
+    flg = in[p + 3];
+    if (flg & 0xE0u) return READ_GZ_HEADER;
+    p += 10;                           /* ID1 ID2 CM FLG, MTIME (4), XFL, OS */
+    if (flg & 4u) {                    /* FEXTRA: XLEN (2 bytes, little-endian), then XLEN bytes */
+        size_t xlen;
+        if (n - p < 2) return READ_GZ_TRUNC;
+        xlen = in[p] | (size_t)in[p + 1] << 8;
+        if (n - p - 2 < xlen) return READ_GZ_TRUNC;
+        p += 2 + xlen;
+    }
+    for (field = 8; field <= 16; field *= 2)   /* FNAME, FCOMMENT: zero-terminated */
+        if (flg & (unsigned)field) {
+            const unsigned char *end = (const unsigned char *)memchr(in + p, 0, n - p);
+            if (!end) return READ_GZ_TRUNC;
+            p = (size_t)(end - in) + 1;
+        }
+    if (flg & 2u) {                    /* FHCRC: the low 16 bits of the header's CRC-32 */
+        if (n - p < 2) return READ_GZ_TRUNC;
+        if ((crc32_png(in + start, p - start) & 0xFFFFu) != (in[p] | (uint32_t)in[p + 1] << 8))
+            return READ_GZ_CRC;
+        p += 2;
+    }
+    *pos = p;
+    return READ_OK;
+}
+
+static uint32_t le32(const unsigned char *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+/* One member: its header, deflate data appended to z's output, and its trailer
+   CRC-32 and ISIZE (the member's length mod 2^32), both checked. */
+static ReadStatus gzip_member(Inflate *z)
+{
+    ReadStatus st = gzip_header(z->in, z->n_in, &z->pos);
+    size_t size;
+    if (st != READ_OK) return st;
+    z->base = z->len;                  /* back-references stay inside the member */
+    z->bitbuf = 0; z->bitcnt = 0;
+    if (inflate_blocks(z)) {
+        if (!strcmp(z->why, "truncated deflate data")) return READ_GZ_TRUNC;
+        if (!strcmp(z->why, "out of memory")) return READ_NOMEM;
+        if (!strcmp(z->why, "uncompressed data larger than the limit")) return READ_GZ_BIG;
+        return READ_GZ_DATA;
+    }
+    if (z->n_in - z->pos < 8) return READ_GZ_TRUNC;
+    size = z->len - z->base;
+    if ((size ? crc32_png(z->out + z->base, size) : 0u) != le32(z->in + z->pos)) return READ_GZ_CRC;
+    if ((uint32_t)size != le32(z->in + z->pos + 4)) return READ_GZ_SIZE;
+    z->pos += 8;
+    return READ_OK;
+}
+
+/* A gzip file: one or more members, their data concatenated (RFC 1952 section 2.2). */
+ReadStatus gzip_inflate(const unsigned char *in, size_t n, size_t max_out, unsigned char **out,
+                        size_t *n_out)
+{
+    Inflate z;
+    ReadStatus st = READ_OK;
+    memset(&z, 0, sizeof z);
+    z.in = in; z.n_in = n; z.max_out = max_out;
+    *out = NULL;
+    *n_out = 0;
+    do st = gzip_member(&z);
+    while (st == READ_OK && z.pos < n);
+    if (st == READ_OK && !z.out && !(z.out = (unsigned char *)malloc(1))) st = READ_NOMEM;
+    if (st != READ_OK) { free(z.out); return st; }
+    z.out[z.len] = '\0';
+    *out = z.out;
+    *n_out = z.len;
+    return READ_OK;
+}
+
+/* The gzip data buf[0 .. *n) replaced by what it holds, then checked as a file
+   read plainly would be: its first bytes against magic, and (text) for NUL bytes. */
+static ReadStatus gunzip_checked(char **buf, size_t *n, int text, const char *magic)
+{
+    unsigned char *out;
+    size_t n_out, nm = magic ? strlen(magic) : 0;
+    ReadStatus st = gzip_inflate((const unsigned char *)*buf, *n, READ_MAX_BYTES, &out, &n_out);
+    free(*buf);
+    *buf = (char *)out;
+    *n = n_out;
+    if (st != READ_OK) return st;
+    if (magic && (n_out < nm || memcmp(out, magic, nm) != 0)) return READ_MAGIC;
+    if (text && memchr(out, '\0', n_out)) return READ_NUL;
+    return READ_OK;
+}
+
+char *read_whole_file_gz(const char *path, int flags, const char *magic, size_t *len,
+                         ReadStatus *st)
+{
+    char *buf = read_whole_file(path, flags | READ_GUNZIP, magic, len, st);
+    if (!buf || *len < 2 || (unsigned char)buf[0] != 0x1F || (unsigned char)buf[1] != 0x8B)
+        return buf;
+    *st = gunzip_checked(&buf, len, flags & READ_TEXT, magic);
+    if (*st == READ_OK) return buf;
+    free(buf);
+    *len = 0;
+    return NULL;
 }

@@ -323,7 +323,7 @@ static int include_directive(Parser *P, Lexer *L, const Token *dir, int is_impor
                     "run in one scene (files that include each other repeatedly?)",
                     d, t.text, MAX_INCLUDES);
     resolve_path(P, t.file, t.text, path, sizeof path);
-    buf = read_whole_file(path, 1, NULL, &len, &rs);
+    buf = read_whole_file_gz(path, READ_TEXT, NULL, &len, &rs);
     if (!buf) {
         if (rs == READ_OPEN)
             return fail(P, dir->file, dir->line, "%s \"%s\": cannot read \"%s\"", d, t.text, path);
@@ -1169,7 +1169,7 @@ int scene_load_as(Scene *s, const char *path, const char *output, Error *err)
     int ok;
     memset(s, 0, sizeof *s);
     settings_default(&s->settings);
-    buf = read_whole_file(path, 1, NULL, &len, &rs);
+    buf = read_whole_file_gz(path, READ_TEXT, NULL, &len, &rs);
     if (!buf) {
         error_set(err, path, 0, "%s", rs == READ_OPEN ? "cannot read the scene file"
                   : read_status_text(rs));

@@ -275,16 +275,31 @@ typedef struct { char msg[512]; } Error;
 /* Control bytes and bytes that are not UTF-8 are written as \xNN: one printable line. */
 void error_set(Error *e, const char *file, int line, const char *fmt, ...);
 
-/* A whole file in memory, NUL-terminated (scene text, PLY, spectrum files).  Reading
-   stops early at gzip data (pbrt-v4 reads .gz, the subset does not), when text is
-   set at a NUL byte, and when magic is not NULL at first bytes other than magic;
-   never more than READ_MAX_BYTES.  NULL and *st on failure. */
+/* A whole file in memory, NUL-terminated (scene text, PLY, spectrum files).  flags:
+   READ_TEXT refuses a NUL byte; gzip data (first bytes 1F 8B) is refused at once,
+   unless READ_GUNZIP asks for it as it is (compressed; png.c's read_whole_file_gz
+   then inflates it: pbrt-v4's .pbrt.gz and .ply.gz).  Reading stops early where
+   magic is not NULL and the first bytes are not magic; never more than
+   READ_MAX_BYTES.  NULL and *st on failure. */
 #define READ_MAX_BYTES ((size_t)1 << 30)   /* @@ 1 GiB: largest input file read */
+#define READ_TEXT 1
+#define READ_GUNZIP 2
 typedef enum { READ_OK, READ_OPEN, READ_IO, READ_NOMEM, READ_TOO_BIG, READ_GZIP,
-               READ_NUL, READ_MAGIC } ReadStatus;
-char *read_whole_file(const char *path, int text, const char *magic, size_t *len,
+               READ_NUL, READ_MAGIC, READ_GZ_TRUNC, READ_GZ_HEADER, READ_GZ_DATA,
+               READ_GZ_CRC, READ_GZ_SIZE, READ_GZ_BIG } ReadStatus;
+char *read_whole_file(const char *path, int flags, const char *magic, size_t *len,
                       ReadStatus *st);
 const char *read_status_text(ReadStatus st);   /* "not a text file (...)", ... */
+/* A gzip file in[0 .. n) (RFC 1952: members with their CRC-32 and ISIZE checked)
+   inflated into a new buffer *out of *n_out bytes and a NUL, at most max_out bytes
+   (png.c, next to its inflate): READ_OK, or a READ_GZ_ status (or READ_NOMEM). */
+ReadStatus gzip_inflate(const unsigned char *in, size_t n, size_t max_out, unsigned char **out,
+                        size_t *n_out);
+/* read_whole_file for the files pbrt-v4 reads compressed (scene text, PLY): gzip
+   data is inflated (at most READ_MAX_BYTES), then checked against text and magic
+   as a plain file is (png.c). */
+char *read_whole_file_gz(const char *path, int flags, const char *magic, size_t *len,
+                         ReadStatus *st);
 
 /* ======================================================================
    4. Spectra (spectrum.c; the metals' data in metals.c, wavelength sampling in
@@ -1104,6 +1119,14 @@ typedef struct {
     Vec3 center; double radius;/* the scene's bounding sphere (power, NEE points) */
     Spectrum mean;             /* image map: the RGB illuminant spectrum of its mean colour
                                   (selection weights only) */
+    /* A portal (pbrt-v4's PortalImageInfiniteLight, infinite.c section 4): light
+       arrives only through the rectangle portal_p[0..3] (world space), and texel[]
+       holds the map resampled onto the portal's rectified directions (u, v). */
+    int portal;                /* 1: a portal light */
+    Vec3 portal_p[4];          /* its corners, as given */
+    Frame portal_frame;        /* s = p3 - p0, t = p1 - p0 (unit), n = s x t: towards the sky */
+    double *sat;               /* (res + 1)^2 summed-area table of the rectified sampling
+                                  weights (each texel's mean R, G, B times dw/d(u,v)) */
     const char *file; int line;/* the LightSource directive, for messages */
 } InfiniteLight;
 
@@ -1465,10 +1488,15 @@ float emitter_alpha(const Scene *s, int e);
    normalised radiance (constant light), k = scale / sum_{lo..hi} ybar L, the
    factor that turns an image map's texel spectrum into radiance. */
 float inf_Le(const Emitter *em, const Spectrum *Le, double k, Vec3 dir, float lambda_nm);
-float inf_pdf(const Emitter *em, Vec3 dir);
+/* ref: the point that looks (a portal light's pdf depends on where the portal is seen
+   from; other infinite lights ignore it). */
+float inf_pdf(const Emitter *em, Vec3 ref, Vec3 dir);
 /* A direction with density inf_pdf (piecewise constant over texels; uniform for a
-   constant light); 0 if none. */
-int   inf_sample(const Emitter *em, float u1, float u2, Vec3 *dir, float *pdf);
+   constant light; a portal light's inside the portal as seen from ref); 0 if none. */
+int   inf_sample(const Emitter *em, Vec3 ref, float u1, float u2, Vec3 *dir, float *pdf);
+/* 1 if a ray from o along dir can receive the light: always, except for a portal
+   light, whose radiance arrives only through its portal (inf_Le does not check). */
+int   inf_sees(const Emitter *em, Vec3 o, Vec3 dir);
 /* pbrt-v4's equal-area octahedral map (Clarberg 2008): the unit square <-> the
    unit sphere, +z at the centre, -z at the corners. */
 Vec3  equal_area_square_to_sphere(float u, float v);

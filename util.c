@@ -23,8 +23,9 @@
    - error_set: formats the one-line "file:line: problem" messages (bytes that
      are not printable text are escaped as \xNN).
    - read_whole_file: a whole file into memory, at most READ_MAX_BYTES, refusing
-     gzip data and (for text) NUL bytes as soon as they are read; read_status_text
-     says why it refused. */
+     (for text) NUL bytes and gzip data as soon as they are read (gzip data is
+     returned compressed when asked for: png.c's read_whole_file_gz decompresses
+     it); read_status_text says why it refused. */
 #include "specnee.h"
 #include <stdarg.h>
 #include <stdlib.h>
@@ -339,14 +340,22 @@ const char *read_status_text(ReadStatus st)
                            "the result)";
     case READ_NUL: return "not a text file (it contains NUL bytes)";
     case READ_MAGIC: return "not the expected file format (wrong first bytes)";
+    case READ_GZ_TRUNC: return "gzip: truncated compressed data";
+    case READ_GZ_HEADER: return "gzip: bad member header (not deflate, reserved flag bits set, "
+                                "or bytes after a member that are not a gzip member)";
+    case READ_GZ_DATA: return "gzip: corrupt deflate data";
+    case READ_GZ_CRC: return "gzip: CRC-32 mismatch (corrupt data)";
+    case READ_GZ_SIZE: return "gzip: ISIZE mismatch (corrupt data)";
+    case READ_GZ_BIG: return "gzip: uncompressed data larger than 1 GiB (READ_MAX_BYTES)";
     }
     return "?";
 }
 
-char *read_whole_file(const char *path, int text, const char *magic, size_t *len,
+char *read_whole_file(const char *path, int flags, const char *magic, size_t *len,
                       ReadStatus *st)
 {
     size_t nm = magic ? strlen(magic) : 0;
+    int text = flags & READ_TEXT, gz = 0;
     FILE *f;
     char *buf = NULL;
     size_t n = 0, cap = 0;
@@ -370,13 +379,16 @@ char *read_whole_file(const char *path, int text, const char *magic, size_t *len
         /* what the first bytes say is checked as soon as they arrive, so that
            /dev/zero or a compressed file is refused without reading it whole */
         if (n < 2 && n + got >= 2 && (unsigned char)buf[0] == 0x1F
-            && (unsigned char)buf[1] == 0x8B) { *st = READ_GZIP; break; }
-        if (n < nm && n + got >= nm && memcmp(buf, magic, nm) != 0) { *st = READ_MAGIC; break; }
-        if (text && memchr(buf + n, '\0', got)) { *st = READ_NUL; break; }
+            && (unsigned char)buf[1] == 0x8B) {
+            if (!(flags & READ_GUNZIP)) { *st = READ_GZIP; break; }
+            gz = 1;                    /* returned as it is: png.c decompresses and checks it */
+        }
+        if (!gz && n < nm && n + got >= nm && memcmp(buf, magic, nm) != 0) { *st = READ_MAGIC; break; }
+        if (!gz && text && memchr(buf + n, '\0', got)) { *st = READ_NUL; break; }
         n += got;
         if (got == 0) {
             if (ferror(f)) *st = READ_IO;
-            else if (n < nm) *st = READ_MAGIC;
+            else if (n < nm && !gz) *st = READ_MAGIC;
             break;
         }
     }

@@ -27,6 +27,8 @@
                holds: the reader keeps them as stored)
      nvdb      a NanoVDB file, its "density" grid read from memory; a grid that
                loads must give finite lookups and a finite majorant over its bounds
+     gzip      a gzip file (the container of .pbrt.gz and .ply.gz), inflated from
+               memory with a 16 MiB limit; a result is NUL-terminated
 
    Files go to the directory tmpdir (the drivers give each process its own). */
 #include "../specnee.h"
@@ -224,6 +226,22 @@ static int fuzz_exr(const unsigned char *data, size_t n, Error *e)
     return 0;
 }
 
+static int fuzz_gzip(const unsigned char *data, size_t n, Error *e)
+{
+    unsigned char *out;
+    size_t n_out;
+    ReadStatus st = gzip_inflate(data, n, (size_t)1 << 24, &out, &n_out);
+    if (st != READ_OK) {
+        if (out) abort();
+        error_set(e, "fuzz-input.gz", 0, "%s", read_status_text(st));
+        check_message(e);
+        return 0;
+    }
+    if (n_out > ((size_t)1 << 24) || out[n_out] != '\0') abort();
+    free(out);
+    return 1;
+}
+
 /* Returns 1 when the input was accepted, 0 when it was refused (e->msg says why),
    -1 for an unknown target. */
 static int fuzz_nvdb(const unsigned char *data, size_t n, Error *e)
@@ -266,5 +284,6 @@ int fuzz_run(const char *target, const unsigned char *data, size_t n, const char
     if (!strcmp(target, "png")) return fuzz_png(data, n, e);
     if (!strcmp(target, "exr")) return fuzz_exr(data, n, e);
     if (!strcmp(target, "nvdb")) return fuzz_nvdb(data, n, e);
+    if (!strcmp(target, "gzip")) return fuzz_gzip(data, n, e);
     return -1;
 }

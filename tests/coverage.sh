@@ -105,6 +105,7 @@ scenes() {
         ov["float imagemap|string filename"] = "\"" root "/fuzz/seeds/pfm/rgb.pfm\""
         ov["spectrum imagemap|string filename"] = ov["float imagemap|string filename"]
         ov["infinite|string filename"] = ov["float imagemap|string filename"]
+        ov["infinite|point3 portal"] = "[ -0.5 2 -0.5  0.5 2 -0.5  0.5 2 0.5  -0.5 2 0.5 ] \"rgb L\" [ 1 1 1 ]"
         ov["perspective|float screenwindow"] = "[ -1 1 -1 1 ]"
         ov["rgb|float cropwindow"] = "[ 0 1 0 1 ]"; ov["rgb|integer pixelbounds"] = "[ 0 4 0 4 ]"
         ov["gbuffer|float cropwindow"] = "[ 0 1 0 1 ]"; ov["gbuffer|integer pixelbounds"] = "[ 0 4 0 4 ]"

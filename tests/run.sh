@@ -120,6 +120,9 @@ expect "cli_bad_spp" 2 "positive integer" ./specnee --spp 0 scenes/cornell.pbrt
 expect "cli_missing_file" 1 "nonexistent.pbrt" ./specnee tests/tmp/nonexistent.pbrt
 printf 'WorldBegin\nShape "sphere" "float radius" [ 1 ]\nFrobnicate 3\n' > tests/tmp/bad.pbrt
 expect "cli_bad_directive" 1 "bad.pbrt:3:" ./specnee tests/tmp/bad.pbrt
+# gzip: a .pbrt.gz renders (it Includes a .pbrt.gz and reads a .ply.gz); a damaged one is refused
+expect "cli_gzip_scene" 0 "samples/s" ./specnee tests/data/gz/room.pbrt.gz -o tests/tmp/gz.pfm
+expect "cli_gzip_bad_crc" 1 "bad-crc.pbrt.gz: gzip: CRC-32 mismatch" ./specnee fuzz/seeds/gzip/bad-crc.pbrt.gz -o tests/tmp/gz.pfm
 printf 'Film "rgb" "integer xresolution" 4 "integer yresolution" 4\nWorldBegin\nShape "sphere"\n' > tests/tmp/nolight.pbrt
 expect "cli_no_lights_warns" 0 "nolight.pbrt: warning: no light sources" ./specnee -q tests/tmp/nolight.pbrt -o tests/tmp/nolight.pfm
 ./specnee -q scenes/cornell.pbrt --spp 1 --res 4x4 -o tests/tmp/lit.pfm 2> tests/tmp/lit.txt
@@ -380,7 +383,7 @@ else
 fi
 expect "robust_res_budget" 2 "memory budget" ./specnee --res 16384x16384 scenes/cornell.pbrt
 # every input that ever crashed a fuzz target (fuzz/regress) and the fuzz seeds
-for t in scene ply pfm spectrum png exr nvdb; do
+for t in scene ply pfm spectrum png exr nvdb gzip; do
     mkdir -p tests/tmp/replay-$t
     counted replay-$t fuzz/replay $t tests/tmp/replay-$t fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)
 done
@@ -523,7 +526,7 @@ if [ "$full" = 1 ]; then
         replay_rc=$?
         cat "$log.replay-asan" >> "$log"
         if [ $replay_rc -eq 0 ]; then
-            for t in scene ply pfm spectrum png exr nvdb; do
+            for t in scene ply pfm spectrum png exr nvdb gzip; do
                 counted replay-asan-$t env ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
                     UBSAN_OPTIONS=print_stacktrace=1 build/replay-asan $t tests/tmp/replay-$t \
                     fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)

@@ -401,10 +401,227 @@ static void test_png_corruption_sweep(T *t)
     CHECK(t, refused_n > 0 && decoded > 0, "sweep: %ld refused, %ld decoded", refused_n, decoded);
 }
 
+/* ==== gzip (RFC 1952): members crafted here, around a stored block or hand-made
+   fixed-Huffman bits; and the .pbrt.gz / .ply.gz twins of tests/data/gz ==== */
+
+static void t_le32(unsigned char *p, uint32_t v)
+{
+    p[0] = (unsigned char)v; p[1] = (unsigned char)(v >> 8);
+    p[2] = (unsigned char)(v >> 16); p[3] = (unsigned char)(v >> 24);
+}
+
+/* The header of a member with the optional fields flg names (FHCRC 2, FEXTRA 4,
+   FNAME 8, FCOMMENT 16) at out; its length. */
+static size_t t_gz_header(unsigned char *out, unsigned flg)
+{
+    static const unsigned char fixed[10] = { 0x1F, 0x8B, 8, 0, 1, 2, 3, 4, 2, 3 };
+    size_t n = 10;
+    memcpy(out, fixed, 10);
+    out[3] = (unsigned char)flg;
+    if (flg & 4u) { memcpy(out + n, "\x06\x00" "ab\x02\x00xy", 8); n += 8; }
+    if (flg & 8u) { memcpy(out + n, "name.pbrt", 10); n += 10; }
+    if (flg & 16u) { memcpy(out + n, "a comment", 10); n += 10; }
+    if (flg & 2u) {
+        uint32_t c = t_crc(out, n);
+        out[n] = (unsigned char)c; out[n + 1] = (unsigned char)(c >> 8);
+        n += 2;
+    }
+    return n;
+}
+
+/* A whole member of d[0 .. nd) in one stored block; its length. */
+static size_t t_gz_member(unsigned char *out, const char *d, size_t nd, unsigned flg)
+{
+    size_t n = t_gz_header(out, flg);
+    out[n] = 1;                                    /* BFINAL 1, BTYPE 00: stored */
+    out[n + 1] = (unsigned char)nd; out[n + 2] = (unsigned char)(nd >> 8);
+    out[n + 3] = (unsigned char)~nd; out[n + 4] = (unsigned char)(~nd >> 8);
+    memcpy(out + n + 5, d, nd);
+    n += 5 + nd;
+    t_le32(out + n, t_crc((const unsigned char *)d, nd));
+    t_le32(out + n + 4, (uint32_t)nd);
+    return n + 8;
+}
+
+/* gzip_inflate of in[0 .. n) must give status want and, when READ_OK, the bytes
+   expect (and a NUL after them). */
+static int gz_is(T *t, const unsigned char *in, size_t n, ReadStatus want, const char *expect,
+                 const char *what)
+{
+    unsigned char *out = NULL;
+    size_t n_out = 0;
+    ReadStatus st = gzip_inflate(in, n, 1u << 20, &out, &n_out);
+    int ok = st == want;
+    if (ok && st == READ_OK)
+        ok = n_out == strlen(expect) && !memcmp(out, expect, n_out) && out[n_out] == '\0';
+    if (!ok)
+        test_failf(t, __FILE__, __LINE__, "%s: status %d (%s), %lu bytes; expected %d (%s)", what,
+                   (int)st, read_status_text(st), (unsigned long)n_out, (int)want,
+                   read_status_text(want));
+    free(out);
+    return ok;
+}
+
+/* Every combination of the optional header fields is skipped (FHCRC checked);
+   members concatenate; an empty member is empty. */
+static void test_gzip_members(T *t)
+{
+    static unsigned char buf[512];
+    unsigned flg;
+    size_t n;
+    char what[64];
+    for (flg = 0; flg < 32; flg += 2) {            /* FTEXT (1) is a hint, left out */
+        n = t_gz_member(buf, "hello gzip", 10, flg);
+        snprintf(what, sizeof what, "FLG 0x%02x", flg);
+        if (!gz_is(t, buf, n, READ_OK, "hello gzip", what)) return;
+    }
+    n = t_gz_member(buf, "hello ", 6, 8u);
+    n += t_gz_member(buf + n, "", 0, 0u);
+    n += t_gz_member(buf + n, "gzip", 4, 30u);
+    if (!gz_is(t, buf, n, READ_OK, "hello gzip", "three members")) return;
+    n = t_gz_member(buf, "", 0, 0u);
+    if (!gz_is(t, buf, n, READ_OK, "", "one empty member")) return;
+}
+
+/* Damaged members: each refused with the status that names the damage; every
+   truncation is "truncated". */
+static void test_gzip_malformed(T *t)
+{
+    static unsigned char buf[512];
+    unsigned char *out;
+    size_t n, cut, n_out;
+    Bits w;
+    n = t_gz_member(buf, "hello gzip", 10, 30u);
+    buf[n - 8] ^= 1;                               /* the data's CRC-32 */
+    if (!gz_is(t, buf, n, READ_GZ_CRC, "", "CRC-32 of the data")) return;
+    n = t_gz_member(buf, "hello gzip", 10, 30u);
+    buf[n - 4] ^= 1;                               /* ISIZE */
+    if (!gz_is(t, buf, n, READ_GZ_SIZE, "", "ISIZE")) return;
+    n = t_gz_member(buf, "hello gzip", 10, 2u);
+    buf[10] ^= 1;                                  /* the header's CRC-16 */
+    if (!gz_is(t, buf, n, READ_GZ_CRC, "", "header CRC")) return;
+    n = t_gz_member(buf, "hello gzip", 10, 0u);
+    buf[2] = 7;                                    /* CM 7: not deflate */
+    if (!gz_is(t, buf, n, READ_GZ_HEADER, "", "CM 7")) return;
+    n = t_gz_member(buf, "hello gzip", 10, 0u);
+    buf[3] = 0x20;                                 /* a reserved flag bit */
+    if (!gz_is(t, buf, n, READ_GZ_HEADER, "", "reserved FLG bit")) return;
+    n = t_gz_member(buf, "hello gzip", 10, 0u);
+    buf[n++] = '\n';                               /* a byte after the member */
+    if (!gz_is(t, buf, n, READ_GZ_HEADER, "", "trailing byte")) return;
+    n = t_gz_member(buf, "hello gzip", 10, 0u);
+    buf[n - 8 - 15] = 3;                           /* BTYPE 11 */
+    if (!gz_is(t, buf, n, READ_GZ_DATA, "", "block type 3")) return;
+    n = t_gz_member(buf, "hello gzip", 10, 30u);
+    for (cut = 0; cut < n; cut++) {
+        char what[96];
+        snprintf(what, sizeof what, "cut to %lu of %lu bytes", (unsigned long)cut, (unsigned long)n);
+        if (!gz_is(t, buf, cut, READ_GZ_TRUNC, "", what)) return;
+    }
+    CHECK(t, gzip_inflate(buf, n, 9, &out, &n_out) == READ_GZ_BIG && !out,
+          "10 bytes with a limit of 9 not refused as too big");
+    /* a back-reference into the member before: "x", then a fixed block whose
+       first symbol copies 3 bytes from 1 back */
+    n = t_gz_member(buf, "x", 1, 0u);
+    n += t_gz_header(buf + n, 0u);
+    memset(&w, 0, sizeof w);
+    put_bits(&w, 1, 1); put_bits(&w, 1, 2);        /* BFINAL, fixed Huffman */
+    put_code(&w, 1, 7); put_code(&w, 0, 5);        /* length 3, distance 1 */
+    put_code(&w, 0, 7);                            /* end of block */
+    memcpy(buf + n, w.b, 3);
+    t_le32(buf + n + 3, t_crc((const unsigned char *)"xxx", 3));
+    t_le32(buf + n + 7, 3u);
+    if (!gz_is(t, buf, n + 11, READ_GZ_DATA, "", "back-reference across members")) return;
+}
+
+/* 1 if the two renders of scene files a and b are the same bytes. */
+static int same_render(T *t, const char *a, const char *b)
+{
+    Image im[2];
+    int k, same;
+    for (k = 0; k < 2; k++) {
+        Scene s;
+        RenderOptions o;
+        RenderStats st;
+        Error e;
+        memset(&im[k], 0, sizeof im[k]);
+        if (!scene_load(&s, k ? b : a, &e)) {
+            if (k) img_free(&im[0]);
+            test_failf(t, __FILE__, __LINE__, "%s", e.msg);
+            return 0;
+        }
+        render_options_default(&o);
+        o.progress = 0;
+        if (!render(&s, &o, &im[k], &st, &e)) {
+            scene_free(&s);
+            if (k) img_free(&im[0]);
+            test_failf(t, __FILE__, __LINE__, "%s", e.msg);
+            return 0;
+        }
+        scene_free(&s);
+    }
+    same = im[0].w == im[1].w && im[0].h == im[1].h && im[0].w == 24 &&
+           !memcmp(im[0].rgb, im[1].rgb, sizeof(float) * 3 * (size_t)im[0].w * (size_t)im[0].h);
+    img_free(&im[0]);
+    img_free(&im[1]);
+    return same;
+}
+
+/* tests/data/gz: room.pbrt.gz (one member with FNAME, as gzip writes it) Includes
+   light.pbrt.gz (two members) and reads box.ply.gz (FEXTRA, FNAME, FCOMMENT,
+   FHCRC): the image is the one of their uncompressed twins, byte for byte, and the
+   mesh the same arrays.  A damaged copy is refused with "file: gzip: ...". */
+static void test_gzip_twins(T *t)
+{
+    PlyMesh m[2];
+    Error e;
+    unsigned char *raw;
+    size_t n;
+    ReadStatus rs;
+    Scene s;
+    const char *bad;
+    FILE *f;
+    int k;
+    CHECK(t, same_render(t, "tests/data/gz/room.pbrt", "tests/data/gz/room.pbrt.gz"),
+          "room.pbrt.gz renders otherwise than room.pbrt");
+    for (k = 0; k < 2; k++)
+        CHECK(t, ply_read(k ? "tests/data/gz/box.ply.gz" : "tests/data/gz/box.ply", &m[k], &e), "%s", e.msg);
+    k = m[0].n_verts == 8 && m[1].n_verts == 8 && m[0].n_tris == 12 && m[1].n_tris == 12 &&
+        !memcmp(m[0].P, m[1].P, 24 * sizeof(float)) && !memcmp(m[0].idx, m[1].idx, 36 * sizeof(int32_t));
+    ply_free(&m[0]);
+    ply_free(&m[1]);
+    CHECK(t, k, "box.ply.gz differs from box.ply");
+    raw = (unsigned char *)read_whole_file("tests/data/gz/room.pbrt.gz", 0, NULL, &n, &rs);
+    CHECK(t, rs == READ_GZIP && !raw, "gzip data read without READ_GUNZIP: status %d", (int)rs);
+    raw = (unsigned char *)read_whole_file_gz("tests/data/gz/box.ply.gz", READ_TEXT, NULL, &n, &rs);
+    CHECK(t, rs == READ_NUL && !raw, "binary PLY data read as text: status %d", (int)rs);
+    {
+        static unsigned char gz[4096];
+        f = fopen("tests/data/gz/room.pbrt.gz", "rb");
+        CHECK(t, f != NULL, "open room.pbrt.gz");
+        n = fread(gz, 1, sizeof gz, f);
+        fclose(f);
+        gz[n - 6] ^= 0x10;                         /* a byte of the CRC-32 */
+        bad = test_path(t, "bad-crc.pbrt.gz");
+        f = fopen(bad, "wb");
+        CHECK(t, f != NULL, "write %s", bad);
+        fwrite(gz, 1, n, f);
+        fclose(f);
+    }
+    CHECK(t, !scene_load(&s, bad, &e) && strstr(e.msg, "bad-crc.pbrt.gz: gzip: CRC-32 mismatch"),
+          "a damaged CRC-32: \"%s\"", e.msg);
+    bad = test_write_file(t, "inc-bad.pbrt", "WorldBegin\nInclude \"bad-crc.pbrt.gz\"\n");
+    CHECK(t, !scene_load(&s, bad, &e) && strstr(e.msg, "inc-bad.pbrt:2: Include")
+          && strstr(e.msg, "gzip: CRC-32 mismatch"), "an Included damaged file: \"%s\"", e.msg);
+}
+
 const TestCase tests_png[] = {
     { "png_fixtures", test_png_fixtures },
     { "png_writer_roundtrip", test_png_writer_roundtrip },
     { "png_malformed", test_png_malformed },
     { "png_corruption_sweep", test_png_corruption_sweep },
+    { "png_gzip_members", test_gzip_members },
+    { "png_gzip_malformed", test_gzip_malformed },
+    { "png_gzip_twins", test_gzip_twins },
     { NULL, NULL }
 };
