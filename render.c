@@ -415,6 +415,7 @@ int render_advance(RenderJob *j, int spp, int spp_final, Error *err)
            and they allow one pass) */
         const RenderOptions *o = j->R.o;
         sampler_init(&j->R.sampler, o->sampler, o->seed, spp, o->xsamples, o->ysamples, o->jitter);
+        j->R.sampler.camera_medium = j->R.vol && j->R.s->settings.camera_medium >= 0;
     }
     render_pass(&j->P);
     j->st.rays = 0;

@@ -59,6 +59,23 @@
    psychopath.io), which Burley's method admits in place of the paper's own
    constants and pbrt-v4 uses too.
 
+   THE CAMERA GROUP.  Padding pairs the groups at random, so a decision that
+   depends on the numbers of two groups jointly converges like independent
+   sampling in their interaction, at 1/N.  The camera ray in a medium is such a
+   case: whether it reaches the surface it looks at depends on the free-flight
+   number AND on the hero wavelength (sigma_t(lambda) of a coloured fog) AND, at
+   an object's silhouette, on the position in the pixel.  So when the camera sits
+   in a rendered medium (Sampler.camera_medium), these three decisions are ONE
+   4-D group: the pixel position (dimensions 0, 1), the camera ray's first free
+   flight (dim_medium(0, 0)) and the hero wavelength (DIM_WAVELENGTH) are Sobol
+   dimensions 0, 1, 2 and 3 of one shuffled index, each with a value scramble of
+   its own.  Sobol dimensions 2 and 3 (Joe and Kuo's primitive polynomials
+   x^2 + x + 1 and x^3 + x + 1, initial direction numbers 1, 3 and 1, 3, 1)
+   pair with each other and with 0 and 1 as (t,m,2)-nets with t <= 2, so the
+   pixel's samples cover the (wavelength, flight) square and the (position,
+   flight) cube evenly.  Without a camera medium nothing changes: the wavelength
+   keeps its own group (docs/sampling.md, "The camera in a medium").
+
    A FLOAT from 32 bits keeps the top 24 (as rng_float does): exactly representable
    and strictly below 1. */
 #include "specnee.h"
@@ -128,8 +145,28 @@ static uint32_t sobol1_digits(uint32_t i)
     return i;
 }
 
+/* Sobol dimension 2 or 3 of point i by (1): the direction numbers m_k of the
+   primitive polynomial x^s + a_1 x^(s-1) + ... + 1 follow (Bratley and Fox 1988)
+       m_k = 2 a_1 m_(k-1) ^ 4 a_2 m_(k-2) ^ ... ^ 2^s m_(k-s) ^ m_(k-s),
+   and column b of the matrix is m_(b+1) / 2^(b+1) as a 32-bit fraction.
+   Dimension 2: x^2 + x + 1, m = 1, 3; dimension 3: x^3 + x + 1, m = 1, 3, 1. */
+static uint32_t sobol23(uint32_t i, int dim)
+{
+    uint32_t m[33], x = 0;
+    int k, b;
+    m[1] = 1u;
+    m[2] = 3u;
+    m[3] = dim == 2 ? (2u * m[2]) ^ (4u * m[1]) ^ m[1] : 1u;
+    for (k = 4; k <= 32; k++)
+        m[k] = dim == 2 ? (2u * m[k - 1]) ^ (4u * m[k - 2]) ^ m[k - 2] : (4u * m[k - 2]) ^ (8u * m[k - 3]) ^ m[k - 3];
+    for (b = 0; b < 32; b++)
+        if ((i >> b) & 1u) x ^= m[b + 1] << (31 - b);
+    return x;
+}
+
 uint32_t sobol_u32(uint32_t i, int dim)
 {
+    if (dim >= 2) return sobol23(i, dim);
     return reverse_bits32(dim == 0 ? i : sobol1_digits(i));   /* dim 0: van der Corput */
 }
 
@@ -159,6 +196,13 @@ static void sobol_owen(uint32_t i, uint32_t seed, int n, float *u)
 {
     u[0] = u32_to_float(reverse_bits32(owen_reversed(i, seed)));
     if (n == 2) u[1] = u32_to_float(reverse_bits32(owen_reversed(sobol1_digits(i), seed ^ 0x68bc21ebu)));
+}
+
+/* Coordinate c (2 or 3) of the Owen-scrambled Sobol point i of the group whose
+   hash is h (coordinates 0 and 1: sobol_owen), with a scramble seed of its own. */
+static float sobol_coord(uint32_t i, uint64_t h, int c)
+{
+    return u32_to_float(owen_scramble(sobol_u32(i, c), (uint32_t)hash_u64(h, (uint64_t)c)));
 }
 
 /* The same on 64 digits, for zsobol's film-wide index (morton code x 2^L).  The
@@ -248,6 +292,18 @@ static void mark_used(PixelSample *ps, int dim, int n)
         }
 }
 
+/* The group that serves dimension dim, and *coord, the Sobol coordinate of its
+   first number: dim itself and 0, except for the camera group (THE CAMERA GROUP
+   above). */
+static int group_of(const Sampler *s, int dim, int *coord)
+{
+    *coord = 0;
+    if (!s->camera_medium) return dim;
+    if (dim == dim_medium(0, 0)) { *coord = 2; return DIM_FILM; }
+    if (dim == DIM_WAVELENGTH) { *coord = 3; return DIM_FILM; }
+    return dim;
+}
+
 /* n = 1 or 2 numbers of the group that starts at dimension dim. */
 static void group_sample(PixelSample *ps, int dim, int n, float *u)
 {
@@ -276,15 +332,20 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
         break;
     }
     case SAMPLER_SOBOL: {
-        uint64_t h = hash_u64(ps->key, (uint64_t)dim);               /* pixel, seed, group */
+        int coord, g = group_of(s, dim, &coord);
+        uint64_t h = hash_u64(ps->key, (uint64_t)g);                 /* pixel, seed, group */
         /* the group's own order: i = owen_scramble(k), with k's reversal kept */
         uint32_t i = reverse_bits32(owen_reversed(ps->k_reversed, (uint32_t)h));
-        sobol_owen(i, (uint32_t)(h >> 32), n, u);
+        if (coord) u[0] = sobol_coord(i, h, coord);
+        else sobol_owen(i, (uint32_t)(h >> 32), n, u);
         break;
     }
     case SAMPLER_ZSOBOL: {
-        uint64_t h = hash_u64((uint64_t)s->seed, (uint64_t)dim);     /* one per film, not per pixel */
-        sobol_owen((uint32_t)owen_scramble64(ps->index, h), (uint32_t)(h >> 32), n, u);
+        int coord, g = group_of(s, dim, &coord);
+        uint64_t h = hash_u64((uint64_t)s->seed, (uint64_t)g);       /* one per film, not per pixel */
+        uint32_t i = (uint32_t)owen_scramble64(ps->index, h);
+        if (coord) u[0] = sobol_coord(i, h, coord);
+        else sobol_owen(i, (uint32_t)(h >> 32), n, u);
         break;
     }
     default:

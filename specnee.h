@@ -197,7 +197,9 @@ double radical_inverse(int base, uint64_t i);
                              uses the bounce's BD_LIGHT..BD_POINT for NEE and
                              BD_DIR for the phase function's direction)
      so a scene without media asks for no number beyond the bounces' and the
-     fluorescent vertices'.
+     fluorescent vertices'.  When the camera sits in a medium, sobol and zsobol
+     serve 0, 1, DIM_WAVELENGTH and dim_medium(0, 0) as ONE 4-D group (sampler.c,
+     THE CAMERA GROUP).
 
    A GROUP is one request: the two numbers of a 2-D group map together onto a 2-D
    domain (pixel, triangle, hemisphere), so they must be spread as a 2-D point
@@ -236,6 +238,8 @@ typedef struct {
     int xsamples, ysamples;    /* stratified: the 2-D strata, xsamples * ysamples = spp */
     int jitter;                /* stratified: 1 = random point in the stratum, 0 = centre */
     int log2_spp;              /* zsobol: 2^log2_spp >= spp indices per pixel */
+    int camera_medium;         /* sobol, zsobol: 1 = the camera sits in a rendered medium; its
+                                  first free flight and the wavelength join the pixel's group */
 } Sampler;
 
 typedef struct {               /* one sample of one pixel, on the stack of the tracer */
@@ -264,7 +268,7 @@ Rng  *sampler_stream(PixelSample *ps);
 int   sampler_progressive(SamplerType t);
 SamplerType sampler_from_name(const char *name);   /* SAMPLER_COUNT if unknown */
 const char *sampler_name(SamplerType t);
-uint32_t sobol_u32(uint32_t i, int dim);            /* Sobol dimension 0 or 1, 32 bits */
+uint32_t sobol_u32(uint32_t i, int dim);            /* Sobol dimension 0..3, 32 bits */
 uint32_t owen_scramble(uint32_t x, uint32_t seed);  /* nested uniform scramble of x's digits */
 
 /* ======================================================================
