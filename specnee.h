@@ -356,6 +356,18 @@ float spec_sigmoid_eval(const float c[3], float lambda_nm);
    Newton polish), and the full continuation fit from grey (no table). */
 void  spec_rgb_table_start(RgbTable *T, const double target[3], double c[3]);
 void  spec_rgb_coeffs_fit(const double target[3], double c[3]);
+/* rgbtable.c: the coefficients of target (components in [0, 1], not all 0) by
+   interpolation of the build-time table rgbtable.h, without iteration; 0 where the
+   table is not trusted (then spec_rgb_coeffs fits). */
+int   rgbtable_coeffs(const double target[3], double c[3]);
+/* The table's grid (rgbtable.c; docs/loading.md): knots x = 0..RGB_GRID_CELLS of
+   z = rgb[m], the largest component, at z = rgb_grid_z(x); rgb_grid_cell gives m,
+   the cell (x, b, a) and the fractions in it (0 where z is below the knot x = 1);
+   rgb_grid_interp interpolates a table coef[m][x][b][a][3] (floats) there. */
+#define RGB_GRID_CELLS 32
+double rgb_grid_z(double x);
+int   rgb_grid_cell(const double target[3], int *m, int cell[3], double f[3]);
+void  rgb_grid_interp(const float *coef, int m, const int cell[3], const double f[3], double c[3]);
 /* CIE 1931 2-degree colour matching functions at lambda (nm), linear in the 5 nm CIE table. */
 void  cie_xyz(float lambda_nm, float xyz[3]);
 void  cie_cmf(double lambda_nm, double xyz[3]);  /* the same in double precision */

@@ -1468,6 +1468,7 @@ static void rgb_coeffs(RgbTable *T, const double target[3], double c[3])
         rgb_fit(&fit, target, c);
         return;
     }
+    if (rgbtable_coeffs(target, c)) return;      /* rgbtable.c: trusted cells */
     rgb_table_get(T);
     rgb_table_lookup(T, target, c);
     if (rgb_newton(&T->fit, target, c, RGB_POLISH) >= 1e-14) rgb_fit(&T->fit, target, c);
