@@ -675,6 +675,16 @@ typedef struct {
     double cdf[FL_N];          /* C at each knot: integral of A from 300 nm (F3) */
     double tail[FL_N];         /* N at each knot: integral of e from the knot to 830 nm */
 } Fluorescence;
+/* The spectra that only some material types read, in a record of their own held by
+   pointer (like Fluorescence), so that a diffuse or dielectric material does not
+   carry their 8.5 KB (docs/loading.md, memory per emitter). */
+typedef struct {
+    Spectrum k;                /* conductor: extinction coefficient (Material.eta holds n);
+                                  coatedconductor: the base's k (cond_eta holds its n) */
+    Spectrum transmittance;    /* diffusetransmission: T (reflectance holds R), scaled */
+    Spectrum albedo;           /* coateddiffuse, coatedconductor: the slab's albedo */
+    Spectrum cond_eta;         /* coatedconductor: the base conductor's n */
+} MaterialSpectra;
 typedef struct {
     MaterialType type;
     Spectrum reflectance;      /* diffuse albedo; fluorescent: rho, of the light not absorbed */
@@ -687,9 +697,9 @@ typedef struct {
     float alpha;               /* GGX roughness alpha (0 = smooth), after remaproughness;
                                   conductor: alpha along the shading frame's s axis */
     float alpha_t;             /* conductor: alpha along the t axis (anisotropic GGX) */
-    Spectrum k;                /* conductor: extinction coefficient (eta holds n);
-                                  coatedconductor: the base's k (cond_eta holds its n) */
-    Spectrum transmittance;    /* diffusetransmission: T (reflectance holds R), scaled */
+    MaterialSpectra *extra;    /* conductor, coateddiffuse, coatedconductor,
+                                  diffusetransmission: k, transmittance, albedo, cond_eta
+                                  (owned, freed by material_release); NULL for the others */
     float p_reflect;           /* diffusetransmission: probability of sampling the
                                   reflect lobe, max R / (max R + max T) over 300-830 nm */
     int reflectance_tex;       /* diffuse, conductor, coateddiffuse: "texture reflectance",
@@ -702,13 +712,13 @@ typedef struct {
     const struct Texture *textures;  /* the scene's textures (set when loading ends) */
     /* coateddiffuse, coatedconductor (layered.c): eta (a constant) and alpha (alpha_tex)
        are the coat's; coateddiffuse: reflectance is the base's R */
-    Spectrum albedo;           /* single-scattering albedo of the medium between the layers */
+    /* extra->albedo: single-scattering albedo of the medium between the layers */
     float thickness, hg_g;     /* the slab's height (sigma_t = 1) and HG asymmetry */
     int maxdepth, nsamples;    /* the random walks' vertex limit and count */
-    /* coatedconductor: the base conductor's n (k above) in vacuum, or its "reflectance"
-       (then reflectance_tex or reflectance, cond_eta = 1 and k from it as for the
-       conductor); its GGX alpha (cond_alpha_tex: 1 + a roughness texture's index) */
-    Spectrum cond_eta;
+    /* coatedconductor: the base conductor's n (extra->cond_eta, extra->k) in vacuum, or
+       its "reflectance" (then reflectance_tex or reflectance, cond_eta = 1 and k from it
+       as for the conductor); its GGX alpha (cond_alpha_tex: 1 + a roughness texture's
+       index) */
     float cond_alpha;
     int cond_alpha_tex;
     /* mix: the two materials (indices into Scene.materials, neither an interface) and
@@ -719,8 +729,12 @@ typedef struct {
     int amount_tex;
 } Material;
 
-/* Free what a Material owns (its Fluorescence); the record itself is the caller's. */
+/* Free what a Material owns (its Fluorescence, its MaterialSpectra); the record
+   itself is the caller's. */
 void  material_release(Material *m);
+/* m->extra, allocated zeroed on first use (a builder of a type that reads it); NULL:
+   out of memory. */
+MaterialSpectra *material_extra(Material *m);
 /* Fluorescence (docs/FLUORESCENCE.md §1-§3).  fluor_prepare fills the tables
    of a MAT_FLUORESCENT material (m->fl set); returns 0 if the emission is zero everywhere. */
 int   fluor_prepare(Material *m);
