@@ -308,6 +308,9 @@ static inline float spec_get(const Spectrum *s, int nm)
 { return nm < SPEC_MIN ? s->uv[nm - SPEC_UV_MIN] : s->v[nm - SPEC_MIN]; }
 
 float spec_eval(const Spectrum *s, float lambda_nm);
+/* spec_eval of the table (float)(num * s / den) (num * s a float product) at every
+   knot, bit for bit, without storing it (lights.c: an emitter's Le = scale L / norm). */
+float spec_eval_scaled(const Spectrum *s, float num, double den, float lambda_nm);
 void  spec_const(Spectrum *s, float value);
 int   spec_is_constant(const Spectrum *s);
 /* From (lambda, value) pairs, piecewise linear, zero outside the listed range
@@ -1474,7 +1477,7 @@ float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm);
 /* sum over 1 nm steps in [lo, hi] of ybar L: the luminance that normalises an
    emitter's spectrum L (and an emissive medium's Le, render.c). */
 double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm);
-const Spectrum *light_spectrum(const LightSampler *ls, int e);   /* e's Le */
+void  light_spectrum(const LightSampler *ls, int e, Spectrum *Le);   /* e's Le, tabulated */
 /* What NEE chooses is a PIECE: a whole emitter, or (light trees only) a cluster of
    at most LIGHT_CLUSTER_TRIS triangles of a large emissive mesh.  Without
    splitting, piece i is emitter i. */
@@ -1543,7 +1546,10 @@ typedef struct {
     const LightPiece *pieces;  /* every piece, those beside the tree included */
     int n_pieces;
     const int *piece_tri;      /* the clusters' scene triangles */
-    const Spectrum *Le;        /* the distinct radiances for the sampled range */
+    /* the distinct radiances for the sampled range: le_table(le_ctx, i, &Le) tabulates
+       radiance i (lights.c keeps them untabulated) */
+    void (*le_table)(const void *le_ctx, int i, Spectrum *Le);
+    const void *le_ctx;
     int n_le;
     const int *le_of;          /* per emitter: its radiance, an index into Le */
     const float *bin;          /* per emitter: SPD_BINS bin averages of Le, 400-700 nm */

@@ -557,6 +557,38 @@ static void test_rgbtable(T *t)
     CHECK(t, n_tab >= 0.75 * (double)n, "the table answers for %ld of %ld colours", n_tab, n);
 }
 
+/* spec_eval_scaled (lights.c's Le without a table) against spec_eval of the table
+   (float)(num * s / den): bit for bit at every wavelength tried, UV part, knots,
+   between knots and out of range included. */
+static void test_eval_scaled(T *t)
+{
+    static const char *const names[] = { "stdillum-D65", "stdillum-F2", "metal-Au-k" };
+    const float nums[3] = { 1.0f, 3.7f, 0.013f };
+    const double dens[3] = { 1.0, 106.85673, 0.3 };
+    long n = 0, n_differ = 0;
+    int i, k;
+    for (i = 0; i < 3; i++) {
+        Spectrum s, tab;
+        float lam;
+        int l;
+        spec_named(&s, names[i]);
+        for (l = 0; l < SPEC_UV_N; l++) s.uv[l] = 0.01f * (float)(l % 7) * s.v[0];
+        for (k = 0; k < 3; k++) {
+            for (l = 0; l < SPEC_N; l++) tab.v[l] = (float)(nums[k] * s.v[l] / dens[k]);
+            for (l = 0; l < SPEC_UV_N; l++) tab.uv[l] = (float)(nums[k] * s.uv[l] / dens[k]);
+            for (lam = 250.0f; lam <= 880.0f; lam += 0.37f) {
+                n++;
+                n_differ += spec_eval_scaled(&s, nums[k], dens[k], lam) != spec_eval(&tab, lam);
+            }
+            for (l = SPEC_UV_MIN; l <= SPEC_MAX; l++) {
+                n++;
+                n_differ += spec_eval_scaled(&s, nums[k], dens[k], (float)l) != spec_eval(&tab, (float)l);
+            }
+        }
+    }
+    CHECK(t, n_differ == 0, "%ld of %ld values differ from the tabulated spectrum's", n_differ, n);
+}
+
 /* ---------- wavelength sampling ---------- */
 
 /* For a pdf w: draw n_draw sets of HERO_N wavelengths, and check with chi-square
@@ -815,6 +847,7 @@ const TestCase tests_spectrum[] = {
     { "spectrum_rgb_illuminant", test_rgb_illuminant },
     { "spectrum_rgb_table", test_rgb_table },
     { "spectrum_rgbtable", test_rgbtable },
+    { "spectrum_eval_scaled", test_eval_scaled },
     { "spectrum_wl_uniform", test_wl_uniform },
     { "spectrum_wl_importance", test_wl_importance },
     { "spectrum_svg", test_svg },
