@@ -139,11 +139,6 @@ void material_release(Material *m)
     m->extra = NULL;
 }
 
-MaterialSpectra *material_extra(Material *m)
-{
-    if (!m->extra) m->extra = (MaterialSpectra *)calloc(1, sizeof *m->extra);
-    return m->extra;
-}
 
 /* ---- fluorescence: tables at the 1 nm knots 300..830 nm (k = nm - 300) ---- */
 

@@ -55,6 +55,7 @@
 #define SPECNEE_H
 
 #include <stddef.h>
+#include <stdlib.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <math.h>
@@ -736,8 +737,13 @@ typedef struct {
    itself is the caller's. */
 void  material_release(Material *m);
 /* m->extra, allocated zeroed on first use (a builder of a type that reads it); NULL:
-   out of memory. */
-MaterialSpectra *material_extra(Material *m);
+   out of memory.  Inline: the builders of conductor.c and layered.c call it, and
+   material.c calls them. */
+static inline MaterialSpectra *material_extra(Material *m)
+{
+    if (!m->extra) m->extra = (MaterialSpectra *)calloc(1, sizeof *m->extra);
+    return m->extra;
+}
 /* Fluorescence (docs/FLUORESCENCE.md §1-§3).  fluor_prepare fills the tables
    of a MAT_FLUORESCENT material (m->fl set); returns 0 if the emission is zero everywhere. */
 int   fluor_prepare(Material *m);
