@@ -32,7 +32,7 @@ LDLIBS = -lm
 LIBOBJ = util.o sampler.o bvh.o instance.o shapes.o patch.o spectrum.o wavelengths.o metals.o lights.o lighttree.o infinite.o \
          delta.o texture.o filter.o parser.o options.o scene.o geometry.o dump.o ply.o subdiv.o medium.o nanovdb.o material.o microfacet.o \
          conductor.o layered.o bump.o camera.o path.o render.o image.o png.o exr.o svg.o cmd_converge.o cmd_image.o \
-         cmd_spectrum.o
+         cmd_spectrum.o rgbtable.o
 # every tests/*.c (a new test file is registered in tests/tables.h alone)
 TESTOBJ != ls tests/*.c | sed 's/\.c$$/.o/'
 
@@ -52,6 +52,14 @@ tools/bench: tools/bench.o $(LIBOBJ)
 
 tools/bench_lights: tools/bench_lights.o $(LIBOBJ)
 	$(CC) $(CFLAGS) -o tools/bench_lights tools/bench_lights.o $(LIBOBJ) $(LDLIBS)
+
+# rgbtable.h: the RGB -> spectrum coefficient table, computed from spectrum.c's fit
+# by tools/gen_rgbtable.c (about 15 s of one core; not kept in git)
+rgbtable.o: rgbtable.h
+rgbtable.h: tools/gen_rgbtable.c rgbtable.c spectrum.o util.o metals.o
+	$(CC) $(CFLAGS) -DRGBTABLE_GENERATOR -I. -o tools/gen_rgbtable tools/gen_rgbtable.c rgbtable.c \
+	    spectrum.o util.o metals.o $(LDLIBS)
+	./tools/gen_rgbtable rgbtable.h.tmp && mv rgbtable.h.tmp rgbtable.h
 
 .SUFFIXES: .c .o
 .c.o:
@@ -103,6 +111,7 @@ golden: specnee
 
 clean:
 	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench tools/bench_lights tools/bench_embree
+	rm -f rgbtable.h tools/gen_rgbtable
 	rm -f fuzz/*.o fuzz/replay
 	rm -rf build
 

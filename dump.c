@@ -33,7 +33,7 @@ static void dump_material(FILE *f, int i, const Material *m)
     } else if (m->type == MAT_CONDUCTOR) {
         fprintf(f, "  [%d] conductor, alpha %g\n", i, m->alpha);
         dump_spectrum(f, "eta", &m->eta);
-        dump_spectrum(f, "k", &m->k);
+        dump_spectrum(f, "k", &m->extra->k);
     } else if (m->type == MAT_THIN_DIELECTRIC) {
         fprintf(f, "  [%d] thindielectric\n", i);
         dump_spectrum(f, "eta", &m->eta);
@@ -42,7 +42,7 @@ static void dump_material(FILE *f, int i, const Material *m)
                 "nsamples %d\n", i, m->alpha, spec_eval(&m->eta, 550.0f), m->thickness,
                 m->hg_g, m->maxdepth, m->nsamples);
         dump_spectrum(f, "reflectance", &m->reflectance);
-        dump_spectrum(f, "albedo", &m->albedo);
+        dump_spectrum(f, "albedo", &m->extra->albedo);
     } else if (m->type == MAT_INTERFACE) {
         fprintf(f, "  [%d] interface (no surface: the boundary of a medium)\n", i);
     } else if (m->type == MAT_COATED_CONDUCTOR) {
@@ -50,9 +50,9 @@ static void dump_material(FILE *f, int i, const Material *m)
                 "thickness %g, g %g, maxdepth %d, nsamples %d\n", i, m->alpha,
                 spec_eval(&m->eta, 550.0f), m->cond_alpha, m->thickness, m->hg_g, m->maxdepth,
                 m->nsamples);
-        dump_spectrum(f, "conductor eta", &m->cond_eta);
-        dump_spectrum(f, "conductor k", &m->k);
-        dump_spectrum(f, "albedo", &m->albedo);
+        dump_spectrum(f, "conductor eta", &m->extra->cond_eta);
+        dump_spectrum(f, "conductor k", &m->extra->k);
+        dump_spectrum(f, "albedo", &m->extra->albedo);
     } else if (m->type == MAT_MIX) {
         fprintf(f, "  [%d] mix of [%d] and [%d], amount ", i, m->mix[0], m->mix[1]);
         if (m->amount_tex > 0) fprintf(f, "texture %d\n", m->amount_tex - 1);
@@ -60,7 +60,7 @@ static void dump_material(FILE *f, int i, const Material *m)
     } else if (m->type == MAT_DIFFUSE_TRANSMISSION) {
         fprintf(f, "  [%d] diffusetransmission, P(reflect lobe) %g\n", i, m->p_reflect);
         dump_spectrum(f, "reflectance", &m->reflectance);
-        dump_spectrum(f, "transmittance", &m->transmittance);
+        dump_spectrum(f, "transmittance", &m->extra->transmittance);
     } else {
         fprintf(f, "  [%d] dielectric, alpha %g, %s", i, m->alpha,
                 m->dispersive ? "dispersive" : "constant eta");

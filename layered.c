@@ -302,7 +302,7 @@ static void layer_init(const Material *m, const MatPoint *mp, const float *lambd
     L->base.alpha = mp ? mp->cond_alpha : m->cond_alpha;
     for (j = 0; j < HERO_N; j++) {
         int on = (alive & (1u << j)) != 0;
-        L->A[j] = on ? spec_eval(&m->albedo, lambda[j]) : 0.0f;
+        L->A[j] = on ? spec_eval(&m->extra->albedo, lambda[j]) : 0.0f;
         if (L->A[j] > 0.0f) L->has_albedo = 1;
         L->base.R[j] = 0.0f;
         L->base.ce[j] = 1.0f;                 /* n = 1, k = 0: F = 0 (dead wavelengths) */
@@ -316,8 +316,8 @@ static void layer_init(const Material *m, const MatPoint *mp, const float *lambd
                 double r = mp->r[j] < 0.9999f ? mp->r[j] : 0.9999;
                 L->base.ck[j] = conductor_k_of_reflectance(r);
             } else {
-                L->base.ce[j] = spec_eval(&m->cond_eta, lambda[j]);
-                L->base.ck[j] = spec_eval(&m->k, lambda[j]);
+                L->base.ce[j] = spec_eval(&m->extra->cond_eta, lambda[j]);
+                L->base.ck[j] = spec_eval(&m->extra->k, lambda[j]);
             }
             L->base.ce[j] /= L->top.eta;
             L->base.ck[j] /= L->top.eta;
@@ -662,12 +662,12 @@ static int layer_albedo(Parser *P, Param *pa, const char *what, const char *file
                         Material *m)
 {
     int nm;
-    if (!unit_spectrum_param(P, pa, &m->albedo, 0.0f)) return 0;
+    if (!unit_spectrum_param(P, pa, &m->extra->albedo, 0.0f)) return 0;
     for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
-        if (!(spec_get(&m->albedo, nm) >= 0.0f && spec_get(&m->albedo, nm) <= 1.0f))
+        if (!(spec_get(&m->extra->albedo, nm) >= 0.0f && spec_get(&m->extra->albedo, nm) <= 1.0f))
             return fail(P, pa ? pa->file : file, pa ? pa->line : line,
                         "%s: \"albedo\" %g at %d nm must be within [0, 1]", what,
-                        spec_get(&m->albedo, nm), nm);
+                        spec_get(&m->extra->albedo, nm), nm);
     return 1;
 }
 
@@ -687,6 +687,7 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
     int md, ns, given;
     (void)dir;
     m->type = MAT_COATED_DIFFUSE;
+    if (!material_extra(m)) return oom(P, file, line);   /* albedo (freed by material_release) */
     if (pe && !pf)
         return fail(P, pe->file, pe->line, "%s: a spectral \"eta\" is valid pbrt-v4 (it "
                     "terminates the secondary wavelengths) but not in the specnee subset: "
@@ -744,6 +745,7 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
     int md, ns, given, remap2;
     (void)dir;
     m->type = MAT_COATED_CONDUCTOR;
+    if (!material_extra(m)) return oom(P, file, line);   /* albedo, cond_eta, k (material_release) */
     if (pie && !pf)
         return fail(P, pie->file, pie->line, "%s: a spectral \"interface.eta\" is valid "
                     "pbrt-v4 (it terminates the secondary wavelengths) but not in the specnee "
@@ -790,12 +792,14 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
         int ti = texture_lookup(P, pt, 0);
         if (ti < 0) return 0;
         m->reflectance_tex = ti + 1;
-        spec_const(&m->cond_eta, 1.0f);
-        spec_const(&m->k, 0.0f);                  /* (not read) */
+        spec_const(&m->extra->cond_eta, 1.0f);
+        spec_const(&m->extra->k, 0.0f);                  /* (not read) */
     } else if (pr) {
-        if (!conductor_reflectance_param(P, pr, &m->reflectance, &m->cond_eta, &m->k)) return 0;
+        if (!conductor_reflectance_param(P, pr, &m->reflectance, &m->extra->cond_eta,
+                                         &m->extra->k))
+            return 0;
     } else {
-        if (!conductor_eta_k(P, pl, file, line, "conductor.", &m->cond_eta, &m->k)) return 0;
+        if (!conductor_eta_k(P, pl, file, line, "conductor.", &m->extra->cond_eta, &m->extra->k)) return 0;
     }
     return 1;
 }

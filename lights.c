@@ -186,16 +186,27 @@ double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm)
     return norm;
 }
 
-/* Le = scale * L_shape / luminance_sum(L) with L_shape = L (L_shape = the mean
-   colour's spectrum for an image map; `shape` below), and k = scale /
-   luminance_sum(L), which infinite.c applies to an image map's texels. */
-static int radiance_and_k(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *Le,
-                          double *k, Error *err)
+/* Le = scale * L_shape / norm with norm = luminance_sum(L) and L_shape = L
+   (L_shape = the mean colour's spectrum for an image map), and k = scale / norm,
+   which infinite.c applies to an image map's texels.  A LightSampler keeps Le as
+   this triple (LeSource) and evaluates it with spec_eval_scaled, not as a table. */
+typedef struct {
+    const Spectrum *shape;     /* the emitter's L (an image map: its mean colour's) */
+    float scale;               /* the emitter's scale */
+    double norm;
+    Spectrum *table;           /* an infinite light's Le tabulated (inf_Le reads a
+                                  Spectrum), else NULL */
+} LeSource;
+
+static int radiance_source(const Scene *s, int e, float lo_nm, float hi_nm, LeSource *q,
+                           Error *err)
 {
     const Emitter *em = &s->emitters[e];
-    const Spectrum *shape = em->inf && em->inf->res > 0 ? &em->inf->mean : &em->L;
     double norm = em->absolute ? 1.0 : luminance_sum(&em->L, lo_nm, hi_nm);
-    int lam;
+    q->shape = em->inf && em->inf->res > 0 ? &em->inf->mean : &em->L;
+    q->scale = em->scale;
+    q->norm = norm;
+    q->table = NULL;
     if (!(norm > 0.0)) {
         if (em->inf)
             error_set(err, em->inf->file, em->inf->line, "LightSource \"infinite\": spectrum L "
@@ -208,11 +219,32 @@ static int radiance_and_k(const Scene *s, int e, float lo_nm, float hi_nm, Spect
                       "AreaLightSource: spectrum L emits nothing visible in %g-%g nm", lo_nm, hi_nm);
         return 0;
     }
+    return 1;
+}
+
+/* The table of Le = scale * shape / norm. */
+static void le_tabulate(const LeSource *q, Spectrum *Le)
+{
+    int lam;
     for (lam = 0; lam < SPEC_N; lam++)
-        Le->v[lam] = (float)(em->scale * shape->v[lam] / norm);
+        Le->v[lam] = (float)(q->scale * q->shape->v[lam] / q->norm);
     for (lam = 0; lam < SPEC_UV_N; lam++)
-        Le->uv[lam] = (float)(em->scale * shape->uv[lam] / norm);
-    *k = em->scale / norm;
+        Le->uv[lam] = (float)(q->scale * q->shape->uv[lam] / q->norm);
+}
+
+/* LightTreeInput.le_table: radiance i of the LeSource array ctx, tabulated. */
+static void le_table_of(const void *ctx, int i, Spectrum *Le)
+{
+    le_tabulate(&((const LeSource *)ctx)[i], Le);
+}
+
+static int radiance_and_k(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *Le,
+                          double *k, Error *err)
+{
+    LeSource q;
+    if (!radiance_source(s, e, lo_nm, hi_nm, &q, err)) return 0;
+    le_tabulate(&q, Le);
+    *k = q.scale / q.norm;
     return 1;
 }
 
@@ -536,10 +568,10 @@ struct LightSampler {
     const Scene *scene;
     SelOptions opt;
     int n;                     /* number of emitters */
-    Spectrum *Le;              /* the distinct radiances for the sampled range: emitters
-                                  with the same L, scale and kind share one (a hall of
-                                  1024 lamps of six spectra keeps 6, not 1024 x 2 KB,
-                                  which NEE would read from all over memory) */
+    LeSource *Le;              /* the distinct radiances for the sampled range, each as
+                                  (L, scale, norm), read through spec_eval_scaled, not a
+                                  second 2 KB table per emitter: emitters with the same
+                                  L, scale and kind share one */
     int n_le;
     EmitterRef *ref;           /* per emitter: what light_Le reads, in one place */
     double *k;                 /* per emitter: scale / luminance_sum(L) (image maps' texels) */
@@ -814,7 +846,8 @@ static int tree_setup(LightSampler *ls)
         in.pieces = ls->pieces;
         in.n_pieces = ls->n_pieces;
         in.piece_tri = ls->piece_tri;
-        in.Le = ls->Le;
+        in.le_table = le_table_of;
+        in.le_ctx = ls->Le;
         in.n_le = ls->n_le;
         in.le_of = le_of;
         in.bin = ls->bin;
@@ -841,7 +874,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     if (!(ls->opt.hi_nm > ls->opt.lo_nm)) { ls->opt.lo_nm = LAMBDA_LO; ls->opt.hi_nm = LAMBDA_HI; }
     ls->n = n;
     if (n == 0) return ls;
-    ls->Le = (Spectrum *)malloc(sizeof(Spectrum) * (size_t)n);
+    ls->Le = (LeSource *)calloc((size_t)n, sizeof(LeSource));
     ls->ref = (EmitterRef *)malloc(sizeof(EmitterRef) * (size_t)n);
     ls->k = (double *)malloc(sizeof(double) * (size_t)n);
     ls->bin = (float *)malloc(sizeof(float) * (size_t)n * SPD_BINS);
@@ -874,19 +907,28 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
                     memcmp(&ej->L, &em->L, sizeof em->L) == 0) { same = j; break; }
             }
         }
-        if (same >= 0) {
-            /* radiance_and_k is a function of (L, scale, absolute) alone */
-            ls->ref[i].le = ls->ref[same].le;
-            ls->k[i] = ls->k[same];
-            memcpy(ls->bin + (size_t)i * SPD_BINS, ls->bin + (size_t)same * SPD_BINS, sizeof(float) * SPD_BINS);
-        } else {
+        if (same < 0) {
+            LeSource *q = &ls->Le[ls->n_le];
+            Spectrum Le;
             ls->ref[i].le = ls->n_le++;
-            if (!radiance_and_k(s, i, ls->opt.lo_nm, ls->opt.hi_nm, &ls->Le[ls->ref[i].le], &ls->k[i], err)) {
+            if (!radiance_source(s, i, ls->opt.lo_nm, ls->opt.hi_nm, q, err)) {
                 light_sampler_free(ls);
                 return NULL;
             }
+            ls->k[i] = q->scale / q->norm;
+            le_tabulate(q, &Le);
+            if (em->inf) {                         /* inf_Le reads a table */
+                q->table = (Spectrum *)malloc(sizeof(Spectrum));
+                if (!q->table) goto oom;
+                *q->table = Le;
+            }
             for (b = 0; b < SPD_BINS; b++)
-                ls->bin[(size_t)i * SPD_BINS + b] = spec_bin_average(&ls->Le[ls->ref[i].le], b);
+                ls->bin[(size_t)i * SPD_BINS + b] = spec_bin_average(&Le, b);
+        } else {
+            /* radiance_source is a function of (L, scale, absolute) alone */
+            ls->ref[i].le = ls->ref[same].le;
+            ls->k[i] = ls->k[same];
+            memcpy(ls->bin + (size_t)i * SPD_BINS, ls->bin + (size_t)same * SPD_BINS, sizeof(float) * SPD_BINS);
         }
         for (b = 0; b < SPD_BINS; b++) bsum += ls->bin[(size_t)i * SPD_BINS + b] * SPD_BIN_NM;
         ls->power[i] = SPECNEE_PI * em->area * (em->twosided ? 2.0 : 1.0) * bsum;
@@ -905,15 +947,18 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
         /* the UV band averages once per distinct radiance, not per emitter */
         float *uv = (float *)malloc(sizeof(float) * (size_t)ls->n_le * SPD_UV_BINS);
         if (!uv) goto oom;
-        for (i = 0; i < ls->n_le; i++)
+        for (i = 0; i < ls->n_le; i++) {
+            Spectrum Le;
+            le_tabulate(&ls->Le[i], &Le);
             for (b = 0; b < SPD_UV_BINS; b++)
-                uv[(size_t)i * SPD_UV_BINS + b] = spec_band_average(&ls->Le[i], SPEC_UV_MIN + (int)SPD_BIN_NM * b,
+                uv[(size_t)i * SPD_UV_BINS + b] = spec_band_average(&Le, SPEC_UV_MIN + (int)SPD_BIN_NM * b,
                                                                     (int)SPD_BIN_NM);
+        }
         for (i = 0; i < n; i++) {
             const Emitter *em = &s->emitters[i];
             /* Y: luminance over the range, = scale for area lights (pbrt-v4's
                normalisation); an image map's stand-in spectrum has its own */
-            ls->Y[i] = em->inf ? (float)luminance_sum(&ls->Le[ls->ref[i].le], ls->opt.lo_nm, ls->opt.hi_nm)
+            ls->Y[i] = em->inf ? (float)luminance_sum(ls->Le[ls->ref[i].le].table, ls->opt.lo_nm, ls->opt.hi_nm)
                                : em->scale;
         }
         /* T rows 0..19: 300-400 nm (fluorescence excitation), rows 20..79: the
@@ -978,6 +1023,8 @@ void light_sampler_free(LightSampler *ls)
         for (v = 0; v < ls->n_voxels; v++)
             if (ls->voxel[v] != VOXEL_FAILED) free(ls->voxel[v]);
     free(ls->voxel);
+    if (ls->Le)
+        for (v = 0; v < ls->n_le; v++) free(ls->Le[v].table);
     free(ls->Le); free(ls->ref); free(ls->k); free(ls->bin); free(ls->power);
     free(ls->power_pmf); free(ls->power_cdf);
     free(ls->T);
@@ -1031,14 +1078,15 @@ size_t light_sampler_bytes(const LightSampler *ls)
 float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm)
 {
     const EmitterRef *r = &ls->ref[e];
+    const LeSource *q = &ls->Le[r->le];
     if (r->inf)                                                    /* along w */
-        return inf_Le(&ls->scene->emitters[e], &ls->Le[r->le], ls->k[e], v3_neg(w), lambda_nm);
-    if (r->delta) return spec_eval(&ls->Le[r->le], lambda_nm);    /* I or L: G is in pdf_sa */
+        return inf_Le(&ls->scene->emitters[e], q->table, ls->k[e], v3_neg(w), lambda_nm);
+    if (r->delta) return spec_eval_scaled(q->shape, q->scale, q->norm, lambda_nm);  /* I or L */
     if (!r->twosided && v3_dot(n, w) <= 0.0f) return 0.0f;
-    return spec_eval(&ls->Le[r->le], lambda_nm);
+    return spec_eval_scaled(q->shape, q->scale, q->norm, lambda_nm);
 }
 
-const Spectrum *light_spectrum(const LightSampler *ls, int e) { return &ls->Le[ls->ref[e].le]; }
+void light_spectrum(const LightSampler *ls, int e, Spectrum *Le) { le_tabulate(&ls->Le[ls->ref[e].le], Le); }
 int light_n_pieces(const LightSampler *ls) { return ls->n_pieces; }
 int light_piece_emitter(const LightSampler *ls, int piece) { return ls->pieces[piece].emitter; }
 

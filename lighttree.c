@@ -1056,10 +1056,12 @@ LightTree *light_tree_build(const LightTreeInput *in)
     B.le_avg = (double *)malloc(sizeof(double) * (size_t)in->n_le * (size_t)lt->nb);
     if (!B.le_avg) { free(B.centroids); goto done; }
     for (i = 0; i < in->n_le; i++) {
+        Spectrum Le;
         int b;
+        in->le_table(in->le_ctx, i, &Le);
         for (b = 0; b < lt->nb; b++)               /* the 5 nm bin's mean of Le, in double */
             B.le_avg[(size_t)i * lt->nb + b] =
-                spec_band_mean(&in->Le[i], (int)in->opt->lo_nm + (int)SPD_BIN_NM * (b - lt->nb_uv), (int)SPD_BIN_NM);
+                spec_band_mean(&Le, (int)in->opt->lo_nm + (int)SPD_BIN_NM * (b - lt->nb_uv), (int)SPD_BIN_NM);
     }
     lt->n_nodes = 0;
     tree_build(&B, items, lt->n_tree_pieces, 0);

@@ -139,7 +139,10 @@ void material_release(Material *m)
     m->fl = NULL;
     bump_free(m->bump);
     m->bump = NULL;
+    free(m->extra);
+    m->extra = NULL;
 }
+
 
 /* ---- fluorescence: tables at the 1 nm knots 300..830 nm (k = nm - 300) ---- */
 
@@ -420,7 +423,7 @@ static int dt_pair(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi, 
     for (j = 0; j < HERO_N; j++) {
         pdf_l[j] = pdf;
         if (alive & (1u << j))
-            f[j] = spec_eval(reflect ? &m->reflectance : &m->transmittance, lambda[j]) / PI_F;
+            f[j] = spec_eval(reflect ? &m->reflectance : &m->extra->transmittance, lambda[j]) / PI_F;
     }
     return pdf > 0.0f;
 }
@@ -823,6 +826,7 @@ int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, 
     int nm;
     (void)dir;
     m->type = MAT_DIFFUSE_TRANSMISSION;
+    if (!material_extra(m)) return oom(P, file, line);   /* transmittance */
     if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
     if (!bump_from_params(P, pl, what, m) ||
         !params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
@@ -830,12 +834,12 @@ int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, 
                              NULL))
         return 0;
     if (!unit_spectrum_param(P, pr, &m->reflectance, 0.25f)) return 0;
-    if (!unit_spectrum_param(P, pt, &m->transmittance, 0.25f)) return 0;
+    if (!unit_spectrum_param(P, pt, &m->extra->transmittance, 0.25f)) return 0;
     if (!(scale >= 0.0f))
         return fail(P, psc ? psc->file : file, psc ? psc->line : line,
                     "\"float scale\": %g must be >= 0", scale);
     for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
-        float *r = spec_at(&m->reflectance, nm), *t = spec_at(&m->transmittance, nm);
+        float *r = spec_at(&m->reflectance, nm), *t = spec_at(&m->extra->transmittance, nm);
         *r = fminf(1.0f, scale * *r);
         *t = fminf(1.0f, scale * *t);
         if (*r > maxr) maxr = *r;

@@ -290,10 +290,11 @@ static int setup_fluor_power(RenderJob *j, Error *err)
     int e, k, mi;
     spec_const(&E, 0.0f);
     for (e = 0; e < s->n_emitters; e++) {
-        const Spectrum *Le = light_spectrum(j->R.ls, e);
+        Spectrum Le;
         float f = (float)(SPECNEE_PI * s->emitters[e].area * (s->emitters[e].twosided ? 2.0 : 1.0));
-        for (k = 0; k < SPEC_N; k++) E.v[k] += f * Le->v[k];
-        for (k = 0; k < SPEC_UV_N; k++) E.uv[k] += f * Le->uv[k];
+        light_spectrum(j->R.ls, e, &Le);
+        for (k = 0; k < SPEC_N; k++) E.v[k] += f * Le.v[k];
+        for (k = 0; k < SPEC_UV_N; k++) E.uv[k] += f * Le.uv[k];
     }
     j->R.fl_power = (double *)calloc((size_t)s->n_materials * FL_N, sizeof(double));
     if (!j->R.fl_power) { error_set(err, NULL, 0, "out of memory"); return 0; }
@@ -341,8 +342,11 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
         Spectrum sum;
         int e, k;
         spec_const(&sum, 0.0f);
-        for (e = 0; e < s->n_emitters; e++)
-            for (k = 0; k < SPEC_N; k++) sum.v[k] += light_spectrum(j->R.ls, e)->v[k];
+        for (e = 0; e < s->n_emitters; e++) {
+            Spectrum Le;
+            light_spectrum(j->R.ls, e, &Le);
+            for (k = 0; k < SPEC_N; k++) sum.v[k] += Le.v[k];
+        }
         if (o->band_hi > o->band_lo)     /* a band of the film's spectrum (the tests) */
             wl_pdf_uniform(&j->R.wl, o->band_lo, o->band_hi);
         else if (o->wl_mode == WL_IMPORTANCE && s->n_emitters == 0)

@@ -55,6 +55,7 @@
 #define SPECNEE_H
 
 #include <stddef.h>
+#include <stdlib.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <math.h>
@@ -327,6 +328,9 @@ static inline float spec_get(const Spectrum *s, int nm)
 { return nm < SPEC_MIN ? s->uv[nm - SPEC_UV_MIN] : s->v[nm - SPEC_MIN]; }
 
 float spec_eval(const Spectrum *s, float lambda_nm);
+/* spec_eval of the table (float)(num * s / den) (num * s a float product) at every
+   knot, bit for bit, without storing it (lights.c: an emitter's Le = scale L / norm). */
+float spec_eval_scaled(const Spectrum *s, float num, double den, float lambda_nm);
 void  spec_const(Spectrum *s, float value);
 int   spec_is_constant(const Spectrum *s);
 /* From (lambda, value) pairs, piecewise linear, zero outside the listed range
@@ -375,6 +379,18 @@ float spec_sigmoid_eval(const float c[3], float lambda_nm);
    Newton polish), and the full continuation fit from grey (no table). */
 void  spec_rgb_table_start(RgbTable *T, const double target[3], double c[3]);
 void  spec_rgb_coeffs_fit(const double target[3], double c[3]);
+/* rgbtable.c: the coefficients of target (components in [0, 1], not all 0) by
+   interpolation of the build-time table rgbtable.h, without iteration; 0 where the
+   table is not trusted (then spec_rgb_coeffs fits). */
+int   rgbtable_coeffs(const double target[3], double c[3]);
+/* The table's grid (rgbtable.c; docs/loading.md): knots x = 0..RGB_GRID_CELLS of
+   z = rgb[m], the largest component, at z = rgb_grid_z(x); rgb_grid_cell gives m,
+   the cell (x, b, a) and the fractions in it (0 where z is below the knot x = 1);
+   rgb_grid_interp interpolates a table coef[m][x][b][a][3] (floats) there. */
+#define RGB_GRID_CELLS 32
+double rgb_grid_z(double x);
+int   rgb_grid_cell(const double target[3], int *m, int cell[3], double f[3]);
+void  rgb_grid_interp(const float *coef, int m, const int cell[3], const double f[3], double c[3]);
 /* CIE 1931 2-degree colour matching functions at lambda (nm), linear in the 5 nm CIE table. */
 void  cie_xyz(float lambda_nm, float xyz[3]);
 void  cie_cmf(double lambda_nm, double xyz[3]);  /* the same in double precision */
@@ -682,6 +698,16 @@ typedef struct {
     double cdf[FL_N];          /* C at each knot: integral of A from 300 nm (F3) */
     double tail[FL_N];         /* N at each knot: integral of e from the knot to 830 nm */
 } Fluorescence;
+/* The spectra that only some material types read, in a record of their own held by
+   pointer (like Fluorescence), so that a diffuse or dielectric material does not
+   carry their 8.5 KB (docs/loading.md, memory per emitter). */
+typedef struct {
+    Spectrum k;                /* conductor: extinction coefficient (Material.eta holds n);
+                                  coatedconductor: the base's k (cond_eta holds its n) */
+    Spectrum transmittance;    /* diffusetransmission: T (reflectance holds R), scaled */
+    Spectrum albedo;           /* coateddiffuse, coatedconductor: the slab's albedo */
+    Spectrum cond_eta;         /* coatedconductor: the base conductor's n */
+} MaterialSpectra;
 typedef struct {
     MaterialType type;
     Spectrum reflectance;      /* diffuse albedo; fluorescent: rho, of the light not absorbed */
@@ -694,9 +720,9 @@ typedef struct {
     float alpha;               /* GGX roughness alpha (0 = smooth), after remaproughness;
                                   conductor: alpha along the shading frame's s axis */
     float alpha_t;             /* conductor: alpha along the t axis (anisotropic GGX) */
-    Spectrum k;                /* conductor: extinction coefficient (eta holds n);
-                                  coatedconductor: the base's k (cond_eta holds its n) */
-    Spectrum transmittance;    /* diffusetransmission: T (reflectance holds R), scaled */
+    MaterialSpectra *extra;    /* conductor, coateddiffuse, coatedconductor,
+                                  diffusetransmission: k, transmittance, albedo, cond_eta
+                                  (owned, freed by material_release); NULL for the others */
     float p_reflect;           /* diffusetransmission: probability of sampling the
                                   reflect lobe, max R / (max R + max T) over 300-830 nm */
     int reflectance_tex;       /* diffuse, conductor, coateddiffuse: "texture reflectance",
@@ -709,13 +735,13 @@ typedef struct {
     const struct Texture *textures;  /* the scene's textures (set when loading ends) */
     /* coateddiffuse, coatedconductor (layered.c): eta (a constant) and alpha (alpha_tex)
        are the coat's; coateddiffuse: reflectance is the base's R */
-    Spectrum albedo;           /* single-scattering albedo of the medium between the layers */
+    /* extra->albedo: single-scattering albedo of the medium between the layers */
     float thickness, hg_g;     /* the slab's height (sigma_t = 1) and HG asymmetry */
     int maxdepth, nsamples;    /* the random walks' vertex limit and count */
-    /* coatedconductor: the base conductor's n (k above) in vacuum, or its "reflectance"
-       (then reflectance_tex or reflectance, cond_eta = 1 and k from it as for the
-       conductor); its GGX alpha (cond_alpha_tex: 1 + a roughness texture's index) */
-    Spectrum cond_eta;
+    /* coatedconductor: the base conductor's n (extra->cond_eta, extra->k) in vacuum, or
+       its "reflectance" (then reflectance_tex or reflectance, cond_eta = 1 and k from it
+       as for the conductor); its GGX alpha (cond_alpha_tex: 1 + a roughness texture's
+       index) */
     float cond_alpha;
     int cond_alpha_tex;
     /* mix: the two materials (indices into Scene.materials, neither an interface) and
@@ -731,8 +757,17 @@ typedef struct {
                                   the alphas it reads from textures too */
 } Material;
 
-/* Free what a Material owns (its Fluorescence); the record itself is the caller's. */
+/* Free what a Material owns (its Fluorescence, its MaterialSpectra); the record
+   itself is the caller's. */
 void  material_release(Material *m);
+/* m->extra, allocated zeroed on first use (a builder of a type that reads it); NULL:
+   out of memory.  Inline: the builders of conductor.c and layered.c call it, and
+   material.c calls them. */
+static inline MaterialSpectra *material_extra(Material *m)
+{
+    if (!m->extra) m->extra = (MaterialSpectra *)calloc(1, sizeof *m->extra);
+    return m->extra;
+}
 /* Fluorescence (docs/FLUORESCENCE.md §1-§3).  fluor_prepare fills the tables
    of a MAT_FLUORESCENT material (m->fl set); returns 0 if the emission is zero everywhere. */
 int   fluor_prepare(Material *m);
@@ -1553,7 +1588,7 @@ float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm);
 /* sum over 1 nm steps in [lo, hi] of ybar L: the luminance that normalises an
    emitter's spectrum L (and an emissive medium's Le, render.c). */
 double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm);
-const Spectrum *light_spectrum(const LightSampler *ls, int e);   /* e's Le */
+void  light_spectrum(const LightSampler *ls, int e, Spectrum *Le);   /* e's Le, tabulated */
 /* What NEE chooses is a PIECE: a whole emitter, or (light trees only) a cluster of
    at most LIGHT_CLUSTER_TRIS triangles of a large emissive mesh.  Without
    splitting, piece i is emitter i. */
@@ -1622,7 +1657,10 @@ typedef struct {
     const LightPiece *pieces;  /* every piece, those beside the tree included */
     int n_pieces;
     const int *piece_tri;      /* the clusters' scene triangles */
-    const Spectrum *Le;        /* the distinct radiances for the sampled range */
+    /* the distinct radiances for the sampled range: le_table(le_ctx, i, &Le) tabulates
+       radiance i (lights.c keeps them untabulated) */
+    void (*le_table)(const void *le_ctx, int i, Spectrum *Le);
+    const void *le_ctx;
     int n_le;
     const int *le_of;          /* per emitter: its radiance, an index into Le */
     const float *bin;          /* per emitter: SPD_BINS bin averages of Le, 400-700 nm */

@@ -403,6 +403,37 @@ float spec_eval(const Spectrum *s, float lambda_nm)
     return s->v[i] + t * (s->v[i + 1] - s->v[i]);
 }
 
+/* Knot i of the scaled table, (float)(num * s / den) (num * s a float product), of
+   the UV part when uv is set. */
+static float scaled_knot(const Spectrum *s, float num, double den, int uv, int i)
+{
+    return (float)(num * (uv ? s->uv[i] : s->v[i]) / den);
+}
+
+float spec_eval_scaled(const Spectrum *s, float num, double den, float lambda_nm)
+{
+    float t = lambda_nm - (float)SPEC_MIN;
+    int i;
+    if (lambda_nm < (float)SPEC_MIN && lambda_nm >= (float)SPEC_UV_MIN) {
+        float a, b;
+        t = lambda_nm - (float)SPEC_UV_MIN;
+        i = (int)t;
+        if (i > SPEC_UV_N - 1) i = SPEC_UV_N - 1;
+        a = scaled_knot(s, num, den, 1, i);
+        b = i + 1 < SPEC_UV_N ? scaled_knot(s, num, den, 1, i + 1) : scaled_knot(s, num, den, 0, 0);
+        t -= (float)i;
+        return a + t * (b - a);
+    }
+    if (!(t >= 0.0f) || t > (float)(SPEC_N - 1)) return 0.0f;
+    i = (int)t;
+    if (i >= SPEC_N - 1) return scaled_knot(s, num, den, 0, SPEC_N - 1);
+    t -= (float)i;
+    {
+        float a = scaled_knot(s, num, den, 0, i), b = scaled_knot(s, num, den, 0, i + 1);
+        return a + t * (b - a);
+    }
+}
+
 void spec_const(Spectrum *s, float value)
 {
     int i;
@@ -1468,6 +1499,7 @@ static void rgb_coeffs(RgbTable *T, const double target[3], double c[3])
         rgb_fit(&fit, target, c);
         return;
     }
+    if (rgbtable_coeffs(target, c)) return;      /* rgbtable.c: trusted cells */
     rgb_table_get(T);
     rgb_table_lookup(T, target, c);
     if (rgb_newton(&T->fit, target, c, RGB_POLISH) >= 1e-14) rgb_fit(&T->fit, target, c);

@@ -312,6 +312,16 @@ DirTest test_bsdf_dirs(BsdfDirs *b, int n)
     return d;
 }
 
+MaterialSpectra *test_material_extra(void)
+{
+    static MaterialSpectra ring[64];
+    static int next;
+    MaterialSpectra *x = &ring[next];
+    next = (next + 1) % 64;
+    memset(x, 0, sizeof *x);
+    return x;
+}
+
 SurfacePoint test_flat_point(void)
 {
     SurfacePoint sp;

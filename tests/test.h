@@ -143,6 +143,9 @@ double test_bsdf_dir_pdf(void *ctx, const double w[3]);
 DirTest test_bsdf_dirs(BsdfDirs *b, int n);
 /* A surface point at the origin with normal +z. */
 SurfacePoint test_flat_point(void);
+/* Material.extra for a material built by hand (a conductor, a coat): zeroed static
+   storage, a ring of 64 records reused in turn; never freed (no material_release). */
+MaterialSpectra *test_material_extra(void);
 /* The walls of a small open box [-1,1]^3, as scene text after WorldBegin. */
 extern const char test_box_walls[];
 

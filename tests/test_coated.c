@@ -14,6 +14,7 @@ static void coated(Material *m, float r_short, float r_long, float alpha, float 
                    float thick, float albedo, float g, int nsamples)
 {
     memset(m, 0, sizeof *m);
+    m->extra = test_material_extra();
     m->type = MAT_COATED_DIFFUSE;
     spec_const(&m->reflectance, r_short);
     {
@@ -21,7 +22,7 @@ static void coated(Material *m, float r_short, float r_long, float alpha, float 
         for (nm = 550; nm <= SPEC_MAX; nm++) *spec_at(&m->reflectance, nm) = r_long;
     }
     spec_const(&m->eta, eta);
-    spec_const(&m->albedo, albedo);
+    spec_const(&m->extra->albedo, albedo);
     m->alpha = m->alpha_t = alpha;
     m->thickness = thick;
     m->hg_g = g;
@@ -203,15 +204,16 @@ static void coatcond(Material *m, float alpha, float eta, float base_alpha, cons
 {
     char name[32];
     memset(m, 0, sizeof *m);
+    m->extra = test_material_extra();
     m->type = MAT_COATED_CONDUCTOR;
     spec_const(&m->eta, eta);
     m->alpha = m->alpha_t = alpha;
     m->cond_alpha = base_alpha;
     snprintf(name, sizeof name, "metal-%s-eta", metal);
-    spec_named(&m->cond_eta, name);
+    spec_named(&m->extra->cond_eta, name);
     snprintf(name, sizeof name, "metal-%s-k", metal);
-    spec_named(&m->k, name);
-    spec_const(&m->albedo, albedo);
+    spec_named(&m->extra->k, name);
+    spec_const(&m->extra->albedo, albedo);
     m->thickness = thick;
     m->maxdepth = 100;    /* as cases(): f and the sampled walks truncate alike */
     m->nsamples = 1;
@@ -239,9 +241,10 @@ static void test_cc_limit_bare(T *t)
     int k, j;
     coatcond(&cc, 0.0f, 1.0f, 0.3f, "Cu", 1e-6f, 0.0f);
     memset(&bare, 0, sizeof bare);
+    bare.extra = test_material_extra();
     bare.type = MAT_CONDUCTOR;
     spec_named(&bare.eta, "metal-Cu-eta");
-    spec_named(&bare.k, "metal-Cu-k");
+    spec_named(&bare.extra->k, "metal-Cu-k");
     mp.alpha = mp.alpha_t = 0.3f;
     mp.has_r = 0;
     mp.cond_alpha = 0.0f;
@@ -264,7 +267,7 @@ static void test_cc_limit_bare(T *t)
               "wo %d: no delta sample", k);
         for (j = 0; j < HERO_N; j++) {
             float w = bs.f[j] * fabsf(v3_dot(bs.wi, sp.ns)) / bs.pdf;
-            float F = fresnel_conductor(wo.z, spec_eval(&bare.eta, LAM[j]), spec_eval(&bare.k, LAM[j]));
+            float F = fresnel_conductor(wo.z, spec_eval(&bare.eta, LAM[j]), spec_eval(&bare.extra->k, LAM[j]));
             CHECK(t, fabsf(w - F) <= 1e-4f, "wo %d wavelength %d: weight %g, F %g", k, j, w, F);
         }
     }
@@ -303,8 +306,8 @@ static void test_cc_smooth_series(T *t)
             }
         }
         for (j = 0; j < HERO_N; j++) {
-            double Fc = fresnel_conductor(ct, spec_eval(&m.cond_eta, LAM[j]) / eta,
-                                          spec_eval(&m.k, LAM[j]) / eta);
+            double Fc = fresnel_conductor(ct, spec_eval(&m.extra->cond_eta, LAM[j]) / eta,
+                                          spec_eval(&m.extra->k, LAM[j]) / eta);
             double expect = R + (1.0 - R) * (1.0 - R) * Fc * Tr2 / (1.0 - R * Fc * Tr2);
             double mu = s[j] / n, se = sqrt(fmax(s2[j] / n - mu * mu, 0.0) / n);
             if (getenv("DBG")) fprintf(stderr, "angle %d j %d: %.5f +- %.2g, series %.5f\n", a, j, mu, se, expect);
@@ -626,10 +629,10 @@ static void test_parse(T *t)
     m = &s.materials[s.n_materials - 1];
     CHECK(t, m->type == MAT_COATED_DIFFUSE, "type %d", (int)m->type);
     CHECK(t, spec_eval(&m->reflectance, 500) == 0.5f && spec_eval(&m->eta, 500) == 1.5f &&
-          spec_eval(&m->albedo, 500) == 0.0f && m->thickness == 0.01f && m->hg_g == 0.0f &&
+          spec_eval(&m->extra->albedo, 500) == 0.0f && m->thickness == 0.01f && m->hg_g == 0.0f &&
           m->maxdepth == 10 && m->nsamples == 1 && m->alpha == 0.0f,
           "defaults: R %g eta %g albedo %g thickness %g g %g maxdepth %d nsamples %d alpha %g",
-          spec_eval(&m->reflectance, 500), spec_eval(&m->eta, 500), spec_eval(&m->albedo, 500),
+          spec_eval(&m->reflectance, 500), spec_eval(&m->eta, 500), spec_eval(&m->extra->albedo, 500),
           m->thickness, m->hg_g, m->maxdepth, m->nsamples, m->alpha);
     scene_free(&s);
     if (!test_load_scene(t, &s, "WorldBegin\nMaterial \"coateddiffuse\" \"float roughness\" 0.25 "
@@ -668,12 +671,12 @@ static void test_cc_parse(T *t)
     m = &s.materials[s.n_materials - 1];
     spec_named(&cu, "metal-Cu-k");
     CHECK(t, m->type == MAT_COATED_CONDUCTOR, "type %d", (int)m->type);
-    CHECK(t, spec_eval(&m->eta, 500) == 1.5f && spec_eval(&m->albedo, 500) == 0.0f &&
+    CHECK(t, spec_eval(&m->eta, 500) == 1.5f && spec_eval(&m->extra->albedo, 500) == 0.0f &&
           m->thickness == 0.01f && m->hg_g == 0.0f && m->maxdepth == 10 && m->nsamples == 1 &&
-          m->alpha == 0.0f && m->cond_alpha == 0.0f && spec_eval(&m->k, 600) == spec_eval(&cu, 600),
+          m->alpha == 0.0f && m->cond_alpha == 0.0f && spec_eval(&m->extra->k, 600) == spec_eval(&cu, 600),
           "defaults: eta %g albedo %g thickness %g g %g maxdepth %d nsamples %d alphas %g %g k %g",
-          spec_eval(&m->eta, 500), spec_eval(&m->albedo, 500), m->thickness, m->hg_g, m->maxdepth,
-          m->nsamples, m->alpha, m->cond_alpha, spec_eval(&m->k, 600));
+          spec_eval(&m->eta, 500), spec_eval(&m->extra->albedo, 500), m->thickness, m->hg_g, m->maxdepth,
+          m->nsamples, m->alpha, m->cond_alpha, spec_eval(&m->extra->k, 600));
     scene_free(&s);
     if (!test_load_scene(t, &s, "WorldBegin\nTexture \"r\" \"float\" \"constant\" \"float value\" 0.09\n"
                          "Material \"coatedconductor\" \"float interface.roughness\" 0.25 "
@@ -684,8 +687,8 @@ static void test_cc_parse(T *t)
     m = &s.materials[s.n_materials - 1];
     CHECK(t, m->alpha == 0.5f && m->cond_alpha_tex == 1 && spec_eval(&m->eta, 700) == 1.2f &&
           m->thickness == 0.5f && m->hg_g == -0.5f && m->maxdepth == 3 && m->nsamples == 4 &&
-          spec_eval(&m->cond_eta, 600) == 1.0f && fabsf(spec_eval(&m->k, 600) - 2.0f) < 0.05f,
-          "parameters not read: alpha %g tex %d k %g", m->alpha, m->cond_alpha_tex, spec_eval(&m->k, 600));
+          spec_eval(&m->extra->cond_eta, 600) == 1.0f && fabsf(spec_eval(&m->extra->k, 600) - 2.0f) < 0.05f,
+          "parameters not read: alpha %g tex %d k %g", m->alpha, m->cond_alpha_tex, spec_eval(&m->extra->k, 600));
     {   /* the roughness texture at a point: alpha = sqrt(0.09) */
         MatPoint mp;
         SurfacePoint sp = test_flat_point();

@@ -39,9 +39,10 @@
 static void make_conductor(Material *m, float eta, float k, float ax, float ay)
 {
     memset(m, 0, sizeof *m);
+    m->extra = test_material_extra();
     m->type = MAT_CONDUCTOR;
     spec_const(&m->eta, eta);
-    spec_const(&m->k, k);
+    spec_const(&m->extra->k, k);
     m->alpha = ax;
     m->alpha_t = ay;
 }
@@ -159,7 +160,7 @@ static void test_reflectance_param(T *t)
     CHECK(t, m->type == MAT_CONDUCTOR && m->alpha == 0.0f && mat_is_delta(m), "a smooth conductor");
     for (nm = 400; nm <= 700; nm += 50) {
         float r = spec_eval(&m->reflectance, nm);
-        float F = fresnel_conductor(1.0f, spec_eval(&m->eta, nm), spec_eval(&m->k, nm));
+        float F = fresnel_conductor(1.0f, spec_eval(&m->eta, nm), spec_eval(&m->extra->k, nm));
         CHECK(t, spec_eval(&m->eta, nm) == 1.0f, "eta = 1");
         CHECK(t, fabsf(F - r) < 1e-5f, "%g nm: F(normal) %g, reflectance %g", nm, F, r);
     }
@@ -171,12 +172,12 @@ static void test_reflectance_param(T *t)
     {
         float c;
         for (c = 0.02f; c <= 1.0f; c += 0.049f) {      /* 0.9977 at cos 0.02 */
-            float F = fresnel_conductor(c, spec_eval(&m->eta, 550), spec_eval(&m->k, 550));
+            float F = fresnel_conductor(c, spec_eval(&m->eta, 550), spec_eval(&m->extra->k, 550));
             CHECK(t, F > (c < 0.1f ? 0.997f : 0.999f) && F <= 1.0f, "reflectance 1 at cos %g: F %g", c, F);
         }
-        CHECK(t, fabsf(fresnel_conductor(1.0f, spec_eval(&m->eta, 550), spec_eval(&m->k, 550)) - 0.9999f) < 1e-6f,
+        CHECK(t, fabsf(fresnel_conductor(1.0f, spec_eval(&m->eta, 550), spec_eval(&m->extra->k, 550)) - 0.9999f) < 1e-6f,
               "normal incidence: the clamped 0.9999");
-        CHECK(t, fabsf(spec_eval(&m->k, 550) - 199.99f) < 0.01f, "k %g", spec_eval(&m->k, 550));
+        CHECK(t, fabsf(spec_eval(&m->extra->k, 550) - 199.99f) < 0.01f, "k %g", spec_eval(&m->extra->k, 550));
     }
     scene_free(&s);
 }
@@ -189,9 +190,10 @@ static void test_smooth(T *t)
     Rng r;
     int i, j;
     memset(&m, 0, sizeof m);
+    m.extra = test_material_extra();
     m.type = MAT_CONDUCTOR;
     spec_named(&m.eta, "metal-Au-eta");
-    spec_named(&m.k, "metal-Au-k");
+    spec_named(&m.extra->k, "metal-Au-k");
     CHECK(t, mat_is_delta(&m), "alpha 0 is a delta lobe");
     rng_seed(&r, 21, 1);
     for (i = 0; i < 200; i++) {
@@ -206,7 +208,7 @@ static void test_smooth(T *t)
               "not the mirror direction");
         for (j = 0; j < HERO_N; j++) {
             float w = bs.f[j] * fabsf(bs.wi.z) / bs.pdf;
-            float F = fresnel_conductor(fabsf(wo.z), spec_eval(&m.eta, lam[j]), spec_eval(&m.k, lam[j]));
+            float F = fresnel_conductor(fabsf(wo.z), spec_eval(&m.eta, lam[j]), spec_eval(&m.extra->k, lam[j]));
             CHECK(t, fabsf(w - F) < 1e-5f && bs.pdf_l[j] == 1.0f, "wavelength %d: weight %g, F %g", j, w, F);
         }
         bsdf_eval(&m, &sp, wo, bs.wi, lam, 15u, f, p);
@@ -276,7 +278,7 @@ static void test_rough_pdf_and_energy(T *t)
             Vec3 wo = wos[io];
             make_conductor(&m, 0.3f, 2.5f, ax[ia], ay[ia]);
             spec_named(&m.eta, "metal-Cu-eta");      /* F varies with the wavelength */
-            spec_named(&m.k, "metal-Cu-k");
+            spec_named(&m.extra->k, "metal-Cu-k");
             rng_seed(&r, 23, (uint64_t)(ia * 2 + io));
             for (i = 0; i < n_s; i++) {
                 BsdfSample bs;
@@ -356,7 +358,7 @@ static void test_reciprocity(T *t)
     int i, j, tested = 0;
     make_conductor(&m, 0.2f, 3.0f, 0.15f, 0.45f);
     spec_named(&m.eta, "metal-Au-eta");
-    spec_named(&m.k, "metal-Au-k");
+    spec_named(&m.extra->k, "metal-Au-k");
     rng_seed(&r, 25, 0);
     for (i = 0; i < 2000; i++) {
         float u[4], f1[HERO_N], f2[HERO_N], p[HERO_N];
@@ -394,7 +396,7 @@ static void test_rough_value(T *t)
     int i, j, tested = 0;
     make_conductor(&m, 0.2f, 3.0f, (float)a, (float)a);
     spec_named(&m.eta, "metal-Cu-eta");
-    spec_named(&m.k, "metal-Cu-k");
+    spec_named(&m.extra->k, "metal-Cu-k");
     rng_seed(&r, 28, 0);
     for (i = 0; i < 500; i++) {
         float u[4], f[HERO_N], p[HERO_N];
@@ -414,7 +416,7 @@ static void test_rough_value(T *t)
         G = 1 / (1 + ggx_lambda_ref(a, co) + ggx_lambda_ref(a, ci));
         for (j = 0; j < HERO_N; j++) {
             double cd = ((double)wo.x * hx + (double)wo.y * hy + (double)wo.z * hz) / hl;
-            double F = fr_conductor_ref(cd, spec_eval(&m.eta, lam[j]), spec_eval(&m.k, lam[j]));
+            double F = fr_conductor_ref(cd, spec_eval(&m.eta, lam[j]), spec_eval(&m.extra->k, lam[j]));
             double fr = D * G * F / (4 * ci * co);
             CHECK(t, fabs(f[j] - fr) < 1e-4 * fr + 1e-7, "wavelength %d: f %g, Walter's GGX %g", j, f[j], fr);
         }
@@ -505,7 +507,7 @@ static void test_difftrans_albedo(T *t)
     m = &s.materials[0];
     CHECK(t, m->type == MAT_DIFFUSE_TRANSMISSION && !mat_is_delta(m), "type");
     /* scale 1.5 then clamped to 1: T(360) = 0.9, R(830) = 0.75 */
-    CHECK(t, fabsf(spec_eval(&m->transmittance, 360) - 0.9f) < 1e-6f &&
+    CHECK(t, fabsf(spec_eval(&m->extra->transmittance, 360) - 0.9f) < 1e-6f &&
           fabsf(spec_eval(&m->reflectance, 830) - 0.75f) < 1e-6f, "scale");
     CHECK(t, fabsf(m->p_reflect - 0.75f / (0.75f + 0.9f)) < 1e-6f, "p_reflect %g", m->p_reflect);
     rng_seed(&r, 27, 0);
@@ -522,13 +524,13 @@ static void test_difftrans_albedo(T *t)
             float f[HERO_N], p[HERO_N];
             bsdf_eval(m, &sp, wo, bs.wi, lam, 15u, f, p);
             CHECK(t, fabsf(p[0] - bs.pdf) <= 1e-5f * bs.pdf && fabsf(f[3] - bs.f[3]) <= 1e-6f, "sample != eval");
-            CHECK(t, fabsf(f[1] - spec_eval(bs.wi.z > 0 ? &m->reflectance : &m->transmittance, lam[1]) / PI_F) < 1e-6f,
+            CHECK(t, fabsf(f[1] - spec_eval(bs.wi.z > 0 ? &m->reflectance : &m->extra->transmittance, lam[1]) / PI_F) < 1e-6f,
                   "f is R/pi or T/pi");
         }
     }
     CHECK(t, ok == n, "every sample succeeds on a flat surface (%d of %d)", ok, n);
     for (i = 0; i < HERO_N; i++) {
-        double R = spec_eval(&m->reflectance, lam[i]), Tt = spec_eval(&m->transmittance, lam[i]);
+        double R = spec_eval(&m->reflectance, lam[i]), Tt = spec_eval(&m->extra->transmittance, lam[i]);
         double pr = m->p_reflect;
         /* each sample weighs R/pr or T/(1-pr): a binomial count times a constant */
         double se_r = R / pr * sqrt(pr * (1 - pr) / n), se_t = Tt / (1 - pr) * sqrt(pr * (1 - pr) / n);
@@ -590,14 +592,14 @@ static void test_parse_defaults(T *t)
     CHECK(t, m[0].type == MAT_CONDUCTOR && !memcmp(&m[0].eta, &cu, sizeof cu) && m[0].alpha == 0.0f,
           "the default conductor is smooth copper");
     spec_named(&cu, "metal-Cu-k");
-    CHECK(t, !memcmp(&m[0].k, &cu, sizeof cu), "Cu's k");
+    CHECK(t, !memcmp(&m[0].extra->k, &cu, sizeof cu), "Cu's k");
     CHECK(t, fabsf(m[1].alpha - 0.3f) < 1e-6f && m[1].alpha_t == m[1].alpha && !mat_is_delta(&m[1]),
           "roughness 0.09 remaps to alpha 0.3: %g", m[1].alpha);
-    CHECK(t, fabsf(m[2].alpha - 0.09f) < 1e-7f && spec_eval(&m[2].k, 550) == 4.0f, "no remap; k given");
+    CHECK(t, fabsf(m[2].alpha - 0.09f) < 1e-7f && spec_eval(&m[2].extra->k, 550) == 4.0f, "no remap; k given");
     CHECK(t, m[3].type == MAT_THIN_DIELECTRIC && spec_eval(&m[3].eta, 500) == 1.5f, "thin eta 1.5 by default");
     CHECK(t, spec_eval(&m[4].eta, 500) == 1.33f, "float eta");
     CHECK(t, m[5].type == MAT_DIFFUSE_TRANSMISSION && spec_eval(&m[5].reflectance, 500) == 0.25f &&
-          spec_eval(&m[5].transmittance, 500) == 0.25f && m[5].p_reflect == 0.5f, "0.25 and 0.25");
+          spec_eval(&m[5].extra->transmittance, 500) == 0.25f && m[5].p_reflect == 0.5f, "0.25 and 0.25");
     scene_free(&s);
 }
 
@@ -720,9 +722,9 @@ static void test_spectrum_range(T *t)
              "\"spectrum conductor.k\" [ 345 2 830 4 ]\nShape \"sphere\"\n", mat);
     if (!load_text(t, &s, buf)) return;
     for (nm = SPEC_UV_MIN; nm < 340; nm++)
-        ok &= spec_get(&s.materials[0].eta, nm) == 1.2f && spec_get(&s.materials[0].k, nm) == 2.0f &&
-              spec_get(&s.materials[1].cond_eta, nm) == 1.2f;
-    for (nm = SPEC_UV_MIN; nm < 345; nm++) ok &= spec_get(&s.materials[1].k, nm) == 2.0f;
+        ok &= spec_get(&s.materials[0].eta, nm) == 1.2f && spec_get(&s.materials[0].extra->k, nm) == 2.0f &&
+              spec_get(&s.materials[1].extra->cond_eta, nm) == 1.2f;
+    for (nm = SPEC_UV_MIN; nm < 345; nm++) ok &= spec_get(&s.materials[1].extra->k, nm) == 2.0f;
     CHECK(t, ok, "below the data, eta and k do not continue the lowest value");
     CHECK(t, fabsf(spec_get(&s.materials[0].eta, 420) - 1.35f) < 1e-6f, "the data is changed: eta(420) %g",
           spec_get(&s.materials[0].eta, 420));

@@ -321,10 +321,13 @@ static void test_positive_where_emitting(T *t)
             c.hero_only = 1;
             c.lambda[0] = 400.0f + 0.5f * k;
             c.beta[0] = 1;
-            for (e = 0; e < s.n_emitters; e++)
-                if (spec_eval(light_spectrum(ls, e), c.lambda[0]) > 0.0f)
+            for (e = 0; e < s.n_emitters; e++) {
+                Spectrum Le;
+                light_spectrum(ls, e, &Le);
+                if (spec_eval(&Le, c.lambda[0]) > 0.0f)
                     CHECK(t, light_select_pmf(ls, &c, e) > 0.0f, "%s: emitter %d emits at %.1f nm but P = 0",
                           variants[v].name, e, c.lambda[0]);
+            }
         }
         light_sampler_free(ls);
     }

@@ -416,13 +416,15 @@ static void test_rgb_illuminant(T *t)
     CHECK(t, spec_from_rgb(&s, in, 1, &e, "t", 1) && spec_is_constant(&s) && s.v[0] == 0.0f, "black");
 }
 
-/* The coefficient table (spectrum.c section 11) against the full fit, over a 9^3
-   grid of reflectances in [0.02, 0.98] and the illuminants (largest component 1/2)
-   of a 9 x 9 grid: the spectra s(lambda) in [0, 1] over 360..830 nm at 1 nm and
-   their rgb under D65.  The table's start alone must already be close (a wrong
-   table would only be hidden by the polish; measured: max 0.040, mean 0.010), the
-   polished result equal to the fit (measured: spectra within 2.0e-6, mean 3.9e-8;
-   rgb round trips within 7.1e-7 of the fit's). */
+/* The load's path (rgbtable.c's table where trusted, else spectrum.c's coefficient
+   table polished by Newton) against the full fit, over a 9^3 grid of reflectances in
+   [0.02, 0.98] and the illuminants (largest component 1/2) of a 9 x 9 grid: the
+   spectra s(lambda) in [0, 1] over 360..830 nm at 1 nm and their rgb under D65.
+   spectrum.c's table start alone must already be close (a wrong table would only be
+   hidden by the polish; measured: max 0.040, mean 0.010).  The result is within
+   1e-3 of the fit (measured: spectra within 3.5e-4, mean 9.0e-6; rgb round trips
+   within 1.9e-4 of the fit's); spectrum_rgbtable checks
+   the table over a denser set. */
 static double sigmoid_rgb_err(const double c[3], const double target[3])
 {
     Spectrum s;
@@ -499,11 +501,92 @@ static void test_rgb_table(T *t)
     printf("    rgb table vs fit over %ld colours: spectrum max %.2e mean %.2e, rgb error "
            "difference max %.2e; table start alone: rgb error max %.2e mean %.2e\n",
            n_c, worst_s, sum_s / (double)n_s, worst_rgb, worst_start, sum_start / (double)n_c);
-    CHECK(t, worst_s < 1e-5, "table spectra differ from the fit by %.2e", worst_s);
-    CHECK(t, worst_rgb < 1e-5, "table round trip differs from the fit's by %.2e", worst_rgb);
+    CHECK(t, worst_s < 1e-3, "table spectra differ from the fit by %.2e", worst_s);
+    CHECK(t, worst_rgb < 1e-3, "table round trip differs from the fit's by %.2e", worst_rgb);
     CHECK(t, worst_start < 0.06 && sum_start / (double)n_c < 0.015,
           "the table's start is far from the colour: max %.2e, mean %.2e", worst_start,
           sum_start / (double)n_c);
+}
+
+/* rgbtable.c against the full fit (continuation from grey, no table) over a dense
+   set: reflectances on a 17^3 grid of [0, 1]^3 and illuminants (largest component
+   1/2, the two others on a 33 x 33 grid of [0, 1/2], each of the three largest).
+   Where the table answers, its spectrum s(lambda), 360..830 nm at 1 nm, is within
+   the tolerance 2e-3 of the fit's (measured here: max 1.02e-3, mean 2.4e-5;
+   docs/loading.md: max 1.29e-3 over 140,400 colours); it answers for most colours
+   (measured 82 % here), the rest go to the fit. */
+static void test_rgbtable(T *t)
+{
+    enum { G = 16, GI = 32 };
+    double worst = 0.0, sum = 0.0, at[3] = { 0, 0, 0 };
+    long n = 0, n_tab = 0;
+    int i, j, k, ill;
+    for (ill = 0; ill < 2; ill++)
+        for (i = 0; i <= (ill ? GI : G); i++)
+            for (j = 0; j <= (ill ? GI : G); j++)
+                for (k = 0; k <= (ill ? 2 : G); k++) {
+                    double target[3], ct[3], cf[3], d = 0.0;
+                    int l;
+                    if (ill) {
+                        target[k] = 0.5;
+                        target[(k + 1) % 3] = 0.5 * i / GI;
+                        target[(k + 2) % 3] = 0.5 * j / GI;
+                    } else {
+                        target[0] = (double)i / G; target[1] = (double)j / G;
+                        target[2] = (double)k / G;
+                    }
+                    if (target[0] == target[1] && target[1] == target[2]) continue;
+                    n++;
+                    if (!rgbtable_coeffs(target, ct)) continue;
+                    n_tab++;
+                    spec_rgb_coeffs_fit(target, cf);
+                    for (l = 0; l < SPEC_N; l++) {
+                        float lam = (float)(SPEC_MIN + l), ft[3], ff[3];
+                        int q;
+                        for (q = 0; q < 3; q++) { ft[q] = (float)ct[q]; ff[q] = (float)cf[q]; }
+                        d = fmax(d, fabs((double)spec_sigmoid_eval(ft, lam) - spec_sigmoid_eval(ff, lam)));
+                    }
+                    sum += d;
+                    if (d > worst) { worst = d; at[0] = target[0]; at[1] = target[1]; at[2] = target[2]; }
+                }
+    printf("    rgbtable: %ld of %ld colours from the table; spectrum vs fit max %.2e at "
+           "(%.3f, %.3f, %.3f), mean %.2e\n", n_tab, n, worst, at[0], at[1], at[2],
+           sum / (double)(n_tab ? n_tab : 1));
+    CHECK(t, worst <= 2e-3, "the table's spectrum differs from the fit's by %.2e at (%g, %g, %g)",
+          worst, at[0], at[1], at[2]);
+    CHECK(t, n_tab >= 0.75 * (double)n, "the table answers for %ld of %ld colours", n_tab, n);
+}
+
+/* spec_eval_scaled (lights.c's Le without a table) against spec_eval of the table
+   (float)(num * s / den): bit for bit at every wavelength tried, UV part, knots,
+   between knots and out of range included. */
+static void test_eval_scaled(T *t)
+{
+    static const char *const names[] = { "stdillum-D65", "stdillum-F2", "metal-Au-k" };
+    const float nums[3] = { 1.0f, 3.7f, 0.013f };
+    const double dens[3] = { 1.0, 106.85673, 0.3 };
+    long n = 0, n_differ = 0;
+    int i, k;
+    for (i = 0; i < 3; i++) {
+        Spectrum s, tab;
+        float lam;
+        int l;
+        spec_named(&s, names[i]);
+        for (l = 0; l < SPEC_UV_N; l++) s.uv[l] = 0.01f * (float)(l % 7) * s.v[0];
+        for (k = 0; k < 3; k++) {
+            for (l = 0; l < SPEC_N; l++) tab.v[l] = (float)(nums[k] * s.v[l] / dens[k]);
+            for (l = 0; l < SPEC_UV_N; l++) tab.uv[l] = (float)(nums[k] * s.uv[l] / dens[k]);
+            for (lam = 250.0f; lam <= 880.0f; lam += 0.37f) {
+                n++;
+                n_differ += spec_eval_scaled(&s, nums[k], dens[k], lam) != spec_eval(&tab, lam);
+            }
+            for (l = SPEC_UV_MIN; l <= SPEC_MAX; l++) {
+                n++;
+                n_differ += spec_eval_scaled(&s, nums[k], dens[k], (float)l) != spec_eval(&tab, (float)l);
+            }
+        }
+    }
+    CHECK(t, n_differ == 0, "%ld of %ld values differ from the tabulated spectrum's", n_differ, n);
 }
 
 /* ---------- wavelength sampling ---------- */
@@ -763,6 +846,8 @@ const TestCase tests_spectrum[] = {
     { "spectrum_rgb_reflectance", test_rgb_reflectance },
     { "spectrum_rgb_illuminant", test_rgb_illuminant },
     { "spectrum_rgb_table", test_rgb_table },
+    { "spectrum_rgbtable", test_rgbtable },
+    { "spectrum_eval_scaled", test_eval_scaled },
     { "spectrum_wl_uniform", test_wl_uniform },
     { "spectrum_wl_importance", test_wl_importance },
     { "spectrum_svg", test_svg },
