@@ -44,6 +44,23 @@ int test_load_scene(T *t, Scene *s, const char *text)
     return 1;
 }
 
+/* Load head + body as the file `file`; the test fails unless the load is refused
+   with a message containing `want`. */
+void test_refused(T *t, const char *head, const char *body, const char *file, const char *want)
+{
+    static char buf[16384];
+    Scene s;
+    Error err;
+    err.msg[0] = 0;
+    snprintf(buf, sizeof buf, "%s%s", head, body);
+    if (scene_load_string(&s, buf, file, &err)) {
+        scene_free(&s);
+        test_failf(t, __FILE__, __LINE__, "%s accepted; want \"%s\"", file, want);
+        return;
+    }
+    if (!strstr(err.msg, want)) test_failf(t, __FILE__, __LINE__, "error \"%s\", want \"%s\"", err.msg, want);
+}
+
 /* Render K seeds and gather tile statistics. */
 int test_render_tiles(T *t, Scene *s, const RenderOptions *base, int K, int n, Tiles *out)
 {

@@ -61,6 +61,8 @@ typedef struct {
 } Tiles;
 /* Load a scene from text; fails the test (and returns 0) on a parse error. */
 int test_load_scene(T *t, Scene *s, const char *text);
+/* Load head + body as `file`; fails the test unless it is refused with `want` in the message. */
+void test_refused(T *t, const char *head, const char *body, const char *file, const char *want);
 /* Render K seeds (base->seed + 1000 k) of s, n x n tiles: per-tile mean over seeds
    of the tile averages and its standard error.  Fails the test on any non-finite
    sample or pixel. */

@@ -253,16 +253,7 @@ static void test_mix_threads(T *t)
 
 static void expect_error(T *t, const char *body, const char *want)
 {
-    static char buf[8192];
-    Scene s;
-    Error err;
-    snprintf(buf, sizeof buf, "%s%s", MIX_HEAD, body);
-    if (scene_load_string(&s, buf, "mix.pbrt", &err)) {
-        scene_free(&s);
-        test_failf(t, __FILE__, __LINE__, "accepted; want \"%s\"", want);
-        return;
-    }
-    if (!strstr(err.msg, want)) test_failf(t, __FILE__, __LINE__, "error \"%s\", want \"%s\"", err.msg, want);
+    test_refused(t, MIX_HEAD, body, "mix.pbrt", want);
 }
 
 /* pbrt-v4's refusals, each at its file:line: not two names; a name not made (a named

@@ -9,7 +9,7 @@
 #
 # Usage: sh tools/load_curve.sh "N1 N2 ..." LABEL=SPECNEE_BINARY ... [pbrt=PBRT_BINARY]
 #   e.g. sh tools/load_curve.sh "100 1000 10000" new=./specnee old=/tmp/specnee.old \
-#        pbrt=../shared/tools/pbrt-v4
+#        pbrt=/path/to/pbrt    (a pbrt-v4 binary: docs/real-scenes.md says how to build one)
 # Environment: RUNS (default 3; files of 100,000 spheres or more run once),
 # MODES (default "spheres material"), TMPDIR.  Needs /usr/bin/time (GNU).
 set -eu
