@@ -403,22 +403,21 @@ static int thin_sample(const Material *m, Vec3 lo, const float *lambda, unsigned
    Sampling picks the side with the constant probability p_reflect (max R over
    max R + max T, fixed at load time: pbrt-v4 uses the maxima over the four
    sampled wavelengths instead; any fixed choice is unbiased), then a cosine
-   direction on it:  p(wi) = p_side |cos i| / pi.  The lobes must not leak
-   through the geometric surface: reflection stays on wo's side of ng,
-   transmission crosses it. */
+   direction on it:  p(wi) = p_side |cos i| / pi.  Reflection and transmission
+   are told apart by the shading normal alone, as in pbrt-v4 (docs/conventions.md
+   §6: no BSDF here looks at the geometric normal). */
 static float dt_side_pdf(const Material *m, int reflect)
 {
     return reflect ? m->p_reflect : 1.0f - m->p_reflect;
 }
 
-static int dt_pair(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi, Vec3 lo, Vec3 li,
-                   const float *lambda, unsigned alive, float f[HERO_N], float pdf_l[HERO_N])
+static int dt_pair(const Material *m, Vec3 lo, Vec3 li, const float *lambda, unsigned alive,
+                   float f[HERO_N], float pdf_l[HERO_N])
 {
     int reflect = lo.z * li.z > 0.0f, j;
-    float gside = v3_dot(wi, sp->ng) * v3_dot(wo, sp->ng), pdf;
+    float pdf;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
     if (lo.z * li.z == 0.0f) return 0;
-    if (reflect ? gside <= 0.0f : gside >= 0.0f) return 0;   /* no leaks */
     pdf = dt_side_pdf(m, reflect) * fabsf(li.z) / PI_F;
     for (j = 0; j < HERO_N; j++) {
         pdf_l[j] = pdf;
@@ -451,15 +450,12 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         mat_point(m, sp, lambda, alive, &mp);
         if (!conductor_sample(m, &mp, lo, lambda, alive, u1, u2, out, &li)) return 0;
         out->wi = frame_to_world(&fr, li);
-        /* a rough lobe must not leak through the geometric surface (as diffuse) */
-        if (!out->delta && v3_dot(out->wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return 0;
         return 1;
     }
     if (m->type == MAT_COATED_DIFFUSE || m->type == MAT_COATED_CONDUCTOR) {   /* layered.c */
         MatPoint mp;
         mat_point(m, sp, lambda, alive, &mp);
         if (!layered_sample(m, &mp, &fr, wo, lambda, alive, u0, u1, u2, 0, out)) return 0;
-        if (v3_dot(out->wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return 0;   /* no leaks */
         return 1;
     }
     if (m->type == MAT_THIN_DIELECTRIC) {
@@ -473,7 +469,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         li = v3(r * cosf(phi), r * sinf(phi), sqrtf(fmaxf(0.0f, 1.0f - u1)));
         if ((lo.z < 0.0f) == reflect) li.z = -li.z;     /* reflect: wo's side */
         out->wi = frame_to_world(&fr, li);
-        if (!dt_pair(m, sp, wo, out->wi, lo, li, lambda, alive, out->f, out->pdf_l)) return 0;
+        if (!dt_pair(m, lo, li, lambda, alive, out->f, out->pdf_l)) return 0;
         out->pdf = out->pdf_l[0];
         return 1;
     }
@@ -486,8 +482,6 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         li = v3(r * cosf(phi), r * sinf(phi), z);
         if (lo.z < 0.0f) li.z = -li.z;                 /* wo's side */
         out->wi = frame_to_world(&fr, li);
-        /* light must not leak through the geometric surface */
-        if (v3_dot(out->wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return 0;
         out->pdf = z / PI_F;
         if (!(out->pdf > 0.0f)) return 0;
         for (j = 0; j < HERO_N; j++) {
@@ -564,7 +558,6 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
     if (m->type == MAT_CONDUCTOR || m->type == MAT_COATED_DIFFUSE ||
         m->type == MAT_COATED_CONDUCTOR) {
         MatPoint mp;
-        if (v3_dot(wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return;   /* no leaks */
         mat_point(m, sp, lambda, alive, &mp);
         if (m->type == MAT_CONDUCTOR) conductor_eval(m, &mp, lo, li, lambda, alive, f, pdf_l);
         else layered_eval(m, &mp, lo, li, lambda, alive, layered_seed(wo, wi, 0), f, pdf_l);  /* layered.c */
@@ -572,13 +565,12 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
     }
     if (m->type == MAT_THIN_DIELECTRIC) return;                    /* delta: f = 0 */
     if (m->type == MAT_DIFFUSE_TRANSMISSION) {
-        dt_pair(m, sp, wo, wi, lo, li, lambda, alive, f, pdf_l);
+        dt_pair(m, lo, li, lambda, alive, f, pdf_l);
         return;
     }
     if (m->type != MAT_DIELECTRIC) {    /* diffuse, or the fluorescent reflect lobe */
         float pdf;
         if (lo.z * li.z <= 0.0f) return;                           /* other side */
-        if (v3_dot(wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return; /* no leaks */
         pdf = fabsf(li.z) / PI_F;
         for (j = 0; j < HERO_N; j++) {
             pdf_l[j] = pdf;
