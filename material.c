@@ -70,6 +70,12 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm)
     return rho > 0.0f ? (rho < 1.0f ? rho : 1.0f) : 0.0f;               /* NaN: 0 */
 }
 
+int mat_reads_uv(const Material *m)
+{
+    return m->reflectance_tex > 0 || m->alpha_tex > 0 || m->cond_alpha_tex > 0 || m->amount_tex > 0 ||
+           m->type == MAT_MIX || m->bump || (m->extra && m->extra->transmittance_tex > 0);
+}
+
 /* The bits of a float, for hashing (equal floats of equal sign hash alike). */
 static uint64_t float_bits(float x)
 {
@@ -400,29 +406,54 @@ static int thin_sample(const Material *m, Vec3 lo, const float *lambda, unsigned
 
 /* pbrt-v4's DiffuseTransmissionBxDF: Lambertian reflection R/pi on wo's side and
    Lambertian transmission T/pi on the other (paper, leaves, lamp shades).
-   Sampling picks the side with the constant probability p_reflect (max R over
-   max R + max T, fixed at load time: pbrt-v4 uses the maxima over the four
-   sampled wavelengths instead; any fixed choice is unbiased), then a cosine
-   direction on it:  p(wi) = p_side |cos i| / pi.  Reflection and transmission
-   are told apart by the shading normal alone, as in pbrt-v4 (docs/conventions.md
-   §6: no BSDF here looks at the geometric normal). */
-static float dt_side_pdf(const Material *m, int reflect)
+   Sampling picks the side with probability p_reflect, then a cosine direction on
+   it:  p(wi) = p_side |cos i| / pi.  With constant R and T, p_reflect is max R over
+   max R + max T, fixed at load time (pbrt-v4 takes the maxima over the four
+   sampled wavelengths instead; any fixed choice is unbiased).  With a textured R
+   or T (pbrt-v4's "texture reflectance"/"texture transmittance", times "scale",
+   clamped to [0, 1]) it is pbrt-v4's rule at the point: the maxima over the alive
+   wavelengths, the same for every hero, so sampling and evaluation agree.
+   Reflection and transmission are told apart by the shading normal alone, as in
+   pbrt-v4 (docs/conventions.md §6: no BSDF here looks at the geometric normal). */
+typedef struct {
+    float R[HERO_N], T[HERO_N];   /* at the four wavelengths (0 where not alive) */
+    float p_reflect;              /* probability of sampling the reflect lobe */
+} DtPoint;
+
+static float dt_tex(const Material *m, int tex, const SurfacePoint *sp, float lambda)
 {
-    return reflect ? m->p_reflect : 1.0f - m->p_reflect;
+    float v = m->extra->dt_scale * tex_eval(m->textures, tex - 1, sp, lambda);   /* texture.c */
+    return v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;                                /* NaN: 0 */
 }
 
-static int dt_pair(const Material *m, Vec3 lo, Vec3 li, const float *lambda, unsigned alive,
-                   float f[HERO_N], float pdf_l[HERO_N])
+static void dt_point(const Material *m, const SurfacePoint *sp, const float *lambda,
+                     unsigned alive, DtPoint *d)
+{
+    int j, textured = m->reflectance_tex > 0 || m->extra->transmittance_tex > 0;
+    float maxr = 0.0f, maxt = 0.0f;
+    for (j = 0; j < HERO_N; j++) {
+        d->R[j] = d->T[j] = 0.0f;
+        if (!(alive & (1u << j))) continue;
+        d->R[j] = m->reflectance_tex > 0 ? dt_tex(m, m->reflectance_tex, sp, lambda[j])
+                                         : spec_eval(&m->reflectance, lambda[j]);
+        d->T[j] = m->extra->transmittance_tex > 0 ? dt_tex(m, m->extra->transmittance_tex, sp, lambda[j])
+                                                  : spec_eval(&m->extra->transmittance, lambda[j]);
+        maxr = fmaxf(maxr, d->R[j]);
+        maxt = fmaxf(maxt, d->T[j]);
+    }
+    d->p_reflect = !textured ? m->p_reflect : maxr + maxt > 0.0f ? maxr / (maxr + maxt) : 0.5f;
+}
+
+static int dt_pair(const DtPoint *d, Vec3 lo, Vec3 li, float f[HERO_N], float pdf_l[HERO_N])
 {
     int reflect = lo.z * li.z > 0.0f, j;
     float pdf;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
     if (lo.z * li.z == 0.0f) return 0;
-    pdf = dt_side_pdf(m, reflect) * fabsf(li.z) / PI_F;
+    pdf = (reflect ? d->p_reflect : 1.0f - d->p_reflect) * fabsf(li.z) / PI_F;
     for (j = 0; j < HERO_N; j++) {
         pdf_l[j] = pdf;
-        if (alive & (1u << j))
-            f[j] = spec_eval(reflect ? &m->reflectance : &m->extra->transmittance, lambda[j]) / PI_F;
+        f[j] = (reflect ? d->R[j] : d->T[j]) / PI_F;
     }
     return pdf > 0.0f;
 }
@@ -464,12 +495,15 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         return 1;
     }
     if (m->type == MAT_DIFFUSE_TRANSMISSION) {
-        int reflect = u0 < m->p_reflect;
+        DtPoint d;
+        int reflect;
         float r = sqrtf(u1), phi = 2.0f * PI_F * u2;   /* cosine-weighted, as diffuse */
+        dt_point(m, sp, lambda, alive, &d);
+        reflect = u0 < d.p_reflect;
         li = v3(r * cosf(phi), r * sinf(phi), sqrtf(fmaxf(0.0f, 1.0f - u1)));
         if ((lo.z < 0.0f) == reflect) li.z = -li.z;     /* reflect: wo's side */
         out->wi = frame_to_world(&fr, li);
-        if (!dt_pair(m, lo, li, lambda, alive, out->f, out->pdf_l)) return 0;
+        if (!dt_pair(&d, lo, li, out->f, out->pdf_l)) return 0;
         out->pdf = out->pdf_l[0];
         return 1;
     }
@@ -565,7 +599,9 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
     }
     if (m->type == MAT_THIN_DIELECTRIC) return;                    /* delta: f = 0 */
     if (m->type == MAT_DIFFUSE_TRANSMISSION) {
-        dt_pair(m, lo, li, lambda, alive, f, pdf_l);
+        DtPoint d;
+        dt_point(m, sp, lambda, alive, &d);
+        dt_pair(&d, lo, li, f, pdf_l);
         return;
     }
     if (m->type != MAT_DIELECTRIC) {    /* diffuse, or the fluorescent reflect lobe */
@@ -807,8 +843,22 @@ int thindielectric_from_params(Parser *P, ParamList *pl, const char *file, int l
     return 1;
 }
 
-/* pbrt-v4 DiffuseTransmissionMaterial: R and T (0.25 each by
-   default), both times "scale" and clamped to [0, 1] */
+/* "texture NAME" of a diffusetransmission: 1 + the texture's index, or 0 when the
+   parameter is not a texture. */
+static int dt_texture_param(Parser *P, ParamList *pl, const char *name, int *out)
+{
+    Param *pt = param_find(pl, PT_TEXTURE, name);
+    int ti;
+    *out = 0;
+    if (!pt) return 1;
+    ti = texture_lookup(P, pt, 0);
+    if (ti < 0) return 0;
+    *out = ti + 1;
+    return 1;
+}
+
+/* pbrt-v4 DiffuseTransmissionMaterial: R and T (0.25 each by default; spectra or
+   spectrum textures), both times "scale" and clamped to [0, 1] */
 int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, int line,
                                     const char *dir, const char *what, Material *m)
 {
@@ -820,16 +870,21 @@ int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, 
     m->type = MAT_DIFFUSE_TRANSMISSION;
     if (!material_extra(m)) return oom(P, file, line);   /* transmittance */
     if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
-    if (!bump_from_params(P, pl, what, m) ||
-        !params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
-                             "spectrum transmittance, rgb transmittance, float scale",
-                             NULL))
+    if (!dt_texture_param(P, pl, "reflectance", &m->reflectance_tex) ||
+        !dt_texture_param(P, pl, "transmittance", &m->extra->transmittance_tex))
         return 0;
-    if (!unit_spectrum_param(P, pr, &m->reflectance, 0.25f)) return 0;
-    if (!unit_spectrum_param(P, pt, &m->extra->transmittance, 0.25f)) return 0;
+    if (!bump_from_params(P, pl, what, m) ||
+        !params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, texture reflectance, "
+                             "spectrum transmittance, rgb transmittance, texture transmittance, "
+                             "float scale", NULL))
+        return 0;
+    if (!unit_spectrum_param(P, m->reflectance_tex ? NULL : pr, &m->reflectance, 0.25f)) return 0;
+    if (!unit_spectrum_param(P, m->extra->transmittance_tex ? NULL : pt, &m->extra->transmittance, 0.25f))
+        return 0;
     if (!(scale >= 0.0f))
         return fail(P, psc ? psc->file : file, psc ? psc->line : line,
                     "\"float scale\": %g must be >= 0", scale);
+    m->extra->dt_scale = scale;
     for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
         float *r = spec_at(&m->reflectance, nm), *t = spec_at(&m->extra->transmittance, nm);
         *r = fminf(1.0f, scale * *r);

@@ -707,6 +707,10 @@ typedef struct {
     Spectrum transmittance;    /* diffusetransmission: T (reflectance holds R), scaled */
     Spectrum albedo;           /* coateddiffuse, coatedconductor: the slab's albedo */
     Spectrum cond_eta;         /* coatedconductor: the base conductor's n */
+    int transmittance_tex;     /* diffusetransmission: "texture transmittance", 1 + its
+                                  index (0: the spectrum above) */
+    float dt_scale;            /* diffusetransmission: "scale", applied to textured R, T
+                                  at the point (the spectra above hold it already) */
 } MaterialSpectra;
 typedef struct {
     MaterialType type;
@@ -725,7 +729,8 @@ typedef struct {
                                   (owned, freed by material_release); NULL for the others */
     float p_reflect;           /* diffusetransmission: probability of sampling the
                                   reflect lobe, max R / (max R + max T) over 300-830 nm */
-    int reflectance_tex;       /* diffuse, conductor, coateddiffuse: "texture reflectance",
+    int reflectance_tex;       /* diffuse, conductor, coateddiffuse, diffusetransmission:
+                                  "texture reflectance",
                                   1 + its index into Scene.textures (0, as a zeroed
                                   Material has it: the spectrum above) */
     int alpha_tex;             /* conductor, coateddiffuse: "texture roughness" (or the
@@ -797,6 +802,9 @@ typedef enum { FLUOR_LI_A, FLUOR_LI_POWER, FLUOR_LI_UNIFORM } FluorLi;
    same hit always chooses the same, whatever the thread count.  A mix of mixes
    is resolved down to a material that is not one. */
 int   mat_choose(const Material *materials, int mi, const SurfacePoint *sp, Vec3 wo);
+/* Whether the material reads the hit's (u, v): a texture, a mix (its amount may be
+   one), a bump or normal map. */
+int   mat_reads_uv(const Material *m);
 /* The diffuse albedo of the reflect lobe: rho (diffuse) or rho (1 - A) (fluorescent). */
 float mat_albedo(const Material *m, float lambda_nm);
 /* The same at a surface point: a textured reflectance evaluated there, clamped to

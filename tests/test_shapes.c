@@ -613,7 +613,33 @@ static void test_reject(T *t)
     }
 }
 
+/* A whole sphere finds its (u, v) only for what reads them (mat_reads_uv): here a
+   transmittance texture and a coated conductor's base roughness texture.  From +y
+   the hit is at phi = 90 degrees, theta = 90 degrees: (u, v) = (0.25, 0.5). */
+static void test_sphere_uv_when_read(T *t)
+{
+    static const char *const mats[2] = {
+        "Material \"diffusetransmission\" \"texture transmittance\" \"c\"\n",
+        "Material \"coatedconductor\" \"texture conductor.roughness\" \"f\"\n",
+    };
+    int i;
+    for (i = 0; i < 2; i++) {
+        Scene s;
+        SurfacePoint sp;
+        float th;
+        char text[512];
+        snprintf(text, sizeof text, "WorldBegin\nTexture \"c\" \"spectrum\" \"checkerboard\"\n"
+                 "Texture \"f\" \"float\" \"checkerboard\"\n%sShape \"sphere\"\n", mats[i]);
+        if (!load(t, &s, text)) return;
+        CHECK(t, trace(&s, v3(0, 5, 0), v3(0, -1, 0), &th, &sp) &&
+              fabsf(sp.u - 0.25f) < 1e-6f && fabsf(sp.v - 0.5f) < 1e-6f,
+              "%s(u, v) = (%g, %g), expected (0.25, 0.5)", mats[i], (double)sp.u, (double)sp.v);
+        scene_free(&s);
+    }
+}
+
 const TestCase tests_shapes[] = {
+    { "shapes_sphere_uv_when_read", test_sphere_uv_when_read },
     { "shapes_disk_hits", test_disk_hits },
     { "shapes_cylinder_hits", test_cylinder_hits },
     { "shapes_sphere_part_hits", test_sphere_part_hits },
