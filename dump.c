@@ -140,8 +140,9 @@ void scene_dump(const Scene *s, FILE *f)
     if (st->filter == FILTER_SINC) fprintf(f, " tau %g", st->filter_tau);
     {   /* the sensor: imaging ratio (iso, shutter, pbrt-v3 scale), clamp, white balance */
         int b[4];
-        fprintf(f, "\n  sensor cie1931, imaging ratio %g (iso x exposure / 100), "
-                "maxcomponentvalue %g, whitebalance ", st->imaging_ratio, st->max_component);
+        fprintf(f, "\n  sensor %s, imaging ratio %g (iso x exposure / 100), "
+                "maxcomponentvalue %g, whitebalance ", sensor_name(st->sensor), st->imaging_ratio,
+                st->max_component);
         if (st->white_balance > 0.0f) fprintf(f, "%g K", st->white_balance);
         else fprintf(f, "none");
         if (film_bounds(st, b) && (st->crop_set || st->pixel_bounds_set))

@@ -143,78 +143,6 @@ int camera_directive(Parser *P, const char *type, ParamList *pl, const char *fil
     return 1;
 }
 
-/* The chromaticity of the white of pbrt-v4's Film "whitebalance" temperature T:
-   pbrt-v4 (Spectra::D) first turns T into a CCT with today's second radiation
-   constant, T * 1.4388 / 1.4380, then takes the CIE daylight locus (CIE 015:2004,
-   eq. 3.3 and 3.4: x_D as a cubic in 1/T, valid 4000..25000 K, and
-   y_D = -3 x_D^2 + 2.870 x_D - 0.275) at 4000 K and above, and a Planckian
-   (blackbody) radiator below.  pbrt-v4 rebuilds the daylight spectrum from the
-   S0, S1, S2 basis and integrates it; the locus gives its chromaticity directly
-   (the two agree to about 1e-4 in x and y). */
-static void white_balance_xy(double kelvin, double *x, double *y)
-{
-    double cct = kelvin * 1.4388 / 1.4380, t = 1.0 / cct;
-    if (cct < 4000.0) {
-        Spectrum bb;
-        spec_blackbody(&bb, (float)cct);
-        spec_chromaticity(&bb, x, y);
-        return;
-    }
-    if (cct <= 7000.0)
-        *x = -4.6070e9 * t * t * t + 2.9678e6 * t * t + 0.09911e3 * t + 0.244063;
-    else
-        *x = -2.0064e9 * t * t * t + 1.9018e6 * t * t + 0.24748e3 * t + 0.237040;
-    *y = -3.000 * *x * *x + 2.870 * *x - 0.275;
-}
-
-static void mat3_mul(const double a[9], const double b[9], double out[9])
-{
-    int i, j;
-    for (i = 0; i < 3; i++)
-        for (j = 0; j < 3; j++)
-            out[3 * i + j] = a[3 * i] * b[j] + a[3 * i + 1] * b[3 + j] + a[3 * i + 2] * b[6 + j];
-}
-
-/* von Kries adaptation in the Bradford cone space (K. M. Lam, "Metamerism and
-   colour constancy", PhD thesis, University of Bradford, 1985; the matrix as
-   published by CIE 159:2004 and in pbrt-v4's WhiteBalance): XYZ -> LMS, each cone
-   signal scaled by target white / source white, LMS -> XYZ (the inverse is
-   computed here, not tabulated).  The source white is the temperature's
-   (white_balance_xy), the target sRGB's own white: the xy of specnee's D65, as
-   pbrt-v4 takes its colour space's white from its illuminant spectrum. */
-static void white_balance_matrix(double kelvin, double m[9])
-{
-    static const double lms[9] = {  0.8951,  0.2664, -0.1614,
-                                   -0.7502,  1.7135,  0.0367,
-                                    0.0389, -0.0685,  1.0296 };
-    double inv[9], det, src[3], dst[3], sx, sy, tx, ty, d[9], tmp[9];
-    Spectrum d65;
-    int i;
-    white_balance_xy(kelvin, &sx, &sy);
-    spec_named(&d65, "stdillum-D65");
-    spec_chromaticity(&d65, &tx, &ty);
-    /* inverse of lms by cofactors */
-    det = lms[0] * (lms[4] * lms[8] - lms[5] * lms[7]) - lms[1] * (lms[3] * lms[8] - lms[5] * lms[6])
-        + lms[2] * (lms[3] * lms[7] - lms[4] * lms[6]);
-    inv[0] = (lms[4] * lms[8] - lms[5] * lms[7]) / det;
-    inv[1] = (lms[2] * lms[7] - lms[1] * lms[8]) / det;
-    inv[2] = (lms[1] * lms[5] - lms[2] * lms[4]) / det;
-    inv[3] = (lms[5] * lms[6] - lms[3] * lms[8]) / det;
-    inv[4] = (lms[0] * lms[8] - lms[2] * lms[6]) / det;
-    inv[5] = (lms[2] * lms[3] - lms[0] * lms[5]) / det;
-    inv[6] = (lms[3] * lms[7] - lms[4] * lms[6]) / det;
-    inv[7] = (lms[1] * lms[6] - lms[0] * lms[7]) / det;
-    inv[8] = (lms[0] * lms[4] - lms[1] * lms[3]) / det;
-    for (i = 0; i < 3; i++) {   /* LMS of the whites at Y = 1: XYZ = (x/y, 1, (1-x-y)/y) */
-        src[i] = lms[3 * i] * (sx / sy) + lms[3 * i + 1] + lms[3 * i + 2] * ((1.0 - sx - sy) / sy);
-        dst[i] = lms[3 * i] * (tx / ty) + lms[3 * i + 1] + lms[3 * i + 2] * ((1.0 - tx - ty) / ty);
-    }
-    memset(d, 0, sizeof d);
-    for (i = 0; i < 3; i++) d[4 * i] = dst[i] / src[i];
-    mat3_mul(d, lms, tmp);
-    mat3_mul(inv, tmp, m);
-}
-
 int film_bounds(const SceneSettings *st, int b[4])
 {
     b[0] = 0; b[1] = st->xres; b[2] = 0; b[3] = st->yres;
@@ -253,22 +181,6 @@ int scene_insets_rendered(const Scene *s, int rect[8][4], const char *names[8])
         n++;
     }
     return n;
-}
-
-/* The named camera sensors of pbrt-v4 (their r, g, b curves are its named
-   spectra "<name>_r/_g/_b"), which specnee does not have. */
-static int pbrt_sensor_name(const char *n)
-{
-    static const char *const names[] = {
-        "canon_eos_100d", "canon_eos_1dx_mkii", "canon_eos_200d", "canon_eos_200d_mkii",
-        "canon_eos_5d", "canon_eos_5d_mkii", "canon_eos_5d_mkiii", "canon_eos_5d_mkiv",
-        "canon_eos_5ds", "canon_eos_m", "hasselblad_l1d_20c", "nikon_d810", "nikon_d850",
-        "sony_ilce_6400", "sony_ilce_7m3", "sony_ilce_7rm3", "sony_ilce_9", NULL
-    };
-    int i;
-    for (i = 0; names[i]; i++)
-        if (!strcmp(n, names[i])) return 1;
-    return 0;
 }
 
 int film_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
@@ -310,15 +222,17 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
                                        "integer pixelbounds, float scale",
                              "exposuretime diagonal writefp16"))
         return 0;
-    /* pbrt-v4's sensor "cie1931" (the default) records XYZ, which is what specnee
-       does; its named camera sensors need their measured r, g, b curves */
-    if (sensor && strcmp(sensor, "cie1931") != 0) {
-        if (pbrt_sensor_name(sensor))
-            return fail(P, file, line, "Film: \"string sensor\" \"%s\" is valid pbrt-v4 but "
-                        "not in the specnee subset (only \"cie1931\", the CIE 1931 observer; "
-                        "specnee has no camera sensitivity curves)", sensor);
+    /* pbrt-v4's sensor: "cie1931" (the default) records XYZ, a named camera its
+       measured RGB (sensor.c) */
+    if (sensor && sensor_index(sensor) < 0) {
+        char names[512];
+        int k;
+        names[0] = 0;
+        for (k = 1; k <= SENSOR_CAMERAS; k++)
+            snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", k > 1 ? ", " : "",
+                     sensor_name(k));
         return fail(P, file, line, "Film: \"string sensor\" \"%s\": unknown sensor type "
-                    "(pbrt-v4 knows \"cie1931\" and 17 named cameras)", sensor);
+                    "(pbrt-v4 knows \"cie1931\" and 17 named cameras: %s)", sensor, names);
     }
     if (!(wb == 0.0f || (wb >= 1000.0f && wb <= 100000.0f)))
         return fail_param(P, pl, "whitebalance", file, line, "Film: \"float whitebalance\" %g: a colour temperature "
@@ -360,8 +274,12 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
     st->max_component = maxcomp;
     st->xres = xres;
     st->yres = yres;
-    st->white_balance = wb;
-    if (wb > 0.0f) white_balance_matrix(wb, st->white_balance_m);
+    /* pbrt-v4: a camera sensor is white-balanced for 6500 K unless told otherwise */
+    st->sensor = sensor ? sensor_index(sensor) : 0;
+    st->white_balance = st->sensor > 0 && wb == 0.0f ? 6500.0f : wb;
+    if (st->white_balance > 0.0f && !sensor_xyz_matrix(st->sensor, st->white_balance, st->white_balance_m))
+        return fail(P, file, line, "Film: sensor \"%s\": its XYZ-from-sensor-RGB matrix is singular",
+                    sensor_name(st->sensor));
     st->crop_set = crop != NULL;
     st->pixel_bounds_set = pb != NULL && !crop;   /* pbrt-v4: the crop window wins */
     if (crop) {

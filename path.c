@@ -1057,7 +1057,7 @@ static void path_start(const Renderer *R, FilmSample *fs, PathState *path)
     path->alive = R->o->single_wavelength ? 1u : (1u << HERO_N) - 1u;
     path->medium = R->vol ? R->s->settings.camera_medium : -1;
     for (j = 0; j < HERO_N; j++) {
-        cie_xyz(fs->wl.lambda[j], fs->cmf[j]);
+        sensor_response(R->s->settings.sensor, fs->wl.lambda[j], fs->cmf[j]);
         path->lam[j] = fs->wl.lambda[j];
         path->beta[j] = (path->alive & (1u << j)) ? 1.0f : 0.0f;
         path->r[j] = (path->alive & (1u << j)) ? 1.0f : 0.0f;

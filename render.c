@@ -15,10 +15,12 @@
    lambda_j (wl_sample) and the lens point, and path.c's trace_path fills a
    FilmSample with sum_j (xbar, ybar, zbar)(lambda_j) C_j: an estimate of the
    integrals of xbar L, ybar L, zbar L over the sampled range, not divided by the
-   integral of ybar (emitters are normalised instead, as in pbrt-v4).  The sensor
+   integral of ybar (emitters are normalised instead, as in pbrt-v4); with a
+   camera sensor its curves replace xbar, ybar, zbar (sensor.c).  The sensor
    then scales it by the imaging ratio and clamps its largest component (pbrt-v4's
    RGBFilm::AddSample); a pixel is the mean of its samples (with mitchell or sinc,
-   sum fw XYZ / sum fw), white-balanced, converted to linear sRGB with pbrt-v4's
+   sum fw XYZ / sum fw), mapped to XYZ by the sensor's matrix (white balance,
+   camera), converted to linear sRGB with pbrt-v4's
    matrix.  A sample whose XYZ is not finite is dropped (counted; it counts as 0).
 
    DETERMINISM.  Every (pixel, sample) owns its random numbers (sampler.c) and
@@ -128,8 +130,9 @@ static void film_pixel(const Pass *P, const double *sum, const double *wsum, flo
         avg[0] = avg[1] = avg[2] = 0.0;
     }
     if (set->white_balance > 0.0f) {
-        /* pbrt-v4's white balance (Film "whitebalance"): a 3x3 map of the
-           sensor's XYZ after the clamp, linear, so applied to the mean */
+        /* pbrt-v4's white balance (Film "whitebalance") or a camera's XYZ
+           from its RGB (sensor.c): a 3x3 map of the sensor's RGB after the
+           clamp, linear, so applied to the mean */
         const double *m = set->white_balance_m;
         double a0 = avg[0], a1 = avg[1], a2 = avg[2];
         avg[0] = m[0] * a0 + m[1] * a1 + m[2] * a2;
@@ -212,8 +215,8 @@ static void render_pass(Pass *P)
                            &ps, &cnt, dbg);
                 cnt.dims_reused += ps.reused;
                 if (isfinite(xyz[0]) && isfinite(xyz[1]) && isfinite(xyz[2])) {
-                    /* pbrt-v4's sensor (RGBFilm::AddSample, cie1931 sensor: sensor
-                       RGB = XYZ): times the imaging ratio, then the largest
+                    /* pbrt-v4's sensor (RGBFilm::AddSample; the sensor's RGB, XYZ
+                       for cie1931): times the imaging ratio, then the largest
                        component clamped to maxcomponentvalue, hue kept */
                     xyz[0] *= set->imaging_ratio; xyz[1] *= set->imaging_ratio; xyz[2] *= set->imaging_ratio;
                     m = fmax(xyz[0], fmax(xyz[1], xyz[2]));

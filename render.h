@@ -65,7 +65,8 @@ typedef struct {
     Wavelengths wl;                  /* the camera's wavelengths and their pdf p(lambda_j):
                                         set by render.c; the film keeps them through a
                                         fluorescent shift */
-    float cmf[HERO_N][3];            /* xbar, ybar, zbar at wl.lambda */
+    float cmf[HERO_N][3];            /* the sensor's curves at wl.lambda (xbar, ybar, zbar
+                                        for cie1931; xyz then holds its RGB) */
     double xyz[3];                   /* sum_j cmf_j C_j over the path's contributions */
 } FilmSample;
 

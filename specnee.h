@@ -1284,8 +1284,21 @@ typedef struct LightSampler LightSampler;
 /* ======================================================================
    8. The scene (scene.c builds it from the pbrt-v4 subset that parser.c reads;
       the options block in options.c, --dump-scene in dump.c, the pixel filters
-      in filter.c)
+      in filter.c, the film's sensor in sensor.c)
    ====================================================================== */
+/* The film's sensor (sensor.c): 0 is pbrt-v4's "cie1931" (the CIE 1931 observer:
+   the sensor RGB is XYZ), 1..SENSOR_CAMERAS its measured digital cameras. */
+#define SENSOR_CAMERAS 17
+int   sensor_index(const char *name);      /* -1: not a pbrt-v4 sensor name */
+const char *sensor_name(int sensor);
+/* The sensor's r, g, b sensitivities at lambda (xbar, ybar, zbar for cie1931). */
+void  sensor_response(int sensor, float lambda_nm, float rgb[3]);
+/* The 3x3 map (row-major) from the sensor's RGB to XYZ, white-balanced for
+   daylight of `kelvin` (0: none; a camera is fitted for 6500 K then): the
+   Bradford map for cie1931, pbrt-v4's least-squares fit over the ColorChecker
+   for a camera.  0 if the fit is singular. */
+int   sensor_xyz_matrix(int sensor, float kelvin, double m[9]);
+
 /* pbrt-v4's pixel filters (filter.c has their formulas and defaults) */
 typedef enum { FILTER_BOX, FILTER_GAUSSIAN, FILTER_TRIANGLE, FILTER_MITCHELL, FILTER_SINC } FilterType;
 
@@ -1313,7 +1326,11 @@ typedef struct {
     float imaging_ratio, max_component;
     /* pbrt-v4 Film "whitebalance" (kelvin, 0 = none): a Bradford adaptation from the
        white of the daylight illuminant of that temperature to sRGB's white, applied
-       to the pixel's XYZ (row-major 3x3, xyz' = white_balance_m xyz) */
+       to the pixel's XYZ (row-major 3x3, xyz' = white_balance_m xyz).  With a
+       camera sensor (Film "sensor", sensor.c: 0 = cie1931) the samples hold its
+       RGB and white_balance_m is its XYZ-from-RGB matrix, fitted for
+       white_balance (6500 K unless given) */
+    int sensor;
     float white_balance;
     double white_balance_m[9];
     /* pbrt-v4 Film "cropwindow" (fractions x0 x1 y0 y1 of the film) or "pixelbounds"
