@@ -1257,7 +1257,7 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
            texture or a material that reads them (mat_reads_uv) needs them (two
            inverse trigonometric calls) */
         sp->u = sp->v = 0.0f;
-        if (sh->alpha_tex > 0 ||
+        if (sh->alpha_tex > 0 /* alpha reads (u, v) */ ||
             (sh->material >= 0 && sh->material < s->n_materials && mat_reads_uv(&s->materials[sh->material]))) {
             const double (*oi)[4] = (const double (*)[4])sh->q.world_from_obj.inv;
             double o[3], olen = 0.0, phi, ct;

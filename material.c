@@ -72,7 +72,7 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm)
 
 int mat_reads_uv(const Material *m)
 {
-    return m->reflectance_tex > 0 || m->alpha_tex > 0 || m->cond_alpha_tex > 0 || m->amount_tex > 0 ||
+    return m->reflectance_tex > 0 || m->alpha_tex > 0 || m->cond_alpha_tex > 0 ||
            m->type == MAT_MIX || m->bump || (m->extra && m->extra->transmittance_tex > 0);
 }
 
