@@ -1254,11 +1254,10 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
         /* pbrt-v4's sphere parameters in object space: u = phi / 2 pi, v = 1 -
            theta / pi of the direction o = (object from world) q, the CTM's 3x3 part
            being a rotation (or mirror) times a scale (scene.c); only an alpha
-           texture or a material that reads them (mat_reads_uv) needs them (two
+           texture or a material that reads them needs them (Shape.reads_uv; two
            inverse trigonometric calls) */
         sp->u = sp->v = 0.0f;
-        if (sh->alpha_tex > 0 /* alpha reads (u, v) */ ||
-            (sh->material >= 0 && sh->material < s->n_materials && mat_reads_uv(&s->materials[sh->material]))) {
+        if (sh->reads_uv) {
             const double (*oi)[4] = (const double (*)[4])sh->q.world_from_obj.inv;
             double o[3], olen = 0.0, phi, ct;
             for (a = 0; a < 3; a++) {

@@ -1007,6 +1007,11 @@ static int finish(Parser *P, const char *file)
             s->shapes[i].material = nm->material;
         }
     if (!resolve_mix_names(P)) return 0;
+    for (i = 0; i < s->n_shapes; i++) {
+        Shape *sh = &s->shapes[i];
+        sh->reads_uv = sh->alpha_tex > 0 || (sh->material >= 0 && sh->material < s->n_materials &&
+                                             mat_reads_uv(&s->materials[sh->material]));
+    }
     /* media: every name mentioned is defined; emitters are real surfaces */
     for (i = 0; i < s->n_media; i++)
         if (!P->mrefs[i].defined)

@@ -518,6 +518,8 @@ typedef struct {
     int alpha_tex;             /* "texture alpha": 1 + its index in Scene.textures, read at
                                   the hit's (u, v); 0: none */
     int alpha_on;              /* alpha < 1 or a texture: the BVH tests the hits */
+    int reads_uv;              /* a hit needs its (u, v): an alpha texture or a material
+                                  that reads them (mat_reads_uv); set when loading ends */
     const char *file; int line;/* where it was declared, for messages */
 } Shape;
 
