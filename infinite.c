@@ -648,7 +648,7 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
         if (!(L.v[i] >= 0.0f))
             return fail(P, p ? p->file : file, p ? p->line : line,
                         "LightSource \"infinite\": L is negative at %d nm", SPEC_MIN + i);
-    if (rgb_illum && !portal) scale = rgb_illuminant_scale(&L, scale);
+    if (rgb_illum && !portal) scale = rgb_illuminant_scale(P, &L, scale);
     inf = (InfiniteLight *)calloc(1, sizeof *inf);
     if (!inf) return oom(P, file, line);
     inf->world_from_light = P->gs.ctm;

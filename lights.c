@@ -179,9 +179,11 @@ double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm)
     double norm = 0.0;
     int lam;
     for (lam = (int)ceilf(lo_nm); lam <= (int)floorf(hi_nm); lam++) {
-        float xyz[3];
-        cie_xyz((float)lam, xyz);
-        norm += (double)xyz[1] * spec_eval(L, (float)lam);
+        /* cie_xyz's y (rounded to float) times spec_eval, which at a whole nm of
+           the table is the knot itself */
+        float y = (float)cie_ybar((double)lam);
+        float v = lam >= SPEC_MIN && lam <= SPEC_MAX ? L->v[lam - SPEC_MIN] : spec_eval(L, (float)lam);
+        norm += (double)y * v;
     }
     return norm;
 }
@@ -260,12 +262,11 @@ int emitters_prepare(Scene *s, Error *err)
     for (e = 0; e < s->n_emitters; e++) {
         Emitter *em = &s->emitters[e];
         const Shape *sh;
-        Spectrum Le;
         /* A UV lamp has no luminance: its L is absolute spectral radiance, and the
            decision is the emitter's own (made on 400-700 nm, whatever range the
            film integrates), so every range gives it the same meaning. */
         em->absolute = !(luminance_sum(&em->L, LAMBDA_LO, LAMBDA_HI) > 0.0);
-        if (!emitter_radiance(s, e, LAMBDA_LO, LAMBDA_HI, &Le, err)) return 0;
+        /* so its radiance over 400-700 nm is defined: norm = 1 or that luminance */
         if (em->inf) {
             /* infinite.c has the rest; here the scene's bounding sphere, which gives
                NEE its far points and the light its "area" 4 pi R^2 (power) */
@@ -1353,15 +1354,9 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
         /* A spectrum with no luminance in 400-700 nm (an ultraviolet lamp) cannot be
            normalised to Y = scale: lights.c reads it as absolute spectral radiance
            times scale (docs/conventions.md §4, docs/FLUORESCENCE.md §6). */
-        double vis = 0.0, any = 0.0;
+        double vis = luminance_sum(&al.L, LAMBDA_LO, LAMBDA_HI), any = 0.0;
         int nm;
-        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
-            float xyz[3];
-            any += spec_get(&al.L, nm);
-            if (nm < (int)LAMBDA_LO || nm > (int)LAMBDA_HI) continue;
-            cie_xyz((float)nm, xyz);
-            vis += (double)xyz[1] * spec_get(&al.L, nm);
-        }
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) any += spec_get(&al.L, nm);
         if (!(any > 0.0))
             return fail(P, p ? p->file : file, p ? p->line : line,
                         "AreaLightSource: spectrum L is zero everywhere in %d-%d nm",
@@ -1371,7 +1366,7 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
                     "read as absolute spectral radiance times scale (docs/conventions.md)\n",
                     p ? p->file : file, p ? p->line : line);
     }
-    if (rgb_illum) al.scale = rgb_illuminant_scale(&al.L, al.scale);
+    if (rgb_illum) al.scale = rgb_illuminant_scale(P, &al.L, al.scale);
     *out = al;
     return 1;
 }

@@ -370,7 +370,10 @@ void  spec_rgb_coeffs(RgbTable *T, const double target[3], double c[3]);
 /* Fitting many colours (image textures, texture.c): the table the fit integrates
    against, built once, and Newton's method from a nearby colour's coefficients
    (0 when it does not converge: then use spec_rgb_coeffs). */
-typedef struct { double cmf_w[3][SPEC_N]; } RgbFitTable;
+typedef struct {
+    double cmf_w[3][SPEC_N];
+    double x[SPEC_N];          /* (lambda - SPEC_MIN) / (SPEC_MAX - SPEC_MIN) at each knot */
+} RgbFitTable;
 void  spec_rgb_fit_table(RgbFitTable *t);
 int   spec_rgb_coeffs_from(const RgbFitTable *t, const double target[3], const double start[3],
                            double c[3]);
@@ -394,9 +397,11 @@ void  rgb_grid_interp(const float *coef, int m, const int cell[3], const double 
 /* CIE 1931 2-degree colour matching functions at lambda (nm), linear in the 5 nm CIE table. */
 void  cie_xyz(float lambda_nm, float xyz[3]);
 void  cie_cmf(double lambda_nm, double xyz[3]);  /* the same in double precision */
+double cie_ybar(double lambda_nm);               /* cie_cmf's y alone */
 double cie_y_integral(float lo_nm, float hi_nm); /* sum of ybar at 1 nm steps over [lo, hi] */
 void  spec_to_xyz(const Spectrum *s, float lo_nm, float hi_nm, double xyz[3]); /* 1-nm sums / sum ybar:
                                                an equal-energy spectrum has Y = 1 */
+double spec_to_y(const Spectrum *s);          /* spec_to_xyz's Y over SPEC_MIN..SPEC_MAX alone */
 void  xyz_to_linear_srgb(const double xyz[3], double rgb[3]);  /* pbrt-v4's matrix */
 /* CIE colorimetry of a spectrum: chromaticity, CCT (exact, Planckian locus), Duv. */
 void  spec_chromaticity(const Spectrum *s, double *x, double *y);
