@@ -291,7 +291,8 @@ int delta_light_from_params(Parser *P, const char *type, ParamList *pl, const ch
     memset(em, 0, sizeof *em);
     em->shape = -1;
     em->delta = d;
-    em->L = L;
+    em->L = spec_store_add(&P->s->spectra, &L);
+    if (!em->L) return fail(P, file, line, "out of memory");
     em->scale = scale;
     return 1;
 }

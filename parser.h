@@ -97,7 +97,7 @@ extern const char *const param_type_names[];
    3. The parser state: pbrt's graphics state and what the directives built
    =========================================================================== */
 typedef struct {
-    Spectrum L;
+    const Spectrum *L;         /* in Scene.spectra (the Emitters of its shapes share it) */
     float scale;
     int twosided;
 } AreaLightDesc;

@@ -328,6 +328,17 @@ static inline float spec_get(const Spectrum *s, int nm)
 { return nm < SPEC_MIN ? s->uv[nm - SPEC_UV_MIN] : s->v[nm - SPEC_MIN]; }
 
 float spec_eval(const Spectrum *s, float lambda_nm);
+/* Spectra shared by reference: a scene keeps one record per distinct table
+   (Scene.spectra), and what holds a spectrum that is often repeated (an
+   Emitter's L) points at it.  spec_store_add returns the record equal to s
+   byte for byte, adding a copy of s when there is none (NULL: out of memory);
+   a record never moves or changes until spec_store_free. */
+typedef struct {
+    Spectrum **rec; int n, cap;     /* the records, each its own allocation */
+    int *slot; int n_slots;         /* hash of the bytes -> 1 + record index (0: empty) */
+} SpectrumStore;
+const Spectrum *spec_store_add(SpectrumStore *st, const Spectrum *s);
+void  spec_store_free(SpectrumStore *st);
 /* spec_eval of the table (float)(num * s / den) (num * s a float product) at every
    knot, bit for bit, without storing it (lights.c: an emitter's Le = scale L / norm). */
 float spec_eval_scaled(const Spectrum *s, float num, double den, float lambda_nm);
@@ -1204,7 +1215,8 @@ typedef struct {
     DeltaLight delta;          /* delta.type != DELTA_NONE: a point, spot or distant
                                   light (shape -1, inf NULL); L is then its intensity
                                   (point, spot) or radiance (distant) spectrum */
-    Spectrum L;                /* the spectrum as given in the file (its shape matters) */
+    const Spectrum *L;         /* the spectrum as given in the file (its shape matters),
+                                  in Scene.spectra: lights with the same L share it */
     float scale;               /* "float scale" */
     int twosided;
     /* geometry, filled by emitters_prepare at load time (the radiance Le depends on
@@ -1338,6 +1350,7 @@ typedef struct Scene {
     Shape *shapes; int n_shapes;
     Material *materials; int n_materials;
     Emitter *emitters; int n_emitters;
+    SpectrumStore spectra;               /* the emitters' L, one record per distinct one */
     Texture *textures; int n_textures;   /* texture.c; materials refer to them by index */
     Medium *media; int n_media;          /* medium.c; shapes and the camera refer to them */
     float *UV;                           /* per vertex (u, v), NULL when no mesh has "uv" */

@@ -38,7 +38,8 @@
      spec_to_xyz spec_to_y xyz_to_linear_srgb spec_chromaticity cct_from_xy spec_bin_average
      spec_bin_sum cauchy_named spec_rgb_coeffs spec_rgb_fit_table spec_rgb_coeffs_from
      spec_sigmoid_eval spec_rgb_table_start spec_rgb_coeffs_fit rgb_table_new
-     rgb_table_free spec_from_rgb_t spec_band_mean spec_band_average
+     rgb_table_free spec_from_rgb_t spec_band_mean spec_band_average spec_store_add
+     spec_store_free
 
    HOW IT IS USED
      parser.c turns "spectrum"/"rgb"/"blackbody" parameters into Spectrum tables with
@@ -453,6 +454,66 @@ int spec_is_constant(const Spectrum *s)
     for (i = 1; i < SPEC_N; i++)
         if (s->v[i] != s->v[0]) return 0;
     return 1;
+}
+
+/* FNV-1a over the bytes of the table. */
+static unsigned long spec_hash(const Spectrum *s)
+{
+    const unsigned char *b = (const unsigned char *)s;
+    unsigned long h = 2166136261UL;
+    size_t i;
+    for (i = 0; i < sizeof *s; i++) h = ((h ^ b[i]) * 16777619UL) & 0xffffffffUL;
+    return h;
+}
+
+/* Put record r (index i) in the first free slot of its probe sequence. */
+static void spec_store_place(SpectrumStore *st, const Spectrum *r, int i)
+{
+    int k = (int)(spec_hash(r) & (unsigned long)(st->n_slots - 1));
+    while (st->slot[k]) k = (k + 1) & (st->n_slots - 1);
+    st->slot[k] = i + 1;
+}
+
+const Spectrum *spec_store_add(SpectrumStore *st, const Spectrum *s)
+{
+    Spectrum *r;
+    int k, i;
+    if (st->n_slots > 0) {                  /* linear probing from the hash's slot */
+        k = (int)(spec_hash(s) & (unsigned long)(st->n_slots - 1));
+        for (; st->slot[k]; k = (k + 1) & (st->n_slots - 1))
+            if (memcmp(st->rec[st->slot[k] - 1], s, sizeof *s) == 0) return st->rec[st->slot[k] - 1];
+    }
+    if (st->n == st->cap) {
+        int cap = st->cap ? 2 * st->cap : 16;
+        Spectrum **rec = (Spectrum **)realloc(st->rec, sizeof *rec * (size_t)cap);
+        if (!rec) return NULL;
+        st->rec = rec;
+        st->cap = cap;
+    }
+    if (2 * (st->n + 1) > st->n_slots) {    /* at most half full: grow and rehash */
+        int n_slots = st->n_slots ? 2 * st->n_slots : 32;
+        int *slot = (int *)calloc((size_t)n_slots, sizeof *slot);
+        if (!slot) return NULL;
+        free(st->slot);
+        st->slot = slot;
+        st->n_slots = n_slots;
+        for (i = 0; i < st->n; i++) spec_store_place(st, st->rec[i], i);
+    }
+    r = (Spectrum *)malloc(sizeof *r);
+    if (!r) return NULL;
+    *r = *s;
+    st->rec[st->n] = r;
+    spec_store_place(st, r, st->n++);
+    return r;
+}
+
+void spec_store_free(SpectrumStore *st)
+{
+    int i;
+    for (i = 0; i < st->n; i++) free(st->rec[i]);
+    free(st->rec);
+    free(st->slot);
+    memset(st, 0, sizeof *st);
 }
 
 /* Scale s so that its luminance sum_{360..830, 1 nm} ybar S is CIE_Y_INTEGRAL, as
