@@ -335,6 +335,7 @@ float spec_eval(const Spectrum *s, float lambda_nm);
    a record never moves or changes until spec_store_free. */
 typedef struct {
     Spectrum **rec; int n, cap;     /* the records, each its own allocation */
+    unsigned *hash;                 /* hash of each record's bytes */
     int *slot; int n_slots;         /* hash of the bytes -> 1 + record index (0: empty) */
 } SpectrumStore;
 const Spectrum *spec_store_add(SpectrumStore *st, const Spectrum *s);

@@ -456,20 +456,24 @@ int spec_is_constant(const Spectrum *s)
     return 1;
 }
 
-/* FNV-1a over the bytes of the table. */
-static unsigned long spec_hash(const Spectrum *s)
+/* FNV-1a over the table's 32-bit words (the floats' bit patterns). */
+static unsigned spec_hash(const Spectrum *s)
 {
     const unsigned char *b = (const unsigned char *)s;
     unsigned long h = 2166136261UL;
     size_t i;
-    for (i = 0; i < sizeof *s; i++) h = ((h ^ b[i]) * 16777619UL) & 0xffffffffUL;
-    return h;
+    for (i = 0; i + 4 <= sizeof *s; i += 4) {
+        uint32_t w;
+        memcpy(&w, b + i, 4);
+        h = ((h ^ w) * 16777619UL) & 0xffffffffUL;
+    }
+    return (unsigned)h;
 }
 
-/* Put record r (index i) in the first free slot of its probe sequence. */
-static void spec_store_place(SpectrumStore *st, const Spectrum *r, int i)
+/* Put record i (hash h) in the first free slot of its probe sequence. */
+static void spec_store_place(SpectrumStore *st, unsigned h, int i)
 {
-    int k = (int)(spec_hash(r) & (unsigned long)(st->n_slots - 1));
+    int k = (int)(h & (unsigned)(st->n_slots - 1));
     while (st->slot[k]) k = (k + 1) & (st->n_slots - 1);
     st->slot[k] = i + 1;
 }
@@ -477,17 +481,22 @@ static void spec_store_place(SpectrumStore *st, const Spectrum *r, int i)
 const Spectrum *spec_store_add(SpectrumStore *st, const Spectrum *s)
 {
     Spectrum *r;
+    unsigned h = spec_hash(s);
     int k, i;
     if (st->n_slots > 0) {                  /* linear probing from the hash's slot */
-        k = (int)(spec_hash(s) & (unsigned long)(st->n_slots - 1));
+        k = (int)(h & (unsigned)(st->n_slots - 1));
         for (; st->slot[k]; k = (k + 1) & (st->n_slots - 1))
             if (memcmp(st->rec[st->slot[k] - 1], s, sizeof *s) == 0) return st->rec[st->slot[k] - 1];
     }
     if (st->n == st->cap) {
         int cap = st->cap ? 2 * st->cap : 16;
         Spectrum **rec = (Spectrum **)realloc(st->rec, sizeof *rec * (size_t)cap);
+        unsigned *hash;
         if (!rec) return NULL;
         st->rec = rec;
+        hash = (unsigned *)realloc(st->hash, sizeof *hash * (size_t)cap);
+        if (!hash) return NULL;
+        st->hash = hash;
         st->cap = cap;
     }
     if (2 * (st->n + 1) > st->n_slots) {    /* at most half full: grow and rehash */
@@ -497,13 +506,14 @@ const Spectrum *spec_store_add(SpectrumStore *st, const Spectrum *s)
         free(st->slot);
         st->slot = slot;
         st->n_slots = n_slots;
-        for (i = 0; i < st->n; i++) spec_store_place(st, st->rec[i], i);
+        for (i = 0; i < st->n; i++) spec_store_place(st, st->hash[i], i);
     }
     r = (Spectrum *)malloc(sizeof *r);
     if (!r) return NULL;
     *r = *s;
     st->rec[st->n] = r;
-    spec_store_place(st, r, st->n++);
+    st->hash[st->n] = h;
+    spec_store_place(st, h, st->n++);
     return r;
 }
 
@@ -512,6 +522,7 @@ void spec_store_free(SpectrumStore *st)
     int i;
     for (i = 0; i < st->n; i++) free(st->rec[i]);
     free(st->rec);
+    free(st->hash);
     free(st->slot);
     memset(st, 0, sizeof *st);
 }
