@@ -468,6 +468,14 @@ static void test_rgb_light(T *t)
     scene_free(&s);
     CHECK(t, near(y2 / y1, 2.0, 2e-3), "rgb (2,2,2) must emit twice rgb (1,1,1): ratio %g", y2 / y1);
     CHECK(t, near(y1, 3.0, 3.0 * 0.03), "rgb (1,1,1) is D65-white: Y = scale = 3 within 3%%, got %g", y1);
+    /* normalised by D65, not by L: a colour's luminance is its rgb's, the Y row of
+       sRGB (0.2126, 0.7152, 0.0722), relative to white's (measured 0.94127 against 0.9412) */
+    CHECK(t, load(&s, "WorldBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 1.6 0.8 0.4 ] \"float scale\" 3\n"
+                  "Shape \"sphere\"\n", &e), "%s", e.msg);
+    y2 = y_emitter(&s, 0);
+    scene_free(&s);
+    CHECK(t, near(y2 / y1, 0.2126 * 1.6 + 0.7152 * 0.8 + 0.0722 * 0.4, 2e-3),
+          "rgb (1.6, 0.8, 0.4) emits Y %g of white's, not its rgb's luminance 0.9412", y2 / y1);
 }
 
 /* bilinearmesh p00 p10 p01 p11 -> (p00,p10,p11), (p00,p11,p01), same side as
