@@ -238,7 +238,7 @@ int delta_light_from_params(Parser *P, const char *type, ParamList *pl, const ch
         if (!(spec_get(&L, i) >= 0.0f))
             return fail(P, p ? p->file : file, p ? p->line : line, "%s: %s is negative at %d nm",
                         what, sname, i);
-    if (rgb_illum) scale = rgb_illuminant_scale(&L, scale);
+    if (rgb_illum) scale = rgb_illuminant_scale(P, &L, scale);
     d.p = xf_point(&P->gs.ctm, v3((float)from[0], (float)from[1], (float)from[2]));  /* point, spot */
     if (d.type == DELTA_POINT) {
         if (power > 0.0f) scale = (float)(scale * power / (4.0 * SPECNEE_PI));
@@ -291,7 +291,8 @@ int delta_light_from_params(Parser *P, const char *type, ParamList *pl, const ch
     memset(em, 0, sizeof *em);
     em->shape = -1;
     em->delta = d;
-    em->L = L;
+    em->L = spec_store_add(&P->s->spectra, &L);
+    if (!em->L) return fail(P, file, line, "out of memory");
     em->scale = scale;
     return 1;
 }

@@ -104,7 +104,7 @@ static void dump_emitter(FILE *f, const Scene *s, int i)
                 "%.4g\n", i, e->shape, e->scale, e->twosided ? "two-sided" : "one-sided", Y,
                 LAMBDA_LO, LAMBDA_HI, e->area,
                 SPECNEE_PI * e->area * (e->twosided ? 2.0 : 1.0) * bins);
-    dump_spectrum(f, "L (as given)", &e->L);
+    dump_spectrum(f, "L (as given)", e->L);
 }
 
 void scene_dump(const Scene *s, FILE *f)

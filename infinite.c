@@ -478,7 +478,7 @@ float inf_Le(const Emitter *em, const Spectrum *Le, double k, Vec3 dir, float la
     if (t < 0) return 0.0f;
     tx = inf->texel + 4 * (size_t)t;
     if (tx[0] == 0.0f) return 0.0f;
-    d65 = spec_eval(&em->L, lambda_nm);                 /* L holds D65 for a map */
+    d65 = spec_eval(em->L, lambda_nm);                 /* L holds D65 for a map */
     return (float)(k * tx[0] * spec_sigmoid_eval(tx + 1, lambda_nm) * d65);
 }
 
@@ -648,7 +648,7 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
         if (!(L.v[i] >= 0.0f))
             return fail(P, p ? p->file : file, p ? p->line : line,
                         "LightSource \"infinite\": L is negative at %d nm", SPEC_MIN + i);
-    if (rgb_illum && !portal) scale = rgb_illuminant_scale(&L, scale);
+    if (rgb_illum && !portal) scale = rgb_illuminant_scale(P, &L, scale);
     inf = (InfiniteLight *)calloc(1, sizeof *inf);
     if (!inf) return oom(P, file, line);
     inf->world_from_light = P->gs.ctm;
@@ -722,7 +722,8 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
     memset(em, 0, sizeof *em);
     em->shape = -1;
     em->inf = inf;
-    em->L = L;                   /* an image map: D65, the texels' illuminant */
+    em->L = spec_store_add(&P->s->spectra, &L);   /* an image map: D65, the texels' illuminant */
+    if (!em->L) { inf_free(inf); em->inf = NULL; return fail(P, file, line, "out of memory"); }
     em->scale = scale;
     return 1;
 }

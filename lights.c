@@ -179,9 +179,11 @@ double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm)
     double norm = 0.0;
     int lam;
     for (lam = (int)ceilf(lo_nm); lam <= (int)floorf(hi_nm); lam++) {
-        float xyz[3];
-        cie_xyz((float)lam, xyz);
-        norm += (double)xyz[1] * spec_eval(L, (float)lam);
+        /* cie_xyz's y (rounded to float) times spec_eval, which at a whole nm of
+           the table is the knot itself */
+        float y = (float)cie_ybar((double)lam);
+        float v = lam >= SPEC_MIN && lam <= SPEC_MAX ? L->v[lam - SPEC_MIN] : spec_eval(L, (float)lam);
+        norm += (double)y * v;
     }
     return norm;
 }
@@ -202,8 +204,8 @@ static int radiance_source(const Scene *s, int e, float lo_nm, float hi_nm, LeSo
                            Error *err)
 {
     const Emitter *em = &s->emitters[e];
-    double norm = em->absolute ? 1.0 : luminance_sum(&em->L, lo_nm, hi_nm);
-    q->shape = em->inf && em->inf->res > 0 ? &em->inf->mean : &em->L;
+    double norm = em->absolute ? 1.0 : luminance_sum(em->L, lo_nm, hi_nm);
+    q->shape = em->inf && em->inf->res > 0 ? &em->inf->mean : em->L;
     q->scale = em->scale;
     q->norm = norm;
     q->table = NULL;
@@ -260,12 +262,11 @@ int emitters_prepare(Scene *s, Error *err)
     for (e = 0; e < s->n_emitters; e++) {
         Emitter *em = &s->emitters[e];
         const Shape *sh;
-        Spectrum Le;
         /* A UV lamp has no luminance: its L is absolute spectral radiance, and the
            decision is the emitter's own (made on 400-700 nm, whatever range the
            film integrates), so every range gives it the same meaning. */
-        em->absolute = !(luminance_sum(&em->L, LAMBDA_LO, LAMBDA_HI) > 0.0);
-        if (!emitter_radiance(s, e, LAMBDA_LO, LAMBDA_HI, &Le, err)) return 0;
+        em->absolute = !(luminance_sum(em->L, LAMBDA_LO, LAMBDA_HI) > 0.0);
+        /* so its radiance over 400-700 nm is defined: norm = 1 or that luminance */
         if (em->inf) {
             /* infinite.c has the rest; here the scene's bounding sphere, which gives
                NEE its far points and the light its "area" 4 pi R^2 (power) */
@@ -904,7 +905,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
             for (j = i - 1; j >= 0 && tries < 8; j--, tries++) {
                 const Emitter *ej = &s->emitters[j];
                 if (!ej->inf && ej->scale == em->scale && ej->absolute == em->absolute &&
-                    memcmp(&ej->L, &em->L, sizeof em->L) == 0) { same = j; break; }
+                    ej->L == em->L) { same = j; break; }
             }
         }
         if (same < 0) {
@@ -1321,6 +1322,7 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
                            AreaLightDesc *out)
 {
     AreaLightDesc al;
+    Spectrum L;
     Param *p;
     int rgb_illum = 0;
     if (strcmp(type, "diffuse") != 0)
@@ -1329,8 +1331,8 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
     memset(&al, 0, sizeof al);
     p = find_spectrum_param(pl, "L");
     if (p) {
-        if (!param_spectrum(P, p, SPEC_ILLUMINANT, &al.L, &rgb_illum)) return 0;
-    } else if (!spec_named(&al.L, "stdillum-D65")) {  /* the colour space's illuminant */
+        if (!param_spectrum(P, p, SPEC_ILLUMINANT, &L, &rgb_illum)) return 0;
+    } else if (!spec_named(&L, "stdillum-D65")) {  /* the colour space's illuminant */
         return fail(P, file, line, "AreaLightSource: the built-in spectrum stdillum-D65 is missing");
     }
     if (!get_float(P, pl, "scale", 1.0f, &al.scale)) return 0;
@@ -1345,7 +1347,7 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
     {
         int i;
         for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
-            if (!(spec_get(&al.L, i) >= 0.0f))
+            if (!(spec_get(&L, i) >= 0.0f))
                 return fail(P, p ? p->file : file, p ? p->line : line,
                             "AreaLightSource: L is negative at %d nm", i);
     }
@@ -1353,15 +1355,9 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
         /* A spectrum with no luminance in 400-700 nm (an ultraviolet lamp) cannot be
            normalised to Y = scale: lights.c reads it as absolute spectral radiance
            times scale (docs/conventions.md §4, docs/FLUORESCENCE.md §6). */
-        double vis = 0.0, any = 0.0;
+        double vis = luminance_sum(&L, LAMBDA_LO, LAMBDA_HI), any = 0.0;
         int nm;
-        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
-            float xyz[3];
-            any += spec_get(&al.L, nm);
-            if (nm < (int)LAMBDA_LO || nm > (int)LAMBDA_HI) continue;
-            cie_xyz((float)nm, xyz);
-            vis += (double)xyz[1] * spec_get(&al.L, nm);
-        }
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) any += spec_get(&L, nm);
         if (!(any > 0.0))
             return fail(P, p ? p->file : file, p ? p->line : line,
                         "AreaLightSource: spectrum L is zero everywhere in %d-%d nm",
@@ -1371,7 +1367,9 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
                     "read as absolute spectral radiance times scale (docs/conventions.md)\n",
                     p ? p->file : file, p ? p->line : line);
     }
-    if (rgb_illum) al.scale = rgb_illuminant_scale(&al.L, al.scale);
+    if (rgb_illum) al.scale = rgb_illuminant_scale(P, &L, al.scale);
+    al.L = spec_store_add(&P->s->spectra, &L);   /* shared with equal ones */
+    if (!al.L) return fail(P, file, line, "out of memory");
     *out = al;
     return 1;
 }

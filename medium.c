@@ -708,7 +708,7 @@ static int grid_from_params(Parser *P, ParamList *pl, const char *what, const ch
         float mx = 0.0f;
         for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
             if (spec_get(&m->Le, i) > mx) mx = spec_get(&m->Le, i);
-        if (mx > 0.0f) m->Le_scale = rgb_illum ? rgb_illuminant_scale(&m->Le, 1.0f) : 1.0f;
+        if (mx > 0.0f) m->Le_scale = rgb_illum ? rgb_illuminant_scale(P, &m->Le, 1.0f) : 1.0f;
     }
     m->file = file;
     m->line = line;
@@ -1024,7 +1024,7 @@ int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *f
         float mx = 0.0f;
         for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
             if (spec_get(&m->Le, i) > mx) mx = spec_get(&m->Le, i);
-        if (mx > 0.0f) m->Le_scale = rgb_illum ? rgb_illuminant_scale(&m->Le, lescale) : lescale;
+        if (mx > 0.0f) m->Le_scale = rgb_illum ? rgb_illuminant_scale(P, &m->Le, lescale) : lescale;
     }
     m->file = file;
     m->line = line;

@@ -899,16 +899,17 @@ int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
 
 /* pbrt-v4 normalises an RGB illuminant by its colour space's illuminant:
    Le = scale * L / sum ybar D65.  lights.c divides by sum ybar L, so every light
-   with an rgb spectrum gets scale * sum ybar L / sum ybar D65 (area, infinite
-   and delta lights alike). */
-float rgb_illuminant_scale(const Spectrum *L, float scale)
+   with an rgb spectrum gets scale * Y(L) / Y(D65) (area, infinite and delta
+   lights alike); Y(D65) is computed on the load's first rgb light and kept in
+   the Parser (P->d65_y), not rebuilt per light. */
+float rgb_illuminant_scale(Parser *P, const Spectrum *L, float scale)
 {
-    Spectrum d65;
-    double xyz_l[3], xyz_d[3];
-    if (!spec_named(&d65, "stdillum-D65")) return scale;
-    spec_to_xyz(L, (float)SPEC_MIN, (float)SPEC_MAX, xyz_l);
-    spec_to_xyz(&d65, (float)SPEC_MIN, (float)SPEC_MAX, xyz_d);
-    return xyz_d[1] > 0.0 ? (float)(scale * (xyz_l[1] / xyz_d[1])) : scale;
+    if (!(P->d65_y > 0.0)) {
+        Spectrum d65;
+        if (!spec_named(&d65, "stdillum-D65")) return scale;
+        P->d65_y = spec_to_y(&d65);
+    }
+    return P->d65_y > 0.0 ? (float)(scale * (spec_to_y(L) / P->d65_y)) : scale;
 }
 
 /* pbrt-v4 reads a light's "power" or "illuminance" only when it is > 0 and

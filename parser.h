@@ -97,7 +97,7 @@ extern const char *const param_type_names[];
    3. The parser state: pbrt's graphics state and what the directives built
    =========================================================================== */
 typedef struct {
-    Spectrum L;
+    const Spectrum *L;         /* in Scene.spectra (the Emitters of its shapes share it) */
     float scale;
     int twosided;
 } AreaLightDesc;
@@ -168,6 +168,7 @@ typedef struct {
     MediumRef *mrefs; int cap_media, cap_mrefs;   /* parallel to Scene.media */
     const char *integ_file; int integ_line; char integ_type[32];  /* the Integrator */
     RgbTable *rgb;             /* the load's RGB -> spectrum coefficient table (spectrum.c) */
+    double d65_y;              /* Y of stdillum-D65 (rgb_illuminant_scale), 0: not yet */
     int cur_object;            /* inside ObjectBegin: 1 + its Scene.objects index; else 0 */
     float shape_alpha; int shape_alpha_tex;   /* the Shape being read: its "alpha" (Shape) */
     int cap_objects;
@@ -256,7 +257,7 @@ int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_ill
    300-830 nm finite and > lo (strict) or >= lo (p NULL: the statement's line);
    check_spectrum_above_from: the same from nm0 on.
    rgb_illuminant_scale: the scale that gives an "rgb L" illuminant pbrt-v4's
-   D65 normalisation. */
+   D65 normalisation (D65's luminance computed once per load, in P). */
 int check_unit_spectrum(Parser *P, const Param *p, Spectrum *sp);
 int unit_spectrum_param(Parser *P, Param *p, Spectrum *out, float def);
 int texture_lookup(Parser *P, const Param *p, int is_float);
@@ -271,7 +272,7 @@ int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
 int check_spectrum_above_from(Parser *P, const Param *p, const char *file, int line,
                               const char *what, const Spectrum *sp, float lo, int strict,
                               int nm0);
-float rgb_illuminant_scale(const Spectrum *L, float scale);
+float rgb_illuminant_scale(Parser *P, const Spectrum *L, float scale);
 /* note_not_positive: a note at the line of "float name" when it is given and
    v <= 0 (a light's "power" or "illuminance", which pbrt-v4 then ignores); it
    marks the parameter read. */

@@ -1212,6 +1212,7 @@ void scene_free(Scene *s)
     for (i = 0; i < s->n_materials; i++) material_release(&s->materials[i]);
     free(s->materials);
     free(s->emitters);
+    spec_store_free(&s->spectra);
     free(s->sphere_shape);
     free(s->quadric_shape);
     free(s->patches);

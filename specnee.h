@@ -328,6 +328,18 @@ static inline float spec_get(const Spectrum *s, int nm)
 { return nm < SPEC_MIN ? s->uv[nm - SPEC_UV_MIN] : s->v[nm - SPEC_MIN]; }
 
 float spec_eval(const Spectrum *s, float lambda_nm);
+/* Spectra shared by reference: a scene keeps one record per distinct table
+   (Scene.spectra), and what holds a spectrum that is often repeated (an
+   Emitter's L) points at it.  spec_store_add returns the record equal to s
+   byte for byte, adding a copy of s when there is none (NULL: out of memory);
+   a record never moves or changes until spec_store_free. */
+typedef struct {
+    Spectrum **rec; int n, cap;     /* the records, each its own allocation */
+    unsigned *hash;                 /* hash of each record's bytes */
+    int *slot; int n_slots;         /* hash of the bytes -> 1 + record index (0: empty) */
+} SpectrumStore;
+const Spectrum *spec_store_add(SpectrumStore *st, const Spectrum *s);
+void  spec_store_free(SpectrumStore *st);
 /* spec_eval of the table (float)(num * s / den) (num * s a float product) at every
    knot, bit for bit, without storing it (lights.c: an emitter's Le = scale L / norm). */
 float spec_eval_scaled(const Spectrum *s, float num, double den, float lambda_nm);
@@ -370,7 +382,10 @@ void  spec_rgb_coeffs(RgbTable *T, const double target[3], double c[3]);
 /* Fitting many colours (image textures, texture.c): the table the fit integrates
    against, built once, and Newton's method from a nearby colour's coefficients
    (0 when it does not converge: then use spec_rgb_coeffs). */
-typedef struct { double cmf_w[3][SPEC_N]; } RgbFitTable;
+typedef struct {
+    double cmf_w[3][SPEC_N];
+    double x[SPEC_N];          /* (lambda - SPEC_MIN) / (SPEC_MAX - SPEC_MIN) at each knot */
+} RgbFitTable;
 void  spec_rgb_fit_table(RgbFitTable *t);
 int   spec_rgb_coeffs_from(const RgbFitTable *t, const double target[3], const double start[3],
                            double c[3]);
@@ -394,9 +409,11 @@ void  rgb_grid_interp(const float *coef, int m, const int cell[3], const double 
 /* CIE 1931 2-degree colour matching functions at lambda (nm), linear in the 5 nm CIE table. */
 void  cie_xyz(float lambda_nm, float xyz[3]);
 void  cie_cmf(double lambda_nm, double xyz[3]);  /* the same in double precision */
+double cie_ybar(double lambda_nm);               /* cie_cmf's y alone */
 double cie_y_integral(float lo_nm, float hi_nm); /* sum of ybar at 1 nm steps over [lo, hi] */
 void  spec_to_xyz(const Spectrum *s, float lo_nm, float hi_nm, double xyz[3]); /* 1-nm sums / sum ybar:
                                                an equal-energy spectrum has Y = 1 */
+double spec_to_y(const Spectrum *s);          /* spec_to_xyz's Y over SPEC_MIN..SPEC_MAX alone */
 void  xyz_to_linear_srgb(const double xyz[3], double rgb[3]);  /* pbrt-v4's matrix */
 /* CIE colorimetry of a spectrum: chromaticity, CCT (exact, Planckian locus), Duv. */
 void  spec_chromaticity(const Spectrum *s, double *x, double *y);
@@ -1209,7 +1226,8 @@ typedef struct {
     DeltaLight delta;          /* delta.type != DELTA_NONE: a point, spot or distant
                                   light (shape -1, inf NULL); L is then its intensity
                                   (point, spot) or radiance (distant) spectrum */
-    Spectrum L;                /* the spectrum as given in the file (its shape matters) */
+    const Spectrum *L;         /* the spectrum as given in the file (its shape matters),
+                                  in Scene.spectra: lights with the same L share it */
     float scale;               /* "float scale" */
     int twosided;
     /* geometry, filled by emitters_prepare at load time (the radiance Le depends on
@@ -1360,6 +1378,7 @@ typedef struct Scene {
     Shape *shapes; int n_shapes;
     Material *materials; int n_materials;
     Emitter *emitters; int n_emitters;
+    SpectrumStore spectra;               /* the emitters' L, one record per distinct one */
     Texture *textures; int n_textures;   /* texture.c; materials refer to them by index */
     Medium *media; int n_media;          /* medium.c; shapes and the camera refer to them */
     float *UV;                           /* per vertex (u, v), NULL when no mesh has "uv" */

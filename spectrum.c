@@ -34,11 +34,12 @@
 
    EXPORTS (specnee.h section 4)
      spec_eval spec_const spec_is_constant spec_from_pairs spec_named spec_named_list
-     spec_from_file spec_from_rgb spec_blackbody blackbody_eval cie_xyz cie_cmf cie_y_integral
-     spec_to_xyz xyz_to_linear_srgb spec_chromaticity cct_from_xy spec_bin_average
+     spec_from_file spec_from_rgb spec_blackbody blackbody_eval cie_xyz cie_cmf cie_ybar cie_y_integral
+     spec_to_xyz spec_to_y xyz_to_linear_srgb spec_chromaticity cct_from_xy spec_bin_average
      spec_bin_sum cauchy_named spec_rgb_coeffs spec_rgb_fit_table spec_rgb_coeffs_from
      spec_sigmoid_eval spec_rgb_table_start spec_rgb_coeffs_fit rgb_table_new
-     rgb_table_free spec_from_rgb_t spec_band_mean spec_band_average
+     rgb_table_free spec_from_rgb_t spec_band_mean spec_band_average spec_store_add
+     spec_store_free
 
    HOW IT IS USED
      parser.c turns "spectrum"/"rgb"/"blackbody" parameters into Spectrum tables with
@@ -364,6 +365,12 @@ void cie_xyz(float lambda_nm, float xyz[3])
     xyz[2] = (float)d[2];
 }
 
+/* ybar(lambda) alone: cie_cmf's xyz[1], the same arithmetic. */
+double cie_ybar(double lambda_nm)
+{
+    return table_lerp(cie_ybar_5nm, CIE_N5, CIE_START, CIE_STEP, lambda_nm);
+}
+
 /* sum_{lambda = lo..hi, 1 nm} ybar(lambda), with ybar interpolated from the 5 nm
    table; over 360..830 this is 106.857 (the integral of ybar in nm). */
 double cie_y_integral(float lo_nm, float hi_nm)
@@ -447,6 +454,77 @@ int spec_is_constant(const Spectrum *s)
     for (i = 1; i < SPEC_N; i++)
         if (s->v[i] != s->v[0]) return 0;
     return 1;
+}
+
+/* FNV-1a over the table's 32-bit words (the floats' bit patterns). */
+static unsigned spec_hash(const Spectrum *s)
+{
+    const unsigned char *b = (const unsigned char *)s;
+    unsigned long h = 2166136261UL;
+    size_t i;
+    for (i = 0; i + 4 <= sizeof *s; i += 4) {
+        uint32_t w;
+        memcpy(&w, b + i, 4);
+        h = ((h ^ w) * 16777619UL) & 0xffffffffUL;
+    }
+    return (unsigned)h;
+}
+
+/* Put record i (hash h) in the first free slot of its probe sequence. */
+static void spec_store_place(SpectrumStore *st, unsigned h, int i)
+{
+    int k = (int)(h & (unsigned)(st->n_slots - 1));
+    while (st->slot[k]) k = (k + 1) & (st->n_slots - 1);
+    st->slot[k] = i + 1;
+}
+
+const Spectrum *spec_store_add(SpectrumStore *st, const Spectrum *s)
+{
+    Spectrum *r;
+    unsigned h = spec_hash(s);
+    int k, i;
+    if (st->n_slots > 0) {                  /* linear probing from the hash's slot */
+        k = (int)(h & (unsigned)(st->n_slots - 1));
+        for (; st->slot[k]; k = (k + 1) & (st->n_slots - 1))
+            if (memcmp(st->rec[st->slot[k] - 1], s, sizeof *s) == 0) return st->rec[st->slot[k] - 1];
+    }
+    if (st->n == st->cap) {
+        int cap = st->cap ? 2 * st->cap : 16;
+        Spectrum **rec = (Spectrum **)realloc(st->rec, sizeof *rec * (size_t)cap);
+        unsigned *hash;
+        if (!rec) return NULL;
+        st->rec = rec;
+        hash = (unsigned *)realloc(st->hash, sizeof *hash * (size_t)cap);
+        if (!hash) return NULL;
+        st->hash = hash;
+        st->cap = cap;
+    }
+    if (2 * (st->n + 1) > st->n_slots) {    /* at most half full: grow and rehash */
+        int n_slots = st->n_slots ? 2 * st->n_slots : 32;
+        int *slot = (int *)calloc((size_t)n_slots, sizeof *slot);
+        if (!slot) return NULL;
+        free(st->slot);
+        st->slot = slot;
+        st->n_slots = n_slots;
+        for (i = 0; i < st->n; i++) spec_store_place(st, st->hash[i], i);
+    }
+    r = (Spectrum *)malloc(sizeof *r);
+    if (!r) return NULL;
+    *r = *s;
+    st->rec[st->n] = r;
+    st->hash[st->n] = h;
+    spec_store_place(st, h, st->n++);
+    return r;
+}
+
+void spec_store_free(SpectrumStore *st)
+{
+    int i;
+    for (i = 0; i < st->n; i++) free(st->rec[i]);
+    free(st->rec);
+    free(st->hash);
+    free(st->slot);
+    memset(st, 0, sizeof *st);
 }
 
 /* Scale s so that its luminance sum_{360..830, 1 nm} ybar S is CIE_Y_INTEGRAL, as
@@ -551,6 +629,20 @@ void spec_to_xyz(const Spectrum *s, float lo_nm, float hi_nm, double xyz[3])
         norm += c[1];
     }
     if (norm > 0.0) { xyz[0] /= norm; xyz[1] /= norm; xyz[2] /= norm; }
+}
+
+/* spec_to_xyz(s, SPEC_MIN, SPEC_MAX)'s Y alone: the same two sums in the same
+   order, without X and Z (a third of the interpolations). */
+double spec_to_y(const Spectrum *s)
+{
+    double y = 0.0, norm = 0.0;
+    int i;
+    for (i = 0; i < SPEC_N; i++) {
+        double c = cie_ybar((double)(SPEC_MIN + i));
+        y += c * s->v[i];
+        norm += c;
+    }
+    return norm > 0.0 ? y / norm : 0.0;
 }
 
 /* pbrt-v4's XYZ -> linear sRGB matrix (its RGBColorSpace::sRGB, D65 white
@@ -1251,30 +1343,46 @@ static void rgb_fit_init(RgbFit *f)
     }
     for (i = 0; i < SPEC_N; i++)
         for (k = 0; k < 3; k++) f->cmf_w[k][i] /= norm;
+    for (i = 0; i < SPEC_N; i++) f->x[i] = (double)i / (SPEC_N - 1);
 }
 
 static double sigmoid(double p) { return 0.5 + 0.5 * p / hypot(1.0, p); }
 
-/* rgb(c) and, if J is not NULL, its Jacobian J[r][k] = d rgb_r / d c_k. */
+/* rgb(c) and, if J is not NULL, its Jacobian J[r][k] = d rgb_r / d c_k.  With
+   w_k = cmf_w[k] and basis (x^2, x, 1):
+       xyz_k = sum_i w_k S(p_i),   dxyz_k / dc_r = sum_i w_k S'(p_i) basis_r,
+   S(p) = 1/2 + p / (2 sqrt(1 + p^2)), S'(p) = 1 / (2 (1 + p^2)^(3/2)); each sum
+   runs in its own scalar in the order of i (the fit is called ~10^5 times per
+   big scene: registers, not arrays, and no S' when J is not wanted). */
 static void rgb_fit_eval(const RgbFit *f, const double c[3], double rgb[3], double J[3][3])
 {
-    double xyz[3] = { 0, 0, 0 }, dxyz[3][3] = { { 0, 0, 0 }, { 0, 0, 0 }, { 0, 0, 0 } };
+    double xyz[3], d[3][3];
+    double X = 0.0, Y = 0.0, Z = 0.0;
+    double dX0 = 0.0, dX1 = 0.0, dX2 = 0.0, dY0 = 0.0, dY1 = 0.0, dY2 = 0.0;
+    double dZ0 = 0.0, dZ1 = 0.0, dZ2 = 0.0;
+    const double *wx = f->cmf_w[0], *wy = f->cmf_w[1], *wz = f->cmf_w[2];
     int i, k, r;
     for (i = 0; i < SPEC_N; i++) {
-        double x = (double)i / (SPEC_N - 1), p = (c[0] * x + c[1]) * x + c[2];
-        double q = sqrt(1.0 + p * p), S = 0.5 + 0.5 * p / q, dS = 0.5 / (q * q * q);
-        double basis[3];
-        basis[0] = x * x; basis[1] = x; basis[2] = 1.0;
-        for (k = 0; k < 3; k++) {
-            xyz[k] += f->cmf_w[k][i] * S;
-            if (J) for (r = 0; r < 3; r++) dxyz[k][r] += f->cmf_w[k][i] * dS * basis[r];
+        double x = f->x[i], p = (c[0] * x + c[1]) * x + c[2];
+        double q = sqrt(1.0 + p * p), S = 0.5 + 0.5 * p / q;
+        X += wx[i] * S; Y += wy[i] * S; Z += wz[i] * S;
+        if (J) {
+            double dS = 0.5 / (q * q * q), x2 = x * x;
+            double ax = wx[i] * dS, ay = wy[i] * dS, az = wz[i] * dS;   /* times basis 1 */
+            dX0 += ax * x2; dX1 += ax * x; dX2 += ax;
+            dY0 += ay * x2; dY1 += ay * x; dY2 += ay;
+            dZ0 += az * x2; dZ1 += az * x; dZ2 += az;
         }
     }
+    xyz[0] = X; xyz[1] = Y; xyz[2] = Z;
     xyz_to_linear_srgb(xyz, rgb);
     if (J) {
         double col[3], out[3];
+        d[0][0] = dX0; d[0][1] = dX1; d[0][2] = dX2;
+        d[1][0] = dY0; d[1][1] = dY1; d[1][2] = dY2;
+        d[2][0] = dZ0; d[2][1] = dZ1; d[2][2] = dZ2;
         for (r = 0; r < 3; r++) {                 /* column r of M * dxyz */
-            for (k = 0; k < 3; k++) col[k] = dxyz[k][r];
+            for (k = 0; k < 3; k++) col[k] = d[k][r];
             xyz_to_linear_srgb(col, out);
             for (k = 0; k < 3; k++) J[k][r] = out[k];
         }

@@ -373,7 +373,7 @@ static void test_emitters(T *t)
           "the light must end with its attribute block");
     CHECK(t, s.emitters[1].shape == 1 && s.emitters[0].scale == 12.0f && s.emitters[0].twosided,
           "emitter fields");
-    CHECK(t, near(spec_eval(&s.emitters[0].L, 550), 11.8, 1e-4), "L as given");
+    CHECK(t, near(spec_eval(s.emitters[0].L, 550), 11.8, 1e-4), "L as given");
     Y = y_emitter(&s, 0);
     CHECK(t, near(Y, 12.0, 12.0 * 1e-3), "pbrt normalisation: a seen light has Y = scale, "
           "got Y %g", Y);
@@ -383,9 +383,72 @@ static void test_emitters(T *t)
     {
         Spectrum d65;
         CHECK(t, spec_named(&d65, "stdillum-D65"), "stdillum-D65 missing");
-        CHECK(t, near(spec_eval(&s.emitters[0].L, 560), spec_eval(&d65, 560), 1e-6) &&
+        CHECK(t, near(spec_eval(s.emitters[0].L, 560), spec_eval(&d65, 560), 1e-6) &&
               s.emitters[0].scale == 1.0f && !s.emitters[0].twosided, "default L = D65, scale 1, one-sided");
     }
+    scene_free(&s);
+}
+
+/* Lights with the same L share one spectrum record (Scene.spectra): the memory
+   for spectra grows with the distinct spectra, not with the lamps.  20 rgb colours
+   used twice (the second use after the store has grown past its first table),
+   and three spectra that differ only above 700 nm or only in the UV: 43 lamps, 23
+   records; each lamp keeps the spectrum it was given and emits exactly what it
+   emits alone in a scene. */
+static void scene_lamps_text(char *buf, size_t cap, int first, int n)
+{
+    static const char *const spectra[3] = {
+        "\"spectrum L\" [ 300 1  830 1 ]", "\"spectrum L\" [ 300 1  700 1  830 2 ]",
+        "\"spectrum L\" [ 300 2  359 1  830 1 ]" };
+    size_t len;
+    int i;
+    snprintf(buf, cap, "WorldBegin\n");
+    for (i = first; i < first + n; i++) {
+        char L[96];
+        int c = i % 20;
+        len = strlen(buf);
+        if (i < 40) snprintf(L, sizeof L, "\"rgb L\" [ %.2f %.2f %.2f ]", 0.1 + 0.04 * c,
+                             0.9 - 0.03 * c, 0.2 + 0.01 * (c % 7));
+        else snprintf(L, sizeof L, "%s", spectra[i - 40]);
+        snprintf(buf + len, cap - len, "AttributeBegin\n  AreaLightSource \"diffuse\" %s\n"
+                 "  Translate %d 0 0\n  Shape \"sphere\" \"float radius\" 0.1\nAttributeEnd\n",
+                 L, i);
+    }
+}
+
+static void test_shared_spectra(T *t)
+{
+    static char buf[16384];
+    Scene s, one;
+    Error e;
+    int i, j, shared = 1, apart = 1, alone = 1;
+    scene_lamps_text(buf, sizeof buf, 0, 43);
+    CHECK(t, load(&s, buf, &e), "%s", e.msg);
+    if (t->failed) return;
+    CHECK(t, s.n_emitters == 43 && s.spectra.n == 23, "43 lamps of 23 distinct spectra: "
+          "%d emitters, %d spectrum records", s.n_emitters, s.spectra.n);
+    for (i = 0; i < 20; i++) {
+        shared &= s.emitters[i].L == s.emitters[i + 20].L;
+        for (j = 0; j < 43; j++)
+            if (j != i && j != i + 20) apart &= s.emitters[i].L != s.emitters[j].L;
+    }
+    CHECK(t, shared, "lamps with the same rgb L do not share one spectrum");
+    CHECK(t, apart, "lamps with different L share a spectrum");
+    CHECK(t, spec_eval(s.emitters[40].L, 765.0f) == 1.0f && spec_eval(s.emitters[41].L, 765.0f) == 1.5f &&
+          spec_eval(s.emitters[42].L, 765.0f) == 1.0f && spec_eval(s.emitters[42].L, 300.0f) == 2.0f &&
+          spec_eval(s.emitters[40].L, 300.0f) == 1.0f,
+          "a lamp's L is not the spectrum it was given");
+    /* every lamp emits what it emits alone (the same record, byte for byte) */
+    for (i = 0; i < 43 && alone; i++) {
+        Spectrum a, b;
+        scene_lamps_text(buf, sizeof buf, i, 1);
+        if (!load(&one, buf, &e)) { alone = 0; break; }
+        alone = emitter_radiance(&s, i, LAMBDA_LO, LAMBDA_HI, &a, &e) &&
+                emitter_radiance(&one, 0, LAMBDA_LO, LAMBDA_HI, &b, &e) &&
+                memcmp(&a, &b, sizeof a) == 0 && memcmp(s.emitters[i].L, one.emitters[0].L, sizeof a) == 0;
+        scene_free(&one);
+    }
+    CHECK(t, alone, "lamp %d emits otherwise than alone", i - 1);
     scene_free(&s);
 }
 
@@ -405,6 +468,14 @@ static void test_rgb_light(T *t)
     scene_free(&s);
     CHECK(t, near(y2 / y1, 2.0, 2e-3), "rgb (2,2,2) must emit twice rgb (1,1,1): ratio %g", y2 / y1);
     CHECK(t, near(y1, 3.0, 3.0 * 0.03), "rgb (1,1,1) is D65-white: Y = scale = 3 within 3%%, got %g", y1);
+    /* normalised by D65, not by L: a colour's luminance is its rgb's, the Y row of
+       sRGB (0.2126, 0.7152, 0.0722), relative to white's (measured 0.94127 against 0.9412) */
+    CHECK(t, load(&s, "WorldBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 1.6 0.8 0.4 ] \"float scale\" 3\n"
+                  "Shape \"sphere\"\n", &e), "%s", e.msg);
+    y2 = y_emitter(&s, 0);
+    scene_free(&s);
+    CHECK(t, near(y2 / y1, 0.2126 * 1.6 + 0.7152 * 0.8 + 0.0722 * 0.4, 2e-3),
+          "rgb (1.6, 0.8, 0.4) emits Y %g of white's, not its rgb's luminance 0.9412", y2 / y1);
 }
 
 /* bilinearmesh p00 p10 p01 p11 -> (p00,p10,p11), (p00,p11,p01), same side as
@@ -732,6 +803,7 @@ REJECT(rej_inset_outside, "Film \"rgb\" \"integer xresolution\" 10 \"integer yre
 REJECT(rej_inset_malformed, "# inset A 1 2 3\nWorldBegin\n", 1, "inset", NULL)
 
 const TestCase tests_scene[] = {
+    {"scene_shared_spectra", test_shared_spectra},
     {"scene_defaults", test_defaults},
     {"scene_options", test_options},
     {"scene_camera_frame", test_camera_frame},

@@ -241,7 +241,7 @@ static const char *lamp_of(const Emitter *em)
         float worst = 0.0f;
         if (!spec_named(&ref, lamps[i])) continue;
         for (k = 0; k < SPEC_N; k++) {
-            float d = fabsf(ref.v[k] - em->L.v[k]);
+            float d = fabsf(ref.v[k] - em->L->v[k]);
             if (d > worst) worst = d;
         }
         if (worst <= 1e-6f) return lamps[i];

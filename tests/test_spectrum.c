@@ -831,7 +831,33 @@ static void test_cmd_errors(T *t)
     CHECK(t, cmd_spectrum(2, argv_unknown) == 1, "unknown spectrum must exit 1");
 }
 
+/* spec_store_add: 2,000 spectra equal below 800 nm and distinct above (so the
+   hashes collide in the probe sequences and the records must be told apart by
+   their bytes), each added twice: 2,000 records, the second add returns the
+   first's, every record equals what was given. */
+static void test_spectrum_store(T *t)
+{
+    SpectrumStore st;
+    Spectrum a;
+    const Spectrum *first[2000];
+    int i, pass, ok = 1;
+    memset(&st, 0, sizeof st);
+    spec_const(&a, 1.0f);
+    for (pass = 0; pass < 2 && ok; pass++)
+        for (i = 0; i < 2000 && ok; i++) {
+            const Spectrum *r;
+            a.v[SPEC_N - 1] = 2.0f + (float)i;
+            r = spec_store_add(&st, &a);
+            ok = r != NULL && memcmp(r, &a, sizeof a) == 0 && (pass == 0 || r == first[i]);
+            if (pass == 0) first[i] = r;
+        }
+    CHECK(t, ok, "spectrum %d (pass %d): not its own record", i - 1, pass);
+    CHECK(t, st.n == 2000, "%d records for 2000 distinct spectra", st.n);
+    spec_store_free(&st);
+}
+
 const TestCase tests_spectrum[] = {
+    { "spectrum_store", test_spectrum_store },
     { "spectrum_cie_values", test_cie_values },
     { "spectrum_d65", test_d65 },
     { "spectrum_blackbody_cct", test_blackbody_and_cct },

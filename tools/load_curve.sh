@@ -1,7 +1,7 @@
 #!/bin/sh
 # tools/load_curve.sh - load time and peak memory against the number of emitters
 # (docs/loading.md): for each N, tools/gen_spheres.sh writes N emissive spheres
-# (and, with "material", a Material per sphere), and each renderer given loads and
+# (and, with "material", a Material per sphere; with "plain", N spheres lit by one lamp), and each renderer given loads and
 # renders it at 1 spp on one thread; the render of a 64x64 film at 1 spp takes
 # milliseconds, so the time is the load.  Prints one line per (file, renderer):
 # the median over RUNS runs of user + system CPU seconds and of the peak resident
@@ -11,7 +11,8 @@
 #   e.g. sh tools/load_curve.sh "100 1000 10000" new=./specnee old=/tmp/specnee.old \
 #        pbrt=/path/to/pbrt    (a pbrt-v4 binary: docs/real-scenes.md says how to build one)
 # Environment: RUNS (default 3; files of 100,000 spheres or more run once),
-# MODES (default "spheres material"), TMPDIR.  Needs /usr/bin/time (GNU).
+# MODES (default "spheres material"; "plain": N spheres that do not emit and one
+# lamp, the curve over primitives), TMPDIR.  Needs /usr/bin/time (GNU).
 set -eu
 ns=${1:?usage: sh tools/load_curve.sh "N ..." LABEL=BINARY ...}
 shift
@@ -24,8 +25,10 @@ printf '%-9s %-9s %-8s %10s %10s %5s\n' mode N renderer "cpu_s" "peak_MB" runs
 for mode in ${MODES:-spheres material}; do
     for n in $ns; do
         f=$tmp/$mode$n.pbrt
-        if [ "$mode" = material ]; then sh "$here/gen_spheres.sh" "$n" 1 material > "$f"
-        else sh "$here/gen_spheres.sh" "$n" > "$f"; fi
+        case $mode in
+            material|plain) sh "$here/gen_spheres.sh" "$n" 1 "$mode" > "$f";;
+            *) sh "$here/gen_spheres.sh" "$n" > "$f";;
+        esac
         runs=${RUNS:-3}
         [ "$n" -ge 100000 ] && runs=1
         for spec in "$@"; do
