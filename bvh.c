@@ -35,9 +35,10 @@
    BUILD (bvh_build): a binary tree by the binned surface area heuristic (Wald 2007;
    pbrt-v4 section 7.3.2), then collapsed into 8-wide nodes (Wald, Benthin, Boulos
    2008): a wide node opens its inner child of largest area until it has 8.  A wide
-   node replaces up to 7 binary ones and tests its 8 children's boxes in one loop
-   without branches, which gcc and clang turn into SIMD code; a ray visits about a
-   third as many nodes.  The build is deterministic (no threads, no timing).
+   node replaces up to 7 binary ones and tests its 8 children's boxes without
+   branches, four at a time in SSE2 where the compiler has it (node_hit_mask; the
+   scalar loop it mirrors elsewhere); a ray visits about a third as many nodes.  The
+   build is deterministic (no threads, no timing).
 
    LAYOUT (specnee.h: BvhNode, BvhPrim; 256-byte nodes aligned to 64 bytes)
          BvhNode          child 0   child 1   ...   child 7
@@ -54,12 +55,14 @@
    TRAVERSAL (traverse): iterative, with a stack of (child, near plane on the dominant
    axis).  The nearest child entered is visited first; shadow rays skip the ordering
    and return at the first hit.  Random rays make every data-dependent branch a coin
-   toss, so the loop has as few as it can (the children by their set bits, placed on
-   the stack by rank).  The closest hit does not depend on the order: it is exactly
+   toss, so the loop has as few as it can (the children by their set bits; two
+   entered are ordered by one compare, more placed on the stack by rank).  The closest
+   hit does not depend on the order: it is exactly
    what brute force finds, the smallest computed t in (0, tmax), ties to the smallest
    id (the proof opens the traversal section; tests/test_bvh.c checks it bit for bit).
-   Speed: docs/bvh.md has the figures (about 1.3 times slower than Embree 3 on
-   tools/bench's incoherent rays), what each choice gains and what was tried.
+   Speed: docs/bvh.md has the figures (Embree 3 is about 1.2 times faster on all of
+   tools/bench's incoherent rays, 1.3 to 1.4 on those that enter the mesh's box),
+   what each choice gains and what was tried.
 
    ALPHA (pbrt-v4's "alpha" of a shape; alpha_keep): a hit on a shape with
    alpha_on counts only when u <= a, with a the shape's "float alpha" or its float
@@ -1154,11 +1157,11 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                     prefetch_ref(b, ref);
                     continue;
                 }
-                /* several: each goes to stack[sp + rank], its rank being the number of
-                   children entered that are farther (ties: lower slot first), so the
-                   nearest ends on top.  The rank is a branch-free count over all slots,
-                   which costs less than the mispredicted branches of an insertion
-                   sort.  Shadow rays need no order: rank = arrival. */
+                /* three or more: each goes to stack[sp + rank], its rank being the
+                   number of children entered that are farther (ties: lower slot
+                   first), so the nearest ends on top.  The rank is a branch-free count
+                   over all slots, which costs less than the mispredicted branches of
+                   an insertion sort.  Shadow rays need no order: rank = arrival. */
                 for (m = mask; m != 0; m &= m - 1, n++) {
                     const int jj = lowest_bit(m);
                     const float te = t_enter[jj];
