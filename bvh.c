@@ -35,9 +35,10 @@
    BUILD (bvh_build): a binary tree by the binned surface area heuristic (Wald 2007;
    pbrt-v4 section 7.3.2), then collapsed into 8-wide nodes (Wald, Benthin, Boulos
    2008): a wide node opens its inner child of largest area until it has 8.  A wide
-   node replaces up to 7 binary ones and tests its 8 children's boxes in one loop
-   without branches, which gcc and clang turn into SIMD code; a ray visits about a
-   third as many nodes.  The build is deterministic (no threads, no timing).
+   node replaces up to 7 binary ones and tests its 8 children's boxes without
+   branches, four at a time in SSE2 where the compiler has it (node_hit_mask; the
+   scalar loop it mirrors elsewhere); a ray visits about a third as many nodes.  The
+   build is deterministic (no threads, no timing).
 
    LAYOUT (specnee.h: BvhNode, BvhPrim; 256-byte nodes aligned to 64 bytes)
          BvhNode          child 0   child 1   ...   child 7
@@ -54,12 +55,14 @@
    TRAVERSAL (traverse): iterative, with a stack of (child, near plane on the dominant
    axis).  The nearest child entered is visited first; shadow rays skip the ordering
    and return at the first hit.  Random rays make every data-dependent branch a coin
-   toss, so the loop has as few as it can (the children by their set bits, placed on
-   the stack by rank).  The closest hit does not depend on the order: it is exactly
+   toss, so the loop has as few as it can (the children by their set bits; two
+   entered are ordered by one compare, more placed on the stack by rank).  The closest
+   hit does not depend on the order: it is exactly
    what brute force finds, the smallest computed t in (0, tmax), ties to the smallest
    id (the proof opens the traversal section; tests/test_bvh.c checks it bit for bit).
-   Speed: docs/bvh.md has the figures (about 1.3 times slower than Embree 3 on
-   tools/bench's incoherent rays), what each choice gains and what was tried.
+   Speed: docs/bvh.md has the figures (Embree 3 is about 1.2 times faster on all of
+   tools/bench's incoherent rays, 1.3 to 1.4 on those that enter the mesh's box),
+   what each choice gains and what was tried.
 
    ALPHA (pbrt-v4's "alpha" of a shape; alpha_keep): a hit on a shape with
    alpha_on counts only when u <= a, with a the shape's "float alpha" or its float
@@ -117,6 +120,17 @@
 #define PREFETCH(p) ((void)(p))
 #endif
 
+/* The slab test of a node's 8 children runs 4 at a time in SSE2 where the compiler
+   offers it (every x86-64 gcc and clang); elsewhere (tcc, other processors, or
+   -DSPECNEE_NO_SIMD) the scalar loop it mirrors runs.  Both do the same operations in
+   the same order, so they agree to the bit (the test bvh_simd_matches_scalar). */
+#if defined(__SSE2__) && !defined(__TINYC__) && !defined(SPECNEE_NO_SIMD)
+#define BVH_SIMD 1
+#include <emmintrin.h>
+#else
+#define BVH_SIMD 0
+#endif
+
 /* gamma(n) = n u / (1 - n u) with u = 2^-24, the unit roundoff of float: a bound on the
    relative error of n chained roundings (Higham 2002; pbrt-v3 section 3.9.1). */
 static inline float gamma_n(int n)
@@ -134,11 +148,15 @@ typedef struct {
     int neg[3];              /* the sign bit of d: the slab the ray enters first */
     int kx, ky, kz;          /* permutation: kz = axis of the largest |d| */
     int axis[3];             /* the slab test's axis order: the other two, then kz */
-    int near[3], far[3];     /* the planes (BvhNode.box rows) of axis[s] that the ray
+    size_t near[3], far[3];  /* the planes (BvhNode.box rows) of axis[s] that the ray
                                 enters and leaves through, by the sign of d */
     float Sx, Sy, Sz;        /* shear constants of Woop et al. */
+    float o_ax[3], inv_ax[3];   /* o and 1/d of axis[s]: the slab test's operands */
     float far_scale;         /* 1 + 2 gamma(3): the robust slab test's far factor */
     float cull_scale;        /* 1 + 2 gamma(8): the closest-hit culling margin */
+#if BVH_SIMD
+    __m128 o4[3], inv4[3], far4;   /* o_ax, inv_ax, far_scale in all four lanes */
+#endif
 } RayPre;
 
 /* The first part of the precomputation (o, d, 1/d, signs): all that the test of the
@@ -178,10 +196,19 @@ HOT_INLINE int ray_prepare_rest(RayPre *rp)
     for (a = 0; a < 3; a++) {
         const int ax = (rp->kz + 1 + a) % 3;       /* a = 2 gives kz itself */
         rp->axis[a] = ax;
-        rp->near[a] = ax + 3 * rp->neg[ax];        /* hi for d < 0, lo for d >= 0 */
-        rp->far[a] = ax + 3 * (1 - rp->neg[ax]);
+        rp->near[a] = (size_t)(ax + 3 * rp->neg[ax]);   /* hi for d < 0, lo for d >= 0 */
+        rp->far[a] = (size_t)(ax + 3 * (1 - rp->neg[ax]));
+        rp->o_ax[a] = rp->o[ax];
+        rp->inv_ax[a] = rp->inv_d[ax];
     }
     rp->far_scale = 1.0f + 2.0f * gamma_n(3);
+#if BVH_SIMD
+    for (a = 0; a < 3; a++) {
+        rp->o4[a] = _mm_set1_ps(rp->o_ax[a]);
+        rp->inv4[a] = _mm_set1_ps(rp->inv_ax[a]);
+    }
+    rp->far4 = _mm_set1_ps(rp->far_scale);
+#endif
     rp->cull_scale = 1.0f + 2.0f * gamma_n(8);
     /* kx, ky = the next two axes after kz, swapped when d_kz < 0 to keep the
        triangles' winding (neg[kz] is exactly d_kz < 0 here: |d_kz| >= FLT_MIN) */
@@ -500,9 +527,10 @@ static int prim_info(const Scene *s, int id, PrimInfo *info)
 static int sah_split(const PrimInfo *info, int32_t *prims, int begin, int end,
                      const Box *node_box, const Box *cbox, int *axis_out, int *mid_out)
 {
-    /* pbrt-v4 uses C_trav = 1/2; here a visit tests both children's boxes, and on
-       tools/bench C_trav = 2 (leaves of about 3 triangles) was fastest, ~15% over 1/2 */
-    const float C_trav = 2.0f;
+    /* pbrt-v4 uses C_trav = 1/2; here a visit tests both children's boxes.  With the
+       slab test in SSE2 a box costs less than a triangle, and on tools/bench C_trav = 1
+       tests 13% fewer triangles than 2 for the same wide nodes (docs/bvh.md) */
+    const float C_trav = 1.0f;
     const int n = end - begin;
     float best_cost = FLT_MAX, k_best = 0.0f;
     int best_axis = -1, best_split = 0, axis, i, lo, hi;
@@ -879,7 +907,7 @@ typedef struct { int32_t ref; float t_z; } StackEntry;
    sequences to index a 1 in a computer word").  Portable C99, no branch: the loops
    over the children entered use it instead of testing all BVH_WIDTH bits one by one,
    a branch each that random rays mispredict. */
-HOT_INLINE int lowest_bit(unsigned m)
+HOT_INLINE int lowest_bit_portable(unsigned m)
 {
     static const unsigned char pos[32] = {0,  1,  28, 2,  29, 14, 24, 3,  30, 22, 20,
                                           15, 25, 17, 4,  8,  31, 27, 13, 23, 21, 19,
@@ -887,20 +915,28 @@ HOT_INLINE int lowest_bit(unsigned m)
     return pos[(uint32_t)((uint32_t)(m & (0u - m)) * 0x077CB531u) >> 27];
 }
 
+/* The same, in one instruction (count trailing zeros) where the compiler has it. */
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__TINYC__)
+#define lowest_bit(m) __builtin_ctz(m)
+#else
+#define lowest_bit(m) lowest_bit_portable(m)
+#endif
+
 /* The slab test of all BVH_WIDTH children of a node: returns the bitmask of those the
    ray enters and that may still hold a hit at t <= t_best (t_cull = t_best *
-   cull_scale; ORDER INDEPENDENCE above), with their entry distances and dominant-axis
-   near planes.  The loop has no branches, so gcc and clang turn it into SIMD code;
-   the axes are taken in the ray's order (slot 2 is kz) and the planes by its signs. */
-HOT_INLINE unsigned node_hit_mask(const BvhNode *nd, const RayPre *rp, float t_cull,
-                                  float *t_enter, float *t_z, int *hit)
+   cull_scale; ORDER INDEPENDENCE above), with their entry distances, dominant-axis
+   near planes and hit[j] (nonzero for an entered child: 1 here, all bits set in the
+   SSE2 twin below).  The loop has no branches; the axes are taken in the ray's order
+   (slot 2 is kz) and the planes by its signs. */
+HOT_INLINE unsigned node_hit_mask_scalar(const BvhNode *nd, const RayPre *rp, float t_cull,
+                                         float *t_enter, float *t_z, int *hit)
 {
     const float *n0 = nd->box[rp->near[0]], *f0 = nd->box[rp->far[0]];
     const float *n1 = nd->box[rp->near[1]], *f1 = nd->box[rp->far[1]];
     const float *n2 = nd->box[rp->near[2]], *f2 = nd->box[rp->far[2]];
-    const float o0 = rp->o[rp->axis[0]], o1 = rp->o[rp->axis[1]], o2 = rp->o[rp->axis[2]];
-    const float i0 = rp->inv_d[rp->axis[0]], i1 = rp->inv_d[rp->axis[1]],
-                i2 = rp->inv_d[rp->axis[2]], far_scale = rp->far_scale;
+    const float o0 = rp->o_ax[0], o1 = rp->o_ax[1], o2 = rp->o_ax[2];
+    const float i0 = rp->inv_ax[0], i1 = rp->inv_ax[1], i2 = rp->inv_ax[2];
+    const float far_scale = rp->far_scale;
     int j;
     unsigned mask = 0;
     for (j = 0; j < BVH_WIDTH; j++) {
@@ -915,10 +951,49 @@ HOT_INLINE unsigned node_hit_mask(const BvhNode *nd, const RayPre *rp, float t_c
         t_enter[j] = tn;
         t_z[j] = tn2;
         hit[j] = (tn <= tf * far_scale) & (tn2 <= t_cull);
+        mask |= (unsigned)hit[j] << j;                  /* bit j */
     }
-    for (j = 0; j < BVH_WIDTH; j++) mask |= (unsigned)hit[j] << j;  /* bit j */
     return mask;
 }
+
+#if BVH_SIMD
+/* node_hit_mask_scalar, four children at a time.  _mm_max_ps(x, acc) is exactly
+   "x > acc ? x : acc" (NaN x: acc) and _mm_min_ps(x, acc) "x < acc ? x : acc", so
+   every lane computes what the scalar loop computes, to the bit.  The boxes' rows are
+   16-byte aligned (nodes on 64 bytes, rows of 32). */
+HOT_INLINE unsigned node_hit_mask(const BvhNode *nd, const RayPre *rp, float t_cull,
+                                  float *t_enter, float *t_z, int *hit)
+{
+    const float *n0 = nd->box[rp->near[0]], *f0 = nd->box[rp->far[0]];
+    const float *n1 = nd->box[rp->near[1]], *f1 = nd->box[rp->far[1]];
+    const float *n2 = nd->box[rp->near[2]], *f2 = nd->box[rp->far[2]];
+    const __m128 o0 = rp->o4[0], o1 = rp->o4[1], o2 = rp->o4[2];
+    const __m128 i0 = rp->inv4[0], i1 = rp->inv4[1], i2 = rp->inv4[2];
+    const __m128 far_scale = rp->far4, cull = _mm_set1_ps(t_cull);
+    unsigned mask = 0;
+    int h;
+    for (h = 0; h < BVH_WIDTH; h += 4) {
+        const __m128 tn0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n0 + h), o0), i0);
+        const __m128 tf0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(f0 + h), o0), i0);
+        const __m128 tn1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n1 + h), o1), i1);
+        const __m128 tf1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(f1 + h), o1), i1);
+        const __m128 tn2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n2 + h), o2), i2);
+        const __m128 tf2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(f2 + h), o2), i2);
+        __m128 tn = _mm_max_ps(tn0, _mm_setzero_ps()), tf = _mm_min_ps(tf0, _mm_set1_ps(INFINITY));
+        __m128 in;
+        tn = _mm_max_ps(tn1, tn);  tf = _mm_min_ps(tf1, tf);
+        tn = _mm_max_ps(tn2, tn);  tf = _mm_min_ps(tf2, tf);
+        in = _mm_and_ps(_mm_cmple_ps(tn, _mm_mul_ps(tf, far_scale)), _mm_cmple_ps(tn2, cull));
+        _mm_storeu_ps(t_enter + h, tn);
+        _mm_storeu_ps(t_z + h, tn2);
+        _mm_storeu_si128((__m128i *)(hit + h), _mm_castps_si128(in));
+        mask |= (unsigned)_mm_movemask_ps(in) << h;
+    }
+    return mask;
+}
+#else
+#define node_hit_mask node_hit_mask_scalar
+#endif
 
 /* The world ray r in instance in's object space: o' = M^-1 o, d' = M^-1 d, the same
    t (d' is not normalised), tmax kept (instance.c: RAYS AND HITS). */
@@ -1064,16 +1139,29 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
             if (mask != 0) {
                 unsigned m;
                 int n = 0;
-                if ((mask & (mask - 1)) == 0) {    /* one child: no stack */
+                const unsigned rest = mask & (mask - 1);
+                if (rest == 0) {                   /* one child: no stack */
                     ref = nd->child[lowest_bit(mask)];
                     prefetch_ref(b, ref);
                     continue;
                 }
-                /* several: each goes to stack[sp + rank], its rank being the number of
-                   children entered that are farther (ties: lower slot first), so the
-                   nearest ends on top.  The rank is a branch-free count over all slots,
-                   which costs less than the mispredicted branches of an insertion
-                   sort.  Shadow rays need no order: rank = arrival. */
+                if ((rest & (rest - 1)) == 0) {    /* two (the most common case): */
+                    const int ja = lowest_bit(mask), jb = lowest_bit(rest);   /* ja < jb */
+                    const int b_first = t_enter[jb] < t_enter[ja];   /* ties: lower slot */
+                    const int jn = b_first ? jb : ja, jf = b_first ? ja : jb;
+                    stack[sp].ref = nd->child[jf];  /* the farther waits on the stack */
+                    stack[sp].t_z = t_z[jf];
+                    sp++;
+                    prefetch_ref(b, nd->child[jf]);
+                    ref = nd->child[jn];
+                    prefetch_ref(b, ref);
+                    continue;
+                }
+                /* three or more: each goes to stack[sp + rank], its rank being the
+                   number of children entered that are farther (ties: lower slot
+                   first), so the nearest ends on top.  The rank is a branch-free count
+                   over all slots, which costs less than the mispredicted branches of
+                   an insertion sort.  Shadow rays need no order: rank = arrival. */
                 for (m = mask; m != 0; m &= m - 1, n++) {
                     const int jj = lowest_bit(m);
                     const float te = t_enter[jj];
@@ -1156,6 +1244,29 @@ int bvh_intersect(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h)
 int bvh_occluded(const Bvh *b, const Scene *s, const Ray *r)
 {
     return traverse(b, s, r, NULL, 1, 0);
+}
+
+int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes)
+{
+    RayPre rp;
+    int i, j, bad = 0;
+    unsigned m;
+    for (m = 1; m < 256; m++) bad += lowest_bit(m) != lowest_bit_portable(m);
+    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp)) return bad;
+    for (i = 0; i < b->n_nodes; i++) {
+        float te[2][BVH_WIDTH], tz[2][BVH_WIDTH];
+        int hit[2][BVH_WIDTH];
+        const unsigned m0 = node_hit_mask_scalar(&b->nodes[i], &rp, t_cull, te[0], tz[0], hit[0]);
+        const unsigned m1 = node_hit_mask(&b->nodes[i], &rp, t_cull, te[1], tz[1], hit[1]);
+        for (j = 0; j < BVH_WIDTH; j++) {
+            const int in0 = (m0 >> j) & 1u, in1 = (m1 >> j) & 1u;
+            bad += in0 != in1 || (hit[0][j] != 0) != in0 || (hit[1][j] != 0) != in1 ||
+                   memcmp(&te[0][j], &te[1][j], sizeof(float)) != 0 ||
+                   memcmp(&tz[0][j], &tz[1][j], sizeof(float)) != 0;
+        }
+        *lanes += BVH_WIDTH;
+    }
+    return bad;
 }
 
 /* ======================================================================

@@ -590,6 +590,13 @@ void bvh_free(Bvh *b);
 int  bvh_intersect(const Bvh *b, const struct Scene *s, const Ray *r, HitRecord *h);
 /* Any hit along r: the shadow-ray query. */
 int  bvh_occluded(const Bvh *b, const struct Scene *s, const Ray *r);
+/* The slab test runs on four children at a time in SSE2 where the compiler has it,
+   beside the scalar code it mirrors (bvh.c).  For ray r and culling distance t_cull:
+   how many children of b's nodes get an entry distance, a near plane or an
+   entered/not that differs in any bit between the two, plus how many masks
+   1..255 get different lowest bits from the two bit scans; *lanes += children
+   compared.  For tests. */
+int  bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes);
 /* The BVH over the given primitives only (an object definition's: instance.c). */
 int  bvh_build_object(Bvh *b, const struct Scene *s, const int32_t *ids, int n);
 /* The two primitive tests, exposed for tests and the brute-force reference. */

@@ -9,6 +9,10 @@
                          icosphere with every triangle duplicated, overlapping coplanar
                          triangles) with rays through vertices and edges, along the axes
                          and the normals, and grazing the triangles' planes
+     bvh_simd_matches_scalar  the slab test's SSE2 code equals the scalar code it
+                         mirrors bit for bit (entry distances, near planes, the mask),
+                         with d = 0 axes and origins on the boxes' planes; the two bit
+                         scans agree on every 8-bit mask
      bvh_watertight_*    rays aimed exactly at shared vertices and edges of closed meshes
                          (an icosphere; a subdivided cube hit by axis-aligned rays, whose
                          flat boxes stress the slab test) all hit
@@ -403,6 +407,46 @@ static void test_bvh_exact_adversarial(T *t)
         CHECK(t, bad == 0, "%s: %d of %d rays differ from brute force; %s", names[scene], bad,
               n_rays + n_rays / 4, msg);
     }
+}
+
+/* The slab test's SSE2 code against the scalar code it mirrors (bvh_simd_mismatches),
+   bit for bit on every node: random rays, rays with zero direction components whose
+   origin lies exactly on a box's plane (the NaN of 0 * inf), and culling distances
+   from 0 to infinity; on a soup and on the grid cube, whose boxes are flat. */
+static void test_bvh_simd_matches_scalar(T *t)
+{
+    Scene s;
+    Rng rng;
+    int scene, k, lanes = 0, bad = 0;
+    rng_seed(&rng, 29, 0);
+    for (scene = 0; scene < 2; scene++) {
+        CHECK(t, scene ? make_grid_cube(&s, 8) : make_soup(&s, &rng, 3000, 20), "out of memory");
+        CHECK(t, bvh_build(&s.bvh, &s), "bvh_build failed");
+        for (k = 0; k < 400; k++) {
+            const BvhNode *nd = &s.bvh.nodes[(int)(rng_float(&rng) * (float)s.bvh.n_nodes) % s.bvh.n_nodes];
+            const int slot = (int)(rng_float(&rng) * BVH_WIDTH) % BVH_WIDTH, how = k % 4;
+            static const float culls[] = {0.0f, 1e-3f, 0.5f, 2.0f, INFINITY};
+            Ray r;
+            r.o = v3(urand(&rng, -2, 2), urand(&rng, -2, 2), urand(&rng, -2, 2));
+            r.d = v3_mul(random_dir(&rng), urand(&rng, 0.5f, 2.0f));
+            if (how >= 2) {                 /* d = 0 on an axis, o on a plane of a box */
+                const int a = (int)(rng_float(&rng) * 3) % 3;
+                float c[3], dd[3];
+                c[0] = r.o.x; c[1] = r.o.y; c[2] = r.o.z;
+                dd[0] = r.d.x; dd[1] = r.d.y; dd[2] = r.d.z;
+                dd[a] = how == 2 ? 0.0f : -0.0f;
+                if (isfinite(nd->box[a][slot])) c[a] = nd->box[(how - 2) * 3 + a][slot];
+                r.o = v3(c[0], c[1], c[2]);
+                r.d = v3(dd[0], dd[1], dd[2]);
+            }
+            r.tmax = INFINITY;
+            bad += bvh_simd_mismatches(&s.bvh, &r, culls[k % 5], &lanes);
+        }
+        scene_release(&s);
+    }
+    CHECK(t, lanes > 100000, "only %d children compared", lanes);
+    CHECK(t, bad == 0, "%d of %d children differ between the SSE2 and the scalar slab test",
+          bad, lanes);
 }
 
 static void test_bvh_watertight_icosphere(T *t)
@@ -1155,6 +1199,7 @@ static void test_ply_fuzz(T *t)
 const TestCase tests_bvh[] = {
     {"bvh_vs_brute", test_bvh_vs_brute},
     {"bvh_exact_adversarial", test_bvh_exact_adversarial},
+    {"bvh_simd_matches_scalar", test_bvh_simd_matches_scalar},
     {"bvh_watertight_icosphere", test_bvh_watertight_icosphere},
     {"bvh_watertight_cube", test_bvh_watertight_cube},
     {"bvh_structure", test_bvh_structure},
