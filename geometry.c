@@ -4,8 +4,9 @@
    called by scene.c's directive loop for every `Shape`.  It reads the shape's
    "alpha" (every type), then the type's own parameters, and appends to the Scene
    what bvh.c intersects: triangles (trianglemesh, plymesh, loopsubdiv via subdiv.c,
-   flat bilinear patches), bilinear patches (patch.c), whole spheres, and the
-   quadrics of shapes.c (disk, cylinder, cut or scaled spheres); each as a Shape
+   flat bilinear patches), bilinear patches (patch.c), whole spheres, the
+   quadrics of shapes.c (disk, cylinder, cut or scaled spheres) and curves
+   (curve.c builds them from their parameters); each as a Shape
    record of the current graphics state (material, area light, media, orientation,
    the object being defined), with its Emitter when an AreaLightSource is active.
    The parameters and their meaning are docs/conventions.md's Shape rows and §3.
@@ -43,8 +44,8 @@
    =========================================================================== */
 /* Append a Shape record for the current graphics state, and its Emitter when an
    AreaLightSource is active.  Returns the shape index or -1. */
-static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, double area,
-                     int has_normals, const char *file, int line)
+int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, double area,
+              int has_normals, const char *file, int line)
 {
     Scene *s = P->s;
     Shape *sh;
@@ -655,6 +656,8 @@ static int shape_drop(Parser *P, const Scene *before)
     s->n_spheres = before->n_spheres;
     s->n_quadrics = before->n_quadrics;
     s->n_patches = before->n_patches;
+    s->n_curves = before->n_curves;
+    s->n_curve_pieces = before->n_curve_pieces;
     s->n_alpha = before->n_alpha;
     return 1;
 }
@@ -668,9 +671,7 @@ static int shape_build(Parser *P, const char *type, ParamList *pl, const char *f
     if (!strcmp(type, "cylinder")) return cylinder_shape(P, pl, file, line);
     if (!strcmp(type, "plymesh")) return ply_shape(P, pl, file, line);
     if (!strcmp(type, "loopsubdiv")) return loopsubdiv_shape(P, pl, file, line);
-    if (!strcmp(type, "curve"))
-        return fail(P, file, line, "Shape \"%s\" is valid pbrt-v4 but not in the specnee subset",
-                    type);
+    if (!strcmp(type, "curve")) return curve_shape(P, pl, file, line);
     return fail(P, file, line, "Shape \"%s\": unknown shape type", type);
 }
 
