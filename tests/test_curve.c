@@ -78,7 +78,8 @@ static void test_curve_bases(T *t)
 
 /* A straight cylinder curve along x from -1 to 1 (control points evenly spaced, so u
    = (x + 1) / 2), width W = 0.2, seen by rays straight down from z = 3 at random
-   (x, y) in [-0.8, 0.8] x [-0.5, 0.5]: W / 1 of them hit; a hit has t = 3 (the
+   (x, y) in [-1.1, 1.1] x [-0.5, 0.5]: 2 W / 2.2 of them hit, none beyond the
+   ends (flat caps: the perpendiculars at the ends bound it); a hit has t = 3 (the
    centre line's depth), u = (x + 1) / 2, |v - 1/2| = |y| / W with v on one side
    above 1/2, and the normal (0, n_y, n_z) with |n_y| = |sin(pi (v - 1/2))|. */
 static void test_curve_cylinder_hits(T *t)
@@ -86,8 +87,9 @@ static void test_curve_cylinder_hits(T *t)
     Scene s;
     Rng r;
     const long n = test_scaled(20000, 4000);
-    long i, hits = 0, bad_uv = 0, bad_n = 0, side = 0, eligible = 0;
+    long i, hits = 0, bad_uv = 0, bad_n = 0, side = 0, eligible = 0, beyond = 0;
     const float W = 0.2f;
+    const double p = W * 2.0 / 2.2;
     if (!load_curve(t, &s, "Shape \"curve\" \"string type\" \"cylinder\" \"float width\" [ 0.2 ] "
                            "\"point3 P\" [ -1 0 0  -0.333333333 0 0  0.333333333 0 0  1 0 0 ]\n"))
         return;
@@ -98,11 +100,12 @@ static void test_curve_cylinder_hits(T *t)
         HitRecord h;
         SurfacePoint sp;
         rng_fill(&r, q, 2);
-        ray.o = v3(-0.8f + 1.6f * q[0], q[1] - 0.5f, 3.0f);
+        ray.o = v3(-1.1f + 2.2f * q[0], q[1] - 0.5f, 3.0f);
         ray.d = v3(0, 0, -1);
         ray.tmax = 10.0f;
         if (!bvh_intersect(&s.bvh, &s, &ray, &h)) continue;
         hits++;
+        if (fabsf(ray.o.x) > 1.0f + 1e-5f) beyond++;
         scene_surface_point(&s, &ray, &h, &sp);
         if (fabsf(h.t - 3.0f) > 1e-5f || fabsf(sp.u - (ray.o.x + 1) / 2) > 1e-4f ||
             fabsf(fabsf(sp.v - 0.5f) - fabsf(ray.o.y) / W) > 1e-4f)
@@ -115,8 +118,9 @@ static void test_curve_cylinder_hits(T *t)
             fabsf(v3_len(sp.ng) - 1) > 1e-5f)
             bad_n++;
     }
-    CHECK(t, fabs((double)hits - n * W) <= 5.0 * sqrt(n * W * (1 - W)),
-          "%ld of %ld rays hit, want %.0f (width / extent)", hits, n, n * W);
+    CHECK(t, fabs((double)hits - n * p) <= 5.0 * sqrt(n * p * (1 - p)),
+          "%ld of %ld rays hit, want %.0f (width / extent)", hits, n, n * p);
+    CHECK(t, beyond == 0, "%ld rays beyond the ends hit", beyond);
     CHECK(t, bad_uv == 0, "%ld hits with t, u or v off the closed form", bad_uv);
     CHECK(t, side == 0 || side == eligible, "v > 1/2 on both sides of the curve (%ld of %ld)", side, eligible);
     CHECK(t, bad_n == 0, "%ld hits whose normal is not the half tube's", bad_n);
