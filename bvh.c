@@ -2,24 +2,27 @@
 
    WHAT IT IMPLEMENTS (specnee.h section 5)
      bvh_build / bvh_free   binned-SAH BVH over every triangle, sphere, quadric (disk,
-                            cylinder, cut sphere: shapes.c) and bilinear patch
-                            (patch.c) of a Scene, in 8-wide nodes
+                            cylinder, cut sphere: shapes.c), bilinear patch
+                            (patch.c) and curve piece (curve.c) of a Scene, in
+                            8-wide nodes
      bvh_intersect          closest hit along a ray segment 0 < t < tmax
      bvh_occluded           any hit (shadow rays): stops at the first one found
      intersect_triangle     watertight ray/triangle test (Woop, Benthin, Wald 2013)
      intersect_sphere       ray/sphere in double (Haines et al. 2019)
      scene_surface_point    position, normals and (u, v) at a hit (pbrt-v4 conventions)
      offset_ray_origin      where a secondary ray starts (the policy below)
+     spawn_origin           the same from a hit, past a curve hit's error box
    USE: scene_load calls bvh_build(&s->bvh, s) once.  The integrator calls
    bvh_intersect, then scene_surface_point, and bvh_occluded for the shadow rays of
    next event estimation (through media it follows them with bvh_intersect instead).
    Primitive id k < n_tris is triangle k, n_tris + j sphere j (s->sphere_shape[j]),
    n_tris + n_spheres + k quadric k (s->quadric_shape[k], intersected by shapes.c),
    n_tris + n_spheres + n_quadrics + k patch k (s->patches[k], a bilinear patch that
-   is not flat, intersected by patch.c; flat ones are two triangles), and n_base + i
-   instance i (n_base = n_tris + n_spheres + n_quadrics + n_patches; instance.c: a
-   second level); at most 2^28 - 1 of them (a leaf packs its first primitive into 28
-   bits).
+   is not flat, intersected by patch.c; flat ones are two triangles), that + n_patches
+   + k curve piece k (s->curve_pieces[k], intersected by curve.c), and n_base + i
+   instance i (n_base = n_tris + n_spheres + n_quadrics + n_patches + n_curve_pieces;
+   instance.c: a second level); at most 2^28 - 1 of them (a leaf packs its first
+   primitive into 28 bits).
 
    INSTANCES (the second level; instance.c has the transforms): bvh_build's tree
    holds the primitives in the world (Shape.in_object == 0) and one primitive per
@@ -66,7 +69,7 @@
    texture at the hit's (u, v) (the SurfacePoint texture.c reads) and u in [0, 1) a
    hash of the bits of the ray's origin and direction: a deterministic stochastic
    test, the same for every thread count.  a <= 0 never counts, a >= 1 always.  A
-   hit that does not count lets the ray go on: a sphere, quadric or patch is
+   hit that does not count lets the ray go on: a sphere, quadric, patch or curve is
    intersected again beyond it, by the ray spawned there (its own hash).  The
    answer is a function of the ray and the primitive alone, so ORDER INDEPENDENCE
    still holds, and shadow rays (any hit) see exactly the hits that closest-hit
@@ -81,7 +84,11 @@
      3. The triangle test rejects t below its error bound, so a ray leaving a triangle
         cannot re-hit it, even when that triangle's vertices are far larger than p; for
         spheres the double-precision roots do the same.
-     The shadow rays of next event estimation run from o = offset_ray_origin(p, ng, w)
+     4. A curve (curve.c) is a band that faces every ray, so a ray leaving it would
+        meet it again at once; as in pbrt-v4 the hit carries an error box of about a
+        width (SurfacePoint.err) and spawn_origin starts the ray |ng| . err further
+        along ng (0 for every other shape: then it is offset_ray_origin).
+     The shadow rays of next event estimation run from o = spawn_origin(sp, w)
      (in a medium: o = p) to q' = offset_ray_origin(q, n_q, -w), the emitter point q
      moved off the emitter towards p, with d = q' - o and tmax = 1: the segment ends
      short of the emitter, so the emitter does not occlude itself.

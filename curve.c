@@ -83,8 +83,12 @@
    NOT SUPPORTED (refused by name): an AreaLightSource on a curve (pbrt-v4 has no
    sampling of curves: its Curve::Sample stops the program), degree other than 2
    and 3, bases other than bezier and bspline, types other than the three above
-   (pbrt-v4 makes an unknown type a cylinder after an error message).  "N" on a
-   flat or cylinder curve is read and ignored, as pbrt-v4 does (it warns). */
+   (pbrt-v4 makes an unknown type a cylinder after an error message), negative
+   widths, splitdepth outside [0, 12], opposite ribbon normals at a segment's ends
+   (no turn between them).  "N" on a flat or cylinder curve is read and ignored, as
+   pbrt-v4 does (it warns).  pbrt-v4 samples point and area lights from the hit
+   moved by its error box towards the viewer; specnee from the hit itself
+   (docs/conventions.md §6: about a width's change of distance and angle). */
 #include "specnee.h"
 #include "parser.h"
 #include <float.h>
