@@ -55,13 +55,15 @@
    w = the origin's projection on the chord b0 b3 (in x, y) gives
        u = clamp(lerp(w, u0, u1), u0, u1),  width  W = lerp(u, width0, width1),
    (a ribbon: W |n(u) . d| / |d|, the band seen at an angle), and the curve point
-   pc = B(clamp(w, 0, 1)) must have pc_x^2 + pc_y^2 <= W^2 / 4 and 0 <= pc_z <= |d| tmax.
+   pc = B(clamp(w, 0, 1)) must have pc_x^2 + pc_y^2 <= W^2 / 4 and pc_z >= 0.
    Then t = pc_z / |d| (the depth of the curve's centre line, as in pbrt-v4), and
        v = 1/2 +- sqrt(pc_x^2 + pc_y^2) / W,
    + when the ray passes on the side where (pc x B'(w))_z > 0: v runs across the
    band from 0 to 1 (the hair material's h = -1 + 2 v).  The closest of the parts'
    hits wins (any one for a shadow ray).  Computed in double; t is rounded to float
-   and kept when 0 < t <= tmax.  The result is a function of the ray and the piece
+   and kept when 0 < t <= tmax in float (the boxes are culled at |d| tmax with a
+   margin of 1e-6), so that a hit at the BVH's t_best is found whatever the order
+   of the traversal.  The result is a function of the ray and the piece
    alone (ORDER INDEPENDENCE in bvh.c holds: the hit's ray point lies within half a
    width of the centre line, inside the piece's widened box).
 
@@ -273,7 +275,8 @@ typedef struct {
     const Curve *c;
     D3 o, d;                   /* the object-space ray */
     double len;                /* |d| */
-    double zmax;               /* |d| tmax: the segment's end along the frame's z */
+    double zmax;               /* |d| tmax, a little more: where the parts' boxes may end */
+    float tmax;                /* the hits kept: t rounded to float <= tmax */
     int any_hit;
     int found;
     double t, u, v;            /* the closest hit so far */
@@ -332,10 +335,10 @@ static void leaf_hit(CurveQuery *q, const D3 cp[4], double u0, double u1)
     if (c->type == CURVE_RIBBON) width *= fabs(d3_dot(ribbon_normal(c, u), q->d)) / q->len;
     pc = bezier_eval(cp, w < 0 ? 0 : w > 1 ? 1 : w, &dw);
     dist2 = pc.x * pc.x + pc.y * pc.y;
-    if (dist2 > 0.25 * width * width || pc.z < 0 || pc.z > q->zmax) return;
+    if (dist2 > 0.25 * width * width || pc.z < 0) return;
     t = pc.z / q->len;
-    tf = (float)t;
-    if (!(tf > 0.0f) || (q->found && tf >= (float)q->t)) return;
+    tf = (float)t;                        /* decided in float, as the BVH compares */
+    if (!(tf > 0.0f) || !(tf <= q->tmax) || (q->found && tf >= (float)q->t)) return;
     q->found = 1;
     q->t = tf;
     q->u = u;
@@ -396,7 +399,8 @@ int curve_intersect(const Scene *s, const CurvePiece *pc, const Ray *r, float tm
     object_ray(s, q.c, r, &q.o, &q.d);
     q.len = sqrt(d3_dot(q.d, q.d));
     if (!(q.len > 0) || !(tmax > 0.0f)) return 0;
-    q.zmax = q.len * (double)tmax;
+    q.zmax = q.len * (double)tmax * (1.0 + 1e-6);
+    q.tmax = tmax;
     q.any_hit = any_hit;
     seg_points(q.c, cp);
     piece_points(cp, pc->u0, pc->u1, pp);
@@ -405,7 +409,7 @@ int curve_intersect(const Scene *s, const CurvePiece *pc, const Ray *r, float tm
                                     lerp1(pc->u1, q.c->width[0], q.c->width[1]))))
         return 0;
     recurse(&q, rc, pc->u0, pc->u1, refine_depth(rc, fmax(q.c->width[0], q.c->width[1])));
-    if (!q.found || !((float)q.t <= tmax)) return 0;
+    if (!q.found) return 0;
     h->t = (float)q.t;
     h->b1 = (float)q.u;
     h->b2 = (float)q.v;
