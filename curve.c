@@ -11,8 +11,9 @@
      curve_piece_bounds      a piece's world box
      curve_intersect         the closest (or any) hit of a ray with a piece
      curve_surface_point     position, normals, (u, v), dp/du, dp/dv at a hit
-   geometry.c calls curve_shape for `Shape "curve"`; bvh.c bounds and intersects
-   piece k as primitive n_tris + n_spheres + n_quadrics + n_patches + k and calls
+   geometry.c makes the Shape of `Shape "curve"` and calls curve_shape for its
+   segments; bvh.c bounds and intersects piece k as primitive
+   n_tris + n_spheres + n_quadrics + n_patches + k and calls
    curve_surface_point from scene_surface_point; bump.c takes dp/du, dp/dv from it
    (the hair material's frame).
 
@@ -531,9 +532,17 @@ static int add_segment(Parser *P, const Vec3 b[4], double w0, double w1, int typ
     c->shape = sh;
     for (i = 0; i < np; i++) {
         CurvePiece *pc = &s->curve_pieces[s->n_curve_pieces++];
+        D3 cp[4], pp[4];
+        double len = 0;
+        int k;
         pc->curve = s->n_curves;
         pc->u0 = (float)i / (float)np;
         pc->u1 = (float)(i + 1) / (float)np;
+        seg_points(c, cp);                 /* Shape.area: pbrt-v4's estimate, the control */
+        piece_points(cp, pc->u0, pc->u1, pp);   /* polygon's length x the mean width, in
+                                                   object space (only --dump-scene shows it) */
+        for (k = 0; k < 3; k++) len += sqrt(d3_dot(d3_sub(pp[k + 1], pp[k]), d3_sub(pp[k + 1], pp[k])));
+        s->shapes[sh].area += len * 0.5 * (lerp1(pc->u0, w0, w1) + lerp1(pc->u1, w0, w1));
     }
     s->n_curves++;
     return 1;
@@ -594,12 +603,12 @@ static int curve_params(Parser *P, ParamList *pl, CurveParams *cp, const char *f
     return 1;
 }
 
-int curve_shape(Parser *P, ParamList *pl, const char *file, int line)
+int curve_shape(Parser *P, ParamList *pl, int sh, const char *file, int line)
 {
     Param *pp = param_find(pl, PT_POINT3, "P"), *pn = param_find(pl, PT_NORMAL, "N");
     CurveParams cp;
     Vec3 *pts;
-    int nP, nseg, k, sh, ok = 1;
+    int nP, nseg, k, ok = 1;
     if (!curve_params(P, pl, &cp, file, line)) return 0;
     if (!params_check_unused(P, pl, "Shape \"curve\"", "point3 P, string basis, integer degree, "
                              "string type, normal N, float width, float width0, float width1, "
@@ -625,10 +634,9 @@ int curve_shape(Parser *P, ParamList *pl, const char *file, int line)
             return fail(P, pp->file, pp->line, "Shape \"curve\": control point %d is not finite", k);
         }
     }
-    sh = add_shape(P, SHAPE_CURVE, 0, 0, 0.0, 0, file, line);
-    if (sh < 0 || !quadric_set_transform(&P->s->shapes[sh].q, &P->gs.ctm)) {
+    if (!quadric_set_transform(&P->s->shapes[sh].q, &P->gs.ctm)) {
         free(pts);
-        return sh < 0 ? 0 : fail(P, file, line, "Shape \"curve\": projective transform not supported");
+        return fail(P, file, line, "Shape \"curve\": projective transform not supported");
     }
     for (k = 0; ok && k < nseg; k++) {
         Vec3 b[4];

@@ -44,8 +44,8 @@
    =========================================================================== */
 /* Append a Shape record for the current graphics state, and its Emitter when an
    AreaLightSource is active.  Returns the shape index or -1. */
-int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, double area,
-              int has_normals, const char *file, int line)
+static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, double area,
+                     int has_normals, const char *file, int line)
 {
     Scene *s = P->s;
     Shape *sh;
@@ -671,7 +671,10 @@ static int shape_build(Parser *P, const char *type, ParamList *pl, const char *f
     if (!strcmp(type, "cylinder")) return cylinder_shape(P, pl, file, line);
     if (!strcmp(type, "plymesh")) return ply_shape(P, pl, file, line);
     if (!strcmp(type, "loopsubdiv")) return loopsubdiv_shape(P, pl, file, line);
-    if (!strcmp(type, "curve")) return curve_shape(P, pl, file, line);
+    if (!strcmp(type, "curve")) {            /* the Shape, then curve.c's segments */
+        int sh = add_shape(P, SHAPE_CURVE, 0, 0, 0.0, 0, file, line);
+        return sh >= 0 && curve_shape(P, pl, sh, file, line);
+    }
     return fail(P, file, line, "Shape \"%s\": unknown shape type", type);
 }
 

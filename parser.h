@@ -300,12 +300,9 @@ int integrator_directive(Parser *P, const char *type, ParamList *pl, const char 
 /* The Shape directive of `type` at file:line (geometry.c): the shape of the current
    graphics state appended to the Scene. */
 int shape_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
-/* A Shape record of the current graphics state (and its Emitter under an
-   AreaLightSource), for the shape builders; the shape index or -1 (geometry.c). */
-int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, double area,
-              int has_normals, const char *file, int line);
-/* Shape "curve": its Bezier segments and pieces (curve.c). */
-int curve_shape(Parser *P, ParamList *pl, const char *file, int line);
+/* Shape "curve": the Bezier segments and pieces of Shape sh, which geometry.c has
+   just made (curve.c). */
+int curve_shape(Parser *P, ParamList *pl, int sh, const char *file, int line);
 
 /* The Scene's material records (material.c): m appended (the Scene takes what it
    owns; on failure it is released), its index or -1; pbrt-v4's default material
