@@ -35,6 +35,8 @@
                 axis-aligned with the patch gives large tangents, in pbrt-v4 too;
                 "N": the frame rotated from n to ns (pbrt-v4's RotateFromTo) and
                 dn from the vertex normals.
+     curves     curve.c's dp/du (along the segment) and dp/dv (across the band),
+                dn/du = dn/dv = 0, as pbrt-v4.
      instances  computed in the object's space and carried to the world as above.
 
    BUMP MAP ("float displacement" or "texture displacement" d): the surface is
@@ -304,6 +306,11 @@ void shading_differentials(const Scene *s, const Ray *r, const HitRecord *h, Sur
         patch_diff(s, sh, q, pu, pv, sp, d);
     } else if (h->prim < s->n_tris) {
         triangle_diff(s, h->prim, sp, d);
+    } else if (h->prim >= s->n_tris + s->n_spheres + s->n_quadrics + s->n_patches) {
+        SurfacePoint csp;                  /* a curve: its dp/du, dp/dv; dn = 0 (pbrt-v4) */
+        curve_surface_point(s, &s->curve_pieces[h->prim - s->n_tris - s->n_spheres - s->n_quadrics - s->n_patches],
+                            r, h, &csp, &d->dpdu, &d->dpdv);
+        d->dndu = d->dndv = v3(0.0f, 0.0f, 0.0f);
     } else if (h->prim >= s->n_tris + s->n_spheres + s->n_quadrics) {
         const Patch *pa = &s->patches[h->prim - s->n_tris - s->n_spheres - s->n_quadrics];
         patch_diff(s, sh, pa->v, h->b1, h->b2, sp, d);

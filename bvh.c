@@ -2,24 +2,27 @@
 
    WHAT IT IMPLEMENTS (specnee.h section 5)
      bvh_build / bvh_free   binned-SAH BVH over every triangle, sphere, quadric (disk,
-                            cylinder, cut sphere: shapes.c) and bilinear patch
-                            (patch.c) of a Scene, in 8-wide nodes
+                            cylinder, cut sphere: shapes.c), bilinear patch
+                            (patch.c) and curve piece (curve.c) of a Scene, in
+                            8-wide nodes
      bvh_intersect          closest hit along a ray segment 0 < t < tmax
      bvh_occluded           any hit (shadow rays): stops at the first one found
      intersect_triangle     watertight ray/triangle test (Woop, Benthin, Wald 2013)
      intersect_sphere       ray/sphere in double (Haines et al. 2019)
      scene_surface_point    position, normals and (u, v) at a hit (pbrt-v4 conventions)
      offset_ray_origin      where a secondary ray starts (the policy below)
+     spawn_origin           the same from a hit, past a curve hit's error box
    USE: scene_load calls bvh_build(&s->bvh, s) once.  The integrator calls
    bvh_intersect, then scene_surface_point, and bvh_occluded for the shadow rays of
    next event estimation (through media it follows them with bvh_intersect instead).
    Primitive id k < n_tris is triangle k, n_tris + j sphere j (s->sphere_shape[j]),
    n_tris + n_spheres + k quadric k (s->quadric_shape[k], intersected by shapes.c),
    n_tris + n_spheres + n_quadrics + k patch k (s->patches[k], a bilinear patch that
-   is not flat, intersected by patch.c; flat ones are two triangles), and n_base + i
-   instance i (n_base = n_tris + n_spheres + n_quadrics + n_patches; instance.c: a
-   second level); at most 2^28 - 1 of them (a leaf packs its first primitive into 28
-   bits).
+   is not flat, intersected by patch.c; flat ones are two triangles), that + n_patches
+   + k curve piece k (s->curve_pieces[k], intersected by curve.c), and n_base + i
+   instance i (n_base = n_tris + n_spheres + n_quadrics + n_patches + n_curve_pieces;
+   instance.c: a second level); at most 2^28 - 1 of them (a leaf packs its first
+   primitive into 28 bits).
 
    INSTANCES (the second level; instance.c has the transforms): bvh_build's tree
    holds the primitives in the world (Shape.in_object == 0) and one primitive per
@@ -69,7 +72,7 @@
    texture at the hit's (u, v) (the SurfacePoint texture.c reads) and u in [0, 1) a
    hash of the bits of the ray's origin and direction: a deterministic stochastic
    test, the same for every thread count.  a <= 0 never counts, a >= 1 always.  A
-   hit that does not count lets the ray go on: a sphere, quadric or patch is
+   hit that does not count lets the ray go on: a sphere, quadric, patch or curve is
    intersected again beyond it, by the ray spawned there (its own hash).  The
    answer is a function of the ray and the primitive alone, so ORDER INDEPENDENCE
    still holds, and shadow rays (any hit) see exactly the hits that closest-hit
@@ -84,7 +87,11 @@
      3. The triangle test rejects t below its error bound, so a ray leaving a triangle
         cannot re-hit it, even when that triangle's vertices are far larger than p; for
         spheres the double-precision roots do the same.
-     The shadow rays of next event estimation run from o = offset_ray_origin(p, ng, w)
+     4. A curve (curve.c) is a band that faces every ray, so a ray leaving it would
+        meet it again at once; as in pbrt-v4 the hit carries an error box of about a
+        width (SurfacePoint.err) and spawn_origin starts the ray |ng| . err further
+        along ng (0 for every other shape: then it is offset_ray_origin).
+     The shadow rays of next event estimation run from o = spawn_origin(sp, w)
      (in a medium: o = p) to q' = offset_ray_origin(q, n_q, -w), the emitter point q
      moved off the emitter towards p, with d = q' - o and tmax = 1: the segment ends
      short of the emitter, so the emitter does not occlude itself.
@@ -458,16 +465,22 @@ int bvh_prim_shape(const Scene *s, int id)
     else if (id < s->n_tris + s->n_spheres) sh = s->sphere_shape[id - s->n_tris];
     else if (id < s->n_tris + s->n_spheres + s->n_quadrics)
         sh = s->quadric_shape[id - s->n_tris - s->n_spheres];
-    else sh = s->patches[id - s->n_tris - s->n_spheres - s->n_quadrics].shape;
+    else if (id < s->n_tris + s->n_spheres + s->n_quadrics + s->n_patches)
+        sh = s->patches[id - s->n_tris - s->n_spheres - s->n_quadrics].shape;
+    else {
+        const int k = id - s->n_tris - s->n_spheres - s->n_quadrics - s->n_patches;
+        if (k >= s->n_curve_pieces) return -1;
+        sh = s->curves[s->curve_pieces[k].curve].shape;
+    }
     return sh >= 0 && sh < s->n_shapes ? sh : -1;
 }
 
-/* The bounds and centroid of primitive id (a triangle, sphere, quadric, patch or
-   instance); 0 on invalid geometry. */
+/* The bounds and centroid of primitive id (a triangle, sphere, quadric, patch, curve
+   piece or instance); 0 on invalid geometry. */
 static int prim_info(const Scene *s, int id, PrimInfo *info)
 {
     const int n_quad_end = s->n_tris + s->n_spheres + s->n_quadrics;
-    const int n_base = n_quad_end + s->n_patches;
+    const int n_patch_end = n_quad_end + s->n_patches, n_base = n_patch_end + s->n_curve_pieces;
     Box *b = &info->box;
     int k, a;
     if (id < s->n_tris) {
@@ -494,6 +507,8 @@ static int prim_info(const Scene *s, int id, PrimInfo *info)
         const int j = s->quadric_shape[id - s->n_tris - s->n_spheres];
         if (j < 0 || j >= s->n_shapes) return 0;
         quadric_bounds(&s->shapes[j], b->lo, b->hi);
+    } else if (id >= n_patch_end && id < n_base) {   /* a curve piece (curve.c) */
+        curve_piece_bounds(s, &s->curve_pieces[id - n_patch_end], b->lo, b->hi);
     } else if (id < n_base) {             /* a patch lies in its corners' box */
         box_empty(b);
         for (k = 0; k < 4; k++) {
@@ -805,11 +820,12 @@ int bvh_build_object(Bvh *b, const Scene *s, const int32_t *ids, int n)
    primitive per instance (instance.c). */
 int bvh_build(Bvh *b, const Scene *s)
 {
-    const int n_base = s->n_tris + s->n_spheres + s->n_quadrics + s->n_patches;
+    const int n_base = s->n_tris + s->n_spheres + s->n_quadrics + s->n_patches + s->n_curve_pieces;
     int32_t *ids;
     int n = 0, i, ok;
     memset(b, 0, sizeof *b);
-    if (s->n_tris < 0 || s->n_spheres < 0 || s->n_quadrics < 0 || s->n_patches < 0 || n_base < 0 ||
+    if (s->n_tris < 0 || s->n_spheres < 0 || s->n_quadrics < 0 || s->n_patches < 0 ||
+        s->n_curve_pieces < 0 || n_base < 0 ||
         s->n_instances < 0 || s->n_instances > INT32_MAX - n_base)
         return 0;
     if (n_base + s->n_instances >= (1 << 28)) return 0;   /* a leaf packs first << 3 in 31 bits */
@@ -1030,6 +1046,14 @@ static void instance_point(const Instance *in, SurfacePoint *sp)
     sp->ng = normal_to_world(&in->world_from_obj, sp->ng);
     sp->ns = normal_to_world(&in->world_from_obj, sp->ns);
     if (v3_dot(sp->ns, sp->ng) < 0.0f) sp->ns = v3_neg(sp->ns);   /* pbrt-v4: FaceForward */
+    if (sp->err.x > 0.0f || sp->err.y > 0.0f || sp->err.z > 0.0f) {   /* |M| err */
+        const double (*m)[4] = (const double (*)[4])in->world_from_obj.m;
+        float e[3];
+        int a;
+        for (a = 0; a < 3; a++)
+            e[a] = (float)(fabs(m[a][0]) * sp->err.x + fabs(m[a][1]) * sp->err.y + fabs(m[a][2]) * sp->err.z);
+        sp->err = v3(e[0], e[1], e[2]);
+    }
 }
 
 /* A number in [0, 1) hashed from the bits of r's origin and direction (ALPHA). */
@@ -1058,6 +1082,11 @@ static int prim_hit_again(const Scene *s, int p, const Ray *r, float *t, float *
     if (p < n_quad) {
         *b1 = *b2 = 0.0f;
         return quadric_intersect(&s->shapes[s->quadric_shape[p - n_sph]], r, r->tmax, t);
+    } else if (p >= n_quad + s->n_patches) {
+        HitRecord ch;
+        if (!curve_intersect(s, &s->curve_pieces[p - n_quad - s->n_patches], r, r->tmax, 0, &ch)) return 0;
+        *t = ch.t; *b1 = ch.b1; *b2 = ch.b2;
+        return 1;
     } else {
         Vec3 c[4];
         patch_corners(s, s->patches[p - n_quad].v, c);
@@ -1084,7 +1113,7 @@ static int alpha_keep(const Scene *s, const Ray *r, int p, float tmax, float *t,
         if (sh->alpha_tex > 0) a = tex_eval(s->textures, sh->alpha_tex - 1, &sp, 550.0f);
         if (a >= 1.0f || (a > 0.0f && ray_hash01(&ri) <= (double)a)) return *t <= tmax;
         if (p < s->n_tris) return 0;
-        ri.o = offset_ray_origin(sp.p, sp.ng, r->d);   /* pbrt-v4: SpawnRay(d) */
+        ri.o = spawn_origin(&sp, r->d);                /* pbrt-v4: SpawnRay(d) */
         t0 = *t;
         ri.tmax = tmax - t0;
         if (!(ri.tmax > 0.0f) || !prim_hit_again(s, p, &ri, &ti, b1, b2)) return 0;
@@ -1121,7 +1150,8 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
     StackEntry stack[BVH_STACK];
     float t_enter[BVH_WIDTH], t_z[BVH_WIDTH], t_best = r->tmax, t_cull, t, b1, b2;
     const int no_hit = at_tmax ? INT32_MAX : -1;
-    const int n_quad_end = s->n_tris + s->n_spheres + s->n_quadrics, n_base = n_quad_end + s->n_patches;
+    const int n_quad_end = s->n_tris + s->n_spheres + s->n_quadrics, n_patch_end = n_quad_end + s->n_patches;
+    const int n_base = n_patch_end + s->n_curve_pieces;
     const int n_alpha_base = s->n_alpha > 0 ? n_base : 0;   /* ALPHA: ids below it are tested */
     int hit[BVH_WIDTH], sp = 0, best_p = no_hit, ref = 0, j;
     HitRecord hi;
@@ -1191,10 +1221,13 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                     ok = quadric_intersect(&s->shapes[s->quadric_shape[p - s->n_tris - s->n_spheres]],
                                            r, t_best, &t);
                     b1 = b2 = 0.0f;
-                } else if (p < n_base) {
+                } else if (p < n_patch_end) {
                     Vec3 c[4];             /* a patch: b1, b2 carry its (u, v) */
                     patch_corners(s, s->patches[p - n_quad_end].v, c);
                     ok = patch_intersect(c, r, t_best, &t, &b1, &b2);
+                } else if (p < n_base) {   /* a curve piece: b1, b2 carry its (u, v) */
+                    ok = curve_intersect(s, &s->curve_pieces[p - n_patch_end], r, t_best, any_hit, &hi);
+                    if (ok) { t = hi.t; b1 = hi.b1; b2 = hi.b2; }
                 } else {                            /* an instance: its object's closest hit */
                     if (!instance_hit(s, p - n_base, r, t_best, best_p != no_hit, any_hit, &hi))
                         continue;
@@ -1285,7 +1318,11 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
         return;
     }
     sp->prim = h->prim;
-    if (h->prim < s->n_tris) {
+    sp->err = v3(0.0f, 0.0f, 0.0f);
+    if (h->prim >= s->n_tris + s->n_spheres + s->n_quadrics + s->n_patches) {
+        curve_surface_point(s, &s->curve_pieces[h->prim - s->n_tris - s->n_spheres - s->n_quadrics - s->n_patches],
+                            r, h, sp, NULL, NULL);
+    } else if (h->prim < s->n_tris) {
         const Triangle *tri = &s->tris[h->prim];
         const Shape *sh = &s->shapes[tri->shape];
         Vec3 p0 = s->P[tri->v[0]], p1 = s->P[tri->v[1]], p2 = s->P[tri->v[2]];
@@ -1396,4 +1433,12 @@ Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w)
     eps = offset_eps(m);
     if (v3_dot(ng, w) < 0.0f) eps = -eps;          /* to w's side of the surface */
     return v3_add(p, v3_mul(ng, eps));
+}
+
+Vec3 spawn_origin(const SurfacePoint *sp, Vec3 w)
+{
+    const float d = fabsf(sp->ng.x) * sp->err.x + fabsf(sp->ng.y) * sp->err.y + fabsf(sp->ng.z) * sp->err.z;
+    Vec3 o = offset_ray_origin(sp->p, sp->ng, w);
+    if (d > 0.0f) o = v3_add(o, v3_mul(sp->ng, v3_dot(sp->ng, w) < 0.0f ? -d : d));
+    return o;
 }

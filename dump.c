@@ -172,6 +172,8 @@ void scene_dump(const Scene *s, FILE *f)
             fprintf(f, "  [%d] %s (object space) radius %g z %g..%g phimax %g", i,
                     sh->type == SHAPE_CYLINDER ? "cylinder" : "sphere", sh->q.radius, sh->q.zmin,
                     sh->q.zmax, sh->q.phimax * 180.0 / SPECNEE_PI);
+        else if (sh->type == SHAPE_CURVE)
+            fprintf(f, "  [%d] curve (object space)", i);
         else
             fprintf(f, "  [%d] mesh %d triangles%s", i, sh->tri_count,
                     sh->has_normals ? " with normals" : "");

@@ -4,8 +4,9 @@
    called by scene.c's directive loop for every `Shape`.  It reads the shape's
    "alpha" (every type), then the type's own parameters, and appends to the Scene
    what bvh.c intersects: triangles (trianglemesh, plymesh, loopsubdiv via subdiv.c,
-   flat bilinear patches), bilinear patches (patch.c), whole spheres, and the
-   quadrics of shapes.c (disk, cylinder, cut or scaled spheres); each as a Shape
+   flat bilinear patches), bilinear patches (patch.c), whole spheres, the
+   quadrics of shapes.c (disk, cylinder, cut or scaled spheres) and curves
+   (curve.c builds them from their parameters); each as a Shape
    record of the current graphics state (material, area light, media, orientation,
    the object being defined), with its Emitter when an AreaLightSource is active.
    The parameters and their meaning are docs/conventions.md's Shape rows and §3.
@@ -655,6 +656,8 @@ static int shape_drop(Parser *P, const Scene *before)
     s->n_spheres = before->n_spheres;
     s->n_quadrics = before->n_quadrics;
     s->n_patches = before->n_patches;
+    s->n_curves = before->n_curves;
+    s->n_curve_pieces = before->n_curve_pieces;
     s->n_alpha = before->n_alpha;
     return 1;
 }
@@ -668,9 +671,10 @@ static int shape_build(Parser *P, const char *type, ParamList *pl, const char *f
     if (!strcmp(type, "cylinder")) return cylinder_shape(P, pl, file, line);
     if (!strcmp(type, "plymesh")) return ply_shape(P, pl, file, line);
     if (!strcmp(type, "loopsubdiv")) return loopsubdiv_shape(P, pl, file, line);
-    if (!strcmp(type, "curve"))
-        return fail(P, file, line, "Shape \"%s\" is valid pbrt-v4 but not in the specnee subset",
-                    type);
+    if (!strcmp(type, "curve")) {            /* the Shape, then curve.c's segments */
+        int sh = add_shape(P, SHAPE_CURVE, 0, 0, 0.0, 0, file, line);
+        return sh >= 0 && curve_shape(P, pl, sh, file, line);
+    }
     return fail(P, file, line, "Shape \"%s\": unknown shape type", type);
 }
 

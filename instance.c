@@ -28,7 +28,7 @@
      The ray o + t d goes into object space as o' = M^-1 o, d' = M^-1 d (d' is not
      normalised), so a hit keeps its t: the closest hit of the whole scene is the
      smallest t among the world's primitives and the instances' closest hits, ties to
-     the smallest top-level id (an instance's id is n_tris + n_spheres + n_quadrics + n_patches +
+     the smallest top-level id (an instance's id is n_tris + n_spheres + n_quadrics + n_patches + n_curve_pieces +
      its index), as bvh.c's ORDER INDEPENDENCE says; inside an object the object's
      own ids break ties.  The hit point is computed in object space by
      scene_surface_point and carried back: p by M, the geometric and shading
@@ -62,7 +62,7 @@
    Shape.in_object: object k holds ids[off[k] .. off[k + 1]), ascending. */
 static int build_objects(Scene *s)
 {
-    const int n_base = s->n_tris + s->n_spheres + s->n_quadrics + s->n_patches;
+    const int n_base = s->n_tris + s->n_spheres + s->n_quadrics + s->n_patches + s->n_curve_pieces;
     int *off = (int *)calloc((size_t)s->n_objects + 1, sizeof(int));
     int *pos = (int *)calloc((size_t)s->n_objects + 1, sizeof(int));
     int32_t *ids = (int32_t *)malloc(((size_t)n_base + 1) * sizeof(int32_t));

@@ -156,7 +156,7 @@ typedef struct {
     int default_material;      /* -1 until a shape needs it */
     /* capacities of the growing Scene arrays */
     int cap_verts, cap_tris, cap_shapes, cap_mats, cap_emit, cap_spheres, cap_quadrics, cap_strings,
-        cap_patches;
+        cap_patches, cap_curves, cap_pieces;
     int any_normals;
     int any_uv;                /* some mesh has "uv": Scene.UV is kept parallel to P */
     int inset_line[8];         /* where each inset comment was (for messages) */
@@ -301,6 +301,9 @@ int integrator_directive(Parser *P, const char *type, ParamList *pl, const char 
 /* The Shape directive of `type` at file:line (geometry.c): the shape of the current
    graphics state appended to the Scene. */
 int shape_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
+/* Shape "curve": the Bezier segments and pieces of Shape sh, which geometry.c has
+   just made (curve.c). */
+int curve_shape(Parser *P, ParamList *pl, int sh, const char *file, int line);
 
 /* The Scene's material records (material.c): m appended (the Scene takes what it
    owns; on failure it is released), its index or -1; pbrt-v4's default material

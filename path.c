@@ -418,7 +418,7 @@ static int shadow_transmittance(Tracer *tr, int depth, Ray sh, int med, const Pa
         med = medium_after(s, sp.shape, med, sh.d, sp.ng);
         {
             Vec3 target = v3_add(sh.o, sh.d);
-            sh.o = offset_ray_origin(sp.p, sp.ng, sh.d);
+            sh.o = spawn_origin(&sp, sh.d);
             sh.d = v3_sub(target, sh.o);
         }
     }
@@ -546,7 +546,7 @@ static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const Pa
     {
         Ray shadow;
         Vec3 target = offset_ray_origin(es.p, es.n, v3_neg(es.wi));
-        shadow.o = v->mat ? offset_ray_origin(v->sp->p, v->sp->ng, es.wi) : v->p;
+        shadow.o = v->mat ? spawn_origin(v->sp, es.wi) : v->p;
         shadow.d = v3_sub(target, shadow.o);
         shadow.tmax = 1.0f;
         if (R->vol) {
@@ -1006,7 +1006,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     }
     lanes_update(path, nb, nr);
     if (R->vol) path->medium = medium_after(s, sp->shape, path->medium, bs.wi, sp->ng);
-    ray->o = offset_ray_origin(sp->p, sp->ng, bs.wi);
+    ray->o = spawn_origin(sp, bs.wi);
     ray->d = bs.wi;
     ray->tmax = INFINITY;
     return 1;
@@ -1043,7 +1043,7 @@ static int next_vertex(Tracer *tr, int depth, Ray *ray, PathState *path, Surface
         else path->prev.can_nee = 0;
         if (tr->dbg) fprintf(tr->dbg, "  crossed a medium boundary (shape %d)%s\n", sp->shape,
                              R->vol ? "" : ": media are ignored by this integrator");
-        ray->o = offset_ray_origin(sp->p, sp->ng, ray->d);
+        ray->o = spawn_origin(sp, ray->d);
         ray->tmax = INFINITY;
     }
 }

@@ -1102,6 +1102,16 @@ static int finish(Parser *P, const char *file)
                 }
             }
         }
+        for (i = 0; i < s->n_curve_pieces; i++) {
+            float clo[3], chi[3];
+            int a;
+            if (s->shapes[s->curves[s->curve_pieces[i].curve].shape].in_object) continue;
+            curve_piece_bounds(s, &s->curve_pieces[i], clo, chi);
+            for (a = 0; a < 3; a++) {
+                if (clo[a] < lo[a]) lo[a] = clo[a];
+                if (chi[a] > hi[a]) hi[a] = chi[a];
+            }
+        }
         for (i = 0; i < s->n_instances; i++) {
             int a;
             for (a = 0; a < 3; a++) {
@@ -1216,6 +1226,8 @@ void scene_free(Scene *s)
     free(s->sphere_shape);
     free(s->quadric_shape);
     free(s->patches);
+    free(s->curves);
+    free(s->curve_pieces);
     for (i = 0; i < s->n_objects; i++) bvh_free(&s->objects[i].bvh);
     free(s->objects);
     free(s->instances);

@@ -487,9 +487,10 @@ typedef enum {
     SHAPE_SPHERE,              /* a whole sphere under a rigid + uniform-scale CTM, in world space */
     SHAPE_DISK,                /* the quadrics of shapes.c, intersected in object space: */
     SHAPE_CYLINDER,            /*   a disk (annulus sector), an open cylinder, and a sphere */
-    SHAPE_SPHERE_PART          /*   cut by zmin/zmax/phimax or under a non-uniform CTM */
+    SHAPE_SPHERE_PART,         /*   cut by zmin/zmax/phimax or under a non-uniform CTM */
+    SHAPE_CURVE                /* pbrt-v4 "curve": Bezier segments in Scene.curves (curve.c) */
 } ShapeType;
-static inline int shape_is_quadric(ShapeType t) { return t >= SHAPE_DISK; }
+static inline int shape_is_quadric(ShapeType t) { return t >= SHAPE_DISK && t <= SHAPE_SPHERE_PART; }
 
 /* A quadric's object-space description (shapes.c): pbrt-v4's parameters, and the
    CTM that puts it in the world. */
@@ -521,7 +522,8 @@ typedef struct {
                                   the patch's (patch.c) */
     int patch_begin, patch_count;  /* its other patches: Scene.patches[patch_begin ..) */
     Vec3 center; float radius; /* sphere, in world space */
-    Quadric q;                 /* disk, cylinder, partial sphere: in object space */
+    Quadric q;                 /* disk, cylinder, partial sphere: in object space;
+                                  curve: only q.world_from_obj (its CTM) */
     double area;               /* world-space surface area */
     int medium_inside;         /* MediumInterface at the Shape: indices into Scene.media,
                                   -1 for none (vacuum).  Where they differ the shape is a */
@@ -543,13 +545,28 @@ typedef struct {
 typedef struct { int32_t v[3]; int32_t shape; } Triangle;   /* indices into Scene.P / N */
 /* A bilinear patch that is not flat (patch.c): corners p00 p10 p01 p11, pbrt-v4's order. */
 typedef struct { int32_t v[4]; int32_t shape; } Patch;
+/* A curve's cubic Bezier segment (curve.c), in its Shape's object space, with u in
+   [0, 1]; the BVH holds its pieces [u0, u1] (pbrt-v4's "splitdepth"). */
+typedef enum { CURVE_FLAT, CURVE_CYLINDER, CURVE_RIBBON } CurveType;
+typedef struct {
+    Vec3 cp[4];                /* control points */
+    float width[2];            /* width at u = 0 and u = 1 (object space) */
+    Vec3 n[2];                 /* ribbon: unit normals at u = 0 and u = 1 */
+    float normal_angle;        /* ribbon: the angle between n[0] and n[1] ... */
+    float inv_sin_angle;       /* ... and 1 / its sine (0 when the angle is 0) */
+    int type;                  /* CurveType */
+    int shape;                 /* index into Scene.shapes */
+} Curve;
+typedef struct { int32_t curve; float u0, u1; } CurvePiece;   /* a BVH primitive */
 
 typedef struct {
     float t;                   /* ray parameter of the hit */
     int prim;                  /* triangle index, n_tris + sphere index,
-                               n_tris + n_spheres + quadric index, or
-                               n_tris + n_spheres + n_quadrics + patch index */
-    float b1, b2;              /* barycentrics of v[1], v[2] (triangles); a patch's (u, v) */
+                               n_tris + n_spheres + quadric index,
+                               n_tris + n_spheres + n_quadrics + patch index, or
+                               that + n_patches + curve piece index */
+    float b1, b2;              /* barycentrics of v[1], v[2] (triangles); a patch's or a
+                                  curve's (u, v) */
     int inst;                  /* -1: prim is in the world; else the index of the
                                   instance (Scene.instances) whose object holds prim */
 } HitRecord;
@@ -636,11 +653,16 @@ typedef struct {
                                   interpolated, else (0,0), (1,0), (1,1) at its corners;
                                   quadrics: pbrt-v4's (phi / phimax, ...) (shapes.c)
                                   (texture.c's "uv" mapping reads them) */
+    Vec3 err;                  /* a curve hit's error box (pbrt-v4's), which a ray
+                                  leaving it clears (spawn_origin); 0 for the others */
 } SurfacePoint;
 void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
 /* Origin for a ray leaving p towards w: p moved along ng to w's side by
    1e-5 (1 + max|p_i|) (the self-intersection policy at the top of bvh.c). */
 Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w);
+/* The origin of a ray leaving the hit sp towards w: offset_ray_origin moved further
+   along ng by |ng| . sp->err (pbrt-v4's offset past a curve hit's error box). */
+Vec3 spawn_origin(const SurfacePoint *sp, Vec3 w);
 /* That policy's distance for coordinates up to m in magnitude: 1e-5 (1 + m)
    (also the light tree's round-off margin for "behind the box"). */
 float offset_eps(float m);
@@ -694,6 +716,26 @@ void   patch_shading(const struct Scene *s, const Shape *sh, const int32_t v[4],
 double patch_area(const Vec3 c[4]);
 /* (u, v) whose point is uniform by area (density 1 / patch_area), from (u1, u2). */
 void   patch_sample(const Vec3 c[4], float u1, float u2, float *u, float *v);
+
+/* Curves (curve.c; pbrt-v4's Shape "curve": flat, cylinder, ribbon).  Cubic Bezier
+   arithmetic: the point at u and B'(u); the control points of the part [u0, u1];
+   the other bases and degree 2 as cubic Beziers (the same polynomials). */
+Vec3   curve_bezier_eval(const Vec3 cp[4], float u, Vec3 *deriv);
+void   curve_bezier_piece(const Vec3 cp[4], float u0, float u1, Vec3 out[4]);
+void   curve_bspline_to_bezier(const Vec3 p[4], Vec3 out[4]);
+void   curve_quadratic_bspline_to_bezier(const Vec3 p[3], Vec3 out[3]);
+void   curve_elevate_quadratic(const Vec3 a[3], Vec3 out[4]);
+/* A piece's world box (widened by half its width, rounded outwards). */
+void   curve_piece_bounds(const struct Scene *s, const CurvePiece *pc, float lo[3], float hi[3]);
+/* The closest (any_hit: any) hit of world ray r with 0 < t <= tmax: 1 and h's t,
+   b1 = the segment's u, b2 = v (0..1 across the width) on a hit (Nakamaru and Ohno
+   2002); h's prim and inst are left alone. */
+int    curve_intersect(const struct Scene *s, const CurvePiece *pc, const Ray *r, float tmax,
+                       int any_hit, HitRecord *h);
+/* The hit h (t, u = b1, v = b2) of r: position, normals, (u, v), err; dp/du and
+   dp/dv in the world when not NULL (pbrt-v4's, which the hair material's frame uses). */
+void   curve_surface_point(const struct Scene *s, const CurvePiece *pc, const Ray *r,
+                           const HitRecord *h, SurfacePoint *sp, Vec3 *dpdu, Vec3 *dpdv);
 
 /* ======================================================================
    6. Materials: only what the scenes need (material.c; microfacet.c, conductor.c,
@@ -1393,6 +1435,8 @@ typedef struct Scene {
     int n_quadrics; int *quadric_shape;  /* quadric k (disk, cylinder, partial sphere)
                                             is shapes[quadric_shape[k]] */
     Patch *patches; int n_patches;       /* bilinear patches that are not flat (patch.c) */
+    Curve *curves; int n_curves;         /* curve segments (curve.c) ... */
+    CurvePiece *curve_pieces; int n_curve_pieces;   /* ... and their pieces, the BVH's */
     Object *objects; int n_objects;      /* ObjectBegin definitions (instance.c) */
     Instance *instances; int n_instances;/* ObjectInstance placements */
     int n_alpha;                         /* shapes with alpha_on (0: no alpha test at all) */

@@ -121,6 +121,7 @@ scenes() {
         ex["float imagemap"] = "\"string filename\" " ov["float imagemap|string filename"]
         ex["spectrum imagemap"] = ex["float imagemap"]
         ex["uniformgrid"] = "\"float density\" [ 0.5 ]"
+        ex["curve"] = "\"point3 P\" [ 0 0 0  1 0 0  2 0 0  3 0 0 ]"; ov["curve|point3 P"] = "[ 0 0 0  1 0 0  2 0 0  3 0 0 ]"
         ex["loopsubdiv"] = "\"integer indices\" [ 0 1 2 ];\"point3 P\" " tri
         ov["loopsubdiv|integer indices"] = "[ 0 1 2 ]"; ov["loopsubdiv|point3 P"] = tri
         ex["mix"] = "\"string materials\" [ \"a\" \"b\" ]"

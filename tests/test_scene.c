@@ -757,7 +757,7 @@ REJECT(rej_negative_radius, "WorldBegin\nShape \"sphere\" \"float radius\" -2\n"
 REJECT(rej_sphere_zmin, "WorldBegin\nShape \"sphere\" \"float zmin\" 0.5 \"float zmax\" 0.5\n", 2,
        "zmin = zmax = 0.5", "no height")
 REJECT(rej_shape_curve, "WorldBegin\nShape \"curve\"\n", 2,
-       "Shape \"curve\" is valid pbrt-v4 but not in the specnee subset", NULL)
+       "Shape \"curve\": \"point3 P\" is required", NULL)
 REJECT(rej_shape_unknown, "WorldBegin\nShape \"blob\"\n", 2, "unknown shape type", NULL)
 REJECT(rej_material_conductor, "WorldBegin\nMaterial \"hair\"\n", 2, "hair",
        "valid pbrt-v4 but not in the specnee subset")
