@@ -71,7 +71,7 @@ double hair_log_i0(double x)
     }
 }
 
-/* The longitudinal term (THEORY (31)): the von Mises-Fisher lobe of variance v
+/* The longitudinal term (THEORY (30)): the von Mises-Fisher lobe of variance v
    around the mirror cone theta_i = -theta_o, integrated over the azimuth:
    M = exp(-sin_i sin_o / v) I0(cos_i cos_o / v) / (2 v sinh(1/v)).
    For v <= 0.1 in logarithms, 2 sinh(1/v) being e^(1/v) there (to e^(-20)). */
@@ -82,7 +82,7 @@ static double hair_mp(double cos_i, double cos_o, double sin_i, double sin_o, do
     return exp(-b) * bessel_i0(a) / (2.0 * v * sinh(1.0 / v));
 }
 
-/* The logistic distribution of scale s on [-pi, pi] (THEORY (32)): its density,
+/* The logistic distribution of scale s on [-pi, pi] (THEORY (31)): its density,
    its cumulative distribution, and a sample by inverting the latter. */
 static double logistic_cdf(double x, double s) { return 1.0 / (1.0 + exp(-x / s)); }
 
@@ -149,7 +149,7 @@ void hair_melanin_rgb(float eumelanin, float pheomelanin, float rgb[3])
     for (k = 0; k < 3; k++) rgb[k] = eumelanin * eu[k] + pheomelanin * ph[k];
 }
 
-/* The fibre at sp for the wavelengths lambda (THEORY (33)-(35)). */
+/* The fibre at sp for the wavelengths lambda (THEORY (32)-(34)). */
 static void fibre_at(const Material *m, const SurfacePoint *sp, const float *lambda,
                      unsigned alive, Fibre *F)
 {
@@ -303,7 +303,7 @@ int hair_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
     if (!(o.ap_pdf[p] > 0.0)) return 0;
     u = (u - c) / o.ap_pdf[p];
     u = u < 0.0 ? 0.0 : u < 1.0 ? u : 0x1.fffffffffffffp-1;
-    /* theta_i from M_p: a vMF direction around the cone's axis (THEORY (36)) */
+    /* theta_i from M_p: a vMF direction around the cone's axis (THEORY (35)) */
     lobe_theta(&F, &o, p, &sop, &cop);
     cosT = 1.0 + F.v[p] * log(fmax(1e-300, u1 + (1.0 - u1) * exp(-2.0 / F.v[p])));
     cosT = cosT < -1.0 ? -1.0 : cosT > 1.0 ? 1.0 : cosT;

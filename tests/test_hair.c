@@ -3,7 +3,8 @@
 
    Checked: the white furnace (sigma_a = 0: the integral of f |cos| over the
    sphere is 1, for several wo, h, beta_m, beta_n, alpha and eta), the pdf
-   integrating to 1 and the sampler against it (chi-square), the sample's f and
+   integrating to 1 and the sampler against it (chi-square), a black fibre's
+   albedo (the Fresnel reflectance) and tilted R lobe, the sample's f and
    pdf equal to the evaluation's at its direction, reciprocity where the model has
    it (no tilt, h = 0, theta_i = theta_o), log I0 against its series, the
    reflectance-to-sigma_a conversion and its inverse, the melanin spectra and
@@ -112,6 +113,57 @@ static void test_hair_absorbs(T *t)
         CHECK(t, fi < prev && fi > 0.02, "sigma_a %g: albedo %.4f after %.4f", sa, fi, prev);
         CHECK(t, fabs(pi - 1.0) < 5e-3, "sigma_a %g: integral of the pdf %.5f", sa, pi);
         prev = fi;
+    }
+}
+
+/* The unpolarised Fresnel reflectance of a dielectric of index eta at cos c (from
+   outside), in double, for the black fibre below. */
+static double fresnel_ref(double c, double eta)
+{
+    double s2 = (1.0 - c * c) / (eta * eta), ct, rs, rp;
+    if (s2 >= 1.0) return 1.0;
+    ct = sqrt(1.0 - s2);
+    rs = (c - eta * ct) / (c + eta * ct);
+    rp = (eta * c - ct) / (eta * c + ct);
+    return 0.5 * (rs * rs + rp * rp);
+}
+
+/* A black fibre (sigma_a huge: T = 0) reflects only at its surface, A_0 = F at
+   cos theta_o cos gamma_o (33), in the R lobe (30) around the cone theta_i =
+   2 alpha - theta_o (34): integral f |cos| = F, and the lobe's mean sin theta_i is
+   that of a von Mises-Fisher lobe of concentration 1/v_0 about it,
+   (coth(1/v_0) - v_0) sin(2 alpha - theta_o). */
+static void test_hair_black_fibre(T *t)
+{
+    static const float cases[][3] = {   /* h, sin theta_o, alpha */
+        { 0.0f, 0.0f, 5.0f }, { 0.5f, 0.4f, 3.0f }, { -0.8f, -0.7f, 6.0f }, { 0.9f, 0.2f, -4.0f },
+    };
+    static const float lambda[HERO_N] = { 550.0f, 450.0f, 650.0f, 500.0f };
+    int c, i, k, n = 400;
+    for (c = 0; c < (int)(sizeof cases / sizeof cases[0]); c++) {
+        Hair H;
+        Material m = hair_material(&H, 1e4f, 1.55f, 0.3f, 0.3f, cases[c][2]);
+        SurfacePoint sp = hair_point(cases[c][0]);
+        double so = cases[c][1], to = asin(so), bm = 0.3, v0, a, I = 0.0, S = 0.0, du = 2.0 / n,
+               dp = SPECNEE_PI / n, F, mean;
+        Vec3 wo = hair_dir(so, 0.8);
+        for (i = 0; i < n; i++)
+            for (k = 0; k < 2 * n; k++) {
+                float f[HERO_N], pdf[HERO_N];
+                Vec3 wi = hair_dir(-1.0 + (i + 0.5) * du, (k + 0.5) * dp);
+                bsdf_eval(&m, &sp, wo, wi, lambda, 1u, f, pdf);
+                I += (double)f[0] * fabs(wi.z);
+                S += (double)f[0] * fabs(wi.z) * wi.x;
+            }
+        I *= du * dp;
+        S *= du * dp;
+        F = fresnel_ref(cos(to) * sqrt(1.0 - (double)cases[c][0] * cases[c][0]), 1.55);
+        v0 = 0.726 * bm + 0.812 * bm * bm + 3.7 * pow(bm, 20.0);
+        v0 *= v0;
+        a = cases[c][2] * SPECNEE_PI / 180.0;
+        mean = (1.0 / tanh(1.0 / v0) - v0) * sin(2.0 * a - to);
+        CHECK(t, fabs(I - F) < 2e-3 * F, "case %d: integral of f |cos| %.6f, Fresnel %.6f", c, I, F);
+        CHECK(t, fabs(S / I - mean) < 2e-3, "case %d: mean sin theta_i %.5f, want %.5f", c, S / I, mean);
     }
 }
 
@@ -415,6 +467,7 @@ static void test_hair_against_pbrt(T *t)
 const TestCase tests_hair[] = {
     { "hair_furnace", test_hair_furnace },
     { "hair_absorbs", test_hair_absorbs },
+    { "hair_black_fibre", test_hair_black_fibre },
     { "hair_chi2", test_hair_chi2 },
     { "hair_sample_eval", test_hair_sample_eval },
     { "hair_reciprocity", test_hair_reciprocity },
