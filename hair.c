@@ -29,8 +29,8 @@
    whichever wavelength is the hero), theta_i from M_p exactly, phi from N_p
    exactly; the pdf is that mixture, the same sum with A_p / sum A replacing A_p.
 
-   Only the constant parameters are read: "texture" parameters are refused by name
-   (parser.c), as is "displacement" (pbrt-v4's HairMaterial reads none, so it
+   Every parameter may be a texture, evaluated at the hit (fibre_at).  A
+   "displacement" is refused as unused (pbrt-v4's HairMaterial reads none, so it
    refuses it too); "string normalmap" is read and ignored, as pbrt-v4's
    HairMaterial ignores it. */
 #include "specnee.h"
@@ -149,18 +149,59 @@ void hair_melanin_rgb(float eumelanin, float pheomelanin, float rgb[3])
     for (k = 0; k < 3; k++) rgb[k] = eumelanin * eu[k] + pheomelanin * ph[k];
 }
 
-/* The fibre at sp for the wavelengths lambda (THEORY (32)-(34)). */
+/* Parameter k at sp: its texture's value there, else the constant c. */
+static float hair_param(const Material *m, int k, float c, const SurfacePoint *sp, float lambda)
+{
+    if (m->hair->tex[k] > 0 && m->textures) return tex_eval(m->textures, m->hair->tex[k] - 1, sp, lambda);
+    return c;
+}
+
+/* pbrt-v4's RGBUnboundedSpectrum of the melanins' RGB at lambda: 2 max(rgb) times
+   the sigmoid fitted to rgb / (2 max(rgb)), whose coefficients depend only on the
+   pheomelanin share cp / (ce + cp): interpolated in H->mel_c (built at load). */
+static double melanin_sigma_a(const Hair *H, float ce, float cp, float lambda)
+{
+    float rgb[3], c[3], x, w;
+    int k, i;
+    if (!(ce + cp > 0.0f)) return 0.0;
+    hair_melanin_rgb(ce, cp, rgb);
+    x = cp / (ce + cp) * (HAIR_MEL_N - 1);
+    i = (int)x < HAIR_MEL_N - 2 ? (int)x : HAIR_MEL_N - 2;
+    w = x - (float)i;
+    for (k = 0; k < 3; k++) c[k] = (1.0f - w) * H->mel_c[i][k] + w * H->mel_c[i + 1][k];
+    return 2.0 * fmax(rgb[0], fmax(rgb[1], rgb[2])) * spec_sigmoid_eval(c, lambda);
+}
+
+/* sigma_a at one wavelength (pbrt-v4's GetBxDF): given, from the reflectance, or
+   from the melanins; negative values count as 0. */
+static double hair_sigma_a(const Material *m, const SurfacePoint *sp, float lambda, float bn)
+{
+    const Hair *H = m->hair;
+    if (H->from_color) {
+        float c = hair_param(m, HAIR_COLOR, spec_eval(&H->color, lambda), sp, lambda);
+        return hair_sigma_a_from_reflectance(fminf(1.0f, fmaxf(0.0f, c)), bn);
+    }
+    if (H->from_melanin)
+        return melanin_sigma_a(H, fmaxf(0.0f, hair_param(m, HAIR_EU, H->eumelanin, sp, lambda)),
+                               fmaxf(0.0f, hair_param(m, HAIR_PH, H->pheomelanin, sp, lambda)), lambda);
+    return hair_param(m, HAIR_SIGMA_A, spec_eval(&H->sigma_a, lambda), sp, lambda);
+}
+
+/* The fibre at sp for the wavelengths lambda (THEORY (32)-(34)); the betas clamped
+   to [0.01, 1] and eta kept positive, as pbrt-v4's GetBxDF reads textures. */
 static void fibre_at(const Material *m, const SurfacePoint *sp, const float *lambda,
                      unsigned alive, Fibre *F)
 {
     const Hair *H = m->hair;
-    double bm = H->beta_m, bn = H->beta_n, a = H->alpha * SPECNEE_PI / 180.0;
+    double bm = fmin(1.0, fmax(0.01, hair_param(m, HAIR_BETA_M, H->beta_m, sp, 550.0f)));
+    double bn = fmin(1.0, fmax(0.01, hair_param(m, HAIR_BETA_N, H->beta_n, sp, 550.0f)));
+    double a = hair_param(m, HAIR_ALPHA, H->alpha, sp, 550.0f) * SPECNEE_PI / 180.0;
     double v0 = 0.726 * bm + 0.812 * bm * bm + 3.7 * pow(bm, 20.0);
     static const double tilt[HAIR_PMAX + 1] = { -2.0, 1.0, 4.0, 0.0 };   /* x alpha */
     int p, j;
     F->h = -1.0 + 2.0 * sp->v;
     F->h = F->h < -1.0 ? -1.0 : F->h > 1.0 ? 1.0 : F->h;
-    F->eta = H->eta;
+    F->eta = fmin(100.0, fmax(1e-3, hair_param(m, HAIR_ETA, H->eta, sp, 550.0f)));
     v0 *= v0;
     F->v[0] = v0;
     F->v[1] = 0.25 * v0;
@@ -172,12 +213,7 @@ static void fibre_at(const Material *m, const SurfacePoint *sp, const float *lam
     }
     F->alive = alive;
     for (j = 0; j < HERO_N; j++) {
-        double sa = 0.0;
-        if (j == 0 || (alive & (1u << j))) {
-            sa = H->from_color ? hair_sigma_a_from_reflectance(
-                                     fminf(1.0f, fmaxf(0.0f, spec_eval(&H->color, lambda[j]))), H->beta_n)
-                               : spec_eval(&H->sigma_a, lambda[j]);
-        }
+        double sa = j == 0 || (alive & (1u << j)) ? hair_sigma_a(m, sp, lambda[j], (float)bn) : 0.0;
         F->sigma_a[j] = sa > 0.0 ? (sa < 1e30 ? sa : 1e30) : 0.0;   /* NaN: 0 */
     }
 }
@@ -339,24 +375,90 @@ const SurfacePoint *hair_shade(const Scene *s, const Ray *r, const HitRecord *h,
 
 /* ------------------------------------------------------------------ 4. the builder */
 
+/* A float parameter k that may be a texture (pbrt-v4's GetFloatTexture). */
+static int hair_float(Parser *P, ParamList *pl, const char *name, float def, int k, float *v, Hair *H)
+{
+    Param *pt = param_find(pl, PT_TEXTURE, name);
+    if (pt) {
+        int ti = texture_lookup(P, pt, 1);
+        H->tex[k] = ti + 1;
+        *v = def;
+        return ti >= 0;
+    }
+    return get_float(P, pl, name, def, v);
+}
+
+/* A spectrum parameter k that may be a texture: its Param (value or texture), or
+   NULL when absent; a texture's index goes to H->tex[k]. */
+static int hair_spectrum(Parser *P, ParamList *pl, const char *name, int k, Hair *H, Param **out)
+{
+    Param *pt = param_find(pl, PT_TEXTURE, name);
+    *out = pt ? pt : find_spectrum_param(pl, name);
+    if (pt) {
+        int ti = texture_lookup(P, pt, 0);
+        H->tex[k] = ti + 1;
+        return ti >= 0;
+    }
+    return 1;
+}
+
+/* The melanins: a constant pair becomes sigma_a at load (pbrt-v4's
+   SigmaAFromConcentration); with a texture the ratio table H->mel_c is built and
+   sigma_a is made at each hit (melanin_sigma_a). */
+static int hair_melanin(Parser *P, ParamList *pl, const char *file, int line, int given, Hair *H)
+{
+    float rgb[3];
+    int k, nm;
+    if (!hair_float(P, pl, "eumelanin", given ? 0.0f : 1.3f, HAIR_EU, &H->eumelanin, H) ||
+        !hair_float(P, pl, "pheomelanin", 0.0f, HAIR_PH, &H->pheomelanin, H))
+        return 0;
+    if (H->tex[HAIR_EU] || H->tex[HAIR_PH]) {
+        H->from_melanin = 1;
+        for (k = 0; k < HAIR_MEL_N; k++) {
+            double target[3], c[3], mx;
+            float t = (float)k / (HAIR_MEL_N - 1);
+            int i;
+            hair_melanin_rgb(1.0f - t, t, rgb);
+            mx = 2.0 * fmax(rgb[0], fmax(rgb[1], rgb[2]));
+            for (i = 0; i < 3; i++) target[i] = rgb[i] / mx;
+            spec_rgb_coeffs(P->rgb, target, c);
+            for (i = 0; i < 3; i++) H->mel_c[k][i] = (float)c[i];
+        }
+        return 1;
+    }
+    hair_melanin_rgb(fmaxf(0.0f, H->eumelanin), fmaxf(0.0f, H->pheomelanin), rgb);
+    if (!spec_from_rgb_t(P->rgb, &H->sigma_a, rgb, 2, P->err, file, line)) return 0;
+    for (nm = 0; nm < SPEC_UV_N; nm++) H->sigma_a.uv[nm] = H->sigma_a.v[0];
+    return 1;
+}
+
 /* pbrt-v4 HairMaterial::Create: the absorption from "sigma_a", else from
    "reflectance" (or its older name "color"), else from "eumelanin" and
    "pheomelanin", else eumelanin 1.3 (brown); the ones left aside are noted, as
-   pbrt-v4 warns.  eta 1.55, beta_m and beta_n 0.3 (clamped to [0.01, 1] as
-   pbrt-v4 does), alpha 2 degrees. */
+   pbrt-v4 warns.  Each may be a texture. */
 static int hair_colour(Parser *P, ParamList *pl, const char *file, int line, const char *what,
                        Hair *H)
 {
-    Param *ps = find_spectrum_param(pl, "sigma_a"), *pr = find_spectrum_param(pl, "reflectance");
-    Param *pe = param_find(pl, PT_FLOAT, "eumelanin"), *pp = param_find(pl, PT_FLOAT, "pheomelanin");
-    float rgb[3], ce, cp;
+    Param *ps, *pr, *pe, *pp;
     int nm;
-    if (!pr) pr = find_spectrum_param(pl, "color");
+    if (!hair_spectrum(P, pl, "sigma_a", HAIR_SIGMA_A, H, &ps) ||
+        !hair_spectrum(P, pl, "reflectance", HAIR_COLOR, H, &pr))
+        return 0;
+    if (!pr && !hair_spectrum(P, pl, "color", HAIR_COLOR, H, &pr)) return 0;
+    pe = param_find(pl, PT_TEXTURE, "eumelanin");
+    pp = param_find(pl, PT_TEXTURE, "pheomelanin");
+    if (!pe) pe = param_find(pl, PT_FLOAT, "eumelanin");
+    if (!pp) pp = param_find(pl, PT_FLOAT, "pheomelanin");
     if ((ps && (pr || pe || pp)) || (pr && (pe || pp)))
         fprintf(stderr, "%s:%d: note: %s: \"%s\" given: %s ignored, as pbrt-v4 does\n",
                 (ps ? ps : pr)->file, (ps ? ps : pr)->line, what, ps ? "sigma_a" : pr->name,
                 ps ? "\"reflectance\", \"eumelanin\" and \"pheomelanin\" are" : "the melanins are");
+    if (ps && ps->type == PT_TEXTURE) {
+        H->tex[HAIR_COLOR] = 0;
+        return 1;
+    }
     if (ps) {
+        H->tex[HAIR_COLOR] = 0;
         if (!param_spectrum(P, ps, SPEC_COEFF, &H->sigma_a, NULL)) return 0;
         for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
             if (!(spec_get(&H->sigma_a, nm) >= 0.0f) || !(spec_get(&H->sigma_a, nm) <= FLT_MAX))
@@ -369,15 +471,9 @@ static int hair_colour(Parser *P, ParamList *pl, const char *file, int line, con
     }
     if (pr) {
         H->from_color = 1;                 /* clamped to [0, 1] where it is used */
-        return param_spectrum(P, pr, SPEC_ALBEDO, &H->color, NULL);
+        return pr->type == PT_TEXTURE || param_spectrum(P, pr, SPEC_ALBEDO, &H->color, NULL);
     }
-    if (!get_float(P, pl, "eumelanin", pe || pp ? 0.0f : 1.3f, &ce) ||
-        !get_float(P, pl, "pheomelanin", 0.0f, &cp))
-        return 0;
-    hair_melanin_rgb(fmaxf(0.0f, ce), fmaxf(0.0f, cp), rgb);
-    if (!spec_from_rgb_t(P->rgb, &H->sigma_a, rgb, 2, P->err, file, line)) return 0;
-    for (nm = 0; nm < SPEC_UV_N; nm++) H->sigma_a.uv[nm] = H->sigma_a.v[0];
-    return 1;
+    return hair_melanin(P, pl, file, line, pe || pp, H);
 }
 
 int hair_from_params(Parser *P, ParamList *pl, const char *file, int line,
@@ -392,13 +488,17 @@ int hair_from_params(Parser *P, ParamList *pl, const char *file, int line,
     if (pn) fprintf(stderr, "%s:%d: note: %s: \"string normalmap\" is ignored, as pbrt-v4's "
                     "hair material ignores it\n", pn->file, pn->line, what);
     if (!hair_colour(P, pl, file, line, what, H)) return 0;
-    if (!get_float(P, pl, "eta", 1.55f, &H->eta) || !get_float(P, pl, "beta_m", 0.3f, &H->beta_m) ||
-        !get_float(P, pl, "beta_n", 0.3f, &H->beta_n) || !get_float(P, pl, "alpha", 2.0f, &H->alpha))
+    if (!hair_float(P, pl, "eta", 1.55f, HAIR_ETA, &H->eta, H) ||
+        !hair_float(P, pl, "beta_m", 0.3f, HAIR_BETA_M, &H->beta_m, H) ||
+        !hair_float(P, pl, "beta_n", 0.3f, HAIR_BETA_N, &H->beta_n, H) ||
+        !hair_float(P, pl, "alpha", 2.0f, HAIR_ALPHA, &H->alpha, H))
         return 0;
-    if (!params_check_unused(P, pl, what, "spectrum sigma_a, rgb sigma_a, spectrum reflectance, "
-                             "rgb reflectance, spectrum color, rgb color, float eumelanin, "
-                             "float pheomelanin, float eta, float beta_m, float beta_n, float alpha, "
-                             "string normalmap", NULL))
+    if (!params_check_unused(P, pl, what, "spectrum sigma_a, rgb sigma_a, texture sigma_a, "
+                             "spectrum reflectance, rgb reflectance, texture reflectance, "
+                             "spectrum color, rgb color, texture color, float eumelanin, "
+                             "texture eumelanin, float pheomelanin, texture pheomelanin, "
+                             "float eta, texture eta, float beta_m, texture beta_m, float beta_n, "
+                             "texture beta_n, float alpha, texture alpha, string normalmap", NULL))
         return 0;
     if (!(H->eta > 0.0f && H->eta <= 100.0f))
         return fail_param(P, pl, "eta", file, line, "%s: \"float eta\" %g is not an index of "

@@ -959,11 +959,20 @@ int   layered_sample(const Material *m, const MatPoint *mp, const Frame *fr, Vec
    wavelength, hair_sigma_a_from_reflectance) or from melanin concentrations
    (hair_melanin_rgb, an unbounded RGB spectrum); eta, beta_m, beta_n are the index
    and the longitudinal and azimuthal roughnesses, alpha the scales' tilt (degrees). */
+enum { HAIR_SIGMA_A, HAIR_COLOR, HAIR_EU, HAIR_PH, HAIR_ETA, HAIR_BETA_M, HAIR_BETA_N,
+       HAIR_ALPHA, HAIR_NTEX };    /* the parameters that may be textures */
+#define HAIR_MEL_N 129             /* knots of the melanin ratio table */
 typedef struct Hair {
-    Spectrum sigma_a;          /* the absorption when from_color is 0 */
+    Spectrum sigma_a;          /* the absorption when from_color is 0 (constant melanins:
+                                  made from them) */
     Spectrum color;            /* from_color: the reflectance c, clamped to [0, 1] at use */
     int from_color;
+    int from_melanin;          /* textured melanins: sigma_a made at each hit */
+    float eumelanin, pheomelanin;
     float eta, beta_m, beta_n, alpha;
+    int tex[HAIR_NTEX];        /* 1 + a texture's index (Scene.textures), 0: the value above */
+    float mel_c[HAIR_MEL_N][3];/* from_melanin: the sigmoid coefficients of the melanins'
+                                  RGB at pheomelanin share k / (HAIR_MEL_N - 1) */
 } Hair;
 /* The hit point sp with the shape's dp/du (the fibre's axis) and (u, v) filled in,
    written to *out; returns out (path.c, at a hair vertex). */

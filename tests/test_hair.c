@@ -386,6 +386,58 @@ static void test_hair_reflectance_spectral(T *t)
     scene_free(&s);
 }
 
+/* f of the last material of HAIR_HEAD + text at a fixed hit and pair (the hero's
+   wavelength first). */
+static int hair_f(T *t, const char *text, float f[HERO_N])
+{
+    static const float lambda[HERO_N] = { 460.0f, 530.0f, 600.0f, 680.0f };
+    char buf[4096];
+    Scene s;
+    float pdf[HERO_N];
+    SurfacePoint sp = hair_point(0.35f);
+    snprintf(buf, sizeof buf, "%s%s\nShape \"sphere\"\n", HAIR_HEAD, text);
+    if (!test_load_scene(t, &s, buf)) return 0;
+    bsdf_eval(&s.materials[s.n_materials - 1], &sp, hair_dir(0.25, 0.3), hair_dir(-0.1, 2.6), lambda, 15u, f, pdf);
+    scene_free(&s);
+    return 1;
+}
+
+/* Every parameter may be a texture (pbrt-v4's GetFloatTexture and
+   GetSpectrumTexture): constant textures give what their values give; textured
+   melanins (sigma_a made at each hit from the pheomelanin share's table) within
+   1e-3 of the constant pair's sigma_a (fitted at load). */
+static void test_hair_textures(T *t)
+{
+    static const char *const pairs[][2] = {
+        { "Texture \"e\" \"float\" \"constant\" \"float value\" [ 1.4 ]\n"
+          "Texture \"b\" \"float\" \"constant\" \"float value\" [ 0.45 ]\n"
+          "Texture \"n\" \"float\" \"constant\" \"float value\" [ 0.2 ]\n"
+          "Texture \"a\" \"float\" \"constant\" \"float value\" [ 4 ]\n"
+          "Material \"hair\" \"texture eta\" \"e\" \"texture beta_m\" \"b\" \"texture beta_n\" \"n\" \"texture alpha\" \"a\"",
+          "Material \"hair\" \"float eta\" 1.4 \"float beta_m\" 0.45 \"float beta_n\" 0.2 \"float alpha\" 4" },
+        { "Texture \"s\" \"spectrum\" \"constant\" \"spectrum value\" [ 400 0.2 700 1.5 ]\n"
+          "Material \"hair\" \"texture sigma_a\" \"s\" \"float eumelanin\" 3",
+          "Material \"hair\" \"spectrum sigma_a\" [ 400 0.2 700 1.5 ]" },
+        { "Texture \"c\" \"spectrum\" \"constant\" \"rgb value\" [ 0.7 0.5 0.2 ]\n"
+          "Material \"hair\" \"texture reflectance\" \"c\" \"float beta_n\" 0.5",
+          "Material \"hair\" \"rgb reflectance\" [ 0.7 0.5 0.2 ] \"float beta_n\" 0.5" },
+        { "Texture \"m\" \"float\" \"constant\" \"float value\" [ 0.7 ]\n"
+          "Material \"hair\" \"texture eumelanin\" \"m\" \"float pheomelanin\" 0.3",
+          "Material \"hair\" \"float eumelanin\" 0.7 \"float pheomelanin\" 0.3" },
+        { "Texture \"m\" \"float\" \"constant\" \"float value\" [ 1.9 ]\n"
+          "Material \"hair\" \"texture pheomelanin\" \"m\"",
+          "Material \"hair\" \"float pheomelanin\" 1.9" },
+    };
+    int c, j;
+    for (c = 0; c < (int)(sizeof pairs / sizeof pairs[0]); c++) {
+        float a[HERO_N], b[HERO_N];
+        if (!hair_f(t, pairs[c][0], a) || !hair_f(t, pairs[c][1], b)) return;
+        for (j = 0; j < HERO_N; j++)
+            CHECK(t, fabsf(a[j] - b[j]) <= 1e-3f * b[j] && b[j] > 0.0f, "pair %d lane %d: textured %g, "
+                  "constant %g", c, j, a[j], b[j]);
+    }
+}
+
 static void test_hair_errors(T *t)
 {
     test_refused(t, HAIR_HEAD, "Material \"hair\" \"float eta\" [ 0 ]\n", "hair.pbrt",
@@ -396,9 +448,11 @@ static void test_hair_errors(T *t)
                  "hair.pbrt:8: \"rgb reflectance\": a reflectance must be within [0,1]");
     test_refused(t, HAIR_HEAD, "Material \"hair\" \"spectrum sigma_a\" [ 300 -1 830 1 ]\n", "hair.pbrt",
                  "hair.pbrt:8: \"spectrum sigma_a\": value -1 at 300 nm is not an absorption coefficient");
-    test_refused(t, HAIR_HEAD, "Texture \"b\" \"float\" \"constant\" \"float value\" [ 0.5 ]\n"
+    test_refused(t, HAIR_HEAD, "Texture \"b\" \"spectrum\" \"constant\" \"rgb value\" [ 0.5 0.5 0.5 ]\n"
                  "MakeNamedMaterial \"h\" \"string type\" \"hair\" \"texture beta_m\" \"b\"\n", "hair.pbrt",
-                 "hair.pbrt:9: \"texture beta_m\": textures are valid pbrt-v4 but not in the specnee subset");
+                 "hair.pbrt:9: \"texture beta_m\": \"b\" is a spectrum texture; a float one is needed here");
+    test_refused(t, HAIR_HEAD, "Material \"hair\" \"texture sigma_a\" \"nothere\"\n", "hair.pbrt",
+                 "hair.pbrt:8: \"texture sigma_a\": no texture named \"nothere\"");
     test_refused(t, HAIR_HEAD, "Material \"hair\" \"float displacement\" [ 0.1 ]\n", "hair.pbrt",
                  "hair.pbrt:8: \"float displacement\": unused parameter");
     test_refused(t, HAIR_HEAD, "Material \"hair\" \"float eta\" [ 1.5 2 ]\n", "hair.pbrt", "hair.pbrt:8:");
@@ -475,6 +529,7 @@ const TestCase tests_hair[] = {
     { "hair_reflectance_round_trip", test_hair_reflectance_round_trip },
     { "hair_params", test_hair_params },
     { "hair_reflectance_spectral", test_hair_reflectance_spectral },
+    { "hair_textures", test_hair_textures },
     { "hair_errors", test_hair_errors },
     { "hair_against_pbrt", test_hair_against_pbrt },
     { NULL, NULL }
