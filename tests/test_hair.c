@@ -459,21 +459,26 @@ static void test_hair_errors(T *t)
 }
 
 /* pbrt-v4 (mmp/pbrt-v4 commit 5f7a6068, the independent sampler, 32 x 32,
-   `pbrt --seed S --spp 1024` for S = 1..4) rendered HAIR_HEAD + HAIR_SCENE: a
-   distant light and a dim uniform sky over a grey floor, and (world x > 0 appears
-   on the left) top left a sphere of "eumelanin" 0.3 and "pheomelanin" 0.8 with
-   beta_m 0.5 and alpha 5, top right one of "rgb sigma_a" (0.1, 0.4, 1.2), bottom
-   left a rotated sphere of the default hair (eumelanin 1.3), bottom right a
-   twisted bilinear patch of "rgb reflectance" (0.8, 0.5, 0.3) with beta_n 0.6 and
-   eta 1.4.  Luminance of the image and of its quadrants (top left first): mean
-   over the seeds and its standard error.  specnee is accepted within 5 standard
-   errors + 1 %. */
-static const double PBRT_HAIR_Y[5][2] = {
-    { 0.242090, 0.00015 },
-    { 0.225580, 0.00021 }, { 0.200783, 0.00054 }, { 0.223730, 0.00035 }, { 0.318267, 0.00044 },
+   `pbrt --seed S --spp 1024 scene.pbrt` for S = 1..4) rendered HAIR_HEAD +
+   HAIR_SCENE[j].  Both: a distant light and a dim uniform sky over a grey backdrop.
+   (a) (world x > 0 appears on the left) top left a sphere of "eumelanin" 0.3 and
+   "pheomelanin" 0.8 with beta_m 0.5 and alpha 5, top right one of "rgb sigma_a"
+   (0.1, 0.4, 1.2), bottom left a rotated sphere of the default hair (eumelanin
+   1.3), bottom right a twisted bilinear patch of "rgb reflectance" (0.8, 0.5, 0.3)
+   with beta_n 0.6 and eta 1.4.  (b) Lit from the side: a sphere of textured
+   eumelanin (a checkerboard of 0.1 and 1.5 in uv) with pheomelanin 0.4 and
+   beta_n 0.5, and a bilinear patch of a checkerboard "texture reflectance" with
+   beta_m 0.2 and alpha -3.  Luminance of the image and of its quadrants (top left
+   first): mean over the seeds and its standard error.  specnee is accepted within
+   5 standard errors + 1 %. */
+static const double PBRT_HAIR_Y[2][5][2] = {
+    { { 0.242090, 0.00015 },
+      { 0.225580, 0.00021 }, { 0.200783, 0.00054 }, { 0.223730, 0.00035 }, { 0.318267, 0.00044 } },
+    { { 0.121803, 0.00019 },
+      { 0.095731, 0.00016 }, { 0.131813, 8.7e-05 }, { 0.087452, 0.00017 }, { 0.172216, 0.00074 } },
 };
 
-static const char *const HAIR_SCENE =
+static const char *const HAIR_SCENE[2] = {
     "LightSource \"distant\" \"float scale\" [ 3.14159265358979 ] \"point3 from\" [ 2 1 3 ] \"point3 to\" [ 0 0 0 ]\n"
     "LightSource \"infinite\" \"rgb L\" [ 0.2 0.2 0.2 ]\n"
     "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
@@ -489,32 +494,48 @@ static const char *const HAIR_SCENE =
     "Shape \"bilinearmesh\" \"integer indices\" [ 0 1 2 3 ] \"point3 P\" [ -0.8 -0.8 0.2  0.8 -0.8 -0.2  -0.8 0.8 -0.2  0.8 0.8 0.3 ]\n"
     "AttributeEnd\n"
     "AttributeBegin\nTranslate 0.9 -0.9 0\nRotate 60 1 1 0\nMaterial \"hair\"\n"
-    "Shape \"sphere\" \"float radius\" [ 0.7 ]\nAttributeEnd\n";
+    "Shape \"sphere\" \"float radius\" [ 0.7 ]\nAttributeEnd\n",
+    "LightSource \"distant\" \"float scale\" [ 3.14159265358979 ] \"point3 from\" [ -3 1 0.3 ] \"point3 to\" [ 0 0 0 ]\n"
+    "LightSource \"infinite\" \"rgb L\" [ 0.2 0.2 0.2 ]\n"
+    "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
+    "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ -4 -4 -1  4 -4 -1  4 4 -1  -4 4 -1 ]\n"
+    "Texture \"mel\" \"float\" \"checkerboard\" \"float uscale\" [ 8 ] \"float vscale\" [ 4 ] \"float tex1\" [ 0.1 ] \"float tex2\" [ 1.5 ]\n"
+    "Texture \"refl\" \"spectrum\" \"checkerboard\" \"float uscale\" [ 4 ] \"float vscale\" [ 1 ] \"rgb tex1\" [ 0.9 0.6 0.3 ] \"rgb tex2\" [ 0.3 0.5 0.8 ]\n"
+    "AttributeBegin\nTranslate 0.3 0 0\nRotate -70 1 0 0\n"
+    "Material \"hair\" \"texture eumelanin\" \"mel\" \"float pheomelanin\" [ 0.4 ] \"float beta_n\" [ 0.5 ]\n"
+    "Shape \"sphere\" \"float radius\" [ 1.1 ]\nAttributeEnd\n"
+    "AttributeBegin\nTranslate -1.3 -0.6 0.8\nRotate 40 0 0 1\n"
+    "Material \"hair\" \"texture reflectance\" \"refl\" \"float beta_m\" [ 0.2 ] \"float alpha\" [ -3 ]\n"
+    "Shape \"bilinearmesh\" \"integer indices\" [ 0 1 2 3 ] \"point3 P\" [ -0.5 -0.6 0  0.5 -0.6 0.3  -0.5 0.6 0.3  0.5 0.6 0 ]\n"
+    "AttributeEnd\n",
+};
 
 static void test_hair_against_pbrt(T *t)
 {
     char body[8192];
-    Scene s;
-    RenderOptions o;
-    Tiles q, whole;
-    int i;
-    snprintf(body, sizeof body, "%s%s", HAIR_HEAD, HAIR_SCENE);
-    if (!test_load_scene(t, &s, body)) return;
-    render_options_default(&o);
-    o.spp = test_scaled(64, 16);
-    o.seed = 7;
-    if (!test_render_tiles(t, &s, &o, 4, 2, &q)) { scene_free(&s); return; }
-    if (!test_render_tiles(t, &s, &o, 4, 1, &whole)) { scene_free(&s); return; }
-    scene_free(&s);
-    for (i = 0; i < 5; i++) {
-        const Tiles *tl = i == 0 ? &whole : &q;
-        int k = i == 0 ? 0 : i - 1;
-        double Y = 0.212671 * tl->mean[k][0] + 0.715160 * tl->mean[k][1] + 0.072169 * tl->mean[k][2];
-        double se = tl->se[k][1], Yp = PBRT_HAIR_Y[i][0], sep = PBRT_HAIR_Y[i][1];
-        if (getenv("DBG")) fprintf(stderr, "hair %d: specnee %.6f +- %.2g, pbrt %.6f\n", i, Y, se, Yp);
-        CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + sep * sep) + 1e-2 * Yp,
-              "%s %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f +- %.2g", i ? "quadrant" : "image", k, Y,
-              se, Yp, sep);
+    int i, j;
+    for (j = 0; j < 2; j++) {
+        Scene s;
+        RenderOptions o;
+        Tiles q, whole;
+        snprintf(body, sizeof body, "%s%s", HAIR_HEAD, HAIR_SCENE[j]);
+        if (!test_load_scene(t, &s, body)) return;
+        render_options_default(&o);
+        o.spp = test_scaled(64, 16);
+        o.seed = 7;
+        if (!test_render_tiles(t, &s, &o, 4, 2, &q)) { scene_free(&s); return; }
+        if (!test_render_tiles(t, &s, &o, 4, 1, &whole)) { scene_free(&s); return; }
+        scene_free(&s);
+        for (i = 0; i < 5; i++) {
+            const Tiles *tl = i == 0 ? &whole : &q;
+            int k = i == 0 ? 0 : i - 1;
+            double Y = 0.212671 * tl->mean[k][0] + 0.715160 * tl->mean[k][1] + 0.072169 * tl->mean[k][2];
+            double se = tl->se[k][1], Yp = PBRT_HAIR_Y[j][i][0], sep = PBRT_HAIR_Y[j][i][1];
+            if (getenv("DBG")) fprintf(stderr, "hair %c%d: specnee %.6f +- %.2g, pbrt %.6f\n", 'a' + j, i, Y, se, Yp);
+            CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + sep * sep) + 1e-2 * Yp,
+                  "scene %c %s %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f +- %.2g", 'a' + j,
+                  i ? "quadrant" : "image", k, Y, se, Yp, sep);
+        }
     }
 }
 
