@@ -57,6 +57,11 @@ static void dump_material(FILE *f, int i, const Material *m)
         fprintf(f, "  [%d] mix of [%d] and [%d], amount ", i, m->mix[0], m->mix[1]);
         if (m->amount_tex > 0) fprintf(f, "texture %d\n", m->amount_tex - 1);
         else fprintf(f, "%g\n", m->amount);
+    } else if (m->type == MAT_HAIR) {
+        fprintf(f, "  [%d] hair, eta %g, beta_m %g, beta_n %g, alpha %g degrees\n", i, m->hair->eta,
+                m->hair->beta_m, m->hair->beta_n, m->hair->alpha);
+        dump_spectrum(f, m->hair->from_color ? "reflectance" : "sigma_a",
+                      m->hair->from_color ? &m->hair->color : &m->hair->sigma_a);
     } else if (m->type == MAT_DIFFUSE_TRANSMISSION) {
         fprintf(f, "  [%d] diffusetransmission, P(reflect lobe) %g\n", i, m->p_reflect);
         dump_spectrum(f, "reflectance", &m->reflectance);

@@ -1,7 +1,7 @@
 /* material.c - the materials the scenes need: diffuse, (dispersive) glass, a
    diffuse fluorescent layer, pbrt-v4's thindielectric and diffusetransmission, and
    the dispatch to conductors (conductor.c), coateddiffuse and coatedconductor
-   (layered.c).
+   (layered.c) and hair (hair.c).
 
    Exported: mat_is_delta, mat_point, bsdf_sample, bsdf_eval, mat_albedo, fluor_*
    (specnee.h section 6).  Every sampler has its pdf beside it.  The Fresnel terms,
@@ -145,6 +145,8 @@ void material_release(Material *m)
     m->fl = NULL;
     bump_free(m->bump);
     m->bump = NULL;
+    free(m->hair);
+    m->hair = NULL;
     free(m->extra);
     m->extra = NULL;
 }
@@ -475,6 +477,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
     for (j = 0; j < HERO_N; j++) { out->f[j] = 0.0f; out->pdf_l[j] = 0.0f; out->eta2[j] = 1.0f; }
     out->delta = 0;
     if (lo.z == 0.0f) return 0;
+    if (m->type == MAT_HAIR) return hair_sample(m, sp, wo, lambda, alive, u0, u1, u2, out);
 
     if (m->type == MAT_CONDUCTOR) {
         MatPoint mp;
@@ -589,6 +592,7 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
     Vec3 lo = frame_to_local(&fr, wo), li = frame_to_local(&fr, wi);
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
+    if (m->type == MAT_HAIR) { hair_eval(m, sp, wo, wi, lambda, alive, f, pdf_l); return; }
     if (m->type == MAT_CONDUCTOR || m->type == MAT_COATED_DIFFUSE ||
         m->type == MAT_COATED_CONDUCTOR) {
         MatPoint mp;

@@ -964,6 +964,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     if (shape->emitter >= 0) film_add(tr->fs, emitter_found(tr, path, shape->emitter, sp, dir));
     if (depth >= o->maxdepth) return 0;
     if (mat->bump) sp = bump_shade(s, mat, ray, hit, sp, &bumped);  /* bump.c: ns perturbed */
+    if (mat->type == MAT_HAIR) sp = hair_shade(s, ray, hit, sp, &bumped);  /* the fibre's axis */
 
     /* 3. Termination of the secondary wavelengths at a dispersive dielectric,
           before NEE at this vertex (pbrt-v4 TerminateSecondary; THEORY §7) */

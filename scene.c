@@ -205,7 +205,7 @@ done:
 }
 
 /* The material types and the rooms that build them from their parameters
-   (pbrt-v4's per-type Create): material.c, conductor.c, layered.c. */
+   (pbrt-v4's per-type Create): material.c, conductor.c, layered.c, hair.c. */
 static const struct {
     const char *type;
     int (*build)(Parser *P, ParamList *pl, const char *file, int line, const char *dir,
@@ -219,7 +219,7 @@ static const struct {
     { "coatedconductor", coatedconductor_from_params },
     { "thindielectric", thindielectric_from_params },
     { "diffusetransmission", diffusetransmission_from_params },
-    { "mix", mix_from_params }
+    { "mix", mix_from_params }, { "hair", hair_from_params }
 };
 
 /* Material m of `type` (a Material or MakeNamedMaterial directive `dir`). */
@@ -239,7 +239,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         }
     {
         static const char *const pbrt_types[] = {
-            "hair", "measured", "subsurface", NULL
+            "measured", "subsurface", NULL
         };
         int i;
         for (i = 0; pbrt_types[i]; i++)

@@ -655,6 +655,9 @@ typedef struct {
                                   (texture.c's "uv" mapping reads them) */
     Vec3 err;                  /* a curve hit's error box (pbrt-v4's), which a ray
                                   leaving it clears (spawn_origin); 0 for the others */
+
+    Vec3 dpdu;                 /* the shape's dp/du: set by hair_shade (hair.c) at a hair
+                                  vertex only, the fibre's axis there */
 } SurfacePoint;
 void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
 /* Origin for a ray leaving p towards w: p moved along ng to w's side by
@@ -751,8 +754,9 @@ typedef enum {
                                   (layered.c) */
     MAT_INTERFACE,             /* pbrt-v4 "interface": no surface, only the boundary of a medium
                                   (rays pass it; medium.c, docs/media.md) */
-    MAT_MIX                    /* pbrt-v4 "mix": at each hit one of two materials, chosen by
+    MAT_MIX,                   /* pbrt-v4 "mix": at each hit one of two materials, chosen by
                                   a hash of the point and wo (mat_choose) */
+    MAT_HAIR                   /* pbrt-v4 "hair": Chiang et al. 2016's fibre model (hair.c) */
 } MaterialType;
 #define FL_N (SPEC_MAX - SPEC_UV_MIN + 1)   /* 1 nm knots of the fluorescence tables */
 /* A fluorescent layer (docs/FLUORESCENCE.md, F2): f = (1/pi) [rho (1 - A) delta(li - lo)
@@ -823,6 +827,8 @@ typedef struct {
     int mix[2];
     float amount;
     int amount_tex;
+    struct Hair *hair;         /* hair: its parameters (hair.c), owned, freed by
+                                  material_release; NULL for the other types */
     struct Bump *bump;         /* "displacement" or "normalmap" (bump.c), owned, freed by
                                   material_release; NULL: the shape's shading normal */
 
@@ -1025,6 +1031,42 @@ void  layered_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, cons
 int   layered_sample(const Material *m, const MatPoint *mp, const Frame *fr, Vec3 wo_world,
                      const float *lambda, unsigned alive, float u0, float u1, float u2, uint64_t key,
                      BsdfSample *out);
+/* ---- pbrt-v4's "hair" (hair.c; THEORY §16): Chiang et al. 2016's fibre, spectral ----
+   sigma_a per unit radius is given, or made from a reflectance c (at each
+   wavelength, hair_sigma_a_from_reflectance) or from melanin concentrations
+   (hair_melanin_rgb, an unbounded RGB spectrum); eta, beta_m, beta_n are the index
+   and the longitudinal and azimuthal roughnesses, alpha the scales' tilt (degrees). */
+enum { HAIR_SIGMA_A, HAIR_COLOR, HAIR_EU, HAIR_PH, HAIR_ETA, HAIR_BETA_M, HAIR_BETA_N,
+       HAIR_ALPHA, HAIR_NTEX };    /* the parameters that may be textures */
+#define HAIR_MEL_N 129             /* knots of the melanin ratio table */
+typedef struct Hair {
+    Spectrum sigma_a;          /* the absorption when from_color is 0 (constant melanins:
+                                  made from them) */
+    Spectrum color;            /* from_color: the reflectance c, clamped to [0, 1] at use */
+    int from_color;
+    int from_melanin;          /* textured melanins: sigma_a made at each hit */
+    float eumelanin, pheomelanin;
+    float eta, beta_m, beta_n, alpha;
+    int tex[HAIR_NTEX];        /* 1 + a texture's index (Scene.textures), 0: the value above */
+    float mel_c[HAIR_MEL_N][3];/* from_melanin: the sigmoid coefficients of the melanins'
+                                  RGB at pheomelanin share k / (HAIR_MEL_N - 1) */
+} Hair;
+/* The hit point sp with the shape's dp/du (the fibre's axis) and (u, v) filled in,
+   written to *out; returns out (path.c, at a hair vertex). */
+const SurfacePoint *hair_shade(const struct Scene *s, const Ray *r, const HitRecord *h,
+                               const SurfacePoint *sp, SurfacePoint *out);
+/* The BSDF of a MAT_HAIR material at sp (sp->dpdu set), as bsdf_sample and
+   bsdf_eval: f without the cosine, pdf_l[j] = pdf for every j (the lobe is chosen
+   by the mean attenuation over the alive wavelengths). */
+int   hair_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float *lambda,
+                  unsigned alive, float u0, float u1, float u2, BsdfSample *out);
+void  hair_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi, const float *lambda,
+                unsigned alive, float f[HERO_N], float pdf_l[HERO_N]);
+/* pbrt-v4's SigmaAFromReflectance (Chiang et al. (9)) at one wavelength; the linear
+   sRGB sigma_a of the two melanins (pbrt-v4's SigmaAFromConcentration); log I0. */
+float hair_sigma_a_from_reflectance(float c, float beta_n);
+void  hair_melanin_rgb(float eumelanin, float pheomelanin, float rgb[3]);
+double hair_log_i0(double x);
 /* ---- The scattering room (microfacet.c): what the BSDFs above are built from ----
    Local shading frame (n = +z), directions pointing away from the surface.
    material.c, conductor.c and layered.c call it; it calls none of them. */

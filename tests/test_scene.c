@@ -759,7 +759,7 @@ REJECT(rej_sphere_zmin, "WorldBegin\nShape \"sphere\" \"float zmin\" 0.5 \"float
 REJECT(rej_shape_curve, "WorldBegin\nShape \"curve\"\n", 2,
        "Shape \"curve\": \"point3 P\" is required", NULL)
 REJECT(rej_shape_unknown, "WorldBegin\nShape \"blob\"\n", 2, "unknown shape type", NULL)
-REJECT(rej_material_conductor, "WorldBegin\nMaterial \"hair\"\n", 2, "hair",
+REJECT(rej_material_conductor, "WorldBegin\nMaterial \"subsurface\"\n", 2, "subsurface",
        "valid pbrt-v4 but not in the specnee subset")
 REJECT(rej_unknown_named_spectrum, "WorldBegin\nMaterial \"dielectric\" \"spectrum eta\" \"glass-XYZ\"\n",
        2, "unknown named spectrum", "glass-XYZ")
