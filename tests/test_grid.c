@@ -786,8 +786,9 @@ static void test_against_pbrt(T *t)
    override keeps the field of view, as `sh tools/smoke_scene.sh --res 32` does).
    Frozen from pbrt-v4 (mmp/pbrt-v4 5f7a6068, `pbrt --spp 4096 --seed S` on the
    file that command writes, S = 1, 2, the mean of the two; they differ by at most
-   0.2 % per value).  The luminance of
-   the image and of its quadrants (top-left, top-right, bottom-left, bottom-right). */
+   0.2 % per value); specnee at 4096 spp (seed 5) is within 0.06 % of them everywhere
+   (image 0.99995).  The luminance of the image and of its quadrants (top-left,
+   top-right, bottom-left, bottom-right). */
 static void test_smoke_scene(T *t)
 {
     static const double pbrt_y[5] = { 0.179166, 0.100301, 0.104896, 0.258380, 0.253087 };
