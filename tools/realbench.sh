@@ -3,7 +3,7 @@
 # folder of real scene files.
 #
 #   PBRT=/path/to/pbrt sh tools/realbench.sh [--ref-spp N] [--spp "16 32 64 128 256"]
-#        [--seeds K] [--threads T] [--at S] [--out DIR2] DIR
+#        [--seeds K] [--threads T] [--at S] [--time wall|cpu] [--out DIR2] DIR
 #
 # For every DIR/*.pbrt (each file keeps its own camera, film, sampler, integrator
 # and depth; only the sample count and seed are given on the command line):
@@ -22,8 +22,11 @@
 #   nearest points), their ratio (pbrt-v4 time / specnee time: above 1 specnee
 #   is faster at equal error), the MSE per sample ratio at S spp, each
 #   renderer's 1-spp time and peak memory at S spp.
-# Both renderers get the same thread count (default: all cores). Run it on an
-# otherwise idle machine: the times are wall-clock. Intermediate images and logs
+# Both renderers get the same thread count (default: all cores); the two take
+# turns render by render (same spp and seed, pbrt-v4 then specnee), so a slow
+# spell of the machine hits both.  Run it on an otherwise idle machine: the times
+# are wall-clock; --time cpu charges each run its process CPU time instead (user +
+# system, GNU time), steadier on a shared machine. Intermediate images and logs
 # go to DIR2/NAME/ (default build/realbench), the table to DIR2/table.md,
 # one row as each scene finishes. Without GNU time (/usr/bin/time -f) the wall
 # memory column is 0. Times are wall-clock from date, to the nanosecond.
@@ -35,6 +38,7 @@ ladder="16 32 64 128 256"
 seeds=2
 threads=$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)
 at=64
+clock=wall
 top=build/realbench
 while [ $# -gt 0 ]; do
     case "$1" in
@@ -43,6 +47,7 @@ while [ $# -gt 0 ]; do
         --seeds) seeds=$2; shift 2 ;;
         --threads) threads=$2; shift 2 ;;
         --at) at=$2; shift 2 ;;
+        --time) clock=$2; shift 2 ;;
         --out) top=$2; shift 2 ;;
         -*) echo "realbench: unknown option $1" >&2; exit 2 ;;
         *) break ;;
@@ -51,13 +56,17 @@ done
 [ $# -eq 1 ] && [ -d "$1" ] || { echo "usage: PBRT=pbrt sh tools/realbench.sh [options] DIR" >&2; exit 2; }
 [ -n "${PBRT:-}" ] && [ -x "$PBRT" ] || { echo "realbench: set PBRT to a pbrt-v4 binary" >&2; exit 2; }
 [ -x ./specnee ] || { echo "realbench: run it from the repository root after make" >&2; exit 2; }
+case "$clock" in wall|cpu) ;; *) echo "realbench: --time wall or cpu" >&2; exit 2 ;; esac
 case " $ladder " in *" $at "*) ;; *) echo "realbench: --at $at is not on the ladder" >&2; exit 2 ;; esac
 dir=$1
 mkdir -p "$top"
 gnutime=0
 /usr/bin/time -f '%e %M' true > /dev/null 2>&1 && gnutime=1
 
-# run WHO SPP SEED IMAGE SCENE LOG: one render, timed; prints "wall_s maxrss_kb"
+[ $clock = cpu ] && [ $gnutime = 0 ] && { echo "realbench: --time cpu needs GNU time" >&2; exit 2; }
+
+# run WHO SPP SEED IMAGE SCENE LOG: one render, timed; prints "seconds maxrss_kb"
+# (seconds: wall, or user + system with --time cpu)
 run() {
     if [ "$1" = pbrt ]; then
         set -- "$6" "$PBRT" --quiet --nthreads "$threads" --spp "$2" --seed "$3" --outfile "$4" "$5"
@@ -67,11 +76,12 @@ run() {
     log=$1; shift
     t0=$(date +%s.%N)
     if [ $gnutime = 1 ]; then
-        /usr/bin/time -f '%M' -o "$log.time" "$@" > "$log" 2>&1
+        /usr/bin/time -f '%M %U %S' -o "$log.time" "$@" > "$log" 2>&1
     else
         "$@" > "$log" 2>&1 && echo 0 > "$log.time"
     fi || { echo "realbench: failed: $* (see $log)" >&2; return 1; }
-    echo "$t0 $(date +%s.%N) $(tail -n 1 "$log.time")" | awk '{ printf "%.4f %d\n", $2 - $1, $3 }'
+    echo "$t0 $(date +%s.%N) $(tail -n 1 "$log.time") $clock" |
+        awk '{ printf "%.4f %d\n", $NF == "cpu" ? $4 + $5 : $2 - $1, $3 }'
 }
 
 table=$top/table.md
@@ -86,17 +96,17 @@ for scene in "$dir"/*.pbrt; do
     echo "== $name" >&2
     run pbrt "$refspp" 1000 "$out/ref.pfm" "$scene" "$out/ref.log" > /dev/null || continue
     : > "$out/ladder.txt"
-    for who in pbrt specnee; do
-        for spp in 1 $ladder; do
-            k=1
-            while [ $k -le "$seeds" ]; do
+    for spp in 1 $ladder; do
+        k=1
+        while [ $k -le "$seeds" ]; do
+            for who in pbrt specnee; do
                 img=$out/$who-$spp-$k.pfm
-                tm=$(run $who "$spp" "$k" "$img" "$scene" "$out/$who-$spp-$k.log") || continue 2
+                tm=$(run $who "$spp" "$k" "$img" "$scene" "$out/$who-$spp-$k.log") || continue 3
                 mse=$(./specnee diff "$img" "$out/ref.pfm" --csv | awk -F, 'NR == 2 { print $7 }')
                 echo "$who $spp $k $tm $mse" >> "$out/ladder.txt"
-                [ "$spp" = 1 ] && break
-                k=$((k + 1))
             done
+            [ "$spp" = 1 ] && break
+            k=$((k + 1))
         done
     done
     # columns of ladder.txt: who spp seed wall_s rss_kb mse
