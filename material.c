@@ -141,6 +141,9 @@ void material_release(Material *m)
     m->bump = NULL;
     free(m->extra);
     m->extra = NULL;
+    if (m->measured) measured_free(m->measured);
+    free(m->measured);
+    m->measured = NULL;
 }
 
 
@@ -462,6 +465,12 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         if (v3_dot(out->wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return 0;   /* no leaks */
         return 1;
     }
+    if (m->type == MAT_MEASURED) {                                      /* measured.c */
+        if (!measured_sample(m->measured, lo, lambda, alive, u1, u2, out, &li)) return 0;
+        out->wi = frame_to_world(&fr, li);
+        if (v3_dot(out->wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return 0;   /* no leaks */
+        return 1;
+    }
     if (m->type == MAT_THIN_DIELECTRIC) {
         if (!thin_sample(m, lo, lambda, alive, u0, out, &li)) return 0;
         out->wi = frame_to_world(&fr, li);
@@ -568,6 +577,11 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
         mat_point(m, sp, lambda, alive, &mp);
         if (m->type == MAT_CONDUCTOR) conductor_eval(m, &mp, lo, li, lambda, alive, f, pdf_l);
         else layered_eval(m, &mp, lo, li, lambda, alive, layered_seed(wo, wi, 0), f, pdf_l);  /* layered.c */
+        return;
+    }
+    if (m->type == MAT_MEASURED) {                                 /* measured.c */
+        if (v3_dot(wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return;   /* no leaks */
+        measured_eval(m->measured, lo, li, lambda, alive, f, pdf_l);
         return;
     }
     if (m->type == MAT_THIN_DIELECTRIC) return;                    /* delta: f = 0 */
@@ -846,6 +860,29 @@ int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, 
         if (*t > maxt) maxt = *t;
     }
     m->p_reflect = maxr + maxt > 0.0f ? maxr / (maxr + maxt) : 0.5f;
+    return 1;
+}
+
+/* pbrt-v4 MeasuredMaterial: "string filename", an RGL tensor file (measured.c),
+   found as pbrt-v4 finds files; read once per material. */
+int measured_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                         const char *dir, const char *what, Material *m)
+{
+    const char *fn = NULL;
+    char path[4096];
+    Error e;
+    m->type = MAT_MEASURED;
+    if (!get_string(P, pl, "filename", &fn)) return 0;
+    if (!fn || !fn[0])
+        return fail(P, file, line, "%s \"measured\": \"string filename\" is required", dir);
+    if (!bump_from_params(P, pl, what, m) ||
+        !params_check_unused(P, pl, what, "string filename", NULL))
+        return 0;
+    m->measured = (MeasuredBrdf *)calloc(1, sizeof *m->measured);  /* freed by material_release */
+    if (!m->measured) return oom(P, file, line);
+    resolve_path(P, file, fn, path, sizeof path);
+    if (!measured_read(path, m->measured, &e))
+        return fail(P, file, line, "%s \"measured\": %s", dir, e.msg);
     return 1;
 }
 
