@@ -433,16 +433,27 @@ static int dt_pair(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi, 
 
 /* ---------------------------------------------------------------- sampling */
 
-/* The shading frame; for diffuse it is turned to wo's side of the surface. */
-static Frame shading_frame(const SurfacePoint *sp)
+/* The shading frame: around ns; an anisotropic measured BRDF's s axis is dp/du made
+   tangent (Gram-Schmidt), its t = ns x s, pbrt-v4's Frame::FromXZ(dpdu, ns). */
+Frame mat_frame(const Material *m, const SurfacePoint *sp)
 {
+    if (m->type == MAT_MEASURED && !m->measured->isotropic) {
+        Vec3 s = v3_sub(sp->dpdu, v3_mul(sp->ns, v3_dot(sp->dpdu, sp->ns)));
+        if (v3_dot(s, s) > 0.0f) {
+            Frame f;
+            f.n = sp->ns;
+            f.s = v3_norm(s);
+            f.t = v3_cross(f.n, f.s);
+            return f;
+        }
+    }
     return frame_from_normal(sp->ns);
 }
 
 int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float *lambda,
                 unsigned alive, float u0, float u1, float u2, BsdfSample *out)
 {
-    Frame fr = shading_frame(sp);
+    Frame fr = mat_frame(m, sp);
     Vec3 lo = frame_to_local(&fr, wo), li;
     int j;
     for (j = 0; j < HERO_N; j++) { out->f[j] = 0.0f; out->pdf_l[j] = 0.0f; out->eta2[j] = 1.0f; }
@@ -566,7 +577,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
 void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
                const float *lambda, unsigned alive, float f[HERO_N], float pdf_l[HERO_N])
 {
-    Frame fr = shading_frame(sp);
+    Frame fr = mat_frame(m, sp);
     Vec3 lo = frame_to_local(&fr, wo), li = frame_to_local(&fr, wi);
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }

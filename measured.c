@@ -28,7 +28,7 @@
    2. The parameterization: a direction (theta, phi) is the point
       u = (sqrt(2 theta / pi), (phi + pi) / (2 pi)) of the unit square.  Its
       Jacobian: d omega = sin theta dtheta dphi = 2 pi^2 u_x sin theta du.
-      The BRDF is stored as (THEORY §15)
+      The BRDF is stored as (docs/measured.md)
           f(wo, wi) = R(s; wo, lambda) D(wm) / (4 sigma(wo) cos theta_i),
       wm = normalize(wo + wi) the half vector, D the NDF (table ndf, over u of
       wm), sigma(wo) = integral of D(wm) max(0, wo.wm) dwm the projected area
@@ -133,7 +133,7 @@ static int warp_build_cdfs(Warp2D *w, size_t slices)
             sum += 0.5 * ((double)c[y * nx + nx - 1] + c[(y + 1) * nx + nx - 1]);
             mg[y + 1] = (float)sum;
         }
-        if (!(sum > 0.0) || !(sum < 1e30)) return 0;
+        if (!(sum > 1e-30 && sum < 1e30)) return 0;  /* (also keeps the densities finite) */
         norm = 1.0 / mg[ny - 1];
         for (x = 0; x < nx * ny; x++) { c[x] = (float)(c[x] * norm); d[x] = (float)(d[x] * norm); }
         for (y = 0; y < ny; y++) mg[y] = (float)(mg[y] * norm);
@@ -340,8 +340,9 @@ static const TField *need(const TField *fs, int nf, const char *want, int dtype,
 }
 
 /* The floats of field f, copied (little-endian in the file); NULL when out of
-   memory, or a value is not finite, or (nonneg) negative. */
-static float *field_floats(const TField *f, int nonneg, const char *name, Error *e)
+   memory or a value is not finite.  clamp: a sampled density, whose negative
+   values (measurement noise) are read as 0, so that its CDFs increase. */
+static float *field_floats(const TField *f, int clamp, const char *name, Error *e)
 {
     size_t n = 1, i;
     float *v;
@@ -352,12 +353,13 @@ static float *field_floats(const TField *f, int nonneg, const char *name, Error 
     for (i = 0; i < n; i++) {
         uint32_t b = (uint32_t)get_le(f->data + 4 * i, 4);
         memcpy(&v[i], &b, 4);
-        if (!(fabsf(v[i]) <= 3.4e38f) || (nonneg && v[i] < 0.0f)) {
-            error_set(e, name, 0, "measured BRDF: field \"%s\": value %g at index %lu is %s", f->name,
-                      v[i], (unsigned long)i, nonneg && v[i] < 0.0f ? "negative" : "not finite");
+        if (!(fabsf(v[i]) <= 3.4e38f)) {
+            error_set(e, name, 0, "measured BRDF: field \"%s\": value %g at index %lu is not finite",
+                      f->name, v[i], (unsigned long)i);
             free(v);
             return NULL;
         }
+        if (clamp && v[i] < 0.0f) v[i] = 0.0f;
     }
     return v;
 }
@@ -397,8 +399,8 @@ static int check_shapes(const TField *const *f, const char *name, Error *e)
     return 1;
 }
 
-/* The five tables as warps; 0 and a message (a sampled table must be >= 0 and
-   integrate to more than 0 in every slice). */
+/* The five tables as warps; 0 and a message (a sampled table must integrate to
+   more than 0 in every slice). */
 static int build_tables(MeasuredBrdf *b, const TField *const *f, const char *name, Error *e)
 {
     static const char *const what[5] = { "ndf", "sigma", "vndf", "luminance", "spectra" };
@@ -524,21 +526,22 @@ static void measured_f(const MeasuredBrdf *b, const float s[2], const float u_wm
     int j;
     scale = warp2d_eval(&b->ndf, NULL, u_wm[0], u_wm[1]) /
             (4.0f * warp2d_eval(&b->sigma, NULL, uo_x, uo_y) * cos_i);
+    if (!(scale < 1e30f)) scale = 0.0f;                  /* sigma 0 (a broken table) */
     par[0] = phi_o; par[1] = theta_o;
     for (j = 0; j < HERO_N; j++) {
         float r;
         f[j] = 0.0f;
         if (!(alive & (1u << j))) continue;
         par[2] = lambda[j];
-        r = warp2d_eval(&b->spectra, par, s[0], s[1]);
-        f[j] = r > 0.0f && scale > 0.0f && scale < 1e30f ? r * scale : 0.0f;
+        r = warp2d_eval(&b->spectra, par, s[0], s[1]) * scale;
+        f[j] = r > 0.0f && r < 1e30f ? r : 0.0f;         /* NaN, overflow: 0 */
     }
 }
 
 void measured_eval(const MeasuredBrdf *b, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
                    float f[HERO_N], float pdf_l[HERO_N])
 {
-    float theta_o, phi_o, theta_m, phi_m, par[2], u[2], s[2], pv, pl, jac, sin_m;
+    float theta_o, phi_o, theta_m, phi_m, par[2], u[2], s[2], pv, pl, jac, sin_m, pdf;
     Vec3 wm;
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
@@ -559,7 +562,9 @@ void measured_eval(const MeasuredBrdf *b, Vec3 wo, Vec3 wi, const float *lambda,
     measured_f(b, s, u, theta_o, phi_o, wi.z, lambda, alive, f);
     sin_m = sqrtf(wm.x * wm.x + wm.y * wm.y);
     jac = 4.0f * v3_dot(wo, wm) * fmaxf(2.0f * PI_F * PI_F * u[0] * sin_m, 1e-6f);
-    for (j = 0; j < HERO_N; j++) pdf_l[j] = pv * pl / jac;
+    pdf = pv * pl / jac;
+    if (!(pdf < 1e30f)) pdf = 0.0f;                    /* as measured_sample refuses it */
+    for (j = 0; j < HERO_N; j++) pdf_l[j] = pdf;
 }
 
 int measured_sample(const MeasuredBrdf *b, Vec3 wo, const float *lambda, unsigned alive, float u1,
@@ -589,4 +594,15 @@ int measured_sample(const MeasuredBrdf *b, Vec3 wo, const float *lambda, unsigne
     out->delta = 0;
     *wi_local = flip ? v3_neg(wi) : wi;
     return 1;
+}
+
+const SurfacePoint *measured_shade(const struct Scene *s, const Ray *r, const HitRecord *h,
+                                   const SurfacePoint *sp, SurfacePoint *out)
+{
+    SurfacePoint tmp = *sp;
+    ShadingDiff d;
+    shading_differentials(s, r, h, &tmp, &d);
+    *out = *sp;
+    out->dpdu = d.dpdu;
+    return out;
 }

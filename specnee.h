@@ -610,6 +610,8 @@ typedef struct {
                                   interpolated, else (0,0), (1,0), (1,1) at its corners;
                                   quadrics: pbrt-v4's (phi / phimax, ...) (shapes.c)
                                   (texture.c's "uv" mapping reads them) */
+    Vec3 dpdu;                 /* set by measured_shade only (read only by an anisotropic
+                                  measured BRDF): the shading frame's s axis, pbrt-v4's dp/du */
 } SurfacePoint;
 void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
 /* Origin for a ray leaving p towards w: p moved along ng to w's side by
@@ -977,6 +979,14 @@ void  measured_eval(const MeasuredBrdf *b, Vec3 wo, Vec3 wi, const float *lambda
                     float f[HERO_N], float pdf_l[HERO_N]);
 int   measured_sample(const MeasuredBrdf *b, Vec3 wo, const float *lambda, unsigned alive, float u1,
                       float u2, BsdfSample *out, Vec3 *wi_local);
+/* An anisotropic file's phi is measured from the surface's dp/du, as pbrt-v4's: *out
+   is *sp with out->dpdu set from shading_differentials (path.c calls it at the hit
+   of an anisotropic measured material); returns out. */
+const SurfacePoint *measured_shade(const struct Scene *s, const Ray *r, const HitRecord *h,
+                                   const SurfacePoint *sp, SurfacePoint *out);
+/* The shading frame of material m at sp: (dp/du made tangent, ns x that, ns) for an
+   anisotropic measured BRDF, else frame_from_normal(ns). */
+Frame mat_frame(const Material *m, const SurfacePoint *sp);
 /* coateddiffuse and coatedconductor (layered.c), in the shading frame: f and the pdf are stochastic
    estimates by random walks, deterministic for a given seed; bsdf_eval seeds them
    with layered_seed(world wo, world wi, 0), and layered_sample (which takes the

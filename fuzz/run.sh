@@ -2,7 +2,7 @@
 # fuzz/run.sh - `make fuzz`: builds the libFuzzer targets of fuzz/targets.c with
 # clang (AddressSanitizer + UndefinedBehaviorSanitizer) and runs each one.
 #
-#   sh fuzz/run.sh [SECONDS] [TARGET...]    default: 60 s each for scene ply pfm spectrum png exr nvdb gzip
+#   sh fuzz/run.sh [SECONDS] [TARGET...]    default: 60 s each for scene ply pfm spectrum png exr nvdb gzip measured
 #
 # Not part of `make test`.  Runs at low priority on one core (nice, one job).
 # Corpora grow in build/fuzz/corpus-TARGET, seeded from fuzz/seeds/TARGET,
@@ -15,7 +15,7 @@ set -u
 cd "$(dirname "$0")/.." || exit 2
 secs=${1:-60}
 [ $# -gt 0 ] && shift
-targets=${*:-scene ply pfm spectrum png exr nvdb gzip}
+targets=${*:-scene ply pfm spectrum png exr nvdb gzip measured}
 CC=${FUZZ_CC:-clang}
 mkdir -p build/fuzz
 echo 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n) { (void)d; (void)n; return 0; }' \

@@ -383,7 +383,7 @@ else
 fi
 expect "robust_res_budget" 2 "memory budget" ./specnee --res 16384x16384 scenes/cornell.pbrt
 # every input that ever crashed a fuzz target (fuzz/regress) and the fuzz seeds
-for t in scene ply pfm spectrum png exr nvdb gzip; do
+for t in scene ply pfm spectrum png exr nvdb gzip measured; do
     mkdir -p tests/tmp/replay-$t
     counted replay-$t fuzz/replay $t tests/tmp/replay-$t fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)
 done
@@ -526,7 +526,7 @@ if [ "$full" = 1 ]; then
         replay_rc=$?
         cat "$log.replay-asan" >> "$log"
         if [ $replay_rc -eq 0 ]; then
-            for t in scene ply pfm spectrum png exr nvdb gzip; do
+            for t in scene ply pfm spectrum png exr nvdb gzip measured; do
                 counted replay-asan-$t env ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
                     UBSAN_OPTIONS=print_stacktrace=1 build/replay-asan $t tests/tmp/replay-$t \
                     fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)

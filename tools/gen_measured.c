@@ -2,6 +2,8 @@
    tabulated from an analytic BRDF, as test data for pbrt-v4's "measured" material.
 
        make tools/gen_measured && tools/gen_measured [ALPHA] > tests/data/measured/ggx.bsdf
+       tools/gen_measured 0.3 small > fuzz/seeds/measured/small.bsdf    (2 KB: the fuzz seed)
+       tools/gen_measured 0.3 aniso > tests/data/measured/ggx-aniso.bsdf (153 KB)
 
    The model (docs/measured.md): an isotropic Trowbridge-Reitz (GGX) microfacet
    conductor of roughness alpha (0.3 by default) with Schlick's Fresnel
@@ -21,14 +23,22 @@
 #include <string.h>
 
 #define GPI 3.14159265358979323846
-#define N_TI 10        /* theta_i knots, degrees below */
-#define N_WL 8         /* wavelengths, 360 .. 830 nm */
-#define N_NDF_T 64     /* ndf and sigma: theta x phi */
-#define N_NDF_P 8
-#define N_VNDF 32      /* vndf grid a side */
-#define N_S 16         /* luminance and spectra grid a side */
-
-static const double theta_deg[N_TI] = { 0, 10, 20, 30, 40, 50, 60, 70, 80, 89 };
+#define M_PI_ 6        /* at most: phi_i knots */
+#define M_TI 10        /* theta_i knots */
+#define M_WL 8
+#define M_NDF 64
+#define M_VNDF 32
+#define M_S 16
+/* The sizes: theta_i knots (degrees below), wavelengths (360 .. 830 nm), ndf and
+   sigma (theta x phi), the vndf grid a side, the luminance and spectra grid a side;
+   "small" takes fewer, "aniso" writes 6 uneven phi_i knots over [-pi, pi] (an anisotropic
+   file of the same isotropic model: phi absolute). */
+static int N_PI = 1, N_TI = 10, N_WL = 8, N_NDF_T = 64, N_NDF_P = 8, N_VNDF = 32, N_S = 16;
+static const double theta_deg[M_TI] = { 0, 10, 20, 30, 40, 50, 60, 70, 80, 89 };
+static const double theta_small[3] = { 0, 45, 80 };
+static const double theta_aniso[6] = { 0, 18, 36, 54, 72, 85 };
+/* uneven, so that no turn or mirror of the frame maps the knots onto themselves */
+static const double phi_aniso[6] = { -GPI, -2.2, -0.9, 0.3, 1.6, GPI };
 static double alpha = 0.3;
 
 static double ggx_D(double cos_m)
@@ -89,16 +99,113 @@ static void write_file(const Out *o, int n)
     }
 }
 
+/* The tables, sized for the largest mode. */
+static float ti[M_TI], phi_i[M_PI_], wl[M_WL], ndf[M_NDF * M_NDF], sigma[M_NDF * M_NDF];
+static float vndf[M_PI_ * M_TI * M_VNDF * M_VNDF], lum[M_PI_ * M_TI * M_S * M_S];
+static float spec[M_PI_ * M_TI * M_WL * M_S * M_S];
+
+/* wo at knot (p, t) of (phi_i, theta_i). */
+static void wo_at(int p, int t, double *wo)
+{
+    wo[0] = sin(ti[t]) * cos(phi_i[p]); wo[1] = sin(ti[t]) * sin(phi_i[p]); wo[2] = cos(ti[t]);
+}
+
+/* The microfacet normal at u of the square (its phi absolute; for an isotropic
+   file phi_i = 0, so relative and absolute agree). */
+static void wm_at(double ux, double uy, double *wm)
+{
+    double th = u2theta(ux), ph = u2phi(uy);
+    wm[0] = sin(th) * cos(ph); wm[1] = sin(th) * sin(ph); wm[2] = cos(th);
+}
+
+static void tabulate_vndf(void)
+{
+    int p, t, x, y;
+    for (p = 0; p < N_PI; p++)
+        for (t = 0; t < N_TI; t++)
+            for (y = 0; y < N_VNDF; y++)
+                for (x = 0; x < N_VNDF; x++) {
+                    double ux = (double)x / (N_VNDF - 1), wo[3], wm[3], dot;
+                    wo_at(p, t, wo);
+                    wm_at(ux, (double)y / (N_VNDF - 1), wm);
+                    dot = wo[0] * wm[0] + wo[1] * wm[1] + wo[2] * wm[2];
+                    vndf[((p * N_TI + t) * N_VNDF + y) * N_VNDF + x] = (float)(ggx_D(wm[2]) *
+                        (dot > 0.0 ? dot : 0.0) * 2.0 * GPI * GPI * ux * sqrt(1.0 - wm[2] * wm[2]));
+                }
+}
+
+/* R and its luminance at the points s that the visible-normal warp of (p, t) maps
+   to u_wm (the renderer's warp2d_sample). */
+static int tabulate_r(void)
+{
+    Warp2D w;
+    int psize[2], p, t, x, y, k;
+    const float *pval[2];
+    psize[0] = N_PI; psize[1] = N_TI; pval[0] = phi_i; pval[1] = ti;
+    if (!warp2d_init(&w, vndf, N_VNDF, N_VNDF, 2, psize, pval, 1)) return 0;
+    for (p = 0; p < N_PI; p++)
+        for (t = 0; t < N_TI; t++) {
+            double Lo = ggx_L(cos(ti[t])), wo[3];
+            float par[2];
+            par[0] = phi_i[p]; par[1] = ti[t];
+            wo_at(p, t, wo);
+            for (y = 0; y < N_S; y++)
+                for (x = 0; x < N_S; x++) {
+                    float u[2], pdf;
+                    double wm[3], d, iz, sum = 0.0;
+                    size_t at = (size_t)(p * N_TI + t);
+                    u[0] = (float)x / (N_S - 1); u[1] = (float)y / (N_S - 1);
+                    warp2d_sample(&w, par, u, &pdf);
+                    wm_at(u[0], u[1], wm);
+                    d = wo[0] * wm[0] + wo[1] * wm[1] + wo[2] * wm[2];
+                    iz = 2.0 * d * wm[2] - wo[2];
+                    for (k = 0; k < N_WL; k++) {
+                        double R = iz > 0.0 && d > 0.0 ? schlick(d, wl[k]) * (1.0 + Lo) / (1.0 + Lo + ggx_L(iz)) : 0.0;
+                        spec[((at * N_WL + k) * N_S + y) * N_S + x] = (float)R;
+                        sum += R;
+                    }
+                    lum[(at * N_S + y) * N_S + x] = (float)(sum / N_WL + 1e-3);
+                }
+        }
+    warp2d_free(&w);
+    return 1;
+}
+
+static void write_tables(void)
+{
+    static const char desc[] = "specnee test data: GGX conductor (tools/gen_measured.c)";
+    static const unsigned char jac = 1;
+    Out o[10];
+    int i = 0;
+    memset(o, 0, sizeof o);
+    o[i].name = "description"; o[i].dtype = 1; o[i].rank = 1; o[i].shape[0] = sizeof desc - 1; o[i++].data = desc;
+    o[i].name = "jacobian"; o[i].dtype = 1; o[i].rank = 1; o[i].shape[0] = 1; o[i++].data = &jac;
+    o[i].name = "theta_i"; o[i].dtype = 10; o[i].rank = 1; o[i].shape[0] = N_TI; o[i++].data = ti;
+    o[i].name = "phi_i"; o[i].dtype = 10; o[i].rank = 1; o[i].shape[0] = N_PI; o[i++].data = phi_i;
+    o[i].name = "wavelengths"; o[i].dtype = 10; o[i].rank = 1; o[i].shape[0] = N_WL; o[i++].data = wl;
+    o[i].name = "ndf"; o[i].dtype = 10; o[i].rank = 2; o[i].shape[0] = N_NDF_P; o[i].shape[1] = N_NDF_T; o[i++].data = ndf;
+    o[i].name = "sigma"; o[i].dtype = 10; o[i].rank = 2; o[i].shape[0] = N_NDF_P; o[i].shape[1] = N_NDF_T; o[i++].data = sigma;
+    o[i].name = "vndf"; o[i].dtype = 10; o[i].rank = 4; o[i].shape[0] = N_PI; o[i].shape[1] = N_TI;
+    o[i].shape[2] = N_VNDF; o[i].shape[3] = N_VNDF; o[i++].data = vndf;
+    o[i].name = "luminance"; o[i].dtype = 10; o[i].rank = 4; o[i].shape[0] = N_PI; o[i].shape[1] = N_TI;
+    o[i].shape[2] = N_S; o[i].shape[3] = N_S; o[i++].data = lum;
+    o[i].name = "spectra"; o[i].dtype = 10; o[i].rank = 5; o[i].shape[0] = N_PI; o[i].shape[1] = N_TI;
+    o[i].shape[2] = N_WL; o[i].shape[3] = N_S; o[i].shape[4] = N_S; o[i++].data = spec;
+    write_file(o, i);
+}
+
 int main(int argc, char **argv)
 {
-    static float ti[N_TI], pi_[1], wl[N_WL], ndf[N_NDF_P * N_NDF_T], sigma[N_NDF_P * N_NDF_T];
-    static float vndf[N_TI * N_VNDF * N_VNDF], lum[N_TI * N_S * N_S], spec[N_TI * N_WL * N_S * N_S];
-    static const char desc[] = "specnee test data: GGX conductor (tools/gen_measured.c)";
-    unsigned char jac = 1;
-    int i, t, x, y, k;
+    int i, x, y, k;
     if (argc > 1) alpha = atof(argv[1]);
-    for (i = 0; i < N_TI; i++) ti[i] = (float)(theta_deg[i] * GPI / 180.0);
-    pi_[0] = 0.0f;
+    if (argc > 2 && !strcmp(argv[2], "small")) {
+        N_TI = 3; N_WL = 2; N_NDF_T = 8; N_NDF_P = 2; N_VNDF = 6; N_S = 4;
+    } else if (argc > 2 && !strcmp(argv[2], "aniso")) {
+        N_PI = 6; N_TI = 6; N_WL = 2; N_NDF_P = 16; N_VNDF = 24; N_S = 12;
+    }
+    for (i = 0; i < N_TI; i++)
+        ti[i] = (float)((N_TI == 3 ? theta_small[i] : N_TI == 6 ? theta_aniso[i] : theta_deg[i]) * GPI / 180.0);
+    for (i = 0; i < N_PI; i++) phi_i[i] = N_PI == 1 ? 0.0f : (float)phi_aniso[i];
     for (k = 0; k < N_WL; k++) wl[k] = (float)(360.0 + 470.0 * k / (N_WL - 1));
     for (y = 0; y < N_NDF_P; y++)
         for (x = 0; x < N_NDF_T; x++) {
@@ -106,62 +213,8 @@ int main(int argc, char **argv)
             ndf[y * N_NDF_T + x] = (float)ggx_D(c);
             sigma[y * N_NDF_T + x] = (float)(0.5 * (c + sqrt(c * c + alpha * alpha * s * s)));
         }
-    for (t = 0; t < N_TI; t++) {
-        double so = sin(ti[t]), co = cos(ti[t]);
-        for (y = 0; y < N_VNDF; y++)
-            for (x = 0; x < N_VNDF; x++) {
-                double ux = (double)x / (N_VNDF - 1), th = u2theta(ux), ph = u2phi((double)y / (N_VNDF - 1));
-                double dot = so * sin(th) * cos(ph) + co * cos(th);
-                vndf[(t * N_VNDF + y) * N_VNDF + x] =
-                    (float)(ggx_D(cos(th)) * (dot > 0.0 ? dot : 0.0) * 2.0 * GPI * GPI * ux * sin(th));
-            }
-    }
-    {
-        Warp2D w;
-        int psize[1] = { N_TI };
-        const float *pval[1] = { ti };
-        if (!warp2d_init(&w, vndf, N_VNDF, N_VNDF, 1, psize, pval, 1)) return 1;
-        for (t = 0; t < N_TI; t++) {
-            double so = sin(ti[t]), co = cos(ti[t]), Lo = ggx_L(co);
-            for (y = 0; y < N_S; y++)
-                for (x = 0; x < N_S; x++) {
-                    float u[2], pdf;
-                    double th, ph, mx, my, mz, d, ix, iz, sum = 0.0;
-                    u[0] = (float)x / (N_S - 1); u[1] = (float)y / (N_S - 1);
-                    warp2d_sample(&w, &ti[t], u, &pdf);
-                    th = u2theta(u[0]); ph = u2phi(u[1]);
-                    mx = sin(th) * cos(ph); my = sin(th) * sin(ph); mz = cos(th);
-                    d = so * mx + co * mz;
-                    ix = 2.0 * d * mx - so; iz = 2.0 * d * mz - co;
-                    (void)my; (void)ix;
-                    for (k = 0; k < N_WL; k++) {
-                        double R = iz > 0.0 && d > 0.0 ? schlick(d, wl[k]) * (1.0 + Lo) / (1.0 + Lo + ggx_L(iz)) : 0.0;
-                        spec[((t * N_WL + k) * N_S + y) * N_S + x] = (float)R;
-                        sum += R;
-                    }
-                    lum[(t * N_S + y) * N_S + x] = (float)(sum / N_WL + 1e-3);
-                }
-        }
-        warp2d_free(&w);
-    }
-    {
-        Out o[11];
-        memset(o, 0, sizeof o);
-        i = 0;
-        o[i].name = "description"; o[i].dtype = 1; o[i].rank = 1; o[i].shape[0] = sizeof desc - 1; o[i++].data = desc;
-        o[i].name = "jacobian"; o[i].dtype = 1; o[i].rank = 1; o[i].shape[0] = 1; o[i++].data = &jac;
-        o[i].name = "theta_i"; o[i].dtype = 10; o[i].rank = 1; o[i].shape[0] = N_TI; o[i++].data = ti;
-        o[i].name = "phi_i"; o[i].dtype = 10; o[i].rank = 1; o[i].shape[0] = 1; o[i++].data = pi_;
-        o[i].name = "wavelengths"; o[i].dtype = 10; o[i].rank = 1; o[i].shape[0] = N_WL; o[i++].data = wl;
-        o[i].name = "ndf"; o[i].dtype = 10; o[i].rank = 2; o[i].shape[0] = N_NDF_P; o[i].shape[1] = N_NDF_T; o[i++].data = ndf;
-        o[i].name = "sigma"; o[i].dtype = 10; o[i].rank = 2; o[i].shape[0] = N_NDF_P; o[i].shape[1] = N_NDF_T; o[i++].data = sigma;
-        o[i].name = "vndf"; o[i].dtype = 10; o[i].rank = 4; o[i].shape[0] = 1; o[i].shape[1] = N_TI;
-        o[i].shape[2] = N_VNDF; o[i].shape[3] = N_VNDF; o[i++].data = vndf;
-        o[i].name = "luminance"; o[i].dtype = 10; o[i].rank = 4; o[i].shape[0] = 1; o[i].shape[1] = N_TI;
-        o[i].shape[2] = N_S; o[i].shape[3] = N_S; o[i++].data = lum;
-        o[i].name = "spectra"; o[i].dtype = 10; o[i].rank = 5; o[i].shape[0] = 1; o[i].shape[1] = N_TI;
-        o[i].shape[2] = N_WL; o[i].shape[3] = N_S; o[i].shape[4] = N_S; o[i++].data = spec;
-        write_file(o, i);
-    }
+    tabulate_vndf();
+    if (!tabulate_r()) return 1;
+    write_tables();
     return 0;
 }
