@@ -344,8 +344,8 @@ static void test_energy(T *t)
    turned, so that its dp/du orients the file's phi).  Luminance of the image and
    of its 2 x 2 quadrants (top left first): mean over the seeds and its standard
    error.  specnee is accepted within 5 standard errors + 0.5 %.  With an arbitrary
-   tangent instead of dp/du the anisotropic image was 1.2 % darker, 7 % in its
-   lower left quadrant. */
+   tangent instead of dp/du, specnee's anisotropic quadrants 2-4 move by +1.3 %,
+   -4.1 % and +0.6 %. */
 static const double PBRT_MEASURED_Y[2][5][2] = {
     { { 0.025541, 7.6e-06 },
       { 0.053563, 1.5e-05 }, { 0.016824, 5.2e-06 }, { 0.006033, 2.4e-06 }, { 0.025742, 1.5e-05 } },
