@@ -141,8 +141,10 @@ void material_release(Material *m)
     m->bump = NULL;
     free(m->extra);
     m->extra = NULL;
-    if (m->measured) measured_free(m->measured);
-    free(m->measured);
+    if (m->measured && --m->measured->refs <= 0) {   /* the last material sharing it */
+        measured_free(m->measured);
+        free(m->measured);
+    }
     m->measured = NULL;
 }
 
@@ -875,13 +877,15 @@ int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, 
 }
 
 /* pbrt-v4 MeasuredMaterial: "string filename", an RGL tensor file (measured.c),
-   found as pbrt-v4 finds files; read once per material. */
+   found as pbrt-v4 finds files; read once per file (as pbrt-v4's BRDFDataFromFile),
+   shared by the materials that name it (MeasuredBrdf.refs). */
 int measured_from_params(Parser *P, ParamList *pl, const char *file, int line,
                          const char *dir, const char *what, Material *m)
 {
     const char *fn = NULL;
     char path[4096];
     Error e;
+    int i;
     m->type = MAT_MEASURED;
     if (!get_string(P, pl, "filename", &fn)) return 0;
     if (!fn || !fn[0])
@@ -889,11 +893,21 @@ int measured_from_params(Parser *P, ParamList *pl, const char *file, int line,
     if (!bump_from_params(P, pl, what, m) ||
         !params_check_unused(P, pl, what, "string filename", NULL))
         return 0;
+    resolve_path(P, file, fn, path, sizeof path);
+    for (i = 0; i < P->s->n_materials; i++) {
+        MeasuredBrdf *b = P->s->materials[i].measured;
+        if (P->s->materials[i].type == MAT_MEASURED && b->path[0] && !strcmp(b->path, path)) {
+            m->measured = b;
+            b->refs++;
+            return 1;
+        }
+    }
     m->measured = (MeasuredBrdf *)calloc(1, sizeof *m->measured);  /* freed by material_release */
     if (!m->measured) return oom(P, file, line);
-    resolve_path(P, file, fn, path, sizeof path);
     if (!measured_read(path, m->measured, &e))
         return fail(P, file, line, "%s \"measured\": %s", dir, e.msg);
+    m->measured->refs = 1;
+    if (strlen(path) < sizeof m->measured->path) memcpy(m->measured->path, path, strlen(path) + 1);
     return 1;
 }
 

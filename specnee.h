@@ -967,6 +967,8 @@ typedef struct MeasuredBrdf {
     Warp2D spectra;            /* R over the warped square (phi_i, theta_i, lambda) */
     float *theta_i, *phi_i, *wavelengths;
     int n_wavelengths, isotropic;
+    int refs;                  /* materials sharing it (material.c: one read per file) */
+    char path[1024];           /* the file it was read from ("" : not shared) */
 } MeasuredBrdf;
 /* Read a tensor file (from memory: name is for messages); 0 and "file: problem". */
 int   measured_read(const char *path, MeasuredBrdf *b, Error *e);

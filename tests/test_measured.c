@@ -155,6 +155,27 @@ static void test_scene_errors(T *t)
                  "m.pbrt:3: Material \"measured\": nowhere.bsdf: cannot read the measured BRDF file");
 }
 
+/* Two materials naming one file share one MeasuredBrdf (read once, as pbrt-v4
+   reads it), freed with the last of them; a third file gets its own. */
+static void test_shared_file(T *t)
+{
+    Scene s;
+    int i, n = 0;
+    const MeasuredBrdf *b[3];
+    if (!test_load_scene(t, &s, "Camera \"perspective\"\nWorldBegin\n"
+                         "MakeNamedMaterial \"a\" \"string type\" \"measured\" \"string filename\" \"" GGX_FILE "\"\n"
+                         "Material \"measured\" \"string filename\" \"" GGX_FILE "\"\n"
+                         "Shape \"sphere\"\n"
+                         "Material \"measured\" \"string filename\" \"" ANISO_FILE "\"\n"
+                         "Shape \"sphere\"\nNamedMaterial \"a\"\nShape \"sphere\"\n"))
+        return;
+    for (i = 0; i < s.n_materials && n < 3; i++)
+        if (s.materials[i].type == MAT_MEASURED) b[n++] = s.materials[i].measured;
+    CHECK(t, n == 3 && b[0] == b[1] && b[0]->refs == 2 && b[2] != b[0] && b[2]->refs == 1,
+          "%d measured materials; shared %d, refs %d", n, n == 3 && b[0] == b[1], n ? b[0]->refs : 0);
+    scene_free(&s);
+}
+
 /* A parameterised warp: sample then invert gives the uniform pair back, the
    sample's pdf is warp2d_eval's, and the histogram of samples follows the density
    (chi-square on 8 x 8 cells, expectations by the midpoint rule on 8 x 8 sub-cells). */
@@ -389,6 +410,7 @@ const TestCase tests_measured[] = {
     { "measured_read_good", test_read_good },
     { "measured_read_bad", test_read_bad },
     { "measured_scene_errors", test_scene_errors },
+    { "measured_shared_file", test_shared_file },
     { "measured_warp2d", test_warp2d },
     { "measured_chi2", test_chi2 },
     { "measured_f_pdf", test_f_pdf },
