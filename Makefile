@@ -31,7 +31,7 @@ LDLIBS = -lm
 
 LIBOBJ = util.o sampler.o bvh.o instance.o shapes.o patch.o curve.o spectrum.o wavelengths.o metals.o lights.o lighttree.o infinite.o \
          delta.o texture.o filter.o parser.o options.o scene.o geometry.o dump.o ply.o subdiv.o medium.o nanovdb.o material.o microfacet.o \
-         conductor.o layered.o hair.o bump.o camera.o path.o sensor.o render.o image.o png.o exr.o svg.o cmd_converge.o cmd_image.o \
+         conductor.o layered.o hair.o measured.o bump.o camera.o path.o sensor.o render.o image.o png.o exr.o svg.o cmd_converge.o cmd_image.o \
          cmd_spectrum.o rgbtable.o
 # every tests/*.c (a new test file is registered in tests/tables.h alone)
 TESTOBJ != ls tests/*.c | sed 's/\.c$$/.o/'
@@ -50,6 +50,10 @@ fuzz/replay: fuzz/replay.o fuzz/targets.o $(LIBOBJ)
 tools/bench: tools/bench.o $(LIBOBJ)
 	$(CC) $(CFLAGS) -o tools/bench tools/bench.o $(LIBOBJ) $(LDLIBS)
 
+# tools/gen_measured: writes the measured-BRDF test file (tests/data/measured/)
+tools/gen_measured: tools/gen_measured.o $(LIBOBJ)
+	$(CC) $(CFLAGS) -o tools/gen_measured tools/gen_measured.o $(LIBOBJ) $(LDLIBS)
+
 tools/bench_lights: tools/bench_lights.o $(LIBOBJ)
 	$(CC) $(CFLAGS) -o tools/bench_lights tools/bench_lights.o $(LIBOBJ) $(LDLIBS)
 
@@ -65,7 +69,7 @@ rgbtable.h: tools/gen_rgbtable.c rgbtable.c spectrum.o util.o metals.o
 .c.o:
 	$(CC) $(CFLAGS) -I. -c -o $@ $<
 
-$(LIBOBJ) specnee.o $(TESTOBJ) tools/bench.o tools/bench_lights.o fuzz/replay.o fuzz/targets.o: specnee.h
+$(LIBOBJ) specnee.o $(TESTOBJ) tools/gen_measured.o tools/bench.o tools/bench_lights.o fuzz/replay.o fuzz/targets.o: specnee.h
 parser.o options.o scene.o material.o conductor.o layered.o texture.o lights.o delta.o infinite.o medium.o: parser.h
 $(TESTOBJ): tests/test.h tests/tables.h
 tests/test_png.o: tests/png_fixtures.h

@@ -66,6 +66,10 @@ static void dump_material(FILE *f, int i, const Material *m)
         fprintf(f, "  [%d] diffusetransmission, P(reflect lobe) %g\n", i, m->p_reflect);
         dump_spectrum(f, "reflectance", &m->reflectance);
         dump_spectrum(f, "transmittance", &m->extra->transmittance);
+    } else if (m->type == MAT_MEASURED) {
+        fprintf(f, "  [%d] measured, %s, %d x %d visible-normal grid, %d wavelengths\n", i,
+                m->measured->isotropic ? "isotropic" : "anisotropic", m->measured->vndf.nx,
+                m->measured->vndf.ny, m->measured->n_wavelengths);
     } else {
         fprintf(f, "  [%d] dielectric, alpha %g, %s", i, m->alpha,
                 m->dispersive ? "dispersive" : "constant eta");

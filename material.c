@@ -149,6 +149,11 @@ void material_release(Material *m)
     m->hair = NULL;
     free(m->extra);
     m->extra = NULL;
+    if (m->measured && --m->measured->refs <= 0) {   /* the last material sharing it */
+        measured_free(m->measured);
+        free(m->measured);
+    }
+    m->measured = NULL;
 }
 
 
@@ -462,16 +467,27 @@ static int dt_pair(const DtPoint *d, Vec3 lo, Vec3 li, float f[HERO_N], float pd
 
 /* ---------------------------------------------------------------- sampling */
 
-/* The shading frame; for diffuse it is turned to wo's side of the surface. */
-static Frame shading_frame(const SurfacePoint *sp)
+/* The shading frame: around ns; an anisotropic measured BRDF's s axis is dp/du made
+   tangent (Gram-Schmidt), its t = ns x s, pbrt-v4's Frame::FromXZ(dpdu, ns). */
+Frame mat_frame(const Material *m, const SurfacePoint *sp)
 {
+    if (m->type == MAT_MEASURED && !m->measured->isotropic) {
+        Vec3 s = v3_sub(sp->dpdu, v3_mul(sp->ns, v3_dot(sp->dpdu, sp->ns)));
+        if (v3_dot(s, s) > 0.0f) {
+            Frame f;
+            f.n = sp->ns;
+            f.s = v3_norm(s);
+            f.t = v3_cross(f.n, f.s);
+            return f;
+        }
+    }
     return frame_from_normal(sp->ns);
 }
 
 int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float *lambda,
                 unsigned alive, float u0, float u1, float u2, BsdfSample *out)
 {
-    Frame fr = shading_frame(sp);
+    Frame fr = mat_frame(m, sp);
     Vec3 lo = frame_to_local(&fr, wo), li;
     int j;
     for (j = 0; j < HERO_N; j++) { out->f[j] = 0.0f; out->pdf_l[j] = 0.0f; out->eta2[j] = 1.0f; }
@@ -490,6 +506,12 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         MatPoint mp;
         mat_point(m, sp, lambda, alive, &mp);
         if (!layered_sample(m, &mp, &fr, wo, lambda, alive, u0, u1, u2, 0, out)) return 0;
+        return 1;
+    }
+    if (m->type == MAT_MEASURED) {                                      /* measured.c */
+        if (!measured_sample(m->measured, lo, lambda, alive, u1, u2, out, &li)) return 0;
+        out->wi = frame_to_world(&fr, li);
+        if (v3_dot(out->wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return 0;   /* no leaks */
         return 1;
     }
     if (m->type == MAT_THIN_DIELECTRIC) {
@@ -588,7 +610,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
 void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
                const float *lambda, unsigned alive, float f[HERO_N], float pdf_l[HERO_N])
 {
-    Frame fr = shading_frame(sp);
+    Frame fr = mat_frame(m, sp);
     Vec3 lo = frame_to_local(&fr, wo), li = frame_to_local(&fr, wi);
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
@@ -599,6 +621,11 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
         mat_point(m, sp, lambda, alive, &mp);
         if (m->type == MAT_CONDUCTOR) conductor_eval(m, &mp, lo, li, lambda, alive, f, pdf_l);
         else layered_eval(m, &mp, lo, li, lambda, alive, layered_seed(wo, wi, 0), f, pdf_l);  /* layered.c */
+        return;
+    }
+    if (m->type == MAT_MEASURED) {                                 /* measured.c */
+        if (v3_dot(wi, sp->ng) * v3_dot(wo, sp->ng) <= 0.0f) return;   /* no leaks */
+        measured_eval(m->measured, lo, li, lambda, alive, f, pdf_l);
         return;
     }
     if (m->type == MAT_THIN_DIELECTRIC) return;                    /* delta: f = 0 */
@@ -897,6 +924,41 @@ int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, 
         if (*t > maxt) maxt = *t;
     }
     m->p_reflect = maxr + maxt > 0.0f ? maxr / (maxr + maxt) : 0.5f;
+    return 1;
+}
+
+/* pbrt-v4 MeasuredMaterial: "string filename", an RGL tensor file (measured.c),
+   found as pbrt-v4 finds files; read once per file (as pbrt-v4's BRDFDataFromFile),
+   shared by the materials that name it (MeasuredBrdf.refs). */
+int measured_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                         const char *dir, const char *what, Material *m)
+{
+    const char *fn = NULL;
+    char path[4096];
+    Error e;
+    int i;
+    m->type = MAT_MEASURED;
+    if (!get_string(P, pl, "filename", &fn)) return 0;
+    if (!fn || !fn[0])
+        return fail(P, file, line, "%s \"measured\": \"string filename\" is required", dir);
+    if (!bump_from_params(P, pl, what, m) ||
+        !params_check_unused(P, pl, what, "string filename", NULL))
+        return 0;
+    resolve_path(P, file, fn, path, sizeof path);
+    for (i = 0; i < P->s->n_materials; i++) {
+        MeasuredBrdf *b = P->s->materials[i].measured;
+        if (P->s->materials[i].type == MAT_MEASURED && b->path[0] && !strcmp(b->path, path)) {
+            m->measured = b;
+            b->refs++;
+            return 1;
+        }
+    }
+    m->measured = (MeasuredBrdf *)calloc(1, sizeof *m->measured);  /* freed by material_release */
+    if (!m->measured) return oom(P, file, line);
+    if (!measured_read(path, m->measured, &e))
+        return fail(P, file, line, "%s \"measured\": %s", dir, e.msg);
+    m->measured->refs = 1;
+    if (strlen(path) < sizeof m->measured->path) memcpy(m->measured->path, path, strlen(path) + 1);
     return 1;
 }
 

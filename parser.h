@@ -328,6 +328,8 @@ int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, 
                                     const char *dir, const char *what, Material *m);
 /* A Material "mix" may name materials made further down the file: its mix[k] is then
    -2 - (the NamedMaterial entry), resolved by finish() (scene.c). */
+int measured_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                         const char *dir, const char *what, Material *m);
 int mix_from_params(Parser *P, ParamList *pl, const char *file, int line,
                     const char *dir, const char *what, Material *m);
 /* conductor.c: */

@@ -952,7 +952,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     double nb[HERO_N], nr[HERO_N];
     LightCtx ctx;
     BsdfSample bs;
-    SurfacePoint bumped;
+    SurfacePoint bumped, framed;
     float u0, u1, u2, cos_i;
     int j;
     if (tr->dbg) debug_vertex(tr->dbg, depth, sp, path->beta, path->alive, path->r);
@@ -965,6 +965,8 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     if (depth >= o->maxdepth) return 0;
     if (mat->bump) sp = bump_shade(s, mat, ray, hit, sp, &bumped);  /* bump.c: ns perturbed */
     if (mat->type == MAT_HAIR) sp = hair_shade(s, ray, hit, sp, &bumped);  /* the fibre's axis */
+    if (mat->type == MAT_MEASURED && !mat->measured->isotropic)
+        sp = measured_shade(s, ray, hit, sp, &framed);              /* measured.c: dp/du */
 
     /* 3. Termination of the secondary wavelengths at a dispersive dielectric,
           before NEE at this vertex (pbrt-v4 TerminateSecondary; THEORY §7) */

@@ -219,7 +219,7 @@ static const struct {
     { "coatedconductor", coatedconductor_from_params },
     { "thindielectric", thindielectric_from_params },
     { "diffusetransmission", diffusetransmission_from_params },
-    { "mix", mix_from_params }, { "hair", hair_from_params }
+    { "mix", mix_from_params }, { "hair", hair_from_params }, { "measured", measured_from_params }
 };
 
 /* Material m of `type` (a Material or MakeNamedMaterial directive `dir`). */
@@ -239,15 +239,15 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
         }
     {
         static const char *const pbrt_types[] = {
-            "measured", "subsurface", NULL
+            "subsurface", NULL
         };
         int i;
         for (i = 0; pbrt_types[i]; i++)
             if (!strcmp(type, pbrt_types[i]))
                 return fail(P, file, line, "%s \"%s\" is valid pbrt-v4 but not in the "
                             "specnee subset (use \"diffuse\", \"dielectric\", \"conductor\", "
-                            "\"coateddiffuse\", \"coatedconductor\", \"thindielectric\" or "
-                            "\"diffusetransmission\")", dir, type);
+                            "\"coateddiffuse\", \"coatedconductor\", \"thindielectric\", "
+                            "\"diffusetransmission\" or \"measured\")", dir, type);
         return fail(P, file, line, "%s \"%s\": unknown material type", dir, type);
     }
 }

@@ -655,9 +655,9 @@ typedef struct {
                                   (texture.c's "uv" mapping reads them) */
     Vec3 err;                  /* a curve hit's error box (pbrt-v4's), which a ray
                                   leaving it clears (spawn_origin); 0 for the others */
-
-    Vec3 dpdu;                 /* the shape's dp/du: set by hair_shade (hair.c) at a hair
-                                  vertex only, the fibre's axis there */
+    Vec3 dpdu;                 /* the shape's dp/du, set only where it is read: by hair_shade
+                                  (hair.c: the fibre's axis) and measured_shade (measured.c:
+                                  an anisotropic BRDF's s axis, pbrt-v4's dp/du) */
 } SurfacePoint;
 void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
 /* Origin for a ray leaving p towards w: p moved along ng to w's side by
@@ -756,7 +756,8 @@ typedef enum {
                                   (rays pass it; medium.c, docs/media.md) */
     MAT_MIX,                   /* pbrt-v4 "mix": at each hit one of two materials, chosen by
                                   a hash of the point and wo (mat_choose) */
-    MAT_HAIR                   /* pbrt-v4 "hair": Chiang et al. 2016's fibre model (hair.c) */
+    MAT_HAIR,                  /* pbrt-v4 "hair": Chiang et al. 2016's fibre model (hair.c) */
+    MAT_MEASURED               /* pbrt-v4 "measured": a tabulated BRDF file (measured.c) */
 } MaterialType;
 #define FL_N (SPEC_MAX - SPEC_UV_MIN + 1)   /* 1 nm knots of the fluorescence tables */
 /* A fluorescent layer (docs/FLUORESCENCE.md, F2): f = (1/pi) [rho (1 - A) delta(li - lo)
@@ -831,6 +832,8 @@ typedef struct {
                                   material_release; NULL for the other types */
     struct Bump *bump;         /* "displacement" or "normalmap" (bump.c), owned, freed by
                                   material_release; NULL: the shape's shading normal */
+    struct MeasuredBrdf *measured;  /* measured: the file's tables (measured.c), owned,
+                                  freed by material_release */
 
     int regularized;           /* a copy made by mat_regularized: mat_point regularizes
                                   the alphas it reads from textures too */
@@ -1016,6 +1019,56 @@ int   conductor_sample(const Material *m, const MatPoint *mp, Vec3 wo, const flo
                        unsigned alive, float u1, float u2, BsdfSample *out, Vec3 *wi_local);
 void  conductor_eval(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, const float *lambda,
                      unsigned alive, float f[HERO_N], float pdf_l[HERO_N]);
+/* ---- Measured BRDFs (measured.c): pbrt-v4's "measured" material, an RGL tensor
+   file in Dupuy and Jakob's adaptive parameterization (docs/measured.md) ----
+   A Warp2D is a bilinear density on an nx x ny grid over [0,1]^2, interpolated
+   linearly between up to 3 parameters' grid values; `sampled` ones are normalized
+   per parameter slice and carry the CDFs that warp2d_sample and warp2d_invert use. */
+typedef struct {
+    int nx, ny, nparam, sampled;
+    int psize[3];              /* knots per parameter */
+    unsigned stride[3];        /* slices per step of each parameter (0 for one knot) */
+    float *pval[3];            /* the parameters' knots, increasing (owned) */
+    float *data, *marg, *cond; /* density; marginal CDF over rows; running sums in rows */
+} Warp2D;
+/* A copy of data (psize[0] x .. x ny x nx floats, the last index contiguous); 0 when
+   out of memory or a sampled slice integrates to 0. */
+int   warp2d_init(Warp2D *w, const float *data, int nx, int ny, int nparam, const int *psize,
+                  const float *const *pval, int sampled);
+void  warp2d_free(Warp2D *w);
+/* The interpolated value at (ux, uy) (a sampled warp: the normalized density). */
+float warp2d_eval(const Warp2D *w, const float *param, float ux, float uy);
+/* u uniform in [0,1)^2 -> a point of the density, *pdf its density; invert: back. */
+void  warp2d_sample(const Warp2D *w, const float *param, float u[2], float *pdf);
+void  warp2d_invert(const Warp2D *w, const float *param, float u[2], float *pdf);
+typedef struct MeasuredBrdf {
+    Warp2D ndf, sigma;         /* D over u(wm), projected area over u(wo) */
+    Warp2D vndf, lum;          /* the visible-NDF warp and the luminance warp (phi_i, theta_i) */
+    Warp2D spectra;            /* R over the warped square (phi_i, theta_i, lambda) */
+    float *theta_i, *phi_i, *wavelengths;
+    int n_wavelengths, isotropic;
+    int refs;                  /* materials sharing it (material.c: one read per file) */
+    char path[1024];           /* the file it was read from ("" : not shared) */
+} MeasuredBrdf;
+/* Read a tensor file (from memory: name is for messages); 0 and "file: problem". */
+int   measured_read(const char *path, MeasuredBrdf *b, Error *e);
+int   measured_read_memory(const unsigned char *d, size_t n, const char *name, MeasuredBrdf *b,
+                           Error *e);
+void  measured_free(MeasuredBrdf *b);
+/* f and pdf (pdf_l[j] = pdf: the direction does not depend on lambda) in the shading
+   frame, and the sampler (wi_local in that frame; 0 when no direction). */
+void  measured_eval(const MeasuredBrdf *b, Vec3 wo, Vec3 wi, const float *lambda, unsigned alive,
+                    float f[HERO_N], float pdf_l[HERO_N]);
+int   measured_sample(const MeasuredBrdf *b, Vec3 wo, const float *lambda, unsigned alive, float u1,
+                      float u2, BsdfSample *out, Vec3 *wi_local);
+/* An anisotropic file's phi is measured from the surface's dp/du, as pbrt-v4's: *out
+   is *sp with out->dpdu set from shading_differentials (path.c calls it at the hit
+   of an anisotropic measured material); returns out. */
+const SurfacePoint *measured_shade(const struct Scene *s, const Ray *r, const HitRecord *h,
+                                   const SurfacePoint *sp, SurfacePoint *out);
+/* The shading frame of material m at sp: (dp/du made tangent, ns x that, ns) for an
+   anisotropic measured BRDF, else frame_from_normal(ns). */
+Frame mat_frame(const Material *m, const SurfacePoint *sp);
 /* coateddiffuse and coatedconductor (layered.c), in the shading frame: f and the pdf are stochastic
    estimates by random walks, deterministic for a given seed; bsdf_eval seeds them
    with layered_seed(world wo, world wi, 0), and layered_sample (which takes the

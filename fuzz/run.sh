@@ -2,7 +2,7 @@
 # fuzz/run.sh - `make fuzz`: builds the libFuzzer targets of fuzz/targets.c with
 # clang (AddressSanitizer + UndefinedBehaviorSanitizer) and runs each one.
 #
-#   sh fuzz/run.sh [SECONDS] [TARGET...]    default: 60 s each for scene ply pfm spectrum png exr nvdb gzip
+#   sh fuzz/run.sh [SECONDS] [TARGET...]    default: 60 s each for scene ply pfm spectrum png exr nvdb gzip measured
 #
 # Not part of `make test`.  Runs at low priority on one core (nice, one job).
 # Corpora grow in build/fuzz/corpus-TARGET, seeded from fuzz/seeds/TARGET,
@@ -15,7 +15,7 @@ set -u
 cd "$(dirname "$0")/.." || exit 2
 secs=${1:-60}
 [ $# -gt 0 ] && shift
-targets=${*:-scene ply pfm spectrum png exr nvdb gzip}
+targets=${*:-scene ply pfm spectrum png exr nvdb gzip measured}
 CC=${FUZZ_CC:-clang}
 mkdir -p build/fuzz
 echo 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n) { (void)d; (void)n; return 0; }' \
@@ -25,7 +25,7 @@ if ! "$CC" -fsanitize=fuzzer build/fuzz/probe.c -o build/fuzz/probe >/dev/null 2
     exit 2
 fi
 ${MAKE:-make} rgbtable.h || exit 1      # rgbtable.c's build-time table
-LIBSRC="util.c sampler.c bvh.c instance.c shapes.c patch.c curve.c spectrum.c wavelengths.c metals.c lights.c lighttree.c infinite.c delta.c texture.c filter.c parser.c options.c scene.c geometry.c dump.c ply.c subdiv.c medium.c nanovdb.c material.c microfacet.c conductor.c layered.c hair.c bump.c camera.c path.c sensor.c render.c image.c png.c exr.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c rgbtable.c"
+LIBSRC="util.c sampler.c bvh.c instance.c shapes.c patch.c curve.c spectrum.c wavelengths.c metals.c lights.c lighttree.c infinite.c delta.c texture.c filter.c parser.c options.c scene.c geometry.c dump.c ply.c subdiv.c medium.c nanovdb.c material.c microfacet.c conductor.c layered.c hair.c measured.c bump.c camera.c path.c sensor.c render.c image.c png.c exr.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c rgbtable.c"
 FLAGS="-std=c99 -g -O1 -ffp-contract=off -fno-omit-frame-pointer \
        -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all"
 summary=""

@@ -22,6 +22,8 @@
      png       a PNG file, decoded from memory as sRGB and as linear, then once more
                with every chunk's CRC recomputed (so that mutations reach inflate);
                every value of a decoded image must lie in [0, 1]
+     measured  an RGL tensor file (.bsdf, measured.c), read from memory; a BRDF that
+               loads must give finite f >= 0 and pdf >= 0, evaluated and sampled
      exr       an OpenEXR file, decoded from memory; a decoded image must have the
                size its pixels were allocated for (values may be anything a float
                holds: the reader keeps them as stored)
@@ -210,6 +212,31 @@ static int fuzz_png(const unsigned char *data, size_t n, Error *e)
     return ok;
 }
 
+static int fuzz_measured(const unsigned char *data, size_t n, Error *e)
+{
+    const float lambda[HERO_N] = { 380, 500, 620, 800 };
+    MeasuredBrdf b;
+    int i, j;
+    if (!measured_read_memory(data, n, "fuzz-input.bsdf", &b, e)) {
+        check_message(e);
+        return 0;
+    }
+    for (i = 0; i < 16; i++) {
+        float a = 0.1f * (float)i, f[HERO_N], p[HERO_N];
+        Vec3 wo = v3(sinf(a) * cosf(3 * a), sinf(a) * sinf(3 * a), cosf(a)), wi;
+        BsdfSample bs;
+        measured_eval(&b, wo, v3_norm(v3(0.3f - a, 0.2f, 0.5f)), lambda, 15u, f, p);
+        for (j = 0; j < HERO_N; j++)
+            if (!(f[j] >= 0.0f && f[j] < 1e30f && p[j] >= 0.0f && p[j] < 1e30f)) abort();
+        memset(&bs, 0, sizeof bs);
+        if (measured_sample(&b, wo, lambda, 15u, 0.07f * (float)i, 0.93f - 0.05f * (float)i, &bs, &wi))
+            for (j = 0; j < HERO_N; j++)
+                if (!(bs.f[j] >= 0.0f && bs.f[j] < 1e30f && bs.pdf > 0.0f && bs.pdf < 1e30f)) abort();
+    }
+    measured_free(&b);
+    return 1;
+}
+
 static int fuzz_exr(const unsigned char *data, size_t n, Error *e)
 {
     Image im;
@@ -283,6 +310,7 @@ int fuzz_run(const char *target, const unsigned char *data, size_t n, const char
     if (!strcmp(target, "spectrum")) return fuzz_spectrum(data, n, tmpdir, e);
     if (!strcmp(target, "png")) return fuzz_png(data, n, e);
     if (!strcmp(target, "exr")) return fuzz_exr(data, n, e);
+    if (!strcmp(target, "measured")) return fuzz_measured(data, n, e);
     if (!strcmp(target, "nvdb")) return fuzz_nvdb(data, n, e);
     if (!strcmp(target, "gzip")) return fuzz_gzip(data, n, e);
     return -1;

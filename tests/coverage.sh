@@ -130,6 +130,8 @@ scenes() {
         ex["rgbgrid"] = "\"rgb sigma_s\" [ 0.5 0.5 0.5 ]"; ov["rgbgrid|point3 p1"] = "[ 1 1 1 ]"
         ov["nanovdb|string filename"] = "\"" root "/tests/data/nanovdb/cloud.nvdb\""
         ex["nanovdb"] = "\"string filename\" " ov["nanovdb|string filename"]
+        ov["measured|string filename"] = "\"" root "/tests/data/measured/ggx.bsdf\""
+        ex["measured"] = "\"string filename\" " ov["measured|string filename"]
         ov["rgbgrid|rgb Le"] = "[ 0.5 0.5 0.5 ] \"rgb sigma_a\" [ 0.5 0.5 0.5 ]"
         ex["fluorescent"] = "\"spectrum excitation\" [ 300 1 400 0 ];\"spectrum emission\" [ 400 0 500 1 ]"
         ov["dielectric|float cauchyA"] = "1.5 \"float cauchyB\" 0.004"

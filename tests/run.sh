@@ -383,7 +383,7 @@ else
 fi
 expect "robust_res_budget" 2 "memory budget" ./specnee --res 16384x16384 scenes/cornell.pbrt
 # every input that ever crashed a fuzz target (fuzz/regress) and the fuzz seeds
-for t in scene ply pfm spectrum png exr nvdb gzip; do
+for t in scene ply pfm spectrum png exr nvdb gzip measured; do
     mkdir -p tests/tmp/replay-$t
     counted replay-$t fuzz/replay $t tests/tmp/replay-$t fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)
 done
@@ -467,7 +467,7 @@ if [ "$full" != 1 ]; then
 fi
 if [ "$full" = 1 ]; then
     # ---- 3. three compilers, warnings are errors (each one that is installed)
-    LIBSRC="util.c sampler.c bvh.c instance.c shapes.c patch.c curve.c spectrum.c wavelengths.c metals.c lights.c lighttree.c infinite.c delta.c texture.c filter.c parser.c options.c scene.c geometry.c dump.c ply.c subdiv.c medium.c nanovdb.c material.c microfacet.c conductor.c layered.c hair.c bump.c camera.c path.c sensor.c render.c image.c png.c exr.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c rgbtable.c"
+    LIBSRC="util.c sampler.c bvh.c instance.c shapes.c patch.c curve.c spectrum.c wavelengths.c metals.c lights.c lighttree.c infinite.c delta.c texture.c filter.c parser.c options.c scene.c geometry.c dump.c ply.c subdiv.c medium.c nanovdb.c material.c microfacet.c conductor.c layered.c hair.c measured.c bump.c camera.c path.c sensor.c render.c image.c png.c exr.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c rgbtable.c"
     proven=""
     for cc in gcc clang tcc; do
         if ! have_cc $cc; then skip "build_$cc: $cc not installed (CI proves it)"; continue; fi
@@ -526,7 +526,7 @@ if [ "$full" = 1 ]; then
         replay_rc=$?
         cat "$log.replay-asan" >> "$log"
         if [ $replay_rc -eq 0 ]; then
-            for t in scene ply pfm spectrum png exr nvdb gzip; do
+            for t in scene ply pfm spectrum png exr nvdb gzip measured; do
                 counted replay-asan-$t env ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
                     UBSAN_OPTIONS=print_stacktrace=1 build/replay-asan $t tests/tmp/replay-$t \
                     fuzz/seeds/$t/* $(ls fuzz/regress/$t/* 2>/dev/null)
