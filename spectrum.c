@@ -1346,7 +1346,13 @@ static void rgb_fit_init(RgbFit *f)
     for (i = 0; i < SPEC_N; i++) f->x[i] = (double)i / (SPEC_N - 1);
 }
 
-static double sigmoid(double p) { return 0.5 + 0.5 * p / hypot(1.0, p); }
+/* S(p) = 1/2 + p / (2 sqrt(1 + p^2)); past |p| = 1e100 (where p^2 would overflow)
+   it is 0 or 1 to double precision */
+static double sigmoid(double p)
+{
+    if (fabs(p) > 1e100) return p > 0.0 ? 1.0 : 0.0;
+    return 0.5 + 0.5 * p / sqrt(1.0 + p * p);
+}
 
 /* rgb(c) and, if J is not NULL, its Jacobian J[r][k] = d rgb_r / d c_k.  With
    w_k = cmf_w[k] and basis (x^2, x, 1):
