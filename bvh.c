@@ -174,8 +174,12 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
     int a;
     rp->o[0] = r->o.x; rp->o[1] = r->o.y; rp->o[2] = r->o.z;
     rp->d[0] = r->d.x; rp->d[1] = r->d.y; rp->d[2] = r->d.z;
+    /* x - x is +0 for a finite x and NaN for an infinite or NaN one, so the sum of the
+       six is 0 exactly when all six are finite: one test, not six branches */
+    if (!((rp->o[0] - rp->o[0]) + (rp->o[1] - rp->o[1]) + (rp->o[2] - rp->o[2]) +
+          (rp->d[0] - rp->d[0]) + (rp->d[1] - rp->d[1]) + (rp->d[2] - rp->d[2]) == 0.0f))
+        return 0;
     for (a = 0; a < 3; a++) {
-        if (!isfinite(rp->o[a]) || !isfinite(rp->d[a])) return 0;
         rp->neg[a] = signbit(rp->d[a]) != 0;
         rp->inv_d[a] = rp->d[a] != 0.0f ? 1.0f / rp->d[a] : (rp->neg[a] ? -INFINITY : INFINITY);
     }
@@ -188,6 +192,7 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
    scene miss everything.  Returns 0 for a direction too short to use. */
 HOT_INLINE int ray_prepare_rest(RayPre *rp)
 {
+    static const int mod3[6] = {0, 1, 2, 0, 1, 2};   /* mod3[i] = i % 3, without a division */
     int a;
     /* kz: the dimension where |d| is largest, so the shear divides by the most (and
        the axis whose slab culls boxes beyond the closest hit: ORDER INDEPENDENCE) */
@@ -201,7 +206,7 @@ HOT_INLINE int ray_prepare_rest(RayPre *rp)
        brute-force tests intersect_triangle and intersect_sphere); this includes 0 */
     if (!(fabsf(rp->d[rp->kz]) >= FLT_MIN)) return 0;
     for (a = 0; a < 3; a++) {
-        const int ax = (rp->kz + 1 + a) % 3;       /* a = 2 gives kz itself */
+        const int ax = mod3[rp->kz + 1 + a];      /* a = 2 gives kz itself */
         rp->axis[a] = ax;
         rp->near[a] = (size_t)(ax + 3 * rp->neg[ax]);   /* hi for d < 0, lo for d >= 0 */
         rp->far[a] = (size_t)(ax + 3 * (1 - rp->neg[ax]));
@@ -219,8 +224,8 @@ HOT_INLINE int ray_prepare_rest(RayPre *rp)
     rp->cull_scale = 1.0f + 2.0f * gamma_n(8);
     /* kx, ky = the next two axes after kz, swapped when d_kz < 0 to keep the
        triangles' winding (neg[kz] is exactly d_kz < 0 here: |d_kz| >= FLT_MIN) */
-    rp->kx = (rp->kz + 1 + rp->neg[rp->kz]) % 3;
-    rp->ky = (rp->kz + 2 - rp->neg[rp->kz]) % 3;
+    rp->kx = mod3[rp->kz + 1 + rp->neg[rp->kz]];
+    rp->ky = mod3[rp->kz + 2 - rp->neg[rp->kz]];
     rp->Sx = rp->d[rp->kx] / rp->d[rp->kz];
     rp->Sy = rp->d[rp->ky] / rp->d[rp->kz];
     rp->Sz = rp->inv_d[rp->kz];        /* = 1 / d_kz, the very float the slab test uses */
