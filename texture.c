@@ -169,7 +169,7 @@ float tex_noise(float x, float y, float z)
 {
     float dx, dy, dz, wx, wy, wz, c[8], ox[2], oy[2], oz[2];
     unsigned ux, uy, uz, hx[2], hxy[4];
-    int ix, iy, iz, k;
+    int ix, iy, iz;
     if (!(fabsf(x) < 1e30f && fabsf(y) < 1e30f && fabsf(z) < 1e30f)) return 0.0f;  /* NaN, inf */
     x = noise_reduce(x); y = noise_reduce(y); z = noise_reduce(z);
     ix = noise_floor(x); iy = noise_floor(y); iz = noise_floor(z);
@@ -178,10 +178,17 @@ float tex_noise(float x, float y, float z)
     /* corner k = (k & 1, k >> 1 & 1, k >> 2): perm[perm[perm[x] + y] + z] shares
        its first two lookups among corners of one x (hx) and one (x, y) (hxy) */
     hx[0] = perm_u(ux); hx[1] = perm_u(ux + 1u);
-    for (k = 0; k < 4; k++) hxy[k] = perm_u(hx[k & 1] + uy + (unsigned)(k >> 1));
+    hxy[0] = perm_u(hx[0] + uy); hxy[1] = perm_u(hx[1] + uy);
+    hxy[2] = perm_u(hx[0] + uy + 1u); hxy[3] = perm_u(hx[1] + uy + 1u);
     ox[0] = dx; ox[1] = dx - 1.0f; oy[0] = dy; oy[1] = dy - 1.0f; oz[0] = dz; oz[1] = dz - 1.0f;
-    for (k = 0; k < 8; k++)
-        c[k] = grad(perm_u(hxy[k & 3] + uz + (unsigned)(k >> 2)) & 15u, ox[k & 1], oy[(k >> 1) & 1], oz[k >> 2]);
+    c[0] = grad(perm_u(hxy[0] + uz) & 15u, ox[0], oy[0], oz[0]);
+    c[1] = grad(perm_u(hxy[1] + uz) & 15u, ox[1], oy[0], oz[0]);
+    c[2] = grad(perm_u(hxy[2] + uz) & 15u, ox[0], oy[1], oz[0]);
+    c[3] = grad(perm_u(hxy[3] + uz) & 15u, ox[1], oy[1], oz[0]);
+    c[4] = grad(perm_u(hxy[0] + uz + 1u) & 15u, ox[0], oy[0], oz[1]);
+    c[5] = grad(perm_u(hxy[1] + uz + 1u) & 15u, ox[1], oy[0], oz[1]);
+    c[6] = grad(perm_u(hxy[2] + uz + 1u) & 15u, ox[0], oy[1], oz[1]);
+    c[7] = grad(perm_u(hxy[3] + uz + 1u) & 15u, ox[1], oy[1], oz[1]);
     wx = noise_weight(dx); wy = noise_weight(dy); wz = noise_weight(dz);
     return lerpf(wz, lerpf(wy, lerpf(wx, c[0], c[1]), lerpf(wx, c[2], c[3])),
                  lerpf(wy, lerpf(wx, c[4], c[5]), lerpf(wx, c[6], c[7])));
