@@ -121,19 +121,27 @@ static const unsigned char PERM[256] = {
     222, 114,  67,  29,  24,  72, 243, 141, 128, 195,  78,  66, 215,  61, 156, 180
 };
 
-/* perm[i mod 256] for any int i. */
-static int perm_at(int i)
+/* perm[i mod 256] for i given as an unsigned int: an int converted to unsigned
+   keeps its value mod 2^32, a multiple of 256, so the low 8 bits are i mod 256. */
+static unsigned perm_u(unsigned i)
 {
-    return PERM[((i % 256) + 256) % 256];
+    return PERM[i & 255u];
 }
 
-/* The gradient of corner (x, y, z) dotted with the offset (dx, dy, dz) (section 4). */
-static float grad(int x, int y, int z, float dx, float dy, float dz)
+/* The gradient of hash h (0..15) dotted with the offset d = (dx, dy, dz) (section 4),
+   g_h . d = (h & 1 ? -u : u) + (h & 2 ? -v : v), by tables: u = d[NOISE_U[h]] (dx for
+   h < 8 and h = 12, 13, else dy), v = d[NOISE_V[h]] (dy for h < 4 and h = 12, 13,
+   else dz), and the signs as factors +-1 (a product by -1 is an exact negation). */
+static const unsigned char NOISE_U[16] = { 0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 0, 0, 1, 1 };
+static const unsigned char NOISE_V[16] = { 1, 1, 1, 1, 2, 2, 2, 2, 2, 2, 2, 2, 1, 1, 2, 2 };
+static const float NOISE_SU[16] = { 1, -1, 1, -1, 1, -1, 1, -1, 1, -1, 1, -1, 1, -1, 1, -1 };
+static const float NOISE_SV[16] = { 1, 1, -1, -1, 1, 1, -1, -1, 1, 1, -1, -1, 1, 1, -1, -1 };
+
+static float grad(unsigned h, float dx, float dy, float dz)
 {
-    int h = perm_at(perm_at(perm_at(x) + y) + z) & 15;
-    float u = (h < 8 || h == 12 || h == 13) ? dx : dy;
-    float v = (h < 4 || h == 12 || h == 13) ? dy : dz;
-    return ((h & 1) ? -u : u) + ((h & 2) ? -v : v);
+    float d[3];
+    d[0] = dx; d[1] = dy; d[2] = dz;
+    return NOISE_SU[h] * d[NOISE_U[h]] + NOISE_SV[h] * d[NOISE_V[h]];
 }
 
 static float noise_weight(float t)
@@ -143,20 +151,44 @@ static float noise_weight(float t)
 
 static float lerpf(float t, float a, float b) { return (1.0f - t) * a + t * b; }
 
+/* x mod 2^30 (pbrt-v4's reduction): fmodf returns x itself when |x| < 2^30. */
+static float noise_reduce(float x)
+{
+    return fabsf(x) < 1073741824.0f ? x : fmodf(x, 1073741824.0f);
+}
+
+/* floor(x) as an int for |x| < 2^30: truncation, one less below zero when x has
+   a fraction (the float of the truncation is exact there). */
+static int noise_floor(float x)
+{
+    int i = (int)x;
+    return (float)i > x ? i - 1 : i;
+}
+
 float tex_noise(float x, float y, float z)
 {
-    float dx, dy, dz, wx, wy, wz, c[8];
-    int ix, iy, iz, k;
+    float dx, dy, dz, wx, wy, wz, c[8], ox[2], oy[2], oz[2];
+    unsigned ux, uy, uz, hx[2], hxy[4];
+    int ix, iy, iz;
     if (!(fabsf(x) < 1e30f && fabsf(y) < 1e30f && fabsf(z) < 1e30f)) return 0.0f;  /* NaN, inf */
-    x = fmodf(x, 1073741824.0f);                /* 2^30 */
-    y = fmodf(y, 1073741824.0f);
-    z = fmodf(z, 1073741824.0f);
-    ix = (int)floorf(x); iy = (int)floorf(y); iz = (int)floorf(z);
+    x = noise_reduce(x); y = noise_reduce(y); z = noise_reduce(z);
+    ix = noise_floor(x); iy = noise_floor(y); iz = noise_floor(z);
     dx = x - (float)ix; dy = y - (float)iy; dz = z - (float)iz;
-    for (k = 0; k < 8; k++) {                   /* corner k = (k & 1, k >> 1 & 1, k >> 2) */
-        int cx = k & 1, cy = (k >> 1) & 1, cz = k >> 2;
-        c[k] = grad(ix + cx, iy + cy, iz + cz, dx - (float)cx, dy - (float)cy, dz - (float)cz);
-    }
+    ux = (unsigned)ix; uy = (unsigned)iy; uz = (unsigned)iz;
+    /* corner k = (k & 1, k >> 1 & 1, k >> 2): perm[perm[perm[x] + y] + z] shares
+       its first two lookups among corners of one x (hx) and one (x, y) (hxy) */
+    hx[0] = perm_u(ux); hx[1] = perm_u(ux + 1u);
+    hxy[0] = perm_u(hx[0] + uy); hxy[1] = perm_u(hx[1] + uy);
+    hxy[2] = perm_u(hx[0] + uy + 1u); hxy[3] = perm_u(hx[1] + uy + 1u);
+    ox[0] = dx; ox[1] = dx - 1.0f; oy[0] = dy; oy[1] = dy - 1.0f; oz[0] = dz; oz[1] = dz - 1.0f;
+    c[0] = grad(perm_u(hxy[0] + uz) & 15u, ox[0], oy[0], oz[0]);
+    c[1] = grad(perm_u(hxy[1] + uz) & 15u, ox[1], oy[0], oz[0]);
+    c[2] = grad(perm_u(hxy[2] + uz) & 15u, ox[0], oy[1], oz[0]);
+    c[3] = grad(perm_u(hxy[3] + uz) & 15u, ox[1], oy[1], oz[0]);
+    c[4] = grad(perm_u(hxy[0] + uz + 1u) & 15u, ox[0], oy[0], oz[1]);
+    c[5] = grad(perm_u(hxy[1] + uz + 1u) & 15u, ox[1], oy[0], oz[1]);
+    c[6] = grad(perm_u(hxy[2] + uz + 1u) & 15u, ox[0], oy[1], oz[1]);
+    c[7] = grad(perm_u(hxy[3] + uz + 1u) & 15u, ox[1], oy[1], oz[1]);
     wx = noise_weight(dx); wy = noise_weight(dy); wz = noise_weight(dz);
     return lerpf(wz, lerpf(wy, lerpf(wx, c[0], c[1]), lerpf(wx, c[2], c[3])),
                  lerpf(wy, lerpf(wx, c[4], c[5]), lerpf(wx, c[6], c[7])));

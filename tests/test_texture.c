@@ -384,6 +384,89 @@ static void test_noise(T *t)
     CHECK(t, tex_noise(3.0f, -7.0f, 12.0f) == 0.0f, "noise at a lattice point: %g", tex_noise(3.0f, -7.0f, 12.0f));
 }
 
+/* Section 4's noise written directly (floorf, fmodf, each corner's hash
+   perm[perm[perm[x] + y] + z] by its own three lookups mod 256, the gradient by
+   branches), with Perlin's reference permutation: texture.c shares lookups among
+   corners and selects the gradient by tables; both must give the same float, bit
+   for bit, so that the fbm textures and the cloud medium do not move. */
+static const unsigned char REF_PERM[256] = {
+    151, 160, 137,  91,  90,  15, 131,  13, 201,  95,  96,  53, 194, 233,   7, 225,
+    140,  36, 103,  30,  69, 142,   8,  99,  37, 240,  21,  10,  23, 190,   6, 148,
+    247, 120, 234,  75,   0,  26, 197,  62,  94, 252, 219, 203, 117,  35,  11,  32,
+     57, 177,  33,  88, 237, 149,  56,  87, 174,  20, 125, 136, 171, 168,  68, 175,
+     74, 165,  71, 134, 139,  48,  27, 166,  77, 146, 158, 231,  83, 111, 229, 122,
+     60, 211, 133, 230, 220, 105,  92,  41,  55,  46, 245,  40, 244, 102, 143,  54,
+     65,  25,  63, 161,   1, 216,  80,  73, 209,  76, 132, 187, 208,  89,  18, 169,
+    200, 196, 135, 130, 116, 188, 159,  86, 164, 100, 109, 198, 173, 186,   3,  64,
+     52, 217, 226, 250, 124, 123,   5, 202,  38, 147, 118, 126, 255,  82,  85, 212,
+    207, 206,  59, 227,  47,  16,  58,  17, 182, 189,  28,  42, 223, 183, 170, 213,
+    119, 248, 152,   2,  44, 154, 163,  70, 221, 153, 101, 155, 167,  43, 172,   9,
+    129,  22,  39, 253,  19,  98, 108, 110,  79, 113, 224, 232, 178, 185, 112, 104,
+    218, 246,  97, 228, 251,  34, 242, 193, 238, 210, 144,  12, 191, 179, 162, 241,
+     81,  51, 145, 235, 249,  14, 239, 107,  49, 192, 214,  31, 181, 199, 106, 157,
+    184,  84, 204, 176, 115, 121,  50,  45, 127,   4, 150, 254, 138, 236, 205,  93,
+    222, 114,  67,  29,  24,  72, 243, 141, 128, 195,  78,  66, 215,  61, 156, 180
+};
+
+static int ref_perm(int i) { return REF_PERM[((i % 256) + 256) % 256]; }
+
+static float ref_grad(int x, int y, int z, float dx, float dy, float dz)
+{
+    int h = ref_perm(ref_perm(ref_perm(x) + y) + z) & 15;
+    float u = (h < 8 || h == 12 || h == 13) ? dx : dy;
+    float v = (h < 4 || h == 12 || h == 13) ? dy : dz;
+    return ((h & 1) ? -u : u) + ((h & 2) ? -v : v);
+}
+
+static float ref_weight(float t) { return t * t * t * (t * (6.0f * t - 15.0f) + 10.0f); }
+static float ref_lerp(float t, float a, float b) { return (1.0f - t) * a + t * b; }
+
+static float ref_noise(float x, float y, float z)
+{
+    float dx, dy, dz, wx, wy, wz, c[8];
+    int ix, iy, iz, k;
+    if (!(fabsf(x) < 1e30f && fabsf(y) < 1e30f && fabsf(z) < 1e30f)) return 0.0f;
+    x = fmodf(x, 1073741824.0f); y = fmodf(y, 1073741824.0f); z = fmodf(z, 1073741824.0f);
+    ix = (int)floorf(x); iy = (int)floorf(y); iz = (int)floorf(z);
+    dx = x - (float)ix; dy = y - (float)iy; dz = z - (float)iz;
+    for (k = 0; k < 8; k++) {
+        int cx = k & 1, cy = (k >> 1) & 1, cz = k >> 2;
+        c[k] = ref_grad(ix + cx, iy + cy, iz + cz, dx - (float)cx, dy - (float)cy, dz - (float)cz);
+    }
+    wx = ref_weight(dx); wy = ref_weight(dy); wz = ref_weight(dz);
+    return ref_lerp(wz, ref_lerp(wy, ref_lerp(wx, c[0], c[1]), ref_lerp(wx, c[2], c[3])),
+                    ref_lerp(wy, ref_lerp(wx, c[4], c[5]), ref_lerp(wx, c[6], c[7])));
+}
+
+/* One coordinate of a test point: a uniform one in [-8, 8), a lattice point,
+   -0, one near +-2^30 (the reduction), a large one, or one just off a lattice point. */
+static float noise_coord(Rng *r)
+{
+    float u = rng_float(r) * 2.0f - 1.0f;
+    switch (rng_u32(r) % 6) {
+    case 0: return 8.0f * u;
+    case 1: return floorf(300.0f * u);
+    case 2: return -0.0f;
+    case 3: return ldexpf(1.0f + u * 0.25f, 30) * (u < 0.0f ? -1.0f : 1.0f);
+    case 4: return ldexpf(u, (int)(rng_u32(r) % 40));
+    default: return nextafterf(floorf(50.0f * u), u < 0.0f ? -1e9f : 1e9f);
+    }
+}
+
+static void test_noise_direct(T *t)
+{
+    Rng r;
+    int i, bad = 0;
+    rng_seed(&r, 37, 0);
+    for (i = 0; i < 200000; i++) {
+        float x = noise_coord(&r), y = noise_coord(&r), z = noise_coord(&r);
+        float a = tex_noise(x, y, z), b = ref_noise(x, y, z);
+        if (memcmp(&a, &b, sizeof a) && bad++ < 3)
+            CHECK(t, 0, "noise(%.9g, %.9g, %.9g) = %.9g, written directly %.9g", x, y, z, a, b);
+    }
+    CHECK(t, bad == 0, "%d of 200000 points differ from the direct noise", bad);
+}
+
 /* pbrt-v4's fbm, wrinkled and windy textures (textures.h: FBmTexture, WrinkledTexture,
    WindyTexture over util/noise.cpp's FBm and Turbulence, commit 5f7a6068) for a
    footprint of zero, printed by a small C++ program linked with its libpbrt_lib.a
@@ -926,6 +1009,7 @@ const TestCase tests_texture[] = {
     { "texture_render_checks", test_render_checks },
     { "texture_bad_input", test_bad_input },
     { "texture_noise", test_noise },
+    { "texture_noise_direct", test_noise_direct },
     { "texture_noise_textures", test_noise_textures },
     { "texture_material_params", test_material_params },
     { "texture_conductor_against_pbrt", test_conductor_against_pbrt },
