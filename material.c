@@ -1042,12 +1042,6 @@ int add_material(Parser *P, Material *m, const char *file, int line)
     return s->n_materials++;
 }
 
-int material_set_eta(Parser *P, Material *m, const Spectrum *eta, const char *file, int line)
-{
-    m->eta = spec_store_add(&P->s->spectra, eta);
-    return m->eta ? 1 : oom(P, file, line);
-}
-
 /* pbrt-v4's default material: diffuse with reflectance 0.5. */
 int default_material(Parser *P, const char *file, int line)
 {

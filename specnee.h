@@ -792,7 +792,7 @@ typedef struct {
                                   material_release); NULL for every other type */
     const Spectrum *eta;       /* dielectric index of refraction n(lambda); a Cauchy glass
                                   (A + B/lambda^2) is tabulated at load time.  Shared, not
-                                  owned: a record of Scene.spectra (material_set_eta), so
+                                  owned: a record of Scene.spectra (parser.h material_set_eta), so
                                   the many materials of one index hold one table */
     float cauchy_a, cauchy_b;  /* the Cauchy coefficients when given (for --dump-scene) */
     int dispersive;            /* eta varies with lambda: terminates the secondaries */
