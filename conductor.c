@@ -57,7 +57,7 @@ static float conductor_F(const Material *m, const MatPoint *mp, int j, float c, 
         double r = mp->r[j] < 0.9999f ? mp->r[j] : 0.9999;
         return fresnel_conductor(c, 1.0f, conductor_k_of_reflectance(r));
     }
-    return fresnel_conductor(c, spec_eval(&m->eta, lambda_nm), spec_eval(&m->extra->k, lambda_nm));
+    return fresnel_conductor(c, spec_eval(m->eta, lambda_nm), spec_eval(&m->extra->k, lambda_nm));
 }
 
 /* f and pdf of the rough conductor for a pair of local directions (0 when they
@@ -209,7 +209,9 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
     Param *pe = find_spectrum_param(pl, "eta"), *pk = find_spectrum_param(pl, "k");
     Param *pr = find_spectrum_param(pl, "reflectance");
     Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
+    Spectrum n;                     /* eta, shared once built (material_set_eta) */
     (void)dir;
+    spec_const(&n, 1.0f);
     m->type = MAT_CONDUCTOR;
     if (!material_extra(m)) return oom(P, file, line);   /* k (freed by material_release) */
     if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
@@ -231,13 +233,14 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
         int ti = texture_lookup(P, pt, 0);
         if (ti < 0) return 0;
         m->reflectance_tex = ti + 1;
-        spec_const(&m->eta, 1.0f);
+        spec_const(&n, 1.0f);
         spec_const(&m->extra->k, 0.0f);                  /* (not read) */
     } else if (pr) {
-        if (!conductor_reflectance_param(P, pr, &m->reflectance, &m->eta, &m->extra->k)) return 0;
+        if (!conductor_reflectance_param(P, pr, &m->reflectance, &n, &m->extra->k)) return 0;
     } else {
-        if (!conductor_eta_k(P, pl, file, line, "", &m->eta, &m->extra->k)) return 0;
+        if (!conductor_eta_k(P, pl, file, line, "", &n, &m->extra->k)) return 0;
     }
+    if (!material_set_eta(P, m, &n, file, line)) return 0;
     if (m->alpha != m->alpha_t)
         return fail(P, file, line, "%s: anisotropic roughness (u %g, v %g after the remap) "
                     "is valid pbrt-v4 but not in the specnee subset (its axes follow the "

@@ -32,14 +32,14 @@ static void dump_material(FILE *f, int i, const Material *m)
         dump_spectrum(f, "emission", &m->fl->emission);
     } else if (m->type == MAT_CONDUCTOR) {
         fprintf(f, "  [%d] conductor, alpha %g\n", i, m->alpha);
-        dump_spectrum(f, "eta", &m->eta);
+        dump_spectrum(f, "eta", m->eta);
         dump_spectrum(f, "k", &m->extra->k);
     } else if (m->type == MAT_THIN_DIELECTRIC) {
         fprintf(f, "  [%d] thindielectric\n", i);
-        dump_spectrum(f, "eta", &m->eta);
+        dump_spectrum(f, "eta", m->eta);
     } else if (m->type == MAT_COATED_DIFFUSE) {
         fprintf(f, "  [%d] coateddiffuse, alpha %g, eta %g, thickness %g, g %g, maxdepth %d, "
-                "nsamples %d\n", i, m->alpha, spec_eval(&m->eta, 550.0f), m->thickness,
+                "nsamples %d\n", i, m->alpha, spec_eval(m->eta, 550.0f), m->thickness,
                 m->hg_g, m->maxdepth, m->nsamples);
         dump_spectrum(f, "reflectance", &m->reflectance);
         dump_spectrum(f, "albedo", &m->extra->albedo);
@@ -48,7 +48,7 @@ static void dump_material(FILE *f, int i, const Material *m)
     } else if (m->type == MAT_COATED_CONDUCTOR) {
         fprintf(f, "  [%d] coatedconductor, interface alpha %g, eta %g, conductor alpha %g, "
                 "thickness %g, g %g, maxdepth %d, nsamples %d\n", i, m->alpha,
-                spec_eval(&m->eta, 550.0f), m->cond_alpha, m->thickness, m->hg_g, m->maxdepth,
+                spec_eval(m->eta, 550.0f), m->cond_alpha, m->thickness, m->hg_g, m->maxdepth,
                 m->nsamples);
         dump_spectrum(f, "conductor eta", &m->extra->cond_eta);
         dump_spectrum(f, "conductor k", &m->extra->k);
@@ -75,8 +75,8 @@ static void dump_material(FILE *f, int i, const Material *m)
                 m->dispersive ? "dispersive" : "constant eta");
         if (m->cauchy_a > 0) fprintf(f, ", Cauchy A %g B %g um^2", m->cauchy_a, m->cauchy_b);
         fprintf(f, "\n    eta at F 486.1: %.5f  d 587.6: %.5f  C 656.3: %.5f\n",
-                spec_eval(&m->eta, 486.1f), spec_eval(&m->eta, 587.6f),
-                spec_eval(&m->eta, 656.3f));
+                spec_eval(m->eta, 486.1f), spec_eval(m->eta, 587.6f),
+                spec_eval(m->eta, 656.3f));
     }
 }
 

@@ -720,7 +720,11 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
     if (!(eta > 0.0f && eta < 100.0f))
         return fail(P, pf ? pf->file : file, pf ? pf->line : line,
                     "%s: \"float eta\" %g is not an index of refraction", what, eta);
-    spec_const(&m->eta, eta);
+    {
+        Spectrum n;
+        spec_const(&n, eta);
+        if (!material_set_eta(P, m, &n, file, line)) return 0;
+    }
     if (!layer_slab(P, what, file, line, th, pth, g, pg, md, pd, ns, pn, m)) return 0;
     if (!unit_spectrum_param(P, pt ? NULL : pr, &m->reflectance, 0.5f)) return 0;
     if (!layer_albedo(P, pa, what, file, line, m)) return 0;
@@ -783,7 +787,11 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
     if (!(eta > 0.0f && eta < 100.0f))
         return fail(P, pf ? pf->file : file, pf ? pf->line : line,
                     "%s: \"float interface.eta\" %g is not an index of refraction", what, eta);
-    spec_const(&m->eta, eta);
+    {
+        Spectrum n;
+        spec_const(&n, eta);
+        if (!material_set_eta(P, m, &n, file, line)) return 0;
+    }
     if (!layer_slab(P, what, file, line, th, pth, g, pg, md, pd, ns, pn, m)) return 0;
     if (!layer_albedo(P, pa, what, file, line, m)) return 0;
     if (pt) {

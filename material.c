@@ -361,7 +361,7 @@ int mat_regularized(const Material *m, Material *out)
     if (m->type != MAT_DIELECTRIC && m->type != MAT_CONDUCTOR &&
         m->type != MAT_COATED_DIFFUSE && m->type != MAT_COATED_CONDUCTOR)
         return 0;
-    if (m->type == MAT_DIELECTRIC && spec_is_constant(&m->eta) && spec_get(&m->eta, SPEC_MIN) == 1.0f)
+    if (m->type == MAT_DIELECTRIC && spec_is_constant(m->eta) && spec_get(m->eta, SPEC_MIN) == 1.0f)
         return 0;
     *out = *m;
     out->alpha = tr_regularize(m->alpha);
@@ -762,6 +762,8 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
     Param *pa = param_find(pl, PT_FLOAT, "cauchyA"), *pb = param_find(pl, PT_FLOAT, "cauchyB");
     float u, v, r, A = 0, B = 0;
     int remap, i, have_u, have_v;
+    Spectrum ior;                   /* n(lambda), shared once built */
+    spec_const(&ior, 1.0f);
     m->type = MAT_DIELECTRIC;
     if ((pa != NULL) != (pb != NULL))
         return fail(P, file, line, "%s \"dielectric\": \"float cauchyA\" and "
@@ -777,7 +779,7 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
         if (!(A > 0.0f) || !(B >= 0.0f) || !(B < 1.0f))
             return fail(P, file, line, "%s \"dielectric\": need cauchyA > 0 and "
                         "0 <= cauchyB < 1 um^2", dir);
-        for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++) *spec_at(&m->eta, i) = cauchy_eta(A, B, (float)i);
+        for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++) *spec_at(&ior, i) = cauchy_eta(A, B, (float)i);
         m->cauchy_a = A;
         m->cauchy_b = B;
     } else if (pf) {
@@ -786,29 +788,29 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
         if (!get_float(P, pl, "eta", 1.5f, &eta)) return 0;
         if (!(eta > 0.0f))
             return fail(P, pf->file, pf->line, "\"float eta\": must be > 0");
-        spec_const(&m->eta, eta);
+        spec_const(&ior, eta);
     } else {
         Param *ps = find_spectrum_param(pl, "eta");
         if (ps) {
             /* pbrt-v4 reads "rgb eta" as an RGBUnboundedSpectrum (SPEC_COEFF); it
                has no UV, which keeps the 360 nm value here */
             int rgb = ps->type == PT_RGB;
-            if (!param_spectrum(P, ps, rgb ? SPEC_COEFF : SPEC_UNBOUNDED, &m->eta, NULL)) return 0;
-            for (i = 0; rgb && i < SPEC_UV_N; i++) m->eta.uv[i] = m->eta.v[0];
+            if (!param_spectrum(P, ps, rgb ? SPEC_COEFF : SPEC_UNBOUNDED, &ior, NULL)) return 0;
+            for (i = 0; rgb && i < SPEC_UV_N; i++) ior.uv[i] = ior.v[0];
             for (i = 0; i < SPEC_N; i++) {
-                if (!(m->eta.v[i] >= 0.0f && m->eta.v[i] < 100.0f))
+                if (!(ior.v[i] >= 0.0f && ior.v[i] < 100.0f))
                     return fail(P, ps->file, ps->line, "\"spectrum eta\": value %g at %d "
-                                "nm is not an index of refraction", m->eta.v[i], SPEC_MIN + i);
-                if (m->eta.v[i] == 0.0f) m->eta.v[i] = 1.0f;   /* pbrt: eta 0 means 1 */
+                                "nm is not an index of refraction", ior.v[i], SPEC_MIN + i);
+                if (ior.v[i] == 0.0f) ior.v[i] = 1.0f;   /* pbrt: eta 0 means 1 */
             }
             for (i = 0; i < SPEC_UV_N; i++) {          /* the UV extension, same rule */
-                if (!(m->eta.uv[i] >= 0.0f && m->eta.uv[i] < 100.0f))
+                if (!(ior.uv[i] >= 0.0f && ior.uv[i] < 100.0f))
                     return fail(P, ps->file, ps->line, "\"spectrum eta\": value %g at %d "
-                                "nm is not an index of refraction", m->eta.uv[i], SPEC_UV_MIN + i);
-                if (m->eta.uv[i] == 0.0f) m->eta.uv[i] = 1.0f;
+                                "nm is not an index of refraction", ior.uv[i], SPEC_UV_MIN + i);
+                if (ior.uv[i] == 0.0f) ior.uv[i] = 1.0f;
             }
         } else {
-            spec_const(&m->eta, 1.5f);            /* pbrt-v4's default */
+            spec_const(&ior, 1.5f);            /* pbrt-v4's default */
         }
     }
     /* pbrt-v4: u/vroughness default to "roughness", which defaults to 0 */
@@ -835,8 +837,8 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
         return fail(P, file, line, "%s \"dielectric\": roughness must be >= 0", dir);
     /* pbrt-v4 TrowbridgeReitzDistribution::RoughnessToAlpha: alpha = sqrt(roughness) */
     m->alpha = remap ? tr_alpha_of_roughness(u) : u;
-    m->dispersive = !spec_is_constant(&m->eta);
-    return 1;
+    m->dispersive = !spec_is_constant(&ior);
+    return material_set_eta(P, m, &ior, file, line);
 }
 
 /* pbrt-v4 ThinDielectricMaterial: "float eta", "spectrum eta" or "rgb eta",
@@ -845,7 +847,9 @@ int thindielectric_from_params(Parser *P, ParamList *pl, const char *file, int l
                                const char *dir, const char *what, Material *m)
 {
     Param *pf = param_find(pl, PT_FLOAT, "eta"), *ps = find_spectrum_param(pl, "eta");
+    Spectrum ior;                   /* n(lambda), shared once built */
     (void)dir;
+    spec_const(&ior, 1.0f);
     m->type = MAT_THIN_DIELECTRIC;
     if (!bump_from_params(P, pl, what, m) ||
         !params_check_unused(P, pl, what, "float eta, spectrum eta, rgb eta",
@@ -854,24 +858,24 @@ int thindielectric_from_params(Parser *P, ParamList *pl, const char *file, int l
     if (pf) {
         float eta;
         if (!get_float(P, pl, "eta", 1.5f, &eta)) return 0;
-        spec_const(&m->eta, eta);
+        spec_const(&ior, eta);
     } else if (ps) {
         int nm, is_rgb = ps->type == PT_RGB;    /* as the dielectric's */
-        if (!param_spectrum(P, ps, is_rgb ? SPEC_COEFF : SPEC_UNBOUNDED, &m->eta, NULL)) return 0;
-        for (nm = SPEC_UV_MIN; is_rgb && nm < SPEC_MIN; nm++) *spec_at(&m->eta, nm) = m->eta.v[0];
+        if (!param_spectrum(P, ps, is_rgb ? SPEC_COEFF : SPEC_UNBOUNDED, &ior, NULL)) return 0;
+        for (nm = SPEC_UV_MIN; is_rgb && nm < SPEC_MIN; nm++) *spec_at(&ior, nm) = ior.v[0];
     } else {
-        spec_const(&m->eta, 1.5f);                /* pbrt-v4's default */
+        spec_const(&ior, 1.5f);                /* pbrt-v4's default */
     }
     /* pbrt-v4 reads an eta of 0 as 1 (no interface); negative is meaningless */
     if (!check_spectrum_above(P, pf ? pf : ps, file, line, "\"eta\" of a thindielectric",
-                              &m->eta, 0.0f, 0))
+                              &ior, 0.0f, 0))
         return 0;
     {
         int nm;
         for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
-            if (spec_get(&m->eta, nm) == 0.0f) *spec_at(&m->eta, nm) = 1.0f;
+            if (spec_get(&ior, nm) == 0.0f) *spec_at(&ior, nm) = 1.0f;
     }
-    return 1;
+    return material_set_eta(P, m, &ior, file, line);
 }
 
 /* "texture NAME" of a diffusetransmission: 1 + the texture's index, or 0 when the
@@ -1043,10 +1047,12 @@ int default_material(Parser *P, const char *file, int line)
 {
     if (P->default_material < 0) {
         Material m;
+        Spectrum one;
         memset(&m, 0, sizeof m);
         m.type = MAT_DIFFUSE;
         spec_const(&m.reflectance, 0.5f);
-        spec_const(&m.eta, 1.0f);
+        spec_const(&one, 1.0f);
+        if (!material_set_eta(P, &m, &one, file, line)) return -1;
         P->default_material = add_material(P, &m, file, line);
     }
     return P->default_material;

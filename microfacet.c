@@ -95,7 +95,7 @@ int refract_dir(Vec3 w, Vec3 n, float eta, float *etap, Vec3 *wt)
 
 float mat_eta(const Material *m, float lambda_nm)
 {
-    float eta = spec_eval(&m->eta, lambda_nm);
+    float eta = spec_eval(m->eta, lambda_nm);
     return eta > 0.0f ? eta : 1.0f;           /* pbrt-v4: a sampled eta of 0 means 1 */
 }
 

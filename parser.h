@@ -310,6 +310,16 @@ int curve_shape(Parser *P, ParamList *pl, int sh, const char *file, int line);
    (diffuse, reflectance 0.5), made once. */
 int add_material(Parser *P, Material *m, const char *file, int line);
 int default_material(Parser *P, const char *file, int line);
+/* m->eta := the record of the Scene's SpectrumStore equal to *eta (added when new),
+   so that materials of the same index share one table; 0 (out of memory, failed at
+   file:line) or 1.  Inline: the builders of conductor.c and layered.c call it, and
+   material.c calls them. */
+static inline int material_set_eta(Parser *P, Material *m, const Spectrum *eta,
+                                   const char *file, int line)
+{
+    m->eta = spec_store_add(&P->s->spectra, eta);
+    return m->eta ? 1 : oom(P, file, line);
+}
 
 /* Materials: m (zeroed, eta 1) of one type, from a Material or MakeNamedMaterial
    statement at file:line; dir names the directive, what the directive and type

@@ -228,8 +228,10 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
 {
     char what[192];
     int k;
+    Spectrum one;
     memset(m, 0, sizeof *m);
-    spec_const(&m->eta, 1.0f);
+    spec_const(&one, 1.0f);
+    if (!material_set_eta(P, m, &one, file, line)) return 0;
     snprintf(what, sizeof what, "%s \"%s\"", dir, type);
     for (k = 0; k < (int)(sizeof material_types / sizeof material_types[0]); k++)
         if (!strcmp(type, material_types[k].type)) {

@@ -790,8 +790,10 @@ typedef struct {
     Spectrum reflectance;      /* diffuse albedo; fluorescent: rho, of the light not absorbed */
     Fluorescence *fl;          /* fluorescent: A, e, Phi and their tables (owned, freed by
                                   material_release); NULL for every other type */
-    Spectrum eta;              /* dielectric index of refraction n(lambda); a Cauchy glass
-                                  (A + B/lambda^2) is tabulated into it at load time */
+    const Spectrum *eta;       /* dielectric index of refraction n(lambda); a Cauchy glass
+                                  (A + B/lambda^2) is tabulated at load time.  Shared, not
+                                  owned: a record of Scene.spectra (parser.h material_set_eta), so
+                                  the many materials of one index hold one table */
     float cauchy_a, cauchy_b;  /* the Cauchy coefficients when given (for --dump-scene) */
     int dispersive;            /* eta varies with lambda: terminates the secondaries */
     float alpha;               /* GGX roughness alpha (0 = smooth), after remaproughness;

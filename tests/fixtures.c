@@ -153,7 +153,11 @@ void test_glass(Material *m, float A, float B, float alpha)
     int k;
     memset(m, 0, sizeof *m);
     m->type = MAT_DIELECTRIC;
-    for (k = 0; k < SPEC_N; k++) m->eta.v[k] = cauchy_eta(A, B, (float)(SPEC_MIN + k));
+    {
+        Spectrum *eta = test_material_eta();
+        for (k = 0; k < SPEC_N; k++) eta->v[k] = cauchy_eta(A, B, (float)(SPEC_MIN + k));
+        m->eta = eta;
+    }
     m->cauchy_a = A;
     m->cauchy_b = B;
     m->dispersive = B != 0.0f;
@@ -336,6 +340,30 @@ MaterialSpectra *test_material_extra(void)
     MaterialSpectra *x = &ring[next];
     next = (next + 1) % 64;
     memset(x, 0, sizeof *x);
+    return x;
+}
+
+Spectrum *test_material_eta(void)
+{
+    static Spectrum ring[64];
+    static int next;
+    Spectrum *x = &ring[next];
+    next = (next + 1) % 64;
+    memset(x, 0, sizeof *x);
+    return x;
+}
+
+const Spectrum *test_eta_const(float eta)
+{
+    Spectrum *x = test_material_eta();
+    spec_const(x, eta);
+    return x;
+}
+
+const Spectrum *test_eta_named(const char *name)
+{
+    Spectrum *x = test_material_eta();
+    spec_named(x, name);
     return x;
 }
 

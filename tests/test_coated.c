@@ -21,7 +21,7 @@ static void coated(Material *m, float r_short, float r_long, float alpha, float 
         int nm;
         for (nm = 550; nm <= SPEC_MAX; nm++) *spec_at(&m->reflectance, nm) = r_long;
     }
-    spec_const(&m->eta, eta);
+    m->eta = test_eta_const(eta);
     spec_const(&m->extra->albedo, albedo);
     m->alpha = m->alpha_t = alpha;
     m->thickness = thick;
@@ -126,7 +126,7 @@ static void sample_weight_albedo(T *t, const Material *m, int n_cases)
             double ma = a[j] / n, mb = b[j] / n;
             double sa = sqrt(fmax(a2[j] / n - ma * ma, 0.0) / n), sb = sqrt(fmax(b2[j] / n - mb * mb, 0.0) / n);
             if (m[c].alpha == 0.0f)                           /* the delta lobe */
-                mb += fresnel_dielectric(wo.z, spec_eval(&m[c].eta, 550.0f));
+                mb += fresnel_dielectric(wo.z, spec_eval(m[c].eta, 550.0f));
             if (getenv("DBG")) fprintf(stderr, "case %d j %d: sampled %.5f +- %.2g, eval %.5f +- %.2g\n",
                                        c, j, ma, sa, mb, sb);
             CHECK(t, fabs(ma - mb) < TEST_K_SIGMA * sqrt(sa * sa + sb * sb) + 1e-3,
@@ -206,7 +206,7 @@ static void coatcond(Material *m, float alpha, float eta, float base_alpha, cons
     memset(m, 0, sizeof *m);
     m->extra = test_material_extra();
     m->type = MAT_COATED_CONDUCTOR;
-    spec_const(&m->eta, eta);
+    m->eta = test_eta_const(eta);
     m->alpha = m->alpha_t = alpha;
     m->cond_alpha = base_alpha;
     snprintf(name, sizeof name, "metal-%s-eta", metal);
@@ -243,7 +243,7 @@ static void test_cc_limit_bare(T *t)
     memset(&bare, 0, sizeof bare);
     bare.extra = test_material_extra();
     bare.type = MAT_CONDUCTOR;
-    spec_named(&bare.eta, "metal-Cu-eta");
+    bare.eta = test_eta_named("metal-Cu-eta");
     spec_named(&bare.extra->k, "metal-Cu-k");
     mp.alpha = mp.alpha_t = 0.3f;
     mp.has_r = 0;
@@ -267,7 +267,7 @@ static void test_cc_limit_bare(T *t)
               "wo %d: no delta sample", k);
         for (j = 0; j < HERO_N; j++) {
             float w = bs.f[j] * fabsf(v3_dot(bs.wi, sp.ns)) / bs.pdf;
-            float F = fresnel_conductor(wo.z, spec_eval(&bare.eta, LAM[j]), spec_eval(&bare.extra->k, LAM[j]));
+            float F = fresnel_conductor(wo.z, spec_eval(bare.eta, LAM[j]), spec_eval(&bare.extra->k, LAM[j]));
             CHECK(t, fabsf(w - F) <= 1e-4f, "wo %d wavelength %d: weight %g, F %g", k, j, w, F);
         }
     }
@@ -628,18 +628,18 @@ static void test_parse(T *t)
                          "Shape \"sphere\"\n")) return;
     m = &s.materials[s.n_materials - 1];
     CHECK(t, m->type == MAT_COATED_DIFFUSE, "type %d", (int)m->type);
-    CHECK(t, spec_eval(&m->reflectance, 500) == 0.5f && spec_eval(&m->eta, 500) == 1.5f &&
+    CHECK(t, spec_eval(&m->reflectance, 500) == 0.5f && spec_eval(m->eta, 500) == 1.5f &&
           spec_eval(&m->extra->albedo, 500) == 0.0f && m->thickness == 0.01f && m->hg_g == 0.0f &&
           m->maxdepth == 10 && m->nsamples == 1 && m->alpha == 0.0f,
           "defaults: R %g eta %g albedo %g thickness %g g %g maxdepth %d nsamples %d alpha %g",
-          spec_eval(&m->reflectance, 500), spec_eval(&m->eta, 500), spec_eval(&m->extra->albedo, 500),
+          spec_eval(&m->reflectance, 500), spec_eval(m->eta, 500), spec_eval(&m->extra->albedo, 500),
           m->thickness, m->hg_g, m->maxdepth, m->nsamples, m->alpha);
     scene_free(&s);
     if (!test_load_scene(t, &s, "WorldBegin\nMaterial \"coateddiffuse\" \"float roughness\" 0.25 "
                          "\"float eta\" 1.2 \"float thickness\" 0.5 \"float g\" -0.5 "
                          "\"integer maxdepth\" 3 \"integer nsamples\" 4\nShape \"sphere\"\n")) return;
     m = &s.materials[s.n_materials - 1];
-    CHECK(t, m->alpha == 0.5f && spec_eval(&m->eta, 700) == 1.2f && m->thickness == 0.5f &&
+    CHECK(t, m->alpha == 0.5f && spec_eval(m->eta, 700) == 1.2f && m->thickness == 0.5f &&
           m->hg_g == -0.5f && m->maxdepth == 3 && m->nsamples == 4, "parameters not read");
     scene_free(&s);
     expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\"\n \"float thickness\" 0\n", 3, "thickness", "> 0");
@@ -671,11 +671,11 @@ static void test_cc_parse(T *t)
     m = &s.materials[s.n_materials - 1];
     spec_named(&cu, "metal-Cu-k");
     CHECK(t, m->type == MAT_COATED_CONDUCTOR, "type %d", (int)m->type);
-    CHECK(t, spec_eval(&m->eta, 500) == 1.5f && spec_eval(&m->extra->albedo, 500) == 0.0f &&
+    CHECK(t, spec_eval(m->eta, 500) == 1.5f && spec_eval(&m->extra->albedo, 500) == 0.0f &&
           m->thickness == 0.01f && m->hg_g == 0.0f && m->maxdepth == 10 && m->nsamples == 1 &&
           m->alpha == 0.0f && m->cond_alpha == 0.0f && spec_eval(&m->extra->k, 600) == spec_eval(&cu, 600),
           "defaults: eta %g albedo %g thickness %g g %g maxdepth %d nsamples %d alphas %g %g k %g",
-          spec_eval(&m->eta, 500), spec_eval(&m->extra->albedo, 500), m->thickness, m->hg_g, m->maxdepth,
+          spec_eval(m->eta, 500), spec_eval(&m->extra->albedo, 500), m->thickness, m->hg_g, m->maxdepth,
           m->nsamples, m->alpha, m->cond_alpha, spec_eval(&m->extra->k, 600));
     scene_free(&s);
     if (!test_load_scene(t, &s, "WorldBegin\nTexture \"r\" \"float\" \"constant\" \"float value\" 0.09\n"
@@ -685,7 +685,7 @@ static void test_cc_parse(T *t)
                          "\"integer maxdepth\" 3 \"integer nsamples\" 4 \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
                          "Shape \"sphere\"\n")) return;
     m = &s.materials[s.n_materials - 1];
-    CHECK(t, m->alpha == 0.5f && m->cond_alpha_tex == 1 && spec_eval(&m->eta, 700) == 1.2f &&
+    CHECK(t, m->alpha == 0.5f && m->cond_alpha_tex == 1 && spec_eval(m->eta, 700) == 1.2f &&
           m->thickness == 0.5f && m->hg_g == -0.5f && m->maxdepth == 3 && m->nsamples == 4 &&
           spec_eval(&m->extra->cond_eta, 600) == 1.0f && fabsf(spec_eval(&m->extra->k, 600) - 2.0f) < 0.05f,
           "parameters not read: alpha %g tex %d k %g", m->alpha, m->cond_alpha_tex, spec_eval(&m->extra->k, 600));

@@ -41,7 +41,7 @@ static void make_conductor(Material *m, float eta, float k, float ax, float ay)
     memset(m, 0, sizeof *m);
     m->extra = test_material_extra();
     m->type = MAT_CONDUCTOR;
-    spec_const(&m->eta, eta);
+    m->eta = test_eta_const(eta);
     spec_const(&m->extra->k, k);
     m->alpha = ax;
     m->alpha_t = ay;
@@ -160,8 +160,8 @@ static void test_reflectance_param(T *t)
     CHECK(t, m->type == MAT_CONDUCTOR && m->alpha == 0.0f && mat_is_delta(m), "a smooth conductor");
     for (nm = 400; nm <= 700; nm += 50) {
         float r = spec_eval(&m->reflectance, nm);
-        float F = fresnel_conductor(1.0f, spec_eval(&m->eta, nm), spec_eval(&m->extra->k, nm));
-        CHECK(t, spec_eval(&m->eta, nm) == 1.0f, "eta = 1");
+        float F = fresnel_conductor(1.0f, spec_eval(m->eta, nm), spec_eval(&m->extra->k, nm));
+        CHECK(t, spec_eval(m->eta, nm) == 1.0f, "eta = 1");
         CHECK(t, fabsf(F - r) < 1e-5f, "%g nm: F(normal) %g, reflectance %g", nm, F, r);
     }
     scene_free(&s);
@@ -172,10 +172,10 @@ static void test_reflectance_param(T *t)
     {
         float c;
         for (c = 0.02f; c <= 1.0f; c += 0.049f) {      /* 0.9977 at cos 0.02 */
-            float F = fresnel_conductor(c, spec_eval(&m->eta, 550), spec_eval(&m->extra->k, 550));
+            float F = fresnel_conductor(c, spec_eval(m->eta, 550), spec_eval(&m->extra->k, 550));
             CHECK(t, F > (c < 0.1f ? 0.997f : 0.999f) && F <= 1.0f, "reflectance 1 at cos %g: F %g", c, F);
         }
-        CHECK(t, fabsf(fresnel_conductor(1.0f, spec_eval(&m->eta, 550), spec_eval(&m->extra->k, 550)) - 0.9999f) < 1e-6f,
+        CHECK(t, fabsf(fresnel_conductor(1.0f, spec_eval(m->eta, 550), spec_eval(&m->extra->k, 550)) - 0.9999f) < 1e-6f,
               "normal incidence: the clamped 0.9999");
         CHECK(t, fabsf(spec_eval(&m->extra->k, 550) - 199.99f) < 0.01f, "k %g", spec_eval(&m->extra->k, 550));
     }
@@ -192,7 +192,7 @@ static void test_smooth(T *t)
     memset(&m, 0, sizeof m);
     m.extra = test_material_extra();
     m.type = MAT_CONDUCTOR;
-    spec_named(&m.eta, "metal-Au-eta");
+    m.eta = test_eta_named("metal-Au-eta");
     spec_named(&m.extra->k, "metal-Au-k");
     CHECK(t, mat_is_delta(&m), "alpha 0 is a delta lobe");
     rng_seed(&r, 21, 1);
@@ -208,7 +208,7 @@ static void test_smooth(T *t)
               "not the mirror direction");
         for (j = 0; j < HERO_N; j++) {
             float w = bs.f[j] * fabsf(bs.wi.z) / bs.pdf;
-            float F = fresnel_conductor(fabsf(wo.z), spec_eval(&m.eta, lam[j]), spec_eval(&m.extra->k, lam[j]));
+            float F = fresnel_conductor(fabsf(wo.z), spec_eval(m.eta, lam[j]), spec_eval(&m.extra->k, lam[j]));
             CHECK(t, fabsf(w - F) < 1e-5f && bs.pdf_l[j] == 1.0f, "wavelength %d: weight %g, F %g", j, w, F);
         }
         bsdf_eval(&m, &sp, wo, bs.wi, lam, 15u, f, p);
@@ -277,7 +277,7 @@ static void test_rough_pdf_and_energy(T *t)
             double sw = 0, sw2 = 0, ip = 0, ip2 = 0, fi = 0, fi2 = 0, mean, se, frac;
             Vec3 wo = wos[io];
             make_conductor(&m, 0.3f, 2.5f, ax[ia], ay[ia]);
-            spec_named(&m.eta, "metal-Cu-eta");      /* F varies with the wavelength */
+            m.eta = test_eta_named("metal-Cu-eta");      /* F varies with the wavelength */
             spec_named(&m.extra->k, "metal-Cu-k");
             rng_seed(&r, 23, (uint64_t)(ia * 2 + io));
             for (i = 0; i < n_s; i++) {
@@ -357,7 +357,7 @@ static void test_reciprocity(T *t)
     Rng r;
     int i, j, tested = 0;
     make_conductor(&m, 0.2f, 3.0f, 0.15f, 0.45f);
-    spec_named(&m.eta, "metal-Au-eta");
+    m.eta = test_eta_named("metal-Au-eta");
     spec_named(&m.extra->k, "metal-Au-k");
     rng_seed(&r, 25, 0);
     for (i = 0; i < 2000; i++) {
@@ -395,7 +395,7 @@ static void test_rough_value(T *t)
     Rng r;
     int i, j, tested = 0;
     make_conductor(&m, 0.2f, 3.0f, (float)a, (float)a);
-    spec_named(&m.eta, "metal-Cu-eta");
+    m.eta = test_eta_named("metal-Cu-eta");
     spec_named(&m.extra->k, "metal-Cu-k");
     rng_seed(&r, 28, 0);
     for (i = 0; i < 500; i++) {
@@ -416,7 +416,7 @@ static void test_rough_value(T *t)
         G = 1 / (1 + ggx_lambda_ref(a, co) + ggx_lambda_ref(a, ci));
         for (j = 0; j < HERO_N; j++) {
             double cd = ((double)wo.x * hx + (double)wo.y * hy + (double)wo.z * hz) / hl;
-            double F = fr_conductor_ref(cd, spec_eval(&m.eta, lam[j]), spec_eval(&m.extra->k, lam[j]));
+            double F = fr_conductor_ref(cd, spec_eval(m.eta, lam[j]), spec_eval(&m.extra->k, lam[j]));
             double fr = D * G * F / (4 * ci * co);
             CHECK(t, fabs(f[j] - fr) < 1e-4 * fr + 1e-7, "wavelength %d: f %g, Walter's GGX %g", j, f[j], fr);
         }
@@ -438,7 +438,7 @@ static void test_thin_values(T *t)
     Vec3 wo = v3_norm(v3(0.6f, 0.2f, -0.5f));
     memset(&m, 0, sizeof m);
     m.type = MAT_THIN_DIELECTRIC;
-    spec_const(&m.eta, 1.5f);
+    m.eta = test_eta_const(1.5f);
     CHECK(t, mat_is_delta(&m), "thin dielectric is a delta material");
     rng_seed(&r, 26, 0);
     for (i = 0; i < 4; i++) {
@@ -477,7 +477,11 @@ static void test_thin_values(T *t)
     sigma = sqrt(Rp * (1 - Rp) / n);
     CHECK(t, fabs((double)nr / n - Rp) < 4 * sigma, "reflect fraction %g vs R' %g", (double)nr / n, Rp);
     /* a dispersive eta: every wavelength keeps its own R' (or T') */
-    for (i = 0; i < SPEC_N; i++) m.eta.v[i] = cauchy_eta(1.5f, 0.02f, (float)(SPEC_MIN + i));
+    {
+        Spectrum *eta = test_material_eta();
+        for (i = 0; i < SPEC_N; i++) eta->v[i] = cauchy_eta(1.5f, 0.02f, (float)(SPEC_MIN + i));
+        m.eta = eta;
+    }
     for (i = 0; i < 200; i++) {
         BsdfSample bs;
         int j;
@@ -589,15 +593,15 @@ static void test_parse_defaults(T *t)
     CHECK(t, s.n_materials == 6, "%d materials", s.n_materials);
     m = s.materials;
     spec_named(&cu, "metal-Cu-eta");
-    CHECK(t, m[0].type == MAT_CONDUCTOR && !memcmp(&m[0].eta, &cu, sizeof cu) && m[0].alpha == 0.0f,
+    CHECK(t, m[0].type == MAT_CONDUCTOR && !memcmp(m[0].eta, &cu, sizeof cu) && m[0].alpha == 0.0f,
           "the default conductor is smooth copper");
     spec_named(&cu, "metal-Cu-k");
     CHECK(t, !memcmp(&m[0].extra->k, &cu, sizeof cu), "Cu's k");
     CHECK(t, fabsf(m[1].alpha - 0.3f) < 1e-6f && m[1].alpha_t == m[1].alpha && !mat_is_delta(&m[1]),
           "roughness 0.09 remaps to alpha 0.3: %g", m[1].alpha);
     CHECK(t, fabsf(m[2].alpha - 0.09f) < 1e-7f && spec_eval(&m[2].extra->k, 550) == 4.0f, "no remap; k given");
-    CHECK(t, m[3].type == MAT_THIN_DIELECTRIC && spec_eval(&m[3].eta, 500) == 1.5f, "thin eta 1.5 by default");
-    CHECK(t, spec_eval(&m[4].eta, 500) == 1.33f, "float eta");
+    CHECK(t, m[3].type == MAT_THIN_DIELECTRIC && spec_eval(m[3].eta, 500) == 1.5f, "thin eta 1.5 by default");
+    CHECK(t, spec_eval(m[4].eta, 500) == 1.33f, "float eta");
     CHECK(t, m[5].type == MAT_DIFFUSE_TRANSMISSION && spec_eval(&m[5].reflectance, 500) == 0.25f &&
           spec_eval(&m[5].extra->transmittance, 500) == 0.25f && m[5].p_reflect == 0.5f, "0.25 and 0.25");
     scene_free(&s);
@@ -725,12 +729,12 @@ static void test_spectrum_range(T *t)
              "\"spectrum conductor.k\" [ 345 2 830 4 ]\nShape \"sphere\"\n", mat);
     if (!load_text(t, &s, buf)) return;
     for (nm = SPEC_UV_MIN; nm < 340; nm++)
-        ok &= spec_get(&s.materials[0].eta, nm) == 1.2f && spec_get(&s.materials[0].extra->k, nm) == 2.0f &&
+        ok &= spec_get(s.materials[0].eta, nm) == 1.2f && spec_get(&s.materials[0].extra->k, nm) == 2.0f &&
               spec_get(&s.materials[1].extra->cond_eta, nm) == 1.2f;
     for (nm = SPEC_UV_MIN; nm < 345; nm++) ok &= spec_get(&s.materials[1].extra->k, nm) == 2.0f;
     CHECK(t, ok, "below the data, eta and k do not continue the lowest value");
-    CHECK(t, fabsf(spec_get(&s.materials[0].eta, 420) - 1.35f) < 1e-6f, "the data is changed: eta(420) %g",
-          spec_get(&s.materials[0].eta, 420));
+    CHECK(t, fabsf(spec_get(s.materials[0].eta, 420) - 1.35f) < 1e-6f, "the data is changed: eta(420) %g",
+          spec_get(s.materials[0].eta, 420));
     scene_free(&s);
     if (!conductor_sky(t, mat, test_scaled(64, 16), a)) return;
     for (k = 0; k < 3; k++)

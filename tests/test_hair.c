@@ -24,7 +24,7 @@ static Material hair_material(Hair *H, float sigma_a, float eta, float bm, float
     memset(H, 0, sizeof *H);
     m.type = MAT_HAIR;
     m.hair = H;
-    spec_const(&m.eta, 1.0f);
+    m.eta = test_eta_const(1.0f);
     spec_const(&H->sigma_a, sigma_a);
     H->eta = eta;
     H->beta_m = bm;

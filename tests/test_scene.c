@@ -316,7 +316,7 @@ static void test_named_materials(T *t)
     m1 = &s.materials[s.shapes[1].material];
     CHECK(t, m0->type == MAT_DIFFUSE && near(spec_eval(&m0->reflectance, 500), 0.25, 1e-6),
           "NamedMaterial \"paint\"");
-    CHECK(t, m1->type == MAT_DIELECTRIC && near(spec_eval(&m1->eta, 500), 1.33, 1e-6) &&
+    CHECK(t, m1->type == MAT_DIELECTRIC && near(spec_eval(m1->eta, 500), 1.33, 1e-6) &&
           !m1->dispersive && m1->alpha == 0, "NamedMaterial \"glass\"");
     scene_free(&s);
 }
@@ -336,19 +336,19 @@ static void test_dielectric(T *t)
     const Material *m;
     CHECK(t, load(&s, text, &e), "%s", e.msg);
     m = &s.materials[s.shapes[0].material];
-    CHECK(t, m->dispersive && spec_eval(&m->eta, 450) > spec_eval(&m->eta, 650) &&
-          near(spec_eval(&m->eta, 587.6f), 1.5168, 2e-3), "glass-BK7: dispersive, n_d 1.5168, "
-          "got %g", spec_eval(&m->eta, 587.6f));
+    CHECK(t, m->dispersive && spec_eval(m->eta, 450) > spec_eval(m->eta, 650) &&
+          near(spec_eval(m->eta, 587.6f), 1.5168, 2e-3), "glass-BK7: dispersive, n_d 1.5168, "
+          "got %g", spec_eval(m->eta, 587.6f));
     m = &s.materials[s.shapes[1].material];
-    CHECK(t, m->dispersive && near(spec_eval(&m->eta, 500), 1.5 + 0.02 / 0.25, 1e-5) &&
+    CHECK(t, m->dispersive && near(spec_eval(m->eta, 500), 1.5 + 0.02 / 0.25, 1e-5) &&
           m->cauchy_a == 1.5f && m->cauchy_b == 0.02f, "Cauchy: n(500) = A + B/0.5^2, got %g",
-          spec_eval(&m->eta, 500));
+          spec_eval(m->eta, 500));
     CHECK(t, near(m->alpha, 0.2, 1e-6), "remaproughness: alpha = sqrt(0.04) = 0.2, got %g", m->alpha);
     m = &s.materials[s.shapes[2].material];
-    CHECK(t, near(m->alpha, 0.04, 1e-7) && near(spec_eval(&m->eta, 500), 1.5, 0) && !m->dispersive,
+    CHECK(t, near(m->alpha, 0.04, 1e-7) && near(spec_eval(m->eta, 500), 1.5, 0) && !m->dispersive,
           "remaproughness false: alpha = roughness; default eta 1.5");
     m = &s.materials[s.shapes[3].material];
-    CHECK(t, near(spec_eval(&m->eta, 600), 1.5, 1e-5) && m->dispersive, "inline eta table");
+    CHECK(t, near(spec_eval(m->eta, 600), 1.5, 1e-5) && m->dispersive, "inline eta table");
     scene_free(&s);
 }
 
@@ -449,6 +449,51 @@ static void test_shared_spectra(T *t)
         scene_free(&one);
     }
     CHECK(t, alone, "lamp %d emits otherwise than alone", i - 1);
+    scene_free(&s);
+}
+
+/* Materials of the same index share one eta record (Scene.spectra), those of
+   different indices do not, and each material's eta is, byte for byte, the one it
+   has when it is the scene's only material; mat_regularized's copy points at the
+   same record. */
+static const char *const ETA_MATS[] = {
+    "\"diffuse\"", "\"dielectric\" \"float eta\" 1.5", "\"dielectric\"",
+    "\"dielectric\" \"spectrum eta\" \"glass-BK7\"", "\"dielectric\" \"spectrum eta\" \"glass-BK7\"",
+    "\"conductor\"", "\"coateddiffuse\"", "\"thindielectric\" \"float eta\" 1.33",
+    "\"dielectric\" \"float eta\" 1.33", "\"diffuse\" \"rgb reflectance\" [ 0.2 0.3 0.4 ]"
+};
+static void test_shared_eta(T *t)
+{
+    /* the records: 1 (0, 9), 1.5 (1, 2, 6), BK7 (3, 4), Cu (5), 1.33 (7, 8) */
+    static const int group[10] = { 0, 1, 1, 2, 2, 3, 1, 4, 4, 0 };
+    char buf[2048];
+    Scene s, one;
+    Material r;
+    Error e;
+    int i, j, same = 1, alone = 1;
+    strcpy(buf, "WorldBegin\n");
+    for (i = 0; i < 10; i++)
+        snprintf(buf + strlen(buf), sizeof buf - strlen(buf), "Material %s\n", ETA_MATS[i]);
+    CHECK(t, load(&s, buf, &e), "%s", e.msg);
+    if (t->failed) return;
+    CHECK(t, s.n_materials == 10 && s.spectra.n == 5, "10 materials of 5 distinct etas: %d "
+          "materials, %d spectrum records", s.n_materials, s.spectra.n);
+    for (i = 0; i < 10; i++)
+        for (j = 0; j < 10; j++)
+            same &= (s.materials[i].eta == s.materials[j].eta) == (group[i] == group[j]);
+    CHECK(t, same, "materials share an eta record if and only if their etas are equal");
+    for (i = 0; i < 10 && alone; i++) {
+        snprintf(buf, sizeof buf, "WorldBegin\nMaterial %s\n", ETA_MATS[i]);
+        if (!load(&one, buf, &e)) { alone = 0; break; }
+        alone = memcmp(s.materials[i].eta, one.materials[0].eta, sizeof(Spectrum)) == 0;
+        scene_free(&one);
+    }
+    CHECK(t, alone, "material %d's eta is not the one it has alone", i);
+    CHECK(t, spec_eval(s.materials[1].eta, 500.0f) == 1.5f &&
+          spec_eval(s.materials[7].eta, 500.0f) == 1.33f && spec_eval(s.materials[0].eta, 500.0f) == 1.0f,
+          "eta values");
+    CHECK(t, mat_regularized(&s.materials[1], &r) && r.eta == s.materials[1].eta,
+          "mat_regularized's copy does not point at the material's eta");
     scene_free(&s);
 }
 
@@ -804,6 +849,7 @@ REJECT(rej_inset_malformed, "# inset A 1 2 3\nWorldBegin\n", 1, "inset", NULL)
 
 const TestCase tests_scene[] = {
     {"scene_shared_spectra", test_shared_spectra},
+    {"scene_shared_eta", test_shared_eta},
     {"scene_defaults", test_defaults},
     {"scene_options", test_options},
     {"scene_camera_frame", test_camera_frame},
