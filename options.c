@@ -183,6 +183,56 @@ int scene_insets_rendered(const Scene *s, int rect[8][4], const char *names[8])
     return n;
 }
 
+/* An unknown Film "string sensor": the error names every sensor pbrt-v4 knows. */
+static int film_unknown_sensor(Parser *P, const char *sensor, const char *file, int line)
+{
+    char names[512];
+    int k;
+    names[0] = 0;
+    for (k = 1; k <= SENSOR_CAMERAS; k++)
+        snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", k > 1 ? ", " : "",
+                 sensor_name(k));
+    return fail(P, file, line, "Film: \"string sensor\" \"%s\": unknown sensor type "
+                "(pbrt-v4 knows \"cie1931\" and 17 named cameras: %s)", sensor, names);
+}
+
+/* The output file: the command line's -o, else Film "string filename" fn (NULL:
+   pbrt-v4's default), an .exr turned into a .pfm. */
+static int film_output_name(Parser *P, SceneSettings *st, const char *fn, const char *file, int line)
+{
+    if (P->output) {
+        /* pbrt-v4 (FilmBaseParameters): a file named on the command line wins over
+           the scene's; the scene's name is then never used, so it is not checked
+           (placeholders such as "__OUTPUT_PNG__" are common in shared scenes).
+           pbrt-v4 warns whenever the scene names a file; specnee notes it only
+           where the name is not one it writes as given (a placeholder, .exr, another
+           format), so the shipped scenes' usual `-o` renders stay quiet */
+        if (fn && !ends_with_ci(fn, ".pfm") && !ends_with_ci(fn, ".ppm") && !ends_with_ci(fn, ".png"))
+            fprintf(stderr, "%s:%d: note: the output file \"%s\" of the command line "
+                    "overrides Film \"string filename\" \"%s\" (as pbrt-v4 --outfile does)\n",
+                    file, line, P->output, fn);
+        snprintf(st->filename, sizeof st->filename, "%s", P->output);
+        return 1;
+    }
+    if (!fn) fn = "pbrt.exr";                         /* pbrt-v4's default */
+    if (strlen(fn) + 1 > sizeof st->filename)
+        return fail(P, file, line, "Film: filename longer than %d characters",
+                    (int)sizeof st->filename - 1);
+    if (ends_with_ci(fn, ".exr")) {
+        /* specnee has no EXR writer: the same name with .pfm (float32 too) */
+        size_t n = strlen(fn);
+        snprintf(st->filename, sizeof st->filename, "%.*s.pfm", (int)(n - 4), fn);
+        fprintf(stderr, "%s:%d: note: specnee writes no EXR; \"%s\" becomes \"%s\"\n",
+                file, line, fn, st->filename);
+    } else if (ends_with_ci(fn, ".pfm") || ends_with_ci(fn, ".ppm") || ends_with_ci(fn, ".png")) {
+        snprintf(st->filename, sizeof st->filename, "%s", fn);
+    } else {
+        return fail(P, file, line, "Film: \"string filename\" \"%s\": specnee writes .pfm, "
+                    ".ppm or .png (.exr becomes .pfm)", fn);
+    }
+    return 1;
+}
+
 int film_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     SceneSettings *st = &P->s->settings;
@@ -224,16 +274,7 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
         return 0;
     /* pbrt-v4's sensor: "cie1931" (the default) records XYZ, a named camera its
        measured RGB (sensor.c) */
-    if (sensor && sensor_index(sensor) < 0) {
-        char names[512];
-        int k;
-        names[0] = 0;
-        for (k = 1; k <= SENSOR_CAMERAS; k++)
-            snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", k > 1 ? ", " : "",
-                     sensor_name(k));
-        return fail(P, file, line, "Film: \"string sensor\" \"%s\": unknown sensor type "
-                    "(pbrt-v4 knows \"cie1931\" and 17 named cameras: %s)", sensor, names);
-    }
+    if (sensor && sensor_index(sensor) < 0) return film_unknown_sensor(P, sensor, file, line);
     if (!(wb == 0.0f || (wb >= 1000.0f && wb <= 100000.0f)))
         return fail_param(P, pl, "whitebalance", file, line, "Film: \"float whitebalance\" %g: a colour temperature "
                     "within 1000..100000 K, or 0 for none", wb);
@@ -303,37 +344,7 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
                         "(x %d..%d, y %d..%d)", crop ? "cropwindow" : "pixelbounds",
                         xres, yres, b[0], b[1], b[2], b[3]);
     }
-    if (P->output) {
-        /* pbrt-v4 (FilmBaseParameters): a file named on the command line wins over
-           the scene's; the scene's name is then never used, so it is not checked
-           (placeholders such as "__OUTPUT_PNG__" are common in shared scenes).
-           pbrt-v4 warns whenever the scene names a file; specnee notes it only
-           where the name is not one it writes as given (a placeholder, .exr, another
-           format), so the shipped scenes' usual `-o` renders stay quiet */
-        if (fn && !ends_with_ci(fn, ".pfm") && !ends_with_ci(fn, ".ppm") && !ends_with_ci(fn, ".png"))
-            fprintf(stderr, "%s:%d: note: the output file \"%s\" of the command line "
-                    "overrides Film \"string filename\" \"%s\" (as pbrt-v4 --outfile does)\n",
-                    file, line, P->output, fn);
-        snprintf(st->filename, sizeof st->filename, "%s", P->output);
-        return 1;
-    }
-    if (!fn) fn = "pbrt.exr";                         /* pbrt-v4's default */
-    if (strlen(fn) + 1 > sizeof st->filename)
-        return fail(P, file, line, "Film: filename longer than %d characters",
-                    (int)sizeof st->filename - 1);
-    if (ends_with_ci(fn, ".exr")) {
-        /* specnee has no EXR writer: the same name with .pfm (float32 too) */
-        size_t n = strlen(fn);
-        snprintf(st->filename, sizeof st->filename, "%.*s.pfm", (int)(n - 4), fn);
-        fprintf(stderr, "%s:%d: note: specnee writes no EXR; \"%s\" becomes \"%s\"\n",
-                file, line, fn, st->filename);
-    } else if (ends_with_ci(fn, ".pfm") || ends_with_ci(fn, ".ppm") || ends_with_ci(fn, ".png")) {
-        snprintf(st->filename, sizeof st->filename, "%s", fn);
-    } else {
-        return fail(P, file, line, "Film: \"string filename\" \"%s\": specnee writes .pfm, "
-                    ".ppm or .png (.exr becomes .pfm)", fn);
-    }
-    return 1;
+    return film_output_name(P, st, fn, file, line);
 }
 
 /* PixelFilter: pbrt-v4's five filters with its parameter names and defaults

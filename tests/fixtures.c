@@ -429,3 +429,31 @@ void test_merge_agrees(T *t, const Scene *s, const RenderOptions *base, const ch
                   what, i, c, mm, mf, se);
         }
 }
+
+void test_against_pbrt_y(T *t, const char *scene, int seed, const double pbrt[5][2], double rel_slack,
+                         const char *what)
+{
+    Scene s;
+    RenderOptions o;
+    Tiles q, whole;
+    int i;
+    if (!test_load_scene(t, &s, scene)) return;
+    render_options_default(&o);
+    o.spp = test_scaled(64, 16);
+    o.seed = seed;
+    if (!test_render_tiles(t, &s, &o, 4, 2, &q) || !test_render_tiles(t, &s, &o, 4, 1, &whole)) {
+        scene_free(&s);
+        return;
+    }
+    scene_free(&s);
+    for (i = 0; i < 5; i++) {
+        const Tiles *tl = i == 0 ? &whole : &q;
+        int k = i == 0 ? 0 : i - 1;
+        double Y = 0.212671 * tl->mean[k][0] + 0.715160 * tl->mean[k][1] + 0.072169 * tl->mean[k][2];
+        double se = tl->se[k][1], Yp = pbrt[i][0], sep = pbrt[i][1];
+        if (getenv("DBG")) fprintf(stderr, "%s %d: specnee %.6f +- %.2g, pbrt %.6f\n", what, i, Y, se, Yp);
+        CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + sep * sep) + rel_slack * Yp,
+              "%s: %s %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f +- %.2g", what, i ? "quadrant" : "image",
+              k, Y, se, Yp, sep);
+    }
+}

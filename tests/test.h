@@ -67,6 +67,12 @@ void test_refused(T *t, const char *head, const char *body, const char *file, co
    of the tile averages and its standard error.  Fails the test on any non-finite
    sample or pixel. */
 int test_render_tiles(T *t, Scene *s, const RenderOptions *base, int K, int n, Tiles *out);
+/* Render `scene` (text) with the defaults, test_scaled(64, 16) spp, 4 seeds from
+   `seed`, and hold the luminance of the image and of its 2 x 2 quadrants (top left
+   first) against frozen pbrt-v4 values pbrt[i] = { mean, standard error }: within
+   TEST_K_SIGMA combined standard errors + rel_slack of the value.  DBG=1 prints. */
+void test_against_pbrt_y(T *t, const char *scene, int seed, const double pbrt[5][2], double rel_slack,
+                         const char *what);
 /* Two renders of base->spp samples merged by sample count against one render of
    twice the samples, over 10 seed triples: tile means within TEST_K_SIGMA
    standard errors (a w x h image, 4 x 4 tiles). */

@@ -1049,27 +1049,7 @@ static const double PBRT_DT_Y[5][2] = {
 
 static void test_difftrans_textured_against_pbrt(T *t)
 {
-    Scene s;
-    RenderOptions o;
-    Tiles q, whole;
-    int i;
-    if (!test_load_scene(t, &s, DT_TEXTURED)) return;
-    render_options_default(&o);
-    o.spp = test_scaled(64, 16);
-    o.seed = 3;
-    if (!test_render_tiles(t, &s, &o, 4, 2, &q) || !test_render_tiles(t, &s, &o, 4, 1, &whole)) {
-        scene_free(&s);
-        return;
-    }
-    scene_free(&s);
-    for (i = 0; i < 5; i++) {
-        const Tiles *tl = i == 0 ? &whole : &q;
-        int k = i == 0 ? 0 : i - 1;
-        double Y = luminance(tl->mean[k]), se = tl->se[k][1], Yp = PBRT_DT_Y[i][0], sep = PBRT_DT_Y[i][1];
-        if (getenv("DBG")) fprintf(stderr, "difftrans %d: specnee %.6f +- %.2g, pbrt %.6f\n", i, Y, se, Yp);
-        CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + sep * sep) + 1e-2 * Yp,
-              "%s %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f +- %.2g", i ? "quadrant" : "image", k, Y, se, Yp, sep);
-    }
+    test_against_pbrt_y(t, DT_TEXTURED, 3, PBRT_DT_Y, 1e-2, "difftrans");
 }
 
 /* A rough gold sphere: the same image with NEE + MIS as with BSDF sampling alone

@@ -570,28 +570,7 @@ static const double PBRT_HAIR_CURVES_Y[5][2] = {
 
 static void test_hair_on_curves_against_pbrt(T *t)
 {
-    Scene s;
-    RenderOptions o;
-    Tiles q, whole;
-    int i;
-    if (!test_load_scene(t, &s, HAIR_CURVES)) return;
-    render_options_default(&o);
-    o.spp = test_scaled(64, 16);
-    o.seed = 7;
-    if (!test_render_tiles(t, &s, &o, 4, 2, &q) || !test_render_tiles(t, &s, &o, 4, 1, &whole)) {
-        scene_free(&s);
-        return;
-    }
-    scene_free(&s);
-    for (i = 0; i < 5; i++) {
-        const Tiles *tl = i == 0 ? &whole : &q;
-        int k = i == 0 ? 0 : i - 1;
-        double Y = 0.212671 * tl->mean[k][0] + 0.715160 * tl->mean[k][1] + 0.072169 * tl->mean[k][2];
-        double se = tl->se[k][1], Yp = PBRT_HAIR_CURVES_Y[i][0], sep = PBRT_HAIR_CURVES_Y[i][1];
-        if (getenv("DBG")) fprintf(stderr, "hair curves %d: specnee %.6f +- %.2g, pbrt %.6f\n", i, Y, se, Yp);
-        CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + sep * sep) + 5e-3 * Yp,
-              "%s %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f +- %.2g", i ? "quadrant" : "image", k, Y, se, Yp, sep);
-    }
+    test_against_pbrt_y(t, HAIR_CURVES, 7, PBRT_HAIR_CURVES_Y, 5e-3, "hair curves");
 }
 
 const TestCase tests_hair[] = {
