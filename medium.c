@@ -349,10 +349,10 @@ float medium_cloud_density(const Medium *m, Vec3 q)
         float vomega = 0.05f * m->wispiness, vlambda = 10.0f;
         int i;
         for (i = 0; i < 2; i++) {
-            Vec3 a = v3_mul(pp, vlambda);
-            float n = tex_noise(a.x, a.y, a.z), h = 0.01f;
-            Vec3 dn = v3((tex_noise(a.x + h, a.y, a.z) - n) / h, (tex_noise(a.x, a.y + h, a.z) - n) / h,
-                         (tex_noise(a.x, a.y, a.z + h) - n) / h);
+            float n[4], h = 0.01f;
+            Vec3 dn;
+            tex_noise_diff(v3_mul(pp, vlambda), h, n);
+            dn = v3((n[1] - n[0]) / h, (n[2] - n[0]) / h, (n[3] - n[0]) / h);
             pp = v3_add(pp, v3_mul(dn, vomega));
             vomega *= 0.5f;
             vlambda *= 1.99f;

@@ -940,6 +940,10 @@ void  tex_free(Texture *t);   /* (tex_set_image, which reads an Image, is in sec
 /* pbrt-v4's Perlin noise at (x, y, z) (Perlin 2002's gradients and permutation), in
    about [-1, 1], 0 at integer points; dots call it with z = 0.5. */
 float tex_noise(float x, float y, float z);
+/* n[0] = tex_noise at p, n[1..3] at p + h along x, y and z, the same floats as four
+   tex_noise calls; the calls in one lattice cell share its corner hashes (the
+   finite-difference gradient of the cloud's wisps, medium.c). */
+void  tex_noise_diff(Vec3 p, float h, float n[4]);
 /* Fractional Brownian motion: sum over i < octaves of omega^i noise(1.99^i p), pbrt-v4's
    FBm for a footprint of zero (texture.c section 4). */
 float tex_fbm(Vec3 p, float omega, int octaves);

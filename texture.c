@@ -2,7 +2,7 @@
    directionmix, imagemap, dots, marble, fbm, wrinkled, windy.
 
    Exported (specnee.h sections 6 and 10): tex_eval, tex_set_image, tex_free,
-   tex_noise, tex_fbm, tex_turbulence, tex_marble_init.
+   tex_noise, tex_noise_diff, tex_fbm, tex_turbulence, tex_marble_init.
    scene.c's directive loop hands a Texture directive to texture_from_params (the
    last section), which fills Scene.textures; a material whose
    "reflectance" names a texture (diffuse) reads it through mat_albedo_at
@@ -65,6 +65,9 @@
       g_h . x = (h & 1 ? -u : u) + (h & 2 ? -v : v); the 8 values are blended
       trilinearly with the weight w(t) = 6t^5 - 15t^4 + 10t^3 of each offset.
       Coordinates are first reduced mod 2^30 (pbrt-v4: no int overflow).
+      tex_noise_diff returns noise at p and at p + h along each axis (the cloud's
+      finite-difference gradient, medium.c): a shifted point in p's cell reuses
+      its 8 corner hashes, so the four values cost little more than two.
         FBm(p) = sum_{i < octaves} omega^i noise(1.99^i p).  pbrt-v4 drops the
           octaves finer than the ray's footprint (n = clamp(-1 - log2(|dp|^2)/2,
           0, octaves), fading the last one in); specnee has no ray differentials
@@ -165,33 +168,83 @@ static int noise_floor(float x)
     return (float)i > x ? i - 1 : i;
 }
 
-float tex_noise(float x, float y, float z)
+/* The noise's inner steps are inlined into its two callers below (gcc's size
+   heuristics would keep them apart, costing a third of the noise's time). */
+#if defined(__GNUC__) || defined(__clang__)
+#define NOISE_INLINE static inline __attribute__((always_inline))
+#else
+#define NOISE_INLINE static inline
+#endif
+
+/* The hashes of a lattice cell's 8 corners (section 4), corner k = (k & 1,
+   k >> 1 & 1, k >> 2): perm[perm[perm[x] + y] + z] & 15 shares its first two
+   lookups among the corners of one x (hx) and of one (x, y) (hxy). */
+NOISE_INLINE void noise_hashes(int ix, int iy, int iz, unsigned h[8])
 {
-    float dx, dy, dz, wx, wy, wz, c[8], ox[2], oy[2], oz[2];
-    unsigned ux, uy, uz, hx[2], hxy[4];
-    int ix, iy, iz;
-    if (!(fabsf(x) < 1e30f && fabsf(y) < 1e30f && fabsf(z) < 1e30f)) return 0.0f;  /* NaN, inf */
-    x = noise_reduce(x); y = noise_reduce(y); z = noise_reduce(z);
-    ix = noise_floor(x); iy = noise_floor(y); iz = noise_floor(z);
-    dx = x - (float)ix; dy = y - (float)iy; dz = z - (float)iz;
-    ux = (unsigned)ix; uy = (unsigned)iy; uz = (unsigned)iz;
-    /* corner k = (k & 1, k >> 1 & 1, k >> 2): perm[perm[perm[x] + y] + z] shares
-       its first two lookups among corners of one x (hx) and one (x, y) (hxy) */
+    unsigned ux = (unsigned)ix, uy = (unsigned)iy, uz = (unsigned)iz, hx[2], hxy[4];
     hx[0] = perm_u(ux); hx[1] = perm_u(ux + 1u);
     hxy[0] = perm_u(hx[0] + uy); hxy[1] = perm_u(hx[1] + uy);
     hxy[2] = perm_u(hx[0] + uy + 1u); hxy[3] = perm_u(hx[1] + uy + 1u);
-    ox[0] = dx; ox[1] = dx - 1.0f; oy[0] = dy; oy[1] = dy - 1.0f; oz[0] = dz; oz[1] = dz - 1.0f;
-    c[0] = grad(perm_u(hxy[0] + uz) & 15u, ox[0], oy[0], oz[0]);
-    c[1] = grad(perm_u(hxy[1] + uz) & 15u, ox[1], oy[0], oz[0]);
-    c[2] = grad(perm_u(hxy[2] + uz) & 15u, ox[0], oy[1], oz[0]);
-    c[3] = grad(perm_u(hxy[3] + uz) & 15u, ox[1], oy[1], oz[0]);
-    c[4] = grad(perm_u(hxy[0] + uz + 1u) & 15u, ox[0], oy[0], oz[1]);
-    c[5] = grad(perm_u(hxy[1] + uz + 1u) & 15u, ox[1], oy[0], oz[1]);
-    c[6] = grad(perm_u(hxy[2] + uz + 1u) & 15u, ox[0], oy[1], oz[1]);
-    c[7] = grad(perm_u(hxy[3] + uz + 1u) & 15u, ox[1], oy[1], oz[1]);
+    h[0] = perm_u(hxy[0] + uz) & 15u; h[1] = perm_u(hxy[1] + uz) & 15u;
+    h[2] = perm_u(hxy[2] + uz) & 15u; h[3] = perm_u(hxy[3] + uz) & 15u;
+    h[4] = perm_u(hxy[0] + uz + 1u) & 15u; h[5] = perm_u(hxy[1] + uz + 1u) & 15u;
+    h[6] = perm_u(hxy[2] + uz + 1u) & 15u; h[7] = perm_u(hxy[3] + uz + 1u) & 15u;
+}
+
+/* The noise from the corner hashes and the offset (dx, dy, dz) in [0, 1)^3 from
+   the cell's lowest corner: the 8 gradients' dot products blended by the weights. */
+NOISE_INLINE float noise_blend(const unsigned h[8], float dx, float dy, float dz)
+{
+    float wx, wy, wz, c[8], ex = dx - 1.0f, ey = dy - 1.0f, ez = dz - 1.0f;
+    c[0] = grad(h[0], dx, dy, dz); c[1] = grad(h[1], ex, dy, dz);
+    c[2] = grad(h[2], dx, ey, dz); c[3] = grad(h[3], ex, ey, dz);
+    c[4] = grad(h[4], dx, dy, ez); c[5] = grad(h[5], ex, dy, ez);
+    c[6] = grad(h[6], dx, ey, ez); c[7] = grad(h[7], ex, ey, ez);
     wx = noise_weight(dx); wy = noise_weight(dy); wz = noise_weight(dz);
     return lerpf(wz, lerpf(wy, lerpf(wx, c[0], c[1]), lerpf(wx, c[2], c[3])),
                  lerpf(wy, lerpf(wx, c[4], c[5]), lerpf(wx, c[6], c[7])));
+}
+
+/* Finite and below 1e30 (the noise is 0 at NaN, inf and huge points) */
+#define NOISE_OK(v) (fabsf(v) < 1e30f)
+
+float tex_noise(float x, float y, float z)
+{
+    unsigned h[8];
+    int ix, iy, iz;
+    if (!(NOISE_OK(x) && NOISE_OK(y) && NOISE_OK(z))) return 0.0f;
+    x = noise_reduce(x); y = noise_reduce(y); z = noise_reduce(z);
+    ix = noise_floor(x); iy = noise_floor(y); iz = noise_floor(z);
+    noise_hashes(ix, iy, iz, h);
+    return noise_blend(h, x - (float)ix, y - (float)iy, z - (float)iz);
+}
+
+/* The three shifted points differ from p in one coordinate each: where that
+   coordinate stays in p's lattice cell, the shifted noise reuses p's hashes. */
+void tex_noise_diff(Vec3 p, float h, float n[4])
+{
+    unsigned hp[8], hs[8];
+    float x = p.x, y = p.y, z = p.z, sx = x + h, sy = y + h, sz = z + h, dx, dy, dz, e;
+    int ix, iy, iz, is;
+    if (!(NOISE_OK(x) && NOISE_OK(y) && NOISE_OK(z) && NOISE_OK(sx) && NOISE_OK(sy) && NOISE_OK(sz))) {
+        n[0] = tex_noise(x, y, z); n[1] = tex_noise(sx, y, z);
+        n[2] = tex_noise(x, sy, z); n[3] = tex_noise(x, y, sz);
+        return;
+    }
+    x = noise_reduce(x); y = noise_reduce(y); z = noise_reduce(z);
+    ix = noise_floor(x); iy = noise_floor(y); iz = noise_floor(z);
+    dx = x - (float)ix; dy = y - (float)iy; dz = z - (float)iz;
+    noise_hashes(ix, iy, iz, hp);
+    n[0] = noise_blend(hp, dx, dy, dz);
+    sx = noise_reduce(sx); is = noise_floor(sx); e = sx - (float)is;
+    if (is != ix) noise_hashes(is, iy, iz, hs);
+    n[1] = noise_blend(is == ix ? hp : hs, e, dy, dz);
+    sy = noise_reduce(sy); is = noise_floor(sy); e = sy - (float)is;
+    if (is != iy) noise_hashes(ix, is, iz, hs);
+    n[2] = noise_blend(is == iy ? hp : hs, dx, e, dz);
+    sz = noise_reduce(sz); is = noise_floor(sz); e = sz - (float)is;
+    if (is != iz) noise_hashes(ix, iy, is, hs);
+    n[3] = noise_blend(is == iz ? hp : hs, dx, dy, e);
 }
 
 /* pbrt-v4's octave frequency step (slightly off 2 so that octaves' lattices do not align) */

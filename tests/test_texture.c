@@ -467,6 +467,36 @@ static void test_noise_direct(T *t)
     CHECK(t, bad == 0, "%d of 200000 points differ from the direct noise", bad);
 }
 
+/* tex_noise_diff (the cloud's wisps) against four tex_noise calls, bit for bit: at
+   points whose shifted copies stay in the cell, cross into the next one (a point
+   just below a lattice plane), or are huge, infinite or NaN. */
+static void test_noise_diff(T *t)
+{
+    Rng r;
+    int i, k, bad = 0, crossed = 0;
+    rng_seed(&r, 38, 0);
+    for (i = 0; i < 100000; i++) {
+        const float hs[4] = { 0.01f, 0.5f, 1.75f, -0.01f };
+        float q[3], n[4], want[4], h = hs[rng_u32(&r) % 4];
+        for (k = 0; k < 3; k++) {
+            q[k] = noise_coord(&r);
+            if (rng_u32(&r) % 3 == 0) q[k] = floorf(20.0f * rng_float(&r) - 10.0f) - 0.5f * h * rng_float(&r);
+        }
+        if (i % 997 == 0) q[i % 3] = i % 2 ? INFINITY : NAN;
+        tex_noise_diff(v3(q[0], q[1], q[2]), h, n);
+        want[0] = tex_noise(q[0], q[1], q[2]);
+        want[1] = tex_noise(q[0] + h, q[1], q[2]);
+        want[2] = tex_noise(q[0], q[1] + h, q[2]);
+        want[3] = tex_noise(q[0], q[1], q[2] + h);
+        for (k = 0; k < 3; k++) crossed += floorf(q[k]) != floorf(q[k] + h);
+        if (memcmp(n, want, sizeof n) && bad++ < 3)
+            CHECK(t, 0, "noise_diff(%.9g, %.9g, %.9g; %g) = %g %g %g %g, four noise calls %g %g %g %g",
+                  q[0], q[1], q[2], h, n[0], n[1], n[2], n[3], want[0], want[1], want[2], want[3]);
+    }
+    CHECK(t, bad == 0, "%d of 100000 points differ from four noise calls", bad);
+    CHECK(t, crossed > 20000, "only %d shifted points left their cell", crossed);
+}
+
 /* pbrt-v4's fbm, wrinkled and windy textures (textures.h: FBmTexture, WrinkledTexture,
    WindyTexture over util/noise.cpp's FBm and Turbulence, commit 5f7a6068) for a
    footprint of zero, printed by a small C++ program linked with its libpbrt_lib.a
@@ -1010,6 +1040,7 @@ const TestCase tests_texture[] = {
     { "texture_bad_input", test_bad_input },
     { "texture_noise", test_noise },
     { "texture_noise_direct", test_noise_direct },
+    { "texture_noise_diff", test_noise_diff },
     { "texture_noise_textures", test_noise_textures },
     { "texture_material_params", test_material_params },
     { "texture_conductor_against_pbrt", test_conductor_against_pbrt },
