@@ -227,24 +227,36 @@ double medium_grid_lookup(const MediumGrid *g, Vec3 u)
     return blend8(v, f);
 }
 
-/* rgbgrid sample (x, y, z) of g at lambda: 2 max(rgb) x sigmoid; 0 beyond the grid. */
-static double rgb_at(const MediumGrid *g, int x, int y, int z, float lambda)
+/* The eight rgbgrid samples around unit-cube point u (NULL: beyond the grid,
+   which reads 0) and the fractions of their trilinear blend. */
+typedef struct {
+    const float *c[8];
+    double f[3];
+} RgbCorners;
+
+static void rgb_corners(const MediumGrid *g, Vec3 u, RgbCorners *rc)
 {
-    const float *c;
-    if (x < 0 || y < 0 || z < 0 || x >= g->nx || y >= g->ny || z >= g->nz) return 0.0;
-    c = g->v + 4 * (((size_t)z * (size_t)g->ny + (size_t)y) * (size_t)g->nx + (size_t)x);
-    return (double)c[0] * spec_sigmoid_eval(c + 1, lambda);
+    int i[3], k;
+    grid_corner(g, u, i, rc->f);
+    for (k = 0; k < 8; k++) {
+        int x = i[0] + (k & 1), y = i[1] + ((k >> 1) & 1), z = i[2] + (k >> 2);
+        rc->c[k] = x < 0 || y < 0 || z < 0 || x >= g->nx || y >= g->ny || z >= g->nz ? NULL
+                 : g->v + 4 * (((size_t)z * (size_t)g->ny + (size_t)y) * (size_t)g->nx + (size_t)x);
+    }
 }
 
-/* An rgb grid at u for lambda: the samples' spectra first, then the trilinear
-   blend of their values (pbrt-v4's SampledGrid::Lookup with a conversion). */
-static double rgb_lookup(const MediumGrid *g, Vec3 u, float lambda)
+/* The blend at lambda of the samples' spectra, 2 max(rgb) x sigmoid (pbrt-v4's
+   SampledGrid::Lookup with a conversion).  A sample of 2 max(rgb) = 0 is that
+   zero itself: the sigmoid lies in [0, 1], so the product is the same. */
+static double rgb_blend(const RgbCorners *rc, float lambda)
 {
-    double f[3], v[8];
-    int i[3], c;
-    grid_corner(g, u, i, f);
-    for (c = 0; c < 8; c++) v[c] = rgb_at(g, i[0] + (c & 1), i[1] + ((c >> 1) & 1), i[2] + (c >> 2), lambda);
-    return blend8(v, f);
+    double v[8];
+    int k;
+    for (k = 0; k < 8; k++) {
+        const float *c = rc->c[k];
+        v[k] = !c ? 0.0 : c[0] == 0.0f ? (double)c[0] : (double)c[0] * spec_sigmoid_eval(c + 1, lambda);
+    }
+    return blend8(v, rc->f);
 }
 
 /* The samples a lookup in [lo, hi] (unit-cube coordinates, one axis, n samples)
@@ -327,13 +339,17 @@ static Vec3 unit_coords(const Medium *m, Vec3 p)
    Le times D65 (m->Le) and Lescale. */
 static void rgb_point(const Medium *m, Vec3 u, const float *lam, unsigned alive, MediumPoint *out)
 {
+    RgbCorners ca, cs, ce;
     int j;
+    if (m->rgb_sa.v) rgb_corners(&m->rgb_sa, u, &ca);
+    if (m->rgb_ss.v) rgb_corners(&m->rgb_ss, u, &cs);
+    if (m->Le_scale > 0.0f) rgb_corners(&m->rgb_le, u, &ce);
     for (j = 0; j < HERO_N; j++) {
         out->sa[j] = out->ss[j] = out->le[j] = 0.0;
         if (!(alive & (1u << j))) continue;
-        out->sa[j] = m->rgb_scale * (m->rgb_sa.v ? rgb_lookup(&m->rgb_sa, u, lam[j]) : 1.0);
-        out->ss[j] = m->rgb_scale * (m->rgb_ss.v ? rgb_lookup(&m->rgb_ss, u, lam[j]) : 1.0);
-        if (m->Le_scale > 0.0f) out->le[j] = rgb_lookup(&m->rgb_le, u, lam[j]) * spec_eval(&m->Le, lam[j]);
+        out->sa[j] = m->rgb_scale * (m->rgb_sa.v ? rgb_blend(&ca, lam[j]) : 1.0);
+        out->ss[j] = m->rgb_scale * (m->rgb_ss.v ? rgb_blend(&cs, lam[j]) : 1.0);
+        if (m->Le_scale > 0.0f) out->le[j] = rgb_blend(&ce, lam[j]) * spec_eval(&m->Le, lam[j]);
     }
 }
 
@@ -364,10 +380,15 @@ float medium_cloud_density(const Medium *m, Vec3 q)
     return fminf(fmaxf(d, 0.0f), 1.0f);
 }
 
+/* A homogeneous, grid, cloud or nanovdb medium's sigma_a(lambda_j), sigma_s(lambda_j)
+   at the lanes' wavelengths (lane_coeffs, below). */
+typedef struct { float sa[HERO_N], ss[HERO_N]; } LaneCoeffs;
+
 /* medium_point of a nanovdb medium (pbrt-v4's NanoVDBMedium::SamplePoint): d from
    the density grid (a negative blend reads 0), and where a temperature grid is,
    Lescale times the blackbody (peak 1) of (T - offset) scale above 100 K. */
-static void vdb_point(const Medium *m, Vec3 p, const float *lam, unsigned alive, MediumPoint *out)
+static void vdb_point(const Medium *m, Vec3 p, const float *lam, unsigned alive, const LaneCoeffs *k,
+                      MediumPoint *out)
 {
     Vec3 q = xf_point(&m->medium_from_world, p);
     double d = fmax(0.0, nanovdb_sample(&m->vdb[0], q)), kelvin = 0.0;
@@ -377,19 +398,34 @@ static void vdb_point(const Medium *m, Vec3 p, const float *lam, unsigned alive,
     for (j = 0; j < HERO_N; j++) {
         out->sa[j] = out->ss[j] = out->le[j] = 0.0;
         if (!(alive & (1u << j))) continue;
-        out->sa[j] = medium_sigma_a(m, lam[j]) * d;
-        out->ss[j] = medium_sigma_s(m, lam[j]) * d;
+        out->sa[j] = k->sa[j] * d;
+        out->ss[j] = k->ss[j] * d;
         if (kelvin > 100.0) out->le[j] = m->Le_scale * blackbody_eval((float)kelvin, lam[j]);
     }
 }
 
-void medium_point(const Medium *m, Vec3 p, const float *lam, unsigned alive, MediumPoint *out)
+/* The coefficients sigma_a, sigma_s of a medium's spectra at the alive lanes'
+   wavelengths (an rgbgrid's are in its grids: unused), computed once per track. */
+static void lane_coeffs(const Medium *m, const float *lam, unsigned alive, LaneCoeffs *k)
+{
+    int j;
+    for (j = 0; j < HERO_N; j++) {
+        k->sa[j] = k->ss[j] = 0.0f;
+        if (m->type == MEDIUM_RGBGRID || !(alive & (1u << j))) continue;
+        k->sa[j] = medium_sigma_a(m, lam[j]);
+        k->ss[j] = medium_sigma_s(m, lam[j]);
+    }
+}
+
+/* medium_point with the lanes' coefficients k (lane_coeffs) */
+static void point_at(const Medium *m, Vec3 p, const float *lam, unsigned alive, const LaneCoeffs *k,
+                     MediumPoint *out)
 {
     Vec3 u = unit_coords(m, p);
     double d, ls = 0.0, kelvin = 0.0;
     int j;
     if (m->type == MEDIUM_RGBGRID) { rgb_point(m, u, lam, alive, out); return; }
-    if (m->type == MEDIUM_NANOVDB) { vdb_point(m, p, lam, alive, out); return; }
+    if (m->type == MEDIUM_NANOVDB) { vdb_point(m, p, lam, alive, k, out); return; }
     d = m->type == MEDIUM_CLOUD ? medium_cloud_density(m, xf_point(&m->medium_from_world, p))
                                 : medium_grid_lookup(&m->density, u);
     if (m->Le_scale > 0.0f) {
@@ -402,12 +438,19 @@ void medium_point(const Medium *m, Vec3 p, const float *lam, unsigned alive, Med
     for (j = 0; j < HERO_N; j++) {
         out->sa[j] = out->ss[j] = out->le[j] = 0.0;
         if (!(alive & (1u << j))) continue;
-        out->sa[j] = d * medium_sigma_a(m, lam[j]);
-        out->ss[j] = d * medium_sigma_s(m, lam[j]);
+        out->sa[j] = d * k->sa[j];
+        out->ss[j] = d * k->ss[j];
         if (ls > 0.0)
             out->le[j] = ls * (m->temperature.v ? blackbody_eval((float)kelvin, lam[j])
                                                  : spec_eval(&m->Le, lam[j]));
     }
+}
+
+void medium_point(const Medium *m, Vec3 p, const float *lam, unsigned alive, MediumPoint *out)
+{
+    LaneCoeffs k;
+    lane_coeffs(m, lam, alive, &k);
+    point_at(m, p, lam, alive, &k, out);
 }
 
 void medium_free(Medium *m)
@@ -487,6 +530,14 @@ static int dda_step(Dda *w, double *t_exit)
     return w->cell[a] >= 0 && w->cell[a] < w->res;
 }
 
+/* Tbar_j / Tbar_0 = exp(-(sigma_bar_j - sigma_bar_0) dt) over a length dt, with
+   ds = sigma_bar_j - sigma_bar_0: exactly 1 where the majorants agree (the hero,
+   grey media, every lane of an rgbgrid) without calling exp. */
+static double maj_ratio(double ds, double dt)
+{
+    return ds == 0.0 ? 1.0 : exp(-ds * dt);
+}
+
 int medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigned alive,
                  float u, Rng *rng, MediumEventFn fn, void *ctx, double tm_end[HERO_N])
 {
@@ -496,12 +547,14 @@ int medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigne
     const float oo[3] = { o.x, o.y, o.z }, dd[3] = { dm.x, dm.y, dm.z },
                 lo[3] = { m->p0.x, m->p0.y, m->p0.z }, hi[3] = { m->p1.x, m->p1.y, m->p1.z };
     MediumEvent ev;
+    LaneCoeffs lc;
     Dda w;
     long events = 0;
     int j, k, inside = 1;
+    lane_coeffs(m, lam, alive, &lc);
     for (j = 0; j < HERO_N; j++) {
         tm_end[j] = 1.0;
-        st[j] = !(alive & (1u << j)) ? 0.0 : m->type == MEDIUM_RGBGRID ? 1.0 : medium_sigma_t(m, lam[j]);
+        st[j] = !(alive & (1u << j)) ? 0.0 : m->type == MEDIUM_RGBGRID ? 1.0 : lc.sa[j] + lc.ss[j];
     }
     for (k = 0; k < 3; k++) {
         go[k] = (oo[k] - lo[k]) / (hi[k] - lo[k]);
@@ -522,15 +575,15 @@ int medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigne
                 for (j = 0; j < HERO_N; j++) tm_end[j] = 0.0;    /* opaque: nothing passes */
                 return 0;
             }
-            for (j = 0; j < HERO_N; j++) ev.tm[j] = tm_end[j] * exp(-(ev.smaj[j] - ev.smaj[0]) * (tc - t));
+            for (j = 0; j < HERO_N; j++) ev.tm[j] = tm_end[j] * maj_ratio(ev.smaj[j] - ev.smaj[0], tc - t);
             ev.t = (float)(tc / len);
             ev.p = v3_add(ray.o, v3_mul(dn, (float)tc));
-            medium_point(m, ev.p, lam, alive, &ev.mp);
+            point_at(m, ev.p, lam, alive, &lc, &ev.mp);
             if (!fn(ctx, &ev)) return 1;
             for (j = 0; j < HERO_N; j++) tm_end[j] = 1.0;
             t = tc;
         }
-        for (j = 0; j < HERO_N; j++) tm_end[j] *= exp(-(ev.smaj[j] - ev.smaj[0]) * (t_exit - t));
+        for (j = 0; j < HERO_N; j++) tm_end[j] *= maj_ratio(ev.smaj[j] - ev.smaj[0], t_exit - t);
         t = t_exit;
     }
     return 0;
