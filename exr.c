@@ -507,6 +507,8 @@ unsigned exr_float_to_half(float f)
     sign = (unsigned)(u >> 16) & 0x8000u;
     a = u & 0x7fffffffu;
     if (a > 0x7f800000u) return sign | 0x7e00u;            /* NaN */
+    /* >= 65520 (and inf): infinity.  From 65520 up the normal case below would
+       round up into the infinity's bits by itself; from 65536 it would not */
     if (a >= 0x477ff000u) return sign | 0x7c00u;           /* >= 65520 (and inf): infinity */
     if (a >= 0x38800000u) {                                /* >= 2^-14: normal */
         uint32_t rem = a & 0x1fffu;
@@ -514,7 +516,7 @@ unsigned exr_float_to_half(float f)
         if (rem > 0x1000u || (rem == 0x1000u && (h & 1u))) h++;
         return sign | (unsigned)h;
     }
-    if (a <= 0x33000000u) return sign;                     /* <= 2^-25: zero */
+    if (a <= 0x33000000u) return sign;                     /* <= 2^-25: zero (and no shift of 32 or more below) */
     {   /* subnormal: m 2^-24 with m = the 24-bit significand >> (126 - exponent) */
         int shift = 126 - (int)(a >> 23);
         uint32_t mant = (a & 0x7fffffu) | 0x800000u, half = 1u << (shift - 1);

@@ -23,7 +23,7 @@
    camera), converted to linear sRGB with pbrt-v4's
    matrix.  A sample whose XYZ is not finite is dropped (counted; it counts as 0).
 
-   THE SPECTRAL FILM (pbrt-v4's Film "spectral", THEORY §7b).  The camera samples
+   THE SPECTRAL FILM (pbrt-v4's Film "spectral", THEORY §9.1).  The camera samples
    its four wavelengths uniformly in [lambdamin, lambdamax] and the emitters are
    normalised over 360..830 nm, as pbrt-v4's; the RGB image is made as above.  Each
    of the four lanes also goes to the bucket (of nbuckets equal bands) its
