@@ -46,8 +46,9 @@ static const char usage_text[] =
 static const char usage_options[] =
 "options (a command-line value overrides the scene file's):\n"
 "  -o, --out FILE          output image: .pfm (linear float), .ppm or .png (8-bit sRGB);\n"
-"                          its directory must exist; it overrides the scene's Film\n"
-"                          \"string filename\", as pbrt-v4 --outfile does\n"
+"                          .exr (only) for Film \"spectral\"; its directory must exist;\n"
+"                          it overrides the scene's Film \"string filename\", as\n"
+"                          pbrt-v4 --outfile does\n"
 "      --spp N             samples per pixel (file: Sampler pixelsamples; default 16)\n"
 "      --seed N            random seed (file: Sampler seed; default 0)\n"
 "      --sampler NAME      independent, stratified, sobol or zsobol (file: Sampler;\n"
@@ -503,9 +504,15 @@ static int render_spectral_main(const Args *a, Scene *scene, const char *out)
     Image img;
     RenderStats st;
     Error err;
+    RenderOptions d;
     float *buckets = NULL;
     int ok;
     err.msg[0] = '\0';
+    render_options_default(&d);
+    if (a->ro.wl_mode != d.wl_mode || a->ro.wl_mix != d.wl_mix || a->ro.wl_wide)
+        fprintf(stderr, "%s: note: Film \"spectral\" samples its wavelengths uniformly in "
+                "%g-%g nm (pbrt-v4): --wavelengths, --mix-weight and --wide do not apply\n",
+                a->scene, scene->settings.lambda_min, scene->settings.lambda_max);
     ok = render_spectral(scene, &a->ro, &img, &buckets, &st, &err) &&
          img_write_spectral(&img, buckets, &scene->settings, out, &err);
     if (!ok) fprintf(stderr, "%s\n", err.msg);
