@@ -5,7 +5,7 @@
    exr_read_memory_named, exr_write, exr_write_memory, exr_float_to_half,
    exr_half_to_float.  texture.c and infinite.c read an imagemap texture's or an
    infinite light's .exr with exr_read (a .pfm of the same name beside it is read
-   instead, when there is one); image.c's img_write_spectral writes the spectral
+   instead, when there is one); render.c's img_write_spectral writes the spectral
    film with exr_write; the tests read named channels (the film's buckets) back
    with exr_read_named.
 

@@ -22,15 +22,6 @@
                          oetf(c) = 12.92 c                   c <= 0.0031308
                                  = 1.055 c^(1/2.4) - 0.055   otherwise
      img_write       chooses the format by the extension (.pfm .ppm .png, any case).
-     img_write_spectral  pbrt-v4's spectral film as OpenEXR (exr.c's exr_write): the
-                     channels R, G, B (linear sRGB) and one a bucket, named
-                     "S0.<centre>nm" with the band's centre printed "%.3f" and its '.'
-                     written ',' (the OpenEXR spectral layout of Fichet et al. 2021,
-                     JCGT 10(3), where '.' separates layers: "S0.560,000nm"), the
-                     strings spectralLayoutVersion "1.0" and emissiveUnits
-                     "W.m^-2.sr^-1"; HALF (values above 65504 clamped to 65504, as
-                     pbrt-v4 does) when savefp16, else FLOAT; the data window is the
-                     film's crop, the display window the whole film.
      sidecar         "<image>.txt" with the lines "spp <n>" and "settings <text>".
      img_merge       sample-count-weighted mean  I = sum_i w_i I_i / sum_i w_i, w_i = spp_i.
      img_error       over a pixel rectangle R with N pixels, a = test, b = reference:
@@ -619,47 +610,6 @@ int img_write(const Image *im, const char *path, float exposure, Error *err)
         return 0;
     }
     return 1;
-}
-
-int img_write_spectral(const Image *im, const float *buckets, const SceneSettings *st,
-                       const char *path, Error *err)
-{
-    static const char *const keys[2] = { "emissiveUnits", "spectralLayoutVersion" };
-    static const char *const vals[2] = { "W.m^-2.sr^-1", "1.0" };
-    char names[64][24];
-    const char *np[64];
-    int nb = st->nbuckets, nc = 3 + nb, b[4], k, ok;
-    size_t i, n = (size_t)im->w * (size_t)im->h;
-    float *v;
-    ExrWrite x;
-    if (!img_valid(im) || nb < 1 || nc > 64 || !film_bounds(st, b) || b[1] - b[0] != im->w ||
-        b[3] - b[2] != im->h) {
-        error_set(err, path, 0, "no image to write");
-        return 0;
-    }
-    if (!(v = (float *)malloc(sizeof(float) * (size_t)nc * n))) {
-        error_set(err, path, 0, "EXR: out of memory");
-        return 0;
-    }
-    for (k = 0; k < nc; k++) {
-        char *c;
-        float t = ((float)(k - 3) + 0.5f) / (float)nb;   /* the band's centre, in float */
-        if (k < 3) snprintf(names[k], sizeof names[k], "%c", "RGB"[k]);
-        else snprintf(names[k], sizeof names[k], "S0.%.3fnm", (1.0f - t) * st->lambda_min + t * st->lambda_max);
-        for (c = names[k]; *c; c++) if (*c == '.' && c > names[k] + 2) *c = ',';
-        np[k] = names[k];
-    }
-    for (i = 0; i < n; i++)
-        for (k = 0; k < nc; k++) {
-            float c = k < 3 ? im->rgb[3 * i + (size_t)k] : buckets[(size_t)nb * i + (size_t)(k - 3)];
-            v[(size_t)nc * i + (size_t)k] = st->savefp16 && c > 65504.0f ? 65504.0f : c;
-        }
-    x.w = im->w; x.h = im->h; x.x0 = b[0]; x.y0 = b[2]; x.full_w = st->xres; x.full_h = st->yres;
-    x.n_ch = nc; x.names = np; x.v = v; x.half = st->savefp16;
-    x.n_str = 2; x.str_key = keys; x.str_val = vals;
-    ok = exr_write(path, &x, err);
-    free(v);
-    return ok;
 }
 
 /* "<path>.txt", malloc'ed. */

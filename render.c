@@ -2,7 +2,7 @@
 
    Exported (specnee.h section 12): render_options_default, render_options_thesis,
    render, render_ladder, render_begin, render_advance, render_image, render_stats,
-   render_end, render_spectral.  The camera is in camera.c, the path estimator in path.c; render.h
+   render_end, render_spectral, img_write_spectral.  The camera is in camera.c, the path estimator in path.c; render.h
    holds what the three share (Renderer, FilmSample, Counters).
 
    A RENDER.  render_begin builds the Renderer: the emitters' radiance for the
@@ -33,6 +33,13 @@
    scaled together so that the largest is at most maxcomponentvalue, the bucket
    keeps sum fw L_j CIE_Y_INTEGRAL and sum fw, and its value is their ratio (0
    when no wavelength fell in it): the mean of L CIE_Y_INTEGRAL over the band.
+   img_write_spectral writes it as OpenEXR (exr.c's exr_write): the channels R, G,
+   B (linear sRGB) and one a bucket, named "S0.<centre>nm" with the band's centre
+   printed "%.3f" and its '.' written ',' (the OpenEXR spectral layout of Fichet et
+   al. 2021, JCGT 10(3), where '.' separates layers: "S0.560,000nm"), the strings
+   spectralLayoutVersion "1.0" and emissiveUnits "W.m^-2.sr^-1"; HALF (values
+   above 65504 clamped to 65504, as pbrt-v4 does) when savefp16, else FLOAT; the
+   data window is the film's crop, the display window the whole film.
 
    DETERMINISM.  Every (pixel, sample) owns its random numbers (sampler.c) and
    every pixel is written by one thread (rows are handed out one at a time): the
@@ -535,6 +542,47 @@ int render_spectral(const Scene *s, const RenderOptions *o, Image *img, float **
     memset(&j->img, 0, sizeof j->img);
     render_end(j);
     return 1;
+}
+
+int img_write_spectral(const Image *im, const float *buckets, const SceneSettings *st,
+                       const char *path, Error *err)
+{
+    static const char *const keys[2] = { "emissiveUnits", "spectralLayoutVersion" };
+    static const char *const vals[2] = { "W.m^-2.sr^-1", "1.0" };
+    char names[64][24];
+    const char *np[64];
+    int nb = st->nbuckets, nc = 3 + nb, b[4], k, ok;
+    size_t i, n = (size_t)im->w * (size_t)im->h;
+    float *v;
+    ExrWrite x;
+    if (!im->rgb || nb < 1 || nc > 64 || !film_bounds(st, b) || b[1] - b[0] != im->w ||
+        b[3] - b[2] != im->h) {
+        error_set(err, path, 0, "no image to write");
+        return 0;
+    }
+    if (!(v = (float *)malloc(sizeof(float) * (size_t)nc * n))) {
+        error_set(err, path, 0, "EXR: out of memory");
+        return 0;
+    }
+    for (k = 0; k < nc; k++) {
+        char *c;
+        float t = ((float)(k - 3) + 0.5f) / (float)nb;   /* the band's centre, in float */
+        if (k < 3) snprintf(names[k], sizeof names[k], "%c", "RGB"[k]);
+        else snprintf(names[k], sizeof names[k], "S0.%.3fnm", (1.0f - t) * st->lambda_min + t * st->lambda_max);
+        for (c = names[k]; *c; c++) if (*c == '.' && c > names[k] + 2) *c = ',';
+        np[k] = names[k];
+    }
+    for (i = 0; i < n; i++)
+        for (k = 0; k < nc; k++) {
+            float c = k < 3 ? im->rgb[3 * i + (size_t)k] : buckets[(size_t)nb * i + (size_t)(k - 3)];
+            v[(size_t)nc * i + (size_t)k] = st->savefp16 && c > 65504.0f ? 65504.0f : c;
+        }
+    x.w = im->w; x.h = im->h; x.x0 = b[0]; x.y0 = b[2]; x.full_w = st->xres; x.full_h = st->yres;
+    x.n_ch = nc; x.names = np; x.v = v; x.half = st->savefp16;
+    x.n_str = 2; x.str_key = keys; x.str_val = vals;
+    ok = exr_write(path, &x, err);
+    free(v);
+    return ok;
 }
 
 int render_ladder(const Scene *s, const RenderOptions *o, const int *ladder, int n_rungs,

@@ -1512,7 +1512,7 @@ typedef struct {
        emitters keep pbrt-v4's 360..830 nm normalisation, and besides the RGB image
        the film keeps nbuckets channels: per band of equal width, the radiance of
        the samples whose wavelength fell in it times CIE_Y_INTEGRAL, averaged
-       (render.c); written as OpenEXR (image.c), HALF when savefp16, else FLOAT */
+       (render.c); written as OpenEXR (render.c, exr.c), HALF when savefp16, else FLOAT */
     int spectral, nbuckets, savefp16;
     float lambda_min, lambda_max;
     char sampler[16];          /* Sampler: the specnee sampler it maps to, "" if none */
@@ -1652,10 +1652,6 @@ int  img_alloc(Image *im, int w, int h);  /* zero-filled; 0 on bad size or no me
 void img_free(Image *im);
 int  img_write(const Image *im, const char *path, float exposure, Error *err); /* by extension */
 int  img_format_check(const char *path, Error *err);  /* .pfm .ppm .png, else 0 and a message */
-/* pbrt-v4's Film "spectral" as OpenEXR (image.c): im's R, G, B and the buckets of
-   render_spectral, named and scaled as pbrt-v4 writes them. */
-int  img_write_spectral(const Image *im, const float *buckets, const SceneSettings *st,
-                        const char *path, Error *err);
 int  pfm_write(const Image *im, const char *path);
 int  pfm_read(Image *im, const char *path, Error *err);
 int  ppm_write(const Image *im, const char *path, float exposure);
@@ -1977,6 +1973,10 @@ int  render(const Scene *s, const RenderOptions *o, Image *img, RenderStats *st,
    nbuckets (render.c says how the four wavelengths of a sample go to them). */
 int  render_spectral(const Scene *s, const RenderOptions *o, Image *img, float **buckets,
                      RenderStats *st, Error *err);
+/* The spectral film as OpenEXR (render.c, with exr.c's writer): img's R, G, B and
+   the buckets of render_spectral, named and clamped as pbrt-v4 writes them. */
+int  img_write_spectral(const Image *im, const float *buckets, const SceneSettings *st,
+                        const char *path, Error *err);
 /* Progressive render up an increasing ladder of spp (o->spp is ignored): after
    the pass that reaches ladder[i], on_rung(user, i, img, st) sees the image with
    ladder[i] samples per pixel (bit-identical to render() with that spp) and the

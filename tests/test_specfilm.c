@@ -1,4 +1,4 @@
-/* tests/test_specfilm.c - pbrt-v4's Film "spectral" (render.c's buckets, image.c's
+/* tests/test_specfilm.c - pbrt-v4's Film "spectral" (render.c's buckets and
    img_write_spectral) and the OpenEXR writer under it (exr.c).
 
    The float to half rounding is exact on known values (1, 65504, the overflow
