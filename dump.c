@@ -158,6 +158,9 @@ void scene_dump(const Scene *s, FILE *f)
             fprintf(f, "\n  %s: renders and writes pixels x %d..%d, y %d..%d (%d x %d)",
                     st->crop_set ? "cropwindow" : "pixelbounds", b[0], b[1] - 1, b[2],
                     b[3] - 1, b[1] - b[0], b[3] - b[2]);
+        if (st->spectral)
+            fprintf(f, "\n  spectral: %d buckets over %g..%g nm (wavelengths uniform there), EXR %s",
+                    st->nbuckets, st->lambda_min, st->lambda_max, st->savefp16 ? "half" : "float");
     }
     fprintf(f, "\nsettings: spp %d%s, seed %d%s, maxdepth %d%s, lightsampler \"%s\"\n",
             st->spp, st->spp_set ? "" : " (default)", st->seed, st->seed_set ? "" : " (default)",

@@ -1,8 +1,13 @@
-/* exr.c - a small OpenEXR reader, for image textures and environment maps.
+/* exr.c - a small OpenEXR reader, for image textures and environment maps, and
+   a writer, for pbrt-v4's Film "spectral".
 
-   Exported (specnee.h section 10): exr_read_memory, exr_read.  texture.c and
-   infinite.c read an imagemap texture's or an infinite light's .exr with exr_read
-   (a .pfm of the same name beside it is read instead, when there is one).
+   Exported (specnee.h section 10): exr_read_memory, exr_read, exr_read_named,
+   exr_read_memory_named, exr_write, exr_write_memory, exr_float_to_half,
+   exr_half_to_float.  texture.c and infinite.c read an imagemap texture's or an
+   infinite light's .exr with exr_read (a .pfm of the same name beside it is read
+   instead, when there is one); render.c's img_write_spectral writes the spectral
+   film with exr_write; the tests read named channels (the film's buckets) back
+   with exr_read_named.
 
    WHAT IT READS (the OpenEXR file layout, openexr.com "OpenEXR File Layout")
      All numbers little-endian.  The magic number 76 2f 31 01, then the version
@@ -49,8 +54,20 @@
    THE RESULT.  An Image of the data window, rows top to bottom (EXR's y grows
    downwards), 3 floats a pixel: R, G, B when the file has all three, else Y
    repeated (a luminance image), else an error.  Other channels (A, layers such as
-   "diffuse.R") are skipped.  The display window is not read: pbrt-v4 also makes
-   its image of the data window.
+   "diffuse.R") are skipped.  exr_read_named reads three channels named by the
+   caller into the three floats instead (a name may repeat).  The display window
+   is not read: pbrt-v4 also makes its image of the data window.
+
+   THE WRITER (exr_write).  The same layout, the simplest way: version 2 with no
+   flags, compression NONE, one scan line a block, lines in increasing y.  The
+   header holds the attributes every OpenEXR file must have (channels,
+   compression, dataWindow, displayWindow, lineOrder, pixelAspectRatio 1,
+   screenWindowCenter (0, 0), screenWindowWidth 1) and the caller's strings;
+   the channel list is sorted by name (strcmp order, as OpenEXR's ChannelList
+   keeps it), and each line holds the channels in that order.  HALF values are
+   rounded to the nearest binary16, ties to even (exr_float_to_half): a float
+   whose magnitude is 65520 or more becomes infinity, one at most 2^-25 becomes
+   zero, and between 2^-25 and 2^-14 a subnormal m 2^-24.
 
    HOSTILE INPUT.  Every read is bounds-checked against the file's length; sizes
    are checked before anything is allocated: the pixel count against
@@ -70,7 +87,6 @@
 typedef struct {
     char name[EXR_MAX_NAME];
     int type;                     /* 0 UINT, 1 HALF, 2 FLOAT */
-    int role;                     /* 0 R, 1 G, 2 B, 3 Y, -1 skipped */
     size_t offset;                /* of its samples within a line */
 } ExrChannel;
 
@@ -81,9 +97,11 @@ typedef struct {
     Error *err;
     ExrChannel ch[EXR_MAX_CHANNELS];
     int n_ch, compression, have_channels, have_window;
+    const char *const *want;      /* three channel names to read; NULL: R G B, or Y */
+    int slot[3];                  /* the channel read into each float of a pixel */
     long long x0, y0, x1, y1;     /* the data window */
     /* from plan(): */
-    int w, h, grey;               /* the image; grey: Y read, not R G B */
+    int w, h;                     /* the image */
     int lpb;                      /* scan lines a block */
     size_t line_bytes, block_bytes, n_blocks;
 } Exr;
@@ -159,8 +177,6 @@ static int read_channels(Exr *x, const unsigned char *v, size_t size)
             snprintf(what, sizeof what, "channel \"%s\" subsampled (x or y sampling not 1)", c->name);
             return exr_refuse(x, what);
         }
-        c->role = !strcmp(c->name, "R") ? 0 : !strcmp(c->name, "G") ? 1 : !strcmp(c->name, "B") ? 2
-                : !strcmp(c->name, "Y") ? 3 : -1;
         p += 16;
     }
     if (x->n_ch == 0) return exr_fail(x, "no channels");
@@ -263,7 +279,7 @@ static void unpredict(unsigned char *t, unsigned char *out, size_t n)
 }
 
 /* A binary16 number as a float (exact). */
-static float half_to_float(unsigned h)
+float exr_half_to_float(unsigned h)
 {
     unsigned e = (h >> 10) & 31u, m = h & 1023u;
     float v;
@@ -279,7 +295,7 @@ static float sample(const unsigned char *line, const ExrChannel *c, size_t i)
     float f;
     if (c->type == 1) {
         const unsigned char *p = line + c->offset + 2 * i;
-        return half_to_float((unsigned)p[0] | (unsigned)p[1] << 8);
+        return exr_half_to_float((unsigned)p[0] | (unsigned)p[1] << 8);
     }
     if (c->type == 0) return (float)le32(line + c->offset + 4 * i);
     {
@@ -297,16 +313,41 @@ static void put_lines(const Exr *x, const unsigned char *raw, int lines, int row
     for (l = 0; l < lines; l++) {
         const unsigned char *line = raw + (size_t)l * x->line_bytes;
         float *out = im->rgb + 3 * (size_t)(row0 + l) * (size_t)im->w;
-        for (k = 0; k < x->n_ch; k++) {
-            const ExrChannel *c = &x->ch[k];
-            if (c->role < 0 || (x->grey ? c->role != 3 : c->role > 2)) continue;
-            for (i = 0; i < (size_t)im->w; i++) {
-                float v = sample(line, c, i);
-                if (x->grey) out[3 * i] = out[3 * i + 1] = out[3 * i + 2] = v;
-                else out[3 * i + (size_t)c->role] = v;
-            }
-        }
+        for (k = 0; k < 3; k++)
+            for (i = 0; i < (size_t)im->w; i++) out[3 * i + (size_t)k] = sample(line, &x->ch[x->slot[k]], i);
     }
+}
+
+/* The index of the channel called name, -1 if none. */
+static int channel_index(const Exr *x, const char *name)
+{
+    int k;
+    for (k = 0; k < x->n_ch; k++)
+        if (!strcmp(x->ch[k].name, name)) return k;
+    return -1;
+}
+
+/* The channel read into each of a pixel's three floats: the caller's names, else
+   R, G, B, else Y three times. */
+static int choose_slots(Exr *x)
+{
+    static const char *const rgb[3] = { "R", "G", "B" };
+    const char *const *names = x->want ? x->want : rgb;
+    int k;
+    for (k = 0; k < 3; k++) x->slot[k] = channel_index(x, names[k]);
+    if (x->want) {
+        for (k = 0; k < 3; k++)
+            if (x->slot[k] < 0) {
+                char msg[EXR_MAX_NAME + 32];
+                snprintf(msg, sizeof msg, "no channel \"%s\"", x->want[k]);
+                return exr_fail(x, msg);
+            }
+    } else if (x->slot[0] < 0 || x->slot[1] < 0 || x->slot[2] < 0) {
+        x->slot[0] = x->slot[1] = x->slot[2] = channel_index(x, "Y");
+        if (x->slot[0] < 0)
+            return exr_fail(x, "no R, G, B channels and no Y channel (specnee reads RGB or luminance images)");
+    }
+    return 1;
 }
 
 /* After the header: the channels to read, the image's size, the block layout, and
@@ -314,13 +355,10 @@ static void put_lines(const Exr *x, const unsigned char *raw, int lines, int row
    offset table. */
 static int plan(Exr *x)
 {
-    int k, have[4] = { 0, 0, 0, 0 };
+    int k;
     long long w, h;
     double raw_total, expansion, line_bytes_d = 0.0, memory;
-    for (k = 0; k < x->n_ch; k++) if (x->ch[k].role >= 0) have[x->ch[k].role] = 1;
-    x->grey = !(have[0] && have[1] && have[2]);
-    if (x->grey && !have[3])
-        return exr_fail(x, "no R, G, B channels and no Y channel (specnee reads RGB or luminance images)");
+    if (!choose_slots(x)) return 0;
     w = x->x1 - x->x0 + 1;
     h = x->y1 - x->y0 + 1;
     if (w < 1 || h < 1) return exr_fail(x, "an empty data window (xMax < xMin or yMax < yMin)");
@@ -402,7 +440,8 @@ static int read_block(Exr *x, size_t b, unsigned char *raw, unsigned char *tmp, 
     return 1;
 }
 
-int exr_read_memory(const unsigned char *data, size_t n, const char *name, Image *im, Error *err)
+int exr_read_memory_named(const unsigned char *data, size_t n, const char *name,
+                          const char *const want[3], Image *im, Error *err)
 {
     Exr *x;
     int ok = 0;
@@ -411,7 +450,7 @@ int exr_read_memory(const unsigned char *data, size_t n, const char *name, Image
     memset(im, 0, sizeof *im);
     x = (Exr *)calloc(1, sizeof *x);
     if (!x) { error_set(err, name ? name : "<exr>", 0, "EXR: out of memory"); return 0; }
-    x->d = data; x->n = n; x->name = name ? name : "<exr>"; x->err = err;
+    x->d = data; x->n = n; x->name = name ? name : "<exr>"; x->err = err; x->want = want;
     if (read_header(x) && plan(x)) {
         raw = (unsigned char *)malloc(x->block_bytes);
         tmp = (unsigned char *)malloc(x->block_bytes);
@@ -429,7 +468,12 @@ int exr_read_memory(const unsigned char *data, size_t n, const char *name, Image
     return ok;
 }
 
-int exr_read(Image *im, const char *path, Error *err)
+int exr_read_memory(const unsigned char *data, size_t n, const char *name, Image *im, Error *err)
+{
+    return exr_read_memory_named(data, n, name, NULL, im, err);
+}
+
+int exr_read_named(Image *im, const char *path, const char *const want[3], Error *err)
 {
     size_t len;
     ReadStatus rs;
@@ -442,7 +486,191 @@ int exr_read(Image *im, const char *path, Error *err)
                   : read_status_text(rs));
         return 0;
     }
-    ok = exr_read_memory((const unsigned char *)buf, len, path, im, err);
+    ok = exr_read_memory_named((const unsigned char *)buf, len, path, want, im, err);
     free(buf);
+    return ok;
+}
+
+int exr_read(Image *im, const char *path, Error *err)
+{
+    return exr_read_named(im, path, NULL, err);
+}
+
+/* ------------------------------------------------------------------ the writer */
+
+/* f rounded to the nearest binary16, ties to even (the bits; NaN stays a NaN). */
+unsigned exr_float_to_half(float f)
+{
+    uint32_t u, a, h;
+    unsigned sign;
+    memcpy(&u, &f, sizeof u);
+    sign = (unsigned)(u >> 16) & 0x8000u;
+    a = u & 0x7fffffffu;
+    if (a > 0x7f800000u) return sign | 0x7e00u;            /* NaN */
+    /* >= 65520 (and inf): infinity.  From 65520 up the normal case below would
+       round up into the infinity's bits by itself; from 65536 it would not */
+    if (a >= 0x477ff000u) return sign | 0x7c00u;           /* >= 65520 (and inf): infinity */
+    if (a >= 0x38800000u) {                                /* >= 2^-14: normal */
+        uint32_t rem = a & 0x1fffu;
+        h = (a - 0x38000000u) >> 13;                       /* exponent 127 -> 15 bias */
+        if (rem > 0x1000u || (rem == 0x1000u && (h & 1u))) h++;
+        return sign | (unsigned)h;
+    }
+    if (a <= 0x33000000u) return sign;                     /* <= 2^-25: zero (and no shift of 32 or more below) */
+    {   /* subnormal: m 2^-24 with m = the 24-bit significand >> (126 - exponent) */
+        int shift = 126 - (int)(a >> 23);
+        uint32_t mant = (a & 0x7fffffu) | 0x800000u, half = 1u << (shift - 1);
+        uint32_t rem = mant & ((1u << shift) - 1u);
+        h = mant >> shift;
+        if (rem > half || (rem == half && (h & 1u))) h++;
+        return sign | (unsigned)h;
+    }
+}
+
+/* A growing byte buffer; ok drops to 0 when memory runs out. */
+typedef struct { unsigned char *d; size_t n, cap; int ok; } Bytes;
+
+static void put(Bytes *b, const void *p, size_t n)
+{
+    if (!b->ok) return;
+    if (b->n + n > b->cap) {
+        size_t cap = b->cap ? b->cap : 4096;
+        unsigned char *d;
+        while (cap < b->n + n) cap *= 2;
+        if (!(d = (unsigned char *)realloc(b->d, cap))) { b->ok = 0; return; }
+        b->d = d;
+        b->cap = cap;
+    }
+    memcpy(b->d + b->n, p, n);
+    b->n += n;
+}
+
+static void put32(Bytes *b, uint32_t v)
+{
+    unsigned char p[4];
+    p[0] = (unsigned char)v; p[1] = (unsigned char)(v >> 8);
+    p[2] = (unsigned char)(v >> 16); p[3] = (unsigned char)(v >> 24);
+    put(b, p, 4);
+}
+
+/* An attribute's name, type and size; its value follows. */
+static void put_attr(Bytes *b, const char *name, const char *type, size_t size)
+{
+    put(b, name, strlen(name) + 1);
+    put(b, type, strlen(type) + 1);
+    put32(b, (uint32_t)size);
+}
+
+static void put_box(Bytes *b, const char *name, int x0, int y0, int x1, int y1)
+{
+    put_attr(b, name, "box2i", 16);
+    put32(b, (uint32_t)x0); put32(b, (uint32_t)y0); put32(b, (uint32_t)x1); put32(b, (uint32_t)y1);
+}
+
+static void put_float(Bytes *b, float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    put32(b, u);
+}
+
+/* order[0 .. n): the channels' indices sorted by name (insertion sort, strcmp). */
+static void sort_channels(const ExrWrite *im, int *order)
+{
+    int i, j;
+    for (i = 0; i < im->n_ch; i++) {
+        int c = order[i] = i;
+        for (j = i; j > 0 && strcmp(im->names[order[j - 1]], im->names[c]) > 0; j--)
+            order[j] = order[j - 1];
+        order[j] = c;
+    }
+}
+
+/* The header: magic, version, attributes, the end of the header. */
+static void put_header(Bytes *b, const ExrWrite *im, const int *order)
+{
+    static const unsigned char zero4[4] = { 0, 0, 0, 0 }, none = 0;
+    size_t chlist = 1;
+    int k;
+    put32(b, 20000630u);
+    put32(b, 2u);
+    for (k = 0; k < im->n_ch; k++) chlist += strlen(im->names[k]) + 1 + 16;
+    put_attr(b, "channels", "chlist", chlist);
+    for (k = 0; k < im->n_ch; k++) {
+        const char *name = im->names[order[k]];
+        put(b, name, strlen(name) + 1);
+        put32(b, im->half ? 1u : 2u);           /* HALF or FLOAT */
+        put(b, zero4, 4);                       /* pLinear 0, 3 reserved bytes */
+        put32(b, 1u);                           /* x and y sampling */
+        put32(b, 1u);
+    }
+    put(b, &none, 1);
+    put_attr(b, "compression", "compression", 1);
+    put(b, &none, 1);                           /* NONE */
+    put_box(b, "dataWindow", im->x0, im->y0, im->x0 + im->w - 1, im->y0 + im->h - 1);
+    put_box(b, "displayWindow", 0, 0, im->full_w - 1, im->full_h - 1);
+    put_attr(b, "lineOrder", "lineOrder", 1);
+    put(b, &none, 1);                           /* INCREASING_Y */
+    put_attr(b, "pixelAspectRatio", "float", 4);
+    put_float(b, 1.0f);
+    put_attr(b, "screenWindowCenter", "v2f", 8);
+    put_float(b, 0.0f);
+    put_float(b, 0.0f);
+    put_attr(b, "screenWindowWidth", "float", 4);
+    put_float(b, 1.0f);
+    for (k = 0; k < im->n_str; k++) {
+        put_attr(b, im->str_key[k], "string", strlen(im->str_val[k]));
+        put(b, im->str_val[k], strlen(im->str_val[k]));
+    }
+    put(b, &none, 1);
+}
+
+unsigned char *exr_write_memory(const ExrWrite *im, size_t *n)
+{
+    Bytes b = { NULL, 0, 0, 1 };
+    int order[EXR_MAX_CHANNELS], y, k, i;
+    size_t table, line = (size_t)im->w * (size_t)im->n_ch * (im->half ? 2u : 4u);
+    if (im->n_ch < 1 || im->n_ch > EXR_MAX_CHANNELS || im->w < 1 || im->h < 1) return NULL;
+    sort_channels(im, order);
+    put_header(&b, im, order);
+    table = b.n;
+    for (y = 0; y < im->h; y++) {               /* the offset table: one line a block */
+        uint64_t off = table + 8u * (uint64_t)im->h + (uint64_t)y * (8u + line);
+        put32(&b, (uint32_t)off);
+        put32(&b, (uint32_t)(off >> 32));
+    }
+    for (y = 0; y < im->h; y++) {
+        put32(&b, (uint32_t)(im->y0 + y));
+        put32(&b, (uint32_t)line);
+        for (k = 0; k < im->n_ch; k++)
+            for (i = 0; i < im->w; i++) {
+                float v = im->v[((size_t)y * (size_t)im->w + (size_t)i) * (size_t)im->n_ch + (size_t)order[k]];
+                if (im->half) {
+                    unsigned h = exr_float_to_half(v);
+                    unsigned char p[2];
+                    p[0] = (unsigned char)h; p[1] = (unsigned char)(h >> 8);
+                    put(&b, p, 2);
+                } else {
+                    put_float(&b, v);
+                }
+            }
+    }
+    if (!b.ok) { free(b.d); return NULL; }
+    *n = b.n;
+    return b.d;
+}
+
+int exr_write(const char *path, const ExrWrite *im, Error *err)
+{
+    size_t n = 0;
+    unsigned char *d = exr_write_memory(im, &n);
+    FILE *f;
+    int ok;
+    if (!d) { error_set(err, path, 0, "EXR: out of memory"); return 0; }
+    f = fopen(path, "wb");
+    ok = f && fwrite(d, 1, n, f) == n;
+    if (f && fclose(f) != 0) ok = 0;
+    free(d);
+    if (!ok) error_set(err, path, 0, "cannot write");
     return ok;
 }

@@ -233,6 +233,38 @@ static int film_output_name(Parser *P, SceneSettings *st, const char *fn, const 
     return 1;
 }
 
+/* Film "spectral"'s own parameters (pbrt-v4 SpectralFilm::Create): read before
+   the unused-parameter check (check 0) or checked after it (check 1), with its
+   output file: the command line's -o, else "string filename" fn (NULL: pbrt-v4's
+   default), which must be an .exr, as pbrt-v4 writes the spectral film as EXR
+   only.  specnee's EXR writer (exr.c) takes 64 channels: R, G, B and 61 buckets. */
+static int film_spectral(Parser *P, ParamList *pl, int check, const char *fn, const char *file, int line)
+{
+    SceneSettings *st = &P->s->settings;
+    const char *name = P->output ? P->output : fn ? fn : "pbrt.exr";
+    if (!check)
+        return get_int(P, pl, "nbuckets", 16, &st->nbuckets, NULL) &&
+               get_float(P, pl, "lambdamin", (float)SPEC_MIN, &st->lambda_min) &&
+               get_float(P, pl, "lambdamax", (float)SPEC_MAX, &st->lambda_max);
+    if (st->nbuckets < 1 || st->nbuckets > 61)
+        return fail_param(P, pl, "nbuckets", file, line, "Film \"spectral\": \"integer nbuckets\" "
+                          "%d outside 1..61 (specnee's EXR writer takes 64 channels)", st->nbuckets);
+    if (!(st->lambda_min >= (float)SPEC_MIN && st->lambda_max <= (float)SPEC_MAX &&
+          st->lambda_min < st->lambda_max))
+        return fail_param(P, pl, st->lambda_min >= (float)SPEC_MIN ? "lambdamax" : "lambdamin", file, line,
+                          "Film \"spectral\": wavelengths %g..%g nm: \"float lambdamin\" < \"float "
+                          "lambdamax\" within pbrt-v4's range %d..%d nm", st->lambda_min,
+                          st->lambda_max, SPEC_MIN, SPEC_MAX);
+    if (strlen(name) + 1 > sizeof st->filename)
+        return fail(P, file, line, "Film: filename longer than %d characters",
+                    (int)sizeof st->filename - 1);
+    if (!ends_with_ci(name, ".exr"))
+        return fail_param(P, pl, P->output ? "" : "filename", file, line, "Film \"spectral\": "
+                          "\"%s\": pbrt-v4 writes the spectral film as .exr only", name);
+    snprintf(st->filename, sizeof st->filename, "%s", name);
+    return 1;
+}
+
 int film_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     SceneSettings *st = &P->s->settings;
@@ -241,17 +273,16 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
     int gbuffer = !strcmp(type, "gbuffer");
     float iso, maxcomp, scale, wb;
     const char *coordsys = NULL, *sensor;
+    char what[24];
     Param *crop, *pb;
-    if (strcmp(type, "rgb") != 0 && !gbuffer) {
-        if (!strcmp(type, "spectral"))
-            return fail(P, file, line, "Film \"%s\" is valid pbrt-v4 but not in the specnee "
-                        "subset (use \"rgb\")", type);
+    st->spectral = !strcmp(type, "spectral");
+    if (strcmp(type, "rgb") != 0 && !gbuffer && !st->spectral)
         return fail(P, file, line, "Film \"%s\": unknown film type", type);
-    }
     if (!get_int(P, pl, "xresolution", 1280, &xres, NULL)) return 0;
     if (!get_int(P, pl, "yresolution", 720, &yres, NULL)) return 0;
     if (!get_string(P, pl, "filename", &fn)) return 0;
     if (!get_bool(P, pl, "savefp16", 1, &fp16)) return 0;    /* PFM is float32 anyway */
+    st->savefp16 = fp16;                                       /* the spectral film's EXR */
     if (!get_float(P, pl, "iso", 100.0f, &iso)) return 0;
     if (!get_float(P, pl, "maxcomponentvalue", INFINITY, &maxcomp)) return 0;
     if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
@@ -260,18 +291,26 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
     crop = param_find(pl, PT_FLOAT, "cropwindow");
     pb = param_find(pl, PT_INTEGER, "pixelbounds");
     if (gbuffer && !get_string(P, pl, "coordinatesystem", &coordsys)) return 0;
-    if (!params_check_unused(P, pl, gbuffer ? "Film \"gbuffer\"" : "Film \"rgb\"",
+    if (st->spectral && !film_spectral(P, pl, 0, fn, file, line)) return 0;
+    snprintf(what, sizeof what, "Film \"%s\"", type);
+    if (!params_check_unused(P, pl, what,
                              gbuffer ? "integer xresolution, integer yresolution, string filename, "
                                        "bool savefp16, float iso, float maxcomponentvalue, "
                                        "float whitebalance, string sensor, float cropwindow, "
                                        "integer pixelbounds, float scale, "
                                        "string coordinatesystem"
+                             : st->spectral ? "integer xresolution, integer yresolution, string filename, "
+                                       "bool savefp16, float iso, float maxcomponentvalue, "
+                                       "float whitebalance, string sensor, float cropwindow, "
+                                       "integer pixelbounds, float scale, integer nbuckets, "
+                                       "float lambdamin, float lambdamax"
                                      : "integer xresolution, integer yresolution, string filename, "
                                        "bool savefp16, float iso, float maxcomponentvalue, "
                                        "float whitebalance, string sensor, float cropwindow, "
                                        "integer pixelbounds, float scale",
                              "exposuretime diagonal writefp16"))
         return 0;
+    if (st->spectral && !film_spectral(P, pl, 1, fn, file, line)) return 0;
     /* pbrt-v4's sensor: "cie1931" (the default) records XYZ, a named camera its
        measured RGB (sensor.c) */
     if (sensor && sensor_index(sensor) < 0) return film_unknown_sensor(P, sensor, file, line);
@@ -289,8 +328,9 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
     if (xres < 1 || xres > MAX_RESOLUTION || yres < 1 || yres > MAX_RESOLUTION)
         return fail(P, file, line, "Film: resolution %d x %d outside 1..%d per axis",
                     xres, yres, MAX_RESOLUTION);
-    {   /* what the render's buffers would take, against the stated budget */
-        double need = (double)xres * yres * FILM_BYTES_PER_PIXEL;
+    {   /* what the render's buffers would take, against the stated budget (the
+           spectral film: a sum and a weight sum in double, and a float, a bucket) */
+        double need = (double)xres * yres * (FILM_BYTES_PER_PIXEL + (st->spectral ? 20.0 * st->nbuckets : 0.0));
         if (need > (double)MEM_BUDGET_MIB * 1048576.0)
             return fail(P, file, line, "Film: %d x %d pixels would need %.1f GiB for the "
                         "render's buffers, more than specnee's memory budget of %.0f GiB "
@@ -344,7 +384,7 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
                         "(x %d..%d, y %d..%d)", crop ? "cropwindow" : "pixelbounds",
                         xres, yres, b[0], b[1], b[2], b[3]);
     }
-    return film_output_name(P, st, fn, file, line);
+    return st->spectral ? 1 : film_output_name(P, st, fn, file, line);
 }
 
 /* PixelFilter: pbrt-v4's five filters with its parameter names and defaults

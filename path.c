@@ -147,13 +147,14 @@ typedef struct {
     double c[HERO_N];
 } Contribution;
 
-/* fs->xyz += sum_j cmf(lambda_j) C_j, C_j = c_j / p(lambda_j)  (9) */
+/* fs->xyz += sum_j cmf(lambda_j) C_j, C_j = c_j / p(lambda_j)  (9); fs->lane[j] += c_j */
 static void film_add(FilmSample *fs, Contribution k)
 {
     int j;
     for (j = 0; j < HERO_N; j++) {
         double v;
         if (k.c[j] == 0.0) continue;
+        fs->lane[j] += k.c[j];
         v = k.c[j] / fs->wl.pdf[j];
         fs->xyz[0] += fs->cmf[j][0] * v;
         fs->xyz[1] += fs->cmf[j][1] * v;
@@ -1071,6 +1072,7 @@ static void path_start(const Renderer *R, FilmSample *fs, PathState *path)
     }
     path->prev.alive = path->alive;
     fs->xyz[0] = fs->xyz[1] = fs->xyz[2] = 0.0;
+    for (j = 0; j < HERO_N; j++) fs->lane[j] = 0.0;
 }
 
 void trace_path(const Renderer *R, Ray ray, FilmSample *fs, PixelSample *ps, Counters *cnt, FILE *dbg)

@@ -2,7 +2,7 @@
 
    Exported (specnee.h section 12): render_options_default, render_options_thesis,
    render, render_ladder, render_begin, render_advance, render_image, render_stats,
-   render_end.  The camera is in camera.c, the path estimator in path.c; render.h
+   render_end, render_spectral, img_write_spectral.  The camera is in camera.c, the path estimator in path.c; render.h
    holds what the three share (Renderer, FilmSample, Counters).
 
    A RENDER.  render_begin builds the Renderer: the emitters' radiance for the
@@ -22,6 +22,24 @@
    sum fw XYZ / sum fw), mapped to XYZ by the sensor's matrix (white balance,
    camera), converted to linear sRGB with pbrt-v4's
    matrix.  A sample whose XYZ is not finite is dropped (counted; it counts as 0).
+
+   THE SPECTRAL FILM (pbrt-v4's Film "spectral", THEORY §9.1).  The camera samples
+   its four wavelengths uniformly in [lambdamin, lambdamax] and the emitters are
+   normalised over 360..830 nm, as pbrt-v4's; the RGB image is made as above.  Each
+   of the four lanes also goes to the bucket (of nbuckets equal bands) its
+   wavelength falls in, as each of pbrt-v4's four does: with the radiance estimate
+   L_j = HERO_N c_j (path.c adds c_j = p(lambda_j) C_j to FilmSample.lane; without
+   a wavelength-dependent event c_j is L(lambda_j) / HERO_N), the sample's lanes
+   scaled together so that the largest is at most maxcomponentvalue, the bucket
+   keeps sum fw L_j CIE_Y_INTEGRAL and sum fw, and its value is their ratio (0
+   when no wavelength fell in it): the mean of L CIE_Y_INTEGRAL over the band.
+   img_write_spectral writes it as OpenEXR (exr.c's exr_write): the channels R, G,
+   B (linear sRGB) and one a bucket, named "S0.<centre>nm" with the band's centre
+   printed "%.3f" and its '.' written ',' (the OpenEXR spectral layout of Fichet et
+   al. 2021, JCGT 10(3), where '.' separates layers: "S0.560,000nm"), the strings
+   spectralLayoutVersion "1.0" and emissiveUnits "W.m^-2.sr^-1"; HALF (values
+   above 65504 clamped to 65504, as pbrt-v4 does) when savefp16, else FLOAT; the
+   data window is the film's crop, the display window the whole film.
 
    DETERMINISM.  Every (pixel, sample) owns its random numbers (sampler.c) and
    every pixel is written by one thread (rows are handed out one at a time): the
@@ -109,6 +127,8 @@ typedef struct {
     const Renderer *R;
     double *acc;
     double *wsum;              /* per pixel sum of filter weights (mitchell, sinc), else NULL */
+    double *bsum;              /* the spectral film: per pixel nbuckets sums of fw L_j
+                                  CIE_Y_INTEGRAL, then nbuckets sums of fw; else NULL */
     Image *img;
     uint64_t *row_rays;
     long *row_nonfinite, *row_fallbacks, *row_dims_reused;
@@ -143,6 +163,29 @@ static void film_pixel(const Pass *P, const double *sum, const double *wsum, flo
     out[0] = (float)rgb[0];
     out[1] = (float)rgb[1];
     out[2] = (float)rgb[2];
+}
+
+/* The spectral film: the sample's four lanes into the pixel's buckets b (sums,
+   then weight sums), each to the band its wavelength falls in (pbrt-v4's
+   SpectralFilm::AddSample; the bucket index in float as there).  A sample that is
+   not finite counts as 0, as for the RGB image. */
+static void film_buckets(const Pass *P, const FilmSample *fs, float fw, double *b)
+{
+    const SceneSettings *set = &P->R->s->settings;
+    int nb = set->nbuckets, j, ok = 1;
+    double L[HERO_N], m = 0.0, f = CIE_Y_INTEGRAL;
+    for (j = 0; j < HERO_N; j++) {
+        L[j] = HERO_N * fs->lane[j];
+        ok = ok && isfinite(L[j]);
+        m = fmax(m, L[j]);
+    }
+    if (m > set->max_component) f *= set->max_component / m;
+    for (j = 0; j < HERO_N; j++) {
+        int k = (int)((float)nb * (fs->wl.lambda[j] - set->lambda_min) / (set->lambda_max - set->lambda_min));
+        k = k < 0 ? 0 : k >= nb ? nb - 1 : k;
+        if (ok) b[k] += fw * L[j] * f;
+        b[nb + k] += fw;
+    }
 }
 
 /* The progress bar after a row, over all passes (rows weighted by their samples). */
@@ -233,6 +276,7 @@ static void render_pass(Pass *P)
                     cnt.nonfinite++;     /* dropped: it counts as L = 0 */
                 }
                 if (wsum) *wsum += fw;
+                if (P->bsum) film_buckets(P, &fs, fw, P->bsum + 2 * (size_t)set->nbuckets * ((size_t)y * w + x));
             }
             film_pixel(P, sum, wsum, P->img->rgb + 3 * ((size_t)y * w + x));
         }
@@ -327,8 +371,9 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     j->P.x0 = b[0];
     j->P.y0 = b[2];
     j->sel = o->sel;
-    j->sel.lo_nm = o->wl_wide ? (float)SPEC_MIN : LAMBDA_LO;
-    j->sel.hi_nm = o->wl_wide ? (float)SPEC_MAX : LAMBDA_HI;
+    /* the emitters' normalisation range (the spectral film: pbrt-v4's 360..830 nm) */
+    j->sel.lo_nm = o->wl_wide || set->spectral ? (float)SPEC_MIN : LAMBDA_LO;
+    j->sel.hi_nm = o->wl_wide || set->spectral ? (float)SPEC_MAX : LAMBDA_HI;
     j->R.s = s;
     j->R.o = o;
     j->R.white.type = MAT_DIFFUSE;
@@ -352,6 +397,8 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
         }
         if (o->band_hi > o->band_lo)     /* a band of the film's spectrum (the tests) */
             wl_pdf_uniform(&j->R.wl, o->band_lo, o->band_hi);
+        else if (set->spectral)          /* pbrt-v4 SpectralFilm: uniform in its range */
+            wl_pdf_uniform(&j->R.wl, set->lambda_min, set->lambda_max);
         else if (o->wl_mode == WL_IMPORTANCE && s->n_emitters == 0)
             wl_pdf_uniform(&j->R.wl, j->sel.lo_nm, j->sel.hi_nm);
         else if (!wl_pdf_build(&j->R.wl, o->wl_mode, j->sel.lo_nm, j->sel.hi_nm, &sum, o->wl_mix)) {
@@ -380,6 +427,10 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     if (filter_weighted(&j->R.filter)) {
         j->P.wsum = (double *)calloc((size_t)w * (size_t)h, sizeof *j->P.wsum);
         if (!j->P.wsum) { error_set(err, NULL, 0, "out of memory for a %dx%d image", w, h); render_end(j); return NULL; }
+    }
+    if (set->spectral) {
+        j->P.bsum = (double *)calloc(2 * (size_t)set->nbuckets * (size_t)w * (size_t)h, sizeof *j->P.bsum);
+        if (!j->P.bsum) { error_set(err, NULL, 0, "out of memory for a %dx%d image", w, h); render_end(j); return NULL; }
     }
     j->P.row_rays = (uint64_t *)calloc((size_t)h, sizeof *j->P.row_rays);
     j->P.row_nonfinite = (long *)calloc((size_t)h, sizeof *j->P.row_nonfinite);
@@ -446,7 +497,7 @@ const RenderStats *render_stats(const RenderJob *j) { return &j->st; }
 void render_end(RenderJob *j)
 {
     if (!j) return;
-    free(j->P.acc); free(j->P.wsum); free(j->P.row_rays); free(j->P.row_nonfinite); free(j->P.row_fallbacks);
+    free(j->P.acc); free(j->P.wsum); free(j->P.bsum); free(j->P.row_rays); free(j->P.row_nonfinite); free(j->P.row_fallbacks);
     free(j->P.row_dims_reused);
     img_free(&j->img);
     if (j->R.ls) light_sampler_free(j->R.ls);
@@ -461,6 +512,77 @@ int render(const Scene *s, const RenderOptions *o, Image *img, RenderStats *st, 
 {
     if (o->spp <= 0) { memset(st, 0, sizeof *st); error_set(err, NULL, 0, "spp must be positive"); return 0; }
     return render_ladder(s, o, &o->spp, 1, NULL, NULL, img, st, err);
+}
+
+int render_spectral(const Scene *s, const RenderOptions *o, Image *img, float **buckets,
+                    RenderStats *st, Error *err)
+{
+    RenderJob *j;
+    int nb = s->settings.nbuckets;
+    size_t i, k, n;
+    memset(st, 0, sizeof *st);
+    *buckets = NULL;
+    if (!s->settings.spectral) { error_set(err, NULL, 0, "the film is not spectral"); return 0; }
+    if (o->spp <= 0) { error_set(err, NULL, 0, "spp must be positive"); return 0; }
+    if (!(j = render_begin(s, o, err))) return 0;
+    if (!render_advance(j, o->spp, o->spp, err)) { render_end(j); return 0; }
+    n = (size_t)j->img.w * (size_t)j->img.h;
+    if (!(*buckets = (float *)malloc(sizeof(float) * (size_t)nb * n))) {
+        error_set(err, NULL, 0, "out of memory for a %dx%d image", j->img.w, j->img.h);
+        render_end(j);
+        return 0;
+    }
+    for (i = 0; i < n; i++)         /* sum fw L / sum fw, 0 where no wavelength fell */
+        for (k = 0; k < (size_t)nb; k++) {
+            const double *b = j->P.bsum + 2 * (size_t)nb * i;
+            (*buckets)[(size_t)nb * i + k] = b[nb + k] > 0.0 ? (float)(b[k] / b[nb + k]) : 0.0f;
+        }
+    *st = j->st;
+    *img = j->img;                       /* the caller owns the image */
+    memset(&j->img, 0, sizeof j->img);
+    render_end(j);
+    return 1;
+}
+
+int img_write_spectral(const Image *im, const float *buckets, const SceneSettings *st,
+                       const char *path, Error *err)
+{
+    static const char *const keys[2] = { "emissiveUnits", "spectralLayoutVersion" };
+    static const char *const vals[2] = { "W.m^-2.sr^-1", "1.0" };
+    char names[64][24];
+    const char *np[64];
+    int nb = st->nbuckets, nc = 3 + nb, b[4], k, ok;
+    size_t i, n = (size_t)im->w * (size_t)im->h;
+    float *v;
+    ExrWrite x;
+    if (!im->rgb || nb < 1 || nc > 64 || !film_bounds(st, b) || b[1] - b[0] != im->w ||
+        b[3] - b[2] != im->h) {
+        error_set(err, path, 0, "no image to write");
+        return 0;
+    }
+    if (!(v = (float *)malloc(sizeof(float) * (size_t)nc * n))) {
+        error_set(err, path, 0, "EXR: out of memory");
+        return 0;
+    }
+    for (k = 0; k < nc; k++) {
+        char *c;
+        float t = ((float)(k - 3) + 0.5f) / (float)nb;   /* the band's centre, in float */
+        if (k < 3) snprintf(names[k], sizeof names[k], "%c", "RGB"[k]);
+        else snprintf(names[k], sizeof names[k], "S0.%.3fnm", (1.0f - t) * st->lambda_min + t * st->lambda_max);
+        for (c = names[k]; *c; c++) if (*c == '.' && c > names[k] + 2) *c = ',';
+        np[k] = names[k];
+    }
+    for (i = 0; i < n; i++)
+        for (k = 0; k < nc; k++) {
+            float c = k < 3 ? im->rgb[3 * i + (size_t)k] : buckets[(size_t)nb * i + (size_t)(k - 3)];
+            v[(size_t)nc * i + (size_t)k] = st->savefp16 && c > 65504.0f ? 65504.0f : c;
+        }
+    x.w = im->w; x.h = im->h; x.x0 = b[0]; x.y0 = b[2]; x.full_w = st->xres; x.full_h = st->yres;
+    x.n_ch = nc; x.names = np; x.v = v; x.half = st->savefp16;
+    x.n_str = 2; x.str_key = keys; x.str_val = vals;
+    ok = exr_write(path, &x, err);
+    free(v);
+    return ok;
 }
 
 int render_ladder(const Scene *s, const RenderOptions *o, const int *ladder, int n_rungs,

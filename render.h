@@ -68,6 +68,8 @@ typedef struct {
     float cmf[HERO_N][3];            /* the sensor's curves at wl.lambda (xbar, ybar, zbar
                                         for cie1931; xyz then holds its RGB) */
     double xyz[3];                   /* sum_j cmf_j C_j over the path's contributions */
+    double lane[HERO_N];             /* sum of c_j = p(lambda_j) C_j per wavelength: the
+                                        spectral film's buckets (render.c) */
 } FilmSample;
 
 /* Trace one camera sample with the wavelengths fs->wl: fills fs->cmf and sets

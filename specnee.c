@@ -46,8 +46,9 @@ static const char usage_text[] =
 static const char usage_options[] =
 "options (a command-line value overrides the scene file's):\n"
 "  -o, --out FILE          output image: .pfm (linear float), .ppm or .png (8-bit sRGB);\n"
-"                          its directory must exist; it overrides the scene's Film\n"
-"                          \"string filename\", as pbrt-v4 --outfile does\n"
+"                          .exr (only) for Film \"spectral\"; its directory must exist;\n"
+"                          it overrides the scene's Film \"string filename\", as\n"
+"                          pbrt-v4 --outfile does\n"
 "      --spp N             samples per pixel (file: Sampler pixelsamples; default 16)\n"
 "      --seed N            random seed (file: Sampler seed; default 0)\n"
 "      --sampler NAME      independent, stratified, sobol or zsobol (file: Sampler;\n"
@@ -400,8 +401,9 @@ static void print_settings(const RenderOptions *o, const Scene *s)
    for minutes and then fail to write: a known extension (img_format_check, the
    same message img_write would give), an existing directory (specnee does not
    create directories), and a file there that can be opened for writing.
+   exr: an .exr is allowed (the spectral film's; its scene's Film checks the name).
    Returns 0, or 1 after a one-line message naming the path. */
-static int check_output(const char *out)
+static int check_output(const char *out, int exr)
 {
     Error err;
     struct stat sb;
@@ -409,9 +411,10 @@ static int check_output(const char *out)
     int existed;
     char dir[1024];
     const char *slash = strrchr(out, '/');
-    size_t n = slash ? (size_t)(slash - out) : 0;
+    size_t n = slash ? (size_t)(slash - out) : 0, len = strlen(out);
     err.msg[0] = '\0';
-    if (!img_format_check(out, &err)) {
+    if (!(exr && len > 4 && out[len - 4] == '.' && (out[len - 3] | 32) == 'e' &&
+          (out[len - 2] | 32) == 'x' && (out[len - 1] | 32) == 'r') && !img_format_check(out, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         return 1;
     }
@@ -494,6 +497,36 @@ static int apply_scene_settings(Args *a, Scene *s)
     return 0;
 }
 
+/* pbrt-v4's Film "spectral": the render with its buckets, written as OpenEXR
+   (image.c); frees the scene.  Returns the exit code. */
+static int render_spectral_main(const Args *a, Scene *scene, const char *out)
+{
+    Image img;
+    RenderStats st;
+    Error err;
+    RenderOptions d;
+    float *buckets = NULL;
+    int ok;
+    err.msg[0] = '\0';
+    render_options_default(&d);
+    if (a->ro.wl_mode != d.wl_mode || a->ro.wl_mix != d.wl_mix || a->ro.wl_wide)
+        fprintf(stderr, "%s: note: Film \"spectral\" samples its wavelengths uniformly in "
+                "%g-%g nm (pbrt-v4): --wavelengths, --mix-weight and --wide do not apply\n",
+                a->scene, scene->settings.lambda_min, scene->settings.lambda_max);
+    ok = render_spectral(scene, &a->ro, &img, &buckets, &st, &err) &&
+         img_write_spectral(&img, buckets, &scene->settings, out, &err);
+    if (!ok) fprintf(stderr, "%s\n", err.msg);
+    else if (!a->quiet)
+        fprintf(stderr, "specnee: %s: %dx%d, %d spp, %d buckets over %g-%g nm (wavelengths "
+                "uniform), in %.3f s wall%s\n", out, img.w, img.h, a->ro.spp, scene->settings.nbuckets,
+                scene->settings.lambda_min, scene->settings.lambda_max, st.wall_s,
+                st.nonfinite ? " (WARNING: non-finite samples dropped)" : "");
+    free(buckets);
+    img_free(&img);
+    scene_free(scene);
+    return ok ? 0 : 1;
+}
+
 static int render_main(int argc, char **argv)
 {
     Args a;
@@ -505,7 +538,7 @@ static int render_main(int argc, char **argv)
     int rc = parse_args(argc, argv, &a), i, glow = 0;
     char settings[512], wl_text[32];
     if (rc) return rc;
-    if (a.out && !a.dump && !a.print_defaults && check_output(a.out)) return 1;
+    if (a.out && !a.dump && !a.print_defaults && check_output(a.out, 1)) return 1;
     memset(&scene, 0, sizeof scene);
     err.msg[0] = '\0';
     if (!scene_load_as(&scene, a.scene, a.out, &err)) {
@@ -543,10 +576,11 @@ static int render_main(int argc, char **argv)
         scene_free(&scene);
         return 2;
     }
-    if (check_output(out)) {
+    if (check_output(out, scene.settings.spectral)) {
         scene_free(&scene);
         return 1;
     }
+    if (scene.settings.spectral) return render_spectral_main(&a, &scene, out);
     if (!render(&scene, &a.ro, &img, &st, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         scene_free(&scene);

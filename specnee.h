@@ -71,6 +71,7 @@
                                fluorescent excitation reach down to here (docs/FLUORESCENCE.md
                                section 6); the camera's colour matching stays >= SPEC_MIN */
 #define SPEC_UV_N (SPEC_MIN - SPEC_UV_MIN)  /* 60 more samples, 300..359 nm */
+#define CIE_Y_INTEGRAL 106.856895  /* pbrt-v4's integral of ybar over 360..830 nm (nm) */
 #define LAMBDA_LO 400.0f    /* @@ default sampled range: the thesis' 400-700 nm */
 #define LAMBDA_HI 700.0f
 #define SPD_BINS 60         /* thesis: 60 bins over 400-700 nm ... */
@@ -1510,6 +1511,14 @@ typedef struct {
     int crop_set, pixel_bounds_set;
     float crop[4];
     int pixel_bounds[4];
+    /* pbrt-v4 Film "spectral" (spectral 1; else "rgb"): the camera samples its four
+       wavelengths uniformly in [lambda_min, lambda_max] (360..830 nm by default),
+       emitters keep pbrt-v4's 360..830 nm normalisation, and besides the RGB image
+       the film keeps nbuckets channels: per band of equal width, the radiance of
+       the samples whose wavelength fell in it times CIE_Y_INTEGRAL, averaged
+       (render.c); written as OpenEXR (render.c, exr.c), HALF when savefp16, else FLOAT */
+    int spectral, nbuckets, savefp16;
+    float lambda_min, lambda_max;
     char sampler[16];          /* Sampler: the specnee sampler it maps to, "" if none */
     int camera_medium;         /* the outside medium at the Camera directive (-1: none) */
     int media_ignored;         /* Integrator "path" (or simplepath, sppm): as in pbrt-v4
@@ -1669,6 +1678,29 @@ const char *zlib_inflate(const unsigned char *in, size_t n_in, unsigned char *ou
    DWA...), with the command that converts the file to a PFM. */
 int  exr_read_memory(const unsigned char *data, size_t n, const char *name, Image *im, Error *err);
 int  exr_read(Image *im, const char *path, Error *err);
+/* The same with the three channels named in want read into a pixel's three floats
+   (a name may repeat; a missing one is an error): the spectral film's buckets. */
+int  exr_read_named(Image *im, const char *path, const char *const want[3], Error *err);
+int  exr_read_memory_named(const unsigned char *data, size_t n, const char *name,
+                           const char *const want[3], Image *im, Error *err);
+/* OpenEXR writer (exr.c): a single-part scan-line image, compression NONE, the
+   channels sorted by name (as OpenEXR requires), HALF or FLOAT, the attributes
+   OpenEXR requires plus n_str string attributes. */
+typedef struct {
+    int w, h;                  /* the data window's size */
+    int x0, y0;                /* its first pixel in the display window */
+    int full_w, full_h;        /* the display window: (0, 0) .. (full_w - 1, full_h - 1) */
+    int n_ch;                  /* channels, 1..64 */
+    const char *const *names;  /* their names, in the order of the values */
+    const float *v;            /* n_ch values a pixel, rows top to bottom */
+    int half;                  /* 1: HALF (exr_float_to_half), 0: FLOAT */
+    int n_str;                 /* string attributes str_key[i] = str_val[i] */
+    const char *const *str_key, *const *str_val;
+} ExrWrite;
+int  exr_write(const char *path, const ExrWrite *im, Error *err);  /* 0: "path: problem" */
+unsigned char *exr_write_memory(const ExrWrite *im, size_t *n);    /* malloc'd; NULL: bad size or no memory */
+unsigned exr_float_to_half(float f);     /* nearest binary16 (ties to even), its bits */
+float exr_half_to_float(unsigned h);     /* exact */
 /* png_write with the outlines of n pixel rectangles, rect[4i..4i+3] = x0, y0, x1,
    y1 (x1, y1 exclusive), drawn in, rectangle i in colour i mod 8 of: yellow, cyan, magenta,
    orange, white, green, blue, red (the insets of docs/RESULTS.md). */
@@ -1938,6 +1970,17 @@ void render_options_thesis(RenderOptions *o);
    read: the emitters' radiance for the sampled wavelength range, the wavelength
    pdf and the selection tables belong to the render (its RenderJob). */
 int  render(const Scene *s, const RenderOptions *o, Image *img, RenderStats *st, Error *err);
+/* render() for pbrt-v4's Film "spectral" (SceneSettings.spectral), with its
+   buckets: *buckets (malloc'd; the caller frees it) holds nbuckets floats a pixel
+   of img, bucket k the mean of L CIE_Y_INTEGRAL over the band
+   [lambda_min + k d, lambda_min + (k + 1) d), d = (lambda_max - lambda_min) /
+   nbuckets (render.c says how the four wavelengths of a sample go to them). */
+int  render_spectral(const Scene *s, const RenderOptions *o, Image *img, float **buckets,
+                     RenderStats *st, Error *err);
+/* The spectral film as OpenEXR (render.c, with exr.c's writer): img's R, G, B and
+   the buckets of render_spectral, named and clamped as pbrt-v4 writes them. */
+int  img_write_spectral(const Image *im, const float *buckets, const SceneSettings *st,
+                        const char *path, Error *err);
 /* Progressive render up an increasing ladder of spp (o->spp is ignored): after
    the pass that reaches ladder[i], on_rung(user, i, img, st) sees the image with
    ladder[i] samples per pixel (bit-identical to render() with that spp) and the

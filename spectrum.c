@@ -292,9 +292,9 @@ static const float cie_f_5nm[12][F_N5] = {
 };
 
 /* pbrt-v4 scales its named illuminants so that sum_{360..830, 1 nm} ybar S equals the
-   integral of ybar, CIE_Y_integral = 106.856895 (pbrt-v4 src/pbrt/util/spectrum.h);
-   such a spectrum has luminance Y = 1 in spec_to_xyz's units. */
-#define CIE_Y_INTEGRAL 106.856895
+   integral of ybar, CIE_Y_integral = 106.856895 (pbrt-v4 src/pbrt/util/spectrum.h;
+   CIE_Y_INTEGRAL, specnee.h); such a spectrum has luminance Y = 1 in spec_to_xyz's
+   units. */
 
 /* Planck's second radiation constant c2 = h c / k_B (CODATA 2018), in m K. */
 #define PLANCK_C2 1.438777e-2

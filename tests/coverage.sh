@@ -111,6 +111,8 @@ scenes() {
         ov["gbuffer|float cropwindow"] = "[ 0 1 0 1 ]"; ov["gbuffer|integer pixelbounds"] = "[ 0 4 0 4 ]"
         ov["rgb|float whitebalance"] = 6500; ov["gbuffer|float whitebalance"] = 6500
         ov["rgb|string filename"] = "\"out.pfm\""; ov["gbuffer|string filename"] = "\"out.pfm\""
+        ov["spectral|float cropwindow"] = "[ 0 1 0 1 ]"; ov["spectral|integer pixelbounds"] = "[ 0 4 0 4 ]"
+        ov["spectral|float whitebalance"] = 6500; ov["spectral|string filename"] = "\"out.exr\""
         ov["diffuse|float power"] = 10
         nmap = "\"" root "/fuzz/seeds/pfm/rgb.pfm\""      # the "string normalmap" of every material
         ov["homogeneous|string preset"] = "\"Wholemilk\""

@@ -447,6 +447,14 @@ printf 'Film "rgb" "integer xresolution" 4 "integer yresolution" 4 "string filen
 expect "cli_output_film_dir_missing" 1 "^tests/tmp/no-such-dir/film.pfm: cannot write: the directory" $tmo ./specnee -q tests/tmp/filmdir.pbrt
 mkdir -p tests/tmp/a-dir.png
 expect "cli_output_is_directory" 1 "^tests/tmp/a-dir.png: cannot write: it is a directory" $tmo ./specnee -q scenes/cornell.pbrt --spp 1000000 -o tests/tmp/a-dir.png
+# Film "spectral" writes an OpenEXR file (its magic number); any other output is refused at once
+printf 'Film "spectral" "integer xresolution" 4 "integer yresolution" 4 "integer nbuckets" 2 "string filename" "tests/tmp/spec.exr"\nSampler "independent" "integer pixelsamples" 4\nWorldBegin\nLightSource "infinite"\n' > tests/tmp/spec.pbrt
+rm -f tests/tmp/spec.exr
+expect "cli_spectral_film" 0 "" ./specnee -q tests/tmp/spec.pbrt
+if [ "$(od -An -tx1 -N4 tests/tmp/spec.exr 2>/dev/null | tr -d ' \n')" = "762f3101" ]; then ok "cli_spectral_film_exr_written"
+else fail "cli_spectral_film_exr_written: tests/tmp/spec.exr is no OpenEXR file"; fi
+expect "cli_spectral_film_not_exr" 1 '^tests/tmp/spec.pbrt:1: Film "spectral": "tests/tmp/x.pfm": pbrt-v4 writes the spectral film as .exr only' \
+    $tmo ./specnee -q tests/tmp/spec.pbrt --spp 1000000 -o tests/tmp/x.pfm
 # the code, the tests and the docs describe the program as it is; history lives
 # in git log (tests/history-allow.txt: the files not cleaned yet)
 counted docs-history sh tests/docs_history.sh
