@@ -1,7 +1,8 @@
 /* lens.c - pbrt-v4's RealisticCamera: a film behind a system of spherical lens
    elements, each camera ray traced through the glass (docs/THEORY.md §17).
 
-   Implements (specnee.h section 8): lens_read (a lens file), lens_focus (the
+   Implements (specnee.h section 8): lens_read (a lens file), lens_set_stop and
+   lens_set_aperture (the Camera's stop), lens_focus (the
    thick-lens focus and the exit pupil's bounds), lens_trace (one ray through the
    elements) and lens_ray (a film point and a pupil sample to a camera-space ray
    and its weight).  options.c reads Camera "realistic" with lens_read, scene.c's
@@ -29,7 +30,18 @@
    (the nearer one when d_z and R have the same orientation), is stopped outside
    the aperture radius, and refracts by Snell's law with the relative index
    eta_t / eta_i, dropped at total internal reflection.  The stop is the plane
-   z = z_i; it only clips.
+   z = z_i; it only clips, unless "string aperture" names one of pbrt-v4's
+   built-in shapes: then a ray from the film that crosses it at (x, y) weighs
+   A(u, v), the bilinear lookup at u = (x/r + 1)/2, v = (y/r + 1)/2 of a
+   256 x 256 raster of the shape (rows flipped, black outside), scaled so that
+   its mean over the raster is pi/4, the circle's share of its square:
+     gaussian  max(0, exp(-|s|^2) - exp(-1)),  s the pixel centre in [-1, 1]^2
+     square    4 inside the central half of each axis (pixels 64..191)
+     pentagon  1 inside the regular pentagon of circumradius 0.8, a vertex at +y
+               before the flip
+     star      1 inside the five-pointed star of outer radius 1 (inner
+               cos 72 / cos 36), a point at -x
+   (the polygons by their winding number at the pixel centres).
 
    FOCUS (pbrt-v4 FocusThickLens).  A ray parallel to the axis at height h =
    D/1000, traced through the system from either side, gives that side's focal
@@ -46,11 +58,18 @@
    that plane through which a ray from a film point (r, 0, 0) of the ring passes:
    n points along the ring's segment, each towards a Halton point of the square
    of side 3 R_rear, grow the box; the box is then widened by two sample spacings.
-   A film point at angle phi uses its ring's box rotated by phi.
+   A film point at angle phi uses its ring's box rotated by phi, which holds its
+   pupil because the system is round.  A shaped stop is not: its boxes are found
+   with the circle that encloses the shape in its place (APERTURE_REACH), a
+   superset at every angle.  pbrt-v4 finds them with the shape itself, so its
+   turned boxes cut off part of the pupil away from the x axis and its image
+   loses light (0.9 % with tests' pentagon, whose 2-D numeric integral specnee
+   matches).
 
    THE WEIGHT (pbrt-v4 RealisticCamera::GenerateRay).  A pupil point p drawn
    uniformly in the box (pdf 1/A) gives the film point's irradiance estimate
-     E = L cos^4(theta) / (pdf t_rear^2),   cos theta = (p - p_film)_z / |p - p_film|,
+     E = A L cos^4(theta) / (pdf t_rear^2),   cos theta = (p - p_film)_z / |p - p_film|,
+   (A: a shaped stop's weight, else 1)
    since dA cos theta cos theta' / r^2 with theta' = theta and r = t_rear / cos
    theta is cos^4 theta dA / t_rear^2.  A blocked ray weighs 0 and the sample
    counts as black.  The lens glass itself neither absorbs nor reflects. */
@@ -153,13 +172,103 @@ static double eta_after(const Lens *L, int i)
     return i < 0 || L->e[i].eta == 0.0 ? 1.0 : L->e[i].eta;
 }
 
-/* Crossing interface i (at z = zi) in lens space, where the film-side is +z:
-   r->o moves to the hit, r->d turns by Snell's law from the medium eta_in to
-   eta_out.  0: missed, clipped by the aperture, or totally reflected. */
-static int lens_interface(const Lens *L, int i, double zi, double eta_in, double eta_out, LensRay *r)
+#define AP_RES 256               /* pbrt-v4's raster of a built-in aperture shape */
+enum { TRACE_SCENE, TRACE_FILM, TRACE_BOUND };    /* lens_interface's modes */
+/* Per LENS_APERTURE_*: the radius (in stop radii) of a circle that holds every
+   point where the shape weighs more than 0, its raster's bilinear fringe (1.5
+   pixels) included: the circle, the gaussian, the square's half diagonal, the
+   pentagon's 0.8 and the star's 1. */
+static const double APERTURE_REACH[5] = { 1.0, 1.02, 0.7272, 0.82, 1.02 };
+
+/* Whether (x, y) lies inside the polygon v[0..n) (pbrt-v4's winding-number test). */
+static int inside_polygon(const double (*v)[2], int n, double x, double y)
 {
+    int i, wn = 0;
+    for (i = 0; i < n; i++) {
+        const double *a = v[i], *b = v[(i + 1) % n];
+        double e = (x - a[0]) * (b[1] - a[1]) - (y - a[1]) * (b[0] - a[0]);
+        if (a[1] <= y) { if (b[1] > y && e > 0.0) wn++; }
+        else if (b[1] <= y && e < 0.0) wn--;
+    }
+    return wn != 0;
+}
+
+/* Pixel (x, y) of the shape's raster before its rows are flipped, unscaled. */
+static double aperture_pixel(int shape, int x, int y)
+{
+    double u = -1.0 + 2.0 * (x + 0.5) / AP_RES, v = -1.0 + 2.0 * (y + 0.5) / AP_RES, p[10][2];
+    int i;
+    if (shape == LENS_APERTURE_GAUSSIAN) return fmax(0.0, exp(-(u * u + v * v)) - exp(-1.0));
+    if (shape == LENS_APERTURE_SQUARE)
+        return x >= AP_RES / 4 && x < 3 * AP_RES / 4 && y >= AP_RES / 4 && y < 3 * AP_RES / 4 ? 4.0 : 0.0;
+    if (shape == LENS_APERTURE_PENTAGON) {   /* clockwise from the top, circumradius 0.8 */
+        double c1 = (sqrt(5.0) - 1.0) / 4.0, c2 = (sqrt(5.0) + 1.0) / 4.0;
+        double s1 = sqrt(10.0 + 2.0 * sqrt(5.0)) / 4.0, s2 = sqrt(10.0 - 2.0 * sqrt(5.0)) / 4.0;
+        double q[5][2];
+        q[0][0] = 0.0; q[0][1] = 1.0; q[1][0] = s1; q[1][1] = c1; q[2][0] = s2; q[2][1] = -c2;
+        q[3][0] = -s2; q[3][1] = -c2; q[4][0] = -s1; q[4][1] = c1;
+        for (i = 0; i < 5; i++) { p[i][0] = 0.8 * q[i][0]; p[i][1] = 0.8 * q[i][1]; }
+        return inside_polygon((const double (*)[2])p, 5, u, v);
+    }
+    for (i = 0; i < 10; i++) {               /* the star, its vertices in reverse order */
+        double r = (i & 1) ? 1.0 : cos(72.0 * SPECNEE_PI / 180.0) / cos(36.0 * SPECNEE_PI / 180.0);
+        p[9 - i][0] = r * cos(SPECNEE_PI * i / 5.0);
+        p[9 - i][1] = r * sin(SPECNEE_PI * i / 5.0);
+    }
+    return inside_polygon((const double (*)[2])p, 10, u, v);
+}
+
+/* The shaped stop's weight at (x, y) in units of its radius: the bilinear lookup
+   in the row-flipped raster, black outside it, times the scale (module comment). */
+static double aperture_weight(const Lens *L, double x, double y)
+{
+    double fx = (x + 1.0) * 0.5 * AP_RES - 0.5, fy = (y + 1.0) * 0.5 * AP_RES - 0.5, dx, dy, v = 0.0;
+    int x0, y0, i, j;
+    if (!(fabs(x) <= 2.0 && fabs(y) <= 2.0)) return 0.0;
+    x0 = (int)floor(fx);
+    y0 = (int)floor(fy);
+    dx = fx - x0;
+    dy = fy - y0;
+    for (j = 0; j < 2; j++)
+        for (i = 0; i < 2; i++) {
+            int px = x0 + i, py = y0 + j;
+            if (px < 0 || px >= AP_RES || py < 0 || py >= AP_RES) continue;
+            v += (i ? dx : 1.0 - dx) * (j ? dy : 1.0 - dy) * aperture_pixel(L->aperture, px, AP_RES - 1 - py);
+        }
+    return v * L->aperture_scale;
+}
+
+/* pbrt-v4 "string aperture": "" (the circle) or a built-in shape; 0 for any
+   other name (an image file, which specnee does not read). */
+int lens_set_aperture(Lens *L, const char *name)
+{
+    static const char *const names[] = { "", "gaussian", "square", "pentagon", "star" };
+    double sum = 0.0;
+    int k, x, y;
+    for (k = 0; k < 5; k++)
+        if (!strcmp(name, names[k])) break;
+    if (k == 5) return 0;
+    L->aperture = k;
+    L->aperture_scale = 1.0;
+    if (k == LENS_APERTURE_CIRCLE) return 1;
+    for (y = 0; y < AP_RES; y++)
+        for (x = 0; x < AP_RES; x++) sum += aperture_pixel(k, x, y);
+    L->aperture_scale = (SPECNEE_PI / 4.0) / (sum / ((double)AP_RES * AP_RES));
+    return 1;
+}
+
+/* Crossing interface i (at z = zi) in lens space, where the film-side is +z,
+   from the film (mode TRACE_FILM or TRACE_BOUND) or from the scene: r->o moves
+   to the hit, r->d turns by Snell's law from the medium before to the one after.
+   Returns the weight (1; from the film a shaped stop's aperture_weight; for
+   TRACE_BOUND the shape's enclosing circle clips instead), 0 when missed,
+   clipped by the aperture or totally reflected. */
+static double lens_interface(const Lens *L, int i, double zi, int mode, LensRay *r)
+{
+    int from_film = mode != TRACE_SCENE;
     const LensElement *e = &L->e[i];
-    double t, p[3], n[3];
+    double t, p[3], n[3], w = 1.0;
+    double eta_in = eta_after(L, from_film ? i : i - 1), eta_out = eta_after(L, from_film ? i - 1 : i);
     int k;
     if (e->radius == 0.0) {                  /* the stop: the plane z = zi */
         t = (zi - r->o[2]) / r->d[2];
@@ -182,7 +291,14 @@ static int lens_interface(const Lens *L, int i, double zi, double eta_in, double
         for (k = 0; k < 3; k++) n[k] = o[k] + t * r->d[k];
     }
     for (k = 0; k < 3; k++) p[k] = r->o[k] + t * r->d[k];
-    if (p[0] * p[0] + p[1] * p[1] > e->aperture * e->aperture) return 0;
+    if (e->radius == 0.0 && L->aperture != LENS_APERTURE_CIRCLE && mode == TRACE_FILM) {
+        /* a shaped stop weighs the ray instead (pbrt-v4 only from the film) */
+        w = aperture_weight(L, p[0] / e->aperture, p[1] / e->aperture);
+        if (w == 0.0) return 0;
+    } else if (e->radius == 0.0 && mode == TRACE_BOUND) {
+        double rho = APERTURE_REACH[L->aperture] * e->aperture;
+        if (p[0] * p[0] + p[1] * p[1] > rho * rho) return 0;
+    } else if (p[0] * p[0] + p[1] * p[1] > e->aperture * e->aperture) return 0;
     memcpy(r->o, p, sizeof p);
     if (e->radius != 0.0) {                  /* Snell: w_t = -w_i/eta + (cos_i/eta - cos_t) n */
         double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), dl, wi[3], ci, s2t, ct, eta;
@@ -196,34 +312,42 @@ static int lens_interface(const Lens *L, int i, double zi, double eta_in, double
         ct = sqrt(1.0 - s2t);
         for (k = 0; k < 3; k++) r->d[k] = -wi[k] / eta + (ci / eta - ct) * n[k];
     }
-    return 1;
+    return w;
 }
 
-/* Through every interface, from the film (from_film 1: rear first) or from the
-   scene (front first).  r is a camera-space ray; on success it becomes the ray
-   that leaves the system (camera space) and the weight 1 is returned; 0 when blocked. */
-double lens_trace(const Lens *L, LensRay *r, int from_film)
+/* Through every interface, from the film (rear first) or from the scene (front
+   first; mode as lens_interface's).  r is a camera-space ray; on success it
+   becomes the ray that leaves the system (camera space) and its weight is
+   returned; 0 when blocked. */
+static double trace(const Lens *L, LensRay *r, int mode)
 {
-    double z = 0.0;
+    int from_film = mode != TRACE_SCENE;
+    double z = 0.0, w = 1.0;
     int i, k;
     r->o[2] = -r->o[2];                      /* camera to lens space: z mirrored */
     r->d[2] = -r->d[2];
     if (from_film) {
-        for (i = L->n - 1; i >= 0; i--) {
+        for (i = L->n - 1; i >= 0 && w > 0.0; i--) {
             z -= L->e[i].thickness;
-            if (!lens_interface(L, i, z, eta_after(L, i), eta_after(L, i - 1), r)) return 0.0;
+            w *= lens_interface(L, i, z, mode, r);
         }
     } else {
         for (i = 0; i < L->n; i++) z -= L->e[i].thickness;
-        for (i = 0; i < L->n; i++) {
-            if (!lens_interface(L, i, z, eta_after(L, i - 1), eta_after(L, i), r)) return 0.0;
+        for (i = 0; i < L->n && w > 0.0; i++) {
+            w *= lens_interface(L, i, z, mode, r);
             z += L->e[i].thickness;
         }
     }
+    if (w == 0.0) return 0.0;
     r->o[2] = -r->o[2];
     r->d[2] = -r->d[2];
     for (k = 0; k < 3; k++) if (!isfinite(r->o[k]) || !isfinite(r->d[k])) return 0.0;
-    return 1.0;
+    return w;
+}
+
+double lens_trace(const Lens *L, LensRay *r, int from_film)
+{
+    return trace(L, r, from_film ? TRACE_FILM : TRACE_SCENE);
 }
 
 /* Sum of the thicknesses: the front interface's z (camera space). */
@@ -262,7 +386,7 @@ static void bound_pupil(const Lens *L, double r0, double r1, int n, double box[4
         if (px >= box[0] && px <= box[2] && py >= box[1] && py <= box[3]) continue;
         r.o[0] = fx; r.o[1] = 0.0; r.o[2] = 0.0;
         r.d[0] = px - fx; r.d[1] = py; r.d[2] = zr;
-        if (lens_trace(L, &r, 1) == 0.0) continue;
+        if (trace(L, &r, TRACE_BOUND) == 0.0) continue;
         if (px < box[0]) box[0] = px;
         if (py < box[1]) box[1] = py;
         if (px > box[2]) box[2] = px;
@@ -328,7 +452,7 @@ blocked:
 double lens_ray(const Lens *L, double fx, double fy, float u0, float u1, LensRay *r)
 {
     const double *b;
-    double rf = sqrt(fx * fx + fy * fy), px, py, s, c, len, cosv, zr = L->e[L->n - 1].thickness;
+    double w, rf = sqrt(fx * fx + fy * fy), px, py, s, c, len, cosv, zr = L->e[L->n - 1].thickness;
     int i = (int)(rf / (0.5 * L->diagonal) * LENS_PUPIL_RINGS);
     if (i > LENS_PUPIL_RINGS - 1) i = LENS_PUPIL_RINGS - 1;
     b = L->pupil[i];
@@ -343,6 +467,6 @@ double lens_ray(const Lens *L, double fx, double fy, float u0, float u1, LensRay
     r->d[2] = zr;
     len = sqrt(A3DOT(r->d, r->d));
     cosv = zr / len;
-    if (lens_trace(L, r, 1) == 0.0) return 0.0;
-    return cosv * cosv * cosv * cosv * (b[2] - b[0]) * (b[3] - b[1]) / (zr * zr);
+    w = lens_trace(L, r, 1);
+    return w * cosv * cosv * cosv * cosv * (b[2] - b[0]) * (b[3] - b[1]) / (zr * zr);
 }

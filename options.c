@@ -65,7 +65,7 @@ static int camera_place(Parser *P, const char *file, int line);
 
 /* Camera "realistic" (pbrt-v4 RealisticCamera::Create): the lens file, resolved
    as other assets, read by lens.c; scene_load focuses it once the film is known.
-   The circular stop only: "string aperture" (a shape or an image) is refused. */
+   "string aperture": pbrt-v4's built-in shapes; an aperture image is refused. */
 static int realistic_camera(Parser *P, ParamList *pl, const char *file, int line)
 {
     SceneSettings *st = &P->s->settings;
@@ -85,10 +85,11 @@ static int realistic_camera(Parser *P, ParamList *pl, const char *file, int line
                              "float shutteropen, float shutterclose, string lensfile, "
                              "float aperturediameter, float focusdistance, string aperture", NULL))
         return 0;
-    if (aperture && *aperture)
+    if (aperture && *aperture && !lens_set_aperture(&st->lens, aperture))
         return fail_param(P, pl, "aperture", file, line, "Camera \"realistic\": \"string aperture\" "
-                          "\"%s\" is valid pbrt-v4 but not in the specnee subset (the circular "
-                          "stop only: leave \"aperture\" out)", aperture);
+                          "\"%s\": an aperture image is valid pbrt-v4 but not in the specnee subset "
+                          "(the built-in \"gaussian\", \"square\", \"pentagon\", \"star\" or the "
+                          "circular stop)", aperture);
     if (!fn || !*fn)
         return fail(P, file, line, "Camera \"realistic\": \"string lensfile\" is required");
     if (!(diameter > 0.0f && diameter <= FLT_MAX) || !(focus > 0.0f && focus <= FLT_MAX))
@@ -108,6 +109,7 @@ static int realistic_camera(Parser *P, ParamList *pl, const char *file, int line
     resolve_path(P, pf->file, fn, path, sizeof path);
     if (!lens_read(&st->lens, path, &e))
         return fail(P, file, line, "Camera \"realistic\": %s", e.msg);
+    lens_set_aperture(&st->lens, aperture ? aperture : "");   /* checked above */
     if (!lens_set_stop(&st->lens, diameter * 1e-3))       /* pbrt-v4 warns and keeps the stop */
         fprintf(stderr, "%s:%d: note: Camera \"realistic\": \"float aperturediameter\" %g mm is "
                 "wider than the lens's stop: the stop's own diameter is kept (as pbrt-v4 does)\n",

@@ -1476,9 +1476,14 @@ typedef struct {
     double eta;                  /* index of refraction after the interface (0: air) */
     double aperture;             /* radius of the clear aperture */
 } LensElement;
+/* the stop's shape ("string aperture"): a circle or pbrt-v4's built-in images */
+enum { LENS_APERTURE_CIRCLE, LENS_APERTURE_GAUSSIAN, LENS_APERTURE_SQUARE, LENS_APERTURE_PENTAGON,
+       LENS_APERTURE_STAR };
 typedef struct {
     int n;                       /* interfaces; 0: the camera is the perspective one */
     LensElement e[LENS_MAX];
+    int aperture;                /* LENS_APERTURE_* */
+    double aperture_scale;       /* a shape's weight: its raster scaled to a mean of pi/4 */
     double diagonal;             /* the film's diagonal (Film "diagonal", m) */
     double pz[2], fz[2];         /* the cardinal points lens_focus found, lens coordinates
                                     (-z of camera space) before the film moved: principal
@@ -1493,11 +1498,15 @@ typedef struct { double o[3], d[3]; } LensRay;
 int    lens_read(Lens *L, const char *path, Error *err);
 /* Narrow every stop to `diameter` (m); 0 when a stop is narrower (it is kept). */
 int    lens_set_stop(Lens *L, double diameter);
+/* The stop's shape: "" (a circle), "gaussian", "square", "pentagon" or "star";
+   0 for another name. */
+int    lens_set_aperture(Lens *L, const char *name);
 /* Move the film so that the plane at `distance` is sharp (thick-lens model), then
    bound the exit pupil with `samples` rays per ring; 0 with a message in err. */
 int    lens_focus(Lens *L, double distance, double diagonal, int samples, Error *err);
 /* Trace r through the interfaces from the film (from_film 1) or from the scene:
-   1 and r the ray that leaves, or 0 when blocked. */
+   r becomes the ray that leaves and the weight is returned (1; a shaped stop's
+   weight from the film), or 0 when blocked. */
 double lens_trace(const Lens *L, LensRay *r, int from_film);
 /* The camera ray from film point (fx, fy) through exit pupil sample (u0, u1):
    its weight cos^4 / (pdf t_rear^2), 0 when blocked. */

@@ -109,6 +109,7 @@ scenes() {
         ov["perspective|float screenwindow"] = "[ -1 1 -1 1 ]"
         ov["realistic|string lensfile"] = "\"" root "/tests/data/lenses/wide.22mm.dat\""
         ex["realistic"] = "\"string lensfile\" " ov["realistic|string lensfile"]
+        ov["realistic|string aperture"] = "\"pentagon\""
         ov["rgb|float cropwindow"] = "[ 0 1 0 1 ]"; ov["rgb|integer pixelbounds"] = "[ 0 4 0 4 ]"
         ov["gbuffer|float cropwindow"] = "[ 0 1 0 1 ]"; ov["gbuffer|integer pixelbounds"] = "[ 0 4 0 4 ]"
         ov["rgb|float whitebalance"] = 6500; ov["gbuffer|float whitebalance"] = 6500
