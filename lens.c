@@ -110,6 +110,11 @@ int lens_read(Lens *L, const char *path, Error *err)
     while (fgets(buf, sizeof buf, f)) {
         char *p = buf, *hash = strchr(buf, '#');
         line++;
+        if (!strchr(buf, '\n') && !feof(f)) {
+            error_set(err, path, line, "line longer than %d characters", (int)sizeof buf - 2);
+            fclose(f);
+            return 0;
+        }
         if (hash) *hash = 0;
         for (;;) {
             char *end;

@@ -113,7 +113,8 @@ static void test_realistic_focus(T *t)
 
 /* Every ray from a film point of ring i that passes the lens goes through ring
    i's box: film points on the +x axis (the boxes' frame) at 5 radii per ring,
-   each towards 160 x 160 points of the rear plane's square of side 3 R_rear. */
+   each towards 160 x 160 points of the rear plane's square of side 3 R_rear
+   (the wide lens); then a shaped stop. */
 static void test_realistic_pupil_bounds(T *t)
 {
     static Lens L;
@@ -142,12 +143,42 @@ static void test_realistic_pupil_bounds(T *t)
                 }
         }
     CHECK(t, passed > 10000, "only %d rays passed", passed);
+    /* A star-shaped stop makes the system lose its roundness: film points at
+       several angles, each ray checked against its ring's box turned by the
+       angle (lens_ray's use of it).  Boxes found with the star itself, as pbrt-v4
+       finds them, miss the star's points that the turn brings past them. */
+    CHECK(t, lens_read(&L, DGAUSS, &e), "%s", e.msg);
+    lens_set_stop(&L, 12.5e-3);
+    CHECK(t, lens_set_aperture(&L, "star"), "star refused");
+    CHECK(t, lens_focus(&L, 3.0, 0.04, LENS_PUPIL_SAMPLES, &e), "%s", e.msg);
+    rr = 1.5 * L.e[L.n - 1].aperture;
+    for (s = 0; s < 12; s++) {
+        double phi = 0.55 * s, fr = 0.02 * (s % 4 + 0.5) / 4.0, c = cos(phi), sn = sin(phi);
+        int ring = (int)(fr / 0.02 * LENS_PUPIL_RINGS);
+        const double *b = L.pupil[ring];
+        n = 100;
+        for (i = 0; i < n; i++)
+            for (j = 0; j < n; j++) {
+                LensRay r;
+                double px = -rr + 2.0 * rr * (i + 0.37) / n, py = -rr + 2.0 * rr * (j + 0.61) / n, bx, by;
+                r.o[0] = fr * c; r.o[1] = fr * sn; r.o[2] = 0.0;
+                r.d[0] = px - r.o[0]; r.d[1] = py - r.o[1]; r.d[2] = L.e[L.n - 1].thickness;
+                if (lens_trace(&L, &r, 1) == 0.0) continue;
+                bx = c * px + sn * py;          /* the point turned back by -phi */
+                by = -sn * px + c * py;
+                CHECK(t, bx >= b[0] && bx <= b[2] && by >= b[1] && by <= b[3],
+                      "star, film point %.3g mm at %.3g rad: (%.4g, %.4g) mm passes outside the box "
+                      "[%.4g %.4g] x [%.4g %.4g]", fr * 1e3, phi, bx * 1e3, by * 1e3,
+                      b[0] * 1e3, b[2] * 1e3, b[1] * 1e3, b[3] * 1e3);
+            }
+    }
 }
 
 /* pbrt-v4's built-in stop shapes, through a lens that is a stop alone (radius
    5 mm, 10 mm before the film): the weight of a ray from the film's centre
    through (x, y) (in stop radii).  The square: pi (4 scaled by (pi/4) / 1) over
-   the central half of each axis, 0 beyond.  The pentagon's raster is flipped,
+   the central half of each axis, 0 beyond, pi/2 on its edge (the bilinear
+   lookup halfway between its last pixel centre and the next).  The pentagon's raster is flipped,
    as pbrt-v4 flips it: its vertex points to -y, its flat side lies at +0.65.
    The star has a point at -x and an inner corner at +x (radius 0.38).  The
    gaussian peaks at the centre: (1 - 1/e) times its scale 1 / (1 - 2/e) (its
@@ -156,6 +187,7 @@ static void test_realistic_aperture_shapes(T *t)
 {
     static const struct { const char *name; double x, y, w; } C[] = {
         { "square", 0.4, 0.4, SPECNEE_PI }, { "square", -0.45, 0.1, SPECNEE_PI }, { "square", 0.6, 0.0, 0.0 },
+        { "square", 0.5, 0.0, SPECNEE_PI / 2 }, { "square", 0.0, 0.5, SPECNEE_PI / 2 },
         { "pentagon", 0.0, -0.75, -1.0 }, { "pentagon", 0.0, 0.7, 0.0 }, { "pentagon", 0.0, 0.6, -1.0 },
         { "star", -0.9, 0.0, -1.0 }, { "star", 0.9, 0.0, 0.0 }, { "star", 0.3, 0.0, -1.0 },
         { "gaussian", 0.0, 0.0, 0.0 }, { "gaussian", 0.0, 1.01, 0.0 }, { "", 0.99, 0.0, 1.0 }, { "", 0.7, 0.72, 0.0 },
@@ -422,6 +454,14 @@ static void test_realistic_errors(T *t)
     bad = test_write_file(t, "bad6.dat", "30 1e300 1.5 20\n");
     snprintf(cam, sizeof cam, "Camera \"realistic\" \"string lensfile\" \"%s\"\nWorldBegin\n", bad);
     test_refused(t, HEAD, cam, "e.pbrt", "bad6.dat:1: lens interface 1: a value is not finite");
+    {   /* a line too long to hold */
+        static char text[1200 + 32];
+        memset(text, ' ', 1200);
+        strcpy(text + 1200, "30 2 1.5 20\n");
+        bad = test_write_file(t, "bad9.dat", text);
+        snprintf(cam, sizeof cam, "Camera \"realistic\" \"string lensfile\" \"%s\"\nWorldBegin\n", bad);
+        test_refused(t, HEAD, cam, "e.pbrt", "bad9.dat:1: line longer than 1022 characters");
+    }
     bad = test_write_file(t, "bad7.dat", "# nothing\n");
     snprintf(cam, sizeof cam, "Camera \"realistic\" \"string lensfile\" \"%s\"\nWorldBegin\n", bad);
     test_refused(t, HEAD, cam, "e.pbrt", "bad7.dat:1: no lens interfaces");
