@@ -1,6 +1,10 @@
-/* camera.c - pbrt-v4's perspective camera: a raster point to a world-space ray.
+/* camera.c - pbrt-v4's perspective and realistic cameras: a raster point to a
+   world-space ray.
 
-   Exported (render.h, for render.c): camera_init, camera_ray.
+   Exported (render.h, for render.c): camera_init, camera_ray, camera_has_lens.
+   The realistic camera (Camera "realistic") traces its rays through the lens
+   system of lens.c, which has its equations; camera_ray only moves its rays to
+   the world.
 
    The screen window follows pbrt-v4 (camera_screen_window in options.c): by
    default the shorter image axis spans [-1, 1], and the field of view "fov"
@@ -30,6 +34,32 @@ void camera_init(Camera *c, const SceneSettings *st)
     c->h = st->yres;
     c->lens_radius = st->lens_radius;
     c->focal_distance = st->focal_distance;
+    c->lens = st->lens.n ? &st->lens : NULL;
+    if (c->lens) {   /* pbrt-v4: the film's width and height from its diagonal and shape */
+        double a = (double)st->yres / (double)st->xres;
+        c->film_w = st->lens.diagonal / sqrt(1.0 + a * a);
+        c->film_h = a * c->film_w;
+    }
+}
+
+int camera_has_lens(const Camera *c)
+{
+    return c->lens_radius > 0.0f || c->lens != NULL;
+}
+
+/* The realistic camera's ray (lens.c): raster (x, y) to the film point of the
+   module comment of lens.c, mirrored in x. */
+static Ray realistic_ray(const Camera *c, float x, float y, float ul0, float ul1, float *weight)
+{
+    LensRay lr;
+    Ray r;
+    double fx = 0.5 * c->film_w - c->film_w * ((double)x / c->w);
+    double fy = -0.5 * c->film_h + c->film_h * ((double)y / c->h);
+    *weight = (float)lens_ray(c->lens, fx, fy, ul0, ul1, &lr);
+    r.o = xf_point(&c->world_from_camera, v3((float)lr.o[0], (float)lr.o[1], (float)lr.o[2]));
+    r.d = v3_norm(xf_vector(&c->world_from_camera, v3((float)lr.d[0], (float)lr.d[1], (float)lr.d[2])));
+    r.tmax = INFINITY;
+    return r;
 }
 
 /* Shirley and Chiu's concentric map from the unit square to the unit disk (1997):
@@ -55,9 +85,11 @@ static void concentric_disk(float u0, float u1, float *dx, float *dy)
    a point (rho_l e_l, 0) with e_l uniform on the unit disk.  Points on that plane
    are sharp; a point at depth z spreads into a disk of radius rho_l |1/z_f - 1/z|
    in the screen's tan units (the circle of confusion; tested by render_thin_lens). */
-Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1)
+Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1, float *weight)
 {
     Ray r;
+    *weight = 1.0f;
+    if (c->lens) return realistic_ray(c, x, y, ul0, ul1, weight);
     float sx = c->sx0 + (x / (float)c->w) * (c->sx1 - c->sx0);
     float sy = c->sy1 - (y / (float)c->h) * (c->sy1 - c->sy0);
     Vec3 d = v3(sx * c->tan_half, sy * c->tan_half, 1.0f), o = v3(0, 0, 0);

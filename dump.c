@@ -127,17 +127,23 @@ void scene_dump(const Scene *s, FILE *f)
     eye = xf_point(&wfc, v3(0, 0, 0));
     dir = v3_norm(xf_vector(&wfc, v3(0, 0, 1)));
     up = v3_norm(xf_vector(&wfc, v3(0, 1, 0)));
-    fprintf(f, "camera: perspective, fov %g deg (shorter image axis)", st->fov_deg);
-    if (st->screen_set || st->frame_aspect > 0.0f) {   /* pbrt-v4's window, as camera.c uses it */
-        float sw[4];
-        camera_screen_window(st, sw);
-        fprintf(f, ", screen window [%g %g %g %g]", sw[0], sw[1], sw[2], sw[3]);
+    if (st->lens.n) {   /* the realistic camera (lens.c) */
+        fprintf(f, "camera: realistic, %d lens interfaces, focused at %g, film %g mm behind "
+                "the rear one, diagonal %g mm", st->lens.n, st->focus_distance,
+                st->lens.e[st->lens.n - 1].thickness * 1e3, st->film_diagonal);
+    } else {
+        fprintf(f, "camera: perspective, fov %g deg (shorter image axis)", st->fov_deg);
+        if (st->screen_set || st->frame_aspect > 0.0f) {   /* pbrt-v4's window, as camera.c uses it */
+            float sw[4];
+            camera_screen_window(st, sw);
+            fprintf(f, ", screen window [%g %g %g %g]", sw[0], sw[1], sw[2], sw[3]);
+        }
+        if (st->lens_radius > 0.0f)
+            fprintf(f, ", thin lens: lensradius %g focaldistance %g", st->lens_radius,
+                    st->focal_distance);
+        else
+            fprintf(f, ", pinhole (lensradius 0)");
     }
-    if (st->lens_radius > 0.0f)
-        fprintf(f, ", thin lens: lensradius %g focaldistance %g", st->lens_radius,
-                st->focal_distance);
-    else
-        fprintf(f, ", pinhole (lensradius 0)");
     fprintf(f, "\n");
     fprintf(f, "  eye (%g, %g, %g)  dir (%g, %g, %g)  up (%g, %g, %g)%s\n", eye.x, eye.y,
             eye.z, dir.x, dir.y, dir.z, up.x, up.y, up.z,

@@ -61,13 +61,76 @@ int camera_transform_ok(const Xform *camera_from_world, float fov_deg, const flo
     return 1;
 }
 
+static int camera_place(Parser *P, const char *file, int line);
+
+/* Camera "realistic" (pbrt-v4 RealisticCamera::Create): the lens file, resolved
+   as other assets, read by lens.c; scene_load focuses it once the film is known.
+   "string aperture": pbrt-v4's built-in shapes; an aperture image is refused. */
+static int realistic_camera(Parser *P, ParamList *pl, const char *file, int line)
+{
+    SceneSettings *st = &P->s->settings;
+    float open, close, diameter, focus;
+    const char *fn, *aperture;
+    char path[1024];
+    Error e;
+    Param *pf;
+    if (!get_float(P, pl, "shutteropen", 0.0f, &open)) return 0;
+    if (!get_float(P, pl, "shutterclose", 1.0f, &close)) return 0;
+    if (!get_float(P, pl, "aperturediameter", 1.0f, &diameter)) return 0;
+    if (!get_float(P, pl, "focusdistance", 10.0f, &focus)) return 0;
+    if (!get_string(P, pl, "lensfile", &fn)) return 0;
+    if (!get_string(P, pl, "aperture", &aperture)) return 0;
+    pf = param_find(pl, PT_STRING, "lensfile");
+    if (!params_check_unused(P, pl, "Camera \"realistic\"",
+                             "float shutteropen, float shutterclose, string lensfile, "
+                             "float aperturediameter, float focusdistance, string aperture", NULL))
+        return 0;
+    if (aperture && *aperture && !lens_set_aperture(&st->lens, aperture))
+        return fail_param(P, pl, "aperture", file, line, "Camera \"realistic\": \"string aperture\" "
+                          "\"%s\": an aperture image is valid pbrt-v4 but not in the specnee subset "
+                          "(the built-in \"gaussian\", \"square\", \"pentagon\", \"star\" or the "
+                          "circular stop)", aperture);
+    if (!fn || !*fn)
+        return fail(P, file, line, "Camera \"realistic\": \"string lensfile\" is required");
+    if (!(diameter > 0.0f && diameter <= FLT_MAX) || !(focus > 0.0f && focus <= FLT_MAX))
+        return fail_param(P, pl, diameter > 0.0f && diameter <= FLT_MAX ? "focusdistance" : "aperturediameter",
+                          file, line, "Camera \"realistic\": \"float aperturediameter\" %g (mm) "
+                          "and \"float focusdistance\" %g must be finite and > 0", diameter, focus);
+    if (!(close - open > 0.0f))
+        return fail_param(P, pl, "shutterclose", file, line, "Camera: shutterclose %g <= shutteropen %g: the shutter "
+                    "never opens", close, open);
+    {   /* as for the perspective camera, with its default window */
+        static const float sw[4] = { -1.0f, 1.0f, -1.0f, 1.0f };
+        if (!camera_transform_ok(&P->gs.ctm, 90.0f, sw))
+            return fail(P, file, line, "Camera: degenerate camera transform: the eye or the "
+                        "viewing directions are not finite, non-zero float vectors (look at "
+                        "the Scale/Transform/LookAt before Camera)");
+    }
+    resolve_path(P, pf->file, fn, path, sizeof path);
+    if (!lens_read(&st->lens, path, &e))
+        return fail(P, file, line, "Camera \"realistic\": %s", e.msg);
+    lens_set_aperture(&st->lens, aperture ? aperture : "");   /* checked above */
+    if (!lens_set_stop(&st->lens, diameter * 1e-3))       /* pbrt-v4 warns and keeps the stop */
+        fprintf(stderr, "%s:%d: note: Camera \"realistic\": \"float aperturediameter\" %g mm is "
+                "wider than the lens's stop: the stop's own diameter is kept (as pbrt-v4 does)\n",
+                file, line, diameter);
+    st->focus_distance = focus;
+    st->lens_radius = 0.0f;
+    st->fov_deg = 90.0f;                        /* only for camera_transform_ok */
+    st->screen_set = 0;
+    st->frame_aspect = 0.0f;
+    P->exposure_time = close - open;
+    return camera_place(P, file, line);
+}
+
 int camera_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     SceneSettings *st = &P->s->settings;
     float fov, lens, focus, open, close, frame = 0.0f, scr[4] = { 0, 0, 0, 0 }, sw[4];
     Param *psw, *pfr;
+    if (!strcmp(type, "realistic")) return realistic_camera(P, pl, file, line);
     if (strcmp(type, "perspective") != 0) {
-        if (!strcmp(type, "orthographic") || !strcmp(type, "realistic") || !strcmp(type, "spherical"))
+        if (!strcmp(type, "orthographic") || !strcmp(type, "spherical"))
             return fail(P, file, line, "Camera \"%s\" is valid pbrt-v4 but not in the specnee "
                         "subset (use \"perspective\")", type);
         return fail(P, file, line, "Camera \"%s\": unknown camera type", type);
@@ -122,7 +185,16 @@ int camera_directive(Parser *P, const char *type, ParamList *pl, const char *fil
     memcpy(st->screen, scr, sizeof st->screen);
     st->lens_radius = lens;
     st->focal_distance = focus;
+    st->lens.n = 0;                             /* a realistic camera before is replaced */
     P->exposure_time = close - open;
+    return camera_place(P, file, line);
+}
+
+/* What every camera type sets: its frame, its medium, the named coordinate
+   system "camera" and where scene_load reports camera problems. */
+static int camera_place(Parser *P, const char *file, int line)
+{
+    SceneSettings *st = &P->s->settings;
     st->camera_from_world = P->gs.ctm;
     st->camera_medium = P->gs.medium_outside;   /* pbrt-v4: the current outside medium */
     P->camera_file = file;
@@ -271,7 +343,7 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
     int xres, yres, fp16;
     const char *fn;
     int gbuffer = !strcmp(type, "gbuffer");
-    float iso, maxcomp, scale, wb;
+    float iso, maxcomp, scale, wb, diagonal;
     const char *coordsys = NULL, *sensor;
     char what[24];
     Param *crop, *pb;
@@ -288,6 +360,7 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
     if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
     if (!get_float(P, pl, "whitebalance", 0.0f, &wb)) return 0;
     if (!get_string(P, pl, "sensor", &sensor)) return 0;
+    if (!get_float(P, pl, "diagonal", 35.0f, &diagonal)) return 0;   /* mm: the realistic camera's */
     crop = param_find(pl, PT_FLOAT, "cropwindow");
     pb = param_find(pl, PT_INTEGER, "pixelbounds");
     if (gbuffer && !get_string(P, pl, "coordinatesystem", &coordsys)) return 0;
@@ -297,7 +370,7 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
                              gbuffer ? "integer xresolution, integer yresolution, string filename, "
                                        "bool savefp16, float iso, float maxcomponentvalue, "
                                        "float whitebalance, string sensor, float cropwindow, "
-                                       "integer pixelbounds, float scale, "
+                                       "integer pixelbounds, float scale, float diagonal, "
                                        "string coordinatesystem"
                              : st->spectral ? "integer xresolution, integer yresolution, string filename, "
                                        "bool savefp16, float iso, float maxcomponentvalue, "
@@ -307,8 +380,8 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
                                      : "integer xresolution, integer yresolution, string filename, "
                                        "bool savefp16, float iso, float maxcomponentvalue, "
                                        "float whitebalance, string sensor, float cropwindow, "
-                                       "integer pixelbounds, float scale",
-                             "exposuretime diagonal writefp16"))
+                                       "integer pixelbounds, float scale, float diagonal",
+                             "exposuretime writefp16"))
         return 0;
     if (st->spectral && !film_spectral(P, pl, 1, fn, file, line)) return 0;
     /* pbrt-v4's sensor: "cie1931" (the default) records XYZ, a named camera its
@@ -319,6 +392,9 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
                     "within 1000..100000 K, or 0 for none", wb);
     if (!(scale > 0.0f))
         return fail_param(P, pl, "scale", file, line, "Film: \"float scale\" %g must be > 0", scale);
+    if (!(diagonal > 0.0f && diagonal <= FLT_MAX))
+        return fail_param(P, pl, "diagonal", file, line, "Film: \"float diagonal\" %g (mm) must be "
+                          "finite and > 0", diagonal);
     if (crop && crop->n_num != 4)
         return fail(P, crop->file, crop->line, "Film: \"float cropwindow\": %d values, "
                     "expected 4 (x0 x1 y0 y1, fractions of the film)", crop->n_num);
@@ -353,6 +429,7 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
         P->iso = iso * scale;
     }
     st->max_component = maxcomp;
+    st->film_diagonal = diagonal;
     st->xres = xres;
     st->yres = yres;
     /* pbrt-v4: a camera sensor is white-balanced for 6500 K unless told otherwise */

@@ -235,7 +235,7 @@ static void render_pass(Pass *P)
                 Rng *stream;
                 FilmSample fs;
                 double *xyz = fs.xyz, m;
-                float fx, fy, ul0 = 0.5f, ul1 = 0.5f, fw = 1.0f;
+                float fx, fy, ul0 = 0.5f, ul1 = 0.5f, fw = 1.0f, cw;
                 sampler_start(&R->sampler, fx0, fy0, k, &ps);
                 stream = sampler_stream(&ps);
                 /* the position in the pixel and its filter weight fw (filter.c) */
@@ -252,10 +252,14 @@ static void render_pass(Pass *P)
                 /* the lens dimensions, requested only with a lens: the independent
                    sampler's stream then has them after the wavelength, and pinhole
                    images keep their random numbers */
-                if (R->cam.lens_radius > 0.0f) sampler_2d(&ps, DIM_LENS, &ul0, &ul1);
+                if (camera_has_lens(&R->cam)) sampler_2d(&ps, DIM_LENS, &ul0, &ul1);
                 if (dbg) fprintf(dbg, "pixel (%d, %d) sample %d\n", fx0, fy0, k);
-                trace_path(R, camera_ray(&R->cam, (float)fx0 + fx, (float)fy0 + fy, ul0, ul1), &fs,
-                           &ps, &cnt, dbg);
+                {   /* a ray the realistic camera's lens blocks counts as black */
+                    Ray cr = camera_ray(&R->cam, (float)fx0 + fx, (float)fy0 + fy, ul0, ul1, &cw);
+                    if (cw > 0.0f) trace_path(R, cr, &fs, &ps, &cnt, dbg);
+                    else xyz[0] = xyz[1] = xyz[2] = 0.0;
+                    xyz[0] *= cw; xyz[1] *= cw; xyz[2] *= cw;
+                }
                 cnt.dims_reused += ps.reused;
                 if (isfinite(xyz[0]) && isfinite(xyz[1]) && isfinite(xyz[2])) {
                     /* pbrt-v4's sensor (RGBFilm::AddSample; the sensor's RGB, XYZ

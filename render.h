@@ -20,12 +20,17 @@ typedef struct {
     float sx0, sx1, sy0, sy1;        /* screen window */
     int w, h;
     float lens_radius, focal_distance;   /* thin lens; lens_radius 0: pinhole */
+    const Lens *lens;                /* the realistic camera (lens.c); NULL: perspective */
+    double film_w, film_h;           /* its film's width and height (m) */
 } Camera;
 
 void camera_init(Camera *c, const SceneSettings *st);
 /* Raster (x, y), y down, to a world-space ray; (ul0, ul1) pick the point on the
-   lens (unused for a pinhole). */
-Ray  camera_ray(const Camera *c, float x, float y, float ul0, float ul1);
+   lens (unused for a pinhole).  *weight: the ray's weight (1; the realistic
+   camera's lens.c weight, 0 when the lens blocks it). */
+Ray  camera_ray(const Camera *c, float x, float y, float ul0, float ul1, float *weight);
+/* Whether camera_ray reads (ul0, ul1). */
+int  camera_has_lens(const Camera *c);
 
 /* ------------------------------------------------------------------ render.c */
 

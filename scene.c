@@ -924,6 +924,7 @@ static void settings_default(SceneSettings *st)
     memset(st, 0, sizeof *st);
     st->camera_from_world = xf_identity();   /* pbrt-v4: no Camera -> identity */
     st->fov_deg = 90.0f;
+    st->film_diagonal = 35.0f;               /* pbrt-v4 Film "diagonal", mm */
     st->camera_medium = -1;
     st->xres = 1280;
     st->yres = 720;
@@ -1047,6 +1048,12 @@ static int finish(Parser *P, const char *file)
         return fail(P, P->camera_file, P->camera_line, "Camera: degenerate camera transform "
                     "for the %d x %d film: the viewing directions are not finite, non-zero "
                     "float vectors", s->settings.xres, s->settings.yres);
+    if (s->settings.lens.n) {   /* the realistic camera, focused for this film (lens.c) */
+        Error e;
+        if (!lens_focus(&s->settings.lens, s->settings.focus_distance,
+                        1e-3 * s->settings.film_diagonal, LENS_PUPIL_SAMPLES, &e))
+            return fail(P, P->camera_file, P->camera_line, "%s", e.msg);
+    }
     /* pbrt-v4 PixelSensor::Create: imaging ratio = exposure time * ISO / 100 */
     s->settings.imaging_ratio = P->exposure_time * P->iso / 100.0f;
     for (i = 0; i < s->n_insets; i++)

@@ -1470,6 +1470,53 @@ void  sensor_response(int sensor, float lambda_nm, float rgb[3]);
    for a camera.  0 if the fit is singular. */
 int   sensor_xyz_matrix(int sensor, float kelvin, double m[9]);
 
+/* pbrt-v4's RealisticCamera (lens.c; docs/THEORY.md §17): spherical lens
+   interfaces from the front (scene side) to the rear (film side), in metres. */
+#define LENS_MAX 64              /* interfaces in a lens file */
+#define LENS_PUPIL_RINGS 64      /* exit pupil boxes, per film radius ring */
+#define LENS_PUPIL_SAMPLES 65536 /* rays per ring that bound its box (pbrt-v4: 2^20) */
+typedef struct {
+    double radius;               /* of curvature; > 0: centre towards the film; 0: the stop */
+    double thickness;            /* to the next interface along the axis (the last: to the film) */
+    double eta;                  /* index of refraction after the interface (0: air) */
+    double aperture;             /* radius of the clear aperture */
+} LensElement;
+/* the stop's shape ("string aperture"): a circle or pbrt-v4's built-in images */
+enum { LENS_APERTURE_CIRCLE, LENS_APERTURE_GAUSSIAN, LENS_APERTURE_SQUARE, LENS_APERTURE_PENTAGON,
+       LENS_APERTURE_STAR };
+typedef struct {
+    int n;                       /* interfaces; 0: the camera is the perspective one */
+    LensElement e[LENS_MAX];
+    int aperture;                /* LENS_APERTURE_* */
+    double aperture_scale;       /* a shape's weight: its raster scaled to a mean of pi/4 */
+    double diagonal;             /* the film's diagonal (Film "diagonal", m) */
+    double pz[2], fz[2];         /* the cardinal points lens_focus found, lens coordinates
+                                    (-z of camera space) before the film moved: principal
+                                    planes and focal points, [0] of the film's side */
+    double pupil[LENS_PUPIL_RINGS][4];  /* per ring: x0 y0 x1 y1 of the exit pupil's box
+                                           on the rear interface's plane (x0 > x1: none) */
+} Lens;
+/* A ray in camera space: the film is z = 0, the lens towards +z. */
+typedef struct { double o[3], d[3]; } LensRay;
+/* Read a lens file (mm, four numbers per interface) into metres; "path:line:
+   problem" in err. */
+int    lens_read(Lens *L, const char *path, Error *err);
+/* Narrow every stop to `diameter` (m); 0 when a stop is narrower (it is kept). */
+int    lens_set_stop(Lens *L, double diameter);
+/* The stop's shape: "" (a circle), "gaussian", "square", "pentagon" or "star";
+   0 for another name. */
+int    lens_set_aperture(Lens *L, const char *name);
+/* Move the film so that the plane at `distance` is sharp (thick-lens model), then
+   bound the exit pupil with `samples` rays per ring; 0 with a message in err. */
+int    lens_focus(Lens *L, double distance, double diagonal, int samples, Error *err);
+/* Trace r through the interfaces from the film (from_film 1) or from the scene:
+   r becomes the ray that leaves and the weight is returned (1; a shaped stop's
+   weight from the film), or 0 when blocked. */
+double lens_trace(const Lens *L, LensRay *r, int from_film);
+/* The camera ray from film point (fx, fy) through exit pupil sample (u0, u1):
+   its weight cos^4 / (pdf t_rear^2), 0 when blocked. */
+double lens_ray(const Lens *L, double fx, double fy, float u0, float u1, LensRay *r);
+
 /* pbrt-v4's pixel filters (filter.c has their formulas and defaults) */
 typedef enum { FILTER_BOX, FILTER_GAUSSIAN, FILTER_TRIANGLE, FILTER_MITCHELL, FILTER_SINC } FilterType;
 
@@ -1487,6 +1534,10 @@ typedef struct {
     char lightsampler[32];     /* Integrator "string lightsampler", "" if unset */
     /* thin lens (pbrt-v4 PerspectiveCamera): 0 = pinhole */
     float lens_radius, focal_distance;   /* "lensradius" = 0, "focaldistance" = 1e6 */
+    /* Camera "realistic" (lens.c): lens.n > 0; focused by scene_load at
+       focus_distance for the film's "diagonal" (mm, default 35) */
+    Lens lens;
+    float focus_distance, film_diagonal;
     /* pbrt-v4 PerspectiveCamera "screenwindow" x0 x1 y0 y1 (screen_set 0: the
        default, from "frameaspectratio"; frame_aspect 0: the film's xres / yres) */
     int screen_set;

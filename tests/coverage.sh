@@ -107,6 +107,9 @@ scenes() {
         ov["infinite|string filename"] = ov["float imagemap|string filename"]
         ov["infinite|point3 portal"] = "[ -0.5 2 -0.5  0.5 2 -0.5  0.5 2 0.5  -0.5 2 0.5 ] \"rgb L\" [ 1 1 1 ]"
         ov["perspective|float screenwindow"] = "[ -1 1 -1 1 ]"
+        ov["realistic|string lensfile"] = "\"" root "/tests/data/lenses/wide.22mm.dat\""
+        ex["realistic"] = "\"string lensfile\" " ov["realistic|string lensfile"]
+        ov["realistic|string aperture"] = "\"pentagon\""
         ov["rgb|float cropwindow"] = "[ 0 1 0 1 ]"; ov["rgb|integer pixelbounds"] = "[ 0 4 0 4 ]"
         ov["gbuffer|float cropwindow"] = "[ 0 1 0 1 ]"; ov["gbuffer|integer pixelbounds"] = "[ 0 4 0 4 ]"
         ov["rgb|float whitebalance"] = 6500; ov["gbuffer|float whitebalance"] = 6500
@@ -175,7 +178,7 @@ scenes() {
             return "WorldBegin\n" texdefs "Texture \"t\" \"" substr(t, 1, index(t, " ") - 1) "\" \"" cls "\" " p e "\n" }
         if (c == "lights") return "WorldBegin\nLightSource \"" t "\" " p "\n"
         if (c == "area lights") return "WorldBegin\nAttributeBegin\nAreaLightSource \"" t "\" " p "\nShape \"sphere\"\nAttributeEnd\n"
-        if (c == "cameras") return "Camera \"" t "\" " p "\nWorldBegin\n"
+        if (c == "cameras") return "Camera \"" t "\" " p e "\nWorldBegin\n"
         if (c == "samplers") return "Sampler \"" t "\" " p "\nWorldBegin\n"
         if (c == "filters") return "PixelFilter \"" t "\" " p "\nWorldBegin\n"
         if (c == "films") return "Film \"" t "\" " p "\nWorldBegin\n"
