@@ -579,6 +579,21 @@ static int sss_coefficients(Parser *P, ParamList *pl, const char *file, int line
            spec_from_rgb_t(P->rgb, &ss->sigma_s, sc, 2, P->err, file, line);
 }
 
+/* The table for ss's (g, eta): a copy of an earlier subsurface material's with the
+   same pair (a build takes about 50 ms), else built. */
+static void sss_table(Parser *P, Subsurface *ss)
+{
+    int k;
+    for (k = 0; k < P->s->n_materials; k++) {
+        const Material *o = &P->s->materials[k];
+        if (o->type == MAT_SUBSURFACE && o->sss->g == ss->g && o->sss->eta == ss->eta) {
+            ss->table = o->sss->table;
+            return;
+        }
+    }
+    bssrdf_table_build(&ss->table, ss->g, ss->eta);
+}
+
 int subsurface_from_params(Parser *P, ParamList *pl, const char *file, int line, const char *dir,
                            const char *what, Material *m)
 {
@@ -621,7 +636,7 @@ int subsurface_from_params(Parser *P, ParamList *pl, const char *file, int line,
         return fail(P, file, line, "%s \"subsurface\": roughness must be >= 0", dir);
     ss->g = g;
     m->alpha = remap ? tr_alpha_of_roughness(u) : u;
-    bssrdf_table_build(&ss->table, g, ss->eta);
+    sss_table(P, ss);
     spec_const(&ior, ss->eta);
     return material_set_eta(P, m, &ior, file, line);
 }
