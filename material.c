@@ -73,10 +73,10 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm)
 
 int mat_reads_uv(const Material *m)
 {
-    return m->reflectance_tex > 0 || m->alpha_tex > 0 || m->cond_alpha_tex > 0 ||
-           m->type == MAT_MIX || m->bump || (m->extra && m->extra->transmittance_tex > 0) ||
-           (m->sss && (m->sss->tex[SSS_TEX_SIGMA_A] || m->sss->tex[SSS_TEX_SIGMA_S] ||
-                       m->sss->tex[SSS_TEX_MFP]));
+    int sss_tex = m->sss && (m->sss->tex[SSS_TEX_SIGMA_A] || m->sss->tex[SSS_TEX_SIGMA_S] ||
+                             m->sss->tex[SSS_TEX_MFP]);
+    return m->reflectance_tex > 0 || m->alpha_tex > 0 || m->cond_alpha_tex > 0 || sss_tex ||
+           m->type == MAT_MIX || m->bump || (m->extra && m->extra->transmittance_tex > 0);
 }
 
 /* The bits of a float, for hashing (equal floats of equal sign hash alike). */

@@ -989,7 +989,7 @@ static int subsurface_exit(Tracer *tr, int depth, Ray *ray, const SurfacePoint *
     for (j = 0; j < HERO_N; j++) {
         nb[j] = (double)path->beta[j] * (bs.f[j] * cos_i / bs.pdf);
         nr[j] = path->r[j];
-        path->eta2[j] *= bs.eta2[j];
+        path->eta2[j] /= mat->sss->eta * mat->sss->eta;   /* (41)'s eta^2 is back in beta */
     }
     lanes_update(path, nb, nr);
     if (R->vol) path->medium = medium_after(s, ex.sp.shape, path->medium, bs.wi, ex.sp.ng);
