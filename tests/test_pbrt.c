@@ -1151,8 +1151,8 @@ static void test_named_material_forward(T *t)
           && strstr(e.msg, "t.pbrt:5:") && strstr(e.msg, "redefined"), "a redefinition: %s", e.msg);
     scene_free(&s);
     CHECK(t, !scene_load_string(&s, "WorldBegin\nMakeNamedMaterial \"CarPaint\" \"string type\" "
-                                "\"subsurface\"\n", "t.pbrt", &e)
-          && strstr(e.msg, "t.pbrt:2: MakeNamedMaterial \"CarPaint\": type \"subsurface\" is valid pbrt-v4"),
+                                "\"subsurface\" \"string name\" \"Paint\"\n", "t.pbrt", &e)
+          && strstr(e.msg, "t.pbrt:2: MakeNamedMaterial \"CarPaint\": type \"subsurface\": \"string name\" \"Paint\": no such named medium"),
           "MakeNamedMaterial message: %s", e.msg);
     scene_free(&s);
 }
