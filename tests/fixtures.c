@@ -430,30 +430,68 @@ void test_merge_agrees(T *t, const Scene *s, const RenderOptions *base, const ch
         }
 }
 
-void test_against_pbrt_y(T *t, const char *scene, int seed, const double pbrt[5][2], double rel_slack,
-                         const char *what)
+double test_luminance(const double rgb[3])
 {
-    Scene s;
+    return 0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2];
+}
+
+/* The channels' standard errors taken as independent: se(Y)^2 = sum_c w_c^2 se_c^2. */
+double test_tile_y(const Tiles *tl, int i, double *se)
+{
+    *se = sqrt(0.212671 * 0.212671 * tl->se[i][0] * tl->se[i][0] +
+               0.715160 * 0.715160 * tl->se[i][1] * tl->se[i][1] +
+               0.072169 * 0.072169 * tl->se[i][2] * tl->se[i][2]);
+    return test_luminance(tl->mean[i]);
+}
+
+/* The whole image is rendered once more as one tile (the same seeds, so the same
+   images) for its own standard error over the seeds. */
+void test_scene_against_pbrt_y(T *t, Scene *s, int spp, int seed, const double pbrt[5][2], double rel_slack,
+                               const char *what)
+{
     RenderOptions o;
     Tiles q, whole;
     int i;
-    if (!test_load_scene(t, &s, scene)) return;
     render_options_default(&o);
-    o.spp = test_scaled(64, 16);
+    o.spp = spp;
     o.seed = seed;
-    if (!test_render_tiles(t, &s, &o, 4, 2, &q) || !test_render_tiles(t, &s, &o, 4, 1, &whole)) {
-        scene_free(&s);
-        return;
-    }
-    scene_free(&s);
+    if (!test_render_tiles(t, s, &o, 4, 2, &q) || !test_render_tiles(t, s, &o, 4, 1, &whole)) return;
     for (i = 0; i < 5; i++) {
         const Tiles *tl = i == 0 ? &whole : &q;
         int k = i == 0 ? 0 : i - 1;
-        double Y = 0.212671 * tl->mean[k][0] + 0.715160 * tl->mean[k][1] + 0.072169 * tl->mean[k][2];
+        double Y = test_luminance(tl->mean[k]);
         double se = tl->se[k][1], Yp = pbrt[i][0], sep = pbrt[i][1];
         if (getenv("DBG")) fprintf(stderr, "%s %d: specnee %.6f +- %.2g, pbrt %.6f\n", what, i, Y, se, Yp);
         CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + sep * sep) + rel_slack * Yp,
               "%s: %s %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f +- %.2g", what, i ? "quadrant" : "image",
               k, Y, se, Yp, sep);
     }
+}
+
+void test_against_pbrt_y(T *t, const char *scene, int seed, const double pbrt[5][2], double rel_slack,
+                         const char *what)
+{
+    Scene s;
+    if (!test_load_scene(t, &s, scene)) return;
+    test_scene_against_pbrt_y(t, &s, test_scaled(64, 16), seed, pbrt, rel_slack, what);
+    scene_free(&s);
+}
+
+void test_quadrants_against_pbrt(T *t, Scene *s, const RenderOptions *o, const double pbrt[5], const char *what)
+{
+    static const char *const region[5] = { "image", "top left", "top right", "bottom left", "bottom right" };
+    Tiles tl;
+    double y[5], se[5];
+    int q;
+    if (!test_render_tiles(t, s, o, 6, 2, &tl)) return;
+    y[0] = se[0] = 0.0;
+    for (q = 0; q < 4; q++) {
+        y[q + 1] = test_tile_y(&tl, q, &se[q + 1]);
+        y[0] += 0.25 * y[q + 1];
+        se[0] += 0.0625 * se[q + 1] * se[q + 1];
+    }
+    se[0] = sqrt(se[0]);
+    for (q = 0; q < 5; q++)
+        CHECK(t, fabs(y[q] - pbrt[q]) < TEST_K_SIGMA * se[q] + (q ? 0.02 : 0.01) * pbrt[q],
+              "%s, %s: Y = %.6g +- %.2g, pbrt-v4 %.6g", what, region[q], y[q], se[q], pbrt[q]);
 }

@@ -67,12 +67,26 @@ void test_refused(T *t, const char *head, const char *body, const char *file, co
    of the tile averages and its standard error.  Fails the test on any non-finite
    sample or pixel. */
 int test_render_tiles(T *t, Scene *s, const RenderOptions *base, int K, int n, Tiles *out);
-/* Render `scene` (text) with the defaults, test_scaled(64, 16) spp, 4 seeds from
-   `seed`, and hold the luminance of the image and of its 2 x 2 quadrants (top left
-   first) against frozen pbrt-v4 values pbrt[i] = { mean, standard error }: within
-   TEST_K_SIGMA combined standard errors + rel_slack of the value.  DBG=1 prints. */
+/* Luminance Y of linear sRGB (the CIE Y row of the sRGB to XYZ matrix). */
+double test_luminance(const double rgb[3]);
+/* Y of tile i of tl; *se = its standard error from the three channels'. */
+double test_tile_y(const Tiles *tl, int i, double *se);
+/* Render s with the defaults, spp samples, 4 seeds from `seed`, and hold the
+   luminance of the image and of its 2 x 2 quadrants (top left first) against
+   frozen pbrt-v4 values pbrt[i] = { mean, standard error }: within TEST_K_SIGMA
+   combined standard errors (specnee's from the green channel) + rel_slack of the
+   value.  Messages start with `what`; DBG=1 prints every value. */
+void test_scene_against_pbrt_y(T *t, Scene *s, int spp, int seed, const double pbrt[5][2], double rel_slack,
+                               const char *what);
+/* The same for `scene` (text) at test_scaled(64, 16) spp. */
 void test_against_pbrt_y(T *t, const char *scene, int seed, const double pbrt[5][2], double rel_slack,
                          const char *what);
+/* Render s with o, 6 seeds from o->seed, as 2 x 2 tiles, and hold the luminance of
+   each quadrant (test_tile_y) and of the image (their mean, its standard error
+   from theirs) against frozen pbrt-v4 values pbrt[5] = { image, top left, top
+   right, bottom left, bottom right } (means only): within TEST_K_SIGMA standard
+   errors + 2 % of a quadrant's value, 1 % of the image's. */
+void test_quadrants_against_pbrt(T *t, Scene *s, const RenderOptions *o, const double pbrt[5], const char *what);
 /* Two renders of base->spp samples merged by sample count against one render of
    twice the samples, over 10 seed triples: tile means within TEST_K_SIGMA
    standard errors (a w x h image, 4 x 4 tiles). */

@@ -317,9 +317,6 @@ static const double PBRT_MIX_Y[5][2] = {
 static void test_mix_against_pbrt(T *t)
 {
     Scene s;
-    RenderOptions o;
-    Tiles q, whole;
-    int i;
     if (!load_mix(t, &s,
                   "MakeNamedMaterial \"dark\" \"string type\" \"diffuse\" \"rgb reflectance\" [ 0.2 0.2 0.2 ]\n"
                   "MakeNamedMaterial \"bright\" \"string type\" \"diffuse\" \"rgb reflectance\" [ 0.8 0.7 0.6 ]\n"
@@ -331,22 +328,8 @@ static void test_mix_against_pbrt(T *t)
                   "\"texture amount\" \"amt\"\n"
                   "NamedMaterial \"m1\"\n" MIX_SQUARE("-2", "0") "NamedMaterial \"m2\"\n" MIX_SQUARE("0", "2")))
         return;
-    render_options_default(&o);
-    o.spp = test_scaled(32, 8);
-    o.seed = 3;
-    if (!test_render_tiles(t, &s, &o, 4, 2, &q)) { scene_free(&s); return; }
-    if (!test_render_tiles(t, &s, &o, 4, 1, &whole)) { scene_free(&s); return; }
+    test_scene_against_pbrt_y(t, &s, test_scaled(32, 8), 3, PBRT_MIX_Y, 1e-2, "mix");
     scene_free(&s);
-    for (i = 0; i < 5; i++) {
-        const Tiles *tl = i == 0 ? &whole : &q;
-        int k = i == 0 ? 0 : i - 1;
-        double Y = 0.212671 * tl->mean[k][0] + 0.715160 * tl->mean[k][1] + 0.072169 * tl->mean[k][2];
-        double se = tl->se[k][1], Yp = PBRT_MIX_Y[i][0], sep = PBRT_MIX_Y[i][1];
-        if (getenv("DBG")) fprintf(stderr, "mix %d: specnee %.6f +- %.2g, pbrt %.6f\n", i, Y, se, Yp);
-        CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + sep * sep) + 1e-2 * Yp,
-              "%s %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f +- %.2g", i ? "quadrant" : "image", k,
-              Y, se, Yp, sep);
-    }
 }
 
 const TestCase tests_mix[] = {
