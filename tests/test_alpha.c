@@ -120,33 +120,17 @@ static void test_alpha_frequencies(T *t)
     scene_free(&s);
 }
 
-/* Y of one render's pixels (the whole image). */
-static double image_Y(const Image *im)
-{
-    double acc = 0.0;
-    int i;
-    for (i = 0; i < im->w * im->h; i++)
-        acc += 0.212671 * im->rgb[3 * i] + 0.715160 * im->rgb[3 * i + 1] + 0.072169 * im->rgb[3 * i + 2];
-    return acc / (im->w * im->h);
-}
-
 static int render_img(T *t, const char *body, int spp, int seed, int threads, int nee, Image *im)
 {
-    Scene s;
+    static char buf[8192];
     RenderOptions o;
-    RenderStats st;
-    Error err;
-    int ok;
-    if (!load_alpha(t, &s, body)) return 0;
+    snprintf(buf, sizeof buf, "%s%s", ALPHA_HEAD, body);
     render_options_default(&o);
     o.spp = spp;
     o.seed = seed;
     o.threads = threads;
     o.nee = nee;
-    ok = render(&s, &o, im, &st, &err);
-    if (!ok) test_failf(t, __FILE__, __LINE__, "render: %s", err.msg);
-    scene_free(&s);
-    return ok;
+    return test_render_text(t, buf, &o, im);
 }
 
 /* Mean and standard error of the image Y over K seeds. */
@@ -158,7 +142,7 @@ static int mean_Y(T *t, const char *body, int spp, int nee, int K, double *mean,
         Image im;
         double v;
         if (!render_img(t, body, spp, 1 + 1000 * k, 2, nee, &im)) return 0;
-        v = image_Y(&im);
+        v = test_image_y(&im);
         img_free(&im);
         sum += v;
         sum2 += v * v;
@@ -216,9 +200,9 @@ static void test_alpha_zero_invisible(T *t)
     if (!render_img(t, body, 4, 3, 2, 1, &a)) return;
     snprintf(body, sizeof body, "%s%s%s", ALPHA_SUN, base, extra);
     if (!render_img(t, body, 4, 3, 2, 1, &b)) { img_free(&a); return; }
-    CHECK(t, image_Y(&a) > 0.0, "the scene is black");
+    CHECK(t, test_image_y(&a) > 0.0, "the scene is black");
     CHECK(t, !memcmp(a.rgb, b.rgb, sizeof(float) * 3 * a.w * a.h),
-          "alpha 0 shapes change the image: Y %.9g, without them %.9g", image_Y(&b), image_Y(&a));
+          "alpha 0 shapes change the image: Y %.9g, without them %.9g", test_image_y(&b), test_image_y(&a));
     img_free(&a); img_free(&b);
 }
 
@@ -261,10 +245,10 @@ static void test_alpha_threads(T *t)
     if (!render_img(t, body, 4, 7, 1, 1, &a)) return;
     if (!render_img(t, body, 4, 7, 2, 1, &b)) { img_free(&a); return; }
     if (!render_img(t, body, 4, 7, 3, 1, &c)) { img_free(&a); img_free(&b); return; }
-    CHECK(t, image_Y(&a) > 0.0, "the scene is black");
+    CHECK(t, test_image_y(&a) > 0.0, "the scene is black");
     CHECK(t, !memcmp(a.rgb, b.rgb, sizeof(float) * 3 * a.w * a.h) &&
           !memcmp(a.rgb, c.rgb, sizeof(float) * 3 * a.w * a.h),
-          "images of 1, 2, 3 threads differ: Y %.9g %.9g %.9g", image_Y(&a), image_Y(&b), image_Y(&c));
+          "images of 1, 2, 3 threads differ: Y %.9g %.9g %.9g", test_image_y(&a), test_image_y(&b), test_image_y(&c));
     img_free(&a); img_free(&b); img_free(&c);
 }
 

@@ -587,45 +587,28 @@ static void test_threads(T *t)
 }
 
 /* ---- the format's errors, each at its file:line */
-static int load_fails(T *t, const char *text, const char *k1, const char *k2)
-{
-    Scene s;
-    Error e;
-    e.msg[0] = 0;
-    if (scene_load_string(&s, text, "m.pbrt", &e)) {
-        scene_free(&s);
-        test_failf(t, __FILE__, __LINE__, "accepted; expected \"%s\"", k1);
-        return 0;
-    }
-    if (!strstr(e.msg, k1) || (k2 && !strstr(e.msg, k2))) {
-        test_failf(t, __FILE__, __LINE__, "message \"%s\" lacks \"%s\" / \"%s\"", e.msg, k1, k2 ? k2 : "");
-        return 0;
-    }
-    return 1;
-}
-
 static void test_bad_input(T *t)
 {
 #define G "WorldBegin\nMakeNamedMedium \"m\" \"string type\" \"uniformgrid\" "
-    if (!load_fails(t, G "\n", "m.pbrt:2:", "\"float density\" is required")) return;
-    if (!load_fails(t, G "\"integer nx\" 2\n \"float density\" [ 1 2 3 ]\n", "m.pbrt:3:",
-                    "3 \"density\" values; expected nx*ny*nz = 2*1*1 = 2")) return;
-    if (!load_fails(t, G "\"float density\" [ -1 ]\n", "m.pbrt:2:", "\"density\" value 0 is -1; need a finite value >= 0")) return;
-    if (!load_fails(t, G "\"float density\" [ 1e35 ]\n", "m.pbrt:2:", "need a finite value")) return;
-    if (!load_fails(t, G "\"float density\" [ 1 ] \"integer nz\" 0\n", "m.pbrt:2:", "\"integer nz\" 0 must lie in 1..4096")) return;
-    if (!load_fails(t, G "\"float density\" [ 1 ]\n \"point3 p1\" [ 1 0 1 ]\n", "m.pbrt:3:",
-                    "need finite p0 < p1 on every axis")) return;
-    if (!load_fails(t, G "\"float density\" [ 1 ] \"point3 p0\" [ 0 0 ]\n", "m.pbrt:2:", "needs 3 values")) return;
-    if (!load_fails(t, G "\"float density\" [ 1 ] \"float temperature\" [ 1000 ] \"rgb Le\" [ 1 1 1 ]\n",
-                    "m.pbrt:2:", "both \"Le\" and \"temperature\"")) return;
-    if (!load_fails(t, G "\"integer nx\" 2 \"float density\" [ 1 1 ] \"float temperature\" [ 1 ]\n", "m.pbrt:2:",
-                    "1 \"temperature\" values; expected nx*ny*nz")) return;
-    if (!load_fails(t, G "\"integer nx\" 2 \"float density\" [ 1 1 ] \"float Lescale\" [ 1 ]\n", "m.pbrt:2:",
-                    "1 \"Lescale\" values; expected nx*ny*nz")) return;
-    if (!load_fails(t, G "\"float density\" [ 1 ] \"float g\" 1\n", "m.pbrt:2:", "(-1, 1)")) return;
-    if (!load_fails(t, G "\"float density\" [ 1 ] \"string preset\" \"Skin1\"\n", "m.pbrt:2:", "preset")) return;
-    if (!load_fails(t, "WorldBegin\nMakeNamedMedium \"s\" \"string type\" \"nanovdb\"\n", "m.pbrt:2:",
-                    "\"string filename\" is required")) return;
+    if (!test_load_fails(t, G "\n", "m.pbrt:2:", "\"float density\" is required")) return;
+    if (!test_load_fails(t, G "\"integer nx\" 2\n \"float density\" [ 1 2 3 ]\n", "m.pbrt:3:",
+                         "3 \"density\" values; expected nx*ny*nz = 2*1*1 = 2")) return;
+    if (!test_load_fails(t, G "\"float density\" [ -1 ]\n", "m.pbrt:2:", "\"density\" value 0 is -1; need a finite value >= 0")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1e35 ]\n", "m.pbrt:2:", "need a finite value")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1 ] \"integer nz\" 0\n", "m.pbrt:2:", "\"integer nz\" 0 must lie in 1..4096")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1 ]\n \"point3 p1\" [ 1 0 1 ]\n", "m.pbrt:3:",
+                         "need finite p0 < p1 on every axis")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1 ] \"point3 p0\" [ 0 0 ]\n", "m.pbrt:2:", "needs 3 values")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1 ] \"float temperature\" [ 1000 ] \"rgb Le\" [ 1 1 1 ]\n",
+                         "m.pbrt:2:", "both \"Le\" and \"temperature\"")) return;
+    if (!test_load_fails(t, G "\"integer nx\" 2 \"float density\" [ 1 1 ] \"float temperature\" [ 1 ]\n", "m.pbrt:2:",
+                         "1 \"temperature\" values; expected nx*ny*nz")) return;
+    if (!test_load_fails(t, G "\"integer nx\" 2 \"float density\" [ 1 1 ] \"float Lescale\" [ 1 ]\n", "m.pbrt:2:",
+                         "1 \"Lescale\" values; expected nx*ny*nz")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1 ] \"float g\" 1\n", "m.pbrt:2:", "(-1, 1)")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1 ] \"string preset\" \"Skin1\"\n", "m.pbrt:2:", "preset")) return;
+    if (!test_load_fails(t, "WorldBegin\nMakeNamedMedium \"s\" \"string type\" \"nanovdb\"\n", "m.pbrt:2:",
+                         "\"string filename\" is required")) return;
 #undef G
 }
 
@@ -1081,17 +1064,17 @@ static void test_rgb_threads(T *t)
 static void test_rgb_bad_input(T *t)
 {
 #define G "WorldBegin\nMakeNamedMedium \"m\" \"string type\" \"rgbgrid\" "
-    if (!load_fails(t, G "\n", "m.pbrt:2:", "needs \"rgb sigma_a\" and/or \"rgb sigma_s\"")) return;
-    if (!load_fails(t, G "\"integer nx\" 2\n \"rgb sigma_a\" [ 1 2 3 ]\n", "m.pbrt:3:",
-                    "3 \"rgb sigma_a\" values; expected 3*nx*ny*nz = 3*2*1*1 = 6")) return;
-    if (!load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"rgb Le\" [ 1 1 1 ]\n", "m.pbrt:2:",
-                    "with \"rgb Le\" needs \"rgb sigma_a\"")) return;
-    if (!load_fails(t, G "\n \"rgb sigma_s\" [ 1 -1 1 ]\n", "m.pbrt:3:",
-                    "\"rgb sigma_s\" value 1 is -1; need a finite value >= 0")) return;
-    if (!load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"float g\" 1\n", "m.pbrt:2:", "(-1, 1)")) return;
-    if (!load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ]\n \"float scale\" -1\n", "m.pbrt:3:", "\"float scale\" -1")) return;
-    if (!load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"float density\" [ 1 ]\n", "m.pbrt:2:", "density")) return;
-    if (!load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"integer ny\" 0\n", "m.pbrt:2:", "\"integer ny\" 0 must lie in 1..4096")) return;
+    if (!test_load_fails(t, G "\n", "m.pbrt:2:", "needs \"rgb sigma_a\" and/or \"rgb sigma_s\"")) return;
+    if (!test_load_fails(t, G "\"integer nx\" 2\n \"rgb sigma_a\" [ 1 2 3 ]\n", "m.pbrt:3:",
+                         "3 \"rgb sigma_a\" values; expected 3*nx*ny*nz = 3*2*1*1 = 6")) return;
+    if (!test_load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"rgb Le\" [ 1 1 1 ]\n", "m.pbrt:2:",
+                         "with \"rgb Le\" needs \"rgb sigma_a\"")) return;
+    if (!test_load_fails(t, G "\n \"rgb sigma_s\" [ 1 -1 1 ]\n", "m.pbrt:3:",
+                         "\"rgb sigma_s\" value 1 is -1; need a finite value >= 0")) return;
+    if (!test_load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"float g\" 1\n", "m.pbrt:2:", "(-1, 1)")) return;
+    if (!test_load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ]\n \"float scale\" -1\n", "m.pbrt:3:", "\"float scale\" -1")) return;
+    if (!test_load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"float density\" [ 1 ]\n", "m.pbrt:2:", "density")) return;
+    if (!test_load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"integer ny\" 0\n", "m.pbrt:2:", "\"integer ny\" 0 must lie in 1..4096")) return;
 #undef G
 }
 
@@ -1184,10 +1167,10 @@ static void test_cloud_furnace(T *t)
 static void test_cloud_bad_input(T *t)
 {
 #define G "WorldBegin\nMakeNamedMedium \"m\" \"string type\" \"cloud\" "
-    if (!load_fails(t, G "\"float scale\" 2\n", "m.pbrt:2:", "scale")) return;
-    if (!load_fails(t, G "\"float g\" -1\n", "m.pbrt:2:", "(-1, 1)")) return;
-    if (!load_fails(t, G "\n \"point3 p1\" [ 0 1 1 ]\n", "m.pbrt:3:", "need finite p0 < p1 on every axis")) return;
-    if (!load_fails(t, G "\"rgb sigma_s\" [ -1 1 1 ]\n", "m.pbrt:2:", "sigma_s")) return;
+    if (!test_load_fails(t, G "\"float scale\" 2\n", "m.pbrt:2:", "scale")) return;
+    if (!test_load_fails(t, G "\"float g\" -1\n", "m.pbrt:2:", "(-1, 1)")) return;
+    if (!test_load_fails(t, G "\n \"point3 p1\" [ 0 1 1 ]\n", "m.pbrt:3:", "need finite p0 < p1 on every axis")) return;
+    if (!test_load_fails(t, G "\"rgb sigma_s\" [ -1 1 1 ]\n", "m.pbrt:2:", "sigma_s")) return;
 #undef G
 }
 

@@ -38,20 +38,12 @@ static void square_scene(char *buf, size_t cap, const char *camera, const char *
 
 static int render_text(T *t, const char *text, int spp, Image *im)
 {
-    Scene s;
     RenderOptions o;
-    RenderStats st;
-    Error err;
-    int ok;
-    if (!test_load_scene(t, &s, text)) return 0;
     render_options_default(&o);
     o.spp = spp;
     o.seed = 5;
     o.threads = 2;
-    ok = render(&s, &o, im, &st, &err);
-    if (!ok) test_failf(t, __FILE__, __LINE__, "render: %s", err.msg);
-    scene_free(&s);
-    return ok;
+    return test_render_text(t, text, &o, im);
 }
 
 /* pbrt-v4 PixelSensor::Create: imaging ratio = exposure time * ISO / 100, the
