@@ -531,6 +531,7 @@ void test_scene_against_pbrt_y(T *t, Scene *s, int spp, int seed, const double p
     render_options_default(&o);
     o.spp = spp;
     o.seed = seed;
+    if (s->settings.maxdepth_set) o.maxdepth = s->settings.maxdepth;   /* as pbrt-v4 rendered it */
     if (!test_render_tiles(t, s, &o, 4, 2, &q) || !test_render_tiles(t, s, &o, 4, 1, &whole)) return;
     for (i = 0; i < 5; i++) {
         const Tiles *tl = i == 0 ? &whole : &q;
