@@ -66,6 +66,14 @@ static void dump_material(FILE *f, int i, const Material *m)
         fprintf(f, "  [%d] diffusetransmission, P(reflect lobe) %g\n", i, m->p_reflect);
         dump_spectrum(f, "reflectance", &m->reflectance);
         dump_spectrum(f, "transmittance", &m->extra->transmittance);
+    } else if (m->type == MAT_SUBSURFACE) {
+        fprintf(f, "  [%d] subsurface, alpha %g, eta %g, g %g, scale %g, %s\n", i, m->alpha,
+                m->sss->eta, m->sss->g, m->sss->scale,
+                m->sss->from_albedo ? "from reflectance and mfp" : "sigma_a, sigma_s");
+        if (!m->sss->from_albedo) {
+            dump_spectrum(f, "sigma_a", &m->sss->sigma_a);
+            dump_spectrum(f, "sigma_s", &m->sss->sigma_s);
+        }
     } else if (m->type == MAT_MEASURED) {
         fprintf(f, "  [%d] measured, %s, %d x %d visible-normal grid, %d wavelengths\n", i,
                 m->measured->isotropic ? "isotropic" : "anisotropic", m->measured->vndf.nx,

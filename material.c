@@ -1,7 +1,8 @@
 /* material.c - the materials the scenes need: diffuse, (dispersive) glass, a
    diffuse fluorescent layer, pbrt-v4's thindielectric and diffusetransmission, and
    the dispatch to conductors (conductor.c), coateddiffuse and coatedconductor
-   (layered.c) and hair (hair.c).
+   (layered.c), hair (hair.c) and subsurface (subsurface.c: its boundary is the
+   dielectric below, its exit lobe Sw is subsurface.c's).
 
    Exported: mat_is_delta, mat_point, bsdf_sample, bsdf_eval, mat_albedo, fluor_*
    (specnee.h section 6).  Every sampler has its pdf beside it.  The Fresnel terms,
@@ -72,7 +73,9 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm)
 
 int mat_reads_uv(const Material *m)
 {
-    return m->reflectance_tex > 0 || m->alpha_tex > 0 || m->cond_alpha_tex > 0 ||
+    int sss_tex = m->sss && (m->sss->tex[SSS_TEX_SIGMA_A] || m->sss->tex[SSS_TEX_SIGMA_S] ||
+                             m->sss->tex[SSS_TEX_MFP]);
+    return m->reflectance_tex > 0 || m->alpha_tex > 0 || m->cond_alpha_tex > 0 || sss_tex ||
            m->type == MAT_MIX || m->bump || (m->extra && m->extra->transmittance_tex > 0);
 }
 
@@ -147,6 +150,8 @@ void material_release(Material *m)
     m->bump = NULL;
     free(m->hair);
     m->hair = NULL;
+    if (m->type != MAT_SUBSURFACE_EXIT) free(m->sss);   /* an exit lobe borrows it */
+    m->sss = NULL;
     free(m->extra);
     m->extra = NULL;
     if (m->measured && --m->measured->refs <= 0) {   /* the last material sharing it */
@@ -348,7 +353,7 @@ int mat_is_delta(const Material *m)
     if (m->type == MAT_CONDUCTOR)                            /* conductor.c */
         return m->alpha_tex <= 0 && tr_smooth(m->alpha, m->alpha_t);
     if (m->type == MAT_THIN_DIELECTRIC) return 1;
-    return m->type == MAT_DIELECTRIC && m->alpha == 0.0f;
+    return (m->type == MAT_DIELECTRIC || m->type == MAT_SUBSURFACE) && m->alpha == 0.0f;
 }
 
 /* pbrt-v4's BxDF::Regularize: DielectricBxDF, ConductorBxDF and LayeredBxDF (its
@@ -358,7 +363,7 @@ int mat_is_delta(const Material *m)
    whatever its alpha). */
 int mat_regularized(const Material *m, Material *out)
 {
-    if (m->type != MAT_DIELECTRIC && m->type != MAT_CONDUCTOR &&
+    if (m->type != MAT_DIELECTRIC && m->type != MAT_CONDUCTOR && m->type != MAT_SUBSURFACE &&
         m->type != MAT_COATED_DIFFUSE && m->type != MAT_COATED_CONDUCTOR)
         return 0;
     if (m->type == MAT_DIELECTRIC && spec_is_constant(m->eta) && spec_get(m->eta, SPEC_MIN) == 1.0f)
@@ -494,6 +499,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
     out->delta = 0;
     if (lo.z == 0.0f) return 0;
     if (m->type == MAT_HAIR) return hair_sample(m, sp, wo, lambda, alive, u0, u1, u2, out);
+    if (m->type == MAT_SUBSURFACE_EXIT) return sss_exit_sample(m, sp, alive, u1, u2, out);
 
     if (m->type == MAT_CONDUCTOR) {
         MatPoint mp;
@@ -533,8 +539,8 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         return 1;
     }
 
-    if (m->type != MAT_DIELECTRIC) {    /* diffuse, or the fluorescent reflect lobe */
-        /* cosine-weighted hemisphere (Malley's method: a uniform disk lifted up) */
+    if (m->type != MAT_DIELECTRIC && m->type != MAT_SUBSURFACE) {
+        /* diffuse, or the fluorescent reflect lobe: cosine-weighted hemisphere (Malley's method: a uniform disk lifted up) */
         float r = sqrtf(u1), phi = 2.0f * PI_F * u2;
         float z = sqrtf(fmaxf(0.0f, 1.0f - u1));
         (void)u0;
@@ -550,7 +556,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         return 1;
     }
 
-    /* dielectric */
+    /* dielectric (and the boundary of a subsurface material) */
     if (m->alpha == 0.0f) {
         float eta = mat_eta(m, lambda[0]);
         float F = fresnel_dielectric(lo.z, eta), etap = 1.0f;
@@ -615,6 +621,7 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
     if (m->type == MAT_HAIR) { hair_eval(m, sp, wo, wi, lambda, alive, f, pdf_l); return; }
+    if (m->type == MAT_SUBSURFACE_EXIT) { sss_exit_eval(m, sp, wi, alive, f, pdf_l); return; }
     if (m->type == MAT_CONDUCTOR || m->type == MAT_COATED_DIFFUSE ||
         m->type == MAT_COATED_CONDUCTOR) {
         MatPoint mp;
@@ -635,7 +642,7 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
         dt_pair(&d, lo, li, f, pdf_l);
         return;
     }
-    if (m->type != MAT_DIELECTRIC) {    /* diffuse, or the fluorescent reflect lobe */
+    if (m->type != MAT_DIELECTRIC && m->type != MAT_SUBSURFACE) {   /* diffuse, fluorescent */
         float pdf;
         if (lo.z * li.z <= 0.0f) return;                           /* other side */
         pdf = fabsf(li.z) / PI_F;

@@ -691,6 +691,7 @@ int integrator_directive(Parser *P, const char *type, ParamList *pl, const char 
                 "(the same expected image%s)\n", file, line, type,
                 !strcmp(type, "bdpt") ? ", media included" : "; media are ignored, as by pbrt-v4's");
     st->media_ignored = !strcmp(type, "path") || !strcmp(type, "simplepath") || !strcmp(type, "sppm");
+    st->sss_ignored = strcmp(type, "volpath") != 0;     /* only pbrt-v4's volpath has BSSRDFs */
     P->integ_file = file;
     P->integ_line = line;
     snprintf(P->integ_type, sizeof P->integ_type, "%s", type);

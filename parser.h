@@ -360,6 +360,8 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
 /* hair.c: */
 int hair_from_params(Parser *P, ParamList *pl, const char *file, int line,
                      const char *dir, const char *what, Material *m);
+int subsurface_from_params(Parser *P, ParamList *pl, const char *file, int line,
+                           const char *dir, const char *what, Material *m);
 /* bump.c: "float displacement" or "texture displacement" (a float texture) and
    "string normalmap" (an image) of every material but interface and mix, into
    m->bump (left NULL without them); each builder calls it before its

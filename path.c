@@ -590,18 +590,19 @@ static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const Pa
 /* 4. Next event estimation at vertex v: the pieces lights.c offers (one chosen
    piece; every piece for the strategy "all"), one sample each, added to the film.
    The numbers for the point on the piece are drawn once for all of them (the
-   order of these requests is the independent sampler's stream order). */
-static void next_event(Tracer *tr, int depth, const Scatter *v, const PathState *path)
+   order of these requests is the independent sampler's stream order), from the
+   dimensions dim0 + BD_LIGHT .. BD_POINT (a bounce's, or a subsurface exit's). */
+static void next_event(Tracer *tr, int depth, int dim0, const Scatter *v, const PathState *path)
 {
     const Renderer *R = tr->R;
     FILE *dbg = tr->dbg;
     float u[3];
     int k, n, needs_u;
-    u[0] = sampler_1d(tr->ps, dim_bounce(depth, BD_TRIANGLE));
-    sampler_2d(tr->ps, dim_bounce(depth, BD_POINT), &u[1], &u[2]);
+    u[0] = sampler_1d(tr->ps, dim0 + BD_TRIANGLE);
+    sampler_2d(tr->ps, dim0 + BD_POINT, &u[1], &u[2]);
     n = light_nee_count(R->ls, &needs_u);
     for (k = 0; k < n; k++) {
-        float ul = needs_u ? sampler_1d(tr->ps, dim_bounce(depth, BD_LIGHT)) : 0.0f, P;
+        float ul = needs_u ? sampler_1d(tr->ps, dim0 + BD_LIGHT) : 0.0f, P;
         int fb, piece = light_nee_piece(R->ls, v->ctx, k, ul, &P, &fb);
         if (fb) tr->cnt->fallbacks++;
         if (dbg) fprintf(dbg, "  NEE: chose emitter %d with P=%.4g (%s)\n",
@@ -859,7 +860,7 @@ static int medium_vertex(Tracer *tr, int depth, Ray *ray, const Collision *c, Pa
         v.g = M->g;
         v.medium = med;
         v.ctx = &ctx;
-        next_event(tr, depth, &v, path);
+        next_event(tr, depth, dim_bounce(depth, 0), &v, path);
     }
     /* the phase function's direction */
     sampler_2d(tr->ps, dim_bounce(depth, BD_DIR), &u1, &u2);
@@ -934,6 +935,71 @@ static const Material *fluor_vertex(Tracer *tr, int depth, const Material *mat, 
         return &R->white;
     }
 }
+/* The exit of a path that refracted into subsurface material mat (index mi, as
+   its shapes name it) at sp (THEORY §18): sss_probe finds the exit point and
+   its Sp and densities; the lanes gain (43); NEE there with the exit lobe Sw,
+   and the next direction from Sw (44), on the numbers of dim_sss(depth).  The
+   depth does not grow (pbrt-v4's volpath).  Returns 0 when the path ends. */
+static int subsurface_exit(Tracer *tr, int depth, Ray *ray, const SurfacePoint *sp,
+                           const Material *mat, int mi, PathState *path)
+{
+    const Renderer *R = tr->R;
+    const Scene *s = R->s;
+    int d0 = dim_sss(depth), j, can_nee = R->o->nee && s->n_emitters > 0;
+    double nb[HERO_N], nr[HERO_N];
+    float u[4], cos_i;
+    SssExit ex;
+    Material sw = *mat;
+    LightCtx ctx;
+    BsdfSample bs;
+    u[0] = sampler_1d(tr->ps, d0 + SSS_AXIS);
+    sampler_2d(tr->ps, d0 + SSS_RADIUS, &u[1], &u[2]);
+    u[3] = sampler_1d(tr->ps, d0 + SSS_PICK);
+    if (!sss_probe(s, mat, mi, sp, path->lam, path->alive, u, &ex)) {
+        tr->cnt->rays += (uint64_t)ex.rays;
+        if (tr->dbg) fprintf(tr->dbg, "  subsurface: no exit found by the probe\n");
+        return 0;
+    }
+    tr->cnt->rays += (uint64_t)ex.rays;
+    for (j = 0; j < HERO_N; j++) {                                  /* (43) */
+        nb[j] = (double)path->beta[j] * ex.Sp[j] / ex.pdf[0];
+        nr[j] = (double)path->r[j] * ex.pdf[j] / ex.pdf[0];
+    }
+    lanes_update(path, nb, nr);
+    if (tr->dbg) fprintf(tr->dbg, "  subsurface: exit 1 of %d at x=(%.4g %.4g %.4g)\n", ex.n,
+                         ex.sp.p.x, ex.sp.p.y, ex.sp.p.z);
+    sw.type = MAT_SUBSURFACE_EXIT;
+    sw.bump = NULL;
+    vertex_ctx(R, path, ex.sp.p, ex.sp.ns, &ctx);
+    if (can_nee) {
+        Scatter v;
+        v.mat = &sw;
+        v.sp = &ex.sp;
+        v.p = ex.sp.p;
+        v.wo = ex.sp.ns;                     /* Sw's outgoing side: the exit's normal */
+        v.g = 0.0f;
+        v.medium = path->medium;
+        v.ctx = &ctx;
+        next_event(tr, depth, d0, &v, path);
+    }
+    sampler_2d(tr->ps, d0 + BD_DIR, &u[0], &u[1]);
+    if (!bsdf_sample(&sw, &ex.sp, ex.sp.ns, path->lam, path->alive, 0.0f, u[0], u[1], &bs)) return 0;
+    prev_set(path, can_nee, &ctx, ex.sp.p, bs.pdf_l);
+    path->any_nonspec = 1;
+    cos_i = fabsf(v3_dot(bs.wi, ex.sp.ns));
+    for (j = 0; j < HERO_N; j++) {
+        nb[j] = (double)path->beta[j] * (bs.f[j] * cos_i / bs.pdf);
+        nr[j] = path->r[j];
+        path->eta2[j] /= mat->sss->eta * mat->sss->eta;   /* (44)'s eta^2 is back in beta */
+    }
+    lanes_update(path, nb, nr);
+    if (R->vol) path->medium = medium_after(s, ex.sp.shape, path->medium, bs.wi, ex.sp.ng);
+    ray->o = spawn_origin(&ex.sp, bs.wi);
+    ray->d = bs.wi;
+    ray->tmax = INFINITY;
+    return 1;
+}
+
 /* A surface vertex at sp, reached along ray: the emission the path found there,
    then below maxdepth the termination of the secondaries at dispersive glass
    (3), the fluorescent branch (fluor_vertex), NEE (4) and the next direction
@@ -991,7 +1057,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
         v.g = 0.0f;
         v.medium = path->medium;
         v.ctx = &ctx;
-        next_event(tr, depth, &v, path);
+        next_event(tr, depth, dim_bounce(depth, 0), &v, path);
     }
 
     /* 5. BSDF sampling: the next direction, with the hero's index; every lane's
@@ -1009,6 +1075,9 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
         path->eta2[j] *= bs.eta2[j];
     }
     lanes_update(path, nb, nr);
+    if (mat->type == MAT_SUBSURFACE && !s->settings.sss_ignored &&
+        v3_dot(bs.wi, sp->ns) * v3_dot(wo, sp->ns) < 0.0f)
+        return subsurface_exit(tr, depth, ray, sp, mat, shape->material, path);   /* refracted in */
     if (R->vol) path->medium = medium_after(s, sp->shape, path->medium, bs.wi, sp->ng);
     ray->o = spawn_origin(sp, bs.wi);
     ray->d = bs.wi;

@@ -205,7 +205,8 @@ done:
 }
 
 /* The material types and the rooms that build them from their parameters
-   (pbrt-v4's per-type Create): material.c, conductor.c, layered.c, hair.c. */
+   (pbrt-v4's per-type Create): material.c, conductor.c, layered.c, hair.c,
+   subsurface.c. */
 static const struct {
     const char *type;
     int (*build)(Parser *P, ParamList *pl, const char *file, int line, const char *dir,
@@ -219,7 +220,8 @@ static const struct {
     { "coatedconductor", coatedconductor_from_params },
     { "thindielectric", thindielectric_from_params },
     { "diffusetransmission", diffusetransmission_from_params },
-    { "mix", mix_from_params }, { "hair", hair_from_params }, { "measured", measured_from_params }
+    { "mix", mix_from_params }, { "hair", hair_from_params }, { "measured", measured_from_params },
+    { "subsurface", subsurface_from_params }
 };
 
 /* Material m of `type` (a Material or MakeNamedMaterial directive `dir`). */
@@ -239,19 +241,7 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
             if (!ok) material_release(m);       /* what a failed build had allocated */
             return ok;
         }
-    {
-        static const char *const pbrt_types[] = {
-            "subsurface", NULL
-        };
-        int i;
-        for (i = 0; pbrt_types[i]; i++)
-            if (!strcmp(type, pbrt_types[i]))
-                return fail(P, file, line, "%s \"%s\" is valid pbrt-v4 but not in the "
-                            "specnee subset (use \"diffuse\", \"dielectric\", \"conductor\", "
-                            "\"coateddiffuse\", \"coatedconductor\", \"thindielectric\", "
-                            "\"diffusetransmission\" or \"measured\")", dir, type);
-        return fail(P, file, line, "%s \"%s\": unknown material type", dir, type);
-    }
+    return fail(P, file, line, "%s \"%s\": unknown material type", dir, type);
 }
 
 static int area_light_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
@@ -1041,6 +1031,13 @@ static int finish(Parser *P, const char *file)
         fprintf(stderr, "%s:%d: note: Integrator \"%s\" ignores the participating media, as "
                 "pbrt-v4's does (\"volpath\" renders them)\n", P->integ_file, P->integ_line,
                 P->integ_type);
+    for (i = 0; s->settings.sss_ignored && i < s->n_materials; i++)
+        if (s->materials[i].type == MAT_SUBSURFACE) {
+            fprintf(stderr, "%s:%d: note: Integrator \"%s\" renders a \"subsurface\" material as "
+                    "its dielectric boundary alone, as pbrt-v4's does (\"volpath\" renders the "
+                    "subsurface scattering)\n", P->integ_file, P->integ_line, P->integ_type);
+            break;
+        }
     media_before_camera(P);
     camera_screen_window(&s->settings, sw);
     if (P->camera_file && !camera_transform_ok(&s->settings.camera_from_world,

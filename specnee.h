@@ -198,6 +198,10 @@ double radical_inverse(int base, uint64_t i);
      DIM_MEDIUM0 + 64d + s  1-D  the free-flight distance (a scatter vertex then
                              uses the bounce's BD_LIGHT..BD_POINT for NEE and
                              BD_DIR for the phase function's direction)
+     and where the path of bounce d refracts into a subsurface material
+     (subsurface.c), at dim_sss(d) + slot: BD_LIGHT..BD_POINT for NEE at the exit
+     and BD_DIR for the exit lobe's direction, as a bounce's, and SSS_AXIS,
+     SSS_RADIUS (2-D: radius, angle) and SSS_PICK for the probe,
      so a scene without media asks for no number beyond the bounces' and the
      fluorescent vertices'.  When the camera sits in a medium, sobol and zsobol
      serve 0, 1, DIM_WAVELENGTH and dim_medium(0, 0) as ONE 4-D group (sampler.c,
@@ -223,6 +227,9 @@ static inline int dim_fluor(int depth) { return DIM_FLUOR0 + 2 * depth; }
 #define MEDIUM_SEGMENTS 64  /* @@ ray segments one bounce may cross (Material "interface"
                                boundaries of media); a path that needs more ends there */
 static inline int dim_medium(int depth, int seg) { return DIM_MEDIUM0 + MEDIUM_SEGMENTS * depth + seg; }
+#define DIM_SSS0 (1 << 22)
+enum { SSS_AXIS = 8, SSS_RADIUS = 9, SSS_PICK = 11, DIMS_PER_SSS = 16 };
+static inline int dim_sss(int depth) { return DIM_SSS0 + DIMS_PER_SSS * depth; }
 #define SAMPLER_CHECKED_DIMS 256   /* dimensions whose reuse is counted (31 bounces) */
 
 typedef enum {
@@ -758,7 +765,11 @@ typedef enum {
     MAT_MIX,                   /* pbrt-v4 "mix": at each hit one of two materials, chosen by
                                   a hash of the point and wo (mat_choose) */
     MAT_HAIR,                  /* pbrt-v4 "hair": Chiang et al. 2016's fibre model (hair.c) */
-    MAT_MEASURED               /* pbrt-v4 "measured": a tabulated BRDF file (measured.c) */
+    MAT_MEASURED,              /* pbrt-v4 "measured": a tabulated BRDF file (measured.c) */
+    MAT_SUBSURFACE,            /* pbrt-v4 "subsurface": a dielectric boundary over a tabulated
+                                  BSSRDF (subsurface.c) */
+    MAT_SUBSURFACE_EXIT        /* the lobe Sw a subsurface path leaves its exit point by;
+                                  path.c makes it from the material (never in a scene) */
 } MaterialType;
 #define FL_N (SPEC_MAX - SPEC_UV_MIN + 1)   /* 1 nm knots of the fluorescence tables */
 /* A fluorescent layer (docs/FLUORESCENCE.md, F2): f = (1/pi) [rho (1 - A) delta(li - lo)
@@ -837,6 +848,9 @@ typedef struct {
                                   material_release; NULL: the shape's shading normal */
     struct MeasuredBrdf *measured;  /* measured: the file's tables (measured.c), owned,
                                   freed by material_release */
+    struct Subsurface *sss;    /* subsurface: its coefficients and table (subsurface.c),
+                                  owned, freed by material_release (a MAT_SUBSURFACE_EXIT
+                                  copy points at its material's) */
 
     int regularized;           /* a copy made by mat_regularized: mat_point regularizes
                                   the alphas it reads from textures too */
@@ -1127,6 +1141,76 @@ void  hair_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi, con
 float hair_sigma_a_from_reflectance(float c, float beta_n);
 void  hair_melanin_rgb(float eumelanin, float pheomelanin, float rgb[3]);
 double hair_log_i0(double x);
+/* ---- pbrt-v4's "subsurface" (subsurface.c; THEORY §18): a tabulated BSSRDF ----
+   The surface is a dielectric of index eta (smooth or GGX, Material.eta, alpha);
+   a path that refracts in leaves at another point of the same material, found by
+   a probe segment, with weight Sp / pdf, and goes on from there by the lobe Sw.
+   The radial profile of a medium of albedo rho and extinction 1 is tabulated at
+   SSS_RHO_N albedos and SSS_R_N optical radii (profile: 2 pi r' Sr'; rho_eff its
+   integral; cdf its running integral), read by Catmull-Rom splines. */
+#define SSS_RHO_N 100              /* albedo knots of the table (pbrt-v4's) */
+#define SSS_R_N 64                 /* radius knots (pbrt-v4's) */
+#define SSS_PROBE_HITS 256         /* @@ surfaces one probe segment may cross; beyond, the
+                                      rest of the segment is not searched */
+typedef struct {
+    float rho[SSS_RHO_N], radius[SSS_R_N];
+    float profile[SSS_RHO_N * SSS_R_N], cdf[SSS_RHO_N * SSS_R_N];
+    float rho_eff[SSS_RHO_N];
+} BssrdfTable;
+enum { SSS_TEX_SIGMA_A, SSS_TEX_SIGMA_S, SSS_TEX_MFP, SSS_NTEX };
+typedef struct Subsurface {
+    BssrdfTable table;         /* for this material's g and eta */
+    int from_albedo;           /* 1: "reflectance" (Material.reflectance or reflectance_tex)
+                                  and mfp give the coefficients at each point */
+    Spectrum sigma_a, sigma_s; /* per scene unit before "scale" (named: per mm, pbrt-v4) */
+    Spectrum mfp;              /* from_albedo: the mean free path before "scale" */
+    int tex[SSS_NTEX];         /* 1 + a spectrum texture's index; 0: the spectrum above */
+    float scale, eta, g;
+} Subsurface;
+/* The diffusion profile's two parts for a medium (sigma_s, sigma_a, g) under a
+   boundary of index eta at radius r (photon beam diffusion, subsurface.c), and
+   pbrt-v4's polynomial Fresnel moments. */
+double bssrdf_single(double sigma_s, double sigma_a, double g, double eta, double r);
+double bssrdf_multiple(double sigma_s, double sigma_a, double g, double eta, double r);
+double fresnel_moment1(double eta);
+double fresnel_moment2(double eta);
+void  bssrdf_table_build(BssrdfTable *t, float g, float eta);
+/* Catmull-Rom splines through (x[k], f[k]), x increasing: the four weights of
+   f[offset .. offset+3] at v (0 outside [x0, x_n-1]); the integral (cdf[k]: up
+   to x[k]); the x where the increasing f reaches u. */
+int   catmull_rom_weights(const float *x, int n, float v, int *offset, float w[4]);
+float catmull_rom_integrate(const float *x, const float *f, int n, float *cdf);
+float catmull_rom_invert(const float *x, const float *f, int n, float u);
+/* Per wavelength, for extinction sigma_t and albedo rho: the profile Sr(r), the
+   density of the radius sampler in the plane, Sr / rho_eff, and the sampler
+   (-1: none); rho and mfp from an effective albedo R (pbrt-v4's
+   SubsurfaceFromDiffuse). */
+float bssrdf_sr(const BssrdfTable *t, float sigma_t, float rho, float r);
+float bssrdf_pdf_sr(const BssrdfTable *t, float sigma_t, float rho, float r);
+float bssrdf_sample_sr(const BssrdfTable *t, float sigma_t, float rho, float u);
+void  bssrdf_from_albedo(const BssrdfTable *t, float R, float mfp, float *sigma_a, float *sigma_s);
+/* sigma_t and rho of a subsurface material at sp for the alive wavelengths. */
+void  sss_coeffs(const Material *m, const SurfacePoint *sp, const float *lam, unsigned alive,
+                 float sigma_t[HERO_N], float rho[HERO_N]);
+/* The exit of a path that entered material m (index mi into Scene.materials, as
+   its shapes name it) at `entry`: u[0] the probe's axis, u[1], u[2] its radius
+   and angle, u[3] the choice among the hits.  1 and *out (the exit point, Sp and
+   the area density per wavelength) when there is one. */
+typedef struct {
+    SurfacePoint sp;
+    HitRecord hit;
+    float Sp[HERO_N], pdf[HERO_N];
+    int n;                     /* hits of the material along the probe */
+    int rays;                  /* BVH queries made */
+} SssExit;
+int   sss_probe(const struct Scene *s, const Material *m, int mi, const SurfacePoint *entry,
+                const float *lam, unsigned alive, const float u[4], SssExit *out);
+/* The exit lobe Sw (cosine-weighted on the side of sp->ns); bsdf_sample and
+   bsdf_eval call these for a MAT_SUBSURFACE_EXIT material. */
+int   sss_exit_sample(const Material *m, const SurfacePoint *sp, unsigned alive, float u1, float u2,
+                      BsdfSample *out);
+void  sss_exit_eval(const Material *m, const SurfacePoint *sp, Vec3 wi, unsigned alive,
+                    float f[HERO_N], float pdf_l[HERO_N]);
 /* ---- The scattering room (microfacet.c): what the BSDFs above are built from ----
    Local shading frame (n = +z), directions pointing away from the surface.
    material.c, conductor.c and layered.c call it; it calls none of them. */
@@ -1575,6 +1659,8 @@ typedef struct {
     int media_ignored;         /* Integrator "path" (or simplepath, sppm): as in pbrt-v4
                                   the media are not rendered; "volpath" (pbrt-v4's
                                   default), "bdpt" render them (medium.c) */
+    int sss_ignored;           /* an Integrator other than "volpath": as in pbrt-v4 a
+                                  "subsurface" material is its dielectric boundary alone */
     int xsamples, ysamples, jitter;      /* Sampler "stratified" */
     int regularize;            /* Integrator "bool regularize" (path, volpath): pbrt-v4's
                                   biased roughening of near-specular BSDFs after a

@@ -139,6 +139,13 @@ scenes() {
         ex["measured"] = "\"string filename\" " ov["measured|string filename"]
         ov["rgbgrid|rgb Le"] = "[ 0.5 0.5 0.5 ] \"rgb sigma_a\" [ 0.5 0.5 0.5 ]"
         ex["fluorescent"] = "\"spectrum excitation\" [ 300 1 400 0 ];\"spectrum emission\" [ 400 0 500 1 ]"
+        ov["subsurface|string name"] = "\"Skin1\""      # sigma_a with sigma_s, mfp with a reflectance:
+        ov["subsurface|spectrum sigma_a"] = "[ 300 0.5 830 0.5 ] \"rgb sigma_s\" [ 1 1 1 ]"
+        ov["subsurface|texture sigma_a"] = "\"tex\" \"rgb sigma_s\" [ 1 1 1 ]"
+        ov["subsurface|spectrum sigma_s"] = "[ 300 0.5 830 0.5 ] \"rgb sigma_a\" [ 1 1 1 ]"
+        ov["subsurface|texture sigma_s"] = "\"tex\" \"rgb sigma_a\" [ 1 1 1 ]"
+        ov["subsurface|spectrum mfp"] = "[ 300 0.5 830 0.5 ] \"rgb reflectance\" [ 0.5 0.5 0.5 ]"
+        ov["subsurface|texture mfp"] = "\"tex\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]"
         ov["dielectric|float cauchyA"] = "1.5 \"float cauchyB\" 0.004"
         ov["dielectric|float cauchyB"] = "0.004 \"float cauchyA\" 1.5"
         gen["float"] = "0.5"; gen["integer"] = "1"; gen["bool"] = "false"; gen["string"] = "\"x\""

@@ -1,9 +1,11 @@
 /* tests/fixtures.c - what the tests share: random numbers drawn in a fixed order;
-   for the statistical image tests, loading a scene from text, rendering K seeds
-   into per-tile means with standard errors, comparing two such tile sets, and the
-   walls of a small test box; for the tests of samplers, Pearson's chi-square of
-   counts against expectations and of sampled directions against a density
-   (test.h says how they judge). */
+   loading a scene from text and the checks of refused input; for the statistical
+   image tests, rendering K seeds into per-tile means with standard errors, their
+   luminance, comparing two such tile sets, the two comparisons with frozen
+   pbrt-v4 luminances, the walls of a small test box and the emitting-cube
+   furnace; for the tests of samplers, Pearson's chi-square of counts against
+   expectations and of sampled directions against a density (test.h says how they
+   judge). */
 #include "test.h"
 #include <stdlib.h>
 #include <string.h>
@@ -59,6 +61,54 @@ void test_refused(T *t, const char *head, const char *body, const char *file, co
         return;
     }
     if (!strstr(err.msg, want)) test_failf(t, __FILE__, __LINE__, "error \"%s\", want \"%s\"", err.msg, want);
+}
+
+int test_load_fails(T *t, const char *text, const char *k1, const char *k2)
+{
+    Scene s;
+    Error e;
+    e.msg[0] = 0;
+    if (scene_load_string(&s, text, "m.pbrt", &e)) {
+        scene_free(&s);
+        test_failf(t, __FILE__, __LINE__, "accepted; expected \"%s\"", k1);
+        return 0;
+    }
+    if (!strstr(e.msg, k1) || (k2 && !strstr(e.msg, k2))) {
+        test_failf(t, __FILE__, __LINE__, "message \"%s\" lacks \"%s\" / \"%s\"", e.msg, k1, k2 ? k2 : "");
+        return 0;
+    }
+    return 1;
+}
+
+void test_rejected_at(T *t, const char *text, int line, const char *k1, const char *k2)
+{
+    Scene s;
+    Error e;
+    char prefix[64];
+    int ok;
+    e.msg[0] = '\0';
+    ok = scene_load_string(&s, text, "t.pbrt", &e);
+    if (ok) scene_free(&s);
+    CHECK(t, !ok, "accepted bad input, expected an error with \"%s\"", k1);
+    snprintf(prefix, sizeof prefix, "t.pbrt:%d:", line);
+    CHECK(t, strncmp(e.msg, prefix, strlen(prefix)) == 0, "message \"%s\" does not start with \"%s\"",
+          e.msg, prefix);
+    CHECK(t, strchr(e.msg, '\n') == NULL, "message \"%s\" is not one line", e.msg);
+    CHECK(t, strstr(e.msg, k1) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k1);
+    CHECK(t, !k2 || strstr(e.msg, k2) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k2);
+}
+
+int test_render_text(T *t, const char *text, const RenderOptions *o, Image *im)
+{
+    Scene s;
+    RenderStats st;
+    Error err;
+    int ok;
+    if (!test_load_scene(t, &s, text)) return 0;
+    ok = render(&s, o, im, &st, &err);
+    if (!ok) test_failf(t, __FILE__, __LINE__, "render: %s", err.msg);
+    scene_free(&s);
+    return ok;
 }
 
 /* Render K seeds and gather tile statistics. */
@@ -375,6 +425,23 @@ SurfacePoint test_flat_point(void)
     return sp;
 }
 
+void test_furnace_text(char *text, size_t n, const char *material)
+{
+    snprintf(text, n,
+             "LookAt 0 0 -1.9  0.8 0.8 0  0 1 0\n"
+             "Camera \"perspective\" \"float fov\" [ 20 ]\n"
+             "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ] \"string filename\" \"t.pfm\"\n"
+             "WorldBegin\n"
+             "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" [ 360 1 830 1 ] \"bool twosided\" true\n"
+             " Material \"diffuse\" \"spectrum reflectance\" [ 360 0 830 0 ]\n"
+             " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3  4 5 6 4 6 7  0 1 5 0 5 4  "
+             "3 2 6 3 6 7  0 3 7 0 7 4  1 2 6 1 6 5 ]\n"
+             "  \"point3 P\" [ -2 -2 -2  2 -2 -2  2 2 -2  -2 2 -2  -2 -2 2  2 -2 2  2 2 2  -2 2 2 ]\n"
+             "AttributeEnd\n"
+             "AttributeBegin\n Translate 0.8 0.8 0\n %s\n"
+             " Shape \"sphere\" \"float radius\" [ 1 ]\nAttributeEnd\n", material);
+}
+
 /* K = 10 times: two renders of base->spp samples (seeds 3k+1, 3k+2) merged by
    sample count (img_merge), against one render of twice the samples (seed 3k+3).
    Per 4 x 4 tile and channel the means over k must agree within TEST_K_SIGMA
@@ -430,30 +497,78 @@ void test_merge_agrees(T *t, const Scene *s, const RenderOptions *base, const ch
         }
 }
 
-void test_against_pbrt_y(T *t, const char *scene, int seed, const double pbrt[5][2], double rel_slack,
-                         const char *what)
+double test_luminance(const double rgb[3])
 {
-    Scene s;
+    return 0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2];
+}
+
+double test_image_y(const Image *im)
+{
+    double acc = 0.0;
+    int i;
+    for (i = 0; i < im->w * im->h; i++)
+        acc += 0.212671 * im->rgb[3 * i] + 0.715160 * im->rgb[3 * i + 1] + 0.072169 * im->rgb[3 * i + 2];
+    return acc / (im->w * im->h);
+}
+
+/* The channels' standard errors taken as independent: se(Y)^2 = sum_c w_c^2 se_c^2. */
+double test_tile_y(const Tiles *tl, int i, double *se)
+{
+    *se = sqrt(0.212671 * 0.212671 * tl->se[i][0] * tl->se[i][0] +
+               0.715160 * 0.715160 * tl->se[i][1] * tl->se[i][1] +
+               0.072169 * 0.072169 * tl->se[i][2] * tl->se[i][2]);
+    return test_luminance(tl->mean[i]);
+}
+
+/* The whole image is rendered once more as one tile (the same seeds, so the same
+   images) for its own standard error over the seeds. */
+void test_scene_against_pbrt_y(T *t, Scene *s, int spp, int seed, const double pbrt[5][2], double rel_slack,
+                               const char *what)
+{
     RenderOptions o;
     Tiles q, whole;
     int i;
-    if (!test_load_scene(t, &s, scene)) return;
     render_options_default(&o);
-    o.spp = test_scaled(64, 16);
+    o.spp = spp;
     o.seed = seed;
-    if (!test_render_tiles(t, &s, &o, 4, 2, &q) || !test_render_tiles(t, &s, &o, 4, 1, &whole)) {
-        scene_free(&s);
-        return;
-    }
-    scene_free(&s);
+    if (s->settings.maxdepth_set) o.maxdepth = s->settings.maxdepth;   /* as pbrt-v4 rendered it */
+    if (!test_render_tiles(t, s, &o, 4, 2, &q) || !test_render_tiles(t, s, &o, 4, 1, &whole)) return;
     for (i = 0; i < 5; i++) {
         const Tiles *tl = i == 0 ? &whole : &q;
         int k = i == 0 ? 0 : i - 1;
-        double Y = 0.212671 * tl->mean[k][0] + 0.715160 * tl->mean[k][1] + 0.072169 * tl->mean[k][2];
+        double Y = test_luminance(tl->mean[k]);
         double se = tl->se[k][1], Yp = pbrt[i][0], sep = pbrt[i][1];
         if (getenv("DBG")) fprintf(stderr, "%s %d: specnee %.6f +- %.2g, pbrt %.6f\n", what, i, Y, se, Yp);
         CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + sep * sep) + rel_slack * Yp,
               "%s: %s %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f +- %.2g", what, i ? "quadrant" : "image",
               k, Y, se, Yp, sep);
     }
+}
+
+void test_against_pbrt_y(T *t, const char *scene, int seed, const double pbrt[5][2], double rel_slack,
+                         const char *what)
+{
+    Scene s;
+    if (!test_load_scene(t, &s, scene)) return;
+    test_scene_against_pbrt_y(t, &s, test_scaled(64, 16), seed, pbrt, rel_slack, what);
+    scene_free(&s);
+}
+
+void test_quadrants_against_pbrt(T *t, Scene *s, const RenderOptions *o, const double pbrt[5], const char *what)
+{
+    static const char *const region[5] = { "image", "top left", "top right", "bottom left", "bottom right" };
+    Tiles tl;
+    double y[5], se[5];
+    int q;
+    if (!test_render_tiles(t, s, o, 6, 2, &tl)) return;
+    y[0] = se[0] = 0.0;
+    for (q = 0; q < 4; q++) {
+        y[q + 1] = test_tile_y(&tl, q, &se[q + 1]);
+        y[0] += 0.25 * y[q + 1];
+        se[0] += 0.0625 * se[q + 1] * se[q + 1];
+    }
+    se[0] = sqrt(se[0]);
+    for (q = 0; q < 5; q++)
+        CHECK(t, fabs(y[q] - pbrt[q]) < TEST_K_SIGMA * se[q] + (q ? 0.02 : 0.01) * pbrt[q],
+              "%s, %s: Y = %.6g +- %.2g, pbrt-v4 %.6g", what, region[q], y[q], se[q], pbrt[q]);
 }

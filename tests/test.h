@@ -61,18 +61,43 @@ typedef struct {
 } Tiles;
 /* Load a scene from text; fails the test (and returns 0) on a parse error. */
 int test_load_scene(T *t, Scene *s, const char *text);
+/* Load a scene from text and render it with o into *im (the caller frees it);
+   fails the test (and returns 0) if it does not load or render. */
+int test_render_text(T *t, const char *text, const RenderOptions *o, Image *im);
 /* Load head + body as `file`; fails the test unless it is refused with `want` in the message. */
 void test_refused(T *t, const char *head, const char *body, const char *file, const char *want);
+/* Load text as m.pbrt: 1 if it is refused with k1 (and k2 unless NULL) in the
+   message; else the test fails and 0 is returned. */
+int test_load_fails(T *t, const char *text, const char *k1, const char *k2);
+/* Load text as t.pbrt; the test fails unless it is refused with one line starting
+   "t.pbrt:LINE:" that contains k1 (and k2 unless NULL). */
+void test_rejected_at(T *t, const char *text, int line, const char *k1, const char *k2);
 /* Render K seeds (base->seed + 1000 k) of s, n x n tiles: per-tile mean over seeds
    of the tile averages and its standard error.  Fails the test on any non-finite
    sample or pixel. */
 int test_render_tiles(T *t, Scene *s, const RenderOptions *base, int K, int n, Tiles *out);
-/* Render `scene` (text) with the defaults, test_scaled(64, 16) spp, 4 seeds from
-   `seed`, and hold the luminance of the image and of its 2 x 2 quadrants (top left
-   first) against frozen pbrt-v4 values pbrt[i] = { mean, standard error }: within
-   TEST_K_SIGMA combined standard errors + rel_slack of the value.  DBG=1 prints. */
+/* Luminance Y of linear sRGB (the CIE Y row of the sRGB to XYZ matrix). */
+double test_luminance(const double rgb[3]);
+/* The mean Y of an image's pixels. */
+double test_image_y(const Image *im);
+/* Y of tile i of tl; *se = its standard error from the three channels'. */
+double test_tile_y(const Tiles *tl, int i, double *se);
+/* Render s with the defaults, spp samples, 4 seeds from `seed`, and hold the
+   luminance of the image and of its 2 x 2 quadrants (top left first) against
+   frozen pbrt-v4 values pbrt[i] = { mean, standard error }: within TEST_K_SIGMA
+   combined standard errors (specnee's from the green channel) + rel_slack of the
+   value.  Messages start with `what`; DBG=1 prints every value. */
+void test_scene_against_pbrt_y(T *t, Scene *s, int spp, int seed, const double pbrt[5][2], double rel_slack,
+                               const char *what);
+/* The same for `scene` (text) at test_scaled(64, 16) spp. */
 void test_against_pbrt_y(T *t, const char *scene, int seed, const double pbrt[5][2], double rel_slack,
                          const char *what);
+/* Render s with o, 6 seeds from o->seed, as 2 x 2 tiles, and hold the luminance of
+   each quadrant (test_tile_y) and of the image (their mean, its standard error
+   from theirs) against frozen pbrt-v4 values pbrt[5] = { image, top left, top
+   right, bottom left, bottom right } (means only): within TEST_K_SIGMA standard
+   errors + 2 % of a quadrant's value, 1 % of the image's. */
+void test_quadrants_against_pbrt(T *t, Scene *s, const RenderOptions *o, const double pbrt[5], const char *what);
 /* Two renders of base->spp samples merged by sample count against one render of
    twice the samples, over 10 seed triples: tile means within TEST_K_SIGMA
    standard errors (a w x h image, 4 x 4 tiles). */
@@ -158,6 +183,10 @@ MaterialSpectra *test_material_extra(void);
 Spectrum *test_material_eta(void);
 const Spectrum *test_eta_const(float eta);           /* test_material_eta, constant eta */
 const Spectrum *test_eta_named(const char *name);    /* test_material_eta, spec_named */
+/* A furnace: a closed cube [-2, 2]^3 whose walls emit L = 1 on both sides (seen
+   at every angle down to grazing) and a unit sphere of `material` (a Material
+   directive) near one edge, 8 x 8 pixels; the whole scene text into text[n]. */
+void test_furnace_text(char *text, size_t n, const char *material);
 /* The walls of a small open box [-1,1]^3, as scene text after WorldBegin. */
 extern const char test_box_walls[];
 

@@ -120,33 +120,17 @@ static void test_alpha_frequencies(T *t)
     scene_free(&s);
 }
 
-/* Y of one render's pixels (the whole image). */
-static double image_Y(const Image *im)
-{
-    double acc = 0.0;
-    int i;
-    for (i = 0; i < im->w * im->h; i++)
-        acc += 0.212671 * im->rgb[3 * i] + 0.715160 * im->rgb[3 * i + 1] + 0.072169 * im->rgb[3 * i + 2];
-    return acc / (im->w * im->h);
-}
-
 static int render_img(T *t, const char *body, int spp, int seed, int threads, int nee, Image *im)
 {
-    Scene s;
+    static char buf[8192];
     RenderOptions o;
-    RenderStats st;
-    Error err;
-    int ok;
-    if (!load_alpha(t, &s, body)) return 0;
+    snprintf(buf, sizeof buf, "%s%s", ALPHA_HEAD, body);
     render_options_default(&o);
     o.spp = spp;
     o.seed = seed;
     o.threads = threads;
     o.nee = nee;
-    ok = render(&s, &o, im, &st, &err);
-    if (!ok) test_failf(t, __FILE__, __LINE__, "render: %s", err.msg);
-    scene_free(&s);
-    return ok;
+    return test_render_text(t, buf, &o, im);
 }
 
 /* Mean and standard error of the image Y over K seeds. */
@@ -158,7 +142,7 @@ static int mean_Y(T *t, const char *body, int spp, int nee, int K, double *mean,
         Image im;
         double v;
         if (!render_img(t, body, spp, 1 + 1000 * k, 2, nee, &im)) return 0;
-        v = image_Y(&im);
+        v = test_image_y(&im);
         img_free(&im);
         sum += v;
         sum2 += v * v;
@@ -216,9 +200,9 @@ static void test_alpha_zero_invisible(T *t)
     if (!render_img(t, body, 4, 3, 2, 1, &a)) return;
     snprintf(body, sizeof body, "%s%s%s", ALPHA_SUN, base, extra);
     if (!render_img(t, body, 4, 3, 2, 1, &b)) { img_free(&a); return; }
-    CHECK(t, image_Y(&a) > 0.0, "the scene is black");
+    CHECK(t, test_image_y(&a) > 0.0, "the scene is black");
     CHECK(t, !memcmp(a.rgb, b.rgb, sizeof(float) * 3 * a.w * a.h),
-          "alpha 0 shapes change the image: Y %.9g, without them %.9g", image_Y(&b), image_Y(&a));
+          "alpha 0 shapes change the image: Y %.9g, without them %.9g", test_image_y(&b), test_image_y(&a));
     img_free(&a); img_free(&b);
 }
 
@@ -261,10 +245,10 @@ static void test_alpha_threads(T *t)
     if (!render_img(t, body, 4, 7, 1, 1, &a)) return;
     if (!render_img(t, body, 4, 7, 2, 1, &b)) { img_free(&a); return; }
     if (!render_img(t, body, 4, 7, 3, 1, &c)) { img_free(&a); img_free(&b); return; }
-    CHECK(t, image_Y(&a) > 0.0, "the scene is black");
+    CHECK(t, test_image_y(&a) > 0.0, "the scene is black");
     CHECK(t, !memcmp(a.rgb, b.rgb, sizeof(float) * 3 * a.w * a.h) &&
           !memcmp(a.rgb, c.rgb, sizeof(float) * 3 * a.w * a.h),
-          "images of 1, 2, 3 threads differ: Y %.9g %.9g %.9g", image_Y(&a), image_Y(&b), image_Y(&c));
+          "images of 1, 2, 3 threads differ: Y %.9g %.9g %.9g", test_image_y(&a), test_image_y(&b), test_image_y(&c));
     img_free(&a); img_free(&b); img_free(&c);
 }
 
@@ -316,12 +300,10 @@ static void test_alpha_against_pbrt(T *t)
         "Shape \"cylinder\" \"float radius\" [ 0.8 ] \"float zmin\" [ -1.5 ] \"float zmax\" [ 1.5 ] "
         "\"texture alpha\" \"cut\"\nAttributeEnd\n",
     };
-    int j, i;
+    int j;
     for (j = 0; j < 2; j++) {
         Scene s;
-        RenderOptions o;
-        Tiles q, whole;
-        char body[4096];
+        char body[4096], what[8];
         snprintf(body, sizeof body, "%s"
                  "Texture \"cut\" \"float\" \"checkerboard\" \"float uscale\" [ 4 ] \"float vscale\" [ 4 ] "
                  "\"float tex1\" [ 0 ] \"float tex2\" [ 1 ]\n"
@@ -329,22 +311,10 @@ static void test_alpha_against_pbrt(T *t)
                  "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] "
                  "\"point3 P\" [ -3 -3 0  3 -3 0  3 3 0  -3 3 0 ]\n%s", ALPHA_SUN, scene[j]);
         if (!load_alpha(t, &s, body)) return;
-        render_options_default(&o);
-        o.spp = test_scaled(32, 8);
-        o.seed = 3;
-        if (!test_render_tiles(t, &s, &o, 4, 2, &q)) { scene_free(&s); return; }
-        if (!test_render_tiles(t, &s, &o, 4, 1, &whole)) { scene_free(&s); return; }
+        snprintf(what, sizeof what, "scene %c", 'a' + j);
+        test_scene_against_pbrt_y(t, &s, test_scaled(32, 8), 3, PBRT_ALPHA_Y[j], 1e-2, what);
         scene_free(&s);
-        for (i = 0; i < 5; i++) {
-            const Tiles *tl = i == 0 ? &whole : &q;
-            int k = i == 0 ? 0 : i - 1;
-            double Y = 0.212671 * tl->mean[k][0] + 0.715160 * tl->mean[k][1] + 0.072169 * tl->mean[k][2];
-            double se = tl->se[k][1], Yp = PBRT_ALPHA_Y[j][i][0], sep = PBRT_ALPHA_Y[j][i][1];
-            if (getenv("DBG")) fprintf(stderr, "alpha %d.%d: specnee %.6f +- %.2g, pbrt %.6f\n", j, i, Y, se, Yp);
-            CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + sep * sep) + 1e-2 * Yp,
-                  "scene %c %s %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f +- %.2g", 'a' + j,
-                  i ? "quadrant" : "image", k, Y, se, Yp, sep);
-        }
+        if (t->failed) return;
     }
 }
 

@@ -360,29 +360,6 @@ static void test_cc_walks(T *t)
 
 /* ---------------------------------------------------------------- renders */
 
-/* The conductor tests' furnace: a unit sphere inside a box that emits L = 1. */
-static void furnace_text(char *text, size_t n, const char *material)
-{
-    snprintf(text, n,
-             "LookAt 0 0 -1.9  0.8 0.8 0  0 1 0\n"
-             "Camera \"perspective\" \"float fov\" [ 20 ]\n"
-             "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ] \"string filename\" \"t.pfm\"\n"
-             "WorldBegin\n"
-             "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" [ 360 1 830 1 ] \"bool twosided\" true\n"
-             " Material \"diffuse\" \"spectrum reflectance\" [ 360 0 830 0 ]\n"
-             " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3  4 5 6 4 6 7  0 1 5 0 5 4  "
-             "3 2 6 3 6 7  0 3 7 0 7 4  1 2 6 1 6 5 ]\n"
-             "  \"point3 P\" [ -2 -2 -2  2 -2 -2  2 2 -2  -2 2 -2  -2 -2 2  2 -2 2  2 2 2  -2 2 2 ]\n"
-             "AttributeEnd\n"
-             "AttributeBegin\n Translate 0.8 0.8 0\n %s\n"
-             " Shape \"sphere\" \"float radius\" [ 1 ]\nAttributeEnd\n", material);
-}
-
-static double lum(const double rgb[3])
-{
-    return 0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2];
-}
-
 static const char *const MAT_A = "Material \"coateddiffuse\"";
 static const char *const MAT_B = "Material \"coateddiffuse\" \"float roughness\" 0.3 "
     "\"spectrum reflectance\" [ 360 0.1 600 0.1 620 0.8 830 0.8 ]";
@@ -403,7 +380,7 @@ static void test_nee_vs_bsdf(T *t)
         Scene s;
         RenderOptions o;
         Tiles a, b;
-        furnace_text(text, sizeof text, mats[c]);
+        test_furnace_text(text, sizeof text, mats[c]);
         if (!test_load_scene(t, &s, text)) return;
         render_options_default(&o);
         o.maxdepth = 40;
@@ -417,7 +394,7 @@ static void test_nee_vs_bsdf(T *t)
 }
 
 /* pbrt-v4 (commit 5f7a606806a4ac7b939131ded9d7a30ebd02416e) rendered
-   furnace_text's scene with "Integrator "path" "integer maxdepth" [ 40 ]" added,
+   test_furnace_text's scene with "Integrator "path" "integer maxdepth" [ 40 ]" added,
    8 times: pbrt --seed S --spp 1024 --outfile x_S.pfm x.pbrt, S = 1..8.  Per 2 x 2
    tile (row-major from the top left): the mean over the 8 images of the tile's
    luminance (0.212671 R + 0.715160 G + 0.072169 B) and its standard error. */
@@ -426,44 +403,6 @@ static const double PBRT_TILES[3][4][2] = {
     { { 0.10225, 0.00016 }, { 0.10212, 0.00019 }, { 0.10224, 0.00030 }, { 0.10156, 0.00034 } },
     { { 0.33506, 0.00074 }, { 0.33350, 0.00083 }, { 0.33403, 0.00091 }, { 0.33493, 0.00076 } },
 };
-
-static void test_against_pbrt(T *t)
-{
-    const char *mats[3];
-    int c, i;
-    mats[0] = MAT_A; mats[1] = MAT_B; mats[2] = MAT_C;
-    for (c = 0; c < 3; c++) {
-        char text[2048];
-        Scene s;
-        RenderOptions o;
-        Tiles tl;
-        furnace_text(text, sizeof text, mats[c]);
-        if (!test_load_scene(t, &s, text)) return;
-        render_options_default(&o);
-        o.maxdepth = 40;
-        o.spp = test_scaled(256, 32);
-        if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
-        scene_free(&s);
-        for (i = 0; i < 4; i++) {
-            double Y = lum(tl.mean[i]), se = tl.se[i][1], Yp = PBRT_TILES[c][i][0];
-            double sep = PBRT_TILES[c][i][1], bound = TEST_K_SIGMA * sqrt(se * se + sep * sep);
-            if (getenv("DBG")) fprintf(stderr, "set %d tile %d: specnee %.5f +- %.2g, pbrt %.5f +- %.2g\n",
-                                       c, i, Y, se, Yp, sep);
-            CHECK(t, fabs(Y - Yp) < bound + 1e-3 * Yp, "%s: tile %d: specnee Y %.5f +- %.2g, "
-                  "pbrt-v4 %.5f +- %.2g", mats[c], i, Y, se, Yp, sep);
-        }
-    }
-}
-
-/* ---- coatedconductor renders ---- */
-
-static const char *const CC_A = "Material \"coatedconductor\"";
-static const char *const CC_B = "Material \"coatedconductor\" \"float conductor.roughness\" 0.2 "
-    "\"spectrum conductor.eta\" \"metal-Au-eta\" \"spectrum conductor.k\" \"metal-Au-k\" "
-    "\"float thickness\" 0.1";
-static const char *const CC_C = "Material \"coatedconductor\" \"float interface.roughness\" 0.3 "
-    "\"float conductor.roughness\" 0.1 \"rgb reflectance\" [ 0.9 0.6 0.3 ] "
-    "\"spectrum albedo\" [ 360 0.5 830 0.5 ] \"float thickness\" 0.2 \"float interface.eta\" 1.33";
 
 /* Render text (K = 8 seeds, spp) and compare its 2 x 2 tiles' luminance with
    pbrt-v4's frozen tab (mean, standard error). */
@@ -481,7 +420,7 @@ static void tiles_vs_pbrt(T *t, const char *text, int maxdepth, int spp, const d
     if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
     scene_free(&s);
     for (i = 0; i < 4; i++) {
-        double Y = lum(tl.mean[i]), se = tl.se[i][1], Yp = tab[i][0], sep = tab[i][1];
+        double Y = test_luminance(tl.mean[i]), se = tl.se[i][1], Yp = tab[i][0], sep = tab[i][1];
         double bound = TEST_K_SIGMA * sqrt(se * se + sep * sep);
         if (getenv("DBG")) fprintf(stderr, "%s tile %d: specnee %.5f +- %.2g, pbrt %.5f +- %.2g\n",
                                    what, i, Y, se, Yp, sep);
@@ -489,6 +428,29 @@ static void tiles_vs_pbrt(T *t, const char *text, int maxdepth, int spp, const d
               "pbrt-v4 %.5f +- %.2g", what, i, Y, se, Yp, sep);
     }
 }
+
+static void test_against_pbrt(T *t)
+{
+    const char *mats[3];
+    int c;
+    mats[0] = MAT_A; mats[1] = MAT_B; mats[2] = MAT_C;
+    for (c = 0; c < 3; c++) {
+        char text[2048];
+        test_furnace_text(text, sizeof text, mats[c]);
+        tiles_vs_pbrt(t, text, 40, test_scaled(256, 32), PBRT_TILES[c], mats[c]);
+        if (t->failed) return;
+    }
+}
+
+/* ---- coatedconductor renders ---- */
+
+static const char *const CC_A = "Material \"coatedconductor\"";
+static const char *const CC_B = "Material \"coatedconductor\" \"float conductor.roughness\" 0.2 "
+    "\"spectrum conductor.eta\" \"metal-Au-eta\" \"spectrum conductor.k\" \"metal-Au-k\" "
+    "\"float thickness\" 0.1";
+static const char *const CC_C = "Material \"coatedconductor\" \"float interface.roughness\" 0.3 "
+    "\"float conductor.roughness\" 0.1 \"rgb reflectance\" [ 0.9 0.6 0.3 ] "
+    "\"spectrum albedo\" [ 360 0.5 830 0.5 ] \"float thickness\" 0.2 \"float interface.eta\" 1.33";
 
 static void test_cc_nee_vs_bsdf(T *t)
 {
@@ -500,7 +462,7 @@ static void test_cc_nee_vs_bsdf(T *t)
         Scene s;
         RenderOptions o;
         Tiles a, b;
-        furnace_text(text, sizeof text, mats[c]);
+        test_furnace_text(text, sizeof text, mats[c]);
         if (!test_load_scene(t, &s, text)) return;
         render_options_default(&o);
         o.maxdepth = 40;
@@ -513,7 +475,7 @@ static void test_cc_nee_vs_bsdf(T *t)
     }
 }
 
-/* pbrt-v4 (commit 5f7a6068) on furnace_text's scene with CC_A, CC_B, CC_C and
+/* pbrt-v4 (commit 5f7a6068) on test_furnace_text's scene with CC_A, CC_B, CC_C and
    "Integrator "path" "integer maxdepth" [ 40 ]" added: pbrt --seed S --spp 1024
    --outfile x_S.pfm x.pbrt, S = 1..8, per 2 x 2 tile the mean luminance over the 8
    images and its standard error (as PBRT_TILES).  CC_C has a rough coat, whose f
@@ -535,7 +497,7 @@ static void test_cc_against_pbrt(T *t)
     mats[0] = CC_A; mats[1] = CC_B; mats[2] = CC_C;
     for (c = 0; c < 3; c++) {
         char text[2048];
-        furnace_text(text, sizeof text, mats[c]);
+        test_furnace_text(text, sizeof text, mats[c]);
         tiles_vs_pbrt(t, text, 40, test_scaled(256, 32), PBRT_CC_TILES[c], mats[c]);
         if (t->failed) return;
     }
@@ -602,24 +564,6 @@ static void test_cc_gold_scene(T *t)
 
 /* ---------------------------------------------------------------- parsing */
 
-static void expect_reject(T *t, const char *text, int line, const char *k1, const char *k2)
-{
-    Scene s;
-    Error e;
-    char prefix[64];
-    int ok;
-    e.msg[0] = '\0';
-    ok = scene_load_string(&s, text, "t.pbrt", &e);
-    if (ok) scene_free(&s);
-    CHECK(t, !ok, "accepted bad input, expected an error with \"%s\"", k1);
-    snprintf(prefix, sizeof prefix, "t.pbrt:%d:", line);
-    CHECK(t, strncmp(e.msg, prefix, strlen(prefix)) == 0, "message \"%s\" does not start with \"%s\"",
-          e.msg, prefix);
-    CHECK(t, strchr(e.msg, '\n') == NULL, "message \"%s\" is not one line", e.msg);
-    CHECK(t, strstr(e.msg, k1) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k1);
-    CHECK(t, !k2 || strstr(e.msg, k2) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k2);
-}
-
 static void test_parse(T *t)
 {
     Scene s;
@@ -642,24 +586,24 @@ static void test_parse(T *t)
     CHECK(t, m->alpha == 0.5f && spec_eval(m->eta, 700) == 1.2f && m->thickness == 0.5f &&
           m->hg_g == -0.5f && m->maxdepth == 3 && m->nsamples == 4, "parameters not read");
     scene_free(&s);
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\"\n \"float thickness\" 0\n", 3, "thickness", "> 0");
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float thickness\" -1\n", 2, "thickness", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float thickness\" 1e39\n", 2, "thickness", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\"\n \"integer maxdepth\" 0\n", 3, "maxdepth", ">= 1");
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"integer nsamples\" 0\n", 2, "nsamples", ">= 1");
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float g\" 1\n", 2, "\"float g\"", "(-1, 1)");
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float g\" -1\n", 2, "\"float g\"", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\"\n \"spectrum albedo\" [ 400 0.5 700 1.5 ]\n", 3,
-                  "albedo", "[0,1]");
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\"\n \"spectrum eta\" [ 400 1.5 700 1.4 ]\n", 3,
-                  "spectral \"eta\"", "float eta");
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float eta\" 0\n", 2, "eta", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"texture albedo\" \"t\"\n", 2,
-                  "textures are valid pbrt-v4", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"texture reflectance\" \"t\"\n", 2,
-                  "no texture named", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float uroughness\" 0.1\n", 2,
-                  "anisotropic", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\"\n \"float thickness\" 0\n", 3, "thickness", "> 0");
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float thickness\" -1\n", 2, "thickness", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float thickness\" 1e39\n", 2, "thickness", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\"\n \"integer maxdepth\" 0\n", 3, "maxdepth", ">= 1");
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"integer nsamples\" 0\n", 2, "nsamples", ">= 1");
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float g\" 1\n", 2, "\"float g\"", "(-1, 1)");
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float g\" -1\n", 2, "\"float g\"", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\"\n \"spectrum albedo\" [ 400 0.5 700 1.5 ]\n", 3,
+                     "albedo", "[0,1]");
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\"\n \"spectrum eta\" [ 400 1.5 700 1.4 ]\n", 3,
+                     "spectral \"eta\"", "float eta");
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float eta\" 0\n", 2, "eta", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"texture albedo\" \"t\"\n", 2,
+                     "textures are valid pbrt-v4", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"texture reflectance\" \"t\"\n", 2,
+                     "no texture named", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float uroughness\" 0.1\n", 2,
+                     "anisotropic", NULL);
 }
 
 static void test_cc_parse(T *t)
@@ -697,18 +641,18 @@ static void test_cc_parse(T *t)
               mp.cond_alpha);
     }
     scene_free(&s);
-    expect_reject(t, "WorldBegin\nMaterial \"coatedconductor\" \"rgb reflectance\" [ 1 1 1 ]\n"
-                  " \"spectrum conductor.eta\" \"metal-Au-eta\"\n", 2, "reflectance", "not both");
-    expect_reject(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"spectrum interface.eta\" [ 400 1.5 700 1.4 ]\n",
-                  3, "spectral \"interface.eta\"", "float interface.eta");
-    expect_reject(t, "WorldBegin\nMaterial \"coatedconductor\" \"float conductor.uroughness\" 0.1\n", 2,
-                  "anisotropic", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"float thickness\" 0\n", 3, "thickness", "> 0");
-    expect_reject(t, "WorldBegin\nMaterial \"coatedconductor\" \"float roughness\" 0.1\n", 2, "roughness", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"spectrum conductor.k\" [ 400 -1 700 1 ]\n",
-                  3, "conductor.k", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"coatedconductor\" \"float interface.eta\" 0\n", 2,
-                  "interface.eta", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\" \"rgb reflectance\" [ 1 1 1 ]\n"
+                     " \"spectrum conductor.eta\" \"metal-Au-eta\"\n", 2, "reflectance", "not both");
+    test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"spectrum interface.eta\" [ 400 1.5 700 1.4 ]\n",
+                     3, "spectral \"interface.eta\"", "float interface.eta");
+    test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\" \"float conductor.uroughness\" 0.1\n", 2,
+                     "anisotropic", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"float thickness\" 0\n", 3, "thickness", "> 0");
+    test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\" \"float roughness\" 0.1\n", 2, "roughness", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"spectrum conductor.k\" [ 400 -1 700 1 ]\n",
+                     3, "conductor.k", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\" \"float interface.eta\" 0\n", 2,
+                     "interface.eta", NULL);
 }
 
 const TestCase tests_coated[] = {

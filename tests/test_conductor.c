@@ -558,26 +558,6 @@ static void test_difftrans_albedo(T *t)
 
 /* ---------------------------------------------------------------- the parser */
 
-/* Load must fail with "t.pbrt:LINE: ..." containing k1 (and k2 when given). */
-static void expect_reject(T *t, const char *text, int line, const char *k1, const char *k2)
-{
-    Scene s;
-    Error e;
-    char prefix[64];
-    int ok;
-    e.msg[0] = '\0';
-    ok = scene_load_string(&s, text, "t.pbrt", &e);
-    if (ok) scene_free(&s);
-    CHECK(t, !ok, "accepted bad input, expected an error with \"%s\"", k1);
-    snprintf(prefix, sizeof prefix, "t.pbrt:%d:", line);
-    CHECK(t, strncmp(e.msg, prefix, strlen(prefix)) == 0, "message \"%s\" does not start with \"%s\"",
-          e.msg, prefix);
-    CHECK(t, strchr(e.msg, '\n') == NULL, "message \"%s\" is not one line", e.msg);
-    CHECK(t, strstr(e.msg, k1) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k1);
-    CHECK(t, !k2 || strstr(e.msg, k2) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k2);
-    scene_free(&s);
-}
-
 static void test_parse_defaults(T *t)
 {
     Scene s;
@@ -609,36 +589,36 @@ static void test_parse_defaults(T *t)
 
 static void test_parse_rejects(T *t)
 {
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"spectrum k\" [ 400 1 700 -0.5 ]\n", 3,
-                  "\"spectrum k\" of a conductor", ">= 0");
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"spectrum eta\" [ 400 0 700 1 ]\n", 2,
-                  "\"spectrum eta\" of a conductor", "> 0");
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"spectrum reflectance\" [ 400 0.5 700 0.5 ]\n"
-                  " \"spectrum eta\" \"metal-Au-eta\"\n", 2, "either \"reflectance\"", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"spectrum reflectance\" [ 400 0.5 700 1.5 ]\n",
-                  2, "reflectance", "[0,1]");
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"float uroughness\" 0.1 \"float vroughness\" 0.2\n",
-                  2, "anisotropic", "dp/du");
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"float roughness\" -1\n", 2, "roughness", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"texture eta\" \"bumps\"\n", 3,
-                  "textures are valid pbrt-v4", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"texture roughness\" \"bumps\"\n", 3,
-                  "no texture named", "bumps");
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"spectrum eta\" \"metal-Xx-eta\"\n", 2,
-                  "unknown named spectrum", "metal-Xx-eta");
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\" \"float eta\" 1.5\n", 2, "eta", "conductor");
-    expect_reject(t, "WorldBegin\nMaterial \"thindielectric\" \"spectrum eta\" [ 400 1.5 700 -1 ]\n", 2,
-                  "\"eta\" of a thindielectric", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"thindielectric\" \"float roughness\" 0.1\n", 2,
-                  "roughness", NULL);
-    expect_reject(t, "WorldBegin\nMaterial \"diffusetransmission\" \"spectrum transmittance\" [ 400 0.5 700 1.2 ]\n",
-                  2, "transmittance", "[0,1]");
-    expect_reject(t, "WorldBegin\nMaterial \"diffusetransmission\"\n \"float scale\" -1\n", 3, "scale", ">= 0");
-    expect_reject(t, "WorldBegin\nMaterial \"diffusetransmission\" \"texture reflectance\" \"t\"\n", 2,
-                  "no texture named \"t\"", NULL);
-    expect_reject(t, "WorldBegin\nTexture \"f\" \"float\" \"constant\"\n"
-                  "Material \"diffusetransmission\" \"texture transmittance\" \"f\"\n", 3,
-                  "\"f\" is a float texture", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"conductor\"\n \"spectrum k\" [ 400 1 700 -0.5 ]\n", 3,
+                     "\"spectrum k\" of a conductor", ">= 0");
+    test_rejected_at(t, "WorldBegin\nMaterial \"conductor\" \"spectrum eta\" [ 400 0 700 1 ]\n", 2,
+                     "\"spectrum eta\" of a conductor", "> 0");
+    test_rejected_at(t, "WorldBegin\nMaterial \"conductor\" \"spectrum reflectance\" [ 400 0.5 700 0.5 ]\n"
+                     " \"spectrum eta\" \"metal-Au-eta\"\n", 2, "either \"reflectance\"", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"conductor\" \"spectrum reflectance\" [ 400 0.5 700 1.5 ]\n",
+                     2, "reflectance", "[0,1]");
+    test_rejected_at(t, "WorldBegin\nMaterial \"conductor\" \"float uroughness\" 0.1 \"float vroughness\" 0.2\n",
+                     2, "anisotropic", "dp/du");
+    test_rejected_at(t, "WorldBegin\nMaterial \"conductor\" \"float roughness\" -1\n", 2, "roughness", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"conductor\"\n \"texture eta\" \"bumps\"\n", 3,
+                     "textures are valid pbrt-v4", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"conductor\"\n \"texture roughness\" \"bumps\"\n", 3,
+                     "no texture named", "bumps");
+    test_rejected_at(t, "WorldBegin\nMaterial \"conductor\" \"spectrum eta\" \"metal-Xx-eta\"\n", 2,
+                     "unknown named spectrum", "metal-Xx-eta");
+    test_rejected_at(t, "WorldBegin\nMaterial \"conductor\" \"float eta\" 1.5\n", 2, "eta", "conductor");
+    test_rejected_at(t, "WorldBegin\nMaterial \"thindielectric\" \"spectrum eta\" [ 400 1.5 700 -1 ]\n", 2,
+                     "\"eta\" of a thindielectric", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"thindielectric\" \"float roughness\" 0.1\n", 2,
+                     "roughness", NULL);
+    test_rejected_at(t, "WorldBegin\nMaterial \"diffusetransmission\" \"spectrum transmittance\" [ 400 0.5 700 1.2 ]\n",
+                     2, "transmittance", "[0,1]");
+    test_rejected_at(t, "WorldBegin\nMaterial \"diffusetransmission\"\n \"float scale\" -1\n", 3, "scale", ">= 0");
+    test_rejected_at(t, "WorldBegin\nMaterial \"diffusetransmission\" \"texture reflectance\" \"t\"\n", 2,
+                     "no texture named \"t\"", NULL);
+    test_rejected_at(t, "WorldBegin\nTexture \"f\" \"float\" \"constant\"\n"
+                     "Material \"diffusetransmission\" \"texture transmittance\" \"f\"\n", 3,
+                     "\"f\" is a float texture", NULL);
 }
 
 /* A conductor sphere (radius 1 at depth 5, fov 10: it fills the 8 x 8 view)
@@ -703,10 +683,10 @@ static void test_rgb_eta_k(T *t)
         !conductor_sky(t, "Material \"conductor\" \"spectrum eta\" [ 300 0.7 830 0.7 ] "
                        "\"spectrum k\" [ 300 2.5 830 2.5 ]", 4, b)) return;
     CHECK(t, memcmp(a, b, sizeof a) == 0, "grey rgb (0.7, 2.5) renders unlike the constant spectra");
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"rgb eta\" [ 0 0 0 ]\n", 3,
-                  "\"rgb eta\" of a conductor", "value 0 at 360 nm");
-    expect_reject(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"rgb conductor.k\" [ 1 -1 1 ]\n", 3,
-                  "\"rgb conductor.k\"", "negative");
+    test_rejected_at(t, "WorldBegin\nMaterial \"conductor\"\n \"rgb eta\" [ 0 0 0 ]\n", 3,
+                     "\"rgb eta\" of a conductor", "value 0 at 360 nm");
+    test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"rgb conductor.k\" [ 1 -1 1 ]\n", 3,
+                     "\"rgb conductor.k\"", "negative");
 }
 
 /* Conductor spectra need only cover pbrt-v4's 360-830 nm (villa's Inox data
@@ -740,12 +720,12 @@ static void test_spectrum_range(T *t)
     for (k = 0; k < 3; k++)
         CHECK(t, fabs(a[k] - want[k]) < 0.02 * want[k], "from 340 nm: mean %c %.4f, pbrt-v4 %.4f",
               "RGB"[k], a[k], want[k]);
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"spectrum eta\" [ 365 1.2 830 2.5 ]\n", 3,
-                  "\"spectrum eta\" of a conductor", "value 0 at 360 nm");
-    expect_reject(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"spectrum conductor.eta\" [ 300 1 800 1 ]\n", 3,
-                  "\"spectrum conductor.eta\" of a coatedconductor", "value 0 at 801 nm");
-    expect_reject(t, "WorldBegin\nMaterial \"conductor\"\n \"spectrum k\" [ 360 -1 830 1 ]\n", 3,
-                  "\"spectrum k\" of a conductor", "value -1 at 360 nm");
+    test_rejected_at(t, "WorldBegin\nMaterial \"conductor\"\n \"spectrum eta\" [ 365 1.2 830 2.5 ]\n", 3,
+                     "\"spectrum eta\" of a conductor", "value 0 at 360 nm");
+    test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"spectrum conductor.eta\" [ 300 1 800 1 ]\n", 3,
+                     "\"spectrum conductor.eta\" of a coatedconductor", "value 0 at 801 nm");
+    test_rejected_at(t, "WorldBegin\nMaterial \"conductor\"\n \"spectrum k\" [ 360 -1 830 1 ]\n", 3,
+                     "\"spectrum k\" of a conductor", "value -1 at 360 nm");
 }
 
 /* pbrt-v4's Integrator "bool regularize": tr_regularize is TrowbridgeReitz's
@@ -830,22 +810,14 @@ static void reg_scene(char *buf, size_t n, const char *integrator, const char *m
 static int reg_render(T *t, const char *integrator, const char *mirror, int spp, Image *im)
 {
     static char buf[2048];
-    Scene s;
     RenderOptions o;
-    RenderStats st;
-    Error err;
-    int ok;
     reg_scene(buf, sizeof buf, integrator, mirror);
-    if (!test_load_scene(t, &s, buf)) return 0;
     render_options_default(&o);
     o.spp = spp;
     o.seed = 3;
     o.threads = 2;
     o.maxdepth = 5;
-    ok = render(&s, &o, im, &st, &err);
-    scene_free(&s);
-    if (!ok) test_failf(t, __FILE__, __LINE__, "render: %s", err.msg);
-    return ok;
+    return test_render_text(t, buf, &o, im);
 }
 
 static void test_regularize_against_pbrt(T *t)
@@ -940,31 +912,6 @@ static void test_regularize_medium(T *t)
 
 /* ---------------------------------------------------------------- renders */
 
-/* A closed cube [-2, 2]^3 whose walls emit L = 1 on both sides (the
-   physics_furnace_off_centre setup: the walls are seen at every angle), and a
-   unit sphere of the given material near one edge. */
-static void furnace_scene(char *text, size_t n, const char *material)
-{
-    snprintf(text, n,
-             "LookAt 0 0 -1.9  0.8 0.8 0  0 1 0\n"
-             "Camera \"perspective\" \"float fov\" [ 20 ]\n"
-             "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ] \"string filename\" \"t.pfm\"\n"
-             "WorldBegin\n"
-             "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" [ 360 1 830 1 ] \"bool twosided\" true\n"
-             " Material \"diffuse\" \"spectrum reflectance\" [ 360 0 830 0 ]\n"
-             " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3  4 5 6 4 6 7  0 1 5 0 5 4  "
-             "3 2 6 3 6 7  0 3 7 0 7 4  1 2 6 1 6 5 ]\n"
-             "  \"point3 P\" [ -2 -2 -2  2 -2 -2  2 2 -2  -2 2 -2  -2 -2 2  2 -2 2  2 2 2  -2 2 2 ]\n"
-             "AttributeEnd\n"
-             "AttributeBegin\n Translate 0.8 0.8 0\n %s\n"
-             " Shape \"sphere\" \"float radius\" [ 1 ]\nAttributeEnd\n", material);
-}
-
-static double luminance(const double rgb[3])
-{
-    return 0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2];
-}
-
 /* Every tile's Y must be `expect` within 5 standard errors + slack. */
 static void furnace_expect(T *t, const char *material, int maxdepth, double expect, double slack)
 {
@@ -973,7 +920,7 @@ static void furnace_expect(T *t, const char *material, int maxdepth, double expe
     RenderOptions o;
     Tiles tl;
     int i;
-    furnace_scene(text, sizeof text, material);
+    test_furnace_text(text, sizeof text, material);
     if (!test_load_scene(t, &s, text)) return;
     render_options_default(&o);
     o.sel.grid_res = 8;
@@ -981,7 +928,7 @@ static void furnace_expect(T *t, const char *material, int maxdepth, double expe
     o.spp = test_scaled(256, 16);
     if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
     for (i = 0; i < 4; i++) {
-        double Y = luminance(tl.mean[i]), se = tl.se[i][1];
+        double Y = test_luminance(tl.mean[i]), se = tl.se[i][1];
         if (getenv("DBG")) fprintf(stderr, "%s: tile %d Y %.5f se %.2g expect %.5f\n", material, i, Y, se, expect);
         CHECK(t, fabs(Y - expect) < TEST_K_SIGMA * se + slack, "%s: tile %d: Y = %.5f +- %.2g, expected %.5f",
               material, i, Y, se, expect);
@@ -1062,7 +1009,7 @@ static void test_furnace_rough_conductor(T *t)
     RenderOptions o;
     Tiles a, b;
     int i;
-    furnace_scene(text, sizeof text, "Material \"conductor\" \"spectrum eta\" \"metal-Au-eta\" "
+    test_furnace_text(text, sizeof text, "Material \"conductor\" \"spectrum eta\" \"metal-Au-eta\" "
                   "\"spectrum k\" \"metal-Au-k\" \"float roughness\" 0.05");
     if (!test_load_scene(t, &s, text)) return;
     render_options_default(&o);
@@ -1074,7 +1021,8 @@ static void test_furnace_rough_conductor(T *t)
     if (!test_render_tiles(t, &s, &o, 8, 2, &b)) { scene_free(&s); return; }
     if (!test_tiles_agree(t, &a, &b, 2e-3, "rough gold, NEE on vs off")) { scene_free(&s); return; }
     for (i = 0; i < 4; i++)
-        CHECK(t, luminance(a.mean[i]) < 1.0 && luminance(a.mean[i]) > 0.3, "tile %d: Y %g", i, luminance(a.mean[i]));
+        CHECK(t, test_luminance(a.mean[i]) < 1.0 && test_luminance(a.mean[i]) > 0.3, "tile %d: Y %g", i,
+              test_luminance(a.mean[i]));
     scene_free(&s);
 }
 

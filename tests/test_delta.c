@@ -21,11 +21,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static double luminance(const double rgb[3])
-{
-    return 0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2];
-}
-
 /* The scene: a camera at (x0, 0, 5) looking straight down with field of view
    fov, the plane, and `light` (directives after WorldBegin). */
 static void plane_scene(char *buf, size_t cap, double x0, double fov, const char *light)
@@ -72,7 +67,7 @@ static int check_render(T *t, const char *text, SelStrategy st, double E, const 
     o.spp = test_scaled(16, 4);
     if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return 0; }
     scene_free(&s);
-    Y = luminance(tl.mean[0]);
+    Y = test_luminance(tl.mean[0]);
     se = tl.se[0][1];
     if (!(fabs(Y - expect) < TEST_K_SIGMA * se + 2e-3 * expect + 1e-7)) {
         test_failf(t, __FILE__, __LINE__, "%s (%s): Y = %.6g +- %.2g, expected E/pi = %.6g",

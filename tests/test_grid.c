@@ -26,19 +26,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static double luminance(const double rgb[3])
-{
-    return 0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2];
-}
-
-static double tile_y(const Tiles *tl, double *se)
-{
-    *se = sqrt(0.212671 * 0.212671 * tl->se[0][0] * tl->se[0][0] +
-               0.715160 * 0.715160 * tl->se[0][1] * tl->se[0][1] +
-               0.072169 * 0.072169 * tl->se[0][2] * tl->se[0][2]);
-    return luminance(tl->mean[0]);
-}
-
 /* The 1-D profile of samples d[0..n) at u in [0, 1] (the same curve a lookup
    follows along one axis), written independently of medium.c. */
 static double profile(const double *d, int n, double u)
@@ -134,7 +121,7 @@ static void slab_modes(T *t, const double *d, int n, const char *what)
             o.single_wavelength = m == 1;
             o.media_terminate = m == 2;
             if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
-            Y = tile_y(&tl, &se);
+            Y = test_tile_y(&tl, 0, &se);
             if (!(fabs(Y - expect) < TEST_K_SIGMA * se + 2e-3 * expect)) {
                 test_failf(t, __FILE__, __LINE__, "%s, %s, %g-%g nm: Y = %.6g +- %.2g, expected %.6g",
                            what, mode[m], lo, hi, Y, se, expect);
@@ -208,7 +195,7 @@ static void test_nee(T *t)
     o.maxdepth = 1;
     if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
     scene_free(&s);
-    Y = tile_y(&tl, &se);
+    Y = test_tile_y(&tl, 0, &se);
     CHECK(t, fabs(Y - expect) < TEST_K_SIGMA * se + 3e-3 * expect,
           "a point light over a grid slab: Y = %.6g +- %.2g, expected E/pi = %.6g", Y, se, expect);
 }
@@ -280,7 +267,7 @@ static void test_area_light(T *t)
     o.maxdepth = 1;
     if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
     scene_free(&s);
-    Y = tile_y(&tl, &se);
+    Y = test_tile_y(&tl, 0, &se);
     CHECK(t, fabs(Y - expect) < TEST_K_SIGMA * se + 3e-3 * expect,
           "a lamp over a floor through a chromatic grid: Y = %.6g +- %.2g, expected %.6g", Y, se, expect);
 }
@@ -322,7 +309,7 @@ static void test_furnace(T *t)
     o.maxdepth = 1000;
     if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
     scene_free(&s);
-    Y = tile_y(&tl, &se);
+    Y = test_tile_y(&tl, 0, &se);
     CHECK(t, fabs(Y - 1.0) < TEST_K_SIGMA * se + 1e-3, "albedo-1 grid furnace: Y = %.6g +- %.2g, expected 1",
           Y, se);
 }
@@ -391,7 +378,7 @@ static void emission_case(T *t, const char *le_param, const double *temp, const 
     o.maxdepth = 5;
     if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
     scene_free(&s);
-    Y = tile_y(&tl, &se);
+    Y = test_tile_y(&tl, 0, &se);
     CHECK(t, fabs(Y - expect) < TEST_K_SIGMA * se + 3e-3 * expect, "%s: Y = %.6g +- %.2g, expected %.6g",
           what, Y, se, expect);
 }
@@ -600,45 +587,28 @@ static void test_threads(T *t)
 }
 
 /* ---- the format's errors, each at its file:line */
-static int load_fails(T *t, const char *text, const char *k1, const char *k2)
-{
-    Scene s;
-    Error e;
-    e.msg[0] = 0;
-    if (scene_load_string(&s, text, "m.pbrt", &e)) {
-        scene_free(&s);
-        test_failf(t, __FILE__, __LINE__, "accepted; expected \"%s\"", k1);
-        return 0;
-    }
-    if (!strstr(e.msg, k1) || (k2 && !strstr(e.msg, k2))) {
-        test_failf(t, __FILE__, __LINE__, "message \"%s\" lacks \"%s\" / \"%s\"", e.msg, k1, k2 ? k2 : "");
-        return 0;
-    }
-    return 1;
-}
-
 static void test_bad_input(T *t)
 {
 #define G "WorldBegin\nMakeNamedMedium \"m\" \"string type\" \"uniformgrid\" "
-    if (!load_fails(t, G "\n", "m.pbrt:2:", "\"float density\" is required")) return;
-    if (!load_fails(t, G "\"integer nx\" 2\n \"float density\" [ 1 2 3 ]\n", "m.pbrt:3:",
-                    "3 \"density\" values; expected nx*ny*nz = 2*1*1 = 2")) return;
-    if (!load_fails(t, G "\"float density\" [ -1 ]\n", "m.pbrt:2:", "\"density\" value 0 is -1; need a finite value >= 0")) return;
-    if (!load_fails(t, G "\"float density\" [ 1e35 ]\n", "m.pbrt:2:", "need a finite value")) return;
-    if (!load_fails(t, G "\"float density\" [ 1 ] \"integer nz\" 0\n", "m.pbrt:2:", "\"integer nz\" 0 must lie in 1..4096")) return;
-    if (!load_fails(t, G "\"float density\" [ 1 ]\n \"point3 p1\" [ 1 0 1 ]\n", "m.pbrt:3:",
-                    "need finite p0 < p1 on every axis")) return;
-    if (!load_fails(t, G "\"float density\" [ 1 ] \"point3 p0\" [ 0 0 ]\n", "m.pbrt:2:", "needs 3 values")) return;
-    if (!load_fails(t, G "\"float density\" [ 1 ] \"float temperature\" [ 1000 ] \"rgb Le\" [ 1 1 1 ]\n",
-                    "m.pbrt:2:", "both \"Le\" and \"temperature\"")) return;
-    if (!load_fails(t, G "\"integer nx\" 2 \"float density\" [ 1 1 ] \"float temperature\" [ 1 ]\n", "m.pbrt:2:",
-                    "1 \"temperature\" values; expected nx*ny*nz")) return;
-    if (!load_fails(t, G "\"integer nx\" 2 \"float density\" [ 1 1 ] \"float Lescale\" [ 1 ]\n", "m.pbrt:2:",
-                    "1 \"Lescale\" values; expected nx*ny*nz")) return;
-    if (!load_fails(t, G "\"float density\" [ 1 ] \"float g\" 1\n", "m.pbrt:2:", "(-1, 1)")) return;
-    if (!load_fails(t, G "\"float density\" [ 1 ] \"string preset\" \"Skin1\"\n", "m.pbrt:2:", "preset")) return;
-    if (!load_fails(t, "WorldBegin\nMakeNamedMedium \"s\" \"string type\" \"nanovdb\"\n", "m.pbrt:2:",
-                    "\"string filename\" is required")) return;
+    if (!test_load_fails(t, G "\n", "m.pbrt:2:", "\"float density\" is required")) return;
+    if (!test_load_fails(t, G "\"integer nx\" 2\n \"float density\" [ 1 2 3 ]\n", "m.pbrt:3:",
+                         "3 \"density\" values; expected nx*ny*nz = 2*1*1 = 2")) return;
+    if (!test_load_fails(t, G "\"float density\" [ -1 ]\n", "m.pbrt:2:", "\"density\" value 0 is -1; need a finite value >= 0")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1e35 ]\n", "m.pbrt:2:", "need a finite value")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1 ] \"integer nz\" 0\n", "m.pbrt:2:", "\"integer nz\" 0 must lie in 1..4096")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1 ]\n \"point3 p1\" [ 1 0 1 ]\n", "m.pbrt:3:",
+                         "need finite p0 < p1 on every axis")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1 ] \"point3 p0\" [ 0 0 ]\n", "m.pbrt:2:", "needs 3 values")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1 ] \"float temperature\" [ 1000 ] \"rgb Le\" [ 1 1 1 ]\n",
+                         "m.pbrt:2:", "both \"Le\" and \"temperature\"")) return;
+    if (!test_load_fails(t, G "\"integer nx\" 2 \"float density\" [ 1 1 ] \"float temperature\" [ 1 ]\n", "m.pbrt:2:",
+                         "1 \"temperature\" values; expected nx*ny*nz")) return;
+    if (!test_load_fails(t, G "\"integer nx\" 2 \"float density\" [ 1 1 ] \"float Lescale\" [ 1 ]\n", "m.pbrt:2:",
+                         "1 \"Lescale\" values; expected nx*ny*nz")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1 ] \"float g\" 1\n", "m.pbrt:2:", "(-1, 1)")) return;
+    if (!test_load_fails(t, G "\"float density\" [ 1 ] \"string preset\" \"Skin1\"\n", "m.pbrt:2:", "preset")) return;
+    if (!test_load_fails(t, "WorldBegin\nMakeNamedMedium \"s\" \"string type\" \"nanovdb\"\n", "m.pbrt:2:",
+                         "\"string filename\" is required")) return;
 #undef G
 }
 
@@ -687,7 +657,7 @@ static void test_before_camera(T *t)
         render_options_default(&o);
         o.spp = test_scaled(64, 16);
         if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
-        Y = tile_y(&tl, &se);
+        Y = test_tile_y(&tl, 0, &se);
         scene_free(&s);
         CHECK(t, fabs(Y - pbrt[k]) < TEST_K_SIGMA * se + 0.01 * pbrt[k],
               "medium made %s LookAt: Y = %.6g +- %.2g, pbrt-v4 %.7g", k == 0 ? "before" : "after",
@@ -749,34 +719,18 @@ static void test_against_pbrt(T *t)
         { 4.11874, 3.8083, 3.19728, 5.30156, 4.16782 },
         { 0.307388, 0.225366, 0.23421, 0.387634, 0.382343 }
     };
-    int f, q;
+    int f;
     for (f = 0; f < 4; f++) {
         Scene s;
         RenderOptions o;
-        Tiles tl;
         Error e;
-        double y[5], se[5];
         CHECK(t, scene_load(&s, files[f], &e), "%s", e.msg);
         render_options_default(&o);
         o.spp = test_scaled(64, 16);
         o.maxdepth = 20;
-        if (!test_render_tiles(t, &s, &o, 6, 2, &tl)) { scene_free(&s); return; }
+        test_quadrants_against_pbrt(t, &s, &o, pbrt_y[f], files[f]);
         scene_free(&s);
-        y[0] = se[0] = 0.0;
-        for (q = 0; q < 4; q++) {
-            y[q + 1] = luminance(tl.mean[q]);
-            se[q + 1] = sqrt(0.212671 * 0.212671 * tl.se[q][0] * tl.se[q][0] +
-                             0.715160 * 0.715160 * tl.se[q][1] * tl.se[q][1] +
-                             0.072169 * 0.072169 * tl.se[q][2] * tl.se[q][2]);
-            y[0] += 0.25 * y[q + 1];
-            se[0] += 0.0625 * se[q + 1] * se[q + 1];
-        }
-        se[0] = sqrt(se[0]);
-        for (q = 0; q < 5; q++)
-            CHECK(t, fabs(y[q] - pbrt_y[f][q]) < TEST_K_SIGMA * se[q] + (q ? 0.02 : 0.01) * pbrt_y[f][q],
-                  "%s, %s: Y = %.6g +- %.2g, pbrt-v4 %.6g", files[f],
-                  q ? (q == 1 ? "top left" : q == 2 ? "top right" : q == 3 ? "bottom left" : "bottom right")
-                    : "image", y[q], se[q], pbrt_y[f][q]);
+        if (t->failed) return;
     }
 }
 
@@ -794,32 +748,14 @@ static void test_smoke_scene(T *t)
     static const double pbrt_y[5] = { 0.179166, 0.100301, 0.104896, 0.258380, 0.253087 };
     Scene s;
     RenderOptions o;
-    Tiles tl;
     Error e;
-    double y[5], se[5];
-    int q;
     CHECK(t, scene_load(&s, "scenes/smoke.pbrt", &e), "%s", e.msg);
     s.settings.xres = s.settings.yres = 32;
     render_options_default(&o);
     o.spp = test_scaled(32, 8);
     o.maxdepth = s.settings.maxdepth;
-    if (!test_render_tiles(t, &s, &o, 6, 2, &tl)) { scene_free(&s); return; }
+    test_quadrants_against_pbrt(t, &s, &o, pbrt_y, "smoke.pbrt");
     scene_free(&s);
-    y[0] = se[0] = 0.0;
-    for (q = 0; q < 4; q++) {
-        y[q + 1] = luminance(tl.mean[q]);
-        se[q + 1] = sqrt(0.212671 * 0.212671 * tl.se[q][0] * tl.se[q][0] +
-                         0.715160 * 0.715160 * tl.se[q][1] * tl.se[q][1] +
-                         0.072169 * 0.072169 * tl.se[q][2] * tl.se[q][2]);
-        y[0] += 0.25 * y[q + 1];
-        se[0] += 0.0625 * se[q + 1] * se[q + 1];
-    }
-    se[0] = sqrt(se[0]);
-    for (q = 0; q < 5; q++)
-        CHECK(t, fabs(y[q] - pbrt_y[q]) < TEST_K_SIGMA * se[q] + (q ? 0.02 : 0.01) * pbrt_y[q],
-              "smoke.pbrt, %s: Y = %.6g +- %.2g, pbrt-v4 %.6g",
-              q ? (q == 1 ? "top left" : q == 2 ? "top right" : q == 3 ? "bottom left" : "bottom right")
-                : "image", y[q], se[q], pbrt_y[q]);
 }
 
 
@@ -980,7 +916,7 @@ static void test_rgb_transmittance(T *t)
             o.band_hi = (float)hi;
             o.media_terminate = m == 1;
             if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
-            Y = tile_y(&tl, &se);
+            Y = test_tile_y(&tl, 0, &se);
             if (!(fabs(Y - expect) < TEST_K_SIGMA * se + 2e-3 * expect)) {
                 test_failf(t, __FILE__, __LINE__, "rgb checker, %s, %g-%g nm: Y = %.6g +- %.2g, expected %.6g",
                            m ? "terminate" : "spectral MIS", lo, hi, Y, se, expect);
@@ -1026,7 +962,7 @@ static void test_rgb_furnace(T *t)
     o.maxdepth = 1000;
     if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
     scene_free(&s);
-    Y = tile_y(&tl, &se);
+    Y = test_tile_y(&tl, 0, &se);
     CHECK(t, fabs(Y - 1.0) < TEST_K_SIGMA * se + 1e-3, "albedo-1 rgbgrid furnace: Y = %.6g +- %.2g, expected 1", Y, se);
 }
 
@@ -1083,7 +1019,7 @@ static void test_rgb_emission(T *t)
     o.maxdepth = 5;
     if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
     scene_free(&s);
-    Y = tile_y(&tl, &se);
+    Y = test_tile_y(&tl, 0, &se);
     CHECK(t, fabs(Y - expect) < TEST_K_SIGMA * se + 3e-3 * expect, "rgbgrid Le: Y = %.6g +- %.2g, expected %.6g",
           Y, se, expect);
 }
@@ -1128,17 +1064,17 @@ static void test_rgb_threads(T *t)
 static void test_rgb_bad_input(T *t)
 {
 #define G "WorldBegin\nMakeNamedMedium \"m\" \"string type\" \"rgbgrid\" "
-    if (!load_fails(t, G "\n", "m.pbrt:2:", "needs \"rgb sigma_a\" and/or \"rgb sigma_s\"")) return;
-    if (!load_fails(t, G "\"integer nx\" 2\n \"rgb sigma_a\" [ 1 2 3 ]\n", "m.pbrt:3:",
-                    "3 \"rgb sigma_a\" values; expected 3*nx*ny*nz = 3*2*1*1 = 6")) return;
-    if (!load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"rgb Le\" [ 1 1 1 ]\n", "m.pbrt:2:",
-                    "with \"rgb Le\" needs \"rgb sigma_a\"")) return;
-    if (!load_fails(t, G "\n \"rgb sigma_s\" [ 1 -1 1 ]\n", "m.pbrt:3:",
-                    "\"rgb sigma_s\" value 1 is -1; need a finite value >= 0")) return;
-    if (!load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"float g\" 1\n", "m.pbrt:2:", "(-1, 1)")) return;
-    if (!load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ]\n \"float scale\" -1\n", "m.pbrt:3:", "\"float scale\" -1")) return;
-    if (!load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"float density\" [ 1 ]\n", "m.pbrt:2:", "density")) return;
-    if (!load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"integer ny\" 0\n", "m.pbrt:2:", "\"integer ny\" 0 must lie in 1..4096")) return;
+    if (!test_load_fails(t, G "\n", "m.pbrt:2:", "needs \"rgb sigma_a\" and/or \"rgb sigma_s\"")) return;
+    if (!test_load_fails(t, G "\"integer nx\" 2\n \"rgb sigma_a\" [ 1 2 3 ]\n", "m.pbrt:3:",
+                         "3 \"rgb sigma_a\" values; expected 3*nx*ny*nz = 3*2*1*1 = 6")) return;
+    if (!test_load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"rgb Le\" [ 1 1 1 ]\n", "m.pbrt:2:",
+                         "with \"rgb Le\" needs \"rgb sigma_a\"")) return;
+    if (!test_load_fails(t, G "\n \"rgb sigma_s\" [ 1 -1 1 ]\n", "m.pbrt:3:",
+                         "\"rgb sigma_s\" value 1 is -1; need a finite value >= 0")) return;
+    if (!test_load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"float g\" 1\n", "m.pbrt:2:", "(-1, 1)")) return;
+    if (!test_load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ]\n \"float scale\" -1\n", "m.pbrt:3:", "\"float scale\" -1")) return;
+    if (!test_load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"float density\" [ 1 ]\n", "m.pbrt:2:", "density")) return;
+    if (!test_load_fails(t, G "\"rgb sigma_s\" [ 1 1 1 ] \"integer ny\" 0\n", "m.pbrt:2:", "\"integer ny\" 0 must lie in 1..4096")) return;
 #undef G
 }
 
@@ -1224,17 +1160,17 @@ static void test_cloud_furnace(T *t)
     o.maxdepth = 1000;
     if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
     scene_free(&s);
-    Y = tile_y(&tl, &se);
+    Y = test_tile_y(&tl, 0, &se);
     CHECK(t, fabs(Y - 1.0) < TEST_K_SIGMA * se + 1e-3, "albedo-1 cloud furnace: Y = %.6g +- %.2g, expected 1", Y, se);
 }
 
 static void test_cloud_bad_input(T *t)
 {
 #define G "WorldBegin\nMakeNamedMedium \"m\" \"string type\" \"cloud\" "
-    if (!load_fails(t, G "\"float scale\" 2\n", "m.pbrt:2:", "scale")) return;
-    if (!load_fails(t, G "\"float g\" -1\n", "m.pbrt:2:", "(-1, 1)")) return;
-    if (!load_fails(t, G "\n \"point3 p1\" [ 0 1 1 ]\n", "m.pbrt:3:", "need finite p0 < p1 on every axis")) return;
-    if (!load_fails(t, G "\"rgb sigma_s\" [ -1 1 1 ]\n", "m.pbrt:2:", "sigma_s")) return;
+    if (!test_load_fails(t, G "\"float scale\" 2\n", "m.pbrt:2:", "scale")) return;
+    if (!test_load_fails(t, G "\"float g\" -1\n", "m.pbrt:2:", "(-1, 1)")) return;
+    if (!test_load_fails(t, G "\n \"point3 p1\" [ 0 1 1 ]\n", "m.pbrt:3:", "need finite p0 < p1 on every axis")) return;
+    if (!test_load_fails(t, G "\"rgb sigma_s\" [ -1 1 1 ]\n", "m.pbrt:2:", "sigma_s")) return;
 #undef G
 }
 

@@ -18,19 +18,7 @@
 /* Load must fail with "t.pbrt:LINE: ..." containing k1. */
 static void expect_reject(T *t, const char *text, int line, const char *k1)
 {
-    Scene s;
-    Error e;
-    char prefix[64];
-    int ok;
-    e.msg[0] = '\0';
-    ok = scene_load_string(&s, text, NAME, &e);
-    if (ok) scene_free(&s);
-    CHECK(t, !ok, "accepted bad input, expected an error with \"%s\"", k1);
-    snprintf(prefix, sizeof prefix, "%s:%d:", NAME, line);
-    CHECK(t, strncmp(e.msg, prefix, strlen(prefix)) == 0, "message \"%s\" does not start "
-          "with \"%s\"", e.msg, prefix);
-    CHECK(t, strchr(e.msg, '\n') == NULL, "message \"%s\" is not one line", e.msg);
-    CHECK(t, strstr(e.msg, k1) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k1);
+    test_rejected_at(t, text, line, k1, NULL);
 }
 
 /* ---- the same geometry, instanced and written out ---------------------------- */

@@ -24,20 +24,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static double luminance(const double rgb[3])
-{
-    return 0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2];
-}
-
-/* The luminance of one tile set's first tile and its standard error. */
-static double tile_y(const Tiles *tl, double *se)
-{
-    *se = sqrt(0.212671 * 0.212671 * tl->se[0][0] * tl->se[0][0] +
-               0.715160 * 0.715160 * tl->se[0][1] * tl->se[0][1] +
-               0.072169 * 0.072169 * tl->se[0][2] * tl->se[0][2]);
-    return luminance(tl->mean[0]);
-}
-
 /* ---- the slab: camera at z = 5 looking down, a constant emitter at z = -1, an
    absorbing slab 0 < z < 1 (sigma_a 0.2 at 400 nm rising to 1.4 at 700 nm) */
 static const char slab_scene[] =
@@ -99,7 +85,7 @@ static void test_slab_mode(T *t, const char *integrator, double d, int single, i
         o.single_wavelength = single;
         o.media_terminate = terminate;
         if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
-        Y = tile_y(&tl, &se);
+        Y = test_tile_y(&tl, 0, &se);
         if (!(fabs(Y - expect) < TEST_K_SIGMA * se + 2e-3 * expect + 1e-9)) {
             test_failf(t, __FILE__, __LINE__, "%s, %g-%g nm: Y = %.6g +- %.2g, expected %.6g",
                        what, lo, hi, Y, se, expect);
@@ -162,7 +148,7 @@ static void test_furnace(T *t)
         o.maxdepth = D;             /* (the file's maxdepth is the command line's to apply) */
         if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
         scene_free(&s);
-        Y = tile_y(&tl, &se);
+        Y = test_tile_y(&tl, 0, &se);
         CHECK(t, fabs(Y - expect) < TEST_K_SIGMA * se + 3e-3 * expect,
               "maxdepth %d: Y = %.6g +- %.2g, expected Le (1 - a^D) = %.6g", D, Y, se, expect);
     }
@@ -190,7 +176,7 @@ static void check_plane(T *t, const char *text, double (*e_over_pi)(double x, do
     o.maxdepth = 1;
     if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) { scene_free(&s); return; }
     scene_free(&s);
-    Y = tile_y(&tl, &se);
+    Y = test_tile_y(&tl, 0, &se);
     CHECK(t, fabs(Y - expect) < TEST_K_SIGMA * se + 3e-3 * expect,
           "%s: Y = %.6g +- %.2g, expected E/pi = %.6g", what, Y, se, expect);
 }
@@ -595,7 +581,7 @@ static double pixel_variance(T *t, const char *text, int terminate, double *mean
     for (i = 0; i < n; i++) {
         double rgb[3], y;
         rgb[0] = img.rgb[3 * i]; rgb[1] = img.rgb[3 * i + 1]; rgb[2] = img.rgb[3 * i + 2];
-        y = luminance(rgb);
+        y = test_luminance(rgb);
         sum += y;
         sum2 += y * y;
     }
@@ -649,43 +635,26 @@ static void test_mis_gain(T *t)
 }
 
 /* ---- the format */
-static int load_fails(T *t, const char *text, const char *k1, const char *k2)
-{
-    Scene s;
-    Error e;
-    e.msg[0] = 0;
-    if (scene_load_string(&s, text, "m.pbrt", &e)) {
-        scene_free(&s);
-        test_failf(t, __FILE__, __LINE__, "accepted; expected \"%s\"", k1);
-        return 0;
-    }
-    if (!strstr(e.msg, k1) || (k2 && !strstr(e.msg, k2))) {
-        test_failf(t, __FILE__, __LINE__, "message \"%s\" lacks \"%s\" / \"%s\"", e.msg, k1, k2 ? k2 : "");
-        return 0;
-    }
-    return 1;
-}
-
 static void test_bad_input(T *t)
 {
 #define MED "MakeNamedMedium \"m\" \"string type\" \"homogeneous\" "
-    if (!load_fails(t, "WorldBegin\n" MED "\"rgb sigma_a\" [ -1 0 0 ]\n", "m.pbrt:2:", "negative")) return;
-    if (!load_fails(t, "WorldBegin\n" MED "\"spectrum sigma_s\" [ 400 1 700 -0.5 ]\n", "m.pbrt:2:", "need a finite value >= 0")) return;
-    if (!load_fails(t, "WorldBegin\n" MED "\n \"float scale\" [ inf ]\n", "m.pbrt:3:", "scale")) return;
-    if (!load_fails(t, "WorldBegin\n" MED "\n \"float g\" [ 1 ]\n", "m.pbrt:3:", "(-1, 1)")) return;
-    if (!load_fails(t, "WorldBegin\n" MED "\n \"float g\" [ -1.5 ]\n", "m.pbrt:3:", "(-1, 1)")) return;
-    if (!load_fails(t, "WorldBegin\n" MED "\n \"string preset\" \"Fog\"\n", "m.pbrt:3:", "unknown preset \"Fog\"")) return;
-    if (!load_fails(t, "WorldBegin\nMakeNamedMedium \"s\" \"string type\" \"nanovdb\"\n", "m.pbrt:2:",
-                    "\"string filename\" is required")) return;
-    if (!load_fails(t, "WorldBegin\nMakeNamedMedium \"s\" \"string type\" \"fluffy\"\n", "m.pbrt:2:",
-                    "unknown medium type")) return;
-    if (!load_fails(t, "WorldBegin\nMakeNamedMedium \"s\"\n", "m.pbrt:2:", "\"string type\" is required")) return;
-    if (!load_fails(t, "WorldBegin\n" MED "\n" MED "\n", "m.pbrt:3:", "redefined")) return;
-    if (!load_fails(t, "MediumInterface \"\" \"fgo\"\nWorldBegin\n" MED "\n", "m.pbrt:1:",
-                    "no MakeNamedMedium defines the medium \"fgo\"")) return;
-    if (!load_fails(t, "WorldBegin\n" MED "\"float sigma_a\" 1\n", "m.pbrt:2:", "wrong type")) return;
-    if (!load_fails(t, "WorldBegin\nMaterial \"interface\"\nAreaLightSource \"diffuse\"\n"
-                    "Shape \"sphere\"\n", "m.pbrt:4:", "\"interface\"")) return;
+    if (!test_load_fails(t, "WorldBegin\n" MED "\"rgb sigma_a\" [ -1 0 0 ]\n", "m.pbrt:2:", "negative")) return;
+    if (!test_load_fails(t, "WorldBegin\n" MED "\"spectrum sigma_s\" [ 400 1 700 -0.5 ]\n", "m.pbrt:2:", "need a finite value >= 0")) return;
+    if (!test_load_fails(t, "WorldBegin\n" MED "\n \"float scale\" [ inf ]\n", "m.pbrt:3:", "scale")) return;
+    if (!test_load_fails(t, "WorldBegin\n" MED "\n \"float g\" [ 1 ]\n", "m.pbrt:3:", "(-1, 1)")) return;
+    if (!test_load_fails(t, "WorldBegin\n" MED "\n \"float g\" [ -1.5 ]\n", "m.pbrt:3:", "(-1, 1)")) return;
+    if (!test_load_fails(t, "WorldBegin\n" MED "\n \"string preset\" \"Fog\"\n", "m.pbrt:3:", "unknown preset \"Fog\"")) return;
+    if (!test_load_fails(t, "WorldBegin\nMakeNamedMedium \"s\" \"string type\" \"nanovdb\"\n", "m.pbrt:2:",
+                         "\"string filename\" is required")) return;
+    if (!test_load_fails(t, "WorldBegin\nMakeNamedMedium \"s\" \"string type\" \"fluffy\"\n", "m.pbrt:2:",
+                         "unknown medium type")) return;
+    if (!test_load_fails(t, "WorldBegin\nMakeNamedMedium \"s\"\n", "m.pbrt:2:", "\"string type\" is required")) return;
+    if (!test_load_fails(t, "WorldBegin\n" MED "\n" MED "\n", "m.pbrt:3:", "redefined")) return;
+    if (!test_load_fails(t, "MediumInterface \"\" \"fgo\"\nWorldBegin\n" MED "\n", "m.pbrt:1:",
+                         "no MakeNamedMedium defines the medium \"fgo\"")) return;
+    if (!test_load_fails(t, "WorldBegin\n" MED "\"float sigma_a\" 1\n", "m.pbrt:2:", "wrong type")) return;
+    if (!test_load_fails(t, "WorldBegin\nMaterial \"interface\"\nAreaLightSource \"diffuse\"\n"
+                         "Shape \"sphere\"\n", "m.pbrt:4:", "\"interface\"")) return;
 #undef MED
 }
 

@@ -154,32 +154,16 @@ static void test_mix_sphere_uv(T *t)
     scene_free(&s);
 }
 
-/* Y of one render's pixels (the whole image). */
-static double image_Y(const Image *im)
-{
-    double acc = 0.0;
-    int i;
-    for (i = 0; i < im->w * im->h; i++)
-        acc += 0.212671 * im->rgb[3 * i] + 0.715160 * im->rgb[3 * i + 1] + 0.072169 * im->rgb[3 * i + 2];
-    return acc / (im->w * im->h);
-}
-
 static int render_Y(T *t, const char *body, int spp, int seed, int threads, Image *im)
 {
-    Scene s;
+    static char buf[8192];
     RenderOptions o;
-    RenderStats st;
-    Error err;
-    int ok;
-    if (!load_mix(t, &s, body)) return 0;
+    snprintf(buf, sizeof buf, "%s%s", MIX_HEAD, body);
     render_options_default(&o);
     o.spp = spp;
     o.seed = seed;
     o.threads = threads;
-    ok = render(&s, &o, im, &st, &err);
-    if (!ok) test_failf(t, __FILE__, __LINE__, "render: %s", err.msg);
-    scene_free(&s);
-    return ok;
+    return test_render_text(t, buf, &o, im);
 }
 
 /* A square of "mix" of two grey diffuse reflectances (0.2 and 0.8, amount 0.3)
@@ -203,13 +187,13 @@ static void test_mix_image_mean(T *t)
     Image im;
     for (k = 0; k < 2; k++) {
         if (!render_Y(t, grey[k], spp, 1, 2, &im)) return;
-        y[k] = image_Y(&im);
+        y[k] = test_image_y(&im);
         img_free(&im);
     }
     for (k = 0; k < K; k++) {
         double v;
         if (!render_Y(t, mix, spp, 1 + 1000 * k, 2, &im)) return;
-        v = image_Y(&im);
+        v = test_image_y(&im);
         img_free(&im);
         sum += v;
         sum2 += v * v;
@@ -244,10 +228,10 @@ static void test_mix_threads(T *t)
     if (!render_Y(t, body, 4, 7, 1, &a)) return;
     if (!render_Y(t, body, 4, 7, 2, &b)) { img_free(&a); return; }
     if (!render_Y(t, body, 4, 7, 3, &c)) { img_free(&a); img_free(&b); return; }
-    CHECK(t, image_Y(&a) > 0.0, "the scene is black");
+    CHECK(t, test_image_y(&a) > 0.0, "the scene is black");
     CHECK(t, !memcmp(a.rgb, b.rgb, sizeof(float) * 3 * a.w * a.h) &&
           !memcmp(a.rgb, c.rgb, sizeof(float) * 3 * a.w * a.h),
-          "images of 1, 2, 3 threads differ: Y %.9g %.9g %.9g", image_Y(&a), image_Y(&b), image_Y(&c));
+          "images of 1, 2, 3 threads differ: Y %.9g %.9g %.9g", test_image_y(&a), test_image_y(&b), test_image_y(&c));
     img_free(&a); img_free(&b); img_free(&c);
 }
 
@@ -317,9 +301,6 @@ static const double PBRT_MIX_Y[5][2] = {
 static void test_mix_against_pbrt(T *t)
 {
     Scene s;
-    RenderOptions o;
-    Tiles q, whole;
-    int i;
     if (!load_mix(t, &s,
                   "MakeNamedMaterial \"dark\" \"string type\" \"diffuse\" \"rgb reflectance\" [ 0.2 0.2 0.2 ]\n"
                   "MakeNamedMaterial \"bright\" \"string type\" \"diffuse\" \"rgb reflectance\" [ 0.8 0.7 0.6 ]\n"
@@ -331,22 +312,8 @@ static void test_mix_against_pbrt(T *t)
                   "\"texture amount\" \"amt\"\n"
                   "NamedMaterial \"m1\"\n" MIX_SQUARE("-2", "0") "NamedMaterial \"m2\"\n" MIX_SQUARE("0", "2")))
         return;
-    render_options_default(&o);
-    o.spp = test_scaled(32, 8);
-    o.seed = 3;
-    if (!test_render_tiles(t, &s, &o, 4, 2, &q)) { scene_free(&s); return; }
-    if (!test_render_tiles(t, &s, &o, 4, 1, &whole)) { scene_free(&s); return; }
+    test_scene_against_pbrt_y(t, &s, test_scaled(32, 8), 3, PBRT_MIX_Y, 1e-2, "mix");
     scene_free(&s);
-    for (i = 0; i < 5; i++) {
-        const Tiles *tl = i == 0 ? &whole : &q;
-        int k = i == 0 ? 0 : i - 1;
-        double Y = 0.212671 * tl->mean[k][0] + 0.715160 * tl->mean[k][1] + 0.072169 * tl->mean[k][2];
-        double se = tl->se[k][1], Yp = PBRT_MIX_Y[i][0], sep = PBRT_MIX_Y[i][1];
-        if (getenv("DBG")) fprintf(stderr, "mix %d: specnee %.6f +- %.2g, pbrt %.6f\n", i, Y, se, Yp);
-        CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + sep * sep) + 1e-2 * Yp,
-              "%s %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f +- %.2g", i ? "quadrant" : "image", k,
-              Y, se, Yp, sep);
-    }
 }
 
 const TestCase tests_mix[] = {

@@ -310,7 +310,7 @@ static void checker_vs_pbrt(T *t, const char *text, const double Yp[5][2], const
     if (!test_render_tiles(t, &s, &o, 4, 2, &tl)) { scene_free(&s); return; }
     scene_free(&s);
     for (i = 0; i < 4; i++) {
-        double Y = 0.212671 * tl.mean[i][0] + 0.715160 * tl.mean[i][1] + 0.072169 * tl.mean[i][2];
+        double Y = test_luminance(tl.mean[i]);
         double se = tl.se[i][1];
         all += Y / 4;
         if (getenv("DBG")) fprintf(stderr, "%s %d %.5f %.5f\n", name, i, Y, Yp[i][0]);

@@ -406,11 +406,6 @@ static void test_rough_chi2(T *t)
         }
 }
 
-static double luminance(const double rgb[3])
-{
-    return 0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2];
-}
-
 
 /* White furnace: a rough, non-dispersive glass sphere (radius 1, index 1.5) inside
    a closed sphere whose inner surface emits L = 1.  Smooth glass would give Y = 1
@@ -520,7 +515,7 @@ static void test_rough_furnace(T *t)
         o.nee = nee;
         if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
         for (i = 0; i < 4; i++) {
-            double Y = luminance(tl.mean[i]), se = tl.se[i][1];
+            double Y = test_luminance(tl.mean[i]), se = tl.se[i][1];
             if (getenv("DBG")) fprintf(stderr, "pred %g err %g Y %g se %g\n", pred, err, Y, se);
             CHECK(t, Y < 1.0 + TEST_K_SIGMA * se, "nee %d tile %d: Y = %.5f +- %.2g > 1: energy created",
                   nee, i, Y, se);
@@ -558,26 +553,14 @@ static void test_furnace_off_centre(T *t)
     RenderOptions o;
     Tiles tl;
     int i;
-    snprintf(text, sizeof text,
-             "LookAt 0 0 -1.9  0.8 0.8 0  0 1 0\n"
-             "Camera \"perspective\" \"float fov\" [ 20 ]\n"
-             "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ] \"string filename\" \"t.pfm\"\n"
-             "WorldBegin\n"
-             "AttributeBegin\n AreaLightSource \"diffuse\" \"spectrum L\" [ 360 1 830 1 ] \"bool twosided\" true\n"
-             " Material \"diffuse\" \"spectrum reflectance\" [ 360 0 830 0 ]\n"
-             " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3  4 5 6 4 6 7  0 1 5 0 5 4  "
-             "3 2 6 3 6 7  0 3 7 0 7 4  1 2 6 1 6 5 ]\n"
-             "  \"point3 P\" [ -2 -2 -2  2 -2 -2  2 2 -2  -2 2 -2  -2 -2 2  2 -2 2  2 2 2  -2 2 2 ]\n"
-             "AttributeEnd\n"
-             "AttributeBegin\n Translate 0.8 0.8 0\n Material \"diffuse\" \"spectrum reflectance\" [ 360 0.5 830 0.5 ]\n"
-             " Shape \"sphere\" \"float radius\" [ 1 ]\nAttributeEnd\n");
+    test_furnace_text(text, sizeof text, "Material \"diffuse\" \"spectrum reflectance\" [ 360 0.5 830 0.5 ]");
     if (!test_load_scene(t, &s, text)) return;
     render_options_default(&o);
     o.sel.grid_res = 8;
     o.spp = test_scaled(32, 8);
     if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
     for (i = 0; i < 4; i++) {
-        double Y = luminance(tl.mean[i]), se = tl.se[i][1];
+        double Y = test_luminance(tl.mean[i]), se = tl.se[i][1];
         CHECK(t, fabs(Y - 0.5) < TEST_K_SIGMA * se + 2e-3,
               "tile %d: Y = %.5f +- %.2g, expected 0.5 (do the MIS weights sum to 1?)", i, Y, se);
     }
@@ -783,9 +766,7 @@ static void test_null_collision_mis(T *t)
         o.maxdepth = 1;
         o.media_terminate = mode;
         if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) break;
-        Y = luminance(tl.mean[0]);
-        se = sqrt(0.212671 * 0.212671 * tl.se[0][0] * tl.se[0][0] + 0.715160 * 0.715160 * tl.se[0][1] * tl.se[0][1] +
-                  0.072169 * 0.072169 * tl.se[0][2] * tl.se[0][2]);
+        Y = test_tile_y(&tl, 0, &se);
         if (getenv("DBG")) fprintf(stderr, "mode %d: Y %.6f +- %.2g, expected %.6f\n", mode, Y, se, expect);
         if (!(fabs(Y - expect) < TEST_K_SIGMA * se + 2e-3 * expect)) {
             test_failf(t, __FILE__, __LINE__, "%s through a null-rich chromatic grid: Y = %.5f +- %.2g, expected %.5f",

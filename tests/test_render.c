@@ -12,12 +12,6 @@
 #include <string.h>
 
 #define K_SIGMA TEST_K_SIGMA
-/* Y of linear sRGB (pbrt-v4's sRGB primaries, D65 white). */
-static double luminance(const double rgb[3])
-{
-    return 0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2];
-}
-
 static const char *camera_16 =
     "LookAt 0 0 -3  0 0 0  0 1 0\n"
     "Camera \"perspective\" \"float fov\" [ 10 ]\n"
@@ -50,7 +44,7 @@ static void test_colour_direct_emitter(T *t)
                 o.wl_wide = wide;
                 if (!test_render_tiles(t, &s, &o, 8, 1, &tl)) { scene_free(&s); return; }
                 rgb[0] = tl.mean[0][0]; rgb[1] = tl.mean[0][1]; rgb[2] = tl.mean[0][2];
-                Y = luminance(rgb);
+                Y = test_luminance(rgb);
                 seY = tl.se[0][1];
                 CHECK(t, fabs(Y - 1.0) < K_SIGMA * seY + 2e-3,
                       "spectrum %d pdf %d wide %d: Y = %.5f +- %.2g, expected 1", sp, pdf, wide, Y, seY);
@@ -94,7 +88,7 @@ static void test_white_furnace(T *t)
         o.nee = nee;
         if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
         for (i = 0; i < 4; i++) {
-            double Y = luminance(tl.mean[i]);
+            double Y = test_luminance(tl.mean[i]);
             CHECK(t, fabs(Y - 0.5) < K_SIGMA * tl.se[i][1] + 2e-3,
                   "nee %d tile %d: Y = %.5f +- %.2g, expected 0.5", nee, i, Y, tl.se[i][1]);
         }
@@ -121,7 +115,7 @@ static void test_white_furnace_dispersive_glass(T *t)
     o.maxdepth = 24;
     if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
     for (i = 0; i < 4; i++) {
-        double Y = luminance(tl.mean[i]);
+        double Y = test_luminance(tl.mean[i]);
         CHECK(t, fabs(Y - 1.0) < K_SIGMA * tl.se[i][1] + 3e-3,
               "tile %d: Y = %.5f +- %.2g, expected 1", i, Y, tl.se[i][1]);
     }
@@ -159,7 +153,7 @@ static void test_roulette_through_dense_glass(T *t)
     if (!test_load_scene(t, &s, text)) return;
     if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
     for (i = 0; i < 4; i++) {
-        double Y = luminance(tl.mean[i]);
+        double Y = test_luminance(tl.mean[i]);
         CHECK(t, fabs(Y - 1.0) < K_SIGMA * tl.se[i][1] + 1e-3,
               "tile %d: Y = %.5f +- %.2g, expected 1", i, Y, tl.se[i][1]);
         CHECK(t, tl.se[i][1] <= 3.0 * empty.se[i][1] + 1e-6,

@@ -627,7 +627,7 @@ static void test_unbiased_over_seeds(T *t)
             o.maxdepth = 24;
             if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
             for (i = 0; i < 4; i++) {
-                double Y = 0.212671 * tl.mean[i][0] + 0.715160 * tl.mean[i][1] + 0.072169 * tl.mean[i][2];
+                double Y = test_luminance(tl.mean[i]);
                 CHECK(t, fabs(Y - expect[m]) < K_SIGMA * tl.se[i][1] + 3e-3,
                       "%s, furnace %d, tile %d: Y = %.5f +- %.2g, expected %g", sampler_name(types[ti]), m, i, Y,
                       tl.se[i][1], expect[m]);

@@ -804,8 +804,8 @@ REJECT(rej_sphere_zmin, "WorldBegin\nShape \"sphere\" \"float zmin\" 0.5 \"float
 REJECT(rej_shape_curve, "WorldBegin\nShape \"curve\"\n", 2,
        "Shape \"curve\": \"point3 P\" is required", NULL)
 REJECT(rej_shape_unknown, "WorldBegin\nShape \"blob\"\n", 2, "unknown shape type", NULL)
-REJECT(rej_material_conductor, "WorldBegin\nMaterial \"subsurface\"\n", 2, "subsurface",
-       "valid pbrt-v4 but not in the specnee subset")
+REJECT(rej_material_conductor, "WorldBegin\nMaterial \"subsurface\" \"string name\" \"Blood\"\n", 2,
+       "subsurface", "no such named medium")
 REJECT(rej_unknown_named_spectrum, "WorldBegin\nMaterial \"dielectric\" \"spectrum eta\" \"glass-XYZ\"\n",
        2, "unknown named spectrum", "glass-XYZ")
 REJECT(rej_odd_spectrum, "WorldBegin\nAreaLightSource \"diffuse\" \"spectrum L\" [ 400 1 500 ]\n", 2,

@@ -127,20 +127,12 @@ static void test_sensor_against_pbrt(T *t)
 
 static int render_scene(T *t, const char *text, Image *im)
 {
-    Scene s;
     RenderOptions o;
-    RenderStats st;
-    Error err;
-    int ok;
-    if (!test_load_scene(t, &s, text)) return 0;
     render_options_default(&o);
     o.spp = 4;
     o.seed = 3;
     o.threads = 2;
-    ok = render(&s, &o, im, &st, &err);
-    if (!ok) test_failf(t, __FILE__, __LINE__, "render: %s", err.msg);
-    scene_free(&s);
-    return ok;
+    return test_render_text(t, text, &o, im);
 }
 
 /* The imaging ratio (shutterclose - shutteropen) iso / 100 multiplies every

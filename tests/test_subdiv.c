@@ -395,27 +395,10 @@ static void test_subdiv_against_pbrt(T *t)
 {
     static char buf[8192];
     Scene s;
-    RenderOptions o;
-    Tiles q, whole;
-    int i;
     snprintf(buf, sizeof buf, "%s%s", SD_HEAD, SD_BODY);
     if (!test_load_scene(t, &s, buf)) return;
-    render_options_default(&o);
-    o.spp = test_scaled(32, 8);
-    o.seed = 9;
-    if (!test_render_tiles(t, &s, &o, 4, 2, &q)) { scene_free(&s); return; }
-    if (!test_render_tiles(t, &s, &o, 4, 1, &whole)) { scene_free(&s); return; }
+    test_scene_against_pbrt_y(t, &s, test_scaled(32, 8), 9, PBRT_SD_Y, 1e-2, "subdiv");
     scene_free(&s);
-    for (i = 0; i < 5; i++) {
-        const Tiles *tl = i == 0 ? &whole : &q;
-        int k = i == 0 ? 0 : i - 1;
-        double Y = 0.212671 * tl->mean[k][0] + 0.715160 * tl->mean[k][1] + 0.072169 * tl->mean[k][2];
-        double se = tl->se[k][1], Yp = PBRT_SD_Y[i][0], sep = PBRT_SD_Y[i][1];
-        if (getenv("DBG")) fprintf(stderr, "subdiv %d: specnee %.6f +- %.2g, pbrt %.6f\n", i, Y, se, Yp);
-        CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + sep * sep) + 1e-2 * Yp,
-              "%s %d: specnee Y %.5f +- %.2g, pbrt-v4 %.5f +- %.2g", i ? "quadrant" : "image", k,
-              Y, se, Yp, sep);
-    }
 }
 
 const TestCase tests_subdiv[] = {

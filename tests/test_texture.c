@@ -348,7 +348,7 @@ static void test_render_checks(T *t)
         o.spp = test_scaled(8, 2);
         if (!test_render_tiles(t, &s, &o, 4, 1, &tl)) { scene_free(&s); return; }
         scene_free(&s);
-        Y = 0.212671 * tl.mean[0][0] + 0.715160 * tl.mean[0][1] + 0.072169 * tl.mean[0][2];
+        Y = test_luminance(tl.mean[0]);
         CHECK(t, NEAR(Y, at[i].expect, TEST_K_SIGMA * tl.se[0][1] + 2e-3),
               "check at x %g: Y = %.5f +- %.2g, expected %g", at[i].x, Y, tl.se[0][1], at[i].expect);
     }
@@ -683,7 +683,7 @@ static void test_against_pbrt(T *t)
         if (!test_render_tiles(t, &s, &o, 4, 4, &tl)) { scene_free(&s); return; }
         scene_free(&s);
         for (i = 0; i < 16; i++) {
-            double Y = 0.212671 * tl.mean[i][0] + 0.715160 * tl.mean[i][1] + 0.072169 * tl.mean[i][2];
+            double Y = test_luminance(tl.mean[i]);
             double Yp = PBRT_TEX_TILES[c][i][0], se = tl.se[i][1], sep = PBRT_TEX_TILES[c][i][1];
             if (getenv("DBG")) fprintf(stderr, "%s tile %d: specnee %.5f +- %.2g, pbrt %.5f\n",
                                        c ? "marble" : "dots", i, Y, se, Yp);
@@ -829,7 +829,7 @@ static void test_conductor_against_pbrt(T *t)
     if (!test_render_tiles(t, &s, &o, 4, 4, &tl)) { scene_free(&s); return; }
     scene_free(&s);
     for (i = 0; i < 16; i++) {
-        double Y = 0.212671 * tl.mean[i][0] + 0.715160 * tl.mean[i][1] + 0.072169 * tl.mean[i][2];
+        double Y = test_luminance(tl.mean[i]);
         double Yp = PBRT_COND_TILES[i][0], se = tl.se[i][1], sep = PBRT_COND_TILES[i][1];
         if (getenv("DBG")) fprintf(stderr, "conductor tile %d: specnee %.5f +- %.2g, pbrt %.5f\n", i, Y, se, Yp);
         CHECK(t, fabs(Y - Yp) < TEST_K_SIGMA * sqrt(se * se + sep * sep) + 1e-2 * Yp,

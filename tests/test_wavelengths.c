@@ -22,11 +22,6 @@
 
 #define K_SIGMA TEST_K_SIGMA
 
-static double luminance(const double rgb[3])
-{
-    return 0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2];
-}
-
 /* ---------- the pdfs ---------- */
 
 static int cmp_double(const void *a, const void *b)
@@ -198,7 +193,7 @@ static void test_wl_furnaces(T *t)
             if (!test_render_tiles(t, &s, &o, 8, 2, &tl)) { scene_free(&s); return; }
             scene_free(&s);
             for (i = 0; i < 4; i++) {
-                double Y = luminance(tl.mean[i]);
+                double Y = test_luminance(tl.mean[i]);
                 int c;
                 CHECK(t, fabs(Y - Yref[obj]) < K_SIGMA * tl.se[i][1] + 3e-3,
                       "%s furnace, %s wavelengths, tile %d: Y = %.5f +- %.2g, expected %g",
