@@ -784,6 +784,10 @@ typedef struct {
                                   index (0: the spectrum above) */
     float dt_scale;            /* diffusetransmission: "scale", applied to textured R, T
                                   at the point (the spectra above hold it already) */
+    int eta_tex, k_tex;        /* conductor: "texture eta", "texture k"; coatedconductor:
+                                  "texture conductor.eta", "texture conductor.k": 1 + a
+                                  spectrum texture's index, read through mat_point (0: the
+                                  spectrum, Material.eta or cond_eta, and k) */
 } MaterialSpectra;
 typedef struct {
     MaterialType type;
@@ -932,6 +936,9 @@ typedef struct Texture {
     int w, h;
     float *texel;
     TexWrap wrap;
+    int rgb_arg;               /* a spectrum argument was an "rgb" that is not grey: held
+                                  as a reflectance (RGBAlbedoSpectrum), which an unbounded
+                                  use (a conductor's eta, k) would read otherwise */
     const char *file; int line;
 } Texture;
 /* Texture t of the table tex at the surface point (lambda ignored by float textures). */
@@ -982,13 +989,17 @@ int   mat_is_delta(const Material *m);
    other types, which pbrt-v4 leaves as they are. */
 int   mat_regularized(const Material *m, Material *out);
 /* A conductor's, coateddiffuse's or coatedconductor's texture-valued parameters at one surface point
-   (pbrt-v4 evaluates them in GetBxDF): the alphas, and when has_r the reflectance at
-   the path's wavelengths, clamped to [0, 1]; without textures the Material's own. */
+   (pbrt-v4 evaluates them in GetBxDF): the alphas, when has_r the reflectance at
+   the path's wavelengths, clamped to [0, 1], when has_ek a conductor's eta and k
+   there (unbounded: k >= 0, eta >= 1e-3); without textures the Material's own. */
 typedef struct {
     float alpha, alpha_t;
     int has_r;
     float r[HERO_N];
     float cond_alpha;          /* coatedconductor: the base's alpha */
+    int has_ek;                /* a textured eta or k: the conductor's (coatedconductor:
+                                  the base's, in vacuum) n and k at the path's wavelengths */
+    float eta[HERO_N], k[HERO_N];
 } MatPoint;
 void  mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, unsigned alive,
                 MatPoint *mp);
