@@ -529,11 +529,12 @@ static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const Pa
     int em = light_piece_emitter(R->ls, piece), any = 0, j;
     EmitterSample es;
     double value[HERO_N], den, T[HERO_N] = { 1.0, 1.0, 1.0, 1.0 }, A[HERO_N] = { 1.0, 1.0, 1.0, 1.0 };
-    const float alpha = emitter_alpha(s, em);      /* a shape's "alpha" (lights.c) */
+    float alpha;                                   /* a shape's "alpha" at es (lights.c) */
     if (!light_sample(R->ls, piece, v->p, u[0], u[1], u[2], &es)) {
         if (dbg) fprintf(dbg, "  NEE: no usable point on emitter %d (seen edge-on or at distance 0)\n", em);
         return none;
     }
+    alpha = emitter_alpha_at(s, em, v->p, &es);
     for (j = 0; j < HERO_N; j++) {
         value[j] = 0.0;
         if (path->alive & (1u << j))

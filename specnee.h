@@ -1421,6 +1421,11 @@ typedef struct {
                                   every kind of emitter */
     int delta;                 /* 1: a delta light's sample (no BSDF direction can
                                   find it: its MIS weight against BSDF sampling is 1) */
+    int prim;                  /* a mesh's or bilinear patch's sample: its primitive
+                                  (bvh.c's numbering) and parameters there (triangle:
+                                  barycentrics b1, b2; patch: u, v), which an alpha
+                                  texture reads (emitter_alpha_at) */
+    float b1, b2;
 } EmitterSample;
 
 typedef enum {
@@ -1725,6 +1730,11 @@ float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n);
    "float alpha" clamped to [0, 1] (a hit found by a ray counts with that
    probability, bvh.c ALPHA), 1 for every other emitter. */
 float emitter_alpha(const Scene *s, int e);
+/* The same at the point es that emitter e's sampler drew from ref (light_sample,
+   emitter_sample): a "texture alpha" evaluated there, clamped to [0, 1], so that NEE
+   weighs the radiance by the probability alpha(x) with which a ray finds x (bvh.c
+   ALPHA); emitter_alpha without a texture. */
+float emitter_alpha_at(const Scene *s, int e, Vec3 ref, const EmitterSample *es);
 
 /* Infinite lights (infinite.c).  dir: unit world direction towards the light (the
    direction of a ray that escapes).  Radiance and solid-angle pdf of inf_sample.
