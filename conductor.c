@@ -53,6 +53,7 @@
    (conductor_from_params does the same for a constant r). */
 static float conductor_F(const Material *m, const MatPoint *mp, int j, float c, float lambda_nm)
 {
+    if (mp->has_ek) return fresnel_conductor(c, mp->eta[j], mp->k[j]);   /* textured */
     if (mp->has_r) {
         double r = mp->r[j] < 0.9999f ? mp->r[j] : 0.9999;
         return fresnel_conductor(c, 1.0f, conductor_k_of_reflectance(r));
@@ -201,6 +202,59 @@ int conductor_eta_k(Parser *P, ParamList *pl, const char *file, int line,
            check_spectrum_above(P, pk, file, line, wk, k, 0.0f, 0);
 }
 
+/* Whether spectrum texture t (and the textures it reads) means what pbrt-v4's
+   unbounded version of it means: specnee's spectrum textures are pbrt-v4's albedo
+   ones, the same numbers for spectra, constants and grey RGB; an imagemap or a
+   marble (texels fitted as reflectances, clamped to [0, 1]) or a non-grey "rgb"
+   argument (RGBAlbedoSpectrum where pbrt-v4 reads RGBUnboundedSpectrum) differs.
+   Returns the first one that differs, or -1. */
+static int texture_not_unbounded(const Scene *s, int t)
+{
+    const Texture *T = &s->textures[t];
+    int a;
+    if (T->is_float) return -1;
+    if (T->type == TEX_IMAGEMAP || T->type == TEX_MARBLE || T->rgb_arg) return t;
+    for (a = 0; a < TEX_ARGS; a++)
+        if (T->arg_tex[a] >= 0 && T->arg_tex[a] < t) {
+            int b = texture_not_unbounded(s, T->arg_tex[a]);
+            if (b >= 0) return b;
+        }
+    return -1;
+}
+
+/* "texture eta" and "texture k" (prefix "conductor." for coatedconductor): spectrum
+   textures read at each hit as unbounded spectra (pbrt-v4's GetSpectrumTextureOrNull
+   with SpectrumType::Unbounded), into x->eta_tex, x->k_tex; the other of the two,
+   when not textured, keeps its spectrum (Cu's by default). */
+int conductor_eta_k_textures(Parser *P, ParamList *pl, const char *prefix, const char *what,
+                             MaterialSpectra *x)
+{
+    static const char *const names[2] = { "eta", "k" };
+    int i;
+    for (i = 0; i < 2; i++) {
+        char nm[32];
+        Param *pt;
+        int t, bad;
+        snprintf(nm, sizeof nm, "%s%s", prefix, names[i]);
+        pt = param_find(pl, PT_TEXTURE, nm);
+        if (!pt) continue;
+        if (find_spectrum_param(pl, nm))
+            return fail(P, pt->file, pt->line, "%s: give either a spectrum or a texture "
+                        "\"%s\", not both", what, nm);
+        t = texture_lookup(P, pt, 0);
+        if (t < 0) return 0;
+        bad = texture_not_unbounded(P->s, t);
+        if (bad >= 0)
+            return fail(P, pt->file, pt->line, "%s: \"texture %s\" reads a texture of RGB "
+                        "reflectances (%s:%d: an imagemap, a marble or a non-grey \"rgb\"), "
+                        "which pbrt-v4 reads as unbounded spectra here: valid pbrt-v4 but "
+                        "not in the specnee subset (give spectra or grey values)", what, nm,
+                        P->s->textures[bad].file, P->s->textures[bad].line);
+        if (i == 0) x->eta_tex = t + 1; else x->k_tex = t + 1;
+    }
+    return 1;
+}
+
 /* pbrt-v4 ConductorMaterial: eta and k, or a reflectance that
    stands for them; Cu by default */
 int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
@@ -209,6 +263,7 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
     Param *pe = find_spectrum_param(pl, "eta"), *pk = find_spectrum_param(pl, "k");
     Param *pr = find_spectrum_param(pl, "reflectance");
     Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
+    int ek_tex = (param_find(pl, PT_TEXTURE, "eta") != NULL) + (param_find(pl, PT_TEXTURE, "k") != NULL);
     Spectrum n;                     /* eta, shared once built (material_set_eta) */
     (void)dir;
     spec_const(&n, 1.0f);
@@ -219,12 +274,12 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
         return 0;
     if (!bump_from_params(P, pl, what, m) ||
         !params_check_unused(P, pl, what, "spectrum eta, spectrum k, rgb eta, rgb k, "
-                             "spectrum reflectance, rgb reflectance, texture reflectance, float roughness, "
+                             "texture eta, texture k, spectrum reflectance, rgb reflectance, texture reflectance, float roughness, "
                              "float uroughness, float vroughness, texture roughness, "
                              "texture uroughness, texture vroughness, bool remaproughness",
                              NULL))
         return 0;
-    if ((pr || pt) && (pe || pk))
+    if ((pr || pt) && (pe || pk || ek_tex))
         return fail(P, file, line, "%s: give either \"reflectance\" or \"eta\" and \"k\", "
                     "not both (pbrt-v4 refuses it too)", what);
     if (pt) {
@@ -238,7 +293,9 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
     } else if (pr) {
         if (!conductor_reflectance_param(P, pr, &m->reflectance, &n, &m->extra->k)) return 0;
     } else {
-        if (!conductor_eta_k(P, pl, file, line, "", &n, &m->extra->k)) return 0;
+        if (!conductor_eta_k_textures(P, pl, "", what, m->extra) ||
+            !conductor_eta_k(P, pl, file, line, "", &n, &m->extra->k))
+            return 0;
     }
     if (!material_set_eta(P, m, &n, file, line)) return 0;
     if (m->alpha != m->alpha_t)

@@ -89,9 +89,8 @@
    (pbrt-v4 makes an unknown type a cylinder after an error message), negative
    widths, splitdepth outside [0, 12], opposite ribbon normals at a segment's ends
    (no turn between them).  "N" on a flat or cylinder curve is read and ignored, as
-   pbrt-v4 does (it warns).  pbrt-v4 samples point and area lights from the hit
-   moved by its error box towards the viewer; specnee from the hit itself
-   (docs/conventions.md §6: about a width's change of distance and angle). */
+   pbrt-v4 does (it warns).  Lights are sampled from the hit moved past its error
+   box to the viewer's side, as pbrt-v4's SampleLd does (path.c light_origin). */
 #include "specnee.h"
 #include "parser.h"
 #include <float.h>

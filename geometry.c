@@ -623,9 +623,9 @@ static int loopsubdiv_shape(Parser *P, ParamList *pl, const char *file, int line
 }
 
 /* pbrt-v4's "alpha" of every shape: "texture alpha" (a float texture) or "float
-   alpha" (1).  A texture on an AreaLightSource shape is refused: its emission would
-   need the texture at the points NEE samples.  Sets P->shape_alpha(_tex). */
-static int shape_alpha(Parser *P, ParamList *pl, const char *type)
+   alpha" (1); on an AreaLightSource shape NEE reads the texture at the points it
+   samples (lights.c emitter_alpha_at).  Sets P->shape_alpha(_tex). */
+static int shape_alpha(Parser *P, ParamList *pl)
 {
     Param *pt = param_find(pl, PT_TEXTURE, "alpha");
     P->shape_alpha = 1.0f;
@@ -633,10 +633,6 @@ static int shape_alpha(Parser *P, ParamList *pl, const char *type)
     if (pt) {
         int k = texture_lookup(P, pt, 1);
         if (k < 0) return 0;
-        if (P->gs.area_light >= 0)
-            return fail(P, pt->file, pt->line, "Shape \"%s\": \"texture alpha\" on an "
-                        "AreaLightSource shape is valid pbrt-v4 but not in the specnee subset "
-                        "(a \"float alpha\" is)", type);
         P->shape_alpha_tex = k + 1;
         return 1;
     }
@@ -683,7 +679,7 @@ int shape_directive(Parser *P, const char *type, ParamList *pl, const char *file
 {
     Scene before = *P->s;
     int ok;
-    if (!shape_alpha(P, pl, type)) return 0;
+    if (!shape_alpha(P, pl)) return 0;
     ok = shape_build(P, type, pl, file, line);
     if (ok && P->shape_alpha_tex == 0 && P->shape_alpha <= 0.0f) return shape_drop(P, &before);
     return ok;

@@ -315,6 +315,9 @@ static void layer_init(const Material *m, const MatPoint *mp, const float *lambd
             if (mp && mp->has_r) {
                 double r = mp->r[j] < 0.9999f ? mp->r[j] : 0.9999;
                 L->base.ck[j] = conductor_k_of_reflectance(r);
+            } else if (mp && mp->has_ek) {                   /* textured (mat_point) */
+                L->base.ce[j] = mp->eta[j];
+                L->base.ck[j] = mp->k[j];
             } else {
                 L->base.ce[j] = spec_eval(&m->extra->cond_eta, lambda[j]);
                 L->base.ck[j] = spec_eval(&m->extra->k, lambda[j]);
@@ -741,6 +744,7 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
     Param *pe = find_spectrum_param(pl, "conductor.eta"), *pk = find_spectrum_param(pl, "conductor.k");
     Param *pr = find_spectrum_param(pl, "reflectance"), *pa = find_spectrum_param(pl, "albedo");
     Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
+    int ek_tex = (param_find(pl, PT_TEXTURE, "conductor.eta") != NULL) + (param_find(pl, PT_TEXTURE, "conductor.k") != NULL);
     Param *pie = find_spectrum_param(pl, "interface.eta");
     Param *pf = param_find(pl, PT_FLOAT, "interface.eta");
     Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
@@ -769,6 +773,7 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
                              "texture interface.roughness, texture interface.uroughness, "
                              "texture interface.vroughness, spectrum conductor.eta, "
                              "spectrum conductor.k, rgb conductor.eta, rgb conductor.k, "
+                             "texture conductor.eta, texture conductor.k, "
                              "spectrum reflectance, rgb reflectance, "
                              "texture reflectance, float conductor.roughness, "
                              "float conductor.uroughness, float conductor.vroughness, "
@@ -781,7 +786,7 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
         return fail(P, file, line, "%s: anisotropic roughness (interface u %g v %g, conductor "
                     "u %g v %g after the remap) is valid pbrt-v4 but not in the specnee subset",
                     what, m->alpha, m->alpha_t, m->cond_alpha, cat);
-    if ((pr || pt) && (pe || pk))
+    if ((pr || pt) && (pe || pk || ek_tex))
         return fail(P, file, line, "%s: give either \"reflectance\" or \"conductor.eta\" and "
                     "\"conductor.k\", not both (pbrt-v4 refuses it too)", what);
     if (!(eta > 0.0f && eta < 100.0f))
@@ -807,7 +812,9 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
                                          &m->extra->k))
             return 0;
     } else {
-        if (!conductor_eta_k(P, pl, file, line, "conductor.", &m->extra->cond_eta, &m->extra->k)) return 0;
+        if (!conductor_eta_k_textures(P, pl, "conductor.", what, m->extra) ||
+            !conductor_eta_k(P, pl, file, line, "conductor.", &m->extra->cond_eta, &m->extra->k))
+            return 0;
     }
     return 1;
 }

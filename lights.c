@@ -365,6 +365,9 @@ static void point_on_triangle(const Scene *s, int tri, Vec3 ref, float u1, float
     scene_surface_point(s, &dummy, &h, &sp);
     out->p = sp.p;
     out->n = sp.ng;
+    out->prim = tri;
+    out->b1 = h.b1;
+    out->b2 = h.b2;
 }
 
 /* A point on a mesh by area: a triangle (the first of tri_count whose cdf entry
@@ -405,6 +408,9 @@ static int sample_patch_mesh(const Scene *s, const Emitter *em, const Shape *sh,
         patch_surface_point(s, sh, pa->v, u, v, &dummy, &sp);
         out->p = sp.p;
         out->n = sp.ng;
+        out->prim = s->n_tris + s->n_spheres + s->n_quadrics + sh->patch_begin + lo - sh->tri_count;
+        out->b1 = u;
+        out->b2 = v;
     }
     return finish_sample(ref, em->area, out);
 }
@@ -510,6 +516,41 @@ float emitter_alpha(const Scene *s, int e)
     if (em->inf || em->delta.type != DELTA_NONE || em->shape < 0) return 1.0f;
     a = s->shapes[em->shape].alpha;
     return a < 1.0f ? (a > 0.0f ? a : 0.0f) : 1.0f;
+}
+
+/* A sphere's or quadric's primitive number (bvh.c's: triangles, spheres, quadrics,
+   patches, curve pieces), -1 for the other shapes. */
+static int quadric_prim(const Scene *s, int shape)
+{
+    int i;
+    for (i = 0; i < s->n_spheres; i++)
+        if (s->sphere_shape[i] == shape) return s->n_tris + i;
+    for (i = 0; i < s->n_quadrics; i++)
+        if (s->quadric_shape[i] == shape) return s->n_tris + s->n_spheres + i;
+    return -1;
+}
+
+/* The sampled point as a hit of the ray from ref along es->wi at es->dist, on the
+   primitive its sampler recorded (a sphere or quadric: the shape's own), so that
+   the texture reads the (u, v) a ray finding it would have. */
+float emitter_alpha_at(const Scene *s, int e, Vec3 ref, const EmitterSample *es)
+{
+    const Emitter *em = &s->emitters[e];
+    const Shape *sh;
+    HitRecord h;
+    Ray r;
+    SurfacePoint sp;
+    float a;
+    if (em->inf || em->delta.type != DELTA_NONE || em->shape < 0) return 1.0f;
+    sh = &s->shapes[em->shape];
+    if (sh->alpha_tex <= 0) return emitter_alpha(s, e);
+    h.prim = sh->type == SHAPE_SPHERE || shape_is_quadric(sh->type) ? quadric_prim(s, em->shape) : es->prim;
+    if (h.prim < 0) return 1.0f;
+    h.t = es->dist; h.b1 = es->b1; h.b2 = es->b2; h.inst = -1;
+    r.o = ref; r.d = es->wi; r.tmax = es->dist;
+    scene_surface_point(s, &r, &h, &sp);
+    a = tex_eval(s->textures, sh->alpha_tex - 1, &sp, 550.0f);
+    return a >= 1.0f ? 1.0f : (a > 0.0f ? a : 0.0f);                       /* NaN: 0 */
 }
 
 static float pdf_sa_area(double area, Vec3 ref, Vec3 p, Vec3 n)

@@ -75,6 +75,7 @@ int mat_reads_uv(const Material *m)
 {
     int sss_tex = m->sss && (m->sss->tex[SSS_TEX_SIGMA_A] || m->sss->tex[SSS_TEX_SIGMA_S] ||
                              m->sss->tex[SSS_TEX_MFP]);
+    if (m->extra && (m->extra->eta_tex > 0 || m->extra->k_tex > 0)) return 1;   /* conductors */
     return m->reflectance_tex > 0 || m->alpha_tex > 0 || m->cond_alpha_tex > 0 || sss_tex ||
            m->type == MAT_MIX || m->bump || (m->extra && m->extra->transmittance_tex > 0);
 }
@@ -110,6 +111,27 @@ int mat_choose(const Material *materials, int mi, const SurfacePoint *sp, Vec3 w
     return mi;
 }
 
+/* A conductor's textured eta or k (coatedconductor: its base's) at the point, at
+   each alive wavelength; the one not textured is the material's spectrum.  pbrt-v4
+   reads them unbounded and unclamped; specnee keeps k >= 0 and eta >= 1e-3 (NaN:
+   those bounds), where the Fresnel equations of a complex index stay finite. */
+static void mat_point_ek(const Material *m, const SurfacePoint *sp, const float *lambda,
+                         unsigned alive, MatPoint *mp)
+{
+    const Spectrum *n = m->type == MAT_COATED_CONDUCTOR ? &m->extra->cond_eta : m->eta;
+    int j, te = m->extra->eta_tex, tk = m->extra->k_tex;
+    mp->has_ek = 1;
+    for (j = 0; j < HERO_N; j++) {
+        float e = 1.0f, k = 0.0f;
+        if (alive & (1u << j)) {
+            e = te > 0 ? tex_eval(m->textures, te - 1, sp, lambda[j]) : spec_eval(n, lambda[j]);
+            k = tk > 0 ? tex_eval(m->textures, tk - 1, sp, lambda[j]) : spec_eval(&m->extra->k, lambda[j]);
+        }
+        mp->eta[j] = e >= 1e-3f ? e : 1e-3f;
+        mp->k[j] = k > 0.0f ? k : 0.0f;
+    }
+}
+
 void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, unsigned alive,
                MatPoint *mp)
 {
@@ -118,6 +140,7 @@ void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, u
     mp->alpha_t = m->alpha_t;
     mp->has_r = 0;
     mp->cond_alpha = m->cond_alpha;
+    mp->has_ek = 0;
     if (!m->textures) return;
     if (m->alpha_tex > 0) {
         /* pbrt-v4: the roughness texture's value, then RoughnessToAlpha (sqrt) when
@@ -140,6 +163,7 @@ void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, u
             mp->r[j] = r > 0.0f ? (r < 1.0f ? r : 1.0f) : 0.0f;            /* NaN: 0 */
         }
     }
+    if (m->extra && (m->extra->eta_tex > 0 || m->extra->k_tex > 0)) mat_point_ek(m, sp, lambda, alive, mp);
 }
 
 void material_release(Material *m)

@@ -350,6 +350,10 @@ int conductor_reflectance_param(Parser *P, Param *pr, Spectrum *refl, Spectrum *
    Cu's when absent: pbrt-v4's meaning over 360-830 nm, continued below (conductor.c). */
 int conductor_eta_k(Parser *P, ParamList *pl, const char *file, int line,
                     const char *prefix, Spectrum *eta, Spectrum *k);
+/* Their "texture eta" and "texture k" (same prefixes): x->eta_tex, x->k_tex, or 0;
+   a texture of RGB reflectances, which pbrt-v4 would read otherwise, is refused. */
+int conductor_eta_k_textures(Parser *P, ParamList *pl, const char *prefix, const char *what,
+                             MaterialSpectra *x);
 int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
                           const char *dir, const char *what, Material *m);
 /* layered.c: */

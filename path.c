@@ -213,6 +213,24 @@ static void vertex_ctx(const Renderer *R, const PathState *path, Vec3 p, Vec3 n,
     ctx->shifted = path->shifted;
 }
 
+/* The point lights are sampled from at a surface hit: pbrt-v4's SampleLd nudges its
+   LightSampleContext past the hit's error bound, |ng| . err along ng, to wo's side
+   when the BSDF only reflects, to the other side when it only transmits, and not
+   when it does both.  Only a curve hit has a bound worth it (SurfacePoint.err,
+   about a width; 0 elsewhere, where pbrt-v4's float-sized bound moves nothing). */
+static Vec3 light_origin(const Material *m, const SurfacePoint *sp, Vec3 wo)
+{
+    const float d = fabsf(sp->ng.x) * sp->err.x + fabsf(sp->ng.y) * sp->err.y + fabsf(sp->ng.z) * sp->err.z;
+    float side = 1.0f;                               /* the others only reflect */
+    if (!(d > 0.0f) || m->type == MAT_DIELECTRIC || m->type == MAT_THIN_DIELECTRIC) return sp->p;
+    if (m->type == MAT_DIFFUSE_TRANSMISSION) {
+        if (m->p_reflect > 0.0f && m->p_reflect < 1.0f) return sp->p;        /* R and T */
+        if (!(m->p_reflect > 0.0f)) side = -1.0f;                            /* T only */
+    }
+    side *= v3_dot(sp->ng, wo) < 0.0f ? -d : d;
+    return v3_add(sp->p, v3_mul(sp->ng, side));
+}
+
 /* Remember the vertex at p that sampled the next direction with the densities
    q_bsdf (one per wavelength), before its lanes are updated. */
 static void prev_set(PathState *path, int can_nee, const LightCtx *ctx, Vec3 p, const float *q_bsdf)
@@ -512,11 +530,12 @@ static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const Pa
     int em = light_piece_emitter(R->ls, piece), any = 0, j;
     EmitterSample es;
     double value[HERO_N], den, T[HERO_N] = { 1.0, 1.0, 1.0, 1.0 }, A[HERO_N] = { 1.0, 1.0, 1.0, 1.0 };
-    const float alpha = emitter_alpha(s, em);      /* a shape's "alpha" (lights.c) */
+    float alpha;                                   /* a shape's "alpha" at es (lights.c) */
     if (!light_sample(R->ls, piece, v->p, u[0], u[1], u[2], &es)) {
         if (dbg) fprintf(dbg, "  NEE: no usable point on emitter %d (seen edge-on or at distance 0)\n", em);
         return none;
     }
+    alpha = emitter_alpha_at(s, em, v->p, &es);
     for (j = 0; j < HERO_N; j++) {
         value[j] = 0.0;
         if (path->alive & (1u << j))
@@ -1012,7 +1031,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     const Scene *s = R->s;
     const RenderOptions *o = R->o;
     const Shape *shape = &s->shapes[sp->shape];
-    Vec3 dir = v3_norm(ray->d), wo = v3_neg(dir);
+    Vec3 dir = v3_norm(ray->d), wo = v3_neg(dir), lp;
     int mi = mat_choose(s->materials, shape->material, sp, wo);   /* a mix: one of its two */
     const Material *mat = &s->materials[mi];
     Material reg;
@@ -1046,13 +1065,15 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     if (mat->type == MAT_FLUORESCENT && !(mat = fluor_vertex(tr, depth, mat, mi, path)))
         return 0;
 
-    /* 4. Next event estimation: choose an emitter, sample a point on it */
-    vertex_ctx(R, path, sp->p, sp->ns, &ctx);
+    /* 4. Next event estimation: choose an emitter, sample a point on it, from
+          light_origin (the hit, or pbrt-v4's nudge of a curve hit) */
+    lp = light_origin(mat, sp, wo);
+    vertex_ctx(R, path, lp, sp->ns, &ctx);
     if (o->nee && !mat_is_delta(mat) && s->n_emitters > 0) {
         Scatter v;
         v.mat = mat;
         v.sp = sp;
-        v.p = sp->p;
+        v.p = lp;
         v.wo = wo;
         v.g = 0.0f;
         v.medium = path->medium;
@@ -1066,7 +1087,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     u0 = sampler_1d(tr->ps, dim_bounce(depth, BD_LOBE));
     sampler_2d(tr->ps, dim_bounce(depth, BD_DIR), &u1, &u2);
     if (!bsdf_sample(mat, sp, wo, path->lam, path->alive, u0, u1, u2, &bs)) return 0;
-    prev_set(path, o->nee && !bs.delta && s->n_emitters > 0, &ctx, sp->p, bs.pdf_l);
+    prev_set(path, o->nee && !bs.delta && s->n_emitters > 0, &ctx, lp, bs.pdf_l);
     if (!bs.delta) path->any_nonspec = 1;
     cos_i = fabsf(v3_dot(bs.wi, sp->ns));
     for (j = 0; j < HERO_N; j++) {

@@ -796,6 +796,10 @@ typedef struct {
                                   index (0: the spectrum above) */
     float dt_scale;            /* diffusetransmission: "scale", applied to textured R, T
                                   at the point (the spectra above hold it already) */
+    int eta_tex, k_tex;        /* conductor: "texture eta", "texture k"; coatedconductor:
+                                  "texture conductor.eta", "texture conductor.k": 1 + a
+                                  spectrum texture's index, read through mat_point (0: the
+                                  spectrum, Material.eta or cond_eta, and k) */
 } MaterialSpectra;
 typedef struct {
     MaterialType type;
@@ -947,6 +951,9 @@ typedef struct Texture {
     int w, h;
     float *texel;
     TexWrap wrap;
+    int rgb_arg;               /* a spectrum argument was an "rgb" that is not grey: held
+                                  as a reflectance (RGBAlbedoSpectrum), which an unbounded
+                                  use (a conductor's eta, k) would read otherwise */
     const char *file; int line;
 } Texture;
 /* Texture t of the table tex at the surface point (lambda ignored by float textures). */
@@ -1001,13 +1008,17 @@ int   mat_is_delta(const Material *m);
    other types, which pbrt-v4 leaves as they are. */
 int   mat_regularized(const Material *m, Material *out);
 /* A conductor's, coateddiffuse's or coatedconductor's texture-valued parameters at one surface point
-   (pbrt-v4 evaluates them in GetBxDF): the alphas, and when has_r the reflectance at
-   the path's wavelengths, clamped to [0, 1]; without textures the Material's own. */
+   (pbrt-v4 evaluates them in GetBxDF): the alphas, when has_r the reflectance at
+   the path's wavelengths, clamped to [0, 1], when has_ek a conductor's eta and k
+   there (unbounded: k >= 0, eta >= 1e-3); without textures the Material's own. */
 typedef struct {
     float alpha, alpha_t;
     int has_r;
     float r[HERO_N];
     float cond_alpha;          /* coatedconductor: the base's alpha */
+    int has_ek;                /* a textured eta or k: the conductor's (coatedconductor:
+                                  the base's, in vacuum) n and k at the path's wavelengths */
+    float eta[HERO_N], k[HERO_N];
 } MatPoint;
 void  mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, unsigned alive,
                 MatPoint *mp);
@@ -1499,6 +1510,11 @@ typedef struct {
                                   every kind of emitter */
     int delta;                 /* 1: a delta light's sample (no BSDF direction can
                                   find it: its MIS weight against BSDF sampling is 1) */
+    int prim;                  /* a mesh's or bilinear patch's sample: its primitive
+                                  (bvh.c's numbering) and parameters there (triangle:
+                                  barycentrics b1, b2; patch: u, v), which an alpha
+                                  texture reads (emitter_alpha_at) */
+    float b1, b2;
 } EmitterSample;
 
 typedef enum {
@@ -1887,6 +1903,11 @@ float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n);
    "float alpha" clamped to [0, 1] (a hit found by a ray counts with that
    probability, bvh.c ALPHA), 1 for every other emitter. */
 float emitter_alpha(const Scene *s, int e);
+/* The same at the point es that emitter e's sampler drew from ref (light_sample,
+   emitter_sample): a "texture alpha" evaluated there, clamped to [0, 1], so that NEE
+   weighs the radiance by the probability alpha(x) with which a ray finds x (bvh.c
+   ALPHA); emitter_alpha without a texture. */
+float emitter_alpha_at(const Scene *s, int e, Vec3 ref, const EmitterSample *es);
 
 /* Infinite lights (infinite.c).  dir: unit world direction towards the light (the
    direction of a ray that escapes).  Radiance and solid-angle pdf of inf_sample.

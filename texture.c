@@ -537,6 +537,8 @@ static int texture_arg(Parser *P, ParamList *pl, Texture *T, int k, const char *
     } else {
         Param *p = find_spectrum_param(pl, name);
         if (!p) { spec_const(&T->arg_s[k], def); return 1; }
+        if (p->type == PT_RGB && p->n_num == 3 && (p->num[0] != p->num[1] || p->num[1] != p->num[2]))
+            T->rgb_arg = 1;
         return param_spectrum(P, p, SPEC_ALBEDO, &T->arg_s[k], NULL);
     }
 }
