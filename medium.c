@@ -45,9 +45,10 @@
    MakeNamedMedium.  A majorant grid of MAJORANT_RES^3 cells holds each cell's
    largest reachable sample d_max, so sigma_bar(lambda) = d_max sigma_t(lambda)
    bounds sigma_t(x, lambda) in the cell.  medium_track walks a ray through the
-   cells with a 3-D DDA and draws tentative collisions at the hero's majorant
-       t = t_cell - ln(1 - u) / sigma_bar_0     (a fresh u in each cell),
-   handing each to the caller (path.c decides real or null and weights the lanes,
+   cells with a 3-D DDA and draws tentative collisions at the hero's majorant:
+   an optical depth tau = -ln(1 - u) (at the previous collision: a fresh u) is
+   spent cell by cell, sigma_bar_0 per unit length, and the collision lies where
+   it runs out, t = t_cell + tau_left / sigma_bar_0 (THEORY §13), handing each to the caller (path.c decides real or null and weights the lanes,
    THEORY (21)-(25)) with the ratios Tbar_j / Tbar_0 = exp(-(sigma_bar_j -
    sigma_bar_0) t) since the previous one.  The emission there is sigma_a Le times
    the Lescale grid, or a blackbody of the temperature grid (medium_point).
@@ -541,7 +542,7 @@ static double maj_ratio(double ds, double dt)
 int medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigned alive,
                  float u, Rng *rng, MediumEventFn fn, void *ctx, double tm_end[HERO_N])
 {
-    double len = v3_len(ray.d), go[3], gd[3], t, t1, st[HERO_N];
+    double len = v3_len(ray.d), go[3], gd[3], t, t1, st[HERO_N], tau;
     Vec3 dn = v3_mul(ray.d, 1.0f / (float)len), o = xf_point(&m->medium_from_world, ray.o),
          dm = xf_vector(&m->medium_from_world, dn);
     const float oo[3] = { o.x, o.y, o.z }, dd[3] = { dm.x, dm.y, dm.z },
@@ -562,15 +563,19 @@ int medium_track(const Medium *m, Ray ray, float tmax, const float *lam, unsigne
     }
     if (!(len > 0.0) || !cube_overlap(go, gd, (double)tmax * len, &t, &t1)) return 0;
     dda_start(&w, m->maj_res, go, gd, t);
+    tau = -log1p(-(double)u);
     while (inside && t < t1) {
         double t_exit, dmax = m->majorant[((size_t)w.cell[2] * w.res + w.cell[1]) * w.res + w.cell[0]];
         inside = dda_step(&w, &t_exit);
         if (t_exit > t1 || !inside) t_exit = t1;
         for (j = 0; j < HERO_N; j++) ev.smaj[j] = st[j] * dmax;
         while (ev.smaj[0] > 0.0) {          /* tentative collisions at the hero's majorant */
-            double tc = t - log1p(-(double)u) / ev.smaj[0];
-            u = rng_float(rng);
-            if (!(tc < t_exit)) break;
+            double tc = t + tau / ev.smaj[0];
+            if (!(tc < t_exit)) {           /* the cell's optical depth spent: carry the rest */
+                tau = fmax(0.0, tau - ev.smaj[0] * (t_exit - t));
+                break;
+            }
+            tau = -log1p(-(double)rng_float(rng));
             if (++events > MEDIUM_MAX_EVENTS || !isfinite(ev.smaj[0])) {
                 for (j = 0; j < HERO_N; j++) tm_end[j] = 0.0;    /* opaque: nothing passes */
                 return 0;

@@ -1375,7 +1375,8 @@ void  medium_free(Medium *m);                              /* its grids */
 /* Delta tracking (medium.c, THEORY §14).  medium_track walks the ray o + t d
    (d unit) from t = 0 to tmax through the majorant cells of medium m and draws
    tentative collisions at the hero's majorant sigma_bar_0 (the first distance
-   from u, later ones from rng).  At each it calls fn(ctx, ev): fn returns 0 to
+   from u, the one after each collision from rng; the optical depth left at a
+   cell's end carries into the next).  At each it calls fn(ctx, ev): fn returns 0 to
    stop there (a real collision), 1 to go on (a null one).  Returns 1 when fn
    stopped it, 0 when the ray reached tmax with tm_end[j] = Tbar_j / Tbar_0 of the
    stretch after the last tentative collision. */

@@ -471,6 +471,62 @@ static void test_flight_chi2(T *t)
     CHECK_CHI2(t, obs, ex, 21, 1, NULL, "delta tracking's collision distances");
 }
 
+typedef struct { float t[64]; int n; } TrackLog;
+
+static int log_fn(void *ctx, const MediumEvent *ev)
+{
+    TrackLog *c = (TrackLog *)ctx;
+    if (c->n < 64) c->t[c->n] = ev->t;
+    c->n++;
+    return 1;
+}
+
+/* A cloud's majorant is 1 in each of its 16^3 cells: free flight carries the
+   optical depth left at a cell's end into the next (THEORY section 13), so the
+   tentative collisions along a diagonal through the cells lie where a single
+   cell of majorant sigma_t would put them, t_k = (tau_0 + ... + tau_k) / sigma_t
+   with tau_0 = -ln(1 - u) and each later tau_i = -ln(1 - rng) drawn at a
+   collision; a fresh number in each cell the ray enters puts them elsewhere. */
+static void test_track_carries_depth(T *t)
+{
+    static const char text[] =
+        "WorldBegin\n"
+        "MakeNamedMedium \"c\" \"string type\" \"cloud\" \"rgb sigma_a\" [ 0.5 0.5 0.5 ] "
+        "\"rgb sigma_s\" [ 1 1 1 ]\n";
+    const float lam[HERO_N] = { 550.0f, 450.0f, 500.0f, 650.0f };
+    Scene s;
+    Rng rng, copy;
+    Ray ray;
+    double st, tm[HERO_N], worst = 0.0;
+    int i, k, bad = 0, events = 0;
+    if (!test_load_scene(t, &s, text)) return;
+    st = medium_sigma_t(&s.media[0], lam[0]);
+    ray.o = v3(0.02f, 0.03f, 0.01f);
+    ray.d = v3_norm(v3(1.0f, 0.9f, 1.1f));
+    rng_seed(&rng, 39, 0);
+    for (i = 0; i < 3000; i++) {
+        TrackLog c;
+        float u = rng_float(&rng);
+        double tau = -log1p(-(double)u);
+        c.n = 0;
+        copy = rng;
+        medium_track(&s.media[0], ray, 4.0f, lam, 0xFu, u, &rng, log_fn, &c, tm);
+        for (k = 0; k < c.n && k < 64; k++) {
+            double want = tau / st, err = fabs(c.t[k] - want);
+            if (err > worst) worst = err;
+            if (err > 1e-5 && bad++ < 3)
+                CHECK(t, 0, "track %d: collision %d at %.7g, expected %.7g", i, k, c.t[k], want);
+            tau += -log1p(-(double)rng_float(&copy));
+        }
+        if (c.n < 64 && tau / st < 1.55 && bad++ < 3)   /* the ray leaves the cube at 1.564 */
+            CHECK(t, 0, "track %d: no collision at %.7g", i, tau / st);
+        events += c.n;
+    }
+    CHECK(t, bad == 0, "%d collisions off the single-cell stream (worst %.3g)", bad, worst);
+    CHECK(t, events > 3000, "only %d collisions", events);
+    scene_free(&s);
+}
+
 /* ratio tracking's Tr_j (every lane from the hero's collisions) and delta
    tracking's pass fraction (the hero) against exp(-sigma_t(lambda_j) tau) */
 static void test_ratio_vs_delta(T *t)
@@ -1179,6 +1235,7 @@ const TestCase tests_grid[] = {
     { "grid_format", test_format },
     { "grid_bad_input", test_bad_input },
     { "grid_flight_chi2", test_flight_chi2 },
+    { "grid_track_carries_depth", test_track_carries_depth },
     { "grid_ratio_vs_delta", test_ratio_vs_delta },
     { "grid_ramp_transmittance", test_ramp },
     { "grid_checker_transmittance", test_checker },
