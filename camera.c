@@ -11,7 +11,9 @@
    (docs/conventions.md).  With "lensradius" > 0 the camera is a thin lens focused
    at "focaldistance" (camera_ray says how); otherwise a pinhole.  Every call is a
    pure function of its arguments: the numbers for the lens come from the caller's
-   sampler (render.c asks for them only when there is a lens). */
+   sampler (render.c asks for them only when there is a lens), and the time
+   (render.c draws it only when something moves, motion.c): a moving camera's
+   world_from_camera is its motion at that time. */
 #include "render.h"
 #include <string.h>
 
@@ -30,6 +32,13 @@ void camera_init(Camera *c, const SceneSettings *st)
     c->h = st->yres;
     c->lens_radius = st->lens_radius;
     c->focal_distance = st->focal_distance;
+    c->moving = xf_differ(&st->camera_from_world, &st->camera_from_world_end);
+    if (c->moving) {   /* pbrt-v4: world_from_camera's two ends, interpolated (motion.c) */
+        Xform w1;
+        memcpy(w1.m, st->camera_from_world_end.inv, sizeof w1.m);
+        memcpy(w1.inv, st->camera_from_world_end.m, sizeof w1.inv);
+        c->moving = motion_init(&c->motion, &c->world_from_camera, st->camera_t0, &w1, st->camera_t1);
+    }
 }
 
 /* Shirley and Chiu's concentric map from the unit square to the unit disk (1997):
@@ -55,9 +64,11 @@ static void concentric_disk(float u0, float u1, float *dx, float *dy)
    a point (rho_l e_l, 0) with e_l uniform on the unit disk.  Points on that plane
    are sharp; a point at depth z spreads into a disk of radius rho_l |1/z_f - 1/z|
    in the screen's tan units (the circle of confusion; tested by render_thin_lens). */
-Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1)
+Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1, float time)
 {
     Ray r;
+    Xform tmp;
+    const Xform *wfc = &c->world_from_camera;
     float sx = c->sx0 + (x / (float)c->w) * (c->sx1 - c->sx0);
     float sy = c->sy1 - (y / (float)c->h) * (c->sy1 - c->sy0);
     Vec3 d = v3(sx * c->tan_half, sy * c->tan_half, 1.0f), o = v3(0, 0, 0);
@@ -68,8 +79,13 @@ Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1)
         o = v3(c->lens_radius * lx, c->lens_radius * ly, 0.0f);
         d = v3_sub(q, o);
     }
-    r.o = xf_point(&c->world_from_camera, o);
-    r.d = v3_norm(xf_vector(&c->world_from_camera, d));
+    if (c->moving) {                                   /* a moving camera (motion.c) */
+        motion_at(&c->motion, time, &tmp);
+        wfc = &tmp;
+    }
+    r.o = xf_point(wfc, o);
+    r.d = v3_norm(xf_vector(wfc, d));
     r.tmax = INFINITY;
+    r.time = time;
     return r;
 }

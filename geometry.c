@@ -678,13 +678,28 @@ static int shape_build(Parser *P, const char *type, ParamList *pl, const char *f
     return fail(P, file, line, "Shape \"%s\": unknown shape type", type);
 }
 
+/* A shape that moves (its two CTMs differ, motion.c): made in its own space, as
+   pbrt-v4 does, inside an unnamed object that a moving instance places. */
+static int moving_shape(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    const Xform start = P->gs.ctm;
+    int ok;
+    if (!moving_shape_object(P, type, file, line)) return 0;
+    P->gs.ctm = xf_identity();
+    ok = shape_build(P, type, pl, file, line);
+    P->gs.ctm = start;
+    P->cur_object = 0;
+    return ok;
+}
+
 /* Shape: its "alpha" first (every type reads it), then the shape itself. */
 int shape_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     Scene before = *P->s;
     int ok;
     if (!shape_alpha(P, pl, type)) return 0;
-    ok = shape_build(P, type, pl, file, line);
+    if (xf_differ(&P->gs.ctm, &P->gs.ctm_end)) ok = moving_shape(P, type, pl, file, line);
+    else ok = shape_build(P, type, pl, file, line);
     if (ok && P->shape_alpha_tex == 0 && P->shape_alpha <= 0.0f) return shape_drop(P, &before);
     return ok;
 }

@@ -20,12 +20,14 @@ typedef struct {
     float sx0, sx1, sy0, sy1;        /* screen window */
     int w, h;
     float lens_radius, focal_distance;   /* thin lens; lens_radius 0: pinhole */
+    int moving;                      /* its two CTMs differ: world_from_camera moves */
+    Motion motion;                   /* then from the start to the end (motion.c) */
 } Camera;
 
 void camera_init(Camera *c, const SceneSettings *st);
-/* Raster (x, y), y down, to a world-space ray; (ul0, ul1) pick the point on the
-   lens (unused for a pinhole). */
-Ray  camera_ray(const Camera *c, float x, float y, float ul0, float ul1);
+/* Raster (x, y), y down, to a world-space ray at `time`; (ul0, ul1) pick the
+   point on the lens (unused for a pinhole). */
+Ray  camera_ray(const Camera *c, float x, float y, float ul0, float ul1, float time);
 
 /* ------------------------------------------------------------------ render.c */
 
@@ -38,6 +40,7 @@ typedef struct {
     Camera cam;
     int *inf; int n_inf;             /* the emitters that are infinite lights */
     Sampler sampler;                 /* the numbers (sampler.c); its spp is the pass's target */
+    int moving;                      /* something moves: each sample draws its time (motion.c) */
     PixelFilter filter;              /* the pixel filter's sampler (filter.c) */
     Material white;                  /* Lambertian of albedo 1: a fluorescent vertex after a
                                         shift re-radiates like this at lambda_i

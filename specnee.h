@@ -144,6 +144,8 @@ static inline Vec3 frame_to_world(const Frame *f, Vec3 v)
 typedef struct {
     Vec3 o, d;      /* origin and direction (not necessarily unit length) */
     float tmax;     /* the ray is the segment o + t d, 0 < t < tmax */
+    float time;     /* the camera ray's time in the shutter, kept by every ray of its
+                       path (motion.c); read only where something moves */
 } Ray;
 
 /* Row-major 4x4 matrix with its inverse: points p' = M p (p as a column vector). */
@@ -198,7 +200,9 @@ double radical_inverse(int base, uint64_t i);
                              uses the bounce's BD_LIGHT..BD_POINT for NEE and
                              BD_DIR for the phase function's direction)
      so a scene without media asks for no number beyond the bounces' and the
-     fluorescent vertices'.  When the camera sits in a medium, sobol and zsobol
+     fluorescent vertices'.  A scene where something moves (motion.c) asks for
+     DIM_TIME    1-D      the camera sample's time in the shutter
+     after the lens; a static one never does.  When the camera sits in a medium, sobol and zsobol
      serve 0, 1, DIM_WAVELENGTH and dim_medium(0, 0) as ONE 4-D group (sampler.c,
      THE CAMERA GROUP).
 
@@ -222,6 +226,7 @@ static inline int dim_fluor(int depth) { return DIM_FLUOR0 + 2 * depth; }
 #define MEDIUM_SEGMENTS 64  /* @@ ray segments one bounce may cross (Material "interface"
                                boundaries of media); a path that needs more ends there */
 static inline int dim_medium(int depth, int seg) { return DIM_MEDIUM0 + MEDIUM_SEGMENTS * depth + seg; }
+#define DIM_TIME (1 << 22)
 #define SAMPLER_CHECKED_DIMS 256   /* dimensions whose reuse is counted (31 bounces) */
 
 typedef enum {
@@ -631,10 +636,35 @@ typedef struct {
     char name[64];
     Bvh bvh;                   /* over the object's primitives, in its space */
     const char *file; int line;/* its ObjectBegin */
+    int unnamed;               /* made for one moving shape (motion.c): no name */
 } Object;
+/* Motion blur (motion.c; pbrt-v4's ActiveTransform, TransformTimes and
+   AnimatedTransform).  Two transforms, at the start and end times, each taken apart
+   as M = T R S (translation, rotation as a unit quaternion, the rest); between
+   the times T and S are interpolated linearly and R by slerp, outside them the
+   nearer end is used. */
+typedef struct {
+    double t0, t1;             /* TransformTimes: start, end */
+    Xform start, end;          /* the transforms at t0 and t1 */
+    double T[2][3], q[2][4], S[2][3][3];   /* their parts; q = (w, x, y, z) */
+    double theta;              /* the angle between q[0] and q[1] (half the rotation) */
+} Motion;
+/* The motion from start (at t0) to end (at t1); 0 when an end mirrors (negative
+   determinant) or is projective: neither has a rotation to interpolate. */
+int  motion_init(Motion *m, const Xform *start, double t0, const Xform *end, double t1);
+/* The transform at time (and its inverse). */
+void motion_at(const Motion *m, double time, Xform *out);
+/* A box that holds the box [lo, hi] moved by m at every time (conservative: the
+   corners' paths sampled, widened by a bound of their curvature). */
+void motion_bounds(const Motion *m, const double lo[3], const double hi[3], double wlo[3], double whi[3]);
+/* Whether two transforms differ in any entry (pbrt-v4's "actually animated"). */
+int  xf_differ(const Xform *a, const Xform *b);
+
 typedef struct {
     int object;                /* index into Scene.objects */
-    Xform world_from_obj;      /* the CTM at ObjectInstance (inv: object from world) */
+    int motion;                /* 1 + its index into Scene.motions; 0: it stays */
+    Xform world_from_obj;      /* the CTM at ObjectInstance (inv: object from world);
+                                  a moving instance's is the transform at its time */
     float lo[3], hi[3];        /* world box of the placed object, rounded outwards */
     const char *file; int line;/* its ObjectInstance */
 } Instance;
@@ -1470,6 +1500,9 @@ typedef enum { FILTER_BOX, FILTER_GAUSSIAN, FILTER_TRIANGLE, FILTER_MITCHELL, FI
 
 typedef struct {
     Xform camera_from_world;   /* CTM at the Camera directive */
+    Xform camera_from_world_end;   /* its end transform (ActiveTransform EndTime) */
+    double camera_t0, camera_t1;   /* TransformTimes at the Camera directive */
+    float shutter_open, shutter_close; /* Camera "shutteropen", "shutterclose" */
     float fov_deg;             /* pbrt: field of view of the shorter image axis */
     int xres, yres;
     char filename[256];
@@ -1536,6 +1569,7 @@ typedef struct Scene {
     CurvePiece *curve_pieces; int n_curve_pieces;   /* ... and their pieces, the BVH's */
     Object *objects; int n_objects;      /* ObjectBegin definitions (instance.c) */
     Instance *instances; int n_instances;/* ObjectInstance placements */
+    Motion *motions; int n_motions;      /* the moving instances' transforms (motion.c) */
     int n_alpha;                         /* shapes with alpha_on (0: no alpha test at all) */
     Vec3 bmin, bmax;                     /* world bounds of all geometry */
     Bvh bvh;
