@@ -401,6 +401,15 @@ static int motion_directive(Parser *P, Lexer *L, const Token *t)
     return 1;
 }
 
+/* A light, medium or texture made under two different CTMs takes the start one,
+   as in pbrt-v4 (which warns so): a note says it. */
+static void note_start_transform(const Parser *P, const Token *t)
+{
+    if (xf_differ(&P->gs.ctm, &P->gs.ctm_end))
+        fprintf(stderr, "%s:%d: note: %s under a moving transform (ActiveTransform) takes its "
+                "start transform, as in pbrt-v4\n", t->file, t->line, t->text);
+}
+
 static int transform_directive(Parser *P, Lexer *L, const Token *t, int *handled)
 {
     const char *d = t->text;
@@ -772,7 +781,10 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     else if (!strcmp(d, "Accelerator")) ok = accelerator_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Shape")) ok = shape_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "AreaLightSource")) ok = area_light_directive(P, type, &pl, t->file, t->line);
-    else if (!strcmp(d, "LightSource")) ok = light_source_directive(P, type, &pl, t->file, t->line);
+    else if (!strcmp(d, "LightSource")) {
+        note_start_transform(P, t);
+        ok = light_source_directive(P, type, &pl, t->file, t->line);
+    }
     else if (!strcmp(d, "Material")) {
         Material m;
         int idx;
@@ -918,6 +930,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
         P->gs.material = -2 - i;
         return 1;
     }
+    if (!strcmp(d, "Texture") || !strcmp(d, "MakeNamedMedium")) note_start_transform(P, t);
     if (!strcmp(d, "Texture")) return texture_directive(P, L, t);
     if (!strcmp(d, "MakeNamedMedium")) return make_named_medium(P, L, t);
     if (!strcmp(d, "MediumInterface")) return medium_interface(P, L, t);

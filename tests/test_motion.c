@@ -11,6 +11,7 @@
    keep the time); a moving shape and the same shape in a moving ObjectInstance
    render the same image; a static scene with ActiveTransform All and
    TransformTimes renders bit for bit as without them (no time dimension drawn);
+   a point light under two CTMs takes the start one;
    images are identical for any thread count; pbrt-v4's images of a moving scene
    and of a moving camera, frozen; killeroo-moving's text opens; the refusals by
    message. */
@@ -64,6 +65,15 @@ static void test_motion_closed_forms(T *t)
     motion_at(&m, 0.5, &x);
     want = xf_rotate(-45, 0, 0, 1);
     CHECK(t, xf_dist(&x, &want) < 1e-12, "shorter way: off by %g", xf_dist(&x, &want));
+    /* 100 and -100 degrees about x: quaternions (cos 50, sin 50, 0, 0) and
+       (cos 50, -sin 50, 0, 0) of negative dot; 160 degrees apart the shorter way,
+       through 180 halfway (200 the other way round, through 0) */
+    a = xf_rotate(100, 1, 0, 0);
+    b = xf_rotate(-100, 1, 0, 0);
+    CHECK(t, motion_init(&m, &a, 0.0, &b, 1.0), "rotation refused");
+    motion_at(&m, 0.5, &x);
+    want = xf_rotate(180, 1, 0, 0);
+    CHECK(t, xf_dist(&x, &want) < 1e-12, "100 to -100 degrees: off by %g", xf_dist(&x, &want));
     /* scale */
     a = xf_identity();
     b = xf_scale(3, 2, 0.5);
@@ -143,23 +153,28 @@ static void test_motion_bounds_hold(T *t)
     }
 }
 
-static int render_text(T *t, const char *text, int spp, int seed, int threads, int nee, Image *im)
+static int render_opts(T *t, const char *text, const RenderOptions *o, Image *im)
 {
     Scene s;
-    RenderOptions o;
     RenderStats st;
     Error err;
     int ok;
     if (!test_load_scene(t, &s, text)) return 0;
+    ok = render(&s, o, im, &st, &err);
+    if (!ok) test_failf(t, __FILE__, __LINE__, "render: %s", err.msg);
+    scene_free(&s);
+    return ok;
+}
+
+static int render_text(T *t, const char *text, int spp, int seed, int threads, int nee, Image *im)
+{
+    RenderOptions o;
     render_options_default(&o);
     o.spp = spp;
     o.seed = seed;
     o.threads = threads;
     o.nee = nee;
-    ok = render(&s, &o, im, &st, &err);
-    if (!ok) test_failf(t, __FILE__, __LINE__, "render: %s", err.msg);
-    scene_free(&s);
-    return ok;
+    return render_opts(t, text, &o, im);
 }
 
 static double pixel_Y(const Image *im, int x, int y)
@@ -175,8 +190,8 @@ static double pixel_Y(const Image *im, int x, int y)
    (x in [-1, -0.5], [-0.5, 0], [0, 0.5], [0.5, 1]) keep 3/4, 1/2, 3/4 and 1 of
    the light, and the image 3/4 (at t = 0 alone: 0, 1, 1, 1; at t = 1/2 alone:
    1, 0, 1, 1).  The ratio to the image without the strip, same seed. */
-static const char *const WINDOW_HEAD =
-    "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\" \"float fov\" [ 90 ]\n"
+#define WINDOW_CAMERA "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\" \"float fov\" [ 90 ]"
+static const char *const WINDOW_REST =
     "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ] \"string filename\" \"w.pfm\"\n"
     "PixelFilter \"box\"\nIntegrator \"path\" \"integer maxdepth\" [ 2 ]\nWorldBegin\n"
     "AttributeBegin\nAreaLightSource \"diffuse\" \"bool twosided\" true \"rgb L\" [ 1 1 1 ]\n"
@@ -187,17 +202,18 @@ static const char *const WINDOW_STRIP =
     "ActiveTransform EndTime\nTranslate 1 0 0\nActiveTransform All\n"
     "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ -1 -5 1  -0.5 -5 1  -0.5 5 1  -1 5 1 ]\n";
 
-static void test_motion_window_coverage(T *t)
+/* The quarters' and the image's share of the light left by the strip, the scene
+   prefixed by `pre` and its Camera given `cam` (a parameter or ""). */
+static void window_shares(T *t, const char *pre, const char *cam, const double want[5])
 {
     static char buf[4096];
-    static const double want[4] = { 0.75, 0.5, 0.75, 1.0 };
     const int spp = test_scaled(256, 64);
     Image open, blur;
     double sum[2][4] = { { 0 } }, all = 0.0;
     int x, y, q;
-    snprintf(buf, sizeof buf, "%s", WINDOW_HEAD);
+    snprintf(buf, sizeof buf, "%s%s %s\n%s", pre, WINDOW_CAMERA, cam, WINDOW_REST);
     if (!render_text(t, buf, spp, 5, 2, 1, &open)) return;
-    snprintf(buf, sizeof buf, "%s%s", WINDOW_HEAD, WINDOW_STRIP);
+    snprintf(buf, sizeof buf, "%s%s %s\n%s%s", pre, WINDOW_CAMERA, cam, WINDOW_REST, WINDOW_STRIP);
     if (!render_text(t, buf, spp, 5, 2, 1, &blur)) { img_free(&open); return; }
     for (y = 0; y < 16; y++)
         for (x = 0; x < 16; x++) {
@@ -209,9 +225,24 @@ static void test_motion_window_coverage(T *t)
     for (q = 0; q < 4; q++) {
         const double r = sum[1][q] / sum[0][q];
         all += sum[1][q] / (sum[0][0] + sum[0][1] + sum[0][2] + sum[0][3]);
-        CHECK(t, fabs(r - want[q]) < 0.02, "quarter %d keeps %.4f of the light, want %.2f", q, r, want[q]);
+        CHECK(t, fabs(r - want[q]) < 0.02, "%s%s: quarter %d keeps %.4f of the light, want %.2f", pre, cam,
+              q, r, want[q]);
     }
-    CHECK(t, fabs(all - 0.75) < 0.01, "the image keeps %.4f of the light, want 0.75", all);
+    CHECK(t, fabs(all - want[4]) < 0.01, "%s%s: the image keeps %.4f of the light, want %.3f", pre, cam,
+          all, want[4]);
+}
+
+static void test_motion_window_coverage(T *t)
+{
+    static const double whole[5] = { 0.75, 0.5, 0.75, 1.0, 0.75 }, half[5] = { 0.5, 0.5, 1.0, 1.0, 0.75 };
+    window_shares(t, "", "", whole);
+    if (t->failed) return;
+    /* the strip's motion spread over twice the shutter: it slides by 1/2, x in
+       [-1 + t/2, -1/2 + t/2]; the quarters keep 1/2, 1/2, 1, 1 */
+    window_shares(t, "TransformTimes 0 2\n", "", half);
+    if (t->failed) return;
+    /* the same for the shutter closed halfway (its exposure scales both images) */
+    window_shares(t, "", "\"float shutterclose\" 0.5", half);
 }
 
 /* A sphere light over a floor, a box between them moving across the light's
@@ -302,7 +333,8 @@ static void test_motion_instance_same(T *t)
 
 /* A static scene with the motion directives that change nothing (ActiveTransform
    All, TransformTimes, the same transform given to both ends) makes no Motion and
-   draws no time: the image is bit for bit the one without them; and a moving
+   draws no time: the image is bit for bit the one without them (with the
+   independent sampler, whose stream any extra number would shift); and a moving
    scene's image is the same for 1, 2 and 3 threads. */
 static void test_motion_static_threads(T *t)
 {
@@ -312,6 +344,11 @@ static void test_motion_static_threads(T *t)
         MOVING_CUBE "AttributeEnd\n";
     Image ia, ib, ic;
     Scene s;
+    RenderOptions o;
+    render_options_default(&o);
+    o.spp = 8;
+    o.seed = 3;
+    o.sampler = SAMPLER_INDEPENDENT;
     snprintf(a, sizeof a, "%s%s", MOVING_HEAD MOVING_WORLD, STATIC_THINGS);
     snprintf(b, sizeof b, "TransformTimes 0.5 2\nActiveTransform All\n%s" MOVING_WORLD
              "AttributeBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ 0.7 0.2 0.1 ]\n"
@@ -337,10 +374,22 @@ static void test_motion_static_threads(T *t)
         scene_free(&s);
         CHECK(t, ok, "CoordSysTransform did not restore both CTMs");
     }
-    if (!render_text(t, a, 8, 3, 2, 1, &ia)) return;
-    if (!render_text(t, b, 8, 3, 2, 1, &ib)) { img_free(&ia); return; }
+    if (!render_opts(t, a, &o, &ia)) return;
+    if (!render_opts(t, b, &o, &ib)) { img_free(&ia); return; }
     CHECK(t, !memcmp(ia.rgb, ib.rgb, sizeof(float) * 3 * ia.w * ia.h), "the motion directives changed "
           "a static image");
+    img_free(&ia);
+    img_free(&ib);
+    /* the converse: the same static scene with a black box far below the floor
+       that moves (no ray can find it lit, so it adds nothing to the image) draws
+       the time, one more number of the independent sampler's stream per sample:
+       the image changes, which the bit-for-bit test above would see */
+    snprintf(b, sizeof b, "%s%sActiveTransform EndTime\nTranslate 1 0 0\nActiveTransform All\n"
+             "Translate 0 -1000 0\nMaterial \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\n" MOVING_CUBE,
+             MOVING_HEAD MOVING_WORLD, STATIC_THINGS);
+    if (!render_opts(t, a, &o, &ia)) return;
+    if (!render_opts(t, b, &o, &ib)) { img_free(&ia); return; }
+    CHECK(t, memcmp(ia.rgb, ib.rgb, sizeof(float) * 3 * ia.w * ia.h) != 0, "a moving scene drew no time");
     img_free(&ia);
     img_free(&ib);
     snprintf(a, sizeof a, "%s", MOVING_HEAD MOVING_WORLD MOVING_THINGS);
@@ -352,6 +401,24 @@ static void test_motion_static_threads(T *t)
     img_free(&ia);
     img_free(&ib);
     img_free(&ic);
+}
+
+/* A point light made under two different CTMs takes the start transform, as in
+   pbrt-v4: the image is bit for bit the one with the start transform alone. */
+static void test_motion_lights_start(T *t)
+{
+    static char a[8192], b[8192];
+    static const char *const LIGHT = "LightSource \"point\" \"rgb I\" [ 5 5 5 ] \"point3 from\" [ 0 3 0 ]\n";
+    Image ia, ib;
+    snprintf(a, sizeof a, "%sTranslate 0.5 0 0\n%s", MOVING_HEAD MOVING_WORLD, LIGHT);
+    snprintf(b, sizeof b, "%sTranslate 0.5 0 0\nActiveTransform EndTime\nTranslate 2 0 1\nRotate 30 1 0 0\n"
+             "ActiveTransform All\n%s", MOVING_HEAD MOVING_WORLD, LIGHT);
+    if (!render_text(t, a, 8, 3, 2, 1, &ia)) return;
+    if (!render_text(t, b, 8, 3, 2, 1, &ib)) { img_free(&ia); return; }
+    CHECK(t, !memcmp(ia.rgb, ib.rgb, sizeof(float) * 3 * ia.w * ia.h), "a moving point light is not "
+          "at its start transform");
+    img_free(&ia);
+    img_free(&ib);
 }
 
 /* pbrt-v4 (mmp/pbrt-v4 commit 5f7a6068, `pbrt --seed S --spp 2048` for S = 1..8,
@@ -471,6 +538,7 @@ const TestCase tests_motion[] = {
     { "motion_shadow_time", test_motion_shadow_time },
     { "motion_instance_same", test_motion_instance_same },
     { "motion_static_threads", test_motion_static_threads },
+    { "motion_lights_start", test_motion_lights_start },
     { "motion_against_pbrt", test_motion_against_pbrt },
     { "motion_killeroo_moving", test_motion_killeroo_moving },
     { "motion_errors", test_motion_errors },
