@@ -200,11 +200,12 @@ double radical_inverse(int base, uint64_t i);
                              uses the bounce's BD_LIGHT..BD_POINT for NEE and
                              BD_DIR for the phase function's direction)
      so a scene without media asks for no number beyond the bounces' and the
-     fluorescent vertices'.  A scene where something moves (motion.c) asks for
-     DIM_TIME    1-D      the camera sample's time in the shutter
-     after the lens; a static one never does.  When the camera sits in a medium, sobol and zsobol
+     fluorescent vertices'.  When the camera sits in a medium, sobol and zsobol
      serve 0, 1, DIM_WAVELENGTH and dim_medium(0, 0) as ONE 4-D group (sampler.c,
-     THE CAMERA GROUP).
+     THE CAMERA GROUP).  A scene where something moves (motion.c) also asks, after
+     the lens, for
+     DIM_TIME       1-D    the camera sample's time in the shutter
+     which a static scene never does (its numbers stay those without motion).
 
    A GROUP is one request: the two numbers of a 2-D group map together onto a 2-D
    domain (pixel, triangle, hemisphere), so they must be spread as a 2-D point
@@ -664,7 +665,8 @@ typedef struct {
     int object;                /* index into Scene.objects */
     int motion;                /* 1 + its index into Scene.motions; 0: it stays */
     Xform world_from_obj;      /* the CTM at ObjectInstance (inv: object from world);
-                                  a moving instance's is the transform at its time */
+                                  a moving instance's start one (a ray takes
+                                  motion_at of its time) */
     float lo[3], hi[3];        /* world box of the placed object, rounded outwards */
     const char *file; int line;/* its ObjectInstance */
 } Instance;
