@@ -8,7 +8,8 @@
      xf_differ        whether two transforms differ (a shape moves or not)
    USE: scene.c keeps two CTMs, the start and the end one; `ActiveTransform
    StartTime`, `EndTime` and `All` choose which of them the transform directives
-   change.  A shape whose two CTMs differ is made in its own space (CTM = identity)
+   change.  A shape whose two CTMs differ is made in its own space (CTM = identity;
+   geometry.c moving_shape)
    as an unnamed object, placed by a moving Instance (instance.c; an ObjectInstance
    under two CTMs moves the same way), whose box is motion_bounds'.  bvh.c carries a
    ray into a moving instance's space by motion_at(ray time).  The camera moves

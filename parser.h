@@ -311,10 +311,6 @@ int integrator_directive(Parser *P, const char *type, ParamList *pl, const char 
 /* The Shape directive of `type` at file:line (geometry.c): the shape of the current
    graphics state appended to the Scene. */
 int shape_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line);
-/* A shape whose start and end CTMs differ (scene.c, motion.c): an unnamed object for
-   it and the moving instance that places it; P->cur_object is then that object's
-   until the caller, which makes the shape under the identity CTM, resets it. */
-int moving_shape_object(Parser *P, const char *type, const char *file, int line);
 /* Shape "curve": the Bezier segments and pieces of Shape sh, which geometry.c has
    just made (curve.c). */
 int curve_shape(Parser *P, ParamList *pl, int sh, const char *file, int line);
