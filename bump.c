@@ -260,16 +260,18 @@ static void patch_diff(const Scene *s, const Shape *sh, const int32_t vi[4], flo
     }
 }
 
-/* The world ray r in instance in's object space (the same t: bvh.c). */
-static Ray object_ray(const Instance *in, const Ray *r)
+/* The world ray r in the object space of an instance placed by *x (the same t:
+   bvh.c). */
+static Ray object_ray(const Xform *x, const Ray *r)
 {
     Xform inv;
     Ray ro;
-    memcpy(inv.m, in->world_from_obj.inv, sizeof inv.m);
-    memcpy(inv.inv, in->world_from_obj.m, sizeof inv.inv);
+    memcpy(inv.m, x->inv, sizeof inv.m);
+    memcpy(inv.inv, x->m, sizeof inv.inv);
     ro.o = xf_point(&inv, r->o);
     ro.d = xf_vector(&inv, r->d);
     ro.tmax = r->tmax;
+    ro.time = r->time;
     return ro;
 }
 
@@ -280,7 +282,10 @@ void shading_differentials(const Scene *s, const Ray *r, const HitRecord *h, Sur
     if (h->inst >= 0 && h->inst < s->n_instances) {
         /* the object's own point and derivatives, then into the world */
         const Instance *in = &s->instances[h->inst];
-        Ray ro = object_ray(in, r);
+        Xform x = in->world_from_obj;           /* a moving one's at the ray's time */
+        Ray ro;
+        if (in->motion > 0) motion_at(&s->motions[in->motion - 1], r->time, &x);
+        ro = object_ray(&x, r);
         HitRecord ho = *h;
         SurfacePoint osp;
         ho.inst = -1;
@@ -288,10 +293,10 @@ void shading_differentials(const Scene *s, const Ray *r, const HitRecord *h, Sur
         shading_differentials(s, &ro, &ho, &osp, d);
         sp->u = osp.u;
         sp->v = osp.v;
-        d->dpdu = xf_vector(&in->world_from_obj, d->dpdu);
-        d->dpdv = xf_vector(&in->world_from_obj, d->dpdv);
-        d->dndu = xf_normal(&in->world_from_obj, d->dndu);
-        d->dndv = xf_normal(&in->world_from_obj, d->dndv);
+        d->dpdu = xf_vector(&x, d->dpdu);
+        d->dpdv = xf_vector(&x, d->dpdv);
+        d->dndu = xf_normal(&x, d->dndu);
+        d->dndv = xf_normal(&x, d->dndv);
         return;
     }
     if (h->prim < s->n_tris && sh->bilinear) {

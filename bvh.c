@@ -1016,11 +1016,21 @@ HOT_INLINE unsigned node_hit_mask(const BvhNode *nd, const RayPre *rp, float t_c
 #define node_hit_mask node_hit_mask_scalar
 #endif
 
-/* The world ray r in instance in's object space: o' = M^-1 o, d' = M^-1 d, the same
-   t (d' is not normalised), tmax kept (instance.c: RAYS AND HITS). */
-static Ray instance_ray(const Instance *in, const Ray *r)
+/* Instance in's M for ray r: its own, or a moving one's at the ray's time
+   (motion.c; *tmp holds it then). */
+static const Xform *instance_xf(const Scene *s, const Instance *in, const Ray *r, Xform *tmp)
 {
-    const double (*inv)[4] = (const double (*)[4])in->world_from_obj.inv;
+    if (in->motion <= 0) return &in->world_from_obj;
+    motion_at(&s->motions[in->motion - 1], r->time, tmp);
+    return tmp;
+}
+
+/* The world ray r in the object space of an instance placed by M = *x: o' = M^-1 o,
+   d' = M^-1 d, the same t (d' is not normalised), tmax and time kept (instance.c:
+   RAYS AND HITS). */
+static Ray instance_ray(const Xform *x, const Ray *r)
+{
+    const double (*inv)[4] = (const double (*)[4])x->inv;
     const double o[3] = { r->o.x, r->o.y, r->o.z }, d[3] = { r->d.x, r->d.y, r->d.z };
     float oo[3], dd[3];
     Ray ro;
@@ -1032,6 +1042,7 @@ static Ray instance_ray(const Instance *in, const Ray *r)
     ro.o = v3(oo[0], oo[1], oo[2]);
     ro.d = v3(dd[0], dd[1], dd[2]);
     ro.tmax = r->tmax;
+    ro.time = r->time;
     return ro;
 }
 
@@ -1045,14 +1056,14 @@ static Vec3 normal_to_world(const Xform *m, Vec3 n)
 /* A hit point computed in instance in's object space, put into the world: p by M,
    the normals by M^-T, the shading normal turned to the geometric one's side
    (pbrt-v4's Transform of a SurfaceInteraction; instance.c: RAYS AND HITS). */
-static void instance_point(const Instance *in, SurfacePoint *sp)
+static void instance_point(const Xform *x, SurfacePoint *sp)
 {
-    sp->p = xf_point(&in->world_from_obj, sp->p);
-    sp->ng = normal_to_world(&in->world_from_obj, sp->ng);
-    sp->ns = normal_to_world(&in->world_from_obj, sp->ns);
+    sp->p = xf_point(x, sp->p);
+    sp->ng = normal_to_world(x, sp->ng);
+    sp->ns = normal_to_world(x, sp->ns);
     if (v3_dot(sp->ns, sp->ng) < 0.0f) sp->ns = v3_neg(sp->ns);   /* pbrt-v4: FaceForward */
     if (sp->err.x > 0.0f || sp->err.y > 0.0f || sp->err.z > 0.0f) {   /* |M| err */
-        const double (*m)[4] = (const double (*)[4])in->world_from_obj.m;
+        const double (*m)[4] = (const double (*)[4])x->m;
         float e[3];
         int a;
         for (a = 0; a < 3; a++)
@@ -1269,7 +1280,8 @@ static int instance_hit(const Scene *s, int i, const Ray *r, float t_best, int a
                         int any_hit, HitRecord *h)
 {
     const Instance *in = &s->instances[i];
-    Ray ro = instance_ray(in, r);
+    Xform tmp;
+    Ray ro = instance_ray(instance_xf(s, in, r, &tmp), r);
     ro.tmax = t_best;
     return traverse(&s->objects[in->object].bvh, s, &ro, h, any_hit, at_tmax);
 }
@@ -1314,12 +1326,13 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
 {
     if (h->inst >= 0 && h->inst < s->n_instances) {
         /* in an instance: the point in object space, then put into the world */
-        const Instance *in = &s->instances[h->inst];
-        const Ray ro = instance_ray(in, r);
+        Xform tmp;
+        const Xform *x = instance_xf(s, &s->instances[h->inst], r, &tmp);
+        const Ray ro = instance_ray(x, r);
         HitRecord ho = *h;
         ho.inst = -1;
         scene_surface_point(s, &ro, &ho, sp);
-        instance_point(in, sp);
+        instance_point(x, sp);
         return;
     }
     sp->prim = h->prim;

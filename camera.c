@@ -15,7 +15,9 @@
    (docs/conventions.md).  With "lensradius" > 0 the camera is a thin lens focused
    at "focaldistance" (camera_ray says how); otherwise a pinhole.  Every call is a
    pure function of its arguments: the numbers for the lens come from the caller's
-   sampler (render.c asks for them only when there is a lens). */
+   sampler (render.c asks for them only when there is a lens), and the time
+   (render.c draws it only when something moves, motion.c): a moving camera's
+   world_from_camera is its motion at that time. */
 #include "render.h"
 #include <string.h>
 
@@ -40,6 +42,13 @@ void camera_init(Camera *c, const SceneSettings *st)
         c->film_w = st->lens.diagonal / sqrt(1.0 + a * a);
         c->film_h = a * c->film_w;
     }
+    c->moving = xf_differ(&st->camera_from_world, &st->camera_from_world_end);
+    if (c->moving) {   /* pbrt-v4: world_from_camera's two ends, interpolated (motion.c) */
+        Xform w1;
+        memcpy(w1.m, st->camera_from_world_end.inv, sizeof w1.m);
+        memcpy(w1.inv, st->camera_from_world_end.m, sizeof w1.inv);
+        c->moving = motion_init(&c->motion, &c->world_from_camera, st->camera_t0, &w1, st->camera_t1);
+    }
 }
 
 int camera_has_lens(const Camera *c)
@@ -47,19 +56,18 @@ int camera_has_lens(const Camera *c)
     return c->lens_radius > 0.0f || c->lens != NULL;
 }
 
-/* The realistic camera's ray (lens.c): raster (x, y) to the film point of the
-   module comment of lens.c, mirrored in x. */
-static Ray realistic_ray(const Camera *c, float x, float y, float ul0, float ul1, float *weight)
+/* The realistic camera's ray in camera space (lens.c): raster (x, y) to the film
+   point of the module comment of lens.c, mirrored in x; returns the ray's weight
+   (0 when the lens blocks it). */
+static float realistic_ray(const Camera *c, float x, float y, float ul0, float ul1, Vec3 *o, Vec3 *d)
 {
     LensRay lr;
-    Ray r;
     double fx = 0.5 * c->film_w - c->film_w * ((double)x / c->w);
     double fy = -0.5 * c->film_h + c->film_h * ((double)y / c->h);
-    *weight = (float)lens_ray(c->lens, fx, fy, ul0, ul1, &lr);
-    r.o = xf_point(&c->world_from_camera, v3((float)lr.o[0], (float)lr.o[1], (float)lr.o[2]));
-    r.d = v3_norm(xf_vector(&c->world_from_camera, v3((float)lr.d[0], (float)lr.d[1], (float)lr.d[2])));
-    r.tmax = INFINITY;
-    return r;
+    float weight = (float)lens_ray(c->lens, fx, fy, ul0, ul1, &lr);
+    *o = v3((float)lr.o[0], (float)lr.o[1], (float)lr.o[2]);
+    *d = v3((float)lr.d[0], (float)lr.d[1], (float)lr.d[2]);
+    return weight;
 }
 
 /* Shirley and Chiu's concentric map from the unit square to the unit disk (1997):
@@ -85,23 +93,31 @@ static void concentric_disk(float u0, float u1, float *dx, float *dy)
    a point (rho_l e_l, 0) with e_l uniform on the unit disk.  Points on that plane
    are sharp; a point at depth z spreads into a disk of radius rho_l |1/z_f - 1/z|
    in the screen's tan units (the circle of confusion; tested by render_thin_lens). */
-Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1, float *weight)
+Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1, float time, float *weight)
 {
     Ray r;
-    *weight = 1.0f;
-    if (c->lens) return realistic_ray(c, x, y, ul0, ul1, weight);
+    Xform tmp;
+    const Xform *wfc = &c->world_from_camera;
     float sx = c->sx0 + (x / (float)c->w) * (c->sx1 - c->sx0);
     float sy = c->sy1 - (y / (float)c->h) * (c->sy1 - c->sy0);
     Vec3 d = v3(sx * c->tan_half, sy * c->tan_half, 1.0f), o = v3(0, 0, 0);
-    if (c->lens_radius > 0.0f) {
+    *weight = 1.0f;
+    if (c->lens) {
+        *weight = realistic_ray(c, x, y, ul0, ul1, &o, &d);
+    } else if (c->lens_radius > 0.0f) {
         float lx, ly;
         Vec3 q = v3_mul(d, c->focal_distance);     /* x_f, the point of focus */
         concentric_disk(ul0, ul1, &lx, &ly);
         o = v3(c->lens_radius * lx, c->lens_radius * ly, 0.0f);
         d = v3_sub(q, o);
     }
-    r.o = xf_point(&c->world_from_camera, o);
-    r.d = v3_norm(xf_vector(&c->world_from_camera, d));
+    if (c->moving) {                                   /* a moving camera (motion.c) */
+        motion_at(&c->motion, time, &tmp);
+        wfc = &tmp;
+    }
+    r.o = xf_point(wfc, o);
+    r.d = v3_norm(xf_vector(wfc, d));
     r.tmax = INFINITY;
+    r.time = time;
     return r;
 }

@@ -674,13 +674,67 @@ static int shape_build(Parser *P, const char *type, ParamList *pl, const char *f
     return fail(P, file, line, "Shape \"%s\": unknown shape type", type);
 }
 
+/* A Shape under two different CTMs (motion.c): an unnamed object of its own, which
+   the shape about to be made goes into (P->cur_object), and the moving instance
+   that places it; the caller makes the shape under the identity CTM, as pbrt-v4
+   makes an animated shape in its own space.  type: the shape's, for messages. */
+static int moving_shape_object(Parser *P, const char *type, const char *file, int line)
+{
+    Scene *s = P->s;
+    InstanceUse *u;
+    Object *o;
+    if (P->cur_object > 0)
+        return fail(P, file, line, "Shape \"%s\" inside ObjectBegin \"%s\" moves "
+                    "(ActiveTransform): a moving shape inside an object definition is not "
+                    "supported", type, s->objects[P->cur_object - 1].name);
+    if (P->gs.area_light >= 0)
+        return fail(P, file, line, "Shape \"%s\" under an AreaLightSource moves "
+                    "(ActiveTransform): animated area lights are not supported (pbrt-v4 stops "
+                    "there too)", type);
+    if (!grow((void **)&s->objects, &P->cap_objects, s->n_objects + 1, sizeof(Object)) ||
+        !grow((void **)&P->uses, &P->cap_uses, P->n_uses + 1, sizeof(InstanceUse)))
+        return oom(P, file, line);
+    o = &s->objects[s->n_objects];
+    memset(o, 0, sizeof *o);
+    o->unnamed = 1;
+    o->file = file;
+    o->line = line;
+    u = &P->uses[P->n_uses++];
+    memset(u, 0, sizeof *u);
+    snprintf(u->name, sizeof u->name, "%s", type);
+    u->xf = P->gs.ctm;
+    u->xf_end = P->gs.ctm_end;
+    u->t0 = P->t0;
+    u->t1 = P->t1;
+    u->object = s->n_objects;
+    u->file = file;
+    u->line = line;
+    P->cur_object = ++s->n_objects;
+    return 1;
+}
+
+/* A shape that moves (its two CTMs differ, motion.c): made in its own space, as
+   pbrt-v4 does, inside an unnamed object that a moving instance places. */
+static int moving_shape(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    const Xform start = P->gs.ctm;
+    int ok;
+    if (!moving_shape_object(P, type, file, line)) return 0;
+    P->gs.ctm = xf_identity();
+    ok = shape_build(P, type, pl, file, line);
+    P->gs.ctm = start;
+    P->cur_object = 0;
+    return ok;
+}
+
 /* Shape: its "alpha" first (every type reads it), then the shape itself. */
 int shape_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
     Scene before = *P->s;
     int ok;
     if (!shape_alpha(P, pl)) return 0;
-    ok = shape_build(P, type, pl, file, line);
+    if (xf_differ(&P->gs.ctm, &P->gs.ctm_end)) ok = moving_shape(P, type, pl, file, line);
+    else ok = shape_build(P, type, pl, file, line);
     if (ok && P->shape_alpha_tex == 0 && P->shape_alpha <= 0.0f) return shape_drop(P, &before);
     return ok;
 }

@@ -45,7 +45,9 @@
      distance, bvh.c) on each side.  The culling of bvh.c compares the instance box's
      entry distance, computed from the world ray, with hits computed from the object
      ray: the margin keeps a hit on the object's boundary from being culled by the
-     rounding of M^-1 o and M^-1 d.
+     rounding of M^-1 o and M^-1 d.  A moving instance (Instance.motion: a shape or
+     an ObjectInstance under two different CTMs, motion.c) has the box of the
+     object's box over the whole motion, and each ray uses M(ray time).
 
    WHAT IS REFUSED (scene.c, with pbrt-v4's own reasons): an ObjectBegin inside an
    object definition, ObjectInstance inside one, ObjectEnd without ObjectBegin, an
@@ -87,14 +89,18 @@ static int build_objects(Scene *s)
     return ok;
 }
 
-/* The world box of the object box [lo, hi] under M, widened (THE INSTANCE'S BOX). */
-static int instance_box(Instance *in, const float lo[3], const float hi[3])
+/* The world box of the object box [lo, hi] under M (a moving instance: under
+   every M(t), motion.c's motion_bounds), widened (THE INSTANCE'S BOX). */
+static int instance_box(const Scene *s, Instance *in, const float lo[3], const float hi[3])
 {
     const double (*m)[4] = (const double (*)[4])in->world_from_obj.m;
     double wlo[3] = { DBL_MAX, DBL_MAX, DBL_MAX }, whi[3] = { -DBL_MAX, -DBL_MAX, -DBL_MAX };
     float big = 0.0f, eps;
     int c, a;
-    for (c = 0; c < 8; c++) {
+    if (in->motion > 0) {
+        const double dlo[3] = { lo[0], lo[1], lo[2] }, dhi[3] = { hi[0], hi[1], hi[2] };
+        motion_bounds(&s->motions[in->motion - 1], dlo, dhi, wlo, whi);
+    } else for (c = 0; c < 8; c++) {
         const double p[3] = { (c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1],
                               (c & 4) ? hi[2] : lo[2] };
         for (a = 0; a < 3; a++) {
@@ -130,7 +136,7 @@ int instances_prepare(Scene *s, Error *err)
         const Bvh *b = &s->objects[in->object].bvh;
         if (b->n_nodes == 0) continue;                   /* an empty object: dropped */
         s->instances[n] = *in;
-        if (!instance_box(&s->instances[n], b->bmin, b->bmax)) {
+        if (!instance_box(s, &s->instances[n], b->bmin, b->bmax)) {
             error_set(err, in->file, in->line, "ObjectInstance \"%s\": not finite after "
                       "the transform", s->objects[in->object].name);
             return 0;

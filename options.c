@@ -61,7 +61,7 @@ int camera_transform_ok(const Xform *camera_from_world, float fov_deg, const flo
     return 1;
 }
 
-static int camera_place(Parser *P, const char *file, int line);
+static int camera_place(Parser *P, float open, float close, const char *file, int line);
 
 /* Camera "realistic" (pbrt-v4 RealisticCamera::Create): the lens file, resolved
    as other assets, read by lens.c; scene_load focuses it once the film is known.
@@ -120,7 +120,7 @@ static int realistic_camera(Parser *P, ParamList *pl, const char *file, int line
     st->screen_set = 0;
     st->frame_aspect = 0.0f;
     P->exposure_time = close - open;
-    return camera_place(P, file, line);
+    return camera_place(P, open, close, file, line);
 }
 
 int camera_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
@@ -167,15 +167,16 @@ int camera_directive(Parser *P, const char *type, ParamList *pl, const char *fil
     /* the film may come later: checked with this window (the square frame's
        unless given) here and again with the film's own in finish() */
     screen_window(psw != NULL, scr, pfr ? frame : 1.0f, sw);
-    if (!camera_transform_ok(&P->gs.ctm, fov, sw))
+    if (!camera_transform_ok(&P->gs.ctm, fov, sw) || !camera_transform_ok(&P->gs.ctm_end, fov, sw))
         return fail(P, file, line, "Camera: degenerate camera transform: the eye or the "
                     "viewing directions are not finite, non-zero float vectors (look at "
                     "the Scale/Transform/LookAt before Camera)");
     if (!(lens >= 0.0f) || !(focus > 0.0f))
         return fail_param(P, pl, lens < 0.0f ? "lensradius" : "focaldistance", file, line, "Camera: \"float lensradius\" %g must be >= 0 and "
                     "\"float focaldistance\" %g > 0", lens, focus);
-    /* pbrt-v4 (scene.cpp): the exposure time is the shutter interval; the scene is
-       static, so it only scales the image (the imaging ratio, Film "iso") */
+    /* pbrt-v4 (scene.cpp): the exposure time is the shutter interval; it scales the
+       image (the imaging ratio, Film "iso"), and where something moves each camera
+       sample's time is uniform in it (motion.c) */
     if (!(close - open > 0.0f))
         return fail_param(P, pl, "shutterclose", file, line, "Camera: shutterclose %g <= shutteropen %g: the shutter "
                     "never opens", close, open);
@@ -187,15 +188,28 @@ int camera_directive(Parser *P, const char *type, ParamList *pl, const char *fil
     st->focal_distance = focus;
     st->lens.n = 0;                             /* a realistic camera before is replaced */
     P->exposure_time = close - open;
-    return camera_place(P, file, line);
+    return camera_place(P, open, close, file, line);
 }
 
-/* What every camera type sets: its frame, its medium, the named coordinate
-   system "camera" and where scene_load reports camera problems. */
-static int camera_place(Parser *P, const char *file, int line)
+/* What every camera type sets: its frame (two ends where it moves), its shutter,
+   its medium, the named coordinate system "camera" and where scene_load reports
+   camera problems. */
+static int camera_place(Parser *P, float open, float close, const char *file, int line)
 {
     SceneSettings *st = &P->s->settings;
+    if (xf_differ(&P->gs.ctm, &P->gs.ctm_end)) {
+        Motion m;
+        if (!motion_init(&m, &P->gs.ctm, P->t0, &P->gs.ctm_end, P->t1))
+            return fail(P, file, line, "Camera: its start and end transforms (ActiveTransform) "
+                        "must be rotations, scales and translations without a mirror (pbrt-v4 "
+                        "cannot interpolate a mirroring or projective transform)");
+    }
     st->camera_from_world = P->gs.ctm;
+    st->camera_from_world_end = P->gs.ctm_end;   /* a moving camera (camera.c) */
+    st->camera_t0 = P->t0;
+    st->camera_t1 = P->t1;
+    st->shutter_open = open;
+    st->shutter_close = close;
     st->camera_medium = P->gs.medium_outside;   /* pbrt-v4: the current outside medium */
     P->camera_file = file;
     P->camera_line = line;
@@ -211,6 +225,8 @@ static int camera_place(Parser *P, const char *file, int line)
         }
         memcpy(P->coords[i].xf.m, P->gs.ctm.inv, sizeof P->gs.ctm.inv);
         memcpy(P->coords[i].xf.inv, P->gs.ctm.m, sizeof P->gs.ctm.m);
+        memcpy(P->coords[i].xf_end.m, P->gs.ctm_end.inv, sizeof P->gs.ctm_end.inv);
+        memcpy(P->coords[i].xf_end.inv, P->gs.ctm_end.m, sizeof P->gs.ctm_end.m);
     }
     return 1;
 }

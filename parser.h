@@ -103,7 +103,9 @@ typedef struct {
 } AreaLightDesc;
 
 typedef struct {
-    Xform ctm;                 /* current transformation matrix */
+    Xform ctm;                 /* current transformation matrix (at the start time) */
+    Xform ctm_end;             /* the CTM at the end time (motion.c) */
+    int active;                /* ActiveTransform: bit 0 start, bit 1 end (3: All) */
     int material;              /* index into Scene.materials, -1: the default,
                                   <= -2: named material -2 - material, not yet made */
     int reverse;               /* ReverseOrientation seen in this block */
@@ -132,10 +134,15 @@ typedef struct { int defined, used, before_camera; const char *file; int line; }
 typedef struct { char name[64]; int material; const char *file; int line; } NamedMaterial;
 /* A named texture: pbrt-v4 keeps float and spectrum textures in two namespaces. */
 typedef struct { char name[64]; int is_float; int index; } NamedTexture;
-typedef struct { char name[64]; Xform xf; } NamedCoordSys;
+typedef struct { char name[64]; Xform xf, xf_end; } NamedCoordSys;   /* both CTMs */
 /* An ObjectInstance: as in pbrt-v4 the name is looked up when the file has been
-   read (an instance may come before its ObjectBegin). */
-typedef struct { char name[64]; Xform xf; const char *file; int line; } InstanceUse;
+   read (an instance may come before its ObjectBegin).  xf, xf_end: the two CTMs
+   (they differ: it moves from time t0 to t1); object >= 0: the unnamed object of
+   a moving shape (motion.c), not looked up by name. */
+typedef struct {
+    char name[64]; Xform xf, xf_end; double t0, t1; int object;
+    const char *file; int line;
+} InstanceUse;
 
 typedef struct {
     Scene *s;
@@ -172,7 +179,10 @@ typedef struct {
     int cur_object;            /* inside ObjectBegin: 1 + its Scene.objects index; else 0 */
     float shape_alpha; int shape_alpha_tex;   /* the Shape being read: its "alpha" (Shape) */
     int cap_objects;
-    InstanceUse *uses; int n_uses, cap_uses;   /* the ObjectInstance directives */
+    InstanceUse *uses; int n_uses, cap_uses;   /* the ObjectInstance directives and
+                                                  the moving shapes' instances */
+    double t0, t1;             /* TransformTimes (0 1): when the two CTMs hold */
+    int cap_motions;
     /* every parameter an Attribute directive gave, copied (strings interned); each
        entry's prev links to the older ones of its target (1 + index, 0: none), so a
        GState names its defaults by one index per target and AttributeEnd restores

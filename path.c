@@ -139,6 +139,8 @@ typedef struct {
     FilmSample *fs;                  /* where its contributions go */
     Counters *cnt;                   /* its row's counters */
     FILE *dbg;                       /* --debug-pixel's stream; NULL: silent */
+    float time;                      /* the camera ray's time: every ray of the path,
+                                        shadow rays included, keeps it (motion.c) */
 } Tracer;
 
 /* What one step adds to the film: per lane, beta_j l_j times its MIS weight, that
@@ -569,6 +571,7 @@ static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const Pa
         shadow.o = v->mat ? spawn_origin(v->sp, es.wi) : v->p;
         shadow.d = v3_sub(target, shadow.o);
         shadow.tmax = 1.0f;
+        shadow.time = tr->time;
         if (R->vol) {
             /* through media and "interface" surfaces (the medium it starts in:
                a surface's own MediumInterface decides by the side of es.wi) */
@@ -1175,6 +1178,7 @@ void trace_path(const Renderer *R, Ray ray, FilmSample *fs, PixelSample *ps, Cou
     tr.fs = fs;
     tr.cnt = cnt;
     tr.dbg = dbg;
+    tr.time = ray.time;
     path_start(R, fs, &path);
     if (dbg) fprintf(dbg, "sample: lambda=(%.1f %.1f %.1f %.1f) nm pdf=(%.4g %.4g %.4g %.4g)\n",
                      fs->wl.lambda[0], fs->wl.lambda[1], fs->wl.lambda[2], fs->wl.lambda[3],

@@ -235,7 +235,7 @@ static void render_pass(Pass *P)
                 Rng *stream;
                 FilmSample fs;
                 double *xyz = fs.xyz, m;
-                float fx, fy, ul0 = 0.5f, ul1 = 0.5f, fw = 1.0f, cw;
+                float fx, fy, ul0 = 0.5f, ul1 = 0.5f, fw = 1.0f, cw, time = 0.0f;
                 sampler_start(&R->sampler, fx0, fy0, k, &ps);
                 stream = sampler_stream(&ps);
                 /* the position in the pixel and its filter weight fw (filter.c) */
@@ -253,12 +253,20 @@ static void render_pass(Pass *P)
                    sampler's stream then has them after the wavelength, and pinhole
                    images keep their random numbers */
                 if (camera_has_lens(&R->cam)) sampler_2d(&ps, DIM_LENS, &ul0, &ul1);
+                /* the time, only where something moves (motion.c): pbrt-v4's
+                   lerp(u, shutteropen, shutterclose) */
+                if (R->moving) {
+                    const float ut = sampler_1d(&ps, DIM_TIME);
+                    time = (1.0f - ut) * set->shutter_open + ut * set->shutter_close;
+                }
                 if (dbg) fprintf(dbg, "pixel (%d, %d) sample %d\n", fx0, fy0, k);
                 {   /* a ray the realistic camera's lens blocks counts as black */
-                    Ray cr = camera_ray(&R->cam, (float)fx0 + fx, (float)fy0 + fy, ul0, ul1, &cw);
+                    Ray cr = camera_ray(&R->cam, (float)fx0 + fx, (float)fy0 + fy, ul0, ul1, time, &cw);
+                    int j;
                     if (cw > 0.0f) trace_path(R, cr, &fs, &ps, &cnt, dbg);
-                    else xyz[0] = xyz[1] = xyz[2] = 0.0;
+                    else xyz[0] = xyz[1] = xyz[2] = 0.0, memset(fs.lane, 0, sizeof fs.lane);
                     xyz[0] *= cw; xyz[1] *= cw; xyz[2] *= cw;
+                    for (j = 0; j < HERO_N; j++) fs.lane[j] *= cw;   /* the spectral film's too */
                 }
                 cnt.dims_reused += ps.reused;
                 if (isfinite(xyz[0]) && isfinite(xyz[1]) && isfinite(xyz[2])) {
@@ -383,6 +391,7 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     j->R.white.type = MAT_DIFFUSE;
     spec_const(&j->R.white.reflectance, 1.0f);
     camera_init(&j->R.cam, set);
+    j->R.moving = j->R.cam.moving || s->n_motions > 0;
     filter_init(&j->R.filter, set);
     sampler_init(&j->R.sampler, o->sampler, o->seed, o->spp, o->xsamples, o->ysamples, o->jitter);
     /* the emitters for this range and their selection tables */

@@ -22,13 +22,15 @@ typedef struct {
     float lens_radius, focal_distance;   /* thin lens; lens_radius 0: pinhole */
     const Lens *lens;                /* the realistic camera (lens.c); NULL: perspective */
     double film_w, film_h;           /* its film's width and height (m) */
+    int moving;                      /* its two CTMs differ: world_from_camera moves */
+    Motion motion;                   /* then from the start to the end (motion.c) */
 } Camera;
 
 void camera_init(Camera *c, const SceneSettings *st);
-/* Raster (x, y), y down, to a world-space ray; (ul0, ul1) pick the point on the
-   lens (unused for a pinhole).  *weight: the ray's weight (1; the realistic
-   camera's lens.c weight, 0 when the lens blocks it). */
-Ray  camera_ray(const Camera *c, float x, float y, float ul0, float ul1, float *weight);
+/* Raster (x, y), y down, to a world-space ray at `time`; (ul0, ul1) pick the
+   point on the lens (unused for a pinhole).  *weight: the ray's weight (1; the
+   realistic camera's lens.c weight, 0 when the lens blocks it). */
+Ray  camera_ray(const Camera *c, float x, float y, float ul0, float ul1, float time, float *weight);
 /* Whether camera_ray reads (ul0, ul1). */
 int  camera_has_lens(const Camera *c);
 
@@ -43,6 +45,7 @@ typedef struct {
     Camera cam;
     int *inf; int n_inf;             /* the emitters that are infinite lights */
     Sampler sampler;                 /* the numbers (sampler.c); its spp is the pass's target */
+    int moving;                      /* something moves: each sample draws its time (motion.c) */
     PixelFilter filter;              /* the pixel filter's sampler (filter.c) */
     Material white;                  /* Lambertian of albedo 1: a fluorescent vertex after a
                                         shift re-radiates like this at lambda_i

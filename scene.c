@@ -357,13 +357,57 @@ static int include_directive(Parser *P, Lexer *L, const Token *dir, int is_impor
     return 1;
 }
 
+/* The CTMs that ActiveTransform names (pbrt-v4's ForActiveTransforms): x replaces
+   them (Identity, Transform) or is appended, CTM <- CTM * x. */
+static void ctm_apply(Parser *P, const Xform *x, int replace)
+{
+    if (P->gs.active & 1) P->gs.ctm = replace ? *x : xf_mul(&P->gs.ctm, x);
+    if (P->gs.active & 2) P->gs.ctm_end = replace ? *x : xf_mul(&P->gs.ctm_end, x);
+}
+
+/* ActiveTransform StartTime | EndTime | All, and TransformTimes start end
+   (motion.c): which CTMs the transform directives change, and when they hold. */
+static int motion_directive(Parser *P, Lexer *L, const Token *t)
+{
+    Token w;
+    if (!strcmp(t->text, "TransformTimes")) {
+        double v[2];
+        if (P->in_world)
+            return fail(P, t->file, t->line, "Options cannot be set inside world block; "
+                        "\"TransformTimes\" not allowed after WorldBegin");
+        if (!expect_number(P, L, t->text, 2, v)) return 0;
+        if (!(fabs(v[0]) <= FLT_MAX && fabs(v[1]) <= FLT_MAX && v[0] <= v[1]))
+            return fail(P, t->file, t->line, "TransformTimes %g %g: the times must be finite, "
+                        "start <= end", v[0], v[1]);
+        P->t0 = v[0];
+        P->t1 = v[1];
+        return 1;
+    }
+    if (!lex_next(P, L, &w)) return 0;
+    if (w.kind == TK_WORD && !strcmp(w.text, "All")) P->gs.active = 3;
+    else if (w.kind == TK_WORD && !strcmp(w.text, "StartTime")) P->gs.active = 1;
+    else if (w.kind == TK_WORD && !strcmp(w.text, "EndTime")) P->gs.active = 2;
+    else return fail(P, t->file, t->line, "ActiveTransform: expected All, StartTime or EndTime");
+    return 1;
+}
+
+/* A light, medium or texture made under two different CTMs takes the start one,
+   as in pbrt-v4 (which warns so): a note says it. */
+static void note_start_transform(const Parser *P, const Token *t)
+{
+    if (xf_differ(&P->gs.ctm, &P->gs.ctm_end))
+        fprintf(stderr, "%s:%d: note: %s under a moving transform (ActiveTransform) takes its "
+                "start transform, as in pbrt-v4\n", t->file, t->line, t->text);
+}
+
 static int transform_directive(Parser *P, Lexer *L, const Token *t, int *handled)
 {
     const char *d = t->text;
     double v[16];
     Xform x;
     *handled = 1;
-    if (!strcmp(d, "Identity")) { P->gs.ctm = xf_identity(); return 1; }
+    if (!strcmp(d, "ActiveTransform") || !strcmp(d, "TransformTimes")) return motion_directive(P, L, t);
+    if (!strcmp(d, "Identity")) { x = xf_identity(); ctm_apply(P, &x, 1); return 1; }
     if (!strcmp(d, "Translate")) {
         if (!expect_number(P, L, d, 3, v)) return 0;
         x = xf_translate(v[0], v[1], v[2]);
@@ -391,7 +435,7 @@ static int transform_directive(Parser *P, Lexer *L, const Token *t, int *handled
             for (j = 0; j < 4; j++) m[i][j] = v[4 * j + i];   /* pbrt-v4: transposed */
         if (!xf_from_matrix(m, &x))
             return fail(P, t->file, t->line, "%s: singular matrix", d);
-        if (d[0] == 'T') { P->gs.ctm = x; return 1; }     /* Transform replaces the CTM */
+        if (d[0] == 'T') { ctm_apply(P, &x, 1); return 1; }   /* Transform replaces the CTM */
     } else if (!strcmp(d, "CoordinateSystem") || !strcmp(d, "CoordSysTransform")) {
         Token n;
         int i;
@@ -408,18 +452,20 @@ static int transform_directive(Parser *P, Lexer *L, const Token *t, int *handled
                 P->n_coords++;
             }
             P->coords[i].xf = P->gs.ctm;
+            P->coords[i].xf_end = P->gs.ctm_end;
             return 1;
         }
         if (i == P->n_coords)
             return fail(P, t->file, t->line, "CoordSysTransform: unknown coordinate system "
                         "\"%s\"", n.text);
-        P->gs.ctm = P->coords[i].xf;
+        P->gs.ctm = P->coords[i].xf;                       /* pbrt-v4: both CTMs */
+        P->gs.ctm_end = P->coords[i].xf_end;
         return 1;
     } else {
         *handled = 0;
         return 1;
     }
-    P->gs.ctm = xf_mul(&P->gs.ctm, &x);                   /* CTM <- CTM * T */
+    ctm_apply(P, &x, 0);                                  /* CTM <- CTM * T */
     return 1;
 }
 
@@ -540,7 +586,7 @@ static int object_begin(Parser *P, const Token *t, const char *name)
         return fail(P, t->file, t->line, "ObjectBegin \"%s\" called inside of instance "
                     "definition \"%s\"", name, s->objects[P->cur_object - 1].name);
     for (i = 0; i < s->n_objects; i++)
-        if (!strcmp(s->objects[i].name, name))
+        if (!s->objects[i].unnamed && !strcmp(s->objects[i].name, name))
             return fail(P, t->file, t->line, "ObjectBegin \"%s\": trying to redefine an object "
                         "instance (first at %s:%d)", name, s->objects[i].file, s->objects[i].line);
     if (strlen(name) >= sizeof s->objects[0].name)
@@ -597,6 +643,10 @@ static int object_directive(Parser *P, Lexer *L, const Token *t)
         u = &P->uses[P->n_uses++];
         snprintf(u->name, sizeof u->name, "%s", n.text);
         u->xf = P->gs.ctm;
+        u->xf_end = P->gs.ctm_end;
+        u->t0 = P->t0;
+        u->t1 = P->t1;
+        u->object = -1;
         u->file = t->file;
         u->line = t->line;
         return 1;
@@ -615,13 +665,25 @@ static int resolve_instances(Parser *P)
     for (i = 0; i < P->n_uses; i++) {
         const InstanceUse *u = &P->uses[i];
         Instance *in = &s->instances[i];
-        for (k = 0; k < s->n_objects; k++)
-            if (!strcmp(s->objects[k].name, u->name)) break;
-        if (k == s->n_objects)
+        for (k = 0; u->object < 0 && k < s->n_objects; k++)
+            if (!s->objects[k].unnamed && !strcmp(s->objects[k].name, u->name)) break;
+        if (u->object >= 0) k = u->object;
+        else if (k == s->n_objects)
             return fail(P, u->file, u->line, "ObjectInstance \"%s\": object instance not "
                         "defined", u->name);
         in->object = k;
         in->world_from_obj = u->xf;
+        if (xf_differ(&u->xf, &u->xf_end)) {              /* it moves (motion.c) */
+            if (!grow((void **)&s->motions, &P->cap_motions, s->n_motions + 1, sizeof(Motion)))
+                return oom(P, u->file, u->line);
+            if (!motion_init(&s->motions[s->n_motions], &u->xf, u->t0, &u->xf_end, u->t1))
+                return fail(P, u->file, u->line, "%s \"%s\": its start and end transforms "
+                            "(ActiveTransform) must be rotations, scales and translations "
+                            "without a mirror (pbrt-v4 cannot interpolate a mirroring or "
+                            "projective transform)", u->object >= 0 ? "Shape" : "ObjectInstance",
+                            u->name);
+            in->motion = ++s->n_motions;
+        }
         in->file = u->file;
         in->line = u->line;
         s->n_instances++;
@@ -670,7 +732,10 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     else if (!strcmp(d, "Accelerator")) ok = accelerator_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "Shape")) ok = shape_directive(P, type, &pl, t->file, t->line);
     else if (!strcmp(d, "AreaLightSource")) ok = area_light_directive(P, type, &pl, t->file, t->line);
-    else if (!strcmp(d, "LightSource")) ok = light_source_directive(P, type, &pl, t->file, t->line);
+    else if (!strcmp(d, "LightSource")) {
+        note_start_transform(P, t);
+        ok = light_source_directive(P, type, &pl, t->file, t->line);
+    }
     else if (!strcmp(d, "Material")) {
         Material m;
         int idx;
@@ -741,7 +806,8 @@ static int directive(Parser *P, Lexer *L, const Token *t)
             return fail(P, t->file, t->line, "Options cannot be set inside world block; "
                         "second \"WorldBegin\"");
         P->in_world = P->world_seen = 1;
-        P->gs.ctm = xf_identity();
+        P->gs.ctm = P->gs.ctm_end = xf_identity();
+        P->gs.active = 3;                                  /* pbrt-v4: All again */
         for (i = 0; i < P->n_coords; i++)
             if (!strcmp(P->coords[i].name, "world")) break;
         if (i == P->n_coords) {
@@ -750,7 +816,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
             snprintf(P->coords[i].name, sizeof P->coords[i].name, "world");
             P->n_coords++;
         }
-        P->coords[i].xf = xf_identity();
+        P->coords[i].xf = P->coords[i].xf_end = xf_identity();
         return 1;
     }
     if (!strcmp(d, "WorldEnd"))
@@ -815,6 +881,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
         P->gs.material = -2 - i;
         return 1;
     }
+    if (!strcmp(d, "Texture") || !strcmp(d, "MakeNamedMedium")) note_start_transform(P, t);
     if (!strcmp(d, "Texture")) return texture_directive(P, L, t);
     if (!strcmp(d, "MakeNamedMedium")) return make_named_medium(P, L, t);
     if (!strcmp(d, "MediumInterface")) return medium_interface(P, L, t);
@@ -830,7 +897,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     }
     {
         static const char *const pbrt_only[] = {
-            "ActiveTransform", "Option", "TransformTimes", NULL
+            "Option", NULL
         };
         int i;
         for (i = 0; pbrt_only[i]; i++)
@@ -913,6 +980,9 @@ static void settings_default(SceneSettings *st)
 {
     memset(st, 0, sizeof *st);
     st->camera_from_world = xf_identity();   /* pbrt-v4: no Camera -> identity */
+    st->camera_from_world_end = st->camera_from_world;
+    st->camera_t1 = 1.0;                     /* TransformTimes 0 1 */
+    st->shutter_close = 1.0f;                /* shutteropen 0, shutterclose 1 */
     st->fov_deg = 90.0f;
     st->film_diagonal = 35.0f;               /* pbrt-v4 Film "diagonal", mm */
     st->camera_medium = -1;
@@ -1147,7 +1217,9 @@ static int load(Scene *s, char *buf, size_t len, const char *name, const char *o
     P.s = s;
     P.err = err;
     P.default_material = -1;
-    P.gs.ctm = xf_identity();
+    P.gs.ctm = P.gs.ctm_end = xf_identity();
+    P.gs.active = 3;                         /* ActiveTransform All */
+    P.t1 = 1.0;                              /* TransformTimes 0 1 */
     P.gs.material = -1;
     P.gs.area_light = -1;
     P.gs.medium_inside = P.gs.medium_outside = -1;
@@ -1237,6 +1309,7 @@ void scene_free(Scene *s)
     for (i = 0; i < s->n_objects; i++) bvh_free(&s->objects[i].bvh);
     free(s->objects);
     free(s->instances);
+    free(s->motions);
     for (i = 0; i < s->n_textures; i++) tex_free(&s->textures[i]);
     free(s->textures);
     free(s->UV);

@@ -145,6 +145,8 @@ static inline Vec3 frame_to_world(const Frame *f, Vec3 v)
 typedef struct {
     Vec3 o, d;      /* origin and direction (not necessarily unit length) */
     float tmax;     /* the ray is the segment o + t d, 0 < t < tmax */
+    float time;     /* the camera ray's time in the shutter, kept by every ray of its
+                       path (motion.c); read only where something moves */
 } Ray;
 
 /* Row-major 4x4 matrix with its inverse: points p' = M p (p as a column vector). */
@@ -205,7 +207,10 @@ double radical_inverse(int base, uint64_t i);
      so a scene without media asks for no number beyond the bounces' and the
      fluorescent vertices'.  When the camera sits in a medium, sobol and zsobol
      serve 0, 1, DIM_WAVELENGTH and dim_medium(0, 0) as ONE 4-D group (sampler.c,
-     THE CAMERA GROUP).
+     THE CAMERA GROUP).  A scene where something moves (motion.c) also asks, after
+     the lens, for
+     DIM_TIME       1-D    the camera sample's time in the shutter
+     which a static scene never does (its numbers stay those without motion).
 
    A GROUP is one request: the two numbers of a 2-D group map together onto a 2-D
    domain (pixel, triangle, hemisphere), so they must be spread as a 2-D point
@@ -230,6 +235,7 @@ static inline int dim_medium(int depth, int seg) { return DIM_MEDIUM0 + MEDIUM_S
 #define DIM_SSS0 (1 << 22)
 enum { SSS_AXIS = 8, SSS_RADIUS = 9, SSS_PICK = 11, DIMS_PER_SSS = 16 };
 static inline int dim_sss(int depth) { return DIM_SSS0 + DIMS_PER_SSS * depth; }
+#define DIM_TIME (1 << 23)
 #define SAMPLER_CHECKED_DIMS 256   /* dimensions whose reuse is counted (31 bounces) */
 
 typedef enum {
@@ -639,10 +645,36 @@ typedef struct {
     char name[64];
     Bvh bvh;                   /* over the object's primitives, in its space */
     const char *file; int line;/* its ObjectBegin */
+    int unnamed;               /* made for one moving shape (motion.c): no name */
 } Object;
+/* Motion blur (motion.c; pbrt-v4's ActiveTransform, TransformTimes and
+   AnimatedTransform).  Two transforms, at the start and end times, each taken apart
+   as M = T R S (translation, rotation as a unit quaternion, the rest); between
+   the times T and S are interpolated linearly and R by slerp, outside them the
+   nearer end is used. */
+typedef struct {
+    double t0, t1;             /* TransformTimes: start, end */
+    Xform start, end;          /* the transforms at t0 and t1 */
+    double T[2][3], q[2][4], S[2][3][3];   /* their parts; q = (w, x, y, z) */
+    double theta;              /* the angle between q[0] and q[1] (half the rotation) */
+} Motion;
+/* The motion from start (at t0) to end (at t1); 0 when an end mirrors (negative
+   determinant) or is projective: neither has a rotation to interpolate. */
+int  motion_init(Motion *m, const Xform *start, double t0, const Xform *end, double t1);
+/* The transform at time (and its inverse). */
+void motion_at(const Motion *m, double time, Xform *out);
+/* A box that holds the box [lo, hi] moved by m at every time (conservative: the
+   corners' paths sampled, widened by a bound of their curvature). */
+void motion_bounds(const Motion *m, const double lo[3], const double hi[3], double wlo[3], double whi[3]);
+/* Whether two transforms differ in any entry (pbrt-v4's "actually animated"). */
+int  xf_differ(const Xform *a, const Xform *b);
+
 typedef struct {
     int object;                /* index into Scene.objects */
-    Xform world_from_obj;      /* the CTM at ObjectInstance (inv: object from world) */
+    int motion;                /* 1 + its index into Scene.motions; 0: it stays */
+    Xform world_from_obj;      /* the CTM at ObjectInstance (inv: object from world);
+                                  a moving instance's start one (a ray takes
+                                  motion_at of its time) */
     float lo[3], hi[3];        /* world box of the placed object, rounded outwards */
     const char *file; int line;/* its ObjectInstance */
 } Instance;
@@ -1623,6 +1655,9 @@ typedef enum { FILTER_BOX, FILTER_GAUSSIAN, FILTER_TRIANGLE, FILTER_MITCHELL, FI
 
 typedef struct {
     Xform camera_from_world;   /* CTM at the Camera directive */
+    Xform camera_from_world_end;   /* its end transform (ActiveTransform EndTime) */
+    double camera_t0, camera_t1;   /* TransformTimes at the Camera directive */
+    float shutter_open, shutter_close; /* Camera "shutteropen", "shutterclose" */
     float fov_deg;             /* pbrt: field of view of the shorter image axis */
     int xres, yres;
     char filename[256];
@@ -1703,6 +1738,7 @@ typedef struct Scene {
     CurvePiece *curve_pieces; int n_curve_pieces;   /* ... and their pieces, the BVH's */
     Object *objects; int n_objects;      /* ObjectBegin definitions (instance.c) */
     Instance *instances; int n_instances;/* ObjectInstance placements */
+    Motion *motions; int n_motions;      /* the moving instances' transforms (motion.c) */
     int n_alpha;                         /* shapes with alpha_on (0: no alpha test at all) */
     Vec3 bmin, bmax;                     /* world bounds of all geometry */
     Bvh bvh;
