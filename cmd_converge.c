@@ -390,6 +390,14 @@ static int converge_inputs(const ConvergeArgs *A, Scene *scene, Image *ref, Regi
     const char *names[8];
     memset(scene, 0, sizeof *scene);
     if (!scene_load(scene, A->scene_path, &err)) { fprintf(stderr, "%s\n", err.msg); return 0; }
+    if (scene->settings.spectral) {
+        /* the spectral film draws its own uniform wavelengths: the strategies
+           converge compares would not be the ones rendered */
+        fprintf(stderr, "%s: converge compares RGB images under wavelength and light strategies; "
+                "Film \"spectral\" fixes the wavelengths (uniform): give Film \"rgb\"\n", A->scene_path);
+        scene_free(scene);
+        return 0;
+    }
     if (!pfm_read(ref, A->ref_path, &err)) { fprintf(stderr, "%s\n", err.msg); scene_free(scene); return 0; }
     film_bounds(&scene->settings, fb);
     if (ref->w != fb[1] - fb[0] || ref->h != fb[3] - fb[2]) {

@@ -455,6 +455,9 @@ if [ "$(od -An -tx1 -N4 tests/tmp/spec.exr 2>/dev/null | tr -d ' \n')" = "762f31
 else fail "cli_spectral_film_exr_written: tests/tmp/spec.exr is no OpenEXR file"; fi
 expect "cli_spectral_film_not_exr" 1 '^tests/tmp/spec.pbrt:1: Film "spectral": "tests/tmp/x.pfm": pbrt-v4 writes the spectral film as .exr only' \
     $tmo ./specnee -q tests/tmp/spec.pbrt --spp 1000000 -o tests/tmp/x.pfm
+# converge compares wavelength strategies, which the spectral film does not use
+expect "cli_spectral_film_converge_refused" 1 'Film "spectral" fixes the wavelengths' \
+    ./specnee converge tests/tmp/spec.pbrt --ref tests/tmp/spec.exr --spp 1,2
 # the code, the tests and the docs describe the program as it is; history lives
 # in git log (tests/history-allow.txt: the files not cleaned yet)
 counted docs-history sh tests/docs_history.sh
