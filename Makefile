@@ -50,6 +50,9 @@ fuzz/replay: fuzz/replay.o fuzz/targets.o $(LIBOBJ)
 tools/bench: tools/bench.o $(LIBOBJ)
 	$(CC) $(CFLAGS) -o tools/bench tools/bench.o $(LIBOBJ) $(LDLIBS)
 
+tools/bench_count: tools/bench_count.c tools/bench.c $(LIBOBJ)
+	$(CC) $(CFLAGS) -Itools -o tools/bench_count tools/bench_count.c $(LIBOBJ) $(LDLIBS)
+
 # tools/gen_measured: writes the measured-BRDF test file (tests/data/measured/)
 tools/gen_measured: tools/gen_measured.o $(LIBOBJ)
 	$(CC) $(CFLAGS) -o tools/gen_measured tools/gen_measured.o $(LIBOBJ) $(LDLIBS)
@@ -114,7 +117,7 @@ golden: specnee
 	sh tests/golden.sh --update
 
 clean:
-	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench tools/bench_lights tools/bench_embree
+	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench tools/bench_lights tools/bench_embree tools/bench_count
 	rm -f rgbtable.h tools/gen_rgbtable
 	rm -f fuzz/*.o fuzz/replay
 	rm -rf build

@@ -155,8 +155,9 @@ typedef struct {
     int neg[3];              /* the sign bit of d: the slab the ray enters first */
     int kx, ky, kz;          /* permutation: kz = axis of the largest |d| */
     int axis[3];             /* the slab test's axis order: the other two, then kz */
-    size_t near[3], far[3];  /* the planes (BvhNode.box rows) of axis[s] that the ray
-                                enters and leaves through, by the sign of d */
+    size_t near[3], far[3];  /* the planes of axis[s] that the ray enters and leaves
+                                through, by the sign of d, as offsets in floats from
+                                BvhNode.box[0]: row * BVH_WIDTH */
     float Sx, Sy, Sz;        /* shear constants of Woop et al. */
     float o_ax[3], inv_ax[3];   /* o and 1/d of axis[s]: the slab test's operands */
     float far_scale;         /* 1 + 2 gamma(3): the robust slab test's far factor */
@@ -208,8 +209,8 @@ HOT_INLINE int ray_prepare_rest(RayPre *rp)
     for (a = 0; a < 3; a++) {
         const int ax = mod3[rp->kz + 1 + a];      /* a = 2 gives kz itself */
         rp->axis[a] = ax;
-        rp->near[a] = (size_t)(ax + 3 * rp->neg[ax]);   /* hi for d < 0, lo for d >= 0 */
-        rp->far[a] = (size_t)(ax + 3 * (1 - rp->neg[ax]));
+        rp->near[a] = (size_t)(ax + 3 * rp->neg[ax]) * BVH_WIDTH;   /* hi for d < 0, lo for d >= 0 */
+        rp->far[a] = (size_t)(ax + 3 * (1 - rp->neg[ax])) * BVH_WIDTH;
         rp->o_ax[a] = rp->o[ax];
         rp->inv_ax[a] = rp->inv_d[ax];
     }
@@ -945,16 +946,16 @@ HOT_INLINE int lowest_bit_portable(unsigned m)
 
 /* The slab test of all BVH_WIDTH children of a node: returns the bitmask of those the
    ray enters and that may still hold a hit at t <= t_best (t_cull = t_best *
-   cull_scale; ORDER INDEPENDENCE above), with their entry distances, dominant-axis
-   near planes and hit[j] (nonzero for an entered child: 1 here, all bits set in the
-   SSE2 twin below).  The loop has no branches; the axes are taken in the ray's order
+   cull_scale; ORDER INDEPENDENCE above), with their entry distances and dominant-axis
+   near planes.  The loop has no branches; the axes are taken in the ray's order
    (slot 2 is kz) and the planes by its signs. */
 HOT_INLINE unsigned node_hit_mask_scalar(const BvhNode *nd, const RayPre *rp, float t_cull,
-                                         float *t_enter, float *t_z, int *hit)
+                                         float *t_enter, float *t_z)
 {
-    const float *n0 = nd->box[rp->near[0]], *f0 = nd->box[rp->far[0]];
-    const float *n1 = nd->box[rp->near[1]], *f1 = nd->box[rp->far[1]];
-    const float *n2 = nd->box[rp->near[2]], *f2 = nd->box[rp->far[2]];
+    const float *box = nd->box[0];
+    const float *n0 = box + rp->near[0], *f0 = box + rp->far[0];
+    const float *n1 = box + rp->near[1], *f1 = box + rp->far[1];
+    const float *n2 = box + rp->near[2], *f2 = box + rp->far[2];
     const float o0 = rp->o_ax[0], o1 = rp->o_ax[1], o2 = rp->o_ax[2];
     const float i0 = rp->inv_ax[0], i1 = rp->inv_ax[1], i2 = rp->inv_ax[2];
     const float far_scale = rp->far_scale;
@@ -971,49 +972,76 @@ HOT_INLINE unsigned node_hit_mask_scalar(const BvhNode *nd, const RayPre *rp, fl
         tn = tn2 > tn ? tn2 : tn;  tf = tf2 < tf ? tf2 : tf;
         t_enter[j] = tn;
         t_z[j] = tn2;
-        hit[j] = (tn <= tf * far_scale) & (tn2 <= t_cull);
-        mask |= (unsigned)hit[j] << j;                  /* bit j */
+        mask |= (unsigned)((tn <= tf * far_scale) & (tn2 <= t_cull)) << j;   /* bit j */
     }
     return mask;
 }
 
 #if BVH_SIMD
-/* node_hit_mask_scalar, four children at a time.  _mm_max_ps(x, acc) is exactly
-   "x > acc ? x : acc" (NaN x: acc) and _mm_min_ps(x, acc) "x < acc ? x : acc", so
-   every lane computes what the scalar loop computes, to the bit.  The boxes' rows are
-   16-byte aligned (nodes on 64 bytes, rows of 32). */
-HOT_INLINE unsigned node_hit_mask(const BvhNode *nd, const RayPre *rp, float t_cull,
-                                  float *t_enter, float *t_z, int *hit)
+/* node_hit_mask_scalar for the four children h .. h + 3.  _mm_max_ps(x, acc) is
+   exactly "x > acc ? x : acc" (NaN x: acc) and _mm_min_ps(x, acc) "x < acc ? x : acc",
+   so every lane computes what the scalar loop computes, to the bit.  The boxes' rows
+   are 16-byte aligned (nodes on 64 bytes, rows of 32). */
+HOT_INLINE unsigned node_hit4(const BvhNode *nd, const RayPre *rp, __m128 cull, int h,
+                              float *t_enter, float *t_z)
 {
-    const float *n0 = nd->box[rp->near[0]], *f0 = nd->box[rp->far[0]];
-    const float *n1 = nd->box[rp->near[1]], *f1 = nd->box[rp->far[1]];
-    const float *n2 = nd->box[rp->near[2]], *f2 = nd->box[rp->far[2]];
-    const __m128 o0 = rp->o4[0], o1 = rp->o4[1], o2 = rp->o4[2];
-    const __m128 i0 = rp->inv4[0], i1 = rp->inv4[1], i2 = rp->inv4[2];
-    const __m128 far_scale = rp->far4, cull = _mm_set1_ps(t_cull);
-    unsigned mask = 0;
-    int h;
-    for (h = 0; h < BVH_WIDTH; h += 4) {
-        const __m128 tn0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n0 + h), o0), i0);
-        const __m128 tf0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(f0 + h), o0), i0);
-        const __m128 tn1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n1 + h), o1), i1);
-        const __m128 tf1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(f1 + h), o1), i1);
-        const __m128 tn2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n2 + h), o2), i2);
-        const __m128 tf2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(f2 + h), o2), i2);
-        __m128 tn = _mm_max_ps(tn0, _mm_setzero_ps()), tf = _mm_min_ps(tf0, _mm_set1_ps(INFINITY));
-        __m128 in;
-        tn = _mm_max_ps(tn1, tn);  tf = _mm_min_ps(tf1, tf);
-        tn = _mm_max_ps(tn2, tn);  tf = _mm_min_ps(tf2, tf);
-        in = _mm_and_ps(_mm_cmple_ps(tn, _mm_mul_ps(tf, far_scale)), _mm_cmple_ps(tn2, cull));
-        _mm_storeu_ps(t_enter + h, tn);
-        _mm_storeu_ps(t_z + h, tn2);
-        _mm_storeu_si128((__m128i *)(hit + h), _mm_castps_si128(in));
-        mask |= (unsigned)_mm_movemask_ps(in) << h;
-    }
-    return mask;
+    const float *box = nd->box[0] + h;
+    const __m128 tn0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->near[0]), rp->o4[0]), rp->inv4[0]);
+    const __m128 tf0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->far[0]), rp->o4[0]), rp->inv4[0]);
+    const __m128 tn1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->near[1]), rp->o4[1]), rp->inv4[1]);
+    const __m128 tf1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->far[1]), rp->o4[1]), rp->inv4[1]);
+    const __m128 tn2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->near[2]), rp->o4[2]), rp->inv4[2]);
+    const __m128 tf2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->far[2]), rp->o4[2]), rp->inv4[2]);
+    __m128 tn = _mm_max_ps(tn0, _mm_setzero_ps()), tf = _mm_min_ps(tf0, _mm_set1_ps(INFINITY));
+    tn = _mm_max_ps(tn1, tn);  tf = _mm_min_ps(tf1, tf);
+    tn = _mm_max_ps(tn2, tn);  tf = _mm_min_ps(tf2, tf);
+    _mm_storeu_ps(t_enter + h, tn);
+    _mm_storeu_ps(t_z + h, tn2);
+    return (unsigned)_mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(tn, _mm_mul_ps(tf, rp->far4)),
+                                                _mm_cmple_ps(tn2, cull)));
+}
+
+/* node_hit_mask_scalar in two halves of four children */
+HOT_INLINE unsigned node_hit_mask(const BvhNode *nd, const RayPre *rp, float t_cull,
+                                  float *t_enter, float *t_z)
+{
+    const __m128 cull = _mm_set1_ps(t_cull);
+    return node_hit4(nd, rp, cull, 0, t_enter, t_z) | node_hit4(nd, rp, cull, 4, t_enter, t_z) << 4;
 }
 #else
 #define node_hit_mask node_hit_mask_scalar
+#endif
+
+/* The rank of entered child jj among the entered children of a node (the bits of
+   mask): how many of them are farther (t_enter larger; ties: lower slot first), so
+   that the nearest gets rank 0.  A branch-free count over all slots. */
+HOT_INLINE int child_rank_scalar(const float *t_enter, unsigned mask, int jj)
+{
+    const float te = t_enter[jj];
+    int j, rank = 0;
+    for (j = 0; j < BVH_WIDTH; j++)
+        rank += (int)((mask >> j) & 1u) & ((t_enter[j] > te) | ((t_enter[j] == te) & (j < jj)));
+    return rank;
+}
+
+#if BVH_SIMD
+/* child_rank_scalar with the comparisons four slots at a time: the slots farther, or
+   as far and lower, as a bitmask; its entered bits counted by a table of the counts
+   of 4-bit patterns (no population-count instruction in SSE2). */
+HOT_INLINE int child_rank(const float *t_enter, unsigned mask, int jj)
+{
+    static const unsigned char bits4[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+    const __m128 te = _mm_set1_ps(t_enter[jj]);
+    const __m128 lo = _mm_loadu_ps(t_enter), hi = _mm_loadu_ps(t_enter + 4);
+    const unsigned gt = (unsigned)_mm_movemask_ps(_mm_cmpgt_ps(lo, te)) |
+                        (unsigned)_mm_movemask_ps(_mm_cmpgt_ps(hi, te)) << 4;
+    const unsigned eq = (unsigned)_mm_movemask_ps(_mm_cmpeq_ps(lo, te)) |
+                        (unsigned)_mm_movemask_ps(_mm_cmpeq_ps(hi, te)) << 4;
+    const unsigned m = (gt | (eq & ((1u << jj) - 1u))) & mask;
+    return bits4[m & 15u] + bits4[m >> 4];
+}
+#else
+#define child_rank child_rank_scalar
 #endif
 
 /* Instance in's M for ray r: its own, or a moving one's at the ray's time
@@ -1169,7 +1197,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
     const int n_quad_end = s->n_tris + s->n_spheres + s->n_quadrics, n_patch_end = n_quad_end + s->n_patches;
     const int n_base = n_patch_end + s->n_curve_pieces;
     const int n_alpha_base = s->n_alpha > 0 ? n_base : 0;   /* ALPHA: ids below it are tested */
-    int hit[BVH_WIDTH], sp = 0, best_p = no_hit, ref = 0, j;
+    int sp = 0, best_p = no_hit, ref = 0;
     HitRecord hi;
     if (b->n_nodes == 0 || !(t_best > 0.0f) || !ray_prepare(r, &rp) || !root_hit(b, &rp) ||
         !ray_prepare_rest(&rp))                    /* only now: most rays miss the root */
@@ -1181,7 +1209,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
             /* inner node: test the children; one entered: go on with it; several:
                put them on the stack farthest first and go on with the nearest */
             const BvhNode *nd = &b->nodes[ref];
-            const unsigned mask = node_hit_mask(nd, &rp, t_cull, t_enter, t_z, hit);
+            const unsigned mask = node_hit_mask(nd, &rp, t_cull, t_enter, t_z);
             if (mask != 0) {
                 unsigned m;
                 int n = 0;
@@ -1210,12 +1238,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                    an insertion sort.  Shadow rays need no order: rank = arrival. */
                 for (m = mask; m != 0; m &= m - 1, n++) {
                     const int jj = lowest_bit(m);
-                    const float te = t_enter[jj];
-                    int rank = 0;
-                    if (any_hit) rank = n;
-                    else
-                        for (j = 0; j < BVH_WIDTH; j++)
-                            rank += hit[j] & ((t_enter[j] > te) | ((t_enter[j] == te) & (j < jj)));
+                    const int rank = any_hit ? n : child_rank(t_enter, mask, jj);
                     stack[sp + rank].ref = nd->child[jj];
                     stack[sp + rank].t_z = t_z[jj];
                     prefetch_ref(b, nd->child[jj]);
@@ -1305,14 +1328,15 @@ int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes)
     if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp)) return bad;
     for (i = 0; i < b->n_nodes; i++) {
         float te[2][BVH_WIDTH], tz[2][BVH_WIDTH];
-        int hit[2][BVH_WIDTH];
-        const unsigned m0 = node_hit_mask_scalar(&b->nodes[i], &rp, t_cull, te[0], tz[0], hit[0]);
-        const unsigned m1 = node_hit_mask(&b->nodes[i], &rp, t_cull, te[1], tz[1], hit[1]);
+        const unsigned m0 = node_hit_mask_scalar(&b->nodes[i], &rp, t_cull, te[0], tz[0]);
+        const unsigned m1 = node_hit_mask(&b->nodes[i], &rp, t_cull, te[1], tz[1]);
         for (j = 0; j < BVH_WIDTH; j++) {
             const int in0 = (m0 >> j) & 1u, in1 = (m1 >> j) & 1u;
-            bad += in0 != in1 || (hit[0][j] != 0) != in0 || (hit[1][j] != 0) != in1 ||
+            bad += in0 != in1 ||
                    memcmp(&te[0][j], &te[1][j], sizeof(float)) != 0 ||
                    memcmp(&tz[0][j], &tz[1][j], sizeof(float)) != 0;
+            if (in0 && in1)                /* the order of the children entered */
+                bad += child_rank_scalar(te[0], m0, j) != child_rank(te[1], m1, j);
         }
         *lanes += BVH_WIDTH;
     }
