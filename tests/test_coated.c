@@ -245,8 +245,8 @@ static void test_cc_limit_bare(T *t)
     bare.type = MAT_CONDUCTOR;
     bare.eta = test_eta_named("metal-Cu-eta");
     spec_named(&bare.extra->k, "metal-Cu-k");
+    memset(&mp, 0, sizeof mp);                 /* untextured: no has_r, no has_ek */
     mp.alpha = mp.alpha_t = 0.3f;
-    mp.has_r = 0;
     mp.cond_alpha = 0.0f;
     for (k = 0; k < 40; k++) {
         Vec3 wo = dir(5.0f + 2.0f * (float)k, 13.0f * (float)k), wi = dir(80.0f - 1.9f * (float)k, 200.0f);
