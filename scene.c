@@ -1043,6 +1043,80 @@ static int resolve_mix_names(Parser *P)
     return 1;
 }
 
+/* The world bounds of all geometry (vertices, spheres, quadrics, patches, curve
+   pieces, instances), component by component (plain floats: tcc 0.9.27
+   miscompiles a struct-returning call whose result is assigned to one of its own
+   arguments inside such a loop); empty: the origin. */
+static void world_bounds(Scene *s)
+{
+    int i;
+    float lo[3] = { FLT_MAX, FLT_MAX, FLT_MAX }, hi[3] = { -FLT_MAX, -FLT_MAX, -FLT_MAX };
+    for (i = 0; i < s->n_tris; i++) {
+        int k, a;
+        if (s->shapes[s->tris[i].shape].in_object) continue;   /* in object space */
+        for (k = 0; k < 3; k++) {
+            Vec3 p = s->P[s->tris[i].v[k]];
+            for (a = 0; a < 3; a++) {
+                float x = v3_get(p, a);
+                if (x < lo[a]) lo[a] = x;
+                if (x > hi[a]) hi[a] = x;
+            }
+        }
+    }
+    for (i = 0; i < s->n_spheres; i++) {
+        const Shape *sh = &s->shapes[s->sphere_shape[i]];
+        int a;
+        if (sh->in_object) continue;
+        for (a = 0; a < 3; a++) {
+            float c = v3_get(sh->center, a);
+            if (c - sh->radius < lo[a]) lo[a] = c - sh->radius;
+            if (c + sh->radius > hi[a]) hi[a] = c + sh->radius;
+        }
+    }
+    for (i = 0; i < s->n_quadrics; i++) {
+        float qlo[3], qhi[3];
+        int a;
+        if (s->shapes[s->quadric_shape[i]].in_object) continue;
+        quadric_bounds(&s->shapes[s->quadric_shape[i]], qlo, qhi);
+        for (a = 0; a < 3; a++) {
+            if (qlo[a] < lo[a]) lo[a] = qlo[a];
+            if (qhi[a] > hi[a]) hi[a] = qhi[a];
+        }
+    }
+    for (i = 0; i < s->n_patches; i++) {
+        int k, a;
+        if (s->shapes[s->patches[i].shape].in_object) continue;
+        for (k = 0; k < 4; k++) {
+            Vec3 p = s->P[s->patches[i].v[k]];
+            for (a = 0; a < 3; a++) {
+                float x = v3_get(p, a);
+                if (x < lo[a]) lo[a] = x;
+                if (x > hi[a]) hi[a] = x;
+            }
+        }
+    }
+    for (i = 0; i < s->n_curve_pieces; i++) {
+        float clo[3], chi[3];
+        int a;
+        if (s->shapes[s->curves[s->curve_pieces[i].curve].shape].in_object) continue;
+        curve_piece_bounds(s, &s->curve_pieces[i], clo, chi);
+        for (a = 0; a < 3; a++) {
+            if (clo[a] < lo[a]) lo[a] = clo[a];
+            if (chi[a] > hi[a]) hi[a] = chi[a];
+        }
+    }
+    for (i = 0; i < s->n_instances; i++) {
+        int a;
+        for (a = 0; a < 3; a++) {
+            if (s->instances[i].lo[a] < lo[a]) lo[a] = s->instances[i].lo[a];
+            if (s->instances[i].hi[a] > hi[a]) hi[a] = s->instances[i].hi[a];
+        }
+    }
+    s->bmin = v3(lo[0], lo[1], lo[2]);
+    s->bmax = v3(hi[0], hi[1], hi[2]);
+    if (s->bmin.x > s->bmax.x) s->bmin = s->bmax = v3(0, 0, 0);   /* nothing in the world */
+}
+
 static int finish(Parser *P, const char *file)
 {
     Scene *s = P->s;
@@ -1129,76 +1203,7 @@ static int finish(Parser *P, const char *file)
                         s->inset_name[i], s->inset[i][0], s->inset[i][1], s->inset[i][2],
                         s->inset[i][3], s->settings.xres, s->settings.yres);
     if (!resolve_instances(P) || !instances_prepare(s, P->err)) return 0;
-    /* world bounds of all geometry (vertices, spheres, instances), component by component
-       (plain floats: tcc 0.9.27 miscompiles a struct-returning call whose result
-       is assigned to one of its own arguments inside this loop) */
-    {
-        float lo[3] = { FLT_MAX, FLT_MAX, FLT_MAX }, hi[3] = { -FLT_MAX, -FLT_MAX, -FLT_MAX };
-        for (i = 0; i < s->n_tris; i++) {
-            int k, a;
-            if (s->shapes[s->tris[i].shape].in_object) continue;   /* in object space */
-            for (k = 0; k < 3; k++) {
-                Vec3 p = s->P[s->tris[i].v[k]];
-                for (a = 0; a < 3; a++) {
-                    float x = v3_get(p, a);
-                    if (x < lo[a]) lo[a] = x;
-                    if (x > hi[a]) hi[a] = x;
-                }
-            }
-        }
-        for (i = 0; i < s->n_spheres; i++) {
-            const Shape *sh = &s->shapes[s->sphere_shape[i]];
-            int a;
-            if (sh->in_object) continue;
-            for (a = 0; a < 3; a++) {
-                float c = v3_get(sh->center, a);
-                if (c - sh->radius < lo[a]) lo[a] = c - sh->radius;
-                if (c + sh->radius > hi[a]) hi[a] = c + sh->radius;
-            }
-        }
-        for (i = 0; i < s->n_quadrics; i++) {
-            float qlo[3], qhi[3];
-            int a;
-            if (s->shapes[s->quadric_shape[i]].in_object) continue;
-            quadric_bounds(&s->shapes[s->quadric_shape[i]], qlo, qhi);
-            for (a = 0; a < 3; a++) {
-                if (qlo[a] < lo[a]) lo[a] = qlo[a];
-                if (qhi[a] > hi[a]) hi[a] = qhi[a];
-            }
-        }
-        for (i = 0; i < s->n_patches; i++) {
-            int k, a;
-            if (s->shapes[s->patches[i].shape].in_object) continue;
-            for (k = 0; k < 4; k++) {
-                Vec3 p = s->P[s->patches[i].v[k]];
-                for (a = 0; a < 3; a++) {
-                    float x = v3_get(p, a);
-                    if (x < lo[a]) lo[a] = x;
-                    if (x > hi[a]) hi[a] = x;
-                }
-            }
-        }
-        for (i = 0; i < s->n_curve_pieces; i++) {
-            float clo[3], chi[3];
-            int a;
-            if (s->shapes[s->curves[s->curve_pieces[i].curve].shape].in_object) continue;
-            curve_piece_bounds(s, &s->curve_pieces[i], clo, chi);
-            for (a = 0; a < 3; a++) {
-                if (clo[a] < lo[a]) lo[a] = clo[a];
-                if (chi[a] > hi[a]) hi[a] = chi[a];
-            }
-        }
-        for (i = 0; i < s->n_instances; i++) {
-            int a;
-            for (a = 0; a < 3; a++) {
-                if (s->instances[i].lo[a] < lo[a]) lo[a] = s->instances[i].lo[a];
-                if (s->instances[i].hi[a] > hi[a]) hi[a] = s->instances[i].hi[a];
-            }
-        }
-        s->bmin = v3(lo[0], lo[1], lo[2]);
-        s->bmax = v3(hi[0], hi[1], hi[2]);
-    }
-    if (s->bmin.x > s->bmax.x) s->bmin = s->bmax = v3(0, 0, 0);   /* nothing in the world */
+    world_bounds(s);
     if (!P->any_normals) { free(s->N); s->N = NULL; }
     if (!P->any_uv) { free(s->UV); s->UV = NULL; }
     if (s->n_emitters > 0 && !emitters_prepare(s, P->err)) return 0;

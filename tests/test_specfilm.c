@@ -444,7 +444,7 @@ static void test_specfilm_rgb_as_rgb_film(T *t)
     }
 }
 
-/* pbrt-v4 5f7a6068 (../shared/tools/pbrt-v4 --seed 1..4 --spp 1024, each EXR read
+/* pbrt-v4 5f7a6068 (built as docs/real-scenes.md says; pbrt --seed 1..4 --spp 1024, each EXR read
    by exr_read_named; mean over the 16 x 16 pixels, then mean and standard error
    over the four seeds) of this scene: the 8 buckets over 400..720 nm, then R G B. */
 static const char *FROZEN_SCENE =
