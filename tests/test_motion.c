@@ -153,19 +153,6 @@ static void test_motion_bounds_hold(T *t)
     }
 }
 
-static int render_opts(T *t, const char *text, const RenderOptions *o, Image *im)
-{
-    Scene s;
-    RenderStats st;
-    Error err;
-    int ok;
-    if (!test_load_scene(t, &s, text)) return 0;
-    ok = render(&s, o, im, &st, &err);
-    if (!ok) test_failf(t, __FILE__, __LINE__, "render: %s", err.msg);
-    scene_free(&s);
-    return ok;
-}
-
 static int render_text(T *t, const char *text, int spp, int seed, int threads, int nee, Image *im)
 {
     RenderOptions o;
@@ -174,7 +161,7 @@ static int render_text(T *t, const char *text, int spp, int seed, int threads, i
     o.seed = seed;
     o.threads = threads;
     o.nee = nee;
-    return render_opts(t, text, &o, im);
+    return test_render_text(t, text, &o, im);
 }
 
 static double pixel_Y(const Image *im, int x, int y)
@@ -374,8 +361,8 @@ static void test_motion_static_threads(T *t)
         scene_free(&s);
         CHECK(t, ok, "CoordSysTransform did not restore both CTMs");
     }
-    if (!render_opts(t, a, &o, &ia)) return;
-    if (!render_opts(t, b, &o, &ib)) { img_free(&ia); return; }
+    if (!test_render_text(t, a, &o, &ia)) return;
+    if (!test_render_text(t, b, &o, &ib)) { img_free(&ia); return; }
     CHECK(t, !memcmp(ia.rgb, ib.rgb, sizeof(float) * 3 * ia.w * ia.h), "the motion directives changed "
           "a static image");
     img_free(&ia);
@@ -387,8 +374,8 @@ static void test_motion_static_threads(T *t)
     snprintf(b, sizeof b, "%s%sActiveTransform EndTime\nTranslate 1 0 0\nActiveTransform All\n"
              "Translate 0 -1000 0\nMaterial \"diffuse\" \"rgb reflectance\" [ 0 0 0 ]\n" MOVING_CUBE,
              MOVING_HEAD MOVING_WORLD, STATIC_THINGS);
-    if (!render_opts(t, a, &o, &ia)) return;
-    if (!render_opts(t, b, &o, &ib)) { img_free(&ia); return; }
+    if (!test_render_text(t, a, &o, &ia)) return;
+    if (!test_render_text(t, b, &o, &ib)) { img_free(&ia); return; }
     CHECK(t, memcmp(ia.rgb, ib.rgb, sizeof(float) * 3 * ia.w * ia.h) != 0, "a moving scene drew no time");
     img_free(&ia);
     img_free(&ib);
