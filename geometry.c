@@ -624,7 +624,9 @@ static int loopsubdiv_shape(Parser *P, ParamList *pl, const char *file, int line
 
 /* pbrt-v4's "alpha" of every shape: "texture alpha" (a float texture) or "float
    alpha" (1); on an AreaLightSource shape NEE reads the texture at the points it
-   samples (lights.c emitter_alpha_at).  Sets P->shape_alpha(_tex). */
+   samples (lights.c emitter_alpha_at).  A "constant" float texture is its value:
+   pbrt-v4 tells a constant alpha of 0 apart whichever way it was written (shape,
+   below).  Sets P->shape_alpha(_tex). */
 static int shape_alpha(Parser *P, ParamList *pl)
 {
     Param *pt = param_find(pl, PT_TEXTURE, "alpha");
@@ -632,16 +634,20 @@ static int shape_alpha(Parser *P, ParamList *pl)
     P->shape_alpha_tex = 0;
     if (pt) {
         int k = texture_lookup(P, pt, 1);
+        const Texture *t;
         if (k < 0) return 0;
-        P->shape_alpha_tex = k + 1;
+        t = &P->s->textures[k];
+        if (t->type == TEX_CONSTANT && t->arg_tex[0] < 0) P->shape_alpha = t->arg_f[0];
+        else P->shape_alpha_tex = k + 1;
         return 1;
     }
     return get_float(P, pl, "alpha", 1.0f, &P->shape_alpha);
 }
 
-/* A shape pbrt-v4 can never hit ("float alpha" <= 0, no texture): its light sends
-   nothing either (DiffuseAreaLight's alpha mask), so it is read, checked, and then
-   dropped with everything it appended, as if the file did not have it. */
+/* A shape pbrt-v4 can never hit (a constant alpha <= 0) that sends no light (not an
+   area light, or alpha < 0, which DiffuseAreaLight's mask turns off) is read,
+   checked, and then dropped with everything it appended, as if the file did not
+   have it.  An area light of alpha exactly 0 stays (shape, below). */
 static int shape_drop(Parser *P, const Scene *before)
 {
     Scene *s = P->s;
@@ -735,6 +741,12 @@ int shape_directive(Parser *P, const char *type, ParamList *pl, const char *file
     if (!shape_alpha(P, pl)) return 0;
     if (xf_differ(&P->gs.ctm, &P->gs.ctm_end)) ok = moving_shape(P, type, pl, file, line);
     else ok = shape_build(P, type, pl, file, line);
-    if (ok && P->shape_alpha_tex == 0 && P->shape_alpha <= 0.0f) return shape_drop(P, &before);
+    /* pbrt-v4's invisible area light: a constant alpha of exactly 0 on an area light
+       makes the shape unhittable (the BVH's alpha test never keeps a hit of alpha 0)
+       while the light emits in full and is found by NEE alone (lights.c
+       emitter_invisible; path.c gives NEE the whole MIS weight there). */
+    if (ok && P->shape_alpha_tex == 0 && P->shape_alpha <= 0.0f &&
+        !(P->shape_alpha == 0.0f && P->s->n_emitters > before.n_emitters))
+        return shape_drop(P, &before);
     return ok;
 }

@@ -505,15 +505,32 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
     return finish_sample(ref, em->area, out);
 }
 
+/* pbrt-v4's invisible area light: an area light whose shape has the constant alpha
+   0 (geometry.c keeps it).  No ray ever hits it (bvh.c ALPHA), yet pbrt-v4's
+   DiffuseAreaLight drops the mask there and emits in full, and calls the light a
+   DeltaPosition one so that its direct light is estimated by light sampling alone:
+   NEE takes the whole MIS weight (path.c nee_sample), which keeps the estimate
+   unbiased since no BSDF direction can find the light. */
+int emitter_invisible(const Scene *s, int e)
+{
+    const Emitter *em = &s->emitters[e];
+    const Shape *sh;
+    if (em->inf || em->delta.type != DELTA_NONE || em->shape < 0) return 0;
+    sh = &s->shapes[em->shape];
+    return sh->alpha_tex == 0 && sh->alpha == 0.0f;
+}
+
 /* pbrt-v4 masks an area light's emission where its alpha test fails; a ray that
    finds the shape does so with probability alpha already (bvh.c ALPHA), so the
    points NEE samples, which no ray tests, carry the expected value alpha L.
-   Both estimators then see alpha L, and MIS between them stays unbiased. */
+   Both estimators then see alpha L, and MIS between them stays unbiased.  An
+   invisible light (above) emits in full. */
 float emitter_alpha(const Scene *s, int e)
 {
     const Emitter *em = &s->emitters[e];
     float a;
     if (em->inf || em->delta.type != DELTA_NONE || em->shape < 0) return 1.0f;
+    if (emitter_invisible(s, e)) return 1.0f;
     a = s->shapes[em->shape].alpha;
     return a < 1.0f ? (a > 0.0f ? a : 0.0f) : 1.0f;
 }

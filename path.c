@@ -590,7 +590,7 @@ static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const Pa
             }
         }
     }
-    q_b = es.delta ? no_bsdf : pdf_l;
+    q_b = es.delta || emitter_invisible(s, em) ? no_bsdf : pdf_l;   /* lights.c: no BSDF finds it */
     q_nee = P * es.pdf_sa;
     den = mis_denominator(path->r, q_b, T, A, q_nee, path->alive);
     if (!(den > 0.0)) {

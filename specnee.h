@@ -1945,6 +1945,9 @@ float emitter_alpha(const Scene *s, int e);
    weighs the radiance by the probability alpha(x) with which a ray finds x (bvh.c
    ALPHA); emitter_alpha without a texture. */
 float emitter_alpha_at(const Scene *s, int e, Vec3 ref, const EmitterSample *es);
+/* pbrt-v4's invisible area light (constant alpha 0): no ray hits it, it emits in
+   full, and NEE alone finds it (1), else 0 */
+int   emitter_invisible(const Scene *s, int e);
 
 /* Infinite lights (infinite.c).  dir: unit world direction towards the light (the
    direction of a ray that escapes).  Radiance and solid-angle pdf of inf_sample.
