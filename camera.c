@@ -1,5 +1,5 @@
-/* camera.c - pbrt-v4's perspective and realistic cameras: a raster point to a
-   world-space ray.
+/* camera.c - pbrt-v4's perspective, orthographic, spherical and realistic
+   cameras: a raster point to a world-space ray.
 
    Exported (render.h, for render.c): camera_init, camera_ray, camera_has_lens.
    The realistic camera (Camera "realistic") traces its rays through the lens
@@ -10,14 +10,48 @@
    default the shorter image axis spans [-1, 1], and the field of view "fov"
    belongs to that axis; "screenwindow" [x0 x1 y0 y1] replaces it.  A raster point
    (x, y) (y down, pixel units of the full film) maps linearly onto the window,
-   sx = x0 + (x / w)(x1 - x0), sy = y1 - (y / h)(y1 - y0), and then to the
-   camera-space direction (sx tan(fov/2), sy tan(fov/2), 1).  The camera frame is left-handed, as pbrt's
-   (docs/conventions.md).  With "lensradius" > 0 the camera is a thin lens focused
-   at "focaldistance" (camera_ray says how); otherwise a pinhole.  Every call is a
-   pure function of its arguments: the numbers for the lens come from the caller's
-   sampler (render.c asks for them only when there is a lens), and the time
-   (render.c draws it only when something moves, motion.c): a moving camera's
-   world_from_camera is its motion at that time. */
+   sx = x0 + (x / w)(x1 - x0), sy = y1 - (y / h)(y1 - y0).  The camera frame is
+   left-handed, as pbrt's (docs/conventions.md).  Every call is a pure function
+   of its arguments: the numbers for the lens come from the caller's sampler
+   (render.c asks for them only when there is a lens), and the time (render.c
+   draws it only when something moves, motion.c): a moving camera's
+   world_from_camera is its motion at that time.  In camera space:
+
+   PERSPECTIVE.  From the eye o = 0 along d = (sx tan(fov/2), sy tan(fov/2), 1).
+
+   ORTHOGRAPHIC.  From o = (sx, sy, 0) along d = (0, 0, 1): the screen window is
+   a rectangle of camera-space (world) units, and every pinhole ray is parallel
+   to the camera's z axis.
+
+   THIN LENS (both, "lensradius" rho_l > 0, "focaldistance" z_f; camera_ray).
+   Every ray of a raster point passes through the point where its pinhole ray
+   meets the plane of focus z = z_f, x_f = o + z_f d (d.z = 1), and leaves the
+   lens point (rho_l e_l, 0), e_l uniform on the unit disk.  For the perspective
+   camera a point at depth z blurs into a disk of radius rho_l |1/z_f - 1/z| in
+   the screen's tan units (tested by render_thin_lens).  The orthographic one
+   keeps pbrt-v4's choice: its lens sits at the camera's origin, not under the
+   raster point, so its rays converge from near the origin onto x_f = (sx, sy,
+   z_f); only the plane of focus keeps the orthographic image.
+
+   SPHERICAL.  The whole sphere of directions on the film, from o = 0; the
+   window, "fov" and the lens are not used (pbrt-v4 reads and ignores them).
+   (u, v) = (x / w, y / h) in [0, 1]^2 (a filter's sample may fall just outside).
+   "equirectangular": theta = pi v, phi = 2 pi u and
+       d = (sin theta cos phi, cos theta, sin theta sin phi),
+   so the top row looks along +y (up), the middle row's u = 1/4 along +z.
+   "equalarea" (the default), Clarberg's octahedral map: a point outside the
+   square is first folded back across the edge it crossed (u < 0: (u, v) ->
+   (-u, 1 - v); u > 1: (2 - u, 1 - v); likewise v with u -> 1 - u), so the map
+   stays continuous across the film's border.  Then a = 2u - 1, b = 2v - 1; the
+   signed distance from the diamond |a| + |b| = 1 is s = 1 - |a| - |b|, the ring
+   r = 1 - |s| in [0, 1] and
+       z' = sign(s) (1 - r^2),   phi' = (pi/4) (1 + (|b| - |a|) / r)  (r = 0: pi/4),
+       d' = (sign(a) cos(phi') r sqrt(2 - r^2), sign(b) sin(phi') r sqrt(2 - r^2), z'),
+   and d = (d'x, d'z, d'y): the inner diamond (s > 0) is the upper hemisphere
+   (the image's centre looks along +y), the four corners the lower one.  The
+   ring between r and r + dr has area 4 r dr of [-1, 1]^2 and solid angle
+   2 pi |dz'| = 4 pi r dr, and phi' is linear along the ring, so every pixel of a
+   w x h film subtends the same 4 pi / (w h) sr (tested by spherical_equal_area). */
 #include "render.h"
 #include <string.h>
 
@@ -29,6 +63,7 @@ void camera_init(Camera *c, const SceneSettings *st)
         memcpy(c->world_from_camera.m, t.inv, sizeof t.inv);
         memcpy(c->world_from_camera.inv, t.m, sizeof t.m);
     }
+    c->type = st->camera_type;
     c->tan_half = tanf(st->fov_deg * 0.5f * PI_F / 180.0f);
     camera_screen_window(st, sw);            /* options.c: pbrt-v4's screen window */
     c->sx0 = sw[0]; c->sx1 = sw[1]; c->sy0 = sw[2]; c->sy1 = sw[3];
@@ -83,16 +118,39 @@ static void concentric_disk(float u0, float u1, float *dx, float *dy)
     *dy = r * sinf(phi);
 }
 
-/* Raster (x, y), y down, to a world-space ray.  (ul0, ul1) pick the point on the
-   lens (unused for a pinhole).
+/* pbrt-v4's fold of a point just outside the unit square back across the edge
+   it crossed (the module comment), so the equal-area map is continuous there. */
+static void equal_area_fold(float *u, float *v)
+{
+    if (*u < 0.0f) { *u = -*u; *v = 1.0f - *v; }
+    else if (*u > 1.0f) { *u = 2.0f - *u; *v = 1.0f - *v; }
+    if (*v < 0.0f) { *u = 1.0f - *u; *v = -*v; }
+    else if (*v > 1.0f) { *u = 1.0f - *u; *v = 2.0f - *v; }
+}
 
-   THIN LENS (pbrt-v4 PerspectiveCamera).  The pinhole ray of the raster point has
-   the camera-space direction d = (sx tan, sy tan, 1).  A lens of radius rho_l at
-   z = 0 focused at distance z_f sends every ray of that raster point through the
-   point where the pinhole ray meets the plane of focus, x_f = z_f d (z = z_f), from
-   a point (rho_l e_l, 0) with e_l uniform on the unit disk.  Points on that plane
-   are sharp; a point at depth z spreads into a disk of radius rho_l |1/z_f - 1/z|
-   in the screen's tan units (the circle of confusion; tested by render_thin_lens). */
+/* The spherical camera's direction of film point (u, v) (the module comment),
+   with pbrt-v4's exchange of y and z. */
+static Vec3 spherical_dir(CameraType type, float u, float v)
+{
+    float a, b, s, r, phi, z, rho;
+    if (type == CAMERA_EQUIRECT) {
+        float theta = PI_F * v;
+        phi = 2.0f * PI_F * u;
+        return v3(sinf(theta) * cosf(phi), cosf(theta), sinf(theta) * sinf(phi));
+    }
+    equal_area_fold(&u, &v);
+    a = 2.0f * u - 1.0f;
+    b = 2.0f * v - 1.0f;
+    s = 1.0f - (fabsf(a) + fabsf(b));          /* > 0 inside the diamond */
+    r = 1.0f - fabsf(s);
+    phi = (r == 0.0f ? 1.0f : (fabsf(b) - fabsf(a)) / r + 1.0f) * (PI_F / 4.0f);
+    z = copysignf(1.0f - r * r, s);
+    rho = r * sqrtf(2.0f - r * r);             /* r <= 1 */
+    return v3(copysignf(cosf(phi), a) * rho, z, copysignf(sinf(phi), b) * rho);
+}
+
+/* Raster (x, y), y down, to a world-space ray.  (ul0, ul1) pick the point on the
+   lens (unused for a pinhole); the thin lens's equations: the module comment. */
 Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1, float time, float *weight)
 {
     Ray r;
@@ -102,11 +160,18 @@ Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1, float ti
     float sy = c->sy1 - (y / (float)c->h) * (c->sy1 - c->sy0);
     Vec3 d = v3(sx * c->tan_half, sy * c->tan_half, 1.0f), o = v3(0, 0, 0);
     *weight = 1.0f;
+    if (c->type == CAMERA_ORTHOGRAPHIC) {
+        o = v3(sx, sy, 0.0f);
+        d = v3(0.0f, 0.0f, 1.0f);
+    } else if (c->type != CAMERA_PERSPECTIVE) {
+        d = spherical_dir(c->type, x / (float)c->w, y / (float)c->h);
+    }
     if (c->lens) {
         *weight = realistic_ray(c, x, y, ul0, ul1, &o, &d);
     } else if (c->lens_radius > 0.0f) {
         float lx, ly;
-        Vec3 q = v3_mul(d, c->focal_distance);     /* x_f, the point of focus */
+        Vec3 q = c->type == CAMERA_ORTHOGRAPHIC ? v3(sx, sy, c->focal_distance)
+                                                : v3_mul(d, c->focal_distance);   /* x_f */
         concentric_disk(ul0, ul1, &lx, &ly);
         o = v3(c->lens_radius * lx, c->lens_radius * ly, 0.0f);
         d = v3_sub(q, o);

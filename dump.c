@@ -139,9 +139,14 @@ void scene_dump(const Scene *s, FILE *f)
         fprintf(f, "camera: realistic, %d lens interfaces, focused at %g, film %g mm behind "
                 "the rear one, diagonal %g mm", st->lens.n, st->focus_distance,
                 st->lens.e[st->lens.n - 1].thickness * 1e3, st->film_diagonal);
+    } else if (st->camera_type == CAMERA_EQUAL_AREA || st->camera_type == CAMERA_EQUIRECT) {
+        fprintf(f, "camera: spherical, mapping %s",
+                st->camera_type == CAMERA_EQUAL_AREA ? "equalarea" : "equirectangular");
     } else {
-        fprintf(f, "camera: perspective, fov %g deg (shorter image axis)", st->fov_deg);
-        if (st->screen_set || st->frame_aspect > 0.0f) {   /* pbrt-v4's window, as camera.c uses it */
+        if (st->camera_type == CAMERA_ORTHOGRAPHIC) fprintf(f, "camera: orthographic");
+        else fprintf(f, "camera: perspective, fov %g deg (shorter image axis)", st->fov_deg);
+        if (st->screen_set || st->frame_aspect > 0.0f || st->camera_type == CAMERA_ORTHOGRAPHIC) {
+            /* pbrt-v4's window, as camera.c uses it */
             float sw[4];
             camera_screen_window(st, sw);
             fprintf(f, ", screen window [%g %g %g %g]", sw[0], sw[1], sw[2], sw[3]);

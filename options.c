@@ -115,6 +115,7 @@ static int realistic_camera(Parser *P, ParamList *pl, const char *file, int line
                 "wider than the lens's stop: the stop's own diameter is kept (as pbrt-v4 does)\n",
                 file, line, diameter);
     st->focus_distance = focus;
+    st->camera_type = CAMERA_PERSPECTIVE;       /* with its lens (lens.n > 0) */
     st->lens_radius = 0.0f;
     st->fov_deg = 90.0f;                        /* only for camera_transform_ok */
     st->screen_set = 0;
@@ -123,47 +124,67 @@ static int realistic_camera(Parser *P, ParamList *pl, const char *file, int line
     return camera_place(P, open, close, file, line);
 }
 
-int camera_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+/* Camera "perspective", "orthographic" and "spherical": their names, the
+   parameters each reads (pbrt-v4's Create(); the spherical camera reads the
+   lens and the window as pbrt-v4's does, and ignores them: camera.c) */
+static const char *const CAMERA_LABEL[3] = {
+    "Camera \"perspective\"", "Camera \"orthographic\"", "Camera \"spherical\"" };
+static const char *const CAMERA_READS[3] = {
+    "float fov, float lensradius, float focaldistance, float shutteropen, float shutterclose, "
+    "float frameaspectratio, float screenwindow",
+    "float lensradius, float focaldistance, float shutteropen, float shutterclose, "
+    "float frameaspectratio, float screenwindow",
+    "float lensradius, float focaldistance, float shutteropen, float shutterclose, "
+    "float frameaspectratio, float screenwindow, string mapping" };
+
+/* "frameaspectratio" (pfr: given) and "screenwindow" (psw: given; its four
+   numbers into scr), checked as pbrt-v4 reads them. */
+static int camera_window_ok(Parser *P, const Param *pfr, float frame, const Param *psw, float scr[4])
 {
-    SceneSettings *st = &P->s->settings;
-    float fov, lens, focus, open, close, frame = 0.0f, scr[4] = { 0, 0, 0, 0 }, sw[4];
-    Param *psw, *pfr;
-    if (!strcmp(type, "realistic")) return realistic_camera(P, pl, file, line);
-    if (strcmp(type, "perspective") != 0) {
-        if (!strcmp(type, "orthographic") || !strcmp(type, "spherical"))
-            return fail(P, file, line, "Camera \"%s\" is valid pbrt-v4 but not in the specnee "
-                        "subset (use \"perspective\")", type);
-        return fail(P, file, line, "Camera \"%s\": unknown camera type", type);
-    }
-    if (!get_float(P, pl, "fov", 90.0f, &fov)) return 0;
-    if (!get_float(P, pl, "lensradius", 0.0f, &lens)) return 0;
-    if (!get_float(P, pl, "focaldistance", 1e6f, &focus)) return 0;
-    if (!get_float(P, pl, "shutteropen", 0.0f, &open)) return 0;
-    if (!get_float(P, pl, "shutterclose", 1.0f, &close)) return 0;
-    pfr = param_find(pl, PT_FLOAT, "frameaspectratio");
-    if (pfr && !get_float(P, pl, "frameaspectratio", 0.0f, &frame)) return 0;
-    psw = param_find(pl, PT_FLOAT, "screenwindow");
-    if (!params_check_unused(P, pl, "Camera \"perspective\"",
-                             "float fov, float lensradius, float focaldistance, "
-                             "float shutteropen, float shutterclose, "
-                             "float frameaspectratio, float screenwindow", NULL))
-        return 0;
-    if (!(fov > 0.0f && fov < 180.0f))
-        return fail_param(P, pl, "fov", file, line, "Camera: \"float fov\" %g must be within (0, 180) degrees", fov);
+    int k;
     if (pfr && !(frame > 0.0f && frame <= FLT_MAX))
         return fail(P, pfr->file, pfr->line, "Camera: \"float frameaspectratio\" %g must be "
                     "finite and > 0", frame);
-    if (psw) {   /* pbrt-v4: x0 x1 y0 y1 of the screen, replacing the default */
-        int k;
-        if (psw->n_num != 4)
-            return fail(P, psw->file, psw->line, "Camera: \"float screenwindow\": %d values, "
-                        "expected 4 (x0 x1 y0 y1 of the screen)", psw->n_num);
-        for (k = 0; k < 4; k++) scr[k] = (float)psw->num[k];
-        for (k = 0; k < 4; k++)
-            if (!(fabsf(scr[k]) <= FLT_MAX) || (k & 1 && scr[k] == scr[k - 1]))
-                return fail(P, psw->file, psw->line, "Camera: \"float screenwindow\" [%g %g %g %g] "
-                            "must be finite with x0 != x1 and y0 != y1", scr[0], scr[1], scr[2], scr[3]);
-    }
+    if (!psw) return 1;   /* pbrt-v4: x0 x1 y0 y1 of the screen, replacing the default */
+    if (psw->n_num != 4)
+        return fail(P, psw->file, psw->line, "Camera: \"float screenwindow\": %d values, "
+                    "expected 4 (x0 x1 y0 y1 of the screen)", psw->n_num);
+    for (k = 0; k < 4; k++) scr[k] = (float)psw->num[k];
+    for (k = 0; k < 4; k++)
+        if (!(fabsf(scr[k]) <= FLT_MAX) || (k & 1 && scr[k] == scr[k - 1]))
+            return fail(P, psw->file, psw->line, "Camera: \"float screenwindow\" [%g %g %g %g] "
+                        "must be finite with x0 != x1 and y0 != y1", scr[0], scr[1], scr[2], scr[3]);
+    return 1;
+}
+
+int camera_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
+{
+    SceneSettings *st = &P->s->settings;
+    float fov = 90.0f, lens, focus, open, close, frame = 0.0f, scr[4] = { 0, 0, 0, 0 }, sw[4];
+    const char *mapping = NULL;
+    Param *psw, *pfr;
+    int kind;                                   /* 0 perspective, 1 orthographic, 2 spherical */
+    if (!strcmp(type, "realistic")) return realistic_camera(P, pl, file, line);
+    kind = !strcmp(type, "perspective") ? 0 : !strcmp(type, "orthographic") ? 1
+         : !strcmp(type, "spherical") ? 2 : -1;
+    if (kind < 0) return fail(P, file, line, "Camera \"%s\": unknown camera type", type);
+    if (kind == 0 && !get_float(P, pl, "fov", 90.0f, &fov)) return 0;
+    if (!get_float(P, pl, "lensradius", 0.0f, &lens)) return 0;
+    if (!get_float(P, pl, "focaldistance", kind == 2 ? 1e30f : 1e6f, &focus)) return 0;
+    if (!get_float(P, pl, "shutteropen", 0.0f, &open)) return 0;
+    if (!get_float(P, pl, "shutterclose", 1.0f, &close)) return 0;
+    if (kind == 2 && !get_string(P, pl, "mapping", &mapping)) return 0;
+    pfr = param_find(pl, PT_FLOAT, "frameaspectratio");
+    if (pfr && !get_float(P, pl, "frameaspectratio", 0.0f, &frame)) return 0;
+    psw = param_find(pl, PT_FLOAT, "screenwindow");
+    if (!params_check_unused(P, pl, CAMERA_LABEL[kind], CAMERA_READS[kind], NULL))
+        return 0;
+    if (!(fov > 0.0f && fov < 180.0f))
+        return fail_param(P, pl, "fov", file, line, "Camera: \"float fov\" %g must be within (0, 180) degrees", fov);
+    if (!camera_window_ok(P, pfr, frame, psw, scr)) return 0;
+    if (mapping && strcmp(mapping, "equalarea") != 0 && strcmp(mapping, "equirectangular") != 0)
+        return fail_param(P, pl, "mapping", file, line, "Camera \"spherical\": \"string mapping\" "
+                          "\"%s\": unknown mapping (\"equalarea\" or \"equirectangular\")", mapping);
     /* the film may come later: checked with this window (the square frame's
        unless given) here and again with the film's own in finish() */
     screen_window(psw != NULL, scr, pfr ? frame : 1.0f, sw);
@@ -180,11 +201,13 @@ int camera_directive(Parser *P, const char *type, ParamList *pl, const char *fil
     if (!(close - open > 0.0f))
         return fail_param(P, pl, "shutterclose", file, line, "Camera: shutterclose %g <= shutteropen %g: the shutter "
                     "never opens", close, open);
-    st->fov_deg = fov;
-    st->frame_aspect = frame;
-    st->screen_set = psw != NULL;
+    st->camera_type = kind == 0 ? CAMERA_PERSPECTIVE : kind == 1 ? CAMERA_ORTHOGRAPHIC
+                    : mapping && !strcmp(mapping, "equirectangular") ? CAMERA_EQUIRECT : CAMERA_EQUAL_AREA;
+    st->fov_deg = fov;                          /* 90: only for camera_transform_ok */
+    st->frame_aspect = kind == 2 ? 0.0f : frame;   /* the spherical camera ignores them */
+    st->screen_set = kind != 2 && psw != NULL;
     memcpy(st->screen, scr, sizeof st->screen);
-    st->lens_radius = lens;
+    st->lens_radius = kind == 2 ? 0.0f : lens;
     st->focal_distance = focus;
     st->lens.n = 0;                             /* a realistic camera before is replaced */
     P->exposure_time = close - open;

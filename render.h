@@ -16,6 +16,7 @@
 
 typedef struct {
     Xform world_from_camera;
+    CameraType type;                 /* the projection (specnee.h) */
     float tan_half;                  /* tan(fov/2) of the shorter axis */
     float sx0, sx1, sy0, sy1;        /* screen window */
     int w, h;

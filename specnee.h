@@ -1650,6 +1650,11 @@ double lens_trace(const Lens *L, LensRay *r, int from_film);
    its weight cos^4 / (pdf t_rear^2), 0 when blocked. */
 double lens_ray(const Lens *L, double fx, double fy, float u0, float u1, LensRay *r);
 
+/* pbrt-v4's camera projections (camera.c has their equations): perspective (a
+   realistic camera is the perspective one with a Lens of n > 0), orthographic,
+   and spherical, whose "string mapping" is "equalarea" or "equirectangular" */
+typedef enum { CAMERA_PERSPECTIVE, CAMERA_ORTHOGRAPHIC, CAMERA_EQUAL_AREA, CAMERA_EQUIRECT } CameraType;
+
 /* pbrt-v4's pixel filters (filter.c has their formulas and defaults) */
 typedef enum { FILTER_BOX, FILTER_GAUSSIAN, FILTER_TRIANGLE, FILTER_MITCHELL, FILTER_SINC } FilterType;
 
@@ -1658,6 +1663,7 @@ typedef struct {
     Xform camera_from_world_end;   /* its end transform (ActiveTransform EndTime) */
     double camera_t0, camera_t1;   /* TransformTimes at the Camera directive */
     float shutter_open, shutter_close; /* Camera "shutteropen", "shutterclose" */
+    CameraType camera_type;    /* Camera "perspective" (and "realistic"), "orthographic", "spherical" */
     float fov_deg;             /* pbrt: field of view of the shorter image axis */
     int xres, yres;
     char filename[256];
@@ -1668,13 +1674,13 @@ typedef struct {
     int spp, seed, maxdepth;
     int spp_set, seed_set, maxdepth_set; /* given in the file */
     char lightsampler[32];     /* Integrator "string lightsampler", "" if unset */
-    /* thin lens (pbrt-v4 PerspectiveCamera): 0 = pinhole */
+    /* thin lens (pbrt-v4 PerspectiveCamera, OrthographicCamera): 0 = pinhole */
     float lens_radius, focal_distance;   /* "lensradius" = 0, "focaldistance" = 1e6 */
     /* Camera "realistic" (lens.c): lens.n > 0; focused by scene_load at
        focus_distance for the film's "diagonal" (mm, default 35) */
     Lens lens;
     float focus_distance, film_diagonal;
-    /* pbrt-v4 PerspectiveCamera "screenwindow" x0 x1 y0 y1 (screen_set 0: the
+    /* pbrt-v4 Perspective/OrthographicCamera "screenwindow" x0 x1 y0 y1 (screen_set 0: the
        default, from "frameaspectratio"; frame_aspect 0: the film's xres / yres) */
     int screen_set;
     float screen[4], frame_aspect;

@@ -107,6 +107,8 @@ scenes() {
         ov["infinite|string filename"] = ov["float imagemap|string filename"]
         ov["infinite|point3 portal"] = "[ -0.5 2 -0.5  0.5 2 -0.5  0.5 2 0.5  -0.5 2 0.5 ] \"rgb L\" [ 1 1 1 ]"
         ov["perspective|float screenwindow"] = "[ -1 1 -1 1 ]"
+        ov["orthographic|float screenwindow"] = ov["perspective|float screenwindow"]
+        ov["spherical|float screenwindow"] = ov["perspective|float screenwindow"]
         ov["realistic|string lensfile"] = "\"" root "/tests/data/lenses/wide.22mm.dat\""
         ex["realistic"] = "\"string lensfile\" " ov["realistic|string lensfile"]
         ov["realistic|string aperture"] = "\"pentagon\""

@@ -793,8 +793,7 @@ REJECT(rej_spp_negative, "Sampler \"sobol\" \"integer pixelsamples\" -16\nWorldB
        "samples per pixel", NULL)
 REJECT(rej_fov_zero, "Camera \"perspective\" \"float fov\" 0\nWorldBegin\n", 1, "fov", NULL)
 REJECT(rej_fov_180, "Camera \"perspective\" \"float fov\" 180\nWorldBegin\n", 1, "fov", NULL)
-REJECT(rej_camera_type, "Camera \"orthographic\"\nWorldBegin\n", 1,
-       "valid pbrt-v4 but not in the specnee subset", "orthographic")
+REJECT(rej_camera_type, "Camera \"fisheye\"\nWorldBegin\n", 1, "unknown camera type", "fisheye")
 REJECT(rej_integrator_type, "Integrator \"mlt\"\nWorldBegin\n", 1,
        "valid pbrt-v4 but not in the specnee subset", "mlt")
 REJECT(rej_regularize, "Integrator \"bdpt\" \"bool regularize\" true\nWorldBegin\n", 1, "regularize", NULL)
