@@ -715,9 +715,8 @@ int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_ill
         if (p->n_num != 1)
             return fail(P, p->file, p->line, "\"blackbody %s\": expected one temperature "
                         "(K), got %d values", p->name, p->n_num);
-        if (use != SPEC_ILLUMINANT && use != SPEC_COEFF)
-            return fail(P, p->file, p->line, "\"blackbody %s\": valid pbrt-v4 but not in "
-                        "the specnee subset here", p->name);
+        /* pbrt-v4's BlackbodySpectrum whatever the use (a reflectance, an unbounded
+           spectrum, an illuminant): peak 1, so within [0, 1] as an albedo */
         if (!(p->num[0] > 0))
             return fail(P, p->file, p->line, "\"blackbody %s\": temperature must be > 0 K",
                         p->name);

@@ -251,7 +251,8 @@ int refuse_param(Parser *P, ParamList *pl, const char *what, const char *reads,
    find_spectrum_param: the last one named `name` (NULL: absent), marked used;
    param_spectrum: its dense table, checked for `use`. */
 /* SPEC_COEFF: a medium's coefficients, a dielectric's "rgb eta": pbrt-v4's
-   "unbounded" spectra with rgb (RGBUnboundedSpectrum) and blackbody (peak 1) allowed */
+   "unbounded" spectra with rgb (RGBUnboundedSpectrum); a blackbody is pbrt-v4's
+   BlackbodySpectrum (peak 1) for every use */
 typedef enum { SPEC_ALBEDO, SPEC_UNBOUNDED, SPEC_ILLUMINANT, SPEC_COEFF } SpecUse;
 Param *find_spectrum_param(ParamList *pl, const char *name);
 int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_illum);

@@ -1026,6 +1026,40 @@ static void test_bad_input(T *t)
     expect_error(t, "Texture \"c\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [ 2 0 0 ]", "within", NULL);
 }
 
+/* Planck's law, unnormalised (lambda in nm, T in K; c2 = hc/k = 1.438777e-2 m K). */
+static double planck(double nm, double kelvin)
+{
+    double l = nm * 1e-9;
+    return 1.0 / (l * l * l * l * l * (exp(1.438777e-2 / (l * kelvin)) - 1.0));
+}
+
+/* "blackbody" where a reflectance is read (a diffuse "reflectance", a spectrum
+   texture's "value"): pbrt-v4's BlackbodySpectrum, Planck's law divided by its value
+   at Wien's peak lambda_max = 2.897771955e-3 m K / T, the same for every use.  Its
+   values lie in (0, 1], so it is a valid reflectance as it is. */
+static void test_blackbody_reflectance(T *t)
+{
+    static const double nms[4] = { 400.0, 500.0, 580.0, 700.0 };
+    Scene s;
+    SurfacePoint sp = at_uv(0.5f, 0.5f);
+    int k;
+    if (!load(t, &s, "Material \"diffuse\" \"blackbody reflectance\" [ 5000 ]\nShape \"sphere\"\n"
+                     "Texture \"b\" \"spectrum\" \"constant\" \"blackbody value\" [ 3000 ]\n"
+                     "Material \"diffuse\" \"texture reflectance\" \"b\"\nShape \"sphere\"\n"))
+        return;
+    for (k = 0; k < 4; k++) {
+        double w5 = planck(nms[k], 5000.0) / planck(2.897771955e6 / 5000.0, 5000.0);
+        double w3 = planck(nms[k], 3000.0) / planck(2.897771955e6 / 3000.0, 3000.0);
+        float r5 = mat_albedo_at(&s.materials[s.shapes[0].material], &sp, (float)nms[k]);
+        float r3 = mat_albedo_at(&s.materials[s.shapes[1].material], &sp, (float)nms[k]);
+        CHECK(t, fabs(r5 - w5) < 1e-5 * w5 + 1e-7, "5000 K reflectance at %g nm: %.7f, Planck %.7f",
+              nms[k], r5, w5);
+        CHECK(t, fabs(r3 - w3) < 1e-5 * w3 + 1e-7, "3000 K texture at %g nm: %.7f, Planck %.7f",
+              nms[k], r3, w3);
+    }
+    scene_free(&s);
+}
+
 const TestCase tests_texture[] = {
     { "texture_values", test_values },
     { "texture_mappings", test_mappings },
@@ -1048,5 +1082,6 @@ const TestCase tests_texture[] = {
     { "texture_marble", test_marble },
     { "texture_against_pbrt", test_against_pbrt },
     { "texture_directionmix", test_directionmix },
+    { "texture_blackbody_reflectance", test_blackbody_reflectance },
     { NULL, NULL }
 };
