@@ -952,7 +952,10 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm);
    another texture. */
 typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP,
                TEX_DOTS, TEX_MARBLE, TEX_FBM, TEX_WRINKLED, TEX_WINDY, TEX_DIRECTIONMIX } TexType;
-typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR } TexMapType;
+/* TEXMAP_POINT3D: the 3-D checkerboard's point in the texture's frame (pbrt-v4's
+   TextureMapping3D, "integer dimension" 3) */
+typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR,
+               TEXMAP_POINT3D } TexMapType;
 typedef enum { TEXWRAP_REPEAT, TEXWRAP_BLACK, TEXWRAP_CLAMP } TexWrap;
 #define TEX_ARGS 2
 typedef struct Texture {

@@ -1012,7 +1012,9 @@ static void test_bad_input(T *t)
                  "\"spectrum k\" \"metal-Au-k\"", "either", NULL);
     expect_error(t, "Texture \"m\" \"spectrum\" \"bogus\"", "unknown class", NULL);
     expect_error(t, "Texture \"m\" \"color\" \"constant\"", "must be \"spectrum\" or \"float\"", NULL);
-    expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" [ 3 ]", "3-D", NULL);
+    expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" [ 4 ]", "3-D", NULL);
+    expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" [ 3 ] \"float uscale\" [ 2 ]",
+                 "uscale", "unused");
     expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"string mapping\" \"cubic\"", "unknown mapping", NULL);
     expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"none.pfm\"", "imagemap", NULL);
     expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"sky.exr\"", "sky.exr", "cannot read the EXR file");
@@ -1060,9 +1062,49 @@ static void test_blackbody_reflectance(T *t)
     scene_free(&s);
 }
 
+/* pbrt-v4's 3-D checkerboard ("integer dimension" 3): tex1 where floor(q_x) +
+   floor(q_y) + floor(q_z) is even, q the point in the frame of the CTM at the
+   Texture directive (TextureMapping3D); the point's (u, v) play no part. */
+static void test_checkerboard_3d(T *t)
+{
+    /* CTM = Translate(0.5, 0, 0) Scale(2, 1, 1): q = ((x - 0.5) / 2, y, z) */
+    static const float pts[6][4] = {
+        { 0.6f, 0.2f, 0.3f, 1 },     /* q (0.05, 0.2, 0.3): 0 + 0 + 0, even */
+        { 2.6f, 0.2f, 0.3f, 0 },     /* q_x 1.05: odd */
+        { 2.6f, 1.2f, 0.3f, 1 },     /* 1 + 1 + 0 */
+        { 2.6f, 1.2f, 1.3f, 0 },     /* 1 + 1 + 1 */
+        { 0.4f, 0.2f, 0.3f, 0 },     /* q_x -0.05: floor -1, odd */
+        { 1.4f, 0.2f, -0.3f, 0 },    /* q (0.45, 0.2, -0.3): 0 + 0 - 1, odd */
+    };
+    Scene s;
+    int k;
+    if (!load(t, &s, "AttributeBegin\nTranslate 0.5 0 0\nScale 2 1 1\n"
+                     "Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" [ 3 ] "
+                     "\"float tex1\" [ 0.9 ] \"float tex2\" [ 0.1 ]\n"
+                     "Texture \"sc\" \"spectrum\" \"checkerboard\" \"integer dimension\" [ 3 ] "
+                     "\"spectrum tex1\" [ 400 0.2 700 0.8 ]\n"
+                     "AttributeEnd\n"))
+        return;
+    for (k = 0; k < 6; k++) {
+        SurfacePoint sp = at_p(pts[k][0], pts[k][1], pts[k][2]);
+        int even = (int)pts[k][3];
+        float f, g;
+        sp.u = 0.3f + 0.4f * (float)k;               /* any (u, v) */
+        sp.v = 0.7f * (float)k;
+        f = tex_eval(s.textures, 0, &sp, 500);
+        g = tex_eval(s.textures, 1, &sp, 550);
+        CHECK(t, f == (even ? 0.9f : 0.1f), "float 3-D checkerboard at (%g, %g, %g): %g", pts[k][0],
+              pts[k][1], pts[k][2], f);
+        CHECK(t, NEAR(g, even ? 0.5 : 0.0, 1e-5), "spectrum 3-D checkerboard at (%g, %g, %g), 550 nm: %g",
+              pts[k][0], pts[k][1], pts[k][2], g);
+    }
+    scene_free(&s);
+}
+
 const TestCase tests_texture[] = {
     { "texture_values", test_values },
     { "texture_mappings", test_mappings },
+    { "texture_checkerboard_3d", test_checkerboard_3d },
     { "texture_imagemap", test_imagemap },
     { "texture_imagemap_colour", test_imagemap_colour },
     { "texture_imagemap_png", test_imagemap_png },
