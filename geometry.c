@@ -311,8 +311,8 @@ static int add_patch_mesh(Parser *P, const float *Pf, const float *Nf, const flo
 
 static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, int line)
 {
-    const double *Pd, *Nd, *UV, *Id;
-    int nv, nn, nuv, ni, per = bilinear ? 4 : 3, i, ok;
+    const double *Pd, *Nd, *UV, *Id, *Fd;
+    int nv, nn, nuv, ni, nf, per = bilinear ? 4 : 3, i, ok;
     const char *what = bilinear ? "Shape \"bilinearmesh\"" : "Shape \"trianglemesh\"";
     float *Pf = NULL, *Nf = NULL, *UVf = NULL;
     int32_t *idx = NULL;
@@ -321,8 +321,11 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
     if (!get_points(P, pl, PT_POINT3, "P", 3, &Pd, &nv)) return 0;
     if (!get_points(P, pl, PT_NORMAL, "N", 3, &Nd, &nn)) return 0;
     if (!get_points(P, pl, PT_POINT2, "uv", 2, &UV, &nuv)) return 0;
-    if (!params_check_unused(P, pl, what, "integer indices, point3 P, normal N, point2 uv",
-                             "S faceIndices emissionfilename displacement"))
+    /* "faceIndices": pbrt-v4 reads them only for Ptex lookups (a face's texture),
+       which specnee refuses by name, so they are checked and not kept */
+    if (!get_points(P, pl, PT_INTEGER, "faceIndices", 1, &Fd, &nf)) return 0;
+    if (!params_check_unused(P, pl, what, "integer indices, point3 P, normal N, point2 uv, "
+                             "integer faceIndices", "S emissionfilename displacement"))
         return 0;
     if (nv == 0) return fail(P, file, line, "%s: \"point3 P\" is required", what);
     if (ni == 0 && nv != per)
@@ -335,6 +338,10 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
     if (nuv && nuv != nv)
         return fail(P, file, line, "%s: %d uv pairs for %d vertices", what, nuv, nv);
     if (ni == 0) ni = per;
+    if (nf && nf != ni / per)
+        return fail(P, file, line, "%s: %d faceIndices for %d %s%s (one a face, as in "
+                    "pbrt-v4)", what, nf, ni / per, bilinear ? "patch" : "triangle",
+                    ni / per == 1 ? "" : bilinear ? "es" : "s");
     for (i = 0; i < ni; i++) {
         int k = Id ? (int)Id[i] : deflt[i];
         if (k < 0 || k >= nv)
