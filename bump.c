@@ -415,7 +415,7 @@ void bump_free(Bump *b)
    it), as pbrt-v4 reads it (ColorEncoding::Linear): 0 and a message in ierr. */
 static int nmap_read(const char *path, Image *im, Error *ierr)
 {
-    char alt[1024];
+    char alt[PATH_CAP];
     FILE *f;
     if (ends_with_ci(path, ".png")) return png_read(im, path, 1, ierr);
     if (ends_with_ci(path, ".exr")) {
@@ -448,7 +448,7 @@ int bump_from_params(Parser *P, ParamList *pl, const char *what, Material *m)
             return fail(P, pf->file, pf->line, "%s: \"float displacement\" is not finite", what);
     }
     if (pn && pn->n_str == 1 && pn->str[0][0]) {       /* "" is no map, as in pbrt-v4 */
-        char path[1024];
+        char path[PATH_CAP];
         Image im;
         Error ierr;
         resolve_path(P, pn->file, pn->str[0], path, sizeof path);

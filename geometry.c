@@ -546,7 +546,7 @@ static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
 static int ply_shape(Parser *P, ParamList *pl, const char *file, int line)
 {
     const char *fn;
-    char path[1024];
+    char path[PATH_CAP];
     PlyMesh mesh;
     Error e;
     int ok, i;
@@ -704,11 +704,12 @@ static int moving_shape_object(Parser *P, const char *type, const char *file, in
     o = &s->objects[s->n_objects];
     memset(o, 0, sizeof *o);
     o->unnamed = 1;
+    o->name = "";
     o->file = file;
     o->line = line;
     u = &P->uses[P->n_uses++];
     memset(u, 0, sizeof *u);
-    snprintf(u->name, sizeof u->name, "%s", type);
+    if (!(u->name = keep_string(P, type))) return oom(P, file, line);
     u->xf = P->gs.ctm;
     u->xf_end = P->gs.ctm_end;
     u->t0 = P->t0;

@@ -1019,11 +1019,9 @@ static int mix_member(Parser *P, const char *name, int anonymous, const char *fi
         return fail(P, file, line, "%s: named material \"%s\" not found (a named \"mix\" can "
                     "only use materials made before it)", what, name);
     if (i == P->n_named) {
-        if (strlen(name) >= sizeof P->named[0].name)
-            return fail(P, file, line, "%s: named material \"%s\" not found", what, name);
-        if (!grow((void **)&P->named, &P->cap_named, P->n_named + 1, sizeof(NamedMaterial)))
+        if (!grow((void **)&P->named, &P->cap_named, P->n_named + 1, sizeof(NamedMaterial)) ||
+            !(P->named[i].name = keep_string(P, name)))
             return oom(P, file, line);
-        snprintf(P->named[i].name, sizeof P->named[0].name, "%s", name);
         P->named[i].material = -1;
         P->named[i].file = file;
         P->named[i].line = line;

@@ -642,7 +642,7 @@ int  intersect_sphere(Vec3 c, float radius, const Ray *r, float *t);
    n_tris + n_spheres + n_quadrics + its index; a ray that enters an instance's box
    is carried into object space and traced through the object's BVH. */
 typedef struct {
-    char name[64];
+    const char *name;          /* in Scene.strings; "" for an unnamed one */
     Bvh bvh;                   /* over the object's primitives, in its space */
     const char *file; int line;/* its ObjectBegin */
     int unnamed;               /* made for one moving shape (motion.c): no name */
@@ -1370,7 +1370,7 @@ void   nanovdb_free(NanoGrid *g);
                                       is taken as blocked */
 
 typedef struct {
-    char name[64];             /* the MakeNamedMedium name */
+    const char *name;          /* the MakeNamedMedium name (in Scene.strings) */
     MediumType type;
     Spectrum sigma_a, sigma_s; /* absorption, scattering (1/scene unit), "scale" applied */
     Spectrum Le;               /* emission as given (its shape; radiance per Lescale) */

@@ -609,7 +609,7 @@ static int texture_mapping(Parser *P, ParamList *pl, Texture *T)
 static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
 {
     const char *fn = NULL, *wrap = NULL, *filter = NULL, *enc = NULL;
-    char path[1024], alt[1024];
+    char path[PATH_CAP], alt[PATH_CAP];
     float scale;
     int invert, ok;
     Image im;
