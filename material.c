@@ -496,11 +496,18 @@ static int dt_pair(const DtPoint *d, Vec3 lo, Vec3 li, float f[HERO_N], float pd
 
 /* ---------------------------------------------------------------- sampling */
 
-/* The shading frame: around ns; an anisotropic measured BRDF's s axis is dp/du made
-   tangent (Gram-Schmidt), its t = ns x s, pbrt-v4's Frame::FromXZ(dpdu, ns). */
+int mat_needs_tangent(const Material *m)
+{
+    return (m->type == MAT_MEASURED && !m->measured->isotropic) ||
+           (m->type == MAT_CONDUCTOR && m->alpha != m->alpha_t);
+}
+
+/* The shading frame: around ns; where the BSDF turns with dp/du (an anisotropic
+   measured file or conductor) its s axis is dp/du made tangent (Gram-Schmidt), its
+   t = ns x s, pbrt-v4's Frame::FromXZ(dpdu, ns). */
 Frame mat_frame(const Material *m, const SurfacePoint *sp)
 {
-    if (m->type == MAT_MEASURED && !m->measured->isotropic) {
+    if (mat_needs_tangent(m)) {
         Vec3 s = v3_sub(sp->dpdu, v3_mul(sp->ns, v3_dot(sp->dpdu, sp->ns)));
         if (v3_dot(s, s) > 0.0f) {
             Frame f;

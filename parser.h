@@ -173,6 +173,7 @@ typedef struct {
         cap_patches, cap_curves, cap_pieces;
     int any_normals;
     int any_uv;                /* some mesh has "uv": Scene.UV is kept parallel to P */
+    int cap_tangents;          /* Scene.S's capacity (it grows with the meshes that have S) */
     int inset_line[8];         /* where each inset comment was (for messages) */
     const char *inset_file[8];
     int end_line;              /* line of the top-level file's last token */

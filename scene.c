@@ -1292,6 +1292,7 @@ void scene_free(Scene *s)
     free(s->strings);
     free(s->P);
     free(s->N);
+    free(s->S);
     free(s->tris);
     free(s->shapes);
     for (i = 0; i < s->n_media; i++) medium_free(&s->media[i]);
