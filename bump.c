@@ -4,7 +4,8 @@
    WHAT IT IMPLEMENTS (specnee.h section 6)
      shading_differentials  pbrt-v4's shading dp/du, dp/dv, dn/du, dn/dv at a hit
      tangent_shade          the hit with its shading dp/du, for the BSDFs that turn
-                            with it (an anisotropic conductor or measured file)
+                            with it (an anisotropic conductor or measured file);
+                            bump_shade sets the bumped dp/du itself (pbrt-v4's)
      bump_shade             the hit with the shading normal of its material's
                             "displacement" or "normalmap"
      bump_from_params       those two parameters of a Material (parser.h)
@@ -350,7 +351,7 @@ const SurfacePoint *tangent_shade(const Scene *s, const Ray *r, const HitRecord 
     ShadingDiff d;
     shading_differentials(s, r, h, &tmp, &d);
     *out = *sp;
-    out->dpdu = d.dpdu;
+    out->dpdu = d.dpdu;                             /* the shading frame's dp/du */
     return out;
 }
 
@@ -424,11 +425,13 @@ const SurfacePoint *bump_shade(const Scene *s, const Material *m, const Ray *r, 
     Vec3 dpdu, dpdv, ns;
     *out = *sp;
     shading_differentials(s, r, h, out, &d);
+    out->dpdu = d.dpdu;                             /* (tangent_shade's, if unperturbed) */
     if (m->bump->nw > 0) normal_map(m->bump, out, &d, &dpdu, &dpdv);
     else bump_map(m, out, &d, &dpdu, &dpdv);
     ns = v3_norm(v3_cross(dpdu, dpdv));
     if (!(v3_dot(ns, ns) > 0.5f)) return out;       /* degenerate (or NaN): unperturbed */
     out->ns = v3_dot(ns, out->ng) < 0.0f ? v3_neg(ns) : ns;
+    out->dpdu = dpdu;                   /* the frame's s axis, as pbrt-v4's bumped dp/du */
     return out;
 }
 
