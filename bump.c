@@ -3,6 +3,9 @@
 
    WHAT IT IMPLEMENTS (specnee.h section 6)
      shading_differentials  pbrt-v4's shading dp/du, dp/dv, dn/du, dn/dv at a hit
+     tangent_shade          the hit with its shading dp/du, for the BSDFs that turn
+                            with it (an anisotropic conductor or measured file);
+                            bump_shade sets the bumped dp/du itself (pbrt-v4's)
      bump_shade             the hit with the shading normal of its material's
                             "displacement" or "normalmap"
      bump_from_params       those two parameters of a Material (parser.h)
@@ -16,9 +19,12 @@
      triangle   from its (u, v) ("uv", else (0,0), (1,0), (1,1)):
                   [dp/du; dp/dv] = [du02 dv02; du12 dv12]^-1 [p0 - p2; p1 - p2],
                 an arbitrary frame around the normal when the uv determinant is
-                below 1e-9 in size; with "N" the shading frame is ss = dp/du made
-                tangent to ns, ts = ns x dp/du, and dn/du, dn/dv come from the
-                vertex normals as dp/du, dp/dv from the positions (else 0).
+                below 1e-9 in size; with "N" or "S" the shading frame is ss made
+                tangent to ns (ss = cross(ns x ss, ns)), ts = ns x ss, where ss is
+                "S" interpolated at the hit (dp/du where that is 0, or without "S")
+                and ns the shading normal (the geometric one without "N"); dn/du,
+                dn/dv come from the vertex normals as dp/du, dp/dv from the
+                positions (0 without "N").
      quadrics   in object space, then to the world by M (dn by M^-T): for
                 phi = u phimax, dp/du = phimax (-y, x, 0); disk dp/dv = (x, y, 0)
                 (ri - r) / |(x, y)|; cylinder (0, 0, zmax - zmin); sphere
@@ -136,16 +142,27 @@ static int solve2(float a00, float a01, float a10, float a11, Vec3 r0, Vec3 r1, 
     return 1;
 }
 
-/* Triangle prim (not of a bilinear mesh) with the shading normal sp->ns. */
-static void triangle_diff(const Scene *s, int prim, const SurfacePoint *sp, ShadingDiff *d)
+/* The tangent "S" interpolated at the hit (barycentrics of h), or dpdu where it is 0
+   (pbrt-v4's Triangle: the shading frame's ss before it is made tangent). */
+static Vec3 triangle_tangent(const Scene *s, const Triangle *tri, const HitRecord *h, Vec3 dpdu)
 {
-    const Triangle *tri = &s->tris[prim];
+    double b1 = h->b1, b2 = h->b2, b0 = 1.0 - b1 - b2;
+    Vec3 s0 = s->S[tri->v[0]], s1 = s->S[tri->v[1]], s2 = s->S[tri->v[2]];
+    Vec3 ss = v3((float)(b0 * s0.x + b1 * s1.x + b2 * s2.x), (float)(b0 * s0.y + b1 * s1.y + b2 * s2.y),
+                 (float)(b0 * s0.z + b1 * s1.z + b2 * s2.z));
+    return v3_dot(ss, ss) > 0.0f ? ss : dpdu;
+}
+
+/* Triangle h->prim (not of a bilinear mesh) with the shading normal sp->ns. */
+static void triangle_diff(const Scene *s, const HitRecord *h, const SurfacePoint *sp, ShadingDiff *d)
+{
+    const Triangle *tri = &s->tris[h->prim];
     const Shape *sh = &s->shapes[tri->shape];
     Vec3 p0 = s->P[tri->v[0]], p1 = s->P[tri->v[1]], p2 = s->P[tri->v[2]];
     float uv[3][2] = { { 0, 0 }, { 1, 0 }, { 1, 1 } };
     Vec3 dp02 = v3_sub(p0, p2), dp12 = v3_sub(p1, p2), z3 = v3(0, 0, 0);
     float du02, dv02, du12, dv12;
-    int k, ok;
+    int k, ok, normals = sh->has_normals && s->N, tangents = sh->has_tangents && s->S;
     if (sh->has_uv && s->UV)
         for (k = 0; k < 3; k++) { uv[k][0] = s->UV[2 * tri->v[k]]; uv[k][1] = s->UV[2 * tri->v[k] + 1]; }
     du02 = uv[0][0] - uv[2][0]; dv02 = uv[0][1] - uv[2][1];
@@ -155,14 +172,17 @@ static void triangle_diff(const Scene *s, int prim, const SurfacePoint *sp, Shad
     if (!ok || v3_dot(v3_cross(d->dpdu, d->dpdv), v3_cross(d->dpdu, d->dpdv)) == 0.0f)
         coordinate_system(v3_norm(v3_cross(v3_sub(p2, p0), v3_sub(p1, p0))), &d->dpdu, &d->dpdv);
     d->dndu = d->dndv = z3;
-    if (!(sh->has_normals && s->N)) return;
-    {   /* the shading frame around ns, and dn from the vertex normals */
-        Vec3 ns = sp->ns, ss = d->dpdu, ts = v3_cross(ns, ss);
-        Vec3 n0 = s->N[tri->v[0]], n1 = s->N[tri->v[1]], n2 = s->N[tri->v[2]];
+    if (!normals && !tangents) return;
+    {   /* the shading frame around ns (from S when given), and dn from the vertex normals */
+        Vec3 ns = sp->ns, ss = tangents ? triangle_tangent(s, tri, h, d->dpdu) : d->dpdu;
+        Vec3 ts = v3_cross(ns, ss);
         if (v3_dot(ts, ts) > 0.0f) ss = v3_cross(ts, ns);
         else coordinate_system(ns, &ss, &ts);
         d->dpdu = ss;
         d->dpdv = ts;
+    }
+    if (normals) {
+        Vec3 n0 = s->N[tri->v[0]], n1 = s->N[tri->v[1]], n2 = s->N[tri->v[2]];
         if (!solve2(du02, dv02, du12, dv12, v3_sub(n0, n2), v3_sub(n1, n2), &d->dndu, &d->dndv)) {
             Vec3 dn = v3_cross(v3_sub(n2, n0), v3_sub(n1, n0));
             d->dndu = d->dndv = z3;
@@ -310,7 +330,7 @@ void shading_differentials(const Scene *s, const Ray *r, const HitRecord *h, Sur
         patch_uv_of_point(c, sp->p, &pu, &pv);
         patch_diff(s, sh, q, pu, pv, sp, d);
     } else if (h->prim < s->n_tris) {
-        triangle_diff(s, h->prim, sp, d);
+        triangle_diff(s, h, sp, d);
     } else if (h->prim >= s->n_tris + s->n_spheres + s->n_quadrics + s->n_patches) {
         SurfacePoint csp;                  /* a curve: its dp/du, dp/dv; dn = 0 (pbrt-v4) */
         curve_surface_point(s, &s->curve_pieces[h->prim - s->n_tris - s->n_spheres - s->n_quadrics - s->n_patches],
@@ -322,6 +342,17 @@ void shading_differentials(const Scene *s, const Ray *r, const HitRecord *h, Sur
     } else {
         quadric_diff(sh, sp->p, d, &sp->u, &sp->v);
     }
+}
+
+const SurfacePoint *tangent_shade(const Scene *s, const Ray *r, const HitRecord *h,
+                                  const SurfacePoint *sp, SurfacePoint *out)
+{
+    SurfacePoint tmp = *sp;
+    ShadingDiff d;
+    shading_differentials(s, r, h, &tmp, &d);
+    *out = *sp;
+    out->dpdu = d.dpdu;                             /* the shading frame's dp/du */
+    return out;
 }
 
 /* ------------------------------------------------------------------ 2. the maps */
@@ -394,11 +425,13 @@ const SurfacePoint *bump_shade(const Scene *s, const Material *m, const Ray *r, 
     Vec3 dpdu, dpdv, ns;
     *out = *sp;
     shading_differentials(s, r, h, out, &d);
+    out->dpdu = d.dpdu;                             /* (tangent_shade's, if unperturbed) */
     if (m->bump->nw > 0) normal_map(m->bump, out, &d, &dpdu, &dpdv);
     else bump_map(m, out, &d, &dpdu, &dpdv);
     ns = v3_norm(v3_cross(dpdu, dpdv));
     if (!(v3_dot(ns, ns) > 0.5f)) return out;       /* degenerate (or NaN): unperturbed */
     out->ns = v3_dot(ns, out->ng) < 0.0f ? v3_neg(ns) : ns;
+    out->dpdu = dpdu;                   /* the frame's s axis, as pbrt-v4's bumped dp/du */
     return out;
 }
 
@@ -415,7 +448,7 @@ void bump_free(Bump *b)
    it), as pbrt-v4 reads it (ColorEncoding::Linear): 0 and a message in ierr. */
 static int nmap_read(const char *path, Image *im, Error *ierr)
 {
-    char alt[1024];
+    char alt[PATH_CAP];
     FILE *f;
     if (ends_with_ci(path, ".png")) return png_read(im, path, 1, ierr);
     if (ends_with_ci(path, ".exr")) {
@@ -448,7 +481,7 @@ int bump_from_params(Parser *P, ParamList *pl, const char *what, Material *m)
             return fail(P, pf->file, pf->line, "%s: \"float displacement\" is not finite", what);
     }
     if (pn && pn->n_str == 1 && pn->str[0][0]) {       /* "" is no map, as in pbrt-v4 */
-        char path[1024];
+        char path[PATH_CAP];
         Image im;
         Error ierr;
         resolve_path(P, pn->file, pn->str[0], path, sizeof path);

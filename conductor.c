@@ -42,10 +42,11 @@
       eta > 0 and k >= 0 over pbrt-v4's 360-830 nm, continued below 360 nm (which
       only fluorescence traces) by their lowest value with data.
 
-   The anisotropy's axes are the shading frame's s and t; pbrt-v4 puts them on
-   the surface's dp/du, which specnee does not have, so the parser accepts
-   isotropic roughness only (the functions here take both alphas; the tests use
-   anisotropic ones). */
+   The anisotropy's axes are the shading frame's s and t: alpha_x ("uroughness")
+   along s, alpha_y ("vroughness") along t.  As in pbrt-v4, s is the surface's
+   shading dp/du made tangent to ns (a triangle's "S" when it has them): path.c
+   gives an anisotropic conductor's hit its dp/du (bump.c tangent_shade) and
+   material.c's mat_frame builds the frame from it. */
 #include "specnee.h"
 
 /* F of wavelength j (lambda) at the microfacet cosine c.  A textured reflectance r
@@ -297,11 +298,5 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
             !conductor_eta_k(P, pl, file, line, "", &n, &m->extra->k))
             return 0;
     }
-    if (!material_set_eta(P, m, &n, file, line)) return 0;
-    if (m->alpha != m->alpha_t)
-        return fail(P, file, line, "%s: anisotropic roughness (u %g, v %g after the remap) "
-                    "is valid pbrt-v4 but not in the specnee subset (its axes follow the "
-                    "surface's dp/du, which specnee does not have)", what, m->alpha,
-                    m->alpha_t);
-    return 1;
+    return material_set_eta(P, m, &n, file, line);
 }

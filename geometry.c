@@ -309,10 +309,28 @@ static int add_patch_mesh(Parser *P, const float *Pf, const float *Nf, const flo
     return ok;
 }
 
+/* The "vector3 S" of the mesh just added (its nv vertices from v0 on): carried to
+   the world by the CTM as vectors (pbrt-v4's TriangleMesh, not flipped by
+   ReverseOrientation) into Scene.S, which grows to cover them. */
+static int mesh_tangents(Parser *P, const double *Sd, int nv, int v0, const char *file, int line)
+{
+    Scene *s = P->s;
+    int i;
+    if (!grow((void **)&s->S, &P->cap_tangents, v0 + nv, sizeof(Vec3))) return oom(P, file, line);
+    for (i = 0; i < nv; i++) {
+        Vec3 v = xf_vector(&P->gs.ctm, v3((float)Sd[3 * i], (float)Sd[3 * i + 1], (float)Sd[3 * i + 2]));
+        if (!(fabsf(v.x) <= FLT_MAX && fabsf(v.y) <= FLT_MAX && fabsf(v.z) <= FLT_MAX))
+            return fail(P, file, line, "S vector %d is not finite after the transform", i);
+        s->S[v0 + i] = v;
+    }
+    s->shapes[s->n_shapes - 1].has_tangents = 1;
+    return 1;
+}
+
 static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, int line)
 {
-    const double *Pd, *Nd, *UV, *Id;
-    int nv, nn, nuv, ni, per = bilinear ? 4 : 3, i, ok;
+    const double *Pd, *Nd, *UV, *Id, *Fd, *Sd = NULL;
+    int nv, nn, nuv, ni, nf, nsv = 0, per = bilinear ? 4 : 3, i, ok, v0 = P->s->n_verts;
     const char *what = bilinear ? "Shape \"bilinearmesh\"" : "Shape \"trianglemesh\"";
     float *Pf = NULL, *Nf = NULL, *UVf = NULL;
     int32_t *idx = NULL;
@@ -321,8 +339,15 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
     if (!get_points(P, pl, PT_POINT3, "P", 3, &Pd, &nv)) return 0;
     if (!get_points(P, pl, PT_NORMAL, "N", 3, &Nd, &nn)) return 0;
     if (!get_points(P, pl, PT_POINT2, "uv", 2, &UV, &nuv)) return 0;
-    if (!params_check_unused(P, pl, what, "integer indices, point3 P, normal N, point2 uv",
-                             "S faceIndices emissionfilename displacement"))
+    /* "faceIndices": pbrt-v4 reads them only for Ptex lookups (a face's texture),
+       which specnee refuses by name, so they are checked and not kept */
+    if (!get_points(P, pl, PT_INTEGER, "faceIndices", 1, &Fd, &nf)) return 0;
+    /* "S" (trianglemesh only): per-vertex tangents, the shading frame's dp/du */
+    if (!bilinear && !get_points(P, pl, PT_VECTOR3, "S", 3, &Sd, &nsv)) return 0;
+    if (!params_check_unused(P, pl, what, bilinear ? "integer indices, point3 P, normal N, "
+                             "point2 uv, integer faceIndices" : "integer indices, point3 P, "
+                             "normal N, point2 uv, integer faceIndices, vector3 S",
+                             "emissionfilename displacement"))
         return 0;
     if (nv == 0) return fail(P, file, line, "%s: \"point3 P\" is required", what);
     if (ni == 0 && nv != per)
@@ -334,7 +359,13 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
         return fail(P, file, line, "%s: %d normals for %d vertices", what, nn, nv);
     if (nuv && nuv != nv)
         return fail(P, file, line, "%s: %d uv pairs for %d vertices", what, nuv, nv);
+    if (nsv && nsv != nv)
+        return fail(P, file, line, "%s: %d S vectors for %d vertices", what, nsv, nv);
     if (ni == 0) ni = per;
+    if (nf && nf != ni / per)
+        return fail(P, file, line, "%s: %d faceIndices for %d %s%s (one a face, as in "
+                    "pbrt-v4)", what, nf, ni / per, bilinear ? "patch" : "triangle",
+                    ni / per == 1 ? "" : bilinear ? "es" : "s");
     for (i = 0; i < ni; i++) {
         int k = Id ? (int)Id[i] : deflt[i];
         if (k < 0 || k >= nv)
@@ -357,7 +388,7 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
     ok = bilinear ? add_patch_mesh(P, Pf, Nf, UVf, nv, idx, ni / 4, file, line)
                   : add_mesh(P, Pf, Nf, UVf, nv, idx, ni / 3, file, line);
     free(Pf); free(Nf); free(UVf); free(idx);
-    return ok;
+    return ok && (!nsv || mesh_tangents(P, Sd, nv, v0, file, line));
 }
 
 /* A quadric (shapes.c) with the given object-space parameters under the CTM: a
@@ -539,7 +570,7 @@ static int sphere_shape(Parser *P, ParamList *pl, const char *file, int line)
 static int ply_shape(Parser *P, ParamList *pl, const char *file, int line)
 {
     const char *fn;
-    char path[1024];
+    char path[PATH_CAP];
     PlyMesh mesh;
     Error e;
     int ok, i;
@@ -703,11 +734,12 @@ static int moving_shape_object(Parser *P, const char *type, const char *file, in
     o = &s->objects[s->n_objects];
     memset(o, 0, sizeof *o);
     o->unnamed = 1;
+    o->name = "";
     o->file = file;
     o->line = line;
     u = &P->uses[P->n_uses++];
     memset(u, 0, sizeof *u);
-    snprintf(u->name, sizeof u->name, "%s", type);
+    if (!(u->name = keep_string(P, type))) return oom(P, file, line);
     u->xf = P->gs.ctm;
     u->xf_end = P->gs.ctm_end;
     u->t0 = P->t0;

@@ -656,7 +656,7 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
     inf->line = line;
     if (portal && !portal_params(P, portal, inf)) { free(inf); return 0; }
     if (fn || portal) {
-        char path[1024];
+        char path[PATH_CAP];
         Image im;
         Error ierr;
         double mean[3] = { 0, 0, 0 }, k_e = 0.0;

@@ -496,11 +496,18 @@ static int dt_pair(const DtPoint *d, Vec3 lo, Vec3 li, float f[HERO_N], float pd
 
 /* ---------------------------------------------------------------- sampling */
 
-/* The shading frame: around ns; an anisotropic measured BRDF's s axis is dp/du made
-   tangent (Gram-Schmidt), its t = ns x s, pbrt-v4's Frame::FromXZ(dpdu, ns). */
+int mat_needs_tangent(const Material *m)
+{
+    return (m->type == MAT_MEASURED && !m->measured->isotropic) ||
+           (m->type == MAT_CONDUCTOR && m->alpha != m->alpha_t);
+}
+
+/* The shading frame: around ns; where the BSDF turns with dp/du (an anisotropic
+   measured file or conductor) its s axis is dp/du made tangent (Gram-Schmidt), its
+   t = ns x s, pbrt-v4's Frame::FromXZ(dpdu, ns). */
 Frame mat_frame(const Material *m, const SurfacePoint *sp)
 {
-    if (m->type == MAT_MEASURED && !m->measured->isotropic) {
+    if (mat_needs_tangent(m)) {
         Vec3 s = v3_sub(sp->dpdu, v3_mul(sp->ns, v3_dot(sp->dpdu, sp->ns)));
         if (v3_dot(s, s) > 0.0f) {
             Frame f;
@@ -1019,11 +1026,9 @@ static int mix_member(Parser *P, const char *name, int anonymous, const char *fi
         return fail(P, file, line, "%s: named material \"%s\" not found (a named \"mix\" can "
                     "only use materials made before it)", what, name);
     if (i == P->n_named) {
-        if (strlen(name) >= sizeof P->named[0].name)
-            return fail(P, file, line, "%s: named material \"%s\" not found", what, name);
-        if (!grow((void **)&P->named, &P->cap_named, P->n_named + 1, sizeof(NamedMaterial)))
+        if (!grow((void **)&P->named, &P->cap_named, P->n_named + 1, sizeof(NamedMaterial)) ||
+            !(P->named[i].name = keep_string(P, name)))
             return oom(P, file, line);
-        snprintf(P->named[i].name, sizeof P->named[0].name, "%s", name);
         P->named[i].material = -1;
         P->named[i].file = file;
         P->named[i].line = line;

@@ -595,14 +595,3 @@ int measured_sample(const MeasuredBrdf *b, Vec3 wo, const float *lambda, unsigne
     *wi_local = flip ? v3_neg(wi) : wi;
     return 1;
 }
-
-const SurfacePoint *measured_shade(const struct Scene *s, const Ray *r, const HitRecord *h,
-                                   const SurfacePoint *sp, SurfacePoint *out)
-{
-    SurfacePoint tmp = *sp;
-    ShadingDiff d;
-    shading_differentials(s, r, h, &tmp, &d);
-    *out = *sp;
-    out->dpdu = d.dpdu;
-    return out;
-}

@@ -955,7 +955,7 @@ static int nanovdb_from_params(Parser *P, ParamList *pl, const char *what, const
 {
     const char *fn = NULL, *names[2] = { NULL, NULL };
     float scale, g, cut, off, tscale, lescale;
-    char path[1024];
+    char path[PATH_CAP];
     Error e;
     int i, ok;
     m->type = MEDIUM_NANOVDB;

@@ -71,7 +71,7 @@ static int realistic_camera(Parser *P, ParamList *pl, const char *file, int line
     SceneSettings *st = &P->s->settings;
     float open, close, diameter, focus;
     const char *fn, *aperture;
-    char path[1024];
+    char path[PATH_CAP];
     Error e;
     Param *pf;
     if (!get_float(P, pl, "shutteropen", 0.0f, &open)) return 0;
@@ -243,7 +243,7 @@ static int camera_place(Parser *P, float open, float close, const char *file, in
         if (i == P->n_coords) {
             if (!grow((void **)&P->coords, &P->cap_coords, P->n_coords + 1, sizeof(NamedCoordSys)))
                 return oom(P, file, line);
-            snprintf(P->coords[i].name, sizeof P->coords[i].name, "camera");
+            P->coords[i].name = "camera";
             P->n_coords++;
         }
         memcpy(P->coords[i].xf.m, P->gs.ctm.inv, sizeof P->gs.ctm.inv);

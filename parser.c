@@ -111,6 +111,16 @@ const char *intern(Parser *P, const char *name)
     return d;
 }
 
+const char *keep_string(Parser *P, const char *name)
+{
+    Scene *s = P->s;
+    char *d;
+    if (!grow((void **)&s->strings, &P->cap_strings, s->n_strings + 1, sizeof(char *)))
+        return NULL;
+    if ((d = str_dup(name)) != NULL) s->strings[s->n_strings++] = d;
+    return d;
+}
+
 /* The directory part of path, with its trailing '/', or "" (the current dir). */
 void dir_of(const char *path, char *out, size_t cap)
 {
@@ -137,7 +147,7 @@ static int file_exists(const char *path)
 void resolve_path(const Parser *P, const char *from_file, const char *name,
                   char *out, size_t cap)
 {
-    char dir[1024];
+    char dir[PATH_CAP];
     if (name[0] == '/') { snprintf(out, cap, "%s", name); return; }
     snprintf(out, cap, "%s%s", P->main_dir, name);
     if (file_exists(out)) return;
@@ -715,9 +725,8 @@ int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_ill
         if (p->n_num != 1)
             return fail(P, p->file, p->line, "\"blackbody %s\": expected one temperature "
                         "(K), got %d values", p->name, p->n_num);
-        if (use != SPEC_ILLUMINANT && use != SPEC_COEFF)
-            return fail(P, p->file, p->line, "\"blackbody %s\": valid pbrt-v4 but not in "
-                        "the specnee subset here", p->name);
+        /* pbrt-v4's BlackbodySpectrum whatever the use (a reflectance, an unbounded
+           spectrum, an illuminant): peak 1, so within [0, 1] as an albedo */
         if (!(p->num[0] > 0))
             return fail(P, p->file, p->line, "\"blackbody %s\": temperature must be > 0 K",
                         p->name);
@@ -746,7 +755,7 @@ int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_ill
                     p->name, p->n_str);
     if (spec_named(out, p->str[0])) return 1;
     {
-        char path[1024];
+        char path[PATH_CAP];
         Error e;
         resolve_path(P, p->file, p->str[0], path, sizeof path);
         if (!file_exists(path))

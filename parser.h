@@ -28,6 +28,13 @@
 #define MAX_MAXDEPTH 10000          /* path length */
 #define MAX_ELEMENTS (1 << 27)      /* vertices, indices, triangles of one scene */
 #define MAX_WORD 255                /* longest unquoted token */
+#define NAME_CAP 4096               /* longest type or name a directive copies (the
+                                       MakeNamedMaterial name): far above what exporters
+                                       write, a one-line error beyond */
+#define PATH_CAP 4096               /* longest file path the builders form (Linux's PATH_MAX:
+                                       longer ones no system call opens).  Names of
+                                       textures, materials, media, objects and coordinate
+                                       systems have no limit (kept in Scene.strings) */
 /* the scene text, all its included files together, is at most READ_MAX_BYTES */
 
 /* ===========================================================================
@@ -131,23 +138,23 @@ typedef struct { int defined, used, before_camera; const char *file; int line; }
    MakeNamedMaterial (pbrt-v4 looks names up when it builds the scene): the name is
    then recorded with material -1 and the NamedMaterial's place, and shapes made
    under it carry the code -2 - (its index) until finish() resolves them. */
-typedef struct { char name[64]; int material; const char *file; int line; } NamedMaterial;
+typedef struct { const char *name; int material; const char *file; int line; } NamedMaterial;
 /* A named texture: pbrt-v4 keeps float and spectrum textures in two namespaces. */
-typedef struct { char name[64]; int is_float; int index; } NamedTexture;
-typedef struct { char name[64]; Xform xf, xf_end; } NamedCoordSys;   /* both CTMs */
+typedef struct { const char *name; int is_float; int index; } NamedTexture;
+typedef struct { const char *name; Xform xf, xf_end; } NamedCoordSys;   /* both CTMs */
 /* An ObjectInstance: as in pbrt-v4 the name is looked up when the file has been
    read (an instance may come before its ObjectBegin).  xf, xf_end: the two CTMs
    (they differ: it moves from time t0 to t1); object >= 0: the unnamed object of
    a moving shape (motion.c), not looked up by name. */
 typedef struct {
-    char name[64]; Xform xf, xf_end; double t0, t1; int object;
+    const char *name; Xform xf, xf_end; double t0, t1; int object;
     const char *file; int line;
 } InstanceUse;
 
 typedef struct {
     Scene *s;
     Error *err;
-    char main_dir[1024];       /* directory of the top-level file (pbrt's search dir) */
+    char main_dir[PATH_CAP];   /* directory of the top-level file (pbrt's search dir) */
     int in_world;              /* after WorldBegin */
     int world_seen, include_depth;   /* include_depth: Import nesting */
     int nest;                  /* files open now inside the top-level one (Include+Import) */
@@ -166,6 +173,7 @@ typedef struct {
         cap_patches, cap_curves, cap_pieces;
     int any_normals;
     int any_uv;                /* some mesh has "uv": Scene.UV is kept parallel to P */
+    int cap_tangents;          /* Scene.S's capacity (it grows with the meshes that have S) */
     int inset_line[8];         /* where each inset comment was (for messages) */
     const char *inset_file[8];
     int end_line;              /* line of the top-level file's last token */
@@ -201,11 +209,15 @@ int fail_param(Parser *P, const ParamList *pl, const char *name, const char *fil
 
 /* Memory, strings, paths.  grow: *arr holds at least `need` elements of elsz
    bytes (0: out of memory or more than MAX_ELEMENTS).  intern: a copy of `name`
-   kept in Scene.strings.  dir_of: the directory part of path, '/' included.
+   kept in Scene.strings (one per distinct string).  keep_string: the same without
+   intern's search, for names of which a scene may hold many (textures, materials,
+   media, objects, coordinate systems: as long as the file writes them; NULL: out
+   of memory).  dir_of: the directory part of path, '/' included.
    resolve_path: a file named in from_file, found as pbrt-v4 finds it.  */
 int grow(void **arr, int *cap, int need, size_t elsz);
 int oom(Parser *P, const char *file, int line);   /* "out of memory": fail, 0 */
 const char *intern(Parser *P, const char *name);
+const char *keep_string(Parser *P, const char *name);
 void dir_of(const char *path, char *out, size_t cap);
 void resolve_path(const Parser *P, const char *from_file, const char *name,
                   char *out, size_t cap);
@@ -251,7 +263,8 @@ int refuse_param(Parser *P, ParamList *pl, const char *what, const char *reads,
    find_spectrum_param: the last one named `name` (NULL: absent), marked used;
    param_spectrum: its dense table, checked for `use`. */
 /* SPEC_COEFF: a medium's coefficients, a dielectric's "rgb eta": pbrt-v4's
-   "unbounded" spectra with rgb (RGBUnboundedSpectrum) and blackbody (peak 1) allowed */
+   "unbounded" spectra with rgb (RGBUnboundedSpectrum); a blackbody is pbrt-v4's
+   BlackbodySpectrum (peak 1) for every use */
 typedef enum { SPEC_ALBEDO, SPEC_UNBOUNDED, SPEC_ILLUMINANT, SPEC_COEFF } SpecUse;
 Param *find_spectrum_param(ParamList *pl, const char *name);
 int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_illum);

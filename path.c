@@ -1054,8 +1054,8 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     if (depth >= o->maxdepth) return 0;
     if (mat->bump) sp = bump_shade(s, mat, ray, hit, sp, &bumped);  /* bump.c: ns perturbed */
     if (mat->type == MAT_HAIR) sp = hair_shade(s, ray, hit, sp, &bumped);  /* the fibre's axis */
-    if (mat->type == MAT_MEASURED && !mat->measured->isotropic)
-        sp = measured_shade(s, ray, hit, sp, &framed);              /* measured.c: dp/du */
+    if (mat_needs_tangent(mat) && !mat->bump)
+        sp = tangent_shade(s, ray, hit, sp, &framed);        /* bump.c: dp/du (bump_shade's) */
 
     /* 3. Termination of the secondary wavelengths at a dispersive dielectric,
           before NEE at this vertex (pbrt-v4 TerminateSecondary; THEORY §7) */

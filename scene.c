@@ -174,10 +174,6 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
     T.line = t->line;
     T.amount_tex = T.scale_tex = -1;
     T.arg_tex[0] = T.arg_tex[1] = -1;
-    if (strlen(a[0].text) >= sizeof P->texnames[0].name) {
-        ok = fail(P, t->file, t->line, "Texture: name too long");
-        goto done;
-    }
     if (!strcmp(a[1].text, "float")) T.is_float = 1;
     else if (strcmp(a[1].text, "spectrum") != 0) {
         ok = fail(P, t->file, t->line, "Texture \"%s\": type \"%s\" must be \"spectrum\" or "
@@ -190,8 +186,10 @@ static int texture_directive(Parser *P, Lexer *L, const Token *t)
             !grow((void **)&P->texnames, &P->cap_texnames, P->n_texnames + 1, sizeof(NamedTexture))) {
             ok = oom(P, t->file, t->line);
         } else {
-            NamedTexture *nt = &P->texnames[P->n_texnames++];
-            snprintf(nt->name, sizeof nt->name, "%s", a[0].text);
+            NamedTexture *nt = &P->texnames[P->n_texnames];
+            nt->name = keep_string(P, a[0].text);
+            if (!nt->name) { ok = oom(P, t->file, t->line); goto done; }
+            P->n_texnames++;
             nt->is_float = T.is_float;
             nt->index = s->n_textures;
             s->textures[s->n_textures++] = T;
@@ -296,7 +294,7 @@ static int parse_text(Parser *P, const char *file, char *buf, size_t len);
 static int include_directive(Parser *P, Lexer *L, const Token *dir, int is_import)
 {
     Token t;
-    char path[1024];
+    char path[PATH_CAP];
     const char *name;
     char *buf;
     size_t len;
@@ -443,12 +441,10 @@ static int transform_directive(Parser *P, Lexer *L, const Token *t, int *handled
         for (i = 0; i < P->n_coords; i++)
             if (!strcmp(P->coords[i].name, n.text)) break;
         if (d[5] == 'i') {                                 /* CoordinateSystem: record */
-            if (strlen(n.text) >= sizeof P->coords[0].name)
-                return fail(P, t->file, t->line, "CoordinateSystem: name too long");
             if (i == P->n_coords) {
-                if (!grow((void **)&P->coords, &P->cap_coords, P->n_coords + 1, sizeof(NamedCoordSys)))
+                if (!grow((void **)&P->coords, &P->cap_coords, P->n_coords + 1, sizeof(NamedCoordSys)) ||
+                    !(P->coords[i].name = keep_string(P, n.text)))
                     return oom(P, t->file, t->line);
-                snprintf(P->coords[i].name, sizeof P->coords[i].name, "%s", n.text);
                 P->n_coords++;
             }
             P->coords[i].xf = P->gs.ctm;
@@ -481,10 +477,6 @@ static int medium_ref(Parser *P, const char *name, const char *file, int line)
     if (!name[0]) return -1;
     for (i = 0; i < s->n_media; i++)
         if (!strcmp(s->media[i].name, name)) return i;
-    if (strlen(name) >= sizeof s->media[0].name) {
-        fail(P, file, line, "medium name \"%.40s...\" too long", name);
-        return -2;
-    }
     if (!grow((void **)&s->media, &P->cap_media, s->n_media + 1, sizeof(Medium))) {
         oom(P, file, line);
         return -2;
@@ -494,7 +486,10 @@ static int medium_ref(Parser *P, const char *name, const char *file, int line)
         return -2;
     }
     memset(&s->media[s->n_media], 0, sizeof(Medium));
-    snprintf(s->media[s->n_media].name, sizeof s->media[0].name, "%s", name);
+    if (!(s->media[s->n_media].name = keep_string(P, name))) {
+        oom(P, file, line);
+        return -2;
+    }
     P->mrefs[s->n_media].defined = P->mrefs[s->n_media].used = 0;
     P->mrefs[s->n_media].file = file;
     P->mrefs[s->n_media].line = line;
@@ -526,7 +521,7 @@ static int make_named_medium(Parser *P, Lexer *L, const Token *t)
         medium_free(&m);
         goto done;
     }
-    snprintf(m.name, sizeof m.name, "%s", nm.text);
+    m.name = P->s->media[idx].name;            /* kept by medium_ref */
     P->s->media[idx] = m;
     P->mrefs[idx].defined = 1;
     P->mrefs[idx].before_camera = P->camera_file == NULL;
@@ -589,8 +584,6 @@ static int object_begin(Parser *P, const Token *t, const char *name)
         if (!s->objects[i].unnamed && !strcmp(s->objects[i].name, name))
             return fail(P, t->file, t->line, "ObjectBegin \"%s\": trying to redefine an object "
                         "instance (first at %s:%d)", name, s->objects[i].file, s->objects[i].line);
-    if (strlen(name) >= sizeof s->objects[0].name)
-        return fail(P, t->file, t->line, "ObjectBegin: name too long");
     if (!grow((void **)&P->stack, &P->stack_cap, P->depth + 1, sizeof(GState)) ||
         !grow((void **)&s->objects, &P->cap_objects, s->n_objects + 1, sizeof(Object)))
         return oom(P, t->file, t->line);
@@ -600,7 +593,7 @@ static int object_begin(Parser *P, const Token *t, const char *name)
     P->stack[P->depth++] = P->gs;
     o = &s->objects[s->n_objects];
     memset(o, 0, sizeof *o);
-    snprintf(o->name, sizeof o->name, "%s", name);
+    if (!(o->name = keep_string(P, name))) return oom(P, t->file, t->line);
     o->file = t->file;
     o->line = t->line;
     P->cur_object = ++s->n_objects;
@@ -636,12 +629,11 @@ static int object_directive(Parser *P, Lexer *L, const Token *t)
         if (m[3][0] != 0.0 || m[3][1] != 0.0 || m[3][2] != 0.0 || m[3][3] != 1.0)
             return fail(P, t->file, t->line, "ObjectInstance \"%s\": projective transform not "
                         "supported", n.text);
-        if (strlen(n.text) >= sizeof u->name)
-            return fail(P, t->file, t->line, "ObjectInstance: name too long");
         if (!grow((void **)&P->uses, &P->cap_uses, P->n_uses + 1, sizeof(InstanceUse)))
             return oom(P, t->file, t->line);
-        u = &P->uses[P->n_uses++];
-        snprintf(u->name, sizeof u->name, "%s", n.text);
+        u = &P->uses[P->n_uses];
+        if (!(u->name = keep_string(P, n.text))) return oom(P, t->file, t->line);
+        P->n_uses++;
         u->xf = P->gs.ctm;
         u->xf_end = P->gs.ctm_end;
         u->t0 = P->t0;
@@ -697,7 +689,7 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
     const char *d = t->text;
     Token ty;
     ParamList pl;
-    char type[128];
+    char type[NAME_CAP];
     int ok = 0, world_only, options_only;
     options_only = !strcmp(d, "Camera") || !strcmp(d, "Film") || !strcmp(d, "Sampler")
                 || !strcmp(d, "Integrator") || !strcmp(d, "PixelFilter")
@@ -711,6 +703,9 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
         return fail(P, t->file, t->line, "Scene description must be inside world block; "
                     "\"%s\" not allowed before WorldBegin", d);
     if (!expect_string(P, L, d, "type name", &ty)) return 0;
+    if (strlen(ty.text) >= sizeof type)
+        return fail(P, t->file, t->line, "%s: a name of %d characters (at most %d)", d,
+                    (int)strlen(ty.text), NAME_CAP - 1);
     snprintf(type, sizeof type, "%s", ty.text);
     memset(&pl, 0, sizeof pl);
     if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
@@ -761,8 +756,6 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
                               "redefined", type);
                 break;                  /* else used before: made now */
             }
-        if (ok && strlen(type) >= sizeof P->named[0].name)
-            ok = fail(P, t->file, t->line, "MakeNamedMaterial: name too long");
         if (ok) {
             char what[128];
             snprintf(what, sizeof what, "MakeNamedMaterial \"%.100s\": type", type);
@@ -778,7 +771,10 @@ static int typed_directive(Parser *P, Lexer *L, const Token *t)
             if (!grow((void **)&P->named, &P->cap_named, P->n_named + 1, sizeof(NamedMaterial)))
                 ok = oom(P, t->file, t->line);
             else {
-                snprintf(P->named[P->n_named].name, sizeof P->named[0].name, "%.63s", type); /* length checked above */
+                P->named[P->n_named].name = keep_string(P, type);
+                if (!P->named[P->n_named].name) ok = oom(P, t->file, t->line);
+            }
+            if (ok) {
                 P->named[P->n_named].file = t->file;
                 P->named[P->n_named].line = t->line;
                 P->named[P->n_named++].material = idx;
@@ -813,7 +809,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
         if (i == P->n_coords) {
             if (!grow((void **)&P->coords, &P->cap_coords, P->n_coords + 1, sizeof(NamedCoordSys)))
                 return oom(P, t->file, t->line);
-            snprintf(P->coords[i].name, sizeof P->coords[i].name, "world");
+            P->coords[i].name = "world";
             P->n_coords++;
         }
         P->coords[i].xf = P->coords[i].xf_end = xf_identity();
@@ -869,11 +865,9 @@ static int directive(Parser *P, Lexer *L, const Token *t)
                 return 1;
             }
         /* not made yet: pbrt-v4 looks the name up at the end of the file */
-        if (strlen(n.text) >= sizeof P->named[0].name)
-            return fail(P, t->file, t->line, "NamedMaterial: name too long");
-        if (!grow((void **)&P->named, &P->cap_named, P->n_named + 1, sizeof(NamedMaterial)))
+        if (!grow((void **)&P->named, &P->cap_named, P->n_named + 1, sizeof(NamedMaterial)) ||
+            !(P->named[i].name = keep_string(P, n.text)))
             return oom(P, t->file, t->line);
-        snprintf(P->named[i].name, sizeof P->named[0].name, "%.63s", n.text);
         P->named[i].material = -1;
         P->named[i].file = t->file;
         P->named[i].line = t->line;
@@ -1298,6 +1292,7 @@ void scene_free(Scene *s)
     free(s->strings);
     free(s->P);
     free(s->N);
+    free(s->S);
     free(s->tris);
     free(s->shapes);
     for (i = 0; i < s->n_media; i++) medium_free(&s->media[i]);

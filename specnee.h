@@ -530,6 +530,8 @@ typedef struct {
     int flip;                  /* ReverseOrientation XOR a handedness-swapping transform */
     int has_normals;           /* mesh carries per-vertex shading normals */
     int has_uv;                /* mesh carries per-vertex (u, v) in Scene.UV */
+    int has_tangents;          /* trianglemesh "vector3 S": per-vertex tangents in Scene.S,
+                                  the shading frame's dp/du (bump.c) */
     int tri_begin, tri_count;  /* triangles [tri_begin, tri_begin + tri_count) */
     int bilinear;              /* bilinearmesh or a PLY file's quads: its triangles come in
                                   pairs, each a flat patch whose (u, v), "uv" and "N" are
@@ -642,7 +644,7 @@ int  intersect_sphere(Vec3 c, float radius, const Ray *r, float *t);
    n_tris + n_spheres + n_quadrics + its index; a ray that enters an instance's box
    is carried into object space and traced through the object's BVH. */
 typedef struct {
-    char name[64];
+    const char *name;          /* in Scene.strings; "" for an unnamed one */
     Bvh bvh;                   /* over the object's primitives, in its space */
     const char *file; int line;/* its ObjectBegin */
     int unnamed;               /* made for one moving shape (motion.c): no name */
@@ -696,8 +698,8 @@ typedef struct {
     Vec3 err;                  /* a curve hit's error box (pbrt-v4's), which a ray
                                   leaving it clears (spawn_origin); 0 for the others */
     Vec3 dpdu;                 /* the shape's dp/du, set only where it is read: by hair_shade
-                                  (hair.c: the fibre's axis) and measured_shade (measured.c:
-                                  an anisotropic BRDF's s axis, pbrt-v4's dp/du) */
+                                  (hair.c: the fibre's axis) and tangent_shade (bump.c: an
+                                  anisotropic BSDF's s axis, pbrt-v4's dp/du) */
 } SurfacePoint;
 void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
 /* Origin for a ray leaving p towards w: p moved along ng to w's side by
@@ -952,7 +954,10 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm);
    another texture. */
 typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP,
                TEX_DOTS, TEX_MARBLE, TEX_FBM, TEX_WRINKLED, TEX_WINDY, TEX_DIRECTIONMIX } TexType;
-typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR } TexMapType;
+/* TEXMAP_POINT3D: the 3-D checkerboard's point in the texture's frame (pbrt-v4's
+   TextureMapping3D, "integer dimension" 3) */
+typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR,
+               TEXMAP_POINT3D } TexMapType;
 typedef enum { TEXWRAP_REPEAT, TEXWRAP_BLACK, TEXWRAP_CLAMP } TexWrap;
 #define TEX_ARGS 2
 typedef struct Texture {
@@ -1030,6 +1035,10 @@ void shading_differentials(const struct Scene *s, const Ray *r, const HitRecord 
    returns out. */
 const SurfacePoint *bump_shade(const struct Scene *s, const Material *m, const Ray *r,
                                const HitRecord *h, const SurfacePoint *sp, SurfacePoint *out);
+/* *sp with out->dpdu set to the shading frame's dp/du (shading_differentials: a
+   triangle's "S" when it has them), written to *out; returns out. */
+const SurfacePoint *tangent_shade(const struct Scene *s, const Ray *r, const HitRecord *h,
+                                  const SurfacePoint *sp, SurfacePoint *out);
 /* Smooth dielectrics scatter into discrete (delta) directions: no NEE there.  A
    conductor with a roughness texture is not: it may be smooth at some points, where
    bsdf_eval gives 0 and bsdf_sample a delta lobe. */
@@ -1125,13 +1134,12 @@ void  measured_eval(const MeasuredBrdf *b, Vec3 wo, Vec3 wi, const float *lambda
                     float f[HERO_N], float pdf_l[HERO_N]);
 int   measured_sample(const MeasuredBrdf *b, Vec3 wo, const float *lambda, unsigned alive, float u1,
                       float u2, BsdfSample *out, Vec3 *wi_local);
-/* An anisotropic file's phi is measured from the surface's dp/du, as pbrt-v4's: *out
-   is *sp with out->dpdu set from shading_differentials (path.c calls it at the hit
-   of an anisotropic measured material); returns out. */
-const SurfacePoint *measured_shade(const struct Scene *s, const Ray *r, const HitRecord *h,
-                                   const SurfacePoint *sp, SurfacePoint *out);
-/* The shading frame of material m at sp: (dp/du made tangent, ns x that, ns) for an
-   anisotropic measured BRDF, else frame_from_normal(ns). */
+/* Whether m's BSDF turns with the surface's dp/du (pbrt-v4's shading frame): an
+   anisotropic measured file (its phi) or an anisotropic rough conductor (alpha_x
+   along dp/du); path.c then sets sp->dpdu by tangent_shade (bump.c). */
+int   mat_needs_tangent(const Material *m);
+/* The shading frame of material m at sp: (dp/du made tangent, ns x that, ns) where
+   mat_needs_tangent, else frame_from_normal(ns). */
 Frame mat_frame(const Material *m, const SurfacePoint *sp);
 /* coateddiffuse and coatedconductor (layered.c), in the shading frame: f and the pdf are stochastic
    estimates by random walks, deterministic for a given seed; bsdf_eval seeds them
@@ -1367,7 +1375,7 @@ void   nanovdb_free(NanoGrid *g);
                                       is taken as blocked */
 
 typedef struct {
-    char name[64];             /* the MakeNamedMedium name */
+    const char *name;          /* the MakeNamedMedium name (in Scene.strings) */
     MediumType type;
     Spectrum sigma_a, sigma_s; /* absorption, scattering (1/scene unit), "scale" applied */
     Spectrum Le;               /* emission as given (its shape; radiance per Lescale) */
@@ -1736,6 +1744,9 @@ typedef struct Scene {
     Texture *textures; int n_textures;   /* texture.c; materials refer to them by index */
     Medium *media; int n_media;          /* medium.c; shapes and the camera refer to them */
     float *UV;                           /* per vertex (u, v), NULL when no mesh has "uv" */
+    Vec3 *S;                             /* per vertex tangent ("vector3 S", world space),
+                                            NULL when no mesh has one; valid for the
+                                            vertices of the shapes with has_tangents */
     int n_spheres; int *sphere_shape;    /* sphere j is shapes[sphere_shape[j]] */
     int n_quadrics; int *quadric_shape;  /* quadric k (disk, cylinder, partial sphere)
                                             is shapes[quadric_shape[k]] */

@@ -20,7 +20,11 @@
    2. The textures.
         constant      "value"
         checkerboard  tex1 where floor(s) + floor(t) is even, tex2 where it is odd
-                      (pbrt-v4's 2-D Checkerboard; pbrt-v4 also box-filters the edge
+                      (pbrt-v4's 2-D Checkerboard); with "integer dimension" 3,
+                      tex1 where floor(q_x) + floor(q_y) + floor(q_z) is even, q the
+                      point in the texture's frame (pbrt-v4's TextureMapping3D,
+                      which reads no parameters: the 2-D mapping's are then
+                      unused, as in pbrt-v4).  pbrt-v4 also box-filters the edge
                       over the ray's footprint, which changes a pixel's mean only
                       in the pixels an edge crosses, and converges to the same
                       image as the footprint shrinks; specnee point-samples it and
@@ -422,6 +426,13 @@ float tex_eval(const Texture *tex, int i, const SurfacePoint *sp, float lambda_n
     case TEX_CONSTANT:
         return tex_arg(tex, t, 0, sp, lambda_nm);
     case TEX_CHECKERBOARD:
+        if (t->map == TEXMAP_POINT3D) {                 /* the 3-D checkerboard */
+            Vec3 q = xf_point(&t->tex_from_world, sp->p);
+            if (!(fabsf(q.x) < 1e9f && fabsf(q.y) < 1e9f && fabsf(q.z) < 1e9f))
+                return tex_arg(tex, t, 0, sp, lambda_nm);
+            return (((long)floorf(q.x) + (long)floorf(q.y) + (long)floorf(q.z)) & 1) == 0
+                       ? tex_arg(tex, t, 0, sp, lambda_nm) : tex_arg(tex, t, 1, sp, lambda_nm);
+        }
         tex_map(t, sp, &s, &tt);
         if (!(s > -1e9f && s < 1e9f && tt > -1e9f && tt < 1e9f)) return tex_arg(tex, t, 0, sp, lambda_nm);
         return (((long)floorf(s) + (long)floorf(tt)) & 1) == 0 ? tex_arg(tex, t, 0, sp, lambda_nm)
@@ -598,7 +609,7 @@ static int texture_mapping(Parser *P, ParamList *pl, Texture *T)
 static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
 {
     const char *fn = NULL, *wrap = NULL, *filter = NULL, *enc = NULL;
-    char path[1024], alt[1024];
+    char path[PATH_CAP], alt[PATH_CAP];
     float scale;
     int invert, ok;
     Image im;
@@ -724,11 +735,15 @@ int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *
     } else if (!strcmp(cls, "checkerboard")) {
         T->type = TEX_CHECKERBOARD;
         ok = get_int(P, pl, "dimension", 2, &dim, NULL);
-        if (ok && dim != 2)
-            ok = fail(P, T->file, T->line, "Texture \"checkerboard\": dimension %d: the 3-D "
-                      "checkerboard is valid pbrt-v4 but not in the specnee subset", dim);
-        ok = ok && texture_mapping(P, pl, T) && texture_arg(P, pl, T, 0, "tex1", 1.0f) &&
-             texture_arg(P, pl, T, 1, "tex2", 0.0f);
+        if (ok && dim != 2 && dim != 3)
+            ok = fail(P, T->file, T->line, "Texture \"checkerboard\": dimension %d: pbrt-v4 "
+                      "has the 2-D and the 3-D checkerboard", dim);
+        if (ok && dim == 3) {                  /* TextureMapping3D: the texture's frame */
+            T->map = TEXMAP_POINT3D;
+            texture_frame(P, T);   /* 3-D checkerboard */
+        }
+        ok = ok && (dim == 3 || texture_mapping(P, pl, T)) &&
+             texture_arg(P, pl, T, 0, "tex1", 1.0f) && texture_arg(P, pl, T, 1, "tex2", 0.0f);
     } else if (!strcmp(cls, "scale")) {
         Param *ps = param_find(pl, PT_TEXTURE, "scale");
         T->type = TEX_SCALE;
@@ -816,5 +831,9 @@ int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *
     }
     if (!ok) return 0;
     snprintf(what, sizeof what, "Texture \"%s\"", cls);
+    if (T->map == TEXMAP_POINT3D)              /* no 2-D mapping parameters */
+        return params_check_unused(P, pl, what, "integer dimension, spectrum tex1, rgb tex1, "
+                                   "float tex1, texture tex1, spectrum tex2, rgb tex2, "
+                                   "float tex2, texture tex2", NULL);
     return params_check_unused(P, pl, what, texture_reads[T->type], NULL);
 }

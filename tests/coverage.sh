@@ -99,6 +99,7 @@ scenes() {
         # values a parameter needs where one number or the default will not do
         ov["trianglemesh|point3 P"] = tri;  ov["trianglemesh|normal N"] = "[ 0 0 1  0 0 1  0 0 1 ]"
         ov["trianglemesh|point2 uv"] = "[ 0 0  1 0  0 1 ]"; ov["trianglemesh|integer indices"] = "[ 0 1 2 ]"
+        ov["trianglemesh|vector3 S"] = "[ 1 0 0  1 0 0  1 0 0 ]"
         ov["bilinearmesh|point3 P"] = quad; ov["bilinearmesh|normal N"] = "[ 0 0 1  0 0 1  0 0 1  0 0 1 ]"
         ov["bilinearmesh|point2 uv"] = "[ 0 0  1 0  0 1  1 1 ]"; ov["bilinearmesh|integer indices"] = "[ 0 1 2 3 ]"
         ov["plymesh|string filename"] = "\"" root "/scenes/meshes/suzanne.ply\""

@@ -553,7 +553,43 @@ static void test_shading_tilt_against_pbrt(T *t)
     test_against_pbrt_y(t, SHADING_TILT, 3, PBRT_TILT_Y, 5e-3, "tilt");
 }
 
+/* An anisotropic rough conductor (u 0.03, v 0.4) with a bump map: its frame's s
+   axis is the bumped dp/du, as pbrt-v4's BumpMap hands it to the BSDF.  The quad
+   (3 x 3, rotated 30 degrees about z, "uv" [0.25, 0.75]^2) is displaced by 1.5 x
+   the ramp (0.5 + (2s - 0.5) + (2t - 0.5)): slopes of 0.5 along both dp/du and
+   dp/dv, and a point light where the bumped normal mirrors the camera.  The
+   unbumped dp/du made tangent to the bumped normal would turn the frame by about
+   10 degrees: quadrants 0.0096, 0.0644, 0.1069, 0.0099 instead.  pbrt-v4 (mmp/
+   pbrt-v4 5f7a6068, `pbrt --seed S --spp 1024`, S = 1..4, 32 x 32, volpath)
+   rendered it; luminance of the image and its quadrants (top left first), mean over
+   the seeds and its standard error. */
+static const double PBRT_BUMP_ANISO_Y[5][2] = {
+    { 0.047595, 3.2e-06 }, { 0.007482, 3.3e-06 }, { 0.069964, 8.3e-06 }, { 0.105423, 7.4e-06 }, { 0.007509, 2.1e-06 },
+};
+
+static void test_bump_anisotropic_frame_against_pbrt(T *t)
+{
+    static char text[4096];
+    const char *ramp = write_ramp(t, 1.0, 1.0);
+    if (!ramp) return;
+    snprintf(text, sizeof text,
+             "LookAt 0 -3 3  0 0 0  0 0 1\nCamera \"perspective\" \"float fov\" [ 40 ]\n"
+             "Film \"rgb\" \"integer xresolution\" [ 32 ] \"integer yresolution\" [ 32 ]\n"
+             "Integrator \"volpath\" \"integer maxdepth\" [ 5 ]\nWorldBegin\n"
+             "LightSource \"point\" \"point3 from\" [ -0.58 -0.75 1.76 ] \"float scale\" [ 2 ]\n"
+             "Texture \"ramp\" \"float\" \"imagemap\" \"string filename\" \"%s\" \"string wrap\" \"clamp\" "
+             "\"float scale\" [ 1.5 ]\n"
+             "Material \"conductor\" \"float uroughness\" [ 0.03 ] \"float vroughness\" [ 0.4 ] "
+             "\"bool remaproughness\" false \"texture displacement\" \"ramp\"\n"
+             "AttributeBegin\nRotate 30 0 0 1\n"
+             "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ -1.5 -1.5 0  1.5 -1.5 0  "
+             "1.5 1.5 0  -1.5 1.5 0 ] \"point2 uv\" [ 0.25 0.25  0.75 0.25  0.75 0.75  0.25 0.75 ]\n"
+             "AttributeEnd\n", ramp);
+    test_against_pbrt_y(t, text, 3, PBRT_BUMP_ANISO_Y, 1e-2, "bumped anisotropic conductor");
+}
+
 const TestCase tests_bump[] = {
+    { "bump_anisotropic_frame_against_pbrt", test_bump_anisotropic_frame_against_pbrt },
     { "bump_linear_tilt", test_bump_linear_tilt },
     { "bump_constant_neutral", test_bump_constant_neutral },
     { "bump_flat_normalmap_neutral", test_bump_flat_normalmap_neutral },

@@ -846,6 +846,84 @@ REJECT(rej_inset_outside, "Film \"rgb\" \"integer xresolution\" 10 \"integer yre
        "# inset A 0 0 20 5\nWorldBegin\n", 2, "inset A", "outside")
 REJECT(rej_inset_malformed, "# inset A 1 2 3\nWorldBegin\n", 1, "inset", NULL)
 
+/* Names as long as a file writes them (exporters write ~90-character texture
+   names): textures, named materials (one used before its definition), a medium,
+   an object and a coordinate system of 300 characters, in pairs that differ only
+   in the last one, each found by its whole name; and an Include whose path is
+   longer than 1024 characters. */
+static void test_long_names(T *t)
+{
+    static char L[301], text[8192], dir[2048], path[2400], cmd[2600];
+    static const char *const fmt =
+        "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ]\n"
+        "Camera \"perspective\"\nWorldBegin\n"
+        "AttributeBegin\nTranslate 0 0 7\nCoordinateSystem \"%sc\"\nAttributeEnd\n"
+        "CoordinateSystem \"%sd\"\n"
+        "Texture \"%sa\" \"spectrum\" \"constant\" \"rgb value\" [ 0.2 0.2 0.2 ]\n"
+        "Texture \"%sb\" \"spectrum\" \"constant\" \"rgb value\" [ 0.7 0.7 0.7 ]\n"
+        "AttributeBegin\nNamedMaterial \"%sm2\"\nMediumInterface \"%sf\" \"\"\n"
+        "CoordSysTransform \"%sc\"\nShape \"sphere\"\nAttributeEnd\n"
+        "MakeNamedMaterial \"%sm1\" \"string type\" \"diffuse\" \"texture reflectance\" \"%sb\"\n"
+        "MakeNamedMaterial \"%sm2\" \"string type\" \"diffuse\" \"texture reflectance\" \"%sa\"\n"
+        "MakeNamedMedium \"%sf\" \"string type\" \"homogeneous\"\n"
+        "ObjectBegin \"%so\"\nNamedMaterial \"%sm1\"\nShape \"sphere\"\nObjectEnd\n"
+        "ObjectInstance \"%so\"\n";
+    Scene s;
+    Error e;
+    FILE *f;
+    int k;
+    memset(L, 'n', 297);
+    L[297] = '\0';
+    snprintf(text, sizeof text, fmt, L, L, L, L, L, L, L, L, L, L, L, L, L, L, L);
+    if (!load(&s, text, &e)) CHECK(t, 0, "%s", e.msg);
+    CHECK(t, s.n_textures == 2 && s.n_media == 1 && s.n_objects == 1 && s.n_shapes == 2,
+          "%d textures, %d media, %d objects, %d shapes", s.n_textures, s.n_media, s.n_objects,
+          s.n_shapes);
+    CHECK(t, strlen(s.media[0].name) == 298 && strlen(s.objects[0].name) == 298,
+          "names kept as %d and %d characters", (int)strlen(s.media[0].name),
+          (int)strlen(s.objects[0].name));
+    for (k = 0; k < 2; k++) {      /* world sphere: m2 -> "...a"; the object's: m1 -> "...b" */
+        const Shape *sh = &s.shapes[k];
+        int want = sh->in_object ? 2 : 1;
+        CHECK(t, s.materials[sh->material].reflectance_tex == want, "shape %d: texture %d, "
+              "expected %d", k, s.materials[sh->material].reflectance_tex, want);
+        if (!sh->in_object)
+            CHECK(t, sh->medium_inside == 0 && fabs(sh->q.world_from_obj.m[2][3] - 7.0) < 1e-9,
+                  "the sphere's medium %d, z %g", sh->medium_inside, sh->q.world_from_obj.m[2][3]);
+    }
+    scene_free(&s);
+    /* an Include 5 directories of 230 characters deep */
+    snprintf(dir, sizeof dir, "%s/longpath", t->tmpdir);
+    for (k = 0; k < 5; k++) {
+        size_t n = strlen(dir);
+        dir[n] = '/';
+        memset(dir + n + 1, 'd', 230);
+        dir[n + 231] = '\0';
+    }
+    snprintf(cmd, sizeof cmd, "mkdir -p %s", dir);
+    CHECK(t, system(cmd) == 0, "mkdir");
+    snprintf(path, sizeof path, "%s/inc.pbrt", dir);
+    CHECK(t, (f = fopen(path, "w")) != NULL, "cannot write %s", path);
+    fputs("Shape \"sphere\"\n", f);
+    fclose(f);
+    snprintf(text, sizeof text, "WorldBegin\nInclude \"%s/inc.pbrt\"\n",
+             dir + strlen(t->tmpdir) + strlen("/longpath/"));
+    snprintf(path, sizeof path, "%s/longpath/main.pbrt", t->tmpdir);
+    CHECK(t, (f = fopen(path, "w")) != NULL, "cannot write %s", path);
+    fputs(text, f);
+    fclose(f);
+    CHECK(t, strlen(dir) > 1024, "path of %d characters", (int)strlen(dir));
+    if (!scene_load(&s, path, &e)) CHECK(t, 0, "%.200s", e.msg);
+    CHECK(t, s.n_shapes == 1, "%d shapes", s.n_shapes);
+    scene_free(&s);
+    {   /* beyond NAME_CAP: one line naming the length */
+        static char big[5200];
+        snprintf(big, sizeof big, "WorldBegin\nMakeNamedMaterial \"%0*d\" \"string type\" \"diffuse\"\n",
+                 5000, 7);
+        expect_reject(t, big, 2, "a name of 5000 characters (at most 4095)", NULL);
+    }
+}
+
 const TestCase tests_scene[] = {
     {"scene_shared_spectra", test_shared_spectra},
     {"scene_shared_eta", test_shared_eta},
@@ -865,6 +943,7 @@ const TestCase tests_scene[] = {
     {"scene_normals", test_normals},
     {"scene_sphere_transform", test_sphere_transform},
     {"scene_include", test_include},
+    {"scene_long_names", test_long_names},
     {"scene_include_missing", test_include_missing},
     {"scene_include_cycle", test_include_cycle},
     {"scene_plymesh", test_plymesh},

@@ -638,6 +638,53 @@ static void test_sphere_uv_when_read(T *t)
     }
 }
 
+/* "integer faceIndices" of trianglemesh and bilinearmesh: pbrt-v4 reads them only
+   for Ptex lookups (the face a texture value belongs to), so a scene renders the
+   same with them, bit for bit; one a face, else a one-line error at the Shape. */
+static void test_face_indices(T *t)
+{
+    static const char *const head =
+        "LookAt 0 -3 3  0 0 0  0 0 1\nCamera \"perspective\" \"float fov\" [ 40 ]\n"
+        "Film \"rgb\" \"integer xresolution\" [ 8 ] \"integer yresolution\" [ 8 ]\n"
+        "WorldBegin\nLightSource \"point\" \"point3 from\" [ 0 1 2 ] \"float scale\" [ 4 ]\n";
+    static const char *const mesh[2] = {
+        "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] "
+        "\"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]%s\n"
+        "Shape \"bilinearmesh\" \"integer indices\" [ 0 1 2 3 ] "
+        "\"point3 P\" [ -1 -1 1  1 -1 1  -1 1 1.5  1 1 1 ]%s\n",
+        "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ] "
+        "\"point3 P\" [ -1 -1 0  1 -1 0  1 1 0 ]\n"
+        "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] "
+        "\"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ] \"integer faceIndices\" [ 7 ]\n"
+    };
+    char text[2][2048];
+    Image im[2];
+    RenderOptions o;
+    int k, i;
+    render_options_default(&o);
+    o.spp = 4;
+    for (k = 0; k < 2; k++) {
+        char body[1024];
+        snprintf(body, sizeof body, mesh[0], k ? " \"integer faceIndices\" [ 5 9 ]" : "",
+                 k ? " \"integer faceIndices\" [ 3 ]" : "");
+        snprintf(text[k], sizeof text[k], "%s%s", head, body);
+        if (!test_render_text(t, text[k], &o, &im[k])) {
+            if (k) img_free(&im[0]);
+            return;
+        }
+    }
+    for (i = 0; i < 3 * im[0].w * im[0].h && im[0].rgb[i] == im[1].rgb[i]; i++) continue;
+    k = i == 3 * im[0].w * im[0].h;
+    img_free(&im[0]);
+    img_free(&im[1]);
+    CHECK(t, k, "faceIndices changed the image (value %d)", i);
+    snprintf(text[0], sizeof text[0], "%s%s", head, mesh[1]);
+    test_rejected_at(t, text[0], 7, "1 faceIndices for 2 triangles", NULL);
+    snprintf(text[0], sizeof text[0], "%sShape \"bilinearmesh\" \"integer indices\" [ 0 1 2 3 ] "
+             "\"point3 P\" [ -1 -1 1  1 -1 1  -1 1 1  1 1 1 ] \"integer faceIndices\" [ 1 2 ]\n", head);
+    test_rejected_at(t, text[0], 6, "2 faceIndices for 1 patch ", NULL);
+}
+
 const TestCase tests_shapes[] = {
     { "shapes_sphere_uv_when_read", test_sphere_uv_when_read },
     { "shapes_disk_hits", test_disk_hits },
@@ -651,5 +698,6 @@ const TestCase tests_shapes[] = {
     { "shapes_strategies_agree", test_strategies_agree },
     { "shapes_reject", test_reject },
     { "shapes_swapped_z", test_swapped_z },
+    { "shapes_face_indices", test_face_indices },
     { NULL, NULL }
 };

@@ -1012,7 +1012,9 @@ static void test_bad_input(T *t)
                  "\"spectrum k\" \"metal-Au-k\"", "either", NULL);
     expect_error(t, "Texture \"m\" \"spectrum\" \"bogus\"", "unknown class", NULL);
     expect_error(t, "Texture \"m\" \"color\" \"constant\"", "must be \"spectrum\" or \"float\"", NULL);
-    expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" [ 3 ]", "3-D", NULL);
+    expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" [ 4 ]", "3-D", NULL);
+    expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" [ 3 ] \"float uscale\" [ 2 ]",
+                 "uscale", "unused");
     expect_error(t, "Texture \"c\" \"float\" \"checkerboard\" \"string mapping\" \"cubic\"", "unknown mapping", NULL);
     expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"none.pfm\"", "imagemap", NULL);
     expect_error(t, "Texture \"i\" \"spectrum\" \"imagemap\" \"string filename\" \"sky.exr\"", "sky.exr", "cannot read the EXR file");
@@ -1026,9 +1028,83 @@ static void test_bad_input(T *t)
     expect_error(t, "Texture \"c\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [ 2 0 0 ]", "within", NULL);
 }
 
+/* Planck's law, unnormalised (lambda in nm, T in K; c2 = hc/k = 1.438777e-2 m K). */
+static double planck(double nm, double kelvin)
+{
+    double l = nm * 1e-9;
+    return 1.0 / (l * l * l * l * l * (exp(1.438777e-2 / (l * kelvin)) - 1.0));
+}
+
+/* "blackbody" where a reflectance is read (a diffuse "reflectance", a spectrum
+   texture's "value"): pbrt-v4's BlackbodySpectrum, Planck's law divided by its value
+   at Wien's peak lambda_max = 2.897771955e-3 m K / T, the same for every use.  Its
+   values lie in (0, 1], so it is a valid reflectance as it is. */
+static void test_blackbody_reflectance(T *t)
+{
+    static const double nms[4] = { 400.0, 500.0, 580.0, 700.0 };
+    Scene s;
+    SurfacePoint sp = at_uv(0.5f, 0.5f);
+    int k;
+    if (!load(t, &s, "Material \"diffuse\" \"blackbody reflectance\" [ 5000 ]\nShape \"sphere\"\n"
+                     "Texture \"b\" \"spectrum\" \"constant\" \"blackbody value\" [ 3000 ]\n"
+                     "Material \"diffuse\" \"texture reflectance\" \"b\"\nShape \"sphere\"\n"))
+        return;
+    for (k = 0; k < 4; k++) {
+        double w5 = planck(nms[k], 5000.0) / planck(2.897771955e6 / 5000.0, 5000.0);
+        double w3 = planck(nms[k], 3000.0) / planck(2.897771955e6 / 3000.0, 3000.0);
+        float r5 = mat_albedo_at(&s.materials[s.shapes[0].material], &sp, (float)nms[k]);
+        float r3 = mat_albedo_at(&s.materials[s.shapes[1].material], &sp, (float)nms[k]);
+        CHECK(t, fabs(r5 - w5) < 1e-5 * w5 + 1e-7, "5000 K reflectance at %g nm: %.7f, Planck %.7f",
+              nms[k], r5, w5);
+        CHECK(t, fabs(r3 - w3) < 1e-5 * w3 + 1e-7, "3000 K texture at %g nm: %.7f, Planck %.7f",
+              nms[k], r3, w3);
+    }
+    scene_free(&s);
+}
+
+/* pbrt-v4's 3-D checkerboard ("integer dimension" 3): tex1 where floor(q_x) +
+   floor(q_y) + floor(q_z) is even, q the point in the frame of the CTM at the
+   Texture directive (TextureMapping3D); the point's (u, v) play no part. */
+static void test_checkerboard_3d(T *t)
+{
+    /* CTM = Translate(0.5, 0, 0) Scale(2, 1, 1): q = ((x - 0.5) / 2, y, z) */
+    static const float pts[6][4] = {
+        { 0.6f, 0.2f, 0.3f, 1 },     /* q (0.05, 0.2, 0.3): 0 + 0 + 0, even */
+        { 2.6f, 0.2f, 0.3f, 0 },     /* q_x 1.05: odd */
+        { 2.6f, 1.2f, 0.3f, 1 },     /* 1 + 1 + 0 */
+        { 2.6f, 1.2f, 1.3f, 0 },     /* 1 + 1 + 1 */
+        { 0.4f, 0.2f, 0.3f, 0 },     /* q_x -0.05: floor -1, odd */
+        { 1.4f, 0.2f, -0.3f, 0 },    /* q (0.45, 0.2, -0.3): 0 + 0 - 1, odd */
+    };
+    Scene s;
+    int k;
+    if (!load(t, &s, "AttributeBegin\nTranslate 0.5 0 0\nScale 2 1 1\n"
+                     "Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" [ 3 ] "
+                     "\"float tex1\" [ 0.9 ] \"float tex2\" [ 0.1 ]\n"
+                     "Texture \"sc\" \"spectrum\" \"checkerboard\" \"integer dimension\" [ 3 ] "
+                     "\"spectrum tex1\" [ 400 0.2 700 0.8 ]\n"
+                     "AttributeEnd\n"))
+        return;
+    for (k = 0; k < 6; k++) {
+        SurfacePoint sp = at_p(pts[k][0], pts[k][1], pts[k][2]);
+        int even = (int)pts[k][3];
+        float f, g;
+        sp.u = 0.3f + 0.4f * (float)k;               /* any (u, v) */
+        sp.v = 0.7f * (float)k;
+        f = tex_eval(s.textures, 0, &sp, 500);
+        g = tex_eval(s.textures, 1, &sp, 550);
+        CHECK(t, f == (even ? 0.9f : 0.1f), "float 3-D checkerboard at (%g, %g, %g): %g", pts[k][0],
+              pts[k][1], pts[k][2], f);
+        CHECK(t, NEAR(g, even ? 0.5 : 0.0, 1e-5), "spectrum 3-D checkerboard at (%g, %g, %g), 550 nm: %g",
+              pts[k][0], pts[k][1], pts[k][2], g);
+    }
+    scene_free(&s);
+}
+
 const TestCase tests_texture[] = {
     { "texture_values", test_values },
     { "texture_mappings", test_mappings },
+    { "texture_checkerboard_3d", test_checkerboard_3d },
     { "texture_imagemap", test_imagemap },
     { "texture_imagemap_colour", test_imagemap_colour },
     { "texture_imagemap_png", test_imagemap_png },
@@ -1048,5 +1124,6 @@ const TestCase tests_texture[] = {
     { "texture_marble", test_marble },
     { "texture_against_pbrt", test_against_pbrt },
     { "texture_directionmix", test_directionmix },
+    { "texture_blackbody_reflectance", test_blackbody_reflectance },
     { NULL, NULL }
 };
