@@ -683,6 +683,53 @@ static int resolve_instances(Parser *P)
     return 1;
 }
 
+/* Option "type name" value: pbrt-v4's global options (its Options struct, set from
+   the file as from its command line).  Those that only steer pbrt-v4's statistics,
+   its internal frame or its other integrator leave the image as it is: read and
+   ignored with a note.  The others change the image (or the noise) and are
+   refused by name; an option pbrt-v4 does not know is an error, as in pbrt-v4. */
+static int option_directive(Parser *P, Lexer *L, const Token *t)
+{
+    static const char *const ignored[] = {          /* the image does not change */
+        "msereferenceimage", "msereferenceout", "rendercoordsys", "pixelstats", "wavefront", NULL
+    };
+    static const char *const refused[] = {          /* the image (or its noise) changes */
+        "disablepixeljitter", "disabletexturefiltering", "disablewavelengthjitter",
+        "displacementedgescale", "seed", "forcediffuse", NULL
+    };
+    ParamList pl;
+    const Param *p;
+    int i, ok = 0;
+    memset(&pl, 0, sizeof pl);
+    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+    if (pl.n != 1) {
+        int n = pl.n;
+        params_free(&pl);
+        return fail(P, t->file, t->line, "Option: expected one \"type name\" value pair, found %d", n);
+    }
+    p = &pl.p[0];
+    for (i = 0; ignored[i]; i++)
+        if (!strcmp(p->name, ignored[i])) {
+            fprintf(stderr, "%s:%d: note: Option \"%s\" is read and ignored: it steers pbrt-v4's "
+                    "statistics or its own machinery, not the image\n", t->file, t->line, p->name);
+            ok = 1;
+        }
+    for (i = 0; !ok && refused[i]; i++)
+        if (!strcmp(p->name, refused[i])) {
+            params_free(&pl);
+            return fail(P, t->file, t->line, "Option \"%s\" is valid pbrt-v4 but not in the specnee "
+                        "subset", refused[i]);
+        }
+    if (!ok) {
+        char name[64];
+        snprintf(name, sizeof name, "%s", p->name);
+        params_free(&pl);
+        return fail(P, t->file, t->line, "Option \"%s\": unknown option (pbrt-v4 has none of that name)", name);
+    }
+    params_free(&pl);
+    return 1;
+}
+
 /* Directives with a quoted type name and a parameter list. */
 static int typed_directive(Parser *P, Lexer *L, const Token *t)
 {
@@ -889,33 +936,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
                         "specnee subset (only \"srgb\", the default)", n.text);
         return 1;
     }
-    {
-        static const char *const pbrt_only[] = {
-            "Option", NULL
-        };
-        int i;
-        for (i = 0; pbrt_only[i]; i++)
-            if (!strcmp(d, pbrt_only[i])) {
-                /* name the type: LightSource "type" ..., Texture "name" "type" "class"
-                   (the class says what it is), others their first string */
-                Token a[3];
-                int k, n = 0, want = !strcmp(d, "Texture") ? 3 : 1;
-                for (k = 0; k < want; k++) {
-                    if (!lex_next(P, L, &a[k])) return 0;
-                    if (a[k].kind != TK_STRING) break;
-                    n++;
-                }
-                if (n == 3)
-                    return fail(P, t->file, t->line, "Texture \"%s\" (\"%s\" texture \"%s\") is "
-                                "valid pbrt-v4 but not in the specnee subset", a[2].text,
-                                a[1].text, a[0].text);
-                if (n >= 1 && want == 1)
-                    return fail(P, t->file, t->line, "%s \"%s\" is valid pbrt-v4 but not in the "
-                                "specnee subset", d, a[0].text);
-                return fail(P, t->file, t->line, "%s is valid pbrt-v4 but not in the specnee "
-                            "subset", d);
-            }
-    }
+    if (!strcmp(d, "Option")) return option_directive(P, L, t);
     return fail(P, t->file, t->line, "Unknown directive: %s", d);
 }
 

@@ -793,6 +793,27 @@ REJECT(rej_spp_negative, "Sampler \"sobol\" \"integer pixelsamples\" -16\nWorldB
        "samples per pixel", NULL)
 REJECT(rej_fov_zero, "Camera \"perspective\" \"float fov\" 0\nWorldBegin\n", 1, "fov", NULL)
 REJECT(rej_fov_180, "Camera \"perspective\" \"float fov\" 180\nWorldBegin\n", 1, "fov", NULL)
+/* pbrt-v4's options that leave the image as it is load, with a note. */
+static void option_ignored(T *t)
+{
+    static const char *const opt[] = {
+        "\"string msereferenceimage\" \"ref.exr\"", "\"string msereferenceout\" \"mse.txt\"",
+        "\"string rendercoordsys\" \"world\"", "\"bool pixelstats\" true", "\"bool wavefront\" true"
+    };
+    int i;
+    for (i = 0; i < 5 && !t->failed; i++) {
+        char text[256];
+        Scene s;
+        snprintf(text, sizeof text, "Option %s\nWorldBegin\nLightSource \"infinite\"\n", opt[i]);
+        if (test_load_scene(t, &s, text)) scene_free(&s);
+    }
+}
+
+REJECT(rej_option_seed, "Option \"integer seed\" 7\nWorldBegin\n", 1,
+       "Option \"seed\" is valid pbrt-v4 but not in the specnee subset", NULL)
+REJECT(rej_option_unknown, "WorldBegin\nOption \"bool bogus\" true\n", 2, "Option \"bogus\": unknown option", NULL)
+REJECT(rej_option_two, "Option \"bool pixelstats\" true \"bool wavefront\" true\nWorldBegin\n", 1,
+       "Option: expected one \"type name\" value pair, found 2", NULL)
 REJECT(rej_camera_type, "Camera \"fisheye\"\nWorldBegin\n", 1, "unknown camera type", "fisheye")
 REJECT(rej_integrator_type, "Integrator \"mlt\"\nWorldBegin\n", 1,
        "valid pbrt-v4 but not in the specnee subset", "mlt")
@@ -979,6 +1000,10 @@ const TestCase tests_scene[] = {
     {"scene_reject_spp_negative", rej_spp_negative},
     {"scene_reject_fov_zero", rej_fov_zero},
     {"scene_reject_fov_180", rej_fov_180},
+    {"scene_option_ignored", option_ignored},
+    {"scene_reject_option_seed", rej_option_seed},
+    {"scene_reject_option_unknown", rej_option_unknown},
+    {"scene_reject_option_two", rej_option_two},
     {"scene_reject_camera_type", rej_camera_type},
     {"scene_reject_integrator_type", rej_integrator_type},
     {"scene_reject_regularize", rej_regularize},
