@@ -462,7 +462,7 @@ static int image_light_from_params(Parser *P, const char *type, ParamList *pl, c
                                : proj_setup(P, &d, &im, fov, file, line, &k_e);
     img_free(&im);
     if (!ok) { delta_free(&d); return 0; }
-    if (rgb_illum) scale = rgb_illuminant_scale(P, &L, scale);
+    if (rgb_illum) scale = rgb_illuminant_scale(P, &L, scale);      /* goniometric's rgb I */
     if (power > 0.0f) {
         if (!(k_e > 0.0)) {
             delta_free(&d);

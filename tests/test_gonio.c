@@ -246,7 +246,43 @@ static void test_projection_power(T *t)
         }
     sum *= 0.5 * em->scale * (2.0 * bx) * (2.0 * by) / ((double)nx * ny);
     CHECK(t, fabs(sum - 20.0) < 2e-2, "projection power 20: integrated intensity %.6g", sum);
+    {
+        /* nothing behind the light: the mirror image of the axis (pbrt-v4's v_z >= 1e-3) */
+        double c = cos(160.0 * SPECNEE_PI / 180.0), sn = sin(160.0 * SPECNEE_PI / 180.0);
+        CHECK(t, delta_falloff(&em->delta, v3(0.0f, (float)sn, (float)-c)) == 0.0f &&
+              delta_falloff(&em->delta, v3(0.0f, (float)-sn, (float)c)) == 1.0f,
+              "projection: the axis lit, the opposite direction dark");
+    }
     scene_free(&s);
+    /* selection by power: beside a point light of power 20 the power strategy
+       picks either with probability 1/2 (the projection's power area and stand-in
+       spectrum make pi area int Le its power) */
+    {
+        char two[1024];
+        SelOptions o;
+        LightSampler *ls;
+        LightCtx c;
+        Error err;
+        double p0, p1;
+        snprintf(two, sizeof two, "%s\nLightSource \"point\" \"float power\" [ 20 ] \"point3 from\" [ 0 0 3 ]",
+                 light);
+        {
+            char text[4096];
+            plane_scene(text, sizeof text, 0.0, 0.0, 6.0, two);
+            if (!test_load_scene(t, &s, text)) return;
+        }
+        memset(&o, 0, sizeof o);
+        o.strategy = SEL_POWER;
+        ls = light_sampler_build(&s, &o, &err);
+        CHECK(t, ls != NULL, "%s", err.msg);
+        memset(&c, 0, sizeof c);
+        p0 = light_select_pmf(ls, &c, 0);
+        p1 = light_select_pmf(ls, &c, 1);
+        CHECK(t, fabs(p0 - 0.5) < 1e-3 && fabs(p1 - 0.5) < 1e-3,
+              "projection and point light of power 20: P = %.6g, %.6g; want 1/2 each", p0, p1);
+        light_sampler_free(ls);
+        scene_free(&s);
+    }
 }
 
 /* ------------------------------------------------------------------ pbrt-v4 */
