@@ -1486,9 +1486,11 @@ typedef enum { DELTA_NONE = 0, DELTA_POINT, DELTA_SPOT, DELTA_DISTANT, DELTA_GON
                DELTA_PROJECTION } DeltaType;
 typedef struct {
     DeltaType type;            /* DELTA_NONE: not a delta light */
-    Vec3 p;                    /* point, spot: the position, in world space */
-    Vec3 w;                    /* spot: unit axis of the cone (from -> to); distant:
-                                  unit direction TOWARDS the light (from - to) */
+    Vec3 p;                    /* point, spot, goniometric, projection: the position, in
+                                  world space */
+    Vec3 w;                    /* spot: unit axis of the cone (from -> to); projection:
+                                  CTM(0, 0, 1), unit; distant: unit direction TOWARDS
+                                  the light (from - to) */
     float cos_start, cos_end;  /* spot: cos(coneangle - conedeltaangle), cos(coneangle):
                                   full intensity inside the first, none outside the second;
                                   projection: 1 and the cosine of the frustum's corner */
@@ -1516,9 +1518,10 @@ typedef struct {
 typedef struct {
     int shape;                 /* the Shape that emits; -1 for an infinite or delta light */
     InfiniteLight *inf;        /* NULL for an area light */
-    DeltaLight delta;          /* delta.type != DELTA_NONE: a point, spot or distant
-                                  light (shape -1, inf NULL); L is then its intensity
-                                  (point, spot) or radiance (distant) spectrum */
+    DeltaLight delta;          /* delta.type != DELTA_NONE: a point, spot, distant,
+                                  goniometric or projection light (shape -1, inf NULL);
+                                  L is then its intensity (point, spot, goniometric),
+                                  radiance (distant) or D65 (projection) spectrum */
     const Spectrum *L;         /* the spectrum as given in the file (its shape matters),
                                   in Scene.spectra: lights with the same L share it */
     float scale;               /* "float scale" */
