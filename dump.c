@@ -113,7 +113,9 @@ static void dump_emitter(FILE *f, const Scene *s, int i)
                 LAMBDA_LO, LAMBDA_HI, SPECNEE_PI * e->area * bins);
     else if (e->delta.type != DELTA_NONE)
         fprintf(f, "  [%d] %s light at (%g, %g, %g), scale %g, Y(I) %.4g over %g-%g nm, "
-                "power %.4g\n", i, e->delta.type == DELTA_SPOT ? "spot" : "point",
+                "power %.4g\n", i, e->delta.type == DELTA_SPOT ? "spot" :
+                e->delta.type == DELTA_GONIO ? "goniometric" :
+                e->delta.type == DELTA_PROJECTION ? "projection" : "point",
                 e->delta.p.x, e->delta.p.y, e->delta.p.z, e->scale, Y,
                 LAMBDA_LO, LAMBDA_HI, SPECNEE_PI * e->area * bins);
     else

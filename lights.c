@@ -205,7 +205,8 @@ static int radiance_source(const Scene *s, int e, float lo_nm, float hi_nm, LeSo
 {
     const Emitter *em = &s->emitters[e];
     double norm = em->absolute ? 1.0 : luminance_sum(em->L, lo_nm, hi_nm);
-    q->shape = em->inf && em->inf->res > 0 ? &em->inf->mean : em->L;
+    q->shape = em->inf && em->inf->res > 0 ? &em->inf->mean :
+               em->delta.type == DELTA_PROJECTION ? em->delta.mean : em->L;
     q->scale = em->scale;
     q->norm = norm;
     q->table = NULL;
@@ -958,12 +959,12 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
         /* the same radiance as an earlier area light (same L, scale, kind)?  The
            previous emitter is checked first, then a few before it: lamps of one
            kind are usually declared together (O(n), never O(n^2)) */
-        if (!em->inf) {
+        if (!em->inf && em->delta.type != DELTA_PROJECTION) {   /* (its own stand-in) */
             int j, tries = 0;
             for (j = i - 1; j >= 0 && tries < 8; j--, tries++) {
                 const Emitter *ej = &s->emitters[j];
                 if (!ej->inf && ej->scale == em->scale && ej->absolute == em->absolute &&
-                    ej->L == em->L) { same = j; break; }
+                    ej->L == em->L && ej->delta.type != DELTA_PROJECTION) { same = j; break; }
             }
         }
         if (same < 0) {
@@ -1140,6 +1141,8 @@ float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm)
     const LeSource *q = &ls->Le[r->le];
     if (r->inf)                                                    /* along w */
         return inf_Le(&ls->scene->emitters[e], q->table, ls->k[e], v3_neg(w), lambda_nm);
+    if (r->delta && ls->scene->emitters[e].delta.type == DELTA_PROJECTION)   /* its texels */
+        return delta_projection_Le(&ls->scene->emitters[e], ls->k[e], w, lambda_nm);
     if (r->delta) return spec_eval_scaled(q->shape, q->scale, q->norm, lambda_nm);  /* I or L */
     if (!r->twosided && v3_dot(n, w) <= 0.0f) return 0.0f;
     return spec_eval_scaled(q->shape, q->scale, q->norm, lambda_nm);

@@ -578,7 +578,7 @@ static void piece_bounds(const LightTreeInput *in, const LightPiece *pc, PieceBo
            inside the cone by round-off (pbrt-v4 keeps a similar slop) */
         const DeltaLight *d = &em->delta;
         out->bmin = out->bmax = d->p;
-        if (d->type == DELTA_SPOT && !d->stretched) {
+        if ((d->type == DELTA_SPOT || d->type == DELTA_PROJECTION) && !d->stretched) {
             double to = acos(fmax(-1.0, fmin(1.0, (double)d->cos_start)));
             double te = acos(fmax(-1.0, fmin(1.0, (double)d->cos_end))) - to;
             out->cone.w = d->w;

@@ -257,24 +257,20 @@ static int area_light_directive(Parser *P, const char *type, ParamList *pl, cons
    build the Emitter from the parameters; it joins Scene.emitters here. */
 static int light_source_directive(Parser *P, const char *type, ParamList *pl, const char *file, int line)
 {
-    static const char *const pbrt_types[] = { "goniometric", "projection", NULL };
     Scene *s = P->s;
     Emitter em;
-    int i, ok;
-    if (!strcmp(type, "point") || !strcmp(type, "spot") || !strcmp(type, "distant"))
+    int ok;
+    if (!strcmp(type, "point") || !strcmp(type, "spot") || !strcmp(type, "distant") ||
+        !strcmp(type, "goniometric") || !strcmp(type, "projection"))
         ok = delta_light_from_params(P, type, pl, file, line, &em);
     else if (!strcmp(type, "infinite"))
         ok = infinite_light_from_params(P, pl, file, line, &em);
-    else {
-        for (i = 0; pbrt_types[i]; i++)
-            if (!strcmp(type, pbrt_types[i]))
-                return fail(P, file, line, "LightSource \"%s\" is valid pbrt-v4 but not in the "
-                            "specnee subset (infinite, point, spot, distant)", type);
+    else
         return fail(P, file, line, "LightSource \"%s\": unknown light type", type);
-    }
     if (!ok) return 0;
     if (!grow((void **)&s->emitters, &P->cap_emit, s->n_emitters + 1, sizeof(Emitter))) {
         inf_free(em.inf);
+        delta_free(&em.delta);
         return oom(P, file, line);
     }
     s->emitters[s->n_emitters++] = em;
@@ -1308,6 +1304,7 @@ void scene_free(Scene *s)
         free(s->emitters[i].tri_cdf);
         free(s->emitters[i].planes);
         inf_free(s->emitters[i].inf);
+        delta_free(&s->emitters[i].delta);
     }
     for (i = 0; i < s->n_strings; i++) free(s->strings[i]);
     free(s->strings);

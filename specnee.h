@@ -1483,25 +1483,41 @@ typedef struct {
     const char *file; int line;/* the LightSource directive, for messages */
 } InfiniteLight;
 
-/* A delta light (delta.c): pbrt-v4's LightSource "point", "spot" and "distant".
-   A point or spot light sits at one point and radiates intensity I(lambda)
-   (W/sr/nm), a spot only into a cone with a smooth falloff; a distant light sends
-   radiance from one direction, as from infinitely far away.  No ray can hit one:
-   NEE alone finds them (THEORY §11). */
-typedef enum { DELTA_NONE = 0, DELTA_POINT, DELTA_SPOT, DELTA_DISTANT } DeltaType;
+/* A delta light (delta.c): pbrt-v4's LightSource "point", "spot", "distant",
+   "goniometric" and "projection".  A point or spot light sits at one point and
+   radiates intensity I(lambda) (W/sr/nm), a spot only into a cone with a smooth
+   falloff; a goniometric light is a point light whose intensity an image of
+   directions scales; a projection light projects an RGB image through a
+   frustum; a distant light sends radiance from one direction, as from infinitely
+   far away.  No ray can hit one: NEE alone finds them (THEORY §11). */
+typedef enum { DELTA_NONE = 0, DELTA_POINT, DELTA_SPOT, DELTA_DISTANT, DELTA_GONIO,
+               DELTA_PROJECTION } DeltaType;
 typedef struct {
     DeltaType type;            /* DELTA_NONE: not a delta light */
-    Vec3 p;                    /* point, spot: the position, in world space */
-    Vec3 w;                    /* spot: unit axis of the cone (from -> to); distant:
-                                  unit direction TOWARDS the light (from - to) */
+    Vec3 p;                    /* point, spot, goniometric, projection: the position, in
+                                  world space */
+    Vec3 w;                    /* spot: unit axis of the cone (from -> to); projection:
+                                  CTM(0, 0, 1), unit; distant: unit direction TOWARDS
+                                  the light (from - to) */
     float cos_start, cos_end;  /* spot: cos(coneangle - conedeltaangle), cos(coneangle):
-                                  full intensity inside the first, none outside the second */
-    float obj_from_world[9];   /* spot: the inverse CTM's 3x3 part (row-major): the cone is
-                                  round in the light's own frame, as in pbrt-v4 ... */
-    Vec3 axis_obj;             /* ... around this unit axis, to - from in that frame */
-    int stretched;             /* spot: the CTM stretches or shears, so the cone is not
-                                  round in the world (the light trees then bound it by
-                                  the whole sphere of directions) */
+                                  full intensity inside the first, none outside the second;
+                                  projection: 1 and the cosine of the frustum's corner */
+    float obj_from_world[9];   /* spot, goniometric, projection: the inverse CTM's 3x3 part
+                                  (row-major): the light's own frame, as in pbrt-v4 ... */
+    Vec3 axis_obj;             /* ... and a spot's (projection's) unit axis in that frame */
+    int stretched;             /* spot, projection: the CTM stretches or shears, so the
+                                  cone is not round in the world (the light trees then
+                                  bound it by the whole sphere of directions) */
+    int img_w, img_h;          /* goniometric, projection: the image's texels */
+    float *img;                /* goniometric: one factor a texel (the mean of its R, G,
+                                  B); projection: 4 floats a texel, m = 2 max(rgb) and
+                                  the sigmoid's coefficients (as InfiniteLight.texel) */
+    float sx, sy, tan_half;    /* projection: the screen window [-sx, sx] x [-sy, sy]
+                                  and tan(fov / 2) */
+    double parea;              /* goniometric, projection: the "power area"
+                                  (delta_power_area), from the image */
+    const Spectrum *mean;      /* projection: the selection tables' stand-in spectrum,
+                                  of the cos^3-weighted mean colour (L holds D65) */
     Vec3 center; double radius;/* distant: the scene's bounding sphere (its power
                                   pi R^2 L, and how far a shadow ray must go) */
     const char *file; int line;/* the LightSource directive, for messages */
@@ -1510,9 +1526,10 @@ typedef struct {
 typedef struct {
     int shape;                 /* the Shape that emits; -1 for an infinite or delta light */
     InfiniteLight *inf;        /* NULL for an area light */
-    DeltaLight delta;          /* delta.type != DELTA_NONE: a point, spot or distant
-                                  light (shape -1, inf NULL); L is then its intensity
-                                  (point, spot) or radiance (distant) spectrum */
+    DeltaLight delta;          /* delta.type != DELTA_NONE: a point, spot, distant,
+                                  goniometric or projection light (shape -1, inf NULL);
+                                  L is then its intensity (point, spot, goniometric),
+                                  radiance (distant) or D65 (projection) spectrum */
     const Spectrum *L;         /* the spectrum as given in the file (its shape matters),
                                   in Scene.spectra: lights with the same L share it */
     float scale;               /* "float scale" */
@@ -1997,17 +2014,26 @@ void  inf_free(InfiniteLight *inf);
 int   emitter_can_reach(const Scene *s, int e, Vec3 p);
 
 /* Delta lights (delta.c).  delta_falloff: a spot light's smoothstep falloff for
-   the unit direction w leaving it (1 for point and distant lights).
+   the unit direction w leaving it, a goniometric light's image factor, a
+   projection light's 1 inside its frustum (0 outside, or on a black texel), 1
+   for point and distant lights.
    delta_sample: the one point (or direction) that lights ref, with pdf_sa = 1/G
    (EmitterSample); 0 when it sends nothing to ref (outside a spot's cone, or ref
    at the light).  delta_power_area: the "area" A with pi A int Le = the light's
    power (pbrt-v4's Phi): 4 for a point light, 2 ((1 - cos_start) + (cos_start -
-   cos_end) / 2) for a spot, R^2 for a distant light.  delta_can_reach: 0 only
-   where the light sends nothing (outside a spot's cone). */
+   cos_end) / 2) for a spot, R^2 for a distant light, 4 x the image's mean for a
+   goniometric light, a projection's from its image (delta.c section 4).
+   delta_can_reach: 0 only where the light sends nothing (outside a spot's or a
+   projection's cone). */
 float  delta_falloff(const DeltaLight *d, Vec3 w);
 int    delta_sample(const DeltaLight *d, Vec3 ref, EmitterSample *out);
 double delta_power_area(const DeltaLight *d);
 int    delta_can_reach(const DeltaLight *d, Vec3 p);
+/* A projection light's radiance factor towards w (world, leaving the light):
+   k m sigmoid(lambda) D65(lambda) of the texel w projects to, 0 outside its
+   frustum (k = scale / sum ybar D65, lights.c).  delta_free: its image. */
+float  delta_projection_Le(const Emitter *em, double k, Vec3 w, float lambda_nm);
+void   delta_free(DeltaLight *d);
 
 typedef struct {
     SelStrategy strategy;

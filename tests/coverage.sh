@@ -140,6 +140,10 @@ scenes() {
         ex["nanovdb"] = "\"string filename\" " ov["nanovdb|string filename"]
         ov["measured|string filename"] = "\"" root "/tests/data/measured/ggx.bsdf\""
         ex["measured"] = "\"string filename\" " ov["measured|string filename"]
+        ov["goniometric|string filename"] = "\"" root "/tests/data/lights/gonio16.pfm\""
+        ex["goniometric"] = "\"string filename\" " ov["goniometric|string filename"]
+        ov["projection|string filename"] = "\"" root "/tests/data/lights/proj16x8.pfm\""
+        ex["projection"] = "\"string filename\" " ov["projection|string filename"]
         ov["rgbgrid|rgb Le"] = "[ 0.5 0.5 0.5 ] \"rgb sigma_a\" [ 0.5 0.5 0.5 ]"
         ex["fluorescent"] = "\"spectrum excitation\" [ 300 1 400 0 ];\"spectrum emission\" [ 400 0 500 1 ]"
         ov["subsurface|string name"] = "\"Skin1\""      # sigma_a with sigma_s, mfp with a reflectance:
@@ -186,7 +190,7 @@ scenes() {
         if (c == "materials") return "WorldBegin\n" texdefs (t == "mix" ? mixdefs : "") "Material \"" t "\" " p e "\nShape \"sphere\"\n"
         if (c == "textures") { cls = t; sub(/^[a-z]+ /, "", cls)
             return "WorldBegin\n" texdefs "Texture \"t\" \"" substr(t, 1, index(t, " ") - 1) "\" \"" cls "\" " p e "\n" }
-        if (c == "lights") return "WorldBegin\nLightSource \"" t "\" " p "\n"
+        if (c == "lights") return "WorldBegin\nLightSource \"" t "\" " p e "\n"
         if (c == "area lights") return "WorldBegin\nAttributeBegin\nAreaLightSource \"" t "\" " p "\nShape \"sphere\"\nAttributeEnd\n"
         if (c == "cameras") return "Camera \"" t "\" " p e "\nWorldBegin\n"
         if (c == "samplers") return "Sampler \"" t "\" " p "\nWorldBegin\n"

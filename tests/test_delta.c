@@ -403,7 +403,7 @@ static void test_bad_input(T *t)
     expect_error(t, "LightSource \"point\" \"point3 from\" [ 1 2 ]", "from", "3 values");
     expect_error(t, "LightSource \"point\" \"float coneangle\" [ 20 ]", "coneangle", "unused");
     expect_error(t, "LightSource \"distant\" \"float power\" [ 20 ]", "power", "unused");
-    expect_error(t, "LightSource \"goniometric\"", "goniometric", "not in the specnee subset");
+    expect_error(t, "LightSource \"goniometric\"", "goniometric", "filename");
     expect_error(t, "LightSource \"point\" \"float scale\" [ 1e39 ]", "scale", "finite");
 }
 

@@ -596,13 +596,13 @@ static void test_env_furnace(T *t)
 }
 
 /* What the subset does not read is said so (a missing EXR by its name),
-   portals, a non-square map, another light type. */
+   portals, a non-square map, a goniometric light without its image. */
 static void test_env_rejections(T *t)
 {
     static const char *const bad[][2] = {
         { "LightSource \"infinite\" \"string filename\" \"sky.exr\"", "sky.exr: cannot read the EXR file" },
         { "LightSource \"infinite\" \"point3 portal\" [ 0 0 0 1 0 0 1 1 0 0 1 0 ]", "portal" },
-        { "LightSource \"goniometric\"", "valid pbrt-v4 but not in the specnee subset" },
+        { "LightSource \"goniometric\"", "\"string filename\" is required" },
         { "LightSource \"infinite\" \"string filename\" \"NONSQUARE\"", "not square" },
         { "LightSource \"infinite\" \"rgb L\" [ 1 1 1 ] \"string filename\" \"x.pfm\"", "both" },
     };
