@@ -133,13 +133,15 @@ static void test_arealimg_half(T *t)
 }
 
 /* NEE (with MIS) and BSDF sampling alone see the same radiance at each point of
-   lamps with the non-uniform lamp.pfm: a bilinear patch (two-sided), a sphere and
-   a triangle mesh with its own uv, lighting the floor. */
+   lamps with non-uniform images, lighting the floor: a tilted two-sided bilinear
+   patch out of view with half.pfm (its halves at different heights, so that NEE
+   reading the mean colour instead of the sampled point's is 11 % off), and a
+   sphere and a triangle mesh with its own uv with lamp.pfm. */
 static void test_arealimg_nee_agrees(T *t)
 {
     static const char *const body =
-        "AttributeBegin\nAreaLightSource \"diffuse\" \"string filename\" \"" IMG_DIR "lamp.pfm\" "
-        "\"bool twosided\" true\nTranslate -0.8 0.3 1.4\nRotate 40 0 1 0\n"
+        "AttributeBegin\nAreaLightSource \"diffuse\" \"string filename\" \"" IMG_DIR "half.pfm\" "
+        "\"bool twosided\" true \"float scale\" 3\nTranslate -1.0 0.3 0.8\nRotate 40 0 1 0\n"
         "Shape \"bilinearmesh\" \"point3 P\" [ -0.6 -0.6 0  0.6 -0.6 0  -0.6 0.6 0  0.6 0.6 0 ]\n"
         "AttributeEnd\n"
         "AttributeBegin\nAreaLightSource \"diffuse\" \"string filename\" \"" IMG_DIR "lamp.pfm\"\n"
