@@ -2,13 +2,13 @@
 
    Exported (specnee.h section 11): emitters_prepare, emitter_radiance,
    emitter_sample, emitter_pdf_sa, emitter_can_reach, light_sampler_build/free,
-   light_Le, luminance_sum, light_spectrum, light_n_pieces, light_piece_emitter,
+   light_Le, light_Le_at, emitter_point_at, luminance_sum, light_spectrum, light_n_pieces, light_piece_emitter,
    light_piece_of, light_sample, light_pdf_sa, light_voxel, light_select,
    light_select_pmf, light_tree_simd_mismatches, light_sampler_bytes,
    light_sampler_lazy_seconds, sel_from_name, sel_name; what path.c's NEE asks
    ("what NEE asks", near the end): light_nee_count, light_nee_piece,
    light_nee_pmf, light_nee_source; for the scene builder (parser.h, the last
-   section): area_light_from_params.
+   section): area_light_from_params, emission_image_read.
    The light tree of the strategies tree and spectral-tree has its own file,
    lighttree.c.  THEORY §5 derives everything below; this comment says where it
    lives.
@@ -20,7 +20,14 @@
       the LightSampler (light_sampler_build), not in the Scene.  Points are sampled
       by area (a triangle by area, then uniformly on it), with the solid-angle
       density p_sigma(y) = |x - y|^2 / (A |cos theta_y|) (THEORY §4); a
-      sphere seen from outside in the cone it subtends (sphere_cone).
+      sphere seen from outside in the cone it subtends (sphere_cone).  An area
+      light with an emission image (pbrt-v4's "filename") has a radiance that
+      depends on the point, Le(x) = scale I(u, 1 - v) D65 / sum ybar D65
+      (light_Le_at): BSDF-found hits read it at the hit, NEE at the point it
+      sampled (emitter_point_at), so both estimate the same integral; the
+      selection weights and the power use the image's mean colour, which only
+      changes how often the light is chosen, not what the estimate converges to
+      (the pmf NEE samples with is the one MIS reads, THEORY §5.5).
 
    2. Selection.  light_select picks a piece i (an emitter, or with the light trees
       a cluster of at most LIGHT_CLUSTER_TRIS triangles of a big emissive mesh:
