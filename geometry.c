@@ -95,6 +95,8 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
         em->L = al->L;
         em->scale = al->scale;
         em->twosided = al->twosided;
+        em->image = al->image;
+        em->image_mean = al->image_mean;
         sh->emitter = s->n_emitters++;
     }
     return s->n_shapes++;
@@ -327,11 +329,34 @@ static int mesh_tangents(Parser *P, const double *Sd, int nv, int v0, const char
     return 1;
 }
 
+/* A bilinearmesh's "string emissionfilename": pbrt-v4 reads the image (a missing
+   or broken file stops it) and uses it only to sample points on the patches by
+   the image's brightness when the mesh is an area light; the radiance stays the
+   AreaLightSource's, and another density for the same points changes no
+   expected value, so specnee reads and checks the file and samples by area (a
+   note says so).  With "uv" pbrt-v4 ignores the file (an error message, and it
+   renders on), and so does specnee, with a note. */
+static int emission_file(Parser *P, const char *fn, int has_uv, const char *file, int line)
+{
+    Image im;
+    if (has_uv) {
+        fprintf(stderr, "%s:%d: note: Shape \"bilinearmesh\": \"emissionfilename\" is ignored with "
+                "\"uv\", as pbrt-v4 does\n", file, line);
+        return 1;
+    }
+    if (!emission_image_read(P, fn, "Shape \"bilinearmesh\"", file, line, &im)) return 0;
+    img_free(&im);
+    fprintf(stderr, "%s:%d: note: Shape \"bilinearmesh\": \"emissionfilename\" %s is read and "
+            "ignored: pbrt-v4 samples light points by it, which changes no expected value "
+            "(docs/coverage.md)\n", file, line, fn);
+    return 1;
+}
+
 static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, int line)
 {
     const double *Pd, *Nd, *UV, *Id, *Fd, *Sd = NULL;
     int nv, nn, nuv, ni, nf, nsv = 0, per = bilinear ? 4 : 3, i, ok, v0 = P->s->n_verts;
-    const char *what = bilinear ? "Shape \"bilinearmesh\"" : "Shape \"trianglemesh\"";
+    const char *what = bilinear ? "Shape \"bilinearmesh\"" : "Shape \"trianglemesh\"", *efn = NULL;
     float *Pf = NULL, *Nf = NULL, *UVf = NULL;
     int32_t *idx = NULL;
     int32_t deflt[4] = { 0, 1, 2, 3 };
@@ -344,10 +369,12 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
     if (!get_points(P, pl, PT_INTEGER, "faceIndices", 1, &Fd, &nf)) return 0;
     /* "S" (trianglemesh only): per-vertex tangents, the shading frame's dp/du */
     if (!bilinear && !get_points(P, pl, PT_VECTOR3, "S", 3, &Sd, &nsv)) return 0;
+    if (bilinear && !get_string(P, pl, "emissionfilename", &efn)) return 0;
     if (!params_check_unused(P, pl, what, bilinear ? "integer indices, point3 P, normal N, "
-                             "point2 uv, integer faceIndices" : "integer indices, point3 P, "
-                             "normal N, point2 uv, integer faceIndices, vector3 S",
-                             "emissionfilename displacement"))
+                             "point2 uv, integer faceIndices, string emissionfilename"
+                             : "integer indices, point3 P, normal N, point2 uv, "
+                             "integer faceIndices, vector3 S",
+                             bilinear ? "displacement" : "emissionfilename displacement"))
         return 0;
     if (nv == 0) return fail(P, file, line, "%s: \"point3 P\" is required", what);
     if (ni == 0 && nv != per)
@@ -361,6 +388,7 @@ static int mesh_shape(Parser *P, int bilinear, ParamList *pl, const char *file, 
         return fail(P, file, line, "%s: %d uv pairs for %d vertices", what, nuv, nv);
     if (nsv && nsv != nv)
         return fail(P, file, line, "%s: %d S vectors for %d vertices", what, nsv, nv);
+    if (efn && efn[0] && !emission_file(P, efn, nuv > 0, file, line)) return 0;
     if (ni == 0) ni = per;
     if (nf && nf != ni / per)
         return fail(P, file, line, "%s: %d faceIndices for %d %s%s (one a face, as in "

@@ -2,13 +2,13 @@
 
    Exported (specnee.h section 11): emitters_prepare, emitter_radiance,
    emitter_sample, emitter_pdf_sa, emitter_can_reach, light_sampler_build/free,
-   light_Le, luminance_sum, light_spectrum, light_n_pieces, light_piece_emitter,
+   light_Le, light_Le_at, emitter_point_at, luminance_sum, light_spectrum, light_n_pieces, light_piece_emitter,
    light_piece_of, light_sample, light_pdf_sa, light_voxel, light_select,
    light_select_pmf, light_tree_simd_mismatches, light_sampler_bytes,
    light_sampler_lazy_seconds, sel_from_name, sel_name; what path.c's NEE asks
    ("what NEE asks", near the end): light_nee_count, light_nee_piece,
    light_nee_pmf, light_nee_source; for the scene builder (parser.h, the last
-   section): area_light_from_params.
+   section): area_light_from_params, emission_image_read.
    The light tree of the strategies tree and spectral-tree has its own file,
    lighttree.c.  THEORY §5 derives everything below; this comment says where it
    lives.
@@ -20,7 +20,14 @@
       the LightSampler (light_sampler_build), not in the Scene.  Points are sampled
       by area (a triangle by area, then uniformly on it), with the solid-angle
       density p_sigma(y) = |x - y|^2 / (A |cos theta_y|) (THEORY §4); a
-      sphere seen from outside in the cone it subtends (sphere_cone).
+      sphere seen from outside in the cone it subtends (sphere_cone).  An area
+      light with an emission image (pbrt-v4's "filename") has a radiance that
+      depends on the point, Le(x) = scale I(u, 1 - v) D65 / sum ybar D65
+      (light_Le_at): BSDF-found hits read it at the hit, NEE at the point it
+      sampled (emitter_point_at), so both estimate the same integral; the
+      selection weights and the power use the image's mean colour, which only
+      changes how often the light is chosen, not what the estimate converges to
+      (the pmf NEE samples with is the one MIS reads, THEORY §5.5).
 
    2. Selection.  light_select picks a piece i (an emitter, or with the light trees
       a cluster of at most LIGHT_CLUSTER_TRIS triangles of a big emissive mesh:
@@ -189,8 +196,9 @@ double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm)
 }
 
 /* Le = scale * L_shape / norm with norm = luminance_sum(L) and L_shape = L
-   (L_shape = the mean colour's spectrum for an image map), and k = scale / norm,
-   which infinite.c applies to an image map's texels.  A LightSampler keeps Le as
+   (L_shape = the mean colour's spectrum for an image map or emission image, whose
+   L is D65), and k = scale / norm, which infinite.c applies to an image map's
+   texels and light_Le_at to an emission image's.  A LightSampler keeps Le as
    this triple (LeSource) and evaluates it with spec_eval_scaled, not as a table. */
 typedef struct {
     const Spectrum *shape;     /* the emitter's L (an image map: its mean colour's) */
@@ -206,7 +214,8 @@ static int radiance_source(const Scene *s, int e, float lo_nm, float hi_nm, LeSo
     const Emitter *em = &s->emitters[e];
     double norm = em->absolute ? 1.0 : luminance_sum(em->L, lo_nm, hi_nm);
     q->shape = em->inf && em->inf->res > 0 ? &em->inf->mean :
-               em->delta.type == DELTA_PROJECTION ? em->delta.mean : em->L;
+               em->delta.type == DELTA_PROJECTION ? em->delta.mean :
+               em->image ? em->image_mean : em->L;
     q->scale = em->scale;
     q->norm = norm;
     q->table = NULL;
@@ -551,23 +560,32 @@ static int quadric_prim(const Scene *s, int shape)
 /* The sampled point as a hit of the ray from ref along es->wi at es->dist, on the
    primitive its sampler recorded (a sphere or quadric: the shape's own), so that
    the texture reads the (u, v) a ray finding it would have. */
-float emitter_alpha_at(const Scene *s, int e, Vec3 ref, const EmitterSample *es)
+const SurfacePoint *emitter_point_at(const Scene *s, int e, Vec3 ref, const EmitterSample *es,
+                                     SurfacePoint *sp)
 {
     const Emitter *em = &s->emitters[e];
     const Shape *sh;
     HitRecord h;
     Ray r;
+    if (em->inf || em->delta.type != DELTA_NONE || em->shape < 0) return NULL;
+    sh = &s->shapes[em->shape];
+    h.prim = sh->type == SHAPE_SPHERE || shape_is_quadric(sh->type) ? quadric_prim(s, em->shape) : es->prim;
+    if (h.prim < 0) return NULL;
+    h.t = es->dist; h.b1 = es->b1; h.b2 = es->b2; h.inst = -1;
+    r.o = ref; r.d = es->wi; r.tmax = es->dist;
+    scene_surface_point(s, &r, &h, sp);
+    return sp;
+}
+
+float emitter_alpha_at(const Scene *s, int e, Vec3 ref, const EmitterSample *es)
+{
+    const Emitter *em = &s->emitters[e];
     SurfacePoint sp;
     float a;
     if (em->inf || em->delta.type != DELTA_NONE || em->shape < 0) return 1.0f;
-    sh = &s->shapes[em->shape];
-    if (sh->alpha_tex <= 0) return emitter_alpha(s, e);
-    h.prim = sh->type == SHAPE_SPHERE || shape_is_quadric(sh->type) ? quadric_prim(s, em->shape) : es->prim;
-    if (h.prim < 0) return 1.0f;
-    h.t = es->dist; h.b1 = es->b1; h.b2 = es->b2; h.inst = -1;
-    r.o = ref; r.d = es->wi; r.tmax = es->dist;
-    scene_surface_point(s, &r, &h, &sp);
-    a = tex_eval(s->textures, sh->alpha_tex - 1, &sp, 550.0f);
+    if (s->shapes[em->shape].alpha_tex <= 0) return emitter_alpha(s, e);
+    if (!emitter_point_at(s, e, ref, es, &sp)) return 1.0f;
+    a = tex_eval(s->textures, s->shapes[em->shape].alpha_tex - 1, &sp, 550.0f);
     return a >= 1.0f ? 1.0f : (a > 0.0f ? a : 0.0f);                       /* NaN: 0 */
 }
 
@@ -964,7 +982,8 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
             for (j = i - 1; j >= 0 && tries < 8; j--, tries++) {
                 const Emitter *ej = &s->emitters[j];
                 if (!ej->inf && ej->scale == em->scale && ej->absolute == em->absolute &&
-                    ej->L == em->L && ej->delta.type != DELTA_PROJECTION) { same = j; break; }
+                    ej->L == em->L && ej->image == em->image &&
+                    ej->delta.type != DELTA_PROJECTION) { same = j; break; }
             }
         }
         if (same < 0) {
@@ -985,7 +1004,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
             for (b = 0; b < SPD_BINS; b++)
                 ls->bin[(size_t)i * SPD_BINS + b] = spec_bin_average(&Le, b);
         } else {
-            /* radiance_source is a function of (L, scale, absolute) alone */
+            /* radiance_source is a function of (L, scale, absolute, image) alone */
             ls->ref[i].le = ls->ref[same].le;
             ls->k[i] = ls->k[same];
             memcpy(ls->bin + (size_t)i * SPD_BINS, ls->bin + (size_t)same * SPD_BINS, sizeof(float) * SPD_BINS);
@@ -1135,17 +1154,35 @@ size_t light_sampler_bytes(const LightSampler *ls)
 
 /* ------------------------------------------------------------------ pieces */
 
-float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm)
+/* An emission image (pbrt-v4's DiffuseAreaLight with "filename"):
+     Le(x, lambda) = k  I(u, 1 - v; lambda)  D65(lambda),   k = scale / sum ybar D65,
+   with I the image's RGB illuminant spectrum (m = 2 max(rgb) times the sigmoid of
+   rgb / m) bilinear between texel centres and clamped at the edges (texture.c's
+   imagemap lookup, "clamp"): a white texel has luminance scale, as an "rgb L" of
+   the same colour does.  Without the point (at NULL) the image's mean colour,
+   which is what selection and power use. */
+float light_Le_at(const LightSampler *ls, int e, Vec3 n, Vec3 w, const SurfacePoint *at,
+                  float lambda_nm)
 {
     const EmitterRef *r = &ls->ref[e];
     const LeSource *q = &ls->Le[r->le];
+    const Emitter *em;
     if (r->inf)                                                    /* along w */
         return inf_Le(&ls->scene->emitters[e], q->table, ls->k[e], v3_neg(w), lambda_nm);
     if (r->delta && ls->scene->emitters[e].delta.type == DELTA_PROJECTION)   /* its texels */
         return delta_projection_Le(&ls->scene->emitters[e], ls->k[e], w, lambda_nm);
     if (r->delta) return spec_eval_scaled(q->shape, q->scale, q->norm, lambda_nm);  /* I or L */
     if (!r->twosided && v3_dot(n, w) <= 0.0f) return 0.0f;
+    em = &ls->scene->emitters[e];
+    if (em->image && at)
+        return (float)(ls->k[e] * tex_eval(ls->scene->textures, em->image - 1, at, lambda_nm)
+                       * spec_eval(em->L, lambda_nm));
     return spec_eval_scaled(q->shape, q->scale, q->norm, lambda_nm);
+}
+
+float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm)
+{
+    return light_Le_at(ls, e, n, w, NULL, lambda_nm);
 }
 
 void light_spectrum(const LightSampler *ls, int e, Spectrum *Le) { le_tabulate(&ls->Le[ls->ref[e].le], Le); }
@@ -1376,9 +1413,79 @@ const char *light_nee_source(const LightSampler *ls, const LightCtx *c, int fell
    --------------------------------------------------------------------------- */
 #include "parser.h"
 
+int emission_image_read(Parser *P, const char *fn, const char *what, const char *file, int line,
+                        Image *im)
+{
+    char path[PATH_CAP];
+    Error ierr;
+    int ok;
+    resolve_path(P, file, fn, path, sizeof path);
+    if (ends_with_ci(fn, ".png")) ok = png_read(im, path, 0, &ierr);
+    else if (ends_with_ci(fn, ".exr")) ok = exr_read(im, path, &ierr);
+    else if (ends_with_ci(fn, ".pfm")) ok = pfm_read(im, path, &ierr);
+    else return fail(P, file, line, "%s: \"%s\": specnee reads emission images as PNG, PFM or "
+                     "EXR", what, fn);
+    if (!ok) return fail(P, file, line, "%s: %s", what, ierr.msg);
+    return 1;
+}
+
+/* An emission image: .png (sRGB-encoded, as pbrt-v4 reads 8- and 16-bit PNG),
+   .pfm or .exr, read into an unnamed "clamp" imagemap texture of RGB illuminant
+   texels (texture.c, Texture.illuminant) appended to Scene.textures; al->image is
+   1 + its index, al->image_mean the RGB illuminant spectrum of its mean colour
+   (pixels clamped at 0, as pbrt-v4's Phi clamps them).  pbrt-v4 refuses infinite
+   and NaN pixels in a light's image; so does specnee. */
+static int area_light_image(Parser *P, const char *fn, const char *file, int line, AreaLightDesc *al)
+{
+    Image im;
+    Texture T;
+    Spectrum mean;
+    float mrgb[3];
+    double sum[3] = { 0.0, 0.0, 0.0 };
+    size_t i, n;
+    int ok;
+    if (!emission_image_read(P, fn, "AreaLightSource \"diffuse\"", file, line, &im)) return 0;
+    n = (size_t)im.w * (size_t)im.h;
+    for (i = 0; i < 3 * n; i++) {
+        if (!isfinite(im.rgb[i])) {
+            img_free(&im);
+            return fail(P, file, line, "AreaLightSource \"diffuse\": \"%s\": image has infinite or "
+                        "not-a-number pixel values and so is not suitable as a light (pbrt-v4)", fn);
+        }
+        if (im.rgb[i] > 0.0f) sum[i % 3] += im.rgb[i];
+    }
+    memset(&T, 0, sizeof T);
+    T.type = TEX_IMAGEMAP;
+    T.map = TEXMAP_UV;
+    T.su = T.sv = 1.0f;
+    T.wrap = TEXWRAP_CLAMP;                    /* pbrt-v4's Image::Bilerp default */
+    T.illuminant = 1;
+    T.amount_tex = T.scale_tex = -1;
+    T.arg_tex[0] = T.arg_tex[1] = -1;
+    T.file = file;
+    T.line = line;
+    ok = tex_set_image(&T, &im, 1.0f, 0, P->rgb, P->err);
+    img_free(&im);
+    if (!ok) return 0;
+    if (!grow((void **)&P->s->textures, &P->cap_textures, P->s->n_textures + 1, sizeof(Texture))) {
+        tex_free(&T);
+        return oom(P, file, line);
+    }
+    P->s->textures[P->s->n_textures++] = T;
+    al->image = P->s->n_textures;
+    for (i = 0; i < 3; i++) mrgb[i] = (float)(sum[i] / (double)n);
+    if (!spec_from_rgb_t(P->rgb, &mean, mrgb, 1, P->err, file, line)) return 0;
+    al->image_mean = spec_store_add(&P->s->spectra, &mean);
+    if (!al->image_mean) return oom(P, file, line);
+    return 1;
+}
+
 /* AreaLightSource "diffuse" (pbrt-v4 DiffuseAreaLight::Create): L (D65 when
    absent), scale, twosided, checked; an "rgb L" gets pbrt-v4's D65 normalisation
-   (rgb_illuminant_scale).  The shapes that follow carry it (geometry.c). */
+   (rgb_illuminant_scale).  "filename": an emission image over the shape's (u, v)
+   instead of L (area_light_image; both refused, as pbrt-v4 does), with L = D65
+   for the normalisation (light_Le_at).  The shapes that follow carry it
+   (geometry.c). */
 int area_light_from_params(Parser *P, const char *type, ParamList *pl, const char *file, int line,
                            AreaLightDesc *out)
 {
@@ -1386,11 +1493,17 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
     Spectrum L;
     Param *p;
     int rgb_illum = 0;
+    const char *fn = NULL;
     if (strcmp(type, "diffuse") != 0)
         return fail(P, file, line, "AreaLightSource \"%s\": unknown area light type "
                     "(pbrt-v4 has only \"diffuse\")", type);
     memset(&al, 0, sizeof al);
     p = find_spectrum_param(pl, "L");
+    if (!get_string(P, pl, "filename", &fn)) return 0;
+    if (fn && !fn[0]) fn = NULL;               /* pbrt-v4: "" is no file */
+    if (fn && p)
+        return fail(P, file, line, "AreaLightSource \"diffuse\": both \"L\" and \"filename\" "
+                    "given (pbrt-v4 refuses them together)");
     if (p) {
         if (!param_spectrum(P, p, SPEC_ILLUMINANT, &L, &rgb_illum)) return 0;
     } else if (!spec_named(&L, "stdillum-D65")) {  /* the colour space's illuminant */
@@ -1400,8 +1513,8 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
     if (!get_bool(P, pl, "twosided", 0, &al.twosided)) return 0;
     accept_not_positive(pl, "AreaLightSource \"diffuse\"", "power");
     if (!params_check_unused(P, pl, "AreaLightSource \"diffuse\"",
-                             "spectrum L, rgb L, blackbody L, float scale, bool twosided",
-                             "power filename alpha"))
+                             "spectrum L, rgb L, blackbody L, float scale, bool twosided, "
+                             "string filename", "power alpha"))
         return 0;
     if (!(al.scale >= 0.0f))
         return fail(P, file, line, "AreaLightSource: \"float scale\" must be >= 0");
@@ -1429,6 +1542,7 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
                     p ? p->file : file, p ? p->line : line);
     }
     if (rgb_illum) al.scale = rgb_illuminant_scale(P, &L, al.scale);
+    if (fn && !area_light_image(P, fn, file, line, &al)) return 0;
     al.L = spec_store_add(&P->s->spectra, &L);   /* shared with equal ones */
     if (!al.L) return fail(P, file, line, "out of memory");
     *out = al;

@@ -107,6 +107,8 @@ typedef struct {
     const Spectrum *L;         /* in Scene.spectra (the Emitters of its shapes share it) */
     float scale;
     int twosided;
+    int image;                 /* "filename": 1 + its emission image's index in Scene.textures */
+    const Spectrum *image_mean;/* its mean colour's spectrum (in Scene.spectra) */
 } AreaLightDesc;
 
 typedef struct {
@@ -404,6 +406,11 @@ int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *
    *em, which then owns em->inf.  The caller adds *em to Scene.emitters. */
 int area_light_from_params(Parser *P, const char *type, ParamList *pl, const char *file, int line,
                            AreaLightDesc *out);
+/* lights.c: an emission image file fn (.png, .pfm, .exr) into *im, or a
+   `file:line: what: problem` error (0).  A bilinearmesh's "emissionfilename"
+   is read with it too (geometry.c). */
+int emission_image_read(Parser *P, const char *fn, const char *what, const char *file, int line,
+                        Image *im);
 int delta_light_from_params(Parser *P, const char *type, ParamList *pl, const char *file,
                             int line, Emitter *em);
 int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int line,

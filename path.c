@@ -533,15 +533,18 @@ static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const Pa
     EmitterSample es;
     double value[HERO_N], den, T[HERO_N] = { 1.0, 1.0, 1.0, 1.0 }, A[HERO_N] = { 1.0, 1.0, 1.0, 1.0 };
     float alpha;                                   /* a shape's "alpha" at es (lights.c) */
+    SurfacePoint at_sp;                            /* es's (u, v), for an emission image */
+    const SurfacePoint *at;
     if (!light_sample(R->ls, piece, v->p, u[0], u[1], u[2], &es)) {
         if (dbg) fprintf(dbg, "  NEE: no usable point on emitter %d (seen edge-on or at distance 0)\n", em);
         return none;
     }
     alpha = emitter_alpha_at(s, em, v->p, &es);
+    at = s->emitters[em].image ? emitter_point_at(s, em, v->p, &es, &at_sp) : NULL;
     for (j = 0; j < HERO_N; j++) {
         value[j] = 0.0;
         if (path->alive & (1u << j))
-            value[j] = light_Le(R->ls, em, es.n, v3_neg(es.wi), path->lam[j]) * alpha;
+            value[j] = light_Le_at(R->ls, em, es.n, v3_neg(es.wi), at, path->lam[j]) * alpha;
         if (value[j] != 0.0) any = 1;
     }
     if (!any) {
@@ -657,7 +660,7 @@ static Contribution emitter_found(Tracer *tr, const PathState *path, int e, cons
     for (j = 0; j < HERO_N; j++) {
         k.c[j] = 0.0;
         if (!(path->alive & (1u << j))) continue;
-        k.c[j] = (double)path->beta[j] * light_Le(R->ls, e, n, wo, path->lam[j]);
+        k.c[j] = (double)path->beta[j] * light_Le_at(R->ls, e, n, wo, sp, path->lam[j]);
         if (k.c[j] != 0.0) any = 1;
     }
     if (!any) return k;

@@ -1158,7 +1158,8 @@ static int finish(Parser *P, const char *file)
     for (i = 0; i < s->n_shapes; i++) {
         Shape *sh = &s->shapes[i];
         sh->reads_uv = sh->alpha_tex > 0 || (sh->material >= 0 && sh->material < s->n_materials &&
-                                             mat_reads_uv(&s->materials[sh->material]));
+                                             mat_reads_uv(&s->materials[sh->material])) ||
+                       (sh->emitter >= 0 && s->emitters[sh->emitter].image);   /* lights.c */
     }
     /* media: every name mentioned is defined; emitters are real surfaces */
     for (i = 0; i < s->n_media; i++)

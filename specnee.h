@@ -553,8 +553,9 @@ typedef struct {
     int alpha_tex;             /* "texture alpha": 1 + its index in Scene.textures, read at
                                   the hit's (u, v); 0: none */
     int alpha_on;              /* alpha < 1 or a texture: the BVH tests the hits */
-    int reads_uv;              /* a hit needs its (u, v): an alpha texture or a material
-                                  that reads them (mat_reads_uv); set when loading ends */
+    int reads_uv;              /* a hit needs its (u, v): an alpha texture, a material
+                                  that reads them (mat_reads_uv) or an emission image;
+                                  set when loading ends */
     const char *file; int line;/* where it was declared, for messages */
 } Shape;
 
@@ -988,6 +989,9 @@ typedef struct Texture {
     int w, h;
     float *texel;
     TexWrap wrap;
+    int illuminant;            /* an area light's emission image (lights.c): texels are RGB
+                                  illuminant spectra, m = 2 max(rgb) times the sigmoid of
+                                  rgb / m, not clamped to 1 (the light multiplies by D65) */
     int rgb_arg;               /* a spectrum argument was an "rgb" that is not grey: held
                                   as a reflectance (RGBAlbedoSpectrum), which an unbounded
                                   use (a conductor's eta, k) would read otherwise */
@@ -1553,6 +1557,10 @@ typedef struct {
     double reach_eps;          /* distance below which a point counts as in the plane */
     int absolute;              /* L has no luminance in 400-700 nm (a UV lamp): Le = scale * L,
                                   absolute spectral radiance (docs/conventions.md §4) */
+    int image;                 /* AreaLightSource "filename": 1 + the index in Scene.textures
+                                  of its emission image (L then holds D65), 0: none */
+    const Spectrum *image_mean;/* ... and the RGB illuminant spectrum of the image's mean
+                                  colour (selection weights and power only) */
 } Emitter;
 
 /* A point sampled on an emitter, as seen from a reference point. */
@@ -1979,6 +1987,12 @@ float emitter_alpha(const Scene *s, int e);
    weighs the radiance by the probability alpha(x) with which a ray finds x (bvh.c
    ALPHA); emitter_alpha without a texture. */
 float emitter_alpha_at(const Scene *s, int e, Vec3 ref, const EmitterSample *es);
+/* The surface point of es on emitter e (bvh.c's scene_surface_point, as a ray
+   from ref would find it), for what depends on its (u, v): an alpha texture, an
+   emission image.  Returns sp, or NULL for an infinite or delta light or a
+   sample without its primitive. */
+const SurfacePoint *emitter_point_at(const Scene *s, int e, Vec3 ref, const EmitterSample *es,
+                                     SurfacePoint *sp);
 /* pbrt-v4's invisible area light (constant alpha 0): no ray hits it, it emits in
    full, and NEE alone finds it (1), else 0 */
 int   emitter_invisible(const Scene *s, int e);
@@ -2054,8 +2068,13 @@ typedef struct {
 LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *err);
 void  light_sampler_free(LightSampler *ls);
 /* Radiance leaving emitter e at a point with oriented normal n towards w (unit):
-   zero from the back of a one-sided emitter. */
+   zero from the back of a one-sided emitter.  An area light with an emission
+   image ("filename") depends on the point's (u, v): light_Le_at reads it from at
+   (the hit's SurfacePoint, or emitter_point_at's for an NEE sample); light_Le,
+   and at NULL, give the image's mean colour instead. */
 float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm);
+float light_Le_at(const LightSampler *ls, int e, Vec3 n, Vec3 w, const SurfacePoint *at,
+                  float lambda_nm);
 /* sum over 1 nm steps in [lo, hi] of ybar L: the luminance that normalises an
    emitter's spectrum L (and an emissive medium's Le, render.c). */
 double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm);

@@ -59,7 +59,13 @@
       texel centres they differ by the fit's non-linearity, which the film's XYZ,
       linear in the spectrum, sees only in the second order.  Fitting is Newton's
       method from the previous texel's coefficients (spec_rgb_coeffs_from), with
-      the full homotopy fit when that does not converge.
+      the full homotopy fit when that does not converge.  An area light's emission
+      image (Texture.illuminant, lights.c) holds illuminant texels instead: not
+      clamped to 1, m = 2 max(rgb) and the fit of rgb / m (pbrt-v4's
+      RGBIlluminantSpectrum without its D65 factor, which the light applies),
+      each fitted as an "rgb L" is (spec_rgb_coeffs: the table and its polish),
+      so that a one-colour image is that light to float precision (about 10 us
+      a texel).
    4. Noise (pbrt-v4 util/noise.cpp, textures.cpp; the pbrt book 4th ed. section
       10.6, after Perlin 2002, "Improving Noise").  noise(p): p's lattice cell
       (ix, iy, iz) = floor(p) and offsets d = p - floor(p); each of the cell's 8
@@ -473,7 +479,7 @@ int tex_set_image(Texture *t, const Image *im, float scale, int invert, RgbTable
 {
     size_t n = (size_t)im->w * (size_t)im->h, i;
     RgbFitTable *fit = NULL;
-    double prev[3] = { 0.0, 0.0, 0.0 };
+    double prev[3] = { 0.0, 0.0, 0.0 }, m;
     free(t->texel);
     t->texel = (float *)malloc(sizeof(float) * n * (t->is_float ? 1 : 4));
     if (!t->is_float) fit = (RgbFitTable *)malloc(sizeof *fit);
@@ -500,16 +506,25 @@ int tex_set_image(Texture *t, const Image *im, float scale, int invert, RgbTable
             t->texel[i] = (float)((rgb[0] + rgb[1] + rgb[2]) / 3.0);
             continue;
         }
-        for (k = 0; k < 3; k++) if (rgb[k] > 1.0) rgb[k] = 1.0;   /* a reflectance */
+        if (!t->illuminant)
+            for (k = 0; k < 3; k++) if (rgb[k] > 1.0) rgb[k] = 1.0;   /* a reflectance */
         if (rgb[0] == rgb[1] && rgb[1] == rgb[2]) {
             /* grey: exactly flat, m sigmoid(0) = m / 2 */
             t->texel[4 * i] = (float)(2.0 * rgb[0]);
             t->texel[4 * i + 1] = t->texel[4 * i + 2] = t->texel[4 * i + 3] = 0.0f;
             continue;
         }
-        if (!spec_rgb_coeffs_from(fit, rgb, prev, c)) spec_rgb_coeffs(rgbt, rgb, c);
+        m = 1.0;
+        if (t->illuminant) {
+            /* an illuminant (pbrt-v4's RGBIlluminantSpectrum): m = 2 max(rgb) and
+               the fit of rgb / m, whose largest component is 1/2 */
+            m = 2.0 * (rgb[0] > rgb[1] ? (rgb[0] > rgb[2] ? rgb[0] : rgb[2])
+                                       : (rgb[1] > rgb[2] ? rgb[1] : rgb[2]));
+            for (k = 0; k < 3; k++) rgb[k] /= m;
+        }
+        if (t->illuminant || !spec_rgb_coeffs_from(fit, rgb, prev, c)) spec_rgb_coeffs(rgbt, rgb, c);
         for (k = 0; k < 3; k++) prev[k] = c[k];
-        t->texel[4 * i] = 1.0f;
+        t->texel[4 * i] = (float)m;
         for (k = 0; k < 3; k++) t->texel[4 * i + 1 + k] = (float)c[k];
     }
     free(fit);

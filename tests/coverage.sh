@@ -106,6 +106,8 @@ scenes() {
         ov["float imagemap|string filename"] = "\"" root "/fuzz/seeds/pfm/rgb.pfm\""
         ov["spectrum imagemap|string filename"] = ov["float imagemap|string filename"]
         ov["infinite|string filename"] = ov["float imagemap|string filename"]
+        ov["diffuse|string filename"] = ov["float imagemap|string filename"]
+        ov["bilinearmesh|string emissionfilename"] = ov["float imagemap|string filename"]
         ov["infinite|point3 portal"] = "[ -0.5 2 -0.5  0.5 2 -0.5  0.5 2 0.5  -0.5 2 0.5 ] \"rgb L\" [ 1 1 1 ]"
         ov["perspective|float screenwindow"] = "[ -1 1 -1 1 ]"
         ov["orthographic|float screenwindow"] = ov["perspective|float screenwindow"]
