@@ -346,8 +346,7 @@ static void test_camera_models_last_wins(T *t)
     static const char *const text[3] = {
         "Camera \"spherical\"\nCamera \"perspective\"\nWorldBegin\n",
         "Camera \"perspective\"\nCamera \"orthographic\"\nWorldBegin\n",
-        "Camera \"orthographic\"\nCamera \"realistic\" \"string lensfile\" \"tests/data/lenses/dgauss.50mm.dat\"\n"
-        "WorldBegin\n",
+        "Camera \"orthographic\"\nCamera \"realistic\" \"string lensfile\" \"tests/data/lenses/dgauss.50mm.dat\"\nWorldBegin\n",
     };
     static const CameraType want[3] = { CAMERA_PERSPECTIVE, CAMERA_ORTHOGRAPHIC, CAMERA_PERSPECTIVE };
     int k;
