@@ -100,12 +100,11 @@
    digit uniform and independent of the other positions' digits: the number is
    uniform on [0, 1) (random digit permutation, pbrt-v4's default "permutedigits"
    for halton).  specnee's bijection is affine, pi(a) = (m a + b) mod p with m
-   uniform on 1..p-1 and b on 0..p-1 (uniform for each a through b; the two are
-   drawn by a PCG32 stream per (pixel, seed, coordinate), to within p / 2^32),
-   and the digits stop at position J, p^J >= 2^16 (k's own digits always taken),
-   with a uniform jitter per sample in the last box of size p^-J: each number is
-   then exactly uniform on [0, 1), and the point sets stay stratified down to boxes
-   of side p^-J (2^16 samples of a pixel).  A scene's
+   uniform on 1..p-1 and b on 0..p-1 (uniform for each a through b), taken from
+   the digits of two uniform numbers per (pixel, seed, coordinate), so the digits
+   above k's own, pi_i(0) = b_i, cost nothing: they are the rest of a uniform
+   number.  Each number is then uniform on [0, 1) (to 2^-53), and the point sets
+   stay stratified at every scale.  A scene's
    further dimensions (later bounces, media, time, subsurface) are padded sobol
    groups: they are unbiased and converge as sobol's do.
 
@@ -290,21 +289,30 @@ static int halton_slot(int dim)
 }
 
 /* Coordinate `slot` of the scrambled Halton point k (2) of the pixel whose hash is
-   key. */
+   key.  Two uniform numbers per (pixel, seed, coordinate) hold the scramble: the
+   base-p digits of Z are the shifts b_i, the base-(p-1) digits of M the
+   multipliers m_i - 1; past k's own digits (a = 0, scrambled to b_i) the digits
+   of Z are the rest of the number, w Z', so no digit is ever cut off. */
 static float halton_coord(uint64_t key, uint32_t k, int slot)
 {
+    const double two53 = 9007199254740992.0;
     uint32_t p = halton_primes[slot], rest = k;
     uint64_t h = hash_u64(key, (uint64_t)slot + 0x4a17u);
+    double z = (double)(h >> 11) / two53, mz = (double)(hash_u64(h, 1u) >> 11) / two53;
     double v = 0.0, w = 1.0, t;
-    Rng r;
-    rng_seed(&r, h, 0);
-    while (rest > 0 || w > 1.0 / 65536.0) {   /* every digit of k, and p^J >= 2^16 */
-        uint32_t a = rest % p, m = 1u + rng_u32(&r) % (p - 1u), b = rng_u32(&r) % p;
+    while (rest > 0) {
+        uint32_t a = rest % p, b, m;
+        z *= (double)p;
+        b = (uint32_t)z;                   /* the next digit of Z */
+        z -= (double)b;
+        mz *= (double)(p - 1u);
+        m = 1u + (uint32_t)mz;             /* the next digit of M, plus 1 */
+        mz -= (double)(m - 1u);
         rest /= p;
         w /= (double)p;
         v += (double)((m * a + b) % p) * w;
     }
-    v += w * ((double)(uint32_t)hash_u64(h, (uint64_t)k) / 4294967296.0);   /* the jitter */
+    v += w * z;                            /* the zero digits above, shifted: Z's rest */
     t = v * 4294967296.0;
     return u32_to_float(t < 4294967295.0 ? (uint32_t)t : 4294967295u);
 }
