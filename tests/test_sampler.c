@@ -766,8 +766,13 @@ static void test_sampler_ladders(T *t)
 
 /* --------------------------------------------------------------- halton */
 
-/* The dimensions the Halton point serves (sampler.c, THE HALTON POINT). */
-static int halton_dim(int j) { return j < HALTON_DIMS ? j : dim_medium(0, 0); }
+/* The dimensions the Halton point serves (sampler.c, THE HALTON POINT), then two
+   it leaves to padded groups (a later bounce's lamp point, the motion time). */
+static int halton_dim(int j)
+{
+    if (j < HALTON_DIMS) return j;
+    return j == HALTON_DIMS ? dim_medium(0, 0) : j == HALTON_DIMS + 1 ? dim_bounce(6, BD_POINT) : DIM_TIME;
+}
 
 /* Pearson's chi-square of counts in nb equal bins, expected e each. */
 static double chi_square(const int *cnt, int nb, double e)
@@ -781,16 +786,27 @@ static double chi_square(const int *cnt, int nb, double e)
 /* Every number halton serves is uniform on [0, 1): sample k of 4096 pixels
    (independent scrambles) for k = 0, 7 and 300, in 16 bins, and the same for the
    position within the finest digit box, frac(u 2^16) (the jitter below the last
-   digit).  Chi-square, 15 degrees of freedom: mean 15, the bound 60 is passed by
-   uniform numbers with probability 1 - 1e-7 (114 checks). */
+   digit), and for two dimensions served by padded groups.  Chi-square, 15 degrees
+   of freedom: mean 15, the bound 60 is passed by uniform numbers with probability
+   1 - 1e-7 (120 checks).  Sample k does not depend on spp (progressive). */
 static void test_halton_uniform(T *t)
 {
     static const int ks[3] = { 0, 7, 300 };
     Sampler s;
     int j, ki;
     double worst = 0.0, worst_fine = 0.0;
+    Sampler big;
     sampler_init(&s, SAMPLER_HALTON, 3, 64, 0, 0, 1);
-    for (j = 0; j <= HALTON_DIMS; j++)
+    sampler_init(&big, SAMPLER_HALTON, 3, 4096, 0, 0, 1);
+    CHECK(t, sampler_progressive(SAMPLER_HALTON), "halton is not progressive");
+    for (j = 0; j <= HALTON_DIMS + 2; j++) {
+        PixelSample a, b;
+        sampler_start(&s, 3, 4, 37, &a);
+        sampler_start(&big, 3, 4, 37, &b);
+        CHECK(t, sampler_1d(&a, halton_dim(j)) == sampler_1d(&b, halton_dim(j)), "dimension %d: sample 37 "
+              "depends on spp", halton_dim(j));
+    }
+    for (j = 0; j <= HALTON_DIMS + 2; j++)
         for (ki = 0; ki < 3; ki++) {
             int cnt[16] = { 0 }, fine[16] = { 0 }, pix;
             double x2, x2f;
