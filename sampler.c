@@ -95,18 +95,17 @@
    consecutive points put one point in every box prod_j [c_j p_j^-e_j, (c_j + 1)
    p_j^-e_j) (the box of x(k) is fixed by k mod p_j^e_j for each j, and by the
    Chinese remainder theorem each combination occurs once), so (pixel, lens, lamp
-   point) are stratified JOINTLY.  A digit
-   bijection keeps that (it relabels the boxes) and, being random, makes every
-   digit uniform and independent of the other positions' digits: the number is
-   uniform on [0, 1) (random digit permutation, pbrt-v4's default "permutedigits"
-   for halton).  specnee's bijection is affine, pi(a) = (m a + b) mod p with m
+   point) are stratified JOINTLY.  A digit bijection keeps that (it relabels the
+   boxes) and, being random, makes every digit uniform and independent of the other
+   positions' digits: the number is uniform on [0, 1) (random digit permutation,
+   pbrt-v4's default "permutedigits" for halton).  specnee's bijection is affine, pi(a) = (m a + b) mod p with m
    uniform on 1..p-1 and b on 0..p-1 (uniform for each a through b), taken from
    the digits of two uniform numbers per (pixel, seed, coordinate), so the digits
    above k's own, pi_i(0) = b_i, cost nothing: they are the rest of a uniform
    number.  Each number is then uniform on [0, 1) (to 2^-53), and the point sets
-   stay stratified at every scale.  A scene's
-   further dimensions (later bounces, media, time, subsurface) are padded sobol
-   groups: they are unbiased and converge as sobol's do.
+   stay stratified at every scale.  A scene's further dimensions (later bounces,
+   media, time, subsurface) are padded sobol groups: they are unbiased and
+   converge as sobol's do.
 
    A FLOAT from 32 bits keeps the top 24 (as rng_float does): exactly representable
    and strictly below 1. */
