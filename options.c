@@ -637,9 +637,10 @@ int sampler_directive(Parser *P, const char *type, ParamList *pl, const char *fi
     st->ysamples = ys;
     st->jitter = jitter;
     /* pbrt-v4's samplers specnee does not have map to the nearest it has
-       (docs/sampling.md): halton, pmj02bn and paddedsobol are per-pixel
-       stratified low-discrepancy points like specnee's padded Owen-scrambled sobol */
-    if (!strcmp(type, "halton") || !strcmp(type, "pmj02bn") || !strcmp(type, "paddedsobol")) {
+       (docs/sampling.md): pmj02bn and paddedsobol are per-pixel stratified
+       low-discrepancy points like specnee's padded Owen-scrambled sobol; halton is
+       specnee's halton (one high-dimensional point per sample, sampler.c) */
+    if (!strcmp(type, "pmj02bn") || !strcmp(type, "paddedsobol")) {
         fprintf(stderr, "%s:%d: note: Sampler \"%s\": specnee uses its nearest, \"sobol\" "
                 "(padded, Owen-scrambled), with the same sample count\n", file, line, type);
         type = "sobol";

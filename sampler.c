@@ -36,6 +36,11 @@
                 nested scramble of the index; neighbouring pixels then hold
                 neighbouring, complementary parts of one net, which spreads the error
                 like blue noise.  Not progressive: the index depends on L.
+   halton       NOT padded, as pbrt-v4's "halton": the first dimensions of a sample
+                are the coordinates of ONE point of the Halton sequence, sample k
+                of a pixel its k-th point, each coordinate randomised by a digit
+                scramble of its own (THE HALTON POINT below); the rest padded as
+                sobol.  Progressive.
 
    THE SOBOL POINTS.  Dimension d of point i is the 32-bit fraction
        x_d(i) = XOR over the bits b set in i of v_d[b]                      (1)
@@ -76,6 +81,32 @@
    flight) cube evenly.  Without a camera medium nothing changes: the wavelength
    keeps its own group (docs/sampling.md, "The camera in a medium").
 
+   THE HALTON POINT.  Padding pairs the groups at random, so an integrand that
+   depends jointly on numbers of two groups (the position in the pixel, the point
+   on the lens and the point on the lamp together decide whether and how brightly
+   a blurred edge is lit) converges only at the Monte Carlo rate in their
+   interaction.  The halton sampler serves dimension j < HALTON_DIMS (the camera's
+   five and the first HALTON_BOUNCES bounces', specnee.h's table: consecutive
+   numbers, so one slot each) and the camera ray's first free flight (slot
+   HALTON_DIMS) as coordinate j of the Halton point k (Halton 1960):
+       x_j(k) = sum_i pi_ji(a_i) p_j^-(i+1),    k = sum_i a_i p_j^i,           (2)
+   p_j the (j+1)-th prime, pi_ji a random bijection of the digits {0..p_j-1} per
+   (pixel, seed, coordinate, digit position i).  Unscrambled, any N = prod_j p_j^e_j
+   consecutive points put one point in every box prod_j [c_j p_j^-e_j, (c_j + 1)
+   p_j^-e_j) (the box of x(k) is fixed by k mod p_j^e_j for each j, and by the
+   Chinese remainder theorem each combination occurs once), so (pixel, lens, lamp
+   point) are stratified JOINTLY.  A digit bijection keeps that (it relabels the
+   boxes) and, being random, makes every digit uniform and independent of the other
+   positions' digits: the number is uniform on [0, 1) (random digit permutation,
+   pbrt-v4's default "permutedigits" for halton).  specnee's bijection is affine, pi(a) = (m a + b) mod p with m
+   uniform on 1..p-1 and b on 0..p-1 (uniform for each a through b), taken from
+   the digits of two uniform numbers per (pixel, seed, coordinate), so the digits
+   above k's own, pi_i(0) = b_i, cost nothing: they are the rest of a uniform
+   number.  Each number is then uniform on [0, 1) (to 2^-53), and the point sets
+   stay stratified at every scale.  A scene's further dimensions (later bounces,
+   media, time, subsurface) are padded sobol groups: they are unbiased and
+   converge as sobol's do.
+
    A FLOAT from 32 bits keeps the top 24 (as rng_float does): exactly representable
    and strictly below 1. */
 #include "specnee.h"
@@ -83,7 +114,7 @@
 
 /* ------------------------------------------------------------------ names */
 
-static const char *const sampler_names[SAMPLER_COUNT] = { "independent", "stratified", "sobol", "zsobol" };
+static const char *const sampler_names[SAMPLER_COUNT] = { "independent", "stratified", "sobol", "zsobol", "halton" };
 
 const char *sampler_name(SamplerType t)
 {
@@ -100,7 +131,7 @@ SamplerType sampler_from_name(const char *name)
 
 int sampler_progressive(SamplerType t)
 {
-    return t == SAMPLER_INDEPENDENT || t == SAMPLER_SOBOL;
+    return t == SAMPLER_INDEPENDENT || t == SAMPLER_SOBOL || t == SAMPLER_HALTON;
 }
 
 /* ------------------------------------------------------------------ bits */
@@ -240,6 +271,51 @@ static uint32_t permute_index(uint32_t i, uint32_t n, uint64_t seed)
     return i;
 }
 
+/* ------------------------------------------------------------------ Halton */
+
+/* The first primes: the base of coordinate j (the last one is the camera ray's
+   first free flight). */
+static const unsigned short halton_primes[HALTON_DIMS + 1] = {
+    2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67,
+    71, 73, 79, 83, 89, 97, 101, 103, 107, 109, 113, 127, 131, 137, 139, 149, 151, 157, 163
+};
+
+/* The Halton slot of specnee's dimension dim, -1 where a padded group serves it. */
+static int halton_slot(int dim)
+{
+    if (dim >= 0 && dim < HALTON_DIMS) return dim;
+    return dim == dim_medium(0, 0) ? HALTON_DIMS : -1;
+}
+
+/* Coordinate `slot` of the scrambled Halton point k (2) of the pixel whose hash is
+   key.  Two uniform numbers per (pixel, seed, coordinate) hold the scramble: the
+   base-p digits of Z are the shifts b_i, the base-(p-1) digits of M the
+   multipliers m_i - 1; past k's own digits (a = 0, scrambled to b_i) the digits
+   of Z are the rest of the number, w Z', so no digit is ever cut off. */
+static float halton_coord(uint64_t key, uint32_t k, int slot)
+{
+    const double two53 = 9007199254740992.0;
+    uint32_t p = halton_primes[slot], rest = k;
+    uint64_t h = hash_u64(key, (uint64_t)slot + 0x4a17u);
+    double z = (double)(h >> 11) / two53, mz = (double)(hash_u64(h, 1u) >> 11) / two53;
+    double v = 0.0, w = 1.0, t;
+    while (rest > 0) {
+        uint32_t a = rest % p, b, m;
+        z *= (double)p;
+        b = (uint32_t)z;                   /* the next digit of Z */
+        z -= (double)b;
+        mz *= (double)(p - 1u);
+        m = 1u + (uint32_t)mz;             /* the next digit of M, plus 1 */
+        mz -= (double)(m - 1u);
+        rest /= p;
+        w /= (double)p;
+        v += (double)((m * a + b) % p) * w;
+    }
+    v += w * z;                            /* the zero digits above, shifted: Z's rest */
+    t = v * 4294967296.0;
+    return u32_to_float(t < 4294967295.0 ? (uint32_t)t : 4294967295u);
+}
+
 /* ------------------------------------------------------------------ the sampler */
 
 void sampler_init(Sampler *s, SamplerType type, int seed, int spp, int xsamples, int ysamples, int jitter)
@@ -304,6 +380,17 @@ static int group_of(const Sampler *s, int dim, int *coord)
     return dim;
 }
 
+/* sobol: n = 1 or 2 numbers of the padded group that serves dimension dim. */
+static void sobol_padded(const PixelSample *ps, int dim, int n, float *u)
+{
+    int coord, g = group_of(ps->s, dim, &coord);
+    uint64_t h = hash_u64(ps->key, (uint64_t)g);                 /* pixel, seed, group */
+    /* the group's own order: i = owen_scramble(k), with k's reversal kept */
+    uint32_t i = reverse_bits32(owen_reversed(ps->k_reversed, (uint32_t)h));
+    if (coord) u[0] = sobol_coord(i, h, coord);
+    else sobol_owen(i, (uint32_t)(h >> 32), n, u);
+}
+
 /* n = 1 or 2 numbers of the group that starts at dimension dim. */
 static void group_sample(PixelSample *ps, int dim, int n, float *u)
 {
@@ -331,15 +418,13 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
         for (c = 0; c < n; c++) if (u[c] >= 1.0f) u[c] = 0.99999994f;
         break;
     }
-    case SAMPLER_SOBOL: {
-        int coord, g = group_of(s, dim, &coord);
-        uint64_t h = hash_u64(ps->key, (uint64_t)g);                 /* pixel, seed, group */
-        /* the group's own order: i = owen_scramble(k), with k's reversal kept */
-        uint32_t i = reverse_bits32(owen_reversed(ps->k_reversed, (uint32_t)h));
-        if (coord) u[0] = sobol_coord(i, h, coord);
-        else sobol_owen(i, (uint32_t)(h >> 32), n, u);
+    case SAMPLER_SOBOL:
+        sobol_padded(ps, dim, n, u);
         break;
-    }
+    case SAMPLER_HALTON:   /* the Halton point's slots; the dimensions beyond it padded */
+        if (halton_slot(dim) < 0) sobol_padded(ps, dim, n, u);
+        else for (c = 0; c < n; c++) u[c] = halton_coord(ps->key, ps->k, halton_slot(dim + c));
+        break;
     case SAMPLER_ZSOBOL: {
         int coord, g = group_of(s, dim, &coord);
         uint64_t h = hash_u64((uint64_t)s->seed, (uint64_t)g);       /* one per film, not per pixel */

@@ -51,8 +51,8 @@ static const char usage_options[] =
 "                          pbrt-v4 --outfile does\n"
 "      --spp N             samples per pixel (file: Sampler pixelsamples; default 16)\n"
 "      --seed N            random seed (file: Sampler seed; default 0)\n"
-"      --sampler NAME      independent, stratified, sobol or zsobol (file: Sampler;\n"
-"                          default sobol; docs/sampling.md)\n"
+"      --sampler NAME      independent, stratified, sobol, zsobol or halton\n"
+"                          (file: Sampler; default sobol; docs/sampling.md)\n"
 "      --threads N         worker threads (default: all cores; image is identical)\n"
 "      --maxdepth N        path vertices that scatter (file: Integrator maxdepth; 5)\n"
 "      --res WxH           film resolution (file: Film x/yresolution)\n"
@@ -241,7 +241,7 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
             NEEDS_VALUE();
             a->ro.sampler = sampler_from_name(v);
             if (a->ro.sampler == SAMPLER_COUNT)
-                return usage_error("--sampler is independent, stratified, sobol or zsobol, not '%s'", v);
+                return usage_error("--sampler is independent, stratified, sobol, zsobol or halton, not '%s'", v);
             a->sampler_cli = 1;
         } else if (!strcmp(o, "--threads")) {
             NEEDS_VALUE();

@@ -236,6 +236,8 @@ static inline int dim_medium(int depth, int seg) { return DIM_MEDIUM0 + MEDIUM_S
 enum { SSS_AXIS = 8, SSS_RADIUS = 9, SSS_PICK = 11, DIMS_PER_SSS = 16 };
 static inline int dim_sss(int depth) { return DIM_SSS0 + DIMS_PER_SSS * depth; }
 #define DIM_TIME (1 << 23)
+#define HALTON_BOUNCES 4      /* halton: the bounces whose dimensions join the Halton point */
+#define HALTON_DIMS (DIM_BOUNCE0 + HALTON_BOUNCES * DIMS_PER_BOUNCE)
 #define SAMPLER_CHECKED_DIMS 256   /* dimensions whose reuse is counted (31 bounces) */
 
 typedef enum {
@@ -243,6 +245,8 @@ typedef enum {
     SAMPLER_STRATIFIED,        /* jittered strata (pbrt-v4 xsamples, ysamples, jitter) */
     SAMPLER_SOBOL,             /* padded Owen-scrambled Sobol per pixel (Burley 2020) */
     SAMPLER_ZSOBOL,            /* one Sobol sequence over the film in Morton order (pbrt-v4) */
+    SAMPLER_HALTON,            /* one scrambled Halton point per sample over the first
+                                  HALTON_DIMS dimensions (pbrt-v4's "halton"), then padded */
     SAMPLER_COUNT
 } SamplerType;
 

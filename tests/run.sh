@@ -168,7 +168,7 @@ printf 'WorldBegin\nMakeNamedMedium "fog" "string type" "homogeneous"\nAttribute
 if ! grep -q 'never used' tests/tmp/fog.txt &&
    grep -q 'fog.pbrt:8: note: LightSource "distant": "float illuminance" -1 is not positive' tests/tmp/fog.txt
 then ok "cli_note_medium_used_distant"; else fail "cli_note_medium_used_distant"; cat tests/tmp/fog.txt; fi
-expect "cli_bad_sampler" 2 "independent, stratified, sobol or zsobol" ./specnee --sampler halton scenes/cornell.pbrt
+expect "cli_bad_sampler" 2 "independent, stratified, sobol, zsobol or halton" ./specnee --sampler pmj02bn scenes/cornell.pbrt
 expect "cli_render_sampler" 0 "samples/s" ./specnee scenes/cornell.pbrt --res 16x16 --spp 2 --sampler zsobol -o tests/tmp/zs.pfm
 if grep -q 'sampler=zsobol' tests/tmp/zs.pfm.txt 2>/dev/null; then ok "cli_sidecar_records_sampler"
 else fail "cli_sidecar_records_sampler"; fi
