@@ -941,6 +941,61 @@ done:
 
 /* ------------------------------------------------------------------ build */
 
+/* An earlier area light with the same radiance (same L, image, scale, kind), or -1.
+   The previous emitter is checked first, then a few before it: lamps of one kind
+   are usually declared together (O(n), never O(n^2)).  radiance_source is a
+   function of (L, scale, absolute, image) alone, so such lamps share it. */
+static int same_radiance(const Scene *s, int i)
+{
+    const Emitter *em = &s->emitters[i];
+    int j, tries = 0;
+    if (em->inf || em->delta.type == DELTA_PROJECTION) return -1;   /* (its own stand-in) */
+    for (j = i - 1; j >= 0 && tries < 8; j--, tries++) {
+        const Emitter *ej = &s->emitters[j];
+        if (!ej->inf && ej->scale == em->scale && ej->absolute == em->absolute &&
+            ej->L == em->L && ej->image == em->image &&
+            ej->delta.type != DELTA_PROJECTION) return j;
+    }
+    return -1;
+}
+
+/* The tables of context_weights (uses_grid strategies): Y and T of every emitter
+   from the radiance sources and bins light_sampler_build made.  0: out of memory. */
+static int context_tables(LightSampler *ls, const SelOptions *o)
+{
+    const Scene *s = ls->scene;
+    int n = ls->n, i, b;
+    /* the UV band averages once per distinct radiance, not per emitter */
+    float *uv = (float *)malloc(sizeof(float) * (size_t)ls->n_le * SPD_UV_BINS);
+    if (!uv) return 0;
+    for (i = 0; i < ls->n_le; i++) {
+        Spectrum Le;
+        le_tabulate(&ls->Le[i], &Le);
+        for (b = 0; b < SPD_UV_BINS; b++)
+            uv[(size_t)i * SPD_UV_BINS + b] = spec_band_average(&Le, SPEC_UV_MIN + (int)SPD_BIN_NM * b,
+                                                                (int)SPD_BIN_NM);
+    }
+    for (i = 0; i < n; i++) {
+        const Emitter *em = &s->emitters[i];
+        /* Y: luminance over the range, = scale for area lights (pbrt-v4's
+           normalisation); an image map's stand-in spectrum has its own */
+        ls->Y[i] = em->inf ? (float)luminance_sum(ls->Le[ls->ref[i].le].table, ls->opt.lo_nm, ls->opt.hi_nm)
+                           : em->scale;
+    }
+    /* T rows 0..19: 300-400 nm (fluorescence excitation), rows 20..79: the
+       thesis' 60 bins over 400-700 nm (spd_bin); row by row, so that the
+       writes go in order */
+    for (b = 0; b < SPD_UV_BINS + SPD_BINS; b++)
+        for (i = 0; i < n; i++) {
+            const Emitter *em = &s->emitters[i];
+            float m = o->power_metric ? (float)(em->area * (em->twosided ? 2.0 : 1.0)) : 1.0f;
+            ls->T[b * n + i] = (b < SPD_UV_BINS ? uv[(size_t)ls->ref[i].le * SPD_UV_BINS + b]
+                                                : ls->bin[(size_t)i * SPD_BINS + (b - SPD_UV_BINS)]) * m;
+        }
+    free(uv);
+    return 1;
+}
+
 LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *err)
 {
     LightSampler *ls = (LightSampler *)calloc(1, sizeof *ls);
@@ -970,22 +1025,10 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     for (i = 0; i < n; i++) {
         const Emitter *em = &s->emitters[i];
         double bsum = 0.0;
-        int same = -1;
+        int same = same_radiance(s, i);
         ls->ref[i].twosided = em->twosided;
         ls->ref[i].inf = em->inf != NULL;
         ls->ref[i].delta = em->delta.type != DELTA_NONE;
-        /* the same radiance as an earlier area light (same L, scale, kind)?  The
-           previous emitter is checked first, then a few before it: lamps of one
-           kind are usually declared together (O(n), never O(n^2)) */
-        if (!em->inf && em->delta.type != DELTA_PROJECTION) {   /* (its own stand-in) */
-            int j, tries = 0;
-            for (j = i - 1; j >= 0 && tries < 8; j--, tries++) {
-                const Emitter *ej = &s->emitters[j];
-                if (!ej->inf && ej->scale == em->scale && ej->absolute == em->absolute &&
-                    ej->L == em->L && ej->image == em->image &&
-                    ej->delta.type != DELTA_PROJECTION) { same = j; break; }
-            }
-        }
         if (same < 0) {
             LeSource *q = &ls->Le[ls->n_le];
             Spectrum Le;
@@ -1022,36 +1065,7 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
         ls->power_cdf[i + 1] = ls->power_cdf[i] + ls->power_pmf[i];
         if (ls->power_pmf[i] > 0.0f) ls->power_last = i;
     }
-    if (ls->T) {
-        /* the UV band averages once per distinct radiance, not per emitter */
-        float *uv = (float *)malloc(sizeof(float) * (size_t)ls->n_le * SPD_UV_BINS);
-        if (!uv) goto oom;
-        for (i = 0; i < ls->n_le; i++) {
-            Spectrum Le;
-            le_tabulate(&ls->Le[i], &Le);
-            for (b = 0; b < SPD_UV_BINS; b++)
-                uv[(size_t)i * SPD_UV_BINS + b] = spec_band_average(&Le, SPEC_UV_MIN + (int)SPD_BIN_NM * b,
-                                                                    (int)SPD_BIN_NM);
-        }
-        for (i = 0; i < n; i++) {
-            const Emitter *em = &s->emitters[i];
-            /* Y: luminance over the range, = scale for area lights (pbrt-v4's
-               normalisation); an image map's stand-in spectrum has its own */
-            ls->Y[i] = em->inf ? (float)luminance_sum(ls->Le[ls->ref[i].le].table, ls->opt.lo_nm, ls->opt.hi_nm)
-                               : em->scale;
-        }
-        /* T rows 0..19: 300-400 nm (fluorescence excitation), rows 20..79: the
-           thesis' 60 bins over 400-700 nm (spd_bin); row by row, so that the
-           writes go in order */
-        for (b = 0; b < SPD_UV_BINS + SPD_BINS; b++)
-            for (i = 0; i < n; i++) {
-                const Emitter *em = &s->emitters[i];
-                float m = o->power_metric ? (float)(em->area * (em->twosided ? 2.0 : 1.0)) : 1.0f;
-                ls->T[b * n + i] = (b < SPD_UV_BINS ? uv[(size_t)ls->ref[i].le * SPD_UV_BINS + b]
-                                                    : ls->bin[(size_t)i * SPD_BINS + (b - SPD_UV_BINS)]) * m;
-            }
-        free(uv);
-    }
+    if (ls->T && !context_tables(ls, o)) goto oom;
     if (is_tree(o->strategy)) {
         if (!tree_setup(ls)) goto oom;
     } else {
