@@ -63,6 +63,30 @@ void test_refused(T *t, const char *head, const char *body, const char *file, co
     if (!strstr(err.msg, want)) test_failf(t, __FILE__, __LINE__, "error \"%s\", want \"%s\"", err.msg, want);
 }
 
+/* A light statement in a small scene (the light on line 5 of "d.pbrt"): the test
+   fails unless the load is refused with one line that starts with `prefix` and
+   holds k1 (and k2 unless NULL). */
+void test_light_refused(T *t, const char *light, const char *prefix, const char *k1, const char *k2)
+{
+    char text[2048];
+    Scene s;
+    Error e;
+    int ok;
+    snprintf(text, sizeof text,
+             "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n"
+             "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ] "
+             "\"string filename\" \"d.pfm\"\n"
+             "WorldBegin\n%s\n", light);
+    e.msg[0] = '\0';
+    ok = scene_load_string(&s, text, "d.pbrt", &e);
+    if (ok) scene_free(&s);
+    CHECK(t, !ok, "accepted \"%s\"", light);
+    CHECK(t, strncmp(e.msg, prefix, strlen(prefix)) == 0, "message \"%s\" names no %s", e.msg, prefix);
+    CHECK(t, strchr(e.msg, '\n') == NULL, "message \"%s\" is not one line", e.msg);
+    CHECK(t, strstr(e.msg, k1) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k1);
+    CHECK(t, !k2 || strstr(e.msg, k2) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k2);
+}
+
 int test_load_fails(T *t, const char *text, const char *k1, const char *k2)
 {
     Scene s;

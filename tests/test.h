@@ -66,6 +66,9 @@ int test_load_scene(T *t, Scene *s, const char *text);
 int test_render_text(T *t, const char *text, const RenderOptions *o, Image *im);
 /* Load head + body as `file`; fails the test unless it is refused with `want` in the message. */
 void test_refused(T *t, const char *head, const char *body, const char *file, const char *want);
+/* A light statement as line 5 of a small "d.pbrt": fails unless refused in one line
+   starting with prefix and holding k1 (and k2 unless NULL). */
+void test_light_refused(T *t, const char *light, const char *prefix, const char *k1, const char *k2);
 /* Load text as m.pbrt: 1 if it is refused with k1 (and k2 unless NULL) in the
    message; else the test fails and 0 is returned. */
 int test_load_fails(T *t, const char *text, const char *k1, const char *k2);

@@ -325,23 +325,7 @@ static void test_projection_pbrt(T *t)
 /* ------------------------------------------------------------------ bad input */
 static void expect_error(T *t, const char *light, const char *k1, const char *k2)
 {
-    char text[2048];
-    Scene s;
-    Error e;
-    int ok;
-    snprintf(text, sizeof text,
-             "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n"
-             "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ] "
-             "\"string filename\" \"d.pfm\"\n"
-             "WorldBegin\n%s\n", light);
-    e.msg[0] = '\0';
-    ok = scene_load_string(&s, text, "d.pbrt", &e);
-    if (ok) scene_free(&s);
-    CHECK(t, !ok, "accepted \"%s\"", light);
-    CHECK(t, strncmp(e.msg, "d.pbrt:5:", 9) == 0, "message \"%s\" names no file:line", e.msg);
-    CHECK(t, strchr(e.msg, '\n') == NULL, "message \"%s\" is not one line", e.msg);
-    CHECK(t, strstr(e.msg, k1) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k1);
-    CHECK(t, !k2 || strstr(e.msg, k2) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k2);
+    test_light_refused(t, light, "d.pbrt:5:", k1, k2);
 }
 
 static void test_gonio_bad_input(T *t)
