@@ -87,6 +87,32 @@ void test_light_refused(T *t, const char *light, const char *prefix, const char 
     CHECK(t, !k2 || strstr(e.msg, k2) != NULL, "message \"%s\" lacks \"%s\"", e.msg, k2);
 }
 
+/* The image's mean luminance over K renders of text (spp samples, NEE on or off,
+   2 threads, seeds 1, 1001, 2001, ...) and its standard error. */
+int test_mean_y(T *t, const char *text, int spp, int nee, int K, double *mean, double *se)
+{
+    double sum = 0.0, sum2 = 0.0;
+    int k;
+    for (k = 0; k < K; k++) {
+        RenderOptions o;
+        Image im;
+        double v;
+        render_options_default(&o);
+        o.spp = spp;
+        o.seed = 1 + 1000 * k;
+        o.threads = 2;
+        o.nee = nee;
+        if (!test_render_text(t, text, &o, &im)) return 0;
+        v = test_image_y(&im);
+        img_free(&im);
+        sum += v;
+        sum2 += v * v;
+    }
+    *mean = sum / K;
+    *se = sqrt(fmax(0.0, (sum2 / K - *mean * *mean) * K / (K - 1)) / K);
+    return 1;
+}
+
 int test_load_fails(T *t, const char *text, const char *k1, const char *k2)
 {
     Scene s;

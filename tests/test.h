@@ -69,6 +69,8 @@ void test_refused(T *t, const char *head, const char *body, const char *file, co
 /* A light statement as line 5 of a small "d.pbrt": fails unless refused in one line
    starting with prefix and holding k1 (and k2 unless NULL). */
 void test_light_refused(T *t, const char *light, const char *prefix, const char *k1, const char *k2);
+/* Mean image luminance over K renders (seeds 1 + 1000 k, 2 threads) and its standard error. */
+int test_mean_y(T *t, const char *text, int spp, int nee, int K, double *mean, double *se);
 /* Load text as m.pbrt: 1 if it is refused with k1 (and k2 unless NULL) in the
    message; else the test fails and 0 is returned. */
 int test_load_fails(T *t, const char *text, const char *k1, const char *k2);

@@ -137,20 +137,9 @@ static int render_img(T *t, const char *body, int spp, int seed, int threads, in
 /* Mean and standard error of the image Y over K seeds. */
 static int mean_Y(T *t, const char *body, int spp, int nee, int K, double *mean, double *se)
 {
-    double sum = 0.0, sum2 = 0.0;
-    int k;
-    for (k = 0; k < K; k++) {
-        Image im;
-        double v;
-        if (!render_img(t, body, spp, 1 + 1000 * k, 2, nee, &im)) return 0;
-        v = test_image_y(&im);
-        img_free(&im);
-        sum += v;
-        sum2 += v * v;
-    }
-    *mean = sum / K;
-    *se = sqrt(fmax(0.0, (sum2 / K - *mean * *mean) * K / (K - 1)) / K);
-    return 1;
+    static char buf[8192];
+    snprintf(buf, sizeof buf, "%s%s", ALPHA_HEAD, body);
+    return test_mean_y(t, buf, spp, nee, K, mean, se);
 }
 
 /* The camera looks at a lamp (a square emitter facing it) through a black square of

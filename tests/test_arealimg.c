@@ -28,27 +28,8 @@ static const char *const AREALIMG_HEAD =
 static int mean_Y(T *t, const char *body, int spp, int nee, int K, double *mean, double *se)
 {
     static char buf[8192];
-    double sum = 0.0, sum2 = 0.0;
-    int k;
     snprintf(buf, sizeof buf, "%s%s", AREALIMG_HEAD, body);
-    for (k = 0; k < K; k++) {
-        RenderOptions o;
-        Image im;
-        double v;
-        render_options_default(&o);
-        o.spp = spp;
-        o.seed = 1 + 1000 * k;
-        o.threads = 2;
-        o.nee = nee;
-        if (!test_render_text(t, buf, &o, &im)) return 0;
-        v = test_image_y(&im);
-        img_free(&im);
-        sum += v;
-        sum2 += v * v;
-    }
-    *mean = sum / K;
-    *se = sqrt(fmax(0.0, (sum2 / K - *mean * *mean) * K / (K - 1)) / K);
-    return 1;
+    return test_mean_y(t, buf, spp, nee, K, mean, se);
 }
 
 /* Emitter 0: a sphere with the 1 x 1 image const.pfm (0.9 0.5 0.2); 1: a D65
