@@ -37,7 +37,10 @@
    a visible normal m ~ D_wo (tr_sample_wm with alpha_x = alpha_y = alpha), then
    reflection about m with probability F(wo.m), else refraction through it; f and
    pdf of the pair are microfacet.c's tr_dielectric_pair (section 4: THEORY §10,
-   (10)-(12), checked against pbrt-v4's DielectricBxDF).
+   (10)-(12), checked against pbrt-v4's DielectricBxDF).  A roughness texture
+   gives alpha at each hit (dielectric_alpha, through mat_point); where it is
+   below 1e-3 the hit is smooth (pbrt-v4's EffectivelySmooth), as a numeric
+   alpha that small is at load time.
 
    Dispersion: with a wavelength-dependent index, the hero's index picks the
    direction.  For other wavelengths f and pdf are evaluated along the SAME
@@ -377,7 +380,19 @@ int mat_is_delta(const Material *m)
     if (m->type == MAT_CONDUCTOR)                            /* conductor.c */
         return m->alpha_tex <= 0 && tr_smooth(m->alpha, m->alpha_t);
     if (m->type == MAT_THIN_DIELECTRIC) return 1;
-    return (m->type == MAT_DIELECTRIC || m->type == MAT_SUBSURFACE) && m->alpha == 0.0f;
+    return (m->type == MAT_DIELECTRIC || m->type == MAT_SUBSURFACE) && m->alpha_tex <= 0 &&
+           m->alpha == 0.0f;
+}
+
+/* A dielectric's (or a subsurface boundary's) GGX alpha at sp: its number, or its
+   roughness texture's value (mat_point); 0, a smooth hit, where that is below
+   1e-3 (pbrt-v4's EffectivelySmooth). */
+static float dielectric_alpha(const Material *m, const SurfacePoint *sp, const float *lambda)
+{
+    MatPoint mp;
+    if (m->alpha_tex <= 0 || !m->textures) return m->alpha;
+    mat_point(m, sp, lambda, 1u, &mp);
+    return tr_smooth(mp.alpha, mp.alpha_t) ? 0.0f : mp.alpha;
 }
 
 /* pbrt-v4's BxDF::Regularize: DielectricBxDF, ConductorBxDF and LayeredBxDF (its
@@ -525,6 +540,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
 {
     Frame fr = mat_frame(m, sp);
     Vec3 lo = frame_to_local(&fr, wo), li;
+    float alpha;
     int j;
     for (j = 0; j < HERO_N; j++) { out->f[j] = 0.0f; out->pdf_l[j] = 0.0f; out->eta2[j] = 1.0f; }
     out->delta = 0;
@@ -588,7 +604,8 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
     }
 
     /* dielectric (and the boundary of a subsurface material) */
-    if (m->alpha == 0.0f) {
+    alpha = dielectric_alpha(m, sp, lambda);
+    if (alpha == 0.0f) {
         float eta = mat_eta(m, lambda[0]);
         float F = fresnel_dielectric(lo.z, eta), etap = 1.0f;
         Vec3 n = v3(0, 0, 1);
@@ -616,7 +633,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
             for (j = 1; j < HERO_N; j++) out->f[j] = 0.0f;
         return 1;
     } else {
-        float alpha = m->alpha, eta = mat_eta(m, lambda[0]);
+        float eta = mat_eta(m, lambda[0]);
         Vec3 wm = tr_sample_wm(alpha, alpha, lo, u1, u2);
         float F = fresnel_dielectric(v3_dot(lo, wm), eta), etap;
         if (u0 < F) {
@@ -649,6 +666,7 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
 {
     Frame fr = mat_frame(m, sp);
     Vec3 lo = frame_to_local(&fr, wo), li = frame_to_local(&fr, wi);
+    float alpha;
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
     if (m->type == MAT_HAIR) { hair_eval(m, sp, wo, wi, lambda, alive, f, pdf_l); return; }
@@ -683,11 +701,12 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
         }
         return;
     }
-    if (m->alpha == 0.0f) return;                                  /* delta: f = 0 */
+    alpha = dielectric_alpha(m, sp, lambda);
+    if (alpha == 0.0f) return;                                     /* delta: f = 0 */
     for (j = 0; j < HERO_N; j++) {
         float fj, pj;
         if (j > 0 && !(alive & (1u << j))) continue;
-        tr_dielectric_pair(m->alpha, mat_eta(m, lambda[j]), lo, li, LOBE_R | LOBE_T, &fj, &pj);
+        tr_dielectric_pair(alpha, mat_eta(m, lambda[j]), lo, li, LOBE_R | LOBE_T, &fj, &pj);
         pdf_l[j] = pj;
         if (alive & (1u << j)) f[j] = fj;
     }
@@ -851,11 +870,17 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
             spec_const(&ior, 1.5f);            /* pbrt-v4's default */
         }
     }
-    /* pbrt-v4: u/vroughness default to "roughness", which defaults to 0 */
-    have_u = param_find(pl, PT_FLOAT, "uroughness") != NULL;
-    have_v = param_find(pl, PT_FLOAT, "vroughness") != NULL;
-    if (!get_float(P, pl, "uroughness", 0, &u) || !get_float(P, pl, "vroughness", 0, &v))
-        return 0;
+    /* pbrt-v4: u/vroughness default to "roughness", which defaults to 0; a
+       roughness texture is read at each hit instead (mat_point) */
+    if (!microfacet_alpha_texture(P, pl, file, line, what, &m->alpha_tex, &m->remap)) return 0;
+    u = v = 0.0f;
+    have_u = have_v = m->alpha_tex > 0;
+    if (!have_u) {
+        have_u = param_find(pl, PT_FLOAT, "uroughness") != NULL;
+        have_v = param_find(pl, PT_FLOAT, "vroughness") != NULL;
+        if (!get_float(P, pl, "uroughness", 0, &u) || !get_float(P, pl, "vroughness", 0, &v))
+            return 0;
+    }
     if (!have_u || !have_v) {
         if (!get_float(P, pl, "roughness", 0, &r)) return 0;
         if (!have_u) u = r;
@@ -865,6 +890,7 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
     if (!bump_from_params(P, pl, what, m) ||
         !params_check_unused(P, pl, what, "float eta, spectrum eta, rgb eta, "
                              "float roughness, float uroughness, float vroughness, "
+                             "texture roughness, texture uroughness, texture vroughness, "
                              "bool remaproughness, float cauchyA, float cauchyB",
                              NULL))
         return 0;
@@ -875,6 +901,7 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
         return fail(P, file, line, "%s \"dielectric\": roughness must be >= 0", dir);
     /* pbrt-v4 TrowbridgeReitzDistribution::RoughnessToAlpha: alpha = sqrt(roughness) */
     m->alpha = remap ? tr_alpha_of_roughness(u) : u;
+    if (tr_smooth(m->alpha, m->alpha)) m->alpha = 0.0f;   /* pbrt-v4's EffectivelySmooth */
     m->dispersive = !spec_is_constant(&ior);
     return material_set_eta(P, m, &ior, file, line);
 }

@@ -873,6 +873,21 @@ int microfacet_alphas_of(Parser *P, ParamList *pl, const char *file, int line,
     return 1;
 }
 
+/* The same when pl gives a roughness texture ("texture roughness", "texture
+   uroughness" or "texture vroughness"); without one nothing is read, *alpha_tex
+   is 0 and the caller reads the numbers (dielectric and subsurface, with their
+   own messages). */
+int microfacet_alpha_texture(Parser *P, ParamList *pl, const char *file, int line,
+                             const char *what, int *alpha_tex, int *remap_out)
+{
+    float au, av;
+    *alpha_tex = 0;
+    if (!param_find(pl, PT_TEXTURE, "roughness") && !param_find(pl, PT_TEXTURE, "uroughness") &&
+        !param_find(pl, PT_TEXTURE, "vroughness"))
+        return 1;
+    return microfacet_alphas_of(P, pl, file, line, what, "", &au, &av, alpha_tex, remap_out);
+}
+
 /* The same for the unprefixed names ("roughness", "uroughness", "vroughness"). */
 int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
                       const char *what, float *alpha_u, float *alpha_v, int *alpha_tex,

@@ -863,9 +863,10 @@ typedef struct {
                                   "texture reflectance",
                                   1 + its index into Scene.textures (0, as a zeroed
                                   Material has it: the spectrum above) */
-    int alpha_tex;             /* conductor, coateddiffuse: "texture roughness" (or the
-                                  same texture as u- and vroughness), 1 + its index
-                                  (0: alpha, alpha_t above); read through mat_point */
+    int alpha_tex;             /* conductor, coateddiffuse, dielectric, subsurface:
+                                  "texture roughness" (or the same texture as u- and
+                                  vroughness), 1 + its index (0: alpha, alpha_t above);
+                                  read through mat_point */
     int remap;                 /* with alpha_tex: remaproughness (alpha = sqrt(value)) */
     const struct Texture *textures;  /* the scene's textures (set when loading ends) */
     /* coateddiffuse, coatedconductor (layered.c): eta (a constant) and alpha (alpha_tex)
@@ -958,13 +959,14 @@ float mat_albedo_at(const Material *m, const SurfacePoint *sp, float lambda_nm);
    argument (tex1, tex2, amount, tex, scale, inside, outside) is a constant or
    another texture. */
 typedef enum { TEX_CONSTANT, TEX_CHECKERBOARD, TEX_SCALE, TEX_MIX, TEX_IMAGEMAP,
-               TEX_DOTS, TEX_MARBLE, TEX_FBM, TEX_WRINKLED, TEX_WINDY, TEX_DIRECTIONMIX } TexType;
+               TEX_DOTS, TEX_MARBLE, TEX_FBM, TEX_WRINKLED, TEX_WINDY, TEX_DIRECTIONMIX,
+               TEX_BILERP } TexType;
 /* TEXMAP_POINT3D: the 3-D checkerboard's point in the texture's frame (pbrt-v4's
    TextureMapping3D, "integer dimension" 3) */
 typedef enum { TEXMAP_UV, TEXMAP_SPHERICAL, TEXMAP_CYLINDRICAL, TEXMAP_PLANAR,
                TEXMAP_POINT3D } TexMapType;
 typedef enum { TEXWRAP_REPEAT, TEXWRAP_BLACK, TEXWRAP_CLAMP } TexWrap;
-#define TEX_ARGS 2
+#define TEX_ARGS 4             /* bilerp's four corners; the others use 2 */
 typedef struct Texture {
     TexType type;
     int is_float;              /* a "float" texture, else a "spectrum" one */
@@ -976,7 +978,8 @@ typedef struct Texture {
                                   inverse CTM */
     /* arguments: checkerboard tex1, tex2; mix and directionmix tex1, tex2 (and mix's
        amount); scale tex, scale;
-       dots "inside" (shown outside the dots, as in pbrt-v4), "outside" (in them) */
+       dots "inside" (shown outside the dots, as in pbrt-v4), "outside" (in them);
+       bilerp v00, v01, v10, v11 (constants only) */
     int arg_tex[TEX_ARGS];     /* a texture index, or -1: the constant below */
     Spectrum arg_s[TEX_ARGS];  /* spectrum constants */
     float arg_f[TEX_ARGS];     /* float constants (also scale's "scale") */

@@ -607,10 +607,15 @@ int subsurface_from_params(Parser *P, ParamList *pl, const char *file, int line,
     if (!get_float(P, pl, "g", 0.0f, &g) || !sss_coefficients(P, pl, file, line, dir, m, &g) ||
         !get_float(P, pl, "scale", 1.0f, &ss->scale) || !get_float(P, pl, "eta", 1.33f, &ss->eta))
         return 0;
+    /* the boundary's roughness: numbers, or a texture read at each hit (mat_point) */
+    if (!microfacet_alpha_texture(P, pl, file, line, what, &m->alpha_tex, &m->remap)) return 0;
     have_u = param_find(pl, PT_FLOAT, "uroughness") != NULL;
     have_v = param_find(pl, PT_FLOAT, "vroughness") != NULL;
-    if (!get_float(P, pl, "uroughness", 0, &u) || !get_float(P, pl, "vroughness", 0, &v) ||
-        !get_float(P, pl, "roughness", 0, &r) || !get_bool(P, pl, "remaproughness", 1, &remap))
+    u = v = r = 0.0f;
+    if ((m->alpha_tex <= 0 && (!get_float(P, pl, "uroughness", 0, &u) ||
+                               !get_float(P, pl, "vroughness", 0, &v) ||
+                               !get_float(P, pl, "roughness", 0, &r))) ||
+        !get_bool(P, pl, "remaproughness", 1, &remap))
         return 0;
     if (!have_u) u = r;
     if (!have_v) v = r;
@@ -620,8 +625,8 @@ int subsurface_from_params(Parser *P, ParamList *pl, const char *file, int line,
                              "spectrum reflectance, rgb reflectance, texture reflectance, "
                              "spectrum mfp, rgb mfp, texture mfp, float scale, float eta, "
                              "float roughness, float uroughness, float vroughness, "
-                             "bool remaproughness",
-                             "texture roughness, texture uroughness, texture vroughness"))
+                             "texture roughness, texture uroughness, texture vroughness, "
+                             "bool remaproughness", NULL))
         return 0;
     if (!(ss->scale >= 0.0f && ss->scale < 1e30f))
         return fail(P, file, line, "%s \"subsurface\": \"float scale\" %g must be >= 0", dir, ss->scale);
@@ -636,6 +641,7 @@ int subsurface_from_params(Parser *P, ParamList *pl, const char *file, int line,
         return fail(P, file, line, "%s \"subsurface\": roughness must be >= 0", dir);
     ss->g = g;
     m->alpha = remap ? tr_alpha_of_roughness(u) : u;
+    if (tr_smooth(m->alpha, m->alpha)) m->alpha = 0.0f;   /* pbrt-v4's EffectivelySmooth */
     sss_table(P, ss);
     spec_const(&ior, ss->eta);
     return material_set_eta(P, m, &ior, file, line);

@@ -1,5 +1,5 @@
 /* texture.c - pbrt-v4's textures: constant, checkerboard, scale, mix,
-   directionmix, imagemap, dots, marble, fbm, wrinkled, windy.
+   directionmix, bilerp, imagemap, dots, marble, fbm, wrinkled, windy.
 
    Exported (specnee.h sections 6 and 10): tex_eval, tex_set_image, tex_free,
    tex_noise, tex_noise_diff, tex_fbm, tex_turbulence, tex_marble_init.
@@ -36,6 +36,16 @@
                       shading normal), dir the "dir" parameter carried to world
                       space by the CTM at the directive (as a vector) and
                       normalised; a texture whose weight is 0 is not evaluated
+        bilerp        (1 - s)(1 - t) v00 + s (1 - t) v10 + (1 - s) t v01 + s t v11:
+                      v00 at (s, t) = (0, 0), v10 at (1, 0), v01 at (0, 1), v11 at
+                      (1, 1) (pbrt-v4's FloatBilerpTexture and
+                      SpectrumBilerpTexture); (s, t) is not clamped, so outside the
+                      unit square the texture extrapolates, as pbrt-v4's does.  The
+                      corners are constants (no textures), a spectrum corner held
+                      as the other textures' constants are (a reflectance: an
+                      "rgb" within [0, 1]); a material that reads the result as a
+                      reflectance clamps it to [0, 1] (mat_albedo_at, mat_point),
+                      as pbrt-v4's materials clamp theirs
         imagemap      the image at (s, 1 - t) (pbrt-v4 flips t: row 0 is the top),
                       bilinear between the four nearest texel centres (pbrt-v4's
                       default "bilinear" filter, which reads the full-resolution
@@ -455,6 +465,12 @@ float tex_eval(const Texture *tex, int i, const SurfacePoint *sp, float lambda_n
         s = a != 0.0f ? tex_arg(tex, t, 0, sp, lambda_nm) : 0.0f;   /* pbrt-v4 skips a */
         tt = a != 1.0f ? tex_arg(tex, t, 1, sp, lambda_nm) : 0.0f;  /* weight of 0 */
         return a * s + (1.0f - a) * tt;
+    case TEX_BILERP:                                    /* arguments v00, v01, v10, v11 */
+        tex_map(t, sp, &s, &tt);
+        return (1.0f - s) * (1.0f - tt) * tex_arg(tex, t, 0, sp, lambda_nm) +
+               s * (1.0f - tt) * tex_arg(tex, t, 2, sp, lambda_nm) +
+               (1.0f - s) * tt * tex_arg(tex, t, 1, sp, lambda_nm) +
+               s * tt * tex_arg(tex, t, 3, sp, lambda_nm);
     case TEX_IMAGEMAP:
         tex_map(t, sp, &s, &tt);
         return image_lookup(t, s, tt, lambda_nm);
@@ -545,16 +561,11 @@ void tex_free(Texture *t)
 #include "parser.h"
 #include <stdio.h>
 
-/* Argument k of texture T from parameter `name`: a texture, or a constant (def
-   when absent). */
-static int texture_arg(Parser *P, ParamList *pl, Texture *T, int k, const char *name, float def)
+/* Argument k of texture T from parameter `name` as a constant: a float, or a
+   spectrum read as a reflectance (def when absent). */
+static int texture_const(Parser *P, ParamList *pl, Texture *T, int k, const char *name, float def)
 {
-    Param *pt = param_find(pl, PT_TEXTURE, name);
     T->arg_tex[k] = -1;
-    if (pt) {
-        T->arg_tex[k] = texture_lookup(P, pt, T->is_float);
-        return T->arg_tex[k] >= 0;
-    }
     if (T->is_float) {
         if (!get_float(P, pl, name, def, &T->arg_f[k])) return 0;
         if (!isfinite(T->arg_f[k]))
@@ -567,6 +578,18 @@ static int texture_arg(Parser *P, ParamList *pl, Texture *T, int k, const char *
             T->rgb_arg = 1;
         return param_spectrum(P, p, SPEC_ALBEDO, &T->arg_s[k], NULL);
     }
+}
+
+/* Argument k of texture T from parameter `name`: a texture, or a constant (def
+   when absent). */
+static int texture_arg(Parser *P, ParamList *pl, Texture *T, int k, const char *name, float def)
+{
+    Param *pt = param_find(pl, PT_TEXTURE, name);
+    if (pt) {
+        T->arg_tex[k] = texture_lookup(P, pt, T->is_float);
+        return T->arg_tex[k] >= 0;
+    }
+    return texture_const(P, pl, T, k, name, def);
 }
 
 /* The texture's frame: the inverse of the CTM at the directive (pbrt-v4's
@@ -705,7 +728,10 @@ static const char *const texture_reads[] = {
     /* TEX_WRINKLED */ "integer octaves, float roughness",
     /* TEX_WINDY */ "",
     /* TEX_DIRECTIONMIX */ "spectrum tex1, rgb tex1, float tex1, texture tex1, spectrum tex2, "
-        "rgb tex2, float tex2, texture tex2, vector3 dir"
+        "rgb tex2, float tex2, texture tex2, vector3 dir",
+    /* TEX_BILERP */ "string mapping, float uscale, float vscale, float udelta, float vdelta, "
+        "vector3 v1, vector3 v2, spectrum v00, rgb v00, float v00, spectrum v01, rgb v01, "
+        "float v01, spectrum v10, rgb v10, float v10, spectrum v11, rgb v11, float v11"
 };
 
 /* pbrt-v4 DirectionMixTexture, float and spectrum (section 2): tex1 (0), tex2
@@ -734,16 +760,37 @@ static int texture_directionmix(Parser *P, ParamList *pl, Texture *T)
     return 1;
 }
 
+/* pbrt-v4 FloatBilerpTexture, SpectrumBilerpTexture (section 2): the 2-D mapping
+   and the corners v00 (0), v01 (1), v10 (0), v11 (1) as arguments 0..3, numbers
+   or spectra; pbrt-v4 reads no texture there. */
+static int texture_bilerp(Parser *P, ParamList *pl, Texture *T)
+{
+    static const char *const corner[4] = { "v00", "v01", "v10", "v11" };
+    int k;
+    T->type = TEX_BILERP;
+    for (k = 0; k < 4; k++) {
+        Param *pt = param_find(pl, PT_TEXTURE, corner[k]);
+        if (pt != NULL)
+            return fail(P, pt->file, pt->line, "Texture \"bilerp\": \"texture %s\": pbrt-v4's "
+                        "bilerp corners are values, not textures", corner[k]);
+    }
+    if (!texture_mapping(P, pl, T)) return 0;
+    for (k = 0; k < 4; k++)
+        if (!texture_const(P, pl, T, k, corner[k], (float)(k & 1))) return 0;
+    return 1;
+}
+
 /* Texture T of class `cls`, the texture named `name` (T's kind, float or
    spectrum, its file and line already set): pbrt-v4's per-class Create. */
 int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *cls,
                         Texture *T)
 {
     static const char *const pbrt_classes[] = {
-        "bilerp", "ptex", NULL
+        "ptex", NULL
     };
     char what[96];
     int k, ok = 0, dim = 2;
+    for (k = 0; k < TEX_ARGS; k++) T->arg_tex[k] = -1;     /* no texture arguments yet */
     if (!strcmp(cls, "constant")) {
         T->type = TEX_CONSTANT;
         ok = texture_arg(P, pl, T, 0, "value", 1.0f);
@@ -783,6 +830,8 @@ int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *
         }
     } else if (!strcmp(cls, "directionmix")) {
         ok = texture_directionmix(P, pl, T);
+    } else if (!strcmp(cls, "bilerp")) {
+        ok = texture_bilerp(P, pl, T);
     } else if (!strcmp(cls, "imagemap")) {
         T->type = TEX_IMAGEMAP;
         ok = texture_mapping(P, pl, T) && texture_image(P, pl, T, name);

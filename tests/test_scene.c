@@ -833,7 +833,7 @@ REJECT(rej_odd_spectrum, "WorldBegin\nAreaLightSource \"diffuse\" \"spectrum L\"
 REJECT(rej_rgb_reflectance_above_one, "WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ 0.5 2 0.5 ]\n",
        2, "reflectance", "[0,1]")
 REJECT(rej_texture_param, "WorldBegin\nMaterial \"dielectric\" \"texture roughness\" \"checks\"\n", 2,
-       "texture", "not in the specnee subset")
+       "\"texture roughness\"", "no texture named \"checks\"")
 REJECT(rej_light_power, "WorldBegin\nAreaLightSource \"diffuse\" \"float power\" 100\n", 2, "power",
        "not in the specnee subset")
 REJECT(rej_cauchy_half, "WorldBegin\nMaterial \"dielectric\" \"float cauchyA\" 1.5\n", 2, "cauchyB", NULL)

@@ -413,8 +413,9 @@ static void test_sss_errors(T *t)
                  "\"float eta\" -1 must be > 0");
     test_refused(t, "WorldBegin\n", "Material \"subsurface\" \"float scale\" -1\n", "t.pbrt",
                  "\"float scale\" -1 must be >= 0");
-    test_refused(t, "WorldBegin\nTexture \"r\" \"float\" \"checkerboard\"\n",
-                 "Material \"subsurface\" \"texture roughness\" \"r\"\n", "t.pbrt", "texture roughness");
+    test_refused(t, "WorldBegin\nTexture \"r\" \"float\" \"checkerboard\"\nTexture \"q\" \"float\" \"constant\"\n",
+                 "Material \"subsurface\" \"texture uroughness\" \"r\" \"texture vroughness\" \"q\"\n", "t.pbrt",
+                 "t.pbrt:4: Material \"subsurface\": u and v roughness from different sources");
 }
 
 /* pbrt-v4 (mmp/pbrt-v4 5f7a6068, `pbrt --seed S --spp 1024` for S = 1..4, 32 x
