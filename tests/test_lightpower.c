@@ -200,23 +200,25 @@ static void test_lightpower_irradiance(T *t)
 }
 
 /* NEE (which reads the sampled triangle's radiance) and BSDF sampling alone see
-   the same light from a mesh lamp whose triangles have different radiance and a
-   bilinearmesh of a flat and a twisted patch of different areas. */
+   the same light from a mesh lamp of a small triangle just above the floor and a
+   large one far to the side, out of view (radiance ratio 75: the mean radiance
+   would light the floor another way), and from a bilinearmesh of a small flat
+   patch above the floor and a large twisted one far to the other side. */
 static void test_lightpower_nee_agrees(T *t)
 {
     static const char *const text =
-        "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 50 ]\n"
+        "LookAt -0.8 0 4  -0.8 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 40 ]\n"
         "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ]\n"
         "Sampler \"independent\"\nIntegrator \"path\" \"integer maxdepth\" [ 2 ]\nWorldBegin\n"
         "Material \"diffuse\" \"rgb reflectance\" [ 0.6 0.6 0.6 ]\n"
         "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ -4 -4 0  4 -4 0  4 4 0  -4 4 0 ]\n"
-        "AttributeBegin\nAreaLightSource \"diffuse\" \"float power\" 3\nTranslate -1.5 -0.5 1.2\nReverseOrientation\n"
-        "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2  1 3 2 ] \"point3 P\" [ 0 0 0  0.4 0 0  0 0.5 0  2.0 0 0 ]\n"
-        "AttributeEnd\n"
-        "AttributeBegin\nAreaLightSource \"diffuse\" \"float power\" 2 \"bool twosided\" true\nTranslate 0.3 0.4 1.0\n"
-        "Shape \"bilinearmesh\" \"point3 P\" [ 0 0 0  0.3 0 0  0 0.3 0  0.3 0.3 0  1.5 0 0.6  1.5 0.3 0 ] "
-        "\"integer indices\" [ 0 1 2 3  1 4 3 5 ]\nAttributeEnd\n";
-    const int K = 8, spp = test_scaled(16, 4);
+        "AttributeBegin\nAreaLightSource \"diffuse\" \"float power\" 3\n"
+        "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2  3 4 5 ] \"point3 P\" [ -1.4 -0.4 0.5  -1.2 0.0 0.5  "
+        "-1.0 -0.4 0.5  -5 -2 0.5  -5 2 0.5  -5 0 3.5 ]\nAttributeEnd\n"
+        "AttributeBegin\nAreaLightSource \"diffuse\" \"float power\" 2 \"bool twosided\" true\n"
+        "Shape \"bilinearmesh\" \"point3 P\" [ -0.6 0.3 0.6  -0.2 0.3 0.6  -0.6 0.7 0.6  -0.2 0.7 0.6  "
+        "5 -2 0.5  5 2 1.0  5.5 -2 3.5  5 2 3 ] \"integer indices\" [ 0 1 2 3  4 5 6 7 ]\nAttributeEnd\n";
+    const int K = 8, spp = test_scaled(64, 16);
     double y0, se0, y1, se1;
     if (!test_mean_y(t, text, spp, 1, K, &y0, &se0)) return;
     if (!test_mean_y(t, text, spp, 0, K, &y1, &se1)) return;
