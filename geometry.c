@@ -94,6 +94,7 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
         em->shape = s->n_shapes;
         em->L = al->L;
         em->scale = al->scale;
+        em->power = al->power;
         em->twosided = al->twosided;
         em->image = al->image;
         em->image_mean = al->image_mean;

@@ -27,7 +27,10 @@
       sampled (emitter_point_at), so both estimate the same integral; the
       selection weights and the power use the image's mean colour, which only
       changes how often the light is chosen, not what the estimate converges to
-      (the pmf NEE samples with is the one MIS reads, THEORY §5.5).
+      (the pmf NEE samples with is the one MIS reads, THEORY §5.5).  pbrt-v4's
+      "float power" gives each primitive of the shape that power (section 1b,
+      emitter_apply_power): a mesh's triangles of different areas then have
+      different radiance, read at the point the same way (THEORY §11).
 
    2. Selection.  light_select picks a piece i (an emitter, or with the light trees
       a cluster of at most LIGHT_CLUSTER_TRIS triangles of a big emissive mesh:
@@ -266,6 +269,128 @@ int emitter_radiance(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *
     return radiance_and_k(s, e, lo_nm, hi_nm, Le, &k, err);
 }
 
+/* ------------------------------------------------------------------ 1b. "float power"
+
+   pbrt-v4's AreaLightSource "diffuse" "float power" Phi > 0 (DiffuseAreaLight::
+   Create) makes one light per primitive of the shape - a triangle, a bilinear
+   patch, a sphere, disk or cylinder - and scales each so that it alone emits Phi:
+       scale_k = scale Phi / (pi s A_k k_e),   s = 2 if twosided else 1,
+   on top of the normalisation that gives luminance scale (section 1), with k_e
+   the emission image's mean luminance (1 without an image) and A_k pbrt-v4's
+   Shape::Area() of primitive k: the world area of a triangle or patch (a patch
+   not a rectangle: the sum over a 3 x 3 grid of its sub-quads of half their
+   diagonals' cross product), and for a sphere, disk or cylinder the area of its
+   OBJECT-space description (radius, zmin, zmax, phimax: the CTM's scale is not
+   in it).  A mesh of n primitives thus emits n Phi, and triangles of different
+   areas get different radiance.  The emitter keeps one scale,
+       em->scale = scale Phi / (pi s Abar k_e),   Abar = (sum_k A_k) / n,
+   and a mesh whose primitives differ in area gets em->prim_scale[k] = Abar / A_k
+   per triangle and twisted patch (the two triangles of a flat patch share their
+   patch's), which light_Le_at applies at the point it is given. */
+
+/* pbrt-v4's area of the bilinear patch c = (p00, p10, p01, p11). */
+static double pbrt_patch_area(const Vec3 c[4])
+{
+    Vec3 n, g[4][4];
+    double d2[4], area = 0.0;
+    int i, j, rect = 1;
+    const Vec3 m = v3_mul(v3_add(v3_add(c[0], c[1]), v3_add(c[2], c[3])), 0.25f);
+    n = v3_cross(v3_sub(c[1], c[0]), v3_sub(c[2], c[0]));
+    if (!(v3_len(n) > 0.0f) || !(v3_len(v3_sub(c[3], c[1])) > 0.0f) ||
+        !(v3_len(v3_sub(c[3], c[2])) > 0.0f) ||
+        fabs(v3_dot(v3_norm(v3_sub(c[3], c[0])), v3_norm(n))) > 1e-5)
+        rect = 0;                                  /* degenerate, or not planar */
+    for (i = 0; i < 4; i++) d2[i] = v3_dot(v3_sub(c[i], m), v3_sub(c[i], m));
+    for (i = 1; i < 4 && rect; i++)
+        if (fabs(d2[i] - d2[0]) / d2[0] > 1e-4) rect = 0;
+    if (rect) return (double)v3_len(v3_sub(c[2], c[0])) * (double)v3_len(v3_sub(c[1], c[0]));
+    for (i = 0; i <= 3; i++)
+        for (j = 0; j <= 3; j++) {
+            float u = (float)i / 3.0f, v = (float)j / 3.0f;
+            Vec3 a = v3_add(c[0], v3_mul(v3_sub(c[2], c[0]), v));
+            Vec3 b = v3_add(c[1], v3_mul(v3_sub(c[3], c[1]), v));
+            g[i][j] = v3_add(a, v3_mul(v3_sub(b, a), u));
+        }
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            area += 0.5 * v3_len(v3_cross(v3_sub(g[i + 1][j + 1], g[i][j]),
+                                          v3_sub(g[i + 1][j], g[i][j + 1])));
+    return area;
+}
+
+/* pbrt-v4's Area() of a sphere, disk, cylinder or cut sphere: object space. */
+static double pbrt_quadric_area(const Shape *sh)
+{
+    const Quadric *q = &sh->q;
+    if (sh->type == SHAPE_SPHERE) {                /* a whole sphere, stored in the world */
+        const double (*m)[4] = (const double (*)[4])q->world_from_obj.m;
+        double r = sh->radius / sqrt(m[0][0] * m[0][0] + m[1][0] * m[1][0] + m[2][0] * m[2][0]);
+        return 4.0 * SPECNEE_PI * r * r;
+    }
+    if (sh->type == SHAPE_DISK) return q->phimax * 0.5 * (q->radius * q->radius - q->inner * q->inner);
+    return q->phimax * q->radius * (q->zmax - q->zmin);   /* cylinder, sphere part */
+}
+
+/* pbrt-v4's area of the k-th primitive of mesh sh (flat patches: triangle pairs,
+   then its twisted patches), for emitter_apply_power's per-primitive table. */
+static double pbrt_prim_area(const Scene *s, const Shape *sh, int k)
+{
+    Vec3 c[4];
+    if (k < sh->tri_count && !sh->bilinear) return tri_area(s, sh->tri_begin + k);
+    if (k < sh->tri_count) {         /* (p00, p10, p11) and (p00, p11, p01) */
+        const Triangle *a = &s->tris[sh->tri_begin + (k & ~1)], *b = a + 1;
+        c[0] = s->P[a->v[0]]; c[1] = s->P[a->v[1]]; c[3] = s->P[a->v[2]]; c[2] = s->P[b->v[2]];
+    } else {
+        patch_corners(s, s->patches[sh->patch_begin + k - sh->tri_count].v, c);
+    }
+    return pbrt_patch_area(c);
+}
+
+/* Apply em->power (Phi / k_e) to emitter em of shape sh: em->scale and, for a mesh
+   whose primitives differ in area, em->prim_scale.  0: out of memory. */
+static int emitter_apply_power(const Scene *s, Emitter *em, const Shape *sh)
+{
+    const int n = sh->tri_count + sh->patch_count;
+    const int units = sh->bilinear ? sh->tri_count / 2 + sh->patch_count : n;
+    double sum = 0.0, lo = HUGE_VAL, hi = 0.0, abar;
+    int k;
+    free(em->prim_scale);
+    em->prim_scale = NULL;
+    if (sh->type != SHAPE_MESH) {
+        abar = pbrt_quadric_area(sh);
+    } else {
+        em->prim_scale = (float *)malloc(sizeof(float) * (size_t)(n > 0 ? n : 1));
+        if (!em->prim_scale) return 0;
+        for (k = 0; k < n; k++) {
+            double a = pbrt_prim_area(s, sh, k);
+            em->prim_scale[k] = (float)a;
+            if (k >= sh->tri_count || !sh->bilinear || !(k & 1)) sum += a;   /* once a patch */
+            if (a < lo) lo = a;
+            if (a > hi) hi = a;
+        }
+        abar = sum / units;
+        for (k = 0; k < n; k++)
+            em->prim_scale[k] = em->prim_scale[k] > 0.0f ? (float)(abar / em->prim_scale[k]) : 0.0f;
+        if (hi - lo <= 1e-6 * hi) {                /* all alike: one radiance */
+            free(em->prim_scale);
+            em->prim_scale = NULL;
+        }
+    }
+    em->scale = (float)(em->scale * em->power / (SPECNEE_PI * (em->twosided ? 2.0 : 1.0) * abar));
+    return 1;
+}
+
+/* The factor of em->prim_scale at primitive prim (bvh.c's numbering) of em's shape. */
+static float prim_factor(const Scene *s, const Emitter *em, int prim)
+{
+    const Shape *sh = &s->shapes[em->shape];
+    int k = prim - sh->tri_begin;
+    if (prim >= sh->tri_begin && k < sh->tri_count) return em->prim_scale[k];
+    k = prim - (s->n_tris + s->n_spheres + s->n_quadrics) - sh->patch_begin;
+    if (k >= 0 && k < sh->patch_count) return em->prim_scale[sh->tri_count + k];
+    return 1.0f;
+}
+
 int emitters_prepare(Scene *s, Error *err)
 {
     int e, t;
@@ -333,6 +458,15 @@ int emitters_prepare(Scene *s, Error *err)
         }
         if (!(em->area > 0.0)) {
             error_set(err, sh->file, sh->line, "AreaLightSource: emitting shape has zero area");
+            return 0;
+        }
+        if (em->power > 0.0f && !emitter_apply_power(s, em, sh)) {
+            error_set(err, sh->file, sh->line, "out of memory");
+            return 0;
+        }
+        if (!isfinite(em->scale)) {
+            error_set(err, sh->file, sh->line, "AreaLightSource: scale x power / area is not a "
+                      "finite number");
             return 0;
         }
         if (!emitter_find_planes(s, em)) {
@@ -1174,13 +1308,16 @@ size_t light_sampler_bytes(const LightSampler *ls)
    rgb / m) bilinear between texel centres and clamped at the edges (texture.c's
    imagemap lookup, "clamp"): a white texel has luminance scale, as an "rgb L" of
    the same colour does.  Without the point (at NULL) the image's mean colour,
-   which is what selection and power use. */
+   which is what selection and power use.  An emitter with "power" on a mesh of
+   primitives of different areas multiplies by em->prim_scale at the point's
+   primitive (emitter_apply_power); without the point, by 1 (their mean). */
 float light_Le_at(const LightSampler *ls, int e, Vec3 n, Vec3 w, const SurfacePoint *at,
                   float lambda_nm)
 {
     const EmitterRef *r = &ls->ref[e];
     const LeSource *q = &ls->Le[r->le];
     const Emitter *em;
+    float f;
     if (r->inf)                                                    /* along w */
         return inf_Le(&ls->scene->emitters[e], q->table, ls->k[e], v3_neg(w), lambda_nm);
     if (r->delta && ls->scene->emitters[e].delta.type == DELTA_PROJECTION)   /* its texels */
@@ -1188,10 +1325,11 @@ float light_Le_at(const LightSampler *ls, int e, Vec3 n, Vec3 w, const SurfacePo
     if (r->delta) return spec_eval_scaled(q->shape, q->scale, q->norm, lambda_nm);  /* I or L */
     if (!r->twosided && v3_dot(n, w) <= 0.0f) return 0.0f;
     em = &ls->scene->emitters[e];
+    f = em->prim_scale && at ? prim_factor(ls->scene, em, at->prim) : 1.0f;   /* "power" */
     if (em->image && at)
-        return (float)(ls->k[e] * tex_eval(ls->scene->textures, em->image - 1, at, lambda_nm)
-                       * spec_eval(em->L, lambda_nm));
-    return spec_eval_scaled(q->shape, q->scale, q->norm, lambda_nm);
+        return f * (float)(ls->k[e] * tex_eval(ls->scene->textures, em->image - 1, at, lambda_nm)
+                           * spec_eval(em->L, lambda_nm));
+    return f * spec_eval_scaled(q->shape, q->scale, q->norm, lambda_nm);
 }
 
 float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm)
@@ -1443,6 +1581,10 @@ int emission_image_read(Parser *P, const char *fn, const char *what, const char 
     return 1;
 }
 
+/* sRGB's luminance row (pbrt-v4's RGBColorSpace::LuminanceVector of the colour
+   space it gives PNG, PFM and EXR images). */
+static const double srgb_y[3] = { 0.212639, 0.715169, 0.072192 };
+
 /* An emission image: .png (sRGB-encoded, as pbrt-v4 reads 8- and 16-bit PNG),
    .pfm or .exr, read into an unnamed "clamp" imagemap texture of RGB illuminant
    texels (texture.c, Texture.illuminant) appended to Scene.textures; al->image is
@@ -1455,7 +1597,7 @@ static int area_light_image(Parser *P, const char *fn, const char *file, int lin
     Texture T;
     Spectrum mean;
     float mrgb[3];
-    double sum[3] = { 0.0, 0.0, 0.0 };
+    double sum[3] = { 0.0, 0.0, 0.0 }, ysum = 0.0;
     size_t i, n;
     int ok;
     if (!emission_image_read(P, fn, "AreaLightSource \"diffuse\"", file, line, &im)) return 0;
@@ -1467,6 +1609,7 @@ static int area_light_image(Parser *P, const char *fn, const char *file, int lin
                         "not-a-number pixel values and so is not suitable as a light (pbrt-v4)", fn);
         }
         if (im.rgb[i] > 0.0f) sum[i % 3] += im.rgb[i];
+        ysum += srgb_y[i % 3] * im.rgb[i];    /* pbrt-v4's k_e: unclamped */
     }
     memset(&T, 0, sizeof T);
     T.type = TEX_IMAGEMAP;
@@ -1487,6 +1630,13 @@ static int area_light_image(Parser *P, const char *fn, const char *file, int lin
     }
     P->s->textures[P->s->n_textures++] = T;
     al->image = P->s->n_textures;
+    if (al->power > 0.0f) {                   /* "power": over k_e, the mean luminance */
+        if (!(ysum > 0.0))
+            return fail(P, file, line, "AreaLightSource \"diffuse\": \"float power\" with the "
+                        "image \"%s\" of mean luminance %g: no scale gives it that power", fn,
+                        ysum / (double)n);
+        al->power = (float)(al->power / (ysum / (double)n));
+    }
     for (i = 0; i < 3; i++) mrgb[i] = (float)(sum[i] / (double)n);
     if (!spec_from_rgb_t(P->rgb, &mean, mrgb, 1, P->err, file, line)) return 0;
     al->image_mean = spec_store_add(&P->s->spectra, &mean);
@@ -1498,8 +1648,10 @@ static int area_light_image(Parser *P, const char *fn, const char *file, int lin
    absent), scale, twosided, checked; an "rgb L" gets pbrt-v4's D65 normalisation
    (rgb_illuminant_scale).  "filename": an emission image over the shape's (u, v)
    instead of L (area_light_image; both refused, as pbrt-v4 does), with L = D65
-   for the normalisation (light_Le_at).  The shapes that follow carry it
-   (geometry.c). */
+   for the normalisation (light_Le_at).  "float power" > 0 is kept, divided by
+   the image's mean luminance k_e (area_light_image), for emitter_apply_power;
+   <= 0 is noted and ignored, as pbrt-v4 ignores it.  The shapes that follow
+   carry it (geometry.c). */
 int area_light_from_params(Parser *P, const char *type, ParamList *pl, const char *file, int line,
                            AreaLightDesc *out)
 {
@@ -1525,10 +1677,11 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
     }
     if (!get_float(P, pl, "scale", 1.0f, &al.scale)) return 0;
     if (!get_bool(P, pl, "twosided", 0, &al.twosided)) return 0;
-    accept_not_positive(pl, "AreaLightSource \"diffuse\"", "power");
+    if (!get_float(P, pl, "power", 0.0f, &al.power)) return 0;
+    note_not_positive(pl, "AreaLightSource \"diffuse\"", "power", al.power);
     if (!params_check_unused(P, pl, "AreaLightSource \"diffuse\"",
                              "spectrum L, rgb L, blackbody L, float scale, bool twosided, "
-                             "string filename", "power alpha"))
+                             "string filename, float power", "alpha"))
         return 0;
     if (!(al.scale >= 0.0f))
         return fail(P, file, line, "AreaLightSource: \"float scale\" must be >= 0");
@@ -1550,6 +1703,10 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
             return fail(P, p ? p->file : file, p ? p->line : line,
                         "AreaLightSource: spectrum L is zero everywhere in %d-%d nm",
                         SPEC_UV_MIN, SPEC_MAX);
+        if (!(vis > 0.0) && al.power > 0.0f)
+            return fail(P, p ? p->file : file, p ? p->line : line, "AreaLightSource: \"float "
+                        "power\" with an L that has no luminance in 400-700 nm (pbrt-v4 divides "
+                        "by that luminance)");
         if (!(vis > 0.0))
             fprintf(stderr, "%s:%d: note: AreaLightSource: L has no luminance in 400-700 nm; "
                     "read as absolute spectral radiance times scale (docs/conventions.md)\n",

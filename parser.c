@@ -947,15 +947,3 @@ void note_not_positive(ParamList *pl, const char *what, const char *name, float 
                 "as in pbrt-v4 (the light keeps its scale)\n", p->file, p->line, what, name,
                 (double)v);
 }
-
-/* A light that does not support "float name" (specnee's area light and
-   "power"): a last value <= 0, which pbrt-v4 ignores, is read and noted; any
-   other stays unread, for params_check_unused to refuse. */
-void accept_not_positive(ParamList *pl, const char *what, const char *name)
-{
-    int i;
-    for (i = pl->n - 1; i >= 0; i--)
-        if (pl->p[i].type == PT_FLOAT && strcmp(pl->p[i].name, name) == 0) break;
-    if (i < 0 || pl->p[i].n_num != 1 || !(pl->p[i].num[0] <= 0.0)) return;
-    note_not_positive(pl, what, name, (float)pl->p[i].num[0]);
-}

@@ -109,6 +109,8 @@ typedef struct {
     int twosided;
     int image;                 /* "filename": 1 + its emission image's index in Scene.textures */
     const Spectrum *image_mean;/* its mean colour's spectrum (in Scene.spectra) */
+    float power;               /* "float power" / k_e (the image's mean luminance, else 1);
+                                  <= 0: none (lights.c emitter_apply_power) */
 } AreaLightDesc;
 
 typedef struct {
@@ -187,6 +189,7 @@ typedef struct {
     RgbTable *rgb;             /* the load's RGB -> spectrum coefficient table (spectrum.c) */
     double d65_y;              /* Y of stdillum-D65 (rgb_illuminant_scale), 0: not yet */
     int cur_object;            /* inside ObjectBegin: 1 + its Scene.objects index; else 0 */
+    int option_seed, option_seed_set;   /* Option "integer seed" (scene.c finish) */
     float shape_alpha; int shape_alpha_tex;   /* the Shape being read: its "alpha" (Shape) */
     int cap_objects;
     InstanceUse *uses; int n_uses, cap_uses;   /* the ObjectInstance directives and
@@ -305,10 +308,6 @@ float rgb_illuminant_scale(Parser *P, const Spectrum *L, float scale);
    v <= 0 (a light's "power" or "illuminance", which pbrt-v4 then ignores); it
    marks the parameter read. */
 void note_not_positive(ParamList *pl, const char *what, const char *name, float v);
-/* accept_not_positive: for a light that does not read "float name": a last
-   single value <= 0 is marked read and noted, any other is left for
-   params_check_unused to refuse. */
-void accept_not_positive(ParamList *pl, const char *what, const char *name);
 
 /* ===========================================================================
    5. Each concept built from its parameters (the end of each concept's room)

@@ -540,7 +540,8 @@ static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const Pa
         return none;
     }
     alpha = emitter_alpha_at(s, em, v->p, &es);
-    at = s->emitters[em].image ? emitter_point_at(s, em, v->p, &es, &at_sp) : NULL;
+    at = s->emitters[em].image || s->emitters[em].prim_scale ? emitter_point_at(s, em, v->p, &es, &at_sp)
+                                                             : NULL;
     for (j = 0; j < HERO_N; j++) {
         value[j] = 0.0;
         if (path->alive & (1u << j))

@@ -682,7 +682,11 @@ static int resolve_instances(Parser *P)
 /* Option "type name" value: pbrt-v4's global options (its Options struct, set from
    the file as from its command line).  Those that only steer pbrt-v4's statistics,
    its internal frame or its other integrator leave the image as it is: read and
-   ignored with a note.  The others change the image (or the noise) and are
+   ignored with a note.  "seed" is the seed of the samplers that give no "integer
+   seed" of their own (pbrt-v4's Options->seed, which the file sets after the
+   command line): finish() makes it the scene's Sampler seed, so it changes only
+   the noise, and specnee's --seed overrides it as it overrides the Sampler's
+   (docs/conventions.md).  The others change the image (or the noise) and are
    refused by name; an option pbrt-v4 does not know is an error, as in pbrt-v4. */
 static int option_directive(Parser *P, Lexer *L, const Token *t)
 {
@@ -691,7 +695,7 @@ static int option_directive(Parser *P, Lexer *L, const Token *t)
     };
     static const char *const refused[] = {          /* the image (or its noise) changes */
         "disablepixeljitter", "disabletexturefiltering", "disablewavelengthjitter",
-        "displacementedgescale", "seed", "forcediffuse", NULL
+        "displacementedgescale", "forcediffuse", NULL
     };
     ParamList pl;
     const Param *p;
@@ -704,6 +708,15 @@ static int option_directive(Parser *P, Lexer *L, const Token *t)
         return fail(P, t->file, t->line, "Option: expected one \"type name\" value pair, found %d", n);
     }
     p = &pl.p[0];
+    if (!strcmp(p->name, "seed")) {
+        if (p->type != PT_INTEGER || p->n_num != 1 || !(fabs(p->num[0]) <= 2147483647.0)) {
+            params_free(&pl);
+            return fail(P, t->file, t->line, "Option \"seed\": expected one \"integer seed\" value");
+        }
+        P->option_seed = (int)p->num[0];
+        P->option_seed_set = 1;
+        ok = 1;
+    }
     for (i = 0; ignored[i]; i++)
         if (!strcmp(p->name, ignored[i])) {
             fprintf(stderr, "%s:%d: note: Option \"%s\" is read and ignored: it steers pbrt-v4's "
@@ -1207,6 +1220,11 @@ static int finish(Parser *P, const char *file)
                         1e-3 * s->settings.film_diagonal, LENS_PUPIL_SAMPLES, &e))
             return fail(P, P->camera_file, P->camera_line, "%s", e.msg);
     }
+    /* pbrt-v4: a Sampler's "integer seed", else Option "seed" (option_directive) */
+    if (P->option_seed_set && !s->settings.seed_set) {
+        s->settings.seed = P->option_seed;
+        s->settings.seed_set = 1;
+    }
     /* pbrt-v4 PixelSensor::Create: imaging ratio = exposure time * ISO / 100 */
     s->settings.imaging_ratio = P->exposure_time * P->iso / 100.0f;
     for (i = 0; i < s->n_insets; i++)
@@ -1303,6 +1321,7 @@ void scene_free(Scene *s)
     if (s->bvh.node_mem || s->bvh.prims) bvh_free(&s->bvh);
     for (i = 0; i < s->n_emitters; i++) {
         free(s->emitters[i].tri_cdf);
+        free(s->emitters[i].prim_scale);
         free(s->emitters[i].planes);
         inf_free(s->emitters[i].inf);
         delta_free(&s->emitters[i].delta);

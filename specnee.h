@@ -1568,6 +1568,12 @@ typedef struct {
                                   of its emission image (L then holds D65), 0: none */
     const Spectrum *image_mean;/* ... and the RGB illuminant spectrum of the image's mean
                                   colour (selection weights and power only) */
+    float power;               /* AreaLightSource "float power" over the image's mean
+                                  luminance (1 without one); <= 0: none.  pbrt-v4 gives each
+                                  primitive that power: emitters_prepare folds it into
+                                  scale and, for a mesh of unequal primitives, ... */
+    float *prim_scale;         /* ... a factor per triangle and twisted patch (Abar / A_k),
+                                  which light_Le_at applies at a point; else NULL */
 } Emitter;
 
 /* A point sampled on an emitter, as seen from a reference point. */

@@ -264,6 +264,16 @@ if same thesis-then-product spd && ! same thesis-then-mis thesis && ! same spd t
 else fail "cli_preset_later_flags_override"; fi
 if same pinned thesis && same pinned-spd spd; then ok "cli_preset_pins_every_setting"; else fail "cli_preset_pins_every_setting"; fi
 expect "cli_preset_unknown" 2 "unknown --preset" ./specnee --preset pbrt scenes/cornell.pbrt
+# Option "integer seed" (scene.c): the file's seed when the command line gives none,
+# the image of --seed 7 without it; --seed overrides it, as it overrides a Sampler's
+{ echo 'Option "integer seed" 7'; cat scenes/cornell1.pbrt; } > tests/tmp/seed7.pbrt
+cp scenes/cornell1.pbrt tests/tmp/seed0.pbrt
+./specnee -q tests/tmp/seed7.pbrt --res 24x24 --spp 2 -o tests/tmp/preset-opt7.pfm 2> /dev/null
+./specnee -q tests/tmp/seed0.pbrt --res 24x24 --spp 2 --seed 7 -o tests/tmp/preset-cli7.pfm 2> /dev/null
+./specnee -q tests/tmp/seed7.pbrt --res 24x24 --spp 2 --seed 3 -o tests/tmp/preset-opt7cli3.pfm 2> /dev/null
+./specnee -q tests/tmp/seed0.pbrt --res 24x24 --spp 2 --seed 3 -o tests/tmp/preset-cli3.pfm 2> /dev/null
+if cmp -s tests/tmp/preset-opt7.pfm tests/tmp/preset-cli7.pfm && cmp -s tests/tmp/preset-opt7cli3.pfm tests/tmp/preset-cli3.pfm &&
+   ! cmp -s tests/tmp/preset-opt7.pfm tests/tmp/preset-cli3.pfm; then ok "cli_option_seed"; else fail "cli_option_seed"; fi
 expect "cli_preset_help" 0 "" ./specnee --help
 if grep -q 'thesis-spd *--wavelengths uniform --lights product' tests/tmp/out.txt; then ok "cli_preset_help_lists_flags"
 else fail "cli_preset_help_lists_flags"; fi

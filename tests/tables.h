@@ -53,3 +53,5 @@ TEST_TABLE(camera_models)
 TEST_TABLE(arealimg)
 TEST_TABLE(bilerp)
 TEST_TABLE(dielrough)
+
+TEST_TABLE(lightpower)

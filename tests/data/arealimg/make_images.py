@@ -7,7 +7,8 @@
 #              u or of v moves light between quadrants;
 #   half.pfm   2 x 1: the left texel black, the right one white (1 1 1);
 #   white.pfm  2 x 1: both texels white;
-#   const.pfm  1 x 1: rgb (0.9 0.5 0.2), the colour of an "rgb L" it is compared with.
+#   const.pfm  1 x 1: rgb (0.9 0.5 0.2), the colour of an "rgb L" it is compared with;
+#   black.pfm  1 x 1: black, which no "float power" can scale (tests/test_lightpower.c).
 import struct
 
 def write(name, rows):
@@ -34,3 +35,4 @@ write('lamp.pfm', lamp)
 write('half.pfm', [[(0.0, 0.0, 0.0), (1.0, 1.0, 1.0)]])
 write('white.pfm', [[(1.0, 1.0, 1.0), (1.0, 1.0, 1.0)]])
 write('const.pfm', [[(0.9, 0.5, 0.2)]])
+write('black.pfm', [[(0.0, 0.0, 0.0)]])
