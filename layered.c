@@ -20,7 +20,10 @@
       Tr = exp(-thickness / |w.z|).  "Position-free": only the height z of a
       vertex matters, never its (x, y), so a walk is a sequence of directions and
       heights.  Two-sided: a wo below the surface is handled by mirroring wo and
-      wi (the coat faces both ways, as pbrt-v4's twoSided = true).
+      wi (the coat faces both ways, as pbrt-v4's twoSided = true).  Thickness, g
+      and albedo, like the roughnesses and the base's reflectance, may be textures:
+      material.c's mat_point reads them at each hit (MatPoint), as pbrt-v4's
+      GetBxDF does, and layer_init takes them from there.
 
    2. f(wo, wi) is an integral over all paths between the interfaces; one random
       walk gives an unbiased estimate (Guo et al. section 5):
@@ -293,8 +296,8 @@ static void layer_init(const Material *m, const MatPoint *mp, const float *lambd
     int j;
     L->top.eta = mat_eta(m, lambda[0]);
     L->top.alpha = mp ? mp->alpha : m->alpha;
-    L->thick = m->thickness;
-    L->g = m->hg_g;
+    L->thick = mp ? mp->thick : m->thickness;
+    L->g = mp ? mp->g : m->hg_g;
     L->maxdepth = m->maxdepth;
     L->nsamples = m->nsamples;
     L->has_albedo = 0;
@@ -302,7 +305,7 @@ static void layer_init(const Material *m, const MatPoint *mp, const float *lambd
     L->base.alpha = mp ? mp->cond_alpha : m->cond_alpha;
     for (j = 0; j < HERO_N; j++) {
         int on = (alive & (1u << j)) != 0;
-        L->A[j] = on ? spec_eval(&m->extra->albedo, lambda[j]) : 0.0f;
+        L->A[j] = !on ? 0.0f : mp && mp->has_a ? mp->a[j] : spec_eval(&m->extra->albedo, lambda[j]);
         if (L->A[j] > 0.0f) L->has_albedo = 1;
         L->base.R[j] = 0.0f;
         L->base.ce[j] = 1.0f;                 /* n = 1, k = 0: F = 0 (dead wavelengths) */
@@ -654,9 +657,35 @@ static int layer_slab(Parser *P, const char *what, const char *file, int line, f
         return fail(P, pn ? pn->file : file, pn ? pn->line : line,
                     "%s: \"integer nsamples\" %d must be >= 1", what, ns);
     m->thickness = th;
-    m->hg_g = g;
+    m->hg_g = g < -0.99f ? -0.99f : (g > 0.99f ? 0.99f : g);   /* pbrt-v4's HenyeyGreenstein */
     m->maxdepth = md;
     m->nsamples = ns;
+    return 1;
+}
+
+/* "texture thickness", "texture g" (float textures) and "texture albedo" (a
+   spectrum texture): 1 + each one's index in m, read at each hit by mat_point
+   (material.c); 0 where not a texture.  A texture and a number of the same name
+   are refused together (pbrt-v4 reads the first and reports the other unused). */
+static int layer_textures(Parser *P, ParamList *pl, Material *m)
+{
+    static const char *const name[3] = { "thickness", "g", "albedo" };
+    int *out[3], k;
+    out[0] = &m->thickness_tex;
+    out[1] = &m->g_tex;
+    out[2] = &m->albedo_tex;
+    for (k = 0; k < 3; k++) {
+        Param *pt = param_find(pl, PT_TEXTURE, name[k]);
+        int ti;
+        *out[k] = 0;
+        if (!pt) continue;
+        if (k < 2 ? param_find(pl, PT_FLOAT, name[k]) != NULL : find_spectrum_param(pl, name[k]) != NULL)
+            return fail(P, pt->file, pt->line, "\"texture %s\": \"%s\" is given as a number too: give "
+                        "one (pbrt-v4 reports the other as unused)", name[k], name[k]);
+        ti = texture_lookup(P, pt, k < 2);
+        if (ti < 0) return 0;
+        *out[k] = ti + 1;
+    }
     return 1;
 }
 
@@ -696,7 +725,7 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
                     "terminates the secondary wavelengths) but not in the specnee subset: "
                     "give \"float eta\"", what);
     if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
-                           &m->remap))
+                           &m->remap) || !layer_textures(P, pl, m))
         return 0;
     if (pt) {
         /* "texture reflectance": the base's R read at each hit (mat_point) */
@@ -714,7 +743,8 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
                              "float uroughness, float vroughness, texture roughness, "
                              "texture uroughness, texture vroughness, "
                              "bool remaproughness, float thickness, spectrum albedo, "
-                             "rgb albedo, float g, integer maxdepth, integer nsamples",
+                             "rgb albedo, float g, integer maxdepth, integer nsamples, "
+                             "texture thickness, texture g, texture albedo",
                              NULL))
         return 0;
     if (m->alpha != m->alpha_t)
@@ -761,7 +791,7 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
     if (!microfacet_alphas_of(P, pl, file, line, what, "interface.", &m->alpha, &m->alpha_t,
                               &m->alpha_tex, &m->remap) ||
         !microfacet_alphas_of(P, pl, file, line, what, "conductor.", &m->cond_alpha, &cat,
-                              &m->cond_alpha_tex, &remap2))
+                              &m->cond_alpha_tex, &remap2) || !layer_textures(P, pl, m))
         return 0;
     if (!get_float(P, pl, "interface.eta", 1.5f, &eta) ||
         !get_float(P, pl, "thickness", 0.01f, &th) || !get_float(P, pl, "g", 0.0f, &g) ||
@@ -780,7 +810,8 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
                              "texture conductor.roughness, texture conductor.uroughness, "
                              "texture conductor.vroughness, bool remaproughness, "
                              "float thickness, spectrum albedo, rgb albedo, float g, "
-                             "integer maxdepth, integer nsamples", NULL))
+                             "integer maxdepth, integer nsamples, texture thickness, "
+                             "texture g, texture albedo", NULL))
         return 0;
     if (m->alpha != m->alpha_t || m->cond_alpha != cat)
         return fail(P, file, line, "%s: anisotropic roughness (interface u %g v %g, conductor "

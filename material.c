@@ -53,6 +53,7 @@
    The last section builds these materials from a scene's parameters for the
    scene builder (*_from_params, parser.h). */
 #include "specnee.h"
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -76,6 +77,7 @@ int mat_reads_uv(const Material *m)
     int sss_tex = m->sss && (m->sss->tex[SSS_TEX_SIGMA_A] || m->sss->tex[SSS_TEX_SIGMA_S] ||
                              m->sss->tex[SSS_TEX_MFP]);
     if (m->extra && (m->extra->eta_tex > 0 || m->extra->k_tex > 0)) return 1;   /* conductors */
+    if (m->thickness_tex > 0 || m->g_tex > 0 || m->albedo_tex > 0) return 1;   /* layered */
     return m->reflectance_tex > 0 || m->alpha_tex > 0 || m->cond_alpha_tex > 0 || sss_tex ||
            m->type == MAT_MIX || m->bump || (m->extra && m->extra->transmittance_tex > 0);
 }
@@ -132,6 +134,35 @@ static void mat_point_ek(const Material *m, const SurfacePoint *sp, const float 
     }
 }
 
+/* A texture's value at the point (at lambda), clamped to [lo, hi] (NaN: lo). */
+static float tex_clamped(const Material *m, int tex, const SurfacePoint *sp, float lambda,
+                         float lo, float hi)
+{
+    float v = tex_eval(m->textures, tex - 1, sp, lambda);
+    return v > lo ? (v < hi ? v : hi) : lo;
+}
+
+/* A layered material's slab at the point, with pbrt-v4's bounds (GetBxDF and
+   LayeredBxDF): a textured thickness at least FLT_MIN (and at most 1e30, as the
+   float), g clamped to [-1, 1] and then to HenyeyGreenstein's [-0.99, 0.99], the
+   albedo to [0, 1] at each wavelength. */
+static void mat_point_slab(const Material *m, const SurfacePoint *sp, const float *lambda,
+                           unsigned alive, MatPoint *mp)
+{
+    int j;
+    mp->thick = m->thickness;
+    mp->g = m->hg_g;
+    mp->has_a = 0;
+    if (!m->textures) return;
+    if (m->thickness_tex > 0) mp->thick = tex_clamped(m, m->thickness_tex, sp, lambda[0], FLT_MIN, 1e30f);
+    if (m->g_tex > 0) mp->g = tex_clamped(m, m->g_tex, sp, lambda[0], -0.99f, 0.99f);
+    if (m->albedo_tex > 0) {
+        mp->has_a = 1;
+        for (j = 0; j < HERO_N; j++)
+            mp->a[j] = (alive & (1u << j)) ? tex_clamped(m, m->albedo_tex, sp, lambda[j], 0.0f, 1.0f) : 0.0f;
+    }
+}
+
 void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, unsigned alive,
                MatPoint *mp)
 {
@@ -141,6 +172,7 @@ void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, u
     mp->has_r = 0;
     mp->cond_alpha = m->cond_alpha;
     mp->has_ek = 0;
+    mat_point_slab(m, sp, lambda, alive, mp);
     if (!m->textures) return;
     if (m->alpha_tex > 0) {
         /* pbrt-v4: the roughness texture's value, then RoughnessToAlpha (sqrt) when

@@ -872,6 +872,10 @@ typedef struct {
        are the coat's; coateddiffuse: reflectance is the base's R */
     /* extra->albedo: single-scattering albedo of the medium between the layers */
     float thickness, hg_g;     /* the slab's height (sigma_t = 1) and HG asymmetry */
+    int thickness_tex, g_tex;  /* "texture thickness", "texture g": 1 + a float texture's
+                                  index, read through mat_point (0: the numbers above) */
+    int albedo_tex;            /* "texture albedo": 1 + a spectrum texture's index, read
+                                  through mat_point (0: extra->albedo) */
     int maxdepth, nsamples;    /* the random walks' vertex limit and count */
     /* coatedconductor: the base conductor's n (extra->cond_eta, extra->k) in vacuum, or
        its "reflectance" (then reflectance_tex or reflectance, cond_eta = 1 and k from it
@@ -1059,7 +1063,8 @@ int   mat_regularized(const Material *m, Material *out);
 /* A conductor's, coateddiffuse's or coatedconductor's texture-valued parameters at one surface point
    (pbrt-v4 evaluates them in GetBxDF): the alphas, when has_r the reflectance at
    the path's wavelengths, clamped to [0, 1], when has_ek a conductor's eta and k
-   there (unbounded: k >= 0, eta >= 1e-3); without textures the Material's own. */
+   there (unbounded: k >= 0, eta >= 1e-3), a layered material's slab (thickness, g,
+   when has_a its albedo); without textures the Material's own. */
 typedef struct {
     float alpha, alpha_t;
     int has_r;
@@ -1068,6 +1073,11 @@ typedef struct {
     int has_ek;                /* a textured eta or k: the conductor's (coatedconductor:
                                   the base's, in vacuum) n and k at the path's wavelengths */
     float eta[HERO_N], k[HERO_N];
+    float thick, g;            /* coateddiffuse, coatedconductor: the slab's thickness and
+                                  HG g (textured: thickness >= FLT_MIN, g in [-0.99, 0.99]) */
+    int has_a;                 /* a textured albedo: the slab's albedo a at the path's
+                                  wavelengths, clamped to [0, 1] */
+    float a[HERO_N];
 } MatPoint;
 void  mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, unsigned alive,
                 MatPoint *mp);

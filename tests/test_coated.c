@@ -599,7 +599,7 @@ static void test_parse(T *t)
                      "spectral \"eta\"", "float eta");
     test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float eta\" 0\n", 2, "eta", NULL);
     test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"texture albedo\" \"t\"\n", 2,
-                     "textures are valid pbrt-v4", NULL);
+                     "no texture named", NULL);
     test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"texture reflectance\" \"t\"\n", 2,
                      "no texture named", NULL);
     test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float uroughness\" 0.1\n", 2,
