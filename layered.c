@@ -13,9 +13,11 @@
       for arbitrary layered BSDFs", ACM TOG 37(6); pbrt 4th ed. section 14.3,
       LayeredBxDF<DielectricBxDF, DiffuseBxDF, twoSided = true>).  Two parallel
       interfaces at heights z = thickness (the coat: smooth or GGX dielectric of
-      index eta) and z = 0 (the base: Lambert, f = R/pi, no transmission), with
-      between them a medium of extinction sigma_t = 1 per unit height and single
-      scattering albedo `albedo` (Henyey-Greenstein phase function, asymmetry g).
+      index eta, anisotropic when its alphas differ: alpha_x along the shading
+      frame's s axis, dp/du, as conductor.c's) and z = 0 (the base: Lambert,
+      f = R/pi, no transmission), with between them a medium of extinction
+      sigma_t = 1 per unit height and single scattering albedo `albedo`
+      (Henyey-Greenstein phase function, asymmetry g).
       With albedo 0 the slab only absorbs: a straight crossing along w keeps
       Tr = exp(-thickness / |w.z|).  "Position-free": only the height z of a
       vertex matters, never its (x, y), so a walk is a sequence of directions and
@@ -98,11 +100,11 @@
 
 /* ---------------------------------------------------------------- the coat */
 
-typedef struct { float eta, alpha; } Coat;
+typedef struct { float eta, ax, ay; } Coat;   /* GGX alphas along the frame's s, t */
 typedef struct { Vec3 wi; float f, pdf; int reflect, specular; } Lobe;
 
 /* pbrt-v4: index 1 or EffectivelySmooth (alpha < 1e-3) scatter in delta lobes. */
-static int coat_smooth(const Coat *c) { return c->eta == 1.0f || tr_smooth(c->alpha, c->alpha); }
+static int coat_smooth(const Coat *c) { return c->eta == 1.0f || tr_smooth(c->ax, c->ay); }
 
 /* Sample the coat from w (either side), restricted to the lobes in `lobes`;
    radiance = 0 is the adjoint ("importance"): no 1/eta'^2 on transmission. */
@@ -132,8 +134,8 @@ static int coat_sample(const Coat *c, Vec3 w, float uc, float u1, float u2, int 
         }
         return s->f > 0.0f && s->pdf > 0.0f;
     } else {
-        float a = c->alpha;
-        Vec3 wm = tr_sample_wm(a, a, w, u1, u2);
+        float ax = c->ax, ay = c->ay;
+        Vec3 wm = tr_sample_wm(ax, ay, w, u1, u2);
         float dwm = v3_dot(w, wm);
         R = fresnel_dielectric(dwm, c->eta);
         T = 1.0f - R;
@@ -145,8 +147,8 @@ static int coat_sample(const Coat *c, Vec3 w, float uc, float u1, float u2, int 
             s->wi = reflect_dir(w, wm);
             if (s->wi.z * w.z <= 0.0f) return 0;
             s->reflect = 1;
-            s->pdf = tr_pdf_reflect(a, a, w, wm) * pr / (pr + pt);
-            s->f = tr_D(a, a, wm) * tr_G(a, a, w, s->wi) * R / fabsf(4.0f * s->wi.z * w.z);
+            s->pdf = tr_pdf_reflect(ax, ay, w, wm) * pr / (pr + pt);
+            s->f = tr_D(ax, ay, wm) * tr_G(ax, ay, w, s->wi) * R / fabsf(4.0f * s->wi.z * w.z);
         } else {
             float d, denom;
             if (!refract_dir(w, wm, c->eta, &etap, &s->wi)) return 0;
@@ -155,8 +157,8 @@ static int coat_sample(const Coat *c, Vec3 w, float uc, float u1, float u2, int 
             d = v3_dot(s->wi, wm) + dwm / etap;
             denom = d * d;
             if (denom == 0.0f) return 0;
-            s->pdf = tr_pdf_wm(a, a, w, wm) * fabsf(v3_dot(s->wi, wm)) / denom * pt / (pr + pt);
-            s->f = T * tr_D(a, a, wm) * tr_G(a, a, w, s->wi) *
+            s->pdf = tr_pdf_wm(ax, ay, w, wm) * fabsf(v3_dot(s->wi, wm)) / denom * pt / (pr + pt);
+            s->f = T * tr_D(ax, ay, wm) * tr_G(ax, ay, w, s->wi) *
                    fabsf(v3_dot(s->wi, wm) * dwm / (s->wi.z * w.z * denom));
             if (radiance) s->f /= etap * etap;
         }
@@ -169,7 +171,7 @@ static void coat_pair(const Coat *c, Vec3 wo, Vec3 wi, int lobes, float *f, floa
 {
     *f = 0.0f; *pdf = 0.0f;
     if (coat_smooth(c)) return;
-    tr_dielectric_pair(c->alpha, c->eta, wo, wi, lobes, f, pdf);
+    tr_dielectric_pair_xy(c->ax, c->ay, c->eta, wo, wi, lobes, f, pdf);
 }
 
 /* ---------------------------------------------------------------- base and medium */
@@ -178,13 +180,13 @@ static void coat_pair(const Coat *c, Vec3 wo, Vec3 wi, int lobes, float *f, floa
    (coateddiffuse) or a conductor (coatedconductor, section 5). */
 typedef struct {
     int cond;                  /* 0: Lambert of reflectance R; 1: conductor */
-    float alpha;               /* conductor: GGX alpha (smooth below 1e-3) */
+    float ax, ay;              /* conductor: GGX alphas along s, t (smooth below 1e-3) */
     float R[HERO_N];           /* Lambert: the reflectance */
     float ce[HERO_N], ck[HERO_N];   /* conductor: n and k relative to the coat's index */
 } Base;
 
 /* pbrt-v4's TrowbridgeReitzDistribution::EffectivelySmooth: a delta lobe. */
-static int base_specular(const Base *b) { return b->cond && tr_smooth(b->alpha, b->alpha); }
+static int base_specular(const Base *b) { return b->cond && tr_smooth(b->ax, b->ay); }
 
 /* The base's pdf of wi given wo (0 for a delta lobe). */
 static float base_pdf(const Base *b, Vec3 wo, Vec3 wi)
@@ -194,7 +196,7 @@ static float base_pdf(const Base *b, Vec3 wo, Vec3 wi)
     if (!b->cond) return fabsf(wi.z) / PI_F;
     if (base_specular(b)) return 0.0f;
     if (!tr_half_vector(wo, wi, &wm)) return 0.0f;
-    return tr_pdf_reflect(b->alpha, b->alpha, wo, wm);
+    return tr_pdf_reflect(b->ax, b->ay, wo, wm);
 }
 
 /* The base's f (without the cosine) for a pair, per wavelength (0 for a delta lobe). */
@@ -206,11 +208,11 @@ static void base_f(const Base *b, Vec3 wo, Vec3 wi, float f[HERO_N])
     if (!b->cond) {
         for (j = 0; j < HERO_N; j++) f[j] = b->R[j] / PI_F;
     } else if (!base_specular(b)) {
-        float a = b->alpha, c, dg;
+        float ax = b->ax, ay = b->ay, c, dg;
         Vec3 wm;
         if (!tr_half_vector(wo, wi, &wm)) return;
         c = fabsf(v3_dot(wo, wm));
-        dg = tr_D(a, a, wm) * tr_G(a, a, wo, wi) / (4.0f * fabsf(wo.z * wi.z));
+        dg = tr_D(ax, ay, wm) * tr_G(ax, ay, wo, wi) / (4.0f * fabsf(wo.z * wi.z));
         for (j = 0; j < HERO_N; j++) f[j] = dg * fresnel_conductor(c, b->ce[j], b->ck[j]);
     }
 }
@@ -247,7 +249,7 @@ static int base_sample(const Base *b, Vec3 w, float u1, float u2, Vec3 *wn, floa
         }
         return any && w.z != 0.0f;
     } else {                          /* GGX visible normals, as conductor.c */
-        Vec3 wm = tr_sample_wm(b->alpha, b->alpha, w, u1, u2);
+        Vec3 wm = tr_sample_wm(b->ax, b->ay, w, u1, u2);
         *wn = reflect_dir(w, wm);
         if (wn->z * w.z <= 0.0f) return 0;
         *wn = v3_norm(*wn);
@@ -295,14 +297,16 @@ static void layer_init(const Material *m, const MatPoint *mp, const float *lambd
 {
     int j;
     L->top.eta = mat_eta(m, lambda[0]);
-    L->top.alpha = mp ? mp->alpha : m->alpha;
+    L->top.ax = mp ? mp->alpha : m->alpha;
+    L->top.ay = mp ? mp->alpha_t : m->alpha_t;
     L->thick = mp ? mp->thick : m->thickness;
     L->g = mp ? mp->g : m->hg_g;
     L->maxdepth = m->maxdepth;
     L->nsamples = m->nsamples;
     L->has_albedo = 0;
     L->base.cond = m->type == MAT_COATED_CONDUCTOR;
-    L->base.alpha = mp ? mp->cond_alpha : m->cond_alpha;
+    L->base.ax = mp ? mp->cond_alpha : m->cond_alpha;
+    L->base.ay = mp ? mp->cond_alpha_t : m->cond_alpha_t;
     for (j = 0; j < HERO_N; j++) {
         int on = (alive & (1u << j)) != 0;
         L->A[j] = !on ? 0.0f : mp && mp->has_a ? mp->a[j] : spec_eval(&m->extra->albedo, lambda[j]);
@@ -747,9 +751,6 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
                              "texture thickness, texture g, texture albedo",
                              NULL))
         return 0;
-    if (m->alpha != m->alpha_t)
-        return fail(P, file, line, "%s: anisotropic roughness (u %g, v %g after the remap) "
-                    "is valid pbrt-v4 but not in the specnee subset", what, m->alpha, m->alpha_t);
     if (!(eta > 0.0f && eta < 100.0f))
         return fail(P, pf ? pf->file : file, pf ? pf->line : line,
                     "%s: \"float eta\" %g is not an index of refraction", what, eta);
@@ -779,7 +780,7 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
     Param *pf = param_find(pl, PT_FLOAT, "interface.eta");
     Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
     Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
-    float eta, th, g, cat;
+    float eta, th, g;
     int md, ns, given, remap2;
     (void)dir;
     m->type = MAT_COATED_CONDUCTOR;
@@ -790,7 +791,7 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
                     "subset: give \"float interface.eta\"", what);
     if (!microfacet_alphas_of(P, pl, file, line, what, "interface.", &m->alpha, &m->alpha_t,
                               &m->alpha_tex, &m->remap) ||
-        !microfacet_alphas_of(P, pl, file, line, what, "conductor.", &m->cond_alpha, &cat,
+        !microfacet_alphas_of(P, pl, file, line, what, "conductor.", &m->cond_alpha, &m->cond_alpha_t,
                               &m->cond_alpha_tex, &remap2) || !layer_textures(P, pl, m))
         return 0;
     if (!get_float(P, pl, "interface.eta", 1.5f, &eta) ||
@@ -813,10 +814,6 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
                              "integer maxdepth, integer nsamples, texture thickness, "
                              "texture g, texture albedo", NULL))
         return 0;
-    if (m->alpha != m->alpha_t || m->cond_alpha != cat)
-        return fail(P, file, line, "%s: anisotropic roughness (interface u %g v %g, conductor "
-                    "u %g v %g after the remap) is valid pbrt-v4 but not in the specnee subset",
-                    what, m->alpha, m->alpha_t, m->cond_alpha, cat);
     if ((pr || pt) && (pe || pk || ek_tex))
         return fail(P, file, line, "%s: give either \"reflectance\" or \"conductor.eta\" and "
                     "\"conductor.k\", not both (pbrt-v4 refuses it too)", what);

@@ -171,6 +171,7 @@ void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, u
     mp->alpha_t = m->alpha_t;
     mp->has_r = 0;
     mp->cond_alpha = m->cond_alpha;
+    mp->cond_alpha_t = m->cond_alpha_t;
     mp->has_ek = 0;
     mat_point_slab(m, sp, lambda, alive, mp);
     if (!m->textures) return;
@@ -187,6 +188,7 @@ void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, u
         v = v > 0.0f ? (v < 1e4f ? v : 1e4f) : 0.0f;
         mp->cond_alpha = m->remap ? tr_alpha_of_roughness(v) : v;
         if (m->regularized) mp->cond_alpha = tr_regularize(mp->cond_alpha);
+        mp->cond_alpha_t = mp->cond_alpha;
     }
     if (m->reflectance_tex > 0) {
         mp->has_r = 1;
@@ -428,6 +430,7 @@ int mat_regularized(const Material *m, Material *out)
     out->alpha = tr_regularize(m->alpha);
     out->alpha_t = tr_regularize(m->alpha_t);
     out->cond_alpha = tr_regularize(m->cond_alpha);
+    out->cond_alpha_t = tr_regularize(m->cond_alpha_t);
     out->regularized = 1;
     return 1;
 }
@@ -530,6 +533,9 @@ static int dt_pair(const DtPoint *d, Vec3 lo, Vec3 li, float f[HERO_N], float pd
 
 int mat_needs_tangent(const Material *m)
 {
+    if ((m->type == MAT_COATED_DIFFUSE || m->type == MAT_COATED_CONDUCTOR) &&
+        (m->alpha != m->alpha_t || m->cond_alpha != m->cond_alpha_t))
+        return 1;                                  /* layered.c: an anisotropic layer */
     return (m->type == MAT_MEASURED && !m->measured->isotropic) ||
            (m->type == MAT_CONDUCTOR && m->alpha != m->alpha_t);
 }
