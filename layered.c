@@ -78,9 +78,11 @@
    so the estimate stays unbiased; pdf's quality only affects variance.
    bsdf_eval's f is a random-walk estimate seeded from (wo, wi) too: unbiased
    over the seeds, deterministic for a given pair, independent of threads.
-   The index is a number (specnee refuses a spectral eta here), so every
-   wavelength shares the directions: pdf_l[j] = pdf, and only the base's
-   reflectance (R, or the conductor's Fresnel) and the albedo differ per wavelength.
+   The coat's index is one number per path, the hero wavelength's (a spectral eta
+   that varies makes path.c terminate the secondaries at the hit, as pbrt-v4's
+   GetBxDF does), so every alive wavelength shares the directions: pdf_l[j] = pdf,
+   and only the base's reflectance (R, or the conductor's Fresnel) and the albedo
+   differ per wavelength.
 
    5. coatedconductor (pbrt-v4's CoatedConductorBxDF = LayeredBxDF<DielectricBxDF,
       ConductorBxDF, true>, CoatedConductorMaterial::GetBxDF): the same walks with
@@ -693,6 +695,36 @@ static int layer_textures(Parser *P, ParamList *pl, Material *m)
     return 1;
 }
 
+/* The coat's index, "NAME": a "float" (1.5 by default; pbrt-v4's ConstantSpectrum)
+   or a "spectrum" ("rgb": pbrt-v4's RGBUnboundedSpectrum, whose 360 nm value the
+   UV extension keeps), >= 0 everywhere, 0 read as 1 as pbrt-v4 does.  A varying
+   one sets m->dispersive: path.c then terminates the secondary wavelengths at the
+   hit (pbrt-v4's GetBxDF: TerminateSecondary) and the walks take the hero's index
+   (layer_init).  Given both, the float is read, as in pbrt-v4. */
+static int layer_eta(Parser *P, ParamList *pl, const char *name, const char *what,
+                     const char *file, int line, Material *m)
+{
+    Param *pf = param_find(pl, PT_FLOAT, name), *ps = find_spectrum_param(pl, name);
+    Spectrum n;
+    int nm;
+    if (pf || !ps) {
+        float eta;
+        if (!get_float(P, pl, name, 1.5f, &eta)) return 0;
+        if (!(eta > 0.0f && eta < 100.0f))
+            return fail(P, pf ? pf->file : file, pf ? pf->line : line,
+                        "%s: \"float %s\" %g is not an index of refraction", what, name, eta);
+        spec_const(&n, eta);
+    } else {
+        if (!param_spectrum(P, ps, ps->type == PT_RGB ? SPEC_COEFF : SPEC_UNBOUNDED, &n, NULL)) return 0;
+        for (nm = SPEC_UV_MIN; ps->type == PT_RGB && nm < SPEC_MIN; nm++) *spec_at(&n, nm) = n.v[0];
+        if (!check_spectrum_above(P, ps, file, line, "the coat's \"eta\"", &n, 0.0f, 0)) return 0;
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
+            if (spec_get(&n, nm) == 0.0f) *spec_at(&n, nm) = 1.0f;
+        m->dispersive = !spec_is_constant(&n);
+    }
+    return material_set_eta(P, m, &n, file, line);
+}
+
 /* The slab's single-scattering albedo (0 by default), within [0, 1] at every nm. */
 static int layer_albedo(Parser *P, Param *pa, const char *what, const char *file, int line,
                         Material *m)
@@ -716,18 +748,15 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
 {
     Param *pr = find_spectrum_param(pl, "reflectance"), *pa = find_spectrum_param(pl, "albedo");
     Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
-    Param *pe = find_spectrum_param(pl, "eta"), *pf = param_find(pl, PT_FLOAT, "eta");
     Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
     Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
-    float eta, th, g;
+    float th, g;
     int md, ns, given;
     (void)dir;
     m->type = MAT_COATED_DIFFUSE;
     if (!material_extra(m)) return oom(P, file, line);   /* albedo (freed by material_release) */
-    if (pe && !pf)
-        return fail(P, pe->file, pe->line, "%s: a spectral \"eta\" is valid pbrt-v4 (it "
-                    "terminates the secondary wavelengths) but not in the specnee subset: "
-                    "give \"float eta\"", what);
+    find_spectrum_param(pl, "eta");                      /* read by layer_eta */
+    param_find(pl, PT_FLOAT, "eta");
     if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
                            &m->remap) || !layer_textures(P, pl, m))
         return 0;
@@ -737,13 +766,14 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
         if (ti < 0) return 0;
         m->reflectance_tex = ti + 1;
     }
-    if (!get_float(P, pl, "eta", 1.5f, &eta) || !get_float(P, pl, "thickness", 0.01f, &th) ||
+    if (!get_float(P, pl, "thickness", 0.01f, &th) ||
         !get_float(P, pl, "g", 0.0f, &g) || !get_int(P, pl, "maxdepth", 10, &md, &given) ||
         !get_int(P, pl, "nsamples", 1, &ns, &given))
         return 0;
     if (!bump_from_params(P, pl, what, m) ||
         !params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
-                             "texture reflectance, float eta, float roughness, "
+                             "texture reflectance, float eta, spectrum eta, rgb eta, "
+                             "float roughness, "
                              "float uroughness, float vroughness, texture roughness, "
                              "texture uroughness, texture vroughness, "
                              "bool remaproughness, float thickness, spectrum albedo, "
@@ -751,14 +781,7 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
                              "texture thickness, texture g, texture albedo",
                              NULL))
         return 0;
-    if (!(eta > 0.0f && eta < 100.0f))
-        return fail(P, pf ? pf->file : file, pf ? pf->line : line,
-                    "%s: \"float eta\" %g is not an index of refraction", what, eta);
-    {
-        Spectrum n;
-        spec_const(&n, eta);
-        if (!material_set_eta(P, m, &n, file, line)) return 0;
-    }
+    if (!layer_eta(P, pl, "eta", what, file, line, m)) return 0;
     if (!layer_slab(P, what, file, line, th, pth, g, pg, md, pd, ns, pn, m)) return 0;
     if (!unit_spectrum_param(P, pt ? NULL : pr, &m->reflectance, 0.5f)) return 0;
     if (!layer_albedo(P, pa, what, file, line, m)) return 0;
@@ -776,30 +799,26 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
     Param *pr = find_spectrum_param(pl, "reflectance"), *pa = find_spectrum_param(pl, "albedo");
     Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
     int ek_tex = (param_find(pl, PT_TEXTURE, "conductor.eta") != NULL) + (param_find(pl, PT_TEXTURE, "conductor.k") != NULL);
-    Param *pie = find_spectrum_param(pl, "interface.eta");
-    Param *pf = param_find(pl, PT_FLOAT, "interface.eta");
     Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
     Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
-    float eta, th, g;
+    float th, g;
     int md, ns, given, remap2;
     (void)dir;
     m->type = MAT_COATED_CONDUCTOR;
     if (!material_extra(m)) return oom(P, file, line);   /* albedo, cond_eta, k (material_release) */
-    if (pie && !pf)
-        return fail(P, pie->file, pie->line, "%s: a spectral \"interface.eta\" is valid "
-                    "pbrt-v4 (it terminates the secondary wavelengths) but not in the specnee "
-                    "subset: give \"float interface.eta\"", what);
+    find_spectrum_param(pl, "interface.eta");            /* read by layer_eta */
+    param_find(pl, PT_FLOAT, "interface.eta");
     if (!microfacet_alphas_of(P, pl, file, line, what, "interface.", &m->alpha, &m->alpha_t,
                               &m->alpha_tex, &m->remap) ||
         !microfacet_alphas_of(P, pl, file, line, what, "conductor.", &m->cond_alpha, &m->cond_alpha_t,
                               &m->cond_alpha_tex, &remap2) || !layer_textures(P, pl, m))
         return 0;
-    if (!get_float(P, pl, "interface.eta", 1.5f, &eta) ||
-        !get_float(P, pl, "thickness", 0.01f, &th) || !get_float(P, pl, "g", 0.0f, &g) ||
+    if (!get_float(P, pl, "thickness", 0.01f, &th) || !get_float(P, pl, "g", 0.0f, &g) ||
         !get_int(P, pl, "maxdepth", 10, &md, &given) || !get_int(P, pl, "nsamples", 1, &ns, &given))
         return 0;
     if (!bump_from_params(P, pl, what, m) ||
-        !params_check_unused(P, pl, what, "float interface.eta, float interface.roughness, "
+        !params_check_unused(P, pl, what, "float interface.eta, spectrum interface.eta, "
+                             "rgb interface.eta, float interface.roughness, "
                              "float interface.uroughness, float interface.vroughness, "
                              "texture interface.roughness, texture interface.uroughness, "
                              "texture interface.vroughness, spectrum conductor.eta, "
@@ -817,14 +836,7 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
     if ((pr || pt) && (pe || pk || ek_tex))
         return fail(P, file, line, "%s: give either \"reflectance\" or \"conductor.eta\" and "
                     "\"conductor.k\", not both (pbrt-v4 refuses it too)", what);
-    if (!(eta > 0.0f && eta < 100.0f))
-        return fail(P, pf ? pf->file : file, pf ? pf->line : line,
-                    "%s: \"float interface.eta\" %g is not an index of refraction", what, eta);
-    {
-        Spectrum n;
-        spec_const(&n, eta);
-        if (!material_set_eta(P, m, &n, file, line)) return 0;
-    }
+    if (!layer_eta(P, pl, "interface.eta", what, file, line, m)) return 0;
     if (!layer_slab(P, what, file, line, th, pth, g, pg, md, pd, ns, pn, m)) return 0;
     if (!layer_albedo(P, pa, what, file, line, m)) return 0;
     if (pt) {

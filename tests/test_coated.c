@@ -595,8 +595,8 @@ static void test_parse(T *t)
     test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float g\" -1\n", 2, "\"float g\"", NULL);
     test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\"\n \"spectrum albedo\" [ 400 0.5 700 1.5 ]\n", 3,
                      "albedo", "[0,1]");
-    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\"\n \"spectrum eta\" [ 400 1.5 700 1.4 ]\n", 3,
-                     "spectral \"eta\"", "float eta");
+    test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\"\n \"spectrum eta\" [ 400 1.5 700 -1 ]\n", 3,
+                     "the coat's \"eta\"", ">= 0");
     test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"float eta\" 0\n", 2, "eta", NULL);
     test_rejected_at(t, "WorldBegin\nMaterial \"coateddiffuse\" \"texture albedo\" \"t\"\n", 2,
                      "no texture named", NULL);
@@ -641,8 +641,8 @@ static void test_cc_parse(T *t)
     scene_free(&s);
     test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\" \"rgb reflectance\" [ 1 1 1 ]\n"
                      " \"spectrum conductor.eta\" \"metal-Au-eta\"\n", 2, "reflectance", "not both");
-    test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"spectrum interface.eta\" [ 400 1.5 700 1.4 ]\n",
-                     3, "spectral \"interface.eta\"", "float interface.eta");
+    test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"spectrum interface.eta\" [ 400 1.5 700 -1 ]\n",
+                     3, "the coat's \"eta\"", ">= 0");
     test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"float thickness\" 0\n", 3, "thickness", "> 0");
     test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\" \"float roughness\" 0.1\n", 2, "roughness", NULL);
     test_rejected_at(t, "WorldBegin\nMaterial \"coatedconductor\"\n \"spectrum conductor.k\" [ 400 -1 700 1 ]\n",

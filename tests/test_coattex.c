@@ -242,10 +242,13 @@ static void test_coattex_errors(T *t)
    (a) coateddiffuse's thickness (0.01 and 2), (b) its albedo (a spectrum: rgb 0.9
    0.6 0.2 and 0.1), (c) its g (-0.8 and 0.8, albedo 0.95, thickness 1), (d)
    coatedconductor's thickness, g and albedo at once (three checkerboards of other
-   cells: each quadrant its own three).  Luminance of the image and its quadrants
-   (top left first), mean over the seeds and its standard error; accepted within 5
-   standard errors + 1 % (specnee at 8 x 1024 spp: all within 0.25 %). */
-static const char *const CT_BODY[4] = {
+   cells: each quadrant its own three); and spectral coat indices, which terminate
+   the secondary wavelengths: (e) coateddiffuse's "spectrum eta" from 2.2 (360 nm)
+   to 1.3 (830 nm), (f) coatedconductor's "rgb interface.eta" over silver.
+   Luminance of the image and its quadrants (top left first), mean over the seeds
+   and its standard error; accepted within 5 standard errors + 1 % (specnee at 8 x
+   1024 spp: all within 0.25 %). */
+static const char *const CT_BODY[6] = {
     "Texture \"ck\" \"float\" \"checkerboard\" \"float uscale\" [ 2 ] \"float vscale\" [ 2 ] "
     "\"float tex1\" [ 0.01 ] \"float tex2\" [ 2 ]\n"
     "Material \"coateddiffuse\" \"rgb reflectance\" [ 0.7 0.5 0.3 ] \"texture thickness\" \"ck\"\n",
@@ -266,18 +269,23 @@ static const char *const CT_BODY[4] = {
     "Material \"coatedconductor\" \"float conductor.roughness\" [ 0.2 ] \"spectrum conductor.eta\" "
     "\"metal-Au-eta\" \"spectrum conductor.k\" \"metal-Au-k\" \"texture thickness\" \"th\" "
     "\"texture g\" \"gg\" \"texture albedo\" \"al\"\n",
+    "Material \"coateddiffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ] \"spectrum eta\" [ 360 2.2 500 2.0 560 1.4 830 1.3 ]\n",
+    ("Material \"coatedconductor\" \"rgb interface.eta\" [ 1.3 1.6 2.0 ] \"float conductor.roughness\" [ 0.1 ] "
+     "\"spectrum conductor.eta\" \"metal-Ag-eta\" \"spectrum conductor.k\" \"metal-Ag-k\"\n"),
 };
-static const double PBRT_CT_Y[4][5][2] = {
+static const double PBRT_CT_Y[6][5][2] = {
     { { 0.205052, 0.00011 }, { 0.393801, 0.00024 }, { 0.016418, 4.4e-05 }, { 0.016479, 4.2e-05 }, { 0.393510, 0.00028 } },
     { { 0.133904, 4.4e-05 }, { 0.172775, 8.5e-05 }, { 0.095255, 8.4e-05 }, { 0.095359, 7.9e-05 }, { 0.172228, 0.00015 } },
     { { 0.591665, 0.00028 }, { 0.525384, 0.00032 }, { 0.115922, 0.00023 }, { 0.116349, 0.00022 }, { 1.609007, 0.001 } },
     { { 0.393612, 0.00012 }, { 0.560552, 0.00019 }, { 0.242530, 0.00016 }, { 0.265574, 0.00024 }, { 0.505793, 0.00041 } },
+    { { 0.348317, 0.00016 }, { 0.348871, 0.00053 }, { 0.348247, 0.00030 }, { 0.348266, 0.00048 }, { 0.347885, 0.00046 } },
+    { { 0.989908, 0.00043 }, { 1.149198, 0.0018 }, { 0.931198, 0.00052 }, { 1.026941, 0.0010 }, { 0.852295, 0.00075 } },
 };
 
 static void test_coattex_against_pbrt(T *t)
 {
     int j;
-    for (j = 0; j < 4; j++) {
+    for (j = 0; j < 6; j++) {
         Scene s;
         char what[8];
         if (!load_ct(t, &s, CT_BODY[j])) return;
@@ -411,6 +419,65 @@ static void test_coattex_aniso_against_pbrt(T *t)
     }
 }
 
+/* ---------------------------------------------------------------- spectral coat index */
+
+/* A spectral eta: a constant one is the float (the same image, bit for bit; 0
+   means 1, as in pbrt-v4) and does not terminate; a varying one (spectrum or rgb) marks the material
+   dispersive, and the path then carries the hero's wavelength alone from the
+   coat on (pbrt-v4's TerminateSecondary): the image of four wavelengths per path
+   equals, per tile and channel, that of one wavelength per path, which the coat's
+   single index cannot bias (without the termination the secondaries would see the
+   hero's index: their colours wash out). */
+static void test_coattex_spectral_eta(T *t)
+{
+    static const char *const mats[5] = {
+        "Material \"coateddiffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ] \"float eta\" 1.7\n",
+        "Material \"coateddiffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ] \"spectrum eta\" [ 360 1.7 830 1.7 ]\n",
+        "Material \"coatedconductor\" \"rgb interface.eta\" [ 1.3 1.6 2.0 ] \"float conductor.roughness\" 0.1\n",
+        "Material \"coateddiffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ] \"float eta\" 1\n",
+        "Material \"coateddiffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ] \"spectrum eta\" [ 360 0 830 0 ]\n",
+    };
+    Scene s;
+    RenderOptions o;
+    Tiles a, b;
+    int k, c;
+    for (c = 0; c < 2; c++) {        /* 1.7 as a float and a spectrum; 1 and pbrt-v4's 0 */
+        Image im[2];
+        for (k = 0; k < 2; k++) {
+            char text[8192];
+            render_options_default(&o);
+            o.spp = 8;
+            snprintf(text, sizeof text, "%s%s%s", CT_HEAD, mats[c ? 3 + k : k], CT_QUADS);
+            if (!test_render_text(t, text, &o, &im[k])) {
+                if (k) img_free(&im[0]);
+                return;
+            }
+        }
+        CHECK(t, !memcmp(im[0].rgb, im[1].rgb, sizeof(float) * 3 * im[0].w * im[0].h),
+              "%s as a float: Y %.9g, as a spectrum: Y %.9g", c ? "eta 1 (spectrum 0)" : "eta 1.7",
+              test_image_y(&im[0]), test_image_y(&im[1]));
+        img_free(&im[0]);
+        img_free(&im[1]);
+    }
+    if (!load_ct(t, &s, mats[1])) return;
+    CHECK(t, !s.materials[s.n_materials - 1].dispersive, "a constant spectral eta is dispersive");
+    scene_free(&s);
+    if (!load_ct(t, &s, mats[2])) return;
+    CHECK(t, s.materials[s.n_materials - 1].dispersive, "rgb interface.eta [ 1.3 1.6 2.0 ] not dispersive");
+    scene_free(&s);
+    if (!load_ct(t, &s, "Material \"coateddiffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ] "
+                 "\"spectrum eta\" [ 360 2.2 500 2.0 560 1.4 830 1.3 ]\n"))
+        return;
+    render_options_default(&o);
+    o.spp = test_scaled(32, 8);
+    if (!test_render_tiles(t, &s, &o, 8, 2, &a)) { scene_free(&s); return; }
+    o.single_wavelength = 1;
+    o.spp *= 2;
+    if (!test_render_tiles(t, &s, &o, 8, 2, &b)) { scene_free(&s); return; }
+    scene_free(&s);
+    test_tiles_agree(t, &a, &b, 2e-3, "dispersive coat: four wavelengths against one");
+}
+
 const TestCase tests_coattex[] = {
     { "coattex_params", test_coattex_params },
     { "coattex_constant", test_coattex_constant },
@@ -420,5 +487,6 @@ const TestCase tests_coattex[] = {
     { "coattex_aniso_bare", test_coattex_aniso_bare },
     { "coattex_aniso_nee_vs_bsdf", test_coattex_aniso_nee_vs_bsdf },
     { "coattex_aniso_against_pbrt", test_coattex_aniso_against_pbrt },
+    { "coattex_spectral_eta", test_coattex_spectral_eta },
     { NULL, NULL },
 };
