@@ -13,14 +13,19 @@
       for arbitrary layered BSDFs", ACM TOG 37(6); pbrt 4th ed. section 14.3,
       LayeredBxDF<DielectricBxDF, DiffuseBxDF, twoSided = true>).  Two parallel
       interfaces at heights z = thickness (the coat: smooth or GGX dielectric of
-      index eta) and z = 0 (the base: Lambert, f = R/pi, no transmission), with
-      between them a medium of extinction sigma_t = 1 per unit height and single
-      scattering albedo `albedo` (Henyey-Greenstein phase function, asymmetry g).
+      index eta, anisotropic when its alphas differ: alpha_x along the shading
+      frame's s axis, dp/du, as conductor.c's) and z = 0 (the base: Lambert,
+      f = R/pi, no transmission), with between them a medium of extinction
+      sigma_t = 1 per unit height and single scattering albedo `albedo`
+      (Henyey-Greenstein phase function, asymmetry g).
       With albedo 0 the slab only absorbs: a straight crossing along w keeps
       Tr = exp(-thickness / |w.z|).  "Position-free": only the height z of a
       vertex matters, never its (x, y), so a walk is a sequence of directions and
       heights.  Two-sided: a wo below the surface is handled by mirroring wo and
-      wi (the coat faces both ways, as pbrt-v4's twoSided = true).
+      wi (the coat faces both ways, as pbrt-v4's twoSided = true).  Thickness, g
+      and albedo, like the roughnesses and the base's reflectance, may be textures:
+      material.c's mat_point reads them at each hit (MatPoint), as pbrt-v4's
+      GetBxDF does, and layer_init takes them from there.
 
    2. f(wo, wi) is an integral over all paths between the interfaces; one random
       walk gives an unbiased estimate (Guo et al. section 5):
@@ -73,9 +78,11 @@
    so the estimate stays unbiased; pdf's quality only affects variance.
    bsdf_eval's f is a random-walk estimate seeded from (wo, wi) too: unbiased
    over the seeds, deterministic for a given pair, independent of threads.
-   The index is a number (specnee refuses a spectral eta here), so every
-   wavelength shares the directions: pdf_l[j] = pdf, and only the base's
-   reflectance (R, or the conductor's Fresnel) and the albedo differ per wavelength.
+   The coat's index is one number per path, the hero wavelength's (a spectral eta
+   that varies makes path.c terminate the secondaries at the hit, as pbrt-v4's
+   GetBxDF does), so every alive wavelength shares the directions: pdf_l[j] = pdf,
+   and only the base's reflectance (R, or the conductor's Fresnel) and the albedo
+   differ per wavelength.
 
    5. coatedconductor (pbrt-v4's CoatedConductorBxDF = LayeredBxDF<DielectricBxDF,
       ConductorBxDF, true>, CoatedConductorMaterial::GetBxDF): the same walks with
@@ -95,11 +102,11 @@
 
 /* ---------------------------------------------------------------- the coat */
 
-typedef struct { float eta, alpha; } Coat;
+typedef struct { float eta, ax, ay; } Coat;   /* GGX alphas along the frame's s, t */
 typedef struct { Vec3 wi; float f, pdf; int reflect, specular; } Lobe;
 
 /* pbrt-v4: index 1 or EffectivelySmooth (alpha < 1e-3) scatter in delta lobes. */
-static int coat_smooth(const Coat *c) { return c->eta == 1.0f || tr_smooth(c->alpha, c->alpha); }
+static int coat_smooth(const Coat *c) { return c->eta == 1.0f || tr_smooth(c->ax, c->ay); }
 
 /* Sample the coat from w (either side), restricted to the lobes in `lobes`;
    radiance = 0 is the adjoint ("importance"): no 1/eta'^2 on transmission. */
@@ -129,8 +136,8 @@ static int coat_sample(const Coat *c, Vec3 w, float uc, float u1, float u2, int 
         }
         return s->f > 0.0f && s->pdf > 0.0f;
     } else {
-        float a = c->alpha;
-        Vec3 wm = tr_sample_wm(a, a, w, u1, u2);
+        float ax = c->ax, ay = c->ay;
+        Vec3 wm = tr_sample_wm(ax, ay, w, u1, u2);
         float dwm = v3_dot(w, wm);
         R = fresnel_dielectric(dwm, c->eta);
         T = 1.0f - R;
@@ -142,8 +149,8 @@ static int coat_sample(const Coat *c, Vec3 w, float uc, float u1, float u2, int 
             s->wi = reflect_dir(w, wm);
             if (s->wi.z * w.z <= 0.0f) return 0;
             s->reflect = 1;
-            s->pdf = tr_pdf_reflect(a, a, w, wm) * pr / (pr + pt);
-            s->f = tr_D(a, a, wm) * tr_G(a, a, w, s->wi) * R / fabsf(4.0f * s->wi.z * w.z);
+            s->pdf = tr_pdf_reflect(ax, ay, w, wm) * pr / (pr + pt);
+            s->f = tr_D(ax, ay, wm) * tr_G(ax, ay, w, s->wi) * R / fabsf(4.0f * s->wi.z * w.z);
         } else {
             float d, denom;
             if (!refract_dir(w, wm, c->eta, &etap, &s->wi)) return 0;
@@ -152,8 +159,8 @@ static int coat_sample(const Coat *c, Vec3 w, float uc, float u1, float u2, int 
             d = v3_dot(s->wi, wm) + dwm / etap;
             denom = d * d;
             if (denom == 0.0f) return 0;
-            s->pdf = tr_pdf_wm(a, a, w, wm) * fabsf(v3_dot(s->wi, wm)) / denom * pt / (pr + pt);
-            s->f = T * tr_D(a, a, wm) * tr_G(a, a, w, s->wi) *
+            s->pdf = tr_pdf_wm(ax, ay, w, wm) * fabsf(v3_dot(s->wi, wm)) / denom * pt / (pr + pt);
+            s->f = T * tr_D(ax, ay, wm) * tr_G(ax, ay, w, s->wi) *
                    fabsf(v3_dot(s->wi, wm) * dwm / (s->wi.z * w.z * denom));
             if (radiance) s->f /= etap * etap;
         }
@@ -166,7 +173,7 @@ static void coat_pair(const Coat *c, Vec3 wo, Vec3 wi, int lobes, float *f, floa
 {
     *f = 0.0f; *pdf = 0.0f;
     if (coat_smooth(c)) return;
-    tr_dielectric_pair(c->alpha, c->eta, wo, wi, lobes, f, pdf);
+    tr_dielectric_pair_xy(c->ax, c->ay, c->eta, wo, wi, lobes, f, pdf);
 }
 
 /* ---------------------------------------------------------------- base and medium */
@@ -175,13 +182,13 @@ static void coat_pair(const Coat *c, Vec3 wo, Vec3 wi, int lobes, float *f, floa
    (coateddiffuse) or a conductor (coatedconductor, section 5). */
 typedef struct {
     int cond;                  /* 0: Lambert of reflectance R; 1: conductor */
-    float alpha;               /* conductor: GGX alpha (smooth below 1e-3) */
+    float ax, ay;              /* conductor: GGX alphas along s, t (smooth below 1e-3) */
     float R[HERO_N];           /* Lambert: the reflectance */
     float ce[HERO_N], ck[HERO_N];   /* conductor: n and k relative to the coat's index */
 } Base;
 
 /* pbrt-v4's TrowbridgeReitzDistribution::EffectivelySmooth: a delta lobe. */
-static int base_specular(const Base *b) { return b->cond && tr_smooth(b->alpha, b->alpha); }
+static int base_specular(const Base *b) { return b->cond && tr_smooth(b->ax, b->ay); }
 
 /* The base's pdf of wi given wo (0 for a delta lobe). */
 static float base_pdf(const Base *b, Vec3 wo, Vec3 wi)
@@ -191,7 +198,7 @@ static float base_pdf(const Base *b, Vec3 wo, Vec3 wi)
     if (!b->cond) return fabsf(wi.z) / PI_F;
     if (base_specular(b)) return 0.0f;
     if (!tr_half_vector(wo, wi, &wm)) return 0.0f;
-    return tr_pdf_reflect(b->alpha, b->alpha, wo, wm);
+    return tr_pdf_reflect(b->ax, b->ay, wo, wm);
 }
 
 /* The base's f (without the cosine) for a pair, per wavelength (0 for a delta lobe). */
@@ -203,11 +210,11 @@ static void base_f(const Base *b, Vec3 wo, Vec3 wi, float f[HERO_N])
     if (!b->cond) {
         for (j = 0; j < HERO_N; j++) f[j] = b->R[j] / PI_F;
     } else if (!base_specular(b)) {
-        float a = b->alpha, c, dg;
+        float ax = b->ax, ay = b->ay, c, dg;
         Vec3 wm;
         if (!tr_half_vector(wo, wi, &wm)) return;
         c = fabsf(v3_dot(wo, wm));
-        dg = tr_D(a, a, wm) * tr_G(a, a, wo, wi) / (4.0f * fabsf(wo.z * wi.z));
+        dg = tr_D(ax, ay, wm) * tr_G(ax, ay, wo, wi) / (4.0f * fabsf(wo.z * wi.z));
         for (j = 0; j < HERO_N; j++) f[j] = dg * fresnel_conductor(c, b->ce[j], b->ck[j]);
     }
 }
@@ -244,7 +251,7 @@ static int base_sample(const Base *b, Vec3 w, float u1, float u2, Vec3 *wn, floa
         }
         return any && w.z != 0.0f;
     } else {                          /* GGX visible normals, as conductor.c */
-        Vec3 wm = tr_sample_wm(b->alpha, b->alpha, w, u1, u2);
+        Vec3 wm = tr_sample_wm(b->ax, b->ay, w, u1, u2);
         *wn = reflect_dir(w, wm);
         if (wn->z * w.z <= 0.0f) return 0;
         *wn = v3_norm(*wn);
@@ -292,17 +299,19 @@ static void layer_init(const Material *m, const MatPoint *mp, const float *lambd
 {
     int j;
     L->top.eta = mat_eta(m, lambda[0]);
-    L->top.alpha = mp ? mp->alpha : m->alpha;
-    L->thick = m->thickness;
-    L->g = m->hg_g;
+    L->top.ax = mp ? mp->alpha : m->alpha;
+    L->top.ay = mp ? mp->alpha_t : m->alpha_t;
+    L->thick = mp ? mp->thick : m->thickness;
+    L->g = mp ? mp->g : m->hg_g;
     L->maxdepth = m->maxdepth;
     L->nsamples = m->nsamples;
     L->has_albedo = 0;
     L->base.cond = m->type == MAT_COATED_CONDUCTOR;
-    L->base.alpha = mp ? mp->cond_alpha : m->cond_alpha;
+    L->base.ax = mp ? mp->cond_alpha : m->cond_alpha;
+    L->base.ay = mp ? mp->cond_alpha_t : m->cond_alpha_t;
     for (j = 0; j < HERO_N; j++) {
         int on = (alive & (1u << j)) != 0;
-        L->A[j] = on ? spec_eval(&m->extra->albedo, lambda[j]) : 0.0f;
+        L->A[j] = !on ? 0.0f : mp && mp->has_a ? mp->a[j] : spec_eval(&m->extra->albedo, lambda[j]);
         if (L->A[j] > 0.0f) L->has_albedo = 1;
         L->base.R[j] = 0.0f;
         L->base.ce[j] = 1.0f;                 /* n = 1, k = 0: F = 0 (dead wavelengths) */
@@ -654,10 +663,66 @@ static int layer_slab(Parser *P, const char *what, const char *file, int line, f
         return fail(P, pn ? pn->file : file, pn ? pn->line : line,
                     "%s: \"integer nsamples\" %d must be >= 1", what, ns);
     m->thickness = th;
-    m->hg_g = g;
+    m->hg_g = g < -0.99f ? -0.99f : (g > 0.99f ? 0.99f : g);   /* pbrt-v4's HenyeyGreenstein */
     m->maxdepth = md;
     m->nsamples = ns;
     return 1;
+}
+
+/* "texture thickness", "texture g" (float textures) and "texture albedo" (a
+   spectrum texture): 1 + each one's index in m, read at each hit by mat_point
+   (material.c); 0 where not a texture.  A texture and a number of the same name
+   are refused together (pbrt-v4 reads the first and reports the other unused). */
+static int layer_textures(Parser *P, ParamList *pl, Material *m)
+{
+    static const char *const name[3] = { "thickness", "g", "albedo" };
+    int *out[3], k;
+    out[0] = &m->thickness_tex;
+    out[1] = &m->g_tex;
+    out[2] = &m->albedo_tex;
+    for (k = 0; k < 3; k++) {
+        Param *pt = param_find(pl, PT_TEXTURE, name[k]);
+        int ti;
+        *out[k] = 0;
+        if (!pt) continue;
+        if (k < 2 ? param_find(pl, PT_FLOAT, name[k]) != NULL : find_spectrum_param(pl, name[k]) != NULL)
+            return fail(P, pt->file, pt->line, "\"texture %s\": \"%s\" is given as a number too: give "
+                        "one (pbrt-v4 reports the other as unused)", name[k], name[k]);
+        ti = texture_lookup(P, pt, k < 2);
+        if (ti < 0) return 0;
+        *out[k] = ti + 1;
+    }
+    return 1;
+}
+
+/* The coat's index, "NAME": a "float" (1.5 by default; pbrt-v4's ConstantSpectrum)
+   or a "spectrum" ("rgb": pbrt-v4's RGBUnboundedSpectrum, whose 360 nm value the
+   UV extension keeps), >= 0 everywhere, 0 read as 1 as pbrt-v4 does.  A varying
+   one sets m->dispersive: path.c then terminates the secondary wavelengths at the
+   hit (pbrt-v4's GetBxDF: TerminateSecondary) and the walks take the hero's index
+   (layer_init).  Given both, the float is read, as in pbrt-v4. */
+static int layer_eta(Parser *P, ParamList *pl, const char *name, const char *what,
+                     const char *file, int line, Material *m)
+{
+    Param *pf = param_find(pl, PT_FLOAT, name), *ps = find_spectrum_param(pl, name);
+    Spectrum n;
+    int nm;
+    if (pf || !ps) {
+        float eta;
+        if (!get_float(P, pl, name, 1.5f, &eta)) return 0;
+        if (!(eta > 0.0f && eta < 100.0f))
+            return fail(P, pf ? pf->file : file, pf ? pf->line : line,
+                        "%s: \"float %s\" %g is not an index of refraction", what, name, eta);
+        spec_const(&n, eta);
+    } else {
+        if (!param_spectrum(P, ps, ps->type == PT_RGB ? SPEC_COEFF : SPEC_UNBOUNDED, &n, NULL)) return 0;
+        for (nm = SPEC_UV_MIN; ps->type == PT_RGB && nm < SPEC_MIN; nm++) *spec_at(&n, nm) = n.v[0];
+        if (!check_spectrum_above(P, ps, file, line, "the coat's \"eta\"", &n, 0.0f, 0)) return 0;
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++)
+            if (spec_get(&n, nm) == 0.0f) *spec_at(&n, nm) = 1.0f;
+        m->dispersive = !spec_is_constant(&n);
+    }
+    return material_set_eta(P, m, &n, file, line);
 }
 
 /* The slab's single-scattering albedo (0 by default), within [0, 1] at every nm. */
@@ -683,20 +748,17 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
 {
     Param *pr = find_spectrum_param(pl, "reflectance"), *pa = find_spectrum_param(pl, "albedo");
     Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
-    Param *pe = find_spectrum_param(pl, "eta"), *pf = param_find(pl, PT_FLOAT, "eta");
     Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
     Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
-    float eta, th, g;
+    float th, g;
     int md, ns, given;
     (void)dir;
     m->type = MAT_COATED_DIFFUSE;
     if (!material_extra(m)) return oom(P, file, line);   /* albedo (freed by material_release) */
-    if (pe && !pf)
-        return fail(P, pe->file, pe->line, "%s: a spectral \"eta\" is valid pbrt-v4 (it "
-                    "terminates the secondary wavelengths) but not in the specnee subset: "
-                    "give \"float eta\"", what);
+    find_spectrum_param(pl, "eta");                      /* read by layer_eta */
+    param_find(pl, PT_FLOAT, "eta");
     if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
-                           &m->remap))
+                           &m->remap) || !layer_textures(P, pl, m))
         return 0;
     if (pt) {
         /* "texture reflectance": the base's R read at each hit (mat_point) */
@@ -704,30 +766,22 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
         if (ti < 0) return 0;
         m->reflectance_tex = ti + 1;
     }
-    if (!get_float(P, pl, "eta", 1.5f, &eta) || !get_float(P, pl, "thickness", 0.01f, &th) ||
+    if (!get_float(P, pl, "thickness", 0.01f, &th) ||
         !get_float(P, pl, "g", 0.0f, &g) || !get_int(P, pl, "maxdepth", 10, &md, &given) ||
         !get_int(P, pl, "nsamples", 1, &ns, &given))
         return 0;
     if (!bump_from_params(P, pl, what, m) ||
         !params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
-                             "texture reflectance, float eta, float roughness, "
+                             "texture reflectance, float eta, spectrum eta, rgb eta, "
+                             "float roughness, "
                              "float uroughness, float vroughness, texture roughness, "
                              "texture uroughness, texture vroughness, "
                              "bool remaproughness, float thickness, spectrum albedo, "
-                             "rgb albedo, float g, integer maxdepth, integer nsamples",
+                             "rgb albedo, float g, integer maxdepth, integer nsamples, "
+                             "texture thickness, texture g, texture albedo",
                              NULL))
         return 0;
-    if (m->alpha != m->alpha_t)
-        return fail(P, file, line, "%s: anisotropic roughness (u %g, v %g after the remap) "
-                    "is valid pbrt-v4 but not in the specnee subset", what, m->alpha, m->alpha_t);
-    if (!(eta > 0.0f && eta < 100.0f))
-        return fail(P, pf ? pf->file : file, pf ? pf->line : line,
-                    "%s: \"float eta\" %g is not an index of refraction", what, eta);
-    {
-        Spectrum n;
-        spec_const(&n, eta);
-        if (!material_set_eta(P, m, &n, file, line)) return 0;
-    }
+    if (!layer_eta(P, pl, "eta", what, file, line, m)) return 0;
     if (!layer_slab(P, what, file, line, th, pth, g, pg, md, pd, ns, pn, m)) return 0;
     if (!unit_spectrum_param(P, pt ? NULL : pr, &m->reflectance, 0.5f)) return 0;
     if (!layer_albedo(P, pa, what, file, line, m)) return 0;
@@ -745,30 +799,26 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
     Param *pr = find_spectrum_param(pl, "reflectance"), *pa = find_spectrum_param(pl, "albedo");
     Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
     int ek_tex = (param_find(pl, PT_TEXTURE, "conductor.eta") != NULL) + (param_find(pl, PT_TEXTURE, "conductor.k") != NULL);
-    Param *pie = find_spectrum_param(pl, "interface.eta");
-    Param *pf = param_find(pl, PT_FLOAT, "interface.eta");
     Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
     Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
-    float eta, th, g, cat;
+    float th, g;
     int md, ns, given, remap2;
     (void)dir;
     m->type = MAT_COATED_CONDUCTOR;
     if (!material_extra(m)) return oom(P, file, line);   /* albedo, cond_eta, k (material_release) */
-    if (pie && !pf)
-        return fail(P, pie->file, pie->line, "%s: a spectral \"interface.eta\" is valid "
-                    "pbrt-v4 (it terminates the secondary wavelengths) but not in the specnee "
-                    "subset: give \"float interface.eta\"", what);
+    find_spectrum_param(pl, "interface.eta");            /* read by layer_eta */
+    param_find(pl, PT_FLOAT, "interface.eta");
     if (!microfacet_alphas_of(P, pl, file, line, what, "interface.", &m->alpha, &m->alpha_t,
                               &m->alpha_tex, &m->remap) ||
-        !microfacet_alphas_of(P, pl, file, line, what, "conductor.", &m->cond_alpha, &cat,
-                              &m->cond_alpha_tex, &remap2))
+        !microfacet_alphas_of(P, pl, file, line, what, "conductor.", &m->cond_alpha, &m->cond_alpha_t,
+                              &m->cond_alpha_tex, &remap2) || !layer_textures(P, pl, m))
         return 0;
-    if (!get_float(P, pl, "interface.eta", 1.5f, &eta) ||
-        !get_float(P, pl, "thickness", 0.01f, &th) || !get_float(P, pl, "g", 0.0f, &g) ||
+    if (!get_float(P, pl, "thickness", 0.01f, &th) || !get_float(P, pl, "g", 0.0f, &g) ||
         !get_int(P, pl, "maxdepth", 10, &md, &given) || !get_int(P, pl, "nsamples", 1, &ns, &given))
         return 0;
     if (!bump_from_params(P, pl, what, m) ||
-        !params_check_unused(P, pl, what, "float interface.eta, float interface.roughness, "
+        !params_check_unused(P, pl, what, "float interface.eta, spectrum interface.eta, "
+                             "rgb interface.eta, float interface.roughness, "
                              "float interface.uroughness, float interface.vroughness, "
                              "texture interface.roughness, texture interface.uroughness, "
                              "texture interface.vroughness, spectrum conductor.eta, "
@@ -780,23 +830,13 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
                              "texture conductor.roughness, texture conductor.uroughness, "
                              "texture conductor.vroughness, bool remaproughness, "
                              "float thickness, spectrum albedo, rgb albedo, float g, "
-                             "integer maxdepth, integer nsamples", NULL))
+                             "integer maxdepth, integer nsamples, texture thickness, "
+                             "texture g, texture albedo", NULL))
         return 0;
-    if (m->alpha != m->alpha_t || m->cond_alpha != cat)
-        return fail(P, file, line, "%s: anisotropic roughness (interface u %g v %g, conductor "
-                    "u %g v %g after the remap) is valid pbrt-v4 but not in the specnee subset",
-                    what, m->alpha, m->alpha_t, m->cond_alpha, cat);
     if ((pr || pt) && (pe || pk || ek_tex))
         return fail(P, file, line, "%s: give either \"reflectance\" or \"conductor.eta\" and "
                     "\"conductor.k\", not both (pbrt-v4 refuses it too)", what);
-    if (!(eta > 0.0f && eta < 100.0f))
-        return fail(P, pf ? pf->file : file, pf ? pf->line : line,
-                    "%s: \"float interface.eta\" %g is not an index of refraction", what, eta);
-    {
-        Spectrum n;
-        spec_const(&n, eta);
-        if (!material_set_eta(P, m, &n, file, line)) return 0;
-    }
+    if (!layer_eta(P, pl, "interface.eta", what, file, line, m)) return 0;
     if (!layer_slab(P, what, file, line, th, pth, g, pg, md, pd, ns, pn, m)) return 0;
     if (!layer_albedo(P, pa, what, file, line, m)) return 0;
     if (pt) {

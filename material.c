@@ -56,6 +56,7 @@
    The last section builds these materials from a scene's parameters for the
    scene builder (*_from_params, parser.h). */
 #include "specnee.h"
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -79,6 +80,7 @@ int mat_reads_uv(const Material *m)
     int sss_tex = m->sss && (m->sss->tex[SSS_TEX_SIGMA_A] || m->sss->tex[SSS_TEX_SIGMA_S] ||
                              m->sss->tex[SSS_TEX_MFP]);
     if (m->extra && (m->extra->eta_tex > 0 || m->extra->k_tex > 0)) return 1;   /* conductors */
+    if (m->thickness_tex > 0 || m->g_tex > 0 || m->albedo_tex > 0) return 1;   /* layered */
     return m->reflectance_tex > 0 || m->alpha_tex > 0 || m->cond_alpha_tex > 0 || sss_tex ||
            m->type == MAT_MIX || m->bump || (m->extra && m->extra->transmittance_tex > 0);
 }
@@ -135,6 +137,35 @@ static void mat_point_ek(const Material *m, const SurfacePoint *sp, const float 
     }
 }
 
+/* A texture's value at the point (at lambda), clamped to [lo, hi] (NaN: lo). */
+static float tex_clamped(const Material *m, int tex, const SurfacePoint *sp, float lambda,
+                         float lo, float hi)
+{
+    float v = tex_eval(m->textures, tex - 1, sp, lambda);
+    return v > lo ? (v < hi ? v : hi) : lo;
+}
+
+/* A layered material's slab at the point, with pbrt-v4's bounds (GetBxDF and
+   LayeredBxDF): a textured thickness at least FLT_MIN (and at most 1e30, as the
+   float), g clamped to [-1, 1] and then to HenyeyGreenstein's [-0.99, 0.99], the
+   albedo to [0, 1] at each wavelength. */
+static void mat_point_slab(const Material *m, const SurfacePoint *sp, const float *lambda,
+                           unsigned alive, MatPoint *mp)
+{
+    int j;
+    mp->thick = m->thickness;
+    mp->g = m->hg_g;
+    mp->has_a = 0;
+    if (!m->textures) return;
+    if (m->thickness_tex > 0) mp->thick = tex_clamped(m, m->thickness_tex, sp, lambda[0], FLT_MIN, 1e30f);
+    if (m->g_tex > 0) mp->g = tex_clamped(m, m->g_tex, sp, lambda[0], -0.99f, 0.99f);
+    if (m->albedo_tex > 0) {
+        mp->has_a = 1;
+        for (j = 0; j < HERO_N; j++)
+            mp->a[j] = (alive & (1u << j)) ? tex_clamped(m, m->albedo_tex, sp, lambda[j], 0.0f, 1.0f) : 0.0f;
+    }
+}
+
 void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, unsigned alive,
                MatPoint *mp)
 {
@@ -143,7 +174,9 @@ void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, u
     mp->alpha_t = m->alpha_t;
     mp->has_r = 0;
     mp->cond_alpha = m->cond_alpha;
+    mp->cond_alpha_t = m->cond_alpha_t;
     mp->has_ek = 0;
+    mat_point_slab(m, sp, lambda, alive, mp);
     if (!m->textures) return;
     if (m->alpha_tex > 0) {
         /* pbrt-v4: the roughness texture's value, then RoughnessToAlpha (sqrt) when
@@ -158,6 +191,7 @@ void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, u
         v = v > 0.0f ? (v < 1e4f ? v : 1e4f) : 0.0f;
         mp->cond_alpha = m->remap ? tr_alpha_of_roughness(v) : v;
         if (m->regularized) mp->cond_alpha = tr_regularize(mp->cond_alpha);
+        mp->cond_alpha_t = mp->cond_alpha;
     }
     if (m->reflectance_tex > 0) {
         mp->has_r = 1;
@@ -411,6 +445,7 @@ int mat_regularized(const Material *m, Material *out)
     out->alpha = tr_regularize(m->alpha);
     out->alpha_t = tr_regularize(m->alpha_t);
     out->cond_alpha = tr_regularize(m->cond_alpha);
+    out->cond_alpha_t = tr_regularize(m->cond_alpha_t);
     out->regularized = 1;
     return 1;
 }
@@ -513,6 +548,9 @@ static int dt_pair(const DtPoint *d, Vec3 lo, Vec3 li, float f[HERO_N], float pd
 
 int mat_needs_tangent(const Material *m)
 {
+    if ((m->type == MAT_COATED_DIFFUSE || m->type == MAT_COATED_CONDUCTOR) &&
+        (m->alpha != m->alpha_t || m->cond_alpha != m->cond_alpha_t))
+        return 1;                                  /* layered.c: an anisotropic layer */
     return (m->type == MAT_MEASURED && !m->measured->isotropic) ||
            (m->type == MAT_CONDUCTOR && m->alpha != m->alpha_t);
 }

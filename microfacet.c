@@ -54,8 +54,8 @@
       when remapped (tr_alpha_of_roughness, pbrt-v4's RoughnessToAlpha).
 
    4. The rough dielectric interface (Walter et al. 2007; THEORY §10, (11) and
-      (12)), isotropic alpha, index eta, for a pair (wo, wi): tr_dielectric_pair
-      gives f in radiance mode and the pdf of sampling wi by a visible normal wm
+      (12)), alphas alpha_x = alpha_y = alpha (tr_dielectric_pair_xy: any two),
+      index eta, for a pair (wo, wi): tr_dielectric_pair gives f in radiance mode and the pdf of sampling wi by a visible normal wm
       followed by the choice of reflection (probability F) or refraction (1 - F),
       restricted to the lobes asked for (LOBE_R, LOBE_T: the pdf of the chosen
       lobes renormalised to 1).  eta' is eta entering (cos o > 0), 1/eta leaving:
@@ -253,7 +253,13 @@ float tr_pdf_reflect(float ax, float ay, Vec3 wo, Vec3 wm)
 
 void tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, float *f, float *pdf)
 {
-    float co = wo.z, ci = wi.z, etap = 1.0f, F, pr, pt, a = alpha;
+    tr_dielectric_pair_xy(alpha, alpha, eta, wo, wi, lobes, f, pdf);
+}
+
+void tr_dielectric_pair_xy(float ax, float ay, float eta, Vec3 wo, Vec3 wi, int lobes, float *f,
+                           float *pdf)
+{
+    float co = wo.z, ci = wi.z, etap = 1.0f, F, pr, pt;
     int reflect = ci * co > 0.0f;
     Vec3 wm;
     *f = 0.0f; *pdf = 0.0f;
@@ -268,16 +274,16 @@ void tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, flo
     pr = (lobes & LOBE_R) ? F : 0.0f;
     pt = (lobes & LOBE_T) ? 1.0f - F : 0.0f;
     if (reflect) {
-        *f = tr_D(a, a, wm) * tr_G(a, a, wo, wi) * F / fabsf(4.0f * ci * co);
+        *f = tr_D(ax, ay, wm) * tr_G(ax, ay, wo, wi) * F / fabsf(4.0f * ci * co);
         if (pr + pt > 0.0f)
-            *pdf = tr_pdf_reflect(a, a, wo, wm) * pr / (pr + pt);
+            *pdf = tr_pdf_reflect(ax, ay, wo, wm) * pr / (pr + pt);
     } else {
         float d = v3_dot(wi, wm) + v3_dot(wo, wm) / etap, denom = d * d;
         if (denom == 0.0f) return;
-        *f = tr_D(a, a, wm) * tr_G(a, a, wo, wi) * (1.0f - F) *
+        *f = tr_D(ax, ay, wm) * tr_G(ax, ay, wo, wi) * (1.0f - F) *
              fabsf(v3_dot(wi, wm) * v3_dot(wo, wm) / (ci * co * denom)) / (etap * etap);
         if (pr + pt > 0.0f)
-            *pdf = tr_pdf_wm(a, a, wo, wm) * fabsf(v3_dot(wi, wm)) / denom * pt / (pr + pt);
+            *pdf = tr_pdf_wm(ax, ay, wo, wm) * fabsf(v3_dot(wi, wm)) / denom * pt / (pr + pt);
     }
     if (!isfinite(*f) || !isfinite(*pdf)) { *f = 0.0f; *pdf = 0.0f; }
 }

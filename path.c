@@ -37,6 +37,7 @@
    - Termination at a dispersive dielectric (thesis baseline, pbrt-v4
      TerminateSecondary; THEORY §7): r = (1, 0, 0, 0) and beta_1..3 = 0, so the
      hero gets weight 1/p(lambda_0) - the "divide the hero pdf by 4" bookkeeping.
+     A layered material whose coat index varies terminates them the same way.
    - Single-wavelength mode: r = (1, 0, 0, 0) from the start.
    - Rough spectral MIS (--rough-dispersion mis): at a rough dispersive interface
      the secondaries survive; every later direction pdf is evaluated with each
@@ -1069,6 +1070,9 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
         if (tr->dbg) fprintf(tr->dbg, "  dispersive: secondaries terminated, hero %.1f nm continues\n",
                              tr->fs->wl.lambda[0]);
     }
+    if ((mat->type == MAT_COATED_DIFFUSE || mat->type == MAT_COATED_CONDUCTOR) && mat->dispersive &&
+        path->alive != 1u)
+        lanes_hero_only(path);                   /* layered.c: the coat's index at the hero's */
     if (mat->type == MAT_FLUORESCENT && !(mat = fluor_vertex(tr, depth, mat, mi, path)))
         return 0;
 

@@ -852,8 +852,9 @@ typedef struct {
     float cauchy_a, cauchy_b;  /* the Cauchy coefficients when given (for --dump-scene) */
     int dispersive;            /* eta varies with lambda: terminates the secondaries */
     float alpha;               /* GGX roughness alpha (0 = smooth), after remaproughness;
-                                  conductor: alpha along the shading frame's s axis */
-    float alpha_t;             /* conductor: alpha along the t axis (anisotropic GGX) */
+                                  conductor, a layered material's coat: alpha along the
+                                  shading frame's s axis */
+    float alpha_t;             /* conductor, coat: alpha along the t axis (anisotropic GGX) */
     MaterialSpectra *extra;    /* conductor, coateddiffuse, coatedconductor,
                                   diffusetransmission: k, transmittance, albedo, cond_eta
                                   (owned, freed by material_release); NULL for the others */
@@ -873,12 +874,16 @@ typedef struct {
        are the coat's; coateddiffuse: reflectance is the base's R */
     /* extra->albedo: single-scattering albedo of the medium between the layers */
     float thickness, hg_g;     /* the slab's height (sigma_t = 1) and HG asymmetry */
+    int thickness_tex, g_tex;  /* "texture thickness", "texture g": 1 + a float texture's
+                                  index, read through mat_point (0: the numbers above) */
+    int albedo_tex;            /* "texture albedo": 1 + a spectrum texture's index, read
+                                  through mat_point (0: extra->albedo) */
     int maxdepth, nsamples;    /* the random walks' vertex limit and count */
     /* coatedconductor: the base conductor's n (extra->cond_eta, extra->k) in vacuum, or
        its "reflectance" (then reflectance_tex or reflectance, cond_eta = 1 and k from it
        as for the conductor); its GGX alpha (cond_alpha_tex: 1 + a roughness texture's
        index) */
-    float cond_alpha;
+    float cond_alpha, cond_alpha_t;   /* along the shading frame's s and t (anisotropic GGX) */
     int cond_alpha_tex;
     /* mix: the two materials (indices into Scene.materials, neither an interface) and
        the probability "amount" of the second, a constant or (amount_tex: 1 + its
@@ -1062,15 +1067,21 @@ int   mat_regularized(const Material *m, Material *out);
 /* A conductor's, coateddiffuse's or coatedconductor's texture-valued parameters at one surface point
    (pbrt-v4 evaluates them in GetBxDF): the alphas, when has_r the reflectance at
    the path's wavelengths, clamped to [0, 1], when has_ek a conductor's eta and k
-   there (unbounded: k >= 0, eta >= 1e-3); without textures the Material's own. */
+   there (unbounded: k >= 0, eta >= 1e-3), a layered material's slab (thickness, g,
+   when has_a its albedo); without textures the Material's own. */
 typedef struct {
     float alpha, alpha_t;
     int has_r;
     float r[HERO_N];
-    float cond_alpha;          /* coatedconductor: the base's alpha */
+    float cond_alpha, cond_alpha_t;   /* coatedconductor: the base's alphas */
     int has_ek;                /* a textured eta or k: the conductor's (coatedconductor:
                                   the base's, in vacuum) n and k at the path's wavelengths */
     float eta[HERO_N], k[HERO_N];
+    float thick, g;            /* coateddiffuse, coatedconductor: the slab's thickness and
+                                  HG g (textured: thickness >= FLT_MIN, g in [-0.99, 0.99]) */
+    int has_a;                 /* a textured albedo: the slab's albedo a at the path's
+                                  wavelengths, clamped to [0, 1] */
+    float a[HERO_N];
 } MatPoint;
 void  mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, unsigned alive,
                 MatPoint *mp);
@@ -1146,8 +1157,9 @@ void  measured_eval(const MeasuredBrdf *b, Vec3 wo, Vec3 wi, const float *lambda
 int   measured_sample(const MeasuredBrdf *b, Vec3 wo, const float *lambda, unsigned alive, float u1,
                       float u2, BsdfSample *out, Vec3 *wi_local);
 /* Whether m's BSDF turns with the surface's dp/du (pbrt-v4's shading frame): an
-   anisotropic measured file (its phi) or an anisotropic rough conductor (alpha_x
-   along dp/du); path.c then sets sp->dpdu by tangent_shade (bump.c). */
+   anisotropic measured file (its phi) or an anisotropic rough conductor, coat or
+   coated conductor's base (alpha_x along dp/du); path.c then sets sp->dpdu by
+   tangent_shade (bump.c). */
 int   mat_needs_tangent(const Material *m);
 /* The shading frame of material m at sp: (dp/du made tangent, ns x that, ns) where
    mat_needs_tangent, else frame_from_normal(ns). */
@@ -1313,10 +1325,13 @@ float tr_regularize(float alpha);
 /* The rough dielectric interface (GGX alpha, index eta) for a local pair: f in
    radiance mode (with 1/eta'^2 on transmission) and the pdf of sampling wi from wo
    by a visible normal and the lobe choice F : 1 - F, restricted to `lobes`
-   (LOBE_R | LOBE_T: both); 0 for a pair no microfacet connects. */
+   (LOBE_R | LOBE_T: both); 0 for a pair no microfacet connects.  _xy: anisotropic,
+   alpha_x along the local x axis, alpha_y along y (a layered material's coat). */
 #define LOBE_R 1
 #define LOBE_T 2
 void  tr_dielectric_pair(float alpha, float eta, Vec3 wo, Vec3 wi, int lobes, float *f, float *pdf);
+void  tr_dielectric_pair_xy(float ax, float ay, float eta, Vec3 wo, Vec3 wi, int lobes, float *f,
+                            float *pdf);
 
 /* ======================================================================
    6b. Participating media (medium.c; THEORY §12 derives the estimator)
