@@ -109,6 +109,7 @@ typedef struct {
     int twosided;
     int image;                 /* "filename": 1 + its emission image's index in Scene.textures */
     const Spectrum *image_mean;/* its mean colour's spectrum (in Scene.spectra) */
+    double y_vis;              /* luminance_sum(L, LAMBDA_LO, LAMBDA_HI) (Emitter.y_vis) */
 } AreaLightDesc;
 
 typedef struct {
