@@ -1154,6 +1154,14 @@ int light_tree_simd_mismatches(const LightSampler *ls, const LightCtx *c, int *l
     return light_tree_simd_check(ls->tree, c, lanes);
 }
 
+/* For the test lighttree_bins_sum (lighttree.c). */
+int light_tree_bins_mismatches(const LightSampler *ls, int *lanes)
+{
+    *lanes = 0;
+    if (!is_tree(ls->opt.strategy) || !ls->tree) return 0;
+    return light_tree_bins_check(ls->tree, lanes);
+}
+
 double light_sampler_lazy_seconds(const LightSampler *ls)
 {
     return ls->lazy_s;

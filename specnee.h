@@ -2132,6 +2132,9 @@ const char *light_nee_source(const LightSampler *ls, const LightCtx *c, int fell
    the two (0 without SSE2 or without a tree); *lanes: how many were compared.
    For tests. */
 int   light_tree_simd_mismatches(const LightSampler *ls, const LightCtx *c, int *lanes);
+/* (test lighttree_bins_sum) the tree's lanes whose power per bin, or the root's,
+   is not the sum of the leaves' below it (relative 1e-5); *lanes: lanes checked */
+int   light_tree_bins_mismatches(const LightSampler *ls, int *lanes);
 size_t light_sampler_bytes(const LightSampler *ls);      /* memory held by its tables */
 /* Seconds spent so far building voxel tables on first use (eager builds excluded). */
 double light_sampler_lazy_seconds(const LightSampler *ls);
@@ -2179,6 +2182,7 @@ void   light_tree_free(LightTree *t);
 int    light_tree_select(const LightTree *t, const LightCtx *c, float u, float *pmf);
 float  light_tree_pmf(const LightTree *t, const LightCtx *c, int piece);
 int    light_tree_simd_check(const LightTree *t, const LightCtx *c, int *lanes);  /* as above */
+int    light_tree_bins_check(const LightTree *t, int *lanes);   /* as light_tree_bins_mismatches */
 size_t light_tree_bytes(const LightTree *t);
 /* Shared by lights.c (its mesh clusters) and the tree's build (lighttree.c): the
    area of scene triangle t; items[0..n) sorted by coordinate `axis` of their
