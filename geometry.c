@@ -98,6 +98,7 @@ static int add_shape(Parser *P, ShapeType type, int tri_begin, int tri_count, do
         em->twosided = al->twosided;
         em->image = al->image;
         em->image_mean = al->image_mean;
+        em->y_vis = al->y_vis;
         sh->emitter = s->n_emitters++;
     }
     return s->n_shapes++;

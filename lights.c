@@ -198,6 +198,21 @@ double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm)
     return norm;
 }
 
+/* luminance_sum with ybar read from T's knots (a load's area lights): the same
+   floats (float)cie_ybar(lambda) and the same sum, without interpolating ybar. */
+double luminance_sum_t(RgbTable *T, const Spectrum *L, float lo_nm, float hi_nm)
+{
+    const double *ybar;
+    double norm = 0.0;
+    int lam;
+    if (!T || !(lo_nm >= (float)SPEC_MIN) || !(hi_nm <= (float)SPEC_MAX))
+        return luminance_sum(L, lo_nm, hi_nm);
+    ybar = spec_ybar_knots(T);
+    for (lam = (int)ceilf(lo_nm); lam <= (int)floorf(hi_nm); lam++)
+        norm += (double)(float)ybar[lam - SPEC_MIN] * L->v[lam - SPEC_MIN];
+    return norm;
+}
+
 /* Le = scale * L_shape / norm with norm = luminance_sum(L) and L_shape = L
    (L_shape = the mean colour's spectrum for an image map or emission image, whose
    L is D65), and k = scale / norm, which infinite.c applies to an image map's
@@ -215,7 +230,9 @@ static int radiance_source(const Scene *s, int e, float lo_nm, float hi_nm, LeSo
                            Error *err)
 {
     const Emitter *em = &s->emitters[e];
-    double norm = em->absolute ? 1.0 : luminance_sum(em->L, lo_nm, hi_nm);
+    /* the luminance over 400-700 nm is computed once per emitter (Emitter.y_vis) */
+    double norm = em->absolute ? 1.0 : lo_nm == LAMBDA_LO && hi_nm == LAMBDA_HI && em->y_vis > 0.0
+                  ? em->y_vis : luminance_sum(em->L, lo_nm, hi_nm);
     q->shape = em->inf && em->inf->res > 0 ? &em->inf->mean :
                em->delta.type == DELTA_PROJECTION ? em->delta.mean :
                em->image ? em->image_mean : em->L;
@@ -400,7 +417,8 @@ int emitters_prepare(Scene *s, Error *err)
         /* A UV lamp has no luminance: its L is absolute spectral radiance, and the
            decision is the emitter's own (made on 400-700 nm, whatever range the
            film integrates), so every range gives it the same meaning. */
-        em->absolute = !(luminance_sum(em->L, LAMBDA_LO, LAMBDA_HI) > 0.0);
+        if (!(em->y_vis > 0.0)) em->y_vis = luminance_sum(em->L, LAMBDA_LO, LAMBDA_HI);
+        em->absolute = !(em->y_vis > 0.0);
         /* so its radiance over 400-700 nm is defined: norm = 1 or that luminance */
         if (em->inf) {
             /* infinite.c has the rest; here the scene's bounding sphere, which gives
@@ -1270,6 +1288,14 @@ int light_tree_simd_mismatches(const LightSampler *ls, const LightCtx *c, int *l
     return light_tree_simd_check(ls->tree, c, lanes);
 }
 
+/* For the test lighttree_bins_sum (lighttree.c). */
+int light_tree_bins_mismatches(const LightSampler *ls, int *lanes)
+{
+    *lanes = 0;
+    if (!is_tree(ls->opt.strategy) || !ls->tree) return 0;
+    return light_tree_bins_check(ls->tree, lanes);
+}
+
 double light_sampler_lazy_seconds(const LightSampler *ls)
 {
     return ls->lazy_s;
@@ -1696,7 +1722,7 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
         /* A spectrum with no luminance in 400-700 nm (an ultraviolet lamp) cannot be
            normalised to Y = scale: lights.c reads it as absolute spectral radiance
            times scale (docs/conventions.md §4, docs/FLUORESCENCE.md §6). */
-        double vis = luminance_sum(&L, LAMBDA_LO, LAMBDA_HI), any = 0.0;
+        double vis = luminance_sum_t(P->rgb, &L, LAMBDA_LO, LAMBDA_HI), any = 0.0;
         int nm;
         for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) any += spec_get(&L, nm);
         if (!(any > 0.0))
@@ -1707,6 +1733,7 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
             return fail(P, p ? p->file : file, p ? p->line : line, "AreaLightSource: \"float "
                         "power\" with an L that has no luminance in 400-700 nm (pbrt-v4 divides "
                         "by that luminance)");
+        al.y_vis = vis;                        /* Emitter.y_vis: not summed again */
         if (!(vis > 0.0))
             fprintf(stderr, "%s:%d: note: AreaLightSource: L has no luminance in 400-700 nm; "
                     "read as absolute spectral radiance times scale (docs/conventions.md)\n",

@@ -105,7 +105,9 @@ struct LightTree {
                                   range, from 300 nm, then those of the range */
     int nb_uv;                 /* bins over [lo_nm - 5 nb_uv, lo_nm): 20 for 400-700 nm,
                                   12 for 360-830 (fluorescence excitation) */
-    float *node_bin;           /* n_nodes x nb: power per bin (while building) */
+    float *leaf_bin;           /* n_pieces x nb: a piece's power per bin (while building:
+                                  the collapse puts them in quad_bin's leaf lanes and
+                                  sums them up to the other lanes, quad_bins_up) */
     float *quad_bin;           /* nb x n_nodes4 x 4: for bin b and node i, the power of
                                   node i's four children side by side (bin-major: the
                                   entries of one bin, which a walk reads, lie together) */
@@ -274,8 +276,6 @@ typedef struct {
     const PieceBounds *pb;
     Vec3 *centroids;
     KeyIdx *tmp;
-    double *le_avg;            /* per distinct radiance (LightTreeInput.Le), its nb bin
-                                  averages: computed once, not once per piece */
     MeasureMemo memo;
 } Builder;
 
@@ -377,15 +377,12 @@ static int tree_build(Builder *B, int *items, int n, int depth)
     nd->twosided = all.twosided;
     nd->behind = node_behind(B, items, n, &all, nd, &nd->slack);
     if (n == 1) {
-        const LightPiece *pc = &B->in->pieces[items[0]];
         double sum = 0.0;
         nd->second = -1 - items[0];
-        /* power per bin: pi A (2 if two-sided) times the bin average of Le; the
-           power Phi sums the bins of the sampled range only (b >= nb_uv) */
+        /* the power Phi sums the piece's bins (leaf_bins) of the sampled range only
+           (b >= nb_uv) */
         for (b = 0; b < lt->nb; b++) {
-            double avg = B->le_avg[(size_t)B->in->le_of[pc->emitter] * lt->nb + b];
-            float v = (float)(SPECNEE_PI * pc->area * (B->in->scene->emitters[pc->emitter].twosided ? 2.0 : 1.0) * avg);
-            lt->node_bin[(size_t)node * lt->nb + b] = v;
+            float v = lt->leaf_bin[(size_t)items[0] * lt->nb + b];
             if (b >= lt->nb_uv) sum += (double)v * SPD_BIN_NM;
         }
         nd->power = (float)sum;
@@ -453,12 +450,7 @@ static int tree_build(Builder *B, int *items, int n, int depth)
     tree_build(B, items, mid, depth + 1);
     nd = &lt->nodes[node];
     nd->second = tree_build(B, items + mid, n - mid, depth + 1);
-    {
-        const TreeNode *c0 = &lt->nodes[node + 1], *c1 = &lt->nodes[nd->second];
-        size_t o = (size_t)node * lt->nb, o0 = (size_t)(node + 1) * lt->nb, o1 = (size_t)nd->second * lt->nb;
-        for (b = 0; b < lt->nb; b++) lt->node_bin[o + b] = lt->node_bin[o0 + b] + lt->node_bin[o1 + b];
-        nd->power = c0->power + c1->power;
-    }
+    nd->power = lt->nodes[node + 1].power + lt->nodes[nd->second].power;
     return node;
 }
 
@@ -520,8 +512,9 @@ static void tree_collapse(LightTree *lt, const int *root, int m, Pending *queue)
             uint64_t t = pd->trail | ((uint64_t)k << (2 * pd->depth));
             lane_from(nd, k, c);
             lt->quad_power[(size_t)head * 4 + k] = c->power;
-            for (b = 0; b < lt->nb; b++)
-                col[(size_t)4 * lt->n_nodes4 * b + k] = lt->node_bin[(size_t)pd->slots[k] * lt->nb + b];
+            if (c->second < 0)                       /* a leaf: its piece's bins (others: quad_bins_up) */
+                for (b = 0; b < lt->nb; b++)
+                    col[(size_t)4 * lt->n_nodes4 * b + k] = lt->leaf_bin[(size_t)(-1 - c->second) * lt->nb + b];
             if (c->second < 0) {
                 lt->trail[-1 - c->second] = t;
                 lt->depth[-1 - c->second] = pd->depth + 1;
@@ -535,6 +528,41 @@ static void tree_collapse(LightTree *lt, const int *root, int m, Pending *queue)
             }
         }
     }
+}
+
+/* The bins of binary node c, an interior node whose grandchildren are the lanes
+   of 4-wide node j (grandchildren's order), into out[b * stride]: the sums of the
+   binary build, each child the sum of its two children (or a leaf alone), then
+   the two children. */
+static void lanes_sum(const LightTree *lt, int c, int j, float *out, size_t stride)
+{
+    const TreeNode *bn = lt->nodes;
+    const size_t bin_stride = (size_t)4 * lt->n_nodes4;
+    const float *col = lt->quad_bin + (size_t)j * 4;
+    int leaf0 = bn[c + 1].second < 0, leaf1 = bn[bn[c].second].second < 0;
+    int k1 = leaf0 ? 1 : 2, b;                 /* the first lane of the second child */
+    for (b = 0; b < lt->nb; b++, col += bin_stride) {
+        float h0 = leaf0 ? col[0] : col[0] + col[1];
+        float h1 = leaf1 ? col[k1] : col[k1] + col[k1 + 1];
+        out[(size_t)b * stride] = h0 + h1;
+    }
+}
+
+/* The bins of the lanes that hold interior binary nodes, from the lanes of their
+   own 4-wide nodes, deepest first (a child has a higher index than its parent:
+   breadth first), and the root's; queue: the collapse's nodes. */
+static void quad_bins_up(LightTree *lt, const Pending *queue)
+{
+    const size_t bin_stride = (size_t)4 * lt->n_nodes4;
+    int i, k, b;
+    for (i = lt->n_nodes4 - 1; i >= 0; i--)
+        for (k = 0; k < queue[i].m; k++) {
+            int c = queue[i].slots[k];
+            if (lt->nodes[c].second < 0) continue;   /* a leaf: its piece's bins */
+            lanes_sum(lt, c, lt->nodes4[i].child[k], lt->quad_bin + (size_t)i * 4 + k, bin_stride);
+        }
+    if (lt->nodes[0].second >= 0) lanes_sum(lt, 0, 0, lt->root_bin, 1);
+    else for (b = 0; b < lt->nb; b++) lt->root_bin[b] = lt->quad_bin[bin_stride * b];
 }
 
 /* How many 4-wide nodes the collapse makes of the binary subtree whose
@@ -1001,7 +1029,74 @@ int light_tree_simd_check(const LightTree *lt, const LightCtx *c, int *lanes)
     return bad;
 }
 
+/* Bin b summed, in double, over the leaf lanes below lane k of 4-wide node i. */
+static double leaves_sum(const LightTree *lt, int i, int k, int b)
+{
+    int j = lt->nodes4[i].child[k], kk;
+    double sum = 0.0;
+    if (j < 0) return lt->quad_bin[(size_t)4 * lt->n_nodes4 * b + (size_t)i * 4 + k];
+    for (kk = 0; kk < 4; kk++)
+        if (lt->nodes4[j].child[kk] != 0) sum += leaves_sum(lt, j, kk, b);   /* 0: no lane */
+    return sum;
+}
+
+/* For the test lighttree_bins_sum: every lane's power per bin, and the root's,
+   against the sum of the leaves' below it (relative 1e-5: float sums); the
+   number of lanes (and root) that differ. */
+int light_tree_bins_check(const LightTree *lt, int *lanes)
+{
+    int i, k, b, bad = 0;
+    *lanes = 0;
+    if (lt->n_tree_pieces == 0) return 0;
+    for (i = 0; i < lt->n_nodes4; i++)
+        for (k = 0; k < 4; k++) {
+            if (lt->nodes4[i].child[k] == 0) continue;   /* an empty lane (node 0 is no child) */
+            (*lanes)++;
+            for (b = 0; b < lt->nb; b++) {
+                double want = leaves_sum(lt, i, k, b);
+                double got = lt->quad_bin[(size_t)4 * lt->n_nodes4 * b + (size_t)i * 4 + k];
+                if (!(fabs(got - want) <= 1e-5 * fabs(want))) { bad++; break; }
+            }
+        }
+    for (b = 0; b < lt->nb; b++) {
+        double want = 0.0;
+        for (k = 0; k < 4; k++)
+            if (lt->nodes4[0].child[k] != 0) want += leaves_sum(lt, 0, k, b);
+        if (!(fabs(lt->root_bin[b] - want) <= 1e-5 * fabs(want))) { bad++; break; }
+    }
+    return bad;
+}
+
 /* ------------------------------------------------------------------ build, free, size */
+
+/* The power per 5 nm bin of every piece in the tree: pi A (2 if two-sided) times
+   the bin's mean of its Le, each distinct Le's means computed once (in double);
+   into lt->leaf_bin.  0: out of memory. */
+static int leaf_bins(const LightTreeInput *in, LightTree *lt)
+{
+    const Scene *s = in->scene;
+    double *le_avg = (double *)malloc(sizeof(double) * (size_t)in->n_le * (size_t)lt->nb);
+    int i, b;
+    if (!le_avg) return 0;
+    for (i = 0; i < in->n_le; i++) {
+        Spectrum Le;
+        in->le_table(in->le_ctx, i, &Le);
+        for (b = 0; b < lt->nb; b++)               /* the 5 nm bin's mean of Le, in double */
+            le_avg[(size_t)i * lt->nb + b] =
+                spec_band_mean(&Le, (int)in->opt->lo_nm + (int)SPD_BIN_NM * (b - lt->nb_uv), (int)SPD_BIN_NM);
+    }
+    for (i = 0; i < in->n_pieces; i++) {
+        const LightPiece *pc = &in->pieces[i];
+        if (beside_tree(&s->emitters[pc->emitter])) continue;
+        for (b = 0; b < lt->nb; b++) {
+            double avg = le_avg[(size_t)in->le_of[pc->emitter] * lt->nb + b];
+            lt->leaf_bin[(size_t)i * lt->nb + b] =
+                (float)(SPECNEE_PI * pc->area * (s->emitters[pc->emitter].twosided ? 2.0 : 1.0) * avg);
+        }
+    }
+    free(le_avg);
+    return 1;
+}
 
 LightTree *light_tree_build(const LightTreeInput *in)
 {
@@ -1040,8 +1135,8 @@ LightTree *light_tree_build(const LightTreeInput *in)
     tmp = (KeyIdx *)malloc(sizeof(KeyIdx) * (size_t)n);
     B.centroids = (Vec3 *)malloc(sizeof(Vec3) * (size_t)n);
     lt->nodes = (TreeNode *)calloc((size_t)(2 * lt->n_tree_pieces - 1), sizeof *lt->nodes);
-    lt->node_bin = (float *)malloc(sizeof(float) * (size_t)(2 * lt->n_tree_pieces - 1) * (size_t)lt->nb);
-    if (!pb || !items || !tmp || !B.centroids || !lt->nodes || !lt->node_bin) { free(B.centroids); goto done; }
+    lt->leaf_bin = (float *)malloc(sizeof(float) * (size_t)n * (size_t)lt->nb);
+    if (!pb || !items || !tmp || !B.centroids || !lt->nodes || !lt->leaf_bin) { free(B.centroids); goto done; }
     for (i = 0, e = 0; i < n; i++) {
         if (beside_tree(&s->emitters[in->pieces[i].emitter])) continue;
         piece_bounds(in, &in->pieces[i], &pb[i]);
@@ -1053,20 +1148,10 @@ LightTree *light_tree_build(const LightTreeInput *in)
     B.pb = pb;
     B.tmp = tmp;
     B.memo.valid = 0;
-    B.le_avg = (double *)malloc(sizeof(double) * (size_t)in->n_le * (size_t)lt->nb);
-    if (!B.le_avg) { free(B.centroids); goto done; }
-    for (i = 0; i < in->n_le; i++) {
-        Spectrum Le;
-        int b;
-        in->le_table(in->le_ctx, i, &Le);
-        for (b = 0; b < lt->nb; b++)               /* the 5 nm bin's mean of Le, in double */
-            B.le_avg[(size_t)i * lt->nb + b] =
-                spec_band_mean(&Le, (int)in->opt->lo_nm + (int)SPD_BIN_NM * (b - lt->nb_uv), (int)SPD_BIN_NM);
-    }
+    if (!leaf_bins(in, lt)) { free(B.centroids); goto done; }
     lt->n_nodes = 0;
     tree_build(&B, items, lt->n_tree_pieces, 0);
     free(B.centroids);
-    free(B.le_avg);
     /* collapse it into the 4-wide tree that the walk reads: count its nodes,
        then fill them breadth first */
     {
@@ -1086,10 +1171,10 @@ LightTree *light_tree_build(const LightTreeInput *in)
             goto done;
         }
         lt->nodes4 = (TreeNode4 *)((char *)lt->nodes4_mem + (64 - (size_t)((uintptr_t)lt->nodes4_mem % 64)) % 64);
-        memcpy(lt->root_bin, lt->node_bin, sizeof(float) * (size_t)lt->nb);
         lane_from(&lt->top, 0, &lt->nodes[0]);
         lt->top_power = lt->nodes[0].power;
         tree_collapse(lt, slots, m, queue);
+        quad_bins_up(lt, queue);
         free(queue);
     }
     ok = 1;
@@ -1097,8 +1182,8 @@ done:
     free(items); free(pb); free(tmp);
     free(lt->nodes);
     lt->nodes = NULL;
-    free(lt->node_bin);
-    lt->node_bin = NULL;
+    free(lt->leaf_bin);
+    lt->leaf_bin = NULL;
     if (!ok) { light_tree_free(lt); return NULL; }
     return lt;
 }
@@ -1107,7 +1192,7 @@ void light_tree_free(LightTree *lt)
 {
     if (!lt) return;
     free(lt->trail); free(lt->depth); free(lt->inf_piece);
-    free(lt->nodes); free(lt->node_bin); free(lt->nodes4_mem); free(lt->quad_power); free(lt->quad_bin);
+    free(lt->nodes); free(lt->leaf_bin); free(lt->nodes4_mem); free(lt->quad_power); free(lt->quad_bin);
     free(lt->root_bin);
     free(lt);
 }

@@ -797,9 +797,9 @@ int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
             if (!(fabsf(*v) <= FLT_MAX))
                 return fail(P, p->file, p->line, "\"%s reflectance\": value %g at %d nm is "
                             "not finite", param_type_names[p->type], *v, nm);
-            lo = fminf(lo, *v);
-            hi = fmaxf(hi, *v);
-            *v = fminf(1.0f, fmaxf(0.0f, *v));
+            if (*v < lo) lo = *v;                 /* finite: as fminf, fmaxf, inline */
+            if (*v > hi) hi = *v;
+            *v = *v < 0.0f ? 0.0f : *v > 1.0f ? 1.0f : *v;
         }
         if (lo < 0.0f || hi > 1.0001f)
             fprintf(stderr, "%s:%d: note: \"%s reflectance\" goes from %g to %g: clamped "

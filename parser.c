@@ -471,6 +471,20 @@ static int param_check_kind(Parser *P, const Param *p)
     return 1;
 }
 
+/* The next whitespace-separated word of *s, at most max characters (what sscanf's
+   "%<max>s" reads, without its cost per parameter), into out; 0 when none is left. */
+static int scan_word(const char **s, char *out, int max)
+{
+    const char *p = *s;
+    int n = 0;
+    while (isspace((unsigned char)*p)) p++;
+    if (!*p) { *s = p; return 0; }
+    while (*p && !isspace((unsigned char)*p) && n < max) out[n++] = *p++;
+    out[n] = '\0';
+    *s = p;
+    return 1;
+}
+
 /* Read "type name" value(s) pairs until the next token is not a quoted string. */
 int parse_params(Parser *P, Lexer *L, ParamList *pl)
 {
@@ -481,8 +495,10 @@ int parse_params(Parser *P, Lexer *L, ParamList *pl)
         int i, nf, cap_num = 0, cap_str = 0;
         if (!lex_next(P, L, &t)) return 0;
         if (t.kind != TK_STRING) { lex_unget(L, &t); return 1; }
-        extra[0] = '\0';
-        nf = sscanf(t.text, "%63s %63s %7s", type, name, extra);
+        {   /* sscanf(t.text, "%63s %63s %7s", type, name, extra) */
+            const char *s = t.text;
+            nf = !scan_word(&s, type, 63) ? 0 : !scan_word(&s, name, 63) ? 1 : !scan_word(&s, extra, 7) ? 2 : 3;
+        }
         if (nf < 2)
             return fail(P, t.file, t.line, "parameter \"%s\" needs a type and a name, "
                         "like \"float fov\"", t.text);
@@ -504,7 +520,7 @@ int parse_params(Parser *P, Lexer *L, ParamList *pl)
                         type, name, type);
         }
         p->type = (ParamType)i;
-        snprintf(p->name, sizeof p->name, "%s", name);
+        memcpy(p->name, name, strlen(name) + 1);   /* at most 63 characters */
         p->file = t.file;
         p->line = t.line;
         pl->n++;
@@ -933,7 +949,7 @@ float rgb_illuminant_scale(Parser *P, const Spectrum *L, float scale)
         if (!spec_named(&d65, "stdillum-D65")) return scale;
         P->d65_y = spec_to_y(&d65);
     }
-    return P->d65_y > 0.0 ? (float)(scale * (spec_to_y(L) / P->d65_y)) : scale;
+    return P->d65_y > 0.0 ? (float)(scale * (spec_to_y_t(P->rgb, L) / P->d65_y)) : scale;
 }
 
 /* pbrt-v4 reads a light's "power" or "illuminance" only when it is > 0 and

@@ -111,6 +111,8 @@ typedef struct {
     const Spectrum *image_mean;/* its mean colour's spectrum (in Scene.spectra) */
     float power;               /* "float power" / k_e (the image's mean luminance, else 1);
                                   <= 0: none (lights.c emitter_apply_power) */
+
+    double y_vis;              /* luminance_sum(L, LAMBDA_LO, LAMBDA_HI) (Emitter.y_vis) */
 } AreaLightDesc;
 
 typedef struct {

@@ -11,11 +11,12 @@
    within RGBT_TOL of the fit's spectrum (at the cell's centre and the centre of its
    lower z face).  The interpolation is poor where the coefficients grow fast (one
    component near 0: the sigmoid must reach 0 over a band), so the table answers
-   only in trusted cells; elsewhere, and for very dark colours, rgbtable_coeffs
-   returns 0 and spectrum.c runs its fit.  Accuracy against the fit over a dense set
+   only in trusted cells; elsewhere its interpolation is the start of spectrum.c's
+   Newton polish (rgbtable_lookup), and for very dark colours, outside the grid,
+   spectrum.c runs its own fit.  Accuracy against the fit over a dense set
    of colours: docs/loading.md and tests/test_spectrum.c (spectrum_rgbtable).
 
-   How it is used: spectrum.c's spec_from_rgb_t (a scene load) asks rgbtable_coeffs
+   How it is used: spectrum.c's spec_from_rgb_t (a scene load) asks rgbtable_lookup
    first.  The table is constant data: no state, the same answer for any thread
    count and any order of colours.  tools/gen_rgbtable.c compiles this file with
    RGBTABLE_GENERATOR defined (the grid's functions, without the table it writes). */
@@ -84,36 +85,55 @@ static void catmull_rom(double t, double w[4])
     w[3] = (0.5 * t - 0.5) * t * t;
 }
 
+/* The 4 x 4 x 4 knots around a cell, weighted in the order dz, db, da; where all
+   of them lie inside the grid (most cells), read in place, else through
+   rgb_grid_at's extrapolation: the same sums either way. */
 void rgb_grid_interp(const float *coef, int m, const int cell[3], const double f[3], double c[3])
 {
+    const int n = RGB_GRID_CELLS + 1;
     double wz[4], wb[4], wa[4];
-    int dz, db, da, k;
+    int dz, db, da, k, inside = 1;
     catmull_rom(f[0], wz);
     catmull_rom(f[1], wb);
     catmull_rom(f[2], wa);
     c[0] = c[1] = c[2] = 0.0;
+    for (k = 0; k < 3; k++)
+        if (cell[k] - 1 < (k == 0 ? 1 : 0) || cell[k] + 2 > n - 1) inside = 0;
     for (dz = 0; dz < 4; dz++)
-        for (db = 0; db < 4; db++)
+        for (db = 0; db < 4; db++) {
+            const float *row = inside ? coef + 3 * (((m * n + cell[0] + dz - 1) * n + cell[1] + db - 1) * n
+                                                    + cell[2] - 1) : NULL;
             for (da = 0; da < 4; da++) {
                 double w = wz[dz] * wb[db] * wa[da];
                 for (k = 0; k < 3; k++)
-                    c[k] += w * rgb_grid_at(coef, m, cell[0] + dz - 1, cell[1] + db - 1,
-                                            cell[2] + da - 1, k);
+                    c[k] += w * (row ? (double)row[3 * da + k]
+                                     : rgb_grid_at(coef, m, cell[0] + dz - 1, cell[1] + db - 1,
+                                                   cell[2] + da - 1, k));
             }
+        }
 }
 
 #ifndef RGBTABLE_GENERATOR
 #include "rgbtable.h"
 
-int rgbtable_coeffs(const double target[3], double c[3])
+/* The interpolation at target in any cell: 2 in a trusted cell, 1 in another
+   (c is then a start for spectrum.c's polish), 0 outside the grid (c untouched). */
+int rgbtable_lookup(const double target[3], double c[3])
 {
     double f[3];
     int m, cell[3], byte;
     if (!rgb_grid_cell(target, &m, cell, f)) return 0;
     byte = ((m * RGB_GRID_CELLS + cell[0]) * RGB_GRID_CELLS + cell[1]) * ((RGB_GRID_CELLS + 7) / 8)
            + cell[2] / 8;
-    if (!((rgbt_ok[byte] >> (cell[2] % 8)) & 1)) return 0;
     rgb_grid_interp(rgbt_c, m, cell, f, c);
+    return (rgbt_ok[byte] >> (cell[2] % 8)) & 1 ? 2 : 1;
+}
+
+int rgbtable_coeffs(const double target[3], double c[3])
+{
+    double ci[3];
+    if (rgbtable_lookup(target, ci) != 2) return 0;
+    c[0] = ci[0]; c[1] = ci[1]; c[2] = ci[2];
     return 1;
 }
 #endif

@@ -411,11 +411,19 @@ float spec_sigmoid_eval(const float c[3], float lambda_nm);
 /* For tests: the coefficient table's interpolated start for target (before the
    Newton polish), and the full continuation fit from grey (no table). */
 void  spec_rgb_table_start(RgbTable *T, const double target[3], double c[3]);
+/* spec_to_y (below) with T's table of ybar at the knots (the same value; T NULL:
+   spec_to_y): a load's rgb lights take their Y from it (parser.c). */
+double spec_to_y_t(RgbTable *T, const Spectrum *s);
+/* T's table of cie_ybar at the knots SPEC_MIN..SPEC_MAX (SPEC_N doubles) */
+const double *spec_ybar_knots(RgbTable *T);
 void  spec_rgb_coeffs_fit(const double target[3], double c[3]);
 /* rgbtable.c: the coefficients of target (components in [0, 1], not all 0) by
    interpolation of the build-time table rgbtable.h, without iteration; 0 where the
    table is not trusted (then spec_rgb_coeffs fits). */
 int   rgbtable_coeffs(const double target[3], double c[3]);
+/* ... and the interpolation in any cell: 2 trusted (c as rgbtable_coeffs), 1 not
+   (c: the start that spectrum.c polishes by Newton), 0 outside the grid. */
+int   rgbtable_lookup(const double target[3], double c[3]);
 /* The table's grid (rgbtable.c; docs/loading.md): knots x = 0..RGB_GRID_CELLS of
    z = rgb[m], the largest component, at z = rgb_grid_z(x); rgb_grid_cell gives m,
    the cell (x, b, a) and the fractions in it (0 where z is below the knot x = 1);
@@ -1579,6 +1587,8 @@ typedef struct {
     double reach_eps;          /* distance below which a point counts as in the plane */
     int absolute;              /* L has no luminance in 400-700 nm (a UV lamp): Le = scale * L,
                                   absolute spectral radiance (docs/conventions.md §4) */
+    double y_vis;              /* luminance_sum(L, LAMBDA_LO, LAMBDA_HI), computed once: by
+                                  area_light_from_params (AreaLightDesc) or emitters_prepare */
     int image;                 /* AreaLightSource "filename": 1 + the index in Scene.textures
                                   of its emission image (L then holds D65), 0: none */
     const Spectrum *image_mean;/* ... and the RGB illuminant spectrum of the image's mean
@@ -2106,6 +2116,8 @@ float light_Le_at(const LightSampler *ls, int e, Vec3 n, Vec3 w, const SurfacePo
 /* sum over 1 nm steps in [lo, hi] of ybar L: the luminance that normalises an
    emitter's spectrum L (and an emissive medium's Le, render.c). */
 double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm);
+/* the same sum with ybar from a load's RgbTable (spec_ybar_knots; T NULL: luminance_sum) */
+double luminance_sum_t(RgbTable *T, const Spectrum *L, float lo_nm, float hi_nm);
 void  light_spectrum(const LightSampler *ls, int e, Spectrum *Le);   /* e's Le, tabulated */
 /* What NEE chooses is a PIECE: a whole emitter, or (light trees only) a cluster of
    at most LIGHT_CLUSTER_TRIS triangles of a large emissive mesh.  Without
@@ -2144,6 +2156,9 @@ const char *light_nee_source(const LightSampler *ls, const LightCtx *c, int fell
    the two (0 without SSE2 or without a tree); *lanes: how many were compared.
    For tests. */
 int   light_tree_simd_mismatches(const LightSampler *ls, const LightCtx *c, int *lanes);
+/* (test lighttree_bins_sum) the tree's lanes whose power per bin, or the root's,
+   is not the sum of the leaves' below it (relative 1e-5); *lanes: lanes checked */
+int   light_tree_bins_mismatches(const LightSampler *ls, int *lanes);
 size_t light_sampler_bytes(const LightSampler *ls);      /* memory held by its tables */
 /* Seconds spent so far building voxel tables on first use (eager builds excluded). */
 double light_sampler_lazy_seconds(const LightSampler *ls);
@@ -2191,6 +2206,7 @@ void   light_tree_free(LightTree *t);
 int    light_tree_select(const LightTree *t, const LightCtx *c, float u, float *pmf);
 float  light_tree_pmf(const LightTree *t, const LightCtx *c, int piece);
 int    light_tree_simd_check(const LightTree *t, const LightCtx *c, int *lanes);  /* as above */
+int    light_tree_bins_check(const LightTree *t, int *lanes);   /* as light_tree_bins_mismatches */
 size_t light_tree_bytes(const LightTree *t);
 /* Shared by lights.c (its mesh clusters) and the tree's build (lighttree.c): the
    area of scene triangle t; items[0..n) sorted by coordinate `axis` of their

@@ -456,18 +456,24 @@ int spec_is_constant(const Spectrum *s)
     return 1;
 }
 
-/* FNV-1a over the table's 32-bit words (the floats' bit patterns). */
+/* FNV-1a (64-bit) over the table's 64-bit words (pairs of the floats' bit
+   patterns; an odd last float alone), folded to 32 bits. */
 static unsigned spec_hash(const Spectrum *s)
 {
     const unsigned char *b = (const unsigned char *)s;
-    unsigned long h = 2166136261UL;
+    uint64_t h = 14695981039346656037u;
     size_t i;
-    for (i = 0; i + 4 <= sizeof *s; i += 4) {
+    for (i = 0; i + 8 <= sizeof *s; i += 8) {
+        uint64_t w;
+        memcpy(&w, b + i, 8);
+        h = (h ^ w) * 1099511628211u;
+    }
+    for (; i + 4 <= sizeof *s; i += 4) {
         uint32_t w;
         memcpy(&w, b + i, 4);
-        h = ((h ^ w) * 16777619UL) & 0xffffffffUL;
+        h = (h ^ w) * 1099511628211u;
     }
-    return (unsigned)h;
+    return (unsigned)(h ^ (h >> 32));
 }
 
 /* Put record i (hash h) in the first free slot of its probe sequence. */
@@ -1319,8 +1325,10 @@ done:
    target in 8 steps, which keeps Newton inside its basin for saturated colours (the
    same idea as Jakob & Hanika's table optimisation, done here at load time).
    Grey (r = g = b) gives an exactly constant spectrum, as in pbrt-v4.
-   The fit of each colour starts from the coefficient table below and polishes it
-   with the same Newton steps; the continuation is the fallback and builds the table.
+   A scene load asks rgbtable.c's build-time table first: its interpolation as it
+   is in the cells it trusts, polished by these Newton steps in the others; the
+   coefficient table below (its start, polished) and the continuation are the
+   fallbacks (and the continuation builds both tables).
    Accuracy (tests/test_spectrum.c): the round trip rgb -> s -> rgb is within 1.3e-6
    (float rounding of the table) over a 5^3 grid of components 0.1..0.9, and within
    1e-4 for the sRGB primaries (steep sigmoids); greys are off by up to 1.5e-4, the
@@ -1429,13 +1437,16 @@ static double norm2_diff(const double a[3], const double b[3])
 
 /* Newton's method on rgb(c) = target from the c given, at most max_it steps, each
    with the analytic Jacobian, a trust region of length 50 and a backtracking line
-   search.  Returns the squared rgb error of the final c. */
+   search.  Returns the squared rgb error of the final c.  It stops once that error
+   is below 1e-14; after a step, that error is the accepted trial's (the rgb(c) a
+   new evaluation would give), so converging costs no evaluation of the Jacobian. */
 static double rgb_newton(const RgbFit *f, const double target[3], double c[3], int max_it)
 {
     double rgb[3], J[3][3], rhs[3], dc[3], trial[3], trial_rgb[3], err0 = 1.0;
     int it, k, h;
     for (it = 0; it < max_it; it++) {
         double len;
+        if (it > 0 && err0 < 1e-14) break;        /* rgb(c) known from the last trial */
         rgb_fit_eval(f, c, rgb, J);
         err0 = norm2_diff(rgb, target);
         if (err0 < 1e-14) break;
@@ -1509,6 +1520,7 @@ struct RgbTable {                              /* specnee.h: owned by a scene lo
     int built[3][RGB_TAB_N];                   /* slice (m, z_k) filled */
     RgbFit fit;
     Spectrum d65;                              /* stdillum-D65 (Y = 1), for illuminants */
+    double ybar[SPEC_N], ybar_sum;             /* cie_ybar at each knot, and their sum */
     double z[RGB_TAB_N];
     double c[3][RGB_TAB_N][RGB_TAB_N][RGB_TAB_N][3];  /* [m][z][b][a][coefficient] */
 };
@@ -1567,6 +1579,11 @@ static RgbTable *rgb_table_get(RgbTable *T)
     if (!T->ready) {
         rgb_fit_init(&T->fit);
         spec_named(&T->d65, "stdillum-D65");
+        T->ybar_sum = 0.0;
+        for (zi = 0; zi < SPEC_N; zi++) {           /* spec_to_y's terms, in its order */
+            T->ybar[zi] = cie_ybar((double)(SPEC_MIN + zi));
+            T->ybar_sum += T->ybar[zi];
+        }
         for (zi = 0; zi < RGB_TAB_N; zi++)
             T->z[zi] = smoothstep(smoothstep((double)zi / (RGB_TAB_N - 1)));
         T->ready = 1;
@@ -1602,19 +1619,24 @@ static void rgb_table_lookup(RgbTable *T, const double target[3], double c[3])
     }
 }
 
-/* c for target (components in [0, 1], not grey): the table's start, polished by
-   Newton; the full continuation where the polish does not converge, or where
-   there is no table (T NULL). */
+/* c for target (components in [0, 1], not grey): rgbtable.c's interpolation in
+   its trusted cells; elsewhere that interpolation polished by Newton, else this
+   coarse table's start polished, else (or where there is no table, T NULL) the
+   full continuation. */
 static void rgb_coeffs(RgbTable *T, const double target[3], double c[3])
 {
+    int in_table;
     if (!T) {
         RgbFit fit;
         rgb_fit_init(&fit);
         rgb_fit(&fit, target, c);
         return;
     }
-    if (rgbtable_coeffs(target, c)) return;      /* rgbtable.c: trusted cells */
+    in_table = rgbtable_lookup(target, c);     /* rgbtable.c */
+    if (in_table == 2) return;                  /* a trusted cell: no iteration */
     rgb_table_get(T);
+    /* another cell: its interpolation, polished (about 3 evaluations of rgb(c)) */
+    if (in_table == 1 && rgb_newton(&T->fit, target, c, RGB_POLISH) < 1e-14) return;
     rgb_table_lookup(T, target, c);
     if (rgb_newton(&T->fit, target, c, RGB_POLISH) >= 1e-14) rgb_fit(&T->fit, target, c);
 }
@@ -1681,6 +1703,24 @@ void spec_rgb_coeffs(RgbTable *T, const double target[3], double c[3])
 {
     if (target[0] == target[1] && target[1] == target[2]) { c[0] = c[1] = c[2] = 0.0; return; }
     rgb_coeffs(T, target, c);
+}
+
+/* ybar at the knots SPEC_MIN..SPEC_MAX (cie_ybar's values), from T's table. */
+const double *spec_ybar_knots(RgbTable *T)
+{
+    return rgb_table_get(T)->ybar;
+}
+
+/* spec_to_y(s) with ybar read from T's knots instead of interpolated per knot:
+   the same products and sums in the same order, so the same value. */
+double spec_to_y_t(RgbTable *T, const Spectrum *s)
+{
+    double y = 0.0;
+    int i;
+    if (!T) return spec_to_y(s);
+    rgb_table_get(T);
+    for (i = 0; i < SPEC_N; i++) y += T->ybar[i] * s->v[i];
+    return T->ybar_sum > 0.0 ? y / T->ybar_sum : 0.0;
 }
 
 void spec_rgb_table_start(RgbTable *T, const double target[3], double c[3])

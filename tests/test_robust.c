@@ -338,8 +338,31 @@ static void test_error_at_param_line(T *t)
     expect_fail(t, p, "pl_same.pbrt:1:", "\"float fov\" 0", &e);
 }
 
+/* A parameter's "type name" string is split into whitespace-separated words of
+   at most 63 characters (parser.c scan_word, as sscanf's "%63s" did): spaces and
+   tabs around and between the words are fine; one word, three words, or a type
+   longer than 63 characters (its tail becomes a third word) are refused. */
+static void test_param_words(T *t)
+{
+    Error e;
+    Scene s;
+    const char *p = test_write_file(t, "pw_ok.pbrt", "WorldBegin\nShape \"sphere\" \"  float\tradius  \" [ 0.5 ]\n");
+    CHECK(t, scene_load(&s, p, &e), "%s", e.msg);
+    CHECK(t, s.n_shapes == 1 && s.shapes[0].radius == 0.5f, "the radius was not read: %d shapes",
+          s.n_shapes);
+    scene_free(&s);
+    p = test_write_file(t, "pw_one.pbrt", "WorldBegin\nShape \"sphere\" \"float\" [ 1 ]\n");
+    if (!expect_fail(t, p, "pw_one.pbrt:2:", "needs a type and a name", &e)) return;
+    p = test_write_file(t, "pw_three.pbrt", "WorldBegin\nShape \"sphere\" \"float radius 2\" [ 1 ]\n");
+    if (!expect_fail(t, p, "pw_three.pbrt:2:", "more than a type and a name", &e)) return;
+    p = test_write_file(t, "pw_long.pbrt", "WorldBegin\nShape \"sphere\" \"float"
+                        "xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx radius\" [ 1 ]\n");
+    expect_fail(t, p, "pw_long.pbrt:2:", "more than a type and a name", &e);
+}
+
 const TestCase tests_robust[] = {
     { "robust_error_at_param_line", test_error_at_param_line },
+    { "robust_param_words", test_param_words },
     {"robust_include_fanout", test_include_fanout},
     {"robust_include_params_continue", test_include_params_continue},
     {"robust_include_paths", test_include_paths},
