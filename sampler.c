@@ -91,19 +91,29 @@
    HALTON_DIMS) as coordinate j of the Halton point k (Halton 1960):
        x_j(k) = sum_i pi_ji(a_i) p_j^-(i+1),    k = sum_i a_i p_j^i,           (2)
    p_j the (j+1)-th prime, pi_ji a random bijection of the digits {0..p_j-1} per
-   (pixel, seed, coordinate, digit position i).  Unscrambled, any N = prod_j p_j^e_j
+   (pixel, seed, coordinate, digit position i), below.  Unscrambled, any N = prod_j p_j^e_j
    consecutive points put one point in every box prod_j [c_j p_j^-e_j, (c_j + 1)
    p_j^-e_j) (the box of x(k) is fixed by k mod p_j^e_j for each j, and by the
    Chinese remainder theorem each combination occurs once), so (pixel, lens, lamp
    point) are stratified JOINTLY.  A digit bijection keeps that (it relabels the
    boxes) and, being random, makes every digit uniform and independent of the other
    positions' digits: the number is uniform on [0, 1) (random digit permutation,
-   pbrt-v4's default "permutedigits" for halton).  specnee's bijection is affine, pi(a) = (m a + b) mod p with m
-   uniform on 1..p-1 and b on 0..p-1 (uniform for each a through b), taken from
-   the digits of two uniform numbers per (pixel, seed, coordinate), so the digits
-   above k's own, pi_i(0) = b_i, cost nothing: they are the rest of a uniform
-   number.  Each number is then uniform on [0, 1) (to 2^-53), and the point sets
-   stay stratified at every scale.  A scene's further dimensions (later bounces,
+   pbrt-v4's default "permutedigits" for halton).  specnee's bijection is
+   pi_i(a) = sigma_i((a + sigma_i^-1(b_i)) mod p): sigma_i a uniformly random
+   permutation of the digits per coordinate and digit position, drawn once per film
+   from the seed (Sampler.halton_perm, halton_tables), and b_i the i-th digit of a
+   uniform number per (pixel, seed, coordinate).  Over the pixels every digit is
+   uniform whatever a is; pi_i(0) = b_i, so the digits above k's own cost nothing:
+   they are the rest of a uniform number.  A digit map linear in a (a shift, or
+   m a + b) would be cheaper, but where k < p the first digit is then linear in k,
+   and two coordinates of large bases pair on a few lines (in 1,415 of 2,000
+   pixels their 64 samples correlate with |r| > 0.5; the test
+   sampler_halton_large_bases_pair_at_random).  Each number is uniform on [0, 1)
+   (to 2^-53), and the point sets stay stratified at every scale.  When the camera
+   sits in a rendered medium the camera group (above) serves the pixel position,
+   the wavelength and the first free flight, as for sobol: its 4-D Sobol net
+   stratifies the three jointly where Halton bases 2, 3, 11 and 163 cannot at a
+   few dozen samples (docs/sampling.md).  A scene's further dimensions (later bounces,
    media, time, subsurface) are padded sobol groups: they are unbiased and
    converge as sobol's do.
 
@@ -287,33 +297,75 @@ static int halton_slot(int dim)
     return dim == dim_medium(0, 0) ? HALTON_DIMS : -1;
 }
 
+/* The digit tables (sampler_init): for coordinate j of base p and each digit
+   position i whose p^i < 2^24, a uniformly random permutation pi_ji of the digits
+   0..p-1 (Fisher-Yates on hashes of the seed).  A position past the tables keeps
+   the identity. */
+static void halton_tables(Sampler *s)
+{
+    int j, i, off = 0;
+    for (j = 0; j <= HALTON_DIMS; j++) {
+        uint32_t p = halton_primes[j];
+        double reach = 1.0;
+        int nd = 0;
+        while (reach < 16777216.0) { reach *= (double)p; nd++; }
+        s->halton_off[j] = (unsigned short)off;
+        s->halton_ndig[j] = (unsigned char)nd;
+        for (i = 0; i < nd; i++) {
+            unsigned char *t = s->halton_perm + off + i * (int)p;
+            uint32_t a;
+            for (a = 0; a < p; a++) t[a] = (unsigned char)a;
+            for (a = p - 1u; a > 0u; a--) {     /* swap t[a] with t[r], r uniform in [0, a] */
+                uint64_t h = hash_u64(hash_u64((uint64_t)s->seed ^ 0x9a17u, (uint64_t)(j * 64 + i)), a);
+                uint32_t r = (uint32_t)((h >> 11) % (uint64_t)(a + 1u)), c = t[a];
+                t[a] = t[r];
+                t[r] = (unsigned char)c;
+            }
+            for (a = 0; a < p; a++) s->halton_inv[off + i * (int)p + t[a]] = (unsigned char)a;
+        }
+        off += nd * (int)p;
+    }
+}
+
 /* Coordinate `slot` of the scrambled Halton point k (2) of the pixel whose hash is
-   key.  Two uniform numbers per (pixel, seed, coordinate) hold the scramble: the
-   base-p digits of Z are the shifts b_i, the base-(p-1) digits of M the
-   multipliers m_i - 1; past k's own digits (a = 0, scrambled to b_i) the digits
-   of Z are the rest of the number, w Z', so no digit is ever cut off. */
-static float halton_coord(uint64_t key, uint32_t k, int slot)
+   key.  Digit a_i of k (base p, least significant first) becomes digit i of the
+   result as pi_i((a_i + pi_i^-1(b_i)) mod p): b_i, the pixel's own, is the i-th
+   base-p digit of a uniform number Z per (pixel, seed, coordinate); pi_i the
+   film's random permutation (halton_tables).  For each pixel and position this is
+   a bijection of the digits (so every elementary box of the Halton point keeps its
+   one sample) that sends a = 0 to b_i, and over the pixels a digit that is uniform
+   for every a (pi_i^-1(b_i) is uniform).  A shift alone (a + b_i) would make
+   the first digit linear in k where k < p, so two coordinates of large bases
+   would pair on a few lines; the permutation pairs them at random, as pbrt-v4's
+   permuted digits do.  Past k's own digits (a = 0, hence b_i) the digits of Z are
+   the rest of the number, w Z', so no digit is ever cut off. */
+static float halton_coord(const Sampler *s, uint64_t key, uint32_t k, int slot)
 {
     const double two53 = 9007199254740992.0;
     uint32_t p = halton_primes[slot], rest = k;
+    const unsigned char *t = s->halton_perm + s->halton_off[slot];
+    const unsigned char *ti = s->halton_inv + s->halton_off[slot];
+    int i = 0, nd = s->halton_ndig[slot];
     uint64_t h = hash_u64(key, (uint64_t)slot + 0x4a17u);
-    double z = (double)(h >> 11) / two53, mz = (double)(hash_u64(h, 1u) >> 11) / two53;
-    double v = 0.0, w = 1.0, t;
+    double z = (double)(h >> 11) / two53;
+    double v = 0.0, w = 1.0, t32;
     while (rest > 0) {
-        uint32_t a = rest % p, b, m;
+        uint32_t a = rest % p, b, d;
         z *= (double)p;
         b = (uint32_t)z;                   /* the next digit of Z */
         z -= (double)b;
-        mz *= (double)(p - 1u);
-        m = 1u + (uint32_t)mz;             /* the next digit of M, plus 1 */
-        mz -= (double)(m - 1u);
         rest /= p;
         w /= (double)p;
-        v += (double)((m * a + b) % p) * w;
+        if (i < nd)                        /* pi(a + pi^-1(b)): a = 0 keeps b */
+            d = t[i * (int)p + (int)((a + ti[i * (int)p + (int)b]) % p)];
+        else
+            d = (a + b) % p;
+        v += (double)d * w;
+        i++;
     }
     v += w * z;                            /* the zero digits above, shifted: Z's rest */
-    t = v * 4294967296.0;
-    return u32_to_float(t < 4294967295.0 ? (uint32_t)t : 4294967295u);
+    t32 = v * 4294967296.0;
+    return u32_to_float(t32 < 4294967295.0 ? (uint32_t)t32 : 4294967295u);
 }
 
 /* ------------------------------------------------------------------ the sampler */
@@ -339,6 +391,7 @@ void sampler_init(Sampler *s, SamplerType type, int seed, int spp, int xsamples,
         s->xsamples = s->spp / d;
     }
     while ((1L << s->log2_spp) < s->spp) s->log2_spp++;
+    if (type == SAMPLER_HALTON) halton_tables(s);
 }
 
 void sampler_start(const Sampler *s, int x, int y, int k, PixelSample *ps)
@@ -378,6 +431,15 @@ static int group_of(const Sampler *s, int dim, int *coord)
     if (dim == dim_medium(0, 0)) { *coord = 2; return DIM_FILM; }
     if (dim == DIM_WAVELENGTH) { *coord = 3; return DIM_FILM; }
     return dim;
+}
+
+/* Dimension dim belongs to the camera group (THE CAMERA GROUP above): halton
+   leaves these four to it, the 4-D Sobol net stratifying them jointly better than
+   Halton bases 2, 3, 11 and 163 can at a few dozen samples. */
+static int in_camera_group(const Sampler *s, int dim)
+{
+    return s->camera_medium && (dim == DIM_FILM || dim == DIM_FILM + 1 || dim == DIM_WAVELENGTH
+                                || dim == dim_medium(0, 0));
 }
 
 /* sobol: n = 1 or 2 numbers of the padded group that serves dimension dim. */
@@ -422,8 +484,8 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
         sobol_padded(ps, dim, n, u);
         break;
     case SAMPLER_HALTON:   /* the Halton point's slots; the dimensions beyond it padded */
-        if (halton_slot(dim) < 0) sobol_padded(ps, dim, n, u);
-        else for (c = 0; c < n; c++) u[c] = halton_coord(ps->key, ps->k, halton_slot(dim + c));
+        if (halton_slot(dim) < 0 || in_camera_group(s, dim)) sobol_padded(ps, dim, n, u);
+        else for (c = 0; c < n; c++) u[c] = halton_coord(s, ps->key, ps->k, halton_slot(dim + c));
         break;
     case SAMPLER_ZSOBOL: {
         int coord, g = group_of(s, dim, &coord);

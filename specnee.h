@@ -238,6 +238,7 @@ static inline int dim_sss(int depth) { return DIM_SSS0 + DIMS_PER_SSS * depth; }
 #define DIM_TIME (1 << 23)
 #define HALTON_BOUNCES 4      /* halton: the bounces whose dimensions join the Halton point */
 #define HALTON_DIMS (DIM_BOUNCE0 + HALTON_BOUNCES * DIMS_PER_BOUNCE)
+#define HALTON_PERM_N 11725   /* sum over the HALTON_DIMS + 1 bases p of p x (digits for 2^24) */
 #define SAMPLER_CHECKED_DIMS 256   /* dimensions whose reuse is counted (31 bounces) */
 
 typedef enum {
@@ -259,6 +260,13 @@ typedef struct {
     int log2_spp;              /* zsobol: 2^log2_spp >= spp indices per pixel */
     int camera_medium;         /* sobol, zsobol: 1 = the camera sits in a rendered medium; its
                                   first free flight and the wavelength join the pixel's group */
+    /* halton: one random permutation of the base-p digits per coordinate and digit
+       position, drawn from the seed by sampler_init (the same over the film; each
+       pixel adds its own digit shifts; sampler.c, "Halton") */
+    unsigned short halton_off[HALTON_DIMS + 1];   /* coordinate j's first table */
+    unsigned char halton_ndig[HALTON_DIMS + 1];   /* its digit positions with a table */
+    unsigned char halton_perm[HALTON_PERM_N];     /* the tables, p entries each */
+    unsigned char halton_inv[HALTON_PERM_N];      /* their inverses */
 } Sampler;
 
 typedef struct {               /* one sample of one pixel, on the stack of the tracer */

@@ -929,6 +929,77 @@ static void test_halton_integral(T *t)
     CHECK(t, fabs(m - exact) < K_SIGMA * se, "halton: mean %.5f, exact %.5f, standard error %.5f", m, exact, se);
 }
 
+/* Two coordinates of large bases (151 and 157: the last bounce's last slots of
+   the Halton point) over a pixel's first 64 samples, where k < p: the first digit
+   carries the number, so a digit map that is linear in the digit (a shift, or an
+   affine a m + b) puts the 64 pairs on a few lines, with a large correlation in
+   many pixels.  The film's random digit permutations pair them at random: the
+   Pearson correlation of 64 independent pairs has standard deviation 1/8, so
+   |r| > 0.5 (4 standard deviations) happens in about 6e-5 of the pixels.
+   Measured over 2,000 pixels: 0 (permutations), 1415 (a shift alone: the mutant);
+   bound: at most 3. */
+static void test_halton_large_bases_pair_at_random(T *t)
+{
+    Sampler s;
+    int pix, k, bad = 0;
+    const int da = HALTON_DIMS - 2, db = HALTON_DIMS - 1;
+    sampler_init(&s, SAMPLER_HALTON, 5, 64, 0, 0, 1);
+    for (pix = 0; pix < 2000; pix++) {
+        double sa = 0.0, sb = 0.0, saa = 0.0, sbb = 0.0, sab = 0.0, r;
+        for (k = 0; k < 64; k++) {
+            PixelSample ps;
+            double a, b;
+            sampler_start(&s, pix % 50, pix / 50, k, &ps);
+            a = sampler_1d(&ps, da);
+            b = sampler_1d(&ps, db);
+            sa += a; sb += b; saa += a * a; sbb += b * b; sab += a * b;
+        }
+        r = (sab - sa * sb / 64.0) / sqrt((saa - sa * sa / 64.0) * (sbb - sb * sb / 64.0));
+        bad += fabs(r) > 0.5;
+    }
+    printf("    dimensions %d, %d (bases 151, 157): |r| > 0.5 in %d of 2000 pixels\n", da, db, bad);
+    CHECK(t, bad <= 3, "halton: large bases correlated (|r| > 0.5) in %d of 2000 pixels", bad);
+}
+
+/* With the camera in a rendered medium, halton leaves the pixel position, the hero
+   wavelength and the camera ray's first free flight to the camera group (sampler.c):
+   those four numbers are sobol's, bit for bit, and the other Halton coordinates
+   (the lens, the first bounce) stay Halton's.  Without the medium the four are
+   Halton coordinates again. */
+static void test_halton_camera_group(T *t)
+{
+    static const int group[4] = { DIM_FILM, DIM_FILM + 1, DIM_WAVELENGTH, DIM_MEDIUM0 };
+    Sampler h, sb, hn;
+    int pix, k, c, same = 0, differ = 0, halton_own = 0;
+    sampler_init(&h, SAMPLER_HALTON, 9, 64, 0, 0, 1);
+    sampler_init(&sb, SAMPLER_SOBOL, 9, 64, 0, 0, 1);
+    sampler_init(&hn, SAMPLER_HALTON, 9, 64, 0, 0, 1);
+    h.camera_medium = sb.camera_medium = 1;
+    for (pix = 0; pix < 16; pix++)
+        for (k = 0; k < 64; k++) {
+            PixelSample a, b, n;
+            for (c = 0; c < 4; c++) {
+                float ua, ub, un;
+                sampler_start(&h, pix, 1, k, &a);
+                sampler_start(&sb, pix, 1, k, &b);
+                sampler_start(&hn, pix, 1, k, &n);
+                ua = sampler_1d(&a, group[c]);
+                ub = sampler_1d(&b, group[c]);
+                un = sampler_1d(&n, group[c]);
+                same += ua == ub;
+                halton_own += un != ub;
+            }
+            sampler_start(&h, pix, 1, k, &a);
+            sampler_start(&hn, pix, 1, k, &n);
+            differ += sampler_1d(&a, DIM_LENS) != sampler_1d(&n, DIM_LENS);
+        }
+    CHECK(t, same == 16 * 64 * 4, "halton in a camera medium: %d of %d camera-group numbers are sobol's",
+          same, 16 * 64 * 4);
+    CHECK(t, differ == 0, "halton: the lens moved with the camera medium (%d samples)", differ);
+    CHECK(t, halton_own > 16 * 64 * 4 - 40, "halton without a camera medium: only %d of %d numbers its own",
+          halton_own, 16 * 64 * 4);
+}
+
 /* Sampler directives mean what they mean in pbrt-v4: the type picks the sampler
    (halton its own; pmj02bn, paddedsobol: the nearest, sobol), stratified keeps its strata
    and jitter; no directive leaves the choice to the options. */
@@ -964,6 +1035,8 @@ const TestCase tests_sampler[] = {
     { "sampler_halton_uniform", test_halton_uniform },
     { "sampler_halton_joint_strata", test_halton_joint_strata },
     { "sampler_halton_integral", test_halton_integral },
+    { "sampler_halton_large_bases_pair_at_random", test_halton_large_bases_pair_at_random },
+    { "sampler_halton_camera_group", test_halton_camera_group },
     { "sampler_scene_directives", test_scene_directives },
     { "sampler_sobol_definition", test_sobol_definition },
     { "sampler_sobol_nets", test_sobol_nets },
