@@ -806,6 +806,8 @@ struct LightSampler {
     EmitterRef *ref;           /* per emitter: what light_Le reads, in one place */
     double *k;                 /* per emitter: scale / luminance_sum(L) (image maps' texels) */
     float *bin;                /* n x SPD_BINS: bin averages of Le over 400-700 nm */
+    Spectrum le_sum;           /* the sum of every emitter's Le (360-830 nm knots; UV 0),
+                                  added in emitter order as it is tabulated */
     double *power;             /* per emitter: radiant power over 400-700 nm */
     double *power_cdf;         /* power strategy: n + 1 running sums of power_pmf */
     int power_last;            /* last emitter with positive power_pmf */
@@ -1173,17 +1175,18 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     }
     if (!ls->Le || !ls->ref || !ls->k || !ls->bin || !ls->power || !ls->power_pmf || !ls->power_cdf)
         goto oom;
-    /* the emitters' radiance for this render's range, bin table and power */
+    /* the emitters' radiance for this render's range, bin table, power and sum */
+    spec_const(&ls->le_sum, 0.0f);
     for (i = 0; i < n; i++) {
         const Emitter *em = &s->emitters[i];
         double bsum = 0.0;
         int same = same_radiance(s, i);
+        Spectrum Le;
         ls->ref[i].twosided = em->twosided;
         ls->ref[i].inf = em->inf != NULL;
         ls->ref[i].delta = em->delta.type != DELTA_NONE;
         if (same < 0) {
             LeSource *q = &ls->Le[ls->n_le];
-            Spectrum Le;
             ls->ref[i].le = ls->n_le++;
             if (!radiance_source(s, i, ls->opt.lo_nm, ls->opt.hi_nm, q, err)) {
                 light_sampler_free(ls);
@@ -1203,7 +1206,9 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
             ls->ref[i].le = ls->ref[same].le;
             ls->k[i] = ls->k[same];
             memcpy(ls->bin + (size_t)i * SPD_BINS, ls->bin + (size_t)same * SPD_BINS, sizeof(float) * SPD_BINS);
+            le_tabulate(&ls->Le[ls->ref[i].le], &Le);
         }
+        for (b = 0; b < SPEC_N; b++) ls->le_sum.v[b] += Le.v[b];
         for (b = 0; b < SPD_BINS; b++) bsum += ls->bin[(size_t)i * SPD_BINS + b] * SPD_BIN_NM;
         ls->power[i] = SPECNEE_PI * em->area * (em->twosided ? 2.0 : 1.0) * bsum;
     }
@@ -1364,6 +1369,7 @@ float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm)
 }
 
 void light_spectrum(const LightSampler *ls, int e, Spectrum *Le) { le_tabulate(&ls->Le[ls->ref[e].le], Le); }
+const Spectrum *light_spectrum_sum(const LightSampler *ls) { return &ls->le_sum; }
 int light_n_pieces(const LightSampler *ls) { return ls->n_pieces; }
 int light_piece_emitter(const LightSampler *ls, int piece) { return ls->pieces[piece].emitter; }
 
@@ -1712,20 +1718,22 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
     if (!(al.scale >= 0.0f))
         return fail(P, file, line, "AreaLightSource: \"float scale\" must be >= 0");
     {
-        int i;
-        for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
-            if (!(spec_get(&L, i) >= 0.0f))
-                return fail(P, p ? p->file : file, p ? p->line : line,
-                            "AreaLightSource: L is negative at %d nm", i);
-    }
-    {
         /* A spectrum with no luminance in 400-700 nm (an ultraviolet lamp) cannot be
            normalised to Y = scale: lights.c reads it as absolute spectral radiance
-           times scale (docs/conventions.md §4, docs/FLUORESCENCE.md §6). */
-        double vis = luminance_sum_t(P->rgb, &L, LAMBDA_LO, LAMBDA_HI), any = 0.0;
-        int nm;
-        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) any += spec_get(&L, nm);
-        if (!(any > 0.0))
+           times scale (docs/conventions.md §4, docs/FLUORESCENCE.md §6).  One pass
+           over the knots from 300 nm up: the first negative (or NaN) one is refused;
+           with none negative, L is zero everywhere unless some knot is > 0. */
+        double vis;
+        int nm, any = 0;
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+            float v = nm < SPEC_MIN ? L.uv[nm - SPEC_UV_MIN] : L.v[nm - SPEC_MIN];
+            if (!(v >= 0.0f))
+                return fail(P, p ? p->file : file, p ? p->line : line,
+                            "AreaLightSource: L is negative at %d nm", nm);
+            any |= v > 0.0f;
+        }
+        vis = luminance_sum_t(P->rgb, &L, LAMBDA_LO, LAMBDA_HI);
+        if (!any)
             return fail(P, p ? p->file : file, p ? p->line : line,
                         "AreaLightSource: spectrum L is zero everywhere in %d-%d nm",
                         SPEC_UV_MIN, SPEC_MAX);

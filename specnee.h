@@ -2127,6 +2127,9 @@ double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm);
 /* the same sum with ybar from a load's RgbTable (spec_ybar_knots; T NULL: luminance_sum) */
 double luminance_sum_t(RgbTable *T, const Spectrum *L, float lo_nm, float hi_nm);
 void  light_spectrum(const LightSampler *ls, int e, Spectrum *Le);   /* e's Le, tabulated */
+/* the sum of every emitter's Le at the 360-830 nm knots (UV 0), the emitters added in
+   order (the wavelength pdf's importance); a zero spectrum without emitters */
+const Spectrum *light_spectrum_sum(const LightSampler *ls);
 /* What NEE chooses is a PIECE: a whole emitter, or (light trees only) a cluster of
    at most LIGHT_CLUSTER_TRIS triangles of a large emissive mesh.  Without
    splitting, piece i is emitter i. */
