@@ -805,7 +805,8 @@ struct LightSampler {
     int n_le;
     EmitterRef *ref;           /* per emitter: what light_Le reads, in one place */
     double *k;                 /* per emitter: scale / luminance_sum(L) (image maps' texels) */
-    float *bin;                /* n x SPD_BINS: bin averages of Le over 400-700 nm */
+    float *bin;                /* n x SPD_BINS: bin averages of Le over 400-700 nm (freed,
+                                  NULL, once the build has read them) */
     Spectrum le_sum;           /* the sum of every emitter's Le (360-830 nm knots; UV 0),
                                   added in emitter order as it is tabulated */
     double *power;             /* per emitter: radiant power over 400-700 nm */
@@ -1067,12 +1068,27 @@ static int tree_setup(LightSampler *ls)
             ls->emitter_piece[e] = ls->n_pieces++;
         }
     }
+    free(tris); free(tri_c); free(tmp);        /* not held while the tree is built */
+    tris = NULL; tri_c = NULL; tmp = NULL;
     /* the tree over the pieces (lighttree.c) */
     {
         LightTreeInput in;
         int *le_of = (int *)malloc(sizeof(int) * (size_t)ls->n);
-        if (!le_of) goto done;
+        double *piece_power = (double *)malloc(sizeof(double) * (size_t)ls->n_pieces);
+        if (!le_of || !piece_power) { free(le_of); free(piece_power); goto done; }
         for (e = 0; e < ls->n; e++) le_of[e] = ls->ref[e].le;
+        /* each piece's power pi A (2 if two-sided) times the sum of its emitter's
+           bins; the bins are not read again (context_tables ran), so they are freed
+           before the tree's own tables are built */
+        for (i = 0; i < ls->n_pieces; i++) {
+            const LightPiece *pc = &ls->pieces[i];
+            double sum = 0.0;
+            int b;
+            for (b = 0; b < SPD_BINS; b++) sum += ls->bin[(size_t)pc->emitter * SPD_BINS + b];
+            piece_power[i] = SPECNEE_PI * pc->area * (s->emitters[pc->emitter].twosided ? 2.0 : 1.0) * sum;
+        }
+        free(ls->bin);
+        ls->bin = NULL;
         in.scene = s;
         in.opt = &ls->opt;
         in.pieces = ls->pieces;
@@ -1082,9 +1098,10 @@ static int tree_setup(LightSampler *ls)
         in.le_ctx = ls->Le;
         in.n_le = ls->n_le;
         in.le_of = le_of;
-        in.bin = ls->bin;
+        in.piece_power = piece_power;
         ls->tree = light_tree_build(&in);
         free(le_of);
+        free(piece_power);
         if (!ls->tree) goto done;
     }
     ok = 1;

@@ -2207,7 +2207,8 @@ typedef struct {
     const void *le_ctx;
     int n_le;
     const int *le_of;          /* per emitter: its radiance, an index into Le */
-    const float *bin;          /* per emitter: SPD_BINS bin averages of Le, 400-700 nm */
+    const double *piece_power; /* per piece: pi A (2 if two-sided) times the sum of its
+                                  emitter's SPD_BINS bin averages of Le, 400-700 nm */
 } LightTreeInput;
 typedef struct LightTree LightTree;
 LightTree *light_tree_build(const LightTreeInput *in);   /* NULL: out of memory */
