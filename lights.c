@@ -1318,6 +1318,12 @@ int light_tree_bins_mismatches(const LightSampler *ls, int *lanes)
     return light_tree_bins_check(ls->tree, lanes);
 }
 
+int light_tree_root_bins(const LightSampler *ls, float *bins, int max)
+{
+    if (!is_tree(ls->opt.strategy) || !ls->tree) return 0;
+    return light_tree_root_bins_copy(ls->tree, bins, max);
+}
+
 double light_sampler_lazy_seconds(const LightSampler *ls)
 {
     return ls->lazy_s;

@@ -282,16 +282,28 @@ typedef struct {
 } LeMeans;
 
 /* The row of radiance le's means: bin b is the mean of Le over the 5 nm from
-   lo_nm + 5 (b - nb_uv), in double. */
+   lo = lo_nm + 5 (b - nb_uv), in double: spec_band_mean's trapezoid rule, the
+   same operations in the same order, on the knots laid out from 300 nm up. */
 static const double *le_means(const LightTreeInput *in, const LightTree *lt, LeMeans *c, int le)
 {
-    int slot = le % LE_MEANS, b;
+    const int w = (int)SPD_BIN_NM;
+    int slot = le % LE_MEANS, b, k;
     double *row = c->avg + (size_t)slot * (size_t)lt->nb;
     if (c->tag[slot] != le) {
         Spectrum Le;
+        float knot[SPEC_UV_N + SPEC_N];            /* Le at SPEC_UV_MIN + i nm */
         in->le_table(in->le_ctx, le, &Le);
-        for (b = 0; b < lt->nb; b++)
-            row[b] = spec_band_mean(&Le, (int)in->opt->lo_nm + (int)SPD_BIN_NM * (b - lt->nb_uv), (int)SPD_BIN_NM);
+        memcpy(knot, Le.uv, sizeof Le.uv);
+        memcpy(knot + SPEC_UV_N, Le.v, sizeof Le.v);
+        for (b = 0; b < lt->nb; b++) {
+            int lo = (int)in->opt->lo_nm + w * (b - lt->nb_uv);
+            const float *kn = knot + (lo - SPEC_UV_MIN);
+            double sum;
+            if (lo < SPEC_UV_MIN || lo + w > SPEC_MAX) { row[b] = 0.0; continue; }
+            sum = 0.5 * (kn[0] + kn[w]);
+            for (k = 1; k < w; k++) sum += kn[k];
+            row[b] = sum / w;
+        }
         c->tag[slot] = le;
     }
     return row;
@@ -1095,6 +1107,14 @@ int light_tree_bins_check(const LightTree *lt, int *lanes)
         if (!(fabs(lt->root_bin[b] - want) <= 1e-5 * fabs(want))) { bad++; break; }
     }
     return bad;
+}
+
+int light_tree_root_bins_copy(const LightTree *lt, float *bins, int max)
+{
+    int b;
+    if (!lt->root_bin) return 0;
+    for (b = 0; b < lt->nb && b < max; b++) bins[b] = lt->root_bin[b];
+    return lt->nb;
 }
 
 /* ------------------------------------------------------------------ build, free, size */

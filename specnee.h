@@ -2170,6 +2170,9 @@ int   light_tree_simd_mismatches(const LightSampler *ls, const LightCtx *c, int 
 /* (test lighttree_bins_sum) the tree's lanes whose power per bin, or the root's,
    is not the sum of the leaves' below it (relative 1e-5); *lanes: lanes checked */
 int   light_tree_bins_mismatches(const LightSampler *ls, int *lanes);
+/* (test lighttree_root_bins_are_band_means) the tree's root power per 5 nm bin
+   from 300 nm up into bins[0..max); returns how many bins it has (0: no tree) */
+int   light_tree_root_bins(const LightSampler *ls, float *bins, int max);
 size_t light_sampler_bytes(const LightSampler *ls);      /* memory held by its tables */
 /* Seconds spent so far building voxel tables on first use (eager builds excluded). */
 double light_sampler_lazy_seconds(const LightSampler *ls);
@@ -2219,6 +2222,7 @@ int    light_tree_select(const LightTree *t, const LightCtx *c, float u, float *
 float  light_tree_pmf(const LightTree *t, const LightCtx *c, int piece);
 int    light_tree_simd_check(const LightTree *t, const LightCtx *c, int *lanes);  /* as above */
 int    light_tree_bins_check(const LightTree *t, int *lanes);   /* as light_tree_bins_mismatches */
+int    light_tree_root_bins_copy(const LightTree *t, float *bins, int max);   /* as light_tree_root_bins */
 size_t light_tree_bytes(const LightTree *t);
 /* Shared by lights.c (its mesh clusters) and the tree's build (lighttree.c): the
    area of scene triangle t; items[0..n) sorted by coordinate `axis` of their
