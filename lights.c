@@ -805,7 +805,10 @@ struct LightSampler {
     int n_le;
     EmitterRef *ref;           /* per emitter: what light_Le reads, in one place */
     double *k;                 /* per emitter: scale / luminance_sum(L) (image maps' texels) */
-    float *bin;                /* n x SPD_BINS: bin averages of Le over 400-700 nm */
+    float *bin;                /* n x SPD_BINS: bin averages of Le over 400-700 nm (freed,
+                                  NULL, once the build has read them) */
+    Spectrum le_sum;           /* the sum of every emitter's Le (360-830 nm knots; UV 0),
+                                  added in emitter order as it is tabulated */
     double *power;             /* per emitter: radiant power over 400-700 nm */
     double *power_cdf;         /* power strategy: n + 1 running sums of power_pmf */
     int power_last;            /* last emitter with positive power_pmf */
@@ -1065,12 +1068,27 @@ static int tree_setup(LightSampler *ls)
             ls->emitter_piece[e] = ls->n_pieces++;
         }
     }
+    free(tris); free(tri_c); free(tmp);        /* not held while the tree is built */
+    tris = NULL; tri_c = NULL; tmp = NULL;
     /* the tree over the pieces (lighttree.c) */
     {
         LightTreeInput in;
         int *le_of = (int *)malloc(sizeof(int) * (size_t)ls->n);
-        if (!le_of) goto done;
+        double *piece_power = (double *)malloc(sizeof(double) * (size_t)ls->n_pieces);
+        if (!le_of || !piece_power) { free(le_of); free(piece_power); goto done; }
         for (e = 0; e < ls->n; e++) le_of[e] = ls->ref[e].le;
+        /* each piece's power pi A (2 if two-sided) times the sum of its emitter's
+           bins; the bins are not read again (context_tables ran), so they are freed
+           before the tree's own tables are built */
+        for (i = 0; i < ls->n_pieces; i++) {
+            const LightPiece *pc = &ls->pieces[i];
+            double sum = 0.0;
+            int b;
+            for (b = 0; b < SPD_BINS; b++) sum += ls->bin[(size_t)pc->emitter * SPD_BINS + b];
+            piece_power[i] = SPECNEE_PI * pc->area * (s->emitters[pc->emitter].twosided ? 2.0 : 1.0) * sum;
+        }
+        free(ls->bin);
+        ls->bin = NULL;
         in.scene = s;
         in.opt = &ls->opt;
         in.pieces = ls->pieces;
@@ -1080,9 +1098,10 @@ static int tree_setup(LightSampler *ls)
         in.le_ctx = ls->Le;
         in.n_le = ls->n_le;
         in.le_of = le_of;
-        in.bin = ls->bin;
+        in.piece_power = piece_power;
         ls->tree = light_tree_build(&in);
         free(le_of);
+        free(piece_power);
         if (!ls->tree) goto done;
     }
     ok = 1;
@@ -1173,17 +1192,18 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
     }
     if (!ls->Le || !ls->ref || !ls->k || !ls->bin || !ls->power || !ls->power_pmf || !ls->power_cdf)
         goto oom;
-    /* the emitters' radiance for this render's range, bin table and power */
+    /* the emitters' radiance for this render's range, bin table, power and sum */
+    spec_const(&ls->le_sum, 0.0f);
     for (i = 0; i < n; i++) {
         const Emitter *em = &s->emitters[i];
         double bsum = 0.0;
         int same = same_radiance(s, i);
+        Spectrum Le;
         ls->ref[i].twosided = em->twosided;
         ls->ref[i].inf = em->inf != NULL;
         ls->ref[i].delta = em->delta.type != DELTA_NONE;
         if (same < 0) {
             LeSource *q = &ls->Le[ls->n_le];
-            Spectrum Le;
             ls->ref[i].le = ls->n_le++;
             if (!radiance_source(s, i, ls->opt.lo_nm, ls->opt.hi_nm, q, err)) {
                 light_sampler_free(ls);
@@ -1203,7 +1223,9 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
             ls->ref[i].le = ls->ref[same].le;
             ls->k[i] = ls->k[same];
             memcpy(ls->bin + (size_t)i * SPD_BINS, ls->bin + (size_t)same * SPD_BINS, sizeof(float) * SPD_BINS);
+            le_tabulate(&ls->Le[ls->ref[i].le], &Le);
         }
+        for (b = 0; b < SPEC_N; b++) ls->le_sum.v[b] += Le.v[b];
         for (b = 0; b < SPD_BINS; b++) bsum += ls->bin[(size_t)i * SPD_BINS + b] * SPD_BIN_NM;
         ls->power[i] = SPECNEE_PI * em->area * (em->twosided ? 2.0 : 1.0) * bsum;
     }
@@ -1296,6 +1318,12 @@ int light_tree_bins_mismatches(const LightSampler *ls, int *lanes)
     return light_tree_bins_check(ls->tree, lanes);
 }
 
+int light_tree_root_bins(const LightSampler *ls, float *bins, int max)
+{
+    if (!is_tree(ls->opt.strategy) || !ls->tree) return 0;
+    return light_tree_root_bins_copy(ls->tree, bins, max);
+}
+
 double light_sampler_lazy_seconds(const LightSampler *ls)
 {
     return ls->lazy_s;
@@ -1364,6 +1392,7 @@ float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm)
 }
 
 void light_spectrum(const LightSampler *ls, int e, Spectrum *Le) { le_tabulate(&ls->Le[ls->ref[e].le], Le); }
+const Spectrum *light_spectrum_sum(const LightSampler *ls) { return &ls->le_sum; }
 int light_n_pieces(const LightSampler *ls) { return ls->n_pieces; }
 int light_piece_emitter(const LightSampler *ls, int piece) { return ls->pieces[piece].emitter; }
 
@@ -1712,20 +1741,22 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
     if (!(al.scale >= 0.0f))
         return fail(P, file, line, "AreaLightSource: \"float scale\" must be >= 0");
     {
-        int i;
-        for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++)
-            if (!(spec_get(&L, i) >= 0.0f))
-                return fail(P, p ? p->file : file, p ? p->line : line,
-                            "AreaLightSource: L is negative at %d nm", i);
-    }
-    {
         /* A spectrum with no luminance in 400-700 nm (an ultraviolet lamp) cannot be
            normalised to Y = scale: lights.c reads it as absolute spectral radiance
-           times scale (docs/conventions.md §4, docs/FLUORESCENCE.md §6). */
-        double vis = luminance_sum_t(P->rgb, &L, LAMBDA_LO, LAMBDA_HI), any = 0.0;
-        int nm;
-        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) any += spec_get(&L, nm);
-        if (!(any > 0.0))
+           times scale (docs/conventions.md §4, docs/FLUORESCENCE.md §6).  One pass
+           over the knots from 300 nm up: the first negative (or NaN) one is refused;
+           with none negative, L is zero everywhere unless some knot is > 0. */
+        double vis;
+        int nm, any = 0;
+        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+            float v = nm < SPEC_MIN ? L.uv[nm - SPEC_UV_MIN] : L.v[nm - SPEC_MIN];
+            if (!(v >= 0.0f))
+                return fail(P, p ? p->file : file, p ? p->line : line,
+                            "AreaLightSource: L is negative at %d nm", nm);
+            any |= v > 0.0f;
+        }
+        vis = luminance_sum_t(P->rgb, &L, LAMBDA_LO, LAMBDA_HI);
+        if (!any)
             return fail(P, p ? p->file : file, p ? p->line : line,
                         "AreaLightSource: spectrum L is zero everywhere in %d-%d nm",
                         SPEC_UV_MIN, SPEC_MAX);

@@ -105,9 +105,8 @@ struct LightTree {
                                   range, from 300 nm, then those of the range */
     int nb_uv;                 /* bins over [lo_nm - 5 nb_uv, lo_nm): 20 for 400-700 nm,
                                   12 for 360-830 (fluorescence excitation) */
-    float *leaf_bin;           /* n_pieces x nb: a piece's power per bin (while building:
-                                  the collapse puts them in quad_bin's leaf lanes and
-                                  sums them up to the other lanes, quad_bins_up) */
+    float *leaf_power;         /* n_pieces: a piece's power over the sampled range, the
+                                  sum of its bins b >= nb_uv (piece_bins; while building) */
     float *quad_bin;           /* nb x n_nodes4 x 4: for bin b and node i, the power of
                                   node i's four children side by side (bin-major: the
                                   entries of one bin, which a walk reads, lie together) */
@@ -270,6 +269,57 @@ static double acc_cost(const Acc *a, MeasureMemo *memo)
     return a->power * 2.0 * ((double)d.x * d.y + (double)d.y * d.z + (double)d.z * d.x) * memo->m;
 }
 
+/* The 5 nm bin means of the distinct radiances asked for last, direct-mapped on
+   the radiance's index (LE_MEANS rows): the build reads them twice, for the
+   leaves' power and for the leaf lanes of quad_bin, instead of holding a row
+   for every radiance and every piece at once.  A radiance evicted and asked
+   for again is tabulated again: the same means. */
+#define LE_MEANS 64
+typedef struct {
+    int tag[LE_MEANS];         /* the radiance whose means row i holds, -1: none */
+    double *avg;               /* LE_MEANS x nb */
+    float *bins;               /* nb: piece_bins' output */
+} LeMeans;
+
+/* The row of radiance le's means: bin b is the mean of Le over the 5 nm from
+   lo = lo_nm + 5 (b - nb_uv), in double: spec_band_mean's trapezoid rule, the
+   same operations in the same order, on the knots laid out from 300 nm up. */
+static const double *le_means(const LightTreeInput *in, const LightTree *lt, LeMeans *c, int le)
+{
+    const int w = (int)SPD_BIN_NM;
+    int slot = le % LE_MEANS, b, k;
+    double *row = c->avg + (size_t)slot * (size_t)lt->nb;
+    if (c->tag[slot] != le) {
+        Spectrum Le;
+        float knot[SPEC_UV_N + SPEC_N];            /* Le at SPEC_UV_MIN + i nm */
+        in->le_table(in->le_ctx, le, &Le);
+        memcpy(knot, Le.uv, sizeof Le.uv);
+        memcpy(knot + SPEC_UV_N, Le.v, sizeof Le.v);
+        for (b = 0; b < lt->nb; b++) {
+            int lo = (int)in->opt->lo_nm + w * (b - lt->nb_uv);
+            const float *kn = knot + (lo - SPEC_UV_MIN);
+            double sum;
+            if (lo < SPEC_UV_MIN || lo + w > SPEC_MAX) { row[b] = 0.0; continue; }
+            sum = 0.5 * (kn[0] + kn[w]);
+            for (k = 1; k < w; k++) sum += kn[k];
+            row[b] = sum / w;
+        }
+        c->tag[slot] = le;
+    }
+    return row;
+}
+
+/* c->bins := the power per 5 nm bin of piece i: pi A (2 if two-sided) times the
+   bin's mean of its Le. */
+static void piece_bins(const LightTreeInput *in, const LightTree *lt, LeMeans *c, int i)
+{
+    const LightPiece *pc = &in->pieces[i];
+    const double *avg = le_means(in, lt, c, in->le_of[pc->emitter]);
+    double k = SPECNEE_PI * pc->area * (in->scene->emitters[pc->emitter].twosided ? 2.0 : 1.0);
+    int b;
+    for (b = 0; b < lt->nb; b++) c->bins[b] = (float)(k * avg[b]);
+}
+
 typedef struct {
     const LightTreeInput *in;
     LightTree *lt;
@@ -377,15 +427,8 @@ static int tree_build(Builder *B, int *items, int n, int depth)
     nd->twosided = all.twosided;
     nd->behind = node_behind(B, items, n, &all, nd, &nd->slack);
     if (n == 1) {
-        double sum = 0.0;
         nd->second = -1 - items[0];
-        /* the power Phi sums the piece's bins (leaf_bins) of the sampled range only
-           (b >= nb_uv) */
-        for (b = 0; b < lt->nb; b++) {
-            float v = lt->leaf_bin[(size_t)items[0] * lt->nb + b];
-            if (b >= lt->nb_uv) sum += (double)v * SPD_BIN_NM;
-        }
-        nd->power = (float)sum;
+        nd->power = lt->leaf_power[items[0]];    /* (leaf_powers) */
         return node;
     }
     cmin = cmax = B->centroids[items[0]];
@@ -495,7 +538,8 @@ typedef struct {
    and 2d + 1: the lane taken at depth d) and its depth.  Every level takes
    two binary levels (or ends at a leaf), so depth <= 32 and 64 bits hold the
    trail.  queue: room for every node (lt->n_nodes4, counted by count4). */
-static void tree_collapse(LightTree *lt, const int *root, int m, Pending *queue)
+static void tree_collapse(const LightTreeInput *in, LightTree *lt, LeMeans *lm, const int *root, int m,
+                          Pending *queue)
 {
     const TreeNode *bn = lt->nodes;
     int head = 0, tail = 1, k, b;
@@ -512,9 +556,10 @@ static void tree_collapse(LightTree *lt, const int *root, int m, Pending *queue)
             uint64_t t = pd->trail | ((uint64_t)k << (2 * pd->depth));
             lane_from(nd, k, c);
             lt->quad_power[(size_t)head * 4 + k] = c->power;
-            if (c->second < 0)                       /* a leaf: its piece's bins (others: quad_bins_up) */
-                for (b = 0; b < lt->nb; b++)
-                    col[(size_t)4 * lt->n_nodes4 * b + k] = lt->leaf_bin[(size_t)(-1 - c->second) * lt->nb + b];
+            if (c->second < 0) {                     /* a leaf: its piece's bins (others: quad_bins_up) */
+                piece_bins(in, lt, lm, -1 - c->second);
+                for (b = 0; b < lt->nb; b++) col[(size_t)4 * lt->n_nodes4 * b + k] = lm->bins[b];
+            }
             if (c->second < 0) {
                 lt->trail[-1 - c->second] = t;
                 lt->depth[-1 - c->second] = pd->depth + 1;
@@ -593,8 +638,6 @@ static void piece_bounds(const LightTreeInput *in, const LightPiece *pc, PieceBo
     const Scene *s = in->scene;
     const Emitter *em = &s->emitters[pc->emitter];
     const Shape *sh = em->shape >= 0 ? &s->shapes[em->shape] : NULL;
-    double sum = 0.0;
-    int b;
     out->twosided = em->twosided;
     if (!sh) {
         /* a point or spot light (delta.c): a box that is one point; a point light
@@ -671,8 +714,7 @@ static void piece_bounds(const LightTreeInput *in, const LightPiece *pc, PieceBo
         }
     }
     out->centroid = v3_mul(v3_add(out->bmin, out->bmax), 0.5f);
-    for (b = 0; b < SPD_BINS; b++) sum += in->bin[(size_t)pc->emitter * SPD_BINS + b];
-    out->power = SPECNEE_PI * pc->area * (em->twosided ? 2.0 : 1.0) * sum;
+    out->power = in->piece_power[pc - in->pieces];
 }
 
 /* ------------------------------------------------------------------ the walk: importance, select, pmf */
@@ -1067,35 +1109,28 @@ int light_tree_bins_check(const LightTree *lt, int *lanes)
     return bad;
 }
 
+int light_tree_root_bins_copy(const LightTree *lt, float *bins, int max)
+{
+    int b;
+    if (!lt->root_bin) return 0;
+    for (b = 0; b < lt->nb && b < max; b++) bins[b] = lt->root_bin[b];
+    return lt->nb;
+}
+
 /* ------------------------------------------------------------------ build, free, size */
 
-/* The power per 5 nm bin of every piece in the tree: pi A (2 if two-sided) times
-   the bin's mean of its Le, each distinct Le's means computed once (in double);
-   into lt->leaf_bin.  0: out of memory. */
-static int leaf_bins(const LightTreeInput *in, LightTree *lt)
+/* lt->leaf_power: the power Phi of every piece in the tree, the sum of its bins
+   (piece_bins) of the sampled range only (b >= nb_uv). */
+static void leaf_powers(const LightTreeInput *in, LightTree *lt, LeMeans *lm)
 {
-    const Scene *s = in->scene;
-    double *le_avg = (double *)malloc(sizeof(double) * (size_t)in->n_le * (size_t)lt->nb);
     int i, b;
-    if (!le_avg) return 0;
-    for (i = 0; i < in->n_le; i++) {
-        Spectrum Le;
-        in->le_table(in->le_ctx, i, &Le);
-        for (b = 0; b < lt->nb; b++)               /* the 5 nm bin's mean of Le, in double */
-            le_avg[(size_t)i * lt->nb + b] =
-                spec_band_mean(&Le, (int)in->opt->lo_nm + (int)SPD_BIN_NM * (b - lt->nb_uv), (int)SPD_BIN_NM);
-    }
     for (i = 0; i < in->n_pieces; i++) {
-        const LightPiece *pc = &in->pieces[i];
-        if (beside_tree(&s->emitters[pc->emitter])) continue;
-        for (b = 0; b < lt->nb; b++) {
-            double avg = le_avg[(size_t)in->le_of[pc->emitter] * lt->nb + b];
-            lt->leaf_bin[(size_t)i * lt->nb + b] =
-                (float)(SPECNEE_PI * pc->area * (s->emitters[pc->emitter].twosided ? 2.0 : 1.0) * avg);
-        }
+        double sum = 0.0;
+        if (beside_tree(&in->scene->emitters[in->pieces[i].emitter])) continue;
+        piece_bins(in, lt, lm, i);
+        for (b = lt->nb_uv; b < lt->nb; b++) sum += (double)lm->bins[b] * SPD_BIN_NM;
+        lt->leaf_power[i] = (float)sum;
     }
-    free(le_avg);
-    return 1;
 }
 
 LightTree *light_tree_build(const LightTreeInput *in)
@@ -1107,7 +1142,10 @@ LightTree *light_tree_build(const LightTreeInput *in)
     PieceBounds *pb = NULL;
     KeyIdx *tmp = NULL;
     Builder B;
+    LeMeans lm;
     if (!lt) return NULL;
+    lm.avg = NULL;
+    lm.bins = NULL;
     lt->spectral = in->opt->strategy == SEL_SPECTRAL_TREE;
     lt->throughput_weighted = in->opt->throughput_weighted;
     lt->lo_nm = in->opt->lo_nm;
@@ -1135,8 +1173,14 @@ LightTree *light_tree_build(const LightTreeInput *in)
     tmp = (KeyIdx *)malloc(sizeof(KeyIdx) * (size_t)n);
     B.centroids = (Vec3 *)malloc(sizeof(Vec3) * (size_t)n);
     lt->nodes = (TreeNode *)calloc((size_t)(2 * lt->n_tree_pieces - 1), sizeof *lt->nodes);
-    lt->leaf_bin = (float *)malloc(sizeof(float) * (size_t)n * (size_t)lt->nb);
-    if (!pb || !items || !tmp || !B.centroids || !lt->nodes || !lt->leaf_bin) { free(B.centroids); goto done; }
+    lt->leaf_power = (float *)malloc(sizeof(float) * (size_t)n);
+    lm.avg = (double *)malloc(sizeof(double) * LE_MEANS * (size_t)lt->nb);
+    lm.bins = (float *)malloc(sizeof(float) * (size_t)lt->nb);
+    for (i = 0; i < LE_MEANS; i++) lm.tag[i] = -1;
+    if (!pb || !items || !tmp || !B.centroids || !lt->nodes || !lt->leaf_power || !lm.avg || !lm.bins) {
+        free(B.centroids);
+        goto done;
+    }
     for (i = 0, e = 0; i < n; i++) {
         if (beside_tree(&s->emitters[in->pieces[i].emitter])) continue;
         piece_bounds(in, &in->pieces[i], &pb[i]);
@@ -1148,10 +1192,12 @@ LightTree *light_tree_build(const LightTreeInput *in)
     B.pb = pb;
     B.tmp = tmp;
     B.memo.valid = 0;
-    if (!leaf_bins(in, lt)) { free(B.centroids); goto done; }
+    leaf_powers(in, lt, &lm);
     lt->n_nodes = 0;
     tree_build(&B, items, lt->n_tree_pieces, 0);
     free(B.centroids);
+    free(items); free(pb); free(tmp);          /* not held while the 4-wide tree is built */
+    items = NULL; pb = NULL; tmp = NULL;
     /* collapse it into the 4-wide tree that the walk reads: count its nodes,
        then fill them breadth first */
     {
@@ -1173,7 +1219,7 @@ LightTree *light_tree_build(const LightTreeInput *in)
         lt->nodes4 = (TreeNode4 *)((char *)lt->nodes4_mem + (64 - (size_t)((uintptr_t)lt->nodes4_mem % 64)) % 64);
         lane_from(&lt->top, 0, &lt->nodes[0]);
         lt->top_power = lt->nodes[0].power;
-        tree_collapse(lt, slots, m, queue);
+        tree_collapse(in, lt, &lm, slots, m, queue);
         quad_bins_up(lt, queue);
         free(queue);
     }
@@ -1182,8 +1228,9 @@ done:
     free(items); free(pb); free(tmp);
     free(lt->nodes);
     lt->nodes = NULL;
-    free(lt->leaf_bin);
-    lt->leaf_bin = NULL;
+    free(lt->leaf_power);
+    lt->leaf_power = NULL;
+    free(lm.avg); free(lm.bins);
     if (!ok) { light_tree_free(lt); return NULL; }
     return lt;
 }
@@ -1192,7 +1239,7 @@ void light_tree_free(LightTree *lt)
 {
     if (!lt) return;
     free(lt->trail); free(lt->depth); free(lt->inf_piece);
-    free(lt->nodes); free(lt->leaf_bin); free(lt->nodes4_mem); free(lt->quad_power); free(lt->quad_bin);
+    free(lt->nodes); free(lt->leaf_power); free(lt->nodes4_mem); free(lt->quad_power); free(lt->quad_bin);
     free(lt->root_bin);
     free(lt);
 }

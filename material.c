@@ -792,7 +792,8 @@ int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
         float lo = FLT_MAX, hi = -FLT_MAX;
         int nm;
         if (!param_spectrum(P, p, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
-        for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
+        /* an "rgb" albedo is within [0, 1] already (spec_from_rgb_t): nothing to check */
+        for (nm = p->type == PT_RGB ? SPEC_MAX + 1 : SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
             float *v = spec_at(&m->reflectance, nm);
             if (!(fabsf(*v) <= FLT_MAX))
                 return fail(P, p->file, p->line, "\"%s reflectance\": value %g at %d nm is "

@@ -400,21 +400,14 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     {
         /* the wavelength pdf (wavelengths.c); importance and mixture follow the
            emitters' summed spectrum (none: the importance part is flat) */
-        Spectrum sum;
-        int e, k;
-        spec_const(&sum, 0.0f);
-        for (e = 0; e < s->n_emitters; e++) {
-            Spectrum Le;
-            light_spectrum(j->R.ls, e, &Le);
-            for (k = 0; k < SPEC_N; k++) sum.v[k] += Le.v[k];
-        }
+        const Spectrum *sum = light_spectrum_sum(j->R.ls);   /* summed as it was built */
         if (o->band_hi > o->band_lo)     /* a band of the film's spectrum (the tests) */
             wl_pdf_uniform(&j->R.wl, o->band_lo, o->band_hi);
         else if (set->spectral)          /* pbrt-v4 SpectralFilm: uniform in its range */
             wl_pdf_uniform(&j->R.wl, set->lambda_min, set->lambda_max);
         else if (o->wl_mode == WL_IMPORTANCE && s->n_emitters == 0)
             wl_pdf_uniform(&j->R.wl, j->sel.lo_nm, j->sel.hi_nm);
-        else if (!wl_pdf_build(&j->R.wl, o->wl_mode, j->sel.lo_nm, j->sel.hi_nm, &sum, o->wl_mix)) {
+        else if (!wl_pdf_build(&j->R.wl, o->wl_mode, j->sel.lo_nm, j->sel.hi_nm, sum, o->wl_mix)) {
             error_set(err, NULL, 0, "cannot build the %s wavelength pdf", wl_mode_name(o->wl_mode));
             light_sampler_free(j->R.ls);
             free(j);

@@ -2127,6 +2127,9 @@ double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm);
 /* the same sum with ybar from a load's RgbTable (spec_ybar_knots; T NULL: luminance_sum) */
 double luminance_sum_t(RgbTable *T, const Spectrum *L, float lo_nm, float hi_nm);
 void  light_spectrum(const LightSampler *ls, int e, Spectrum *Le);   /* e's Le, tabulated */
+/* the sum of every emitter's Le at the 360-830 nm knots (UV 0), the emitters added in
+   order (the wavelength pdf's importance); a zero spectrum without emitters */
+const Spectrum *light_spectrum_sum(const LightSampler *ls);
 /* What NEE chooses is a PIECE: a whole emitter, or (light trees only) a cluster of
    at most LIGHT_CLUSTER_TRIS triangles of a large emissive mesh.  Without
    splitting, piece i is emitter i. */
@@ -2167,6 +2170,9 @@ int   light_tree_simd_mismatches(const LightSampler *ls, const LightCtx *c, int 
 /* (test lighttree_bins_sum) the tree's lanes whose power per bin, or the root's,
    is not the sum of the leaves' below it (relative 1e-5); *lanes: lanes checked */
 int   light_tree_bins_mismatches(const LightSampler *ls, int *lanes);
+/* (test lighttree_root_bins_are_band_means) the tree's root power per 5 nm bin
+   from 300 nm up into bins[0..max); returns how many bins it has (0: no tree) */
+int   light_tree_root_bins(const LightSampler *ls, float *bins, int max);
 size_t light_sampler_bytes(const LightSampler *ls);      /* memory held by its tables */
 /* Seconds spent so far building voxel tables on first use (eager builds excluded). */
 double light_sampler_lazy_seconds(const LightSampler *ls);
@@ -2204,7 +2210,8 @@ typedef struct {
     const void *le_ctx;
     int n_le;
     const int *le_of;          /* per emitter: its radiance, an index into Le */
-    const float *bin;          /* per emitter: SPD_BINS bin averages of Le, 400-700 nm */
+    const double *piece_power; /* per piece: pi A (2 if two-sided) times the sum of its
+                                  emitter's SPD_BINS bin averages of Le, 400-700 nm */
 } LightTreeInput;
 typedef struct LightTree LightTree;
 LightTree *light_tree_build(const LightTreeInput *in);   /* NULL: out of memory */
@@ -2215,6 +2222,7 @@ int    light_tree_select(const LightTree *t, const LightCtx *c, float u, float *
 float  light_tree_pmf(const LightTree *t, const LightCtx *c, int piece);
 int    light_tree_simd_check(const LightTree *t, const LightCtx *c, int *lanes);  /* as above */
 int    light_tree_bins_check(const LightTree *t, int *lanes);   /* as light_tree_bins_mismatches */
+int    light_tree_root_bins_copy(const LightTree *t, float *bins, int max);   /* as light_tree_root_bins */
 size_t light_tree_bytes(const LightTree *t);
 /* Shared by lights.c (its mesh clusters) and the tree's build (lighttree.c): the
    area of scene triangle t; items[0..n) sorted by coordinate `axis` of their

@@ -743,7 +743,57 @@ static void test_sphere_cone_sampling(T *t)
     scene_free(&s);
 }
 
+/* An area light's L: the first knot from 300 nm up that is negative is refused
+   (in the UV and in the visible), and an L that is zero at every knot; the sum
+   light_spectrum_sum keeps equals the emitters' Le added in order, bit for bit,
+   two emitters sharing one L included. */
+#define AL_HEAD "LookAt 0 0 5 0 0 0 0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+static void test_area_L_checked_and_summed(T *t)
+{
+    static const char *const bad[][2] = {
+        { "[ 300 1 309 1 310 -1 311 1 830 1 ]", "n.pbrt:4: AreaLightSource: L is negative at 310 nm" },
+        { "[ 300 1 400 1 401 -2 402 1 499 1 500 -1 501 1 830 1 ]",
+          "n.pbrt:4: AreaLightSource: L is negative at 401 nm" },
+        { "[ 300 0 830 0 ]", "n.pbrt:4: AreaLightSource: spectrum L is zero everywhere in 300-830 nm" }
+    };
+    char body[256];
+    Scene s;
+    SelOptions o;
+    LightSampler *ls;
+    Error err;
+    Spectrum sum, Le;
+    int i, e, k, same = 1;
+    for (i = 0; i < 3; i++) {
+        snprintf(body, sizeof body, "AreaLightSource \"diffuse\" \"spectrum L\" %s\n"
+                 "Shape \"sphere\" \"float radius\" 1\n", bad[i][0]);
+        test_refused(t, AL_HEAD, body, "n.pbrt", bad[i][1]);
+    }
+    if (!test_load_scene(t, &s, AL_HEAD
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 3 0.5 0.9 ]\n"
+            "Shape \"sphere\" \"float radius\" 0.2\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"blackbody L\" 3000\nTranslate 1 0 0\n"
+            "Shape \"sphere\" \"float radius\" 0.2\nAttributeEnd\n"
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 3 0.5 0.9 ]\nTranslate 0 1 0\n"
+            "Shape \"sphere\" \"float radius\" 0.2\nAttributeEnd\n")) return;
+    memset(&o, 0, sizeof o);
+    o.strategy = SEL_SPECTRAL_TREE;
+    ls = light_sampler_build(&s, &o, &err);
+    CHECK(t, ls != NULL, "%s", err.msg);
+    if (!ls) { scene_free(&s); return; }
+    spec_const(&sum, 0.0f);
+    for (e = 0; e < s.n_emitters; e++) {
+        light_spectrum(ls, e, &Le);
+        for (k = 0; k < SPEC_N; k++) sum.v[k] += Le.v[k];
+    }
+    for (k = 0; k < SPEC_N; k++) same &= sum.v[k] == light_spectrum_sum(ls)->v[k];
+    for (k = 0; k < SPEC_UV_N; k++) same &= light_spectrum_sum(ls)->uv[k] == 0.0f;
+    CHECK(t, s.n_emitters == 3 && same, "light_spectrum_sum is not the emitters' Le summed in order");
+    light_sampler_free(ls);
+    scene_free(&s);
+}
+
 const TestCase tests_lights[] = {
+    { "lights_area_L_checked_and_summed", test_area_L_checked_and_summed },
     { "lights_sphere_cone_sampling", test_sphere_cone_sampling },
     { "lights_select_matches_pmf", test_select_matches_pmf },
     { "lights_positive_where_emitting", test_positive_where_emitting },

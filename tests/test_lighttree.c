@@ -919,6 +919,88 @@ static void test_bins_sum(T *t)
     CHECK(t, bad == 0 && lanes > 40, "%d of %d lanes' bins are not the sums of their leaves'", bad, lanes);
 }
 
+/* More distinct radiances than the build keeps bin means for (lighttree.c
+   LE_MEANS, 64): 64 red lamps of distinct scales, then 6 blue ones, whose means
+   take the red ones' rows.  Seen from the centre of their ring, every blue lamp
+   is likelier at 450 nm than at 650 nm under the spectral tree and every red one
+   the other way round. */
+static void test_bins_many_radiances(T *t)
+{
+    static char buf[1 << 16];
+    Scene s;
+    LightSampler *ls;
+    int i, w, wrong = 0;
+    snprintf(buf, sizeof buf, "%s", camera16);
+    for (i = 0; i < 70; i++) {
+        size_t len = strlen(buf);
+        double a = 2.0 * SPECNEE_PI * i / 70.0;
+        snprintf(buf + len, sizeof buf - len, "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" %s "
+                 "\"float scale\" %g\nTranslate %g %g 0\nShape \"sphere\" \"float radius\" 0.05\nAttributeEnd\n",
+                 i < 64 ? "[ 1 0 0 ]" : "[ 0 0 1 ]", 1.0 + 0.01 * i, 2.0 * cos(a), 2.0 * sin(a));
+    }
+    if (!test_load_scene(t, &s, buf)) return;
+    ls = build(t, &s, SEL_SPECTRAL_TREE, 0, 0);
+    if (!ls) { scene_free(&s); return; }
+    for (i = 0; i < s.n_emitters; i++) {
+        float p[2];
+        for (w = 0; w < 2; w++) {
+            LightCtx c;
+            memset(&c, 0, sizeof c);
+            c.p = v3(0.0f, 0.0f, 0.0f);
+            c.voxel = light_voxel(ls, c.p);
+            c.alive = 1u;
+            c.hero_only = 1;
+            c.lambda[0] = w == 0 ? 450.0f : 650.0f;
+            c.beta[0] = 1;
+            p[w] = light_select_pmf(ls, &c, i);
+        }
+        if (i < 64 ? !(p[1] > p[0]) : !(p[0] > p[1])) wrong++;
+    }
+    CHECK(t, s.n_emitters == 70 && wrong == 0, "%d of 70 lamps have the other colour's bins", wrong);
+    light_sampler_free(ls);
+    scene_free(&s);
+}
+
+/* The spectral tree's root power per 5 nm bin from 300 nm up is the sum over
+   the lamps of pi A times the bin's mean of each lamp's Le (spec_band_mean, the
+   trapezoid rule over the table), relative 1e-5: three sphere lamps of spiky,
+   bluish and rgb spectra. */
+static void test_root_bins_are_band_means(T *t)
+{
+    static char buf[1 << 14];
+    static const char *const L[3] = { "\"spectrum L\" " SPIKY, "\"spectrum L\" " BLUEISH, "\"rgb L\" [ 2 0.3 0.1 ]" };
+    Scene s;
+    LightSampler *ls;
+    float got[128];
+    int i, b, nb, bad = 0;
+    snprintf(buf, sizeof buf, "%s", camera16);
+    for (i = 0; i < 3; i++) {
+        size_t len = strlen(buf);
+        snprintf(buf + len, sizeof buf - len, "AttributeBegin\nAreaLightSource \"diffuse\" %s\n"
+                 "Translate %d 1 0\nShape \"sphere\" \"float radius\" 0.%d\nAttributeEnd\n", L[i], i - 1, i + 1);
+    }
+    if (!test_load_scene(t, &s, buf)) return;
+    ls = build(t, &s, SEL_SPECTRAL_TREE, 0, 0);
+    if (!ls) { scene_free(&s); return; }
+    nb = light_tree_root_bins(ls, got, 128);
+    CHECK(t, nb == 80, "%d bins, not 80 (300-700 nm)", nb);
+    for (b = 0; b < nb && b < 128; b++) {
+        double want = 0.0;
+        for (i = 0; i < s.n_emitters; i++) {
+            Spectrum Le;
+            light_spectrum(ls, i, &Le);
+            want += SPECNEE_PI * s.emitters[i].area * spec_band_mean(&Le, 300 + 5 * b, 5);
+        }
+        if (!(fabs(got[b] - want) <= 1e-5 * want + 1e-30)) {
+            if (!bad) test_failf(t, __FILE__, __LINE__, "bin %d: %g, want %g", b, got[b], want);
+            bad++;
+        }
+    }
+    CHECK(t, bad == 0, "%d of %d root bins are not the lamps' band means", bad, nb);
+    light_sampler_free(ls);
+    scene_free(&s);
+}
+
 /* p rotated by 33 degrees about the axis (1, 2, 3) through the origin, as the
    scene directive "Rotate 33 1 2 3" turns a point (Rodrigues' formula); rot = 0:
    p itself. */
@@ -995,6 +1077,8 @@ const TestCase tests_lighttree[] = {
     { "lighttree_conservative_random", test_conservative_random },
     { "lighttree_simd_matches_scalar", test_simd_matches_scalar },
     { "lighttree_bins_sum", test_bins_sum },
+    { "lighttree_bins_many_radiances", test_bins_many_radiances },
+    { "lighttree_root_bins_are_band_means", test_root_bins_are_band_means },
     { "lighttree_per_render_radiance", test_per_render_radiance },
     { "lighttree_select_matches_pmf", test_select_matches_pmf },
     { "lighttree_spectral_preference", test_spectral_preference },

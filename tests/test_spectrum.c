@@ -395,6 +395,30 @@ static void test_rgb_reflectance(T *t)
           "NaN rgb must fail with file:line: '%s'", e.msg);
 }
 
+/* An "rgb" albedo through the load's table is finite and within [0, 1] at every
+   knot, the UV ones included (material.c's diffuse reflectance relies on it and
+   does not check it again): an 11^3 grid of the unit cube, faces, edges and
+   corners included. */
+static void test_rgb_albedo_in_unit(T *t)
+{
+    RgbTable *tab = rgb_table_new();
+    Spectrum s;
+    Error e;
+    float in[3];
+    int a, b, c, i, bad = 0;
+    if (!tab) { CHECK(t, 0, "rgb_table_new: out of memory"); return; }
+    for (a = 0; a <= 10; a++)
+        for (b = 0; b <= 10; b++)
+            for (c = 0; c <= 10; c++) {
+                in[0] = 0.1f * a; in[1] = 0.1f * b; in[2] = 0.1f * c;
+                if (!spec_from_rgb_t(tab, &s, in, 0, &e, "t", 1)) { bad++; continue; }
+                for (i = 0; i < SPEC_N; i++) bad += !(s.v[i] >= 0.0f && s.v[i] <= 1.0f);
+                for (i = 0; i < SPEC_UV_N; i++) bad += !(s.uv[i] >= 0.0f && s.uv[i] <= 1.0f);
+            }
+    CHECK(t, bad == 0, "%d knots of rgb albedos outside [0, 1] (or refused)", bad);
+    rgb_table_free(tab);
+}
+
 static void test_rgb_illuminant(T *t)
 {
     Spectrum s, d65;
@@ -975,6 +999,7 @@ const TestCase tests_spectrum[] = {
     { "spectrum_file_errors", test_file_errors },
     { "spectrum_bins", test_bins },
     { "spectrum_rgb_reflectance", test_rgb_reflectance },
+    { "spectrum_rgb_albedo_in_unit", test_rgb_albedo_in_unit },
     { "spectrum_rgb_illuminant", test_rgb_illuminant },
     { "spectrum_rgb_table", test_rgb_table },
     { "spectrum_rgbtable", test_rgbtable },
