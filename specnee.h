@@ -1903,6 +1903,13 @@ typedef struct {
 int  ply_read(const char *path, PlyMesh *m, Error *err);
 void ply_free(PlyMesh *m);
 int  ply_write_binary(const char *path, const float *P, int n_verts, const int32_t *idx, int n_tris);
+/* pbrt-v4's displaced plymesh (displace.c): quads split into triangles, every
+   triangle split at its longest edge until each world-space edge (world_from_obj
+   applied) is shorter than edgelength, each vertex moved along its normal by
+   float texture tex at its uv, then smooth normals recomputed; the mesh replaced
+   in place (0 and a message in err when too large or out of memory). */
+int  ply_displace(PlyMesh *mesh, const Xform *world_from_obj, float edgelength,
+                  const Texture *textures, int tex, Error *err);
 
 /* ======================================================================
    9b. Loop subdivision surfaces (subdiv.c)

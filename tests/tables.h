@@ -57,3 +57,4 @@ TEST_TABLE(dielrough)
 
 TEST_TABLE(lightpower)
 TEST_TABLE(anirough)
+TEST_TABLE(displace)
