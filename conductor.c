@@ -270,9 +270,7 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
     spec_const(&n, 1.0f);
     m->type = MAT_CONDUCTOR;
     if (!material_extra(m)) return oom(P, file, line);   /* k (freed by material_release) */
-    if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
-                           &m->remap))
-        return 0;
+    if (!microfacet_alphas(P, pl, file, line, what, m)) return 0;
     if (!bump_from_params(P, pl, what, m) ||
         !params_check_unused(P, pl, what, "spectrum eta, spectrum k, rgb eta, rgb k, "
                              "texture eta, texture k, spectrum reflectance, rgb reflectance, texture reflectance, float roughness, "

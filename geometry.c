@@ -603,12 +603,18 @@ static int ply_shape(Parser *P, ParamList *pl, const char *file, int line)
     char path[PATH_CAP];
     PlyMesh mesh;
     Error e;
-    int ok, i;
-    if (!get_string(P, pl, "filename", &fn)) return 0;
-    if (!params_check_unused(P, pl, "Shape \"plymesh\"", "string filename",
-                             "displacement edgelength emissionfilename"))
+    int ok, i, tex = -1;
+    float edge;
+    const Param *pd = param_find(pl, PT_TEXTURE, "displacement");
+    if (!get_string(P, pl, "filename", &fn) || !get_float(P, pl, "edgelength", 1.0f, &edge)) return 0;
+    if (pd && (tex = texture_lookup(P, pd, 1)) < 0) return 0;
+    if (!params_check_unused(P, pl, "Shape \"plymesh\"", "string filename, texture displacement, "
+                             "float edgelength", "emissionfilename"))
         return 0;
     if (!fn) return fail(P, file, line, "Shape \"plymesh\": \"string filename\" is required");
+    if (!(edge > 0.0f && edge <= FLT_MAX))
+        return fail(P, file, line, "Shape \"plymesh\": \"float edgelength\" %g must be > 0 and finite",
+                    (double)edge);
     resolve_path(P, file, fn, path, sizeof path);
     memset(&mesh, 0, sizeof mesh);
     if (!ply_read(path, &mesh, &e))
@@ -618,6 +624,17 @@ static int ply_shape(Parser *P, ParamList *pl, const char *file, int line)
         if (k < 0 || k >= mesh.n_verts) {
             ply_free(&mesh);
             return fail(P, file, line, "Shape \"plymesh\" \"%s\": vertex index out of range", fn);
+        }
+    }
+    if (tex >= 0) {                /* displace.c: refined and displaced at load, as pbrt-v4 */
+        if (!mesh.UV) {
+            ply_free(&mesh);
+            return fail(P, file, line, "Shape \"plymesh\" \"%s\": \"texture displacement\" needs "
+                        "per-vertex uv in the file (pbrt-v4 refuses it too)", fn);
+        }
+        if (!ply_displace(&mesh, &P->gs.ctm, edge, P->s->textures, tex, &e)) {
+            ply_free(&mesh);
+            return fail(P, file, line, "Shape \"plymesh\" \"%s\": %s", fn, e.msg);
         }
     }
     ok = 1;

@@ -757,8 +757,7 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
     if (!material_extra(m)) return oom(P, file, line);   /* albedo (freed by material_release) */
     find_spectrum_param(pl, "eta");                      /* read by layer_eta */
     param_find(pl, PT_FLOAT, "eta");
-    if (!microfacet_alphas(P, pl, file, line, what, &m->alpha, &m->alpha_t, &m->alpha_tex,
-                           &m->remap) || !layer_textures(P, pl, m))
+    if (!microfacet_alphas(P, pl, file, line, what, m) || !layer_textures(P, pl, m))
         return 0;
     if (pt) {
         /* "texture reflectance": the base's R read at each hit (mat_point) */
@@ -802,17 +801,26 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
     Param *pth = param_find(pl, PT_FLOAT, "thickness"), *pg = param_find(pl, PT_FLOAT, "g");
     Param *pd = param_find(pl, PT_INTEGER, "maxdepth"), *pn = param_find(pl, PT_INTEGER, "nsamples");
     float th, g;
-    int md, ns, given, remap2;
+    int md, ns, given;
+    Roughness top, base;
     (void)dir;
     m->type = MAT_COATED_CONDUCTOR;
     if (!material_extra(m)) return oom(P, file, line);   /* albedo, cond_eta, k (material_release) */
     find_spectrum_param(pl, "interface.eta");            /* read by layer_eta */
     param_find(pl, PT_FLOAT, "interface.eta");
-    if (!microfacet_alphas_of(P, pl, file, line, what, "interface.", &m->alpha, &m->alpha_t,
-                              &m->alpha_tex, &m->remap) ||
-        !microfacet_alphas_of(P, pl, file, line, what, "conductor.", &m->cond_alpha, &m->cond_alpha_t,
-                              &m->cond_alpha_tex, &remap2) || !layer_textures(P, pl, m))
+    if (!microfacet_roughness(P, pl, file, line, what, "interface.", &top) ||
+        !microfacet_roughness(P, pl, file, line, what, "conductor.", &base) ||
+        !layer_textures(P, pl, m))
         return 0;
+    m->alpha = top.alpha_u;                    /* the coat */
+    m->alpha_t = top.alpha_v;
+    m->alpha_tex = top.tex_u;
+    m->alpha_t_tex = top.tex_v;
+    m->remap = top.remap;                      /* one remaproughness for both layers */
+    m->cond_alpha = base.alpha_u;              /* the conductor */
+    m->cond_alpha_t = base.alpha_v;
+    m->cond_alpha_tex = base.tex_u;
+    m->cond_alpha_t_tex = base.tex_v;
     if (!get_float(P, pl, "thickness", 0.01f, &th) || !get_float(P, pl, "g", 0.0f, &g) ||
         !get_int(P, pl, "maxdepth", 10, &md, &given) || !get_int(P, pl, "nsamples", 1, &ns, &given))
         return 0;

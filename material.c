@@ -81,6 +81,7 @@ int mat_reads_uv(const Material *m)
                              m->sss->tex[SSS_TEX_MFP]);
     if (m->extra && (m->extra->eta_tex > 0 || m->extra->k_tex > 0)) return 1;   /* conductors */
     if (m->thickness_tex > 0 || m->g_tex > 0 || m->albedo_tex > 0) return 1;   /* layered */
+    if (m->alpha_t_tex > 0 || m->cond_alpha_t_tex > 0) return 1;   /* textured t-axis roughness */
     return m->reflectance_tex > 0 || m->alpha_tex > 0 || m->cond_alpha_tex > 0 || sss_tex ||
            m->type == MAT_MIX || m->bump || (m->extra && m->extra->transmittance_tex > 0);
 }
@@ -145,6 +146,16 @@ static float tex_clamped(const Material *m, int tex, const SurfacePoint *sp, flo
     return v > lo ? (v < hi ? v : hi) : lo;
 }
 
+/* A roughness texture's GGX alpha at sp (pbrt-v4, per axis): the texture's value,
+   then RoughnessToAlpha (sqrt) when remapped; a negative value (or NaN) counts as 0,
+   a smooth point; widened as mat_regularized widens the numbers. */
+static float rough_alpha_at(const Material *m, int tex, const SurfacePoint *sp, const float *lambda)
+{
+    float v = tex_clamped(m, tex, sp, lambda[0], 0.0f, 1e4f);
+    v = m->remap ? tr_alpha_of_roughness(v) : v;
+    return m->regularized ? tr_regularize(v) : v;
+}
+
 /* A layered material's slab at the point, with pbrt-v4's bounds (GetBxDF and
    LayeredBxDF): a textured thickness at least FLT_MIN (and at most 1e30, as the
    float), g clamped to [-1, 1] and then to HenyeyGreenstein's [-0.99, 0.99], the
@@ -178,21 +189,15 @@ void mat_point(const Material *m, const SurfacePoint *sp, const float *lambda, u
     mp->has_ek = 0;
     mat_point_slab(m, sp, lambda, alive, mp);
     if (!m->textures) return;
-    if (m->alpha_tex > 0) {
-        /* pbrt-v4: the roughness texture's value, then RoughnessToAlpha (sqrt) when
-           remapped; a negative value (or NaN) counts as 0, a smooth point */
-        float v = tex_eval(m->textures, m->alpha_tex - 1, sp, lambda[0]);
-        v = v > 0.0f ? (v < 1e4f ? v : 1e4f) : 0.0f;
-        mp->alpha = mp->alpha_t = m->remap ? tr_alpha_of_roughness(v) : v;
-        if (m->regularized) mp->alpha = mp->alpha_t = tr_regularize(mp->alpha);
-    }
-    if (m->cond_alpha_tex > 0) {                 /* coatedconductor's base, the same rule */
-        float v = tex_eval(m->textures, m->cond_alpha_tex - 1, sp, lambda[0]);
-        v = v > 0.0f ? (v < 1e4f ? v : 1e4f) : 0.0f;
-        mp->cond_alpha = m->remap ? tr_alpha_of_roughness(v) : v;
-        if (m->regularized) mp->cond_alpha = tr_regularize(mp->cond_alpha);
-        mp->cond_alpha_t = mp->cond_alpha;
-    }
+    if (m->alpha_tex > 0) mp->alpha = rough_alpha_at(m, m->alpha_tex, sp, lambda);
+    if (m->alpha_t_tex > 0)                      /* one texture for both axes: read once */
+        mp->alpha_t = m->alpha_t_tex == m->alpha_tex ? mp->alpha
+                                                     : rough_alpha_at(m, m->alpha_t_tex, sp, lambda);
+    if (m->cond_alpha_tex > 0)                   /* coatedconductor's base, the same rule */
+        mp->cond_alpha = rough_alpha_at(m, m->cond_alpha_tex, sp, lambda);
+    if (m->cond_alpha_t_tex > 0)
+        mp->cond_alpha_t = m->cond_alpha_t_tex == m->cond_alpha_tex
+                               ? mp->cond_alpha : rough_alpha_at(m, m->cond_alpha_t_tex, sp, lambda);
     if (m->reflectance_tex > 0) {
         mp->has_r = 1;
         for (j = 0; j < HERO_N; j++) {
@@ -412,7 +417,7 @@ float fluor_pdf_li_uniform(float lo, float li)
 int mat_is_delta(const Material *m)
 {
     if (m->type == MAT_CONDUCTOR)                            /* conductor.c */
-        return m->alpha_tex <= 0 && tr_smooth(m->alpha, m->alpha_t);
+        return m->alpha_tex <= 0 && m->alpha_t_tex <= 0 && tr_smooth(m->alpha, m->alpha_t);
     if (m->type == MAT_THIN_DIELECTRIC) return 1;
     return (m->type == MAT_DIELECTRIC || m->type == MAT_SUBSURFACE) && m->alpha_tex <= 0 &&
            m->alpha == 0.0f;
@@ -551,6 +556,10 @@ int mat_needs_tangent(const Material *m)
     if ((m->type == MAT_COATED_DIFFUSE || m->type == MAT_COATED_CONDUCTOR) &&
         (m->alpha != m->alpha_t || m->cond_alpha != m->cond_alpha_t))
         return 1;                                  /* layered.c: an anisotropic layer */
+    if ((m->type == MAT_COATED_DIFFUSE || m->type == MAT_COATED_CONDUCTOR ||
+         m->type == MAT_CONDUCTOR) &&
+        (m->alpha_tex != m->alpha_t_tex || m->cond_alpha_tex != m->cond_alpha_t_tex))
+        return 1;                                  /* textured axes that may differ */
     return (m->type == MAT_MEASURED && !m->measured->isotropic) ||
            (m->type == MAT_CONDUCTOR && m->alpha != m->alpha_t);
 }
@@ -912,6 +921,7 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
     /* pbrt-v4: u/vroughness default to "roughness", which defaults to 0; a
        roughness texture is read at each hit instead (mat_point) */
     if (!microfacet_alpha_texture(P, pl, file, line, what, &m->alpha_tex, &m->remap)) return 0;
+    m->alpha_t_tex = m->alpha_tex;                     /* isotropic: one texture */
     u = v = 0.0f;
     have_u = have_v = m->alpha_tex > 0;
     if (!have_u) {

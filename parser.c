@@ -849,16 +849,16 @@ static int rough_param(Parser *P, ParamList *pl, const char *name, int *have, fl
 /* pbrt-v4's roughness parameters of a microfacet material: u/vroughness default
    to "roughness", which defaults to 0; remaproughness (default true) maps them to
    alpha = sqrt(roughness) (TrowbridgeReitzDistribution::RoughnessToAlpha).  Each
-   may be a float texture: then *alpha_tex = 1 + its index, the alphas are 0, and
-   material.c's mat_point reads the texture at each hit (the same texture for u
-   and v; anything else with a texture is anisotropic, refused by name).  prefix
+   axis (u along the shading frame's s, v along t) is a number or a float texture:
+   then r->tex_u (tex_v) = 1 + its index, its alpha 0, and material.c's mat_point
+   reads the texture at each hit and remaps that value, as pbrt-v4 does per axis
+   (a number and a texture, or two textures, are anisotropic GGX there).  prefix
    names a layer's parameters ("interface.", "conductor." of coatedconductor). */
-int microfacet_alphas_of(Parser *P, ParamList *pl, const char *file, int line,
-                         const char *what, const char *prefix, float *alpha_u,
-                         float *alpha_v, int *alpha_tex, int *remap_out)
+int microfacet_roughness(Parser *P, ParamList *pl, const char *file, int line,
+                         const char *what, const char *prefix, Roughness *r)
 {
-    float u = 0, v = 0, r = 0;
-    int remap, have_u, have_v, have_r, tu, tv, tr;
+    float u = 0, v = 0, rr = 0;
+    int have_u, have_v, have_r, tu, tv, tr;
     char nu[48], nv[48], nr[48];
     snprintf(nu, sizeof nu, "%suroughness", prefix);
     snprintf(nv, sizeof nv, "%svroughness", prefix);
@@ -866,51 +866,57 @@ int microfacet_alphas_of(Parser *P, ParamList *pl, const char *file, int line,
     if (!rough_param(P, pl, nu, &have_u, &u, &tu) || !rough_param(P, pl, nv, &have_v, &v, &tv))
         return 0;
     if (!have_u || !have_v) {
-        if (!rough_param(P, pl, nr, &have_r, &r, &tr)) return 0;
-        if (!have_u) { u = r; tu = tr; }
-        if (!have_v) { v = r; tv = tr; }
+        if (!rough_param(P, pl, nr, &have_r, &rr, &tr)) return 0;
+        if (!have_u) { u = rr; tu = tr; }
+        if (!have_v) { v = rr; tv = tr; }
     }
-    if (!get_bool(P, pl, "remaproughness", 1, &remap)) return 0;
-    *remap_out = remap;
-    *alpha_tex = 0;
-    if (tu >= 0 || tv >= 0) {
-        if (tu != tv)
-            return fail(P, file, line, "%s: u and v roughness from different sources (a texture "
-                        "and a number, or two textures) is anisotropic roughness, valid pbrt-v4 "
-                        "but not in the specnee subset", what);
-        *alpha_tex = tu + 1;
-        *alpha_u = *alpha_v = 0.0f;
-        return 1;
-    }
+    if (!get_bool(P, pl, "remaproughness", 1, &r->remap)) return 0;
+    r->tex_u = tu + 1;                                  /* tu, tv: -1 for a number */
+    r->tex_v = tv + 1;
+    if (tu >= 0) u = 0.0f;
+    if (tv >= 0) v = 0.0f;
     if (!(u >= 0.0f && u <= 1e4f) || !(v >= 0.0f && v <= 1e4f))
         return fail(P, file, line, "%s: %s (%g, %g) must be within [0, 1e4]", what, nr, u, v);
-    *alpha_u = remap ? tr_alpha_of_roughness(u) : u;
-    *alpha_v = remap ? tr_alpha_of_roughness(v) : v;
+    r->alpha_u = r->remap ? tr_alpha_of_roughness(u) : u;
+    r->alpha_v = r->remap ? tr_alpha_of_roughness(v) : v;
+    return 1;
+}
+
+/* The unprefixed names ("roughness", "uroughness", "vroughness") into a
+   conductor's or coateddiffuse's alpha, alpha_t, alpha_tex, alpha_t_tex, remap. */
+int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
+                      const char *what, Material *m)
+{
+    Roughness r;
+    if (!microfacet_roughness(P, pl, file, line, what, "", &r)) return 0;
+    m->alpha = r.alpha_u;
+    m->alpha_t = r.alpha_v;
+    m->alpha_tex = r.tex_u;
+    m->alpha_t_tex = r.tex_v;
+    m->remap = r.remap;
     return 1;
 }
 
 /* The same when pl gives a roughness texture ("texture roughness", "texture
-   uroughness" or "texture vroughness"); without one nothing is read, *alpha_tex
-   is 0 and the caller reads the numbers (dielectric and subsurface, with their
-   own messages). */
+   uroughness" or "texture vroughness") for an isotropic BSDF (dielectric,
+   subsurface): both axes must be the same texture; without one nothing is read,
+   *alpha_tex is 0 and the caller reads the numbers (with its own messages). */
 int microfacet_alpha_texture(Parser *P, ParamList *pl, const char *file, int line,
                              const char *what, int *alpha_tex, int *remap_out)
 {
-    float au, av;
+    Roughness r;
     *alpha_tex = 0;
     if (!param_find(pl, PT_TEXTURE, "roughness") && !param_find(pl, PT_TEXTURE, "uroughness") &&
         !param_find(pl, PT_TEXTURE, "vroughness"))
         return 1;
-    return microfacet_alphas_of(P, pl, file, line, what, "", &au, &av, alpha_tex, remap_out);
-}
-
-/* The same for the unprefixed names ("roughness", "uroughness", "vroughness"). */
-int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
-                      const char *what, float *alpha_u, float *alpha_v, int *alpha_tex,
-                      int *remap_out)
-{
-    return microfacet_alphas_of(P, pl, file, line, what, "", alpha_u, alpha_v, alpha_tex,
-                                remap_out);
+    if (!microfacet_roughness(P, pl, file, line, what, "", &r)) return 0;
+    if (r.tex_u != r.tex_v)
+        return fail(P, file, line, "%s: u and v roughness from different sources (a texture "
+                    "and a number, or two textures) is anisotropic roughness, valid pbrt-v4 "
+                    "but not in the specnee subset", what);
+    *alpha_tex = r.tex_u;
+    *remap_out = r.remap;
+    return 1;
 }
 
 /* Every value of a spectrum over nm0-830 nm must satisfy lo < v (strict) or

@@ -281,23 +281,26 @@ int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_ill
    unit_spectrum_param: p (NULL: the constant def) read and so checked.
    texture_lookup: the Scene.textures index a "texture name" parameter names in
    the float or spectrum namespace (-1 and an error when none).
-   microfacet_alphas(_of): pbrt-v4's roughness parameters (prefix: a layer's,
-   "interface." or "conductor.") as GGX alphas, or a float texture
-   (*alpha_tex = 1 + its index); microfacet_alpha_texture: the same only when a
+   microfacet_roughness: pbrt-v4's roughness parameters (prefix: a layer's,
+   "interface." or "conductor.") as a Roughness, each axis a GGX alpha or a float
+   texture; microfacet_alphas: the unprefixed ones into a Material;
+   microfacet_alpha_texture: the same texture for both axes, only when a
    roughness is a texture (else *alpha_tex = 0, nothing read).  check_spectrum_above: every value over
    300-830 nm finite and > lo (strict) or >= lo (p NULL: the statement's line);
    check_spectrum_above_from: the same from nm0 on.
    rgb_illuminant_scale: the scale that gives an "rgb L" illuminant pbrt-v4's
    D65 normalisation (D65's luminance computed once per load, in P). */
+/* A microfacet material's roughness as read: per axis (u: the shading frame's s,
+   v: its t) a GGX alpha (remapped unless remap is 0) or a float texture (tex_u,
+   tex_v: 1 + its index, the alpha then 0; 0: the number). */
+typedef struct { float alpha_u, alpha_v; int tex_u, tex_v, remap; } Roughness;
 int check_unit_spectrum(Parser *P, const Param *p, Spectrum *sp);
 int unit_spectrum_param(Parser *P, Param *p, Spectrum *out, float def);
 int texture_lookup(Parser *P, const Param *p, int is_float);
-int microfacet_alphas_of(Parser *P, ParamList *pl, const char *file, int line,
-                         const char *what, const char *prefix, float *alpha_u,
-                         float *alpha_v, int *alpha_tex, int *remap_out);
+int microfacet_roughness(Parser *P, ParamList *pl, const char *file, int line,
+                         const char *what, const char *prefix, Roughness *r);
 int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
-                      const char *what, float *alpha_u, float *alpha_v, int *alpha_tex,
-                      int *remap_out);
+                      const char *what, Material *m);
 int microfacet_alpha_texture(Parser *P, ParamList *pl, const char *file, int line,
                              const char *what, int *alpha_tex, int *remap_out);
 int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,

@@ -881,9 +881,11 @@ typedef struct {
                                   1 + its index into Scene.textures (0, as a zeroed
                                   Material has it: the spectrum above) */
     int alpha_tex;             /* conductor, coateddiffuse, dielectric, subsurface:
-                                  "texture roughness" (or the same texture as u- and
-                                  vroughness), 1 + its index (0: alpha, alpha_t above);
-                                  read through mat_point */
+                                  "texture roughness" or "texture uroughness", 1 + its
+                                  index (0: alpha above); read through mat_point */
+    int alpha_t_tex;           /* conductor, coat: the t axis's ("texture vroughness"),
+                                  1 + its index (0: alpha_t); dielectric, subsurface:
+                                  unused (their roughness is isotropic) */
     int remap;                 /* with alpha_tex: remaproughness (alpha = sqrt(value)) */
     const struct Texture *textures;  /* the scene's textures (set when loading ends) */
     /* coateddiffuse, coatedconductor (layered.c): eta (a constant) and alpha (alpha_tex)
@@ -897,10 +899,10 @@ typedef struct {
     int maxdepth, nsamples;    /* the random walks' vertex limit and count */
     /* coatedconductor: the base conductor's n (extra->cond_eta, extra->k) in vacuum, or
        its "reflectance" (then reflectance_tex or reflectance, cond_eta = 1 and k from it
-       as for the conductor); its GGX alpha (cond_alpha_tex: 1 + a roughness texture's
-       index) */
+       as for the conductor); its GGX alphas (cond_alpha_tex, cond_alpha_t_tex: 1 + a
+       roughness texture's index) */
     float cond_alpha, cond_alpha_t;   /* along the shading frame's s and t (anisotropic GGX) */
-    int cond_alpha_tex;
+    int cond_alpha_tex, cond_alpha_t_tex;   /* textures of the s and t axes (0: the numbers) */
     /* mix: the two materials (indices into Scene.materials, neither an interface) and
        the probability "amount" of the second, a constant or (amount_tex: 1 + its
        index) a float texture */
@@ -1901,6 +1903,13 @@ typedef struct {
 int  ply_read(const char *path, PlyMesh *m, Error *err);
 void ply_free(PlyMesh *m);
 int  ply_write_binary(const char *path, const float *P, int n_verts, const int32_t *idx, int n_tris);
+/* pbrt-v4's displaced plymesh (displace.c): quads split into triangles, every
+   triangle split at its longest edge until each world-space edge (world_from_obj
+   applied) is shorter than edgelength, each vertex moved along its normal by
+   float texture tex at its uv, then smooth normals recomputed; the mesh replaced
+   in place (0 and a message in err when too large or out of memory). */
+int  ply_displace(PlyMesh *mesh, const Xform *world_from_obj, float edgelength,
+                  const Texture *textures, int tex, Error *err);
 
 /* ======================================================================
    9b. Loop subdivision surfaces (subdiv.c)

@@ -609,6 +609,7 @@ int subsurface_from_params(Parser *P, ParamList *pl, const char *file, int line,
         return 0;
     /* the boundary's roughness: numbers, or a texture read at each hit (mat_point) */
     if (!microfacet_alpha_texture(P, pl, file, line, what, &m->alpha_tex, &m->remap)) return 0;
+    m->alpha_t_tex = m->alpha_tex;                     /* isotropic: one texture */
     have_u = param_find(pl, PT_FLOAT, "uroughness") != NULL;
     have_v = param_find(pl, PT_FLOAT, "vroughness") != NULL;
     u = v = r = 0.0f;

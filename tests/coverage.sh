@@ -102,7 +102,7 @@ scenes() {
         ov["trianglemesh|vector3 S"] = "[ 1 0 0  1 0 0  1 0 0 ]"
         ov["bilinearmesh|point3 P"] = quad; ov["bilinearmesh|normal N"] = "[ 0 0 1  0 0 1  0 0 1  0 0 1 ]"
         ov["bilinearmesh|point2 uv"] = "[ 0 0  1 0  0 1  1 1 ]"; ov["bilinearmesh|integer indices"] = "[ 0 1 2 3 ]"
-        ov["plymesh|string filename"] = "\"" root "/scenes/meshes/suzanne.ply\""
+        ov["plymesh|string filename"] = "\"" root "/tests/data/uvsquare.ply\""   # uv: displacement
         ov["float imagemap|string filename"] = "\"" root "/fuzz/seeds/pfm/rgb.pfm\""
         ov["spectrum imagemap|string filename"] = ov["float imagemap|string filename"]
         ov["infinite|string filename"] = ov["float imagemap|string filename"]

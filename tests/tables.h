@@ -56,3 +56,5 @@ TEST_TABLE(bilerp)
 TEST_TABLE(dielrough)
 
 TEST_TABLE(lightpower)
+TEST_TABLE(anirough)
+TEST_TABLE(displace)
