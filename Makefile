@@ -29,7 +29,7 @@ DETECTED != sh tools/ccflags.sh "$(CC)"
 CFLAGS = $(OPT) $(WARN) $(DETECTED)
 LDLIBS = -lm
 
-LIBOBJ = util.o sampler.o bvh.o instance.o motion.o shapes.o patch.o curve.o spectrum.o wavelengths.o metals.o lights.o lighttree.o infinite.o \
+LIBOBJ = util.o sampler.o bvh.o instance.o motion.o shapes.o patch.o curve.o spectrum.o wavelengths.o metals.o lights.o arealight.o lighttree.o infinite.o \
          delta.o texture.o filter.o parser.o options.o scene.o geometry.o dump.o ply.o displace.o subdiv.o medium.o nanovdb.o material.o microfacet.o \
          conductor.o layered.o hair.o measured.o subsurface.o bump.o camera.o lens.o path.o sensor.o render.o image.o png.o exr.o svg.o cmd_converge.o cmd_image.o \
          cmd_spectrum.o rgbtable.o
@@ -73,7 +73,7 @@ rgbtable.h: tools/gen_rgbtable.c rgbtable.c spectrum.o util.o metals.o
 	$(CC) $(CFLAGS) -I. -c -o $@ $<
 
 $(LIBOBJ) specnee.o $(TESTOBJ) tools/gen_measured.o tools/bench.o tools/bench_lights.o fuzz/replay.o fuzz/targets.o: specnee.h
-parser.o options.o scene.o geometry.o material.o conductor.o layered.o texture.o lights.o delta.o infinite.o medium.o bump.o curve.o hair.o subsurface.o tests/test_hair.o tests/test_subsurface.o: parser.h
+parser.o options.o scene.o geometry.o material.o conductor.o layered.o texture.o lights.o arealight.o delta.o infinite.o medium.o bump.o curve.o hair.o subsurface.o tests/test_hair.o tests/test_subsurface.o: parser.h
 $(TESTOBJ): tests/test.h tests/tables.h
 tests/test_png.o: tests/png_fixtures.h
 camera.o path.o render.o: render.h

@@ -110,7 +110,7 @@ typedef struct {
     int image;                 /* "filename": 1 + its emission image's index in Scene.textures */
     const Spectrum *image_mean;/* its mean colour's spectrum (in Scene.spectra) */
     float power;               /* "float power" / k_e (the image's mean luminance, else 1);
-                                  <= 0: none (lights.c emitter_apply_power) */
+                                  <= 0: none (arealight.c emitter_apply_power) */
 
     double y_vis;              /* luminance_sum(L, LAMBDA_LO, LAMBDA_HI) (Emitter.y_vis) */
 } AreaLightDesc;

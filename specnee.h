@@ -2021,6 +2021,11 @@ int  img_cmd_diff(int argc, char **argv, FILE *out, FILE *err);
    fill its area and triangle CDF.  scene_load calls it; nothing here depends on
    the wavelength range a render samples. */
 int   emitters_prepare(Scene *s, Error *err);
+/* arealight.c: fold emitter em's "float power" (em->power, Phi / k_e) into em->scale
+   and, for a mesh whose primitives differ in area, em->prim_scale (pbrt-v4: one
+   light per primitive, each emitting Phi).  emitters_prepare calls it; 0: out of
+   memory. */
+int   emitter_apply_power(const Scene *s, Emitter *em, const Shape *sh);
 /* Emitter e's radiance for a film that integrates [lo, hi] nm (pbrt-v4: Le = scale
    * L / sum_{1 nm} ybar L over the range); 0 and a message if it emits nothing there.
    For an image map (L holds D65) Le is the spectrum of the map's mean colour, a
@@ -2130,7 +2135,7 @@ void  light_sampler_free(LightSampler *ls);
 float light_Le(const LightSampler *ls, int e, Vec3 n, Vec3 w, float lambda_nm);
 float light_Le_at(const LightSampler *ls, int e, Vec3 n, Vec3 w, const SurfacePoint *at,
                   float lambda_nm);
-/* sum over 1 nm steps in [lo, hi] of ybar L: the luminance that normalises an
+/* arealight.c: sum over 1 nm steps in [lo, hi] of ybar L: the luminance that normalises an
    emitter's spectrum L (and an emissive medium's Le, render.c). */
 double luminance_sum(const Spectrum *L, float lo_nm, float hi_nm);
 /* the same sum with ybar from a load's RgbTable (spec_ybar_knots; T NULL: luminance_sum) */

@@ -792,7 +792,28 @@ static void test_area_L_checked_and_summed(T *t)
     scene_free(&s);
 }
 
+/* luminance_sum (arealight.c) is the definition sum_{whole nm in [lo, hi]}
+   ybar(lambda) L(lambda) with ybar rounded to float: on a ramp L (every knot
+   differs from its neighbour) it equals that sum written out here, exactly, over
+   the visible range and a range inside it; a knot read one nm off changes it. */
+static void test_luminance_sum_definition(T *t)
+{
+    static const float ranges[2][2] = { { 360.0f, 830.0f }, { 400.5f, 700.0f } };
+    Spectrum L;
+    int nm, r;
+    for (nm = SPEC_MIN; nm <= SPEC_MAX; nm++) *spec_at(&L, nm) = 0.001f * (float)(nm - SPEC_MIN) + 0.1f;
+    for (nm = 0; nm < SPEC_UV_N; nm++) L.uv[nm] = 0.0f;
+    for (r = 0; r < 2; r++) {
+        double want = 0.0, got = luminance_sum(&L, ranges[r][0], ranges[r][1]);
+        for (nm = (int)ceilf(ranges[r][0]); nm <= (int)floorf(ranges[r][1]); nm++)
+            want += (double)(float)cie_ybar((double)nm) * spec_get(&L, nm);
+        CHECK(t, got == want, "luminance_sum over [%g, %g]: %.17g, the definition %.17g",
+              ranges[r][0], ranges[r][1], got, want);
+    }
+}
+
 const TestCase tests_lights[] = {
+    { "lights_luminance_sum_definition", test_luminance_sum_definition },
     { "lights_area_L_checked_and_summed", test_area_L_checked_and_summed },
     { "lights_sphere_cone_sampling", test_sphere_cone_sampling },
     { "lights_select_matches_pmf", test_select_matches_pmf },
