@@ -119,14 +119,53 @@ static int same_corners(const Scene *s, const Triangle *a, const Triangle *b)
     return 1;
 }
 
-/* An emitting mesh with two triangles on the same three corners but opposite
-   windings (an exporter's way to light both sides) gets a note: rays meet both at
-   the same t, and which one is seen is a tie, broken in specnee by the smaller
-   index (the earlier in the file) and in pbrt-v4 by the order its BVH build gives
-   them.  In both renderers next event estimation reaches the emitting side
-   through its twin while BSDF sampling may stop at the twin's back, so the image
-   means no definite surface (docs/conventions.md §3).  Meshes of at most 4096
-   triangles are checked (pairs: at most 8.4 million comparisons). */
+/* Do triangles a and b, of anti-parallel normals (na: a's), lie in one plane
+   with interiors that overlap?  b's corners lie within 1e-5 of the triangles'
+   size from a's plane; in that plane (the axis of na's largest component
+   dropped) no edge of either triangle has the other wholly on its outer side
+   (the separating-axis test of two convex polygons; a shared edge separates). */
+static int overlap_in_plane(const Scene *s, const Triangle *a, const Triangle *b, Vec3 na)
+{
+    Vec3 p[2][3];
+    float q[2][3][2], size = 0.0f, nl = v3_len(na);
+    int ax = fabsf(na.x) > fabsf(na.y) ? (fabsf(na.x) > fabsf(na.z) ? 0 : 2)
+                                         : (fabsf(na.y) > fabsf(na.z) ? 1 : 2);
+    int k, i, j;
+    for (i = 0; i < 3; i++) { p[0][i] = s->P[a->v[i]]; p[1][i] = s->P[b->v[i]]; }
+    for (k = 0; k < 2; k++)
+        for (i = 0; i < 3; i++) size = fmaxf(size, v3_len(v3_sub(p[k][(i + 1) % 3], p[k][i])));
+    for (i = 0; i < 3; i++)
+        if (fabsf(v3_dot(na, v3_sub(p[1][i], p[0][0]))) > 1e-5f * size * nl) return 0;
+    for (k = 0; k < 2; k++)
+        for (i = 0; i < 3; i++) {
+            q[k][i][0] = ax == 0 ? p[k][i].y : p[k][i].x;
+            q[k][i][1] = ax == 2 ? p[k][i].y : p[k][i].z;
+        }
+    for (k = 0; k < 2; k++) {
+        float (*x)[2] = q[k], (*y)[2] = q[1 - k];
+        float o = (x[1][0] - x[0][0]) * (x[2][1] - x[0][1]) - (x[1][1] - x[0][1]) * (x[2][0] - x[0][0]);
+        for (i = 0; i < 3; i++) {
+            float ex = x[(i + 1) % 3][0] - x[i][0], ey = x[(i + 1) % 3][1] - x[i][1];
+            float eps = 1e-5f * size * sqrtf(ex * ex + ey * ey), least = FLT_MAX;
+            for (j = 0; j < 3; j++)                     /* > 0: outside edge i */
+                least = fminf(least, (o > 0.0f ? -1.0f : 1.0f)
+                                     * (ex * (y[j][1] - x[i][1]) - ey * (y[j][0] - x[i][0])));
+            if (least >= -eps) return 0;                /* edge i of one separates them */
+        }
+    }
+    return 1;
+}
+
+/* An emitting mesh with two triangles of opposite windings that lie on each other
+   (an exporter's way to light both sides: the same three corners twice) or
+   overlap in one plane (a quad's indices written wrong) gets a note: rays meet
+   both at the same t, and which one is seen is a tie, broken in specnee by the
+   smaller index (the earlier in the file) and in pbrt-v4 by the order its BVH
+   build gives them or by the rounding of each t.  In both renderers next event
+   estimation reaches the emitting side through its twin while BSDF sampling may
+   stop at the twin's back, so the image means no definite surface there
+   (docs/conventions.md §3).  Meshes of at most 4096 triangles are checked
+   (pairs: at most 8.4 million comparisons). */
 static void coincident_note(const Scene *s, int t0, int ntri, const char *file, int line)
 {
     int i, j;
@@ -135,14 +174,16 @@ static void coincident_note(const Scene *s, int t0, int ntri, const char *file, 
         for (j = i + 1; j < t0 + ntri; j++) {
             const Triangle *a = &s->tris[i], *b = &s->tris[j];
             Vec3 na, nb;
-            if (!same_corners(s, a, b)) continue;
+            int same;
             na = v3_cross(v3_sub(s->P[a->v[1]], s->P[a->v[0]]), v3_sub(s->P[a->v[2]], s->P[a->v[0]]));
             nb = v3_cross(v3_sub(s->P[b->v[1]], s->P[b->v[0]]), v3_sub(s->P[b->v[2]], s->P[b->v[0]]));
-            if (!(v3_dot(na, nb) < 0.0f)) continue;
-            fprintf(stderr, "%s:%d: note: area light: triangles %d and %d of this mesh lie on each "
-                    "other with opposite windings; the earlier one is seen where both are hit "
+            if (!(v3_dot(na, nb) < -0.9999f * v3_len(na) * v3_len(nb))) continue;
+            same = same_corners(s, a, b);
+            if (!same && !overlap_in_plane(s, a, b, na)) continue;
+            fprintf(stderr, "%s:%d: note: area light: triangles %d and %d of this mesh %s "
+                    "with opposite windings; the earlier one is seen where both are hit "
                     "(pbrt-v4: the one its BVH tests first), so the light's two sides do not add up\n",
-                    file, line, i - t0, j - t0);
+                    file, line, i - t0, j - t0, same ? "lie on each other" : "overlap in one plane");
             return;
         }
 }

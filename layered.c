@@ -650,7 +650,7 @@ static int layer_slab(Parser *P, const char *what, const char *file, int line, f
                       const Param *pth, float g, const Param *pg, int md, const Param *pd,
                       int ns, const Param *pn, Material *m)
 {
-    if (!(th > 0.0f && th < 1e30f))
+    if (!(th < 1e30f))                          /* <= 0: FLT_MIN below, as pbrt-v4 */
         return fail(P, pth ? pth->file : file, pth ? pth->line : line,
                     "%s: \"float thickness\" %g must be finite and > 0", what, th);
     if (!(g > -1.0f && g < 1.0f))
@@ -662,7 +662,7 @@ static int layer_slab(Parser *P, const char *what, const char *file, int line, f
     if (ns < 1)
         return fail(P, pn ? pn->file : file, pn ? pn->line : line,
                     "%s: \"integer nsamples\" %d must be >= 1", what, ns);
-    m->thickness = th;
+    m->thickness = th > FLT_MIN ? th : FLT_MIN;     /* pbrt-v4 LayeredBxDF: max(th, FLT_MIN) */
     m->hg_g = g < -0.99f ? -0.99f : (g > 0.99f ? 0.99f : g);   /* pbrt-v4's HenyeyGreenstein */
     m->maxdepth = md;
     m->nsamples = ns;

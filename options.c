@@ -192,7 +192,9 @@ int camera_directive(Parser *P, const char *type, ParamList *pl, const char *fil
         return fail(P, file, line, "Camera: degenerate camera transform: the eye or the "
                     "viewing directions are not finite, non-zero float vectors (look at "
                     "the Scale/Transform/LookAt before Camera)");
-    if (!(lens >= 0.0f) || !(focus > 0.0f))
+    /* pbrt-v4 (cameras.cpp) reads the focal distance only through a lens: with
+       "lensradius" 0 any "focaldistance" (exporters write 0) means a pinhole */
+    if (!(lens >= 0.0f) || (lens > 0.0f && !(focus > 0.0f)))
         return fail_param(P, pl, lens < 0.0f ? "lensradius" : "focaldistance", file, line, "Camera: \"float lensradius\" %g must be >= 0 and "
                     "\"float focaldistance\" %g > 0", lens, focus);
     /* pbrt-v4 (scene.cpp): the exposure time is the shutter interval; it scales the

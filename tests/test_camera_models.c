@@ -111,6 +111,36 @@ static void test_ortho_thin_lens(T *t)
     }
 }
 
+/* pbrt-v4 (cameras.cpp, 5f7a6068) reads "focaldistance" only where "lensradius"
+   is > 0; exporters write "lensradius" 0 "focaldistance" 0 for a pinhole
+   (trianglestrip/pbrt-v4: test_gpu.pbrt).  That camera is a pinhole whose rays
+   are those of the camera without the two parameters; a lens focused at 0 stays
+   refused. */
+static void test_lens_zero_focus_unused(T *t)
+{
+    static const char *const cam[2] = {
+        ORTHO_LOOK "Camera \"perspective\" \"float fov\" [ 50 ] \"float lensradius\" [ 0 ] \"float focaldistance\" [ 0 ]",
+        ORTHO_LOOK "Camera \"perspective\" \"float fov\" [ 50 ]",
+    };
+    Scene s;
+    Camera c[2];
+    int k, x, y;
+    for (k = 0; k < 2; k++) {
+        if (!load_camera(t, cam[k], 40, 20, &s, &c[k])) return;
+        scene_free(&s);
+    }
+    CHECK(t, !camera_has_lens(&c[0]), "lensradius 0: a pinhole reads no lens sample");
+    for (y = 0; y <= 20; y += 5)
+        for (x = 0; x <= 40; x += 5) {
+            Ray a = ray_at(&c[0], (float)x, (float)y, 0.3f, 0.8f), b = ray_at(&c[1], (float)x, (float)y, 0.3f, 0.8f);
+            CHECK(t, dist3(a.o, b.o) == 0.0f && dist3(a.d, b.d) == 0.0f,
+                  "raster (%d, %d): ray (%g, %g, %g) -> (%g, %g, %g), the pinhole's (%g, %g, %g) -> (%g, %g, %g)",
+                  x, y, a.o.x, a.o.y, a.o.z, a.d.x, a.d.y, a.d.z, b.o.x, b.o.y, b.o.z, b.d.x, b.d.y, b.d.z);
+        }
+    test_rejected_at(t, "Camera \"perspective\" \"float lensradius\" [ 0.5 ] \"float focaldistance\" [ 0 ]\nWorldBegin\n",
+                     1, "\"float lensradius\" 0.5 must be >= 0 and \"float focaldistance\" 0 > 0", NULL);
+}
+
 /* The camera at the origin, its frame the world's (LookAt along +z, up +y; pbrt's
    right = up x dir = +x). */
 #define SPH_LOOK "LookAt 0 0 0  0 0 1  0 1 0\n"
@@ -455,6 +485,7 @@ static void test_camera_models_against_pbrt(T *t)
 const TestCase tests_camera_models[] = {
     { "camera_ortho_window", test_ortho_window },
     { "camera_ortho_thin_lens", test_ortho_thin_lens },
+    { "camera_lens_zero_focus_unused", test_lens_zero_focus_unused },
     { "camera_spherical_axes", test_spherical_axes },
     { "camera_spherical_fold", test_spherical_fold },
     { "camera_spherical_equal_area", test_spherical_equal_area },

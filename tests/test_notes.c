@@ -156,9 +156,47 @@ static void test_area_power(T *t)
     }
 }
 
+/* An area light of two triangles of opposite windings that share part of the
+   plane: the square lamp of cuda-optix-pathtracing's scenes/cornell-box.pbrt
+   (alexoz12v2, 576b447), whose indices 0 1 2  0 2 3 over the corners in row
+   order give two triangles that overlap in a quarter of the square, and the same
+   corners twice (an exporter's twins) each get a note naming the pair; a quad of
+   two triangles of one winding, two of opposite windings that only share an
+   edge, and two parallel ones 0.001 apart get none. */
+static void test_overlapping_lamp(T *t)
+{
+    static const char *const fmt = "WorldBegin\nAttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n"
+        "Shape \"trianglemesh\" \"point3 P\" [ -0.5 2 -0.5  0.5 2 -0.5  -0.5 2 0.5  0.5 2 0.5  %s ]\n"
+        "  \"integer indices\" [ %s ]\nAttributeEnd\n";
+    static const char *const c[6][3] = {   /* extra corners, indices, the note's words */
+        { "", "0 1 2  0 2 3", "triangles 0 and 1 of this mesh overlap in one plane" },
+        { "", "0 1 3  0 3 1", "triangles 0 and 1 of this mesh lie on each other" },
+        { "", "0 1 3  0 3 2", NULL },
+        { "", "0 1 2  1 2 3", NULL },
+        { "", "0 1 3  0 3 2  1 2 3", "triangles 0 and 2 of this mesh overlap in one plane" },
+        { "0.2 2.001 0.2", "0 1 2  4 1 0", NULL },
+    };
+    char text[1024], out[1024], want[256];
+    int i;
+    for (i = 0; i < 6; i++) {
+        Scene s;
+        snprintf(text, sizeof text, fmt, c[i][0], c[i][1]);
+        CHECK(t, load_noting(t, &s, text, out, sizeof out), "lamp %d did not load", i);
+        scene_free(&s);
+        if (!c[i][2]) {
+            CHECK(t, out[0] == '\0', "lamp %d (indices %s): \"%s\", expected no note", i, c[i][1], out);
+            continue;
+        }
+        snprintf(want, sizeof want, "n.pbrt:4: note: area light: %s with opposite windings", c[i][2]);
+        CHECK(t, strstr(out, want) != NULL && count_lines(out) == 1, "lamp %d (indices %s): \"%s\", "
+              "expected \"%s...\"", i, c[i][1], out, want);
+    }
+}
+
 const TestCase tests_notes[] = {
     {"notes_unused_medium", test_unused_medium},
     {"notes_power_ignored", test_power_ignored},
     {"notes_area_power", test_area_power},
+    {"notes_overlapping_lamp", test_overlapping_lamp},
     {NULL, NULL}
 };
