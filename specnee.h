@@ -175,6 +175,12 @@ float    rng_float(Rng *r);                          /* uniform in [0, 1) */
 /* Radical inverse of i in a prime base (Halton points, for deterministic tables). */
 double radical_inverse(int base, uint64_t i);
 
+/* Inverse-CDF sampling of a table of n cells (cdf[]: n + 1 entries, 0 to 1, never
+   decreasing) through a guide table of n + 1 entries (util.c): cdf_cell returns
+   the cell k with cdf[k] <= u < cdf[k + 1], the same with or without (NULL) the guide. */
+void cdf_guide(const float *cdf, int n, int *guide);
+int  cdf_cell(const float *cdf, int n, const int *guide, double u);
+
 /* ---- Samplers (sampler.c): the number for a (pixel, sample, dimension) ----
    Every random decision of the renderer asks the sampler for its number by its
    DIMENSION.  The table (docs/sampling.md explains it):
@@ -488,6 +494,8 @@ typedef struct {
     int   n;                   /* number of table cells (1 nm each), 0 = analytic */
     float *pdf;                /* per-nm pdf (n cells) for importance sampling */
     float *cdf;                /* n + 1 entries, cdf[0] = 0, cdf[n] = 1 */
+    int   *guide;              /* n + 1 entries, cdf's guide table (cdf_guide; NULL:
+                                  wl_sample searches all cells) */
     int   visible;             /* n == 0: 1 = the visible sech^2 pdf, 0 = uniform */
     double vis_t_lo, vis_t_span; /* visible: th(lo) = tanh(kappa (lo - c)) and th(hi) - th(lo)
                                     (wavelengths.c) */
@@ -1874,6 +1882,7 @@ typedef struct {
                                             (gaussian, mitchell, sinc; else 0) */
     float f[FILTER_TABLE_MAX];           /* f1 at the cells' centres */
     float cdf[FILTER_TABLE_MAX + 1];     /* CDF of |f1| over the cells */
+    int guide[FILTER_TABLE_MAX + 1];     /* cdf's guide table (cdf_guide) */
     double abs_integral;                 /* integral of |f1_tab| over [-radius, radius] */
 } PixelFilter;
 void  filter_init(PixelFilter *pf, const SceneSettings *st);
