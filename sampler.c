@@ -198,10 +198,13 @@ static uint32_t sobol23(uint32_t i, int dim)
     m[1] = 1u;
     m[2] = 3u;
     m[3] = dim == 2 ? (2u * m[2]) ^ (4u * m[1]) ^ m[1] : 1u;
-    for (k = 4; k <= 32; k++)
-        m[k] = dim == 2 ? (2u * m[k - 1]) ^ (4u * m[k - 2]) ^ m[k - 2] : (4u * m[k - 2]) ^ (8u * m[k - 3]) ^ m[k - 3];
-    for (b = 0; b < 32; b++)
-        if ((i >> b) & 1u) x ^= m[b + 1] << (31 - b);
+    /* columns only up to i's highest bit: the sample index of a pixel is small */
+    for (b = 0; b < 32 && (i >> b) != 0u; b++) {
+        k = b + 1;
+        if (k >= 4)
+            m[k] = dim == 2 ? (2u * m[k - 1]) ^ (4u * m[k - 2]) ^ m[k - 2] : (4u * m[k - 2]) ^ (8u * m[k - 3]) ^ m[k - 3];
+        if ((i >> b) & 1u) x ^= m[k] << (31 - b);
+    }
     return x;
 }
 
@@ -327,6 +330,13 @@ static void halton_tables(Sampler *s)
     }
 }
 
+/* (a + b) mod p for digits a, b < p: one subtraction instead of a division. */
+static uint32_t add_mod(uint32_t a, uint32_t b, uint32_t p)
+{
+    uint32_t s = a + b;
+    return s >= p ? s - p : s;
+}
+
 /* Coordinate `slot` of the scrambled Halton point k (2) of the pixel whose hash is
    key.  Digit a_i of k (base p, least significant first) becomes digit i of the
    result as pi_i((a_i + pi_i^-1(b_i)) mod p): b_i, the pixel's own, is the i-th
@@ -357,9 +367,9 @@ static float halton_coord(const Sampler *s, uint64_t key, uint32_t k, int slot)
         rest /= p;
         w /= (double)p;
         if (i < nd)                        /* pi(a + pi^-1(b)): a = 0 keeps b */
-            d = t[i * (int)p + (int)((a + ti[i * (int)p + (int)b]) % p)];
+            d = t[i * (int)p + (int)add_mod(a, ti[i * (int)p + (int)b], p)];
         else
-            d = (a + b) % p;
+            d = add_mod(a, b, p);
         v += (double)d * w;
         i++;
     }
