@@ -198,13 +198,10 @@ static uint32_t sobol23(uint32_t i, int dim)
     m[1] = 1u;
     m[2] = 3u;
     m[3] = dim == 2 ? (2u * m[2]) ^ (4u * m[1]) ^ m[1] : 1u;
-    /* columns only up to i's highest bit: the sample index of a pixel is small */
-    for (b = 0; b < 32 && (i >> b) != 0u; b++) {
-        k = b + 1;
-        if (k >= 4)
-            m[k] = dim == 2 ? (2u * m[k - 1]) ^ (4u * m[k - 2]) ^ m[k - 2] : (4u * m[k - 2]) ^ (8u * m[k - 3]) ^ m[k - 3];
-        if ((i >> b) & 1u) x ^= m[k] << (31 - b);
-    }
+    for (k = 4; k <= 32; k++)
+        m[k] = dim == 2 ? (2u * m[k - 1]) ^ (4u * m[k - 2]) ^ m[k - 2] : (4u * m[k - 2]) ^ (8u * m[k - 3]) ^ m[k - 3];
+    for (b = 0; b < 32; b++)
+        if ((i >> b) & 1u) x ^= m[b + 1] << (31 - b);
     return x;
 }
 
