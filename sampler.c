@@ -146,7 +146,7 @@ int sampler_progressive(SamplerType t)
 
 /* ------------------------------------------------------------------ bits */
 
-static uint32_t reverse_bits32(uint32_t v)
+static inline uint32_t reverse_bits32(uint32_t v)
 {
     v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
     v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);

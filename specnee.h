@@ -167,7 +167,15 @@ int   xf_swaps_handedness(const Xform *t);            /* det of the 3x3 part < 0
 /* PCG32 (O'Neill 2014), keyed by work item: every (pixel, sample) owns its stream,
    so the image does not depend on the thread count or schedule. */
 typedef struct { uint64_t state, inc; } Rng;
-uint64_t hash_u64(uint64_t a, uint64_t b);           /* 64-bit mix of two keys */
+/* 64-bit mix of two keys (util.c's comment: splitmix64's finaliser); inline, as the
+   samplers call it for nearly every number they hand out */
+static inline uint64_t hash_u64(uint64_t a, uint64_t b)
+{
+    uint64_t z = a * 0x9E3779B97F4A7C15ull ^ (b + 0x632BE59BD9B4E019ull + (a << 6) + (a >> 2));
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
 void     rng_seed(Rng *r, uint64_t stream, uint64_t index);
 uint32_t rng_u32(Rng *r);
 float    rng_float(Rng *r);                          /* uniform in [0, 1) */

@@ -14,8 +14,8 @@
      Space-Efficient Statistically Good Algorithms for Random Number Generation"):
      state' = state * 6364136223846793005 + inc, output = rotate(xorshift(state)).
      Streams are keyed by work item (pixel, sample), never by thread.
-   - hash_u64: a 64-bit finaliser (the "splitmix64" mixing constants of Steele,
-     Lea, Flood 2014) to turn keys into well-spread seeds.
+   - hash_u64 (defined inline in specnee.h): a 64-bit finaliser (the "splitmix64"
+     mixing constants of Steele, Lea, Flood 2014) to turn keys into well-spread seeds.
    - radical_inverse: Halton points (van der Corput in base b) for tables built
      from deterministic sample points (the spatial light distribution).
    - cdf_guide, cdf_cell: the inverse of a tabulated CDF through a guide table
@@ -230,13 +230,6 @@ Frame frame_from_normal(Vec3 n)
 
 /* ---------- random numbers ---------- */
 
-uint64_t hash_u64(uint64_t a, uint64_t b)
-{
-    uint64_t z = a * 0x9E3779B97F4A7C15ull ^ (b + 0x632BE59BD9B4E019ull + (a << 6) + (a >> 2));
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
 
 void rng_seed(Rng *r, uint64_t stream, uint64_t index)
 {
