@@ -360,6 +360,11 @@ static int sphere_hit(const RayPre *rp, const float *s, float tmax, float *t_out
         c += f[k] * f[k];
     }
     c -= r * r;
+    /* origin outside (c > 0) and the centre not ahead (b >= 0): both roots are
+       negative (their product c / a > 0, their sum -2b / a <= 0), and the code below
+       would compute q <= 0, t0 = q / a < 0, t1 = c / q < 0 and return 0; leave now,
+       before the square root and the divisions (most spheres a ray meets behind it) */
+    if (c > 0.0 && b >= 0.0) return 0;
     for (k = 0; k < 3; k++) {          /* l = f - (b/a) d: closest approach to the centre */
         l[k] = f[k] - (b / a) * d[k];
         ll += l[k] * l[k];

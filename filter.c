@@ -161,24 +161,22 @@ void filter_init(PixelFilter *pf, const SceneSettings *st)
            weights are then 0 (filter_sample), and so is the image */
         for (i = 0; i <= pf->n; i++) pf->cdf[i] = (float)i / (float)pf->n;
         pf->abs_integral = 0.0;
+        cdf_guide(pf->cdf, pf->n, pf->guide);
         return;
     }
     for (i = 0; i <= pf->n; i++) pf->cdf[i] = (float)(acc[i] / sum);
     pf->cdf[pf->n] = 1.0f;
     pf->abs_integral = sum * 2.0 * pf->radius / pf->n;
+    cdf_guide(pf->cdf, pf->n, pf->guide);
 }
 
-/* x = cdf^-1(u) in the table's CDF: the cell by binary search (cdf[lo] <= u <
-   cdf[lo + 1], so cells of zero |f| are never chosen), uniform within it.  The
-   offset in [-r, r]; *cell: the cell. */
+/* x = cdf^-1(u) in the table's CDF: the cell through the guide table (cdf_cell:
+   cdf[lo] <= u < cdf[lo + 1], so cells of zero |f| are never chosen), uniform
+   within it.  The offset in [-r, r]; *cell: the cell. */
 static float table_sample(const PixelFilter *pf, float u, int *cell)
 {
-    int lo = 0, hi = pf->n;
+    int lo = cdf_cell(pf->cdf, pf->n, pf->guide, (double)u);
     float t;
-    while (hi - lo > 1) {
-        int mid = (lo + hi) / 2;
-        if (pf->cdf[mid] <= u) lo = mid; else hi = mid;
-    }
     t = pf->cdf[lo + 1] > pf->cdf[lo] ? (u - pf->cdf[lo]) / (pf->cdf[lo + 1] - pf->cdf[lo]) : 0.5f;
     *cell = lo;
     return pf->radius * (-1.0f + 2.0f * ((float)lo + t) / (float)pf->n);

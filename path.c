@@ -133,6 +133,18 @@ typedef struct {
     PrevVertex prev;
 } PathState;
 
+/* One medium's coefficients at the path's wavelengths.  They change only where the
+   path enters another medium or a fluorescent vertex moves its wavelengths, so
+   medium_lanes evaluates them there, not at every segment, shadow ray and
+   collision. */
+typedef struct {
+    int medium;                      /* whose (-1: none yet) */
+    float lam[HERO_N];               /* at which wavelengths */
+    float sa[HERO_N], ss[HERO_N];    /* medium_sigma_a, medium_sigma_s */
+    float st[HERO_N];                /* medium_sigma_t */
+    float le[HERO_N];                /* its emitted radiance Le (spec_eval) */
+} MediumLanes;
+
 /* What every step of one camera sample works with besides its PathState. */
 typedef struct {
     const Renderer *R;
@@ -142,7 +154,28 @@ typedef struct {
     FILE *dbg;                       /* --debug-pixel's stream; NULL: silent */
     float time;                      /* the camera ray's time: every ray of the path,
                                         shadow rays included, keeps it (motion.c) */
+    MediumLanes media;               /* the last medium_lanes asked for */
 } Tracer;
+
+/* The coefficients of medium med at the wavelengths lam (MediumLanes): the cached
+   ones while the medium and the wavelengths are those of the last call. */
+static const MediumLanes *medium_lanes(Tracer *tr, int med, const float *lam)
+{
+    MediumLanes *c = &tr->media;
+    if (c->medium != med || memcmp(c->lam, lam, sizeof c->lam) != 0) {
+        const Medium *M = &tr->R->s->media[med];
+        int j;
+        c->medium = med;
+        memcpy(c->lam, lam, sizeof c->lam);
+        for (j = 0; j < HERO_N; j++) {
+            c->sa[j] = medium_sigma_a(M, lam[j]);
+            c->ss[j] = medium_sigma_s(M, lam[j]);
+            c->st[j] = medium_sigma_t(M, lam[j]);
+            c->le[j] = spec_eval(&M->Le, lam[j]);
+        }
+    }
+    return c;
+}
 
 /* What one step adds to the film: per lane, beta_j l_j times its MIS weight, that
    is C_j p(lambda_j) of (6).  Lanes that are not alive hold 0. */
@@ -430,10 +463,12 @@ static int shadow_transmittance(Tracer *tr, int depth, Ray sh, int med, const Pa
                 return 0;
             for (j = 0; j < HERO_N; j++)
                 if (path->alive & (1u << j)) { T[j] *= tm[j]; A[j] *= tm[j]; }
-        } else if (med >= 0)
+        } else if (med >= 0) {
+            const MediumLanes *ml = medium_lanes(tr, med, path->lam);
             for (j = 0; j < HERO_N; j++)
                 if (path->alive & (1u << j))
-                    T[j] *= exp(-(double)medium_sigma_t(&s->media[med], path->lam[j]) * len);
+                    T[j] *= exp(-(double)ml->st[j] * len);
+        }
         if (!found) return 1;
         scene_surface_point(s, &sh, &hit, &sp);
         if (s->materials[s->shapes[sp.shape].material].type != MAT_INTERFACE) return 0;
@@ -463,11 +498,12 @@ static int medium_flight(Tracer *tr, int dim, int depth, const Ray *ray, float t
                          Collision *c)
 {
     const Medium *M = &tr->R->s->media[path->medium];
+    const MediumLanes *ml = medium_lanes(tr, path->medium, path->lam);
     float *st = c->st;
     double s0, t, u, nb[HERO_N] = { 0 }, nr[HERO_N] = { 0 };
     int j, chromatic = 0;
     for (j = 0; j < HERO_N; j++) {
-        st[j] = (path->alive & (1u << j)) ? medium_sigma_t(M, path->lam[j]) : 0.0f;
+        st[j] = (path->alive & (1u << j)) ? ml->st[j] : 0.0f;
         if (j > 0 && (path->alive & (1u << j)) && (st[j] != st[0] || M->chromatic)) chromatic = 1;
     }
     if (chromatic && tr->R->o->media_terminate) {
@@ -848,6 +884,7 @@ static int medium_vertex(Tracer *tr, int depth, Ray *ray, const Collision *c, Pa
     const RenderOptions *o = R->o;
     int med = path->medium;
     const Medium *M = &s->media[med];
+    const MediumLanes *ml = medium_lanes(tr, med, path->lam);
     const float *st = c->st;
     double s0 = st[0], ratio[HERO_N], nb[HERO_N], nr[HERO_N], sa[HERO_N], le[HERO_N];
     float rc[HERO_N], q[HERO_N], u1, u2, pdf;
@@ -863,15 +900,15 @@ static int medium_vertex(Tracer *tr, int depth, Ray *ray, const Collision *c, Pa
         if (!(path->alive & (1u << j))) continue;
         ratio[j] = c->grid ? c->tm[j] : st[j] == st[0] ? 1.0 : exp(-((double)st[j] - s0) * c->t);
         rc[j] = j == 0 ? 1.0f : (float)(path->r[j] * ((double)st[j] / s0) * ratio[j]);
-        sa[j] = medium_sigma_a(M, path->lam[j]);
-        le[j] = spec_eval(&M->Le, path->lam[j]);
+        sa[j] = ml->sa[j];
+        le[j] = ml->le[j];
     }
     if (R->med_le[med] > 0.0 && !c->grid)
         film_add(tr->fs, medium_emission(tr, path, med, ratio, sa, le, rc, s0));
     for (j = 0; j < HERO_N; j++) {
         nb[j] = nr[j] = 0.0;
         if (!(path->alive & (1u << j))) continue;
-        nb[j] = path->beta[j] * (c->grid ? c->ss[j] : (double)medium_sigma_s(M, path->lam[j])) * ratio[j] / s0;
+        nb[j] = path->beta[j] * (c->grid ? c->ss[j] : (double)ml->ss[j]) * ratio[j] / s0;
         nr[j] = rc[j];
         if ((float)nb[j] > 0.0f) any = 1;
     }
@@ -1187,6 +1224,7 @@ void trace_path(const Renderer *R, Ray ray, FilmSample *fs, PixelSample *ps, Cou
     tr.cnt = cnt;
     tr.dbg = dbg;
     tr.time = ray.time;
+    tr.media.medium = -1;
     path_start(R, fs, &path);
     if (dbg) fprintf(dbg, "sample: lambda=(%.1f %.1f %.1f %.1f) nm pdf=(%.4g %.4g %.4g %.4g)\n",
                      fs->wl.lambda[0], fs->wl.lambda[1], fs->wl.lambda[2], fs->wl.lambda[3],

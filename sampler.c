@@ -146,7 +146,7 @@ int sampler_progressive(SamplerType t)
 
 /* ------------------------------------------------------------------ bits */
 
-static uint32_t reverse_bits32(uint32_t v)
+static inline uint32_t reverse_bits32(uint32_t v)
 {
     v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
     v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
@@ -327,6 +327,13 @@ static void halton_tables(Sampler *s)
     }
 }
 
+/* (a + b) mod p for digits a, b < p: one subtraction instead of a division. */
+static uint32_t add_mod(uint32_t a, uint32_t b, uint32_t p)
+{
+    uint32_t s = a + b;
+    return s >= p ? s - p : s;
+}
+
 /* Coordinate `slot` of the scrambled Halton point k (2) of the pixel whose hash is
    key.  Digit a_i of k (base p, least significant first) becomes digit i of the
    result as pi_i((a_i + pi_i^-1(b_i)) mod p): b_i, the pixel's own, is the i-th
@@ -357,9 +364,9 @@ static float halton_coord(const Sampler *s, uint64_t key, uint32_t k, int slot)
         rest /= p;
         w /= (double)p;
         if (i < nd)                        /* pi(a + pi^-1(b)): a = 0 keeps b */
-            d = t[i * (int)p + (int)((a + ti[i * (int)p + (int)b]) % p)];
+            d = t[i * (int)p + (int)add_mod(a, ti[i * (int)p + (int)b], p)];
         else
-            d = (a + b) % p;
+            d = add_mod(a, b, p);
         v += (double)d * w;
         i++;
     }

@@ -167,13 +167,27 @@ int   xf_swaps_handedness(const Xform *t);            /* det of the 3x3 part < 0
 /* PCG32 (O'Neill 2014), keyed by work item: every (pixel, sample) owns its stream,
    so the image does not depend on the thread count or schedule. */
 typedef struct { uint64_t state, inc; } Rng;
-uint64_t hash_u64(uint64_t a, uint64_t b);           /* 64-bit mix of two keys */
+/* 64-bit mix of two keys (util.c's comment: splitmix64's finaliser); inline, as the
+   samplers call it for nearly every number they hand out */
+static inline uint64_t hash_u64(uint64_t a, uint64_t b)
+{
+    uint64_t z = a * 0x9E3779B97F4A7C15ull ^ (b + 0x632BE59BD9B4E019ull + (a << 6) + (a >> 2));
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
 void     rng_seed(Rng *r, uint64_t stream, uint64_t index);
 uint32_t rng_u32(Rng *r);
 float    rng_float(Rng *r);                          /* uniform in [0, 1) */
 
 /* Radical inverse of i in a prime base (Halton points, for deterministic tables). */
 double radical_inverse(int base, uint64_t i);
+
+/* Inverse-CDF sampling of a table of n cells (cdf[]: n + 1 entries, 0 to 1, never
+   decreasing) through a guide table of n + 1 entries (util.c): cdf_cell returns
+   the cell k with cdf[k] <= u < cdf[k + 1], the same with or without (NULL) the guide. */
+void cdf_guide(const float *cdf, int n, int *guide);
+int  cdf_cell(const float *cdf, int n, const int *guide, double u);
 
 /* ---- Samplers (sampler.c): the number for a (pixel, sample, dimension) ----
    Every random decision of the renderer asks the sampler for its number by its
@@ -488,6 +502,8 @@ typedef struct {
     int   n;                   /* number of table cells (1 nm each), 0 = analytic */
     float *pdf;                /* per-nm pdf (n cells) for importance sampling */
     float *cdf;                /* n + 1 entries, cdf[0] = 0, cdf[n] = 1 */
+    int   *guide;              /* n + 1 entries, cdf's guide table (cdf_guide; NULL:
+                                  wl_sample searches all cells) */
     int   visible;             /* n == 0: 1 = the visible sech^2 pdf, 0 = uniform */
     double vis_t_lo, vis_t_span; /* visible: th(lo) = tanh(kappa (lo - c)) and th(hi) - th(lo)
                                     (wavelengths.c) */
@@ -1874,6 +1890,7 @@ typedef struct {
                                             (gaussian, mitchell, sinc; else 0) */
     float f[FILTER_TABLE_MAX];           /* f1 at the cells' centres */
     float cdf[FILTER_TABLE_MAX + 1];     /* CDF of |f1| over the cells */
+    int guide[FILTER_TABLE_MAX + 1];     /* cdf's guide table (cdf_guide) */
     double abs_integral;                 /* integral of |f1_tab| over [-radius, radius] */
 } PixelFilter;
 void  filter_init(PixelFilter *pf, const SceneSettings *st);

@@ -318,12 +318,26 @@ static double table_lerp(const float *tab, int n, double start, double step, dou
     return (1.0 - t) * tab[i] + t * tab[i + 1];
 }
 
-/* The colour-matching functions at an exact wavelength, in double precision. */
+/* The colour-matching functions at an exact wavelength, in double precision:
+   table_lerp of each of the three tables.  They share their knots, so the cell i
+   and the weight t are found once for all three (the film does this for every
+   wavelength of every sample); the arithmetic per table is table_lerp's. */
 void cie_cmf(double lambda_nm, double xyz[3])
 {
-    xyz[0] = table_lerp(cie_xbar_5nm, CIE_N5, CIE_START, CIE_STEP, lambda_nm);
-    xyz[1] = table_lerp(cie_ybar_5nm, CIE_N5, CIE_START, CIE_STEP, lambda_nm);
-    xyz[2] = table_lerp(cie_zbar_5nm, CIE_N5, CIE_START, CIE_STEP, lambda_nm);
+    static const float *const tab[3] = { cie_xbar_5nm, cie_ybar_5nm, cie_zbar_5nm };
+    double t = (lambda_nm - CIE_START) / CIE_STEP;
+    int i, c;
+    if (!(t >= 0.0) || t > (double)(CIE_N5 - 1)) {
+        xyz[0] = xyz[1] = xyz[2] = 0.0;
+        return;
+    }
+    i = (int)t;
+    if (i >= CIE_N5 - 1) {
+        for (c = 0; c < 3; c++) xyz[c] = tab[c][CIE_N5 - 1];
+        return;
+    }
+    t -= i;
+    for (c = 0; c < 3; c++) xyz[c] = (1.0 - t) * tab[c][i] + t * tab[c][i + 1];
 }
 
 /* ASCII case-insensitive string equality (strcasecmp is POSIX, not C99). */

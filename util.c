@@ -14,10 +14,12 @@
      Space-Efficient Statistically Good Algorithms for Random Number Generation"):
      state' = state * 6364136223846793005 + inc, output = rotate(xorshift(state)).
      Streams are keyed by work item (pixel, sample), never by thread.
-   - hash_u64: a 64-bit finaliser (the "splitmix64" mixing constants of Steele,
-     Lea, Flood 2014) to turn keys into well-spread seeds.
+   - hash_u64 (defined inline in specnee.h): a 64-bit finaliser (the "splitmix64"
+     mixing constants of Steele, Lea, Flood 2014) to turn keys into well-spread seeds.
    - radical_inverse: Halton points (van der Corput in base b) for tables built
      from deterministic sample points (the spatial light distribution).
+   - cdf_guide, cdf_cell: the inverse of a tabulated CDF through a guide table
+     (the wavelength pdf, the pixel filter's table).
    - frame_from_normal: an orthonormal basis around n (Duff et al. 2017,
      "Building an Orthonormal Basis, Revisited", JCGT 6(1)).
    - error_set: formats the one-line "file:line: problem" messages (bytes that
@@ -228,13 +230,6 @@ Frame frame_from_normal(Vec3 n)
 
 /* ---------- random numbers ---------- */
 
-uint64_t hash_u64(uint64_t a, uint64_t b)
-{
-    uint64_t z = a * 0x9E3779B97F4A7C15ull ^ (b + 0x632BE59BD9B4E019ull + (a << 6) + (a >> 2));
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
 
 void rng_seed(Rng *r, uint64_t stream, uint64_t index)
 {
@@ -270,6 +265,48 @@ double radical_inverse(int base, uint64_t i)
         f *= inv_base;
     }
     return r;
+}
+
+/* ---------- guide tables ---------- */
+
+/* Inverse-CDF sampling of a table of n cells finds the cell k with
+   cdf[k] <= u < cdf[k + 1]; it is unique, as cdf[] never decreases (cdf[0] = 0,
+   cdf[n] = 1).  A binary search over all n cells takes log2 n steps that the
+   processor cannot predict.  A GUIDE TABLE (Chen and Asau 1974, "On generating
+   random variates from an empirical distribution", AIIE Transactions 6(2)) keeps,
+   for each of the n + 1 steps g / n of u, the last cell whose cdf[k] <= g / n:
+   the cell of u in [g / n, (g + 1) / n) lies between guide[g] and guide[g + 1],
+   about one cell on average.  The guide only narrows the search, so the cell,
+   and every number drawn from it, is the one the full search finds. */
+void cdf_guide(const float *cdf, int n, int *guide)
+{
+    int g, k = 0;
+    for (g = 0; g <= n; g++) {
+        double edge = (double)g / n;
+        while (k + 1 < n && (double)cdf[k + 1] <= edge) k++;
+        guide[g] = k;
+    }
+}
+
+/* The cell k of u in [0, 1) (above), searched between the guide's bounds; u * n
+   may round across a step of the guide, so the bracket is first widened until it
+   holds the cell.  guide NULL (or u outside [0, 1)): the whole table is searched. */
+int cdf_cell(const float *cdf, int n, const int *guide, double u)
+{
+    int lo = 0, hi = n;                          /* invariant: cdf[lo] <= u < cdf[hi] */
+    if (guide && u >= 0.0 && u < 1.0) {
+        int g = (int)(u * n);
+        if (g > n - 1) g = n - 1;
+        lo = guide[g];
+        hi = guide[g + 1] + 1;
+        while (lo > 0 && (double)cdf[lo] > u) lo--;
+        while (hi < n && (double)cdf[hi] <= u) hi++;
+    }
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if ((double)cdf[mid] <= u) lo = mid; else hi = mid;
+    }
+    return lo;
 }
 
 /* ---------- errors ---------- */

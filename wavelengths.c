@@ -72,6 +72,7 @@ void wl_pdf_uniform(WavelengthPdf *w, float lo, float hi)
     w->n = 0;
     w->pdf = NULL;
     w->cdf = NULL;
+    w->guide = NULL;
     w->visible = 0;
     w->vis_t_lo = w->vis_t_span = 0.0;
 }
@@ -159,6 +160,8 @@ static int wl_pdf_table(WavelengthPdf *w, float lo, float hi, const Spectrum *em
     }
     w->cdf[n] = 1.0f;
     free(f);
+    w->guide = (int *)malloc((size_t)(n + 1) * sizeof *w->guide);
+    if (w->guide) cdf_guide(w->cdf, n, w->guide);   /* without it wl_sample searches all cells */
     return 1;
 }
 
@@ -195,8 +198,10 @@ void wl_pdf_free(WavelengthPdf *w)
 {
     free(w->pdf);
     free(w->cdf);
+    free(w->guide);
     w->pdf = NULL;
     w->cdf = NULL;
+    w->guide = NULL;
     w->n = 0;
 }
 
@@ -237,7 +242,8 @@ double wl_cdf(const WavelengthPdf *w, float lambda_nm)
 
 /* lambda_j = cdf^-1(frac(u + j / HERO_N)): the hero j = 0 and HERO_N - 1 companions
    rotated in CDF space, so each is distributed as p and the set is stratified.
-   The inverse of the piecewise-linear CDF is found by binary search over cdf[];
+   The inverse of the piecewise-linear CDF is found by a search over cdf[] that
+   its guide table starts near the cell (cdf_cell, util.c);
    the visible pdf's is the closed form above.
    pdf[j] is wl_pdf_eval(lambda_j), the same function the integrator evaluates. */
 void wl_sample(const WavelengthPdf *w, float u, Wavelengths *out)
@@ -252,12 +258,8 @@ void wl_sample(const WavelengthPdf *w, float u, Wavelengths *out)
         if (w->n == 0 && w->visible) lambda = WL_VIS_C + atanh(w->vis_t_lo + uj * w->vis_t_span) / WL_VIS_A;
         else if (w->n == 0) lambda = w->lo + uj * range;
         else {
-            int lo = 0, hi = w->n;                /* invariant: cdf[lo] <= uj < cdf[hi] */
+            int lo = cdf_cell(w->cdf, w->n, w->guide, uj);
             double c0, c1, h = range / w->n;
-            while (hi - lo > 1) {
-                int mid = (lo + hi) / 2;
-                if ((double)w->cdf[mid] <= uj) lo = mid; else hi = mid;
-            }
             c0 = w->cdf[lo];
             c1 = w->cdf[lo + 1];
             lambda = w->lo + h * (lo + (c1 > c0 ? (uj - c0) / (c1 - c0) : 0.5));

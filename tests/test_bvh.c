@@ -780,6 +780,9 @@ static void test_bvh_sphere(T *t)
     CHECK(t, intersect_sphere(c, 2.0f, &r, &th) && th == 5.0f, "outside: t %g, want 5", th);
     r.o = v3(1, 2, 3.5f);
     CHECK(t, intersect_sphere(c, 2.0f, &r, &th) && th == 2.5f, "inside: t %g, want 2.5", th);
+    r.d = v3(0, 0, 1);                     /* inside, the centre behind: b > 0, c < 0 */
+    CHECK(t, intersect_sphere(c, 2.0f, &r, &th) && th == 1.5f, "inside, moving away: t %g, want 1.5", th);
+    r.d = v3(0, 0, -1);
     r.o = v3(1, 2, 10); r.d = v3(0, 0, 1);
     CHECK(t, !intersect_sphere(c, 2.0f, &r, &th), "sphere behind the ray hit");
     r.d = v3(0, 0, -1); r.tmax = 5.0f;

@@ -337,9 +337,38 @@ static void test_filter_parse(T *t)
     }
 }
 
+/* filter_sample through the table's guide (cdf_cell) gives the positions and
+   weights it gives with a guide of zeros, under which cdf_cell searches the whole
+   table: at every knot of the CDF, next to it, and at random. */
+static void test_filter_guided_search(T *t)
+{
+    static const struct { FilterType type; float r; } c[] = {
+        { FILTER_MITCHELL, 2.0f }, { FILTER_SINC, 4.0f }, { FILTER_GAUSSIAN, 1.5f }, { FILTER_MITCHELL, 0.7f },
+    };
+    static PixelFilter pf, bare;
+    int i, k, bad = 0, tried = 0;
+    for (i = 0; i < (int)(sizeof c / sizeof c[0]); i++) {
+        Rng rng;
+        make_filter(&pf, c[i].type, c[i].r);
+        bare = pf;
+        memset(bare.guide, 0, sizeof bare.guide);
+        rng_seed(&rng, 31, (uint64_t)i);
+        for (k = 0; k < 3 * (pf.n + 1) + 20000; k++, tried++) {
+            float u = k < 3 * (pf.n + 1) ? pf.cdf[k / 3] : rng_float(&rng), p[4], w[2];
+            if (k < 3 * (pf.n + 1) && k % 3) u = nextafterf(u, k % 3 == 1 ? 0.0f : 1.0f);
+            if (!(u < 1.0f)) continue;
+            w[0] = filter_sample(&pf, u, 0.5f, &p[0], &p[1]);
+            w[1] = filter_sample(&bare, u, 0.5f, &p[2], &p[3]);
+            if (memcmp(&w[0], &w[1], sizeof w[0]) || memcmp(&p[0], &p[2], 2 * sizeof p[0])) bad++;
+        }
+    }
+    CHECK(t, bad == 0, "guided filter sampling differs at %d of %d u", bad, tried);
+}
+
 const TestCase tests_filter[] = {
     { "filter_values", test_filter_values },
     { "filter_sampler_chi2", test_filter_sampler_chi2 },
+    { "filter_guided_search", test_filter_guided_search },
     { "filter_weight_mean", test_filter_weight_mean },
     { "filter_flat_image", test_filter_flat_image },
     { "filter_edge_ringing", test_filter_edge_ringing },

@@ -367,6 +367,52 @@ static void test_fluor_line(T *t)
     scene_free(&s);
 }
 
+/* The line scene filled with a medium that is opaque (sigma_a 5 per unit) to the
+   exciting UV below 400 nm and clear above: the camera sees the sphere through
+   clear medium, but the LED's light must cross 9 units of it to reach the
+   sphere, so there is no glow (exp(-45)).  The shadow rays leave the sphere at the
+   absorbed wavelength li, not at the camera's: the medium's coefficients must
+   follow the path's wavelengths across the fluorescent shift. */
+static void test_fluor_in_medium(T *t)
+{
+    Scene s;
+    Spectrum Le;
+    RenderOptions o;
+    Tiles tl;
+    double rgb[3], pin, pout, ein, eout;
+    char text[4096];
+    int c;
+    snprintf(text, sizeof text,
+             "MakeNamedMedium \"uvfog\" \"string type\" \"homogeneous\" "
+             "\"spectrum sigma_a\" [300 5 395 5 400 0 830 0] \"spectrum sigma_s\" [300 0 830 0]\n"
+             "MediumInterface \"\" \"uvfog\"\n"
+             "LookAt 0 0 3  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 10\n"
+             "Film \"rgb\" \"integer xresolution\" 4 \"integer yresolution\" 4 \"string filename\" \"t.pfm\"\n"
+             "Integrator \"volpath\" \"integer maxdepth\" 3\n"
+             "WorldBegin\n"
+             "AttributeBegin\nMaterial \"diffuse\" \"spectrum reflectance\" [300 0 830 0]\n"
+             "AreaLightSource \"diffuse\" \"spectrum L\" \"lamp-UVLED365\" \"bool twosided\" true\n"
+             "Shape \"sphere\" \"float radius\" 10\nAttributeEnd\n"
+             "%sShape \"sphere\" \"float radius\" 1\n",
+             FL_MAT("[300 0.8 830 0.8]", "[300 0 345 0 350 1 380 1 390 0 830 0]", "[330 0 360 0.6 400 1 520 0]", "0.9"));
+    if (!test_load_scene(t, &s, text)) return;
+    CHECK(t, s.settings.camera_medium >= 0, "the camera sits in the medium");
+    render_options_default(&o);
+    o.spp = test_scaled(64, 16);
+    o.threads = 1;
+    o.wl_wide = 1;
+    o.sel.strategy = SEL_SPD;
+    if (!t->failed && test_render_tiles(t, &s, &o, 4, 1, &tl)) {
+        Le = le_of(&s, 0, 360.0f, 830.0f);
+        model_rgb(&s.materials[s.n_materials - 1], &Le, 360.0, 830.0, rgb, &pin, &pout, &ein, &eout);
+        CHECK(t, rgb[2] > 0.05, "without the medium the sphere glows blue: model rgb (%g %g %g)", rgb[0], rgb[1], rgb[2]);
+        for (c = 0; c < 3; c++)
+            CHECK(t, fabs(tl.mean[0][c]) < 1e-3 * rgb[2], "channel %d: %.4g, but the medium absorbs the excitation "
+                  "(the glow without it: %.4g)", c, tl.mean[0][c], rgb[2]);
+    }
+    scene_free(&s);
+}
+
 /* Photon furnace: Phi = rho = 1, A = 1 in a UV-A band inside the film's range
    (375-395 nm, so the camera sees the band's own reflectance drop), a flat
    environment.  The model conserves photons and loses energy; the render must
@@ -1040,6 +1086,7 @@ const TestCase tests_fluor[] = {
     { "fluor_li_uniform_sampler_chi2", test_fluor_li_uniform_sampler },
     { "fluor_line", test_fluor_line },
     { "fluor_photon_furnace", test_fluor_photon_furnace },
+    { "fluor_in_medium", test_fluor_in_medium },
     { "fluor_line_bins", test_fluor_line_bins },
     { "fluor_closed_sphere", test_fluor_closed_sphere },
     { "fluor_estimators_agree", test_fluor_estimators_agree },

@@ -106,6 +106,69 @@ static void test_slab_transmittance(T *t)
     test_slab_mode(t, "volpath", 1.0, 0, 1, "volpath, --chromatic-media terminate");
 }
 
+/* ---- two slabs in a row: the same emitter seen through slab A (1 < z < 2, the
+   slab's sigma_a) and then slab B (0 < z < 1, sigma_a falling from 1.0 at 400 nm
+   to 0.1 at 700 nm), each path entering one medium from the other: Le exp(-(sigma_a,A
+   + sigma_a,B) 1) per band, each medium's own coefficients on its own stretch. */
+static const char two_slabs_scene[] =
+    "LookAt 0 0 5  0 0 0  0 1 0\n"
+    "Camera \"perspective\" \"float fov\" [ 10 ]\n"
+    "Film \"rgb\" \"integer xresolution\" [ 4 ] \"integer yresolution\" [ 4 ] "
+    "\"string filename\" \"t.pfm\"\n"
+    "Integrator \"volpath\" \"integer maxdepth\" [ 1 ]\n"
+    "MakeNamedMedium \"A\" \"string type\" \"homogeneous\" "
+    "\"spectrum sigma_a\" [ 400 0.2 700 1.4 ] \"spectrum sigma_s\" [ 400 0 700 0 ]\n"
+    "MakeNamedMedium \"B\" \"string type\" \"homogeneous\" "
+    "\"spectrum sigma_a\" [ 400 1.0 700 0.1 ] \"spectrum sigma_s\" [ 400 0 700 0 ]\n"
+    "WorldBegin\n"
+    "AttributeBegin\n"
+    " AreaLightSource \"diffuse\" \"spectrum L\" [ 400 1 700 1 ] \"float scale\" 2\n"
+    " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+    "  \"point3 P\" [ -50 -50 -1  50 -50 -1  50 50 -1  -50 50 -1 ]\n"
+    "AttributeEnd\n"
+    "Material \"interface\"\n"
+    "AttributeBegin\n MediumInterface \"A\" \"\"\n"                           /* top of A, normal +z */
+    " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ -50 -50 2  50 -50 2  50 50 2  -50 50 2 ]\n"
+    "AttributeEnd\n"
+    "AttributeBegin\n MediumInterface \"B\" \"A\"\n"                          /* A above, B below */
+    " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ -50 -50 1  50 -50 1  50 50 1  -50 50 1 ]\n"
+    "AttributeEnd\n"
+    "AttributeBegin\n MediumInterface \"B\" \"\"\n"                           /* bottom of B, normal -z */
+    " Shape \"trianglemesh\" \"integer indices\" [ 0 2 1 0 3 2 ] \"point3 P\" [ -50 -50 0  50 -50 0  50 50 0  -50 50 0 ]\n"
+    "AttributeEnd\n";
+
+static void test_two_slabs(T *t)
+{
+    Scene s;
+    RenderOptions o;
+    Spectrum one;
+    double norm;
+    int b;
+    if (!test_load_scene(t, &s, two_slabs_scene)) return;
+    spec_const(&one, 1.0f);
+    norm = luminance_sum(&one, LAMBDA_LO, LAMBDA_HI);
+    for (b = 0; b < 3; b++) {
+        Tiles tl;
+        double lo = 420.0 + 100.0 * b, hi = lo + 10.0, se, Y, expect = 0.0, l, h = 0.05;
+        for (l = lo + 0.5 * h; l < hi; l += h) {
+            float xyz[3];
+            double sa = 0.2 + 1.2 * (l - 400.0) / 300.0, sb = 1.0 - 0.9 * (l - 400.0) / 300.0;
+            cie_xyz((float)l, xyz);
+            expect += h * xyz[1] * (2.0 / norm) * exp(-(sa + sb));
+        }
+        render_options_default(&o);
+        o.spp = test_scaled(16, 4);
+        o.band_lo = (float)lo;
+        o.band_hi = (float)hi;
+        if (!test_render_tiles(t, &s, &o, 6, 1, &tl)) break;
+        Y = test_tile_y(&tl, 0, &se);
+        CHECK(t, fabs(Y - expect) < TEST_K_SIGMA * se + 2e-3 * expect + 1e-9,
+              "two slabs, %g-%g nm: Y = %.6g +- %.2g, expected %.6g", lo, hi, Y, se, expect);
+        if (t->failed) break;
+    }
+    scene_free(&s);
+}
+
 /* Integrator "path" ignores the medium (pbrt-v4): the emitter at full strength */
 static void test_path_ignores_media(T *t)
 {
@@ -694,6 +757,7 @@ static void test_format(T *t)
 const TestCase tests_medium[] = {
     { "medium_slab_transmittance", test_slab_transmittance },
     { "medium_path_ignores_media", test_path_ignores_media },
+    { "medium_two_slabs", test_two_slabs },
     { "medium_furnace", test_furnace },
     { "medium_point_light", test_point_light_through_medium },
     { "medium_point_light_interface", test_point_light_through_interface },

@@ -90,6 +90,56 @@ static void test_radical_inverse(T *t)
     CHECK(t, near(radical_inverse(3, 5), 7.0 / 9.0, 1e-15), "base 3, i=5 (12 -> .21)");
 }
 
+/* cdf_guide / cdf_cell on CDFs with zero cells at both ends, plateaus, a cell
+   holding most of the mass and one of tiny mass: the guide is what it says (the
+   last cell at or below each step g / n), and the guided search finds the cell
+   the full search finds for u at every knot, next to it, at every step of the
+   guide, next to it, and at random. */
+static int guide_agrees(const float *cdf, int n, const int *guide, double u)
+{
+    int k = cdf_cell(cdf, n, guide, u);
+    return k == cdf_cell(cdf, n, NULL, u) && cdf[k] <= u && u < cdf[k + 1];
+}
+
+static void test_cdf_guide(T *t)
+{
+    enum { N = 40 };
+    float cdf[N + 1];
+    int guide[N + 1], k, g, bad = 0, tried = 0;
+    Rng rng;
+    double acc = 0.0, sum = 0.0, f[N];
+    for (k = 0; k < N; k++) {
+        f[k] = (k < 3 || k >= N - 2 || (k >= 10 && k < 20)) ? 0.0 : (k == 25 ? 500.0 : (k == 30 ? 1e-6 : 1.0));
+        sum += f[k];
+    }
+    cdf[0] = 0.0f;
+    for (k = 0; k < N; k++) { acc += f[k]; cdf[k + 1] = (float)(acc / sum); }
+    cdf[N] = 1.0f;
+    cdf_guide(cdf, N, guide);
+    for (g = 0; g <= N; g++) {
+        int c = guide[g];
+        double edge = (double)g / N;
+        if (!(c >= 0 && c < N && cdf[c] <= edge && (c == N - 1 || cdf[c + 1] > edge))) bad++;
+    }
+    CHECK(t, bad == 0, "%d guide entries are not the last cell at or below their step", bad);
+    for (k = 0; k <= N; k++) {
+        double us[6];
+        int i;
+        us[0] = cdf[k];
+        us[1] = nextafter((double)cdf[k], 0.0);
+        us[2] = nextafter((double)cdf[k], 1.0);
+        us[3] = (double)k / N;
+        us[4] = nextafter(us[3], 0.0);
+        us[5] = nextafter(us[3], 1.0);
+        for (i = 0; i < 6; i++)
+            if (us[i] >= 0.0 && us[i] < 1.0) { tried++; if (!guide_agrees(cdf, N, guide, us[i])) bad++; }
+    }
+    rng_seed(&rng, 3, 1);
+    for (k = 0; k < 20000; k++, tried++)
+        if (!guide_agrees(cdf, N, guide, rng_float(&rng))) bad++;
+    CHECK(t, bad == 0, "the guided search differs from the full one at %d of %d u", bad, tried);
+}
+
 static int rel_near(double a, double b, double tol) { return fabs(a - b) <= tol * fabs(b); }
 
 /* The chi-square helpers of tests/fixtures.c.  The tail against closed forms:
@@ -154,6 +204,7 @@ const TestCase tests_util[] = {
     { "util_frame_orthonormal", test_frame_orthonormal },
     { "util_rng_streams", test_rng_streams },
     { "util_radical_inverse", test_radical_inverse },
+    { "util_cdf_guide", test_cdf_guide },
     { "util_error_format", test_error_format },
     { "util_chi2_helpers", test_chi2_helpers },
     { NULL, NULL }

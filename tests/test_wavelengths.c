@@ -147,6 +147,52 @@ static void test_wl_mixture(T *t)
     CHECK(t, !wl_pdf_build(&mix, WL_MIXTURE, LAMBDA_LO, LAMBDA_HI, &f11, 1.5f), "mix > 1 must fail");
 }
 
+/* The guide table only narrows wl_sample's search: with it and without it (guide
+   NULL: the whole table is searched) the wavelengths and pdfs are the same, for
+   u at every cdf knot and just below it, at the guide's steps g / n and around
+   them, and at random.  CFL1 on 360-830 nm has long floor plateaus and narrow lines,
+   where one guide step spans many cells and many guide steps share one cell. */
+static int same_sample(const WavelengthPdf *w, float u)
+{
+    WavelengthPdf bare = *w;
+    Wavelengths a, b;
+    bare.guide = NULL;
+    wl_sample(w, u, &a);
+    wl_sample(&bare, u, &b);
+    return memcmp(&a, &b, sizeof a) == 0;
+}
+
+static void test_wl_guide(T *t)
+{
+    WavelengthPdf w;
+    Spectrum cfl;
+    Rng rng;
+    int k, bad = 0, tried = 0;
+    CHECK(t, spec_named(&cfl, "lamp-CFL1"), "CFL1");
+    CHECK(t, wl_pdf_build(&w, WL_MIXTURE, (float)SPEC_MIN, (float)SPEC_MAX, &cfl, 0.1f), "mixture");
+    CHECK(t, w.guide != NULL, "a table pdf has a guide");
+    if (t->failed) return;
+    for (k = 0; k < w.n; k++) {
+        float knot = w.cdf[k], step = (float)((double)k / w.n);
+        float us[6];
+        int i;
+        us[0] = knot;
+        us[1] = nextafterf(knot, 0.0f);
+        us[2] = nextafterf(knot, 1.0f);
+        us[3] = step;
+        us[4] = nextafterf(step, 0.0f);
+        us[5] = nextafterf(step, 1.0f);
+        for (i = 0; i < 6; i++, tried++)
+            if (us[i] < 1.0f && !same_sample(&w, us[i])) bad++;
+    }
+    rng_seed(&rng, 7, 1);
+    for (k = 0; k < 100000; k++, tried++)
+        if (!same_sample(&w, rng_float(&rng))) bad++;
+    CHECK(t, bad == 0, "the guided search differs from the full one at %d of %d u", bad, tried);
+    wl_pdf_free(&w);
+    CHECK(t, w.guide == NULL, "wl_pdf_free resets the guide");
+}
+
 /* ---------- renders ---------- */
 
 static const char *camera_8 =
@@ -326,6 +372,7 @@ const TestCase tests_wavelengths[] = {
     { "wavelengths_variant_names", test_wl_variant_names },
     { "wavelengths_visible_pdf", test_wl_visible },
     { "wavelengths_mixture_pdf", test_wl_mixture },
+    { "wavelengths_guided_search", test_wl_guide },
     { "wavelengths_furnaces", test_wl_furnaces },
     { "wavelengths_dispersive_box", test_wl_dispersive_box },
     { "wavelengths_stress_scenes", test_wl_stress_scenes },
