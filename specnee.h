@@ -416,6 +416,26 @@ void  spec_rgb_fit_table(RgbFitTable *t);
 int   spec_rgb_coeffs_from(const RgbFitTable *t, const double target[3], const double start[3],
                            double c[3]);
 float spec_sigmoid_eval(const float c[3], float lambda_nm);
+/* A reflectance as a Material holds it (pbrt-v4's RGBAlbedoSpectrum): an "rgb" colour
+   that is not grey is the three coefficients c of its sigmoid (40 B where a Spectrum
+   takes 2.1 KB: docs/loading.md) in a scene of many spectra (parser.h
+   rgb_albedo_param), any other spectrum a table shared through Scene.spectra
+   (parser.h albedo_set_table).  albedo_eval(a, lambda) of a colour is
+   spec_eval of the table spec_from_rgb_t makes from it, bit for bit: the knots
+   albedo_knot(c, i) = (float) clamp(S((c0 x + c1) x + c2), 0, 1) at x = i / 470,
+   interpolated as spec_eval does, two knots per call; zero in the UV but for the ramp
+   from 359 nm to the knot at 360 nm.  A zeroed Albedo is zero everywhere.
+   albedo_from_rgb: rgb (components in [0, 1]) as the coefficients of spec_from_rgb_t's
+   fit (from the table T); 0, a untouched, for a grey or a value outside [0, 1]: the
+   caller then tabulates it. */
+typedef struct {
+    double c[3];           /* rgb: the sigmoid's coefficients */
+    const Spectrum *tab;   /* not rgb: the table (NULL: zero) */
+    int rgb;               /* 1: the sigmoid of c; 0: tab */
+} Albedo;
+float albedo_eval(const Albedo *a, float lambda_nm);
+float albedo_knot(const double c[3], int i);
+int   albedo_from_rgb(RgbTable *T, const float rgb[3], Albedo *a);
 /* For tests: the coefficient table's interpolated start for target (before the
    Newton polish), and the full continuation fit from grey (no table). */
 void  spec_rgb_table_start(RgbTable *T, const double target[3], double c[3]);
@@ -858,7 +878,8 @@ typedef struct {
 } MaterialSpectra;
 typedef struct {
     MaterialType type;
-    Spectrum reflectance;      /* diffuse albedo; fluorescent: rho, of the light not absorbed */
+    Albedo reflectance;        /* diffuse albedo; fluorescent: rho, of the light not absorbed
+                                  (a colour's sigmoid, or a table of Scene.spectra) */
     Fluorescence *fl;          /* fluorescent: A, e, Phi and their tables (owned, freed by
                                   material_release); NULL for every other type */
     const Spectrum *eta;       /* dielectric index of refraction n(lambda); a Cauchy glass

@@ -28,6 +28,8 @@
         found by Newton steps so that s(lambda) D65(lambda) maps back to the rgb,
         started from a coefficient table over rgb (Jakob & Hanika's parametrisation)
         that is filled on first use; docs/loading.md measures the load time.
+        A material's rgb reflectance keeps only (c0, c1, c2) (an Albedo): albedo_eval
+        computes the two knots of spec_eval's interpolation from them when shaded.
 
      The wavelength sampling that draws the four wavelengths of a path is in
      wavelengths.c; `specnee spectrum` is in cmd_spectrum.c.
@@ -39,7 +41,7 @@
      spec_bin_sum cauchy_named spec_rgb_coeffs spec_rgb_fit_table spec_rgb_coeffs_from
      spec_sigmoid_eval spec_rgb_table_start spec_rgb_coeffs_fit rgb_table_new
      rgb_table_free spec_from_rgb_t spec_band_mean spec_band_average spec_store_add
-     spec_store_free
+     spec_store_free albedo_eval albedo_knot albedo_from_rgb
 
    HOW IT IS USED
      parser.c turns "spectrum"/"rgb"/"blackbody" parameters into Spectrum tables with
@@ -1689,10 +1691,47 @@ int spec_from_rgb_t(RgbTable *T, Spectrum *s, const float rgb[3], int illuminant
         return 1;
     }
     rgb_coeffs(T, target, c);
-    for (i = 0; i < SPEC_N; i++) {
-        double x = (double)i / (SPEC_N - 1), v = sigmoid((c[0] * x + c[1]) * x + c[2]);
-        s->v[i] = (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
+    for (i = 0; i < SPEC_N; i++) s->v[i] = albedo_knot(c, i);
+    return 1;
+}
+
+/* Knot i of a reflectance's table: its sigmoid at x = i / (SPEC_N - 1), clamped
+   to [0, 1] and rounded to float. */
+float albedo_knot(const double c[3], int i)
+{
+    double x = (double)i / (SPEC_N - 1), v = sigmoid((c[0] * x + c[1]) * x + c[2]);
+    return (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
+}
+
+/* spec_eval's interpolation over the knots albedo_knot computes (two per call). */
+float albedo_eval(const Albedo *a, float lambda_nm)
+{
+    float t = lambda_nm - (float)SPEC_MIN, k0, k1;
+    int i;
+    if (!a->rgb) return a->tab ? spec_eval(a->tab, lambda_nm) : 0.0f;
+    if (!(t >= 0.0f) || t > (float)(SPEC_N - 1))
+        /* the UV knots are 0: only [359, 360) nm ramps up to the knot at 360 nm */
+        return t < 0.0f && t >= -1.0f ? (t + 1.0f) * albedo_knot(a->c, 0) : 0.0f;
+    i = (int)t;
+    if (i >= SPEC_N - 1) return albedo_knot(a->c, SPEC_N - 1);
+    t -= (float)i;
+    k0 = albedo_knot(a->c, i);
+    k1 = albedo_knot(a->c, i + 1);
+    return k0 + t * (k1 - k0);
+}
+
+int albedo_from_rgb(RgbTable *T, const float rgb[3], Albedo *a)
+{
+    double target[3];
+    int k;
+    for (k = 0; k < 3; k++) {
+        if (!(rgb[k] >= 0.0f && rgb[k] <= 1.0f)) return 0;   /* NaN too */
+        target[k] = rgb[k];
     }
+    if (target[0] == target[1] && target[1] == target[2]) return 0;
+    rgb_coeffs(T, target, a->c);
+    a->tab = NULL;
+    a->rgb = 1;
     return 1;
 }
 
