@@ -788,12 +788,12 @@ int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
     Spectrum r;                                   /* the table of what is not a colour */
     (void)dir;
     m->type = MAT_DIFFUSE;
-    spec_const(&r, 0.5f);                         /* pbrt-v4's default */
     if (pt) {
         /* "texture reflectance": evaluated at each hit (texture.c), clamped to [0, 1] */
         int ti = texture_lookup(P, pt, 0);
         if (ti < 0) return 0;
-        m->reflectance_tex = ti + 1;              /* (the table not read) */
+        m->reflectance_tex = ti + 1;
+        spec_const(&r, 0.5f);                     /* (not read) */
     } else if (rgb_albedo_param(P, p, &m->reflectance)) {
         /* an "rgb" colour: its sigmoid, within [0, 1] (spec_from_rgb_t's knots) */
     } else if (p) {
@@ -818,6 +818,8 @@ int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
             fprintf(stderr, "%s:%d: note: \"%s reflectance\" goes from %g to %g: clamped "
                     "to [0, 1], as pbrt-v4's diffuse material does\n", p->file, p->line,
                     param_type_names[p->type], lo, hi);
+    } else {
+        spec_const(&r, 0.5f);                     /* pbrt-v4's default */
     }
     if (!m->reflectance.rgb && !albedo_set_table(P, &m->reflectance, &r, file, line)) return 0;
     return bump_from_params(P, pl, what, m) &&

@@ -174,6 +174,8 @@ typedef struct {
     NamedTexture *texnames; int n_texnames, cap_texnames;
     int cap_textures;
     int default_material;      /* -1 until a shape needs it */
+    const Spectrum *eta_one;   /* Scene.spectra's record of the constant 1, every
+                                  material's eta to start with (NULL until made) */
     /* capacities of the growing Scene arrays */
     int cap_verts, cap_tris, cap_shapes, cap_mats, cap_emit, cap_spheres, cap_quadrics, cap_strings,
         cap_patches, cap_curves, cap_pieces;

@@ -2239,9 +2239,11 @@ typedef struct {
     const LightPiece *pieces;  /* every piece, those beside the tree included */
     int n_pieces;
     const int *piece_tri;      /* the clusters' scene triangles */
-    /* the distinct radiances for the sampled range: le_table(le_ctx, i, &Le) tabulates
-       radiance i (lights.c keeps them untabulated) */
-    void (*le_table)(const void *le_ctx, int i, Spectrum *Le);
+    /* the distinct radiances for the sampled range (lights.c keeps them untabulated):
+       le_knots(le_ctx, i, nm0, n, out) gives out[k] = radiance i's table at nm0 + k nm
+       (SPEC_UV_MIN <= nm0 <= nm0 + n - 1 <= SPEC_MAX), the values emitter_radiance
+       tabulates */
+    void (*le_knots)(const void *le_ctx, int i, int nm0, int n, float *out);
     const void *le_ctx;
     int n_le;
     const int *le_of;          /* per emitter: its radiance, an index into Le */

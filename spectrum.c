@@ -459,23 +459,33 @@ int spec_is_constant(const Spectrum *s)
 }
 
 /* FNV-1a (64-bit) over the table's 64-bit words (pairs of the floats' bit
-   patterns; an odd last float alone), folded to 32 bits. */
+   patterns; an odd last float alone) in four interleaved lanes (word i to lane
+   i mod 4: four independent chains of multiplies, not one), folded to 32 bits. */
 static unsigned spec_hash(const Spectrum *s)
 {
     const unsigned char *b = (const unsigned char *)s;
-    uint64_t h = 14695981039346656037u;
+    uint64_t h[4] = { 14695981039346656037u, 14695981039346656037u ^ 1u,
+                      14695981039346656037u ^ 2u, 14695981039346656037u ^ 3u };
     size_t i;
-    for (i = 0; i + 8 <= sizeof *s; i += 8) {
+    int k;
+    for (i = 0; i + 32 <= sizeof *s; i += 32)
+        for (k = 0; k < 4; k++) {
+            uint64_t w;
+            memcpy(&w, b + i + 8 * k, 8);
+            h[k] = (h[k] ^ w) * 1099511628211u;
+        }
+    for (; i + 8 <= sizeof *s; i += 8) {
         uint64_t w;
         memcpy(&w, b + i, 8);
-        h = (h ^ w) * 1099511628211u;
+        h[0] = (h[0] ^ w) * 1099511628211u;
     }
     for (; i + 4 <= sizeof *s; i += 4) {
         uint32_t w;
         memcpy(&w, b + i, 4);
-        h = (h ^ w) * 1099511628211u;
+        h[0] = (h[0] ^ w) * 1099511628211u;
     }
-    return (unsigned)(h ^ (h >> 32));
+    for (k = 1; k < 4; k++) h[0] = (h[0] ^ h[k]) * 1099511628211u;
+    return (unsigned)(h[0] ^ (h[0] >> 32));
 }
 
 /* Put record i (hash h) in the first free slot of its probe sequence. */
@@ -494,7 +504,8 @@ const Spectrum *spec_store_add(SpectrumStore *st, const Spectrum *s)
     if (st->n_slots > 0) {                  /* linear probing from the hash's slot */
         k = (int)(h & (unsigned)(st->n_slots - 1));
         for (; st->slot[k]; k = (k + 1) & (st->n_slots - 1))
-            if (memcmp(st->rec[st->slot[k] - 1], s, sizeof *s) == 0) return st->rec[st->slot[k] - 1];
+            if (st->hash[st->slot[k] - 1] == h && memcmp(st->rec[st->slot[k] - 1], s, sizeof *s) == 0)
+                return st->rec[st->slot[k] - 1];
     }
     if (st->n == st->cap) {
         int cap = st->cap ? 2 * st->cap : 16;
@@ -1672,16 +1683,17 @@ int spec_from_rgb_t(RgbTable *T, Spectrum *s, const float rgb[3], int illuminant
            (the coefficients of a medium). */
         Spectrum one;
         const Spectrum *d65 = &one;
+        const double *xs = NULL;      /* T's table of the knots' x (the same doubles) */
         if (m == 0.0) { spec_const(s, 0.0f); return 1; }
         if (illuminant == 2) spec_const(&one, 1.0f);
-        else if (T) d65 = &rgb_table_get(T)->d65;
+        else if (T) { d65 = &rgb_table_get(T)->d65; xs = T->fit.x; }
         else spec_named(&one, "stdillum-D65");
         m *= 2.0;
         for (k = 0; k < 3; k++) target[k] /= m;
         if (target[0] == target[1] && target[1] == target[2]) c[0] = c[1] = c[2] = 0.0;  /* s = 1/2 */
         else rgb_coeffs(T, target, c);
         for (i = 0; i < SPEC_N; i++) {
-            double x = (double)i / (SPEC_N - 1);
+            double x = xs ? xs[i] : (double)i / (SPEC_N - 1);
             s->v[i] = (float)(m * sigmoid((c[0] * x + c[1]) * x + c[2]) * d65->v[i]);
         }
         return 1;
