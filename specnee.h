@@ -433,7 +433,9 @@ typedef struct {
     const Spectrum *tab;   /* not rgb: the table (NULL: zero) */
     int rgb;               /* 1: the sigmoid of c; 0: tab */
 } Albedo;
-float albedo_eval(const Albedo *a, float lambda_nm);
+float albedo_eval_rgb(const Albedo *a, float lambda_nm);   /* no table: the sigmoid, or 0 */
+static inline float albedo_eval(const Albedo *a, float lambda_nm)
+{ return a->tab ? spec_eval(a->tab, lambda_nm) : albedo_eval_rgb(a, lambda_nm); }
 float albedo_knot(const double c[3], int i);
 int   albedo_from_rgb(RgbTable *T, const float rgb[3], Albedo *a);
 /* For tests: the coefficient table's interpolated start for target (before the

@@ -41,7 +41,7 @@
      spec_bin_sum cauchy_named spec_rgb_coeffs spec_rgb_fit_table spec_rgb_coeffs_from
      spec_sigmoid_eval spec_rgb_table_start spec_rgb_coeffs_fit rgb_table_new
      rgb_table_free spec_from_rgb_t spec_band_mean spec_band_average spec_store_add
-     spec_store_free albedo_eval albedo_knot albedo_from_rgb
+     spec_store_free albedo_eval_rgb albedo_knot albedo_from_rgb
 
    HOW IT IS USED
      parser.c turns "spectrum"/"rgb"/"blackbody" parameters into Spectrum tables with
@@ -1715,12 +1715,13 @@ float albedo_knot(const double c[3], int i)
     return (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
 }
 
-/* spec_eval's interpolation over the knots albedo_knot computes (two per call). */
-float albedo_eval(const Albedo *a, float lambda_nm)
+/* spec_eval's interpolation over the knots albedo_knot computes (two per call);
+   albedo_eval (specnee.h) calls it for an Albedo without a table. */
+float albedo_eval_rgb(const Albedo *a, float lambda_nm)
 {
     float t = lambda_nm - (float)SPEC_MIN, k0, k1;
     int i;
-    if (!a->rgb) return a->tab ? spec_eval(a->tab, lambda_nm) : 0.0f;
+    if (!a->rgb) return 0.0f;                      /* a zeroed Albedo */
     if (!(t >= 0.0f) || t > (float)(SPEC_N - 1))
         /* the UV knots are 0: only [359, 360) nm ramps up to the knot at 360 nm */
         return t < 0.0f && t >= -1.0f ? (t + 1.0f) * albedo_knot(a->c, 0) : 0.0f;
