@@ -426,7 +426,7 @@ float spec_sigmoid_eval(const float c[3], float lambda_nm);
    interpolated as spec_eval does, two knots per call; zero in the UV but for the ramp
    from 359 nm to the knot at 360 nm.  A zeroed Albedo is zero everywhere.
    albedo_from_rgb: rgb (components in [0, 1]) as the coefficients of spec_from_rgb_t's
-   fit (from the table T); 0, a untouched, for a grey or a value outside [0, 1]: the
+   fit (from the table T); 0 (a untouched) for a grey or a value outside [0, 1]: the
    caller then tabulates it. */
 typedef struct {
     double c[3];           /* rgb: the sigmoid's coefficients */

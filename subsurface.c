@@ -388,7 +388,9 @@ void sss_coeffs(const Material *m, const SurfacePoint *sp, const float *lam, uns
         sigma_t[j] = rho[j] = 0.0f;
         if (!(alive & (1u << j))) continue;
         if (ss->from_albedo) {
-            float R = mat_albedo_at(m, sp, lam[j]);      /* material.c */
+            float R = m->reflectance_tex > 0 && m->textures
+                      ? tex_eval(m->textures, m->reflectance_tex - 1, sp, lam[j])   /* texture.c */
+                      : albedo_eval(&m->reflectance, lam[j]);
             float mfp = ss->scale * sss_value(m, ss->tex[SSS_TEX_MFP], &ss->mfp, sp, lam[j]);
             R = R > 0.0f ? (R < 1.0f ? R : 1.0f) : 0.0f;     /* pbrt-v4: clamped to [0, 1] */
             if (!(mfp > 0.0f)) continue;                      /* (pbrt-v4: ClampZero, then 1/0) */

@@ -470,7 +470,7 @@ static const char *const ETA_MATS[] = {
    table), evaluating as spec_from_rgb_t's table of the colour, bit for bit; a grey
    "rgb" and a "spectrum" stay tables (a grey's is the grey in the UV too).  In a
    scene of few spectra the colours are tables too, the same values.  An "rgb" above
-   1 is refused as before. */
+   1 is refused with parser.c's message. */
 static void test_albedo_kinds(T *t)
 {
     static const float col[3][3] = { { 0.2f, 0.5f, 0.9f }, { 0.8f, 0.1f, 0.1f }, { 0.1f, 0.7f, 0.3f } };
