@@ -290,7 +290,10 @@ int conductor_from_params(Parser *P, ParamList *pl, const char *file, int line,
         spec_const(&n, 1.0f);
         spec_const(&m->extra->k, 0.0f);                  /* (not read) */
     } else if (pr) {
-        if (!conductor_reflectance_param(P, pr, &m->reflectance, &n, &m->extra->k)) return 0;
+        Spectrum r;                 /* r, shared (albedo_set_table) */
+        if (!conductor_reflectance_param(P, pr, &r, &n, &m->extra->k) ||
+            !albedo_set_table(P, &m->reflectance, &r, file, line))
+            return 0;
     } else {
         if (!conductor_eta_k_textures(P, pl, "", what, m->extra) ||
             !conductor_eta_k(P, pl, file, line, "", &n, &m->extra->k))

@@ -19,15 +19,24 @@ static void dump_spectrum(FILE *f, const char *label, const Spectrum *sp)
     fprintf(f, "\n");
 }
 
+/* A material's reflectance, as dump_spectrum prints a table */
+static void dump_albedo(FILE *f, const char *label, const Albedo *a)
+{
+    int l;
+    fprintf(f, "    %-12s", label);
+    for (l = 400; l <= 700; l += 50) fprintf(f, " %3d:%-8.4g", l, albedo_eval(a, (float)l));
+    fprintf(f, "\n");
+}
+
 /* Material i: its type, parameters and spectra. */
 static void dump_material(FILE *f, int i, const Material *m)
 {
     if (m->type == MAT_DIFFUSE) {
         fprintf(f, "  [%d] diffuse\n", i);
-        dump_spectrum(f, "reflectance", &m->reflectance);
+        dump_albedo(f, "reflectance", &m->reflectance);
     } else if (m->type == MAT_FLUORESCENT) {
         fprintf(f, "  [%d] fluorescent, quantum yield %g\n", i, m->fl->qyield);
-        dump_spectrum(f, "reflectance", &m->reflectance);
+        dump_albedo(f, "reflectance", &m->reflectance);
         dump_spectrum(f, "excitation", &m->fl->excitation);
         dump_spectrum(f, "emission", &m->fl->emission);
     } else if (m->type == MAT_CONDUCTOR) {
@@ -41,7 +50,7 @@ static void dump_material(FILE *f, int i, const Material *m)
         fprintf(f, "  [%d] coateddiffuse, alpha %g, eta %g, thickness %g, g %g, maxdepth %d, "
                 "nsamples %d\n", i, m->alpha, spec_eval(m->eta, 550.0f), m->thickness,
                 m->hg_g, m->maxdepth, m->nsamples);
-        dump_spectrum(f, "reflectance", &m->reflectance);
+        dump_albedo(f, "reflectance", &m->reflectance);
         dump_spectrum(f, "albedo", &m->extra->albedo);
     } else if (m->type == MAT_INTERFACE) {
         fprintf(f, "  [%d] interface (no surface: the boundary of a medium)\n", i);
@@ -64,7 +73,7 @@ static void dump_material(FILE *f, int i, const Material *m)
                       m->hair->from_color ? &m->hair->color : &m->hair->sigma_a);
     } else if (m->type == MAT_DIFFUSE_TRANSMISSION) {
         fprintf(f, "  [%d] diffusetransmission, P(reflect lobe) %g\n", i, m->p_reflect);
-        dump_spectrum(f, "reflectance", &m->reflectance);
+        dump_albedo(f, "reflectance", &m->reflectance);
         dump_spectrum(f, "transmittance", &m->extra->transmittance);
     } else if (m->type == MAT_SUBSURFACE) {
         fprintf(f, "  [%d] subsurface, alpha %g, eta %g, g %g, scale %g, %s\n", i, m->alpha,

@@ -318,7 +318,7 @@ static void layer_init(const Material *m, const MatPoint *mp, const float *lambd
         L->base.ck[j] = 0.0f;
         if (!on) continue;
         if (!L->base.cond) {
-            L->base.R[j] = mp && mp->has_r ? mp->r[j] : spec_eval(&m->reflectance, lambda[j]);
+            L->base.R[j] = mp && mp->has_r ? mp->r[j] : albedo_eval(&m->reflectance, lambda[j]);
         } else {
             /* section 5: the conductor's index relative to the coat's */
             if (mp && mp->has_r) {
@@ -782,7 +782,7 @@ int coateddiffuse_from_params(Parser *P, ParamList *pl, const char *file, int li
         return 0;
     if (!layer_eta(P, pl, "eta", what, file, line, m)) return 0;
     if (!layer_slab(P, what, file, line, th, pth, g, pg, md, pd, ns, pn, m)) return 0;
-    if (!unit_spectrum_param(P, pt ? NULL : pr, &m->reflectance, 0.5f)) return 0;
+    if (!unit_albedo_param(P, pt ? NULL : pr, &m->reflectance, 0.5f, file, line)) return 0;
     if (!layer_albedo(P, pa, what, file, line, m)) return 0;
     return 1;
 }
@@ -856,8 +856,9 @@ int coatedconductor_from_params(Parser *P, ParamList *pl, const char *file, int 
         spec_const(&m->extra->cond_eta, 1.0f);
         spec_const(&m->extra->k, 0.0f);                  /* (not read) */
     } else if (pr) {
-        if (!conductor_reflectance_param(P, pr, &m->reflectance, &m->extra->cond_eta,
-                                         &m->extra->k))
+        Spectrum r;                 /* r, shared (albedo_set_table) */
+        if (!conductor_reflectance_param(P, pr, &r, &m->extra->cond_eta, &m->extra->k) ||
+            !albedo_set_table(P, &m->reflectance, &r, file, line))
             return 0;
     } else {
         if (!conductor_eta_k_textures(P, pl, "conductor.", what, m->extra) ||

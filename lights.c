@@ -231,10 +231,16 @@ static void le_tabulate(const LeSource *q, Spectrum *Le)
         Le->uv[lam] = (float)(q->scale * q->shape->uv[lam] / q->norm);
 }
 
-/* LightTreeInput.le_table: radiance i of the LeSource array ctx, tabulated. */
-static void le_table_of(const void *ctx, int i, Spectrum *Le)
+/* LightTreeInput.le_knots: knots nm0 .. nm0 + n - 1 of radiance i of the LeSource
+   array ctx, as le_tabulate makes them (the tree reads 300-700 nm of 300-830). */
+static void le_knots_of(const void *ctx, int i, int nm0, int n, float *out)
 {
-    le_tabulate(&((const LeSource *)ctx)[i], Le);
+    const LeSource *q = &((const LeSource *)ctx)[i];
+    int k = 0;
+    for (; k < n && nm0 + k < SPEC_MIN; k++)
+        out[k] = (float)(q->scale * q->shape->uv[nm0 + k - SPEC_UV_MIN] / q->norm);
+    for (; k < n; k++)
+        out[k] = (float)(q->scale * q->shape->v[nm0 + k - SPEC_MIN] / q->norm);
 }
 
 static int radiance_and_k(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *Le,
@@ -951,7 +957,7 @@ static int tree_setup(LightSampler *ls)
         in.pieces = ls->pieces;
         in.n_pieces = ls->n_pieces;
         in.piece_tri = ls->piece_tri;
-        in.le_table = le_table_of;
+        in.le_knots = le_knots_of;
         in.le_ctx = ls->Le;
         in.n_le = ls->n_le;
         in.le_of = le_of;

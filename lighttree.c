@@ -290,11 +290,12 @@ static const double *le_means(const LightTreeInput *in, const LightTree *lt, LeM
     int slot = le % LE_MEANS, b, k;
     double *row = c->avg + (size_t)slot * (size_t)lt->nb;
     if (c->tag[slot] != le) {
-        Spectrum Le;
         float knot[SPEC_UV_N + SPEC_N];            /* Le at SPEC_UV_MIN + i nm */
-        in->le_table(in->le_ctx, le, &Le);
-        memcpy(knot, Le.uv, sizeof Le.uv);
-        memcpy(knot + SPEC_UV_N, Le.v, sizeof Le.v);
+        /* the knots the bins read: those of bins inside 300-830 nm */
+        int nm0 = (int)in->opt->lo_nm - w * lt->nb_uv, nm1 = (int)in->opt->lo_nm + w * (lt->nb - lt->nb_uv);
+        if (nm0 < SPEC_UV_MIN) nm0 = SPEC_UV_MIN;
+        if (nm1 > SPEC_MAX) nm1 = SPEC_MAX;
+        if (nm1 >= nm0) in->le_knots(in->le_ctx, le, nm0, nm1 - nm0 + 1, knot + (nm0 - SPEC_UV_MIN));
         for (b = 0; b < lt->nb; b++) {
             int lo = (int)in->opt->lo_nm + w * (b - lt->nb_uv);
             const float *kn = knot + (lo - SPEC_UV_MIN);

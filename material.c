@@ -62,7 +62,7 @@
 
 float mat_albedo(const Material *m, float lambda_nm)
 {
-    float rho = spec_eval(&m->reflectance, lambda_nm);
+    float rho = albedo_eval(&m->reflectance, lambda_nm);
     if (m->type == MAT_FLUORESCENT) return rho * (1.0f - spec_eval(&m->fl->excitation, lambda_nm));
     return rho;
 }
@@ -526,7 +526,7 @@ static void dt_point(const Material *m, const SurfacePoint *sp, const float *lam
         d->R[j] = d->T[j] = 0.0f;
         if (!(alive & (1u << j))) continue;
         d->R[j] = m->reflectance_tex > 0 ? dt_tex(m, m->reflectance_tex, sp, lambda[j])
-                                         : spec_eval(&m->reflectance, lambda[j]);
+                                         : albedo_eval(&m->reflectance, lambda[j]);
         d->T[j] = m->extra->transmittance_tex > 0 ? dt_tex(m, m->extra->transmittance_tex, sp, lambda[j])
                                                   : spec_eval(&m->extra->transmittance, lambda[j]);
         maxr = fmaxf(maxr, d->R[j]);
@@ -785,14 +785,17 @@ int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
 {
     Param *p = find_spectrum_param(pl, "reflectance");
     Param *pt = param_find(pl, PT_TEXTURE, "reflectance");
-    (void)dir; (void)file; (void)line;
+    Spectrum r;                                   /* the table of what is not a colour */
+    (void)dir;
     m->type = MAT_DIFFUSE;
     if (pt) {
         /* "texture reflectance": evaluated at each hit (texture.c), clamped to [0, 1] */
         int ti = texture_lookup(P, pt, 0);
         if (ti < 0) return 0;
         m->reflectance_tex = ti + 1;
-        spec_const(&m->reflectance, 0.5f);        /* (not read) */
+        spec_const(&r, 0.5f);                     /* (not read) */
+    } else if (rgb_albedo_param(P, p, &m->reflectance)) {
+        /* an "rgb" colour: its sigmoid, within [0, 1] (spec_from_rgb_t's knots) */
     } else if (p) {
         /* pbrt-v4 clamps a spectrum's values to [0, 1] where it uses them
            (DiffuseMaterial::GetBxDF, src/pbrt/materials.h:467): done once here,
@@ -800,10 +803,10 @@ int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
            (1,1,1) rounds) with a note.  An "rgb" above 1 stays refused, as there. */
         float lo = FLT_MAX, hi = -FLT_MAX;
         int nm;
-        if (!param_spectrum(P, p, SPEC_ALBEDO, &m->reflectance, NULL)) return 0;
+        if (!param_spectrum(P, p, SPEC_ALBEDO, &r, NULL)) return 0;
         /* an "rgb" albedo is within [0, 1] already (spec_from_rgb_t): nothing to check */
         for (nm = p->type == PT_RGB ? SPEC_MAX + 1 : SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
-            float *v = spec_at(&m->reflectance, nm);
+            float *v = spec_at(&r, nm);
             if (!(fabsf(*v) <= FLT_MAX))
                 return fail(P, p->file, p->line, "\"%s reflectance\": value %g at %d nm is "
                             "not finite", param_type_names[p->type], *v, nm);
@@ -816,8 +819,9 @@ int diffuse_from_params(Parser *P, ParamList *pl, const char *file, int line,
                     "to [0, 1], as pbrt-v4's diffuse material does\n", p->file, p->line,
                     param_type_names[p->type], lo, hi);
     } else {
-        spec_const(&m->reflectance, 0.5f);        /* pbrt-v4's default */
+        spec_const(&r, 0.5f);                     /* pbrt-v4's default */
     }
+    if (!m->reflectance.rgb && !albedo_set_table(P, &m->reflectance, &r, file, line)) return 0;
     return bump_from_params(P, pl, what, m) &&
            params_check_unused(P, pl, what, "spectrum reflectance, rgb reflectance, "
                                "texture reflectance", NULL);
@@ -838,7 +842,7 @@ int fluorescent_from_params(Parser *P, ParamList *pl, const char *file, int line
     if (!pa || !pe)
         return fail(P, file, line, "%s \"fluorescent\": needs \"spectrum excitation\" "
                     "and \"spectrum emission\"", dir);
-    if (!unit_spectrum_param(P, pr, &m->reflectance, 0.5f)) return 0;
+    if (!unit_albedo_param(P, pr, &m->reflectance, 0.5f, file, line)) return 0;
     if (!param_spectrum(P, pa, SPEC_UNBOUNDED, &m->fl->excitation, NULL)) return 0;
     if (!check_unit_spectrum(P, pa, &m->fl->excitation)) return 0;
     if (!param_spectrum(P, pe, SPEC_UNBOUNDED, &m->fl->emission, NULL)) return 0;
@@ -1014,6 +1018,7 @@ int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, 
     Param *pr = find_spectrum_param(pl, "reflectance"), *pt = find_spectrum_param(pl, "transmittance");
     Param *psc = param_find(pl, PT_FLOAT, "scale");
     float scale, maxr = 0.0f, maxt = 0.0f;
+    Spectrum R;                                   /* R, scaled, then shared */
     int nm;
     (void)dir;
     m->type = MAT_DIFFUSE_TRANSMISSION;
@@ -1027,7 +1032,7 @@ int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, 
                              "spectrum transmittance, rgb transmittance, texture transmittance, "
                              "float scale", NULL))
         return 0;
-    if (!unit_spectrum_param(P, m->reflectance_tex ? NULL : pr, &m->reflectance, 0.25f)) return 0;
+    if (!unit_spectrum_param(P, m->reflectance_tex ? NULL : pr, &R, 0.25f)) return 0;
     if (!unit_spectrum_param(P, m->extra->transmittance_tex ? NULL : pt, &m->extra->transmittance, 0.25f))
         return 0;
     if (!(scale >= 0.0f))
@@ -1035,14 +1040,14 @@ int diffusetransmission_from_params(Parser *P, ParamList *pl, const char *file, 
                     "\"float scale\": %g must be >= 0", scale);
     m->extra->dt_scale = scale;
     for (nm = SPEC_UV_MIN; nm <= SPEC_MAX; nm++) {
-        float *r = spec_at(&m->reflectance, nm), *t = spec_at(&m->extra->transmittance, nm);
+        float *r = spec_at(&R, nm), *t = spec_at(&m->extra->transmittance, nm);
         *r = fminf(1.0f, scale * *r);
         *t = fminf(1.0f, scale * *t);
         if (*r > maxr) maxr = *r;
         if (*t > maxt) maxt = *t;
     }
     m->p_reflect = maxr + maxt > 0.0f ? maxr / (maxr + maxt) : 0.5f;
-    return 1;
+    return albedo_set_table(P, &m->reflectance, &R, file, line);
 }
 
 /* pbrt-v4 MeasuredMaterial: "string filename", an RGL tensor file (measured.c),
@@ -1159,12 +1164,14 @@ int default_material(Parser *P, const char *file, int line)
 {
     if (P->default_material < 0) {
         Material m;
-        Spectrum one;
+        Spectrum one, half;
         memset(&m, 0, sizeof m);
         m.type = MAT_DIFFUSE;
-        spec_const(&m.reflectance, 0.5f);
+        spec_const(&half, 0.5f);
         spec_const(&one, 1.0f);
-        if (!material_set_eta(P, &m, &one, file, line)) return -1;
+        if (!albedo_set_table(P, &m.reflectance, &half, file, line) ||
+            !material_set_eta(P, &m, &one, file, line))
+            return -1;
         P->default_material = add_material(P, &m, file, line);
     }
     return P->default_material;

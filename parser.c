@@ -812,6 +812,23 @@ int unit_spectrum_param(Parser *P, Param *p, Spectrum *out, float def)
     return param_spectrum(P, p, SPEC_ALBEDO, out, NULL) && check_unit_spectrum(P, p, out);
 }
 
+int rgb_albedo_param(Parser *P, const Param *p, Albedo *a)
+{
+    float rgb[3];
+    int k;
+    if (!p || p->type != PT_RGB || p->n_num != 3) return 0;
+    if (P->s->spectra.n < ALBEDO_TABLES) return 0;   /* few tables yet: tabulated */
+    for (k = 0; k < 3; k++) rgb[k] = (float)p->num[k];
+    return albedo_from_rgb(P->rgb, rgb, a);      /* spectrum.c */
+}
+
+int unit_albedo_param(Parser *P, Param *p, Albedo *a, float def, const char *file, int line)
+{
+    Spectrum s;
+    if (rgb_albedo_param(P, p, a)) return 1;
+    return unit_spectrum_param(P, p, &s, def) && albedo_set_table(P, a, &s, file, line);
+}
+
 /* The texture a "texture name" parameter names, in the float or spectrum
    namespace; -1 and an error when there is none. */
 int texture_lookup(Parser *P, const Param *p, int is_float)

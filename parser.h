@@ -174,6 +174,8 @@ typedef struct {
     NamedTexture *texnames; int n_texnames, cap_texnames;
     int cap_textures;
     int default_material;      /* -1 until a shape needs it */
+    const Spectrum *eta_one;   /* Scene.spectra's record of the constant 1, every
+                                  material's eta to start with (NULL until made) */
     /* capacities of the growing Scene arrays */
     int cap_verts, cap_tris, cap_shapes, cap_mats, cap_emit, cap_spheres, cap_quadrics, cap_strings,
         cap_patches, cap_curves, cap_pieces;
@@ -296,6 +298,18 @@ int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_ill
 typedef struct { float alpha_u, alpha_v; int tex_u, tex_v, remap; } Roughness;
 int check_unit_spectrum(Parser *P, const Param *p, Spectrum *sp);
 int unit_spectrum_param(Parser *P, Param *p, Spectrum *out, float def);
+/* A Material's reflectance (specnee.h Albedo).  rgb_albedo_param: an "rgb" of three
+   values in [0, 1] that is not grey as its sigmoid's coefficients, once the Scene
+   holds ALBEDO_TABLES spectrum records; 0 (nothing read, no error) for any other p,
+   which the caller reads as a table and hands to albedo_set_table.  Both give the
+   same values; a table is faster to shade (two loads where the sigmoid takes two
+   square roots and divisions), so a scene's first colours get one, up to about
+   2 MB, and a scene of many materials keeps 40 B per colour (docs/loading.md).
+   unit_albedo_param: unit_spectrum_param into an Albedo, the colours by
+   rgb_albedo_param (0: failed, at file:line when out of memory). */
+#define ALBEDO_TABLES 1024
+int rgb_albedo_param(Parser *P, const Param *p, Albedo *a);
+int unit_albedo_param(Parser *P, Param *p, Albedo *a, float def, const char *file, int line);
 int texture_lookup(Parser *P, const Param *p, int is_float);
 int microfacet_roughness(Parser *P, ParamList *pl, const char *file, int line,
                          const char *what, const char *prefix, Roughness *r);
@@ -351,6 +365,16 @@ static inline int material_set_eta(Parser *P, Material *m, const Spectrum *eta,
 {
     m->eta = spec_store_add(&P->s->spectra, eta);
     return m->eta ? 1 : oom(P, file, line);
+}
+
+/* *a := the table *s, as the record of the Scene's SpectrumStore equal to it
+   (material_set_eta's sharing); 0 (out of memory, failed at file:line) or 1. */
+static inline int albedo_set_table(Parser *P, Albedo *a, const Spectrum *s,
+                                   const char *file, int line)
+{
+    a->rgb = 0;
+    a->tab = spec_store_add(&P->s->spectra, s);
+    return a->tab ? 1 : oom(P, file, line);
 }
 
 /* Materials: m (zeroed, eta 1) of one type, from a Material or MakeNamedMaterial

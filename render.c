@@ -308,6 +308,7 @@ struct RenderJob {
     SelOptions sel;            /* o->sel with the sampled wavelength range: the emitters'
                                   radiance for it lives in R.ls, not in the scene */
     RenderStats st;            /* cumulative: build + every pass, nothing in between */
+    Spectrum white_r;          /* R.white's reflectance: 1 everywhere, the UV included */
 };
 
 /* The media (medium.c): rendered unless the integrator ignores them; an emissive
@@ -389,7 +390,8 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     j->R.s = s;
     j->R.o = o;
     j->R.white.type = MAT_DIFFUSE;
-    spec_const(&j->R.white.reflectance, 1.0f);
+    spec_const(&j->white_r, 1.0f);
+    j->R.white.reflectance.tab = &j->white_r;
     camera_init(&j->R.cam, set);
     j->R.moving = j->R.cam.moving || s->n_motions > 0;
     filter_init(&j->R.filter, set);

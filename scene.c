@@ -228,10 +228,14 @@ static int material_from_params(Parser *P, const char *type, ParamList *pl, cons
 {
     char what[192];
     int k;
-    Spectrum one;
     memset(m, 0, sizeof *m);
-    spec_const(&one, 1.0f);
-    if (!material_set_eta(P, m, &one, file, line)) return 0;
+    if (!P->eta_one) {
+        Spectrum one;
+        spec_const(&one, 1.0f);
+        if (!material_set_eta(P, m, &one, file, line)) return 0;
+        P->eta_one = m->eta;
+    }
+    m->eta = P->eta_one;
     snprintf(what, sizeof what, "%s \"%s\"", dir, type);
     for (k = 0; k < (int)(sizeof material_types / sizeof material_types[0]); k++)
         if (!strcmp(type, material_types[k].type)) {

@@ -430,6 +430,28 @@ void  spec_rgb_fit_table(RgbFitTable *t);
 int   spec_rgb_coeffs_from(const RgbFitTable *t, const double target[3], const double start[3],
                            double c[3]);
 float spec_sigmoid_eval(const float c[3], float lambda_nm);
+/* A reflectance as a Material holds it (pbrt-v4's RGBAlbedoSpectrum): an "rgb" colour
+   that is not grey is the three coefficients c of its sigmoid (40 B where a Spectrum
+   takes 2.1 KB: docs/loading.md) in a scene of many spectra (parser.h
+   rgb_albedo_param), any other spectrum a table shared through Scene.spectra
+   (parser.h albedo_set_table).  albedo_eval(a, lambda) of a colour is
+   spec_eval of the table spec_from_rgb_t makes from it, bit for bit: the knots
+   albedo_knot(c, i) = (float) clamp(S((c0 x + c1) x + c2), 0, 1) at x = i / 470,
+   interpolated as spec_eval does, two knots per call; zero in the UV but for the ramp
+   from 359 nm to the knot at 360 nm.  A zeroed Albedo is zero everywhere.
+   albedo_from_rgb: rgb (components in [0, 1]) as the coefficients of spec_from_rgb_t's
+   fit (from the table T); 0 (a untouched) for a grey or a value outside [0, 1]: the
+   caller then tabulates it. */
+typedef struct {
+    double c[3];           /* rgb: the sigmoid's coefficients */
+    const Spectrum *tab;   /* not rgb: the table (NULL: zero) */
+    int rgb;               /* 1: the sigmoid of c; 0: tab */
+} Albedo;
+float albedo_eval_rgb(const Albedo *a, float lambda_nm);   /* no table: the sigmoid, or 0 */
+static inline float albedo_eval(const Albedo *a, float lambda_nm)
+{ return a->tab ? spec_eval(a->tab, lambda_nm) : albedo_eval_rgb(a, lambda_nm); }
+float albedo_knot(const double c[3], int i);
+int   albedo_from_rgb(RgbTable *T, const float rgb[3], Albedo *a);
 /* For tests: the coefficient table's interpolated start for target (before the
    Newton polish), and the full continuation fit from grey (no table). */
 void  spec_rgb_table_start(RgbTable *T, const double target[3], double c[3]);
@@ -874,7 +896,8 @@ typedef struct {
 } MaterialSpectra;
 typedef struct {
     MaterialType type;
-    Spectrum reflectance;      /* diffuse albedo; fluorescent: rho, of the light not absorbed */
+    Albedo reflectance;        /* diffuse albedo; fluorescent: rho, of the light not absorbed
+                                  (a colour's sigmoid, or a table of Scene.spectra) */
     Fluorescence *fl;          /* fluorescent: A, e, Phi and their tables (owned, freed by
                                   material_release); NULL for every other type */
     const Spectrum *eta;       /* dielectric index of refraction n(lambda); a Cauchy glass
@@ -2235,9 +2258,11 @@ typedef struct {
     const LightPiece *pieces;  /* every piece, those beside the tree included */
     int n_pieces;
     const int *piece_tri;      /* the clusters' scene triangles */
-    /* the distinct radiances for the sampled range: le_table(le_ctx, i, &Le) tabulates
-       radiance i (lights.c keeps them untabulated) */
-    void (*le_table)(const void *le_ctx, int i, Spectrum *Le);
+    /* the distinct radiances for the sampled range (lights.c keeps them untabulated):
+       le_knots(le_ctx, i, nm0, n, out) gives out[k] = radiance i's table at nm0 + k nm
+       (SPEC_UV_MIN <= nm0 <= nm0 + n - 1 <= SPEC_MAX), the values emitter_radiance
+       tabulates */
+    void (*le_knots)(const void *le_ctx, int i, int nm0, int n, float *out);
     const void *le_ctx;
     int n_le;
     const int *le_of;          /* per emitter: its radiance, an index into Le */

@@ -28,6 +28,8 @@
         found by Newton steps so that s(lambda) D65(lambda) maps back to the rgb,
         started from a coefficient table over rgb (Jakob & Hanika's parametrisation)
         that is filled on first use; docs/loading.md measures the load time.
+        A material's rgb reflectance keeps only (c0, c1, c2) (an Albedo): albedo_eval
+        computes the two knots of spec_eval's interpolation from them when shaded.
 
      The wavelength sampling that draws the four wavelengths of a path is in
      wavelengths.c; `specnee spectrum` is in cmd_spectrum.c.
@@ -39,7 +41,7 @@
      spec_bin_sum cauchy_named spec_rgb_coeffs spec_rgb_fit_table spec_rgb_coeffs_from
      spec_sigmoid_eval spec_rgb_table_start spec_rgb_coeffs_fit rgb_table_new
      rgb_table_free spec_from_rgb_t spec_band_mean spec_band_average spec_store_add
-     spec_store_free
+     spec_store_free albedo_eval_rgb albedo_knot albedo_from_rgb
 
    HOW IT IS USED
      parser.c turns "spectrum"/"rgb"/"blackbody" parameters into Spectrum tables with
@@ -471,23 +473,33 @@ int spec_is_constant(const Spectrum *s)
 }
 
 /* FNV-1a (64-bit) over the table's 64-bit words (pairs of the floats' bit
-   patterns; an odd last float alone), folded to 32 bits. */
+   patterns; an odd last float alone) in four interleaved lanes (word i to lane
+   i mod 4: four independent chains of multiplies, not one), folded to 32 bits. */
 static unsigned spec_hash(const Spectrum *s)
 {
     const unsigned char *b = (const unsigned char *)s;
-    uint64_t h = 14695981039346656037u;
+    uint64_t h[4] = { 14695981039346656037u, 14695981039346656037u ^ 1u,
+                      14695981039346656037u ^ 2u, 14695981039346656037u ^ 3u };
     size_t i;
-    for (i = 0; i + 8 <= sizeof *s; i += 8) {
+    int k;
+    for (i = 0; i + 32 <= sizeof *s; i += 32)
+        for (k = 0; k < 4; k++) {
+            uint64_t w;
+            memcpy(&w, b + i + 8 * k, 8);
+            h[k] = (h[k] ^ w) * 1099511628211u;
+        }
+    for (; i + 8 <= sizeof *s; i += 8) {
         uint64_t w;
         memcpy(&w, b + i, 8);
-        h = (h ^ w) * 1099511628211u;
+        h[0] = (h[0] ^ w) * 1099511628211u;
     }
     for (; i + 4 <= sizeof *s; i += 4) {
         uint32_t w;
         memcpy(&w, b + i, 4);
-        h = (h ^ w) * 1099511628211u;
+        h[0] = (h[0] ^ w) * 1099511628211u;
     }
-    return (unsigned)(h ^ (h >> 32));
+    for (k = 1; k < 4; k++) h[0] = (h[0] ^ h[k]) * 1099511628211u;
+    return (unsigned)(h[0] ^ (h[0] >> 32));
 }
 
 /* Put record i (hash h) in the first free slot of its probe sequence. */
@@ -506,7 +518,8 @@ const Spectrum *spec_store_add(SpectrumStore *st, const Spectrum *s)
     if (st->n_slots > 0) {                  /* linear probing from the hash's slot */
         k = (int)(h & (unsigned)(st->n_slots - 1));
         for (; st->slot[k]; k = (k + 1) & (st->n_slots - 1))
-            if (memcmp(st->rec[st->slot[k] - 1], s, sizeof *s) == 0) return st->rec[st->slot[k] - 1];
+            if (st->hash[st->slot[k] - 1] == h && memcmp(st->rec[st->slot[k] - 1], s, sizeof *s) == 0)
+                return st->rec[st->slot[k] - 1];
     }
     if (st->n == st->cap) {
         int cap = st->cap ? 2 * st->cap : 16;
@@ -1684,16 +1697,17 @@ int spec_from_rgb_t(RgbTable *T, Spectrum *s, const float rgb[3], int illuminant
            (the coefficients of a medium). */
         Spectrum one;
         const Spectrum *d65 = &one;
+        const double *xs = NULL;      /* T's table of the knots' x (the same doubles) */
         if (m == 0.0) { spec_const(s, 0.0f); return 1; }
         if (illuminant == 2) spec_const(&one, 1.0f);
-        else if (T) d65 = &rgb_table_get(T)->d65;
+        else if (T) { d65 = &rgb_table_get(T)->d65; xs = T->fit.x; }
         else spec_named(&one, "stdillum-D65");
         m *= 2.0;
         for (k = 0; k < 3; k++) target[k] /= m;
         if (target[0] == target[1] && target[1] == target[2]) c[0] = c[1] = c[2] = 0.0;  /* s = 1/2 */
         else rgb_coeffs(T, target, c);
         for (i = 0; i < SPEC_N; i++) {
-            double x = (double)i / (SPEC_N - 1);
+            double x = xs ? xs[i] : (double)i / (SPEC_N - 1);
             s->v[i] = (float)(m * sigmoid((c[0] * x + c[1]) * x + c[2]) * d65->v[i]);
         }
         return 1;
@@ -1703,10 +1717,48 @@ int spec_from_rgb_t(RgbTable *T, Spectrum *s, const float rgb[3], int illuminant
         return 1;
     }
     rgb_coeffs(T, target, c);
-    for (i = 0; i < SPEC_N; i++) {
-        double x = (double)i / (SPEC_N - 1), v = sigmoid((c[0] * x + c[1]) * x + c[2]);
-        s->v[i] = (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
+    for (i = 0; i < SPEC_N; i++) s->v[i] = albedo_knot(c, i);
+    return 1;
+}
+
+/* Knot i of a reflectance's table: its sigmoid at x = i / (SPEC_N - 1), clamped
+   to [0, 1] and rounded to float. */
+float albedo_knot(const double c[3], int i)
+{
+    double x = (double)i / (SPEC_N - 1), v = sigmoid((c[0] * x + c[1]) * x + c[2]);
+    return (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
+}
+
+/* spec_eval's interpolation over the knots albedo_knot computes (two per call);
+   albedo_eval (specnee.h) calls it for an Albedo without a table. */
+float albedo_eval_rgb(const Albedo *a, float lambda_nm)
+{
+    float t = lambda_nm - (float)SPEC_MIN, k0, k1;
+    int i;
+    if (!a->rgb) return 0.0f;                      /* a zeroed Albedo */
+    if (!(t >= 0.0f) || t > (float)(SPEC_N - 1))
+        /* the UV knots are 0: only [359, 360) nm ramps up to the knot at 360 nm */
+        return t < 0.0f && t >= -1.0f ? (t + 1.0f) * albedo_knot(a->c, 0) : 0.0f;
+    i = (int)t;
+    if (i >= SPEC_N - 1) return albedo_knot(a->c, SPEC_N - 1);
+    t -= (float)i;
+    k0 = albedo_knot(a->c, i);
+    k1 = albedo_knot(a->c, i + 1);
+    return k0 + t * (k1 - k0);
+}
+
+int albedo_from_rgb(RgbTable *T, const float rgb[3], Albedo *a)
+{
+    double target[3];
+    int k;
+    for (k = 0; k < 3; k++) {
+        if (!(rgb[k] >= 0.0f && rgb[k] <= 1.0f)) return 0;   /* NaN too */
+        target[k] = rgb[k];
     }
+    if (target[0] == target[1] && target[1] == target[2]) return 0;
+    rgb_coeffs(T, target, a->c);
+    a->tab = NULL;
+    a->rgb = 1;
     return 1;
 }
 

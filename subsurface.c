@@ -388,7 +388,9 @@ void sss_coeffs(const Material *m, const SurfacePoint *sp, const float *lam, uns
         sigma_t[j] = rho[j] = 0.0f;
         if (!(alive & (1u << j))) continue;
         if (ss->from_albedo) {
-            float R = sss_value(m, m->reflectance_tex, &m->reflectance, sp, lam[j]);
+            float R = m->reflectance_tex > 0 && m->textures
+                      ? tex_eval(m->textures, m->reflectance_tex - 1, sp, lam[j])   /* texture.c */
+                      : albedo_eval(&m->reflectance, lam[j]);
             float mfp = ss->scale * sss_value(m, ss->tex[SSS_TEX_MFP], &ss->mfp, sp, lam[j]);
             R = R > 0.0f ? (R < 1.0f ? R : 1.0f) : 0.0f;     /* pbrt-v4: clamped to [0, 1] */
             if (!(mfp > 0.0f)) continue;                      /* (pbrt-v4: ClampZero, then 1/0) */
@@ -547,6 +549,7 @@ static int sss_coefficients(Parser *P, ParamList *pl, const char *file, int line
     const char *name = NULL;
     int ga, gs, gr, gm;
     float sa[3] = { 0.0011f, 0.0024f, 0.014f }, sc[3] = { 2.55f, 3.21f, 3.77f };
+    Spectrum r;                     /* "reflectance", shared (albedo_set_table) */
     if (!get_string(P, pl, "name", &name)) return 0;
     if (name && *name) {
         Param *pg = param_find(pl, PT_FLOAT, "g");
@@ -568,9 +571,10 @@ static int sss_coefficients(Parser *P, ParamList *pl, const char *file, int line
         return fail(P, file, line, "%s \"subsurface\": \"sigma_%s\" given without \"sigma_%s\"",
                     dir, ga ? "a" : "s", ga ? "s" : "a");
     if (ga) return 1;
-    if (!sss_param(P, pl, "reflectance", SPEC_ALBEDO, &m->reflectance, &m->reflectance_tex, &gr))
+    if (!sss_param(P, pl, "reflectance", SPEC_ALBEDO, &r, &m->reflectance_tex, &gr))
         return 0;
     if (gr) {
+        if (!m->reflectance_tex && !albedo_set_table(P, &m->reflectance, &r, file, line)) return 0;
         spec_const(&ss->mfp, 1.0f);
         ss->from_albedo = 1;
         return sss_param(P, pl, "mfp", SPEC_COEFF, &ss->mfp, &ss->tex[SSS_TEX_MFP], &gm);

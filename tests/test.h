@@ -184,7 +184,8 @@ SurfacePoint test_flat_point(void);
 /* Material.extra for a material built by hand (a conductor, a coat): zeroed static
    storage, a ring of 64 records reused in turn; never freed (no material_release). */
 MaterialSpectra *test_material_extra(void);
-/* A Spectrum for a test Material's eta to point at (a ring of 64, as above). */
+/* A Spectrum for a test Material's eta (or reflectance.tab) to point at (a ring of
+   64, as above). */
 Spectrum *test_material_eta(void);
 const Spectrum *test_eta_const(float eta);           /* test_material_eta, constant eta */
 const Spectrum *test_eta_named(const char *name);    /* test_material_eta, spec_named */

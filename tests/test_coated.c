@@ -17,10 +17,12 @@ static void coated(Material *m, float r_short, float r_long, float alpha, float 
     memset(m, 0, sizeof *m);
     m->extra = test_material_extra();
     m->type = MAT_COATED_DIFFUSE;
-    spec_const(&m->reflectance, r_short);
     {
+        Spectrum *r = test_material_eta();        /* a table from the ring */
         int nm;
-        for (nm = 550; nm <= SPEC_MAX; nm++) *spec_at(&m->reflectance, nm) = r_long;
+        spec_const(r, r_short);
+        for (nm = 550; nm <= SPEC_MAX; nm++) *spec_at(r, nm) = r_long;
+        m->reflectance.tab = r;
     }
     m->eta = test_eta_const(eta);
     spec_const(&m->extra->albedo, albedo);
@@ -573,11 +575,11 @@ static void test_parse(T *t)
                          "Shape \"sphere\"\n")) return;
     m = &s.materials[s.n_materials - 1];
     CHECK(t, m->type == MAT_COATED_DIFFUSE, "type %d", (int)m->type);
-    CHECK(t, spec_eval(&m->reflectance, 500) == 0.5f && spec_eval(m->eta, 500) == 1.5f &&
+    CHECK(t, albedo_eval(&m->reflectance, 500) == 0.5f && spec_eval(m->eta, 500) == 1.5f &&
           spec_eval(&m->extra->albedo, 500) == 0.0f && m->thickness == 0.01f && m->hg_g == 0.0f &&
           m->maxdepth == 10 && m->nsamples == 1 && m->alpha == 0.0f,
           "defaults: R %g eta %g albedo %g thickness %g g %g maxdepth %d nsamples %d alpha %g",
-          spec_eval(&m->reflectance, 500), spec_eval(m->eta, 500), spec_eval(&m->extra->albedo, 500),
+          albedo_eval(&m->reflectance, 500), spec_eval(m->eta, 500), spec_eval(&m->extra->albedo, 500),
           m->thickness, m->hg_g, m->maxdepth, m->nsamples, m->alpha);
     scene_free(&s);
     if (!test_load_scene(t, &s, "WorldBegin\nMaterial \"coateddiffuse\" \"float roughness\" 0.25 "

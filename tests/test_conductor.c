@@ -159,7 +159,7 @@ static void test_reflectance_param(T *t)
     m = &s.materials[0];
     CHECK(t, m->type == MAT_CONDUCTOR && m->alpha == 0.0f && mat_is_delta(m), "a smooth conductor");
     for (nm = 400; nm <= 700; nm += 50) {
-        float r = spec_eval(&m->reflectance, nm);
+        float r = albedo_eval(&m->reflectance, nm);
         float F = fresnel_conductor(1.0f, spec_eval(m->eta, nm), spec_eval(&m->extra->k, nm));
         CHECK(t, spec_eval(m->eta, nm) == 1.0f, "eta = 1");
         CHECK(t, fabsf(F - r) < 1e-5f, "%g nm: F(normal) %g, reflectance %g", nm, F, r);
@@ -512,7 +512,7 @@ static void test_difftrans_albedo(T *t)
     CHECK(t, m->type == MAT_DIFFUSE_TRANSMISSION && !mat_is_delta(m), "type");
     /* scale 1.5 then clamped to 1: T(360) = 0.9, R(830) = 0.75 */
     CHECK(t, fabsf(spec_eval(&m->extra->transmittance, 360) - 0.9f) < 1e-6f &&
-          fabsf(spec_eval(&m->reflectance, 830) - 0.75f) < 1e-6f, "scale");
+          fabsf(albedo_eval(&m->reflectance, 830) - 0.75f) < 1e-6f, "scale");
     CHECK(t, fabsf(m->p_reflect - 0.75f / (0.75f + 0.9f)) < 1e-6f, "p_reflect %g", m->p_reflect);
     rng_seed(&r, 27, 0);
     for (i = 0; i < n; i++) {
@@ -528,13 +528,14 @@ static void test_difftrans_albedo(T *t)
             float f[HERO_N], p[HERO_N];
             bsdf_eval(m, &sp, wo, bs.wi, lam, 15u, f, p);
             CHECK(t, fabsf(p[0] - bs.pdf) <= 1e-5f * bs.pdf && fabsf(f[3] - bs.f[3]) <= 1e-6f, "sample != eval");
-            CHECK(t, fabsf(f[1] - spec_eval(bs.wi.z > 0 ? &m->reflectance : &m->extra->transmittance, lam[1]) / PI_F) < 1e-6f,
+            CHECK(t, fabsf(f[1] - (bs.wi.z > 0 ? albedo_eval(&m->reflectance, lam[1])
+                                                : spec_eval(&m->extra->transmittance, lam[1])) / PI_F) < 1e-6f,
                   "f is R/pi or T/pi");
         }
     }
     CHECK(t, ok == n, "every sample succeeds on a flat surface (%d of %d)", ok, n);
     for (i = 0; i < HERO_N; i++) {
-        double R = spec_eval(&m->reflectance, lam[i]), Tt = spec_eval(&m->extra->transmittance, lam[i]);
+        double R = albedo_eval(&m->reflectance, lam[i]), Tt = spec_eval(&m->extra->transmittance, lam[i]);
         double pr = m->p_reflect;
         /* each sample weighs R/pr or T/(1-pr): a binomial count times a constant */
         double se_r = R / pr * sqrt(pr * (1 - pr) / n), se_t = Tt / (1 - pr) * sqrt(pr * (1 - pr) / n);
@@ -582,7 +583,7 @@ static void test_parse_defaults(T *t)
     CHECK(t, fabsf(m[2].alpha - 0.09f) < 1e-7f && spec_eval(&m[2].extra->k, 550) == 4.0f, "no remap; k given");
     CHECK(t, m[3].type == MAT_THIN_DIELECTRIC && spec_eval(m[3].eta, 500) == 1.5f, "thin eta 1.5 by default");
     CHECK(t, spec_eval(m[4].eta, 500) == 1.33f, "float eta");
-    CHECK(t, m[5].type == MAT_DIFFUSE_TRANSMISSION && spec_eval(&m[5].reflectance, 500) == 0.25f &&
+    CHECK(t, m[5].type == MAT_DIFFUSE_TRANSMISSION && albedo_eval(&m[5].reflectance, 500) == 0.25f &&
           spec_eval(&m[5].extra->transmittance, 500) == 0.25f && m[5].p_reflect == 0.5f, "0.25 and 0.25");
     scene_free(&s);
 }

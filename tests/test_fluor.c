@@ -280,7 +280,7 @@ static double model_Lo(const Material *m, const Spectrum *Le, double lo, const d
             sum += m->fl->qyield * spec_eval(&m->fl->excitation, (float)li) * e * (li / lo) / Ntab[k]
                    * spec_eval(Le, (float)li) * h;
     }
-    return spec_eval(&m->reflectance, (float)lo) * (1.0 - spec_eval(&m->fl->excitation, (float)lo))
+    return albedo_eval(&m->reflectance, (float)lo) * (1.0 - spec_eval(&m->fl->excitation, (float)lo))
            * spec_eval(Le, (float)lo) + sum;
 }
 
@@ -546,7 +546,7 @@ static int closed_sphere_solve(const Material *m, const Spectrum *Le, SphereMode
     for (k = 0; k < n; k++) A[k] = spec_eval(&m->fl->excitation, (float)(300.0 + k * h));
     for (k = 0; k < n; k++) {
         double lo = 300.0 + k * h, e = spec_eval(&m->fl->emission, (float)lo);
-        double ar = spec_eval(&m->reflectance, (float)lo) * (1.0 - A[k]);
+        double ar = albedo_eval(&m->reflectance, (float)lo) * (1.0 - A[k]);
         double rhs = spec_eval(Le, (float)lo), diag = 1.0 - ar;
         for (i = 0; i <= k; i++) {
             double li = 300.0 + i * h, w = (i == 0 || i == k) ? 0.5 * h : h, K;

@@ -72,7 +72,7 @@ static int same_material(const Scene *a, int sa, const Scene *b, int sb)
     const Material *ma = &a->materials[a->shapes[sa].material];
     const Material *mb = &b->materials[b->shapes[sb].material];
     return ma->type == mb->type && (ma->reflectance_tex > 0) == (mb->reflectance_tex > 0) &&
-           spec_eval(&ma->reflectance, 550.0f) == spec_eval(&mb->reflectance, 550.0f);
+           albedo_eval(&ma->reflectance, 550.0f) == albedo_eval(&mb->reflectance, 550.0f);
 }
 
 /* Random rays from the camera's side at the three objects: every hit of the
@@ -462,8 +462,8 @@ static void test_attribute_precedence(T *t)
     }
     if (!test_load_scene(t, &s, text)) return;
     for (l = 400; l <= 700; l += 50) {
-        const float a = spec_eval(&s.materials[s.shapes[5].material].reflectance, (float)l);
-        const float b = spec_eval(&s.materials[s.shapes[6].material].reflectance, (float)l);
+        const float a = albedo_eval(&s.materials[s.shapes[5].material].reflectance, (float)l);
+        const float b = albedo_eval(&s.materials[s.shapes[6].material].reflectance, (float)l);
         CHECK(t, a == b, "reflectance at %d nm: %g from the Attribute, %g given directly", l, a, b);
     }
     scene_free(&s);

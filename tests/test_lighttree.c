@@ -963,18 +963,20 @@ static void test_bins_many_radiances(T *t)
 
 /* The spectral tree's root power per 5 nm bin from 300 nm up is the sum over
    the lamps of pi A times the bin's mean of each lamp's Le (spec_band_mean, the
-   trapezoid rule over the table), relative 1e-5: three sphere lamps of spiky,
-   bluish and rgb spectra. */
+   trapezoid rule over the table), relative 1e-5: four sphere lamps of spiky,
+   bluish, rgb and UV-emitting spectra. */
 static void test_root_bins_are_band_means(T *t)
 {
     static char buf[1 << 14];
-    static const char *const L[3] = { "\"spectrum L\" " SPIKY, "\"spectrum L\" " BLUEISH, "\"rgb L\" [ 2 0.3 0.1 ]" };
+    /* the last one also emits in the UV (300-400 nm: the bins fluorescence reads) */
+    static const char *const L[4] = { "\"spectrum L\" " SPIKY, "\"spectrum L\" " BLUEISH, "\"rgb L\" [ 2 0.3 0.1 ]",
+                                      "\"spectrum L\" [ 300 0.5  350 2  400 1  700 1 ]" };
     Scene s;
     LightSampler *ls;
     float got[128];
     int i, b, nb, bad = 0;
     snprintf(buf, sizeof buf, "%s", camera16);
-    for (i = 0; i < 3; i++) {
+    for (i = 0; i < 4; i++) {
         size_t len = strlen(buf);
         snprintf(buf + len, sizeof buf - len, "AttributeBegin\nAreaLightSource \"diffuse\" %s\n"
                  "Translate %d 1 0\nShape \"sphere\" \"float radius\" 0.%d\nAttributeEnd\n", L[i], i - 1, i + 1);

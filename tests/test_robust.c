@@ -83,7 +83,7 @@ static void test_include_params_continue(T *t)
         "WorldBegin\nInclude \"cont_part.pbrt\"\n  \"spectrum reflectance\" [400 0.25 700 0.25]\n"
         "Shape \"sphere\"\n");
     CHECK(t, scene_load(&s, p, &e), "%s", e.msg);
-    CHECK(t, s.n_materials == 1 && fabsf(spec_eval(&s.materials[0].reflectance, 550.0f) - 0.25f) < 1e-6f,
+    CHECK(t, s.n_materials == 1 && fabsf(albedo_eval(&s.materials[0].reflectance, 550.0f) - 0.25f) < 1e-6f,
           "the parameter after the Include did not reach the Material (%d materials)",
           s.n_materials);
     scene_free(&s);

@@ -8,6 +8,7 @@
    the form "file:line: ..." with the right line and the key words.  Scratch
    files go to the test tmpdir (test_write_file); fixtures live in tests/scenes/. */
 #include "test.h"
+#include "../parser.h"
 #include <string.h>
 #include <stdlib.h>
 
@@ -98,7 +99,7 @@ static void test_defaults(T *t)
           st->filter_sigma == 0.5f, "default filter must be pbrt-v4's gaussian 1.5/0.5");
     CHECK(t, strcmp(st->filename, "pbrt.pfm") == 0, "default file \"%s\"", st->filename);
     CHECK(t, s.n_shapes == 1 && s.n_spheres == 1 && s.n_materials == 1, "one sphere, one material");
-    CHECK(t, s.materials[0].type == MAT_DIFFUSE && near(spec_eval(&s.materials[0].reflectance, 550), 0.5, 1e-6),
+    CHECK(t, s.materials[0].type == MAT_DIFFUSE && near(albedo_eval(&s.materials[0].reflectance, 550), 0.5, 1e-6),
           "default material must be diffuse 0.5");
     CHECK(t, s.shapes[0].radius == 1.0f && vnear(s.shapes[0].center, v3(0, 0, 0), 0),
           "default sphere: radius 1 at the origin");
@@ -314,7 +315,7 @@ static void test_named_materials(T *t)
     CHECK(t, load(&s, text, &e), "%s", e.msg);
     m0 = &s.materials[s.shapes[0].material];
     m1 = &s.materials[s.shapes[1].material];
-    CHECK(t, m0->type == MAT_DIFFUSE && near(spec_eval(&m0->reflectance, 500), 0.25, 1e-6),
+    CHECK(t, m0->type == MAT_DIFFUSE && near(albedo_eval(&m0->reflectance, 500), 0.25, 1e-6),
           "NamedMaterial \"paint\"");
     CHECK(t, m1->type == MAT_DIELECTRIC && near(spec_eval(m1->eta, 500), 1.33, 1e-6) &&
           !m1->dispersive && m1->alpha == 0, "NamedMaterial \"glass\"");
@@ -425,7 +426,8 @@ static void test_shared_spectra(T *t)
     scene_lamps_text(buf, sizeof buf, 0, 43);
     CHECK(t, load(&s, buf, &e), "%s", e.msg);
     if (t->failed) return;
-    CHECK(t, s.n_emitters == 43 && s.spectra.n == 23, "43 lamps of 23 distinct spectra: "
+    /* and one record more: the default material's reflectance 0.5 */
+    CHECK(t, s.n_emitters == 43 && s.spectra.n == 24, "43 lamps of 23 distinct spectra: "
           "%d emitters, %d spectrum records", s.n_emitters, s.spectra.n);
     for (i = 0; i < 20; i++) {
         shared &= s.emitters[i].L == s.emitters[i + 20].L;
@@ -462,6 +464,66 @@ static const char *const ETA_MATS[] = {
     "\"conductor\"", "\"coateddiffuse\"", "\"thindielectric\" \"float eta\" 1.33",
     "\"dielectric\" \"float eta\" 1.33", "\"diffuse\" \"rgb reflectance\" [ 0.2 0.3 0.4 ]"
 };
+/* A material's reflectance as the loader keeps it.  In a scene that holds
+   ALBEDO_TABLES spectrum records (here as many lamps of distinct rgb L), an "rgb"
+   colour of diffuse, coateddiffuse and fluorescent is its sigmoid (Albedo.rgb, no
+   table), evaluating as spec_from_rgb_t's table of the colour, bit for bit; a grey
+   "rgb" and a "spectrum" stay tables (a grey's is the grey in the UV too).  In a
+   scene of few spectra the colours are tables too, the same values.  An "rgb" above
+   1 is refused with parser.c's message. */
+static void test_albedo_kinds(T *t)
+{
+    static const float col[3][3] = { { 0.2f, 0.5f, 0.9f }, { 0.8f, 0.1f, 0.1f }, { 0.1f, 0.7f, 0.3f } };
+    const char *mats =
+        "Material \"diffuse\" \"rgb reflectance\" [ 0.2 0.5 0.9 ]\n"
+        "Material \"coateddiffuse\" \"rgb reflectance\" [ 0.8 0.1 0.1 ]\n"
+        "Material \"fluorescent\" \"rgb reflectance\" [ 0.1 0.7 0.3 ] \"spectrum excitation\" "
+        "[ 300 1 400 0 ] \"spectrum emission\" [ 400 1 500 0 ]\n"
+        "Material \"diffuse\" \"rgb reflectance\" [ 0.3 0.3 0.3 ]\n"
+        "Material \"diffuse\" \"spectrum reflectance\" [ 300 0.2 830 0.6 ]\n";
+    size_t cap = 160 * ALBEDO_TABLES + 1024, len;
+    char *text = (char *)malloc(cap);
+    RgbTable *rt = rgb_table_new();     /* as the load's (parser.h Parser.rgb) */
+    Scene s;
+    Error e;
+    int i, k, many, kept = 1, same = 1;
+    CHECK(t, text && rt, "out of memory");
+    for (many = 1; many >= 0; many--) {
+        int base;
+        strcpy(text, "WorldBegin\n");
+        for (i = 0; many && i < ALBEDO_TABLES; i++) {
+            len = strlen(text);
+            snprintf(text + len, cap - len, "AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" "
+                     "[ %d 1 2 ]\nShape \"sphere\" \"float radius\" 0.01\nAttributeEnd\n", i + 3);
+        }
+        len = strlen(text);
+        snprintf(text + len, cap - len, "%s", mats);
+        if (!load(&s, text, &e)) break;
+        base = s.n_materials - 5;
+        for (k = 0; k < 3; k++) {
+            Spectrum tab;
+            const Albedo *a = &s.materials[base + k].reflectance;
+            kept &= (many ? a->rgb && !a->tab : !a->rgb && a->tab) &&
+                    spec_from_rgb_t(rt, &tab, col[k], 0, &e, "t", 1);
+            for (i = 0; i <= 5400 && kept; i++)
+                same &= albedo_eval(a, 295.0f + 0.1f * (float)i) == spec_eval(&tab, 295.0f + 0.1f * (float)i);
+        }
+        kept &= !s.materials[base + 3].reflectance.rgb && !s.materials[base + 4].reflectance.rgb;
+        same &= albedo_eval(&s.materials[base + 3].reflectance, 330.0f) == 0.3f &&
+                albedo_eval(&s.materials[base + 3].reflectance, 600.5f) == 0.3f &&
+                fabsf(albedo_eval(&s.materials[base + 4].reflectance, 565.0f) - 0.4f) < 1e-6f;
+        scene_free(&s);
+    }
+    free(text);
+    rgb_table_free(rt);
+    CHECK(t, many < 0, "%s", e.msg);
+    CHECK(t, kept, "colours not kept as sigmoids among many spectra, or not as tables among few; "
+          "greys or spectra not as tables");
+    CHECK(t, same, "a reflectance differs from its table");
+    expect_reject(t, "WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ 1.2 0.5 0.5 ]\n", 2,
+                  "\"rgb reflectance\": a reflectance must be within [0,1]", NULL);
+}
+
 static void test_shared_eta(T *t)
 {
     /* the records: 1 (0, 9), 1.5 (1, 2, 6), BK7 (3, 4), Cu (5), 1.33 (7, 8) */
@@ -476,8 +538,13 @@ static void test_shared_eta(T *t)
         snprintf(buf + strlen(buf), sizeof buf - strlen(buf), "Material %s\n", ETA_MATS[i]);
     CHECK(t, load(&s, buf, &e), "%s", e.msg);
     if (t->failed) return;
-    CHECK(t, s.n_materials == 10 && s.spectra.n == 5, "10 materials of 5 distinct etas: %d "
+    /* and two records more: the reflectance 0.5 of materials 0 and 6, shared, and
+       the colour of material 9 (few spectra: a table, parser.h rgb_albedo_param) */
+    CHECK(t, s.n_materials == 10 && s.spectra.n == 7, "10 materials of 5 distinct etas: %d "
           "materials, %d spectrum records", s.n_materials, s.spectra.n);
+    CHECK(t, s.materials[0].reflectance.tab && s.materials[0].reflectance.tab == s.materials[6].reflectance.tab &&
+          !s.materials[9].reflectance.rgb && s.materials[9].reflectance.tab,
+          "the reflectances 0.5 do not share a record, or a colour among few spectra has no table");
     for (i = 0; i < 10; i++)
         for (j = 0; j < 10; j++)
             same &= (s.materials[i].eta == s.materials[j].eta) == (group[i] == group[j]);
@@ -657,7 +724,7 @@ static void test_spectrum_file(T *t)
     main_path = test_write_file(t, "scene_spd.pbrt", "WorldBegin\n"
         "Material \"diffuse\" \"spectrum reflectance\" \"scene_refl.spd\"\nShape \"sphere\"\n");
     CHECK(t, scene_load(&s, main_path, &e), "%s", e.msg);
-    CHECK(t, near(spec_eval(&s.materials[0].reflectance, 555), 0.3, 1e-6),
+    CHECK(t, near(albedo_eval(&s.materials[0].reflectance, 555), 0.3, 1e-6),
           "spectrum file next to the scene");
     scene_free(&s);
 }
@@ -735,8 +802,8 @@ static void test_cornell(T *t)
           "the light must face down");
     for (i = 0; i < s.n_shapes; i++) {
         const Material *m = &s.materials[s.shapes[i].material];
-        if (m->type == MAT_DIFFUSE && spec_eval(&m->reflectance, 650) > 0.5f &&
-            spec_eval(&m->reflectance, 450) < 0.1f) red = i;
+        if (m->type == MAT_DIFFUSE && albedo_eval(&m->reflectance, 650) > 0.5f &&
+            albedo_eval(&m->reflectance, 450) < 0.1f) red = i;
     }
     CHECK(t, red >= 0, "no red wall found");
     c = xf_point(&s.settings.camera_from_world, s.P[s.tris[s.shapes[red].tri_begin].v[0]]);
@@ -946,6 +1013,7 @@ static void test_long_names(T *t)
 const TestCase tests_scene[] = {
     {"scene_shared_spectra", test_shared_spectra},
     {"scene_shared_eta", test_shared_eta},
+    {"scene_albedo_kinds", test_albedo_kinds},
     {"scene_defaults", test_defaults},
     {"scene_options", test_options},
     {"scene_camera_frame", test_camera_frame},

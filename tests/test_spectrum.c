@@ -419,6 +419,87 @@ static void test_rgb_albedo_in_unit(T *t)
     rgb_table_free(tab);
 }
 
+/* One colour: its Albedo against spec_eval of spec_from_rgb_t's table at the
+   n wavelengths lam; the count of values that differ (bit for bit) or leave [0, 1]
+   (n when the colour is not taken). */
+static int albedo_mismatches(T *t, RgbTable *tab, const float rgb[3], const float *lam, int n)
+{
+    Spectrum s;
+    Albedo a;
+    Error e;
+    int i, bad = 0;
+    memset(&a, 0, sizeof a);
+    if (!spec_from_rgb_t(tab, &s, rgb, 0, &e, "t", 1) || !albedo_from_rgb(tab, rgb, &a) || !a.rgb) {
+        test_failf(t, __FILE__, __LINE__, "(%g, %g, %g) not taken as a colour", rgb[0], rgb[1], rgb[2]);
+        return n;
+    }
+    for (i = 0; i < n; i++) {
+        float v = albedo_eval(&a, lam[i]);
+        bad += !(v == spec_eval(&s, lam[i]) && v >= 0.0f && v <= 1.0f);
+    }
+    return bad;
+}
+
+/* A material's "rgb" reflectance kept as its sigmoid's three coefficients (Albedo)
+   evaluates exactly as the dense table it replaces: spec_eval of spec_from_rgb_t's
+   table, bit for bit (the stated tolerance is 0), and within [0, 1].  Colours: a
+   9^3 grid of [0, 1]^3 (0 and 1 included: the saturated faces and corners lie
+   outside any spectrum's gamut, where the sigmoid reaches 0 or 1), 500 random
+   ones, near-greys; wavelengths: 2,000 over 295-835 nm at an irrational step,
+   every knot, and the edges (the UV ramp 359-360 nm, 830 nm and past it).  A grey,
+   a component outside [0, 1] or NaN is not taken (the caller tabulates it: a grey's
+   table is the grey in the UV too; the others are refused there). */
+static void test_albedo_compact(T *t)
+{
+    static float lam[2000 + 541 + 12];
+    static const float edge[12] = { 295.0f, 300.0f, 358.999f, 359.0f, 359.25f, 359.9999f,
+                                    360.0f, 360.0001f, 829.9999f, 830.0f, 830.5f, 1000.0f };
+    static const float near_grey[4][3] = { { 0.5f, 0.5f, 0.50001f }, { 1.0f, 1.0f, 0.999f },
+                                           { 0.0f, 0.0f, 1e-4f }, { 1.0f, 1.0f, 0.0f } };
+    RgbTable *tab = rgb_table_new();
+    float rgb[3], nan = NAN;
+    Albedo a;
+    unsigned u = 12345u;
+    int n = 0, i, r, g, b, bad = 0, taken = 0;
+    if (!tab) { CHECK(t, 0, "rgb_table_new: out of memory"); return; }
+    for (i = 0; i < 2000; i++) lam[n++] = 295.0f + (float)i * 0.2701f;
+    for (i = SPEC_UV_MIN; i <= SPEC_MAX; i++) lam[n++] = (float)i;
+    for (i = 0; i < 12; i++) lam[n++] = edge[i];
+    for (r = 0; r <= 8; r++)
+        for (g = 0; g <= 8; g++)
+            for (b = 0; b <= 8; b++) {
+                rgb[0] = r / 8.0f; rgb[1] = g / 8.0f; rgb[2] = b / 8.0f;
+                if (r == g && g == b) continue;
+                bad += albedo_mismatches(t, tab, rgb, lam, n);
+            }
+    for (i = 0; i < 500; i++) {
+        for (r = 0; r < 3; r++) { u = u * 1664525u + 1013904223u; rgb[r] = (float)(u >> 8) / 16777216.0f; }
+        bad += albedo_mismatches(t, tab, rgb, lam, n);
+    }
+    for (i = 0; i < 4; i++) bad += albedo_mismatches(t, tab, near_grey[i], lam, n);
+    CHECK(t, bad == 0, "%d values of compact albedos differ from the table's or leave [0, 1]", bad);
+    /* not taken: greys, components outside [0, 1], NaN */
+    for (i = 0; i < 6; i++) {
+        static const float no[6][3] = { { 0, 0, 0 }, { 1, 1, 1 }, { 0.3f, 0.3f, 0.3f },
+                                        { 1.5f, 0.2f, 0.3f }, { 0.2f, -0.1f, 0.3f }, { 0.2f, 0.3f, 0 } };
+        memcpy(rgb, no[i], sizeof rgb);
+        if (i == 5) rgb[2] = nan;
+        memset(&a, 0, sizeof a);
+        taken += albedo_from_rgb(tab, rgb, &a) || a.rgb;
+    }
+    CHECK(t, taken == 0, "%d greys or invalid colours taken as a compact albedo", taken);
+    /* a zeroed Albedo is zero; a table is read as spec_eval reads it */
+    {
+        Spectrum s;
+        memset(&a, 0, sizeof a);
+        spec_named(&s, "stdillum-D65");
+        CHECK(t, albedo_eval(&a, 550.0f) == 0.0f && albedo_eval(&a, 330.0f) == 0.0f, "a zeroed Albedo is not 0");
+        a.tab = &s;
+        CHECK(t, albedo_eval(&a, 551.3f) == spec_eval(&s, 551.3f), "a table is not read as spec_eval");
+    }
+    rgb_table_free(tab);
+}
+
 static void test_rgb_illuminant(T *t)
 {
     Spectrum s, d65;
@@ -1000,6 +1081,7 @@ const TestCase tests_spectrum[] = {
     { "spectrum_bins", test_bins },
     { "spectrum_rgb_reflectance", test_rgb_reflectance },
     { "spectrum_rgb_albedo_in_unit", test_rgb_albedo_in_unit },
+    { "spectrum_albedo_compact", test_albedo_compact },
     { "spectrum_rgb_illuminant", test_rgb_illuminant },
     { "spectrum_rgb_table", test_rgb_table },
     { "spectrum_rgbtable", test_rgbtable },
