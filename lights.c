@@ -18,10 +18,13 @@
       infinite light (infinite.c) or a delta light (delta.c).  Its radiance is
       pbrt-v4's Le = scale L / sum_{1 nm over the film's range} ybar L, so a directly
       seen emitter has luminance scale; the range belongs to a render, so Le lives in
-      the LightSampler (light_sampler_build), not in the Scene.  Points are sampled
-      by area (a triangle by area, then uniformly on it), with the solid-angle
-      density p_sigma(y) = |x - y|^2 / (A |cos theta_y|) (THEORY §4); a
-      sphere seen from outside in the cone it subtends (sphere_cone).  An area
+      the LightSampler (light_sampler_build), not in the Scene.  A mesh's point:
+      a triangle by area, then on it by the solid angle it subtends from the
+      receiver, the cosine at the receiver's normal warped in (sample_triangle,
+      sphtri.c, THEORY §5.6), or, where that solid angle is out of range or with
+      --light-shape-sampling area, uniformly on it, with the solid-angle density
+      p_sigma(y) = |x - y|^2 / (A |cos theta_y|) (THEORY §4); other shapes by
+      area; a sphere seen from outside in the cone it subtends (sphere_cone).  An area
       light with an emission image (pbrt-v4's "filename") has a radiance that
       depends on the point, Le(x) = scale I(u, 1 - v) D65 / sum ybar D65
       (light_Le_at): BSDF-found hits read it at the hit, NEE at the point it

@@ -2032,11 +2032,12 @@ int   emitter_apply_power(const Scene *s, Emitter *em, const Shape *sh);
    stand-in used only by the selection tables. */
 int   emitter_radiance(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *Le, Error *err);
 /* Spherical triangles (sphtri.c, THEORY §5.6): a triangle seen from a point as the
-   unit directions a, b, c towards its vertices, its angle alpha at a and its solid
-   angle (area, sr).  sph_tri_setup: 0 when degenerate (area <= 0).  sph_tri_sample:
+   unit directions a, b, c towards its vertices, e the unit tangent at a of the arc
+   from a to c, the cosine and sine of its angle alpha at a, and its solid angle
+   (area, sr).  sph_tri_setup: 0 when degenerate (area <= 0).  sph_tri_sample:
    Arvo's map of [0, 1]^2 onto it (density 1 / area); sph_tri_invert: its inverse
    for a direction inside (0 when w lies along b). */
-typedef struct { double a[3], b[3], c[3], alpha, area; } SphTri;
+typedef struct { double a[3], b[3], c[3], e[3], cos_alpha, sin_alpha, area; } SphTri;
 int   sph_tri_setup(Vec3 ref, Vec3 v0, Vec3 v1, Vec3 v2, SphTri *t);
 Vec3  sph_tri_sample(const SphTri *t, double u0, double u1);
 int   sph_tri_invert(const SphTri *t, Vec3 w, double *u0, double *u1);

@@ -6,7 +6,9 @@
    its spherical excess (Girard)
        Omega = alpha + beta + gamma - pi,
    alpha, beta, gamma its angles at A, B, C (the angles between the great circles
-   that meet there).  Arvo's map (J. Arvo, "Stratified sampling of spherical
+   that meet there); computed here as Van Oosterom and Strackee's
+   2 atan(|A . (B x C)| / (1 + A.B + B.C + C.A)), the same number with one
+   arctangent, stable for small triangles.  Arvo's map (J. Arvo, "Stratified sampling of spherical
    triangles", SIGGRAPH 1995) takes the unit square onto it with the constant
    Jacobian 1 / Omega, so that a uniform (u0, u1) gives a direction with the
    density 1 / Omega:
@@ -60,12 +62,6 @@ static int d3_unit(D3 a, D3 *out)
     *out = d3_mul(a, k);
     return 1;
 }
-/* the angle between unit vectors a and b, accurate near 0 and pi */
-static double d3_angle(D3 a, D3 b)
-{
-    D3 c = d3_cross(a, b);
-    return atan2(sqrt(d3_dot(c, c)), d3_dot(a, b));
-}
 /* The unit vector in the plane of a and b, perpendicular to a (unit), on b's side;
    0 when b is parallel to a. */
 static int d3_perp(D3 b, D3 a, D3 *out)
@@ -74,49 +70,57 @@ static int d3_perp(D3 b, D3 a, D3 *out)
 }
 static Vec3 d3_vec(D3 a) { return v3((float)a.x, (float)a.y, (float)a.z); }
 
-/* The angle at vertex a of the spherical triangle a b c: between the planes
-   through (a, b) and (a, c).  0 when an edge is degenerate. */
-static int corner_angle(D3 a, D3 b, D3 c, double *angle)
+/* The solid angle of the spherical triangle of unit vectors a, b, c (Van Oosterom
+   and Strackee 1983, equal to Girard's excess and stable for small ones):
+   tan(Omega / 2) = |a . (b x c)| / (1 + a.b + b.c + c.a). */
+static double solid_angle(D3 a, D3 b, D3 c)
 {
-    D3 nab, nac;
-    if (!d3_unit(d3_cross(a, b), &nab) || !d3_unit(d3_cross(a, c), &nac)) return 0;
-    *angle = d3_angle(nab, nac);
-    return 1;
+    return 2.0 * atan2(fabs(d3_dot(a, d3_cross(b, c))), 1.0 + d3_dot(a, b) + d3_dot(b, c) + d3_dot(c, a));
 }
 
-/* The spherical triangle seen from ref; 0 when a vertex is at ref or an edge is
-   degenerate (ref in the line of two vertices). */
+/* The spherical triangle seen from ref; 0 when a vertex is at ref or it is
+   degenerate (ref in its plane, or on the line of two vertices).  The angle alpha
+   at A is that between the planes (A, B) and (A, C), whose normals' cross product
+   is A (A . (B x C)) and dot product B.C - (A.B)(A.C), each over |A x B| |A x C|
+   = sqrt((1 - (A.B)^2) (1 - (A.C)^2)): Arvo's map needs only its cosine and sine. */
 int sph_tri_setup(Vec3 ref, Vec3 v0, Vec3 v1, Vec3 v2, SphTri *t)
 {
-    D3 r = d3(ref), A, B, C;
-    double al, be, ga;
+    D3 r = d3(ref), A, B, C, E;
+    double ab, ac, den;
     if (!d3_unit(d3_sub(d3(v0), r), &A) || !d3_unit(d3_sub(d3(v1), r), &B) ||
         !d3_unit(d3_sub(d3(v2), r), &C))
         return 0;
-    if (!corner_angle(A, B, C, &al) || !corner_angle(B, C, A, &be) || !corner_angle(C, A, B, &ga))
-        return 0;
+    ab = d3_dot(A, B);
+    ac = d3_dot(A, C);
+    den = (1.0 - ab * ab) * (1.0 - ac * ac);
+    if (!(den > 0.0)) return 0;
+    den = 1.0 / sqrt(den);
     t->a[0] = A.x; t->a[1] = A.y; t->a[2] = A.z;
     t->b[0] = B.x; t->b[1] = B.y; t->b[2] = B.z;
     t->c[0] = C.x; t->c[1] = C.y; t->c[2] = C.z;
-    t->alpha = al;
-    t->area = al + be + ga - SPECNEE_PI;
-    return t->area > 0.0;
+    if (!d3_perp(C, A, &E)) return 0;        /* the arc AC's direction at A */
+    t->e[0] = E.x; t->e[1] = E.y; t->e[2] = E.z;
+    t->cos_alpha = (d3_dot(B, C) - ab * ac) * den;
+    t->sin_alpha = fabs(d3_dot(A, d3_cross(B, C))) * den;
+    t->area = solid_angle(A, B, C);
+    return t->area > 0.0 && t->sin_alpha > 0.0;
 }
 
 static D3 tri_vertex(const double *v) { D3 r; r.x = v[0]; r.y = v[1]; r.z = v[2]; return r; }
 
-/* Arvo's map: (u0, u1) in [0, 1]^2 -> a unit direction in the triangle. */
+/* Arvo's map: (u0, u1) in [0, 1]^2 -> a unit direction in the triangle.  With
+   A' = u0 Omega: sin(A' - alpha) and cos(A' - alpha) by the angle difference. */
 Vec3 sph_tri_sample(const SphTri *t, double u0, double u1)
 {
-    D3 A = tri_vertex(t->a), B = tri_vertex(t->b), C = tri_vertex(t->c), Cp, e, w;
-    double Ap = u0 * t->area, s = sin(Ap - t->alpha), c = cos(Ap - t->alpha);
-    double ca = cos(t->alpha), sa = sin(t->alpha);
+    D3 A = tri_vertex(t->a), B = tri_vertex(t->b), Cp, e, w;
+    double Ap = u0 * t->area, ca = t->cos_alpha, sa = t->sin_alpha;
+    double sA = sin(Ap), cA = cos(Ap);
+    double s = sA * ca - cA * sa, c = cA * ca + sA * sa;
     double u = c - ca, v = s + sa * d3_dot(A, B);
     double den = (v * s + u * c) * sa, q, z;
     q = den != 0.0 ? ((v * c - u * s) * ca - v) / den : 1.0;
     q = q > 1.0 ? 1.0 : (q < -1.0 ? -1.0 : q);                             /* cos b' */
-    Cp = A;
-    if (d3_perp(C, A, &e)) Cp = d3_add(d3_mul(A, q), d3_mul(e, sqrt(1.0 - q * q)));
+    Cp = d3_add(d3_mul(A, q), d3_mul(tri_vertex(t->e), sqrt(1.0 - q * q)));
     z = 1.0 - u1 * (1.0 - d3_dot(Cp, B));
     z = z > 1.0 ? 1.0 : (z < -1.0 ? -1.0 : z);
     w = B;
@@ -129,17 +133,12 @@ Vec3 sph_tri_sample(const SphTri *t, double u0, double u1)
 int sph_tri_invert(const SphTri *t, Vec3 wv, double *u0, double *u1)
 {
     D3 A = tri_vertex(t->a), B = tri_vertex(t->b), C = tri_vertex(t->c), w = d3(wv), Cp;
-    double al, be, ga, sub, den, x, y;
+    double den, x, y;
     if (!d3_unit(w, &w)) return 0;
     /* C': on the great circle through B and w, and on the one through A and C */
     if (!d3_unit(d3_cross(d3_cross(B, w), d3_cross(C, A)), &Cp)) return 0;
     if (d3_dot(Cp, d3_add(A, C)) < 0.0) Cp = d3_mul(Cp, -1.0);
-    /* area of the sub-triangle A B C' (0 when C' is at A) */
-    if (corner_angle(A, B, Cp, &al) && corner_angle(B, Cp, A, &be) && corner_angle(Cp, A, B, &ga))
-        sub = al + be + ga - SPECNEE_PI;
-    else
-        sub = 0.0;
-    x = sub / t->area;
+    x = solid_angle(A, B, Cp) / t->area;                    /* area(A B C') / Omega */
     den = 1.0 - d3_dot(Cp, B);
     y = den > 0.0 ? (1.0 - d3_dot(w, B)) / den : 0.0;
     *u0 = x > 1.0 ? 1.0 : (x > 0.0 ? x : 0.0);
