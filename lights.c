@@ -388,7 +388,7 @@ static void point_on_triangle(const Scene *s, int tri, Vec3 ref, float u1, float
     out->p = sp.p;
     out->n = sp.ng;
     out->prim = tri;
-    out->b1 = h.b1;                   /* (point_on_triangle) */
+    out->b1 = h.b1;
     out->b2 = h.b2;
 }
 
@@ -428,8 +428,8 @@ static int sample_triangle(const Scene *s, int tri, double area, const Receiver 
     out->p = sp.p;
     out->n = sp.ng;
     out->prim = tri;
-    out->b1 = h.b1;
-    out->b2 = h.b2;
+    out->b1 = ts.b1;
+    out->b2 = ts.b2;
     d = v3_sub(out->p, rx->p);
     dist2 = v3_dot(d, d);
     if (!(dist2 > 0.0f)) return 0;
