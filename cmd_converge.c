@@ -53,7 +53,8 @@
 
 /* "name[:modifier]...": modifiers power, all, tput, importance, visible, mixture,
    mixture=M (weight M of visible), uniform (the wavelength pdf), roughmis, single,
-   wide, nonee, nosplit (light trees: a large emissive mesh stays one leaf), a
+   wide, nonee, nosplit (light trees: a large emissive mesh stays one leaf),
+   shapearea shapesa (--light-shape-sampling area, solidangle), a
    sampler (independent stratified sobol zsobol), fluorescence (flpower fluniform
    fla flkeep flterminate), media (medterminate medmis: --chromatic-media), and
    terminate, hero, unit that
@@ -95,6 +96,8 @@ int eval_parse_variant(const char *spec, RenderOptions *o)
         else if (!strcmp(tok, "flkeep")) o->fluor_keep = 1;                 /* --fluor-lanes keep */
         else if (!strcmp(tok, "flterminate")) o->fluor_keep = 0;
         else if (!strcmp(tok, "nosplit")) o->sel.no_split = 1;
+        else if (!strcmp(tok, "shapearea")) o->sel.area_sampling = 1;   /* --light-shape-sampling area */
+        else if (!strcmp(tok, "shapesa")) o->sel.area_sampling = 0;     /* ... solidangle */
         else if (!strcmp(tok, "medterminate")) o->media_terminate = 1;   /* --chromatic-media terminate */
         else if (!strcmp(tok, "medmis")) o->media_terminate = 0;
         else if (sampler_from_name(tok) != SAMPLER_COUNT) o->sampler = sampler_from_name(tok);
@@ -264,6 +267,7 @@ static const char usage_converge[] =
     "  (--fluor-li power), product:fluniform (--fluor-li uniform), product:fla\n"
     "  (--fluor-li a), product:flkeep (--fluor-lanes keep), product:flterminate,\n"
     "  spectral-tree:medterminate (--chromatic-media terminate), spectral-tree:medmis,\n"
+    "  spectral-tree:shapearea (--light-shape-sampling area), spectral-tree:shapesa,\n"
     "  and a sampler:\n"
     "  spatial:sobol, spatial:zsobol, spatial:stratified, spatial:independent\n"
     "  (stratified and zsobol are not progressive: their rungs are rendered one by\n"

@@ -18,10 +18,13 @@
       infinite light (infinite.c) or a delta light (delta.c).  Its radiance is
       pbrt-v4's Le = scale L / sum_{1 nm over the film's range} ybar L, so a directly
       seen emitter has luminance scale; the range belongs to a render, so Le lives in
-      the LightSampler (light_sampler_build), not in the Scene.  Points are sampled
-      by area (a triangle by area, then uniformly on it), with the solid-angle
-      density p_sigma(y) = |x - y|^2 / (A |cos theta_y|) (THEORY §4); a
-      sphere seen from outside in the cone it subtends (sphere_cone).  An area
+      the LightSampler (light_sampler_build), not in the Scene.  A mesh's point:
+      a triangle by area, then on it by the solid angle it subtends from the
+      receiver, the cosine at the receiver's normal warped in (sample_triangle,
+      sphtri.c, THEORY §5.6), or, where that solid angle is out of range or with
+      --light-shape-sampling area, uniformly on it, with the solid-angle density
+      p_sigma(y) = |x - y|^2 / (A |cos theta_y|) (THEORY §4); other shapes by
+      area; a sphere seen from outside in the cone it subtends (sphere_cone).  An area
       light with an emission image (pbrt-v4's "filename") has a radiance that
       depends on the point, Le(x) = scale I(u, 1 - v) D65 / sum ybar D65
       (light_Le_at): BSDF-found hits read it at the hit, NEE at the point it
@@ -395,47 +398,94 @@ static void point_on_triangle(const Scene *s, int tri, Vec3 ref, float u1, float
     out->b2 = h.b2;
 }
 
-/* A point on a mesh by area: a triangle (the first of tri_count whose cdf entry
+/* Where a lamp is seen from: the point, its shading normal (the zero vector in a
+   medium) and whether triangles are sampled by area only (SelOptions.area_sampling). */
+typedef struct { Vec3 p, ns; int area_only; } Receiver;
+
+static void tri_vertices(const Scene *s, int tri, Vec3 v[3])
+{
+    const Triangle *t = &s->tris[tri];
+    v[0] = s->P[t->v[0]]; v[1] = s->P[t->v[1]]; v[2] = s->P[t->v[2]];
+}
+
+/* A point on triangle tri of a piece of area `area`, which chose it with the
+   probability tri_area / area: by solid angle from the receiver where its range
+   allows (sphtri.c; density P_tri p_sigma, THEORY §5.6), else uniform by area
+   (density dist^2 / (area cos), as for the whole piece). */
+static int sample_triangle(const Scene *s, int tri, double area, const Receiver *rx, float u1, float u2,
+                           EmitterSample *out)
+{
+    Vec3 v[3];
+    SphTriSample ts;
+    HitRecord h;
+    SurfacePoint sp;
+    Ray dummy;
+    Vec3 d;
+    float dist2;
+    tri_vertices(s, tri, v);
+    if (rx->area_only || !tri_sample_sa(rx->p, rx->ns, v, u1, u2, &ts)) {
+        point_on_triangle(s, tri, rx->p, u1, u2, out);
+        return finish_sample(rx->p, area, out);
+    }
+    h.t = 0.0f; h.prim = tri; h.inst = -1;
+    h.b1 = ts.b1; h.b2 = ts.b2;
+    dummy.o = rx->p; dummy.d = ts.dir; dummy.tmax = 0.0f;
+    scene_surface_point(s, &dummy, &h, &sp);
+    out->p = sp.p;
+    out->n = sp.ng;
+    out->prim = tri;
+    out->b1 = ts.b1;
+    out->b2 = ts.b2;
+    d = v3_sub(out->p, rx->p);
+    dist2 = v3_dot(d, d);
+    if (!(dist2 > 0.0f)) return 0;
+    out->dist = sqrtf(dist2);
+    out->wi = v3_mul(d, 1.0f / out->dist);
+    out->pdf_sa = (float)(tri_area(s, tri) / area * ts.pdf);
+    return isfinite(out->pdf_sa) && out->pdf_sa > 0.0f;
+}
+
+/* A point on a mesh: a triangle by area (the first of tri_count whose cdf entry
    tri_cdf[t + 1] lies above u0, binary search), then a point on it; area: the
    whole mesh's.  emitter_sample and light_sample share it. */
 static int sample_mesh(const Scene *s, const float *tri_cdf, int tri_begin, int tri_count, double area,
-                       Vec3 ref, float u0, float u1, float u2, EmitterSample *out)
+                       const Receiver *rx, const float u[3], EmitterSample *out)
 {
     int lo = 0, hi = tri_count - 1;
     while (lo < hi) {
         int mid = (lo + hi) / 2;
-        if (tri_cdf[mid + 1] <= u0) lo = mid + 1; else hi = mid;
+        if (tri_cdf[mid + 1] <= u[0]) lo = mid + 1; else hi = mid;
     }
-    point_on_triangle(s, tri_begin + lo, ref, u1, u2, out);
-    return finish_sample(ref, area, out);
+    return sample_triangle(s, tri_begin + lo, area, rx, u[1], u[2], out);
 }
 
 /* A point on a bilinearmesh with twisted patches by area: a triangle or patch by
    the cdf (triangles first), then a point uniform by area on it (patch_sample). */
-static int sample_patch_mesh(const Scene *s, const Emitter *em, const Shape *sh, Vec3 ref,
-                             float u0, float u1, float u2, EmitterSample *out)
+static int sample_patch_mesh(const Scene *s, const Emitter *em, const Shape *sh, const Receiver *rx,
+                             const float u[3], EmitterSample *out)
 {
     int lo = 0, hi = sh->tri_count + sh->patch_count - 1;
+    Vec3 ref = rx->p;
     while (lo < hi) {
         int mid = (lo + hi) / 2;
-        if (em->tri_cdf[mid + 1] <= u0) lo = mid + 1; else hi = mid;
+        if (em->tri_cdf[mid + 1] <= u[0]) lo = mid + 1; else hi = mid;
     }
-    if (lo < sh->tri_count) point_on_triangle(s, sh->tri_begin + lo, ref, u1, u2, out);
-    else {
+    if (lo < sh->tri_count) return sample_triangle(s, sh->tri_begin + lo, em->area, rx, u[1], u[2], out);
+    {
         const Patch *pa = &s->patches[sh->patch_begin + lo - sh->tri_count];
         Vec3 c[4];
         Ray dummy;
         SurfacePoint sp;
-        float u, v;
+        float pu, pv;
         patch_corners(s, pa->v, c);
-        patch_sample(c, u1, u2, &u, &v);
+        patch_sample(c, u[1], u[2], &pu, &pv);
         dummy.o = ref; dummy.d = v3(0, 0, 1); dummy.tmax = 0.0f;
-        patch_surface_point(s, sh, pa->v, u, v, &dummy, &sp);
+        patch_surface_point(s, sh, pa->v, pu, pv, &dummy, &sp);
         out->p = sp.p;
         out->n = sp.ng;
         out->prim = s->n_tris + s->n_spheres + s->n_quadrics + sh->patch_begin + lo - sh->tri_count;
-        out->b1 = u;
-        out->b2 = v;
+        out->b1 = pu;
+        out->b2 = pv;
     }
     return finish_sample(ref, em->area, out);
 }
@@ -461,11 +511,13 @@ static int sphere_cone(const Shape *sh, Vec3 ref, double *omc)
     return *omc > 0.0;
 }
 
-int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2,
-                   EmitterSample *out)
+/* emitter_sample, by area only where rx says so (light_sample) */
+static int sample_emitter(const Scene *s, int e, const Receiver *rx, const float uu[3], EmitterSample *out)
 {
     const Emitter *em = &s->emitters[e];
     const Shape *sh;
+    const Vec3 ref = rx->p;
+    const float u0 = uu[0], u1 = uu[1], u2 = uu[2];
     out->delta = 0;
     if (em->delta.type != DELTA_NONE) return delta_sample(&em->delta, ref, out);
     if (em->inf) {
@@ -523,11 +575,18 @@ int emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2
         quadric_sample(sh, u1, u2, &out->p, &out->n);
         return finish_sample(ref, quadric_area_at(sh, out->p), out);
     } else if (sh->patch_count > 0) {
-        return sample_patch_mesh(s, em, sh, ref, u0, u1, u2, out);
+        return sample_patch_mesh(s, em, sh, rx, uu, out);
     } else {
-        return sample_mesh(s, em->tri_cdf, sh->tri_begin, sh->tri_count, em->area, ref, u0, u1, u2, out);
+        return sample_mesh(s, em->tri_cdf, sh->tri_begin, sh->tri_count, em->area, rx, uu, out);
     }
     return finish_sample(ref, em->area, out);
+}
+
+int emitter_sample(const Scene *s, int e, Vec3 ref, Vec3 ns, const float u[3], EmitterSample *out)
+{
+    Receiver rx;
+    rx.p = ref; rx.ns = ns; rx.area_only = 0;
+    return sample_emitter(s, e, &rx, u, out);
 }
 
 /* pbrt-v4's invisible area light: an area light whose shape has the constant alpha
@@ -614,8 +673,26 @@ static float pdf_sa_area(double area, Vec3 ref, Vec3 p, Vec3 n)
     return (float)(dist2 / (area * cos_y));
 }
 
-float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n)
+/* The pdf of a point p (normal n) on triangle prim of a piece of area `area` that
+   chooses its triangles by area: sample_triangle's, by solid angle where it samples
+   so, else by area; prim -1 (not known): by area. */
+static float pdf_triangle(const Scene *s, int prim, double area, const Receiver *rx, Vec3 p, Vec3 n)
 {
+    Vec3 v[3], d = v3_sub(p, rx->p);
+    double pdf;
+    if (!rx->area_only && prim >= 0 && prim < s->n_tris && v3_dot(d, d) > 0.0f) {
+        tri_vertices(s, prim, v);
+        if (tri_pdf_sa(rx->p, rx->ns, v, v3_norm(d), &pdf))
+            return (float)(tri_area(s, prim) / area * pdf);
+    }
+    return pdf_sa_area(area, rx->p, p, n);
+}
+
+/* emitter_pdf_sa, by area only where rx says so (light_pdf_sa) */
+static float pdf_emitter(const Scene *s, int e, const Receiver *rx, Vec3 p, Vec3 n, int prim)
+{
+    const Vec3 ref = rx->p;
+    const Shape *sh = s->emitters[e].shape >= 0 ? &s->shapes[s->emitters[e].shape] : NULL;
     if (s->emitters[e].delta.type != DELTA_NONE) return 0.0f;   /* no direction finds it */
     if (s->emitters[e].inf) {
         Vec3 d = v3_sub(p, ref);
@@ -631,7 +708,16 @@ float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n)
     }
     if (s->emitters[e].shape >= 0 && shape_is_quadric(s->shapes[s->emitters[e].shape].type))
         return pdf_sa_area(quadric_area_at(&s->shapes[s->emitters[e].shape], p), ref, p, n);
+    if (sh && sh->type == SHAPE_MESH && prim >= sh->tri_begin && prim < sh->tri_begin + sh->tri_count)
+        return pdf_triangle(s, prim, s->emitters[e].area, rx, p, n);
     return pdf_sa_area(s->emitters[e].area, ref, p, n);
+}
+
+float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 ns, Vec3 p, Vec3 n, int prim)
+{
+    Receiver rx;
+    rx.p = ref; rx.ns = ns; rx.area_only = 0;
+    return pdf_emitter(s, e, &rx, p, n, prim);
 }
 
 /* ------------------------------------------------------------------ the sampler */
@@ -757,11 +843,14 @@ static int build_voxel(const LightSampler *ls, long v, float *out)
                     ls->bmin.y + ext.y * (float)((vy + radical_inverse(3, (uint64_t)k)) / ls->res[1]),
                     ls->bmin.z + ext.z * (float)((vz + radical_inverse(5, (uint64_t)k)) / ls->res[2]));
         float u0 = (float)radical_inverse(7, (uint64_t)k), u1 = (float)radical_inverse(11, (uint64_t)k);
-        float u2 = (float)radical_inverse(13, (uint64_t)k);
+        float uu[3];
+        Receiver rx;                   /* by area: the estimate of the solid angle */
+        uu[0] = u0; uu[1] = u1; uu[2] = (float)radical_inverse(13, (uint64_t)k);
+        rx.p = p; rx.ns = v3(0.0f, 0.0f, 0.0f); rx.area_only = 1;
         for (j = 0; j < n; j++) {
             EmitterSample es;
             if (s->emitters[j].inf) { g[j] += 4.0 * SPECNEE_PI; continue; }  /* the whole sphere */
-            if (!emitter_sample(s, j, p, u0, u1, u2, &es)) continue;
+            if (!sample_emitter(s, j, &rx, uu, &es)) continue;
             /* one-sided: no light towards a receiver behind the emitter */
             if (!s->emitters[j].twosided && v3_dot(es.n, v3_neg(es.wi)) <= 0.0f) continue;
             g[j] += 1.0 / es.pdf_sa;
@@ -1266,33 +1355,36 @@ int light_piece_of(const LightSampler *ls, int e, int prim)
     return ls->emitter_piece[e];
 }
 
-int light_sample(const LightSampler *ls, int piece, Vec3 ref, float u0, float u1, float u2,
+int light_sample(const LightSampler *ls, int piece, Vec3 ref, Vec3 ns, const float u[3],
                  EmitterSample *out)
 {
     const LightPiece *pc = &ls->pieces[piece];
     int lo = 0, hi;
+    Receiver rx;
+    rx.p = ref; rx.ns = ns; rx.area_only = ls->opt.area_sampling;
     out->delta = 0;
     if (pc->count == 0) {                        /* a whole emitter */
         if (pc->tri_cdf)
-            return sample_mesh(ls->scene, pc->tri_cdf, pc->tri_begin, pc->tri_count, pc->area, ref, u0, u1, u2, out);
-        return emitter_sample(ls->scene, pc->emitter, ref, u0, u1, u2, out);
+            return sample_mesh(ls->scene, pc->tri_cdf, pc->tri_begin, pc->tri_count, pc->area, &rx, u, out);
+        return sample_emitter(ls->scene, pc->emitter, &rx, u, out);
     }
-    /* a cluster: a triangle by area (first cdf entry above u0), then a point */
+    /* a cluster: a triangle by area (first cdf entry above u[0]), then a point */
     hi = pc->count - 1;
     while (lo < hi) {
         int mid = (lo + hi) / 2;
-        if (ls->piece_cdf[pc->first + mid] <= u0) lo = mid + 1; else hi = mid;
+        if (ls->piece_cdf[pc->first + mid] <= u[0]) lo = mid + 1; else hi = mid;
     }
-    point_on_triangle(ls->scene, ls->piece_tri[pc->first + lo], ref, u1, u2, out);
-    return finish_sample(ref, pc->area, out);
+    return sample_triangle(ls->scene, ls->piece_tri[pc->first + lo], pc->area, &rx, u[1], u[2], out);
 }
 
-float light_pdf_sa(const LightSampler *ls, int piece, Vec3 ref, Vec3 p, Vec3 n)
+float light_pdf_sa(const LightSampler *ls, int piece, Vec3 ref, Vec3 ns, Vec3 p, Vec3 n, int prim)
 {
+    Receiver rx;
     if (piece < 0 || piece >= ls->n_pieces) return 0.0f;
+    rx.p = ref; rx.ns = ns; rx.area_only = ls->opt.area_sampling;
     if (ls->pieces[piece].count == 0)             /* a whole emitter (also an infinite one) */
-        return emitter_pdf_sa(ls->scene, ls->pieces[piece].emitter, ref, p, n);
-    return pdf_sa_area(ls->pieces[piece].area, ref, p, n);
+        return pdf_emitter(ls->scene, ls->pieces[piece].emitter, &rx, p, n, prim);
+    return pdf_triangle(ls->scene, prim, ls->pieces[piece].area, &rx, p, n);
 }
 
 /* ------------------------------------------------------------------ selection */

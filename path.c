@@ -572,7 +572,7 @@ static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const Pa
     float alpha;                                   /* a shape's "alpha" at es (lights.c) */
     SurfacePoint at_sp;                            /* es's (u, v), for an emission image */
     const SurfacePoint *at;
-    if (!light_sample(R->ls, piece, v->p, u[0], u[1], u[2], &es)) {
+    if (!light_sample(R->ls, piece, v->p, v->ctx->n, u, &es)) {
         if (dbg) fprintf(dbg, "  NEE: no usable point on emitter %d (seen edge-on or at distance 0)\n", em);
         return none;
     }
@@ -705,7 +705,7 @@ static Contribution emitter_found(Tracer *tr, const PathState *path, int e, cons
     /* the piece NEE would have had to choose to sample this point */
     piece = light_piece_of(R->ls, e, sp ? sp->prim : -1);
     if (prev->can_nee) {
-        pdf_sa = sp ? light_pdf_sa(R->ls, piece, prev->p, sp->p, sp->ng)
+        pdf_sa = sp ? light_pdf_sa(R->ls, piece, prev->p, prev->ctx.n, sp->p, sp->ng, sp->prim)
                     : inf_pdf(&R->s->emitters[e], prev->p, dir);
         q_nee = light_nee_pmf(R->ls, &prev->ctx, piece) * pdf_sa;
     }

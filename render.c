@@ -94,6 +94,7 @@ void render_options_thesis(RenderOptions *o)
     o->sampler = SAMPLER_INDEPENDENT;
     o->fluor_keep = 0;               /* a shift terminates the secondaries, as dispersion */
     o->fluor_li = FLUOR_LI_A;
+    o->sel.area_sampling = 1;        /* triangle lamps by area, as pbrt-v3 */
 }
 
 /* Does any material of s fluoresce?  (Only then are --fluor-li power's tables built.) */

@@ -64,6 +64,10 @@ static const char usage_options[] =
 "                          spatial product spectral-spatial  the thesis' voxel\n"
 "                                         tables: few emitters (each vertex O(n))\n"
 "                          uniform power spd all  baselines (docs/lighttree.md)\n"
+"      --light-shape-sampling M  a triangle lamp's point for NEE: solidangle (by the\n"
+"                          solid angle it subtends, the cosine warped in, where that\n"
+"                          lies in [3e-4, 6.22] sr: pbrt-v4's rule; default) or area\n"
+"                          (uniform on the triangle)\n"
 "      --spd-metric M      what the spectral table T_e(b) holds: unit (the bin average\n"
 "                          of the emitted radiance Le, default) or power (that x area);\n"
 "                          read by spd, product and spectral-spatial only (the trees\n"
@@ -139,11 +143,13 @@ typedef struct {
 static const char *const preset_thesis[] = {
     "--wavelengths", "uniform", "--lights", "spatial", "--spd-metric", "unit",
     "--spd-wavelengths", "hero", "--rough-dispersion", "terminate",
-    "--sampler", "independent", "--fluor-lanes", "terminate", "--fluor-li", "a", NULL };
+    "--sampler", "independent", "--fluor-lanes", "terminate", "--fluor-li", "a",
+    "--light-shape-sampling", "area", NULL };
 static const char *const preset_thesis_spd[] = {
     "--wavelengths", "uniform", "--lights", "product", "--spd-metric", "unit",
     "--spd-wavelengths", "hero", "--rough-dispersion", "terminate",
-    "--sampler", "independent", "--fluor-lanes", "terminate", "--fluor-li", "a", NULL };
+    "--sampler", "independent", "--fluor-lanes", "terminate", "--fluor-li", "a",
+    "--light-shape-sampling", "area", NULL };
 static const Preset presets[] = {
     { "thesis", "the thesis' baseline: HWSS with uniform wavelengths, pbrt-v3's spatial\n"
                 "          selection, termination at dispersive glass", preset_thesis },
@@ -255,6 +261,11 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
             a->ro.sel.strategy = sel_from_name(v);
             if (a->ro.sel.strategy == SEL_COUNT) return usage_error("unknown --lights strategy '%s'", v);
             a->lights_cli = 1;
+        } else if (!strcmp(o, "--light-shape-sampling")) {
+            NEEDS_VALUE();
+            if (!strcmp(v, "solidangle")) a->ro.sel.area_sampling = 0;
+            else if (!strcmp(v, "area")) a->ro.sel.area_sampling = 1;
+            else return usage_error("--light-shape-sampling is solidangle or area, not '%s'", v);
         } else if (!strcmp(o, "--spd-metric")) {
             NEEDS_VALUE();
             if (!strcmp(v, "unit")) a->ro.sel.power_metric = 0;
@@ -382,6 +393,7 @@ static void print_settings(const RenderOptions *o, const Scene *s)
            (double)(o->wl_mix > 0.0f ? o->wl_mix : WL_MIX_DEFAULT), o->wl_wide ? "on" : "off",
            o->single_wavelength ? "on" : "off");
     printf("lights %s\n", sel_name(st));
+    printf("light-shape-sampling %s\n", o->sel.area_sampling ? "area" : "solidangle");
     printf("spd-metric %s  # read by --lights spd, product, spectral-spatial%s%s\n",
            o->sel.power_metric ? "power" : "unit", sel_reads_metric(st) ? "" : "; ignored by ",
            sel_reads_metric(st) ? "" : sel_name(st));

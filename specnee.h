@@ -2071,13 +2071,42 @@ int   emitter_apply_power(const Scene *s, Emitter *em, const Shape *sh);
    For an image map (L holds D65) Le is the spectrum of the map's mean colour, a
    stand-in used only by the selection tables. */
 int   emitter_radiance(const Scene *s, int e, float lo_nm, float hi_nm, Spectrum *Le, Error *err);
-/* Sample a point on the whole of emitter e by area (a triangle by area, then uniform
-   on it).  Geometry only: the radiance comes from light_Le. */
-int   emitter_sample(const Scene *s, int e, Vec3 ref, float u0, float u1, float u2,
-                     EmitterSample *out);
-/* Solid-angle pdf of emitter_sample producing point p (normal n) from ref.  For an
-   infinite light the direction p - ref counts. */
-float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 p, Vec3 n);
+/* Spherical triangles (sphtri.c, THEORY §5.6): a triangle seen from a point as the
+   unit directions a, b, c towards its vertices, e the unit tangent at a of the arc
+   from a to c, the cosine and sine of its angle alpha at a, and its solid angle
+   (area, sr).  sph_tri_setup: 0 when degenerate (area <= 0).  sph_tri_sample:
+   Arvo's map of [0, 1]^2 onto it (density 1 / area); sph_tri_invert: its inverse
+   for a direction inside (0 when w lies along b). */
+typedef struct { double a[3], b[3], c[3], e[3], cos_alpha, sin_alpha, area; } SphTri;
+int   sph_tri_setup(Vec3 ref, Vec3 v0, Vec3 v1, Vec3 v2, SphTri *t);
+Vec3  sph_tri_sample(const SphTri *t, double u0, double u1);
+int   sph_tri_invert(const SphTri *t, Vec3 w, double *u0, double *u1);
+/* The bilinear density on [0, 1]^2 with corner weights w (at (0,0), (1,0), (0,1),
+   (1,1)), and its sampling (y by its marginal, then x given y). */
+double bilinear_pdf(const double w[4], double x, double y);
+void  bilinear_sample(const double w[4], double u0, double u1, double *x, double *y);
+/* A triangle lamp v[0..2] sampled by solid angle from ref (pbrt-v4's rule: where
+   SPH_TRI_MIN <= its solid angle <= SPH_TRI_MAX), the cosine at the shading
+   normal n warped in (n the zero vector, in a medium: uniform).  tri_sample_sa: a
+   direction, its density and the barycentrics (of v[1], v[2]) where it meets the
+   triangle; tri_pdf_sa: the density of dir (a direction that meets the triangle).
+   Both 0 when the solid angle is out of range: the caller samples by area. */
+#define SPH_TRI_MIN 3e-4       /* sr */
+#define SPH_TRI_MAX 6.22       /* sr */
+typedef struct { Vec3 dir; float b1, b2; double pdf; } SphTriSample;
+int   tri_sample_sa(Vec3 ref, Vec3 n, const Vec3 v[3], float u1, float u2, SphTriSample *out);
+int   tri_pdf_sa(Vec3 ref, Vec3 n, const Vec3 v[3], Vec3 dir, double *pdf);
+
+/* Sample a point on the whole of emitter e, seen from ref (shading normal ns; the
+   zero vector in a medium), with the numbers u[0..2]: a mesh's triangle by area,
+   then on it by solid angle (tri_sample_sa) or, out of its range, uniform by area;
+   a sphere in its cone; other shapes by area.  Geometry only: the radiance comes
+   from light_Le. */
+int   emitter_sample(const Scene *s, int e, Vec3 ref, Vec3 ns, const float u[3], EmitterSample *out);
+/* Solid-angle pdf of emitter_sample producing point p (normal n, on primitive prim
+   in bvh.c's numbering, -1: not known) from ref.  For an infinite light the
+   direction p - ref counts. */
+float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 ns, Vec3 p, Vec3 n, int prim);
 /* The factor NEE gives emitter e's radiance at its sampled points: its shape's
    "float alpha" clamped to [0, 1] (a hit found by a ray counts with that
    probability, bvh.c ALPHA), 1 for every other emitter. */
@@ -2160,6 +2189,9 @@ typedef struct {
     float lo_nm, hi_nm;        /* the range the film integrates, for the emitters'
                                   normalisation and the tree's bins (0, 0: 400-700) */
     int no_split;              /* light tree: keep every emissive mesh one leaf */
+    int area_sampling;         /* 1: a triangle lamp's point uniform by area
+                                  (--light-shape-sampling area); 0: by solid angle
+                                  where its range allows (sphtri.c) */
 } SelOptions;
 
 /* The per-render state of the emitters: their radiance normalised for the range
@@ -2191,10 +2223,12 @@ int   light_n_pieces(const LightSampler *ls);
 int   light_piece_emitter(const LightSampler *ls, int piece);
 /* The piece holding primitive prim (SurfacePoint.prim) of emitter e. */
 int   light_piece_of(const LightSampler *ls, int e, int prim);
-/* Sample a point on the piece by area; its pdf in solid angle at ref. */
-int   light_sample(const LightSampler *ls, int piece, Vec3 ref, float u0, float u1, float u2,
+/* Sample a point on the piece as emitter_sample does (by area only with
+   SelOptions.area_sampling); its pdf in solid angle at ref (shading normal ns), and
+   light_pdf_sa, the same pdf for the point p (normal n) on primitive prim. */
+int   light_sample(const LightSampler *ls, int piece, Vec3 ref, Vec3 ns, const float u[3],
                    EmitterSample *out);
-float light_pdf_sa(const LightSampler *ls, int piece, Vec3 ref, Vec3 p, Vec3 n);
+float light_pdf_sa(const LightSampler *ls, int piece, Vec3 ref, Vec3 ns, Vec3 p, Vec3 n, int prim);
 int   light_voxel(const LightSampler *ls, Vec3 p);       /* -1 when not spatial */
 /* Choose one piece for NEE with the uniform number u; returns -1 for "none" and
    sets *pmf.  *fell_back (may be NULL) is set to 1 when a spectral table had no

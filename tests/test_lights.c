@@ -713,11 +713,11 @@ static void test_sphere_cone_sampling(T *t)
             EmitterSample es;
             double v = 0.0;
             rng_fill(&rng, u, 3);
-            if (emitter_sample(&s, 0, ref, u[0], u[1], u[2], &es)) {
+            if (emitter_sample(&s, 0, ref, v3(0.0f, 0.0f, 0.0f), u, &es)) {
                 float off = fabsf(v3_len(v3_sub(es.p, c)) - 0.5f);
                 CHECK(t, off < 1e-4f, "d %g: a sample %g off the sphere", d, off);
                 CHECK(t, v3_dot(es.n, es.wi) < 0.0f, "d %g: a sample on the far side", d);
-                pdf2 = emitter_pdf_sa(&s, 0, ref, es.p, es.n);
+                pdf2 = emitter_pdf_sa(&s, 0, ref, v3(0.0f, 0.0f, 0.0f), es.p, es.n, es.prim);
                 CHECK(t, fabsf(pdf2 - es.pdf_sa) <= 1e-4f * es.pdf_sa, "d %g: pdf %g at the sample, "
                       "emitter_pdf_sa %g", d, es.pdf_sa, pdf2);
                 cos_r = v3_dot(es.wi, v3_neg(axis));     /* receiver normal towards the centre */
@@ -734,8 +734,8 @@ static void test_sphere_cone_sampling(T *t)
     {   /* inside the flipped sphere: the area density */
         EmitterSample es;
         Vec3 ref = v3(0.5f, -1.0f, 2.0f);
-        CHECK(t, emitter_sample(&s, 1, ref, 0.3f, 0.6f, 0.2f, &es), "no sample inside the big sphere");
-        CHECK(t, fabsf(es.pdf_sa - emitter_pdf_sa(&s, 1, ref, es.p, es.n)) <= 1e-4f * es.pdf_sa &&
+        CHECK(t, emitter_sample(&s, 1, ref, v3(0.0f, 0.0f, 0.0f), (const float[3]){ 0.3f, 0.6f, 0.2f }, &es), "no sample inside the big sphere");
+        CHECK(t, fabsf(es.pdf_sa - emitter_pdf_sa(&s, 1, ref, v3(0.0f, 0.0f, 0.0f), es.p, es.n, es.prim)) <= 1e-4f * es.pdf_sa &&
               fabsf(es.pdf_sa - (float)(es.dist * es.dist / (4.0 * SPECNEE_PI * 400.0 *
                     fabs(v3_dot(es.n, es.wi))))) <= 1e-3f * es.pdf_sa,
               "inside: pdf %g is not the area density", es.pdf_sa);

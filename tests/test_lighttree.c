@@ -553,7 +553,7 @@ static void test_mesh_split_pmf(T *t)
             Vec3 u = rng_vec3(&r), ref = v3(0.2f + 0.5f * u.x, -0.5f + u.y, -0.5f + u.z);
             float pdf;
             u = rng_vec3(&r);
-            if (!light_sample(ls, i, ref, u.x, u.y, u.z, &es)) continue;
+            if (!light_sample(ls, i, ref, v3(0.0f, 0.0f, 0.0f), (const float[3]){ u.x, u.y, u.z }, &es)) continue;
             CHECK(t, light_piece_emitter(ls, i) == 0, "cluster %d belongs to emitter %d", i, light_piece_emitter(ls, i));
             ray.o = ref;
             ray.d = es.wi;
@@ -563,7 +563,7 @@ static void test_mesh_split_pmf(T *t)
             if (s.shapes[sp.shape].emitter != 0) continue;
             CHECK(t, light_piece_of(ls, 0, sp.prim) == i || fabsf(h.t - es.dist) > 1e-3f,
                   "sample of cluster %d hit cluster %d", i, light_piece_of(ls, 0, sp.prim));
-            pdf = light_pdf_sa(ls, i, ref, sp.p, sp.ng);
+            pdf = light_pdf_sa(ls, i, ref, v3(0.0f, 0.0f, 0.0f), sp.p, sp.ng, sp.prim);
             CHECK(t, fabsf(pdf - es.pdf_sa) <= 1e-3f * es.pdf_sa, "pdf at the hit %g, sampled %g", pdf, es.pdf_sa);
             checked++;
         }
@@ -681,7 +681,7 @@ static void check_conservative(T *t, const Scene *s, uint64_t seed, int *checked
                 Vec3 to_p;
                 float d;
                 const Vec3 u = rng_vec3(&r);
-                if (!light_sample(ls, piece, c.p, u.x, u.y, u.z, &es)) continue;
+                if (!light_sample(ls, piece, c.p, c.n, (const float[3]){ u.x, u.y, u.z }, &es)) continue;
                 to_p = v3_mul(es.wi, -1.0f);
                 d = v3_dot(es.n, to_p);
                 faces = s->emitters[e].twosided ? fabsf(d) > 1e-3f : d > 1e-3f;
@@ -825,7 +825,7 @@ static void test_conservative_random(T *t)
                     for (j = 0; j < 8 && !faces; j++) {
                         EmitterSample es;
                         const Vec3 u = rng_vec3(&r);
-                        if (!light_sample(ls, piece, c.p, u.x, u.y, u.z, &es)) continue;
+                        if (!light_sample(ls, piece, c.p, c.n, (const float[3]){ u.x, u.y, u.z }, &es)) continue;
                         faces = v3_dot(es.n, v3_mul(es.wi, -1.0f)) > 1e-3f;
                     }
                     if (!faces) continue;

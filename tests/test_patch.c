@@ -425,7 +425,7 @@ static void test_lamp_solid_angle(T *t)
         Vec3 u = rng_vec3(&r);
         double x = 0.0, w[3], z, rr, ph;
         int m;
-        if (emitter_sample(&s, 0, ref, u.x, u.y, u.z, &es)) x = 1.0 / es.pdf_sa;
+        if (emitter_sample(&s, 0, ref, v3(0.0f, 0.0f, 0.0f), (const float[3]){ u.x, u.y, u.z }, &es)) x = 1.0 / es.pdf_sa;
         sum += x;
         sum2 += x * x;
         u = rng_vec3(&r);                          /* a uniform direction */

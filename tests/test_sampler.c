@@ -449,7 +449,7 @@ static void test_analytic_slope(T *t)
                     sampler_start(&smp, pix % 16, pix / 16, k, &ps);
                     u0 = sampler_1d(&ps, dim_bounce(0, BD_TRIANGLE));
                     sampler_2d(&ps, dim_bounce(0, BD_POINT), &u1, &u2);
-                    if (emitter_sample(&s, 0, p, u0, u1, u2, &es) && es.pdf_sa > 0.0f)
+                    if (emitter_sample(&s, 0, p, v3(0.0f, 0.0f, 0.0f), (const float[3]){ u0, u1, u2 }, &es) && es.pdf_sa > 0.0f)
                         est += v3_dot(es.wi, n) / es.pdf_sa;
                 }
                 err = est / Ns[ni] - exact;

@@ -285,8 +285,8 @@ static int solid_angle_by_sampling(T *t, const Scene *s, Vec3 ref, int n, double
         EmitterSample es;
         Vec3 u = rng_vec3(&r);
         double w = 0.0;
-        if (emitter_sample(s, 0, ref, u.x, u.y, u.z, &es)) {
-            float pdf = emitter_pdf_sa(s, 0, ref, es.p, es.n), th;
+        if (emitter_sample(s, 0, ref, v3(0.0f, 0.0f, 0.0f), (const float[3]){ u.x, u.y, u.z }, &es)) {
+            float pdf = emitter_pdf_sa(s, 0, ref, v3(0.0f, 0.0f, 0.0f), es.p, es.n, es.prim), th;
             SurfacePoint sp;
             if (!(fabsf(pdf - es.pdf_sa) <= 1e-5f * es.pdf_sa)) {
                 test_failf(t, __FILE__, __LINE__, "emitter_pdf_sa %g differs from the sample's %g",

@@ -357,7 +357,7 @@ static void test_thesis_options(T *t)
     RenderOptions a, b;
     render_options_thesis(&a);
     render_options_default(&b);
-    CHECK(t, eval_parse_variant("spatial:uniform:terminate:unit:hero:independent:flterminate:fla", &b),
+    CHECK(t, eval_parse_variant("spatial:uniform:terminate:unit:hero:independent:flterminate:fla:shapearea", &b),
           "pins refused");
     CHECK(t, a.wl_mode == WL_UNIFORM && a.sel.strategy == SEL_SPATIAL && !a.rough_mis &&
           a.sampler == SAMPLER_INDEPENDENT && !a.sel.power_metric && !a.sel.all_wavelengths &&
