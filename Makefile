@@ -29,7 +29,7 @@ DETECTED != sh tools/ccflags.sh "$(CC)"
 CFLAGS = $(OPT) $(WARN) $(DETECTED)
 LDLIBS = -lm
 
-LIBOBJ = util.o sampler.o bvh.o instance.o motion.o shapes.o patch.o curve.o spectrum.o wavelengths.o metals.o lights.o arealight.o sphtri.o lighttree.o infinite.o \
+LIBOBJ = util.o sampler.o bvh.o instance.o motion.o shapes.o patch.o curve.o spectrum.o rgbfit.o wavelengths.o metals.o lights.o arealight.o sphtri.o lighttree.o infinite.o \
          delta.o texture.o filter.o parser.o options.o scene.o geometry.o dump.o ply.o displace.o subdiv.o medium.o nanovdb.o material.o microfacet.o \
          conductor.o layered.o hair.o measured.o subsurface.o bump.o camera.o lens.o path.o sensor.o render.o image.o png.o exr.o svg.o cmd_converge.o cmd_image.o \
          cmd_spectrum.o rgbtable.o
@@ -60,12 +60,12 @@ tools/gen_measured: tools/gen_measured.o $(LIBOBJ)
 tools/bench_lights: tools/bench_lights.o $(LIBOBJ)
 	$(CC) $(CFLAGS) -o tools/bench_lights tools/bench_lights.o $(LIBOBJ) $(LDLIBS)
 
-# rgbtable.h: the RGB -> spectrum coefficient table, computed from spectrum.c's fit
+# rgbtable.h: the RGB -> spectrum coefficient table, computed from rgbfit.c's fit
 # by tools/gen_rgbtable.c (about 15 s of one core; not kept in git)
 rgbtable.o: rgbtable.h
-rgbtable.h: tools/gen_rgbtable.c rgbtable.c spectrum.o util.o metals.o
+rgbtable.h: tools/gen_rgbtable.c rgbtable.c spectrum.o rgbfit.o util.o metals.o
 	$(CC) $(CFLAGS) -DRGBTABLE_GENERATOR -I. -o tools/gen_rgbtable tools/gen_rgbtable.c rgbtable.c \
-	    spectrum.o util.o metals.o $(LDLIBS)
+	    spectrum.o rgbfit.o util.o metals.o $(LDLIBS)
 	./tools/gen_rgbtable rgbtable.h.tmp && mv rgbtable.h.tmp rgbtable.h
 
 .SUFFIXES: .c .o

@@ -23,7 +23,7 @@
       runs over the range the render integrates, so Le comes from the render).  An image texel
       with colour rgb has pbrt-v4's RGB illuminant spectrum
           S(lambda) = m sigmoid(c0 x^2 + c1 x + c2) D65(lambda),   m = 2 max(rgb),
-      (spectrum.c section 11; x = (lambda - 360) / 470), divided like pbrt-v4 by
+      (rgbfit.c; x = (lambda - 360) / 470), divided like pbrt-v4 by
       the luminance of D65 (sum of ybar D65, 1 nm, over the rendered range, as for
       area lights), so a texel (1, 1, 1) has luminance 1, times scale: the factor
       k = scale / sum ybar D65 that inf_Le is given.  The lookup is the nearest texel (pbrt-v4

@@ -819,7 +819,7 @@ int rgb_albedo_param(Parser *P, const Param *p, Albedo *a)
     if (!p || p->type != PT_RGB || p->n_num != 3) return 0;
     if (P->s->spectra.n < ALBEDO_TABLES) return 0;   /* few tables yet: tabulated */
     for (k = 0; k < 3; k++) rgb[k] = (float)p->num[k];
-    return albedo_from_rgb(P->rgb, rgb, a);      /* spectrum.c */
+    return albedo_from_rgb(P->rgb, rgb, a);      /* rgbfit.c */
 }
 
 int unit_albedo_param(Parser *P, Param *p, Albedo *a, float def, const char *file, int line)

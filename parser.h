@@ -190,7 +190,7 @@ typedef struct {
     const char *output;        /* the command line's output file (-o), NULL: none */
     MediumRef *mrefs; int cap_media, cap_mrefs;   /* parallel to Scene.media */
     const char *integ_file; int integ_line; char integ_type[32];  /* the Integrator */
-    RgbTable *rgb;             /* the load's RGB -> spectrum coefficient table (spectrum.c) */
+    RgbTable *rgb;             /* the load's RGB -> spectrum coefficient table (rgbfit.c) */
     double d65_y;              /* Y of stdillum-D65 (rgb_illuminant_scale), 0: not yet */
     int cur_object;            /* inside ObjectBegin: 1 + its Scene.objects index; else 0 */
     int option_seed, option_seed_set;   /* Option "integer seed" (scene.c finish) */

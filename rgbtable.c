@@ -1,22 +1,22 @@
 /* rgbtable.c - RGB -> spectrum coefficients by table lookup, without iteration.
 
    What it implements: pbrt-v4's way of upsampling rgb (Jakob & Hanika 2019): the
-   sigmoid coefficients (c0, c1, c2) of spectrum.c section 11 for a colour are
+   sigmoid coefficients (c0, c1, c2) of rgbfit.c for a colour are
    interpolated from a precomputed grid of fitted coefficients.  The grid is
-   rgbtable.h, written at build time by tools/gen_rgbtable.c from spectrum.c's own
-   fit, on the grid of spectrum.c's rgb_grid_cell (the largest component's value z
+   rgbtable.h, written at build time by tools/gen_rgbtable.c from rgbfit.c's own
+   fit, on the grid of rgbfit.c's rgb_grid_cell (the largest component's value z
    at Jakob & Hanika's smoothstep knots, the two others over z at equal steps,
    RGB_GRID_CELLS cells along each axis), interpolated by rgb_grid_interp
    (tricubic).  Each cell carries a trust bit, set where the interpolation was found
    within RGBT_TOL of the fit's spectrum (at the cell's centre and the centre of its
    lower z face).  The interpolation is poor where the coefficients grow fast (one
    component near 0: the sigmoid must reach 0 over a band), so the table answers
-   only in trusted cells; elsewhere its interpolation is the start of spectrum.c's
+   only in trusted cells; elsewhere its interpolation is the start of rgbfit.c's
    Newton polish (rgbtable_lookup), and for very dark colours, outside the grid,
-   spectrum.c runs its own fit.  Accuracy against the fit over a dense set
+   rgbfit.c runs its own fit.  Accuracy against the fit over a dense set
    of colours: docs/loading.md and tests/test_spectrum.c (spectrum_rgbtable).
 
-   How it is used: spectrum.c's spec_from_rgb_t (a scene load) asks rgbtable_lookup
+   How it is used: rgbfit.c's spec_from_rgb_t (a scene load) asks rgbtable_lookup
    first.  The table is constant data: no state, the same answer for any thread
    count and any order of colours.  tools/gen_rgbtable.c compiles this file with
    RGBTABLE_GENERATOR defined (the grid's functions, without the table it writes). */
@@ -117,7 +117,7 @@ void rgb_grid_interp(const float *coef, int m, const int cell[3], const double f
 #include "rgbtable.h"
 
 /* The interpolation at target in any cell: 2 in a trusted cell, 1 in another
-   (c is then a start for spectrum.c's polish), 0 outside the grid (c untouched). */
+   (c is then a start for rgbfit.c's polish), 0 outside the grid (c untouched). */
 int rgbtable_lookup(const double target[3], double c[3])
 {
     double f[3];

@@ -466,7 +466,7 @@ void  spec_rgb_coeffs_fit(const double target[3], double c[3]);
    table is not trusted (then spec_rgb_coeffs fits). */
 int   rgbtable_coeffs(const double target[3], double c[3]);
 /* ... and the interpolation in any cell: 2 trusted (c as rgbtable_coeffs), 1 not
-   (c: the start that spectrum.c polishes by Newton), 0 outside the grid. */
+   (c: the start that rgbfit.c polishes by Newton), 0 outside the grid. */
 int   rgbtable_lookup(const double target[3], double c[3]);
 /* The table's grid (rgbtable.c; docs/loading.md): knots x = 0..RGB_GRID_CELLS of
    z = rgb[m], the largest component, at z = rgb_grid_z(x); rgb_grid_cell gives m,
@@ -1052,7 +1052,7 @@ typedef struct Texture {
                                         fbm, wrinkled: omega = "roughness" (0.5) */
     /* imagemap: w x h texels, row 0 at the top of the image; a spectrum texture
        keeps 4 floats per texel (m and the sigmoid's 3 coefficients: the texel's
-       reflectance is m sigmoid(c, lambda), spectrum.c), a float one 1 (the mean of
+       reflectance is m sigmoid(c, lambda), rgbfit.c), a float one 1 (the mean of
        R, G, B); bilinear lookup (pbrt-v4's default filter).  marble: its colour spline
        tabulated the same way, w knots in one row (texture.c section 4) */
     int w, h;

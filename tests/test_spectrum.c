@@ -361,7 +361,7 @@ static void test_rgb_reflectance(T *t)
     float in[3];
     int a, b, c, i;
     /* round trip over a 5^3 grid of in-gamut colours: the measured worst error is
-       documented in spectrum.c (section 11) */
+       documented in rgbfit.c */
     for (a = 0; a < 5; a++)
         for (b = 0; b < 5; b++)
             for (c = 0; c < 5; c++) {
@@ -521,7 +521,7 @@ static void test_rgb_illuminant(T *t)
     CHECK(t, spec_from_rgb(&s, in, 1, &e, "t", 1) && spec_is_constant(&s) && s.v[0] == 0.0f, "black");
 }
 
-/* The load's path (rgbtable.c's table where trusted, else spectrum.c's coefficient
+/* The load's path (rgbtable.c's table where trusted, else rgbfit.c's coefficient
    table polished by Newton) against the full fit, over a 9^3 grid of reflectances in
    [0.02, 0.98] and the illuminants (largest component 1/2) of a 9 x 9 grid: the
    spectra s(lambda) in [0, 1] over 360..830 nm at 1 nm and their rgb under D65.
@@ -664,7 +664,7 @@ static void test_rgbtable(T *t)
     CHECK(t, n_tab >= 0.75 * (double)n, "the table answers for %ld of %ld colours", n_tab, n);
 }
 
-/* The colours in the cells rgbtable.c does not trust: spectrum.c polishes the
+/* The colours in the cells rgbtable.c does not trust: rgbfit.c polishes the
    table's interpolation there by Newton (rgbtable_lookup's start).  Against the
    continuation fit from grey (spec_rgb_coeffs_fit), over reflectances on a 20^3
    grid of [0, 1]^3 (the gamut's faces and edges included: a component 0 or 1)

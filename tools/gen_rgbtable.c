@@ -4,7 +4,7 @@
 
    What it computes, on rgbtable.c's grid (rgb_grid_z, rgb_grid_interp):
    - the knots: for each largest component m, each z knot x = 1..RGB_GRID_CELLS and
-     each a, b = 0..RGB_GRID_CELLS, the colour's sigmoid coefficients by spectrum.c's
+     each a, b = 0..RGB_GRID_CELLS, the colour's sigmoid coefficients by rgbfit.c's
      fit (spec_rgb_coeffs: its own start, polished until the fit converges), stored
      as floats (the black slice x = 0 is not used and left 0);
    - the trust bits: a cell (m, x, b, a) is trusted when, at its centre and at the
@@ -12,8 +12,8 @@
      (rgb_grid_interp) gives a spectrum within RGBT_TOL of the fit's at every
      wavelength 360-830 nm.  rgbtable.c answers from the table in trusted cells
      alone and leaves the others to the fit.
-   The output is a function of spectrum.c's fit and these constants.  This program
-   links spectrum.c, util.c, metals.c and rgbtable.c compiled without its table
+   The output is a function of rgbfit.c's fit and these constants.  This program
+   links spectrum.c, rgbfit.c, util.c, metals.c and rgbtable.c compiled without its table
    (RGBTABLE_GENERATOR): its rgbtable_coeffs and rgbtable_lookup below answer
    "no table", so
    spec_rgb_coeffs here is the fit alone. */
