@@ -376,26 +376,32 @@ static int finish_sample(Vec3 ref, double area, EmitterSample *out)
     return isfinite(out->pdf_sa) && out->pdf_sa > 0.0f;
 }
 
-/* A uniform point on triangle tri (u = 1 - sqrt(u1), v = u2 sqrt(u1)), with the
-   oriented geometric normal the integrator sees at a hit there. */
-static void point_on_triangle(const Scene *s, int tri, Vec3 ref, float u1, float u2, EmitterSample *out)
+/* The point of triangle tri at barycentrics (b1, b2) of v1, v2, with the oriented
+   geometric normal the integrator sees at a hit there (as from a ray ref + s dir). */
+static void surface_at(const Scene *s, int tri, Vec3 ref, Vec3 dir, float b1, float b2, EmitterSample *out)
 {
     HitRecord h;
     SurfacePoint sp;
     Ray dummy;
-    float su = sqrtf(u1);
     h.t = 0.0f;
     h.prim = tri;
     h.inst = -1;                       /* emitters are never inside instances */
-    h.b1 = u2 * su;                    /* barycentric of v1 */
-    h.b2 = 1.0f - su;                  /* barycentric of v2 */
-    dummy.o = ref; dummy.d = v3(0, 0, 1); dummy.tmax = 0.0f;
+    h.b1 = b1;
+    h.b2 = b2;
+    dummy.o = ref; dummy.d = dir; dummy.tmax = 0.0f;
     scene_surface_point(s, &dummy, &h, &sp);
     out->p = sp.p;
     out->n = sp.ng;
     out->prim = tri;
-    out->b1 = h.b1;
-    out->b2 = h.b2;
+    out->b1 = b1;
+    out->b2 = b2;
+}
+
+/* A uniform point on triangle tri (u = 1 - sqrt(u1), v = u2 sqrt(u1)). */
+static void point_on_triangle(const Scene *s, int tri, Vec3 ref, float u1, float u2, EmitterSample *out)
+{
+    float su = sqrtf(u1);
+    surface_at(s, tri, ref, v3(0, 0, 1), u2 * su, 1.0f - su, out);   /* barycentrics of v1, v2 */
 }
 
 /* Where a lamp is seen from: the point, its shading normal (the zero vector in a
@@ -417,9 +423,6 @@ static int sample_triangle(const Scene *s, int tri, double area, const Receiver 
 {
     Vec3 v[3];
     SphTriSample ts;
-    HitRecord h;
-    SurfacePoint sp;
-    Ray dummy;
     Vec3 d;
     float dist2;
     tri_vertices(s, tri, v);
@@ -427,15 +430,7 @@ static int sample_triangle(const Scene *s, int tri, double area, const Receiver 
         point_on_triangle(s, tri, rx->p, u1, u2, out);
         return finish_sample(rx->p, area, out);
     }
-    h.t = 0.0f; h.prim = tri; h.inst = -1;
-    h.b1 = ts.b1; h.b2 = ts.b2;
-    dummy.o = rx->p; dummy.d = ts.dir; dummy.tmax = 0.0f;
-    scene_surface_point(s, &dummy, &h, &sp);
-    out->p = sp.p;
-    out->n = sp.ng;
-    out->prim = tri;
-    out->b1 = ts.b1;
-    out->b2 = ts.b2;
+    surface_at(s, tri, rx->p, ts.dir, ts.b1, ts.b2, out);
     d = v3_sub(out->p, rx->p);
     dist2 = v3_dot(d, d);
     if (!(dist2 > 0.0f)) return 0;
