@@ -806,7 +806,6 @@ static int shape_build(Parser *P, const char *type, ParamList *pl, const char *f
 static int moving_shape_object(Parser *P, const char *type, const char *file, int line)
 {
     Scene *s = P->s;
-    InstanceUse *u;
     Object *o;
     if (P->cur_object > 0)
         return fail(P, file, line, "Shape \"%s\" inside ObjectBegin \"%s\" moves "
@@ -816,8 +815,7 @@ static int moving_shape_object(Parser *P, const char *type, const char *file, in
         return fail(P, file, line, "Shape \"%s\" under an AreaLightSource moves "
                     "(ActiveTransform): animated area lights are not supported (pbrt-v4 stops "
                     "there too)", type);
-    if (!grow((void **)&s->objects, &P->cap_objects, s->n_objects + 1, sizeof(Object)) ||
-        !grow((void **)&P->uses, &P->cap_uses, P->n_uses + 1, sizeof(InstanceUse)))
+    if (!grow((void **)&s->objects, &P->cap_objects, s->n_objects + 1, sizeof(Object)))
         return oom(P, file, line);
     o = &s->objects[s->n_objects];
     memset(o, 0, sizeof *o);
@@ -825,16 +823,7 @@ static int moving_shape_object(Parser *P, const char *type, const char *file, in
     o->name = "";
     o->file = file;
     o->line = line;
-    u = &P->uses[P->n_uses++];
-    memset(u, 0, sizeof *u);
-    if (!(u->name = keep_string(P, type))) return oom(P, file, line);
-    u->xf = P->gs.ctm;
-    u->xf_end = P->gs.ctm_end;
-    u->t0 = P->t0;
-    u->t1 = P->t1;
-    u->object = s->n_objects;
-    u->file = file;
-    u->line = line;
+    if (!add_instance(P, type, type, s->n_objects, file, line)) return 0;
     P->cur_object = ++s->n_objects;
     return 1;
 }

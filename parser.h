@@ -19,10 +19,12 @@
 /* ---------------------------------------------------------------------------
    Limits that keep hostile input finite.
    --------------------------------------------------------------------------- */
-#define MAX_INCLUDE_DEPTH 32        /* Include/Import nesting (catches cycles) */
-#define MAX_INCLUDES 10000          /* Include/Import directives run in one scene
-                                       (with the byte budget below: catches fan-out,
-                                       files that include the next one twice) */
+#define MAX_INCLUDE_DEPTH 32        /* Include/Import nesting (catches a file that
+                                       includes itself, and cycles) */
+#define INCLUDE_MIN_BYTES 2048      /* what one Include/Import costs of the text budget
+                                       at least (READ_MAX_BYTES, below): a tree of tiny
+                                       files that include each other ("billion laughs")
+                                       stops after 2^19 directives */
 #define MAX_RESOLUTION 16384        /* pixels per film axis */
 #define MAX_SPP (1 << 24)           /* samples per pixel */
 #define MAX_MAXDEPTH 10000          /* path length */
@@ -35,7 +37,10 @@
                                        longer ones no system call opens).  Names of
                                        textures, materials, media, objects and coordinate
                                        systems have no limit (kept in Scene.strings) */
-/* the scene text, all its included files together, is at most READ_MAX_BYTES */
+/* The text budget: the scene text, each included file counted every time an
+   Include or Import runs it (at least INCLUDE_MIN_BYTES), is at most
+   READ_MAX_BYTES (1 GiB), so the work of files that include each other many times
+   grows no further than that of one 1 GiB file. */
 
 /* ===========================================================================
    1. Tokens
@@ -140,6 +145,10 @@ typedef struct {
    render space, not to the world (finish() moves it; see media_before_camera). */
 typedef struct { int defined, used, before_camera; const char *file; int line; } MediumRef;
 
+/* An included file's text, kept after its first Include (scene.c include_text):
+   a file included 160,000 times is read from the disk once. */
+typedef struct { const char *path; char *text; size_t len; } IncludeCache;
+
 /* A named material.  As in pbrt-v4 a NamedMaterial may come before its
    MakeNamedMaterial (pbrt-v4 looks names up when it builds the scene): the name is
    then recorded with material -1 and the NamedMaterial's place, and shapes made
@@ -148,12 +157,13 @@ typedef struct { const char *name; int material; const char *file; int line; } N
 /* A named texture: pbrt-v4 keeps float and spectrum textures in two namespaces. */
 typedef struct { const char *name; int is_float; int index; } NamedTexture;
 typedef struct { const char *name; Xform xf, xf_end; } NamedCoordSys;   /* both CTMs */
-/* An ObjectInstance: as in pbrt-v4 the name is looked up when the file has been
-   read (an instance may come before its ObjectBegin).  xf, xf_end: the two CTMs
-   (they differ: it moves from time t0 to t1); object >= 0: the unnamed object of
-   a moving shape (motion.c), not looked up by name. */
+/* An ObjectInstance whose object is not defined yet: as in pbrt-v4 the name is
+   looked up when the file has been read (an instance may come before its
+   ObjectBegin).  The placement itself is already Scene.instances[instance] (with
+   object -1 until then); an instance of an object defined earlier, the usual
+   case, never makes one of these (scene.c add_instance). */
 typedef struct {
-    const char *name; Xform xf, xf_end; double t0, t1; int object;
+    const char *name; int instance;
     const char *file; int line;
 } InstanceUse;
 
@@ -164,8 +174,9 @@ typedef struct {
     int in_world;              /* after WorldBegin */
     int world_seen, include_depth;   /* include_depth: Import nesting */
     int nest;                  /* files open now inside the top-level one (Include+Import) */
-    long n_includes;           /* Include/Import directives run so far */
-    size_t text_bytes;         /* scene text read so far, included files included */
+    size_t text_bytes;         /* the text budget spent (see READ_MAX_BYTES above) */
+    IncludeCache *inc;         /* the small included files read so far (scene.c) */
+    int n_inc, cap_inc;
     GState gs;
     GState *stack; int depth, stack_cap;
     AreaLightDesc *lights; int n_lights, cap_lights;
@@ -196,8 +207,11 @@ typedef struct {
     int option_seed, option_seed_set;   /* Option "integer seed" (scene.c finish) */
     float shape_alpha; int shape_alpha_tex;   /* the Shape being read: its "alpha" (Shape) */
     int cap_objects;
-    InstanceUse *uses; int n_uses, cap_uses;   /* the ObjectInstance directives and
-                                                  the moving shapes' instances */
+    InstanceUse *uses; int n_uses, cap_uses;   /* the ObjectInstances of an object
+                                                  not defined yet (looked up at the end) */
+    int cap_instances;         /* Scene.instances' capacity */
+    int last_object;           /* the object the last ObjectInstance named (its index):
+                                  looked at first, as files name one object many times */
     double t0, t1;             /* TransformTimes (0 1): when the two CTMs hold */
     int cap_motions;
     /* every parameter an Attribute directive gave, copied (strings interned); each
@@ -231,6 +245,12 @@ void dir_of(const char *path, char *out, size_t cap);
 void resolve_path(const Parser *P, const char *from_file, const char *name,
                   char *out, size_t cap);
 int ends_with_ci(const char *s, const char *suffix);   /* case-insensitive suffix */
+/* An Instance placed by the current CTMs (scene.c): of object `object` (>= 0: a
+   moving shape's own object, geometry.c), else of the object named `name` (looked
+   up now, or at the end of the file when it is not defined yet).  what: the
+   directive, for messages ("ObjectInstance", or the moving shape's type). */
+int add_instance(Parser *P, const char *what, const char *name, int object,
+                 const char *file, int line);
 
 /* The token stream.  lex_next: the next token (comments skipped, structured
    "# inset" comments recorded; an included file's end goes on in its parent);

@@ -42,8 +42,10 @@
      Every problem gives one line "file:line: problem" in the Error and a 0
      return; scene_load frees everything it allocated.  Nothing exits, and
      every loop advances through a finite buffer, so bad input cannot hang; the
-     Include budget (MAX_INCLUDES directives, READ_MAX_BYTES of text) bounds the
-     work of files that include each other repeatedly.  Messages never carry raw
+     text budget (parser.h: READ_MAX_BYTES of text, each included file counted
+     every time it runs) bounds the work of files that include each other
+     repeatedly, MAX_INCLUDE_DEPTH a file that includes itself, MEM_BUDGET_MIB the
+     instances' records.  Messages never carry raw
      bytes of the input (error_set escapes them).
 
    USE
@@ -286,18 +288,58 @@ static int light_source_directive(Parser *P, const char *type, ParamList *pl, co
    =========================================================================== */
 static int parse_text(Parser *P, const char *file, char *buf, size_t len);
 
+/* The text of an included file, to be lexed (and unescaped in place) by the caller,
+   who frees it; *name: the interned path.  A small file is read from the disk at
+   its first Include only and kept (Parser.inc, at most INCLUDE_CACHE_FILES files
+   of INCLUDE_CACHE_BYTES or less): files that place instances include the same few
+   files over and over (the Menger sponge: six files, 168,420 times). */
+#define INCLUDE_CACHE_FILES 64
+#define INCLUDE_CACHE_BYTES ((size_t)1 << 16)
+static char *include_text(Parser *P, const char *path, const char **name, size_t *len,
+                          ReadStatus *rs)
+{
+    char *buf;
+    int i;
+    for (i = 0; i < P->n_inc; i++)
+        if (!strcmp(P->inc[i].path, path)) {
+            const IncludeCache *c = &P->inc[i];
+            *rs = READ_NOMEM;
+            if (!(buf = (char *)malloc(c->len + 1))) return NULL;
+            memcpy(buf, c->text, c->len + 1);
+            *name = c->path;
+            *len = c->len;
+            *rs = READ_OK;
+            return buf;
+        }
+    buf = read_whole_file_gz(path, READ_TEXT, NULL, len, rs);
+    if (!buf) return NULL;
+    if (!(*name = intern(P, path))) { free(buf); *rs = READ_NOMEM; return NULL; }
+    if (*len <= INCLUDE_CACHE_BYTES && P->n_inc < INCLUDE_CACHE_FILES
+        && grow((void **)&P->inc, &P->cap_inc, P->n_inc + 1, sizeof(IncludeCache))) {
+        IncludeCache *c = &P->inc[P->n_inc];
+        if ((c->text = (char *)malloc(*len + 1)) != NULL) {
+            memcpy(c->text, buf, *len + 1);
+            c->path = *name;
+            c->len = *len;
+            P->n_inc++;
+        }
+    }
+    return buf;
+}
+
 /* Include: the file's tokens come next in the same stream (pbrt-v4 pushes it on
    its file stack).  Import: parsed on its own into a copy of the graphics state.
-   Both count against the include budget: MAX_INCLUDES directives and
-   READ_MAX_BYTES of text in all, so that files which include the next one twice
-   cannot keep the parser busy for hours. */
+   Both spend the text budget (parser.h): the file's length each time it runs, at
+   least INCLUDE_MIN_BYTES, READ_MAX_BYTES in all, so that files which include the
+   next one many times ("billion laughs") cost no more than one 1 GiB file; and
+   MAX_INCLUDE_DEPTH stops a file that includes itself. */
 static int include_directive(Parser *P, Lexer *L, const Token *dir, int is_import)
 {
     Token t;
     char path[PATH_CAP];
-    const char *name;
+    const char *name = NULL;
     char *buf;
-    size_t len;
+    size_t len, cost;
     ReadStatus rs;
     int ok, depth = P->depth;
     GState saved = P->gs;
@@ -306,29 +348,25 @@ static int include_directive(Parser *P, Lexer *L, const Token *dir, int is_impor
     if (is_import && !P->in_world)
         return fail(P, dir->file, dir->line, "Import is only allowed after WorldBegin");
     if (P->nest >= MAX_INCLUDE_DEPTH)
-        return fail(P, dir->file, dir->line, "%s \"%s\": nested deeper than %d (an include cycle?)",
-                    d, t.text, MAX_INCLUDE_DEPTH);
-    if (++P->n_includes > MAX_INCLUDES)
-        return fail(P, dir->file, dir->line, "%s \"%s\": more than %d Include/Import directives "
-                    "run in one scene (files that include each other repeatedly?)",
-                    d, t.text, MAX_INCLUDES);
+        return fail(P, dir->file, dir->line, "%s \"%s\": nested deeper than %d (MAX_INCLUDE_DEPTH: "
+                    "an include cycle?)", d, t.text, MAX_INCLUDE_DEPTH);
     resolve_path(P, t.file, t.text, path, sizeof path);
-    buf = read_whole_file_gz(path, READ_TEXT, NULL, &len, &rs);
+    buf = include_text(P, path, &name, &len, &rs);
     if (!buf) {
         if (rs == READ_OPEN)
             return fail(P, dir->file, dir->line, "%s \"%s\": cannot read \"%s\"", d, t.text, path);
         return fail(P, dir->file, dir->line, "%s \"%s\": \"%s\": %s", d, t.text, path,
                     read_status_text(rs));
     }
-    if (len > READ_MAX_BYTES - P->text_bytes) {
+    cost = len > INCLUDE_MIN_BYTES ? len : INCLUDE_MIN_BYTES;
+    if (cost > READ_MAX_BYTES - P->text_bytes) {
         free(buf);
-        return fail(P, dir->file, dir->line, "%s \"%s\": the scene text with its included files "
-                    "exceeds %lu MiB (files that include each other repeatedly?)", d, t.text,
-                    (unsigned long)(READ_MAX_BYTES >> 20));
+        return fail(P, dir->file, dir->line, "%s \"%s\": the scene text, each included file "
+                    "counted every time it is included (at least %d bytes), exceeds %lu MiB "
+                    "(READ_MAX_BYTES: files that include each other many times?)", d, t.text,
+                    INCLUDE_MIN_BYTES, (unsigned long)(READ_MAX_BYTES >> 20));
     }
-    P->text_bytes += len;
-    name = intern(P, path);
-    if (!name) { free(buf); return oom(P, dir->file, dir->line); }
+    P->text_bytes += cost;
     if (!is_import) {                                  /* push: its tokens come next */
         L->parent[L->n_parent++] = L->cur;
         L->cur.file = name;
@@ -622,63 +660,89 @@ static int object_directive(Parser *P, Lexer *L, const Token *t)
     if (!strcmp(d, "ObjectBegin")) return object_begin(P, t, n.text);
     {   /* ObjectInstance "name" */
         const double (*m)[4] = (const double (*)[4])P->gs.ctm.m;
-        InstanceUse *u;
         if (P->cur_object > 0)
             return fail(P, t->file, t->line, "ObjectInstance \"%s\" can't be called inside "
                         "instance definition \"%s\"", n.text, P->s->objects[P->cur_object - 1].name);
         if (m[3][0] != 0.0 || m[3][1] != 0.0 || m[3][2] != 0.0 || m[3][3] != 1.0)
             return fail(P, t->file, t->line, "ObjectInstance \"%s\": projective transform not "
                         "supported", n.text);
-        if (!grow((void **)&P->uses, &P->cap_uses, P->n_uses + 1, sizeof(InstanceUse)))
-            return oom(P, t->file, t->line);
-        u = &P->uses[P->n_uses];
-        if (!(u->name = keep_string(P, n.text))) return oom(P, t->file, t->line);
-        P->n_uses++;
-        u->xf = P->gs.ctm;
-        u->xf_end = P->gs.ctm_end;
-        u->t0 = P->t0;
-        u->t1 = P->t1;
-        u->object = -1;
-        u->file = t->file;
-        u->line = t->line;
-        return 1;
+        return add_instance(P, "ObjectInstance", n.text, -1, t->file, t->line);
     }
 }
 
-/* The instances, their names looked up now that every ObjectBegin has been read
-   (pbrt-v4: "object instance not defined" at the ObjectInstance). */
+/* The index of the named object defined so far, -1: none (yet). */
+static int find_object(Parser *P, const char *name)
+{
+    const Scene *s = P->s;
+    int k = P->last_object;
+    if (k < s->n_objects && !s->objects[k].unnamed && !strcmp(s->objects[k].name, name))
+        return k;
+    for (k = 0; k < s->n_objects; k++)
+        if (!s->objects[k].unnamed && !strcmp(s->objects[k].name, name))
+            return P->last_object = k;
+    return -1;
+}
+
+/* One Instance record per ObjectInstance (and per moving shape), written where the
+   directive is read: a file that places millions of instances (a Menger sponge of
+   3.2 million, docs/loading.md) holds each placement once, its CTM and nothing else.
+   A name not defined yet is kept in Parser.uses and looked up by resolve_instances. */
+int add_instance(Parser *P, const char *what, const char *name, int object,
+                 const char *file, int line)
+{
+    Scene *s = P->s;
+    Instance *in;
+    if ((double)(s->n_instances + 1) * sizeof(Instance) > MEM_BUDGET_MIB * 1048576.0)
+        return fail(P, file, line, "%s \"%s\": more than %d instances, whose records "
+                    "exceed the memory budget MEM_BUDGET_MIB (%d MiB)", what, name,
+                    s->n_instances, MEM_BUDGET_MIB);
+    if (!grow((void **)&s->instances, &P->cap_instances, s->n_instances + 1, sizeof(Instance)))
+        return oom(P, file, line);
+    in = &s->instances[s->n_instances];
+    memset(in, 0, sizeof *in);
+    in->object = object >= 0 ? object : find_object(P, name);
+    in->world_from_obj = P->gs.ctm;
+    in->file = file;
+    in->line = line;
+    if (xf_differ(&P->gs.ctm, &P->gs.ctm_end)) {              /* it moves (motion.c) */
+        if (!grow((void **)&s->motions, &P->cap_motions, s->n_motions + 1, sizeof(Motion)))
+            return oom(P, file, line);
+        if (!motion_init(&s->motions[s->n_motions], &P->gs.ctm, P->t0, &P->gs.ctm_end, P->t1))
+            return fail(P, file, line, "%s \"%s\": its start and end transforms "
+                        "(ActiveTransform) must be rotations, scales and translations "
+                        "without a mirror (pbrt-v4 cannot interpolate a mirroring or "
+                        "projective transform)", object >= 0 ? "Shape" : "ObjectInstance",
+                        name);
+        in->motion = ++s->n_motions;
+    }
+    if (in->object < 0) {                      /* defined further down, or never */
+        InstanceUse *u;
+        if (!grow((void **)&P->uses, &P->cap_uses, P->n_uses + 1, sizeof(InstanceUse)))
+            return oom(P, file, line);
+        u = &P->uses[P->n_uses];
+        if (!(u->name = keep_string(P, name))) return oom(P, file, line);
+        u->instance = s->n_instances;
+        u->file = file;
+        u->line = line;
+        P->n_uses++;
+    }
+    s->n_instances++;
+    return 1;
+}
+
+/* The instances whose names were not defined where they were placed, looked up now
+   that every ObjectBegin has been read (pbrt-v4: "object instance not defined" at
+   the ObjectInstance). */
 static int resolve_instances(Parser *P)
 {
     Scene *s = P->s;
     int i, k;
-    if (P->n_uses == 0) return 1;
-    s->instances = (Instance *)calloc((size_t)P->n_uses, sizeof(Instance));
-    if (!s->instances) return oom(P, P->uses[0].file, P->uses[0].line);
     for (i = 0; i < P->n_uses; i++) {
         const InstanceUse *u = &P->uses[i];
-        Instance *in = &s->instances[i];
-        for (k = 0; u->object < 0 && k < s->n_objects; k++)
-            if (!s->objects[k].unnamed && !strcmp(s->objects[k].name, u->name)) break;
-        if (u->object >= 0) k = u->object;
-        else if (k == s->n_objects)
+        if ((k = find_object(P, u->name)) < 0)
             return fail(P, u->file, u->line, "ObjectInstance \"%s\": object instance not "
                         "defined", u->name);
-        in->object = k;
-        in->world_from_obj = u->xf;
-        if (xf_differ(&u->xf, &u->xf_end)) {              /* it moves (motion.c) */
-            if (!grow((void **)&s->motions, &P->cap_motions, s->n_motions + 1, sizeof(Motion)))
-                return oom(P, u->file, u->line);
-            if (!motion_init(&s->motions[s->n_motions], &u->xf, u->t0, &u->xf_end, u->t1))
-                return fail(P, u->file, u->line, "%s \"%s\": its start and end transforms "
-                            "(ActiveTransform) must be rotations, scales and translations "
-                            "without a mirror (pbrt-v4 cannot interpolate a mirroring or "
-                            "projective transform)", u->object >= 0 ? "Shape" : "ObjectInstance",
-                            u->name);
-            in->motion = ++s->n_motions;
-        }
-        in->file = u->file;
-        in->line = u->line;
-        s->n_instances++;
+        s->instances[u->instance].object = k;
     }
     return 1;
 }
@@ -1041,6 +1105,8 @@ static void parser_free(Parser *P)
     free(P->uses);
     {
         int i;
+        for (i = 0; i < P->n_inc; i++) free(P->inc[i].text);
+        free(P->inc);
         for (i = 0; i < P->n_attrs; i++) { free(P->attrs[i].num); free((void *)P->attrs[i].str); }
     }
     free(P->attrs);

@@ -469,7 +469,33 @@ static void test_attribute_precedence(T *t)
     scene_free(&s);
 }
 
+/* Each ObjectInstance names its object, looked up where it is read (the last object
+   named first) or, for one defined further down, at the end of the file: instances
+   of two objects that alternate, and one before its ObjectBegin, each place their own
+   object, in the order of the file. */
+static void test_instance_names(T *t)
+{
+    static const char *const want[6] = { "a", "b", "b", "a", "c", "a" };
+    Scene s;
+    int i;
+    const char *text =
+        "WorldBegin\n"
+        "ObjectBegin \"a\"\nShape \"sphere\" \"float radius\" 1\nObjectEnd\n"
+        "ObjectBegin \"b\"\nShape \"sphere\" \"float radius\" 2\nObjectEnd\n"
+        "Translate 5 0 0\nObjectInstance \"a\"\nObjectInstance \"b\"\nObjectInstance \"b\"\n"
+        "ObjectInstance \"a\"\nObjectInstance \"c\"\nObjectInstance \"a\"\n"
+        "ObjectBegin \"c\"\nShape \"sphere\" \"float radius\" 3\nObjectEnd\n";
+    if (!test_load_scene(t, &s, text)) return;
+    CHECK(t, s.n_instances == 6, "%d instances", s.n_instances);
+    for (i = 0; i < 6 && i < s.n_instances; i++)
+        CHECK(t, !strcmp(s.objects[s.instances[i].object].name, want[i]),
+              "instance %d places \"%s\", not \"%s\"", i, s.objects[s.instances[i].object].name,
+              want[i]);
+    scene_free(&s);
+}
+
 const TestCase tests_instance[] = {
+    { "instance_names", test_instance_names },
     { "instance_hits_written_out", test_instance_hits_written_out },
     { "instance_image_written_out", test_instance_image_written_out },
     { "instance_analytic", test_instance_analytic },

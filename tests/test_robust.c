@@ -52,23 +52,69 @@ static const char *write_bin(T *t, const char *name, const unsigned char *b, siz
     return p;
 }
 
-/* #13: each file includes the next one twice; 2^15 Include directives in all.  The
-   depth limit does not stop it (depth 15), the count budget must, naming a file. */
+/* "Billion laughs": each of 21 files includes the next one twice, 2^21 - 2 Include
+   directives in all, of a few bytes each.  Neither the depth (21) nor the text
+   itself (about 40 MB counted every time) stops it: the text budget does, because
+   every Include costs at least INCLUDE_MIN_BYTES of it (2^19 directives), with a
+   file:line error that names the budget, long before the tree's end. */
 static void test_include_fanout(T *t)
 {
     char name[64], text[256];
     const char *main_path;
     Error e;
     int i;
-    for (i = 0; i < 15; i++) {
+    for (i = 0; i < 21; i++) {
         snprintf(name, sizeof name, "fan%d.pbrt", i);
         snprintf(text, sizeof text, "Include \"fan%d.pbrt\"\nInclude \"fan%d.pbrt\"\n", i + 1, i + 1);
         test_write_file(t, name, text);
     }
-    test_write_file(t, "fan15.pbrt", "# the leaf\n");
+    test_write_file(t, "fan21.pbrt", "# the leaf\n");
     main_path = test_write_file(t, "fan_main.pbrt", "WorldBegin\nInclude \"fan0.pbrt\"\n");
-    if (!expect_fail(t, main_path, "more than 10000 Include/Import", "fan", &e)) return;
+    if (!expect_fail(t, main_path, "READ_MAX_BYTES", "exceeds 1024 MiB", &e)) return;
     CHECK(t, strstr(e.msg, "fan") && strstr(e.msg, ".pbrt:"), "names no file: %s", e.msg);
+}
+
+/* A file that includes itself is stopped at MAX_INCLUDE_DEPTH (32) files open, and
+   a chain of exactly that many distinct files loads. */
+static void test_include_depth(T *t)
+{
+    char name[64], text[256];
+    const char *p;
+    Error e;
+    int i;
+    test_write_file(t, "self.pbrt", "# itself\nInclude \"self.pbrt\"\n");
+    p = test_write_file(t, "self_main.pbrt", "WorldBegin\nInclude \"self.pbrt\"\n");
+    if (!expect_fail(t, p, "self.pbrt:2:", "nested deeper than 32 (MAX_INCLUDE_DEPTH", &e)) return;
+    for (i = 1; i <= 32; i++) {       /* chain1 .. chain32: 32 files open at the end */
+        snprintf(name, sizeof name, "chain%d.pbrt", i);
+        if (i < 32) snprintf(text, sizeof text, "Include \"chain%d.pbrt\"\n", i + 1);
+        else snprintf(text, sizeof text, "Shape \"sphere\"\n");
+        test_write_file(t, name, text);
+    }
+    p = test_write_file(t, "chain0.pbrt", "WorldBegin\nInclude \"chain1.pbrt\"\n");
+    expect_loads(t, p, "a chain of 32 nested Includes");
+}
+
+/* An included file is read once and each Include lexes a fresh copy of its text
+   (the lexer unescapes strings in place): two files, each included twice in turn,
+   give four spheres with the radii of the files, in order. */
+static void test_include_cached(T *t)
+{
+    static const float want[4] = { 1.0f, 2.0f, 1.0f, 2.0f };
+    Scene s;
+    Error e;
+    const char *p;
+    int i;
+    test_write_file(t, "cache_a.pbrt", "Shape \"sphere\" \"float radius\" 1 # a\n");
+    test_write_file(t, "cache_b.pbrt", "Shape \"sphere\" \"float radius\" [ 2 ] # b\n");
+    p = test_write_file(t, "cache_main.pbrt", "WorldBegin\nInclude \"cache_a.pbrt\"\n"
+                        "Include \"cache_b.pbrt\"\nInclude \"cache_a.pbrt\"\nImport \"cache_b.pbrt\"\n");
+    if (!scene_load(&s, p, &e)) { test_failf(t, __FILE__, __LINE__, "%s", e.msg); return; }
+    CHECK(t, s.n_spheres == 4, "%d spheres", s.n_spheres);
+    for (i = 0; i < 4 && i < s.n_spheres; i++)
+        CHECK(t, s.shapes[s.sphere_shape[i]].radius == want[i], "sphere %d: radius %g, not %g",
+              i, s.shapes[s.sphere_shape[i]].radius, want[i]);
+    scene_free(&s);
 }
 
 /* #20: an Included file's last statement takes the parameters that follow the
@@ -364,6 +410,8 @@ const TestCase tests_robust[] = {
     { "robust_error_at_param_line", test_error_at_param_line },
     { "robust_param_words", test_param_words },
     {"robust_include_fanout", test_include_fanout},
+    {"robust_include_depth", test_include_depth},
+    {"robust_include_cached", test_include_cached},
     {"robust_include_params_continue", test_include_params_continue},
     {"robust_include_paths", test_include_paths},
     {"robust_gzip_refused", test_gzip_refused},
