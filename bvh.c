@@ -437,10 +437,14 @@ static float box_half_area(const Box *b)
     return dx * dy + dy * dz + dz * dx;
 }
 
-/* Everything the build needs about one primitive. */
+/* Everything the build needs about one primitive.  The build moves these records
+   themselves as it partitions (not indices to them), so that each node reads its
+   primitives in one run of memory: on the 3.2 million instances of a Menger sponge
+   an index into 115 MB of records missed the cache at almost every read. */
 typedef struct {
     Box box;
     float centroid[3];
+    int32_t index;                 /* its position in the build's list of ids */
 } PrimInfo;
 
 /* A node of the binary tree the build makes first (then collapsed into wide nodes):
@@ -540,7 +544,7 @@ static int prim_info(const Scene *s, int id, PrimInfo *info)
     return 1;
 }
 
-/* Choose a split of prims[begin, end) by the binned SAH (Wald 2007, "On fast
+/* Choose a split of info[begin, end) by the binned SAH (Wald 2007, "On fast
    construction of SAH-based bounding volume hierarchies").  Splitting a node of area A
    holding N primitives into (L, R) is estimated to cost
        C_split = C_trav + (A_L N_L + A_R N_R) / A
@@ -549,8 +553,8 @@ static int prim_info(const Scene *s, int id, PrimInfo *info)
    (one from each side).  A node with more than BVH_LEAF_MAX primitives is always
    split (bvh_build cuts it in the middle of its list when the SAH finds no plane); a
    smaller one only when C_split < C_leaf.  Returns 1 and sets *axis_out and *mid_out
-   (after partitioning prims) to split, 0 to make a leaf. */
-static int sah_split(const PrimInfo *info, int32_t *prims, int begin, int end,
+   (after partitioning info) to split, 0 to make a leaf. */
+static int sah_split(PrimInfo *info, int begin, int end,
                      const Box *node_box, const Box *cbox, int *axis_out, int *mid_out)
 {
     /* pbrt-v4 uses C_trav = 1/2; here a visit tests both children's boxes.  With the
@@ -571,7 +575,7 @@ static int sah_split(const PrimInfo *info, int32_t *prims, int begin, int end,
         if (!isfinite(k)) continue;                /* extent so small that k overflows */
         for (b = 0; b < BVH_BINS; b++) { box_empty(&bin_box[b]); bin_n[b] = 0; }
         for (i = begin; i < end; i++) {
-            const PrimInfo *p = &info[prims[i]];
+            const PrimInfo *p = &info[i];
             b = bin_of(p->centroid[axis], cbox->lo[axis], k);
             bin_n[b]++;
             box_grow(&bin_box[b], &p->box);
@@ -608,10 +612,10 @@ static int sah_split(const PrimInfo *info, int32_t *prims, int begin, int end,
     /* partition: bins below best_split to the front (two-pointer swap, deterministic) */
     lo = begin; hi = end - 1;
     while (lo <= hi) {
-        if (bin_of(info[prims[lo]].centroid[best_axis], cbox->lo[best_axis], k_best) < best_split)
+        if (bin_of(info[lo].centroid[best_axis], cbox->lo[best_axis], k_best) < best_split)
             lo++;
         else {
-            int32_t tmp = prims[lo]; prims[lo] = prims[hi]; prims[hi] = tmp;
+            PrimInfo tmp = info[lo]; info[lo] = info[hi]; info[hi] = tmp;
             hi--;
         }
     }
@@ -716,12 +720,13 @@ static int build_ids(Bvh *b, const Scene *s, const int32_t *ids, int n)
         free(info); free(stack); free(bin); free(prims);
         return 0;
     }
-    for (i = 0; i < n; i++)
+    for (i = 0; i < n; i++) {
         if (!prim_info(s, ids[i], &info[i])) {
             free(info); free(stack); free(bin); free(prims);
             return 0;
         }
-    for (i = 0; i < n; i++) prims[i] = i;
+        info[i].index = i;
+    }
 
     /* 1. The binary SAH tree, depth first with an explicit stack (no recursion, so no
        C stack overflow on a degenerate tree): pushing the right task before the left
@@ -737,13 +742,13 @@ static int build_ids(Bvh *b, const Scene *s, const int32_t *ids, int n)
 
         box_empty(&nd->box); box_empty(&cbox);
         for (i = task.begin; i < task.end; i++) {
-            box_grow(&nd->box, &info[prims[i]].box);
-            box_grow_point(&cbox, info[prims[i]].centroid);
+            box_grow(&nd->box, &info[i].box);
+            box_grow_point(&cbox, info[i].centroid);
         }
 
         split = 0;
         if (count > 1 && task.depth < SAH_DEPTH_MAX)
-            split = sah_split(info, prims, task.begin, task.end, &nd->box, &cbox, &axis, &mid);
+            split = sah_split(info, task.begin, task.end, &nd->box, &cbox, &axis, &mid);
         if (!split && count > BVH_LEAF_MAX) {
             /* middle split: identical centroids, or too deep for the SAH */
             mid = task.begin + count / 2;
@@ -761,6 +766,7 @@ static int build_ids(Bvh *b, const Scene *s, const int32_t *ids, int n)
         stack[sp].begin = task.begin; stack[sp].end = mid;
         stack[sp].parent = -1; stack[sp].depth = task.depth + 1; sp++;
     }
+    for (i = 0; i < n; i++) prims[i] = info[i].index;   /* the leaves' order */
     free(info);
     free(stack);
     /* every node's range of primitives, bottom up (children come after parents) */
@@ -795,6 +801,8 @@ static int build_ids(Bvh *b, const Scene *s, const int32_t *ids, int n)
     } else
         collapse(b, bin, todo, todo + n_wide + 1);
 
+    free(bin);                                     /* before b->prims is written */
+    bin = NULL;
     /* 3. The primitives' data in leaf order: 9 floats a triangle, 4 a sphere, none
        a quadric or a patch. */
     for (i = 0; i < n; i++) {
@@ -816,7 +824,6 @@ static int build_ids(Bvh *b, const Scene *s, const int32_t *ids, int n)
         }
     }
     b->n_prims = n;
-    free(bin);
     free(prims);
     free(todo);
     return 1;

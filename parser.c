@@ -318,15 +318,26 @@ const char *tok_desc(const Token *t)
     }
 }
 
-/* A float literal: the whole token must be a finite number within float range. */
-static int parse_number(const char *s, double *out)
+/* A float literal: the whole token must be a finite number within float range.
+   strtod is the slow part of reading a large file; files that place many instances
+   write the same few numbers over and over (a Menger sponge: 54 million numbers,
+   five distinct ones), so each short literal read is remembered in a small table
+   (Parser.num_memo, by a hash of its text): the same text gives the same double. */
+static int parse_number(Parser *P, const char *s, double *out)
 {
     char *end;
     double v;
+    size_t n = 0;
+    unsigned h = 2166136261u;                  /* FNV-1a over the text */
+    NumMemo *m;
     if (!*s) return 0;
+    for (; s[n] && n < NUM_MEMO_TEXT; n++) h = (h ^ (unsigned char)s[n]) * 16777619u;
+    m = &P->num_memo[h % NUM_MEMO_SIZE];
+    if (n < NUM_MEMO_TEXT && !strcmp(m->text, s)) { *out = m->v; return 1; }
     v = strtod(s, &end);
     if (end == s || *end != '\0') return 0;
     if (!(v == v) || v > FLT_MAX || v < -FLT_MAX) return 0;     /* NaN, inf, overflow */
+    if (n < NUM_MEMO_TEXT) { memcpy(m->text, s, n + 1); m->v = v; }
     *out = v;
     return 1;
 }
@@ -362,7 +373,7 @@ int expect_number(Parser *P, Lexer *L, const char *directive, int count, double 
         if (t.kind != TK_WORD)
             return fail(P, t.file, t.line, "%s expects %d numbers, found %s",
                         directive, count, tok_desc(&t));
-        if (!parse_number(t.text, &out[i]))
+        if (!parse_number(P, t.text, &out[i]))
             return fail(P, t.file, t.line, "%s: \"%s\" is not a finite number",
                         directive, t.text);
     }
@@ -421,7 +432,7 @@ static int param_add_value(Parser *P, Lexer *L, Param *p, const Token *v, int *c
             if (!parse_integer(v->text, &x))
                 return fail(P, v->file, v->line, "\"integer %s\": \"%s\" is not an integer",
                             p->name, v->text);
-        } else if (!parse_number(v->text, &x))
+        } else if (!parse_number(P, v->text, &x))
             return fail(P, v->file, v->line, "\"%s %s\": \"%s\" is not a finite number",
                         param_type_names[p->type], p->name, v->text);
     }

@@ -149,6 +149,11 @@ typedef struct { int defined, used, before_camera; const char *file; int line; }
    a file included 160,000 times is read from the disk once. */
 typedef struct { const char *path; char *text; size_t len; } IncludeCache;
 
+/* A number literal read before (parser.c parse_number): its text and value. */
+#define NUM_MEMO_TEXT 24           /* literals shorter than this are remembered */
+#define NUM_MEMO_SIZE 64           /* slots, by a hash of the text */
+typedef struct { char text[NUM_MEMO_TEXT]; double v; } NumMemo;
+
 /* A named material.  As in pbrt-v4 a NamedMaterial may come before its
    MakeNamedMaterial (pbrt-v4 looks names up when it builds the scene): the name is
    then recorded with material -1 and the NamedMaterial's place, and shapes made
@@ -210,6 +215,7 @@ typedef struct {
     InstanceUse *uses; int n_uses, cap_uses;   /* the ObjectInstances of an object
                                                   not defined yet (looked up at the end) */
     int cap_instances;         /* Scene.instances' capacity */
+    NumMemo num_memo[NUM_MEMO_SIZE];   /* number literals read so far (parse_number) */
     int last_object;           /* the object the last ObjectInstance named (its index):
                                   looked at first, as files name one object many times */
     double t0, t1;             /* TransformTimes (0 1): when the two CTMs hold */

@@ -117,6 +117,33 @@ static void test_include_cached(T *t)
     scene_free(&s);
 }
 
+/* The remembered number literals (parser.c parse_number) give each text its own
+   value: 300 vertices of 300 distinct numbers, each read twice (x and y) and once
+   more as the next vertex's z, equal strtod's values of their texts. */
+static void test_number_memo(T *t)
+{
+    static char text[20000];
+    char num[300][32];
+    Scene s;
+    size_t n;
+    int i, bad = 0;
+    for (i = 0; i < 300; i++) snprintf(num[i], sizeof num[i], "%.7g", 0.37 * i - 41.0 + 1e-4 * (i % 7));
+    n = (size_t)snprintf(text, sizeof text, "WorldBegin\nShape \"trianglemesh\" \"integer indices\" [");
+    for (i = 0; i < 300; i++) n += (size_t)snprintf(text + n, sizeof text - n, " %d", i);
+    n += (size_t)snprintf(text + n, sizeof text - n, " ] \"point3 P\" [");
+    for (i = 0; i < 300; i++)
+        n += (size_t)snprintf(text + n, sizeof text - n, " %s %s %s", num[i], num[i], num[(i + 1) % 300]);
+    snprintf(text + n, sizeof text - n, " ]\n");
+    if (!test_load_scene(t, &s, text)) return;
+    CHECK(t, s.n_verts == 300, "%d vertices", s.n_verts);
+    for (i = 0; i < 300 && i < s.n_verts; i++) {
+        const float x = (float)strtod(num[i], NULL), z = (float)strtod(num[(i + 1) % 300], NULL);
+        if (s.P[i].x != x || s.P[i].y != x || s.P[i].z != z) bad++;
+    }
+    CHECK(t, bad == 0, "%d of 300 vertices differ from their numbers' values", bad);
+    scene_free(&s);
+}
+
 /* #20: an Included file's last statement takes the parameters that follow the
    Include in the including file (pbrt-v4's token stream crosses files). */
 static void test_include_params_continue(T *t)
@@ -412,6 +439,7 @@ const TestCase tests_robust[] = {
     {"robust_include_fanout", test_include_fanout},
     {"robust_include_depth", test_include_depth},
     {"robust_include_cached", test_include_cached},
+    {"robust_number_memo", test_number_memo},
     {"robust_include_params_continue", test_include_params_continue},
     {"robust_include_paths", test_include_paths},
     {"robust_gzip_refused", test_gzip_refused},
