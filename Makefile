@@ -73,7 +73,7 @@ rgbtable.h: tools/gen_rgbtable.c rgbtable.c spectrum.o rgbfit.o util.o metals.o
 	$(CC) $(CFLAGS) -I. -c -o $@ $<
 
 $(LIBOBJ) specnee.o $(TESTOBJ) tools/gen_measured.o tools/bench.o tools/bench_lights.o fuzz/replay.o fuzz/targets.o: specnee.h
-parser.o options.o scene.o geometry.o material.o conductor.o layered.o texture.o lights.o arealight.o delta.o infinite.o medium.o bump.o curve.o hair.o subsurface.o tests/test_hair.o tests/test_subsurface.o: parser.h
+parser.o options.o scene.o geometry.o instance.o material.o conductor.o layered.o texture.o lights.o arealight.o delta.o infinite.o medium.o bump.o curve.o hair.o subsurface.o tests/test_hair.o tests/test_subsurface.o: parser.h
 $(TESTOBJ): tests/test.h tests/tables.h
 tests/test_png.o: tests/png_fixtures.h
 camera.o path.o render.o: render.h

@@ -4,8 +4,11 @@
    WHAT IT IMPLEMENTS (specnee.h section 5)
      instances_prepare        one BVH per object definition, over its primitives in
                               the object's own space, and each instance's world box
+     add_instance,            (parser.h) the Instance record of an ObjectInstance or
+     instances_resolve        a moving shape, written where it is read; the names of
+                              objects defined further down, looked up at the end
    USE: scene.c's ObjectBegin marks the shapes it makes (Shape.in_object) and
-   ObjectInstance records an Instance; scene_load calls instances_prepare before
+   ObjectInstance calls add_instance; scene_load calls instances_resolve and instances_prepare before
    bvh_build, whose top level then holds the world's primitives and one primitive
    per instance.  bvh.c's traversal meets an instance's primitive in a leaf and
    traces the ray, carried into object space (bvh.c's instance_ray), through the
@@ -144,5 +147,90 @@ int instances_prepare(Scene *s, Error *err)
         n++;
     }
     s->n_instances = n;
+    return 1;
+}
+
+/* ---------------------------------------------------------------------------
+   ---- building from scene parameters
+   add_instance: the record of an ObjectInstance (scene.c) or a moving shape
+   (geometry.c), placed by the parser's CTMs; instances_resolve: the names not
+   defined where they were used, looked up when the file has been read (parser.h).
+   --------------------------------------------------------------------------- */
+#include "parser.h"
+
+/* The index of the named object defined so far, -1: none (yet). */
+static int find_object(Parser *P, const char *name)
+{
+    const Scene *s = P->s;
+    int k = P->last_object;
+    if (k < s->n_objects && !s->objects[k].unnamed && !strcmp(s->objects[k].name, name))
+        return k;
+    for (k = 0; k < s->n_objects; k++)
+        if (!s->objects[k].unnamed && !strcmp(s->objects[k].name, name))
+            return P->last_object = k;
+    return -1;
+}
+
+/* One Instance record per ObjectInstance (and per moving shape), written where the
+   directive is read: a file that places millions of instances (a Menger sponge of
+   3.2 million, docs/loading.md) holds each placement once, its CTM and nothing else.
+   A name not defined yet is kept in Parser.uses and looked up by resolve_instances. */
+int add_instance(Parser *P, const char *what, const char *name, int object,
+                 const char *file, int line)
+{
+    Scene *s = P->s;
+    Instance *in;
+    if ((double)(s->n_instances + 1) * sizeof(Instance) > MEM_BUDGET_MIB * 1048576.0)
+        return fail(P, file, line, "%s \"%s\": more than %d instances, whose records "
+                    "exceed the memory budget MEM_BUDGET_MIB (%d MiB)", what, name,
+                    s->n_instances, MEM_BUDGET_MIB);
+    if (!grow((void **)&s->instances, &P->cap_instances, s->n_instances + 1, sizeof(Instance)))
+        return oom(P, file, line);
+    in = &s->instances[s->n_instances];
+    memset(in, 0, sizeof *in);
+    in->object = object >= 0 ? object : find_object(P, name);
+    in->world_from_obj = P->gs.ctm;
+    in->file = file;
+    in->line = line;
+    if (xf_differ(&P->gs.ctm, &P->gs.ctm_end)) {              /* it moves (motion.c) */
+        if (!grow((void **)&s->motions, &P->cap_motions, s->n_motions + 1, sizeof(Motion)))
+            return oom(P, file, line);
+        if (!motion_init(&s->motions[s->n_motions], &P->gs.ctm, P->t0, &P->gs.ctm_end, P->t1))
+            return fail(P, file, line, "%s \"%s\": its start and end transforms "
+                        "(ActiveTransform) must be rotations, scales and translations "
+                        "without a mirror (pbrt-v4 cannot interpolate a mirroring or "
+                        "projective transform)", object >= 0 ? "Shape" : "ObjectInstance",
+                        name);
+        in->motion = ++s->n_motions;
+    }
+    if (in->object < 0) {                      /* defined further down, or never */
+        InstanceUse *u;
+        if (!grow((void **)&P->uses, &P->cap_uses, P->n_uses + 1, sizeof(InstanceUse)))
+            return oom(P, file, line);
+        u = &P->uses[P->n_uses];
+        if (!(u->name = keep_string(P, name))) return oom(P, file, line);
+        u->instance = s->n_instances;
+        u->file = file;
+        u->line = line;
+        P->n_uses++;
+    }
+    s->n_instances++;
+    return 1;
+}
+
+/* The instances whose names were not defined where they were placed, looked up now
+   that every ObjectBegin has been read (pbrt-v4: "object instance not defined" at
+   the ObjectInstance). */
+int instances_resolve(Parser *P)
+{
+    Scene *s = P->s;
+    int i, k;
+    for (i = 0; i < P->n_uses; i++) {
+        const InstanceUse *u = &P->uses[i];
+        if ((k = find_object(P, u->name)) < 0)
+            return fail(P, u->file, u->line, "ObjectInstance \"%s\": object instance not "
+                        "defined", u->name);
+        s->instances[u->instance].object = k;
+    }
     return 1;
 }

@@ -166,7 +166,7 @@ typedef struct { const char *name; Xform xf, xf_end; } NamedCoordSys;   /* both 
    looked up when the file has been read (an instance may come before its
    ObjectBegin).  The placement itself is already Scene.instances[instance] (with
    object -1 until then); an instance of an object defined earlier, the usual
-   case, never makes one of these (scene.c add_instance). */
+   case, never makes one of these (instance.c add_instance). */
 typedef struct {
     const char *name; int instance;
     const char *file; int line;
@@ -251,12 +251,14 @@ void dir_of(const char *path, char *out, size_t cap);
 void resolve_path(const Parser *P, const char *from_file, const char *name,
                   char *out, size_t cap);
 int ends_with_ci(const char *s, const char *suffix);   /* case-insensitive suffix */
-/* An Instance placed by the current CTMs (scene.c): of object `object` (>= 0: a
+/* An Instance placed by the current CTMs (instance.c): of object `object` (>= 0: a
    moving shape's own object, geometry.c), else of the object named `name` (looked
    up now, or at the end of the file when it is not defined yet).  what: the
    directive, for messages ("ObjectInstance", or the moving shape's type). */
 int add_instance(Parser *P, const char *what, const char *name, int object,
                  const char *file, int line);
+/* The instances of objects defined after them, looked up at the end of the file. */
+int instances_resolve(Parser *P);
 
 /* The token stream.  lex_next: the next token (comments skipped, structured
    "# inset" comments recorded; an included file's end goes on in its parent);
