@@ -285,9 +285,8 @@ int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_ill
    the float or spectrum namespace (-1 and an error when none).
    microfacet_roughness: pbrt-v4's roughness parameters (prefix: a layer's,
    "interface." or "conductor.") as a Roughness, each axis a GGX alpha or a float
-   texture; microfacet_alphas: the unprefixed ones into a Material;
-   microfacet_alpha_texture: the same texture for both axes, only when a
-   roughness is a texture (else *alpha_tex = 0, nothing read).  check_spectrum_above: every value over
+   texture; microfacet_alphas: the unprefixed ones into a Material.
+   check_spectrum_above: every value over
    300-830 nm finite and > lo (strict) or >= lo (p NULL: the statement's line);
    check_spectrum_above_from: the same from nm0 on.
    rgb_illuminant_scale: the scale that gives an "rgb L" illuminant pbrt-v4's
@@ -315,8 +314,6 @@ int microfacet_roughness(Parser *P, ParamList *pl, const char *file, int line,
                          const char *what, const char *prefix, Roughness *r);
 int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
                       const char *what, Material *m);
-int microfacet_alpha_texture(Parser *P, ParamList *pl, const char *file, int line,
-                             const char *what, int *alpha_tex, int *remap_out);
 int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
                          const char *what, const Spectrum *sp, float lo, int strict);
 int check_spectrum_above_from(Parser *P, const Param *p, const char *file, int line,
