@@ -194,6 +194,8 @@ typedef struct {
     double d65_y;              /* Y of stdillum-D65 (rgb_illuminant_scale), 0: not yet */
     int cur_object;            /* inside ObjectBegin: 1 + its Scene.objects index; else 0 */
     int option_seed, option_seed_set;   /* Option "integer seed" (scene.c finish) */
+    float edge_scale; int edge_scale_set;   /* Option "float displacementedgescale" (1 unset) */
+    const char *displaced_file; int displaced_line;   /* the first displaced plymesh, if any */
     float shape_alpha; int shape_alpha_tex;   /* the Shape being read: its "alpha" (Shape) */
     int cap_objects;
     InstanceUse *uses; int n_uses, cap_uses;   /* the ObjectInstance directives and
