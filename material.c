@@ -786,6 +786,18 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
 #include "parser.h"
 #include <float.h>
 
+/* "string normalmap" on a material that has no normal map in pbrt-v4: its scene
+   loads the image of every material's "normalmap" (a missing file stops it),
+   but an interface has no BSDF to shade and MixMaterial::GetNormalMap returns
+   none (the material it chooses shades with its own normal map), so the image
+   is the one without it.  Read, and ignored with a note. */
+static void note_normalmap_ignored(ParamList *pl, const char *what, const char *why)
+{
+    Param *pn = param_find(pl, PT_STRING, "normalmap");
+    if (pn) fprintf(stderr, "%s:%d: note: %s: \"string normalmap\" is ignored: %s\n", pn->file,
+                    pn->line, what, why);
+}
+
 /* pbrt-v4 (materials.cpp): no material, only the boundary between two media;
    "" and "none" are its deprecated spellings.  Rays cross it (path.c) */
 int interface_from_params(Parser *P, ParamList *pl, const char *file, int line,
@@ -793,7 +805,8 @@ int interface_from_params(Parser *P, ParamList *pl, const char *file, int line,
 {
     (void)dir; (void)file; (void)line;
     m->type = MAT_INTERFACE;
-    return params_check_unused(P, pl, what, "", "normalmap");
+    note_normalmap_ignored(pl, what, "an interface has no surface to shade (pbrt-v4 ignores it too)");
+    return params_check_unused(P, pl, what, "string normalmap", NULL);
 }
 
 /* pbrt-v4 DiffuseMaterial: "reflectance" (0.5 by default), a spectrum (clamped
@@ -1141,8 +1154,10 @@ int mix_from_params(Parser *P, ParamList *pl, const char *file, int line,
     } else if (!get_float(P, pl, "amount", 0.5f, &m->amount)) {
         return 0;
     }
-    return params_check_unused(P, pl, what, "string materials, float amount, texture amount",
-                               "normalmap");
+    note_normalmap_ignored(pl, what, "pbrt-v4's mix has no normal map of its own; the material "
+                           "it chooses shades with its own");
+    return params_check_unused(P, pl, what, "string materials, float amount, texture amount, "
+                               "string normalmap", NULL);
 }
 
 /* ---- the Scene's material records */
