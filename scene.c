@@ -691,6 +691,7 @@ typedef struct {
     ParamType type;
     int is_num;
     double num;
+    int is_bool, b;      /* a bool: typed "bool", or the word true or false */
 } OptionValue;
 
 /* Option "displacementedgescale" s: pbrt-v4 multiplies the "edgelength" of every
@@ -720,8 +721,7 @@ static int option_apply(Parser *P, const Token *t, const OptionValue *o)
         "msereferenceimage", "msereferenceout", "rendercoordsys", "pixelstats", "wavefront", NULL
     };
     static const char *const refused[] = {          /* the image (or its noise) changes */
-        "disablepixeljitter", "disabletexturefiltering", "disablewavelengthjitter",
-        "forcediffuse", NULL
+        "disabletexturefiltering", "disablewavelengthjitter", "forcediffuse", NULL
     };
     int i;
     if (!strcmp(o->name, "seed")) {
@@ -733,6 +733,12 @@ static int option_apply(Parser *P, const Token *t, const OptionValue *o)
         return 1;
     }
     if (!strcmp(o->name, "displacementedgescale")) return option_edge_scale(P, t, o);
+    if (!strcmp(o->name, "disablepixeljitter")) {   /* render.c: rays through pixel centres */
+        if (!o->is_bool)
+            return fail(P, t->file, t->line, "Option \"disablepixeljitter\": expected true or false");
+        P->s->settings.no_pixel_jitter = o->b;
+        return 1;
+    }
     for (i = 0; ignored[i]; i++)
         if (!strcmp(o->name, ignored[i])) {
             fprintf(stderr, "%s:%d: note: Option \"%s\" is read and ignored: it steers pbrt-v4's "
@@ -758,7 +764,9 @@ static int option_apply(Parser *P, const Token *t, const OptionValue *o)
    which the file sets after the command line): finish() makes it the scene's
    Sampler seed, so it changes only the noise, and specnee's --seed overrides it
    as it overrides the Sampler's (docs/conventions.md).  "displacementedgescale"
-   scales displaced meshes' edgelength (option_edge_scale).  The others change
+   scales displaced meshes' edgelength (option_edge_scale); "disablepixeljitter"
+   sends every camera ray through its pixel's centre with filter weight 1 (pbrt-v4's
+   GetCameraSample, render.c).  The others change
    the image (or the noise) and are refused by name; an option pbrt-v4 does not
    know is an error, as in pbrt-v4. */
 static int option_directive(Parser *P, Lexer *L, const Token *t)
@@ -778,6 +786,8 @@ static int option_directive(Parser *P, Lexer *L, const Token *t)
         if (v.kind == TK_WORD) {
             o.num = strtod(v.text, &end);
             o.is_num = end != v.text && *end == '\0';
+            o.is_bool = !strcmp(v.text, "true") || !strcmp(v.text, "false");
+            o.b = !strcmp(v.text, "true");
         }
     } else {                                               /* "type name" value */
         ParamList pl;
@@ -796,6 +806,8 @@ static int option_directive(Parser *P, Lexer *L, const Token *t)
         o.type = p->type;
         o.is_num = p->n_num == 1 && (p->type == PT_FLOAT || p->type == PT_INTEGER);
         o.num = o.is_num ? p->num[0] : 0.0;
+        o.is_bool = p->type == PT_BOOL && p->n_num == 1;
+        o.b = o.is_bool && p->num[0] != 0.0;
         params_free(&pl);
     }
     return option_apply(P, t, &o);
