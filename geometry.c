@@ -673,6 +673,19 @@ static int ply_shape(Parser *P, ParamList *pl, const char *file, int line)
             return fail(P, file, line, "Shape \"plymesh\" \"%s\": \"texture displacement\" needs "
                         "per-vertex uv in the file (pbrt-v4 refuses it too)", fn);
         }
+        /* pbrt-v4 multiplies every displaced mesh's edgelength by the Option
+           "displacementedgescale" (Options->displacementEdgeScale, 1 by default) */
+        if (P->edge_scale_set) edge *= P->edge_scale;
+        if (!(edge > 0.0f && edge <= FLT_MAX)) {
+            ply_free(&mesh);
+            return fail(P, file, line, "Shape \"plymesh\": \"float edgelength\" times Option "
+                        "\"displacementedgescale\" %g is %g (must be > 0 and finite)",
+                        (double)P->edge_scale, (double)edge);
+        }
+        if (!P->displaced_file) {
+            P->displaced_file = file;
+            P->displaced_line = line;
+        }
         if (!ply_displace(&mesh, &P->gs.ctm, edge, P->s->textures, tex, &e)) {
             ply_free(&mesh);
             return fail(P, file, line, "Shape \"plymesh\" \"%s\": %s", fn, e.msg);

@@ -33,14 +33,19 @@
    ratio along the path).
 
    Rough (GGX / Trowbridge-Reitz, Walter et al. 2007, "Microfacet Models for
-   Refraction through Rough Surfaces", EGSR), isotropic alpha, local frame n = +z:
-   a visible normal m ~ D_wo (tr_sample_wm with alpha_x = alpha_y = alpha), then
-   reflection about m with probability F(wo.m), else refraction through it; f and
-   pdf of the pair are microfacet.c's tr_dielectric_pair (section 4: THEORY §10,
-   (10)-(12), checked against pbrt-v4's DielectricBxDF).  A roughness texture
-   gives alpha at each hit (dielectric_alpha, through mat_point); where it is
-   below 1e-3 the hit is smooth (pbrt-v4's EffectivelySmooth), as a numeric
-   alpha that small is at load time.
+   Refraction through Rough Surfaces", EGSR), local frame n = +z, anisotropic
+   when the alphas differ: alpha_x ("uroughness") along the shading frame's s
+   axis, the surface's dp/du made tangent (mat_frame), alpha_y ("vroughness")
+   along t, as pbrt-v4's DielectricBxDF over its TrowbridgeReitzDistribution.
+   A visible normal m ~ D_wo (tr_sample_wm(alpha_x, alpha_y)), then reflection
+   about m with probability F(wo.m), else refraction through it; f and pdf of
+   the pair are microfacet.c's tr_dielectric_pair_xy (section 4: THEORY §10,
+   (10)-(12), checked against pbrt-v4's DielectricBxDF).  Roughness textures
+   give the alphas at each hit (dielectric_alphas, through mat_point); where
+   both are below 1e-3 the hit is smooth (pbrt-v4's EffectivelySmooth), as
+   numeric alphas that small are at load time; a rough hit keeps each alpha at
+   least 1e-4 (pbrt-v4's distribution does, so that one smooth axis beside a
+   rough one still has a finite D).
 
    Dispersion: with a wavelength-dependent index, the hero's index picks the
    direction.  For other wavelengths f and pdf are evaluated along the SAME
@@ -420,18 +425,30 @@ int mat_is_delta(const Material *m)
         return m->alpha_tex <= 0 && m->alpha_t_tex <= 0 && tr_smooth(m->alpha, m->alpha_t);
     if (m->type == MAT_THIN_DIELECTRIC) return 1;
     return (m->type == MAT_DIELECTRIC || m->type == MAT_SUBSURFACE) && m->alpha_tex <= 0 &&
-           m->alpha == 0.0f;
+           m->alpha_t_tex <= 0 && m->alpha == 0.0f && m->alpha_t == 0.0f;
 }
 
-/* A dielectric's (or a subsurface boundary's) GGX alpha at sp: its number, or its
-   roughness texture's value (mat_point); 0, a smooth hit, where that is below
-   1e-3 (pbrt-v4's EffectivelySmooth). */
-static float dielectric_alpha(const Material *m, const SurfacePoint *sp, const float *lambda)
+/* A dielectric's (or a subsurface boundary's) GGX alphas at sp, along the
+   shading frame's s and t axes: its numbers, or its roughness textures' values
+   (mat_point).  0: a smooth hit, both alphas below 1e-3 (pbrt-v4's
+   EffectivelySmooth).  1: rough, each alpha raised to at least 1e-4 as pbrt-v4's
+   TrowbridgeReitzDistribution does (one axis 0 beside a rough one would leave D
+   the 0/0 of x/alpha_x along that axis). */
+static int dielectric_alphas(const Material *m, const SurfacePoint *sp, const float *lambda,
+                             float *ax, float *ay)
 {
-    MatPoint mp;
-    if (m->alpha_tex <= 0 || !m->textures) return m->alpha;
-    mat_point(m, sp, lambda, 1u, &mp);
-    return tr_smooth(mp.alpha, mp.alpha_t) ? 0.0f : mp.alpha;
+    *ax = m->alpha;
+    *ay = m->alpha_t;
+    if ((m->alpha_tex > 0 || m->alpha_t_tex > 0) && m->textures) {
+        MatPoint mp;
+        mat_point(m, sp, lambda, 1u, &mp);
+        *ax = mp.alpha;
+        *ay = mp.alpha_t;
+    }
+    if (tr_smooth(*ax, *ay)) return 0;
+    *ax = fmaxf(*ax, 1e-4f);
+    *ay = fmaxf(*ay, 1e-4f);
+    return 1;
 }
 
 /* pbrt-v4's BxDF::Regularize: DielectricBxDF, ConductorBxDF and LayeredBxDF (its
@@ -560,12 +577,15 @@ int mat_needs_tangent(const Material *m)
          m->type == MAT_CONDUCTOR) &&
         (m->alpha_tex != m->alpha_t_tex || m->cond_alpha_tex != m->cond_alpha_t_tex))
         return 1;                                  /* textured axes that may differ */
+    if ((m->type == MAT_DIELECTRIC || m->type == MAT_SUBSURFACE) &&
+        (m->alpha != m->alpha_t || m->alpha_tex != m->alpha_t_tex))
+        return 1;                                  /* an anisotropic rough interface */
     return (m->type == MAT_MEASURED && !m->measured->isotropic) ||
            (m->type == MAT_CONDUCTOR && m->alpha != m->alpha_t);
 }
 
 /* The shading frame: around ns; where the BSDF turns with dp/du (an anisotropic
-   measured file or conductor) its s axis is dp/du made tangent (Gram-Schmidt), its
+   measured file, conductor, coat, dielectric or subsurface boundary) its s axis is dp/du made tangent (Gram-Schmidt), its
    t = ns x s, pbrt-v4's Frame::FromXZ(dpdu, ns). */
 Frame mat_frame(const Material *m, const SurfacePoint *sp)
 {
@@ -587,7 +607,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
 {
     Frame fr = mat_frame(m, sp);
     Vec3 lo = frame_to_local(&fr, wo), li;
-    float alpha;
+    float ax, ay;
     int j;
     for (j = 0; j < HERO_N; j++) { out->f[j] = 0.0f; out->pdf_l[j] = 0.0f; out->eta2[j] = 1.0f; }
     out->delta = 0;
@@ -651,8 +671,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
     }
 
     /* dielectric (and the boundary of a subsurface material) */
-    alpha = dielectric_alpha(m, sp, lambda);
-    if (alpha == 0.0f) {
+    if (!dielectric_alphas(m, sp, lambda, &ax, &ay)) {
         float eta = mat_eta(m, lambda[0]);
         float F = fresnel_dielectric(lo.z, eta), etap = 1.0f;
         Vec3 n = v3(0, 0, 1);
@@ -681,7 +700,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         return 1;
     } else {
         float eta = mat_eta(m, lambda[0]);
-        Vec3 wm = tr_sample_wm(alpha, alpha, lo, u1, u2);
+        Vec3 wm = tr_sample_wm(ax, ay, lo, u1, u2);
         float F = fresnel_dielectric(v3_dot(lo, wm), eta), etap;
         if (u0 < F) {
             li = reflect_dir(lo, wm);
@@ -697,7 +716,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         for (j = 0; j < HERO_N; j++) {
             float etaj = j == 0 ? eta : mat_eta(m, lambda[j]), fj, pj;
             if (j > 0 && !(alive & (1u << j))) continue;
-            tr_dielectric_pair(alpha, etaj, lo, li, LOBE_R | LOBE_T, &fj, &pj);
+            tr_dielectric_pair_xy(ax, ay, etaj, lo, li, LOBE_R | LOBE_T, &fj, &pj);
             out->pdf_l[j] = pj;
             if (alive & (1u << j)) out->f[j] = fj;
             if (li.z * lo.z < 0.0f)            /* refracted: etap_j = eta_j entering */
@@ -713,7 +732,7 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
 {
     Frame fr = mat_frame(m, sp);
     Vec3 lo = frame_to_local(&fr, wo), li = frame_to_local(&fr, wi);
-    float alpha;
+    float ax, ay;
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
     if (m->type == MAT_HAIR) { hair_eval(m, sp, wo, wi, lambda, alive, f, pdf_l); return; }
@@ -748,12 +767,11 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
         }
         return;
     }
-    alpha = dielectric_alpha(m, sp, lambda);
-    if (alpha == 0.0f) return;                                     /* delta: f = 0 */
+    if (!dielectric_alphas(m, sp, lambda, &ax, &ay)) return;       /* delta: f = 0 */
     for (j = 0; j < HERO_N; j++) {
         float fj, pj;
         if (j > 0 && !(alive & (1u << j))) continue;
-        tr_dielectric_pair(alpha, mat_eta(m, lambda[j]), lo, li, LOBE_R | LOBE_T, &fj, &pj);
+        tr_dielectric_pair_xy(ax, ay, mat_eta(m, lambda[j]), lo, li, LOBE_R | LOBE_T, &fj, &pj);
         pdf_l[j] = pj;
         if (alive & (1u << j)) f[j] = fj;
     }
@@ -768,6 +786,18 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
 #include "parser.h"
 #include <float.h>
 
+/* "string normalmap" on a material that has no normal map in pbrt-v4: its scene
+   loads the image of every material's "normalmap" (a missing file stops it),
+   but an interface has no BSDF to shade and MixMaterial::GetNormalMap returns
+   none (the material it chooses shades with its own normal map), so the image
+   is the one without it.  Read, and ignored with a note. */
+static void note_normalmap_ignored(ParamList *pl, const char *what, const char *why)
+{
+    Param *pn = param_find(pl, PT_STRING, "normalmap");
+    if (pn) fprintf(stderr, "%s:%d: note: %s: \"string normalmap\" is ignored: %s\n", pn->file,
+                    pn->line, what, why);
+}
+
 /* pbrt-v4 (materials.cpp): no material, only the boundary between two media;
    "" and "none" are its deprecated spellings.  Rays cross it (path.c) */
 int interface_from_params(Parser *P, ParamList *pl, const char *file, int line,
@@ -775,7 +805,8 @@ int interface_from_params(Parser *P, ParamList *pl, const char *file, int line,
 {
     (void)dir; (void)file; (void)line;
     m->type = MAT_INTERFACE;
-    return params_check_unused(P, pl, what, "", "normalmap");
+    note_normalmap_ignored(pl, what, "an interface has no surface to shade (pbrt-v4 ignores it too)");
+    return params_check_unused(P, pl, what, "string normalmap", NULL);
 }
 
 /* pbrt-v4 DiffuseMaterial: "reflectance" (0.5 by default), a spectrum (clamped
@@ -863,14 +894,15 @@ int fluorescent_from_params(Parser *P, ParamList *pl, const char *file, int line
 }
 
 /* pbrt-v4 DielectricMaterial: "float eta" (no dispersion), "spectrum eta" or
-   "rgb eta", or specnee's Cauchy coefficients; isotropic roughness. */
+   "rgb eta", or specnee's Cauchy coefficients; roughness per axis (anisotropic
+   when u and v differ). */
 int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
                            const char *dir, const char *what, Material *m)
 {
     Param *pf = param_find(pl, PT_FLOAT, "eta");
     Param *pa = param_find(pl, PT_FLOAT, "cauchyA"), *pb = param_find(pl, PT_FLOAT, "cauchyB");
-    float u, v, r, A = 0, B = 0;
-    int remap, i, have_u, have_v;
+    float A = 0, B = 0;
+    int i;
     Spectrum ior;                   /* n(lambda), shared once built */
     spec_const(&ior, 1.0f);
     m->type = MAT_DIELECTRIC;
@@ -922,24 +954,11 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
             spec_const(&ior, 1.5f);            /* pbrt-v4's default */
         }
     }
-    /* pbrt-v4: u/vroughness default to "roughness", which defaults to 0; a
-       roughness texture is read at each hit instead (mat_point) */
-    if (!microfacet_alpha_texture(P, pl, file, line, what, &m->alpha_tex, &m->remap)) return 0;
-    m->alpha_t_tex = m->alpha_tex;                     /* isotropic: one texture */
-    u = v = 0.0f;
-    have_u = have_v = m->alpha_tex > 0;
-    if (!have_u) {
-        have_u = param_find(pl, PT_FLOAT, "uroughness") != NULL;
-        have_v = param_find(pl, PT_FLOAT, "vroughness") != NULL;
-        if (!get_float(P, pl, "uroughness", 0, &u) || !get_float(P, pl, "vroughness", 0, &v))
-            return 0;
-    }
-    if (!have_u || !have_v) {
-        if (!get_float(P, pl, "roughness", 0, &r)) return 0;
-        if (!have_u) u = r;
-        if (!have_v) v = r;
-    }
-    if (!get_bool(P, pl, "remaproughness", 1, &remap)) return 0;
+    /* pbrt-v4: u/vroughness default to "roughness", which defaults to 0; each
+       axis is a number or a float texture read at each hit (parser.c
+       microfacet_alphas: alpha along the shading frame's s axis from uroughness,
+       along t from vroughness, each remapped unless remaproughness is false) */
+    if (!microfacet_alphas(P, pl, file, line, what, m)) return 0;
     if (!bump_from_params(P, pl, what, m) ||
         !params_check_unused(P, pl, what, "float eta, spectrum eta, rgb eta, "
                              "float roughness, float uroughness, float vroughness, "
@@ -947,14 +966,8 @@ int dielectric_from_params(Parser *P, ParamList *pl, const char *file, int line,
                              "bool remaproughness, float cauchyA, float cauchyB",
                              NULL))
         return 0;
-    if (u != v)
-        return fail(P, file, line, "%s \"dielectric\": anisotropic roughness (%g, %g) "
-                    "is valid pbrt-v4 but not in the specnee subset", dir, u, v);
-    if (!(u >= 0.0f && u <= 1e4f))
-        return fail(P, file, line, "%s \"dielectric\": roughness must be >= 0", dir);
-    /* pbrt-v4 TrowbridgeReitzDistribution::RoughnessToAlpha: alpha = sqrt(roughness) */
-    m->alpha = remap ? tr_alpha_of_roughness(u) : u;
-    if (tr_smooth(m->alpha, m->alpha)) m->alpha = 0.0f;   /* pbrt-v4's EffectivelySmooth */
+    if (m->alpha_tex <= 0 && m->alpha_t_tex <= 0 && tr_smooth(m->alpha, m->alpha_t))
+        m->alpha = m->alpha_t = 0.0f;                  /* pbrt-v4's EffectivelySmooth */
     m->dispersive = !spec_is_constant(&ior);
     return material_set_eta(P, m, &ior, file, line);
 }
@@ -1141,8 +1154,10 @@ int mix_from_params(Parser *P, ParamList *pl, const char *file, int line,
     } else if (!get_float(P, pl, "amount", 0.5f, &m->amount)) {
         return 0;
     }
-    return params_check_unused(P, pl, what, "string materials, float amount, texture amount",
-                               "normalmap");
+    note_normalmap_ignored(pl, what, "pbrt-v4's mix has no normal map of its own; the material "
+                           "it chooses shades with its own");
+    return params_check_unused(P, pl, what, "string materials, float amount, texture amount, "
+                               "string normalmap", NULL);
 }
 
 /* ---- the Scene's material records */

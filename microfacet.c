@@ -54,7 +54,7 @@
       when remapped (tr_alpha_of_roughness, pbrt-v4's RoughnessToAlpha).
 
    4. The rough dielectric interface (Walter et al. 2007; THEORY §10, (11) and
-      (12)), alphas alpha_x = alpha_y = alpha (tr_dielectric_pair_xy: any two),
+      (12)), alphas alpha_x, alpha_y (tr_dielectric_pair: both alpha),
       index eta, for a pair (wo, wi): tr_dielectric_pair gives f in radiance mode and the pdf of sampling wi by a visible normal wm
       followed by the choice of reflection (probability F) or refraction (1 - F),
       restricted to the lobes asked for (LOBE_R, LOBE_T: the pdf of the chosen

@@ -925,28 +925,6 @@ int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
     return 1;
 }
 
-/* The same when pl gives a roughness texture ("texture roughness", "texture
-   uroughness" or "texture vroughness") for an isotropic BSDF (dielectric,
-   subsurface): both axes must be the same texture; without one nothing is read,
-   *alpha_tex is 0 and the caller reads the numbers (with its own messages). */
-int microfacet_alpha_texture(Parser *P, ParamList *pl, const char *file, int line,
-                             const char *what, int *alpha_tex, int *remap_out)
-{
-    Roughness r;
-    *alpha_tex = 0;
-    if (!param_find(pl, PT_TEXTURE, "roughness") && !param_find(pl, PT_TEXTURE, "uroughness") &&
-        !param_find(pl, PT_TEXTURE, "vroughness"))
-        return 1;
-    if (!microfacet_roughness(P, pl, file, line, what, "", &r)) return 0;
-    if (r.tex_u != r.tex_v)
-        return fail(P, file, line, "%s: u and v roughness from different sources (a texture "
-                    "and a number, or two textures) is anisotropic roughness, valid pbrt-v4 "
-                    "but not in the specnee subset", what);
-    *alpha_tex = r.tex_u;
-    *remap_out = r.remap;
-    return 1;
-}
-
 /* Every value of a spectrum over nm0-830 nm must satisfy lo < v (strict) or
    lo <= v (strict = 0), and be finite: else "file:line: ..." naming the first
    wavelength that fails.  p may be NULL (a default spectrum: the directive's line).

@@ -210,6 +210,8 @@ typedef struct {
     double d65_y;              /* Y of stdillum-D65 (rgb_illuminant_scale), 0: not yet */
     int cur_object;            /* inside ObjectBegin: 1 + its Scene.objects index; else 0 */
     int option_seed, option_seed_set;   /* Option "integer seed" (scene.c finish) */
+    float edge_scale; int edge_scale_set;   /* Option "float displacementedgescale" (1 unset) */
+    const char *displaced_file; int displaced_line;   /* the first displaced plymesh, if any */
     float shape_alpha; int shape_alpha_tex;   /* the Shape being read: its "alpha" (Shape) */
     int cap_objects;
     InstanceUse *uses; int n_uses, cap_uses;   /* the ObjectInstances of an object
@@ -313,9 +315,8 @@ int param_spectrum(Parser *P, Param *p, SpecUse use, Spectrum *out, int *rgb_ill
    the float or spectrum namespace (-1 and an error when none).
    microfacet_roughness: pbrt-v4's roughness parameters (prefix: a layer's,
    "interface." or "conductor.") as a Roughness, each axis a GGX alpha or a float
-   texture; microfacet_alphas: the unprefixed ones into a Material;
-   microfacet_alpha_texture: the same texture for both axes, only when a
-   roughness is a texture (else *alpha_tex = 0, nothing read).  check_spectrum_above: every value over
+   texture; microfacet_alphas: the unprefixed ones into a Material.
+   check_spectrum_above: every value over
    300-830 nm finite and > lo (strict) or >= lo (p NULL: the statement's line);
    check_spectrum_above_from: the same from nm0 on.
    rgb_illuminant_scale: the scale that gives an "rgb L" illuminant pbrt-v4's
@@ -343,8 +344,6 @@ int microfacet_roughness(Parser *P, ParamList *pl, const char *file, int line,
                          const char *what, const char *prefix, Roughness *r);
 int microfacet_alphas(Parser *P, ParamList *pl, const char *file, int line,
                       const char *what, Material *m);
-int microfacet_alpha_texture(Parser *P, ParamList *pl, const char *file, int line,
-                             const char *what, int *alpha_tex, int *remap_out);
 int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
                          const char *what, const Spectrum *sp, float lo, int strict);
 int check_spectrum_above_from(Parser *P, const Param *p, const char *file, int line,

@@ -249,6 +249,10 @@ static void render_pass(Pass *P)
                     sampler_2d(&ps, DIM_FILM, &u0, &u1);
                     fw = filter_sample(&R->filter, u0, u1, &fx, &fy);
                 }
+                if (set->no_pixel_jitter) {   /* pbrt-v4: the filter's sample drawn, then unused */
+                    fx = fy = 0.5f;
+                    fw = 1.0f;
+                }
                 wl_sample(&R->wl, sampler_1d(&ps, DIM_WAVELENGTH), &fs.wl);
                 /* the lens dimensions, requested only with a lens: the independent
                    sampler's stream then has them after the wavelength, and pinhole

@@ -670,64 +670,134 @@ static int object_directive(Parser *P, Lexer *L, const Token *t)
     }
 }
 
-/* Option "type name" value: pbrt-v4's global options (its Options struct, set from
-   the file as from its command line).  Those that only steer pbrt-v4's statistics,
-   its internal frame or its other integrator leave the image as it is: read and
-   ignored with a note.  "seed" is the seed of the samplers that give no "integer
-   seed" of their own (pbrt-v4's Options->seed, which the file sets after the
-   command line): finish() makes it the scene's Sampler seed, so it changes only
-   the noise, and specnee's --seed overrides it as it overrides the Sampler's
-   (docs/conventions.md).  The others change the image (or the noise) and are
-   refused by name; an option pbrt-v4 does not know is an error, as in pbrt-v4. */
-static int option_directive(Parser *P, Lexer *L, const Token *t)
+/* An Option as read: its name, whether it came typed ("integer seed") and as
+   which type, and its value when that is one number. */
+typedef struct {
+    char name[64];
+    int typed;
+    ParamType type;
+    int is_num;
+    double num;
+    int is_bool, b;      /* a bool: typed "bool", or the word true or false */
+} OptionValue;
+
+/* Option "displacementedgescale" s: pbrt-v4 multiplies the "edgelength" of every
+   displaced plymesh by s (Options->displacementEdgeScale, used when its scene
+   creates the meshes, after the whole file is read).  specnee displaces a mesh
+   as it reads it (geometry.c), so a scale that arrives after a displaced mesh
+   and differs from the one it was refined with is refused by name. */
+static int option_edge_scale(Parser *P, const Token *t, const OptionValue *o)
+{
+    float s = o->is_num ? (float)o->num : 0.0f;
+    if ((o->typed && o->type != PT_FLOAT) || !o->is_num || !(s > 0.0f && s <= FLT_MAX))
+        return fail(P, t->file, t->line, "Option \"displacementedgescale\": expected one number > 0");
+    if (P->displaced_file && s != (P->edge_scale_set ? P->edge_scale : 1.0f))
+        return fail(P, t->file, t->line, "Option \"displacementedgescale\" %g after the displaced "
+                    "plymesh of %s:%d: pbrt-v4 scales every displaced mesh by it, and specnee "
+                    "refines each as it reads it; put the Option before the first Shape",
+                    (double)s, P->displaced_file, P->displaced_line);
+    P->edge_scale = s;
+    P->edge_scale_set = 1;
+    return 1;
+}
+
+/* What an Option does (option_directive read it). */
+static int option_apply(Parser *P, const Token *t, const OptionValue *o)
 {
     static const char *const ignored[] = {          /* the image does not change */
         "msereferenceimage", "msereferenceout", "rendercoordsys", "pixelstats", "wavefront", NULL
     };
     static const char *const refused[] = {          /* the image (or its noise) changes */
-        "disablepixeljitter", "disabletexturefiltering", "disablewavelengthjitter",
-        "displacementedgescale", "forcediffuse", NULL
+        "disabletexturefiltering", "disablewavelengthjitter", "forcediffuse", NULL
     };
-    ParamList pl;
-    const Param *p;
-    int i, ok = 0;
-    memset(&pl, 0, sizeof pl);
-    if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
-    if (pl.n != 1) {
-        int n = pl.n;
-        params_free(&pl);
-        return fail(P, t->file, t->line, "Option: expected one \"type name\" value pair, found %d", n);
-    }
-    p = &pl.p[0];
-    if (!strcmp(p->name, "seed")) {
-        if (p->type != PT_INTEGER || p->n_num != 1 || !(fabs(p->num[0]) <= 2147483647.0)) {
-            params_free(&pl);
+    int i;
+    if (!strcmp(o->name, "seed")) {
+        if ((o->typed && o->type != PT_INTEGER) || !o->is_num || !(fabs(o->num) <= 2147483647.0) ||
+            o->num != floor(o->num))
             return fail(P, t->file, t->line, "Option \"seed\": expected one \"integer seed\" value");
-        }
-        P->option_seed = (int)p->num[0];
+        P->option_seed = (int)o->num;
         P->option_seed_set = 1;
-        ok = 1;
+        return 1;
+    }
+    if (!strcmp(o->name, "displacementedgescale")) return option_edge_scale(P, t, o);
+    if (!strcmp(o->name, "disablepixeljitter")) {   /* render.c: rays through pixel centres */
+        if (!o->is_bool)
+            return fail(P, t->file, t->line, "Option \"disablepixeljitter\": expected true or false");
+        P->s->settings.no_pixel_jitter = o->b;
+        return 1;
     }
     for (i = 0; ignored[i]; i++)
-        if (!strcmp(p->name, ignored[i])) {
+        if (!strcmp(o->name, ignored[i])) {
             fprintf(stderr, "%s:%d: note: Option \"%s\" is read and ignored: it steers pbrt-v4's "
-                    "statistics or its own machinery, not the image\n", t->file, t->line, p->name);
-            ok = 1;
+                    "statistics or its own machinery, not the image\n", t->file, t->line, o->name);
+            return 1;
         }
-    for (i = 0; !ok && refused[i]; i++)
-        if (!strcmp(p->name, refused[i])) {
-            params_free(&pl);
+    for (i = 0; refused[i]; i++)
+        if (!strcmp(o->name, refused[i]))
             return fail(P, t->file, t->line, "Option \"%s\" is valid pbrt-v4 but not in the specnee "
                         "subset", refused[i]);
+    return fail(P, t->file, t->line, "Option \"%s\": unknown option (pbrt-v4 has none of that name)",
+                o->name);
+}
+
+/* Option "name" value: pbrt-v4's global options (its Options struct, set from
+   the file as from its command line).  pbrt-v4 (commit 5f7a6068) reads a quoted
+   name and one value token (Option "seed" 7, Option "disablepixeljitter" true)
+   and calls "integer seed" an unknown option; specnee reads that spelling and
+   the typed one ("type name" value), which some files write.  Those that only
+   steer pbrt-v4's statistics, its internal frame or its other integrator leave
+   the image as it is: read and ignored with a note.  "seed" is the seed of the
+   samplers that give no "integer seed" of their own (pbrt-v4's Options->seed,
+   which the file sets after the command line): finish() makes it the scene's
+   Sampler seed, so it changes only the noise, and specnee's --seed overrides it
+   as it overrides the Sampler's (docs/conventions.md).  "displacementedgescale"
+   scales displaced meshes' edgelength (option_edge_scale); "disablepixeljitter"
+   sends every camera ray through its pixel's centre with filter weight 1 (pbrt-v4's
+   GetCameraSample, render.c).  The others change
+   the image (or the noise) and are refused by name; an option pbrt-v4 does not
+   know is an error, as in pbrt-v4. */
+static int option_directive(Parser *P, Lexer *L, const Token *t)
+{
+    OptionValue o;
+    Token n;
+    memset(&o, 0, sizeof o);
+    if (!lex_next(P, L, &n)) return 0;
+    if (n.kind == TK_STRING && !strchr(n.text, ' ')) {     /* pbrt-v4's spelling */
+        Token v;
+        char *end;
+        snprintf(o.name, sizeof o.name, "%s", n.text);
+        if (!lex_next(P, L, &v)) return 0;
+        if (v.kind != TK_WORD && v.kind != TK_STRING)
+            return fail(P, t->file, t->line, "Option \"%s\": expected a value, found %s", o.name,
+                        tok_desc(&v));
+        if (v.kind == TK_WORD) {
+            o.num = strtod(v.text, &end);
+            o.is_num = end != v.text && *end == '\0';
+            o.is_bool = !strcmp(v.text, "true") || !strcmp(v.text, "false");
+            o.b = !strcmp(v.text, "true");
         }
-    if (!ok) {
-        char name[64];
-        snprintf(name, sizeof name, "%s", p->name);
+    } else {                                               /* "type name" value */
+        ParamList pl;
+        const Param *p;
+        lex_unget(L, &n);
+        memset(&pl, 0, sizeof pl);
+        if (!parse_params(P, L, &pl)) { params_free(&pl); return 0; }
+        if (pl.n != 1) {
+            int k = pl.n;
+            params_free(&pl);
+            return fail(P, t->file, t->line, "Option: expected one \"type name\" value pair, found %d", k);
+        }
+        p = &pl.p[0];
+        snprintf(o.name, sizeof o.name, "%s", p->name);
+        o.typed = 1;
+        o.type = p->type;
+        o.is_num = p->n_num == 1 && (p->type == PT_FLOAT || p->type == PT_INTEGER);
+        o.num = o.is_num ? p->num[0] : 0.0;
+        o.is_bool = p->type == PT_BOOL && p->n_num == 1;
+        o.b = o.is_bool && p->num[0] != 0.0;
         params_free(&pl);
-        return fail(P, t->file, t->line, "Option \"%s\": unknown option (pbrt-v4 has none of that name)", name);
     }
-    params_free(&pl);
-    return 1;
+    return option_apply(P, t, &o);
 }
 
 /* Directives with a quoted type name and a parameter list. */

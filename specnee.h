@@ -1791,6 +1791,8 @@ typedef struct {
     float filter_radius, filter_sigma;   /* gaussian: radius 1.5, sigma 0.5 */
     float filter_b, filter_c;            /* mitchell: B = C = 1/3 */
     float filter_tau;                    /* sinc: tau = 3 */
+    int no_pixel_jitter;       /* Option "disablepixeljitter": every camera ray through its
+                                  pixel's centre, filter weight 1 (pbrt-v4's GetCameraSample) */
     int spp, seed, maxdepth;
     int spp_set, seed_set, maxdepth_set; /* given in the file */
     char lightsampler[32];     /* Integrator "string lightsampler", "" if unset */

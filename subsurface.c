@@ -602,8 +602,7 @@ int subsurface_from_params(Parser *P, ParamList *pl, const char *file, int line,
                            const char *what, Material *m)
 {
     Subsurface *ss = (Subsurface *)calloc(1, sizeof *ss);
-    float g, u, v, r;
-    int remap, have_u, have_v;
+    float g;
     Spectrum ior;
     m->type = MAT_SUBSURFACE;
     m->sss = ss;
@@ -611,19 +610,9 @@ int subsurface_from_params(Parser *P, ParamList *pl, const char *file, int line,
     if (!get_float(P, pl, "g", 0.0f, &g) || !sss_coefficients(P, pl, file, line, dir, m, &g) ||
         !get_float(P, pl, "scale", 1.0f, &ss->scale) || !get_float(P, pl, "eta", 1.33f, &ss->eta))
         return 0;
-    /* the boundary's roughness: numbers, or a texture read at each hit (mat_point) */
-    if (!microfacet_alpha_texture(P, pl, file, line, what, &m->alpha_tex, &m->remap)) return 0;
-    m->alpha_t_tex = m->alpha_tex;                     /* isotropic: one texture */
-    have_u = param_find(pl, PT_FLOAT, "uroughness") != NULL;
-    have_v = param_find(pl, PT_FLOAT, "vroughness") != NULL;
-    u = v = r = 0.0f;
-    if ((m->alpha_tex <= 0 && (!get_float(P, pl, "uroughness", 0, &u) ||
-                               !get_float(P, pl, "vroughness", 0, &v) ||
-                               !get_float(P, pl, "roughness", 0, &r))) ||
-        !get_bool(P, pl, "remaproughness", 1, &remap))
-        return 0;
-    if (!have_u) u = r;
-    if (!have_v) v = r;
+    /* the boundary's roughness per axis (u along the shading frame's s, v along
+       t): numbers, or textures read at each hit (parser.c microfacet_alphas) */
+    if (!microfacet_alphas(P, pl, file, line, what, m)) return 0;
     if (!bump_from_params(P, pl, what, m) ||
         !params_check_unused(P, pl, what, "string name, float g, spectrum sigma_a, rgb sigma_a, "
                              "texture sigma_a, spectrum sigma_s, rgb sigma_s, texture sigma_s, "
@@ -639,14 +628,9 @@ int subsurface_from_params(Parser *P, ParamList *pl, const char *file, int line,
         return fail(P, file, line, "%s \"subsurface\": \"float eta\" %g must be > 0", dir, ss->eta);
     if (!(g > -1.0f && g < 1.0f))
         return fail(P, file, line, "%s \"subsurface\": \"float g\" %g must be in (-1, 1)", dir, g);
-    if (u != v)
-        return fail(P, file, line, "%s \"subsurface\": anisotropic roughness (%g, %g) "
-                    "is valid pbrt-v4 but not in the specnee subset", dir, u, v);
-    if (!(u >= 0.0f && u <= 1e4f))
-        return fail(P, file, line, "%s \"subsurface\": roughness must be >= 0", dir);
     ss->g = g;
-    m->alpha = remap ? tr_alpha_of_roughness(u) : u;
-    if (tr_smooth(m->alpha, m->alpha)) m->alpha = 0.0f;   /* pbrt-v4's EffectivelySmooth */
+    if (m->alpha_tex <= 0 && m->alpha_t_tex <= 0 && tr_smooth(m->alpha, m->alpha_t))
+        m->alpha = m->alpha_t = 0.0f;                  /* pbrt-v4's EffectivelySmooth */
     sss_table(P, ss);
     spec_const(&ior, ss->eta);
     return material_set_eta(P, m, &ior, file, line);

@@ -261,7 +261,7 @@ void test_glass(Material *m, float A, float B, float alpha)
     m->cauchy_a = A;
     m->cauchy_b = B;
     m->dispersive = B != 0.0f;
-    m->alpha = alpha;
+    m->alpha = m->alpha_t = alpha;
 }
 
 int test_dir_cell(Vec3 w, int nt, int np)

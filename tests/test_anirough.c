@@ -7,10 +7,9 @@
    Checked: two constant textures render the image of the two numbers they hold,
    bit for bit, on each material and for each mix of a texture and a number, and
    swapping them changes the image (the axes are not merged); a number out of
-   range beside a texture is refused at its file:line, and a dielectric (whose
-   roughness is isotropic in specnee) still refuses two textures; pbrt-v4's image
-   of a conductor with a bilerp u roughness and a constant v roughness,
-   frozen. */
+   range beside a texture is refused at its file:line (test_dielrough.c checks
+   the anisotropic dielectric); pbrt-v4's image of a conductor with a bilerp u
+   roughness and a constant v roughness, frozen. */
 #include "test.h"
 #include <string.h>
 
@@ -137,9 +136,6 @@ static void test_anirough_errors(T *t)
                      "Material \"coatedconductor\" \"texture conductor.vroughness\" \"a\" "
                      "\"float conductor.uroughness\" 2e4\n", 3,
                      "conductor.roughness (20000, 0) must be within [0, 1e4]", NULL);
-    test_rejected_at(t, "WorldBegin\nTexture \"a\" \"float\" \"constant\"\nTexture \"b\" \"float\" \"constant\"\n"
-                     "Material \"dielectric\" \"texture uroughness\" \"a\" \"texture vroughness\" \"b\"\n", 4,
-                     "u and v roughness from different sources", NULL);
 }
 
 /* A 4 x 4 square, its uv the unit square, of the default conductor (copper) with

@@ -8,8 +8,8 @@
    normals of the flat result are (0, 0, 1); no two vertices coincide (a midpoint
    is shared by the edge's two triangles); a quad is split as pbrt-v4 splits
    it; bad input (no uv, edgelength <= 0 or so small that the triangles would
-   pass MAX_ELEMENTS, an unknown texture) at its file:line;
-   pbrt-v4's images of a square displaced by a bilerp (a warped saddle) and of a
+   pass MAX_ELEMENTS, an unknown texture) at its file:line; Option
+   "displacementedgescale" multiplies edgelength; pbrt-v4's images of a square displaced by a bilerp (a warped saddle) and of a
    UV sphere with its own normals, quads and a rotation, frozen. */
 #include "test.h"
 #include <string.h>
@@ -212,10 +212,61 @@ static void test_displace_sphere_against_pbrt(T *t)
     test_against_pbrt_y(t, text, 1, PBRT_DISP_SPHERE_Y, 5e-3, "displaced sphere");
 }
 
+/* Option "displacementedgescale" s multiplies every displaced mesh's edgelength
+   (pbrt-v4's Options->displacementEdgeScale; its image of the bilerp square of
+   test_displace_against_pbrt with edgelength 15 and Option 0.01 is the image of
+   edgelength 0.15 bit for bit, and with 0.15 and Option 4 another one):
+   edgelength 15 under 0.01 (pbrt-v4's spelling, and the typed one) builds the
+   mesh of 0.15, vertex for vertex; an undisplaced plymesh is not refined;
+   a scale <= 0 or not a number, and one that arrives after a displaced mesh and differs from
+   the one it was refined with, are refused at their file:line. */
+static void test_displace_edge_scale(T *t)
+{
+    static const char *const opt[3] = { "", "Option \"displacementedgescale\" 0.01\n",
+                                        "Option \"float displacementedgescale\" 0.01\n" };
+    const char *path = test_write_file(t, "square.ply", DS_PLY);
+    char text[2048];
+    Scene s[3];
+    int j, i, same = 1;
+    for (j = 0; j < 3; j++) {
+        snprintf(text, sizeof text, "%sWorldBegin\nTexture \"d\" \"float\" \"bilerp\" \"float v00\" [ 0 ] "
+                 "\"float v10\" [ 0.5 ] \"float v01\" [ 0.2 ] \"float v11\" [ -0.2 ]\n"
+                 "Shape \"plymesh\" \"string filename\" \"%s\" \"texture displacement\" \"d\" "
+                 "\"float edgelength\" [ %s ]\n", opt[j], path, j ? "15" : "0.15");
+        if (!test_load_scene(t, &s[j], text)) {
+            while (j-- > 0) scene_free(&s[j]);
+            return;
+        }
+    }
+    for (j = 1; j < 3; j++) {
+        same = same && s[j].n_tris == s[0].n_tris && s[j].n_verts == s[0].n_verts;
+        for (i = 0; same && i < s[0].n_verts; i++)
+            same = !memcmp(&s[j].P[i], &s[0].P[i], sizeof(Vec3));
+    }
+    CHECK(t, same && s[0].n_tris > 100, "edgelength 15 under the Option 0.01: %d and %d triangles, "
+          "edgelength 0.15: %d", s[1].n_tris, s[2].n_tris, s[0].n_tris);
+    for (j = 0; j < 3; j++) scene_free(&s[j]);
+    snprintf(text, sizeof text, "Option \"displacementedgescale\" 0.01\nWorldBegin\n"
+             "Shape \"plymesh\" \"string filename\" \"%s\"\n", path);
+    if (test_load_scene(t, &s[0], text)) {
+        CHECK(t, s[0].n_tris == 0 || s[0].n_tris == 2, "an undisplaced plymesh refined: %d triangles", s[0].n_tris);
+        scene_free(&s[0]);
+    }
+    test_rejected_at(t, "Option \"displacementedgescale\" 0\nWorldBegin\n", 1,
+                     "Option \"displacementedgescale\": expected one number > 0", NULL);
+    test_rejected_at(t, "Option \"displacementedgescale\" 2x\nWorldBegin\n", 1,
+                     "Option \"displacementedgescale\": expected one number > 0", NULL);
+    snprintf(text, sizeof text, "WorldBegin\nTexture \"d\" \"float\" \"constant\"\n"
+             "Shape \"plymesh\" \"string filename\" \"%s\" \"texture displacement\" \"d\"\n"
+             "Option \"displacementedgescale\" 1\nOption \"displacementedgescale\" 2\n", path);
+    test_rejected_at(t, text, 5, "Option \"displacementedgescale\" 2 after the displaced plymesh of", NULL);
+}
+
 const TestCase tests_displace[] = {
     { "displace_flat_constant", test_displace_flat_constant },
     { "displace_file_normals", test_displace_file_normals },
     { "displace_errors", test_displace_errors },
+    { "displace_edge_scale", test_displace_edge_scale },
     { "displace_against_pbrt", test_displace_against_pbrt },
     { "displace_sphere_against_pbrt", test_displace_sphere_against_pbrt },
     { NULL, NULL }

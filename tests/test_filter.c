@@ -2,8 +2,9 @@
    values against their closed forms, the sampler's distribution against |f|
    (chi-square), the weights' mean against the filter's integral, a flat image
    that stays flat through every filter (the negative lobes must not bias it), the
-   ringing of mitchell at a sharp edge where box has none, and the parser's
-   refusals with their file:line. */
+   ringing of mitchell at a sharp edge where box has none, Option
+   "disablepixeljitter" (rays through pixel centres, as pbrt-v4's image), and the
+   parser's refusals with their file:line. */
 #include "test.h"
 #include <stdlib.h>
 #include <string.h>
@@ -291,6 +292,53 @@ static void test_filter_edge_ringing(T *t)
           col_m[bright2], L);
 }
 
+/* Option "disablepixeljitter" (pbrt-v4's GetCameraSample: the filter's sample
+   drawn, then the film position the pixel's centre and the weight 1): a 16 x 16
+   image of two triangles, reflectance 0.9 and 0.1, meeting along a slanted edge
+   under a distant light.  pbrt-v4 (commit 5f7a6068, `pbrt --spp 64 --seed 1`,
+   its default gaussian filter) renders it with the option as 106 dark pixels
+   (Y < 0.5) and no pixel between 0.15 and 0.75, and without it 25 such blended
+   pixels along the edge.  specnee with the option, in pbrt-v4's spelling and the
+   typed one: 106 dark, none blended; without: some blended. */
+static void test_filter_no_pixel_jitter(T *t)
+{
+    static const char *const opt[3] = { "", "Option \"disablepixeljitter\" true\n",
+                                        "Option \"bool disablepixeljitter\" true\n" };
+    int k;
+    for (k = 0; k < 3; k++) {
+        char text[2048];
+        RenderOptions o;
+        Image im;
+        int i, dark = 0, mid = 0;
+        snprintf(text, sizeof text, "%sLookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" [ 20 ]\n"
+                 "Film \"rgb\" \"integer xresolution\" [ 16 ] \"integer yresolution\" [ 16 ]\n"
+                 "Integrator \"path\" \"integer maxdepth\" [ 1 ]\nWorldBegin\n"
+                 "LightSource \"distant\" \"float scale\" [ 3.14159265358979 ] \"point3 from\" [ 0 0 5 ] "
+                 "\"point3 to\" [ 0 0 0 ]\n"
+                 "Material \"diffuse\" \"rgb reflectance\" [ 0.9 0.9 0.9 ]\n"
+                 "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ] \"point3 P\" [ -3 -3 0  3 -3 0  -3 3.3 0 ]\n"
+                 "Material \"diffuse\" \"rgb reflectance\" [ 0.1 0.1 0.1 ]\n"
+                 "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ] \"point3 P\" [ 3 -3 0  3 3 0  -3 3.3 0 ]\n",
+                 opt[k]);
+        render_options_default(&o);
+        o.spp = 16;
+        o.seed = 1;
+        o.threads = 2;
+        if (!test_render_text(t, text, &o, &im)) return;
+        for (i = 0; i < im.w * im.h; i++) {
+            const float *c = im.rgb + 3 * i;
+            double y = 0.212671 * c[0] + 0.715160 * c[1] + 0.072169 * c[2];
+            dark += y < 0.5;
+            mid += y > 0.15 && y < 0.75;
+        }
+        img_free(&im);
+        if (k) CHECK(t, dark == 106 && mid == 0, "%s: %d dark pixels, %d blended (pbrt-v4: 106, 0)", opt[k], dark, mid);
+        else CHECK(t, mid > 10, "jittered: only %d blended pixels along the edge", mid);
+    }
+    test_rejected_at(t, "Option \"disablepixeljitter\" 1\nWorldBegin\n", 1,
+                     "Option \"disablepixeljitter\": expected true or false", NULL);
+}
+
 /* The parser: pbrt-v4's names and defaults; radii outside (0, 16], tau <= 0,
    unequal radii, a parameter of another filter, a non-finite number are
    errors at their line. */
@@ -366,6 +414,7 @@ static void test_filter_guided_search(T *t)
 }
 
 const TestCase tests_filter[] = {
+    { "filter_no_pixel_jitter", test_filter_no_pixel_jitter },
     { "filter_values", test_filter_values },
     { "filter_sampler_chi2", test_filter_sampler_chi2 },
     { "filter_guided_search", test_filter_guided_search },

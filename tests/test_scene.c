@@ -902,8 +902,6 @@ REJECT(rej_rgb_reflectance_above_one, "WorldBegin\nMaterial \"diffuse\" \"rgb re
 REJECT(rej_texture_param, "WorldBegin\nMaterial \"dielectric\" \"texture roughness\" \"checks\"\n", 2,
        "\"texture roughness\"", "no texture named \"checks\"")
 REJECT(rej_cauchy_half, "WorldBegin\nMaterial \"dielectric\" \"float cauchyA\" 1.5\n", 2, "cauchyB", NULL)
-REJECT(rej_anisotropic, "WorldBegin\nMaterial \"dielectric\" \"float uroughness\" 0.1 \"float vroughness\" 0.2\n",
-       2, "anisotropic", NULL)
 /* pbrt-v4 resolves names when the scene is built: an unknown name is an error only for a shape that uses it, at its NamedMaterial */
 REJECT(rej_named_material_unknown, "WorldBegin\nNamedMaterial \"nope\"\nShape \"sphere\"\n", 2, "no MakeNamedMaterial defines it", "nope")
 REJECT(rej_named_material_twice, "WorldBegin\nMakeNamedMaterial \"a\" \"string type\" \"diffuse\"\n"
@@ -1083,7 +1081,6 @@ const TestCase tests_scene[] = {
     {"scene_reject_rgb_reflectance_above_one", rej_rgb_reflectance_above_one},
     {"scene_reject_texture_param", rej_texture_param},
     {"scene_reject_cauchy_half", rej_cauchy_half},
-    {"scene_reject_anisotropic", rej_anisotropic},
     {"scene_reject_named_material_unknown", rej_named_material_unknown},
     {"scene_reject_named_material_twice", rej_named_material_twice},
     {"scene_reject_attribute_end_unmatched", rej_attribute_end_unmatched},

@@ -1003,9 +1003,9 @@ static void test_bad_input(T *t)
     expect_error(t, "Texture \"m\" \"spectrum\" \"marble\" \"string mapping\" \"uv\"", "mapping", "unused");
     expect_error(t, "Texture \"d\" \"float\" \"dots\" \"texture inside\" \"zz\"", "no texture named", NULL);
     expect_error(t, "Texture \"g\" \"float\" \"constant\"\nMaterial \"dielectric\" \"texture uroughness\" \"g\" "
-                 "\"float vroughness\" [ 0.1 ]", "anisotropic", NULL);
-    expect_error(t, "Texture \"g\" \"float\" \"constant\"\nTexture \"h\" \"float\" \"constant\"\n"
-                 "Material \"subsurface\" \"texture uroughness\" \"g\" \"texture vroughness\" \"h\"", "anisotropic", NULL);
+                 "\"float vroughness\" [ -0.1 ]", "roughness (0, -0.1) must be within [0, 1e4]", NULL);
+    expect_error(t, "Texture \"g\" \"float\" \"constant\"\n"
+                 "Material \"subsurface\" \"texture uroughness\" \"g\" \"texture vroughness\" \"h\"", "no texture named", NULL);
     expect_error(t, "Texture \"c\" \"spectrum\" \"constant\"\nMaterial \"conductor\" \"texture roughness\" \"c\"",
                  "is a spectrum texture", NULL);
     expect_error(t, "Texture \"c\" \"spectrum\" \"constant\"\nMaterial \"conductor\" \"texture reflectance\" \"c\" "
