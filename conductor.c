@@ -71,6 +71,7 @@ static void rough_pair(const Material *m, const MatPoint *mp, Vec3 wo, Vec3 wi, 
     Vec3 wm;
     int j;
     for (j = 0; j < HERO_N; j++) { f[j] = 0.0f; pdf_l[j] = 0.0f; }
+    tr_rough_floor(&ax, &ay);                /* an axis of alpha 0 beside a rough one: 1e-4 */
     if (wo.z * wi.z <= 0.0f) return;         /* a BRDF: both on one side */
     if (!tr_half_vector(wo, wi, &wm)) return;
     c = fabsf(v3_dot(wo, wm));
@@ -89,6 +90,7 @@ int conductor_sample(const Material *m, const MatPoint *mp, Vec3 wo, const float
                      unsigned alive, float u1, float u2, BsdfSample *out, Vec3 *wi_local)
 {
     Vec3 wi, wm;
+    float ax = mp->alpha, ay = mp->alpha_t;
     int j;
     for (j = 0; j < HERO_N; j++) { out->f[j] = 0.0f; out->pdf_l[j] = 0.0f; }
     out->delta = 0;
@@ -105,7 +107,8 @@ int conductor_sample(const Material *m, const MatPoint *mp, Vec3 wo, const float
         *wi_local = wi;
         return 1;
     }
-    wm = tr_sample_wm(mp->alpha, mp->alpha_t, wo, u1, u2);
+    tr_rough_floor(&ax, &ay);
+    wm = tr_sample_wm(ax, ay, wo, u1, u2);
     wi = reflect_dir(wo, wm);
     if (wi.z * wo.z <= 0.0f) return 0;       /* reflected below the surface: no sample */
     wi = v3_norm(wi);

@@ -309,6 +309,8 @@ static void layer_init(const Material *m, const MatPoint *mp, const float *lambd
     L->base.cond = m->type == MAT_COATED_CONDUCTOR;
     L->base.ax = mp ? mp->cond_alpha : m->cond_alpha;
     L->base.ay = mp ? mp->cond_alpha_t : m->cond_alpha_t;
+    tr_rough_floor(&L->top.ax, &L->top.ay);        /* pbrt-v4: a rough axis pair >= 1e-4 */
+    tr_rough_floor(&L->base.ax, &L->base.ay);
     for (j = 0; j < HERO_N; j++) {
         int on = (alive & (1u << j)) != 0;
         L->A[j] = !on ? 0.0f : mp && mp->has_a ? mp->a[j] : spec_eval(&m->extra->albedo, lambda[j]);

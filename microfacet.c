@@ -50,7 +50,8 @@
       A reflection wi = reflect_dir(wo, wm) has the density
       D_wo(wm) / (4 |wo.wm|) (tr_pdf_reflect; the half vector: tr_half_vector).
       Both alphas below 1e-3 count as a smooth surface (tr_smooth, pbrt-v4's
-      EffectivelySmooth); the scene's "roughness" becomes alpha = sqrt(roughness)
+      EffectivelySmooth); a rough one keeps each alpha at least 1e-4
+      (tr_rough_floor, as pbrt-v4's distribution does); the scene's "roughness" becomes alpha = sqrt(roughness)
       when remapped (tr_alpha_of_roughness, pbrt-v4's RoughnessToAlpha).
 
    4. The rough dielectric interface (Walter et al. 2007; THEORY §10, (11) and
@@ -213,6 +214,16 @@ Vec3 tr_sample_wm(float ax, float ay, Vec3 wo, float u1, float u2)
 int tr_smooth(float ax, float ay)
 {
     return fmaxf(ax, ay) < 1e-3f;
+}
+
+/* pbrt-v4's TrowbridgeReitzDistribution keeps each alpha of a rough surface
+   (tr_smooth false) at least 1e-4: one axis of alpha 0 beside a rough one would
+   leave D the 0/0 of x/alpha_x.  A smooth pair is left as it is. */
+void tr_rough_floor(float *ax, float *ay)
+{
+    if (tr_smooth(*ax, *ay)) return;
+    if (*ax < 1e-4f) *ax = 1e-4f;
+    if (*ay < 1e-4f) *ay = 1e-4f;
 }
 
 /* pbrt-v4's RoughnessToAlpha ("remaproughness"): alpha = sqrt(roughness). */

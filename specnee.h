@@ -1377,6 +1377,7 @@ float tr_pdf_reflect(float ax, float ay, Vec3 wo, Vec3 wm);
 /* Both alphas below 1e-3: a smooth (delta) surface.  remaproughness: alpha = sqrt(r).
    tr_regularize: pbrt-v4's Regularize, alpha < 0.3 -> clamp(2 alpha, 0.1, 0.3). */
 int   tr_smooth(float ax, float ay);
+void  tr_rough_floor(float *ax, float *ay);   /* rough: each alpha >= 1e-4 (pbrt-v4) */
 float tr_alpha_of_roughness(float roughness);
 float tr_regularize(float alpha);
 /* The rough dielectric interface (GGX alpha, index eta) for a local pair: f in
