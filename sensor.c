@@ -2,7 +2,8 @@
    (pbrt-v4's PixelSensor, Film "sensor", "iso", "whitebalance").
 
    Exported (specnee.h section 8): sensor_index, sensor_name, sensor_response,
-   sensor_xyz_matrix.  scene.c/options.c read Film "string sensor" into
+   sensor_xyz_matrix; and CIE daylight (cie_daylight_xy, cie_daylight), which
+   spectrum.c's illum-acesD60 is made of.  scene.c/options.c read Film "string sensor" into
    SceneSettings.sensor and store sensor_xyz_matrix's answer in
    SceneSettings.white_balance_m; path.c weights every wavelength by
    sensor_response (the film's "colour matching functions"); render.c maps each
@@ -143,7 +144,7 @@ static int mat3_inverse(const double a[9], double inv[9])
    blackbody (whose spectrum the caller then needs). */
 static void white_balance_xy(double kelvin, double *x, double *y, int *daylight)
 {
-    double cct = kelvin * 1.4388 / 1.4380, t = 1.0 / cct;
+    double cct = kelvin * 1.4388 / 1.4380;
     *daylight = cct >= 4000.0;
     if (!*daylight) {
         Spectrum bb;
@@ -151,6 +152,14 @@ static void white_balance_xy(double kelvin, double *x, double *y, int *daylight)
         spec_chromaticity(&bb, x, y);
         return;
     }
+    cie_daylight_xy(cct, x, y);
+}
+
+/* The CIE daylight locus at correlated colour temperature cct (4000..25000 K;
+   CIE 015:2004 eq. 3.3, 3.4). */
+void cie_daylight_xy(double cct, double *x, double *y)
+{
+    double t = 1.0 / cct;
     if (cct <= 7000.0)
         *x = -4.6070e9 * t * t * t + 2.9678e6 * t * t + 0.09911e3 * t + 0.244063;
     else
@@ -195,7 +204,7 @@ static void white_balance_matrix(double kelvin, double m[9])
    Only ratios of its sums are used, so its scale does not matter. */
 static void camera_illuminant(double kelvin, double E[SPEC_N])
 {
-    double x, y, M, M1, M2;
+    double x, y;
     int daylight, nm;
     white_balance_xy(kelvin, &x, &y, &daylight);
     if (!daylight) {
@@ -204,9 +213,27 @@ static void camera_illuminant(double kelvin, double E[SPEC_N])
         for (nm = SPEC_MIN; nm <= SPEC_MAX; nm++) E[nm - SPEC_MIN] = spec_get(&bb, nm);
         return;
     }
-    M = 0.0241 + 0.2562 * x - 0.7341 * y;
-    M1 = (-1.3515 - 1.7703 * x + 5.9114 * y) / M;
-    M2 = (0.0300 - 31.4424 * x + 30.0717 * y) / M;
+    cie_daylight(x, y, 0, E);
+}
+
+/* CIE daylight of locus chromaticity (x, y) at 360..830 nm, 1 nm apart (CIE
+   015:2004 eq. 3.5-3.7): S0 + M1 S1 + M2 S2 with
+       M = 0.0241 + 0.2562 x - 0.7341 y,
+       M1 = (-1.3515 - 1.7703 x + 5.9114 y) / M,
+       M2 = (0.0300 - 31.4424 x + 30.0717 y) / M,
+   the basis linear between its 10 nm rows.  round3: M1 and M2 rounded to three
+   decimals first, as CIE 015 tabulates its D illuminants (the ACES white,
+   spectrum.c's illum-acesD60, is made so).  Unnormalised. */
+void cie_daylight(double x, double y, int round3, double E[SPEC_N])
+{
+    double M = 0.0241 + 0.2562 * x - 0.7341 * y;
+    double M1 = (-1.3515 - 1.7703 * x + 5.9114 * y) / M;
+    double M2 = (0.0300 - 31.4424 * x + 30.0717 * y) / M;
+    int nm;
+    if (round3) {
+        M1 = floor(M1 * 1000.0 + 0.5) / 1000.0;
+        M2 = floor(M2 * 1000.0 + 0.5) / 1000.0;
+    }
     for (nm = SPEC_MIN; nm <= SPEC_MAX; nm++) {
         double s0 = knots_eval(daylight_basis[0], SENSOR_S_N, 360.0, 10.0, nm);
         double s1 = knots_eval(daylight_basis[1], SENSOR_S_N, 360.0, 10.0, nm);

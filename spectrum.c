@@ -1032,7 +1032,7 @@ static const GaussLine fl_pyranine_em[] = { { 441.0, 35.0, 0.3 }, { 511.0, 40.0,
    ====================================================================== */
 
 static const char *const named_spectra[] = {
-    "stdillum-D65", "stdillum-A",
+    "stdillum-D65", "stdillum-A", "illum-acesD60",
     "stdillum-F1", "stdillum-F2", "stdillum-F3", "stdillum-F4", "stdillum-F5", "stdillum-F6",
     "stdillum-F7", "stdillum-F8", "stdillum-F9", "stdillum-F10", "stdillum-F11", "stdillum-F12",
     "glass-BK7", "glass-BAF10", "glass-FK51A", "glass-LASF9", "glass-F5", "glass-F10", "glass-F11",
@@ -1072,6 +1072,23 @@ static void illuminant_a(Spectrum *s)
     }
 }
 
+/* pbrt-v4's illum-acesD60, the white of ACES (SMPTE ST 2065-1; Academy TB-2018-001,
+   "Derivation of the ACES white point CIE chromaticity coordinates"): CIE daylight
+   at a correlated colour temperature of 6000 K, its M1 and M2 rounded to three
+   decimals (-0.536, -0.519), as the Academy's derivation (A. Forsythe's script,
+   which pbrt-v4's table cites) tabulates it; x, y = (0.32169, 0.33780) on the
+   locus.  sensor.c holds the CIE daylight basis (10 nm from 360 nm), so the UV
+   extension (300..359 nm) is zero. */
+static void illuminant_aces_d60(Spectrum *s)
+{
+    double x, y, E[SPEC_N];
+    int i;
+    cie_daylight_xy(6000.0, &x, &y);
+    cie_daylight(x, y, 1, E);
+    for (i = 0; i < SPEC_N; i++) s->v[i] = (float)E[i];
+    for (i = 0; i < SPEC_UV_N; i++) s->uv[i] = 0.0f;
+}
+
 /* Names are compared without regard to case ("stdillum-d65" works too). */
 int spec_named(Spectrum *s, const char *name)
 {
@@ -1081,6 +1098,11 @@ int spec_named(Spectrum *s, const char *name)
     if (!name || !s) return 0;
     if (name_eq(name, "stdillum-D65")) {
         from_5nm_table(s, d65_5nm, CIE_N5, CIE_START);
+        scale_to_cie_y(s);
+        return 1;
+    }
+    if (name_eq(name, "illum-acesD60")) {
+        illuminant_aces_d60(s);
         scale_to_cie_y(s);
         return 1;
     }
