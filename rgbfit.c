@@ -9,17 +9,23 @@
      table over rgb filled on first use; docs/loading.md measures the load time.  A
      material's rgb reflectance keeps only (c0, c1, c2) (an Albedo): albedo_eval
      computes the two knots of spec_eval's interpolation from them when shaded.
+     Each fit is in a colour space (pbrt-v4's ColorSpace: srgb, dci-p3, rec2020,
+     aces2065-1; the section below): its matrix and its white weight the forward
+     map, and an rgb illuminant is multiplied by that white.  sRGB starts from
+     rgbtable.c; the other spaces from the coefficient table filled on first use.
 
    EXPORTS (specnee.h section 4)
      spec_rgb_coeffs spec_rgb_fit_table spec_rgb_coeffs_from spec_sigmoid_eval
      spec_rgb_table_start spec_rgb_coeffs_fit rgb_table_new rgb_table_free spec_from_rgb
      spec_from_rgb_t spec_ybar_knots spec_to_y_t albedo_eval_rgb albedo_knot
-     albedo_from_rgb
+     albedo_from_rgb colorspace_index colorspace_name colorspace_illuminant
+     colorspace_from_xyz colorspace_rgb_from_xyz rgb_table_new_cs rgb_table_space
 
    HOW IT IS USED
      parser.c turns "rgb" parameters into spectra (spec_from_rgb_t) and material
-     colours into Albedos (albedo_from_rgb); tools/gen_rgbtable.c builds rgbtable.h
-     from this fit; the dense spectra, the CIE tables and the named illuminants it
+     colours into Albedos (albedo_from_rgb), with the table of the ColorSpace
+     current at the directive (parser.h Parser.rgb, one table per space);
+     tools/gen_rgbtable.c builds rgbtable.h from this fit; the dense spectra, the CIE tables and the named illuminants it
      reads are spectrum.c's. */
 #include "specnee.h"
 #include <ctype.h>
@@ -165,7 +171,7 @@ static void rgb_fit_init(RgbFit *f, int cs)
     Spectrum w;
     double c[3], norm = 0.0;
     int i, k;
-    colorspace_illuminant(cs, &w);
+    colorspace_illuminant(cs, &w);                /* the fit's weight: the space's white */
     colorspace_from_xyz(cs, f->m);
     for (i = 0; i < SPEC_N; i++) {
         cie_cmf((double)(SPEC_MIN + i), c);

@@ -399,7 +399,9 @@ int   metal_named(Spectrum *s, const char *name);
 /* A file of wavelength/value pairs: pbrt .spd text or CSV (optional header). */
 int   spec_from_file(Spectrum *s, const char *path, Error *err);
 /* RGB upsampled to a smooth spectrum, pbrt-v4's way: illuminant 0, a reflectance
-   (0..1); 1, an illuminant (times D65); 2, unbounded (a medium's coefficients).
+   (0..1); 1, an illuminant (times the colour space's white: D65 for srgb, dci-p3,
+   rec2020 and T NULL, ACES's D60 for aces2065-1); 2, unbounded (a medium's
+   coefficients); fitted in T's colour space (rgb_table_new_cs).
    spec_from_rgb_t starts each fit from the coefficient table T, which its owner
    (a scene load: parser.h's Parser) makes with rgb_table_new and frees with
    rgb_table_free; slices are filled on first use, each by a fixed sweep, so the

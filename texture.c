@@ -703,7 +703,7 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
     (void)enc;                                 /* PFM holds linear values */
     if (!pfm_read(&im, path, &ierr))
         return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
-    ok = tex_set_image(T, &im, scale, invert, rgb_srgb_table(P), P->err);
+    ok = tex_set_image(T, &im, scale, invert, rgb_srgb_table(P), P->err);   /* a PFM's: sRGB */
     img_free(&im);
     return ok;
 }
