@@ -63,9 +63,9 @@ tools/bench_lights: tools/bench_lights.o $(LIBOBJ)
 # rgbtable.h: the RGB -> spectrum coefficient table, computed from rgbfit.c's fit
 # by tools/gen_rgbtable.c (about 15 s of one core; not kept in git)
 rgbtable.o: rgbtable.h
-rgbtable.h: tools/gen_rgbtable.c rgbtable.c spectrum.o rgbfit.o util.o metals.o sensor.o
+rgbtable.h: tools/gen_rgbtable.c rgbtable.c spectrum.o rgbfit.o util.o metals.o
 	$(CC) $(CFLAGS) -DRGBTABLE_GENERATOR -I. -o tools/gen_rgbtable tools/gen_rgbtable.c rgbtable.c \
-	    spectrum.o rgbfit.o util.o metals.o sensor.o $(LDLIBS)
+	    spectrum.o rgbfit.o util.o metals.o $(LDLIBS)
 	./tools/gen_rgbtable rgbtable.h.tmp && mv rgbtable.h.tmp rgbtable.h
 
 .SUFFIXES: .c .o
