@@ -225,7 +225,7 @@ static int area_light_image(Parser *P, const char *fn, const char *file, int lin
     T.arg_tex[0] = T.arg_tex[1] = -1;
     T.file = file;
     T.line = line;
-    ok = tex_set_image(&T, &im, 1.0f, 0, P->rgb, P->err);
+    ok = tex_set_image(&T, &im, 1.0f, 0, rgb_srgb_table(P), P->err);
     img_free(&im);
     if (!ok) return 0;
     if (!grow((void **)&P->s->textures, &P->cap_textures, P->s->n_textures + 1, sizeof(Texture))) {
@@ -242,7 +242,7 @@ static int area_light_image(Parser *P, const char *fn, const char *file, int lin
         al->power = (float)(al->power / (ysum / (double)n));
     }
     for (i = 0; i < 3; i++) mrgb[i] = (float)(sum[i] / (double)n);
-    if (!spec_from_rgb_t(P->rgb, &mean, mrgb, 1, P->err, file, line)) return 0;
+    if (!spec_from_rgb_t(rgb_srgb_table(P), &mean, mrgb, 1, P->err, file, line)) return 0;
     al->image_mean = spec_store_add(&P->s->spectra, &mean);
     if (!al->image_mean) return oom(P, file, line);
     return 1;
@@ -276,8 +276,8 @@ int area_light_from_params(Parser *P, const char *type, ParamList *pl, const cha
                     "given (pbrt-v4 refuses them together)");
     if (p) {
         if (!param_spectrum(P, p, SPEC_ILLUMINANT, &L, &rgb_illum)) return 0;
-    } else if (!spec_named(&L, "stdillum-D65")) {  /* the colour space's illuminant */
-        return fail(P, file, line, "AreaLightSource: the built-in spectrum stdillum-D65 is missing");
+    } else {
+        space_white(P, &L);                    /* the colour space's illuminant */
     }
     if (!get_float(P, pl, "scale", 1.0f, &al.scale)) return 0;
     if (!get_bool(P, pl, "twosided", 0, &al.twosided)) return 0;

@@ -373,7 +373,7 @@ static int proj_setup(Parser *P, DeltaLight *d, const Image *im, float fov, cons
             if (mx > 0.0f) {
                 double target[3], co[3];
                 for (c = 0; c < 3; c++) target[c] = rgb[c] / tx[0];
-                spec_rgb_coeffs(P->rgb, target, co);
+                spec_rgb_coeffs(rgb_srgb_table(P), target, co);
                 for (c = 0; c < 3; c++) tx[1 + c] = (float)co[c];
             }
         }
@@ -385,7 +385,7 @@ static int proj_setup(Parser *P, DeltaLight *d, const Image *im, float fov, cons
         return fail(P, file, line, "LightSource \"projection\": the image is black: the light "
                     "sends nothing");
     for (c = 0; c < 3; c++) mrgb[c] = (float)(rgbc[c] / csum);
-    if (!spec_from_rgb_t(P->rgb, &S, mrgb, 1, P->err, file, line)) return 0;
+    if (!spec_from_rgb_t(rgb_srgb_table(P), &S, mrgb, 1, P->err, file, line)) return 0;
     d->mean = spec_store_add(&P->s->spectra, &S);
     if (!d->mean) return fail(P, file, line, "out of memory");
     return 1;
@@ -404,8 +404,8 @@ static int image_light_params(Parser *P, const char *type, ParamList *pl, const 
     snprintf(what, sizeof what, "LightSource \"%s\"", type);
     if (p) {
         if (!param_spectrum(P, p, SPEC_ILLUMINANT, L, rgb_illum)) return 0;
-    } else if (!spec_named(L, "stdillum-D65")) {
-        return fail(P, file, line, "LightSource: the built-in spectrum stdillum-D65 is missing");
+    } else {
+        space_white(P, L);                     /* the colour space's illuminant */
     }
     *fn = NULL;
     if (!get_float(P, pl, "scale", 1.0f, scale) || !get_float(P, pl, "power", -1.0f, power) ||
@@ -519,8 +519,8 @@ int delta_light_from_params(Parser *P, const char *type, ParamList *pl, const ch
     p = find_spectrum_param(pl, sname);
     if (p) {
         if (!param_spectrum(P, p, SPEC_ILLUMINANT, &L, &rgb_illum)) return 0;
-    } else if (!spec_named(&L, "stdillum-D65")) {
-        return fail(P, file, line, "LightSource: the built-in spectrum stdillum-D65 is missing");
+    } else {
+        space_white(P, &L);                    /* the colour space's illuminant */
     }
     if (!get_float(P, pl, "scale", 1.0f, &scale)) return 0;
     if (!get_point3(P, pl, "from", zero, from)) return 0;

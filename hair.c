@@ -421,13 +421,13 @@ static int hair_melanin(Parser *P, ParamList *pl, const char *file, int line, in
             hair_melanin_rgb(1.0f - t, t, rgb);
             mx = 2.0 * fmax(rgb[0], fmax(rgb[1], rgb[2]));
             for (i = 0; i < 3; i++) target[i] = rgb[i] / mx;
-            spec_rgb_coeffs(P->rgb, target, c);
+            spec_rgb_coeffs(rgb_srgb_table(P), target, c);
             for (i = 0; i < 3; i++) H->mel_c[k][i] = (float)c[i];
         }
         return 1;
     }
     hair_melanin_rgb(fmaxf(0.0f, H->eumelanin), fmaxf(0.0f, H->pheomelanin), rgb);
-    if (!spec_from_rgb_t(P->rgb, &H->sigma_a, rgb, 2, P->err, file, line)) return 0;
+    if (!spec_from_rgb_t(rgb_srgb_table(P), &H->sigma_a, rgb, 2, P->err, file, line)) return 0;
     for (nm = 0; nm < SPEC_UV_N; nm++) H->sigma_a.uv[nm] = H->sigma_a.v[0];
     return 1;
 }

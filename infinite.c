@@ -632,10 +632,14 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
     if (portal && !p && !fn)
         return fail(P, portal->file, portal->line, "LightSource \"infinite\": a \"portal\" needs "
                     "\"L\" or \"filename\" (pbrt-v4 has no default for it)");
+    if (portal && p && P->gs.colorspace != COLORSPACE_SRGB)
+        return fail(P, file, line, "LightSource \"infinite\": a \"portal\" with \"L\" in ColorSpace "
+                    "\"%s\" is not in the specnee subset (only in \"srgb\")",
+                    colorspace_name(P->gs.colorspace));
     if (p) {
         if (!param_spectrum(P, p, SPEC_ILLUMINANT, &L, &rgb_illum)) return 0;
-    } else if (!spec_named(&L, "stdillum-D65")) {
-        return fail(P, file, line, "LightSource: the built-in spectrum stdillum-D65 is missing");
+    } else {
+        space_white(P, &L);                    /* the colour space's illuminant */
     }
     if (!params_check_unused(P, pl, "LightSource \"infinite\"",
                              "spectrum L, rgb L, blackbody L, float scale, float illuminance, "
@@ -685,8 +689,8 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
                 return fail(P, file, line, "LightSource: the built-in spectrum stdillum-D65 is missing");
             }
         }
-        if (!(portal ? portal_set_image(inf, &im, P->rgb, file, line, P->err)
-                     : inf_set_image(inf, &im, P->rgb, file, line, P->err))) {
+        if (!(portal ? portal_set_image(inf, &im, rgb_srgb_table(P), file, line, P->err)
+                     : inf_set_image(inf, &im, rgb_srgb_table(P), file, line, P->err))) {
             img_free(&im);
             inf_free(inf);
             return 0;
@@ -704,7 +708,7 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
         for (c = 0; c < 3; c++) mrgb[c] = (float)(mean[c] / ((double)im.w * im.h));
         k_e *= 2.0 * SPECNEE_PI / ((double)im.w * im.h);
         img_free(&im);
-        if (!spec_from_rgb_t(P->rgb, &inf->mean, mrgb, 1, P->err, file, line)) {
+        if (!spec_from_rgb_t(rgb_srgb_table(P), &inf->mean, mrgb, 1, P->err, file, line)) {
             inf_free(inf);
             return 0;
         }

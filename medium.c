@@ -871,8 +871,7 @@ static int rgbgrid_from_params(Parser *P, ParamList *pl, const char *what, const
         ok = fail_param(P, pl, "Lescale", file, line, "%s: \"float Lescale\" %g must be a finite number >= 0",
                         what, lescale);
     if (ok && m->rgb_le.v && lescale > 0.0f) {
-        if (!spec_named(&m->Le, "stdillum-D65"))
-            ok = fail(P, file, line, "%s: the built-in spectrum stdillum-D65 is missing", what);
+        space_white(P, &m->Le);                /* the colour space's illuminant */
         m->Le_scale = lescale * (float)cie_y_integral((float)SPEC_MIN, (float)SPEC_MAX);
     }
     if (ok && !build_majorant(m)) ok = oom(P, file, line);
@@ -1036,8 +1035,8 @@ int medium_from_params(Parser *P, ParamList *pl, const char *what, const char *f
         if (!medium_preset(preset, sa, ss))
             return fail(P, pp->file, pp->line, "%s: unknown preset \"%s\" (pbrt-v4's names, e.g. "
                         "\"Wholemilk\", \"Skin1\", \"Ketchup\")", what, preset);
-        if (!spec_from_rgb_t(P->rgb, &m->sigma_a, sa, 2, P->err, pp->file, pp->line) ||
-            !spec_from_rgb_t(P->rgb, &m->sigma_s, ss, 2, P->err, pp->file, pp->line)) return 0;
+        if (!spec_from_rgb_t(rgb_srgb_table(P), &m->sigma_a, sa, 2, P->err, pp->file, pp->line) ||
+            !spec_from_rgb_t(rgb_srgb_table(P), &m->sigma_s, ss, 2, P->err, pp->file, pp->line)) return 0;
     } else if (!medium_coeff(P, pl, what, "sigma_a", 1.0f, &m->sigma_a, file, line) ||
                !medium_coeff(P, pl, what, "sigma_s", 1.0f, &m->sigma_s, file, line))
         return 0;

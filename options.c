@@ -473,6 +473,14 @@ int film_directive(Parser *P, const char *type, ParamList *pl, const char *file,
     st->film_diagonal = diagonal;
     st->xres = xres;
     st->yres = yres;
+    /* pbrt-v4's RGBFilm keeps its pixels in the colour space current here, and
+       converts them to sRGB to write any file but an EXR: the same pixels as this
+       sRGB film (specnee's EXR is sRGB too).  Only a camera sensor or a white
+       balance depends on it: they aim at the space's white, which sensor.c takes
+       to be D65's (srgb, dci-p3, rec2020), not ACES's */
+    if (P->gs.colorspace == COLORSPACE_ACES && ((sensor && sensor_index(sensor) > 0) || wb != 0.0f))
+        return fail(P, file, line, "Film: \"string sensor\" or \"float whitebalance\" with ColorSpace "
+                    "\"aces2065-1\" is not in the specnee subset (sensor.c balances to D65)");
     /* pbrt-v4: a camera sensor is white-balanced for 6500 K unless told otherwise */
     st->sensor = sensor ? sensor_index(sensor) : 0;
     st->white_balance = st->sensor > 0 && wb == 0.0f ? 6500.0f : wb;

@@ -949,19 +949,45 @@ int check_spectrum_above(Parser *P, const Param *p, const char *file, int line,
     return check_spectrum_above_from(P, p, file, line, what, sp, lo, strict, SPEC_UV_MIN);
 }
 
-/* pbrt-v4 normalises an RGB illuminant by its colour space's illuminant:
-   Le = scale * L / sum ybar D65.  lights.c divides by sum ybar L, so every light
-   with an rgb spectrum gets scale * Y(L) / Y(D65) (area, infinite and delta
-   lights alike); Y(D65) is computed on the load's first rgb light and kept in
-   the Parser (P->d65_y), not rebuilt per light. */
+/* pbrt-v4 normalises an RGB illuminant by its colour space's illuminant W:
+   Le = scale * L / sum ybar W.  lights.c divides by sum ybar L, so every light
+   with an rgb spectrum gets scale * Y(L) / Y(W) (area, infinite and delta
+   lights alike); Y(W) is computed on the space's first rgb light and kept in
+   the Parser (P->white_y), not rebuilt per light. */
 float rgb_illuminant_scale(Parser *P, const Spectrum *L, float scale)
 {
-    if (!(P->d65_y > 0.0)) {
-        Spectrum d65;
-        if (!spec_named(&d65, "stdillum-D65")) return scale;
-        P->d65_y = spec_to_y(&d65);
+    int cs = P->gs.colorspace;
+    if (!(P->white_y[cs] > 0.0)) {
+        Spectrum w;
+        colorspace_illuminant(cs, &w);
+        P->white_y[cs] = spec_to_y(&w);
     }
-    return P->d65_y > 0.0 ? (float)(scale * (spec_to_y_t(P->rgb, L) / P->d65_y)) : scale;
+    return P->white_y[cs] > 0.0 ? (float)(scale * (spec_to_y_t(P->rgb, L) / P->white_y[cs])) : scale;
+}
+
+/* ColorSpace: pbrt-v4 keeps the space in the graphics state (AttributeEnd restores
+   it) and every directive's "rgb" parameters are read in the space current there. */
+int parser_set_colorspace(Parser *P, int cs)
+{
+    if (!P->rgb_cs[cs] && !(P->rgb_cs[cs] = rgb_table_new_cs(cs))) return 0;
+    P->gs.colorspace = cs;
+    P->rgb = P->rgb_cs[cs];
+    return 1;
+}
+
+void parser_sync_colorspace(Parser *P)
+{
+    P->rgb = P->rgb_cs[P->gs.colorspace];   /* made when that state was current */
+}
+
+void space_white(Parser *P, Spectrum *L)
+{
+    colorspace_illuminant(P->gs.colorspace, L);
+}
+
+RgbTable *rgb_srgb_table(Parser *P)
+{
+    return P->rgb_cs[COLORSPACE_SRGB];
 }
 
 /* pbrt-v4 reads a light's "power" or "illuminance" only when it is > 0 and

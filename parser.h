@@ -133,6 +133,7 @@ typedef struct {
     int by_object;             /* that block is an ObjectBegin's, not an AttributeBegin's */
     int attr[5];               /* Attribute "shape", "light", "material", "medium",
                                   "texture": 1 + the newest entry of Parser.attrs, 0: none */
+    int colorspace;            /* ColorSpace: COLORSPACE_* (0: srgb, pbrt-v4's default) */
 } GState;
 
 /* A medium named by MakeNamedMedium or MediumInterface.  As in pbrt-v4, which
@@ -206,8 +207,11 @@ typedef struct {
     const char *output;        /* the command line's output file (-o), NULL: none */
     MediumRef *mrefs; int cap_media, cap_mrefs;   /* parallel to Scene.media */
     const char *integ_file; int integ_line; char integ_type[32];  /* the Integrator */
-    RgbTable *rgb;             /* the load's RGB -> spectrum coefficient table (rgbfit.c) */
-    double d65_y;              /* Y of stdillum-D65 (rgb_illuminant_scale), 0: not yet */
+    RgbTable *rgb;             /* the current colour space's RGB -> spectrum coefficient
+                                  table (rgbfit.c): rgb_cs[gs.colorspace] */
+    RgbTable *rgb_cs[COLORSPACE_N];   /* one per colour space, made when it first becomes
+                                  current; rgb_cs[0] (srgb) always: images' (rgb_image_table) */
+    double white_y[COLORSPACE_N];     /* Y of each space's white (rgb_illuminant_scale), 0: not yet */
     int cur_object;            /* inside ObjectBegin: 1 + its Scene.objects index; else 0 */
     int option_seed, option_seed_set;   /* Option "integer seed" (scene.c finish) */
     float edge_scale; int edge_scale_set;   /* Option "float displacementedgescale" (1 unset) */
@@ -350,6 +354,17 @@ int check_spectrum_above_from(Parser *P, const Param *p, const char *file, int l
                               const char *what, const Spectrum *sp, float lo, int strict,
                               int nm0);
 float rgb_illuminant_scale(Parser *P, const Spectrum *L, float scale);
+/* The colour space (rgbfit.c): parser_set_colorspace makes cs current (its table made
+   on first use; 0: out of memory), parser_sync_colorspace points P->rgb at the table of
+   gs.colorspace after a graphics state is restored; space_white is the current space's
+   white, the default L of every light; rgb_srgb_table the sRGB table, for what pbrt-v4
+   reads in sRGB whatever the current space: an image's pixels (PNG, PFM, EXR: the
+   file's own space, sRGB for these), the named media's and subsurface's preset
+   coefficients, hair's melanin, marble's colours. */
+int   parser_set_colorspace(Parser *P, int cs);
+void  parser_sync_colorspace(Parser *P);
+void  space_white(Parser *P, Spectrum *L);
+RgbTable *rgb_srgb_table(Parser *P);
 /* note_not_positive: a note at the line of "float name" when it is given and
    v <= 0 (a light's "power" or "illuminance", which pbrt-v4 then ignores); it
    marks the parameter read. */

@@ -9,19 +9,26 @@
      table over rgb filled on first use; docs/loading.md measures the load time.  A
      material's rgb reflectance keeps only (c0, c1, c2) (an Albedo): albedo_eval
      computes the two knots of spec_eval's interpolation from them when shaded.
+     Each fit is in a colour space (pbrt-v4's ColorSpace: srgb, dci-p3, rec2020,
+     aces2065-1; the section below): its matrix and its white weight the forward
+     map, and an rgb illuminant is multiplied by that white.  sRGB starts from
+     rgbtable.c; the other spaces from the coefficient table filled on first use.
 
    EXPORTS (specnee.h section 4)
      spec_rgb_coeffs spec_rgb_fit_table spec_rgb_coeffs_from spec_sigmoid_eval
      spec_rgb_table_start spec_rgb_coeffs_fit rgb_table_new rgb_table_free spec_from_rgb
      spec_from_rgb_t spec_ybar_knots spec_to_y_t albedo_eval_rgb albedo_knot
-     albedo_from_rgb
+     albedo_from_rgb colorspace_index colorspace_name colorspace_illuminant
+     colorspace_from_xyz colorspace_rgb_from_xyz rgb_table_new_cs rgb_table_space
 
    HOW IT IS USED
      parser.c turns "rgb" parameters into spectra (spec_from_rgb_t) and material
-     colours into Albedos (albedo_from_rgb); tools/gen_rgbtable.c builds rgbtable.h
-     from this fit; the dense spectra, the CIE tables and the named illuminants it
+     colours into Albedos (albedo_from_rgb), with the table of the ColorSpace
+     current at the directive (parser.h Parser.rgb, one table per space);
+     tools/gen_rgbtable.c builds rgbtable.h from this fit; the dense spectra, the CIE tables and the named illuminants it
      reads are spectrum.c's. */
 #include "specnee.h"
+#include <ctype.h>
 #include <float.h>
 #include <stdlib.h>
 #include <string.h>
@@ -51,17 +58,125 @@
    ====================================================================== */
 
 typedef RgbFitTable RgbFit;   /* cmf(lambda) * w(lambda) (specnee.h) */
+static int solve3(double A[3][3], double b[3], double x[3]);
 
-static void rgb_fit_init(RgbFit *f)
+/* ======================================================================
+   Colour spaces (pbrt-v4's RGBColorSpace; docs/spectra.md)
+   ----------------------------------------------------------------------
+   A linear RGB colour space is three primaries' chromaticities and a white
+   illuminant W (a spectrum).  Its matrix follows from them (SMPTE RP 177):
+   the primaries' XYZ at Y = 1, R = (x/y, 1, (1-x-y)/y), ... as the columns of
+   P; C = P^-1 XYZ(W) (W's XYZ at Y = 1, integrated from its spectrum as pbrt-v4
+   does, not its nominal xy); XYZ_from_RGB = P diag(C), so rgb (1, 1, 1) is W;
+   RGB_from_XYZ its inverse.  The space sets, for every "rgb" parameter read
+   while it is current, the fit's forward map (its matrix, and W as the w of
+   the fit: a reflectance of 1 is (1, 1, 1) under W) and the illuminant an
+   "rgb L" is multiplied by (W itself); the Film's space sets the image's RGB.
+   Primaries (pbrt-v4 src/pbrt/util/colorspace.cpp; the standards):
+     srgb        ITU-R BT.709:  R (.64, .33)  G (.30, .60)  B (.15, .06),  D65
+     dci-p3      P3-D65 (SMPTE EG 432-1): R (.68, .32) G (.265, .69) B (.15, .06), D65
+     rec2020     ITU-R BT.2020: R (.708, .292) G (.170, .797) B (.131, .046), D65
+     aces2065-1  SMPTE ST 2065-1 (AP0): R (.7347, .2653) G (0, 1) B (.0001, -.077),
+                 ACES's white illum-acesD60 (spectrum.c)
+   sRGB keeps xyz_to_linear_srgb's matrix (pbrt-v4's numbers), which this
+   construction reproduces to 1e-5; the others are built here. */
+static const struct {
+    const char *name, *white;
+    double xy[3][2];
+} color_spaces[COLORSPACE_N] = {
+    { "srgb", "stdillum-D65", { { .64, .33 }, { .3, .6 }, { .15, .06 } } },
+    { "dci-p3", "stdillum-D65", { { .68, .32 }, { .265, .690 }, { .15, .06 } } },
+    { "rec2020", "stdillum-D65", { { .708, .292 }, { .170, .797 }, { .131, .046 } } },
+    { "aces2065-1", "illum-acesD60", { { .7347, .2653 }, { 0., 1. }, { .0001, -.077 } } }
+};
+
+int colorspace_index(const char *name)
 {
-    Spectrum d65;
+    int i, k;
+    for (i = 0; i < COLORSPACE_N; i++) {            /* pbrt-v4 lower-cases the name */
+        const char *a = color_spaces[i].name;
+        for (k = 0; a[k] && tolower((unsigned char)name[k]) == a[k]; k++) {}
+        if (!a[k] && !name[k]) return i;
+    }
+    return -1;
+}
+
+const char *colorspace_name(int cs) { return color_spaces[cs].name; }
+
+void colorspace_illuminant(int cs, Spectrum *s)
+{
+    spec_named(s, color_spaces[cs].white);
+}
+
+/* inv = A^-1 by solve3 on each column of the identity; 0 if singular */
+static int invert3(double A[3][3], double inv[3][3])
+{
+    double a[3][3], b[3], x[3];
+    int i, j;
+    for (j = 0; j < 3; j++) {
+        memcpy(a, A, sizeof a);
+        for (i = 0; i < 3; i++) b[i] = i == j;
+        if (!solve3(a, b, x)) return 0;
+        for (i = 0; i < 3; i++) inv[i][j] = x[i];
+    }
+    return 1;
+}
+
+void colorspace_from_xyz(int cs, double m[3][3])
+{
+    double P[3][3], Pi[3][3], W[3], C[3], xyz_from_rgb[3][3], wx, wy;
+    Spectrum w;
+    int i, j;
+    if (cs == COLORSPACE_SRGB) {                  /* pbrt-v4's constants */
+        for (j = 0; j < 3; j++) {
+            double e[3] = { 0.0, 0.0, 0.0 }, col[3];
+            e[j] = 1.0;
+            xyz_to_linear_srgb(e, col);
+            for (i = 0; i < 3; i++) m[i][j] = col[i];
+        }
+        return;
+    }
+    colorspace_illuminant(cs, &w);
+    spec_chromaticity(&w, &wx, &wy);
+    W[0] = wx / wy; W[1] = 1.0; W[2] = (1.0 - wx - wy) / wy;
+    for (j = 0; j < 3; j++) {                     /* column j: primary j at Y = 1 */
+        double x = color_spaces[cs].xy[j][0], y = color_spaces[cs].xy[j][1];
+        P[0][j] = x / y; P[1][j] = 1.0; P[2][j] = (1.0 - x - y) / y;
+    }
+    invert3(P, Pi);                               /* the primaries are independent */
+    for (i = 0; i < 3; i++) C[i] = Pi[i][0] * W[0] + Pi[i][1] * W[1] + Pi[i][2] * W[2];
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) xyz_from_rgb[i][j] = P[i][j] * C[j];
+    invert3(xyz_from_rgb, m);
+}
+
+/* rgb = m xyz (m row-major), in xyz_to_linear_srgb's order of operations */
+static void mat_apply(const double *m, const double xyz[3], double rgb[3])
+{
+    int r;
+    for (r = 0; r < 3; r++)
+        rgb[r] = m[3 * r] * xyz[0] + m[3 * r + 1] * xyz[1] + m[3 * r + 2] * xyz[2];
+}
+
+void colorspace_rgb_from_xyz(int cs, const double xyz[3], double rgb[3])
+{
+    double m[3][3];
+    colorspace_from_xyz(cs, m);
+    mat_apply(&m[0][0], xyz, rgb);
+}
+
+/* The fit's tables for colour space cs: cmf x W / sum ybar W, and the matrix. */
+static void rgb_fit_init(RgbFit *f, int cs)
+{
+    Spectrum w;
     double c[3], norm = 0.0;
     int i, k;
-    spec_named(&d65, "stdillum-D65");
+    colorspace_illuminant(cs, &w);                /* the fit's weight: the space's white */
+    colorspace_from_xyz(cs, f->m);
     for (i = 0; i < SPEC_N; i++) {
         cie_cmf((double)(SPEC_MIN + i), c);
-        norm += c[1] * d65.v[i];
-        for (k = 0; k < 3; k++) f->cmf_w[k][i] = c[k] * d65.v[i];
+        norm += c[1] * w.v[i];
+        for (k = 0; k < 3; k++) f->cmf_w[k][i] = c[k] * w.v[i];
     }
     for (i = 0; i < SPEC_N; i++)
         for (k = 0; k < 3; k++) f->cmf_w[k][i] /= norm;
@@ -103,7 +218,7 @@ static void rgb_fit_eval(const RgbFit *f, const double c[3], double rgb[3], doub
         }
     }
     xyz[0] = X; xyz[1] = Y; xyz[2] = Z;
-    xyz_to_linear_srgb(xyz, rgb);
+    mat_apply(&f->m[0][0], xyz, rgb);
     if (J) {
         double col[3], out[3];
         d[0][0] = dX0; d[0][1] = dX1; d[0][2] = dX2;
@@ -111,7 +226,7 @@ static void rgb_fit_eval(const RgbFit *f, const double c[3], double rgb[3], doub
         d[2][0] = dZ0; d[2][1] = dZ1; d[2][2] = dZ2;
         for (r = 0; r < 3; r++) {                 /* column r of M * dxyz */
             for (k = 0; k < 3; k++) col[k] = d[k][r];
-            xyz_to_linear_srgb(col, out);
+            mat_apply(&f->m[0][0], col, out);
             for (k = 0; k < 3; k++) J[k][r] = out[k];
         }
     }
@@ -196,7 +311,7 @@ static void rgb_fit(const RgbFit *f, const double target[3], double c[3])
     }
 }
 
-void spec_rgb_fit_table(RgbFitTable *t) { rgb_fit_init(t); }
+void spec_rgb_fit_table(RgbFitTable *t) { rgb_fit_init(t, COLORSPACE_SRGB); }
 
 /* Newton's method from start straight at target (no homotopy from grey): a few
    steps when start fits a nearby colour.  1 when the fit's error is below 1e-10
@@ -231,9 +346,10 @@ int spec_rgb_coeffs_from(const RgbFitTable *f, const double target[3], const dou
 #define RGB_POLISH 8
 struct RgbTable {                              /* specnee.h: owned by a scene load */
     int ready;                                 /* fit and z filled */
+    int cs;                                    /* its colour space (COLORSPACE_*) */
     int built[3][RGB_TAB_N];                   /* slice (m, z_k) filled */
     RgbFit fit;
-    Spectrum d65;                              /* stdillum-D65 (Y = 1), for illuminants */
+    Spectrum illum;                            /* the space's white (Y = 1), for illuminants */
     double ybar[SPEC_N], ybar_sum;             /* cie_ybar at each knot, and their sum */
     double z[RGB_TAB_N];
     double c[3][RGB_TAB_N][RGB_TAB_N][RGB_TAB_N][3];  /* [m][z][b][a][coefficient] */
@@ -279,8 +395,17 @@ static void rgb_table_build_slice(RgbTable *T, int m, int zi)
    slices filled as lookups need them.  Not for concurrent use. */
 RgbTable *rgb_table_new(void)
 {
-    return (RgbTable *)calloc(1, sizeof(RgbTable));
+    return rgb_table_new_cs(COLORSPACE_SRGB);
 }
+
+RgbTable *rgb_table_new_cs(int cs)
+{
+    RgbTable *T = (RgbTable *)calloc(1, sizeof(RgbTable));
+    if (T) T->cs = cs;
+    return T;
+}
+
+int rgb_table_space(const RgbTable *T) { return T ? T->cs : COLORSPACE_SRGB; }
 
 void rgb_table_free(RgbTable *T)
 {
@@ -291,8 +416,8 @@ static RgbTable *rgb_table_get(RgbTable *T)
 {
     int zi;
     if (!T->ready) {
-        rgb_fit_init(&T->fit);
-        spec_named(&T->d65, "stdillum-D65");
+        rgb_fit_init(&T->fit, T->cs);
+        colorspace_illuminant(T->cs, &T->illum);
         T->ybar_sum = 0.0;
         for (zi = 0; zi < SPEC_N; zi++) {           /* spec_to_y's terms, in its order */
             T->ybar[zi] = cie_ybar((double)(SPEC_MIN + zi));
@@ -342,11 +467,13 @@ static void rgb_coeffs(RgbTable *T, const double target[3], double c[3])
     int in_table;
     if (!T) {
         RgbFit fit;
-        rgb_fit_init(&fit);
+        rgb_fit_init(&fit, COLORSPACE_SRGB);
         rgb_fit(&fit, target, c);
         return;
     }
-    in_table = rgbtable_lookup(target, c);     /* rgbtable.c */
+    /* rgbtable.c: sRGB's build-time table; the other spaces start from the
+       coarse table below, filled on first use (docs/spectra.md measures it) */
+    in_table = T->cs == COLORSPACE_SRGB ? rgbtable_lookup(target, c) : 0;
     if (in_table == 2) return;                  /* a trusted cell: no iteration */
     rgb_table_get(T);
     /* another cell: its interpolation, polished (about 3 evaluations of rgb(c)) */
@@ -379,15 +506,15 @@ int spec_from_rgb_t(RgbTable *T, Spectrum *s, const float rgb[3], int illuminant
     }
     if (illuminant) {
         /* pbrt-v4 RGBIlluminantSpectrum: m = 2 max(rgb), fit rgb / m (max 1/2),
-           multiply by m and by the colour space's illuminant (D65, Y = 1).
-           illuminant == 2: pbrt-v4's RGBUnboundedSpectrum, the same without D65
+           multiply by m and by the colour space's illuminant (T's: D65 or ACES D60, Y = 1; T NULL: D65).
+           illuminant == 2: pbrt-v4's RGBUnboundedSpectrum, the same without the illuminant
            (the coefficients of a medium). */
         Spectrum one;
-        const Spectrum *d65 = &one;
+        const Spectrum *white = &one;
         const double *xs = NULL;      /* T's table of the knots' x (the same doubles) */
         if (m == 0.0) { spec_const(s, 0.0f); return 1; }
         if (illuminant == 2) spec_const(&one, 1.0f);
-        else if (T) { d65 = &rgb_table_get(T)->d65; xs = T->fit.x; }
+        else if (T) { white = &rgb_table_get(T)->illum; xs = T->fit.x; }
         else spec_named(&one, "stdillum-D65");
         m *= 2.0;
         for (k = 0; k < 3; k++) target[k] /= m;
@@ -395,7 +522,7 @@ int spec_from_rgb_t(RgbTable *T, Spectrum *s, const float rgb[3], int illuminant
         else rgb_coeffs(T, target, c);
         for (i = 0; i < SPEC_N; i++) {
             double x = xs ? xs[i] : (double)i / (SPEC_N - 1);
-            s->v[i] = (float)(m * sigmoid((c[0] * x + c[1]) * x + c[2]) * d65->v[i]);
+            s->v[i] = (float)(m * sigmoid((c[0] * x + c[1]) * x + c[2]) * white->v[i]);
         }
         return 1;
     }
@@ -484,7 +611,7 @@ void spec_rgb_table_start(RgbTable *T, const double target[3], double c[3])
 void spec_rgb_coeffs_fit(const double target[3], double c[3])
 {
     RgbFit fit;
-    rgb_fit_init(&fit);
+    rgb_fit_init(&fit, COLORSPACE_SRGB);
     rgb_fit(&fit, target, c);
 }
 

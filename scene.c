@@ -390,6 +390,7 @@ static int include_directive(Parser *P, Lexer *L, const Token *dir, int is_impor
         return fail(P, dir->file, dir->line, "Import \"%s\": unbalanced AttributeBegin/End "
                     "inside the imported file", t.text);
     P->gs = saved;
+    parser_sync_colorspace(P);           /* the importer's space again */
     return 1;
 }
 
@@ -653,6 +654,7 @@ static int object_directive(Parser *P, Lexer *L, const Token *t)
                         "%s:%d at ObjectEnd", P->stack[P->depth - 1].file,
                         P->stack[P->depth - 1].line);
         P->gs = P->stack[--P->depth];
+        parser_sync_colorspace(P);       /* ObjectEnd */
         P->cur_object = 0;
         return 1;
     }
@@ -957,6 +959,7 @@ static int directive(Parser *P, Lexer *L, const Token *t)
             return fail(P, t->file, t->line, "Mismatched nesting: open ObjectBegin from %s:%d "
                         "at %s", P->stack[P->depth - 1].file, P->stack[P->depth - 1].line, d);
         P->gs = P->stack[--P->depth];
+        parser_sync_colorspace(P);       /* AttributeEnd */
         return 1;
     }
     if (!strcmp(d, "ObjectBegin") || !strcmp(d, "ObjectEnd") || !strcmp(d, "ObjectInstance"))
@@ -1000,11 +1003,13 @@ static int directive(Parser *P, Lexer *L, const Token *t)
     if (!strcmp(d, "Import")) return include_directive(P, L, t, 1);
     if (!strcmp(d, "ColorSpace")) {
         Token n;
+        int cs;
         if (!expect_string(P, L, d, "colour space name", &n)) return 0;
-        if (strcmp(n.text, "srgb") != 0)
-            return fail(P, t->file, t->line, "ColorSpace \"%s\" is valid pbrt-v4 but not in the "
-                        "specnee subset (only \"srgb\", the default)", n.text);
-        return 1;
+        cs = colorspace_index(n.text);              /* rgbfit.c: pbrt-v4's four */
+        if (cs < 0)
+            return fail(P, t->file, t->line, "ColorSpace \"%s\": unknown colour space (pbrt-v4 "
+                        "knows \"srgb\", \"dci-p3\", \"rec2020\" and \"aces2065-1\")", n.text);
+        return parser_set_colorspace(P, cs) || oom(P, t->file, t->line);
     }
     if (!strcmp(d, "Option")) return option_directive(P, L, t);
     return fail(P, t->file, t->line, "Unknown directive: %s", d);
@@ -1104,7 +1109,10 @@ static void parser_free(Parser *P)
     }
     free(P->attrs);
     free(P->attr_prev);
-    rgb_table_free(P->rgb);
+    {
+        int i;
+        for (i = 0; i < COLORSPACE_N; i++) rgb_table_free(P->rgb_cs[i]);
+    }
 }
 
 /* Everything after the last token: checks, bounds, emitters, BVH. */
@@ -1328,8 +1336,7 @@ static int load(Scene *s, char *buf, size_t len, const char *name, const char *o
     if (output) snprintf(s->settings.filename, sizeof s->settings.filename, "%s", output);
     dir_of(name, P.main_dir, sizeof P.main_dir);
     file = intern(&P, name);
-    P.rgb = rgb_table_new();
-    if (!file || !P.rgb) { parser_free(&P); return fail(&P, name, 0, "out of memory"); }
+    if (!file || !parser_set_colorspace(&P, COLORSPACE_SRGB)) { parser_free(&P); return fail(&P, name, 0, "out of memory"); }
     P.text_bytes = len;
     ok = parse_text(&P, file, buf, len) && finish(&P, file);
     parser_free(&P);

@@ -43,9 +43,8 @@
    them (its named spectra "<camera>_r", "_g", "_b"), rounded to 7 significant
    digits.  The 24 patches are Danny Pascale's measurements of the ColorChecker
    (BabelColor, "ColorChecker RGB and spectra", 2004-2012), 380..730 nm every
-   10 nm, as pbrt-v4's PixelSensor uses them, held constant outside.  The daylight
-   basis S0, S1, S2 is CIE 015:2004 Table T.2 (10 nm; pbrt-v4 interpolates the
-   same table at 5 nm, which is linear interpolation of these rows).
+   10 nm, as pbrt-v4's PixelSensor uses them, held constant outside.  CIE
+   daylight (cie_daylight, its basis S0, S1, S2) is spectrum.c's.
 
    Tests: tests/test_sensor.c (against pbrt-v4's images, the imaging ratio, the
    fit's white, the refusals). */
@@ -54,7 +53,6 @@
 
 #define SENSOR_KNOTS 35      /* camera curves: 380..720 nm, 10 nm apart */
 #define SWATCH_KNOTS 36      /* ColorChecker patches: 380..730 nm, 10 nm apart */
-#define SENSOR_S_N 48        /* daylight basis: 360..830 nm, 10 nm apart */
 
 typedef struct {
     const char *name;
@@ -63,7 +61,6 @@ typedef struct {
 
 static const CameraCurves cameras[SENSOR_CAMERAS];
 static const float swatches[24][SWATCH_KNOTS];
-static const float daylight_basis[3][SENSOR_S_N];
 
 int sensor_index(const char *name)
 {
@@ -143,7 +140,7 @@ static int mat3_inverse(const double a[9], double inv[9])
    blackbody (whose spectrum the caller then needs). */
 static void white_balance_xy(double kelvin, double *x, double *y, int *daylight)
 {
-    double cct = kelvin * 1.4388 / 1.4380, t = 1.0 / cct;
+    double cct = kelvin * 1.4388 / 1.4380;
     *daylight = cct >= 4000.0;
     if (!*daylight) {
         Spectrum bb;
@@ -151,11 +148,7 @@ static void white_balance_xy(double kelvin, double *x, double *y, int *daylight)
         spec_chromaticity(&bb, x, y);
         return;
     }
-    if (cct <= 7000.0)
-        *x = -4.6070e9 * t * t * t + 2.9678e6 * t * t + 0.09911e3 * t + 0.244063;
-    else
-        *x = -2.0064e9 * t * t * t + 1.9018e6 * t * t + 0.24748e3 * t + 0.237040;
-    *y = -3.000 * *x * *x + 2.870 * *x - 0.275;
+    cie_daylight_xy(cct, x, y);
 }
 
 /* von Kries adaptation in the Bradford cone space (K. M. Lam, "Metamerism and
@@ -195,7 +188,7 @@ static void white_balance_matrix(double kelvin, double m[9])
    Only ratios of its sums are used, so its scale does not matter. */
 static void camera_illuminant(double kelvin, double E[SPEC_N])
 {
-    double x, y, M, M1, M2;
+    double x, y;
     int daylight, nm;
     white_balance_xy(kelvin, &x, &y, &daylight);
     if (!daylight) {
@@ -204,15 +197,7 @@ static void camera_illuminant(double kelvin, double E[SPEC_N])
         for (nm = SPEC_MIN; nm <= SPEC_MAX; nm++) E[nm - SPEC_MIN] = spec_get(&bb, nm);
         return;
     }
-    M = 0.0241 + 0.2562 * x - 0.7341 * y;
-    M1 = (-1.3515 - 1.7703 * x + 5.9114 * y) / M;
-    M2 = (0.0300 - 31.4424 * x + 30.0717 * y) / M;
-    for (nm = SPEC_MIN; nm <= SPEC_MAX; nm++) {
-        double s0 = knots_eval(daylight_basis[0], SENSOR_S_N, 360.0, 10.0, nm);
-        double s1 = knots_eval(daylight_basis[1], SENSOR_S_N, 360.0, 10.0, nm);
-        double s2 = knots_eval(daylight_basis[2], SENSOR_S_N, 360.0, 10.0, nm);
-        E[nm - SPEC_MIN] = s0 + M1 * s1 + M2 * s2;
-    }
+    cie_daylight(x, y, 0, E);
 }
 
 /* The fit's training data (THE SENSOR above): rgb[i], the camera's RGB of patch i
@@ -711,22 +696,4 @@ static const float swatches[24][SWATCH_KNOTS] = {
         0.031, 0.032, 0.032, 0.033, 0.033, 0.033, 0.033, 0.033, 0.032, 0.032, 0.032, 0.032,
         0.032, 0.032, 0.032, 0.032, 0.032, 0.032, 0.032, 0.032, 0.032, 0.032, 0.032, 0.032,
         0.032, 0.032, 0.032, 0.032, 0.032, 0.032, 0.032, 0.032, 0.032, 0.032, 0.032, 0.033 }
-};
-
-static const float daylight_basis[3][SENSOR_S_N] = {
-    {
-        61.5, 68.8, 63.4, 65.8, 94.8, 104.8, 105.9, 96.8, 113.9, 125.6, 125.5, 121.3,
-        121.3, 113.5, 113.1, 110.8, 106.5, 108.8, 105.3, 104.4, 100, 96, 95.1, 89.1,
-        90.5, 90.3, 88.4, 84, 85.1, 81.9, 82.6, 84.9, 81.3, 71.9, 74.3, 76.4,
-        63.3, 71.7, 77, 65.2, 47.7, 68.6, 65, 66, 61, 53.3, 58.9, 61.9 },
-    {
-        38, 42.4, 38.5, 35, 43.4, 46.3, 43.9, 37.1, 36.7, 35.9, 32.6, 27.9,
-        24.3, 20.1, 16.2, 13.2, 8.6, 6.1, 4.2, 1.9, 0, -1.6, -3.5, -3.5,
-        -5.8, -7.2, -8.6, -9.5, -10.9, -10.7, -12, -14, -13.6, -12, -13.3, -12.9,
-        -10.6, -11.6, -12.2, -10.2, -7.8, -11.2, -10.4, -10.6, -9.7, -8.3, -9.3, -9.8 },
-    {
-        5.3, 6.1, 3, 1.2, -1.1, -0.5, -0.7, -1.2, -2.6, -2.9, -2.8, -2.6,
-        -2.6, -1.8, -1.5, -1.3, -1.2, -1, -0.5, -0.3, 0, 0.2, 0.5, 2.1,
-        3.2, 4.1, 4.7, 5.1, 6.7, 7.3, 8.6, 9.8, 10.2, 8.3, 9.6, 8.5,
-        7, 7.6, 8, 6.7, 5.2, 7.4, 6.8, 7, 6.4, 5.5, 6.1, 6.5 }
 };

@@ -399,7 +399,9 @@ int   metal_named(Spectrum *s, const char *name);
 /* A file of wavelength/value pairs: pbrt .spd text or CSV (optional header). */
 int   spec_from_file(Spectrum *s, const char *path, Error *err);
 /* RGB upsampled to a smooth spectrum, pbrt-v4's way: illuminant 0, a reflectance
-   (0..1); 1, an illuminant (times D65); 2, unbounded (a medium's coefficients).
+   (0..1); 1, an illuminant (times the colour space's white: D65 for srgb, dci-p3,
+   rec2020 and T NULL, ACES's D60 for aces2065-1); 2, unbounded (a medium's
+   coefficients); fitted in T's colour space (rgb_table_new_cs).
    spec_from_rgb_t starts each fit from the coefficient table T, which its owner
    (a scene load: parser.h's Parser) makes with rgb_table_new and frees with
    rgb_table_free; slices are filled on first use, each by a fixed sweep, so the
@@ -407,6 +409,20 @@ int   spec_from_file(Spectrum *s, const char *path, Error *err);
    the full fit from grey, without a table. */
 typedef struct RgbTable RgbTable;
 RgbTable *rgb_table_new(void);      /* NULL: out of memory */
+/* pbrt-v4's colour spaces (rgbfit.c; docs/spectra.md): the ColorSpace directive's
+   names (case-insensitive; -1 unknown), each space's white illuminant (stdillum-D65,
+   or illum-acesD60 for aces2065-1; Y = 1), its XYZ -> RGB matrix, and a coefficient
+   table whose fits are in that space (rgb_table_new: srgb). */
+#define COLORSPACE_SRGB 0
+#define COLORSPACE_ACES 3      /* aces2065-1 */
+#define COLORSPACE_N 4
+int   colorspace_index(const char *name);
+const char *colorspace_name(int cs);
+void  colorspace_illuminant(int cs, Spectrum *s);
+void  colorspace_from_xyz(int cs, double m[3][3]);
+void  colorspace_rgb_from_xyz(int cs, const double xyz[3], double rgb[3]);
+RgbTable *rgb_table_new_cs(int cs);
+int   rgb_table_space(const RgbTable *T);  /* T's colour space (NULL: srgb) */
 void  rgb_table_free(RgbTable *T);
 int   spec_from_rgb(Spectrum *s, const float rgb[3], int illuminant, Error *err,
                     const char *file, int line);
@@ -425,6 +441,7 @@ void  spec_rgb_coeffs(RgbTable *T, const double target[3], double c[3]);
 typedef struct {
     double cmf_w[3][SPEC_N];
     double x[SPEC_N];          /* (lambda - SPEC_MIN) / (SPEC_MAX - SPEC_MIN) at each knot */
+    double m[3][3];            /* the colour space's XYZ -> RGB */
 } RgbFitTable;
 void  spec_rgb_fit_table(RgbFitTable *t);
 int   spec_rgb_coeffs_from(const RgbFitTable *t, const double target[3], const double start[3],
@@ -1723,6 +1740,11 @@ void  sensor_response(int sensor, float lambda_nm, float rgb[3]);
    Bradford map for cie1931, pbrt-v4's least-squares fit over the ColorChecker
    for a camera.  0 if the fit is singular. */
 int   sensor_xyz_matrix(int sensor, float kelvin, double m[9]);
+/* CIE daylight (CIE 015:2004 eq. 3.3-3.7): the locus chromaticity at a correlated
+   colour temperature (4000..25000 K), and S0 + M1 S1 + M2 S2 at SPEC_MIN..SPEC_MAX
+   (1 nm) for a locus chromaticity, M1 and M2 rounded to 3 decimals when round3. */
+void  cie_daylight_xy(double cct, double *x, double *y);
+void  cie_daylight(double x, double y, int round3, double E[SPEC_N]);
 
 /* pbrt-v4's RealisticCamera (lens.c; docs/THEORY.md §17): spherical lens
    interfaces from the front (scene side) to the rear (film side), in metres. */

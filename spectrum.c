@@ -1032,7 +1032,7 @@ static const GaussLine fl_pyranine_em[] = { { 441.0, 35.0, 0.3 }, { 511.0, 40.0,
    ====================================================================== */
 
 static const char *const named_spectra[] = {
-    "stdillum-D65", "stdillum-A",
+    "stdillum-D65", "stdillum-A", "illum-acesD60",
     "stdillum-F1", "stdillum-F2", "stdillum-F3", "stdillum-F4", "stdillum-F5", "stdillum-F6",
     "stdillum-F7", "stdillum-F8", "stdillum-F9", "stdillum-F10", "stdillum-F11", "stdillum-F12",
     "glass-BK7", "glass-BAF10", "glass-FK51A", "glass-LASF9", "glass-F5", "glass-F10", "glass-F11",
@@ -1072,6 +1072,94 @@ static void illuminant_a(Spectrum *s)
     }
 }
 
+/* ======================================================================
+   CIE daylight (CIE 015:2004 section 3.1): the basis S0, S1, S2 of its Table T.2
+   (10 nm, 360..830 nm; pbrt-v4 interpolates the same table at 5 nm, which is
+   linear interpolation of these rows), the locus, and the spectrum.  sensor.c's
+   white balance and illum-acesD60 below use them.
+   ====================================================================== */
+#define DAYLIGHT_N 48        /* daylight basis: 360..830 nm, 10 nm apart */
+static const float daylight_basis[3][DAYLIGHT_N] = {
+    {
+        61.5, 68.8, 63.4, 65.8, 94.8, 104.8, 105.9, 96.8, 113.9, 125.6, 125.5, 121.3,
+        121.3, 113.5, 113.1, 110.8, 106.5, 108.8, 105.3, 104.4, 100, 96, 95.1, 89.1,
+        90.5, 90.3, 88.4, 84, 85.1, 81.9, 82.6, 84.9, 81.3, 71.9, 74.3, 76.4,
+        63.3, 71.7, 77, 65.2, 47.7, 68.6, 65, 66, 61, 53.3, 58.9, 61.9 },
+    {
+        38, 42.4, 38.5, 35, 43.4, 46.3, 43.9, 37.1, 36.7, 35.9, 32.6, 27.9,
+        24.3, 20.1, 16.2, 13.2, 8.6, 6.1, 4.2, 1.9, 0, -1.6, -3.5, -3.5,
+        -5.8, -7.2, -8.6, -9.5, -10.9, -10.7, -12, -14, -13.6, -12, -13.3, -12.9,
+        -10.6, -11.6, -12.2, -10.2, -7.8, -11.2, -10.4, -10.6, -9.7, -8.3, -9.3, -9.8 },
+    {
+        5.3, 6.1, 3, 1.2, -1.1, -0.5, -0.7, -1.2, -2.6, -2.9, -2.8, -2.6,
+        -2.6, -1.8, -1.5, -1.3, -1.2, -1, -0.5, -0.3, 0, 0.2, 0.5, 2.1,
+        3.2, 4.1, 4.7, 5.1, 6.7, 7.3, 8.6, 9.8, 10.2, 8.3, 9.6, 8.5,
+        7, 7.6, 8, 6.7, 5.2, 7.4, 6.8, 7, 6.4, 5.5, 6.1, 6.5 }
+};
+
+/* Basis k at integer nm in 360..830: linear between the 10 nm rows. */
+static double daylight_knot(int k, int nm)
+{
+    double x = (nm - 360.0) / 10.0;
+    int i = (int)x;
+    const float *v = daylight_basis[k];
+    if (i >= DAYLIGHT_N - 1) return v[DAYLIGHT_N - 1];
+    return v[i] + (x - i) * (v[i + 1] - v[i]);
+}
+
+/* The CIE daylight locus at correlated colour temperature cct (4000..25000 K;
+   CIE 015:2004 eq. 3.3, 3.4). */
+void cie_daylight_xy(double cct, double *x, double *y)
+{
+    double t = 1.0 / cct;
+    if (cct <= 7000.0)
+        *x = -4.6070e9 * t * t * t + 2.9678e6 * t * t + 0.09911e3 * t + 0.244063;
+    else
+        *x = -2.0064e9 * t * t * t + 1.9018e6 * t * t + 0.24748e3 * t + 0.237040;
+    *y = -3.000 * *x * *x + 2.870 * *x - 0.275;
+}
+
+/* CIE daylight of locus chromaticity (x, y) at 360..830 nm, 1 nm apart (CIE
+   015:2004 eq. 3.5-3.7): S0 + M1 S1 + M2 S2 with
+       M = 0.0241 + 0.2562 x - 0.7341 y,
+       M1 = (-1.3515 - 1.7703 x + 5.9114 y) / M,
+       M2 = (0.0300 - 31.4424 x + 30.0717 y) / M,
+   the basis linear between its 10 nm rows.  round3: M1 and M2 rounded to three
+   decimals first, as CIE 015 tabulates its D illuminants (the ACES white,
+   spectrum.c's illum-acesD60, is made so).  Unnormalised. */
+void cie_daylight(double x, double y, int round3, double E[SPEC_N])
+{
+    double M = 0.0241 + 0.2562 * x - 0.7341 * y;
+    double M1 = (-1.3515 - 1.7703 * x + 5.9114 * y) / M;
+    double M2 = (0.0300 - 31.4424 * x + 30.0717 * y) / M;
+    int nm;
+    if (round3) {
+        M1 = floor(M1 * 1000.0 + 0.5) / 1000.0;
+        M2 = floor(M2 * 1000.0 + 0.5) / 1000.0;
+    }
+    for (nm = SPEC_MIN; nm <= SPEC_MAX; nm++) {
+        double s0 = daylight_knot(0, nm), s1 = daylight_knot(1, nm), s2 = daylight_knot(2, nm);
+        E[nm - SPEC_MIN] = s0 + M1 * s1 + M2 * s2;
+    }
+}
+
+/* pbrt-v4's illum-acesD60, the white of ACES (SMPTE ST 2065-1; Academy TB-2018-001,
+   "Derivation of the ACES white point CIE chromaticity coordinates"): CIE daylight
+   at a correlated colour temperature of 6000 K, its M1 and M2 rounded to three
+   decimals (-0.536, -0.519), as the Academy's derivation (A. Forsythe's script,
+   which pbrt-v4's table cites) tabulates it; x, y = (0.32169, 0.33780) on the
+   locus.  The CIE daylight basis above starts at 360 nm, so the UV extension
+   (300..359 nm) is zero. */
+static void illuminant_aces_d60(Spectrum *s)
+{
+    double x, y, E[SPEC_N];
+    int i;
+    cie_daylight_xy(6000.0, &x, &y);
+    cie_daylight(x, y, 1, E);
+    for (i = 0; i < SPEC_N; i++) s->v[i] = (float)E[i];
+    for (i = 0; i < SPEC_UV_N; i++) s->uv[i] = 0.0f;
+}
+
 /* Names are compared without regard to case ("stdillum-d65" works too). */
 int spec_named(Spectrum *s, const char *name)
 {
@@ -1081,6 +1169,11 @@ int spec_named(Spectrum *s, const char *name)
     if (!name || !s) return 0;
     if (name_eq(name, "stdillum-D65")) {
         from_5nm_table(s, d65_5nm, CIE_N5, CIE_START);
+        scale_to_cie_y(s);
+        return 1;
+    }
+    if (name_eq(name, "illum-acesD60")) {
+        illuminant_aces_d60(s);
         scale_to_cie_y(s);
         return 1;
     }

@@ -561,8 +561,8 @@ static int sss_coefficients(Parser *P, ParamList *pl, const char *file, int line
             fprintf(stderr, "%s:%d: note: \"float g\" %g ignored with named scattering "
                     "coefficients (reduced ones, g = 0), as pbrt-v4 does\n", pg->file, pg->line, *g);
         *g = 0.0f;
-        return spec_from_rgb_t(P->rgb, &ss->sigma_a, sa, 2, P->err, file, line) &&
-               spec_from_rgb_t(P->rgb, &ss->sigma_s, sc, 2, P->err, file, line);
+        return spec_from_rgb_t(rgb_srgb_table(P), &ss->sigma_a, sa, 2, P->err, file, line) &&
+               spec_from_rgb_t(rgb_srgb_table(P), &ss->sigma_s, sc, 2, P->err, file, line);
     }
     if (!sss_param(P, pl, "sigma_a", SPEC_COEFF, &ss->sigma_a, &ss->tex[SSS_TEX_SIGMA_A], &ga) ||
         !sss_param(P, pl, "sigma_s", SPEC_COEFF, &ss->sigma_s, &ss->tex[SSS_TEX_SIGMA_S], &gs))
@@ -579,8 +579,8 @@ static int sss_coefficients(Parser *P, ParamList *pl, const char *file, int line
         ss->from_albedo = 1;
         return sss_param(P, pl, "mfp", SPEC_COEFF, &ss->mfp, &ss->tex[SSS_TEX_MFP], &gm);
     }
-    return spec_from_rgb_t(P->rgb, &ss->sigma_a, sa, 2, P->err, file, line) &&
-           spec_from_rgb_t(P->rgb, &ss->sigma_s, sc, 2, P->err, file, line);
+    return spec_from_rgb_t(rgb_srgb_table(P), &ss->sigma_a, sa, 2, P->err, file, line) &&
+           spec_from_rgb_t(rgb_srgb_table(P), &ss->sigma_s, sc, 2, P->err, file, line);
 }
 
 /* The table for ss's (g, eta): a copy of an earlier subsurface material's with the

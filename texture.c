@@ -675,7 +675,7 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
         if (!f) {                              /* no .pfm beside it: the EXR (exr.c) */
             if (!exr_read(&im, path, &ierr))
                 return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
-            ok = tex_set_image(T, &im, scale, invert, P->rgb, P->err);
+            ok = tex_set_image(T, &im, scale, invert, rgb_srgb_table(P), P->err);
             img_free(&im);
             return ok;
         }
@@ -693,7 +693,7 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
                         "pbrt-v4 but not in the specnee subset (sRGB, linear)", name, enc);
         if (!png_read(&im, path, linear, &ierr))
             return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
-        ok = tex_set_image(T, &im, scale, invert, P->rgb, P->err);
+        ok = tex_set_image(T, &im, scale, invert, rgb_srgb_table(P), P->err);
         img_free(&im);
         return ok;
     } else if (!ends_with_ci(fn, ".pfm")) {
@@ -703,7 +703,7 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
     (void)enc;                                 /* PFM holds linear values */
     if (!pfm_read(&im, path, &ierr))
         return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
-    ok = tex_set_image(T, &im, scale, invert, P->rgb, P->err);
+    ok = tex_set_image(T, &im, scale, invert, rgb_srgb_table(P), P->err);   /* a PFM's: sRGB */
     img_free(&im);
     return ok;
 }
@@ -863,7 +863,7 @@ int texture_from_params(Parser *P, ParamList *pl, const char *name, const char *
                       T->octaves);
         if (ok) {
             texture_frame(P, T);   /* marble */
-            ok = tex_marble_init(T, P->rgb, P->err);
+            ok = tex_marble_init(T, rgb_srgb_table(P), P->err);
         }
     } else if (!strcmp(cls, "fbm") || !strcmp(cls, "wrinkled") ||
                !strcmp(cls, "windy")) {
