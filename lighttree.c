@@ -355,14 +355,16 @@ static int piece_triangle(const LightTreeInput *in, const LightPiece *pc, const 
    L = sqrt(|d|^2 - rho^2) + 2 rho >= |d| + rho outside the bounding sphere and
    L = 2 rho >= |d| + rho inside it.  The margin (behind_margin, larger than the
    round-off of d . a for points in the scene) and rounding behind down and
-   slack up keep the float test on the safe side. */
+   slack up keep the float test on the safe side where the node holds a spot
+   light; a node of area lamps only moves the plane forward by the margin
+   instead (below, and docs/lighttree.md). */
 static float node_behind(const Builder *B, const int *items, int n, const Acc *a, const TreeNode *nd,
                          float *slack)
 {
     const Scene *s = B->in->scene;
     double h = INFINITY, wc = 0.0, w[3], v, t;
     float f;
-    int i, j, k;
+    int i, j, k, any_delta = 0;
     *slack = 0.0f;
     if (a->twosided || a->cone.cos_o <= -1.0f) return -INFINITY;
     t = acos((double)a->cone.cos_o) + acos((double)a->cone.cos_e);
@@ -384,6 +386,7 @@ static float node_behind(const Builder *B, const int *items, int n, const Acc *a
             const Vec3 x = em->delta.p;
             double d = w[0] * x.x + w[1] * x.y + w[2] * x.z;
             if (d < h) h = d;                           /* (its only "vertex") */
+            any_delta = 1;
             continue;
         }
         sh = &s->shapes[em->shape];
@@ -398,7 +401,15 @@ static float node_behind(const Builder *B, const int *items, int n, const Acc *a
             }
         }
     }
-    v = h - wc - B->lt->behind_margin;
+    /* Only area lamps below: the plane moves the margin FORWARD, so that a point on
+       the lamps' own plane (the lamp it lies on, seen from its back or its front)
+       is behind it too.  Such a point gets light from them only at grazing angles,
+       within the margin of their plane; NEE's pmf is 0 there for select and pmf
+       alike, so a BSDF sample that finds one of them takes MIS weight 1 (as for
+       emitter_can_reach's zeros, lights.c section 4): unbiased.  A spot light
+       cannot be found by a BSDF sample, so a node that holds one keeps the
+       margin behind its plane. */
+    v = h - wc + (any_delta ? -B->lt->behind_margin : B->lt->behind_margin);
     f = (float)v;
     if ((double)f > v) f = nextafterf(f, -INFINITY);
     return f;
@@ -633,6 +644,27 @@ static Vec3 tri_normal(const Scene *s, int t)
     return s->shapes[tr->shape].flip ? v3_neg(n) : n;
 }
 
+/* Do the piece's shading normals leave every point on its triangle's side?  The
+   shading normal decides which side a point of a lamp lights (lights.c,
+   emitter_can_reach's planes); where the three vertex normals of a triangle lie
+   on its oriented normal's side, so does every interpolation of them, and the
+   triangle lights the side of its oriented normal, as without normals.  The
+   same test as those planes' (a positive dot product); 1 without normals. */
+static int normals_agree(const LightTreeInput *in, const LightPiece *pc, const Shape *sh)
+{
+    const Scene *s = in->scene;
+    int i, k;
+    if (!sh->has_normals) return 1;
+    if (!s->N) return 0;
+    for (i = 0; i < piece_tri_count(pc, sh); i++) {
+        int t = piece_triangle(in, pc, sh, i);
+        Vec3 n = tri_normal(s, t);
+        for (k = 0; k < 3; k++)
+            if (!(v3_dot(n, s->N[s->tris[t].v[k]]) > 0.0f)) return 0;
+    }
+    return 1;
+}
+
 /* Box, cone and power of a piece. */
 static void piece_bounds(const LightTreeInput *in, const LightPiece *pc, PieceBounds *out)
 {
@@ -701,7 +733,7 @@ static void piece_bounds(const LightTreeInput *in, const LightPiece *pc, PieceBo
                 out->bmax = v3_max(out->bmax, p);
             }
         }
-        if (sh->has_normals || !(v3_len(nsum) > 0.0f) || (!pc->count && sh->patch_count > 0)) {
+        if (!normals_agree(in, pc, sh) || !(v3_len(nsum) > 0.0f) || (!pc->count && sh->patch_count > 0)) {
             out->cone = cone_full(0.0f);   /* shading normals may flip a point's side; a
                                               twisted patch faces many ways */
         } else {

@@ -34,7 +34,12 @@
      lighttree_behind_the_box  points just above a plane of down-facing lamps,
                   inside their bounding spheres: nothing is sampled (I = 0 at
                   the root); from below every lamp keeps P > 0; axis-aligned
-                  and turned lamps */
+                  and turned lamps
+     lighttree_on_the_lamp  a point on a one-sided lamp: that lamp has P = 0
+                  (its plane moved forward by the margin), with and without
+                  "normal N"; normals that disagree keep the cone full
+     lighttree_on_the_lamp_spot  a spot light whose cone reaches 90 degrees
+                  keeps P > 0 within the margin in front of its plane */
 #include "test.h"
 #include <stdlib.h>
 #include <string.h>
@@ -1074,6 +1079,90 @@ static void test_behind(T *t)
     CHECK(t, below == 800 * 16, "%d of %d lamps had P > 0 from below", below, 800 * 16);
 }
 
+/* Append "normal N" [ n n n n ] to the last quad of buf (add_quad's four vertices). */
+static void quad_normals(char *buf, size_t cap, Vec3 n)
+{
+    char *at = strstr(buf + strlen(buf) - 160, "\"point3 P\""), tail[256];
+    if (!at) return;
+    snprintf(tail, sizeof tail, "%s", at);
+    snprintf(at, cap - (size_t)(at - buf), "\"normal N\" [ %g %g %g %g %g %g %g %g %g %g %g %g ] %s",
+             n.x, n.y, n.z, n.x, n.y, n.z, n.x, n.y, n.z, n.x, n.y, n.z, tail);
+}
+
+/* On the lamp: a point on a one-sided lamp A (facing down, half-size 0.2 at
+   y = 0.2) with a lamp B below it facing up.  A cannot light a point of its own
+   plane, so under both trees A's pieces have P = 0 there and B takes all of it
+   (a point inside A's bounding sphere, where no angle is bounded: without the
+   plane moved forward by the margin, node_behind, A took most of it).  The same
+   when the lamps have "normal N" that agree with their winding (the cone of a
+   lamp with normals, normals_agree); where A's normals point the other way its
+   cone must stay full: from 0.05 above and below A, A keeps P > 0. */
+static void test_on_the_lamp(T *t)
+{
+    static char buf[1 << 15];
+    Scene s;
+    int variant, st, k, on = 0, near = 0;
+    for (variant = 0; variant < 3; variant++) {
+        snprintf(buf, sizeof buf, "%s%s", camera16, test_box_walls);
+        add_quad(buf, sizeof buf, SPIKY, 1, v3(0.0f, 0.2f, 0.0f), 1, -1, 0.2f);
+        if (variant) quad_normals(buf, sizeof buf, v3(0.0f, variant == 1 ? -1.0f : 1.0f, 0.0f));
+        add_quad(buf, sizeof buf, SPIKY, 1, v3(0.0f, -0.6f, 0.0f), 1, 1, 0.2f);
+        if (variant) quad_normals(buf, sizeof buf, v3(0.0f, 1.0f, 0.0f));
+        if (!test_load_scene(t, &s, buf)) return;
+        for (st = 0; st < 2; st++) {
+            LightSampler *ls = build(t, &s, st ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
+            Rng r;
+            if (!ls) continue;
+            rng_seed(&r, 77, (uint64_t)(2 * variant + st));
+            for (k = 0; k < 100; k++) {
+                LightCtx c = ctx_at(v3(-0.19f + 0.38f * rng_float(&r), 0.2f, -0.19f + 0.38f * rng_float(&r)));
+                float pa = 0.0f, pb = 0.0f;
+                int j;
+                c.n = v3(0.0f, -1.0f, 0.0f);
+                if (variant == 2) c.p.y += k % 2 ? 0.05f : -0.05f;
+                for (j = 0; j < light_n_pieces(ls); j++) {
+                    float pj = light_select_pmf(ls, &c, j);
+                    if (light_piece_emitter(ls, j) == 0) pa += pj;
+                    else pb += pj;
+                }
+                if (variant < 2) on += pa == 0.0f && fabsf(pb - 1.0f) < 1e-5f;
+                else near += pa > 0.0f;
+            }
+            light_sampler_free(ls);
+        }
+        scene_free(&s);
+    }
+    CHECK(t, on == 400, "%d of 400 points on a lamp gave it P = 0 and the other lamp P = 1", on);
+    CHECK(t, near == 200, "%d of 200 points by a lamp whose normals disagree kept its P > 0", near);
+}
+
+/* A spot light keeps the margin behind its plane: its cone reaches 90 degrees
+   (coneangle 90, conedelta 45: slack 0), and a point 1e-5 in front of the plane
+   through it, within the margin, still gets a little of its light, which no
+   BSDF sample can find: P > 0 there under both trees (node_behind moves the
+   plane forward only for nodes of area lamps). */
+static void test_spot_keeps_margin(T *t)
+{
+    static char buf[1 << 14];
+    Scene s;
+    int st, ok = 0;
+    snprintf(buf, sizeof buf, "%s%sLightSource \"spot\" \"float scale\" [ 1 ] \"point3 from\" [ 0 0 0 ] "
+             "\"point3 to\" [ 0 1 0 ] \"float coneangle\" [ 90 ] \"float conedeltaangle\" [ 45 ]\n", camera16, test_box_walls);
+    add_quad(buf, sizeof buf, SPIKY, 1, v3(0.0f, -0.6f, 0.0f), 1, 1, 0.2f);
+    if (!test_load_scene(t, &s, buf)) return;
+    for (st = 0; st < 2; st++) {
+        LightSampler *ls = build(t, &s, st ? SEL_SPECTRAL_TREE : SEL_TREE, 0, 0);
+        LightCtx c = ctx_at(v3(0.5f, 1e-5f, 0.0f));
+        int j;
+        if (!ls) continue;
+        for (j = 0; j < light_n_pieces(ls); j++)
+            if (s.emitters[light_piece_emitter(ls, j)].shape < 0) ok += light_select_pmf(ls, &c, j) > 0.0f;
+        light_sampler_free(ls);
+    }
+    scene_free(&s);
+    CHECK(t, ok == 2, "the spot light had P > 0 by its plane under %d of 2 trees", ok);
+}
+
 const TestCase tests_lighttree[] = {
     { "lighttree_conservative", test_conservative },
     { "lighttree_conservative_random", test_conservative_random },
@@ -1089,5 +1178,7 @@ const TestCase tests_lighttree[] = {
     { "lighttree_mesh_split_pmf", test_mesh_split_pmf },
     { "lighttree_mesh_split_unbiased", test_mesh_split_unbiased },
     { "lighttree_behind_the_box", test_behind },
+    { "lighttree_on_the_lamp", test_on_the_lamp },
+    { "lighttree_on_the_lamp_spot", test_spot_keeps_margin },
     { NULL, NULL }
 };
