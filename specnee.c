@@ -263,9 +263,10 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
             a->lights_cli = 1;
         } else if (!strcmp(o, "--light-shape-sampling")) {
             NEEDS_VALUE();
-            if (!strcmp(v, "solidangle")) a->ro.sel.area_sampling = 0;
-            else if (!strcmp(v, "area")) a->ro.sel.area_sampling = 1;
-            else return usage_error("--light-shape-sampling is solidangle or area, not '%s'", v);
+            if (!strcmp(v, "solidangle")) a->ro.sel.area_sampling = SHAPE_SA;
+            else if (!strcmp(v, "area")) a->ro.sel.area_sampling = SHAPE_AREA;
+            else if (!strcmp(v, "auto")) a->ro.sel.area_sampling = SHAPE_AUTO;
+            else return usage_error("--light-shape-sampling is auto, solidangle or area, not '%s'", v);
         } else if (!strcmp(o, "--spd-metric")) {
             NEEDS_VALUE();
             if (!strcmp(v, "unit")) a->ro.sel.power_metric = 0;
@@ -393,7 +394,8 @@ static void print_settings(const RenderOptions *o, const Scene *s)
            (double)(o->wl_mix > 0.0f ? o->wl_mix : WL_MIX_DEFAULT), o->wl_wide ? "on" : "off",
            o->single_wavelength ? "on" : "off");
     printf("lights %s\n", sel_name(st));
-    printf("light-shape-sampling %s\n", o->sel.area_sampling ? "area" : "solidangle");
+    printf("light-shape-sampling %s\n", o->sel.area_sampling == SHAPE_AREA ? "area" :
+           o->sel.area_sampling == SHAPE_AUTO ? "auto" : "solidangle");
     printf("spd-metric %s  # read by --lights spd, product, spectral-spatial%s%s\n",
            o->sel.power_metric ? "power" : "unit", sel_reads_metric(st) ? "" : "; ignored by ",
            sel_reads_metric(st) ? "" : sel_name(st));
