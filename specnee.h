@@ -2101,9 +2101,7 @@ int   tri_pdf_sa(Vec3 ref, Vec3 n, const Vec3 v[3], Vec3 dir, double *pdf);
    |n . D| / |D|^4 (D = p - ref) spreads over the triangle's vertices and centroid
    by more than SPH_TRI_SPREAD (sphtri.c).  The same answer at the sample and at
    the pdf of a BSDF hit keeps the estimator unbiased. */
-#ifndef SPH_TRI_SPREAD
 #define SPH_TRI_SPREAD 3.0
-#endif
 int   tri_sa_pays(Vec3 ref, Vec3 n, const Vec3 v[3]);
 
 /* Sample a point on the whole of emitter e, seen from ref (shading normal ns; the

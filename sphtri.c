@@ -201,8 +201,10 @@ static int has_normal(Vec3 n) { return n.x != 0.0f || n.y != 0.0f || n.z != 0.0f
    spreads widely (a lamp close to the receiver, large in its sky, or low over its
    horizon) the map removes that spread.  The rule: g at the three vertices and
    the centroid (the centroid sees the near middle of a lamp right above ref),
-   and the map where max g > SPH_TRI_SPREAD min g, or where one of them is 0 (a
-   vertex on ref's tangent plane: the lamp straddles the horizon).  In a medium
+   and the map where max g > SPH_TRI_SPREAD min g, which holds where one of
+   them is 0 and another not (a vertex on ref's tangent plane: the lamp rises
+   from the horizon); where all are 0 (ref in the lamp's own plane, as on the
+   lamp's back: no light comes) the cheap area sample.  In a medium
    (n the zero vector) the phase function replaces the cosine: g = 1 / d^3.  No
    square root: some twenty multiplications and four divisions, against the map's
    arctangent, sine, cosine and ten square roots.  lights.c asks it at the sample and at the
@@ -219,10 +221,11 @@ int tri_sa_pays(Vec3 ref, Vec3 n, const Vec3 v[3])
         double d2 = d3_dot(D, D), c = medium ? 1.0 : fabs(d3_dot(N, D));
         /* medium: g d^3 = 1 compared as g^2 = 1 / d2^3 */
         double g = medium ? 1.0 / (d2 * d2 * d2) : c / (d2 * d2);
-        if (!(g > 0.0) || !isfinite(g)) return 1;
+        if (!isfinite(g)) return 0;      /* ref on a vertex: the area sample refuses it */
         if (i == 0 || g < gmin) gmin = g;
         if (i == 0 || g > gmax) gmax = g;
     }
+    if (!(gmax > 0.0)) return 0;         /* ref in the lamp's plane: no light from it */
     return gmax > (medium ? SPH_TRI_SPREAD * SPH_TRI_SPREAD : SPH_TRI_SPREAD) * gmin;
 }
 
