@@ -556,7 +556,8 @@ static void test_auto_pdf(T *t)
 /* tri_sa_pays, by cases whose answer is plain: a lamp far overhead (the area
    estimate's factor |n . D| / |D|^4 nearly constant: 0), the same lamp close (1),
    a lamp with a vertex on the receiver's tangent plane (1), a receiver in the
-   lamp's plane (every factor 0: 0), a far lamp behind
+   lamp's plane (every factor 0: 0), a far lamp across the receiver's horizon
+   (|n . D|, as the warp reads it: 0), a far lamp behind
    the receiver (the |.|: 0), and in a medium (1 / d^3) far (0) and close (1);
    then against the definition, computed here, on random triangles (both answers
    occurring). */
@@ -573,6 +574,10 @@ static void test_auto_rule(T *t)
     CHECK(t, tri_sa_pays(o, up, edge), "a lamp rising from the horizon is sampled by area");
     CHECK(t, !tri_sa_pays(v3(0.0f, 0.0f, 20.0f), up, far), "from the lamp's own plane it is sampled by solid angle");
     CHECK(t, !tri_sa_pays(o, v3(0.0f, 0.0f, -1.0f), far), "a far lamp behind the receiver is sampled by solid angle");
+    /* across the horizon, |n . D| at the vertices 1, 1, 1 and at the centroid 1/3
+       (closer): a spread under 3, by area; the signed cosine would flip it */
+    v[0] = v3(10.0f, -1.0f, 1.0f); v[1] = v3(10.0f, 1.0f, 1.0f); v[2] = v3(10.0f, 0.0f, -1.0f);
+    CHECK(t, !tri_sa_pays(o, up, v), "a far lamp across the horizon is sampled by solid angle");
     CHECK(t, !tri_sa_pays(o, o, far), "in a medium, a far lamp is sampled by solid angle");
     CHECK(t, tri_sa_pays(o, o, near), "in a medium, a close lamp is sampled by area");
     rng_seed(&r, 38, 1);
