@@ -54,7 +54,7 @@
 /* "name[:modifier]...": modifiers power, all, tput, importance, visible, mixture,
    mixture=M (weight M of visible), uniform (the wavelength pdf), roughmis, single,
    wide, nonee, nosplit (light trees: a large emissive mesh stays one leaf),
-   shapearea shapesa (--light-shape-sampling area, solidangle), a
+   shapearea shapesa shapeauto (--light-shape-sampling area, solidangle, auto), a
    sampler (independent stratified sobol zsobol), fluorescence (flpower fluniform
    fla flkeep flterminate), media (medterminate medmis: --chromatic-media), and
    terminate, hero, unit that
@@ -98,6 +98,7 @@ int eval_parse_variant(const char *spec, RenderOptions *o)
         else if (!strcmp(tok, "nosplit")) o->sel.no_split = 1;
         else if (!strcmp(tok, "shapearea")) o->sel.area_sampling = 1;   /* --light-shape-sampling area */
         else if (!strcmp(tok, "shapesa")) o->sel.area_sampling = 0;     /* ... solidangle */
+        else if (!strcmp(tok, "shapeauto")) o->sel.area_sampling = SHAPE_AUTO;   /* ... auto */
         else if (!strcmp(tok, "medterminate")) o->media_terminate = 1;   /* --chromatic-media terminate */
         else if (!strcmp(tok, "medmis")) o->media_terminate = 0;
         else if (sampler_from_name(tok) != SAMPLER_COUNT) o->sampler = sampler_from_name(tok);

@@ -405,13 +405,23 @@ static void point_on_triangle(const Scene *s, int tri, Vec3 ref, float u1, float
 }
 
 /* Where a lamp is seen from: the point, its shading normal (the zero vector in a
-   medium) and whether triangles are sampled by area only (SelOptions.area_sampling). */
-typedef struct { Vec3 p, ns; int area_only; } Receiver;
+   medium) and how triangles are sampled (SHAPE_SA, SHAPE_AREA or SHAPE_AUTO,
+   SelOptions.area_sampling). */
+typedef struct { Vec3 p, ns; int shape; } Receiver;
 
 static void tri_vertices(const Scene *s, int tri, Vec3 v[3])
 {
     const Triangle *t = &s->tris[tri];
     v[0] = s->P[t->v[0]]; v[1] = s->P[t->v[1]]; v[2] = s->P[t->v[2]];
+}
+
+/* Is triangle v tried by solid angle from rx?  The one place that decides it, for
+   the sample (sample_triangle) and for the pdf of a BSDF hit (pdf_triangle): were
+   they to disagree, MIS would weigh a sample by another density than its own. */
+static int try_solid_angle(const Receiver *rx, const Vec3 v[3])
+{
+    if (rx->shape == SHAPE_AREA) return 0;
+    return rx->shape == SHAPE_SA || tri_sa_pays(rx->p, rx->ns, v);
 }
 
 /* A point on triangle tri of a piece of area `area`, which chose it with the
@@ -426,7 +436,7 @@ static int sample_triangle(const Scene *s, int tri, double area, const Receiver 
     Vec3 d;
     float dist2;
     tri_vertices(s, tri, v);
-    if (rx->area_only || !tri_sample_sa(rx->p, rx->ns, v, u1, u2, &ts)) {
+    if (!try_solid_angle(rx, v) || !tri_sample_sa(rx->p, rx->ns, v, u1, u2, &ts)) {
         point_on_triangle(s, tri, rx->p, u1, u2, out);
         return finish_sample(rx->p, area, out);
     }
@@ -580,7 +590,7 @@ static int sample_emitter(const Scene *s, int e, const Receiver *rx, const float
 int emitter_sample(const Scene *s, int e, Vec3 ref, Vec3 ns, const float u[3], EmitterSample *out)
 {
     Receiver rx;
-    rx.p = ref; rx.ns = ns; rx.area_only = 0;
+    rx.p = ref; rx.ns = ns; rx.shape = SHAPE_SA;
     return sample_emitter(s, e, &rx, u, out);
 }
 
@@ -675,9 +685,9 @@ static float pdf_triangle(const Scene *s, int prim, double area, const Receiver 
 {
     Vec3 v[3], d = v3_sub(p, rx->p);
     double pdf;
-    if (!rx->area_only && prim >= 0 && prim < s->n_tris && v3_dot(d, d) > 0.0f) {
+    if (rx->shape != SHAPE_AREA && prim >= 0 && prim < s->n_tris && v3_dot(d, d) > 0.0f) {
         tri_vertices(s, prim, v);
-        if (tri_pdf_sa(rx->p, rx->ns, v, v3_norm(d), &pdf))
+        if (try_solid_angle(rx, v) && tri_pdf_sa(rx->p, rx->ns, v, v3_norm(d), &pdf))
             return (float)(tri_area(s, prim) / area * pdf);
     }
     return pdf_sa_area(area, rx->p, p, n);
@@ -711,7 +721,7 @@ static float pdf_emitter(const Scene *s, int e, const Receiver *rx, Vec3 p, Vec3
 float emitter_pdf_sa(const Scene *s, int e, Vec3 ref, Vec3 ns, Vec3 p, Vec3 n, int prim)
 {
     Receiver rx;
-    rx.p = ref; rx.ns = ns; rx.area_only = 0;
+    rx.p = ref; rx.ns = ns; rx.shape = SHAPE_SA;
     return pdf_emitter(s, e, &rx, p, n, prim);
 }
 
@@ -841,7 +851,7 @@ static int build_voxel(const LightSampler *ls, long v, float *out)
         float uu[3];
         Receiver rx;                   /* by area: the estimate of the solid angle */
         uu[0] = u0; uu[1] = u1; uu[2] = (float)radical_inverse(13, (uint64_t)k);
-        rx.p = p; rx.ns = v3(0.0f, 0.0f, 0.0f); rx.area_only = 1;
+        rx.p = p; rx.ns = v3(0.0f, 0.0f, 0.0f); rx.shape = SHAPE_AREA;
         for (j = 0; j < n; j++) {
             EmitterSample es;
             if (s->emitters[j].inf) { g[j] += 4.0 * SPECNEE_PI; continue; }  /* the whole sphere */
@@ -1356,7 +1366,7 @@ int light_sample(const LightSampler *ls, int piece, Vec3 ref, Vec3 ns, const flo
     const LightPiece *pc = &ls->pieces[piece];
     int lo = 0, hi;
     Receiver rx;
-    rx.p = ref; rx.ns = ns; rx.area_only = ls->opt.area_sampling;
+    rx.p = ref; rx.ns = ns; rx.shape = ls->opt.area_sampling;
     out->delta = 0;
     if (pc->count == 0) {                        /* a whole emitter */
         if (pc->tri_cdf)
@@ -1376,7 +1386,7 @@ float light_pdf_sa(const LightSampler *ls, int piece, Vec3 ref, Vec3 ns, Vec3 p,
 {
     Receiver rx;
     if (piece < 0 || piece >= ls->n_pieces) return 0.0f;
-    rx.p = ref; rx.ns = ns; rx.area_only = ls->opt.area_sampling;
+    rx.p = ref; rx.ns = ns; rx.shape = ls->opt.area_sampling;
     if (ls->pieces[piece].count == 0)             /* a whole emitter (also an infinite one) */
         return pdf_emitter(ls->scene, ls->pieces[piece].emitter, &rx, p, n, prim);
     return pdf_triangle(ls->scene, prim, ls->pieces[piece].area, &rx, p, n);

@@ -79,6 +79,7 @@ void render_options_default(RenderOptions *o)
     o->sampler = SAMPLER_SOBOL;      /* lowest equal-time error, progressive (docs/sampling.md) */
     o->fluor_keep = 1;               /* fluorescence: all four wavelengths through a shift, */
     o->fluor_li = FLUOR_LI_POWER;    /* lambda_i from A x power (docs/FLUORESCENCE.md sec. 9) */
+    o->sel.area_sampling = SHAPE_AUTO;  /* a triangle lamp by solid angle where it pays (docs/sampling.md) */
     o->jitter = 1;
     o->debug_x = o->debug_y = -1;
 }

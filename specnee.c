@@ -64,10 +64,12 @@ static const char usage_options[] =
 "                          spatial product spectral-spatial  the thesis' voxel\n"
 "                                         tables: few emitters (each vertex O(n))\n"
 "                          uniform power spd all  baselines (docs/lighttree.md)\n"
-"      --light-shape-sampling M  a triangle lamp's point for NEE: solidangle (by the\n"
-"                          solid angle it subtends, the cosine warped in, where that\n"
-"                          lies in [3e-4, 6.22] sr: pbrt-v4's rule; default) or area\n"
-"                          (uniform on the triangle)\n"
+"      --light-shape-sampling M  a triangle lamp's point for NEE: auto (by solid\n"
+"                          angle where the area estimate would vary over the\n"
+"                          triangle by more than 3x, else by area; default),\n"
+"                          solidangle (by the solid angle it subtends, the cosine\n"
+"                          warped in, where that lies in [3e-4, 6.22] sr: pbrt-v4's\n"
+"                          rule) or area (uniform on the triangle)\n"
 "      --spd-metric M      what the spectral table T_e(b) holds: unit (the bin average\n"
 "                          of the emitted radiance Le, default) or power (that x area);\n"
 "                          read by spd, product and spectral-spatial only (the trees\n"
@@ -263,9 +265,10 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
             a->lights_cli = 1;
         } else if (!strcmp(o, "--light-shape-sampling")) {
             NEEDS_VALUE();
-            if (!strcmp(v, "solidangle")) a->ro.sel.area_sampling = 0;
-            else if (!strcmp(v, "area")) a->ro.sel.area_sampling = 1;
-            else return usage_error("--light-shape-sampling is solidangle or area, not '%s'", v);
+            if (!strcmp(v, "solidangle")) a->ro.sel.area_sampling = SHAPE_SA;
+            else if (!strcmp(v, "area")) a->ro.sel.area_sampling = SHAPE_AREA;
+            else if (!strcmp(v, "auto")) a->ro.sel.area_sampling = SHAPE_AUTO;
+            else return usage_error("--light-shape-sampling is auto, solidangle or area, not '%s'", v);
         } else if (!strcmp(o, "--spd-metric")) {
             NEEDS_VALUE();
             if (!strcmp(v, "unit")) a->ro.sel.power_metric = 0;
@@ -393,7 +396,8 @@ static void print_settings(const RenderOptions *o, const Scene *s)
            (double)(o->wl_mix > 0.0f ? o->wl_mix : WL_MIX_DEFAULT), o->wl_wide ? "on" : "off",
            o->single_wavelength ? "on" : "off");
     printf("lights %s\n", sel_name(st));
-    printf("light-shape-sampling %s\n", o->sel.area_sampling ? "area" : "solidangle");
+    printf("light-shape-sampling %s\n", o->sel.area_sampling == SHAPE_AREA ? "area" :
+           o->sel.area_sampling == SHAPE_AUTO ? "auto" : "solidangle");
     printf("spd-metric %s  # read by --lights spd, product, spectral-spatial%s%s\n",
            o->sel.power_metric ? "power" : "unit", sel_reads_metric(st) ? "" : "; ignored by ",
            sel_reads_metric(st) ? "" : sel_name(st));

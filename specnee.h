@@ -2121,6 +2121,13 @@ void  bilinear_sample(const double w[4], double u0, double u1, double *x, double
 typedef struct { Vec3 dir; float b1, b2; double pdf; } SphTriSample;
 int   tri_sample_sa(Vec3 ref, Vec3 n, const Vec3 v[3], float u1, float u2, SphTriSample *out);
 int   tri_pdf_sa(Vec3 ref, Vec3 n, const Vec3 v[3], Vec3 dir, double *pdf);
+/* --light-shape-sampling auto: 1 where the solid-angle map pays for triangle v
+   seen from ref (normal n, zero in a medium): where the area estimate's factor
+   |n . D| / |D|^4 (D = p - ref) spreads over the triangle's vertices and centroid
+   by more than SPH_TRI_SPREAD (sphtri.c).  The same answer at the sample and at
+   the pdf of a BSDF hit keeps the estimator unbiased. */
+#define SPH_TRI_SPREAD 3.0
+int   tri_sa_pays(Vec3 ref, Vec3 n, const Vec3 v[3]);
 
 /* Sample a point on the whole of emitter e, seen from ref (shading normal ns; the
    zero vector in a medium), with the numbers u[0..2]: a mesh's triangle by area,
@@ -2203,6 +2210,9 @@ int    delta_can_reach(const DeltaLight *d, Vec3 p);
 float  delta_projection_Le(const Emitter *em, double k, Vec3 w, float lambda_nm);
 void   delta_free(DeltaLight *d);
 
+/* How a triangle lamp's point is drawn (SelOptions.area_sampling). */
+enum { SHAPE_SA = 0, SHAPE_AREA = 1, SHAPE_AUTO = 2 };
+
 typedef struct {
     SelStrategy strategy;
     int power_metric;          /* spd tables: 1 = radiance x area, 0 = unit radiance */
@@ -2214,9 +2224,11 @@ typedef struct {
     float lo_nm, hi_nm;        /* the range the film integrates, for the emitters'
                                   normalisation and the tree's bins (0, 0: 400-700) */
     int no_split;              /* light tree: keep every emissive mesh one leaf */
-    int area_sampling;         /* 1: a triangle lamp's point uniform by area
-                                  (--light-shape-sampling area); 0: by solid angle
-                                  where its range allows (sphtri.c) */
+    int area_sampling;         /* a triangle lamp's point: SHAPE_SA (0, by solid
+                                  angle where its range allows, sphtri.c),
+                                  SHAPE_AREA (1, uniform by area) or SHAPE_AUTO
+                                  (by solid angle where tri_sa_pays says so);
+                                  --light-shape-sampling solidangle|area|auto */
 } SelOptions;
 
 /* The per-render state of the emitters: their radiance normalised for the range

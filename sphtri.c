@@ -189,6 +189,47 @@ static int has_normal(Vec3 n) { return n.x != 0.0f || n.y != 0.0f || n.z != 0.0f
 
 /* ------------------------------------------------------------------ a triangle lamp */
 
+/* --light-shape-sampling auto: does the solid-angle map pay for this triangle?
+   Sampled uniformly by area, the triangle gives the estimate f A cos_y / d^2 of
+   the light arriving at ref; for a diffuse receiver f carries the receiver's
+   cosine |n . w|, so the estimate is proportional to
+       g = |n . w| cos_y / d^2 = |n . D| h / |D|^4      (D = p - ref, |D| = d),
+   h = cos_y d the distance of ref to the triangle's plane, the same for every
+   point p of it.  Where g hardly changes over the triangle, area sampling's
+   estimate is nearly constant already, and the solid-angle map (whose warped
+   estimate is nearly constant everywhere) buys little for its cost; where g
+   spreads widely (a lamp close to the receiver, large in its sky, or low over its
+   horizon) the map removes that spread.  The rule: g at the three vertices and
+   the centroid (the centroid sees the near middle of a lamp right above ref),
+   and the map where max g > SPH_TRI_SPREAD min g, which holds where one of
+   them is 0 and another not (a vertex on ref's tangent plane: the lamp rises
+   from the horizon); where all are 0 (ref in the lamp's own plane, as on the
+   lamp's back: no light comes) the cheap area sample.  In a medium
+   (n the zero vector) the phase function replaces the cosine: g = 1 / d^3.  No
+   square root: some twenty multiplications and four divisions, against the map's
+   arctangent, sine, cosine and ten square roots.  lights.c asks it at the sample and at the
+   BSDF-hit pdf with the same (ref, n, v), so both see the same density. */
+int tri_sa_pays(Vec3 ref, Vec3 n, const Vec3 v[3])
+{
+    int medium = !has_normal(n), i;
+    double gmin = 0.0, gmax = 0.0;
+    D3 p[4], N = d3(n);
+    p[0] = d3(v[0]); p[1] = d3(v[1]); p[2] = d3(v[2]);
+    p[3] = d3_mul(d3_add(d3_add(p[0], p[1]), p[2]), 1.0 / 3.0);
+    for (i = 0; i < 4; i++) {
+        D3 D = d3_sub(p[i], d3(ref));
+        double d2 = d3_dot(D, D), c = medium ? 1.0 : fabs(d3_dot(N, D));
+        /* medium: g d^3 = 1 compared as g^2 = 1 / d2^3 */
+        double g = medium ? 1.0 / (d2 * d2 * d2) : c / (d2 * d2);
+        if (!isfinite(g)) return 0;      /* ref on a vertex: the area sample refuses it */
+        if (i == 0 || g < gmin) gmin = g;
+        if (i == 0 || g > gmax) gmax = g;
+    }
+    if (!(gmax > 0.0)) return 0;         /* ref in the lamp's plane: no light from it */
+    return gmax > (medium ? SPH_TRI_SPREAD * SPH_TRI_SPREAD : SPH_TRI_SPREAD) * gmin;
+}
+
+
 /* The solid angle of the triangle seen from ref when solid-angle sampling applies
    to it (in [SPH_TRI_MIN, SPH_TRI_MAX]); 0 (area sampling) otherwise. */
 static int tri_setup_sa(Vec3 ref, const Vec3 v[3], SphTri *t)

@@ -22,11 +22,22 @@
                              and without the warp, against Lambert's polygon formula
                              E = 1/2 sum_k theta_k (n . g_k)
      sphtri_light_pdf        light_sample with a shading normal against light_pdf_sa
-                             at the point a ray along its direction finds
+                             at the point a ray along its direction finds, and
+                             against the density of the mode (solidangle, area)
+                             computed here
      sphtri_render_agrees    a quad lamp close over a diffuse sphere, and one
                              standing on a floor: tiles of --light-shape-sampling
                              area and solidangle agree in mean; over the sphere
-                             solid angle has less than 0.6 of the variance */
+                             solid angle has less than 0.6 of the variance
+     sphtri_auto_rule        tri_sa_pays (--light-shape-sampling auto): plain cases
+                             (far, close, on the horizon, behind, in a medium) and
+                             the definition recomputed here on random triangles
+     sphtri_auto_pdf         sphtri_light_pdf with the rule (auto), from points on
+                             both of its sides
+     sphtri_auto_chi2        the combined sampler (one triangle of a quad by solid
+                             angle, the other by area) against its density
+                             (chi-square over directions)
+     sphtri_auto_render      sphtri_render_agrees for auto against area */
 #include "test.h"
 #include <string.h>
 
@@ -123,10 +134,22 @@ static int dir_cell(const Vec3 v[3], Vec3 ref, Vec3 w)
     return (i * K + j) * 2 + (x - i + y - j > 1.0 && i + j <= K - 2);
 }
 
-/* The integral over cell c of the density: by solid angle (n_sub 1, pdf NULL:
-   the cell's share of omega), or tri_pdf_sa at the centroids of its n_sub^2
-   sub-triangles times their solid angles. */
-static double cell_prob(const Vec3 v[3], Vec3 ref, Vec3 nrm, int c, int n_sub, double omega)
+/* A density per steradian of the direction towards the point p (relative to the
+   receiver); 0: refused. */
+typedef int (*DirDensity)(void *ctx, const double p[3], double *pdf);
+
+typedef struct { const Vec3 *v; Vec3 ref, n; } TriPdf;
+
+static int tri_pdf_density(void *ctx, const double p[3], double *pdf)
+{
+    const TriPdf *a = (const TriPdf *)ctx;
+    return tri_pdf_sa(a->ref, a->n, a->v, v3_norm(v3((float)p[0], (float)p[1], (float)p[2])), pdf);
+}
+
+/* The integral over cell c of the density: by solid angle (n_sub 0: the cell's
+   share of omega), or dens at the centroids of its n_sub^2 sub-triangles times
+   their solid angles (-1: dens refused a direction). */
+static double cell_prob_of(const Vec3 v[3], Vec3 ref, int c, int n_sub, double omega, DirDensity dens, void *ctx)
 {
     double b[3][2], acc = 0.0;
     int i, j, up;
@@ -152,11 +175,18 @@ static double cell_prob(const Vec3 v[3], Vec3 ref, Vec3 nrm, int c, int n_sub, d
                 }
                 for (k = 0; k < 3; k++) cen[k] = (p[0][k] + p[1][k] + p[2][k]) / 3.0;
                 om = vos(p[0], p[1], p[2]);
-                if (!tri_pdf_sa(ref, nrm, v, v3_norm(v3((float)cen[0], (float)cen[1], (float)cen[2])), &pdf))
-                    return -1.0;
+                if (!dens(ctx, cen, &pdf)) return -1.0;
                 acc += pdf * om;
             }
     return acc;
+}
+
+/* cell_prob_of with tri_pdf_sa (normal nrm) */
+static double cell_prob(const Vec3 v[3], Vec3 ref, Vec3 nrm, int c, int n_sub, double omega)
+{
+    TriPdf a;
+    a.v = v; a.ref = ref; a.n = nrm;
+    return cell_prob_of(v, ref, c, n_sub, omega, tri_pdf_density, &a);
 }
 
 typedef struct { Vec3 v[3], ref, n; const char *what; } TriCase;
@@ -448,7 +478,11 @@ static void test_irradiance(T *t)
     "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n" \
     "  \"point3 P\" [-5 0 0.01  5 0 0.01  5 0 5  -5 0 5]\nAttributeEnd\n"
 
-static void test_light_pdf(T *t)
+/* light_sample (shape mode `shape`) against light_pdf_sa at the point a ray along
+   its direction finds, from points around the quad lamp of QUAD_ROOM (one in four
+   in a medium); *n_sa, *n_area: how many of the checked samples the rule
+   (tri_sa_pays) sent to each map. */
+static void light_pdf_case(T *t, int shape, int *n_sa, int *n_area)
 {
     Scene s;
     LightSampler *ls;
@@ -456,22 +490,27 @@ static void test_light_pdf(T *t)
     Error err;
     Rng r;
     int k, checked = 0;
+    *n_sa = *n_area = 0;
     if (!test_load_scene(t, &s, QUAD_ROOM)) return;
     memset(&so, 0, sizeof so);
     so.strategy = SEL_SPECTRAL_TREE;
+    so.area_sampling = shape;
     ls = light_sampler_build(&s, &so, &err);
     CHECK(t, ls != NULL, "light_sampler_build: %s", err.msg);
     rng_seed(&r, 9, 9);
     for (k = 0; k < 2000; k++) {
         float u[9];
-        Vec3 ref, n;
+        Vec3 ref, n, v[3];
         EmitterSample es;
         Ray ray;
         HitRecord h;
         SurfacePoint sp;
         float pdf;
+        double want;
+        int by_sa;
         rng_fill(&r, u, 9);
         ref = v3(3.0f * u[0] - 1.5f, 0.3f + 2.0f * u[1], 1.8f * u[2] - 1.0f);
+        if (shape == SHAPE_AUTO) ref.z = 2.1f - 12.0f * u[2] * u[2];   /* near and far */
         n = k % 4 == 0 ? v3(0.0f, 0.0f, 0.0f) : v3_norm(v3(u[3] - 0.5f, u[4] - 0.5f, u[5]));
         if (!light_sample(ls, 0, ref, n, u + 6, &es)) continue;
         ray.o = ref; ray.d = es.wi; ray.tmax = es.dist * 1.001f; ray.time = 0.0f;
@@ -480,6 +519,17 @@ static void test_light_pdf(T *t)
         if (s.shapes[sp.shape].emitter != 0 || fabsf(h.t - es.dist) > 1e-3f) continue;
         pdf = light_pdf_sa(ls, 0, ref, n, sp.p, sp.ng, sp.prim);
         CHECK(t, fabsf(pdf - es.pdf_sa) <= 1e-3f * es.pdf_sa, "pdf at the hit %g, sampled %g", pdf, es.pdf_sa);
+        /* the density the mode asks for, computed here: half (the triangle's
+           share of the 4 x 2 quad) of tri_pdf_sa's, or d^2 / (8 |cos_y|) */
+        v[0] = s.P[s.tris[sp.prim].v[0]]; v[1] = s.P[s.tris[sp.prim].v[1]]; v[2] = s.P[s.tris[sp.prim].v[2]];
+        by_sa = shape == SHAPE_SA || (shape == SHAPE_AUTO && tri_sa_pays(ref, n, v));
+        if (!by_sa || !tri_pdf_sa(ref, n, v, es.wi, &want))
+            want = (double)es.dist * es.dist / (8.0 * fabs(es.wi.z));
+        else
+            want *= 0.5;
+        CHECK(t, fabs(want - es.pdf_sa) <= 1e-3 * want, "mode %d: the sample's density %g, the mode's %g",
+              shape, es.pdf_sa, want);
+        if (tri_sa_pays(ref, n, v)) (*n_sa)++; else (*n_area)++;
         checked++;
     }
     light_sampler_free(ls);
@@ -487,9 +537,151 @@ static void test_light_pdf(T *t)
     CHECK(t, checked > 500, "only %d samples found again", checked);
 }
 
-/* Tiles of --light-shape-sampling solidangle and area over K seeds: their means
+static void test_light_pdf(T *t)
+{
+    int n_sa, n_area;
+    light_pdf_case(t, SHAPE_SA, &n_sa, &n_area);
+    light_pdf_case(t, SHAPE_AREA, &n_sa, &n_area);
+}
+
+/* --light-shape-sampling auto: the same agreement, with points on both sides of
+   the rule (each side at least 200 checked samples) */
+static void test_auto_pdf(T *t)
+{
+    int n_sa, n_area;
+    light_pdf_case(t, SHAPE_AUTO, &n_sa, &n_area);
+    CHECK(t, n_sa >= 200 && n_area >= 200, "the rule's sides: %d by solid angle, %d by area", n_sa, n_area);
+}
+
+/* tri_sa_pays, by cases whose answer is plain: a lamp far overhead (the area
+   estimate's factor |n . D| / |D|^4 nearly constant: 0), the same lamp close (1),
+   a lamp with a vertex on the receiver's tangent plane (1), a receiver in the
+   lamp's plane (every factor 0: 0), a far lamp across the receiver's horizon
+   (|n . D|, as the warp reads it: 0), a far lamp behind
+   the receiver (the |.|: 0), and in a medium (1 / d^3) far (0) and close (1);
+   then against the definition, computed here, on random triangles (both answers
+   occurring). */
+static void test_auto_rule(T *t)
+{
+    Vec3 far[3], near[3], edge[3], v[3], o = v3(0.0f, 0.0f, 0.0f), up = v3(0.0f, 0.0f, 1.0f);
+    Rng r;
+    int k, yes = 0, no = 0;
+    far[0] = v3(-1.0f, -1.0f, 20.0f); far[1] = v3(1.0f, -1.0f, 20.0f); far[2] = v3(0.0f, 1.0f, 20.0f);
+    near[0] = v3(-1.0f, -1.0f, 0.7f); near[1] = v3(1.0f, -1.0f, 0.7f); near[2] = v3(0.0f, 1.0f, 0.7f);
+    edge[0] = v3(-1.0f, 5.0f, 0.0f); edge[1] = v3(1.0f, 5.0f, 3.0f); edge[2] = v3(0.0f, 6.0f, 3.0f);
+    CHECK(t, !tri_sa_pays(o, up, far), "a small lamp far overhead is sampled by solid angle");
+    CHECK(t, tri_sa_pays(o, up, near), "a large lamp close overhead is sampled by area");
+    CHECK(t, tri_sa_pays(o, up, edge), "a lamp rising from the horizon is sampled by area");
+    CHECK(t, !tri_sa_pays(v3(0.0f, 0.0f, 20.0f), up, far), "from the lamp's own plane it is sampled by solid angle");
+    CHECK(t, !tri_sa_pays(o, v3(0.0f, 0.0f, -1.0f), far), "a far lamp behind the receiver is sampled by solid angle");
+    /* across the horizon, |n . D| at the vertices 1, 1, 1 and at the centroid 1/3
+       (closer): a spread under 3, by area; the signed cosine would flip it */
+    v[0] = v3(10.0f, -1.0f, 1.0f); v[1] = v3(10.0f, 1.0f, 1.0f); v[2] = v3(10.0f, 0.0f, -1.0f);
+    CHECK(t, !tri_sa_pays(o, up, v), "a far lamp across the horizon is sampled by solid angle");
+    CHECK(t, !tri_sa_pays(o, o, far), "in a medium, a far lamp is sampled by solid angle");
+    CHECK(t, tri_sa_pays(o, o, near), "in a medium, a close lamp is sampled by area");
+    rng_seed(&r, 38, 1);
+    for (k = 0; k < 4000; k++) {
+        float u[12];
+        double g[4], gmin, gmax, spread;
+        Vec3 ref, n;
+        int i, want;
+        rng_fill(&r, u, 12);
+        for (i = 0; i < 3; i++) v[i] = v3(4.0f * u[3 * i] - 2.0f, 4.0f * u[3 * i + 1] - 2.0f, 2.0f + 3.0f * u[3 * i + 2]);
+        ref = v3(2.0f * u[9] - 1.0f, 2.0f * u[10] - 1.0f, -3.0f * u[11]);
+        n = k % 5 == 0 ? o : v3_norm(v3(u[9] - 0.5f, u[10] - 0.5f, 1.0f));
+        for (i = 0; i < 4; i++) {
+            double p[3], d2 = 0.0, c = 0.0;
+            int a;
+            for (a = 0; a < 3; a++) {
+                p[a] = i < 3 ? v3_get(v[i], a) : ((double)v3_get(v[0], a) + v3_get(v[1], a) + v3_get(v[2], a)) / 3.0;
+                p[a] -= v3_get(ref, a);
+                d2 += p[a] * p[a];
+                c += p[a] * v3_get(n, a);
+            }
+            g[i] = k % 5 == 0 ? 1.0 / (d2 * sqrt(d2)) : fabs(c) / (d2 * d2);
+        }
+        gmin = gmax = g[0];
+        for (i = 1; i < 4; i++) { gmin = g[i] < gmin ? g[i] : gmin; gmax = g[i] > gmax ? g[i] : gmax; }
+        spread = gmax / gmin;
+        if (fabs(spread / SPH_TRI_SPREAD - 1.0) < 1e-6) continue;       /* on the edge: rounding */
+        want = spread > SPH_TRI_SPREAD;
+        CHECK(t, tri_sa_pays(ref, n, v) == want, "case %d: spread %g, the rule says %d", k, spread, !want);
+        if (want) yes++; else no++;
+    }
+    CHECK(t, yes > 400 && no > 400, "random triangles: %d by solid angle, %d by area", yes, no);
+}
+
+/* The combined sampler of --light-shape-sampling auto (a triangle by area, then
+   its map by the rule) from a point where the rule splits a quad lamp: one
+   triangle by solid angle, the other by area.  Counts in the barycentric cells of
+   both triangles against light_pdf_sa integrated over each (chi-square). */
+typedef struct { LightSampler *ls; Vec3 ref, n, p0, ng; int prim; } AutoPdf;
+
+static int auto_pdf_density(void *ctx, const double p[3], double *pdf)
+{
+    const AutoPdf *a = (const AutoPdf *)ctx;
+    Vec3 q = v3_add(a->ref, v3((float)p[0], (float)p[1], (float)p[2]));
+    *pdf = light_pdf_sa(a->ls, 0, a->ref, a->n, q, a->ng, a->prim);
+    return *pdf > 0.0;
+}
+
+static void test_auto_chi2(T *t)
+{
+    const int n = test_scaled(200000, 40000);
+    Scene s;
+    SelOptions so;
+    Error err;
+    AutoPdf a;
+    Rng r;
+    Vec3 v[2][3];
+    static double obs[2 * NCELL], ex[2 * NCELL];
+    int i, j, k, found = 0;
+    if (!test_load_scene(t, &s, "WorldBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\n"
+                         "Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n"
+                         "  \"point3 P\" [-2 3 2.2  2 3 2.2  2 1 2.2  -2 1 2.2]\n")) return;
+    for (k = 0; k < 2; k++)
+        for (j = 0; j < 3; j++) v[k][j] = s.P[s.tris[k].v[j]];
+    a.n = v3(0.0f, 0.0f, 1.0f);
+    for (i = 0; i < 41 && !found; i++)            /* a point where the rule splits the lamp */
+        for (j = 0; j < 9 && !found; j++) {
+            a.ref = v3(-4.0f + 0.2f * (float)i, 2.0f, 1.9f - 0.5f * (float)j);
+            found = tri_sa_pays(a.ref, a.n, v[0]) != tri_sa_pays(a.ref, a.n, v[1]);
+        }
+    CHECK(t, found, "no point where one triangle goes by solid angle and the other by area");
+    memset(&so, 0, sizeof so);
+    so.strategy = SEL_UNIFORM;
+    so.area_sampling = SHAPE_AUTO;
+    a.ls = light_sampler_build(&s, &so, &err);
+    CHECK(t, a.ls != NULL, "light_sampler_build: %s", err.msg);
+    a.ng = v3(0.0f, 0.0f, 1.0f);
+    for (k = 0; k < 2; k++) {
+        a.prim = k;
+        for (j = 0; j < NCELL; j++) {
+            double pr = cell_prob_of(v[k], a.ref, j, 6, 1.0, auto_pdf_density, &a);
+            ex[k * NCELL + j] = n * (pr > 0.0 ? pr : 0.0);
+            obs[k * NCELL + j] = 0.0;
+        }
+    }
+    rng_seed(&r, 38, 2);
+    for (k = 0; k < n; k++) {
+        float u[3];
+        EmitterSample es;
+        int cell;
+        rng_fill(&r, u, 3);
+        if (!light_sample(a.ls, 0, a.ref, a.n, u, &es) || es.prim < 0 || es.prim > 1) continue;
+        cell = dir_cell(v[es.prim], a.ref, es.wi);
+        if (cell >= 0) obs[es.prim * NCELL + cell] += 1.0;
+    }
+    light_sampler_free(a.ls);
+    scene_free(&s);
+    CHECK_CHI2(t, obs, ex, 2 * NCELL, 1, NULL, "auto from (%g, %g, %g)", a.ref.x, a.ref.y, a.ref.z);
+}
+
+/* Tiles of --light-shape-sampling `first` and area over K seeds: their means
    agree; *va, *vb: the sums of their squared standard errors. */
-static int render_pair(T *t, const char *text, int K, int spp, double *va, double *vb, const char *what)
+static int render_pair(T *t, const char *text, int first, int K, int spp, double *va, double *vb,
+                       const char *what)
 {
     static Tiles a, b;
     Scene s;
@@ -499,8 +691,9 @@ static int render_pair(T *t, const char *text, int K, int spp, double *va, doubl
     render_options_default(&o);
     o.spp = test_scaled(spp, 4);
     o.seed = 1;
+    o.sel.area_sampling = first;
     oa = o;
-    oa.sel.area_sampling = 1;
+    oa.sel.area_sampling = SHAPE_AREA;
     ok = test_render_tiles(t, &s, &o, K, 4, &a) && test_render_tiles(t, &s, &oa, K, 4, &b);
     scene_free(&s);
     if (!ok || !test_tiles_agree(t, &a, &b, 1e-4, what)) return 0;
@@ -513,9 +706,22 @@ static int render_pair(T *t, const char *text, int K, int spp, double *va, doubl
 static void test_render_agrees(T *t)
 {
     double va, vb;
-    if (!render_pair(t, QUAD_ROOM, 8, 16, &va, &vb, "quad lamp over a sphere, solidangle vs area")) return;
+    if (!render_pair(t, QUAD_ROOM, SHAPE_SA, 8, 16, &va, &vb, "quad lamp over a sphere, solidangle vs area"))
+        return;
     CHECK(t, va < 0.6 * vb, "solid angle's variance %.3g is not below 0.6 x area's %.3g", va, vb);
-    render_pair(t, WALL_ROOM, 16, 128, &va, &vb, "lamp standing on a floor, solidangle vs area");
+    render_pair(t, WALL_ROOM, SHAPE_SA, 16, 128, &va, &vb, "lamp standing on a floor, solidangle vs area");
+}
+
+/* --light-shape-sampling auto against area: the same means; over the sphere,
+   where the close lamp sends most points to the solid-angle map, less than 0.6
+   of area's variance as solidangle has */
+static void test_auto_render(T *t)
+{
+    double va, vb;
+    if (!render_pair(t, QUAD_ROOM, SHAPE_AUTO, 8, 16, &va, &vb, "quad lamp over a sphere, auto vs area"))
+        return;
+    CHECK(t, va < 0.6 * vb, "auto's variance %.3g is not below 0.6 x area's %.3g", va, vb);
+    render_pair(t, WALL_ROOM, SHAPE_AUTO, 16, 128, &va, &vb, "lamp standing on a floor, auto vs area");
 }
 
 const TestCase tests_sphtri[] = {
@@ -528,5 +734,9 @@ const TestCase tests_sphtri[] = {
     { "sphtri_irradiance", test_irradiance },
     { "sphtri_light_pdf", test_light_pdf },
     { "sphtri_render_agrees", test_render_agrees },
+    { "sphtri_auto_rule", test_auto_rule },
+    { "sphtri_auto_pdf", test_auto_pdf },
+    { "sphtri_auto_chi2", test_auto_chi2 },
+    { "sphtri_auto_render", test_auto_render },
     { NULL, NULL }
 };
