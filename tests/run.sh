@@ -264,6 +264,16 @@ if same thesis-then-product spd && ! same thesis-then-mis thesis && ! same spd t
 else fail "cli_preset_later_flags_override"; fi
 if same pinned thesis && same pinned-spd spd; then ok "cli_preset_pins_every_setting"; else fail "cli_preset_pins_every_setting"; fi
 expect "cli_preset_unknown" 2 "unknown --preset" ./specnee --preset pbrt scenes/cornell.pbrt
+# --light-shape-sampling (lights.c): auto is the default; solidangle and area force
+# one map (cornell1's lamps: the rule picks area for some receivers, so they differ)
+preset_run shape-default
+preset_run shape-auto --light-shape-sampling auto
+preset_run shape-sa --light-shape-sampling solidangle
+if cmp -s tests/tmp/preset-shape-default.pfm tests/tmp/preset-shape-auto.pfm &&
+   ! cmp -s tests/tmp/preset-shape-auto.pfm tests/tmp/preset-shape-sa.pfm &&
+   ! cmp -s tests/tmp/preset-shape-auto.pfm tests/tmp/preset-thesis-flags.pfm; then ok "cli_light_shape_sampling_auto_default"
+else fail "cli_light_shape_sampling_auto_default"; fi
+expect "cli_light_shape_sampling_unknown" 2 "solidangle" ./specnee --light-shape-sampling sphere scenes/cornell.pbrt
 # Option "integer seed" (scene.c): the file's seed when the command line gives none,
 # the image of --seed 7 without it; --seed overrides it, as it overrides a Sampler's
 { echo 'Option "integer seed" 7'; cat scenes/cornell1.pbrt; } > tests/tmp/seed7.pbrt
