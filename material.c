@@ -790,12 +790,26 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
    loads the image of every material's "normalmap" (a missing file stops it),
    but an interface has no BSDF to shade and MixMaterial::GetNormalMap returns
    none (the material it chooses shades with its own normal map), so the image
-   is the one without it.  Read, and ignored with a note. */
-static void note_normalmap_ignored(ParamList *pl, const char *what, const char *why)
+   is the one without it.  Read, the file's presence checked as pbrt-v4 stops
+   without it, and ignored with a note. */
+static int normalmap_ignored(Parser *P, ParamList *pl, const char *what, const char *why)
 {
     Param *pn = param_find(pl, PT_STRING, "normalmap");
-    if (pn) fprintf(stderr, "%s:%d: note: %s: \"string normalmap\" is ignored: %s\n", pn->file,
-                    pn->line, what, why);
+    char path[PATH_CAP];
+    FILE *f;
+    if (!pn) return 1;
+    if (pn->n_str != 1)
+        return fail(P, pn->file, pn->line, "%s: \"string normalmap\" needs one file name", what);
+    if (pn->str[0][0]) {                              /* "" is no map, as in pbrt-v4 */
+        resolve_path(P, pn->file, pn->str[0], path, sizeof path);
+        if (!(f = fopen(path, "rb")))
+            return fail(P, pn->file, pn->line, "%s: \"string normalmap\" \"%s\": cannot open the "
+                        "file (pbrt-v4 reads it here too, and stops)", what, pn->str[0]);
+        fclose(f);
+    }
+    fprintf(stderr, "%s:%d: note: %s: \"string normalmap\" is ignored: %s\n", pn->file, pn->line,
+            what, why);
+    return 1;
 }
 
 /* pbrt-v4 (materials.cpp): no material, only the boundary between two media;
@@ -805,7 +819,8 @@ int interface_from_params(Parser *P, ParamList *pl, const char *file, int line,
 {
     (void)dir; (void)file; (void)line;
     m->type = MAT_INTERFACE;
-    note_normalmap_ignored(pl, what, "an interface has no surface to shade (pbrt-v4 ignores it too)");
+    if (!normalmap_ignored(P, pl, what, "an interface has no surface to shade (pbrt-v4 ignores it too)"))
+        return 0;
     return params_check_unused(P, pl, what, "string normalmap", NULL);
 }
 
@@ -1154,8 +1169,9 @@ int mix_from_params(Parser *P, ParamList *pl, const char *file, int line,
     } else if (!get_float(P, pl, "amount", 0.5f, &m->amount)) {
         return 0;
     }
-    note_normalmap_ignored(pl, what, "pbrt-v4's mix has no normal map of its own; the material "
-                           "it chooses shades with its own");
+    if (!normalmap_ignored(P, pl, what, "pbrt-v4's mix has no normal map of its own; the material "
+                           "it chooses shades with its own"))
+        return 0;
     return params_check_unused(P, pl, what, "string materials, float amount, texture amount, "
                                "string normalmap", NULL);
 }

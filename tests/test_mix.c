@@ -252,12 +252,13 @@ static void test_mix_normalmap_ignored(T *t)
         "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\" \"rgb sigma_a\" [ 1 1 1 ] "
         "\"rgb sigma_s\" [ 1 1 1 ]\nMediumInterface \"fog\" \"\"\nMaterial \"interface\" %s\n"
         "AttributeBegin\nTranslate 0 0 0.5\nShape \"sphere\" \"float radius\" 0.4\nAttributeEnd\n";
-    char a[4096], b[4096];
+    char a[4096], b[4096], nm[1100];
     Image x, y;
     Scene s;
     int i, bumped = 0;
+    snprintf(nm, sizeof nm, "\"string normalmap\" \"%s\"", test_write_file(t, "tilt.pfm", "PF\n1 1\n-1\n"));
     snprintf(a, sizeof a, mix, "", "");
-    snprintf(b, sizeof b, mix, "\"string normalmap\" \"tilt.pfm\"", "\"string normalmap\" \"tilt.pfm\"");
+    snprintf(b, sizeof b, mix, nm, nm);
     if (!load_mix(t, &s, b)) return;
     for (i = 0; i < s.n_materials; i++) bumped += s.materials[i].bump != NULL;
     CHECK(t, bumped == 0, "%d materials given a normal map", bumped);
@@ -281,6 +282,10 @@ static void expect_error(T *t, const char *body, const char *want)
    does not read. */
 static void test_mix_errors(T *t)
 {
+    expect_error(t, "Material \"interface\" \"string normalmap\" \"nothere.pfm\"\n",
+                 "mix.pbrt:9: Material \"interface\": \"string normalmap\" \"nothere.pfm\": cannot open "
+                 "the file (pbrt-v4 reads it here too, and stops)");
+    if (t->failed) return;
     expect_error(t, "MakeNamedMaterial \"a\" \"string type\" \"diffuse\"\n"
                  "Material \"mix\" \"string materials\" [ \"a\" ]\n",
                  "mix.pbrt:10: Material \"mix\": \"string materials\" must name two materials (1 given)");
