@@ -322,7 +322,12 @@ static void test_wl_stress_scenes(T *t)
         s.settings.xres = s.settings.yres = 16;
         render_options_default(&o);
         o.sel.grid_res = 8;
-        o.spp = test_scaled(32, 4);
+        /* at least 16 spp a seed: importance by the lamps' spectra fails here by
+           design, so a pixel's samples are heavy-tailed, and 12 seeds of 8 spp
+           (the quarter scale of the compiler and sanitizer steps) estimate the
+           standard error too low (wl-filter: 5.4 "standard errors" apart at 8 spp
+           with --light-shape-sampling auto, whose full-scale renders agree) */
+        o.spp = test_scaled(32, 16);
         o.maxdepth = s.settings.maxdepth;
         ok = agrees_with_uniform(t, &s, &o, 12, modes, 3, files[f]);
         scene_free(&s);
