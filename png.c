@@ -541,7 +541,7 @@ int png_read_memory(const unsigned char *data, size_t n, const char *name, int l
             const unsigned char *row = raw + (size_t)y * (rowbytes + 1) + 1;
             float *out = im->rgb + 3 * (size_t)y * w;
             for (x = 0; x < w; x++) {
-                unsigned v[4];
+                unsigned v[4] = { 0, 0, 0, 0 };
                 int c;
                 for (c = 0; c < channels && c < 3; c++) {   /* alpha (the last) is dropped */
                     size_t bit = ((size_t)x * channels + (size_t)c) * (size_t)depth;

@@ -509,14 +509,14 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
 
 float sampler_1d(PixelSample *ps, int dim)
 {
-    float u;
+    float u = 0.0f;
     group_sample(ps, dim, 1, &u);
     return u;
 }
 
 void sampler_2d(PixelSample *ps, int dim, float *u0, float *u1)
 {
-    float u[2];
+    float u[2] = { 0.0f, 0.0f };
     group_sample(ps, dim, 2, u);
     *u0 = u[0];
     *u1 = u[1];
