@@ -401,7 +401,7 @@ static int image_light_params(Parser *P, const char *type, ParamList *pl, const 
     Param *p = gonio ? find_spectrum_param(pl, "I") : NULL;
     char what[64];
     int i;
-    snprintf(what, sizeof what, "LightSource \"%s\"", type);
+    snprintf(what, sizeof what, "LightSource \"%s\"", type ? type : "");
     if (p) {
         if (!param_spectrum(P, p, SPEC_ILLUMINANT, L, rgb_illum)) return 0;
     } else {
@@ -446,7 +446,7 @@ static int image_light_from_params(Parser *P, const char *type, ParamList *pl, c
     double k_e = 0.0;
     int rgb_illum = 0, ok;
     char what[64];
-    snprintf(what, sizeof what, "LightSource \"%s\"", type);
+    snprintf(what, sizeof what, "LightSource \"%s\"", type ? type : "");
     if (!image_light_params(P, type, pl, file, line, &L, &rgb_illum, &scale, &power, &fov, &fn))
         return 0;
     if (!read_light_image(P, what, fn, file, line, &im)) return 0;
@@ -511,7 +511,7 @@ int delta_light_from_params(Parser *P, const char *type, ParamList *pl, const ch
     char what[64];
     if (!strcmp(type, "goniometric") || !strcmp(type, "projection"))
         return image_light_from_params(P, type, pl, file, line, em);
-    snprintf(what, sizeof what, "LightSource \"%s\"", type);
+    snprintf(what, sizeof what, "LightSource \"%s\"", type ? type : "");
     memset(&d, 0, sizeof d);
     d.type = !strcmp(type, "point") ? DELTA_POINT : !strcmp(type, "spot") ? DELTA_SPOT : DELTA_DISTANT;
     d.file = file;

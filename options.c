@@ -631,7 +631,7 @@ int sampler_directive(Parser *P, const char *type, ParamList *pl, const char *fi
     /* specnee reads every parameter pbrt-v4's sampler of this type reads
        (samplers.cpp): any other is an unused parameter there too, e.g. "integer
        pixelsamples" of "stratified", which pbrt-v4 takes from --spp only */
-    snprintf(what, sizeof what, "Sampler \"%s\"", type);
+    snprintf(what, sizeof what, "Sampler \"%s\"", type ? type : "");
     if (!params_check_unused(P, pl, what,
                              !strcmp(type, "stratified") ? "integer xsamples, integer ysamples, bool jitter, integer seed"
                              : !strcmp(type, "independent") || !strcmp(type, "pmj02bn") ? "integer pixelsamples, integer seed"

@@ -420,7 +420,7 @@ static Buf patched(const Buf *b, size_t at, const void *v, size_t k)
 {
     Buf c = { NULL, 0, 0 };
     put(&c, b->d, b->n);
-    memcpy(c.d + at, v, k);
+    if (c.d && at + k <= c.n) memcpy(c.d + at, v, k);
     return c;
 }
 

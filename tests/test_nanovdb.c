@@ -176,7 +176,7 @@ static uint32_t adler32(const unsigned char *d, size_t n)
 /* A zlib stream of stored deflate blocks (RFC 1950/1951), after its u64 size. */
 static void zip_stored(Buf *o, const unsigned char *d, size_t n)
 {
-    unsigned char h[8], z[5];
+    unsigned char h[8] = { 0 }, z[5];
     size_t start = o->n, at = 0;
     uint32_t ad = adler32(d, n);
     append(o, h, 8);
