@@ -174,14 +174,22 @@ int emission_image_read(Parser *P, const char *fn, const char *what, const char 
 {
     char path[PATH_CAP];
     Error ierr;
-    int ok;
+    int ok, space = COLORSPACE_SRGB;
     resolve_path(P, file, fn, path, sizeof path);
     if (ends_with_ci(fn, ".png")) ok = png_read(im, path, 0, &ierr);
-    else if (ends_with_ci(fn, ".exr")) ok = exr_read(im, path, &ierr);
+    else if (ends_with_ci(fn, ".exr")) ok = read_exr_image(path, what, file, line, im, &space, &ierr);
     else if (ends_with_ci(fn, ".pfm")) ok = pfm_read(im, path, &ierr);
     else return fail(P, file, line, "%s: \"%s\": specnee reads emission images as PNG, PFM or "
                      "EXR", what, fn);
     if (!ok) return fail(P, file, line, "%s: %s", what, ierr.msg);
+    if (space != COLORSPACE_SRGB) {
+        /* pbrt-v4 would light it with RGBIlluminantSpectrum(that space) and normalise
+           by the current space's white: not in the specnee subset */
+        img_free(im);
+        return fail(P, file, line, "%s: \"%s\": an emission image in colour space \"%s\" (its "
+                    "\"chromaticities\") is valid pbrt-v4 but not in the specnee subset (sRGB "
+                    "only; pbrt-v4's `imgtool convert` writes it as an sRGB .pfm)", what, fn, colorspace_name(space));
+    }
     return 1;
 }
 

@@ -286,13 +286,20 @@ static int read_light_image(Parser *P, const char *what, const char *fn, const c
     Error ierr;
     int ok;
     size_t i;
+    int space = COLORSPACE_SRGB;
     resolve_path(P, file, fn, path, sizeof path);
-    if (ends_with_ci(fn, ".exr")) ok = exr_read(im, path, &ierr);
+    if (ends_with_ci(fn, ".exr")) ok = read_exr_image(path, what, file, line, im, &space, &ierr);
     else if (ends_with_ci(fn, ".png")) ok = png_read(im, path, 0, &ierr);
     else if (ends_with_ci(fn, ".pfm")) ok = pfm_read(im, path, &ierr);
     else return fail(P, file, line, "%s: \"%s\": specnee reads light images as PFM, EXR or PNG "
                      "(convert with pbrt-v4's `imgtool convert`)", what, fn);
     if (!ok) return fail(P, file, line, "%s: %s", what, ierr.msg);
+    if (space != COLORSPACE_SRGB) {            /* pbrt-v4 fits it in that space */
+        img_free(im);
+        return fail(P, file, line, "%s: \"%s\": a light image in colour space \"%s\" (its "
+                    "\"chromaticities\") is valid pbrt-v4 but not in the specnee subset (sRGB "
+                    "only; pbrt-v4's `imgtool convert` writes it as an sRGB .pfm)", what, fn, colorspace_name(space));
+    }
     for (i = 0; i < 3 * (size_t)im->w * im->h; i++)
         if (!isfinite(im->rgb[i])) {
             img_free(im);

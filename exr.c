@@ -1,7 +1,7 @@
 /* exr.c - a small OpenEXR reader, for image textures and environment maps, and
    a writer, for pbrt-v4's Film "spectral".
 
-   Exported (specnee.h section 10): exr_read_memory, exr_read, exr_read_named,
+   Exported (specnee.h section 10): exr_read_memory, exr_read, exr_read_space, exr_read_named,
    exr_read_memory_named, exr_write, exr_write_memory, exr_float_to_half,
    exr_half_to_float.  texture.c and infinite.c read an imagemap texture's or an
    infinite light's .exr with exr_read (a .pfm of the same name beside it is read
@@ -24,6 +24,9 @@
                     6 B44, 7 B44A, 8 DWAA, 9 DWAB and any other are refused by name
        dataWindow   box2i (xMin, yMin, xMax, yMax, int32): the pixels the file holds
        type         (multi-part headers) anything but "scanlineimage" is refused
+       chromaticities  8 floats: the primaries' and the white's CIE xy (rx, ry, gx,
+                    gy, bx, by, wx, wy): the colour space of the RGB values
+                    (exr_read_space; below)
      and every other attribute is skipped (displayWindow, lineOrder, ...).
      After the header, the line offset table: one uint64 file offset per block of
      scan lines (1 line a block for NONE, RLE, ZIPS; 16 for ZIP), then the blocks:
@@ -69,6 +72,16 @@
    whose magnitude is 65520 or more becomes infinity, one at most 2^-25 becomes
    zero, and between 2^-25 and 2^-14 a subnormal m 2^-24.
 
+   THE COLOUR SPACE (exr_read_space).  pbrt-v4's ReadEXR gives the image the colour
+   space its "chromaticities" name, through RGBColorSpace::Lookup (rgbfit.c's
+   colorspace_lookup: ACES2065-1, DCI-P3, Rec2020 or sRGB, each coordinate within
+   1e-3 relative), sRGB when the file has none, and sRGB with a warning when they
+   match none of the four; the consumers of the image (texture.c, infinite.c)
+   then fit its RGB in that space.  exr_read_space reports the space, -1 for "given
+   and matching none" (the caller notes it at its file:line and reads sRGB, as
+   pbrt-v4 does); exr_read ignores the attribute (normal maps: pbrt-v4 reads
+   their values as they are).
+
    HOSTILE INPUT.  Every read is bounds-checked against the file's length; sizes
    are checked before anything is allocated: the pixel count against
    IMG_MAX_PIXELS, the memory against MEM_BUDGET_MIB, the offset table against the
@@ -97,6 +110,7 @@ typedef struct {
     Error *err;
     ExrChannel ch[EXR_MAX_CHANNELS];
     int n_ch, compression, have_channels, have_window;
+    int space;                    /* "chromaticities": COLORSPACE_*, -1 none of them */
     const char *const *want;      /* three channel names to read; NULL: R G B, or Y */
     int slot[3];                  /* the channel read into each float of a pixel */
     long long x0, y0, x1, y1;     /* the data window */
@@ -223,6 +237,15 @@ static int read_header(Exr *x)
             if (strcmp(type, "box2i") != 0 || size != 16) return exr_fail(x, "bad \"dataWindow\" attribute");
             x->x0 = le32s(v); x->y0 = le32s(v + 4); x->x1 = le32s(v + 8); x->y1 = le32s(v + 12);
             x->have_window = 1;
+        } else if (!strcmp(name, "chromaticities") && !strcmp(type, "chromaticities")) {
+            float xy[8];
+            int k;
+            if (size != 32) return exr_fail(x, "bad \"chromaticities\" attribute (not 8 floats)");
+            for (k = 0; k < 8; k++) {              /* IEEE binary32, little-endian */
+                uint32_t u = le32(v + 4 * k);
+                memcpy(&xy[k], &u, sizeof u);
+            }
+            x->space = colorspace_lookup(xy);
         } else if (!strcmp(name, "type")) {
             if (strcmp(type, "string") != 0 || size != 13 || memcmp(v, "scanlineimage", 13) != 0) {
                 char what[64];
@@ -440,8 +463,10 @@ static int read_block(Exr *x, size_t b, unsigned char *raw, unsigned char *tmp, 
     return 1;
 }
 
-int exr_read_memory_named(const unsigned char *data, size_t n, const char *name,
-                          const char *const want[3], Image *im, Error *err)
+/* The reader: the image, and (space not NULL) the colour space of its
+   chromaticities (COLORSPACE_SRGB when it has none). */
+static int exr_decode(const unsigned char *data, size_t n, const char *name,
+                      const char *const want[3], Image *im, int *space, Error *err)
 {
     Exr *x;
     int ok = 0;
@@ -461,6 +486,7 @@ int exr_read_memory_named(const unsigned char *data, size_t n, const char *name,
             for (ok = 1, b = 0; ok && b < x->n_blocks; b++) ok = read_block(x, b, raw, tmp, seen, im);
     }
     if (!ok) img_free(im);
+    if (space) *space = x->space;
     free(raw);
     free(tmp);
     free(seen);
@@ -468,12 +494,20 @@ int exr_read_memory_named(const unsigned char *data, size_t n, const char *name,
     return ok;
 }
 
+int exr_read_memory_named(const unsigned char *data, size_t n, const char *name,
+                          const char *const want[3], Image *im, Error *err)
+{
+    return exr_decode(data, n, name, want, im, NULL, err);
+}
+
 int exr_read_memory(const unsigned char *data, size_t n, const char *name, Image *im, Error *err)
 {
     return exr_read_memory_named(data, n, name, NULL, im, err);
 }
 
-int exr_read_named(Image *im, const char *path, const char *const want[3], Error *err)
+/* A file, read whole, decoded (space: as exr_decode). */
+static int exr_read_file(Image *im, const char *path, const char *const want[3], int *space,
+                         Error *err)
 {
     size_t len;
     ReadStatus rs;
@@ -486,14 +520,24 @@ int exr_read_named(Image *im, const char *path, const char *const want[3], Error
                   : read_status_text(rs));
         return 0;
     }
-    ok = exr_read_memory_named((const unsigned char *)buf, len, path, want, im, err);
+    ok = exr_decode((const unsigned char *)buf, len, path, want, im, space, err);
     free(buf);
     return ok;
 }
 
+int exr_read_named(Image *im, const char *path, const char *const want[3], Error *err)
+{
+    return exr_read_file(im, path, want, NULL, err);
+}
+
 int exr_read(Image *im, const char *path, Error *err)
 {
-    return exr_read_named(im, path, NULL, err);
+    return exr_read_file(im, path, NULL, NULL, err);
+}
+
+int exr_read_space(Image *im, const char *path, int *space, Error *err)
+{
+    return exr_read_file(im, path, NULL, space, err);
 }
 
 /* ------------------------------------------------------------------ the writer */

@@ -604,7 +604,9 @@ static int portal_constant_image(const Spectrum *L, int rgb_illum, const char *f
 /* LightSource "infinite": constant (L, scale, illuminance) or an
    image map (filename: a PFM in pbrt-v4's equal-area octahedral layout).  The
    CTM is the light's frame.  pbrt-v4's normalisation: L is divided by its
-   luminance (an rgb L by D65's), a map's texels by D65's, so a constant light or
+   luminance (an rgb L by D65's), a map's texels by their colour space's white's
+   (sRGB's D65 for a PFM; an EXR's space is its chromaticities', exr.c, each
+   texel then fitted in that space and lit by that white), so a constant light or
    a white texel has luminance scale; "illuminance" E_v (lux) then multiplies
    scale by E_v / k_e, k_e the illuminance the light would give an upward-facing
    point (+z of the light's frame) without it: pi for a constant light, and for a
@@ -663,9 +665,10 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
         char path[PATH_CAP];
         Image im;
         Error ierr;
-        double mean[3] = { 0, 0, 0 }, k_e = 0.0;
+        double mean[3] = { 0, 0, 0 }, k_e = 0.0, lum[3];
         float mrgb[3];
-        int x, y, c;
+        int x, y, c, space = COLORSPACE_SRGB;   /* the map's colour space */
+        RgbTable *table;
         if (!fn) {
             if (!portal_constant_image(&L, rgb_illum, file, line, &im)) { free(inf); return oom(P, file, line); }
             if (!spec_named(&L, "stdillum-D65")) {
@@ -679,36 +682,39 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
                         "maps only as PFM or EXR (convert with pbrt-v4's `imgtool convert`)", fn);
         } else {
             resolve_path(P, file, fn, path, sizeof path);
-            if (ends_with_ci(fn, ".exr") ? !exr_read(&im, path, &ierr) : !pfm_read(&im, path, &ierr)) {
+            if (ends_with_ci(fn, ".exr") ? !read_exr_image(path, "LightSource \"infinite\"", file, line,
+                                                            &im, &space, &ierr)
+                                         : !pfm_read(&im, path, &ierr)) {
                 free(inf);
                 return fail(P, file, line, "LightSource \"infinite\": %s", ierr.msg);
             }
-            if (p && !spec_named(&L, "stdillum-D65")) {      /* portal: the file, not L */
-                img_free(&im);
-                free(inf);
-                return fail(P, file, line, "LightSource: the built-in spectrum stdillum-D65 is missing");
-            }
+            /* the texels' illuminant is the map's space's white (pbrt-v4's
+               RGBIlluminantSpectrum(*imageColorSpace, rgb)), whatever L was */
+            colorspace_illuminant(space, &L);
         }
-        if (!(portal ? portal_set_image(inf, &im, rgb_srgb_table(P), file, line, P->err)
-                     : inf_set_image(inf, &im, rgb_srgb_table(P), file, line, P->err))) {
+        table = rgb_space_table(P, space);
+        if (!table) { img_free(&im); free(inf); return oom(P, file, line); }
+        if (!(portal ? portal_set_image(inf, &im, table, file, line, P->err)
+                     : inf_set_image(inf, &im, table, file, line, P->err))) {
             img_free(&im);
             inf_free(inf);
             return 0;
         }
+        colorspace_luminance(space, lum);
         for (y = 0; y < im.h; y++)
             for (x = 0; x < im.w; x++) {
                 const float *px = im.rgb + 3 * ((size_t)y * im.w + x);
                 for (c = 0; c < 3; c++) mean[c] += px[c] > 0.0f ? px[c] : 0.0f;
                 if (ev > 0.0f) {
                     Vec3 w = equal_area_square_to_sphere((x + 0.5f) / im.w, (y + 0.5f) / im.h);
-                    if (w.z > 0.0f)                      /* sRGB's luminance row */
-                        k_e += (0.2126 * px[0] + 0.7152 * px[1] + 0.0722 * px[2]) * w.z;
+                    if (w.z > 0.0f)                      /* the space's luminance row */
+                        k_e += (lum[0] * px[0] + lum[1] * px[1] + lum[2] * px[2]) * w.z;
                 }
             }
         for (c = 0; c < 3; c++) mrgb[c] = (float)(mean[c] / ((double)im.w * im.h));
         k_e *= 2.0 * SPECNEE_PI / ((double)im.w * im.h);
         img_free(&im);
-        if (!spec_from_rgb_t(rgb_srgb_table(P), &inf->mean, mrgb, 1, P->err, file, line)) {
+        if (!spec_from_rgb_t(table, &inf->mean, mrgb, 1, P->err, file, line)) {
             inf_free(inf);
             return 0;
         }
@@ -726,7 +732,7 @@ int infinite_light_from_params(Parser *P, ParamList *pl, const char *file, int l
     memset(em, 0, sizeof *em);
     em->shape = -1;
     em->inf = inf;
-    em->L = spec_store_add(&P->s->spectra, &L);   /* an image map: D65, the texels' illuminant */
+    em->L = spec_store_add(&P->s->spectra, &L);   /* an image map: its space's white, the texels' illuminant */
     if (!em->L) { inf_free(inf); em->inf = NULL; return fail(P, file, line, "out of memory"); }
     em->scale = scale;
     return 1;

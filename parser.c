@@ -990,6 +990,25 @@ RgbTable *rgb_srgb_table(Parser *P)
     return P->rgb_cs[COLORSPACE_SRGB];
 }
 
+RgbTable *rgb_space_table(Parser *P, int cs)
+{
+    if (!P->rgb_cs[cs]) P->rgb_cs[cs] = rgb_table_new_cs(cs);
+    return P->rgb_cs[cs];
+}
+
+int read_exr_image(const char *path, const char *what, const char *file, int line, Image *im,
+                   int *space, Error *err)
+{
+    if (!exr_read_space(im, path, space, err)) return 0;
+    if (*space < 0) {                       /* pbrt-v4's ReadEXR: a warning, and sRGB */
+        fprintf(stderr, "%s:%d: note: %s: %s: its \"chromaticities\" match none of pbrt-v4's "
+                "colour spaces (srgb, dci-p3, rec2020, aces2065-1); read as sRGB, as pbrt-v4 "
+                "does\n", file, line, what, path);
+        *space = COLORSPACE_SRGB;
+    }
+    return 1;
+}
+
 /* pbrt-v4 reads a light's "power" or "illuminance" only when it is > 0 and
    leaves the light's scale alone otherwise: a given value <= 0 changes nothing,
    so it gets a note at its own line. */

@@ -358,13 +358,19 @@ float rgb_illuminant_scale(Parser *P, const Spectrum *L, float scale);
    on first use; 0: out of memory), parser_sync_colorspace points P->rgb at the table of
    gs.colorspace after a graphics state is restored; space_white is the current space's
    white, the default L of every light; rgb_srgb_table the sRGB table, for what pbrt-v4
-   reads in sRGB whatever the current space: an image's pixels (PNG, PFM, EXR: the
+   reads in sRGB whatever the current space: an image's pixels (PNG, PFM: the
    file's own space, sRGB for these), the named media's and subsurface's preset
-   coefficients, hair's melanin, marble's colours. */
+   coefficients, hair's melanin, marble's colours.  rgb_space_table is space cs's
+   table (made on first use; NULL: out of memory), for an EXR image whose
+   chromaticities name cs (read_exr_image: exr_read_space, with pbrt-v4's note and
+   sRGB for chromaticities that match none of the four spaces). */
 int   parser_set_colorspace(Parser *P, int cs);
 void  parser_sync_colorspace(Parser *P);
 void  space_white(Parser *P, Spectrum *L);
 RgbTable *rgb_srgb_table(Parser *P);
+RgbTable *rgb_space_table(Parser *P, int cs);
+int   read_exr_image(const char *path, const char *what, const char *file, int line, Image *im,
+                     int *space, Error *err);
 /* note_not_positive: a note at the line of "float name" when it is given and
    v <= 0 (a light's "power" or "illuminance", which pbrt-v4 then ignores); it
    marks the parameter read. */

@@ -19,7 +19,8 @@
      spec_rgb_table_start spec_rgb_coeffs_fit rgb_table_new rgb_table_free spec_from_rgb
      spec_from_rgb_t spec_ybar_knots spec_to_y_t albedo_eval_rgb albedo_knot
      albedo_from_rgb colorspace_index colorspace_name colorspace_illuminant
-     colorspace_from_xyz colorspace_rgb_from_xyz rgb_table_new_cs rgb_table_space
+     colorspace_from_xyz colorspace_rgb_from_xyz colorspace_luminance colorspace_lookup
+     rgb_table_new_cs rgb_table_space
 
    HOW IT IS USED
      parser.c turns "rgb" parameters into spectra (spec_from_rgb_t) and material
@@ -163,6 +164,48 @@ void colorspace_rgb_from_xyz(int cs, const double xyz[3], double rgb[3])
     double m[3][3];
     colorspace_from_xyz(cs, m);
     mat_apply(&m[0][0], xyz, rgb);
+}
+
+/* The luminance row: Y of rgb is y . rgb (pbrt-v4's LuminanceVector, the middle
+   row of XYZ_from_RGB).  sRGB's is pbrt-v4's rounded constants, which the lights
+   that normalise an sRGB image by it have always used. */
+void colorspace_luminance(int cs, double y[3])
+{
+    double m[3][3], inv[3][3];
+    int j;
+    if (cs == COLORSPACE_SRGB) { y[0] = 0.2126; y[1] = 0.7152; y[2] = 0.0722; return; }
+    colorspace_from_xyz(cs, m);
+    invert3(m, inv);                              /* a colour space's matrix is regular */
+    for (j = 0; j < 3; j++) y[j] = inv[1][j];
+}
+
+/* The space whose primaries and white are the chromaticities xy = (rx, ry, gx, gy,
+   bx, by, wx, wy), as an OpenEXR file's "chromaticities" attribute gives them:
+   pbrt-v4's RGBColorSpace::Lookup, which tries ACES2065-1, DCI-P3, Rec2020, sRGB in
+   that order and takes the first whose four points are each close enough, each
+   coordinate a equal to the space's b or |a - b| < 1e-3 |b| (so a zero coordinate,
+   ACES's green x, must be exactly zero).  The white of a space is its illuminant's
+   chromaticity integrated from the spectrum (as pbrt-v4 computes it), not a
+   nominal xy.  The comparison is in float, as pbrt-v4's Point2f.  -1: none. */
+int colorspace_lookup(const float xy[8])
+{
+    static const int order[COLORSPACE_N] = { COLORSPACE_ACES, 2, 1, COLORSPACE_SRGB };
+    int o, k;
+    for (o = 0; o < COLORSPACE_N; o++) {
+        int cs = order[o], ok = 1;
+        float want[8];
+        double wx, wy;
+        Spectrum w;
+        colorspace_illuminant(cs, &w);
+        spec_chromaticity(&w, &wx, &wy);
+        for (k = 0; k < 6; k++) want[k] = (float)color_spaces[cs].xy[k / 2][k % 2];
+        want[6] = (float)wx;
+        want[7] = (float)wy;
+        for (k = 0; k < 8 && ok; k++)
+            ok = xy[k] == want[k] || fabsf((xy[k] - want[k]) / want[k]) < 1e-3f;
+        if (ok) return cs;
+    }
+    return -1;
 }
 
 /* The fit's tables for colour space cs: cmf x W / sum ybar W, and the matrix. */
@@ -311,7 +354,7 @@ static void rgb_fit(const RgbFit *f, const double target[3], double c[3])
     }
 }
 
-void spec_rgb_fit_table(RgbFitTable *t) { rgb_fit_init(t, COLORSPACE_SRGB); }
+void spec_rgb_fit_table(RgbFitTable *t, int cs) { rgb_fit_init(t, cs); }
 
 /* Newton's method from start straight at target (no homotopy from grey): a few
    steps when start fits a nearby colour.  1 when the fit's error is below 1e-10

@@ -421,6 +421,11 @@ const char *colorspace_name(int cs);
 void  colorspace_illuminant(int cs, Spectrum *s);
 void  colorspace_from_xyz(int cs, double m[3][3]);
 void  colorspace_rgb_from_xyz(int cs, const double xyz[3], double rgb[3]);
+/* Y = y . rgb in space cs (pbrt-v4's LuminanceVector; sRGB's rounded constants). */
+void  colorspace_luminance(int cs, double y[3]);
+/* The space whose primaries and white are xy = (rx, ry, gx, gy, bx, by, wx, wy)
+   within pbrt-v4's tolerance (RGBColorSpace::Lookup; an EXR's chromaticities), -1 none. */
+int   colorspace_lookup(const float xy[8]);
 RgbTable *rgb_table_new_cs(int cs);
 int   rgb_table_space(const RgbTable *T);  /* T's colour space (NULL: srgb) */
 void  rgb_table_free(RgbTable *T);
@@ -443,7 +448,7 @@ typedef struct {
     double x[SPEC_N];          /* (lambda - SPEC_MIN) / (SPEC_MAX - SPEC_MIN) at each knot */
     double m[3][3];            /* the colour space's XYZ -> RGB */
 } RgbFitTable;
-void  spec_rgb_fit_table(RgbFitTable *t);
+void  spec_rgb_fit_table(RgbFitTable *t, int cs);   /* in colour space cs */
 int   spec_rgb_coeffs_from(const RgbFitTable *t, const double target[3], const double start[3],
                            double c[3]);
 float spec_sigmoid_eval(const float c[3], float lambda_nm);
@@ -2030,6 +2035,10 @@ const char *zlib_inflate(const unsigned char *in, size_t n_in, unsigned char *ou
    DWA...), with the command that converts the file to a PFM. */
 int  exr_read_memory(const unsigned char *data, size_t n, const char *name, Image *im, Error *err);
 int  exr_read(Image *im, const char *path, Error *err);
+/* exr_read, and the colour space the file's "chromaticities" name (pbrt-v4's
+   RGBColorSpace::Lookup: COLORSPACE_*; sRGB when the file has none; -1 when they
+   match none of the four, which pbrt-v4 reads as sRGB with a warning). */
+int  exr_read_space(Image *im, const char *path, int *space, Error *err);
 /* The same with the three channels named in want read into a pixel's three floats
    (a name may repeat; a missing one is an error): the spectral film's buckets. */
 int  exr_read_named(Image *im, const char *path, const char *const want[3], Error *err);

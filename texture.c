@@ -75,7 +75,11 @@
       RGBIlluminantSpectrum without its D65 factor, which the light applies),
       each fitted as an "rgb L" is (spec_rgb_coeffs: the table and its polish),
       so that a one-colour image is that light to float precision (about 10 us
-      a texel).
+      a texel).  The fit is in the image's colour space: sRGB for PNG and PFM,
+      and for an EXR the space its "chromaticities" name (exr.c; pbrt-v4 gives
+      each image its own space, whatever the ColorSpace directive says), whose
+      matrix and white weight the fit (spec_rgb_fit_table, the space's table), so
+      a texel of an ACES2065-1 file reproduces its RGB under ACES's white.
    4. Noise (pbrt-v4 util/noise.cpp, textures.cpp; the pbrt book 4th ed. section
       10.6, after Perlin 2002, "Improving Noise").  noise(p): p's lattice cell
       (ix, iy, iz) = floor(p) and offsets d = p - floor(p); each of the cell's 8
@@ -509,7 +513,7 @@ int tex_set_image(Texture *t, const Image *im, float scale, int invert, RgbTable
     }
     t->w = im->w;
     t->h = im->h;
-    if (fit) spec_rgb_fit_table(fit);
+    if (fit) spec_rgb_fit_table(fit, rgb_table_space(rgbt));   /* the image's space */
     for (i = 0; i < n; i++) {
         double rgb[3], c[3];
         int k;
@@ -673,9 +677,14 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
         snprintf(alt, sizeof alt, "%.*s.pfm", (int)strlen(path) - 4, path);
         f = fopen(alt, "rb");
         if (!f) {                              /* no .pfm beside it: the EXR (exr.c) */
-            if (!exr_read(&im, path, &ierr))
+            RgbTable *table;
+            int space;
+            if (!read_exr_image(path, "Texture \"imagemap\"", T->file, T->line, &im, &space, &ierr))
                 return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": %s", name, ierr.msg);
-            ok = tex_set_image(T, &im, scale, invert, rgb_srgb_table(P), P->err);
+            /* its RGB fitted in the space of its chromaticities (pbrt-v4's
+               SpectrumImageTexture: RGBAlbedoSpectrum(*image colour space, rgb)) */
+            if (!(table = rgb_space_table(P, space))) { img_free(&im); return oom(P, T->file, T->line); }
+            ok = tex_set_image(T, &im, scale, invert, table, P->err);
             img_free(&im);
             return ok;
         }

@@ -629,6 +629,156 @@ static void test_exr_scene(T *t)
           "message \"%s\"", e.msg);
 }
 
+/* ---- the "chromaticities" attribute: the image's colour space ---- */
+
+/* A 1 x 1 FLOAT file of rgb, compression NONE, with "chromaticities" xy (rx ry gx
+   gy bx by wx wy) when xy is not NULL, written to the test's folder as name. */
+static const char *chroma_exr(T *t, const char *name, const float rgb[3], const float *xy)
+{
+    static const char *const ch[3] = { "B", "G", "R" };
+    Buf b = { NULL, 0, 0 }, list = { NULL, 0, 0 };
+    unsigned char v[32], zero = 0;
+    const char *path = test_path(t, name);
+    FILE *f;
+    int k, ok;
+    put32(&b, 20000630u);
+    put32(&b, 2);
+    for (k = 0; k < 3; k++) {
+        put(&list, ch[k], 2);
+        put32(&list, 2); put32(&list, 0); put32(&list, 1); put32(&list, 1);
+    }
+    put(&list, &zero, 1);
+    attr(&b, "channels", "chlist", list.d, list.n);
+    free(list.d);
+    v[0] = 0;
+    attr(&b, "compression", "compression", v, 1);
+    memset(v, 0, 16);
+    attr(&b, "dataWindow", "box2i", v, 16);
+    attr(&b, "displayWindow", "box2i", v, 16);
+    attr(&b, "lineOrder", "lineOrder", v, 1);
+    if (xy) {
+        for (k = 0; k < 8; k++) {
+            uint32_t u;
+            memcpy(&u, &xy[k], 4);
+            set32(v + 4 * k, u);
+        }
+        attr(&b, "chromaticities", "chromaticities", v, 32);
+    }
+    put(&b, &zero, 1);
+    put32(&b, (uint32_t)(b.n + 8)); put32(&b, 0);        /* the one block's offset */
+    put32(&b, 0); put32(&b, 12);                         /* y 0, 12 bytes */
+    for (k = 2; k >= 0; k--) {                           /* B, G, R */
+        uint32_t u;
+        memcpy(&u, &rgb[k], 4);
+        put32(&b, u);
+    }
+    f = fopen(path, "wb");
+    ok = f && fwrite(b.d, 1, b.n, f) == b.n;
+    if (f) ok &= fclose(f) == 0;
+    free(b.d);
+    return ok ? path : NULL;
+}
+
+/* The XYZ of an imagemap texture made of file under the illuminant named white
+   (1-nm sums over 360..830 nm, normalised so that a reflectance of 1 has Y = 1). */
+static int texture_xyz(T *t, const char *file, const char *white, double xyz[3])
+{
+    char text[1024];
+    Scene s;
+    Error e;
+    Spectrum W;
+    SurfacePoint sp = test_flat_point();
+    double norm = 0.0;
+    int nm, k;
+    snprintf(text, sizeof text, "WorldBegin\nTexture \"i\" \"spectrum\" \"imagemap\" \"string filename\" "
+             "\"%s\"\n", file);
+    if (!scene_load_string(&s, text, "chroma.pbrt", &e)) { test_failf(t, __FILE__, __LINE__, "%s", e.msg); return 0; }
+    if (!spec_named(&W, white)) { scene_free(&s); test_failf(t, __FILE__, __LINE__, "no spectrum %s", white); return 0; }
+    sp.u = sp.v = 0.5f;
+    xyz[0] = xyz[1] = xyz[2] = 0.0;
+    for (nm = 360; nm <= 830; nm++) {
+        double c[3], r = tex_eval(s.textures, 0, &sp, (float)nm), w = spec_eval(&W, (float)nm);
+        cie_cmf((double)nm, c);
+        for (k = 0; k < 3; k++) xyz[k] += c[k] * r * w;
+        norm += c[1] * w;
+    }
+    for (k = 0; k < 3; k++) xyz[k] /= norm;
+    scene_free(&s);
+    return 1;
+}
+
+/* An EXR texture's texel is the colour its file means: fitted in the colour space
+   its chromaticities name, so that its XYZ under that space's white is the space's
+   published RGB -> XYZ matrix times the texel (SMPTE ST 2065-1 for ACES2065-1's
+   AP0 with white (0.32168, 0.33767); ITU-R BT.2020's matrix; IEC 61966-2-1 sRGB's
+   for a file without chromaticities, with sRGB's, and with chromaticities of no
+   space pbrt-v4 knows (Adobe RGB 1998's), which pbrt-v4 reads as sRGB).  Within
+   5e-4: the published matrices use the whites' nominal xy, the fit the whites
+   integrated from their spectra.  A texel read in the wrong space is off by 0.1 or
+   more.  Also: the environment map of an ACES file shines ACES's white, and an
+   emission image in a space other than sRGB is refused by name. */
+static void test_exr_chromaticities(T *t)
+{
+    static const float aces[8] = { 0.7347f, 0.2653f, 0.0f, 1.0f, 0.0001f, -0.077f, 0.32168f, 0.33767f };
+    static const float rec2020[8] = { 0.708f, 0.292f, 0.170f, 0.797f, 0.131f, 0.046f, 0.3127f, 0.3290f };
+    static const float srgb[8] = { 0.64f, 0.33f, 0.30f, 0.60f, 0.15f, 0.06f, 0.3127f, 0.3290f };
+    static const float adobe[8] = { 0.64f, 0.33f, 0.21f, 0.71f, 0.15f, 0.06f, 0.3127f, 0.3290f };
+    static const double m_aces[3][3] = { { 0.9525523959, 0.0, 0.0000936786 },
+                                         { 0.3439664498, 0.7281660966, -0.0721325464 },
+                                         { 0.0, 0.0, 1.0088251844 } };
+    static const double m_2020[3][3] = { { 0.636958, 0.144617, 0.168881 },
+                                         { 0.262700, 0.677998, 0.059302 },
+                                         { 0.0, 0.028073, 1.060985 } };
+    static const double m_srgb[3][3] = { { 0.4124564, 0.3575761, 0.1804375 },
+                                         { 0.2126729, 0.7151522, 0.0721750 },
+                                         { 0.0193339, 0.1191920, 0.9503041 } };
+    static const struct { const char *file; const float *xy; const double (*m)[3]; const char *white; }
+        cases[] = { { "chroma_aces.exr", aces, m_aces, "illum-acesD60" },
+                    { "chroma_2020.exr", rec2020, m_2020, "stdillum-D65" },
+                    { "chroma_srgb.exr", srgb, m_srgb, "stdillum-D65" },
+                    { "chroma_none.exr", NULL, m_srgb, "stdillum-D65" },
+                    { "chroma_adobe.exr", adobe, m_srgb, "stdillum-D65" } };
+    static const float rgb[3] = { 0.2f, 0.5f, 0.3f };
+    char text[1024];
+    Scene s;
+    Error e;
+    int c, k, j;
+    for (c = 0; c < 5; c++) {
+        const char *path = chroma_exr(t, cases[c].file, rgb, cases[c].xy);
+        double xyz[3], want[3];
+        CHECK(t, path, "cannot write %s", cases[c].file);
+        if (!texture_xyz(t, path, cases[c].white, xyz)) return;
+        for (k = 0; k < 3; k++) {
+            for (want[k] = 0.0, j = 0; j < 3; j++) want[k] += cases[c].m[k][j] * rgb[j];
+            CHECK(t, fabs(xyz[k] - want[k]) < 5e-4, "%s: XYZ[%d] = %.5f under %s, the space's matrix "
+                  "gives %.5f", cases[c].file, k, xyz[k], cases[c].white, want[k]);
+        }
+    }
+    /* an ACES environment map: its texels' illuminant is ACES's white */
+    {
+        const char *path = chroma_exr(t, "chroma_env.exr", rgb, aces);
+        Spectrum d60;
+        int nm;
+        CHECK(t, path && spec_named(&d60, "illum-acesD60"), "cannot write chroma_env.exr");
+        snprintf(text, sizeof text, "WorldBegin\nLightSource \"infinite\" \"string filename\" \"%s\"\n", path);
+        CHECK(t, scene_load_string(&s, text, "chroma.pbrt", &e), "%s", e.msg);
+        for (nm = 360; nm <= 830; nm += 10)
+            if (spec_eval(s.emitters[0].L, (float)nm) != spec_eval(&d60, (float)nm)) {
+                float got = spec_eval(s.emitters[0].L, (float)nm);
+                scene_free(&s);
+                CHECK(t, 0, "the ACES map's illuminant at %d nm is %g, illum-acesD60's %g", nm, got,
+                      spec_eval(&d60, (float)nm));
+            }
+        scene_free(&s);
+        /* an emission image in ACES: refused by name */
+        snprintf(text, sizeof text, "WorldBegin\nAttributeBegin\nAreaLightSource \"diffuse\" "
+                 "\"string filename\" \"%s\"\nShape \"sphere\"\nAttributeEnd\n", path);
+        CHECK(t, !scene_load_string(&s, text, "chroma.pbrt", &e) &&
+              strstr(e.msg, "chroma.pbrt:3: AreaLightSource \"diffuse\": ") &&
+              strstr(e.msg, "colour space \"aces2065-1\""), "message \"%s\"", e.msg);
+    }
+}
+
 const TestCase tests_exr[] = {
     { "exr_openexr_files", test_exr_openexr_files },
     { "exr_pbrt_renders", test_exr_pbrt_renders },
@@ -637,5 +787,6 @@ const TestCase tests_exr[] = {
     { "exr_malformed", test_exr_malformed },
     { "exr_corruption_sweep", test_exr_corruption_sweep },
     { "exr_scene", test_exr_scene },
+    { "exr_chromaticities", test_exr_chromaticities },
     { NULL, NULL }
 };
