@@ -31,8 +31,9 @@
 
    Every parameter may be a texture, evaluated at the hit (fibre_at).  A
    "displacement" is refused as unused (pbrt-v4's HairMaterial reads none, so it
-   refuses it too); "string normalmap" is read and ignored, as pbrt-v4's
-   HairMaterial ignores it. */
+   refuses it too); "string normalmap" is ignored, as pbrt-v4's HairMaterial
+   ignores it, once the file is found (pbrt-v4 loads every material's normal map
+   and stops when it cannot: material.c normalmap_ignored). */
 #include "specnee.h"
 #include "parser.h"
 #include <float.h>
@@ -479,14 +480,14 @@ static int hair_colour(Parser *P, ParamList *pl, const char *file, int line, con
 int hair_from_params(Parser *P, ParamList *pl, const char *file, int line,
                      const char *dir, const char *what, Material *m)
 {
-    Param *pn = param_find(pl, PT_STRING, "normalmap");
     Hair *H;
     (void)dir;
     m->type = MAT_HAIR;
     m->hair = H = (Hair *)calloc(1, sizeof *H);         /* freed by material_release */
     if (!H) return oom(P, file, line);
-    if (pn) fprintf(stderr, "%s:%d: note: %s: \"string normalmap\" is ignored, as pbrt-v4's "
-                    "hair material ignores it\n", pn->file, pn->line, what);
+    if (!normalmap_ignored(P, pl, what, "pbrt-v4's hair material has no normal map "
+                           "(HairMaterial::GetNormalMap returns none)"))
+        return 0;
     if (!hair_colour(P, pl, file, line, what, H)) return 0;
     if (!hair_float(P, pl, "eta", 1.55f, HAIR_ETA, &H->eta, H) ||
         !hair_float(P, pl, "beta_m", 0.3f, HAIR_BETA_M, &H->beta_m, H) ||

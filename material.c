@@ -788,11 +788,11 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
 
 /* "string normalmap" on a material that has no normal map in pbrt-v4: its scene
    loads the image of every material's "normalmap" (a missing file stops it),
-   but an interface has no BSDF to shade and MixMaterial::GetNormalMap returns
-   none (the material it chooses shades with its own normal map), so the image
-   is the one without it.  Read, the file's presence checked as pbrt-v4 stops
-   without it, and ignored with a note. */
-static int normalmap_ignored(Parser *P, ParamList *pl, const char *what, const char *why)
+   but an interface has no BSDF to shade, MixMaterial::GetNormalMap returns
+   none (the material it chooses shades with its own normal map), and so does
+   HairMaterial's (hair.c), so the image is the one without it.  Read, the
+   file's presence checked as pbrt-v4 stops without it, and ignored with a note. */
+int normalmap_ignored(Parser *P, ParamList *pl, const char *what, const char *why)
 {
     Param *pn = param_find(pl, PT_STRING, "normalmap");
     char path[PATH_CAP];

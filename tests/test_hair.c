@@ -458,6 +458,31 @@ static void test_hair_errors(T *t)
     test_refused(t, HAIR_HEAD, "Material \"hair\" \"float eta\" [ 1.5 2 ]\n", "hair.pbrt", "hair.pbrt:8:");
 }
 
+/* "string normalmap" on hair: pbrt-v4 loads every material's normal map before it
+   makes the materials (scene.cpp startLoadingNormalMaps) and stops when the file
+   cannot be read, then HairMaterial::GetNormalMap returns none.  So a missing file
+   is refused at its file:line, naming it (Material and MakeNamedMaterial alike),
+   and a file that exists, or "", loads a hair material with no normal map. */
+static void test_hair_normalmap(T *t)
+{
+    char body[1200];
+    Scene s;
+    test_refused(t, HAIR_HEAD, "Material \"hair\" \"string normalmap\" \"nothere.png\"\n", "hair.pbrt",
+                 "hair.pbrt:8: Material \"hair\": \"string normalmap\" \"nothere.png\": cannot open the file "
+                 "(pbrt-v4 reads it here too, and stops)");
+    test_refused(t, HAIR_HEAD, "MakeNamedMaterial \"h\" \"string type\" \"hair\"\n"
+                 "  \"string normalmap\" \"gone.pfm\"\n", "hair.pbrt",
+                 "hair.pbrt:9: MakeNamedMaterial \"h\": type \"hair\": \"string normalmap\" \"gone.pfm\": cannot open");
+    if (t->failed) return;
+    snprintf(body, sizeof body, "Material \"hair\" \"string normalmap\" \"%s\"",
+             test_write_file(t, "hair_tilt.pfm", "PF\n1 1\n-1\n"));
+    if (!hair_of(t, body, &s)) return;
+    CHECK(t, s.materials[s.n_materials - 1].bump == NULL, "the hair material took a normal map");
+    scene_free(&s);
+    if (!hair_of(t, "Material \"hair\" \"string normalmap\" \"\"", &s)) return;
+    scene_free(&s);
+}
+
 /* pbrt-v4 (mmp/pbrt-v4 commit 5f7a6068, the independent sampler, 32 x 32,
    `pbrt --seed S --spp 1024 scene.pbrt` for S = 1..4) rendered HAIR_HEAD +
    HAIR_SCENE[j].  Both: a distant light and a dim uniform sky over a grey backdrop.
@@ -573,6 +598,7 @@ const TestCase tests_hair[] = {
     { "hair_reflectance_spectral", test_hair_reflectance_spectral },
     { "hair_textures", test_hair_textures },
     { "hair_errors", test_hair_errors },
+    { "hair_normalmap", test_hair_normalmap },
     { "hair_against_pbrt", test_hair_against_pbrt },
     { "hair_on_curves_against_pbrt", test_hair_on_curves_against_pbrt },
     { NULL, NULL }
