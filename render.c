@@ -254,7 +254,10 @@ static void render_pass(Pass *P)
                     fx = fy = 0.5f;
                     fw = 1.0f;
                 }
-                wl_sample(&R->wl, sampler_1d(&ps, DIM_WAVELENGTH), &fs.wl);
+                {   /* pbrt-v4's disablewavelengthjitter: the number drawn, then 1/2 */
+                    float ulam = sampler_1d(&ps, DIM_WAVELENGTH);
+                    wl_sample(&R->wl, set->no_wavelength_jitter ? 0.5f : ulam, &fs.wl);
+                }
                 /* the lens dimensions, requested only with a lens: the independent
                    sampler's stream then has them after the wavelength, and pinhole
                    images keep their random numbers */
@@ -391,8 +394,10 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
     j->P.y0 = b[2];
     j->sel = o->sel;
     /* the emitters' normalisation range (the spectral film: pbrt-v4's 360..830 nm) */
-    j->sel.lo_nm = o->wl_wide || set->spectral ? (float)SPEC_MIN : LAMBDA_LO;
-    j->sel.hi_nm = o->wl_wide || set->spectral ? (float)SPEC_MAX : LAMBDA_HI;
+    /* pbrt-v4's range (360-830 nm) for --wide, the spectral film, and the
+       fixed wavelengths of disablewavelengthjitter (pbrt-v4's own four) */
+    j->sel.lo_nm = o->wl_wide || set->spectral || set->no_wavelength_jitter ? (float)SPEC_MIN : LAMBDA_LO;
+    j->sel.hi_nm = o->wl_wide || set->spectral || set->no_wavelength_jitter ? (float)SPEC_MAX : LAMBDA_HI;
     j->R.s = s;
     j->R.o = o;
     j->R.white.type = MAT_DIFFUSE;
@@ -413,6 +418,16 @@ RenderJob *render_begin(const Scene *s, const RenderOptions *o, Error *err)
             wl_pdf_uniform(&j->R.wl, o->band_lo, o->band_hi);
         else if (set->spectral)          /* pbrt-v4 SpectralFilm: uniform in its range */
             wl_pdf_uniform(&j->R.wl, set->lambda_min, set->lambda_max);
+        else if (set->no_wavelength_jitter) {
+            /* pbrt-v4's RGB film samples its visible pdf over 360-830 nm
+               (SampleVisible): with u fixed at 1/2, its four wavelengths exactly */
+            if (!wl_pdf_visible(&j->R.wl, (float)SPEC_MIN, (float)SPEC_MAX)) {
+                error_set(err, NULL, 0, "cannot build the visible wavelength pdf");
+                light_sampler_free(j->R.ls);
+                free(j);
+                return NULL;
+            }
+        }
         else if (o->wl_mode == WL_IMPORTANCE && s->n_emitters == 0)
             wl_pdf_uniform(&j->R.wl, j->sel.lo_nm, j->sel.hi_nm);
         else if (!wl_pdf_build(&j->R.wl, o->wl_mode, j->sel.lo_nm, j->sel.hi_nm, sum, o->wl_mix)) {

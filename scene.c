@@ -710,7 +710,7 @@ static int option_apply(Parser *P, const Token *t, const OptionValue *o)
         "msereferenceimage", "msereferenceout", "rendercoordsys", "pixelstats", "wavefront", NULL
     };
     static const char *const refused[] = {          /* the image (or its noise) changes */
-        "disabletexturefiltering", "disablewavelengthjitter", "forcediffuse", NULL
+        "disabletexturefiltering", "forcediffuse", NULL
     };
     int i;
     if (!strcmp(o->name, "seed")) {
@@ -722,10 +722,12 @@ static int option_apply(Parser *P, const Token *t, const OptionValue *o)
         return 1;
     }
     if (!strcmp(o->name, "displacementedgescale")) return option_edge_scale(P, t, o);
-    if (!strcmp(o->name, "disablepixeljitter")) {   /* render.c: rays through pixel centres */
+    /* render.c: rays through pixel centres; pbrt-v4's four fixed wavelengths */
+    if (!strcmp(o->name, "disablepixeljitter") || !strcmp(o->name, "disablewavelengthjitter")) {
         if (!o->is_bool)
-            return fail(P, t->file, t->line, "Option \"disablepixeljitter\": expected true or false");
-        P->s->settings.no_pixel_jitter = o->b;
+            return fail(P, t->file, t->line, "Option \"%s\": expected true or false", o->name);
+        if (!strcmp(o->name, "disablepixeljitter")) P->s->settings.no_pixel_jitter = o->b;
+        else P->s->settings.no_wavelength_jitter = o->b;
         return 1;
     }
     for (i = 0; ignored[i]; i++)
@@ -735,9 +737,11 @@ static int option_apply(Parser *P, const Token *t, const OptionValue *o)
             return 1;
         }
     for (i = 0; refused[i]; i++)
-        if (!strcmp(o->name, refused[i]))
+        if (!strcmp(o->name, refused[i])) {
+            if (o->is_bool && !o->b) return 1;      /* false: pbrt-v4's default, no change */
             return fail(P, t->file, t->line, "Option \"%s\" is valid pbrt-v4 but not in the specnee "
                         "subset", refused[i]);
+        }
     return fail(P, t->file, t->line, "Option \"%s\": unknown option (pbrt-v4 has none of that name)",
                 o->name);
 }
@@ -755,9 +759,10 @@ static int option_apply(Parser *P, const Token *t, const OptionValue *o)
    as it overrides the Sampler's (docs/conventions.md).  "displacementedgescale"
    scales displaced meshes' edgelength (option_edge_scale); "disablepixeljitter"
    sends every camera ray through its pixel's centre with filter weight 1 (pbrt-v4's
-   GetCameraSample, render.c).  The others change
-   the image (or the noise) and are refused by name; an option pbrt-v4 does not
-   know is an error, as in pbrt-v4. */
+   GetCameraSample, render.c); "disablewavelengthjitter" renders every sample at
+   pbrt-v4's four wavelengths of u = 1/2 (render.c).  The others change the image
+   and are refused by name ("false", their default, changes nothing and is read);
+   an option pbrt-v4 does not know is an error, as in pbrt-v4. */
 static int option_directive(Parser *P, Lexer *L, const Token *t)
 {
     OptionValue o;

@@ -1821,6 +1821,8 @@ typedef struct {
     float filter_tau;                    /* sinc: tau = 3 */
     int no_pixel_jitter;       /* Option "disablepixeljitter": every camera ray through its
                                   pixel's centre, filter weight 1 (pbrt-v4's GetCameraSample) */
+    int no_wavelength_jitter;  /* Option "disablewavelengthjitter": every sample at the four
+                                  wavelengths of u = 1/2 (pbrt-v4's lu = 0.5; render.c) */
     int spp, seed, maxdepth;
     int spp_set, seed_set, maxdepth_set; /* given in the file */
     char lightsampler[32];     /* Integrator "string lightsampler", "" if unset */
