@@ -710,7 +710,7 @@ static int option_apply(Parser *P, const Token *t, const OptionValue *o)
         "msereferenceimage", "msereferenceout", "rendercoordsys", "pixelstats", "wavefront", NULL
     };
     static const char *const refused[] = {          /* the image (or its noise) changes */
-        "disabletexturefiltering", "forcediffuse", NULL
+        "forcediffuse", NULL
     };
     int i;
     if (!strcmp(o->name, "seed")) {
@@ -722,12 +722,17 @@ static int option_apply(Parser *P, const Token *t, const OptionValue *o)
         return 1;
     }
     if (!strcmp(o->name, "displacementedgescale")) return option_edge_scale(P, t, o);
-    /* render.c: rays through pixel centres; pbrt-v4's four fixed wavelengths */
-    if (!strcmp(o->name, "disablepixeljitter") || !strcmp(o->name, "disablewavelengthjitter")) {
+    /* render.c: rays through pixel centres; pbrt-v4's four fixed wavelengths.
+       disabletexturefiltering: pbrt-v4 then zeroes every ray footprint, so each
+       texture is read at its point (imagemap at full resolution, checkerboard
+       unfiltered, noise with every octave, bump's du = 0.0005), as specnee
+       always reads them: nothing to set */
+    if (!strcmp(o->name, "disablepixeljitter") || !strcmp(o->name, "disablewavelengthjitter") ||
+        !strcmp(o->name, "disabletexturefiltering")) {
         if (!o->is_bool)
             return fail(P, t->file, t->line, "Option \"%s\": expected true or false", o->name);
         if (!strcmp(o->name, "disablepixeljitter")) P->s->settings.no_pixel_jitter = o->b;
-        else P->s->settings.no_wavelength_jitter = o->b;
+        else if (!strcmp(o->name, "disablewavelengthjitter")) P->s->settings.no_wavelength_jitter = o->b;
         return 1;
     }
     for (i = 0; ignored[i]; i++)
@@ -760,8 +765,10 @@ static int option_apply(Parser *P, const Token *t, const OptionValue *o)
    scales displaced meshes' edgelength (option_edge_scale); "disablepixeljitter"
    sends every camera ray through its pixel's centre with filter weight 1 (pbrt-v4's
    GetCameraSample, render.c); "disablewavelengthjitter" renders every sample at
-   pbrt-v4's four wavelengths of u = 1/2 (render.c).  The others change the image
-   and are refused by name ("false", their default, changes nothing and is read);
+   pbrt-v4's four wavelengths of u = 1/2 (render.c); "disabletexturefiltering"
+   is specnee's way of reading textures (at their point) and changes nothing.
+   "forcediffuse" changes the image and is refused by name ("false", its
+   default, changes nothing and is read);
    an option pbrt-v4 does not know is an error, as in pbrt-v4. */
 static int option_directive(Parser *P, Lexer *L, const Token *t)
 {

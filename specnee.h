@@ -1080,6 +1080,8 @@ typedef struct Texture {
     int w, h;
     float *texel;
     TexWrap wrap;
+    int nearest;               /* "string filter" "point": the nearest texel (pbrt-v4's
+                                  Point filter at full resolution), else bilinear */
     int illuminant;            /* an area light's emission image (lights.c): texels are RGB
                                   illuminant spectra, m = 2 max(rgb) times the sigmoid of
                                   rgb / m, not clamped to 1 (the light multiplies by D65) */

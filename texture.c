@@ -47,9 +47,14 @@
                       reflectance clamps it to [0, 1] (mat_albedo_at, mat_point),
                       as pbrt-v4's materials clamp theirs
         imagemap      the image at (s, 1 - t) (pbrt-v4 flips t: row 0 is the top),
+                      the nearest texel for "filter" "point" (texel round(s w -
+                      1/2), round((1 - t) h - 1/2), pbrt-v4's Point), else
                       bilinear between the four nearest texel centres (pbrt-v4's
-                      default "bilinear" filter, which reads the full-resolution
-                      level only), wrapped by "repeat", "black" or "clamp"
+                      default "bilinear" filter), wrapped by "repeat", "black" or
+                      "clamp"; always at full resolution: pbrt-v4 reads the MIP
+                      level of the ray footprint's width, full resolution where a
+                      texel covers a pixel or more, and everywhere under Option
+                      "disabletexturefiltering" (its footprint then is zero)
         dots          "outside" in a polka dot, "inside" elsewhere (sic, section 4)
         marble        a 3-D texture: a colour spline of a noise-perturbed sine
                       (section 4)
@@ -410,6 +415,8 @@ static float image_lookup(const Texture *t, float s, float tt, float lambda)
     float fx, fy;
     int x0, y0;
     if (!(x > -1e9f && x < 1e9f && y > -1e9f && y < 1e9f)) return 0.0f;   /* NaN, far away */
+    if (t->nearest)                    /* pbrt-v4's Point: the texel round(x), round(y) */
+        return texel_at(t, (int)roundf(x), (int)roundf(y), lambda);
     x0 = (int)floorf(x);
     y0 = (int)floorf(y);
     fx = x - (float)x0;
@@ -669,6 +676,7 @@ static int texture_image(Parser *P, ParamList *pl, Texture *T, const char *name)
     else if (!strcmp(wrap, "clamp")) T->wrap = TEXWRAP_CLAMP;
     else return fail(P, T->file, T->line, "Texture \"imagemap\" \"%s\": unknown wrap \"%s\" (repeat, "
                      "black, clamp)", name, wrap);
+    T->nearest = filter && !strcmp(filter, "point");
     if (filter && strcmp(filter, "bilinear") != 0 && strcmp(filter, "point") != 0)
         fprintf(stderr, "%s:%d: note: Texture \"imagemap\": filter \"%s\" is read as "
                 "\"bilinear\" (specnee has no MIP maps)\n", T->file, T->line, filter);
