@@ -33,7 +33,7 @@
    "displacement" is refused as unused (pbrt-v4's HairMaterial reads none, so it
    refuses it too); "string normalmap" is ignored, as pbrt-v4's HairMaterial
    ignores it, once the file is found (pbrt-v4 loads every material's normal map
-   and stops when it cannot: material.c normalmap_ignored). */
+   and stops when it cannot: bump.c normalmap_ignored). */
 #include "specnee.h"
 #include "parser.h"
 #include <float.h>

@@ -786,32 +786,6 @@ void bsdf_eval(const Material *m, const SurfacePoint *sp, Vec3 wo, Vec3 wi,
 #include "parser.h"
 #include <float.h>
 
-/* "string normalmap" on a material that has no normal map in pbrt-v4: its scene
-   loads the image of every material's "normalmap" (a missing file stops it),
-   but an interface has no BSDF to shade, MixMaterial::GetNormalMap returns
-   none (the material it chooses shades with its own normal map), and so does
-   HairMaterial's (hair.c), so the image is the one without it.  Read, the
-   file's presence checked as pbrt-v4 stops without it, and ignored with a note. */
-int normalmap_ignored(Parser *P, ParamList *pl, const char *what, const char *why)
-{
-    Param *pn = param_find(pl, PT_STRING, "normalmap");
-    char path[PATH_CAP];
-    FILE *f;
-    if (!pn) return 1;
-    if (pn->n_str != 1)
-        return fail(P, pn->file, pn->line, "%s: \"string normalmap\" needs one file name", what);
-    if (pn->str[0][0]) {                              /* "" is no map, as in pbrt-v4 */
-        resolve_path(P, pn->file, pn->str[0], path, sizeof path);
-        if (!(f = fopen(path, "rb")))
-            return fail(P, pn->file, pn->line, "%s: \"string normalmap\" \"%s\": cannot open the "
-                        "file (pbrt-v4 reads it here too, and stops)", what, pn->str[0]);
-        fclose(f);
-    }
-    fprintf(stderr, "%s:%d: note: %s: \"string normalmap\" is ignored: %s\n", pn->file, pn->line,
-            what, why);
-    return 1;
-}
-
 /* pbrt-v4 (materials.cpp): no material, only the boundary between two media;
    "" and "none" are its deprecated spellings.  Rays cross it (path.c) */
 int interface_from_params(Parser *P, ParamList *pl, const char *file, int line,

@@ -475,7 +475,7 @@ int subsurface_from_params(Parser *P, ParamList *pl, const char *file, int line,
    m->bump (left NULL without them); each builder calls it before its
    params_check_unused. */
 int bump_from_params(Parser *P, ParamList *pl, const char *what, Material *m);
-/* material.c: "string normalmap" on a material pbrt-v4 gives no normal map
+/* bump.c: "string normalmap" on a material pbrt-v4 gives no normal map
    (interface, mix, hair): the file must open, as pbrt-v4 loads it and stops
    without it (a file:line error naming it), then a note that it is ignored, why. */
 int normalmap_ignored(Parser *P, ParamList *pl, const char *what, const char *why);
