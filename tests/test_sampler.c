@@ -140,6 +140,46 @@ static void test_sobol_dims23(T *t)
                       d, e, m, net_t(v[d], v[e], m), m);
 }
 
+/* All 32 columns of Sobol dimensions 2 and 3 (sampler.c keeps them in tables):
+   against the direction-number recurrences of Bratley and Fox (1988) worked out
+   here, column b = m_(b+1) << (31 - b), and points with many bits set against the
+   XOR of those columns.  The Owen-scrambled index a render uses has all 32 bits,
+   so every column is used. */
+static void test_sobol23_columns(T *t)
+{
+    uint32_t m[2][33], col[2][32];
+    int d, b, bad = 0;
+    uint64_t h = 12345u;
+    for (d = 0; d < 2; d++) {
+        int k;
+        m[d][1] = 1u;
+        m[d][2] = 3u;
+        m[d][3] = 1u;                    /* x^3 + x + 1: given; x^2 + x + 1: the loop's */
+        for (k = d == 0 ? 3 : 4; k <= 32; k++)
+            m[d][k] = d == 0 ? (2u * m[d][k - 1]) ^ (4u * m[d][k - 2]) ^ m[d][k - 2]
+                             : (4u * m[d][k - 2]) ^ (8u * m[d][k - 3]) ^ m[d][k - 3];
+        for (b = 0; b < 32; b++) col[d][b] = m[d][b + 1] << (31 - b);
+    }
+    for (d = 0; d < 2; d++)
+        for (b = 0; b < 32; b++)
+            CHECK(t, sobol_u32(1u << b, d + 2) == col[d][b], "dimension %d, column %d: %08x, the recurrence "
+                  "gives %08x", d + 2, b, sobol_u32(1u << b, d + 2), col[d][b]);
+    for (b = 0; b < 20000 && !bad; b++) {
+        uint32_t i, x[2] = { 0u, 0u };
+        int c;
+        h = hash_u64(h, (uint64_t)b);
+        i = b == 0 ? 0xffffffffu : (uint32_t)h;
+        for (c = 0; c < 32; c++)
+            if ((i >> c) & 1u) { x[0] ^= col[0][c]; x[1] ^= col[1][c]; }
+        if (sobol_u32(i, 2) != x[0] || sobol_u32(i, 3) != x[1]) {
+            bad = 1;
+            CHECK(t, 0, "point %08x: %08x %08x, the columns' XOR %08x %08x", i, sobol_u32(i, 2),
+                  sobol_u32(i, 3), x[0], x[1]);
+        }
+    }
+    CHECK(t, !bad, "20000 random points of dimensions 2 and 3 are the XOR of their columns");
+}
+
 /* Decision numbers of one pixel's first 2^m samples: the position (x, y), the
    hero wavelength's u and the camera ray's first free flight, and a free flight
    of a later bounce.  fog: the camera sits in a medium (Sampler.camera_medium). */
@@ -1041,6 +1081,7 @@ const TestCase tests_sampler[] = {
     { "sampler_sobol_definition", test_sobol_definition },
     { "sampler_sobol_nets", test_sobol_nets },
     { "sampler_sobol_dims23", test_sobol_dims23 },
+    { "sampler_sobol23_columns", test_sobol23_columns },
     { "sampler_camera_group", test_camera_group },
     { "sampler_camera_medium_render", test_camera_medium_render },
     { "sampler_zsobol_stratified_strata", test_zsobol_stratified_strata },
