@@ -1,7 +1,7 @@
 /* sampler.c - the numbers a path uses: one u in [0, 1) per (pixel, sample, dimension).
 
    Exported (specnee.h section 2, "Samplers"): sampler_init, sampler_start,
-   sampler_1d, sampler_2d, sampler_stream, sampler_progressive, sampler_from_name,
+   sampler_restart (the next sample of the same pixel), sampler_1d, sampler_2d, sampler_stream, sampler_progressive, sampler_from_name,
    sampler_name, sobol_u32, owen_scramble.
 
    A path tracer is a Monte Carlo integrator over a space of many dimensions: the
@@ -116,6 +116,14 @@
    few dozen samples (docs/sampling.md).  A scene's further dimensions (later bounces,
    media, time, subsurface) are padded sobol groups: they are unbiased and
    converge as sobol's do.
+
+   KEPT PER PIXEL.  The render loop takes a pixel's samples in a row
+   (sampler_start for the first, sampler_restart for the next): halton's Z, its
+   first digit b_0 and pi_0^-1(b_0) depend on (pixel, seed, coordinate) only, so
+   PixelSample keeps them per coordinate from the pixel's first sample that asks
+   (halton_coord); every later sample skips the hash and the first digit's
+   extraction.  The numbers are the same to the bit (the test
+   sampler_restart_same_numbers).
 
    A FLOAT from 32 bits keeps the top 24 (as rng_float does): exactly representable
    and strictly below 1. */
@@ -348,6 +356,13 @@ static uint32_t add_mod(uint32_t a, uint32_t b, uint32_t p)
     return s >= p ? s - p : s;
 }
 
+/* The float of a Halton coordinate v in [0, 1): its top 24 bits of 32. */
+static float halton_float(double v)
+{
+    double t32 = v * 4294967296.0;
+    return u32_to_float(t32 < 4294967295.0 ? (uint32_t)t32 : 4294967295u);
+}
+
 /* Coordinate `slot` of the scrambled Halton point k (2) of the pixel whose hash is
    key.  Digit a_i of k (base p, least significant first) becomes digit i of the
    result as pi_i((a_i + pi_i^-1(b_i)) mod p): b_i, the pixel's own, is the i-th
@@ -359,19 +374,43 @@ static uint32_t add_mod(uint32_t a, uint32_t b, uint32_t p)
    the first digit linear in k where k < p, so two coordinates of large bases
    would pair on a few lines; the permutation pairs them at random, as pbrt-v4's
    permuted digits do.  Past k's own digits (a = 0, hence b_i) the digits of Z are
-   the rest of the number, w Z', so no digit is ever cut off. */
-static float halton_coord(const Sampler *s, uint64_t key, uint32_t k, int slot)
+   the rest of the number, w Z', so no digit is ever cut off.  Z, its first digit
+   and pi_0^-1(b_0) are kept in ps for the pixel's later samples (KEPT PER PIXEL),
+   and worked out in the same operations when they are not there yet. */
+static float halton_coord(PixelSample *ps, int slot)
 {
+    const Sampler *s = ps->s;
     const double two53 = 9007199254740992.0;
-    uint32_t p = halton_primes[slot], rest = k;
+    uint32_t p = halton_primes[slot], rest = ps->k;
     const unsigned char *t = s->halton_perm + s->halton_off[slot];
     const unsigned char *ti = s->halton_inv + s->halton_off[slot];
-    int i = 0, nd = s->halton_ndig[slot];
-    uint64_t h = hash_u64(key, (uint64_t)slot + 0x4a17u);
-    double z = (double)(h >> 11) / two53;
-    double v = 0.0, w = 1.0, t32;
-    while (rest > 0) {
-        uint32_t a = rest % p, b, d;
+    int i = 1, nd = s->halton_ndig[slot];
+    double z, v = 0.0, w = 1.0;
+    uint32_t a, d;
+    if (!(ps->halton_have >> slot & 1u)) {
+        /* the pixel's Z and its first digit: the same for all the pixel's samples */
+        uint64_t h = hash_u64(ps->key, (uint64_t)slot + 0x4a17u);
+        uint32_t b;
+        z = (double)(h >> 11) / two53;
+        ps->halton_z0[slot] = z;
+        z *= (double)p;
+        b = (uint32_t)z;                   /* the first digit of Z */
+        z -= (double)b;
+        ps->halton_z1[slot] = z;
+        ps->halton_c0[slot] = ti[b];       /* pi_0^-1(b_0): digit position 0 has a table */
+        ps->halton_have |= (uint64_t)1 << slot;
+    }
+    if (rest == 0)                         /* k = 0: every digit is Z's */
+        return halton_float(ps->halton_z0[slot]);
+    a = rest % p;                          /* digit 0 of k */
+    rest /= p;
+    w /= (double)p;
+    d = t[add_mod(a, ps->halton_c0[slot], p)];
+    v += (double)d * w;
+    z = ps->halton_z1[slot];
+    while (rest > 0) {                     /* digits 1, 2, ... of k */
+        uint32_t b;
+        a = rest % p;
         z *= (double)p;
         b = (uint32_t)z;                   /* the next digit of Z */
         z -= (double)b;
@@ -385,8 +424,7 @@ static float halton_coord(const Sampler *s, uint64_t key, uint32_t k, int slot)
         i++;
     }
     v += w * z;                            /* the zero digits above, shifted: Z's rest */
-    t32 = v * 4294967296.0;
-    return u32_to_float(t32 < 4294967295.0 ? (uint32_t)t32 : 4294967295u);
+    return halton_float(v);
 }
 
 /* ------------------------------------------------------------------ the sampler */
@@ -418,15 +456,24 @@ void sampler_init(Sampler *s, SamplerType type, int seed, int spp, int xsamples,
 void sampler_start(const Sampler *s, int x, int y, int k, PixelSample *ps)
 {
     ps->s = s;
+    ps->key = hash_u64(hash_u64((uint64_t)x, (uint64_t)y), (uint64_t)s->seed);
+    ps->halton_have = 0;                   /* a new pixel: nothing of it kept yet */
+    if (s->type == SAMPLER_ZSOBOL)         /* the pixel's Morton code; k joins it below */
+        ps->index = (spread_bits((uint32_t)y) << 1 | spread_bits((uint32_t)x)) << s->log2_spp;
+    sampler_restart(ps, k);
+}
+
+void sampler_restart(PixelSample *ps, int k)
+{
+    const Sampler *s = ps->s;
     ps->k = (uint32_t)k;
     ps->k_reversed = reverse_bits32((uint32_t)k);
-    ps->key = hash_u64(hash_u64((uint64_t)x, (uint64_t)y), (uint64_t)s->seed);
     memset(ps->used, 0, sizeof ps->used);
     ps->reused = 0;
     if (s->type == SAMPLER_INDEPENDENT) {
         rng_seed(&ps->rng, ps->key, (uint64_t)k);   /* sample k's stream: independent of spp */
     } else if (s->type == SAMPLER_ZSOBOL) {
-        ps->index = ((spread_bits((uint32_t)y) << 1 | spread_bits((uint32_t)x)) << s->log2_spp) | (uint64_t)k;
+        ps->index = (ps->index >> s->log2_spp << s->log2_spp) | (uint64_t)k;
     }
 }
 
@@ -474,12 +521,13 @@ static void sobol_padded(const PixelSample *ps, int dim, int n, float *u)
     else sobol_owen(i, (uint32_t)(h >> 32), n, u);
 }
 
-/* n = 1 or 2 numbers of the group that starts at dimension dim. */
+/* n = 1 or 2 numbers of the group that starts at dimension dim (sampler_1d and
+   sampler_2d mark the dimensions used first: with n a constant there, mark_used
+   is a test of one or two bits). */
 static void group_sample(PixelSample *ps, int dim, int n, float *u)
 {
     const Sampler *s = ps->s;
     int c;
-    mark_used(ps, dim, n);
     switch (s->type) {
     case SAMPLER_INDEPENDENT:
         for (c = 0; c < n; c++) u[c] = rng_float(&ps->rng);
@@ -506,7 +554,7 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
         break;
     case SAMPLER_HALTON:   /* the Halton point's slots; the dimensions beyond it padded */
         if (halton_slot(dim) < 0 || in_camera_group(s, dim)) sobol_padded(ps, dim, n, u);
-        else for (c = 0; c < n; c++) u[c] = halton_coord(s, ps->key, ps->k, halton_slot(dim + c));
+        else for (c = 0; c < n; c++) u[c] = halton_coord(ps, halton_slot(dim + c));
         break;
     case SAMPLER_ZSOBOL: {
         int coord, g = group_of(s, dim, &coord);
@@ -524,6 +572,7 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
 float sampler_1d(PixelSample *ps, int dim)
 {
     float u = 0.0f;
+    mark_used(ps, dim, 1);
     group_sample(ps, dim, 1, &u);
     return u;
 }
@@ -531,6 +580,7 @@ float sampler_1d(PixelSample *ps, int dim)
 void sampler_2d(PixelSample *ps, int dim, float *u0, float *u1)
 {
     float u[2] = { 0.0f, 0.0f };
+    mark_used(ps, dim, 2);
     group_sample(ps, dim, 2, u);
     *u0 = u[0];
     *u1 = u[1];
