@@ -390,21 +390,18 @@ static float halton_coord(PixelSample *ps, int slot)
     if (!(ps->halton_have >> slot & 1u)) {
         /* the pixel's Z and its first digit: the same for all the pixel's samples */
         uint64_t h = hash_u64(ps->key, (uint64_t)slot + 0x4a17u);
-        uint32_t b;
-        z = (double)(h >> 11) / two53;
-        ps->halton_z0[slot] = z;
-        z *= (double)p;
-        b = (uint32_t)z;                   /* the first digit of Z */
-        z -= (double)b;
-        ps->halton_z1[slot] = z;
-        ps->halton_c0[slot] = ti[b];       /* pi_0^-1(b_0): digit position 0 has a table */
+        double z0 = (double)(h >> 11) / two53, zp = z0 * (double)p;
+        uint32_t b0 = (uint32_t)zp;        /* the first digit of Z */
+        ps->halton_z0[slot] = z0;
+        ps->halton_z1[slot] = zp - (double)b0;   /* Z's rest after it */
+        ps->halton_c0[slot] = ti[b0];      /* pi_0^-1(b_0): digit position 0 has a table */
         ps->halton_have |= (uint64_t)1 << slot;
     }
     if (rest == 0)                         /* k = 0: every digit is Z's */
         return halton_float(ps->halton_z0[slot]);
     a = rest % p;                          /* digit 0 of k */
-    rest /= p;
-    w /= (double)p;
+    rest /= p;                             /* k's digits above it */
+    w /= (double)p;                        /* p^-1 */
     d = t[add_mod(a, ps->halton_c0[slot], p)];
     v += (double)d * w;
     z = ps->halton_z1[slot];
