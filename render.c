@@ -232,13 +232,14 @@ static void render_pass(Pass *P)
             int fx0 = x + P->x0, fy0 = y + P->y0;
             FILE *dbg = (fx0 == o->debug_x && fy0 == o->debug_y) ? stderr : NULL;
             int k;
+            PixelSample ps;      /* the pixel's samples in a row: what depends on the pixel is kept */
             for (k = P->k0; k < P->k1; k++) {
-                PixelSample ps;
                 Rng *stream;
                 FilmSample fs;
                 double *xyz = fs.xyz, m;
                 float fx, fy, ul0 = 0.5f, ul1 = 0.5f, fw = 1.0f, cw, time = 0.0f;
-                sampler_start(&R->sampler, fx0, fy0, k, &ps);
+                if (k == P->k0) sampler_start(&R->sampler, fx0, fy0, k, &ps);
+                else sampler_restart(&ps, k);
                 stream = sampler_stream(&ps);
                 /* the position in the pixel and its filter weight fw (filter.c) */
                 if (set->filter == FILTER_GAUSSIAN && stream) {

@@ -1,7 +1,7 @@
 /* sampler.c - the numbers a path uses: one u in [0, 1) per (pixel, sample, dimension).
 
    Exported (specnee.h section 2, "Samplers"): sampler_init, sampler_start,
-   sampler_1d, sampler_2d, sampler_stream, sampler_progressive, sampler_from_name,
+   sampler_restart (the next sample of the same pixel), sampler_1d, sampler_2d, sampler_stream, sampler_progressive, sampler_from_name,
    sampler_name, sobol_u32, owen_scramble.
 
    A path tracer is a Monte Carlo integrator over a space of many dimensions: the
@@ -117,6 +117,14 @@
    media, time, subsurface) are padded sobol groups: they are unbiased and
    converge as sobol's do.
 
+   KEPT PER PIXEL.  The render loop takes a pixel's samples in a row
+   (sampler_start for the first, sampler_restart for the next): halton's Z, its
+   first digit b_0 and pi_0^-1(b_0) depend on (pixel, seed, coordinate) only, so
+   PixelSample keeps them per coordinate from the pixel's first sample that asks
+   (halton_coord); every later sample skips the hash and the first digit's
+   extraction.  The numbers are the same to the bit (the test
+   sampler_restart_same_numbers).
+
    A FLOAT from 32 bits keeps the top 24 (as rng_float does): exactly representable
    and strictly below 1. */
 #include "specnee.h"
@@ -189,19 +197,33 @@ static uint32_t sobol1_digits(uint32_t i)
 /* Sobol dimension 2 or 3 of point i by (1): the direction numbers m_k of the
    primitive polynomial x^s + a_1 x^(s-1) + ... + 1 follow (Bratley and Fox 1988)
        m_k = 2 a_1 m_(k-1) ^ 4 a_2 m_(k-2) ^ ... ^ 2^s m_(k-s) ^ m_(k-s),
-   and column b of the matrix is m_(b+1) / 2^(b+1) as a 32-bit fraction.
-   Dimension 2: x^2 + x + 1, m = 1, 3; dimension 3: x^3 + x + 1, m = 1, 3, 1. */
+   and column b of the matrix is m_(b+1) / 2^(b+1) as a 32-bit fraction, i.e.
+   m_(b+1) << (31 - b).  Dimension 2: x^2 + x + 1, m = 1, 3, so
+   m_k = 2 m_(k-1) ^ 4 m_(k-2) ^ m_(k-2); dimension 3: x^3 + x + 1, m = 1, 3, 1, so
+   m_k = 4 m_(k-2) ^ 8 m_(k-3) ^ m_(k-3).  The 32 columns of each, worked out from
+   these recurrences once and written down here (the test sampler_sobol23_columns
+   runs the recurrences again and compares): a render asks for these coordinates
+   twice per camera sample when the camera sits in a medium, and rebuilding the
+   columns each time cost some 600 instructions a call. */
+static const uint32_t sobol2_columns[32] = {
+    0x80000000u, 0xc0000000u, 0x60000000u, 0x90000000u, 0xe8000000u, 0x5c000000u, 0x8e000000u, 0xc5000000u,
+    0x68800000u, 0x9cc00000u, 0xee600000u, 0x55900000u, 0x80680000u, 0xc09c0000u, 0x60ee0000u, 0x90550000u,
+    0xe8808000u, 0x5cc0c000u, 0x8e606000u, 0xc5909000u, 0x6868e800u, 0x9c9c5c00u, 0xeeee8e00u, 0x5555c500u,
+    0x8000e880u, 0xc0005cc0u, 0x60008e60u, 0x9000c590u, 0xe8006868u, 0x5c009c9cu, 0x8e00eeeeu, 0xc5005555u
+};
+static const uint32_t sobol3_columns[32] = {
+    0x80000000u, 0xc0000000u, 0x20000000u, 0x50000000u, 0xf8000000u, 0x74000000u, 0xa2000000u, 0x93000000u,
+    0xd8800000u, 0x25400000u, 0x59e00000u, 0xe6d00000u, 0x78080000u, 0xb40c0000u, 0x82020000u, 0xc3050000u,
+    0x208f8000u, 0x51474000u, 0xfbea2000u, 0x75d93000u, 0xa0858800u, 0x914e5400u, 0xdbe79e00u, 0x25db6d00u,
+    0x58800080u, 0xe54000c0u, 0x79e00020u, 0xb6d00050u, 0x800800f8u, 0xc00c0074u, 0x200200a2u, 0x50050093u
+};
+
 static uint32_t sobol23(uint32_t i, int dim)
 {
-    uint32_t m[33], x = 0;
-    int k, b;
-    m[1] = 1u;
-    m[2] = 3u;
-    m[3] = dim == 2 ? (2u * m[2]) ^ (4u * m[1]) ^ m[1] : 1u;
-    for (k = 4; k <= 32; k++)
-        m[k] = dim == 2 ? (2u * m[k - 1]) ^ (4u * m[k - 2]) ^ m[k - 2] : (4u * m[k - 2]) ^ (8u * m[k - 3]) ^ m[k - 3];
-    for (b = 0; b < 32; b++)
-        if ((i >> b) & 1u) x ^= m[b + 1] << (31 - b);
+    const uint32_t *col = dim == 2 ? sobol2_columns : sobol3_columns;
+    uint32_t x = 0;
+    for (; i; i >>= 1, col++)         /* (1): XOR the columns of the bits set in i */
+        if (i & 1u) x ^= *col;
     return x;
 }
 
@@ -334,6 +356,13 @@ static uint32_t add_mod(uint32_t a, uint32_t b, uint32_t p)
     return s >= p ? s - p : s;
 }
 
+/* The float of a Halton coordinate v in [0, 1): its top 24 bits of 32. */
+static float halton_float(double v)
+{
+    double t32 = v * 4294967296.0;
+    return u32_to_float(t32 < 4294967295.0 ? (uint32_t)t32 : 4294967295u);
+}
+
 /* Coordinate `slot` of the scrambled Halton point k (2) of the pixel whose hash is
    key.  Digit a_i of k (base p, least significant first) becomes digit i of the
    result as pi_i((a_i + pi_i^-1(b_i)) mod p): b_i, the pixel's own, is the i-th
@@ -345,19 +374,40 @@ static uint32_t add_mod(uint32_t a, uint32_t b, uint32_t p)
    the first digit linear in k where k < p, so two coordinates of large bases
    would pair on a few lines; the permutation pairs them at random, as pbrt-v4's
    permuted digits do.  Past k's own digits (a = 0, hence b_i) the digits of Z are
-   the rest of the number, w Z', so no digit is ever cut off. */
-static float halton_coord(const Sampler *s, uint64_t key, uint32_t k, int slot)
+   the rest of the number, w Z', so no digit is ever cut off.  Z, its first digit
+   and pi_0^-1(b_0) are kept in ps for the pixel's later samples (KEPT PER PIXEL),
+   and worked out in the same operations when they are not there yet. */
+static float halton_coord(PixelSample *ps, int slot)
 {
+    const Sampler *s = ps->s;
     const double two53 = 9007199254740992.0;
-    uint32_t p = halton_primes[slot], rest = k;
+    uint32_t p = halton_primes[slot], rest = ps->k;
     const unsigned char *t = s->halton_perm + s->halton_off[slot];
     const unsigned char *ti = s->halton_inv + s->halton_off[slot];
-    int i = 0, nd = s->halton_ndig[slot];
-    uint64_t h = hash_u64(key, (uint64_t)slot + 0x4a17u);
-    double z = (double)(h >> 11) / two53;
-    double v = 0.0, w = 1.0, t32;
-    while (rest > 0) {
-        uint32_t a = rest % p, b, d;
+    int i = 1, nd = s->halton_ndig[slot];
+    double z, v = 0.0, w = 1.0;
+    uint32_t a, d;
+    if (!(ps->halton_have >> slot & 1u)) {
+        /* the pixel's Z and its first digit: the same for all the pixel's samples */
+        uint64_t h = hash_u64(ps->key, (uint64_t)slot + 0x4a17u);
+        double z0 = (double)(h >> 11) / two53, zp = z0 * (double)p;
+        uint32_t b0 = (uint32_t)zp;        /* the first digit of Z */
+        ps->halton_z0[slot] = z0;
+        ps->halton_z1[slot] = zp - (double)b0;   /* Z's rest after it */
+        ps->halton_c0[slot] = ti[b0];      /* pi_0^-1(b_0): digit position 0 has a table */
+        ps->halton_have |= (uint64_t)1 << slot;
+    }
+    if (rest == 0)                         /* k = 0: every digit is Z's */
+        return halton_float(ps->halton_z0[slot]);
+    a = rest % p;                          /* digit 0 of k */
+    rest /= p;                             /* k's digits above it */
+    w /= (double)p;                        /* p^-1 */
+    d = t[add_mod(a, ps->halton_c0[slot], p)];
+    v += (double)d * w;
+    z = ps->halton_z1[slot];
+    while (rest > 0) {                     /* digits 1, 2, ... of k */
+        uint32_t b;
+        a = rest % p;
         z *= (double)p;
         b = (uint32_t)z;                   /* the next digit of Z */
         z -= (double)b;
@@ -371,8 +421,7 @@ static float halton_coord(const Sampler *s, uint64_t key, uint32_t k, int slot)
         i++;
     }
     v += w * z;                            /* the zero digits above, shifted: Z's rest */
-    t32 = v * 4294967296.0;
-    return u32_to_float(t32 < 4294967295.0 ? (uint32_t)t32 : 4294967295u);
+    return halton_float(v);
 }
 
 /* ------------------------------------------------------------------ the sampler */
@@ -404,15 +453,24 @@ void sampler_init(Sampler *s, SamplerType type, int seed, int spp, int xsamples,
 void sampler_start(const Sampler *s, int x, int y, int k, PixelSample *ps)
 {
     ps->s = s;
+    ps->key = hash_u64(hash_u64((uint64_t)x, (uint64_t)y), (uint64_t)s->seed);
+    ps->halton_have = 0;                   /* a new pixel: nothing of it kept yet */
+    if (s->type == SAMPLER_ZSOBOL)         /* the pixel's Morton code; k joins it below */
+        ps->index = (spread_bits((uint32_t)y) << 1 | spread_bits((uint32_t)x)) << s->log2_spp;
+    sampler_restart(ps, k);
+}
+
+void sampler_restart(PixelSample *ps, int k)
+{
+    const Sampler *s = ps->s;
     ps->k = (uint32_t)k;
     ps->k_reversed = reverse_bits32((uint32_t)k);
-    ps->key = hash_u64(hash_u64((uint64_t)x, (uint64_t)y), (uint64_t)s->seed);
     memset(ps->used, 0, sizeof ps->used);
     ps->reused = 0;
     if (s->type == SAMPLER_INDEPENDENT) {
         rng_seed(&ps->rng, ps->key, (uint64_t)k);   /* sample k's stream: independent of spp */
     } else if (s->type == SAMPLER_ZSOBOL) {
-        ps->index = ((spread_bits((uint32_t)y) << 1 | spread_bits((uint32_t)x)) << s->log2_spp) | (uint64_t)k;
+        ps->index = (ps->index >> s->log2_spp << s->log2_spp) | (uint64_t)k;
     }
 }
 
@@ -460,12 +518,13 @@ static void sobol_padded(const PixelSample *ps, int dim, int n, float *u)
     else sobol_owen(i, (uint32_t)(h >> 32), n, u);
 }
 
-/* n = 1 or 2 numbers of the group that starts at dimension dim. */
+/* n = 1 or 2 numbers of the group that starts at dimension dim (sampler_1d and
+   sampler_2d mark the dimensions used first: with n a constant there, mark_used
+   is a test of one or two bits). */
 static void group_sample(PixelSample *ps, int dim, int n, float *u)
 {
     const Sampler *s = ps->s;
     int c;
-    mark_used(ps, dim, n);
     switch (s->type) {
     case SAMPLER_INDEPENDENT:
         for (c = 0; c < n; c++) u[c] = rng_float(&ps->rng);
@@ -492,7 +551,7 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
         break;
     case SAMPLER_HALTON:   /* the Halton point's slots; the dimensions beyond it padded */
         if (halton_slot(dim) < 0 || in_camera_group(s, dim)) sobol_padded(ps, dim, n, u);
-        else for (c = 0; c < n; c++) u[c] = halton_coord(s, ps->key, ps->k, halton_slot(dim + c));
+        else for (c = 0; c < n; c++) u[c] = halton_coord(ps, halton_slot(dim + c));
         break;
     case SAMPLER_ZSOBOL: {
         int coord, g = group_of(s, dim, &coord);
@@ -510,6 +569,7 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
 float sampler_1d(PixelSample *ps, int dim)
 {
     float u = 0.0f;
+    mark_used(ps, dim, 1);
     group_sample(ps, dim, 1, &u);
     return u;
 }
@@ -517,6 +577,7 @@ float sampler_1d(PixelSample *ps, int dim)
 void sampler_2d(PixelSample *ps, int dim, float *u0, float *u1)
 {
     float u[2] = { 0.0f, 0.0f };
+    mark_used(ps, dim, 2);
     group_sample(ps, dim, 2, u);
     *u0 = u[0];
     *u1 = u[1];

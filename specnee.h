@@ -292,6 +292,13 @@ typedef struct {               /* one sample of one pixel, on the stack of the t
     Rng rng;                   /* independent: the sample's PCG32 stream */
     uint32_t used[SAMPLER_CHECKED_DIMS / 32];  /* dimensions asked for so far */
     int reused;                /* dimensions asked for a second time */
+    /* halton: what coordinate j's digit scramble takes from the pixel alone, kept
+       over the pixel's samples (sampler_restart): bit j of halton_have says slot j
+       is filled; Z's value z0, its rest z1 after the first base-p digit b_0, and
+       pi_0^-1(b_0) (sampler.c, halton_coord) */
+    uint64_t halton_have;
+    double halton_z0[HALTON_DIMS + 1], halton_z1[HALTON_DIMS + 1];
+    unsigned char halton_c0[HALTON_DIMS + 1];
 } PixelSample;
 
 /* xsamples/ysamples: the file's strata (0: factor spp into two near-equal factors,
@@ -299,6 +306,10 @@ typedef struct {               /* one sample of one pixel, on the stack of the t
 void  sampler_init(Sampler *s, SamplerType type, int seed, int spp, int xsamples, int ysamples,
                    int jitter);
 void  sampler_start(const Sampler *s, int x, int y, int k, PixelSample *ps);
+/* Sample k of the pixel ps was started on: the same numbers as sampler_start with
+   that pixel and k, keeping what depends on the pixel only (the render loop takes
+   a pixel's samples in a row). */
+void  sampler_restart(PixelSample *ps, int k);
 float sampler_1d(PixelSample *ps, int dim);                     /* in [0, 1) */
 void  sampler_2d(PixelSample *ps, int dim, float *u0, float *u1);  /* dims dim, dim + 1 */
 /* The independent sampler's raw stream, for the one consumer that needs a

@@ -140,6 +140,142 @@ static void test_sobol_dims23(T *t)
                       d, e, m, net_t(v[d], v[e], m), m);
 }
 
+/* All 32 columns of Sobol dimensions 2 and 3 (sampler.c keeps them in tables):
+   against the direction-number recurrences of Bratley and Fox (1988) worked out
+   here, column b = m_(b+1) << (31 - b), and points with many bits set against the
+   XOR of those columns.  The Owen-scrambled index a render uses has all 32 bits,
+   so every column is used. */
+static void test_sobol23_columns(T *t)
+{
+    uint32_t m[2][33], col[2][32];
+    int d, b, bad = 0;
+    uint64_t h = 12345u;
+    for (d = 0; d < 2; d++) {
+        int k;
+        m[d][1] = 1u;
+        m[d][2] = 3u;
+        m[d][3] = 1u;                    /* x^3 + x + 1: given; x^2 + x + 1: the loop's */
+        for (k = d == 0 ? 3 : 4; k <= 32; k++)
+            m[d][k] = d == 0 ? (2u * m[d][k - 1]) ^ (4u * m[d][k - 2]) ^ m[d][k - 2]
+                             : (4u * m[d][k - 2]) ^ (8u * m[d][k - 3]) ^ m[d][k - 3];
+        for (b = 0; b < 32; b++) col[d][b] = m[d][b + 1] << (31 - b);
+    }
+    for (d = 0; d < 2; d++)
+        for (b = 0; b < 32; b++)
+            CHECK(t, sobol_u32(1u << b, d + 2) == col[d][b], "dimension %d, column %d: %08x, the recurrence "
+                  "gives %08x", d + 2, b, sobol_u32(1u << b, d + 2), col[d][b]);
+    for (b = 0; b < 20000 && !bad; b++) {
+        uint32_t i, x[2] = { 0u, 0u };
+        int c;
+        h = hash_u64(h, (uint64_t)b);
+        i = b == 0 ? 0xffffffffu : (uint32_t)h;
+        for (c = 0; c < 32; c++)
+            if ((i >> c) & 1u) { x[0] ^= col[0][c]; x[1] ^= col[1][c]; }
+        if (sobol_u32(i, 2) != x[0] || sobol_u32(i, 3) != x[1]) {
+            bad = 1;
+            CHECK(t, 0, "point %08x: %08x %08x, the columns' XOR %08x %08x", i, sobol_u32(i, 2),
+                  sobol_u32(i, 3), x[0], x[1]);
+        }
+    }
+    CHECK(t, !bad, "20000 random points of dimensions 2 and 3 are the XOR of their columns");
+}
+
+/* Coordinate `slot` of halton's scrambled point k of pixel (x, y), straight from
+   (2) of sampler.c: the digits of k and of the pixel's uniform Z (hashed from the
+   pixel, the seed and the slot), each digit position through the film's tables
+   pi_i((a + pi_i^-1(b)) mod p), Z's rest above k's digits; nothing kept between
+   calls. */
+static float halton_reference(const Sampler *s, int x, int y, uint32_t k, int slot)
+{
+    uint64_t key = hash_u64(hash_u64((uint64_t)x, (uint64_t)y), (uint64_t)s->seed);
+    uint64_t h = hash_u64(key, (uint64_t)slot + 0x4a17u);
+    double z = (double)(h >> 11) / 9007199254740992.0, v = 0.0, w = 1.0, t32;
+    uint32_t p = 1, rest = k;
+    int n = -1, i = 0, nd = s->halton_ndig[slot];
+    const unsigned char *pi = s->halton_perm + s->halton_off[slot], *inv = s->halton_inv + s->halton_off[slot];
+    while (n < slot) {                 /* p: the (slot + 1)-th prime */
+        uint32_t q = 2;
+        p++;
+        while (q * q <= p && p % q) q++;
+        if (q * q > p) n++;
+    }
+    while (rest > 0) {
+        uint32_t a = rest % p, b, d;
+        z *= (double)p;
+        b = (uint32_t)z;
+        z -= (double)b;
+        rest /= p;
+        w /= (double)p;
+        d = i < nd ? pi[i * (int)p + (int)((a + inv[i * (int)p + (int)b]) % p)] : (a + b) % p;
+        v += (double)d * w;
+        i++;
+    }
+    v += w * z;
+    t32 = v * 4294967296.0;
+    return (float)((t32 < 4294967295.0 ? (uint32_t)t32 : 4294967295u) >> 8) * (1.0f / 16777216.0f);
+}
+
+/* sampler_restart (the render loop's next sample of the same pixel, keeping what
+   depends on the pixel alone: halton's Z and its first digit per coordinate) hands
+   out the very numbers sampler_start does, for every sampler, over 300 samples
+   (indices of one to nine base-2 digits, two base-163 digits), the Halton point's
+   slots and padded dimensions past them, in a camera medium and not; one
+   PixelSample goes through three pixels, so a new pixel must forget the last.
+   The Halton slots are also compared with (2) computed afresh (halton_reference),
+   which neither path shares. */
+static void test_restart_same_numbers(T *t)
+{
+    static const SamplerType types[SAMPLER_COUNT] = { SAMPLER_INDEPENDENT, SAMPLER_STRATIFIED, SAMPLER_SOBOL,
+                                                      SAMPLER_ZSOBOL, SAMPLER_HALTON };
+    int ty, fog, bad = 0;
+    for (ty = 0; ty < SAMPLER_COUNT; ty++)
+        for (fog = 0; fog < 2; fog++) {
+            Sampler s;
+            PixelSample kept;
+            int pix, k, d;
+            sampler_init(&s, types[ty], 5, 300, 0, 0, 1);
+            s.camera_medium = fog;
+            for (pix = 0; pix < 3 && !bad; pix++)
+                for (k = 0; k < 300 && !bad; k++) {
+                    PixelSample fresh;
+                    if (k == 0) sampler_start(&s, 7 + pix, 3 * pix, k, &kept);
+                    else sampler_restart(&kept, k);
+                    sampler_start(&s, 7 + pix, 3 * pix, k, &fresh);
+                    for (d = 0; d < HALTON_DIMS + 12 && !bad; d++) {   /* 1-D numbers, 2-D groups */
+                        float a0 = sampler_1d(&kept, d), b0 = sampler_1d(&fresh, d), a1, b1, a2, b2;
+                        sampler_2d(&kept, dim_bounce(d % 8, BD_DIR), &a1, &a2);
+                        sampler_2d(&fresh, dim_bounce(d % 8, BD_DIR), &b1, &b2);
+                        if (a0 != b0 || a1 != b1 || a2 != b2) {
+                            bad = 1;
+                            CHECK(t, 0, "%s%s, pixel %d, sample %d, dimension %d: restart gives %.9g %.9g %.9g, "
+                                  "start %.9g %.9g %.9g", sampler_name(types[ty]), fog ? " (camera medium)" : "",
+                                  pix, k, d, a0, a1, a2, b0, b1, b2);
+                        }
+                    }
+                    if (!bad) {          /* the camera ray's first free flight: halton's last slot */
+                        float a = sampler_1d(&kept, dim_medium(0, 0)), b = sampler_1d(&fresh, dim_medium(0, 0));
+                        if (a != b) {
+                            bad = 1;
+                            CHECK(t, 0, "%s, pixel %d, sample %d: first free flight %.9g, start %.9g",
+                                  sampler_name(types[ty]), pix, k, a, b);
+                        }
+                    }
+                    if (!bad && types[ty] == SAMPLER_HALTON && !fog) {   /* the Halton slots, from (2) */
+                        for (d = 0; d <= HALTON_DIMS && !bad; d++) {
+                            int dim = d < HALTON_DIMS ? d : dim_medium(0, 0);
+                            float a = sampler_1d(&kept, dim), r = halton_reference(&s, 7 + pix, 3 * pix, (uint32_t)k, d);
+                            if (a != r) {
+                                bad = 1;
+                                CHECK(t, 0, "halton, pixel %d, sample %d, slot %d: %.9g, (2) gives %.9g", pix, k, d,
+                                      a, r);
+                            }
+                        }
+                    }
+                }
+        }
+    CHECK(t, !bad, "sampler_restart and sampler_start give the same numbers");
+}
+
 /* Decision numbers of one pixel's first 2^m samples: the position (x, y), the
    hero wavelength's u and the camera ray's first free flight, and a free flight
    of a later bounce.  fog: the camera sits in a medium (Sampler.camera_medium). */
@@ -1041,6 +1177,8 @@ const TestCase tests_sampler[] = {
     { "sampler_sobol_definition", test_sobol_definition },
     { "sampler_sobol_nets", test_sobol_nets },
     { "sampler_sobol_dims23", test_sobol_dims23 },
+    { "sampler_sobol23_columns", test_sobol23_columns },
+    { "sampler_restart_same_numbers", test_restart_same_numbers },
     { "sampler_camera_group", test_camera_group },
     { "sampler_camera_medium_render", test_camera_medium_render },
     { "sampler_zsobol_stratified_strata", test_zsobol_stratified_strata },
