@@ -87,6 +87,9 @@
 #define REACH_MAX_TRIS 64   /* @@ emitter meshes up to this size get the exact per-triangle
                                "which side does it light" test (lights.c section 4) */
 #define RR_START_DEPTH 1    /* @@ Russian roulette from this depth on (pbrt-v4: after depth 1) */
+#define LOBE_REUSE_MIN 0.00390625 /* @@ 2^-8: a smooth dielectric's rescaled lobe number is
+                               reused while the chosen lobes' probabilities multiply to at
+                               least this; its 2^-24 steps then stay below 2^-16 (THEORY §8.1) */
 #define DEFAULT_SPP 16
 #define DEFAULT_MAXDEPTH 5  /* pbrt-v4's default for Integrator "path" */
 #define MEM_BUDGET_MIB 4096  /* @@ memory budget of one input-sized allocation (film,
@@ -1172,6 +1175,11 @@ typedef struct {
     float eta2[HERO_N];        /* etap_j^2 when wi refracts through a dielectric (f holds
                                   its 1/etap_j^2: radiance is squeezed into the denser
                                   side), else 1; the roulette undoes it (THEORY §8) */
+    float u_lobe;              /* a smooth dielectric's lobe number u0 rescaled into the
+                                  chosen lobe: u0 / F after a reflection, (u0 - F) / (1 - F)
+                                  after a refraction.  Given the lobe it is uniform on
+                                  [0, 1) and independent of it, so path.c may spend it on
+                                  the next such choice (THEORY §8.1); -1 elsewhere */
 } BsdfSample;
 
 /* Sample wi given wo (unit, pointing away from the surface).  Wavelengths whose
