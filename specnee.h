@@ -205,7 +205,8 @@ int  cdf_cell(const float *cdf, int n, const int *guide, double u);
      +0 BD_LIGHT    1-D      which emitter NEE picks (light_select)
      +1 BD_TRIANGLE 1-D      which triangle of that emitter (by area)
      +2 BD_POINT    2-D      the point on the triangle / sphere
-     +4 BD_LOBE     1-D      reflect or refract (dielectrics)
+     +4 BD_LOBE     1-D      reflect or refract (dielectrics; path.c lobe_number may
+                             reuse the previous smooth choice's number instead)
      +5 BD_DIR      2-D      the BSDF direction
      +7 BD_ROULETTE 1-D      Russian roulette after the bounce
      and at a fluorescent vertex of bounce d (docs/FLUORESCENCE.md), beyond every
