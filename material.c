@@ -602,6 +602,16 @@ Frame mat_frame(const Material *m, const SurfacePoint *sp)
     return frame_from_normal(sp->ns);
 }
 
+/* BsdfSample.u_lobe: the lobe number rescaled into its lobe's interval, as a float
+   in [0, 1).  Exactly, u0 < F gives u0 / F < 1, but rounding to float may reach 1
+   (and 0 - F rounding may dip below 0): the ends are clamped. */
+static float lobe_rescaled(double u)
+{
+    const float below_one = 1.0f - 1.0f / 16777216.0f;      /* the float next to 1 */
+    if (!(u > 0.0)) return 0.0f;
+    return u < (double)below_one ? (float)u : below_one;
+}
+
 int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float *lambda,
                 unsigned alive, float u0, float u1, float u2, BsdfSample *out)
 {
@@ -611,6 +621,7 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
     int j;
     for (j = 0; j < HERO_N; j++) { out->f[j] = 0.0f; out->pdf_l[j] = 0.0f; out->eta2[j] = 1.0f; }
     out->delta = 0;
+    out->u_lobe = -1.0f;
     if (lo.z == 0.0f) return 0;
     if (m->type == MAT_HAIR) return hair_sample(m, sp, wo, lambda, alive, u0, u1, u2, out);
     if (m->type == MAT_SUBSURFACE_EXIT) return sss_exit_sample(m, sp, alive, u1, u2, out);
@@ -679,11 +690,13 @@ int bsdf_sample(const Material *m, const SurfacePoint *sp, Vec3 wo, const float 
         if (u0 < F) {
             li = reflect_dir(lo, n);
             out->pdf = F;
+            out->u_lobe = lobe_rescaled((double)u0 / F);
             for (j = 0; j < HERO_N; j++)
                 if (alive & (1u << j)) out->f[j] = F / fabsf(li.z);
         } else {
             if (!refract_dir(lo, n, eta, &etap, &li)) return 0;
             out->pdf = 1.0f - F;
+            out->u_lobe = lobe_rescaled(((double)u0 - F) / (1.0 - F));
             for (j = 0; j < HERO_N; j++)
                 if (alive & (1u << j)) {
                     out->f[j] = (1.0f - F) / fabsf(li.z) / (etap * etap);

@@ -124,6 +124,11 @@ typedef struct {
                                         (BsdfSample.eta2): beta_j eta2_j is the throughput
                                         without radiance's 1/etap^2 (the roulette's, (8)) */
     unsigned alive;                  /* bit j: lane j is carried (bit 0, the hero, always) */
+    float lobe_u;                    /* the last smooth dielectric's rescaled lobe number
+                                        (BsdfSample.u_lobe), spent by the next smooth
+                                        dielectric in place of its own (lobe_next) */
+    double lobe_w;                   /* the product of the lobe probabilities it has passed
+                                        through; 0: nothing to reuse */
     int shifted;                     /* a fluorescent vertex re-radiated (LightCtx.shifted) */
     int medium;                      /* the medium the ray is in (-1: none) */
     int any_nonspec;                 /* a bounce so far was not specular (a BSDF sample
@@ -1064,6 +1069,41 @@ static int subsurface_exit(Tracer *tr, int depth, Ray *ray, const SurfacePoint *
     return 1;
 }
 
+/* 5. The lobe number of a smooth dielectric (THEORY §8.1).  Its choice between
+   reflection (probability F) and refraction is the only random decision there,
+   and a chain of them (into a glass sphere, back and forth inside it, out) picks
+   one of many specular paths: the pixel's value is a sum over these chains, each
+   with its probability.  Drawing every choice from its own dimension stratifies
+   only the first one over the pixel's samples; the others pair at random.  Yet
+   given the first choice, u0 / F (reflected) or (u0 - F) / (1 - F) (refracted) is
+   again uniform on [0, 1) and independent of that choice, so it can make the next
+   choice, and so on: the whole chain then comes from ONE stratified number, and
+   the samples of a pixel visit the chains in proportion to their probabilities,
+   instead of at random.  Unbiased: every choice still sees a uniform number
+   independent of everything before it.  The number holds 24 bits; once the chosen
+   probabilities multiply to less than LOBE_REUSE_MIN its steps would grow
+   coarse, and the next choice takes its own dimension again.
+   lobe_number returns the number the vertex uses (fresh, its own dimension, or
+   the carried one) and the product *w it continues from; lobe_next keeps the
+   rescaled number after a smooth dielectric's choice.  Other materials neither
+   spend nor end it. */
+static float lobe_number(const Material *mat, float fresh, PathState *path, double *w)
+{
+    *w = 1.0;
+    if (mat->type != MAT_DIELECTRIC || !mat_is_delta(mat) || !(path->lobe_w > 0.0)) return fresh;
+    *w = path->lobe_w;
+    path->lobe_w = 0.0;                           /* spent */
+    return path->lobe_u;
+}
+
+static void lobe_next(const Material *mat, const BsdfSample *bs, double w, PathState *path)
+{
+    if (mat->type != MAT_DIELECTRIC || !(bs->u_lobe >= 0.0f)) return;
+    w *= bs->pdf;                                 /* the chosen lobe's probability */
+    path->lobe_u = bs->u_lobe;
+    path->lobe_w = w >= LOBE_REUSE_MIN ? w : 0.0;
+}
+
 /* A surface vertex at sp, reached along ray: the emission the path found there,
    then below maxdepth the termination of the secondaries at dispersive glass
    (3), the fluorescent branch (fluor_vertex), NEE (4) and the next direction
@@ -1085,6 +1125,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     BsdfSample bs;
     SurfacePoint bumped, framed;
     float u0, u1, u2, cos_i;
+    double lobe_w;
     int j;
     if (tr->dbg) debug_vertex(tr->dbg, depth, sp, path->beta, path->alive, path->r);
     /* Integrator "bool regularize" (pbrt-v4's, biased by design; THEORY §15): after
@@ -1132,9 +1173,10 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     /* 5. BSDF sampling: the next direction, with the hero's index; every lane's
           throughput gains f_j |cos| / q_bsdf(0) (delta lobes: f holds 1/|cos|),
           its ratio q_bsdf(j) / q_bsdf(0) (THEORY (5)) */
-    u0 = sampler_1d(tr->ps, dim_bounce(depth, BD_LOBE));
+    u0 = lobe_number(mat, sampler_1d(tr->ps, dim_bounce(depth, BD_LOBE)), path, &lobe_w);
     sampler_2d(tr->ps, dim_bounce(depth, BD_DIR), &u1, &u2);
     if (!bsdf_sample(mat, sp, wo, path->lam, path->alive, u0, u1, u2, &bs)) return 0;
+    lobe_next(mat, &bs, lobe_w, path);
     prev_set(path, o->nee && !bs.delta && s->n_emitters > 0, &ctx, lp, bs.pdf_l);
     if (!bs.delta) path->any_nonspec = 1;
     cos_i = fabsf(v3_dot(bs.wi, sp->ns));

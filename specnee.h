@@ -87,6 +87,9 @@
 #define REACH_MAX_TRIS 64   /* @@ emitter meshes up to this size get the exact per-triangle
                                "which side does it light" test (lights.c section 4) */
 #define RR_START_DEPTH 1    /* @@ Russian roulette from this depth on (pbrt-v4: after depth 1) */
+#define LOBE_REUSE_MIN 0.00390625 /* @@ 2^-8: a smooth dielectric's rescaled lobe number is
+                               reused while the chosen lobes' probabilities multiply to at
+                               least this; its 2^-24 steps then stay below 2^-16 (THEORY §8.1) */
 #define DEFAULT_SPP 16
 #define DEFAULT_MAXDEPTH 5  /* pbrt-v4's default for Integrator "path" */
 #define MEM_BUDGET_MIB 4096  /* @@ memory budget of one input-sized allocation (film,
@@ -202,7 +205,8 @@ int  cdf_cell(const float *cdf, int n, const int *guide, double u);
      +0 BD_LIGHT    1-D      which emitter NEE picks (light_select)
      +1 BD_TRIANGLE 1-D      which triangle of that emitter (by area)
      +2 BD_POINT    2-D      the point on the triangle / sphere
-     +4 BD_LOBE     1-D      reflect or refract (dielectrics)
+     +4 BD_LOBE     1-D      reflect or refract (dielectrics; path.c lobe_number may
+                             reuse the previous smooth choice's number instead)
      +5 BD_DIR      2-D      the BSDF direction
      +7 BD_ROULETTE 1-D      Russian roulette after the bounce
      and at a fluorescent vertex of bounce d (docs/FLUORESCENCE.md), beyond every
@@ -1190,6 +1194,11 @@ typedef struct {
     float eta2[HERO_N];        /* etap_j^2 when wi refracts through a dielectric (f holds
                                   its 1/etap_j^2: radiance is squeezed into the denser
                                   side), else 1; the roulette undoes it (THEORY §8) */
+    float u_lobe;              /* a smooth dielectric's lobe number u0 rescaled into the
+                                  chosen lobe: u0 / F after a reflection, (u0 - F) / (1 - F)
+                                  after a refraction.  Given the lobe it is uniform on
+                                  [0, 1) and independent of it, so path.c may spend it on
+                                  the next such choice (THEORY §8.1); -1 elsewhere */
 } BsdfSample;
 
 /* Sample wi given wo (unit, pointing away from the surface).  Wavelengths whose
