@@ -138,6 +138,27 @@
 #define BVH_SIMD 0
 #endif
 
+/* Where the processor also has AVX2 (asked at run time: __builtin_cpu_supports), the
+   whole traversal runs as a second copy compiled for it (traverse_avx2_*), whose slab
+   test takes all 8 children in one 8-lane pass (node_hit8) and whose rank compares all
+   8 slots at once (child_rank8).  Only gcc and clang on x86 know the target attribute
+   that compiles one function for an instruction set the rest of the file does not
+   assume; tcc, -DSPECNEE_NO_SIMD and -DSPECNEE_NO_AVX keep the SSE2 (or scalar) code
+   alone.  The AVX2 copy does the same operations in the same order (no fused
+   multiply-add: the target is "avx2", not "fma", and the Makefile has
+   -ffp-contract=off), so it agrees to the bit (the test bvh_simd_matches_scalar). */
+#if BVH_SIMD && defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && \
+    !defined(SPECNEE_NO_AVX)
+#define BVH_AVX 1
+#include <immintrin.h>
+/* a function compiled for AVX2; not always_inline (gcc and clang refuse to force an
+   AVX2 function into one compiled without it), but small, so both inline it into
+   the AVX2 copies of the traversal (checked with objdump: no call) */
+#define AVX2_FN static inline __attribute__((target("avx2")))
+#else
+#define BVH_AVX 0
+#endif
+
 /* gamma(n) = n u / (1 - n u) with u = 2^-24, the unit roundoff of float: a bound on the
    relative error of n chained roundings (Higham 2002; pbrt-v3 section 3.9.1). */
 static inline float gamma_n(int n)
@@ -1056,6 +1077,57 @@ HOT_INLINE int child_rank(const float *t_enter, unsigned mask, int jj)
 #define child_rank child_rank_scalar
 #endif
 
+#if BVH_AVX
+/* node_hit_mask_scalar for all 8 children in one pass of 8-lane AVX: node_hit4's
+   operations, lane for lane (_mm256_max_ps and _mm256_min_ps treat a NaN as
+   _mm_max_ps and _mm_min_ps do; _CMP_LE_OS is _mm_cmple_ps's predicate).  A row of
+   8 planes is 32 bytes, 32-byte aligned (nodes on 64 bytes), one aligned load.  The
+   ray's operands are broadcast here from RayPre's floats (one vbroadcastss each,
+   which the compiler hoists out of the loop where it can). */
+AVX2_FN unsigned node_hit8(const BvhNode *nd, const RayPre *rp, float t_cull,
+                           float *t_enter, float *t_z)
+{
+    const float *box = nd->box[0];
+    const __m256 o0 = _mm256_set1_ps(rp->o_ax[0]), i0 = _mm256_set1_ps(rp->inv_ax[0]);
+    const __m256 o1 = _mm256_set1_ps(rp->o_ax[1]), i1 = _mm256_set1_ps(rp->inv_ax[1]);
+    const __m256 o2 = _mm256_set1_ps(rp->o_ax[2]), i2 = _mm256_set1_ps(rp->inv_ax[2]);
+    const __m256 tn0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->near[0]), o0), i0);
+    const __m256 tf0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->far[0]), o0), i0);
+    const __m256 tn1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->near[1]), o1), i1);
+    const __m256 tf1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->far[1]), o1), i1);
+    const __m256 tn2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->near[2]), o2), i2);
+    const __m256 tf2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->far[2]), o2), i2);
+    __m256 tn = _mm256_max_ps(tn0, _mm256_setzero_ps()), tf = _mm256_min_ps(tf0, _mm256_set1_ps(INFINITY));
+    tn = _mm256_max_ps(tn1, tn);  tf = _mm256_min_ps(tf1, tf);
+    tn = _mm256_max_ps(tn2, tn);  tf = _mm256_min_ps(tf2, tf);
+    _mm256_storeu_ps(t_enter, tn);
+    _mm256_storeu_ps(t_z, tn2);
+    return (unsigned)_mm256_movemask_ps(
+        _mm256_and_ps(_mm256_cmp_ps(tn, _mm256_mul_ps(tf, _mm256_set1_ps(rp->far_scale)), _CMP_LE_OS),
+                      _mm256_cmp_ps(tn2, _mm256_set1_ps(t_cull), _CMP_LE_OS)));
+}
+
+/* child_rank with all 8 slots in one compare, and the entered bits counted by the
+   population-count instruction (every AVX2 processor has it; the dispatch asks). */
+AVX2_FN int child_rank8(const float *t_enter, unsigned mask, int jj)
+{
+    const __m256 te = _mm256_set1_ps(t_enter[jj]), t8 = _mm256_loadu_ps(t_enter);
+    const unsigned gt = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(t8, te, _CMP_GT_OS));
+    const unsigned eq = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(t8, te, _CMP_EQ_OQ));
+    return __builtin_popcount((gt | (eq & ((1u << jj) - 1u))) & mask);
+}
+
+/* whether this processor (and its operating system) runs the AVX2 copies */
+static int bvh_cpu_avx2(void)
+{
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
+}
+#else
+#define node_hit8 node_hit_mask
+#define child_rank8 child_rank
+#define bvh_cpu_avx2() 0
+#endif
+
 /* Instance in's M for ray r: its own, or a moving one's at the ray's time
    (motion.c; *tmp holds it then). */
 static const Xform *instance_xf(const Scene *s, const Instance *in, const Ray *r, Xform *tmp)
@@ -1182,7 +1254,7 @@ static int alpha_keep(const Scene *s, const Ray *r, int p, float tmax, float *t,
    traced in object space with tmax = t_best; at_tmax: a hit at t_best itself counts
    (the caller breaks that tie by the instance's id).  Defined after traverse. */
 static int instance_hit(const Scene *s, int i, const Ray *r, float t_best, int at_tmax,
-                        int any_hit, HitRecord *h);
+                        int any_hit, int avx, HitRecord *h);
 
 /* Walk the tree; any_hit = 1 returns at the first hit (h may be NULL then).
    at_tmax = 1 (the trace of an instance's object, instance_hit) also accepts a hit
@@ -1200,7 +1272,7 @@ static int instance_hit(const Scene *s, int i, const Ray *r, float t_best, int a
        children 2, 3, 5 entered; ranks (farther ones) 0, 2, 1:
        stack  ... | child 2 (4.0) | child 5 (2.0) | child 3 (1.5) | <- popped next */
 HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h, int any_hit,
-                        int at_tmax)
+                        int at_tmax, int avx)
 {
     RayPre rp;
     StackEntry stack[BVH_STACK];
@@ -1221,7 +1293,8 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
             /* inner node: test the children; one entered: go on with it; several:
                put them on the stack farthest first and go on with the nearest */
             const BvhNode *nd = &b->nodes[ref];
-            const unsigned mask = node_hit_mask(nd, &rp, t_cull, t_enter, t_z);
+            const unsigned mask = avx ? node_hit8(nd, &rp, t_cull, t_enter, t_z)
+                                      : node_hit_mask(nd, &rp, t_cull, t_enter, t_z);
             if (mask != 0) {
                 unsigned m;
                 int n = 0;
@@ -1250,7 +1323,8 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                    an insertion sort.  Shadow rays need no order: rank = arrival. */
                 for (m = mask; m != 0; m &= m - 1, n++) {
                     const int jj = lowest_bit(m);
-                    const int rank = any_hit ? n : child_rank(t_enter, mask, jj);
+                    const int rank = any_hit ? n : avx ? child_rank8(t_enter, mask, jj)
+                                                       : child_rank(t_enter, mask, jj);
                     stack[sp + rank].ref = nd->child[jj];
                     stack[sp + rank].t_z = t_z[jj];
                     prefetch_ref(b, nd->child[jj]);
@@ -1280,7 +1354,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                     ok = curve_intersect(s, &s->curve_pieces[p - n_patch_end], r, t_best, any_hit, &hi);
                     if (ok) { t = hi.t; b1 = hi.b1; b2 = hi.b2; }
                 } else {                            /* an instance: its object's closest hit */
-                    if (!instance_hit(s, p - n_base, r, t_best, best_p != no_hit, any_hit, &hi))
+                    if (!instance_hit(s, p - n_base, r, t_best, best_p != no_hit, any_hit, avx, &hi))
                         continue;
                     if (any_hit) return 1;          /* at t < r->tmax */
                     ok = 1; t = hi.t; b1 = hi.b1; b2 = hi.b2;
@@ -1311,47 +1385,111 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
     }
 }
 
+#if BVH_AVX
+/* The AVX2 copies of the traversal: the same code (traverse is inlined), compiled for
+   AVX2, so that node_hit8 and child_rank8 inline into it. */
+__attribute__((target("avx2"))) static int traverse_avx2_closest(const Bvh *b, const Scene *s,
+                                                                 const Ray *r, HitRecord *h)
+{
+    return traverse(b, s, r, h, 0, 0, 1);
+}
+
+__attribute__((target("avx2"))) static int traverse_avx2_any(const Bvh *b, const Scene *s,
+                                                             const Ray *r)
+{
+    return traverse(b, s, r, NULL, 1, 0, 1);
+}
+
+__attribute__((target("avx2"))) static int traverse_avx2(const Bvh *b, const Scene *s, const Ray *r,
+                                                         HitRecord *h, int any_hit, int at_tmax)
+{
+    return traverse(b, s, r, h, any_hit, at_tmax, 1);
+}
+#endif
+
 static int instance_hit(const Scene *s, int i, const Ray *r, float t_best, int at_tmax,
-                        int any_hit, HitRecord *h)
+                        int any_hit, int avx, HitRecord *h)
 {
     const Instance *in = &s->instances[i];
     Xform tmp;
     Ray ro = instance_ray(instance_xf(s, in, r, &tmp), r);
     ro.tmax = t_best;
-    return traverse(&s->objects[in->object].bvh, s, &ro, h, any_hit, at_tmax);
+#if BVH_AVX
+    if (avx) return traverse_avx2(&s->objects[in->object].bvh, s, &ro, h, any_hit, at_tmax);
+#endif
+    (void)avx;
+    return traverse(&s->objects[in->object].bvh, s, &ro, h, any_hit, at_tmax, 0);
 }
 
 int bvh_intersect(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h)
 {
-    return traverse(b, s, r, h, 0, 0);
+#if BVH_AVX
+    if (bvh_cpu_avx2()) return traverse_avx2_closest(b, s, r, h);
+#endif
+    return traverse(b, s, r, h, 0, 0, 0);
 }
 
 int bvh_occluded(const Bvh *b, const Scene *s, const Ray *r)
 {
-    return traverse(b, s, r, NULL, 1, 0);
+#if BVH_AVX
+    if (bvh_cpu_avx2()) return traverse_avx2_any(b, s, r);
+#endif
+    return traverse(b, s, r, NULL, 1, 0, 0);
 }
+
+int bvh_avx2(void)
+{
+    return bvh_cpu_avx2();
+}
+
+/* The children of node nd that differ in any bit between the scalar slab test and
+   rank (m0, te0, tz0) and those of the SIMD path (avx: the AVX2 one, else SSE2). */
+HOT_INLINE int node_mismatches(const BvhNode *nd, const RayPre *rp, float t_cull, int avx)
+{
+    float te[2][BVH_WIDTH], tz[2][BVH_WIDTH];
+    const unsigned m0 = node_hit_mask_scalar(nd, rp, t_cull, te[0], tz[0]);
+    const unsigned m1 = avx ? node_hit8(nd, rp, t_cull, te[1], tz[1])
+                            : node_hit_mask(nd, rp, t_cull, te[1], tz[1]);
+    int j, bad = 0;
+    for (j = 0; j < BVH_WIDTH; j++) {
+        const int in0 = (m0 >> j) & 1u, in1 = (m1 >> j) & 1u;
+        bad += in0 != in1 ||
+               memcmp(&te[0][j], &te[1][j], sizeof(float)) != 0 ||
+               memcmp(&tz[0][j], &tz[1][j], sizeof(float)) != 0;
+        if (in0 && in1)                    /* the order of the children entered */
+            bad += child_rank_scalar(te[0], m0, j) !=
+                   (avx ? child_rank8(te[1], m1, j) : child_rank(te[1], m1, j));
+    }
+    return bad;
+}
+
+#if BVH_AVX
+__attribute__((target("avx2"))) static int node_mismatches_avx2(const BvhNode *nd, const RayPre *rp,
+                                                                float t_cull)
+{
+    return node_mismatches(nd, rp, t_cull, 1);
+}
+#endif
 
 int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes)
 {
     RayPre rp;
-    int i, j, bad = 0;
+    int i, bad = 0;
+    const int avx = bvh_cpu_avx2();
     unsigned m;
     for (m = 1; m < 256; m++) bad += lowest_bit(m) != lowest_bit_portable(m);
     if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp)) return bad;
     for (i = 0; i < b->n_nodes; i++) {
-        float te[2][BVH_WIDTH], tz[2][BVH_WIDTH];
-        const unsigned m0 = node_hit_mask_scalar(&b->nodes[i], &rp, t_cull, te[0], tz[0]);
-        const unsigned m1 = node_hit_mask(&b->nodes[i], &rp, t_cull, te[1], tz[1]);
-        for (j = 0; j < BVH_WIDTH; j++) {
-            const int in0 = (m0 >> j) & 1u, in1 = (m1 >> j) & 1u;
-            bad += in0 != in1 ||
-                   memcmp(&te[0][j], &te[1][j], sizeof(float)) != 0 ||
-                   memcmp(&tz[0][j], &tz[1][j], sizeof(float)) != 0;
-            if (in0 && in1)                /* the order of the children entered */
-                bad += child_rank_scalar(te[0], m0, j) != child_rank(te[1], m1, j);
-        }
+        bad += node_mismatches(&b->nodes[i], &rp, t_cull, 0);
         *lanes += BVH_WIDTH;
+#if BVH_AVX
+        if (avx) {
+            bad += node_mismatches_avx2(&b->nodes[i], &rp, t_cull);
+            *lanes += BVH_WIDTH;
+        }
+#endif
     }
+    (void)avx;
     return bad;
 }
 

@@ -409,7 +409,8 @@ static void test_bvh_exact_adversarial(T *t)
     }
 }
 
-/* The slab test's SSE2 code against the scalar code it mirrors (bvh_simd_mismatches),
+/* The slab test's and the rank's SSE2 code, and their AVX2 code where the processor
+   has AVX2 (bvh_avx2), against the scalar code they mirror (bvh_simd_mismatches),
    bit for bit on every node: random rays, rays with zero direction components whose
    origin lies exactly on a box's plane (the NaN of 0 * inf), and culling distances
    from 0 to infinity; on a soup and on the grid cube, whose boxes are flat. */
@@ -417,7 +418,8 @@ static void test_bvh_simd_matches_scalar(T *t)
 {
     Scene s;
     Rng rng;
-    int scene, k, lanes = 0, bad = 0;
+    int scene, k, lanes = 0, bad = 0, expected = 0;
+    const int paths = 1 + bvh_avx2();       /* SSE2, and AVX2 where it runs */
     rng_seed(&rng, 29, 0);
     for (scene = 0; scene < 2; scene++) {
         CHECK(t, scene ? make_grid_cube(&s, 8) : make_soup(&s, &rng, 3000, 20), "out of memory");
@@ -441,12 +443,13 @@ static void test_bvh_simd_matches_scalar(T *t)
             }
             r.tmax = INFINITY;
             bad += bvh_simd_mismatches(&s.bvh, &r, culls[k % 5], &lanes);
+            expected += s.bvh.n_nodes * BVH_WIDTH * paths;
         }
         scene_release(&s);
     }
-    CHECK(t, lanes > 100000, "only %d children compared", lanes);
-    CHECK(t, bad == 0, "%d of %d children differ between the SSE2 and the scalar slab test",
-          bad, lanes);
+    CHECK(t, lanes > 100000 && lanes == expected, "%d children compared, not %d", lanes, expected);
+    CHECK(t, bad == 0, "%d of %d children differ between the SIMD (%s) and the scalar slab test",
+          bad, lanes, paths == 2 ? "SSE2 and AVX2" : "SSE2");
 }
 
 static void test_bvh_watertight_icosphere(T *t)
