@@ -216,7 +216,7 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
    triangle test's permutation and shear (Woop et al.).  Kept separate so that
    traversal computes it only for rays that hit the root box: most rays of an open
    scene miss everything.  Returns 0 for a direction too short to use. */
-HOT_INLINE int ray_prepare_rest(RayPre *rp)
+HOT_INLINE int ray_prepare_rest(RayPre *rp, int sse)
 {
     static const int mod3[6] = {0, 1, 2, 0, 1, 2};   /* mod3[i] = i % 3, without a division */
     int a;
@@ -241,12 +241,15 @@ HOT_INLINE int ray_prepare_rest(RayPre *rp)
     }
     rp->far_scale = 1.0f + 2.0f * gamma_n(3);
 #if BVH_SIMD
-    for (a = 0; a < 3; a++) {
-        rp->o4[a] = _mm_set1_ps(rp->o_ax[a]);
-        rp->inv4[a] = _mm_set1_ps(rp->inv_ax[a]);
+    if (sse) {          /* node_hit4's operands (sse = 0: the AVX2 copy, or no slab test) */
+        for (a = 0; a < 3; a++) {
+            rp->o4[a] = _mm_set1_ps(rp->o_ax[a]);
+            rp->inv4[a] = _mm_set1_ps(rp->inv_ax[a]);
+        }
+        rp->far4 = _mm_set1_ps(rp->far_scale);
     }
-    rp->far4 = _mm_set1_ps(rp->far_scale);
 #endif
+    (void)sse;
     rp->cull_scale = 1.0f + 2.0f * gamma_n(8);
     /* kx, ky = the next two axes after kz, swapped when d_kz < 0 to keep the
        triangles' winding (neg[kz] is exactly d_kz < 0 here: |d_kz| >= FLT_MIN) */
@@ -430,7 +433,7 @@ int intersect_triangle(Vec3 p0, Vec3 p1, Vec3 p2, const Ray *r, float *t, float 
     v[0] = p0.x; v[1] = p0.y; v[2] = p0.z;
     v[3] = p1.x; v[4] = p1.y; v[5] = p1.z;
     v[6] = p2.x; v[7] = p2.y; v[8] = p2.z;
-    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp)) return 0;
+    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp, 0)) return 0;
     return tri_hit(&rp, v, r->tmax, t, b1, b2) && *t < r->tmax;
 }
 
@@ -439,7 +442,7 @@ int intersect_sphere(Vec3 c, float radius, const Ray *r, float *t)
     RayPre rp;
     float s[4];
     s[0] = c.x; s[1] = c.y; s[2] = c.z; s[3] = radius;
-    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp)) return 0;
+    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp, 0)) return 0;
     return sphere_hit(&rp, s, r->tmax, t) && *t < r->tmax;
 }
 
@@ -1348,7 +1351,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
     int sp = 0, best_p = no_hit, ref = 0;
     HitRecord hi;
     if (b->n_nodes == 0 || !(t_best > 0.0f) || !ray_prepare(r, &rp) || !root_hit(b, &rp) ||
-        !ray_prepare_rest(&rp))                    /* only now: most rays miss the root */
+        !ray_prepare_rest(&rp, !avx))              /* only now: most rays miss the root */
         return 0;
     t_cull = t_best * rp.cull_scale;
     if (avx) ray_prepare4(&rp);
@@ -1559,7 +1562,7 @@ int bvh_tri_filter_mismatches(const Bvh *b, const Scene *s, const Ray *r, int *t
 {
     RayPre rp;
     int i, bad = 0;
-    if (!bvh_cpu_avx2() || !ray_prepare(r, &rp) || !ray_prepare_rest(&rp)) return 0;
+    if (!bvh_cpu_avx2() || !ray_prepare(r, &rp) || !ray_prepare_rest(&rp, 0)) return 0;
     for (i = 0; i < b->n_prims; i++) {
         if (b->prims[i].prim >= s->n_tris) continue;
 #if BVH_AVX
@@ -1577,7 +1580,7 @@ int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes)
     const int avx = bvh_cpu_avx2();
     unsigned m;
     for (m = 1; m < 256; m++) bad += lowest_bit(m) != lowest_bit_portable(m);
-    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp)) return bad;
+    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp, 1)) return bad;
     for (i = 0; i < b->n_nodes; i++) {
         bad += node_mismatches(&b->nodes[i], &rp, t_cull, 0);
         *lanes += BVH_WIDTH;
