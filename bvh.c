@@ -1182,6 +1182,14 @@ AVX2_FN int tri_miss4(const RayPre *rp, const float *v)
     return (eq0 == 0) & (lt0 != 0) & (gt0 != 0);   /* mixed signs: outside */
 }
 
+/* tri_hit for the triangles tri_miss4 lets through (15 %), as a call: inlined, its
+   per-ray operands would be kept ready at every leaf */
+__attribute__((target("avx2"), noinline)) static int tri_hit_rest(const RayPre *rp, const float *v,
+    float tmax, float *t_out, float *b1_out, float *b2_out)
+{
+    return tri_hit(rp, v, tmax, t_out, b1_out, b2_out);
+}
+
 /* whether this processor (and its operating system) runs the AVX2 copies */
 static int bvh_cpu_avx2(void)
 {
@@ -1190,6 +1198,7 @@ static int bvh_cpu_avx2(void)
 #else
 #define node_hit8 node_hit_mask
 #define tri_miss4(rp, v) 0
+#define tri_hit_rest tri_hit
 #define ray_prepare4(rp) ((void)(rp))
 #define child_rank8 child_rank
 #define bvh_cpu_avx2() 0
@@ -1408,8 +1417,9 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 const int p = q->prim;
                 int ok;
                 if (p < s->n_tris)
-                    ok = !(avx && tri_miss4(&rp, q->v)) &&   /* (AVX2: a filter first) */
-                         tri_hit(&rp, q->v, t_best, &t, &b1, &b2);
+                    ok = avx ? !tri_miss4(&rp, q->v) &&   /* (AVX2: a filter first) */
+                                   tri_hit_rest(&rp, q->v, t_best, &t, &b1, &b2)
+                             : tri_hit(&rp, q->v, t_best, &t, &b1, &b2);
                 else if (p < s->n_tris + s->n_spheres) {
                     ok = sphere_hit(&rp, q->v, t_best, &t); b1 = b2 = 0.0f;
                 } else if (p < n_quad_end) {
