@@ -40,8 +40,9 @@
    2008): a wide node opens its inner child of largest area until it has 8.  A wide
    node replaces up to 7 binary ones and tests its 8 children's boxes without
    branches, four at a time in SSE2 where the compiler has it (node_hit_mask; the
-   scalar loop it mirrors elsewhere); a ray visits about a third as many nodes.  The
-   build is deterministic (no threads, no timing).
+   scalar loop it mirrors elsewhere), all eight at once where the processor has AVX2
+   (node_hit8, in the AVX2 copy of the traversal); a ray visits about a third as
+   many nodes.  The build is deterministic (no threads, no timing).
 
    LAYOUT (specnee.h: BvhNode, BvhPrim; 256-byte nodes aligned to 64 bytes)
          BvhNode          child 0   child 1   ...   child 7
@@ -59,13 +60,18 @@
    axis).  The nearest child entered is visited first; shadow rays skip the ordering
    and return at the first hit.  Random rays make every data-dependent branch a coin
    toss, so the loop has as few as it can (the children by their set bits; two
-   entered are ordered by one compare, more placed on the stack by rank).  The closest
+   entered are ordered by one compare, more placed on the stack by rank).  Where the
+   processor has AVX2 (asked once a query), a second copy of the same loop compiled
+   for AVX2 runs instead: the slab test in 8 lanes, and a 4-lane filter before each
+   triangle test (tri_miss4); it computes the same floats in the same order, so
+   every result is the same to the bit.  The closest
    hit does not depend on the order: it is exactly
    what brute force finds, the smallest computed t in (0, tmax), ties to the smallest
    id (the proof opens the traversal section; tests/test_bvh.c checks it bit for bit).
    Speed: docs/bvh.md has the figures (Embree 3 is about 1.2 times faster on all of
-   tools/bench's incoherent rays, 1.3 to 1.4 on those that enter the mesh's box),
-   what each choice gains and what was tried.
+   tools/bench's incoherent rays, about 1.4 on those that enter the mesh's box with
+   the SSE2 copy, less with the AVX2 copy), what each choice gains and what was
+   tried.
 
    ALPHA (pbrt-v4's "alpha" of a shape; alpha_keep): a hit on a shape with
    alpha_on counts only when u <= a, with a the shape's "float alpha" or its float
