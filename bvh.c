@@ -152,7 +152,8 @@
    assume; tcc, -DSPECNEE_NO_SIMD and -DSPECNEE_NO_AVX keep the SSE2 (or scalar) code
    alone.  The AVX2 copy does the same operations in the same order (no fused
    multiply-add: the target is "avx2", not "fma", and the Makefile has
-   -ffp-contract=off), so it agrees to the bit (the test bvh_simd_matches_scalar). */
+   -ffp-contract=off), so it agrees to the bit (the tests bvh_simd_matches_scalar and
+   bvh_avx2_triangle_filter). */
 #if BVH_SIMD && defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && \
     !defined(SPECNEE_NO_AVX)
 #define BVH_AVX 1
@@ -1571,8 +1572,9 @@ __attribute__((target("avx2"))) static int node_mismatches_avx2(const BvhNode *n
 }
 #endif
 
-/* tri_miss4 against the scalar sign test of tri_edges' U, V, W on prim record q, and
-   against tri_hit itself (a triangle the filter drops must be one tri_hit misses) */
+/* tri_miss4 against the scalar sign test of tri_edges' U, V, W on the triangle v,
+   and against tri_hit itself (a triangle the filter drops must be one tri_hit
+   misses): 1 on a difference */
 #if BVH_AVX
 __attribute__((target("avx2"))) static int tri_filter_mismatch(const RayPre *rp, const float *v)
 {
