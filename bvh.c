@@ -162,6 +162,8 @@
    AVX2 function into one compiled without it), but small, so both inline it into
    the AVX2 copies of the traversal (checked with objdump: no call) */
 #define AVX2_FN static inline __attribute__((target("avx2")))
+#define AVX2_STATIC static __attribute__((target("avx2")))
+#define AVX2_NOINLINE static __attribute__((target("avx2"), noinline))
 #else
 #define BVH_AVX 0
 #endif
@@ -1205,7 +1207,7 @@ AVX2_FN int tri_miss4(const RayPre *rp, const float *v)
 
 /* tri_hit for the triangles tri_miss4 lets through (15 %), as a call: inlined, its
    per-ray operands would be kept ready at every leaf */
-__attribute__((target("avx2"), noinline)) static int tri_hit_rest(const RayPre *rp, const float *v,
+AVX2_NOINLINE int tri_hit_rest(const RayPre *rp, const float *v,
     float tmax, float *t_out, float *b1_out, float *b2_out)
 {
     return tri_hit(rp, v, tmax, t_out, b1_out, b2_out);
@@ -1489,19 +1491,19 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
 #if BVH_AVX
 /* The AVX2 copies of the traversal: the same code (traverse is inlined), compiled for
    AVX2, so that node_hit8 and child_rank8 inline into it. */
-__attribute__((target("avx2"))) static int traverse_avx2_closest(const Bvh *b, const Scene *s,
+AVX2_STATIC int traverse_avx2_closest(const Bvh *b, const Scene *s,
                                                                  const Ray *r, HitRecord *h)
 {
     return traverse(b, s, r, h, 0, 0, 1);
 }
 
-__attribute__((target("avx2"))) static int traverse_avx2_any(const Bvh *b, const Scene *s,
+AVX2_STATIC int traverse_avx2_any(const Bvh *b, const Scene *s,
                                                              const Ray *r)
 {
     return traverse(b, s, r, NULL, 1, 0, 1);
 }
 
-__attribute__((target("avx2"))) static int traverse_avx2(const Bvh *b, const Scene *s, const Ray *r,
+AVX2_STATIC int traverse_avx2(const Bvh *b, const Scene *s, const Ray *r,
                                                          HitRecord *h, int any_hit, int at_tmax)
 {
     return traverse(b, s, r, h, any_hit, at_tmax, 1);
@@ -1583,7 +1585,7 @@ HOT_INLINE int node_mismatches(const BvhNode *nd, const RayPre *rp, float t_cull
 }
 
 #if BVH_AVX
-__attribute__((target("avx2"))) static int node_mismatches_avx2(const BvhNode *nd, const RayPre *rp,
+AVX2_STATIC int node_mismatches_avx2(const BvhNode *nd, const RayPre *rp,
                                                                 float t_cull)
 {
     return node_mismatches(nd, rp, t_cull, 1);
@@ -1594,7 +1596,7 @@ __attribute__((target("avx2"))) static int node_mismatches_avx2(const BvhNode *n
    and against tri_hit itself (a triangle the filter drops must be one tri_hit
    misses): 1 on a difference */
 #if BVH_AVX
-__attribute__((target("avx2"))) static int tri_filter_mismatch(const RayPre *rp, const float *v)
+AVX2_STATIC int tri_filter_mismatch(const RayPre *rp, const float *v)
 {
     RayPre r4 = *rp;
     float e[6], z[3], uvw[3], t, b1, b2;
