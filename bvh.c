@@ -40,8 +40,9 @@
    2008): a wide node opens its inner child of largest area until it has 8.  A wide
    node replaces up to 7 binary ones and tests its 8 children's boxes without
    branches, four at a time in SSE2 where the compiler has it (node_hit_mask; the
-   scalar loop it mirrors elsewhere); a ray visits about a third as many nodes.  The
-   build is deterministic (no threads, no timing).
+   scalar loop it mirrors elsewhere), all eight at once where the processor has AVX2
+   (node_hit8, in the AVX2 copy of the traversal); a ray visits about a third as
+   many nodes.  The build is deterministic (no threads, no timing).
 
    LAYOUT (specnee.h: BvhNode, BvhPrim; 256-byte nodes aligned to 64 bytes)
          BvhNode          child 0   child 1   ...   child 7
@@ -59,13 +60,18 @@
    axis).  The nearest child entered is visited first; shadow rays skip the ordering
    and return at the first hit.  Random rays make every data-dependent branch a coin
    toss, so the loop has as few as it can (the children by their set bits; two
-   entered are ordered by one compare, more placed on the stack by rank).  The closest
+   entered are ordered by one compare, more placed on the stack by rank).  Where the
+   processor has AVX2 (asked once a query), a second copy of the same loop compiled
+   for AVX2 runs instead: the slab test in 8 lanes, and a 4-lane filter before each
+   triangle test (tri_miss4); it computes the same floats in the same order, so
+   every result is the same to the bit.  The closest
    hit does not depend on the order: it is exactly
    what brute force finds, the smallest computed t in (0, tmax), ties to the smallest
    id (the proof opens the traversal section; tests/test_bvh.c checks it bit for bit).
    Speed: docs/bvh.md has the figures (Embree 3 is about 1.2 times faster on all of
-   tools/bench's incoherent rays, 1.3 to 1.4 on those that enter the mesh's box),
-   what each choice gains and what was tried.
+   tools/bench's incoherent rays, about 1.4 on those that enter the mesh's box with
+   the SSE2 copy, less with the AVX2 copy), what each choice gains and what was
+   tried.
 
    ALPHA (pbrt-v4's "alpha" of a shape; alpha_keep): a hit on a shape with
    alpha_on counts only when u <= a, with a the shape's "float alpha" or its float
@@ -138,6 +144,30 @@
 #define BVH_SIMD 0
 #endif
 
+/* Where the processor also has AVX2 (asked at run time: __builtin_cpu_supports), the
+   whole traversal runs as a second copy compiled for it (traverse_avx2_*), whose slab
+   test takes all 8 children in one 8-lane pass (node_hit8) and whose rank compares all
+   8 slots at once (child_rank8).  Only gcc and clang on x86 know the target attribute
+   that compiles one function for an instruction set the rest of the file does not
+   assume; tcc, -DSPECNEE_NO_SIMD and -DSPECNEE_NO_AVX keep the SSE2 (or scalar) code
+   alone.  The AVX2 copy does the same operations in the same order (no fused
+   multiply-add: the target is "avx2", not "fma", and the Makefile has
+   -ffp-contract=off), so it agrees to the bit (the tests bvh_simd_matches_scalar and
+   bvh_avx2_triangle_filter). */
+#if BVH_SIMD && defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__)) && \
+    !defined(SPECNEE_NO_AVX)
+#define BVH_AVX 1
+#include <immintrin.h>
+/* a function compiled for AVX2; not always_inline (gcc and clang refuse to force an
+   AVX2 function into one compiled without it), but small, so both inline it into
+   the AVX2 copies of the traversal (checked with objdump: no call) */
+#define AVX2_FN static inline __attribute__((target("avx2")))
+#define AVX2_STATIC static __attribute__((target("avx2")))
+#define AVX2_NOINLINE static __attribute__((target("avx2"), noinline))
+#else
+#define BVH_AVX 0
+#endif
+
 /* gamma(n) = n u / (1 - n u) with u = 2^-24, the unit roundoff of float: a bound on the
    relative error of n chained roundings (Higham 2002; pbrt-v3 section 3.9.1). */
 static inline float gamma_n(int n)
@@ -165,14 +195,25 @@ typedef struct {
 #if BVH_SIMD
     __m128 o4[3], inv4[3], far4;   /* o_ax, inv_ax, far_scale in all four lanes */
 #endif
+#if BVH_AVX
+    __m128i perm[2];         /* tri_miss4's lane choices: (kx, ky, kz) and each + 1 */
+    __m128 o_k, shear;       /* (o_kx, o_ky, o_kz, 0) and (Sx, Sy, 0, 0) */
+#endif
 } RayPre;
+
+/* The sign of d_a and 1/d_a (+-infinity for d_a = +-0); called once an axis, written
+   out (as root_axis) */
+HOT_INLINE void inv_axis(RayPre *rp, int a)
+{
+    rp->neg[a] = signbit(rp->d[a]) != 0;
+    rp->inv_d[a] = rp->d[a] != 0.0f ? 1.0f / rp->d[a] : (rp->neg[a] ? -INFINITY : INFINITY);
+}
 
 /* The first part of the precomputation (o, d, 1/d, signs): all that the test of the
    root box needs.  Returns 0 for a ray that cannot hit anything (a non-finite origin
    or direction). */
 HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
 {
-    int a;
     rp->o[0] = r->o.x; rp->o[1] = r->o.y; rp->o[2] = r->o.z;
     rp->d[0] = r->d.x; rp->d[1] = r->d.y; rp->d[2] = r->d.z;
     /* x - x is +0 for a finite x and NaN for an infinite or NaN one, so the sum of the
@@ -180,10 +221,9 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
     if (!((rp->o[0] - rp->o[0]) + (rp->o[1] - rp->o[1]) + (rp->o[2] - rp->o[2]) +
           (rp->d[0] - rp->d[0]) + (rp->d[1] - rp->d[1]) + (rp->d[2] - rp->d[2]) == 0.0f))
         return 0;
-    for (a = 0; a < 3; a++) {
-        rp->neg[a] = signbit(rp->d[a]) != 0;
-        rp->inv_d[a] = rp->d[a] != 0.0f ? 1.0f / rp->d[a] : (rp->neg[a] ? -INFINITY : INFINITY);
-    }
+    inv_axis(rp, 0);
+    inv_axis(rp, 1);
+    inv_axis(rp, 2);
     return 1;
 }
 
@@ -191,7 +231,7 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
    triangle test's permutation and shear (Woop et al.).  Kept separate so that
    traversal computes it only for rays that hit the root box: most rays of an open
    scene miss everything.  Returns 0 for a direction too short to use. */
-HOT_INLINE int ray_prepare_rest(RayPre *rp)
+HOT_INLINE int ray_prepare_rest(RayPre *rp, int sse)
 {
     static const int mod3[6] = {0, 1, 2, 0, 1, 2};   /* mod3[i] = i % 3, without a division */
     int a;
@@ -216,12 +256,15 @@ HOT_INLINE int ray_prepare_rest(RayPre *rp)
     }
     rp->far_scale = 1.0f + 2.0f * gamma_n(3);
 #if BVH_SIMD
-    for (a = 0; a < 3; a++) {
-        rp->o4[a] = _mm_set1_ps(rp->o_ax[a]);
-        rp->inv4[a] = _mm_set1_ps(rp->inv_ax[a]);
+    if (sse) {          /* node_hit4's operands (sse = 0: the AVX2 copy, or no slab test) */
+        for (a = 0; a < 3; a++) {
+            rp->o4[a] = _mm_set1_ps(rp->o_ax[a]);
+            rp->inv4[a] = _mm_set1_ps(rp->inv_ax[a]);
+        }
+        rp->far4 = _mm_set1_ps(rp->far_scale);
     }
-    rp->far4 = _mm_set1_ps(rp->far_scale);
 #endif
+    (void)sse;
     rp->cull_scale = 1.0f + 2.0f * gamma_n(8);
     /* kx, ky = the next two axes after kz, swapped when d_kz < 0 to keep the
        triangles' winding (neg[kz] is exactly d_kz < 0 here: |d_kz| >= FLT_MIN) */
@@ -291,12 +334,13 @@ static float t_error_bound(float Ax, float Ay, float Az, float Bx, float By, flo
    Finally t must exceed a bound on its own rounding error (pbrt-v3 section 3.9.6): a
    ray starting on the triangle's plane never hits that triangle at a t that is only
    rounding noise (the self-intersection policy at the top of this file). */
-HOT_INLINE int tri_hit(const RayPre *rp, const float *v, float tmax,
-                       float *t_out, float *b1_out, float *b2_out)
+/* Steps 1 to 3 of tri_hit (below), for tri_hit and the test of its AVX2 filter:
+   e[] = A'x A'y B'x B'y C'x C'y, z[] = A_z B_z C_z (before the scale by Sz), and
+   uvw[] = U V W in float. */
+HOT_INLINE void tri_edges(const RayPre *rp, const float *v, float *e, float *z, float *uvw)
 {
     const int kx = rp->kx, ky = rp->ky, kz = rp->kz;
     const float ox = rp->o[kx], oy = rp->o[ky], oz = rp->o[kz];
-    float Ax, Ay, Bx, By, Cx, Cy, Az, Bz, Cz, U, V, W, det, T, inv_det, t;
 
     /* 1. Vertices relative to the ray origin, in the permuted axes (x, y, z) */
     const float A_x = v[kx] - ox, A_y = v[ky] - oy, A_z = v[kz] - oz;
@@ -304,14 +348,28 @@ HOT_INLINE int tri_hit(const RayPre *rp, const float *v, float tmax,
     const float C_x = v[6 + kx] - ox, C_y = v[6 + ky] - oy, C_z = v[6 + kz] - oz;
 
     /* 2. Shear: the ray becomes the +z axis */
-    Ax = A_x - rp->Sx * A_z;  Ay = A_y - rp->Sy * A_z;
-    Bx = B_x - rp->Sx * B_z;  By = B_y - rp->Sy * B_z;
-    Cx = C_x - rp->Sx * C_z;  Cy = C_y - rp->Sy * C_z;
+    const float Ax = A_x - rp->Sx * A_z, Ay = A_y - rp->Sy * A_z;
+    const float Bx = B_x - rp->Sx * B_z, By = B_y - rp->Sy * B_z;
+    const float Cx = C_x - rp->Sx * C_z, Cy = C_y - rp->Sy * C_z;
 
     /* 3. Scaled barycentrics = 2D edge functions of the origin */
-    U = Cx * By - Cy * Bx;
-    V = Ax * Cy - Ay * Cx;
-    W = Bx * Ay - By * Ax;
+    uvw[0] = Cx * By - Cy * Bx;
+    uvw[1] = Ax * Cy - Ay * Cx;
+    uvw[2] = Bx * Ay - By * Ax;
+    e[0] = Ax; e[1] = Ay; e[2] = Bx; e[3] = By; e[4] = Cx; e[5] = Cy;
+    z[0] = A_z; z[1] = B_z; z[2] = C_z;
+}
+
+HOT_INLINE int tri_hit(const RayPre *rp, const float *v, float tmax,
+                       float *t_out, float *b1_out, float *b2_out)
+{
+    float e[6], z[3], uvw[3];
+    float Ax, Ay, Bx, By, Cx, Cy, Az, Bz, Cz, U, V, W, det, T, inv_det, t;
+
+    /* 1 to 3: the sheared vertices and the edge functions */
+    tri_edges(rp, v, e, z, uvw);
+    Ax = e[0]; Ay = e[1]; Bx = e[2]; By = e[3]; Cx = e[4]; Cy = e[5];
+    U = uvw[0]; V = uvw[1]; W = uvw[2];
     /* (the conditions are combined with | and &, not || and &&: one branch, not six,
        each of which random rays would mispredict) */
     if ((U == 0.0f) | (V == 0.0f) | (W == 0.0f))  /* on an edge in float: ask double */
@@ -322,7 +380,7 @@ HOT_INLINE int tri_hit(const RayPre *rp, const float *v, float tmax,
     if (det == 0.0f) return 0;                     /* edge-on or degenerate triangle */
 
     /* 4. Scaled distance T = det * t */
-    Az = rp->Sz * A_z;  Bz = rp->Sz * B_z;  Cz = rp->Sz * C_z;
+    Az = rp->Sz * z[0];  Bz = rp->Sz * z[1];  Cz = rp->Sz * z[2];
     T = U * Az + V * Bz + W * Cz;
     if (det < 0.0f ? T >= 0.0f : T <= 0.0f) return 0;   /* behind the origin */
     inv_det = 1.0f / det;
@@ -390,7 +448,7 @@ int intersect_triangle(Vec3 p0, Vec3 p1, Vec3 p2, const Ray *r, float *t, float 
     v[0] = p0.x; v[1] = p0.y; v[2] = p0.z;
     v[3] = p1.x; v[4] = p1.y; v[5] = p1.z;
     v[6] = p2.x; v[7] = p2.y; v[8] = p2.z;
-    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp)) return 0;
+    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp, 0)) return 0;
     return tri_hit(&rp, v, r->tmax, t, b1, b2) && *t < r->tmax;
 }
 
@@ -399,7 +457,7 @@ int intersect_sphere(Vec3 c, float radius, const Ray *r, float *t)
     RayPre rp;
     float s[4];
     s[0] = c.x; s[1] = c.y; s[2] = c.z; s[3] = radius;
-    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp)) return 0;
+    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp, 0)) return 0;
     return sphere_hit(&rp, s, r->tmax, t) && *t < r->tmax;
 }
 
@@ -902,18 +960,26 @@ int bvh_build(Bvh *b, const Scene *s)
    pbrt-v3 section 3.9.2) so that rounding never culls a box the ray really touches. */
 /* The slab test of the root's box (as in node_hit_mask, but without the culling by
    tmax: for a ray that misses it, nothing else needs computing). */
-HOT_INLINE int root_hit(const Bvh *b, const RayPre *rp)
+/* One axis of root_hit: the entry and exit distances of the root box's slab, folded
+   into *tn and *tf.  Called once an axis, written out: gcc keeps a loop of three
+   here, whose counter and indexing cost about 15 instructions a ray. */
+HOT_INLINE void root_axis(const Bvh *b, const RayPre *rp, int a, float *tn, float *tf)
 {
     const float *lohi[2];
-    float tn = 0.0f, tf = INFINITY;
-    int a;
+    float t_near, t_far;
     lohi[0] = b->bmin; lohi[1] = b->bmax;
-    for (a = 0; a < 3; a++) {
-        const float t_near = (lohi[rp->neg[a]][a] - rp->o[a]) * rp->inv_d[a];
-        const float t_far = (lohi[1 - rp->neg[a]][a] - rp->o[a]) * rp->inv_d[a];
-        tn = t_near > tn ? t_near : tn;
-        tf = t_far < tf ? t_far : tf;
-    }
+    t_near = (lohi[rp->neg[a]][a] - rp->o[a]) * rp->inv_d[a];
+    t_far = (lohi[1 - rp->neg[a]][a] - rp->o[a]) * rp->inv_d[a];
+    *tn = t_near > *tn ? t_near : *tn;
+    *tf = t_far < *tf ? t_far : *tf;
+}
+
+HOT_INLINE int root_hit(const Bvh *b, const RayPre *rp)
+{
+    float tn = 0.0f, tf = INFINITY;
+    root_axis(b, rp, 0, &tn, &tf);
+    root_axis(b, rp, 1, &tn, &tf);
+    root_axis(b, rp, 2, &tn, &tf);
     return tn <= tf * (1.0f + 2.0f * gamma_n(3));
 }
 
@@ -1056,6 +1122,111 @@ HOT_INLINE int child_rank(const float *t_enter, unsigned mask, int jj)
 #define child_rank child_rank_scalar
 #endif
 
+#if BVH_AVX
+/* node_hit_mask_scalar for all 8 children in one pass of 8-lane AVX: node_hit4's
+   operations, lane for lane (_mm256_max_ps and _mm256_min_ps treat a NaN as
+   _mm_max_ps and _mm_min_ps do; _CMP_LE_OS is _mm_cmple_ps's predicate).  A row of
+   8 planes is 32 bytes, 32-byte aligned (nodes on 64 bytes), one aligned load.  The
+   ray's operands are broadcast here from RayPre's floats (one vbroadcastss each,
+   which the compiler hoists out of the loop where it can). */
+AVX2_FN unsigned node_hit8(const BvhNode *nd, const RayPre *rp, float t_cull,
+                           float *t_enter, float *t_z)
+{
+    const float *box = nd->box[0];
+    const __m256 o0 = _mm256_set1_ps(rp->o_ax[0]), i0 = _mm256_set1_ps(rp->inv_ax[0]);
+    const __m256 o1 = _mm256_set1_ps(rp->o_ax[1]), i1 = _mm256_set1_ps(rp->inv_ax[1]);
+    const __m256 o2 = _mm256_set1_ps(rp->o_ax[2]), i2 = _mm256_set1_ps(rp->inv_ax[2]);
+    const __m256 tn0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->near[0]), o0), i0);
+    const __m256 tf0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->far[0]), o0), i0);
+    const __m256 tn1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->near[1]), o1), i1);
+    const __m256 tf1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->far[1]), o1), i1);
+    const __m256 tn2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->near[2]), o2), i2);
+    const __m256 tf2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->far[2]), o2), i2);
+    __m256 tn = _mm256_max_ps(tn0, _mm256_setzero_ps()), tf = _mm256_min_ps(tf0, _mm256_set1_ps(INFINITY));
+    tn = _mm256_max_ps(tn1, tn);  tf = _mm256_min_ps(tf1, tf);
+    tn = _mm256_max_ps(tn2, tn);  tf = _mm256_min_ps(tf2, tf);
+    _mm256_storeu_ps(t_enter, tn);
+    _mm256_storeu_ps(t_z, tn2);
+    return (unsigned)_mm256_movemask_ps(
+        _mm256_and_ps(_mm256_cmp_ps(tn, _mm256_mul_ps(tf, _mm256_set1_ps(rp->far_scale)), _CMP_LE_OS),
+                      _mm256_cmp_ps(tn2, _mm256_set1_ps(t_cull), _CMP_LE_OS)));
+}
+
+/* child_rank with all 8 slots in one compare, and the entered bits counted by the
+   population-count instruction (every AVX2 processor has it; the dispatch asks). */
+AVX2_FN int child_rank8(const float *t_enter, unsigned mask, int jj)
+{
+    const __m256 te = _mm256_set1_ps(t_enter[jj]), t8 = _mm256_loadu_ps(t_enter);
+    const unsigned gt = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(t8, te, _CMP_GT_OS));
+    const unsigned eq = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(t8, te, _CMP_EQ_OQ));
+    return __builtin_popcount((gt | (eq & ((1u << jj) - 1u))) & mask);
+}
+
+/* tri_miss4's per-ray operands (after ray_prepare_rest) */
+AVX2_FN void ray_prepare4(RayPre *rp)
+{
+    rp->perm[0] = _mm_setr_epi32(rp->kx, rp->ky, rp->kz, 3);
+    rp->perm[1] = _mm_setr_epi32(rp->kx + 1, rp->ky + 1, rp->kz + 1, 0);
+    rp->o_k = _mm_setr_ps(rp->o[rp->kx], rp->o[rp->ky], rp->o[rp->kz], 0.0f);
+    rp->shear = _mm_setr_ps(rp->Sx, rp->Sy, 0.0f, 0.0f);
+}
+
+/* tri_hit's steps 1 to 3 with the three vertices side by side, as a filter: 1 where
+   tri_hit returns 0 at its sign test (U, V, W of mixed signs, none 0 in float), else
+   0 (then tri_hit decides).  A vertex is loaded as 4 floats (C from v + 5, so that no
+   load passes v[8]) and put in the order (kx, ky, kz) by a variable permute; then
+   every lane does tri_hit's operations in tri_hit's order:
+       (A_x, A_y, A_z) = (v_kx - o_kx, v_ky - o_ky, v_kz - o_kz)
+       (Ax, Ay)        = (A_x - Sx A_z, A_y - Sy A_z)          (B and C alike)
+       (U, V, W)       = (Cx, Ax, Bx) (By, Cy, Ay) - (Cy, Ay, By) (Bx, Cx, Ax)
+   so U, V and W are tri_hit's to the bit, and so is the filter's verdict (a NaN is
+   neither < 0 nor > 0 in either).  Most triangles a ray is tested against end at
+   the sign test (85 % on tools/bench_count's rays); the rest, and the rays on an
+   edge in float, go through tri_hit itself. */
+AVX2_FN int tri_miss4(const RayPre *rp, const float *v)
+{
+    const __m128 A_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v), rp->perm[0]), rp->o_k);
+    const __m128 B_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 3), rp->perm[0]), rp->o_k);
+    const __m128 C_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 5), rp->perm[1]), rp->o_k);
+    /* shear: lane 0 x - Sx z, lane 1 y - Sy z (lanes 2, 3 unused) */
+    const __m128 A = _mm_sub_ps(A_, _mm_mul_ps(rp->shear, _mm_shuffle_ps(A_, A_, _MM_SHUFFLE(2, 2, 2, 2))));
+    const __m128 B = _mm_sub_ps(B_, _mm_mul_ps(rp->shear, _mm_shuffle_ps(B_, B_, _MM_SHUFFLE(2, 2, 2, 2))));
+    const __m128 C = _mm_sub_ps(C_, _mm_mul_ps(rp->shear, _mm_shuffle_ps(C_, C_, _MM_SHUFFLE(2, 2, 2, 2))));
+    const __m128 AB = _mm_unpacklo_ps(A, B);                              /* Ax Bx Ay By */
+    const __m128 X = _mm_shuffle_ps(AB, C, _MM_SHUFFLE(0, 0, 1, 0));      /* Ax Bx Cx */
+    const __m128 Y = _mm_shuffle_ps(AB, C, _MM_SHUFFLE(1, 1, 3, 2));      /* Ay By Cy */
+    const __m128 UVW = _mm_sub_ps(
+        _mm_mul_ps(_mm_shuffle_ps(X, X, _MM_SHUFFLE(3, 1, 0, 2)), _mm_shuffle_ps(Y, Y, _MM_SHUFFLE(3, 0, 2, 1))),
+        _mm_mul_ps(_mm_shuffle_ps(Y, Y, _MM_SHUFFLE(3, 1, 0, 2)), _mm_shuffle_ps(X, X, _MM_SHUFFLE(3, 0, 2, 1))));
+    const __m128 zero = _mm_setzero_ps();
+    const int eq0 = _mm_movemask_ps(_mm_cmpeq_ps(UVW, zero)) & 7;
+    const int lt0 = _mm_movemask_ps(_mm_cmplt_ps(UVW, zero)) & 7;
+    const int gt0 = _mm_movemask_ps(_mm_cmpgt_ps(UVW, zero)) & 7;
+    return (eq0 == 0) & (lt0 != 0) & (gt0 != 0);   /* mixed signs: outside */
+}
+
+/* tri_hit for the triangles tri_miss4 lets through (15 %), as a call: inlined, its
+   per-ray operands would be kept ready at every leaf */
+AVX2_NOINLINE int tri_hit_rest(const RayPre *rp, const float *v,
+    float tmax, float *t_out, float *b1_out, float *b2_out)
+{
+    return tri_hit(rp, v, tmax, t_out, b1_out, b2_out);
+}
+
+/* whether this processor (and its operating system) runs the AVX2 copies */
+static int bvh_cpu_avx2(void)
+{
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
+}
+#else
+#define node_hit8 node_hit_mask
+#define tri_miss4(rp, v) 0
+#define tri_hit_rest tri_hit
+#define ray_prepare4(rp) ((void)(rp))
+#define child_rank8 child_rank
+#define bvh_cpu_avx2() 0
+#endif
+
 /* Instance in's M for ray r: its own, or a moving one's at the ray's time
    (motion.c; *tmp holds it then). */
 static const Xform *instance_xf(const Scene *s, const Instance *in, const Ray *r, Xform *tmp)
@@ -1182,7 +1353,7 @@ static int alpha_keep(const Scene *s, const Ray *r, int p, float tmax, float *t,
    traced in object space with tmax = t_best; at_tmax: a hit at t_best itself counts
    (the caller breaks that tie by the instance's id).  Defined after traverse. */
 static int instance_hit(const Scene *s, int i, const Ray *r, float t_best, int at_tmax,
-                        int any_hit, HitRecord *h);
+                        int any_hit, int avx, HitRecord *h);
 
 /* Walk the tree; any_hit = 1 returns at the first hit (h may be NULL then).
    at_tmax = 1 (the trace of an instance's object, instance_hit) also accepts a hit
@@ -1200,7 +1371,7 @@ static int instance_hit(const Scene *s, int i, const Ray *r, float t_best, int a
        children 2, 3, 5 entered; ranks (farther ones) 0, 2, 1:
        stack  ... | child 2 (4.0) | child 5 (2.0) | child 3 (1.5) | <- popped next */
 HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h, int any_hit,
-                        int at_tmax)
+                        int at_tmax, int avx)
 {
     RayPre rp;
     StackEntry stack[BVH_STACK];
@@ -1212,16 +1383,18 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
     int sp = 0, best_p = no_hit, ref = 0;
     HitRecord hi;
     if (b->n_nodes == 0 || !(t_best > 0.0f) || !ray_prepare(r, &rp) || !root_hit(b, &rp) ||
-        !ray_prepare_rest(&rp))                    /* only now: most rays miss the root */
+        !ray_prepare_rest(&rp, !avx))              /* only now: most rays miss the root */
         return 0;
     t_cull = t_best * rp.cull_scale;
+    if (avx) ray_prepare4(&rp);
 
     for (;;) {
         if (ref >= 0) {
             /* inner node: test the children; one entered: go on with it; several:
                put them on the stack farthest first and go on with the nearest */
             const BvhNode *nd = &b->nodes[ref];
-            const unsigned mask = node_hit_mask(nd, &rp, t_cull, t_enter, t_z);
+            const unsigned mask = avx ? node_hit8(nd, &rp, t_cull, t_enter, t_z)
+                                      : node_hit_mask(nd, &rp, t_cull, t_enter, t_z);
             if (mask != 0) {
                 unsigned m;
                 int n = 0;
@@ -1250,7 +1423,8 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                    an insertion sort.  Shadow rays need no order: rank = arrival. */
                 for (m = mask; m != 0; m &= m - 1, n++) {
                     const int jj = lowest_bit(m);
-                    const int rank = any_hit ? n : child_rank(t_enter, mask, jj);
+                    const int rank = any_hit ? n : avx ? child_rank8(t_enter, mask, jj)
+                                                       : child_rank(t_enter, mask, jj);
                     stack[sp + rank].ref = nd->child[jj];
                     stack[sp + rank].t_z = t_z[jj];
                     prefetch_ref(b, nd->child[jj]);
@@ -1265,7 +1439,10 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
             for (; q < end; q++) {
                 const int p = q->prim;
                 int ok;
-                if (p < s->n_tris) ok = tri_hit(&rp, q->v, t_best, &t, &b1, &b2);
+                if (p < s->n_tris)
+                    ok = avx ? !tri_miss4(&rp, q->v) &&   /* (AVX2: a filter first) */
+                                   tri_hit_rest(&rp, q->v, t_best, &t, &b1, &b2)
+                             : tri_hit(&rp, q->v, t_best, &t, &b1, &b2);
                 else if (p < s->n_tris + s->n_spheres) {
                     ok = sphere_hit(&rp, q->v, t_best, &t); b1 = b2 = 0.0f;
                 } else if (p < n_quad_end) {
@@ -1280,7 +1457,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                     ok = curve_intersect(s, &s->curve_pieces[p - n_patch_end], r, t_best, any_hit, &hi);
                     if (ok) { t = hi.t; b1 = hi.b1; b2 = hi.b2; }
                 } else {                            /* an instance: its object's closest hit */
-                    if (!instance_hit(s, p - n_base, r, t_best, best_p != no_hit, any_hit, &hi))
+                    if (!instance_hit(s, p - n_base, r, t_best, best_p != no_hit, any_hit, avx, &hi))
                         continue;
                     if (any_hit) return 1;          /* at t < r->tmax */
                     ok = 1; t = hi.t; b1 = hi.b1; b2 = hi.b2;
@@ -1311,47 +1488,162 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
     }
 }
 
+#if BVH_AVX
+/* The AVX2 copies of the traversal: the same code (traverse is inlined), compiled for
+   AVX2, so that node_hit8 and child_rank8 inline into it. */
+AVX2_STATIC int traverse_avx2_closest(const Bvh *b, const Scene *s,
+                                                                 const Ray *r, HitRecord *h)
+{
+    return traverse(b, s, r, h, 0, 0, 1);
+}
+
+AVX2_STATIC int traverse_avx2_any(const Bvh *b, const Scene *s,
+                                                             const Ray *r)
+{
+    return traverse(b, s, r, NULL, 1, 0, 1);
+}
+
+AVX2_STATIC int traverse_avx2(const Bvh *b, const Scene *s, const Ray *r,
+                                                         HitRecord *h, int any_hit, int at_tmax)
+{
+    return traverse(b, s, r, h, any_hit, at_tmax, 1);
+}
+#endif
+
 static int instance_hit(const Scene *s, int i, const Ray *r, float t_best, int at_tmax,
-                        int any_hit, HitRecord *h)
+                        int any_hit, int avx, HitRecord *h)
 {
     const Instance *in = &s->instances[i];
     Xform tmp;
     Ray ro = instance_ray(instance_xf(s, in, r, &tmp), r);
     ro.tmax = t_best;
-    return traverse(&s->objects[in->object].bvh, s, &ro, h, any_hit, at_tmax);
+#if BVH_AVX
+    if (avx) return traverse_avx2(&s->objects[in->object].bvh, s, &ro, h, any_hit, at_tmax);
+#endif
+    (void)avx;
+    return traverse(&s->objects[in->object].bvh, s, &ro, h, any_hit, at_tmax, 0);
+}
+
+/* The SSE2 (or scalar) copies, as functions of their own, so that the two queries
+   below only choose: with a copy inlined into them, every query paid that copy's
+   stack frame (24 instructions a ray) before choosing. */
+#if BVH_AVX && (defined(__GNUC__) || defined(__clang__))
+#define NOINLINE __attribute__((noinline))
+#else
+#define NOINLINE
+#endif
+static NOINLINE int traverse_sse_closest(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h)
+{
+    return traverse(b, s, r, h, 0, 0, 0);
+}
+
+static NOINLINE int traverse_sse_any(const Bvh *b, const Scene *s, const Ray *r)
+{
+    return traverse(b, s, r, NULL, 1, 0, 0);
 }
 
 int bvh_intersect(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h)
 {
-    return traverse(b, s, r, h, 0, 0);
+#if BVH_AVX
+    if (bvh_cpu_avx2()) return traverse_avx2_closest(b, s, r, h);
+#endif
+    return traverse_sse_closest(b, s, r, h);
 }
 
 int bvh_occluded(const Bvh *b, const Scene *s, const Ray *r)
 {
-    return traverse(b, s, r, NULL, 1, 0);
+#if BVH_AVX
+    if (bvh_cpu_avx2()) return traverse_avx2_any(b, s, r);
+#endif
+    return traverse_sse_any(b, s, r);
+}
+
+int bvh_avx2(void)
+{
+    return bvh_cpu_avx2();
+}
+
+/* The children of node nd that differ in any bit between the scalar slab test and
+   rank (m0, te0, tz0) and those of the SIMD path (avx: the AVX2 one, else SSE2). */
+HOT_INLINE int node_mismatches(const BvhNode *nd, const RayPre *rp, float t_cull, int avx)
+{
+    float te[2][BVH_WIDTH], tz[2][BVH_WIDTH];
+    const unsigned m0 = node_hit_mask_scalar(nd, rp, t_cull, te[0], tz[0]);
+    const unsigned m1 = avx ? node_hit8(nd, rp, t_cull, te[1], tz[1])
+                            : node_hit_mask(nd, rp, t_cull, te[1], tz[1]);
+    int j, bad = 0;
+    for (j = 0; j < BVH_WIDTH; j++) {
+        const int in0 = (m0 >> j) & 1u, in1 = (m1 >> j) & 1u;
+        bad += in0 != in1 ||
+               memcmp(&te[0][j], &te[1][j], sizeof(float)) != 0 ||
+               memcmp(&tz[0][j], &tz[1][j], sizeof(float)) != 0;
+        if (in0 && in1)                    /* the order of the children entered */
+            bad += child_rank_scalar(te[0], m0, j) !=
+                   (avx ? child_rank8(te[1], m1, j) : child_rank(te[1], m1, j));
+    }
+    return bad;
+}
+
+#if BVH_AVX
+AVX2_STATIC int node_mismatches_avx2(const BvhNode *nd, const RayPre *rp,
+                                                                float t_cull)
+{
+    return node_mismatches(nd, rp, t_cull, 1);
+}
+#endif
+
+/* tri_miss4 against the scalar sign test of tri_edges' U, V, W on the triangle v,
+   and against tri_hit itself (a triangle the filter drops must be one tri_hit
+   misses): 1 on a difference */
+#if BVH_AVX
+AVX2_STATIC int tri_filter_mismatch(const RayPre *rp, const float *v)
+{
+    RayPre r4 = *rp;
+    float e[6], z[3], uvw[3], t, b1, b2;
+    int miss;
+    ray_prepare4(&r4);
+    tri_edges(rp, v, e, z, uvw);
+    miss = ((uvw[0] != 0.0f) & (uvw[1] != 0.0f) & (uvw[2] != 0.0f)) &
+           ((uvw[0] < 0.0f) | (uvw[1] < 0.0f) | (uvw[2] < 0.0f)) &
+           ((uvw[0] > 0.0f) | (uvw[1] > 0.0f) | (uvw[2] > 0.0f));
+    return tri_miss4(&r4, v) != miss || (miss && tri_hit(rp, v, INFINITY, &t, &b1, &b2));
+}
+#endif
+
+int bvh_tri_filter_mismatches(const Bvh *b, const Scene *s, const Ray *r, int *tested)
+{
+    RayPre rp;
+    int i, bad = 0;
+    if (!bvh_cpu_avx2() || !ray_prepare(r, &rp) || !ray_prepare_rest(&rp, 0)) return 0;
+    for (i = 0; i < b->n_prims; i++) {
+        if (b->prims[i].prim >= s->n_tris) continue;
+#if BVH_AVX
+        bad += tri_filter_mismatch(&rp, b->prims[i].v);
+#endif
+        ++*tested;
+    }
+    return bad;
 }
 
 int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes)
 {
     RayPre rp;
-    int i, j, bad = 0;
+    int i, bad = 0;
+    const int avx = bvh_cpu_avx2();
     unsigned m;
     for (m = 1; m < 256; m++) bad += lowest_bit(m) != lowest_bit_portable(m);
-    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp)) return bad;
+    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp, 1)) return bad;
     for (i = 0; i < b->n_nodes; i++) {
-        float te[2][BVH_WIDTH], tz[2][BVH_WIDTH];
-        const unsigned m0 = node_hit_mask_scalar(&b->nodes[i], &rp, t_cull, te[0], tz[0]);
-        const unsigned m1 = node_hit_mask(&b->nodes[i], &rp, t_cull, te[1], tz[1]);
-        for (j = 0; j < BVH_WIDTH; j++) {
-            const int in0 = (m0 >> j) & 1u, in1 = (m1 >> j) & 1u;
-            bad += in0 != in1 ||
-                   memcmp(&te[0][j], &te[1][j], sizeof(float)) != 0 ||
-                   memcmp(&tz[0][j], &tz[1][j], sizeof(float)) != 0;
-            if (in0 && in1)                /* the order of the children entered */
-                bad += child_rank_scalar(te[0], m0, j) != child_rank(te[1], m1, j);
-        }
+        bad += node_mismatches(&b->nodes[i], &rp, t_cull, 0);
         *lanes += BVH_WIDTH;
+#if BVH_AVX
+        if (avx) {
+            bad += node_mismatches_avx2(&b->nodes[i], &rp, t_cull);
+            *lanes += BVH_WIDTH;
+        }
+#endif
     }
+    (void)avx;
     return bad;
 }
 

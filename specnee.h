@@ -720,12 +720,20 @@ int  bvh_intersect(const Bvh *b, const struct Scene *s, const Ray *r, HitRecord 
 /* Any hit along r: the shadow-ray query. */
 int  bvh_occluded(const Bvh *b, const struct Scene *s, const Ray *r);
 /* The slab test runs on four children at a time in SSE2 where the compiler has it,
-   beside the scalar code it mirrors (bvh.c).  For ray r and culling distance t_cull:
-   how many children of b's nodes get an entry distance, a near plane or an
-   entered/not that differs in any bit between the two, plus how many masks
-   1..255 get different lowest bits from the two bit scans; *lanes += children
-   compared.  For tests. */
+   and on all eight in AVX2 where the processor has it too (bvh_avx2() = 1), beside
+   the scalar code they mirror (bvh.c).  For ray r and culling distance t_cull:
+   how many children of b's nodes get an entry distance, a near plane, an
+   entered/not or a rank that differs in any bit between the scalar code and each
+   SIMD path, plus how many masks 1..255 get different lowest bits from the two bit
+   scans; *lanes += children compared (each node's 8 once per SIMD path).  For tests. */
 int  bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes);
+int  bvh_avx2(void);
+/* Where the AVX2 copy runs, a triangle is first tested by a 4-lane filter (bvh.c:
+   tri_miss4): how many of b's triangle records r gets a filter verdict for that
+   differs from the scalar sign test of the watertight test, or that the filter
+   drops though the scalar test hits; *tested += triangles compared (none without
+   AVX2).  For tests. */
+int  bvh_tri_filter_mismatches(const Bvh *b, const struct Scene *s, const Ray *r, int *tested);
 /* The BVH over the given primitives only (an object definition's: instance.c). */
 int  bvh_build_object(Bvh *b, const struct Scene *s, const int32_t *ids, int n);
 /* The two primitive tests, exposed for tests and the brute-force reference. */

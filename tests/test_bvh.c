@@ -9,10 +9,14 @@
                          icosphere with every triangle duplicated, overlapping coplanar
                          triangles) with rays through vertices and edges, along the axes
                          and the normals, and grazing the triangles' planes
-     bvh_simd_matches_scalar  the slab test's SSE2 code equals the scalar code it
-                         mirrors bit for bit (entry distances, near planes, the mask),
+     bvh_simd_matches_scalar  the slab test's SSE2 code, and its AVX2 code where the
+                         processor has AVX2, equal the scalar code they mirror bit for
+                         bit (entry distances, near planes, the mask, the ranks),
                          with d = 0 axes and origins on the boxes' planes; the two bit
                          scans agree on every 8-bit mask
+     bvh_avx2_triangle_filter  the AVX2 traversal's 4-lane triangle filter gives the
+                         scalar sign test's verdict on every triangle (rays through
+                         vertices and edges included) and never drops a hit
      bvh_watertight_*    rays aimed exactly at shared vertices and edges of closed meshes
                          (an icosphere; a subdivided cube hit by axis-aligned rays, whose
                          flat boxes stress the slab test) all hit
@@ -409,7 +413,8 @@ static void test_bvh_exact_adversarial(T *t)
     }
 }
 
-/* The slab test's SSE2 code against the scalar code it mirrors (bvh_simd_mismatches),
+/* The slab test's and the rank's SSE2 code, and their AVX2 code where the processor
+   has AVX2 (bvh_avx2), against the scalar code they mirror (bvh_simd_mismatches),
    bit for bit on every node: random rays, rays with zero direction components whose
    origin lies exactly on a box's plane (the NaN of 0 * inf), and culling distances
    from 0 to infinity; on a soup and on the grid cube, whose boxes are flat. */
@@ -417,7 +422,8 @@ static void test_bvh_simd_matches_scalar(T *t)
 {
     Scene s;
     Rng rng;
-    int scene, k, lanes = 0, bad = 0;
+    int scene, k, lanes = 0, bad = 0, expected = 0;
+    const int paths = 1 + bvh_avx2();       /* SSE2, and AVX2 where it runs */
     rng_seed(&rng, 29, 0);
     for (scene = 0; scene < 2; scene++) {
         CHECK(t, scene ? make_grid_cube(&s, 8) : make_soup(&s, &rng, 3000, 20), "out of memory");
@@ -441,12 +447,64 @@ static void test_bvh_simd_matches_scalar(T *t)
             }
             r.tmax = INFINITY;
             bad += bvh_simd_mismatches(&s.bvh, &r, culls[k % 5], &lanes);
+            expected += s.bvh.n_nodes * BVH_WIDTH * paths;
         }
         scene_release(&s);
     }
-    CHECK(t, lanes > 100000, "only %d children compared", lanes);
-    CHECK(t, bad == 0, "%d of %d children differ between the SSE2 and the scalar slab test",
-          bad, lanes);
+    CHECK(t, lanes > 100000 && lanes == expected, "%d children compared, not %d", lanes, expected);
+    CHECK(t, bad == 0, "%d of %d children differ between the SIMD (%s) and the scalar slab test",
+          bad, lanes, paths == 2 ? "SSE2 and AVX2" : "SSE2");
+}
+
+/* The AVX2 traversal's 4-lane triangle filter (bvh_tri_filter_mismatches) against
+   the scalar sign test of the watertight test, on every triangle record, and never
+   dropping a triangle the scalar test hits: random rays, and rays aimed at a
+   triangle's vertex or edge midpoint (where U, V or W is 0 in float and the
+   filter must leave the triangle to the double-precision test); on a soup, the
+   grid cube (axis-aligned rays along its faces: exact zeros) and an icosphere.
+   Where the processor has no AVX2 nothing is compared, and the test checks that. */
+static void test_bvh_avx2_triangle_filter(T *t)
+{
+    Scene s;
+    Rng rng;
+    int scene, k, tested = 0, bad = 0;
+    rng_seed(&rng, 31, 0);
+    for (scene = 0; scene < 3; scene++) {
+        const int ok = scene == 0 ? make_soup(&s, &rng, 2000, 10)
+                     : scene == 1 ? make_grid_cube(&s, 6) : make_icosphere(&s, 3);
+        CHECK(t, ok, "out of memory");
+        CHECK(t, bvh_build(&s.bvh, &s), "bvh_build failed");
+        for (k = 0; k < 120; k++) {
+            Ray r;
+            r.o = v3(urand(&rng, -2, 2), urand(&rng, -2, 2), urand(&rng, -2, 2));
+            r.d = random_dir(&rng);
+            if (k % 3 != 0) {               /* at a vertex (k % 3 == 1) or an edge's middle */
+                const Triangle *tr = &s.tris[(int)(rng_float(&rng) * (float)s.n_tris) % s.n_tris];
+                const Vec3 a = s.P[tr->v[0]], b = s.P[tr->v[1]];
+                const Vec3 aim = k % 3 == 1 ? a : v3_mul(v3_add(a, b), 0.5f);
+                if (scene == 1 && k % 2 == 0) {          /* along an axis */
+                    const int ax = (int)(rng_float(&rng) * 3) % 3;
+                    float c[3], dd[3] = {0.0f, 0.0f, 0.0f};
+                    c[0] = aim.x; c[1] = aim.y; c[2] = aim.z;
+                    c[ax] += 3.0f;
+                    dd[ax] = -1.0f;
+                    r.o = v3(c[0], c[1], c[2]);
+                    r.d = v3(dd[0], dd[1], dd[2]);
+                } else {
+                    r.d = v3_sub(aim, r.o);
+                }
+            }
+            r.tmax = INFINITY;
+            bad += bvh_tri_filter_mismatches(&s.bvh, &s, &r, &tested);
+        }
+        scene_release(&s);
+    }
+    if (bvh_avx2())
+        CHECK(t, tested > 200000, "only %d triangles compared", tested);
+    else
+        CHECK(t, tested == 0, "%d triangles compared without AVX2", tested);
+    CHECK(t, bad == 0, "%d of %d triangles: the AVX2 filter differs from the scalar test",
+          bad, tested);
 }
 
 static void test_bvh_watertight_icosphere(T *t)
@@ -1203,6 +1261,7 @@ const TestCase tests_bvh[] = {
     {"bvh_vs_brute", test_bvh_vs_brute},
     {"bvh_exact_adversarial", test_bvh_exact_adversarial},
     {"bvh_simd_matches_scalar", test_bvh_simd_matches_scalar},
+    {"bvh_avx2_triangle_filter", test_bvh_avx2_triangle_filter},
     {"bvh_watertight_icosphere", test_bvh_watertight_icosphere},
     {"bvh_watertight_cube", test_bvh_watertight_cube},
     {"bvh_structure", test_bvh_structure},
