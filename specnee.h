@@ -80,6 +80,8 @@
                                excitation wavelengths of fluorescence (thesis' future work) */
 #define BVH_LEAF_MAX 4      /* @@ primitives per BVH leaf: deeper trees vs. more tests */
 #define BVH_BINS 16         /* @@ SAH bins per axis: build time vs. tree quality */
+#define SAH_DEPTH_MAX 32    /* below this depth the BVH build splits at the middle, which
+                               bounds the traversal stack (bvh.c BVH_STACK) */
 #define SPATIAL_RES 64      /* @@ voxels on the longest axis of the spatial grid (pbrt-v3) */
 #define SPATIAL_SAMPLES 128 /* @@ receiver points per voxel (pbrt-v3) */
 #define LIGHT_TREE_BINS 12  /* @@ split candidates per axis in the light tree build */
@@ -589,7 +591,7 @@ WlMode wl_mode_from_name(const char *name);               /* WL_MODE_COUNT if un
 const char *wl_mode_name(WlMode m);
 
 /* ======================================================================
-   5. Geometry (scene.c builds it, bvh.c intersects it, shapes.c holds the quadrics)
+   5. Geometry (scene.c builds it, bvhbuild.c its BVH, bvh.c intersects it, shapes.c holds the quadrics)
    ====================================================================== */
 typedef enum {
     SHAPE_MESH,                /* triangles (trianglemesh, bilinearmesh, plymesh) */
@@ -710,7 +712,7 @@ typedef struct {
 } Bvh;
 
 struct Scene;
-int  bvh_build(Bvh *b, const struct Scene *s);          /* 0 on out of memory */
+int  bvh_build(Bvh *b, const struct Scene *s);          /* bvhbuild.c; 0 on out of memory */
 /* The Shape of primitive id below the instances (a triangle, sphere, quadric or
    patch; bvh.c's numbering), -1 for an index out of range (also instance.c's). */
 int  bvh_prim_shape(const struct Scene *s, int id);
