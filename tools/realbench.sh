@@ -3,18 +3,24 @@
 # folder of real scene files.
 #
 #   PBRT=/path/to/pbrt sh tools/realbench.sh [--ref-spp N] [--spp "16 32 64 128 256"]
-#        [--seeds K] [--threads T] [--at S] [--time wall|cpu] [--out DIR2] DIR
+#        [--seeds K] [--threads T] [--at S] [--time wall|cpu] [--out DIR2]
+#        [--refs-only] [--pbrt-at-only] DIR
 #
 # For every DIR/*.pbrt (each file keeps its own camera, film, sampler, integrator
 # and depth; only the sample count and seed are given on the command line):
 #   1. a reference image by pbrt-v4 at --ref-spp (default 4096, seed 1000): the
 #      yardstick is the other renderer, so a bias of specnee shows as an error
-#      that stops falling;
+#      that stops falling; a reference already in DIR2/NAME/ from the same file
+#      and sample count is kept (DIR2/NAME/ref.key), so --refs-only can make
+#      them first, at any priority (their time is not measured), and the timed
+#      ladder run later on a quiet machine;
 #   2. each renderer at each sample count of the ladder, K seeds (default 2),
 #      every image's MSE against the reference (specnee diff) and the process's
 #      wall time and peak resident memory (/usr/bin/time);
 #   3. load: the wall time of a 1-spp run (parsing, building, one sample; a
 #      renderer's start-up as a user meets it).
+# --pbrt-at-only renders pbrt-v4 at 1 spp and at S only (the table reads no
+# other pbrt-v4 rung), which halves a run's time.
 # It prints one row per scene:
 #   pbrt-v4's MSE at S spp (default 64), its time there, the time specnee needs
 #   for that MSE (log-log interpolation of specnee's (time, MSE) ladder between
@@ -40,6 +46,8 @@ threads=$(getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)
 at=64
 clock=wall
 top=build/realbench
+refsonly=0
+pbrtat=0
 while [ $# -gt 0 ]; do
     case "$1" in
         --ref-spp) refspp=$2; shift 2 ;;
@@ -49,6 +57,8 @@ while [ $# -gt 0 ]; do
         --at) at=$2; shift 2 ;;
         --time) clock=$2; shift 2 ;;
         --out) top=$2; shift 2 ;;
+        --refs-only) refsonly=1; shift ;;
+        --pbrt-at-only) pbrtat=1; shift ;;
         -*) echo "realbench: unknown option $1" >&2; exit 2 ;;
         *) break ;;
     esac
@@ -94,12 +104,19 @@ for scene in "$dir"/*.pbrt; do
     out=$top/$name
     mkdir -p "$out"
     echo "== $name" >&2
-    run pbrt "$refspp" 1000 "$out/ref.pfm" "$scene" "$out/ref.log" > /dev/null || continue
+    key="$refspp $(cksum < "$scene")"
+    if [ ! -f "$out/ref.pfm" ] || [ "$(cat "$out/ref.key" 2>/dev/null)" != "$key" ]; then
+        rm -f "$out/ref.key"
+        run pbrt "$refspp" 1000 "$out/ref.pfm" "$scene" "$out/ref.log" > /dev/null || continue
+        echo "$key" > "$out/ref.key"
+    fi
+    [ $refsonly = 1 ] && continue
     : > "$out/ladder.txt"
     for spp in 1 $ladder; do
         k=1
         while [ $k -le "$seeds" ]; do
             for who in pbrt specnee; do
+                [ $who = pbrt ] && [ $pbrtat = 1 ] && [ "$spp" != 1 ] && [ "$spp" != "$at" ] && continue
                 img=$out/$who-$spp-$k.pfm
                 tm=$(run $who "$spp" "$k" "$img" "$scene" "$out/$who-$spp-$k.log") || continue 3
                 mse=$(./specnee diff "$img" "$out/ref.pfm" --csv | awk -F, 'NR == 2 { print $7 }')
