@@ -18,7 +18,7 @@
 #      every image's MSE against the reference (specnee diff) and the process's
 #      wall time and peak resident memory (/usr/bin/time);
 #   3. load: the wall time of a 1-spp run (parsing, building, one sample; a
-#      renderer's start-up as a user meets it).
+#      renderer's start-up as a user meets it), the median of three runs.
 # --pbrt-at-only renders pbrt-v4 at 1 spp and at S only (the table reads no
 # other pbrt-v4 rung), which halves a run's time.
 # It prints one row per scene:
@@ -114,7 +114,9 @@ for scene in "$dir"/*.pbrt; do
     : > "$out/ladder.txt"
     for spp in 1 $ladder; do
         k=1
-        while [ $k -le "$seeds" ]; do
+        nk=$seeds
+        [ "$spp" = 1 ] && nk=3        # 1 spp (the load): three runs, the median
+        while [ $k -le "$nk" ]; do
             for who in pbrt specnee; do
                 [ $who = pbrt ] && [ $pbrtat = 1 ] && [ "$spp" != 1 ] && [ "$spp" != "$at" ] && continue
                 img=$out/$who-$spp-$k.pfm
@@ -122,15 +124,20 @@ for scene in "$dir"/*.pbrt; do
                 mse=$(./specnee diff "$img" "$out/ref.pfm" --csv | awk -F, 'NR == 2 { print $7 }')
                 echo "$who $spp $k $tm $mse" >> "$out/ladder.txt"
             done
-            [ "$spp" = 1 ] && break
             k=$((k + 1))
         done
     done
     # columns of ladder.txt: who spp seed wall_s rss_kb mse
     awk -v at="$at" -v name="$name" '
+        $2 == 1 { t1[$1, ++n1[$1]] = $4 }
         { key = $1 " " $2; t[key] += $4; m[key] += $6; n[key]++
           if ($5 > rss[key]) rss[key] = $5
           if ($1 == "specnee" && $2 != 1 && !($2 in seen)) { seen[$2] = 1; spp[++ns] = $2 } }
+        function median1(who,   a, b, c) {   # the median of a renderer 1-spp runs
+            if (n1[who] < 3) return t["" who " 1"] / n["" who " 1"]
+            a = t1[who, 1]; b = t1[who, 2]; c = t1[who, 3]
+            return (a > b) ? ((b > c) ? b : ((a > c) ? c : a)) : ((a > c) ? a : ((b > c) ? c : b))
+        }
         END {
             pk = "pbrt " at
             if (!(pk in n) || !(("specnee " at) in n)) { printf "| %s | failed | | | | | | |\n", name; exit }
@@ -147,8 +154,8 @@ for scene in "$dir"/*.pbrt; do
             else st = exp(lt[j] + (target - lm[j]) * (lt[j + 1] - lt[j]) / (lm[j + 1] - lm[j]))
             sk = "specnee " at
             printf "| %s | %.3e | %.2f | %s%.2f | %s%.2f | %.2f | %.3f / %.3f | %.0f / %.0f |\n", name, pm, pt,
-                mark, st, mark, pt / st, (m[sk] / n[sk]) / pm, t["pbrt 1"] / n["pbrt 1"],
-                t["specnee 1"] / n["specnee 1"], rss[pk] / 1024, rss[sk] / 1024
+                mark, st, mark, pt / st, (m[sk] / n[sk]) / pm, median1("pbrt"),
+                median1("specnee"), rss[pk] / 1024, rss[sk] / 1024
         }' "$out/ladder.txt" | tee -a "$table"
 done
 awk -F'|' 'NR > 2 && $6 ~ /[0-9]/ { v = $6; gsub(/[~ ]/, "", v); if (v > 0) { s += log(v); c++ } }
