@@ -178,24 +178,59 @@ static inline float gamma_n(int n)
 /* ======================================================================
    Per-ray precomputation shared by the triangle test and the slab test
    ====================================================================== */
+/* The slab test's and the triangle test's per-ray axis order depends only on the
+   dominant axis kz and the signs of d: 3 x 8 cases, tabled once (ray_orders) so that
+   preparing a ray copies its case instead of computing it.  For case (kz, n), bit a
+   of n set when d_a < 0 (the sign bit):
+     axis[s]   the slab test's axis order: the other two axes after kz, then kz
+               (lane 3 = 3: the padding lane of a 4-float vector)
+     plane     the planes of axis[s] that the ray enters (plane[s]) and leaves
+               (plane[4 + s]) through, as offsets in floats from BvhNode.box[0]:
+               row * BVH_WIDTH, the hi row for d < 0 and the lo row for d >= 0
+     k         the triangle test's permutation kx, ky, kz: the two axes after kz,
+               swapped when d_kz < 0 to keep the triangles' winding (Woop et al.),
+               and (k[4..6]) each + 1, the AVX2 filter's lane choices (lane 3: 3,
+               lane 7: 0) */
 typedef struct {
-    float o[3], d[3];
-    float inv_d[3];          /* 1/d; +-infinity where d is +-0 */
+    int32_t axis[4];
+    int32_t plane[8];
+    int32_t k[8];
+} RayOrder;
+
+#define RO_NEG(a, n) (((n) >> (a)) & 1)
+#define RO_AX(kz, s) (((kz) + 1 + (s)) % 3)                     /* s = 2: kz itself */
+#define RO_NEAR(kz, s, n) ((RO_AX(kz, s) + 3 * RO_NEG(RO_AX(kz, s), n)) * BVH_WIDTH)
+#define RO_FAR(kz, s, n) ((RO_AX(kz, s) + 3 * (1 - RO_NEG(RO_AX(kz, s), n))) * BVH_WIDTH)
+#define RO_KX(kz, n) (((kz) + 1 + RO_NEG(kz, n)) % 3)
+#define RO_KY(kz, n) (((kz) + 2 - RO_NEG(kz, n)) % 3)
+#define RO(kz, n) { { RO_AX(kz, 0), RO_AX(kz, 1), kz, 3 },                              \
+    { RO_NEAR(kz, 0, n), RO_NEAR(kz, 1, n), RO_NEAR(kz, 2, n), 0,                       \
+      RO_FAR(kz, 0, n), RO_FAR(kz, 1, n), RO_FAR(kz, 2, n), 0 },                        \
+    { RO_KX(kz, n), RO_KY(kz, n), kz, 3, RO_KX(kz, n) + 1, RO_KY(kz, n) + 1, (kz) + 1, 0 } }
+#define RO8(kz) RO(kz, 0), RO(kz, 1), RO(kz, 2), RO(kz, 3), RO(kz, 4), RO(kz, 5), RO(kz, 6), RO(kz, 7)
+static const RayOrder ray_orders[3 * 8] = { RO8(0), RO8(1), RO8(2) };   /* [kz * 8 + n] */
+
+/* the robust slab test's far factor 1 + 2 gamma(3) and the closest hit's culling
+   margin 1 + 2 gamma(8) (ORDER INDEPENDENCE, below) */
+#define FAR_SCALE (1.0f + 2.0f * gamma_n(3))
+#define CULL_SCALE (1.0f + 2.0f * gamma_n(8))
+
+/* ======================================================================
+   Per-ray precomputation shared by the triangle test and the slab test
+   ====================================================================== */
+typedef struct {
+    float o[4], d[4];        /* lane 3: 0 */
+    float inv_d[4];          /* 1/d; +-infinity where d is +-0 */
     int neg[3];              /* the sign bit of d: the slab the ray enters first */
-    int kx, ky, kz;          /* permutation: kz = axis of the largest |d| */
-    int axis[3];             /* the slab test's axis order: the other two, then kz */
-    size_t near[3], far[3];  /* the planes of axis[s] that the ray enters and leaves
-                                through, by the sign of d, as offsets in floats from
-                                BvhNode.box[0]: row * BVH_WIDTH */
-    float Sx, Sy, Sz;        /* shear constants of Woop et al. */
-    float o_ax[3], inv_ax[3];   /* o and 1/d of axis[s]: the slab test's operands */
-    float far_scale;         /* 1 + 2 gamma(3): the robust slab test's far factor */
-    float cull_scale;        /* 1 + 2 gamma(8): the closest-hit culling margin */
+    int32_t plane[8];        /* RayOrder.plane of the ray's case: near[s] = plane[s],
+                                far[s] = plane[4 + s] */
+    int32_t k[8];            /* RayOrder.k: kx = k[0], ky = k[1], kz = k[2] */
+    float S[4];              /* shear constants of Woop et al.: Sx, Sy, Sz, 0 */
+    float o_ax[4], inv_ax[4];   /* o and 1/d of axis[s]: the slab test's operands */
 #if BVH_SIMD
-    __m128 o4[3], inv4[3], far4;   /* o_ax, inv_ax, far_scale in all four lanes */
+    __m128 o4[3], inv4[3], far4;   /* o_ax, inv_ax, FAR_SCALE in all four lanes */
 #endif
 #if BVH_AVX
-    __m128i perm[2];         /* tri_miss4's lane choices: (kx, ky, kz) and each + 1 */
     __m128 o_k, shear;       /* (o_kx, o_ky, o_kz, 0) and (Sx, Sy, 0, 0) */
 #endif
 } RayPre;
@@ -213,8 +248,8 @@ HOT_INLINE void inv_axis(RayPre *rp, int a)
    or direction). */
 HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
 {
-    rp->o[0] = r->o.x; rp->o[1] = r->o.y; rp->o[2] = r->o.z;
-    rp->d[0] = r->d.x; rp->d[1] = r->d.y; rp->d[2] = r->d.z;
+    rp->o[0] = r->o.x; rp->o[1] = r->o.y; rp->o[2] = r->o.z; rp->o[3] = 0.0f;
+    rp->d[0] = r->d.x; rp->d[1] = r->d.y; rp->d[2] = r->d.z; rp->d[3] = 0.0f;
     /* x - x is +0 for a finite x and NaN for an infinite or NaN one, so the sum of the
        six is 0 exactly when all six are finite: one test, not six branches */
     if (!((rp->o[0] - rp->o[0]) + (rp->o[1] - rp->o[1]) + (rp->o[2] - rp->o[2]) +
@@ -223,6 +258,7 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
     inv_axis(rp, 0);
     inv_axis(rp, 1);
     inv_axis(rp, 2);
+    rp->inv_d[3] = INFINITY;             /* 1 / d[3], as the 4-lane code makes it */
     return 1;
 }
 
@@ -232,46 +268,40 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
    scene miss everything.  Returns 0 for a direction too short to use. */
 HOT_INLINE int ray_prepare_rest(RayPre *rp, int sse)
 {
-    static const int mod3[6] = {0, 1, 2, 0, 1, 2};   /* mod3[i] = i % 3, without a division */
-    int a;
+    const RayOrder *ord;
+    int a, kz;
     /* kz: the dimension where |d| is largest, so the shear divides by the most (and
        the axis whose slab culls boxes beyond the closest hit: ORDER INDEPENDENCE) */
     {   /* without branches: random directions would mispredict them (docs/bvh.md) */
         const float a0 = fabsf(rp->d[0]), a1 = fabsf(rp->d[1]), a2 = fabsf(rp->d[2]);
         const int k1 = a1 > a0;                     /* the first largest wins ties */
         const float m = a1 > a0 ? a1 : a0;
-        rp->kz = k1 + (a2 > m) * (2 - k1);
+        kz = k1 + (a2 > m) * (2 - k1);
     }
     /* a direction too short for 1/d_kz to be finite hits nothing (the same for the
        brute-force tests intersect_triangle and intersect_sphere); this includes 0 */
-    if (!(fabsf(rp->d[rp->kz]) >= FLT_MIN)) return 0;
-    for (a = 0; a < 3; a++) {
-        const int ax = mod3[rp->kz + 1 + a];      /* a = 2 gives kz itself */
-        rp->axis[a] = ax;
-        rp->near[a] = (size_t)(ax + 3 * rp->neg[ax]) * BVH_WIDTH;   /* hi for d < 0, lo for d >= 0 */
-        rp->far[a] = (size_t)(ax + 3 * (1 - rp->neg[ax])) * BVH_WIDTH;
-        rp->o_ax[a] = rp->o[ax];
-        rp->inv_ax[a] = rp->inv_d[ax];
+    if (!(fabsf(rp->d[kz]) >= FLT_MIN)) return 0;
+    ord = &ray_orders[kz * 8 + rp->neg[0] + 2 * rp->neg[1] + 4 * rp->neg[2]];
+    memcpy(rp->plane, ord->plane, sizeof rp->plane);
+    memcpy(rp->k, ord->k, sizeof rp->k);
+    for (a = 0; a < 4; a++) {
+        rp->o_ax[a] = rp->o[ord->axis[a]];
+        rp->inv_ax[a] = rp->inv_d[ord->axis[a]];
     }
-    rp->far_scale = 1.0f + 2.0f * gamma_n(3);
 #if BVH_SIMD
     if (sse) {          /* node_hit4's operands (sse = 0: the AVX2 copy, or no slab test) */
         for (a = 0; a < 3; a++) {
             rp->o4[a] = _mm_set1_ps(rp->o_ax[a]);
             rp->inv4[a] = _mm_set1_ps(rp->inv_ax[a]);
         }
-        rp->far4 = _mm_set1_ps(rp->far_scale);
+        rp->far4 = _mm_set1_ps(FAR_SCALE);
     }
 #endif
     (void)sse;
-    rp->cull_scale = 1.0f + 2.0f * gamma_n(8);
-    /* kx, ky = the next two axes after kz, swapped when d_kz < 0 to keep the
-       triangles' winding (neg[kz] is exactly d_kz < 0 here: |d_kz| >= FLT_MIN) */
-    rp->kx = mod3[rp->kz + 1 + rp->neg[rp->kz]];
-    rp->ky = mod3[rp->kz + 2 - rp->neg[rp->kz]];
-    rp->Sx = rp->d[rp->kx] / rp->d[rp->kz];
-    rp->Sy = rp->d[rp->ky] / rp->d[rp->kz];
-    rp->Sz = rp->inv_d[rp->kz];        /* = 1 / d_kz, the very float the slab test uses */
+    rp->S[0] = rp->d[rp->k[0]] / rp->d[kz];
+    rp->S[1] = rp->d[rp->k[1]] / rp->d[kz];
+    rp->S[2] = rp->inv_d[kz];        /* = 1 / d_kz, the very float the slab test uses */
+    rp->S[3] = 0.0f;
     return 1;
 }
 
@@ -338,7 +368,7 @@ static float t_error_bound(float Ax, float Ay, float Az, float Bx, float By, flo
    uvw[] = U V W in float. */
 HOT_INLINE void tri_edges(const RayPre *rp, const float *v, float *e, float *z, float *uvw)
 {
-    const int kx = rp->kx, ky = rp->ky, kz = rp->kz;
+    const int kx = rp->k[0], ky = rp->k[1], kz = rp->k[2];
     const float ox = rp->o[kx], oy = rp->o[ky], oz = rp->o[kz];
 
     /* 1. Vertices relative to the ray origin, in the permuted axes (x, y, z) */
@@ -347,9 +377,9 @@ HOT_INLINE void tri_edges(const RayPre *rp, const float *v, float *e, float *z, 
     const float C_x = v[6 + kx] - ox, C_y = v[6 + ky] - oy, C_z = v[6 + kz] - oz;
 
     /* 2. Shear: the ray becomes the +z axis */
-    const float Ax = A_x - rp->Sx * A_z, Ay = A_y - rp->Sy * A_z;
-    const float Bx = B_x - rp->Sx * B_z, By = B_y - rp->Sy * B_z;
-    const float Cx = C_x - rp->Sx * C_z, Cy = C_y - rp->Sy * C_z;
+    const float Ax = A_x - rp->S[0] * A_z, Ay = A_y - rp->S[1] * A_z;
+    const float Bx = B_x - rp->S[0] * B_z, By = B_y - rp->S[1] * B_z;
+    const float Cx = C_x - rp->S[0] * C_z, Cy = C_y - rp->S[1] * C_z;
 
     /* 3. Scaled barycentrics = 2D edge functions of the origin */
     uvw[0] = Cx * By - Cy * Bx;
@@ -379,7 +409,7 @@ HOT_INLINE int tri_hit(const RayPre *rp, const float *v, float tmax,
     if (det == 0.0f) return 0;                     /* edge-on or degenerate triangle */
 
     /* 4. Scaled distance T = det * t */
-    Az = rp->Sz * z[0];  Bz = rp->Sz * z[1];  Cz = rp->Sz * z[2];
+    Az = rp->S[2] * z[0];  Bz = rp->S[2] * z[1];  Cz = rp->S[2] * z[2];
     T = U * Az + V * Bz + W * Cz;
     if (det < 0.0f ? T >= 0.0f : T <= 0.0f) return 0;   /* behind the origin */
     inv_det = 1.0f / det;
@@ -575,12 +605,12 @@ HOT_INLINE unsigned node_hit_mask_scalar(const BvhNode *nd, const RayPre *rp, fl
                                          float *t_enter, float *t_z)
 {
     const float *box = nd->box[0];
-    const float *n0 = box + rp->near[0], *f0 = box + rp->far[0];
-    const float *n1 = box + rp->near[1], *f1 = box + rp->far[1];
-    const float *n2 = box + rp->near[2], *f2 = box + rp->far[2];
+    const float *n0 = box + rp->plane[0], *f0 = box + rp->plane[4];
+    const float *n1 = box + rp->plane[1], *f1 = box + rp->plane[5];
+    const float *n2 = box + rp->plane[2], *f2 = box + rp->plane[6];
     const float o0 = rp->o_ax[0], o1 = rp->o_ax[1], o2 = rp->o_ax[2];
     const float i0 = rp->inv_ax[0], i1 = rp->inv_ax[1], i2 = rp->inv_ax[2];
-    const float far_scale = rp->far_scale;
+    const float far_scale = FAR_SCALE;
     int j;
     unsigned mask = 0;
     for (j = 0; j < BVH_WIDTH; j++) {
@@ -608,12 +638,12 @@ HOT_INLINE unsigned node_hit4(const BvhNode *nd, const RayPre *rp, __m128 cull, 
                               float *t_enter, float *t_z)
 {
     const float *box = nd->box[0] + h;
-    const __m128 tn0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->near[0]), rp->o4[0]), rp->inv4[0]);
-    const __m128 tf0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->far[0]), rp->o4[0]), rp->inv4[0]);
-    const __m128 tn1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->near[1]), rp->o4[1]), rp->inv4[1]);
-    const __m128 tf1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->far[1]), rp->o4[1]), rp->inv4[1]);
-    const __m128 tn2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->near[2]), rp->o4[2]), rp->inv4[2]);
-    const __m128 tf2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->far[2]), rp->o4[2]), rp->inv4[2]);
+    const __m128 tn0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->plane[0]), rp->o4[0]), rp->inv4[0]);
+    const __m128 tf0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->plane[4]), rp->o4[0]), rp->inv4[0]);
+    const __m128 tn1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->plane[1]), rp->o4[1]), rp->inv4[1]);
+    const __m128 tf1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->plane[5]), rp->o4[1]), rp->inv4[1]);
+    const __m128 tn2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->plane[2]), rp->o4[2]), rp->inv4[2]);
+    const __m128 tf2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->plane[6]), rp->o4[2]), rp->inv4[2]);
     __m128 tn = _mm_max_ps(tn0, _mm_setzero_ps()), tf = _mm_min_ps(tf0, _mm_set1_ps(INFINITY));
     tn = _mm_max_ps(tn1, tn);  tf = _mm_min_ps(tf1, tf);
     tn = _mm_max_ps(tn2, tn);  tf = _mm_min_ps(tf2, tf);
@@ -680,19 +710,19 @@ AVX2_FN unsigned node_hit8(const BvhNode *nd, const RayPre *rp, float t_cull,
     const __m256 o0 = _mm256_set1_ps(rp->o_ax[0]), i0 = _mm256_set1_ps(rp->inv_ax[0]);
     const __m256 o1 = _mm256_set1_ps(rp->o_ax[1]), i1 = _mm256_set1_ps(rp->inv_ax[1]);
     const __m256 o2 = _mm256_set1_ps(rp->o_ax[2]), i2 = _mm256_set1_ps(rp->inv_ax[2]);
-    const __m256 tn0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->near[0]), o0), i0);
-    const __m256 tf0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->far[0]), o0), i0);
-    const __m256 tn1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->near[1]), o1), i1);
-    const __m256 tf1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->far[1]), o1), i1);
-    const __m256 tn2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->near[2]), o2), i2);
-    const __m256 tf2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->far[2]), o2), i2);
+    const __m256 tn0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->plane[0]), o0), i0);
+    const __m256 tf0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->plane[4]), o0), i0);
+    const __m256 tn1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->plane[1]), o1), i1);
+    const __m256 tf1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->plane[5]), o1), i1);
+    const __m256 tn2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->plane[2]), o2), i2);
+    const __m256 tf2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->plane[6]), o2), i2);
     __m256 tn = _mm256_max_ps(tn0, _mm256_setzero_ps()), tf = _mm256_min_ps(tf0, _mm256_set1_ps(INFINITY));
     tn = _mm256_max_ps(tn1, tn);  tf = _mm256_min_ps(tf1, tf);
     tn = _mm256_max_ps(tn2, tn);  tf = _mm256_min_ps(tf2, tf);
     _mm256_storeu_ps(t_enter, tn);
     _mm256_storeu_ps(t_z, tn2);
     return (unsigned)_mm256_movemask_ps(
-        _mm256_and_ps(_mm256_cmp_ps(tn, _mm256_mul_ps(tf, _mm256_set1_ps(rp->far_scale)), _CMP_LE_OS),
+        _mm256_and_ps(_mm256_cmp_ps(tn, _mm256_mul_ps(tf, _mm256_set1_ps(FAR_SCALE)), _CMP_LE_OS),
                       _mm256_cmp_ps(tn2, _mm256_set1_ps(t_cull), _CMP_LE_OS)));
 }
 
@@ -706,13 +736,73 @@ AVX2_FN int child_rank8(const float *t_enter, unsigned mask, int jj)
     return __builtin_popcount((gt | (eq & ((1u << jj) - 1u))) & mask);
 }
 
-/* tri_miss4's per-ray operands (after ray_prepare_rest) */
+/* tri_miss4's per-ray operands from the scalar precomputation (ray_prepare_avx2
+   makes them itself; the tests compare the two) */
 AVX2_FN void ray_prepare4(RayPre *rp)
 {
-    rp->perm[0] = _mm_setr_epi32(rp->kx, rp->ky, rp->kz, 3);
-    rp->perm[1] = _mm_setr_epi32(rp->kx + 1, rp->ky + 1, rp->kz + 1, 0);
-    rp->o_k = _mm_setr_ps(rp->o[rp->kx], rp->o[rp->ky], rp->o[rp->kz], 0.0f);
-    rp->shear = _mm_setr_ps(rp->Sx, rp->Sy, 0.0f, 0.0f);
+    rp->o_k = _mm_setr_ps(rp->o[rp->k[0]], rp->o[rp->k[1]], rp->o[rp->k[2]], 0.0f);
+    rp->shear = _mm_setr_ps(rp->S[0], rp->S[1], 0.0f, 0.0f);
+}
+
+/* ray_prepare, root_hit, ray_prepare_rest and ray_prepare4 in one, with o, d and 1/d
+   as 4-lane vectors (lane 3: 0, 0, +inf): 0 for a ray that is not finite, misses
+   the root box or has a direction too short to use, as the scalar three return
+   (traverse); else RayPre filled with the same bits (the test
+   bvh_simd_matches_scalar compares them).  Each lane does the scalar code's
+   operation: 1 / d is +-infinity for d = +-0 as inv_axis makes it; the root box's
+   near plane is picked by d's sign bit (blendv reads the sign bit, as signbit does);
+   its distances are folded in the scalar order (_mm_max_ss(x, acc) is
+   "x > acc ? x : acc"); kz is the lowest axis of largest |d| as in
+   ray_prepare_rest (a2 > a0 and a2 > a1 gives 2, else a1 > a0 gives 1); the shear
+   divides the same two floats. */
+AVX2_FN int ray_prepare_avx2(const Bvh *b, const Ray *r, RayPre *rp)
+{
+    static const unsigned char kz_of[8] = {0, 1, 0, 1, 0, 1, 2, 2};  /* by (a1>a0, a2>a0, a2>a1) */
+    const __m128 keep3 = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+    const __m128 o = _mm_and_ps(_mm_loadu_ps(&r->o.x), keep3);     /* o.x o.y o.z (d.x) */
+    const __m128 d = _mm_and_ps(_mm_loadu_ps(&r->d.x), keep3);     /* d.x d.y d.z (tmax) */
+    const __m128 zero = _mm_setzero_ps();
+    const __m128 bmin = _mm_loadu_ps(b->bmin);                          /* lane 3: bmax[0] */
+    const __m128 bmax = _mm_permute_ps(_mm_loadu_ps(&b->bmin[2]), _MM_SHUFFLE(3, 3, 2, 1));
+    __m128 inv, tn, tf, absd, dk, sh;
+    __m128i kv;
+    const RayOrder *ord;
+    int negs, gts;
+    /* all six finite: x - x is 0 for a finite x, NaN otherwise (ray_prepare) */
+    if (_mm_movemask_ps(_mm_cmpeq_ps(_mm_add_ps(_mm_sub_ps(o, o), _mm_sub_ps(d, d)), zero)) != 15)
+        return 0;
+    inv = _mm_div_ps(_mm_set1_ps(1.0f), d);
+    negs = _mm_movemask_ps(d);                    /* bit a: the sign bit of d_a */
+    /* root_hit: near plane (lo for d >= 0, hi for d < 0) and far plane an axis */
+    tn = _mm_mul_ps(_mm_sub_ps(_mm_blendv_ps(bmin, bmax, d), o), inv);
+    tf = _mm_mul_ps(_mm_sub_ps(_mm_blendv_ps(bmax, bmin, d), o), inv);
+    {
+        __m128 n = _mm_max_ss(tn, zero), f = _mm_min_ss(tf, _mm_set_ss(INFINITY));
+        n = _mm_max_ss(_mm_permute_ps(tn, 1), n);  f = _mm_min_ss(_mm_permute_ps(tf, 1), f);
+        n = _mm_max_ss(_mm_permute_ps(tn, 2), n);  f = _mm_min_ss(_mm_permute_ps(tf, 2), f);
+        if (!(_mm_cvtss_f32(n) <= _mm_cvtss_f32(f) * FAR_SCALE)) return 0;
+    }
+    /* ray_prepare_rest: kz, then the table of the ray's case */
+    absd = _mm_andnot_ps(_mm_set1_ps(-0.0f), d);
+    if (_mm_movemask_ps(_mm_cmpge_ps(absd, _mm_set1_ps(FLT_MIN))) == 0) return 0;
+    gts = _mm_movemask_ps(_mm_cmpgt_ps(_mm_permute_ps(absd, _MM_SHUFFLE(3, 2, 2, 1)),
+                                       _mm_permute_ps(absd, _MM_SHUFFLE(3, 1, 0, 0)))) & 7;
+    ord = &ray_orders[kz_of[gts] * 8 + negs];
+    _mm_storeu_ps(rp->o, o);
+    _mm_storeu_ps(rp->d, d);
+    _mm_storeu_ps(rp->inv_d, inv);
+    _mm256_storeu_si256((__m256i *)rp->plane, _mm256_loadu_si256((const __m256i *)ord->plane));
+    _mm256_storeu_si256((__m256i *)rp->k, _mm256_loadu_si256((const __m256i *)ord->k));
+    kv = _mm_loadu_si128((const __m128i *)ord->axis);
+    _mm_storeu_ps(rp->o_ax, _mm_permutevar_ps(o, kv));
+    _mm_storeu_ps(rp->inv_ax, _mm_permutevar_ps(inv, kv));
+    kv = _mm_loadu_si128((const __m128i *)ord->k);
+    rp->o_k = _mm_permutevar_ps(o, kv);                            /* o_kx o_ky o_kz 0 */
+    dk = _mm_permutevar_ps(d, kv);                                  /* d_kx d_ky d_kz 0 */
+    sh = _mm_div_ps(dk, _mm_permute_ps(dk, _MM_SHUFFLE(2, 2, 2, 2)));   /* Sx Sy 1 0 */
+    rp->shear = _mm_blend_ps(sh, zero, 12);                         /* Sx Sy 0 0 */
+    _mm_storeu_ps(rp->S, _mm_blend_ps(rp->shear, _mm_permutevar_ps(inv, kv), 4));  /* Sx Sy Sz 0 */
+    return 1;
 }
 
 /* tri_hit's steps 1 to 3 with the three vertices side by side, as a filter: 1 where
@@ -729,9 +819,9 @@ AVX2_FN void ray_prepare4(RayPre *rp)
    edge in float, go through tri_hit itself. */
 AVX2_FN int tri_miss4(const RayPre *rp, const float *v)
 {
-    const __m128 A_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v), rp->perm[0]), rp->o_k);
-    const __m128 B_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 3), rp->perm[0]), rp->o_k);
-    const __m128 C_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 5), rp->perm[1]), rp->o_k);
+    const __m128 A_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v), _mm_loadu_si128((const __m128i *)rp->k)), rp->o_k);
+    const __m128 B_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 3), _mm_loadu_si128((const __m128i *)rp->k)), rp->o_k);
+    const __m128 C_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 5), _mm_loadu_si128((const __m128i *)(rp->k + 4))), rp->o_k);
     /* shear: lane 0 x - Sx z, lane 1 y - Sy z (lanes 2, 3 unused) */
     const __m128 A = _mm_sub_ps(A_, _mm_mul_ps(rp->shear, _mm_shuffle_ps(A_, A_, _MM_SHUFFLE(2, 2, 2, 2))));
     const __m128 B = _mm_sub_ps(B_, _mm_mul_ps(rp->shear, _mm_shuffle_ps(B_, B_, _MM_SHUFFLE(2, 2, 2, 2))));
@@ -767,6 +857,7 @@ static int bvh_cpu_avx2(void)
 #define tri_miss4(rp, v) 0
 #define tri_hit_rest tri_hit
 #define ray_prepare4(rp) ((void)(rp))
+#define ray_prepare_avx2(b, r, rp) 0
 #define child_rank8 child_rank
 #define bvh_cpu_avx2() 0
 #endif
@@ -926,11 +1017,12 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
     const int n_alpha_base = s->n_alpha > 0 ? n_base : 0;   /* ALPHA: ids below it are tested */
     int sp = 0, best_p = no_hit, ref = 0;
     HitRecord hi;
-    if (b->n_nodes == 0 || !(t_best > 0.0f) || !ray_prepare(r, &rp) || !root_hit(b, &rp) ||
-        !ray_prepare_rest(&rp, !avx))              /* only now: most rays miss the root */
+    if (b->n_nodes == 0 || !(t_best > 0.0f)) return 0;
+    if (avx ? !ray_prepare_avx2(b, r, &rp)           /* the same, in 4 lanes */
+            : !ray_prepare(r, &rp) || !root_hit(b, &rp) ||
+              !ray_prepare_rest(&rp, 1))           /* only now: most rays miss the root */
         return 0;
-    t_cull = t_best * rp.cull_scale;
-    if (avx) ray_prepare4(&rp);
+    t_cull = t_best * CULL_SCALE;
 
     for (;;) {
         if (ref >= 0) {
@@ -1017,7 +1109,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                    a tie with the best so far goes to the smaller primitive id */
                 if (!(t < t_best || p < best_p)) continue;
                 t_best = t;                         /* closer hits only from now on */
-                t_cull = t_best * rp.cull_scale;
+                t_cull = t_best * CULL_SCALE;
                 best_p = p;
                 h->t = t; h->prim = p; h->b1 = b1; h->b2 = b2; h->inst = -1;
                 if (p >= n_base) { h->prim = hi.prim; h->inst = p - n_base; }
