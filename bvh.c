@@ -222,16 +222,17 @@ typedef struct {
     float o[4], d[4];        /* lane 3: 0 */
     float inv_d[4];          /* 1/d; +-infinity where d is +-0 */
     int neg[3];              /* the sign bit of d: the slab the ray enters first */
-    int32_t plane[8];        /* RayOrder.plane of the ray's case: near[s] = plane[s],
-                                far[s] = plane[4 + s] */
-    int32_t k[8];            /* RayOrder.k: kx = k[0], ky = k[1], kz = k[2] */
+    const RayOrder *ord;     /* the ray's case: the slab test's near plane of axis[s]
+                                is ord->plane[s], its far plane ord->plane[4 + s]; the
+                                triangle test's kx, ky, kz are ord->k[0], k[1], k[2] */
     float S[4];              /* shear constants of Woop et al.: Sx, Sy, Sz, 0 */
-    float o_ax[4], inv_ax[4];   /* o and 1/d of axis[s]: the slab test's operands */
+    float o_ax[4], ninv_ax[4];  /* o and -1/d of axis[s]: the slab test's operands */
 #if BVH_SIMD
-    __m128 o4[3], inv4[3], far4;   /* o_ax, inv_ax, FAR_SCALE in all four lanes */
+    __m128 o4[3], ninv4[3], far4;  /* o_ax, ninv_ax, FAR_SCALE in all four lanes */
 #endif
 #if BVH_AVX
     __m128 o_k, shear;       /* (o_kx, o_ky, o_kz, 0) and (Sx, Sy, 0, 0) */
+    __m256 o8[3], ninv8[3];  /* o_ax, ninv_ax in all eight lanes */
 #endif
 } RayPre;
 
@@ -282,24 +283,23 @@ HOT_INLINE int ray_prepare_rest(RayPre *rp, int sse)
        brute-force tests intersect_triangle and intersect_sphere); this includes 0 */
     if (!(fabsf(rp->d[kz]) >= FLT_MIN)) return 0;
     ord = &ray_orders[kz * 8 + rp->neg[0] + 2 * rp->neg[1] + 4 * rp->neg[2]];
-    memcpy(rp->plane, ord->plane, sizeof rp->plane);
-    memcpy(rp->k, ord->k, sizeof rp->k);
+    rp->ord = ord;
     for (a = 0; a < 4; a++) {
         rp->o_ax[a] = rp->o[ord->axis[a]];
-        rp->inv_ax[a] = rp->inv_d[ord->axis[a]];
+        rp->ninv_ax[a] = -rp->inv_d[ord->axis[a]];
     }
 #if BVH_SIMD
     if (sse) {          /* node_hit4's operands (sse = 0: the AVX2 copy, or no slab test) */
         for (a = 0; a < 3; a++) {
             rp->o4[a] = _mm_set1_ps(rp->o_ax[a]);
-            rp->inv4[a] = _mm_set1_ps(rp->inv_ax[a]);
+            rp->ninv4[a] = _mm_set1_ps(rp->ninv_ax[a]);
         }
         rp->far4 = _mm_set1_ps(FAR_SCALE);
     }
 #endif
     (void)sse;
-    rp->S[0] = rp->d[rp->k[0]] / rp->d[kz];
-    rp->S[1] = rp->d[rp->k[1]] / rp->d[kz];
+    rp->S[0] = rp->d[rp->ord->k[0]] / rp->d[kz];
+    rp->S[1] = rp->d[rp->ord->k[1]] / rp->d[kz];
     rp->S[2] = rp->inv_d[kz];        /* = 1 / d_kz, the very float the slab test uses */
     rp->S[3] = 0.0f;
     return 1;
@@ -368,7 +368,7 @@ static float t_error_bound(float Ax, float Ay, float Az, float Bx, float By, flo
    uvw[] = U V W in float. */
 HOT_INLINE void tri_edges(const RayPre *rp, const float *v, float *e, float *z, float *uvw)
 {
-    const int kx = rp->k[0], ky = rp->k[1], kz = rp->k[2];
+    const int kx = rp->ord->k[0], ky = rp->ord->k[1], kz = rp->ord->k[2];
     const float ox = rp->o[kx], oy = rp->o[ky], oz = rp->o[kz];
 
     /* 1. Vertices relative to the ray origin, in the permuted axes (x, y, z) */
@@ -508,7 +508,10 @@ int intersect_sphere(Vec3 c, float radius, const Ray *r, float *t)
    each vertex's distance as  Az = (v_kz - o_kz) * Sz  and the slab test the box's
    near plane as  tz = (b_kz - o_kz) * inv_d_kz,  with Sz == inv_d_kz (both
    1.0f / d_kz) and b_kz beyond no vertex; rounding is monotonic, so tz <= Az, Bz, Cz
-   exactly.  The test's t = (U Az + V Bz + W Cz) / (U + V + W) with U, V, W of one sign
+   exactly.  (The slab test computes tz as (o_kz - b_kz) * (-inv_d_kz), which is the
+   same float: negation is exact and rounding to nearest is symmetric, so
+   fl(o - b) = -fl(b - o) and fl((-x)(-y)) = fl(x y); only the sign of a zero may
+   differ, which no comparison sees.)  The test's t = (U Az + V Bz + W Cz) / (U + V + W) with U, V, W of one sign
    is a convex combination of them, which 7 roundings take at most a factor
    (1 - gamma(7)) below their minimum (Higham 2002, ch. 3).  So every triangle in the
    box has t >= (1 - gamma(7)) tz, and the box may be culled when
@@ -526,7 +529,10 @@ int intersect_sphere(Vec3 c, float radius, const Ray *r, float *t)
    THE SLAB TEST (Kay & Kajiya 1986) uses the precomputed inverse direction: on each
    axis the ray enters through the plane the sign of d points away from (lo for
    d >= 0, hi for d < 0), so near and far planes are picked once per ray
-   (RayPre.near/far).  A zero component of d gives 1/d = +-infinity; (b - o) * inf is
+   (RayOrder.plane).  Each plane's distance is computed as (o - b) * (-1/d), the same
+   float as (b - o) * (1/d) (above), because x86 folds a load only into the second
+   operand of a subtraction: o - box[j] reads the box straight from memory.  A zero
+   component of d gives 1/d = +-infinity; (o - b) * inf is
    then +-infinity, or NaN when the origin lies exactly on the plane, and the near/far
    distances are accumulated with "x > acc ? x : acc", which skips a NaN: a ray in the
    plane of a flat box (an axis-aligned wall seen edge-on) still enters it.  The far
@@ -605,18 +611,18 @@ HOT_INLINE unsigned node_hit_mask_scalar(const BvhNode *nd, const RayPre *rp, fl
                                          float *t_enter, float *t_z)
 {
     const float *box = nd->box[0];
-    const float *n0 = box + rp->plane[0], *f0 = box + rp->plane[4];
-    const float *n1 = box + rp->plane[1], *f1 = box + rp->plane[5];
-    const float *n2 = box + rp->plane[2], *f2 = box + rp->plane[6];
+    const float *n0 = box + rp->ord->plane[0], *f0 = box + rp->ord->plane[4];
+    const float *n1 = box + rp->ord->plane[1], *f1 = box + rp->ord->plane[5];
+    const float *n2 = box + rp->ord->plane[2], *f2 = box + rp->ord->plane[6];
     const float o0 = rp->o_ax[0], o1 = rp->o_ax[1], o2 = rp->o_ax[2];
-    const float i0 = rp->inv_ax[0], i1 = rp->inv_ax[1], i2 = rp->inv_ax[2];
+    const float i0 = rp->ninv_ax[0], i1 = rp->ninv_ax[1], i2 = rp->ninv_ax[2];
     const float far_scale = FAR_SCALE;
     int j;
     unsigned mask = 0;
     for (j = 0; j < BVH_WIDTH; j++) {
-        const float tn0 = (n0[j] - o0) * i0, tf0 = (f0[j] - o0) * i0;
-        const float tn1 = (n1[j] - o1) * i1, tf1 = (f1[j] - o1) * i1;
-        const float tn2 = (n2[j] - o2) * i2, tf2 = (f2[j] - o2) * i2;
+        const float tn0 = (o0 - n0[j]) * i0, tf0 = (o0 - f0[j]) * i0;
+        const float tn1 = (o1 - n1[j]) * i1, tf1 = (o1 - f1[j]) * i1;
+        const float tn2 = (o2 - n2[j]) * i2, tf2 = (o2 - f2[j]) * i2;
         /* "x > acc ? x : acc" skips a NaN x (d = 0 and the origin on the plane) */
         float tn = 0.0f, tf = INFINITY;
         tn = tn0 > tn ? tn0 : tn;  tf = tf0 < tf ? tf0 : tf;
@@ -638,12 +644,12 @@ HOT_INLINE unsigned node_hit4(const BvhNode *nd, const RayPre *rp, __m128 cull, 
                               float *t_enter, float *t_z)
 {
     const float *box = nd->box[0] + h;
-    const __m128 tn0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->plane[0]), rp->o4[0]), rp->inv4[0]);
-    const __m128 tf0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->plane[4]), rp->o4[0]), rp->inv4[0]);
-    const __m128 tn1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->plane[1]), rp->o4[1]), rp->inv4[1]);
-    const __m128 tf1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->plane[5]), rp->o4[1]), rp->inv4[1]);
-    const __m128 tn2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->plane[2]), rp->o4[2]), rp->inv4[2]);
-    const __m128 tf2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->plane[6]), rp->o4[2]), rp->inv4[2]);
+    const __m128 tn0 = _mm_mul_ps(_mm_sub_ps(rp->o4[0], _mm_load_ps(box + rp->ord->plane[0])), rp->ninv4[0]);
+    const __m128 tf0 = _mm_mul_ps(_mm_sub_ps(rp->o4[0], _mm_load_ps(box + rp->ord->plane[4])), rp->ninv4[0]);
+    const __m128 tn1 = _mm_mul_ps(_mm_sub_ps(rp->o4[1], _mm_load_ps(box + rp->ord->plane[1])), rp->ninv4[1]);
+    const __m128 tf1 = _mm_mul_ps(_mm_sub_ps(rp->o4[1], _mm_load_ps(box + rp->ord->plane[5])), rp->ninv4[1]);
+    const __m128 tn2 = _mm_mul_ps(_mm_sub_ps(rp->o4[2], _mm_load_ps(box + rp->ord->plane[2])), rp->ninv4[2]);
+    const __m128 tf2 = _mm_mul_ps(_mm_sub_ps(rp->o4[2], _mm_load_ps(box + rp->ord->plane[6])), rp->ninv4[2]);
     __m128 tn = _mm_max_ps(tn0, _mm_setzero_ps()), tf = _mm_min_ps(tf0, _mm_set1_ps(INFINITY));
     tn = _mm_max_ps(tn1, tn);  tf = _mm_min_ps(tf1, tf);
     tn = _mm_max_ps(tn2, tn);  tf = _mm_min_ps(tf2, tf);
@@ -701,21 +707,21 @@ HOT_INLINE int child_rank(const float *t_enter, unsigned mask, int jj)
    operations, lane for lane (_mm256_max_ps and _mm256_min_ps treat a NaN as
    _mm_max_ps and _mm_min_ps do; _CMP_LE_OS is _mm_cmple_ps's predicate).  A row of
    8 planes is 32 bytes, 32-byte aligned (nodes on 64 bytes), one aligned load.  The
-   ray's operands are broadcast here from RayPre's floats (one vbroadcastss each,
-   which the compiler hoists out of the loop where it can). */
+   ray's operands come broadcast from RayPre (o8, ninv8: made once a ray, read from
+   memory at each node, so no register holds them across the leaves). */
 AVX2_FN unsigned node_hit8(const BvhNode *nd, const RayPre *rp, float t_cull,
                            float *t_enter, float *t_z)
 {
     const float *box = nd->box[0];
-    const __m256 o0 = _mm256_set1_ps(rp->o_ax[0]), i0 = _mm256_set1_ps(rp->inv_ax[0]);
-    const __m256 o1 = _mm256_set1_ps(rp->o_ax[1]), i1 = _mm256_set1_ps(rp->inv_ax[1]);
-    const __m256 o2 = _mm256_set1_ps(rp->o_ax[2]), i2 = _mm256_set1_ps(rp->inv_ax[2]);
-    const __m256 tn0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->plane[0]), o0), i0);
-    const __m256 tf0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->plane[4]), o0), i0);
-    const __m256 tn1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->plane[1]), o1), i1);
-    const __m256 tf1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->plane[5]), o1), i1);
-    const __m256 tn2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->plane[2]), o2), i2);
-    const __m256 tf2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->plane[6]), o2), i2);
+    const __m256 o0 = rp->o8[0], i0 = rp->ninv8[0];
+    const __m256 o1 = rp->o8[1], i1 = rp->ninv8[1];
+    const __m256 o2 = rp->o8[2], i2 = rp->ninv8[2];
+    const __m256 tn0 = _mm256_mul_ps(_mm256_sub_ps(o0, _mm256_load_ps(box + rp->ord->plane[0])), i0);
+    const __m256 tf0 = _mm256_mul_ps(_mm256_sub_ps(o0, _mm256_load_ps(box + rp->ord->plane[4])), i0);
+    const __m256 tn1 = _mm256_mul_ps(_mm256_sub_ps(o1, _mm256_load_ps(box + rp->ord->plane[1])), i1);
+    const __m256 tf1 = _mm256_mul_ps(_mm256_sub_ps(o1, _mm256_load_ps(box + rp->ord->plane[5])), i1);
+    const __m256 tn2 = _mm256_mul_ps(_mm256_sub_ps(o2, _mm256_load_ps(box + rp->ord->plane[2])), i2);
+    const __m256 tf2 = _mm256_mul_ps(_mm256_sub_ps(o2, _mm256_load_ps(box + rp->ord->plane[6])), i2);
     __m256 tn = _mm256_max_ps(tn0, _mm256_setzero_ps()), tf = _mm256_min_ps(tf0, _mm256_set1_ps(INFINITY));
     tn = _mm256_max_ps(tn1, tn);  tf = _mm256_min_ps(tf1, tf);
     tn = _mm256_max_ps(tn2, tn);  tf = _mm256_min_ps(tf2, tf);
@@ -736,12 +742,17 @@ AVX2_FN int child_rank8(const float *t_enter, unsigned mask, int jj)
     return __builtin_popcount((gt | (eq & ((1u << jj) - 1u))) & mask);
 }
 
-/* tri_miss4's per-ray operands from the scalar precomputation (ray_prepare_avx2
-   makes them itself; the tests compare the two) */
+/* The AVX2 copy's per-ray operands (tri_miss4's, node_hit8's) from the scalar
+   precomputation (ray_prepare_avx2 makes them itself; the tests compare the two) */
 AVX2_FN void ray_prepare4(RayPre *rp)
 {
-    rp->o_k = _mm_setr_ps(rp->o[rp->k[0]], rp->o[rp->k[1]], rp->o[rp->k[2]], 0.0f);
+    int a;
+    rp->o_k = _mm_setr_ps(rp->o[rp->ord->k[0]], rp->o[rp->ord->k[1]], rp->o[rp->ord->k[2]], 0.0f);
     rp->shear = _mm_setr_ps(rp->S[0], rp->S[1], 0.0f, 0.0f);
+    for (a = 0; a < 3; a++) {
+        rp->o8[a] = _mm256_set1_ps(rp->o_ax[a]);
+        rp->ninv8[a] = _mm256_set1_ps(rp->ninv_ax[a]);
+    }
 }
 
 /* ray_prepare, root_hit, ray_prepare_rest and ray_prepare4 in one, with o, d and 1/d
@@ -791,11 +802,13 @@ AVX2_FN int ray_prepare_avx2(const Bvh *b, const Ray *r, RayPre *rp)
     _mm_storeu_ps(rp->o, o);
     _mm_storeu_ps(rp->d, d);
     _mm_storeu_ps(rp->inv_d, inv);
-    _mm256_storeu_si256((__m256i *)rp->plane, _mm256_loadu_si256((const __m256i *)ord->plane));
-    _mm256_storeu_si256((__m256i *)rp->k, _mm256_loadu_si256((const __m256i *)ord->k));
+    rp->ord = ord;
     kv = _mm_loadu_si128((const __m128i *)ord->axis);
     _mm_storeu_ps(rp->o_ax, _mm_permutevar_ps(o, kv));
-    _mm_storeu_ps(rp->inv_ax, _mm_permutevar_ps(inv, kv));
+    _mm_storeu_ps(rp->ninv_ax, _mm_xor_ps(_mm_permutevar_ps(inv, kv), _mm_set1_ps(-0.0f)));
+    rp->o8[0] = _mm256_set1_ps(rp->o_ax[0]); rp->ninv8[0] = _mm256_set1_ps(rp->ninv_ax[0]);
+    rp->o8[1] = _mm256_set1_ps(rp->o_ax[1]); rp->ninv8[1] = _mm256_set1_ps(rp->ninv_ax[1]);
+    rp->o8[2] = _mm256_set1_ps(rp->o_ax[2]); rp->ninv8[2] = _mm256_set1_ps(rp->ninv_ax[2]);
     kv = _mm_loadu_si128((const __m128i *)ord->k);
     rp->o_k = _mm_permutevar_ps(o, kv);                            /* o_kx o_ky o_kz 0 */
     dk = _mm_permutevar_ps(d, kv);                                  /* d_kx d_ky d_kz 0 */
@@ -819,9 +832,9 @@ AVX2_FN int ray_prepare_avx2(const Bvh *b, const Ray *r, RayPre *rp)
    edge in float, go through tri_hit itself. */
 AVX2_FN int tri_miss4(const RayPre *rp, const float *v)
 {
-    const __m128 A_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v), _mm_loadu_si128((const __m128i *)rp->k)), rp->o_k);
-    const __m128 B_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 3), _mm_loadu_si128((const __m128i *)rp->k)), rp->o_k);
-    const __m128 C_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 5), _mm_loadu_si128((const __m128i *)(rp->k + 4))), rp->o_k);
+    const __m128 A_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v), _mm_loadu_si128((const __m128i *)rp->ord->k)), rp->o_k);
+    const __m128 B_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 3), _mm_loadu_si128((const __m128i *)rp->ord->k)), rp->o_k);
+    const __m128 C_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 5), _mm_loadu_si128((const __m128i *)(rp->ord->k + 4))), rp->o_k);
     /* shear: lane 0 x - Sx z, lane 1 y - Sy z (lanes 2, 3 unused) */
     const __m128 A = _mm_sub_ps(A_, _mm_mul_ps(rp->shear, _mm_shuffle_ps(A_, A_, _MM_SHUFFLE(2, 2, 2, 2))));
     const __m128 B = _mm_sub_ps(B_, _mm_mul_ps(rp->shear, _mm_shuffle_ps(B_, B_, _MM_SHUFFLE(2, 2, 2, 2))));
@@ -1261,6 +1274,32 @@ int bvh_tri_filter_mismatches(const Bvh *b, const Scene *s, const Ray *r, int *t
     return bad;
 }
 
+/* ray_prepare_avx2 against the scalar ray_prepare, root_hit, ray_prepare_rest and
+   ray_prepare4: the verdict, and every field the AVX2 traversal reads, bit for bit
+   (1 on a difference) */
+#if BVH_AVX
+#define SAME(x, y) (memcmp(&(x), &(y), sizeof(x)) != 0)
+AVX2_STATIC int prepare_mismatch(const Bvh *b, const Ray *r)
+{
+    RayPre c, v;
+    int ok_c, ok_v, a, bad;
+    memset(&c, 0, sizeof c);
+    memset(&v, 0, sizeof v);
+    ok_c = ray_prepare(r, &c) && root_hit(b, &c) && ray_prepare_rest(&c, 0);
+    ok_v = ray_prepare_avx2(b, r, &v);
+    if (ok_c != ok_v) return 1;
+    if (!ok_c) return 0;
+    ray_prepare4(&c);
+    bad = SAME(c.o, v.o) | SAME(c.d, v.d) | SAME(c.inv_d, v.inv_d) | (c.ord != v.ord) |
+          SAME(c.S, v.S) | SAME(c.o_k, v.o_k) | SAME(c.shear, v.shear);
+    for (a = 0; a < 3; a++)
+        bad |= SAME(c.o_ax[a], v.o_ax[a]) | SAME(c.ninv_ax[a], v.ninv_ax[a]) |
+               SAME(c.o8[a], v.o8[a]) | SAME(c.ninv8[a], v.ninv8[a]);
+    return bad;
+}
+#undef SAME
+#endif
+
 int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes)
 {
     RayPre rp;
@@ -1268,7 +1307,13 @@ int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes)
     const int avx = bvh_cpu_avx2();
     unsigned m;
     for (m = 1; m < 256; m++) bad += lowest_bit(m) != lowest_bit_portable(m);
+#if BVH_AVX
+    if (avx && b->n_nodes > 0) bad += prepare_mismatch(b, r);
+#endif
     if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp, 1)) return bad;
+#if BVH_AVX
+    if (avx) ray_prepare4(&rp);
+#endif
     for (i = 0; i < b->n_nodes; i++) {
         bad += node_mismatches(&b->nodes[i], &rp, t_cull, 0);
         *lanes += BVH_WIDTH;
