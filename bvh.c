@@ -830,6 +830,7 @@ AVX2_FN int ray_prepare_avx2(const Bvh *b, const Ray *r, RayPre *rp)
    neither < 0 nor > 0 in either).  Most triangles a ray is tested against end at
    the sign test (85 % on tools/bench_count's rays); the rest, and the rays on an
    edge in float, go through tri_hit itself. */
+#define TRI_MIXED UINT64_C(0x2040e10325400)
 AVX2_FN int tri_miss4(const RayPre *rp, const float *v)
 {
     const __m128 A_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v), _mm_loadu_si128((const __m128i *)rp->ord->k)), rp->o_k);
@@ -845,11 +846,14 @@ AVX2_FN int tri_miss4(const RayPre *rp, const float *v)
     const __m128 UVW = _mm_sub_ps(
         _mm_mul_ps(_mm_shuffle_ps(X, X, _MM_SHUFFLE(3, 1, 0, 2)), _mm_shuffle_ps(Y, Y, _MM_SHUFFLE(3, 0, 2, 1))),
         _mm_mul_ps(_mm_shuffle_ps(Y, Y, _MM_SHUFFLE(3, 1, 0, 2)), _mm_shuffle_ps(X, X, _MM_SHUFFLE(3, 0, 2, 1))));
+    /* mixed signs, none 0: with le = the lanes <= 0 and ge = the lanes >= 0 (a NaN
+       in neither), the zeros are le & ge, and without them the lanes < 0 are le and
+       those > 0 ge; MIXED has bit le | ge << 3 set where le & ge = 0, le != 0 and
+       ge != 0 (its 18 such patterns), so one shift reads the verdict */
     const __m128 zero = _mm_setzero_ps();
-    const int eq0 = _mm_movemask_ps(_mm_cmpeq_ps(UVW, zero)) & 7;
-    const int lt0 = _mm_movemask_ps(_mm_cmplt_ps(UVW, zero)) & 7;
-    const int gt0 = _mm_movemask_ps(_mm_cmpgt_ps(UVW, zero)) & 7;
-    return (eq0 == 0) & (lt0 != 0) & (gt0 != 0);   /* mixed signs: outside */
+    const unsigned le = (unsigned)_mm_movemask_ps(_mm_cmple_ps(UVW, zero)) & 7u;
+    const unsigned ge = (unsigned)_mm_movemask_ps(_mm_cmpge_ps(UVW, zero)) & 7u;
+    return (int)((TRI_MIXED >> (le | ge << 3)) & 1u);   /* mixed signs: outside */
 }
 
 /* tri_hit for the triangles tri_miss4 lets through (15 %), as a call: inlined, its
@@ -1028,6 +1032,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
     const int n_quad_end = s->n_tris + s->n_spheres + s->n_quadrics, n_patch_end = n_quad_end + s->n_patches;
     const int n_base = n_patch_end + s->n_curve_pieces;
     const int n_alpha_base = s->n_alpha > 0 ? n_base : 0;   /* ALPHA: ids below it are tested */
+    const int n_tris = s->n_tris;
     int sp = 0, best_p = no_hit, ref = 0;
     HitRecord hi;
     if (b->n_nodes == 0 || !(t_best > 0.0f)) return 0;
@@ -1088,7 +1093,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
             for (; q < end; q++) {
                 const int p = q->prim;
                 int ok;
-                if (p < s->n_tris)
+                if (p < n_tris)
                     ok = avx ? !tri_miss4(&rp, q->v) &&   /* (AVX2: a filter first) */
                                    tri_hit_rest(&rp, q->v, t_best, &t, &b1, &b2)
                              : tri_hit(&rp, q->v, t_best, &t, &b1, &b2);
