@@ -1001,6 +1001,13 @@ static int alpha_keep(const Scene *s, const Ray *r, int p, float tmax, float *t,
     return 0;
 }
 
+/* The first instance's id: the number of primitives of the other kinds (the
+   numbering of the opening comment) */
+HOT_INLINE int prim_base(const Scene *s)
+{
+    return s->n_tris + s->n_spheres + s->n_quadrics + s->n_patches + s->n_curve_pieces;
+}
+
 /* The closest hit (any_hit: any hit) of the world ray r with instance i's object,
    traced in object space with tmax = t_best; at_tmax: a hit at t_best itself counts
    (the caller breaks that tie by the instance's id).  Defined after traverse. */
@@ -1029,10 +1036,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
     StackEntry stack[BVH_STACK];
     float t_enter[BVH_WIDTH], t_z[BVH_WIDTH], t_best = r->tmax, t_cull, t, b1, b2;
     const int no_hit = at_tmax ? INT32_MAX : -1;
-    const int n_quad_end = s->n_tris + s->n_spheres + s->n_quadrics, n_patch_end = n_quad_end + s->n_patches;
-    const int n_base = n_patch_end + s->n_curve_pieces;
-    const int n_alpha_base = s->n_alpha > 0 ? n_base : 0;   /* ALPHA: ids below it are tested */
-    const int n_tris = s->n_tris;
+    const int n_tris = s->n_tris;      /* the other kinds' bounds only where they are met */
     int sp = 0, best_p = no_hit, ref = 0;
     HitRecord hi;
     if (b->n_nodes == 0 || !(t_best > 0.0f)) return 0;
@@ -1097,27 +1101,30 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                     ok = avx ? !tri_miss4(&rp, q->v) &&   /* (AVX2: a filter first) */
                                    tri_hit_rest(&rp, q->v, t_best, &t, &b1, &b2)
                              : tri_hit(&rp, q->v, t_best, &t, &b1, &b2);
-                else if (p < s->n_tris + s->n_spheres) {
-                    ok = sphere_hit(&rp, q->v, t_best, &t); b1 = b2 = 0.0f;
-                } else if (p < n_quad_end) {
-                    ok = quadric_intersect(&s->shapes[s->quadric_shape[p - s->n_tris - s->n_spheres]],
-                                           r, t_best, &t);
-                    b1 = b2 = 0.0f;
-                } else if (p < n_patch_end) {
-                    Vec3 c[4];             /* a patch: b1, b2 carry its (u, v) */
-                    patch_corners(s, s->patches[p - n_quad_end].v, c);
-                    ok = patch_intersect(c, r, t_best, &t, &b1, &b2);
-                } else if (p < n_base) {   /* a curve piece: b1, b2 carry its (u, v) */
-                    ok = curve_intersect(s, &s->curve_pieces[p - n_patch_end], r, t_best, any_hit, &hi);
-                    if (ok) { t = hi.t; b1 = hi.b1; b2 = hi.b2; }
-                } else {                            /* an instance: its object's closest hit */
-                    if (!instance_hit(s, p - n_base, r, t_best, best_p != no_hit, any_hit, avx, &hi))
-                        continue;
-                    if (any_hit) return 1;          /* at t < r->tmax */
-                    ok = 1; t = hi.t; b1 = hi.b1; b2 = hi.b2;
+                else {
+                    const int n_sph_end = n_tris + s->n_spheres, n_quad_end = n_sph_end + s->n_quadrics;
+                    const int n_patch_end = n_quad_end + s->n_patches, n_base = prim_base(s);
+                    if (p < n_sph_end) {
+                        ok = sphere_hit(&rp, q->v, t_best, &t); b1 = b2 = 0.0f;
+                    } else if (p < n_quad_end) {
+                        ok = quadric_intersect(&s->shapes[s->quadric_shape[p - n_sph_end]], r, t_best, &t);
+                        b1 = b2 = 0.0f;
+                    } else if (p < n_patch_end) {
+                        Vec3 c[4];         /* a patch: b1, b2 carry its (u, v) */
+                        patch_corners(s, s->patches[p - n_quad_end].v, c);
+                        ok = patch_intersect(c, r, t_best, &t, &b1, &b2);
+                    } else if (p < n_base) {   /* a curve piece: b1, b2 carry its (u, v) */
+                        ok = curve_intersect(s, &s->curve_pieces[p - n_patch_end], r, t_best, any_hit, &hi);
+                        if (ok) { t = hi.t; b1 = hi.b1; b2 = hi.b2; }
+                    } else {                        /* an instance: its object's closest hit */
+                        if (!instance_hit(s, p - n_base, r, t_best, best_p != no_hit, any_hit, avx, &hi))
+                            continue;
+                        if (any_hit) return 1;      /* at t < r->tmax */
+                        ok = 1; t = hi.t; b1 = hi.b1; b2 = hi.b2;
+                    }
                 }
                 if (!ok) continue;
-                if (p < n_alpha_base && !alpha_keep(s, r, p, t_best, &t, &b1, &b2))
+                if (s->n_alpha > 0 && p < prim_base(s) && !alpha_keep(s, r, p, t_best, &t, &b1, &b2))
                     continue;                       /* ALPHA: the ray goes on */
                 if (any_hit) {
                     if (t < r->tmax) return 1;
@@ -1130,7 +1137,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 t_cull = t_best * CULL_SCALE;
                 best_p = p;
                 h->t = t; h->prim = p; h->b1 = b1; h->b2 = b2; h->inst = -1;
-                if (p >= n_base) { h->prim = hi.prim; h->inst = p - n_base; }
+                if (p >= n_tris && p >= prim_base(s)) { h->prim = hi.prim; h->inst = p - prim_base(s); }
             }
         }
         /* pop the next child that may still hold a hit at t <= t_best */
