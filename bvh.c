@@ -231,7 +231,7 @@ typedef struct {
     __m128 o4[3], ninv4[3], far4;  /* o_ax, ninv_ax, FAR_SCALE in all four lanes */
 #endif
 #if BVH_AVX
-    __m128 o_k, shear;       /* (o_kx, o_ky, o_kz, 0) and (Sx, Sy, 0, 0) */
+    __m128 o_k, sx4, sy4;    /* (o_kx, o_ky, o_kz, 0); Sx and Sy in all four lanes */
     __m256 o8[3], ninv8[3];  /* o_ax, ninv_ax in all eight lanes */
 #endif
 } RayPre;
@@ -748,7 +748,8 @@ AVX2_FN void ray_prepare4(RayPre *rp)
 {
     int a;
     rp->o_k = _mm_setr_ps(rp->o[rp->ord->k[0]], rp->o[rp->ord->k[1]], rp->o[rp->ord->k[2]], 0.0f);
-    rp->shear = _mm_setr_ps(rp->S[0], rp->S[1], 0.0f, 0.0f);
+    rp->sx4 = _mm_set1_ps(rp->S[0]);
+    rp->sy4 = _mm_set1_ps(rp->S[1]);
     for (a = 0; a < 3; a++) {
         rp->o8[a] = _mm256_set1_ps(rp->o_ax[a]);
         rp->ninv8[a] = _mm256_set1_ps(rp->ninv_ax[a]);
@@ -813,19 +814,21 @@ AVX2_FN int ray_prepare_avx2(const Bvh *b, const Ray *r, RayPre *rp)
     rp->o_k = _mm_permutevar_ps(o, kv);                            /* o_kx o_ky o_kz 0 */
     dk = _mm_permutevar_ps(d, kv);                                  /* d_kx d_ky d_kz 0 */
     sh = _mm_div_ps(dk, _mm_permute_ps(dk, _MM_SHUFFLE(2, 2, 2, 2)));   /* Sx Sy 1 0 */
-    rp->shear = _mm_blend_ps(sh, zero, 12);                         /* Sx Sy 0 0 */
-    _mm_storeu_ps(rp->S, _mm_blend_ps(rp->shear, _mm_permutevar_ps(inv, kv), 4));  /* Sx Sy Sz 0 */
+    rp->sx4 = _mm_permute_ps(sh, _MM_SHUFFLE(0, 0, 0, 0));
+    rp->sy4 = _mm_permute_ps(sh, _MM_SHUFFLE(1, 1, 1, 1));
+    _mm_storeu_ps(rp->S, _mm_blend_ps(_mm_blend_ps(sh, zero, 12), _mm_permutevar_ps(inv, kv), 4));  /* Sx Sy Sz 0 */
     return 1;
 }
 
 /* tri_hit's steps 1 to 3 with the three vertices side by side, as a filter: 1 where
    tri_hit returns 0 at its sign test (U, V, W of mixed signs, none 0 in float), else
    0 (then tri_hit decides).  A vertex is loaded as 4 floats (C from v + 5, so that no
-   load passes v[8]) and put in the order (kx, ky, kz) by a variable permute; then
-   every lane does tri_hit's operations in tri_hit's order:
-       (A_x, A_y, A_z) = (v_kx - o_kx, v_ky - o_ky, v_kz - o_kz)
-       (Ax, Ay)        = (A_x - Sx A_z, A_y - Sy A_z)          (B and C alike)
-       (U, V, W)       = (Cx, Ax, Bx) (By, Cy, Ay) - (Cy, Ay, By) (Bx, Cx, Ax)
+   load passes v[8]) and put in the order (kx, ky, kz) by a variable permute; the
+   three are then turned into X = (A_x, B_x, C_x), Y and Z alike, and every lane
+   does tri_hit's operations in tri_hit's order:
+       (A_x, A_y, A_z) = (v_kx - o_kx, v_ky - o_ky, v_kz - o_kz)  (B and C alike)
+       (Ax, Bx, Cx)    = X - Sx Z,   (Ay, By, Cy) = Y - Sy Z
+       (V, W, U)       = (Ax, Bx, Cx) (Cy, Ay, By) - (Ay, By, Cy) (Cx, Ax, Bx)
    so U, V and W are tri_hit's to the bit, and so is the filter's verdict (a NaN is
    neither < 0 nor > 0 in either).  Most triangles a ray is tested against end at
    the sign test (85 % on tools/bench_count's rays); the rest, and the rays on an
@@ -836,16 +839,19 @@ AVX2_FN int tri_miss4(const RayPre *rp, const float *v)
     const __m128 A_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v), _mm_loadu_si128((const __m128i *)rp->ord->k)), rp->o_k);
     const __m128 B_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 3), _mm_loadu_si128((const __m128i *)rp->ord->k)), rp->o_k);
     const __m128 C_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 5), _mm_loadu_si128((const __m128i *)(rp->ord->k + 4))), rp->o_k);
-    /* shear: lane 0 x - Sx z, lane 1 y - Sy z (lanes 2, 3 unused) */
-    const __m128 A = _mm_sub_ps(A_, _mm_mul_ps(rp->shear, _mm_shuffle_ps(A_, A_, _MM_SHUFFLE(2, 2, 2, 2))));
-    const __m128 B = _mm_sub_ps(B_, _mm_mul_ps(rp->shear, _mm_shuffle_ps(B_, B_, _MM_SHUFFLE(2, 2, 2, 2))));
-    const __m128 C = _mm_sub_ps(C_, _mm_mul_ps(rp->shear, _mm_shuffle_ps(C_, C_, _MM_SHUFFLE(2, 2, 2, 2))));
-    const __m128 AB = _mm_unpacklo_ps(A, B);                              /* Ax Bx Ay By */
-    const __m128 X = _mm_shuffle_ps(AB, C, _MM_SHUFFLE(0, 0, 1, 0));      /* Ax Bx Cx */
-    const __m128 Y = _mm_shuffle_ps(AB, C, _MM_SHUFFLE(1, 1, 3, 2));      /* Ay By Cy */
-    const __m128 UVW = _mm_sub_ps(
-        _mm_mul_ps(_mm_shuffle_ps(X, X, _MM_SHUFFLE(3, 1, 0, 2)), _mm_shuffle_ps(Y, Y, _MM_SHUFFLE(3, 0, 2, 1))),
-        _mm_mul_ps(_mm_shuffle_ps(Y, Y, _MM_SHUFFLE(3, 1, 0, 2)), _mm_shuffle_ps(X, X, _MM_SHUFFLE(3, 0, 2, 1))));
+    /* side by side: X = (A_x, B_x, C_x), Y = (A_y, B_y, C_y), Z = (A_z, B_z, C_z) */
+    const __m128 AB = _mm_unpacklo_ps(A_, B_);                            /* Ax Bx Ay By */
+    const __m128 ABz = _mm_unpackhi_ps(A_, B_);                           /* Az Bz 0 0 */
+    const __m128 X_ = _mm_shuffle_ps(AB, C_, _MM_SHUFFLE(0, 0, 1, 0));
+    const __m128 Y_ = _mm_shuffle_ps(AB, C_, _MM_SHUFFLE(1, 1, 3, 2));
+    const __m128 Z = _mm_shuffle_ps(ABz, C_, _MM_SHUFFLE(2, 2, 1, 0));
+    /* shear: x - Sx z, y - Sy z */
+    const __m128 X = _mm_sub_ps(X_, _mm_mul_ps(rp->sx4, Z));
+    const __m128 Y = _mm_sub_ps(Y_, _mm_mul_ps(rp->sy4, Z));
+    /* (V, W, U) = (Ax, Bx, Cx) (Cy, Ay, By) - (Ay, By, Cy) (Cx, Ax, Bx): each tri_hit's
+       products in tri_hit's order, only in other lanes (lane 3: Cx Cy - Cy Cx) */
+    const __m128 UVW = _mm_sub_ps(_mm_mul_ps(X, _mm_permute_ps(Y, _MM_SHUFFLE(3, 1, 0, 2))),
+                                  _mm_mul_ps(Y, _mm_permute_ps(X, _MM_SHUFFLE(3, 1, 0, 2))));
     /* mixed signs, none 0: with le = the lanes <= 0 and ge = the lanes >= 0 (a NaN
        in neither), the zeros are le & ge, and without them the lanes < 0 are le and
        those > 0 ge; MIXED has bit le | ge << 3 set where le & ge = 0, le != 0 and
@@ -1303,7 +1309,8 @@ AVX2_STATIC int prepare_mismatch(const Bvh *b, const Ray *r)
     if (!ok_c) return 0;
     ray_prepare4(&c);
     bad = SAME(c.o, v.o) | SAME(c.d, v.d) | SAME(c.inv_d, v.inv_d) | (c.ord != v.ord) |
-          SAME(c.S, v.S) | SAME(c.o_k, v.o_k) | SAME(c.shear, v.shear);
+          SAME(c.S, v.S) | SAME(c.o_k, v.o_k) | SAME(c.sx4, v.sx4) |
+          SAME(c.sy4, v.sy4);
     for (a = 0; a < 3; a++)
         bad |= SAME(c.o_ax[a], v.o_ax[a]) | SAME(c.ninv_ax[a], v.ninv_ax[a]) |
                SAME(c.o8[a], v.o8[a]) | SAME(c.ninv8[a], v.ninv8[a]);
