@@ -178,25 +178,61 @@ static inline float gamma_n(int n)
 /* ======================================================================
    Per-ray precomputation shared by the triangle test and the slab test
    ====================================================================== */
+/* The slab test's and the triangle test's per-ray axis order depends only on the
+   dominant axis kz and the signs of d: 3 x 8 cases, tabled once (ray_orders) so that
+   preparing a ray copies its case instead of computing it.  For case (kz, n), bit a
+   of n set when d_a < 0 (the sign bit):
+     axis[s]   the slab test's axis order: the other two axes after kz, then kz
+               (lane 3 = 3: the padding lane of a 4-float vector)
+     plane     the planes of axis[s] that the ray enters (plane[s]) and leaves
+               (plane[4 + s]) through, as offsets in floats from BvhNode.box[0]:
+               row * BVH_WIDTH, the hi row for d < 0 and the lo row for d >= 0
+     k         the triangle test's permutation kx, ky, kz: the two axes after kz,
+               swapped when d_kz < 0 to keep the triangles' winding (Woop et al.),
+               and (k[4..6]) each + 1, the AVX2 filter's lane choices (lane 3: 3,
+               lane 7: 0) */
 typedef struct {
-    float o[3], d[3];
-    float inv_d[3];          /* 1/d; +-infinity where d is +-0 */
+    int32_t axis[4];
+    int32_t plane[8];
+    int32_t k[8];
+} RayOrder;
+
+#define RO_NEG(a, n) (((n) >> (a)) & 1)
+#define RO_AX(kz, s) (((kz) + 1 + (s)) % 3)                     /* s = 2: kz itself */
+#define RO_NEAR(kz, s, n) ((RO_AX(kz, s) + 3 * RO_NEG(RO_AX(kz, s), n)) * BVH_WIDTH)
+#define RO_FAR(kz, s, n) ((RO_AX(kz, s) + 3 * (1 - RO_NEG(RO_AX(kz, s), n))) * BVH_WIDTH)
+#define RO_KX(kz, n) (((kz) + 1 + RO_NEG(kz, n)) % 3)
+#define RO_KY(kz, n) (((kz) + 2 - RO_NEG(kz, n)) % 3)
+#define RO(kz, n) { { RO_AX(kz, 0), RO_AX(kz, 1), kz, 3 },                              \
+    { RO_NEAR(kz, 0, n), RO_NEAR(kz, 1, n), RO_NEAR(kz, 2, n), 0,                       \
+      RO_FAR(kz, 0, n), RO_FAR(kz, 1, n), RO_FAR(kz, 2, n), 0 },                        \
+    { RO_KX(kz, n), RO_KY(kz, n), kz, 3, RO_KX(kz, n) + 1, RO_KY(kz, n) + 1, (kz) + 1, 0 } }
+#define RO8(kz) RO(kz, 0), RO(kz, 1), RO(kz, 2), RO(kz, 3), RO(kz, 4), RO(kz, 5), RO(kz, 6), RO(kz, 7)
+static const RayOrder ray_orders[3 * 8] = { RO8(0), RO8(1), RO8(2) };   /* [kz * 8 + n] */
+
+/* the robust slab test's far factor 1 + 2 gamma(3) and the closest hit's culling
+   margin 1 + 2 gamma(8) (ORDER INDEPENDENCE, below) */
+#define FAR_SCALE (1.0f + 2.0f * gamma_n(3))
+#define CULL_SCALE (1.0f + 2.0f * gamma_n(8))
+
+/* ======================================================================
+   Per-ray precomputation shared by the triangle test and the slab test
+   ====================================================================== */
+typedef struct {
+    float o[4], d[4];        /* lane 3: 0 */
+    float inv_d[4];          /* 1/d; +-infinity where d is +-0 */
     int neg[3];              /* the sign bit of d: the slab the ray enters first */
-    int kx, ky, kz;          /* permutation: kz = axis of the largest |d| */
-    int axis[3];             /* the slab test's axis order: the other two, then kz */
-    size_t near[3], far[3];  /* the planes of axis[s] that the ray enters and leaves
-                                through, by the sign of d, as offsets in floats from
-                                BvhNode.box[0]: row * BVH_WIDTH */
-    float Sx, Sy, Sz;        /* shear constants of Woop et al. */
-    float o_ax[3], inv_ax[3];   /* o and 1/d of axis[s]: the slab test's operands */
-    float far_scale;         /* 1 + 2 gamma(3): the robust slab test's far factor */
-    float cull_scale;        /* 1 + 2 gamma(8): the closest-hit culling margin */
+    const RayOrder *ord;     /* the ray's case: the slab test's near plane of axis[s]
+                                is ord->plane[s], its far plane ord->plane[4 + s]; the
+                                triangle test's kx, ky, kz are ord->k[0], k[1], k[2] */
+    float S[4];              /* shear constants of Woop et al.: Sx, Sy, Sz, 0 */
+    float o_ax[4], ninv_ax[4];  /* o and -1/d of axis[s]: the slab test's operands */
 #if BVH_SIMD
-    __m128 o4[3], inv4[3], far4;   /* o_ax, inv_ax, far_scale in all four lanes */
+    __m128 o4[3], ninv4[3], far4;  /* o_ax, ninv_ax, FAR_SCALE in all four lanes */
 #endif
 #if BVH_AVX
-    __m128i perm[2];         /* tri_miss4's lane choices: (kx, ky, kz) and each + 1 */
-    __m128 o_k, shear;       /* (o_kx, o_ky, o_kz, 0) and (Sx, Sy, 0, 0) */
+    __m128 o_k, sx4, sy4;    /* (o_kx, o_ky, o_kz, 0); Sx and Sy in all four lanes */
+    __m256 o8[3], ninv8[3];  /* o_ax, ninv_ax in all eight lanes */
 #endif
 } RayPre;
 
@@ -213,8 +249,8 @@ HOT_INLINE void inv_axis(RayPre *rp, int a)
    or direction). */
 HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
 {
-    rp->o[0] = r->o.x; rp->o[1] = r->o.y; rp->o[2] = r->o.z;
-    rp->d[0] = r->d.x; rp->d[1] = r->d.y; rp->d[2] = r->d.z;
+    rp->o[0] = r->o.x; rp->o[1] = r->o.y; rp->o[2] = r->o.z; rp->o[3] = 0.0f;
+    rp->d[0] = r->d.x; rp->d[1] = r->d.y; rp->d[2] = r->d.z; rp->d[3] = 0.0f;
     /* x - x is +0 for a finite x and NaN for an infinite or NaN one, so the sum of the
        six is 0 exactly when all six are finite: one test, not six branches */
     if (!((rp->o[0] - rp->o[0]) + (rp->o[1] - rp->o[1]) + (rp->o[2] - rp->o[2]) +
@@ -223,6 +259,7 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
     inv_axis(rp, 0);
     inv_axis(rp, 1);
     inv_axis(rp, 2);
+    rp->inv_d[3] = INFINITY;             /* 1 / d[3], as the 4-lane code makes it */
     return 1;
 }
 
@@ -232,46 +269,39 @@ HOT_INLINE int ray_prepare(const Ray *r, RayPre *rp)
    scene miss everything.  Returns 0 for a direction too short to use. */
 HOT_INLINE int ray_prepare_rest(RayPre *rp, int sse)
 {
-    static const int mod3[6] = {0, 1, 2, 0, 1, 2};   /* mod3[i] = i % 3, without a division */
-    int a;
+    const RayOrder *ord;
+    int a, kz;
     /* kz: the dimension where |d| is largest, so the shear divides by the most (and
        the axis whose slab culls boxes beyond the closest hit: ORDER INDEPENDENCE) */
     {   /* without branches: random directions would mispredict them (docs/bvh.md) */
         const float a0 = fabsf(rp->d[0]), a1 = fabsf(rp->d[1]), a2 = fabsf(rp->d[2]);
         const int k1 = a1 > a0;                     /* the first largest wins ties */
         const float m = a1 > a0 ? a1 : a0;
-        rp->kz = k1 + (a2 > m) * (2 - k1);
+        kz = k1 + (a2 > m) * (2 - k1);
     }
     /* a direction too short for 1/d_kz to be finite hits nothing (the same for the
        brute-force tests intersect_triangle and intersect_sphere); this includes 0 */
-    if (!(fabsf(rp->d[rp->kz]) >= FLT_MIN)) return 0;
-    for (a = 0; a < 3; a++) {
-        const int ax = mod3[rp->kz + 1 + a];      /* a = 2 gives kz itself */
-        rp->axis[a] = ax;
-        rp->near[a] = (size_t)(ax + 3 * rp->neg[ax]) * BVH_WIDTH;   /* hi for d < 0, lo for d >= 0 */
-        rp->far[a] = (size_t)(ax + 3 * (1 - rp->neg[ax])) * BVH_WIDTH;
-        rp->o_ax[a] = rp->o[ax];
-        rp->inv_ax[a] = rp->inv_d[ax];
+    if (!(fabsf(rp->d[kz]) >= FLT_MIN)) return 0;
+    ord = &ray_orders[kz * 8 + rp->neg[0] + 2 * rp->neg[1] + 4 * rp->neg[2]];
+    rp->ord = ord;
+    for (a = 0; a < 4; a++) {
+        rp->o_ax[a] = rp->o[ord->axis[a]];
+        rp->ninv_ax[a] = -rp->inv_d[ord->axis[a]];
     }
-    rp->far_scale = 1.0f + 2.0f * gamma_n(3);
 #if BVH_SIMD
     if (sse) {          /* node_hit4's operands (sse = 0: the AVX2 copy, or no slab test) */
         for (a = 0; a < 3; a++) {
             rp->o4[a] = _mm_set1_ps(rp->o_ax[a]);
-            rp->inv4[a] = _mm_set1_ps(rp->inv_ax[a]);
+            rp->ninv4[a] = _mm_set1_ps(rp->ninv_ax[a]);
         }
-        rp->far4 = _mm_set1_ps(rp->far_scale);
+        rp->far4 = _mm_set1_ps(FAR_SCALE);
     }
 #endif
     (void)sse;
-    rp->cull_scale = 1.0f + 2.0f * gamma_n(8);
-    /* kx, ky = the next two axes after kz, swapped when d_kz < 0 to keep the
-       triangles' winding (neg[kz] is exactly d_kz < 0 here: |d_kz| >= FLT_MIN) */
-    rp->kx = mod3[rp->kz + 1 + rp->neg[rp->kz]];
-    rp->ky = mod3[rp->kz + 2 - rp->neg[rp->kz]];
-    rp->Sx = rp->d[rp->kx] / rp->d[rp->kz];
-    rp->Sy = rp->d[rp->ky] / rp->d[rp->kz];
-    rp->Sz = rp->inv_d[rp->kz];        /* = 1 / d_kz, the very float the slab test uses */
+    rp->S[0] = rp->d[rp->ord->k[0]] / rp->d[kz];
+    rp->S[1] = rp->d[rp->ord->k[1]] / rp->d[kz];
+    rp->S[2] = rp->inv_d[kz];        /* = 1 / d_kz, the very float the slab test uses */
+    rp->S[3] = 0.0f;
     return 1;
 }
 
@@ -338,7 +368,7 @@ static float t_error_bound(float Ax, float Ay, float Az, float Bx, float By, flo
    uvw[] = U V W in float. */
 HOT_INLINE void tri_edges(const RayPre *rp, const float *v, float *e, float *z, float *uvw)
 {
-    const int kx = rp->kx, ky = rp->ky, kz = rp->kz;
+    const int kx = rp->ord->k[0], ky = rp->ord->k[1], kz = rp->ord->k[2];
     const float ox = rp->o[kx], oy = rp->o[ky], oz = rp->o[kz];
 
     /* 1. Vertices relative to the ray origin, in the permuted axes (x, y, z) */
@@ -347,9 +377,9 @@ HOT_INLINE void tri_edges(const RayPre *rp, const float *v, float *e, float *z, 
     const float C_x = v[6 + kx] - ox, C_y = v[6 + ky] - oy, C_z = v[6 + kz] - oz;
 
     /* 2. Shear: the ray becomes the +z axis */
-    const float Ax = A_x - rp->Sx * A_z, Ay = A_y - rp->Sy * A_z;
-    const float Bx = B_x - rp->Sx * B_z, By = B_y - rp->Sy * B_z;
-    const float Cx = C_x - rp->Sx * C_z, Cy = C_y - rp->Sy * C_z;
+    const float Ax = A_x - rp->S[0] * A_z, Ay = A_y - rp->S[1] * A_z;
+    const float Bx = B_x - rp->S[0] * B_z, By = B_y - rp->S[1] * B_z;
+    const float Cx = C_x - rp->S[0] * C_z, Cy = C_y - rp->S[1] * C_z;
 
     /* 3. Scaled barycentrics = 2D edge functions of the origin */
     uvw[0] = Cx * By - Cy * Bx;
@@ -379,7 +409,7 @@ HOT_INLINE int tri_hit(const RayPre *rp, const float *v, float tmax,
     if (det == 0.0f) return 0;                     /* edge-on or degenerate triangle */
 
     /* 4. Scaled distance T = det * t */
-    Az = rp->Sz * z[0];  Bz = rp->Sz * z[1];  Cz = rp->Sz * z[2];
+    Az = rp->S[2] * z[0];  Bz = rp->S[2] * z[1];  Cz = rp->S[2] * z[2];
     T = U * Az + V * Bz + W * Cz;
     if (det < 0.0f ? T >= 0.0f : T <= 0.0f) return 0;   /* behind the origin */
     inv_det = 1.0f / det;
@@ -478,7 +508,10 @@ int intersect_sphere(Vec3 c, float radius, const Ray *r, float *t)
    each vertex's distance as  Az = (v_kz - o_kz) * Sz  and the slab test the box's
    near plane as  tz = (b_kz - o_kz) * inv_d_kz,  with Sz == inv_d_kz (both
    1.0f / d_kz) and b_kz beyond no vertex; rounding is monotonic, so tz <= Az, Bz, Cz
-   exactly.  The test's t = (U Az + V Bz + W Cz) / (U + V + W) with U, V, W of one sign
+   exactly.  (The slab test computes tz as (o_kz - b_kz) * (-inv_d_kz), which is the
+   same float: negation is exact and rounding to nearest is symmetric, so
+   fl(o - b) = -fl(b - o) and fl((-x)(-y)) = fl(x y); only the sign of a zero may
+   differ, which no comparison sees.)  The test's t = (U Az + V Bz + W Cz) / (U + V + W) with U, V, W of one sign
    is a convex combination of them, which 7 roundings take at most a factor
    (1 - gamma(7)) below their minimum (Higham 2002, ch. 3).  So every triangle in the
    box has t >= (1 - gamma(7)) tz, and the box may be culled when
@@ -496,7 +529,10 @@ int intersect_sphere(Vec3 c, float radius, const Ray *r, float *t)
    THE SLAB TEST (Kay & Kajiya 1986) uses the precomputed inverse direction: on each
    axis the ray enters through the plane the sign of d points away from (lo for
    d >= 0, hi for d < 0), so near and far planes are picked once per ray
-   (RayPre.near/far).  A zero component of d gives 1/d = +-infinity; (b - o) * inf is
+   (RayOrder.plane).  Each plane's distance is computed as (o - b) * (-1/d), the same
+   float as (b - o) * (1/d) (above), because x86 folds a load only into the second
+   operand of a subtraction: o - box[j] reads the box straight from memory.  A zero
+   component of d gives 1/d = +-infinity; (o - b) * inf is
    then +-infinity, or NaN when the origin lies exactly on the plane, and the near/far
    distances are accumulated with "x > acc ? x : acc", which skips a NaN: a ray in the
    plane of a flat box (an axis-aligned wall seen edge-on) still enters it.  The far
@@ -575,18 +611,18 @@ HOT_INLINE unsigned node_hit_mask_scalar(const BvhNode *nd, const RayPre *rp, fl
                                          float *t_enter, float *t_z)
 {
     const float *box = nd->box[0];
-    const float *n0 = box + rp->near[0], *f0 = box + rp->far[0];
-    const float *n1 = box + rp->near[1], *f1 = box + rp->far[1];
-    const float *n2 = box + rp->near[2], *f2 = box + rp->far[2];
+    const float *n0 = box + rp->ord->plane[0], *f0 = box + rp->ord->plane[4];
+    const float *n1 = box + rp->ord->plane[1], *f1 = box + rp->ord->plane[5];
+    const float *n2 = box + rp->ord->plane[2], *f2 = box + rp->ord->plane[6];
     const float o0 = rp->o_ax[0], o1 = rp->o_ax[1], o2 = rp->o_ax[2];
-    const float i0 = rp->inv_ax[0], i1 = rp->inv_ax[1], i2 = rp->inv_ax[2];
-    const float far_scale = rp->far_scale;
+    const float i0 = rp->ninv_ax[0], i1 = rp->ninv_ax[1], i2 = rp->ninv_ax[2];
+    const float far_scale = FAR_SCALE;
     int j;
     unsigned mask = 0;
     for (j = 0; j < BVH_WIDTH; j++) {
-        const float tn0 = (n0[j] - o0) * i0, tf0 = (f0[j] - o0) * i0;
-        const float tn1 = (n1[j] - o1) * i1, tf1 = (f1[j] - o1) * i1;
-        const float tn2 = (n2[j] - o2) * i2, tf2 = (f2[j] - o2) * i2;
+        const float tn0 = (o0 - n0[j]) * i0, tf0 = (o0 - f0[j]) * i0;
+        const float tn1 = (o1 - n1[j]) * i1, tf1 = (o1 - f1[j]) * i1;
+        const float tn2 = (o2 - n2[j]) * i2, tf2 = (o2 - f2[j]) * i2;
         /* "x > acc ? x : acc" skips a NaN x (d = 0 and the origin on the plane) */
         float tn = 0.0f, tf = INFINITY;
         tn = tn0 > tn ? tn0 : tn;  tf = tf0 < tf ? tf0 : tf;
@@ -608,12 +644,12 @@ HOT_INLINE unsigned node_hit4(const BvhNode *nd, const RayPre *rp, __m128 cull, 
                               float *t_enter, float *t_z)
 {
     const float *box = nd->box[0] + h;
-    const __m128 tn0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->near[0]), rp->o4[0]), rp->inv4[0]);
-    const __m128 tf0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->far[0]), rp->o4[0]), rp->inv4[0]);
-    const __m128 tn1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->near[1]), rp->o4[1]), rp->inv4[1]);
-    const __m128 tf1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->far[1]), rp->o4[1]), rp->inv4[1]);
-    const __m128 tn2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->near[2]), rp->o4[2]), rp->inv4[2]);
-    const __m128 tf2 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(box + rp->far[2]), rp->o4[2]), rp->inv4[2]);
+    const __m128 tn0 = _mm_mul_ps(_mm_sub_ps(rp->o4[0], _mm_load_ps(box + rp->ord->plane[0])), rp->ninv4[0]);
+    const __m128 tf0 = _mm_mul_ps(_mm_sub_ps(rp->o4[0], _mm_load_ps(box + rp->ord->plane[4])), rp->ninv4[0]);
+    const __m128 tn1 = _mm_mul_ps(_mm_sub_ps(rp->o4[1], _mm_load_ps(box + rp->ord->plane[1])), rp->ninv4[1]);
+    const __m128 tf1 = _mm_mul_ps(_mm_sub_ps(rp->o4[1], _mm_load_ps(box + rp->ord->plane[5])), rp->ninv4[1]);
+    const __m128 tn2 = _mm_mul_ps(_mm_sub_ps(rp->o4[2], _mm_load_ps(box + rp->ord->plane[2])), rp->ninv4[2]);
+    const __m128 tf2 = _mm_mul_ps(_mm_sub_ps(rp->o4[2], _mm_load_ps(box + rp->ord->plane[6])), rp->ninv4[2]);
     __m128 tn = _mm_max_ps(tn0, _mm_setzero_ps()), tf = _mm_min_ps(tf0, _mm_set1_ps(INFINITY));
     tn = _mm_max_ps(tn1, tn);  tf = _mm_min_ps(tf1, tf);
     tn = _mm_max_ps(tn2, tn);  tf = _mm_min_ps(tf2, tf);
@@ -671,28 +707,28 @@ HOT_INLINE int child_rank(const float *t_enter, unsigned mask, int jj)
    operations, lane for lane (_mm256_max_ps and _mm256_min_ps treat a NaN as
    _mm_max_ps and _mm_min_ps do; _CMP_LE_OS is _mm_cmple_ps's predicate).  A row of
    8 planes is 32 bytes, 32-byte aligned (nodes on 64 bytes), one aligned load.  The
-   ray's operands are broadcast here from RayPre's floats (one vbroadcastss each,
-   which the compiler hoists out of the loop where it can). */
+   ray's operands come broadcast from RayPre (o8, ninv8: made once a ray, read from
+   memory at each node, so no register holds them across the leaves). */
 AVX2_FN unsigned node_hit8(const BvhNode *nd, const RayPre *rp, float t_cull,
                            float *t_enter, float *t_z)
 {
     const float *box = nd->box[0];
-    const __m256 o0 = _mm256_set1_ps(rp->o_ax[0]), i0 = _mm256_set1_ps(rp->inv_ax[0]);
-    const __m256 o1 = _mm256_set1_ps(rp->o_ax[1]), i1 = _mm256_set1_ps(rp->inv_ax[1]);
-    const __m256 o2 = _mm256_set1_ps(rp->o_ax[2]), i2 = _mm256_set1_ps(rp->inv_ax[2]);
-    const __m256 tn0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->near[0]), o0), i0);
-    const __m256 tf0 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->far[0]), o0), i0);
-    const __m256 tn1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->near[1]), o1), i1);
-    const __m256 tf1 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->far[1]), o1), i1);
-    const __m256 tn2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->near[2]), o2), i2);
-    const __m256 tf2 = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(box + rp->far[2]), o2), i2);
+    const __m256 o0 = rp->o8[0], i0 = rp->ninv8[0];
+    const __m256 o1 = rp->o8[1], i1 = rp->ninv8[1];
+    const __m256 o2 = rp->o8[2], i2 = rp->ninv8[2];
+    const __m256 tn0 = _mm256_mul_ps(_mm256_sub_ps(o0, _mm256_load_ps(box + rp->ord->plane[0])), i0);
+    const __m256 tf0 = _mm256_mul_ps(_mm256_sub_ps(o0, _mm256_load_ps(box + rp->ord->plane[4])), i0);
+    const __m256 tn1 = _mm256_mul_ps(_mm256_sub_ps(o1, _mm256_load_ps(box + rp->ord->plane[1])), i1);
+    const __m256 tf1 = _mm256_mul_ps(_mm256_sub_ps(o1, _mm256_load_ps(box + rp->ord->plane[5])), i1);
+    const __m256 tn2 = _mm256_mul_ps(_mm256_sub_ps(o2, _mm256_load_ps(box + rp->ord->plane[2])), i2);
+    const __m256 tf2 = _mm256_mul_ps(_mm256_sub_ps(o2, _mm256_load_ps(box + rp->ord->plane[6])), i2);
     __m256 tn = _mm256_max_ps(tn0, _mm256_setzero_ps()), tf = _mm256_min_ps(tf0, _mm256_set1_ps(INFINITY));
     tn = _mm256_max_ps(tn1, tn);  tf = _mm256_min_ps(tf1, tf);
     tn = _mm256_max_ps(tn2, tn);  tf = _mm256_min_ps(tf2, tf);
     _mm256_storeu_ps(t_enter, tn);
     _mm256_storeu_ps(t_z, tn2);
     return (unsigned)_mm256_movemask_ps(
-        _mm256_and_ps(_mm256_cmp_ps(tn, _mm256_mul_ps(tf, _mm256_set1_ps(rp->far_scale)), _CMP_LE_OS),
+        _mm256_and_ps(_mm256_cmp_ps(tn, _mm256_mul_ps(tf, _mm256_set1_ps(FAR_SCALE)), _CMP_LE_OS),
                       _mm256_cmp_ps(tn2, _mm256_set1_ps(t_cull), _CMP_LE_OS)));
 }
 
@@ -706,47 +742,124 @@ AVX2_FN int child_rank8(const float *t_enter, unsigned mask, int jj)
     return __builtin_popcount((gt | (eq & ((1u << jj) - 1u))) & mask);
 }
 
-/* tri_miss4's per-ray operands (after ray_prepare_rest) */
+/* The AVX2 copy's per-ray operands (tri_miss4's, node_hit8's) from the scalar
+   precomputation (ray_prepare_avx2 makes them itself; the tests compare the two) */
 AVX2_FN void ray_prepare4(RayPre *rp)
 {
-    rp->perm[0] = _mm_setr_epi32(rp->kx, rp->ky, rp->kz, 3);
-    rp->perm[1] = _mm_setr_epi32(rp->kx + 1, rp->ky + 1, rp->kz + 1, 0);
-    rp->o_k = _mm_setr_ps(rp->o[rp->kx], rp->o[rp->ky], rp->o[rp->kz], 0.0f);
-    rp->shear = _mm_setr_ps(rp->Sx, rp->Sy, 0.0f, 0.0f);
+    int a;
+    rp->o_k = _mm_setr_ps(rp->o[rp->ord->k[0]], rp->o[rp->ord->k[1]], rp->o[rp->ord->k[2]], 0.0f);
+    rp->sx4 = _mm_set1_ps(rp->S[0]);
+    rp->sy4 = _mm_set1_ps(rp->S[1]);
+    for (a = 0; a < 3; a++) {
+        rp->o8[a] = _mm256_set1_ps(rp->o_ax[a]);
+        rp->ninv8[a] = _mm256_set1_ps(rp->ninv_ax[a]);
+    }
+}
+
+/* ray_prepare, root_hit, ray_prepare_rest and ray_prepare4 in one, with o, d and 1/d
+   as 4-lane vectors (lane 3: 0, 0, +inf): 0 for a ray that is not finite, misses
+   the root box or has a direction too short to use, as the scalar three return
+   (traverse); else RayPre filled with the same bits (the test
+   bvh_simd_matches_scalar compares them).  Each lane does the scalar code's
+   operation: 1 / d is +-infinity for d = +-0 as inv_axis makes it; the root box's
+   near plane is picked by d's sign bit (blendv reads the sign bit, as signbit does);
+   its distances are folded in the scalar order (_mm_max_ss(x, acc) is
+   "x > acc ? x : acc"); kz is the lowest axis of largest |d| as in
+   ray_prepare_rest (a2 > a0 and a2 > a1 gives 2, else a1 > a0 gives 1); the shear
+   divides the same two floats. */
+AVX2_FN int ray_prepare_avx2(const Bvh *b, const Ray *r, RayPre *rp)
+{
+    static const unsigned char kz_of[8] = {0, 1, 0, 1, 0, 1, 2, 2};  /* by (a1>a0, a2>a0, a2>a1) */
+    const __m128 keep3 = _mm_castsi128_ps(_mm_setr_epi32(-1, -1, -1, 0));
+    const __m128 o = _mm_and_ps(_mm_loadu_ps(&r->o.x), keep3);     /* o.x o.y o.z (d.x) */
+    const __m128 d = _mm_and_ps(_mm_loadu_ps(&r->d.x), keep3);     /* d.x d.y d.z (tmax) */
+    const __m128 zero = _mm_setzero_ps();
+    const __m128 bmin = _mm_loadu_ps(b->bmin);                          /* lane 3: bmax[0] */
+    const __m128 bmax = _mm_permute_ps(_mm_loadu_ps(&b->bmin[2]), _MM_SHUFFLE(3, 3, 2, 1));
+    __m128 inv, tn, tf, absd, dk, sh;
+    __m128i kv;
+    const RayOrder *ord;
+    int negs, gts;
+    /* all six finite: x - x is 0 for a finite x, NaN otherwise (ray_prepare) */
+    if (_mm_movemask_ps(_mm_cmpeq_ps(_mm_add_ps(_mm_sub_ps(o, o), _mm_sub_ps(d, d)), zero)) != 15)
+        return 0;
+    inv = _mm_div_ps(_mm_set1_ps(1.0f), d);
+    negs = _mm_movemask_ps(d);                    /* bit a: the sign bit of d_a */
+    /* root_hit: near plane (lo for d >= 0, hi for d < 0) and far plane an axis */
+    tn = _mm_mul_ps(_mm_sub_ps(_mm_blendv_ps(bmin, bmax, d), o), inv);
+    tf = _mm_mul_ps(_mm_sub_ps(_mm_blendv_ps(bmax, bmin, d), o), inv);
+    {
+        __m128 n = _mm_max_ss(tn, zero), f = _mm_min_ss(tf, _mm_set_ss(INFINITY));
+        n = _mm_max_ss(_mm_permute_ps(tn, 1), n);  f = _mm_min_ss(_mm_permute_ps(tf, 1), f);
+        n = _mm_max_ss(_mm_permute_ps(tn, 2), n);  f = _mm_min_ss(_mm_permute_ps(tf, 2), f);
+        if (!(_mm_cvtss_f32(n) <= _mm_cvtss_f32(f) * FAR_SCALE)) return 0;
+    }
+    /* ray_prepare_rest: kz, then the table of the ray's case */
+    absd = _mm_andnot_ps(_mm_set1_ps(-0.0f), d);
+    if (_mm_movemask_ps(_mm_cmpge_ps(absd, _mm_set1_ps(FLT_MIN))) == 0) return 0;
+    gts = _mm_movemask_ps(_mm_cmpgt_ps(_mm_permute_ps(absd, _MM_SHUFFLE(3, 2, 2, 1)),
+                                       _mm_permute_ps(absd, _MM_SHUFFLE(3, 1, 0, 0)))) & 7;
+    ord = &ray_orders[kz_of[gts] * 8 + negs];
+    _mm_storeu_ps(rp->o, o);
+    _mm_storeu_ps(rp->d, d);
+    _mm_storeu_ps(rp->inv_d, inv);
+    rp->ord = ord;
+    kv = _mm_loadu_si128((const __m128i *)ord->axis);
+    _mm_storeu_ps(rp->o_ax, _mm_permutevar_ps(o, kv));
+    _mm_storeu_ps(rp->ninv_ax, _mm_xor_ps(_mm_permutevar_ps(inv, kv), _mm_set1_ps(-0.0f)));
+    rp->o8[0] = _mm256_set1_ps(rp->o_ax[0]); rp->ninv8[0] = _mm256_set1_ps(rp->ninv_ax[0]);
+    rp->o8[1] = _mm256_set1_ps(rp->o_ax[1]); rp->ninv8[1] = _mm256_set1_ps(rp->ninv_ax[1]);
+    rp->o8[2] = _mm256_set1_ps(rp->o_ax[2]); rp->ninv8[2] = _mm256_set1_ps(rp->ninv_ax[2]);
+    kv = _mm_loadu_si128((const __m128i *)ord->k);
+    rp->o_k = _mm_permutevar_ps(o, kv);                            /* o_kx o_ky o_kz 0 */
+    dk = _mm_permutevar_ps(d, kv);                                  /* d_kx d_ky d_kz 0 */
+    sh = _mm_div_ps(dk, _mm_permute_ps(dk, _MM_SHUFFLE(2, 2, 2, 2)));   /* Sx Sy 1 0 */
+    rp->sx4 = _mm_permute_ps(sh, _MM_SHUFFLE(0, 0, 0, 0));
+    rp->sy4 = _mm_permute_ps(sh, _MM_SHUFFLE(1, 1, 1, 1));
+    _mm_storeu_ps(rp->S, _mm_blend_ps(_mm_blend_ps(sh, zero, 12), _mm_permutevar_ps(inv, kv), 4));  /* Sx Sy Sz 0 */
+    return 1;
 }
 
 /* tri_hit's steps 1 to 3 with the three vertices side by side, as a filter: 1 where
    tri_hit returns 0 at its sign test (U, V, W of mixed signs, none 0 in float), else
    0 (then tri_hit decides).  A vertex is loaded as 4 floats (C from v + 5, so that no
-   load passes v[8]) and put in the order (kx, ky, kz) by a variable permute; then
-   every lane does tri_hit's operations in tri_hit's order:
-       (A_x, A_y, A_z) = (v_kx - o_kx, v_ky - o_ky, v_kz - o_kz)
-       (Ax, Ay)        = (A_x - Sx A_z, A_y - Sy A_z)          (B and C alike)
-       (U, V, W)       = (Cx, Ax, Bx) (By, Cy, Ay) - (Cy, Ay, By) (Bx, Cx, Ax)
+   load passes v[8]) and put in the order (kx, ky, kz) by a variable permute; the
+   three are then turned into X = (A_x, B_x, C_x), Y and Z alike, and every lane
+   does tri_hit's operations in tri_hit's order:
+       (A_x, A_y, A_z) = (v_kx - o_kx, v_ky - o_ky, v_kz - o_kz)  (B and C alike)
+       (Ax, Bx, Cx)    = X - Sx Z,   (Ay, By, Cy) = Y - Sy Z
+       (V, W, U)       = (Ax, Bx, Cx) (Cy, Ay, By) - (Ay, By, Cy) (Cx, Ax, Bx)
    so U, V and W are tri_hit's to the bit, and so is the filter's verdict (a NaN is
    neither < 0 nor > 0 in either).  Most triangles a ray is tested against end at
    the sign test (85 % on tools/bench_count's rays); the rest, and the rays on an
    edge in float, go through tri_hit itself. */
+#define TRI_MIXED UINT64_C(0x2040e10325400)
 AVX2_FN int tri_miss4(const RayPre *rp, const float *v)
 {
-    const __m128 A_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v), rp->perm[0]), rp->o_k);
-    const __m128 B_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 3), rp->perm[0]), rp->o_k);
-    const __m128 C_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 5), rp->perm[1]), rp->o_k);
-    /* shear: lane 0 x - Sx z, lane 1 y - Sy z (lanes 2, 3 unused) */
-    const __m128 A = _mm_sub_ps(A_, _mm_mul_ps(rp->shear, _mm_shuffle_ps(A_, A_, _MM_SHUFFLE(2, 2, 2, 2))));
-    const __m128 B = _mm_sub_ps(B_, _mm_mul_ps(rp->shear, _mm_shuffle_ps(B_, B_, _MM_SHUFFLE(2, 2, 2, 2))));
-    const __m128 C = _mm_sub_ps(C_, _mm_mul_ps(rp->shear, _mm_shuffle_ps(C_, C_, _MM_SHUFFLE(2, 2, 2, 2))));
-    const __m128 AB = _mm_unpacklo_ps(A, B);                              /* Ax Bx Ay By */
-    const __m128 X = _mm_shuffle_ps(AB, C, _MM_SHUFFLE(0, 0, 1, 0));      /* Ax Bx Cx */
-    const __m128 Y = _mm_shuffle_ps(AB, C, _MM_SHUFFLE(1, 1, 3, 2));      /* Ay By Cy */
-    const __m128 UVW = _mm_sub_ps(
-        _mm_mul_ps(_mm_shuffle_ps(X, X, _MM_SHUFFLE(3, 1, 0, 2)), _mm_shuffle_ps(Y, Y, _MM_SHUFFLE(3, 0, 2, 1))),
-        _mm_mul_ps(_mm_shuffle_ps(Y, Y, _MM_SHUFFLE(3, 1, 0, 2)), _mm_shuffle_ps(X, X, _MM_SHUFFLE(3, 0, 2, 1))));
+    const __m128 A_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v), _mm_loadu_si128((const __m128i *)rp->ord->k)), rp->o_k);
+    const __m128 B_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 3), _mm_loadu_si128((const __m128i *)rp->ord->k)), rp->o_k);
+    const __m128 C_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 5), _mm_loadu_si128((const __m128i *)(rp->ord->k + 4))), rp->o_k);
+    /* side by side: X = (A_x, B_x, C_x), Y = (A_y, B_y, C_y), Z = (A_z, B_z, C_z) */
+    const __m128 AB = _mm_unpacklo_ps(A_, B_);                            /* Ax Bx Ay By */
+    const __m128 ABz = _mm_unpackhi_ps(A_, B_);                           /* Az Bz 0 0 */
+    const __m128 X_ = _mm_shuffle_ps(AB, C_, _MM_SHUFFLE(0, 0, 1, 0));
+    const __m128 Y_ = _mm_shuffle_ps(AB, C_, _MM_SHUFFLE(1, 1, 3, 2));
+    const __m128 Z = _mm_shuffle_ps(ABz, C_, _MM_SHUFFLE(2, 2, 1, 0));
+    /* shear: x - Sx z, y - Sy z */
+    const __m128 X = _mm_sub_ps(X_, _mm_mul_ps(rp->sx4, Z));
+    const __m128 Y = _mm_sub_ps(Y_, _mm_mul_ps(rp->sy4, Z));
+    /* (V, W, U) = (Ax, Bx, Cx) (Cy, Ay, By) - (Ay, By, Cy) (Cx, Ax, Bx): each tri_hit's
+       products in tri_hit's order, only in other lanes (lane 3: Cx Cy - Cy Cx) */
+    const __m128 UVW = _mm_sub_ps(_mm_mul_ps(X, _mm_permute_ps(Y, _MM_SHUFFLE(3, 1, 0, 2))),
+                                  _mm_mul_ps(Y, _mm_permute_ps(X, _MM_SHUFFLE(3, 1, 0, 2))));
+    /* mixed signs, none 0: with le = the lanes <= 0 and ge = the lanes >= 0 (a NaN
+       in neither), the zeros are le & ge, and without them the lanes < 0 are le and
+       those > 0 ge; MIXED has bit le | ge << 3 set where le & ge = 0, le != 0 and
+       ge != 0 (its 18 such patterns), so one shift reads the verdict */
     const __m128 zero = _mm_setzero_ps();
-    const int eq0 = _mm_movemask_ps(_mm_cmpeq_ps(UVW, zero)) & 7;
-    const int lt0 = _mm_movemask_ps(_mm_cmplt_ps(UVW, zero)) & 7;
-    const int gt0 = _mm_movemask_ps(_mm_cmpgt_ps(UVW, zero)) & 7;
-    return (eq0 == 0) & (lt0 != 0) & (gt0 != 0);   /* mixed signs: outside */
+    const unsigned le = (unsigned)_mm_movemask_ps(_mm_cmple_ps(UVW, zero)) & 7u;
+    const unsigned ge = (unsigned)_mm_movemask_ps(_mm_cmpge_ps(UVW, zero)) & 7u;
+    return (int)((TRI_MIXED >> (le | ge << 3)) & 1u);   /* mixed signs: outside */
 }
 
 /* tri_hit for the triangles tri_miss4 lets through (15 %), as a call: inlined, its
@@ -767,6 +880,7 @@ static int bvh_cpu_avx2(void)
 #define tri_miss4(rp, v) 0
 #define tri_hit_rest tri_hit
 #define ray_prepare4(rp) ((void)(rp))
+#define ray_prepare_avx2(b, r, rp) 0
 #define child_rank8 child_rank
 #define bvh_cpu_avx2() 0
 #endif
@@ -893,6 +1007,13 @@ static int alpha_keep(const Scene *s, const Ray *r, int p, float tmax, float *t,
     return 0;
 }
 
+/* The first instance's id: the number of primitives of the other kinds (the
+   numbering of the opening comment) */
+HOT_INLINE int prim_base(const Scene *s)
+{
+    return s->n_tris + s->n_spheres + s->n_quadrics + s->n_patches + s->n_curve_pieces;
+}
+
 /* The closest hit (any_hit: any hit) of the world ray r with instance i's object,
    traced in object space with tmax = t_best; at_tmax: a hit at t_best itself counts
    (the caller breaks that tie by the instance's id).  Defined after traverse. */
@@ -921,16 +1042,15 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
     StackEntry stack[BVH_STACK];
     float t_enter[BVH_WIDTH], t_z[BVH_WIDTH], t_best = r->tmax, t_cull, t, b1, b2;
     const int no_hit = at_tmax ? INT32_MAX : -1;
-    const int n_quad_end = s->n_tris + s->n_spheres + s->n_quadrics, n_patch_end = n_quad_end + s->n_patches;
-    const int n_base = n_patch_end + s->n_curve_pieces;
-    const int n_alpha_base = s->n_alpha > 0 ? n_base : 0;   /* ALPHA: ids below it are tested */
+    const int n_tris = s->n_tris;      /* the other kinds' bounds only where they are met */
     int sp = 0, best_p = no_hit, ref = 0;
     HitRecord hi;
-    if (b->n_nodes == 0 || !(t_best > 0.0f) || !ray_prepare(r, &rp) || !root_hit(b, &rp) ||
-        !ray_prepare_rest(&rp, !avx))              /* only now: most rays miss the root */
+    if (b->n_nodes == 0 || !(t_best > 0.0f)) return 0;
+    if (avx ? !ray_prepare_avx2(b, r, &rp)           /* the same, in 4 lanes */
+            : !ray_prepare(r, &rp) || !root_hit(b, &rp) ||
+              !ray_prepare_rest(&rp, 1))           /* only now: most rays miss the root */
         return 0;
-    t_cull = t_best * rp.cull_scale;
-    if (avx) ray_prepare4(&rp);
+    t_cull = t_best * CULL_SCALE;
 
     for (;;) {
         if (ref >= 0) {
@@ -983,31 +1103,34 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
             for (; q < end; q++) {
                 const int p = q->prim;
                 int ok;
-                if (p < s->n_tris)
+                if (p < n_tris)
                     ok = avx ? !tri_miss4(&rp, q->v) &&   /* (AVX2: a filter first) */
                                    tri_hit_rest(&rp, q->v, t_best, &t, &b1, &b2)
                              : tri_hit(&rp, q->v, t_best, &t, &b1, &b2);
-                else if (p < s->n_tris + s->n_spheres) {
-                    ok = sphere_hit(&rp, q->v, t_best, &t); b1 = b2 = 0.0f;
-                } else if (p < n_quad_end) {
-                    ok = quadric_intersect(&s->shapes[s->quadric_shape[p - s->n_tris - s->n_spheres]],
-                                           r, t_best, &t);
-                    b1 = b2 = 0.0f;
-                } else if (p < n_patch_end) {
-                    Vec3 c[4];             /* a patch: b1, b2 carry its (u, v) */
-                    patch_corners(s, s->patches[p - n_quad_end].v, c);
-                    ok = patch_intersect(c, r, t_best, &t, &b1, &b2);
-                } else if (p < n_base) {   /* a curve piece: b1, b2 carry its (u, v) */
-                    ok = curve_intersect(s, &s->curve_pieces[p - n_patch_end], r, t_best, any_hit, &hi);
-                    if (ok) { t = hi.t; b1 = hi.b1; b2 = hi.b2; }
-                } else {                            /* an instance: its object's closest hit */
-                    if (!instance_hit(s, p - n_base, r, t_best, best_p != no_hit, any_hit, avx, &hi))
-                        continue;
-                    if (any_hit) return 1;          /* at t < r->tmax */
-                    ok = 1; t = hi.t; b1 = hi.b1; b2 = hi.b2;
+                else {
+                    const int n_sph_end = n_tris + s->n_spheres, n_quad_end = n_sph_end + s->n_quadrics;
+                    const int n_patch_end = n_quad_end + s->n_patches, n_base = prim_base(s);
+                    if (p < n_sph_end) {
+                        ok = sphere_hit(&rp, q->v, t_best, &t); b1 = b2 = 0.0f;
+                    } else if (p < n_quad_end) {
+                        ok = quadric_intersect(&s->shapes[s->quadric_shape[p - n_sph_end]], r, t_best, &t);
+                        b1 = b2 = 0.0f;
+                    } else if (p < n_patch_end) {
+                        Vec3 c[4];         /* a patch: b1, b2 carry its (u, v) */
+                        patch_corners(s, s->patches[p - n_quad_end].v, c);
+                        ok = patch_intersect(c, r, t_best, &t, &b1, &b2);
+                    } else if (p < n_base) {   /* a curve piece: b1, b2 carry its (u, v) */
+                        ok = curve_intersect(s, &s->curve_pieces[p - n_patch_end], r, t_best, any_hit, &hi);
+                        if (ok) { t = hi.t; b1 = hi.b1; b2 = hi.b2; }
+                    } else {                        /* an instance: its object's closest hit */
+                        if (!instance_hit(s, p - n_base, r, t_best, best_p != no_hit, any_hit, avx, &hi))
+                            continue;
+                        if (any_hit) return 1;      /* at t < r->tmax */
+                        ok = 1; t = hi.t; b1 = hi.b1; b2 = hi.b2;
+                    }
                 }
                 if (!ok) continue;
-                if (p < n_alpha_base && !alpha_keep(s, r, p, t_best, &t, &b1, &b2))
+                if (s->n_alpha > 0 && p < prim_base(s) && !alpha_keep(s, r, p, t_best, &t, &b1, &b2))
                     continue;                       /* ALPHA: the ray goes on */
                 if (any_hit) {
                     if (t < r->tmax) return 1;
@@ -1017,10 +1140,10 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                    a tie with the best so far goes to the smaller primitive id */
                 if (!(t < t_best || p < best_p)) continue;
                 t_best = t;                         /* closer hits only from now on */
-                t_cull = t_best * rp.cull_scale;
+                t_cull = t_best * CULL_SCALE;
                 best_p = p;
                 h->t = t; h->prim = p; h->b1 = b1; h->b2 = b2; h->inst = -1;
-                if (p >= n_base) { h->prim = hi.prim; h->inst = p - n_base; }
+                if (p >= n_tris && p >= prim_base(s)) { h->prim = hi.prim; h->inst = p - prim_base(s); }
             }
         }
         /* pop the next child that may still hold a hit at t <= t_best */
@@ -1169,6 +1292,33 @@ int bvh_tri_filter_mismatches(const Bvh *b, const Scene *s, const Ray *r, int *t
     return bad;
 }
 
+/* ray_prepare_avx2 against the scalar ray_prepare, root_hit, ray_prepare_rest and
+   ray_prepare4: the verdict, and every field the AVX2 traversal reads, bit for bit
+   (1 on a difference) */
+#if BVH_AVX
+#define SAME(x, y) (memcmp(&(x), &(y), sizeof(x)) != 0)
+AVX2_STATIC int prepare_mismatch(const Bvh *b, const Ray *r)
+{
+    RayPre c, v;
+    int ok_c, ok_v, a, bad;
+    memset(&c, 0, sizeof c);
+    memset(&v, 0, sizeof v);
+    ok_c = ray_prepare(r, &c) && root_hit(b, &c) && ray_prepare_rest(&c, 0);
+    ok_v = ray_prepare_avx2(b, r, &v);
+    if (ok_c != ok_v) return 1;
+    if (!ok_c) return 0;
+    ray_prepare4(&c);
+    bad = SAME(c.o, v.o) | SAME(c.d, v.d) | SAME(c.inv_d, v.inv_d) | (c.ord != v.ord) |
+          SAME(c.S, v.S) | SAME(c.o_k, v.o_k) | SAME(c.sx4, v.sx4) |
+          SAME(c.sy4, v.sy4);
+    for (a = 0; a < 3; a++)
+        bad |= SAME(c.o_ax[a], v.o_ax[a]) | SAME(c.ninv_ax[a], v.ninv_ax[a]) |
+               SAME(c.o8[a], v.o8[a]) | SAME(c.ninv8[a], v.ninv8[a]);
+    return bad;
+}
+#undef SAME
+#endif
+
 int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes)
 {
     RayPre rp;
@@ -1176,7 +1326,13 @@ int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes)
     const int avx = bvh_cpu_avx2();
     unsigned m;
     for (m = 1; m < 256; m++) bad += lowest_bit(m) != lowest_bit_portable(m);
+#if BVH_AVX
+    if (avx && b->n_nodes > 0) bad += prepare_mismatch(b, r);
+#endif
     if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp, 1)) return bad;
+#if BVH_AVX
+    if (avx) ray_prepare4(&rp);
+#endif
     for (i = 0; i < b->n_nodes; i++) {
         bad += node_mismatches(&b->nodes[i], &rp, t_cull, 0);
         *lanes += BVH_WIDTH;

@@ -727,7 +727,9 @@ int  bvh_occluded(const Bvh *b, const struct Scene *s, const Ray *r);
    how many children of b's nodes get an entry distance, a near plane, an
    entered/not or a rank that differs in any bit between the scalar code and each
    SIMD path, plus how many masks 1..255 get different lowest bits from the two bit
-   scans; *lanes += children compared (each node's 8 once per SIMD path).  For tests. */
+   scans; *lanes += children compared (each node's 8 once per SIMD path).  With AVX2
+   it also counts 1 when the AVX2 copy's ray preparation (its verdict, or a field the
+   traversal reads) differs from the scalar one.  For tests. */
 int  bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes);
 int  bvh_avx2(void);
 /* Where the AVX2 copy runs, a triangle is first tested by a 4-lane filter (bvh.c:

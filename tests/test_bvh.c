@@ -417,7 +417,13 @@ static void test_bvh_exact_adversarial(T *t)
    has AVX2 (bvh_avx2), against the scalar code they mirror (bvh_simd_mismatches),
    bit for bit on every node: random rays, rays with zero direction components whose
    origin lies exactly on a box's plane (the NaN of 0 * inf), and culling distances
-   from 0 to infinity; on a soup and on the grid cube, whose boxes are flat. */
+   from 0 to infinity; on a soup and on the grid cube, whose boxes are flat.  With
+   AVX2 the same call compares the AVX2 copy's 4-lane ray preparation with the scalar
+   one (verdict and fields), also on rays at its edges: no direction, one shorter
+   than FLT_MIN, signed zeros, ties of |d|, non-finite, missing the root box, and
+   starting on a plane of the root box with d = 0 across it (the NaN of 0 * inf);
+   and rays through the corners of the boxes, the root's included, where only the
+   far factor (1 + 2 gamma(3)) decides whether the box is entered. */
 static void test_bvh_simd_matches_scalar(T *t)
 {
     Scene s;
@@ -447,6 +453,54 @@ static void test_bvh_simd_matches_scalar(T *t)
             }
             r.tmax = INFINITY;
             bad += bvh_simd_mismatches(&s.bvh, &r, culls[k % 5], &lanes);
+            expected += s.bvh.n_nodes * BVH_WIDTH * paths;
+        }
+        for (k = 0; k < 13; k++) {          /* rays at the edges of the preparation */
+            static const float odd[13][6] = {
+                {0, 0, 0, 0, 0, 0},                          /* no direction */
+                {0, 0, 0, 1e-39f, 0, -1e-39f},               /* shorter than FLT_MIN */
+                {0, 0, 0, FLT_MIN, 0, -0.0f},                /* just long enough */
+                {0.1f, 0.2f, 0.3f, -0.0f, -0.0f, 1},         /* signed zeros */
+                {0.1f, 0.2f, 0.3f, 1, 1, 1},                 /* ties of |d| */
+                {0.1f, 0.2f, 0.3f, -1, 1, -1},
+                {0.1f, 0.2f, 0.3f, 0, -2, 2},
+                {0.1f, 0.2f, 0.3f, -3, 2, 1},                /* each axis dominant */
+                {0.1f, 0.2f, 0.3f, 0.5f, -3, 1},
+                {INFINITY, 0, 0, 1, 0, 0},                   /* not finite */
+                {0, 0, 0, 1, NAN, 0},
+                {50, 50, 50, 1, 1, 1},                       /* misses the root box */
+                {50, 0, 0, -1, 0, 0}};                       /* enters it along x */
+            Ray r;
+            r.o = v3(odd[k][0], odd[k][1], odd[k][2]);
+            r.d = v3(odd[k][3], odd[k][4], odd[k][5]);
+            r.tmax = INFINITY;
+            bad += bvh_simd_mismatches(&s.bvh, &r, 1.0f, &lanes);
+            expected += k <= 1 || k == 9 || k == 10 ? 0 : s.bvh.n_nodes * BVH_WIDTH * paths;
+        }
+        for (k = 0; k < 80; k++) {          /* through a corner of a box (k < 20: the root's),
+                                               where entry and exit meet but for rounding */
+            const BvhNode *nd = &s.bvh.nodes[(int)(rng_float(&rng) * (float)s.bvh.n_nodes) % s.bvh.n_nodes];
+            const int slot = (int)(rng_float(&rng) * BVH_WIDTH) % BVH_WIDTH;
+            float c[3];
+            int a;
+            Ray r;
+            for (a = 0; a < 3; a++) {
+                const int hi = rng_float(&rng) < 0.5f;
+                c[a] = k < 20 ? (hi ? s.bvh.bmax[a] : s.bvh.bmin[a]) : nd->box[hi * 3 + a][slot];
+            }
+            if (!isfinite(c[0])) continue;  /* an empty slot */
+            r.o = v3(urand(&rng, -3, 3), urand(&rng, -3, 3), urand(&rng, -3, 3));
+            r.d = v3_sub(v3(c[0], c[1], c[2]), r.o);
+            r.tmax = INFINITY;
+            bad += bvh_simd_mismatches(&s.bvh, &r, INFINITY, &lanes);
+            expected += s.bvh.n_nodes * BVH_WIDTH * paths;
+        }
+        for (k = 0; k < 2; k++) {           /* on a plane of the root box, d = 0 across it */
+            Ray r;
+            r.o = k ? v3(0.0f, s.bvh.bmax[1], 0.0f) : v3(s.bvh.bmin[0], 0.0f, 0.0f);
+            r.d = k ? v3(0.3f, 0.0f, -1.0f) : v3(0.0f, 1.0f, 0.5f);
+            r.tmax = INFINITY;
+            bad += bvh_simd_mismatches(&s.bvh, &r, 1.0f, &lanes);
             expected += s.bvh.n_nodes * BVH_WIDTH * paths;
         }
         scene_release(&s);
