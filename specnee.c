@@ -419,6 +419,8 @@ static void print_settings(const RenderOptions *o, const Scene *s)
            sel_reads_metric(st) || st == SEL_SPECTRAL_TREE ? "" : sel_name(st));
     printf("rough-dispersion %s\nno-nee %s\n", o->rough_mis ? "mis" : "terminate", o->nee ? "off" : "on");
     printf("chromatic-media %s\n", o->media_terminate ? "terminate" : "mis");
+    if (o->equiangular && o->equi_depth > 0) printf("equiangular %d\n", o->equi_depth);
+    else printf("equiangular %s\n", o->equiangular ? "on" : "off");
     printf("fluor-li %s\nfluor-lanes %s\n",
            o->fluor_li == FLUOR_LI_A ? "a" : o->fluor_li == FLUOR_LI_POWER ? "power" : "uniform",
            o->fluor_keep ? "keep" : "terminate");
