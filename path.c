@@ -735,8 +735,9 @@ static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const Pa
        selection pmf free flight's NEE would have given this piece here) and the
        equiangular technique's, e (THEORY (18e)) */
     q_nee = (v->equi ? light_nee_pmf(R->ls, v->ctx, piece) : P) * es.pdf_sa;
-    e_eq = equi_e(R, v->eq, em, es.pdf_sa);
-    den = mis_denominator(path->r, q_b, T, A, q_nee, path->alive) + equi_den(v->eq, e_eq);
+    e_eq = v->eq ? equi_e(R, v->eq, em, es.pdf_sa) : 0.0;
+    den = mis_denominator(path->r, q_b, T, A, q_nee, path->alive);
+    if (e_eq != 0.0) den += equi_den(v->eq, e_eq);
     if (!(den > 0.0)) {
         if (dbg) fprintf(dbg, "  NEE: emitter %d: MIS denominator 0 (no technique has a density here)\n", em);
         return none;
@@ -816,7 +817,7 @@ static Contribution emitter_found(Tracer *tr, const PathState *path, int e, cons
         q_nee = light_nee_pmf(R->ls, &prev->ctx, piece) * pdf_sa;
     }
     den = mis_denominator(prev->r, prev->q_bsdf, prev->T, prev->A, q_nee, prev->alive);
-    if (prev->can_nee && sp) den += equi_den(&prev->eq, equi_e(R, &prev->eq, e, pdf_sa));
+    if (prev->eq.on && prev->can_nee && sp) den += equi_den(&prev->eq, equi_e(R, &prev->eq, e, pdf_sa));
     W = den > 0.0 ? ((double)prev->q_bsdf[0] * prev->T[0]) * ((double)prev->q_bsdf[0] * prev->T[0]) / den : 0.0;
     if (tr->dbg && !sp)
         fprintf(tr->dbg, "  escaped: infinite light %d, MIS weight %.4g (q_nee %.4g)\n", e, W, q_nee);
