@@ -787,6 +787,7 @@ struct LightSampler {
     float **voxel;             /* per voxel: s[n] (spatial pmf) then g[n] (geometry) */
     double lazy_s;             /* seconds spent building voxels on first use (under the
                                   critical section, so the sum is time really spent) */
+    EquiLamps equi;            /* the lamps equiangular sampling aims at (equiangular.c) */
 };
 
 /* A clock for lazy_s: OpenMP's wall clock, else the CPU clock (one thread). */
@@ -1232,12 +1233,15 @@ LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *er
             ls->lazy_s = 0.0;          /* built up front: counted in the build time */
         }
     }
+    equi_lamps_build(s, ls->emitter_piece, &ls->equi);
     return ls;
 oom:
     light_sampler_free(ls);
     error_set(err, NULL, 0, "out of memory building the light sampler");
     return NULL;
 }
+
+const EquiLamps *light_equi(const LightSampler *ls) { return &ls->equi; }
 
 void light_sampler_free(LightSampler *ls)
 {

@@ -94,6 +94,24 @@
 
 /* ------------------------------------------------------------------ the path's state */
 
+/* Equiangular sampling's view of the segment that led to a collision in a
+   homogeneous medium (THEORY §12.1): the technique drew a distance t' on the same
+   segment towards a lamp and did NEE there, so it could have made any path whose
+   last vertex is such a collision and whose light comes from one of the lamps
+   (EquiLamps).  Its density for the collision at t and the point y on lamp i is
+   r_m p_eq,i(t) P_E(i) p_sigma(y) for hero m (r_m: the ratios BEFORE the
+   collision), which nee_sample and emitter_found add to D in the normalisation of
+   free flight's density at the hero, p_ff,0(t) = sigma_t,0 Tr_0(t) (equi_e). */
+typedef struct {
+    int on;                          /* the technique ran on this segment */
+    Vec3 o, d;                       /* the segment o + t d (d unit) ... */
+    float tmax;                      /* ... for 0 <= t <= tmax (INFINITY: unbounded) */
+    float t;                         /* the collision's distance along it */
+    double pff0;                     /* free flight's density of t at the hero */
+    float r[HERO_N];                 /* the ratios r_m before the collision */
+    unsigned alive;                  /* the lanes alive before it */
+} EquiTerm;
+
 /* What the integrator remembers of the previous vertex for the MIS weight of an
    emitter found by BSDF (or phase function) sampling. */
 typedef struct {
@@ -110,6 +128,7 @@ typedef struct {
     double A[HERO_N];                /* NEE's density of those null collisions, in the
                                         same normalisation (1 without grids: THEORY (24)) */
     unsigned alive;                  /* wavelengths alive at that vertex */
+    EquiTerm eq;                     /* a collision: the equiangular technique (on 0: none) */
 } PrevVertex;
 
 /* One path: its four lanes and where it is. */
@@ -274,10 +293,13 @@ static Vec3 light_origin(const Material *m, const SurfacePoint *sp, Vec3 wo)
 
 /* Remember the vertex at p that sampled the next direction with the densities
    q_bsdf (one per wavelength), before its lanes are updated. */
-static void prev_set(PathState *path, int can_nee, const LightCtx *ctx, Vec3 p, const float *q_bsdf)
+static void prev_set(PathState *path, int can_nee, const LightCtx *ctx, Vec3 p, const float *q_bsdf,
+                     const EquiTerm *eq)
 {
     int j;
     path->prev.can_nee = can_nee;
+    path->prev.eq.on = 0;
+    if (eq) path->prev.eq = *eq;
     path->prev.ctx = *ctx;
     path->prev.p = p;
     path->prev.alive = path->alive;
@@ -300,6 +322,36 @@ static double mis_denominator(const float *r, const float *q_bsdf, const double 
             double qb = (double)q_bsdf[m] * T[m], qn = (double)q_nee * A[m];
             d += (double)r[m] * r[m] * (qn * qn + qb * qb);
         }
+    return d;
+}
+
+/* The equiangular technique's density (THEORY (18e)) for the point y on emitter em
+   (solid-angle pdf p_sigma from the collision), over free flight's p_ff,0(t):
+   e = p_eq,i(t) P_E(i) p_sigma / p_ff,0(t); 0 where the technique could not have
+   made it (not on this segment, em not one of its lamps, a ray through the lamp's
+   centre) or where p_ff,0 underflows (t beyond any light's reach). */
+static double equi_e(const Renderer *R, const EquiTerm *q, int em, float pdf_sa)
+{
+    const EquiLamps *L;
+    EquiSeg sg;
+    double e;
+    int i;
+    if (!q || !q->on) return 0.0;
+    L = light_equi(R->ls);
+    i = equi_lamp_of(L, em);
+    if (i < 0 || !equi_segment(q->o, q->d, q->tmax, L->center[i], &sg)) return 0.0;
+    e = equi_pdf(&sg, (double)q->t) * ((double)pdf_sa / L->n) / q->pff0;
+    return isfinite(e) ? e : 0.0;
+}
+
+/* Its terms of D: sum_m r_m^2 e^2 over the lanes alive before the collision. */
+static double equi_den(const EquiTerm *q, double e)
+{
+    double d = 0.0;
+    int m;
+    if (!q || !q->on || e == 0.0) return 0.0;
+    for (m = 0; m < HERO_N; m++)
+        if (q->alive & (1u << m)) d += (double)q->r[m] * q->r[m] * e * e;
     return d;
 }
 /* ------------------------------------------------------------------ --debug-pixel */
@@ -405,6 +457,7 @@ typedef struct {
     float st[HERO_N];
     int grid;
     double tm[HERO_N], ss[HERO_N];
+    EquiTerm eq;               /* homogeneous: equiangular sampling on its segment */
 } Collision;
 
 /* The stream of a medium's further random numbers (delta and ratio tracking draw
@@ -453,7 +506,13 @@ static int shadow_transmittance(Tracer *tr, int depth, Ray sh, int med, const Pa
         int found;
         double len;
         tr->cnt->rays++;
-        found = bvh_intersect(&s->bvh, s, &sh, &hit);
+        /* without "interface" surfaces any surface before the target blocks the
+           light: an any-hit query (bvh_occluded) answers that, and the ray stays
+           in its medium all the way */
+        if (!s->n_interface) {
+            if (bvh_occluded(&s->bvh, s, &sh)) return 0;
+            found = 0;
+        } else found = bvh_intersect(&s->bvh, s, &sh, &hit);
         len = (double)(found ? hit.t : 1.0f) * v3_len(sh.d);
         if (med >= 0 && s->media[med].type != MEDIUM_HOMOGENEOUS) {
             RatioWalk w;
@@ -498,6 +557,25 @@ static int shadow_transmittance(Tracer *tr, int depth, Ray sh, int med, const Pa
    differs between the alive wavelengths first terminates the secondaries. */
 static int grid_flight(Tracer *tr, int dim, int depth, const Ray *ray, float tmax, PathState *path,
                        Collision *c);
+static void equi_nee(Tracer *tr, int depth, int seg, const EquiTerm *q, const PathState *path,
+                     const float *st);
+
+/* Whether the equiangular technique runs on a segment through a homogeneous
+   medium at bounce depth (THEORY §12.1): NEE on, lamps to aim at, a collision
+   there would scatter (below maxdepth and --equiangular N), and every alive lane has sigma_t > 0 (so
+   free flight's density, which its weights divide by, is positive for every
+   hero).  The rule reads nothing that depends on which wavelength is the hero. */
+static int equi_applies(const Tracer *tr, int depth, const PathState *path, const float *st)
+{
+    const Renderer *R = tr->R;
+    int j;
+    if (!R->o->equiangular || !R->o->nee || depth >= R->o->maxdepth || light_equi(R->ls)->n == 0 ||
+        (R->o->equi_depth > 0 && depth >= R->o->equi_depth))
+        return 0;
+    for (j = 0; j < HERO_N; j++)
+        if ((path->alive & (1u << j)) && !(st[j] > 0.0f)) return 0;
+    return 1;
+}
 
 static int medium_flight(Tracer *tr, int dim, int depth, const Ray *ray, float tmax, PathState *path,
                          Collision *c)
@@ -517,12 +595,26 @@ static int medium_flight(Tracer *tr, int dim, int depth, const Ray *ray, float t
         if (tr->dbg) fprintf(tr->dbg, "  medium \"%s\": chromatic, secondaries terminated\n", M->name);
     }
     c->grid = 0;
+    c->eq.on = 0;
     if (M->type != MEDIUM_HOMOGENEOUS) return grid_flight(tr, dim, depth, ray, tmax, path, c);
     s0 = st[0];
+    if (equi_applies(tr, depth, path, st)) {
+        /* the equiangular technique on this segment (THEORY §12.1): its own NEE now,
+           its terms in the weights of free flight's collision on the segment */
+        c->eq.on = 1;
+        c->eq.o = ray->o;
+        c->eq.d = ray->d;
+        c->eq.tmax = tmax;
+        memcpy(c->eq.r, path->r, sizeof c->eq.r);
+        c->eq.alive = path->alive;
+        equi_nee(tr, depth, dim - dim_medium(depth, 0), &c->eq, path, st);
+    }
     u = sampler_1d(tr->ps, dim);
     t = s0 > 0.0 ? -log1p(-u) / s0 : INFINITY;
     if (t < (double)tmax) {
         c->t = (float)t;
+        c->eq.t = c->t;
+        c->eq.pff0 = s0 * exp(-s0 * (double)c->t);
         return 1;
     }
     for (j = 0; j < HERO_N; j++) {
@@ -550,6 +642,8 @@ typedef struct {
     float g;                   /* in a medium: its Henyey-Greenstein asymmetry */
     int medium;                /* the medium the path reached it through (-1: none) */
     const LightCtx *ctx;       /* the selection context there */
+    const EquiTerm *eq;        /* a collision: the equiangular technique's terms (NULL: none) */
+    int equi;                  /* 1: this is the equiangular technique's NEE (equi_nee) */
 } Scatter;
 
 /* One NEE sample from vertex v (THEORY (6)): a point on the piece that NEE took
@@ -573,7 +667,7 @@ static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const Pa
     const float *q_b;                 /* the BSDF's pdfs in the MIS weight */
     int em = light_piece_emitter(R->ls, piece), any = 0, j;
     EmitterSample es;
-    double value[HERO_N], den, T[HERO_N] = { 1.0, 1.0, 1.0, 1.0 }, A[HERO_N] = { 1.0, 1.0, 1.0, 1.0 };
+    double value[HERO_N], den, e_eq, T[HERO_N] = { 1.0, 1.0, 1.0, 1.0 }, A[HERO_N] = { 1.0, 1.0, 1.0, 1.0 };
     float alpha;                                   /* a shape's "alpha" at es (lights.c) */
     SurfacePoint at_sp;                            /* es's (u, v), for an emission image */
     const SurfacePoint *at;
@@ -637,8 +731,13 @@ static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const Pa
         }
     }
     q_b = es.delta || emitter_invisible(s, em) ? no_bsdf : pdf_l;   /* lights.c: no BSDF finds it */
-    q_nee = P * es.pdf_sa;
+    /* free flight's NEE density (for the equiangular technique's own sample, the
+       selection pmf free flight's NEE would have given this piece here) and the
+       equiangular technique's, e (THEORY (18e)) */
+    q_nee = (v->equi ? light_nee_pmf(R->ls, v->ctx, piece) : P) * es.pdf_sa;
+    e_eq = v->eq ? equi_e(R, v->eq, em, es.pdf_sa) : 0.0;
     den = mis_denominator(path->r, q_b, T, A, q_nee, path->alive);
+    if (e_eq != 0.0) den += equi_den(v->eq, e_eq);
     if (!(den > 0.0)) {
         if (dbg) fprintf(dbg, "  NEE: emitter %d: MIS denominator 0 (no technique has a density here)\n", em);
         return none;
@@ -646,13 +745,16 @@ static Contribution nee_sample(Tracer *tr, int depth, const Scatter *v, const Pa
     if (dbg) {
         float qT[HERO_N];
         for (j = 0; j < HERO_N; j++) qT[j] = (float)(q_b[j] * T[j]);
-        debug_weight(dbg, "NEE: visible emitter", em, (double)q_nee * q_nee / den,
-                     path->r, qT, q_nee, path->alive, 1);
-        if (path->alive != 1u)
+        if (v->eq && v->eq->on)
+            fprintf(dbg, "  NEE%s: equiangular density e %.4g (free flight's q_nee %.4g), weight %.4g\n",
+                    v->equi ? " (equiangular)" : "", e_eq, q_nee, (v->equi ? e_eq * e_eq : (double)q_nee * q_nee) / den);
+        else debug_weight(dbg, "NEE: visible emitter", em, (double)q_nee * q_nee / den,
+                          path->r, qT, q_nee, path->alive, 1);
+        if (path->alive != 1u && !(v->eq && v->eq->on))
             debug_check_sum(dbg, debug_weight_sum(R, v->ctx, piece, es.pdf_sa, path->r, qT, path->alive));
     }
     for (j = 0; j < HERO_N; j++) k.c[j] = value[j];
-    return weighted(k, (double)q_nee / den);
+    return weighted(k, (v->equi ? e_eq : (double)q_nee) / den);
 }
 
 /* 4. Next event estimation at vertex v: the pieces lights.c offers (one chosen
@@ -715,6 +817,7 @@ static Contribution emitter_found(Tracer *tr, const PathState *path, int e, cons
         q_nee = light_nee_pmf(R->ls, &prev->ctx, piece) * pdf_sa;
     }
     den = mis_denominator(prev->r, prev->q_bsdf, prev->T, prev->A, q_nee, prev->alive);
+    if (prev->eq.on && prev->can_nee && sp) den += equi_den(&prev->eq, equi_e(R, &prev->eq, e, pdf_sa));
     W = den > 0.0 ? ((double)prev->q_bsdf[0] * prev->T[0]) * ((double)prev->q_bsdf[0] * prev->T[0]) / den : 0.0;
     if (tr->dbg && !sp)
         fprintf(tr->dbg, "  escaped: infinite light %d, MIS weight %.4g (q_nee %.4g)\n", e, W, q_nee);
@@ -723,7 +826,7 @@ static Contribution emitter_found(Tracer *tr, const PathState *path, int e, cons
         float qT[HERO_N];
         for (j = 0; j < HERO_N; j++) qT[j] = (float)(prev->q_bsdf[j] * prev->T[j]);
         debug_weight(tr->dbg, "emission from emitter", e, W, prev->r, qT, q_nee, prev->alive, 0);
-        if (prev->can_nee && prev->alive != 1u)
+        if (prev->can_nee && prev->alive != 1u && !prev->eq.on)
             debug_check_sum(tr->dbg, debug_weight_sum(R, &prev->ctx, piece, pdf_sa, prev->r,
                                                       qT, prev->alive));
     }
@@ -882,6 +985,64 @@ static int grid_flight(Tracer *tr, int dim, int depth, const Ray *ray, float tma
      roulette ends it), then NEE with the phase function, and the next direction
      from the phase function (f / pdf = 1, the same pdf for every wavelength).
    Returns 0 when the path ends; otherwise ray leaves the collision. */
+/* The equiangular technique's sample on the segment q (THEORY §12.1): a lamp i
+   with probability 1/n, a distance t by (18d) towards its centre, the lanes as
+   free flight's collision at t would leave them (medium_vertex's (17)), and one
+   NEE sample of lamp i from there, weighted by nee_sample against free flight's
+   NEE and phase sampling at t (v.equi).  The lanes' throughput then holds
+   1 / p_ff,0(t), which the weight e / D takes back out (e = p_eq P_E p_sigma /
+   p_ff,0). */
+static void equi_nee(Tracer *tr, int depth, int seg, const EquiTerm *q, const PathState *path,
+                     const float *st)
+{
+    const Renderer *R = tr->R;
+    const EquiLamps *L = light_equi(R->ls);
+    const Medium *M = &R->s->media[path->medium];
+    const MediumLanes *ml = medium_lanes(tr, path->medium, path->lam);
+    EquiTerm at = *q;
+    EquiSeg sg;
+    PathState pc = *path;
+    LightCtx ctx;
+    Scatter v;
+    double s0 = st[0], pe, nb[HERO_N], nr[HERO_N];
+    float u[3];
+    int i = 0, j, any = 0;
+    if (L->n > 1) {
+        i = (int)(sampler_1d(tr->ps, dim_equi(depth, seg, EQ_LAMP)) * (float)L->n);
+        if (i >= L->n) i = L->n - 1;
+    }
+    if (!equi_segment(q->o, q->d, q->tmax, L->center[i], &sg)) return;
+    at.t = (float)equi_sample(&sg, sampler_1d(tr->ps, dim_equi(depth, seg, EQ_T)), &pe);
+    at.pff0 = s0 * exp(-s0 * (double)at.t);
+    if (!(pe > 0.0) || !(at.pff0 > 0.0)) return;
+    for (j = 0; j < HERO_N; j++) {
+        double ratio;
+        nb[j] = nr[j] = 0.0;
+        if (!(path->alive & (1u << j))) continue;
+        ratio = st[j] == st[0] ? 1.0 : exp(-((double)st[j] - s0) * at.t);
+        nb[j] = path->beta[j] * (double)ml->ss[j] * ratio / s0;
+        nr[j] = j == 0 ? 1.0 : path->r[j] * ((double)st[j] / s0) * ratio;
+        if ((float)nb[j] > 0.0f) any = 1;
+    }
+    lanes_update(&pc, nb, nr);
+    if (!any) return;
+    v.mat = NULL;
+    v.sp = NULL;
+    v.p = v3_add(q->o, v3_mul(q->d, at.t));
+    v.wo = v3_neg(q->d);
+    v.g = M->g;
+    v.medium = path->medium;
+    vertex_ctx(R, &pc, v.p, v3(0.0f, 0.0f, 0.0f), &ctx);
+    v.ctx = &ctx;
+    v.eq = &at;
+    v.equi = 1;
+    if (tr->dbg) fprintf(tr->dbg, "  equiangular: lamp %d (emitter %d), t=%.4g, p_eq %.4g\n", i, L->emitter[i],
+                         (double)at.t, pe);
+    u[0] = 0.5f;                        /* a sphere's or a point's sample reads no triangle number */
+    sampler_2d(tr->ps, dim_equi(depth, seg, EQ_POINT), &u[1], &u[2]);
+    film_add(tr->fs, nee_sample(tr, depth, &v, &pc, light_piece_of(R->ls, L->emitter[i], -1), 1.0f / (float)L->n, u));
+}
+
 static int medium_vertex(Tracer *tr, int depth, Ray *ray, const Collision *c, PathState *path)
 {
     const Renderer *R = tr->R;
@@ -929,6 +1090,8 @@ static int medium_vertex(Tracer *tr, int depth, Ray *ray, const Collision *c, Pa
         v.g = M->g;
         v.medium = med;
         v.ctx = &ctx;
+        v.eq = c->eq.on ? &c->eq : NULL;
+        v.equi = 0;
         next_event(tr, depth, dim_bounce(depth, 0), &v, path);
     }
     /* the phase function's direction */
@@ -936,7 +1099,7 @@ static int medium_vertex(Tracer *tr, int depth, Ray *ray, const Collision *c, Pa
     wi = hg_sample(M->g, d, u1, u2, &pdf);
     if (!(pdf > 0.0f)) return 0;
     for (j = 0; j < HERO_N; j++) q[j] = pdf;
-    prev_set(path, o->nee && s->n_emitters > 0, &ctx, p, q);
+    prev_set(path, o->nee && s->n_emitters > 0, &ctx, p, q, c->eq.on ? &c->eq : NULL);
     path->any_nonspec = 1;               /* (pbrt-v4's volpath: a real scattering) */
     ray->o = p;
     ray->d = wi;
@@ -1049,11 +1212,13 @@ static int subsurface_exit(Tracer *tr, int depth, Ray *ray, const SurfacePoint *
         v.g = 0.0f;
         v.medium = path->medium;
         v.ctx = &ctx;
+        v.eq = NULL;
+        v.equi = 0;
         next_event(tr, depth, d0, &v, path);
     }
     sampler_2d(tr->ps, d0 + BD_DIR, &u[0], &u[1]);
     if (!bsdf_sample(&sw, &ex.sp, ex.sp.ns, path->lam, path->alive, 0.0f, u[0], u[1], &bs)) return 0;
-    prev_set(path, can_nee, &ctx, ex.sp.p, bs.pdf_l);
+    prev_set(path, can_nee, &ctx, ex.sp.p, bs.pdf_l, NULL);
     path->any_nonspec = 1;
     cos_i = fabsf(v3_dot(bs.wi, ex.sp.ns));
     for (j = 0; j < HERO_N; j++) {
@@ -1167,6 +1332,8 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
         v.g = 0.0f;
         v.medium = path->medium;
         v.ctx = &ctx;
+        v.eq = NULL;
+        v.equi = 0;
         next_event(tr, depth, dim_bounce(depth, 0), &v, path);
     }
 
@@ -1177,7 +1344,7 @@ static int surface_vertex(Tracer *tr, int depth, Ray *ray, const SurfacePoint *s
     sampler_2d(tr->ps, dim_bounce(depth, BD_DIR), &u1, &u2);
     if (!bsdf_sample(mat, sp, wo, path->lam, path->alive, u0, u1, u2, &bs)) return 0;
     lobe_next(mat, &bs, lobe_w, path);
-    prev_set(path, o->nee && !bs.delta && s->n_emitters > 0, &ctx, lp, bs.pdf_l);
+    prev_set(path, o->nee && !bs.delta && s->n_emitters > 0, &ctx, lp, bs.pdf_l, NULL);
     if (!bs.delta) path->any_nonspec = 1;
     cos_i = fabsf(v3_dot(bs.wi, sp->ns));
     for (j = 0; j < HERO_N; j++) {

@@ -1320,6 +1320,8 @@ static int finish(Parser *P, const char *file)
     if (!P->any_normals) { free(s->N); s->N = NULL; }
     if (!P->any_uv) { free(s->UV); s->UV = NULL; }
     if (s->n_emitters > 0 && !emitters_prepare(s, P->err)) return 0;
+    for (i = 0; i < s->n_shapes; i++)
+        if (s->materials[s->shapes[i].material].type == MAT_INTERFACE) s->n_interface++;
     if (!bvh_build(&s->bvh, s))
         return fail(P, file, P->end_line, "out of memory building the BVH");
     return 1;

@@ -93,8 +93,13 @@ static const char usage_options[] =
 "      --no-nee            BSDF sampling only (no next event estimation)\n"
 "      --chromatic-media M mis (default: spectral MIS keeps the four wavelengths\n"
 "                          through media whose sigma_t depends on the wavelength)\n"
-"                          or terminate (the secondaries end there): docs/media.md\n";
+"                          or terminate (the secondaries end there): docs/media.md\n"
+;
 static const char usage_options2[] =
+"      --equiangular M     off (default), on (in a homogeneous medium, NEE also from\n"
+"                          a distance sampled towards a point, spot or sphere lamp,\n"
+"                          MIS-weighted against free flight) or N (on, only on the\n"
+"                          first N bounces' segments): docs/media.md\n"
 "      --fluor-li M        a fluorescent vertex samples the absorbed wavelength from\n"
 "                          A x the emitters' power with a share of A (power,\n"
 "                          default), from its excitation A (a), or uniformly on\n"
@@ -314,6 +319,12 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
             if (!strcmp(v, "mis")) a->ro.media_terminate = 0;
             else if (!strcmp(v, "terminate")) a->ro.media_terminate = 1;
             else return usage_error("--chromatic-media is mis or terminate, not '%s'", v);
+        } else if (!strcmp(o, "--equiangular")) {
+            NEEDS_VALUE();
+            if (!strcmp(v, "on")) { a->ro.equiangular = 1; a->ro.equi_depth = 0; }
+            else if (!strcmp(v, "off")) a->ro.equiangular = 0;
+            else if (atoi(v) > 0) { a->ro.equiangular = 1; a->ro.equi_depth = atoi(v); }
+            else return usage_error("--equiangular is on, off or a number of bounces, not '%s'", v);
         } else if (!strcmp(o, "--rough-dispersion")) {
             NEEDS_VALUE();
             if (!strcmp(v, "mis")) a->ro.rough_mis = 1;
@@ -408,6 +419,8 @@ static void print_settings(const RenderOptions *o, const Scene *s)
            sel_reads_metric(st) || st == SEL_SPECTRAL_TREE ? "" : sel_name(st));
     printf("rough-dispersion %s\nno-nee %s\n", o->rough_mis ? "mis" : "terminate", o->nee ? "off" : "on");
     printf("chromatic-media %s\n", o->media_terminate ? "terminate" : "mis");
+    if (o->equiangular && o->equi_depth > 0) printf("equiangular %d\n", o->equi_depth);
+    else printf("equiangular %s\n", o->equiangular ? "on" : "off");
     printf("fluor-li %s\nfluor-lanes %s\n",
            o->fluor_li == FLUOR_LI_A ? "a" : o->fluor_li == FLUOR_LI_POWER ? "power" : "uniform",
            o->fluor_keep ? "keep" : "terminate");

@@ -252,6 +252,14 @@ static inline int dim_fluor(int depth) { return DIM_FLUOR0 + 2 * depth; }
 #define MEDIUM_SEGMENTS 64  /* @@ ray segments one bounce may cross (Material "interface"
                                boundaries of media); a path that needs more ends there */
 static inline int dim_medium(int depth, int seg) { return DIM_MEDIUM0 + MEDIUM_SEGMENTS * depth + seg; }
+/* equiangular sampling on segment s of bounce d (THEORY §12.1): EQ_T the distance,
+   EQ_LAMP which lamp, EQ_POINT (2-D) the point on it */
+#define DIM_EQUI0 (1 << 24)
+enum { EQ_T = 0, EQ_LAMP = 1, EQ_POINT = 2, DIMS_PER_EQUI = 4 };
+static inline int dim_equi(int depth, int seg, int slot)
+{
+    return DIM_EQUI0 + DIMS_PER_EQUI * (MEDIUM_SEGMENTS * depth + seg) + slot;
+}
 #define DIM_SSS0 (1 << 22)
 enum { SSS_AXIS = 8, SSS_RADIUS = 9, SSS_PICK = 11, DIMS_PER_SSS = 16 };
 static inline int dim_sss(int depth) { return DIM_SSS0 + DIMS_PER_SSS * depth; }
@@ -1588,6 +1596,31 @@ int   medium_preset(const char *name, float sigma_a[3], float sigma_s[3]);
    the shape's inside or outside medium if it is a transition, else cur. */
 int   medium_after(const struct Scene *s, int shape, int cur, Vec3 w, Vec3 ng);
 
+/* Equiangular distance sampling (equiangular.c, THEORY §12.1): along the segment
+   o + t d, 0 <= t <= tmax (d unit; tmax may be INFINITY), towards the point c,
+   the density (18c) D / ((theta_b - theta_a) (D^2 + (t - Delta)^2)).
+   equi_segment returns 0 when the ray passes through c (no density). */
+typedef struct {
+    double delta, D;           /* distance along the ray to the point nearest c; the
+                                  ray's distance from c */
+    double theta_a, theta_b;   /* the angles, seen from c, of t = 0 and t = tmax */
+    float tmax;
+} EquiSeg;
+int    equi_segment(Vec3 o, Vec3 d, float tmax, Vec3 c, EquiSeg *seg);
+double equi_sample(const EquiSeg *seg, double u, double *pdf);   /* (18d) */
+double equi_pdf(const EquiSeg *seg, double t);                   /* (18c); 0 off the segment */
+/* The lamps the technique aims at (point and spot lights, whole spheres NEE samples
+   as one piece): n = 0 (off) without any or with more than EQUI_LAMPS_MAX; each
+   is chosen with probability 1 / n. */
+#define EQUI_LAMPS_MAX 8
+typedef struct {
+    int n;
+    int emitter[EQUI_LAMPS_MAX];
+    Vec3 center[EQUI_LAMPS_MAX];
+} EquiLamps;
+void   equi_lamps_build(const struct Scene *s, const int *emitter_piece, EquiLamps *out);
+int    equi_lamp_of(const EquiLamps *L, int e);       /* its index in L; -1: not one */
+
 /* ======================================================================
    7. Emitters and emitter selection: the types (lights.c; infinite.c, delta.c,
       lighttree.c)
@@ -1935,6 +1968,8 @@ typedef struct Scene {
     Instance *instances; int n_instances;/* ObjectInstance placements */
     Motion *motions; int n_motions;      /* the moving instances' transforms (motion.c) */
     int n_alpha;                         /* shapes with alpha_on (0: no alpha test at all) */
+    int n_interface;                     /* shapes of Material "interface" (0: a shadow ray
+                                            crosses no medium boundary, path.c) */
     Vec3 bmin, bmax;                     /* world bounds of all geometry */
     Bvh bvh;
     char **strings; int n_strings;       /* owned file names referenced by shapes */
@@ -2281,6 +2316,8 @@ typedef struct {
    the tree, built here in O(N log N)).  The Scene is only read. */
 LightSampler *light_sampler_build(const Scene *s, const SelOptions *o, Error *err);
 void  light_sampler_free(LightSampler *ls);
+/* The lamps equiangular sampling aims at (equiangular.c; n = 0: none). */
+const EquiLamps *light_equi(const LightSampler *ls);
 /* Radiance leaving emitter e at a point with oriented normal n towards w (unit):
    zero from the back of a one-sided emitter.  An area light with an emission
    image ("filename") depends on the point's (u, v): light_Le_at reads it from at
@@ -2437,6 +2474,10 @@ typedef struct {
                                   first event in a medium whose sigma_t depends on the
                                   wavelength; 0 (default): spectral MIS carries all four
                                   through it (docs/media.md) */
+    int equiangular;           /* --equiangular on|N: equiangular sampling towards the
+                                  lamps in homogeneous media (THEORY §12.1); 0 (default): off */
+    int equi_depth;            /* --equiangular N: only on the segments of the first N
+                                  bounces (0: every bounce) */
     int progress;              /* progress bar on stderr */
     int debug_x, debug_y;      /* --debug-pixel: print that pixel's paths (-1: off) */
 } RenderOptions;
