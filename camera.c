@@ -77,6 +77,7 @@ void camera_init(Camera *c, const SceneSettings *st)
         c->film_w = st->lens.diagonal / sqrt(1.0 + a * a);
         c->film_h = a * c->film_w;
     }
+    c->eye = xf_point(&c->world_from_camera, v3(0.0f, 0.0f, 0.0f));
     c->moving = xf_differ(&st->camera_from_world, &st->camera_from_world_end);
     if (c->moving) {   /* pbrt-v4: world_from_camera's two ends, interpolated (motion.c) */
         Xform w1;
@@ -159,17 +160,21 @@ Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1, float ti
     float sx = c->sx0 + (x / (float)c->w) * (c->sx1 - c->sx0);
     float sy = c->sy1 - (y / (float)c->h) * (c->sy1 - c->sy0);
     Vec3 d = v3(sx * c->tan_half, sy * c->tan_half, 1.0f), o = v3(0, 0, 0);
+    int at_eye = 1;                                    /* o is still the camera's origin */
     *weight = 1.0f;
     if (c->type == CAMERA_ORTHOGRAPHIC) {
+        at_eye = 0;                                    /* orthographic: o on the window */
         o = v3(sx, sy, 0.0f);
         d = v3(0.0f, 0.0f, 1.0f);
     } else if (c->type != CAMERA_PERSPECTIVE) {
         d = spherical_dir(c->type, x / (float)c->w, y / (float)c->h);
     }
     if (c->lens) {
+        at_eye = 0;                                    /* realistic: o on the rear lens */
         *weight = realistic_ray(c, x, y, ul0, ul1, &o, &d);
     } else if (c->lens_radius > 0.0f) {
         float lx, ly;
+        at_eye = 0;                                    /* thin lens: o on the lens */
         Vec3 q = c->type == CAMERA_ORTHOGRAPHIC ? v3(sx, sy, c->focal_distance)
                                                 : v3_mul(d, c->focal_distance);   /* x_f */
         concentric_disk(ul0, ul1, &lx, &ly);
@@ -179,8 +184,9 @@ Ray camera_ray(const Camera *c, float x, float y, float ul0, float ul1, float ti
     if (c->moving) {                                   /* a moving camera (motion.c) */
         motion_at(&c->motion, time, &tmp);
         wfc = &tmp;
+        at_eye = 0;                                    /* the eye moves */
     }
-    r.o = xf_point(wfc, o);
+    r.o = at_eye ? c->eye : xf_point(wfc, o);          /* a pinhole's eye: the same point, once */
     r.d = v3_norm(xf_vector(wfc, d));
     r.tmax = INFINITY;
     r.time = time;

@@ -127,6 +127,7 @@ void filter_init(PixelFilter *pf, const SceneSettings *st)
     pf->c = st->filter_c;
     pf->tau = st->filter_tau;
     pf->n = 0;
+    pf->m = 0;
     pf->abs_integral = 0.0;
     if (pf->type == FILTER_GAUSSIAN) {
         /* specnee's Gaussian table: FILTER_CELLS cells whatever the radius (mitchell
@@ -161,13 +162,15 @@ void filter_init(PixelFilter *pf, const SceneSettings *st)
            weights are then 0 (filter_sample), and so is the image */
         for (i = 0; i <= pf->n; i++) pf->cdf[i] = (float)i / (float)pf->n;
         pf->abs_integral = 0.0;
-        cdf_guide(pf->cdf, pf->n, pf->guide);
+        pf->m = cdf_guide_size(pf->n);
+        cdf_guide(pf->cdf, pf->n, pf->guide, pf->m);
         return;
     }
     for (i = 0; i <= pf->n; i++) pf->cdf[i] = (float)(acc[i] / sum);
     pf->cdf[pf->n] = 1.0f;
     pf->abs_integral = sum * 2.0 * pf->radius / pf->n;
-    cdf_guide(pf->cdf, pf->n, pf->guide);
+    pf->m = cdf_guide_size(pf->n);
+    cdf_guide(pf->cdf, pf->n, pf->guide, pf->m);
 }
 
 /* x = cdf^-1(u) in the table's CDF: the cell through the guide table (cdf_cell:
@@ -175,7 +178,7 @@ void filter_init(PixelFilter *pf, const SceneSettings *st)
    within it.  The offset in [-r, r]; *cell: the cell. */
 static float table_sample(const PixelFilter *pf, float u, int *cell)
 {
-    int lo = cdf_cell(pf->cdf, pf->n, pf->guide, (double)u);
+    int lo = cdf_cell(pf->cdf, pf->n, pf->guide, pf->m, (double)u);
     float t;
     t = pf->cdf[lo + 1] > pf->cdf[lo] ? (u - pf->cdf[lo]) / (pf->cdf[lo + 1] - pf->cdf[lo]) : 0.5f;
     *cell = lo;

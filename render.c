@@ -216,6 +216,7 @@ static void render_pass(Pass *P)
     const Renderer *R = P->R;
     const RenderOptions *o = R->o;
     const SceneSettings *set = &R->s->settings;
+    const int lens = camera_has_lens(&R->cam);   /* asked once per pass, not per sample */
     int w = P->img->w, h = P->img->h, y;
 #ifdef _OPENMP
     /* rows are handed out one at a time; each pixel is written by one thread */
@@ -262,7 +263,7 @@ static void render_pass(Pass *P)
                 /* the lens dimensions, requested only with a lens: the independent
                    sampler's stream then has them after the wavelength, and pinhole
                    images keep their random numbers */
-                if (camera_has_lens(&R->cam)) sampler_2d(&ps, DIM_LENS, &ul0, &ul1);
+                if (lens) sampler_2d(&ps, DIM_LENS, &ul0, &ul1);
                 /* the time, only where something moves (motion.c): pbrt-v4's
                    lerp(u, shutteropen, shutterclose) */
                 if (R->moving) {
@@ -284,7 +285,8 @@ static void render_pass(Pass *P)
                        for cie1931): times the imaging ratio, then the largest
                        component clamped to maxcomponentvalue, hue kept */
                     xyz[0] *= set->imaging_ratio; xyz[1] *= set->imaging_ratio; xyz[2] *= set->imaging_ratio;
-                    m = fmax(xyz[0], fmax(xyz[1], xyz[2]));
+                    m = xyz[1] > xyz[2] ? xyz[1] : xyz[2];   /* fmax of finite values, without */
+                    m = xyz[0] > m ? xyz[0] : m;              /* two calls to libm */
                     if (m > set->max_component) {
                         double f = set->max_component / m;
                         xyz[0] *= f; xyz[1] *= f; xyz[2] *= f;

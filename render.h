@@ -25,6 +25,9 @@ typedef struct {
     double film_w, film_h;           /* its film's width and height (m) */
     int moving;                      /* its two CTMs differ: world_from_camera moves */
     Motion motion;                   /* then from the start to the end (motion.c) */
+    Vec3 eye;                        /* xf_point(world_from_camera, 0): the origin of
+                                        every ray that starts at the camera's own
+                                        origin (pinholes that do not move), once */
 } Camera;
 
 void camera_init(Camera *c, const SceneSettings *st);

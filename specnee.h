@@ -103,6 +103,8 @@
                                (1/85 pixel for radius 1.5): accuracy vs. table size */
 #define FILTER_TABLE_MAX 512 /* cells of a filter table: pbrt-v4's 32 per unit of radius
                                (mitchell, sinc) at the largest radius, 16 */
+#define FILTER_GUIDE_MAX 2048 /* steps of a filter table's guide: cdf_guide_size of
+                                FILTER_TABLE_MAX cells (the smallest power of two >= 4 n) */
 #define SPECNEE_PI 3.14159265358979323846
 #define PI_F 3.14159265358979323846f
 
@@ -189,10 +191,28 @@ float    rng_float(Rng *r);                          /* uniform in [0, 1) */
 double radical_inverse(int base, uint64_t i);
 
 /* Inverse-CDF sampling of a table of n cells (cdf[]: n + 1 entries, 0 to 1, never
-   decreasing) through a guide table of n + 1 entries (util.c): cdf_cell returns
-   the cell k with cdf[k] <= u < cdf[k + 1], the same with or without (NULL) the guide. */
-void cdf_guide(const float *cdf, int n, int *guide);
-int  cdf_cell(const float *cdf, int n, const int *guide, double u);
+   decreasing, cdf[n] = 1) through a guide table of m + 1 entries, m a power of two
+   (util.c; cdf_guide_size(n) is the smallest one >= 4 n): cdf_cell returns the
+   cell k with cdf[k] <= u < cdf[k + 1], the same with or without (NULL, or m = 0)
+   the guide.
+   Inline: it runs four times per camera sample for the wavelengths and twice for
+   the pixel filter (docs/speed.md). */
+int  cdf_guide_size(int n);
+void cdf_guide(const float *cdf, int n, int *guide, int m);
+static inline int cdf_cell(const float *cdf, int n, const int *guide, int m, double u)
+{
+    int lo = 0, hi = n;                          /* invariant: cdf[lo] <= u < cdf[hi] */
+    if (guide && m > 0 && u >= 0.0 && u < 1.0) {
+        const int g = (int)(u * m);              /* exact: g / m <= u < (g + 1) / m */
+        lo = guide[g];                           /* cdf[lo] <= g / m <= u */
+        hi = guide[g + 1] + 1;                   /* hi = n, or cdf[hi] > (g + 1) / m > u */
+    }
+    while (hi - lo > 1) {
+        const int mid = (lo + hi) / 2;
+        if ((double)cdf[mid] <= u) lo = mid; else hi = mid;
+    }
+    return lo;
+}
 
 /* ---- Samplers (sampler.c): the number for a (pixel, sample, dimension) ----
    Every random decision of the renderer asks the sampler for its number by its
@@ -571,8 +591,10 @@ typedef struct {
     int   n;                   /* number of table cells (1 nm each), 0 = analytic */
     float *pdf;                /* per-nm pdf (n cells) for importance sampling */
     float *cdf;                /* n + 1 entries, cdf[0] = 0, cdf[n] = 1 */
-    int   *guide;              /* n + 1 entries, cdf's guide table (cdf_guide; NULL:
+    int   *guide;              /* m + 1 entries, cdf's guide table (cdf_guide; NULL:
                                   wl_sample searches all cells) */
+    int   m;                   /* the guide's steps, a power of two >= 4 n (cdf_guide_size) */
+    double h;                  /* the cells' width, (hi - lo) / n nm */
     int   visible;             /* n == 0: 1 = the visible sech^2 pdf, 0 = uniform */
     double vis_t_lo, vis_t_span; /* visible: th(lo) = tanh(kappa (lo - c)) and th(hi) - th(lo)
                                     (wavelengths.c) */
@@ -2014,7 +2036,8 @@ typedef struct {
                                             (gaussian, mitchell, sinc; else 0) */
     float f[FILTER_TABLE_MAX];           /* f1 at the cells' centres */
     float cdf[FILTER_TABLE_MAX + 1];     /* CDF of |f1| over the cells */
-    int guide[FILTER_TABLE_MAX + 1];     /* cdf's guide table (cdf_guide) */
+    int guide[FILTER_GUIDE_MAX + 1];     /* cdf's guide table (cdf_guide), m + 1 entries */
+    int m;                               /* its steps, cdf_guide_size(n) (0: no guide) */
     double abs_integral;                 /* integral of |f1_tab| over [-radius, radius] */
 } PixelFilter;
 void  filter_init(PixelFilter *pf, const SceneSettings *st);

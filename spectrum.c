@@ -316,23 +316,35 @@ static double table_lerp(const float *tab, int n, double start, double step, dou
 /* The colour-matching functions at an exact wavelength, in double precision:
    table_lerp of each of the three tables.  They share their knots, so the cell i
    and the weight t are found once for all three (the film does this for every
-   wavelength of every sample); the arithmetic per table is table_lerp's. */
-void cie_cmf(double lambda_nm, double xyz[3])
+   wavelength of every sample); the arithmetic per table is table_lerp's, written
+   out for the three (a loop over a table of the tables cost the film some 20
+   instructions a wavelength: docs/speed.md).  Static inline, so that cie_xyz, the
+   film's call, has no second call. */
+static inline void cmf_at(double lambda_nm, double xyz[3])
 {
-    static const float *const tab[3] = { cie_xbar_5nm, cie_ybar_5nm, cie_zbar_5nm };
-    double t = (lambda_nm - CIE_START) / CIE_STEP;
-    int i, c;
+    double t = (lambda_nm - CIE_START) / CIE_STEP, s;
+    int i;
     if (!(t >= 0.0) || t > (double)(CIE_N5 - 1)) {
         xyz[0] = xyz[1] = xyz[2] = 0.0;
         return;
     }
     i = (int)t;
     if (i >= CIE_N5 - 1) {
-        for (c = 0; c < 3; c++) xyz[c] = tab[c][CIE_N5 - 1];
+        xyz[0] = cie_xbar_5nm[CIE_N5 - 1];
+        xyz[1] = cie_ybar_5nm[CIE_N5 - 1];
+        xyz[2] = cie_zbar_5nm[CIE_N5 - 1];
         return;
     }
     t -= i;
-    for (c = 0; c < 3; c++) xyz[c] = (1.0 - t) * tab[c][i] + t * tab[c][i + 1];
+    s = 1.0 - t;
+    xyz[0] = s * cie_xbar_5nm[i] + t * cie_xbar_5nm[i + 1];
+    xyz[1] = s * cie_ybar_5nm[i] + t * cie_ybar_5nm[i + 1];
+    xyz[2] = s * cie_zbar_5nm[i] + t * cie_zbar_5nm[i + 1];
+}
+
+void cie_cmf(double lambda_nm, double xyz[3])
+{
+    cmf_at(lambda_nm, xyz);
 }
 
 /* ASCII case-insensitive string equality (strcasecmp is POSIX, not C99). */
@@ -368,7 +380,7 @@ static void table_range(float lo_nm, float hi_nm, int *i0, int *i1)
 void cie_xyz(float lambda_nm, float xyz[3])
 {
     double d[3];
-    cie_cmf(lambda_nm, d);
+    cmf_at(lambda_nm, d);
     xyz[0] = (float)d[0];
     xyz[1] = (float)d[1];
     xyz[2] = (float)d[2];

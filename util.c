@@ -18,7 +18,7 @@
      mixing constants of Steele, Lea, Flood 2014) to turn keys into well-spread seeds.
    - radical_inverse: Halton points (van der Corput in base b) for tables built
      from deterministic sample points (the spatial light distribution).
-   - cdf_guide, cdf_cell: the inverse of a tabulated CDF through a guide table
+   - cdf_guide_size, cdf_guide (cdf_cell in specnee.h): the inverse of a tabulated CDF through a guide table
      (the wavelength pdf, the pixel filter's table).
    - frame_from_normal: an orthonormal basis around n (Duff et al. 2017,
      "Building an Orthonormal Basis, Revisited", JCGT 6(1)).
@@ -274,39 +274,29 @@ double radical_inverse(int base, uint64_t i)
    cdf[n] = 1).  A binary search over all n cells takes log2 n steps that the
    processor cannot predict.  A GUIDE TABLE (Chen and Asau 1974, "On generating
    random variates from an empirical distribution", AIIE Transactions 6(2)) keeps,
-   for each of the n + 1 steps g / n of u, the last cell whose cdf[k] <= g / n:
-   the cell of u in [g / n, (g + 1) / n) lies between guide[g] and guide[g + 1],
-   about one cell on average.  The guide only narrows the search, so the cell,
-   and every number drawn from it, is the one the full search finds. */
-void cdf_guide(const float *cdf, int n, int *guide)
+   for each of the m + 1 steps g / m of u, the last cell whose cdf[k] <= g / m:
+   the cell of u in [g / m, (g + 1) / m) lies between guide[g] and guide[g + 1].
+   With m a power of two, u * m and g / m are exact in double, so g = (int)(u m)
+   obeys g / m <= u < (g + 1) / m to the last bit and the bracket needs no
+   widening; with m >= 4 n (cdf_guide_size) it holds one or two cells nearly
+   always, so the search (cdf_cell, specnee.h) costs a table read and a compare
+   or two: O(1).  The guide only narrows the search, so the cell, and every
+   number drawn from it, is the one the full search finds. */
+int cdf_guide_size(int n)
+{
+    int m = 1;
+    while (m < 4 * n && m < (1 << 24)) m *= 2;
+    return m;
+}
+
+void cdf_guide(const float *cdf, int n, int *guide, int m)
 {
     int g, k = 0;
-    for (g = 0; g <= n; g++) {
-        double edge = (double)g / n;
+    for (g = 0; g <= m; g++) {
+        double edge = (double)g / m;
         while (k + 1 < n && (double)cdf[k + 1] <= edge) k++;
         guide[g] = k;
     }
-}
-
-/* The cell k of u in [0, 1) (above), searched between the guide's bounds; u * n
-   may round across a step of the guide, so the bracket is first widened until it
-   holds the cell.  guide NULL (or u outside [0, 1)): the whole table is searched. */
-int cdf_cell(const float *cdf, int n, const int *guide, double u)
-{
-    int lo = 0, hi = n;                          /* invariant: cdf[lo] <= u < cdf[hi] */
-    if (guide && u >= 0.0 && u < 1.0) {
-        int g = (int)(u * n);
-        if (g > n - 1) g = n - 1;
-        lo = guide[g];
-        hi = guide[g + 1] + 1;
-        while (lo > 0 && (double)cdf[lo] > u) lo--;
-        while (hi < n && (double)cdf[hi] <= u) hi++;
-    }
-    while (hi - lo > 1) {
-        int mid = (lo + hi) / 2;
-        if ((double)cdf[mid] <= u) lo = mid; else hi = mid;
-    }
-    return lo;
 }
 
 /* ---------- errors ---------- */

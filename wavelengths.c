@@ -73,6 +73,8 @@ void wl_pdf_uniform(WavelengthPdf *w, float lo, float hi)
     w->pdf = NULL;
     w->cdf = NULL;
     w->guide = NULL;
+    w->m = 0;
+    w->h = 0.0;
     w->visible = 0;
     w->vis_t_lo = w->vis_t_span = 0.0;
 }
@@ -160,8 +162,10 @@ static int wl_pdf_table(WavelengthPdf *w, float lo, float hi, const Spectrum *em
     }
     w->cdf[n] = 1.0f;
     free(f);
-    w->guide = (int *)malloc((size_t)(n + 1) * sizeof *w->guide);
-    if (w->guide) cdf_guide(w->cdf, n, w->guide);   /* without it wl_sample searches all cells */
+    w->h = h;                                     /* the same double wl_sample and wl_pdf_eval computed */
+    w->m = cdf_guide_size(n);
+    w->guide = (int *)malloc((size_t)(w->m + 1) * sizeof *w->guide);
+    if (w->guide) cdf_guide(w->cdf, n, w->guide, w->m);   /* without it wl_sample searches all cells */
     return 1;
 }
 
@@ -205,23 +209,27 @@ void wl_pdf_free(WavelengthPdf *w)
     w->n = 0;
 }
 
+/* The table's density at lambda in [lo, hi]: the cell (int)((lambda - lo) / h),
+   the last one closed.  wl_pdf_eval and wl_sample share it. */
+static float table_pdf(const WavelengthPdf *w, float lambda_nm)
+{
+    int k = (int)(((double)lambda_nm - w->lo) / w->h);
+    if (k >= w->n) k = w->n - 1;
+    if (k < 0) k = 0;
+    return w->pdf[k];
+}
+
 /* p(lambda): 0 outside [lo, hi]; inside the uniform density, the visible formula or
    the cell's density (the last cell is closed). */
 float wl_pdf_eval(const WavelengthPdf *w, float lambda_nm)
 {
-    double h;
-    int k;
     if (!(lambda_nm >= w->lo) || !(lambda_nm <= w->hi) || !(w->hi > w->lo)) return 0.0f;
     if (w->n == 0 && w->visible) {
         double ch = cosh(WL_VIS_A * ((double)lambda_nm - WL_VIS_C));
         return (float)(WL_VIS_A / (ch * ch) / w->vis_t_span);
     }
     if (w->n == 0) return (float)(1.0 / ((double)w->hi - w->lo));
-    h = ((double)w->hi - w->lo) / w->n;
-    k = (int)(((double)lambda_nm - w->lo) / h);
-    if (k >= w->n) k = w->n - 1;
-    if (k < 0) k = 0;
-    return w->pdf[k];
+    return table_pdf(w, lambda_nm);
 }
 
 /* cdf(lambda) = the probability of a wavelength below lambda. */
@@ -242,28 +250,42 @@ double wl_cdf(const WavelengthPdf *w, float lambda_nm)
 
 /* lambda_j = cdf^-1(frac(u + j / HERO_N)): the hero j = 0 and HERO_N - 1 companions
    rotated in CDF space, so each is distributed as p and the set is stratified.
-   The inverse of the piecewise-linear CDF is found by a search over cdf[] that
-   its guide table starts near the cell (cdf_cell, util.c);
-   the visible pdf's is the closed form above.
-   pdf[j] is wl_pdf_eval(lambda_j), the same function the integrator evaluates. */
+   The inverse of the piecewise-linear CDF: the cell k through the guide table
+   (cdf_cell, specnee.h: O(1), a table read and a compare or two), then linear in
+   it,  lambda = lo + h (k + (u_j - cdf[k]) / (cdf[k + 1] - cdf[k]));
+   the visible pdf's is the closed form above.  pdf[j] is wl_pdf_eval(lambda_j),
+   the function the integrator evaluates: on the table, lambda_j lies in [lo, hi]
+   by its clamp, so the density is table_pdf's without wl_pdf_eval's range tests.
+   This runs once per camera sample (docs/speed.md). */
 void wl_sample(const WavelengthPdf *w, float u, Wavelengths *out)
 {
     double u0 = (double)u, range = (double)w->hi - w->lo;
     int j;
-    if (!isfinite(u0)) u0 = 0.0;
-    u0 -= floor(u0);                              /* into [0, 1) */
+    if (!(u0 >= 0.0 && u0 < 1.0)) {               /* into [0, 1) (u is there nearly always) */
+        if (!isfinite(u0)) u0 = 0.0;
+        u0 -= floor(u0);
+    }
+    if (w->n > 0) {                               /* the table: importance, mixture */
+        for (j = 0; j < HERO_N; j++) {
+            double uj = u0 + (double)j / HERO_N, lambda, c0, c1;
+            int k;
+            if (uj >= 1.0) uj -= 1.0;
+            k = cdf_cell(w->cdf, w->n, w->guide, w->m, uj);
+            c0 = w->cdf[k];
+            c1 = w->cdf[k + 1];
+            lambda = w->lo + w->h * (k + (c1 > c0 ? (uj - c0) / (c1 - c0) : 0.5));
+            if (lambda < w->lo) lambda = w->lo;
+            if (lambda > w->hi) lambda = w->hi;
+            out->lambda[j] = (float)lambda;
+            out->pdf[j] = table_pdf(w, out->lambda[j]);
+        }
+        return;
+    }
     for (j = 0; j < HERO_N; j++) {
         double uj = u0 + (double)j / HERO_N, lambda;
         if (uj >= 1.0) uj -= 1.0;
-        if (w->n == 0 && w->visible) lambda = WL_VIS_C + atanh(w->vis_t_lo + uj * w->vis_t_span) / WL_VIS_A;
-        else if (w->n == 0) lambda = w->lo + uj * range;
-        else {
-            int lo = cdf_cell(w->cdf, w->n, w->guide, uj);
-            double c0, c1, h = range / w->n;
-            c0 = w->cdf[lo];
-            c1 = w->cdf[lo + 1];
-            lambda = w->lo + h * (lo + (c1 > c0 ? (uj - c0) / (c1 - c0) : 0.5));
-        }
+        if (w->visible) lambda = WL_VIS_C + atanh(w->vis_t_lo + uj * w->vis_t_span) / WL_VIS_A;
+        else lambda = w->lo + uj * range;
         if (lambda < w->lo) lambda = w->lo;
         if (lambda > w->hi) lambda = w->hi;
         out->lambda[j] = (float)lambda;

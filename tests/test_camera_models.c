@@ -370,6 +370,38 @@ static void test_camera_models_move(T *t)
     }
 }
 
+/* A pinhole's rays all start at its eye, which camera_init works out once
+   (Camera.eye): bit for bit xf_point(world_from_camera, 0), at the LookAt's
+   eye, for the perspective and the spherical camera; a thin lens's rays start
+   on the lens, not at the eye (the lens samples 0.1 and 0.9 along x map to -0.8
+   and 0.8 of the radius 0.5, 0.8 apart). */
+static void test_camera_eye(T *t)
+{
+    static const char *const cam[3] = {
+        "LookAt 1 2 3  1 2 -2  0 1 0\nCamera \"perspective\" \"float fov\" [ 30 ]",
+        "LookAt 1 2 3  1 2 -2  0 1 0\nCamera \"spherical\"",
+        "LookAt 1 2 3  1 2 -2  0 1 0\nCamera \"perspective\" \"float lensradius\" [ 0.5 ] \"float focaldistance\" [ 4 ]",
+    };
+    int k, i, bad = 0;
+    for (k = 0; k < 3; k++) {
+        Scene s;
+        Camera c;
+        Vec3 eye;
+        if (!load_camera(t, cam[k], 20, 10, &s, &c)) return;
+        scene_free(&s);
+        eye = xf_point(&c.world_from_camera, v3(0.0f, 0.0f, 0.0f));
+        for (i = 0; i < 7; i++) {
+            float x = 3.0f * (float)i + 0.25f, y = 1.5f * (float)i + 0.75f;
+            Ray r0 = ray_at(&c, x, y, 0.1f, 0.5f), r1 = ray_at(&c, x, y, 0.9f, 0.5f);
+            if (k < 2 && (memcmp(&r0.o, &eye, sizeof eye) || memcmp(&r1.o, &eye, sizeof eye))) bad++;
+            if (k == 2 && !(fabsf(dist3(r0.o, r1.o) - 0.8f) < 1e-4f)) bad++;
+        }
+        CHECK(t, dist3(eye, v3(1, 2, 3)) < 1e-6f, "camera %d: the eye at (%g, %g, %g), want (1, 2, 3)",
+              k, eye.x, eye.y, eye.z);
+        CHECK(t, bad == 0, "camera %d: %d rays start off %s", k, bad, k < 2 ? "the eye" : "the lens");
+    }
+}
+
 /* The last Camera statement wins, whatever the types before it. */
 static void test_camera_models_last_wins(T *t)
 {
@@ -492,6 +524,7 @@ const TestCase tests_camera_models[] = {
     { "camera_spherical_uniform_environment", test_spherical_uniform_environment },
     { "camera_spherical_sphere_light", test_spherical_sphere_light },
     { "camera_models_move", test_camera_models_move },
+    { "camera_eye", test_camera_eye },
     { "camera_models_last_wins", test_camera_models_last_wins },
     { "camera_models_errors", test_camera_models_errors },
     { "camera_models_against_pbrt", test_camera_models_against_pbrt },

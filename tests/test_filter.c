@@ -386,8 +386,8 @@ static void test_filter_parse(T *t)
 }
 
 /* filter_sample through the table's guide (cdf_cell) gives the positions and
-   weights it gives with a guide of zeros, under which cdf_cell searches the whole
-   table: at every knot of the CDF, next to it, and at random. */
+   weights it gives without it (m = 0), when cdf_cell searches the whole table: at
+   every knot of the CDF, next to it, at every step of the guide, and at random. */
 static void test_filter_guided_search(T *t)
 {
     static const struct { FilterType type; float r; } c[] = {
@@ -399,11 +399,14 @@ static void test_filter_guided_search(T *t)
         Rng rng;
         make_filter(&pf, c[i].type, c[i].r);
         bare = pf;
-        memset(bare.guide, 0, sizeof bare.guide);
+        bare.m = 0;
+        CHECK(t, pf.m == cdf_guide_size(pf.n), "%s: a guide of %d steps", filter_name(c[i].type), pf.m);
         rng_seed(&rng, 31, (uint64_t)i);
-        for (k = 0; k < 3 * (pf.n + 1) + 20000; k++, tried++) {
-            float u = k < 3 * (pf.n + 1) ? pf.cdf[k / 3] : rng_float(&rng), p[4], w[2];
-            if (k < 3 * (pf.n + 1) && k % 3) u = nextafterf(u, k % 3 == 1 ? 0.0f : 1.0f);
+        for (k = 0; k < 3 * (pf.n + 1) + 3 * pf.m + 20000; k++, tried++) {
+            float u = k < 3 * (pf.n + 1) ? pf.cdf[k / 3]
+                    : k < 3 * (pf.n + 1) + 3 * pf.m ? (float)((k - 3 * (pf.n + 1)) / 3) / (float)pf.m
+                    : rng_float(&rng), p[4], w[2];
+            if (k < 3 * (pf.n + 1) + 3 * pf.m && k % 3) u = nextafterf(u, k % 3 == 1 ? 0.0f : 1.0f);
             if (!(u < 1.0f)) continue;
             w[0] = filter_sample(&pf, u, 0.5f, &p[0], &p[1]);
             w[1] = filter_sample(&bare, u, 0.5f, &p[2], &p[3]);

@@ -136,6 +136,40 @@ static void test_maxcomponentvalue(T *t)
     img_free(&a); img_free(&b); img_free(&c);
 }
 
+/* The clamp takes the LARGEST component, whichever it is: under a red lamp (600
+   to 700 nm, where xbar > ybar and zbar is nearly 0) X is the largest of every
+   sample, so the clamped image's X stays at or below maxcomponentvalue, and
+   only the clamp keeps it there. */
+static void test_maxcomponentvalue_red(T *t)
+{
+    static char buf[4096];
+    static const char *const lamp =
+        "WorldBegin\nAttributeBegin\n"
+        " AreaLightSource \"diffuse\" \"bool twosided\" true \"spectrum L\" [ 360 0  595 0  600 1  700 1  705 0  830 0 ]"
+        " \"float scale\" 10\n"
+        " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+        "  \"point3 P\" [ -0.5 -0.5 5  0.5 -0.5 5  0.5 0.5 5  -0.5 0.5 5 ]\nAttributeEnd\n";
+    Image a, b;
+    double xa = 0.0, xb = 0.0;
+    int i, k;
+    for (k = 0; k < 2; k++) {
+        snprintf(buf, sizeof buf, "Film \"rgb\" \"integer xresolution\" 32 \"integer yresolution\" 32 %s\n"
+                 "PixelFilter \"box\"\nCamera \"perspective\" \"float fov\" 30\n%s",
+                 k ? "\"float maxcomponentvalue\" 2" : "", lamp);
+        if (!render_text(t, buf, 4, k ? &b : &a)) { if (k) img_free(&a); return; }
+    }
+    for (i = 0; i < a.w * a.h; i++) {
+        double x[3];
+        srgb_to_xyz(&a.rgb[3 * i], x);
+        xa = fmax(xa, x[0]);
+        srgb_to_xyz(&b.rgb[3 * i], x);
+        xb = fmax(xb, x[0]);
+    }
+    CHECK(t, xa > 5.0, "the unclamped red image peaks at X %g only: the test has no power", xa);
+    CHECK(t, xb <= 2.0 * (1.0 + 1e-5), "a clamped pixel under the red lamp has X %g > 2", xb);
+    img_free(&a); img_free(&b);
+}
+
 /* Film "gbuffer" is read as "rgb" (same settings, same image), Integrator
    volpath, bdpt, sppm and simplepath render as path with their maxdepth; parameters those
    integrators do not read stay errors, as in pbrt-v4. */
@@ -1224,6 +1258,7 @@ static void test_film_output_override(T *t)
 const TestCase tests_pbrt[] = {
     { "pbrt_iso_exposure", test_iso_exposure },
     { "pbrt_maxcomponentvalue", test_maxcomponentvalue },
+    { "pbrt_maxcomponentvalue_red", test_maxcomponentvalue_red },
     { "pbrt_film_and_integrator_aliases", test_film_and_integrator_aliases },
     { "pbrt_thin_lens", test_thin_lens },
     { "pbrt_screen_window", test_screen_window },

@@ -66,6 +66,18 @@ static void test_cie_values(T *t)
     CHECK(t, c[0] == 0 && c[1] == 0 && c[2] == 0, "cmf outside 360..830 must be 0");
     cie_xyz(831.0f, c);
     CHECK(t, c[0] == 0 && c[1] == 0 && c[2] == 0, "cmf outside 360..830 must be 0");
+    {   /* all three are linear between their 5 nm knots, with the knots' values */
+        double x, d[3], a[3], b[3], worst = 0.0;
+        for (x = 360.0; x < 830.0; x += 0.37) {
+            double k = 360.0 + 5.0 * floor((x - 360.0) / 5.0), f = (x - k) / 5.0;
+            int j;
+            cie_cmf(x, d);
+            cie_cmf(k, a);
+            cie_cmf(k + 5.0, b);
+            for (j = 0; j < 3; j++) worst = fmax(worst, fabs(d[j] - ((1.0 - f) * a[j] + f * b[j])));
+        }
+        CHECK(t, worst < 1e-9, "the CMFs are off the lines between their knots by up to %g", worst);
+    }
     for (l = 360; l <= 830; l += 5) { cie_xyz((float)l, c); s5 += c[1]; }
     CHECK(t, fabs(5.0 * s5 - 106.857) < 0.01, "5 sum ybar = %.5f, want 106.857", 5.0 * s5);
     CHECK(t, fabs(cie_y_integral(360, 830) - 106.857) < 0.01, "cie_y_integral = %.5f",

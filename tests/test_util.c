@@ -92,20 +92,22 @@ static void test_radical_inverse(T *t)
 
 /* cdf_guide / cdf_cell on CDFs with zero cells at both ends, plateaus, a cell
    holding most of the mass and one of tiny mass: the guide is what it says (the
-   last cell at or below each step g / n), and the guided search finds the cell
+   last cell at or below each step g / m), and the guided search finds the cell
    the full search finds for u at every knot, next to it, at every step of the
-   guide, next to it, and at random. */
-static int guide_agrees(const float *cdf, int n, const int *guide, double u)
+   guide, next to it, and at random; with m = cdf_guide_size(n) (the power of two
+   >= 4 n, where u m is exact) and with coarser powers of two (m < n: a step then
+   spans many cells). */
+static int guide_agrees(const float *cdf, int n, const int *guide, int m, double u)
 {
-    int k = cdf_cell(cdf, n, guide, u);
-    return k == cdf_cell(cdf, n, NULL, u) && cdf[k] <= u && u < cdf[k + 1];
+    int k = cdf_cell(cdf, n, guide, m, u);
+    return k == cdf_cell(cdf, n, NULL, 0, u) && cdf[k] <= u && u < cdf[k + 1];
 }
 
 static void test_cdf_guide(T *t)
 {
-    enum { N = 40 };
+    enum { N = 40, M_MAX = 256 };
     float cdf[N + 1];
-    int guide[N + 1], k, g, bad = 0, tried = 0;
+    int guide[M_MAX + 1], k, g, bad = 0, tried = 0, m;
     Rng rng;
     double acc = 0.0, sum = 0.0, f[N];
     for (k = 0; k < N; k++) {
@@ -115,28 +117,41 @@ static void test_cdf_guide(T *t)
     cdf[0] = 0.0f;
     for (k = 0; k < N; k++) { acc += f[k]; cdf[k + 1] = (float)(acc / sum); }
     cdf[N] = 1.0f;
-    cdf_guide(cdf, N, guide);
-    for (g = 0; g <= N; g++) {
-        int c = guide[g];
-        double edge = (double)g / N;
-        if (!(c >= 0 && c < N && cdf[c] <= edge && (c == N - 1 || cdf[c + 1] > edge))) bad++;
+    CHECK(t, cdf_guide_size(N) == 256 && cdf_guide_size(1) == 4 && cdf_guide_size(64) == 256,
+          "cdf_guide_size: %d %d %d", cdf_guide_size(N), cdf_guide_size(1), cdf_guide_size(64));
+    for (m = cdf_guide_size(N); m >= 8; m /= 4) {
+        cdf_guide(cdf, N, guide, m);
+        for (g = 0; g <= m; g++) {
+            int c = guide[g];
+            double edge = (double)g / m;
+            if (!(c >= 0 && c < N && cdf[c] <= edge && (c == N - 1 || cdf[c + 1] > edge))) bad++;
+        }
+        CHECK(t, bad == 0, "m %d: %d guide entries are not the last cell at or below their step", m, bad);
+        for (k = 0; k <= N; k++) {
+            double us[6];
+            int i;
+            us[0] = cdf[k];
+            us[1] = nextafter((double)cdf[k], 0.0);
+            us[2] = nextafter((double)cdf[k], 1.0);
+            us[3] = (double)k / N;
+            us[4] = nextafter(us[3], 0.0);
+            us[5] = nextafter(us[3], 1.0);
+            for (i = 0; i < 6; i++)
+                if (us[i] >= 0.0 && us[i] < 1.0) { tried++; if (!guide_agrees(cdf, N, guide, m, us[i])) bad++; }
+        }
+        for (g = 0; g < m; g++) {
+            double us[3];
+            int i;
+            us[0] = (double)g / m;
+            us[1] = nextafter(us[0], 0.0);
+            us[2] = nextafter(us[0], 1.0);
+            for (i = 0; i < 3; i++)
+                if (us[i] >= 0.0 && us[i] < 1.0) { tried++; if (!guide_agrees(cdf, N, guide, m, us[i])) bad++; }
+        }
+        rng_seed(&rng, 3, (uint64_t)m);
+        for (k = 0; k < 20000; k++, tried++)
+            if (!guide_agrees(cdf, N, guide, m, rng_float(&rng))) bad++;
     }
-    CHECK(t, bad == 0, "%d guide entries are not the last cell at or below their step", bad);
-    for (k = 0; k <= N; k++) {
-        double us[6];
-        int i;
-        us[0] = cdf[k];
-        us[1] = nextafter((double)cdf[k], 0.0);
-        us[2] = nextafter((double)cdf[k], 1.0);
-        us[3] = (double)k / N;
-        us[4] = nextafter(us[3], 0.0);
-        us[5] = nextafter(us[3], 1.0);
-        for (i = 0; i < 6; i++)
-            if (us[i] >= 0.0 && us[i] < 1.0) { tried++; if (!guide_agrees(cdf, N, guide, us[i])) bad++; }
-    }
-    rng_seed(&rng, 3, 1);
-    for (k = 0; k < 20000; k++, tried++)
-        if (!guide_agrees(cdf, N, guide, rng_float(&rng))) bad++;
     CHECK(t, bad == 0, "the guided search differs from the full one at %d of %d u", bad, tried);
 }
 

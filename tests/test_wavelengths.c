@@ -149,17 +149,19 @@ static void test_wl_mixture(T *t)
 
 /* The guide table only narrows wl_sample's search: with it and without it (guide
    NULL: the whole table is searched) the wavelengths and pdfs are the same, for
-   u at every cdf knot and just below it, at the guide's steps g / n and around
-   them, and at random.  CFL1 on 360-830 nm has long floor plateaus and narrow lines,
+   u at every cdf knot and around it, at the guide's steps g / m and around them,
+   and at random; and the pdfs are wl_pdf_eval's of the wavelengths.  CFL1 on 360-830 nm has long floor plateaus and narrow lines,
    where one guide step spans many cells and many guide steps share one cell. */
 static int same_sample(const WavelengthPdf *w, float u)
 {
     WavelengthPdf bare = *w;
     Wavelengths a, b;
+    int j, ok = 1;
     bare.guide = NULL;
     wl_sample(w, u, &a);
     wl_sample(&bare, u, &b);
-    return memcmp(&a, &b, sizeof a) == 0;
+    for (j = 0; j < HERO_N; j++) ok = ok && a.pdf[j] == wl_pdf_eval(w, a.lambda[j]);
+    return ok && memcmp(&a, &b, sizeof a) == 0;
 }
 
 static void test_wl_guide(T *t)
@@ -172,8 +174,9 @@ static void test_wl_guide(T *t)
     CHECK(t, wl_pdf_build(&w, WL_MIXTURE, (float)SPEC_MIN, (float)SPEC_MAX, &cfl, 0.1f), "mixture");
     CHECK(t, w.guide != NULL, "a table pdf has a guide");
     if (t->failed) return;
-    for (k = 0; k < w.n; k++) {
-        float knot = w.cdf[k], step = (float)((double)k / w.n);
+    CHECK(t, w.m == cdf_guide_size(w.n), "a guide of %d steps for %d cells", w.m, w.n);
+    for (k = 0; k < w.m; k++) {
+        float knot = w.cdf[k < w.n ? k : w.n], step = (float)((double)k / w.m);
         float us[6];
         int i;
         us[0] = knot;
