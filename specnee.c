@@ -221,11 +221,72 @@ typedef struct {
     int res_w, res_h;          /* --res: override the film resolution (0: the file's) */
 } Args;
 
+/* The options that name one of a few choices (a method or a mode): sets a from
+   "o v" and returns 0, or returns usage_error's code for a missing value or one
+   that is not among the choices; -1 when o is not such an option. */
+static int parse_choice(const char *o, const char *v, Args *a)
+{
+    static const char *const names[] = { "--light-shape-sampling", "--spd-metric", "--spd-wavelengths",
+                                         "--fluor-li", "--fluor-lanes", "--chromatic-media",
+                                         "--equiangular", "--rough-dispersion", NULL };
+    int k, n;
+    for (k = 0; names[k] && strcmp(o, names[k]); k++) {}
+    if (!names[k]) return -1;
+    if (!v) return usage_error("option %s needs a value", o);
+    switch (k) {
+    case 0:
+        if (!strcmp(v, "solidangle")) a->ro.sel.area_sampling = SHAPE_SA;
+        else if (!strcmp(v, "area")) a->ro.sel.area_sampling = SHAPE_AREA;
+        else if (!strcmp(v, "auto")) a->ro.sel.area_sampling = SHAPE_AUTO;
+        else return usage_error("--light-shape-sampling is auto, solidangle or area, not '%s'", v);
+        break;
+    case 1:
+        if (!strcmp(v, "unit")) a->ro.sel.power_metric = 0;
+        else if (!strcmp(v, "power")) a->ro.sel.power_metric = 1;
+        else return usage_error("--spd-metric is unit or power, not '%s'", v);
+        break;
+    case 2:
+        if (!strcmp(v, "hero")) a->ro.sel.all_wavelengths = a->ro.sel.throughput_weighted = 0;
+        else if (!strcmp(v, "all")) { a->ro.sel.all_wavelengths = 1; a->ro.sel.throughput_weighted = 0; }
+        else if (!strcmp(v, "throughput")) a->ro.sel.all_wavelengths = a->ro.sel.throughput_weighted = 1;
+        else return usage_error("--spd-wavelengths is hero, all or throughput, not '%s'", v);
+        break;
+    case 3:
+        if (!strcmp(v, "a")) a->ro.fluor_li = FLUOR_LI_A;
+        else if (!strcmp(v, "power")) a->ro.fluor_li = FLUOR_LI_POWER;
+        else if (!strcmp(v, "uniform")) a->ro.fluor_li = FLUOR_LI_UNIFORM;
+        else return usage_error("--fluor-li is a, power or uniform, not '%s'", v);
+        break;
+    case 4:
+        if (!strcmp(v, "terminate")) a->ro.fluor_keep = 0;
+        else if (!strcmp(v, "keep")) a->ro.fluor_keep = 1;
+        else return usage_error("--fluor-lanes is terminate or keep, not '%s'", v);
+        break;
+    case 5:
+        if (!strcmp(v, "mis")) a->ro.media_terminate = 0;
+        else if (!strcmp(v, "terminate")) a->ro.media_terminate = 1;
+        else return usage_error("--chromatic-media is mis or terminate, not '%s'", v);
+        break;
+    case 6:   /* on, off, or N > 0: only the first N bounces' segments */
+        if (!strcmp(v, "on")) { a->ro.equiangular = 1; a->ro.equi_depth = 0; }
+        else if (!strcmp(v, "off")) a->ro.equiangular = 0;
+        else if (parse_int(v, 1, 1000, &n)) { a->ro.equiangular = 1; a->ro.equi_depth = n; }
+        else return usage_error("--equiangular is on, off or a number of bounces 1..1000, not '%s'", v);
+        break;
+    default:
+        if (!strcmp(v, "mis")) a->ro.rough_mis = 1;
+        else if (!strcmp(v, "terminate")) a->ro.rough_mis = 0;
+        else return usage_error("--rough-dispersion is mis or terminate, not '%s'", v);
+        break;
+    }
+    return 0;
+}
+
 /* Parse argv[0 .. argc) into a; in_preset: the flags of a preset (no scene file,
    no nested preset there).  Returns 0 on success, else the exit code. */
 static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset)
 {
-    int i;
+    int i, rc;
     for (i = 0; i < argc; i++) {
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -234,7 +295,7 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
             print_help();
             exit(0);
         } else if (!strcmp(o, "--preset") && !in_preset) {
-            int p, n, rc;
+            int p, n;
             NEEDS_VALUE();
             for (p = 0; presets[p].name && strcmp(presets[p].name, v); p++) {}
             if (!presets[p].name) return usage_error("unknown --preset '%s' (see specnee --help)", v);
@@ -268,28 +329,14 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
             a->ro.sel.strategy = sel_from_name(v);
             if (a->ro.sel.strategy == SEL_COUNT) return usage_error("unknown --lights strategy '%s'", v);
             a->lights_cli = 1;
-        } else if (!strcmp(o, "--light-shape-sampling")) {
-            NEEDS_VALUE();
-            if (!strcmp(v, "solidangle")) a->ro.sel.area_sampling = SHAPE_SA;
-            else if (!strcmp(v, "area")) a->ro.sel.area_sampling = SHAPE_AREA;
-            else if (!strcmp(v, "auto")) a->ro.sel.area_sampling = SHAPE_AUTO;
-            else return usage_error("--light-shape-sampling is auto, solidangle or area, not '%s'", v);
-        } else if (!strcmp(o, "--spd-metric")) {
-            NEEDS_VALUE();
-            if (!strcmp(v, "unit")) a->ro.sel.power_metric = 0;
-            else if (!strcmp(v, "power")) a->ro.sel.power_metric = 1;
-            else return usage_error("--spd-metric is unit or power, not '%s'", v);
+        } else if ((rc = parse_choice(o, v, a)) >= 0) {   /* a method or a mode */
+            if (rc) return rc;
+            i++;
         } else if (!strcmp(o, "--all-wavelengths")) {
             a->ro.sel.all_wavelengths = 1;
         } else if (!strcmp(o, "--throughput-weighted")) {
             a->ro.sel.all_wavelengths = 1;
             a->ro.sel.throughput_weighted = 1;
-        } else if (!strcmp(o, "--spd-wavelengths")) {
-            NEEDS_VALUE();
-            if (!strcmp(v, "hero")) a->ro.sel.all_wavelengths = a->ro.sel.throughput_weighted = 0;
-            else if (!strcmp(v, "all")) { a->ro.sel.all_wavelengths = 1; a->ro.sel.throughput_weighted = 0; }
-            else if (!strcmp(v, "throughput")) a->ro.sel.all_wavelengths = a->ro.sel.throughput_weighted = 1;
-            else return usage_error("--spd-wavelengths is hero, all or throughput, not '%s'", v);
         } else if (!strcmp(o, "--wavelengths")) {
             NEEDS_VALUE();
             a->ro.wl_mode = wl_mode_from_name(v);
@@ -299,37 +346,10 @@ static int parse_flags(int argc, const char *const *argv, Args *a, int in_preset
             NEEDS_VALUE();
             if (!parse_float(v, &a->ro.wl_mix) || !(a->ro.wl_mix > 0.0f && a->ro.wl_mix <= 1.0f))
                 return usage_error("--mix-weight needs a number in (0, 1], not '%s'", v);
-        } else if (!strcmp(o, "--fluor-li")) {
-            NEEDS_VALUE();
-            if (!strcmp(v, "a")) a->ro.fluor_li = FLUOR_LI_A;
-            else if (!strcmp(v, "power")) a->ro.fluor_li = FLUOR_LI_POWER;
-            else if (!strcmp(v, "uniform")) a->ro.fluor_li = FLUOR_LI_UNIFORM;
-            else return usage_error("--fluor-li is a, power or uniform, not '%s'", v);
-        } else if (!strcmp(o, "--fluor-lanes")) {
-            NEEDS_VALUE();
-            if (!strcmp(v, "terminate")) a->ro.fluor_keep = 0;
-            else if (!strcmp(v, "keep")) a->ro.fluor_keep = 1;
-            else return usage_error("--fluor-lanes is terminate or keep, not '%s'", v);
         } else if (!strcmp(o, "--wide")) {
             a->ro.wl_wide = 1;
         } else if (!strcmp(o, "--single-wavelength")) {
             a->ro.single_wavelength = 1;
-        } else if (!strcmp(o, "--chromatic-media")) {
-            NEEDS_VALUE();
-            if (!strcmp(v, "mis")) a->ro.media_terminate = 0;
-            else if (!strcmp(v, "terminate")) a->ro.media_terminate = 1;
-            else return usage_error("--chromatic-media is mis or terminate, not '%s'", v);
-        } else if (!strcmp(o, "--equiangular")) {
-            NEEDS_VALUE();
-            if (!strcmp(v, "on")) { a->ro.equiangular = 1; a->ro.equi_depth = 0; }
-            else if (!strcmp(v, "off")) a->ro.equiangular = 0;
-            else if (atoi(v) > 0) { a->ro.equiangular = 1; a->ro.equi_depth = atoi(v); }
-            else return usage_error("--equiangular is on, off or a number of bounces, not '%s'", v);
-        } else if (!strcmp(o, "--rough-dispersion")) {
-            NEEDS_VALUE();
-            if (!strcmp(v, "mis")) a->ro.rough_mis = 1;
-            else if (!strcmp(v, "terminate")) a->ro.rough_mis = 0;
-            else return usage_error("--rough-dispersion is mis or terminate, not '%s'", v);
         } else if (!strcmp(o, "--no-nee")) {
             a->ro.nee = 0;
         } else if (!strcmp(o, "--mark-insets")) {
