@@ -172,6 +172,30 @@ static int parse_dim(const char *s, int *out)
     return 1;
 }
 
+/* The pixel bytes of a PFM file that cannot seek (a pipe): its size is unknown
+   until the data ends, so the bytes are read first, up to need, into *data, a
+   buffer that grows only as data arrives (an 18-byte input claiming 3 GiB
+   allocates 64 KiB, not 3 GiB); *have = the bytes read (< need: truncated).
+   Returns 0 when out of memory (*data is then the caller's to free). */
+static int pfm_read_stream(FILE *f, size_t need, unsigned char **data, size_t *have)
+{
+    size_t cap = 0, got;
+    for (;;) {
+        if (*have == cap) {
+            unsigned char *nb;
+            if (cap == need) break;
+            cap = cap ? (cap > need / 2 ? need : 2 * cap) : (need < 65536 ? need : 65536);
+            nb = (unsigned char *)realloc(*data, cap);
+            if (!nb) return 0;
+            *data = nb;
+        }
+        got = fread(*data + *have, 1, cap - *have, f);
+        *have += got;
+        if (got == 0) break;
+    }
+    return 1;
+}
+
 int pfm_read(Image *im, const char *path, Error *err)
 {
     FILE *f;
@@ -255,25 +279,10 @@ int pfm_read(Image *im, const char *path, Error *err)
             goto fail;
         }
     } else {
-        /* Not seekable (a pipe): the size is unknown until the data ends, so read
-           the pixel bytes first, into a buffer that grows only as data arrives
-           (an 18-byte input claiming 3 GiB allocates 64 KiB, not 3 GiB). */
-        size_t need = row_bytes * (size_t)h, cap = 0, got;
-        for (;;) {
-            if (have == cap) {
-                unsigned char *nb;
-                if (cap == need) break;
-                cap = cap ? (cap > need / 2 ? need : 2 * cap) : (need < 65536 ? need : 65536);
-                nb = (unsigned char *)realloc(data, cap);
-                if (!nb) {
-                    error_set(err, path, 0, "out of memory for a %dx%d image", w, h);
-                    goto fail;
-                }
-                data = nb;
-            }
-            got = fread(data + have, 1, cap - have, f);
-            have += got;
-            if (got == 0) break;
+        const size_t need = row_bytes * (size_t)h;
+        if (!pfm_read_stream(f, need, &data, &have)) {
+            error_set(err, path, 0, "out of memory for a %dx%d image", w, h);
+            goto fail;
         }
         if (have < need) {
             error_set(err, path, 0, "truncated: %dx%d pixels need %.0f bytes of data, "
