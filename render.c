@@ -244,9 +244,9 @@ static void render_pass(Pass *P)
                 stream = sampler_stream(&ps);
                 /* the position in the pixel and its filter weight fw (filter.c) */
                 if (set->filter == FILTER_GAUSSIAN && stream) {
-                    /* the independent sampler: the Gaussian by rejection from its stream (filter.c) */
-                    fx = 0.5f + filter_gaussian_reject(stream, set->filter_radius, set->filter_sigma);
-                    fy = 0.5f + filter_gaussian_reject(stream, set->filter_radius, set->filter_sigma);
+                    /* the independent sampler: the Gaussian exactly, from its stream (filter.c) */
+                    fx = 0.5f + filter_gaussian_reject(&R->filter, stream);
+                    fy = 0.5f + filter_gaussian_reject(&R->filter, stream);
                 } else {
                     float u0, u1;
                     sampler_2d(&ps, DIM_FILM, &u0, &u1);

@@ -103,6 +103,9 @@
                                (1/85 pixel for radius 1.5): accuracy vs. table size */
 #define FILTER_TABLE_MAX 512 /* cells of a filter table: pbrt-v4's 32 per unit of radius
                                (mitchell, sinc) at the largest radius, 16 */
+#define FILTER_GAUSS_CELLS 64 /* @@ cells of [0, radius] for the exact Gaussian from the
+                                independent sampler's stream (filter.c): more cells
+                                accept more often, at a larger table */
 #define FILTER_GUIDE_MAX 2048 /* steps of a filter table's guide: cdf_guide_size of
                                 FILTER_TABLE_MAX cells (the smallest power of two >= 4 n) */
 #define SPECNEE_PI 3.14159265358979323846
@@ -2039,6 +2042,15 @@ typedef struct {
     int guide[FILTER_GUIDE_MAX + 1];     /* cdf's guide table (cdf_guide), m + 1 entries */
     int m;                               /* its steps, cdf_guide_size(n) (0: no guide) */
     double abs_integral;                 /* integral of |f1_tab| over [-radius, radius] */
+    /* gaussian: the exact sampler of filter_gaussian_reject (filter.c): a cell of
+       [0, radius] by Walker's alias method, then rejection against the cell's
+       bound.  f1 here is g(x) - g(r) in float, expf(-x^2 k) - g_r */
+    int gauss_ok;                        /* 0: no Gaussian table (the offset is 0) */
+    float gauss_k, gauss_gr, gauss_w;    /* 1 / (2 sigma^2), g(radius), the cells' width */
+    float gauss_hi[FILTER_GAUSS_CELLS];  /* above f1 on the cell (its inner edge's value, raised) */
+    float gauss_lo[FILTER_GAUSS_CELLS];  /* below f1 on the cell (its outer edge's, lowered) */
+    uint32_t gauss_keep[FILTER_GAUSS_CELLS];   /* alias: keep the cell if 25 bits < this */
+    unsigned char gauss_alias[FILTER_GAUSS_CELLS];   /* else take this one */
 } PixelFilter;
 void  filter_init(PixelFilter *pf, const SceneSettings *st);
 /* f1(x), and f(x, y) = f1(x) f1(y); x, y in pixels from the pixel's centre. */
@@ -2049,8 +2061,9 @@ double filter_eval(const PixelFilter *pf, double x, double y);
 float filter_sample(const PixelFilter *pf, float u0, float u1, float *px, float *py);
 /* 1 if the weights are not constant (mitchell, sinc): the film must keep sum fw. */
 int   filter_weighted(const PixelFilter *pf);
-/* One Gaussian offset by rejection from the independent sampler's stream. */
-float filter_gaussian_reject(Rng *rng, float radius, float sigma);
+/* One offset of the Gaussian (gaussian filters) from the independent sampler's
+   stream, exactly (a variable count of numbers): a cell, then rejection. */
+float filter_gaussian_reject(const PixelFilter *pf, Rng *rng);
 const char *filter_name(FilterType t);
 
 /* ======================================================================

@@ -256,6 +256,27 @@ static int images_equal(const Image *a, const Image *b)
            !memcmp(a->rgb, b->rgb, sizeof(float) * 3 * (size_t)a->w * a->h);
 }
 
+/* A 16 x 16 scene (film, camera, then `world` after WorldBegin) rendered without
+   and with ColorSpace "rec2020" before WorldBegin: the same image bit for bit. */
+static void cs_leaves_alone(T *t, const char *world, const char *what)
+{
+    static char a[4096], b[4096];
+    Image ia, ib;
+    int i;
+    for (i = 0; i < 2; i++)
+        snprintf(i ? b : a, sizeof a,
+                 "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16 \"string filename\" \"cs.pfm\"\n"
+                 "Camera \"perspective\" \"float fov\" 40\n"
+                 "%s\n"
+                 "WorldBegin\n"
+                 "%s",
+                 i ? "ColorSpace \"rec2020\"" : "", world);
+    if (!render4(t, a, &ia)) return;
+    if (!render4(t, b, &ib)) { img_free(&ia); return; }
+    CHECK(t, images_equal(&ia, &ib), "ColorSpace \"rec2020\" changed %s", what);
+    img_free(&ia); img_free(&ib);
+}
+
 /* What the space leaves alone: a ColorSpace inside AttributeBegin/End,
    ObjectBegin/End or an Import ends with it (pbrt-v4's graphics state); an
    imagemap texture's pixels stay sRGB (pbrt-v4 reads an image in the file's own
@@ -292,39 +313,20 @@ static void test_colorspace_scope(T *t)
     tex = test_path(t, "cs_tex.pfm");
     CHECK(t, pfm_write(&px, tex), "cannot write %s", tex);
     img_free(&px);
-    for (i = 0; i < 2; i++) {
-        snprintf(i ? b : a, sizeof a,
-                 "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16 \"string filename\" \"cs.pfm\"\n"
-                 "Camera \"perspective\" \"float fov\" 40\n"
-                 "%s\n"
-                 "WorldBegin\n"
-                 "LightSource \"infinite\" \"spectrum L\" \"stdillum-D65\"\n"
-                 "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"%s\"\n"
-                 "Material \"diffuse\" \"texture reflectance\" \"t\"\n"
-                 "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
-                 "  \"point3 P\" [ -3 -3 5  3 -3 5  3 3 5  -3 3 5 ]  \"point2 uv\" [ 0 0 1 0 1 1 0 1 ]\n",
-                 i ? "ColorSpace \"rec2020\"" : "", tex);
-    }
-    if (!render4(t, a, &ia)) return;
-    if (!render4(t, b, &ib)) { img_free(&ia); return; }
-    CHECK(t, images_equal(&ia, &ib), "ColorSpace \"rec2020\" changed an imagemap texture's colours");
-    img_free(&ia); img_free(&ib);
+    snprintf(b, sizeof b,
+             "LightSource \"infinite\" \"spectrum L\" \"stdillum-D65\"\n"
+             "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"%s\"\n"
+             "Material \"diffuse\" \"texture reflectance\" \"t\"\n"
+             "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+             "  \"point3 P\" [ -3 -3 5  3 -3 5  3 3 5  -3 3 5 ]  \"point2 uv\" [ 0 0 1 0 1 1 0 1 ]\n", tex);
+    cs_leaves_alone(t, b, "an imagemap texture's colours");
     /* an environment map (an illuminant image: each texel fitted from the table) */
-    for (i = 0; i < 2; i++)
-        snprintf(i ? b : a, sizeof a,
-                 "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16 \"string filename\" \"cs.pfm\"\n"
-                 "Camera \"perspective\" \"float fov\" 40\n"
-                 "%s\n"
-                 "WorldBegin\n"
-                 "LightSource \"infinite\" \"string filename\" \"%s\"\n"
-                 "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
-                 "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
-                 "  \"point3 P\" [ -3 -3 5  3 -3 5  3 3 5  -3 3 5 ]\n",
-                 i ? "ColorSpace \"rec2020\"" : "", tex);
-    if (!render4(t, a, &ia)) return;
-    if (!render4(t, b, &ib)) { img_free(&ia); return; }
-    CHECK(t, images_equal(&ia, &ib), "ColorSpace \"rec2020\" changed an environment map's colours");
-    img_free(&ia); img_free(&ib);
+    snprintf(b, sizeof b,
+             "LightSource \"infinite\" \"string filename\" \"%s\"\n"
+             "Material \"diffuse\" \"rgb reflectance\" [ 0.5 0.5 0.5 ]\n"
+             "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ]\n"
+             "  \"point3 P\" [ -3 -3 5  3 -3 5  3 3 5  -3 3 5 ]\n", tex);
+    cs_leaves_alone(t, b, "an environment map's colours");
 }
 
 /* A light without L shines the space's white: in aces2065-1 it is illum-acesD60

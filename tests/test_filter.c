@@ -416,7 +416,114 @@ static void test_filter_guided_search(T *t)
     CHECK(t, bad == 0, "guided filter sampling differs at %d of %d u", bad, tried);
 }
 
+/* The independent sampler's Gaussian (filter_gaussian_reject) against the
+   truncated Gaussian f1 = g(x) - g(r) itself, for three (radius, sigma): a
+   chi-square over 40 bins of [-r, r] (each bin's mass by Simpson's rule in
+   double) and the second moment E[x^2] within 4 standard errors of
+   integral x^2 f1 / integral f1; and the work: at most 1.05 tries on average
+   (3 numbers of the stream per try), where plain rejection took 2.4. */
+static void test_filter_gauss_exact(T *t)
+{
+    static const float rs[3][2] = { { 1.5f, 0.5f }, { 2.0f, 1.0f }, { 1.0f, 0.3f } };
+    enum { NB = 40 };
+    int n = test_scaled(400000, 40000), i, k;
+    for (i = 0; i < 3; i++) {
+        PixelFilter pf;
+        SceneSettings st;
+        Rng rng, probe;
+        double cnt[NB], ex[NB], tot = 0.0, m2 = 0.0, s1 = 0.0, s2 = 0.0, r = rs[i][0], se, want;
+        long steps = 0;
+        int a, probed = 0;
+        memset(&st, 0, sizeof st);
+        st.filter = FILTER_GAUSSIAN;
+        st.filter_radius = rs[i][0];
+        st.filter_sigma = rs[i][1];
+        filter_init(&pf, &st);
+        CHECK(t, pf.gauss_ok, "r %g sigma %g: no exact table", r, rs[i][1]);
+        if (t->failed) return;
+        for (a = 0; a < NB; a++) {
+            double lo = -r + 2.0 * r * a / NB, hi = -r + 2.0 * r * (a + 1) / NB, h = (hi - lo) / 400.0;
+            int j;
+            ex[a] = 0.0;
+            for (j = 0; j <= 400; j++) {
+                double x = lo + j * h, f = filter_eval_1d(&pf, x), wgt = j == 0 || j == 400 ? 1.0 : j % 2 ? 4.0 : 2.0;
+                ex[a] += wgt * f * h / 3.0;
+                m2 += wgt * x * x * f * h / 3.0;
+            }
+            tot += ex[a];
+        }
+        want = m2 / tot;
+        memset(cnt, 0, sizeof cnt);
+        rng_seed(&rng, 41, (uint64_t)i);
+        for (k = 0; k < n; k++) {
+            double x;
+            if (k < 20000) {                     /* count the stream's numbers a draw takes */
+                probe = rng;
+                x = filter_gaussian_reject(&pf, &rng);
+                while (memcmp(&probe, &rng, sizeof rng) && steps < 100L * n) { rng_u32(&probe); steps++; }
+                probed++;
+            } else {
+                x = filter_gaussian_reject(&pf, &rng);
+            }
+            CHECK(t, fabs(x) <= r, "offset %g beyond radius %g", x, r);
+            if (t->failed) return;
+            a = (int)((x + r) / (2.0 * r) * NB);
+            if (a == NB) a--;
+            cnt[a] += 1.0;
+            s1 += x * x;
+            s2 += x * x * x * x;
+        }
+        for (a = 0; a < NB; a++) ex[a] *= n / tot;
+        CHECK_CHI2(t, cnt, ex, NB, 3, NULL, "gaussian r %g sigma %g (N = %d)", r, rs[i][1], n);
+        s1 /= n;
+        se = sqrt((s2 / n - s1 * s1) / n);
+        CHECK(t, fabs(s1 - want) < 4.0 * se, "r %g sigma %g: E[x^2] = %.6g +- %.2g, want %.6g", r, rs[i][1],
+              s1, se, want);
+        CHECK(t, steps <= 3.15 * probed, "r %g sigma %g: %.3f tries a draw (3 numbers each)", r, rs[i][1],
+              steps / (3.0 * probed));
+    }
+}
+
+/* The exact Gaussian's table: each cell's bounds hold f1 as the sampler computes
+   it (float, expf(-x^2 k) - g_r) at 2001 points of the cell, its edges included
+   (a bound below f1 would clip the density there: the sampler would no longer be
+   exact); and the alias table gives cell c the probability hi_c / sum hi (to
+   2^-25, its coin's resolution). */
+static void test_filter_gauss_table(T *t)
+{
+    PixelFilter pf;
+    SceneSettings st;
+    double p[FILTER_GAUSS_CELLS], sum = 0.0, worst = 0.0;
+    int c, j, bad = 0;
+    memset(&st, 0, sizeof st);
+    st.filter = FILTER_GAUSSIAN;
+    st.filter_radius = 1.5f;
+    st.filter_sigma = 0.5f;
+    filter_init(&pf, &st);
+    CHECK(t, pf.gauss_ok, "no exact table");
+    if (t->failed) return;
+    for (c = 0; c < FILTER_GAUSS_CELLS; c++) {
+        for (j = 0; j <= 2000; j++) {
+            float x = ((float)c + (float)j / 2000.0f) * pf.gauss_w;
+            float f = expf(-x * x * pf.gauss_k) - pf.gauss_gr;
+            if (!(pf.gauss_lo[c] <= f && f <= pf.gauss_hi[c])) bad++;
+        }
+        sum += pf.gauss_hi[c];
+        p[c] = 0.0;
+    }
+    CHECK(t, bad == 0, "%d points of the cells outside their bounds", bad);
+    for (c = 0; c < FILTER_GAUSS_CELLS; c++) {   /* the alias table's probabilities */
+        p[c] += pf.gauss_keep[c] / 33554432.0 / FILTER_GAUSS_CELLS;
+        p[pf.gauss_alias[c]] += (1.0 - pf.gauss_keep[c] / 33554432.0) / FILTER_GAUSS_CELLS;
+        CHECK(t, pf.gauss_keep[c] <= 33554432u, "cell %d keeps %u / 2^25", c, pf.gauss_keep[c]);
+    }
+    for (c = 0; c < FILTER_GAUSS_CELLS; c++) worst = fmax(worst, fabs(p[c] - pf.gauss_hi[c] / sum));
+    CHECK(t, worst < 1e-6, "the alias table's probabilities are off by up to %.3g", worst);
+}
+
 const TestCase tests_filter[] = {
+    { "filter_gauss_exact", test_filter_gauss_exact },
+    { "filter_gauss_table", test_filter_gauss_table },
     { "filter_no_pixel_jitter", test_filter_no_pixel_jitter },
     { "filter_values", test_filter_values },
     { "filter_sampler_chi2", test_filter_sampler_chi2 },

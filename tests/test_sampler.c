@@ -659,7 +659,7 @@ static uint64_t image_hash(const Image *im)
    them: then re-take them and say why in the commit. */
 static void test_independent_unchanged(T *t)
 {
-    static const uint64_t expected[2] = { 0xad2384b2217ee99cull, 0xdac29ae3cf7ed1e0ull };  /* gaussian, box */
+    static const uint64_t expected[2] = { 0xb4ab0789a5b7f1cbull, 0xdac29ae3cf7ed1e0ull };  /* gaussian, box */
     int f;
     for (f = 0; f < 2; f++) {
         Scene s;

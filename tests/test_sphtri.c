@@ -703,26 +703,22 @@ static int render_pair(T *t, const char *text, int first, int K, int spp, double
     return 1;
 }
 
-static void test_render_agrees(T *t)
+/* --light-shape-sampling `first` (solidangle, auto) against area, rendered in
+   both rooms: the same means; over the sphere, where the close lamp sends most
+   points to the solid-angle map, less than 0.6 of area's variance. */
+static void render_vs_area(T *t, int first, const char *name)
 {
+    char what[96];
     double va, vb;
-    if (!render_pair(t, QUAD_ROOM, SHAPE_SA, 8, 16, &va, &vb, "quad lamp over a sphere, solidangle vs area"))
-        return;
-    CHECK(t, va < 0.6 * vb, "solid angle's variance %.3g is not below 0.6 x area's %.3g", va, vb);
-    render_pair(t, WALL_ROOM, SHAPE_SA, 16, 128, &va, &vb, "lamp standing on a floor, solidangle vs area");
+    snprintf(what, sizeof what, "quad lamp over a sphere, %s vs area", name);
+    if (!render_pair(t, QUAD_ROOM, first, 8, 16, &va, &vb, what)) return;
+    CHECK(t, va < 0.6 * vb, "%s's variance %.3g is not below 0.6 x area's %.3g", name, va, vb);
+    snprintf(what, sizeof what, "lamp standing on a floor, %s vs area", name);
+    render_pair(t, WALL_ROOM, first, 16, 128, &va, &vb, what);
 }
 
-/* --light-shape-sampling auto against area: the same means; over the sphere,
-   where the close lamp sends most points to the solid-angle map, less than 0.6
-   of area's variance as solidangle has */
-static void test_auto_render(T *t)
-{
-    double va, vb;
-    if (!render_pair(t, QUAD_ROOM, SHAPE_AUTO, 8, 16, &va, &vb, "quad lamp over a sphere, auto vs area"))
-        return;
-    CHECK(t, va < 0.6 * vb, "auto's variance %.3g is not below 0.6 x area's %.3g", va, vb);
-    render_pair(t, WALL_ROOM, SHAPE_AUTO, 16, 128, &va, &vb, "lamp standing on a floor, auto vs area");
-}
+static void test_render_agrees(T *t) { render_vs_area(t, SHAPE_SA, "solidangle"); }
+static void test_auto_render(T *t) { render_vs_area(t, SHAPE_AUTO, "auto"); }
 
 const TestCase tests_sphtri[] = {
     { "sphtri_uniform_chi2", test_uniform_chi2 },
