@@ -125,6 +125,27 @@
    extraction.  The numbers are the same to the bit (the test
    sampler_restart_same_numbers).
 
+   THE COST OF A SOBOL NUMBER.  Most numbers of a deep path come from Sobol
+   groups (sobol, zsobol, halton past its point), so sampler_1d and sampler_2d
+   ask for those first and work them out inline; the rest are the same
+   definitions in fewer instructions, every number the same to the bit (the test
+   sampler_sobol_formula works each one out afresh from sobol_u32, owen_scramble
+   and hash_u64):
+   - the group's hash hash_u64(key, g) starts with a * C ^ (g + C' + (a << 6)
+     + (a >> 2)); the key's two shares are worked out once per pixel
+     (PixelSample.key_mul, key_add; zsobol's seed's once per film), and each group
+     pays the finaliser alone (key_hash);
+   - the index's scramble starts from k reversed (zsobol: the index's low 32 bits
+     reversed), kept per sample (sampler_restart); zsobol's 64-digit nested
+     scramble gives the Sobol point its low 32 digits only, so the high half's
+     scramble, whose value is never used, is not worked out (its digits still seed
+     the low half's);
+   - a scrambled value's float keeps the top 24 bits of a reversal, i.e. the low
+     24 bits reversed: three lookups in a table of reversed bytes (reversed_float);
+   - the camera group's Sobol dimensions 2 and 3 XOR four entries of byte tables
+     of their reversed columns (Sampler.sobol23_rev, sampler_init), not one column
+     per set bit of the index.
+
    A FLOAT from 32 bits keeps the top 24 (as rng_float does): exactly representable
    and strictly below 1. */
 #include "specnee.h"
@@ -201,7 +222,7 @@ static inline float reversed_float(uint32_t y)
 }
 
 /* hash_u64(ps->key, b): the key's share of the hash's first step was worked out
-   once per pixel (sampler_start, KEPT PER PIXEL above), so each group's hash
+   once per pixel (sampler_start, THE COST OF A SOBOL NUMBER above), so each group's hash
    costs only the finaliser. */
 static inline uint64_t key_hash(const PixelSample *ps, uint64_t b)
 {
@@ -328,17 +349,6 @@ static float sobol_coord(const Sampler *s, uint32_t i, uint64_t h, int c)
     const uint32_t (*t)[256] = s->sobol23_rev[c - 2];
     uint32_t rev = t[0][i & 0xffu] ^ t[1][(i >> 8) & 0xffu] ^ t[2][(i >> 16) & 0xffu] ^ t[3][i >> 24];
     return reversed_float(owen_reversed(rev, (uint32_t)hash_u64(h, (uint64_t)c)));
-}
-
-/* The same on 64 digits, for zsobol's film-wide index (morton code x 2^L).  The
-   two 32-bit halves are scrambled in turn, the high digits first; the low half's
-   seed is hashed with the high half, so each low digit still depends on every
-   digit above it (nested). */
-static uint64_t owen_scramble64(uint64_t x, uint64_t seed)
-{
-    uint32_t hi = owen_scramble((uint32_t)(x >> 32), (uint32_t)seed);
-    uint32_t lo = owen_scramble((uint32_t)x, (uint32_t)hash_u64(seed, (uint64_t)(uint32_t)(x >> 32)));
-    return ((uint64_t)hi << 32) | lo;
 }
 
 /* A hashed permutation of [0, n) evaluated at i: a 4-round Feistel network on
@@ -509,6 +519,8 @@ void sampler_init(Sampler *s, SamplerType type, int seed, int spp, int xsamples,
         s->xsamples = s->spp / d;
     }
     while ((1L << s->log2_spp) < s->spp) s->log2_spp++;
+    s->seed_mul = hash_a_mul((uint64_t)s->seed);   /* zsobol's group hash: the seed's share */
+    s->seed_add = hash_a_add((uint64_t)s->seed);
     if (type == SAMPLER_HALTON) halton_tables(s);
     sobol23_tables(s);                     /* the camera group's (camera_medium is set later) */
 }
@@ -536,6 +548,7 @@ void sampler_restart(PixelSample *ps, int k)
         rng_seed(&ps->rng, ps->key, (uint64_t)k);   /* sample k's stream: independent of spp */
     } else if (s->type == SAMPLER_ZSOBOL) {
         ps->index = (ps->index >> s->log2_spp << s->log2_spp) | (uint64_t)k;
+        ps->low_reversed = reverse_bits32((uint32_t)ps->index);   /* sobol_index's start */
     }
 }
 
@@ -572,28 +585,42 @@ static int in_camera_group(const Sampler *s, int dim)
                                 || dim == dim_medium(0, 0));
 }
 
-/* sobol: the padded group g's hash *h (pixel, seed, group) and its own order of
-   the pixel's samples: sample k takes point i = owen_scramble(k, h), k's reversal
-   kept (sampler_restart).  sampler_1d and sampler_2d then take coordinates of
-   point i (sobol_owen0, sobol_owen1, sobol_coord). */
-static inline uint32_t padded_index(const PixelSample *ps, int g, uint64_t *h)
+/* The Sobol point i that group g gives this sample, and the group's hash *h
+   (its scrambles' seeds); sampler_1d and sampler_2d then take coordinates of
+   point i (sobol_owen0, sobol_owen1, sobol_coord).
+   sobol (and halton's padded groups): h hashes (pixel, seed, group), and the
+   group's own order of the pixel's samples is i = owen_scramble(k, h), k's
+   reversal kept (sampler_restart).
+   zsobol: h hashes (seed, group), one per film.  The film-wide index x (the
+   Morton code x 2^L + k) is owen-scrambled on its 64 digits, nested: the high 32
+   digits first with the seed h, then the low 32 with a seed hashed from h and
+   the high half's digits, so that each low digit still depends on every digit
+   above it.  Point i is the scrambled index's low 32 digits, so only the low
+   half's scramble is worked out (the high half's value is never used); x's low
+   half reversed is kept per sample (sampler_restart). */
+static inline uint32_t sobol_index(const PixelSample *ps, int g, uint64_t *h)
 {
+    const Sampler *s = ps->s;
+    if (s->type == SAMPLER_ZSOBOL) {
+        *h = hash_mix(s->seed_mul ^ ((uint64_t)g + s->seed_add));  /* hash_u64(seed, g): per film */
+        return reverse_bits32(owen_reversed(ps->low_reversed, (uint32_t)hash_u64(*h, ps->index >> 32)));
+    }
     *h = key_hash(ps, (uint64_t)g);
     return reverse_bits32(owen_reversed(ps->k_reversed, (uint32_t)*h));
 }
 
-/* 1 if a padded Sobol group serves dimension dim: every dimension of sobol, and
-   halton's past its point or in the camera group.  Asked first for every number
-   (sampler_1d, sampler_2d), as it is the common case of a deep path. */
-static inline int padded_sobol(const Sampler *s, int dim)
+/* 1 if a Sobol group serves dimension dim: every dimension of sobol and zsobol,
+   and halton's past its point or in the camera group.  Asked first for every
+   number (sampler_1d, sampler_2d), as it is the common case of a deep path. */
+static inline int sobol_group(const Sampler *s, int dim)
 {
-    if (s->type == SAMPLER_SOBOL) return 1;
+    if (s->type == SAMPLER_SOBOL || s->type == SAMPLER_ZSOBOL) return 1;
     return s->type == SAMPLER_HALTON && (halton_slot(dim) < 0 || in_camera_group(s, dim));
 }
 
 /* n = 1 or 2 numbers of the group that starts at dimension dim, for every
-   sampler but a padded Sobol group (padded_sobol above: sampler_1d and sampler_2d
-   work those out themselves). */
+   sampler but a Sobol group (sobol_group above: sampler_1d and sampler_2d work
+   those out themselves). */
 static void group_sample(PixelSample *ps, int dim, int n, float *u)
 {
     const Sampler *s = ps->s;
@@ -619,21 +646,9 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
         for (c = 0; c < n; c++) if (u[c] >= 1.0f) u[c] = 0.99999994f;
         break;
     }
-    case SAMPLER_HALTON:   /* the Halton point's slots (the rest: padded_sobol) */
+    case SAMPLER_HALTON:   /* the Halton point's slots (the rest: sobol_group) */
         for (c = 0; c < n; c++) u[c] = halton_coord(ps, halton_slot(dim + c));
         break;
-    case SAMPLER_ZSOBOL: {
-        int coord, g = group_of(s, dim, &coord);
-        uint64_t h = hash_u64((uint64_t)s->seed, (uint64_t)g);       /* one per film, not per pixel */
-        uint32_t i = (uint32_t)owen_scramble64(ps->index, h);
-        if (coord) {
-            u[0] = sobol_coord(s, i, h, coord);
-        } else {
-            u[0] = sobol_owen0(i, (uint32_t)(h >> 32));
-            if (n == 2) u[1] = sobol_owen1(i, (uint32_t)(h >> 32));
-        }
-        break;
-    }
     default:
         for (c = 0; c < n; c++) u[c] = 0.5f;
     }
@@ -644,10 +659,10 @@ float sampler_1d(PixelSample *ps, int dim)
     const Sampler *s = ps->s;
     float u = 0.0f;
     mark_used(ps, dim, 1);
-    if (padded_sobol(s, dim)) {
+    if (sobol_group(s, dim)) {
         int coord, g = group_of(s, dim, &coord);
         uint64_t h;
-        uint32_t i = padded_index(ps, g, &h);
+        uint32_t i = sobol_index(ps, g, &h);
         return coord ? sobol_coord(s, i, h, coord) : sobol_owen0(i, (uint32_t)(h >> 32));
     }
     group_sample(ps, dim, 1, &u);
@@ -659,10 +674,10 @@ void sampler_2d(PixelSample *ps, int dim, float *u0, float *u1)
     const Sampler *s = ps->s;
     float u[2] = { 0.0f, 0.0f };
     mark_used(ps, dim, 2);
-    if (padded_sobol(s, dim)) {
+    if (sobol_group(s, dim)) {
         int coord, g = group_of(s, dim, &coord);
         uint64_t h;
-        uint32_t i = padded_index(ps, g, &h);
+        uint32_t i = sobol_index(ps, g, &h);
         if (coord) {                       /* a 1-D coordinate of the camera group: none second */
             *u0 = sobol_coord(s, i, h, coord);
             *u1 = 0.0f;

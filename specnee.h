@@ -315,6 +315,8 @@ typedef struct {
     int xsamples, ysamples;    /* stratified: the 2-D strata, xsamples * ysamples = spp */
     int jitter;                /* stratified: 1 = random point in the stratum, 0 = centre */
     int log2_spp;              /* zsobol: 2^log2_spp >= spp indices per pixel */
+    uint64_t seed_mul, seed_add;   /* zsobol: hash_a_mul(seed), hash_a_add(seed): each group's
+                                  hash_u64(seed, g) finishes from them (sampler.c, sobol_index) */
     int camera_medium;         /* sobol, zsobol: 1 = the camera sits in a rendered medium; its
                                   first free flight and the wavelength join the pixel's group */
     /* halton: one random permutation of the base-p digits per coordinate and digit
@@ -338,6 +340,7 @@ typedef struct {               /* one sample of one pixel, on the stack of the t
     uint64_t index;            /* zsobol: Morton code of the pixel x 2^log2_spp + k */
     uint32_t k;                /* sample index in the pixel */
     uint32_t k_reversed;       /* its bits reversed (sobol's index scramble starts there) */
+    uint32_t low_reversed;     /* zsobol: index's low 32 bits reversed (its scramble's start) */
     Rng rng;                   /* independent: the sample's PCG32 stream */
     uint32_t used[SAMPLER_CHECKED_DIMS / 32];  /* dimensions asked for so far */
     int reused;                /* dimensions asked for a second time */
