@@ -618,17 +618,14 @@ static inline int sobol_group(const Sampler *s, int dim)
     return s->type == SAMPLER_HALTON && (halton_slot(dim) < 0 || in_camera_group(s, dim));
 }
 
-/* n = 1 or 2 numbers of the group that starts at dimension dim, for every
-   sampler but a Sobol group (sobol_group above: sampler_1d and sampler_2d work
-   those out themselves). */
+/* n = 1 or 2 numbers of the group that starts at dimension dim: stratified's
+   and halton's point (sampler_1d and sampler_2d work the independent stream and
+   the Sobol groups out themselves). */
 static void group_sample(PixelSample *ps, int dim, int n, float *u)
 {
     const Sampler *s = ps->s;
     int c;
     switch (s->type) {
-    case SAMPLER_INDEPENDENT:
-        for (c = 0; c < n; c++) u[c] = rng_float(&ps->rng);
-        break;
     case SAMPLER_STRATIFIED: {
         uint64_t h = key_hash(ps, (uint64_t)dim);
         uint32_t cells = n == 2 ? (uint32_t)(s->xsamples * s->ysamples) : (uint32_t)s->spp;
@@ -659,6 +656,7 @@ float sampler_1d(PixelSample *ps, int dim)
     const Sampler *s = ps->s;
     float u = 0.0f;
     mark_used(ps, dim, 1);
+    if (s->type == SAMPLER_INDEPENDENT) return rng_float(&ps->rng);   /* the stream's next number */
     if (sobol_group(s, dim)) {
         int coord, g = group_of(s, dim, &coord);
         uint64_t h;
@@ -673,7 +671,14 @@ void sampler_2d(PixelSample *ps, int dim, float *u0, float *u1)
 {
     const Sampler *s = ps->s;
     float u[2] = { 0.0f, 0.0f };
+    int c;
     mark_used(ps, dim, 2);
+    if (s->type == SAMPLER_INDEPENDENT) {  /* the stream's next two numbers, in this order */
+        for (c = 0; c < 2; c++) u[c] = rng_float(&ps->rng);
+        *u0 = u[0];
+        *u1 = u[1];
+        return;
+    }
     if (sobol_group(s, dim)) {
         int coord, g = group_of(s, dim, &coord);
         uint64_t h;
