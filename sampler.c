@@ -125,6 +125,27 @@
    extraction.  The numbers are the same to the bit (the test
    sampler_restart_same_numbers).
 
+   THE COST OF A SOBOL NUMBER.  Most numbers of a deep path come from Sobol
+   groups (sobol, zsobol, halton past its point), so sampler_1d and sampler_2d
+   ask for those first and work them out inline; the rest are the same
+   definitions in fewer instructions, every number the same to the bit (the test
+   sampler_sobol_formula works each one out afresh from sobol_u32, owen_scramble
+   and hash_u64):
+   - the group's hash hash_u64(key, g) starts with a * C ^ (g + C' + (a << 6)
+     + (a >> 2)); the key's two shares are worked out once per pixel
+     (PixelSample.key_mul, key_add; zsobol's seed's once per film), and each group
+     pays the finaliser alone (key_hash);
+   - the index's scramble starts from k reversed (zsobol: the index's low 32 bits
+     reversed), kept per sample (sampler_restart); zsobol's 64-digit nested
+     scramble gives the Sobol point its low 32 digits only, so the high half's
+     scramble, whose value is never used, is not worked out (its digits still seed
+     the low half's);
+   - a scrambled value's float keeps the top 24 bits of a reversal, i.e. the low
+     24 bits reversed: three lookups in a table of reversed bytes (reversed_float);
+   - the camera group's Sobol dimensions 2 and 3 XOR four entries of byte tables
+     of their reversed columns (Sampler.sobol23_rev, sampler_init), not one column
+     per set bit of the index.
+
    A FLOAT from 32 bits keeps the top 24 (as rng_float does): exactly representable
    and strictly below 1. */
 #include "specnee.h"
@@ -176,6 +197,37 @@ static uint64_t spread_bits(uint32_t v)
 }
 
 static float u32_to_float(uint32_t v) { return (float)(v >> 8) * (1.0f / 16777216.0f); }
+
+/* The 256 bytes with their 8 bits reversed, built as a tree of the bits: entry
+   b7..b0 is b0..b7.  R2(n) lists the four values of the two lowest bits (which
+   land in the top two bits, 128 and 64) on top of n, R4 and R6 the next two pairs
+   (32, 16 and 8, 4), and the outer list the two highest bits (land in 2 and 1). */
+#define R2(n) (n), (n) + 128, (n) + 64, (n) + 192
+#define R4(n) R2(n), R2((n) + 32), R2((n) + 16), R2((n) + 48)
+#define R6(n) R4(n), R4((n) + 8), R4((n) + 4), R4((n) + 12)
+static const unsigned char reversed_byte[256] = { R6(0), R6(2), R6(1), R6(3) };
+#undef R2
+#undef R4
+#undef R6
+
+/* u32_to_float(reverse_bits32(y)), the float of a number whose digits are kept
+   reversed (an Owen scramble's output, first digit in bit 0).  The float keeps
+   the top 24 bits of the reversal, which are y's low 24 bits reversed: three
+   byte lookups, not a whole reversal of 32 bits. */
+static inline float reversed_float(uint32_t y)
+{
+    uint32_t top24 = (uint32_t)reversed_byte[y & 0xffu] << 16 | (uint32_t)reversed_byte[(y >> 8) & 0xffu] << 8
+                     | reversed_byte[(y >> 16) & 0xffu];
+    return (float)top24 * (1.0f / 16777216.0f);
+}
+
+/* hash_u64(ps->key, b): the key's share of the hash's first step was worked out
+   once per pixel (sampler_start, THE COST OF A SOBOL NUMBER above), so each group's hash
+   costs only the finaliser. */
+static inline uint64_t key_hash(const PixelSample *ps, uint64_t b)
+{
+    return hash_mix(ps->key_mul ^ (b + ps->key_add));
+}
 
 /* ------------------------------------------------------------------ Sobol, Owen */
 
@@ -236,7 +288,7 @@ uint32_t sobol_u32(uint32_t i, int dim)
 /* Burley's scramble works on the digits in reversed order (first digit in bit
    0): every step changes a bit only as a function of the bits below it, i.e.
    digit j as a function of digits < j (Vegdahl's constants). */
-static uint32_t owen_reversed(uint32_t x, uint32_t seed)
+static inline uint32_t owen_reversed(uint32_t x, uint32_t seed)
 {
     x ^= x * 0x3d20adeau;
     x += seed;
@@ -252,31 +304,51 @@ uint32_t owen_scramble(uint32_t x, uint32_t seed)
     return reverse_bits32(owen_reversed(reverse_bits32(x), seed));
 }
 
-/* n = 1 or 2 Owen-scrambled Sobol coordinates of point i, the seeds of the two
-   coordinates derived from seed.  Both sobol_u32 and owen_scramble reverse the
-   digits, so the reversals in between cancel. */
-static void sobol_owen(uint32_t i, uint32_t seed, int n, float *u)
+/* Coordinates 0 and 1 of the Owen-scrambled Sobol point i, as floats; seed is
+   coordinate 0's scramble seed, coordinate 1 takes seed ^ 0x68bc21eb.  Both
+   sobol_u32 and owen_scramble reverse the digits, so the reversals in between
+   cancel: float(owen_scramble(sobol_u32(i, 0), seed)) is
+   reversed_float(owen_reversed(i, seed)), as sobol_u32(i, 0) is i reversed, and
+   coordinate 1's digits (first digit in bit 0) are sobol1_digits(i). */
+static inline float sobol_owen0(uint32_t i, uint32_t seed)
 {
-    u[0] = u32_to_float(reverse_bits32(owen_reversed(i, seed)));
-    if (n == 2) u[1] = u32_to_float(reverse_bits32(owen_reversed(sobol1_digits(i), seed ^ 0x68bc21ebu)));
+    return reversed_float(owen_reversed(i, seed));
+}
+static inline float sobol_owen1(uint32_t i, uint32_t seed)
+{
+    return reversed_float(owen_reversed(sobol1_digits(i), seed ^ 0x68bc21ebu));
+}
+
+/* The tables of Sobol dimensions 2 and 3 by bytes (sampler_init): entry
+   [d][b][v] is the XOR (1) of the columns 8 b + j of dimension d + 2 over the bits
+   j set in the byte v, each column with its digits reversed.  The reversed
+   coordinate of point i is then the XOR of four entries, one per byte of i,
+   instead of a loop over its 32 bits (sobol23), and owen_reversed takes it as it
+   is. */
+static void sobol23_tables(Sampler *s)
+{
+    int d, b, v;
+    for (d = 0; d < 2; d++)
+        for (b = 0; b < 4; b++) {
+            uint32_t *t = s->sobol23_rev[d][b];
+            const uint32_t *col = (d == 0 ? sobol2_columns : sobol3_columns) + 8 * b;
+            t[0] = 0u;
+            for (v = 1; v < 256; v++) {   /* v's lowest set bit j, added to v without it */
+                int j = 0;
+                while (!(v >> j & 1)) j++;
+                t[v] = t[v & (v - 1)] ^ reverse_bits32(col[j]);
+            }
+        }
 }
 
 /* Coordinate c (2 or 3) of the Owen-scrambled Sobol point i of the group whose
-   hash is h (coordinates 0 and 1: sobol_owen), with a scramble seed of its own. */
-static float sobol_coord(uint32_t i, uint64_t h, int c)
+   hash is h (coordinates 0 and 1: sobol_owen0, sobol_owen1), with a scramble seed
+   of its own: float(owen_scramble(sobol_u32(i, c), seed)), from the tables. */
+static float sobol_coord(const Sampler *s, uint32_t i, uint64_t h, int c)
 {
-    return u32_to_float(owen_scramble(sobol_u32(i, c), (uint32_t)hash_u64(h, (uint64_t)c)));
-}
-
-/* The same on 64 digits, for zsobol's film-wide index (morton code x 2^L).  The
-   two 32-bit halves are scrambled in turn, the high digits first; the low half's
-   seed is hashed with the high half, so each low digit still depends on every
-   digit above it (nested). */
-static uint64_t owen_scramble64(uint64_t x, uint64_t seed)
-{
-    uint32_t hi = owen_scramble((uint32_t)(x >> 32), (uint32_t)seed);
-    uint32_t lo = owen_scramble((uint32_t)x, (uint32_t)hash_u64(seed, (uint64_t)(uint32_t)(x >> 32)));
-    return ((uint64_t)hi << 32) | lo;
+    const uint32_t (*t)[256] = s->sobol23_rev[c - 2];
+    uint32_t rev = t[0][i & 0xffu] ^ t[1][(i >> 8) & 0xffu] ^ t[2][(i >> 16) & 0xffu] ^ t[3][i >> 24];
+    return reversed_float(owen_reversed(rev, (uint32_t)hash_u64(h, (uint64_t)c)));
 }
 
 /* A hashed permutation of [0, n) evaluated at i: a 4-round Feistel network on
@@ -389,7 +461,7 @@ static float halton_coord(PixelSample *ps, int slot)
     uint32_t a, d;
     if (!(ps->halton_have >> slot & 1u)) {
         /* the pixel's Z and its first digit: the same for all the pixel's samples */
-        uint64_t h = hash_u64(ps->key, (uint64_t)slot + 0x4a17u);
+        uint64_t h = key_hash(ps, (uint64_t)slot + 0x4a17u);
         double z0 = (double)(h >> 11) / two53, zp = z0 * (double)p;
         uint32_t b0 = (uint32_t)zp;        /* the first digit of Z */
         ps->halton_z0[slot] = z0;
@@ -447,13 +519,18 @@ void sampler_init(Sampler *s, SamplerType type, int seed, int spp, int xsamples,
         s->xsamples = s->spp / d;
     }
     while ((1L << s->log2_spp) < s->spp) s->log2_spp++;
+    s->seed_mul = hash_a_mul((uint64_t)s->seed);   /* zsobol's group hash: the seed's share */
+    s->seed_add = hash_a_add((uint64_t)s->seed);
     if (type == SAMPLER_HALTON) halton_tables(s);
+    sobol23_tables(s);                     /* the camera group's (camera_medium is set later) */
 }
 
 void sampler_start(const Sampler *s, int x, int y, int k, PixelSample *ps)
 {
     ps->s = s;
     ps->key = hash_u64(hash_u64((uint64_t)x, (uint64_t)y), (uint64_t)s->seed);
+    ps->key_mul = hash_a_mul(ps->key);     /* key_hash's share of the key */
+    ps->key_add = hash_a_add(ps->key);
     ps->halton_have = 0;                   /* a new pixel: nothing of it kept yet */
     if (s->type == SAMPLER_ZSOBOL)         /* the pixel's Morton code; k joins it below */
         ps->index = (spread_bits((uint32_t)y) << 1 | spread_bits((uint32_t)x)) << s->log2_spp;
@@ -471,6 +548,7 @@ void sampler_restart(PixelSample *ps, int k)
         rng_seed(&ps->rng, ps->key, (uint64_t)k);   /* sample k's stream: independent of spp */
     } else if (s->type == SAMPLER_ZSOBOL) {
         ps->index = (ps->index >> s->log2_spp << s->log2_spp) | (uint64_t)k;
+        ps->low_reversed = reverse_bits32((uint32_t)ps->index);   /* sobol_index's start */
     }
 }
 
@@ -507,30 +585,49 @@ static int in_camera_group(const Sampler *s, int dim)
                                 || dim == dim_medium(0, 0));
 }
 
-/* sobol: n = 1 or 2 numbers of the padded group that serves dimension dim. */
-static void sobol_padded(const PixelSample *ps, int dim, int n, float *u)
+/* The Sobol point i that group g gives this sample, and the group's hash *h
+   (its scrambles' seeds); sampler_1d and sampler_2d then take coordinates of
+   point i (sobol_owen0, sobol_owen1, sobol_coord).
+   sobol (and halton's padded groups): h hashes (pixel, seed, group), and the
+   group's own order of the pixel's samples is i = owen_scramble(k, h), k's
+   reversal kept (sampler_restart).
+   zsobol: h hashes (seed, group), one per film.  The film-wide index x (the
+   Morton code x 2^L + k) is owen-scrambled on its 64 digits, nested: the high 32
+   digits first with the seed h, then the low 32 with a seed hashed from h and
+   the high half's digits, so that each low digit still depends on every digit
+   above it.  Point i is the scrambled index's low 32 digits, so only the low
+   half's scramble is worked out (the high half's value is never used); x's low
+   half reversed is kept per sample (sampler_restart). */
+static inline uint32_t sobol_index(const PixelSample *ps, int g, uint64_t *h)
 {
-    int coord, g = group_of(ps->s, dim, &coord);
-    uint64_t h = hash_u64(ps->key, (uint64_t)g);                 /* pixel, seed, group */
-    /* the group's own order: i = owen_scramble(k), with k's reversal kept */
-    uint32_t i = reverse_bits32(owen_reversed(ps->k_reversed, (uint32_t)h));
-    if (coord) u[0] = sobol_coord(i, h, coord);
-    else sobol_owen(i, (uint32_t)(h >> 32), n, u);
+    const Sampler *s = ps->s;
+    if (s->type == SAMPLER_ZSOBOL) {
+        *h = hash_mix(s->seed_mul ^ ((uint64_t)g + s->seed_add));  /* hash_u64(seed, g): per film */
+        return reverse_bits32(owen_reversed(ps->low_reversed, (uint32_t)hash_u64(*h, ps->index >> 32)));
+    }
+    *h = key_hash(ps, (uint64_t)g);
+    return reverse_bits32(owen_reversed(ps->k_reversed, (uint32_t)*h));
 }
 
-/* n = 1 or 2 numbers of the group that starts at dimension dim (sampler_1d and
-   sampler_2d mark the dimensions used first: with n a constant there, mark_used
-   is a test of one or two bits). */
+/* 1 if a Sobol group serves dimension dim: every dimension of sobol and zsobol,
+   and halton's past its point or in the camera group.  Asked first for every
+   number (sampler_1d, sampler_2d), as it is the common case of a deep path. */
+static inline int sobol_group(const Sampler *s, int dim)
+{
+    if (s->type == SAMPLER_SOBOL || s->type == SAMPLER_ZSOBOL) return 1;
+    return s->type == SAMPLER_HALTON && (halton_slot(dim) < 0 || in_camera_group(s, dim));
+}
+
+/* n = 1 or 2 numbers of the group that starts at dimension dim: stratified's
+   and halton's point (sampler_1d and sampler_2d work the independent stream and
+   the Sobol groups out themselves). */
 static void group_sample(PixelSample *ps, int dim, int n, float *u)
 {
     const Sampler *s = ps->s;
     int c;
     switch (s->type) {
-    case SAMPLER_INDEPENDENT:
-        for (c = 0; c < n; c++) u[c] = rng_float(&ps->rng);
-        break;
     case SAMPLER_STRATIFIED: {
-        uint64_t h = hash_u64(ps->key, (uint64_t)dim);
+        uint64_t h = key_hash(ps, (uint64_t)dim);
         uint32_t cells = n == 2 ? (uint32_t)(s->xsamples * s->ysamples) : (uint32_t)s->spp;
         uint32_t cell = permute_index(ps->k, cells, h);
         uint64_t j = hash_u64(h, (uint64_t)ps->k);    /* the jitter of this sample */
@@ -546,21 +643,9 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
         for (c = 0; c < n; c++) if (u[c] >= 1.0f) u[c] = 0.99999994f;
         break;
     }
-    case SAMPLER_SOBOL:
-        sobol_padded(ps, dim, n, u);
+    case SAMPLER_HALTON:   /* the Halton point's slots (the rest: sobol_group) */
+        for (c = 0; c < n; c++) u[c] = halton_coord(ps, halton_slot(dim + c));
         break;
-    case SAMPLER_HALTON:   /* the Halton point's slots; the dimensions beyond it padded */
-        if (halton_slot(dim) < 0 || in_camera_group(s, dim)) sobol_padded(ps, dim, n, u);
-        else for (c = 0; c < n; c++) u[c] = halton_coord(ps, halton_slot(dim + c));
-        break;
-    case SAMPLER_ZSOBOL: {
-        int coord, g = group_of(s, dim, &coord);
-        uint64_t h = hash_u64((uint64_t)s->seed, (uint64_t)g);       /* one per film, not per pixel */
-        uint32_t i = (uint32_t)owen_scramble64(ps->index, h);
-        if (coord) u[0] = sobol_coord(i, h, coord);
-        else sobol_owen(i, (uint32_t)(h >> 32), n, u);
-        break;
-    }
     default:
         for (c = 0; c < n; c++) u[c] = 0.5f;
     }
@@ -568,16 +653,45 @@ static void group_sample(PixelSample *ps, int dim, int n, float *u)
 
 float sampler_1d(PixelSample *ps, int dim)
 {
+    const Sampler *s = ps->s;
     float u = 0.0f;
     mark_used(ps, dim, 1);
+    if (s->type == SAMPLER_INDEPENDENT) return rng_float(&ps->rng);   /* the stream's next number */
+    if (sobol_group(s, dim)) {
+        int coord, g = group_of(s, dim, &coord);
+        uint64_t h;
+        uint32_t i = sobol_index(ps, g, &h);
+        return coord ? sobol_coord(s, i, h, coord) : sobol_owen0(i, (uint32_t)(h >> 32));
+    }
     group_sample(ps, dim, 1, &u);
     return u;
 }
 
 void sampler_2d(PixelSample *ps, int dim, float *u0, float *u1)
 {
+    const Sampler *s = ps->s;
     float u[2] = { 0.0f, 0.0f };
+    int c;
     mark_used(ps, dim, 2);
+    if (s->type == SAMPLER_INDEPENDENT) {  /* the stream's next two numbers, in this order */
+        for (c = 0; c < 2; c++) u[c] = rng_float(&ps->rng);
+        *u0 = u[0];
+        *u1 = u[1];
+        return;
+    }
+    if (sobol_group(s, dim)) {
+        int coord, g = group_of(s, dim, &coord);
+        uint64_t h;
+        uint32_t i = sobol_index(ps, g, &h);
+        if (coord) {                       /* a 1-D coordinate of the camera group: none second */
+            *u0 = sobol_coord(s, i, h, coord);
+            *u1 = 0.0f;
+        } else {
+            *u0 = sobol_owen0(i, (uint32_t)(h >> 32));
+            *u1 = sobol_owen1(i, (uint32_t)(h >> 32));
+        }
+        return;
+    }
     group_sample(ps, dim, 2, u);
     *u0 = u[0];
     *u1 = u[1];

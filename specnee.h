@@ -178,13 +178,22 @@ int   xf_swaps_handedness(const Xform *t);            /* det of the 3x3 part < 0
    so the image does not depend on the thread count or schedule. */
 typedef struct { uint64_t state, inc; } Rng;
 /* 64-bit mix of two keys (util.c's comment: splitmix64's finaliser); inline, as the
-   samplers call it for nearly every number they hand out */
-static inline uint64_t hash_u64(uint64_t a, uint64_t b)
+   samplers call it for nearly every number they hand out.  In three parts, so that
+   a caller hashing many b with one a (sampler.c: a pixel's groups) can keep a's
+   share of the first step, hash_a_mul(a) and hash_a_add(a), and finish each hash as
+   hash_mix(mul ^ (b + add)): the same number to the bit (unsigned sums wrap
+   mod 2^64, so their order does not matter). */
+static inline uint64_t hash_a_mul(uint64_t a) { return a * 0x9E3779B97F4A7C15ull; }
+static inline uint64_t hash_a_add(uint64_t a) { return 0x632BE59BD9B4E019ull + (a << 6) + (a >> 2); }
+static inline uint64_t hash_mix(uint64_t z)
 {
-    uint64_t z = a * 0x9E3779B97F4A7C15ull ^ (b + 0x632BE59BD9B4E019ull + (a << 6) + (a >> 2));
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return z ^ (z >> 31);
+}
+static inline uint64_t hash_u64(uint64_t a, uint64_t b)
+{
+    return hash_mix(hash_a_mul(a) ^ (b + hash_a_add(a)));
 }
 void     rng_seed(Rng *r, uint64_t stream, uint64_t index);
 uint32_t rng_u32(Rng *r);
@@ -309,6 +318,8 @@ typedef struct {
     int xsamples, ysamples;    /* stratified: the 2-D strata, xsamples * ysamples = spp */
     int jitter;                /* stratified: 1 = random point in the stratum, 0 = centre */
     int log2_spp;              /* zsobol: 2^log2_spp >= spp indices per pixel */
+    uint64_t seed_mul, seed_add;   /* zsobol: hash_a_mul(seed), hash_a_add(seed): each group's
+                                  hash_u64(seed, g) finishes from them (sampler.c, sobol_index) */
     int camera_medium;         /* sobol, zsobol: 1 = the camera sits in a rendered medium; its
                                   first free flight and the wavelength join the pixel's group */
     /* halton: one random permutation of the base-p digits per coordinate and digit
@@ -318,14 +329,21 @@ typedef struct {
     unsigned char halton_ndig[HALTON_DIMS + 1];   /* its digit positions with a table */
     unsigned char halton_perm[HALTON_PERM_N];     /* the tables, p entries each */
     unsigned char halton_inv[HALTON_PERM_N];      /* their inverses */
+    /* Sobol dimensions 2 and 3 (the camera group): for each byte b of the index
+       and its value v, the XOR of the columns of v's bits, digits reversed
+       (sampler.c, sobol23_tables) */
+    uint32_t sobol23_rev[2][4][256];
 } Sampler;
 
 typedef struct {               /* one sample of one pixel, on the stack of the tracer */
     const Sampler *s;
     uint64_t key;              /* hash of (x, y, seed) */
+    uint64_t key_mul, key_add; /* hash_a_mul(key), hash_a_add(key): hash_u64(key, g) of
+                                  each group finishes from them (sampler.c, key_hash) */
     uint64_t index;            /* zsobol: Morton code of the pixel x 2^log2_spp + k */
     uint32_t k;                /* sample index in the pixel */
     uint32_t k_reversed;       /* its bits reversed (sobol's index scramble starts there) */
+    uint32_t low_reversed;     /* zsobol: index's low 32 bits reversed (its scramble's start) */
     Rng rng;                   /* independent: the sample's PCG32 stream */
     uint32_t used[SAMPLER_CHECKED_DIMS / 32];  /* dimensions asked for so far */
     int reused;                /* dimensions asked for a second time */

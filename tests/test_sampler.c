@@ -276,6 +276,90 @@ static void test_restart_same_numbers(T *t)
     CHECK(t, !bad, "sampler_restart and sampler_start give the same numbers");
 }
 
+/* Number `c` of a padded Sobol group of pixel (x, y), sample k, straight from
+   sampler.c's definitions through the exported sobol_u32, owen_scramble and
+   hash_u64 alone: the group g (the camera group's dimensions: g = DIM_FILM,
+   coordinates 2 and 3) hashed with the pixel's key (sobol, halton) or with the
+   seed alone (zsobol, whose index is the Morton code x 2^L + k, the high half
+   scrambled first and its value hashed into the low half's seed); the index
+   point i = owen_scramble(k, h); coordinate c of the Sobol point i scrambled with
+   the seed h >> 32 (c = 0), that ^ 0x68bc21eb (c = 1), hash_u64(h, c) (2, 3). */
+static float sobol_reference(const Sampler *s, int x, int y, uint32_t k, int dim, int c)
+{
+    uint64_t key = hash_u64(hash_u64((uint64_t)x, (uint64_t)y), (uint64_t)s->seed), h, morton = 0;
+    uint32_t i, seed, v;
+    int g = dim, b;
+    if (s->camera_medium && dim == dim_medium(0, 0)) { g = DIM_FILM; c = 2; }
+    if (s->camera_medium && dim == DIM_WAVELENGTH) { g = DIM_FILM; c = 3; }
+    if (s->type == SAMPLER_ZSOBOL) {
+        uint64_t index, hi;
+        for (b = 0; b < 32; b++)
+            morton |= ((uint64_t)((uint32_t)x >> b & 1u) << (2 * b)) | ((uint64_t)((uint32_t)y >> b & 1u) << (2 * b + 1));
+        index = morton << s->log2_spp | k;
+        hi = index >> 32;
+        h = hash_u64((uint64_t)s->seed, (uint64_t)g);
+        i = owen_scramble((uint32_t)index, (uint32_t)hash_u64(h, hi));
+    } else {
+        h = hash_u64(key, (uint64_t)g);
+        i = owen_scramble(k, (uint32_t)h);
+    }
+    seed = c == 0 ? (uint32_t)(h >> 32) : c == 1 ? (uint32_t)(h >> 32) ^ 0x68bc21ebu : (uint32_t)hash_u64(h, (uint64_t)c);
+    v = owen_scramble(sobol_u32(i, c), seed);
+    return (float)(v >> 8) * (1.0f / 16777216.0f);
+}
+
+/* The padded Sobol groups' numbers (sampler_1d, sampler_2d) against their
+   definition worked out afresh (sobol_reference), bit for bit: sobol, zsobol and
+   halton's padded dimensions, with the camera in a medium (the camera group's
+   Sobol coordinates 2 and 3) and not, four pixels (one far out, so that zsobol's
+   index has high digits), 64 samples and a few larger indices, 1-D and 2-D
+   requests early and late in the dimension table.  sampler.c works them out
+   another way (each pixel's share of the group hash kept, the scrambles'
+   reversals folded into byte tables, Sobol dimensions 2 and 3 by bytes of the
+   index, zsobol's low half alone), which must not move any number. */
+static void test_sobol_formula(T *t)
+{
+    static const SamplerType types[3] = { SAMPLER_SOBOL, SAMPLER_ZSOBOL, SAMPLER_HALTON };
+    const int dims[8] = { DIM_FILM, DIM_WAVELENGTH, dim_medium(0, 0), dim_bounce(0, BD_DIR), dim_bounce(9, BD_DIR),
+                          dim_bounce(12, BD_ROULETTE), dim_medium(5, 1), DIM_TIME };
+    const int two[8] = { 1, 0, 0, 1, 1, 0, 0, 0 };
+    int ty, fog, pix, kk, d, bad = 0, n = 0;
+    for (ty = 0; ty < 3; ty++)
+        for (fog = 0; fog < 2; fog++) {
+            Sampler s;
+            sampler_init(&s, types[ty], 11, 64, 0, 0, 1);
+            s.camera_medium = fog;
+            for (pix = 0; pix < 4; pix++)
+                for (kk = 0; kk < 68 && !bad; kk++) {
+                    uint32_t k = kk < 64 ? (uint32_t)kk : types[ty] == SAMPLER_ZSOBOL ? 63u - (uint32_t)kk % 4u
+                                 : (uint32_t)(kk * 1000003);
+                    int x = pix < 3 ? 5 + 37 * pix : 70001, y = pix < 3 ? 1000 * pix + 3 : 90003;
+                    for (d = 0; d < 8 && !bad; d++) {
+                        int dim = dims[d];
+                        int camera = dim == DIM_FILM || dim == DIM_WAVELENGTH || dim == dim_medium(0, 0);
+                        PixelSample ps;
+                        float a0, a1 = 0.0f, r0, r1 = 0.0f;
+                        if (types[ty] == SAMPLER_HALTON && !(fog && camera)
+                            && (dim < HALTON_DIMS || dim == dim_medium(0, 0)))
+                            continue;                       /* the Halton point's own slot */
+                        sampler_start(&s, x, y, (int)k, &ps);
+                        if (two[d]) sampler_2d(&ps, dim, &a0, &a1);
+                        else a0 = sampler_1d(&ps, dim);
+                        r0 = sobol_reference(&s, x, y, k, dim, 0);
+                        if (two[d]) r1 = sobol_reference(&s, x, y, k, dim, 1);
+                        n++;
+                        if (a0 != r0 || a1 != r1) {
+                            bad = 1;
+                            CHECK(t, 0, "%s%s, pixel (%d, %d), sample %u, dimension %d: %.9g %.9g, the definition "
+                                  "gives %.9g %.9g", sampler_name(types[ty]), fog ? " (camera medium)" : "", x, y,
+                                  k, dim, a0, a1, r0, r1);
+                        }
+                    }
+                }
+        }
+    CHECK(t, !bad && n > 2000, "%d padded Sobol requests equal their definition", n);
+}
+
 /* Decision numbers of one pixel's first 2^m samples: the position (x, y), the
    hero wavelength's u and the camera ray's first free flight, and a free flight
    of a later bounce.  fog: the camera sits in a medium (Sampler.camera_medium). */
@@ -1179,6 +1263,7 @@ const TestCase tests_sampler[] = {
     { "sampler_sobol_dims23", test_sobol_dims23 },
     { "sampler_sobol23_columns", test_sobol23_columns },
     { "sampler_restart_same_numbers", test_restart_same_numbers },
+    { "sampler_sobol_formula", test_sobol_formula },
     { "sampler_camera_group", test_camera_group },
     { "sampler_camera_medium_render", test_camera_medium_render },
     { "sampler_zsobol_stratified_strata", test_zsobol_stratified_strata },
