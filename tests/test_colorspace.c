@@ -263,14 +263,16 @@ static void cs_leaves_alone(T *t, const char *world, const char *what)
     static char a[4096], b[4096];
     Image ia, ib;
     int i;
-    for (i = 0; i < 2; i++)
-        snprintf(i ? b : a, sizeof a,
+    for (i = 0; i < 2; i++) {
+        const int n = snprintf(i ? b : a, sizeof a,
                  "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16 \"string filename\" \"cs.pfm\"\n"
                  "Camera \"perspective\" \"float fov\" 40\n"
                  "%s\n"
                  "WorldBegin\n"
                  "%s",
                  i ? "ColorSpace \"rec2020\"" : "", world);
+        CHECK(t, n > 0 && n < (int)sizeof a, "%s: the scene text does not fit %d bytes", what, (int)sizeof a);
+    }
     if (!render4(t, a, &ia)) return;
     if (!render4(t, b, &ib)) { img_free(&ia); return; }
     CHECK(t, images_equal(&ia, &ib), "ColorSpace \"rec2020\" changed %s", what);
