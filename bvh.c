@@ -328,14 +328,9 @@ static void edge_functions_double(float Ax, float Ay, float Bx, float By, float 
 /* A bound on the rounding error of t = T / det, from the sheared vertices and the
    edge functions (pbrt-v3 section 3.9.6, "Conservative ray-triangle intersection"):
    each delta is the error bound of the quantity it is named after. */
-static float t_error_bound(float Ax, float Ay, float Az, float Bx, float By, float Bz,
-                           float Cx, float Cy, float Cz, float U, float V, float W,
-                           float inv_det)
+static float t_error_bound_max(float max_xt, float max_yt, float max_zt, float max_e,
+                               float inv_det)
 {
-    const float max_zt = max3f(fabsf(Az), fabsf(Bz), fabsf(Cz));
-    const float max_xt = max3f(fabsf(Ax), fabsf(Bx), fabsf(Cx));
-    const float max_yt = max3f(fabsf(Ay), fabsf(By), fabsf(Cy));
-    const float max_e = max3f(fabsf(U), fabsf(V), fabsf(W));
     const float delta_z = gamma_n(3) * max_zt;
     const float delta_x = gamma_n(5) * (max_xt + max_zt);
     const float delta_y = gamma_n(5) * (max_yt + max_zt);
@@ -343,6 +338,18 @@ static float t_error_bound(float Ax, float Ay, float Az, float Bx, float By, flo
                                   delta_x * max_yt);
     return 3.0f * (gamma_n(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) *
            fabsf(inv_det);
+}
+
+/* The same from the sheared vertices and edge functions themselves: their largest
+   magnitudes are all the bound reads. */
+static float t_error_bound(float Ax, float Ay, float Az, float Bx, float By, float Bz,
+                           float Cx, float Cy, float Cz, float U, float V, float W,
+                           float inv_det)
+{
+    return t_error_bound_max(max3f(fabsf(Ax), fabsf(Bx), fabsf(Cx)),
+                             max3f(fabsf(Ay), fabsf(By), fabsf(Cy)),
+                             max3f(fabsf(Az), fabsf(Bz), fabsf(Cz)),
+                             max3f(fabsf(U), fabsf(V), fabsf(W)), inv_det);
 }
 
 /* Watertight test of the triangle v[0..8] = (p0, p1, p2) (Woop, Benthin, Wald,
@@ -834,8 +841,11 @@ AVX2_FN int ray_prepare_avx2(const Bvh *b, const Ray *r, RayPre *rp)
    the sign test (85 % on tools/bench_count's rays); the rest, and the rays on an
    edge in float, go through tri_hit itself. */
 #define TRI_MIXED UINT64_C(0x2040e10325400)
-AVX2_FN int tri_miss4(const RayPre *rp, const float *v)
+typedef struct { __m128 X, Y, Z, UVW; } TriLanes;   /* tri_lanes' vectors, below */
+
+AVX2_FN TriLanes tri_lanes(const RayPre *rp, const float *v)
 {
+    TriLanes l;
     const __m128 A_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v), _mm_loadu_si128((const __m128i *)rp->ord->k)), rp->o_k);
     const __m128 B_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 3), _mm_loadu_si128((const __m128i *)rp->ord->k)), rp->o_k);
     const __m128 C_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 5), _mm_loadu_si128((const __m128i *)(rp->ord->k + 4))), rp->o_k);
@@ -844,30 +854,86 @@ AVX2_FN int tri_miss4(const RayPre *rp, const float *v)
     const __m128 ABz = _mm_unpackhi_ps(A_, B_);                           /* Az Bz 0 0 */
     const __m128 X_ = _mm_shuffle_ps(AB, C_, _MM_SHUFFLE(0, 0, 1, 0));
     const __m128 Y_ = _mm_shuffle_ps(AB, C_, _MM_SHUFFLE(1, 1, 3, 2));
-    const __m128 Z = _mm_shuffle_ps(ABz, C_, _MM_SHUFFLE(2, 2, 1, 0));
-    /* shear: x - Sx z, y - Sy z */
-    const __m128 X = _mm_sub_ps(X_, _mm_mul_ps(rp->sx4, Z));
-    const __m128 Y = _mm_sub_ps(Y_, _mm_mul_ps(rp->sy4, Z));
+    l.Z = _mm_shuffle_ps(ABz, C_, _MM_SHUFFLE(2, 2, 1, 0));               /* lane 3: C_z */
+    /* shear: x - Sx z, y - Sy z (lane 3: C's again) */
+    l.X = _mm_sub_ps(X_, _mm_mul_ps(rp->sx4, l.Z));
+    l.Y = _mm_sub_ps(Y_, _mm_mul_ps(rp->sy4, l.Z));
     /* (V, W, U) = (Ax, Bx, Cx) (Cy, Ay, By) - (Ay, By, Cy) (Cx, Ax, Bx): each tri_hit's
        products in tri_hit's order, only in other lanes (lane 3: Cx Cy - Cy Cx) */
-    const __m128 UVW = _mm_sub_ps(_mm_mul_ps(X, _mm_permute_ps(Y, _MM_SHUFFLE(3, 1, 0, 2))),
-                                  _mm_mul_ps(Y, _mm_permute_ps(X, _MM_SHUFFLE(3, 1, 0, 2))));
-    /* mixed signs, none 0: with le = the lanes <= 0 and ge = the lanes >= 0 (a NaN
-       in neither), the zeros are le & ge, and without them the lanes < 0 are le and
-       those > 0 ge; MIXED has bit le | ge << 3 set where le & ge = 0, le != 0 and
-       ge != 0 (its 18 such patterns), so one shift reads the verdict */
+    l.UVW = _mm_sub_ps(_mm_mul_ps(l.X, _mm_permute_ps(l.Y, _MM_SHUFFLE(3, 1, 0, 2))),
+                       _mm_mul_ps(l.Y, _mm_permute_ps(l.X, _MM_SHUFFLE(3, 1, 0, 2))));
+    return l;
+}
+
+/* The filter's verdict on tri_lanes' edge functions.  Mixed signs, none 0: with
+   le = the lanes <= 0 and ge = the lanes >= 0 (a NaN in neither), the zeros are
+   le & ge, and without them the lanes < 0 are le and those > 0 ge; MIXED has bit
+   le | ge << 3 set where le & ge = 0, le != 0 and ge != 0 (its 18 such patterns), so
+   one shift reads the verdict. */
+AVX2_FN int tri_mixed(__m128 UVW)
+{
     const __m128 zero = _mm_setzero_ps();
     const unsigned le = (unsigned)_mm_movemask_ps(_mm_cmple_ps(UVW, zero)) & 7u;
     const unsigned ge = (unsigned)_mm_movemask_ps(_mm_cmpge_ps(UVW, zero)) & 7u;
     return (int)((TRI_MIXED >> (le | ge << 3)) & 1u);   /* mixed signs: outside */
 }
 
-/* tri_hit for the triangles tri_miss4 lets through (15 %), as a call: inlined, its
-   per-ray operands would be kept ready at every leaf */
-AVX2_NOINLINE int tri_hit_rest(const RayPre *rp, const float *v,
+AVX2_FN int tri_miss4(const RayPre *rp, const float *v)
+{
+    return tri_mixed(tri_lanes(rp, v).UVW);
+}
+
+/* tri_hit for the triangles the filter lets through (15 %), from the filter's own
+   lanes: steps 4 and 5 of tri_hit, each float as tri_hit computes it.  U, V, W are
+   lanes 2, 0, 1 of UVW; det = (U + V) + W and T = (U Az + V Bz) + W Cz as C
+   evaluates tri_hit's sums; the error bound reads only the largest magnitudes of
+   the sheared x, y, z and of U, V, W, which the lanes give exactly (a maximum does
+   not round, and lane 3 repeats C or is 0).  A lane of U, V, W that is 0 goes to
+   tri_hit itself (its edge functions in double).  A call, not inlined: inlined, its
+   operands would be kept ready at every leaf. */
+AVX2_NOINLINE int tri_hit_rest(const RayPre *rp, const float *v, __m128 X, __m128 Y,
+    __m128 Z, __m128 UVW, float tmax, float *t_out, float *b1_out, float *b2_out)
+{
+    const __m128 zero = _mm_setzero_ps(), sign = _mm_set1_ps(-0.0f);
+    __m128 Zs, m_xy, m_ze, m;
+    float U, V, W, Az, Bz, Cz, det, T, inv_det, t, mx[4];
+    if ((_mm_movemask_ps(_mm_cmpeq_ps(UVW, zero)) & 7) != 0)
+        return tri_hit(rp, v, tmax, t_out, b1_out, b2_out);   /* on an edge in float */
+    V = _mm_cvtss_f32(UVW);
+    W = _mm_cvtss_f32(_mm_permute_ps(UVW, 1));
+    U = _mm_cvtss_f32(_mm_permute_ps(UVW, 2));
+    det = (U + V) + W;                             /* as C evaluates U + V + W */
+    if (det == 0.0f) return 0;                     /* edge-on or degenerate triangle */
+    Zs = _mm_mul_ps(_mm_set1_ps(rp->S[2]), Z);   /* Az Bz Cz (Cz): S_z z */
+    Az = _mm_cvtss_f32(Zs);
+    Bz = _mm_cvtss_f32(_mm_permute_ps(Zs, 1));
+    Cz = _mm_cvtss_f32(_mm_permute_ps(Zs, 2));
+    T = (U * Az + V * Bz) + W * Cz;
+    if (det < 0.0f ? T >= 0.0f : T <= 0.0f) return 0;   /* behind the origin */
+    inv_det = 1.0f / det;
+    t = T * inv_det;
+    if (!(t > 0.0f && tmax >= t)) return 0;         /* a tie counts, as in tri_hit */
+    /* the largest |x|, |y|, |z|, |e| of the three, four lanes at a time */
+    m_xy = _mm_max_ps(_mm_unpacklo_ps(_mm_andnot_ps(sign, X), _mm_andnot_ps(sign, Y)),
+                      _mm_unpackhi_ps(_mm_andnot_ps(sign, X), _mm_andnot_ps(sign, Y)));
+    m_ze = _mm_max_ps(_mm_unpacklo_ps(_mm_andnot_ps(sign, Zs), _mm_andnot_ps(sign, UVW)),
+                      _mm_unpackhi_ps(_mm_andnot_ps(sign, Zs), _mm_andnot_ps(sign, UVW)));
+    m = _mm_max_ps(_mm_movelh_ps(m_xy, m_ze), _mm_movehl_ps(m_ze, m_xy));
+    _mm_storeu_ps(mx, m);                          /* max x, max y, max z, max e */
+    if (t <= t_error_bound_max(mx[0], mx[1], mx[2], mx[3], inv_det)) return 0;
+    *t_out = t;
+    *b1_out = V * inv_det;
+    *b2_out = W * inv_det;
+    return 1;
+}
+
+/* tri_hit in the AVX2 copy: the filter, then tri_hit_rest */
+AVX2_FN int tri_hit_avx2(const RayPre *rp, const float *v,
     float tmax, float *t_out, float *b1_out, float *b2_out)
 {
-    return tri_hit(rp, v, tmax, t_out, b1_out, b2_out);
+    const TriLanes l = tri_lanes(rp, v);
+    return !tri_mixed(l.UVW) &&            /* the lanes go in registers, a struct would not */
+           tri_hit_rest(rp, v, l.X, l.Y, l.Z, l.UVW, tmax, t_out, b1_out, b2_out);
 }
 
 /* whether this processor (and its operating system) runs the AVX2 copies */
@@ -877,8 +943,7 @@ static int bvh_cpu_avx2(void)
 }
 #else
 #define node_hit8 node_hit_mask
-#define tri_miss4(rp, v) 0
-#define tri_hit_rest tri_hit
+#define tri_hit_avx2 tri_hit
 #define ray_prepare4(rp) ((void)(rp))
 #define ray_prepare_avx2(b, r, rp) 0
 #define child_rank8 child_rank
@@ -1104,8 +1169,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 const int p = q->prim;
                 int ok;
                 if (p < n_tris)
-                    ok = avx ? !tri_miss4(&rp, q->v) &&   /* (AVX2: a filter first) */
-                                   tri_hit_rest(&rp, q->v, t_best, &t, &b1, &b2)
+                    ok = avx ? tri_hit_avx2(&rp, q->v, t_best, &t, &b1, &b2)   /* a filter first */
                              : tri_hit(&rp, q->v, t_best, &t, &b1, &b2);
                 else {
                     const int n_sph_end = n_tris + s->n_spheres, n_quad_end = n_sph_end + s->n_quadrics;
@@ -1261,20 +1325,35 @@ AVX2_STATIC int node_mismatches_avx2(const BvhNode *nd, const RayPre *rp,
 
 /* tri_miss4 against the scalar sign test of tri_edges' U, V, W on the triangle v,
    and against tri_hit itself (a triangle the filter drops must be one tri_hit
-   misses): 1 on a difference */
+   misses); then the whole AVX2 test (tri_hit_avx2: the filter and tri_hit_rest)
+   against tri_hit, the verdict and t, b1, b2 bit for bit, with tmax = infinity, at
+   the hit's t (a tie counts) and one float below it: 1 on a difference */
 #if BVH_AVX
+#define DIFF(x, y) (memcmp(&(x), &(y), sizeof(x)) != 0)
 AVX2_STATIC int tri_filter_mismatch(const RayPre *rp, const float *v)
 {
     RayPre r4 = *rp;
-    float e[6], z[3], uvw[3], t, b1, b2;
-    int miss;
+    float e[6], z[3], uvw[3], t[2], b1[2], b2[2], tmax;
+    int miss, hit[2], k, bad;
     ray_prepare4(&r4);
     tri_edges(rp, v, e, z, uvw);
     miss = ((uvw[0] != 0.0f) & (uvw[1] != 0.0f) & (uvw[2] != 0.0f)) &
            ((uvw[0] < 0.0f) | (uvw[1] < 0.0f) | (uvw[2] < 0.0f)) &
            ((uvw[0] > 0.0f) | (uvw[1] > 0.0f) | (uvw[2] > 0.0f));
-    return tri_miss4(&r4, v) != miss || (miss && tri_hit(rp, v, INFINITY, &t, &b1, &b2));
+    hit[0] = tri_hit(rp, v, INFINITY, &t[0], &b1[0], &b2[0]);
+    bad = tri_miss4(&r4, v) != miss || (miss && hit[0]);
+    tmax = INFINITY;
+    for (k = 0; k < 3; k++) {
+        hit[0] = tri_hit(rp, v, tmax, &t[0], &b1[0], &b2[0]);
+        hit[1] = tri_hit_avx2(&r4, v, tmax, &t[1], &b1[1], &b2[1]);
+        bad |= hit[0] != hit[1] ||
+               (hit[0] && (DIFF(t[0], t[1]) || DIFF(b1[0], b1[1]) || DIFF(b2[0], b2[1])));
+        if (!hit[0]) break;
+        tmax = k == 0 ? t[0] : nextafterf(t[0], 0.0f);   /* at the hit, then just below */
+    }
+    return bad;
 }
+#undef DIFF
 #endif
 
 int bvh_tri_filter_mismatches(const Bvh *b, const Scene *s, const Ray *r, int *tested)

@@ -512,9 +512,12 @@ static void test_bvh_simd_matches_scalar(T *t)
 
 /* The AVX2 traversal's 4-lane triangle filter (bvh_tri_filter_mismatches) against
    the scalar sign test of the watertight test, on every triangle record, and never
-   dropping a triangle the scalar test hits: random rays, and rays aimed at a
-   triangle's vertex or edge midpoint (where U, V or W is 0 in float and the
-   filter must leave the triangle to the double-precision test); on a soup, the
+   dropping a triangle the scalar test hits; and its whole triangle test (the filter,
+   then tri_hit_rest from the filter's lanes) against tri_hit, verdict, t and
+   barycentrics bit for bit, also with tmax at the hit and just below: random rays,
+   rays aimed at a triangle's vertex or edge midpoint (where U, V or W is 0 in float
+   and the filter must leave the triangle to the double-precision test), and rays
+   leaving a triangle's centroid (where t's error bound decides); on a soup, the
    grid cube (axis-aligned rays along its faces: exact zeros) and an icosphere.
    Where the processor has no AVX2 nothing is compared, and the test checks that. */
 static void test_bvh_avx2_triangle_filter(T *t)
@@ -528,11 +531,15 @@ static void test_bvh_avx2_triangle_filter(T *t)
                      : scene == 1 ? make_grid_cube(&s, 6) : make_icosphere(&s, 3);
         CHECK(t, ok, "out of memory");
         CHECK(t, bvh_build(&s.bvh, &s), "bvh_build failed");
-        for (k = 0; k < 120; k++) {
+        for (k = 0; k < 160; k++) {
             Ray r;
             r.o = v3(urand(&rng, -2, 2), urand(&rng, -2, 2), urand(&rng, -2, 2));
             r.d = random_dir(&rng);
-            if (k % 3 != 0) {               /* at a vertex (k % 3 == 1) or an edge's middle */
+            if (k >= 120) {                 /* from a triangle's centroid */
+                const Triangle *tr = &s.tris[(int)(rng_float(&rng) * (float)s.n_tris) % s.n_tris];
+                r.o = v3_mul(v3_add(v3_add(s.P[tr->v[0]], s.P[tr->v[1]]), s.P[tr->v[2]]),
+                             1.0f / 3.0f);
+            } else if (k % 3 != 0) {               /* at a vertex (k % 3 == 1) or an edge's middle */
                 const Triangle *tr = &s.tris[(int)(rng_float(&rng) * (float)s.n_tris) % s.n_tris];
                 const Vec3 a = s.P[tr->v[0]], b = s.P[tr->v[1]];
                 const Vec3 aim = k % 3 == 1 ? a : v3_mul(v3_add(a, b), 0.5f);
