@@ -63,7 +63,8 @@
    entered are ordered by one compare, more placed on the stack by rank).  Where the
    processor has AVX2 (asked once a query), a second copy of the same loop compiled
    for AVX2 runs instead: the slab test in 8 lanes, and a 4-lane filter before each
-   triangle test (tri_miss4); it computes the same floats in the same order, so
+   triangle test (tri_miss4), whose lanes the test then finishes from
+   (tri_hit_rest); it computes the same floats in the same order, so
    every result is the same to the bit.  The closest
    hit does not depend on the order: it is exactly
    what brute force finds, the smallest computed t in (0, tmax), ties to the smallest

@@ -24,6 +24,11 @@
    USE
      make bench-embree                  (level 6, 5 rounds)
      tools/bench_embree [level [runs]]  level 1..8 as in tools/bench
+     tools/bench_embree count           Embree on tools/bench_count's rays (the first
+                                        50,000 box-hitting rays of level 6), once with
+                                        rtcIntersect1 and once with rtcOccluded1, for
+                                        callgrind (docs/bvh.md, "How it is measured"):
+       valgrind --tool=callgrind --toggle-collect=rtcIntersect1 tools/bench_embree count
 */
 #define BENCH_NO_MAIN
 #include "bench.c"
@@ -77,7 +82,8 @@ int main(int argc, char **argv)
 {
     static const char *name[4] = {"specnee, all rays", "specnee, rays hitting the box",
                                   "Embree 3, all rays", "Embree 3, rays hitting the box"};
-    const int level = argc > 1 ? atoi(argv[1]) : 6, runs = argc > 2 ? atoi(argv[2]) : 5;
+    const int count = argc > 1 && strcmp(argv[1], "count") == 0;   /* tools/bench_count's rays */
+    const int level = argc > 1 && !count ? atoi(argv[1]) : 6, runs = argc > 2 ? atoi(argv[2]) : 5;
     int n_verts = 0, n_tris = 0, n_in = 0, i, k, q;
     float *P = NULL, *vb;
     int32_t *idx = NULL;
@@ -91,8 +97,8 @@ int main(int argc, char **argv)
     RTCGeometry geom;
 
     if (level < 1 || level > 8 || runs < 1 || runs > MAX_RUNS) {
-        fprintf(stderr, "usage: %s [level 1..8, default 6] [runs 1..%d, default 5]\n", argv[0],
-                MAX_RUNS);
+        fprintf(stderr, "usage: %s [level 1..8, default 6] [runs 1..%d, default 5] | count\n",
+                argv[0], MAX_RUNS);
         return 2;
     }
     rays = (Ray *)malloc(2 * (size_t)BENCH_RAYS * sizeof *rays);
@@ -124,6 +130,14 @@ int main(int argc, char **argv)
     rtcReleaseGeometry(geom);
     rtcCommitScene(scene);
 
+    if (count) {      /* the first 50,000 box-hitting rays once each way, for callgrind */
+        const int n = n_in < 50000 ? n_in : 50000;
+        embree_cast(scene, rays_in, n, 0, &hits[0]);
+        embree_cast(scene, rays_in, n, 1, &hits[1]);
+        printf("bench_embree count: %d box-entering rays: closest hit %ld hits; any hit %ld hits\n",
+               n, hits[0], hits[1]);
+        return 0;
+    }
     printf("bench_embree: displaced icosphere level %d, %d triangles; %d rays (%d hit the "
            "mesh's box), one thread, CPU time, %d interleaved rounds\n",
            level, n_tris, BENCH_RAYS, n_in, runs);
