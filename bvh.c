@@ -1092,8 +1092,9 @@ static int instance_hit(const Scene *s, int i, const Ray *r, float t_best, int a
    world's trace (at_tmax = 0) excludes the ray's own tmax.
    A stack holds the children still to visit.  At an inner node, the children the ray
    enters are pushed, the nearest last, so that it is popped next (the order only
-   saves time: ORDER INDEPENDENCE); a child is dropped when popped if a hit closer
-   than its dominant-axis near plane (with the margin) has been found meanwhile.
+   saves time: ORDER INDEPENDENCE; shadow rays take them in slot order); a child is
+   dropped when popped if a hit closer than its dominant-axis near plane (with the
+   margin) has been found meanwhile.
    Random rays make every data-dependent branch a coin toss that the processor
    mispredicts about half the time, so the children entered are visited by their set
    bits (lowest_bit) and each is put straight into its place by its rank (how many of
@@ -1136,10 +1137,11 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 }
                 if ((rest & (rest - 1)) == 0) {    /* two (the most common case): */
                     const int ja = lowest_bit(mask), jb = lowest_bit(rest);   /* ja < jb */
-                    const int b_first = t_enter[jb] < t_enter[ja];   /* ties: lower slot */
+                    /* ties: the lower slot; shadow rays: no order (below) */
+                    const int b_first = !any_hit && t_enter[jb] < t_enter[ja];
                     const int jn = b_first ? jb : ja, jf = b_first ? ja : jb;
                     stack[sp].ref = nd->child[jf];  /* the farther waits on the stack */
-                    stack[sp].t_z = t_z[jf];
+                    if (!any_hit) stack[sp].t_z = t_z[jf];
                     sp++;
                     prefetch_ref(b, nd->child[jf]);
                     ref = nd->child[jn];
@@ -1156,7 +1158,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                     const int rank = any_hit ? n : avx ? child_rank8(t_enter, mask, jj)
                                                        : child_rank(t_enter, mask, jj);
                     stack[sp + rank].ref = nd->child[jj];
-                    stack[sp + rank].t_z = t_z[jj];
+                    if (!any_hit) stack[sp + rank].t_z = t_z[jj];
                     prefetch_ref(b, nd->child[jj]);
                 }
                 sp += n;
@@ -1211,11 +1213,13 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 if (p >= n_tris && p >= prim_base(s)) { h->prim = hi.prim; h->inst = p - prim_base(s); }
             }
         }
-        /* pop the next child that may still hold a hit at t <= t_best */
+        /* pop the next child that may still hold a hit at t <= t_best (a shadow ray's
+           t_cull never changes, as it returns at its first hit, and every child on
+           its stack passed it when pushed: it neither stores t_z nor tests it) */
         do {
             if (sp == 0) return best_p != no_hit;
             sp--;
-        } while (stack[sp].t_z > t_cull);
+        } while (!any_hit && stack[sp].t_z > t_cull);
         ref = stack[sp].ref;
     }
 }
