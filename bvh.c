@@ -1334,31 +1334,31 @@ AVX2_STATIC int node_mismatches_avx2(const BvhNode *nd, const RayPre *rp,
    against tri_hit, the verdict and t, b1, b2 bit for bit, with tmax = infinity, at
    the hit's t (a tie counts) and one float below it: 1 on a difference */
 #if BVH_AVX
-#define DIFF(x, y) (memcmp(&(x), &(y), sizeof(x)) != 0)
+/* 1 when two values differ in any bit (the comparisons below, bit for bit) */
+#define BITS_DIFFER(x, y) (memcmp(&(x), &(y), sizeof(x)) != 0)
 AVX2_STATIC int tri_filter_mismatch(const RayPre *rp, const float *v)
 {
     RayPre r4 = *rp;
-    float e[6], z[3], uvw[3], t[2], b1[2], b2[2], tmax;
+    float e[6], z[3], uvw[3], t[2], b1[2], b2[2], tmax = INFINITY;
     int miss, hit[2], k, bad;
     ray_prepare4(&r4);
     tri_edges(rp, v, e, z, uvw);
     miss = ((uvw[0] != 0.0f) & (uvw[1] != 0.0f) & (uvw[2] != 0.0f)) &
            ((uvw[0] < 0.0f) | (uvw[1] < 0.0f) | (uvw[2] < 0.0f)) &
            ((uvw[0] > 0.0f) | (uvw[1] > 0.0f) | (uvw[2] > 0.0f));
-    hit[0] = tri_hit(rp, v, INFINITY, &t[0], &b1[0], &b2[0]);
-    bad = tri_miss4(&r4, v) != miss || (miss && hit[0]);
-    tmax = INFINITY;
+    bad = tri_miss4(&r4, v) != miss;
     for (k = 0; k < 3; k++) {
         hit[0] = tri_hit(rp, v, tmax, &t[0], &b1[0], &b2[0]);
         hit[1] = tri_hit_avx2(&r4, v, tmax, &t[1], &b1[1], &b2[1]);
-        bad |= hit[0] != hit[1] ||
-               (hit[0] && (DIFF(t[0], t[1]) || DIFF(b1[0], b1[1]) || DIFF(b2[0], b2[1])));
+        bad |= (k == 0 && miss && hit[0]) ||      /* a dropped triangle tri_hit hits */
+               hit[0] != hit[1] ||
+               (hit[0] && (BITS_DIFFER(t[0], t[1]) || BITS_DIFFER(b1[0], b1[1]) ||
+                           BITS_DIFFER(b2[0], b2[1])));
         if (!hit[0]) break;
         tmax = k == 0 ? t[0] : nextafterf(t[0], 0.0f);   /* at the hit, then just below */
     }
     return bad;
 }
-#undef DIFF
 #endif
 
 int bvh_tri_filter_mismatches(const Bvh *b, const Scene *s, const Ray *r, int *tested)
@@ -1380,7 +1380,6 @@ int bvh_tri_filter_mismatches(const Bvh *b, const Scene *s, const Ray *r, int *t
    ray_prepare4: the verdict, and every field the AVX2 traversal reads, bit for bit
    (1 on a difference) */
 #if BVH_AVX
-#define SAME(x, y) (memcmp(&(x), &(y), sizeof(x)) != 0)
 AVX2_STATIC int prepare_mismatch(const Bvh *b, const Ray *r)
 {
     RayPre c, v;
@@ -1392,15 +1391,16 @@ AVX2_STATIC int prepare_mismatch(const Bvh *b, const Ray *r)
     if (ok_c != ok_v) return 1;
     if (!ok_c) return 0;
     ray_prepare4(&c);
-    bad = SAME(c.o, v.o) | SAME(c.d, v.d) | SAME(c.inv_d, v.inv_d) | (c.ord != v.ord) |
-          SAME(c.S, v.S) | SAME(c.o_k, v.o_k) | SAME(c.sx4, v.sx4) |
-          SAME(c.sy4, v.sy4);
+    bad = BITS_DIFFER(c.o, v.o) | BITS_DIFFER(c.d, v.d) | BITS_DIFFER(c.inv_d, v.inv_d) |
+          (c.ord != v.ord) | BITS_DIFFER(c.S, v.S) | BITS_DIFFER(c.o_k, v.o_k) |
+          BITS_DIFFER(c.sx4, v.sx4) | BITS_DIFFER(c.sy4, v.sy4);
     for (a = 0; a < 3; a++)
-        bad |= SAME(c.o_ax[a], v.o_ax[a]) | SAME(c.ninv_ax[a], v.ninv_ax[a]) |
-               SAME(c.o8[a], v.o8[a]) | SAME(c.ninv8[a], v.ninv8[a]);
+        bad |= BITS_DIFFER(c.o_ax[a], v.o_ax[a]) |
+               BITS_DIFFER(c.ninv_ax[a], v.ninv_ax[a]) |
+               BITS_DIFFER(c.o8[a], v.o8[a]) | BITS_DIFFER(c.ninv8[a], v.ninv8[a]);
     return bad;
 }
-#undef SAME
+#undef BITS_DIFFER
 #endif
 
 int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes)

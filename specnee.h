@@ -784,10 +784,12 @@ int  bvh_occluded(const Bvh *b, const struct Scene *s, const Ray *r);
 int  bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes);
 int  bvh_avx2(void);
 /* Where the AVX2 copy runs, a triangle is first tested by a 4-lane filter (bvh.c:
-   tri_miss4): how many of b's triangle records r gets a filter verdict for that
-   differs from the scalar sign test of the watertight test, or that the filter
-   drops though the scalar test hits; *tested += triangles compared (none without
-   AVX2).  For tests. */
+   tri_miss4) and finished from its lanes (tri_hit_rest): how many of b's triangle
+   records r gets a filter verdict for that differs from the scalar sign test of the
+   watertight test, that the filter drops though the scalar test hits, or whose
+   whole AVX2 test differs from tri_hit (verdict, t, b1, b2 in any bit; tmax infinite,
+   at the hit and just below it); *tested += triangles compared (none without AVX2).
+   For tests. */
 int  bvh_tri_filter_mismatches(const Bvh *b, const struct Scene *s, const Ray *r, int *tested);
 /* The BVH over the given primitives only (an object definition's: instance.c). */
 int  bvh_build_object(Bvh *b, const struct Scene *s, const int32_t *ids, int n);
