@@ -54,7 +54,9 @@
      An empty slot is the box lo = +inf, hi = -inf, which every ray misses.  A leaf is
      the records prims[first .. first + count), count <= BVH_WIDE_LEAF_MAX, each the
      primitive's id and its vertices (a sphere: centre, radius; a quadric: only the id),
-     so a leaf is one contiguous run of memory.
+     so a leaf is one contiguous run of memory; sorted by id (bvhbuild.c), so that
+     triangles come first and a leaf whose last record is a triangle holds only
+     triangles (traverse then tests them in a loop of their own).
 
    TRAVERSAL (traverse): iterative, with a stack of (child, near plane on the dominant
    axis).  The nearest child entered is visited first; shadow rays skip the ordering
@@ -1099,6 +1101,18 @@ HOT_INLINE int prim_base(const Scene *s)
 static int instance_hit(const Scene *s, int i, const Ray *r, float t_best, int at_tmax,
                         int any_hit, int avx, HitRecord *h);
 
+/* A hit closer than the best so far (or as close, with a smaller id) becomes the
+   best: h records it, and boxes are culled against it from now on (an
+   instance's hit then names its object's primitive: traverse) */
+HOT_INLINE void take_closer(float t, float b1, float b2, int p, float *t_best, float *t_cull,
+                            int *best_p, HitRecord *h)
+{
+    *t_best = t;                         /* closer hits only from now on */
+    *t_cull = t * CULL_SCALE;
+    *best_p = p;
+    h->t = t; h->prim = p; h->b1 = b1; h->b2 = b2; h->inst = -1;
+}
+
 /* Walk the tree; any_hit = 1 returns at the first hit (h may be NULL then).
    at_tmax = 1 (the trace of an instance's object, instance_hit) also accepts a hit
    at r->tmax itself, which the caller then weighs by the instance's id; the
@@ -1179,9 +1193,24 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 continue;
             }
         } else {
-            /* leaf: test its primitives; tri_hit accepts t <= t_best */
+            /* leaf: test its primitives; tri_hit accepts t <= t_best.  A leaf's
+               records are sorted by id, triangles first: when its last is a
+               triangle they all are, and (without alpha) a loop of triangle tests
+               alone takes them, the general one below does the same for any kind */
             const BvhPrim *q = &b->prims[(~ref) >> 3], *end = q + ((~ref) & 7) + 1;
-            for (; q < end; q++) {
+            if (end[-1].prim < n_tris && s->n_alpha == 0) {
+                for (; q < end; q++) {
+                    if (!(avx ? tri_hit_avx2(&rp, q->v, t_best, &t, &b1, &b2)   /* a filter first */
+                              : tri_hit(&rp, q->v, t_best, &t, &b1, &b2)))
+                        continue;
+                    if (any_hit) {
+                        if (r->tmax > t) return 1;          /* as below */
+                        continue;
+                    }
+                    if (!(t < t_best || q->prim < best_p)) continue;
+                    take_closer(t, b1, b2, q->prim, &t_best, &t_cull, &best_p, h);
+                }
+            } else for (; q < end; q++) {
                 const int p = q->prim;
                 int ok;
                 if (p < n_tris)
@@ -1219,10 +1248,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 /* the ray's own tmax is excluded (best_p = -1 loses every tie);
                    a tie with the best so far goes to the smaller primitive id */
                 if (!(t < t_best || p < best_p)) continue;
-                t_best = t;                         /* closer hits only from now on */
-                t_cull = t_best * CULL_SCALE;
-                best_p = p;
-                h->t = t; h->prim = p; h->b1 = b1; h->b2 = b2; h->inst = -1;
+                take_closer(t, b1, b2, p, &t_best, &t_cull, &best_p, h);
                 if (p >= n_tris && p >= prim_base(s)) { h->prim = hi.prim; h->inst = p - prim_base(s); }
             }
         }

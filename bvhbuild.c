@@ -268,6 +268,20 @@ static void slot_set(BvhNode *nd, int k, const BinNode *c, int32_t wide)
                        : wide;
 }
 
+/* The records of leaf ref (a child reference < 0) sorted by primitive id, by
+   insertion (a leaf holds at most BVH_WIDE_LEAF_MAX of them). */
+static void leaf_sort(Bvh *b, int32_t ref)
+{
+    BvhPrim *q = &b->prims[(~ref) >> 3];
+    const int n = ((~ref) & 7) + 1;
+    int i, j;
+    for (i = 1; i < n; i++) {
+        const BvhPrim x = q[i];
+        for (j = i; j > 0 && q[j - 1].prim > x.prim; j--) q[j] = q[j - 1];
+        q[j] = x;
+    }
+}
+
 /* Collapse the binary tree bin[] (root bin[0], an inner node) into the wide nodes of
    b: each wide node starts from a binary node's two children and opens, while it has
    fewer than BVH_WIDTH children, the inner child of largest surface area (it is the
@@ -442,6 +456,11 @@ static int build_ids(Bvh *b, const Scene *s, const int32_t *ids, int n)
     b->n_prims = n;
     free(prims);
     free(todo);
+    /* 4. Each leaf's records sorted by id: triangles (the smallest ids) first, so
+       that bvh.c knows from a leaf's last record whether all are triangles */
+    for (i = 0; i < b->n_nodes; i++)
+        for (a = 0; a < BVH_WIDTH; a++)
+            if (b->nodes[i].child[a] < 0) leaf_sort(b, b->nodes[i].child[a]);
     return 1;
 }
 

@@ -674,8 +674,8 @@ static void test_bvh_watertight_cube(T *t)
 
 /* Recursive check of wide node i, whose box (from its parent's slot, or the root box)
    is lo..hi: every used slot's box lies inside it, empty slots are inverted boxes,
-   leaves hold 1..BVH_WIDE_LEAF_MAX primitives whose geometry lies inside the leaf's box
-   and whose records copy the scene.  seen[p] counts the leaves holding primitive p.
+   leaves hold 1..BVH_WIDE_LEAF_MAX primitives whose geometry lies inside the leaf's box,
+   whose records copy the scene and are sorted by id (triangles first).  seen[p] counts the leaves holding primitive p.
    Returns the depth below node i, or -1 (and a message). */
 static int check_node(const Bvh *b, const Scene *s, int i, const float *lo, const float *hi,
                       int *seen, char *msg, size_t n_msg)
@@ -712,6 +712,11 @@ static int check_node(const Bvh *b, const Scene *s, int i, const float *lo, cons
                 const int p = r->prim;
                 if (p < 0 || p >= s->n_tris + s->n_spheres) {
                     snprintf(msg, n_msg, "leaf record %d: bad primitive id %d", q, p);
+                    return -1;
+                }
+                if (q > first && !(r[-1].prim < p)) {  /* bvh.c reads the last for the kinds */
+                    snprintf(msg, n_msg, "leaf record %d: ids not increasing (%d, %d)", q,
+                             r[-1].prim, p);
                     return -1;
                 }
                 seen[p]++;
