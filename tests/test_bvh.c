@@ -675,8 +675,8 @@ static void test_bvh_watertight_cube(T *t)
 /* Recursive check of wide node i, whose box (from its parent's slot, or the root box)
    is lo..hi: every used slot's box lies inside it, empty slots are inverted boxes,
    leaves hold 1..BVH_WIDE_LEAF_MAX primitives whose geometry lies inside the leaf's box,
-   whose records copy the scene and are sorted by id (triangles first).  seen[p] counts the leaves holding primitive p.
-   Returns the depth below node i, or -1 (and a message). */
+   whose records copy the scene and are sorted by id (triangles first).  seen[p]
+   counts the leaves holding primitive p.  Returns the depth below node i, or -1 (and a message). */
 static int check_node(const Bvh *b, const Scene *s, int i, const float *lo, const float *hi,
                       int *seen, char *msg, size_t n_msg)
 {
