@@ -966,62 +966,6 @@ static int bvh_cpu_avx2(void)
 #define bvh_cpu_avx2() 0
 #endif
 
-/* Instance in's M for ray r: its own, or a moving one's at the ray's time
-   (motion.c; *tmp holds it then). */
-static const Xform *instance_xf(const Scene *s, const Instance *in, const Ray *r, Xform *tmp)
-{
-    if (in->motion <= 0) return &in->world_from_obj;
-    motion_at(&s->motions[in->motion - 1], r->time, tmp);
-    return tmp;
-}
-
-/* The world ray r in the object space of an instance placed by M = *x: o' = M^-1 o,
-   d' = M^-1 d, the same t (d' is not normalised), tmax and time kept (instance.c:
-   RAYS AND HITS). */
-static Ray instance_ray(const Xform *x, const Ray *r)
-{
-    const double (*inv)[4] = (const double (*)[4])x->inv;
-    const double o[3] = { r->o.x, r->o.y, r->o.z }, d[3] = { r->d.x, r->d.y, r->d.z };
-    float oo[3], dd[3];
-    Ray ro;
-    int a;
-    for (a = 0; a < 3; a++) {
-        oo[a] = (float)(inv[a][0] * o[0] + inv[a][1] * o[1] + inv[a][2] * o[2] + inv[a][3]);
-        dd[a] = (float)(inv[a][0] * d[0] + inv[a][1] * d[1] + inv[a][2] * d[2]);
-    }
-    ro.o = v3(oo[0], oo[1], oo[2]);
-    ro.d = v3(dd[0], dd[1], dd[2]);
-    ro.tmax = r->tmax;
-    ro.time = r->time;
-    return ro;
-}
-
-/* n by M's inverse transpose, normalised (n itself when the result has no length). */
-static Vec3 normal_to_world(const Xform *m, Vec3 n)
-{
-    Vec3 w = xf_normal(m, n);
-    return v3_dot(w, w) > 0.0f ? v3_norm(w) : n;
-}
-
-/* A hit point computed in instance in's object space, put into the world: p by M,
-   the normals by M^-T, the shading normal turned to the geometric one's side
-   (pbrt-v4's Transform of a SurfaceInteraction; instance.c: RAYS AND HITS). */
-static void instance_point(const Xform *x, SurfacePoint *sp)
-{
-    sp->p = xf_point(x, sp->p);
-    sp->ng = normal_to_world(x, sp->ng);
-    sp->ns = normal_to_world(x, sp->ns);
-    if (v3_dot(sp->ns, sp->ng) < 0.0f) sp->ns = v3_neg(sp->ns);   /* pbrt-v4: FaceForward */
-    if (sp->err.x > 0.0f || sp->err.y > 0.0f || sp->err.z > 0.0f) {   /* |M| err */
-        const double (*m)[4] = (const double (*)[4])x->m;
-        float e[3];
-        int a;
-        for (a = 0; a < 3; a++)
-            e[a] = (float)(fabs(m[a][0]) * sp->err.x + fabs(m[a][1]) * sp->err.y + fabs(m[a][2]) * sp->err.z);
-        sp->err = v3(e[0], e[1], e[2]);
-    }
-}
-
 /* A number in [0, 1) hashed from the bits of r's origin and direction (ALPHA). */
 static double ray_hash01(const Ray *r)
 {

@@ -11,7 +11,7 @@
    ObjectInstance calls add_instance; scene_load calls instances_resolve and instances_prepare before
    bvh_build, whose top level then holds the world's primitives and one primitive
    per instance.  bvh.c's traversal meets an instance's primitive in a leaf and
-   traces the ray, carried into object space (bvh.c's instance_ray), through the
+   traces the ray, carried into object space (motion.c's instance_ray), through the
    object's BVH, and puts the hit point back into the world (instance_point); this
    room only prepares what those read.  No object's geometry is ever copied: a
    thousand instances of a mesh cost a thousand Instance records.

@@ -6,13 +6,19 @@
      motion_at        the transform at a time
      motion_bounds    a box that holds a moving box over the whole motion
      xf_differ        whether two transforms differ (a shape moves or not)
+     instance_xf      an instance's placement M for a ray: its own, or a moving
+                      one's at the ray's time
+     instance_ray,    the ray in the instance's object space, and a hit point found
+     instance_point   there put back into the world (instance.c: RAYS AND HITS;
+                      bvh.c's traversal and scene_surface_point call them)
    USE: scene.c keeps two CTMs, the start and the end one; `ActiveTransform
    StartTime`, `EndTime` and `All` choose which of them the transform directives
    change.  A shape whose two CTMs differ is made in its own space (CTM = identity;
    geometry.c moving_shape)
    as an unnamed object, placed by a moving Instance (instance.c; an ObjectInstance
    under two CTMs moves the same way), whose box is motion_bounds'.  bvh.c carries a
-   ray into a moving instance's space by motion_at(ray time).  The camera moves
+   ray into an instance's space with instance_xf (motion_at of the ray's time for a
+   moving one) and instance_ray, both below.  The camera moves
    with its two CTMs the same way (camera.c).  render.c draws each camera sample's
    time from the sampler's own dimension DIM_TIME, uniform in [shutteropen,
    shutterclose], only when something moves; every ray of that path, shadow rays
@@ -249,5 +255,64 @@ void motion_bounds(const Motion *m, const double lo[3], const double hi[3], doub
                 if (v + margin + r > whi[a]) whi[a] = v + margin + r;
             }
         }
+    }
+}
+
+/* ======================================================================
+   An instance's placement applied to rays and hit points
+   ====================================================================== */
+/* Instance in's M for ray r: its own, or a moving one's at the ray's time
+   (motion_at; *tmp holds it then). */
+const Xform *instance_xf(const Scene *s, const Instance *in, const Ray *r, Xform *tmp)
+{
+    if (in->motion <= 0) return &in->world_from_obj;
+    motion_at(&s->motions[in->motion - 1], r->time, tmp);
+    return tmp;
+}
+
+/* The world ray r in the object space of an instance placed by M = *x: o' = M^-1 o,
+   d' = M^-1 d, the same t (d' is not normalised), tmax and time kept (instance.c:
+   RAYS AND HITS). */
+Ray instance_ray(const Xform *x, const Ray *r)
+{
+    const double (*inv)[4] = (const double (*)[4])x->inv;
+    const double o[3] = { r->o.x, r->o.y, r->o.z }, d[3] = { r->d.x, r->d.y, r->d.z };
+    float oo[3], dd[3];
+    Ray ro;
+    int a;
+    for (a = 0; a < 3; a++) {
+        oo[a] = (float)(inv[a][0] * o[0] + inv[a][1] * o[1] + inv[a][2] * o[2] + inv[a][3]);
+        dd[a] = (float)(inv[a][0] * d[0] + inv[a][1] * d[1] + inv[a][2] * d[2]);
+    }
+    ro.o = v3(oo[0], oo[1], oo[2]);
+    ro.d = v3(dd[0], dd[1], dd[2]);
+    ro.tmax = r->tmax;
+    ro.time = r->time;
+    return ro;
+}
+
+/* n by M's inverse transpose, normalised (n itself when the result has no length). */
+static Vec3 normal_to_world(const Xform *m, Vec3 n)
+{
+    Vec3 w = xf_normal(m, n);
+    return v3_dot(w, w) > 0.0f ? v3_norm(w) : n;
+}
+
+/* A hit point computed in instance in's object space, put into the world: p by M,
+   the normals by M^-T, the shading normal turned to the geometric one's side
+   (pbrt-v4's Transform of a SurfaceInteraction; instance.c: RAYS AND HITS). */
+void instance_point(const Xform *x, SurfacePoint *sp)
+{
+    sp->p = xf_point(x, sp->p);
+    sp->ng = normal_to_world(x, sp->ng);
+    sp->ns = normal_to_world(x, sp->ns);
+    if (v3_dot(sp->ns, sp->ng) < 0.0f) sp->ns = v3_neg(sp->ns);   /* pbrt-v4: FaceForward */
+    if (sp->err.x > 0.0f || sp->err.y > 0.0f || sp->err.z > 0.0f) {   /* |M| err */
+        const double (*m)[4] = (const double (*)[4])x->m;
+        float e[3];
+        int a;
+        for (a = 0; a < 3; a++)
+            e[a] = (float)(fabs(m[a][0]) * sp->err.x + fabs(m[a][1]) * sp->err.y + fabs(m[a][2]) * sp->err.z);
+        sp->err = v3(e[0], e[1], e[2]);
     }
 }

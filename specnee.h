@@ -863,6 +863,12 @@ typedef struct {
                                   anisotropic BSDF's s axis, pbrt-v4's dp/du) */
 } SurfacePoint;
 void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
+/* An instance's transforms (motion.c; instance.c: RAYS AND HITS): its M for ray r (a moving
+   one's at the ray's time, written into *tmp), the world ray r in its object
+   space, and a hit point computed there put back into the world. */
+const Xform *instance_xf(const struct Scene *s, const Instance *in, const Ray *r, Xform *tmp);
+Ray  instance_ray(const Xform *x, const Ray *r);
+void instance_point(const Xform *x, SurfacePoint *sp);
 /* Origin for a ray leaving p towards w: p moved along ng to w's side by
    1e-5 (1 + max|p_i|) (the self-intersection policy at the top of bvh.c). */
 Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w);
