@@ -101,6 +101,13 @@ bench-embree: $(LIBOBJ)
 	        tools/bench_embree.c $(LIBOBJ) -lembree3 $(LDLIBS) && ./tools/bench_embree; \
 	else echo "bench-embree: Embree 3 is not installed (Debian: apt-get install libembree-dev)"; fi
 
+# two versions of the traversal timed in one process (docs/bvh.md): tools/bench_ab.sh
+# REV compiles REV's bvh.c and the work tree's into tools/bvh_a.o and tools/bvh_b.o,
+# then builds and runs this
+tools/bench_ab: tools/bench_ab.c tools/bench.c tools/bvh_a.o tools/bvh_b.o $(LIBOBJ)
+	$(CC) $(CFLAGS) -Itools -o tools/bench_ab tools/bench_ab.c tools/bvh_a.o tools/bvh_b.o \
+	    $(LIBOBJ) $(LDLIBS)
+
 references: specnee
 	sh tools/references.sh
 
@@ -117,7 +124,7 @@ golden: specnee
 	sh tests/golden.sh --update
 
 clean:
-	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench tools/bench_lights tools/bench_embree tools/bench_count
+	rm -f specnee *.o tests/*.o tests/runner tools/*.o tools/bench tools/bench_lights tools/bench_embree tools/bench_count tools/bench_ab
 	rm -f rgbtable.h tools/gen_rgbtable
 	rm -f fuzz/*.o fuzz/replay
 	rm -rf build

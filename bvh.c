@@ -62,7 +62,8 @@
    axis).  The nearest child entered is visited first; shadow rays skip the ordering
    and return at the first hit.  Random rays make every data-dependent branch a coin
    toss, so the loop has as few as it can (the children by their set bits; two
-   entered are ordered by one compare, more placed on the stack by rank).  Where the
+   entered are ordered by one compare, more placed on the stack by rank; a shadow
+   ray's one or two children take one path without a branch).  Where the
    processor has AVX2 (asked once a query), a second copy of the same loop compiled
    for AVX2 runs instead: the slab test in 8 lanes, and a 4-lane filter before each
    triangle test (tri_miss4), whose lanes the test then finishes from
@@ -115,8 +116,9 @@
    SAH_DEPTH_MAX + 28 < 64 nodes for the at most 2^28 primitives, and no wide path
    either (a wide level takes at least one binary level).  A visit pops one entry and
    pushes at most BVH_WIDTH, so the stack never holds more than
-   (BVH_WIDTH - 1) * 64 + 1 entries. */
-#define BVH_STACK ((BVH_WIDTH - 1) * 64 + 1)
+   (BVH_WIDTH - 1) * 64 + 1 entries; one more slot, since a shadow ray's visit
+   entering one child writes the slot above the top without keeping it. */
+#define BVH_STACK ((BVH_WIDTH - 1) * 64 + 2)
 
 /* The hot path (ray_prepare, node_hit, tri_hit) must be inlined into the traversal
    loop; gcc's size heuristics refuse without being told, costing about 30%. */
@@ -616,11 +618,23 @@ HOT_INLINE int lowest_bit_portable(unsigned m)
     return pos[(uint32_t)((uint32_t)(m & (0u - m)) * 0x077CB531u) >> 27];
 }
 
-/* The same, in one instruction (count trailing zeros) where the compiler has it. */
+/* The index of the highest set bit of m (0 < m < 2^BVH_WIDTH), by halving. */
+HOT_INLINE int highest_bit_portable(unsigned m)
+{
+    int k = 0;
+    if (m >> 4) { k += 4; m >>= 4; }
+    if (m >> 2) { k += 2; m >>= 2; }
+    return k + (int)(m >> 1);
+}
+
+/* The same, in one instruction (count trailing or leading zeros) where the compiler
+   has it. */
 #if (defined(__GNUC__) || defined(__clang__)) && !defined(__TINYC__)
 #define lowest_bit(m) __builtin_ctz(m)
+#define highest_bit(m) (31 - __builtin_clz(m))
 #else
 #define lowest_bit(m) lowest_bit_portable(m)
+#define highest_bit(m) highest_bit_portable(m)
 #endif
 
 /* The slab test of all BVH_WIDTH children of a node: returns the bitmask of those the
@@ -1101,6 +1115,20 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 unsigned m;
                 int n = 0;
                 const unsigned rest = mask & (mask - 1);
+                if (any_hit && (rest & (rest - 1)) == 0) {
+                    /* a shadow ray entering one child or two takes no order, so the
+                       two cases need no branch between them: the highest bit is the
+                       lowest when there is one, and then the slot written above the
+                       top is not kept.  (Closest-hit rays keep the branch: there the
+                       two-child case orders, and joined it was slower; docs/bvh.md) */
+                    const int ja = lowest_bit(mask), jb = highest_bit(mask);
+                    stack[sp].ref = nd->child[jb];
+                    sp += rest != 0;
+                    prefetch_ref(b, nd->child[jb]);
+                    ref = nd->child[ja];
+                    prefetch_ref(b, ref);
+                    continue;
+                }
                 if (rest == 0) {                   /* one child: no stack */
                     ref = nd->child[lowest_bit(mask)];
                     prefetch_ref(b, ref);
@@ -1108,11 +1136,11 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 }
                 if ((rest & (rest - 1)) == 0) {    /* two (the most common case): */
                     const int ja = lowest_bit(mask), jb = lowest_bit(rest);   /* ja < jb */
-                    /* ties: the lower slot; shadow rays: no order (below) */
-                    const int b_first = !any_hit && t_enter[jb] < t_enter[ja];
+                    /* ties: the lower slot (only closest-hit rays come here) */
+                    const int b_first = t_enter[jb] < t_enter[ja];
                     const int jn = b_first ? jb : ja, jf = b_first ? ja : jb;
                     stack[sp].ref = nd->child[jf];  /* the farther waits on the stack */
-                    if (!any_hit) stack[sp].t_z = t_z[jf];
+                    stack[sp].t_z = t_z[jf];
                     sp++;
                     prefetch_ref(b, nd->child[jf]);
                     ref = nd->child[jn];
@@ -1392,7 +1420,9 @@ int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes)
     int i, bad = 0;
     const int avx = bvh_cpu_avx2();
     unsigned m;
-    for (m = 1; m < 256; m++) bad += lowest_bit(m) != lowest_bit_portable(m);
+    for (m = 1; m < 256; m++)
+        bad += (lowest_bit(m) != lowest_bit_portable(m)) + (highest_bit(m) != highest_bit_portable(m)) +
+               ((m >> highest_bit_portable(m)) != 1u);
 #if BVH_AVX
     if (avx && b->n_nodes > 0) bad += prepare_mismatch(b, r);
 #endif

@@ -1,0 +1,34 @@
+#!/bin/sh
+# tools/bench_ab.sh - time the work tree's bvh.c (B) against another revision's (A)
+# in one process, on the same tree (tools/bench_ab.c says what it measures and
+# what it cannot).  Not part of `make test`: a developer's tool for changes of the
+# traversal, whose few per cent a separate process per version cannot resolve on a
+# shared machine (docs/bvh.md, "How it is measured").
+#
+#   sh tools/bench_ab.sh REV [rounds]      e.g.  sh tools/bench_ab.sh HEAD
+#
+# A is `git show REV:bvh.c` and B the work tree's bvh.c, both compiled alike with
+# the Makefile's compiler and optimisation against the work tree's specnee.h,
+# every global name each defines prefixed with A_ or B_ (the names are read from
+# bvh.o with nm), so that both link into one program beside the library.  Needs
+# git, nm and make.
+set -e
+rev=${1:?usage: sh tools/bench_ab.sh REV [rounds]}
+rounds=${2:-41}
+cd "$(dirname "$0")/.."
+mkdir -p build/bench_ab
+git show "$rev:bvh.c" > build/bench_ab/bvh_a.c
+cp bvh.c build/bench_ab/bvh_b.c
+make -s bvh.o
+cc_=$(make -s -p -n 2>/dev/null | sed -n 's/^CC = //p' | head -1)
+# both versions compiled alike, into tools/bvh_a.o and tools/bvh_b.o
+eval "set -- $(make -s -p -n 2>/dev/null | sed -n 's/^OPT = //p' | head -1) \
+    -std=c99 $(sh tools/ccflags.sh "${cc_:-cc}")"
+for v in a b; do
+    defs=
+    V=$(echo $v | tr ab AB)
+    for x in $(nm -g --defined-only bvh.o | awk '{print $3}'); do defs="$defs -D$x=${V}_$x"; done
+    "${cc_:-cc}" "$@" -I. $defs -c build/bench_ab/bvh_$v.c -o tools/bvh_$v.o
+done
+make -s tools/bench_ab
+tools/bench_ab "$rounds"
