@@ -112,6 +112,7 @@ else
         (cd "$root" && find . -type f ! -name '*.o' ! -name 'a.out' ! -name '*.exe' \
             ! -path './specnee' ! -path './tests/runner' ! -path './fuzz/replay' \
             ! -path './tools/bench' ! -path './tools/bench_lights' ! -path './tools/bench_embree' \
+            ! -path './tools/bench_count' ! -path './tools/bench_ab' \
             ! -path './tests/tmp/*' ! -path './out/*' ! -path './build/*' ! -path '*.dSYM/*' \
             ! -path './.git/*' | sed 's|^\./||' | LC_ALL=C sort) > "$scratch/files.all"
         echo "note: no git checkout here: copying the files .gitignore does not name"
