@@ -20,15 +20,18 @@ mkdir -p build/bench_ab
 git show "$rev:bvh.c" > build/bench_ab/bvh_a.c
 cp bvh.c build/bench_ab/bvh_b.c
 make -s bvh.o
-cc_=$(make -s -p -n 2>/dev/null | sed -n 's/^CC = //p' | head -1)
+# the Makefile's compiler and optimisation, asked of make once
+vars=$(make -s -p -n 2>/dev/null)
+cc_=$(printf '%s\n' "$vars" | sed -n 's/^CC = //p' | head -1)
+opt=$(printf '%s\n' "$vars" | sed -n 's/^OPT = //p' | head -1)
+syms=$(nm -g --defined-only bvh.o | awk '{print $3}')
 # both versions compiled alike, into tools/bvh_a.o and tools/bvh_b.o
-eval "set -- $(make -s -p -n 2>/dev/null | sed -n 's/^OPT = //p' | head -1) \
-    -std=c99 $(sh tools/ccflags.sh "${cc_:-cc}")"
-for v in a b; do
+for V in A B; do
+    v=$(echo $V | tr AB ab)
     defs=
-    V=$(echo $v | tr ab AB)
-    for x in $(nm -g --defined-only bvh.o | awk '{print $3}'); do defs="$defs -D$x=${V}_$x"; done
-    "${cc_:-cc}" "$@" -I. $defs -c build/bench_ab/bvh_$v.c -o tools/bvh_$v.o
+    for x in $syms; do defs="$defs -D$x=${V}_$x"; done
+    "${cc_:-cc}" $opt -std=c99 $(sh tools/ccflags.sh "${cc_:-cc}") -I. $defs \
+        -c build/bench_ab/bvh_$v.c -o tools/bvh_$v.o
 done
 make -s tools/bench_ab
 tools/bench_ab "$rounds"
