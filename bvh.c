@@ -58,8 +58,8 @@
      triangles come first and a leaf whose last record is a triangle holds only
      triangles (traverse then tests them in a loop of their own).
 
-   TRAVERSAL (traverse): iterative, with a stack of (child, near plane on the dominant
-   axis).  The nearest child entered is visited first; shadow rays skip the ordering
+   TRAVERSAL (traverse): iterative, with a stack of (child, entry distance).  The
+   nearest child entered is visited first; shadow rays skip the ordering
    and return at the first hit.  Random rays make every data-dependent branch a coin
    toss, so the loop has as few as it can (the children by their set bits; two
    entered are ordered by one compare, more placed on the stack by rank; a shadow
@@ -70,8 +70,10 @@
    (tri_hit_rest); it computes the same floats in the same order, so
    every result is the same to the bit.  The closest
    hit does not depend on the order: it is exactly
-   what brute force finds, the smallest computed t in (0, tmax), ties to the smallest
-   id (the proof opens the traversal section; tests/test_bvh.c checks it bit for bit).
+   what brute force finds, the smallest reported t in (0, tmax), ties to the smallest
+   id, where a hit's t is never reported nearer than its primitive's own box (the
+   hit's floor: the proof opens the traversal section; tests/test_bvh.c checks it
+   bit for bit).
    Speed: docs/bvh.md has the figures (Embree 3 is about 1.2 times faster on all of
    tools/bench's incoherent rays, about 1.4 on those that enter the mesh's box with
    the SSE2 copy, less with the AVX2 copy), what each choice gains and what was
@@ -226,10 +228,8 @@ typedef struct {
 #define RO8(kz) RO(kz, 0), RO(kz, 1), RO(kz, 2), RO(kz, 3), RO(kz, 4), RO(kz, 5), RO(kz, 6), RO(kz, 7)
 static const RayOrder ray_orders[3 * 8] = { RO8(0), RO8(1), RO8(2) };   /* [kz * 8 + n] */
 
-/* the robust slab test's far factor 1 + 2 gamma(3) and the closest hit's culling
-   margin 1 + 2 gamma(8) (ORDER INDEPENDENCE, below) */
+/* the robust slab test's far factor 1 + 2 gamma(3) (THE SLAB TEST, below) */
 #define FAR_SCALE (1.0f + 2.0f * gamma_n(3))
-#define CULL_SCALE (1.0f + 2.0f * gamma_n(8))
 
 /* ======================================================================
    Per-ray precomputation shared by the triangle test and the slab test
@@ -248,6 +248,8 @@ typedef struct {
 #endif
 #if BVH_AVX
     __m128 o_k, sx4, sy4;    /* (o_kx, o_ky, o_kz, 0); Sx and Sy in all four lanes */
+    __m128 d_k, inv_k;       /* d and 1/d in the order kx, ky, kz (lane 3: 0, +inf):
+                                tri_box_entry4's operands */
     __m256 o8[3], ninv8[3];  /* o_ax, ninv_ax in all eight lanes */
 #endif
 } RayPre;
@@ -287,8 +289,7 @@ HOT_INLINE int ray_prepare_rest(RayPre *rp, int sse)
 {
     const RayOrder *ord;
     int a, kz;
-    /* kz: the dimension where |d| is largest, so the shear divides by the most (and
-       the axis whose slab culls boxes beyond the closest hit: ORDER INDEPENDENCE) */
+    /* kz: the dimension where |d| is largest, so the shear divides by the most */
     {   /* without branches: random directions would mispredict them (docs/bvh.md) */
         const float a0 = fabsf(rp->d[0]), a1 = fabsf(rp->d[1]), a2 = fabsf(rp->d[2]);
         const int k1 = a1 > a0;                     /* the first largest wins ties */
@@ -386,6 +387,44 @@ static float t_error_bound(float Ax, float Ay, float Az, float Bx, float By, flo
    Finally t must exceed a bound on its own rounding error (pbrt-v3 section 3.9.6): a
    ray starting on the triangle's plane never hits that triangle at a t that is only
    rounding noise (the self-intersection policy at the top of this file). */
+/* THE HIT'S FLOOR (ORDER INDEPENDENCE, below): a primitive test reports a hit at
+   t = max(t_test, box_entry(its own box)), where box_entry is the entry distance of
+   the box lo..hi computed with the slab test's operations in the slab test's order
+   (node_hit_mask_scalar's lane: the near plane of axis[s] by the ray's sign, then
+   (o - plane) * (-1/d), folded with "x > acc ? x : acc" from 0). */
+HOT_INLINE float box_entry(const RayPre *rp, const float *lo, const float *hi)
+{
+    float tn = 0.0f;
+    int s;
+    for (s = 0; s < 3; s++) {
+        const int a = rp->ord->axis[s];
+        const float plane = rp->ord->plane[s] >= 3 * BVH_WIDTH ? hi[a] : lo[a];   /* hi rows: d < 0 */
+        const float x = (rp->o_ax[s] - plane) * rp->ninv_ax[s];
+        tn = x > tn ? x : tn;
+    }
+    return tn;
+}
+
+/* A hit at t on a primitive whose box the ray enters at te is reported at this */
+HOT_INLINE float floored(float t, float te)
+{
+    return te > t ? te : t;
+}
+
+/* box_entry of triangle v's box, the smallest and largest of its vertices'
+   coordinates (the box bvhbuild.c gives it: the same floats) */
+HOT_INLINE float tri_box_entry(const RayPre *rp, const float *v)
+{
+    float lo[3], hi[3];
+    int a;
+    for (a = 0; a < 3; a++) {
+        const float p0 = v[a], p1 = v[3 + a], p2 = v[6 + a];
+        lo[a] = p0 < p1 ? p0 : p1;  lo[a] = p2 < lo[a] ? p2 : lo[a];
+        hi[a] = p0 > p1 ? p0 : p1;  hi[a] = p2 > hi[a] ? p2 : hi[a];
+    }
+    return box_entry(rp, lo, hi);
+}
+
 /* Steps 1 to 3 of tri_hit (below), for tri_hit and the test of its AVX2 filter:
    e[] = A'x A'y B'x B'y C'x C'y, z[] = A_z B_z C_z (before the scale by Sz), and
    uvw[] = U V W in float. */
@@ -442,6 +481,13 @@ HOT_INLINE int tri_hit(const RayPre *rp, const float *v, float tmax,
     /* 5. Reject t within its rounding error of 0 (pbrt-v3 section 3.9.6) */
     if (t <= t_error_bound(Ax, Ay, Az, Bx, By, Bz, Cx, Cy, Cz, U, V, W, inv_det)) return 0;
 
+    /* 6. The hit's floor: never nearer than the triangle's own box (ORDER
+       INDEPENDENCE); only then is t compared with tmax for good */
+    {
+        t = floored(t, tri_box_entry(rp, v));
+        if (!(t <= tmax)) return 0;
+    }
+
     *t_out = t;
     *b1_out = V * inv_det;
     *b2_out = W * inv_det;
@@ -489,6 +535,12 @@ static int sphere_hit(const RayPre *rp, const float *s, float tmax, float *t_out
     tf = (float)t0;
     if (!(tf > 0.0f)) tf = (float)t1;              /* origin inside or past the first root */
     if (!(tf > 0.0f && tf <= tmax)) return 0;
+    {                                              /* the hit's floor, as tri_hit's */
+        float lo[3], hi[3];
+        bvh_sphere_box(s, s[3], lo, hi);
+        tf = floored(tf, box_entry(rp, lo, hi));
+        if (!(tf <= tmax)) return 0;
+    }
     *t_out = tf;
     return 1;
 }
@@ -519,35 +571,39 @@ int intersect_sphere(Vec3 c, float radius, const Ray *r, float *t)
    ====================================================================== */
 /* ORDER INDEPENDENCE (the closest hit is a function of the ray, not of the traversal)
    The closest hit is defined as brute force over all primitives would find it: the
-   smallest computed t with 0 < t < tmax, and among equal t the smallest primitive id.
+   smallest reported t with 0 < t < tmax, and among equal t the smallest primitive id.
    Whatever order the leaves are visited in, the traversal returns exactly that,
    because (1) a leaf accepts t <= t_best and breaks a tie by the id, and (2) a box is
-   culled only when no primitive inside it can have a computed t <= t_best.
-   (2) needs care: the computed t of a triangle and the computed entry distance of its
-   box round differently, so "entry > t_best" alone can cull the box of a hit 1 ulp
-   closer; and for a grazing ray the barycentrics, hence t, can be off by far more
-   than an ulp, so no small margin on the full entry distance is safe.  One axis is
-   safe: the ray's dominant axis kz, the triangle test's z.  There the test computes
-   each vertex's distance as  Az = (v_kz - o_kz) * Sz  and the slab test the box's
-   near plane as  tz = (b_kz - o_kz) * inv_d_kz,  with Sz == inv_d_kz (both
-   1.0f / d_kz) and b_kz beyond no vertex; rounding is monotonic, so tz <= Az, Bz, Cz
-   exactly.  (The slab test computes tz as (o_kz - b_kz) * (-inv_d_kz), which is the
-   same float: negation is exact and rounding to nearest is symmetric, so
-   fl(o - b) = -fl(b - o) and fl((-x)(-y)) = fl(x y); only the sign of a zero may
-   differ, which no comparison sees.)  The test's t = (U Az + V Bz + W Cz) / (U + V + W) with U, V, W of one sign
-   is a convex combination of them, which 7 roundings take at most a factor
-   (1 - gamma(7)) below their minimum (Higham 2002, ch. 3).  So every triangle in the
-   box has t >= (1 - gamma(7)) tz, and the box may be culled when
-       tz > t_best * (1 + 2 gamma(8))           (the margin: 16 ulps, relative)
-   since fl(t_best (1 + 2 gamma(8))) >= t_best / (1 - gamma(7)).  A sphere's (and a
-   quadric's) t is solved in double and rounded once, and its box is rounded outwards,
-   so the same bound holds up to the error of the double solve (far below a float ulp,
-   except for rays within about 1e-8 r of tangency).  tests/test_bvh.c
-   (bvh_exact_adversarial) checks the result against brute force bit for bit on rays
-   through shared edges and vertices, along the normals of axis-aligned faces (where
-   every vertex has the same Az and the 1-ulp cases live), grazing, and on duplicated
-   and coplanar triangles.  Culling on the dominant axis visits about 7 % more nodes
-   than culling on the full entry distance would: the price of exactness.
+   culled only when no primitive inside it can report a t <= t_best.
+   (2) rests on one rule that every primitive test keeps, THE HIT'S FLOOR:
+       reported t = max(t_test, entry distance of the primitive's own box)
+   where t_test is the distance the test computed, the box is the one bvhbuild.c
+   gives the primitive (bvh_prim_box: a triangle's is its vertices' smallest and
+   largest coordinates), and its entry distance is computed by the slab test's own
+   operations (box_entry; below).  Boxes nest: a box of the tree holds the box of
+   every primitive under it, plane for plane (the build takes unions, which do not
+   round).  On each axis the slab test computes (o - plane) * (-1/d), one
+   subtraction and one multiplication by the same float, and rounding is monotonic,
+   so the nearer plane of the outer box gives a distance no larger; the maximum over
+   the axes keeps the order (a NaN, the origin on a plane with d = 0, is skipped by
+   both).  So the tree's computed entry distance of a box is at most that of each
+   primitive's box inside it, hence at most each reported t, and a box may be culled
+   exactly when
+       t_enter > t_best                          (no margin: a tie is visited)
+   Without the floor no small margin would do: the computed t of a triangle and the
+   computed entry distance of its box round differently, and for a grazing ray the
+   barycentrics, hence t_test, can be off by far more than an ulp, below the box's
+   entry.  The floor changes t_test only there, and by an ulp or so where a triangle
+   lies in a plane of its box (an axis-aligned wall); it moves such a t towards the
+   true one, which lies in the box.  It is applied before t is compared with tmax, so
+   a hit whose floor passes tmax is no hit, for closest-hit and shadow rays alike.
+   tests/test_bvh.c (bvh_exact_adversarial) checks the result against brute force bit
+   for bit on rays through shared edges and vertices, along the normals of
+   axis-aligned faces (where a triangle's box is flat and the floor moves t by an
+   ulp), grazing, and on duplicated and coplanar triangles; bvh_hit_floor_holds
+   checks the floor itself.  Culling on the full entry distance visits about 7 %
+   fewer nodes than culling on the dominant axis alone, the one axis where a
+   triangle's t is bounded by its box's distance without a floor (docs/bvh.md).
 
    THE SLAB TEST (Kay & Kajiya 1986) uses the precomputed inverse direction: on each
    axis the ray enters through the plane the sign of d points away from (lo for
@@ -599,9 +655,9 @@ HOT_INLINE void prefetch_ref(const Bvh *b, int32_t ref)
     }
 }
 
-/* One stack entry: a child reference (node or leaf, as in BvhNode.child) and its near
-   plane on the dominant axis (culls it when popped). */
-typedef struct { int32_t ref; float t_z; } StackEntry;
+/* One stack entry: a child reference (node or leaf, as in BvhNode.child) and its
+   entry distance (culls it when popped). */
+typedef struct { int32_t ref; float t; } StackEntry;
 
 /* The index of the lowest set bit of m (m != 0).  m & -m keeps only that bit, 2^k;
    multiplying it by the de Bruijn sequence 0x077CB531 (every 5-bit pattern occurs once
@@ -638,12 +694,11 @@ HOT_INLINE int highest_bit_portable(unsigned m)
 #endif
 
 /* The slab test of all BVH_WIDTH children of a node: returns the bitmask of those the
-   ray enters and that may still hold a hit at t <= t_best (t_cull = t_best *
-   cull_scale; ORDER INDEPENDENCE above), with their entry distances and dominant-axis
-   near planes.  The loop has no branches; the axes are taken in the ray's order
-   (slot 2 is kz) and the planes by its signs. */
-HOT_INLINE unsigned node_hit_mask_scalar(const BvhNode *nd, const RayPre *rp, float t_cull,
-                                         float *t_enter, float *t_z)
+   ray enters and that may still hold a hit at t <= t_best (entry distance <= t_best:
+   ORDER INDEPENDENCE above), with their entry distances.  The loop has no branches;
+   the axes are taken in the ray's order and the planes by its signs. */
+HOT_INLINE unsigned node_hit_mask_scalar(const BvhNode *nd, const RayPre *rp, float t_best,
+                                         float *t_enter)
 {
     const float *box = nd->box[0];
     const float *n0 = box + rp->ord->plane[0], *f0 = box + rp->ord->plane[4];
@@ -664,8 +719,7 @@ HOT_INLINE unsigned node_hit_mask_scalar(const BvhNode *nd, const RayPre *rp, fl
         tn = tn1 > tn ? tn1 : tn;  tf = tf1 < tf ? tf1 : tf;
         tn = tn2 > tn ? tn2 : tn;  tf = tf2 < tf ? tf2 : tf;
         t_enter[j] = tn;
-        t_z[j] = tn2;
-        mask |= (unsigned)((tn <= tf * far_scale) & (tn2 <= t_cull)) << j;   /* bit j */
+        mask |= (unsigned)((tn <= tf * far_scale) & (tn <= t_best)) << j;   /* bit j */
     }
     return mask;
 }
@@ -673,10 +727,12 @@ HOT_INLINE unsigned node_hit_mask_scalar(const BvhNode *nd, const RayPre *rp, fl
 #if BVH_SIMD
 /* node_hit_mask_scalar for the four children h .. h + 3.  _mm_max_ps(x, acc) is
    exactly "x > acc ? x : acc" (NaN x: acc) and _mm_min_ps(x, acc) "x < acc ? x : acc",
-   so every lane computes what the scalar loop computes, to the bit.  The boxes' rows
-   are 16-byte aligned (nodes on 64 bytes, rows of 32). */
-HOT_INLINE unsigned node_hit4(const BvhNode *nd, const RayPre *rp, __m128 cull, int h,
-                              float *t_enter, float *t_z)
+   so every lane computes what the scalar loop computes, to the bit.  The two tests
+   of the mask are one: tn <= min(tf * far, t_best), as none of the three is NaN (tn
+   and tf are folded from 0 and infinity, skipping NaNs; t_best > 0).  The boxes'
+   rows are 16-byte aligned (nodes on 64 bytes, rows of 32). */
+HOT_INLINE unsigned node_hit4(const BvhNode *nd, const RayPre *rp, __m128 best, int h,
+                              float *t_enter)
 {
     const float *box = nd->box[0] + h;
     const __m128 tn0 = _mm_mul_ps(_mm_sub_ps(rp->o4[0], _mm_load_ps(box + rp->ord->plane[0])), rp->ninv4[0]);
@@ -689,17 +745,15 @@ HOT_INLINE unsigned node_hit4(const BvhNode *nd, const RayPre *rp, __m128 cull, 
     tn = _mm_max_ps(tn1, tn);  tf = _mm_min_ps(tf1, tf);
     tn = _mm_max_ps(tn2, tn);  tf = _mm_min_ps(tf2, tf);
     _mm_storeu_ps(t_enter + h, tn);
-    _mm_storeu_ps(t_z + h, tn2);
-    return (unsigned)_mm_movemask_ps(_mm_and_ps(_mm_cmple_ps(tn, _mm_mul_ps(tf, rp->far4)),
-                                                _mm_cmple_ps(tn2, cull)));
+    return (unsigned)_mm_movemask_ps(_mm_cmple_ps(tn, _mm_min_ps(_mm_mul_ps(tf, rp->far4), best)));
 }
 
 /* node_hit_mask_scalar in two halves of four children */
-HOT_INLINE unsigned node_hit_mask(const BvhNode *nd, const RayPre *rp, float t_cull,
-                                  float *t_enter, float *t_z)
+HOT_INLINE unsigned node_hit_mask(const BvhNode *nd, const RayPre *rp, float t_best,
+                                  float *t_enter)
 {
-    const __m128 cull = _mm_set1_ps(t_cull);
-    return node_hit4(nd, rp, cull, 0, t_enter, t_z) | node_hit4(nd, rp, cull, 4, t_enter, t_z) << 4;
+    const __m128 best = _mm_set1_ps(t_best);
+    return node_hit4(nd, rp, best, 0, t_enter) | node_hit4(nd, rp, best, 4, t_enter) << 4;
 }
 #else
 #define node_hit_mask node_hit_mask_scalar
@@ -744,8 +798,8 @@ HOT_INLINE int child_rank(const float *t_enter, unsigned mask, int jj)
    8 planes is 32 bytes, 32-byte aligned (nodes on 64 bytes), one aligned load.  The
    ray's operands come broadcast from RayPre (o8, ninv8: made once a ray, read from
    memory at each node, so no register holds them across the leaves). */
-AVX2_FN unsigned node_hit8(const BvhNode *nd, const RayPre *rp, float t_cull,
-                           float *t_enter, float *t_z)
+AVX2_FN unsigned node_hit8(const BvhNode *nd, const RayPre *rp, float t_best,
+                           float *t_enter)
 {
     const float *box = nd->box[0];
     const __m256 o0 = rp->o8[0], i0 = rp->ninv8[0];
@@ -761,10 +815,8 @@ AVX2_FN unsigned node_hit8(const BvhNode *nd, const RayPre *rp, float t_cull,
     tn = _mm256_max_ps(tn1, tn);  tf = _mm256_min_ps(tf1, tf);
     tn = _mm256_max_ps(tn2, tn);  tf = _mm256_min_ps(tf2, tf);
     _mm256_storeu_ps(t_enter, tn);
-    _mm256_storeu_ps(t_z, tn2);
-    return (unsigned)_mm256_movemask_ps(
-        _mm256_and_ps(_mm256_cmp_ps(tn, _mm256_mul_ps(tf, _mm256_set1_ps(FAR_SCALE)), _CMP_LE_OS),
-                      _mm256_cmp_ps(tn2, _mm256_set1_ps(t_cull), _CMP_LE_OS)));
+    return (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(
+        tn, _mm256_min_ps(_mm256_mul_ps(tf, _mm256_set1_ps(FAR_SCALE)), _mm256_set1_ps(t_best)), _CMP_LE_OS));
 }
 
 /* child_rank with all 8 slots in one compare, and the entered bits counted by the
@@ -783,6 +835,9 @@ AVX2_FN void ray_prepare4(RayPre *rp)
 {
     int a;
     rp->o_k = _mm_setr_ps(rp->o[rp->ord->k[0]], rp->o[rp->ord->k[1]], rp->o[rp->ord->k[2]], 0.0f);
+    rp->d_k = _mm_setr_ps(rp->d[rp->ord->k[0]], rp->d[rp->ord->k[1]], rp->d[rp->ord->k[2]], 0.0f);
+    rp->inv_k = _mm_setr_ps(rp->inv_d[rp->ord->k[0]], rp->inv_d[rp->ord->k[1]],
+                            rp->inv_d[rp->ord->k[2]], rp->inv_d[3]);
     rp->sx4 = _mm_set1_ps(rp->S[0]);
     rp->sy4 = _mm_set1_ps(rp->S[1]);
     for (a = 0; a < 3; a++) {
@@ -848,6 +903,8 @@ AVX2_FN int ray_prepare_avx2(const Bvh *b, const Ray *r, RayPre *rp)
     kv = _mm_loadu_si128((const __m128i *)ord->k);
     rp->o_k = _mm_permutevar_ps(o, kv);                            /* o_kx o_ky o_kz 0 */
     dk = _mm_permutevar_ps(d, kv);                                  /* d_kx d_ky d_kz 0 */
+    rp->d_k = dk;
+    rp->inv_k = _mm_permutevar_ps(inv, kv);                        /* 1/d likewise, +inf */
     sh = _mm_div_ps(dk, _mm_permute_ps(dk, _MM_SHUFFLE(2, 2, 2, 2)));   /* Sx Sy 1 0 */
     rp->sx4 = _mm_permute_ps(sh, _MM_SHUFFLE(0, 0, 0, 0));
     rp->sy4 = _mm_permute_ps(sh, _MM_SHUFFLE(1, 1, 1, 1));
@@ -911,6 +968,29 @@ AVX2_FN int tri_miss4(const RayPre *rp, const float *v)
     return tri_mixed(tri_lanes(rp, v).UVW);
 }
 
+/* tri_box_entry in four lanes, from the vertices as tri_lanes reads them: the
+   lanes (kx, ky, kz) of A_ = A - o, B_ and C_; their smallest and largest, the
+   larger where d < 0 (blendv reads d's sign bit, as the slab test's choice of hi
+   rows does); times 1/d; then the three folded from 0 with "x > acc ? x : acc"
+   (_mm_max_ss).  The same float as tri_box_entry: rounding is monotonic, so the
+   smallest of fl(v - o) is fl(smallest v - o); (plane - o) * (1/d) is the slab
+   test's (o - plane) * (-1/d) (THE SLAB TEST); and a maximum folded from 0 that
+   skips NaNs does not depend on the order of the axes. */
+AVX2_FN float tri_box_entry4(const RayPre *rp, const float *v)
+{
+    const __m128i k = _mm_loadu_si128((const __m128i *)rp->ord->k);
+    const __m128 A_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v), k), rp->o_k);
+    const __m128 B_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 3), k), rp->o_k);
+    const __m128 C_ = _mm_sub_ps(_mm_permutevar_ps(_mm_loadu_ps(v + 5),
+                                 _mm_loadu_si128((const __m128i *)(rp->ord->k + 4))), rp->o_k);
+    const __m128 lo = _mm_min_ps(A_, _mm_min_ps(B_, C_)), hi = _mm_max_ps(A_, _mm_max_ps(B_, C_));
+    const __m128 tk = _mm_mul_ps(_mm_blendv_ps(lo, hi, rp->d_k), rp->inv_k);   /* lane 3 unused */
+    __m128 te = _mm_max_ss(tk, _mm_setzero_ps());
+    te = _mm_max_ss(_mm_permute_ps(tk, 1), te);
+    te = _mm_max_ss(_mm_permute_ps(tk, 2), te);
+    return _mm_cvtss_f32(te);
+}
+
 /* tri_hit for the triangles the filter lets through (15 %), from the filter's own
    lanes: steps 4 and 5 of tri_hit, each float as tri_hit computes it.  U, V, W are
    lanes 2, 0, 1 of UVW; det = (U + V) + W and T = (U Az + V Bz) + W Cz as C
@@ -949,6 +1029,10 @@ AVX2_NOINLINE int tri_hit_rest(const RayPre *rp, const float *v, __m128 X, __m12
     m = _mm_max_ps(_mm_movelh_ps(m_xy, m_ze), _mm_movehl_ps(m_ze, m_xy));
     _mm_storeu_ps(mx, m);                          /* max x, max y, max z, max e */
     if (t <= t_error_bound_max(mx[0], mx[1], mx[2], mx[3], inv_det)) return 0;
+    {                                              /* the hit's floor, as in tri_hit */
+        t = floored(t, tri_box_entry4(rp, v));
+        if (!(tmax >= t)) return 0;
+    }
     *t_out = t;
     *b1_out = V * inv_det;
     *b2_out = W * inv_det;
@@ -1059,14 +1143,31 @@ HOT_INLINE int prim_base(const Scene *s)
 static int instance_hit(const Scene *s, int i, const Ray *r, float t_best, int at_tmax,
                         int any_hit, int avx, HitRecord *h);
 
+/* THE HIT'S FLOOR of a quadric, patch, curve piece or instance (triangles and
+   spheres floor their own hits: tri_hit, sphere_hit): the entry distance of the
+   box bvhbuild.c gives it */
+static float prim_floor(const Scene *s, const RayPre *rp, int p)
+{
+    float lo[3], hi[3];
+    return bvh_prim_box(s, p, lo, hi) ? box_entry(rp, lo, hi) : INFINITY;
+}
+
+float bvh_hit_floor(const Scene *s, int id, const Ray *r)
+{
+    RayPre rp;
+    float lo[3], hi[3];
+    if (!ray_prepare(r, &rp) || !ray_prepare_rest(&rp, 0) || !bvh_prim_box(s, id, lo, hi))
+        return INFINITY;
+    return box_entry(&rp, lo, hi);
+}
+
 /* A hit closer than the best so far (or as close, with a smaller id) becomes the
    best: h records it, and boxes are culled against it from now on (an
    instance's hit then names its object's primitive: traverse) */
-HOT_INLINE void take_closer(float t, float b1, float b2, int p, float *t_best, float *t_cull,
+HOT_INLINE void take_closer(float t, float b1, float b2, int p, float *t_best,
                             int *best_p, HitRecord *h)
 {
     *t_best = t;                         /* closer hits only from now on */
-    *t_cull = t * CULL_SCALE;
     *best_p = p;
     h->t = t; h->prim = p; h->b1 = b1; h->b2 = b2; h->inst = -1;
 }
@@ -1078,8 +1179,8 @@ HOT_INLINE void take_closer(float t, float b1, float b2, int p, float *t_best, f
    A stack holds the children still to visit.  At an inner node, the children the ray
    enters are pushed, the nearest last, so that it is popped next (the order only
    saves time: ORDER INDEPENDENCE; shadow rays take them in slot order); a child is
-   dropped when popped if a hit closer than its dominant-axis near plane (with the
-   margin) has been found meanwhile.
+   dropped when popped if a hit closer than its entry distance has been found
+   meanwhile.
    Random rays make every data-dependent branch a coin toss that the processor
    mispredicts about half the time, so the children entered are visited by their set
    bits (lowest_bit) and each is put straight into its place by its rank (how many of
@@ -1092,7 +1193,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
 {
     RayPre rp;
     StackEntry stack[BVH_STACK];
-    float t_enter[BVH_WIDTH], t_z[BVH_WIDTH], t_best = r->tmax, t_cull, t, b1, b2;
+    float t_enter[BVH_WIDTH], t_best = r->tmax, t, b1, b2;
     const int no_hit = at_tmax ? INT32_MAX : -1;
     const int n_tris = s->n_tris;      /* the other kinds' bounds only where they are met */
     int sp = 0, best_p = no_hit, ref = 0;
@@ -1102,15 +1203,14 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
             : !ray_prepare(r, &rp) || !root_hit(b, &rp) ||
               !ray_prepare_rest(&rp, 1))           /* only now: most rays miss the root */
         return 0;
-    t_cull = t_best * CULL_SCALE;
 
     for (;;) {
         if (ref >= 0) {
             /* inner node: test the children; one entered: go on with it; several:
                put them on the stack farthest first and go on with the nearest */
             const BvhNode *nd = &b->nodes[ref];
-            const unsigned mask = avx ? node_hit8(nd, &rp, t_cull, t_enter, t_z)
-                                      : node_hit_mask(nd, &rp, t_cull, t_enter, t_z);
+            const unsigned mask = avx ? node_hit8(nd, &rp, t_best, t_enter)
+                                      : node_hit_mask(nd, &rp, t_best, t_enter);
             if (mask != 0) {
                 unsigned m;
                 int n = 0;
@@ -1142,7 +1242,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                     const int b_first = t_enter[jb] < t_enter[ja];
                     const int jn = b_first ? jb : ja, jf = b_first ? ja : jb;
                     stack[sp].ref = nd->child[jf];  /* the farther waits on the stack */
-                    stack[sp].t_z = t_z[jf];
+                    stack[sp].t = t_enter[jf];
                     sp++;
                     prefetch_ref(b, nd->child[jf]);
                     ref = nd->child[jn];
@@ -1159,7 +1259,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                     const int rank = any_hit ? n : avx ? child_rank8(t_enter, mask, jj)
                                                        : child_rank(t_enter, mask, jj);
                     stack[sp + rank].ref = nd->child[jj];
-                    if (!any_hit) stack[sp + rank].t_z = t_z[jj];
+                    if (!any_hit) stack[sp + rank].t = t_enter[jj];
                     prefetch_ref(b, nd->child[jj]);
                 }
                 sp += n;
@@ -1182,7 +1282,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                         continue;
                     }
                     if (!(t < t_best || q->prim < best_p)) continue;
-                    take_closer(t, b1, b2, q->prim, &t_best, &t_cull, &best_p, h);
+                    take_closer(t, b1, b2, q->prim, &t_best, &best_p, h);
                 }
             } else for (; q < end; q++) {
                 const int p = q->prim;
@@ -1195,21 +1295,37 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                     const int n_patch_end = n_quad_end + s->n_patches, n_base = prim_base(s);
                     if (p < n_sph_end) {
                         ok = sphere_hit(&rp, q->v, t_best, &t); b1 = b2 = 0.0f;
-                    } else if (p < n_quad_end) {
-                        ok = quadric_intersect(&s->shapes[s->quadric_shape[p - n_sph_end]], r, t_best, &t);
-                        b1 = b2 = 0.0f;
-                    } else if (p < n_patch_end) {
-                        Vec3 c[4];         /* a patch: b1, b2 carry its (u, v) */
-                        patch_corners(s, s->patches[p - n_quad_end].v, c);
-                        ok = patch_intersect(c, r, t_best, &t, &b1, &b2);
-                    } else if (p < n_base) {   /* a curve piece: b1, b2 carry its (u, v) */
-                        ok = curve_intersect(s, &s->curve_pieces[p - n_patch_end], r, t_best, any_hit, &hi);
-                        if (ok) { t = hi.t; b1 = hi.b1; b2 = hi.b2; }
-                    } else {                        /* an instance: its object's closest hit */
-                        if (!instance_hit(s, p - n_base, r, t_best, best_p != no_hit, any_hit, avx, &hi))
+                    } else if (p < n_base) {
+                        /* the other kinds floor their hits here (THE HIT'S FLOOR) */
+                        if (p < n_quad_end) {
+                            ok = quadric_intersect(&s->shapes[s->quadric_shape[p - n_sph_end]], r, t_best, &t);
+                            b1 = b2 = 0.0f;
+                        } else if (p < n_patch_end) {
+                            Vec3 c[4];     /* a patch: b1, b2 carry its (u, v) */
+                            patch_corners(s, s->patches[p - n_quad_end].v, c);
+                            ok = patch_intersect(c, r, t_best, &t, &b1, &b2);
+                        } else {           /* a curve piece: b1, b2 carry its (u, v) */
+                            ok = curve_intersect(s, &s->curve_pieces[p - n_patch_end], r, t_best, any_hit, &hi);
+                            if (ok) { t = hi.t; b1 = hi.b1; b2 = hi.b2; }
+                        }
+                        if (ok) {
+                            t = floored(t, prim_floor(s, &rp, p));
+                            ok = t <= t_best;
+                        }
+                    } else {
+                        /* an instance: its object's closest hit, floored by the
+                           instance's box; a shadow ray needs only to know that the
+                           floor is below tmax and that the object has a hit there */
+                        const float te = prim_floor(s, &rp, p);
+                        if (!(te <= t_best)) continue;
+                        if (any_hit) {
+                            if (te < r->tmax && instance_hit(s, p - n_base, r, t_best, 0, 1, avx, &hi))
+                                return 1;
                             continue;
-                        if (any_hit) return 1;      /* at t < r->tmax */
-                        ok = 1; t = hi.t; b1 = hi.b1; b2 = hi.b2;
+                        }
+                        if (!instance_hit(s, p - n_base, r, t_best, best_p != no_hit, 0, avx, &hi))
+                            continue;
+                        ok = 1; t = floored(hi.t, te); b1 = hi.b1; b2 = hi.b2;
                     }
                 }
                 if (!ok) continue;
@@ -1222,17 +1338,18 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 /* the ray's own tmax is excluded (best_p = -1 loses every tie);
                    a tie with the best so far goes to the smaller primitive id */
                 if (!(t < t_best || p < best_p)) continue;
-                take_closer(t, b1, b2, p, &t_best, &t_cull, &best_p, h);
+                take_closer(t, b1, b2, p, &t_best, &best_p, h);
                 if (p >= n_tris && p >= prim_base(s)) { h->prim = hi.prim; h->inst = p - prim_base(s); }
             }
         }
         /* pop the next child that may still hold a hit at t <= t_best (a shadow ray's
-           t_cull never changes, as it returns at its first hit, and every child on
-           its stack passed it when pushed: it neither stores t_z nor tests it) */
+           t_best never changes, as it returns at its first hit, and every child on
+           its stack passed it when pushed: it neither stores the entry distance nor
+           tests it) */
         do {
             if (sp == 0) return best_p != no_hit;
             sp--;
-        } while (!any_hit && stack[sp].t_z > t_cull);
+        } while (!any_hit && stack[sp].t > t_best);
         ref = stack[sp].ref;
     }
 }
@@ -1313,19 +1430,18 @@ int bvh_avx2(void)
 }
 
 /* The children of node nd that differ in any bit between the scalar slab test and
-   rank (m0, te0, tz0) and those of the SIMD path (avx: the AVX2 one, else SSE2). */
-HOT_INLINE int node_mismatches(const BvhNode *nd, const RayPre *rp, float t_cull, int avx)
+   rank (m0, te0) and those of the SIMD path (avx: the AVX2 one, else SSE2). */
+HOT_INLINE int node_mismatches(const BvhNode *nd, const RayPre *rp, float t_best, int avx)
 {
-    float te[2][BVH_WIDTH], tz[2][BVH_WIDTH];
-    const unsigned m0 = node_hit_mask_scalar(nd, rp, t_cull, te[0], tz[0]);
-    const unsigned m1 = avx ? node_hit8(nd, rp, t_cull, te[1], tz[1])
-                            : node_hit_mask(nd, rp, t_cull, te[1], tz[1]);
+    float te[2][BVH_WIDTH];
+    const unsigned m0 = node_hit_mask_scalar(nd, rp, t_best, te[0]);
+    const unsigned m1 = avx ? node_hit8(nd, rp, t_best, te[1])
+                            : node_hit_mask(nd, rp, t_best, te[1]);
     int j, bad = 0;
     for (j = 0; j < BVH_WIDTH; j++) {
         const int in0 = (m0 >> j) & 1u, in1 = (m1 >> j) & 1u;
         bad += in0 != in1 ||
-               memcmp(&te[0][j], &te[1][j], sizeof(float)) != 0 ||
-               memcmp(&tz[0][j], &tz[1][j], sizeof(float)) != 0;
+               memcmp(&te[0][j], &te[1][j], sizeof(float)) != 0;
         if (in0 && in1)                    /* the order of the children entered */
             bad += child_rank_scalar(te[0], m0, j) !=
                    (avx ? child_rank8(te[1], m1, j) : child_rank(te[1], m1, j));
@@ -1335,9 +1451,9 @@ HOT_INLINE int node_mismatches(const BvhNode *nd, const RayPre *rp, float t_cull
 
 #if BVH_AVX
 AVX2_STATIC int node_mismatches_avx2(const BvhNode *nd, const RayPre *rp,
-                                                                float t_cull)
+                                                                float t_best)
 {
-    return node_mismatches(nd, rp, t_cull, 1);
+    return node_mismatches(nd, rp, t_best, 1);
 }
 #endif
 
@@ -1406,7 +1522,8 @@ AVX2_STATIC int prepare_mismatch(const Bvh *b, const Ray *r)
     ray_prepare4(&c);
     bad = BITS_DIFFER(c.o, v.o) | BITS_DIFFER(c.d, v.d) | BITS_DIFFER(c.inv_d, v.inv_d) |
           (c.ord != v.ord) | BITS_DIFFER(c.S, v.S) | BITS_DIFFER(c.o_k, v.o_k) |
-          BITS_DIFFER(c.sx4, v.sx4) | BITS_DIFFER(c.sy4, v.sy4);
+          BITS_DIFFER(c.sx4, v.sx4) | BITS_DIFFER(c.sy4, v.sy4) |
+          BITS_DIFFER(c.d_k, v.d_k) | BITS_DIFFER(c.inv_k, v.inv_k);
     for (a = 0; a < 3; a++)
         bad |= BITS_DIFFER(c.o_ax[a], v.o_ax[a]) |
                BITS_DIFFER(c.ninv_ax[a], v.ninv_ax[a]) |
@@ -1416,7 +1533,7 @@ AVX2_STATIC int prepare_mismatch(const Bvh *b, const Ray *r)
 #undef BITS_DIFFER
 #endif
 
-int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes)
+int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_best, int *lanes)
 {
     RayPre rp;
     int i, bad = 0;
@@ -1433,11 +1550,11 @@ int bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes)
     if (avx) ray_prepare4(&rp);
 #endif
     for (i = 0; i < b->n_nodes; i++) {
-        bad += node_mismatches(&b->nodes[i], &rp, t_cull, 0);
+        bad += node_mismatches(&b->nodes[i], &rp, t_best, 0);
         *lanes += BVH_WIDTH;
 #if BVH_AVX
         if (avx) {
-            bad += node_mismatches_avx2(&b->nodes[i], &rp, t_cull);
+            bad += node_mismatches_avx2(&b->nodes[i], &rp, t_best);
             *lanes += BVH_WIDTH;
         }
 #endif

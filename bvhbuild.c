@@ -129,10 +129,9 @@ static int prim_info(const Scene *s, int id, PrimInfo *info)
         const Shape *sh;
         if (j < 0 || j >= s->n_shapes) return 0;
         sh = &s->shapes[j];
-        for (a = 0; a < 3; a++) {         /* rounded outwards: the box holds the sphere */
-            float c = v3_get(sh->center, a);
-            b->lo[a] = nextafterf(c - sh->radius, -FLT_MAX);
-            b->hi[a] = nextafterf(c + sh->radius, FLT_MAX);
+        {
+            const float c[3] = { sh->center.x, sh->center.y, sh->center.z };
+            bvh_sphere_box(c, sh->radius, b->lo, b->hi);
         }
     } else if (id < n_quad_end) {
         const int j = s->quadric_shape[id - s->n_tris - s->n_spheres];
@@ -157,6 +156,26 @@ static int prim_info(const Scene *s, int id, PrimInfo *info)
         if (!isfinite(b->lo[a]) || !isfinite(b->hi[a])) return 0;
         info->centroid[a] = 0.5f * b->lo[a] + 0.5f * b->hi[a];
     }
+    return 1;
+}
+
+/* A sphere's box, rounded outwards so that it holds the sphere (also bvh.c's, for
+   the hit's floor: the same floats) */
+void bvh_sphere_box(const float c[3], float radius, float lo[3], float hi[3])
+{
+    int a;
+    for (a = 0; a < 3; a++) {
+        lo[a] = nextafterf(c[a] - radius, -FLT_MAX);
+        hi[a] = nextafterf(c[a] + radius, FLT_MAX);
+    }
+}
+
+int bvh_prim_box(const Scene *s, int id, float lo[3], float hi[3])
+{
+    PrimInfo info;
+    int a;
+    if (!prim_info(s, id, &info)) return 0;
+    for (a = 0; a < 3; a++) { lo[a] = info.box.lo[a]; hi[a] = info.box.hi[a]; }
     return 1;
 }
 

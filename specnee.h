@@ -768,20 +768,27 @@ int  bvh_build(Bvh *b, const struct Scene *s);          /* bvhbuild.c; 0 on out 
    patch; bvh.c's numbering), -1 for an index out of range (also instance.c's). */
 int  bvh_prim_shape(const struct Scene *s, int id);
 void bvh_free(Bvh *b);
+/* The box the build gives primitive id (bvhbuild.c; the tree's boxes are unions of
+   these), and a sphere's (rounded outwards); 0 for an invalid primitive.  A hit on
+   a primitive is never reported nearer than its box's entry distance (bvh.c, THE
+   HIT'S FLOOR); bvh_hit_floor is that distance along r, for tests. */
+int  bvh_prim_box(const struct Scene *s, int id, float lo[3], float hi[3]);
+void bvh_sphere_box(const float c[3], float radius, float lo[3], float hi[3]);
+float bvh_hit_floor(const struct Scene *s, int id, const Ray *r);
 /* Closest hit along r (0 < t < r->tmax); returns 1 and fills h on a hit. */
 int  bvh_intersect(const Bvh *b, const struct Scene *s, const Ray *r, HitRecord *h);
 /* Any hit along r: the shadow-ray query. */
 int  bvh_occluded(const Bvh *b, const struct Scene *s, const Ray *r);
 /* The slab test runs on four children at a time in SSE2 where the compiler has it,
    and on all eight in AVX2 where the processor has it too (bvh_avx2() = 1), beside
-   the scalar code they mirror (bvh.c).  For ray r and culling distance t_cull:
-   how many children of b's nodes get an entry distance, a near plane, an
+   the scalar code they mirror (bvh.c).  For ray r and closest hit so far t_best:
+   how many children of b's nodes get an entry distance, an
    entered/not or a rank that differs in any bit between the scalar code and each
    SIMD path, plus how many masks 1..255 get different lowest bits from the two bit
    scans; *lanes += children compared (each node's 8 once per SIMD path).  With AVX2
    it also counts 1 when the AVX2 copy's ray preparation (its verdict, or a field the
    traversal reads) differs from the scalar one.  For tests. */
-int  bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_cull, int *lanes);
+int  bvh_simd_mismatches(const Bvh *b, const Ray *r, float t_best, int *lanes);
 int  bvh_avx2(void);
 /* Where the AVX2 copy runs, a triangle is first tested by a 4-lane filter (bvh.c:
    tri_miss4) and finished from its lanes (tri_hit_rest): how many of b's triangle

@@ -9,9 +9,14 @@
                          icosphere with every triangle duplicated, overlapping coplanar
                          triangles) with rays through vertices and edges, along the axes
                          and the normals, and grazing the triangles' planes
+     bvh_hit_floor       a hit is never reported nearer than its primitive's box (the
+                         floor is met exactly on axis-aligned faces hit along the
+                         axes, and never undercut), and the floor moves no hit off
+                         its triangle or sphere (t within 1e-5 of the distance solved
+                         in double for rays that meet them at more than 10 degrees)
      bvh_simd_matches_scalar  the slab test's SSE2 code, and its AVX2 code where the
                          processor has AVX2, equal the scalar code they mirror bit for
-                         bit (entry distances, near planes, the mask, the ranks),
+                         bit (entry distances, the mask, the ranks),
                          with d = 0 axes and origins on the boxes' planes; the two bit
                          scans agree on every 8-bit mask
      bvh_avx2_triangle_filter  the AVX2 traversal's 4-lane triangle filter gives the
@@ -411,6 +416,108 @@ static void test_bvh_exact_adversarial(T *t)
         CHECK(t, bad == 0, "%s: %d of %d rays differ from brute force; %s", names[scene], bad,
               n_rays + n_rays / 4, msg);
     }
+}
+
+/* THE HIT'S FLOOR (bvh.c, ORDER INDEPENDENCE): a hit is reported at
+   max(t_test, entry distance of the primitive's box), which is what lets the
+   traversal cull on the full entry distance.  On the axis-aligned faces of a cube
+   hit along the axes the box is flat, and the watertight test's t and the box's
+   entry distance round differently: the floor must be met exactly by some hits (so
+   it is applied) and undercut by none.  On a soup of triangles and spheres, rays
+   that meet a primitive at more than 10 degrees: the reported t within 1e-5
+   (relative) of the distance solved in double, so the floor moves no hit off its
+   primitive (a floor from the far planes, or from a box too large, would). */
+static void test_bvh_hit_floor(T *t)
+{
+    const int n = test_scaled(4000, 1000);
+    Scene s;
+    Rng rng;
+    int k, hits = 0, met = 0, under = 0, far = 0, worst_k = -1;
+    double worst = 0.0;
+    rng_seed(&rng, 41, 0);
+    CHECK(t, make_grid_cube(&s, 6), "out of memory");
+    for (k = 0; k < n; k++) {
+        const int p = (int)(rng_float(&rng) * (float)s.n_tris) % s.n_tris;
+        const Triangle *tri = &s.tris[p];
+        const Vec3 a = s.P[tri->v[0]], b = s.P[tri->v[1]], c = s.P[tri->v[2]];
+        const int ax = a.x == b.x && b.x == c.x ? 0 : a.y == b.y && b.y == c.y ? 1 : 2;
+        float u = rng_float(&rng), v = rng_float(&rng), th, b1, b2, sgn = rng_float(&rng) < 0.5f ? -1.0f : 1.0f;
+        Ray r;
+        if (u + v > 1.0f) { u = 1.0f - u; v = 1.0f - v; }
+        r.d = v3(ax == 0 ? sgn : 0.0f, ax == 1 ? sgn : 0.0f, ax == 2 ? sgn : 0.0f);
+        r.o = v3_sub(v3_add(a, v3_add(v3_mul(v3_sub(b, a), u), v3_mul(v3_sub(c, a), v))),
+                     v3_mul(r.d, urand(&rng, 0.5f, 3.0f)));
+        r.tmax = INFINITY;
+        if (!intersect_triangle(a, b, c, &r, &th, &b1, &b2)) continue;
+        hits++;
+        met += th == bvh_hit_floor(&s, p, &r);
+        under += th < bvh_hit_floor(&s, p, &r);
+    }
+    scene_release(&s);
+    CHECK(t, hits > n * 9 / 10 && under == 0 && met > hits / 20,
+          "cube faces along the axes: %d of %d rays hit, %d at their floor, %d below it", hits, n, met, under);
+
+    CHECK(t, make_soup(&s, &rng, 300, 40), "out of memory");
+    hits = 0;
+    for (k = 0; k < n; k++) {
+        const int p = (int)(rng_float(&rng) * (float)(s.n_tris + s.n_spheres)) % (s.n_tris + s.n_spheres);
+        double te, o[3], d[3], q[3], nn[3], dn = 0, qn = 0, dd = 0;
+        Vec3 target, nrm;
+        float th, b1, b2;
+        int hit, i;
+        Ray r;
+        if (p < s.n_tris) {
+            const Triangle *tri = &s.tris[p];
+            const Vec3 a = s.P[tri->v[0]], b = s.P[tri->v[1]], c = s.P[tri->v[2]];
+            float u = rng_float(&rng), v = rng_float(&rng);
+            if (u + v > 1.0f) { u = 1.0f - u; v = 1.0f - v; }
+            nrm = v3_cross(v3_sub(b, a), v3_sub(c, a));
+            if (!(v3_dot(nrm, nrm) > 1e-12f)) continue;               /* degenerate */
+            nrm = v3_norm(nrm);
+            target = v3_add(a, v3_add(v3_mul(v3_sub(b, a), u), v3_mul(v3_sub(c, a), v)));
+        } else {
+            const Shape *sh = &s.shapes[s.sphere_shape[p - s.n_tris]];
+            nrm = random_dir(&rng);
+            target = v3_add(sh->center, v3_mul(nrm, sh->radius));
+        }
+        r.d = random_dir(&rng);
+        if (v3_dot(r.d, nrm) > 0.0f) r.d = v3_mul(r.d, -1.0f);          /* towards the face */
+        if (!(-v3_dot(r.d, nrm) > 0.17f)) continue;                     /* more than 10 degrees */
+        r.o = v3_sub(target, v3_mul(r.d, urand(&rng, 0.3f, 3.0f)));
+        r.tmax = INFINITY;
+        /* the distance in double to the plane of the triangle, or to the sphere */
+        o[0] = r.o.x; o[1] = r.o.y; o[2] = r.o.z;
+        d[0] = r.d.x; d[1] = r.d.y; d[2] = r.d.z;
+        if (p < s.n_tris) {
+            const Triangle *tri = &s.tris[p];
+            const Vec3 a = s.P[tri->v[0]], b = s.P[tri->v[1]], c = s.P[tri->v[2]];
+            const double e1[3] = { (double)b.x - a.x, (double)b.y - a.y, (double)b.z - a.z };
+            const double e2[3] = { (double)c.x - a.x, (double)c.y - a.y, (double)c.z - a.z };
+            nn[0] = e1[1] * e2[2] - e1[2] * e2[1];
+            nn[1] = e1[2] * e2[0] - e1[0] * e2[2];
+            nn[2] = e1[0] * e2[1] - e1[1] * e2[0];
+            q[0] = (double)a.x - o[0]; q[1] = (double)a.y - o[1]; q[2] = (double)a.z - o[2];
+            for (i = 0; i < 3; i++) { dn += d[i] * nn[i]; qn += q[i] * nn[i]; }
+            te = qn / dn;
+            hit = intersect_triangle(a, b, c, &r, &th, &b1, &b2);
+        } else {
+            const Shape *sh = &s.shapes[s.sphere_shape[p - s.n_tris]];
+            double bq = 0, cq = -(double)sh->radius * sh->radius;
+            q[0] = o[0] - sh->center.x; q[1] = o[1] - sh->center.y; q[2] = o[2] - sh->center.z;
+            for (i = 0; i < 3; i++) { dd += d[i] * d[i]; bq += q[i] * d[i]; cq += q[i] * q[i]; }
+            te = (-bq - sqrt(bq * bq - dd * cq)) / dd;                   /* the nearer root */
+            hit = intersect_sphere(sh->center, sh->radius, &r, &th);
+        }
+        if (!hit || !(te > 0.0)) continue;
+        hits++;
+        under += th < bvh_hit_floor(&s, p, &r);
+        if (fabs(th - te) > worst * te) { worst = fabs(th - te) / te; worst_k = k; }
+        far += fabs(th - te) > 1e-5 * te;
+    }
+    scene_release(&s);
+    CHECK(t, hits > n / 4 && under == 0 && far == 0,
+          "soup: %d hits, %d below their floor, %d off by more than 1e-5 (worst %.3g, ray %d)",
+          hits, under, far, worst, worst_k);
 }
 
 /* The slab test's and the rank's SSE2 code, and their AVX2 code where the processor
@@ -1326,6 +1433,7 @@ static void test_ply_fuzz(T *t)
 const TestCase tests_bvh[] = {
     {"bvh_vs_brute", test_bvh_vs_brute},
     {"bvh_exact_adversarial", test_bvh_exact_adversarial},
+    {"bvh_hit_floor", test_bvh_hit_floor},
     {"bvh_simd_matches_scalar", test_bvh_simd_matches_scalar},
     {"bvh_avx2_triangle_filter", test_bvh_avx2_triangle_filter},
     {"bvh_watertight_icosphere", test_bvh_watertight_icosphere},
