@@ -800,7 +800,8 @@ int  bvh_avx2(void);
 int  bvh_tri_filter_mismatches(const Bvh *b, const struct Scene *s, const Ray *r, int *tested);
 /* The BVH over the given primitives only (an object definition's: instance.c). */
 int  bvh_build_object(Bvh *b, const struct Scene *s, const int32_t *ids, int n);
-/* The two primitive tests, exposed for tests and the brute-force reference. */
+/* The two primitive tests, exposed for tests and the brute-force reference; each
+   reports a hit no nearer than its primitive's box (bvh.c, THE HIT'S FLOOR). */
 int  intersect_triangle(Vec3 p0, Vec3 p1, Vec3 p2, const Ray *r, float *t, float *b1, float *b2);
 int  intersect_sphere(Vec3 c, float radius, const Ray *r, float *t);
 
