@@ -74,10 +74,10 @@
    id, where a hit's t is never reported nearer than its primitive's own box (the
    hit's floor: the proof opens the traversal section; tests/test_bvh.c checks it
    bit for bit).
-   Speed: docs/bvh.md has the figures (Embree 3 is about 1.2 times faster on all of
-   tools/bench's incoherent rays, about 1.4 on those that enter the mesh's box with
-   the SSE2 copy, less with the AVX2 copy), what each choice gains and what was
-   tried.
+   Speed: docs/bvh.md has the figures (Embree 3 is about 1.07 times faster on all
+   of tools/bench's incoherent rays and about 1.28 on those that enter the mesh's
+   box, closest hit, with the AVX2 copy; more with the SSE2 copy), what each choice
+   gains and what was tried.
 
    ALPHA (pbrt-v4's "alpha" of a shape; alpha_keep): a hit on a shape with
    alpha_on counts only when u <= a, with a the shape's "float alpha" or its float
