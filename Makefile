@@ -29,7 +29,7 @@ DETECTED != sh tools/ccflags.sh "$(CC)"
 CFLAGS = $(OPT) $(WARN) $(DETECTED)
 LDLIBS = -lm
 
-LIBOBJ = util.o sampler.o bvh.o bvhbuild.o instance.o motion.o shapes.o patch.o curve.o spectrum.o rgbfit.o wavelengths.o metals.o lights.o arealight.o sphtri.o lighttree.o infinite.o \
+LIBOBJ = util.o sampler.o bvh.o bvhbuild.o hitpoint.o instance.o motion.o shapes.o patch.o curve.o spectrum.o rgbfit.o wavelengths.o metals.o lights.o arealight.o sphtri.o lighttree.o infinite.o \
          delta.o texture.o filter.o parser.o options.o scene.o geometry.o dump.o ply.o displace.o subdiv.o medium.o equiangular.o nanovdb.o material.o microfacet.o \
          conductor.o layered.o hair.o measured.o subsurface.o bump.o camera.o lens.o path.o sensor.o render.o image.o png.o exr.o svg.o cmd_converge.o cmd_image.o \
          cmd_spectrum.o rgbtable.o

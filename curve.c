@@ -80,7 +80,7 @@
    SELF-INTERSECTION.  pbrt-v4 gives a curve hit the error bound W in each object
    axis (Point3fi pError), carried to the world as sum_j |M_ij| W, and starts a
    ray leaving it |n| . err along n; SurfacePoint.err holds that box and
-   spawn_origin (bvh.c) adds it to the usual offset.  It matters: a ray leaving the
+   spawn_origin (hitpoint.c) adds it to the usual offset.  It matters: a ray leaving the
    band would otherwise meet the same band again (each ray sees it facing itself).
 
    NOT SUPPORTED (refused by name): an AreaLightSource on a curve (pbrt-v4 has no

@@ -60,7 +60,7 @@
       spatial table is used, emitter i's weight is multiplied by reach_i(x) in
       {0, 1}, 0 only where no point of i can light x (the planes of a one-sided mesh
       of at most REACH_MAX_TRIS triangles, a sphere's surface, a disk's plane, a
-      spot's cone; others "may reach"), with the ray-offset margin of bvh.c.  It is
+      spot's cone; others "may reach"), with the ray-offset margin of hitpoint.c.  It is
       part of context_weights, so light_select and light_select_pmf see the same
       zeros; if every weight is 0, NEE takes no sample (unbiased: nothing can
       light x). */

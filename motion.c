@@ -10,7 +10,7 @@
                       one's at the ray's time
      instance_ray,    the ray in the instance's object space, and a hit point found
      instance_point   there put back into the world (instance.c: RAYS AND HITS;
-                      bvh.c's traversal and scene_surface_point call them)
+                      bvh.c's traversal and hitpoint.c's scene_surface_point call them)
    USE: scene.c keeps two CTMs, the start and the end one; `ActiveTransform
    StartTime`, `EndTime` and `All` choose which of them the transform directives
    change.  A shape whose two CTMs differ is made in its own space (CTM = identity;

@@ -49,7 +49,7 @@
    e = e(u) and m = d x e, the system w = t d - v e gives by Cramer's rule
        v = w . (d x m) / |m|^2,    t = w . (e x m) / |m|^2,
    kept when 0 <= v <= 1 and 0 < t <= tmax (t rounded to float, as for quadrics);
-   the nearer of the two roots wins.  Self-intersection: bvh.c's policy holds, a
+   the nearer of the two roots wins.  Self-intersection: hitpoint.c's policy holds, a
    secondary ray starts off the surface by 1e-5 (1 + max |p_i|).
 
    INVERSION of a flat patch at a point p (double): with h = p - p00, drop the axis

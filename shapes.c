@@ -52,7 +52,7 @@
      lies behind the origin or outside the kept part (z range, phi), the farther
      one: a ray from inside a cylinder, or through the opening of a cut sphere, hits
      the far wall.
-   SELF-INTERSECTION: bvh.c's policy holds as for spheres.  A secondary ray starts
+   SELF-INTERSECTION: hitpoint.c's policy holds as for spheres.  A secondary ray starts
    offset_ray_origin's 1e-5 (1 + max |p_i|) off the surface, on the side it leaves
    to; the root at that surface is then clearly negative in double (of the order of
    the offset over the cosine), so only t > 0 (in float) is asked of a root.

@@ -642,7 +642,7 @@ WlMode wl_mode_from_name(const char *name);               /* WL_MODE_COUNT if un
 const char *wl_mode_name(WlMode m);
 
 /* ======================================================================
-   5. Geometry (scene.c builds it, bvhbuild.c its BVH, bvh.c intersects it, shapes.c holds the quadrics)
+   5. Geometry (scene.c builds it, bvhbuild.c its BVH, bvh.c intersects it, hitpoint.c reads a hit, shapes.c holds the quadrics)
    ====================================================================== */
 typedef enum {
     SHAPE_MESH,                /* triangles (trianglemesh, bilinearmesh, plymesh) */
@@ -870,6 +870,7 @@ typedef struct {
                                   (hair.c: the fibre's axis) and tangent_shade (bump.c: an
                                   anisotropic BSDF's s axis, pbrt-v4's dp/du) */
 } SurfacePoint;
+/* The surface point at hit h of ray r (hitpoint.c). */
 void scene_surface_point(const struct Scene *s, const Ray *r, const HitRecord *h, SurfacePoint *sp);
 /* An instance's transforms (motion.c; instance.c: RAYS AND HITS): its M for ray r (a moving
    one's at the ray's time, written into *tmp), the world ray r in its object
@@ -878,7 +879,7 @@ const Xform *instance_xf(const struct Scene *s, const Instance *in, const Ray *r
 Ray  instance_ray(const Xform *x, const Ray *r);
 void instance_point(const Xform *x, SurfacePoint *sp);
 /* Origin for a ray leaving p towards w: p moved along ng to w's side by
-   1e-5 (1 + max|p_i|) (the self-intersection policy at the top of bvh.c). */
+   1e-5 (1 + max|p_i|) (the self-intersection policy at the top of hitpoint.c). */
 Vec3 offset_ray_origin(Vec3 p, Vec3 ng, Vec3 w);
 /* The origin of a ray leaving the hit sp towards w: offset_ray_origin moved further
    along ng by |ng| . sp->err (pbrt-v4's offset past a curve hit's error box). */
@@ -2298,7 +2299,7 @@ float emitter_alpha(const Scene *s, int e);
    weighs the radiance by the probability alpha(x) with which a ray finds x (bvh.c
    ALPHA); emitter_alpha without a texture. */
 float emitter_alpha_at(const Scene *s, int e, Vec3 ref, const EmitterSample *es);
-/* The surface point of es on emitter e (bvh.c's scene_surface_point, as a ray
+/* The surface point of es on emitter e (hitpoint.c's scene_surface_point, as a ray
    from ref would find it), for what depends on its (u, v): an alpha texture, an
    emission image.  Returns sp, or NULL for an infinite or delta light or a
    sample without its primitive. */

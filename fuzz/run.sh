@@ -25,7 +25,7 @@ if ! "$CC" -fsanitize=fuzzer build/fuzz/probe.c -o build/fuzz/probe >/dev/null 2
     exit 2
 fi
 ${MAKE:-make} rgbtable.h || exit 1      # rgbtable.c's build-time table
-LIBSRC="util.c sampler.c bvh.c bvhbuild.c instance.c motion.c shapes.c patch.c curve.c spectrum.c wavelengths.c metals.c lights.c arealight.c sphtri.c lighttree.c infinite.c delta.c texture.c filter.c parser.c options.c scene.c geometry.c dump.c ply.c displace.c subdiv.c medium.c equiangular.c nanovdb.c material.c microfacet.c conductor.c layered.c hair.c measured.c subsurface.c bump.c camera.c lens.c path.c sensor.c render.c image.c png.c exr.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c rgbfit.c rgbtable.c"
+LIBSRC="util.c sampler.c bvh.c bvhbuild.c hitpoint.c instance.c motion.c shapes.c patch.c curve.c spectrum.c wavelengths.c metals.c lights.c arealight.c sphtri.c lighttree.c infinite.c delta.c texture.c filter.c parser.c options.c scene.c geometry.c dump.c ply.c displace.c subdiv.c medium.c equiangular.c nanovdb.c material.c microfacet.c conductor.c layered.c hair.c measured.c subsurface.c bump.c camera.c lens.c path.c sensor.c render.c image.c png.c exr.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c rgbfit.c rgbtable.c"
 FLAGS="-std=c99 -g -O1 -ffp-contract=off -fno-omit-frame-pointer \
        -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all"
 summary=""

@@ -498,7 +498,7 @@ if [ "$full" != 1 ]; then
 fi
 if [ "$full" = 1 ]; then
     # ---- 3. three compilers, warnings are errors (each one that is installed)
-    LIBSRC="util.c sampler.c bvh.c bvhbuild.c instance.c motion.c shapes.c patch.c curve.c spectrum.c wavelengths.c metals.c lights.c arealight.c sphtri.c lighttree.c infinite.c delta.c texture.c filter.c parser.c options.c scene.c geometry.c dump.c ply.c displace.c subdiv.c medium.c equiangular.c nanovdb.c material.c microfacet.c conductor.c layered.c hair.c measured.c subsurface.c bump.c camera.c lens.c path.c sensor.c render.c image.c png.c exr.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c rgbfit.c rgbtable.c"
+    LIBSRC="util.c sampler.c bvh.c bvhbuild.c hitpoint.c instance.c motion.c shapes.c patch.c curve.c spectrum.c wavelengths.c metals.c lights.c arealight.c sphtri.c lighttree.c infinite.c delta.c texture.c filter.c parser.c options.c scene.c geometry.c dump.c ply.c displace.c subdiv.c medium.c equiangular.c nanovdb.c material.c microfacet.c conductor.c layered.c hair.c measured.c subsurface.c bump.c camera.c lens.c path.c sensor.c render.c image.c png.c exr.c svg.c cmd_converge.c cmd_image.c cmd_spectrum.c rgbfit.c rgbtable.c"
     proven=""
     for cc in gcc clang tcc; do
         if ! have_cc $cc; then skip "build_$cc: $cc not installed (CI proves it)"; continue; fi

@@ -4,8 +4,9 @@
    An instanced scene is checked against the same geometry written out directly
    (hit for hit: t, point, normals, (u, v), shape; and image for image), against
    analytic ray/ellipsoid and ray/triangle answers under translate, rotate and
-   non-uniform scale, for the closest-hit tie rule between coincident instances,
-   and against a frozen pbrt-v4 image.  Every refusal is checked by its message and
+   non-uniform scale, for the closest-hit tie rule between coincident instances
+   (also twenty of them met largest id first, and a farther instance of smaller id
+   met last), and against a frozen pbrt-v4 image.  Every refusal is checked by its message and
    line.  Attribute: a directive's own parameter wins over the newest Attribute,
    which wins over older ones, and AttributeEnd drops them (pbrt-v4's
    ParameterDictionary order). */
@@ -313,6 +314,58 @@ static void test_instance_ties(T *t)
     scene_free(&s);
 }
 
+/* ---- ties and order between many instances ------------------------------------
+   Twenty objects, each the quad at z = 0 and a small triangle off to the side at
+   z = 0.1 (k + 1), so that instance k's box reaches nearer a camera above as k
+   grows: the traversal meets the instances in the order of their boxes, the
+   largest id first, and their centroids spread so that they sit in different
+   leaves.  Every ray aimed at the quad hits all twenty at one t; the tie goes to
+   the smallest id, instance 0, which a trace of instance 0's object must accept at
+   t equal to the best so far.  Then a twenty-first instance, declared first (id
+   0): the quad moved back to z = -1, its side triangle to z = 0.05, so that its
+   box still reaches above the quad but less than any other: the traversal meets
+   it last, after the hit at the quad, and its object's trace must stop at that
+   hit, since its own smaller id must not win with a farther t. */
+static void test_instance_ties_many(T *t)
+{
+    static char text[16384];
+    int pass;
+    for (pass = 0; pass < 2; pass++) {
+        Scene s;
+        Rng rng;
+        size_t n = 0;
+        int i, k;
+        n += (size_t)snprintf(text + n, sizeof text - n, "WorldBegin\n");
+        if (pass == 1)
+            n += (size_t)snprintf(text + n, sizeof text - n, "ObjectBegin \"back\"\n"
+                 " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]\n"
+                 " Shape \"trianglemesh\" \"point3 P\" [ 5 0 1.05  6 0 1.05  5 1 1.05 ]\n"
+                 "ObjectEnd\nAttributeBegin\n Translate 0 0 -1\n ObjectInstance \"back\"\nAttributeEnd\n");
+        for (k = 0; k < 20; k++)
+            n += (size_t)snprintf(text + n, sizeof text - n, "ObjectBegin \"q%d\"\n"
+                 " Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 0 2 3 ] \"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]\n"
+                 " Shape \"trianglemesh\" \"point3 P\" [ 5 0 %g  6 0 %g  5 1 %g ]\n"
+                 "ObjectEnd\nObjectInstance \"q%d\"\n", k, 0.1 * (k + 1), 0.1 * (k + 1), 0.1 * (k + 1), k);
+        if (!test_load_scene(t, &s, text)) return;
+        CHECK(t, s.n_instances == 20 + pass, "%d instances", s.n_instances);
+        rng_seed(&rng, 37, (uint64_t)pass);
+        for (i = 0; i < 2000; i++) {
+            Vec3 u = rng_vec3(&rng), aim;
+            Ray r;
+            HitRecord h;
+            aim = v3(-0.95f + 1.9f * u.x, -0.95f + 1.9f * u.y, 0.0f);
+            u = rng_vec3(&rng);
+            r.o = v3(-2.0f + 4.0f * u.x, -2.0f + 4.0f * u.y, 3.0f + u.z);
+            r.d = v3_sub(aim, r.o);
+            r.tmax = INFINITY;
+            CHECK(t, bvh_intersect(&s.bvh, &s, &r, &h), "pass %d, ray %d missed", pass, i);
+            CHECK(t, h.inst == pass && h.t > 0.999f && h.t < 1.001f,
+                  "pass %d, ray %d: instance %d won at t %g, not instance %d at t 1", pass, i, h.inst, h.t, pass);
+        }
+        scene_free(&s);
+    }
+}
+
 /* ---- a frozen pbrt-v4 image ----------------------------------------------------
    A floor, a disk lamp, a distant light and three instances of a sphere and a
    triangle (plain; rotated with a non-uniform scale; mirrored).  pbrt-v4 (mmp/pbrt-v4
@@ -500,6 +553,7 @@ const TestCase tests_instance[] = {
     { "instance_image_written_out", test_instance_image_written_out },
     { "instance_analytic", test_instance_analytic },
     { "instance_ties", test_instance_ties },
+    { "instance_ties_many", test_instance_ties_many },
     { "instance_against_pbrt", test_instance_against_pbrt },
     { "instance_errors", test_instance_errors },
     { "attribute_precedence", test_attribute_precedence },
