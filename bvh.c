@@ -1140,6 +1140,32 @@ static float prim_floor(const Scene *s, const RayPre *rp, int p)
     return bvh_prim_box(s, p, lo, hi) ? box_entry(rp, lo, hi) : INFINITY;
 }
 
+/* A hit on quadric, patch or curve piece p (n_tris + n_spheres <= p < the
+   instances) at t <= t_best, floored (THE HIT'S FLOOR); b1, b2: 0 for a quadric, a
+   patch's or a curve piece's (u, v) */
+static int shape_hit(const Scene *s, const RayPre *rp, const Ray *r, int p, float t_best,
+                     int any_hit, float *t, float *b1, float *b2)
+{
+    const int n_quad_end = s->n_tris + s->n_spheres + s->n_quadrics;
+    const int n_patch_end = n_quad_end + s->n_patches;
+    int ok;
+    if (p < n_quad_end) {
+        ok = quadric_intersect(&s->shapes[s->quadric_shape[p - s->n_tris - s->n_spheres]], r, t_best, t);
+        *b1 = *b2 = 0.0f;
+    } else if (p < n_patch_end) {
+        Vec3 c[4];
+        patch_corners(s, s->patches[p - n_quad_end].v, c);
+        ok = patch_intersect(c, r, t_best, t, b1, b2);
+    } else {
+        HitRecord hi;
+        ok = curve_intersect(s, &s->curve_pieces[p - n_patch_end], r, t_best, any_hit, &hi);
+        if (ok) { *t = hi.t; *b1 = hi.b1; *b2 = hi.b2; }
+    }
+    if (!ok) return 0;
+    *t = floored(*t, prim_floor(s, rp, p));
+    return *t <= t_best;
+}
+
 float bvh_hit_floor(const Scene *s, int id, const Ray *r)
 {
     RayPre rp;
@@ -1279,27 +1305,11 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                     ok = avx ? tri_hit_avx2(&rp, q->v, t_best, &t, &b1, &b2)   /* a filter first */
                              : tri_hit(&rp, q->v, t_best, &t, &b1, &b2);
                 else {
-                    const int n_sph_end = n_tris + s->n_spheres, n_quad_end = n_sph_end + s->n_quadrics;
-                    const int n_patch_end = n_quad_end + s->n_patches, n_base = prim_base(s);
+                    const int n_sph_end = n_tris + s->n_spheres, n_base = prim_base(s);
                     if (p < n_sph_end) {
                         ok = sphere_hit(&rp, q->v, t_best, &t); b1 = b2 = 0.0f;
                     } else if (p < n_base) {
-                        /* the other kinds floor their hits here (THE HIT'S FLOOR) */
-                        if (p < n_quad_end) {
-                            ok = quadric_intersect(&s->shapes[s->quadric_shape[p - n_sph_end]], r, t_best, &t);
-                            b1 = b2 = 0.0f;
-                        } else if (p < n_patch_end) {
-                            Vec3 c[4];     /* a patch: b1, b2 carry its (u, v) */
-                            patch_corners(s, s->patches[p - n_quad_end].v, c);
-                            ok = patch_intersect(c, r, t_best, &t, &b1, &b2);
-                        } else {           /* a curve piece: b1, b2 carry its (u, v) */
-                            ok = curve_intersect(s, &s->curve_pieces[p - n_patch_end], r, t_best, any_hit, &hi);
-                            if (ok) { t = hi.t; b1 = hi.b1; b2 = hi.b2; }
-                        }
-                        if (ok) {
-                            t = floored(t, prim_floor(s, &rp, p));
-                            ok = t <= t_best;
-                        }
+                        ok = shape_hit(s, &rp, r, p, t_best, any_hit, &t, &b1, &b2);
                     } else {
                         /* an instance: its object's closest hit, floored by the
                            instance's box; a shadow ray needs only to know that the
