@@ -323,13 +323,9 @@ void shading_differentials(const Scene *s, const Ray *r, const HitRecord *h, Sur
     }
     if (h->prim < s->n_tris && sh->bilinear) {
         /* a flat patch kept as two triangles (bvh.c): the patch at the point's (u, v) */
-        const Triangle *t0 = &s->tris[sh->tri_begin + 2 * ((h->prim - sh->tri_begin) / 2)];
         int32_t q[4];
-        Vec3 c[4];
         float pu, pv;
-        q[0] = t0[0].v[0]; q[1] = t0[0].v[1]; q[2] = t0[1].v[2]; q[3] = t0[0].v[2];
-        patch_corners(s, q, c);
-        patch_uv_of_point(c, sp->p, &pu, &pv);
+        flat_patch_uv(s, sh, h->prim, sp->p, q, &pu, &pv);
         patch_diff(s, sh, q, pu, pv, sp, d);
     } else if (h->prim < s->n_tris) {
         triangle_diff(s, h, sp, d);

@@ -83,13 +83,9 @@ void scene_surface_point(const Scene *s, const Ray *r, const HitRecord *h, Surfa
            (0,0), (1,0), (1,1), i.e. u = b1 + b2, v = b2; a flat bilinear patch's
            triangle: the patch's own (u, v) at p, "uv" and "N" bilinear (patch.c) */
         if (sh->bilinear) {
-            const Triangle *t0 = &s->tris[sh->tri_begin + 2 * ((h->prim - sh->tri_begin) / 2)];
             int32_t q[4];
-            Vec3 c[4];
             float pu, pv;
-            q[0] = t0[0].v[0]; q[1] = t0[0].v[1]; q[2] = t0[1].v[2]; q[3] = t0[0].v[2];
-            patch_corners(s, q, c);
-            patch_uv_of_point(c, sp->p, &pu, &pv);
+            flat_patch_uv(s, sh, h->prim, sp->p, q, &pu, &pv);
             patch_shading(s, sh, q, pu, pv, sp);
         } else if (sh->has_uv && s->UV) {
             const float *t0 = s->UV + 2 * tri->v[0], *t1 = s->UV + 2 * tri->v[1], *t2 = s->UV + 2 * tri->v[2];

@@ -129,6 +129,15 @@ void patch_corners(const Scene *s, const int32_t v[4], Vec3 c[4])
     for (i = 0; i < 4; i++) c[i] = s->P[v[i]];
 }
 
+void flat_patch_uv(const Scene *s, const Shape *sh, int prim, Vec3 p, int32_t q[4], float *u, float *v)
+{
+    const Triangle *t0 = &s->tris[sh->tri_begin + 2 * ((prim - sh->tri_begin) / 2)];
+    Vec3 c[4];
+    q[0] = t0[0].v[0]; q[1] = t0[0].v[1]; q[2] = t0[1].v[2]; q[3] = t0[0].v[2];
+    patch_corners(s, q, c);
+    patch_uv_of_point(c, p, u, v);
+}
+
 int patch_is_flat(const Vec3 c[4])
 {
     double B[3], C[3], D[3], e1[3], e2[3], N[3], len, n[3], s0 = 0.0;

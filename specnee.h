@@ -918,6 +918,10 @@ double quadric_area_at(const Shape *sh, Vec3 p);
 /* Bilinear patches (patch.c): p(u, v) = lerp(u, lerp(v, p00, p01), lerp(v, p10, p11))
    with corners c = (p00, p10, p01, p11); pbrt-v4's (u, v), normal dp/du x dp/dv. */
 void   patch_corners(const struct Scene *s, const int32_t v[4], Vec3 c[4]);
+/* A flat patch kept as the two triangles (p00,p10,p11), (p00,p11,p01) of shape sh:
+   from triangle prim, the patch's vertex ids q (p00 p10 p01 p11) and the (u, v) of
+   its point p. */
+void   flat_patch_uv(const struct Scene *s, const Shape *sh, int prim, Vec3 p, int32_t q[4], float *u, float *v);
 /* 1 when the patch is planar and not folded: then it is exactly the triangles
    (p00, p10, p11) and (p00, p11, p01), and scene.c stores it so. */
 int    patch_is_flat(const Vec3 c[4]);
