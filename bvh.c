@@ -75,10 +75,10 @@
    id, where a hit's t is never reported nearer than its primitive's own box (the
    hit's floor: the proof opens the traversal section; tests/test_bvh.c checks it
    bit for bit).
-   Speed: docs/bvh.md has the figures (Embree 3 is about 1.07 times faster on all
-   of tools/bench's incoherent rays and about 1.28 on those that enter the mesh's
-   box, closest hit, with the AVX2 copy; more with the SSE2 copy), what each choice
-   gains and what was tried.
+   Speed: docs/bvh.md has the figures (Embree 3 at its fastest is as fast on all of
+   tools/bench's incoherent rays and about 1.26 times faster on those that
+   enter the mesh's box, closest hit, with the AVX2 copy on an AMD Zen 4; more with
+   the SSE2 copy), what each choice gains and what was tried.
 
    ALPHA (pbrt-v4's "alpha" of a shape; alpha_keep): a hit on a shape with
    alpha_on counts only when u <= a, with a the shape's "float alpha" or its float
@@ -152,7 +152,7 @@
 /* Where the processor also has AVX2 (asked at run time: __builtin_cpu_supports), the
    whole traversal runs as a second copy compiled for it (traverse_avx2_*), whose slab
    test takes all 8 children in one 8-lane pass (node_hit8) and whose rank compares all
-   8 slots at once (child_rank8).  Only gcc and clang on x86 know the target attribute
+   8 slots at once, by integer keys (push_ranked8).  Only gcc and clang on x86 know the target attribute
    that compiles one function for an instruction set the rest of the file does not
    assume; tcc, -DSPECNEE_NO_SIMD and -DSPECNEE_NO_AVX keep the SSE2 (or scalar) code
    alone.  The AVX2 copy does the same operations in the same order (no fused
@@ -807,14 +807,80 @@ AVX2_FN unsigned node_hit8(const BvhNode *nd, const RayPre *rp, float t_best,
         tn, _mm256_min_ps(_mm256_mul_ps(tf, _mm256_set1_ps(FAR_SCALE)), _mm256_set1_ps(t_best)), _CMP_LE_OS));
 }
 
-/* child_rank with all 8 slots in one compare, and the entered bits counted by the
-   population-count instruction (every AVX2 processor has it; the dispatch asks). */
-AVX2_FN int child_rank8(const float *t_enter, unsigned mask, int jj)
+/* The ranks of the AVX2 copy (closest-hit rays), by integer keys: a child's key is the bits of its
+   entry distance with the lowest three replaced by its slot,
+       key_j = (bits(t_enter[j]) & ~7) | j,
+   and its rank the number of entered children of larger key.  An entry distance is
+   never negative (folded from +0, NaNs skipped: node_hit8), and the bits of floats
+   >= +0 order as the floats do, so a larger key never belongs to a nearer child
+   except between two distances within 8 ulps, ordered by slot instead; the keys
+   are distinct, so the ranks are 0 .. n-1.  Only speed depends on the order
+   (ORDER INDEPENDENCE); the stack keeps the exact distance, which the pop culls
+   by.  One integer compare a child, where child_rank's order (ties by slot) takes
+   two float compares and the mask of the lower slots: 3 % of the closest hit's
+   time (docs/bvh.md).  child_rank_key is the scalar definition (the test
+   bvh_simd_matches_scalar compares the two). */
+HOT_INLINE uint32_t child_key(const float *t_enter, int j)
 {
-    const __m256 te = _mm256_set1_ps(t_enter[jj]), t8 = _mm256_loadu_ps(t_enter);
-    const unsigned gt = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(t8, te, _CMP_GT_OS));
-    const unsigned eq = (unsigned)_mm256_movemask_ps(_mm256_cmp_ps(t8, te, _CMP_EQ_OQ));
-    return __builtin_popcount((gt | (eq & ((1u << jj) - 1u))) & mask);
+    uint32_t bits;
+    memcpy(&bits, &t_enter[j], sizeof bits);
+    return (bits & ~7u) | (uint32_t)j;
+}
+
+HOT_INLINE int child_rank_key(const float *t_enter, unsigned mask, int jj)
+{
+    const uint32_t kj = child_key(t_enter, jj);
+    int j, rank = 0;
+    for (j = 0; j < BVH_WIDTH; j++)
+        rank += (int)((mask >> j) & 1u) & (child_key(t_enter, j) > kj);
+    return rank;
+}
+
+/* the keys of the eight slots, in AVX2 lanes */
+AVX2_FN __m256i child_keys8(const float *t_enter)
+{
+    return _mm256_or_si256(
+        _mm256_and_si256(_mm256_loadu_si256((const __m256i *)t_enter), _mm256_set1_epi32(~7)),
+        _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+}
+
+/* the rank of the child of key kj: the entered lanes of larger key, counted by the
+   population-count instruction (every AVX2 processor has it; the dispatch asks).
+   AVX2 compares signed 32-bit lanes: a key's top bit is a float's sign bit, 0
+   here, so signed and unsigned order agree. */
+AVX2_FN int rank_by_keys8(__m256i keys, int32_t kj, unsigned mask)
+{
+    return __builtin_popcount((unsigned)_mm256_movemask_ps(_mm256_castsi256_ps(
+               _mm256_cmpgt_epi32(keys, _mm256_set1_epi32(kj)))) & mask);
+}
+
+/* traverse's three or more children entered, closest-hit rays, in the AVX2 copy:
+   each child to top[rank] with its entry distance (and prefetched); returns their
+   number */
+AVX2_FN int push_ranked8(const Bvh *b, const BvhNode *nd, const float *t_enter,
+                         unsigned mask, StackEntry *top)
+{
+    const __m256i keys = child_keys8(t_enter);
+    int32_t key[BVH_WIDTH];
+    unsigned m;
+    int n = 0;
+    _mm256_storeu_si256((__m256i *)key, keys);
+    for (m = mask; m != 0; m &= m - 1, n++) {
+        const int jj = lowest_bit(m), rank = rank_by_keys8(keys, key[jj], mask);
+        top[rank].ref = nd->child[jj];
+        top[rank].t = t_enter[jj];
+        prefetch_ref(b, nd->child[jj]);
+    }
+    return n;
+}
+
+/* the rank push_ranked8 gives child jj (for the test) */
+AVX2_FN int child_rank_key8(const float *t_enter, unsigned mask, int jj)
+{
+    const __m256i keys = child_keys8(t_enter);
+    int32_t key[BVH_WIDTH];
+    _mm256_storeu_si256((__m256i *)key, keys);
+    return rank_by_keys8(keys, key[jj], mask);
 }
 
 /* The AVX2 copy's per-ray operands (tri_miss4's, node_hit8's) from the scalar
@@ -1048,7 +1114,6 @@ static int bvh_cpu_avx2(void)
 #define tri_hit_avx2 tri_hit
 #define ray_prepare4(rp) ((void)(rp))
 #define ray_prepare_avx2(b, r, rp) 0
-#define child_rank8 child_rank
 #define bvh_cpu_avx2() 0
 #endif
 
@@ -1252,9 +1317,12 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                 }
                 if ((rest & (rest - 1)) == 0) {    /* two (the most common case): */
                     const int ja = lowest_bit(mask), jb = lowest_bit(rest);   /* ja < jb */
-                    /* ties: the lower slot (only closest-hit rays come here) */
-                    const int b_first = t_enter[jb] < t_enter[ja];
-                    const int jn = b_first ? jb : ja, jf = b_first ? ja : jb;
+                    /* ties: the lower slot (only closest-hit rays come here); b_first
+                       is all ones when jb is nearer, and the nearer is picked by XOR
+                       through it: a coin toss for random rays, so no branch */
+                    const unsigned b_first = 0u - (unsigned)(t_enter[jb] < t_enter[ja]);
+                    const int jn = (int)((unsigned)ja ^ (((unsigned)ja ^ (unsigned)jb) & b_first)),
+                              jf = ja ^ jb ^ jn;
                     stack[sp].ref = nd->child[jf];  /* the farther waits on the stack */
                     stack[sp].t = t_enter[jf];
                     sp++;
@@ -1267,11 +1335,19 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
                    number of children entered that are farther (ties: lower slot
                    first), so the nearest ends on top.  The rank is a branch-free count
                    over all slots, which costs less than the mispredicted branches of
-                   an insertion sort.  Shadow rays need no order: rank = arrival. */
+                   an insertion sort.  Shadow rays need no order: rank = arrival.  The
+                   AVX2 copy ranks by integer keys (push_ranked8): the same order but
+                   for entry distances within 8 ulps */
+#if BVH_AVX
+                if (avx && !any_hit) {
+                    sp += push_ranked8(b, nd, t_enter, mask, stack + sp);
+                    ref = stack[--sp].ref;         /* the nearest */
+                    continue;
+                }
+#endif
                 for (m = mask; m != 0; m &= m - 1, n++) {
                     const int jj = lowest_bit(m);
-                    const int rank = any_hit ? n : avx ? child_rank8(t_enter, mask, jj)
-                                                       : child_rank(t_enter, mask, jj);
+                    const int rank = any_hit ? n : child_rank(t_enter, mask, jj);
                     stack[sp + rank].ref = nd->child[jj];
                     if (!any_hit) stack[sp + rank].t = t_enter[jj];
                     prefetch_ref(b, nd->child[jj]);
@@ -1354,7 +1430,7 @@ HOT_INLINE int traverse(const Bvh *b, const Scene *s, const Ray *r, HitRecord *h
 
 #if BVH_AVX
 /* The AVX2 copies of the traversal: the same code (traverse is inlined), compiled for
-   AVX2, so that node_hit8 and child_rank8 inline into it. */
+   AVX2, so that node_hit8 and push_ranked8 inline into it. */
 AVX2_STATIC int traverse_avx2_closest(const Bvh *b, const Scene *s,
                                                                  const Ray *r, HitRecord *h)
 {
@@ -1440,9 +1516,13 @@ HOT_INLINE int node_mismatches(const BvhNode *nd, const RayPre *rp, float t_best
         const int in0 = (m0 >> j) & 1u, in1 = (m1 >> j) & 1u;
         bad += in0 != in1 ||
                memcmp(&te[0][j], &te[1][j], sizeof(float)) != 0;
-        if (in0 && in1)                    /* the order of the children entered */
-            bad += child_rank_scalar(te[0], m0, j) !=
-                   (avx ? child_rank8(te[1], m1, j) : child_rank(te[1], m1, j));
+        if (in0 && in1) {                  /* the order of the children entered */
+#if BVH_AVX
+            if (avx) bad += child_rank_key(te[0], m0, j) != child_rank_key8(te[1], m1, j);
+            else
+#endif
+            bad += child_rank_scalar(te[0], m0, j) != child_rank(te[1], m1, j);
+        }
     }
     return bad;
 }
