@@ -34,7 +34,10 @@
 # --keep leaves the mutated copy build/mutants/tree in place afterwards;
 # PATTERNs run only the mutants whose "FILE | description" contains one of them;
 # --list FILE reads another list; MUTANT_TIMEOUT (seconds, default 600) bounds one
-# run of the suite when timeout(1) exists.  POSIX sh + awk + make; no python.
+# run of the suite when timeout(1) exists, and a mutant's run is also bounded by
+# 20 times what its tests took unmutated (at least 60 s): a mutant that makes the
+# traversal loop for ever is caught in a minute, not in ten.  POSIX sh + awk +
+# make; no python.
 set -u
 cd "$(dirname "$0")/.." || exit 2
 list=tests/mutants.txt
@@ -173,6 +176,22 @@ if ! (cd "$tree" && SPECNEE_TEST_TMP=tests/tmp/mutant $tmo tests/runner $base_fi
 fi
 echo "mutants: the unmutated suite passes ($(grep -c '^ok   ' "$work/run-base.log") tests)"
 
+# The time limit of a mutant's run: 20 times the seconds its tests took in the
+# unmutated run (the runner's "ok   NAME (T s)" lines whose NAME contains a word of
+# the filter; every test without one), at least 60 s, at most MUTANT_TIMEOUT.
+limit_of() {
+    awk -v filter="$1" -v cap="$MUTANT_TIMEOUT" '
+        BEGIN { n = split(filter, w, " ") }
+        /^ok   / {
+            name = $2; t = $3; gsub(/[()s]/, "", t)
+            hit = n == 0
+            for (k = 1; k <= n && !hit; k++) hit = index(name, w[k]) > 0
+            if (hit) sum += t
+        }
+        END { lim = int(20 * sum) + 1; if (lim < 60) lim = 60; if (lim > cap) lim = cap; print lim }' \
+        "$work/run-base.log"
+}
+
 # ---- 4. one mutant at a time
 caught=0; survived=0; broken=0; equiv=0
 t_start=$(date +%s)
@@ -229,6 +248,7 @@ while [ "$i" -lt "$count" ]; do
     fi
     # the filter is a list of words on purpose: $filter is not quoted
     # shellcheck disable=SC2086
+    [ -n "$tmo" ] && tmo="timeout $(limit_of "$filter")"
     (cd "$tree" && SPECNEE_TEST_TMP=tests/tmp/mutant $tmo tests/runner $filter) > "$work/run-$i.log" 2>&1
     rc=$?
     cat "$work/orig" > "$tree/$file"          # newer mtime: the next build recompiles it
