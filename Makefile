@@ -77,6 +77,7 @@ parser.o options.o scene.o geometry.o instance.o material.o conductor.o layered.
 $(TESTOBJ): tests/test.h tests/tables.h
 tests/test_png.o: tests/png_fixtures.h
 camera.o path.o render.o: render.h
+bvh.o: bvh_avx2.h
 
 run: specnee
 	mkdir -p out

@@ -7,7 +7,8 @@
 #
 #   sh tools/bench_ab.sh REV [rounds]      e.g.  sh tools/bench_ab.sh HEAD
 #
-# A is `git show REV:bvh.c` and B the work tree's bvh.c, both compiled alike with
+# A is `git show REV:bvh.c` (with REV's bvh_avx2.h) and B the work tree's bvh.c
+# (with its bvh_avx2.h), both compiled alike with
 # the Makefile's compiler and optimisation against the work tree's specnee.h,
 # every global name each defines prefixed with A_ or B_ (the names are read from
 # bvh.o with nm), so that both link into one program beside the library.  Needs
@@ -16,9 +17,13 @@ set -e
 rev=${1:?usage: sh tools/bench_ab.sh REV [rounds]}
 rounds=${2:-41}
 cd "$(dirname "$0")/.."
-mkdir -p build/bench_ab
-git show "$rev:bvh.c" > build/bench_ab/bvh_a.c
-cp bvh.c build/bench_ab/bvh_b.c
+rm -rf build/bench_ab
+mkdir -p build/bench_ab/a build/bench_ab/b
+# each version's bvh.c beside its own bvh_avx2.h (where the revision has one): a
+# quoted #include looks beside the including file first
+git show "$rev:bvh.c" > build/bench_ab/a/bvh.c
+git show "$rev:bvh_avx2.h" > build/bench_ab/a/bvh_avx2.h 2>/dev/null || rm -f build/bench_ab/a/bvh_avx2.h
+cp bvh.c bvh_avx2.h build/bench_ab/b/
 make -s bvh.o
 # the Makefile's compiler and optimisation, asked of make once
 vars=$(make -s -p -n 2>/dev/null)
@@ -31,7 +36,7 @@ for V in A B; do
     defs=
     for x in $syms; do defs="$defs -D$x=${V}_$x"; done
     "${cc_:-cc}" $opt -std=c99 $(sh tools/ccflags.sh "${cc_:-cc}") -I. $defs \
-        -c build/bench_ab/bvh_$v.c -o tools/bvh_$v.o
+        -c build/bench_ab/$v/bvh.c -o tools/bvh_$v.o
 done
 make -s tools/bench_ab
 tools/bench_ab "$rounds"
