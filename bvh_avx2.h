@@ -13,6 +13,10 @@
    Without AVX2 (tcc, -DSPECNEE_NO_AVX, -DSPECNEE_NO_SIMD) the names fall back to
    the SSE2 or scalar kernels, and the AVX2 copy of the traversal is not compiled.
    docs/bvh.md has the figures of each. */
+#ifndef SPECNEE_BVH_AVX2_H
+#define SPECNEE_BVH_AVX2_H
+#include "specnee.h"   /* its types (bvh.c has included it already; alone, a header
+                          that names what it needs) */
 #if BVH_AVX
 /* node_hit_mask_scalar for all 8 children in one pass of 8-lane AVX: node_hit4's
    operations, lane for lane (_mm256_max_ps and _mm256_min_ps treat a NaN as
@@ -350,3 +354,4 @@ static int bvh_cpu_avx2(void)
 #define ray_prepare_avx2(b, r, rp) 0
 #define bvh_cpu_avx2() 0
 #endif
+#endif /* SPECNEE_BVH_AVX2_H */
